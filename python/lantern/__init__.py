@@ -1,0 +1,20 @@
+"""Lantern: a bidirectional path tracer for Blender.
+
+The pure-Python parts (scene container and file, image I/O, metrics) work without the native
+module; `Session` and `render` need `lantern._core`, built from the repository root with
+`pip install --no-build-isolation --no-deps .`."""
+
+from .scene import Scene, load_scene
+from .session import Session, render, native_available, native_error
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "Scene",
+    "load_scene",
+    "Session",
+    "render",
+    "native_available",
+    "native_error",
+    "__version__",
+]

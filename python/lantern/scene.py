@@ -1,0 +1,620 @@
+"""The Lantern scene: the one container between the add-on, the scene file and the native core.
+
+Fields, units and the `.lantern` file follow docs/scene_format.md. `validate()` normalises the
+scene in place (dtypes, defaults) and raises ValueError naming the offending element."""
+
+import io
+import json
+import math
+import zipfile
+from pathlib import Path
+
+import numpy as np
+
+FORMAT_NAME = "lantern-scene"
+FORMAT_VERSION = 1
+
+CAMERA_TYPES = ("perspective", "orthographic")
+MATERIAL_TYPES = ("diffuse",)
+LIGHT_TYPES = ("point", "spot", "area", "sun")
+AREA_SHAPES = ("square", "rectangle", "disk", "ellipse")
+MESH_ARRAYS = ("positions", "indices", "normals", "uvs", "material_ids")
+
+# Blender's default camera: 50 mm lens on a 36 mm sensor.
+DEFAULT_TAN_HALF = 18.0 / 50.0
+
+
+def identity4():
+    return [[1.0 if r == c else 0.0 for c in range(4)] for r in range(4)]
+
+
+def look_at(eye, target, up=(0.0, 0.0, 1.0)):
+    """Rigid row-major 4x4 camera-to-world matrix: the camera at `eye` looks down its local -Z
+    towards `target`, local +Y as close to `up` as possible (Blender's camera convention)."""
+    eye = np.asarray(eye, dtype=np.float64)
+    forward = np.asarray(target, dtype=np.float64) - eye
+    if not np.linalg.norm(forward) > 0:
+        raise ValueError("look_at: eye and target coincide")
+    forward /= np.linalg.norm(forward)
+    up = np.asarray(up, dtype=np.float64)
+    right = np.cross(forward, up)
+    if np.linalg.norm(right) < 1e-9:
+        # looking along `up`: pick any perpendicular
+        right = np.cross(forward, [1.0, 0.0, 0.0])
+        if np.linalg.norm(right) < 1e-9:
+            right = np.cross(forward, [0.0, 1.0, 0.0])
+    right /= np.linalg.norm(right)
+    true_up = np.cross(right, forward)
+    m = np.eye(4)
+    m[:3, 0] = right
+    m[:3, 1] = true_up
+    m[:3, 2] = -forward
+    m[:3, 3] = eye
+    return m.tolist()
+
+
+def screen_for_fov(fov_deg, width, height):
+    """Perspective view window on z=-1 for a field of view along the larger image side."""
+    if not 0.0 < fov_deg < 180.0:
+        raise ValueError(f"field of view must be in (0, 180) degrees, got {fov_deg}")
+    t = math.tan(math.radians(fov_deg) / 2.0)
+    if width >= height:
+        tx, ty = t, t * height / width
+    else:
+        tx, ty = t * width / height, t
+    return [-tx, tx, -ty, ty]
+
+
+def default_film():
+    return {"width": 64, "height": 64, "filter_width": 1.5}
+
+
+def default_camera():
+    return {
+        "type": "perspective",
+        "to_world": identity4(),
+        "screen": [-DEFAULT_TAN_HALF, DEFAULT_TAN_HALF, -DEFAULT_TAN_HALF, DEFAULT_TAN_HALF],
+        "clip": [0.1, 1000.0],
+    }
+
+
+def default_world():
+    return {"color": [0.0, 0.0, 0.0]}
+
+
+# ---- Small coercion helpers, each raising ValueError with the element's name ----
+
+def _finite_float(value, what):
+    try:
+        f = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{what}: expected a number, got {value!r}") from None
+    if not math.isfinite(f):
+        raise ValueError(f"{what}: must be finite, got {f}")
+    return f
+
+
+def _rgb(value, what, nonnegative=True):
+    if np.isscalar(value):
+        value = [value] * 3
+    try:
+        arr = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ValueError(f"{what}: expected an RGB triple, got {value!r}") from None
+    if arr.shape != (3,):
+        raise ValueError(f"{what}: expected 3 values (r, g, b), got shape {arr.shape}")
+    if not np.isfinite(arr).all():
+        raise ValueError(f"{what}: values must be finite, got {arr.tolist()}")
+    if nonnegative and (arr < 0).any():
+        raise ValueError(f"{what}: values must be >= 0, got {arr.tolist()}")
+    return [float(x) for x in arr]
+
+
+def _vec(value, n, what):
+    try:
+        arr = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ValueError(f"{what}: expected {n} numbers, got {value!r}") from None
+    if arr.shape != (n,):
+        raise ValueError(f"{what}: expected {n} numbers, got shape {arr.shape}")
+    if not np.isfinite(arr).all():
+        raise ValueError(f"{what}: values must be finite, got {arr.tolist()}")
+    return [float(x) for x in arr]
+
+
+def _matrix(value, what, rigid=False):
+    try:
+        m = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ValueError(f"{what}: expected a 4x4 matrix, got {value!r}") from None
+    if m.shape != (4, 4):
+        raise ValueError(f"{what}: expected a 4x4 matrix, got shape {m.shape}")
+    if not np.isfinite(m).all():
+        raise ValueError(f"{what}: matrix entries must be finite")
+    if rigid:
+        rot = m[:3, :3]
+        if not np.allclose(rot.T @ rot, np.eye(3), atol=1e-3):
+            raise ValueError(f"{what}: must be rigid (rotation + translation, no scale or shear)")
+    return [[float(x) for x in row] for row in m]
+
+
+def _bool(value, what):
+    if isinstance(value, (bool, np.bool_)):
+        return bool(value)
+    if isinstance(value, (int, np.integer)) and value in (0, 1):
+        return bool(value)
+    raise ValueError(f"{what}: expected a bool, got {value!r}")
+
+
+def _int(value, what, minimum=None):
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
+        if isinstance(value, float) and value.is_integer():
+            value = int(value)
+        else:
+            raise ValueError(f"{what}: expected an integer, got {value!r}")
+    value = int(value)
+    if minimum is not None and value < minimum:
+        raise ValueError(f"{what}: must be >= {minimum}, got {value}")
+    return value
+
+
+def _float_array(value, cols, what):
+    try:
+        arr = np.asarray(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{what}: expected a numeric array") from None
+    if arr.dtype.kind not in "fiu":
+        raise ValueError(f"{what}: expected a numeric array, got dtype {arr.dtype}")
+    if arr.ndim != 2 or arr.shape[1] != cols:
+        raise ValueError(f"{what}: expected shape (N, {cols}), got {arr.shape}")
+    return np.ascontiguousarray(arr, dtype=np.float32)
+
+
+def _index_array(value, shape_desc, ndim, cols, what):
+    try:
+        arr = np.asarray(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{what}: expected an integer array") from None
+    if arr.size == 0 and arr.dtype.kind == "f":
+        arr = arr.astype(np.int64)
+    if arr.dtype.kind not in "iu":
+        raise ValueError(f"{what}: expected an integer array, got dtype {arr.dtype}")
+    if arr.ndim != ndim or (cols is not None and arr.shape[1] != cols):
+        raise ValueError(f"{what}: expected shape {shape_desc}, got {arr.shape}")
+    if arr.size and arr.min() < 0:
+        raise ValueError(f"{what}: negative index {int(arr.min())}")
+    if arr.size and int(arr.max()) > 0xFFFFFFFF:
+        raise ValueError(f"{what}: index {int(arr.max())} does not fit in uint32")
+    return np.ascontiguousarray(arr, dtype=np.uint32)
+
+
+class Scene:
+    """Film, camera, world, materials, meshes and lights, as in docs/scene_format.md.
+
+    An empty Scene is valid: a 64x64 image of a black world seen by a camera at the origin
+    looking down -Z."""
+
+    def __init__(self):
+        self.film = default_film()
+        self.camera = default_camera()
+        self.world = default_world()
+        self.materials = []
+        self.meshes = []
+        self.lights = []
+
+    # ---- Building ----
+
+    def add_material(self, name=None, base_color=(0.8, 0.8, 0.8), emission=(0.0, 0.0, 0.0),
+                     type="diffuse"):
+        """Append a material; returns its id (index into `materials`)."""
+        if name is None:
+            name = f"material_{len(self.materials)}"
+        self.materials.append({
+            "name": str(name),
+            "type": type,
+            "base_color": _rgb(base_color, f"material {name!r} base_color"),
+            "emission": _rgb(emission, f"material {name!r} emission"),
+        })
+        return len(self.materials) - 1
+
+    def material_id(self, material):
+        """Material id from an id or a name."""
+        if isinstance(material, str):
+            for i, m in enumerate(self.materials):
+                if m.get("name") == material:
+                    return i
+            raise ValueError(f"no material named {material!r}")
+        return _int(material, "material", minimum=0)
+
+    def add_mesh(self, positions, indices, material=0, normals=None, uvs=None,
+                 material_ids=None, name=None, visible_camera=True, cast_shadow=True):
+        """Append a triangle mesh; `material` (id or name) applies to every triangle unless
+        `material_ids` gives one per triangle. Returns the mesh index."""
+        if name is None:
+            name = f"mesh_{len(self.meshes)}"
+        indices = np.asarray(indices)
+        if material_ids is None:
+            count = indices.shape[0] if indices.ndim >= 1 else 0
+            material_ids = np.full(count, self.material_id(material), dtype=np.uint32)
+        mesh = {
+            "name": str(name),
+            "positions": positions,
+            "indices": indices,
+            "normals": normals,
+            "uvs": uvs,
+            "material_ids": material_ids,
+            "visible_camera": visible_camera,
+            "cast_shadow": cast_shadow,
+        }
+        self._validate_mesh(mesh, len(self.meshes), check_materials=False)
+        self.meshes.append(mesh)
+        return len(self.meshes) - 1
+
+    def add_light(self, type, **params):
+        """Append a light of `type` (point, spot, area, sun) with the fields of
+        docs/scene_format.md; missing optional fields get defaults. Returns the light index."""
+        light = {"type": type}
+        light.update(params)
+        self.lights.append(self._validate_light(light, len(self.lights)))
+        return len(self.lights) - 1
+
+    def look_at(self, eye, target, up=(0.0, 0.0, 1.0), fov=None):
+        """Point a perspective camera; `fov` in degrees along the larger image side."""
+        self.camera["to_world"] = look_at(eye, target, up)
+        self.camera["type"] = "perspective"
+        if fov is not None:
+            self.camera["screen"] = screen_for_fov(fov, self.film["width"],
+                                                   self.film["height"])
+
+    @property
+    def triangle_count(self):
+        return int(sum(np.asarray(m["indices"]).reshape(-1, 3).shape[0] for m in self.meshes))
+
+    # ---- Validation ----
+
+    def validate(self):
+        """Check the whole scene and normalise it in place (array dtypes, defaults, floats).
+        Raises ValueError naming the offending element. Returns self."""
+        self.film = self._validate_film(self.film)
+        self.camera = self._validate_camera(self.camera)
+        self.world = self._validate_world(self.world)
+        if not isinstance(self.materials, list):
+            self.materials = list(self.materials)
+        self.materials = [self._validate_material(m, i) for i, m in enumerate(self.materials)]
+        if not isinstance(self.meshes, list):
+            self.meshes = list(self.meshes)
+        for i, mesh in enumerate(self.meshes):
+            self._validate_mesh(mesh, i, check_materials=True)
+        if not isinstance(self.lights, list):
+            self.lights = list(self.lights)
+        self.lights = [self._validate_light(light, i) for i, light in enumerate(self.lights)]
+        return self
+
+    @staticmethod
+    def _validate_film(film):
+        if not isinstance(film, dict):
+            raise ValueError("film: expected a dict")
+        out = dict(film)
+        out["width"] = _int(film.get("width", 64), "film width", minimum=1)
+        out["height"] = _int(film.get("height", 64), "film height", minimum=1)
+        if out["width"] > 65536 or out["height"] > 65536:
+            raise ValueError(f"film: resolution {out['width']}x{out['height']} is too large")
+        fw = _finite_float(film.get("filter_width", 1.5), "film filter_width")
+        if fw < 0:
+            raise ValueError(f"film filter_width: must be >= 0, got {fw}")
+        out["filter_width"] = fw
+        return out
+
+    @staticmethod
+    def _validate_camera(camera):
+        if not isinstance(camera, dict):
+            raise ValueError("camera: expected a dict")
+        base = default_camera()
+        out = dict(camera)
+        ctype = camera.get("type", base["type"])
+        if ctype not in CAMERA_TYPES:
+            raise ValueError(f"camera type: expected one of {CAMERA_TYPES}, got {ctype!r}")
+        out["type"] = ctype
+        out["to_world"] = _matrix(camera.get("to_world", base["to_world"]), "camera to_world",
+                                  rigid=True)
+        screen = _vec(camera.get("screen", base["screen"]), 4, "camera screen")
+        if not (screen[0] < screen[1] and screen[2] < screen[3]):
+            raise ValueError(f"camera screen: need xmin < xmax and ymin < ymax, got {screen}")
+        out["screen"] = screen
+        clip = _vec(camera.get("clip", base["clip"]), 2, "camera clip")
+        if not (0.0 <= clip[0] < clip[1]):
+            raise ValueError(f"camera clip: need 0 <= start < end, got {clip}")
+        out["clip"] = clip
+        return out
+
+    @staticmethod
+    def _validate_world(world):
+        if not isinstance(world, dict):
+            raise ValueError("world: expected a dict")
+        out = dict(world)
+        out["color"] = _rgb(world.get("color", [0.0, 0.0, 0.0]), "world color")
+        return out
+
+    @staticmethod
+    def _validate_material(material, index):
+        if not isinstance(material, dict):
+            raise ValueError(f"material {index}: expected a dict")
+        name = str(material.get("name", f"material_{index}"))
+        what = f"material {index} ({name!r})"
+        mtype = material.get("type", "diffuse")
+        if mtype not in MATERIAL_TYPES:
+            raise ValueError(f"{what}: unknown type {mtype!r}, expected one of {MATERIAL_TYPES}")
+        out = dict(material)
+        out["name"] = name
+        out["type"] = mtype
+        out["base_color"] = _rgb(material.get("base_color", [0.8, 0.8, 0.8]),
+                                 f"{what} base_color")
+        if max(out["base_color"]) > 1.0:
+            raise ValueError(f"{what} base_color: albedo must be in [0, 1], "
+                             f"got {out['base_color']}")
+        out["emission"] = _rgb(material.get("emission", [0.0, 0.0, 0.0]), f"{what} emission")
+        return out
+
+    def _validate_mesh(self, mesh, index, check_materials):
+        """Validates and coerces `mesh` in place."""
+        if not isinstance(mesh, dict):
+            raise ValueError(f"mesh {index}: expected a dict")
+        name = str(mesh.get("name", f"mesh_{index}"))
+        mesh["name"] = name
+        what = f"mesh {index} ({name!r})"
+        for key in ("positions", "indices"):
+            if mesh.get(key) is None:
+                raise ValueError(f"{what}: missing {key}")
+        pos = _float_array(mesh["positions"], 3, f"{what} positions")
+        vcount = pos.shape[0]
+        idx = _index_array(mesh["indices"], "(T, 3)", 2, 3, f"{what} indices")
+        tcount = idx.shape[0]
+        if idx.size and int(idx.max()) >= vcount:
+            bad = int(np.argmax(idx.max(axis=1) >= vcount))
+            raise ValueError(f"{what}: vertex index {int(idx.max())} out of range "
+                             f"(mesh has {vcount} vertices; first bad triangle {bad})")
+        normals = mesh.get("normals")
+        if normals is not None:
+            normals = _float_array(normals, 3, f"{what} normals")
+            if normals.shape[0] != vcount:
+                raise ValueError(f"{what} normals: {normals.shape[0]} rows for {vcount} vertices")
+        uvs = mesh.get("uvs")
+        if uvs is not None:
+            uvs = _float_array(uvs, 2, f"{what} uvs")
+            if uvs.shape[0] != vcount:
+                raise ValueError(f"{what} uvs: {uvs.shape[0]} rows for {vcount} vertices")
+        mids = mesh.get("material_ids")
+        if mids is None:
+            mids = np.zeros(tcount, dtype=np.uint32)
+        mids = _index_array(mids, "(T,)", 1, None, f"{what} material_ids")
+        if mids.shape[0] != tcount:
+            raise ValueError(f"{what} material_ids: {mids.shape[0]} entries for "
+                             f"{tcount} triangles")
+        if check_materials and mids.size and int(mids.max()) >= len(self.materials):
+            raise ValueError(f"{what}: material id {int(mids.max())} out of range "
+                             f"(scene has {len(self.materials)} materials)")
+        mesh["positions"] = pos
+        mesh["indices"] = idx
+        mesh["normals"] = normals
+        mesh["uvs"] = uvs
+        mesh["material_ids"] = mids
+        mesh["visible_camera"] = _bool(mesh.get("visible_camera", True),
+                                       f"{what} visible_camera")
+        mesh["cast_shadow"] = _bool(mesh.get("cast_shadow", True), f"{what} cast_shadow")
+        return mesh
+
+    @staticmethod
+    def _validate_light(light, index):
+        if not isinstance(light, dict):
+            raise ValueError(f"light {index}: expected a dict")
+        ltype = light.get("type")
+        what = f"light {index} ({ltype})"
+        if ltype not in LIGHT_TYPES:
+            raise ValueError(f"light {index}: unknown type {ltype!r}, expected one of "
+                             f"{LIGHT_TYPES}")
+        out = dict(light)
+        energy_key = "strength" if ltype == "sun" else "power"
+        if energy_key not in light:
+            raise ValueError(f"{what}: missing {energy_key!r}")
+        out[energy_key] = _rgb(light[energy_key], f"{what} {energy_key}")
+        if ltype != "sun":
+            out["visible_camera"] = _bool(light.get("visible_camera", False),
+                                          f"{what} visible_camera")
+        if ltype in ("point", "spot"):
+            radius = _finite_float(light.get("radius", 0.0), f"{what} radius")
+            if radius < 0:
+                raise ValueError(f"{what} radius: must be >= 0, got {radius}")
+            out["radius"] = radius
+        if ltype == "point":
+            out["position"] = _vec(light.get("position", [0.0, 0.0, 0.0]), 3,
+                                   f"{what} position")
+        elif ltype == "spot":
+            out["to_world"] = _matrix(light.get("to_world", identity4()), f"{what} to_world")
+            size = _finite_float(light.get("spot_size", math.radians(45.0)),
+                                 f"{what} spot_size")
+            if not 0.0 < size <= math.pi:
+                raise ValueError(f"{what} spot_size: must be in (0, pi], got {size}")
+            out["spot_size"] = size
+            blend = _finite_float(light.get("spot_blend", 0.15), f"{what} spot_blend")
+            if not 0.0 <= blend <= 1.0:
+                raise ValueError(f"{what} spot_blend: must be in [0, 1], got {blend}")
+            out["spot_blend"] = blend
+        elif ltype == "area":
+            out["to_world"] = _matrix(light.get("to_world", identity4()), f"{what} to_world",
+                                      rigid=True)
+            shape = light.get("shape", "square")
+            if shape not in AREA_SHAPES:
+                raise ValueError(f"{what} shape: expected one of {AREA_SHAPES}, got {shape!r}")
+            out["shape"] = shape
+            size = _vec(light.get("size", [1.0, 1.0]), 2, f"{what} size")
+            if min(size) <= 0:
+                raise ValueError(f"{what} size: must be > 0, got {size}")
+            out["size"] = size
+        elif ltype == "sun":
+            direction = _vec(light.get("direction", [0.0, 0.0, -1.0]), 3, f"{what} direction")
+            norm = math.sqrt(sum(d * d for d in direction))
+            if norm == 0:
+                raise ValueError(f"{what} direction: must not be zero")
+            out["direction"] = direction
+            angle = _finite_float(light.get("angle", 0.0), f"{what} angle")
+            if not 0.0 <= angle <= math.pi:
+                raise ValueError(f"{what} angle: must be in [0, pi], got {angle}")
+            out["angle"] = angle
+        return out
+
+    # ---- Native hand-off ----
+
+    def to_native(self):
+        """The dict `_core.Session` takes: validated fields, C-contiguous numpy arrays,
+        `None` for absent optional arrays, 4x4 matrices as float32 (4, 4) arrays."""
+        self.validate()
+
+        def mat(m):
+            return np.ascontiguousarray(np.asarray(m, dtype=np.float32))
+
+        camera = dict(self.camera)
+        camera["to_world"] = mat(camera["to_world"])
+        lights = []
+        for light in self.lights:
+            light = dict(light)
+            if "to_world" in light:
+                light["to_world"] = mat(light["to_world"])
+            lights.append(light)
+        meshes = [dict(m) for m in self.meshes]
+        return {
+            "film": dict(self.film),
+            "camera": camera,
+            "world": dict(self.world),
+            "materials": [dict(m) for m in self.materials],
+            "meshes": meshes,
+            "lights": lights,
+        }
+
+    # ---- The .lantern file ----
+
+    def save(self, path):
+        """Write a `.lantern` file: a deflate zip of scene.json and one .npy per array."""
+        from . import __version__
+
+        self.validate()
+        doc = {
+            "format": FORMAT_NAME,
+            "version": FORMAT_VERSION,
+            "generator": f"lantern {__version__}",
+            "film": self.film,
+            "camera": self.camera,
+            "world": self.world,
+            "materials": self.materials,
+            "lights": self.lights,
+            "meshes": [],
+        }
+        arrays = {}
+        for i, mesh in enumerate(self.meshes):
+            entry = {}
+            for key, value in mesh.items():
+                if key in MESH_ARRAYS:
+                    if value is None:
+                        entry[key] = None
+                    else:
+                        member = f"meshes/{i}/{key}.npy"
+                        arrays[member] = value
+                        entry[key] = member
+                else:
+                    entry[key] = value
+            doc["meshes"].append(entry)
+        path = Path(path)
+        tmp = path.with_name(path.name + ".tmp")
+        with zipfile.ZipFile(tmp, "w", compression=zipfile.ZIP_DEFLATED) as zf:
+            zf.writestr("scene.json", json.dumps(doc, indent=1, allow_nan=False))
+            for member, arr in arrays.items():
+                buf = io.BytesIO()
+                np.save(buf, arr, allow_pickle=False)
+                zf.writestr(member, buf.getvalue())
+        tmp.replace(path)
+
+    def summary(self):
+        """One dict of counts for `python -m lantern info`."""
+        light_types = {}
+        for light in self.lights:
+            light_types[light["type"]] = light_types.get(light["type"], 0) + 1
+        emissive = sum(1 for m in self.materials if max(m.get("emission", [0])) > 0)
+        return {
+            "resolution": f"{self.film['width']}x{self.film['height']}",
+            "camera": self.camera["type"],
+            "meshes": len(self.meshes),
+            "triangles": self.triangle_count,
+            "vertices": int(sum(np.asarray(m["positions"]).shape[0] for m in self.meshes)),
+            "materials": len(self.materials),
+            "emissive_materials": emissive,
+            "lights": len(self.lights),
+            "light_types": light_types,
+            "world_color": self.world["color"],
+        }
+
+    def __repr__(self):
+        return (f"<lantern.Scene {self.film['width']}x{self.film['height']}, "
+                f"{len(self.meshes)} meshes, {self.triangle_count} triangles, "
+                f"{len(self.materials)} materials, {len(self.lights)} lights>")
+
+
+def _parse_major(version):
+    if isinstance(version, bool):
+        raise ValueError(f"bad version {version!r}")
+    if isinstance(version, int):
+        return version
+    if isinstance(version, str):
+        return int(version.split(".")[0])
+    raise ValueError(f"bad version {version!r}")
+
+
+def load_scene(path):
+    """Read a `.lantern` file written by `Scene.save` (or the add-on's exporter)."""
+    path = Path(path)
+    if not path.exists():
+        raise FileNotFoundError(f"scene file not found: {path}")
+    if not zipfile.is_zipfile(path):
+        raise ValueError(f"{path}: not a Lantern scene file (not a zip archive)")
+    with zipfile.ZipFile(path) as zf:
+        names = set(zf.namelist())
+        if "scene.json" not in names:
+            raise ValueError(f"{path}: not a Lantern scene file (no scene.json inside)")
+        try:
+            doc = json.loads(zf.read("scene.json").decode("utf-8"))
+        except (UnicodeDecodeError, json.JSONDecodeError) as e:
+            raise ValueError(f"{path}: scene.json is not valid JSON ({e})") from None
+        if not isinstance(doc, dict) or doc.get("format") != FORMAT_NAME:
+            fmt = doc.get("format") if isinstance(doc, dict) else None
+            raise ValueError(f"{path}: not a Lantern scene file (format {fmt!r}, "
+                             f"expected {FORMAT_NAME!r})")
+        try:
+            major = _parse_major(doc.get("version"))
+        except ValueError:
+            raise ValueError(f"{path}: bad scene file version {doc.get('version')!r}") from None
+        if major > FORMAT_VERSION:
+            raise ValueError(f"{path}: scene file version {doc.get('version')} is newer than "
+                             f"this Lantern reads (version {FORMAT_VERSION}); "
+                             f"update Lantern to open it")
+        scene = Scene()
+        scene.film = doc.get("film", default_film())
+        scene.camera = doc.get("camera", default_camera())
+        scene.world = doc.get("world", default_world())
+        scene.materials = doc.get("materials", [])
+        scene.lights = doc.get("lights", [])
+        scene.meshes = []
+        for i, entry in enumerate(doc.get("meshes", [])):
+            if not isinstance(entry, dict):
+                raise ValueError(f"{path}: mesh {i} is not an object")
+            mesh = dict(entry)
+            for key in MESH_ARRAYS:
+                member = entry.get(key)
+                if member is None:
+                    mesh[key] = None
+                    continue
+                if not isinstance(member, str) or member not in names:
+                    raise ValueError(f"{path}: mesh {i} {key}: member {member!r} is missing")
+                try:
+                    mesh[key] = np.load(io.BytesIO(zf.read(member)), allow_pickle=False)
+                except ValueError as e:
+                    raise ValueError(f"{path}: mesh {i} {key}: bad .npy member ({e})") from None
+            scene.meshes.append(mesh)
+    return scene.validate()

@@ -1,0 +1,150 @@
+"""Small analytic and classic test scenes built directly in numpy (no Blender).
+
+- `furnace_sphere`: camera inside a closed emissive diffuse sphere; every pixel sees
+  Le * sum_{k<max_depth} albedo^k (exact for any closed enclosure).
+- `cornell_box`: a diffuse Cornell box lit by a rectangle area light.
+- `integrating_sphere`: a closed diffuse sphere around a point (or small sphere) light."""
+
+import math
+
+import numpy as np
+
+from .scene import Scene
+
+
+def icosphere(subdivisions=3, radius=1.0, center=(0.0, 0.0, 0.0)):
+    """Closed, watertight triangulated sphere: (positions float32 (V, 3), indices uint32 (T, 3)),
+    triangles wound counter-clockwise seen from outside. 20 * 4**subdivisions triangles."""
+    t = (1.0 + math.sqrt(5.0)) / 2.0
+    verts = [(-1, t, 0), (1, t, 0), (-1, -t, 0), (1, -t, 0),
+             (0, -1, t), (0, 1, t), (0, -1, -t), (0, 1, -t),
+             (t, 0, -1), (t, 0, 1), (-t, 0, -1), (-t, 0, 1)]
+    faces = [(0, 11, 5), (0, 5, 1), (0, 1, 7), (0, 7, 10), (0, 10, 11),
+             (1, 5, 9), (5, 11, 4), (11, 10, 2), (10, 7, 6), (7, 1, 8),
+             (3, 9, 4), (3, 4, 2), (3, 2, 6), (3, 6, 8), (3, 8, 9),
+             (4, 9, 5), (2, 4, 11), (6, 2, 10), (8, 6, 7), (9, 8, 1)]
+    verts = [np.array(v, dtype=np.float64) / np.linalg.norm(v) for v in verts]
+    for _ in range(subdivisions):
+        cache = {}
+
+        def midpoint(a, b):
+            key = (a, b) if a < b else (b, a)
+            if key not in cache:
+                m = verts[a] + verts[b]
+                verts.append(m / np.linalg.norm(m))
+                cache[key] = len(verts) - 1
+            return cache[key]
+
+        new_faces = []
+        for a, b, c in faces:
+            ab, bc, ca = midpoint(a, b), midpoint(b, c), midpoint(c, a)
+            new_faces += [(a, ab, ca), (b, bc, ab), (c, ca, bc), (ab, bc, ca)]
+        faces = new_faces
+    pos = np.array(verts) * radius + np.asarray(center, dtype=np.float64)
+    return pos.astype(np.float32), np.array(faces, dtype=np.uint32)
+
+
+def furnace_expected(emission, albedo, max_depth):
+    """Radiance every pixel converges to in `furnace_sphere`: Le * sum_{k=0}^{D-1} a^k."""
+    a = np.asarray(albedo, dtype=np.float64) * np.ones(3)
+    le = np.asarray(emission, dtype=np.float64) * np.ones(3)
+    return le * sum(a ** k for k in range(max_depth))
+
+
+def furnace_sphere(albedo=0.5, emission=1.0, subdivisions=3, radius=1.0, width=32, height=32,
+                   fov=90.0):
+    """Camera at the centre of a closed, emissive diffuse icosphere; world black.
+
+    `albedo`, `emission`: scalars or RGB. Expected pixel value: `furnace_expected`."""
+    scene = Scene()
+    scene.film.update(width=int(width), height=int(height))
+    scene.look_at((0.0, 0.0, 0.0), (0.0, 1.0, 0.0), fov=fov)
+    scene.camera["clip"] = [1e-3, 100.0 * radius]
+    mat = scene.add_material("furnace", base_color=albedo, emission=emission)
+    pos, idx = icosphere(subdivisions, radius)
+    scene.add_mesh(pos, idx, material=mat, name="furnace_sphere")
+    return scene
+
+
+def _quad(p0, p1, p2, p3):
+    """Two triangles for the quad p0 p1 p2 p3 (counter-clockwise seen from the front)."""
+    pos = np.array([p0, p1, p2, p3], dtype=np.float32)
+    idx = np.array([[0, 1, 2], [0, 2, 3]], dtype=np.uint32)
+    return pos, idx
+
+
+def _box(center, size, angle_deg):
+    """Closed axis-aligned box rotated about +Z: six quads, outward facing."""
+    cx, cy, z0 = center
+    sx, sy, sz = size[0] / 2.0, size[1] / 2.0, size[2]
+    c, s = math.cos(math.radians(angle_deg)), math.sin(math.radians(angle_deg))
+    corners = []
+    for z in (z0, z0 + sz):
+        for x, y in ((-sx, -sy), (sx, -sy), (sx, sy), (-sx, sy)):
+            corners.append((cx + c * x - s * y, cy + s * x + c * y, z))
+    corners = np.array(corners, dtype=np.float32)
+    faces = [(0, 3, 2, 1), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7)]
+    idx = []
+    for a, b, c_, d in faces:
+        idx += [(a, b, c_), (a, c_, d)]
+    return corners, np.array(idx, dtype=np.uint32)
+
+
+def cornell_box(width=64, height=64, light_power=40.0, boxes=True, light_visible=True):
+    """Diffuse Cornell box, Blender axes (+Z up): a 2 m cube x, y in [-1, 1], z in [0, 2],
+    open towards the camera at y = -1; red left wall, green right wall, a 0.5 x 0.4 m rectangle
+    light just under the ceiling facing down. Optional short and tall boxes."""
+    scene = Scene()
+    scene.film.update(width=int(width), height=int(height))
+    scene.look_at((0.0, -3.8, 1.0), (0.0, 0.0, 1.0), fov=39.3)
+    white = scene.add_material("white", base_color=(0.73, 0.73, 0.73))
+    red = scene.add_material("red", base_color=(0.63, 0.065, 0.05))
+    green = scene.add_material("green", base_color=(0.14, 0.45, 0.091))
+    walls = {
+        "floor": (_quad((-1, -1, 0), (1, -1, 0), (1, 1, 0), (-1, 1, 0)), white),
+        "ceiling": (_quad((-1, -1, 2), (-1, 1, 2), (1, 1, 2), (1, -1, 2)), white),
+        "back": (_quad((-1, 1, 0), (1, 1, 0), (1, 1, 2), (-1, 1, 2)), white),
+        "left": (_quad((-1, -1, 0), (-1, 1, 0), (-1, 1, 2), (-1, -1, 2)), red),
+        "right": (_quad((1, -1, 0), (1, -1, 2), (1, 1, 2), (1, 1, 0)), green),
+    }
+    for name, ((pos, idx), mat) in walls.items():
+        scene.add_mesh(pos, idx, material=mat, name=name)
+    if boxes:
+        pos, idx = _box((0.33, -0.3, 0.0), (0.6, 0.6, 0.6), -17.0)
+        scene.add_mesh(pos, idx, material=white, name="short_box")
+        pos, idx = _box((-0.35, 0.3, 0.0), (0.6, 0.6, 1.2), 17.0)
+        scene.add_mesh(pos, idx, material=white, name="tall_box")
+    to_world = np.eye(4)
+    to_world[:3, 3] = (0.0, 0.0, 1.98)
+    scene.add_light("area", to_world=to_world.tolist(), shape="rectangle", size=[0.5, 0.4],
+                    power=[light_power] * 3, visible_camera=bool(light_visible))
+    return scene
+
+
+def integrating_sphere_expected(albedo, power, radius, max_depth):
+    """Wall radiance seen from inside an ideal integrating sphere (a smooth sphere of `radius`
+    with an isotropic light of `power` W at its centre): direct irradiance E = P / (4 pi R^2),
+    L = (a / pi) * E * sum_{k=0}^{D-2} a^k. A tessellated sphere deviates by O(facet size^2)."""
+    a = np.asarray(albedo, dtype=np.float64) * np.ones(3)
+    p = np.asarray(power, dtype=np.float64) * np.ones(3)
+    irradiance = p / (4.0 * math.pi * radius ** 2)
+    return (a / math.pi) * irradiance * sum(a ** k for k in range(max(max_depth - 1, 0)))
+
+
+def integrating_sphere(albedo=0.5, power=100.0, radius=1.0, light="point", light_radius=0.05,
+                       subdivisions=4, width=32, height=32, fov=90.0):
+    """Closed diffuse (non-emissive) icosphere with a point light (`light="point"`) or a small
+    sphere light (`light="sphere"`, radius `light_radius`, invisible to the camera) at its
+    centre; the camera sits at the centre too. See `integrating_sphere_expected`."""
+    if light not in ("point", "sphere"):
+        raise ValueError(f"light must be 'point' or 'sphere', got {light!r}")
+    scene = Scene()
+    scene.film.update(width=int(width), height=int(height))
+    scene.look_at((0.0, 0.0, 0.0), (0.0, 1.0, 0.0), fov=fov)
+    scene.camera["clip"] = [1e-3, 100.0 * radius]
+    mat = scene.add_material("wall", base_color=albedo)
+    pos, idx = icosphere(subdivisions, radius)
+    scene.add_mesh(pos, idx, material=mat, name="integrating_sphere")
+    scene.add_light("point", position=[0.0, 0.0, 0.0], power=power,
+                    radius=light_radius if light == "sphere" else 0.0, visible_camera=False)
+    return scene

@@ -1,0 +1,179 @@
+"""`Session` and `render`: the Python face of the native core (`lantern._core`).
+
+Settings are checked here (names, ranges, reserved integrators, backend fallback) before they
+reach `_core.Session`; the core gets plain dicts and numpy arrays only."""
+
+import importlib
+import logging
+import threading
+import time
+
+import numpy as np
+
+log = logging.getLogger("lantern")
+
+INTEGRATORS = ("pt", "bdpt", "lvc", "cis")
+IMPLEMENTED_INTEGRATORS = ("pt",)
+BACKENDS = ("cpu", "cuda", "auto")
+
+DEFAULT_SETTINGS = {
+    "integrator": "pt",
+    "backend": "auto",
+    "spp_per_iteration": 1,
+    "max_depth": 16,
+    "seed": 0,
+    "threads": 0,
+    "rr_depth": 3,
+}
+
+BUILD_HINT = ("build it from the repository root with "
+              "`pip install --no-build-isolation --no-deps .`")
+
+_core = None
+_core_error = None
+_core_lock = threading.Lock()
+
+
+def _load_core():
+    """Import `lantern._core` once; remember why it failed so the message can say."""
+    global _core, _core_error
+    with _core_lock:
+        if _core is None and _core_error is None:
+            try:
+                _core = importlib.import_module("lantern._core")
+            except Exception as e:  # ImportError, or a broken build raising anything
+                _core_error = f"{type(e).__name__}: {e}"
+    return _core
+
+
+def native_available():
+    """True when the native module `lantern._core` imports."""
+    return _load_core() is not None
+
+
+def native_error():
+    """Why `lantern._core` did not import (None when it did)."""
+    _load_core()
+    return _core_error
+
+
+def require_core():
+    core = _load_core()
+    if core is None:
+        raise RuntimeError(f"lantern's native module (lantern._core) is not available "
+                           f"({_core_error}); {BUILD_HINT}")
+    return core
+
+
+def _check_int(name, value, lo, hi):
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise TypeError(f"setting {name!r} must be an integer, got {value!r}")
+    value = int(value)
+    if (lo is not None and value < lo) or (hi is not None and value > hi):
+        rng = f"[{lo}, {hi}]" if hi is not None else f">= {lo}"
+        raise ValueError(f"setting {name!r} must be in {rng}, got {value}")
+    return value
+
+
+def resolve_settings(settings):
+    """Full settings dict for the core plus warnings about fallbacks.
+    Unknown names -> TypeError; wrong values -> ValueError; reserved integrators ->
+    NotImplementedError."""
+    unknown = sorted(set(settings) - set(DEFAULT_SETTINGS))
+    if unknown:
+        raise TypeError(f"unknown setting(s) {', '.join(map(repr, unknown))}; valid settings: "
+                        f"{', '.join(sorted(DEFAULT_SETTINGS))}")
+    out = dict(DEFAULT_SETTINGS)
+    out.update(settings)
+    warnings = []
+
+    integrator = out["integrator"]
+    if integrator not in INTEGRATORS:
+        raise ValueError(f"setting 'integrator' must be one of {INTEGRATORS}, "
+                         f"got {integrator!r}")
+    if integrator not in IMPLEMENTED_INTEGRATORS:
+        raise NotImplementedError(f"integrator {integrator!r} is not implemented yet (reserved "
+                                  f"for a later issue); available: {IMPLEMENTED_INTEGRATORS}")
+
+    backend = out["backend"]
+    if backend not in BACKENDS:
+        raise ValueError(f"setting 'backend' must be one of {BACKENDS}, got {backend!r}")
+    if backend in ("cuda", "auto"):
+        if backend == "cuda":
+            warnings.append("the CUDA backend is not available yet; rendering on the CPU")
+        out["backend"] = "cpu"
+
+    out["spp_per_iteration"] = _check_int("spp_per_iteration", out["spp_per_iteration"], 1, 4096)
+    out["max_depth"] = _check_int("max_depth", out["max_depth"], 1, 1024)
+    out["seed"] = _check_int("seed", out["seed"], 0, 2**64 - 1)
+    out["threads"] = _check_int("threads", out["threads"], 0, 4096)
+    out["rr_depth"] = _check_int("rr_depth", out["rr_depth"], 0, 1024)
+    return out, warnings
+
+
+class Session:
+    """A progressive render of one scene.
+
+    `step()` runs one iteration (`spp_per_iteration` samples per pixel; the GIL is released);
+    `image()` is the mean radiance so far, float32 (H, W, 3), top row first."""
+
+    def __init__(self, scene, **settings):
+        self.settings, self._warnings = resolve_settings(settings)
+        for w in self._warnings:
+            log.warning(w)
+        core = require_core()
+        self._scene = scene
+        self._native = core.Session(scene.to_native(), dict(self.settings))
+
+    def step(self):
+        """One iteration; returns the samples per pixel so far."""
+        self._native.step()
+        return self._native.spp
+
+    def image(self):
+        return self._native.image()
+
+    @property
+    def spp(self):
+        return int(self._native.spp)
+
+    @property
+    def stats(self):
+        return dict(self._native.stats())
+
+    @property
+    def warnings(self):
+        return list(self._warnings) + list(self._native.warnings())
+
+    def cancel(self):
+        """Thread-safe: a running `step()` returns early; the image stays at the last
+        finished iteration."""
+        self._native.cancel()
+
+    def __repr__(self):
+        return (f"<lantern.Session {self.settings['integrator']}/{self.settings['backend']} "
+                f"spp={self.spp}>")
+
+
+def render(scene, spp=16, time_limit=None, progress=None, **settings):
+    """Render `scene` to `spp` samples per pixel (or until `time_limit` seconds have passed,
+    after at least one iteration); calls `progress(spp_done, spp_total)` after each iteration.
+    Returns the float32 (H, W, 3) image.
+
+    With `spp_per_iteration` not dividing `spp`, the last iteration may overshoot."""
+    if isinstance(spp, bool) or not isinstance(spp, (int, np.integer)) or spp < 1:
+        raise ValueError(f"spp must be a positive integer, got {spp!r}")
+    if time_limit is not None and not time_limit > 0:
+        raise ValueError(f"time_limit must be > 0 seconds, got {time_limit!r}")
+    session = Session(scene, **settings)
+    start = time.monotonic()
+    while session.spp < spp:
+        before = session.spp
+        session.step()
+        if progress is not None:
+            progress(session.spp, int(spp))
+        if session.spp <= before:
+            break  # cancelled or no progress: never spin
+        if time_limit is not None and time.monotonic() - start >= time_limit:
+            break
+    return session.image()
