@@ -1,0 +1,209 @@
+"""Error metrics and statistical image comparisons for tests and benchmarks.
+
+Images are float arrays (H, W) or (H, W, C). Block statistics crop the image to whole blocks
+(the last H % block rows and W % block columns are ignored)."""
+
+import math
+from dataclasses import dataclass
+from statistics import NormalDist
+
+import numpy as np
+
+
+def _as3(img):
+    arr = np.asarray(img, dtype=np.float64)
+    if arr.ndim == 2:
+        arr = arr[:, :, None]
+    if arr.ndim != 3:
+        raise ValueError(f"expected an image (H, W) or (H, W, C), got shape {arr.shape}")
+    return arr
+
+
+def block_means(img, block=8):
+    """Mean of each `block` x `block` tile: (H // block, W // block, C) (or without C for a
+    2-D input). Partial tiles at the right and bottom edges are dropped."""
+    if block < 1:
+        raise ValueError(f"block must be >= 1, got {block}")
+    squeeze = np.ndim(img) == 2
+    arr = _as3(img)
+    h, w, c = arr.shape
+    bh, bw = h // block, w // block
+    if bh == 0 or bw == 0:
+        raise ValueError(f"image {h}x{w} is smaller than one {block}x{block} block")
+    tiles = arr[:bh * block, :bw * block].reshape(bh, block, bw, block, c)
+    means = tiles.mean(axis=(1, 3))
+    return means[:, :, 0] if squeeze else means
+
+
+def _mask3(mask, shape):
+    if mask is None:
+        return np.ones(shape, dtype=bool)
+    m = np.asarray(mask, dtype=bool)
+    if m.ndim == 2:
+        m = np.broadcast_to(m[:, :, None], shape)
+    if m.shape != shape:
+        raise ValueError(f"mask shape {np.shape(mask)} does not match image {shape[:2]}")
+    return m
+
+
+def relative_rmse(a, ref, mask=None, eps=1e-2):
+    """sqrt(mean((a - ref)^2 / (ref^2 + eps))) over all pixels and channels (or those where
+    `mask`, (H, W) or (H, W, C), is true). `eps` keeps dark pixels from dominating."""
+    a, ref = _as3(a), _as3(ref)
+    if a.shape != ref.shape:
+        raise ValueError(f"shapes differ: {a.shape} vs {ref.shape}")
+    m = _mask3(mask, a.shape)
+    if not m.any():
+        raise ValueError("mask selects no pixels")
+    err = (a - ref) ** 2 / (ref ** 2 + eps)
+    return float(math.sqrt(err[m].mean()))
+
+
+def rmse(a, ref, mask=None):
+    a, ref = _as3(a), _as3(ref)
+    if a.shape != ref.shape:
+        raise ValueError(f"shapes differ: {a.shape} vs {ref.shape}")
+    m = _mask3(mask, a.shape)
+    return float(math.sqrt(((a - ref) ** 2)[m].mean()))
+
+
+def mean_relative_difference(a, ref, mask=None):
+    """(mean(a) - mean(ref)) / mean(ref) over the selected pixels: the overall brightness
+    bias of `a` against `ref` (0 = same mean; 0.01 = 1 % brighter)."""
+    a, ref = _as3(a), _as3(ref)
+    if a.shape != ref.shape:
+        raise ValueError(f"shapes differ: {a.shape} vs {ref.shape}")
+    m = _mask3(mask, a.shape)
+    denom = ref[m].mean()
+    if denom == 0:
+        raise ValueError("reference mean is zero; relative difference undefined")
+    return float((a[m].mean() - denom) / denom)
+
+
+def z_threshold(n_tests, alpha=1e-3, dof=None):
+    """|z| a fair comparison of `n_tests` independent z-scores exceeds with probability
+    `alpha` in all (Bonferroni: the 1 - alpha / (2 n) quantile). With `dof`, the z-scores use
+    estimated standard errors and are Student-t distributed: the t quantile is used
+    (Cornish-Fisher expansion, Abramowitz & Stegun 26.7.5; a little high for dof < 5)."""
+    if n_tests < 1:
+        raise ValueError("n_tests must be >= 1")
+    z = NormalDist().inv_cdf(1.0 - alpha / (2.0 * n_tests))
+    if dof is None:
+        return z
+    if dof < 1:
+        raise ValueError("dof must be >= 1")
+    v = float(dof)
+    return (z + (z ** 3 + z) / (4 * v)
+            + (5 * z ** 5 + 16 * z ** 3 + 3 * z) / (96 * v ** 2)
+            + (3 * z ** 7 + 19 * z ** 5 + 17 * z ** 3 - 15 * z) / (384 * v ** 3)
+            + (79 * z ** 9 + 776 * z ** 7 + 1482 * z ** 5 - 1920 * z ** 3 - 945 * z)
+            / (92160 * v ** 4))
+
+
+@dataclass
+class Comparison:
+    """Per-block z-scores of a - b: `z` (Bh, Bw, C); `mean_a`, `mean_b`, `se` alike; `dof`
+    the degrees of freedom of the estimated standard errors (None: known variances)."""
+    z: np.ndarray
+    mean_a: np.ndarray
+    mean_b: np.ndarray
+    se: np.ndarray
+    dof: int = None
+
+    @property
+    def worst(self):
+        """Largest |z| (0 where the standard error is zero and the means agree)."""
+        return float(np.max(np.abs(self.z))) if self.z.size else 0.0
+
+    @property
+    def worst_index(self):
+        return np.unravel_index(int(np.argmax(np.abs(self.z))), self.z.shape)
+
+    @property
+    def n(self):
+        return int(self.z.size)
+
+    def threshold(self, alpha=1e-3):
+        return z_threshold(self.n, alpha, self.dof)
+
+    def passed(self, alpha=1e-3):
+        """True when the worst |z| is below the Bonferroni threshold for `alpha`."""
+        return self.worst < self.threshold(alpha)
+
+    def __str__(self):
+        by, bx, c = self.worst_index
+        return (f"worst |z| = {self.worst:.2f} at block ({by}, {bx}) channel {c} "
+                f"(a = {self.mean_a[by, bx, c]:.6g}, b = {self.mean_b[by, bx, c]:.6g}, "
+                f"se = {self.se[by, bx, c]:.3g}); threshold(1e-3) = {self.threshold():.2f} "
+                f"over {self.n} blocks")
+
+
+def _z(diff, se):
+    with np.errstate(divide="ignore", invalid="ignore"):
+        z = diff / se
+    z = np.where(se > 0, z, np.where(diff == 0, 0.0, np.copysign(np.inf, diff)))
+    return z
+
+
+def block_stats(renders, block=8):
+    """K independent renders (K, H, W[, C]) -> (mean, standard error) of each block's mean,
+    both (Bh, Bw, C). The standard error is the sample standard deviation of the K block
+    means over sqrt(K): exact whatever the correlation between pixels (filters)."""
+    stack = [block_means(_as3(r), block) for r in renders]
+    k = len(stack)
+    if k < 2:
+        raise ValueError(f"need at least 2 independent renders, got {k}")
+    stack = np.stack(stack)
+    return stack.mean(axis=0), stack.std(axis=0, ddof=1) / math.sqrt(k)
+
+
+def compare_sets(renders_a, renders_b, block=8):
+    """Two sets of independent renders (same scene, different seeds; may differ in size) ->
+    per-block z = (mean_a - mean_b) / sqrt(se_a^2 + se_b^2), with dof = min(K) - 1
+    (conservative for Welch's t). `renders_b` may instead be one
+    exact reference image (or a scalar/RGB value): then its standard error is zero."""
+    mean_a, se_a = block_stats(renders_a, block)
+    dof = len(renders_a) - 1
+    single_ndim = np.ndim(renders_a[0])
+    ref = renders_b if isinstance(renders_b, (list, tuple)) else np.asarray(renders_b)
+    if isinstance(ref, np.ndarray) and ref.ndim <= 1:  # an exact value, scalar or per channel
+        mean_b = np.broadcast_to(ref.astype(np.float64), mean_a.shape).copy()
+        se_b = np.zeros_like(mean_a)
+    elif isinstance(ref, np.ndarray) and ref.ndim == single_ndim:  # one exact image
+        mean_b = block_means(_as3(ref), block)
+        se_b = np.zeros_like(mean_a)
+    else:
+        mean_b, se_b = block_stats(renders_b, block)
+        dof = min(dof, len(renders_b) - 1)
+    if mean_a.shape != mean_b.shape:
+        raise ValueError(f"block grids differ: {mean_a.shape} vs {mean_b.shape}")
+    se = np.sqrt(se_a ** 2 + se_b ** 2)
+    return Comparison(_z(mean_a - mean_b, se), mean_a, mean_b, se, dof)
+
+
+def compare_to_reference(img_a, var_a, img_b, var_b, block=8):
+    """Per-block z-scores of two mean images with per-pixel variances of those means.
+
+    `img_a`, `img_b`: mean images (H, W[, C]). `var_a`, `var_b`: the variance of each pixel's
+    mean estimate (the squared standard error: sample variance of the samples / N), same shape,
+    or None / 0 for an exact reference. Pixels are taken as independent, so a block mean's
+    variance is sum(var) / n^2 over its n pixels; with a reconstruction filter wider than a
+    pixel neighbours correlate and this underestimates the variance (use `compare_sets` with
+    independent renders where that matters). Returns a `Comparison`: `z` per block and channel,
+    `worst` the largest |z|, `passed(alpha)` against the Bonferroni threshold."""
+    a, b = _as3(img_a), _as3(img_b)
+    if a.shape != b.shape:
+        raise ValueError(f"shapes differ: {a.shape} vs {b.shape}")
+
+    def block_var(var):
+        if var is None:
+            return np.zeros((a.shape[0] // block, a.shape[1] // block, a.shape[2]))
+        v = np.broadcast_to(_as3(var) if np.ndim(var) >= 2 else np.asarray(var, float),
+                            a.shape)
+        if (np.asarray(v) < 0).any():
+            raise ValueError("variances must be >= 0")
+        return block_means(v, block) / (block * block)
+
+    mean_a, mean_b = block_means(a, block), block_means(b, block)
+    se = np.sqrt(block_var(var_a) + block_var(var_b))
+    return Comparison(_z(mean_a - mean_b, se), mean_a, mean_b, se)
