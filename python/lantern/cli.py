@@ -1,0 +1,176 @@
+"""`python -m lantern`: render a `.lantern` scene file, or print a summary of one.
+
+Errors print one line and exit non-zero; `--debug` shows the traceback instead."""
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+EXIT_ERROR = 1
+EXIT_USAGE = 2
+
+
+def _positive_int(text):
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a positive integer, got {text!r}") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"expected a positive integer, got {value}")
+    return value
+
+
+def _nonnegative_int(text):
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected an integer >= 0, got {text!r}") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"expected an integer >= 0, got {value}")
+    return value
+
+
+def _positive_float(text):
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+    if not value > 0:
+        raise argparse.ArgumentTypeError(f"expected a positive number, got {value}")
+    return value
+
+
+def build_parser():
+    parser = argparse.ArgumentParser(prog="python -m lantern",
+                                     description="Lantern: render and inspect scene files.")
+    parser.add_argument("--debug", action="store_true", help="show tracebacks on errors")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+
+    r = sub.add_parser("render", help="render a .lantern scene to an image")
+    r.add_argument("scene", help="scene file (.lantern)")
+    r.add_argument("-o", "--output", required=True, help="output image (.exr, .png or .npy)")
+    r.add_argument("--spp", type=_positive_int, default=64, help="samples per pixel (64)")
+    r.add_argument("--integrator", default="pt", choices=("pt", "bdpt", "lvc", "cis"),
+                   help="integrator (pt)")
+    r.add_argument("--backend", default="auto", choices=("cpu", "cuda", "auto"),
+                   help="backend (auto)")
+    r.add_argument("--seed", type=_nonnegative_int, default=0, help="random seed (0)")
+    r.add_argument("--threads", type=_nonnegative_int, default=0,
+                   help="CPU threads, 0 = all cores (0)")
+    r.add_argument("--max-depth", type=_positive_int, default=16,
+                   help="maximum path depth (16)")
+    r.add_argument("--spp-per-iteration", type=_positive_int, default=1,
+                   help="samples per pixel per iteration (1)")
+    r.add_argument("--time-limit", type=_positive_float, default=None,
+                   help="stop after this many seconds")
+    r.add_argument("--png", default=None, help="also write an sRGB PNG preview here")
+    r.add_argument("--half", action="store_true", help="write the EXR as half floats")
+    r.add_argument("--debug", action="store_true", default=argparse.SUPPRESS,
+                   help=argparse.SUPPRESS)
+    r.add_argument("-q", "--quiet", action="store_true", help="no progress output")
+
+    i = sub.add_parser("info", help="print a summary of a .lantern scene")
+    i.add_argument("scene", help="scene file (.lantern)")
+    i.add_argument("--debug", action="store_true", default=argparse.SUPPRESS,
+                   help=argparse.SUPPRESS)
+    return parser
+
+
+def _rays(stats):
+    """Total rays from the core's stats, whichever way it reports them."""
+    rays = stats.get("rays")
+    if isinstance(rays, dict):
+        return sum(v for v in rays.values() if isinstance(v, (int, float)))
+    if isinstance(rays, (int, float)):
+        return rays
+    return sum(v for k, v in stats.items()
+               if k.startswith("rays") and isinstance(v, (int, float)))
+
+
+def cmd_render(args):
+    from . import imageio
+    from .scene import load_scene
+    from .session import Session
+
+    if Path(args.output).suffix.lower() not in (".exr", ".png", ".npy"):
+        raise ValueError(f"output {args.output!r}: use an .exr, .png or .npy file name")
+    if args.png and Path(args.png).suffix.lower() != ".png":
+        raise ValueError(f"--png {args.png!r}: the preview file name must end in .png")
+    scene = load_scene(args.scene)
+    session = Session(scene, integrator=args.integrator, backend=args.backend, seed=args.seed,
+                      threads=args.threads, max_depth=args.max_depth,
+                      spp_per_iteration=args.spp_per_iteration)
+    for w in session.warnings:
+        print(f"lantern: warning: {w}", file=sys.stderr)
+    start = time.monotonic()
+    last_print = -1.0
+    try:
+        while session.spp < args.spp:
+            before = session.spp
+            session.step()
+            elapsed = time.monotonic() - start
+            done = session.spp >= args.spp or session.spp <= before
+            if not args.quiet and (elapsed - last_print >= 0.5 or done):
+                last_print = elapsed
+                rays = _rays(session.stats)
+                rate = f", {rays / elapsed / 1e6:.2f} Mrays/s" if rays and elapsed > 0 else ""
+                print(f"\rlantern: {session.spp}/{args.spp} spp, {elapsed:.1f} s{rate}",
+                      end="", file=sys.stderr, flush=True)
+            if session.spp <= before:
+                break
+            if args.time_limit is not None and elapsed >= args.time_limit:
+                break
+    except KeyboardInterrupt:
+        print("\nlantern: interrupted, writing the image so far", file=sys.stderr)
+    if not args.quiet:
+        print(file=sys.stderr)
+    img = session.image()
+    imageio.write_image(args.output, img, half=args.half)
+    if args.png:
+        imageio.write_image(args.png, img)
+    if not args.quiet:
+        print(f"lantern: wrote {args.output} ({session.spp} spp, "
+              f"{time.monotonic() - start:.1f} s)", file=sys.stderr)
+    return 0
+
+
+def cmd_info(args):
+    from .scene import load_scene
+
+    scene = load_scene(args.scene)
+    s = scene.summary()
+    lights = ", ".join(f"{n} {t}" for t, n in sorted(s["light_types"].items())) or "none"
+    print(f"scene:      {args.scene}")
+    print(f"resolution: {s['resolution']} ({s['camera']} camera)")
+    print(f"meshes:     {s['meshes']} ({s['triangles']} triangles, {s['vertices']} vertices)")
+    print(f"materials:  {s['materials']} ({s['emissive_materials']} emissive)")
+    print(f"lights:     {s['lights']} ({lights})")
+    print(f"world:      {s['world_color']}")
+    return 0
+
+
+def main(argv=None):
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if args.command is None:
+        parser.print_usage(sys.stderr)
+        print("python -m lantern: error: a command is required (render, info)",
+              file=sys.stderr)
+        return EXIT_USAGE
+    handler = {"render": cmd_render, "info": cmd_info}[args.command]
+    try:
+        return handler(args)
+    except KeyboardInterrupt:
+        print("lantern: interrupted", file=sys.stderr)
+        return 130
+    except Exception as e:  # one line for users; the traceback with --debug
+        if args.debug:
+            raise
+        msg = str(e).strip().splitlines()[0] if str(e).strip() else type(e).__name__
+        print(f"lantern: error: {msg}", file=sys.stderr)
+        return EXIT_ERROR
+
+
+if __name__ == "__main__":
+    sys.exit(main())
