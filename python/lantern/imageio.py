@@ -116,7 +116,8 @@ def _oiio_write(oiio, path, img, half, compression):
         spec = oiio.ImageSpec(w, h, 3, "uint8")
         spec.attribute("oiio:ColorSpace", "sRGB")
     else:
-        data = img.astype(np.float16) if half else img
+        with np.errstate(over="ignore"):  # beyond half range -> inf, as OpenEXR does
+            data = img.astype(np.float16) if half else img
         spec = oiio.ImageSpec(w, h, 3, "half" if half else "float")
         spec.attribute("compression", compression)
     spec.channelnames = ("R", "G", "B")
@@ -219,7 +220,8 @@ def _exr_write(path, img, half, compression):
               + _exr_attr("screenWindowCenter", "v2f", struct.pack("<ff", 0.0, 0.0))
               + _exr_attr("screenWindowWidth", "float", struct.pack("<f", 1.0))
               + b"\0")
-    planes = img[:, :, ::-1].astype(dtype)  # B, G, R
+    with np.errstate(over="ignore"):  # beyond half range -> inf, as OpenEXR does
+        planes = img[:, :, ::-1].astype(dtype)  # B, G, R
     chunks = []
     for y0 in range(0, h, lines):
         block = planes[y0:y0 + lines]  # (n, W, 3) -> per line, per channel, the pixels
