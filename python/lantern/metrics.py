@@ -165,7 +165,9 @@ def compare_sets(renders_a, renders_b, block=8):
     mean_a, se_a = block_stats(renders_a, block)
     dof = len(renders_a) - 1
     single_ndim = np.ndim(renders_a[0])
-    ref = renders_b if isinstance(renders_b, (list, tuple)) else np.asarray(renders_b)
+    ref = renders_b
+    if not isinstance(ref, (list, tuple)) or all(np.ndim(x) == 0 for x in ref):
+        ref = np.asarray(ref)
     if isinstance(ref, np.ndarray) and ref.ndim <= 1:  # an exact value, scalar or per channel
         mean_b = np.broadcast_to(ref.astype(np.float64), mean_a.shape).copy()
         se_b = np.zeros_like(mean_a)

@@ -1,0 +1,109 @@
+"""Session settings and the behaviour without the native module (no _core needed)."""
+import subprocess
+import sys
+
+import pytest
+
+import lantern
+from lantern import scenes, session
+
+
+def test_defaults():
+    settings, warnings = session.resolve_settings({})
+    assert settings == {"integrator": "pt", "backend": "cpu", "spp_per_iteration": 1,
+                        "max_depth": 16, "seed": 0, "threads": 0, "rr_depth": 3}
+    assert warnings == []
+
+
+def test_unknown_setting_lists_valid_ones():
+    with pytest.raises(TypeError, match=r"unknown setting\(s\) 'max_bounces'.*max_depth"):
+        session.resolve_settings({"max_bounces": 3})
+
+
+@pytest.mark.parametrize("name", ["bdpt", "lvc", "cis"])
+def test_reserved_integrators(name):
+    with pytest.raises(NotImplementedError, match=f"integrator '{name}' is not implemented"):
+        session.resolve_settings({"integrator": name})
+
+
+@pytest.mark.parametrize("settings, exc, message", [
+    ({"integrator": "mlt"}, ValueError, "integrator"),
+    ({"backend": "metal"}, ValueError, "backend"),
+    ({"spp_per_iteration": 0}, ValueError, r"spp_per_iteration.*\[1, 4096\]"),
+    ({"spp_per_iteration": 4097}, ValueError, "spp_per_iteration"),
+    ({"max_depth": 0}, ValueError, r"max_depth.*\[1, 1024\]"),
+    ({"max_depth": 1025}, ValueError, "max_depth"),
+    ({"max_depth": 2.0}, TypeError, "max_depth.*integer"),
+    ({"seed": -1}, ValueError, "seed"),
+    ({"threads": True}, TypeError, "threads"),
+    ({"rr_depth": -1}, ValueError, "rr_depth"),
+])
+def test_bad_values(settings, exc, message):
+    with pytest.raises(exc, match=message):
+        session.resolve_settings(settings)
+
+
+def test_backend_fallback_warns():
+    settings, warnings = session.resolve_settings({"backend": "cuda"})
+    assert settings["backend"] == "cpu"
+    assert any("CUDA" in w for w in warnings)
+    settings, warnings = session.resolve_settings({"backend": "auto"})
+    assert settings["backend"] == "cpu"
+
+
+def test_settings_checked_before_native(monkeypatch):
+    # a bad setting is reported as such even when the native module is missing
+    monkeypatch.setattr(session, "_core", None)
+    monkeypatch.setattr(session, "_core_error", "ImportError: simulated")
+    with pytest.raises(TypeError, match="unknown setting"):
+        lantern.Session(lantern.Scene(), bounces=3)
+
+
+def test_missing_native_module_is_explained(monkeypatch):
+    monkeypatch.setattr(session, "_core", None)
+    monkeypatch.setattr(session, "_core_error", None)
+    monkeypatch.setitem(sys.modules, "lantern._core", None)  # import fails
+    assert not lantern.native_available()
+    assert "ModuleNotFoundError" in lantern.native_error()
+    with pytest.raises(RuntimeError, match=r"lantern\._core.*pip install --no-build-isolation"):
+        lantern.Session(scenes.furnace_sphere(subdivisions=1))
+    with pytest.raises(RuntimeError, match="native module"):
+        lantern.render(lantern.Scene(), spp=1)
+
+
+def test_import_survives_broken_native_module(tmp_path):
+    # a _core that raises on import: `import lantern` and the pure-Python parts still work
+    code = r"""
+import sys, types, importlib.abc, importlib.machinery
+class Broken(importlib.abc.MetaPathFinder, importlib.abc.Loader):
+    def find_spec(self, name, path=None, target=None):
+        if name == "lantern._core":
+            return importlib.machinery.ModuleSpec(name, self)
+    def create_module(self, spec):
+        return None
+    def exec_module(self, module):
+        raise OSError("undefined symbol: rtcNewDevice")
+sys.meta_path.insert(0, Broken())
+import lantern
+from lantern import scenes, imageio, metrics
+s = scenes.furnace_sphere(subdivisions=1)
+s.save(sys.argv[1])
+lantern.load_scene(sys.argv[1])
+assert not lantern.native_available()
+try:
+    lantern.Session(s)
+except RuntimeError as e:
+    print("ERR", e)
+"""
+    out = subprocess.run([sys.executable, "-c", code, str(tmp_path / "s.lantern")],
+                         capture_output=True, text=True, timeout=120)
+    assert out.returncode == 0, out.stderr
+    assert "ERR" in out.stdout and "undefined symbol" in out.stdout
+    assert "pip install" in out.stdout
+
+
+def test_render_argument_checks():
+    with pytest.raises(ValueError, match="spp"):
+        lantern.render(lantern.Scene(), spp=0)
+    with pytest.raises(ValueError, match="time_limit"):
+        lantern.render(lantern.Scene(), spp=1, time_limit=0)
