@@ -157,10 +157,11 @@ def block_stats(renders, block=8):
     return stack.mean(axis=0), stack.std(axis=0, ddof=1) / math.sqrt(k)
 
 
-def compare_sets(renders_a, renders_b, block=8):
+def compare_sets(renders_a, renders_b, block=8, se_floor=0.0):
     """Two sets of independent renders (same scene, different seeds; may differ in size) ->
     per-block z = (mean_a - mean_b) / sqrt(se_a^2 + se_b^2), with dof = min(K) - 1
-    (conservative for Welch's t). `renders_b` may instead be one
+    (conservative for Welch's t). `se_floor` (absolute) is added in quadrature to the standard
+    error: an allowance for float rounding where an estimator has (almost) no variance. `renders_b` may instead be one
     exact reference image (or a scalar/RGB value): then its standard error is zero."""
     mean_a, se_a = block_stats(renders_a, block)
     dof = len(renders_a) - 1
@@ -179,7 +180,7 @@ def compare_sets(renders_a, renders_b, block=8):
         dof = min(dof, len(renders_b) - 1)
     if mean_a.shape != mean_b.shape:
         raise ValueError(f"block grids differ: {mean_a.shape} vs {mean_b.shape}")
-    se = np.sqrt(se_a ** 2 + se_b ** 2)
+    se = np.sqrt(se_a ** 2 + se_b ** 2 + float(se_floor) ** 2)
     return Comparison(_z(mean_a - mean_b, se), mean_a, mean_b, se, dof)
 
 
