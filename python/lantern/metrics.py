@@ -160,9 +160,10 @@ def block_stats(renders, block=8):
 def compare_sets(renders_a, renders_b, block=8, se_floor=0.0):
     """Two sets of independent renders (same scene, different seeds; may differ in size) ->
     per-block z = (mean_a - mean_b) / sqrt(se_a^2 + se_b^2), with dof = min(K) - 1
-    (conservative for Welch's t). `se_floor` (absolute) is added in quadrature to the standard
-    error: an allowance for float rounding where an estimator has (almost) no variance. `renders_b` may instead be one
-    exact reference image (or a scalar/RGB value): then its standard error is zero."""
+    (conservative for Welch's t). `renders_b` may instead be one exact reference image (or a
+    scalar/RGB value): then its standard error is zero. `se_floor` (absolute) is added in
+    quadrature to the standard error: an allowance for float rounding where an estimator has
+    (almost) no variance."""
     mean_a, se_a = block_stats(renders_a, block)
     dof = len(renders_a) - 1
     single_ndim = np.ndim(renders_a[0])
