@@ -111,6 +111,11 @@ def resolve_settings(settings):
     return out, warnings
 
 
+def _value(attr):
+    """A native attribute that may be bound as a property or as a method."""
+    return attr() if callable(attr) else attr
+
+
 class Session:
     """A progressive render of one scene.
 
@@ -128,22 +133,22 @@ class Session:
     def step(self):
         """One iteration; returns the samples per pixel so far."""
         self._native.step()
-        return self._native.spp
+        return self.spp
 
     def image(self):
         return self._native.image()
 
     @property
     def spp(self):
-        return int(self._native.spp)
+        return int(_value(self._native.spp))
 
     @property
     def stats(self):
-        return dict(self._native.stats())
+        return dict(_value(self._native.stats))
 
     @property
     def warnings(self):
-        return list(self._warnings) + list(self._native.warnings())
+        return list(self._warnings) + list(_value(self._native.warnings))
 
     def cancel(self):
         """Thread-safe: a running `step()` returns early; the image stays at the last
