@@ -126,9 +126,12 @@ class Session:
         self.settings, self._warnings = resolve_settings(settings)
         for w in self._warnings:
             log.warning(w)
+        if not hasattr(scene, "to_native"):
+            raise TypeError(f"expected a lantern.Scene, got {type(scene).__name__}")
+        native_scene = scene.to_native()  # scene errors first: they are the user's to fix
         core = require_core()
         self._scene = scene
-        self._native = core.Session(scene.to_native(), dict(self.settings))
+        self._native = core.Session(native_scene, dict(self.settings))
 
     def step(self):
         """One iteration; returns the samples per pixel so far."""
