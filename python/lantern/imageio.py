@@ -2,7 +2,7 @@
 
 OpenImageIO is used when it imports; otherwise (or with LANTERN_NO_OIIO=1, or
 `backend="builtin"`) a small built-in codec: scanline OpenEXR (write: none/zip/zips; read:
-none/zip/zips, half/float/uint channels) and PNG (8-bit, non-interlaced). OpenImageIO is imported
+none/rle/zip/zips, half/float/uint channels) and PNG (8-bit, non-interlaced). OpenImageIO is imported
 only inside these functions: bpy ships its own OpenImageIO libraries in the same process."""
 
 import os
@@ -167,7 +167,7 @@ def _pick_rgb(data, names, path):
 EXR_MAGIC = 20000630
 EXR_COMPRESSIONS = {0: "none", 1: "rle", 2: "zips", 3: "zip", 4: "piz", 5: "pxr24",
                     6: "b44", 7: "b44a", 8: "dwaa", 9: "dwab", 10: "htj2k256", 11: "htj2k32"}
-EXR_LINES_PER_CHUNK = {0: 1, 1: 1, 2: 1, 3: 16}
+EXR_LINES_PER_CHUNK = {0: 1, 1: 1, 2: 1, 3: 16}  # what the built-in codec handles
 EXR_PIXEL_TYPES = {0: np.dtype("<u4"), 1: np.dtype("<f2"), 2: np.dtype("<f4")}
 
 
@@ -197,6 +197,25 @@ def _zip_unpredict(data):
     out[0::2] = t[:half]
     out[1::2] = t[half:]
     return out.tobytes()
+
+
+def _rle_decode(data, expected):
+    """OpenEXR RLE: a signed count byte; c < 0: -c literal bytes follow; else one byte
+    repeated c + 1 times."""
+    out = bytearray()
+    src = memoryview(data)
+    i, n = 0, len(src)
+    while i < n:
+        c = src[i] - 256 if src[i] > 127 else src[i]
+        if c < 0:
+            out += src[i + 1:i + 1 - c]
+            i += 1 - c
+        else:
+            out += bytes([src[i + 1]]) * (c + 1)
+            i += 2
+        if len(out) > expected:
+            break
+    return bytes(out)
 
 
 def _exr_write(path, img, half, compression):
@@ -271,10 +290,10 @@ def _exr_read(path):
         if key not in attrs:
             raise ValueError(f"{path}: OpenEXR header lacks {key!r}")
     comp = attrs["compression"][1][0]
-    if comp not in EXR_LINES_PER_CHUNK or comp == 1:
+    if comp not in EXR_LINES_PER_CHUNK:
         name = EXR_COMPRESSIONS.get(comp, f"unknown ({comp})")
         raise ValueError(f"{path}: OpenEXR compression {name.upper()} is not supported by the "
-                         f"built-in reader (it reads NONE, ZIP, ZIPS); install OpenImageIO "
+                         f"built-in reader (it reads NONE, RLE, ZIP, ZIPS); install OpenImageIO "
                          f"to read it")
     channels = []
     cl = attrs["channels"][1]
@@ -305,6 +324,8 @@ def _exr_read(path):
         expected = line_bytes * n
         if comp in (2, 3) and size < expected:
             data = _zip_unpredict(zlib.decompress(data))
+        elif comp == 1 and size < expected:
+            data = _zip_unpredict(_rle_decode(data, expected))
         if len(data) != expected:
             raise ValueError(f"{path}: corrupt OpenEXR chunk at y = {y}")
         p = 0

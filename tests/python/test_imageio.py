@@ -141,3 +141,21 @@ def test_bitterli_references(path):
         assert np.isfinite(img).all() and img.mean() > 0
     with pytest.raises(ValueError, match=r"compression PIZ is not supported.*OpenImageIO"):
         imageio.read_image(path, backend="builtin")
+
+
+@pytest.mark.parametrize("fmt", ["float", "half"])
+def test_builtin_reads_rle_written_by_oiio(tmp_path, image, fmt):
+    if not have_oiio():
+        pytest.skip("OpenImageIO not installed")
+    import OpenImageIO as oiio
+    image = np.clip(image, -100, 100)
+    image[5:20] = 1.0  # long runs
+    path = str(tmp_path / "rle.exr")
+    spec = oiio.ImageSpec(image.shape[1], image.shape[0], 3, fmt)
+    spec.attribute("compression", "rle")
+    out = oiio.ImageOutput.create(path)
+    assert out.open(path, spec)
+    out.write_image(image.astype(np.float16) if fmt == "half" else image)
+    out.close()
+    expected = imageio.read_image(path, backend="oiio")
+    assert np.array_equal(imageio.read_image(path, backend="builtin"), expected)
