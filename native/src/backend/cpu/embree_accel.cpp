@@ -1,0 +1,148 @@
+#include "backend/cpu/embree_accel.h"
+
+#include <stdexcept>
+
+#include "backend/cpu/embree_loader.h"
+
+namespace lantern {
+
+#if LANTERN_HAVE_EMBREE
+namespace {
+
+void on_error(void* user, RTCError code, const char* msg) {
+    auto* w = static_cast<std::vector<std::string>*>(user);
+    if (w && w->size() < 64) w->push_back(std::string("Embree error ") +
+                                          std::to_string(int(code)) + ": " + (msg ? msg : ""));
+}
+
+bool finite_triangle(const SceneView& s, int t) {
+    for (int k = 0; k < 3; ++k) {
+        if (!is_finite(s.positions[s.indices[3 * t + k]])) return false;
+    }
+    return true;
+}
+
+}  // namespace
+
+EmbreeAccel::EmbreeAccel(const SceneView& s, std::vector<std::string>& warnings) {
+    const EmbreeApi& e = embree_api();
+    device_ = e.newDevice(nullptr);
+    if (!device_) throw std::runtime_error("Embree: rtcNewDevice failed");
+    e.setDeviceErrorFunction(static_cast<RTCDevice>(device_), on_error, &warnings);
+    int skipped = 0;
+    for (int t = 0; t < s.num_triangles; ++t) skipped += finite_triangle(s, t) ? 0 : 1;
+    if (skipped) {
+        warnings.push_back(std::to_string(skipped) +
+                           " triangle(s) with non-finite vertices were left out");
+    }
+    bool any_hidden = false, any_no_shadow = false;
+    for (int t = 0; t < s.num_triangles; ++t) {
+        any_hidden |= !(s.tri_flags[t] & kVisibleCamera);
+        any_no_shadow |= !(s.tri_flags[t] & kCastShadow);
+    }
+    all_ = build(s, 0);
+    if (any_hidden) { camera_ = build(s, kVisibleCamera); has_camera_ = true; }
+    if (any_no_shadow) { shadow_ = build(s, kCastShadow); has_shadow_ = true; }
+}
+
+EmbreeAccel::Built EmbreeAccel::build(const SceneView& s, uint8_t need_flag) {
+    const EmbreeApi& e = embree_api();
+    auto dev = static_cast<RTCDevice>(device_);
+    Built b;
+    RTCScene scene = e.newScene(dev);
+    e.setSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);
+    e.setSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
+    for (int t = 0; t < s.num_triangles; ++t) {
+        if (need_flag && !(s.tri_flags[t] & need_flag)) continue;
+        if (!finite_triangle(s, t)) continue;
+        b.prim_to_tri.push_back(t);
+    }
+    const size_t n = b.prim_to_tri.size();
+    if (n > 0) {
+        RTCGeometry g = e.newGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE);
+        // Unindexed copy: three vertices per kept triangle (Embree pads the buffer itself).
+        auto* v = static_cast<float*>(e.setNewGeometryBuffer(
+            g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 3 * n));
+        auto* idx = static_cast<uint32_t*>(e.setNewGeometryBuffer(
+            g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t), n));
+        if (!v || !idx) throw std::runtime_error("Embree: out of memory building the scene");
+        for (size_t k = 0; k < n; ++k) {
+            int t = b.prim_to_tri[k];
+            for (int j = 0; j < 3; ++j) {
+                Vec3 p = s.positions[s.indices[3 * t + j]];
+                v[9 * k + 3 * j + 0] = p.x;
+                v[9 * k + 3 * j + 1] = p.y;
+                v[9 * k + 3 * j + 2] = p.z;
+                idx[3 * k + j] = uint32_t(3 * k + j);
+            }
+        }
+        e.commitGeometry(g);
+        e.attachGeometry(scene, g);
+        e.releaseGeometry(g);
+    }
+    e.commitScene(scene);
+    b.scene = scene;
+    return b;
+}
+
+EmbreeAccel::~EmbreeAccel() {
+    if (!embree_available()) return;
+    const EmbreeApi& e = embree_api();
+    for (Built* b : {&all_, &camera_, &shadow_}) {
+        if (b->scene) e.releaseScene(static_cast<RTCScene>(b->scene));
+    }
+    if (device_) e.releaseDevice(static_cast<RTCDevice>(device_));
+}
+
+const EmbreeAccel::Built& EmbreeAccel::for_kind(RayKind kind) const {
+    if (kind == RayKind::kCamera && has_camera_) return camera_;
+    if (kind == RayKind::kShadow && has_shadow_) return shadow_;
+    return all_;
+}
+
+HitRecord EmbreeAccel::intersect(const Ray& r, RayKind kind) const {
+    const Built& b = for_kind(kind);
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    RTCRayHit rh;
+    rh.ray.org_x = r.o.x; rh.ray.org_y = r.o.y; rh.ray.org_z = r.o.z;
+    rh.ray.dir_x = r.d.x; rh.ray.dir_y = r.d.y; rh.ray.dir_z = r.d.z;
+    rh.ray.tnear = r.tmin;
+    rh.ray.tfar = r.tmax;
+    rh.ray.time = 0.0f;
+    rh.ray.mask = 0xFFFFFFFFu;
+    rh.ray.id = 0;
+    rh.ray.flags = 0;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
+    embree_api().intersect1(static_cast<RTCScene>(b.scene), &ctx, &rh);
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return {r.tmax, -1, {0, 0}};
+    return {rh.ray.tfar, b.prim_to_tri[rh.hit.primID], {rh.hit.u, rh.hit.v}};
+}
+
+bool EmbreeAccel::occluded(const Ray& r) const {
+    const Built& b = for_kind(RayKind::kShadow);
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    RTCRay ray;
+    ray.org_x = r.o.x; ray.org_y = r.o.y; ray.org_z = r.o.z;
+    ray.dir_x = r.d.x; ray.dir_y = r.d.y; ray.dir_z = r.d.z;
+    ray.tnear = r.tmin;
+    ray.tfar = r.tmax;
+    ray.time = 0.0f;
+    ray.mask = 0xFFFFFFFFu;
+    ray.id = 0;
+    ray.flags = 0;
+    embree_api().occluded1(static_cast<RTCScene>(b.scene), &ctx, &ray);
+    return ray.tfar < 0.0f;  // Embree sets tfar = -inf on a hit
+}
+#else
+EmbreeAccel::EmbreeAccel(const SceneView&, std::vector<std::string>&) {
+    throw std::runtime_error("Lantern was built without Embree: the CPU backend is unavailable");
+}
+EmbreeAccel::~EmbreeAccel() = default;
+HitRecord EmbreeAccel::intersect(const Ray& r, RayKind) const { return {r.tmax, -1, {0, 0}}; }
+bool EmbreeAccel::occluded(const Ray&) const { return false; }
+#endif
+
+}  // namespace lantern

@@ -1,0 +1,108 @@
+// Host+device basics: vectors, frames and small helpers. Everything here is plain data and
+// inline functions marked LANTERN_HD, so that CPU stages and CUDA kernels share one definition.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+
+#if defined(__CUDACC__)
+#define LANTERN_HD __host__ __device__
+#else
+#define LANTERN_HD
+#endif
+
+namespace lantern {
+
+constexpr float kPi = 3.14159265358979323846f;
+constexpr float kInvPi = 0.31830988618379067154f;
+constexpr float kInf = 3.402823466e+38f;
+
+struct Vec2 {
+    float x = 0, y = 0;
+};
+
+struct Vec3 {
+    float x = 0, y = 0, z = 0;
+    LANTERN_HD float operator[](int i) const { return i == 0 ? x : (i == 1 ? y : z); }
+};
+
+LANTERN_HD inline Vec3 vec3(float x, float y, float z) { return Vec3{x, y, z}; }
+LANTERN_HD inline Vec3 vec3(float s) { return Vec3{s, s, s}; }
+LANTERN_HD inline Vec3 operator+(Vec3 a, Vec3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+LANTERN_HD inline Vec3 operator-(Vec3 a, Vec3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+LANTERN_HD inline Vec3 operator-(Vec3 a) { return {-a.x, -a.y, -a.z}; }
+LANTERN_HD inline Vec3 operator*(Vec3 a, Vec3 b) { return {a.x * b.x, a.y * b.y, a.z * b.z}; }
+LANTERN_HD inline Vec3 operator*(Vec3 a, float s) { return {a.x * s, a.y * s, a.z * s}; }
+LANTERN_HD inline Vec3 operator*(float s, Vec3 a) { return a * s; }
+LANTERN_HD inline Vec3 operator/(Vec3 a, float s) { return a * (1.0f / s); }
+LANTERN_HD inline Vec3& operator+=(Vec3& a, Vec3 b) { a = a + b; return a; }
+LANTERN_HD inline Vec3& operator*=(Vec3& a, Vec3 b) { a = a * b; return a; }
+LANTERN_HD inline Vec3& operator*=(Vec3& a, float s) { a = a * s; return a; }
+LANTERN_HD inline float dot(Vec3 a, Vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+LANTERN_HD inline Vec3 cross(Vec3 a, Vec3 b) {
+    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+LANTERN_HD inline float length_sq(Vec3 a) { return dot(a, a); }
+LANTERN_HD inline float length(Vec3 a) { return sqrtf(dot(a, a)); }
+LANTERN_HD inline Vec3 normalize(Vec3 a) {
+    float l = length(a);
+    return l > 0.0f ? a * (1.0f / l) : Vec3{0, 0, 1};
+}
+LANTERN_HD inline float max_component(Vec3 a) { return fmaxf(a.x, fmaxf(a.y, a.z)); }
+LANTERN_HD inline float luminance(Vec3 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
+LANTERN_HD inline bool is_finite(float v) {
+#if defined(__CUDA_ARCH__)
+    return isfinite(v);
+#else
+    return std::isfinite(v);
+#endif
+}
+LANTERN_HD inline bool is_finite(Vec3 a) { return is_finite(a.x) && is_finite(a.y) && is_finite(a.z); }
+LANTERN_HD inline bool is_black(Vec3 a) { return a.x == 0.0f && a.y == 0.0f && a.z == 0.0f; }
+LANTERN_HD inline float clampf(float v, float lo, float hi) { return fminf(fmaxf(v, lo), hi); }
+LANTERN_HD inline float sqr(float v) { return v * v; }
+LANTERN_HD inline float safe_sqrt(float v) { return sqrtf(fmaxf(v, 0.0f)); }
+
+// Orthonormal frame around a unit normal (Duff et al. 2017, "Building an orthonormal basis,
+// revisited").
+struct Frame {
+    Vec3 s, t, n;
+    LANTERN_HD static Frame from_normal(Vec3 n) {
+        float sign = copysignf(1.0f, n.z);
+        float a = -1.0f / (sign + n.z);
+        float b = n.x * n.y * a;
+        Frame f;
+        f.s = {1.0f + sign * n.x * n.x * a, sign * b, -sign * n.x};
+        f.t = {b, sign + n.y * n.y * a, -n.y};
+        f.n = n;
+        return f;
+    }
+    LANTERN_HD Vec3 to_local(Vec3 v) const { return {dot(v, s), dot(v, t), dot(v, n)}; }
+    LANTERN_HD Vec3 to_world(Vec3 v) const { return s * v.x + t * v.y + n * v.z; }
+};
+
+// Row-major affine transform (the upper 3x4 of a 4x4 matrix).
+struct Transform {
+    float m[3][4];
+    LANTERN_HD Vec3 point(Vec3 p) const {
+        return {m[0][0] * p.x + m[0][1] * p.y + m[0][2] * p.z + m[0][3],
+                m[1][0] * p.x + m[1][1] * p.y + m[1][2] * p.z + m[1][3],
+                m[2][0] * p.x + m[2][1] * p.y + m[2][2] * p.z + m[2][3]};
+    }
+    LANTERN_HD Vec3 vector(Vec3 v) const {
+        return {m[0][0] * v.x + m[0][1] * v.y + m[0][2] * v.z,
+                m[1][0] * v.x + m[1][1] * v.y + m[1][2] * v.z,
+                m[2][0] * v.x + m[2][1] * v.y + m[2][2] * v.z};
+    }
+    LANTERN_HD Vec3 axis(int i) const { return {m[0][i], m[1][i], m[2][i]}; }
+    LANTERN_HD Vec3 origin() const { return {m[0][3], m[1][3], m[2][3]}; }
+};
+
+struct Ray {
+    Vec3 o;
+    Vec3 d;
+    float tmin = 0.0f;
+    float tmax = kInf;
+};
+
+}  // namespace lantern

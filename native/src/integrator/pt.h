@@ -1,0 +1,187 @@
+// The path tracer's stages (integrator "pt"): unidirectional paths with next-event estimation,
+// combined by the power heuristic. Each stage is one host+device function over one path slot;
+// the backend launches them over queues and traces the rays they leave in the slots.
+#pragma once
+
+#include "bsdf/lambert.h"
+#include "core/offset.h"
+#include "integrator/camera.h"
+#include "integrator/path_state.h"
+#include "scene/lights.h"
+
+namespace lantern {
+
+// ---- Generate: slot i starts path `path` of the iteration, in pixel path / spp_per_iteration ----
+LANTERN_HD inline void pt_generate(const SceneView& s, const PathState& ps, const PtSettings& st,
+                                   int i, int64_t path) {
+    Rng rng = Rng::for_path(st.seed, st.iteration, uint64_t(path));
+    Ray r = generate_camera_ray(s.camera, int(path / st.spp_per_iteration), rng);
+    ps.ray_o[i] = r.o;
+    ps.ray_d[i] = r.d;
+    ps.ray_tmin[i] = r.tmin;
+    ps.ray_tmax[i] = r.tmax;
+    ps.throughput[i] = vec3(1.0f);
+    ps.radiance[i] = vec3(0.0f);
+    ps.rng[i] = rng;
+    ps.depth[i] = 1;
+    ps.prev_pdf_w[i] = 0.0f;
+    ps.alive[i] = 1;
+    ps.dropped[i] = 0;
+    ps.shadow_valid[i] = 0;
+}
+
+// MIS weight of emission found by a BSDF-sampled ray (depth > 1); camera rays take it all.
+LANTERN_HD inline float pt_emission_weight(const PathState& ps, int i, float light_pdf) {
+    if (ps.depth[i] <= 1) return 1.0f;
+    return power_heuristic(ps.prev_pdf_w[i], light_pdf);
+}
+
+// ---- Lights along the segment: lights are not opaque; a ray collects every light it crosses ----
+LANTERN_HD inline void pt_collect_lights(const SceneView& s, const PathState& ps, int i, Vec3 o,
+                                         Vec3 d, float tmin, float tmax) {
+    bool camera = ps.depth[i] <= 1;
+    for (int k = 0; k < s.num_lights; ++k) {
+        const Light& l = s.lights[k];
+        if (camera && !l.visible_camera) continue;
+        LightHit h = intersect_light(l, o, d, tmin, tmax);
+        if (!h.hit || is_black(h.le)) continue;
+        float pdf = l.pick_pdf * light_pdf_w(l, o, d, h.t, h.n);
+        add_radiance(ps, i, ps.throughput[i] * h.le * pt_emission_weight(ps, i, pdf));
+    }
+}
+
+// ---- Miss: world background and the sun's disk ----
+LANTERN_HD inline void pt_shade_miss(const SceneView& s, const PathState& ps, int i, Vec3 d) {
+    bool camera = ps.depth[i] <= 1;
+    for (int k = 0; k < s.num_lights; ++k) {
+        const Light& l = s.lights[k];
+        if (l.type == kLightWorld) {
+            float pdf = l.pick_pdf * light_pdf_w(l, vec3(0.0f), d, kInf, vec3(0.0f));
+            add_radiance(ps, i, ps.throughput[i] * l.radiance * pt_emission_weight(ps, i, pdf));
+        } else if (l.type == kLightSun && l.cos_sun < 1.0f && !camera) {
+            if (dot(d, -l.direction) < l.cos_sun) continue;
+            float pdf = l.pick_pdf * light_pdf_w(l, vec3(0.0f), d, kInf, vec3(0.0f));
+            add_radiance(ps, i, ps.throughput[i] * l.radiance * pt_emission_weight(ps, i, pdf));
+        }
+    }
+}
+
+struct SurfaceHit {
+    Vec3 p;
+    Vec3 ng;    // geometric normal, facing the incoming ray
+    Vec3 ns;    // shading normal, same hemisphere as ng
+};
+
+LANTERN_HD inline SurfaceHit pt_surface(const SceneView& s, int tri, Vec2 uv, Vec3 d) {
+    Vec3 a = triangle_vertex(s, tri, 0), b = triangle_vertex(s, tri, 1),
+         c = triangle_vertex(s, tri, 2);
+    float w0 = 1.0f - uv.x - uv.y;
+    SurfaceHit h;
+    h.p = a * w0 + b * uv.x + c * uv.y;
+    h.ng = normalize(cross(b - a, c - a));
+    if (dot(h.ng, d) > 0.0f) h.ng = -h.ng;
+    h.ns = h.ng;
+    if (s.normals) {
+        const uint32_t* idx = s.indices + 3 * tri;
+        Vec3 n = s.normals[idx[0]] * w0 + s.normals[idx[1]] * uv.x + s.normals[idx[2]] * uv.y;
+        if (is_finite(n) && length_sq(n) > 1e-12f) {
+            n = normalize(n);
+            h.ns = dot(n, h.ng) < 0.0f ? -n : n;
+        }
+    }
+    return h;
+}
+
+// ---- Shade: emission, next-event estimation (a shadow ray), BSDF sampling, roulette ----
+LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const PtSettings& st,
+                                int i) {
+    Vec3 o = ps.ray_o[i], d = ps.ray_d[i];
+    float t_hit = ps.hit_t[i];
+    int tri = ps.hit_prim[i];
+    ps.shadow_valid[i] = 0;
+    ps.alive[i] = 0;
+    pt_collect_lights(s, ps, i, o, d, ps.ray_tmin[i], tri >= 0 ? t_hit : ps.ray_tmax[i]);
+    if (tri < 0) {
+        if (ps.ray_tmax[i] >= kInf) pt_shade_miss(s, ps, i, d);
+        return;
+    }
+    SurfaceHit h = pt_surface(s, tri, ps.hit_uv[i], d);
+    const Material& m = s.materials[s.tri_material[tri]];
+    if (!is_black(m.emission)) {
+        float pdf = 0.0f;
+        int li = s.tri_light ? s.tri_light[tri] : -1;
+        if (li >= 0) {
+            const Light& l = s.lights[li];
+            pdf = l.pick_pdf * light_pdf_w(l, o, d, t_hit, h.ng);
+        }
+        add_radiance(ps, i, ps.throughput[i] * m.emission * pt_emission_weight(ps, i, pdf));
+    }
+    int depth = ps.depth[i];
+    if (depth >= st.max_depth) return;
+
+    Frame frame = Frame::from_normal(h.ns);
+    Vec3 wo = frame.to_local(-d);
+    Rng rng = ps.rng[i];
+
+    // next-event estimation
+    Vec2 u_pick = rng.uniform2();
+    Vec2 u_light = rng.uniform2();
+    if (s.num_lights > 0) {
+        int li = sample_cdf(s.light_cdf, s.num_lights, u_pick.x);
+        const Light& l = s.lights[li];
+        LightSample ls = sample_light(s, l, h.p, u_light);
+        if (ls.valid && dot(ls.wi, h.ng) > 0.0f && !is_black(ls.le)) {
+            BsdfEval e = lambert_eval(m.base_color, wo, frame.to_local(ls.wi));
+            float pdf_light = l.pick_pdf * ls.pdf_w;
+            if (e.pdf_fwd_w > 0.0f && pdf_light > 0.0f) {
+                float w = ls.delta ? 1.0f : power_heuristic(pdf_light, e.pdf_fwd_w);
+                float cos_i = fabsf(dot(ls.wi, h.ns));
+                Vec3 c = ps.throughput[i] * e.f * ls.le * (cos_i * w / pdf_light);
+                Vec3 so = offset_ray_origin(h.p, h.ng, ls.wi);
+                float tmax = kInf;
+                if (ls.dist < kInf) {
+                    Vec3 target = ls.p_light;
+                    if (!is_black(ls.n_light)) target = offset_ray_origin(target, ls.n_light, -ls.wi);
+                    tmax = length(target - so) * (1.0f - 1e-4f);
+                }
+                ps.shadow_o[i] = so;
+                ps.shadow_d[i] = ls.wi;
+                ps.shadow_tmax[i] = tmax;
+                ps.shadow_contrib[i] = c;
+                ps.shadow_valid[i] = 1;
+            }
+        }
+    }
+
+    // continue the path
+    BsdfSample bs = lambert_sample(m.base_color, wo, rng.uniform2());
+    Vec3 wi = frame.to_world(bs.wi);
+    if (bs.valid && dot(wi, h.ng) > 0.0f) {
+        Vec3 beta = ps.throughput[i] * bs.weight;
+        bool survive = true;
+        if (st.rr_depth > 0 && depth >= st.rr_depth) {
+            float q = fminf(max_component(beta), 0.95f);
+            float u = rng.uniform();
+            survive = u < q;
+            if (survive) beta = beta / q;
+        }
+        if (survive && max_component(beta) > 0.0f && is_finite(beta)) {
+            ps.throughput[i] = beta;
+            ps.ray_o[i] = offset_ray_origin(h.p, h.ng, wi);
+            ps.ray_d[i] = wi;
+            ps.ray_tmin[i] = 0.0f;
+            ps.ray_tmax[i] = kInf;
+            ps.prev_pdf_w[i] = bs.pdf_fwd_w;
+            ps.depth[i] = depth + 1;
+            ps.alive[i] = 1;
+        }
+    }
+    ps.rng[i] = rng;
+}
+
+// ---- Shadow result: the backend reports whether the segment was free ----
+LANTERN_HD inline void pt_shadow_result(const PathState& ps, int i, bool occluded) {
+    if (!occluded) add_radiance(ps, i, ps.shadow_contrib[i]);
+}
+
+}  // namespace lantern

@@ -1,0 +1,186 @@
+#include "integrator/session.h"
+
+#include <algorithm>
+#include <chrono>
+#include <stdexcept>
+
+#include "backend/cpu/embree_accel.h"
+#include "backend/cpu/thread_pool.h"
+#include "integrator/pt.h"
+
+namespace lantern {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) {
+    return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+constexpr int kChunkPaths = 1 << 18;  // paths in flight per wavefront chunk on the CPU
+constexpr int kGrain = 256;
+
+}  // namespace
+
+Session::Session(const SceneInput& scene, const SessionSettings& settings) : settings_(settings) {
+    if (settings_.integrator != "pt") {
+        throw std::invalid_argument("integrator '" + settings_.integrator +
+                                    "' is not available in this build (only 'pt')");
+    }
+    if (settings_.backend != "cpu") {
+        throw std::invalid_argument("backend '" + settings_.backend +
+                                    "' is not available in this build (only 'cpu')");
+    }
+    if (settings_.spp_per_iteration < 1 || settings_.spp_per_iteration > 4096) {
+        throw std::invalid_argument("spp_per_iteration must be in [1, 4096]");
+    }
+    if (settings_.max_depth < 1 || settings_.max_depth > 1024) {
+        throw std::invalid_argument("max_depth must be in [1, 1024]");
+    }
+    auto t0 = Clock::now();
+    scene_ = std::make_unique<HostScene>(scene);
+    warnings_ = scene_->warnings();
+    accel_ = std::make_unique<EmbreeAccel>(scene_->view(), warnings_);
+    pool_ = std::make_unique<ThreadPool>(settings_.threads);
+    width_ = scene.width;
+    height_ = scene.height;
+    accum_.assign(size_t(width_) * height_ * 3, 0.0);
+    stats_.time_build = seconds_since(t0);
+}
+
+Session::~Session() = default;
+
+void Session::resize_state(int n) {
+    if (int(alive_.size()) >= n) return;
+    for (auto* v : {&ray_o_, &ray_d_, &throughput_, &radiance_, &shadow_o_, &shadow_d_, &shadow_c_})
+        v->resize(n);
+    for (auto* v : {&ray_tmin_, &ray_tmax_, &prev_pdf_, &hit_t_, &shadow_tmax_}) v->resize(n);
+    rng_.resize(n);
+    for (auto* v : {&depth_, &hit_prim_, &queue_, &next_queue_}) v->resize(n);
+    hit_uv_.resize(n);
+    for (auto* v : {&alive_, &dropped_, &shadow_valid_, &occluded_}) v->resize(n);
+    state_ = PathState{ray_o_.data(),    ray_d_.data(),     ray_tmin_.data(),    ray_tmax_.data(),
+                       throughput_.data(), radiance_.data(), rng_.data(),        depth_.data(),
+                       prev_pdf_.data(),  alive_.data(),     dropped_.data(),     hit_t_.data(),
+                       hit_prim_.data(),  hit_uv_.data(),    shadow_o_.data(),    shadow_d_.data(),
+                       shadow_tmax_.data(), shadow_c_.data(), shadow_valid_.data()};
+}
+
+bool Session::step() {
+    cancel_.store(false);
+    auto t0 = Clock::now();
+    const int spp_it = settings_.spp_per_iteration;
+    const int64_t pixels = int64_t(width_) * height_;
+    const int64_t chunk_pixels = std::max<int64_t>(1, kChunkPaths / spp_it);
+    // chunks write their pixels into iteration_; it joins accum_ only if the step finishes
+    iteration_sum_.assign(accum_.size(), 0.0);
+    for (int64_t p0 = 0; p0 < pixels; p0 += chunk_pixels) {
+        int64_t np = std::min(chunk_pixels, pixels - p0);
+        run_chunk(p0 * spp_it, int(np * spp_it));
+        if (cancel_.load()) return false;
+    }
+    for (size_t k = 0; k < accum_.size(); ++k) accum_[k] += iteration_sum_[k];
+    spp_ += spp_it;
+    ++iteration_;
+    ++stats_.iterations;
+    stats_.time_total += seconds_since(t0);
+    return true;
+}
+
+void Session::run_chunk(int64_t first_path, int n) {
+    resize_state(n);
+    const SceneView& sv = scene_->view();
+    const PtSettings st{settings_.max_depth, settings_.rr_depth, settings_.spp_per_iteration,
+                        settings_.seed, iteration_};
+    const PathState ps = state_;
+    auto t = Clock::now();
+    // Slots are chunk-local; the path's global index drives its random stream and pixel.
+    pool_->parallel_for(n, kGrain, [&](int b, int e) {
+        for (int i = b; i < e; ++i) {
+            pt_generate(sv, ps, st, i, first_path + i);
+            queue_[i] = i;
+        }
+    });
+    stats_.time_generate += seconds_since(t);
+    int active = n;
+    stats_.rays_camera += n;
+    bool first = true;
+    while (active > 0 && !cancel_.load()) {
+        t = Clock::now();
+        const RayKind kind = first ? RayKind::kCamera : RayKind::kIndirect;
+        pool_->parallel_for(active, kGrain, [&](int b, int e) {
+            for (int k = b; k < e; ++k) {
+                int i = queue_[k];
+                Ray r{ps.ray_o[i], ps.ray_d[i], ps.ray_tmin[i], ps.ray_tmax[i]};
+                HitRecord h = accel_->intersect(r, kind);
+                ps.hit_t[i] = h.t;
+                ps.hit_prim[i] = h.prim;
+                ps.hit_uv[i] = h.uv;
+            }
+        });
+        stats_.time_trace += seconds_since(t);
+        t = Clock::now();
+        pool_->parallel_for(active, kGrain, [&](int b, int e) {
+            for (int k = b; k < e; ++k) pt_shade(sv, ps, st, queue_[k]);
+        });
+        stats_.time_shade += seconds_since(t);
+        t = Clock::now();
+        int64_t shadows = 0;
+        for (int k = 0; k < active; ++k) shadows += ps.shadow_valid[queue_[k]];
+        pool_->parallel_for(active, kGrain, [&](int b, int e) {
+            for (int k = b; k < e; ++k) {
+                int i = queue_[k];
+                if (!ps.shadow_valid[i]) continue;
+                Ray r{ps.shadow_o[i], ps.shadow_d[i], 0.0f, ps.shadow_tmax[i]};
+                pt_shadow_result(ps, i, accel_->occluded(r));
+            }
+        });
+        stats_.rays_shadow += shadows;
+        stats_.time_shadow += seconds_since(t);
+        // compaction, in order: the next queue keeps the paths that continue
+        int next = 0;
+        for (int k = 0; k < active; ++k) {
+            int i = queue_[k];
+            if (ps.alive[i]) next_queue_[next++] = i;
+        }
+        std::swap(queue_, next_queue_);
+        active = next;
+        if (active) stats_.rays_indirect += active;
+        first = false;
+    }
+    if (cancel_.load()) return;
+    // film: pixel sums in a fixed order
+    t = Clock::now();
+    const int spp_it = settings_.spp_per_iteration;
+    const int64_t p0 = first_path / spp_it;
+    const int np = n / spp_it;
+    int64_t dropped = 0;
+    for (int i = 0; i < n; ++i) dropped += ps.dropped[i];
+    stats_.nonfinite_dropped += dropped;
+    pool_->parallel_for(np, kGrain, [&](int b, int e) {
+        for (int p = b; p < e; ++p) {
+            double sum[3] = {0, 0, 0};
+            for (int s = 0; s < spp_it; ++s) {
+                Vec3 c = ps.radiance[p * spp_it + s];
+                sum[0] += c.x;
+                sum[1] += c.y;
+                sum[2] += c.z;
+            }
+            double* dst = &iteration_sum_[size_t(p0 + p) * 3];
+            dst[0] += sum[0];
+            dst[1] += sum[1];
+            dst[2] += sum[2];
+        }
+    });
+    stats_.time_film += seconds_since(t);
+}
+
+std::vector<float> Session::image() const {
+    std::vector<float> img(accum_.size(), 0.0f);
+    if (spp_ == 0) return img;
+    const double inv = 1.0 / double(spp_);
+    for (size_t k = 0; k < accum_.size(); ++k) img[k] = float(accum_[k] * inv);
+    return img;
+}
+
+}  // namespace lantern

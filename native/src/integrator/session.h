@@ -1,0 +1,81 @@
+// A progressive render: each step() runs one iteration of the wavefront over every pixel
+// (spp_per_iteration paths each) in chunks of paths, then adds the chunk's pixels to the
+// running sum. Cancel leaves the image at the last finished iteration.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "integrator/path_state.h"
+#include "scene/scene.h"
+
+namespace lantern {
+
+class EmbreeAccel;
+class ThreadPool;
+
+struct SessionSettings {
+    std::string integrator = "pt";
+    std::string backend = "cpu";
+    int spp_per_iteration = 1;
+    int max_depth = 16;
+    int rr_depth = 3;
+    uint64_t seed = 0;
+    int threads = 0;
+};
+
+struct SessionStats {
+    int64_t iterations = 0;
+    int64_t rays_camera = 0, rays_indirect = 0, rays_shadow = 0;
+    int64_t nonfinite_dropped = 0;
+    double time_build = 0, time_generate = 0, time_trace = 0, time_shade = 0, time_shadow = 0,
+           time_film = 0, time_total = 0;
+};
+
+class Session {
+public:
+    Session(const SceneInput& scene, const SessionSettings& settings);
+    ~Session();
+
+    // One iteration; returns false if it was cancelled (the image is unchanged then).
+    bool step();
+    void cancel() { cancel_.store(true); }
+    // Mean radiance, top row first, 3 floats per pixel.
+    std::vector<float> image() const;
+    int64_t spp() const { return spp_; }
+    int width() const { return width_; }
+    int height() const { return height_; }
+    const SessionStats& stats() const { return stats_; }
+    const std::vector<std::string>& warnings() const { return warnings_; }
+
+private:
+    void run_chunk(int64_t first_path, int num_paths);
+    void resize_state(int n);
+
+    SessionSettings settings_;
+    std::unique_ptr<HostScene> scene_;
+    std::unique_ptr<EmbreeAccel> accel_;
+    std::unique_ptr<ThreadPool> pool_;
+    std::vector<std::string> warnings_;
+    int width_ = 0, height_ = 0;
+    std::vector<double> accum_, iteration_sum_;
+    int64_t spp_ = 0;
+    uint64_t iteration_ = 0;
+    std::atomic<bool> cancel_{false};
+    SessionStats stats_;
+
+    // wavefront storage for one chunk of paths
+    std::vector<Vec3> ray_o_, ray_d_, throughput_, radiance_, shadow_o_, shadow_d_, shadow_c_;
+    std::vector<float> ray_tmin_, ray_tmax_, prev_pdf_, hit_t_, shadow_tmax_;
+    std::vector<Rng> rng_;
+    std::vector<int32_t> depth_, hit_prim_, queue_, next_queue_;
+    std::vector<Vec2> hit_uv_;
+    std::vector<uint8_t> alive_, dropped_, shadow_valid_, occluded_;
+    PathState state_{};
+};
+
+}  // namespace lantern

@@ -1,0 +1,211 @@
+// nanobind bindings: lantern._core. Converts the Python scene dict (docs/scene_format.md,
+// Scene.to_native()) into a SceneInput, and exposes Session with the GIL released while
+// rendering. Errors in the input surface as ValueError with a message naming the culprit.
+#include <nanobind/nanobind.h>
+#include <nanobind/ndarray.h>
+#include <nanobind/stl/string.h>
+#include <nanobind/stl/vector.h>
+
+#include <memory>
+#include <stdexcept>
+
+#include "backend/cpu/embree_loader.h"
+#include "integrator/session.h"
+
+namespace nb = nanobind;
+using namespace lantern;
+
+namespace {
+
+bool has(const nb::dict& d, const char* k) { return d.contains(k) && !d[k].is_none(); }
+
+template <typename T>
+T get(const nb::dict& d, const char* k, T fallback) {
+    return has(d, k) ? nb::cast<T>(d[k]) : fallback;
+}
+
+Vec3 get_vec3(const nb::dict& d, const char* k, Vec3 fallback) {
+    if (!has(d, k)) return fallback;
+    auto v = nb::cast<std::vector<float>>(d[k]);
+    if (v.size() < 3) throw std::invalid_argument(std::string("'") + k + "' needs 3 values");
+    return {v[0], v[1], v[2]};
+}
+
+template <typename T>
+std::vector<T> get_array(const nb::dict& d, const char* k, size_t cols, const std::string& who) {
+    if (!has(d, k)) return {};
+    auto a = nb::cast<nb::ndarray<const T, nb::c_contig, nb::device::cpu>>(d[k]);
+    size_t n = 1;
+    for (size_t i = 0; i < a.ndim(); ++i) n *= a.shape(i);
+    if (cols > 1 && (a.ndim() != 2 || a.shape(1) != cols)) {
+        throw std::invalid_argument(who + ": '" + k + "' must have shape (N, " +
+                                    std::to_string(cols) + ")");
+    }
+    return std::vector<T>(a.data(), a.data() + n);
+}
+
+void get_matrix(const nb::dict& d, const char* k, float out[16]) {
+    if (!has(d, k)) return;
+    auto a = nb::cast<nb::ndarray<const float, nb::shape<4, 4>, nb::c_contig, nb::device::cpu>>(d[k]);
+    for (int i = 0; i < 16; ++i) out[i] = a.data()[i];
+}
+
+SceneInput to_input(const nb::dict& scene) {
+    SceneInput in;
+    if (has(scene, "film")) {
+        nb::dict f = nb::cast<nb::dict>(scene["film"]);
+        in.width = get<int>(f, "width", 64);
+        in.height = get<int>(f, "height", 64);
+        in.filter_width = get<float>(f, "filter_width", 1.5f);
+    }
+    if (has(scene, "camera")) {
+        nb::dict c = nb::cast<nb::dict>(scene["camera"]);
+        in.orthographic = get<std::string>(c, "type", "perspective") == "orthographic";
+        get_matrix(c, "to_world", in.camera_to_world);
+        if (has(c, "screen")) {
+            auto s = nb::cast<std::vector<float>>(c["screen"]);
+            if (s.size() != 4) throw std::invalid_argument("camera 'screen' needs 4 values");
+            for (int k = 0; k < 4; ++k) in.screen[k] = s[k];
+        }
+        if (has(c, "clip")) {
+            auto s = nb::cast<std::vector<float>>(c["clip"]);
+            if (s.size() != 2) throw std::invalid_argument("camera 'clip' needs 2 values");
+            in.clip_start = s[0];
+            in.clip_end = s[1];
+        }
+    }
+    if (has(scene, "world")) in.world_color = get_vec3(nb::cast<nb::dict>(scene["world"]), "color", {});
+    if (has(scene, "materials")) {
+        for (nb::handle h : nb::cast<nb::list>(scene["materials"])) {
+            nb::dict m = nb::cast<nb::dict>(h);
+            MaterialInput mi;
+            mi.name = get<std::string>(m, "name", "");
+            mi.base_color = get_vec3(m, "base_color", mi.base_color);
+            mi.emission = get_vec3(m, "emission", mi.emission);
+            in.materials.push_back(mi);
+        }
+    }
+    if (has(scene, "meshes")) {
+        for (nb::handle h : nb::cast<nb::list>(scene["meshes"])) {
+            nb::dict m = nb::cast<nb::dict>(h);
+            MeshInput mi;
+            mi.name = get<std::string>(m, "name", "mesh");
+            mi.positions = get_array<float>(m, "positions", 3, "mesh '" + mi.name + "'");
+            mi.normals = get_array<float>(m, "normals", 3, "mesh '" + mi.name + "'");
+            mi.uvs = get_array<float>(m, "uvs", 2, "mesh '" + mi.name + "'");
+            mi.indices = get_array<uint32_t>(m, "indices", 3, "mesh '" + mi.name + "'");
+            mi.material_ids = get_array<uint32_t>(m, "material_ids", 1, "mesh '" + mi.name + "'");
+            mi.visible_camera = get<bool>(m, "visible_camera", true);
+            mi.cast_shadow = get<bool>(m, "cast_shadow", true);
+            in.meshes.push_back(std::move(mi));
+        }
+    }
+    if (has(scene, "lights")) {
+        for (nb::handle h : nb::cast<nb::list>(scene["lights"])) {
+            nb::dict l = nb::cast<nb::dict>(h);
+            LightInput li;
+            li.type = get<std::string>(l, "type", "");
+            get_matrix(l, "to_world", li.to_world);
+            li.position = get_vec3(l, "position", {li.to_world[3], li.to_world[7], li.to_world[11]});
+            li.direction = get_vec3(l, "direction", li.direction);
+            li.power = get_vec3(l, "power", {});
+            li.strength = get_vec3(l, "strength", {});
+            li.radius = get<float>(l, "radius", 0.0f);
+            li.spot_size = get<float>(l, "spot_size", li.spot_size);
+            li.spot_blend = get<float>(l, "spot_blend", li.spot_blend);
+            li.shape = get<std::string>(l, "shape", li.shape);
+            if (has(l, "size")) {
+                auto s = nb::cast<std::vector<float>>(l["size"]);
+                if (s.size() >= 1) li.size_x = li.size_y = s[0];
+                if (s.size() >= 2) li.size_y = s[1];
+            }
+            li.angle = get<float>(l, "angle", 0.0f);
+            li.visible_camera = get<bool>(l, "visible_camera", false);
+            in.lights.push_back(li);
+        }
+    }
+    return in;
+}
+
+SessionSettings to_settings(const nb::dict& d) {
+    SessionSettings s;
+    s.integrator = get<std::string>(d, "integrator", s.integrator);
+    s.backend = get<std::string>(d, "backend", s.backend);
+    s.spp_per_iteration = get<int>(d, "spp_per_iteration", s.spp_per_iteration);
+    s.max_depth = get<int>(d, "max_depth", s.max_depth);
+    s.rr_depth = get<int>(d, "rr_depth", s.rr_depth);
+    s.seed = get<uint64_t>(d, "seed", s.seed);
+    s.threads = get<int>(d, "threads", s.threads);
+    return s;
+}
+
+void init_session(Session* self, const nb::dict& scene, const nb::dict& settings) {
+    try {
+        SceneInput in;
+        SessionSettings st;
+        try {
+            in = to_input(scene);
+            st = to_settings(settings);
+        } catch (const nb::cast_error& e) {
+            throw std::invalid_argument(std::string("invalid scene or settings: ") + e.what());
+        }
+        nb::gil_scoped_release release;
+        new (self) Session(in, st);
+    } catch (const std::invalid_argument& e) {
+        throw nb::value_error(e.what());
+    }
+}
+
+}  // namespace
+
+NB_MODULE(_core, m) {
+    m.doc() = "Lantern's native core (CPU backend).";
+    m.def("embree_available", &embree_available);
+    m.def("embree_version", &embree_version);
+    m.def("build_info", []() {
+        nb::dict d;
+        d["embree_headers"] = bool(LANTERN_HAVE_EMBREE);
+        d["embree_library"] = embree_library_path();
+        d["backends"] = std::vector<std::string>{"cpu"};
+        d["integrators"] = std::vector<std::string>{"pt"};
+        return d;
+    });
+    nb::class_<Session>(m, "Session")
+        .def("__init__", &init_session, nb::arg("scene"), nb::arg("settings"))
+        .def("step", [](Session& s) {
+            nb::gil_scoped_release release;
+            return s.step();
+        })
+        .def("cancel", &Session::cancel)
+        .def("image", [](const Session& s) {
+            std::vector<float> img = s.image();
+            auto* data = new float[img.size()];
+            std::copy(img.begin(), img.end(), data);
+            nb::capsule owner(data, [](void* p) noexcept { delete[] static_cast<float*>(p); });
+            return nb::ndarray<nb::numpy, float, nb::ndim<3>>(
+                data, {size_t(s.height()), size_t(s.width()), 3}, owner);
+        })
+        .def_prop_ro("spp", &Session::spp)
+        .def("warnings", [](const Session& s) { return s.warnings(); })
+        .def("stats", [](const Session& s) {
+            const SessionStats& st = s.stats();
+            nb::dict d;
+            d["iterations"] = st.iterations;
+            d["spp"] = s.spp();
+            d["backend"] = "cpu";
+            d["embree"] = embree_version();
+            d["rays_camera"] = st.rays_camera;
+            d["rays_indirect"] = st.rays_indirect;
+            d["rays_shadow"] = st.rays_shadow;
+            d["rays_total"] = st.rays_camera + st.rays_indirect + st.rays_shadow;
+            d["nonfinite_dropped"] = st.nonfinite_dropped;
+            d["time_build"] = st.time_build;
+            d["time_generate"] = st.time_generate;
+            d["time_trace"] = st.time_trace;
+            d["time_shade"] = st.time_shade;
+            d["time_shadow"] = st.time_shadow;
+            d["time_film"] = st.time_film;
+            d["time_total"] = st.time_total;
+            return d;
+        });
+}

@@ -1,0 +1,236 @@
+// Light sampling and evaluation with Cycles' conventions (measured with bpy 5.0.1): area light
+// radiance P/(pi A) from its front; point/spot intensity P/(4 pi) W/sr (a sphere of radius r:
+// radiance I/(pi r^2)); sun: radiance S/(pi sin^2 a) over a cone of half-angle a, so the
+// irradiance on a perpendicular surface is S; mesh emission C*S from both sides.
+#pragma once
+
+#include "core/sampling.h"
+#include "scene/scene_view.h"
+
+namespace lantern {
+
+struct LightSample {
+    Vec3 wi;         // unit direction from the reference point towards the light
+    float dist;      // distance to the sampled point (kInf for sun and world)
+    Vec3 le;         // radiance arriving along -wi (for delta lights: intensity / dist^2)
+    float pdf_w;     // solid-angle pdf of wi given this light (1 for delta lights)
+    Vec3 p_light;    // sampled point (finite lights)
+    Vec3 n_light;    // its geometric normal (zero for points, sun, world)
+    bool delta;
+    bool valid;
+};
+
+LANTERN_HD inline float smoothstep01(float t) {
+    t = clampf(t, 0.0f, 1.0f);
+    return t * t * (3.0f - 2.0f * t);
+}
+
+// Cycles 4.x spot cone: smoothstep over (cos - cos_half) / ((1 - cos_half) * blend).
+LANTERN_HD inline float spot_attenuation(const Light& l, Vec3 dir_from_light) {
+    Vec3 axis = -l.frame.axis(2);
+    float c = dot(dir_from_light, axis);
+    if (c <= l.cos_half_spot) return 0.0f;
+    if (l.spot_smooth <= 0.0f) return 1.0f;
+    return smoothstep01((c - l.cos_half_spot) / l.spot_smooth);
+}
+
+LANTERN_HD inline Vec3 triangle_vertex(const SceneView& s, int tri, int k) {
+    return s.positions[s.indices[3 * tri + k]];
+}
+
+// Ray / sphere: nearest t in (tmin, tmax) or -1.
+LANTERN_HD inline float intersect_sphere(Vec3 o, Vec3 d, Vec3 c, float r, float tmin, float tmax) {
+    Vec3 oc = o - c;
+    float b = dot(oc, d);
+    float cc = dot(oc, oc) - r * r;
+    float disc = b * b - cc;
+    if (disc < 0.0f) return -1.0f;
+    float sq = sqrtf(disc);
+    float t = -b - sq;
+    if (t <= tmin) t = -b + sq;
+    return (t > tmin && t < tmax) ? t : -1.0f;
+}
+
+// Point on an area light for local coordinates (a, b) in [-1, 1]^2 (rectangle) or the disk.
+LANTERN_HD inline Vec3 area_point(const Light& l, Vec2 u) {
+    Vec2 q;
+    if (l.shape == kShapeEllipse) {
+        q = sample_concentric_disk(u);
+    } else {
+        q = {2.0f * u.x - 1.0f, 2.0f * u.y - 1.0f};
+    }
+    return l.frame.origin() + l.frame.axis(0) * (q.x * l.half_x) + l.frame.axis(1) * (q.y * l.half_y);
+}
+
+LANTERN_HD inline LightSample sample_light(const SceneView& s, const Light& l, Vec3 p, Vec2 u) {
+    LightSample ls{};
+    ls.valid = false;
+    ls.delta = false;
+    switch (l.type) {
+    case kLightPoint:
+    case kLightSpot: {
+        Vec3 to_c = l.position - p;
+        float d2 = length_sq(to_c);
+        if (!(d2 > 0.0f)) return ls;
+        float d = sqrtf(d2);
+        Vec3 dir = to_c / d;
+        float atten = l.type == kLightSpot ? spot_attenuation(l, -dir) : 1.0f;
+        if (atten <= 0.0f) return ls;
+        if (l.radius <= 0.0f) {
+            ls.wi = dir;
+            ls.dist = d;
+            ls.le = l.intensity * (atten / d2);
+            ls.pdf_w = 1.0f;
+            ls.delta = true;
+            ls.p_light = l.position;
+        } else {
+            if (d2 <= l.radius * l.radius) return ls;  // inside the sphere light
+            float sin2 = l.radius * l.radius / d2;
+            float cos_max = safe_sqrt(1.0f - sin2);
+            Frame f = Frame::from_normal(dir);
+            Vec3 w = f.to_world(sample_uniform_cone(u, cos_max, &ls.pdf_w));
+            float t = intersect_sphere(p, w, l.position, l.radius, 0.0f, kInf);
+            if (t < 0.0f) t = dot(to_c, w);  // grazing: numerical miss of the silhouette
+            ls.wi = w;
+            ls.dist = t;
+            ls.p_light = p + w * t;
+            ls.n_light = normalize(ls.p_light - l.position);
+            ls.le = l.radiance * atten;
+        }
+        ls.valid = true;
+        return ls;
+    }
+    case kLightArea: {
+        Vec3 q = area_point(l, u);
+        Vec3 to = q - p;
+        float d2 = length_sq(to);
+        if (!(d2 > 0.0f)) return ls;
+        float d = sqrtf(d2);
+        Vec3 wi = to / d;
+        Vec3 n = -l.frame.axis(2);
+        float cos_l = -dot(wi, n);
+        if (cos_l <= 0.0f) return ls;  // behind the emitting side
+        ls.wi = wi;
+        ls.dist = d;
+        ls.le = l.radiance;
+        ls.pdf_w = pdf_a_to_w(1.0f / l.area, d2, cos_l);
+        ls.p_light = q;
+        ls.n_light = n;
+        ls.valid = true;
+        return ls;
+    }
+    case kLightTriangle: {
+        Vec3 a = triangle_vertex(s, l.triangle, 0), b = triangle_vertex(s, l.triangle, 1),
+             c = triangle_vertex(s, l.triangle, 2);
+        Vec2 bc = sample_triangle(u);
+        Vec3 q = a * (1.0f - bc.x - bc.y) + b * bc.x + c * bc.y;
+        Vec3 to = q - p;
+        float d2 = length_sq(to);
+        if (!(d2 > 0.0f)) return ls;
+        float d = sqrtf(d2);
+        Vec3 wi = to / d;
+        Vec3 n = normalize(cross(b - a, c - a));
+        float cos_l = fabsf(dot(wi, n));
+        if (cos_l <= 0.0f) return ls;
+        ls.wi = wi;
+        ls.dist = d;
+        ls.le = l.radiance;
+        ls.pdf_w = pdf_a_to_w(1.0f / l.area, d2, cos_l);
+        ls.p_light = q;
+        ls.n_light = dot(wi, n) < 0.0f ? n : -n;  // facing the reference point
+        ls.valid = true;
+        return ls;
+    }
+    case kLightSun: {
+        Vec3 to_sun = -l.direction;
+        ls.dist = kInf;
+        if (l.cos_sun >= 1.0f) {
+            ls.wi = to_sun;
+            ls.le = l.intensity;  // irradiance
+            ls.pdf_w = 1.0f;
+            ls.delta = true;
+        } else {
+            Frame f = Frame::from_normal(to_sun);
+            ls.wi = f.to_world(sample_uniform_cone(u, l.cos_sun, &ls.pdf_w));
+            ls.le = l.radiance;
+        }
+        ls.valid = true;
+        return ls;
+    }
+    case kLightWorld: {
+        ls.wi = sample_uniform_sphere(u, &ls.pdf_w);
+        ls.dist = kInf;
+        ls.le = l.radiance;
+        ls.valid = true;
+        return ls;
+    }
+    default:
+        return ls;
+    }
+}
+
+// Solid-angle pdf with which sample_light would produce direction wi from p, for a light hit at
+// distance t with surface normal n (area, sphere and triangle lights; sun and world ignore t).
+LANTERN_HD inline float light_pdf_w(const Light& l, Vec3 p, Vec3 wi, float t, Vec3 n) {
+    switch (l.type) {
+    case kLightPoint:
+    case kLightSpot: {
+        if (l.radius <= 0.0f) return 0.0f;
+        float d2 = length_sq(l.position - p);
+        if (d2 <= l.radius * l.radius) return 0.0f;
+        return pdf_uniform_cone(safe_sqrt(1.0f - l.radius * l.radius / d2));
+    }
+    case kLightArea:
+    case kLightTriangle:
+        return pdf_a_to_w(1.0f / l.area, t * t, fabsf(dot(wi, n)));
+    case kLightSun:
+        if (l.cos_sun >= 1.0f) return 0.0f;
+        return dot(wi, -l.direction) >= l.cos_sun ? pdf_uniform_cone(l.cos_sun) : 0.0f;
+    case kLightWorld:
+        return 0.25f * kInvPi;
+    default:
+        return 0.0f;
+    }
+}
+
+// Radiance a ray along d sees when it hits a non-mesh light at distance t (< tmax), else zero.
+// Lights are not opaque (as in Cycles): the path continues behind them.
+struct LightHit {
+    Vec3 le;
+    float t;
+    Vec3 n;
+    bool hit;
+};
+
+LANTERN_HD inline LightHit intersect_light(const Light& l, Vec3 o, Vec3 d, float tmin, float tmax) {
+    LightHit h{vec3(0.0f), 0.0f, vec3(0.0f), false};
+    if (l.type == kLightPoint || l.type == kLightSpot) {
+        if (l.radius <= 0.0f) return h;
+        float t = intersect_sphere(o, d, l.position, l.radius, tmin, tmax);
+        if (t < 0.0f) return h;
+        Vec3 q = o + d * t;
+        float atten = l.type == kLightSpot ? spot_attenuation(l, -d) : 1.0f;
+        h = {l.radiance * atten, t, normalize(q - l.position), true};
+        return h;
+    }
+    if (l.type == kLightArea) {
+        Vec3 n = -l.frame.axis(2);
+        float denom = dot(d, n);
+        if (denom == 0.0f) return h;
+        float t = dot(l.frame.origin() - o, n) / denom;
+        if (!(t > tmin && t < tmax)) return h;
+        Vec3 q = o + d * t - l.frame.origin();
+        float a = dot(q, l.frame.axis(0)) / l.half_x, b = dot(q, l.frame.axis(1)) / l.half_y;
+        bool inside = l.shape == kShapeEllipse ? (a * a + b * b <= 1.0f)
+                                               : (fabsf(a) <= 1.0f && fabsf(b) <= 1.0f);
+        if (!inside) return h;
+        h.t = t;
+        h.n = n;
+        h.hit = true;
+        h.le = denom < 0.0f ? l.radiance : vec3(0.0f);  // front side only
+        return h;
+    }
+    return h;
+}
+
+}  // namespace lantern

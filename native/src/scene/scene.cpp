@@ -1,0 +1,275 @@
+#include "scene/scene.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "integrator/camera.h"
+
+namespace lantern {
+
+namespace {
+
+Vec3 sanitize_color(Vec3 c, float hi) {
+    auto f = [hi](float v) { return std::isfinite(v) ? std::min(std::max(v, 0.0f), hi) : 0.0f; };
+    return {f(c.x), f(c.y), f(c.z)};
+}
+
+// Rotation part of a row-major 4x4 with its scale removed (Gram-Schmidt on the columns).
+Transform rigid(const float m[16]) {
+    Transform t = transform_from_rows(m);
+    Vec3 x = normalize(t.axis(0));
+    Vec3 y = t.axis(1) - x * dot(t.axis(1), x);
+    y = normalize(y);
+    Vec3 z = cross(x, y);
+    if (dot(z, t.axis(2)) < 0.0f) z = -z;
+    Vec3 cols[3] = {x, y, z};
+    for (int r = 0; r < 3; ++r) {
+        for (int c = 0; c < 3; ++c) t.m[r][c] = cols[c][r];
+    }
+    return t;
+}
+
+}  // namespace
+
+Transform transform_from_rows(const float m[16]) {
+    Transform t;
+    for (int r = 0; r < 3; ++r) {
+        for (int c = 0; c < 4; ++c) t.m[r][c] = m[4 * r + c];
+    }
+    return t;
+}
+
+HostScene::HostScene(const SceneInput& in) {
+    if (in.width <= 0 || in.height <= 0 || in.width > 65536 || in.height > 65536) {
+        throw std::invalid_argument("film size must be between 1 and 65536 pixels, got " +
+                                    std::to_string(in.width) + "x" + std::to_string(in.height));
+    }
+    for (const MaterialInput& mi : in.materials) {
+        Material m{};
+        m.base_color = sanitize_color(mi.base_color, 1.0f);
+        m.emission = sanitize_color(mi.emission, 1e30f);
+        m.type = kMaterialDiffuse;
+        materials_.push_back(m);
+    }
+    if (materials_.empty()) materials_.push_back({{0.8f, 0.8f, 0.8f}, {0, 0, 0}, 0, 0});
+    add_meshes(in);
+    add_lights(in);
+    build_filter(in.filter_width);
+    finish_view(in);
+}
+
+void HostScene::add_meshes(const SceneInput& in) {
+    bool any_normals = false, any_uvs = false;
+    for (const MeshInput& m : in.meshes) {
+        any_normals |= !m.normals.empty();
+        any_uvs |= !m.uvs.empty();
+    }
+    for (const MeshInput& m : in.meshes) {
+        const size_t nv = m.positions.size() / 3, nt = m.indices.size() / 3;
+        if (m.positions.size() % 3 || m.indices.size() % 3) {
+            throw std::invalid_argument("mesh '" + m.name + "': positions and indices need 3 values each");
+        }
+        if (!m.normals.empty() && m.normals.size() != 3 * nv) {
+            throw std::invalid_argument("mesh '" + m.name + "': normals must match positions");
+        }
+        if (!m.uvs.empty() && m.uvs.size() != 2 * nv) {
+            throw std::invalid_argument("mesh '" + m.name + "': uvs must have one pair per vertex");
+        }
+        if (m.material_ids.size() != nt) {
+            throw std::invalid_argument("mesh '" + m.name + "': one material id per triangle needed");
+        }
+        const uint32_t base = uint32_t(positions_.size());
+        for (size_t v = 0; v < nv; ++v) {
+            positions_.push_back({m.positions[3 * v], m.positions[3 * v + 1], m.positions[3 * v + 2]});
+            if (any_normals) {
+                normals_.push_back(m.normals.empty() ? Vec3{0, 0, 0}
+                                                     : Vec3{m.normals[3 * v], m.normals[3 * v + 1],
+                                                            m.normals[3 * v + 2]});
+            }
+            if (any_uvs) {
+                uvs_.push_back(m.uvs.empty() ? Vec2{0, 0} : Vec2{m.uvs[2 * v], m.uvs[2 * v + 1]});
+            }
+        }
+        const uint8_t flags = uint8_t((m.visible_camera ? kVisibleCamera : 0) |
+                                      (m.cast_shadow ? kCastShadow : 0));
+        for (size_t t = 0; t < nt; ++t) {
+            for (int k = 0; k < 3; ++k) {
+                uint32_t idx = m.indices[3 * t + k];
+                if (idx >= nv) {
+                    throw std::invalid_argument("mesh '" + m.name + "': vertex index " +
+                                                std::to_string(idx) + " out of range");
+                }
+                indices_.push_back(base + idx);
+            }
+            uint32_t mat = m.material_ids[t];
+            if (mat >= materials_.size()) {
+                throw std::invalid_argument("mesh '" + m.name + "': material id " +
+                                            std::to_string(mat) + " out of range");
+            }
+            tri_material_.push_back(mat);
+            tri_flags_.push_back(flags);
+        }
+    }
+    tri_light_.assign(tri_material_.size(), -1);
+}
+
+void HostScene::add_lights(const SceneInput& in) {
+    std::vector<float> power;
+    // scene extent, for the power of distant lights
+    Vec3 lo = vec3(kInf), hi = vec3(-kInf);
+    for (const Vec3& p : positions_) {
+        if (!is_finite(p)) continue;
+        lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+        hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+    }
+    float radius = lo.x <= hi.x ? 0.5f * length(hi - lo) : 1.0f;
+    view_.scene_center = lo.x <= hi.x ? (lo + hi) * 0.5f : vec3(0.0f);
+    view_.scene_radius = std::max(radius, 1e-3f);
+    const float disk_area = kPi * view_.scene_radius * view_.scene_radius;
+
+    for (const LightInput& li : in.lights) {
+        Light l{};
+        l.triangle = -1;
+        l.visible_camera = li.visible_camera ? 1 : 0;
+        const Vec3 pw = sanitize_color(li.power, 1e30f);
+        if (li.type == "point" || li.type == "spot") {
+            l.type = li.type == "point" ? kLightPoint : kLightSpot;
+            l.frame = rigid(li.to_world);
+            l.position = li.type == "point" ? li.position : l.frame.origin();
+            l.radius = std::isfinite(li.radius) ? std::max(li.radius, 0.0f) : 0.0f;
+            l.intensity = pw * (0.25f * kInvPi);                 // W/sr
+            if (l.radius > 0.0f) l.radiance = l.intensity * (1.0f / (kPi * l.radius * l.radius));
+            float half = 0.5f * clampf(li.spot_size, 1e-4f, kPi);
+            l.cos_half_spot = cosf(half);
+            l.spot_smooth = (1.0f - l.cos_half_spot) * clampf(li.spot_blend, 0.0f, 1.0f);
+            power.push_back(luminance(pw));
+        } else if (li.type == "area") {
+            l.type = kLightArea;
+            l.frame = rigid(li.to_world);
+            bool ellipse = li.shape == "disk" || li.shape == "ellipse";
+            bool square = li.shape == "square" || li.shape == "disk";
+            l.shape = ellipse ? kShapeEllipse : kShapeRectangle;
+            l.half_x = 0.5f * std::fabs(li.size_x);
+            l.half_y = 0.5f * std::fabs(square ? li.size_x : li.size_y);
+            l.area = ellipse ? kPi * l.half_x * l.half_y : 4.0f * l.half_x * l.half_y;
+            if (!(l.area > 0.0f) || !std::isfinite(l.area)) {
+                warnings_.push_back("an area light of zero size was skipped");
+                continue;
+            }
+            l.radiance = pw * (1.0f / (kPi * l.area));
+            power.push_back(luminance(pw));
+        } else if (li.type == "sun") {
+            l.type = kLightSun;
+            l.direction = normalize(li.direction);
+            const Vec3 s = sanitize_color(li.strength, 1e30f);
+            float half = 0.5f * clampf(std::isfinite(li.angle) ? li.angle : 0.0f, 0.0f, kPi);
+            if (half < 1e-5f) {
+                l.cos_sun = 1.0f;
+                l.intensity = s;
+            } else {
+                l.cos_sun = cosf(half);
+                float sin2 = 1.0f - l.cos_sun * l.cos_sun;
+                l.radiance = s * (1.0f / (kPi * sin2));
+            }
+            power.push_back(luminance(s) * disk_area);
+        } else {
+            warnings_.push_back("unknown light type '" + li.type + "' was skipped");
+            continue;
+        }
+        if (power.back() <= 0.0f || !std::isfinite(power.back())) {
+            power.pop_back();
+            continue;
+        }
+        lights_.push_back(l);
+    }
+    // emissive triangles
+    for (size_t t = 0; t < tri_material_.size(); ++t) {
+        const Material& m = materials_[tri_material_[t]];
+        if (is_black(m.emission)) continue;
+        Vec3 a = positions_[indices_[3 * t]], b = positions_[indices_[3 * t + 1]],
+             c = positions_[indices_[3 * t + 2]];
+        float area = 0.5f * length(cross(b - a, c - a));
+        if (!(area > 0.0f) || !std::isfinite(area)) continue;
+        Light l{};
+        l.type = kLightTriangle;
+        l.triangle = int32_t(t);
+        l.radiance = m.emission;
+        l.area = area;
+        l.visible_camera = 1;
+        tri_light_[t] = int32_t(lights_.size());
+        lights_.push_back(l);
+        power.push_back(luminance(m.emission) * area * 2.0f * kPi);
+    }
+    Vec3 world = sanitize_color(in.world_color, 1e30f);
+    view_.world_color = world;
+    if (!is_black(world)) {
+        Light l{};
+        l.type = kLightWorld;
+        l.triangle = -1;
+        l.radiance = world;
+        l.visible_camera = 1;
+        view_.world_light = int32_t(lights_.size());
+        lights_.push_back(l);
+        power.push_back(luminance(world) * kPi * 4.0f * disk_area);
+    }
+    double total = 0.0;
+    for (float p : power) total += p;
+    double acc = 0.0;
+    for (size_t k = 0; k < lights_.size(); ++k) {
+        lights_[k].pick_pdf = float(power[k] / total);
+        acc += power[k];
+        light_cdf_.push_back(float(acc / total));
+    }
+    if (!light_cdf_.empty()) light_cdf_.back() = 1.0f;
+}
+
+// Inverted CDF of the Blackman-Harris filter: maps u in [0,1] to an offset in pixels.
+void HostScene::build_filter(float width) {
+    if (!(width > 0.0f) || !std::isfinite(width)) width = 1.5f;
+    width = std::min(width, 16.0f);
+    const int fine = 4096, table = 256;
+    std::vector<double> cdf(fine + 1, 0.0);
+    for (int k = 0; k < fine; ++k) {
+        float x = -0.5f * width + width * (float(k) + 0.5f) / float(fine);
+        cdf[k + 1] = cdf[k] + std::max(0.0f, blackman_harris(x, width));
+    }
+    filter_cdf_.resize(table);
+    int j = 0;
+    for (int i = 0; i < table; ++i) {
+        double target = cdf[fine] * double(i) / double(table - 1);
+        while (j < fine && cdf[j + 1] < target) ++j;
+        double seg = cdf[j + 1] - cdf[j];
+        double f = seg > 0.0 ? (target - cdf[j]) / seg : 0.0;
+        filter_cdf_[i] = float(-0.5 * width + width * (double(j) + std::min(1.0, std::max(0.0, f))) / fine);
+    }
+}
+
+void HostScene::finish_view(const SceneInput& in) {
+    SceneView& v = view_;
+    v.positions = positions_.data();
+    v.normals = normals_.empty() ? nullptr : normals_.data();
+    v.uvs = uvs_.empty() ? nullptr : uvs_.data();
+    v.indices = indices_.data();
+    v.tri_material = tri_material_.data();
+    v.tri_flags = tri_flags_.data();
+    v.tri_light = tri_light_.data();
+    v.num_triangles = int32_t(tri_material_.size());
+    v.materials = materials_.data();
+    v.num_materials = int32_t(materials_.size());
+    v.lights = lights_.data();
+    v.light_cdf = light_cdf_.data();
+    v.num_lights = int32_t(lights_.size());
+    CameraView& c = v.camera;
+    c.orthographic = in.orthographic ? 1 : 0;
+    c.width = in.width;
+    c.height = in.height;
+    c.to_world = rigid(in.camera_to_world);
+    for (int k = 0; k < 4; ++k) c.screen[k] = in.screen[k];
+    c.clip_start = std::max(0.0f, in.clip_start);
+    c.clip_end = in.clip_end > c.clip_start ? in.clip_end : kInf;
+    c.filter_cdf = filter_cdf_.data();
+    c.filter_table_size = int32_t(filter_cdf_.size());
+    c.filter_width = in.filter_width;
+}
+
+}  // namespace lantern

@@ -1,0 +1,88 @@
+// The host scene: owns every buffer a render needs and hands stages a SceneView of them.
+// Built from a SceneInput (what the Python side or a test describes), it converts Blender's
+// quantities to radiance, drops what cannot render (non-finite values, zero-area emitters)
+// with a warning, and builds the light-selection distribution.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "scene/scene_view.h"
+
+namespace lantern {
+
+struct MeshInput {
+    std::string name;
+    std::vector<float> positions;      // 3 per vertex, world space
+    std::vector<float> normals;        // 3 per vertex or empty
+    std::vector<float> uvs;            // 2 per vertex or empty
+    std::vector<uint32_t> indices;     // 3 per triangle
+    std::vector<uint32_t> material_ids;  // 1 per triangle
+    bool visible_camera = true;
+    bool cast_shadow = true;
+};
+
+struct MaterialInput {
+    std::string name;
+    Vec3 base_color{0.8f, 0.8f, 0.8f};
+    Vec3 emission{0.0f, 0.0f, 0.0f};
+};
+
+struct LightInput {
+    std::string type;        // point, spot, area, sun
+    float to_world[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};  // row-major
+    Vec3 position;
+    Vec3 direction{0, 0, -1};
+    Vec3 power;              // point/spot/area: W (color * energy)
+    Vec3 strength;           // sun: W/m^2
+    float radius = 0.0f;
+    float spot_size = 0.785398f;
+    float spot_blend = 0.15f;
+    std::string shape = "square";
+    float size_x = 1.0f, size_y = 1.0f;
+    float angle = 0.0f;
+    bool visible_camera = false;
+};
+
+struct SceneInput {
+    int width = 64, height = 64;
+    float filter_width = 1.5f;
+    bool orthographic = false;
+    float camera_to_world[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+    float screen[4] = {-0.5f, 0.5f, -0.5f, 0.5f};
+    float clip_start = 0.1f, clip_end = 1000.0f;
+    Vec3 world_color;
+    std::vector<MaterialInput> materials;
+    std::vector<MeshInput> meshes;
+    std::vector<LightInput> lights;
+};
+
+class HostScene {
+public:
+    // Throws std::invalid_argument with a clear message for input that cannot be rendered.
+    explicit HostScene(const SceneInput& in);
+    const SceneView& view() const { return view_; }
+    const std::vector<std::string>& warnings() const { return warnings_; }
+    int num_triangles() const { return int(tri_material_.size()); }
+
+private:
+    void add_meshes(const SceneInput& in);
+    void add_lights(const SceneInput& in);
+    void build_filter(float width);
+    void finish_view(const SceneInput& in);
+
+    std::vector<Vec3> positions_, normals_;
+    std::vector<Vec2> uvs_;
+    std::vector<uint32_t> indices_, tri_material_;
+    std::vector<uint8_t> tri_flags_;
+    std::vector<int32_t> tri_light_;
+    std::vector<Material> materials_;
+    std::vector<Light> lights_;
+    std::vector<float> light_cdf_, filter_cdf_;
+    std::vector<std::string> warnings_;
+    SceneView view_;
+};
+
+Transform transform_from_rows(const float m[16]);
+
+}  // namespace lantern

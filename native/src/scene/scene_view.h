@@ -1,0 +1,85 @@
+// What stages see of a scene: plain structs and raw pointers into buffers the host Scene owns
+// (on the GPU, device buffers). No containers, strings or virtual calls reach a stage.
+#pragma once
+
+#include "core/math.h"
+
+namespace lantern {
+
+enum MaterialType : uint32_t { kMaterialDiffuse = 0 };
+
+struct Material {
+    Vec3 base_color;
+    Vec3 emission;     // radiance, both sides
+    uint32_t type;     // MaterialType
+    uint32_t pad;
+};
+
+enum LightType : int32_t {
+    kLightPoint = 0,   // sphere of `radius` (0: a true point), intensity-based
+    kLightSpot = 1,
+    kLightArea = 2,
+    kLightSun = 3,
+    kLightTriangle = 4,  // one emissive mesh triangle
+    kLightWorld = 5,     // constant background
+};
+
+enum AreaShape : int32_t { kShapeRectangle = 0, kShapeEllipse = 1 };
+
+struct Light {
+    int32_t type;
+    int32_t shape;          // area lights
+    int32_t triangle;       // kLightTriangle: triangle index
+    int32_t visible_camera;
+    Transform frame;        // area/spot: axes x, y and -z = emission direction; origin = centre
+    Vec3 position;          // point/spot centre
+    Vec3 direction;         // sun: direction the light travels; spot: cone axis
+    Vec3 radiance;          // area/sphere/sun/world/triangle: emitted radiance
+    Vec3 intensity;         // point/spot with radius 0: W/sr
+    float radius;           // point/spot sphere radius
+    float half_x, half_y;   // area: half extents
+    float area;             // area of the emitting surface (area, triangle)
+    float cos_half_spot;    // spot: cosine of half the cone angle
+    float spot_smooth;      // spot: (1 - cos_half_spot) * blend
+    float cos_sun;          // sun: cosine of half the angle (1: delta)
+    float pick_pdf;         // probability of choosing this light for next-event estimation
+};
+
+enum TriangleFlags : uint8_t { kVisibleCamera = 1, kCastShadow = 2 };
+
+struct CameraView {
+    int32_t orthographic;
+    int32_t width, height;
+    Transform to_world;     // rigid; looks down local -Z
+    float screen[4];        // xmin, xmax, ymin, ymax on the z = -1 plane (or metres, ortho)
+    float clip_start, clip_end;
+    const float* filter_cdf;  // inverted CDF of the 1D pixel filter, filter_table_size entries
+    int32_t filter_table_size;
+    float filter_width;
+};
+
+struct SceneView {
+    const Vec3* positions = nullptr;
+    const Vec3* normals = nullptr;   // per vertex, may be null
+    const Vec2* uvs = nullptr;       // per vertex, may be null
+    const uint32_t* indices = nullptr;
+    const uint32_t* tri_material = nullptr;
+    const uint8_t* tri_flags = nullptr;
+    const int32_t* tri_light = nullptr;  // light index of an emissive triangle, else -1
+    int32_t num_triangles = 0;
+
+    const Material* materials = nullptr;
+    int32_t num_materials = 0;
+
+    const Light* lights = nullptr;
+    const float* light_cdf = nullptr;    // normalised, for next-event estimation
+    int32_t num_lights = 0;
+    int32_t world_light = -1;            // index of the kLightWorld entry or -1
+
+    Vec3 world_color;
+    CameraView camera;
+    float scene_radius = 1.0f;           // for sun/world sampling and offsets
+    Vec3 scene_center;
+};
+
+}  // namespace lantern

@@ -1,0 +1,177 @@
+// Host tests of the host+device basics: warps and their pdfs, random streams, camera rays,
+// light units, ray offsets.
+#include <gtest/gtest.h>
+
+#include "core/offset.h"
+#include "core/rng.h"
+#include "core/sampling.h"
+#include "integrator/camera.h"
+#include "scene/lights.h"
+#include "scene/scene.h"
+
+using namespace lantern;
+
+namespace {
+
+// Monte Carlo estimate of the integral of pdf(w) over the sphere, with uniform directions.
+template <typename Pdf>
+double integrate_over_sphere(Pdf pdf, int n = 400000) {
+    Rng rng = Rng::for_path(1, 2, 3);
+    double sum = 0.0;
+    for (int i = 0; i < n; ++i) {
+        float p;
+        Vec3 w = sample_uniform_sphere(rng.uniform2(), &p);
+        sum += pdf(w) / p;
+    }
+    return sum / n;
+}
+
+}  // namespace
+
+TEST(Sampling, CosinePdfIntegratesToOne) {
+    EXPECT_NEAR(integrate_over_sphere([](Vec3 w) { return pdf_cosine_hemisphere(w.z); }), 1.0, 0.01);
+}
+
+TEST(Sampling, ConePdfIntegratesToOne) {
+    const float cos_max = 0.8f;
+    double v = integrate_over_sphere(
+        [&](Vec3 w) { return w.z >= cos_max ? pdf_uniform_cone(cos_max) : 0.0f; });
+    EXPECT_NEAR(v, 1.0, 0.02);
+}
+
+TEST(Sampling, CosineSamplesMatchTheirPdf) {
+    // histogram of cos(theta) in 10 bins against the exact mass: P(z in [a,b]) = b^2 - a^2
+    Rng rng = Rng::for_path(7, 0, 0);
+    const int n = 200000, bins = 10;
+    int hist[bins] = {};
+    for (int i = 0; i < n; ++i) {
+        float pdf;
+        Vec3 w = sample_cosine_hemisphere(rng.uniform2(), &pdf);
+        ASSERT_GE(w.z, 0.0f);
+        ASSERT_NEAR(pdf, w.z * kInvPi, 1e-5f);
+        hist[std::min(bins - 1, int(w.z * bins))]++;
+    }
+    double chi2 = 0.0;
+    for (int b = 0; b < bins; ++b) {
+        double lo = double(b) / bins, hi = double(b + 1) / bins;
+        double expected = n * (hi * hi - lo * lo);
+        chi2 += (hist[b] - expected) * (hist[b] - expected) / expected;
+    }
+    EXPECT_LT(chi2, 27.9);  // chi-square, 9 dof, p = 0.001
+}
+
+TEST(Sampling, TriangleSamplesAreInside) {
+    Rng rng = Rng::for_path(3, 0, 0);
+    for (int i = 0; i < 10000; ++i) {
+        Vec2 b = sample_triangle(rng.uniform2());
+        ASSERT_GE(b.x, 0.0f);
+        ASSERT_GE(b.y, 0.0f);
+        ASSERT_LE(b.x + b.y, 1.0f + 1e-6f);
+    }
+}
+
+TEST(Rng, SameStreamSameNumbers) {
+    Rng a = Rng::for_path(5, 9, 11), b = Rng::for_path(5, 9, 11), c = Rng::for_path(5, 9, 12);
+    int differ = 0;
+    for (int i = 0; i < 100; ++i) {
+        float x = a.uniform(), y = b.uniform(), z = c.uniform();
+        EXPECT_EQ(x, y);
+        EXPECT_GE(x, 0.0f);
+        EXPECT_LT(x, 1.0f);
+        differ += x != z;
+    }
+    EXPECT_GT(differ, 95);
+}
+
+TEST(Camera, CentreRayLooksDownMinusZ) {
+    SceneInput in;
+    in.width = 65;
+    in.height = 33;
+    in.screen[0] = -0.4f; in.screen[1] = 0.4f; in.screen[2] = -0.2f; in.screen[3] = 0.2f;
+    HostScene s(in);
+    Ray r = camera_ray(s.view().camera, 32.5f, 16.5f);
+    EXPECT_NEAR(r.d.z, -1.0f, 1e-6f);
+    Ray corner = camera_ray(s.view().camera, 0.0f, 0.0f);  // top left
+    EXPECT_LT(corner.d.x, 0.0f);
+    EXPECT_GT(corner.d.y, 0.0f);
+    EXPECT_NEAR(corner.d.x / -corner.d.z, -0.4f, 1e-5f);
+    EXPECT_NEAR(r.tmin, in.clip_start, 1e-6f);
+}
+
+TEST(Camera, FilterOffsetsStayInsideTheWidth) {
+    SceneInput in;
+    HostScene s(in);
+    const CameraView& c = s.view().camera;
+    double mean = 0.0;
+    for (int i = 0; i <= 1000; ++i) {
+        float x = filter_offset(c, i / 1000.0f);
+        EXPECT_GE(x, -0.75f - 1e-5f);
+        EXPECT_LE(x, 0.75f + 1e-5f);
+        mean += x;
+    }
+    EXPECT_NEAR(mean / 1001.0, 0.0, 1e-3);
+}
+
+TEST(Lights, AreaRadianceIsPowerOverPiArea) {
+    SceneInput in;
+    LightInput l;
+    l.type = "area";
+    l.shape = "rectangle";
+    l.size_x = 2.0f;
+    l.size_y = 0.5f;
+    l.power = {kPi, kPi, kPi};
+    in.lights.push_back(l);
+    HostScene s(in);
+    ASSERT_EQ(s.view().num_lights, 1);
+    EXPECT_NEAR(s.view().lights[0].radiance.x, 1.0f, 1e-6f);  // pi W over 1 m^2
+}
+
+TEST(Lights, PointIrradianceFallsOffWithDistanceSquared) {
+    SceneInput in;
+    LightInput l;
+    l.type = "point";
+    l.position = {0, 0, 3};
+    l.power = {100, 100, 100};
+    in.lights.push_back(l);
+    HostScene s(in);
+    const SceneView& v = s.view();
+    Rng rng = Rng::for_path(0, 0, 0);
+    LightSample ls = sample_light(v, v.lights[0], vec3(0, 0, 1), rng.uniform2());
+    ASSERT_TRUE(ls.valid);
+    EXPECT_TRUE(ls.delta);
+    EXPECT_NEAR(ls.le.x, 100.0f / (4.0f * kPi * 4.0f), 1e-5f);  // P / (4 pi d^2)
+}
+
+TEST(Lights, SphereLightMatchesPointLightFarAway) {
+    // a small sphere light's irradiance at distance d approaches P/(4 pi d^2)
+    SceneInput in;
+    LightInput l;
+    l.type = "point";
+    l.position = {0, 0, 10};
+    l.radius = 0.1f;
+    l.power = {100, 100, 100};
+    in.lights.push_back(l);
+    HostScene s(in);
+    const SceneView& v = s.view();
+    Rng rng = Rng::for_path(0, 0, 0);
+    double e = 0.0;
+    const int n = 20000;
+    for (int i = 0; i < n; ++i) {
+        LightSample ls = sample_light(v, v.lights[0], vec3(0, 0, 0), rng.uniform2());
+        ASSERT_TRUE(ls.valid);
+        e += ls.le.x * ls.wi.z / ls.pdf_w;
+    }
+    EXPECT_NEAR(e / n, 100.0 / (4.0 * kPi * 100.0), 1e-3 * 100.0 / (4.0 * kPi * 100.0) * 5);
+}
+
+TEST(Offset, LeavesTheSurfaceAtEveryScale) {
+    for (float scale : {1e-3f, 1.0f, 1e4f}) {
+        Vec3 p = vec3(0.37f, -1.3f, 2.9f) * scale;
+        Vec3 n = normalize(vec3(0.2f, 0.3f, 0.9f));
+        Vec3 q = offset_ray_origin(p, n, n);
+        EXPECT_GT(dot(q - p, n), 0.0f) << scale;
+        Vec3 r = offset_ray_origin(p, n, -n);
+        EXPECT_LT(dot(r - p, n), 0.0f) << scale;
+        EXPECT_LT(length(q - p), 1e-3f * std::max(1.0f, scale)) << scale;
+    }
+}
