@@ -101,8 +101,8 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
     ps.shadow_valid[i] = 0;
     ps.alive[i] = 0;
     pt_collect_lights(s, ps, i, o, d, ps.ray_tmin[i], tri >= 0 ? t_hit : ps.ray_tmax[i]);
-    if (tri < 0) {
-        if (ps.ray_tmax[i] >= kInf) pt_shade_miss(s, ps, i, d);
+    if (tri < 0) {  // past the far clip plane too: the background shows, as in Cycles
+        pt_shade_miss(s, ps, i, d);
         return;
     }
     SurfaceHit h = pt_surface(s, tri, ps.hit_uv[i], d);
