@@ -78,14 +78,18 @@ def build_parser():
 
 
 def _rays(stats):
-    """Total rays from the core's stats, whichever way it reports them."""
+    """Total rays traced so far from the core's stats (`rays_total`, else the sum of the
+    per-kind `rays_*` counters, else a `rays` dict or number)."""
+    total = stats.get("rays_total")
+    if isinstance(total, (int, float)):
+        return total
     rays = stats.get("rays")
     if isinstance(rays, dict):
         return sum(v for v in rays.values() if isinstance(v, (int, float)))
     if isinstance(rays, (int, float)):
         return rays
     return sum(v for k, v in stats.items()
-               if k.startswith("rays") and isinstance(v, (int, float)))
+               if k.startswith("rays_") and isinstance(v, (int, float)))
 
 
 def cmd_render(args):

@@ -39,7 +39,8 @@ class Session:
 
     def stats(self):
         return {"iterations": self._iterations, "spp": self._spp,
-                "rays": {"camera": 100 * self._spp, "shadow": 50 * self._spp},
+                "rays_camera": 100 * self._spp, "rays_shadow": 50 * self._spp,
+                "rays_total": 150 * self._spp,
                 "backend": "cpu"}
 
     def cancel(self):

@@ -131,6 +131,13 @@ def test_session_wrapper_with_stand_in_core(fake):
     assert img.shape == (4, 8, 3)
 
 
+def test_rays_from_stats():
+    assert cli._rays({"rays_camera": 1, "rays_shadow": 2, "rays_total": 3}) == 3
+    assert cli._rays({"rays_camera": 1, "rays_shadow": 2}) == 3
+    assert cli._rays({"rays": {"camera": 4, "shadow": 1}}) == 5
+    assert cli._rays({}) == 0
+
+
 def test_render_stops_when_cancelled(fake, monkeypatch):
     # a core that makes no progress (cancelled) must not spin forever
     monkeypatch.setattr(fake.Session, "step", lambda self: None)

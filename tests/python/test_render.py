@@ -133,7 +133,7 @@ def test_furnace(core, backend, max_depth):
     scene = scenes.furnace_sphere(albedo=albedo, emission=le, subdivisions=3,
                                   width=16, height=16)
     k = 8
-    renders = [lantern.render(scene, spp=32, seed=100 + i, max_depth=max_depth,
+    renders = [lantern.render(scene, spp=128, seed=100 + i, max_depth=max_depth,
                               backend=backend) for i in range(k)]
     stack = np.stack(renders).astype(np.float64)
     assert np.isfinite(stack).all()
