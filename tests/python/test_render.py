@@ -64,6 +64,13 @@ def test_same_seed_same_bits(core):
     assert a.tobytes() == b.tobytes()
 
 
+def test_thread_count_does_not_change_the_image(core):
+    scene = scenes.cornell_box(width=24, height=16)
+    a = lantern.render(scene, spp=3, seed=11, threads=1)
+    b = lantern.render(scene, spp=3, seed=11, threads=2)
+    assert a.tobytes() == b.tobytes()
+
+
 def test_different_seeds_differ(core):
     scene = scenes.cornell_box(width=32, height=32)
     a = lantern.render(scene, spp=2, seed=1)
