@@ -1,0 +1,238 @@
+"""What the render engine does: F12 renders stream each iteration into the render result; the
+viewport re-exports on change and refines in a background thread that never touches bpy.
+
+Errors never escape into Blender: they are reported with self.report and printed with their
+traceback; a final render keeps whatever image was finished."""
+
+import threading
+import time
+import traceback
+import weakref
+
+import numpy as np
+
+_live_states = weakref.WeakSet()
+
+
+def _report_error(engine, what, error):
+    traceback.print_exc()
+    try:
+        engine.report({"ERROR"}, f"Lantern: {what}: {error}")
+    except Exception:  # the engine may be gone (viewport closed)
+        pass
+
+
+def _report_warnings(engine, messages):
+    for message in messages:
+        print(f"Lantern warning: {message}")
+        engine.report({"WARNING"}, f"Lantern: {message}")
+
+
+def to_rect(image):
+    """Mean radiance (H, W, 3), top row first -> Blender's RGBA rect, bottom row first."""
+    h, w = image.shape[:2]
+    rect = np.ones((h, w, 4), dtype=np.float32)
+    rect[:, :, :3] = image[::-1]
+    return rect.reshape(h * w, 4)
+
+
+def _write_result(engine, result, image):
+    rect = to_rect(image)
+    combined = result.layers[0].passes["Combined"]
+    combined.rect.foreach_set(rect.ravel()) if hasattr(combined.rect, "foreach_set") else \
+        setattr(combined, "rect", rect)
+    engine.update_result(result)
+
+
+class _Stepper:
+    """Steps a native session in a worker thread (the core releases the GIL); the main thread
+    polls and may cancel. The worker touches only the session, never bpy."""
+
+    def __init__(self, session):
+        self.session = session
+        self.error = None
+        self._thread = None
+
+    def start_step(self):
+        def run():
+            try:
+                self.session.step()
+            except Exception as e:  # handed to the main thread
+                self.error = e
+        self._thread = threading.Thread(target=run, name="lantern-step", daemon=True)
+        self._thread.start()
+
+    def wait(self, timeout):
+        self._thread.join(timeout)
+        return not self._thread.is_alive()
+
+
+# ---- F12 ----
+
+def render(engine, depsgraph):
+    bscene = depsgraph.scene
+    settings = bscene.lantern
+    preview = engine.is_preview
+    target = settings.preview_samples if preview else settings.samples
+    time_limit = float(settings.time_limit)
+    try:
+        import lantern
+        from .export import export_scene
+        engine.update_stats("", "Lantern: exporting scene")
+        t0 = time.perf_counter()
+        scene, report = export_scene(depsgraph)
+        _report_warnings(engine, report.messages)
+        session = lantern.Session(scene, **settings.session_settings())
+        _report_warnings(engine, session.warnings)
+    except Exception as e:
+        _report_error(engine, "could not start the render", e)
+        return
+    width, height = scene.film["width"], scene.film["height"]
+    result = engine.begin_result(0, 0, width, height)
+    try:
+        _render_loop(engine, session, result, target, time_limit, t0)
+    except Exception as e:
+        _report_error(engine, "render failed", e)
+    finally:
+        engine.end_result(result)
+
+
+def _render_loop(engine, session, result, target, time_limit, t0):
+    stepper = _Stepper(session)
+    start = time.perf_counter()
+    while session.spp < max(1, target):
+        before = session.spp
+        stepper.start_step()
+        cancelled = False
+        while not stepper.wait(0.05):
+            if not cancelled and (engine.test_break() or _past(time_limit, start)):
+                session.cancel()
+                cancelled = True
+        if stepper.error is not None:
+            raise stepper.error
+        if session.spp > before:
+            _write_result(engine, result, session.image())
+        elapsed = time.perf_counter() - start
+        stats = session.stats
+        mrays = stats.get("rays_total", 0) / max(elapsed, 1e-9) / 1e6
+        engine.update_stats("", f"Sample {session.spp}/{target} | {elapsed:.1f} s | "
+                                f"{mrays:.1f} Mrays/s")
+        engine.update_progress(min(1.0, session.spp / max(1, target)))
+        if cancelled or session.spp <= before or engine.test_break() or _past(time_limit, start):
+            break
+    print(f"Lantern: {session.spp} spp in {time.perf_counter() - start:.2f} s "
+          f"(export and set-up {start - t0:.2f} s)")
+
+
+def _past(time_limit, start):
+    return time_limit > 0 and time.perf_counter() - start >= time_limit
+
+
+# ---- Viewport ----
+
+class EngineState:
+    """Per-engine viewport state: the session, its refining thread, the drawn texture."""
+
+    def __init__(self):
+        self.session = None
+        self.thread = None
+        self.stop = threading.Event()
+        self.lock = threading.Lock()
+        self.image = None          # latest image from the worker (numpy), guarded by lock
+        self.image_serial = 0
+        self.view_key = None
+        self.dirty = True
+        self.target = 0
+        self.draw = None           # viewport.ImageDraw
+        self.error = None
+        _live_states.add(self)
+
+    def stop_session(self):
+        self.stop.set()
+        if self.session is not None:
+            try:
+                self.session.cancel()
+            except Exception:
+                pass
+        if self.thread is not None:
+            self.thread.join(5.0)
+        self.thread = None
+        self.session = None
+        self.stop = threading.Event()
+
+    def start_session(self, session, target):
+        self.stop_session()
+        self.session = session
+        self.target = target
+        stop = self.stop
+
+        def refine():
+            try:
+                while not stop.is_set() and (target <= 0 or session.spp < target):
+                    before = session.spp
+                    session.step()
+                    if stop.is_set() or session.spp <= before:
+                        break
+                    image = session.image()
+                    with self.lock:
+                        self.image = image
+                        self.image_serial += 1
+            except Exception as e:
+                self.error = e
+        self.thread = threading.Thread(target=refine, name="lantern-viewport", daemon=True)
+        self.thread.start()
+
+    def refining(self):
+        return self.thread is not None and self.thread.is_alive()
+
+    def free(self):
+        self.stop_session()
+        self.draw = None
+
+
+def stop_all():
+    for state in list(_live_states):
+        state.free()
+
+
+def view_update(engine, context, depsgraph):
+    state = engine._lantern
+    # full re-export on any change: simple and correct for this milestone
+    state.dirty = True
+
+
+def view_draw(engine, context, depsgraph):
+    from . import viewport
+    from .export.camera import ViewportView
+    state = engine._lantern
+    try:
+        view = ViewportView(context)
+        if state.dirty or view.key() != state.view_key:
+            import lantern
+            from .export import export_scene
+            state.stop_session()
+            scene, report = export_scene(depsgraph, region_view=view)
+            _report_warnings(engine, report.messages)
+            settings = context.scene.lantern
+            session = lantern.Session(scene, **settings.session_settings())
+            state.view_key, state.dirty, state.error = view.key(), False, None
+            with state.lock:
+                state.image = None
+            state.start_session(session, settings.preview_samples)
+        if state.error is not None:
+            error, state.error = state.error, None
+            _report_error(engine, "viewport render failed", error)
+        with state.lock:
+            image, serial = state.image, state.image_serial
+        if image is not None:
+            if state.draw is None:
+                state.draw = viewport.ImageDraw()
+            state.draw.update(image, serial)
+            engine.bind_display_space_shader(context.scene)
+            state.draw.draw(context.region.width, context.region.height)
+            engine.unbind_display_space_shader()
+        if state.refining() or image is None:
+            engine.tag_redraw()
+    except Exception as e:
+        state.dirty = False  # do not retry a failing export on every redraw
+        _report_error(engine, "viewport", e)

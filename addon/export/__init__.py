@@ -1,0 +1,55 @@
+"""Depsgraph -> lantern.Scene. Everything here runs on Blender's main thread; the scene it
+returns holds only numpy arrays and plain values, safe to hand to a render thread."""
+
+from .camera import export_camera, export_film
+from .light import export_light
+from .material import MaterialTable
+from .mesh import MeshExporter
+from .world import export_world
+
+__all__ = ["export_scene", "ExportReport"]
+
+
+class ExportReport:
+    """Warnings collected during an export, each once, for the engine to report."""
+
+    def __init__(self):
+        self.messages = []
+
+    def warn(self, message):
+        if message not in self.messages:
+            self.messages.append(message)
+
+
+def export_scene(depsgraph, region_view=None, report=None):
+    """Build a lantern.Scene from an evaluated depsgraph.
+
+    region_view: None for a final render (scene camera, render resolution), else a
+    camera.ViewportView describing the 3D viewport to render."""
+    import lantern
+
+    report = report or ExportReport()
+    bscene = depsgraph.scene_eval
+    scene = lantern.Scene()
+    if region_view is None:
+        scene.film = export_film(bscene)
+        scene.camera = export_camera(bscene, bscene.camera, scene.film, report)
+    else:
+        scene.film = region_view.film()
+        scene.camera = region_view.camera()
+    scene.world = export_world(bscene.world, report)
+    materials = MaterialTable(report)
+    meshes = MeshExporter(materials, report)
+    for inst in depsgraph.object_instances:
+        obj = inst.object
+        if obj.type == "LIGHT":
+            light = export_light(obj, inst.matrix_world, report)
+            if light is not None:
+                scene.lights.append(light)
+        elif obj.type in {"MESH", "CURVE", "SURFACE", "META", "FONT", "CURVES"}:
+            mesh = meshes.export(inst)
+            if mesh is not None:
+                scene.meshes.append(mesh)
+    meshes.clear()
+    scene.materials = materials.materials
+    return scene, report

@@ -1,0 +1,113 @@
+"""Camera and film, as Cycles syncs them from Blender: sensor fit, lens or ortho scale, shift in
+units of the fitted (larger) dimension, clipping along the view axis. The view window is given on
+the z = -1 plane (perspective) or in metres (orthographic); see docs/scene_format.md."""
+
+import numpy as np
+
+
+def export_film(bscene):
+    r = bscene.render
+    pct = r.resolution_percentage / 100.0
+    width = max(1, int(r.resolution_x * pct))
+    height = max(1, int(r.resolution_y * pct))
+    return {"width": width, "height": height, "filter_width": float(r.filter_size)}
+
+
+def _rigid(matrix):
+    m = np.array(matrix, dtype=np.float64)
+    for k in range(3):
+        n = np.linalg.norm(m[:3, k])
+        if n > 0:
+            m[:3, k] /= n
+    return m.astype(np.float32)
+
+
+def view_window(half_fit, horizontal_fit, xaspect, yaspect, shift_x, shift_y):
+    """Window [xmin, xmax, ymin, ymax] given the half extent of the fitted dimension."""
+    if horizontal_fit:
+        hx, hy = half_fit, half_fit * yaspect / xaspect
+    else:
+        hx, hy = half_fit * xaspect / yaspect, half_fit
+    dx, dy = 2.0 * half_fit * shift_x, 2.0 * half_fit * shift_y
+    return [-hx + dx, hx + dx, -hy + dy, hy + dy]
+
+
+def camera_window(cam, film, pixel_aspect=(1.0, 1.0)):
+    """View window and fit for Blender camera data `cam` on a film of the given size."""
+    xaspect = film["width"] * pixel_aspect[0]
+    yaspect = film["height"] * pixel_aspect[1]
+    fit = cam.sensor_fit
+    if fit == "AUTO":
+        horizontal = xaspect >= yaspect
+        sensor = cam.sensor_width
+    elif fit == "HORIZONTAL":
+        horizontal, sensor = True, cam.sensor_width
+    else:
+        horizontal, sensor = False, cam.sensor_height
+    if cam.type == "ORTHO":
+        half = 0.5 * cam.ortho_scale
+    else:
+        half = 0.5 * sensor / cam.lens
+    return view_window(half, horizontal, xaspect, yaspect, cam.shift_x, cam.shift_y)
+
+
+def export_camera(bscene, cam_obj, film, report):
+    if cam_obj is None:
+        report.warn("The scene has no camera: rendering from the origin, looking down -Z")
+        return {"type": "perspective", "to_world": np.eye(4, dtype=np.float32),
+                "screen": view_window(0.36, film["width"] >= film["height"], film["width"],
+                                      film["height"], 0, 0), "clip": [0.1, 1000.0]}
+    cam = cam_obj.data
+    kind = "perspective"
+    if cam.type == "ORTHO":
+        kind = "orthographic"
+    elif cam.type != "PERSP":
+        report.warn(f"Camera '{cam_obj.name}': {cam.type} cameras are not supported; "
+                    "rendering a perspective camera")
+    r = bscene.render
+    screen = camera_window(cam, film, (r.pixel_aspect_x, r.pixel_aspect_y))
+    return {"type": kind, "to_world": _rigid(cam_obj.matrix_world), "screen": screen,
+            "clip": [float(cam.clip_start), float(cam.clip_end)]}
+
+
+class ViewportView:
+    """The 3D viewport as a camera: from the region's view and projection matrices."""
+
+    def __init__(self, context, scale=1.0):
+        region, rv3d = context.region, context.region_data
+        self.width = max(1, int(region.width * scale))
+        self.height = max(1, int(region.height * scale))
+        self.view_matrix = np.array(rv3d.view_matrix, dtype=np.float64)
+        self.window_matrix = np.array(rv3d.window_matrix, dtype=np.float64)
+        self.is_perspective = bool(rv3d.is_perspective)
+        self.filter_width = float(context.scene.render.filter_size)
+
+    def key(self):
+        return (self.width, self.height, self.view_matrix.tobytes(), self.window_matrix.tobytes())
+
+    def film(self):
+        return {"width": self.width, "height": self.height, "filter_width": self.filter_width}
+
+    def camera(self):
+        p = self.window_matrix
+        to_world = _rigid(np.linalg.inv(self.view_matrix))
+        if self.is_perspective:
+            # (sx, sy, -1) projects to ndc x = p00*sx - p02, y = p11*sy - p12
+            screen = [(-1 + p[0, 2]) / p[0, 0], (1 + p[0, 2]) / p[0, 0],
+                      (-1 + p[1, 2]) / p[1, 1], (1 + p[1, 2]) / p[1, 1]]
+            near = p[2, 3] / (p[2, 2] - 1.0)
+            far = p[2, 3] / (p[2, 2] + 1.0)
+            return {"type": "perspective", "to_world": to_world, "screen": screen,
+                    "clip": [float(abs(near)), float(abs(far))]}
+        screen = [(-1 - p[0, 3]) / p[0, 0], (1 - p[0, 3]) / p[0, 0],
+                  (-1 - p[1, 3]) / p[1, 1], (1 - p[1, 3]) / p[1, 1]]
+        # ndc z = p22 * z + p23: the near and far planes as distances along the view axis
+        d_near = (1 + p[2, 3]) / p[2, 2]
+        d_far = -(1 - p[2, 3]) / p[2, 2]
+        # orthographic viewports clip behind the view point too: start the rays there
+        to_world[:3, 3] += to_world[:3, 2] * max(0.0, -d_near)
+        return {"type": "orthographic", "to_world": to_world, "screen": screen,
+                "clip": [max(0.0, d_near), float(d_far - min(0.0, d_near))]}
+
+
+__all__ = ["export_film", "export_camera", "camera_window", "view_window", "ViewportView"]

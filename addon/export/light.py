@@ -1,0 +1,69 @@
+"""Blender lights -> Lantern lights, in Blender's own quantities (watts; the core converts)."""
+
+import math
+
+import numpy as np
+
+
+def _color(light):
+    c = np.array(light.color[:3], dtype=np.float64)
+    if getattr(light, "use_temperature", False):
+        c = c * np.array(light.temperature_color[:3], dtype=np.float64)
+    energy = float(light.energy) * 2.0 ** float(getattr(light, "exposure", 0.0))
+    return c * energy
+
+
+def _rigid(m):
+    """4x4 without scale: orthonormal axes (Gram-Schmidt), translation kept."""
+    x = m[:3, 0] / max(np.linalg.norm(m[:3, 0]), 1e-30)
+    y = m[:3, 1] - x * np.dot(m[:3, 1], x)
+    y = y / max(np.linalg.norm(y), 1e-30)
+    z = np.cross(x, y)
+    if np.dot(z, m[:3, 2]) < 0:
+        z = -z
+    r = np.eye(4, dtype=np.float32)
+    r[:3, 0], r[:3, 1], r[:3, 2], r[:3, 3] = x, y, z, m[:3, 3]
+    return r
+
+
+def export_light(obj, matrix_world, report):
+    light = obj.data
+    m = np.array(matrix_world, dtype=np.float64)
+    power = _color(light)
+    visible = bool(getattr(obj, "visible_camera", False))
+    normalize = bool(getattr(light, "normalize", True))
+    if light.type in {"POINT", "SPOT"}:
+        radius = float(light.shadow_soft_size)
+        if not normalize and radius > 0:
+            power = power * math.pi * radius * radius
+        out = {"type": light.type.lower(), "position": m[:3, 3].tolist(), "radius": radius,
+               "power": power.tolist(), "to_world": _rigid(m), "visible_camera": visible}
+        if light.type == "SPOT":
+            out["spot_size"] = float(light.spot_size)
+            out["spot_blend"] = float(light.spot_blend)
+        return out
+    if light.type == "AREA":
+        sx, sy = float(np.linalg.norm(m[:3, 0])), float(np.linalg.norm(m[:3, 1]))
+        shape = light.shape
+        w = float(light.size) * sx
+        h = float(light.size if shape in {"SQUARE", "DISK"} else light.size_y) * sy
+        if shape in {"SQUARE", "RECTANGLE"}:
+            shape_out, area = "rectangle", w * h
+        else:
+            shape_out, area = "ellipse", math.pi * w * h / 4.0
+        if not normalize:
+            power = power * area
+        if area <= 0:
+            report.warn(f"Light '{obj.name}': area light of zero size skipped")
+            return None
+        if float(getattr(light, "spread", math.pi)) < math.pi - 1e-4:
+            report.warn(f"Light '{obj.name}': area light spread is not supported yet (uses 180°)")
+        return {"type": "area", "to_world": _rigid(m), "shape": shape_out, "size": [w, h],
+                "power": power.tolist(), "visible_camera": visible}
+    if light.type == "SUN":
+        d = -m[:3, 2]
+        d = d / max(np.linalg.norm(d), 1e-30)
+        return {"type": "sun", "direction": d.tolist(), "angle": float(light.angle),
+                "strength": power.tolist()}
+    report.warn(f"Light '{obj.name}': type {light.type} is not supported")
+    return None

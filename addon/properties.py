@@ -1,0 +1,56 @@
+"""Render settings stored in the .blend as `scene.lantern`."""
+
+import bpy
+from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, PointerProperty
+
+
+class LanternSceneSettings(bpy.types.PropertyGroup):
+    samples: IntProperty(name="Samples", description="Samples per pixel for final renders",
+                         default=64, min=1, soft_max=4096, max=1 << 20)
+    preview_samples: IntProperty(name="Viewport Samples",
+                                 description="Samples per pixel in the viewport (0: unlimited)",
+                                 default=1024, min=0, max=1 << 20)
+    time_limit: FloatProperty(name="Time Limit", description="Stop a final render after this "
+                              "many seconds (0: no limit)", default=0.0, min=0.0, unit="TIME_ABSOLUTE")
+    max_depth: IntProperty(name="Max Depth", description="Longest path, in segments: 1 shows "
+                           "emitters only, 2 direct light, 3 one indirect bounce", default=12,
+                           min=1, max=1024)
+    integrator: EnumProperty(
+        name="Integrator",
+        items=[("pt", "Path Tracing", "Unidirectional path tracing with light sampling"),
+               ("bdpt", "BDPT", "Bidirectional path tracing (coming)"),
+               ("lvc", "LVC-BDPT", "Light-vertex-cache BDPT with uniform connections (coming)"),
+               ("cis", "CIS-LBDPT", "Sorted, resampled light-vertex-cache BDPT (coming)")],
+        default="pt")
+    backend: EnumProperty(
+        name="Device",
+        items=[("auto", "Automatic", "The GPU when one is usable, else the CPU"),
+               ("cpu", "CPU", "Render on the CPU (Embree)"),
+               ("cuda", "GPU (CUDA)", "Render on an NVIDIA GPU")],
+        default="auto")
+    connections: IntProperty(name="Connections (N)", description="Light vertices each camera "
+                             "vertex connects to", default=5, min=1, max=64)
+    candidates: IntProperty(name="Candidates (M)", description="Light vertices considered "
+                            "before resampling N of them", default=10, min=1, max=1024)
+    sort: BoolProperty(name="Sort by Material", description="Sort shading work by material "
+                       "type for coherence", default=True)
+    seed: IntProperty(name="Seed", default=0, min=0)
+    spp_per_iteration: IntProperty(name="Samples per Iteration", default=1, min=1, max=4096)
+    threads: IntProperty(name="Threads", description="CPU threads (0: all cores)", default=0,
+                         min=0, max=1024)
+
+    def session_settings(self, preview=False):
+        """Keyword arguments for lantern.Session (only those the core takes today)."""
+        return {"integrator": self.integrator, "backend": self.backend,
+                "max_depth": self.max_depth, "seed": self.seed,
+                "spp_per_iteration": self.spp_per_iteration, "threads": self.threads}
+
+
+def register():
+    bpy.utils.register_class(LanternSceneSettings)
+    bpy.types.Scene.lantern = PointerProperty(type=LanternSceneSettings)
+
+
+def unregister():
+    del bpy.types.Scene.lantern
+    bpy.utils.unregister_class(LanternSceneSettings)
