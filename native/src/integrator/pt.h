@@ -40,8 +40,8 @@ LANTERN_HD inline float pt_emission_weight(const PathState& ps, int i, float lig
 LANTERN_HD inline void pt_collect_lights(const SceneView& s, const PathState& ps, int i, Vec3 o,
                                          Vec3 d, float tmin, float tmax) {
     bool camera = ps.depth[i] <= 1;
-    for (int k = 0; k < s.num_lights; ++k) {
-        const Light& l = s.lights[k];
+    for (int k = 0; k < s.num_hittable_lights; ++k) {
+        const Light& l = s.lights[s.hittable_lights[k]];
         if (camera && !l.visible_camera) continue;
         LightHit h = intersect_light(l, o, d, tmin, tmax);
         if (!h.hit || is_black(h.le)) continue;
@@ -53,8 +53,8 @@ LANTERN_HD inline void pt_collect_lights(const SceneView& s, const PathState& ps
 // ---- Miss: world background and the sun's disk ----
 LANTERN_HD inline void pt_shade_miss(const SceneView& s, const PathState& ps, int i, Vec3 d) {
     bool camera = ps.depth[i] <= 1;
-    for (int k = 0; k < s.num_lights; ++k) {
-        const Light& l = s.lights[k];
+    for (int k = 0; k < s.num_miss_lights; ++k) {
+        const Light& l = s.lights[s.miss_lights[k]];
         if (l.type == kLightWorld) {
             float pdf = l.pick_pdf * light_pdf_w(l, vec3(0.0f), d, kInf, vec3(0.0f));
             add_radiance(ps, i, ps.throughput[i] * l.radiance * pt_emission_weight(ps, i, pdf));

@@ -259,6 +259,18 @@ void HostScene::finish_view(const SceneInput& in) {
     v.lights = lights_.data();
     v.light_cdf = light_cdf_.data();
     v.num_lights = int32_t(lights_.size());
+    for (size_t k = 0; k < lights_.size(); ++k) {
+        const Light& l = lights_[k];
+        bool sphere = (l.type == kLightPoint || l.type == kLightSpot) && l.radius > 0.0f;
+        if (sphere || l.type == kLightArea) hittable_lights_.push_back(int32_t(k));
+        if (l.type == kLightWorld || (l.type == kLightSun && l.cos_sun < 1.0f)) {
+            miss_lights_.push_back(int32_t(k));
+        }
+    }
+    v.hittable_lights = hittable_lights_.data();
+    v.num_hittable_lights = int32_t(hittable_lights_.size());
+    v.miss_lights = miss_lights_.data();
+    v.num_miss_lights = int32_t(miss_lights_.size());
     CameraView& c = v.camera;
     c.orthographic = in.orthographic ? 1 : 0;
     c.width = in.width;

@@ -75,7 +75,7 @@ private:
     std::vector<Vec2> uvs_;
     std::vector<uint32_t> indices_, tri_material_;
     std::vector<uint8_t> tri_flags_;
-    std::vector<int32_t> tri_light_;
+    std::vector<int32_t> tri_light_, hittable_lights_, miss_lights_;
     std::vector<Material> materials_;
     std::vector<Light> lights_;
     std::vector<float> light_cdf_, filter_cdf_;

@@ -75,6 +75,12 @@ struct SceneView {
     const float* light_cdf = nullptr;    // normalised, for next-event estimation
     int32_t num_lights = 0;
     int32_t world_light = -1;            // index of the kLightWorld entry or -1
+    // lights a ray can cross (spheres, area lights) and lights seen on a miss (world, sun disk),
+    // so that per-ray loops skip the many emissive triangles
+    const int32_t* hittable_lights = nullptr;
+    int32_t num_hittable_lights = 0;
+    const int32_t* miss_lights = nullptr;
+    int32_t num_miss_lights = 0;
 
     Vec3 world_color;
     CameraView camera;
