@@ -1,0 +1,50 @@
+#!/usr/bin/env bash
+# Idempotent set-up of a Debian 12 machine for Lantern: Debian packages that are missing, a
+# Python 3.11 venv in .venv with the pinned requirements, and an (incremental) build of the
+# `lantern` package with its native core. Quiet when there is nothing to do.
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+cd "$root"
+
+# ---- Debian packages ----
+need=()
+for pkg in build-essential cmake git zlib1g-dev libembree-dev libgtest-dev; do
+  dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null | grep -q "install ok installed" || need+=("$pkg")
+done
+py=$(command -v python3.11 || true)
+if [ -z "$py" ]; then
+  need+=(python3.11 python3.11-venv python3.11-dev)
+fi
+if [ ${#need[@]} -gt 0 ]; then
+  echo "setup: installing Debian packages: ${need[*]}"
+  sudo_cmd=""
+  [ "$(id -u)" -ne 0 ] && sudo_cmd="sudo"
+  $sudo_cmd apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq "${need[@]}" >/dev/null
+  py=$(command -v python3.11)
+fi
+
+# ---- Python venv with pinned requirements ----
+if [ ! -x .venv/bin/python ]; then
+  echo "setup: creating .venv with $py"
+  "$py" -m venv .venv
+fi
+stamp=.venv/.requirements.sha256
+want=$(sha256sum requirements.txt | cut -d' ' -f1)
+if [ "$(cat "$stamp" 2>/dev/null)" != "$want" ]; then
+  echo "setup: installing pinned Python packages (bpy is large; first time only)"
+  .venv/bin/python -m pip install -q -r requirements.txt
+  echo "$want" > "$stamp"
+fi
+
+# ---- build and install lantern (incremental: build/py keeps the CMake tree) ----
+export CMAKE_BUILD_PARALLEL_LEVEL=${CMAKE_BUILD_PARALLEL_LEVEL:-$(nproc)}
+export CMAKE_ARGS="${CMAKE_ARGS:-} -DCMAKE_CUDA_ARCHITECTURES=${LANTERN_CUDA_ARCHS:-90}"
+log=build/setup-build.log
+mkdir -p build
+if ! .venv/bin/python -m pip install --no-build-isolation --no-deps . >"$log" 2>&1; then
+  echo "setup: building lantern failed; the end of $log:" >&2
+  tail -40 "$log" >&2
+  exit 1
+fi
+.venv/bin/python -c "import lantern; assert lantern.native_available(), lantern.native_error()"
