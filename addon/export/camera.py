@@ -19,7 +19,7 @@ def _rigid(matrix):
         n = np.linalg.norm(m[:3, k])
         if n > 0:
             m[:3, k] /= n
-    return m.astype(np.float32)
+    return m
 
 
 def view_window(half_fit, horizontal_fit, xaspect, yaspect, shift_x, shift_y):
@@ -54,7 +54,7 @@ def camera_window(cam, film, pixel_aspect=(1.0, 1.0)):
 def export_camera(bscene, cam_obj, film, report):
     if cam_obj is None:
         report.warn("The scene has no camera: rendering from the origin, looking down -Z")
-        return {"type": "perspective", "to_world": np.eye(4, dtype=np.float32),
+        return {"type": "perspective", "to_world": np.eye(4).tolist(),
                 "screen": view_window(0.36, film["width"] >= film["height"], film["width"],
                                       film["height"], 0, 0), "clip": [0.1, 1000.0]}
     cam = cam_obj.data
@@ -66,7 +66,7 @@ def export_camera(bscene, cam_obj, film, report):
                     "rendering a perspective camera")
     r = bscene.render
     screen = camera_window(cam, film, (r.pixel_aspect_x, r.pixel_aspect_y))
-    return {"type": kind, "to_world": _rigid(cam_obj.matrix_world), "screen": screen,
+    return {"type": kind, "to_world": _rigid(cam_obj.matrix_world).tolist(), "screen": screen,
             "clip": [float(cam.clip_start), float(cam.clip_end)]}
 
 
@@ -97,7 +97,7 @@ class ViewportView:
                       (-1 + p[1, 2]) / p[1, 1], (1 + p[1, 2]) / p[1, 1]]
             near = p[2, 3] / (p[2, 2] - 1.0)
             far = p[2, 3] / (p[2, 2] + 1.0)
-            return {"type": "perspective", "to_world": to_world, "screen": screen,
+            return {"type": "perspective", "to_world": to_world.tolist(), "screen": screen,
                     "clip": [float(abs(near)), float(abs(far))]}
         screen = [(-1 - p[0, 3]) / p[0, 0], (1 - p[0, 3]) / p[0, 0],
                   (-1 - p[1, 3]) / p[1, 1], (1 - p[1, 3]) / p[1, 1]]
@@ -106,7 +106,7 @@ class ViewportView:
         d_far = -(1 - p[2, 3]) / p[2, 2]
         # orthographic viewports clip behind the view point too: start the rays there
         to_world[:3, 3] += to_world[:3, 2] * max(0.0, -d_near)
-        return {"type": "orthographic", "to_world": to_world, "screen": screen,
+        return {"type": "orthographic", "to_world": to_world.tolist(), "screen": screen,
                 "clip": [max(0.0, d_near), float(d_far - min(0.0, d_near))]}
 
 

@@ -21,9 +21,9 @@ def _rigid(m):
     z = np.cross(x, y)
     if np.dot(z, m[:3, 2]) < 0:
         z = -z
-    r = np.eye(4, dtype=np.float32)
+    r = np.eye(4)
     r[:3, 0], r[:3, 1], r[:3, 2], r[:3, 3] = x, y, z, m[:3, 3]
-    return r
+    return r.tolist()
 
 
 def export_light(obj, matrix_world, report):

@@ -2,7 +2,9 @@
 
 The full node translation (Principled layers, textures) is a later issue. Here: Principled BSDF
 base color and emission, Diffuse BSDF, Emission; anything else renders a documented fallback
-(the material's viewport color as diffuse) with a warning naming the material and the node."""
+(grey 0.8 diffuse) with a warning naming the material and the node."""
+
+import bpy
 
 DEFAULT = {"name": "Lantern Default", "type": "diffuse", "base_color": [0.8, 0.8, 0.8],
            "emission": [0.0, 0.0, 0.0]}
@@ -38,8 +40,9 @@ def _constant_float(socket, material, report):
 
 def convert_material(material, report):
     out = dict(DEFAULT, name=material.name)
-    out["base_color"] = [float(c) for c in material.diffuse_color[:3]]
-    tree = material.node_tree if getattr(material, "use_nodes", True) else None
+    tree = material.node_tree
+    if bpy.app.version < (5, 0, 0) and not material.use_nodes:  # always nodes from 5.0
+        tree = None
     if tree is None:
         return out
     output = next((n for n in tree.nodes if n.type == "OUTPUT_MATERIAL" and n.is_active_output),
@@ -63,7 +66,7 @@ def convert_material(material, report):
         out["emission"] = [c * strength for c in col]
     else:
         report.warn(f"Material '{material.name}': shader node '{node.name}' ({node.type}) is not "
-                    "supported yet; rendering its viewport color as diffuse")
+                    "supported yet; rendering grey diffuse instead")
     return out
 
 

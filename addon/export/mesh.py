@@ -84,14 +84,23 @@ class MeshExporter:
             normals = None
         if det < 0:
             indices = indices[:, [0, 2, 1]]  # mirrored: keep the winding's orientation
-        if not np.isfinite(positions).all():
+        material_ids = local["material_ids"]
+        finite = np.isfinite(positions).all(axis=1)
+        if not finite.all():
             self.report.warn(f"Object '{obj.name}': non-finite vertex positions; those "
                              "triangles are skipped")
+            keep = finite[indices].all(axis=1)
+            indices, material_ids = indices[keep], material_ids[keep]
+            positions = np.where(finite[:, None], positions, np.float32(0))
+            if normals is not None:
+                normals = np.nan_to_num(normals, nan=0.0, posinf=0.0, neginf=0.0)
+            if len(indices) == 0:
+                return None
         name = obj.name if inst.is_instance is False else f"{obj.name} (instance)"
         return {"name": name, "positions": np.ascontiguousarray(positions, np.float32),
                 "indices": np.ascontiguousarray(indices, np.uint32),
                 "normals": None if normals is None else np.ascontiguousarray(normals, np.float32),
-                "uvs": local["uvs"], "material_ids": local["material_ids"],
+                "uvs": local["uvs"], "material_ids": material_ids,
                 "visible_camera": bool(getattr(obj, "visible_camera", True)),
                 "cast_shadow": bool(getattr(obj, "visible_shadow", True))}
 

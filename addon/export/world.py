@@ -1,5 +1,7 @@
 """World -> constant background radiance (color * strength of the Background node)."""
 
+import bpy
+
 
 def _socket_color(socket):
     v = socket.default_value
@@ -9,7 +11,9 @@ def _socket_color(socket):
 def export_world(world, report):
     if world is None:
         return {"color": [0.0, 0.0, 0.0]}
-    tree = world.node_tree if getattr(world, "use_nodes", True) else None
+    tree = world.node_tree
+    if bpy.app.version < (5, 0, 0) and not world.use_nodes:  # always nodes from 5.0
+        tree = None
     if tree is None:
         return {"color": [float(c) for c in world.color[:3]]}
     output = next((n for n in tree.nodes if n.type == "OUTPUT_WORLD" and n.is_active_output), None)

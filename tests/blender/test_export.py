@@ -1,0 +1,206 @@
+"""Export of scenes built in bpy: counts, units, transforms, camera windows by hand."""
+
+import math
+
+import bpy
+import numpy as np
+import pytest
+
+from conftest import add_camera, add_plane, diffuse_material, emission_material
+
+
+def export(addon):
+    from lantern_blender.export import export_scene
+    return export_scene(bpy.context.evaluated_depsgraph_get())
+
+
+def test_default_cube(default_scene, addon):
+    scene, report = export(addon)
+    assert len(scene.meshes) == 1
+    cube = scene.meshes[0]
+    assert cube["indices"].shape == (12, 3)
+    assert cube["positions"].shape == (24, 3) and cube["normals"].shape == (24, 3)  # per corner
+    np.testing.assert_allclose(np.abs(cube["positions"]).max(axis=0), [1, 1, 1], atol=1e-6)
+    assert cube["uvs"].shape == (24, 2)
+    mat = scene.materials[int(cube["material_ids"][0])]
+    assert mat["name"] == "Material"
+    np.testing.assert_allclose(mat["base_color"], [0.8, 0.8, 0.8], atol=1e-6)
+    (light,) = scene.lights
+    assert light["type"] == "point"
+    np.testing.assert_allclose(light["power"], [1000, 1000, 1000])  # watts, as Blender stores
+    np.testing.assert_allclose(light["radius"], 0.1)
+    assert light["visible_camera"] is False
+    film = scene.film
+    assert (film["width"], film["height"]) == (1920, 1080)
+    assert film["filter_width"] == pytest.approx(default_scene.render.filter_size)
+    # 50 mm lens on a 36 mm sensor, AUTO fit, wide image: horizontal half-extent 18/50
+    tx, ty = 18 / 50, 18 / 50 * 1080 / 1920
+    np.testing.assert_allclose(scene.camera["screen"], [-tx, tx, -ty, ty], rtol=1e-6)
+    scene.validate()
+
+
+@pytest.mark.parametrize("fit, res, expect", [
+    ("AUTO", (200, 100), lambda s: (s / 2, s / 4)),
+    ("AUTO", (100, 200), lambda s: (s / 4, s / 2)),        # portrait: fits the height
+    ("HORIZONTAL", (100, 200), lambda s: (s / 2, s)),
+    ("VERTICAL", (200, 100), lambda s: (48 / 50, 24 / 50)),  # sensor_height 48 fits the height
+])
+def test_camera_sensor_fit(empty, addon, fit, res, expect):
+    cam = add_camera(empty, lens=50)
+    cam.data.sensor_fit = fit
+    cam.data.sensor_width, cam.data.sensor_height = 36, 48
+    empty.render.resolution_x, empty.render.resolution_y = res
+    scene, _ = export(addon)
+    hx, hy = expect(36 / 50)
+    np.testing.assert_allclose(scene.camera["screen"], [-hx, hx, -hy, hy], rtol=1e-6)
+
+
+def test_camera_shift_percentage_and_ortho(empty, addon):
+    cam = add_camera(empty, lens=35)
+    cam.data.shift_x, cam.data.shift_y = 0.1, -0.2
+    empty.render.resolution_x, empty.render.resolution_y = 400, 200
+    empty.render.resolution_percentage = 50
+    scene, _ = export(addon)
+    assert (scene.film["width"], scene.film["height"]) == (200, 100)
+    h = 18 / 35  # half of the larger dimension; shifts are in units of it (full width)
+    np.testing.assert_allclose(scene.camera["screen"],
+                               [-h + 0.2 * h, h + 0.2 * h, -h / 2 - 0.4 * h, h / 2 - 0.4 * h],
+                               rtol=1e-6)
+    cam.data.type = "ORTHO"
+    cam.data.ortho_scale = 4.0
+    cam.data.clip_start, cam.data.clip_end = 0.5, 50
+    scene, _ = export(addon)
+    assert scene.camera["type"] == "orthographic"
+    np.testing.assert_allclose(scene.camera["screen"],
+                               [-2 + 0.4, 2 + 0.4, -1 - 0.8, 1 - 0.8], rtol=1e-6)
+    assert scene.camera["clip"] == [0.5, 50]
+
+
+def test_camera_to_world(empty, addon):
+    cam = add_camera(empty, location=(1, 2, 3), rotation=(math.pi / 2, 0, 0))
+    cam.scale = (2, 2, 2)  # scale must not reach the rigid to_world
+    scene, _ = export(addon)
+    m = np.asarray(scene.camera["to_world"])
+    np.testing.assert_allclose(m[:3, 3], [1, 2, 3], atol=1e-6)
+    np.testing.assert_allclose(-m[:3, 2], [0, 1, 0], atol=1e-6)  # looks along +Y
+    np.testing.assert_allclose(m[:3, :3].T @ m[:3, :3], np.eye(3), atol=1e-5)
+
+
+def test_array_modifier_and_transform(empty, addon):
+    plane = add_plane(empty, size=1.0, location=(0, 0, 2))
+    plane.rotation_euler = (0, 0, math.pi / 2)
+    plane.scale = (2, 1, 1)
+    mod = plane.modifiers.new("Array", "ARRAY")
+    mod.count = 3
+    mod.relative_offset_displace = (1.0, 0, 0)
+    scene, _ = export(addon)
+    (mesh,) = scene.meshes
+    assert mesh["indices"].shape == (6, 3)
+    p = mesh["positions"].astype(np.float64)
+    # local x in [-0.5, 2.5] (three unit plates), scaled by 2 then rotated onto world y
+    np.testing.assert_allclose(p[:, 1].min(), -1.0, atol=1e-5)
+    np.testing.assert_allclose(p[:, 1].max(), 5.0, atol=1e-5)
+    np.testing.assert_allclose(np.abs(p[:, 0]).max(), 0.5, atol=1e-5)
+    np.testing.assert_allclose(p[:, 2], 2.0, atol=1e-6)
+    n = mesh["normals"]
+    np.testing.assert_allclose(n, np.tile([0, 0, 1], (len(n), 1)), atol=1e-5)
+
+
+def test_non_uniform_scale_normals(empty, addon):
+    bpy.ops.mesh.primitive_uv_sphere_add(segments=16, ring_count=8)
+    obj = bpy.context.object
+    obj.scale = (3, 1, 1)
+    bpy.ops.object.shade_smooth()
+    scene, _ = export(addon)
+    (mesh,) = scene.meshes
+    p, n = mesh["positions"].astype(np.float64), mesh["normals"].astype(np.float64)
+    # an ellipsoid x^2/9 + y^2 + z^2 = 1 has normals along (x/9, y, z)
+    expect = p * [1 / 9, 1, 1]
+    expect /= np.linalg.norm(expect, axis=1, keepdims=True)
+    assert np.median(np.sum(n * expect, axis=1)) > 0.99
+    np.testing.assert_allclose(np.linalg.norm(n, axis=1), 1, atol=1e-5)
+
+
+def test_collection_instance(empty, addon):
+    coll = bpy.data.collections.new("Source")
+    mat = diffuse_material(0.5)
+    src = add_plane(empty, size=1.0, material=mat, name="Src")
+    empty.collection.objects.unlink(src)
+    coll.objects.link(src)
+    for i, loc in enumerate([(10, 0, 0), (0, 10, 0)]):
+        inst = bpy.data.objects.new(f"Inst{i}", None)
+        inst.instance_type = "COLLECTION"
+        inst.instance_collection = coll
+        inst.location = loc
+        empty.collection.objects.link(inst)
+    scene, _ = export(addon)
+    centres = sorted(tuple(np.round(m["positions"].mean(axis=0), 5)) for m in scene.meshes)
+    assert centres == [(0, 10, 0), (10, 0, 0)]
+    for m in scene.meshes:
+        assert scene.materials[int(m["material_ids"][0])]["base_color"] == pytest.approx([0.5] * 3)
+
+
+def test_multi_material_slots(empty, addon):
+    bpy.ops.mesh.primitive_cube_add()
+    obj = bpy.context.object
+    obj.data.materials.append(diffuse_material(0.2))
+    obj.data.materials.append(emission_material(5.0))
+    obj.data.polygons[0].material_index = 1
+    scene, _ = export(addon)
+    (mesh,) = scene.meshes
+    ids = mesh["material_ids"]
+    names = [scene.materials[int(i)]["name"] for i in ids]
+    assert names.count("Emit") == 2 and names.count("Diffuse") == 10
+    emit = next(m for m in scene.materials if m["name"] == "Emit")
+    assert emit["emission"] == pytest.approx([5, 5, 5])
+
+
+def test_lights(empty, addon):
+    def light(kind, **kw):
+        data = bpy.data.lights.new(kind, kind)
+        for k, v in kw.items():
+            setattr(data, k, v)
+        obj = bpy.data.objects.new(kind, data)
+        empty.collection.objects.link(obj)
+        return obj
+    light("SPOT", energy=100, color=(1, 0.5, 0.25), spot_size=1.0, spot_blend=0.3)
+    area = light("AREA", energy=50, shape="RECTANGLE", size=2.0, size_y=0.5)
+    area.scale = (2, 3, 1)
+    area.visible_camera = True
+    light("SUN", energy=3.0, angle=0.1)
+    scene, _ = export(addon)
+    by = {l["type"]: l for l in scene.lights}
+    assert by["spot"]["power"] == pytest.approx([100, 50, 25])
+    assert by["spot"]["spot_size"] == pytest.approx(1.0)
+    assert by["area"]["size"] == pytest.approx([4.0, 1.5])
+    assert by["area"]["visible_camera"] is True
+    assert by["sun"]["strength"] == pytest.approx([3, 3, 3])
+    assert by["sun"]["direction"] == pytest.approx([0, 0, -1])
+    scene.validate()
+
+
+def test_world_and_unknown_nodes(empty, addon):
+    world = bpy.data.worlds.new("W")
+    world.use_nodes = True
+    bg = world.node_tree.nodes["Background"]
+    bg.inputs["Color"].default_value = (0.5, 0.25, 1, 1)
+    bg.inputs["Strength"].default_value = 2
+    empty.world = world
+    mat = bpy.data.materials.new("Glassy")
+    mat.use_nodes = True
+    nodes = mat.node_tree.nodes
+    glass = nodes.new("ShaderNodeBsdfGlass")
+    mat.node_tree.links.new(glass.outputs[0], nodes["Material Output"].inputs["Surface"])
+    add_plane(empty, material=mat)
+    scene, report = export(addon)
+    assert scene.world["color"] == pytest.approx([1, 0.5, 2])
+    assert any("Glassy" in m and glass.name in m for m in report.messages)
+
+
+def test_export_operator(default_scene, addon, tmp_path):
+    import lantern
+    path = str(tmp_path / "cube.lantern")
+    assert bpy.ops.export_scene.lantern(filepath=path) == {"FINISHED"}
+    loaded = lantern.load_scene(path)
+    assert loaded.meshes[0]["indices"].shape == (12, 3)
+    assert loaded.lights[0]["type"] == "point"
