@@ -8,7 +8,7 @@
 
 namespace lantern {
 
-// Blackman-Harris window over [-width/2, width/2] (as Cycles' default pixel filter).
+// Blackman-Harris window over [-width/2, width/2]; Cycles uses width = 2 x Blender's filter size.
 LANTERN_HD inline float blackman_harris(float x, float width) {
     float v = 2.0f * kPi * (x / width + 0.5f);
     return 0.35875f - 0.48829f * cosf(v) + 0.14128f * cosf(2.0f * v) - 0.01168f * cosf(3.0f * v);

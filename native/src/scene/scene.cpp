@@ -223,10 +223,12 @@ void HostScene::add_lights(const SceneInput& in) {
     if (!light_cdf_.empty()) light_cdf_.back() = 1.0f;
 }
 
-// Inverted CDF of the Blackman-Harris filter: maps u in [0,1] to an offset in pixels.
-void HostScene::build_filter(float width) {
-    if (!(width > 0.0f) || !std::isfinite(width)) width = 1.5f;
-    width = std::min(width, 16.0f);
+// Inverted CDF of the Blackman-Harris filter: maps u in [0,1] to an offset in pixels. As in
+// Cycles, Blender's filter width w spans the window [-w, w] (measured against bpy 5.0.1: edge
+// pixels of a plane that ends at the image border match Cycles only with this width).
+void HostScene::build_filter(float filter_width) {
+    if (!(filter_width > 0.0f) || !std::isfinite(filter_width)) filter_width = 1.5f;
+    const float width = 2.0f * std::min(filter_width, 16.0f);
     const int fine = 4096, table = 256;
     std::vector<double> cdf(fine + 1, 0.0);
     for (int k = 0; k < fine; ++k) {
