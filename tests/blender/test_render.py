@@ -1,0 +1,156 @@
+"""F12 through bpy.ops.render.render, checked on the written EXR (the operator returns FINISHED
+even when the engine failed, so only the pixels tell)."""
+
+import math
+
+import bpy
+import numpy as np
+import pytest
+
+import lantern
+from conftest import add_camera, add_plane, emission_material, render_exr
+
+pytestmark = pytest.mark.skipif(not lantern.session.native_available(),
+                                reason="lantern native module not built")
+
+
+def diffuse_bsdf(albedo):
+    mat = bpy.data.materials.new("DiffuseBSDF")
+    nodes = mat.node_tree.nodes
+    nodes.remove(nodes["Principled BSDF"])
+    d = nodes.new("ShaderNodeBsdfDiffuse")
+    d.inputs["Color"].default_value = (albedo, albedo, albedo, 1)
+    mat.node_tree.links.new(d.outputs[0], nodes["Material Output"].inputs["Surface"])
+    return mat
+
+
+def test_emissive_plane_fills_view(empty, tmp_path, errors):
+    add_camera(empty, location=(0, 0, 5))
+    add_plane(empty, size=100.0, material=emission_material(3.0, (1, 0.5, 0.25)))
+    empty.lantern.samples = 4
+    px = render_exr(empty, tmp_path)
+    assert px.shape == (24, 32, 4)
+    np.testing.assert_allclose(px[..., :3], np.broadcast_to([3, 1.5, 0.75], (24, 32, 3)),
+                               rtol=1e-4)
+    assert not [c for c in errors if c[0] == "ERROR"]
+
+
+def test_sun_on_white_diffuse_plane(empty, tmp_path, errors):
+    add_camera(empty, location=(0, 0, 5))
+    add_plane(empty, size=100.0, material=diffuse_bsdf(0.5))
+    sun = bpy.data.lights.new("Sun", "SUN")
+    sun.energy = 2.0
+    sun.angle = 0.0
+    obj = bpy.data.objects.new("Sun", sun)
+    empty.collection.objects.link(obj)  # default orientation shines down -Z: head-on
+    empty.lantern.samples = 16
+    px = render_exr(empty, tmp_path)
+    expect = 0.5 * 2.0 / math.pi
+    np.testing.assert_allclose(px[..., :3].mean(), expect, rtol=0.02)
+    np.testing.assert_allclose(px[..., :3], expect, rtol=0.1)
+    assert not [c for c in errors if c[0] == "ERROR"]
+
+
+def test_render_orientation_top_row_first(empty, tmp_path):
+    """An emitter only in the upper half of the view shows in the top rows of the EXR."""
+    add_camera(empty, location=(0, 0, 5))
+    add_plane(empty, size=4.0, location=(0, 3, 0), material=emission_material(1.0))
+    empty.lantern.samples = 4
+    px = render_exr(empty, tmp_path)
+    top, bottom = px[:4, :, 0].mean(), px[-4:, :, 0].mean()
+    assert top > 0.5 and bottom < 0.01
+
+
+def test_engine_failure_is_reported(empty, tmp_path, errors, monkeypatch):
+    add_camera(empty)
+
+    def broken(*args, **kwargs):
+        raise RuntimeError("native module missing (mocked)")
+    monkeypatch.setattr(lantern, "Session", broken)
+    # an ERROR report reaches Python as the operator's RuntimeError; Blender itself carries on
+    with pytest.raises(RuntimeError, match="mocked"):
+        render_exr(empty, tmp_path)
+    assert any("mocked" in msg for kind, msg in errors if kind == "ERROR")
+    monkeypatch.undo()
+    empty.lantern.samples = 1
+    assert np.isfinite(render_exr(empty, tmp_path, "after.exr")).all()  # still renders
+
+
+def test_unsupported_setting_is_reported(empty, tmp_path, errors):
+    add_camera(empty)
+    empty.lantern.integrator = "cis"  # not in the core yet: a clear error, not a crash
+    try:
+        lantern.Session(lantern.Scene(), integrator="cis")
+    except Exception as e:
+        with pytest.raises(RuntimeError, match="Lantern"):
+            render_exr(empty, tmp_path)
+        assert any(str(e)[:30] in msg for kind, msg in errors if kind == "ERROR")
+    else:
+        render_exr(empty, tmp_path)
+
+
+def test_time_limit_stops_early(empty, tmp_path):
+    add_camera(empty)
+    add_plane(empty, size=100.0, location=(0, 0, -5), material=emission_material(1.0))
+    empty.render.resolution_x, empty.render.resolution_y = 320, 240
+    empty.lantern.samples = 1_000_000
+    empty.lantern.time_limit = 0.5
+    import time
+    t = time.perf_counter()
+    px = render_exr(empty, tmp_path)
+    assert time.perf_counter() - t < 10
+    np.testing.assert_allclose(px[..., :3], 1.0, rtol=1e-4)
+
+
+# ---- Bad input through F12: a finite image, nothing escapes, warnings reported ----
+
+def test_empty_scene_with_camera(empty, tmp_path, errors):
+    add_camera(empty)
+    px = render_exr(empty, tmp_path)
+    assert np.isfinite(px).all() and px[..., :3].max() == 0
+    assert not [c for c in errors if c[0] == "ERROR"]
+
+
+def test_nan_vertices_and_degenerate_triangles(empty, tmp_path, errors):
+    add_camera(empty, location=(0, 0, 5))
+    mesh = bpy.data.meshes.new("Bad")
+    nan = float("nan")
+    mesh.from_pydata([(-50, -50, 0), (50, -50, 0), (50, 50, 0), (-50, 50, 0),
+                      (nan, 0, 0), (0, nan, 1), (0, 0, nan),
+                      (1, 1, 1), (1, 1, 1), (2, 2, 2)],
+                     [], [(0, 1, 2, 3), (4, 5, 6), (7, 8, 9)])
+    mesh.materials.append(emission_material(2.0))
+    obj = bpy.data.objects.new("Bad", mesh)
+    empty.collection.objects.link(obj)
+    empty.lantern.samples = 2
+    px = render_exr(empty, tmp_path)
+    assert np.isfinite(px).all()
+    np.testing.assert_allclose(px[..., :3], 2.0, rtol=1e-4)
+    assert not [c for c in errors if c[0] == "ERROR"]
+    assert any("non-finite" in msg for kind, msg in errors if kind == "WARNING")
+
+
+def test_object_without_material(empty, tmp_path, errors):
+    add_camera(empty, location=(0, 0, 5))
+    add_plane(empty, size=100.0)
+    world = bpy.data.worlds.new("W")
+    world.node_tree.nodes["Background"].inputs["Color"].default_value = (1, 1, 1, 1)
+    empty.world = world
+    empty.lantern.samples = 8
+    px = render_exr(empty, tmp_path)
+    assert np.isfinite(px).all() and 0 < px[..., :3].mean() < 1
+    assert not [c for c in errors if c[0] == "ERROR"]
+
+
+def test_camera_inside_geometry(empty, tmp_path, errors):
+    bpy.ops.mesh.primitive_cube_add(size=4)
+    add_camera(empty, location=(0, 0, 0))
+    light = bpy.data.lights.new("P", "POINT")
+    light.energy = 100
+    obj = bpy.data.objects.new("P", light)
+    obj.location = (0.5, 0.5, 0.5)
+    empty.collection.objects.link(obj)
+    empty.lantern.samples = 4
+    px = render_exr(empty, tmp_path)
+    assert np.isfinite(px).all() and px[..., :3].mean() > 0
+    assert not [c for c in errors if c[0] == "ERROR"]
