@@ -154,3 +154,55 @@ def test_camera_inside_geometry(empty, tmp_path, errors):
     px = render_exr(empty, tmp_path)
     assert np.isfinite(px).all() and px[..., :3].mean() > 0
     assert not [c for c in errors if c[0] == "ERROR"]
+
+
+class _FakeEngine:
+    """Stands in for the RenderEngine: test_break turns true after `breaks_after` polls."""
+
+    def __init__(self, breaks_after):
+        self.polls, self.breaks_after = 0, breaks_after
+        self.stats, self.updates = [], 0
+
+    def test_break(self):
+        self.polls += 1
+        return self.polls > self.breaks_after
+
+    def update_result(self, result):
+        self.updates += 1
+
+    def update_stats(self, a, b):
+        self.stats.append(b)
+
+    def update_progress(self, p):
+        pass
+
+
+class _FakeResult:
+    class _Pass:
+        rect = None
+
+    def __init__(self):
+        self.layers = [type("L", (), {"passes": {"Combined": self._Pass()}})()]
+
+
+def test_cancel_stops_within_an_iteration(addon):
+    """test_break during a long iteration cancels it: the loop returns well before the
+    iteration would have finished, keeping the last finished image."""
+    import time
+    scene = lantern.Scene()
+    scene.film = {"width": 512, "height": 512, "filter_width": 1.5}
+    m = scene.add_material(emission=(1, 1, 1))
+    scene.meshes.append({"name": "quad", "material_ids": np.array([m, m], np.uint32),
+                         "positions": np.array([[-9, -9, -1], [9, -9, -1], [9, 9, -1], [-9, 9, -1]],
+                                               np.float32),
+                         "indices": np.array([[0, 1, 2], [0, 2, 3]], np.uint32)})
+    session = lantern.Session(scene, spp_per_iteration=1)
+    t = time.perf_counter()
+    session.step()
+    one = time.perf_counter() - t
+    session = lantern.Session(scene, spp_per_iteration=max(64, int(64 * 0.5 / max(one, 1e-4))))
+    engine = _FakeEngine(breaks_after=1)
+    t = time.perf_counter()
+    addon.engine._render_loop(engine, session, _FakeResult(), 10**9, 0.0, t)
+    assert time.perf_counter() - t < 2.0
+    assert engine.stats and engine.stats[-1].startswith("Sample ")
