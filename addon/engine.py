@@ -228,9 +228,7 @@ def view_draw(engine, context, depsgraph):
             if state.draw is None:
                 state.draw = viewport.ImageDraw()
             state.draw.update(image, serial)
-            engine.bind_display_space_shader(context.scene)
-            state.draw.draw(context.region.width, context.region.height)
-            engine.unbind_display_space_shader()
+            state.draw.draw(engine, context.scene, context.region.width, context.region.height)
         if state.refining() or image is None:
             engine.tag_redraw()
     except Exception as e:
