@@ -38,19 +38,52 @@ class LANTERN_PT_render(bpy.types.Panel):
         col.prop(s, "threads")
 
 
+class LANTERN_PT_object_visibility(bpy.types.Panel):
+    bl_label = "Ray Visibility (Lantern)"
+    bl_space_type = "PROPERTIES"
+    bl_region_type = "WINDOW"
+    bl_context = "object"
+    COMPAT_ENGINES = {ENGINE}
+
+    @classmethod
+    def poll(cls, context):
+        return context.engine in cls.COMPAT_ENGINES and context.object is not None and \
+            context.object.type in {"MESH", "CURVE", "SURFACE", "META", "FONT", "CURVES", "LIGHT"}
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        col = layout.column(heading="Ray Visibility")
+        col.prop(context.object, "visible_camera", text="Camera")
+        if context.object.type != "LIGHT":
+            col.prop(context.object, "visible_shadow", text="Shadow")
+
+
 _patched = []
+
+# Blender's own panels that list EEVEE or Cycles and show engine-neutral data (render format and
+# output, camera, light, material and world surface, object visibility). Engine-specific panels
+# (EEVEE's sampling, light probes, Cycles' own settings) stay hidden for Lantern.
+_ALLOW = {"EEVEE_MATERIAL_PT_context_material", "EEVEE_MATERIAL_PT_surface",
+          "EEVEE_WORLD_PT_surface", "DATA_PT_EEVEE_light"}
 
 
 def _compatible_panels():
     for panel in bpy.types.Panel.__subclasses__():
-        engines = getattr(panel, "COMPAT_ENGINES", None)
-        if isinstance(engines, set) and ({"BLENDER_EEVEE", "BLENDER_EEVEE_NEXT", "CYCLES",
-                                          "BLENDER_RENDER"} & engines):
-            yield panel
+        engines = panel.__dict__.get("COMPAT_ENGINES")  # own set only, never a shared base's
+        if not isinstance(engines, set) or not {"BLENDER_EEVEE", "CYCLES"} & engines:
+            continue
+        name = panel.__name__
+        lname = name.lower()
+        if name not in _ALLOW and (name.startswith("CYCLES") or "eevee" in lname
+                                   or "lightprobe" in lname or "light_probe" in lname):
+            continue
+        yield panel
 
 
 def register():
     bpy.utils.register_class(LANTERN_PT_render)
+    bpy.utils.register_class(LANTERN_PT_object_visibility)
     for panel in _compatible_panels():
         if ENGINE not in panel.COMPAT_ENGINES:
             panel.COMPAT_ENGINES.add(ENGINE)
@@ -61,4 +94,5 @@ def unregister():
     for panel in _patched:
         panel.COMPAT_ENGINES.discard(ENGINE)
     _patched.clear()
+    bpy.utils.unregister_class(LANTERN_PT_object_visibility)
     bpy.utils.unregister_class(LANTERN_PT_render)

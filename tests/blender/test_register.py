@@ -15,9 +15,27 @@ def test_settings_defaults(empty):
     assert s.backend == "auto" and s.time_limit == 0.0
 
 
+SHOWN = ("RENDER_PT_format", "RENDER_PT_output", "DATA_PT_lens", "DATA_PT_EEVEE_light",
+         "DATA_PT_spot", "EEVEE_MATERIAL_PT_surface", "EEVEE_WORLD_PT_surface",
+         "OBJECT_PT_visibility", "LANTERN_PT_object_visibility")
+HIDDEN = ("RENDER_PT_eevee_sampling", "CYCLES_RENDER_PT_sampling", "CYCLES_LIGHT_PT_light",
+          "DATA_PT_EEVEE_light_shadow")
+
+
 def test_standard_panels_show_for_lantern(addon):
-    for name in ("RENDER_PT_format", "DATA_PT_light", "DATA_PT_camera", "EEVEE_MATERIAL_PT_surface"):
+    for name in SHOWN:
+        assert "LANTERN" in getattr(bpy.types, name).COMPAT_ENGINES, name
+    for name in HIDDEN:
         panel = getattr(bpy.types, name, None)
-        if panel is not None and hasattr(panel, "COMPAT_ENGINES"):
-            assert "LANTERN" in panel.COMPAT_ENGINES, name
+        if panel is not None:
+            assert "LANTERN" not in panel.COMPAT_ENGINES, name
+
+
+def test_unregister_restores_panels(addon):
+    addon.unregister()
+    try:
+        assert "LANTERN" not in bpy.types.RENDER_PT_format.COMPAT_ENGINES
+        assert not hasattr(bpy.types.Scene, "lantern")
+    finally:
+        addon.register()
     assert "LANTERN" in bpy.types.RENDER_PT_format.COMPAT_ENGINES
