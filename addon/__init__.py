@@ -20,9 +20,11 @@ class LanternRenderEngine(bpy.types.RenderEngine):
         self._lantern = engine.EngineState()
 
     def __del__(self):
-        state = getattr(self, "_lantern", None)
-        if state is not None:
-            state.free()
+        try:
+            state = self._lantern
+        except (AttributeError, ReferenceError):  # the RNA struct may already be gone
+            return
+        state.free()
 
     def render(self, depsgraph):
         engine.render(self, depsgraph)

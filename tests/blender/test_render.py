@@ -206,3 +206,38 @@ def test_cancel_stops_within_an_iteration(addon):
     addon.engine._render_loop(engine, session, _FakeResult(), 10**9, 0.0, t)
     assert time.perf_counter() - t < 2.0
     assert engine.stats and engine.stats[-1].startswith("Sample ")
+
+
+# ---- Light units through the add-on (Cycles' conventions, docs/scene_format.md) ----
+
+def _light(scene, kind, location, **props):
+    data = bpy.data.lights.new(kind, kind)
+    for k, v in props.items():
+        setattr(data, k, v)
+    obj = bpy.data.objects.new(kind, data)
+    obj.location = location
+    scene.collection.objects.link(obj)
+    return obj
+
+
+def test_point_light_power_units(empty, tmp_path):
+    """A point light of P watts at height h over a diffuse plane (albedo 0.5): radiance under
+    it is 0.5/pi * P/(4 pi h^2). A long lens keeps the view near the foot of the light."""
+    add_camera(empty, location=(0, 0, 5), lens=500)
+    add_plane(empty, size=100.0, material=diffuse_bsdf(0.5))
+    _light(empty, "POINT", (0, 0, 2), energy=1000.0, shadow_soft_size=0.0)
+    empty.lantern.samples = 4
+    px = render_exr(empty, tmp_path)
+    expect = 0.5 / math.pi * 1000.0 / (4 * math.pi * 4.0)
+    np.testing.assert_allclose(px[..., :3].mean(), expect, rtol=0.03)
+
+
+def test_area_light_seen_by_camera(empty, tmp_path):
+    """An area light of power P and area A has radiance P/(pi A) on its front: pi*100 W over a
+    10 m square filling the view renders 1.0 when its object is visible to camera rays."""
+    add_camera(empty, location=(0, 0, 0), rotation=(math.pi, 0, 0))  # looking up +Z
+    light = _light(empty, "AREA", (0, 0, 1), energy=math.pi * 100.0, size=10.0)
+    light.visible_camera = True
+    empty.lantern.samples = 4
+    px = render_exr(empty, tmp_path)
+    np.testing.assert_allclose(px[..., :3], 1.0, rtol=1e-3)
