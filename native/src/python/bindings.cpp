@@ -120,6 +120,7 @@ SceneInput to_input(const nb::dict& scene) {
                 if (s.size() >= 2) li.size_y = s[1];
             }
             li.angle = get<float>(l, "angle", 0.0f);
+            li.soft_falloff = get<bool>(l, "soft_falloff", true);
             li.visible_camera = get<bool>(l, "visible_camera", false);
             in.lights.push_back(li);
         }

@@ -1,7 +1,9 @@
 // Light sampling and evaluation with Cycles' conventions (measured with bpy 5.0.1): area light
-// radiance P/(pi A) from its front; point/spot intensity P/(4 pi) W/sr (a sphere of radius r:
-// radiance I/(pi r^2)); sun: radiance S/(pi sin^2 a) over a cone of half-angle a, so the
-// irradiance on a perpendicular surface is S; mesh emission C*S from both sides.
+// radiance P/(pi A) from its front; point/spot intensity P/(4 pi) W/sr with radiance I/(pi r^2)
+// on a disk of radius r facing the shaded point (Blender's default "soft falloff": irradiance
+// I/(d^2 + r^2)) or on a sphere of radius r (soft falloff off); sun: radiance S/(pi sin^2 a) over
+// a cone of half-angle a, so the irradiance on a perpendicular surface is S; mesh emission C*S
+// from both sides.
 #pragma once
 
 #include "core/sampling.h"
@@ -75,14 +77,30 @@ LANTERN_HD inline LightSample sample_light(const SceneView& s, const Light& l, V
         float d = sqrtf(d2);
         Vec3 dir = to_c / d;
         float atten = l.type == kLightSpot ? spot_attenuation(l, -dir) : 1.0f;
-        if (atten <= 0.0f) return ls;
         if (l.radius <= 0.0f) {
+            if (atten <= 0.0f) return ls;
             ls.wi = dir;
             ls.dist = d;
             ls.le = l.intensity * (atten / d2);
             ls.pdf_w = 1.0f;
             ls.delta = true;
             ls.p_light = l.position;
+        } else if (l.soft_falloff) {
+            // a disk of radius r through the centre, facing p: irradiance I / (d^2 + r^2)
+            Frame f = Frame::from_normal(-dir);
+            Vec2 q = sample_concentric_disk(u);
+            Vec3 y = l.position + (f.s * q.x + f.t * q.y) * l.radius;
+            Vec3 to = y - p;
+            float dy2 = length_sq(to);
+            float dy = sqrtf(dy2);
+            ls.wi = to / dy;
+            ls.dist = dy;
+            ls.pdf_w = pdf_a_to_w(1.0f / (kPi * l.radius * l.radius), dy2, dot(ls.wi, dir));
+            if (!(ls.pdf_w > 0.0f)) return ls;
+            ls.p_light = y;
+            ls.n_light = -dir;
+            // the cone applies along the sampled ray, as when a ray hits the disk
+            ls.le = l.radiance * (l.type == kLightSpot ? spot_attenuation(l, -ls.wi) : 1.0f);
         } else {
             if (d2 <= l.radius * l.radius) return ls;  // inside the sphere light
             float sin2 = l.radius * l.radius / d2;
@@ -95,7 +113,7 @@ LANTERN_HD inline LightSample sample_light(const SceneView& s, const Light& l, V
             ls.dist = t;
             ls.p_light = p + w * t;
             ls.n_light = normalize(ls.p_light - l.position);
-            ls.le = l.radiance * atten;
+            ls.le = l.radiance * (l.type == kLightSpot ? spot_attenuation(l, -w) : 1.0f);
         }
         ls.valid = true;
         return ls;
@@ -176,6 +194,10 @@ LANTERN_HD inline float light_pdf_w(const Light& l, Vec3 p, Vec3 wi, float t, Ve
     case kLightPoint:
     case kLightSpot: {
         if (l.radius <= 0.0f) return 0.0f;
+        if (l.soft_falloff) {
+            Vec3 n = normalize(p - l.position);
+            return pdf_a_to_w(1.0f / (kPi * l.radius * l.radius), t * t, fabsf(dot(wi, n)));
+        }
         float d2 = length_sq(l.position - p);
         if (d2 <= l.radius * l.radius) return 0.0f;
         return pdf_uniform_cone(safe_sqrt(1.0f - l.radius * l.radius / d2));
@@ -206,11 +228,22 @@ LANTERN_HD inline LightHit intersect_light(const Light& l, Vec3 o, Vec3 d, float
     LightHit h{vec3(0.0f), 0.0f, vec3(0.0f), false};
     if (l.type == kLightPoint || l.type == kLightSpot) {
         if (l.radius <= 0.0f) return h;
-        float t = intersect_sphere(o, d, l.position, l.radius, tmin, tmax);
-        if (t < 0.0f) return h;
-        Vec3 q = o + d * t;
+        float t;
+        Vec3 n;
+        if (l.soft_falloff) {  // the disk facing the ray's origin
+            n = normalize(o - l.position);
+            float denom = dot(d, n);
+            if (denom >= 0.0f) return h;
+            t = dot(l.position - o, n) / denom;
+            if (!(t > tmin && t < tmax)) return h;
+            if (length_sq(o + d * t - l.position) > l.radius * l.radius) return h;
+        } else {
+            t = intersect_sphere(o, d, l.position, l.radius, tmin, tmax);
+            if (t < 0.0f) return h;
+            n = normalize(o + d * t - l.position);
+        }
         float atten = l.type == kLightSpot ? spot_attenuation(l, -d) : 1.0f;
-        h = {l.radiance * atten, t, normalize(q - l.position), true};
+        h = {l.radiance * atten, t, n, true};
         return h;
     }
     if (l.type == kLightArea) {

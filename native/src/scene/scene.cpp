@@ -137,6 +137,7 @@ void HostScene::add_lights(const SceneInput& in) {
             l.frame = rigid(li.to_world);
             l.position = li.type == "point" ? li.position : l.frame.origin();
             l.radius = std::isfinite(li.radius) ? std::max(li.radius, 0.0f) : 0.0f;
+            l.soft_falloff = li.soft_falloff ? 1 : 0;
             l.intensity = pw * (0.25f * kInvPi);                 // W/sr
             if (l.radius > 0.0f) l.radiance = l.intensity * (1.0f / (kPi * l.radius * l.radius));
             float half = 0.5f * clampf(li.spot_size, 1e-4f, kPi);

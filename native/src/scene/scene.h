@@ -41,6 +41,7 @@ struct LightInput {
     std::string shape = "square";
     float size_x = 1.0f, size_y = 1.0f;
     float angle = 0.0f;
+    bool soft_falloff = true;
     bool visible_camera = false;
 };
 

@@ -31,6 +31,8 @@ struct Light {
     int32_t shape;          // area lights
     int32_t triangle;       // kLightTriangle: triangle index
     int32_t visible_camera;
+    int32_t soft_falloff;   // point/spot: a disk facing the shaded point (Blender's default),
+                            // else a sphere
     Transform frame;        // area/spot: axes x, y and -z = emission direction; origin = centre
     Vec3 position;          // point/spot centre
     Vec3 direction;         // sun: direction the light travels; spot: cone axis
