@@ -144,7 +144,9 @@ class EngineState:
         self.dirty = True
         self.target = 0
         self.draw = None           # viewport.ImageDraw
+        self.scene = None          # the last exported lantern.Scene (reused when only the view moves)
         self.error = None
+        self.failed = False        # the last export failed: wait for a change before retrying
         _live_states.add(self)
 
     def stop_session(self):
@@ -188,6 +190,7 @@ class EngineState:
     def free(self):
         self.stop_session()
         self.draw = None
+        self.scene = None
 
 
 def stop_all():
@@ -198,27 +201,33 @@ def stop_all():
 def view_update(engine, context, depsgraph):
     state = engine._lantern
     # full re-export on any change: simple and correct for this milestone
-    state.dirty = True
+    state.dirty, state.failed = True, False
 
 
 def view_draw(engine, context, depsgraph):
     from . import viewport
     from .export.camera import ViewportView
     state = engine._lantern
+    view = None
     try:
         view = ViewportView(context)
-        if state.dirty or view.key() != state.view_key:
+        export_needed = state.dirty or (state.scene is None and not state.failed)
+        if export_needed or (state.scene is not None and view.key() != state.view_key):
             import lantern
             from .export import export_scene
             state.stop_session()
-            scene, report = export_scene(depsgraph, region_view=view)
-            _report_warnings(engine, report.messages)
+            if export_needed:
+                state.scene = None
+                scene, report = export_scene(depsgraph, region_view=view)
+                _report_warnings(engine, report.messages)
+                state.scene = scene
+            else:  # only the view moved: keep the exported scene, swap camera and film
+                scene = state.scene
+                scene.film, scene.camera = view.film(), view.camera()
             settings = context.scene.lantern
-            session = lantern.Session(scene, **settings.session_settings())
             state.view_key, state.dirty, state.error = view.key(), False, None
-            with state.lock:
-                state.image = None
-            state.start_session(session, settings.preview_samples)
+            session = lantern.Session(scene, **settings.session_settings())
+            state.start_session(session, settings.preview_samples)  # old image shows meanwhile
         if state.error is not None:
             error, state.error = state.error, None
             _report_error(engine, "viewport render failed", error)
@@ -229,8 +238,12 @@ def view_draw(engine, context, depsgraph):
                 state.draw = viewport.ImageDraw()
             state.draw.update(image, serial)
             state.draw.draw(engine, context.scene, context.region.width, context.region.height)
-        if state.refining() or image is None:
+        if state.refining():
             engine.tag_redraw()
     except Exception as e:
-        state.dirty = False  # do not retry a failing export on every redraw
+        # do not retry a failing export on every redraw: wait for the next change
+        state.dirty, state.failed = False, True
+        state.scene = None
+        if view is not None:
+            state.view_key = view.key()
         _report_error(engine, "viewport", e)
