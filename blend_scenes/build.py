@@ -1,0 +1,18 @@
+"""Build the scenes of scenes.py into build/blend_scenes/<name>.blend.
+
+    .venv/bin/python blend_scenes/build.py [NAME ...]     (all scenes without names)"""
+
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import scenes  # noqa: E402
+
+
+def main(names):
+    for name in names or list(scenes.SCENES):
+        print(scenes.build(name))
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])

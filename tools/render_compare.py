@@ -1,0 +1,105 @@
+"""Shared by tools/make_cycles_refs.py and tests/render: the comparison settings, rendering a
+blend scene with Cycles or Lantern in this bpy process, and per-block statistics over seeds."""
+
+import os
+import sys
+import tempfile
+
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import lantern_bpy  # noqa: E402
+
+ROOT = lantern_bpy.ROOT
+REF_DIR = os.path.join(ROOT, "tests", "render", "refs")
+BLOCK = 8
+SEEDS = 8            # independent renders per image (K)
+CYCLES_SPP = 512     # per seed
+BOUNCES = 16         # Cycles max_bounces (all kinds); Lantern max_depth = BOUNCES + 1
+
+
+def build_scene(name):
+    """Build blend scene `name` into the current bpy data (saved under build/blend_scenes)."""
+    sys.path.insert(0, os.path.join(ROOT, "blend_scenes"))
+    import scenes
+    return scenes.build(name)
+
+
+def cycles_settings(scene, seed, spp):
+    c = scene.cycles
+    scene.render.engine = "CYCLES"
+    c.device = "CPU"
+    c.samples = spp
+    c.use_adaptive_sampling = False
+    c.use_denoising = False
+    c.seed = seed
+    c.use_animated_seed = False
+    c.max_bounces = BOUNCES
+    for k in ("diffuse_bounces", "glossy_bounces", "transmission_bounces", "volume_bounces",
+              "transparent_max_bounces"):
+        setattr(c, k, BOUNCES)
+    c.sample_clamp_direct = 0.0
+    c.sample_clamp_indirect = 0.0
+    c.light_sampling_threshold = 0.0
+    c.pixel_filter_type = "BLACKMAN_HARRIS"
+    c.filter_width = 1.5
+    scene.render.film_transparent = False
+    scene.view_settings.view_transform = "Standard"
+    scene.view_settings.look = "None"
+    scene.view_settings.exposure = 0.0
+    scene.view_settings.gamma = 1.0
+    s = scene.render.image_settings
+    s.file_format = "OPEN_EXR"
+    s.color_depth = "32"
+    s.exr_codec = "ZIP"
+    return {k: getattr(c, k) for k in (
+        "device", "samples", "use_adaptive_sampling", "use_denoising", "seed", "max_bounces",
+        "diffuse_bounces", "glossy_bounces", "transmission_bounces", "volume_bounces",
+        "transparent_max_bounces", "sample_clamp_direct", "sample_clamp_indirect",
+        "light_sampling_threshold", "pixel_filter_type", "filter_width")}
+
+
+def render_cycles(seed, spp):
+    """Render the current scene with Cycles; returns float32 (H, W, 3) and the settings."""
+    import bpy
+    scene = bpy.context.scene
+    settings = cycles_settings(scene, seed, spp)
+    with tempfile.TemporaryDirectory() as tmp:
+        path = os.path.join(tmp, "cycles.exr")
+        scene.render.filepath = path
+        bpy.ops.render.render(write_still=True)
+        img = lantern_bpy.read_image_bpy(path)
+    return img, settings
+
+
+def render_lantern(seed, spp, threads=0):
+    """Export the current scene with the add-on and render it with lantern.Session."""
+    import bpy
+    import lantern
+    lantern_bpy.load_addon()
+    from lantern_blender.export import export_scene
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    scene, report = export_scene(depsgraph)
+    session = lantern.Session(scene, integrator="pt", backend="cpu", max_depth=BOUNCES + 1,
+                              seed=seed, spp_per_iteration=spp, threads=threads)
+    while session.spp < spp:
+        session.step()
+    return np.asarray(session.image(), dtype=np.float32)[..., :3], report.messages
+
+
+def block_means(img, block=BLOCK):
+    h, w = img.shape[:2]
+    hb, wb = h // block, w // block
+    x = img[:hb * block, :wb * block].reshape(hb, block, wb, block, -1)
+    return x.mean(axis=(1, 3))
+
+
+def stats_over_seeds(images):
+    """Mean image, per-block means and standard errors of the mean over K seeded images."""
+    imgs = np.stack(images).astype(np.float64)
+    k = imgs.shape[0]
+    blocks = np.stack([block_means(i) for i in imgs])
+    return {"mean": imgs.mean(axis=0).astype(np.float32),
+            "block_mean": blocks.mean(axis=0).astype(np.float32),
+            "block_se": (blocks.std(axis=0, ddof=1) / np.sqrt(k)).astype(np.float32),
+            "seed_block_means": blocks.astype(np.float32)}
