@@ -25,7 +25,9 @@ def load_addon():
         mod = importlib.util.module_from_spec(spec)
         sys.modules["lantern_blender"] = mod
         spec.loader.exec_module(mod)
-    if not _registered:
+    import bpy
+    # tests/blender's session fixture may already have registered the same module
+    if not _registered and not hasattr(bpy.types.Scene, "lantern"):
         mod.register()
         _registered = True
     return mod
