@@ -40,7 +40,10 @@ class MeshExporter:
         self._cache = {}
 
     def _local(self, obj):
-        key = obj.name_full
+        # geometry-nodes instances come as temporary objects named after the instancer but
+        # holding the instanced data: the data's name tells them apart
+        data = getattr(obj, "data", None)
+        key = (obj.name_full, data.name_full if data is not None else None)
         if key in self._cache:
             return self._cache[key]
         arrays = None
@@ -96,7 +99,10 @@ class MeshExporter:
                 normals = np.nan_to_num(normals, nan=0.0, posinf=0.0, neginf=0.0)
             if len(indices) == 0:
                 return None
-        name = obj.name if inst.is_instance is False else f"{obj.name} (instance)"
+        name = obj.name
+        if inst.is_instance:
+            source = getattr(obj.data, "name", obj.name)
+            name = f"{inst.parent.name if inst.parent else obj.name}: {source} (instance)"
         return {"name": name, "positions": np.ascontiguousarray(positions, np.float32),
                 "indices": np.ascontiguousarray(indices, np.uint32),
                 "normals": None if normals is None else np.ascontiguousarray(normals, np.float32),

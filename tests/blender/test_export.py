@@ -204,3 +204,36 @@ def test_export_operator(default_scene, addon, tmp_path):
     loaded = lantern.load_scene(path)
     assert loaded.meshes[0]["indices"].shape == (12, 3)
     assert loaded.lights[0]["type"] == "point"
+
+
+def test_geometry_nodes_instances(empty, addon):
+    """Instance on Points of two objects: every instance exported at its point, each with the
+    instanced object's geometry (not the instancer's, which has none left)."""
+    bpy.ops.mesh.primitive_plane_add(size=4)  # points at (+-2, +-2, 0)
+    plane = bpy.context.object
+    bpy.ops.mesh.primitive_cube_add(size=0.2, location=(0, 0, 10))
+    cube = bpy.context.object
+    bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=1, radius=0.1, location=(0, 0, 20))
+    ico = bpy.context.object
+    tree = bpy.data.node_groups.new("GN", "GeometryNodeTree")
+    tree.interface.new_socket("Geometry", in_out="INPUT", socket_type="NodeSocketGeometry")
+    tree.interface.new_socket("Geometry", in_out="OUTPUT", socket_type="NodeSocketGeometry")
+    n = tree.nodes
+    gin, gout, join = (n.new("NodeGroupInput"), n.new("NodeGroupOutput"),
+                       n.new("GeometryNodeJoinGeometry"))
+    for source in (cube, ico):
+        info = n.new("GeometryNodeObjectInfo")
+        info.inputs["Object"].default_value = source
+        on_points = n.new("GeometryNodeInstanceOnPoints")
+        tree.links.new(gin.outputs[0], on_points.inputs["Points"])
+        tree.links.new(info.outputs["Geometry"], on_points.inputs["Instance"])
+        tree.links.new(on_points.outputs[0], join.inputs[0])
+    tree.links.new(join.outputs[0], gout.inputs[0])
+    plane.modifiers.new("GN", "NODES").node_group = tree
+    scene, _ = export(addon)
+    inst = [m for m in scene.meshes if "(instance)" in m["name"]]
+    assert sorted(len(m["indices"]) for m in inst) == [12] * 4 + [20] * 4
+    centres = {tuple(np.round(m["positions"].mean(axis=0)[:2], 3)) for m in inst}
+    assert centres == {(-2, -2), (-2, 2), (2, -2), (2, 2)}
+    for m in inst:
+        assert abs(m["positions"][:, 2]).max() < 0.11  # at the points, not at the sources
