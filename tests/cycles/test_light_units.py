@@ -32,11 +32,9 @@ def _cycles_scene(kind):
     s.view_settings.view_transform = "Standard"
     world = bpy.data.worlds.new("w")
     s.world = world
-    world.use_nodes = True
     world.node_tree.nodes["Background"].inputs[0].default_value = (0, 0, 0, 1)
     bpy.ops.mesh.primitive_plane_add(size=4, location=(0, 0, 0))
     mat = bpy.data.materials.new("m")
-    mat.use_nodes = True
     bsdf = mat.node_tree.nodes["Principled BSDF"]
     bsdf.inputs["Base Color"].default_value = (0.8, 0.8, 0.8, 1)
     bsdf.inputs["Roughness"].default_value = 1.0
