@@ -42,7 +42,7 @@ def main(argv=None):
                 "renderer": "Cycles (CPU)", "blender_version": bpy.app.version_string,
                 "spp_per_seed": args.spp, "seeds": [1000 + k for k in range(args.seeds)],
                 "block": rc.BLOCK, "resolution": list(images[0].shape[1::-1]),
-                "settings": settings, "lantern_max_depth": rc.BOUNCES + 1,
+                "settings": settings, "lantern_max_depth": rc.lantern_depth(rc.BOUNCES),
                 "render_seconds": round(dt, 2),
                 "image_mean": float(st["mean"].mean())}
         with open(os.path.join(rc.REF_DIR, name + ".json"), "w") as f:

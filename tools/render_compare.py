@@ -15,7 +15,14 @@ REF_DIR = os.path.join(ROOT, "tests", "render", "refs")
 BLOCK = 8
 SEEDS = 8            # independent renders per image (K)
 CYCLES_SPP = 512     # per seed
-BOUNCES = 16         # Cycles max_bounces (all kinds); Lantern max_depth = BOUNCES + 1
+BOUNCES = 16         # Cycles max_bounces (all kinds); Lantern max_depth = BOUNCES + 2
+
+
+def lantern_depth(bounces):
+    """Lantern max_depth (path segments, Mitsuba's convention) equivalent to Cycles max_bounces:
+    Cycles' 0 bounces is direct light only, which is max_depth 2 (measured on the Cornell box,
+    tests/render/test_bounces.py)."""
+    return bounces + 2
 
 
 def build_scene(name):
@@ -80,8 +87,8 @@ def render_lantern(seed, spp, threads=0):
     from lantern_blender.export import export_scene
     depsgraph = bpy.context.evaluated_depsgraph_get()
     scene, report = export_scene(depsgraph)
-    session = lantern.Session(scene, integrator="pt", backend="cpu", max_depth=BOUNCES + 1,
-                              seed=seed, spp_per_iteration=spp, threads=threads)
+    session = lantern.Session(scene, integrator="pt", backend="cpu",
+                              max_depth=lantern_depth(BOUNCES), seed=seed, spp_per_iteration=spp, threads=threads)
     while session.spp < spp:
         session.step()
     return np.asarray(session.image(), dtype=np.float32)[..., :3], report.messages
