@@ -106,19 +106,25 @@ def test_array_modifier_and_transform(empty, addon):
     np.testing.assert_allclose(n, np.tile([0, 0, 1], (len(n), 1)), atol=1e-5)
 
 
-def test_non_uniform_scale_normals(empty, addon):
+@pytest.mark.parametrize("scale", [(3, 1, 1), (-3, 1, 1), (2, 2, 2), (-1, 1, 1)])
+def test_scaled_and_mirrored_normals(empty, addon, scale):
+    """Shading normals through the inverse transpose stay outward and unit, mirrors included;
+    a mirror also flips the winding, so geometric normals stay outward too."""
     bpy.ops.mesh.primitive_uv_sphere_add(segments=16, ring_count=8)
     obj = bpy.context.object
-    obj.scale = (3, 1, 1)
+    obj.scale = scale
     bpy.ops.object.shade_smooth()
     scene, _ = export(addon)
     (mesh,) = scene.meshes
     p, n = mesh["positions"].astype(np.float64), mesh["normals"].astype(np.float64)
-    # an ellipsoid x^2/9 + y^2 + z^2 = 1 has normals along (x/9, y, z)
-    expect = p * [1 / 9, 1, 1]
+    # an ellipsoid x^2/a^2 + y^2/b^2 + z^2/c^2 = 1 has normals along (x/a^2, y/b^2, z/c^2)
+    expect = p / np.square(scale)
     expect /= np.linalg.norm(expect, axis=1, keepdims=True)
     assert np.median(np.sum(n * expect, axis=1)) > 0.99
     np.testing.assert_allclose(np.linalg.norm(n, axis=1), 1, atol=1e-5)
+    tri = p[mesh["indices"].astype(np.int64)]
+    geometric = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    assert (np.sum(geometric * tri.mean(axis=1), axis=1) > 0).mean() > 0.99
 
 
 def test_collection_instance(empty, addon):
