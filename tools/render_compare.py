@@ -13,6 +13,7 @@ import lantern_bpy  # noqa: E402
 ROOT = lantern_bpy.ROOT
 REF_DIR = os.path.join(ROOT, "tests", "render", "refs")
 BLOCK = 8
+REPORT = []          # result lines of tests/render, printed in pytest's summary
 SEEDS = 8            # independent renders per image (K)
 CYCLES_SPP = 512     # per seed
 BOUNCES = 16         # Cycles max_bounces (all kinds); Lantern max_depth = BOUNCES + 2

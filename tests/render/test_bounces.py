@@ -20,6 +20,8 @@ def test_cycles_bounces_match_lantern_depth(bounces, monkeypatch):
     monkeypatch.setattr(rc, "BOUNCES", bounces)
     cyc = np.mean([rc.render_cycles(seed=s, spp=64)[0].mean() for s in range(2)])
     lan = np.mean([rc.render_lantern(seed=s + 1, spp=64)[0].mean() for s in range(2)])
-    print(f"\nCycles max_bounces={bounces}: {cyc:.5f}; Lantern max_depth="
-          f"{rc.lantern_depth(bounces)}: {lan:.5f}; ratio {lan / cyc:.4f}")
+    line = (f"Cycles max_bounces={bounces}: {cyc:.5f}; Lantern max_depth="
+            f"{rc.lantern_depth(bounces)}: {lan:.5f}; ratio {lan / cyc:.4f}")
+    print("\n" + line)
+    rc.REPORT.append(line)
     assert abs(lan / cyc - 1) < 0.015

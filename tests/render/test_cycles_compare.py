@@ -87,11 +87,13 @@ def test_matches_cycles(name, addon):
     ratio = m_l / m_c if m_c > 0 else float("nan")
     ch_ratio = lan["mean"].reshape(-1, 3).mean(0) / np.maximum(ref["mean"].reshape(-1, 3).mean(0), 1e-12)
     by, bx, ch = res["worst_at"]
-    print(f"\n{name}: mean lantern {m_l:.5f} cycles {m_c:.5f} ratio {ratio:.4f} "
+    line = (f"{name}: mean lantern {m_l:.5f} cycles {m_c:.5f} ratio {ratio:.4f} "
           f"(RGB {np.array2string(ch_ratio, precision=4)}); blocks |z|>{Z:g}: {res['beyond']}/"
           f"{res['n']} (expected {res['expected']:.1f}, allowed {res['allowed']}, df {res['df']:.1f});"
           f" worst z {res['worst_z']:+.2f} at block row {by} col {bx} channel {'RGB'[ch]} "
           f"(lantern {lan['block_mean'][by, bx, ch]:.5f} cycles {ref['block_mean'][by, bx, ch]:.5f})")
+    print("\n" + line)
+    rc.REPORT.append(line)
     _save_debug(name, lan, ref, res)
     assert abs(ratio - 1.0) <= MEAN_TOL, f"{name}: image mean ratio lantern/cycles {ratio:.4f}"
     assert res["beyond"] <= res["allowed"], (
