@@ -6,7 +6,7 @@ import bpy
 import numpy as np
 import pytest
 
-from conftest import add_camera, add_plane, diffuse_material, emission_material
+from blender_helpers import add_camera, add_plane, diffuse_material, emission_material
 
 
 def export(addon):

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import lantern
-from conftest import add_camera, add_plane, emission_material, render_exr
+from blender_helpers import add_camera, add_plane, emission_material, render_exr
 
 pytestmark = pytest.mark.skipif(not lantern.session.native_available(),
                                 reason="lantern native module not built")

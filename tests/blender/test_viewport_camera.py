@@ -7,7 +7,7 @@ from types import SimpleNamespace
 import bpy
 import numpy as np
 
-from conftest import add_camera
+from blender_helpers import add_camera
 
 
 def fake_context(scene, view_matrix, window_matrix, width, height, perspective=True):

@@ -72,7 +72,7 @@ def test_view_draw_exports_refines_and_reuses_scene(empty, addon, monkeypatch):
     the exported scene; view_update forces a re-export; failures are reported once."""
     import bpy
     from types import SimpleNamespace
-    from conftest import add_camera, add_plane, emission_material
+    from blender_helpers import add_camera, add_plane, emission_material
     add_camera(empty, location=(0, 0, 5))
     add_plane(empty, size=100.0, material=emission_material(1.5))
     empty.lantern.preview_samples = 4

@@ -1,0 +1,63 @@
+"""Scene-building helpers for tests/blender (a unique module name: tests/python has its own
+conftest, so tests never import helpers from `conftest`)."""
+
+import bpy
+import numpy as np
+
+
+def add_camera(scene, location=(0, 0, 5), rotation=(0, 0, 0), lens=50.0, name="Camera"):
+    data = bpy.data.cameras.new(name)
+    data.lens = lens
+    obj = bpy.data.objects.new(name, data)
+    obj.location, obj.rotation_euler = location, rotation
+    scene.collection.objects.link(obj)
+    scene.camera = obj
+    return obj
+
+
+def add_plane(scene, size=2.0, location=(0, 0, 0), material=None, name="Plane"):
+    mesh = bpy.data.meshes.new(name)
+    h = size / 2
+    mesh.from_pydata([(-h, -h, 0), (h, -h, 0), (h, h, 0), (-h, h, 0)], [], [(0, 1, 2, 3)])
+    obj = bpy.data.objects.new(name, mesh)
+    obj.location = location
+    if material is not None:
+        mesh.materials.append(material)
+    scene.collection.objects.link(obj)
+    return obj
+
+
+def emission_material(strength, color=(1, 1, 1)):
+    mat = bpy.data.materials.new("Emit")
+    mat.use_nodes = True
+    nodes = mat.node_tree.nodes
+    bsdf = nodes["Principled BSDF"]
+    nodes.remove(bsdf)
+    emit = nodes.new("ShaderNodeEmission")
+    emit.inputs["Color"].default_value = (*color, 1)
+    emit.inputs["Strength"].default_value = strength
+    mat.node_tree.links.new(emit.outputs[0], nodes["Material Output"].inputs["Surface"])
+    return mat
+
+
+def diffuse_material(albedo):
+    mat = bpy.data.materials.new("Diffuse")
+    mat.use_nodes = True
+    bsdf = mat.node_tree.nodes["Principled BSDF"]
+    bsdf.inputs["Base Color"].default_value = (albedo, albedo, albedo, 1)
+    return mat
+
+
+def render_exr(scene, tmp_path, name="out.exr"):
+    """F12 to an EXR, then the written file's float pixels, top row first (H, W, 4)."""
+    path = str(tmp_path / name)
+    scene.render.filepath = path
+    scene.render.image_settings.file_format = "OPEN_EXR"
+    scene.render.image_settings.color_depth = "32"
+    assert bpy.ops.render.render(write_still=True) == {"FINISHED"}
+    image = bpy.data.images.load(path)
+    w, h = image.size
+    pixels = np.empty(w * h * 4, dtype=np.float32)
+    image.pixels.foreach_get(pixels)
+    bpy.data.images.remove(image)
+    return pixels.reshape(h, w, 4)[::-1]
