@@ -6,7 +6,7 @@
 
 #include <string>
 
-#if __has_include(<embree3/rtcore.h>)
+#if !defined(LANTERN_NO_EMBREE) && __has_include(<embree3/rtcore.h>)
 #include <embree3/rtcore.h>
 #define LANTERN_HAVE_EMBREE 1
 #else
