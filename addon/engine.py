@@ -14,6 +14,17 @@ import numpy as np
 _live_states = weakref.WeakSet()
 
 
+def import_lantern():
+    """The `lantern` package, or a RuntimeError that says how to get it."""
+    try:
+        import lantern
+    except ImportError as e:
+        raise RuntimeError(f"the 'lantern' Python package is not importable in Blender's "
+                           f"Python ({e}); install it (pip install . from the Lantern "
+                           f"repository) into the Python Blender runs") from e
+    return lantern
+
+
 def _report_error(engine, what, error):
     traceback.print_exc()
     try:
@@ -76,7 +87,7 @@ def render(engine, depsgraph):
     target = settings.preview_samples if preview else settings.samples
     time_limit = float(settings.time_limit)
     try:
-        import lantern
+        lantern = import_lantern()
         from .export import export_scene
         engine.update_stats("", "Lantern: exporting scene")
         t0 = time.perf_counter()
@@ -213,7 +224,7 @@ def view_draw(engine, context, depsgraph):
         view = ViewportView(context)
         export_needed = state.dirty or (state.scene is None and not state.failed)
         if export_needed or (state.scene is not None and view.key() != state.view_key):
-            import lantern
+            lantern = import_lantern()
             from .export import export_scene
             state.stop_session()
             if export_needed:

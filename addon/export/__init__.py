@@ -26,7 +26,8 @@ def export_scene(depsgraph, region_view=None, report=None):
 
     region_view: None for a final render (scene camera, render resolution), else a
     camera.ViewportView describing the 3D viewport to render."""
-    import lantern
+    from ..engine import import_lantern
+    lantern = import_lantern()
 
     report = report or ExportReport()
     bscene = depsgraph.scene_eval

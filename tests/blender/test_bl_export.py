@@ -243,3 +243,20 @@ def test_geometry_nodes_instances(empty, addon):
     assert centres == {(-2, -2), (-2, 2), (2, -2), (2, 2)}
     for m in inst:
         assert abs(m["positions"][:, 2]).max() < 0.11  # at the points, not at the sources
+
+
+def test_textured_principled_warns_and_uses_default(empty, addon):
+    mat = diffuse_material(0.3)
+    tex = mat.node_tree.nodes.new("ShaderNodeTexNoise")
+    bsdf = mat.node_tree.nodes["Principled BSDF"]
+    mat.node_tree.links.new(tex.outputs["Color"], bsdf.inputs["Base Color"])
+    rgb = mat.node_tree.nodes.new("ShaderNodeRGB")
+    rgb.outputs[0].default_value = (0, 1, 0, 1)
+    bsdf.inputs["Emission Strength"].default_value = 2.0
+    mat.node_tree.links.new(rgb.outputs[0], bsdf.inputs["Emission Color"])
+    add_plane(empty, material=mat)
+    scene, report = export(addon)
+    out = next(m for m in scene.materials if m["name"] == mat.name)
+    assert out["base_color"] == pytest.approx([0.3] * 3)  # the socket's own value
+    assert out["emission"] == pytest.approx([0, 2, 0])    # a constant RGB node is followed
+    assert any(mat.name in m and tex.name in m for m in report.messages)
