@@ -4,8 +4,7 @@
 #include <chrono>
 #include <stdexcept>
 
-#include "backend/cpu/embree_accel.h"
-#include "backend/cpu/thread_pool.h"
+#include "backend/backend.h"
 #include "integrator/pt.h"
 
 namespace lantern {
@@ -18,7 +17,6 @@ double seconds_since(Clock::time_point t0) {
 }
 
 constexpr int kChunkPaths = 1 << 18;  // paths in flight per wavefront chunk on the CPU
-constexpr int kGrain = 256;
 
 }  // namespace
 
@@ -40,8 +38,7 @@ Session::Session(const SceneInput& scene, const SessionSettings& settings) : set
     auto t0 = Clock::now();
     scene_ = std::make_unique<HostScene>(scene);
     warnings_ = scene_->warnings();
-    accel_ = std::make_unique<EmbreeAccel>(scene_->view(), warnings_);
-    pool_ = std::make_unique<ThreadPool>(settings_.threads);
+    backend_ = std::make_unique<CpuBackend>(scene_->view(), settings_.threads, warnings_);
     width_ = scene.width;
     height_ = scene.height;
     accum_.assign(size_t(width_) * height_ * 3, 0.0);
@@ -95,11 +92,9 @@ void Session::run_chunk(int64_t first_path, int n) {
     const PathState ps = state_;
     auto t = Clock::now();
     // Slots are chunk-local; the path's global index drives its random stream and pixel.
-    pool_->parallel_for(n, kGrain, [&](int b, int e) {
-        for (int i = b; i < e; ++i) {
-            pt_generate(sv, ps, st, i, first_path + i);
-            queue_[i] = i;
-        }
+    backend_->for_all(n, [&](int i) {
+        pt_generate(sv, ps, st, i, first_path + i);
+        queue_[i] = i;
     });
     stats_.time_generate += seconds_since(t);
     int active = n;
@@ -108,32 +103,26 @@ void Session::run_chunk(int64_t first_path, int n) {
     while (active > 0 && !cancel_.load()) {
         t = Clock::now();
         const RayKind kind = first ? RayKind::kCamera : RayKind::kIndirect;
-        pool_->parallel_for(active, kGrain, [&](int b, int e) {
-            for (int k = b; k < e; ++k) {
-                int i = queue_[k];
-                Ray r{ps.ray_o[i], ps.ray_d[i], ps.ray_tmin[i], ps.ray_tmax[i]};
-                HitRecord h = accel_->intersect(r, kind);
-                ps.hit_t[i] = h.t;
-                ps.hit_prim[i] = h.prim;
-                ps.hit_uv[i] = h.uv;
-            }
+        backend_->for_all(active, [&](int k) {
+            int i = queue_[k];
+            Ray r{ps.ray_o[i], ps.ray_d[i], ps.ray_tmin[i], ps.ray_tmax[i]};
+            HitRecord h = backend_->intersect(r, kind);
+            ps.hit_t[i] = h.t;
+            ps.hit_prim[i] = h.prim;
+            ps.hit_uv[i] = h.uv;
         });
         stats_.time_trace += seconds_since(t);
         t = Clock::now();
-        pool_->parallel_for(active, kGrain, [&](int b, int e) {
-            for (int k = b; k < e; ++k) pt_shade(sv, ps, st, queue_[k]);
-        });
+        backend_->for_all(active, [&](int k) { pt_shade(sv, ps, st, queue_[k]); });
         stats_.time_shade += seconds_since(t);
         t = Clock::now();
         int64_t shadows = 0;
         for (int k = 0; k < active; ++k) shadows += ps.shadow_valid[queue_[k]];
-        pool_->parallel_for(active, kGrain, [&](int b, int e) {
-            for (int k = b; k < e; ++k) {
-                int i = queue_[k];
-                if (!ps.shadow_valid[i]) continue;
-                Ray r{ps.shadow_o[i], ps.shadow_d[i], 0.0f, ps.shadow_tmax[i]};
-                pt_shadow_result(ps, i, accel_->occluded(r));
-            }
+        backend_->for_all(active, [&](int k) {
+            int i = queue_[k];
+            if (!ps.shadow_valid[i]) return;
+            Ray r{ps.shadow_o[i], ps.shadow_d[i], 0.0f, ps.shadow_tmax[i]};
+            pt_shadow_result(ps, i, backend_->occluded(r));
         });
         stats_.rays_shadow += shadows;
         stats_.time_shadow += seconds_since(t);
@@ -157,20 +146,18 @@ void Session::run_chunk(int64_t first_path, int n) {
     int64_t dropped = 0;
     for (int i = 0; i < n; ++i) dropped += ps.dropped[i];
     stats_.nonfinite_dropped += dropped;
-    pool_->parallel_for(np, kGrain, [&](int b, int e) {
-        for (int p = b; p < e; ++p) {
-            double sum[3] = {0, 0, 0};
-            for (int s = 0; s < spp_it; ++s) {
-                Vec3 c = ps.radiance[p * spp_it + s];
-                sum[0] += c.x;
-                sum[1] += c.y;
-                sum[2] += c.z;
-            }
-            double* dst = &iteration_sum_[size_t(p0 + p) * 3];
-            dst[0] += sum[0];
-            dst[1] += sum[1];
-            dst[2] += sum[2];
+    backend_->for_all(np, [&](int p) {
+        double sum[3] = {0, 0, 0};
+        for (int s = 0; s < spp_it; ++s) {
+            Vec3 c = ps.radiance[p * spp_it + s];
+            sum[0] += c.x;
+            sum[1] += c.y;
+            sum[2] += c.z;
         }
+        double* dst = &iteration_sum_[size_t(p0 + p) * 3];
+        dst[0] += sum[0];
+        dst[1] += sum[1];
+        dst[2] += sum[2];
     });
     stats_.time_film += seconds_since(t);
 }

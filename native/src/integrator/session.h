@@ -15,8 +15,7 @@
 
 namespace lantern {
 
-class EmbreeAccel;
-class ThreadPool;
+class CpuBackend;
 
 struct SessionSettings {
     std::string integrator = "pt";
@@ -58,8 +57,7 @@ private:
 
     SessionSettings settings_;
     std::unique_ptr<HostScene> scene_;
-    std::unique_ptr<EmbreeAccel> accel_;
-    std::unique_ptr<ThreadPool> pool_;
+    std::unique_ptr<CpuBackend> backend_;
     std::vector<std::string> warnings_;
     int width_ = 0, height_ = 0;
     std::vector<double> accum_, iteration_sum_;

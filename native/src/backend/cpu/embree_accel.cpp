@@ -22,6 +22,18 @@ bool finite_triangle(const SceneView& s, int t) {
     return true;
 }
 
+// Zero area (repeated or collinear vertices): no normal, never a meaningful hit.
+bool degenerate_triangle(const SceneView& s, int t) {
+    Vec3 a = s.positions[s.indices[3 * t]], b = s.positions[s.indices[3 * t + 1]],
+         c = s.positions[s.indices[3 * t + 2]];
+    float a2 = length_sq(cross(b - a, c - a));
+    return !(a2 > 0.0f) || !is_finite(a2);
+}
+
+bool usable_triangle(const SceneView& s, int t) {
+    return finite_triangle(s, t) && !degenerate_triangle(s, t);
+}
+
 }  // namespace
 
 EmbreeAccel::EmbreeAccel(const SceneView& s, std::vector<std::string>& warnings) {
@@ -29,11 +41,18 @@ EmbreeAccel::EmbreeAccel(const SceneView& s, std::vector<std::string>& warnings)
     device_ = e.newDevice(nullptr);
     if (!device_) throw std::runtime_error("Embree: rtcNewDevice failed");
     e.setDeviceErrorFunction(static_cast<RTCDevice>(device_), on_error, &warnings);
-    int skipped = 0;
-    for (int t = 0; t < s.num_triangles; ++t) skipped += finite_triangle(s, t) ? 0 : 1;
-    if (skipped) {
-        warnings.push_back(std::to_string(skipped) +
+    int nonfinite = 0, degenerate = 0;
+    for (int t = 0; t < s.num_triangles; ++t) {
+        if (!finite_triangle(s, t)) ++nonfinite;
+        else if (degenerate_triangle(s, t)) ++degenerate;
+    }
+    if (nonfinite) {
+        warnings.push_back(std::to_string(nonfinite) +
                            " triangle(s) with non-finite vertices were left out");
+    }
+    if (degenerate) {
+        warnings.push_back(std::to_string(degenerate) +
+                           " degenerate (zero-area) triangle(s) were left out");
     }
     bool any_hidden = false, any_no_shadow = false;
     for (int t = 0; t < s.num_triangles; ++t) {
@@ -54,7 +73,7 @@ EmbreeAccel::Built EmbreeAccel::build(const SceneView& s, uint8_t need_flag) {
     e.setSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
     for (int t = 0; t < s.num_triangles; ++t) {
         if (need_flag && !(s.tri_flags[t] & need_flag)) continue;
-        if (!finite_triangle(s, t)) continue;
+        if (!usable_triangle(s, t)) continue;
         b.prim_to_tri.push_back(t);
     }
     const size_t n = b.prim_to_tri.size();

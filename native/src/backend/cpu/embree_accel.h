@@ -1,7 +1,7 @@
 // Ray queries on the CPU through Embree 3 (loaded privately, see embree_loader.h). Triangles
-// with non-finite vertices are left out of the build. When some objects are hidden from camera
-// rays or cast no shadow, separate acceleration structures serve those ray kinds; scenes that
-// do not use the flags build only one.
+// with non-finite vertices or zero area are left out of the build and counted in warnings.
+// When some objects are hidden from camera rays or cast no shadow, separate acceleration
+// structures serve those ray kinds; scenes that do not use the flags build only one.
 #pragma once
 
 #include <cstdint>

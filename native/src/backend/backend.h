@@ -1,0 +1,39 @@
+// What the wavefront needs from a backend: for_all(n, fn) runs fn(k) for every queue item k in
+// [0, n) (any order, any thread: stages write only their own slots), intersect() finds the
+// closest hit, occluded() tests a shadow segment. The CPU backend is a thread pool + Embree; the
+// CUDA backend (a later issue) launches the same stage functions as kernels.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "backend/cpu/embree_accel.h"
+#include "backend/cpu/thread_pool.h"
+
+namespace lantern {
+
+class CpuBackend {
+public:
+    // threads: 0 = hardware concurrency. Throws std::runtime_error when Embree is unavailable.
+    CpuBackend(const SceneView& s, int threads, std::vector<std::string>& warnings)
+        : accel_(std::make_unique<EmbreeAccel>(s, warnings)),
+          pool_(std::make_unique<ThreadPool>(threads)) {}
+
+    template <typename Fn>
+    void for_all(int n, Fn&& fn, int grain = 256) {
+        pool_->parallel_for(n, grain, [&](int b, int e) {
+            for (int k = b; k < e; ++k) fn(k);
+        });
+    }
+    HitRecord intersect(const Ray& r, RayKind kind) const { return accel_->intersect(r, kind); }
+    bool occluded(const Ray& r) const { return accel_->occluded(r); }
+    int threads() const { return pool_->size(); }
+    const char* name() const { return "cpu"; }
+
+private:
+    std::unique_ptr<EmbreeAccel> accel_;
+    std::unique_ptr<ThreadPool> pool_;
+};
+
+}  // namespace lantern
