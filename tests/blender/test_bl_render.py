@@ -264,3 +264,12 @@ def test_matches_cycles_direct_light(empty, tmp_path):
     empty.render.filter_size = 1.5
     cycles_px = render_exr(empty, tmp_path, "cycles.exr")
     np.testing.assert_allclose(lantern_px[..., :3].mean(), cycles_px[..., :3].mean(), rtol=0.03)
+
+
+def test_missing_lantern_package_is_reported(empty, tmp_path, errors, monkeypatch):
+    import sys
+    add_camera(empty)
+    monkeypatch.setitem(sys.modules, "lantern", None)  # import lantern -> ImportError
+    with pytest.raises(RuntimeError, match="not importable"):
+        render_exr(empty, tmp_path)
+    assert any("pip install" in msg for kind, msg in errors if kind == "ERROR")
