@@ -29,7 +29,6 @@ def add_plane(scene, size=2.0, location=(0, 0, 0), material=None, name="Plane"):
 
 def emission_material(strength, color=(1, 1, 1)):
     mat = bpy.data.materials.new("Emit")
-    mat.use_nodes = True
     nodes = mat.node_tree.nodes
     bsdf = nodes["Principled BSDF"]
     nodes.remove(bsdf)
@@ -42,7 +41,6 @@ def emission_material(strength, color=(1, 1, 1)):
 
 def diffuse_material(albedo):
     mat = bpy.data.materials.new("Diffuse")
-    mat.use_nodes = True
     bsdf = mat.node_tree.nodes["Principled BSDF"]
     bsdf.inputs["Base Color"].default_value = (albedo, albedo, albedo, 1)
     return mat

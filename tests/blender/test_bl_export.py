@@ -187,13 +187,11 @@ def test_lights(empty, addon):
 
 def test_world_and_unknown_nodes(empty, addon):
     world = bpy.data.worlds.new("W")
-    world.use_nodes = True
     bg = world.node_tree.nodes["Background"]
     bg.inputs["Color"].default_value = (0.5, 0.25, 1, 1)
     bg.inputs["Strength"].default_value = 2
     empty.world = world
     mat = bpy.data.materials.new("Glassy")
-    mat.use_nodes = True
     nodes = mat.node_tree.nodes
     glass = nodes.new("ShaderNodeBsdfGlass")
     mat.node_tree.links.new(glass.outputs[0], nodes["Material Output"].inputs["Surface"])
