@@ -54,6 +54,18 @@ LANTERN_HD inline float pdf_uniform_cone(float cos_max) {
     return 1.0f / (2.0f * kPi * (1.0f - cos_max));
 }
 
+// Directions from a point at squared distance dist2 from a sphere's centre towards the sphere of
+// the given radius, uniform in the solid angle it subtends; +Z points at the centre. A point on
+// or inside the sphere gets pdf 0 (the caller treats it as no sample).
+LANTERN_HD inline Vec3 sample_sphere_solid_angle(Vec2 u, float dist2, float radius, float* pdf_w) {
+    float sin2_max = radius * radius / dist2;
+    if (!(sin2_max < 1.0f)) {
+        if (pdf_w) *pdf_w = 0.0f;
+        return {0.0f, 0.0f, 1.0f};
+    }
+    return sample_uniform_cone(u, safe_sqrt(1.0f - sin2_max), pdf_w);
+}
+
 // Barycentrics uniform over a triangle (Heitz 2019, "A low-distortion map between triangle
 // and square").
 LANTERN_HD inline Vec2 sample_triangle(Vec2 u) {

@@ -103,10 +103,9 @@ LANTERN_HD inline LightSample sample_light(const SceneView& s, const Light& l, V
             ls.le = l.radiance * (l.type == kLightSpot ? spot_attenuation(l, -ls.wi) : 1.0f);
         } else {
             if (d2 <= l.radius * l.radius) return ls;  // inside the sphere light
-            float sin2 = l.radius * l.radius / d2;
-            float cos_max = safe_sqrt(1.0f - sin2);
             Frame f = Frame::from_normal(dir);
-            Vec3 w = f.to_world(sample_uniform_cone(u, cos_max, &ls.pdf_w));
+            Vec3 w = f.to_world(sample_sphere_solid_angle(u, d2, l.radius, &ls.pdf_w));
+            if (!(ls.pdf_w > 0.0f)) return ls;
             float t = intersect_sphere(p, w, l.position, l.radius, 0.0f, kInf);
             if (t < 0.0f) t = dot(to_c, w);  // grazing: numerical miss of the silhouette
             ls.wi = w;
