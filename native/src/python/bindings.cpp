@@ -8,6 +8,7 @@
 
 #include <memory>
 #include <stdexcept>
+#include <type_traits>
 
 #include "backend/cpu/embree_loader.h"
 #include "integrator/session.h"
@@ -34,7 +35,20 @@ Vec3 get_vec3(const nb::dict& d, const char* k, Vec3 fallback) {
 template <typename T>
 std::vector<T> get_array(const nb::dict& d, const char* k, size_t cols, const std::string& who) {
     if (!has(d, k)) return {};
-    auto a = nb::cast<nb::ndarray<const T, nb::c_contig, nb::device::cpu>>(d[k]);
+    // strict: the contract says float32 / uint32 C-contiguous; a silent conversion would hide
+    // an exporter bug (and copy a large mesh)
+    const char* want = std::is_same<T, float>::value ? "float32" : "uint32";
+    nb::ndarray<nb::device::cpu> any;
+    if (!nb::try_cast(d[k], any, false)) {
+        throw std::invalid_argument(who + ": '" + k + "' must be a numpy " + want + " array");
+    }
+    if (any.dtype() != nb::dtype<T>()) {
+        throw std::invalid_argument(who + ": '" + k + "' must have dtype " + want);
+    }
+    nb::ndarray<const T, nb::c_contig, nb::device::cpu> a;
+    if (!nb::try_cast(d[k], a, false)) {
+        throw std::invalid_argument(who + ": '" + k + "' must be C-contiguous");
+    }
     size_t n = 1;
     for (size_t i = 0; i < a.ndim(); ++i) n *= a.shape(i);
     if (cols > 1 && (a.ndim() != 2 || a.shape(1) != cols)) {
