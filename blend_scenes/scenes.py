@@ -30,7 +30,6 @@ def _reset(world_color=(0.0, 0.0, 0.0)):
     scene.render.resolution_percentage = 100
     scene.view_settings.view_transform = "Standard"
     world = bpy.data.worlds.new("World")
-    world.use_nodes = True
     bg = world.node_tree.nodes["Background"]
     bg.inputs["Color"].default_value = (*world_color, 1.0)
     bg.inputs["Strength"].default_value = 1.0
@@ -40,7 +39,6 @@ def _reset(world_color=(0.0, 0.0, 0.0)):
 
 def principled(name, color):
     m = bpy.data.materials.new(name)
-    m.use_nodes = True
     p = m.node_tree.nodes["Principled BSDF"]
     p.inputs["Base Color"].default_value = (*color, 1.0)
     p.inputs["Specular IOR Level"].default_value = 0.0
@@ -49,7 +47,6 @@ def principled(name, color):
 
 def diffuse(name, color):
     m = bpy.data.materials.new(name)
-    m.use_nodes = True
     nt = m.node_tree
     nt.nodes.remove(nt.nodes["Principled BSDF"])
     d = nt.nodes.new("ShaderNodeBsdfDiffuse")
@@ -60,7 +57,6 @@ def diffuse(name, color):
 
 def emission(name, color, strength):
     m = bpy.data.materials.new(name)
-    m.use_nodes = True
     nt = m.node_tree
     nt.nodes.remove(nt.nodes["Principled BSDF"])
     e = nt.nodes.new("ShaderNodeEmission")
