@@ -70,6 +70,16 @@ def build_parser():
                    help=argparse.SUPPRESS)
     r.add_argument("-q", "--quiet", action="store_true", help="no progress output")
 
+    m = sub.add_parser("import-mitsuba", help="convert a Mitsuba 3 XML scene to .lantern")
+    m.add_argument("scene", help="Mitsuba scene (.xml)")
+    m.add_argument("-o", "--output", required=True, help="output scene file (.lantern)")
+    m.add_argument("--width", type=_positive_int, default=None, help="film width override")
+    m.add_argument("--height", type=_positive_int, default=None, help="film height override")
+    m.add_argument("-D", "--define", action="append", default=[], metavar="NAME=VALUE",
+                   help="override a <default> parameter (repeatable)")
+    m.add_argument("--debug", action="store_true", default=argparse.SUPPRESS,
+                   help=argparse.SUPPRESS)
+
     i = sub.add_parser("info", help="print a summary of a .lantern scene")
     i.add_argument("scene", help="scene file (.lantern)")
     i.add_argument("--debug", action="store_true", default=argparse.SUPPRESS,
@@ -139,6 +149,29 @@ def cmd_render(args):
     return 0
 
 
+def cmd_import_mitsuba(args):
+    import logging
+
+    from .mitsuba import load_mitsuba
+
+    # the warnings are printed below, once
+    logging.getLogger("lantern.mitsuba").addHandler(logging.NullHandler())
+    params = {}
+    for d in args.define:
+        if "=" not in d:
+            raise ValueError(f"-D {d!r}: expected NAME=VALUE")
+        k, v = d.split("=", 1)
+        params[k] = v
+    scene = load_mitsuba(args.scene, width=args.width, height=args.height, params=params)
+    for w in scene.metadata["warnings"]:
+        print(f"lantern: warning: {w}", file=sys.stderr)
+    scene.save(args.output)
+    depth = scene.metadata["max_depth"]
+    print(f"lantern: wrote {args.output} ({scene!r}); render with "
+          f"--max-depth {depth if depth is not None else 1024}", file=sys.stderr)
+    return 0
+
+
 def cmd_info(args):
     from .scene import load_scene
 
@@ -159,10 +192,11 @@ def main(argv=None):
     args = parser.parse_args(argv)
     if args.command is None:
         parser.print_usage(sys.stderr)
-        print("python -m lantern: error: a command is required (render, info)",
-              file=sys.stderr)
+        print("python -m lantern: error: a command is required "
+              "(render, info, import-mitsuba)", file=sys.stderr)
         return EXIT_USAGE
-    handler = {"render": cmd_render, "info": cmd_info}[args.command]
+    handler = {"render": cmd_render, "info": cmd_info,
+               "import-mitsuba": cmd_import_mitsuba}[args.command]
     try:
         return handler(args)
     except KeyboardInterrupt:
