@@ -12,8 +12,8 @@ import numpy as np
 
 log = logging.getLogger("lantern")
 
-INTEGRATORS = ("pt", "bdpt", "lvc", "cis")
-IMPLEMENTED_INTEGRATORS = ("pt",)
+INTEGRATORS = ("pt", "bdpt", "lvc", "cis", "lt")  # lt: light tracing, a reference
+IMPLEMENTED_INTEGRATORS = ("pt", "lt")
 BACKENDS = ("cpu", "cuda", "auto")
 
 DEFAULT_SETTINGS = {

@@ -21,9 +21,9 @@ constexpr int kChunkPaths = 1 << 18;  // paths in flight per wavefront chunk on 
 }  // namespace
 
 Session::Session(const SceneInput& scene, const SessionSettings& settings) : settings_(settings) {
-    if (settings_.integrator != "pt") {
+    if (settings_.integrator != "pt" && settings_.integrator != "lt") {
         throw std::invalid_argument("integrator '" + settings_.integrator +
-                                    "' is not available in this build (only 'pt')");
+                                    "' is not available in this build (only 'pt', 'lt')");
     }
     if (settings_.backend != "cpu") {
         throw std::invalid_argument("backend '" + settings_.backend +
@@ -37,6 +37,7 @@ Session::Session(const SceneInput& scene, const SessionSettings& settings) : set
     }
     auto t0 = Clock::now();
     scene_ = std::make_unique<HostScene>(scene);
+    if (settings_.integrator == "lt") check_light_tracing(scene);
     warnings_ = scene_->warnings();
     backend_ = std::make_unique<CpuBackend>(scene_->view(), settings_.threads, warnings_);
     width_ = scene.width;
@@ -73,7 +74,11 @@ bool Session::step() {
     iteration_sum_.assign(accum_.size(), 0.0);
     for (int64_t p0 = 0; p0 < pixels; p0 += chunk_pixels) {
         int64_t np = std::min(chunk_pixels, pixels - p0);
-        run_chunk(p0 * spp_it, int(np * spp_it));
+        if (settings_.integrator == "lt") {
+            run_lt_chunk(p0 * spp_it, int(np * spp_it));
+        } else {
+            run_chunk(p0 * spp_it, int(np * spp_it));
+        }
         if (cancel_.load()) return false;
     }
     for (size_t k = 0; k < accum_.size(); ++k) accum_[k] += iteration_sum_[k];

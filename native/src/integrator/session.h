@@ -17,6 +17,10 @@ namespace lantern {
 
 class CpuBackend;
 
+// Integrator "lt" cannot render receiver-dependent lights (soft-falloff point/spot of radius > 0):
+// throws std::invalid_argument naming the first one (docs/lvc_notes.md). lt_session.cpp.
+void check_light_tracing(const SceneInput& in);
+
 struct SessionSettings {
     std::string integrator = "pt";
     std::string backend = "cpu";
@@ -53,6 +57,8 @@ public:
 
 private:
     void run_chunk(int64_t first_path, int num_paths);
+    void run_lt_chunk(int64_t first_path, int num_paths);  // lt_session.cpp
+    void splat(const std::vector<int32_t>& slots, int count);
     void resize_state(int n);
 
     SessionSettings settings_;
@@ -74,6 +80,9 @@ private:
     std::vector<Vec2> hit_uv_;
     std::vector<uint8_t> alive_, dropped_, shadow_valid_, occluded_;
     PathState state_{};
+    // light paths (integrator "lt")
+    std::vector<Vec3> power_;
+    std::vector<Vec2> splat_xy_;
 };
 
 }  // namespace lantern

@@ -1,0 +1,151 @@
+// Emission sampling: a light sub-path's first vertex and direction for every light type, with
+// the terms BDPT's MIS needs later (Georgiev, "Implementing VCM", sec. 5; SmallVCM lights.hxx):
+// pdf_emit (area x solid angle), pdf_direct (area, or solid angle for distant lights), the cosine
+// at the light and the delta flags. weight = le * cos_light / pdf_emit is the sample's flux.
+#pragma once
+
+#include "scene/lights.h"
+
+namespace lantern {
+
+struct EmissionSample {
+    Vec3 p;            // origin (for sun and world: a point on a disk outside the scene)
+    Vec3 n;            // geometric normal on the emitting side; zero for points, sun, world
+    Vec3 d;            // unit direction of emission
+    Vec3 le;           // radiance along d (intensity W/sr for delta-position lights, irradiance
+                       // W/m^2 for a delta sun), cone attenuation included
+    float pdf_emit;    // pdf of (p, d): area (1 for delta position) x solid angle (1 for delta
+                       // direction), without the light pick probability
+    float pdf_direct;  // pdf of p when next-event estimation samples it: area for finite lights
+                       // (1 for delta position), solid angle of -d for sun/world (1 for delta)
+    float cos_light;   // |cos| between d and n at the light; 1 for points, sun and world
+    bool delta_pos;    // point/spot of radius 0: no surface to hit
+    bool delta_dir;    // sun with angle 0: one direction
+    bool finite;       // false for sun and world (vertex at infinity)
+    bool valid;
+};
+
+// Soft-falloff point/spot lights of radius > 0 (Blender's default) are a disk that faces the
+// shaded point: they have no emission distribution of their own (docs/lvc_notes.md).
+LANTERN_HD inline bool light_receiver_dependent(const Light& l) {
+    return (l.type == kLightPoint || l.type == kLightSpot) && l.radius > 0.0f && l.soft_falloff;
+}
+
+// The disk of the scene's bounding sphere perpendicular to d, a radius behind the centre:
+// every ray along d that can reach the scene crosses it.
+LANTERN_HD inline Vec3 distant_disk_point(const SceneView& s, Vec3 d, Vec2 u) {
+    Frame f = Frame::from_normal(d);
+    Vec2 q = sample_concentric_disk(u);
+    return s.scene_center + (f.s * q.x + f.t * q.y - d) * s.scene_radius;
+}
+
+// Emission sample of light l from two 2D numbers: u_pos chooses the point, u_dir the direction.
+LANTERN_HD inline EmissionSample sample_emission(const SceneView& s, const Light& l, Vec2 u_pos,
+                                                 Vec2 u_dir) {
+    EmissionSample es{};
+    es.valid = false;
+    es.finite = true;
+    es.cos_light = 1.0f;
+    float pdf_dir = 0.0f;
+    switch (l.type) {
+    case kLightPoint:
+    case kLightSpot: {
+        if (light_receiver_dependent(l)) return es;
+        if (l.radius <= 0.0f) {
+            es.p = l.position;
+            es.delta_pos = true;
+            es.pdf_direct = 1.0f;
+            if (l.type == kLightSpot) {  // uniform in the cone; the smoothstep stays in le
+                Frame f = Frame::from_normal(-l.frame.axis(2));
+                es.d = f.to_world(sample_uniform_cone(u_dir, l.cos_half_spot, &pdf_dir));
+            } else {
+                es.d = sample_uniform_sphere(u_dir, &pdf_dir);
+            }
+            es.le = l.intensity;
+            es.pdf_emit = pdf_dir;
+        } else {  // sphere: uniform point, cosine direction about the outward normal
+            Vec3 n = sample_uniform_sphere(u_pos, nullptr);
+            Frame f = Frame::from_normal(n);
+            es.p = l.position + n * l.radius;
+            es.n = n;
+            es.d = f.to_world(sample_cosine_hemisphere(u_dir, &pdf_dir));
+            es.cos_light = dot(es.d, n);
+            es.le = l.radiance;
+            // next-event estimation samples the visible cap uniformly in solid angle: its area
+            // pdf depends on the receiver; 1/area is the receiver-free stand-in (see notes)
+            es.pdf_direct = 1.0f / (4.0f * kPi * l.radius * l.radius);
+            es.pdf_emit = es.pdf_direct * pdf_dir;
+        }
+        if (l.type == kLightSpot) es.le = es.le * spot_attenuation(l, es.d);
+        break;
+    }
+    case kLightArea: {  // front side (local -Z) only
+        Vec3 n = -l.frame.axis(2);
+        Frame f = Frame::from_normal(n);
+        es.p = area_point(l, u_pos);
+        es.n = n;
+        es.d = f.to_world(sample_cosine_hemisphere(u_dir, &pdf_dir));
+        es.cos_light = dot(es.d, n);
+        es.le = l.radiance;
+        es.pdf_direct = 1.0f / l.area;
+        es.pdf_emit = es.pdf_direct * pdf_dir;
+        break;
+    }
+    case kLightTriangle: {  // both sides: the side is the first bit of u_dir.x
+        Vec3 a = triangle_vertex(s, l.triangle, 0), b = triangle_vertex(s, l.triangle, 1),
+             c = triangle_vertex(s, l.triangle, 2);
+        Vec2 bc = sample_triangle(u_pos);
+        Vec3 n = normalize(cross(b - a, c - a));
+        Vec2 ud = u_dir;
+        if (ud.x < 0.5f) {
+            ud.x *= 2.0f;
+        } else {
+            ud.x = 2.0f * ud.x - 1.0f;
+            n = -n;
+        }
+        Frame f = Frame::from_normal(n);
+        es.p = a * (1.0f - bc.x - bc.y) + b * bc.x + c * bc.y;
+        es.n = n;
+        es.d = f.to_world(sample_cosine_hemisphere(ud, &pdf_dir));
+        es.cos_light = dot(es.d, n);
+        es.le = l.radiance;
+        es.pdf_direct = 1.0f / l.area;
+        es.pdf_emit = es.pdf_direct * 0.5f * pdf_dir;
+        break;
+    }
+    case kLightSun:
+    case kLightWorld: {
+        es.finite = false;
+        if (l.type == kLightWorld) {
+            Vec3 to_light = sample_uniform_sphere(u_dir, &pdf_dir);
+            es.d = -to_light;
+            es.le = l.radiance;
+        } else if (l.cos_sun >= 1.0f) {
+            es.d = l.direction;
+            es.le = l.intensity;
+            es.delta_dir = true;
+            pdf_dir = 1.0f;
+        } else {
+            Frame f = Frame::from_normal(l.direction);
+            es.d = f.to_world(sample_uniform_cone(u_dir, l.cos_sun, &pdf_dir));
+            es.le = l.radiance;
+        }
+        es.p = distant_disk_point(s, es.d, u_pos);
+        es.pdf_direct = pdf_dir;  // solid angle, as next-event estimation samples it
+        es.pdf_emit = pdf_dir / (kPi * s.scene_radius * s.scene_radius);
+        break;
+    }
+    default:
+        return es;
+    }
+    es.valid = es.pdf_emit > 0.0f && es.cos_light > 0.0f && !is_black(es.le) && is_finite(es.d);
+    return es;
+}
+
+// Flux of an emission sample, le * cos / pdf_emit (its expectation is the light's power; for
+// sun and world, the power through the scene's bounding disk).
+LANTERN_HD inline Vec3 emission_weight(const EmissionSample& es) {
+    return es.le * (es.cos_light / es.pdf_emit);
+}
+
+}  // namespace lantern

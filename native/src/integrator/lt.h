@@ -1,0 +1,202 @@
+// The light tracer's stages (integrator "lt", a reference for the light pass of BDPT): light
+// paths from emission samples, every vertex connected to the camera (t = 1) and splatted through
+// the pixel filter. Each stage touches one path slot; the session reduces splats in slot order.
+#pragma once
+
+#include "bsdf/lambert.h"
+#include "core/offset.h"
+#include "integrator/camera.h"
+#include "integrator/light_path.h"
+#include "integrator/path_state.h"
+#include "integrator/pt.h"
+
+namespace lantern {
+
+// What a light path carries beyond PathState: its flux and this bounce's splat position.
+struct LightPathState {
+    Vec3* power;      // emission flux / pick probability, constant along the path
+    Vec2* splat_xy;   // raster position of this bounce's camera connection (shadow_contrib)
+};
+
+// ---- Pixel filter: the density camera.h importance-samples, normalised over [-w, w] ----
+// w is Blender's filter size (HostScene::build_filter clamps it the same way).
+LANTERN_HD inline float filter_radius(const CameraView& c) {
+    float w = c.filter_width;
+    if (!(w > 0.0f) || !is_finite(w)) w = 1.5f;
+    return fminf(w, 16.0f);
+}
+LANTERN_HD inline float filter_density_1d(float x, float w) {
+    if (fabsf(x) >= w) return 0.0f;
+    // the window's integral over its width 2w is 0.35875 * 2w
+    return fmaxf(0.0f, blackman_harris(x, 2.0f * w)) / (0.35875f * 2.0f * w);
+}
+
+// ---- Camera importance: where y projects, and We * G / (raster pdf) for a point at y ----
+struct CameraConnection {
+    Vec3 wc;         // unit direction from y to the camera
+    float dist;      // length of the segment to test (clip range excluded)
+    float raster_x, raster_y;
+    float importance;  // d(raster)/d(area at y) without the cosine at y
+    bool valid;
+};
+
+LANTERN_HD inline CameraConnection connect_camera(const CameraView& c, Vec3 y, float w) {
+    CameraConnection cc{};
+    cc.valid = false;
+    Vec3 rel = y - c.to_world.origin();
+    Vec3 ax = c.to_world.axis(0), ay = c.to_world.axis(1), az = c.to_world.axis(2);
+    float lx = dot(rel, ax), ly = dot(rel, ay), depth = -dot(rel, az);
+    if (!(depth >= c.clip_start && depth <= c.clip_end) || depth <= 0.0f) return cc;
+    float sw = c.screen[1] - c.screen[0], sh = c.screen[3] - c.screen[2];
+    float a_pix = sw * sh / (float(c.width) * float(c.height));  // screen area of a pixel
+    float sx, sy;
+    if (c.orthographic) {
+        sx = lx;
+        sy = ly;
+        cc.wc = normalize(az);
+        cc.dist = depth - c.clip_start;
+        cc.importance = 1.0f / a_pix;  // dA_screen = |cos_y| dA_y
+    } else {
+        sx = lx / depth;
+        sy = ly / depth;
+        float d2 = length_sq(rel);
+        float d = sqrtf(d2);
+        float cos_c = depth / d;
+        cc.wc = -rel / d;
+        cc.dist = d * (1.0f - c.clip_start / depth);
+        // dA_plane(z=-1) = dw / cos^3, dw = |cos_y| dA_y / d^2  [Veach thesis (10.8)-(10.9)]
+        cc.importance = 1.0f / (a_pix * cos_c * cos_c * cos_c * d2);
+    }
+    cc.raster_x = (sx - c.screen[0]) / sw * float(c.width);
+    cc.raster_y = (c.screen[3] - sy) / sh * float(c.height);
+    if (cc.raster_x <= -w || cc.raster_x >= float(c.width) + w || cc.raster_y <= -w ||
+        cc.raster_y >= float(c.height) + w)
+        return cc;
+    cc.valid = cc.importance > 0.0f && is_finite(cc.importance);
+    return cc;
+}
+
+// Shadow ray from y (normal n, zero for none) to the camera; the splat waits for its result.
+LANTERN_HD inline void lt_queue_splat(const PathState& ps, const LightPathState& lp, int i, Vec3 y,
+                                      Vec3 n, const CameraConnection& cc, Vec3 contrib) {
+    if (!is_finite(contrib)) {
+        ps.dropped[i] = 1;
+        return;
+    }
+    if (is_black(contrib)) return;
+    Vec3 o = is_black(n) ? y : offset_ray_origin(y, n, cc.wc);
+    ps.shadow_o[i] = o;
+    ps.shadow_d[i] = cc.wc;
+    ps.shadow_tmax[i] = fmaxf(0.0f, cc.dist - length(o - y)) * (1.0f - 1e-4f);
+    ps.shadow_contrib[i] = contrib;
+    ps.shadow_valid[i] = 1;
+    lp.splat_xy[i] = {cc.raster_x, cc.raster_y};
+}
+
+// ---- Generate: pick a light by power, sample its emission, connect it to the camera ----
+LANTERN_HD inline void lt_generate(const SceneView& s, const PathState& ps,
+                                   const LightPathState& lp, const PtSettings& st, int i,
+                                   int64_t path) {
+    Rng rng = Rng::for_path(st.seed ^ 0x4C54ull, st.iteration, uint64_t(path));
+    ps.alive[i] = 0;
+    ps.dropped[i] = 0;
+    ps.shadow_valid[i] = 0;
+    ps.depth[i] = 0;  // segments from the light to the current vertex
+    ps.throughput[i] = vec3(1.0f);
+    ps.radiance[i] = vec3(0.0f);
+    float u_pick = rng.uniform();
+    Vec2 u_pos = rng.uniform2(), u_dir = rng.uniform2();
+    if (s.num_lights == 0) return;
+    int li = sample_cdf(s.light_cdf, s.num_lights, u_pick);
+    const Light& l = s.lights[li];
+    EmissionSample es = sample_emission(s, l, u_pos, u_dir);
+    if (!es.valid || !(l.pick_pdf > 0.0f)) return;
+    lp.power[i] = emission_weight(es) / l.pick_pdf;
+    ps.rng[i] = rng;
+
+    // the emitter itself seen by the camera (one segment): finite, non-delta surfaces
+    bool visible = l.type == kLightTriangle
+                       ? (s.tri_flags[l.triangle] & kVisibleCamera) != 0
+                       : (l.visible_camera != 0 && (l.type == kLightArea || l.type == kLightPoint ||
+                                                    l.type == kLightSpot));
+    if (visible && es.finite && !es.delta_pos) {
+        float w = filter_radius(s.camera);
+        CameraConnection cc = connect_camera(s.camera, es.p, w);
+        float cos_c = cc.valid ? dot(cc.wc, es.n) : 0.0f;
+        if (l.type == kLightTriangle) cos_c = fabsf(cos_c);
+        if (cos_c > 0.0f) {
+            Vec3 le = l.radiance;
+            if (l.type == kLightSpot) le = le * spot_attenuation(l, cc.wc);
+            // Le * cos / (pick * pdf_a): the vertex's area density, not pdf_emit
+            Vec3 c = le * (cos_c * cc.importance / (l.pick_pdf * es.pdf_direct));
+            lt_queue_splat(ps, lp, i, es.p, es.n, cc, c);
+        }
+    }
+    if (st.max_depth < 2) return;
+    ps.ray_o[i] = is_black(es.n) ? es.p : offset_ray_origin(es.p, es.n, es.d);
+    ps.ray_d[i] = es.d;
+    ps.ray_tmin[i] = 0.0f;
+    ps.ray_tmax[i] = kInf;
+    ps.prev_pdf_w[i] = es.pdf_emit;
+    ps.alive[i] = 1;
+}
+
+// ---- Shade: connect the hit to the camera, then continue with the adjoint BSDF ----
+LANTERN_HD inline void lt_shade(const SceneView& s, const PathState& ps, const LightPathState& lp,
+                                const PtSettings& st, int i) {
+    ps.shadow_valid[i] = 0;
+    ps.alive[i] = 0;
+    int tri = ps.hit_prim[i];
+    if (tri < 0) return;
+    Vec3 d = ps.ray_d[i];
+    SurfaceHit h = pt_surface(s, tri, ps.hit_uv[i], d);
+    const Material& m = s.materials[s.tri_material[tri]];
+    int depth = ps.depth[i] + 1;  // segments from the light to this vertex
+    ps.depth[i] = depth;
+    Vec3 wo_w = -d;  // towards the light
+    float cos_o_ns = fabsf(dot(wo_w, h.ns)), cos_o_ng = fabsf(dot(wo_w, h.ng));
+    if (!(cos_o_ng > 0.0f)) return;
+    Frame frame = Frame::from_normal(h.ns);
+    Vec3 wo = frame.to_local(wo_w);
+    Vec3 beta = lp.power[i] * ps.throughput[i];
+
+    // ---- Connect to the camera (t = 1): depth + 1 segments ----
+    if ((s.tri_flags[tri] & kVisibleCamera) != 0) {
+        CameraConnection cc = connect_camera(s.camera, h.p, filter_radius(s.camera));
+        if (cc.valid && dot(cc.wc, h.ng) > 0.0f) {
+            BsdfEval e = lambert_eval(m.base_color, wo, frame.to_local(cc.wc));
+            // f * |cos_ns(wc)| with the adjoint shading-normal factor
+            // |wo.ns| |wc.ng| / (|wo.ng| |wc.ns|)  [Veach thesis (5.19)]
+            float cos_y = cos_o_ns * fabsf(dot(cc.wc, h.ng)) / cos_o_ng;
+            lt_queue_splat(ps, lp, i, h.p, h.ng, cc, beta * e.f * (cos_y * cc.importance));
+        }
+    }
+    if (depth + 2 > st.max_depth) return;  // the next vertex's connection would be too long
+
+    // ---- Continue: cosine sampling, adjoint weight, roulette ----
+    Rng rng = ps.rng[i];
+    BsdfSample bs = lambert_sample(m.base_color, wo, rng.uniform2());
+    Vec3 wi = frame.to_world(bs.wi);
+    if (bs.valid && dot(wi, h.ng) > 0.0f) {
+        float adj = cos_o_ns * fabsf(dot(wi, h.ng)) / (cos_o_ng * fabsf(bs.wi.z));
+        Vec3 t = ps.throughput[i] * bs.weight * adj;
+        bool survive = true;
+        if (st.rr_depth > 0 && depth + 1 >= st.rr_depth) {
+            float q = fminf(max_component(t), 0.95f);
+            survive = rng.uniform() < q;
+            if (survive) t = t / q;
+        }
+        if (survive && max_component(t) > 0.0f && is_finite(t)) {
+            ps.throughput[i] = t;
+            ps.ray_o[i] = offset_ray_origin(h.p, h.ng, wi);
+            ps.ray_d[i] = wi;
+            ps.ray_tmin[i] = 0.0f;
+            ps.ray_tmax[i] = kInf;
+            ps.prev_pdf_w[i] = bs.pdf_fwd_w;
+            ps.alive[i] = 1;
+        }
+    }
+    ps.rng[i] = rng;
+}
+
+}  // namespace lantern
