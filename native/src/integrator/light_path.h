@@ -148,4 +148,57 @@ LANTERN_HD inline Vec3 emission_weight(const EmissionSample& es) {
     return es.le * (es.cos_light / es.pdf_emit);
 }
 
+// ---- Emission pdfs of a given emitted ray (what BDPT needs when a camera path hits a light) ----
+struct EmissionPdf {
+    float pdf_emit;    // as EmissionSample::pdf_emit
+    float pdf_direct;  // as EmissionSample::pdf_direct
+};
+
+// Pdfs with which sample_emission would produce a ray leaving light l along d, from a point
+// with geometric normal n (finite surface lights; ignored for points, sun and world).
+LANTERN_HD inline EmissionPdf emission_pdf(const SceneView& s, const Light& l, Vec3 n, Vec3 d) {
+    EmissionPdf r{0.0f, 0.0f};
+    const float inv_disk = 1.0f / (kPi * s.scene_radius * s.scene_radius);
+    switch (l.type) {
+    case kLightPoint:
+    case kLightSpot:
+        if (light_receiver_dependent(l)) return r;
+        if (l.radius <= 0.0f) {
+            r.pdf_direct = 1.0f;
+            if (l.type == kLightPoint) {
+                r.pdf_emit = 0.25f * kInvPi;
+            } else if (dot(d, -l.frame.axis(2)) >= l.cos_half_spot) {
+                r.pdf_emit = pdf_uniform_cone(l.cos_half_spot);
+            }
+        } else {
+            r.pdf_direct = 1.0f / (4.0f * kPi * l.radius * l.radius);
+            r.pdf_emit = r.pdf_direct * pdf_cosine_hemisphere(dot(d, n));
+        }
+        return r;
+    case kLightArea:
+        r.pdf_direct = 1.0f / l.area;
+        r.pdf_emit = r.pdf_direct * pdf_cosine_hemisphere(dot(d, -l.frame.axis(2)));
+        return r;
+    case kLightTriangle:
+        r.pdf_direct = 1.0f / l.area;
+        r.pdf_emit = r.pdf_direct * 0.5f * pdf_cosine_hemisphere(fabsf(dot(d, n)));
+        return r;
+    case kLightSun:
+        if (l.cos_sun >= 1.0f) {
+            r.pdf_direct = 1.0f;
+            r.pdf_emit = inv_disk;
+        } else if (dot(d, l.direction) >= l.cos_sun) {
+            r.pdf_direct = pdf_uniform_cone(l.cos_sun);
+            r.pdf_emit = r.pdf_direct * inv_disk;
+        }
+        return r;
+    case kLightWorld:
+        r.pdf_direct = 0.25f * kInvPi;
+        r.pdf_emit = r.pdf_direct * inv_disk;
+        return r;
+    default:
+        return r;
+    }
+}
+
 }  // namespace lantern
