@@ -50,12 +50,38 @@ def cornell_mesh_light():
     return scene
 
 
+def cornell_spot():
+    scene = scenes.cornell_box(SIZE, SIZE)
+    scene.lights = []
+    m = np.eye(4)
+    m[:3, 3] = (0.1, 0.2, 1.9)  # the cone points down (local -Z)
+    scene.add_light("spot", to_world=m.tolist(), power=[40.0] * 3, radius=0.0, spot_size=1.2,
+                    spot_blend=0.3)
+    return scene
+
+
+def cornell_sphere():
+    scene = scenes.cornell_box(SIZE, SIZE)
+    scene.lights = []
+    scene.add_light("point", position=[0.2, 0.0, 1.5], power=[30.0] * 3, radius=0.15,
+                    soft_falloff=False, visible_camera=True)
+    return scene
+
+
+def cornell_sun():
+    scene = scenes.cornell_box(SIZE, SIZE)  # the sun shines in through the open front
+    scene.lights = []
+    scene.add_light("sun", direction=[0.2, 0.6, -0.3], strength=[2.0] * 3, angle=0.1)
+    return scene
+
+
 def renders(scene, integrator, spp, seed0):
     return [lantern.render(scene, spp=spp, seed=seed0 + k, integrator=integrator,
                            backend="cpu", max_depth=8) for k in range(K)]
 
 
-@pytest.mark.parametrize("make", [cornell_area, cornell_point, cornell_mesh_light])
+@pytest.mark.parametrize("make", [cornell_area, cornell_point, cornell_mesh_light, cornell_spot,
+                                  cornell_sphere, cornell_sun])
 def test_lt_matches_pt(core, make):
     scene = make()
     t0 = time.perf_counter()
