@@ -1,0 +1,113 @@
+// Shared checks for the lobe tests (tests/cpp/test_bsdf_*.cpp): a chi-square goodness-of-fit of
+// a sampler against a pdf over the sphere, binned in (cos theta, phi) with low-expectation bins
+// merged, and small helpers. The pdf is integrated per bin with a midpoint rule on a sub-grid.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <vector>
+
+#include "core/math.h"
+#include "core/rng.h"
+
+namespace lantern::test {
+
+struct Chi2Result {
+    double chi2 = 0.0;
+    int dof = 0;
+    double p_value = 0.0;
+    double pdf_mass = 0.0;    // integral of the pdf over the sphere
+    double valid_frac = 0.0;  // fraction of sample() calls that returned a direction
+    bool impossible = false;  // samples landed where the pdf has no mass at all
+};
+
+// Upper tail of the chi-square distribution, Wilson-Hilferty approximation (good for dof >~ 20).
+inline double chi2_upper_tail(double x, int dof) {
+    double k = dof;
+    double z = (std::cbrt(x / k) - (1.0 - 2.0 / (9.0 * k))) / std::sqrt(2.0 / (9.0 * k));
+    return 0.5 * std::erfc(z / std::sqrt(2.0));
+}
+
+// sample(u, uc, &wi) -> bool; pdf(wi) -> solid-angle density of sample() producing wi.
+inline Chi2Result chi2_sphere(const std::function<bool(Vec2, float, Vec3*)>& sample,
+                              const std::function<double(Vec3)>& pdf, int n_samples,
+                              uint64_t seed = 1, int n_theta = 32, int n_phi = 32, int sub = 6) {
+    const int bins = n_theta * n_phi;
+    auto bin_of = [&](Vec3 w) {
+        float z = clampf(w.z, -1.0f, 1.0f);
+        int t = std::min(n_theta - 1, int((z + 1.0f) * 0.5f * n_theta));
+        float phi = atan2f(w.y, w.x);
+        if (phi < 0.0f) phi += 2.0f * kPi;
+        int p = std::min(n_phi - 1, int(phi / (2.0f * kPi) * n_phi));
+        return t * n_phi + p;
+    };
+    Chi2Result r;
+    std::vector<double> observed(bins, 0.0), expected(bins, 0.0);
+    Rng rng = Rng::for_path(seed, 0, 0);
+    int valid = 0;
+    for (int i = 0; i < n_samples; ++i) {
+        Vec2 u = rng.uniform2();
+        float uc = rng.uniform();
+        Vec3 wi;
+        if (!sample(u, uc, &wi)) continue;
+        ++valid;
+        observed[bin_of(wi)] += 1.0;
+    }
+    r.valid_frac = double(valid) / n_samples;
+    // expected mass: dw = dz dphi, so integrate pdf on the (z, phi) rectangle of each bin
+    const double dz = 2.0 / n_theta, dphi = 2.0 * kPi / n_phi;
+    for (int t = 0; t < n_theta; ++t)
+        for (int p = 0; p < n_phi; ++p) {
+            double acc = 0.0;
+            for (int i = 0; i < sub; ++i)
+                for (int j = 0; j < sub; ++j) {
+                    double z = -1.0 + dz * (t + (i + 0.5) / sub);
+                    double phi = dphi * (p + (j + 0.5) / sub);
+                    double s = std::sqrt(std::max(0.0, 1.0 - z * z));
+                    acc += pdf(vec3(float(s * std::cos(phi)), float(s * std::sin(phi)), float(z)));
+                }
+            expected[t * n_phi + p] = acc * dz * dphi / (sub * sub);
+        }
+    for (double e : expected) r.pdf_mass += e;
+    for (double& e : expected) e *= n_samples;
+    // merge bins expecting fewer than 5 samples (smallest first) until each pool expects >= 5
+    std::vector<int> order(bins);
+    for (int i = 0; i < bins; ++i) order[i] = i;
+    std::sort(order.begin(), order.end(), [&](int a, int b) { return expected[a] < expected[b]; });
+    double pool_e = 0.0, pool_o = 0.0;
+    int cells = 0;
+    for (int idx : order) {
+        double e = expected[idx], o = observed[idx];
+        if (e <= 0.0 && o <= 0.0) continue;
+        // bins the quadrature sees as empty (e.g. cut by the visibility edge) join the pool too
+        if (e < 5.0 || pool_e > 0.0) {
+            pool_e += e;
+            pool_o += o;
+            if (pool_e < 5.0) continue;
+            e = pool_e;
+            o = pool_o;
+            pool_e = pool_o = 0.0;
+        }
+        r.chi2 += (o - e) * (o - e) / e;
+        ++cells;
+    }
+    if (pool_o > 0.0 && pool_e <= 0.0) r.impossible = true;
+    if (pool_e > 0.0) {  // leftover pool: count it as one more cell
+        r.chi2 += (pool_o - pool_e) * (pool_o - pool_e) / pool_e;
+        ++cells;
+    }
+    r.dof = std::max(1, cells - 1);
+    r.p_value = r.impossible ? 0.0 : chi2_upper_tail(r.chi2, r.dof);
+    return r;
+}
+
+inline Vec3 dir_from_angles(float theta, float phi) {
+    return vec3(sinf(theta) * cosf(phi), sinf(theta) * sinf(phi), cosf(theta));
+}
+
+inline bool finite_eval(Vec3 f, float a, float b) {
+    return is_finite(f) && is_finite(a) && is_finite(b);
+}
+
+}  // namespace lantern::test
