@@ -1,0 +1,80 @@
+// Rough conductor: GGX with height-correlated Smith G2 and visible-normal sampling; Fresnel is
+// either the exact complex-IOR one (eta, k per channel) or Blender's F82-tint. Reflection only,
+// local frame with +Z the shading normal on the side of wo; a delta mirror when alpha < 1e-3.
+#pragma once
+
+#include "bsdf/fresnel.h"
+#include "bsdf/lambert.h"
+#include "bsdf/microfacet.h"
+
+namespace lantern {
+
+enum class ConductorFresnel : uint8_t { Complex, F82Tint };
+
+struct ConductorParams {
+    Ggx ggx;
+    ConductorFresnel fresnel;
+    Vec3 eta_or_f0;  // Complex: eta; F82Tint: base colour F0
+    Vec3 k_or_tint;  // Complex: k;   F82Tint: the F82 tint
+};
+
+LANTERN_HD inline ConductorParams conductor_complex(float roughness, Vec3 eta, Vec3 k) {
+    return {Ggx::isotropic(ggx_alpha_from_roughness(roughness)), ConductorFresnel::Complex, eta, k};
+}
+LANTERN_HD inline ConductorParams conductor_f82(float roughness, Vec3 f0, Vec3 tint) {
+    return {Ggx::isotropic(ggx_alpha_from_roughness(roughness)), ConductorFresnel::F82Tint, f0,
+            tint};
+}
+
+LANTERN_HD inline bool conductor_is_delta(const ConductorParams& p) {
+    return p.ggx.effectively_smooth();
+}
+
+LANTERN_HD inline Vec3 conductor_fresnel(const ConductorParams& p, float cos_i) {
+    return p.fresnel == ConductorFresnel::Complex
+               ? fresnel_conductor(cos_i, p.eta_or_f0, p.k_or_tint)
+               : fresnel_f82_tint(cos_i, p.eta_or_f0, p.k_or_tint);
+}
+
+// Zero for a delta lobe (its value is a distribution, reached only through sample()).
+LANTERN_HD inline BsdfEval conductor_eval(const ConductorParams& p, Vec3 wo, Vec3 wi) {
+    BsdfEval e{vec3(0.0f), 0.0f, 0.0f};
+    if (conductor_is_delta(p) || wo.z <= 0.0f || wi.z <= 0.0f) return e;
+    Vec3 m = wo + wi;
+    if (length_sq(m) <= 0.0f) return e;
+    m = normalize(m);
+    float d = p.ggx.d(m);
+    float wo_m = fmaxf(dot(wo, m), 0.0f);
+    e.f = conductor_fresnel(p, wo_m) * (d * p.ggx.g2(wo, wi) / (4.0f * wo.z * wi.z));
+    // pdf_w(wi) = D_wo(m) / (4 wo.m) = G1(wo) D(m) / (4 wo.z)   [Heitz 2018 (17)]
+    e.pdf_fwd_w = p.ggx.g1(wo) * d / (4.0f * wo.z);
+    e.pdf_rev_w = p.ggx.g1(wi) * d / (4.0f * wi.z);
+    if (!is_finite(e.f) || !is_finite(e.pdf_fwd_w) || !is_finite(e.pdf_rev_w))
+        return BsdfEval{vec3(0.0f), 0.0f, 0.0f};
+    return e;
+}
+
+// For a delta lobe pdf_fwd_w is 1 (the discrete probability of the one direction).
+LANTERN_HD inline BsdfSample conductor_sample(const ConductorParams& p, Vec3 wo, Vec2 u) {
+    BsdfSample s{vec3(0.0f), vec3(0.0f), 0.0f, false};
+    if (wo.z <= 0.0f) return s;
+    if (conductor_is_delta(p)) {
+        s.wi = vec3(-wo.x, -wo.y, wo.z);
+        s.weight = conductor_fresnel(p, wo.z);
+        s.pdf_fwd_w = 1.0f;
+        s.valid = true;
+        return s;
+    }
+    Vec3 m = p.ggx.sample_visible(wo, u);
+    s.wi = reflect(wo, m);
+    if (s.wi.z <= 0.0f) return s;
+    float wo_m = fmaxf(dot(wo, m), 0.0f);
+    s.pdf_fwd_w = p.ggx.g1(wo) * p.ggx.d(m) / (4.0f * wo.z);
+    if (!(s.pdf_fwd_w > 0.0f) || !is_finite(s.pdf_fwd_w)) return s;
+    // f cos / pdf = F G2 / G1(wo)
+    s.weight = conductor_fresnel(p, wo_m) * (p.ggx.g2(wo, s.wi) / p.ggx.g1(wo));
+    s.valid = is_finite(s.weight);
+    return s;
+}
+
+}  // namespace lantern

@@ -1,0 +1,127 @@
+// GGX conductor: chi-square of sample() against eval()'s pdf, pdf mass == fraction of valid
+// samples, weight == f cos / pdf, reverse pdf, reciprocity, furnaces and hostile inputs.
+#include <gtest/gtest.h>
+
+#include "bsdf/conductor.h"
+#include "test_bsdf_helpers.h"
+
+using namespace lantern;
+using namespace lantern::test;
+
+namespace {
+
+const Vec3 kGoldEta{0.143f, 0.374f, 1.442f}, kGoldK{3.983f, 2.385f, 1.603f};
+
+std::vector<ConductorParams> cases() {
+    return {conductor_complex(0.3f, kGoldEta, kGoldK), conductor_complex(0.7f, kGoldEta, kGoldK),
+            conductor_f82(0.5f, {0.9f, 0.6f, 0.3f}, {0.7f, 0.9f, 1.0f}),
+            conductor_f82(1.0f, vec3(1.0f), vec3(1.0f))};
+}
+
+}  // namespace
+
+TEST(BsdfConductor, SampleMatchesPdfChiSquare) {
+    for (const ConductorParams& p : cases())
+        for (float theta_o : {0.3f, 1.3f}) {
+            Vec3 wo = dir_from_angles(theta_o, 0.4f);
+            Chi2Result r = chi2_sphere(
+                [&](Vec2 u, float, Vec3* wi) {
+                    BsdfSample s = conductor_sample(p, wo, u);
+                    *wi = s.wi;
+                    return s.valid;
+                },
+                [&](Vec3 wi) { return double(conductor_eval(p, wo, wi).pdf_fwd_w); }, 200000);
+            EXPECT_GT(r.p_value, 1e-4) << "alpha " << p.ggx.ax << " theta " << theta_o << " chi2 "
+                                       << r.chi2 << " dof " << r.dof;
+            EXPECT_LE(r.pdf_mass, 1.0 + 1e-2);
+            EXPECT_NEAR(r.pdf_mass, r.valid_frac, 1e-2) << "alpha " << p.ggx.ax;
+        }
+}
+
+TEST(BsdfConductor, WeightIsFCosOverPdfAndPdfsAreConsistent) {
+    Rng rng = Rng::for_path(3, 0, 0);
+    for (const ConductorParams& p : cases()) {
+        Vec3 wo = dir_from_angles(0.9f, 1.0f);
+        for (int i = 0; i < 2000; ++i) {
+            BsdfSample s = conductor_sample(p, wo, rng.uniform2());
+            if (!s.valid) continue;
+            BsdfEval e = conductor_eval(p, wo, s.wi);
+            ASSERT_GT(e.pdf_fwd_w, 0.0f);
+            EXPECT_NEAR(e.pdf_fwd_w, s.pdf_fwd_w, 1e-3f * s.pdf_fwd_w);
+            for (int c = 0; c < 3; ++c)
+                EXPECT_NEAR(s.weight[c], e.f[c] * s.wi.z / e.pdf_fwd_w, 1e-3f * (1 + s.weight[c]));
+            BsdfEval back = conductor_eval(p, s.wi, wo);
+            EXPECT_NEAR(e.pdf_rev_w, back.pdf_fwd_w, 1e-4f * (1 + back.pdf_fwd_w));
+            EXPECT_NEAR(e.pdf_fwd_w, back.pdf_rev_w, 1e-4f * (1 + e.pdf_fwd_w));
+            for (int c = 0; c < 3; ++c)  // reciprocity
+                EXPECT_NEAR(e.f[c], back.f[c], 1e-4f * (1 + e.f[c]));
+        }
+    }
+}
+
+TEST(BsdfConductor, WhiteFurnace) {
+    auto albedo = [](const ConductorParams& p, Vec3 wo) {
+        Rng rng = Rng::for_path(5, 0, 0);
+        const int n = 100000;
+        Vec3 sum = vec3(0.0f);
+        for (int i = 0; i < n; ++i) {
+            BsdfSample s = conductor_sample(p, wo, rng.uniform2());
+            if (s.valid) sum += s.weight;
+        }
+        return sum / float(n);
+    };
+    for (float rough : {0.0f, 0.2f, 0.6f, 1.0f})
+        for (float theta_o : {0.0f, 0.8f, 1.5f}) {
+            Vec3 wo = dir_from_angles(theta_o, 0.0f);
+            // eta = 1, k = 0: index-matched, nothing reflects
+            EXPECT_NEAR(max_component(albedo(conductor_complex(rough, vec3(1), vec3(0)), wo)), 0.0f,
+                        1e-6f);
+            // F == 1 (F82 with white F0 and tint): single-scatter albedo E[G2 / G1] <= 1
+            Vec3 a = albedo(conductor_f82(rough, vec3(1), vec3(1)), wo);
+            EXPECT_LE(a.x, 1.0f + 1e-4f) << "rough " << rough << " theta " << theta_o;
+            if (rough <= 0.2f && theta_o < 1.0f) EXPECT_GT(a.x, 0.97f);
+            // a real metal reflects less than the perfect one
+            Vec3 g = albedo(conductor_complex(rough, kGoldEta, kGoldK), wo);
+            EXPECT_LE(max_component(g), a.x + 1e-4f);
+        }
+}
+
+TEST(BsdfConductor, SmoothIsADeltaMirror) {
+    ConductorParams p = conductor_complex(0.0f, kGoldEta, kGoldK);
+    EXPECT_TRUE(conductor_is_delta(p));
+    EXPECT_FALSE(conductor_is_delta(conductor_complex(0.2f, kGoldEta, kGoldK)));
+    Vec3 wo = dir_from_angles(0.5f, 0.3f);
+    BsdfSample s = conductor_sample(p, wo, {0.2f, 0.8f});
+    ASSERT_TRUE(s.valid);
+    EXPECT_NEAR(s.wi.x, -wo.x, 1e-6f);
+    EXPECT_NEAR(s.wi.z, wo.z, 1e-6f);
+    Vec3 f = fresnel_conductor(wo.z, kGoldEta, kGoldK);
+    EXPECT_NEAR(s.weight.x, f.x, 1e-6f);
+    BsdfEval e = conductor_eval(p, wo, s.wi);
+    EXPECT_EQ(e.pdf_fwd_w, 0.0f);
+    EXPECT_TRUE(is_black(e.f));
+}
+
+TEST(BsdfConductor, HostileInputsStayFinite) {
+    Rng rng = Rng::for_path(9, 0, 0);
+    for (float rough : {0.0f, 0.031f, 0.04f, 1.0f})
+        for (Vec3 eta : {vec3(1.0f), vec3(0.0f), vec3(0.5f), kGoldEta})
+            for (Vec3 wo : {vec3(0, 0, 1), vec3(1, 0, 0), normalize(vec3(1, 0, 1e-7f)),
+                            normalize(vec3(1, 0, -0.1f)), vec3(0, 0, -0.0f)}) {
+                for (ConductorParams p : {conductor_complex(rough, eta, kGoldK),
+                                          conductor_complex(rough, eta, vec3(0.0f)),
+                                          conductor_f82(rough, eta, vec3(0.0f))}) {
+                    for (int i = 0; i < 20; ++i) {
+                        BsdfSample s = conductor_sample(p, wo, rng.uniform2());
+                        EXPECT_TRUE(is_finite(s.wi) && is_finite(s.weight) &&
+                                    is_finite(s.pdf_fwd_w));
+                        Vec3 wi = normalize(vec3(rng.uniform() - 0.5f, rng.uniform() - 0.5f,
+                                                 rng.uniform() * (i % 2 ? 1e-6f : 1.0f)));
+                        BsdfEval e = conductor_eval(p, wo, wi);
+                        EXPECT_TRUE(finite_eval(e.f, e.pdf_fwd_w, e.pdf_rev_w));
+                        e = conductor_eval(p, wo, s.wi);
+                        EXPECT_TRUE(finite_eval(e.f, e.pdf_fwd_w, e.pdf_rev_w));
+                    }
+                }
+            }
+}
