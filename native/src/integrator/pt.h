@@ -137,15 +137,22 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
                 float w = ls.delta ? 1.0f : power_heuristic(pdf_light, e.pdf_fwd_w);
                 float cos_i = fabsf(dot(ls.wi, h.ns));
                 Vec3 c = ps.throughput[i] * e.f * ls.le * (cos_i * w / pdf_light);
+                // Shortened at both ends: from the offset origin to the offset point on the
+                // light, aimed between the two offset points (aiming along wi from the un-offset
+                // point ends behind a light seen at a grazing angle, and the ray hits the light).
                 Vec3 so = offset_ray_origin(h.p, h.ng, ls.wi);
+                Vec3 sd = ls.wi;
                 float tmax = kInf;
                 if (ls.dist < kInf) {
                     Vec3 target = ls.p_light;
                     if (!is_black(ls.n_light)) target = offset_ray_origin(target, ls.n_light, -ls.wi);
-                    tmax = length(target - so) * (1.0f - 1e-4f);
+                    Vec3 seg = target - so;
+                    float len = length(seg);
+                    if (len > 0.0f) sd = seg / len;
+                    tmax = len * (1.0f - 1e-4f);
                 }
                 ps.shadow_o[i] = so;
-                ps.shadow_d[i] = ls.wi;
+                ps.shadow_d[i] = sd;
                 ps.shadow_tmax[i] = tmax;
                 ps.shadow_contrib[i] = c;
                 ps.shadow_valid[i] = 1;
