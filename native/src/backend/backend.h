@@ -1,6 +1,6 @@
 // What the wavefront needs from a backend: for_all(n, fn) runs fn(k) for every queue item k in
 // [0, n) (any order, any thread: stages write only their own slots), intersect() finds the
-// closest hit, occluded() tests a shadow segment. The CPU backend is a thread pool + Embree; the
+// closest hit, occluded() tests a shadow segment, compact() keeps the live queue items in order. The CPU backend is a thread pool + Embree; the
 // CUDA backend (a later issue) launches the same stage functions as kernels.
 #pragma once
 
@@ -25,6 +25,15 @@ public:
         pool_->parallel_for(n, grain, [&](int b, int e) {
             for (int k = b; k < e; ++k) fn(k);
         });
+    }
+    // Stream compaction: the items of `queue` whose slot is alive, in queue order, written to
+    // `next`; returns their count. The order is what keeps images independent of scheduling.
+    int compact(const int32_t* queue, int n, const uint8_t* alive, int32_t* next) const {
+        int m = 0;
+        for (int k = 0; k < n; ++k) {
+            if (alive[queue[k]]) next[m++] = queue[k];
+        }
+        return m;
     }
     HitRecord intersect(const Ray& r, RayKind kind) const { return accel_->intersect(r, kind); }
     bool occluded(const Ray& r) const { return accel_->occluded(r); }

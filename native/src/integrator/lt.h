@@ -180,20 +180,10 @@ LANTERN_HD inline void lt_shade(const SceneView& s, const PathState& ps, const L
     if (bs.valid && dot(wi, h.ng) > 0.0f) {
         float adj = cos_o_ns * fabsf(dot(wi, h.ng)) / (cos_o_ng * fabsf(bs.wi.z));
         Vec3 t = ps.throughput[i] * bs.weight * adj;
-        bool survive = true;
-        if (st.rr_depth > 0 && depth + 1 >= st.rr_depth) {
-            float q = fminf(max_component(t), 0.95f);
-            survive = rng.uniform() < q;
-            if (survive) t = t / q;
-        }
-        if (survive && max_component(t) > 0.0f && is_finite(t)) {
+        if (russian_roulette(t, depth + 1, st.rr_depth, rng) && max_component(t) > 0.0f &&
+            is_finite(t)) {
             ps.throughput[i] = t;
-            ps.ray_o[i] = offset_ray_origin(h.p, h.ng, wi);
-            ps.ray_d[i] = wi;
-            ps.ray_tmin[i] = 0.0f;
-            ps.ray_tmax[i] = kInf;
-            ps.prev_pdf_w[i] = bs.pdf_fwd_w;
-            ps.alive[i] = 1;
+            set_next_ray(ps, i, h.p, h.ng, wi, bs.pdf_fwd_w);
         }
     }
     ps.rng[i] = rng;

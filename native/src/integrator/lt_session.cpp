@@ -96,14 +96,9 @@ void Session::run_lt_chunk(int64_t first_path, int n) {
         t = Clock::now();
         splat(queue_, active);
         stats_.time_film += seconds_since(t);
-        // ---- compaction, in order ----
-        int next = 0;
-        for (int k = 0; k < active; ++k) {
-            int i = queue_[k];
-            if (ps.alive[i]) next_queue_[next++] = i;
-        }
+        // compaction, in order: the next queue keeps the paths that continue
+        active = backend_->compact(queue_.data(), active, ps.alive, next_queue_.data());
         std::swap(queue_, next_queue_);
-        active = next;
         if (active == 0) break;
         stats_.rays_indirect += active;  // light rays
         // ---- trace and shade ----

@@ -3,6 +3,7 @@
 // so the result never depends on scheduling.
 #pragma once
 
+#include "core/offset.h"
 #include "core/rng.h"
 
 namespace lantern {
@@ -40,6 +41,27 @@ struct PtSettings {
     uint64_t seed;
     uint64_t iteration;
 };
+
+// Russian roulette on the throughput `beta` once `depth` has reached rr_depth (0: off): survives
+// with probability min(max component, 0.95) and is reweighted; false when the path ends.
+LANTERN_HD inline bool russian_roulette(Vec3& beta, int depth, int rr_depth, Rng& rng) {
+    if (rr_depth <= 0 || depth < rr_depth) return true;
+    float q = fminf(max_component(beta), 0.95f);
+    if (!(rng.uniform() < q)) return false;
+    beta = beta / q;
+    return true;
+}
+
+// The slot's next ray leaves p (geometric normal ng) along wi, sampled with pdf_w.
+LANTERN_HD inline void set_next_ray(const PathState& ps, int i, Vec3 p, Vec3 ng, Vec3 wi,
+                                    float pdf_w) {
+    ps.ray_o[i] = offset_ray_origin(p, ng, wi);
+    ps.ray_d[i] = wi;
+    ps.ray_tmin[i] = 0.0f;
+    ps.ray_tmax[i] = kInf;
+    ps.prev_pdf_w[i] = pdf_w;
+    ps.alive[i] = 1;
+}
 
 LANTERN_HD inline void add_radiance(const PathState& ps, int i, Vec3 c) {
     if (is_finite(c)) {

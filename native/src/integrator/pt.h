@@ -165,22 +165,11 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
     Vec3 wi = frame.to_world(bs.wi);
     if (bs.valid && dot(wi, h.ng) > 0.0f) {
         Vec3 beta = ps.throughput[i] * bs.weight;
-        bool survive = true;
-        if (st.rr_depth > 0 && depth >= st.rr_depth) {
-            float q = fminf(max_component(beta), 0.95f);
-            float u = rng.uniform();
-            survive = u < q;
-            if (survive) beta = beta / q;
-        }
-        if (survive && max_component(beta) > 0.0f && is_finite(beta)) {
+        if (russian_roulette(beta, depth, st.rr_depth, rng) && max_component(beta) > 0.0f &&
+            is_finite(beta)) {
             ps.throughput[i] = beta;
-            ps.ray_o[i] = offset_ray_origin(h.p, h.ng, wi);
-            ps.ray_d[i] = wi;
-            ps.ray_tmin[i] = 0.0f;
-            ps.ray_tmax[i] = kInf;
-            ps.prev_pdf_w[i] = bs.pdf_fwd_w;
             ps.depth[i] = depth + 1;
-            ps.alive[i] = 1;
+            set_next_ray(ps, i, h.p, h.ng, wi, bs.pdf_fwd_w);
         }
     }
     ps.rng[i] = rng;

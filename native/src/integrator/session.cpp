@@ -132,13 +132,8 @@ void Session::run_chunk(int64_t first_path, int n) {
         stats_.rays_shadow += shadows;
         stats_.time_shadow += seconds_since(t);
         // compaction, in order: the next queue keeps the paths that continue
-        int next = 0;
-        for (int k = 0; k < active; ++k) {
-            int i = queue_[k];
-            if (ps.alive[i]) next_queue_[next++] = i;
-        }
+        active = backend_->compact(queue_.data(), active, ps.alive, next_queue_.data());
         std::swap(queue_, next_queue_);
-        active = next;
         if (active) stats_.rays_indirect += active;
         first = false;
     }
