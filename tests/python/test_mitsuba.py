@@ -1,4 +1,4 @@
-"""Mitsuba 3 XML importer (python/lantern/mitsuba.py): parser units on small inline scenes, and
+"""Mitsuba 3 XML importer (python/lantern/mitsuba/): parser units on small inline scenes, and
 the Bitterli Cornell box rendered by Lantern against Tungsten's reference.
 
 The reference check prints its numbers; reproduce them with
