@@ -230,7 +230,7 @@ void HostScene::add_lights(const SceneInput& in) {
 void HostScene::build_filter(float filter_width) {
     if (!(filter_width > 0.0f) || !std::isfinite(filter_width)) filter_width = 1.5f;
     const float width = 2.0f * std::min(filter_width, 16.0f);
-    const int fine = 4096, table = 256;
+    const int fine = 16384, table = 4096;
     std::vector<double> cdf(fine + 1, 0.0);
     for (int k = 0; k < fine; ++k) {
         float x = -0.5f * width + width * (float(k) + 0.5f) / float(fine);
