@@ -52,22 +52,11 @@ LANTERN_HD inline Vec3 sheen_f(const SheenParams& p, Vec3 wo, Vec3 wi) {
 }
 
 LANTERN_HD inline BsdfEval sheen_eval(const SheenParams& p, Vec3 wo, Vec3 wi) {
-    BsdfEval e{vec3(0.0f), 0.0f, 0.0f};
-    if (wo.z <= 0.0f || wi.z <= 0.0f) return e;
-    e.f = sheen_f(p, wo, wi);
-    e.pdf_fwd_w = pdf_cosine_hemisphere(wi.z);
-    e.pdf_rev_w = pdf_cosine_hemisphere(wo.z);
-    return e;
+    return cosine_lobe_eval([&p](Vec3 o, Vec3 i) { return sheen_f(p, o, i); }, wo, wi);
 }
 
 LANTERN_HD inline BsdfSample sheen_sample(const SheenParams& p, Vec3 wo, Vec2 u) {
-    BsdfSample s{vec3(0.0f), vec3(0.0f), 0.0f, false};
-    if (wo.z <= 0.0f) return s;
-    s.wi = sample_cosine_hemisphere(u, &s.pdf_fwd_w);
-    if (s.pdf_fwd_w <= 0.0f || s.wi.z <= 0.0f) return s;
-    s.weight = sheen_f(p, wo, s.wi) * kPi;
-    s.valid = true;
-    return s;
+    return cosine_lobe_sample([&p](Vec3 o, Vec3 i) { return sheen_f(p, o, i); }, wo, u);
 }
 
 }  // namespace lantern

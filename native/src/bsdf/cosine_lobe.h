@@ -1,0 +1,45 @@
+// What every lobe returns (BsdfEval, BsdfSample), and the eval/sample pair shared by reflection
+// lobes that are sampled by the cosine hemisphere (Lambert, Oren-Nayar, sheen): local frame,
+// +Z the shading normal on the side of wo; both pdfs in solid angle.
+#pragma once
+
+#include "core/sampling.h"
+
+namespace lantern {
+
+struct BsdfEval {
+    Vec3 f;            // BSDF value (without the cosine)
+    float pdf_fwd_w;   // pdf of sampling wi given wo
+    float pdf_rev_w;   // pdf of sampling wo given wi
+};
+
+struct BsdfSample {
+    Vec3 wi;
+    Vec3 weight;       // f * |cos| / pdf
+    float pdf_fwd_w;
+    bool valid;
+};
+
+// f(wo, wi) -> Vec3 is the lobe's value for two directions in the upper hemisphere.
+template <typename F>
+LANTERN_HD inline BsdfEval cosine_lobe_eval(F f, Vec3 wo, Vec3 wi) {
+    BsdfEval e{vec3(0.0f), 0.0f, 0.0f};
+    if (wo.z <= 0.0f || wi.z <= 0.0f) return e;
+    e.f = f(wo, wi);
+    e.pdf_fwd_w = pdf_cosine_hemisphere(wi.z);
+    e.pdf_rev_w = pdf_cosine_hemisphere(wo.z);
+    return e;
+}
+
+template <typename F>
+LANTERN_HD inline BsdfSample cosine_lobe_sample(F f, Vec3 wo, Vec2 u) {
+    BsdfSample s{vec3(0.0f), vec3(0.0f), 0.0f, false};
+    if (wo.z <= 0.0f) return s;
+    s.wi = sample_cosine_hemisphere(u, &s.pdf_fwd_w);
+    if (s.pdf_fwd_w <= 0.0f || s.wi.z <= 0.0f) return s;
+    s.weight = f(wo, s.wi) * kPi;  // f cos / (cos / pi)
+    s.valid = true;
+    return s;
+}
+
+}  // namespace lantern
