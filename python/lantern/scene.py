@@ -15,7 +15,7 @@ FORMAT_NAME = "lantern-scene"
 FORMAT_VERSION = 1
 
 CAMERA_TYPES = ("perspective", "orthographic")
-MATERIAL_TYPES = ("diffuse",)
+MATERIAL_TYPES = ("diffuse", "conductor", "dielectric")
 LIGHT_TYPES = ("point", "spot", "area", "sun")
 AREA_SHAPES = ("square", "rectangle", "disk", "ellipse")
 MESH_ARRAYS = ("positions", "indices", "normals", "uvs", "material_ids")
@@ -205,16 +205,19 @@ class Scene:
     # ---- Building ----
 
     def add_material(self, name=None, base_color=(0.8, 0.8, 0.8), emission=(0.0, 0.0, 0.0),
-                     type="diffuse"):
-        """Append a material; returns its id (index into `materials`)."""
+                     type="diffuse", roughness=0.5, ior=1.5, specular_tint=(1.0, 1.0, 1.0)):
+        """Append a material; returns its id (index into `materials`).
+
+        `type`: "diffuse" (Lambert, albedo `base_color`), "conductor" (GGX metal with F0
+        `base_color` and F82 `specular_tint`) or "dielectric" (glass of index `ior`, GGX
+        `roughness`; roughness 0 is smooth, `base_color` tints transmission)."""
         if name is None:
             name = f"material_{len(self.materials)}"
-        self.materials.append({
-            "name": str(name),
-            "type": type,
-            "base_color": _rgb(base_color, f"material {name!r} base_color"),
-            "emission": _rgb(emission, f"material {name!r} emission"),
-        })
+        material = self._validate_material({
+            "name": str(name), "type": type, "base_color": base_color, "emission": emission,
+            "roughness": roughness, "ior": ior, "specular_tint": specular_tint,
+        }, len(self.materials))
+        self.materials.append(material)
         return len(self.materials) - 1
 
     def material_id(self, material):
@@ -353,6 +356,16 @@ class Scene:
             raise ValueError(f"{what} base_color: albedo must be in [0, 1], "
                              f"got {out['base_color']}")
         out["emission"] = _rgb(material.get("emission", [0.0, 0.0, 0.0]), f"{what} emission")
+        out["specular_tint"] = _rgb(material.get("specular_tint", [1.0, 1.0, 1.0]),
+                                    f"{what} specular_tint")
+        for key, default, lo, hi in (("roughness", 0.5, 0.0, 1.0), ("ior", 1.5, 0.01, 100.0)):
+            try:
+                v = float(material.get(key, default))
+            except (TypeError, ValueError):
+                raise ValueError(f"{what} {key}: expected a number, got {material.get(key)!r}")
+            if not (lo <= v <= hi):
+                raise ValueError(f"{what} {key}: must be in [{lo}, {hi}], got {v}")
+            out[key] = v
         return out
 
     def _validate_mesh(self, mesh, index, check_materials):

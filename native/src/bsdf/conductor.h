@@ -62,6 +62,8 @@ LANTERN_HD inline BsdfSample conductor_sample(const ConductorParams& p, Vec3 wo,
         s.wi = vec3(-wo.x, -wo.y, wo.z);
         s.weight = conductor_fresnel(p, wo.z);
         s.pdf_fwd_w = 1.0f;
+        s.pdf_rev_w = 1.0f;
+        s.delta = true;
         s.valid = true;
         return s;
     }
@@ -73,7 +75,8 @@ LANTERN_HD inline BsdfSample conductor_sample(const ConductorParams& p, Vec3 wo,
     if (!(s.pdf_fwd_w > 0.0f) || !is_finite(s.pdf_fwd_w)) return s;
     // f cos / pdf = F G2 / G1(wo)
     s.weight = conductor_fresnel(p, wo_m) * (p.ggx.g2(wo, s.wi) / p.ggx.g1(wo));
-    s.valid = is_finite(s.weight);
+    s.pdf_rev_w = p.ggx.g1(s.wi) * p.ggx.d(m) / (4.0f * s.wi.z);
+    s.valid = is_finite(s.weight) && is_finite(s.pdf_rev_w);
     return s;
 }
 

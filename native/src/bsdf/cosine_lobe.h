@@ -16,8 +16,10 @@ struct BsdfEval {
 struct BsdfSample {
     Vec3 wi;
     Vec3 weight;       // f * |cos| / pdf
-    float pdf_fwd_w;
+    float pdf_fwd_w;   // pdf of wi given wo; for a delta lobe the discrete event probability
     bool valid;
+    float pdf_rev_w = 0.0f;  // pdf of sampling wo given wi (same conventions)
+    bool delta = false;      // wi came from a delta lobe: eval() cannot reproduce it
 };
 
 // f(wo, wi) -> Vec3 is the lobe's value for two directions in the upper hemisphere.
@@ -38,6 +40,7 @@ LANTERN_HD inline BsdfSample cosine_lobe_sample(F f, Vec3 wo, Vec2 u) {
     s.wi = sample_cosine_hemisphere(u, &s.pdf_fwd_w);
     if (s.pdf_fwd_w <= 0.0f || s.wi.z <= 0.0f) return s;
     s.weight = f(wo, s.wi) * kPi;  // f cos / (cos / pi)
+    s.pdf_rev_w = pdf_cosine_hemisphere(wo.z);
     s.valid = true;
     return s;
 }

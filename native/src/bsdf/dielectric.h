@@ -113,6 +113,9 @@ LANTERN_HD inline BsdfSample dielectric_sample(const DielectricParams& p, Vec3 w
             s.pdf_fwd_w = 1.0f - f;
             s.weight = vec3(p.mode == Transport::Radiance ? 1.0f / (etap * etap) : 1.0f);
         }
+        // Fresnel is the same seen from either side of a refraction: reverse = forward
+        s.pdf_rev_w = s.pdf_fwd_w;
+        s.delta = true;
         s.valid = s.pdf_fwd_w > 0.0f;
         return s;
     }
@@ -133,6 +136,7 @@ LANTERN_HD inline BsdfSample dielectric_sample(const DielectricParams& p, Vec3 w
     s.pdf_fwd_w = dielectric_pdf_rough(p, wo, s.wi);
     if (!(s.pdf_fwd_w > 0.0f)) return s;
     s.weight = dielectric_f_rough(p, wo, s.wi) * (fabsf(s.wi.z) / s.pdf_fwd_w);
+    s.pdf_rev_w = dielectric_pdf_rough(p, s.wi, wo);
     s.valid = is_finite(s.weight);
     return s;
 }

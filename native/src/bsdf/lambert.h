@@ -17,6 +17,7 @@ LANTERN_HD inline BsdfSample lambert_sample(Vec3 albedo, Vec3 wo, Vec2 u) {
     s.wi = sample_cosine_hemisphere(u, &s.pdf_fwd_w);
     if (s.pdf_fwd_w <= 0.0f || s.wi.z <= 0.0f) return s;
     s.weight = albedo;  // (albedo/pi) * cos / (cos/pi)
+    s.pdf_rev_w = pdf_cosine_hemisphere(wo.z);
     s.valid = true;
     return s;
 }

@@ -3,7 +3,7 @@
 // the pixel filter. Each stage touches one path slot; the session reduces splats in slot order.
 #pragma once
 
-#include "bsdf/lambert.h"
+#include "bsdf/material.h"
 #include "core/offset.h"
 #include "integrator/camera.h"
 #include "integrator/light_path.h"
@@ -163,8 +163,8 @@ LANTERN_HD inline void lt_shade(const SceneView& s, const PathState& ps, const L
     // ---- Connect to the camera (t = 1): depth + 1 segments ----
     if ((s.tri_flags[tri] & kVisibleCamera) != 0) {
         CameraConnection cc = connect_camera(s.camera, h.p, filter_radius(s.camera));
-        if (cc.valid && dot(cc.wc, h.ng) > 0.0f) {
-            BsdfEval e = lambert_eval(m.base_color, wo, frame.to_local(cc.wc));
+        if (cc.valid && !material_is_delta(m) && sides_agree(cc.wc, h.ng, h.ns)) {
+            BsdfEval e = material_eval(m, h.front, wo, frame.to_local(cc.wc), Transport::Importance);
             // f * |cos_ns(wc)| with the adjoint shading-normal factor
             // |wo.ns| |wc.ng| / (|wo.ng| |wc.ns|)  [Veach thesis (5.19)]
             float cos_y = cos_o_ns * fabsf(dot(cc.wc, h.ng)) / cos_o_ng;
@@ -175,9 +175,11 @@ LANTERN_HD inline void lt_shade(const SceneView& s, const PathState& ps, const L
 
     // ---- Continue: cosine sampling, adjoint weight, roulette ----
     Rng rng = ps.rng[i];
-    BsdfSample bs = lambert_sample(m.base_color, wo, rng.uniform2());
+    Vec2 u_dir = rng.uniform2();
+    BsdfSample bs = material_sample(m, h.front, wo, Vec3{u_dir.x, u_dir.y, rng.uniform()},
+                                    Transport::Importance);
     Vec3 wi = frame.to_world(bs.wi);
-    if (bs.valid && dot(wi, h.ng) > 0.0f) {
+    if (bs.valid && sides_agree(wi, h.ng, h.ns)) {
         float adj = cos_o_ns * fabsf(dot(wi, h.ng)) / (cos_o_ng * fabsf(bs.wi.z));
         Vec3 t = ps.throughput[i] * bs.weight * adj;
         if (russian_roulette(t, depth + 1, st.rr_depth, rng) && max_component(t) > 0.0f &&

@@ -3,7 +3,7 @@
 // the backend launches them over queues and traces the rays they leave in the slots.
 #pragma once
 
-#include "bsdf/lambert.h"
+#include "bsdf/material.h"
 #include "core/offset.h"
 #include "integrator/camera.h"
 #include "integrator/path_state.h"
@@ -30,9 +30,10 @@ LANTERN_HD inline void pt_generate(const SceneView& s, const PathState& ps, cons
     ps.shadow_valid[i] = 0;
 }
 
-// MIS weight of emission found by a BSDF-sampled ray (depth > 1); camera rays take it all.
+// MIS weight of emission found by a BSDF-sampled ray (depth > 1); camera rays and rays from a
+// delta lobe (prev_pdf_w 0: next-event estimation cannot find that light) take it all.
 LANTERN_HD inline float pt_emission_weight(const PathState& ps, int i, float light_pdf) {
-    if (ps.depth[i] <= 1) return 1.0f;
+    if (ps.depth[i] <= 1 || !(ps.prev_pdf_w[i] > 0.0f)) return 1.0f;
     return power_heuristic(ps.prev_pdf_w[i], light_pdf);
 }
 
@@ -70,7 +71,14 @@ struct SurfaceHit {
     Vec3 p;
     Vec3 ng;    // geometric normal, facing the incoming ray
     Vec3 ns;    // shading normal, same hemisphere as ng
+    bool front; // the ray arrived on the triangle's front (counter-clockwise) side
 };
+
+// A direction leaving a surface is usable when the geometric and the shading normal agree on
+// its side (reflection or transmission); otherwise light would leak through the shading normal.
+LANTERN_HD inline bool sides_agree(Vec3 w, Vec3 ng, Vec3 ns) {
+    return dot(w, ng) * dot(w, ns) > 0.0f;
+}
 
 LANTERN_HD inline SurfaceHit pt_surface(const SceneView& s, int tri, Vec2 uv, Vec3 d) {
     Vec3 a = triangle_vertex(s, tri, 0), b = triangle_vertex(s, tri, 1),
@@ -79,7 +87,8 @@ LANTERN_HD inline SurfaceHit pt_surface(const SceneView& s, int tri, Vec2 uv, Ve
     SurfaceHit h;
     h.p = a * w0 + b * uv.x + c * uv.y;
     h.ng = normalize(cross(b - a, c - a));
-    if (dot(h.ng, d) > 0.0f) h.ng = -h.ng;
+    h.front = dot(h.ng, d) <= 0.0f;
+    if (!h.front) h.ng = -h.ng;
     h.ns = h.ng;
     if (s.normals) {
         const uint32_t* idx = s.indices + 3 * tri;
@@ -124,14 +133,15 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
     Rng rng = ps.rng[i];
 
     // next-event estimation
+    const bool delta_material = material_is_delta(m);
     Vec2 u_pick = rng.uniform2();
     Vec2 u_light = rng.uniform2();
     if (s.num_lights > 0) {
         int li = sample_cdf(s.light_cdf, s.num_lights, u_pick.x);
         const Light& l = s.lights[li];
         LightSample ls = sample_light(s, l, h.p, u_light);
-        if (ls.valid && dot(ls.wi, h.ng) > 0.0f && !is_black(ls.le)) {
-            BsdfEval e = lambert_eval(m.base_color, wo, frame.to_local(ls.wi));
+        if (ls.valid && !delta_material && sides_agree(ls.wi, h.ng, h.ns) && !is_black(ls.le)) {
+            BsdfEval e = material_eval(m, h.front, wo, frame.to_local(ls.wi), Transport::Radiance);
             float pdf_light = l.pick_pdf * ls.pdf_w;
             if (e.pdf_fwd_w > 0.0f && pdf_light > 0.0f) {
                 float w = ls.delta ? 1.0f : power_heuristic(pdf_light, e.pdf_fwd_w);
@@ -161,15 +171,17 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
     }
 
     // continue the path
-    BsdfSample bs = lambert_sample(m.base_color, wo, rng.uniform2());
+    Vec2 u_dir = rng.uniform2();
+    BsdfSample bs = material_sample(m, h.front, wo, Vec3{u_dir.x, u_dir.y, rng.uniform()},
+                                    Transport::Radiance);
     Vec3 wi = frame.to_world(bs.wi);
-    if (bs.valid && dot(wi, h.ng) > 0.0f) {
+    if (bs.valid && sides_agree(wi, h.ng, h.ns)) {
         Vec3 beta = ps.throughput[i] * bs.weight;
         if (russian_roulette(beta, depth, st.rr_depth, rng) && max_component(beta) > 0.0f &&
             is_finite(beta)) {
             ps.throughput[i] = beta;
             ps.depth[i] = depth + 1;
-            set_next_ray(ps, i, h.p, h.ng, wi, bs.pdf_fwd_w);
+            set_next_ray(ps, i, h.p, h.ng, wi, bs.delta ? 0.0f : bs.pdf_fwd_w);
         }
     }
     ps.rng[i] = rng;

@@ -96,6 +96,10 @@ SceneInput to_input(const nb::dict& scene) {
             mi.name = get<std::string>(m, "name", "");
             mi.base_color = get_vec3(m, "base_color", mi.base_color);
             mi.emission = get_vec3(m, "emission", mi.emission);
+            mi.type = get<std::string>(m, "type", mi.type);
+            mi.roughness = get<float>(m, "roughness", mi.roughness);
+            mi.ior = get<float>(m, "ior", mi.ior);
+            mi.specular_tint = get_vec3(m, "specular_tint", mi.specular_tint);
             in.materials.push_back(mi);
         }
     }

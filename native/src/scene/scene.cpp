@@ -1,6 +1,7 @@
 #include "scene/scene.h"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 #include "integrator/camera.h"
@@ -44,14 +45,38 @@ HostScene::HostScene(const SceneInput& in) {
         throw std::invalid_argument("film size must be between 1 and 65536 pixels, got " +
                                     std::to_string(in.width) + "x" + std::to_string(in.height));
     }
-    for (const MaterialInput& mi : in.materials) {
+    for (size_t k = 0; k < in.materials.size(); ++k) {
+        const MaterialInput& mi = in.materials[k];
         Material m{};
         m.base_color = sanitize_color(mi.base_color, 1.0f);
         m.emission = sanitize_color(mi.emission, 1e30f);
-        m.type = kMaterialDiffuse;
+        m.specular_tint = sanitize_color(mi.specular_tint, 1.0f);
+        // NaN roughness -> 0.5, NaN/absurd ior -> 1.5; roughness clamps to [0, 1], ior to
+        // [1/100, 100] (ior < 1, e.g. air bubbles in water, is legal)
+        m.roughness = std::isfinite(mi.roughness) ? std::min(std::max(mi.roughness, 0.0f), 1.0f) : 0.5f;
+        m.ior = std::isfinite(mi.ior) && mi.ior > 0.0f ? std::min(std::max(mi.ior, 0.01f), 100.0f) : 1.5f;
+        if (mi.type == "diffuse") {
+            m.type = kMaterialDiffuse;
+        } else if (mi.type == "conductor") {
+            m.type = kMaterialConductor;
+        } else if (mi.type == "dielectric") {
+            m.type = kMaterialDielectric;
+        } else {
+            throw std::invalid_argument("material " + std::to_string(k) + " ('" + mi.name +
+                                        "'): unknown type '" + mi.type +
+                                        "' (diffuse, conductor, dielectric)");
+        }
         materials_.push_back(m);
     }
-    if (materials_.empty()) materials_.push_back({{0.8f, 0.8f, 0.8f}, {0, 0, 0}, 0, 0});
+    if (materials_.empty()) {
+        Material m{};
+        m.base_color = {0.8f, 0.8f, 0.8f};
+        m.type = kMaterialDiffuse;
+        m.roughness = 0.5f;
+        m.ior = 1.5f;
+        m.specular_tint = {1.0f, 1.0f, 1.0f};
+        materials_.push_back(m);
+    }
     add_meshes(in);
     add_lights(in);
     build_filter(in.filter_width);

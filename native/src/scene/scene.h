@@ -24,8 +24,12 @@ struct MeshInput {
 
 struct MaterialInput {
     std::string name;
+    std::string type = "diffuse";  // diffuse, conductor, dielectric
     Vec3 base_color{0.8f, 0.8f, 0.8f};
     Vec3 emission{0.0f, 0.0f, 0.0f};
+    float roughness = 0.5f;
+    float ior = 1.5f;
+    Vec3 specular_tint{1.0f, 1.0f, 1.0f};
 };
 
 struct LightInput {

@@ -6,14 +6,28 @@
 
 namespace lantern {
 
-enum MaterialType : uint32_t { kMaterialDiffuse = 0 };
+// The type says which code path shades a material (the high 8 bits of the sort key, see
+// material_key); bsdf/material.h dispatches on it.
+enum MaterialType : uint32_t {
+    kMaterialDiffuse = 0,     // Lambert, albedo base_color
+    kMaterialConductor = 1,   // GGX metal: F0 base_color, F82 tint specular_tint
+    kMaterialDielectric = 2,  // GGX (or smooth) glass: ior, transmission tint base_color
+    kMaterialTypeCount = 3,
+};
 
 struct Material {
     Vec3 base_color;
-    Vec3 emission;     // radiance, both sides
-    uint32_t type;     // MaterialType
-    uint32_t pad;
+    Vec3 emission;       // radiance, both sides
+    uint32_t type;       // MaterialType
+    float roughness;     // Blender's roughness (alpha = roughness^2)
+    float ior;           // dielectric: n_inside / n_outside
+    Vec3 specular_tint;  // conductor: F82 tint
 };
+
+// Sort key of the paper: high 8 bits the type, low 24 the material id.
+LANTERN_HD inline uint32_t material_key(uint32_t type, uint32_t id) {
+    return (type << 24) | (id & 0xFFFFFFu);
+}
 
 enum LightType : int32_t {
     kLightPoint = 0,   // sphere of `radius` (0: a true point), intensity-based

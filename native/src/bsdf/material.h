@@ -1,0 +1,71 @@
+// A material's BSDF as the integrators see it: one eval/sample pair that dispatches on the
+// material type to the lobes of this folder. Local frame: +Z is the shading normal turned to the
+// side wo arrives from; `front` says whether that side is the surface's front (outside), which
+// fixes the relative index of refraction. Reflection lobes are two-sided (as in Cycles).
+// Light paths pass Transport::Importance: refraction then does not divide by eta^2.
+#pragma once
+
+#include "bsdf/conductor.h"
+#include "bsdf/dielectric.h"
+#include "bsdf/lambert.h"
+#include "scene/scene_view.h"
+
+namespace lantern {
+
+LANTERN_HD inline ConductorParams material_conductor(const Material& m) {
+    return conductor_f82(m.roughness, m.base_color, m.specular_tint);
+}
+LANTERN_HD inline DielectricParams material_dielectric(const Material& m, bool front,
+                                                       Transport mode) {
+    return dielectric(m.roughness, front ? m.ior : 1.0f / m.ior, mode);
+}
+
+// True when every lobe of m is a delta distribution: a vertex there cannot be connected to.
+LANTERN_HD inline bool material_is_delta(const Material& m) {
+    switch (m.type) {
+    case kMaterialConductor:
+        return conductor_is_delta(material_conductor(m));
+    case kMaterialDielectric:
+        return dielectric_is_delta(material_dielectric(m, true, Transport::Radiance));
+    default:
+        return false;
+    }
+}
+
+// True when m can send light to the other side of the surface.
+LANTERN_HD inline bool material_transmits(const Material& m) {
+    return m.type == kMaterialDielectric;
+}
+
+LANTERN_HD inline BsdfEval material_eval(const Material& m, bool front, Vec3 wo, Vec3 wi,
+                                         Transport mode) {
+    switch (m.type) {
+    case kMaterialConductor:
+        return conductor_eval(material_conductor(m), wo, wi);
+    case kMaterialDielectric: {
+        BsdfEval e = dielectric_eval(material_dielectric(m, front, mode), wo, wi);
+        if (wo.z * wi.z < 0.0f) e.f = e.f * m.base_color;  // transmission tint
+        return e;
+    }
+    default:
+        return lambert_eval(m.base_color, wo, wi);
+    }
+}
+
+// u.x, u.y choose the direction, u.z the lobe event (dielectric reflection or transmission).
+LANTERN_HD inline BsdfSample material_sample(const Material& m, bool front, Vec3 wo, Vec3 u,
+                                             Transport mode) {
+    switch (m.type) {
+    case kMaterialConductor:
+        return conductor_sample(material_conductor(m), wo, Vec2{u.x, u.y});
+    case kMaterialDielectric: {
+        BsdfSample s = dielectric_sample(material_dielectric(m, front, mode), wo, Vec2{u.x, u.y}, u.z);
+        if (s.valid && wo.z * s.wi.z < 0.0f) s.weight = s.weight * m.base_color;
+        return s;
+    }
+    default:
+        return lambert_sample(m.base_color, wo, Vec2{u.x, u.y});
+    }
+}
+
+}  // namespace lantern
