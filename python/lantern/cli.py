@@ -62,6 +62,12 @@ def build_parser():
                    help="maximum path depth (16)")
     r.add_argument("--spp-per-iteration", type=_positive_int, default=1,
                    help="samples per pixel per iteration (1)")
+    r.add_argument("--connections", type=_positive_int, default=5,
+                   help="bdpt/lvc/cis: cache vertices each camera vertex connects to, N (5)")
+    r.add_argument("--candidates", type=_positive_int, default=10,
+                   help="cis: candidates resampled into the N connections, M (10)")
+    r.add_argument("--sort", default=None, action=argparse.BooleanOptionalAction,
+                   help="sort each bounce by material type (default: on for cis only)")
     r.add_argument("--time-limit", type=_positive_float, default=None,
                    help="stop after this many seconds")
     r.add_argument("--png", default=None, help="also write an sRGB PNG preview here")
@@ -114,7 +120,8 @@ def cmd_render(args):
     scene = load_scene(args.scene)
     session = Session(scene, integrator=args.integrator, backend=args.backend, seed=args.seed,
                       threads=args.threads, max_depth=args.max_depth,
-                      spp_per_iteration=args.spp_per_iteration)
+                      spp_per_iteration=args.spp_per_iteration, connections=args.connections,
+                      candidates=args.candidates, sort=args.sort)
     for w in session.warnings:
         print(f"lantern: warning: {w}", file=sys.stderr)
     start = time.monotonic()

@@ -148,3 +148,105 @@ def integrating_sphere(albedo=0.5, power=100.0, radius=1.0, light="point", light
     scene.add_light("point", position=[0.0, 0.0, 0.0], power=power,
                     radius=light_radius if light == "sphere" else 0.0, visible_camera=False)
     return scene
+
+
+# ---- Hard lighting for the bidirectional integrators (tests/python/test_bidirectional.py) ----
+
+def _walls(scene, white, red, green, floor=None):
+    """The Cornell box's five walls (2 m cube, open towards -Y); `floor` material optional."""
+    walls = {
+        "floor": (_quad((-1, -1, 0), (1, -1, 0), (1, 1, 0), (-1, 1, 0)),
+                  white if floor is None else floor),
+        "ceiling": (_quad((-1, -1, 2), (-1, 1, 2), (1, 1, 2), (1, -1, 2)), white),
+        "back": (_quad((-1, 1, 0), (1, 1, 0), (1, 1, 2), (-1, 1, 2)), white),
+        "left": (_quad((-1, -1, 0), (-1, 1, 0), (-1, 1, 2), (-1, -1, 2)), red),
+        "right": (_quad((1, -1, 0), (1, -1, 2), (1, 1, 2), (1, 1, 0)), green),
+    }
+    for name, ((pos, idx), mat) in walls.items():
+        scene.add_mesh(pos, idx, material=mat, name=name)
+
+
+def _box_room(width, height):
+    scene = Scene()
+    scene.film.update(width=int(width), height=int(height))
+    scene.look_at((0.0, -3.8, 1.0), (0.0, 0.0, 1.0), fov=39.3)
+    white = scene.add_material("white", base_color=(0.73, 0.73, 0.73))
+    red = scene.add_material("red", base_color=(0.63, 0.065, 0.05))
+    green = scene.add_material("green", base_color=(0.14, 0.45, 0.091))
+    return scene, white, red, green
+
+
+def _shell(center, size, thickness):
+    """A hollow box: outer faces outward, inner faces inward (towards the cavity), so a
+    dielectric shell has air on both sides of its walls. Positions, indices."""
+    cx, cy, cz = center
+    outer_p, outer_i = _box((cx, cy, cz - size / 2), (size, size, size), 0.0)
+    inner = size - 2 * thickness
+    inner_p, inner_i = _box((cx, cy, cz - inner / 2), (inner, inner, inner), 0.0)
+    inner_i = inner_i[:, ::-1] + len(outer_p)
+    return (np.concatenate([outer_p, inner_p]).astype(np.float32),
+            np.concatenate([outer_i, inner_i]).astype(np.uint32))
+
+
+def fixture_box(width=64, height=64, opening=0.12, light_power=150.0, light_radius=0.04):
+    """A light inside a fixture with a small opening: the Cornell box without its area light; a
+    closed white shade (0.4 m cube, 1.3 to 1.7 m high) around a sphere light (soft falloff off)
+    with one square hole of side `opening` in its bottom. Nearly every next-event ray from the
+    room is blocked by the shade; light escapes only through the hole."""
+    scene, white, red, green = _box_room(width, height)
+    _walls(scene, white, red, green)
+    s, h, z0, z1 = 0.2, opening / 2.0, 1.3, 1.7
+    faces = [
+        ((-s, -s, z1), (-s, s, z1), (s, s, z1), (s, -s, z1)),      # top
+        ((-s, -s, z0), (s, -s, z0), (s, -s, z1), (-s, -s, z1)),    # sides
+        ((s, -s, z0), (s, s, z0), (s, s, z1), (s, -s, z1)),
+        ((s, s, z0), (-s, s, z0), (-s, s, z1), (s, s, z1)),
+        ((-s, s, z0), (-s, -s, z0), (-s, -s, z1), (-s, s, z1)),
+        # bottom around the hole
+        ((-s, -s, z0), (-s, -h, z0), (s, -h, z0), (s, -s, z0)),
+        ((-s, h, z0), (-s, s, z0), (s, s, z0), (s, h, z0)),
+        ((-s, -h, z0), (-s, h, z0), (-h, h, z0), (-h, -h, z0)),
+        ((h, -h, z0), (h, h, z0), (s, h, z0), (s, -h, z0)),
+    ]
+    pos = np.concatenate([_quad(*f)[0] for f in faces])
+    idx = np.concatenate([_quad(*f)[1] + 4 * k for k, f in enumerate(faces)])
+    scene.add_mesh(pos, idx, material=white, name="shade")
+    scene.add_light("point", position=[0.0, 0.0, 1.5], radius=light_radius,
+                    power=[light_power] * 3, soft_falloff=False, visible_camera=False)
+    return scene
+
+
+def glass_lantern(width=64, height=64, roughness=0.0, light_power=60.0, light_radius=0.05):
+    """A light behind glass: a sphere light (soft falloff off) inside a hollow glass cube
+    (0.5 m, 1 cm walls, IOR 1.5, `roughness` 0 = smooth) hanging in the Cornell box, over the
+    tall box. Next-event rays from the room all end on the glass; caustics fall on the floor."""
+    scene, white, red, green = _box_room(width, height)
+    _walls(scene, white, red, green)
+    pos, idx = _box((-0.35, 0.3, 0.0), (0.6, 0.6, 1.0), 17.0)
+    scene.add_mesh(pos, idx, material=white, name="tall_box")
+    glass = scene.add_material("glass", type="dielectric", base_color=(1.0, 1.0, 1.0),
+                               roughness=roughness, ior=1.5)
+    pos, idx = _shell((0.2, 0.0, 1.4), 0.5, 0.01)
+    scene.add_mesh(pos, idx, material=glass, name="lantern_glass")
+    scene.add_light("point", position=[0.2, 0.0, 1.4], radius=light_radius,
+                    power=[light_power] * 3, soft_falloff=False, visible_camera=False)
+    return scene
+
+
+def glossy_box(width=64, height=64, roughness=0.15, light_power=20.0, light_radius=0.02,
+               delta_light=False):
+    """Glossy surfaces with a small light: a metal floor (GGX, `roughness`) and a rougher metal
+    short box in the Cornell box, lit by a tiny sphere light (or a point light with
+    `delta_light`) near the ceiling. Glossy inter-reflection and glossy caustics."""
+    scene, white, red, green = _box_room(width, height)
+    metal = scene.add_material("metal", type="conductor", base_color=(0.9, 0.85, 0.8),
+                               roughness=roughness)
+    rough_metal = scene.add_material("rough_metal", type="conductor",
+                                     base_color=(0.95, 0.64, 0.54), roughness=0.4)
+    _walls(scene, white, red, green, floor=metal)
+    pos, idx = _box((0.33, -0.3, 0.0), (0.6, 0.6, 0.6), -17.0)
+    scene.add_mesh(pos, idx, material=rough_metal, name="short_box")
+    scene.add_light("point", position=[-0.2, 0.3, 1.7],
+                    radius=0.0 if delta_light else light_radius, power=[light_power] * 3,
+                    soft_falloff=False, visible_camera=False)
+    return scene

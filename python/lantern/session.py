@@ -13,7 +13,8 @@ import numpy as np
 log = logging.getLogger("lantern")
 
 INTEGRATORS = ("pt", "bdpt", "lvc", "cis", "lt")  # lt: light tracing, a reference
-IMPLEMENTED_INTEGRATORS = ("pt", "lt")
+IMPLEMENTED_INTEGRATORS = ("pt", "bdpt", "lvc", "cis", "lt")
+CIS_TARGETS = ("contribution", "bsdf")
 BACKENDS = ("cpu", "cuda", "auto")
 
 DEFAULT_SETTINGS = {
@@ -24,6 +25,12 @@ DEFAULT_SETTINGS = {
     "seed": 0,
     "threads": 0,
     "rr_depth": 3,
+    # bidirectional integrators (bdpt, lvc, cis)
+    "sort": None,             # sort hits by material type: None = on for cis only
+    "connections": 5,         # N: cache vertices per camera vertex (the paper's N = 5)
+    "candidates": 10,         # M: cis candidates (the paper's M = 10)
+    "cis_target": "contribution",  # or "bsdf": the paper's BSDF-product target
+    "naive_ris": False,       # tests only: the biased uniform weight for resampled picks
 }
 
 BUILD_HINT = ("build it from the repository root with "
@@ -108,6 +115,16 @@ def resolve_settings(settings):
     out["seed"] = _check_int("seed", out["seed"], 0, 2**64 - 1)
     out["threads"] = _check_int("threads", out["threads"], 0, 4096)
     out["rr_depth"] = _check_int("rr_depth", out["rr_depth"], 0, 1024)
+    out["connections"] = _check_int("connections", out["connections"], 1, 64)
+    out["candidates"] = _check_int("candidates", out["candidates"], 1, 64)
+    if out["sort"] is not None and not isinstance(out["sort"], (bool, np.bool_)):
+        raise TypeError(f"setting 'sort' must be True, False or None, got {out['sort']!r}")
+    if out["cis_target"] not in CIS_TARGETS:
+        raise ValueError(f"setting 'cis_target' must be one of {CIS_TARGETS}, "
+                         f"got {out['cis_target']!r}")
+    if not isinstance(out["naive_ris"], (bool, np.bool_)):
+        raise TypeError(f"setting 'naive_ris' must be a bool, got {out['naive_ris']!r}")
+    out["naive_ris"] = bool(out["naive_ris"])
     return out, warnings
 
 

@@ -88,11 +88,11 @@ def test_bad_output_extension(scene_file, tmp_path):
     assert not (tmp_path / "o.tiff").exists()
 
 
-def test_reserved_integrator(scene_file, tmp_path, fake, capsys):
+def test_bad_connection_count(scene_file, tmp_path, fake, capsys):
     code = cli.main(["render", str(scene_file), "-o", str(tmp_path / "o.exr"),
-                     "--integrator", "cis"])
+                     "--integrator", "cis", "--connections", "100"])
     assert code == 1
-    assert "integrator 'cis' is not implemented" in capsys.readouterr().err
+    assert "connections" in capsys.readouterr().err
 
 
 def test_render_through_stand_in_core(scene_file, tmp_path, fake, capsys):
@@ -105,7 +105,9 @@ def test_render_through_stand_in_core(scene_file, tmp_path, fake, capsys):
     assert code == 0, err
     s = fake.Session.instances[-1]
     assert s.settings == {"integrator": "pt", "backend": "cpu", "spp_per_iteration": 2,
-                          "max_depth": 5, "seed": 3, "threads": 2, "rr_depth": 3}
+                          "max_depth": 5, "seed": 3, "threads": 2, "rr_depth": 3,
+                          "sort": None, "connections": 5, "candidates": 10,
+                          "cis_target": "contribution", "naive_ris": False}
     assert s.spp == 6 and s.stats()["iterations"] == 3
     assert "6/6 spp" in err and "Mrays/s" in err
     img = imageio.read_image(out)

@@ -11,7 +11,9 @@ from lantern import scenes, session
 def test_defaults():
     settings, warnings = session.resolve_settings({})
     assert settings == {"integrator": "pt", "backend": "cpu", "spp_per_iteration": 1,
-                        "max_depth": 16, "seed": 0, "threads": 0, "rr_depth": 3}
+                        "max_depth": 16, "seed": 0, "threads": 0, "rr_depth": 3,
+                        "sort": None, "connections": 5, "candidates": 10,
+                        "cis_target": "contribution", "naive_ris": False}
     assert warnings == []
 
 
@@ -21,9 +23,11 @@ def test_unknown_setting_lists_valid_ones():
 
 
 @pytest.mark.parametrize("name", ["bdpt", "lvc", "cis"])
-def test_reserved_integrators(name):
-    with pytest.raises(NotImplementedError, match=f"integrator '{name}' is not implemented"):
-        session.resolve_settings({"integrator": name})
+def test_bidirectional_integrators_resolve(name):
+    settings, warnings = session.resolve_settings({"integrator": name, "connections": 8,
+                                                   "candidates": 16, "sort": False})
+    assert settings["integrator"] == name and settings["connections"] == 8
+    assert settings["candidates"] == 16 and settings["sort"] is False and warnings == []
 
 
 @pytest.mark.parametrize("settings, exc, message", [
@@ -37,6 +41,11 @@ def test_reserved_integrators(name):
     ({"seed": -1}, ValueError, "seed"),
     ({"threads": True}, TypeError, "threads"),
     ({"rr_depth": -1}, ValueError, "rr_depth"),
+    ({"connections": 0}, ValueError, r"connections.*\[1, 64\]"),
+    ({"candidates": 65}, ValueError, "candidates"),
+    ({"sort": "yes"}, TypeError, "sort"),
+    ({"cis_target": "luminance"}, ValueError, "cis_target"),
+    ({"naive_ris": 1}, TypeError, "naive_ris"),
 ])
 def test_bad_values(settings, exc, message):
     with pytest.raises(exc, match=message):

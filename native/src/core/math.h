@@ -61,6 +61,8 @@ LANTERN_HD inline bool is_finite(Vec3 a) { return is_finite(a.x) && is_finite(a.
 LANTERN_HD inline bool is_black(Vec3 a) { return a.x == 0.0f && a.y == 0.0f && a.z == 0.0f; }
 LANTERN_HD inline float clampf(float v, float lo, float hi) { return fminf(fmaxf(v, lo), hi); }
 LANTERN_HD inline float sqr(float v) { return v * v; }
+LANTERN_HD inline int min_int(int a, int b) { return a < b ? a : b; }
+LANTERN_HD inline int max_int(int a, int b) { return a > b ? a : b; }
 LANTERN_HD inline float safe_sqrt(float v) { return sqrtf(fmaxf(v, 0.0f)); }
 
 // Orthonormal frame around a unit normal (Duff et al. 2017, "Building an orthonormal basis,

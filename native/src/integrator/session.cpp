@@ -21,9 +21,22 @@ constexpr int kChunkPaths = 1 << 18;  // paths in flight per wavefront chunk on 
 }  // namespace
 
 Session::Session(const SceneInput& scene, const SessionSettings& settings) : settings_(settings) {
-    if (settings_.integrator != "pt" && settings_.integrator != "lt") {
-        throw std::invalid_argument("integrator '" + settings_.integrator +
-                                    "' is not available in this build (only 'pt', 'lt')");
+    const std::string& integ = settings_.integrator;
+    if (integ != "pt" && integ != "lt" && integ != "bdpt" && integ != "lvc" && integ != "cis") {
+        throw std::invalid_argument("integrator '" + integ +
+                                    "' is not available (pt, lt, bdpt, lvc, cis)");
+    }
+    bidirectional_ = integ == "bdpt" || integ == "lvc" || integ == "cis";
+    mode_ = integ == "bdpt" ? kBdptOwnPath : integ == "lvc" ? kLvcUniform : kCisResampled;
+    sort_ = settings_.sort < 0 ? integ == "cis" : settings_.sort != 0;
+    if (settings_.connections < 1 || settings_.connections > 64) {
+        throw std::invalid_argument("connections (N) must be in [1, 64]");
+    }
+    if (settings_.candidates < 1 || settings_.candidates > 64) {
+        throw std::invalid_argument("candidates (M) must be in [1, 64]");
+    }
+    if (settings_.cis_target != "contribution" && settings_.cis_target != "bsdf") {
+        throw std::invalid_argument("cis_target must be 'contribution' or 'bsdf'");
     }
     if (settings_.backend != "cpu") {
         throw std::invalid_argument("backend '" + settings_.backend +
@@ -72,6 +85,15 @@ bool Session::step() {
     const int64_t chunk_pixels = std::max<int64_t>(1, kChunkPaths / spp_it);
     // chunks write their pixels into iteration_; it joins accum_ only if the step finishes
     iteration_sum_.assign(accum_.size(), 0.0);
+    if (bidirectional_) {
+        if (!run_bdpt_iteration()) return false;
+        for (size_t k = 0; k < accum_.size(); ++k) accum_[k] += iteration_sum_[k];
+        spp_ += spp_it;
+        ++iteration_;
+        ++stats_.iterations;
+        stats_.time_total += seconds_since(t0);
+        return true;
+    }
     for (int64_t p0 = 0; p0 < pixels; p0 += chunk_pixels) {
         int64_t np = std::min(chunk_pixels, pixels - p0);
         if (settings_.integrator == "lt") {
@@ -138,8 +160,13 @@ void Session::run_chunk(int64_t first_path, int n) {
         first = false;
     }
     if (cancel_.load()) return;
-    // film: pixel sums in a fixed order
-    t = Clock::now();
+    film(first_path, n);
+}
+
+// Adds the chunk's per-path radiance to its pixels, in a fixed order.
+void Session::film(int64_t first_path, int n) {
+    const PathState ps = state_;
+    auto t = Clock::now();
     const int spp_it = settings_.spp_per_iteration;
     const int64_t p0 = first_path / spp_it;
     const int np = n / spp_it;

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "integrator/bdpt.h"
 #include "integrator/path_state.h"
 #include "scene/scene.h"
 
@@ -29,14 +30,25 @@ struct SessionSettings {
     int rr_depth = 3;
     uint64_t seed = 0;
     int threads = 0;
+    // bidirectional integrators (bdpt, lvc, cis)
+    int sort = -1;          // sort each bounce's hits by material type: 1 on, 0 off, -1 = cis only
+    int connections = 5;    // N: cache vertices each camera vertex connects to (paper: 5)
+    int candidates = 10;    // M: cis candidates (paper: 10)
+    std::string cis_target = "contribution";  // or "bsdf" (the paper's BSDF product)
+    bool naive_ris = false; // test only: weight resampled picks like uniform ones (biased)
 };
 
 struct SessionStats {
     int64_t iterations = 0;
     int64_t rays_camera = 0, rays_indirect = 0, rays_shadow = 0;
+    int64_t rays_light = 0, rays_connection = 0, rays_light_tracing = 0;
     int64_t nonfinite_dropped = 0;
+    int64_t cache_vertices = 0;      // light vertex cache of the last iteration
+    int64_t sorted_bounces = 0, unsorted_bounces = 0;
     double time_build = 0, time_generate = 0, time_trace = 0, time_shade = 0, time_shadow = 0,
            time_film = 0, time_total = 0;
+    double time_light_pass = 0, time_camera_pass = 0, time_sort = 0, time_cache = 0,
+           time_splat = 0;
 };
 
 class Session {
@@ -58,6 +70,14 @@ public:
 private:
     void run_chunk(int64_t first_path, int num_paths);
     void run_lt_chunk(int64_t first_path, int num_paths);  // lt_session.cpp
+    void film(int64_t first_path, int num_paths);
+    // bdpt_session.cpp: one iteration of bdpt / lvc / cis into iteration_sum_
+    bool run_bdpt_iteration();
+    void run_light_chunk(int64_t first_path, int num_paths);
+    void run_camera_chunk(int64_t first_path, int num_paths);
+    void sort_queue(int active);
+    void resize_bdpt_state(int n, int conn_cap);
+    BdptSettings bdpt_settings() const;
     void splat(const std::vector<int32_t>& slots, int count);
     void resize_state(int n);
 
@@ -83,6 +103,20 @@ private:
     // light paths (integrator "lt")
     std::vector<Vec3> power_;
     std::vector<Vec2> splat_xy_;
+    // bidirectional integrators
+    bool bidirectional_ = false, sort_ = false;
+    int mode_ = 0, conn_cap_ = 0;
+    float mis_r_ = 1.0f;
+    double vertices_per_path_ = -1.0;  // cache vertices per light path, last iteration (< 0: none)
+    bool pilot_ = false;
+    int64_t pilot_count_ = 0;
+    std::vector<float> dvcm_, dvc_, conn_tmax_;
+    std::vector<int32_t> light_id_, conn_n_, sort_tmp_;
+    std::vector<uint8_t> store_;
+    std::vector<LightVertex> vertex_, cache_;
+    std::vector<Vec3> conn_o_, conn_d_, conn_c_;
+    std::vector<int32_t> path_offset_, path_vertex_;
+    BdptState bdpt_state_{};
 };
 
 }  // namespace lantern

@@ -155,6 +155,11 @@ SessionSettings to_settings(const nb::dict& d) {
     s.rr_depth = get<int>(d, "rr_depth", s.rr_depth);
     s.seed = get<uint64_t>(d, "seed", s.seed);
     s.threads = get<int>(d, "threads", s.threads);
+    if (d.contains("sort") && !d["sort"].is_none()) s.sort = nb::cast<bool>(d["sort"]) ? 1 : 0;
+    s.connections = get<int>(d, "connections", s.connections);
+    s.candidates = get<int>(d, "candidates", s.candidates);
+    s.cis_target = get<std::string>(d, "cis_target", s.cis_target);
+    s.naive_ris = get<bool>(d, "naive_ris", s.naive_ris);
     return s;
 }
 
@@ -186,7 +191,7 @@ NB_MODULE(_core, m) {
         d["embree_headers"] = bool(LANTERN_HAVE_EMBREE);
         d["embree_library"] = embree_library_path();
         d["backends"] = std::vector<std::string>{"cpu"};
-        d["integrators"] = std::vector<std::string>{"pt"};
+        d["integrators"] = std::vector<std::string>{"pt", "lt", "bdpt", "lvc", "cis"};
         return d;
     });
     nb::class_<Session>(m, "Session")
@@ -216,7 +221,19 @@ NB_MODULE(_core, m) {
             d["rays_camera"] = st.rays_camera;
             d["rays_indirect"] = st.rays_indirect;
             d["rays_shadow"] = st.rays_shadow;
-            d["rays_total"] = st.rays_camera + st.rays_indirect + st.rays_shadow;
+            d["rays_light"] = st.rays_light;
+            d["rays_connection"] = st.rays_connection;
+            d["rays_light_tracing"] = st.rays_light_tracing;
+            d["rays_total"] = st.rays_camera + st.rays_indirect + st.rays_shadow + st.rays_light +
+                              st.rays_connection + st.rays_light_tracing;
+            d["cache_vertices"] = st.cache_vertices;
+            d["sorted_bounces"] = st.sorted_bounces;
+            d["unsorted_bounces"] = st.unsorted_bounces;
+            d["time_light_pass"] = st.time_light_pass;
+            d["time_camera_pass"] = st.time_camera_pass;
+            d["time_sort"] = st.time_sort;
+            d["time_cache"] = st.time_cache;
+            d["time_splat"] = st.time_splat;
             d["nonfinite_dropped"] = st.nonfinite_dropped;
             d["time_build"] = st.time_build;
             d["time_generate"] = st.time_generate;

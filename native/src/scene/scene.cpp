@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "integrator/camera.h"
+#include "integrator/light_path.h"
 
 namespace lantern {
 
@@ -247,6 +248,20 @@ void HostScene::add_lights(const SceneInput& in) {
         light_cdf_.push_back(float(acc / total));
     }
     if (!light_cdf_.empty()) light_cdf_.back() = 1.0f;
+    // Light sub-paths (bdpt, lvc, cis) start by power too, but never on a receiver-dependent
+    // light (soft-falloff point/spot): it has no emission distribution (docs/lvc_notes.md).
+    double emit_total = 0.0;
+    for (size_t k = 0; k < lights_.size(); ++k)
+        if (!light_receiver_dependent(lights_[k])) emit_total += power[k];
+    acc = 0.0;
+    for (size_t k = 0; k < lights_.size(); ++k) {
+        double p = light_receiver_dependent(lights_[k]) || !(emit_total > 0.0) ? 0.0 : power[k];
+        lights_[k].emit_pick_pdf = float(p / std::max(emit_total, 1e-300));
+        acc += p;
+        emit_cdf_.push_back(emit_total > 0.0 ? float(acc / emit_total) : 0.0f);
+    }
+    if (emit_total > 0.0) emit_cdf_.back() = 1.0f;
+    has_emitters_ = emit_total > 0.0;
 }
 
 // Inverted CDF of the Blackman-Harris filter: maps u in [0,1] to an offset in pixels. As in
@@ -286,6 +301,7 @@ void HostScene::finish_view(const SceneInput& in) {
     v.num_materials = int32_t(materials_.size());
     v.lights = lights_.data();
     v.light_cdf = light_cdf_.data();
+    v.emit_cdf = has_emitters_ ? emit_cdf_.data() : nullptr;
     v.num_lights = int32_t(lights_.size());
     for (size_t k = 0; k < lights_.size(); ++k) {
         const Light& l = lights_[k];

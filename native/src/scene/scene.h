@@ -83,7 +83,8 @@ private:
     std::vector<int32_t> tri_light_, hittable_lights_, miss_lights_;
     std::vector<Material> materials_;
     std::vector<Light> lights_;
-    std::vector<float> light_cdf_, filter_cdf_;
+    std::vector<float> light_cdf_, emit_cdf_, filter_cdf_;
+    bool has_emitters_ = false;
     std::vector<std::string> warnings_;
     SceneView view_;
 };

@@ -59,6 +59,7 @@ struct Light {
     float spot_smooth;      // spot: (1 - cos_half_spot) * blend
     float cos_sun;          // sun: cosine of half the angle (1: delta)
     float pick_pdf;         // probability of choosing this light for next-event estimation
+    float emit_pick_pdf;    // probability of starting a light sub-path on it (0: camera-side only)
 };
 
 enum TriangleFlags : uint8_t { kVisibleCamera = 1, kCastShadow = 2 };
@@ -89,6 +90,7 @@ struct SceneView {
 
     const Light* lights = nullptr;
     const float* light_cdf = nullptr;    // normalised, for next-event estimation
+    const float* emit_cdf = nullptr;     // normalised, for light sub-paths; null when none can start
     int32_t num_lights = 0;
     int32_t world_light = -1;            // index of the kLightWorld entry or -1
     // lights a ray can cross (spheres, area lights) and lights seen on a miss (world, sun disk),

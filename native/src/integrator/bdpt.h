@@ -1,0 +1,598 @@
+// Bidirectional stages shared by the integrators "bdpt", "lvc" and "cis": light sub-paths whose
+// non-delta vertices go into the light vertex cache (LVC) and are splatted to the camera (t = 1),
+// and camera sub-paths that add emission (s = 0), next-event estimation (s = 1) and connections
+// to cache vertices (s >= 2). MIS: the balance of Georgiev's "Implementing Vertex Connection and
+// Merging" (2012) report with the power heuristic, i.e. SmallVCM's recursive dVCM / dVC, with the
+// sample counts of the cache folded in (docs/lvc_notes.md, "MIS with a vertex cache"):
+//
+//   technique              count per camera sample
+//   s = 0 (hit a light)    1
+//   s = 1 (next event)     1
+//   s >= 2 (connection)    r = N L / |C|   (bdpt: 1, every vertex of the paired light path)
+//   t = 1 (light tracing)  n_lt = L / spp_per_iteration
+//
+// Every stage touches one path slot; the session (bdpt_session.cpp) runs them over queues.
+#pragma once
+
+#include "bsdf/material.h"
+#include "integrator/light_path.h"
+#include "integrator/lt.h"
+
+namespace lantern {
+
+LANTERN_HD inline float mis(float x) { return x * x; }  // power heuristic, beta = 2
+
+enum BdptMode : int32_t {
+    kBdptOwnPath = 0,  // "bdpt": camera path i connects to every vertex of light path i
+    kLvcUniform = 1,   // "lvc": N uniform picks from the cache
+    kCisResampled = 2, // "cis": M uniform candidates, N picks proportional to a target p-hat
+};
+enum CisTarget : int32_t { kTargetContribution = 0, kTargetBsdf = 1 };
+
+// One stored light vertex: what a later connection needs.
+struct LightVertex {
+    Vec3 p;
+    Vec3 ng;        // geometric normal on the side the light arrived from
+    Vec3 ns;        // shading normal, same side as ng
+    Vec3 wo;        // unit direction towards the previous vertex of the light path
+    Vec3 beta;      // light sub-path throughput, emitted flux / pick probability included
+    float dvcm, dvc;
+    uint32_t material;
+    int32_t path;   // light path index (bdpt pairs camera path i with light path i)
+    int32_t length; // segments from the light to this vertex (y1 has 1)
+    int32_t front;
+};
+
+struct BdptSettings {
+    int32_t max_depth, rr_depth, spp_per_iteration;
+    uint64_t seed, iteration;
+    int32_t mode;        // BdptMode
+    int32_t connections; // N
+    int32_t candidates;  // M
+    int32_t target;      // CisTarget
+    int32_t naive_ris;   // test only: give resampled picks the uniform weight |C|/N (biased)
+    float r;             // MIS count of a connection: N L / |C| (bdpt: 1)
+    float n_lt;          // MIS count of light tracing: L / spp_per_iteration
+    float inv_light_paths;  // 1 / L
+};
+
+// Slots beyond PathState. Light pass: the light a path started on, the vertex it may store and
+// its splat position. Camera pass: up to conn_cap connection shadow rays per slot.
+struct BdptState {
+    float* dvcm;
+    float* dvc;
+    int32_t* light;
+    uint8_t* store;
+    LightVertex* vertex;
+    Vec2* splat_xy;
+    int32_t conn_cap;
+    int32_t* conn_n;
+    Vec3* conn_o;
+    Vec3* conn_d;
+    float* conn_tmax;
+    Vec3* conn_c;
+};
+
+// What the camera pass reads of the cache.
+struct LightCache {
+    const LightVertex* v;
+    int32_t size;
+    const int32_t* path_offset;  // bdpt: vertices of light path j are path_vertex[off[j] .. off[j+1])
+    const int32_t* path_vertex;
+};
+
+// ---- Light pass ---------------------------------------------------------------------------------
+
+LANTERN_HD inline void bdpt_light_generate(const SceneView& s, const PathState& ps,
+                                           const BdptState& bs, const BdptSettings& st, int i,
+                                           int64_t path) {
+    Rng rng = Rng::for_path(st.seed ^ 0x4C5643ull, st.iteration, uint64_t(path));
+    ps.alive[i] = 0;
+    ps.dropped[i] = 0;
+    ps.shadow_valid[i] = 0;
+    ps.depth[i] = 0;
+    ps.throughput[i] = vec3(0.0f);
+    bs.store[i] = 0;
+    float u_pick = rng.uniform();
+    Vec2 u_pos = rng.uniform2(), u_dir = rng.uniform2();
+    ps.rng[i] = rng;
+    if (!s.emit_cdf) return;
+    int li = sample_cdf(s.emit_cdf, s.num_lights, u_pick);
+    const Light& l = s.lights[li];
+    if (!(l.emit_pick_pdf > 0.0f)) return;
+    EmissionSample es = sample_emission(s, l, u_pos, u_dir);
+    if (!es.valid) return;
+    const float pdf_emit = es.pdf_emit * l.emit_pick_pdf;
+    ps.throughput[i] = es.le * (es.cos_light / pdf_emit);
+    // ratios of the techniques that end on the light (s = 1, s = 0) to a connection (count r)
+    const float inv_r = 1.0f / mis(st.r);
+    bs.dvcm[i] = mis(l.pick_pdf * es.pdf_direct / pdf_emit) * inv_r;
+    bs.dvc[i] = (es.delta_pos || es.delta_dir)
+                    ? 0.0f
+                    : mis((es.finite ? es.cos_light : 1.0f) / pdf_emit) * inv_r;
+    bs.light[i] = li;
+    if (st.max_depth < 2) return;
+    ps.ray_o[i] = is_black(es.n) ? es.p : offset_ray_origin(es.p, es.n, es.d);
+    ps.ray_d[i] = es.d;
+    ps.ray_tmin[i] = 0.0f;
+    ps.ray_tmax[i] = kInf;
+    ps.prev_pdf_w[i] = pdf_emit;
+    ps.alive[i] = 1;
+}
+
+// Weight of the light tracing splat (t = 1) of a light vertex: camera_pdf_a is the camera's
+// density of this vertex (raster density 1 per pixel), pdf_rev the BSDF's density of the light
+// path's incoming direction given the camera direction.
+LANTERN_HD inline float bdpt_light_tracing_weight(const BdptSettings& st, float dvcm, float dvc,
+                                                  float camera_pdf_a, float pdf_rev) {
+    float w_light = mis(camera_pdf_a * st.r / st.n_lt) * (dvcm + dvc * mis(pdf_rev));
+    return 1.0f / (1.0f + w_light);
+}
+
+// MIS recursion after sampling a direction with pdfs (fwd, rev) at a vertex whose geometric
+// cosine with the sampled direction is cos_out (both sub-paths use it).
+LANTERN_HD inline void bdpt_scatter_update(float& dvcm, float& dvc, const BsdfSample& b,
+                                           float cos_out) {
+    if (b.delta) {  // fwd == rev: they cancel; a delta vertex cannot be connected (dVCM = 0)
+        dvc *= mis(cos_out);
+        dvcm = 0.0f;
+    } else {
+        dvc = mis(cos_out / b.pdf_fwd_w) * (dvc * mis(b.pdf_rev_w) + dvcm);
+        dvcm = mis(1.0f / b.pdf_fwd_w);
+    }
+}
+
+// At a light path's hit: MIS update, the vertex to store, the camera splat, the next direction.
+LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
+                                        const BdptState& bs, const BdptSettings& st, int i,
+                                        int64_t path) {
+    ps.shadow_valid[i] = 0;
+    ps.alive[i] = 0;
+    bs.store[i] = 0;
+    int tri = ps.hit_prim[i];
+    if (tri < 0) return;
+    const Vec3 d = ps.ray_d[i];
+    const float dist = ps.hit_t[i];
+    SurfaceHit h = pt_surface(s, tri, ps.hit_uv[i], d);
+    const Material& m = s.materials[s.tri_material[tri]];
+    const int k = ps.depth[i] + 1;  // segments from the light to this vertex
+    ps.depth[i] = k;
+    const Vec3 wo_w = -d;
+    const float cos_o_ns = fabsf(dot(wo_w, h.ns)), cos_o_ng = fabsf(dot(wo_w, h.ng));
+    if (!(cos_o_ng > 0.0f) || !(dist > 0.0f)) return;
+
+    // ---- MIS quantities at this vertex ----
+    float dvcm = bs.dvcm[i], dvc = bs.dvc[i];
+    const Light& l = s.lights[bs.light[i]];
+    const bool infinite = l.type == kLightSun || l.type == kLightWorld;
+    if (k == 1 && (l.type == kLightPoint || l.type == kLightSpot) && l.radius > 0.0f) {
+        // next-event estimation samples a sphere light's visible cap: its area density at y0
+        // depends on the receiver y1 (here), not 1 / area as assumed at generation
+        Vec3 y0 = ps.ray_o[i];
+        Vec3 n0 = normalize(y0 - l.position);
+        float pdf_a = light_pdf_w(l, h.p, wo_w, dist, n0) * fabsf(dot(d, n0)) / (dist * dist);
+        dvcm *= mis(pdf_a * (4.0f * kPi * l.radius * l.radius));
+    }
+    if (k > 1 || !infinite) dvcm *= mis(dist * dist);
+    dvcm /= mis(cos_o_ng);
+    dvc /= mis(cos_o_ng);
+
+    Frame frame = Frame::from_normal(h.ns);
+    const Vec3 wo = frame.to_local(wo_w);
+    const Vec3 beta = ps.throughput[i];
+    const bool delta = material_is_delta(m);
+
+    if (!delta) {
+        LightVertex v;
+        v.p = h.p;
+        v.ng = h.ng;
+        v.ns = h.ns;
+        v.wo = wo_w;
+        v.beta = beta;
+        v.dvcm = dvcm;
+        v.dvc = dvc;
+        v.material = s.tri_material[tri];
+        v.path = int32_t(path);
+        v.length = k;
+        v.front = h.front ? 1 : 0;
+        bs.vertex[i] = v;
+        bs.store[i] = is_finite(beta) && is_finite(dvcm) && is_finite(dvc) ? 1 : 0;
+    }
+
+    // ---- t = 1: connect to the camera (k + 1 segments) ----
+    if (!delta && k + 1 <= st.max_depth && (s.tri_flags[tri] & kVisibleCamera) != 0) {
+        CameraConnection cc = connect_camera(s.camera, h.p, filter_radius(s.camera));
+        if (cc.valid && sides_agree(cc.wc, h.ng, h.ns)) {
+            BsdfEval e = material_eval(m, h.front, wo, frame.to_local(cc.wc), Transport::Importance);
+            if (!is_black(e.f)) {
+                float cos_wc_ng = fabsf(dot(cc.wc, h.ng));
+                // f |wc.ns| times the adjoint shading-normal factor [Veach thesis (5.19)]
+                float cos_y = cos_o_ns * cos_wc_ng / cos_o_ng;
+                float w = bdpt_light_tracing_weight(st, dvcm, dvc, cc.importance * cos_wc_ng,
+                                                    e.pdf_rev_w);
+                LightPathState lp{nullptr, bs.splat_xy};
+                lt_queue_splat(ps, lp, i, h.p, h.ng, cc, beta * e.f * (cos_y * cc.importance * w));
+            }
+        }
+    }
+    if (k + 2 > st.max_depth) return;  // the next vertex could not be used by any technique
+
+    // ---- continue with the adjoint BSDF ----
+    Rng rng = ps.rng[i];
+    Vec2 u_dir = rng.uniform2();
+    BsdfSample b = material_sample(m, h.front, wo, Vec3{u_dir.x, u_dir.y, rng.uniform()},
+                                   Transport::Importance);
+    Vec3 wi = frame.to_world(b.wi);
+    if (b.valid && sides_agree(wi, h.ng, h.ns) && (b.delta || b.pdf_fwd_w > 0.0f)) {
+        float cos_i_ng = fabsf(dot(wi, h.ng));
+        float adj = cos_o_ns * cos_i_ng / (cos_o_ng * fabsf(b.wi.z));
+        Vec3 t = beta * b.weight * adj;
+        if (russian_roulette(t, k + 1, st.rr_depth, rng) && max_component(t) > 0.0f &&
+            is_finite(t)) {
+            bdpt_scatter_update(dvcm, dvc, b, cos_i_ng);
+            ps.throughput[i] = t;
+            bs.dvcm[i] = dvcm;
+            bs.dvc[i] = dvc;
+            set_next_ray(ps, i, h.p, h.ng, wi, b.delta ? 0.0f : b.pdf_fwd_w);
+        }
+    }
+    ps.rng[i] = rng;
+}
+
+// ---- Camera pass --------------------------------------------------------------------------------
+
+// Solid-angle density of a pinhole camera ray along d for a raster density of one per pixel
+// (orthographic: the area density on the lens plane).
+LANTERN_HD inline float camera_pdf(const CameraView& c, Vec3 d) {
+    float sw = c.screen[1] - c.screen[0], sh = c.screen[3] - c.screen[2];
+    float a_pix = sw * sh / (float(c.width) * float(c.height));
+    if (c.orthographic) return 1.0f / a_pix;
+    float cos_c = -dot(d, c.to_world.axis(2));
+    if (!(cos_c > 0.0f)) return 0.0f;
+    return 1.0f / (a_pix * cos_c * cos_c * cos_c);
+}
+
+LANTERN_HD inline void bdpt_camera_generate(const SceneView& s, const PathState& ps,
+                                            const BdptState& bs, const BdptSettings& st, int i,
+                                            int64_t path) {
+    Rng rng = Rng::for_path(st.seed, st.iteration, uint64_t(path));
+    Ray r = generate_camera_ray(s.camera, int(path / st.spp_per_iteration), rng);
+    ps.ray_o[i] = r.o;
+    ps.ray_d[i] = r.d;
+    ps.ray_tmin[i] = r.tmin;
+    ps.ray_tmax[i] = r.tmax;
+    ps.throughput[i] = vec3(1.0f);
+    ps.radiance[i] = vec3(0.0f);
+    ps.rng[i] = rng;
+    ps.depth[i] = 1;
+    ps.prev_pdf_w[i] = 0.0f;
+    ps.alive[i] = 1;
+    ps.dropped[i] = 0;
+    ps.shadow_valid[i] = 0;
+    bs.conn_n[i] = 0;
+    // the light tracing technique relative to a connection (count r)
+    bs.dvcm[i] = mis(st.n_lt / (st.r * camera_pdf(s.camera, r.d)));
+    bs.dvc[i] = 0.0f;
+}
+
+// Weight of emission le found by the camera path at distance t_light along its ray, on light l
+// with geometric normal n there. dvcm, dvc are the slot's values before this segment.
+LANTERN_HD inline float bdpt_emission_weight(const SceneView& s, const PathState& ps,
+                                             const BdptState& bs, const BdptSettings& st, int i,
+                                             const Light& l, float t_light, Vec3 n) {
+    if (ps.depth[i] <= 1) return 1.0f;  // seen directly: no other technique renders it
+    const Vec3 o = ps.ray_o[i], d = ps.ray_d[i];
+    const bool infinite = l.type == kLightSun || l.type == kLightWorld;
+    float dvcm = bs.dvcm[i], dvc = bs.dvc[i];
+    float pdf_direct = l.pick_pdf * light_pdf_w(l, o, d, t_light, n);  // solid angle at o
+    if (!infinite) {
+        float cos_l = fabsf(dot(d, n));
+        if (!(cos_l > 0.0f)) return 0.0f;
+        dvcm *= mis(t_light * t_light) / mis(cos_l);
+        dvc /= mis(cos_l);
+        pdf_direct *= cos_l / (t_light * t_light);  // area
+    }
+    float pdf_emit = l.emit_pick_pdf * emission_pdf(s, l, n, -d).pdf_emit;
+    float w_camera = mis(pdf_direct) * dvcm + mis(st.r * pdf_emit) * dvc;
+    return 1.0f / (1.0f + w_camera);
+}
+
+LANTERN_HD inline void bdpt_add(const PathState& ps, int i, Vec3 c) { add_radiance(ps, i, c); }
+
+// Lights crossed by the segment, and the background on a miss (s = 0).
+LANTERN_HD inline void bdpt_camera_emission(const SceneView& s, const PathState& ps,
+                                            const BdptState& bs, const BdptSettings& st, int i,
+                                            float t_end, bool miss) {
+    const Vec3 o = ps.ray_o[i], d = ps.ray_d[i];
+    const bool camera = ps.depth[i] <= 1;
+    for (int k = 0; k < s.num_hittable_lights; ++k) {
+        const Light& l = s.lights[s.hittable_lights[k]];
+        if (camera && !l.visible_camera) continue;
+        LightHit h = intersect_light(l, o, d, ps.ray_tmin[i], t_end);
+        if (!h.hit || is_black(h.le)) continue;
+        float w = bdpt_emission_weight(s, ps, bs, st, i, l, h.t, h.n);
+        bdpt_add(ps, i, ps.throughput[i] * h.le * w);
+    }
+    if (!miss) return;
+    for (int k = 0; k < s.num_miss_lights; ++k) {
+        const Light& l = s.lights[s.miss_lights[k]];
+        if (l.type == kLightSun && (l.cos_sun >= 1.0f || camera || dot(d, -l.direction) < l.cos_sun))
+            continue;
+        float w = bdpt_emission_weight(s, ps, bs, st, i, l, kInf, vec3(0.0f));
+        bdpt_add(ps, i, ps.throughput[i] * l.radiance * w);
+    }
+}
+
+// A camera vertex: what next-event estimation and connections read.
+struct CameraVertex {
+    SurfaceHit h;
+    Frame frame;
+    Vec3 wo;      // local
+    Vec3 beta;
+    float dvcm, dvc;
+    const Material* m;
+    int depth;    // segments from the camera
+};
+
+// Shadow segment from p (normal n) to q (normal nq; zero: no offset), shortened at both ends.
+LANTERN_HD inline void shadow_segment(Vec3 p, Vec3 n, Vec3 q, Vec3 nq, Vec3 dir, Vec3* o,
+                                      Vec3* sd, float* tmax) {
+    *o = offset_ray_origin(p, n, dir);
+    Vec3 target = is_black(nq) ? q : offset_ray_origin(q, nq, -dir);
+    Vec3 seg = target - *o;
+    float len = length(seg);
+    *sd = len > 0.0f ? seg / len : dir;
+    *tmax = len * (1.0f - 1e-4f);
+}
+
+// s = 1: one light sample; the shadow ray waits in the slot's shadow fields.
+LANTERN_HD inline void bdpt_camera_nee(const SceneView& s, const PathState& ps,
+                                       const BdptSettings& st, const CameraVertex& z, int i,
+                                       Rng& rng) {
+    Vec2 u_pick = rng.uniform2();
+    Vec2 u_light = rng.uniform2();
+    if (s.num_lights == 0) return;
+    int li = sample_cdf(s.light_cdf, s.num_lights, u_pick.x);
+    const Light& l = s.lights[li];
+    LightSample ls = sample_light(s, l, z.h.p, u_light);
+    if (!ls.valid || is_black(ls.le) || !sides_agree(ls.wi, z.h.ng, z.h.ns)) return;
+    BsdfEval e = material_eval(*z.m, z.h.front, z.wo, z.frame.to_local(ls.wi), Transport::Radiance);
+    float pdf_light_w = l.pick_pdf * ls.pdf_w;
+    if (is_black(e.f) || !(pdf_light_w > 0.0f)) return;
+    const bool infinite = !(ls.dist < kInf);
+    const float cos_z = fabsf(dot(ls.wi, z.h.ng));
+    // densities of the light point: by next-event estimation, by the light sub-path (s = 2)
+    float cos_l = is_black(ls.n_light) ? 1.0f : fabsf(dot(ls.wi, ls.n_light));
+    float pdf_nee, pdf_lp;
+    float pdf_emit = l.emit_pick_pdf * emission_pdf(s, l, ls.n_light, -ls.wi).pdf_emit;
+    if (infinite) {
+        pdf_nee = pdf_light_w;
+        pdf_lp = pdf_emit * cos_z;
+    } else {
+        float d2 = ls.dist * ls.dist;
+        pdf_nee = ls.delta ? l.pick_pdf : pdf_light_w * cos_l / d2;
+        pdf_lp = pdf_emit * cos_z / d2;
+    }
+    float w_light = ls.delta ? 0.0f : mis(e.pdf_fwd_w / pdf_light_w);
+    float w_camera = mis(st.r * pdf_lp / pdf_nee) * (z.dvcm + z.dvc * mis(e.pdf_rev_w));
+    float w = 1.0f / (w_light + 1.0f + w_camera);
+    float cos_i = fabsf(dot(ls.wi, z.h.ns));
+    Vec3 c = z.beta * e.f * ls.le * (cos_i * w / pdf_light_w);
+    if (!is_finite(c)) {
+        ps.dropped[i] = 1;
+        return;
+    }
+    Vec3 target_n = ls.dist < kInf ? ls.n_light : vec3(0.0f);
+    if (ls.dist < kInf) {
+        shadow_segment(z.h.p, z.h.ng, ls.p_light, target_n, ls.wi, &ps.shadow_o[i],
+                       &ps.shadow_d[i], &ps.shadow_tmax[i]);
+    } else {
+        ps.shadow_o[i] = offset_ray_origin(z.h.p, z.h.ng, ls.wi);
+        ps.shadow_d[i] = ls.wi;
+        ps.shadow_tmax[i] = kInf;
+    }
+    ps.shadow_contrib[i] = c;
+    ps.shadow_valid[i] = 1;
+}
+
+// s >= 2: the unshadowed, MIS-weighted contribution of connecting z to cache vertex y (per unit
+// estimator weight), and the BSDF-product target. Zero when the path would be too long.
+struct Connection {
+    Vec3 c;
+    Vec3 dir;      // unit, z -> y
+    float dist;
+    float bsdf_target;
+};
+
+LANTERN_HD inline Connection bdpt_connect(const SceneView& s, const BdptSettings& st,
+                                          const CameraVertex& z, const LightVertex& y) {
+    Connection r{vec3(0.0f), vec3(0.0f), 0.0f, 0.0f};
+    if (z.depth + 1 + y.length > st.max_depth) return r;
+    Vec3 dir = y.p - z.h.p;
+    float d2 = length_sq(dir);
+    if (!(d2 > 0.0f) || !is_finite(d2)) return r;
+    float dist = sqrtf(d2);
+    dir = dir / dist;
+    if (!sides_agree(dir, z.h.ng, z.h.ns) || !sides_agree(-dir, y.ng, y.ns)) return r;
+    BsdfEval ez = material_eval(*z.m, z.h.front, z.wo, z.frame.to_local(dir), Transport::Radiance);
+    if (is_black(ez.f)) return r;
+    const Material& my = s.materials[y.material];
+    Frame fy = Frame::from_normal(y.ns);
+    BsdfEval ey = material_eval(my, y.front != 0, fy.to_local(y.wo), fy.to_local(-dir),
+                                Transport::Importance);
+    if (is_black(ey.f)) return r;
+    const float cos_z_ng = fabsf(dot(dir, z.h.ng)), cos_y_ng = fabsf(dot(dir, y.ng));
+    const float cos_z_ns = fabsf(dot(dir, z.h.ns));
+    const float cos_yo_ns = fabsf(dot(y.wo, y.ns)), cos_yo_ng = fabsf(dot(y.wo, y.ng));
+    if (!(cos_yo_ng > 0.0f)) return r;
+    // light side: f |dir.ns| with the adjoint shading-normal factor
+    const float cos_y = cos_yo_ns * cos_y_ng / cos_yo_ng;
+    const float inv_d2 = 1.0f / d2;
+    float pdf_cam_a = ez.pdf_fwd_w * cos_y_ng * inv_d2;   // camera BSDF samples y
+    float pdf_light_a = ey.pdf_fwd_w * cos_z_ng * inv_d2; // light BSDF samples z
+    float w_light = mis(pdf_cam_a) * (y.dvcm + y.dvc * mis(ey.pdf_rev_w));
+    float w_camera = mis(pdf_light_a) * (z.dvcm + z.dvc * mis(ez.pdf_rev_w));
+    float w = 1.0f / (w_light + 1.0f + w_camera);
+    r.c = z.beta * ez.f * y.beta * ey.f * (cos_z_ns * cos_y * inv_d2 * w);
+    if (!is_finite(r.c)) r.c = vec3(0.0f);
+    r.dir = dir;
+    r.dist = dist;
+    r.bsdf_target = luminance(ez.f) * luminance(ey.f);
+    return r;
+}
+
+LANTERN_HD inline void bdpt_queue_connection(const BdptState& bs, int i, const CameraVertex& z,
+                                             const LightVertex& y, const Connection& c,
+                                             Vec3 contrib) {
+    int j = bs.conn_n[i];
+    if (j >= bs.conn_cap || is_black(contrib) || !is_finite(contrib)) return;
+    int e = i * bs.conn_cap + j;
+    shadow_segment(z.h.p, z.h.ng, y.p, y.ng, c.dir, &bs.conn_o[e], &bs.conn_d[e], &bs.conn_tmax[e]);
+    bs.conn_c[e] = contrib;
+    bs.conn_n[i] = j + 1;
+}
+
+// Connections of camera vertex z to the cache: bdpt (own light path), lvc (uniform) or cis
+// (resampled). Each queued shadow ray carries its estimator weight.
+LANTERN_HD inline void bdpt_camera_connect(const SceneView& s, const BdptState& bs,
+                                           const BdptSettings& st, const LightCache& cache,
+                                           const CameraVertex& z, int i, int64_t path) {
+    bs.conn_n[i] = 0;
+    if (cache.size <= 0) return;
+    if (st.mode == kBdptOwnPath) {
+        for (int k = cache.path_offset[path]; k < cache.path_offset[path + 1]; ++k) {
+            const LightVertex& y = cache.v[cache.path_vertex[k]];
+            Connection c = bdpt_connect(s, st, z, y);
+            bdpt_queue_connection(bs, i, z, y, c, c.c);
+        }
+        return;
+    }
+    // own stream per (path, depth), so that the three camera-pass stages never share one
+    Rng rng = Rng::for_path(st.seed ^ 0x434F4E4Eull, st.iteration,
+                            uint64_t(path) * 1024u + uint64_t(z.depth));
+    const float size = float(cache.size);
+    auto pick = [&](float u) { return min_int(int(u * size), cache.size - 1); };
+    if (st.mode == kLvcUniform) {
+        const float weight = size / float(st.connections) * st.inv_light_paths;
+        for (int j = 0; j < st.connections; ++j) {
+            const LightVertex& y = cache.v[pick(rng.uniform())];
+            Connection c = bdpt_connect(s, st, z, y);
+            bdpt_queue_connection(bs, i, z, y, c, c.c * weight);
+        }
+        return;
+    }
+    // cis: M uniform candidates with w_j = p-hat(x_j) |C|, N picks proportional to w_j, each
+    // carrying W / (N L) with W = (1 / p-hat(y)) (1/M) sum_j w_j  (DESIGN.md)
+    constexpr int kMaxCandidates = 64;
+    const int m = min_int(st.candidates, kMaxCandidates);
+    int idx[kMaxCandidates];
+    float cdf[kMaxCandidates];
+    float sum = 0.0f;
+    for (int j = 0; j < m; ++j) {
+        idx[j] = pick(rng.uniform());
+        Connection c = bdpt_connect(s, st, z, cache.v[idx[j]]);
+        float p_hat = st.target == kTargetBsdf ? (is_black(c.c) ? 0.0f : c.bsdf_target)
+                                               : luminance(c.c);
+        if (!(p_hat > 0.0f) || !is_finite(p_hat)) p_hat = 0.0f;
+        sum += p_hat * size;
+        cdf[j] = sum;
+    }
+    if (!(sum > 0.0f) || !is_finite(sum)) {
+        for (int j = 0; j < st.connections; ++j) rng.uniform();
+        return;
+    }
+    int count[kMaxCandidates];
+    for (int j = 0; j < m; ++j) count[j] = 0;
+    for (int n = 0; n < st.connections; ++n) {
+        float u = rng.uniform() * sum;
+        int j = 0;
+        while (j < m - 1 && !(u < cdf[j])) ++j;
+        while (j > 0 && cdf[j] == cdf[j - 1]) --j;  // never land on a zero-weight candidate
+        ++count[j];
+    }
+    // the same candidate picked twice shares one shadow ray (same segment, same visibility)
+    for (int j = 0; j < m; ++j) {
+        if (count[j] == 0) continue;
+        const LightVertex& y = cache.v[idx[j]];
+        Connection c = bdpt_connect(s, st, z, y);
+        float p_hat = st.target == kTargetBsdf ? c.bsdf_target : luminance(c.c);
+        if (!(p_hat > 0.0f)) continue;
+        float w_ris = st.naive_ris ? size : (sum / float(m)) / p_hat;
+        float weight = w_ris * float(count[j]) / float(st.connections) * st.inv_light_paths;
+        bdpt_queue_connection(bs, i, z, y, c, c.c * weight);
+    }
+}
+
+// Camera-path shading: emission (s = 0), then at a surface NEE (s = 1), connections (s >= 2) and
+// the next direction. The three parts are separate functions so a GPU can launch them apart.
+LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps,
+                                         const BdptState& bs, const BdptSettings& st,
+                                         const LightCache& cache, int i, int64_t path) {
+    ps.shadow_valid[i] = 0;
+    ps.alive[i] = 0;
+    bs.conn_n[i] = 0;
+    const int tri = ps.hit_prim[i];
+    const Vec3 d = ps.ray_d[i];
+    const float t_hit = ps.hit_t[i];
+    bdpt_camera_emission(s, ps, bs, st, i, tri >= 0 ? t_hit : ps.ray_tmax[i], tri < 0);
+    if (tri < 0) return;
+    CameraVertex z;
+    z.h = pt_surface(s, tri, ps.hit_uv[i], d);
+    z.m = &s.materials[s.tri_material[tri]];
+    z.depth = ps.depth[i];
+    const float cos_in = fabsf(dot(d, z.h.ng));
+    if (!(cos_in > 0.0f) || !(t_hit > 0.0f)) return;
+    // MIS update for the new vertex (an orthographic camera's first vertex has no distance term)
+    float dvcm = bs.dvcm[i], dvc = bs.dvc[i];
+    if (!(z.depth == 1 && s.camera.orthographic)) dvcm *= mis(t_hit * t_hit);
+    dvcm /= mis(cos_in);
+    dvc /= mis(cos_in);
+    // emission of a mesh light at the hit
+    const Material& m = *z.m;
+    if (!is_black(m.emission)) {
+        float w = 1.0f;
+        int li = s.tri_light ? s.tri_light[tri] : -1;
+        if (z.depth > 1 && li >= 0) {
+            const Light& l = s.lights[li];
+            float pdf_direct = l.pick_pdf * light_pdf_w(l, ps.ray_o[i], d, t_hit, z.h.ng) *
+                               cos_in / (t_hit * t_hit);
+            float pdf_emit = l.emit_pick_pdf * emission_pdf(s, l, z.h.ng, -d).pdf_emit;
+            w = 1.0f / (1.0f + mis(pdf_direct) * dvcm + mis(st.r * pdf_emit) * dvc);
+        }
+        bdpt_add(ps, i, ps.throughput[i] * m.emission * w);
+    }
+    if (z.depth >= st.max_depth) return;
+    z.frame = Frame::from_normal(z.h.ns);
+    z.wo = z.frame.to_local(-d);
+    z.beta = ps.throughput[i];
+    z.dvcm = dvcm;
+    z.dvc = dvc;
+    Rng rng = ps.rng[i];
+    if (!material_is_delta(m)) {
+        bdpt_camera_nee(s, ps, st, z, i, rng);
+        bdpt_camera_connect(s, bs, st, cache, z, i, path);
+    } else {
+        rng.uniform2();
+        rng.uniform2();
+    }
+    // continue
+    Vec2 u_dir = rng.uniform2();
+    BsdfSample b = material_sample(m, z.h.front, z.wo, Vec3{u_dir.x, u_dir.y, rng.uniform()},
+                                   Transport::Radiance);
+    Vec3 wi = z.frame.to_world(b.wi);
+    if (b.valid && sides_agree(wi, z.h.ng, z.h.ns) && (b.delta || b.pdf_fwd_w > 0.0f)) {
+        Vec3 beta = z.beta * b.weight;
+        if (russian_roulette(beta, z.depth, st.rr_depth, rng) && max_component(beta) > 0.0f &&
+            is_finite(beta)) {
+            bdpt_scatter_update(dvcm, dvc, b, fabsf(dot(wi, z.h.ng)));
+            ps.throughput[i] = beta;
+            ps.depth[i] = z.depth + 1;
+            bs.dvcm[i] = dvcm;
+            bs.dvc[i] = dvc;
+            set_next_ray(ps, i, z.h.p, z.h.ng, wi, b.delta ? 0.0f : b.pdf_fwd_w);
+        }
+    }
+    ps.rng[i] = rng;
+}
+
+}  // namespace lantern
