@@ -97,7 +97,7 @@ def run_one(lantern, session, setup_s, scene_name, integrator, ref, args):
     Returns (the run dict, the final image)."""
     ref_img, floor, rel_floor = ref["image"], ref["rmse_floor"], ref["rel_rmse_floor"]
     progress = Progress(f"{scene_name}/{integrator}", args.progress)
-    checkpoints, seconds, target_cp = [], 0.0, 1
+    checkpoints, seconds, cpu_s, target_cp = [], 0.0, 0.0, 1
     load_before = os.getloadavg()[0]
 
     def score():
@@ -112,9 +112,10 @@ def run_one(lantern, session, setup_s, scene_name, integrator, ref, args):
 
     while True:
         before = session.spp
-        t = time.perf_counter()
+        t, c = time.perf_counter(), time.process_time()
         spp = session.step()
         seconds += time.perf_counter() - t
+        cpu_s += time.process_time() - c
         stalled = spp <= before
         done = (stalled or (args.time is not None and seconds >= args.time)
                 or (args.spp is not None and spp >= args.spp))
@@ -134,7 +135,9 @@ def run_one(lantern, session, setup_s, scene_name, integrator, ref, args):
     return {"scene": scene_name, "integrator": integrator, "setup_s": setup_s,
             "checkpoints": checkpoints, "stats": session.stats, "warnings": session.warnings,
             "settings": session.settings,
-            "load_avg_1m": [load_before, os.getloadavg()[0]]}, img
+            "load_avg_1m": [load_before, os.getloadavg()[0]],
+            # process CPU seconds per step second: ~ the cores used (less when others compete)
+            "cpu_per_wall": cpu_s / seconds if seconds > 0 else None}, img
 
 
 # ---- command line ----

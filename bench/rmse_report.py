@@ -163,8 +163,9 @@ def plot_scene(path, scene, runs, ref, title):
 
 
 def _stats_lines(stats, seconds):
-    rays = {k[5:]: v for k, v in stats.items() if k.startswith("rays_")}
-    times = {k[5:]: v for k, v in stats.items() if k.startswith("time_")}
+    # zero counters (stages another integrator uses) are left out; runs.json has them all
+    rays = {k[5:]: v for k, v in stats.items() if k.startswith("rays_") and v}
+    times = {k[5:]: v for k, v in stats.items() if k.startswith("time_") and v}
     other = {k: v for k, v in stats.items() if not k.startswith(("rays_", "time_"))}
     lines = []
     if rays:
@@ -218,6 +219,17 @@ def table_md(runs, refs, machine, args_line, target_rmse=None):
             out.append("")
             for r in done:
                 lines = _stats_lines(r["stats"], r["checkpoints"][-1]["seconds"])
+                load, cpu = r.get("load_avg_1m"), r.get("cpu_per_wall")
+                cpus = machine.get("cpus_usable") or 1
+                threads = r.get("settings", {}).get("threads") or cpus
+                if load:
+                    lines.append(f"load average (1 min) before/after: {load[0]:.2f} / "
+                                 f"{load[1]:.2f}")
+                if cpu is not None:
+                    starved = cpu < 0.8 * min(threads, cpus)
+                    lines.append(f"CPU seconds per step second: {cpu:.2f} of {min(threads, cpus)}"
+                                 + (" — **the run got less CPU than it asked for (other work "
+                                    "on the machine?): times are skewed**" if starved else ""))
                 if lines:
                     out += [f"Session.stats, {r['integrator']}:", ""]
                     out += [f"- {line}" for line in lines] + [""]
