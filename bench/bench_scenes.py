@@ -30,9 +30,9 @@ class BenchScene:
 SCENES = {s.name: s for s in [
     BenchScene("cornell", "cornell_box", "diffuse Cornell box, rectangle area light",
                blend="cornell_box"),
-    BenchScene("fixture", "fixture", "light inside a fixture: paths must find a small opening"),
-    BenchScene("glass", "glass", "caustics through dielectric glass"),
-    BenchScene("glossy", "glossy", "glossy conductors lit by a small light"),
+    BenchScene("fixture", "fixture_box", "light in a fixture: paths must find a small opening"),
+    BenchScene("glass", "glass_lantern", "caustics through dielectric glass"),
+    BenchScene("glossy", "glossy_box", "glossy conductors lit by a small light"),
 ]}
 
 
