@@ -64,7 +64,7 @@ def test_missing_scene_is_skipped(monkeypatch):
     import bench_scenes
     import lantern.scenes
 
-    monkeypatch.delattr(lantern.scenes, "glass", raising=False)
+    monkeypatch.delattr(lantern.scenes, bench_scenes.SCENES["glass"].factory, raising=False)
     with pytest.raises(bench_scenes.SceneUnavailable, match="glass"):
         bench_scenes.build("glass", 8, 8)
     assert bench_scenes.build("cornell", 8, 8).film["width"] == 8
