@@ -205,3 +205,123 @@ def test_integrating_sphere(core, integrator, settings):
     assert np.isfinite(img).all()
     # the icosphere (5120 facets) is a little smaller than the ideal sphere: 0.1% brighter
     assert abs(rel) < 0.005
+
+
+# ---- Hard cases: finite everywhere ----
+
+def _scaled(scene, k):
+    """The scene scaled by k about the origin (camera included): same image up to float error."""
+    for mesh in scene.meshes:
+        mesh["positions"] = (np.asarray(mesh["positions"], np.float64) * k).astype(np.float32)
+    m = np.array(scene.camera["to_world"], dtype=np.float64)
+    m[:3, 3] *= k
+    scene.camera["to_world"] = m.tolist()
+    scene.camera["clip"] = [c * k for c in scene.camera.get("clip", [0.1, 100.0])]
+    for light in scene.lights:
+        if "position" in light:
+            light["position"] = [c * k for c in light["position"]]
+        if "radius" in light:
+            light["radius"] = light["radius"] * k
+        if "power" in light:
+            light["power"] = [p * k * k for p in light["power"]]  # same irradiance
+    return scene
+
+
+def _hard_scenes():
+    out = {}
+    s = scenes.cornell_box(SIZE, SIZE)
+    s.lights = []
+    s.add_light("point", position=[0.0, 0.0, 1e-6], radius=0.0, power=[50.0] * 3)
+    out["point light touching the floor"] = s
+    s = scenes.cornell_box(SIZE, SIZE)
+    s.lights = []
+    s.add_light("point", position=[0.0, 0.9999999, 1.0], radius=0.01, power=[50.0] * 3,
+                soft_falloff=False)
+    out["sphere light through the back wall"] = s
+    s = scenes.cornell_box(SIZE, SIZE)
+    m = np.eye(4)
+    m[:3, :3] = [[1, 0, 0], [0, 0, -1], [0, 1, 0]]  # facing -Y... tilted to graze the floor
+    m[:3, 3] = (0.0, 0.5, 1e-4)
+    s.lights = []
+    s.add_light("area", to_world=m.tolist(), shape="rectangle", size=[0.5, 0.4], power=[30.0] * 3)
+    out["area light grazing the floor"] = s
+    s = scenes.glossy_box(SIZE, SIZE, roughness=1e-4)  # the mirror limit of GGX
+    out["roughness 1e-4 metal"] = s
+    s = scenes.glass_lantern(SIZE, SIZE, roughness=1e-3)
+    out["roughness 1e-3 glass"] = s
+    s = scenes.glass_lantern(SIZE, SIZE)
+    mirror = s.add_material("mirror", type="conductor", base_color=(1, 1, 1), roughness=0.0)
+    for mesh in s.meshes:
+        mesh["material_ids"][:] = mirror if mesh["name"] != "lantern_glass" else mesh["material_ids"]
+    out["all-specular: mirrors and glass"] = s
+    s = scenes.fixture_box(SIZE, SIZE)
+    # two walls 1e-6 m apart: near-coincident vertices (huge geometry terms)
+    pos = np.array([[-0.5, 0.5, 0.0], [0.5, 0.5, 0.0], [0.5, 0.5, 2.0], [-0.5, 0.5, 2.0]],
+                   dtype=np.float32)
+    idx = np.array([[0, 1, 2], [0, 2, 3]], dtype=np.uint32)
+    s.add_mesh(pos, idx, material=0, name="near_a")
+    s.add_mesh(pos + np.float32([0.0, 1e-6, 0.0]), idx[:, ::-1].copy(), material=0, name="near_b")
+    out["near-coincident walls"] = s
+    out["scaled 1e-3"] = _scaled(scenes.glossy_box(SIZE, SIZE), 1e-3)
+    out["scaled 1e4"] = _scaled(scenes.glossy_box(SIZE, SIZE), 1e4)
+    return out
+
+
+@pytest.mark.parametrize("integrator", ["pt", "bdpt", "lvc", "cis"])
+def test_hard_cases_are_finite(core, integrator):
+    for name, scene in _hard_scenes().items():
+        s = lantern.Session(scene, integrator=integrator, seed=5, max_depth=10,
+                            spp_per_iteration=8)
+        s.step()
+        img = s.image()
+        dropped = s.stats["nonfinite_dropped"]
+        print(f"{integrator} {name}: mean {img.mean():.4g}, max {img.max():.4g}, "
+              f"non-finite samples dropped {dropped}")
+        assert np.isfinite(img).all(), name
+        assert (img >= 0).all(), name
+        assert dropped <= 0.001 * SIZE * SIZE * 8, name
+
+
+def test_scale_invariance(core):
+    """The glossy box at 1 m, 1 mm and 10 km (lights scaled to the same irradiance): the same
+    image within noise; ray offsets that fail at either end would darken or leak."""
+    ref = renders(scenes.glossy_box(SIZE, SIZE), "cis", 32, 100)
+    for k in (1e-3, 1e4):
+        check_agreement(f"scaled {k:g}", renders(_scaled(scenes.glossy_box(SIZE, SIZE), k),
+                                                 "cis", 32, 200), ref)
+
+
+# ---- Progressive, deterministic, measured ----
+
+def test_same_seed_same_bits_any_thread_count(core):
+    scene = scenes.glossy_box(SIZE, SIZE)
+    images = []
+    for threads in (1, 2, 1):
+        s = lantern.Session(scene, integrator="cis", seed=9, threads=threads,
+                            spp_per_iteration=2)
+        s.step()
+        s.step()
+        images.append(s.image())
+    assert np.array_equal(images[0], images[1]) and np.array_equal(images[0], images[2])
+    other = lantern.Session(scene, integrator="cis", seed=10, spp_per_iteration=2)
+    other.step()
+    other.step()
+    assert not np.array_equal(images[0], other.image())
+
+
+def test_stats_by_stage(core):
+    scene = scenes.fixture_box(SIZE, SIZE)
+    s = lantern.Session(scene, integrator="cis", seed=1, spp_per_iteration=2)
+    s.step()
+    st = s.stats
+    print({k: v for k, v in st.items() if k.startswith(("rays", "time", "cache", "sorted"))})
+    light_paths = SIZE * SIZE * 2
+    assert st["rays_camera"] == light_paths
+    assert st["rays_light"] >= light_paths * 0.9  # first segments of the light paths (+ pilot)
+    assert 0 < st["cache_vertices"] < 16 * light_paths
+    assert st["rays_connection"] > 0 and st["rays_light_tracing"] > 0 and st["rays_shadow"] > 0
+    assert st["sorted_bounces"] + st["unsorted_bounces"] > 0
+    for key in ("time_light_pass", "time_camera_pass", "time_trace", "time_shade",
+                "time_shadow", "time_sort", "time_cache", "time_splat"):
+        assert st[key] >= 0.0, key
+    assert st["time_light_pass"] > 0 and st["time_camera_pass"] > 0

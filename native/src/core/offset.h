@@ -1,6 +1,9 @@
 // Self-intersection avoidance: one rule for every backend (Waechter & Binder, "A Fast and
 // Robust Method for Avoiding Self-Intersection", Ray Tracing Gems ch. 6). The point moves
-// along the geometric normal by a few ulps, or by a fixed epsilon near the origin.
+// along the geometric normal by a few ulps, or by a fixed epsilon near the origin. The paper's
+// constants assume a scene of about unit size; `scale` (SceneView::offset_scale, min(1, scene
+// radius)) shrinks the near-origin region and its epsilon with the scene, so a millimetre-sized
+// scene is not offset by 1/65536 m (about 1% of it).
 #pragma once
 
 #include <cstring>
@@ -9,11 +12,11 @@
 
 namespace lantern {
 
-LANTERN_HD inline float offset_component(float p, float n) {
+LANTERN_HD inline float offset_component(float p, float n, float scale = 1.0f) {
     constexpr float kOrigin = 1.0f / 32.0f;
     constexpr float kFloatScale = 1.0f / 65536.0f;
     constexpr float kIntScale = 256.0f;
-    if (fabsf(p) < kOrigin) return p + kFloatScale * n;
+    if (fabsf(p) < kOrigin * scale) return p + kFloatScale * scale * n;
     int32_t bits;
     memcpy(&bits, &p, sizeof bits);
     int32_t of = int32_t(kIntScale * n);
@@ -24,9 +27,10 @@ LANTERN_HD inline float offset_component(float p, float n) {
 }
 
 // p moved off the surface with geometric normal ng, to the side of direction w.
-LANTERN_HD inline Vec3 offset_ray_origin(Vec3 p, Vec3 ng, Vec3 w) {
+LANTERN_HD inline Vec3 offset_ray_origin(Vec3 p, Vec3 ng, Vec3 w, float scale = 1.0f) {
     Vec3 n = dot(ng, w) < 0.0f ? -ng : ng;
-    return {offset_component(p.x, n.x), offset_component(p.y, n.y), offset_component(p.z, n.z)};
+    return {offset_component(p.x, n.x, scale), offset_component(p.y, n.y, scale),
+            offset_component(p.z, n.z, scale)};
 }
 
 }  // namespace lantern

@@ -65,6 +65,8 @@ struct BdptState {
     uint8_t* store;
     LightVertex* vertex;
     Vec2* splat_xy;
+    Vec3* power;        // light pass: emitted flux / pick probability (constant along the path;
+                        // kept out of the throughput so that roulette does not depend on units)
     int32_t conn_cap;
     int32_t* conn_n;
     Vec3* conn_o;
@@ -91,7 +93,8 @@ LANTERN_HD inline void bdpt_light_generate(const SceneView& s, const PathState& 
     ps.dropped[i] = 0;
     ps.shadow_valid[i] = 0;
     ps.depth[i] = 0;
-    ps.throughput[i] = vec3(0.0f);
+    ps.throughput[i] = vec3(1.0f);
+    bs.power[i] = vec3(0.0f);
     bs.store[i] = 0;
     float u_pick = rng.uniform();
     Vec2 u_pos = rng.uniform2(), u_dir = rng.uniform2();
@@ -103,7 +106,7 @@ LANTERN_HD inline void bdpt_light_generate(const SceneView& s, const PathState& 
     EmissionSample es = sample_emission(s, l, u_pos, u_dir);
     if (!es.valid) return;
     const float pdf_emit = es.pdf_emit * l.emit_pick_pdf;
-    ps.throughput[i] = es.le * (es.cos_light / pdf_emit);
+    bs.power[i] = es.le * (es.cos_light / pdf_emit);
     // ratios of the techniques that end on the light (s = 1, s = 0) to a connection (count r)
     const float inv_r = 1.0f / mis(st.r);
     bs.dvcm[i] = mis(l.pick_pdf * es.pdf_direct / pdf_emit) * inv_r;
@@ -112,7 +115,7 @@ LANTERN_HD inline void bdpt_light_generate(const SceneView& s, const PathState& 
                     : mis((es.finite ? es.cos_light : 1.0f) / pdf_emit) * inv_r;
     bs.light[i] = li;
     if (st.max_depth < 2) return;
-    ps.ray_o[i] = is_black(es.n) ? es.p : offset_ray_origin(es.p, es.n, es.d);
+    ps.ray_o[i] = is_black(es.n) ? es.p : offset_ray_origin(es.p, es.n, es.d, s.offset_scale);
     ps.ray_d[i] = es.d;
     ps.ray_tmin[i] = 0.0f;
     ps.ray_tmax[i] = kInf;
@@ -179,7 +182,7 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
 
     Frame frame = Frame::from_normal(h.ns);
     const Vec3 wo = frame.to_local(wo_w);
-    const Vec3 beta = ps.throughput[i];
+    const Vec3 beta = bs.power[i] * ps.throughput[i];
     const bool delta = material_is_delta(m);
 
     if (!delta) {
@@ -211,7 +214,8 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
                 float w = bdpt_light_tracing_weight(st, dvcm, dvc, cc.importance * cos_wc_ng,
                                                     e.pdf_rev_w);
                 LightPathState lp{nullptr, bs.splat_xy};
-                lt_queue_splat(ps, lp, i, h.p, h.ng, cc, beta * e.f * (cos_y * cc.importance * w));
+                lt_queue_splat(ps, lp, i, h.p, h.ng, cc, beta * e.f * (cos_y * cc.importance * w),
+                               s.offset_scale);
             }
         }
     }
@@ -226,14 +230,15 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
     if (b.valid && sides_agree(wi, h.ng, h.ns) && (b.delta || b.pdf_fwd_w > 0.0f)) {
         float cos_i_ng = fabsf(dot(wi, h.ng));
         float adj = cos_o_ns * cos_i_ng / (cos_o_ng * fabsf(b.wi.z));
-        Vec3 t = beta * b.weight * adj;
+        Vec3 t = ps.throughput[i] * b.weight * adj;
         if (russian_roulette(t, k + 1, st.rr_depth, rng) && max_component(t) > 0.0f &&
             is_finite(t)) {
             bdpt_scatter_update(dvcm, dvc, b, cos_i_ng);
             ps.throughput[i] = t;
             bs.dvcm[i] = dvcm;
             bs.dvc[i] = dvc;
-            set_next_ray(ps, i, h.p, h.ng, wi, b.delta ? 0.0f : b.pdf_fwd_w);
+            set_next_ray(ps, i, h.p, h.ng, wi, b.delta ? 0.0f : b.pdf_fwd_w,
+                         s.offset_scale);
         }
     }
     ps.rng[i] = rng;
@@ -335,10 +340,10 @@ struct CameraVertex {
 };
 
 // Shadow segment from p (normal n) to q (normal nq; zero: no offset), shortened at both ends.
-LANTERN_HD inline void shadow_segment(Vec3 p, Vec3 n, Vec3 q, Vec3 nq, Vec3 dir, Vec3* o,
-                                      Vec3* sd, float* tmax) {
-    *o = offset_ray_origin(p, n, dir);
-    Vec3 target = is_black(nq) ? q : offset_ray_origin(q, nq, -dir);
+LANTERN_HD inline void shadow_segment(Vec3 p, Vec3 n, Vec3 q, Vec3 nq, Vec3 dir, float scale,
+                                      Vec3* o, Vec3* sd, float* tmax) {
+    *o = offset_ray_origin(p, n, dir, scale);
+    Vec3 target = is_black(nq) ? q : offset_ray_origin(q, nq, -dir, scale);
     Vec3 seg = target - *o;
     float len = length(seg);
     *sd = len > 0.0f ? seg / len : dir;
@@ -384,10 +389,10 @@ LANTERN_HD inline void bdpt_camera_nee(const SceneView& s, const PathState& ps,
     }
     Vec3 target_n = ls.dist < kInf ? ls.n_light : vec3(0.0f);
     if (ls.dist < kInf) {
-        shadow_segment(z.h.p, z.h.ng, ls.p_light, target_n, ls.wi, &ps.shadow_o[i],
+        shadow_segment(z.h.p, z.h.ng, ls.p_light, target_n, ls.wi, s.offset_scale, &ps.shadow_o[i],
                        &ps.shadow_d[i], &ps.shadow_tmax[i]);
     } else {
-        ps.shadow_o[i] = offset_ray_origin(z.h.p, z.h.ng, ls.wi);
+        ps.shadow_o[i] = offset_ray_origin(z.h.p, z.h.ng, ls.wi, s.offset_scale);
         ps.shadow_d[i] = ls.wi;
         ps.shadow_tmax[i] = kInf;
     }
@@ -443,11 +448,12 @@ LANTERN_HD inline Connection bdpt_connect(const SceneView& s, const BdptSettings
 
 LANTERN_HD inline void bdpt_queue_connection(const BdptState& bs, int i, const CameraVertex& z,
                                              const LightVertex& y, const Connection& c,
-                                             Vec3 contrib) {
+                                             Vec3 contrib, float offset_scale) {
     int j = bs.conn_n[i];
     if (j >= bs.conn_cap || is_black(contrib) || !is_finite(contrib)) return;
     int e = i * bs.conn_cap + j;
-    shadow_segment(z.h.p, z.h.ng, y.p, y.ng, c.dir, &bs.conn_o[e], &bs.conn_d[e], &bs.conn_tmax[e]);
+    shadow_segment(z.h.p, z.h.ng, y.p, y.ng, c.dir, offset_scale, &bs.conn_o[e], &bs.conn_d[e],
+                   &bs.conn_tmax[e]);
     bs.conn_c[e] = contrib;
     bs.conn_n[i] = j + 1;
 }
@@ -463,7 +469,7 @@ LANTERN_HD inline void bdpt_camera_connect(const SceneView& s, const BdptState& 
         for (int k = cache.path_offset[path]; k < cache.path_offset[path + 1]; ++k) {
             const LightVertex& y = cache.v[cache.path_vertex[k]];
             Connection c = bdpt_connect(s, st, z, y);
-            bdpt_queue_connection(bs, i, z, y, c, c.c);
+            bdpt_queue_connection(bs, i, z, y, c, c.c, s.offset_scale);
         }
         return;
     }
@@ -477,7 +483,7 @@ LANTERN_HD inline void bdpt_camera_connect(const SceneView& s, const BdptState& 
         for (int j = 0; j < st.connections; ++j) {
             const LightVertex& y = cache.v[pick(rng.uniform())];
             Connection c = bdpt_connect(s, st, z, y);
-            bdpt_queue_connection(bs, i, z, y, c, c.c * weight);
+            bdpt_queue_connection(bs, i, z, y, c, c.c * weight, s.offset_scale);
         }
         return;
     }
@@ -519,7 +525,7 @@ LANTERN_HD inline void bdpt_camera_connect(const SceneView& s, const BdptState& 
         if (!(p_hat > 0.0f)) continue;
         float w_ris = st.naive_ris ? size : (sum / float(m)) / p_hat;
         float weight = w_ris * float(count[j]) / float(st.connections) * st.inv_light_paths;
-        bdpt_queue_connection(bs, i, z, y, c, c.c * weight);
+        bdpt_queue_connection(bs, i, z, y, c, c.c * weight, s.offset_scale);
     }
 }
 
@@ -589,7 +595,8 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
             ps.depth[i] = z.depth + 1;
             bs.dvcm[i] = dvcm;
             bs.dvc[i] = dvc;
-            set_next_ray(ps, i, z.h.p, z.h.ng, wi, b.delta ? 0.0f : b.pdf_fwd_w);
+            set_next_ray(ps, i, z.h.p, z.h.ng, wi, b.delta ? 0.0f : b.pdf_fwd_w,
+                         s.offset_scale);
         }
     }
     ps.rng[i] = rng;

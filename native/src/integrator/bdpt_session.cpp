@@ -65,7 +65,7 @@ void Session::resize_bdpt_state(int n, int conn_cap) {
     }
     bdpt_state_ = BdptState{dvcm_.data(),   dvc_.data(),
                             light_id_.data(), store_.data(),  vertex_.data(),
-                            splat_xy_.data(), conn_cap,       conn_n_.data(),
+                            splat_xy_.data(), power_.data(),  conn_cap,       conn_n_.data(),
                             conn_o_.data(),   conn_d_.data(), conn_tmax_.data(),
                             conn_c_.data()};
 }

@@ -78,13 +78,14 @@ LANTERN_HD inline CameraConnection connect_camera(const CameraView& c, Vec3 y, f
 
 // Shadow ray from y (normal n, zero for none) to the camera; the splat waits for its result.
 LANTERN_HD inline void lt_queue_splat(const PathState& ps, const LightPathState& lp, int i, Vec3 y,
-                                      Vec3 n, const CameraConnection& cc, Vec3 contrib) {
+                                      Vec3 n, const CameraConnection& cc, Vec3 contrib,
+                                      float offset_scale) {
     if (!is_finite(contrib)) {
         ps.dropped[i] = 1;
         return;
     }
     if (is_black(contrib)) return;
-    Vec3 o = is_black(n) ? y : offset_ray_origin(y, n, cc.wc);
+    Vec3 o = is_black(n) ? y : offset_ray_origin(y, n, cc.wc, offset_scale);
     ps.shadow_o[i] = o;
     ps.shadow_d[i] = cc.wc;
     ps.shadow_tmax[i] = fmaxf(0.0f, cc.dist - length(o - y)) * (1.0f - 1e-4f);
@@ -129,11 +130,11 @@ LANTERN_HD inline void lt_generate(const SceneView& s, const PathState& ps,
             if (l.type == kLightSpot) le = le * spot_attenuation(l, cc.wc);
             // Le * cos / (pick * pdf_a): the vertex's area density, not pdf_emit
             Vec3 c = le * (cos_c * cc.importance / (l.pick_pdf * es.pdf_direct));
-            lt_queue_splat(ps, lp, i, es.p, es.n, cc, c);
+            lt_queue_splat(ps, lp, i, es.p, es.n, cc, c, s.offset_scale);
         }
     }
     if (st.max_depth < 2) return;
-    ps.ray_o[i] = is_black(es.n) ? es.p : offset_ray_origin(es.p, es.n, es.d);
+    ps.ray_o[i] = is_black(es.n) ? es.p : offset_ray_origin(es.p, es.n, es.d, s.offset_scale);
     ps.ray_d[i] = es.d;
     ps.ray_tmin[i] = 0.0f;
     ps.ray_tmax[i] = kInf;
@@ -168,7 +169,7 @@ LANTERN_HD inline void lt_shade(const SceneView& s, const PathState& ps, const L
             // f * |cos_ns(wc)| with the adjoint shading-normal factor
             // |wo.ns| |wc.ng| / (|wo.ng| |wc.ns|)  [Veach thesis (5.19)]
             float cos_y = cos_o_ns * fabsf(dot(cc.wc, h.ng)) / cos_o_ng;
-            lt_queue_splat(ps, lp, i, h.p, h.ng, cc, beta * e.f * (cos_y * cc.importance));
+            lt_queue_splat(ps, lp, i, h.p, h.ng, cc, beta * e.f * (cos_y * cc.importance), s.offset_scale);
         }
     }
     if (depth + 2 > st.max_depth) return;  // the next vertex's connection would be too long
@@ -185,7 +186,8 @@ LANTERN_HD inline void lt_shade(const SceneView& s, const PathState& ps, const L
         if (russian_roulette(t, depth + 1, st.rr_depth, rng) && max_component(t) > 0.0f &&
             is_finite(t)) {
             ps.throughput[i] = t;
-            set_next_ray(ps, i, h.p, h.ng, wi, bs.pdf_fwd_w);
+            set_next_ray(ps, i, h.p, h.ng, wi, bs.pdf_fwd_w,
+                         s.offset_scale);
         }
     }
     ps.rng[i] = rng;

@@ -52,10 +52,11 @@ LANTERN_HD inline bool russian_roulette(Vec3& beta, int depth, int rr_depth, Rng
     return true;
 }
 
-// The slot's next ray leaves p (geometric normal ng) along wi, sampled with pdf_w.
+// The slot's next ray leaves p (geometric normal ng) along wi, sampled with pdf_w; `scale` is
+// the scene's offset scale (offset.h).
 LANTERN_HD inline void set_next_ray(const PathState& ps, int i, Vec3 p, Vec3 ng, Vec3 wi,
-                                    float pdf_w) {
-    ps.ray_o[i] = offset_ray_origin(p, ng, wi);
+                                    float pdf_w, float scale) {
+    ps.ray_o[i] = offset_ray_origin(p, ng, wi, scale);
     ps.ray_d[i] = wi;
     ps.ray_tmin[i] = 0.0f;
     ps.ray_tmax[i] = kInf;

@@ -150,12 +150,12 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
                 // Shortened at both ends: from the offset origin to the offset point on the
                 // light, aimed between the two offset points (aiming along wi from the un-offset
                 // point ends behind a light seen at a grazing angle, and the ray hits the light).
-                Vec3 so = offset_ray_origin(h.p, h.ng, ls.wi);
+                Vec3 so = offset_ray_origin(h.p, h.ng, ls.wi, s.offset_scale);
                 Vec3 sd = ls.wi;
                 float tmax = kInf;
                 if (ls.dist < kInf) {
                     Vec3 target = ls.p_light;
-                    if (!is_black(ls.n_light)) target = offset_ray_origin(target, ls.n_light, -ls.wi);
+                    if (!is_black(ls.n_light)) target = offset_ray_origin(target, ls.n_light, -ls.wi, s.offset_scale);
                     Vec3 seg = target - so;
                     float len = length(seg);
                     if (len > 0.0f) sd = seg / len;
@@ -181,7 +181,8 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
             is_finite(beta)) {
             ps.throughput[i] = beta;
             ps.depth[i] = depth + 1;
-            set_next_ray(ps, i, h.p, h.ng, wi, bs.delta ? 0.0f : bs.pdf_fwd_w);
+            set_next_ray(ps, i, h.p, h.ng, wi, bs.delta ? 0.0f : bs.pdf_fwd_w,
+                         s.offset_scale);
         }
     }
     ps.rng[i] = rng;

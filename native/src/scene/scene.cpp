@@ -151,6 +151,7 @@ void HostScene::add_lights(const SceneInput& in) {
     float radius = lo.x <= hi.x ? 0.5f * length(hi - lo) : 1.0f;
     view_.scene_center = lo.x <= hi.x ? (lo + hi) * 0.5f : vec3(0.0f);
     view_.scene_radius = std::max(radius, 1e-3f);
+    view_.offset_scale = std::min(1.0f, view_.scene_radius);
     const float disk_area = kPi * view_.scene_radius * view_.scene_radius;
 
     for (const LightInput& li : in.lights) {

@@ -103,6 +103,7 @@ struct SceneView {
     Vec3 world_color;
     CameraView camera;
     float scene_radius = 1.0f;           // for sun/world sampling and offsets
+    float offset_scale = 1.0f;           // min(1, scene_radius): core/offset.h
     Vec3 scene_center;
 };
 
