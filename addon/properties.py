@@ -18,9 +18,12 @@ class LanternSceneSettings(bpy.types.PropertyGroup):
     integrator: EnumProperty(
         name="Integrator",
         items=[("pt", "Path Tracing", "Unidirectional path tracing with light sampling"),
-               ("bdpt", "BDPT", "Bidirectional path tracing (coming)"),
-               ("lvc", "LVC-BDPT", "Light-vertex-cache BDPT with uniform connections (coming)"),
-               ("cis", "CIS-LBDPT", "Sorted, resampled light-vertex-cache BDPT (coming)")],
+               ("bdpt", "BDPT", "Bidirectional path tracing: each camera path connects to "
+                "every vertex of its own light path (a reference)"),
+               ("lvc", "LVC-BDPT", "Light-vertex-cache BDPT: each camera vertex connects to N "
+                "light vertices picked uniformly"),
+               ("cis", "CIS-LBDPT", "Light-vertex-cache BDPT with sorting and resampled "
+                "connections: the best of M candidates, N kept (lights in fixtures, glass)")],
         default="pt")
     backend: EnumProperty(
         name="Device",
@@ -31,19 +34,26 @@ class LanternSceneSettings(bpy.types.PropertyGroup):
     connections: IntProperty(name="Connections (N)", description="Light vertices each camera "
                              "vertex connects to", default=5, min=1, max=64)
     candidates: IntProperty(name="Candidates (M)", description="Light vertices considered "
-                            "before resampling N of them", default=10, min=1, max=1024)
-    sort: BoolProperty(name="Sort by Material", description="Sort shading work by material "
-                       "type for coherence", default=True)
+                            "before resampling N of them (CIS-LBDPT)", default=10, min=1, max=64)
+    sort: EnumProperty(
+        name="Sort by Material",
+        description="Sort each bounce's shading work by material type for coherence",
+        items=[("auto", "Automatic", "On for CIS-LBDPT, off for the others"),
+               ("on", "On", "Always sort"),
+               ("off", "Off", "Never sort")],
+        default="auto")
     seed: IntProperty(name="Seed", default=0, min=0)
     spp_per_iteration: IntProperty(name="Samples per Iteration", default=1, min=1, max=4096)
     threads: IntProperty(name="Threads", description="CPU threads (0: all cores)", default=0,
                          min=0, max=1024)
 
     def session_settings(self, preview=False):
-        """Keyword arguments for lantern.Session (only those the core takes today)."""
+        """Keyword arguments for lantern.Session."""
         return {"integrator": self.integrator, "backend": self.backend,
                 "max_depth": self.max_depth, "seed": self.seed,
-                "spp_per_iteration": self.spp_per_iteration, "threads": self.threads}
+                "spp_per_iteration": self.spp_per_iteration, "threads": self.threads,
+                "connections": self.connections, "candidates": self.candidates,
+                "sort": {"auto": None, "on": True, "off": False}[self.sort]}
 
 
 def register():

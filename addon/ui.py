@@ -28,9 +28,13 @@ class LANTERN_PT_render(bpy.types.Panel):
         col.prop(s, "time_limit")
         layout.prop(s, "max_depth")
         col = layout.column(align=True)
-        col.active = s.integrator in {"lvc", "cis"}
-        col.prop(s, "connections")
-        col.prop(s, "candidates")
+        col.active = s.integrator in {"bdpt", "lvc", "cis"}
+        sub = col.column(align=True)
+        sub.active = s.integrator in {"lvc", "cis"}
+        sub.prop(s, "connections")
+        sub2 = col.column(align=True)
+        sub2.active = s.integrator == "cis"
+        sub2.prop(s, "candidates")
         col.prop(s, "sort")
         col = layout.column(align=True)
         col.prop(s, "seed")

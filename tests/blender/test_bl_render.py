@@ -76,17 +76,46 @@ def test_engine_failure_is_reported(empty, tmp_path, errors, monkeypatch):
     assert np.isfinite(render_exr(empty, tmp_path, "after.exr")).all()  # still renders
 
 
+@pytest.mark.parametrize("integrator", ["bdpt", "lvc", "cis"])
+def test_bidirectional_integrators_through_f12(empty, tmp_path, errors, integrator):
+    """The Integrator menu reaches the core: a sharp sun on a white plane renders rho E / pi
+    with every bidirectional integrator (light tracing splats included)."""
+    add_camera(empty, location=(0, 0, 5))
+    add_plane(empty, size=100.0, material=diffuse_bsdf(0.5))
+    sun = bpy.data.lights.new("Sun", "SUN")
+    sun.energy = 2.0
+    sun.angle = 0.0
+    empty.collection.objects.link(bpy.data.objects.new("Sun", sun))
+    empty.lantern.integrator = integrator
+    empty.lantern.sort = "on"
+    empty.lantern.connections = 3
+    empty.lantern.samples = 16
+    px = render_exr(empty, tmp_path)
+    expect = 0.5 * 2.0 / math.pi
+    np.testing.assert_allclose(px[..., :3].mean(), expect, rtol=0.02)
+    assert np.isfinite(px).all()
+    assert not [c for c in errors if c[0] == "ERROR"]
+
+
 def test_unsupported_setting_is_reported(empty, tmp_path, errors):
+    """A setting the core refuses (here a connection count past its limit, set through the
+    Python API around the UI's range) is an ERROR report, not a crash."""
     add_camera(empty)
-    empty.lantern.integrator = "cis"  # not in the core yet: a clear error, not a crash
+    empty.lantern.integrator = "cis"
+    with pytest.raises(ValueError) as refused:
+        lantern.Session(lantern.Scene(), integrator="cis", connections=100)
+    import lantern_blender.properties as props  # the add-on's module in these tests
+    original = props.LanternSceneSettings.session_settings
+
+    def too_many(self, preview=False):
+        return dict(original(self, preview), connections=100)
+    props.LanternSceneSettings.session_settings = too_many
     try:
-        lantern.Session(lantern.Scene(), integrator="cis")
-    except Exception as e:
         with pytest.raises(RuntimeError, match="Lantern"):
             render_exr(empty, tmp_path)
-        assert any(str(e)[:30] in msg for kind, msg in errors if kind == "ERROR")
-    else:
-        render_exr(empty, tmp_path)
+    finally:
+        props.LanternSceneSettings.session_settings = original
+    assert any(str(refused.value)[:30] in msg for kind, msg in errors if kind == "ERROR")
 
 
 def test_time_limit_stops_early(empty, tmp_path):
