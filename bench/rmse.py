@@ -92,6 +92,27 @@ def next_checkpoint(spp, per_octave):
     return c
 
 
+VARIANTS = {"sort": {"sort": True}, "nosort": {"sort": False}, "bsdf": {"cis_target": "bsdf"}}
+
+
+def integrator_variant(label):
+    """'cis' -> ('cis', {}); 'cis-nosort' -> ('cis', {'sort': False}); suffixes: -sort,
+    -nosort, -bsdf (the paper's BSDF-product target), -nN (N connections), -mM (M candidates)."""
+    name, *suffixes = label.split("-")
+    settings = {}
+    for suffix in suffixes:
+        if suffix in VARIANTS:
+            settings.update(VARIANTS[suffix])
+        elif suffix[:1] == "n" and suffix[1:].isdigit():
+            settings["connections"] = int(suffix[1:])
+        elif suffix[:1] == "m" and suffix[1:].isdigit():
+            settings["candidates"] = int(suffix[1:])
+        else:
+            raise ValueError(f"integrator variant {label!r}: unknown suffix {suffix!r} "
+                             f"(sort, nosort, bsdf, nN, mM)")
+    return name, settings
+
+
 def run_one(lantern, session, setup_s, scene_name, integrator, ref, args):
     """Step `session` until the budget is spent, scoring RMSE at log-spaced spp.
     Returns (the run dict, the final image)."""
@@ -147,7 +168,9 @@ def parse_args(argv):
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--scenes", default="cornell",
                    help=f"comma list (registered: {', '.join(bench_scenes.SCENES)})")
-    p.add_argument("--integrators", default="pt", help="comma list, e.g. pt,lvc,cis,bdpt")
+    p.add_argument("--integrators", default="pt",
+                   help="comma list, e.g. pt,lvc,cis,bdpt; variants: cis-nosort, lvc-sort, "
+                        "cis-bsdf, cis-n8-m16")
     p.add_argument("--time", type=float, help="step seconds per run (default 10, or none "
                    "when --spp is given)")
     p.add_argument("--spp", type=int, help="samples per pixel per run (with --time: "
@@ -232,9 +255,10 @@ def main(argv=None):
         for integrator in args.integrator_list:
             start = time.perf_counter()
             try:
-                session = lantern.Session(scene, integrator=integrator, seed=args.seed,
+                name, variant = integrator_variant(integrator)
+                session = lantern.Session(scene, integrator=name, seed=args.seed,
                                           spp_per_iteration=args.spp_per_iteration,
-                                          threads=args.threads)
+                                          threads=args.threads, **variant)
             except (NotImplementedError, ValueError) as e:  # not implemented / unknown
                 print(f"skipped {scene_name}/{integrator}: {type(e).__name__}: {e}")
                 runs.append({"scene": scene_name, "integrator": integrator,

@@ -493,39 +493,37 @@ LANTERN_HD inline void bdpt_camera_connect(const SceneView& s, const BdptState& 
     const int m = min_int(st.candidates, kMaxCandidates);
     int idx[kMaxCandidates];
     float cdf[kMaxCandidates];
+    Connection cand[kMaxCandidates];  // kept for the picks: each candidate is evaluated once
     float sum = 0.0f;
     for (int j = 0; j < m; ++j) {
         idx[j] = pick(rng.uniform());
-        Connection c = bdpt_connect(s, st, z, cache.v[idx[j]]);
+        cand[j] = bdpt_connect(s, st, z, cache.v[idx[j]]);
+        const Connection& c = cand[j];
         float p_hat = st.target == kTargetBsdf ? (is_black(c.c) ? 0.0f : c.bsdf_target)
                                                : luminance(c.c);
         if (!(p_hat > 0.0f) || !is_finite(p_hat)) p_hat = 0.0f;
+        cand[j].bsdf_target = p_hat;  // from here on: the candidate's p-hat
         sum += p_hat * size;
         cdf[j] = sum;
     }
-    if (!(sum > 0.0f) || !is_finite(sum)) {
-        for (int j = 0; j < st.connections; ++j) rng.uniform();
-        return;
-    }
+    if (!(sum > 0.0f) || !is_finite(sum)) return;
     int count[kMaxCandidates];
     for (int j = 0; j < m; ++j) count[j] = 0;
     for (int n = 0; n < st.connections; ++n) {
         float u = rng.uniform() * sum;
         int j = 0;
         while (j < m - 1 && !(u < cdf[j])) ++j;
-        while (j > 0 && cdf[j] == cdf[j - 1]) --j;  // never land on a zero-weight candidate
+        while (j > 0 && cand[j].bsdf_target == 0.0f) --j;  // never a zero-weight candidate
         ++count[j];
     }
     // the same candidate picked twice shares one shadow ray (same segment, same visibility)
     for (int j = 0; j < m; ++j) {
-        if (count[j] == 0) continue;
-        const LightVertex& y = cache.v[idx[j]];
-        Connection c = bdpt_connect(s, st, z, y);
-        float p_hat = st.target == kTargetBsdf ? c.bsdf_target : luminance(c.c);
-        if (!(p_hat > 0.0f)) continue;
+        const float p_hat = cand[j].bsdf_target;
+        if (count[j] == 0 || !(p_hat > 0.0f)) continue;
         float w_ris = st.naive_ris ? size : (sum / float(m)) / p_hat;
         float weight = w_ris * float(count[j]) / float(st.connections) * st.inv_light_paths;
-        bdpt_queue_connection(bs, i, z, y, c, c.c * weight, s.offset_scale);
+        bdpt_queue_connection(bs, i, z, cache.v[idx[j]], cand[j], cand[j].c * weight,
+                              s.offset_scale);
     }
 }
 

@@ -211,7 +211,8 @@ void Session::run_light_chunk(int64_t first_path, int n) {
             std::swap(queue_, next_queue_);
             continue;
         }
-        cache_.reserve(cache_.size() + add);
+        if (cache_.size() + add > cache_.capacity())
+            cache_.reserve(std::max(cache_.size() + add, 2 * cache_.capacity()));
         for (int k = 0; k < active; ++k) {
             int i = queue_[k];
             if (store_[i]) cache_.push_back(vertex_[i]);
