@@ -116,6 +116,17 @@ def test_delta_lights_agree(core):
                             renders(scene, integrator, 64, 3000, **settings), pt)
 
 
+def test_world_light_agrees(core):
+    """A constant world (an infinite light: light paths start on the scene's bounding disk)
+    seen through the box's open front, with the glass lantern unlit inside."""
+    scene = scenes.glass_lantern(SIZE, SIZE)
+    scene.lights = []
+    scene.world = {"color": [0.6, 0.7, 0.8]}
+    pt = renders(scene, "pt", 256, 1000)
+    for integrator in ("bdpt", "cis"):
+        check_agreement(f"world {integrator}", renders(scene, integrator, 64, 3000), pt)
+
+
 def test_sun_caustic_on_metal_matches_light_tracing(core):
     """A sharp sun reflected by a glossy metal floor onto the walls: a caustic pt finds only
     through rare BSDF samples next to the mirror direction (its block means are heavy-tailed and
