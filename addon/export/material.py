@@ -1,8 +1,18 @@
-"""Blender materials -> Lantern materials (this milestone: diffuse + emission).
+"""Blender materials -> Lantern materials: diffuse, conductor (GGX metal) or dielectric (glass).
 
-The full node translation (Principled layers, textures) is a later issue. Here: Principled BSDF
-base color and emission, Diffuse BSDF, Emission; anything else renders a documented fallback
-(grey 0.8 diffuse) with a warning naming the material and the node."""
+Layered materials (a Principled BSDF's specular layer over its diffuse base, coat, sheen) and
+textures are a later issue. Here, by the shader node at the Material Output's Surface:
+
+- Principled BSDF: Metallic 1 -> conductor (F0 Base Color, F82 tint Specular Tint, Roughness);
+  Transmission Weight 1 -> dielectric (IOR, Roughness, Base Color tints transmission); else
+  diffuse Base Color. A fractional Metallic or Transmission picks the larger part, with a
+  warning. Emission Color x Strength in every case.
+- Diffuse BSDF -> diffuse; Emission -> emission; Glossy BSDF -> conductor with Color as F0 and
+  tint (Cycles' Glossy has no Fresnel: a constant Color reflectance); Metallic BSDF (F82) ->
+  conductor (Base Color, Edge Tint), physical-conductor mode -> its normal-incidence
+  reflectance as F0, with a warning; Glass BSDF -> dielectric; Refraction BSDF -> dielectric
+  (its reflection included), with a warning.
+- Anything else: grey 0.8 diffuse, with a warning naming the material and the node."""
 
 import bpy
 
@@ -51,12 +61,33 @@ def convert_material(material, report):
         out["base_color"] = [0.0, 0.0, 0.0]  # no surface shader: black, as in Cycles
         return out
     node = output.inputs["Surface"].links[0].from_node
+    name = material.name
+
+    def color(socket):
+        return [min(max(c, 0.0), 1.0) for c in _constant_color(node.inputs[socket], material,
+                                                                   report)]
+
+    def value(socket):
+        return _constant_float(node.inputs[socket], material, report)
+
     if node.type == "BSDF_PRINCIPLED":
         out["base_color"] = _constant_color(node.inputs["Base Color"], material, report)
-        strength = _constant_float(node.inputs["Emission Strength"], material, report)
+        strength = value("Emission Strength")
         if strength != 0.0:
             col = _constant_color(node.inputs["Emission Color"], material, report)
             out["emission"] = [c * strength for c in col]
+        metallic = min(max(value("Metallic"), 0.0), 1.0)
+        transmission = min(max(value("Transmission Weight"), 0.0), 1.0)
+        if 0.001 < metallic < 0.999 or (metallic < 0.5 and 0.001 < transmission < 0.999):
+            report.warn(f"Material '{name}': Metallic {metallic:.2f} / Transmission "
+                        f"{transmission:.2f} mix layers, which Lantern does not layer yet; "
+                        f"rendering the larger part")
+        if metallic >= 0.5:
+            out.update(type="conductor", base_color=color("Base Color"),
+                       specular_tint=color("Specular Tint"), roughness=_unit(value("Roughness")))
+        elif transmission >= 0.5:
+            out.update(type="dielectric", base_color=color("Base Color"),
+                       roughness=_unit(value("Roughness")), ior=_ior(value("IOR")))
     elif node.type == "BSDF_DIFFUSE":
         out["base_color"] = _constant_color(node.inputs["Color"], material, report)
     elif node.type == "EMISSION":
@@ -64,10 +95,42 @@ def convert_material(material, report):
         col = _constant_color(node.inputs["Color"], material, report)
         out["base_color"] = [0.0, 0.0, 0.0]
         out["emission"] = [c * strength for c in col]
+    elif node.type == "BSDF_GLOSSY":
+        c = color("Color")
+        out.update(type="conductor", base_color=c, specular_tint=c,
+                   roughness=_unit(value("Roughness")))
+    elif node.type == "BSDF_METALLIC":
+        out.update(type="conductor", roughness=_unit(value("Roughness")))
+        if getattr(node, "fresnel_type", "F82") == "F82":
+            out.update(base_color=color("Base Color"), specular_tint=color("Edge Tint"))
+        else:
+            n = _constant_color(node.inputs["IOR"], material, report)
+            k = _constant_color(node.inputs["Extinction"], material, report)
+            f0 = [((a - 1) ** 2 + b * b) / ((a + 1) ** 2 + b * b) for a, b in zip(n, k)]
+            out.update(base_color=[min(max(f, 0.0), 1.0) for f in f0],
+                       specular_tint=[1.0, 1.0, 1.0])
+            report.warn(f"Material '{name}': Metallic BSDF in physical-conductor mode is "
+                        f"approximated by its normal-incidence reflectance (F82 tint white)")
+    elif node.type in ("BSDF_GLASS", "BSDF_REFRACTION"):
+        out.update(type="dielectric", base_color=color("Color"),
+                   roughness=_unit(value("Roughness")), ior=_ior(value("IOR")))
+        if node.type == "BSDF_REFRACTION":
+            report.warn(f"Material '{name}': Refraction BSDF rendered as glass (its Fresnel "
+                        f"reflection included)")
     else:
-        report.warn(f"Material '{material.name}': shader node '{node.name}' ({node.type}) is not "
+        report.warn(f"Material '{name}': shader node '{node.name}' ({node.type}) is not "
                     "supported yet; rendering grey diffuse instead")
     return out
+
+
+def _unit(v):
+    """Roughness: NaN -> 0.5, clamped to [0, 1]."""
+    return 0.5 if v != v else min(max(float(v), 0.0), 1.0)
+
+
+def _ior(v):
+    """IOR: NaN or <= 0 -> 1.5; clamped to [0.01, 100] (below 1 is legal: bubbles)."""
+    return 1.5 if not (v > 0.0) else min(max(float(v), 0.01), 100.0)
 
 
 class MaterialTable:

@@ -258,3 +258,59 @@ def test_textured_principled_warns_and_uses_default(empty, addon):
     assert out["base_color"] == pytest.approx([0.3] * 3)  # the socket's own value
     assert out["emission"] == pytest.approx([0, 2, 0])    # a constant RGB node is followed
     assert any(mat.name in m and tex.name in m for m in report.messages)
+
+
+def _node_material(name, idname, **inputs):
+    """A material whose Surface is one shader node `idname` with `inputs` set."""
+    mat = bpy.data.materials.new(name)
+    nt = mat.node_tree
+    for n in list(nt.nodes):
+        if n.type != "OUTPUT_MATERIAL":
+            nt.nodes.remove(n)
+    node = nt.nodes.new(idname)
+    for key, v in inputs.items():
+        node.inputs[key].default_value = v
+    out = next(n for n in nt.nodes if n.type == "OUTPUT_MATERIAL")
+    nt.links.new(node.outputs[0], out.inputs["Surface"])
+    return mat, node
+
+
+def test_metal_and_glass_nodes_map_to_material_types(empty, addon):
+    mats = {
+        "p_metal": _node_material("p_metal", "ShaderNodeBsdfPrincipled", **{
+            "Base Color": (0.9, 0.6, 0.3, 1), "Metallic": 1.0, "Roughness": 0.2,
+            "Specular Tint": (1.0, 0.9, 0.8, 1)})[0],
+        "p_glass": _node_material("p_glass", "ShaderNodeBsdfPrincipled", **{
+            "Base Color": (0.9, 1.0, 0.95, 1), "Transmission Weight": 1.0, "Roughness": 0.0,
+            "IOR": 1.45})[0],
+        "p_mixed": _node_material("p_mixed", "ShaderNodeBsdfPrincipled", **{
+            "Metallic": 0.3})[0],
+        "glossy": _node_material("glossy", "ShaderNodeBsdfGlossy", **{
+            "Color": (0.5, 0.5, 0.5, 1), "Roughness": 0.1})[0],
+        "metallic": _node_material("metallic", "ShaderNodeBsdfMetallic", **{
+            "Base Color": (0.95, 0.64, 0.54, 1), "Edge Tint": (0.99, 0.98, 0.9, 1),
+            "Roughness": 0.3})[0],
+        "glass": _node_material("glass", "ShaderNodeBsdfGlass", **{
+            "Color": (1, 1, 1, 1), "Roughness": 0.05, "IOR": 1.5})[0],
+        "refraction": _node_material("refraction", "ShaderNodeBsdfRefraction", **{
+            "IOR": 1.33})[0],
+    }
+    for k, (name, mat) in enumerate(mats.items()):
+        add_plane(empty, material=mat, location=(3 * k, 0, 0), name=name)
+    scene, report = export(addon)
+    got = {m["name"]: m for m in scene.materials}
+    assert got["p_metal"]["type"] == "conductor"
+    assert got["p_metal"]["base_color"] == pytest.approx([0.9, 0.6, 0.3])
+    assert got["p_metal"]["specular_tint"] == pytest.approx([1.0, 0.9, 0.8])
+    assert got["p_metal"]["roughness"] == pytest.approx(0.2)
+    assert got["p_glass"]["type"] == "dielectric" and got["p_glass"]["ior"] == pytest.approx(1.45)
+    assert got["p_glass"]["roughness"] == 0.0
+    assert got["p_mixed"]["type"] == "diffuse"  # the larger part, with a warning
+    assert any("p_mixed" in m and "Metallic" in m for m in report.messages)
+    assert got["glossy"]["type"] == "conductor"
+    assert got["glossy"]["specular_tint"] == pytest.approx([0.5] * 3)
+    assert got["metallic"]["type"] == "conductor"
+    assert got["metallic"]["specular_tint"] == pytest.approx([0.99, 0.98, 0.9])
+    assert got["glass"]["type"] == "dielectric" and got["glass"]["roughness"] == pytest.approx(0.05)
+    assert got["refraction"]["type"] == "dielectric" and got["refraction"]["ior"] == pytest.approx(1.33)
+    assert any("refraction" in m and "Refraction" in m for m in report.messages)
