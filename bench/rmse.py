@@ -22,6 +22,7 @@ ROOT = BENCH.parent
 sys.path.insert(0, str(BENCH))
 
 import bench_scenes  # noqa: E402
+import rmse_cycles  # noqa: E402
 import rmse_reference  # noqa: E402
 import rmse_report  # noqa: E402
 
@@ -233,8 +234,11 @@ def main(argv=None):
     runs, refs = [], {}
     for scene_name in args.scene_list:
         try:
-            scene = bench_scenes.build(scene_name, args.width, args.height)
-        except bench_scenes.SceneUnavailable as e:
+            if scene_name.startswith("blend:"):
+                scene = rmse_cycles.build_blend(scene_name[6:], args.width, args.height)
+            else:
+                scene = bench_scenes.build(scene_name, args.width, args.height)
+        except (bench_scenes.SceneUnavailable, KeyError) as e:
             print(f"skipped: {e}")
             runs.append({"scene": scene_name, "integrator": None, "skipped": str(e)})
             continue
@@ -253,6 +257,25 @@ def main(argv=None):
               f"{ref['rmse_floor']:.4g} (relative {ref['rel_rmse_floor']:.4g}), {how}")
         scene_runs = []
         for integrator in args.integrator_list:
+            if integrator == "cycles":
+                if not scene_name.startswith("blend:"):
+                    print(f"skipped {scene_name}/cycles: Cycles renders blend:<name> scenes only")
+                    runs.append({"scene": scene_name, "integrator": "cycles",
+                                 "skipped": "not a blend scene"})
+                    continue
+                cref = rmse_cycles.reference(scene_name, args.width, args.height, args.ref_spp,
+                                             args.ref_seeds, args.refs,
+                                             rmse_reference.noise_floor, args.rebuild_ref)
+                refs[scene_name + " (Cycles)"] = dict(cref, spp_per_seed=cref["spp"] // cref[
+                    "n_seeds"])
+                run, img = rmse_cycles.run(lantern, scene_name, cref, args)
+                runs.append(run)
+                scene_runs.append(run)
+                cp = run["checkpoints"][-1]
+                print(f"{scene_name}/cycles: {cp['spp']} spp in {cp['seconds']:.2f} s, RMSE "
+                      f"{cp['rmse']:.4g} against its own reference")
+                lantern.imageio.write_image(args.out / f"image_{scene_name[6:]}_cycles.png", img)
+                continue
             start = time.perf_counter()
             try:
                 name, variant = integrator_variant(integrator)
@@ -273,13 +296,14 @@ def main(argv=None):
                   f"RMSE {cp['rmse']:.4g}, rel RMSE {cp['rel_rmse']:.4g}")
             print("  stats: " + ", ".join(f"{k}={v:.4g}" if isinstance(v, float) else f"{k}={v}"
                                           for k, v in run["stats"].items()))
-            stem = args.out / f"image_{scene_name}_{integrator}"
+            stem = args.out / f"image_{scene_name.replace('blend:', '')}_{integrator}"
             lantern.imageio.write_image(stem.with_suffix(".exr"), img)
             lantern.imageio.write_image(stem.with_suffix(".png"), img)
-        lantern.imageio.write_image(args.out / f"image_{scene_name}_ref.png", ref["image"])
+        lantern.imageio.write_image(
+            args.out / f"image_{scene_name.replace('blend:', '')}_ref.png", ref["image"])
         if scene_runs:
             rmse_report.plot_scene(
-                args.out / f"rmse_{scene_name}.png", scene_name, scene_runs, ref,
+                args.out / f"rmse_{scene_name.replace('blend:', '')}.png", scene_name, scene_runs, ref,
                 f"{scene_name} {args.width}x{args.height}, {machine['cpu']} "
                 f"({machine['cpus_usable']} cpus, threads={args.threads})")
 

@@ -68,3 +68,23 @@ def test_missing_scene_is_skipped(monkeypatch):
     with pytest.raises(bench_scenes.SceneUnavailable, match="glass"):
         bench_scenes.build("glass", 8, 8)
     assert bench_scenes.build("cornell", 8, 8).film["width"] == 8
+
+
+def test_blend_scene_with_cycles(tmp_path):
+    """A blend_scenes builder through the add-on's exporter, Lantern's pt and Cycles (bpy) on
+    the same .blend, each scored against its own reference."""
+    pytest.importorskip("bpy")
+    cmd = [sys.executable, str(BENCH / "rmse.py"), "--scenes", "blend:cornell_box",
+           "--integrators", "pt,cycles", "--res", "24x24", "--time", "0.5", "--ref-spp", "64",
+           "--ref-seeds", "4", "--refs", str(tmp_path / "refs"), "--out", str(tmp_path / "out"),
+           "--no-progress"]
+    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=120,
+                          env=dict(os.environ, MPLBACKEND="Agg"))
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    with open(tmp_path / "out" / "results.csv") as f:
+        rows = list(csv.DictReader(f))
+    cyc = [r for r in rows if r["integrator"] == "cycles"]
+    assert len(cyc) >= 2 and [int(r["spp"]) for r in cyc][:2] == [1, 2]
+    assert float(cyc[-1]["rmse"]) < float(cyc[0]["rmse"])
+    assert any(r["integrator"] == "pt" for r in rows)
+    assert (tmp_path / "refs" / "cycles_blend_cornell_box_24x24.npz").exists()
