@@ -191,14 +191,16 @@ def test_world_and_unknown_nodes(empty, addon):
     bg.inputs["Color"].default_value = (0.5, 0.25, 1, 1)
     bg.inputs["Strength"].default_value = 2
     empty.world = world
-    mat = bpy.data.materials.new("Glassy")
+    mat = bpy.data.materials.new("Cartoon")
     nodes = mat.node_tree.nodes
-    glass = nodes.new("ShaderNodeBsdfGlass")
-    mat.node_tree.links.new(glass.outputs[0], nodes["Material Output"].inputs["Surface"])
+    toon = nodes.new("ShaderNodeBsdfToon")  # not translated: grey diffuse and a warning
+    mat.node_tree.links.new(toon.outputs[0], nodes["Material Output"].inputs["Surface"])
     add_plane(empty, material=mat)
     scene, report = export(addon)
     assert scene.world["color"] == pytest.approx([1, 0.5, 2])
-    assert any("Glassy" in m and glass.name in m for m in report.messages)
+    assert any("Cartoon" in m and toon.name in m for m in report.messages)
+    out = next(m for m in scene.materials if m["name"] == "Cartoon")
+    assert out["type"] == "diffuse" and out["base_color"] == pytest.approx([0.8] * 3)
 
 
 def test_export_operator(default_scene, addon, tmp_path):
