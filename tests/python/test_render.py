@@ -90,15 +90,16 @@ def test_progress_and_time_limit(core):
     assert time.monotonic() - start < 10
 
 
-def test_cancel_from_another_thread(core):
+@pytest.mark.parametrize("integrator", ["pt", "cis"])
+def test_cancel_from_another_thread(core, integrator):
     scene = scenes.cornell_box(width=64, height=64)
-    probe = lantern.Session(scene, seed=3)
+    probe = lantern.Session(scene, seed=3, integrator=integrator)
     probe.step()  # the first iteration may pay for set-up
     t0 = time.monotonic()
     probe.step()
     per_spp = max(time.monotonic() - t0, 1e-4)
     spi = int(min(4096, max(1, math.ceil(1.5 / per_spp))))  # an iteration of ~1.5 s
-    s = lantern.Session(scene, seed=3, spp_per_iteration=spi)
+    s = lantern.Session(scene, seed=3, spp_per_iteration=spi, integrator=integrator)
     t0 = time.monotonic()
     s.step()
     t_iter = time.monotonic() - t0
