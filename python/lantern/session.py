@@ -31,6 +31,8 @@ DEFAULT_SETTINGS = {
     "candidates": 10,         # M: cis candidates (the paper's M = 10)
     "cis_target": "contribution",  # or "bsdf": the paper's BSDF-product target
     "naive_ris": False,       # tests only: the biased uniform weight for resampled picks
+    "cache_budget_mb": 0,     # light vertex cache memory per pass (0: min(4 GiB, RAM / 4));
+                              # a larger iteration runs as several passes
 }
 
 BUILD_HINT = ("build it from the repository root with "
@@ -117,6 +119,7 @@ def resolve_settings(settings):
     out["rr_depth"] = _check_int("rr_depth", out["rr_depth"], 0, 1024)
     out["connections"] = _check_int("connections", out["connections"], 1, 64)
     out["candidates"] = _check_int("candidates", out["candidates"], 1, 64)
+    out["cache_budget_mb"] = _check_int("cache_budget_mb", out["cache_budget_mb"], 0, 1 << 30)
     if out["sort"] is not None and not isinstance(out["sort"], (bool, np.bool_)):
         raise TypeError(f"setting 'sort' must be True, False or None, got {out['sort']!r}")
     if out["cis_target"] not in CIS_TARGETS:

@@ -336,3 +336,21 @@ def test_stats_by_stage(core):
                 "time_shadow", "time_sort", "time_cache", "time_splat"):
         assert st[key] >= 0.0, key
     assert st["time_light_pass"] > 0 and st["time_camera_pass"] > 0
+
+
+def test_cache_budget_splits_the_iteration(core):
+    """A light vertex cache over the memory budget: the step runs as several light + camera
+    passes, says so once, and renders the same image statistically."""
+    scene = scenes.fixture_box(SIZE, SIZE)
+    s = lantern.Session(scene, integrator="cis", seed=1, spp_per_iteration=8,
+                        cache_budget_mb=1)  # ~3 light vertices x 1024 pixels x 80 B per spp
+    s.step()
+    assert s.spp == 8 and any("passes" in w for w in s.warnings), s.warnings
+    split = [lantern.Session(scene, integrator="cis", seed=100 + k, spp_per_iteration=64,
+                             max_depth=8, cache_budget_mb=1) for k in range(K)]
+    whole = renders(scene, "cis", 64, 200)
+    imgs = []
+    for sess in split:
+        sess.step()
+        imgs.append(sess.image())
+    check_agreement("cache split into passes", imgs, whole)

@@ -107,7 +107,8 @@ def test_render_through_stand_in_core(scene_file, tmp_path, fake, capsys):
     assert s.settings == {"integrator": "pt", "backend": "cpu", "spp_per_iteration": 2,
                           "max_depth": 5, "seed": 3, "threads": 2, "rr_depth": 3,
                           "sort": None, "connections": 5, "candidates": 10,
-                          "cis_target": "contribution", "naive_ris": False}
+                          "cis_target": "contribution", "naive_ris": False,
+                        "cache_budget_mb": 0}
     assert s.spp == 6 and s.stats()["iterations"] == 3
     assert "6/6 spp" in err and "Mrays/s" in err
     img = imageio.read_image(out)

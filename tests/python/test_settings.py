@@ -13,7 +13,8 @@ def test_defaults():
     assert settings == {"integrator": "pt", "backend": "cpu", "spp_per_iteration": 1,
                         "max_depth": 16, "seed": 0, "threads": 0, "rr_depth": 3,
                         "sort": None, "connections": 5, "candidates": 10,
-                        "cis_target": "contribution", "naive_ris": False}
+                        "cis_target": "contribution", "naive_ris": False,
+                        "cache_budget_mb": 0}
     assert warnings == []
 
 

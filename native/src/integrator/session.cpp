@@ -4,6 +4,10 @@
 #include <chrono>
 #include <stdexcept>
 
+#if defined(__unix__)
+#include <unistd.h>
+#endif
+
 #include "backend/backend.h"
 #include "integrator/pt.h"
 
@@ -61,6 +65,29 @@ Session::Session(const SceneInput& scene, const SessionSettings& settings) : set
 
 Session::~Session() = default;
 
+int Session::bdpt_samples_per_pass(int spp_it) {
+    // a quarter of the physical memory, at most 4 GiB, for the cache of one pass
+    double budget = 4.0 * (1 << 30);
+#if defined(__unix__)
+    const double phys = double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGE_SIZE));
+    if (phys > 0) budget = std::min(budget, 0.25 * phys);
+#endif
+    if (settings_.cache_budget_mb > 0) budget = double(settings_.cache_budget_mb) * (1 << 20);
+    const double vpp = vertices_per_path_ > 0.0 ? vertices_per_path_
+                                                : std::min(settings_.max_depth - 1, 4);
+    const double per_spp = double(width_) * height_ *
+                           (std::max(vpp, 0.5) * sizeof(LightVertex) + 2 * sizeof(int32_t));
+    const int per_pass = int(std::clamp(budget / per_spp, 1.0, double(spp_it)));
+    if (per_pass < spp_it && !split_warned_) {
+        split_warned_ = true;
+        warnings_.push_back("light vertex cache: " + std::to_string(spp_it) +
+                            " samples per iteration run as passes of " +
+                            std::to_string(per_pass) + " to stay within " +
+                            std::to_string(int(budget / (1 << 20))) + " MiB");
+    }
+    return per_pass;
+}
+
 void Session::resize_state(int n) {
     if (int(alive_.size()) >= n) return;
     for (auto* v : {&ray_o_, &ray_d_, &throughput_, &radiance_, &shadow_o_, &shadow_d_, &shadow_c_})
@@ -86,10 +113,32 @@ bool Session::step() {
     // chunks write their pixels into iteration_; it joins accum_ only if the step finishes
     iteration_sum_.assign(accum_.size(), 0.0);
     if (bidirectional_) {
-        if (!run_bdpt_iteration()) return false;
+        // The light vertex cache holds about L x (vertices per light path) x 80 bytes with
+        // L = pixels x spp: past the budget, the step runs as several light + camera passes of
+        // fewer samples each (the same estimator: more, smaller iterations).
+        const int per_pass = bdpt_samples_per_pass(spp_it);
+        for (int done = 0; done < spp_it;) {
+            const int s = std::min(per_pass, spp_it - done);
+            settings_.spp_per_iteration = s;
+            bool ok = false;
+            try {
+                ok = run_bdpt_iteration();
+            } catch (const std::bad_alloc&) {
+                settings_.spp_per_iteration = spp_it;
+                cache_.clear();
+                cache_.shrink_to_fit();
+                throw std::runtime_error(
+                    "out of memory for the light vertex cache (" + std::to_string(width_) + "x" +
+                    std::to_string(height_) + ", " + std::to_string(s) +
+                    " samples per pass); lower the resolution or use integrator 'pt'");
+            }
+            settings_.spp_per_iteration = spp_it;
+            if (!ok) return false;
+            ++iteration_;  // every pass draws its own random numbers
+            done += s;
+        }
         for (size_t k = 0; k < accum_.size(); ++k) accum_[k] += iteration_sum_[k];
         spp_ += spp_it;
-        ++iteration_;
         ++stats_.iterations;
         stats_.time_total += seconds_since(t0);
         return true;

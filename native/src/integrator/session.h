@@ -36,6 +36,7 @@ struct SessionSettings {
     int candidates = 10;    // M: cis candidates (paper: 10)
     std::string cis_target = "contribution";  // or "bsdf" (the paper's BSDF product)
     bool naive_ris = false; // test only: weight resampled picks like uniform ones (biased)
+    int cache_budget_mb = 0;  // light vertex cache per pass; 0: min(4 GiB, RAM / 4)
 };
 
 struct SessionStats {
@@ -78,6 +79,7 @@ private:
     void sort_queue(int active);
     void resize_bdpt_state(int n, int conn_cap);
     BdptSettings bdpt_settings() const;
+    int bdpt_samples_per_pass(int spp_it);
     void splat(const std::vector<int32_t>& slots, int count);
     void resize_state(int n);
 
@@ -109,6 +111,7 @@ private:
     float mis_r_ = 1.0f;
     double vertices_per_path_ = -1.0;  // cache vertices per light path, last iteration (< 0: none)
     bool pilot_ = false;
+    bool split_warned_ = false;
     int64_t pilot_count_ = 0;
     std::vector<float> dvcm_, dvc_, conn_tmax_;
     std::vector<int32_t> light_id_, conn_n_, sort_tmp_;

@@ -160,6 +160,7 @@ SessionSettings to_settings(const nb::dict& d) {
     s.candidates = get<int>(d, "candidates", s.candidates);
     s.cis_target = get<std::string>(d, "cis_target", s.cis_target);
     s.naive_ris = get<bool>(d, "naive_ris", s.naive_ris);
+    s.cache_budget_mb = get<int>(d, "cache_budget_mb", s.cache_budget_mb);
     return s;
 }
 
