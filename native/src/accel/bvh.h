@@ -1,0 +1,235 @@
+// The GPU backend's BVH: flat binary nodes that hold both children's boxes (one 64-byte fetch
+// tests two boxes), leaves that index a reordered triangle array, and host+device traversal
+// (closest hit, any hit) with a fixed stack and the watertight ray-triangle test of Woop et al.
+// Hits follow Embree: tmin < t <= tmax, uv = barycentrics of vertices 1 and 2. The builder is
+// accel/bvh_builder.h; docs/bvh.md explains the choices.
+#pragma once
+
+#include <cstdint>
+
+#include "core/math.h"
+#include "scene/scene_view.h"
+
+namespace lantern {
+
+// One inner node: the boxes of its two children, laid out as three float4 (x and y of child 0,
+// x and y of child 1, z of both) plus one int4 of links, so a GPU thread reads a node with four
+// 16-byte loads (Aila & Laine 2009). A child is an inner node (count 0: child = node index) or a
+// leaf (child = first triangle in BvhView::tris, count of them).
+struct alignas(16) BvhNode {
+    float xy0[4];      // child 0: lo.x, hi.x, lo.y, hi.y
+    float xy1[4];      // child 1: lo.x, hi.x, lo.y, hi.y
+    float z01[4];      // lo.z, hi.z of child 0, lo.z, hi.z of child 1
+    int32_t child[2];
+    uint32_t meta[2];  // low 24 bits: leaf triangle count (0: inner); high 8: child mask
+};
+static_assert(sizeof(BvhNode) == 64, "BvhNode must stay 64 bytes");
+
+// Child mask (meta >> 24): the OR of TriangleFlags over the child's subtree, plus kBvhNonEmpty.
+// A ray that needs flags `need` enters a child only if (mask & (need | kBvhNonEmpty)) is all of
+// them, and accepts a triangle only if (flags & need) == need.
+constexpr uint32_t kBvhNonEmpty = 0x80u;
+constexpr uint32_t kBvhCountMask = 0x00FFFFFFu;
+
+// A triangle in leaf order: its vertices, its index in the scene and its TriangleFlags.
+struct alignas(16) BvhTri {
+    Vec3 v0;
+    int32_t prim;
+    Vec3 v1;
+    uint32_t flags;
+    Vec3 v2;
+    float pad;
+};
+static_assert(sizeof(BvhTri) == 48, "BvhTri must stay 48 bytes");
+
+// What traversal needs: host or device pointers. num_nodes == 0: an empty scene (every ray misses).
+struct BvhView {
+    const BvhNode* nodes = nullptr;
+    const BvhTri* tris = nullptr;
+    int32_t num_nodes = 0;
+    int32_t num_tris = 0;
+};
+
+// Flags a ray kind needs (cf. EmbreeAccel's per-kind structures): camera rays see only
+// kVisibleCamera triangles, shadow rays only kCastShadow ones, indirect rays everything.
+constexpr uint32_t kBvhNeedCamera = kVisibleCamera;
+constexpr uint32_t kBvhNeedShadow = kCastShadow;
+constexpr uint32_t kBvhNeedIndirect = 0;
+
+// The stack holds at most depth - 1 entries; the builder keeps the depth at or below this.
+constexpr int kBvhStackSize = 64;
+
+struct BvhHit {
+    float t;        // ray.tmax on a miss
+    int32_t prim;   // scene triangle index, -1 for a miss
+    Vec2 uv;        // barycentrics of vertices 1 and 2 (Embree's u, v)
+};
+
+// Per-ray constants: reciprocal direction (zero components replaced by +-1e-18, as Embree's
+// rcp_safe, so 0 * inf never makes a NaN) and the shear of the watertight test.
+struct BvhRay {
+    Vec3 o, d, inv;
+    float tmin, tmax;
+    int kx, ky, kz;
+    float sx, sy, sz;
+};
+
+LANTERN_HD inline float bvh_safe_rcp(float v) {
+    return 1.0f / (fabsf(v) < 1e-18f ? copysignf(1e-18f, v) : v);
+}
+
+LANTERN_HD inline BvhRay bvh_ray(const Ray& r) {
+    BvhRay b;
+    b.o = r.o;
+    b.d = r.d;
+    b.inv = {bvh_safe_rcp(r.d.x), bvh_safe_rcp(r.d.y), bvh_safe_rcp(r.d.z)};
+    b.tmin = r.tmin;
+    b.tmax = r.tmax;
+    float ax = fabsf(r.d.x), ay = fabsf(r.d.y), az = fabsf(r.d.z);
+    b.kz = (ax > ay) ? (ax > az ? 0 : 2) : (ay > az ? 1 : 2);
+    b.kx = b.kz == 2 ? 0 : b.kz + 1;
+    b.ky = b.kx == 2 ? 0 : b.kx + 1;
+    if (r.d[b.kz] < 0.0f) {  // keep the winding, so U, V, W have one sign convention
+        int k = b.kx;
+        b.kx = b.ky;
+        b.ky = k;
+    }
+    b.sx = r.d[b.kx] / r.d[b.kz];
+    b.sy = r.d[b.ky] / r.d[b.kz];
+    b.sz = 1.0f / r.d[b.kz];
+    return b;
+}
+
+// ---- Watertight ray-triangle test [Woop, Benthin, Wald 2013, "Watertight Ray/Triangle
+// Intersection", JCGT 2(1), fig. 6] ----
+// Accepts tmin < t <= tmax. Edges shared by two triangles are hit by exactly one or both, never
+// neither; an edge function that rounds to exactly zero is recomputed in double, as the paper does.
+LANTERN_HD inline bool bvh_hit_triangle(const BvhRay& r, const BvhTri& tri, float tmax, float* t_out,
+                                        float* u_out, float* v_out) {
+    Vec3 a = tri.v0 - r.o, b = tri.v1 - r.o, c = tri.v2 - r.o;
+    float ax = a[r.kx] - r.sx * a[r.kz], ay = a[r.ky] - r.sy * a[r.kz];
+    float bx = b[r.kx] - r.sx * b[r.kz], by = b[r.ky] - r.sy * b[r.kz];
+    float cx = c[r.kx] - r.sx * c[r.kz], cy = c[r.ky] - r.sy * c[r.kz];
+    float u = cx * by - cy * bx;  // weight of v0
+    float v = ax * cy - ay * cx;  // weight of v1
+    float w = bx * ay - by * ax;  // weight of v2
+    if (u == 0.0f || v == 0.0f || w == 0.0f) {
+        u = float(double(cx) * double(by) - double(cy) * double(bx));
+        v = float(double(ax) * double(cy) - double(ay) * double(cx));
+        w = float(double(bx) * double(ay) - double(by) * double(ax));
+    }
+    if ((u < 0.0f || v < 0.0f || w < 0.0f) && (u > 0.0f || v > 0.0f || w > 0.0f)) return false;
+    float det = u + v + w;
+    if (det == 0.0f) return false;
+    float az = r.sz * a[r.kz], bz = r.sz * b[r.kz], cz = r.sz * c[r.kz];
+    float tt = u * az + v * bz + w * cz;
+    float rcp = 1.0f / det;
+    float t = tt * rcp;
+    if (!(t > r.tmin && t <= tmax)) return false;  // also rejects NaN
+    *t_out = t;
+    *u_out = v * rcp;
+    *v_out = w * rcp;
+    return true;
+}
+
+// ---- Box test ----
+// Both children at once. Embree's robust slab test: the entry distance is rounded down and the
+// exit up by 2 ulps, so a ray that truly touches a box is never culled by rounding (flat boxes
+// of axis-aligned walls included). Returns a 2-bit mask; d0, d1 receive the entry distances.
+LANTERN_HD inline int bvh_hit_boxes(const BvhRay& r, const BvhNode& n, float tmax, float* d0,
+                                    float* d1) {
+    constexpr float kDown = 1.0f - 2.0f * 5.9604645e-8f, kUp = 1.0f + 2.0f * 5.9604645e-8f;
+    float lx0 = (n.xy0[0] - r.o.x) * r.inv.x, hx0 = (n.xy0[1] - r.o.x) * r.inv.x;
+    float ly0 = (n.xy0[2] - r.o.y) * r.inv.y, hy0 = (n.xy0[3] - r.o.y) * r.inv.y;
+    float lz0 = (n.z01[0] - r.o.z) * r.inv.z, hz0 = (n.z01[1] - r.o.z) * r.inv.z;
+    float lx1 = (n.xy1[0] - r.o.x) * r.inv.x, hx1 = (n.xy1[1] - r.o.x) * r.inv.x;
+    float ly1 = (n.xy1[2] - r.o.y) * r.inv.y, hy1 = (n.xy1[3] - r.o.y) * r.inv.y;
+    float lz1 = (n.z01[2] - r.o.z) * r.inv.z, hz1 = (n.z01[3] - r.o.z) * r.inv.z;
+    float n0 = fmaxf(fmaxf(fminf(lx0, hx0), fminf(ly0, hy0)), fmaxf(fminf(lz0, hz0), r.tmin));
+    float f0 = fminf(fminf(fmaxf(lx0, hx0), fmaxf(ly0, hy0)), fminf(fmaxf(lz0, hz0), tmax));
+    float n1 = fmaxf(fmaxf(fminf(lx1, hx1), fminf(ly1, hy1)), fmaxf(fminf(lz1, hz1), r.tmin));
+    float f1 = fminf(fminf(fmaxf(lx1, hx1), fmaxf(ly1, hy1)), fminf(fmaxf(lz1, hz1), tmax));
+    *d0 = n0 * kDown;
+    *d1 = n1 * kDown;
+    return (n0 * kDown <= f0 * kUp ? 1 : 0) | (n1 * kDown <= f1 * kUp ? 2 : 0);
+}
+
+LANTERN_HD inline bool bvh_child_wanted(uint32_t meta, uint32_t need) {
+    uint32_t want = need | kBvhNonEmpty;
+    return ((meta >> 24) & want) == want;
+}
+
+// ---- Traversal ----
+// Depth-first, nearer child first; a leaf child is intersected at once, the farther inner child
+// goes on the stack with its entry distance, and popped entries beyond the closest hit are
+// dropped. any_hit: return at the first accepted triangle (occlusion).
+template <bool kAnyHit>
+LANTERN_HD inline BvhHit bvh_traverse(const BvhView& bvh, const Ray& ray, uint32_t need) {
+    BvhHit hit{ray.tmax, -1, {0.0f, 0.0f}};
+    if (bvh.num_nodes == 0) return hit;
+    const BvhRay r = bvh_ray(ray);
+    float tmax = ray.tmax;
+    int32_t stack_node[kBvhStackSize];
+    float stack_dist[kBvhStackSize];
+    int sp = 0;
+    int32_t cur = 0;
+    for (;;) {
+        const BvhNode& n = bvh.nodes[cur];
+        float d[2];
+        int mask = bvh_hit_boxes(r, n, tmax, &d[0], &d[1]);
+        if (!bvh_child_wanted(n.meta[0], need)) mask &= ~1;
+        if (!bvh_child_wanted(n.meta[1], need)) mask &= ~2;
+        int first = (mask == 3 && d[1] < d[0]) ? 1 : 0;
+        int32_t next = -1;
+        for (int k = 0; k < 2; ++k) {
+            int c = first ^ k;
+            if (!(mask & (1 << c))) continue;
+            if (k == 1 && d[c] > tmax) continue;  // the nearer leaf may have shortened the ray
+            uint32_t count = n.meta[c] & kBvhCountMask;
+            if (count == 0) {  // inner child: descend into the nearer, push the farther
+                if (next < 0) {
+                    next = n.child[c];
+                } else {
+                    stack_node[sp] = n.child[c];
+                    stack_dist[sp] = d[c];
+                    ++sp;
+                }
+                continue;
+            }
+            int32_t begin = n.child[c];
+            for (int32_t i = begin; i < begin + int32_t(count); ++i) {
+                const BvhTri& tri = bvh.tris[i];
+                if ((tri.flags & need) != need) continue;
+                float t, u, v;
+                if (!bvh_hit_triangle(r, tri, tmax, &t, &u, &v)) continue;
+                hit = {t, tri.prim, {u, v}};
+                if (kAnyHit) return hit;
+                tmax = t;
+            }
+        }
+        if (next < 0) {
+            while (sp > 0) {
+                --sp;
+                if (stack_dist[sp] <= tmax) {
+                    next = stack_node[sp];
+                    break;
+                }
+            }
+            if (next < 0) return hit;
+        }
+        cur = next;
+    }
+}
+
+// Closest hit of `ray` in (tmin, tmax] among triangles with all of `need`'s flags.
+LANTERN_HD inline BvhHit bvh_intersect(const BvhView& bvh, const Ray& ray, uint32_t need) {
+    return bvh_traverse<false>(bvh, ray, need);
+}
+
+// Whether any triangle with `need`'s flags lies on the segment (tmin, tmax].
+LANTERN_HD inline bool bvh_occluded(const BvhView& bvh, const Ray& ray,
+                                    uint32_t need = kBvhNeedShadow) {
+    return bvh_traverse<true>(bvh, ray, need).prim >= 0;
+}
+
+}  // namespace lantern

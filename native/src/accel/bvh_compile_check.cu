@@ -1,0 +1,19 @@
+// Compiles the BVH traversal (accel/bvh.h) with nvcc: one thread per ray, closest hit for camera
+// and indirect rays and occlusion for shadow rays. The CUDA backend's real kernels are a later
+// issue; this only keeps bvh.h device-clean.
+#include "accel/bvh.h"
+
+namespace lantern {
+
+__global__ void bvh_intersect_kernel(BvhView bvh, const Ray* rays, BvhHit* hits, int n,
+                                     uint32_t need) {
+    int i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i < n) hits[i] = bvh_intersect(bvh, rays[i], need);
+}
+
+__global__ void bvh_occluded_kernel(BvhView bvh, const Ray* rays, uint8_t* occluded, int n) {
+    int i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i < n) occluded[i] = bvh_occluded(bvh, rays[i], kBvhNeedShadow) ? 1 : 0;
+}
+
+}  // namespace lantern
