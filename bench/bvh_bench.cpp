@@ -37,8 +37,8 @@ struct Scene {
 };
 
 float bumps(float x, float y) {
-    return 0.08f * std::sin(7.1f * x) * std::cos(5.3f * y) + 0.03f * std::sin(23.0f * x + 11.0f * y) +
-           0.01f * std::sin(61.0f * y - 37.0f * x);
+    return 0.08f * std::sin(7.1f * x) * std::cos(5.3f * y) +
+           0.03f * std::sin(23.0f * x + 11.0f * y) + 0.01f * std::sin(61.0f * y - 37.0f * x);
 }
 
 Scene make_scene() {
@@ -96,7 +96,8 @@ double run(int n, int threads, const std::function<void(int)>& fn) {
 int main(int argc, char** argv) {
     std::vector<int> thread_counts;
     for (int a = 1; a < argc; ++a) thread_counts.push_back(std::atoi(argv[a]));
-    if (thread_counts.empty()) thread_counts = {1, int(std::max(1u, std::thread::hardware_concurrency()))};
+    if (thread_counts.empty())
+        thread_counts = {1, int(std::max(1u, std::thread::hardware_concurrency()))};
     Scene sc = make_scene();
     SceneView view = sc.view();
     std::printf("scene: %d triangles; %u hardware threads\n\n", view.num_triangles,
@@ -121,10 +122,11 @@ int main(int argc, char** argv) {
                     embree_version().c_str(), 1e3 * seconds_since(t0));
     }
     const BvhStats& st = bvh.stats;
-    std::printf("\nBVH: %d nodes (%.1f MB) + %d triangles (%.1f MB), %d leaves, depth %d, max leaf %d, "
-                "SAH cost %.1f\n\n",
-                st.nodes, st.nodes * 64e-6, st.triangles, st.triangles * 48e-6, st.leaves,
-                st.max_depth, st.max_leaf_size, st.sah_cost);
+    std::printf(
+        "\nBVH: %d nodes (%.1f MB) + %d triangles (%.1f MB), %d leaves, depth %d, max leaf %d, "
+        "SAH cost %.1f\n\n",
+        st.nodes, st.nodes * 64e-6, st.triangles, st.triangles * 48e-6, st.leaves, st.max_depth,
+        st.max_leaf_size, st.sah_cost);
 
     // ---- Rays ----
     const int res = 1024;
@@ -134,7 +136,8 @@ int main(int argc, char** argv) {
     for (int j = 0; j < res; ++j)
         for (int i = 0; i < res; ++i) {
             float x = (i + 0.5f) / res * 2 - 1, y = (j + 0.5f) / res * 2 - 1;
-            camera[size_t(j) * res + i] = Ray{eye, normalize(f.to_world({x * 0.6f, y * 0.6f, 1.0f})), 0, kInf};
+            camera[size_t(j) * res + i] =
+                Ray{eye, normalize(f.to_world({x * 0.6f, y * 0.6f, 1.0f})), 0, kInf};
         }
     Rng rng = Rng::for_path(1, 0, 0);
     Vec3 light{0.5f, 3.0f, -0.5f};
@@ -151,12 +154,17 @@ int main(int argc, char** argv) {
         shadow[k] = Ray{o, normalize(light - o), 0, length(light - o) * (1 - 1e-4f)};
     }
 
-    struct Set { const char* name; const std::vector<Ray>* rays; bool occlusion; };
+    struct Set {
+        const char* name;
+        const std::vector<Ray>* rays;
+        bool occlusion;
+    };
     Set sets[] = {{"coherent (camera) closest hit", &camera, false},
                   {"incoherent (bounce) closest hit", &bounce, false},
                   {"incoherent shadow segments, any hit", &shadow, true}};
-    std::printf("| rays | threads | BVH Mrays/s | Embree Mrays/s | BVH / Embree | hits BVH / Embree |\n"
-                "|---|---|---|---|---|---|\n");
+    std::printf(
+        "| rays | threads | BVH Mrays/s | Embree Mrays/s | BVH / Embree | hits BVH / Embree |\n"
+        "|---|---|---|---|---|---|\n");
     BvhView bv = bvh.view();
     for (const Set& s : sets) {
         const int n = int(s.rays->size());
@@ -164,13 +172,15 @@ int main(int argc, char** argv) {
         for (int t : thread_counts) {
             double tb = run(n, t, [&](int i) {
                 const Ray& r = (*s.rays)[i];
-                hb[i] = s.occlusion ? bvh_occluded(bv, r) : bvh_intersect(bv, r, kBvhNeedCamera).prim >= 0;
+                hb[i] = s.occlusion ? bvh_occluded(bv, r)
+                                    : bvh_intersect(bv, r, kBvhNeedCamera).prim >= 0;
             });
             double te = 0.0;
             if (embree) {
                 te = run(n, t, [&](int i) {
                     const Ray& r = (*s.rays)[i];
-                    he[i] = s.occlusion ? embree->occluded(r) : embree->intersect(r, RayKind::kCamera).prim >= 0;
+                    he[i] = s.occlusion ? embree->occluded(r)
+                                        : embree->intersect(r, RayKind::kCamera).prim >= 0;
                 });
             }
             long cb = 0, ce = 0;

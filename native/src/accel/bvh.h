@@ -17,9 +17,9 @@ namespace lantern {
 // 16-byte loads (Aila & Laine 2009). A child is an inner node (count 0: child = node index) or a
 // leaf (child = first triangle in BvhView::tris, count of them).
 struct alignas(16) BvhNode {
-    float xy0[4];      // child 0: lo.x, hi.x, lo.y, hi.y
-    float xy1[4];      // child 1: lo.x, hi.x, lo.y, hi.y
-    float z01[4];      // lo.z, hi.z of child 0, lo.z, hi.z of child 1
+    float xy0[4];  // child 0: lo.x, hi.x, lo.y, hi.y
+    float xy1[4];  // child 1: lo.x, hi.x, lo.y, hi.y
+    float z01[4];  // lo.z, hi.z of child 0, lo.z, hi.z of child 1
     int32_t child[2];
     uint32_t meta[2];  // low 24 bits: leaf triangle count (0: inner); high 8: child mask
 };
@@ -60,9 +60,9 @@ constexpr uint32_t kBvhNeedIndirect = 0;
 constexpr int kBvhStackSize = 64;
 
 struct BvhHit {
-    float t;        // ray.tmax on a miss
-    int32_t prim;   // scene triangle index, -1 for a miss
-    Vec2 uv;        // barycentrics of vertices 1 and 2 (Embree's u, v)
+    float t;       // ray.tmax on a miss
+    int32_t prim;  // scene triangle index, -1 for a miss
+    Vec2 uv;       // barycentrics of vertices 1 and 2 (Embree's u, v)
 };
 
 // Per-ray constants: reciprocal direction (zero components replaced by +-1e-18, as Embree's
@@ -73,6 +73,15 @@ struct BvhRay {
     int kx, ky, kz;
     float sx, sy, sz;
 };
+
+// min/max as compares: one instruction on both sides (GCC calls libm for fminf without
+// -ffinite-math-only). Inputs are never NaN for finite rays: boxes are finite, inv has no inf.
+LANTERN_HD inline float bvh_min(float a, float b) {
+    return a < b ? a : b;
+}
+LANTERN_HD inline float bvh_max(float a, float b) {
+    return a > b ? a : b;
+}
 
 LANTERN_HD inline float bvh_safe_rcp(float v) {
     return 1.0f / (fabsf(v) < 1e-18f ? copysignf(1e-18f, v) : v);
@@ -104,8 +113,8 @@ LANTERN_HD inline BvhRay bvh_ray(const Ray& r) {
 // Intersection", JCGT 2(1), fig. 6] ----
 // Accepts tmin < t <= tmax. Edges shared by two triangles are hit by exactly one or both, never
 // neither; an edge function that rounds to exactly zero is recomputed in double, as the paper does.
-LANTERN_HD inline bool bvh_hit_triangle(const BvhRay& r, const BvhTri& tri, float tmax, float* t_out,
-                                        float* u_out, float* v_out) {
+LANTERN_HD inline bool bvh_hit_triangle(const BvhRay& r, const BvhTri& tri, float tmax,
+                                        float* t_out, float* u_out, float* v_out) {
     Vec3 a = tri.v0 - r.o, b = tri.v1 - r.o, c = tri.v2 - r.o;
     float ax = a[r.kx] - r.sx * a[r.kz], ay = a[r.ky] - r.sy * a[r.kz];
     float bx = b[r.kx] - r.sx * b[r.kz], by = b[r.ky] - r.sy * b[r.kz];
@@ -145,10 +154,14 @@ LANTERN_HD inline int bvh_hit_boxes(const BvhRay& r, const BvhNode& n, float tma
     float lx1 = (n.xy1[0] - r.o.x) * r.inv.x, hx1 = (n.xy1[1] - r.o.x) * r.inv.x;
     float ly1 = (n.xy1[2] - r.o.y) * r.inv.y, hy1 = (n.xy1[3] - r.o.y) * r.inv.y;
     float lz1 = (n.z01[2] - r.o.z) * r.inv.z, hz1 = (n.z01[3] - r.o.z) * r.inv.z;
-    float n0 = fmaxf(fmaxf(fminf(lx0, hx0), fminf(ly0, hy0)), fmaxf(fminf(lz0, hz0), r.tmin));
-    float f0 = fminf(fminf(fmaxf(lx0, hx0), fmaxf(ly0, hy0)), fminf(fmaxf(lz0, hz0), tmax));
-    float n1 = fmaxf(fmaxf(fminf(lx1, hx1), fminf(ly1, hy1)), fmaxf(fminf(lz1, hz1), r.tmin));
-    float f1 = fminf(fminf(fmaxf(lx1, hx1), fmaxf(ly1, hy1)), fminf(fmaxf(lz1, hz1), tmax));
+    float n0 =
+        bvh_max(bvh_max(bvh_min(lx0, hx0), bvh_min(ly0, hy0)), bvh_max(bvh_min(lz0, hz0), r.tmin));
+    float f0 =
+        bvh_min(bvh_min(bvh_max(lx0, hx0), bvh_max(ly0, hy0)), bvh_min(bvh_max(lz0, hz0), tmax));
+    float n1 =
+        bvh_max(bvh_max(bvh_min(lx1, hx1), bvh_min(ly1, hy1)), bvh_max(bvh_min(lz1, hz1), r.tmin));
+    float f1 =
+        bvh_min(bvh_min(bvh_max(lx1, hx1), bvh_max(ly1, hy1)), bvh_min(bvh_max(lz1, hz1), tmax));
     *d0 = n0 * kDown;
     *d1 = n1 * kDown;
     return (n0 * kDown <= f0 * kUp ? 1 : 0) | (n1 * kDown <= f1 * kUp ? 2 : 0);

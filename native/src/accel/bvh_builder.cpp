@@ -1,7 +1,7 @@
 // Binned SAH build (Wald 2007, "On fast construction of SAH-based bounding volume hierarchies"):
 // the top of the tree is built on one thread with binning spread over the pool, its subtrees
 // below a fixed size are built in parallel into their own node arrays and spliced in task order.
-// Below depth kMedianDepth splits are object medians, so the depth (and the traversal stack)
+// Below depth options.sah_depth splits are object medians, so the depth (and the traversal stack)
 // stays bounded for any input.
 #include "accel/bvh_builder.h"
 
@@ -16,19 +16,16 @@
 namespace lantern {
 namespace {
 
-constexpr int kMedianDepth = 32;      // + log2(2^31) levels of medians < kBvhStackSize
 constexpr int kMaxBins = 64;
 constexpr int kParallelBinning = 1 << 16;
 
 struct Aabb {
     Vec3 lo{kInf, kInf, kInf}, hi{-kInf, -kInf, -kInf};
-    void grow(Vec3 p) {
-        lo = {fminf(lo.x, p.x), fminf(lo.y, p.y), fminf(lo.z, p.z)};
-        hi = {fmaxf(hi.x, p.x), fmaxf(hi.y, p.y), fmaxf(hi.z, p.z)};
-    }
-    void grow(const Aabb& b) {
-        grow(b.lo);
-        grow(b.hi);
+    void grow(Vec3 p) { grow(p, p); }
+    void grow(const Aabb& b) { grow(b.lo, b.hi); }
+    void grow(Vec3 l, Vec3 h) {
+        lo = {bvh_min(lo.x, l.x), bvh_min(lo.y, l.y), bvh_min(lo.z, l.z)};
+        hi = {bvh_max(hi.x, h.x), bvh_max(hi.y, h.y), bvh_max(hi.z, h.z)};
     }
     float half_area() const {
         Vec3 e = hi - lo;
@@ -98,8 +95,12 @@ void set_child_box(BvhNode& n, int c, const Aabb& b) {
 class Builder {
 public:
     Builder(std::vector<PrimRef>& refs, const BvhBuildOptions& o, ThreadPool& pool)
-        : refs_(refs), pool_(pool), bins_(std::clamp(o.bins, 4, kMaxBins)),
-          max_leaf_(std::clamp(o.max_leaf, 1, int(kBvhCountMask))), node_cost_(o.node_cost) {}
+        : refs_(refs),
+          pool_(pool),
+          bins_(std::clamp(o.bins, 4, kMaxBins)),
+          max_leaf_(std::clamp(o.max_leaf, 1, int(kBvhCountMask))),
+          sah_depth_(std::clamp(o.sah_depth, 0, 32)),
+          node_cost_(o.node_cost) {}
 
     // Builds the subtree of `r` into `out` (its root first). Children of at most `defer_size`
     // triangles go to `defer` instead, when it is given.
@@ -146,16 +147,17 @@ private:
             if (ext[a] == 0.0f) scale[a] = 0.0f;
             spread |= ext[a] > 0.0f;
         }
-        if (depth >= kMedianDepth || !spread) {
+        if (depth >= sah_depth_ || !spread) {
             if (n <= max_leaf_) return false;
             median_split(r, kids);
             return true;
         }
         float cmin[3] = {r.cbox.lo.x, r.cbox.lo.y, r.cbox.lo.z};
         Bin bins[3][kMaxBins];
-        auto bin_chunk = [&](int b, int e, Bin (*out)[kMaxBins]) {
+        auto bin_chunk = [&](int b, int e, Bin(*out)[kMaxBins]) {
             for (int i = b; i < e; ++i) {
-                for (int a = 0; a < 3; ++a) out[a][bin_of(refs_[i], a, cmin[a], scale[a])].add(refs_[i]);
+                for (int a = 0; a < 3; ++a)
+                    out[a][bin_of(refs_[i], a, cmin[a], scale[a])].add(refs_[i]);
             }
         };
         if (n >= kParallelBinning && pool_.size() > 1) {
@@ -169,7 +171,8 @@ private:
             });
             for (int c = 0; c < chunks; ++c)  // merged in chunk order: deterministic
                 for (int a = 0; a < 3; ++a)
-                    for (int k = 0; k < bins_; ++k) bins[a][k].add(part[(size_t(c) * 3 + a) * kMaxBins + k]);
+                    for (int k = 0; k < bins_; ++k)
+                        bins[a][k].add(part[(size_t(c) * 3 + a) * kMaxBins + k]);
         } else {
             bin_chunk(r.begin, r.end, bins);
         }
@@ -188,7 +191,9 @@ private:
             acc = Bin{};
             for (int k = 0; k < bins_ - 1; ++k) {
                 acc.add(bins[a][k]);
-                float cost = node_cost_ + (acc.box.half_area() * float(acc.count) + right_cost[k + 1]) * inv_area;
+                float cost =
+                    node_cost_ +
+                    (acc.box.half_area() * float(acc.count) + right_cost[k + 1]) * inv_area;
                 if (acc.count > 0 && acc.count < n && cost < best) {
                     best = cost, best_axis = a, best_k = k;
                 }
@@ -201,8 +206,9 @@ private:
         }
         if (n <= max_leaf_ && best >= float(n)) return false;
         const int a = best_axis;
-        PrimRef* mid = std::partition(refs_.data() + r.begin, refs_.data() + r.end,
-                                      [&](const PrimRef& p) { return bin_of(p, a, cmin[a], scale[a]) <= best_k; });
+        PrimRef* mid = std::partition(
+            refs_.data() + r.begin, refs_.data() + r.end,
+            [&](const PrimRef& p) { return bin_of(p, a, cmin[a], scale[a]) <= best_k; });
         Bin left, right;
         for (int k = 0; k < bins_; ++k) (k <= best_k ? left : right).add(bins[a][k]);
         int32_t m = int32_t(mid - refs_.data());
@@ -232,14 +238,16 @@ private:
 
     std::vector<PrimRef>& refs_;
     ThreadPool& pool_;
-    int bins_, max_leaf_;
+    int bins_, max_leaf_, sah_depth_;
     float node_cost_;
 };
 
 void compute_stats(const Bvh& bvh, BvhStats& st) {
     st.nodes = int32_t(bvh.nodes.size());
     if (bvh.nodes.empty()) return;
-    struct Item { int32_t node, depth; };
+    struct Item {
+        int32_t node, depth;
+    };
     std::vector<Item> stack{{0, 1}};
     const BvhNode& root = bvh.nodes[0];
     Aabb rb;
@@ -363,7 +371,8 @@ Bvh build_bvh(const SceneView& s, const BvhBuildOptions& options,
                 const int32_t offset = int32_t(bvh.nodes.size());
                 for (BvhNode n : sub[k]) {
                     for (int c = 0; c < 2; ++c) {
-                        if ((n.meta[c] >> 24) && (n.meta[c] & kBvhCountMask) == 0) n.child[c] += offset;
+                        if ((n.meta[c] >> 24) && (n.meta[c] & kBvhCountMask) == 0)
+                            n.child[c] += offset;
                     }
                     bvh.nodes.push_back(n);
                 }
@@ -389,7 +398,8 @@ Bvh build_bvh(const SceneView& s, const BvhBuildOptions& options,
         }
     });
     compute_stats(bvh, st);
-    st.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    st.build_ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return bvh;
 }
 

@@ -11,10 +11,12 @@
 namespace lantern {
 
 struct BvhBuildOptions {
-    int bins = 32;            // SAH bins per axis (clamped to [4, 64])
-    int max_leaf = 8;         // a leaf never holds more triangles than this
-    float node_cost = 1.0f;   // SAH cost of visiting a node, in ray-triangle tests
-    int threads = 0;          // 0: hardware concurrency
+    int bins = 32;           // SAH bins per axis (clamped to [4, 64])
+    int max_leaf = 8;        // a leaf never holds more triangles than this
+    float node_cost = 1.0f;  // SAH cost of visiting a node, in ray-triangle tests
+    int threads = 0;         // 0: hardware concurrency
+    int sah_depth = 32;      // deeper nodes split at the object median (clamped to [0, 32]), so
+                             // depth <= sah_depth + log2(triangles) < kBvhStackSize
 };
 
 struct BvhStats {
@@ -22,9 +24,9 @@ struct BvhStats {
     int32_t skipped_nonfinite = 0;   // left out: a vertex is NaN or infinite
     int32_t skipped_degenerate = 0;  // left out: zero area
     int32_t nodes = 0, leaves = 0;
-    int32_t max_depth = 0;           // inner-node levels on the longest path
+    int32_t max_depth = 0;  // inner-node levels on the longest path
     int32_t max_leaf_size = 0;
-    double sah_cost = 0.0;           // expected tests per ray, relative to the root box
+    double sah_cost = 0.0;  // expected tests per ray, relative to the root box
     double build_ms = 0.0;
 };
 
