@@ -1,4 +1,5 @@
-"""Build the scenes of scenes.py into build/blend_scenes/<name>.blend.
+"""Build the scenes of scenes.py and the benchmark scenes of bench_registry.py into
+build/blend_scenes/<name>.blend.
 
     .venv/bin/python blend_scenes/build.py [NAME ...]     (all scenes without names)"""
 
@@ -6,7 +7,10 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import bench_registry  # noqa: E402
 import scenes  # noqa: E402
+
+bench_registry.register(scenes.SCENES)
 
 
 def main(names):
