@@ -80,6 +80,7 @@ def _settings(scene, seed, spp, threads):
     for k in ("diffuse_bounces", "glossy_bounces", "transmission_bounces", "volume_bounces",
               "transparent_max_bounces"):
         setattr(c, k, BOUNCES)
+    c.blur_glossy = 0.0  # Filter Glossy (default 1) roughens glossy lobes after diffuse bounces
     c.sample_clamp_direct = 0.0
     c.sample_clamp_indirect = 0.0
     c.light_sampling_threshold = 0.0

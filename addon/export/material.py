@@ -3,10 +3,11 @@
 Layered materials (a Principled BSDF's specular layer over its diffuse base, coat, sheen) and
 textures are a later issue. Here, by the shader node at the Material Output's Surface:
 
-- Principled BSDF: Metallic 1 -> conductor (F0 Base Color, F82 tint Specular Tint, Roughness);
-  Transmission Weight 1 -> dielectric (IOR, Roughness, Base Color tints transmission); else
-  diffuse Base Color. A fractional Metallic or Transmission picks the larger part, with a
-  warning. Emission Color x Strength in every case.
+- Principled BSDF -> principled (bsdf/principled.h: metal, glass, a dielectric specular layer
+  of IOR / Specular IOR Level / Specular Tint over a Lambertian Base Color, Roughness); Metallic
+  1 -> conductor (the same lobe, cheaper); Specular IOR Level 0 without metal or glass ->
+  diffuse (exactly Lambert). Coat, sheen and subsurface are not rendered yet (a warning).
+  Emission Color x Strength in every case.
 - Diffuse BSDF -> diffuse; Emission -> emission; Glossy BSDF -> conductor with Color as F0 and
   tint (Cycles' Glossy has no Fresnel: a constant Color reflectance); Metallic BSDF (F82) ->
   conductor (Base Color, Edge Tint), physical-conductor mode -> its normal-incidence
@@ -78,16 +79,22 @@ def convert_material(material, report):
             out["emission"] = [c * strength for c in col]
         metallic = min(max(value("Metallic"), 0.0), 1.0)
         transmission = min(max(value("Transmission Weight"), 0.0), 1.0)
-        if 0.001 < metallic < 0.999 or (metallic < 0.5 and 0.001 < transmission < 0.999):
-            report.warn(f"Material '{name}': Metallic {metallic:.2f} / Transmission "
-                        f"{transmission:.2f} mix layers, which Lantern does not layer yet; "
-                        f"rendering the larger part")
-        if metallic >= 0.5:
+        level = max(value("Specular IOR Level"), 0.0)
+        level = 0.5 if level != level else level
+        if metallic >= 0.999:  # the metal lobe alone: the cheaper conductor type
             out.update(type="conductor", base_color=color("Base Color"),
                        specular_tint=color("Specular Tint"), roughness=_unit(value("Roughness")))
-        elif transmission >= 0.5:
-            out.update(type="dielectric", base_color=color("Base Color"),
-                       roughness=_unit(value("Roughness")), ior=_ior(value("IOR")))
+        elif level > 0.0 or metallic > 0.0 or transmission > 0.0:
+            out.update(type="principled", base_color=color("Base Color"),
+                       specular_tint=color("Specular Tint"), roughness=_unit(value("Roughness")),
+                       ior=_ior(value("IOR")), metallic=metallic, transmission=transmission,
+                       specular_level=min(level, 1e3))
+            unsupported = [s for s in ("Coat Weight", "Sheen Weight", "Subsurface Weight")
+                           if value(s) > 0.0]
+            if unsupported:
+                report.warn(f"Material '{name}': {', '.join(unsupported)} not rendered yet "
+                            f"(Lantern's Principled has metal, glass, specular and base layers)")
+        # else: Specular IOR Level 0, no metal, no glass: exactly Lambert (the diffuse type)
     elif node.type == "BSDF_DIFFUSE":
         out["base_color"] = _constant_color(node.inputs["Color"], material, report)
     elif node.type == "EMISSION":

@@ -15,7 +15,7 @@ FORMAT_NAME = "lantern-scene"
 FORMAT_VERSION = 1
 
 CAMERA_TYPES = ("perspective", "orthographic")
-MATERIAL_TYPES = ("diffuse", "conductor", "dielectric")
+MATERIAL_TYPES = ("diffuse", "conductor", "dielectric", "principled")
 LIGHT_TYPES = ("point", "spot", "area", "sun")
 AREA_SHAPES = ("square", "rectangle", "disk", "ellipse")
 MESH_ARRAYS = ("positions", "indices", "normals", "uvs", "material_ids")
@@ -205,17 +205,21 @@ class Scene:
     # ---- Building ----
 
     def add_material(self, name=None, base_color=(0.8, 0.8, 0.8), emission=(0.0, 0.0, 0.0),
-                     type="diffuse", roughness=0.5, ior=1.5, specular_tint=(1.0, 1.0, 1.0)):
+                     type="diffuse", roughness=0.5, ior=1.5, specular_tint=(1.0, 1.0, 1.0),
+                     metallic=0.0, transmission=0.0, specular_level=0.5):
         """Append a material; returns its id (index into `materials`).
 
         `type`: "diffuse" (Lambert, albedo `base_color`), "conductor" (GGX metal with F0
-        `base_color` and F82 `specular_tint`) or "dielectric" (glass of index `ior`, GGX
-        `roughness`; roughness 0 is smooth, `base_color` tints transmission)."""
+        `base_color` and F82 `specular_tint`), "dielectric" (glass of index `ior`, GGX
+        `roughness`; roughness 0 is smooth, `base_color` tints transmission) or "principled"
+        (Blender's Principled BSDF as layers: `metallic`, `transmission`, a dielectric specular
+        layer of `ior`, `specular_level` and `specular_tint` over a Lambertian `base_color`)."""
         if name is None:
             name = f"material_{len(self.materials)}"
         material = self._validate_material({
             "name": str(name), "type": type, "base_color": base_color, "emission": emission,
             "roughness": roughness, "ior": ior, "specular_tint": specular_tint,
+            "metallic": metallic, "transmission": transmission, "specular_level": specular_level,
         }, len(self.materials))
         self.materials.append(material)
         return len(self.materials) - 1
@@ -358,7 +362,9 @@ class Scene:
         out["emission"] = _rgb(material.get("emission", [0.0, 0.0, 0.0]), f"{what} emission")
         out["specular_tint"] = _rgb(material.get("specular_tint", [1.0, 1.0, 1.0]),
                                     f"{what} specular_tint")
-        for key, default, lo, hi in (("roughness", 0.5, 0.0, 1.0), ("ior", 1.5, 0.01, 100.0)):
+        for key, default, lo, hi in (("roughness", 0.5, 0.0, 1.0), ("ior", 1.5, 0.01, 100.0),
+                                     ("metallic", 0.0, 0.0, 1.0), ("transmission", 0.0, 0.0, 1.0),
+                                     ("specular_level", 0.5, 0.0, 1e3)):
             try:
                 v = float(material.get(key, default))
             except (TypeError, ValueError):

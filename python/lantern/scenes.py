@@ -250,3 +250,30 @@ def glossy_box(width=64, height=64, roughness=0.15, light_power=20.0, light_radi
                     radius=0.0 if delta_light else light_radius, power=[light_power] * 3,
                     soft_falloff=False, visible_camera=False)
     return scene
+
+
+def principled_box(width=64, height=64, light_power=40.0):
+    """Layered materials in the Cornell box: plastic walls (Principled, roughness 0.3), a
+    smooth-coated short box (roughness 0: a delta specular layer over a diffuse base), a
+    half-metal tall box and a principled glass panel, under the rectangle light."""
+    scene, white, red, green = _box_room(width, height)
+    plastic = lambda name, c, **kw: scene.add_material(name, type="principled", base_color=c,
+                                                       **kw)
+    pw = plastic("plastic_white", (0.73, 0.73, 0.73), roughness=0.3)
+    pr = plastic("plastic_red", (0.63, 0.065, 0.05), roughness=0.3)
+    pg = plastic("plastic_green", (0.14, 0.45, 0.091), roughness=0.3)
+    _walls(scene, pw, pr, pg)
+    coated = plastic("coated", (0.2, 0.3, 0.8), roughness=0.0)
+    pos, idx = _box((0.33, -0.3, 0.0), (0.6, 0.6, 0.6), -17.0)
+    scene.add_mesh(pos, idx, material=coated, name="short_box")
+    half_metal = plastic("half_metal", (0.95, 0.7, 0.4), roughness=0.25, metallic=0.5)
+    pos, idx = _box((-0.35, 0.3, 0.0), (0.6, 0.6, 1.2), 17.0)
+    scene.add_mesh(pos, idx, material=half_metal, name="tall_box")
+    glass = plastic("glass_panel", (0.9, 1.0, 0.9), roughness=0.1, transmission=1.0)
+    pos, idx = _shell((0.3, 0.2, 1.6), 0.3, 0.02)
+    scene.add_mesh(pos, idx, material=glass, name="glass_cube")
+    to_world = np.eye(4)
+    to_world[:3, 3] = (0.0, 0.0, 1.98)
+    scene.add_light("area", to_world=to_world.tolist(), shape="rectangle", size=[0.5, 0.4],
+                    power=[light_power] * 3, visible_camera=True)
+    return scene

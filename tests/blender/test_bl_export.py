@@ -305,10 +305,11 @@ def test_metal_and_glass_nodes_map_to_material_types(empty, addon):
     assert got["p_metal"]["base_color"] == pytest.approx([0.9, 0.6, 0.3])
     assert got["p_metal"]["specular_tint"] == pytest.approx([1.0, 0.9, 0.8])
     assert got["p_metal"]["roughness"] == pytest.approx(0.2)
-    assert got["p_glass"]["type"] == "dielectric" and got["p_glass"]["ior"] == pytest.approx(1.45)
-    assert got["p_glass"]["roughness"] == 0.0
-    assert got["p_mixed"]["type"] == "diffuse"  # the larger part, with a warning
-    assert any("p_mixed" in m and "Metallic" in m for m in report.messages)
+    assert got["p_glass"]["type"] == "principled" and got["p_glass"]["ior"] == pytest.approx(1.45)
+    assert got["p_glass"]["roughness"] == 0.0 and got["p_glass"]["transmission"] == 1.0
+    assert got["p_mixed"]["type"] == "principled"
+    assert got["p_mixed"]["metallic"] == pytest.approx(0.3)
+    assert got["p_mixed"]["specular_level"] == pytest.approx(0.5)
     assert got["glossy"]["type"] == "conductor"
     assert got["glossy"]["specular_tint"] == pytest.approx([0.5] * 3)
     assert got["metallic"]["type"] == "conductor"

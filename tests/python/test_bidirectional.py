@@ -88,6 +88,7 @@ SCENES = {
     "fixture": lambda: scenes.fixture_box(SIZE, SIZE),
     "glass": lambda: scenes.glass_lantern(SIZE, SIZE),
     "glossy": lambda: scenes.glossy_box(SIZE, SIZE),
+    "principled": lambda: scenes.principled_box(SIZE, SIZE),  # layered, delta + non-delta
 }
 
 

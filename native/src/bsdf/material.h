@@ -8,6 +8,7 @@
 #include "bsdf/conductor.h"
 #include "bsdf/dielectric.h"
 #include "bsdf/lambert.h"
+#include "bsdf/principled.h"
 #include "scene/scene_view.h"
 
 namespace lantern {
@@ -27,6 +28,10 @@ LANTERN_HD inline bool material_is_delta(const Material& m) {
         return conductor_is_delta(material_conductor(m));
     case kMaterialDielectric:
         return dielectric_is_delta(material_dielectric(m, true, Transport::Radiance));
+    case kMaterialPrincipled: {  // all delta only without a base and with smooth lobes
+        PrincipledWeights w = principled_weights(m);
+        return w.spec <= 0.0f && principled_spec_is_delta(m);
+    }
     default:
         return false;
     }
@@ -34,7 +39,7 @@ LANTERN_HD inline bool material_is_delta(const Material& m) {
 
 // True when m can send light to the other side of the surface.
 LANTERN_HD inline bool material_transmits(const Material& m) {
-    return m.type == kMaterialDielectric;
+    return m.type == kMaterialDielectric || (m.type == kMaterialPrincipled && m.transmission > 0.0f);
 }
 
 LANTERN_HD inline BsdfEval material_eval(const Material& m, bool front, Vec3 wo, Vec3 wi,
@@ -47,6 +52,8 @@ LANTERN_HD inline BsdfEval material_eval(const Material& m, bool front, Vec3 wo,
         if (wo.z * wi.z < 0.0f) e.f = e.f * m.base_color;  // transmission tint
         return e;
     }
+    case kMaterialPrincipled:
+        return principled_eval(m, front, wo, wi, mode);
     default:
         return lambert_eval(m.base_color, wo, wi);
     }
@@ -63,6 +70,8 @@ LANTERN_HD inline BsdfSample material_sample(const Material& m, bool front, Vec3
         if (s.valid && wo.z * s.wi.z < 0.0f) s.weight = s.weight * m.base_color;
         return s;
     }
+    case kMaterialPrincipled:
+        return principled_sample(m, front, wo, u, mode);
     default:
         return lambert_sample(m.base_color, wo, Vec2{u.x, u.y});
     }

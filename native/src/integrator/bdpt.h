@@ -136,8 +136,9 @@ LANTERN_HD inline float bdpt_light_tracing_weight(const BdptSettings& st, float 
 // cosine with the sampled direction is cos_out (both sub-paths use it).
 LANTERN_HD inline void bdpt_scatter_update(float& dvcm, float& dvc, const BsdfSample& b,
                                            float cos_out) {
-    if (b.delta) {  // fwd == rev: they cancel; a delta vertex cannot be connected (dVCM = 0)
-        dvc *= mis(cos_out);
+    if (b.delta) {  // a delta vertex cannot be connected (dVCM = 0); the discrete probabilities
+                    // of the two directions (equal for a pure delta lobe) stay as their ratio
+        dvc *= mis(cos_out * (b.pdf_fwd_w > 0.0f ? b.pdf_rev_w / b.pdf_fwd_w : 1.0f));
         dvcm = 0.0f;
     } else {
         dvc = mis(cos_out / b.pdf_fwd_w) * (dvc * mis(b.pdf_rev_w) + dvcm);

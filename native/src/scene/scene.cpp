@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "integrator/camera.h"
+#include "bsdf/principled.h"
 #include "integrator/light_path.h"
 
 namespace lantern {
@@ -62,10 +63,26 @@ HostScene::HostScene(const SceneInput& in) {
             m.type = kMaterialConductor;
         } else if (mi.type == "dielectric") {
             m.type = kMaterialDielectric;
+        } else if (mi.type == "principled") {
+            m.type = kMaterialPrincipled;
+            auto unit = [](float v, float fallback) {
+                return std::isfinite(v) ? std::min(std::max(v, 0.0f), 1.0f) : fallback;
+            };
+            m.metallic = unit(mi.metallic, 0.0f);
+            m.transmission = unit(mi.transmission, 0.0f);
+            // Blender's Specular IOR Level scales F0 of the IOR (0.5: unchanged, 0: none)
+            const float level = std::isfinite(mi.specular_level) ? std::max(mi.specular_level, 0.0f)
+                                                                 : 0.5f;
+            const float ior = std::max(m.ior, 1.0f / m.ior);
+            float f0 = ((ior - 1.0f) / (ior + 1.0f)) * ((ior - 1.0f) / (ior + 1.0f));
+            f0 = std::min(f0 * 2.0f * level, 0.99f);
+            const float r = std::sqrt(f0);
+            m.spec_eta = (1.0f + r) / (1.0f - r);
+            principled_albedo_table(m);
         } else {
             throw std::invalid_argument("material " + std::to_string(k) + " ('" + mi.name +
                                         "'): unknown type '" + mi.type +
-                                        "' (diffuse, conductor, dielectric)");
+                                        "' (diffuse, conductor, dielectric, principled)");
         }
         materials_.push_back(m);
     }

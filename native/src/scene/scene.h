@@ -30,6 +30,10 @@ struct MaterialInput {
     float roughness = 0.5f;
     float ior = 1.5f;
     Vec3 specular_tint{1.0f, 1.0f, 1.0f};
+    // principled
+    float metallic = 0.0f;
+    float transmission = 0.0f;
+    float specular_level = 0.5f;  // Blender's Specular IOR Level (0.5: the IOR as given)
 };
 
 struct LightInput {

@@ -12,8 +12,11 @@ enum MaterialType : uint32_t {
     kMaterialDiffuse = 0,     // Lambert, albedo base_color
     kMaterialConductor = 1,   // GGX metal: F0 base_color, F82 tint specular_tint
     kMaterialDielectric = 2,  // GGX (or smooth) glass: ior, transmission tint base_color
-    kMaterialTypeCount = 3,
+    kMaterialPrincipled = 3,  // Blender's Principled BSDF as layers: bsdf/principled.h
+    kMaterialTypeCount = 4,
 };
+
+constexpr int kPrincipledAlbedoN = 33;  // at cosines (k / 32)^2: dense where Fresnel rises
 
 struct Material {
     Vec3 base_color;
@@ -21,7 +24,12 @@ struct Material {
     uint32_t type;       // MaterialType
     float roughness;     // Blender's roughness (alpha = roughness^2)
     float ior;           // dielectric: n_inside / n_outside
-    Vec3 specular_tint;  // conductor: F82 tint
+    Vec3 specular_tint;  // conductor: F82 tint; principled: specular tint (and the metal's F82)
+    // principled only
+    float metallic;
+    float transmission;
+    float spec_eta;      // the specular layer's IOR after Blender's Specular IOR Level
+    float spec_albedo[kPrincipledAlbedoN];  // its directional albedo (max channel) by cosine
 };
 
 // Sort key of the paper: high 8 bits the type, low 24 the material id.

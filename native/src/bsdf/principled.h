@@ -1,0 +1,249 @@
+// Blender's Principled BSDF as layers (the order of Cycles' Principled v2): a metal lobe of
+// weight `metallic`, a glass lobe of weight (1 - metallic) transmission, and on the rest a
+// dielectric specular layer over a Lambertian base. Composition is deterministic: the base is
+// weighted by (1 - E_s(mu_v)), E_s the directional albedo of the specular layer (a table of
+// kPrincipledAlbedoN cosines made when the scene is built, principled_albedo_table) and mu_v
+// the cosine of the direction towards the camera side (wo for radiance, wi for importance), so
+// that camera and light sub-paths evaluate the same function and every direction reflects at
+// most 1 (energy conserving; reciprocal only where E_s is constant, as in Cycles).
+// Sampling picks a lobe with probabilities from the albedos at the sampling direction, then the
+// lobe's direction; pdfs are the full mixture (forward and reverse), so MIS sees one BSDF.
+// Local frame: +Z the shading normal on the side of wo; `front` as in material.h.
+#pragma once
+
+#include "bsdf/conductor.h"
+#include "bsdf/dielectric.h"
+#include "bsdf/lambert.h"
+#include "scene/scene_view.h"
+
+namespace lantern {
+
+// ---- The specular layer: GGX reflection with Cycles' generalized-Schlick Fresnel ----
+
+// Fresnel of the specular layer at cos(wo, m): the real dielectric curve of eta, rescaled to
+// start at F0 * tint (F0 of eta) and end at 1 (tint 1: the plain dielectric Fresnel).
+LANTERN_HD inline Vec3 principled_spec_fresnel(const Material& m, float cos_h) {
+    const float eta = m.spec_eta;
+    const float f0 = sqr((eta - 1.0f) / (eta + 1.0f));
+    const float f = fresnel_dielectric(fabsf(cos_h), eta);
+    const float s = f0 < 1.0f ? clampf((f - f0) / (1.0f - f0), 0.0f, 1.0f) : 1.0f;
+    Vec3 f0c = vec3(fminf(f0 * m.specular_tint.x, 1.0f), fminf(f0 * m.specular_tint.y, 1.0f),
+                    fminf(f0 * m.specular_tint.z, 1.0f));
+    return f0c + (vec3(1.0f) - f0c) * s;
+}
+
+LANTERN_HD inline Ggx principled_ggx(const Material& m) {
+    return Ggx::isotropic(ggx_alpha_from_roughness(m.roughness));
+}
+
+LANTERN_HD inline bool principled_spec_is_delta(const Material& m) {
+    return principled_ggx(m).effectively_smooth();
+}
+
+// Value and pdfs of the rough specular lobe (zero for the smooth one: a delta).
+LANTERN_HD inline BsdfEval principled_spec_eval(const Material& m, Vec3 wo, Vec3 wi) {
+    BsdfEval e{vec3(0.0f), 0.0f, 0.0f};
+    Ggx g = principled_ggx(m);
+    if (g.effectively_smooth() || wo.z <= 0.0f || wi.z <= 0.0f) return e;
+    Vec3 h = wo + wi;
+    if (length_sq(h) <= 0.0f) return e;
+    h = normalize(h);
+    const float d = g.d(h);
+    e.f = principled_spec_fresnel(m, dot(wo, h)) * (d * g.g2(wo, wi) / (4.0f * wo.z * wi.z));
+    e.pdf_fwd_w = g.g1(wo) * d / (4.0f * wo.z);
+    e.pdf_rev_w = g.g1(wi) * d / (4.0f * wi.z);
+    if (!is_finite(e.f) || !is_finite(e.pdf_fwd_w) || !is_finite(e.pdf_rev_w))
+        return BsdfEval{vec3(0.0f), 0.0f, 0.0f};
+    return e;
+}
+
+// Directional albedo of the specular layer seen at cosine mu (max over the channels), by
+// stratified visible-normal sampling (smooth: the Fresnel itself). Used to fill the table.
+inline float principled_spec_albedo_exact(const Material& m, float mu, int n = 64) {
+    mu = clampf(mu, 1e-3f, 1.0f);
+    Vec3 wo = vec3(safe_sqrt(1.0f - mu * mu), 0.0f, mu);
+    Ggx g = principled_ggx(m);
+    if (g.effectively_smooth()) {
+        Vec3 f = principled_spec_fresnel(m, mu);
+        return max_component(f);
+    }
+    Vec3 sum = vec3(0.0f);
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+            Vec2 u{(i + 0.5f) / n, (j + 0.5f) / n};
+            Vec3 h = g.sample_visible(wo, u);
+            Vec3 wi = reflect(wo, h);
+            if (wi.z <= 0.0f) continue;
+            // f cos / pdf = F G2 / G1(wo)
+            sum += principled_spec_fresnel(m, dot(wo, h)) * (g.g2(wo, wi) / g.g1(wo));
+        }
+    return clampf(max_component(sum) / float(n * n), 0.0f, 1.0f);
+}
+
+// Fills m.spec_albedo (host, at scene build).
+inline void principled_albedo_table(Material& m) {
+    for (int k = 0; k < kPrincipledAlbedoN; ++k)
+        m.spec_albedo[k] = principled_spec_albedo_exact(m, sqr(float(k) / (kPrincipledAlbedoN - 1)));
+}
+
+LANTERN_HD inline float principled_spec_albedo(const Material& m, float mu) {
+    float x = sqrtf(clampf(fabsf(mu), 0.0f, 1.0f)) * (kPrincipledAlbedoN - 1);
+    int i = min_int(int(x), kPrincipledAlbedoN - 2);
+    float t = x - float(i);
+    return m.spec_albedo[i] * (1.0f - t) + m.spec_albedo[i + 1] * t;
+}
+
+// ---- The layers together ----
+
+struct PrincipledWeights {
+    float metal, glass, spec;  // lobe weights; the base is spec * (1 - E_s(mu_v))
+};
+
+LANTERN_HD inline PrincipledWeights principled_weights(const Material& m) {
+    float metal = clampf(m.metallic, 0.0f, 1.0f);
+    float glass = (1.0f - metal) * clampf(m.transmission, 0.0f, 1.0f);
+    return {metal, glass, 1.0f - metal - glass};
+}
+
+// Lobe selection at direction w (cosine mu): probabilities of metal, glass, specular, base.
+struct PrincipledPick {
+    float metal, glass, spec, base;
+};
+
+LANTERN_HD inline PrincipledPick principled_pick(const Material& m, float mu) {
+    PrincipledWeights w = principled_weights(m);
+    float es = principled_spec_albedo(m, mu);
+    PrincipledPick p{w.metal * (0.5f + 0.5f * luminance(m.base_color)), w.glass, w.spec * es,
+                     w.spec * (1.0f - es) * luminance(m.base_color)};
+    float sum = p.metal + p.glass + p.spec + p.base;
+    if (!(sum > 0.0f)) return {0.0f, 0.0f, 0.0f, 0.0f};
+    return {p.metal / sum, p.glass / sum, p.spec / sum, p.base / sum};
+}
+
+LANTERN_HD inline Vec3 principled_transmission_tint(const Material& m) {
+    return vec3(sqrtf(m.base_color.x), sqrtf(m.base_color.y), sqrtf(m.base_color.z));
+}
+
+LANTERN_HD inline BsdfEval principled_eval(const Material& m, bool front, Vec3 wo, Vec3 wi,
+                                           Transport mode) {
+    BsdfEval e{vec3(0.0f), 0.0f, 0.0f};
+    if (wo.z <= 0.0f || wi.z == 0.0f) return e;
+    const PrincipledWeights w = principled_weights(m);
+    const PrincipledPick pf = principled_pick(m, wo.z), pr = principled_pick(m, wi.z);
+    const bool reflect = wi.z > 0.0f;
+    if (w.metal > 0.0f && reflect) {
+        BsdfEval l = conductor_eval(conductor_f82(m.roughness, m.base_color, m.specular_tint),
+                                    wo, wi);
+        e.f += l.f * w.metal;
+        e.pdf_fwd_w += pf.metal * l.pdf_fwd_w;
+        e.pdf_rev_w += pr.metal * l.pdf_rev_w;
+    }
+    if (w.glass > 0.0f) {
+        DielectricParams d = dielectric(m.roughness, front ? m.ior : 1.0f / m.ior, mode);
+        BsdfEval l = dielectric_eval(d, wo, wi);
+        if (!reflect) l.f = l.f * principled_transmission_tint(m);
+        e.f += l.f * w.glass;
+        e.pdf_fwd_w += pf.glass * l.pdf_fwd_w;
+        e.pdf_rev_w += pr.glass * l.pdf_rev_w;
+    }
+    if (w.spec > 0.0f && reflect) {
+        BsdfEval l = principled_spec_eval(m, wo, wi);
+        e.f += l.f * w.spec;
+        e.pdf_fwd_w += pf.spec * l.pdf_fwd_w;
+        e.pdf_rev_w += pr.spec * l.pdf_rev_w;
+        // the base under the specular layer, attenuated on the camera side
+        const float mu_v = mode == Transport::Radiance ? wo.z : wi.z;
+        const float base_w = w.spec * (1.0f - principled_spec_albedo(m, mu_v));
+        BsdfEval b = lambert_eval(m.base_color, wo, wi);
+        e.f += b.f * base_w;
+        e.pdf_fwd_w += pf.base * b.pdf_fwd_w;
+        e.pdf_rev_w += pr.base * b.pdf_rev_w;
+    }
+    if (!is_finite(e.f) || !is_finite(e.pdf_fwd_w) || !is_finite(e.pdf_rev_w))
+        return BsdfEval{vec3(0.0f), 0.0f, 0.0f};
+    return e;
+}
+
+// u.x, u.y: the lobe's direction; u.z: the lobe (and, for glass, reflection or transmission).
+LANTERN_HD inline BsdfSample principled_sample(const Material& m, bool front, Vec3 wo, Vec3 u,
+                                               Transport mode) {
+    BsdfSample s{vec3(0.0f), vec3(0.0f), 0.0f, false};
+    if (wo.z <= 0.0f) return s;
+    const PrincipledWeights w = principled_weights(m);
+    const PrincipledPick p = principled_pick(m, wo.z);
+    float uc = u.z;
+    const Vec2 ud{u.x, u.y};
+    // choose the lobe; uc is rescaled into [0, 1) for the lobe's own use
+    int lobe;
+    float p_lobe;
+    if (uc < p.metal) {
+        lobe = 0;
+        p_lobe = p.metal;
+        uc = uc / p.metal;
+    } else if (uc < p.metal + p.glass) {
+        lobe = 1;
+        p_lobe = p.glass;
+        uc = (uc - p.metal) / p.glass;
+    } else if (uc < p.metal + p.glass + p.spec) {
+        lobe = 2;
+        p_lobe = p.spec;
+        uc = (uc - p.metal - p.glass) / p.spec;
+    } else {
+        lobe = 3;
+        p_lobe = p.base;
+    }
+    if (!(p_lobe > 0.0f)) return s;
+    uc = fminf(uc, 0.99999994f);
+    BsdfSample l{vec3(0.0f), vec3(0.0f), 0.0f, false};
+    Vec3 delta_f = vec3(0.0f);  // lobe weight x the lobe's own sample weight, for a delta pick
+    if (lobe == 0) {
+        ConductorParams c = conductor_f82(m.roughness, m.base_color, m.specular_tint);
+        l = conductor_sample(c, wo, ud);
+        delta_f = l.weight * w.metal;
+    } else if (lobe == 1) {
+        DielectricParams d = dielectric(m.roughness, front ? m.ior : 1.0f / m.ior, mode);
+        l = dielectric_sample(d, wo, ud, uc);
+        delta_f = l.weight * w.glass;
+        if (l.valid && l.wi.z < 0.0f) delta_f = delta_f * principled_transmission_tint(m);
+    } else if (lobe == 2) {
+        Ggx g = principled_ggx(m);
+        if (g.effectively_smooth()) {
+            l.wi = vec3(-wo.x, -wo.y, wo.z);
+            l.pdf_fwd_w = l.pdf_rev_w = 1.0f;
+            l.delta = true;
+            l.valid = true;
+            delta_f = principled_spec_fresnel(m, wo.z) * w.spec;
+        } else {
+            Vec3 h = g.sample_visible(wo, ud);
+            l.wi = reflect(wo, h);
+            l.valid = l.wi.z > 0.0f;
+        }
+    } else {
+        l = lambert_sample(m.base_color, wo, ud);
+    }
+    if (!l.valid) return s;
+    if (l.delta) {
+        // a delta lobe: its discrete probability times the pick probability
+        s.wi = l.wi;
+        s.delta = true;
+        // (reverse: the same lobe picked from wi's side; BDPT uses the ratio of the two)
+        const PrincipledPick pr = principled_pick(m, fabsf(l.wi.z));
+        const float p_rev = lobe == 0 ? pr.metal : lobe == 1 ? pr.glass : pr.spec;
+        s.pdf_fwd_w = l.pdf_fwd_w * p_lobe;
+        s.pdf_rev_w = l.pdf_rev_w * p_rev;
+        s.weight = delta_f / p_lobe;
+        s.valid = is_finite(s.weight);
+        return s;
+    }
+    // a direction from a non-delta lobe: the whole mixture's value and pdfs
+    BsdfEval e = principled_eval(m, front, wo, l.wi, mode);
+    if (!(e.pdf_fwd_w > 0.0f)) return s;
+    s.wi = l.wi;
+    s.pdf_fwd_w = e.pdf_fwd_w;
+    s.pdf_rev_w = e.pdf_rev_w;
+    s.weight = e.f * (fabsf(l.wi.z) / e.pdf_fwd_w);
+    s.valid = is_finite(s.weight);
+    return s;
+}
+
+}  // namespace lantern
