@@ -71,6 +71,11 @@ def convert_material(material, report):
     def value(socket):
         return _constant_float(node.inputs[socket], material, report)
 
+    # GGX energy compensation: Blender's "Multiscatter GGX" (the default); plain "GGX" has none
+    if getattr(node, "distribution", "MULTI_GGX") in ("GGX", "BECKMANN", "ASHIKHMIN_SHIRLEY"):
+        out["multiscatter"] = False
+        if node.distribution != "GGX":
+            report.warn(f"Material '{name}': {node.distribution} distribution rendered as GGX")
     if node.type == "BSDF_PRINCIPLED":
         out["base_color"] = _constant_color(node.inputs["Base Color"], material, report)
         strength = value("Emission Strength")

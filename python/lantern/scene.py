@@ -206,7 +206,7 @@ class Scene:
 
     def add_material(self, name=None, base_color=(0.8, 0.8, 0.8), emission=(0.0, 0.0, 0.0),
                      type="diffuse", roughness=0.5, ior=1.5, specular_tint=(1.0, 1.0, 1.0),
-                     metallic=0.0, transmission=0.0, specular_level=0.5):
+                     metallic=0.0, transmission=0.0, specular_level=0.5, multiscatter=True):
         """Append a material; returns its id (index into `materials`).
 
         `type`: "diffuse" (Lambert, albedo `base_color`), "conductor" (GGX metal with F0
@@ -220,6 +220,7 @@ class Scene:
             "name": str(name), "type": type, "base_color": base_color, "emission": emission,
             "roughness": roughness, "ior": ior, "specular_tint": specular_tint,
             "metallic": metallic, "transmission": transmission, "specular_level": specular_level,
+            "multiscatter": multiscatter,
         }, len(self.materials))
         self.materials.append(material)
         return len(self.materials) - 1
@@ -372,6 +373,10 @@ class Scene:
             if not (lo <= v <= hi):
                 raise ValueError(f"{what} {key}: must be in [{lo}, {hi}], got {v}")
             out[key] = v
+        ms = material.get("multiscatter", True)
+        if not isinstance(ms, (bool, np.bool_)):
+            raise ValueError(f"{what} multiscatter: expected True or False, got {ms!r}")
+        out["multiscatter"] = bool(ms)
         return out
 
     def _validate_mesh(self, mesh, index, check_materials):

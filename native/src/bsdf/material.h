@@ -8,6 +8,7 @@
 #include "bsdf/conductor.h"
 #include "bsdf/dielectric.h"
 #include "bsdf/lambert.h"
+#include "bsdf/multiscatter.h"
 #include "bsdf/principled.h"
 #include "scene/scene_view.h"
 
@@ -45,8 +46,11 @@ LANTERN_HD inline bool material_transmits(const Material& m) {
 LANTERN_HD inline BsdfEval material_eval(const Material& m, bool front, Vec3 wo, Vec3 wi,
                                          Transport mode) {
     switch (m.type) {
-    case kMaterialConductor:
-        return conductor_eval(material_conductor(m), wo, wi);
+    case kMaterialConductor: {
+        BsdfEval e = conductor_eval(material_conductor(m), wo, wi);
+        e.f = e.f * ms_scale(m, m.fms_metal, mode == Transport::Radiance ? wo.z : wi.z);
+        return e;
+    }
     case kMaterialDielectric: {
         BsdfEval e = dielectric_eval(material_dielectric(m, front, mode), wo, wi);
         if (wo.z * wi.z < 0.0f) e.f = e.f * m.base_color;  // transmission tint
@@ -63,8 +67,13 @@ LANTERN_HD inline BsdfEval material_eval(const Material& m, bool front, Vec3 wo,
 LANTERN_HD inline BsdfSample material_sample(const Material& m, bool front, Vec3 wo, Vec3 u,
                                              Transport mode) {
     switch (m.type) {
-    case kMaterialConductor:
-        return conductor_sample(material_conductor(m), wo, Vec2{u.x, u.y});
+    case kMaterialConductor: {
+        BsdfSample s = conductor_sample(material_conductor(m), wo, Vec2{u.x, u.y});
+        if (s.valid && !s.delta)
+            s.weight = s.weight * ms_scale(m, m.fms_metal,
+                                           mode == Transport::Radiance ? wo.z : s.wi.z);
+        return s;
+    }
     case kMaterialDielectric: {
         BsdfSample s = dielectric_sample(material_dielectric(m, front, mode), wo, Vec2{u.x, u.y}, u.z);
         if (s.valid && wo.z * s.wi.z < 0.0f) s.weight = s.weight * m.base_color;

@@ -14,6 +14,7 @@
 #include "bsdf/conductor.h"
 #include "bsdf/dielectric.h"
 #include "bsdf/lambert.h"
+#include "bsdf/multiscatter.h"
 #include "scene/scene_view.h"
 
 namespace lantern {
@@ -77,6 +78,8 @@ inline float principled_spec_albedo_exact(const Material& m, float mu, int n = 6
             // f cos / pdf = F G2 / G1(wo)
             sum += principled_spec_fresnel(m, dot(wo, h)) * (g.g2(wo, wi) / g.g1(wo));
         }
+    // with the multiple-scattering energy the lobe gets (bsdf/multiscatter.h)
+    sum = sum * ms_scale(m, m.fms_spec, mu);
     return clampf(max_component(sum) / float(n * n), 0.0f, 1.0f);
 }
 
@@ -131,10 +134,11 @@ LANTERN_HD inline BsdfEval principled_eval(const Material& m, bool front, Vec3 w
     const PrincipledWeights w = principled_weights(m);
     const PrincipledPick pf = principled_pick(m, wo.z), pr = principled_pick(m, wi.z);
     const bool reflect = wi.z > 0.0f;
+    const float mu_v = mode == Transport::Radiance ? wo.z : wi.z;  // the camera side
     if (w.metal > 0.0f && reflect) {
         BsdfEval l = conductor_eval(conductor_f82(m.roughness, m.base_color, m.specular_tint),
                                     wo, wi);
-        e.f += l.f * w.metal;
+        e.f += l.f * ms_scale(m, m.fms_metal, mu_v) * w.metal;
         e.pdf_fwd_w += pf.metal * l.pdf_fwd_w;
         e.pdf_rev_w += pr.metal * l.pdf_rev_w;
     }
@@ -148,11 +152,10 @@ LANTERN_HD inline BsdfEval principled_eval(const Material& m, bool front, Vec3 w
     }
     if (w.spec > 0.0f && reflect) {
         BsdfEval l = principled_spec_eval(m, wo, wi);
-        e.f += l.f * w.spec;
+        e.f += l.f * ms_scale(m, m.fms_spec, mu_v) * w.spec;
         e.pdf_fwd_w += pf.spec * l.pdf_fwd_w;
         e.pdf_rev_w += pr.spec * l.pdf_rev_w;
         // the base under the specular layer, attenuated on the camera side
-        const float mu_v = mode == Transport::Radiance ? wo.z : wi.z;
         const float base_w = w.spec * (1.0f - principled_spec_albedo(m, mu_v));
         BsdfEval b = lambert_eval(m.base_color, wo, wi);
         e.f += b.f * base_w;

@@ -103,6 +103,7 @@ SceneInput to_input(const nb::dict& scene) {
             mi.metallic = get<float>(m, "metallic", mi.metallic);
             mi.transmission = get<float>(m, "transmission", mi.transmission);
             mi.specular_level = get<float>(m, "specular_level", mi.specular_level);
+            mi.multiscatter = get<bool>(m, "multiscatter", mi.multiscatter);
             in.materials.push_back(mi);
         }
     }

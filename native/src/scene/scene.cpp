@@ -5,7 +5,7 @@
 #include <stdexcept>
 
 #include "integrator/camera.h"
-#include "bsdf/principled.h"
+#include "bsdf/material.h"
 #include "integrator/light_path.h"
 
 namespace lantern {
@@ -78,11 +78,23 @@ HostScene::HostScene(const SceneInput& in) {
             f0 = std::min(f0 * 2.0f * level, 0.99f);
             const float r = std::sqrt(f0);
             m.spec_eta = (1.0f + r) / (1.0f - r);
-            principled_albedo_table(m);
         } else {
             throw std::invalid_argument("material " + std::to_string(k) + " ('" + mi.name +
                                         "'): unknown type '" + mi.type +
                                         "' (diffuse, conductor, dielectric, principled)");
+        }
+        // GGX multiple-scattering compensation, then the principled layer's albedo (with it)
+        m.multiscatter = mi.multiscatter ? 1u : 0u;
+        if (m.type == kMaterialConductor || m.type == kMaterialPrincipled) {
+            const float e_avg = ms_fill_table(m);
+            const Material& mc = m;
+            m.fms_metal = ms_fresnel(
+                [&](float mu) { return conductor_fresnel(material_conductor(mc), mu); }, e_avg);
+            if (m.type == kMaterialPrincipled) {
+                m.fms_spec = ms_fresnel(
+                    [&](float mu) { return principled_spec_fresnel(mc, mu); }, e_avg);
+                principled_albedo_table(m);
+            }
         }
         materials_.push_back(m);
     }

@@ -34,6 +34,7 @@ struct MaterialInput {
     float metallic = 0.0f;
     float transmission = 0.0f;
     float specular_level = 0.5f;  // Blender's Specular IOR Level (0.5: the IOR as given)
+    bool multiscatter = true;     // GGX energy compensation (Blender's Multiscatter GGX)
 };
 
 struct LightInput {

@@ -30,6 +30,11 @@ struct Material {
     float transmission;
     float spec_eta;      // the specular layer's IOR after Blender's Specular IOR Level
     float spec_albedo[kPrincipledAlbedoN];  // its directional albedo (max channel) by cosine
+    // GGX multiple-scattering compensation (conductor, principled): bsdf/multiscatter.h
+    uint32_t multiscatter;  // 1: compensate (Blender's "Multiscatter GGX", the default)
+    float ms_e[kPrincipledAlbedoN];  // albedo of the white GGX lobe of this roughness by cosine
+    Vec3 fms_metal;      // Kulla-Conty multiple-scattering Fresnel of the metal lobe
+    Vec3 fms_spec;       // ... of the principled specular layer
 };
 
 // Sort key of the paper: high 8 bits the type, low 24 the material id.

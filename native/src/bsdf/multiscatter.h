@@ -1,0 +1,79 @@
+// Energy compensation for GGX reflection: the light single-scattering microfacet models lose
+// between microfacets, restored as Kulla & Conty ("Revisiting Physically Based Shading at
+// Imageworks", 2017) and Cycles' Multiscatter GGX do: the lobe is scaled by
+// 1 + F_ms (1 - E(mu)) / E(mu), E the directional albedo of the white (F = 1) lobe of that
+// roughness at the camera-side cosine mu, F_ms = F_avg E_avg / (1 - F_avg (1 - E_avg)) the
+// Fresnel of the extra bounces (F_avg the cosine-weighted average Fresnel, E_avg of E). A white
+// rough metal then reflects 1 at every angle. Tables are per material (scene build).
+#pragma once
+
+#include "bsdf/microfacet.h"
+#include "scene/scene_view.h"
+
+namespace lantern {
+
+LANTERN_HD inline float ms_table(const float* t, float mu) {
+    float x = sqrtf(clampf(fabsf(mu), 0.0f, 1.0f)) * (kPrincipledAlbedoN - 1);
+    int i = min_int(int(x), kPrincipledAlbedoN - 2);
+    float f = x - float(i);
+    return t[i] * (1.0f - f) + t[i + 1] * f;
+}
+
+// The factor for a lobe with multiple-scattering Fresnel fms, seen at camera-side cosine mu.
+LANTERN_HD inline Vec3 ms_scale(const Material& m, Vec3 fms, float mu) {
+    if (!m.multiscatter) return vec3(1.0f);
+    float e = ms_table(m.ms_e, mu);
+    if (!(e > 1e-3f) || e >= 1.0f) return vec3(1.0f);
+    return vec3(1.0f) + fms * ((1.0f - e) / e);
+}
+
+// ---- Host: the tables ----
+
+// Directional albedo of the white GGX lobe at cosine mu (stratified visible normals).
+inline float ggx_white_albedo(float roughness, float mu, int n = 48) {
+    Ggx g = Ggx::isotropic(ggx_alpha_from_roughness(roughness));
+    if (g.effectively_smooth()) return 1.0f;
+    mu = clampf(mu, 1e-3f, 1.0f);
+    Vec3 wo = vec3(safe_sqrt(1.0f - mu * mu), 0.0f, mu);
+    double sum = 0.0;
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+            Vec3 h = g.sample_visible(wo, Vec2{(i + 0.5f) / n, (j + 0.5f) / n});
+            Vec3 wi = reflect(wo, h);
+            if (wi.z > 0.0f) sum += g.g2(wo, wi) / g.g1(wo);
+        }
+    return float(sum / (n * n));
+}
+
+// Fills m.ms_e and returns E_avg = 2 int E(mu) mu dmu.
+inline float ms_fill_table(Material& m) {
+    for (int k = 0; k < kPrincipledAlbedoN; ++k)
+        m.ms_e[k] = ggx_white_albedo(m.roughness, sqr(float(k) / (kPrincipledAlbedoN - 1)));
+    const int n = 256;
+    double avg = 0.0;
+    for (int i = 0; i < n; ++i) {
+        float mu = (i + 0.5f) / n;
+        avg += 2.0 * ms_table(m.ms_e, mu) * mu / n;
+    }
+    return float(avg);
+}
+
+// F_ms from a Fresnel function F(mu) -> Vec3 and E_avg.
+template <typename F>
+inline Vec3 ms_fresnel(F fresnel, float e_avg) {
+    const int n = 256;
+    Vec3 favg = vec3(0.0f);
+    for (int i = 0; i < n; ++i) {
+        float mu = (i + 0.5f) / n;
+        favg += fresnel(mu) * (2.0f * mu / n);
+    }
+    Vec3 r;
+    for (int c = 0; c < 3; ++c) {
+        float f = clampf(favg[c], 0.0f, 1.0f);
+        float v = f * e_avg / fmaxf(1.0f - f * (1.0f - e_avg), 1e-6f);
+        (c == 0 ? r.x : c == 1 ? r.y : r.z) = v;
+    }
+    return r;
+}
+
+}  // namespace lantern
