@@ -6,7 +6,8 @@ textures are a later issue. Here, by the shader node at the Material Output's Su
 - Principled BSDF -> principled (bsdf/principled.h: metal, glass, a dielectric specular layer
   of IOR / Specular IOR Level / Specular Tint over a Lambertian Base Color, Roughness); Metallic
   1 -> conductor (the same lobe, cheaper); Specular IOR Level 0 without metal or glass ->
-  diffuse (exactly Lambert). Coat, sheen and subsurface are not rendered yet (a warning).
+  diffuse (exactly Lambert). Coat (weight, roughness, IOR, tint) over everything; sheen and
+  subsurface are not rendered yet (a warning).
   Emission Color x Strength in every case.
 - Diffuse BSDF -> diffuse; Emission -> emission; Glossy BSDF -> conductor with Color as F0 and
   tint (Cycles' Glossy has no Fresnel: a constant Color reflectance); Metallic BSDF (F82) ->
@@ -94,8 +95,12 @@ def convert_material(material, report):
                        specular_tint=color("Specular Tint"), roughness=_unit(value("Roughness")),
                        ior=_ior(value("IOR")), metallic=metallic, transmission=transmission,
                        specular_level=min(level, 1e3))
-            unsupported = [s for s in ("Coat Weight", "Sheen Weight", "Subsurface Weight")
-                           if value(s) > 0.0]
+            coat = min(max(value("Coat Weight"), 0.0), 1.0)
+            if coat > 0.0:
+                out.update(coat_weight=coat, coat_roughness=_unit(value("Coat Roughness")),
+                           coat_ior=max(_ior(value("Coat IOR")), 1.0),
+                           coat_tint=color("Coat Tint"))
+            unsupported = [s for s in ("Sheen Weight", "Subsurface Weight") if value(s) > 0.0]
             if unsupported:
                 report.warn(f"Material '{name}': {', '.join(unsupported)} not rendered yet "
                             f"(Lantern's Principled has metal, glass, specular and base layers)")

@@ -206,7 +206,9 @@ class Scene:
 
     def add_material(self, name=None, base_color=(0.8, 0.8, 0.8), emission=(0.0, 0.0, 0.0),
                      type="diffuse", roughness=0.5, ior=1.5, specular_tint=(1.0, 1.0, 1.0),
-                     metallic=0.0, transmission=0.0, specular_level=0.5, multiscatter=True):
+                     metallic=0.0, transmission=0.0, specular_level=0.5, multiscatter=True,
+                     coat_weight=0.0, coat_roughness=0.03, coat_ior=1.5,
+                     coat_tint=(1.0, 1.0, 1.0)):
         """Append a material; returns its id (index into `materials`).
 
         `type`: "diffuse" (Lambert, albedo `base_color`), "conductor" (GGX metal with F0
@@ -220,7 +222,8 @@ class Scene:
             "name": str(name), "type": type, "base_color": base_color, "emission": emission,
             "roughness": roughness, "ior": ior, "specular_tint": specular_tint,
             "metallic": metallic, "transmission": transmission, "specular_level": specular_level,
-            "multiscatter": multiscatter,
+            "multiscatter": multiscatter, "coat_weight": coat_weight,
+            "coat_roughness": coat_roughness, "coat_ior": coat_ior, "coat_tint": coat_tint,
         }, len(self.materials))
         self.materials.append(material)
         return len(self.materials) - 1
@@ -363,9 +366,13 @@ class Scene:
         out["emission"] = _rgb(material.get("emission", [0.0, 0.0, 0.0]), f"{what} emission")
         out["specular_tint"] = _rgb(material.get("specular_tint", [1.0, 1.0, 1.0]),
                                     f"{what} specular_tint")
+        out["coat_tint"] = _rgb(material.get("coat_tint", [1.0, 1.0, 1.0]), f"{what} coat_tint")
         for key, default, lo, hi in (("roughness", 0.5, 0.0, 1.0), ("ior", 1.5, 0.01, 100.0),
                                      ("metallic", 0.0, 0.0, 1.0), ("transmission", 0.0, 0.0, 1.0),
-                                     ("specular_level", 0.5, 0.0, 1e3)):
+                                     ("specular_level", 0.5, 0.0, 1e3),
+                                     ("coat_weight", 0.0, 0.0, 1.0),
+                                     ("coat_roughness", 0.03, 0.0, 1.0),
+                                     ("coat_ior", 1.5, 1.0, 100.0)):
             try:
                 v = float(material.get(key, default))
             except (TypeError, ValueError):

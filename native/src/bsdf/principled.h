@@ -96,6 +96,68 @@ LANTERN_HD inline float principled_spec_albedo(const Material& m, float mu) {
     return m.spec_albedo[i] * (1.0f - t) + m.spec_albedo[i + 1] * t;
 }
 
+// ---- The coat: a dielectric GGX reflection layer over everything else ----
+
+LANTERN_HD inline Ggx principled_coat_ggx(const Material& m) {
+    return Ggx::isotropic(ggx_alpha_from_roughness(m.coat_roughness));
+}
+
+LANTERN_HD inline BsdfEval principled_coat_eval(const Material& m, Vec3 wo, Vec3 wi) {
+    BsdfEval e{vec3(0.0f), 0.0f, 0.0f};
+    Ggx g = principled_coat_ggx(m);
+    if (g.effectively_smooth() || wo.z <= 0.0f || wi.z <= 0.0f) return e;
+    Vec3 h = wo + wi;
+    if (length_sq(h) <= 0.0f) return e;
+    h = normalize(h);
+    const float d = g.d(h);
+    e.f = vec3(fresnel_dielectric(dot(wo, h), m.coat_ior) * d * g.g2(wo, wi) /
+               (4.0f * wo.z * wi.z));
+    e.pdf_fwd_w = g.g1(wo) * d / (4.0f * wo.z);
+    e.pdf_rev_w = g.g1(wi) * d / (4.0f * wi.z);
+    if (!is_finite(e.f) || !is_finite(e.pdf_fwd_w) || !is_finite(e.pdf_rev_w))
+        return BsdfEval{vec3(0.0f), 0.0f, 0.0f};
+    return e;
+}
+
+inline float principled_coat_albedo_exact(const Material& m, float mu, int n = 48) {
+    mu = clampf(mu, 1e-3f, 1.0f);
+    Ggx g = principled_coat_ggx(m);
+    if (g.effectively_smooth()) return fresnel_dielectric(mu, m.coat_ior);
+    Vec3 wo = vec3(safe_sqrt(1.0f - mu * mu), 0.0f, mu);
+    double sum = 0.0;
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+            Vec3 h = g.sample_visible(wo, Vec2{(i + 0.5f) / n, (j + 0.5f) / n});
+            Vec3 wi = reflect(wo, h);
+            if (wi.z > 0.0f) sum += fresnel_dielectric(dot(wo, h), m.coat_ior) * g.g2(wo, wi) / g.g1(wo);
+        }
+    return clampf(float(sum / (n * n)), 0.0f, 1.0f);
+}
+
+inline void principled_coat_table(Material& m) {
+    for (int k = 0; k < kPrincipledAlbedoN; ++k)
+        m.coat_albedo[k] = principled_coat_albedo_exact(m, sqr(float(k) / (kPrincipledAlbedoN - 1)));
+}
+
+// What reaches the layers under the coat, seen at camera-side cosine mu: the coat's
+// transmitted share and its tint along the refracted path (Beer, tint per unit thickness at
+// normal incidence, as Cycles).
+LANTERN_HD inline Vec3 principled_below_coat(const Material& m, float mu) {
+    const float cw = m.coat_weight;
+    if (!(cw > 0.0f)) return vec3(1.0f);
+    const float e = ms_table(m.coat_albedo, mu);
+    Vec3 t = vec3(1.0f);
+    if (!(m.coat_tint.x == 1.0f && m.coat_tint.y == 1.0f && m.coat_tint.z == 1.0f)) {
+        float sin2 = (1.0f - mu * mu) / (m.coat_ior * m.coat_ior);
+        float cos_t = safe_sqrt(1.0f - sin2);
+        float depth = 1.0f / fmaxf(cos_t, 1e-3f);
+        Vec3 tt = vec3(powf(m.coat_tint.x, depth), powf(m.coat_tint.y, depth),
+                       powf(m.coat_tint.z, depth));
+        t = vec3(1.0f) * (1.0f - cw) + tt * cw;
+    }
+    return t * (1.0f - cw * e);
+}
+
 // ---- The layers together ----
 
 struct PrincipledWeights {
@@ -110,17 +172,20 @@ LANTERN_HD inline PrincipledWeights principled_weights(const Material& m) {
 
 // Lobe selection at direction w (cosine mu): probabilities of metal, glass, specular, base.
 struct PrincipledPick {
-    float metal, glass, spec, base;
+    float metal, glass, spec, base, coat;
 };
 
 LANTERN_HD inline PrincipledPick principled_pick(const Material& m, float mu) {
     PrincipledWeights w = principled_weights(m);
     float es = principled_spec_albedo(m, mu);
-    PrincipledPick p{w.metal * (0.5f + 0.5f * luminance(m.base_color)), w.glass, w.spec * es,
-                     w.spec * (1.0f - es) * luminance(m.base_color)};
-    float sum = p.metal + p.glass + p.spec + p.base;
-    if (!(sum > 0.0f)) return {0.0f, 0.0f, 0.0f, 0.0f};
-    return {p.metal / sum, p.glass / sum, p.spec / sum, p.base / sum};
+    float ec = m.coat_weight > 0.0f ? m.coat_weight * ms_table(m.coat_albedo, mu) : 0.0f;
+    float below = 1.0f - ec;
+    PrincipledPick p{below * w.metal * (0.5f + 0.5f * luminance(m.base_color)),
+                     below * w.glass, below * w.spec * es,
+                     below * w.spec * (1.0f - es) * luminance(m.base_color), ec};
+    float sum = p.metal + p.glass + p.spec + p.base + p.coat;
+    if (!(sum > 0.0f)) return {0.0f, 0.0f, 0.0f, 0.0f, 0.0f};
+    return {p.metal / sum, p.glass / sum, p.spec / sum, p.base / sum, p.coat / sum};
 }
 
 LANTERN_HD inline Vec3 principled_transmission_tint(const Material& m) {
@@ -135,10 +200,18 @@ LANTERN_HD inline BsdfEval principled_eval(const Material& m, bool front, Vec3 w
     const PrincipledPick pf = principled_pick(m, wo.z), pr = principled_pick(m, wi.z);
     const bool reflect = wi.z > 0.0f;
     const float mu_v = mode == Transport::Radiance ? wo.z : wi.z;  // the camera side
+    if (m.coat_weight > 0.0f && reflect) {
+        BsdfEval l = principled_coat_eval(m, wo, wi);
+        e.f += l.f * m.coat_weight;
+        e.pdf_fwd_w += pf.coat * l.pdf_fwd_w;
+        e.pdf_rev_w += pr.coat * l.pdf_rev_w;
+    }
+    const Vec3 below = principled_below_coat(m, mu_v);
+    Vec3 f_lower = vec3(0.0f);
     if (w.metal > 0.0f && reflect) {
         BsdfEval l = conductor_eval(conductor_f82(m.roughness, m.base_color, m.specular_tint),
                                     wo, wi);
-        e.f += l.f * ms_scale(m, m.fms_metal, mu_v) * w.metal;
+        f_lower += l.f * ms_scale(m, m.fms_metal, mu_v) * w.metal;
         e.pdf_fwd_w += pf.metal * l.pdf_fwd_w;
         e.pdf_rev_w += pr.metal * l.pdf_rev_w;
     }
@@ -146,22 +219,23 @@ LANTERN_HD inline BsdfEval principled_eval(const Material& m, bool front, Vec3 w
         DielectricParams d = dielectric(m.roughness, front ? m.ior : 1.0f / m.ior, mode);
         BsdfEval l = dielectric_eval(d, wo, wi);
         if (!reflect) l.f = l.f * principled_transmission_tint(m);
-        e.f += l.f * w.glass;
+        f_lower += l.f * w.glass;
         e.pdf_fwd_w += pf.glass * l.pdf_fwd_w;
         e.pdf_rev_w += pr.glass * l.pdf_rev_w;
     }
     if (w.spec > 0.0f && reflect) {
         BsdfEval l = principled_spec_eval(m, wo, wi);
-        e.f += l.f * ms_scale(m, m.fms_spec, mu_v) * w.spec;
+        f_lower += l.f * ms_scale(m, m.fms_spec, mu_v) * w.spec;
         e.pdf_fwd_w += pf.spec * l.pdf_fwd_w;
         e.pdf_rev_w += pr.spec * l.pdf_rev_w;
         // the base under the specular layer, attenuated on the camera side
         const float base_w = w.spec * (1.0f - principled_spec_albedo(m, mu_v));
         BsdfEval b = lambert_eval(m.base_color, wo, wi);
-        e.f += b.f * base_w;
+        f_lower += b.f * base_w;
         e.pdf_fwd_w += pf.base * b.pdf_fwd_w;
         e.pdf_rev_w += pr.base * b.pdf_rev_w;
     }
+    e.f += f_lower * below;
     if (!is_finite(e.f) || !is_finite(e.pdf_fwd_w) || !is_finite(e.pdf_rev_w))
         return BsdfEval{vec3(0.0f), 0.0f, 0.0f};
     return e;
@@ -179,7 +253,10 @@ LANTERN_HD inline BsdfSample principled_sample(const Material& m, bool front, Ve
     // choose the lobe; uc is rescaled into [0, 1) for the lobe's own use
     int lobe;
     float p_lobe;
-    if (uc < p.metal) {
+    if (uc >= 1.0f - p.coat) {
+        lobe = 4;
+        p_lobe = p.coat;
+    } else if (uc < p.metal) {
         lobe = 0;
         p_lobe = p.metal;
         uc = uc / p.metal;
@@ -221,17 +298,37 @@ LANTERN_HD inline BsdfSample principled_sample(const Material& m, bool front, Ve
             l.wi = reflect(wo, h);
             l.valid = l.wi.z > 0.0f;
         }
+    } else if (lobe == 4) {
+        Ggx g = principled_coat_ggx(m);
+        if (g.effectively_smooth()) {
+            l.wi = vec3(-wo.x, -wo.y, wo.z);
+            l.pdf_fwd_w = l.pdf_rev_w = 1.0f;
+            l.delta = true;
+            l.valid = true;
+            delta_f = vec3(fresnel_dielectric(wo.z, m.coat_ior) * m.coat_weight);
+        } else {
+            Vec3 h = g.sample_visible(wo, ud);
+            l.wi = reflect(wo, h);
+            l.valid = l.wi.z > 0.0f;
+        }
     } else {
         l = lambert_sample(m.base_color, wo, ud);
     }
     if (!l.valid) return s;
+    // a delta pick from a layer under the coat is seen through it
+    if (l.delta && lobe != 4)
+        delta_f = delta_f * principled_below_coat(m, mode == Transport::Radiance ? wo.z
+                                                                                  : fabsf(l.wi.z));
     if (l.delta) {
         // a delta lobe: its discrete probability times the pick probability
         s.wi = l.wi;
         s.delta = true;
         // (reverse: the same lobe picked from wi's side; BDPT uses the ratio of the two)
         const PrincipledPick pr = principled_pick(m, fabsf(l.wi.z));
-        const float p_rev = lobe == 0 ? pr.metal : lobe == 1 ? pr.glass : pr.spec;
+        const float p_rev = lobe == 0   ? pr.metal
+                            : lobe == 1 ? pr.glass
+                            : lobe == 4 ? pr.coat
+                                        : pr.spec;
         s.pdf_fwd_w = l.pdf_fwd_w * p_lobe;
         s.pdf_rev_w = l.pdf_rev_w * p_rev;
         s.weight = delta_f / p_lobe;

@@ -78,6 +78,12 @@ HostScene::HostScene(const SceneInput& in) {
             f0 = std::min(f0 * 2.0f * level, 0.99f);
             const float r = std::sqrt(f0);
             m.spec_eta = (1.0f + r) / (1.0f - r);
+            m.coat_weight = unit(mi.coat_weight, 0.0f);
+            m.coat_roughness = unit(mi.coat_roughness, 0.03f);
+            m.coat_ior = std::isfinite(mi.coat_ior) ? std::min(std::max(mi.coat_ior, 1.0f), 100.0f)
+                                                    : 1.5f;
+            m.coat_tint = sanitize_color(mi.coat_tint, 1.0f);
+            if (m.coat_weight > 0.0f) principled_coat_table(m);
         } else {
             throw std::invalid_argument("material " + std::to_string(k) + " ('" + mi.name +
                                         "'): unknown type '" + mi.type +

@@ -35,6 +35,8 @@ struct MaterialInput {
     float transmission = 0.0f;
     float specular_level = 0.5f;  // Blender's Specular IOR Level (0.5: the IOR as given)
     bool multiscatter = true;     // GGX energy compensation (Blender's Multiscatter GGX)
+    float coat_weight = 0.0f, coat_roughness = 0.03f, coat_ior = 1.5f;
+    Vec3 coat_tint{1.0f, 1.0f, 1.0f};
 };
 
 struct LightInput {

@@ -35,6 +35,10 @@ struct Material {
     float ms_e[kPrincipledAlbedoN];  // albedo of the white GGX lobe of this roughness by cosine
     Vec3 fms_metal;      // Kulla-Conty multiple-scattering Fresnel of the metal lobe
     Vec3 fms_spec;       // ... of the principled specular layer
+    // principled coat: a dielectric GGX layer over everything else
+    float coat_weight, coat_roughness, coat_ior;
+    Vec3 coat_tint;
+    float coat_albedo[kPrincipledAlbedoN];  // its directional albedo by cosine
 };
 
 // Sort key of the paper: high 8 bits the type, low 24 the material id.
