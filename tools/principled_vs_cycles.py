@@ -1,6 +1,6 @@
 """Principled BSDF, Lantern against Cycles: the blend_scenes Cornell box with every surface a
 Principled BSDF of its colour (variant: default, glossy = roughness 0.2, metal = Metallic 0.5,
-glass = Transmission 0.5, coat = Coat Weight 1 roughness 0.1, coat_tint), 64 x 64, 6 seeds x 256 spp each; prints the mean ratio and the worst
+glass = Transmission 0.5, coat = Coat Weight 1 roughness 0.1, coat_tint, sheen = Sheen Weight 1), 64 x 64, 6 seeds x 256 spp each; prints the mean ratio and the worst
 8x8-block z-score. Usage: .venv/bin/python tools/principled_vs_cycles.py [variant]"""
 import sys, os, time
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -33,6 +33,9 @@ for mat in bpy.data.materials:
     if variant == "coat":
         p.inputs["Coat Weight"].default_value = 1.0
         p.inputs["Coat Roughness"].default_value = 0.1
+    if variant == "sheen":
+        p.inputs["Sheen Weight"].default_value = 1.0
+        p.inputs["Sheen Roughness"].default_value = 0.5
     if variant == "coat_tint":
         p.inputs["Coat Weight"].default_value = 1.0
         p.inputs["Coat Tint"].default_value = (0.9, 0.7, 0.5, 1.0)

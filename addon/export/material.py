@@ -100,7 +100,11 @@ def convert_material(material, report):
                 out.update(coat_weight=coat, coat_roughness=_unit(value("Coat Roughness")),
                            coat_ior=max(_ior(value("Coat IOR")), 1.0),
                            coat_tint=color("Coat Tint"))
-            unsupported = [s for s in ("Sheen Weight", "Subsurface Weight") if value(s) > 0.0]
+            sheen = max(value("Sheen Weight"), 0.0)
+            if sheen > 0.0:
+                out.update(sheen_weight=sheen, sheen_roughness=_unit(value("Sheen Roughness")),
+                           sheen_tint=color("Sheen Tint"))
+            unsupported = [s for s in ("Subsurface Weight",) if value(s) > 0.0]
             if unsupported:
                 report.warn(f"Material '{name}': {', '.join(unsupported)} not rendered yet "
                             f"(Lantern's Principled has metal, glass, specular and base layers)")

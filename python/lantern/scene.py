@@ -367,12 +367,16 @@ class Scene:
         out["specular_tint"] = _rgb(material.get("specular_tint", [1.0, 1.0, 1.0]),
                                     f"{what} specular_tint")
         out["coat_tint"] = _rgb(material.get("coat_tint", [1.0, 1.0, 1.0]), f"{what} coat_tint")
+        out["sheen_tint"] = _rgb(material.get("sheen_tint", [1.0, 1.0, 1.0]),
+                                 f"{what} sheen_tint")
         for key, default, lo, hi in (("roughness", 0.5, 0.0, 1.0), ("ior", 1.5, 0.01, 100.0),
                                      ("metallic", 0.0, 0.0, 1.0), ("transmission", 0.0, 0.0, 1.0),
                                      ("specular_level", 0.5, 0.0, 1e3),
                                      ("coat_weight", 0.0, 0.0, 1.0),
                                      ("coat_roughness", 0.03, 0.0, 1.0),
-                                     ("coat_ior", 1.5, 1.0, 100.0)):
+                                     ("coat_ior", 1.5, 1.0, 100.0),
+                                     ("sheen_weight", 0.0, 0.0, 1e3),
+                                     ("sheen_roughness", 0.5, 0.0, 1.0)):
             try:
                 v = float(material.get(key, default))
             except (TypeError, ValueError):

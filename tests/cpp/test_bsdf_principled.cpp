@@ -37,6 +37,14 @@ Material coated(Material m, float weight, float roughness, float ior = 1.5f) {
     return m;
 }
 
+Material sheened(Material m, float weight, float roughness) {
+    m.sheen_weight = weight;
+    m.sheen_roughness = roughness;
+    m.sheen_tint = vec3(1.0f);
+    principled_sheen_table(m);
+    return m;
+}
+
 }  // namespace
 
 TEST(BsdfPrincipled, SampleMatchesMixturePdfChiSquare) {
@@ -50,6 +58,9 @@ TEST(BsdfPrincipled, SampleMatchesMixturePdfChiSquare) {
         {principled(vec3(0.9f, 0.7f, 0.4f), 0.4f, 0.0f, 0.4f), "part metal"},
         {principled(vec3(0.9f, 0.9f, 0.9f), 0.0f, 0.6f, 0.5f), "part glass"},
         {coated(principled(vec3(0.8f, 0.2f, 0.1f), 0.3f, 0.0f, 0.5f), 0.8f, 0.3f), "rough coat"},
+        {sheened(coated(principled(vec3(0.3f, 0.2f, 0.6f), 0.0f, 0.0f, 0.5f), 0.5f, 0.4f), 1.0f,
+                 0.5f),
+         "sheen over coat"},
     };
     for (const Case& c : cases)
         // (angles and roughness where the binned pdf integral is accurate: the lobe tests'
@@ -133,6 +144,22 @@ TEST(BsdfPrincipled, WhiteFurnaceConservesEnergy) {
             EXPECT_NEAR(sum / n, 1.0, 0.02) << "coat roughness " << coat_rough << " theta "
                                             << theta_o;
         }
+    // and a sheen on top of both
+    for (float theta_o : {0.0f, 1.0f, 1.45f}) {
+        Material m = sheened(coated(principled(vec3(1.0f), 0.0f, 0.0f, 0.4f), 1.0f, 0.3f), 1.0f,
+                             0.4f);
+        Vec3 wo = dir_from_angles(theta_o, 0.3f);
+        Rng rng = Rng::for_path(8, 0, 0);
+        const int n = 40000;
+        double sum = 0.0;
+        for (int i = 0; i < n; ++i) {
+            BsdfSample s = material_sample(m, true, wo, vec3(rng.uniform(), rng.uniform(),
+                                                             rng.uniform()),
+                                           Transport::Radiance);
+            if (s.valid) sum += s.weight.x;
+        }
+        EXPECT_NEAR(sum / n, 1.0, 0.02) << "sheen, theta " << theta_o;
+    }
     // nothing reflects more than 1: metals, glass, tints. (Importance transport only without
     // the specular layer: weighting the base by the camera-side albedo, as Cycles does, is not
     // reciprocal, and seen from the light at grazing angles the layer + base may pass 1 by

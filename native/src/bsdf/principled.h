@@ -15,6 +15,7 @@
 #include "bsdf/dielectric.h"
 #include "bsdf/lambert.h"
 #include "bsdf/multiscatter.h"
+#include "bsdf/sheen.h"
 #include "scene/scene_view.h"
 
 namespace lantern {
@@ -96,6 +97,36 @@ LANTERN_HD inline float principled_spec_albedo(const Material& m, float mu) {
     return m.spec_albedo[i] * (1.0f - t) + m.spec_albedo[i + 1] * t;
 }
 
+// ---- The sheen: the top layer ----
+
+LANTERN_HD inline SheenParams principled_sheen(const Material& m) {
+    return {m.sheen_tint * m.sheen_weight, m.sheen_roughness};
+}
+
+inline void principled_sheen_table(Material& m) {
+    SheenParams white{vec3(1.0f), m.sheen_roughness};
+    const int n = 64;
+    for (int k = 0; k < kPrincipledAlbedoN; ++k) {
+        float mu = fmaxf(sqr(float(k) / (kPrincipledAlbedoN - 1)), 1e-3f);
+        Vec3 wo = vec3(safe_sqrt(1.0f - mu * mu), 0.0f, mu);
+        double sum = 0.0;
+        for (int i = 0; i < n; ++i)
+            for (int j = 0; j < n; ++j) {
+                float pdf;
+                Vec3 wi = sample_cosine_hemisphere(Vec2{(i + 0.5f) / n, (j + 0.5f) / n}, &pdf);
+                if (pdf > 0.0f) sum += sheen_f(white, wo, wi).x * wi.z / pdf;
+            }
+        m.sheen_albedo[k] = clampf(float(sum / (n * n)), 0.0f, 1.0f);
+    }
+}
+
+// What the sheen lets through to the coat and below, at camera-side cosine mu.
+LANTERN_HD inline float principled_below_sheen(const Material& m, float mu) {
+    if (!(m.sheen_weight > 0.0f)) return 1.0f;
+    float e = ms_table(m.sheen_albedo, mu) * m.sheen_weight * max_component(m.sheen_tint);
+    return clampf(1.0f - e, 0.0f, 1.0f);
+}
+
 // ---- The coat: a dielectric GGX reflection layer over everything else ----
 
 LANTERN_HD inline Ggx principled_coat_ggx(const Material& m) {
@@ -144,7 +175,8 @@ inline void principled_coat_table(Material& m) {
 // normal incidence, as Cycles).
 LANTERN_HD inline Vec3 principled_below_coat(const Material& m, float mu) {
     const float cw = m.coat_weight;
-    if (!(cw > 0.0f)) return vec3(1.0f);
+    const float sheen_pass = principled_below_sheen(m, mu);
+    if (!(cw > 0.0f)) return vec3(sheen_pass);
     const float e = ms_table(m.coat_albedo, mu);
     Vec3 t = vec3(1.0f);
     if (!(m.coat_tint.x == 1.0f && m.coat_tint.y == 1.0f && m.coat_tint.z == 1.0f)) {
@@ -155,7 +187,7 @@ LANTERN_HD inline Vec3 principled_below_coat(const Material& m, float mu) {
                        powf(m.coat_tint.z, depth));
         t = vec3(1.0f) * (1.0f - cw) + tt * cw;
     }
-    return t * (1.0f - cw * e);
+    return t * ((1.0f - cw * e) * sheen_pass);
 }
 
 // ---- The layers together ----
@@ -172,20 +204,24 @@ LANTERN_HD inline PrincipledWeights principled_weights(const Material& m) {
 
 // Lobe selection at direction w (cosine mu): probabilities of metal, glass, specular, base.
 struct PrincipledPick {
-    float metal, glass, spec, base, coat;
+    float metal, glass, spec, base, coat, sheen;
 };
 
 LANTERN_HD inline PrincipledPick principled_pick(const Material& m, float mu) {
     PrincipledWeights w = principled_weights(m);
     float es = principled_spec_albedo(m, mu);
-    float ec = m.coat_weight > 0.0f ? m.coat_weight * ms_table(m.coat_albedo, mu) : 0.0f;
-    float below = 1.0f - ec;
+    const float sheen_pass = principled_below_sheen(m, mu);
+    const float esh = 1.0f - sheen_pass;
+    float ec = m.coat_weight > 0.0f ? sheen_pass * m.coat_weight * ms_table(m.coat_albedo, mu)
+                                    : 0.0f;
+    float below = sheen_pass - ec;
     PrincipledPick p{below * w.metal * (0.5f + 0.5f * luminance(m.base_color)),
                      below * w.glass, below * w.spec * es,
-                     below * w.spec * (1.0f - es) * luminance(m.base_color), ec};
-    float sum = p.metal + p.glass + p.spec + p.base + p.coat;
-    if (!(sum > 0.0f)) return {0.0f, 0.0f, 0.0f, 0.0f, 0.0f};
-    return {p.metal / sum, p.glass / sum, p.spec / sum, p.base / sum, p.coat / sum};
+                     below * w.spec * (1.0f - es) * luminance(m.base_color), ec, esh};
+    float sum = p.metal + p.glass + p.spec + p.base + p.coat + p.sheen;
+    if (!(sum > 0.0f)) return {0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f};
+    return {p.metal / sum, p.glass / sum, p.spec / sum, p.base / sum, p.coat / sum,
+            p.sheen / sum};
 }
 
 LANTERN_HD inline Vec3 principled_transmission_tint(const Material& m) {
@@ -200,9 +236,15 @@ LANTERN_HD inline BsdfEval principled_eval(const Material& m, bool front, Vec3 w
     const PrincipledPick pf = principled_pick(m, wo.z), pr = principled_pick(m, wi.z);
     const bool reflect = wi.z > 0.0f;
     const float mu_v = mode == Transport::Radiance ? wo.z : wi.z;  // the camera side
+    if (m.sheen_weight > 0.0f && reflect) {
+        BsdfEval l = sheen_eval(principled_sheen(m), wo, wi);
+        e.f += l.f;
+        e.pdf_fwd_w += pf.sheen * l.pdf_fwd_w;
+        e.pdf_rev_w += pr.sheen * l.pdf_rev_w;
+    }
     if (m.coat_weight > 0.0f && reflect) {
         BsdfEval l = principled_coat_eval(m, wo, wi);
-        e.f += l.f * m.coat_weight;
+        e.f += l.f * (m.coat_weight * principled_below_sheen(m, mu_v));
         e.pdf_fwd_w += pf.coat * l.pdf_fwd_w;
         e.pdf_rev_w += pr.coat * l.pdf_rev_w;
     }
@@ -253,7 +295,10 @@ LANTERN_HD inline BsdfSample principled_sample(const Material& m, bool front, Ve
     // choose the lobe; uc is rescaled into [0, 1) for the lobe's own use
     int lobe;
     float p_lobe;
-    if (uc >= 1.0f - p.coat) {
+    if (uc >= 1.0f - p.sheen) {
+        lobe = 5;
+        p_lobe = p.sheen;
+    } else if (uc >= 1.0f - p.sheen - p.coat) {
         lobe = 4;
         p_lobe = p.coat;
     } else if (uc < p.metal) {
@@ -305,12 +350,15 @@ LANTERN_HD inline BsdfSample principled_sample(const Material& m, bool front, Ve
             l.pdf_fwd_w = l.pdf_rev_w = 1.0f;
             l.delta = true;
             l.valid = true;
-            delta_f = vec3(fresnel_dielectric(wo.z, m.coat_ior) * m.coat_weight);
+            delta_f = vec3(fresnel_dielectric(wo.z, m.coat_ior) * m.coat_weight *
+                           principled_below_sheen(m, wo.z));
         } else {
             Vec3 h = g.sample_visible(wo, ud);
             l.wi = reflect(wo, h);
             l.valid = l.wi.z > 0.0f;
         }
+    } else if (lobe == 5) {
+        l = sheen_sample(principled_sheen(m), wo, ud);
     } else {
         l = lambert_sample(m.base_color, wo, ud);
     }

@@ -108,6 +108,9 @@ SceneInput to_input(const nb::dict& scene) {
             mi.coat_roughness = get<float>(m, "coat_roughness", mi.coat_roughness);
             mi.coat_ior = get<float>(m, "coat_ior", mi.coat_ior);
             mi.coat_tint = get_vec3(m, "coat_tint", mi.coat_tint);
+            mi.sheen_weight = get<float>(m, "sheen_weight", mi.sheen_weight);
+            mi.sheen_roughness = get<float>(m, "sheen_roughness", mi.sheen_roughness);
+            mi.sheen_tint = get_vec3(m, "sheen_tint", mi.sheen_tint);
             in.materials.push_back(mi);
         }
     }

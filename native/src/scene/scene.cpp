@@ -84,6 +84,10 @@ HostScene::HostScene(const SceneInput& in) {
                                                     : 1.5f;
             m.coat_tint = sanitize_color(mi.coat_tint, 1.0f);
             if (m.coat_weight > 0.0f) principled_coat_table(m);
+            m.sheen_weight = std::isfinite(mi.sheen_weight) ? std::max(mi.sheen_weight, 0.0f) : 0.0f;
+            m.sheen_roughness = unit(mi.sheen_roughness, 0.5f);
+            m.sheen_tint = sanitize_color(mi.sheen_tint, 1.0f);
+            if (m.sheen_weight > 0.0f) principled_sheen_table(m);
         } else {
             throw std::invalid_argument("material " + std::to_string(k) + " ('" + mi.name +
                                         "'): unknown type '" + mi.type +

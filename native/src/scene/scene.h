@@ -37,6 +37,8 @@ struct MaterialInput {
     bool multiscatter = true;     // GGX energy compensation (Blender's Multiscatter GGX)
     float coat_weight = 0.0f, coat_roughness = 0.03f, coat_ior = 1.5f;
     Vec3 coat_tint{1.0f, 1.0f, 1.0f};
+    float sheen_weight = 0.0f, sheen_roughness = 0.5f;
+    Vec3 sheen_tint{1.0f, 1.0f, 1.0f};
 };
 
 struct LightInput {

@@ -39,6 +39,10 @@ struct Material {
     float coat_weight, coat_roughness, coat_ior;
     Vec3 coat_tint;
     float coat_albedo[kPrincipledAlbedoN];  // its directional albedo by cosine
+    // principled sheen: the top layer (bsdf/sheen.h)
+    float sheen_weight, sheen_roughness;
+    Vec3 sheen_tint;
+    float sheen_albedo[kPrincipledAlbedoN];  // of the white sheen lobe, by cosine
 };
 
 // Sort key of the paper: high 8 bits the type, low 24 the material id.
