@@ -42,6 +42,12 @@ def _blend_builders():
         if isinstance(table, dict):
             for name, fn in table.items():
                 builders.setdefault(name, fn)
+        bench = getattr(mod, "BENCH", None)  # bench_registry: name -> BenchBlend(build=...)
+        if isinstance(bench, dict):
+            for name, spec in bench.items():
+                fn = getattr(spec, "build", None)
+                if callable(fn):
+                    builders.setdefault(name, fn)
     return builders
 
 
