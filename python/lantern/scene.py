@@ -205,18 +205,24 @@ class Scene:
     # ---- Building ----
 
     def add_material(self, name=None, base_color=(0.8, 0.8, 0.8), emission=(0.0, 0.0, 0.0),
-                     type="diffuse", roughness=0.5, ior=1.5, specular_tint=(1.0, 1.0, 1.0)):
+                     type="diffuse", roughness=0.5, ior=1.5, specular_tint=(1.0, 1.0, 1.0),
+                     eta=None, k=None):
         """Append a material; returns its id (index into `materials`).
 
         `type`: "diffuse" (Lambert, albedo `base_color`), "conductor" (GGX metal with F0
         `base_color` and F82 `specular_tint`) or "dielectric" (glass of index `ior`, GGX
-        `roughness`; roughness 0 is smooth, `base_color` tints transmission)."""
+        `roughness`; roughness 0 is smooth, `base_color` tints transmission). A conductor
+        given `eta` and `k` (RGB, complex index eta + i k) uses the exact conductor Fresnel
+        instead of F82, scaled by `base_color` (Mitsuba's specular_reflectance)."""
         if name is None:
             name = f"material_{len(self.materials)}"
-        material = self._validate_material({
+        material = {
             "name": str(name), "type": type, "base_color": base_color, "emission": emission,
             "roughness": roughness, "ior": ior, "specular_tint": specular_tint,
-        }, len(self.materials))
+        }
+        if eta is not None or k is not None:
+            material.update(eta=eta, k=k)
+        material = self._validate_material(material, len(self.materials))
         self.materials.append(material)
         return len(self.materials) - 1
 
@@ -366,6 +372,16 @@ class Scene:
             if not (lo <= v <= hi):
                 raise ValueError(f"{what} {key}: must be in [{lo}, {hi}], got {v}")
             out[key] = v
+        eta, k = material.get("eta"), material.get("k")
+        out.pop("eta", None)
+        out.pop("k", None)
+        if eta is not None or k is not None:
+            if mtype != "conductor":
+                raise ValueError(f"{what}: eta and k apply to conductors only (type {mtype!r})")
+            if eta is None or k is None:
+                raise ValueError(f"{what}: a complex index needs both eta and k")
+            out["eta"] = _rgb(eta, f"{what} eta")
+            out["k"] = _rgb(k, f"{what} k")
         return out
 
     def _validate_mesh(self, mesh, index, check_materials):

@@ -12,8 +12,14 @@
 
 namespace lantern {
 
+// A conductor's Fresnel is Blender's F82-tint (F0 = base_color) or, with kFresnelComplex, the
+// exact one of eta + i k, which base_color then scales (Mitsuba's specular_reflectance).
 LANTERN_HD inline ConductorParams material_conductor(const Material& m) {
-    return conductor_f82(m.roughness, m.base_color, m.specular_tint);
+    return m.fresnel == kFresnelComplex ? conductor_complex(m.roughness, m.eta, m.k)
+                                        : conductor_f82(m.roughness, m.base_color, m.specular_tint);
+}
+LANTERN_HD inline Vec3 material_conductor_scale(const Material& m) {
+    return m.fresnel == kFresnelComplex ? m.base_color : vec3(1.0f);
 }
 LANTERN_HD inline DielectricParams material_dielectric(const Material& m, bool front,
                                                        Transport mode) {
@@ -40,8 +46,11 @@ LANTERN_HD inline bool material_transmits(const Material& m) {
 LANTERN_HD inline BsdfEval material_eval(const Material& m, bool front, Vec3 wo, Vec3 wi,
                                          Transport mode) {
     switch (m.type) {
-    case kMaterialConductor:
-        return conductor_eval(material_conductor(m), wo, wi);
+    case kMaterialConductor: {
+        BsdfEval e = conductor_eval(material_conductor(m), wo, wi);
+        e.f = e.f * material_conductor_scale(m);
+        return e;
+    }
     case kMaterialDielectric: {
         BsdfEval e = dielectric_eval(material_dielectric(m, front, mode), wo, wi);
         if (wo.z * wi.z < 0.0f) e.f = e.f * m.base_color;  // transmission tint
@@ -56,8 +65,11 @@ LANTERN_HD inline BsdfEval material_eval(const Material& m, bool front, Vec3 wo,
 LANTERN_HD inline BsdfSample material_sample(const Material& m, bool front, Vec3 wo, Vec3 u,
                                              Transport mode) {
     switch (m.type) {
-    case kMaterialConductor:
-        return conductor_sample(material_conductor(m), wo, Vec2{u.x, u.y});
+    case kMaterialConductor: {
+        BsdfSample s = conductor_sample(material_conductor(m), wo, Vec2{u.x, u.y});
+        s.weight = s.weight * material_conductor_scale(m);
+        return s;
+    }
     case kMaterialDielectric: {
         BsdfSample s = dielectric_sample(material_dielectric(m, front, mode), wo, Vec2{u.x, u.y}, u.z);
         if (s.valid && wo.z * s.wi.z < 0.0f) s.weight = s.weight * m.base_color;
