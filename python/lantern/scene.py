@@ -208,23 +208,31 @@ class Scene:
                      type="diffuse", roughness=0.5, ior=1.5, specular_tint=(1.0, 1.0, 1.0),
                      metallic=0.0, transmission=0.0, specular_level=0.5, multiscatter=True,
                      coat_weight=0.0, coat_roughness=0.03, coat_ior=1.5,
-                     coat_tint=(1.0, 1.0, 1.0)):
+                     coat_tint=(1.0, 1.0, 1.0), sheen_weight=0.0, sheen_roughness=0.5,
+                     sheen_tint=(1.0, 1.0, 1.0), eta=None, k=None):
         """Append a material; returns its id (index into `materials`).
 
         `type`: "diffuse" (Lambert, albedo `base_color`), "conductor" (GGX metal with F0
-        `base_color` and F82 `specular_tint`), "dielectric" (glass of index `ior`, GGX
-        `roughness`; roughness 0 is smooth, `base_color` tints transmission) or "principled"
-        (Blender's Principled BSDF as layers: `metallic`, `transmission`, a dielectric specular
-        layer of `ior`, `specular_level` and `specular_tint` over a Lambertian `base_color`)."""
+        `base_color` and F82 `specular_tint`; given `eta` and `k` (RGB, complex index eta + i k)
+        the exact conductor Fresnel instead, scaled by `base_color`), "dielectric" (glass of
+        index `ior`, GGX `roughness`; roughness 0 is smooth, `base_color` tints transmission)
+        or "principled" (Blender's Principled BSDF as layers: sheen, coat, `metallic`,
+        `transmission`, a dielectric specular layer of `ior`, `specular_level` and
+        `specular_tint` over a Lambertian `base_color`; docs/materials.md)."""
         if name is None:
             name = f"material_{len(self.materials)}"
-        material = self._validate_material({
+        material = {
             "name": str(name), "type": type, "base_color": base_color, "emission": emission,
             "roughness": roughness, "ior": ior, "specular_tint": specular_tint,
             "metallic": metallic, "transmission": transmission, "specular_level": specular_level,
             "multiscatter": multiscatter, "coat_weight": coat_weight,
             "coat_roughness": coat_roughness, "coat_ior": coat_ior, "coat_tint": coat_tint,
-        }, len(self.materials))
+            "sheen_weight": sheen_weight, "sheen_roughness": sheen_roughness,
+            "sheen_tint": sheen_tint,
+        }
+        if eta is not None or k is not None:
+            material.update(eta=eta, k=k)
+        material = self._validate_material(material, len(self.materials))
         self.materials.append(material)
         return len(self.materials) - 1
 
@@ -388,6 +396,16 @@ class Scene:
         if not isinstance(ms, (bool, np.bool_)):
             raise ValueError(f"{what} multiscatter: expected True or False, got {ms!r}")
         out["multiscatter"] = bool(ms)
+        eta, k = material.get("eta"), material.get("k")
+        out.pop("eta", None)
+        out.pop("k", None)
+        if eta is not None or k is not None:
+            if mtype != "conductor":
+                raise ValueError(f"{what}: eta and k apply to conductors only (type {mtype!r})")
+            if eta is None or k is None:
+                raise ValueError(f"{what}: a complex index needs both eta and k")
+            out["eta"] = _rgb(eta, f"{what} eta")
+            out["k"] = _rgb(k, f"{what} k")
         return out
 
     def _validate_mesh(self, mesh, index, check_materials):

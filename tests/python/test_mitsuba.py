@@ -1,8 +1,10 @@
-"""Mitsuba 3 XML importer (python/lantern/mitsuba/): parser units on small inline scenes, and
-the Bitterli Cornell box rendered by Lantern against Tungsten's reference.
+"""Mitsuba 3 XML importer (python/lantern/mitsuba/): parser and BSDF-mapping units on small
+inline scenes, and Bitterli's cornell-box and veach-mis rendered by Lantern against Tungsten's
+references.
 
-The reference check prints its numbers; reproduce them with
-    .venv/bin/python -m pytest -q -s tests/python/test_mitsuba.py -k tungsten"""
+The reference checks print their numbers (docs/mitsuba_import.md); reproduce them with
+    .venv/bin/python -m pytest -q -s tests/python/test_mitsuba.py -k "tungsten or veach"
+"""
 import math
 import struct
 import subprocess
@@ -214,8 +216,13 @@ def test_shapes_materials_defaults(tmp_path):
                                mi.load_mitsuba(write(tmp_path, scene_xml_shapes()),
                                                one_sided_emitters=False).meshes]
 
+    metal = s.materials[box["material_ids"][0]]
+    assert metal["type"] == "conductor" and math.isclose(metal["roughness"], math.sqrt(0.1))
+    assert metal["eta"] == [0.0] * 3 and metal["k"] == [1.0] * 3   # Mitsuba's "none"
     warn = [w for w in s.metadata["warnings"] if "imported as diffuse" in w]
-    assert len(warn) == 1 and "roughconductor" in warn[0] and "plastic" in warn[0]
+    assert len(warn) == 1 and "roughconductor" not in warn[0] and "plastic" in warn[0]
+    warn = [w for w in s.metadata["warnings"] if "Beckmann" in w]
+    assert len(warn) == 1 and "metal" in warn[0]   # Mitsuba's default distribution
 
 
 def test_undefined_parameter_and_bad_ref(tmp_path):
@@ -293,10 +300,144 @@ def test_cli_import(tmp_path):
     r = subprocess.run([sys.executable, "-m", "lantern", "import-mitsuba", str(src), "-o",
                         str(out), "-D", "depth=3"], capture_output=True, text=True, timeout=120)
     assert r.returncode == 0, r.stderr
-    assert "--max-depth 3" in r.stderr and "roughconductor" in r.stderr
+    assert "--max-depth 3" in r.stderr and "plastic" in r.stderr and "Beckmann" in r.stderr
     s = lantern.load_scene(out)
     assert (s.film["width"], s.film["height"]) == (40, 30)
     assert len(s.meshes) == 5
+
+
+# ---- BSDFs ----
+
+def materials_of(tmp_path, bsdfs):
+    """Import one cube per BSDF snippet; returns their materials in order (and the scene)."""
+    shapes = "".join(f'<shape type="cube" id="s{i}">{b}</shape>' for i, b in enumerate(bsdfs))
+    s = mi.load_mitsuba(write(tmp_path, shapes))
+    return [s.materials[mesh(s, f"s{i}")["material_ids"][0]] for i in range(len(bsdfs))], s
+
+
+CU_ETA, CU_K = "0.200438, 0.924033, 1.10221", "3.91295, 2.45285, 2.14219"   # veach-mis
+
+
+def test_conductor_mapping(tmp_path):
+    (veach, preset, smooth, aniso, tinted_tex), s = materials_of(tmp_path, [
+        f"""<bsdf type="twosided" id="plate"><bsdf type="roughconductor">
+            <float name="alpha" value="0.05"/><string name="distribution" value="beckmann"/>
+            <rgb name="specular_reflectance" value="0.3, 0.3, 0.3"/>
+            <rgb name="eta" value="{CU_ETA}"/><rgb name="k" value="{CU_K}"/></bsdf></bsdf>""",
+        """<bsdf type="roughconductor" id="alu"><string name="material" value="Al"/>
+            <string name="distribution" value="ggx"/><float name="alpha" value="0.25"/></bsdf>""",
+        """<bsdf type="conductor"><string name="material" value="Au"/>
+            <spectrum name="eta" value="1.5"/></bsdf>""",
+        """<bsdf type="roughconductor" id="brushed"><float name="alpha_u" value="0.04"/>
+            <float name="alpha_v" value="0.16"/><string name="distribution" value="ggx"/>
+            </bsdf>""",
+        """<bsdf type="conductor"><string name="material" value="a-C"/>
+            <rgb name="specular_reflectance" value="2, 0.5, -1"/></bsdf>""",
+    ])
+    assert veach["type"] == "conductor"
+    assert math.isclose(veach["roughness"], math.sqrt(0.05))        # alpha = roughness^2
+    assert np.allclose(veach["eta"], [0.200438, 0.924033, 1.10221])
+    assert np.allclose(veach["k"], [3.91295, 2.45285, 2.14219])
+    assert veach["base_color"] == [0.3] * 3                          # specular_reflectance
+    assert np.allclose(preset["eta"], [1.6574599595, 0.8803689579, 0.5212287346])
+    assert np.allclose(preset["k"], [9.2238691996, 6.2695232477, 4.8370012281])
+    assert preset["roughness"] == 0.5 and preset["base_color"] == [1.0] * 3
+    # a smooth conductor; an explicit eta wins over the preset (k then defaults to 1, as Mitsuba)
+    assert smooth["roughness"] == 0.0 and smooth["eta"] == [1.5] * 3 and smooth["k"] == [1.0] * 3
+    assert math.isclose(aniso["roughness"], math.sqrt(math.sqrt(0.04 * 0.16)))
+    assert tinted_tex["base_color"] == [1.0, 0.5, 0.0]              # clamped, with a warning
+    w = s.metadata["warnings"]
+    beckmann = [x for x in w if "Beckmann" in x]
+    assert len(beckmann) == 1 and "plate" in beckmann[0] and "alu" not in beckmann[0]
+    assert any("anisotropic" in x for x in w) and any("clamped" in x for x in w)
+    assert not any("imported as diffuse" in x for x in w)
+
+    (unknown,), s = materials_of(tmp_path, ['<bsdf type="conductor">'
+                                            '<string name="material" value="Xx"/></bsdf>'])
+    assert unknown["eta"] == [0.0] * 3 and any("'Xx'" in x for x in s.metadata["warnings"])
+
+
+def test_dielectric_mapping(tmp_path):
+    (glass, water, rough, numbers), s = materials_of(tmp_path, [
+        '<bsdf type="dielectric"/>',    # Mitsuba's defaults: bk7 in air
+        """<bsdf type="twosided"><bsdf type="dielectric"><string name="int_ior" value="water"/>
+            <string name="ext_ior" value="air"/>
+            <rgb name="specular_transmittance" value="0.9, 0.8, 0.7"/></bsdf></bsdf>""",
+        """<bsdf type="roughdielectric"><float name="alpha" value="0.09"/>
+            <string name="distribution" value="ggx"/><string name="int_ior" value="BK7"/>
+            <string name="ext_ior" value="water"/></bsdf>""",
+        """<bsdf type="dielectric"><float name="int_ior" value="1.0"/>
+            <float name="ext_ior" value="1.33"/></bsdf>""",
+    ])
+    assert glass["type"] == "dielectric" and glass["roughness"] == 0.0
+    assert math.isclose(glass["ior"], 1.5046 / 1.000277, rel_tol=1e-6)
+    assert glass["base_color"] == [1.0] * 3
+    assert math.isclose(water["ior"], 1.3330 / 1.000277, rel_tol=1e-6)
+    assert water["base_color"] == [0.9, 0.8, 0.7]                   # transmission tint
+    assert math.isclose(rough["roughness"], 0.3) and math.isclose(rough["ior"], 1.5046 / 1.333)
+    assert math.isclose(numbers["ior"], 1.0 / 1.33)                 # an air bubble in water
+    assert not any("Beckmann" in x or "diffuse" in x for x in s.metadata["warnings"])
+    with pytest.raises(ValueError, match="unknown index of refraction"):
+        materials_of(tmp_path, ['<bsdf type="dielectric"><string name="int_ior" '
+                                'value="unobtainium"/></bsdf>'])
+
+
+def test_plastic_and_principled_stay_diffuse(tmp_path):
+    (plastic, principled), s = materials_of(tmp_path, [
+        """<bsdf type="roughplastic"><rgb name="diffuse_reflectance" value="0.1, 0.2, 0.3"/>
+            </bsdf>""",
+        '<bsdf type="principled"><rgb name="base_color" value="0.4, 0.5, 0.6"/></bsdf>',
+    ])
+    assert plastic == {**plastic, "type": "diffuse", "base_color": [0.1, 0.2, 0.3]}
+    assert principled["type"] == "diffuse" and principled["base_color"] == [0.4, 0.5, 0.6]
+    warn = [x for x in s.metadata["warnings"] if "imported as diffuse" in x]
+    assert len(warn) == 1 and "roughplastic (1)" in warn[0] and "principled (1)" in warn[0]
+
+
+def test_add_material_eta_k_validation():
+    s = lantern.Scene()
+    m = s.materials[s.add_material("cu", type="conductor", eta=(0.2, 0.9, 1.1), k=3.9)]
+    assert m["eta"] == [0.2, 0.9, 1.1] and m["k"] == [3.9] * 3
+    assert "eta" not in s.materials[s.add_material("f82", type="conductor")]
+    with pytest.raises(ValueError, match="conductors only"):
+        s.add_material("glass", type="dielectric", eta=1.5, k=0.0)
+    with pytest.raises(ValueError, match="both eta and k"):
+        s.add_material("half", type="conductor", eta=1.5)
+    with pytest.raises(ValueError, match=">= 0"):
+        s.add_material("neg", type="conductor", eta=(0.2, -1.0, 1.0), k=1.0)
+
+
+def fresnel_conductor(cos_i, eta, k):
+    """Unpolarised reflectance of eta + i k (numpy complex), the textbook formula."""
+    n = np.asarray(eta) + 1j * np.asarray(k)
+    sin2 = 1.0 - cos_i ** 2
+    cos_t = np.sqrt(1.0 - sin2 / n ** 2)
+    r_s = (cos_i - n * cos_t) / (cos_i + n * cos_t)
+    r_p = (n * cos_i - cos_t) / (n * cos_i + cos_t)
+    return 0.5 * (np.abs(r_s) ** 2 + np.abs(r_p) ** 2)
+
+
+def test_complex_fresnel_mirror_renders_fresnel_times_reflectance():
+    """A smooth conductor facing the camera under a white sky: each pixel is
+    specular_reflectance x F(eta, k) at normal incidence (the binding reads eta, k and the
+    scale); the same base colour as an F82 conductor would be F0 itself."""
+    if not lantern.native_available():
+        pytest.skip(f"lantern._core is not built ({lantern.native_error()})")
+    eta, k = [0.200438, 0.924033, 1.10221], [3.91295, 2.45285, 2.14219]
+    images = []
+    for kwargs in ({"eta": eta, "k": k, "base_color": [0.5, 0.8, 1.0]},
+                   {"base_color": [0.5, 0.8, 1.0]}):
+        s = lantern.Scene()
+        s.film.update(width=4, height=4)
+        s.camera["screen"] = [-0.01, 0.01, -0.01, 0.01]
+        s.world["color"] = [1.0, 1.0, 1.0]
+        mid = s.add_material("metal", type="conductor", roughness=0.0, **kwargs)
+        s.add_mesh([[-5, -5, -1], [5, -5, -1], [5, 5, -1], [-5, 5, -1]], [[0, 1, 2], [0, 2, 3]],
+                   material=mid)
+        images.append(np.asarray(lantern.render(s, spp=4, max_depth=4), dtype=np.float64))
+    expect = np.array([0.5, 0.8, 1.0]) * fresnel_conductor(1.0, eta, k)
+    assert np.allclose(images[0].mean(axis=(0, 1)), expect, rtol=2e-3), (images[0][0, 0], expect)
+    assert np.allclose(images[1].mean(axis=(0, 1)), [0.5, 0.8, 1.0], rtol=2e-3)
 
 
 # ---- the Bitterli Cornell box against Tungsten ----
@@ -347,3 +488,85 @@ def test_cornell_box_matches_tungsten():
     assert abs(r["mean_rel"]) < 0.02
     assert (np.abs(r["channel_rel"]) < 0.02).all()
     assert r["rrmse"] < 0.05 and r["rrmse_8x"] < 0.02
+
+
+# ---- Bitterli's veach-mis against Tungsten ----
+
+def sphere_emitter_blocks(scene, width, height, factor):
+    """(hit, grown): (height // factor, width // factor) blocks of a width x height image whose
+    camera rays hit an emissive sphere (centre and radius from its tessellation), and those
+    grown by one block: the emitters seen directly. Pixel rows run top to bottom."""
+    cam = scene.camera
+    xmin, xmax, ymin, ymax = cam["screen"]
+    to_world = np.asarray(cam["to_world"], dtype=np.float64)
+    x = xmin + (np.arange(width) + 0.5) / width * (xmax - xmin)
+    y = ymax - (np.arange(height) + 0.5) / height * (ymax - ymin)
+    d = np.stack(np.broadcast_arrays(x[None, :], y[:, None], -1.0), axis=-1) @ to_world[:3, :3].T
+    d /= np.linalg.norm(d, axis=-1, keepdims=True)
+    hit = np.zeros((height, width), dtype=bool)
+    for m in scene.meshes:
+        if max(scene.materials[int(m["material_ids"][0])]["emission"]) <= 0:
+            continue
+        p = m["positions"].astype(np.float64)
+        oc = p.mean(axis=0) - to_world[:3, 3]
+        r = np.linalg.norm(p - p.mean(axis=0), axis=1).max()
+        t = d @ oc
+        hit |= (t > 0) & (oc @ oc - t * t <= r * r)
+    blocks = hit.reshape(height // factor, factor, width // factor, factor).any(axis=(1, 3))
+    grown = blocks.copy()
+    grown[1:] |= blocks[:-1]
+    grown[:-1] |= blocks[1:]
+    grown[:, 1:] |= grown[:, :-1].copy()
+    grown[:, :-1] |= grown[:, 1:].copy()
+    return blocks, grown
+
+
+def veach_comparison(factor=8, spp=1024, seed=7):
+    """Render the imported veach-mis at 1/factor of its 1280x720 and compare with Tungsten's
+    reference box-downsampled by factor; the three sphere lights (and a 1-pixel rim) masked."""
+    folder = SCENES / "veach-mis"
+    ref = imageio.read_image(folder / "TungstenRender.exr").astype(np.float64)
+    h, w = ref.shape[0] // factor, ref.shape[1] // factor
+    scene = mi.load_mitsuba(folder / "scene.xml", w, h)
+    start = time.monotonic()
+    img = lantern.render(scene, spp=spp, max_depth=scene.metadata["max_depth"], seed=seed)
+    seconds = time.monotonic() - start
+    lights, masked = sphere_emitter_blocks(scene, ref.shape[1], ref.shape[0], factor)
+    keep = ~masked
+    hot_ref = ref.reshape(h, factor, w, factor, 3).max(axis=(1, 3, 4))
+    ref = ref.reshape(h, factor, w, factor, 3).mean(axis=(1, 3))
+    img = np.asarray(img, dtype=np.float64)
+    glossy = keep & (ref.max(axis=2) > 1.0)          # the plates' highlights
+    return {
+        "seconds": seconds, "size": (w, h), "spp": spp,
+        "mean_rel": img[keep].mean() / ref[keep].mean() - 1.0,
+        "channel_rel": img[keep].mean(axis=0) / ref[keep].mean(axis=0) - 1.0,
+        "glossy_rel": img[glossy].mean() / ref[glossy].mean() - 1.0,
+        "diffuse_rel": img[keep & ~glossy].mean() / ref[keep & ~glossy].mean() - 1.0,
+        "glossy_share": ref[glossy].sum() / ref[keep].sum(),
+        "rrmse": metrics.relative_rmse(img, ref, mask=keep),
+        "light_ref_min": hot_ref[lights].min() if lights.any() else 0.0,
+        "masked_fraction": masked.mean(),
+        "warnings": scene.metadata["warnings"],
+    }
+
+
+@pytest.mark.skipif(not (SCENES / "veach-mis" / "TungstenRender.exr").exists(),
+                    reason="shared scenes not present")
+def test_veach_mis_matches_tungsten():
+    if not lantern.native_available():
+        pytest.skip(f"lantern._core is not built ({lantern.native_error()})")
+    r = veach_comparison()
+    w, h = r["size"]
+    print(f"\nveach-mis {w}x{h} {r['spp']} spp pt max_depth 3 ({r['seconds']:.1f} s): mean "
+          f"{r['mean_rel']:+.3%} (r, g, b {np.round(r['channel_rel'] * 100, 3).tolist()} %; "
+          f"Mitsuba +1.3%), plates' highlights {r['glossy_rel']:+.2%} "
+          f"({r['glossy_share']:.0%} of the light), the rest {r['diffuse_rel']:+.2%}; relative "
+          f"RMSE {r['rrmse']:.2%} per pixel (= 8x blocks of the 1280x720 reference); "
+          f"{r['masked_fraction']:.1%} of the pixels masked")
+    assert not any("imported as diffuse" in x for x in r["warnings"])
+    assert any("Beckmann" in x for x in r["warnings"])
+    assert r["light_ref_min"] > 2.0       # the mask lies on the lights (orientation, geometry)
+    # measured -1.6% (Beckmann read as GGX darkens the rough plates; docs/mitsuba_import.md):
+    # a thin margin, kept at the issue's 2% rather than widened
+    assert abs(r["mean_rel"]) < 0.02

@@ -14,8 +14,14 @@
 
 namespace lantern {
 
+// A conductor's Fresnel is Blender's F82-tint (F0 = base_color) or, with kFresnelComplex, the
+// exact one of eta + i k, which base_color then scales (Mitsuba's specular_reflectance).
 LANTERN_HD inline ConductorParams material_conductor(const Material& m) {
-    return conductor_f82(m.roughness, m.base_color, m.specular_tint);
+    return m.fresnel == kFresnelComplex ? conductor_complex(m.roughness, m.eta, m.k)
+                                        : conductor_f82(m.roughness, m.base_color, m.specular_tint);
+}
+LANTERN_HD inline Vec3 material_conductor_scale(const Material& m) {
+    return m.fresnel == kFresnelComplex ? m.base_color : vec3(1.0f);
 }
 LANTERN_HD inline DielectricParams material_dielectric(const Material& m, bool front,
                                                        Transport mode) {
@@ -48,7 +54,8 @@ LANTERN_HD inline BsdfEval material_eval(const Material& m, bool front, Vec3 wo,
     switch (m.type) {
     case kMaterialConductor: {
         BsdfEval e = conductor_eval(material_conductor(m), wo, wi);
-        e.f = e.f * ms_scale(m, m.fms_metal, mode == Transport::Radiance ? wo.z : wi.z);
+        e.f = e.f * material_conductor_scale(m) *
+              ms_scale(m, m.fms_metal, mode == Transport::Radiance ? wo.z : wi.z);
         return e;
     }
     case kMaterialDielectric: {
@@ -69,6 +76,7 @@ LANTERN_HD inline BsdfSample material_sample(const Material& m, bool front, Vec3
     switch (m.type) {
     case kMaterialConductor: {
         BsdfSample s = conductor_sample(material_conductor(m), wo, Vec2{u.x, u.y});
+        s.weight = s.weight * material_conductor_scale(m);
         if (s.valid && !s.delta)
             s.weight = s.weight * ms_scale(m, m.fms_metal,
                                            mode == Transport::Radiance ? wo.z : s.wi.z);

@@ -100,6 +100,10 @@ SceneInput to_input(const nb::dict& scene) {
             mi.roughness = get<float>(m, "roughness", mi.roughness);
             mi.ior = get<float>(m, "ior", mi.ior);
             mi.specular_tint = get_vec3(m, "specular_tint", mi.specular_tint);
+            // "eta" / "k" on a conductor switch it to the complex-IOR Fresnel
+            mi.complex_fresnel = has(m, "eta") || has(m, "k");
+            mi.eta = get_vec3(m, "eta", mi.eta);
+            mi.k = get_vec3(m, "k", mi.k);
             mi.metallic = get<float>(m, "metallic", mi.metallic);
             mi.transmission = get<float>(m, "transmission", mi.transmission);
             mi.specular_level = get<float>(m, "specular_level", mi.specular_level);

@@ -57,6 +57,17 @@ HostScene::HostScene(const SceneInput& in) {
         // [1/100, 100] (ior < 1, e.g. air bubbles in water, is legal)
         m.roughness = std::isfinite(mi.roughness) ? std::min(std::max(mi.roughness, 0.0f), 1.0f) : 0.5f;
         m.ior = std::isfinite(mi.ior) && mi.ior > 0.0f ? std::min(std::max(mi.ior, 0.01f), 100.0f) : 1.5f;
+        // complex Fresnel: eta >= 0 (fresnel_conductor keeps it above 1e-4), k >= 0; a
+        // non-finite entry falls back to a perfect mirror (eta 0, k 1)
+        m.fresnel = mi.complex_fresnel ? kFresnelComplex : kFresnelF82Tint;
+        float eta[3], kk[3];
+        for (int c = 0; c < 3; ++c) {
+            bool ok = std::isfinite(mi.eta[c]) && std::isfinite(mi.k[c]);
+            eta[c] = ok ? std::min(std::max(mi.eta[c], 0.0f), 1e4f) : 0.0f;
+            kk[c] = ok ? std::min(std::max(mi.k[c], 0.0f), 1e4f) : 1.0f;
+        }
+        m.eta = {eta[0], eta[1], eta[2]};
+        m.k = {kk[0], kk[1], kk[2]};
         if (mi.type == "diffuse") {
             m.type = kMaterialDiffuse;
         } else if (mi.type == "conductor") {
@@ -99,7 +110,11 @@ HostScene::HostScene(const SceneInput& in) {
             const float e_avg = ms_fill_table(m);
             const Material& mc = m;
             m.fms_metal = ms_fresnel(
-                [&](float mu) { return conductor_fresnel(material_conductor(mc), mu); }, e_avg);
+                [&](float mu) {
+                    return conductor_fresnel(material_conductor(mc), mu) *
+                           material_conductor_scale(mc);
+                },
+                e_avg);
             if (m.type == kMaterialPrincipled) {
                 m.fms_spec = ms_fresnel(
                     [&](float mu) { return principled_spec_fresnel(mc, mu); }, e_avg);
@@ -115,6 +130,7 @@ HostScene::HostScene(const SceneInput& in) {
         m.roughness = 0.5f;
         m.ior = 1.5f;
         m.specular_tint = {1.0f, 1.0f, 1.0f};
+        m.fresnel = kFresnelF82Tint;
         materials_.push_back(m);
     }
     add_meshes(in);

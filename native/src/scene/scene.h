@@ -30,6 +30,11 @@ struct MaterialInput {
     float roughness = 0.5f;
     float ior = 1.5f;
     Vec3 specular_tint{1.0f, 1.0f, 1.0f};
+    // conductor: exact Fresnel of the complex index eta + i k (then base_color scales it, as
+    // Mitsuba's specular_reflectance) instead of the F82-tint model
+    bool complex_fresnel = false;
+    Vec3 eta{0.0f, 0.0f, 0.0f};
+    Vec3 k{1.0f, 1.0f, 1.0f};
     // principled
     float metallic = 0.0f;
     float transmission = 0.0f;

@@ -10,7 +10,8 @@ namespace lantern {
 // material_key); bsdf/material.h dispatches on it.
 enum MaterialType : uint32_t {
     kMaterialDiffuse = 0,     // Lambert, albedo base_color
-    kMaterialConductor = 1,   // GGX metal: F0 base_color, F82 tint specular_tint
+    kMaterialConductor = 1,   // GGX metal: F82 (F0 base_color, tint specular_tint) or complex
+                              // Fresnel (eta, k; base_color scales it)
     kMaterialDielectric = 2,  // GGX (or smooth) glass: ior, transmission tint base_color
     kMaterialPrincipled = 3,  // Blender's Principled BSDF as layers: bsdf/principled.h
     kMaterialTypeCount = 4,
@@ -25,6 +26,8 @@ struct Material {
     float roughness;     // Blender's roughness (alpha = roughness^2)
     float ior;           // dielectric: n_inside / n_outside
     Vec3 specular_tint;  // conductor: F82 tint; principled: specular tint (and the metal's F82)
+    Vec3 eta, k;         // conductor with kFresnelComplex: complex index eta + i k per channel
+    uint32_t fresnel;    // conductor: ConductorFresnelMode
     // principled only
     float metallic;
     float transmission;
@@ -43,6 +46,13 @@ struct Material {
     float sheen_weight, sheen_roughness;
     Vec3 sheen_tint;
     float sheen_albedo[kPrincipledAlbedoN];  // of the white sheen lobe, by cosine
+};
+
+// How a conductor computes its Fresnel term (bsdf/material.h): Blender's F82-tint with F0 =
+// base_color, or the exact complex-IOR one (Mitsuba's conductor) times base_color.
+enum ConductorFresnelMode : uint32_t {
+    kFresnelF82Tint = 0,
+    kFresnelComplex = 1,
 };
 
 // Sort key of the paper: high 8 bits the type, low 24 the material id.

@@ -4,8 +4,9 @@
     scene.metadata["max_depth"]   # the integrator's max_depth (Mitsuba counts like Lantern)
 
 Supported: `<default>` parameters (`$name`), `<ref>`, shapes obj / ply / rectangle / cube /
-sphere / disk with `to_world` (matrix, translate, rotate, scale, lookat), BSDFs diffuse and
-twosided (conductors, dielectrics and plastics fall back to a diffuse with a warning), area
+sphere / disk with `to_world` (matrix, translate, rotate, scale, lookat), BSDFs diffuse,
+(rough)conductor (complex Fresnel, named presets), (rough)dielectric (named IORs) and twosided
+(plastics and principled fall back to a diffuse with a warning; Beckmann is read as GGX), area
 emitters (-> material emission), constant emitters (-> world colour), point emitters, the
 perspective sensor (fov, fov_axis, focal_length, clip planes), hdrfilm size and rfilter, and
 the integrator's max_depth. Everything else is skipped with a warning in

@@ -13,9 +13,9 @@ Y_UP_TO_Z_UP = np.array([[1.0, 0.0, 0.0, 0.0],
                          [0.0, 1.0, 0.0, 0.0],
                          [0.0, 0.0, 0.0, 1.0]])
 
-UNSUPPORTED_BSDFS = ("conductor", "roughconductor", "dielectric", "roughdielectric",
-                     "thindielectric", "plastic", "roughplastic", "principled",
-                     "principledthin", "hair", "pplastic", "measured", "blendbsdf")
+# BSDFs imported as a diffuse (one warning lists them); conductors and dielectrics are mapped
+FALLBACK_BSDFS = ("thindielectric", "plastic", "roughplastic", "principled", "principledthin",
+                  "hair", "pplastic", "measured", "blendbsdf")
 WRAPPER_BSDFS = ("twosided", "mask", "bumpmap", "normalmap")
 
 # Standard deviation (pixels) of one axis of Blackman-Harris over [-w, w], per unit w.

@@ -9,8 +9,8 @@ from pathlib import Path
 import numpy as np
 
 from ..scene import Scene
-from .common import (_BH_STD_PER_WIDTH, UNSUPPORTED_BSDFS, WRAPPER_BSDFS, Y_UP_TO_Z_UP,
-                     MitsubaError, log)
+from .bsdf import _BsdfReader
+from .common import _BH_STD_PER_WIDTH, Y_UP_TO_Z_UP, MitsubaError, log
 from .geometry import (_bool_text, _floats, _xyz, camera_to_lantern, cube_mesh, disk_mesh,
                        fov_tangents, parse_transform, read_obj, read_ply, rectangle_mesh,
                        sphere_mesh, transform_mesh)
@@ -19,7 +19,7 @@ from .geometry import (_bool_text, _floats, _xyz, camera_to_lantern, cube_mesh, 
 # The loader
 # ---------------------------------------------------------------------------------------------
 
-class _Loader:
+class _Loader(_BsdfReader):
     def __init__(self, path, params):
         self.path = Path(path)
         self.dir = self.path.parent
@@ -29,6 +29,7 @@ class _Loader:
         self.scene = Scene()
         self.material_ids = {}       # (bsdf key, emission tuple) -> material id
         self.fallback_types = {}     # bsdf type -> count
+        self.beckmann = {}           # BSDFs with a Beckmann distribution (read as GGX), ordered
         self.one_sided = True
         self.emitter_backs = []
         self.metadata = {"source": str(self.path), "max_depth": None, "integrator": None,
@@ -95,67 +96,16 @@ class _Loader:
                     out.append(target)
         return out
 
-    # ---- BSDFs ----
-
-    def bsdf_color(self, el, depth=0):
-        """(base_color, description) of a BSDF element, with diffuse fallbacks."""
-        btype = el.get("type")
-        p = self.props(el)
-        if btype in WRAPPER_BSDFS:
-            inner = self._child_objects(el, "bsdf")
-            if not inner:
-                raise MitsubaError(f"bsdf {btype!r} without a nested bsdf")
-            if btype != "twosided":
-                self.warn(f"bsdf {btype!r}: ignored, using its nested bsdf")
-            return self.bsdf_color(inner[0], depth + 1)
-        if btype == "diffuse":
-            return self.reflectance(el, p, "reflectance", 0.5)
-        if btype in UNSUPPORTED_BSDFS:
-            self.fallback_types[btype] = self.fallback_types.get(btype, 0) + 1
-            if btype in ("plastic", "roughplastic", "pplastic"):
-                return self.reflectance(el, p, "diffuse_reflectance", 0.5)
-            if btype in ("conductor", "roughconductor"):
-                return self.reflectance(el, p, "specular_reflectance", 0.8)
-            if btype in ("principled", "principledthin"):
-                return self.reflectance(el, p, "base_color", 0.5)
-            return [0.8, 0.8, 0.8]
-        self.warn(f"bsdf {btype!r} is not supported; using a grey diffuse (0.5)")
-        return [0.5, 0.5, 0.5]
-
-    def reflectance(self, el, p, name, default):
-        if name in p and isinstance(p[name], list):
-            c = [float(x) for x in p[name]]
-        elif name in p:
-            c = [float(p[name])] * 3
-        else:
-            tex = [t for t in self._child_objects(el, "texture") if t.get("name") == name]
-            tex += [c for c in el if c.tag == "texture" and c.get("name") == name]
-            if tex:
-                tp = self.props(tex[0])
-                if tex[0].get("type") == "checkerboard":
-                    c0 = tp.get("color0", [0.4] * 3)
-                    c1 = tp.get("color1", [0.2] * 3)
-                    c = [(a + b) / 2 for a, b in zip(c0, c1)]
-                else:
-                    c = [0.5, 0.5, 0.5]
-                self.warn(f"texture {tex[0].get('type')!r} for {name!r}: textures are not "
-                          f"supported; using its mean colour {c}")
-            else:
-                c = [default] * 3
-        if max(c) > 1.0 or min(c) < 0.0:
-            self.warn(f"reflectance {c} outside [0, 1]: clamped")
-            c = [min(max(x, 0.0), 1.0) for x in c]
-        return c
-
     def material(self, bsdf_el, emission, name):
         key = (id(bsdf_el) if bsdf_el is not None else None, tuple(emission))
         mid = self.material_ids.get(key)
         if mid is None:
-            base = self.bsdf_color(bsdf_el) if bsdf_el is not None else [0.5, 0.5, 0.5]
+            params = (self.bsdf_material(bsdf_el) if bsdf_el is not None
+                      else {"type": "diffuse", "base_color": [0.5, 0.5, 0.5]})
             mname = (bsdf_el.get("id") if bsdf_el is not None else None) or name
             if max(emission) > 0:
                 mname = f"{mname}_emitter"
-            mid = self.scene.add_material(mname, base_color=base, emission=emission)
+            mid = self.scene.add_material(mname, emission=emission, **params)
             self.material_ids[key] = mid
         return mid
 
@@ -379,6 +329,9 @@ class _Loader:
         if self.fallback_types:
             kinds = ", ".join(f"{k} ({n})" for k, n in sorted(self.fallback_types.items()))
             self.warn(f"BSDFs not supported yet, imported as diffuse: {kinds}")
+        if self.beckmann:
+            self.warn(f"Beckmann microfacet distribution read as GGX with the same alpha "
+                      f"(Lantern has GGX only): {', '.join(self.beckmann)}")
         self.scene.metadata = self.metadata
         return self.scene.validate()
 
