@@ -209,7 +209,7 @@ class Scene:
                      metallic=0.0, transmission=0.0, specular_level=0.5, multiscatter=True,
                      coat_weight=0.0, coat_roughness=0.03, coat_ior=1.5,
                      coat_tint=(1.0, 1.0, 1.0), sheen_weight=0.0, sheen_roughness=0.5,
-                     sheen_tint=(1.0, 1.0, 1.0), eta=None, k=None):
+                     sheen_tint=(1.0, 1.0, 1.0), eta=None, k=None, distribution="ggx"):
         """Append a material; returns its id (index into `materials`).
 
         `type`: "diffuse" (Lambert, albedo `base_color`), "conductor" (GGX metal with F0
@@ -228,7 +228,7 @@ class Scene:
             "multiscatter": multiscatter, "coat_weight": coat_weight,
             "coat_roughness": coat_roughness, "coat_ior": coat_ior, "coat_tint": coat_tint,
             "sheen_weight": sheen_weight, "sheen_roughness": sheen_roughness,
-            "sheen_tint": sheen_tint,
+            "sheen_tint": sheen_tint, "distribution": distribution,
         }
         if eta is not None or k is not None:
             material.update(eta=eta, k=k)
@@ -392,6 +392,12 @@ class Scene:
             if not (lo <= v <= hi):
                 raise ValueError(f"{what} {key}: must be in [{lo}, {hi}], got {v}")
             out[key] = v
+        dist = material.get("distribution", "ggx")
+        if dist not in ("ggx", "beckmann"):
+            raise ValueError(f"{what} distribution: 'ggx' or 'beckmann', got {dist!r}")
+        if dist == "beckmann" and mtype != "conductor":
+            raise ValueError(f"{what}: the Beckmann distribution applies to conductors only")
+        out["distribution"] = dist
         ms = material.get("multiscatter", True)
         if not isinstance(ms, (bool, np.bool_)):
             raise ValueError(f"{what} multiscatter: expected True or False, got {ms!r}")

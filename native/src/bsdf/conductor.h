@@ -16,7 +16,14 @@ struct ConductorParams {
     ConductorFresnel fresnel;
     Vec3 eta_or_f0;  // Complex: eta; F82Tint: base colour F0
     Vec3 k_or_tint;  // Complex: k;   F82Tint: the F82 tint
+    bool beckmann = false;  // Beckmann D and G of ggx.ax; ggx's visible normals still sample
 };
+
+// D * G2 of the lobe's distribution at half vector m.
+LANTERN_HD inline float conductor_dg(const ConductorParams& p, Vec3 m, Vec3 wo, Vec3 wi) {
+    return p.beckmann ? beckmann_d(p.ggx.ax, m) * beckmann_g2(p.ggx.ax, wo, wi)
+                      : p.ggx.d(m) * p.ggx.g2(wo, wi);
+}
 
 LANTERN_HD inline ConductorParams conductor_complex(float roughness, Vec3 eta, Vec3 k) {
     return {Ggx::isotropic(ggx_alpha_from_roughness(roughness)), ConductorFresnel::Complex, eta, k};
@@ -45,7 +52,7 @@ LANTERN_HD inline BsdfEval conductor_eval(const ConductorParams& p, Vec3 wo, Vec
     m = normalize(m);
     float d = p.ggx.d(m);
     float wo_m = fmaxf(dot(wo, m), 0.0f);
-    e.f = conductor_fresnel(p, wo_m) * (d * p.ggx.g2(wo, wi) / (4.0f * wo.z * wi.z));
+    e.f = conductor_fresnel(p, wo_m) * (conductor_dg(p, m, wo, wi) / (4.0f * wo.z * wi.z));
     // pdf_w(wi) = D_wo(m) / (4 wo.m) = G1(wo) D(m) / (4 wo.z)   [Heitz 2018 (17)]
     e.pdf_fwd_w = p.ggx.g1(wo) * d / (4.0f * wo.z);
     e.pdf_rev_w = p.ggx.g1(wi) * d / (4.0f * wi.z);
@@ -73,8 +80,10 @@ LANTERN_HD inline BsdfSample conductor_sample(const ConductorParams& p, Vec3 wo,
     float wo_m = fmaxf(dot(wo, m), 0.0f);
     s.pdf_fwd_w = p.ggx.g1(wo) * p.ggx.d(m) / (4.0f * wo.z);
     if (!(s.pdf_fwd_w > 0.0f) || !is_finite(s.pdf_fwd_w)) return s;
-    // f cos / pdf = F G2 / G1(wo)
-    s.weight = conductor_fresnel(p, wo_m) * (p.ggx.g2(wo, s.wi) / p.ggx.g1(wo));
+    // f cos / pdf = F G2 / G1(wo) (Beckmann: F D_b G2_b / (G1 D) of the GGX proposal)
+    s.weight = conductor_fresnel(p, wo_m) *
+               (p.beckmann ? conductor_dg(p, m, wo, s.wi) / (p.ggx.g1(wo) * p.ggx.d(m))
+                           : p.ggx.g2(wo, s.wi) / p.ggx.g1(wo));
     s.pdf_rev_w = p.ggx.g1(s.wi) * p.ggx.d(m) / (4.0f * s.wi.z);
     s.valid = is_finite(s.weight) && is_finite(s.pdf_rev_w);
     return s;

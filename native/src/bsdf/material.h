@@ -17,8 +17,11 @@ namespace lantern {
 // A conductor's Fresnel is Blender's F82-tint (F0 = base_color) or, with kFresnelComplex, the
 // exact one of eta + i k, which base_color then scales (Mitsuba's specular_reflectance).
 LANTERN_HD inline ConductorParams material_conductor(const Material& m) {
-    return m.fresnel == kFresnelComplex ? conductor_complex(m.roughness, m.eta, m.k)
-                                        : conductor_f82(m.roughness, m.base_color, m.specular_tint);
+    ConductorParams p = m.fresnel == kFresnelComplex
+                            ? conductor_complex(m.roughness, m.eta, m.k)
+                            : conductor_f82(m.roughness, m.base_color, m.specular_tint);
+    p.beckmann = m.beckmann != 0;
+    return p;
 }
 LANTERN_HD inline Vec3 material_conductor_scale(const Material& m) {
     return m.fresnel == kFresnelComplex ? m.base_color : vec3(1.0f);

@@ -74,6 +74,31 @@ struct Ggx {
     }
 };
 
+// Beckmann distribution of isotropic alpha (Walter et al. 2007): D and Smith's Lambda with
+// Walter's rational approximation. Lobes that use it sample with GGX's visible normals of the
+// same alpha (longer tails: a safe proposal) and divide by that pdf.
+LANTERN_HD inline float beckmann_d(float alpha, Vec3 m) {
+    if (m.z <= 0.0f) return 0.0f;
+    float c2 = m.z * m.z;
+    float tan2 = fmaxf(0.0f, 1.0f - c2) / c2;
+    float a2 = alpha * alpha;
+    return expf(-tan2 / a2) / (kPi * a2 * c2 * c2);
+}
+LANTERN_HD inline float beckmann_lambda(float alpha, Vec3 w) {
+    float z2 = w.z * w.z;
+    if (z2 <= 0.0f) return kInf;
+    float tan = sqrtf(fmaxf(0.0f, 1.0f - z2) / z2);
+    if (tan <= 0.0f) return 0.0f;
+    float a = 1.0f / (alpha * tan);
+    if (a >= 1.6f) return 0.0f;
+    return (1.0f - 1.259f * a + 0.396f * a * a) / (3.535f * a + 2.181f * a * a);
+}
+LANTERN_HD inline float beckmann_g2(float alpha, Vec3 wo, Vec3 wi) {
+    float lo = beckmann_lambda(alpha, wo), li = beckmann_lambda(alpha, wi);
+    if (!(lo < kInf) || !(li < kInf)) return 0.0f;
+    return 1.0f / (1.0f + lo + li);
+}
+
 LANTERN_HD inline Vec3 reflect(Vec3 w, Vec3 m) { return m * (2.0f * dot(w, m)) - w; }
 
 // Refracts w (pointing away from the surface, on m's side) through m with eta = n_t / n_i.

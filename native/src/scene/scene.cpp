@@ -68,6 +68,12 @@ HostScene::HostScene(const SceneInput& in) {
         }
         m.eta = {eta[0], eta[1], eta[2]};
         m.k = {kk[0], kk[1], kk[2]};
+        if (mi.distribution != "ggx" && mi.distribution != "beckmann") {
+            throw std::invalid_argument("material " + std::to_string(k) + " ('" + mi.name +
+                                        "'): unknown distribution '" + mi.distribution +
+                                        "' (ggx, beckmann)");
+        }
+        m.beckmann = mi.distribution == "beckmann" ? 1u : 0u;
         if (mi.type == "diffuse") {
             m.type = kMaterialDiffuse;
         } else if (mi.type == "conductor") {
@@ -105,7 +111,8 @@ HostScene::HostScene(const SceneInput& in) {
                                         "' (diffuse, conductor, dielectric, principled)");
         }
         // GGX multiple-scattering compensation, then the principled layer's albedo (with it)
-        m.multiscatter = mi.multiscatter ? 1u : 0u;
+        // (the compensation tables are GGX's: a Beckmann conductor goes without, as Mitsuba)
+        m.multiscatter = mi.multiscatter && !m.beckmann ? 1u : 0u;
         if (m.type == kMaterialConductor || m.type == kMaterialPrincipled) {
             const float e_avg = ms_fill_table(m);
             const Material& mc = m;

@@ -33,6 +33,7 @@ struct MaterialInput {
     // conductor: exact Fresnel of the complex index eta + i k (then base_color scales it, as
     // Mitsuba's specular_reflectance) instead of the F82-tint model
     bool complex_fresnel = false;
+    std::string distribution = "ggx";  // conductor: "ggx" or "beckmann"
     Vec3 eta{0.0f, 0.0f, 0.0f};
     Vec3 k{1.0f, 1.0f, 1.0f};
     // principled

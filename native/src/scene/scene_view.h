@@ -28,6 +28,7 @@ struct Material {
     Vec3 specular_tint;  // conductor: F82 tint; principled: specular tint (and the metal's F82)
     Vec3 eta, k;         // conductor with kFresnelComplex: complex index eta + i k per channel
     uint32_t fresnel;    // conductor: ConductorFresnelMode
+    uint32_t beckmann;   // conductor: Beckmann distribution instead of GGX (Mitsuba scenes)
     // principled only
     float metallic;
     float transmission;

@@ -92,14 +92,15 @@ class _BsdfReader:
 
     # ---- microfacet roughness ----
 
-    def roughness(self, el, p, rough, name, default_alpha=0.1):
-        """Lantern roughness of a (rough) BSDF: sqrt(alpha); Beckmann is read as GGX."""
+    def roughness(self, el, p, rough, name, default_alpha=0.1, beckmann_ok=False):
+        """Lantern roughness of a (rough) BSDF: sqrt(alpha). Conductors keep Beckmann
+        (beckmann_ok); elsewhere it is read as GGX (one warning)."""
         if not rough:
             return 0.0
         dist = p.get("distribution", "beckmann")   # Mitsuba 3's default
-        if dist == "beckmann":
+        if dist == "beckmann" and not beckmann_ok:
             self.beckmann.setdefault(name, None)
-        elif dist != "ggx":
+        elif dist not in ("ggx", "beckmann"):
             self.warn(f"microfacet distribution {dist!r}: read as GGX")
         if any(c.tag == "texture" and c.get("name", "").startswith("alpha") for c in el):
             self.warn(f"textured alpha ({el.get('type')}): not supported; using the default "
@@ -139,9 +140,14 @@ class _BsdfReader:
             self.warn(f"conductor material {material!r} is not in the preset table; using a "
                       f"perfect mirror (eta 0, k 1)")
             eta, k = [0.0] * 3, [1.0] * 3
+        # Mitsuba's distribution as it is (Beckmann is its default), and no multiple-scattering
+        # compensation: Mitsuba and Tungsten have none
+        dist = p.get("distribution", "beckmann") if rough else "ggx"
         return {"type": "conductor",
                 "base_color": self.reflectance(el, p, "specular_reflectance", 1.0),
-                "roughness": self.roughness(el, p, rough, name),
+                "roughness": self.roughness(el, p, rough, name, beckmann_ok=True),
+                "distribution": "beckmann" if dist == "beckmann" else "ggx",
+                "multiscatter": False,
                 "eta": [max(float(x), 0.0) for x in eta], "k": [max(float(x), 0.0) for x in k]}
 
     def rgb_or_scalar(self, p, name, default):

@@ -331,7 +331,7 @@ class _Loader(_BsdfReader):
             self.warn(f"BSDFs not supported yet, imported as diffuse: {kinds}")
         if self.beckmann:
             self.warn(f"Beckmann microfacet distribution read as GGX with the same alpha "
-                      f"(Lantern has GGX only): {', '.join(self.beckmann)}")
+                      f"(Lantern has Beckmann for conductors only): {', '.join(self.beckmann)}")
         self.scene.metadata = self.metadata
         return self.scene.validate()
 
