@@ -184,16 +184,7 @@ void Session::run_light_chunk(int64_t first_path, int n) {
     std::swap(queue_, next_queue_);
     while (active > 0 && !cancel_.load()) {
         stats_.rays_light += active;
-        t = Clock::now();
-        backend_->for_all(active, [&](int k) {
-            int i = queue_[k];
-            Ray r{ps.ray_o[i], ps.ray_d[i], ps.ray_tmin[i], ps.ray_tmax[i]};
-            HitRecord h = backend_->intersect(r, RayKind::kIndirect);
-            ps.hit_t[i] = h.t;
-            ps.hit_prim[i] = h.prim;
-            ps.hit_uv[i] = h.uv;
-        });
-        stats_.time_trace += seconds_since(t);
+        trace_queue(active, false);
         sort_queue(active);
         t = Clock::now();
         backend_->for_all(active, [&](int k) {
@@ -219,26 +210,14 @@ void Session::run_light_chunk(int64_t first_path, int n) {
         }
         stats_.time_cache += seconds_since(t);
         // light tracing: camera segments against what the camera sees, then splats in order
-        t = Clock::now();
-        int64_t shadows = 0;
-        for (int k = 0; k < active; ++k) shadows += ps.shadow_valid[queue_[k]];
-        backend_->for_all(active, [&](int k) {
-            int i = queue_[k];
-            if (!ps.shadow_valid[i]) return;
-            Ray r{ps.shadow_o[i], ps.shadow_d[i], 0.0f, ps.shadow_tmax[i]};
-            occluded_[i] = backend_->intersect(r, RayKind::kCamera).prim >= 0 ? 1 : 0;
-        });
-        stats_.rays_light_tracing += shadows;
-        stats_.time_shadow += seconds_since(t);
+        stats_.rays_light_tracing += test_camera_segments(active);
         t = Clock::now();
         splat(queue_, active);
         stats_.time_splat += seconds_since(t);
         active = backend_->compact(queue_.data(), active, ps.alive, next_queue_.data());
         std::swap(queue_, next_queue_);
     }
-    int64_t dropped = 0;
-    for (int i = 0; i < n; ++i) dropped += ps.dropped[i];
-    stats_.nonfinite_dropped += dropped;
+    count_dropped(n);
 }
 
 void Session::run_camera_chunk(int64_t first_path, int n) {
@@ -260,17 +239,7 @@ void Session::run_camera_chunk(int64_t first_path, int n) {
     stats_.rays_camera += n;
     bool first = true;
     while (active > 0 && !cancel_.load()) {
-        t = Clock::now();
-        const RayKind kind = first ? RayKind::kCamera : RayKind::kIndirect;
-        backend_->for_all(active, [&](int k) {
-            int i = queue_[k];
-            Ray r{ps.ray_o[i], ps.ray_d[i], ps.ray_tmin[i], ps.ray_tmax[i]};
-            HitRecord h = backend_->intersect(r, kind);
-            ps.hit_t[i] = h.t;
-            ps.hit_prim[i] = h.prim;
-            ps.hit_uv[i] = h.uv;
-        });
-        stats_.time_trace += seconds_since(t);
+        trace_queue(active, first);
         sort_queue(active);
         t = Clock::now();
         backend_->for_all(active, [&](int k) {

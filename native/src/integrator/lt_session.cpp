@@ -33,6 +33,22 @@ void check_light_tracing(const SceneInput& in) {
     }
 }
 
+int64_t Session::test_camera_segments(int active) {
+    auto t = Clock::now();
+    const PathState ps = state_;
+    int64_t tested = 0;
+    for (int k = 0; k < active; ++k) tested += ps.shadow_valid[queue_[k]];
+    backend_->for_all(active, [&](int k) {
+        int i = queue_[k];
+        if (!ps.shadow_valid[i]) return;
+        // the camera sees only camera-visible triangles: test with its structure
+        Ray r{ps.shadow_o[i], ps.shadow_d[i], 0.0f, ps.shadow_tmax[i]};
+        occluded_[i] = backend_->intersect(r, RayKind::kCamera).prim >= 0 ? 1 : 0;
+    });
+    stats_.time_shadow += seconds_since(t);
+    return tested;
+}
+
 // Adds this bounce's unoccluded splats to the iteration's pixels, in queue (slot) order.
 void Session::splat(const std::vector<int32_t>& slots, int count) {
     const CameraView& c = scene_->view().camera;
@@ -81,18 +97,7 @@ void Session::run_lt_chunk(int64_t first_path, int n) {
     int active = n;
     while (!cancel_.load()) {
         // ---- camera segments of this bounce, then splats in slot order ----
-        t = Clock::now();
-        int64_t shadows = 0;
-        for (int k = 0; k < active; ++k) shadows += ps.shadow_valid[queue_[k]];
-        backend_->for_all(active, [&](int k) {
-            int i = queue_[k];
-            if (!ps.shadow_valid[i]) return;
-            // the camera sees only camera-visible triangles: test with its structure
-            Ray r{ps.shadow_o[i], ps.shadow_d[i], 0.0f, ps.shadow_tmax[i]};
-            occluded_[i] = backend_->intersect(r, RayKind::kCamera).prim >= 0 ? 1 : 0;
-        });
-        stats_.rays_shadow += shadows;
-        stats_.time_shadow += seconds_since(t);
+        stats_.rays_shadow += test_camera_segments(active);
         t = Clock::now();
         splat(queue_, active);
         stats_.time_film += seconds_since(t);
@@ -102,23 +107,12 @@ void Session::run_lt_chunk(int64_t first_path, int n) {
         if (active == 0) break;
         stats_.rays_indirect += active;  // light rays
         // ---- trace and shade ----
-        t = Clock::now();
-        backend_->for_all(active, [&](int k) {
-            int i = queue_[k];
-            Ray r{ps.ray_o[i], ps.ray_d[i], ps.ray_tmin[i], ps.ray_tmax[i]};
-            HitRecord h = backend_->intersect(r, RayKind::kIndirect);
-            ps.hit_t[i] = h.t;
-            ps.hit_prim[i] = h.prim;
-            ps.hit_uv[i] = h.uv;
-        });
-        stats_.time_trace += seconds_since(t);
+        trace_queue(active, false);
         t = Clock::now();
         backend_->for_all(active, [&](int k) { lt_shade(sv, ps, lp, st, queue_[k]); });
         stats_.time_shade += seconds_since(t);
     }
-    int64_t dropped = 0;
-    for (int i = 0; i < n; ++i) dropped += ps.dropped[i];
-    stats_.nonfinite_dropped += dropped;
+    count_dropped(n);
 }
 
 }  // namespace lantern

@@ -177,17 +177,7 @@ void Session::run_chunk(int64_t first_path, int n) {
     stats_.rays_camera += n;
     bool first = true;
     while (active > 0 && !cancel_.load()) {
-        t = Clock::now();
-        const RayKind kind = first ? RayKind::kCamera : RayKind::kIndirect;
-        backend_->for_all(active, [&](int k) {
-            int i = queue_[k];
-            Ray r{ps.ray_o[i], ps.ray_d[i], ps.ray_tmin[i], ps.ray_tmax[i]};
-            HitRecord h = backend_->intersect(r, kind);
-            ps.hit_t[i] = h.t;
-            ps.hit_prim[i] = h.prim;
-            ps.hit_uv[i] = h.uv;
-        });
-        stats_.time_trace += seconds_since(t);
+        trace_queue(active, first);
         t = Clock::now();
         backend_->for_all(active, [&](int k) { pt_shade(sv, ps, st, queue_[k]); });
         stats_.time_shade += seconds_since(t);
@@ -212,6 +202,27 @@ void Session::run_chunk(int64_t first_path, int n) {
     film(first_path, n);
 }
 
+void Session::trace_queue(int active, bool camera_rays) {
+    auto t = Clock::now();
+    const PathState ps = state_;
+    const RayKind kind = camera_rays ? RayKind::kCamera : RayKind::kIndirect;
+    backend_->for_all(active, [&](int k) {
+        int i = queue_[k];
+        Ray r{ps.ray_o[i], ps.ray_d[i], ps.ray_tmin[i], ps.ray_tmax[i]};
+        HitRecord h = backend_->intersect(r, kind);
+        ps.hit_t[i] = h.t;
+        ps.hit_prim[i] = h.prim;
+        ps.hit_uv[i] = h.uv;
+    });
+    stats_.time_trace += seconds_since(t);
+}
+
+void Session::count_dropped(int n) {
+    int64_t dropped = 0;
+    for (int i = 0; i < n; ++i) dropped += state_.dropped[i];
+    stats_.nonfinite_dropped += dropped;
+}
+
 // Adds the chunk's per-path radiance to its pixels, in a fixed order.
 void Session::film(int64_t first_path, int n) {
     const PathState ps = state_;
@@ -219,9 +230,7 @@ void Session::film(int64_t first_path, int n) {
     const int spp_it = settings_.spp_per_iteration;
     const int64_t p0 = first_path / spp_it;
     const int np = n / spp_it;
-    int64_t dropped = 0;
-    for (int i = 0; i < n; ++i) dropped += ps.dropped[i];
-    stats_.nonfinite_dropped += dropped;
+    count_dropped(n);
     backend_->for_all(np, [&](int p) {
         double sum[3] = {0, 0, 0};
         for (int s = 0; s < spp_it; ++s) {

@@ -72,6 +72,12 @@ private:
     void run_chunk(int64_t first_path, int num_paths);
     void run_lt_chunk(int64_t first_path, int num_paths);  // lt_session.cpp
     void film(int64_t first_path, int num_paths);
+    // shared by every schedule: closest hits of the queued slots' rays (camera rays see only
+    // camera-visible triangles), the queued light-tracing segments against what the camera sees (returns how
+    // many were tested), and the chunk's dropped non-finite contributions into the stats
+    void trace_queue(int active, bool camera_rays);
+    int64_t test_camera_segments(int active);
+    void count_dropped(int n);
     // bdpt_session.cpp: one iteration of bdpt / lvc / cis into iteration_sum_
     bool run_bdpt_iteration();
     void run_light_chunk(int64_t first_path, int num_paths);
