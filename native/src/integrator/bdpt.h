@@ -261,23 +261,12 @@ LANTERN_HD inline float camera_pdf(const CameraView& c, Vec3 d) {
 LANTERN_HD inline void bdpt_camera_generate(const SceneView& s, const PathState& ps,
                                             const BdptState& bs, const BdptSettings& st, int i,
                                             int64_t path) {
-    Rng rng = Rng::for_path(st.seed, st.iteration, uint64_t(path));
-    Ray r = generate_camera_ray(s.camera, int(path / st.spp_per_iteration), rng);
-    ps.ray_o[i] = r.o;
-    ps.ray_d[i] = r.d;
-    ps.ray_tmin[i] = r.tmin;
-    ps.ray_tmax[i] = r.tmax;
-    ps.throughput[i] = vec3(1.0f);
-    ps.radiance[i] = vec3(0.0f);
-    ps.rng[i] = rng;
-    ps.depth[i] = 1;
-    ps.prev_pdf_w[i] = 0.0f;
-    ps.alive[i] = 1;
-    ps.dropped[i] = 0;
-    ps.shadow_valid[i] = 0;
+    // the same camera sample as pt's (same random stream), plus the MIS quantities
+    const PtSettings pst{st.max_depth, st.rr_depth, st.spp_per_iteration, st.seed, st.iteration};
+    pt_generate(s, ps, pst, i, path);
     bs.conn_n[i] = 0;
     // the light tracing technique relative to a connection (count r)
-    bs.dvcm[i] = mis(st.n_lt / (st.r * camera_pdf(s.camera, r.d)));
+    bs.dvcm[i] = mis(st.n_lt / (st.r * camera_pdf(s.camera, ps.ray_d[i])));
     bs.dvc[i] = 0.0f;
 }
 
@@ -303,8 +292,6 @@ LANTERN_HD inline float bdpt_emission_weight(const SceneView& s, const PathState
     return 1.0f / (1.0f + w_camera);
 }
 
-LANTERN_HD inline void bdpt_add(const PathState& ps, int i, Vec3 c) { add_radiance(ps, i, c); }
-
 // Lights crossed by the segment, and the background on a miss (s = 0).
 LANTERN_HD inline void bdpt_camera_emission(const SceneView& s, const PathState& ps,
                                             const BdptState& bs, const BdptSettings& st, int i,
@@ -317,7 +304,7 @@ LANTERN_HD inline void bdpt_camera_emission(const SceneView& s, const PathState&
         LightHit h = intersect_light(l, o, d, ps.ray_tmin[i], t_end);
         if (!h.hit || is_black(h.le)) continue;
         float w = bdpt_emission_weight(s, ps, bs, st, i, l, h.t, h.n);
-        bdpt_add(ps, i, ps.throughput[i] * h.le * w);
+        add_radiance(ps, i, ps.throughput[i] * h.le * w);
     }
     if (!miss) return;
     for (int k = 0; k < s.num_miss_lights; ++k) {
@@ -325,7 +312,7 @@ LANTERN_HD inline void bdpt_camera_emission(const SceneView& s, const PathState&
         if (l.type == kLightSun && (l.cos_sun >= 1.0f || camera || dot(d, -l.direction) < l.cos_sun))
             continue;
         float w = bdpt_emission_weight(s, ps, bs, st, i, l, kInf, vec3(0.0f));
-        bdpt_add(ps, i, ps.throughput[i] * l.radiance * w);
+        add_radiance(ps, i, ps.throughput[i] * l.radiance * w);
     }
 }
 
@@ -564,7 +551,7 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
             float pdf_emit = l.emit_pick_pdf * emission_pdf(s, l, z.h.ng, -d).pdf_emit;
             w = 1.0f / (1.0f + mis(pdf_direct) * dvcm + mis(st.r * pdf_emit) * dvc);
         }
-        bdpt_add(ps, i, ps.throughput[i] * m.emission * w);
+        add_radiance(ps, i, ps.throughput[i] * m.emission * w);
     }
     if (z.depth >= st.max_depth) return;
     z.frame = Frame::from_normal(z.h.ns);
