@@ -12,6 +12,8 @@
 
 namespace lantern {
 
+// Linear lookup in any of a material's albedo tables (kPrincipledAlbedoN entries at cosines
+// (k / (N - 1))^2; |mu| is used).
 LANTERN_HD inline float ms_table(const float* t, float mu) {
     float x = sqrtf(clampf(fabsf(mu), 0.0f, 1.0f)) * (kPrincipledAlbedoN - 1);
     int i = min_int(int(x), kPrincipledAlbedoN - 2);
@@ -29,20 +31,31 @@ LANTERN_HD inline Vec3 ms_scale(const Material& m, Vec3 fms, float mu) {
 
 // ---- Host: the tables ----
 
-// Directional albedo of the white GGX lobe at cosine mu (stratified visible normals).
-inline float ggx_white_albedo(float roughness, float mu, int n = 48) {
-    Ggx g = Ggx::isotropic(ggx_alpha_from_roughness(roughness));
-    if (g.effectively_smooth()) return 1.0f;
+// Directional albedo at cosine mu of GGX reflection with Fresnel fresnel(cos(wo, m)) -> Vec3,
+// by stratified visible-normal sampling (f cos / pdf = F G2 / G1(wo)), n x n samples. Fills
+// every albedo table of the materials (white GGX, principled specular layer, coat).
+template <typename F>
+inline Vec3 ggx_reflection_albedo(const Ggx& g, float mu, F fresnel, int n) {
     mu = clampf(mu, 1e-3f, 1.0f);
     Vec3 wo = vec3(safe_sqrt(1.0f - mu * mu), 0.0f, mu);
-    double sum = 0.0;
+    double sum[3] = {0.0, 0.0, 0.0};
     for (int i = 0; i < n; ++i)
         for (int j = 0; j < n; ++j) {
             Vec3 h = g.sample_visible(wo, Vec2{(i + 0.5f) / n, (j + 0.5f) / n});
             Vec3 wi = reflect(wo, h);
-            if (wi.z > 0.0f) sum += g.g2(wo, wi) / g.g1(wo);
+            if (wi.z <= 0.0f) continue;
+            Vec3 v = fresnel(dot(wo, h)) * (g.g2(wo, wi) / g.g1(wo));
+            for (int c = 0; c < 3; ++c) sum[c] += v[c];
         }
-    return float(sum / (n * n));
+    const double inv = 1.0 / (double(n) * n);
+    return vec3(float(sum[0] * inv), float(sum[1] * inv), float(sum[2] * inv));
+}
+
+// Directional albedo of the white GGX lobe at cosine mu.
+inline float ggx_white_albedo(float roughness, float mu, int n = 48) {
+    Ggx g = Ggx::isotropic(ggx_alpha_from_roughness(roughness));
+    if (g.effectively_smooth()) return 1.0f;
+    return ggx_reflection_albedo(g, mu, [](float) { return vec3(1.0f); }, n).x;
 }
 
 // Fills m.ms_e and returns E_avg = 2 int E(mu) mu dmu.

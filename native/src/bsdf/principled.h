@@ -62,26 +62,13 @@ LANTERN_HD inline BsdfEval principled_spec_eval(const Material& m, Vec3 wo, Vec3
 // Directional albedo of the specular layer seen at cosine mu (max over the channels), by
 // stratified visible-normal sampling (smooth: the Fresnel itself). Used to fill the table.
 inline float principled_spec_albedo_exact(const Material& m, float mu, int n = 64) {
-    mu = clampf(mu, 1e-3f, 1.0f);
-    Vec3 wo = vec3(safe_sqrt(1.0f - mu * mu), 0.0f, mu);
     Ggx g = principled_ggx(m);
-    if (g.effectively_smooth()) {
-        Vec3 f = principled_spec_fresnel(m, mu);
-        return max_component(f);
-    }
-    Vec3 sum = vec3(0.0f);
-    for (int i = 0; i < n; ++i)
-        for (int j = 0; j < n; ++j) {
-            Vec2 u{(i + 0.5f) / n, (j + 0.5f) / n};
-            Vec3 h = g.sample_visible(wo, u);
-            Vec3 wi = reflect(wo, h);
-            if (wi.z <= 0.0f) continue;
-            // f cos / pdf = F G2 / G1(wo)
-            sum += principled_spec_fresnel(m, dot(wo, h)) * (g.g2(wo, wi) / g.g1(wo));
-        }
+    if (g.effectively_smooth()) return max_component(principled_spec_fresnel(m, clampf(mu, 1e-3f, 1.0f)));
+    Vec3 e = ggx_reflection_albedo(
+        g, mu, [&m](float c) { return principled_spec_fresnel(m, c); }, n);
     // with the multiple-scattering energy the lobe gets (bsdf/multiscatter.h)
-    sum = sum * ms_scale(m, m.fms_spec, mu);
-    return clampf(max_component(sum) / float(n * n), 0.0f, 1.0f);
+    e = e * ms_scale(m, m.fms_spec, clampf(mu, 1e-3f, 1.0f));
+    return clampf(max_component(e), 0.0f, 1.0f);
 }
 
 // Fills m.spec_albedo (host, at scene build).
@@ -91,10 +78,7 @@ inline void principled_albedo_table(Material& m) {
 }
 
 LANTERN_HD inline float principled_spec_albedo(const Material& m, float mu) {
-    float x = sqrtf(clampf(fabsf(mu), 0.0f, 1.0f)) * (kPrincipledAlbedoN - 1);
-    int i = min_int(int(x), kPrincipledAlbedoN - 2);
-    float t = x - float(i);
-    return m.spec_albedo[i] * (1.0f - t) + m.spec_albedo[i + 1] * t;
+    return ms_table(m.spec_albedo, mu);
 }
 
 // ---- The sheen: the top layer ----
@@ -151,18 +135,11 @@ LANTERN_HD inline BsdfEval principled_coat_eval(const Material& m, Vec3 wo, Vec3
 }
 
 inline float principled_coat_albedo_exact(const Material& m, float mu, int n = 48) {
-    mu = clampf(mu, 1e-3f, 1.0f);
     Ggx g = principled_coat_ggx(m);
-    if (g.effectively_smooth()) return fresnel_dielectric(mu, m.coat_ior);
-    Vec3 wo = vec3(safe_sqrt(1.0f - mu * mu), 0.0f, mu);
-    double sum = 0.0;
-    for (int i = 0; i < n; ++i)
-        for (int j = 0; j < n; ++j) {
-            Vec3 h = g.sample_visible(wo, Vec2{(i + 0.5f) / n, (j + 0.5f) / n});
-            Vec3 wi = reflect(wo, h);
-            if (wi.z > 0.0f) sum += fresnel_dielectric(dot(wo, h), m.coat_ior) * g.g2(wo, wi) / g.g1(wo);
-        }
-    return clampf(float(sum / (n * n)), 0.0f, 1.0f);
+    if (g.effectively_smooth()) return fresnel_dielectric(clampf(mu, 1e-3f, 1.0f), m.coat_ior);
+    Vec3 e = ggx_reflection_albedo(
+        g, mu, [&m](float c) { return vec3(fresnel_dielectric(c, m.coat_ior)); }, n);
+    return clampf(e.x, 0.0f, 1.0f);
 }
 
 inline void principled_coat_table(Material& m) {
