@@ -74,35 +74,16 @@ def build_blend(name, width, height):
 
 
 def _settings(scene, seed, spp, threads):
-    c = scene.cycles
-    scene.render.engine = "CYCLES"
-    c.device = "CPU"
-    c.samples = int(spp)
-    c.use_adaptive_sampling = False
-    c.use_denoising = False
-    c.seed = int(seed)
-    c.use_animated_seed = False
-    c.max_bounces = BOUNCES
-    for k in ("diffuse_bounces", "glossy_bounces", "transmission_bounces", "volume_bounces",
-              "transparent_max_bounces"):
-        setattr(c, k, BOUNCES)
-    c.blur_glossy = 0.0  # Filter Glossy (default 1) roughens glossy lobes after diffuse bounces
-    c.sample_clamp_direct = 0.0
-    c.sample_clamp_indirect = 0.0
-    c.light_sampling_threshold = 0.0
-    c.pixel_filter_type = "BLACKMAN_HARRIS"
-    c.filter_width = 1.5
+    """The comparison settings of tools/render_compare.py (DESIGN.md "Matching Cycles"), plus
+    the thread count and persistent data (the scene is synchronised once across the renders)."""
+    sys.path.insert(0, str(ROOT / "tools"))
+    import render_compare
+    assert render_compare.BOUNCES == BOUNCES
+    render_compare.cycles_settings(scene, seed, spp)
     scene.render.threads_mode = "FIXED" if threads else "AUTO"
     if threads:
         scene.render.threads = int(threads)
     scene.render.use_persistent_data = True
-    scene.render.film_transparent = False
-    scene.view_settings.view_transform = "Standard"
-    scene.view_settings.look = "None"
-    s = scene.render.image_settings
-    s.file_format = "OPEN_EXR"
-    s.color_depth = "32"
-    s.exr_codec = "ZIP"
 
 
 def render(seed, spp, threads=0):
