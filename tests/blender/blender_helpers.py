@@ -46,6 +46,22 @@ def diffuse_material(albedo):
     return mat
 
 
+def shader_material(name, idname, **inputs):
+    """A material whose Surface is one shader node `idname` (e.g. "ShaderNodeBsdfGlass") with
+    the given input values; returns (material, node)."""
+    mat = bpy.data.materials.new(name)
+    nt = mat.node_tree
+    for n in list(nt.nodes):
+        if n.type != "OUTPUT_MATERIAL":
+            nt.nodes.remove(n)
+    node = nt.nodes.new(idname)
+    for key, v in inputs.items():
+        node.inputs[key].default_value = v
+    out = next(n for n in nt.nodes if n.type == "OUTPUT_MATERIAL")
+    nt.links.new(node.outputs[0], out.inputs["Surface"])
+    return mat, node
+
+
 def render_exr(scene, tmp_path, name="out.exr"):
     """F12 to an EXR, then the written file's float pixels, top row first (H, W, 4)."""
     path = str(tmp_path / name)

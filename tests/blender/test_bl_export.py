@@ -6,7 +6,8 @@ import bpy
 import numpy as np
 import pytest
 
-from blender_helpers import add_camera, add_plane, diffuse_material, emission_material
+from blender_helpers import (add_camera, add_plane, diffuse_material, emission_material,
+                             shader_material)
 
 
 def export(addon):
@@ -262,39 +263,24 @@ def test_textured_principled_warns_and_uses_default(empty, addon):
     assert any(mat.name in m and tex.name in m for m in report.messages)
 
 
-def _node_material(name, idname, **inputs):
-    """A material whose Surface is one shader node `idname` with `inputs` set."""
-    mat = bpy.data.materials.new(name)
-    nt = mat.node_tree
-    for n in list(nt.nodes):
-        if n.type != "OUTPUT_MATERIAL":
-            nt.nodes.remove(n)
-    node = nt.nodes.new(idname)
-    for key, v in inputs.items():
-        node.inputs[key].default_value = v
-    out = next(n for n in nt.nodes if n.type == "OUTPUT_MATERIAL")
-    nt.links.new(node.outputs[0], out.inputs["Surface"])
-    return mat, node
-
-
 def test_metal_and_glass_nodes_map_to_material_types(empty, addon):
     mats = {
-        "p_metal": _node_material("p_metal", "ShaderNodeBsdfPrincipled", **{
+        "p_metal": shader_material("p_metal", "ShaderNodeBsdfPrincipled", **{
             "Base Color": (0.9, 0.6, 0.3, 1), "Metallic": 1.0, "Roughness": 0.2,
             "Specular Tint": (1.0, 0.9, 0.8, 1)})[0],
-        "p_glass": _node_material("p_glass", "ShaderNodeBsdfPrincipled", **{
+        "p_glass": shader_material("p_glass", "ShaderNodeBsdfPrincipled", **{
             "Base Color": (0.9, 1.0, 0.95, 1), "Transmission Weight": 1.0, "Roughness": 0.0,
             "IOR": 1.45})[0],
-        "p_mixed": _node_material("p_mixed", "ShaderNodeBsdfPrincipled", **{
+        "p_mixed": shader_material("p_mixed", "ShaderNodeBsdfPrincipled", **{
             "Metallic": 0.3})[0],
-        "glossy": _node_material("glossy", "ShaderNodeBsdfGlossy", **{
+        "glossy": shader_material("glossy", "ShaderNodeBsdfGlossy", **{
             "Color": (0.5, 0.5, 0.5, 1), "Roughness": 0.1})[0],
-        "metallic": _node_material("metallic", "ShaderNodeBsdfMetallic", **{
+        "metallic": shader_material("metallic", "ShaderNodeBsdfMetallic", **{
             "Base Color": (0.95, 0.64, 0.54, 1), "Edge Tint": (0.99, 0.98, 0.9, 1),
             "Roughness": 0.3})[0],
-        "glass": _node_material("glass", "ShaderNodeBsdfGlass", **{
+        "glass": shader_material("glass", "ShaderNodeBsdfGlass", **{
             "Color": (1, 1, 1, 1), "Roughness": 0.05, "IOR": 1.5})[0],
-        "refraction": _node_material("refraction", "ShaderNodeBsdfRefraction", **{
+        "refraction": shader_material("refraction", "ShaderNodeBsdfRefraction", **{
             "IOR": 1.33})[0],
     }
     for k, (name, mat) in enumerate(mats.items()):

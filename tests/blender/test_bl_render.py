@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import lantern
-from blender_helpers import add_camera, add_plane, emission_material, render_exr
+from blender_helpers import add_camera, add_plane, emission_material, render_exr, shader_material
 
 pytestmark = pytest.mark.skipif(not lantern.session.native_available(),
                                 reason="lantern native module not built")
@@ -304,28 +304,14 @@ def test_missing_lantern_package_is_reported(empty, tmp_path, errors, monkeypatc
     assert any("pip install" in msg for kind, msg in errors if kind == "ERROR")
 
 
-def _surface(name, idname, **inputs):
-    mat = bpy.data.materials.new(name)
-    nt = mat.node_tree
-    for n in list(nt.nodes):
-        if n.type != "OUTPUT_MATERIAL":
-            nt.nodes.remove(n)
-    node = nt.nodes.new(idname)
-    for key, v in inputs.items():
-        node.inputs[key].default_value = v
-    out = next(n for n in nt.nodes if n.type == "OUTPUT_MATERIAL")
-    nt.links.new(node.outputs[0], out.inputs["Surface"])
-    return mat
-
-
 @pytest.mark.parametrize("integrator", ["pt", "cis"])
 def test_mirror_and_glass_through_f12(empty, tmp_path, errors, integrator):
     """Analytic: a white F82 mirror (F0 = 1: reflectance 1 at every angle) under the camera
     shows the emissive ceiling (strength 2) exactly; a smooth glass pane (IOR 1.5) in front of
     it passes (1 - F)^2-ish of it: between 0.8 and 1.0 of the mirror's value at normal view."""
     add_camera(empty, location=(0, 0, 1), rotation=(0, 0, 0), lens=80.0)  # looks down -Z
-    mirror = _surface("Mirror", "ShaderNodeBsdfMetallic", **{
-        "Base Color": (1, 1, 1, 1), "Edge Tint": (1, 1, 1, 1), "Roughness": 0.0})
+    mirror = shader_material("Mirror", "ShaderNodeBsdfMetallic", **{
+        "Base Color": (1, 1, 1, 1), "Edge Tint": (1, 1, 1, 1), "Roughness": 0.0})[0]
     add_plane(empty, size=100.0, location=(0, 0, 0), material=mirror, name="Floor")
     add_plane(empty, size=100.0, location=(0, 0, 3), material=emission_material(2.0),
               name="Ceiling")
@@ -334,7 +320,7 @@ def test_mirror_and_glass_through_f12(empty, tmp_path, errors, integrator):
     empty.lantern.max_depth = 4
     px = render_exr(empty, tmp_path)
     np.testing.assert_allclose(px[..., :3], 2.0, rtol=1e-3)
-    glass = _surface("Glass", "ShaderNodeBsdfGlass", **{"Roughness": 0.0, "IOR": 1.5})
+    glass = shader_material("Glass", "ShaderNodeBsdfGlass", **{"Roughness": 0.0, "IOR": 1.5})[0]
     add_plane(empty, size=100.0, location=(0, 0, 0.5), material=glass, name="Pane")
     empty.lantern.max_depth = 8
     px = render_exr(empty, tmp_path, "glass.exr")
