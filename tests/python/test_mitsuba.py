@@ -522,30 +522,55 @@ def sphere_emitter_blocks(scene, width, height, factor):
     return blocks, grown
 
 
-def veach_comparison(factor=8, spp=1024, seed=7):
+def veach_sixths(img, ref, mask):
+    """img / ref - 1 over the masked pixels of each horizontal sixth, top to bottom."""
+    out = []
+    for rows in np.array_split(np.arange(img.shape[0]), 6):
+        m = np.zeros_like(mask)
+        m[rows] = mask[rows]
+        out.append(img[m].mean() / ref[m].mean() - 1.0)
+    return np.array(out)
+
+
+def veach_comparison(factor=8, spp=1024, seed=7, max_depth=2, indirect_spp=256):
     """Render the imported veach-mis at 1/factor of its 1280x720 and compare with Tungsten's
-    reference box-downsampled by factor; the three sphere lights (and a 1-pixel rim) masked."""
+    reference box-downsampled by factor; the three sphere lights (and a 1-pixel rim) masked.
+
+    Tungsten's reference holds direct light only: Mitsuba 3 renders it at max_depth 2 (not
+    the file's 3) to 0.06% (docs/mitsuba_import.md). So Lantern is compared with it at
+    max_depth 2, and the one indirect bounce of the file's max_depth 3 separately: rendered
+    again at that depth (indirect_spp), its gain over max_depth 2 outside the highlights is
+    compared with Mitsuba's."""
     folder = SCENES / "veach-mis"
     ref = imageio.read_image(folder / "TungstenRender.exr").astype(np.float64)
     h, w = ref.shape[0] // factor, ref.shape[1] // factor
     scene = mi.load_mitsuba(folder / "scene.xml", w, h)
     start = time.monotonic()
-    img = lantern.render(scene, spp=spp, max_depth=scene.metadata["max_depth"], seed=seed)
+    img = lantern.render(scene, spp=spp, max_depth=max_depth, seed=seed)
     seconds = time.monotonic() - start
+    img3 = lantern.render(scene, spp=indirect_spp, max_depth=scene.metadata["max_depth"],
+                          seed=seed)
     lights, masked = sphere_emitter_blocks(scene, ref.shape[1], ref.shape[0], factor)
     keep = ~masked
     hot_ref = ref.reshape(h, factor, w, factor, 3).max(axis=(1, 3, 4))
     ref = ref.reshape(h, factor, w, factor, 3).mean(axis=(1, 3))
     img = np.asarray(img, dtype=np.float64)
+    img3 = np.asarray(img3, dtype=np.float64)
     glossy = keep & (ref.max(axis=2) > 1.0)          # the plates' highlights
+    rest = keep & ~glossy
     return {
-        "seconds": seconds, "size": (w, h), "spp": spp,
+        "seconds": seconds, "size": (w, h), "spp": spp, "max_depth": max_depth,
+        "file_max_depth": scene.metadata["max_depth"], "indirect_spp": indirect_spp,
         "mean_rel": img[keep].mean() / ref[keep].mean() - 1.0,
         "channel_rel": img[keep].mean(axis=0) / ref[keep].mean(axis=0) - 1.0,
         "glossy_rel": img[glossy].mean() / ref[glossy].mean() - 1.0,
-        "diffuse_rel": img[keep & ~glossy].mean() / ref[keep & ~glossy].mean() - 1.0,
+        "diffuse_rel": img[rest].mean() / ref[rest].mean() - 1.0,
+        "sixths_rel": veach_sixths(img, ref, keep),
         "glossy_share": ref[glossy].sum() / ref[keep].sum(),
         "rrmse": metrics.relative_rmse(img, ref, mask=keep),
+        "indirect_gain": img3[rest].mean() / img[rest].mean() - 1.0,
+        "indirect_gain_sixths": veach_sixths(img3, img, rest),
+        "file_depth_rel": img3[keep].mean() / ref[keep].mean() - 1.0,
         "light_ref_min": hot_ref[lights].min() if lights.any() else 0.0,
         "masked_fraction": masked.mean(),
         "warnings": scene.metadata["warnings"],
@@ -556,23 +581,33 @@ _VEACH = {}
 
 
 def veach_result():
-    """veach_comparison() once per test session (two tests read it)."""
+    """veach_comparison() once per test session (three tests read it)."""
     if not lantern.native_available():
         pytest.skip(f"lantern._core is not built ({lantern.native_error()})")
     if "r" not in _VEACH:
         _VEACH["r"] = veach_comparison()
         r = _VEACH["r"]
         w, h = r["size"]
-        print(f"\nveach-mis {w}x{h} {r['spp']} spp pt max_depth 3 ({r['seconds']:.1f} s): mean "
-              f"{r['mean_rel']:+.3%} (r, g, b {np.round(r['channel_rel'] * 100, 3).tolist()} %; "
-              f"Mitsuba +1.3%), plates' highlights {r['glossy_rel']:+.2%} "
-              f"({r['glossy_share']:.0%} of the light), the rest {r['diffuse_rel']:+.2%}; relative "
-              f"RMSE {r['rrmse']:.2%} per pixel (= 8x blocks of the 1280x720 reference); "
-              f"{r['masked_fraction']:.1%} of the pixels masked")
+        print(f"\nveach-mis {w}x{h} {r['spp']} spp pt max_depth {r['max_depth']} "
+              f"({r['seconds']:.1f} s): mean {r['mean_rel']:+.3%} (r, g, b "
+              f"{np.round(r['channel_rel'] * 100, 3).tolist()} %; Mitsuba +0.06%), by sixths "
+              f"{np.round(r['sixths_rel'] * 100, 2).tolist()} %, plates' highlights "
+              f"{r['glossy_rel']:+.2%} ({r['glossy_share']:.0%} of the light), the rest "
+              f"{r['diffuse_rel']:+.2%}; relative RMSE {r['rrmse']:.2%} per pixel (= 8x blocks "
+              f"of the 1280x720 reference); {r['masked_fraction']:.1%} of the pixels masked\n"
+              f"max_depth {r['file_max_depth']} ({r['indirect_spp']} spp): the rest "
+              f"{r['indirect_gain']:+.2%} over max_depth {r['max_depth']} (Mitsuba +8.9%), by "
+              f"sixths {np.round(r['indirect_gain_sixths'] * 100, 2).tolist()} % (Mitsuba "
+              f"{VEACH_MITSUBA_INDIRECT_SIXTHS}); whole image {r['file_depth_rel']:+.2%} "
+              f"against Tungsten (Mitsuba +4.4%)")
     return _VEACH["r"]
 
 
 VEACH_REF = (SCENES / "veach-mis" / "TungstenRender.exr").exists()
+# Mitsuba 3.9.1 scalar_rgb `path` at 160x90, 4096 spp: max_depth 3 over max_depth 2 outside
+# the plates' highlights, %, and by horizontal sixths top to bottom (docs/mitsuba_import.md)
+VEACH_MITSUBA_INDIRECT = 8.90
+VEACH_MITSUBA_INDIRECT_SIXTHS = [2.44, 2.93, 5.16, 19.85, 19.78, 17.99]
 
 
 @pytest.mark.skipif(not VEACH_REF, reason="no veach-mis reference in ../shared/scenes")
@@ -583,14 +618,31 @@ def test_veach_mis_plates_match_tungsten():
     assert not any("imported as diffuse" in x for x in r["warnings"])
     assert not any("Beckmann" in x for x in r["warnings"])  # conductors keep Beckmann now
     assert r["light_ref_min"] > 2.0       # the mask lies on the lights (orientation, geometry)
-    # measured -1.1% (with Beckmann read as GGX: -11%, docs/mitsuba_import.md)
+    # measured -1.6% (with Beckmann read as GGX: -11%); Mitsuba rendered at 160x90 reads -1.1%
+    # too: a tent at 160x90 spreads the highlights wider than 8x blocks of a 1280x720 render
     assert abs(r["glossy_rel"]) < 0.02
 
 
 @pytest.mark.skipif(not VEACH_REF, reason="no veach-mis reference in ../shared/scenes")
-@pytest.mark.xfail(strict=True, reason="open: outside the plates' highlights veach-mis reads "
-                   "+10.8% against Tungsten (the whole image +4.2%), the issue's 2% is not met; "
-                   "docs/mitsuba_import.md")
 def test_veach_mis_mean_matches_tungsten():
+    """Tungsten's reference is direct light only (Mitsuba at max_depth 2 matches it to 0.06%);
+    at that depth the whole image, and each horizontal sixth (the floor's +14..18% of the one
+    indirect bounce showed there), agree."""
     r = veach_result()
-    assert abs(r["mean_rel"]) < 0.02
+    assert r["max_depth"] == 2 and r["file_max_depth"] == 3
+    assert abs(r["mean_rel"]) < 0.02                       # measured -0.1%
+    assert (np.abs(r["channel_rel"]) < 0.02).all()
+    assert (np.abs(r["sixths_rel"]) < 0.015).all()         # measured within 0.5%
+
+
+@pytest.mark.skipif(not VEACH_REF, reason="no veach-mis reference in ../shared/scenes")
+def test_veach_mis_indirect_bounce_matches_mitsuba():
+    """The file's max_depth 3 adds one indirect bounce that Tungsten's reference lacks; what it
+    adds outside the highlights (light the plates and walls send onto the floor) matches
+    Mitsuba 3's max_depth 3 over max_depth 2."""
+    r = veach_result()
+    # measured +9.0% (seeds 3, 7, 11: 8.6..9.3%; 1024 spp: 8.8%), sixths within 1.4 points
+    assert abs(r["indirect_gain"] * 100 - VEACH_MITSUBA_INDIRECT) < 1.5
+    assert np.allclose(r["indirect_gain_sixths"] * 100, VEACH_MITSUBA_INDIRECT_SIXTHS, atol=3.0)
+    # (the whole image at max_depth 3, file_depth_rel, is printed only: at 256 spp the
+    # highlights' fireflies move it by about 1%; 1024 spp: +4.2%, Mitsuba +4.4%)
