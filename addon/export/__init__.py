@@ -53,4 +53,5 @@ def export_scene(depsgraph, region_view=None, report=None):
                 scene.meshes.append(mesh)
     meshes.clear()
     scene.materials = materials.materials
+    scene.textures = materials.textures
     return scene, report

@@ -14,9 +14,17 @@ textures are a later issue. Here, by the shader node at the Material Output's Su
   conductor (Base Color, Edge Tint), physical-conductor mode -> its normal-incidence
   reflectance as F0, with a warning; Glass BSDF -> dielectric; Refraction BSDF -> dielectric
   (its reflection included), with a warning.
-- Anything else: grey 0.8 diffuse, with a warning naming the material and the node."""
+- Anything else: grey 0.8 diffuse, with a warning naming the material and the node.
+
+Textures (texture.py): an Image Texture feeding Base Color / Color, Roughness, Metallic or Alpha
+(directly, through a Separate Color channel, or its Alpha output) is rendered as a texture; a
+Normal Map node (tangent space) on Normal as a normal map. On other inputs (emission colour,
+coat, sheen, ...) the image's mean value is used, with a warning. A missing image is magenta.
+Alpha < 1 (constant or textured) lets rays pass the surface (docs/materials.md)."""
 
 import bpy
+
+from .texture import MAGENTA, TextureTable
 
 DEFAULT = {"name": "Lantern Default", "type": "diffuse", "base_color": [0.8, 0.8, 0.8],
            "emission": [0.0, 0.0, 0.0]}
@@ -50,7 +58,145 @@ def _constant_float(socket, material, report):
     return float(socket.default_value)
 
 
-def convert_material(material, report):
+def _source(socket):
+    """(node, output socket name) feeding `socket` through reroutes, or (None, None)."""
+    seen = 0
+    while socket.is_linked and seen < 16:
+        seen += 1
+        link = socket.links[0]
+        node = link.from_node
+        if node.type == "REROUTE":
+            socket = node.inputs[0]
+            continue
+        return node, link.from_socket.name
+    return None, None
+
+
+def _image_source(socket):
+    """(Image Texture node, output) when an image feeds `socket` directly (output "color" or
+    "alpha") or through one Separate Color / Separate RGB channel ("red", "green", "blue")."""
+    node, out = _source(socket)
+    if node is None:
+        return None, None
+    if node.type == "TEX_IMAGE":
+        return node, "alpha" if out == "Alpha" else "color"
+    if node.type in ("SEPARATE_COLOR", "SEPRGB"):
+        channel = {"Red": "red", "R": "red", "Green": "green", "G": "green", "Blue": "blue",
+                   "B": "blue"}.get(out)
+        mode = getattr(node, "mode", "RGB")
+        inner, inner_out = _source(node.inputs[0])
+        if channel and mode == "RGB" and inner is not None and inner.type == "TEX_IMAGE" \
+                and inner_out == "Color":
+            return inner, channel
+    return None, None
+
+
+class _Inputs:
+    """Reads one shader node's inputs for a material: constants, or textures where Lantern
+    can texture the input (`textured` names them), else the texture's mean with a warning."""
+
+    def __init__(self, node, material, report, textures):
+        self.node, self.material, self.report, self.textures = node, material, report, textures
+        self.where = f"Material '{material.name}'"
+
+    def texture(self, socket_name, as_color):
+        """Texture id feeding the input, "missing" for an unreadable image, or None."""
+        sock = self.node.inputs.get(socket_name)
+        if sock is None:
+            return None
+        img, output = _image_source(sock)
+        if img is None:
+            return None
+        if as_color and output != "color":
+            return None  # a channel or alpha as a colour: the mean (below)
+        tid = self.textures.add(img, output, self.where)
+        return "missing" if tid is None else tid
+
+    def color(self, socket_name, clamp=True):
+        sock = self.node.inputs[socket_name]
+        img, output = _image_source(sock)
+        if img is not None:  # an input Lantern does not texture: the image's mean
+            mean = self.textures.mean(img, output, self.where)
+            self.report.warn(f"{self.where}: the image texture on '{socket_name}' is not "
+                             f"rendered as a texture; its mean value is used")
+            v = mean if mean is not None else MAGENTA
+        else:
+            v = _constant_color(sock, self.material, self.report)
+        return [min(max(c, 0.0), 1.0) for c in v] if clamp else v
+
+    def value(self, socket_name, warn=True):
+        sock = self.node.inputs[socket_name]
+        img, output = _image_source(sock)
+        if img is not None:
+            mean = self.textures.mean(img, output, self.where)
+            if warn:
+                self.report.warn(f"{self.where}: the image texture on '{socket_name}' is not "
+                                 f"rendered as a texture; its mean value is used")
+            if mean is not None:
+                return 0.2126 * mean[0] + 0.7152 * mean[1] + 0.0722 * mean[2]
+        return _constant_float(sock, self.material, self.report)
+
+    def base(self, out, key, socket_name):
+        """A colour input Lantern textures (base colour, glass colour): out[key + '_texture']
+        and the image's mean as out[key], magenta for a missing image, else the constant."""
+        tid = self.texture(socket_name, as_color=True)
+        if tid == "missing":
+            out[key] = list(MAGENTA)
+        elif tid is not None:
+            out[key + "_texture"] = tid
+            img, output = _image_source(self.node.inputs[socket_name])
+            mean = self.textures.mean(img, output, self.where) or [0.8, 0.8, 0.8]
+            out[key] = [min(max(c, 0.0), 1.0) for c in mean]
+        else:
+            out[key] = self.color(socket_name)
+        return out[key]
+
+    def scalar(self, out, key, socket_name, convert):
+        """A value input Lantern textures (roughness, metallic, alpha): out[key + '_texture']
+        and convert(mean) as out[key], else convert(constant)."""
+        tid = self.texture(socket_name, as_color=False)
+        if tid is not None and tid != "missing":
+            out[key + "_texture"] = tid
+        out[key] = convert(self.value(socket_name, warn=False))
+        return out[key]
+
+    def normal_map(self, out):
+        """A tangent-space Normal Map node on the Normal input -> normal_texture."""
+        sock = self.node.inputs.get("Normal")
+        if sock is None or not sock.is_linked:
+            return
+        src, _ = _source(sock)
+        if src is None:
+            return
+        if src.type != "NORMAL_MAP":
+            self.report.warn(f"{self.where}: '{src.name}' ({src.type}) on Normal is not "
+                             "supported (Normal Map nodes in tangent space are); ignored")
+            return
+        if getattr(src, "space", "TANGENT") != "TANGENT":
+            self.report.warn(f"{self.where}: Normal Map '{src.name}' in {src.space} space is "
+                             "not supported (tangent space is); ignored")
+            return
+        if getattr(src, "uv_map", ""):
+            self.report.warn(f"{self.where}: Normal Map '{src.name}' names UV map "
+                             f"'{src.uv_map}'; the active render UV map is used")
+        img, output = _image_source(src.inputs["Color"])
+        if img is None or output != "color":
+            if src.inputs["Color"].is_linked:
+                self.report.warn(f"{self.where}: Normal Map '{src.name}' is not fed by an "
+                                 "Image Texture's Color; ignored")
+            return
+        tid = self.textures.add(img, "color", self.where)
+        if tid is None:
+            return
+        out["normal_texture"] = tid
+        strength = _constant_float(src.inputs["Strength"], self.material, self.report)
+        out["normal_strength"] = min(max(strength, 0.0), 1e3) if strength == strength else 1.0
+
+
+def convert_material(material, report, textures=None, add_leaf=None):
+    """The Lantern material of a Blender material. A Mix / Add Shader tree becomes a "mix" of
+    leaf materials, which add_leaf(dict) -> id appends to the scene (MaterialTable does)."""
+    textures = textures if textures is not None else TextureTable(report)
     out = dict(DEFAULT, name=material.name)
     tree = material.node_tree
     if bpy.app.version < (5, 0, 0) and not material.use_nodes:  # always nodes from 5.0
@@ -62,37 +208,177 @@ def convert_material(material, report):
     if output is None or not output.inputs["Surface"].is_linked:
         out["base_color"] = [0.0, 0.0, 0.0]  # no surface shader: black, as in Cycles
         return out
-    node = output.inputs["Surface"].links[0].from_node
+    node, _ = _source(output.inputs["Surface"])
+    if node is None:
+        out["base_color"] = [0.0, 0.0, 0.0]
+        return out
+    if node.type in ("MIX_SHADER", "ADD_SHADER", "BSDF_TRANSPARENT"):
+        return _convert_mix(node, material, report, textures, add_leaf)
+    return _convert_shader(node, material, report, textures)
+
+
+def _mix_leaves(socket, weight, material, report, depth=0):
+    """Flatten Mix / Add Shader nodes below a shader socket: [(node, weight)], the weights
+    multiplied down the tree (a Mix Shader's factor texture counts as its mean here)."""
+    node, _ = _source(socket)
+    if node is None or weight <= 0.0:
+        return []   # an unlinked shader input is black
+    if depth > 16:
+        report.warn(f"Material '{material.name}': shader mixes nested too deep; cut")
+        return []
+    if node.type == "MIX_SHADER":
+        f = _mix_factor(node, material, report)
+        return (_mix_leaves(node.inputs[1], weight * (1.0 - f), material, report, depth + 1) +
+                _mix_leaves(node.inputs[2], weight * f, material, report, depth + 1))
+    if node.type == "ADD_SHADER":
+        return (_mix_leaves(node.inputs[0], weight, material, report, depth + 1) +
+                _mix_leaves(node.inputs[1], weight, material, report, depth + 1))
+    return [(node, weight)]
+
+
+def _mix_factor(node, material, report, textures=None):
+    sock = node.inputs["Fac"]
+    img, output = _image_source(sock)
+    if img is not None and textures is not None:
+        mean = textures.mean(img, output, f"Material '{material.name}'")
+        if mean is not None:
+            v = mean[0] if output != "color" else 0.2126 * mean[0] + 0.7152 * mean[1] + \
+                0.0722 * mean[2]
+            return min(max(v, 0.0), 1.0)
+    v = _constant_float(sock, material, report) if img is None else 0.5
+    return 0.5 if v != v else min(max(v, 0.0), 1.0)
+
+
+def _convert_mix(top, material, report, textures, add_leaf):
+    """Mix / Add Shader trees: Transparent BSDF leaves become the material's alpha (coverage),
+    emission-only leaves its emission, the other leaves (up to 4) a "mix" material. A Mix
+    Shader's image-texture factor is kept when it mixes two single shaders (or Transparent and
+    one shader: an alpha texture); deeper in the tree its mean is used."""
     name = material.name
+    where = f"Material '{name}'"
+    if top.type == "BSDF_TRANSPARENT":
+        leaves = [(top, 1.0)]
+    elif top.type == "MIX_SHADER":
+        f = _mix_factor(top, material, report, textures)
+        leaves = (_mix_leaves(top.inputs[1], 1.0 - f, material, report, 1) +
+                  _mix_leaves(top.inputs[2], f, material, report, 1))
+    else:
+        leaves = _mix_leaves(top.inputs[0], 1.0, material, report, 1) + \
+            _mix_leaves(top.inputs[1], 1.0, material, report, 1)
+    # a factor texture on the top Mix Shader between two single shaders
+    fac_tex = None
+    if top.type == "MIX_SHADER":
+        img, output = _image_source(top.inputs["Fac"])
+        a, _ = _source(top.inputs[1])
+        b, _ = _source(top.inputs[2])
+        single = a is not None and b is not None and \
+            a.type not in ("MIX_SHADER", "ADD_SHADER") and \
+            b.type not in ("MIX_SHADER", "ADD_SHADER")
+        if img is not None:
+            if single and b.type != "BSDF_TRANSPARENT":
+                tid = textures.add(img, output, where)
+                fac_tex = (tid, a.type == "BSDF_TRANSPARENT")
+            else:
+                report.warn(f"{where}: the image texture on Mix Shader '{top.name}' Fac is "
+                            "used as its mean value (textured factors mix two shaders, or "
+                            "Transparent first and one shader)")
+    transparent, emission, bsdf = 0.0, [0.0, 0.0, 0.0], []
+    for node, w in leaves:
+        if node.type == "BSDF_TRANSPARENT":
+            c = _constant_color(node.inputs["Color"], material, report)
+            if max(c) - min(c) > 1e-3:
+                report.warn(f"{where}: Transparent BSDF '{node.name}' is tinted; Lantern's "
+                            "transparency is untinted (its luminance is used)")
+            t = min(max(0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2], 0.0), 1.0)
+            transparent += w * t
+            if t < 1.0:   # the untransmitted part of a grey Transparent BSDF is black
+                bsdf.append(({"name": f"{name}/black", "type": "diffuse",
+                              "base_color": [0.0, 0.0, 0.0]}, w * (1.0 - t)))
+            continue
+        leaf = _convert_shader(node, material, report, textures)
+        if node.type == "EMISSION":
+            emission = [e + w * x for e, x in zip(emission, leaf["emission"])]
+            continue
+        emission = [e + w * x for e, x in zip(emission, leaf.get("emission", [0, 0, 0]))]
+        leaf["emission"] = [0.0, 0.0, 0.0]
+        if leaf.get("alpha", 1.0) < 1.0 or "alpha_texture" in leaf:
+            report.warn(f"{where}: Alpha of '{node.name}' inside a shader mix is ignored "
+                        "(use a Mix Shader with a Transparent BSDF)")
+        leaf.pop("alpha", None)
+        leaf.pop("alpha_texture", None)
+        leaf["name"] = f"{name}/{node.name}"
+        bsdf.append((leaf, w))
+    alpha = min(max(1.0 - transparent, 0.0), 1.0)
+    if fac_tex is not None and fac_tex[1]:  # Mix(Transparent, X, fac): alpha = fac, textured;
+        alpha = 1.0                         # where it stops a ray, the surface is all X
+        bsdf = [(leaf, 1.0) for leaf, _ in bsdf]
+    out = dict(DEFAULT, name=name)
+    if len(bsdf) > 4:
+        report.warn(f"{where}: {len(bsdf)} shaders mixed; Lantern keeps the 4 of largest weight")
+        bsdf = sorted(bsdf, key=lambda lw: -lw[1])[:4]
+    scale = 1.0 / alpha if alpha > 0.0 else 0.0   # what stops a ray carries the whole surface
+    normals = [leaf for leaf, _ in bsdf if "normal_texture" in leaf]
+    if len(normals) > 1 and len({(x["normal_texture"], x.get("normal_strength", 1.0))
+                                 for x in normals}) > 1:
+        report.warn(f"{where}: mixed shaders with different normal maps; the first is used")
+    if not bsdf:
+        out.update(base_color=[0.0, 0.0, 0.0])
+    elif len(bsdf) == 1 and abs(bsdf[0][1] * scale - 1.0) < 1e-6 and \
+            (fac_tex is None or fac_tex[1]):
+        out = dict(bsdf[0][0], name=name)      # one shader: no mix needed
+    else:
+        if add_leaf is None:
+            raise ValueError("convert_material: a shader mix needs add_leaf")
+        out = {"name": name, "type": "mix",
+               "mix": [[add_leaf(leaf), w * scale] for leaf, w in bsdf]}
+        if fac_tex is not None and not fac_tex[1] and len(bsdf) == 2:
+            out["mix_texture"] = fac_tex[0]
+            out["mix"] = [[out["mix"][0][0], 0.5], [out["mix"][1][0], 0.5]]
+    if normals:
+        out["normal_texture"] = normals[0]["normal_texture"]
+        out["normal_strength"] = normals[0].get("normal_strength", 1.0)
+    out["emission"] = [e * scale for e in emission]
+    out["alpha"] = alpha
+    if fac_tex is not None and fac_tex[1]:
+        out["alpha_texture"] = fac_tex[0]
+    return out
 
-    def color(socket):
-        return [min(max(c, 0.0), 1.0) for c in _constant_color(node.inputs[socket], material,
-                                                                   report)]
 
-    def value(socket):
-        return _constant_float(node.inputs[socket], material, report)
+def _convert_shader(node, material, report, textures):
+    """One shader node (not a mix) -> a Lantern material dict."""
+    out = dict(DEFAULT, name=material.name)
+    name = material.name
+    inputs = _Inputs(node, material, report, textures)
+    color, value = inputs.color, inputs.value
 
     # GGX energy compensation: Blender's "Multiscatter GGX" (the default); plain "GGX" has none
     if getattr(node, "distribution", "MULTI_GGX") in ("GGX", "BECKMANN", "ASHIKHMIN_SHIRLEY"):
         out["multiscatter"] = False
         if node.distribution != "GGX":
             report.warn(f"Material '{name}': {node.distribution} distribution rendered as GGX")
+    if node.type in ("BSDF_PRINCIPLED", "BSDF_DIFFUSE", "BSDF_GLOSSY", "BSDF_METALLIC",
+                     "BSDF_GLASS", "BSDF_REFRACTION", "BSDF_TRANSLUCENT"):
+        inputs.normal_map(out)
     if node.type == "BSDF_PRINCIPLED":
-        out["base_color"] = _constant_color(node.inputs["Base Color"], material, report)
+        base = inputs.base(out, "base_color", "Base Color")
         strength = value("Emission Strength")
         if strength != 0.0:
-            col = _constant_color(node.inputs["Emission Color"], material, report)
+            col = color("Emission Color", clamp=False)
             out["emission"] = [c * strength for c in col]
-        metallic = min(max(value("Metallic"), 0.0), 1.0)
+        roughness = inputs.scalar(out, "roughness", "Roughness", _unit)
+        metallic = inputs.scalar(out, "metallic", "Metallic", lambda v: min(max(v, 0.0), 1.0))
+        metal_tex = "metallic_texture" in out
+        inputs.scalar(out, "alpha", "Alpha", lambda v: min(max(v, 0.0), 1.0) if v == v else 1.0)
         transmission = min(max(value("Transmission Weight"), 0.0), 1.0)
         level = max(value("Specular IOR Level"), 0.0)
         level = 0.5 if level != level else level
-        if metallic >= 0.999:  # the metal lobe alone: the cheaper conductor type
-            out.update(type="conductor", base_color=color("Base Color"),
-                       specular_tint=color("Specular Tint"), roughness=_unit(value("Roughness")))
-        elif level > 0.0 or metallic > 0.0 or transmission > 0.0:
-            out.update(type="principled", base_color=color("Base Color"),
-                       specular_tint=color("Specular Tint"), roughness=_unit(value("Roughness")),
+        if metallic >= 0.999 and not metal_tex:  # the metal lobe alone: the cheaper conductor
+            out.pop("metallic")
+            out.update(type="conductor", base_color=base,
+                       specular_tint=color("Specular Tint"), roughness=roughness)
+        elif level > 0.0 or metallic > 0.0 or transmission > 0.0 or metal_tex:
+            out.update(type="principled", base_color=base,
+                       specular_tint=color("Specular Tint"), roughness=roughness,
                        ior=_ior(value("IOR")), metallic=metallic, transmission=transmission,
                        specular_level=min(level, 1e3))
             coat = min(max(value("Coat Weight"), 0.0), 1.0)
@@ -108,22 +394,26 @@ def convert_material(material, report):
             if unsupported:
                 report.warn(f"Material '{name}': {', '.join(unsupported)} not rendered yet "
                             f"(Lantern's Principled has metal, glass, specular and base layers)")
-        # else: Specular IOR Level 0, no metal, no glass: exactly Lambert (the diffuse type)
+        else:  # Specular IOR Level 0, no metal, no glass: exactly Lambert (the diffuse type)
+            out.pop("roughness_texture", None)
+            out.pop("metallic")
     elif node.type == "BSDF_DIFFUSE":
-        out["base_color"] = _constant_color(node.inputs["Color"], material, report)
+        inputs.base(out, "base_color", "Color")
     elif node.type == "EMISSION":
-        strength = _constant_float(node.inputs["Strength"], material, report)
-        col = _constant_color(node.inputs["Color"], material, report)
+        strength = value("Strength")
+        col = color("Color", clamp=False)
         out["base_color"] = [0.0, 0.0, 0.0]
         out["emission"] = [c * strength for c in col]
     elif node.type == "BSDF_GLOSSY":
-        c = color("Color")
-        out.update(type="conductor", base_color=c, specular_tint=c,
-                   roughness=_unit(value("Roughness")))
+        c = inputs.base(out, "base_color", "Color")
+        out.update(type="conductor", specular_tint=c)
+        inputs.scalar(out, "roughness", "Roughness", _unit)
     elif node.type == "BSDF_METALLIC":
-        out.update(type="conductor", roughness=_unit(value("Roughness")))
+        out.update(type="conductor")
+        inputs.scalar(out, "roughness", "Roughness", _unit)
         if getattr(node, "fresnel_type", "F82") == "F82":
-            out.update(base_color=color("Base Color"), specular_tint=color("Edge Tint"))
+            inputs.base(out, "base_color", "Base Color")
+            out.update(specular_tint=color("Edge Tint"))
         else:
             n = _constant_color(node.inputs["IOR"], material, report)
             k = _constant_color(node.inputs["Extinction"], material, report)
@@ -132,9 +422,13 @@ def convert_material(material, report):
                        specular_tint=[1.0, 1.0, 1.0])
             report.warn(f"Material '{name}': Metallic BSDF in physical-conductor mode is "
                         f"approximated by its normal-incidence reflectance (F82 tint white)")
+    elif node.type == "BSDF_TRANSLUCENT":
+        out["type"] = "translucent"
+        inputs.base(out, "base_color", "Color")
     elif node.type in ("BSDF_GLASS", "BSDF_REFRACTION"):
-        out.update(type="dielectric", base_color=color("Color"),
-                   roughness=_unit(value("Roughness")), ior=_ior(value("IOR")))
+        inputs.base(out, "base_color", "Color")
+        out.update(type="dielectric", ior=_ior(value("IOR")))
+        inputs.scalar(out, "roughness", "Roughness", _unit)
         if node.type == "BSDF_REFRACTION":
             report.warn(f"Material '{name}': Refraction BSDF rendered as glass (its Fresnel "
                         f"reflection included)")
@@ -161,12 +455,24 @@ class MaterialTable:
         self.report = report
         self.materials = [dict(DEFAULT)]
         self._index = {}
+        self.texture_table = TextureTable(report)
+
+    @property
+    def textures(self):
+        return self.texture_table.textures
 
     def index(self, material):
         if material is None:
             return 0
         key = material.name_full
         if key not in self._index:
-            self._index[key] = len(self.materials)
-            self.materials.append(convert_material(material, self.report))
+            slot = len(self.materials)
+            self._index[key] = slot
+            self.materials.append(None)   # the slot, before any mix leaves are appended
+            self.materials[slot] = convert_material(material, self.report, self.texture_table,
+                                                    self._add_leaf)
         return self._index[key]
+
+    def _add_leaf(self, leaf):
+        self.materials.append(leaf)
+        return len(self.materials) - 1

@@ -16,6 +16,24 @@ def _attribute(mesh, name, domain, size, dtype, prop, width=1):
     return out if width == 1 else out.reshape(size, width)
 
 
+def _corner_tangents(mesh, report, name):
+    """Per-corner MikkTSpace tangents (x, y, z, bitangent sign) of the active UV map, as Blender
+    and Cycles compute them for normal maps; None where they cannot be computed."""
+    try:
+        mesh.calc_tangents(uvmap=mesh.uv_layers.active.name)
+    except RuntimeError as e:
+        report.warn(f"Object '{name}': no tangents for its normal map ({e}); the uv "
+                    "directions of each triangle are used")
+        return None
+    nl = len(mesh.loops)
+    t = np.empty(nl * 3, np.float32)
+    mesh.loops.foreach_get("tangent", t)
+    sign = np.empty(nl, np.float32)
+    mesh.loops.foreach_get("bitangent_sign", sign)
+    mesh.free_tangents()
+    return np.concatenate([t.reshape(nl, 3), sign[:, None]], axis=1)
+
+
 def _corner_arrays(mesh):
     """Local-space arrays of an evaluated mesh: per-corner positions, normals, uvs; triangles
     as corner indices; per-triangle material slot.
@@ -72,13 +90,17 @@ class MeshExporter:
         except RuntimeError as e:
             self.report.warn(f"Object '{obj.name}': could not get its geometry ({e})")
             mesh = None
+        slots = [self.materials.index(s.material) for s in obj.material_slots] or [0]
         if mesh is not None:
             try:
                 arrays = _corner_arrays(mesh)
+                # tangents only where a material of the object has a normal map
+                if arrays is not None and arrays["uvs"] is not None and any(
+                        "normal_texture" in self.materials.materials[i] for i in slots):
+                    arrays["tangents"] = _corner_tangents(mesh, self.report, obj.name)
             finally:
                 obj.to_mesh_clear()
         if arrays is not None:
-            slots = [self.materials.index(s.material) for s in obj.material_slots] or [0]
             lut = np.array(slots, dtype=np.uint32)
             arrays["material_ids"] = lut[np.clip(arrays.pop("slots"), 0, len(lut) - 1)]
         self._cache[key] = arrays
@@ -106,6 +128,14 @@ class MeshExporter:
             normals = np.divide(normals, length, out=np.zeros_like(normals), where=length > 0)
         else:
             self.report.warn(f"Object '{obj.name}': degenerate transform; flat shading used")
+        tangents = local.get("tangents")
+        if tangents is not None:
+            t = tangents[:, :3] @ lin.T.astype(np.float32)
+            length = np.sqrt(np.einsum("ij,ij->i", t, t))[:, None]
+            t = np.divide(t, length, out=np.zeros_like(t), where=length > 0)
+            # a mirroring transform flips the frame's handedness
+            sign = tangents[:, 3:] * (np.float32(-1) if det < 0 else np.float32(1))
+            tangents = np.ascontiguousarray(np.concatenate([t, sign], axis=1), np.float32)
         if det < 0:
             indices = indices[:, [0, 2, 1]]  # mirrored: keep the winding's orientation
         material_ids = local["material_ids"]
@@ -118,6 +148,8 @@ class MeshExporter:
             positions = np.where(finite[:, None], positions, np.float32(0))
             if normals is not None:
                 normals = np.nan_to_num(normals, nan=0.0, posinf=0.0, neginf=0.0)
+            if tangents is not None:
+                tangents = np.nan_to_num(tangents, nan=0.0, posinf=0.0, neginf=0.0)
             if len(indices) == 0:
                 return None
         name = obj.name
@@ -127,7 +159,7 @@ class MeshExporter:
         return {"name": name, "positions": np.ascontiguousarray(positions, np.float32),
                 "indices": np.ascontiguousarray(indices, np.uint32),
                 "normals": None if normals is None else np.ascontiguousarray(normals, np.float32),
-                "uvs": local["uvs"], "material_ids": material_ids,
+                "uvs": local["uvs"], "tangents": tangents, "material_ids": material_ids,
                 "visible_camera": bool(getattr(obj, "visible_camera", True)),
                 "cast_shadow": bool(getattr(obj, "visible_shadow", True))}
 

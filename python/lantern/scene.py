@@ -15,10 +15,18 @@ FORMAT_NAME = "lantern-scene"
 FORMAT_VERSION = 1
 
 CAMERA_TYPES = ("perspective", "orthographic")
-MATERIAL_TYPES = ("diffuse", "conductor", "dielectric", "principled")
+MATERIAL_TYPES = ("diffuse", "conductor", "dielectric", "principled", "mix", "translucent")
+MIX_LEAVES = 4
 LIGHT_TYPES = ("point", "spot", "area", "sun")
 AREA_SHAPES = ("square", "rectangle", "disk", "ellipse")
-MESH_ARRAYS = ("positions", "indices", "normals", "uvs", "material_ids")
+MESH_ARRAYS = ("positions", "indices", "normals", "uvs", "tangents", "material_ids")
+TEXTURE_COLORSPACES = ("srgb", "linear")
+TEXTURE_WRAPS = ("repeat", "extend", "clip", "mirror")
+TEXTURE_INTERPOLATIONS = ("linear", "closest")
+TEXTURE_OUTPUTS = ("color", "alpha", "red", "green", "blue")
+# material inputs that may name a texture (index into Scene.textures)
+MATERIAL_TEXTURES = ("base_color_texture", "roughness_texture", "metallic_texture",
+                     "alpha_texture", "normal_texture", "mix_texture")
 
 # Blender's default camera: 50 mm lens on a 36 mm sensor.
 DEFAULT_TAN_HALF = 18.0 / 50.0
@@ -201,15 +209,36 @@ class Scene:
         self.materials = []
         self.meshes = []
         self.lights = []
+        self.textures = []
 
     # ---- Building ----
+
+    def add_texture(self, pixels, name=None, colorspace="srgb", wrap="repeat",
+                    interpolation="linear", output="color", uv_transform=None):
+        """Append an image texture; returns its id for a material's `*_texture` inputs.
+
+        `pixels`: (height, width, 4) RGBA, rows bottom to top (Blender's order: uv (0, 0) is the
+        lower-left corner); uint8 is stored as 8-bit, decoded from sRGB when `colorspace` is
+        "srgb" (colour images) or read as is for "linear" (Non-Color data); float32 is scene
+        linear. (H, W, 3) gets alpha 1. `output`: what scalar inputs (roughness, metallic, alpha)
+        read: "color" (its luminance), "alpha", or one channel ("red", "green", "blue"). `uv_transform`: [[a, b, c], [d, e, f]],
+        u' = a u + b v + c, v' = d u + e v + f (Blender's Mapping node)."""
+        if name is None:
+            name = f"texture_{len(self.textures)}"
+        tex = {"name": str(name), "pixels": pixels, "colorspace": colorspace, "wrap": wrap,
+               "interpolation": interpolation, "output": output,
+               "uv_transform": uv_transform if uv_transform is not None
+               else [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]}
+        self.textures.append(self._validate_texture(tex, len(self.textures)))
+        return len(self.textures) - 1
 
     def add_material(self, name=None, base_color=(0.8, 0.8, 0.8), emission=(0.0, 0.0, 0.0),
                      type="diffuse", roughness=0.5, ior=1.5, specular_tint=(1.0, 1.0, 1.0),
                      metallic=0.0, transmission=0.0, specular_level=0.5, multiscatter=True,
                      coat_weight=0.0, coat_roughness=0.03, coat_ior=1.5,
                      coat_tint=(1.0, 1.0, 1.0), sheen_weight=0.0, sheen_roughness=0.5,
-                     sheen_tint=(1.0, 1.0, 1.0), eta=None, k=None, distribution="ggx"):
+                     sheen_tint=(1.0, 1.0, 1.0), eta=None, k=None, distribution="ggx",
+                     alpha=1.0, normal_strength=1.0, mix=None, **textures):
         """Append a material; returns its id (index into `materials`).
 
         `type`: "diffuse" (Lambert, albedo `base_color`), "conductor" (GGX metal with F0
@@ -228,11 +257,19 @@ class Scene:
             "multiscatter": multiscatter, "coat_weight": coat_weight,
             "coat_roughness": coat_roughness, "coat_ior": coat_ior, "coat_tint": coat_tint,
             "sheen_weight": sheen_weight, "sheen_roughness": sheen_roughness,
-            "sheen_tint": sheen_tint, "distribution": distribution,
+            "sheen_tint": sheen_tint, "distribution": distribution, "alpha": alpha,
+            "normal_strength": normal_strength,
         }
+        if mix is not None:
+            material["mix"] = mix
+        for key, value in textures.items():
+            if key not in MATERIAL_TEXTURES:
+                raise TypeError(f"add_material() got an unexpected keyword argument {key!r}")
+            if value is not None:
+                material[key] = value
         if eta is not None or k is not None:
             material.update(eta=eta, k=k)
-        material = self._validate_material(material, len(self.materials))
+        material = self._validate_material(material, len(self.materials), len(self.textures))
         self.materials.append(material)
         return len(self.materials) - 1
 
@@ -246,7 +283,8 @@ class Scene:
         return _int(material, "material", minimum=0)
 
     def add_mesh(self, positions, indices, material=0, normals=None, uvs=None,
-                 material_ids=None, name=None, visible_camera=True, cast_shadow=True):
+                 material_ids=None, name=None, visible_camera=True, cast_shadow=True,
+                 tangents=None):
         """Append a triangle mesh; `material` (id or name) applies to every triangle unless
         `material_ids` gives one per triangle. Returns the mesh index."""
         if name is None:
@@ -261,6 +299,7 @@ class Scene:
             "indices": indices,
             "normals": normals,
             "uvs": uvs,
+            "tangents": tangents,
             "material_ids": material_ids,
             "visible_camera": visible_camera,
             "cast_shadow": cast_shadow,
@@ -297,9 +336,18 @@ class Scene:
         self.film = self._validate_film(self.film)
         self.camera = self._validate_camera(self.camera)
         self.world = self._validate_world(self.world)
+        if not isinstance(self.textures, list):
+            self.textures = list(self.textures)
+        self.textures = [self._validate_texture(t, i) for i, t in enumerate(self.textures)]
         if not isinstance(self.materials, list):
             self.materials = list(self.materials)
-        self.materials = [self._validate_material(m, i) for i, m in enumerate(self.materials)]
+        self.materials = [self._validate_material(m, i, len(self.textures))
+                          for i, m in enumerate(self.materials)]
+        for i, m in enumerate(self.materials):
+            for leaf, _ in m.get("mix", ()):
+                if leaf >= len(self.materials) or self.materials[leaf]["type"] == "mix":
+                    raise ValueError(f"material {i} ({m['name']!r}) mix: leaf {leaf} is not a "
+                                     f"material of the scene, or is itself a mix")
         if not isinstance(self.meshes, list):
             self.meshes = list(self.meshes)
         for i, mesh in enumerate(self.meshes):
@@ -355,7 +403,53 @@ class Scene:
         return out
 
     @staticmethod
-    def _validate_material(material, index):
+    def _validate_texture(texture, index):
+        if not isinstance(texture, dict):
+            raise ValueError(f"texture {index}: expected a dict")
+        name = str(texture.get("name", f"texture_{index}"))
+        what = f"texture {index} ({name!r})"
+        out = dict(texture)
+        out["name"] = name
+        try:
+            px = np.asarray(texture.get("pixels"))
+        except (TypeError, ValueError):
+            raise ValueError(f"{what} pixels: expected an array") from None
+        if px.ndim != 3 or px.shape[2] not in (3, 4) or px.shape[0] < 1 or px.shape[1] < 1:
+            raise ValueError(f"{what} pixels: expected shape (height, width, 4), got {px.shape}")
+        if px.shape[0] > 65536 or px.shape[1] > 65536:
+            raise ValueError(f"{what} pixels: {px.shape[1]}x{px.shape[0]} is too large")
+        if px.dtype == np.uint8:
+            if px.shape[2] == 3:
+                px = np.concatenate([px, np.full(px.shape[:2] + (1,), 255, np.uint8)], axis=2)
+        elif px.dtype.kind in "fiu":
+            px = px.astype(np.float32)
+            if px.shape[2] == 3:
+                px = np.concatenate([px, np.ones(px.shape[:2] + (1,), np.float32)], axis=2)
+        else:
+            raise ValueError(f"{what} pixels: expected uint8 or float32, got {px.dtype}")
+        out["pixels"] = np.ascontiguousarray(px)
+        for key, allowed, default in (("colorspace", TEXTURE_COLORSPACES, "srgb"),
+                                      ("wrap", TEXTURE_WRAPS, "repeat"),
+                                      ("interpolation", TEXTURE_INTERPOLATIONS, "linear"),
+                                      ("output", TEXTURE_OUTPUTS, "color")):
+            v = texture.get(key, default)
+            if v not in allowed:
+                raise ValueError(f"{what} {key}: expected one of {allowed}, got {v!r}")
+            out[key] = v
+        if px.dtype != np.uint8:
+            out["colorspace"] = "linear"  # float texels are scene linear
+        xf = texture.get("uv_transform", [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
+        try:
+            xf = np.asarray(xf, dtype=np.float64)
+        except (TypeError, ValueError):
+            raise ValueError(f"{what} uv_transform: expected a 2x3 matrix") from None
+        if xf.shape != (2, 3) or not np.isfinite(xf).all():
+            raise ValueError(f"{what} uv_transform: expected a finite 2x3 matrix, got {xf.tolist()}")
+        out["uv_transform"] = xf.tolist()
+        return out
+
+    @staticmethod
+    def _validate_material(material, index, num_textures=0):
         if not isinstance(material, dict):
             raise ValueError(f"material {index}: expected a dict")
         name = str(material.get("name", f"material_{index}"))
@@ -412,6 +506,43 @@ class Scene:
                 raise ValueError(f"{what}: a complex index needs both eta and k")
             out["eta"] = _rgb(eta, f"{what} eta")
             out["k"] = _rgb(k, f"{what} k")
+        for key, default, lo, hi in (("alpha", 1.0, 0.0, 1.0), ("normal_strength", 1.0, 0.0, 1e3)):
+            try:
+                v = float(material.get(key, default))
+            except (TypeError, ValueError):
+                raise ValueError(f"{what} {key}: expected a number, got {material.get(key)!r}")
+            if not (lo <= v <= hi):
+                raise ValueError(f"{what} {key}: must be in [{lo}, {hi}], got {v}")
+            out[key] = v
+        if mtype == "mix":
+            mix = material.get("mix")
+            if not isinstance(mix, (list, tuple)) or not 1 <= len(mix) <= MIX_LEAVES:
+                raise ValueError(f"{what} mix: expected 1 to {MIX_LEAVES} [leaf, weight] pairs, "
+                                 f"got {mix!r}")
+            pairs = []
+            for entry in mix:
+                if not isinstance(entry, (list, tuple)) or len(entry) != 2:
+                    raise ValueError(f"{what} mix: expected [leaf, weight] pairs, got {entry!r}")
+                leaf = _int(entry[0], f"{what} mix leaf", minimum=0)
+                weight = _finite_float(entry[1], f"{what} mix weight")
+                if weight < 0:
+                    raise ValueError(f"{what} mix weight: must be >= 0, got {weight}")
+                pairs.append([leaf, weight])
+            out["mix"] = pairs
+            if material.get("mix_texture") is not None and len(pairs) != 2:
+                raise ValueError(f"{what} mix_texture: a factor texture needs exactly two leaves")
+        elif "mix" in material:
+            raise ValueError(f"{what}: 'mix' applies to materials of type 'mix' only")
+        for key in MATERIAL_TEXTURES:
+            t = material.get(key)
+            if t is None:
+                out.pop(key, None)
+                continue
+            t = _int(t, f"{what} {key}", minimum=0)
+            if t >= num_textures:
+                raise ValueError(f"{what} {key}: texture {t} out of range (scene has "
+                                 f"{num_textures} textures)")
+            out[key] = t
         return out
 
     def _validate_mesh(self, mesh, index, check_materials):
@@ -442,6 +573,12 @@ class Scene:
             uvs = _float_array(uvs, 2, f"{what} uvs")
             if uvs.shape[0] != vcount:
                 raise ValueError(f"{what} uvs: {uvs.shape[0]} rows for {vcount} vertices")
+        tangents = mesh.get("tangents")
+        if tangents is not None:
+            tangents = _float_array(tangents, 4, f"{what} tangents")
+            if tangents.shape[0] != vcount:
+                raise ValueError(f"{what} tangents: {tangents.shape[0]} rows for {vcount} "
+                                 "vertices")
         mids = mesh.get("material_ids")
         if mids is None:
             mids = np.zeros(tcount, dtype=np.uint32)
@@ -456,6 +593,7 @@ class Scene:
         mesh["indices"] = idx
         mesh["normals"] = normals
         mesh["uvs"] = uvs
+        mesh["tangents"] = tangents
         mesh["material_ids"] = mids
         mesh["visible_camera"] = _bool(mesh.get("visible_camera", True),
                                        f"{what} visible_camera")
@@ -540,11 +678,17 @@ class Scene:
                 light["to_world"] = mat(light["to_world"])
             lights.append(light)
         meshes = [dict(m) for m in self.meshes]
+        textures = []
+        for t in self.textures:
+            t = dict(t)
+            t["uv_transform"] = [float(x) for row in t["uv_transform"] for x in row]
+            textures.append(t)
         return {
             "film": dict(self.film),
             "camera": camera,
             "world": dict(self.world),
             "materials": [dict(m) for m in self.materials],
+            "textures": textures,
             "meshes": meshes,
             "lights": lights,
         }
@@ -566,8 +710,13 @@ class Scene:
             "materials": self.materials,
             "lights": self.lights,
             "meshes": [],
+            "textures": [],
         }
         arrays = {}
+        for i, tex in enumerate(self.textures):
+            member = f"textures/{i}/pixels.npy"
+            arrays[member] = tex["pixels"]
+            doc["textures"].append(dict(tex, pixels=member))
         for i, mesh in enumerate(self.meshes):
             entry = {}
             for key, value in mesh.items():
@@ -604,6 +753,7 @@ class Scene:
             "triangles": self.triangle_count,
             "vertices": int(sum(np.asarray(m["positions"]).shape[0] for m in self.meshes)),
             "materials": len(self.materials),
+            "textures": len(self.textures),
             "emissive_materials": emissive,
             "lights": len(self.lights),
             "light_types": light_types,
@@ -659,6 +809,18 @@ def load_scene(path):
         scene.world = doc.get("world", default_world())
         scene.materials = doc.get("materials", [])
         scene.lights = doc.get("lights", [])
+        scene.textures = []
+        for i, entry in enumerate(doc.get("textures", [])):
+            if not isinstance(entry, dict):
+                raise ValueError(f"{path}: texture {i} is not an object")
+            member = entry.get("pixels")
+            if not isinstance(member, str) or member not in names:
+                raise ValueError(f"{path}: texture {i} pixels: member {member!r} is missing")
+            try:
+                px = np.load(io.BytesIO(zf.read(member)), allow_pickle=False)
+            except ValueError as e:
+                raise ValueError(f"{path}: texture {i} pixels: bad .npy member ({e})") from None
+            scene.textures.append(dict(entry, pixels=px))
         scene.meshes = []
         for i, entry in enumerate(doc.get("meshes", [])):
             if not isinstance(entry, dict):

@@ -277,3 +277,62 @@ def principled_box(width=64, height=64, light_power=40.0):
     scene.add_light("area", to_world=to_world.tolist(), shape="rectangle", size=[0.5, 0.4],
                     power=[light_power] * 3, visible_camera=True)
     return scene
+
+
+def _checker(n=8, a=(0.9, 0.85, 0.7), b=(0.15, 0.1, 0.05)):
+    """An n x n 8-bit sRGB checker texture (RGBA)."""
+    enc = lambda c: [int(round(255 * (x ** (1 / 2.2)))) for x in c] + [255]
+    tile = np.indices((n, n)).sum(axis=0) % 2
+    return np.where(tile[..., None] == 0, enc(a), enc(b)).astype(np.uint8)
+
+
+def features_box(width=64, height=64, light_power=40.0):
+    """What the material system adds beyond the Principled layers, in the Cornell box: a
+    checker-textured floor, a Mix Shader back wall (0.7 diffuse + 0.3 rough metal), a short box
+    that mixes smooth glass with diffuse (a delta leaf), a tall box of diffuse + translucent
+    (Add Shader weights 0.5 each), a normal-mapped left wall, and a card of alpha 0.5 hanging
+    in front of the tall box."""
+    scene, white, red, green = _box_room(width, height)
+    checker = scene.add_texture(_checker(), interpolation="closest")
+    floor = scene.add_material("checker_floor", base_color_texture=checker)
+    d_white = scene.add_material("mix_diffuse", base_color=(0.73, 0.73, 0.73))
+    metal = scene.add_material("mix_metal", type="conductor", base_color=(0.9, 0.8, 0.6),
+                               roughness=0.35)
+    back = scene.add_material("back_mix", type="mix", mix=[[d_white, 0.7], [metal, 0.3]])
+    # a constant tangent-space normal map tilting the normal 25 degrees towards -u (-y, the
+    # camera's side; uv-derived tangents)
+    t = math.radians(25.0)
+    nrm = np.array([[[int(round((1 - math.sin(t)) * 127.5)), 128,
+                      int(round((math.cos(t) + 1) * 127.5)), 255]]], np.uint8)
+    bumpy = scene.add_material("bumpy_red", base_color=(0.63, 0.065, 0.05),
+                               normal_texture=scene.add_texture(nrm, colorspace="linear"))
+    walls = {
+        "floor": (_quad((-1, -1, 0), (1, -1, 0), (1, 1, 0), (-1, 1, 0)), floor),
+        "ceiling": (_quad((-1, -1, 2), (-1, 1, 2), (1, 1, 2), (1, -1, 2)), white),
+        "back": (_quad((-1, 1, 0), (1, 1, 0), (1, 1, 2), (-1, 1, 2)), back),
+        "left": (_quad((-1, -1, 0), (-1, 1, 0), (-1, 1, 2), (-1, -1, 2)), bumpy),
+        "right": (_quad((1, -1, 0), (1, -1, 2), (1, 1, 2), (1, 1, 0)), green),
+    }
+    uvs = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], np.float32)
+    for name, ((pos, idx), mat) in walls.items():
+        scene.add_mesh(pos, idx, material=mat, name=name, uvs=uvs)
+    glass = scene.add_material("mix_glass", type="dielectric", roughness=0.0, ior=1.5,
+                               base_color=(0.9, 0.95, 1.0))
+    d_blue = scene.add_material("mix_blue", base_color=(0.2, 0.3, 0.8))
+    glassy = scene.add_material("glass_diffuse", type="mix", mix=[[glass, 0.5], [d_blue, 0.5]])
+    pos, idx = _box((0.33, -0.3, 0.0), (0.6, 0.6, 0.6), -17.0)
+    scene.add_mesh(pos, idx, material=glassy, name="short_box")
+    trans = scene.add_material("translucent", type="translucent", base_color=(0.8, 0.7, 0.5))
+    d_tall = scene.add_material("tall_diffuse", base_color=(0.6, 0.6, 0.6))
+    tall = scene.add_material("diffuse_translucent", type="mix",
+                              mix=[[d_tall, 0.5], [trans, 0.5]])
+    pos, idx = _box((-0.35, 0.3, 0.0), (0.6, 0.6, 1.2), 17.0)
+    scene.add_mesh(pos, idx, material=tall, name="tall_box")
+    card = scene.add_material("card", base_color=(0.9, 0.9, 0.2), alpha=0.5)
+    pos, idx = _quad((-0.7, -0.3, 0.3), (0.0, -0.3, 0.3), (0.0, -0.3, 1.0), (-0.7, -0.3, 1.0))
+    scene.add_mesh(pos, idx, material=card, name="alpha_card")
+    to_world = np.eye(4)
+    to_world[:3, 3] = (0.0, 0.0, 1.98)
+    scene.add_light("area", to_world=to_world.tolist(), shape="rectangle", size=[0.5, 0.4],
+                    power=[light_power] * 3, visible_camera=True)
+    return scene

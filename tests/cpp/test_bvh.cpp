@@ -564,3 +564,49 @@ TEST(Bvh, BuildIsDeterministic) {
     EXPECT_EQ(0, std::memcmp(a.tris.data(), b.tris.data(), a.tris.size() * sizeof(BvhTri)));
     EXPECT_EQ(a.stats.leaves, b.stats.leaves);
 }
+
+// Alpha-tested triangles (scene/alpha.h): the BVH with BvhAlphaTest and Embree with its filter
+// make the same decisions (one hash of ray and triangle), and a surface of alpha 0.3 stops
+// 30% of the rays that reach it.
+TEST(Bvh, AlphaTestAgreesWithEmbree) {
+    if (!embree_available()) GTEST_SKIP() << embree_version();
+    Mesh m = soup(3000, 0.08f, 21);
+    std::vector<Material> mats(2);
+    mats[1].transparency = 0.7f;  // alpha 0.3
+    std::vector<uint32_t> tri_mat(m.count());
+    for (int t = 0; t < m.count(); ++t) {
+        tri_mat[t] = t % 2;
+        if (t % 2) m.flags[t] |= kAlphaTested;
+    }
+    SceneView s = m.view();
+    s.materials = mats.data();
+    s.num_materials = 2;
+    s.tri_material = tri_mat.data();
+    std::vector<std::string> w;
+    EmbreeAccel e(s, w);
+    Bvh bvh = build_bvh(s, {}, w);
+    Rng rng = Rng::for_path(5, 0, 0);
+    int differ = 0, n = 20000, alpha_first = 0, alpha_stopped = 0;
+    for (int i = 0; i < n; ++i) {
+        Ray r{Vec3{rng.uniform(), rng.uniform(), rng.uniform()}, uniform_dir(rng.uniform2())};
+        BvhHit b = bvh_intersect(bvh.view(), r, kBvhNeedIndirect, BvhAlphaTest{s, r});
+        HitRecord h = e.intersect(r, RayKind::kIndirect);
+        if (b.prim != h.prim) ++differ;
+        EXPECT_EQ(bvh_occluded(bvh.view(), r, kBvhNeedShadow, BvhAlphaTest{s, r}),
+                  e.occluded(r)) << "ray " << i;
+        // the first alpha-tested triangle along the ray, without the test: stopped or passed?
+        BvhHit plain = bvh_intersect(bvh.view(), r, kBvhNeedIndirect);
+        if (plain.prim >= 0 && plain.prim % 2) {
+            ++alpha_first;
+            alpha_stopped += b.prim == plain.prim;
+        }
+    }
+    // a closest hit may differ only by rounding at a shared edge
+    EXPECT_LE(differ, n / 1000) << differ << " of " << n;
+    double p = double(alpha_stopped) / alpha_first;
+    double sigma = std::sqrt(0.3 * 0.7 / alpha_first);
+    std::printf("alpha 0.3: %d of %d first alpha hits stopped (%.4f, sigma %.4f)\n",
+                alpha_stopped, alpha_first, p, sigma);
+    EXPECT_GT(alpha_first, 2000);
+    EXPECT_LT(std::abs(p - 0.3), 5 * sigma);
+}

@@ -89,6 +89,8 @@ SCENES = {
     "glass": lambda: scenes.glass_lantern(SIZE, SIZE),
     "glossy": lambda: scenes.glossy_box(SIZE, SIZE),
     "principled": lambda: scenes.principled_box(SIZE, SIZE),  # layered, delta + non-delta
+    # textures, normal map, Mix / Add shaders (a delta leaf), translucent, alpha
+    "features": lambda: scenes.features_box(SIZE, SIZE),
 }
 
 

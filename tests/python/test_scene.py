@@ -37,7 +37,8 @@ def test_empty_scene_defaults():
 def test_to_native_types():
     scene = scenes.cornell_box(width=16, height=8)
     native = scene.to_native()
-    assert set(native) == {"film", "camera", "world", "materials", "meshes", "lights"}
+    assert set(native) == {"film", "camera", "world", "materials", "textures", "meshes",
+                           "lights"}
     m = native["camera"]["to_world"]
     assert isinstance(m, np.ndarray) and m.dtype == np.float32 and m.shape == (4, 4)
     assert native["lights"][0]["to_world"].dtype == np.float32

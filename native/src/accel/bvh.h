@@ -8,6 +8,7 @@
 #include <cstdint>
 
 #include "core/math.h"
+#include "scene/alpha.h"
 #include "scene/scene_view.h"
 
 namespace lantern {
@@ -175,9 +176,15 @@ LANTERN_HD inline bool bvh_child_wanted(uint32_t meta, uint32_t need) {
 // ---- Traversal ----
 // Depth-first, nearer child first; a leaf child is intersected at once, the farther inner child
 // goes on the stack with its entry distance, and popped entries beyond the closest hit are
-// dropped. any_hit: return at the first accepted triangle (occlusion).
-template <bool kAnyHit>
-LANTERN_HD inline BvhHit bvh_traverse(const BvhView& bvh, const Ray& ray, uint32_t need) {
+// dropped. any_hit: return at the first accepted triangle (occlusion). A triangle flagged
+// kAlphaTested counts only where accept(prim, u, v) says so (scene/alpha.h).
+struct BvhAcceptAll {
+    LANTERN_HD bool operator()(int32_t, float, float) const { return true; }
+};
+
+template <bool kAnyHit, typename Accept = BvhAcceptAll>
+LANTERN_HD inline BvhHit bvh_traverse(const BvhView& bvh, const Ray& ray, uint32_t need,
+                                      const Accept& accept = Accept()) {
     BvhHit hit{ray.tmax, -1, {0.0f, 0.0f}};
     if (bvh.num_nodes == 0) return hit;
     const BvhRay r = bvh_ray(ray);
@@ -215,6 +222,7 @@ LANTERN_HD inline BvhHit bvh_traverse(const BvhView& bvh, const Ray& ray, uint32
                 if ((tri.flags & need) != need) continue;
                 float t, u, v;
                 if (!bvh_hit_triangle(r, tri, tmax, &t, &u, &v)) continue;
+                if ((tri.flags & kAlphaTested) && !accept(tri.prim, u, v)) continue;
                 hit = {t, tri.prim, {u, v}};
                 if (kAnyHit) return hit;
                 tmax = t;
@@ -235,14 +243,28 @@ LANTERN_HD inline BvhHit bvh_traverse(const BvhView& bvh, const Ray& ray, uint32
 }
 
 // Closest hit of `ray` in (tmin, tmax] among triangles with all of `need`'s flags.
-LANTERN_HD inline BvhHit bvh_intersect(const BvhView& bvh, const Ray& ray, uint32_t need) {
-    return bvh_traverse<false>(bvh, ray, need);
+template <typename Accept = BvhAcceptAll>
+LANTERN_HD inline BvhHit bvh_intersect(const BvhView& bvh, const Ray& ray, uint32_t need,
+                                       const Accept& accept = Accept()) {
+    return bvh_traverse<false>(bvh, ray, need, accept);
 }
 
 // Whether any triangle with `need`'s flags lies on the segment (tmin, tmax].
+template <typename Accept = BvhAcceptAll>
 LANTERN_HD inline bool bvh_occluded(const BvhView& bvh, const Ray& ray,
-                                    uint32_t need = kBvhNeedShadow) {
-    return bvh_traverse<true>(bvh, ray, need).prim >= 0;
+                                    uint32_t need = kBvhNeedShadow,
+                                    const Accept& accept = Accept()) {
+    return bvh_traverse<true>(bvh, ray, need, accept).prim >= 0;
 }
+
+// The scene's stochastic alpha test as a BVH accept functor: bvh_intersect(bvh, ray, need,
+// BvhAlphaTest{scene, ray}).
+struct BvhAlphaTest {
+    const SceneView& s;
+    const Ray& ray;
+    LANTERN_HD bool operator()(int32_t prim, float u, float v) const {
+        return alpha_stops(s, prim, Vec2{u, v}, ray.o, ray.d);
+    }
+};
 
 }  // namespace lantern

@@ -16,4 +16,18 @@ __global__ void bvh_occluded_kernel(BvhView bvh, const Ray* rays, uint8_t* occlu
     if (i < n) occluded[i] = bvh_occluded(bvh, rays[i], kBvhNeedShadow) ? 1 : 0;
 }
 
+// With the scene's stochastic alpha test (scene/alpha.h), as the backend will call it.
+__global__ void bvh_intersect_alpha_kernel(BvhView bvh, SceneView scene, const Ray* rays,
+                                           BvhHit* hits, int n, uint32_t need) {
+    int i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i < n) hits[i] = bvh_intersect(bvh, rays[i], need, BvhAlphaTest{scene, rays[i]});
+}
+
+__global__ void bvh_occluded_alpha_kernel(BvhView bvh, SceneView scene, const Ray* rays,
+                                          uint8_t* occluded, int n) {
+    int i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i < n)
+        occluded[i] = bvh_occluded(bvh, rays[i], kBvhNeedShadow, BvhAlphaTest{scene, rays[i]}) ? 1 : 0;
+}
+
 }  // namespace lantern

@@ -10,6 +10,7 @@
 #include "bsdf/lambert.h"
 #include "bsdf/multiscatter.h"
 #include "bsdf/principled.h"
+#include "scene/texture.h"
 #include "scene/scene_view.h"
 
 namespace lantern {
@@ -31,8 +32,71 @@ LANTERN_HD inline DielectricParams material_dielectric(const Material& m, bool f
     return dielectric(m.roughness, front ? m.ior : 1.0f / m.ior, mode);
 }
 
+// Room for what material_at resolves: the material and, for a mix, its leaves. Left
+// uninitialised (Material is trivially copyable and only ever assigned whole), so that the
+// common untextured hit pays nothing for it.
+struct MaterialScratch {
+    union {
+        Material m;
+    };
+    union {
+        Material leaf[kMixLeaves];
+    };
+    LANTERN_HD MaterialScratch() {}
+};
+
+// Material m (not a mix) at texture coordinates st: m itself when none of its BSDF inputs is
+// textured (no copy: untextured scenes pay nothing), else a copy in `scratch` with the texture
+// values (NaN -> 0, clamped to their ranges). The albedo and energy-compensation tables stay
+// those of the material's constant roughness (docs/materials.md: textures).
+LANTERN_HD inline const Material& material_resolve_leaf(const SceneView& s, const Material& m,
+                                                        Vec2 st, Material& scratch) {
+    if (!(m.tex_flags & kTexShading)) return m;
+    scratch = m;
+    auto unit = [](float v) { return v >= 0.0f ? fminf(v, 1.0f) : 0.0f; };  // NaN -> 0
+    if (m.tex_flags & kTexRoughness) {
+        const Texture& t = s.textures[m.tex_roughness];
+        scratch.roughness = unit(texture_scalar(t, texture_lookup(t, s.texels, s.srgb_lut, st)));
+    }
+    if (m.tex_flags & kTexMetallic) {
+        const Texture& t = s.textures[m.tex_metallic];
+        scratch.metallic = unit(texture_scalar(t, texture_lookup(t, s.texels, s.srgb_lut, st)));
+    }
+    if (m.tex_flags & kTexBaseColor) {
+        const Texture& t = s.textures[m.tex_base_color];
+        Vec3 c = texture_color(texture_lookup(t, s.texels, s.srgb_lut, st));
+        c = Vec3{unit(c.x), unit(c.y), unit(c.z)};
+        scratch.base_color = c;
+        // the metal's multiple-scattering Fresnel follows F0 = base colour (affine in F0)
+        Vec3 favg = m.metal_favg0 + (m.metal_favg1 - m.metal_favg0) * c;
+        scratch.fms_metal = ms_fresnel_from_average(favg, m.e_avg);
+    }
+    return scratch;
+}
+
+// The material of id at texture coordinates st, ready for material_eval / material_sample:
+// the scene's own entry, or a resolved copy in `scratch` (textures; a mix with its leaves).
+LANTERN_HD inline const Material& material_at(const SceneView& s, uint32_t id, Vec2 st,
+                                              MaterialScratch& scratch) {
+    const Material& m = s.materials[id];
+    if (!(m.tex_flags & kMaterialResolve)) return m;
+    if (m.type != kMaterialMix) return material_resolve_leaf(s, m, st, scratch.m);
+    scratch.m = m;
+    for (int i = 0; i < m.mix_count; ++i)
+        scratch.m.mix_leaf[i] =
+            &material_resolve_leaf(s, s.materials[m.mix_child[i]], st, scratch.leaf[i]);
+    if (m.tex_flags & kTexMix) {
+        const Texture& t = s.textures[m.tex_mix];
+        float f = texture_scalar(t, texture_lookup(t, s.texels, s.srgb_lut, st));
+        f = f >= 0.0f ? fminf(f, 1.0f) : 0.0f;
+        scratch.m.mix_weight[0] = 1.0f - f;
+        scratch.m.mix_weight[1] = f;
+    }
+    return scratch.m;
+}
+
 // True when every lobe of m is a delta distribution: a vertex there cannot be connected to.
-LANTERN_HD inline bool material_is_delta(const Material& m) {
+LANTERN_HD inline bool material_is_delta_leaf(const Material& m) {
     switch (m.type) {
     case kMaterialConductor:
         return conductor_is_delta(material_conductor(m));
@@ -47,13 +111,25 @@ LANTERN_HD inline bool material_is_delta(const Material& m) {
     }
 }
 
-// True when m can send light to the other side of the surface.
-LANTERN_HD inline bool material_transmits(const Material& m) {
-    return m.type == kMaterialDielectric || (m.type == kMaterialPrincipled && m.transmission > 0.0f);
+LANTERN_HD inline bool material_transmits_leaf(const Material& m) {
+    return m.type == kMaterialDielectric || m.type == kMaterialTranslucent ||
+           (m.type == kMaterialPrincipled && m.transmission > 0.0f);
 }
 
-LANTERN_HD inline BsdfEval material_eval(const Material& m, bool front, Vec3 wo, Vec3 wi,
-                                         Transport mode) {
+// Translucent BSDF: Lambertian transmission (to the other side), albedo base_color.
+LANTERN_HD inline BsdfEval translucent_eval(Vec3 color, Vec3 wo, Vec3 wi) {
+    BsdfEval e = lambert_eval(color, wo, Vec3{wi.x, wi.y, -wi.z});
+    return e;
+}
+
+LANTERN_HD inline BsdfSample translucent_sample(Vec3 color, Vec3 wo, Vec2 u) {
+    BsdfSample s = lambert_sample(color, wo, u);
+    s.wi.z = -s.wi.z;
+    return s;
+}
+
+LANTERN_HD inline BsdfEval material_eval_leaf(const Material& m, bool front, Vec3 wo, Vec3 wi,
+                                              Transport mode) {
     switch (m.type) {
     case kMaterialConductor: {
         BsdfEval e = conductor_eval(material_conductor(m), wo, wi);
@@ -68,14 +144,16 @@ LANTERN_HD inline BsdfEval material_eval(const Material& m, bool front, Vec3 wo,
     }
     case kMaterialPrincipled:
         return principled_eval(m, front, wo, wi, mode);
+    case kMaterialTranslucent:
+        return translucent_eval(m.base_color, wo, wi);
     default:
         return lambert_eval(m.base_color, wo, wi);
     }
 }
 
 // u.x, u.y choose the direction, u.z the lobe event (dielectric reflection or transmission).
-LANTERN_HD inline BsdfSample material_sample(const Material& m, bool front, Vec3 wo, Vec3 u,
-                                             Transport mode) {
+LANTERN_HD inline BsdfSample material_sample_leaf(const Material& m, bool front, Vec3 wo, Vec3 u,
+                                                  Transport mode) {
     switch (m.type) {
     case kMaterialConductor: {
         BsdfSample s = conductor_sample(material_conductor(m), wo, Vec2{u.x, u.y});
@@ -92,9 +170,103 @@ LANTERN_HD inline BsdfSample material_sample(const Material& m, bool front, Vec3
     }
     case kMaterialPrincipled:
         return principled_sample(m, front, wo, u, mode);
+    case kMaterialTranslucent:
+        return translucent_sample(m.base_color, wo, Vec2{u.x, u.y});
     default:
         return lambert_sample(m.base_color, wo, Vec2{u.x, u.y});
     }
+}
+
+// ---- Mix / Add Shader: sum_i w_i f_i, a leaf picked with probability w_i / sum w (fixed, so
+// the forward and reverse pdfs are the same mixture: deterministic, as BDPT's MIS needs) ----
+
+LANTERN_HD inline float mix_total(const Material& m) {
+    float sum = 0.0f;
+    for (int i = 0; i < m.mix_count; ++i) sum += fmaxf(m.mix_weight[i], 0.0f);
+    return sum;
+}
+
+LANTERN_HD inline BsdfEval mix_eval(const Material& m, bool front, Vec3 wo, Vec3 wi,
+                                    Transport mode) {
+    BsdfEval e{vec3(0.0f), 0.0f, 0.0f};
+    const float total = mix_total(m);
+    if (!(total > 0.0f)) return e;
+    for (int i = 0; i < m.mix_count; ++i) {
+        const float w = fmaxf(m.mix_weight[i], 0.0f);
+        if (w <= 0.0f) continue;
+        BsdfEval l = material_eval_leaf(*m.mix_leaf[i], front, wo, wi, mode);
+        e.f += l.f * w;
+        e.pdf_fwd_w += l.pdf_fwd_w * (w / total);
+        e.pdf_rev_w += l.pdf_rev_w * (w / total);
+    }
+    return e;
+}
+
+LANTERN_HD inline BsdfSample mix_sample(const Material& m, bool front, Vec3 wo, Vec3 u,
+                                        Transport mode) {
+    BsdfSample s{vec3(0.0f), vec3(0.0f), 0.0f, false};
+    const float total = mix_total(m);
+    if (!(total > 0.0f)) return s;
+    // pick a leaf with u.z, then rescale u.z for the leaf's own choices
+    float uc = u.z * total, before = 0.0f;
+    int pick = -1;
+    for (int i = 0; i < m.mix_count; ++i) {
+        const float w = fmaxf(m.mix_weight[i], 0.0f);
+        if (w <= 0.0f) continue;
+        pick = i;
+        if (uc < before + w) break;
+        before += w;
+    }
+    if (pick < 0) return s;
+    const float w = fmaxf(m.mix_weight[pick], 0.0f), p = w / total;
+    const float u_leaf = fminf(fmaxf((uc - before) / w, 0.0f), 0.99999994f);
+    BsdfSample l = material_sample_leaf(*m.mix_leaf[pick], front, wo, Vec3{u.x, u.y, u_leaf},
+                                        mode);
+    if (!l.valid) return s;
+    if (l.delta) {  // a delta lobe of one leaf: its discrete probability times the pick
+        l.weight = l.weight * (w / p);
+        l.pdf_fwd_w *= p;
+        l.pdf_rev_w *= p;
+        l.valid = is_finite(l.weight);
+        return l;
+    }
+    BsdfEval e = mix_eval(m, front, wo, l.wi, mode);
+    if (!(e.pdf_fwd_w > 0.0f)) return s;
+    s.wi = l.wi;
+    s.pdf_fwd_w = e.pdf_fwd_w;
+    s.pdf_rev_w = e.pdf_rev_w;
+    s.weight = e.f * (fabsf(l.wi.z) / e.pdf_fwd_w);
+    s.valid = is_finite(s.weight);
+    return s;
+}
+
+// ---- What the integrators call, on a material from material_at ----
+
+LANTERN_HD inline bool material_is_delta(const Material& m) {
+    if (m.type != kMaterialMix) return material_is_delta_leaf(m);
+    for (int i = 0; i < m.mix_count; ++i)
+        if (m.mix_weight[i] > 0.0f && !material_is_delta_leaf(*m.mix_leaf[i])) return false;
+    return true;
+}
+
+// True when m can send light to the other side of the surface.
+LANTERN_HD inline bool material_transmits(const Material& m) {
+    if (m.type != kMaterialMix) return material_transmits_leaf(m);
+    for (int i = 0; i < m.mix_count; ++i)
+        if (material_transmits_leaf(*m.mix_leaf[i])) return true;
+    return false;
+}
+
+LANTERN_HD inline BsdfEval material_eval(const Material& m, bool front, Vec3 wo, Vec3 wi,
+                                         Transport mode) {
+    return m.type == kMaterialMix ? mix_eval(m, front, wo, wi, mode)
+                                  : material_eval_leaf(m, front, wo, wi, mode);
+}
+
+LANTERN_HD inline BsdfSample material_sample(const Material& m, bool front, Vec3 wo, Vec3 u,
+                                             Transport mode) {
+    return m.type == kMaterialMix ? mix_sample(m, front, wo, u, mode)
+                                  : material_sample_leaf(m, front, wo, u, mode);
 }
 
 }  // namespace lantern

@@ -71,15 +71,20 @@ inline float ms_fill_table(Material& m) {
     return float(avg);
 }
 
-// F_ms from a Fresnel function F(mu) -> Vec3 and E_avg.
+// The cosine-weighted average 2 int F(mu) mu dmu of a Fresnel function F(mu) -> Vec3.
 template <typename F>
-inline Vec3 ms_fresnel(F fresnel, float e_avg) {
+inline Vec3 ms_average_fresnel(F fresnel) {
     const int n = 256;
     Vec3 favg = vec3(0.0f);
     for (int i = 0; i < n; ++i) {
         float mu = (i + 0.5f) / n;
         favg += fresnel(mu) * (2.0f * mu / n);
     }
+    return favg;
+}
+
+// F_ms from the average Fresnel and E_avg (host and device: a textured metal's base colour).
+LANTERN_HD inline Vec3 ms_fresnel_from_average(Vec3 favg, float e_avg) {
     Vec3 r;
     for (int c = 0; c < 3; ++c) {
         float f = clampf(favg[c], 0.0f, 1.0f);
@@ -87,6 +92,12 @@ inline Vec3 ms_fresnel(F fresnel, float e_avg) {
         (c == 0 ? r.x : c == 1 ? r.y : r.z) = v;
     }
     return r;
+}
+
+// F_ms from a Fresnel function F(mu) -> Vec3 and E_avg.
+template <typename F>
+inline Vec3 ms_fresnel(F fresnel, float e_avg) {
+    return ms_fresnel_from_average(ms_average_fresnel(fresnel), e_avg);
 }
 
 }  // namespace lantern

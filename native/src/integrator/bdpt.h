@@ -38,6 +38,7 @@ struct LightVertex {
     Vec3 beta;      // light sub-path throughput, emitted flux / pick probability included
     float dvcm, dvc;
     uint32_t material;
+    Vec2 st;        // texture coordinates (textured materials are resolved at connection)
     int32_t path;   // light path index (bdpt pairs camera path i with light path i)
     int32_t length; // segments from the light to this vertex (y1 has 1)
     int32_t front;
@@ -158,7 +159,8 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
     const Vec3 d = ps.ray_d[i];
     const float dist = ps.hit_t[i];
     SurfaceHit h = pt_surface(s, tri, ps.hit_uv[i], d);
-    const Material& m = s.materials[s.tri_material[tri]];
+    MaterialScratch scratch;
+    const Material& m = material_at(s, s.tri_material[tri], h.st, scratch);
     const int k = ps.depth[i] + 1;  // segments from the light to this vertex
     ps.depth[i] = k;
     const Vec3 wo_w = -d;
@@ -196,6 +198,7 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
         v.dvcm = dvcm;
         v.dvc = dvc;
         v.material = s.tri_material[tri];
+        v.st = h.st;
         v.path = int32_t(path);
         v.length = k;
         v.front = h.front ? 1 : 0;
@@ -409,7 +412,8 @@ LANTERN_HD inline Connection bdpt_connect(const SceneView& s, const BdptSettings
     if (!sides_agree(dir, z.h.ng, z.h.ns) || !sides_agree(-dir, y.ng, y.ns)) return r;
     BsdfEval ez = material_eval(*z.m, z.h.front, z.wo, z.frame.to_local(dir), Transport::Radiance);
     if (is_black(ez.f)) return r;
-    const Material& my = s.materials[y.material];
+    MaterialScratch scratch;
+    const Material& my = material_at(s, y.material, y.st, scratch);
     Frame fy = Frame::from_normal(y.ns);
     BsdfEval ey = material_eval(my, y.front != 0, fy.to_local(y.wo), fy.to_local(-dir),
                                 Transport::Importance);
@@ -529,8 +533,9 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
     bdpt_camera_emission(s, ps, bs, st, i, tri >= 0 ? t_hit : ps.ray_tmax[i], tri < 0);
     if (tri < 0) return;
     CameraVertex z;
+    MaterialScratch scratch;  // z.m points here when the material is resolved
     z.h = pt_surface(s, tri, ps.hit_uv[i], d);
-    z.m = &s.materials[s.tri_material[tri]];
+    z.m = &material_at(s, s.tri_material[tri], z.h.st, scratch);
     z.depth = ps.depth[i];
     const float cos_in = fabsf(dot(d, z.h.ng));
     if (!(cos_in > 0.0f) || !(t_hit > 0.0f)) return;

@@ -71,6 +71,7 @@ struct SurfaceHit {
     Vec3 p;
     Vec3 ng;    // geometric normal, facing the incoming ray
     Vec3 ns;    // shading normal, same hemisphere as ng
+    Vec2 st;    // texture coordinates (the mesh's uvs; 0 without)
     bool front; // the ray arrived on the triangle's front (counter-clockwise) side
 };
 
@@ -80,24 +81,78 @@ LANTERN_HD inline bool sides_agree(Vec3 w, Vec3 ng, Vec3 ns) {
     return dot(w, ng) * dot(w, ns) > 0.0f;
 }
 
+// A tangent-space normal map (Blender's Normal Map node, tangent space) applied to the front-side
+// shading normal n of triangle tri: the tangent from the mesh's per-vertex tangents (MikkTSpace,
+// as Blender exports them) or, without, from the triangle's uv parametrisation. Returns n
+// unchanged where the map or the frame is degenerate or would turn the normal below the surface.
+LANTERN_HD inline Vec3 apply_normal_map(const SceneView& s, const Material& m, int tri,
+                                        Vec2 bary, Vec3 n, Vec3 ng_front, Vec2 st) {
+    if (!s.uvs) return n;
+    const uint32_t* idx = s.indices + 3 * tri;
+    const float w0 = 1.0f - bary.x - bary.y;
+    Vec3 t = vec3(0.0f);
+    float sign = 1.0f;
+    if (s.tangents) {
+        const float* t0 = s.tangents + 4 * idx[0];
+        const float* t1 = s.tangents + 4 * idx[1];
+        const float* t2 = s.tangents + 4 * idx[2];
+        t = Vec3{t0[0], t0[1], t0[2]} * w0 + Vec3{t1[0], t1[1], t1[2]} * bary.x +
+            Vec3{t2[0], t2[1], t2[2]} * bary.y;
+        sign = t0[3] < 0.0f ? -1.0f : 1.0f;
+    }
+    if (!(length_sq(t) > 1e-20f)) {  // no tangents for this mesh: the uv parametrisation's
+        Vec3 p0 = s.positions[idx[0]], p1 = s.positions[idx[1]], p2 = s.positions[idx[2]];
+        Vec2 a = s.uvs[idx[0]], b = s.uvs[idx[1]], c = s.uvs[idx[2]];
+        float du1 = b.x - a.x, dv1 = b.y - a.y, du2 = c.x - a.x, dv2 = c.y - a.y;
+        float det = du1 * dv2 - dv1 * du2;
+        if (!(fabsf(det) > 1e-20f)) return n;
+        Vec3 e1 = p1 - p0, e2 = p2 - p0;
+        t = (e1 * dv2 - e2 * dv1) / det;
+        Vec3 bt = (e2 * du1 - e1 * du2) / det;
+        sign = dot(cross(n, t), bt) < 0.0f ? -1.0f : 1.0f;
+    }
+    t = t - n * dot(n, t);
+    if (!(length_sq(t) > 1e-20f) || !is_finite(t)) return n;
+    t = normalize(t);
+    Vec3 b = cross(n, t) * sign;
+    const Texture& tex = s.textures[m.tex_normal];
+    Vec3 c = texture_color(texture_lookup(tex, s.texels, s.srgb_lut, st));
+    Vec3 mapped = t * (2.0f * c.x - 1.0f) + b * (2.0f * c.y - 1.0f) + n * (2.0f * c.z - 1.0f);
+    if (!is_finite(mapped) || !(length_sq(mapped) > 1e-12f)) return n;
+    mapped = normalize(mapped);
+    if (m.normal_strength != 1.0f) {
+        mapped = n + (mapped - n) * fmaxf(m.normal_strength, 0.0f);
+        if (!is_finite(mapped) || !(length_sq(mapped) > 1e-12f)) return n;
+        mapped = normalize(mapped);
+    }
+    return dot(mapped, ng_front) > 1e-4f ? mapped : n;
+}
+
 LANTERN_HD inline SurfaceHit pt_surface(const SceneView& s, int tri, Vec2 uv, Vec3 d) {
     Vec3 a = triangle_vertex(s, tri, 0), b = triangle_vertex(s, tri, 1),
          c = triangle_vertex(s, tri, 2);
     float w0 = 1.0f - uv.x - uv.y;
     SurfaceHit h;
     h.p = a * w0 + b * uv.x + c * uv.y;
-    h.ng = normalize(cross(b - a, c - a));
-    h.front = dot(h.ng, d) <= 0.0f;
-    if (!h.front) h.ng = -h.ng;
-    h.ns = h.ng;
+    const Vec3 ng_front = normalize(cross(b - a, c - a));
+    const uint32_t* idx = s.indices + 3 * tri;
+    if (s.uvs) h.st = Vec2{s.uvs[idx[0]].x * w0 + s.uvs[idx[1]].x * uv.x + s.uvs[idx[2]].x * uv.y,
+                           s.uvs[idx[0]].y * w0 + s.uvs[idx[1]].y * uv.x + s.uvs[idx[2]].y * uv.y};
+    Vec3 n = ng_front;  // the shading normal on the front side
     if (s.normals) {
-        const uint32_t* idx = s.indices + 3 * tri;
-        Vec3 n = s.normals[idx[0]] * w0 + s.normals[idx[1]] * uv.x + s.normals[idx[2]] * uv.y;
-        if (is_finite(n) && length_sq(n) > 1e-12f) {
-            n = normalize(n);
-            h.ns = dot(n, h.ng) < 0.0f ? -n : n;
+        Vec3 ni = s.normals[idx[0]] * w0 + s.normals[idx[1]] * uv.x + s.normals[idx[2]] * uv.y;
+        if (is_finite(ni) && length_sq(ni) > 1e-12f) {
+            ni = normalize(ni);
+            n = dot(ni, ng_front) < 0.0f ? -ni : ni;
         }
     }
+    // (the mapped normal depends on the surface point only, never on the arriving direction:
+    // camera and light sub-paths see the same BSDF, as BDPT's MIS needs; docs/materials.md)
+    const Material& m = s.materials[s.tri_material[tri]];
+    if (m.tex_flags & kTexNormal) n = apply_normal_map(s, m, tri, uv, n, ng_front, h.st);
+    h.front = dot(ng_front, d) <= 0.0f;
+    h.ng = h.front ? ng_front : -ng_front;
+    h.ns = h.front ? n : -n;
     return h;
 }
 
@@ -115,7 +170,8 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
         return;
     }
     SurfaceHit h = pt_surface(s, tri, ps.hit_uv[i], d);
-    const Material& m = s.materials[s.tri_material[tri]];
+    MaterialScratch scratch;
+    const Material& m = material_at(s, s.tri_material[tri], h.st, scratch);
     if (!is_black(m.emission)) {
         float pdf = 0.0f;
         int li = s.tri_light ? s.tri_light[tri] : -1;

@@ -37,7 +37,9 @@ std::vector<T> get_array(const nb::dict& d, const char* k, size_t cols, const st
     if (!has(d, k)) return {};
     // strict: the contract says float32 / uint32 C-contiguous; a silent conversion would hide
     // an exporter bug (and copy a large mesh)
-    const char* want = std::is_same<T, float>::value ? "float32" : "uint32";
+    const char* want = std::is_same<T, float>::value     ? "float32"
+                       : std::is_same<T, uint8_t>::value ? "uint8"
+                                                         : "uint32";
     nb::ndarray<nb::device::cpu> any;
     if (!nb::try_cast(d[k], any, false)) {
         throw std::invalid_argument(who + ": '" + k + "' must be a numpy " + want + " array");
@@ -116,7 +118,59 @@ SceneInput to_input(const nb::dict& scene) {
             mi.sheen_weight = get<float>(m, "sheen_weight", mi.sheen_weight);
             mi.sheen_roughness = get<float>(m, "sheen_roughness", mi.sheen_roughness);
             mi.sheen_tint = get_vec3(m, "sheen_tint", mi.sheen_tint);
+            mi.tex_base_color = get<int>(m, "base_color_texture", -1);
+            mi.tex_roughness = get<int>(m, "roughness_texture", -1);
+            mi.tex_metallic = get<int>(m, "metallic_texture", -1);
+            mi.tex_alpha = get<int>(m, "alpha_texture", -1);
+            mi.tex_normal = get<int>(m, "normal_texture", -1);
+            mi.normal_strength = get<float>(m, "normal_strength", mi.normal_strength);
+            mi.alpha = get<float>(m, "alpha", mi.alpha);
+            if (has(m, "mix")) {  // [[leaf, weight], ...]
+                for (nb::handle e : nb::cast<nb::list>(m["mix"])) {
+                    auto pair = nb::cast<std::vector<float>>(e);
+                    if (pair.size() != 2)
+                        throw std::invalid_argument("material '" + mi.name +
+                                                    "': mix entries are [leaf, weight]");
+                    mi.mix_children.push_back(int(pair[0]));
+                    mi.mix_weights.push_back(pair[1]);
+                }
+            }
+            mi.tex_mix = get<int>(m, "mix_texture", -1);
             in.materials.push_back(mi);
+        }
+    }
+    if (has(scene, "textures")) {
+        for (nb::handle h : nb::cast<nb::list>(scene["textures"])) {
+            nb::dict t = nb::cast<nb::dict>(h);
+            TextureInput ti;
+            ti.name = get<std::string>(t, "name", "");
+            const std::string who = "texture '" + ti.name + "'";
+            nb::ndarray<nb::device::cpu> px;
+            if (!has(t, "pixels") || !nb::try_cast(t["pixels"], px, false) || px.ndim() != 3 ||
+                px.shape(2) != 4) {
+                throw std::invalid_argument(who + ": 'pixels' must be a numpy array of shape "
+                                            "(height, width, 4)");
+            }
+            ti.height = int(px.shape(0));
+            ti.width = int(px.shape(1));
+            ti.format = get<std::string>(t, "colorspace", "srgb");
+            if (px.dtype() == nb::dtype<uint8_t>()) {
+                if (ti.format == "float") ti.format = "linear";
+                ti.bytes = get_array<uint8_t>(t, "pixels", 1, who);
+            } else {
+                ti.format = "float";
+                ti.floats = get_array<float>(t, "pixels", 1, who);
+            }
+            ti.wrap = get<std::string>(t, "wrap", ti.wrap);
+            ti.interpolation = get<std::string>(t, "interpolation", ti.interpolation);
+            ti.output = get<std::string>(t, "output", ti.output);
+            if (has(t, "uv_transform")) {
+                auto v = nb::cast<std::vector<float>>(t["uv_transform"]);
+                if (v.size() != 6)
+                    throw std::invalid_argument(who + ": 'uv_transform' needs 6 values");
+                for (int k = 0; k < 6; ++k) ti.uv[k] = v[k];
+            }
+            in.textures.push_back(std::move(ti));
         }
     }
     if (has(scene, "meshes")) {
@@ -127,6 +181,7 @@ SceneInput to_input(const nb::dict& scene) {
             mi.positions = get_array<float>(m, "positions", 3, "mesh '" + mi.name + "'");
             mi.normals = get_array<float>(m, "normals", 3, "mesh '" + mi.name + "'");
             mi.uvs = get_array<float>(m, "uvs", 2, "mesh '" + mi.name + "'");
+            mi.tangents = get_array<float>(m, "tangents", 4, "mesh '" + mi.name + "'");
             mi.indices = get_array<uint32_t>(m, "indices", 3, "mesh '" + mi.name + "'");
             mi.material_ids = get_array<uint32_t>(m, "material_ids", 1, "mesh '" + mi.name + "'");
             mi.visible_camera = get<bool>(m, "visible_camera", true);

@@ -42,7 +42,45 @@ Transform transform_from_rows(const float m[16]) {
     return t;
 }
 
+namespace {
+
+// The texture indices of a material and its alpha; an index out of range is a clear error.
+void set_material_textures(Material& m, const MaterialInput& mi, size_t k, size_t num_textures,
+                           std::vector<std::string>& warnings) {
+    auto check = [&](int t, const char* what, uint32_t bit, int32_t& out) {
+        if (t < 0) return;
+        if (size_t(t) >= num_textures) {
+            throw std::invalid_argument("material " + std::to_string(k) + " ('" + mi.name +
+                                        "'): " + what + " texture " + std::to_string(t) +
+                                        " out of range (scene has " +
+                                        std::to_string(num_textures) + " textures)");
+        }
+        out = t;
+        m.tex_flags |= bit;
+    };
+    check(mi.tex_base_color, "base_color", kTexBaseColor, m.tex_base_color);
+    check(mi.tex_roughness, "roughness", kTexRoughness, m.tex_roughness);
+    check(mi.tex_metallic, "metallic", kTexMetallic, m.tex_metallic);
+    check(mi.tex_alpha, "alpha", kTexAlpha, m.tex_alpha);
+    check(mi.tex_normal, "normal", kTexNormal, m.tex_normal);
+    m.normal_strength = std::isfinite(mi.normal_strength) ? std::max(mi.normal_strength, 0.0f)
+                                                          : 1.0f;
+    float alpha = std::isfinite(mi.alpha) ? std::min(std::max(mi.alpha, 0.0f), 1.0f) : 1.0f;
+    if (!std::isfinite(mi.alpha))
+        warnings.push_back("material '" + mi.name + "': alpha is not finite; opaque instead");
+    m.transparency = 1.0f - alpha;
+    if ((m.tex_flags & kTexMetallic) && m.type == kMaterialConductor) {
+        // a metallic texture needs the principled layers; the conductor type has none
+        m.tex_flags &= ~kTexMetallic;
+        warnings.push_back("material '" + mi.name + "': a metallic texture on a conductor is "
+                           "ignored (fully metallic)");
+    }
+}
+
+}  // namespace
+
 HostScene::HostScene(const SceneInput& in) {
+    textures_in_count_ = in.textures.size();
     if (in.width <= 0 || in.height <= 0 || in.width > 65536 || in.height > 65536) {
         throw std::invalid_argument("film size must be between 1 and 65536 pixels, got " +
                                     std::to_string(in.width) + "x" + std::to_string(in.height));
@@ -80,6 +118,10 @@ HostScene::HostScene(const SceneInput& in) {
             m.type = kMaterialConductor;
         } else if (mi.type == "dielectric") {
             m.type = kMaterialDielectric;
+        } else if (mi.type == "translucent") {
+            m.type = kMaterialTranslucent;
+        } else if (mi.type == "mix") {
+            m.type = kMaterialMix;  // leaves checked below, once every material exists
         } else if (mi.type == "principled") {
             m.type = kMaterialPrincipled;
             auto unit = [](float v, float fallback) {
@@ -108,28 +150,37 @@ HostScene::HostScene(const SceneInput& in) {
         } else {
             throw std::invalid_argument("material " + std::to_string(k) + " ('" + mi.name +
                                         "'): unknown type '" + mi.type +
-                                        "' (diffuse, conductor, dielectric, principled)");
+                                        "' (diffuse, conductor, dielectric, principled, mix, translucent)");
         }
         // GGX multiple-scattering compensation, then the principled layer's albedo (with it)
         // (the compensation tables are GGX's: a Beckmann conductor goes without, as Mitsuba)
         m.multiscatter = mi.multiscatter && !m.beckmann ? 1u : 0u;
         if (m.type == kMaterialConductor || m.type == kMaterialPrincipled) {
             const float e_avg = ms_fill_table(m);
-            const Material& mc = m;
-            m.fms_metal = ms_fresnel(
-                [&](float mu) {
-                    return conductor_fresnel(material_conductor(mc), mu) *
-                           material_conductor_scale(mc);
-                },
-                e_avg);
+            Material mc = m;
+            auto metal_fresnel = [&](float mu) {
+                return conductor_fresnel(material_conductor(mc), mu) *
+                       material_conductor_scale(mc);
+            };
+            m.fms_metal = ms_fresnel(metal_fresnel, e_avg);
+            // F_avg is affine in F0 (F82-tint and the scaled complex Fresnel alike): its ends
+            // give fms_metal for a textured base colour (material_at)
+            m.e_avg = e_avg;
+            mc.base_color = vec3(0.0f);
+            m.metal_favg0 = ms_average_fresnel(metal_fresnel);
+            mc.base_color = vec3(1.0f);
+            m.metal_favg1 = ms_average_fresnel(metal_fresnel);
+            mc = m;
             if (m.type == kMaterialPrincipled) {
                 m.fms_spec = ms_fresnel(
                     [&](float mu) { return principled_spec_fresnel(mc, mu); }, e_avg);
                 principled_albedo_table(m);
             }
         }
+        set_material_textures(m, mi, k, in.textures.size(), warnings_);
         materials_.push_back(m);
     }
+    set_mix_leaves(in);
     if (materials_.empty()) {
         Material m{};
         m.base_color = {0.8f, 0.8f, 0.8f};
@@ -140,17 +191,128 @@ HostScene::HostScene(const SceneInput& in) {
         m.fresnel = kFresnelF82Tint;
         materials_.push_back(m);
     }
+    add_textures(in);
     add_meshes(in);
     add_lights(in);
     build_filter(in.filter_width);
     finish_view(in);
 }
 
+// Mix materials: their leaves exist and are not mixes, weights finite and >= 0; the mix
+// emits its own emission plus the weighted sum of its leaves'.
+void HostScene::set_mix_leaves(const SceneInput& in) {
+    for (size_t k = 0; k < materials_.size(); ++k) {
+        Material& m = materials_[k];
+        if (m.type != kMaterialMix) continue;
+        const MaterialInput& mi = in.materials[k];
+        const std::string who = "material " + std::to_string(k) + " ('" + mi.name + "')";
+        const size_t n = mi.mix_children.size();
+        if (n < 1 || n > size_t(kMixLeaves) || mi.mix_weights.size() != n) {
+            throw std::invalid_argument(who + ": a mix needs 1 to " + std::to_string(kMixLeaves) +
+                                        " leaves, each with a weight");
+        }
+        m.mix_count = int32_t(n);
+        for (size_t i = 0; i < n; ++i) {
+            const int c = mi.mix_children[i];
+            if (c < 0 || size_t(c) >= materials_.size() || materials_[c].type == kMaterialMix) {
+                throw std::invalid_argument(who + ": mix leaf " + std::to_string(c) +
+                                            " is not a material of the scene (or is a mix)");
+            }
+            const float w = mi.mix_weights[i];
+            m.mix_child[i] = c;
+            m.mix_weight[i] = std::isfinite(w) ? std::max(w, 0.0f) : 0.0f;
+            m.emission += materials_[c].emission * m.mix_weight[i];
+        }
+        m.tex_flags |= kMixResolve;
+        if (mi.tex_mix >= 0) {
+            if (size_t(mi.tex_mix) >= textures_in_count_ || n != 2) {
+                throw std::invalid_argument(who + ": a mix factor texture needs a valid texture "
+                                            "and exactly two leaves");
+            }
+            m.tex_mix = mi.tex_mix;
+            m.tex_flags |= kTexMix;
+        }
+    }
+}
+
+void HostScene::add_textures(const SceneInput& in) {
+    srgb_lut_.resize(256);
+    for (int i = 0; i < 256; ++i) srgb_lut_[i] = srgb_to_linear(float(i) / 255.0f);
+    for (size_t k = 0; k < in.textures.size(); ++k) {
+        const TextureInput& ti = in.textures[k];
+        const std::string who = "texture " + std::to_string(k) + " ('" + ti.name + "')";
+        if (ti.width <= 0 || ti.height <= 0 || ti.width > 65536 || ti.height > 65536) {
+            throw std::invalid_argument(who + ": size must be between 1 and 65536 texels, got " +
+                                        std::to_string(ti.width) + "x" + std::to_string(ti.height));
+        }
+        Texture t{};
+        t.width = ti.width;
+        t.height = ti.height;
+        const size_t n = size_t(ti.width) * size_t(ti.height) * 4;
+        if (ti.format == "srgb" || ti.format == "linear") {
+            t.format = ti.format == "srgb" ? kTexRgba8Srgb : kTexRgba8Linear;
+            if (ti.bytes.size() != n)
+                throw std::invalid_argument(who + ": expected " + std::to_string(n) +
+                                            " bytes (RGBA), got " + std::to_string(ti.bytes.size()));
+        } else if (ti.format == "float") {
+            t.format = kTexRgba32F;
+            if (ti.floats.size() != n)
+                throw std::invalid_argument(who + ": expected " + std::to_string(n) +
+                                            " floats (RGBA), got " + std::to_string(ti.floats.size()));
+        } else {
+            throw std::invalid_argument(who + ": unknown format '" + ti.format +
+                                        "' (srgb, linear, float)");
+        }
+        const char* wraps[] = {"repeat", "extend", "clip", "mirror"};
+        t.wrap = -1;
+        for (int w = 0; w < 4; ++w)
+            if (ti.wrap == wraps[w]) t.wrap = w;
+        if (t.wrap < 0)
+            throw std::invalid_argument(who + ": unknown wrap '" + ti.wrap +
+                                        "' (repeat, extend, clip, mirror)");
+        if (ti.interpolation == "linear") t.interp = kInterpLinear;
+        else if (ti.interpolation == "closest") t.interp = kInterpClosest;
+        else throw std::invalid_argument(who + ": unknown interpolation '" + ti.interpolation +
+                                         "' (linear, closest)");
+        const char* outputs[] = {"color", "alpha", "red", "green", "blue"};
+        t.output = -1;
+        for (int o = 0; o < 5; ++o)
+            if (ti.output == outputs[o]) t.output = o;
+        if (t.output < 0)
+            throw std::invalid_argument(who + ": unknown output '" + ti.output +
+                                        "' (color, alpha, red, green, blue)");
+        for (int i = 0; i < 6; ++i) {
+            if (!std::isfinite(ti.uv[i]))
+                throw std::invalid_argument(who + ": uv transform must be finite");
+            t.uv[i] = ti.uv[i];
+        }
+        // 16-byte aligned start: float texels are read as float
+        texels_.resize((texels_.size() + 15) & ~size_t(15));
+        t.offset = texels_.size();
+        if (t.format == kTexRgba32F) {
+            texels_.resize(t.offset + n * sizeof(float));
+            float* dst = reinterpret_cast<float*>(texels_.data() + t.offset);
+            size_t bad = 0;
+            for (size_t i = 0; i < n; ++i) {
+                float v = ti.floats[i];
+                if (!std::isfinite(v)) { v = 0.0f; ++bad; }
+                dst[i] = v;
+            }
+            if (bad) warnings_.push_back(who + ": " + std::to_string(bad) +
+                                         " non-finite texel values read as 0");
+        } else {
+            texels_.insert(texels_.end(), ti.bytes.begin(), ti.bytes.end());
+        }
+        textures_.push_back(t);
+    }
+}
+
 void HostScene::add_meshes(const SceneInput& in) {
-    bool any_normals = false, any_uvs = false;
+    bool any_normals = false, any_uvs = false, any_tangents = false;
     for (const MeshInput& m : in.meshes) {
         any_normals |= !m.normals.empty();
         any_uvs |= !m.uvs.empty();
+        any_tangents |= !m.tangents.empty();
     }
     for (const MeshInput& m : in.meshes) {
         const size_t nv = m.positions.size() / 3, nt = m.indices.size() / 3;
@@ -162,6 +324,9 @@ void HostScene::add_meshes(const SceneInput& in) {
         }
         if (!m.uvs.empty() && m.uvs.size() != 2 * nv) {
             throw std::invalid_argument("mesh '" + m.name + "': uvs must have one pair per vertex");
+        }
+        if (!m.tangents.empty() && m.tangents.size() != 4 * nv) {
+            throw std::invalid_argument("mesh '" + m.name + "': tangents need 4 values per vertex");
         }
         if (m.material_ids.size() != nt) {
             throw std::invalid_argument("mesh '" + m.name + "': one material id per triangle needed");
@@ -176,6 +341,12 @@ void HostScene::add_meshes(const SceneInput& in) {
             }
             if (any_uvs) {
                 uvs_.push_back(m.uvs.empty() ? Vec2{0, 0} : Vec2{m.uvs[2 * v], m.uvs[2 * v + 1]});
+            }
+            if (any_tangents) {  // a mesh without: zero, i.e. the uv-derived tangent per triangle
+                for (int c = 0; c < 4; ++c) {
+                    float x = m.tangents.empty() ? 0.0f : m.tangents[4 * v + c];
+                    tangents_.push_back(std::isfinite(x) ? x : 0.0f);
+                }
             }
         }
         const uint8_t flags = uint8_t((m.visible_camera ? kVisibleCamera : 0) |
@@ -195,7 +366,9 @@ void HostScene::add_meshes(const SceneInput& in) {
                                             std::to_string(mat) + " out of range");
             }
             tri_material_.push_back(mat);
-            tri_flags_.push_back(flags);
+            const Material& mm = materials_[mat];
+            const bool alpha = mm.transparency > 0.0f || (mm.tex_flags & kTexAlpha);
+            tri_flags_.push_back(uint8_t(flags | (alpha ? kAlphaTested : 0)));
         }
     }
     tri_light_.assign(tri_material_.size(), -1);
@@ -355,6 +528,11 @@ void HostScene::finish_view(const SceneInput& in) {
     v.positions = positions_.data();
     v.normals = normals_.empty() ? nullptr : normals_.data();
     v.uvs = uvs_.empty() ? nullptr : uvs_.data();
+    v.tangents = tangents_.empty() ? nullptr : tangents_.data();
+    v.textures = textures_.empty() ? nullptr : textures_.data();
+    v.texels = texels_.empty() ? nullptr : texels_.data();
+    v.srgb_lut = srgb_lut_.data();
+    v.num_textures = int32_t(textures_.size());
     v.indices = indices_.data();
     v.tri_material = tri_material_.data();
     v.tri_flags = tri_flags_.data();

@@ -16,6 +16,7 @@ struct MeshInput {
     std::vector<float> positions;      // 3 per vertex, world space
     std::vector<float> normals;        // 3 per vertex or empty
     std::vector<float> uvs;            // 2 per vertex or empty
+    std::vector<float> tangents;       // 4 per vertex (xyz, bitangent sign) or empty
     std::vector<uint32_t> indices;     // 3 per triangle
     std::vector<uint32_t> material_ids;  // 1 per triangle
     bool visible_camera = true;
@@ -24,7 +25,7 @@ struct MeshInput {
 
 struct MaterialInput {
     std::string name;
-    std::string type = "diffuse";  // diffuse, conductor, dielectric
+    std::string type = "diffuse";  // diffuse, conductor, dielectric, principled, mix, translucent
     Vec3 base_color{0.8f, 0.8f, 0.8f};
     Vec3 emission{0.0f, 0.0f, 0.0f};
     float roughness = 0.5f;
@@ -45,6 +46,29 @@ struct MaterialInput {
     Vec3 coat_tint{1.0f, 1.0f, 1.0f};
     float sheen_weight = 0.0f, sheen_roughness = 0.5f;
     Vec3 sheen_tint{1.0f, 1.0f, 1.0f};
+    // textures: indices into SceneInput::textures, -1 for none
+    int tex_base_color = -1, tex_roughness = -1, tex_metallic = -1, tex_alpha = -1,
+        tex_normal = -1;
+    float normal_strength = 1.0f;
+    float alpha = 1.0f;  // coverage: 0 lets every ray pass (Blender's Alpha)
+    // mix: leaf materials (indices, not mixes) and weights; tex_mix: factor of two leaves
+    std::vector<int> mix_children;
+    std::vector<float> mix_weights;
+    int tex_mix = -1;
+};
+
+// An image texture with its sampling settings. Texels: width x height x 4 (RGBA), rows bottom
+// to top; 8-bit ones in `bytes` (format srgb or linear), float ones in `floats`.
+struct TextureInput {
+    std::string name;
+    int width = 0, height = 0;
+    std::string format = "srgb";  // srgb | linear (8-bit) | float
+    std::string wrap = "repeat";  // repeat | extend | clip | mirror
+    std::string interpolation = "linear";  // linear | closest
+    std::string output = "color";  // color | alpha | red | green | blue: what scalar inputs read
+    float uv[6] = {1, 0, 0, 0, 1, 0};
+    std::vector<uint8_t> bytes;
+    std::vector<float> floats;
 };
 
 struct LightInput {
@@ -73,6 +97,7 @@ struct SceneInput {
     float clip_start = 0.1f, clip_end = 1000.0f;
     Vec3 world_color;
     std::vector<MaterialInput> materials;
+    std::vector<TextureInput> textures;
     std::vector<MeshInput> meshes;
     std::vector<LightInput> lights;
 };
@@ -86,6 +111,8 @@ public:
     int num_triangles() const { return int(tri_material_.size()); }
 
 private:
+    void set_mix_leaves(const SceneInput& in);
+    void add_textures(const SceneInput& in);
     void add_meshes(const SceneInput& in);
     void add_lights(const SceneInput& in);
     void build_filter(float width);
@@ -93,6 +120,11 @@ private:
 
     std::vector<Vec3> positions_, normals_;
     std::vector<Vec2> uvs_;
+    std::vector<float> tangents_;
+    std::vector<Texture> textures_;
+    size_t textures_in_count_ = 0;
+    std::vector<uint8_t> texels_;
+    std::vector<float> srgb_lut_;
     std::vector<uint32_t> indices_, tri_material_;
     std::vector<uint8_t> tri_flags_;
     std::vector<int32_t> tri_light_, hittable_lights_, miss_lights_;

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "core/math.h"
+#include "scene/texture.h"
 
 namespace lantern {
 
@@ -14,8 +15,12 @@ enum MaterialType : uint32_t {
                               // Fresnel (eta, k; base_color scales it)
     kMaterialDielectric = 2,  // GGX (or smooth) glass: ior, transmission tint base_color
     kMaterialPrincipled = 3,  // Blender's Principled BSDF as layers: bsdf/principled.h
-    kMaterialTypeCount = 4,
+    kMaterialMix = 4,         // Mix / Add Shader: weighted leaves (bsdf/material.h)
+    kMaterialTranslucent = 5, // Translucent BSDF: Lambertian transmission, colour base_color
+    kMaterialTypeCount = 6,
 };
+
+constexpr int kMixLeaves = 4;  // leaves of one mix material (nested mixes are flattened)
 
 constexpr int kPrincipledAlbedoN = 33;  // at cosines (k / 32)^2: dense where Fresnel rises
 
@@ -47,6 +52,34 @@ struct Material {
     float sheen_weight, sheen_roughness;
     Vec3 sheen_tint;
     float sheen_albedo[kPrincipledAlbedoN];  // of the white sheen lobe, by cosine
+    // textured inputs (bsdf/material.h material_at): bits of MaterialTextureBits say which
+    // tex_* index is used; zero (the default) means a constant material that is never copied
+    uint32_t tex_flags;
+    int32_t tex_base_color, tex_roughness, tex_metallic, tex_alpha, tex_normal;
+    float normal_strength;  // Blender's Normal Map strength
+    float transparency;     // 1 - alpha: the share of rays that pass the surface untouched
+    Vec3 metal_favg0, metal_favg1;  // the metal lobe's average Fresnel at F0 = 0 and 1, and
+    float e_avg;                    // E_avg: fms_metal for a textured base colour
+    // mix (kMaterialMix): leaf materials (never mixes) by index with constant weights, or for
+    // two leaves weights (1 - t, t) from the factor texture tex_mix (kTexMix); material_at
+    // points mix_leaf at the leaves, resolved (textures) where needed
+    int32_t mix_count;
+    int32_t mix_child[kMixLeaves];
+    float mix_weight[kMixLeaves];
+    int32_t tex_mix;
+    const Material* mix_leaf[kMixLeaves];
+};
+
+enum MaterialTextureBits : uint32_t {
+    kTexBaseColor = 1u,
+    kTexRoughness = 2u,
+    kTexMetallic = 4u,
+    kTexAlpha = 8u,      // alpha from a texture (constant alpha: transparency alone)
+    kTexNormal = 16u,
+    kTexMix = 32u,       // a mix's factor texture
+    kMixResolve = 64u,   // every mix: material_at must point it at its leaves
+    kTexShading = kTexBaseColor | kTexRoughness | kTexMetallic,  // inputs of the BSDF itself
+    kMaterialResolve = kTexShading | kTexMix | kMixResolve,      // material_at copies
 };
 
 // How a conductor computes its Fresnel term (bsdf/material.h): Blender's F82-tint with F0 =
@@ -94,7 +127,9 @@ struct Light {
     float emit_pick_pdf;    // probability of starting a light sub-path on it (0: camera-side only)
 };
 
-enum TriangleFlags : uint8_t { kVisibleCamera = 1, kCastShadow = 2 };
+// kAlphaTested: the material has alpha < 1 (constant or textured): hits go through
+// scene/alpha.h's stochastic test
+enum TriangleFlags : uint8_t { kVisibleCamera = 1, kCastShadow = 2, kAlphaTested = 4 };
 
 struct CameraView {
     int32_t orthographic;
@@ -119,6 +154,12 @@ struct SceneView {
 
     const Material* materials = nullptr;
     int32_t num_materials = 0;
+
+    const Texture* textures = nullptr;
+    const uint8_t* texels = nullptr;     // the pool Texture::offset points into
+    const float* srgb_lut = nullptr;     // 256 entries: 8-bit sRGB -> linear
+    int32_t num_textures = 0;
+    const float* tangents = nullptr;     // 4 per vertex (xyz, bitangent sign), may be null
 
     const Light* lights = nullptr;
     const float* light_cdf = nullptr;    // normalised, for next-event estimation

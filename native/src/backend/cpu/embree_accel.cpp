@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 #include "backend/cpu/embree_loader.h"
+#include "scene/alpha.h"
 
 namespace lantern {
 
@@ -64,43 +65,86 @@ EmbreeAccel::EmbreeAccel(const SceneView& s, std::vector<std::string>& warnings)
     if (any_no_shadow) { shadow_ = build(s, kCastShadow); has_shadow_ = true; }
 }
 
+namespace {
+
+// Unindexed copy: three vertices per triangle (Embree pads the buffer itself).
+RTCGeometry make_geometry(const EmbreeApi& e, RTCDevice dev, const SceneView& s,
+                          const int32_t* tris, size_t n) {
+    RTCGeometry g = e.newGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE);
+    auto* v = static_cast<float*>(e.setNewGeometryBuffer(
+        g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 3 * n));
+    auto* idx = static_cast<uint32_t*>(e.setNewGeometryBuffer(
+        g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t), n));
+    if (!v || !idx) {
+        e.releaseGeometry(g);
+        throw std::runtime_error("Embree: out of memory building the scene");
+    }
+    for (size_t k = 0; k < n; ++k) {
+        int t = tris[k];
+        for (int j = 0; j < 3; ++j) {
+            Vec3 p = s.positions[s.indices[3 * t + j]];
+            v[9 * k + 3 * j + 0] = p.x;
+            v[9 * k + 3 * j + 1] = p.y;
+            v[9 * k + 3 * j + 2] = p.z;
+            idx[3 * k + j] = uint32_t(3 * k + j);
+        }
+    }
+    return g;
+}
+
+// Intersect and occluded filter of alpha-tested geometry: rejects the hits that alpha passes.
+void alpha_filter(const RTCFilterFunctionNArguments* args) {
+    const auto* f = static_cast<const EmbreeAccel::AlphaFilter*>(args->geometryUserPtr);
+    const unsigned n = args->N;
+    for (unsigned i = 0; i < n; ++i) {
+        if (args->valid[i] != -1) continue;
+        int32_t tri = f->prim_to_tri[RTCHitN_primID(args->hit, n, i)];
+        Vec2 bary{RTCHitN_u(args->hit, n, i), RTCHitN_v(args->hit, n, i)};
+        Vec3 o{RTCRayN_org_x(args->ray, n, i), RTCRayN_org_y(args->ray, n, i),
+               RTCRayN_org_z(args->ray, n, i)};
+        Vec3 d{RTCRayN_dir_x(args->ray, n, i), RTCRayN_dir_y(args->ray, n, i),
+               RTCRayN_dir_z(args->ray, n, i)};
+        if (!alpha_stops(f->s, tri, bary, o, d)) args->valid[i] = 0;
+    }
+}
+
+}  // namespace
+
 EmbreeAccel::Built EmbreeAccel::build(const SceneView& s, uint8_t need_flag) {
     const EmbreeApi& e = embree_api();
     auto dev = static_cast<RTCDevice>(device_);
     Built b;
     RTCScene scene = e.newScene(dev);
+    b.scene = scene;
     e.setSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);
     e.setSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
+    std::vector<int32_t> alpha;
     for (int t = 0; t < s.num_triangles; ++t) {
         if (need_flag && !(s.tri_flags[t] & need_flag)) continue;
         if (!usable_triangle(s, t)) continue;
-        b.prim_to_tri.push_back(t);
+        if (s.tri_flags[t] & kAlphaTested) alpha.push_back(t);
+        else b.prim_to_tri.push_back(t);
     }
     const size_t n = b.prim_to_tri.size();
     if (n > 0) {
-        RTCGeometry g = e.newGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE);
-        // Unindexed copy: three vertices per kept triangle (Embree pads the buffer itself).
-        auto* v = static_cast<float*>(e.setNewGeometryBuffer(
-            g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 3 * n));
-        auto* idx = static_cast<uint32_t*>(e.setNewGeometryBuffer(
-            g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t), n));
-        if (!v || !idx) throw std::runtime_error("Embree: out of memory building the scene");
-        for (size_t k = 0; k < n; ++k) {
-            int t = b.prim_to_tri[k];
-            for (int j = 0; j < 3; ++j) {
-                Vec3 p = s.positions[s.indices[3 * t + j]];
-                v[9 * k + 3 * j + 0] = p.x;
-                v[9 * k + 3 * j + 1] = p.y;
-                v[9 * k + 3 * j + 2] = p.z;
-                idx[3 * k + j] = uint32_t(3 * k + j);
-            }
-        }
+        RTCGeometry g = make_geometry(e, dev, s, b.prim_to_tri.data(), n);
         e.commitGeometry(g);
         e.attachGeometry(scene, g);
         e.releaseGeometry(g);
     }
+    if (!alpha.empty()) {
+        b.alpha_base = n;
+        b.prim_to_tri.insert(b.prim_to_tri.end(), alpha.begin(), alpha.end());
+        b.filter.reset(new AlphaFilter{s, b.prim_to_tri.data() + n});
+        RTCGeometry g = make_geometry(e, dev, s, alpha.data(), alpha.size());
+        e.setGeometryUserData(g, b.filter.get());
+        e.setGeometryIntersectFilterFunction(g, alpha_filter);
+        e.setGeometryOccludedFilterFunction(g, alpha_filter);
+        e.commitGeometry(g);
+        b.alpha_geom = e.attachGeometry(scene, g);
+        e.releaseGeometry(g);
+    }
     e.commitScene(scene);
-    b.scene = scene;
     return b;
 }
 
@@ -136,7 +180,7 @@ HitRecord EmbreeAccel::intersect(const Ray& r, RayKind kind) const {
     rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
     embree_api().intersect1(static_cast<RTCScene>(b.scene), &ctx, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return {r.tmax, -1, {0, 0}};
-    return {rh.ray.tfar, b.prim_to_tri[rh.hit.primID], {rh.hit.u, rh.hit.v}};
+    return {rh.ray.tfar, b.tri(rh.hit.geomID, rh.hit.primID), {rh.hit.u, rh.hit.v}};
 }
 
 bool EmbreeAccel::occluded(const Ray& r) const {

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -31,11 +32,25 @@ public:
 
     HitRecord intersect(const Ray& r, RayKind kind) const;
     bool occluded(const Ray& r) const;
+    // What the alpha filter of a Built's alpha-tested geometry reads (scene/alpha.h).
+    struct AlphaFilter {
+        SceneView s;
+        const int32_t* prim_to_tri = nullptr;  // that geometry's primID -> scene triangle
+    };
+
 
 private:
     struct Built {
         void* scene = nullptr;               // RTCScene
-        std::vector<int32_t> prim_to_tri;    // Embree primID -> scene triangle
+        // Embree primID -> scene triangle: the opaque geometry's first, then the alpha-tested
+        // one's (a separate geometry, so that only its hits run the alpha filter)
+        std::vector<int32_t> prim_to_tri;
+        uint32_t alpha_geom = ~0u;           // geomID of the alpha-tested geometry
+        size_t alpha_base = 0;               // its first entry in prim_to_tri
+        std::unique_ptr<AlphaFilter> filter;
+        int32_t tri(uint32_t geom, uint32_t prim) const {
+            return prim_to_tri[(geom == alpha_geom ? alpha_base : 0) + prim];
+        }
     };
     Built build(const SceneView& s, uint8_t need_flag);
     const Built& for_kind(RayKind kind) const;

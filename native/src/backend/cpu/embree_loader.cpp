@@ -53,6 +53,11 @@ Loaded load() {
     resolve(l.handle, "rtcSetNewGeometryBuffer", a.setNewGeometryBuffer, l.error);
     resolve(l.handle, "rtcCommitGeometry", a.commitGeometry, l.error);
     resolve(l.handle, "rtcAttachGeometry", a.attachGeometry, l.error);
+    resolve(l.handle, "rtcSetGeometryUserData", a.setGeometryUserData, l.error);
+    resolve(l.handle, "rtcSetGeometryIntersectFilterFunction", a.setGeometryIntersectFilterFunction,
+            l.error);
+    resolve(l.handle, "rtcSetGeometryOccludedFilterFunction", a.setGeometryOccludedFilterFunction,
+            l.error);
     resolve(l.handle, "rtcIntersect1", a.intersect1, l.error);
     resolve(l.handle, "rtcOccluded1", a.occluded1, l.error);
     if (l.error.empty()) {

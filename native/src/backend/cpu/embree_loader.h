@@ -32,6 +32,9 @@ struct EmbreeApi {
     decltype(&rtcSetNewGeometryBuffer) setNewGeometryBuffer = nullptr;
     decltype(&rtcCommitGeometry) commitGeometry = nullptr;
     decltype(&rtcAttachGeometry) attachGeometry = nullptr;
+    decltype(&rtcSetGeometryUserData) setGeometryUserData = nullptr;
+    decltype(&rtcSetGeometryIntersectFilterFunction) setGeometryIntersectFilterFunction = nullptr;
+    decltype(&rtcSetGeometryOccludedFilterFunction) setGeometryOccludedFilterFunction = nullptr;
     decltype(&rtcIntersect1) intersect1 = nullptr;
     decltype(&rtcOccluded1) occluded1 = nullptr;
 };

@@ -1,0 +1,154 @@
+"""Mix Shader, Add Shader, Transparent and Translucent BSDFs from Blender's nodes: the exported
+materials, and F12 pixels against analytic values."""
+
+import bpy
+import numpy as np
+import pytest
+
+import lantern
+from blender_helpers import add_camera, add_plane, render_exr
+from test_bl_textures import add_uvs, make_image, ortho_camera, white_world
+
+pytestmark = pytest.mark.skipif(not lantern.session.native_available(),
+                                reason="lantern native module not built")
+
+
+def export():
+    from lantern_blender.export import export_scene
+    return export_scene(bpy.context.evaluated_depsgraph_get())
+
+
+def node_material(name, build):
+    """A material whose Surface is what build(nodes, links) returns (an output socket)."""
+    mat = bpy.data.materials.new(name)
+    nt = mat.node_tree
+    for n in list(nt.nodes):
+        if n.type != "OUTPUT_MATERIAL":
+            nt.nodes.remove(n)
+    out = next(n for n in nt.nodes if n.type == "OUTPUT_MATERIAL")
+    nt.links.new(build(nt.nodes, nt.links), out.inputs["Surface"])
+    return mat
+
+
+def shader(nodes, idname, **inputs):
+    n = nodes.new(idname)
+    for k, v in inputs.items():
+        n.inputs[k].default_value = v
+    return n
+
+
+def mix(nodes, links, fac, a, b):
+    m = nodes.new("ShaderNodeMixShader")
+    m.inputs["Fac"].default_value = fac
+    links.new(a.outputs[0], m.inputs[1])
+    links.new(b.outputs[0], m.inputs[2])
+    return m
+
+
+def test_export_mix_and_add(empty, addon):
+    def build(nodes, links):
+        d = shader(nodes, "ShaderNodeBsdfDiffuse", Color=(0.8, 0.2, 0.1, 1))
+        g = shader(nodes, "ShaderNodeBsdfGlossy", Color=(0.9, 0.9, 0.9, 1), Roughness=0.3)
+        t = shader(nodes, "ShaderNodeBsdfTranslucent", Color=(0.5, 0.6, 0.7, 1))
+        add = nodes.new("ShaderNodeAddShader")
+        links.new(mix(nodes, links, 0.3, d, g).outputs[0], add.inputs[0])
+        links.new(t.outputs[0], add.inputs[1])
+        return add.outputs[0]
+    add_plane(empty, material=node_material("MixAdd", build))
+    scene, report = export()
+    m = scene.materials[1]
+    assert m["type"] == "mix"
+    leaves = {scene.materials[i]["type"]: w for i, w in m["mix"]}
+    assert leaves == pytest.approx({"diffuse": 0.7, "conductor": 0.3, "translucent": 1.0})
+    np.testing.assert_allclose(scene.materials[m["mix"][2][0]]["base_color"], [0.5, 0.6, 0.7],
+                               atol=1e-6)
+    scene.validate()
+
+
+def test_export_transparent_mixes_become_alpha(empty, addon):
+    def build(nodes, links):
+        t = nodes.new("ShaderNodeBsdfTransparent")
+        d = shader(nodes, "ShaderNodeBsdfDiffuse", Color=(0.5, 0.5, 0.5, 1))
+        return mix(nodes, links, 0.25, t, d).outputs[0]
+    add_plane(empty, material=node_material("Cutout", build))
+    # an image's alpha as the factor between Transparent and a Principled: an alpha texture
+    img = make_image("Leaf", np.array([[[10, 200, 10, 0], [10, 200, 10, 255]]], np.uint8))
+
+    def build_tex(nodes, links):
+        t = nodes.new("ShaderNodeBsdfTransparent")
+        p = nodes.new("ShaderNodeBsdfPrincipled")
+        tex = nodes.new("ShaderNodeTexImage")
+        tex.image = img
+        m = mix(nodes, links, 0.5, t, p)
+        links.new(tex.outputs["Alpha"], m.inputs["Fac"])
+        return m.outputs[0]
+    add_plane(empty, location=(0, 0, 1), material=node_material("Leaf", build_tex))
+    scene, report = export()
+    cut = next(m for m in scene.materials if m["name"] == "Cutout")
+    assert cut["type"] == "diffuse" and cut["alpha"] == pytest.approx(0.25)
+    leaf = next(m for m in scene.materials if m["name"] == "Leaf")
+    assert leaf["type"] == "principled" and leaf["alpha"] == 1.0
+    assert scene.textures[leaf["alpha_texture"]]["output"] == "alpha"
+    scene.validate()
+
+
+def test_mix_f12_analytic(empty, addon, tmp_path, errors):
+    """Under a uniform white world: a plane of 0.5 white diffuse + 0.5 white translucent
+    reflects and transmits the world (radiance 1); in front of a red emitter, Mix(Transparent,
+    Emission 2, 0.5) shows 0.5 x 2 + 0.5 x red."""
+    white_world(empty)
+    def build(nodes, links):
+        d = shader(nodes, "ShaderNodeBsdfDiffuse", Color=(1, 1, 1, 1))
+        t = shader(nodes, "ShaderNodeBsdfTranslucent", Color=(1, 1, 1, 1))
+        return mix(nodes, links, 0.5, d, t).outputs[0]
+    dt = add_plane(empty, size=1.0, location=(-0.5, 0, 0), material=node_material("DT", build))
+    ortho_camera(empty)
+    empty.lantern.samples = 64
+    px = render_exr(empty, tmp_path, "dt.exr")[..., :3].astype(np.float64)
+    left = px[4:28, 2:14].reshape(-1, 3)
+    se = left.std(axis=0, ddof=1) / np.sqrt(len(left)) + 1e-4
+    assert (np.abs(left.mean(axis=0) - 1.0) / se).max() < 5, left.mean(axis=0)
+    bpy.data.objects.remove(dt)
+
+    def build_e(nodes, links):
+        t = nodes.new("ShaderNodeBsdfTransparent")
+        e = shader(nodes, "ShaderNodeEmission", Color=(1, 1, 1, 1), Strength=2.0)
+        return mix(nodes, links, 0.5, t, e).outputs[0]
+    add_plane(empty, size=1.0, location=(0.5, 0, 0.5), material=node_material("Veil", build_e))
+
+    def build_red(nodes, links):
+        return shader(nodes, "ShaderNodeEmission", Color=(1, 0, 0, 1), Strength=1.0).outputs[0]
+    add_plane(empty, size=1.0, location=(0.5, 0, 0), material=node_material("Red", build_red))
+    px = render_exr(empty, tmp_path, "veil.exr")[..., :3].astype(np.float64)
+    right = px[10:22, 18:30].reshape(-1, 3)
+    se = right.std(axis=0, ddof=1) / np.sqrt(len(right)) + 1e-4
+    expected = np.array([1.5, 1.0, 1.0])
+    assert (np.abs(right.mean(axis=0) - expected) / se).max() < 5, right.mean(axis=0)
+    assert not [c for c in errors if c[0] == "ERROR"]
+
+
+def test_mix_factor_texture_f12(empty, addon, tmp_path, errors):
+    """A Mix Shader between black and white diffuse with a 2-texel Non-Color factor image:
+    under a white world each half shows its factor."""
+    img = make_image("Fac", np.array([[[51, 51, 51, 255], [204, 204, 204, 255]]], np.uint8),
+                     colorspace="Non-Color")
+
+    def build(nodes, links):
+        black = shader(nodes, "ShaderNodeBsdfDiffuse", Color=(0, 0, 0, 1))
+        white = shader(nodes, "ShaderNodeBsdfDiffuse", Color=(1, 1, 1, 1))
+        tex = nodes.new("ShaderNodeTexImage")
+        tex.image = img
+        tex.interpolation = "Closest"
+        m = mix(nodes, links, 0.5, black, white)
+        links.new(tex.outputs["Color"], m.inputs["Fac"])
+        return m.outputs[0]
+    add_uvs(add_plane(empty, size=2.0, material=node_material("Blend", build)))
+    white_world(empty)
+    ortho_camera(empty)
+    empty.lantern.samples = 16
+    scene, _ = export()
+    assert scene.materials[1]["type"] == "mix" and "mix_texture" in scene.materials[1]
+    px = render_exr(empty, tmp_path)[..., :3]
+    np.testing.assert_allclose(px[4:28, 3:13].mean(), 0.2, atol=0.01)
+    np.testing.assert_allclose(px[4:28, 19:29].mean(), 0.8, atol=0.01)
+    assert not [c for c in errors if c[0] == "ERROR"]

@@ -1,0 +1,279 @@
+"""Image textures, normal maps and alpha through the native core, against analytic images.
+
+A plane under a constant white world reflects exactly its albedo (it sees only the sky), so a
+textured diffuse plane must render its texture; under a sun, a normal-mapped diffuse plane
+reflects albedo/pi E cos(mapped normal, sun)."""
+import math
+
+import numpy as np
+import pytest
+
+import lantern
+
+pytestmark = pytest.mark.usefixtures("core")
+
+
+@pytest.fixture(scope="module")
+def core():
+    if not lantern.native_available():
+        pytest.skip(f"lantern._core is not built ({lantern.native_error()})")
+    from lantern import _core
+    return _core
+
+
+def srgb_to_linear(c):
+    c = np.asarray(c, np.float64)
+    return np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
+
+
+def plane_scene(size=64, world=1.0, tangents=None, **material):
+    """A 2 m square at z = 0, uv (0, 0) at its lower-left corner, filling an orthographic
+    view from above (image up = +y)."""
+    s = lantern.Scene()
+    s.film.update(width=size, height=size)
+    s.camera.update(type="orthographic", screen=[-1.0, 1.0, -1.0, 1.0],
+                    to_world=[[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 5], [0, 0, 0, 1]])
+    s.world["color"] = [world] * 3
+    return s, material, tangents
+
+
+def finish_plane(s, material, tangents=None):
+    m = s.add_material(type="diffuse", **material)
+    pos = np.array([[-1, -1, 0], [1, -1, 0], [1, 1, 0], [-1, 1, 0]], np.float32)
+    uvs = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], np.float32)
+    s.add_mesh(pos, [[0, 1, 2], [0, 2, 3]], material=m, uvs=uvs,
+               normals=np.tile([0, 0, 1], (4, 1)).astype(np.float32), tangents=tangents)
+    return s
+
+
+def block_z(img, expected, rows, cols):
+    """|z| of the block mean of img[rows, cols] against `expected` per channel, the standard
+    error from the pixels' own spread (the true value is constant over the block)."""
+    block = img[rows, cols].reshape(-1, 3).astype(np.float64)
+    se = block.std(axis=0, ddof=1) / math.sqrt(block.shape[0])
+    se = np.maximum(se, 1e-6 * np.abs(expected) + 1e-9)
+    return np.abs(block.mean(axis=0) - expected) / se
+
+
+CHECKER = np.array([[[200, 30, 10, 255], [10, 180, 60, 255], [0, 0, 0, 255], [255, 255, 255, 255]],
+                    [[90, 90, 90, 255], [255, 0, 128, 255], [40, 200, 220, 255], [128, 128, 0, 255]],
+                    [[5, 5, 250, 255], [250, 250, 5, 255], [60, 60, 60, 255], [120, 20, 200, 255]],
+                    [[33, 66, 99, 255], [99, 66, 33, 255], [180, 180, 180, 255], [1, 2, 3, 255]]],
+                   np.uint8)
+
+
+@pytest.mark.parametrize("colorspace", ["srgb", "linear"])
+@pytest.mark.parametrize("integrator", ["pt", "cis"])
+def test_textured_plane_renders_its_texture(colorspace, integrator):
+    s, mat, _ = plane_scene()
+    tex = s.add_texture(CHECKER, colorspace=colorspace, interpolation="closest")
+    finish_plane(s, dict(mat, base_color_texture=tex))
+    img = lantern.render(s, spp=16, integrator=integrator, seed=3, threads=2)
+    assert np.isfinite(img).all()
+    expected_all = CHECKER[..., :3] / 255.0
+    if colorspace == "srgb":
+        expected_all = srgb_to_linear(expected_all)
+    worst = 0.0
+    for ty in range(4):
+        for tx in range(4):
+            # texel (tx, ty) covers pixels x in [16 tx, 16 tx + 16), image rows from the top
+            rows = slice(64 - 16 * (ty + 1) + 4, 64 - 16 * ty - 4)
+            cols = slice(16 * tx + 4, 16 * tx + 12)
+            exp = expected_all[ty, tx]
+            z = block_z(img, exp, rows, cols)
+            mean = img[rows, cols].reshape(-1, 3).mean(axis=0)
+            assert np.allclose(mean, exp, atol=0.02), (tx, ty, mean, exp)
+            worst = max(worst, float(z.max()))
+    assert worst < 5.0, worst
+
+
+def test_bilinear_ramp_and_wrap_modes():
+    # two linear texels 0 and 255: bilinear filtering is the straight line between the texel
+    # centres (u = 0.25 and 0.75); a symmetric pixel filter keeps a linear function's value
+    ramp = np.array([[[0, 0, 0, 255], [255, 255, 255, 255]]], np.uint8)
+    u = (np.arange(64) + 0.5) / 64                          # column centres
+    line = (u - 0.25) / 0.5
+    expected = {"extend": np.clip(line, 0.0, 1.0), "mirror": np.clip(line, 0.0, 1.0),
+                # past a centre, repeat blends with the texel on the other side
+                "repeat": np.where(u < 0.25, 0.5 - 2 * u, np.where(u > 0.75, 2.5 - 2 * u, line))}
+    for wrap, exp in expected.items():
+        s, mat, _ = plane_scene()
+        tex = s.add_texture(ramp, colorspace="linear", wrap=wrap)
+        finish_plane(s, dict(mat, base_color_texture=tex))
+        img = lantern.render(s, spp=16, integrator="pt", seed=5, threads=2)
+        cols = img[8:56, 2:62, 0].astype(np.float64)  # the outer columns also see the sky
+        se = cols.std(axis=0, ddof=1) / math.sqrt(cols.shape[0]) + 1e-4
+        z = np.abs(cols.mean(axis=0) - exp[2:62]) / se
+        assert z.max() < 4.5, (wrap, z.max(), int(z.argmax()) + 2)
+    # clip: outside [0, 1] transparent black; a uv transform scaling by 2 shows it on 3/4
+    s, mat, _ = plane_scene()
+    white = np.full((1, 1, 4), 255, np.uint8)
+    tex = s.add_texture(white, colorspace="linear", wrap="clip", interpolation="closest",
+                        uv_transform=[[2.0, 0.0, 0.0], [0.0, 2.0, 0.0]])
+    finish_plane(s, dict(mat, base_color_texture=tex))
+    img = lantern.render(s, spp=8, integrator="pt", seed=5, threads=2)
+    assert img[40:60, 4:28].mean() > 0.98      # lower-left quarter: uv' in [0, 1]
+    assert img[4:28, 4:60].max() < 0.02        # upper half: v' > 1
+    assert img[36:60, 36:60].max() < 0.02      # lower-right: u' > 1
+
+
+def sun_scene(n_ts_bytes, tangents=None, integrator="pt", seed=1):
+    s, mat, _ = plane_scene(world=0.0)
+    if all(isinstance(v, int) for v in n_ts_bytes):
+        nmap = np.array([[list(n_ts_bytes) + [255]]], np.uint8)
+    else:  # float texels (scene linear, as Non-Color)
+        nmap = np.array([[list(n_ts_bytes) + [1.0]]], np.float32)
+    tex = s.add_texture(nmap, colorspace="linear", interpolation="closest")
+    finish_plane(s, dict(mat, base_color=[0.5, 0.5, 0.5], normal_texture=tex), tangents)
+    # the sun shines from +x, 45 degrees up
+    s.add_light("sun", strength=[2.0, 2.0, 2.0], direction=[-1.0, 0.0, -1.0])
+    return lantern.render(s, spp=16, integrator=integrator, seed=seed, threads=2)
+
+
+@pytest.mark.parametrize("integrator", ["pt", "cis"])
+def test_normal_map_tilts_shading_normal(integrator):
+    b = (int(round((math.sin(math.radians(30)) + 1) * 127.5)), 128,
+         int(round((math.cos(math.radians(30)) + 1) * 127.5)))
+    n = np.array([2 * v / 255.0 - 1 for v in b])
+    n /= np.linalg.norm(n)               # tangent +u = world +x, bitangent +v = world +y
+    light = np.array([1.0, 0.0, 1.0]) / math.sqrt(2)
+    expected = 0.5 / math.pi * 2.0 * max(0.0, float(n @ light))
+    flat = 0.5 / math.pi * 2.0 * light[2]
+    img = sun_scene(b, integrator=integrator)
+    mean = img[8:56, 8:56].reshape(-1, 3).mean(axis=0)
+    assert abs(expected - flat) > 0.05 * flat  # the test can tell them apart
+    assert np.allclose(mean, expected, rtol=0.01), (mean, expected, flat)
+    # explicit MikkTSpace-style tangents (+x, sign +1) give the same; a mirrored tangent
+    # (-x, sign -1) flips the tilt
+    t = np.tile([1.0, 0.0, 0.0, 1.0], (4, 1)).astype(np.float32)
+    img_t = sun_scene(b, tangents=t, integrator=integrator)
+    assert np.allclose(img_t[8:56, 8:56].mean(axis=(0, 1)), expected, rtol=0.01)
+    t_flip = np.tile([-1.0, 0.0, 0.0, -1.0], (4, 1)).astype(np.float32)
+    img_f = sun_scene(b, tangents=t_flip, integrator=integrator)
+    n_f = np.array([-n[0], n[1], n[2]])
+    exp_f = 0.5 / math.pi * 2.0 * max(0.0, float(n_f @ light))
+    assert np.allclose(img_f[8:56, 8:56].mean(axis=(0, 1)), exp_f, rtol=0.01)
+
+
+def test_normal_map_bad_values_stay_finite():
+    # 0.5 grey maps to the zero vector, (0, 0, 0) and (128, 128, 0) point below the surface,
+    # NaN texels (read as 0): all keep the unperturbed normal
+    flat = 0.5 / math.pi * 2.0 / math.sqrt(2)
+    for b in ((0.5, 0.5, 0.5), (0, 0, 0), (128, 128, 0), (float("nan"),) * 3):
+        img = sun_scene(b)
+        assert np.isfinite(img).all()
+        assert np.allclose(img[8:56, 8:56].mean(axis=(0, 1)), flat, rtol=0.01), b
+
+
+def test_float_texture_with_nan_and_bad_uvs():
+    s, mat, _ = plane_scene()
+    px = np.full((2, 2, 4), 0.5, np.float32)
+    px[0, 0, :3] = np.nan
+    px[1, 1, 0] = np.inf
+    tex = s.add_texture(px, interpolation="closest")
+    finish_plane(s, dict(mat, base_color_texture=tex))
+    s.meshes[0]["uvs"] = np.array([[np.nan, 0], [1e30, 0], [1, -1e30], [0, 1]], np.float32)
+    session = lantern.Session(s, seed=1, threads=2)
+    session.step()
+    img = session.image()
+    assert np.isfinite(img).all()
+    assert any("non-finite texel" in w for w in session.warnings)
+
+
+def test_texture_validation_errors():
+    s = lantern.Scene()
+    with pytest.raises(ValueError, match="pixels"):
+        s.add_texture(np.zeros((4, 4), np.uint8))
+    with pytest.raises(ValueError, match="wrap"):
+        s.add_texture(np.zeros((4, 4, 4), np.uint8), wrap="tile")
+    with pytest.raises(ValueError, match="out of range"):
+        s.add_material(base_color_texture=0)
+    t = s.add_texture(np.zeros((4, 4, 3), np.uint8))
+    assert s.textures[t]["pixels"].shape == (4, 4, 4)
+    with pytest.raises(TypeError):
+        s.add_material(colour_texture=t)
+
+
+def test_scene_file_carries_textures(tmp_path):
+    s, mat, _ = plane_scene(size=32)
+    tex = s.add_texture(CHECKER, colorspace="srgb", wrap="mirror", interpolation="closest",
+                        uv_transform=[[2.0, 0.0, 0.1], [0.0, 2.0, 0.0]])
+    ftex = s.add_texture(np.random.default_rng(1).random((3, 5, 4)).astype(np.float32))
+    finish_plane(s, dict(mat, base_color_texture=tex, roughness_texture=ftex))
+    path = tmp_path / "textured.lantern"
+    s.save(path)
+    back = lantern.load_scene(path)
+    assert len(back.textures) == 2
+    assert back.textures[0]["pixels"].dtype == np.uint8
+    assert np.array_equal(back.textures[0]["pixels"], s.textures[0]["pixels"])
+    assert np.array_equal(back.textures[1]["pixels"], s.textures[1]["pixels"])
+    assert back.textures[0]["wrap"] == "mirror"
+    assert back.materials[0]["base_color_texture"] == 0
+    a = lantern.render(s, spp=4, seed=9, threads=1)
+    b = lantern.render(back, spp=4, seed=9, threads=1)
+    assert np.array_equal(a, b)
+
+
+@pytest.mark.parametrize("integrator", ["pt", "bdpt", "cis"])
+def test_alpha_coverage(integrator):
+    """A red diffuse card of alpha a over a white diffuse floor under a sun, seen from above:
+    each pixel of the card region is a mix a L_card + (1 - a) L_floor_behind, and the floor
+    beside the card is lit through it: (1 - a) of the sun reaches the shadowed floor. All
+    expected values analytic (sun 45 degrees, direct light only: max_depth 2)."""
+    a = 0.3
+    s = lantern.Scene()
+    s.film.update(width=64, height=64)
+    s.camera.update(type="orthographic", screen=[-1.0, 1.0, -1.0, 1.0],
+                    to_world=[[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 5], [0, 0, 0, 1]])
+    floor = s.add_material(base_color=[0.5, 0.5, 0.5])
+    card = s.add_material(base_color=[0.8, 0.1, 0.1], alpha=a)
+    quad = [[0, 1, 2], [0, 2, 3]]
+    s.add_mesh(np.array([[-9, -9, 0], [9, -9, 0], [9, 9, 0], [-9, 9, 0]], np.float32), quad,
+               material=floor)
+    # the card: x in [-1, 0], 0.5 m above the floor; the sun from +x 45 degrees up shadows
+    # x in [-1.5, -0.5] of the floor
+    s.add_mesh(np.array([[-1, -1, 0.5], [0, -1, 0.5], [0, 1, 0.5], [-1, 1, 0.5]], np.float32),
+               quad, material=card)
+    s.add_light("sun", strength=[2.0, 2.0, 2.0], direction=[-1.0, 0.0, -1.0])
+    img = lantern.render(s, spp=64, integrator=integrator, seed=2, threads=2, max_depth=2)
+    assert np.isfinite(img).all()
+    e = 2.0 / math.sqrt(2)                 # irradiance of the sun at 45 degrees
+    lit_floor = 0.5 / math.pi * e
+    card_l = np.array([0.8, 0.1, 0.1]) / math.pi * e
+    u = (np.arange(64) + 0.5) / 32 - 1     # x of each column's centre
+    def check(cols, expected):
+        block = img[8:56, cols].reshape(-1, 3).astype(np.float64)
+        se = block.std(axis=0, ddof=1) / math.sqrt(len(block)) + 1e-5
+        z = np.abs(block.mean(axis=0) - expected) / se
+        assert z.max() < 5.0, (integrator, block.mean(axis=0), expected, z)
+    # card over shadowed floor (x in [-1, -0.5]): a card + (1 - a) floor seen through it,
+    # itself lit by the (1 - a) of the sun that passes the card
+    check((u > -0.95) & (u < -0.55), a * card_l + (1 - a) * (1 - a) * lit_floor)
+    # card over lit floor (x in [-0.5, 0])
+    check((u > -0.45) & (u < -0.05), a * card_l + (1 - a) * lit_floor)
+    # open floor (x > 0)
+    check((u > 0.05) & (u < 0.95), np.full(3, lit_floor))
+
+
+def test_alpha_texture_cuts_out():
+    """An alpha-textured card (left texel alpha 0, right 255, closest) over a sunlit floor:
+    the left half is absent for every ray (floor lit, no shadow), the right half opaque."""
+    s = lantern.Scene()
+    s.film.update(width=64, height=64)
+    s.camera.update(type="orthographic", screen=[-1.0, 1.0, -1.0, 1.0],
+                    to_world=[[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 5], [0, 0, 0, 1]])
+    tex = s.add_texture(np.array([[[9, 9, 9, 0], [9, 9, 9, 255]]], np.uint8),
+                        interpolation="closest", output="alpha")
+    floor = s.add_material(base_color=[0.5, 0.5, 0.5])
+    card = s.add_material(base_color=[0.8, 0.1, 0.1], alpha_texture=tex)
+    quad = [[0, 1, 2], [0, 2, 3]]
+    s.add_mesh(np.array([[-9, -9, 0], [9, -9, 0], [9, 9, 0], [-9, 9, 0]], np.float32), quad,
+               material=floor)
+    s.add_mesh(np.array([[-1, -1, 0.5], [1, -1, 0.5], [1, 1, 0.5], [-1, 1, 0.5]], np.float32),
+               quad, material=card, uvs=np.array([[0, 0], [1, 0], [1, 1], [0, 1]], np.float32))
+    s.add_light("sun", strength=[2.0, 2.0, 2.0], direction=[0.0, 0.0, -1.0])
+    img = lantern.render(s, spp=16, integrator="cis", seed=2, threads=2, max_depth=2)
+    np.testing.assert_allclose(img[8:56, 4:28].mean(axis=(0, 1)), 0.5 / math.pi * 2.0,
+                               rtol=1e-3)
+    np.testing.assert_allclose(img[8:56, 36:60].mean(axis=(0, 1)),
+                               np.array([0.8, 0.1, 0.1]) / math.pi * 2.0, rtol=1e-3)
