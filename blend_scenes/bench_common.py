@@ -249,8 +249,10 @@ def fabric(name, color):
 
 def wood(name, size=256, seed=7):
     """Varnished planks: an Image Texture made here from numpy (packed into the .blend) on
-    Base Color, a clear coat on top. Base Color's own value is the texture's mean (what the
-    add-on exports until textures are translated)."""
+    Base Color, a clear coat on top. The add-on exports the image as a texture (8-bit sRGB,
+    repeat; docs/materials.md "Textures"), one tile per metre of the floor's uv (room's
+    floor_uv). Base Color's own value, unused while the texture is linked, is about the
+    texture's mean (the colour seen if the link is removed)."""
     y, x = np.mgrid[0:size, 0:size] / size
     plank = np.floor(x * 6).astype(int)
     rng = np.random.default_rng(seed)

@@ -1,7 +1,8 @@
 """The benchmark scenes of blend_scenes/bench_registry.py: each builds, meets its triangle target
 within 10 %, keeps every light inside a fixture, and renders finite, non-black pixels through
 F12 with the Lantern engine at 48 pixels wide, 2 spp. All seven take about 6 s on 2 cores
-(bedroom, 1.8M triangles, 3.6 s of it); LANTERN_SKIP_SLOW=1 leaves bedroom out."""
+(bedroom, 1.8M triangles, 3.6 s of it); LANTERN_SKIP_SLOW=1 leaves bedroom out. A small room
+checks that bench_common.wood's floor exports its plank image as a texture."""
 
 import os
 import sys
@@ -48,3 +49,32 @@ def test_bench_scene(addon, tmp_path, errors, name):
     assert np.isfinite(px).all()
     assert px.mean() > 1e-4, px.mean()
     assert not [c for c in errors if c[0] == "ERROR"]
+
+
+def test_wood_floor_exports_its_texture(addon):
+    """bench_common.wood's plank image (numpy pixels, packed) exports as a real texture on the
+    floor's Base Color: 8-bit sRGB, repeated over the floor's uv (1 tile per metre)."""
+    from lantern_blender.export import export_scene
+    bench_common.start(32, 18)
+    floor = bench_common.wood("TestFloor")
+    white = bench_common.matte("TestWhite", (0.8, 0.8, 0.8))
+    bench_common.room(-1.0, 1.0, -1.5, 1.5, 2.5, floor, white, white, floor_uv=(2, 3))
+    bench_common.look((0, -1.2, 1.5), (0, 0.5, 0), 24)
+    scene, report = export_scene(bpy.context.evaluated_depsgraph_get())
+    assert not [m for m in report.messages if "TestFloor" in m], report.messages
+    ids = [i for i, m in enumerate(scene.materials) if m["name"] == "TestFloor"]
+    assert len(ids) == 1, [m["name"] for m in scene.materials]
+    wid, wood = ids[0], scene.materials[ids[0]]
+    assert wood["type"] == "principled", wood
+    assert wood["coat_weight"] == pytest.approx(0.5)
+    tex = scene.textures[wood["base_color_texture"]]
+    assert tex["name"] == "TestFloorPlanks"
+    assert tex["colorspace"] == "srgb" and tex["wrap"] == "repeat"
+    px = tex["pixels"]
+    assert px.dtype == np.uint8 and px.shape == (256, 256, 4)
+    rgb = px[..., :3].reshape(-1, 3).astype(np.float64) / 255
+    assert rgb.std(0).min() > 0.02                  # planks and grain, not a constant
+    assert rgb.mean(0)[0] > rgb.mean(0)[1] > rgb.mean(0)[2]   # brown
+    floors = [m for m in scene.meshes if wid in np.asarray(m["material_ids"])]
+    assert len(floors) == 1 and floors[0]["uvs"] is not None
+    assert floors[0]["uvs"].max(0) == pytest.approx([2, 3])
