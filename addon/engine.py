@@ -158,6 +158,9 @@ class EngineState:
         self.scene = None          # the last exported lantern.Scene (reused when only the view moves)
         self.error = None
         self.failed = False        # the last export failed: wait for a change before retrying
+        # image pixels read by earlier viewport exports, by image name (export/texture.py):
+        # an edit elsewhere re-exports the scene without re-reading unchanged images
+        self.texture_cache = {}
         _live_states.add(self)
 
     def stop_session(self):
@@ -202,6 +205,7 @@ class EngineState:
         self.stop_session()
         self.draw = None
         self.scene = None
+        self.texture_cache = {}
 
 
 def stop_all():
@@ -211,7 +215,12 @@ def stop_all():
 
 def view_update(engine, context, depsgraph):
     state = engine._lantern
-    # full re-export on any change: simple and correct for this milestone
+    # full re-export on any change (simple and correct); only images that changed are read again
+    for update in depsgraph.updates:
+        uid = getattr(update, "id", None)
+        if uid is not None and getattr(uid, "bl_rna", None) is not None and \
+                uid.bl_rna.identifier == "Image":
+            state.texture_cache.pop(getattr(uid.original, "name_full", uid.name_full), None)
     state.dirty, state.failed = True, False
 
 
@@ -229,7 +238,8 @@ def view_draw(engine, context, depsgraph):
             state.stop_session()
             if export_needed:
                 state.scene = None
-                scene, report = export_scene(depsgraph, region_view=view)
+                scene, report = export_scene(depsgraph, region_view=view,
+                                             texture_cache=state.texture_cache)
                 _report_warnings(engine, report.messages)
                 state.scene = scene
             else:  # only the view moved: keep the exported scene, swap camera and film

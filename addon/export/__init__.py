@@ -21,9 +21,11 @@ class ExportReport:
             self.messages.append(message)
 
 
-def export_scene(depsgraph, region_view=None, report=None):
+def export_scene(depsgraph, region_view=None, report=None, texture_cache=None):
     """Build a lantern.Scene from an evaluated depsgraph.
 
+    texture_cache: a dict kept between viewport exports (image pixels by image name, see
+    export/texture.py), or None to read every image afresh (final renders).
     region_view: None for a final render (scene camera, render resolution), else a
     camera.ViewportView describing the 3D viewport to render."""
     from ..engine import import_lantern
@@ -39,7 +41,7 @@ def export_scene(depsgraph, region_view=None, report=None):
         scene.film = region_view.film()
         scene.camera = region_view.camera()
     scene.world = export_world(bscene.world, report)
-    materials = MaterialTable(report)
+    materials = MaterialTable(report, texture_cache)
     meshes = MeshExporter(materials, report)
     for inst in depsgraph.object_instances:
         obj = inst.object

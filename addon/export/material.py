@@ -1,26 +1,28 @@
-"""Blender materials -> Lantern materials: diffuse, conductor (GGX metal) or dielectric (glass).
+"""Blender materials -> Lantern materials (docs/materials.md), by the shader node at the
+Material Output's Surface:
 
-Layered materials (a Principled BSDF's specular layer over its diffuse base, coat, sheen) and
-textures are a later issue. Here, by the shader node at the Material Output's Surface:
-
-- Principled BSDF -> principled (bsdf/principled.h: metal, glass, a dielectric specular layer
-  of IOR / Specular IOR Level / Specular Tint over a Lambertian Base Color, Roughness); Metallic
-  1 -> conductor (the same lobe, cheaper); Specular IOR Level 0 without metal or glass ->
-  diffuse (exactly Lambert). Coat (weight, roughness, IOR, tint) over everything; sheen and
-  subsurface are not rendered yet (a warning).
-  Emission Color x Strength in every case.
-- Diffuse BSDF -> diffuse; Emission -> emission; Glossy BSDF -> conductor with Color as F0 and
-  tint (Cycles' Glossy has no Fresnel: a constant Color reflectance); Metallic BSDF (F82) ->
-  conductor (Base Color, Edge Tint), physical-conductor mode -> its normal-incidence
+- Principled BSDF -> principled (bsdf/principled.h): sheen and coat over metal, glass and a
+  dielectric specular layer (IOR, Specular IOR Level, Specular Tint, Roughness) over a diffuse
+  Base Color (Lambert, or Oren-Nayar with Diffuse Roughness). Metallic 1 -> conductor (the
+  same lobe, cheaper); Specular IOR Level 0 without metal or glass -> diffuse. Subsurface is
+  not rendered (a warning). Emission Color x Strength in every case.
+- Diffuse BSDF -> diffuse (Roughness > 0: Blender's energy-preserving Oren-Nayar);
+  Translucent BSDF -> translucent; Emission -> emission; Glossy BSDF -> conductor with Color
+  as F0 and tint (Cycles' Glossy has no Fresnel: a constant Color reflectance); Metallic BSDF
+  (F82) -> conductor (Base Color, Edge Tint), physical-conductor mode -> its normal-incidence
   reflectance as F0, with a warning; Glass BSDF -> dielectric; Refraction BSDF -> dielectric
   (its reflection included), with a warning.
+- Mix Shader, Add Shader -> mix (Transparent BSDF leaves -> alpha); see _convert_mix.
 - Anything else: grey 0.8 diffuse, with a warning naming the material and the node.
+- Negative or non-finite colours read as 0, non-finite weights as 0 (a warning).
 
 Textures (texture.py): an Image Texture feeding Base Color / Color, Roughness, Metallic or Alpha
 (directly, through a Separate Color channel, or its Alpha output) is rendered as a texture; a
 Normal Map node (tangent space) on Normal as a normal map. On other inputs (emission colour,
 coat, sheen, ...) the image's mean value is used, with a warning. A missing image is magenta.
 Alpha < 1 (constant or textured) lets rays pass the surface (docs/materials.md)."""
+
+import math
 
 import bpy
 
@@ -122,7 +124,11 @@ class _Inputs:
             v = mean if mean is not None else MAGENTA
         else:
             v = _constant_color(sock, self.material, self.report)
-        return [min(max(c, 0.0), 1.0) for c in v] if clamp else v
+        if not all(math.isfinite(c) and c >= 0.0 for c in v):
+            self.report.warn(f"{self.where}: '{socket_name}' has negative or non-finite values "
+                             f"{[round(c, 4) for c in v]}; read as 0 there")
+            v = [c if math.isfinite(c) and c >= 0.0 else 0.0 for c in v]
+        return [min(c, 1.0) for c in v] if clamp else v
 
     def value(self, socket_name, warn=True):
         sock = self.node.inputs[socket_name]
@@ -285,7 +291,8 @@ def _convert_mix(top, material, report, textures, add_leaf):
     transparent, emission, bsdf = 0.0, [0.0, 0.0, 0.0], []
     for node, w in leaves:
         if node.type == "BSDF_TRANSPARENT":
-            c = _constant_color(node.inputs["Color"], material, report)
+            c = [x if math.isfinite(x) else 0.0 for x in
+                 _constant_color(node.inputs["Color"], material, report)]
             if max(c) - min(c) > 1e-3:
                 report.warn(f"{where}: Transparent BSDF '{node.name}' is tinted; Lantern's "
                             "transparency is untinted (its luminance is used)")
@@ -361,17 +368,19 @@ def _convert_shader(node, material, report, textures):
         inputs.normal_map(out)
     if node.type == "BSDF_PRINCIPLED":
         base = inputs.base(out, "base_color", "Base Color")
-        strength = value("Emission Strength")
+        strength = _weight(value("Emission Strength"), 1e30)
         if strength != 0.0:
             col = color("Emission Color", clamp=False)
             out["emission"] = [c * strength for c in col]
         roughness = inputs.scalar(out, "roughness", "Roughness", _unit)
-        metallic = inputs.scalar(out, "metallic", "Metallic", lambda v: min(max(v, 0.0), 1.0))
+        if "Diffuse Roughness" in node.inputs:   # Blender >= 4.3: Oren-Nayar base
+            out["diffuse_roughness"] = _weight(value("Diffuse Roughness"))
+        metallic = inputs.scalar(out, "metallic", "Metallic", _weight)
         metal_tex = "metallic_texture" in out
         inputs.scalar(out, "alpha", "Alpha", lambda v: min(max(v, 0.0), 1.0) if v == v else 1.0)
-        transmission = min(max(value("Transmission Weight"), 0.0), 1.0)
-        level = max(value("Specular IOR Level"), 0.0)
-        level = 0.5 if level != level else level
+        transmission = _weight(value("Transmission Weight"))
+        level = value("Specular IOR Level")
+        level = 0.5 if level != level else min(max(level, 0.0), 1e3)
         if metallic >= 0.999 and not metal_tex:  # the metal lobe alone: the cheaper conductor
             out.pop("metallic")
             out.update(type="conductor", base_color=base,
@@ -381,12 +390,12 @@ def _convert_shader(node, material, report, textures):
                        specular_tint=color("Specular Tint"), roughness=roughness,
                        ior=_ior(value("IOR")), metallic=metallic, transmission=transmission,
                        specular_level=min(level, 1e3))
-            coat = min(max(value("Coat Weight"), 0.0), 1.0)
+            coat = _weight(value("Coat Weight"))
             if coat > 0.0:
                 out.update(coat_weight=coat, coat_roughness=_unit(value("Coat Roughness")),
                            coat_ior=max(_ior(value("Coat IOR")), 1.0),
                            coat_tint=color("Coat Tint"))
-            sheen = max(value("Sheen Weight"), 0.0)
+            sheen = _weight(value("Sheen Weight"), 1e3)
             if sheen > 0.0:
                 out.update(sheen_weight=sheen, sheen_roughness=_unit(value("Sheen Roughness")),
                            sheen_tint=color("Sheen Tint"))
@@ -399,8 +408,9 @@ def _convert_shader(node, material, report, textures):
             out.pop("metallic")
     elif node.type == "BSDF_DIFFUSE":
         inputs.base(out, "base_color", "Color")
+        out["diffuse_roughness"] = _weight(value("Roughness"))
     elif node.type == "EMISSION":
-        strength = value("Strength")
+        strength = _weight(value("Strength"), 1e30)
         col = color("Color", clamp=False)
         out["base_color"] = [0.0, 0.0, 0.0]
         out["emission"] = [c * strength for c in col]
@@ -438,6 +448,11 @@ def _convert_shader(node, material, report, textures):
     return out
 
 
+def _weight(v, hi=1.0):
+    """A weight or strength: NaN and infinities -> 0, clamped to [0, hi]."""
+    return min(max(float(v), 0.0), hi) if math.isfinite(v) else 0.0
+
+
 def _unit(v):
     """Roughness: NaN -> 0.5, clamped to [0, 1]."""
     return 0.5 if v != v else min(max(float(v), 0.0), 1.0)
@@ -451,11 +466,11 @@ def _ior(v):
 class MaterialTable:
     """Unique Lantern materials by Blender material; index 0 is the default material."""
 
-    def __init__(self, report):
+    def __init__(self, report, texture_cache=None):
         self.report = report
         self.materials = [dict(DEFAULT)]
         self._index = {}
-        self.texture_table = TextureTable(report)
+        self.texture_table = TextureTable(report, texture_cache)
 
     @property
     def textures(self):

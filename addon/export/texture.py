@@ -97,17 +97,36 @@ class TextureTable:
     """Lantern textures of one export, deduplicated by image and sampling settings; pixels are
     read once per image."""
 
-    def __init__(self, report):
+    def __init__(self, report, cache=None):
         self.report = report
         self.textures = []
         self._index = {}
         self._pixels = {}
+        # pixels kept between viewport exports: by image name, valid while the image's stamp
+        # (size, format, colour space, file, dirty flag) is unchanged and no depsgraph update
+        # named the image (engine.view_update drops those)
+        self._cache = cache
+
+    @staticmethod
+    def _stamp(image):
+        return (tuple(image.size), int(image.channels), bool(image.is_float),
+                image.colorspace_settings.name, image.filepath_raw, image.source,
+                getattr(image, "alpha_mode", ""), bool(image.is_dirty), bool(image.packed_file))
 
     def _read(self, image, where):
         """(pixels, colorspace) of a Blender image, or None when it cannot be read."""
         key = image.name_full
         if key in self._pixels:
             return self._pixels[key]
+        if self._cache is not None:
+            hit = self._cache.get(key)
+            try:
+                stamp = self._stamp(image)
+            except (RuntimeError, ReferenceError):
+                stamp = None
+            if hit is not None and stamp is not None and hit[0] == stamp:
+                self._pixels[key] = hit[1]
+                return hit[1]
         result = None
         try:
             if image.source in {"MOVIE", "SEQUENCE"}:
@@ -148,6 +167,11 @@ class TextureTable:
             self.report.warn(f"{where}: image '{image.name}' could not be read ({e})")
             result = None
         self._pixels[key] = result
+        if self._cache is not None and result is not None:
+            try:
+                self._cache[key] = (self._stamp(image), result)
+            except (RuntimeError, ReferenceError):
+                pass
         return result
 
     def add(self, node, output, where):

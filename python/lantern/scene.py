@@ -238,7 +238,8 @@ class Scene:
                      coat_weight=0.0, coat_roughness=0.03, coat_ior=1.5,
                      coat_tint=(1.0, 1.0, 1.0), sheen_weight=0.0, sheen_roughness=0.5,
                      sheen_tint=(1.0, 1.0, 1.0), eta=None, k=None, distribution="ggx",
-                     alpha=1.0, normal_strength=1.0, mix=None, **textures):
+                     alpha=1.0, normal_strength=1.0, mix=None, diffuse_roughness=0.0,
+                     **textures):
         """Append a material; returns its id (index into `materials`).
 
         `type`: "diffuse" (Lambert, albedo `base_color`), "conductor" (GGX metal with F0
@@ -258,7 +259,7 @@ class Scene:
             "coat_roughness": coat_roughness, "coat_ior": coat_ior, "coat_tint": coat_tint,
             "sheen_weight": sheen_weight, "sheen_roughness": sheen_roughness,
             "sheen_tint": sheen_tint, "distribution": distribution, "alpha": alpha,
-            "normal_strength": normal_strength,
+            "normal_strength": normal_strength, "diffuse_roughness": diffuse_roughness,
         }
         if mix is not None:
             material["mix"] = mix
@@ -472,6 +473,7 @@ class Scene:
         out["sheen_tint"] = _rgb(material.get("sheen_tint", [1.0, 1.0, 1.0]),
                                  f"{what} sheen_tint")
         for key, default, lo, hi in (("roughness", 0.5, 0.0, 1.0), ("ior", 1.5, 0.01, 100.0),
+                                     ("diffuse_roughness", 0.0, 0.0, 1.0),
                                      ("metallic", 0.0, 0.0, 1.0), ("transmission", 0.0, 0.0, 1.0),
                                      ("specular_level", 0.5, 0.0, 1e3),
                                      ("coat_weight", 0.0, 0.0, 1.0),

@@ -203,3 +203,98 @@ def test_normal_map_f12(empty, addon, tmp_path, errors, integrator):
     mean = float(px[6:26, 6:26].mean())
     assert abs(mean - expected) < 0.01 * expected, (mean, expected, 0.5 / math.pi * 2 * light[2])
     assert not [c for c in errors if c[0] == "ERROR"]
+
+
+NAN = float("nan")
+HOSTILE = {
+    "nan base color": {"Base Color": (NAN, 0.5, NAN, 1.0)},
+    "negative and >1 base color": {"Base Color": (-1.0, 0.5, 7.0, 1.0)},
+    "roughness 0 metal": {"Roughness": 0.0, "Metallic": 1.0},
+    "roughness 1": {"Roughness": 1.0},
+    "nan roughness": {"Roughness": NAN, "Metallic": 0.5},
+    "ior 1 glass": {"IOR": 1.0, "Transmission Weight": 1.0},
+    "ior below 1 glass": {"IOR": 0.5, "Transmission Weight": 1.0, "Roughness": 0.2},
+    "ior 1 specular": {"IOR": 1.0},
+    "alpha 0": {"Alpha": 0.0},
+    "nan alpha": {"Alpha": NAN},
+    "coat ior 1": {"Coat Weight": 1.0, "Coat IOR": 1.0, "Coat Roughness": 0.0},
+    "huge sheen": {"Sheen Weight": 1e6},
+    "negative emission": {"Emission Color": (-1.0, 1.0, 1.0, 1.0), "Emission Strength": 5.0},
+    "nan emission strength": {"Emission Strength": NAN},
+}
+
+
+@pytest.mark.parametrize("case", list(HOSTILE))
+def test_hostile_principled_inputs_render_finite(empty, addon, tmp_path, errors, case):
+    """Bad input through the add-on: the render finishes, every pixel is finite and >= 0,
+    and the engine reports no error (a warning at most)."""
+    mat = bpy.data.materials.new("Hostile")
+    p = mat.node_tree.nodes["Principled BSDF"]
+    for k, v in HOSTILE[case].items():
+        p.inputs[k].default_value = v
+    bpy.ops.mesh.primitive_uv_sphere_add(segments=24, ring_count=12, radius=1.0)
+    bpy.context.object.data.materials.append(mat)
+    add_plane(empty, size=20.0, location=(0, 0, -1.0))
+    white_world(empty)
+    add_camera(empty, location=(0, -6, 1), rotation=(math.radians(80), 0, 0))
+    empty.lantern.samples = 8
+    px = render_exr(empty, tmp_path)
+    assert np.isfinite(px).all(), case
+    assert (px[..., :3] >= 0).all(), case
+    assert px[..., :3].max() > 0, case  # something rendered (the world at least)
+    assert not [c for c in errors if c[0] == "ERROR"], errors
+
+
+def test_zero_length_normals_from_a_normal_map(empty, addon, tmp_path, errors):
+    """A float normal map of 0.5 grey decodes to the zero vector everywhere, a NaN one to NaN:
+    the plain normal is kept, every pixel finite, the image as without the map."""
+    results = []
+    for value in (0.5, NAN, None):
+        bpy.ops.wm.read_factory_settings(use_empty=True)
+        scene = bpy.context.scene
+        scene.render.engine = "LANTERN"
+        mat = bpy.data.materials.new("Flat")
+        nt = mat.node_tree
+        bsdf = nt.nodes["Principled BSDF"]
+        bsdf.inputs["Specular IOR Level"].default_value = 0.0
+        if value is not None:
+            img = bpy.data.images.new("N", 4, 4, float_buffer=True)
+            img.colorspace_settings.name = "Non-Color"
+            img.pixels.foreach_set(np.full(64, value, np.float32))
+            img.pack()
+            tex = nt.nodes.new("ShaderNodeTexImage")
+            tex.image = img
+            nmap = nt.nodes.new("ShaderNodeNormalMap")
+            nt.links.new(tex.outputs["Color"], nmap.inputs["Color"])
+            nt.links.new(nmap.outputs["Normal"], bsdf.inputs["Normal"])
+        add_uvs(add_plane(scene, size=2.0, material=mat))
+        sun = bpy.data.lights.new("Sun", "SUN")
+        sun.energy = 2.0
+        scene.collection.objects.link(bpy.data.objects.new("Sun", sun))
+        ortho_camera(scene)
+        scene.lantern.samples = 4
+        px = render_exr(scene, tmp_path, f"n{len(results)}.exr")[..., :3]
+        assert np.isfinite(px).all()
+        results.append(float(px[8:24, 8:24].mean()))
+    np.testing.assert_allclose(results[:2], results[2], rtol=1e-3)
+    assert not [c for c in errors if c[0] == "ERROR"]
+
+
+def test_viewport_texture_cache(empty, addon):
+    """Viewport re-exports reuse the pixels of unchanged images (no second read of a large
+    image when a light moves) and read an image again once its stamp changes."""
+    from lantern_blender.export import export_scene
+    img = make_image("Checker", CHECKER)
+    mat, _ = textured_material(img)
+    add_plane(empty, material=mat)
+    cache = {}
+    deps = bpy.context.evaluated_depsgraph_get
+    first, _ = export_scene(deps(), texture_cache=cache)
+    again, _ = export_scene(deps(), texture_cache=cache)
+    assert again.textures[0]["pixels"] is first.textures[0]["pixels"]
+    fresh, _ = export_scene(deps())             # final renders never use the cache
+    assert fresh.textures[0]["pixels"] is not first.textures[0]["pixels"]
+    img.colorspace_settings.name = "Non-Color"
+    changed, _ = export_scene(deps(), texture_cache=cache)
+    assert changed.textures[0]["pixels"] is not first.textures[0]["pixels"]
+    assert changed.textures[0]["colorspace"] == "linear"

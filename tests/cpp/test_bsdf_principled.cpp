@@ -45,6 +45,11 @@ Material sheened(Material m, float weight, float roughness) {
     return m;
 }
 
+Material rough_base(Material m, float r) {
+    m.diffuse_roughness = r;
+    return m;
+}
+
 }  // namespace
 
 TEST(BsdfPrincipled, SampleMatchesMixturePdfChiSquare) {
@@ -61,6 +66,8 @@ TEST(BsdfPrincipled, SampleMatchesMixturePdfChiSquare) {
         {sheened(coated(principled(vec3(0.3f, 0.2f, 0.6f), 0.0f, 0.0f, 0.5f), 0.5f, 0.4f), 1.0f,
                  0.5f),
          "sheen over coat"},
+        {rough_base(principled(vec3(0.8f, 0.5f, 0.3f), 0.0f, 0.0f, 0.5f), 0.9f),
+         "Oren-Nayar base"},
     };
     for (const Case& c : cases)
         // (angles and roughness where the binned pdf integral is accurate: the lobe tests'
@@ -250,4 +257,20 @@ TEST(BsdfMultiscatter, WhiteRoughMetalReflectsOne) {
             EXPECT_NEAR(multi / n, 1.0, 0.02) << "rough " << rough << " theta " << theta_o;
             if (rough >= 0.6f) EXPECT_LT(single / n, 0.95) << "rough " << rough;
         }
+}
+
+// Diffuse Roughness: a diffuse material (and the principled base) is Blender's Oren-Nayar (EON)
+// with that roughness, Lambert at 0.
+TEST(BsdfPrincipled, DiffuseRoughnessIsOrenNayar) {
+    Material m{};
+    m.type = kMaterialDiffuse;
+    m.base_color = vec3(0.6f, 0.5f, 0.4f);
+    Vec3 wo = dir_from_angles(1.1f, 0.3f), wi = dir_from_angles(0.6f, 2.5f);
+    EXPECT_FLOAT_EQ(material_eval(m, true, wo, wi, Transport::Radiance).f.x, 0.6f * kInvPi);
+    m.diffuse_roughness = 0.7f;
+    BsdfEval e = material_eval(m, true, wo, wi, Transport::Radiance);
+    BsdfEval on = oren_nayar_eval(OrenNayarParams{m.base_color, 0.7f}, wo, wi);
+    EXPECT_FLOAT_EQ(e.f.x, on.f.x);
+    EXPECT_FLOAT_EQ(e.pdf_fwd_w, on.pdf_fwd_w);
+    EXPECT_NE(e.f.x, 0.6f * kInvPi);
 }

@@ -147,7 +147,7 @@ LANTERN_HD inline BsdfEval material_eval_leaf(const Material& m, bool front, Vec
     case kMaterialTranslucent:
         return translucent_eval(m.base_color, wo, wi);
     default:
-        return lambert_eval(m.base_color, wo, wi);
+        return diffuse_base_eval(m, wo, wi);
     }
 }
 
@@ -173,7 +173,7 @@ LANTERN_HD inline BsdfSample material_sample_leaf(const Material& m, bool front,
     case kMaterialTranslucent:
         return translucent_sample(m.base_color, wo, Vec2{u.x, u.y});
     default:
-        return lambert_sample(m.base_color, wo, Vec2{u.x, u.y});
+        return diffuse_base_sample(m, wo, Vec2{u.x, u.y});
     }
 }
 

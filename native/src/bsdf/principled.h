@@ -14,11 +14,24 @@
 #include "bsdf/conductor.h"
 #include "bsdf/dielectric.h"
 #include "bsdf/lambert.h"
+#include "bsdf/oren_nayar.h"
 #include "bsdf/multiscatter.h"
 #include "bsdf/sheen.h"
 #include "scene/scene_view.h"
 
 namespace lantern {
+
+// The diffuse base: Lambert, or the energy-preserving Oren-Nayar of Blender's Diffuse Roughness.
+LANTERN_HD inline BsdfEval diffuse_base_eval(const Material& m, Vec3 wo, Vec3 wi) {
+    return m.diffuse_roughness > 0.0f
+               ? oren_nayar_eval(OrenNayarParams{m.base_color, m.diffuse_roughness}, wo, wi)
+               : lambert_eval(m.base_color, wo, wi);
+}
+LANTERN_HD inline BsdfSample diffuse_base_sample(const Material& m, Vec3 wo, Vec2 u) {
+    return m.diffuse_roughness > 0.0f
+               ? oren_nayar_sample(OrenNayarParams{m.base_color, m.diffuse_roughness}, wo, u)
+               : lambert_sample(m.base_color, wo, u);
+}
 
 // ---- The specular layer: GGX reflection with Cycles' generalized-Schlick Fresnel ----
 
@@ -249,7 +262,7 @@ LANTERN_HD inline BsdfEval principled_eval(const Material& m, bool front, Vec3 w
         e.pdf_rev_w += pr.spec * l.pdf_rev_w;
         // the base under the specular layer, attenuated on the camera side
         const float base_w = w.spec * (1.0f - principled_spec_albedo(m, mu_v));
-        BsdfEval b = lambert_eval(m.base_color, wo, wi);
+        BsdfEval b = diffuse_base_eval(m, wo, wi);
         f_lower += b.f * base_w;
         e.pdf_fwd_w += pf.base * b.pdf_fwd_w;
         e.pdf_rev_w += pr.base * b.pdf_rev_w;
@@ -337,7 +350,7 @@ LANTERN_HD inline BsdfSample principled_sample(const Material& m, bool front, Ve
     } else if (lobe == 5) {
         l = sheen_sample(principled_sheen(m), wo, ud);
     } else {
-        l = lambert_sample(m.base_color, wo, ud);
+        l = diffuse_base_sample(m, wo, ud);
     }
     if (!l.valid) return s;
     // a delta pick from a layer under the coat is seen through it

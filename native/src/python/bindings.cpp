@@ -100,6 +100,7 @@ SceneInput to_input(const nb::dict& scene) {
             mi.emission = get_vec3(m, "emission", mi.emission);
             mi.type = get<std::string>(m, "type", mi.type);
             mi.roughness = get<float>(m, "roughness", mi.roughness);
+            mi.diffuse_roughness = get<float>(m, "diffuse_roughness", mi.diffuse_roughness);
             mi.ior = get<float>(m, "ior", mi.ior);
             mi.specular_tint = get_vec3(m, "specular_tint", mi.specular_tint);
             // "eta" / "k" on a conductor switch it to the complex-IOR Fresnel

@@ -94,6 +94,9 @@ HostScene::HostScene(const SceneInput& in) {
         // NaN roughness -> 0.5, NaN/absurd ior -> 1.5; roughness clamps to [0, 1], ior to
         // [1/100, 100] (ior < 1, e.g. air bubbles in water, is legal)
         m.roughness = std::isfinite(mi.roughness) ? std::min(std::max(mi.roughness, 0.0f), 1.0f) : 0.5f;
+        m.diffuse_roughness = std::isfinite(mi.diffuse_roughness)
+                                  ? std::min(std::max(mi.diffuse_roughness, 0.0f), 1.0f)
+                                  : 0.0f;
         m.ior = std::isfinite(mi.ior) && mi.ior > 0.0f ? std::min(std::max(mi.ior, 0.01f), 100.0f) : 1.5f;
         // complex Fresnel: eta >= 0 (fresnel_conductor keeps it above 1e-4), k >= 0; a
         // non-finite entry falls back to a perfect mirror (eta 0, k 1)

@@ -29,6 +29,7 @@ struct MaterialInput {
     Vec3 base_color{0.8f, 0.8f, 0.8f};
     Vec3 emission{0.0f, 0.0f, 0.0f};
     float roughness = 0.5f;
+    float diffuse_roughness = 0.0f;  // Oren-Nayar (EON) of the diffuse base; 0: Lambert
     float ior = 1.5f;
     Vec3 specular_tint{1.0f, 1.0f, 1.0f};
     // conductor: exact Fresnel of the complex index eta + i k (then base_color scales it, as

@@ -34,6 +34,7 @@ struct Material {
     Vec3 eta, k;         // conductor with kFresnelComplex: complex index eta + i k per channel
     uint32_t fresnel;    // conductor: ConductorFresnelMode
     uint32_t beckmann;   // conductor: Beckmann distribution instead of GGX (Mitsuba scenes)
+    float diffuse_roughness;  // diffuse and principled base: Oren-Nayar (EON) roughness, 0: Lambert
     // principled only
     float metallic;
     float transmission;
