@@ -7,8 +7,8 @@ Material Output's Surface:
   same lobe, cheaper); Specular IOR Level 0 without metal or glass -> diffuse. Subsurface is
   not rendered (a warning). Emission Color x Strength in every case.
 - Diffuse BSDF -> diffuse (Roughness > 0: Blender's energy-preserving Oren-Nayar);
-  Translucent BSDF -> translucent; Emission -> emission; Glossy BSDF -> conductor with Color
-  as F0 and tint (Cycles' Glossy has no Fresnel: a constant Color reflectance); Metallic BSDF
+  Translucent BSDF -> translucent; Emission -> emission; Glossy BSDF -> conductor of constant
+  reflectance Color (Cycles' Glossy has no Fresnel: eta 0, k 1 scaled by Color); Metallic BSDF
   (F82) -> conductor (Base Color, Edge Tint), physical-conductor mode -> its normal-incidence
   reflectance as F0, with a warning; Glass BSDF -> dielectric; Refraction BSDF -> dielectric
   (its reflection included), with a warning.
@@ -166,6 +166,21 @@ class _Inputs:
         out[key] = convert(self.value(socket_name, warn=False))
         return out[key]
 
+    def emission(self, out, socket_name, strength):
+        """Emission colour x strength; an image on the colour: emission_texture, the strength
+        its multiplier (the image's mean x strength is kept as "_emission_mean" for shader
+        mixes, which cannot texture emission)."""
+        tid = self.texture(socket_name, as_color=True)
+        if tid is not None and tid != "missing":
+            out["emission_texture"] = tid
+            out["emission"] = [strength] * 3
+            img, output = _image_source(self.node.inputs[socket_name])
+            mean = self.textures.mean(img, output, self.where) or [1.0, 1.0, 1.0]
+            out["_emission_mean"] = [max(c, 0.0) * strength for c in mean]
+            return
+        col = list(MAGENTA) if tid == "missing" else self.color(socket_name, clamp=False)
+        out["emission"] = [c * strength for c in col]
+
     def normal_map(self, out):
         """A tangent-space Normal Map node on the Normal input -> normal_texture."""
         sock = self.node.inputs.get("Normal")
@@ -220,7 +235,9 @@ def convert_material(material, report, textures=None, add_leaf=None):
         return out
     if node.type in ("MIX_SHADER", "ADD_SHADER", "BSDF_TRANSPARENT"):
         return _convert_mix(node, material, report, textures, add_leaf)
-    return _convert_shader(node, material, report, textures)
+    out = _convert_shader(node, material, report, textures)
+    out.pop("_emission_mean", None)
+    return out
 
 
 def _mix_leaves(socket, weight, material, report, depth=0):
@@ -303,6 +320,12 @@ def _convert_mix(top, material, report, textures, add_leaf):
                               "base_color": [0.0, 0.0, 0.0]}, w * (1.0 - t)))
             continue
         leaf = _convert_shader(node, material, report, textures)
+        if "emission_texture" in leaf:   # a mix's emission is constant: the image's mean
+            report.warn(f"{where}: the emission image of '{node.name}' inside a shader mix is "
+                        "used as its mean value")
+            leaf["emission"] = leaf.pop("_emission_mean")
+            leaf.pop("emission_texture")
+        leaf.pop("_emission_mean", None)
         if node.type == "EMISSION":
             emission = [e + w * x for e, x in zip(emission, leaf["emission"])]
             continue
@@ -370,14 +393,18 @@ def _convert_shader(node, material, report, textures):
         base = inputs.base(out, "base_color", "Base Color")
         strength = _weight(value("Emission Strength"), 1e30)
         if strength != 0.0:
-            col = color("Emission Color", clamp=False)
-            out["emission"] = [c * strength for c in col]
+            inputs.emission(out, "Emission Color", strength)
         roughness = inputs.scalar(out, "roughness", "Roughness", _unit)
         if "Diffuse Roughness" in node.inputs:   # Blender >= 4.3: Oren-Nayar base
             out["diffuse_roughness"] = _weight(value("Diffuse Roughness"))
         metallic = inputs.scalar(out, "metallic", "Metallic", _weight)
         metal_tex = "metallic_texture" in out
         inputs.scalar(out, "alpha", "Alpha", lambda v: min(max(v, 0.0), 1.0) if v == v else 1.0)
+        aniso = _weight(value("Anisotropic"))
+        if aniso > 0.0:
+            out.update(anisotropy=aniso,
+                       anisotropic_rotation=_turns(value("Anisotropic Rotation")),
+                       tangent=_tangent_mode(node, material, report))
         transmission = _weight(value("Transmission Weight"))
         level = value("Specular IOR Level")
         level = 0.5 if level != level else min(max(level, 0.0), 1e3)
@@ -411,16 +438,19 @@ def _convert_shader(node, material, report, textures):
         out["diffuse_roughness"] = _weight(value("Roughness"))
     elif node.type == "EMISSION":
         strength = _weight(value("Strength"), 1e30)
-        col = color("Color", clamp=False)
         out["base_color"] = [0.0, 0.0, 0.0]
-        out["emission"] = [c * strength for c in col]
+        inputs.emission(out, "Color", strength)
     elif node.type == "BSDF_GLOSSY":
-        c = inputs.base(out, "base_color", "Color")
-        out.update(type="conductor", specular_tint=c)
+        # Cycles' Glossy has no Fresnel: a constant reflectance Color at every angle, which is
+        # the conductor of index 0 + 1i (F = 1) scaled by the colour
+        inputs.base(out, "base_color", "Color")
+        out.update(type="conductor", eta=[0.0, 0.0, 0.0], k=[1.0, 1.0, 1.0])
         inputs.scalar(out, "roughness", "Roughness", _unit)
+        _glossy_anisotropy(node, out, inputs, material, report)
     elif node.type == "BSDF_METALLIC":
         out.update(type="conductor")
         inputs.scalar(out, "roughness", "Roughness", _unit)
+        _glossy_anisotropy(node, out, inputs, material, report)
         if getattr(node, "fresnel_type", "F82") == "F82":
             inputs.base(out, "base_color", "Base Color")
             out.update(specular_tint=color("Edge Tint"))
@@ -446,6 +476,49 @@ def _convert_shader(node, material, report, textures):
         report.warn(f"Material '{name}': shader node '{node.name}' ({node.type}) is not "
                     "supported yet; rendering grey diffuse instead")
     return out
+
+
+def _turns(v):
+    """A rotation in turns: NaN -> 0, wrapped into [0, 1)."""
+    return float(v) % 1.0 if math.isfinite(v) else 0.0
+
+
+def _tangent_mode(node, material, report):
+    """The anisotropy tangent of a shader node: the UV map's (MikkTSpace), for a Tangent node
+    in UV Map mode and for an unlinked Tangent input (on a UV sphere Cycles' default tangent
+    renders the same highlight as the UV tangent, measured; docs/materials.md). Meshes without
+    UVs fall back to each triangle's first minus third vertex."""
+    sock = node.inputs.get("Tangent")
+    if sock is None or not sock.is_linked:
+        return "uv"
+    src, _ = _source(sock)
+    if src is not None and src.type == "TANGENT" and src.direction_type == "UV_MAP":
+        if getattr(src, "uv_map", ""):
+            report.warn(f"Material '{material.name}': Tangent node '{src.name}' names UV map "
+                        f"'{src.uv_map}'; the active render UV map is used")
+        return "uv"
+    report.warn(f"Material '{material.name}': '{getattr(src, 'name', '?')}' on Tangent is not "
+                "supported (a Tangent node in UV Map mode is); the UV tangent is used")
+    return "uv"
+
+
+def _glossy_anisotropy(node, out, inputs, material, report):
+    """Glossy / Metallic BSDF Anisotropy in [-1, 1]: positive stretches highlights across the
+    tangent, negative along it (Blender's manual). Expressed in the Principled convention
+    Lantern stores (alpha_x / alpha_y = 1 / (1 - 0.9 b) along the tangent): the same alpha
+    ratio 1 / (1 - |a|)^2, the tangent turned a quarter for positive values. The magnitude
+    mapping is Lantern's reading of Cycles' Glossy anisotropy, to be checked against Cycles
+    renders (docs/materials.md)."""
+    if "Anisotropy" not in node.inputs:
+        return
+    a = inputs.value("Anisotropy")
+    if not math.isfinite(a) or abs(a) < 1e-4:
+        return
+    a = min(max(a, -0.99), 0.99)
+    b = min((1.0 - (1.0 - abs(a)) ** 2) / 0.9, 1.0)
+    rotation = _turns(inputs.value("Rotation")) + (0.25 if a > 0 else 0.0)
+    out.update(anisotropy=b, anisotropic_rotation=rotation % 1.0,
+               tangent=_tangent_mode(node, material, report))
 
 
 def _weight(v, hi=1.0):

@@ -71,6 +71,10 @@ def _corner_arrays(mesh):
             "uvs": uvs, "indices": tri.reshape(nt, 3).astype(np.uint32), "slots": mat}
 
 
+def _needs_tangents(m):
+    return "normal_texture" in m or (m.get("anisotropy", 0.0) > 0.0 and m.get("tangent") == "uv")
+
+
 class MeshExporter:
     def __init__(self, materials, report):
         self.materials = materials
@@ -94,9 +98,10 @@ class MeshExporter:
         if mesh is not None:
             try:
                 arrays = _corner_arrays(mesh)
-                # tangents only where a material of the object has a normal map
+                # tangents only where a material of the object has a normal map or uv-tangent
+                # anisotropy (mix leaves follow their mix in the table)
                 if arrays is not None and arrays["uvs"] is not None and any(
-                        "normal_texture" in self.materials.materials[i] for i in slots):
+                        _needs_tangents(m) for m in self._slot_materials(slots)):
                     arrays["tangents"] = _corner_tangents(mesh, self.report, obj.name)
             finally:
                 obj.to_mesh_clear()
@@ -105,6 +110,16 @@ class MeshExporter:
             arrays["material_ids"] = lut[np.clip(arrays.pop("slots"), 0, len(lut) - 1)]
         self._cache[key] = arrays
         return arrays
+
+    def _slot_materials(self, slots):
+        """The materials of the slots, with the leaves of mixes."""
+        table = self.materials.materials
+        out = []
+        for i in slots:
+            m = table[i]
+            out.append(m)
+            out.extend(table[leaf] for leaf, _ in m.get("mix", ()))
+        return out
 
     def export(self, inst):
         obj = inst.object

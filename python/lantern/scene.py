@@ -26,7 +26,7 @@ TEXTURE_INTERPOLATIONS = ("linear", "closest")
 TEXTURE_OUTPUTS = ("color", "alpha", "red", "green", "blue")
 # material inputs that may name a texture (index into Scene.textures)
 MATERIAL_TEXTURES = ("base_color_texture", "roughness_texture", "metallic_texture",
-                     "alpha_texture", "normal_texture", "mix_texture")
+                     "alpha_texture", "normal_texture", "mix_texture", "emission_texture")
 
 # Blender's default camera: 50 mm lens on a 36 mm sensor.
 DEFAULT_TAN_HALF = 18.0 / 50.0
@@ -239,16 +239,27 @@ class Scene:
                      coat_tint=(1.0, 1.0, 1.0), sheen_weight=0.0, sheen_roughness=0.5,
                      sheen_tint=(1.0, 1.0, 1.0), eta=None, k=None, distribution="ggx",
                      alpha=1.0, normal_strength=1.0, mix=None, diffuse_roughness=0.0,
-                     **textures):
+                     anisotropy=0.0, anisotropic_rotation=0.0, tangent="triangle", **textures):
         """Append a material; returns its id (index into `materials`).
 
-        `type`: "diffuse" (Lambert, albedo `base_color`), "conductor" (GGX metal with F0
-        `base_color` and F82 `specular_tint`; given `eta` and `k` (RGB, complex index eta + i k)
-        the exact conductor Fresnel instead, scaled by `base_color`), "dielectric" (glass of
-        index `ior`, GGX `roughness`; roughness 0 is smooth, `base_color` tints transmission)
-        or "principled" (Blender's Principled BSDF as layers: sheen, coat, `metallic`,
-        `transmission`, a dielectric specular layer of `ior`, `specular_level` and
-        `specular_tint` over a Lambertian `base_color`; docs/materials.md)."""
+        `type`: "diffuse" (Lambert, albedo `base_color`; `diffuse_roughness` > 0: Blender's
+        energy-preserving Oren-Nayar), "conductor" (GGX metal with F0 `base_color` and F82
+        `specular_tint`; given `eta` and `k` (RGB, complex index eta + i k) the exact conductor
+        Fresnel instead, scaled by `base_color`), "dielectric" (glass of index `ior`, GGX
+        `roughness`; roughness 0 is smooth, `base_color` tints transmission), "principled"
+        (Blender's Principled BSDF as layers: sheen, coat, `metallic`, `transmission`, a
+        dielectric specular layer of `ior`, `specular_level` and `specular_tint` over a diffuse
+        `base_color`; docs/materials.md), "translucent" (Lambertian transmission of colour
+        `base_color`) or "mix": `mix` = [[leaf, weight], ...] (up to 4 leaf material ids, not
+        mixes): sum of weight x leaf BSDF (Blender's Mix Shader: 1 - fac, fac; Add Shader:
+        1, 1), emission likewise; `mix_texture` gives two leaves the weights 1 - t, t.
+        `anisotropy` (Blender's Anisotropic) stretches the GGX lobes along a tangent: `tangent`
+        "uv" (the uv map's) or "triangle" (each triangle's first minus third vertex, Cycles'
+        default), turned by `anisotropic_rotation` (turns). `alpha` < 1 lets that share of rays
+        pass the surface (Blender's Alpha). Textures by id: `base_color_texture`,
+        `roughness_texture`, `metallic_texture`, `alpha_texture`, `normal_texture` (a
+        tangent-space normal map of `normal_strength`), `emission_texture` (radiance = texel x
+        `emission`)."""
         if name is None:
             name = f"material_{len(self.materials)}"
         material = {
@@ -260,6 +271,8 @@ class Scene:
             "sheen_weight": sheen_weight, "sheen_roughness": sheen_roughness,
             "sheen_tint": sheen_tint, "distribution": distribution, "alpha": alpha,
             "normal_strength": normal_strength, "diffuse_roughness": diffuse_roughness,
+            "anisotropy": anisotropy, "anisotropic_rotation": anisotropic_rotation,
+            "tangent": tangent,
         }
         if mix is not None:
             material["mix"] = mix
@@ -474,6 +487,8 @@ class Scene:
                                  f"{what} sheen_tint")
         for key, default, lo, hi in (("roughness", 0.5, 0.0, 1.0), ("ior", 1.5, 0.01, 100.0),
                                      ("diffuse_roughness", 0.0, 0.0, 1.0),
+                                     ("anisotropy", 0.0, 0.0, 1.0),
+                                     ("anisotropic_rotation", 0.0, -1e6, 1e6),
                                      ("metallic", 0.0, 0.0, 1.0), ("transmission", 0.0, 0.0, 1.0),
                                      ("specular_level", 0.5, 0.0, 1e3),
                                      ("coat_weight", 0.0, 0.0, 1.0),
@@ -488,6 +503,10 @@ class Scene:
             if not (lo <= v <= hi):
                 raise ValueError(f"{what} {key}: must be in [{lo}, {hi}], got {v}")
             out[key] = v
+        tangent = material.get("tangent", "triangle")
+        if tangent not in ("uv", "triangle"):
+            raise ValueError(f"{what} tangent: 'uv' or 'triangle', got {tangent!r}")
+        out["tangent"] = tangent
         dist = material.get("distribution", "ggx")
         if dist not in ("ggx", "beckmann"):
             raise ValueError(f"{what} distribution: 'ggx' or 'beckmann', got {dist!r}")

@@ -288,7 +288,8 @@ def _checker(n=8, a=(0.9, 0.85, 0.7), b=(0.15, 0.1, 0.05)):
 
 def features_box(width=64, height=64, light_power=40.0):
     """What the material system adds beyond the Principled layers, in the Cornell box: a
-    checker-textured floor, a Mix Shader back wall (0.7 diffuse + 0.3 rough metal), a short box
+    checker-textured floor, a Mix Shader back wall (0.7 diffuse + 0.3 anisotropic rough metal
+    along the uv tangent), a short box
     that mixes smooth glass with diffuse (a delta leaf), a tall box of diffuse + translucent
     (Add Shader weights 0.5 each), a normal-mapped left wall, and a card of alpha 0.5 hanging
     in front of the tall box."""
@@ -297,7 +298,8 @@ def features_box(width=64, height=64, light_power=40.0):
     floor = scene.add_material("checker_floor", base_color_texture=checker)
     d_white = scene.add_material("mix_diffuse", base_color=(0.73, 0.73, 0.73))
     metal = scene.add_material("mix_metal", type="conductor", base_color=(0.9, 0.8, 0.6),
-                               roughness=0.35)
+                               roughness=0.35, anisotropy=0.8, anisotropic_rotation=0.1,
+                               tangent="uv")
     back = scene.add_material("back_mix", type="mix", mix=[[d_white, 0.7], [metal, 0.3]])
     # a constant tangent-space normal map tilting the normal 25 degrees towards -u (-y, the
     # camera's side; uv-derived tangents)

@@ -296,8 +296,9 @@ def test_metal_and_glass_nodes_map_to_material_types(empty, addon):
     assert got["p_mixed"]["type"] == "principled"
     assert got["p_mixed"]["metallic"] == pytest.approx(0.3)
     assert got["p_mixed"]["specular_level"] == pytest.approx(0.5)
-    assert got["glossy"]["type"] == "conductor"
-    assert got["glossy"]["specular_tint"] == pytest.approx([0.5] * 3)
+    assert got["glossy"]["type"] == "conductor"   # constant reflectance: F = 1 times Color
+    assert got["glossy"]["base_color"] == pytest.approx([0.5] * 3)
+    assert got["glossy"]["eta"] == [0.0] * 3 and got["glossy"]["k"] == [1.0] * 3
     assert got["metallic"]["type"] == "conductor"
     assert got["metallic"]["specular_tint"] == pytest.approx([0.99, 0.98, 0.9])
     assert got["glass"]["type"] == "dielectric" and got["glass"]["roughness"] == pytest.approx(0.05)

@@ -298,3 +298,34 @@ def test_viewport_texture_cache(empty, addon):
     changed, _ = export_scene(deps(), texture_cache=cache)
     assert changed.textures[0]["pixels"] is not first.textures[0]["pixels"]
     assert changed.textures[0]["colorspace"] == "linear"
+
+
+def test_emission_image_exports_as_emission_texture(empty, addon, tmp_path, errors):
+    """An image on an Emission node's Color: emission_texture with the strength as multiplier;
+    F12 of the plane in a black world shows texel x strength."""
+    img = make_image("Screen", CHECKER)
+    mat = bpy.data.materials.new("Screen")
+    nt = mat.node_tree
+    nt.nodes.remove(nt.nodes["Principled BSDF"])
+    emit = nt.nodes.new("ShaderNodeEmission")
+    emit.inputs["Strength"].default_value = 3.0
+    tex = nt.nodes.new("ShaderNodeTexImage")
+    tex.image = img
+    tex.interpolation = "Closest"
+    nt.links.new(tex.outputs["Color"], emit.inputs["Color"])
+    nt.links.new(emit.outputs[0], nt.nodes["Material Output"].inputs["Surface"])
+    add_uvs(add_plane(empty, size=2.0, material=mat))
+    ortho_camera(empty)
+    scene, report = export()
+    m = scene.materials[1]
+    assert m["emission"] == [3.0] * 3 and scene.textures[m["emission_texture"]]["pixels"].shape \
+        == (2, 2, 4)
+    assert "_emission_mean" not in m
+    empty.lantern.samples = 4
+    px = render_exr(empty, tmp_path)[..., :3]
+    expected = srgb_to_linear(CHECKER[..., :3] / 255.0) * 3.0
+    np.testing.assert_allclose(px[19:29, 3:13].reshape(-1, 3).mean(axis=0), expected[0, 0],
+                               rtol=1e-3)
+    np.testing.assert_allclose(px[3:13, 19:29].reshape(-1, 3).mean(axis=0), expected[1, 1],
+                               rtol=1e-3)
+    assert not [c for c in errors if c[0] == "ERROR"]

@@ -45,6 +45,11 @@ Material sheened(Material m, float weight, float roughness) {
     return m;
 }
 
+Material anisotropic(Material m, float a) {
+    m.anisotropy = a;
+    return m;
+}
+
 Material rough_base(Material m, float r) {
     m.diffuse_roughness = r;
     return m;
@@ -68,6 +73,9 @@ TEST(BsdfPrincipled, SampleMatchesMixturePdfChiSquare) {
          "sheen over coat"},
         {rough_base(principled(vec3(0.8f, 0.5f, 0.3f), 0.0f, 0.0f, 0.5f), 0.9f),
          "Oren-Nayar base"},
+        {anisotropic(principled(vec3(0.9f, 0.7f, 0.4f), 0.5f, 0.0f, 0.4f), 0.8f),
+         "anisotropic part metal"},
+        {anisotropic(principled(vec3(0.9f), 0.0f, 1.0f, 0.4f), 0.6f), "anisotropic glass"},
     };
     for (const Case& c : cases)
         // (angles and roughness where the binned pdf integral is accurate: the lobe tests'
@@ -95,7 +103,8 @@ TEST(BsdfPrincipled, WeightsAndReversePdfsMatchEval) {
     Rng rng = Rng::for_path(11, 0, 0);
     for (Transport mode : {Transport::Radiance, Transport::Importance})
         for (const Material& m : {principled(vec3(0.7f), 0.0f, 0.0f, 0.45f),
-                                  principled(vec3(0.6f, 0.8f, 0.9f), 0.3f, 0.4f, 0.3f)})
+                                  principled(vec3(0.6f, 0.8f, 0.9f), 0.3f, 0.4f, 0.3f),
+                                  anisotropic(principled(vec3(0.6f), 0.7f, 0.0f, 0.5f), 0.9f)})
             for (float theta_o : {0.2f, 1.2f}) {
                 Vec3 wo = dir_from_angles(theta_o, 2.0f);
                 for (int i = 0; i < 3000; ++i) {
@@ -273,4 +282,42 @@ TEST(BsdfPrincipled, DiffuseRoughnessIsOrenNayar) {
     EXPECT_FLOAT_EQ(e.f.x, on.f.x);
     EXPECT_FLOAT_EQ(e.pdf_fwd_w, on.pdf_fwd_w);
     EXPECT_NE(e.f.x, 0.6f * kInvPi);
+}
+
+// Anisotropy stretches the GGX lobe along local X (the tangent): alpha_x / alpha_y =
+// 1 / (1 - 0.9 a), their product alpha^2; a lobe turned with its frame is the same lobe.
+TEST(BsdfPrincipled, AnisotropyFollowsTheTangent) {
+    Ggx g = ggx_from_roughness(0.5f, 0.8f);
+    EXPECT_NEAR(g.ax * g.ay, 0.25f * 0.25f, 1e-6f);
+    EXPECT_NEAR(g.ax / g.ay, 1.0f / (1.0f - 0.72f), 1e-4f);
+    Material m = anisotropic(principled(vec3(0.8f), 1.0f, 0.0f, 0.4f), 0.8f);
+    const Vec3 n = normalize(vec3(0.2f, -0.3f, 0.9f));
+    Rng rng = Rng::for_path(2, 0, 0);
+    for (int i = 0; i < 200; ++i) {
+        const float angle = 6.0f * rng.uniform();
+        Frame f = Frame::from_normal_angle(n, angle), f0 = Frame::from_normal(n);
+        EXPECT_NEAR(dot(f.s, f.t), 0.0f, 1e-5f);
+        EXPECT_NEAR(dot(f.s, n), 0.0f, 1e-5f);
+        EXPECT_NEAR(dot(f.s, f0.s), std::cos(angle), 1e-4f);
+        // world directions: the same pair seen in a frame turned by `angle` equals the pair
+        // turned by -angle seen in the unturned frame
+        Vec3 wo = f.to_world(dir_from_angles(0.5f + 0.5f * rng.uniform(), 6.2f * rng.uniform()));
+        Vec3 wi = f.to_world(dir_from_angles(0.3f + 0.8f * rng.uniform(), 6.2f * rng.uniform()));
+        BsdfEval a = material_eval(m, true, f.to_local(wo), f.to_local(wi), Transport::Radiance);
+        Vec3 lo = f0.to_local(wo), li = f0.to_local(wi);
+        auto turn = [&](Vec3 v) {
+            float c = std::cos(angle), s = std::sin(angle);
+            return vec3(c * v.x + s * v.y, -s * v.x + c * v.y, v.z);
+        };
+        BsdfEval b = material_eval(m, true, turn(lo), turn(li), Transport::Radiance);
+        EXPECT_NEAR(a.f.x, b.f.x, 1e-3f * (1.0f + a.f.x));
+        EXPECT_NEAR(a.pdf_fwd_w, b.pdf_fwd_w, 1e-3f * (1.0f + a.pdf_fwd_w));
+    }
+    // and it is anisotropic: turning only the light direction changes the value
+    Vec3 wo = dir_from_angles(0.6f, 0.0f);
+    float along = material_eval(m, true, wo, dir_from_angles(0.6f, kPi + 0.3f),
+                                Transport::Radiance).f.x;
+    float across = material_eval(m, true, dir_from_angles(0.6f, kPi / 2),
+                                 dir_from_angles(0.6f, 1.5f * kPi + 0.3f), Transport::Radiance).f.x;
+    EXPECT_GT(std::fabs(along - across), 0.05f * along);
 }

@@ -25,12 +25,13 @@ LANTERN_HD inline float conductor_dg(const ConductorParams& p, Vec3 m, Vec3 wo, 
                       : p.ggx.d(m) * p.ggx.g2(wo, wi);
 }
 
-LANTERN_HD inline ConductorParams conductor_complex(float roughness, Vec3 eta, Vec3 k) {
-    return {Ggx::isotropic(ggx_alpha_from_roughness(roughness)), ConductorFresnel::Complex, eta, k};
+LANTERN_HD inline ConductorParams conductor_complex(float roughness, Vec3 eta, Vec3 k,
+                                                    float anisotropy = 0.0f) {
+    return {ggx_from_roughness(roughness, anisotropy), ConductorFresnel::Complex, eta, k};
 }
-LANTERN_HD inline ConductorParams conductor_f82(float roughness, Vec3 f0, Vec3 tint) {
-    return {Ggx::isotropic(ggx_alpha_from_roughness(roughness)), ConductorFresnel::F82Tint, f0,
-            tint};
+LANTERN_HD inline ConductorParams conductor_f82(float roughness, Vec3 f0, Vec3 tint,
+                                                float anisotropy = 0.0f) {
+    return {ggx_from_roughness(roughness, anisotropy), ConductorFresnel::F82Tint, f0, tint};
 }
 
 LANTERN_HD inline bool conductor_is_delta(const ConductorParams& p) {

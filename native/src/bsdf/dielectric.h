@@ -19,9 +19,10 @@ struct DielectricParams {
     Transport mode;
 };
 
-LANTERN_HD inline DielectricParams dielectric(float roughness, float eta, Transport mode) {
+LANTERN_HD inline DielectricParams dielectric(float roughness, float eta, Transport mode,
+                                             float anisotropy = 0.0f) {
     // eta <= 0 is nonsense; keep it positive so every ratio below stays finite
-    return {Ggx::isotropic(ggx_alpha_from_roughness(roughness)), fmaxf(eta, 1e-3f), mode};
+    return {ggx_from_roughness(roughness, anisotropy), fmaxf(eta, 1e-3f), mode};
 }
 
 LANTERN_HD inline bool dielectric_is_delta(const DielectricParams& p) {

@@ -19,8 +19,9 @@ namespace lantern {
 // exact one of eta + i k, which base_color then scales (Mitsuba's specular_reflectance).
 LANTERN_HD inline ConductorParams material_conductor(const Material& m) {
     ConductorParams p = m.fresnel == kFresnelComplex
-                            ? conductor_complex(m.roughness, m.eta, m.k)
-                            : conductor_f82(m.roughness, m.base_color, m.specular_tint);
+                            ? conductor_complex(m.roughness, m.eta, m.k, m.anisotropy)
+                            : conductor_f82(m.roughness, m.base_color, m.specular_tint,
+                                            m.anisotropy);
     p.beckmann = m.beckmann != 0;
     return p;
 }
@@ -29,7 +30,7 @@ LANTERN_HD inline Vec3 material_conductor_scale(const Material& m) {
 }
 LANTERN_HD inline DielectricParams material_dielectric(const Material& m, bool front,
                                                        Transport mode) {
-    return dielectric(m.roughness, front ? m.ior : 1.0f / m.ior, mode);
+    return dielectric(m.roughness, front ? m.ior : 1.0f / m.ior, mode, m.anisotropy);
 }
 
 // Room for what material_at resolves: the material and, for a mix, its leaves. Left
@@ -62,6 +63,7 @@ LANTERN_HD inline const Material& material_resolve_leaf(const SceneView& s, cons
         const Texture& t = s.textures[m.tex_metallic];
         scratch.metallic = unit(texture_scalar(t, texture_lookup(t, s.texels, s.srgb_lut, st)));
     }
+    if (m.tex_flags & kTexEmission) scratch.emission = material_emission(s, m, st);
     if (m.tex_flags & kTexBaseColor) {
         const Texture& t = s.textures[m.tex_base_color];
         Vec3 c = texture_color(texture_lookup(t, s.texels, s.srgb_lut, st));

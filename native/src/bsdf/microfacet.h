@@ -17,6 +17,9 @@ LANTERN_HD inline float ggx_alpha_from_roughness(float roughness) {
     return fmaxf(sqr(clampf(roughness, 0.0f, 1.0f)), kGgxMinAlpha);
 }
 
+struct Ggx;
+LANTERN_HD inline Ggx ggx_from_roughness(float roughness, float anisotropy);
+
 struct Ggx {
     float ax, ay;  // anisotropic alphas along local X and Y, each >= kGgxMinAlpha
 
@@ -73,6 +76,15 @@ struct Ggx {
         return normalize(vec3(ax * nh.x, ay * nh.y, fmaxf(1e-6f, nh.z)));  // unstretch
     }
 };
+
+// Blender's roughness and Anisotropic (Burley 2012: aspect = sqrt(1 - 0.9 anisotropy), alpha_x =
+// alpha / aspect, alpha_y = alpha aspect; local X is the tangent).
+LANTERN_HD inline Ggx ggx_from_roughness(float roughness, float anisotropy) {
+    const float a = ggx_alpha_from_roughness(roughness);
+    if (!(anisotropy > 0.0f)) return Ggx::isotropic(a);
+    const float aspect = sqrtf(1.0f - 0.9f * fminf(anisotropy, 1.0f));
+    return Ggx{clampf(a / aspect, kGgxMinAlpha, 1.0f), clampf(a * aspect, kGgxMinAlpha, 1.0f)};
+}
 
 // Beckmann distribution of isotropic alpha (Walter et al. 2007): D and Smith's Lambda with
 // Walter's rational approximation. Lobes that use it sample with GGX's visible normals of the

@@ -48,7 +48,7 @@ LANTERN_HD inline Vec3 principled_spec_fresnel(const Material& m, float cos_h) {
 }
 
 LANTERN_HD inline Ggx principled_ggx(const Material& m) {
-    return Ggx::isotropic(ggx_alpha_from_roughness(m.roughness));
+    return ggx_from_roughness(m.roughness, m.anisotropy);
 }
 
 LANTERN_HD inline bool principled_spec_is_delta(const Material& m) {
@@ -241,14 +241,16 @@ LANTERN_HD inline BsdfEval principled_eval(const Material& m, bool front, Vec3 w
     const Vec3 below = principled_below_coat(m, mu_v);
     Vec3 f_lower = vec3(0.0f);
     if (w.metal > 0.0f && reflect) {
-        BsdfEval l = conductor_eval(conductor_f82(m.roughness, m.base_color, m.specular_tint),
+        BsdfEval l = conductor_eval(conductor_f82(m.roughness, m.base_color, m.specular_tint,
+                                                  m.anisotropy),
                                     wo, wi);
         f_lower += l.f * ms_scale(m, m.fms_metal, mu_v) * w.metal;
         e.pdf_fwd_w += pf.metal * l.pdf_fwd_w;
         e.pdf_rev_w += pr.metal * l.pdf_rev_w;
     }
     if (w.glass > 0.0f) {
-        DielectricParams d = dielectric(m.roughness, front ? m.ior : 1.0f / m.ior, mode);
+        DielectricParams d = dielectric(m.roughness, front ? m.ior : 1.0f / m.ior, mode,
+                                        m.anisotropy);
         BsdfEval l = dielectric_eval(d, wo, wi);
         if (!reflect) l.f = l.f * principled_transmission_tint(m);
         f_lower += l.f * w.glass;
@@ -312,11 +314,13 @@ LANTERN_HD inline BsdfSample principled_sample(const Material& m, bool front, Ve
     BsdfSample l{vec3(0.0f), vec3(0.0f), 0.0f, false};
     Vec3 delta_f = vec3(0.0f);  // lobe weight x the lobe's own sample weight, for a delta pick
     if (lobe == 0) {
-        ConductorParams c = conductor_f82(m.roughness, m.base_color, m.specular_tint);
+        ConductorParams c = conductor_f82(m.roughness, m.base_color, m.specular_tint,
+                                          m.anisotropy);
         l = conductor_sample(c, wo, ud);
         delta_f = l.weight * w.metal;
     } else if (lobe == 1) {
-        DielectricParams d = dielectric(m.roughness, front ? m.ior : 1.0f / m.ior, mode);
+        DielectricParams d = dielectric(m.roughness, front ? m.ior : 1.0f / m.ior, mode,
+                                        m.anisotropy);
         l = dielectric_sample(d, wo, ud, uc);
         delta_f = l.weight * w.glass;
         if (l.valid && l.wi.z < 0.0f) delta_f = delta_f * principled_transmission_tint(m);

@@ -79,6 +79,17 @@ struct Frame {
         f.n = n;
         return f;
     }
+    // from_normal(n) turned about n by `angle` (radians): anisotropic lobes' local X follows
+    // a surface tangent stored as that angle
+    LANTERN_HD static Frame from_normal_angle(Vec3 n, float angle) {
+        Frame f = from_normal(n);
+        if (angle == 0.0f) return f;
+        const float c = cosf(angle), sn = sinf(angle);
+        const Vec3 s2 = f.s * c + f.t * sn;
+        f.t = f.t * c - f.s * sn;
+        f.s = s2;
+        return f;
+    }
     LANTERN_HD Vec3 to_local(Vec3 v) const { return {dot(v, s), dot(v, t), dot(v, n)}; }
     LANTERN_HD Vec3 to_world(Vec3 v) const { return s * v.x + t * v.y + n * v.z; }
 };

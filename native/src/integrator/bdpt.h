@@ -39,10 +39,13 @@ struct LightVertex {
     float dvcm, dvc;
     uint32_t material;
     Vec2 st;        // texture coordinates (textured materials are resolved at connection)
+    float tangent_angle;  // anisotropic materials: the frame's turn about ns (SurfaceHit)
     int32_t path;   // light path index (bdpt pairs camera path i with light path i)
     int32_t length; // segments from the light to this vertex (y1 has 1)
     int32_t front;
 };
+
+static_assert(sizeof(LightVertex) == 96, "update the cache size in docs/lvc_notes.md");
 
 struct BdptSettings {
     int32_t max_depth, rr_depth, spp_per_iteration;
@@ -183,7 +186,7 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
     dvcm /= mis(cos_o_ng);
     dvc /= mis(cos_o_ng);
 
-    Frame frame = Frame::from_normal(h.ns);
+    Frame frame = h.frame();
     const Vec3 wo = frame.to_local(wo_w);
     const Vec3 beta = bs.power[i] * ps.throughput[i];
     const bool delta = material_is_delta(m);
@@ -199,6 +202,7 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
         v.dvc = dvc;
         v.material = s.tri_material[tri];
         v.st = h.st;
+        v.tangent_angle = h.tangent_angle;
         v.path = int32_t(path);
         v.length = k;
         v.front = h.front ? 1 : 0;
@@ -414,7 +418,7 @@ LANTERN_HD inline Connection bdpt_connect(const SceneView& s, const BdptSettings
     if (is_black(ez.f)) return r;
     MaterialScratch scratch;
     const Material& my = material_at(s, y.material, y.st, scratch);
-    Frame fy = Frame::from_normal(y.ns);
+    Frame fy = Frame::from_normal_angle(y.ns, y.tangent_angle);
     BsdfEval ey = material_eval(my, y.front != 0, fy.to_local(y.wo), fy.to_local(-dir),
                                 Transport::Importance);
     if (is_black(ey.f)) return r;
@@ -559,7 +563,7 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
         add_radiance(ps, i, ps.throughput[i] * m.emission * w);
     }
     if (z.depth >= st.max_depth) return;
-    z.frame = Frame::from_normal(z.h.ns);
+    z.frame = z.h.frame();
     z.wo = z.frame.to_local(-d);
     z.beta = ps.throughput[i];
     z.dvcm = dvcm;

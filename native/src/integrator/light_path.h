@@ -108,7 +108,7 @@ LANTERN_HD inline EmissionSample sample_emission(const SceneView& s, const Light
         es.n = n;
         es.d = f.to_world(sample_cosine_hemisphere(ud, &pdf_dir));
         es.cos_light = dot(es.d, n);
-        es.le = l.radiance;
+        es.le = triangle_emission(s, l, bc);
         es.pdf_direct = 1.0f / l.area;
         es.pdf_emit = es.pdf_direct * 0.5f * pdf_dir;
         break;

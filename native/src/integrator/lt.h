@@ -126,7 +126,7 @@ LANTERN_HD inline void lt_generate(const SceneView& s, const PathState& ps,
         float cos_c = cc.valid ? dot(cc.wc, es.n) : 0.0f;
         if (l.type == kLightTriangle) cos_c = fabsf(cos_c);
         if (cos_c > 0.0f) {
-            Vec3 le = l.radiance;
+            Vec3 le = l.type == kLightTriangle ? es.le : l.radiance;
             if (l.type == kLightSpot) le = le * spot_attenuation(l, cc.wc);
             // Le * cos / (pick * pdf_a): the vertex's area density, not pdf_emit
             Vec3 c = le * (cos_c * cc.importance / (l.pick_pdf * es.pdf_direct));
@@ -158,7 +158,7 @@ LANTERN_HD inline void lt_shade(const SceneView& s, const PathState& ps, const L
     Vec3 wo_w = -d;  // towards the light
     float cos_o_ns = fabsf(dot(wo_w, h.ns)), cos_o_ng = fabsf(dot(wo_w, h.ng));
     if (!(cos_o_ng > 0.0f)) return;
-    Frame frame = Frame::from_normal(h.ns);
+    Frame frame = h.frame();
     Vec3 wo = frame.to_local(wo_w);
     Vec3 beta = lp.power[i] * ps.throughput[i];
 

@@ -73,6 +73,8 @@ struct SurfaceHit {
     Vec3 ns;    // shading normal, same hemisphere as ng
     Vec2 st;    // texture coordinates (the mesh's uvs; 0 without)
     bool front; // the ray arrived on the triangle's front (counter-clockwise) side
+    float tangent_angle = 0.0f;  // anisotropic materials: the shading frame's turn about ns
+    LANTERN_HD Frame frame() const { return Frame::from_normal_angle(ns, tangent_angle); }
 };
 
 // A direction leaving a surface is usable when the geometric and the shading normal agree on
@@ -81,13 +83,13 @@ LANTERN_HD inline bool sides_agree(Vec3 w, Vec3 ng, Vec3 ns) {
     return dot(w, ng) * dot(w, ns) > 0.0f;
 }
 
-// A tangent-space normal map (Blender's Normal Map node, tangent space) applied to the front-side
-// shading normal n of triangle tri: the tangent from the mesh's per-vertex tangents (MikkTSpace,
-// as Blender exports them) or, without, from the triangle's uv parametrisation. Returns n
-// unchanged where the map or the frame is degenerate or would turn the normal below the surface.
-LANTERN_HD inline Vec3 apply_normal_map(const SceneView& s, const Material& m, int tri,
-                                        Vec2 bary, Vec3 n, Vec3 ng_front, Vec2 st) {
-    if (!s.uvs) return n;
+// The uv tangent (direction of increasing u) of triangle tri at barycentrics bary, unit and
+// orthogonal to n, and the bitangent's sign: the mesh's per-vertex tangents (MikkTSpace, as
+// Blender exports them) or, without, the triangle's uv parametrisation. False when the
+// triangle has no usable uv frame.
+LANTERN_HD inline bool uv_tangent(const SceneView& s, int tri, Vec2 bary, Vec3 n, Vec3* t_out,
+                                  float* sign_out) {
+    if (!s.uvs) return false;
     const uint32_t* idx = s.indices + 3 * tri;
     const float w0 = 1.0f - bary.x - bary.y;
     Vec3 t = vec3(0.0f);
@@ -105,15 +107,27 @@ LANTERN_HD inline Vec3 apply_normal_map(const SceneView& s, const Material& m, i
         Vec2 a = s.uvs[idx[0]], b = s.uvs[idx[1]], c = s.uvs[idx[2]];
         float du1 = b.x - a.x, dv1 = b.y - a.y, du2 = c.x - a.x, dv2 = c.y - a.y;
         float det = du1 * dv2 - dv1 * du2;
-        if (!(fabsf(det) > 1e-20f)) return n;
+        if (!(fabsf(det) > 1e-20f)) return false;
         Vec3 e1 = p1 - p0, e2 = p2 - p0;
         t = (e1 * dv2 - e2 * dv1) / det;
         Vec3 bt = (e2 * du1 - e1 * du2) / det;
         sign = dot(cross(n, t), bt) < 0.0f ? -1.0f : 1.0f;
     }
     t = t - n * dot(n, t);
-    if (!(length_sq(t) > 1e-20f) || !is_finite(t)) return n;
-    t = normalize(t);
+    if (!(length_sq(t) > 1e-20f) || !is_finite(t)) return false;
+    *t_out = normalize(t);
+    *sign_out = sign;
+    return true;
+}
+
+// A tangent-space normal map (Blender's Normal Map node, tangent space) applied to the front-side
+// shading normal n of triangle tri. Returns n unchanged where the map or the frame is
+// degenerate or would turn the normal below the surface.
+LANTERN_HD inline Vec3 apply_normal_map(const SceneView& s, const Material& m, int tri,
+                                        Vec2 bary, Vec3 n, Vec3 ng_front, Vec2 st) {
+    Vec3 t;
+    float sign;
+    if (!uv_tangent(s, tri, bary, n, &t, &sign)) return n;
     Vec3 b = cross(n, t) * sign;
     const Texture& tex = s.textures[m.tex_normal];
     Vec3 c = texture_color(texture_lookup(tex, s.texels, s.srgb_lut, st));
@@ -126,6 +140,25 @@ LANTERN_HD inline Vec3 apply_normal_map(const SceneView& s, const Material& m, i
         mapped = normalize(mapped);
     }
     return dot(mapped, ng_front) > 1e-4f ? mapped : n;
+}
+
+// The anisotropy tangent of an anisotropic material, as the angle from Frame::from_normal(ns)'s
+// first axis (0 for isotropic materials, whose lobes do not turn with the frame): the uv
+// tangent (a Tangent node in UV mode) or the triangle's p0 - p2 (Cycles' dPdu, what an unlinked
+// Tangent input means), turned by the material's rotation.
+LANTERN_HD inline float anisotropy_angle(const SceneView& s, const Material& m, int tri,
+                                         Vec2 bary, Vec3 ns) {
+    Vec3 t;
+    float sign;
+    if (!(m.aniso_uv_tangent && uv_tangent(s, tri, bary, ns, &t, &sign))) {
+        const uint32_t* idx = s.indices + 3 * tri;
+        t = s.positions[idx[0]] - s.positions[idx[2]];
+        t = t - ns * dot(ns, t);
+        if (!(length_sq(t) > 1e-20f) || !is_finite(t)) return 0.0f;
+    }
+    const Frame f = Frame::from_normal(ns);
+    const float angle = atan2f(dot(t, f.t), dot(t, f.s)) + 2.0f * kPi * m.aniso_rotation;
+    return is_finite(angle) ? angle : 0.0f;
 }
 
 LANTERN_HD inline SurfaceHit pt_surface(const SceneView& s, int tri, Vec2 uv, Vec3 d) {
@@ -153,6 +186,7 @@ LANTERN_HD inline SurfaceHit pt_surface(const SceneView& s, int tri, Vec2 uv, Ve
     h.front = dot(ng_front, d) <= 0.0f;
     h.ng = h.front ? ng_front : -ng_front;
     h.ns = h.front ? n : -n;
+    if (m.anisotropy > 0.0f) h.tangent_angle = anisotropy_angle(s, m, tri, uv, h.ns);
     return h;
 }
 
@@ -184,7 +218,7 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
     int depth = ps.depth[i];
     if (depth >= st.max_depth) return;
 
-    Frame frame = Frame::from_normal(h.ns);
+    Frame frame = h.frame();
     Vec3 wo = frame.to_local(-d);
     Rng rng = ps.rng[i];
 

@@ -113,7 +113,7 @@ bool Session::step() {
     // chunks write their pixels into iteration_; it joins accum_ only if the step finishes
     iteration_sum_.assign(accum_.size(), 0.0);
     if (bidirectional_) {
-        // The light vertex cache holds about L x (vertices per light path) x 88 bytes with
+        // The light vertex cache holds about L x (vertices per light path) x 96 bytes with
         // L = pixels x spp: past the budget, the step runs as several light + camera passes of
         // fewer samples each (the same estimator: more, smaller iterations).
         const int per_pass = bdpt_samples_per_pass(spp_it);

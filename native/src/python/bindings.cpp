@@ -101,6 +101,10 @@ SceneInput to_input(const nb::dict& scene) {
             mi.type = get<std::string>(m, "type", mi.type);
             mi.roughness = get<float>(m, "roughness", mi.roughness);
             mi.diffuse_roughness = get<float>(m, "diffuse_roughness", mi.diffuse_roughness);
+            mi.anisotropy = get<float>(m, "anisotropy", mi.anisotropy);
+            mi.anisotropic_rotation = get<float>(m, "anisotropic_rotation",
+                                                 mi.anisotropic_rotation);
+            mi.tangent = get<std::string>(m, "tangent", mi.tangent);
             mi.ior = get<float>(m, "ior", mi.ior);
             mi.specular_tint = get_vec3(m, "specular_tint", mi.specular_tint);
             // "eta" / "k" on a conductor switch it to the complex-IOR Fresnel
@@ -124,6 +128,7 @@ SceneInput to_input(const nb::dict& scene) {
             mi.tex_metallic = get<int>(m, "metallic_texture", -1);
             mi.tex_alpha = get<int>(m, "alpha_texture", -1);
             mi.tex_normal = get<int>(m, "normal_texture", -1);
+            mi.tex_emission = get<int>(m, "emission_texture", -1);
             mi.normal_strength = get<float>(m, "normal_strength", mi.normal_strength);
             mi.alpha = get<float>(m, "alpha", mi.alpha);
             if (has(m, "mix")) {  // [[leaf, weight], ...]

@@ -11,6 +11,15 @@
 
 namespace lantern {
 
+// Radiance of an emissive triangle's light at barycentrics bc: its material's emission texture
+// there, else the constant radiance (an area-uniform sample of a textured emitter stays
+// unbiased: only le varies; light selection uses the texture's mean).
+LANTERN_HD inline Vec3 triangle_emission(const SceneView& s, const Light& l, Vec2 bc) {
+    const Material& m = s.materials[s.tri_material[l.triangle]];
+    if (!(m.tex_flags & kTexEmission)) return l.radiance;
+    return material_emission(s, m, triangle_uv(s, l.triangle, bc));
+}
+
 struct LightSample {
     Vec3 wi;         // unit direction from the reference point towards the light
     float dist;      // distance to the sampled point (kInf for sun and world)
@@ -151,7 +160,7 @@ LANTERN_HD inline LightSample sample_light(const SceneView& s, const Light& l, V
         if (cos_l <= 0.0f) return ls;
         ls.wi = wi;
         ls.dist = d;
-        ls.le = l.radiance;
+        ls.le = triangle_emission(s, l, bc);
         ls.pdf_w = pdf_a_to_w(1.0f / l.area, d2, cos_l);
         ls.p_light = q;
         ls.n_light = dot(wi, n) < 0.0f ? n : -n;  // facing the reference point

@@ -63,6 +63,8 @@ void set_material_textures(Material& m, const MaterialInput& mi, size_t k, size_
     check(mi.tex_metallic, "metallic", kTexMetallic, m.tex_metallic);
     check(mi.tex_alpha, "alpha", kTexAlpha, m.tex_alpha);
     check(mi.tex_normal, "normal", kTexNormal, m.tex_normal);
+    check(mi.tex_emission, "emission", kTexEmission, m.tex_emission);
+    m.emission_scale = m.emission;  // with an emission texture: its multiplier
     m.normal_strength = std::isfinite(mi.normal_strength) ? std::max(mi.normal_strength, 0.0f)
                                                           : 1.0f;
     float alpha = std::isfinite(mi.alpha) ? std::min(std::max(mi.alpha, 0.0f), 1.0f) : 1.0f;
@@ -94,6 +96,17 @@ HostScene::HostScene(const SceneInput& in) {
         // NaN roughness -> 0.5, NaN/absurd ior -> 1.5; roughness clamps to [0, 1], ior to
         // [1/100, 100] (ior < 1, e.g. air bubbles in water, is legal)
         m.roughness = std::isfinite(mi.roughness) ? std::min(std::max(mi.roughness, 0.0f), 1.0f) : 0.5f;
+        m.anisotropy = std::isfinite(mi.anisotropy) ? std::min(std::max(mi.anisotropy, 0.0f), 1.0f)
+                                                    : 0.0f;
+        m.aniso_rotation = std::isfinite(mi.anisotropic_rotation)
+                               ? mi.anisotropic_rotation - std::floor(mi.anisotropic_rotation)
+                               : 0.0f;
+        if (mi.tangent != "uv" && mi.tangent != "triangle") {
+            throw std::invalid_argument("material " + std::to_string(k) + " ('" + mi.name +
+                                        "'): unknown tangent '" + mi.tangent +
+                                        "' (uv, triangle)");
+        }
+        m.aniso_uv_tangent = mi.tangent == "uv" ? 1u : 0u;
         m.diffuse_roughness = std::isfinite(mi.diffuse_roughness)
                                   ? std::min(std::max(mi.diffuse_roughness, 0.0f), 1.0f)
                                   : 0.0f;
@@ -195,6 +208,7 @@ HostScene::HostScene(const SceneInput& in) {
         materials_.push_back(m);
     }
     add_textures(in);
+    finish_emission_textures();
     add_meshes(in);
     add_lights(in);
     build_filter(in.filter_width);
@@ -225,6 +239,12 @@ void HostScene::set_mix_leaves(const SceneInput& in) {
             m.mix_child[i] = c;
             m.mix_weight[i] = std::isfinite(w) ? std::max(w, 0.0f) : 0.0f;
             m.emission += materials_[c].emission * m.mix_weight[i];
+            // one shading frame per hit: the first anisotropic leaf's tangent serves them all
+            if (materials_[c].anisotropy > 0.0f && !(m.anisotropy > 0.0f)) {
+                m.anisotropy = materials_[c].anisotropy;
+                m.aniso_rotation = materials_[c].aniso_rotation;
+                m.aniso_uv_tangent = materials_[c].aniso_uv_tangent;
+            }
         }
         m.tex_flags |= kMixResolve;
         if (mi.tex_mix >= 0) {
@@ -307,7 +327,31 @@ void HostScene::add_textures(const SceneInput& in) {
             texels_.insert(texels_.end(), ti.bytes.begin(), ti.bytes.end());
         }
         textures_.push_back(t);
+        // the mean colour (decoded), for the light power of emission-textured meshes
+        double sum[3] = {0.0, 0.0, 0.0};
+        const size_t texels = size_t(t.width) * size_t(t.height);
+        for (size_t i = 0; i < texels; ++i)
+            for (int c = 0; c < 3; ++c) {
+                double v;
+                if (t.format == kTexRgba32F)
+                    v = reinterpret_cast<const float*>(texels_.data() + t.offset)[4 * i + c];
+                else if (t.format == kTexRgba8Srgb)
+                    v = srgb_lut_[texels_[t.offset + 4 * i + c]];
+                else
+                    v = texels_[t.offset + 4 * i + c] / 255.0;
+                sum[c] += v > 0.0 ? v : 0.0;
+            }
+        texture_mean_.push_back(Vec3{float(sum[0] / texels), float(sum[1] / texels),
+                                     float(sum[2] / texels)});
     }
+}
+
+// Emission-textured materials emit the texture's mean x their multiplier on average: that is
+// their constant emission (light selection, "is this an emitter"); hits and light samples
+// read the texture itself.
+void HostScene::finish_emission_textures() {
+    for (Material& m : materials_)
+        if (m.tex_flags & kTexEmission) m.emission = texture_mean_[m.tex_emission] * m.emission_scale;
 }
 
 void HostScene::add_meshes(const SceneInput& in) {

@@ -30,6 +30,9 @@ struct MaterialInput {
     Vec3 emission{0.0f, 0.0f, 0.0f};
     float roughness = 0.5f;
     float diffuse_roughness = 0.0f;  // Oren-Nayar (EON) of the diffuse base; 0: Lambert
+    float anisotropy = 0.0f;         // Blender's Anisotropic, [0, 1]
+    float anisotropic_rotation = 0.0f;  // turns
+    std::string tangent = "triangle";   // "uv" (Tangent node, UV) or "triangle" (Cycles' dPdu)
     float ior = 1.5f;
     Vec3 specular_tint{1.0f, 1.0f, 1.0f};
     // conductor: exact Fresnel of the complex index eta + i k (then base_color scales it, as
@@ -49,7 +52,7 @@ struct MaterialInput {
     Vec3 sheen_tint{1.0f, 1.0f, 1.0f};
     // textures: indices into SceneInput::textures, -1 for none
     int tex_base_color = -1, tex_roughness = -1, tex_metallic = -1, tex_alpha = -1,
-        tex_normal = -1;
+        tex_normal = -1, tex_emission = -1;  // emission texture: radiance = texel x emission
     float normal_strength = 1.0f;
     float alpha = 1.0f;  // coverage: 0 lets every ray pass (Blender's Alpha)
     // mix: leaf materials (indices, not mixes) and weights; tex_mix: factor of two leaves
@@ -114,6 +117,7 @@ public:
 private:
     void set_mix_leaves(const SceneInput& in);
     void add_textures(const SceneInput& in);
+    void finish_emission_textures();
     void add_meshes(const SceneInput& in);
     void add_lights(const SceneInput& in);
     void build_filter(float width);
@@ -124,6 +128,7 @@ private:
     std::vector<float> tangents_;
     std::vector<Texture> textures_;
     size_t textures_in_count_ = 0;
+    std::vector<Vec3> texture_mean_;  // mean decoded colour of each texture
     std::vector<uint8_t> texels_;
     std::vector<float> srgb_lut_;
     std::vector<uint32_t> indices_, tri_material_;

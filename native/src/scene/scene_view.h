@@ -29,6 +29,10 @@ struct Material {
     Vec3 emission;       // radiance, both sides
     uint32_t type;       // MaterialType
     float roughness;     // Blender's roughness (alpha = roughness^2)
+    float anisotropy;    // Blender's Anisotropic in [0, 1]: GGX alpha_x / alpha_y (microfacet.h)
+    float aniso_rotation;   // of the tangent about the normal, in turns
+    uint32_t aniso_uv_tangent;  // 1: tangent from the uv map (Tangent node, UV), 0: the
+                                // triangle's p0 - p2 (Cycles' dPdu when Tangent is unlinked)
     float ior;           // dielectric: n_inside / n_outside
     Vec3 specular_tint;  // conductor: F82 tint; principled: specular tint (and the metal's F82)
     Vec3 eta, k;         // conductor with kFresnelComplex: complex index eta + i k per channel
@@ -56,7 +60,8 @@ struct Material {
     // textured inputs (bsdf/material.h material_at): bits of MaterialTextureBits say which
     // tex_* index is used; zero (the default) means a constant material that is never copied
     uint32_t tex_flags;
-    int32_t tex_base_color, tex_roughness, tex_metallic, tex_alpha, tex_normal;
+    int32_t tex_base_color, tex_roughness, tex_metallic, tex_alpha, tex_normal, tex_emission;
+    Vec3 emission_scale;    // kTexEmission: radiance = texture colour x this (emission: the mean)
     float normal_strength;  // Blender's Normal Map strength
     float transparency;     // 1 - alpha: the share of rays that pass the surface untouched
     Vec3 metal_favg0, metal_favg1;  // the metal lobe's average Fresnel at F0 = 0 and 1, and
@@ -78,8 +83,9 @@ enum MaterialTextureBits : uint32_t {
     kTexAlpha = 8u,      // alpha from a texture (constant alpha: transparency alone)
     kTexNormal = 16u,
     kTexMix = 32u,       // a mix's factor texture
+    kTexEmission = 128u, // emission colour (mesh lights: lights.h triangle_emission)
     kMixResolve = 64u,   // every mix: material_at must point it at its leaves
-    kTexShading = kTexBaseColor | kTexRoughness | kTexMetallic,  // inputs of the BSDF itself
+    kTexShading = kTexBaseColor | kTexRoughness | kTexMetallic | kTexEmission,  // resolved per hit
     kMaterialResolve = kTexShading | kTexMix | kMixResolve,      // material_at copies
 };
 
@@ -180,5 +186,23 @@ struct SceneView {
     float offset_scale = 1.0f;           // min(1, scene_radius): core/offset.h
     Vec3 scene_center;
 };
+
+// Texture coordinates of triangle tri at barycentrics (weights of vertices 1 and 2); 0 without uvs.
+LANTERN_HD inline Vec2 triangle_uv(const SceneView& s, int32_t tri, Vec2 bary) {
+    if (!s.uvs) return Vec2{};
+    const uint32_t* idx = s.indices + 3 * tri;
+    const float w0 = 1.0f - bary.x - bary.y;
+    return Vec2{s.uvs[idx[0]].x * w0 + s.uvs[idx[1]].x * bary.x + s.uvs[idx[2]].x * bary.y,
+                s.uvs[idx[0]].y * w0 + s.uvs[idx[1]].y * bary.x + s.uvs[idx[2]].y * bary.y};
+}
+
+// Emitted radiance of a material at texture coordinates st (an emission texture, or constant).
+LANTERN_HD inline Vec3 material_emission(const SceneView& s, const Material& m, Vec2 st) {
+    if (!(m.tex_flags & kTexEmission)) return m.emission;
+    const Texture& t = s.textures[m.tex_emission];
+    Vec3 c = texture_color(texture_lookup(t, s.texels, s.srgb_lut, st));
+    c = Vec3{c.x > 0.0f ? c.x : 0.0f, c.y > 0.0f ? c.y : 0.0f, c.z > 0.0f ? c.z : 0.0f};
+    return c * m.emission_scale;
+}
 
 }  // namespace lantern
