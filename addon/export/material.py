@@ -426,13 +426,10 @@ def _convert_shader(node, material, report, textures):
             if sheen > 0.0:
                 out.update(sheen_weight=sheen, sheen_roughness=_unit(value("Sheen Roughness")),
                            sheen_tint=color("Sheen Tint"))
-            unsupported = [s for s in ("Subsurface Weight",) if value(s) > 0.0]
-            if unsupported:
-                report.warn(f"Material '{name}': {', '.join(unsupported)} not rendered yet "
-                            f"(Lantern's Principled has metal, glass, specular and base layers)")
         else:  # Specular IOR Level 0, no metal, no glass: exactly Lambert (the diffuse type)
             out.pop("roughness_texture", None)
             out.pop("metallic")
+        _principled_unsupported(node, material, report)
     elif node.type == "BSDF_DIFFUSE":
         inputs.base(out, "base_color", "Color")
         out["diffuse_roughness"] = _weight(value("Roughness"))
@@ -476,6 +473,27 @@ def _convert_shader(node, material, report, textures):
         report.warn(f"Material '{name}': shader node '{node.name}' ({node.type}) is not "
                     "supported yet; rendering grey diffuse instead")
     return out
+
+
+def _principled_unsupported(node, material, report):
+    """Warnings for the Principled inputs Lantern renders by a documented fallback."""
+    name = material.name
+
+    def val(key):
+        sock = node.inputs.get(key)
+        if sock is None:
+            return 0.0
+        v = _constant_float(sock, material, report) if not sock.is_linked else 1.0
+        return v if math.isfinite(v) else 0.0
+    if val("Subsurface Weight") > 0.0:
+        report.warn(f"Material '{name}': Subsurface Weight is rendered as the diffuse base "
+                    "(no subsurface scattering)")
+    if val("Thin Film Thickness") > 0.0:
+        report.warn(f"Material '{name}': Thin Film is not rendered yet (no interference)")
+    sock = node.inputs.get("Coat Normal")
+    if sock is not None and sock.is_linked and val("Coat Weight") > 0.0:
+        report.warn(f"Material '{name}': Coat Normal is not rendered yet; the coat uses the "
+                    "base's normal")
 
 
 def _turns(v):
