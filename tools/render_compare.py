@@ -81,7 +81,7 @@ def render_cycles(seed, spp):
     return img, settings
 
 
-def render_lantern(seed, spp, threads=0):
+def render_lantern(seed, spp, threads=0, integrator="pt"):
     """Export the current scene with the add-on and render it with lantern.Session."""
     import bpy
     import lantern
@@ -89,7 +89,7 @@ def render_lantern(seed, spp, threads=0):
     from lantern_blender.export import export_scene
     depsgraph = bpy.context.evaluated_depsgraph_get()
     scene, report = export_scene(depsgraph)
-    session = lantern.Session(scene, integrator="pt", backend="cpu",
+    session = lantern.Session(scene, integrator=integrator, backend="cpu",
                               max_depth=lantern_depth(BOUNCES), seed=seed, spp_per_iteration=spp, threads=threads)
     while session.spp < spp:
         session.step()
