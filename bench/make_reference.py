@@ -1,7 +1,8 @@
 """Render (or reuse) the converged reference of one benchmark scene, exactly as bench/rmse.py
 makes and caches it (rmse_reference.get: K seeds, noise floor from their spread, cached in
-bench/refs/), and copy it to a folder that can be committed: <scene>_<W>x<H>.npz (image and
-per-pixel standard error, float32, plus the metadata), a PNG preview and a JSON line.
+bench/refs/), and copy it to a folder that can be committed: <scene>_<W>x<H>.npz (the cache
+file's content: image and per-pixel standard error, float32, seeds, scene hash, ...; copied
+back to refs/<scene>_<W>x<H>.npz it is reused), a PNG preview and a JSON line.
 
     nice -n 10 .venv/bin/python bench/make_reference.py blend:monkeybox --res 64x64 \\
         --integrator bdpt --spp 16384 --seeds 4 --threads 2 \\
@@ -84,9 +85,10 @@ def main(argv=None):
         out = Path(args.out)
         out.mkdir(parents=True, exist_ok=True)
         stem = f"{args.scene.replace('blend:', '')}_{width}x{height}"
-        np.savez_compressed(out / f"{stem}.npz", image=np.asarray(ref["image"], np.float32),
-                            se=np.asarray(ref["se"], np.float32),
-                            **{k: v for k, v in meta.items() if not isinstance(v, list)})
+        # the cache file's keys (a drop-in for refs/<scene>_<W>x<H>.npz) plus the metadata
+        keep = {k: v for k, v in ref.items() if k not in ("path", "cached")}
+        keep.update({k: v for k, v in meta.items() if not isinstance(v, list) and k != "cached"})
+        np.savez_compressed(out / f"{stem}.npz", **keep)
         lantern.imageio.write_image(out / f"{stem}.png", ref["image"])
         (out / f"{stem}.json").write_text(json.dumps(meta, indent=1) + "\n")
     return 0
