@@ -106,6 +106,19 @@ def test_bilinear_ramp_and_wrap_modes():
         se = cols.std(axis=0, ddof=1) / math.sqrt(cols.shape[0]) + 1e-4
         z = np.abs(cols.mean(axis=0) - exp[2:62]) / se
         assert z.max() < 4.5, (wrap, z.max(), int(z.argmax()) + 2)
+    # 8-bit sRGB is filtered encoded and decoded afterwards, as Cycles does: halfway between
+    # black and white texels is decode(0.5) = 0.214, not 0.5
+    s, mat, _ = plane_scene()
+    tex = s.add_texture(ramp, colorspace="srgb", wrap="extend")
+    finish_plane(s, dict(mat, base_color_texture=tex))
+    img = lantern.render(s, spp=16, integrator="pt", seed=5, threads=2)
+    cols = img[8:56, 2:62, 0].astype(np.float64)
+    se = cols.std(axis=0, ddof=1) / math.sqrt(cols.shape[0]) + 1e-4
+    exp = srgb_to_linear(np.clip(line, 0.0, 1.0))[2:62]
+    z = np.abs(cols.mean(axis=0) - exp) / se
+    assert z.max() < 4.5, ("srgb", z.max(), int(z.argmax()) + 2)
+    mid = cols[:, 29:31].mean()                  # u about 0.5: decode(0.5) = 0.214
+    assert abs(mid - 0.214) < 0.03 and abs(mid - 0.5) > 0.2, mid
     # clip: outside [0, 1] transparent black; a uv transform scaling by 2 shows it on 3/4
     s, mat, _ = plane_scene()
     white = np.full((1, 1, 4), 255, np.uint8)

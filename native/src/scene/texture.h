@@ -13,7 +13,7 @@ struct Vec4 {
 };
 
 enum TextureFormat : int32_t {
-    kTexRgba8Srgb = 0,    // 8-bit sRGB-encoded colour (decoded per texel before filtering), linear alpha
+    kTexRgba8Srgb = 0,    // 8-bit sRGB-encoded colour (filtered encoded, then decoded), linear alpha
     kTexRgba8Linear = 1,  // 8-bit linear values (Non-Color data, linear images)
     kTexRgba32F = 2,      // 32-bit float, scene linear (float images)
 };
@@ -36,6 +36,11 @@ struct Texture {
     float uv[6];           // affine uv transform (Blender's Mapping node): u' = uv[0] u + uv[1] v
                            // + uv[2], v' = uv[3] u + uv[4] v + uv[5]
 };
+
+// The sRGB transfer function's inverse (IEC 61966-2-1) for an encoded value in [0, 1].
+LANTERN_HD inline float srgb_decode(float c) {
+    return c <= 0.04045f ? c * (1.0f / 12.92f) : powf((c + 0.055f) * (1.0f / 1.055f), 2.4f);
+}
 
 // One texel with wrapping; false outside the image for kWrapClip (transparent black there).
 LANTERN_HD inline bool texture_wrap(int32_t wrap, int i, int n, int& out) {
@@ -107,15 +112,27 @@ LANTERN_HD inline Vec4 texture_lookup(const Texture& t, const uint8_t* pool, con
     float fx = floorf(x), fy = floorf(y);
     int x0 = int(fx), y0 = int(fy);
     float ax = x - fx, ay = y - fy;
-    Vec4 a = texture_texel(t, pool, srgb_lut, x0, y0);
-    Vec4 b = texture_texel(t, pool, srgb_lut, x0 + 1, y0);
-    Vec4 c = texture_texel(t, pool, srgb_lut, x0, y0 + 1);
-    Vec4 d = texture_texel(t, pool, srgb_lut, x0 + 1, y0 + 1);
+    // 8-bit sRGB images are filtered in their encoded values and decoded afterwards, as
+    // Cycles does (it keeps them as bytes): between a black and a white texel, halfway is
+    // decode(0.5) = 0.21, not 0.5 (measured against Cycles: docs/materials_vs_cycles.md)
+    const float* lut = t.format == kTexRgba8Srgb ? nullptr : srgb_lut;
+    Texture raw = t;
+    if (t.format == kTexRgba8Srgb) raw.format = kTexRgba8Linear;
+    Vec4 a = texture_texel(raw, pool, lut, x0, y0);
+    Vec4 b = texture_texel(raw, pool, lut, x0 + 1, y0);
+    Vec4 c = texture_texel(raw, pool, lut, x0, y0 + 1);
+    Vec4 d = texture_texel(raw, pool, lut, x0 + 1, y0 + 1);
     float w00 = (1 - ax) * (1 - ay), w10 = ax * (1 - ay), w01 = (1 - ax) * ay, w11 = ax * ay;
-    return Vec4{a.x * w00 + b.x * w10 + c.x * w01 + d.x * w11,
-                a.y * w00 + b.y * w10 + c.y * w01 + d.y * w11,
-                a.z * w00 + b.z * w10 + c.z * w01 + d.z * w11,
-                a.w * w00 + b.w * w10 + c.w * w01 + d.w * w11};
+    Vec4 r{a.x * w00 + b.x * w10 + c.x * w01 + d.x * w11,
+           a.y * w00 + b.y * w10 + c.y * w01 + d.y * w11,
+           a.z * w00 + b.z * w10 + c.z * w01 + d.z * w11,
+           a.w * w00 + b.w * w10 + c.w * w01 + d.w * w11};
+    if (t.format == kTexRgba8Srgb) {
+        r.x = srgb_decode(r.x);
+        r.y = srgb_decode(r.y);
+        r.z = srgb_decode(r.z);
+    }
+    return r;
 }
 
 LANTERN_HD inline Vec3 texture_color(Vec4 v) { return Vec3{v.x, v.y, v.z}; }
@@ -132,9 +149,7 @@ LANTERN_HD inline float texture_scalar(const Texture& t, Vec4 v) {
     }
 }
 
-// sRGB transfer function (IEC 61966-2-1), for the host-built 256-entry table.
-inline float srgb_to_linear(float c) {
-    return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
-}
+// The same on the host, for the 256-entry table of closest lookups.
+inline float srgb_to_linear(float c) { return srgb_decode(c); }
 
 }  // namespace lantern
