@@ -495,7 +495,9 @@ class Scene:
                                      ("coat_roughness", 0.03, 0.0, 1.0),
                                      ("coat_ior", 1.5, 1.0, 100.0),
                                      ("sheen_weight", 0.0, 0.0, 1e3),
-                                     ("sheen_roughness", 0.5, 0.0, 1.0)):
+                                     ("sheen_roughness", 0.5, 0.0, 1.0),
+                                     ("alpha", 1.0, 0.0, 1.0),
+                                     ("normal_strength", 1.0, 0.0, 1e3)):
             try:
                 v = float(material.get(key, default))
             except (TypeError, ValueError):
@@ -527,14 +529,6 @@ class Scene:
                 raise ValueError(f"{what}: a complex index needs both eta and k")
             out["eta"] = _rgb(eta, f"{what} eta")
             out["k"] = _rgb(k, f"{what} k")
-        for key, default, lo, hi in (("alpha", 1.0, 0.0, 1.0), ("normal_strength", 1.0, 0.0, 1e3)):
-            try:
-                v = float(material.get(key, default))
-            except (TypeError, ValueError):
-                raise ValueError(f"{what} {key}: expected a number, got {material.get(key)!r}")
-            if not (lo <= v <= hi):
-                raise ValueError(f"{what} {key}: must be in [{lo}, {hi}], got {v}")
-            out[key] = v
         if mtype == "mix":
             mix = material.get("mix")
             if not isinstance(mix, (list, tuple)) or not 1 <= len(mix) <= MIX_LEAVES:

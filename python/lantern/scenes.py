@@ -94,21 +94,8 @@ def cornell_box(width=64, height=64, light_power=40.0, boxes=True, light_visible
     """Diffuse Cornell box, Blender axes (+Z up): a 2 m cube x, y in [-1, 1], z in [0, 2],
     open towards the camera at y = -1; red left wall, green right wall, a 0.5 x 0.4 m rectangle
     light just under the ceiling facing down. Optional short and tall boxes."""
-    scene = Scene()
-    scene.film.update(width=int(width), height=int(height))
-    scene.look_at((0.0, -3.8, 1.0), (0.0, 0.0, 1.0), fov=39.3)
-    white = scene.add_material("white", base_color=(0.73, 0.73, 0.73))
-    red = scene.add_material("red", base_color=(0.63, 0.065, 0.05))
-    green = scene.add_material("green", base_color=(0.14, 0.45, 0.091))
-    walls = {
-        "floor": (_quad((-1, -1, 0), (1, -1, 0), (1, 1, 0), (-1, 1, 0)), white),
-        "ceiling": (_quad((-1, -1, 2), (-1, 1, 2), (1, 1, 2), (1, -1, 2)), white),
-        "back": (_quad((-1, 1, 0), (1, 1, 0), (1, 1, 2), (-1, 1, 2)), white),
-        "left": (_quad((-1, -1, 0), (-1, 1, 0), (-1, 1, 2), (-1, -1, 2)), red),
-        "right": (_quad((1, -1, 0), (1, -1, 2), (1, 1, 2), (1, 1, 0)), green),
-    }
-    for name, ((pos, idx), mat) in walls.items():
-        scene.add_mesh(pos, idx, material=mat, name=name)
+    scene, white, red, green = _box_room(width, height)
+    _walls(scene, white, red, green)
     if boxes:
         pos, idx = _box((0.33, -0.3, 0.0), (0.6, 0.6, 0.6), -17.0)
         scene.add_mesh(pos, idx, material=white, name="short_box")
@@ -152,18 +139,20 @@ def integrating_sphere(albedo=0.5, power=100.0, radius=1.0, light="point", light
 
 # ---- Hard lighting for the bidirectional integrators (tests/python/test_bidirectional.py) ----
 
-def _walls(scene, white, red, green, floor=None):
-    """The Cornell box's five walls (2 m cube, open towards -Y); `floor` material optional."""
+def _walls(scene, white, red, green, floor=None, back=None, uvs=None):
+    """The Cornell box's five walls (2 m cube, open towards -Y); `floor` and `back` materials
+    optional (white otherwise); `uvs`: the same four uvs on every wall (its quad's corners)."""
     walls = {
         "floor": (_quad((-1, -1, 0), (1, -1, 0), (1, 1, 0), (-1, 1, 0)),
                   white if floor is None else floor),
         "ceiling": (_quad((-1, -1, 2), (-1, 1, 2), (1, 1, 2), (1, -1, 2)), white),
-        "back": (_quad((-1, 1, 0), (1, 1, 0), (1, 1, 2), (-1, 1, 2)), white),
+        "back": (_quad((-1, 1, 0), (1, 1, 0), (1, 1, 2), (-1, 1, 2)),
+                 white if back is None else back),
         "left": (_quad((-1, -1, 0), (-1, 1, 0), (-1, 1, 2), (-1, -1, 2)), red),
         "right": (_quad((1, -1, 0), (1, -1, 2), (1, 1, 2), (1, 1, 0)), green),
     }
     for name, ((pos, idx), mat) in walls.items():
-        scene.add_mesh(pos, idx, material=mat, name=name)
+        scene.add_mesh(pos, idx, material=mat, name=name, uvs=uvs)
 
 
 def _box_room(width, height):
@@ -308,16 +297,8 @@ def features_box(width=64, height=64, light_power=40.0):
                       int(round((math.cos(t) + 1) * 127.5)), 255]]], np.uint8)
     bumpy = scene.add_material("bumpy_red", base_color=(0.63, 0.065, 0.05),
                                normal_texture=scene.add_texture(nrm, colorspace="linear"))
-    walls = {
-        "floor": (_quad((-1, -1, 0), (1, -1, 0), (1, 1, 0), (-1, 1, 0)), floor),
-        "ceiling": (_quad((-1, -1, 2), (-1, 1, 2), (1, 1, 2), (1, -1, 2)), white),
-        "back": (_quad((-1, 1, 0), (1, 1, 0), (1, 1, 2), (-1, 1, 2)), back),
-        "left": (_quad((-1, -1, 0), (-1, 1, 0), (-1, 1, 2), (-1, -1, 2)), bumpy),
-        "right": (_quad((1, -1, 0), (1, -1, 2), (1, 1, 2), (1, 1, 0)), green),
-    }
-    uvs = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], np.float32)
-    for name, ((pos, idx), mat) in walls.items():
-        scene.add_mesh(pos, idx, material=mat, name=name, uvs=uvs)
+    _walls(scene, white, bumpy, green, floor=floor, back=back,
+           uvs=np.array([[0, 0], [1, 0], [1, 1], [0, 1]], np.float32))
     glass = scene.add_material("mix_glass", type="dielectric", roughness=0.0, ior=1.5,
                                base_color=(0.9, 0.95, 1.0))
     d_blue = scene.add_material("mix_blue", base_color=(0.2, 0.3, 0.8))

@@ -59,6 +59,23 @@ def add_uvs(plane):
     return plane
 
 
+def lambert_material(name, albedo, normal_image=None):
+    """A Principled BSDF that is exactly Lambert (Specular IOR Level 0), optionally with
+    `normal_image` through a tangent-space Normal Map node on its Normal."""
+    mat = bpy.data.materials.new(name)
+    nt = mat.node_tree
+    bsdf = nt.nodes["Principled BSDF"]
+    bsdf.inputs["Base Color"].default_value = (albedo, albedo, albedo, 1)
+    bsdf.inputs["Specular IOR Level"].default_value = 0.0
+    if normal_image is not None:
+        tex = nt.nodes.new("ShaderNodeTexImage")
+        tex.image = normal_image
+        nmap = nt.nodes.new("ShaderNodeNormalMap")
+        nt.links.new(tex.outputs["Color"], nmap.inputs["Color"])
+        nt.links.new(nmap.outputs["Normal"], bsdf.inputs["Normal"])
+    return mat
+
+
 def white_world(scene):
     world = bpy.data.worlds.new("White")
     world.node_tree.nodes["Background"].inputs["Color"].default_value = (1, 1, 1, 1)
@@ -173,16 +190,7 @@ def test_normal_map_f12(empty, addon, tmp_path, errors, integrator):
     b = (round((math.sin(math.radians(30)) + 1) * 127.5), 128,
          round((math.cos(math.radians(30)) + 1) * 127.5), 255)
     img = make_image("Normal", np.array([[b]], np.uint8), colorspace="Non-Color")
-    mat = bpy.data.materials.new("Bumpy")
-    nt = mat.node_tree
-    bsdf = nt.nodes["Principled BSDF"]
-    bsdf.inputs["Base Color"].default_value = (0.5, 0.5, 0.5, 1)
-    bsdf.inputs["Specular IOR Level"].default_value = 0.0
-    tex = nt.nodes.new("ShaderNodeTexImage")
-    tex.image = img
-    nmap = nt.nodes.new("ShaderNodeNormalMap")
-    nt.links.new(tex.outputs["Color"], nmap.inputs["Color"])
-    nt.links.new(nmap.outputs["Normal"], bsdf.inputs["Normal"])
+    mat = lambert_material("Bumpy", 0.5, normal_image=img)
     add_uvs(add_plane(empty, size=2.0, material=mat))
     sun = bpy.data.lights.new("Sun", "SUN")
     sun.energy = 2.0
@@ -253,20 +261,13 @@ def test_zero_length_normals_from_a_normal_map(empty, addon, tmp_path, errors):
         bpy.ops.wm.read_factory_settings(use_empty=True)
         scene = bpy.context.scene
         scene.render.engine = "LANTERN"
-        mat = bpy.data.materials.new("Flat")
-        nt = mat.node_tree
-        bsdf = nt.nodes["Principled BSDF"]
-        bsdf.inputs["Specular IOR Level"].default_value = 0.0
+        img = None
         if value is not None:
             img = bpy.data.images.new("N", 4, 4, float_buffer=True)
             img.colorspace_settings.name = "Non-Color"
             img.pixels.foreach_set(np.full(64, value, np.float32))
             img.pack()
-            tex = nt.nodes.new("ShaderNodeTexImage")
-            tex.image = img
-            nmap = nt.nodes.new("ShaderNodeNormalMap")
-            nt.links.new(tex.outputs["Color"], nmap.inputs["Color"])
-            nt.links.new(nmap.outputs["Normal"], bsdf.inputs["Normal"])
+        mat = lambert_material("Flat", 0.8, normal_image=img)
         add_uvs(add_plane(scene, size=2.0, material=mat))
         sun = bpy.data.lights.new("Sun", "SUN")
         sun.energy = 2.0

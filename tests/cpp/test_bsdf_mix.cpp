@@ -4,7 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "bsdf/material.h"
-#include "test_bsdf_helpers.h"
+#include "test_material_helpers.h"
 
 using namespace lantern;
 using namespace lantern::test;
@@ -70,24 +70,7 @@ TEST(BsdfMix, SampleMatchesMixturePdfChiSquare) {
         {mix({{&d, 0.2f}, {&rough_metal, 0.3f}, {&rough_glass, 0.5f}}), "three leaves"},
         {translucent(vec3(0.7f)), "translucent alone"},
     };
-    for (const Case& c : cases)
-        for (float theta_o : {0.4f, 1.0f, 1.3f}) {
-            Vec3 wo = dir_from_angles(theta_o, 0.7f);
-            Chi2Result r = chi2_sphere(
-                [&](Vec2 u, float uc, Vec3* wi) {
-                    BsdfSample s = material_sample(c.m, true, wo, vec3(u.x, u.y, uc),
-                                                   Transport::Radiance);
-                    *wi = s.wi;
-                    return s.valid && !s.delta;
-                },
-                [&](Vec3 wi) {
-                    return double(material_eval(c.m, true, wo, wi, Transport::Radiance).pdf_fwd_w);
-                },
-                200000, 1, 32, 32, 12);
-            EXPECT_GT(r.p_value, 1e-4) << c.what << " theta " << theta_o << " chi2 " << r.chi2
-                                       << " dof " << r.dof;
-            EXPECT_LE(r.pdf_mass, 1.0 + 1e-2) << c.what;
-        }
+    for (const Case& c : cases) expect_material_samples_its_pdf(c.m, c.what);
 }
 
 TEST(BsdfMix, WeightsAndReversePdfsMatchEval) {

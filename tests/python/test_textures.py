@@ -27,18 +27,19 @@ def srgb_to_linear(c):
     return np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
 
 
-def plane_scene(size=64, world=1.0, tangents=None, **material):
-    """A 2 m square at z = 0, uv (0, 0) at its lower-left corner, filling an orthographic
-    view from above (image up = +y)."""
+def plane_scene(size=64, world=1.0):
+    """An orthographic view from above of the square [-1, 1]^2 at z = 0 (image up = +y), under
+    a constant world; finish_plane adds the plane itself."""
     s = lantern.Scene()
     s.film.update(width=size, height=size)
     s.camera.update(type="orthographic", screen=[-1.0, 1.0, -1.0, 1.0],
                     to_world=[[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 5], [0, 0, 0, 1]])
     s.world["color"] = [world] * 3
-    return s, material, tangents
+    return s
 
 
 def finish_plane(s, material, tangents=None):
+    """The 2 m square, uv (0, 0) at its lower-left corner, of a diffuse `material` dict."""
     m = s.add_material(type="diffuse", **material)
     pos = np.array([[-1, -1, 0], [1, -1, 0], [1, 1, 0], [-1, 1, 0]], np.float32)
     uvs = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], np.float32)
@@ -66,9 +67,9 @@ CHECKER = np.array([[[200, 30, 10, 255], [10, 180, 60, 255], [0, 0, 0, 255], [25
 @pytest.mark.parametrize("colorspace", ["srgb", "linear"])
 @pytest.mark.parametrize("integrator", ["pt", "cis"])
 def test_textured_plane_renders_its_texture(colorspace, integrator):
-    s, mat, _ = plane_scene()
+    s = plane_scene()
     tex = s.add_texture(CHECKER, colorspace=colorspace, interpolation="closest")
-    finish_plane(s, dict(mat, base_color_texture=tex))
+    finish_plane(s, dict(base_color_texture=tex))
     img = lantern.render(s, spp=16, integrator=integrator, seed=3, threads=2)
     assert np.isfinite(img).all()
     expected_all = CHECKER[..., :3] / 255.0
@@ -98,9 +99,9 @@ def test_bilinear_ramp_and_wrap_modes():
                 # past a centre, repeat blends with the texel on the other side
                 "repeat": np.where(u < 0.25, 0.5 - 2 * u, np.where(u > 0.75, 2.5 - 2 * u, line))}
     for wrap, exp in expected.items():
-        s, mat, _ = plane_scene()
+        s = plane_scene()
         tex = s.add_texture(ramp, colorspace="linear", wrap=wrap)
-        finish_plane(s, dict(mat, base_color_texture=tex))
+        finish_plane(s, dict(base_color_texture=tex))
         img = lantern.render(s, spp=16, integrator="pt", seed=5, threads=2)
         cols = img[8:56, 2:62, 0].astype(np.float64)  # the outer columns also see the sky
         se = cols.std(axis=0, ddof=1) / math.sqrt(cols.shape[0]) + 1e-4
@@ -108,9 +109,9 @@ def test_bilinear_ramp_and_wrap_modes():
         assert z.max() < 4.5, (wrap, z.max(), int(z.argmax()) + 2)
     # 8-bit sRGB is filtered encoded and decoded afterwards, as Cycles does: halfway between
     # black and white texels is decode(0.5) = 0.214, not 0.5
-    s, mat, _ = plane_scene()
+    s = plane_scene()
     tex = s.add_texture(ramp, colorspace="srgb", wrap="extend")
-    finish_plane(s, dict(mat, base_color_texture=tex))
+    finish_plane(s, dict(base_color_texture=tex))
     img = lantern.render(s, spp=16, integrator="pt", seed=5, threads=2)
     cols = img[8:56, 2:62, 0].astype(np.float64)
     se = cols.std(axis=0, ddof=1) / math.sqrt(cols.shape[0]) + 1e-4
@@ -120,11 +121,11 @@ def test_bilinear_ramp_and_wrap_modes():
     mid = cols[:, 29:31].mean()                  # u about 0.5: decode(0.5) = 0.214
     assert abs(mid - 0.214) < 0.03 and abs(mid - 0.5) > 0.2, mid
     # clip: outside [0, 1] transparent black; a uv transform scaling by 2 shows it on 3/4
-    s, mat, _ = plane_scene()
+    s = plane_scene()
     white = np.full((1, 1, 4), 255, np.uint8)
     tex = s.add_texture(white, colorspace="linear", wrap="clip", interpolation="closest",
                         uv_transform=[[2.0, 0.0, 0.0], [0.0, 2.0, 0.0]])
-    finish_plane(s, dict(mat, base_color_texture=tex))
+    finish_plane(s, dict(base_color_texture=tex))
     img = lantern.render(s, spp=8, integrator="pt", seed=5, threads=2)
     assert img[40:60, 4:28].mean() > 0.98      # lower-left quarter: uv' in [0, 1]
     assert img[4:28, 4:60].max() < 0.02        # upper half: v' > 1
@@ -132,13 +133,13 @@ def test_bilinear_ramp_and_wrap_modes():
 
 
 def sun_scene(n_ts_bytes, tangents=None, integrator="pt", seed=1):
-    s, mat, _ = plane_scene(world=0.0)
+    s = plane_scene(world=0.0)
     if all(isinstance(v, int) for v in n_ts_bytes):
         nmap = np.array([[list(n_ts_bytes) + [255]]], np.uint8)
     else:  # float texels (scene linear, as Non-Color)
         nmap = np.array([[list(n_ts_bytes) + [1.0]]], np.float32)
     tex = s.add_texture(nmap, colorspace="linear", interpolation="closest")
-    finish_plane(s, dict(mat, base_color=[0.5, 0.5, 0.5], normal_texture=tex), tangents)
+    finish_plane(s, dict(base_color=[0.5, 0.5, 0.5], normal_texture=tex), tangents)
     # the sun shines from +x, 45 degrees up
     s.add_light("sun", strength=[2.0, 2.0, 2.0], direction=[-1.0, 0.0, -1.0])
     return lantern.render(s, spp=16, integrator=integrator, seed=seed, threads=2)
@@ -180,12 +181,12 @@ def test_normal_map_bad_values_stay_finite():
 
 
 def test_float_texture_with_nan_and_bad_uvs():
-    s, mat, _ = plane_scene()
+    s = plane_scene()
     px = np.full((2, 2, 4), 0.5, np.float32)
     px[0, 0, :3] = np.nan
     px[1, 1, 0] = np.inf
     tex = s.add_texture(px, interpolation="closest")
-    finish_plane(s, dict(mat, base_color_texture=tex))
+    finish_plane(s, dict(base_color_texture=tex))
     s.meshes[0]["uvs"] = np.array([[np.nan, 0], [1e30, 0], [1, -1e30], [0, 1]], np.float32)
     session = lantern.Session(s, seed=1, threads=2)
     session.step()
@@ -209,11 +210,11 @@ def test_texture_validation_errors():
 
 
 def test_scene_file_carries_textures(tmp_path):
-    s, mat, _ = plane_scene(size=32)
+    s = plane_scene(size=32)
     tex = s.add_texture(CHECKER, colorspace="srgb", wrap="mirror", interpolation="closest",
                         uv_transform=[[2.0, 0.0, 0.1], [0.0, 2.0, 0.0]])
     ftex = s.add_texture(np.random.default_rng(1).random((3, 5, 4)).astype(np.float32))
-    finish_plane(s, dict(mat, base_color_texture=tex, roughness_texture=ftex))
+    finish_plane(s, dict(base_color_texture=tex, roughness_texture=ftex))
     path = tmp_path / "textured.lantern"
     s.save(path)
     back = lantern.load_scene(path)
@@ -235,10 +236,7 @@ def test_alpha_coverage(integrator):
     beside the card is lit through it: (1 - a) of the sun reaches the shadowed floor. All
     expected values analytic (sun 45 degrees, direct light only: max_depth 2)."""
     a = 0.3
-    s = lantern.Scene()
-    s.film.update(width=64, height=64)
-    s.camera.update(type="orthographic", screen=[-1.0, 1.0, -1.0, 1.0],
-                    to_world=[[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 5], [0, 0, 0, 1]])
+    s = plane_scene(world=0.0)
     floor = s.add_material(base_color=[0.5, 0.5, 0.5])
     card = s.add_material(base_color=[0.8, 0.1, 0.1], alpha=a)
     quad = [[0, 1, 2], [0, 2, 3]]
@@ -272,10 +270,7 @@ def test_alpha_coverage(integrator):
 def test_alpha_texture_cuts_out():
     """An alpha-textured card (left texel alpha 0, right 255, closest) over a sunlit floor:
     the left half is absent for every ray (floor lit, no shadow), the right half opaque."""
-    s = lantern.Scene()
-    s.film.update(width=64, height=64)
-    s.camera.update(type="orthographic", screen=[-1.0, 1.0, -1.0, 1.0],
-                    to_world=[[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 5], [0, 0, 0, 1]])
+    s = plane_scene(world=0.0)
     tex = s.add_texture(np.array([[[9, 9, 9, 0], [9, 9, 9, 255]]], np.uint8),
                         interpolation="closest", output="alpha")
     floor = s.add_material(base_color=[0.5, 0.5, 0.5])
@@ -296,9 +291,9 @@ def test_alpha_texture_cuts_out():
 @pytest.mark.parametrize("integrator", ["pt", "cis"])
 def test_emission_texture_seen_directly(integrator):
     """An emission-textured plane in a black world shows texel x multiplier."""
-    s, mat, _ = plane_scene(world=0.0)
+    s = plane_scene(world=0.0)
     tex = s.add_texture(CHECKER, colorspace="srgb", interpolation="closest")
-    finish_plane(s, dict(mat, base_color=[0.0, 0.0, 0.0], emission=[2.0, 1.0, 0.5],
+    finish_plane(s, dict(base_color=[0.0, 0.0, 0.0], emission=[2.0, 1.0, 0.5],
                          emission_texture=tex))
     img = lantern.render(s, spp=8, integrator=integrator, seed=1, threads=2)
     expected_all = srgb_to_linear(CHECKER[..., :3] / 255.0) * [2.0, 1.0, 0.5]

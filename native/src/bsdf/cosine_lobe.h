@@ -22,6 +22,20 @@ struct BsdfSample {
     bool delta = false;      // wi came from a delta lobe: eval() cannot reproduce it
 };
 
+// A direction wi drawn from one lobe of a mixture, carrying the whole mixture's value and pdfs
+// e (eval at wi): what every mixture (principled layers, Mix Shader) returns for a non-delta
+// pick, so that sample() and eval() agree exactly.
+LANTERN_HD inline BsdfSample mixture_sample(Vec3 wi, const BsdfEval& e) {
+    BsdfSample s{vec3(0.0f), vec3(0.0f), 0.0f, false};
+    if (!(e.pdf_fwd_w > 0.0f)) return s;
+    s.wi = wi;
+    s.pdf_fwd_w = e.pdf_fwd_w;
+    s.pdf_rev_w = e.pdf_rev_w;
+    s.weight = e.f * (fabsf(wi.z) / e.pdf_fwd_w);
+    s.valid = is_finite(s.weight);
+    return s;
+}
+
 // f(wo, wi) -> Vec3 is the lobe's value for two directions in the upper hemisphere.
 template <typename F>
 LANTERN_HD inline BsdfEval cosine_lobe_eval(F f, Vec3 wo, Vec3 wi) {

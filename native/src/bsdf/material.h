@@ -232,14 +232,7 @@ LANTERN_HD inline BsdfSample mix_sample(const Material& m, bool front, Vec3 wo, 
         l.valid = is_finite(l.weight);
         return l;
     }
-    BsdfEval e = mix_eval(m, front, wo, l.wi, mode);
-    if (!(e.pdf_fwd_w > 0.0f)) return s;
-    s.wi = l.wi;
-    s.pdf_fwd_w = e.pdf_fwd_w;
-    s.pdf_rev_w = e.pdf_rev_w;
-    s.weight = e.f * (fabsf(l.wi.z) / e.pdf_fwd_w);
-    s.valid = is_finite(s.weight);
-    return s;
+    return mixture_sample(l.wi, mix_eval(m, front, wo, l.wi, mode));
 }
 
 // ---- What the integrators call, on a material from material_at ----

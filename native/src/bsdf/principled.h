@@ -378,14 +378,7 @@ LANTERN_HD inline BsdfSample principled_sample(const Material& m, bool front, Ve
         return s;
     }
     // a direction from a non-delta lobe: the whole mixture's value and pdfs
-    BsdfEval e = principled_eval(m, front, wo, l.wi, mode);
-    if (!(e.pdf_fwd_w > 0.0f)) return s;
-    s.wi = l.wi;
-    s.pdf_fwd_w = e.pdf_fwd_w;
-    s.pdf_rev_w = e.pdf_rev_w;
-    s.weight = e.f * (fabsf(l.wi.z) / e.pdf_fwd_w);
-    s.valid = is_finite(s.weight);
-    return s;
+    return mixture_sample(l.wi, principled_eval(m, front, wo, l.wi, mode));
 }
 
 }  // namespace lantern

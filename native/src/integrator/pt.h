@@ -169,8 +169,7 @@ LANTERN_HD inline SurfaceHit pt_surface(const SceneView& s, int tri, Vec2 uv, Ve
     h.p = a * w0 + b * uv.x + c * uv.y;
     const Vec3 ng_front = normalize(cross(b - a, c - a));
     const uint32_t* idx = s.indices + 3 * tri;
-    if (s.uvs) h.st = Vec2{s.uvs[idx[0]].x * w0 + s.uvs[idx[1]].x * uv.x + s.uvs[idx[2]].x * uv.y,
-                           s.uvs[idx[0]].y * w0 + s.uvs[idx[1]].y * uv.x + s.uvs[idx[2]].y * uv.y};
+    h.st = triangle_uv(s, tri, uv);
     Vec3 n = ng_front;  // the shading normal on the front side
     if (s.normals) {
         Vec3 ni = s.normals[idx[0]] * w0 + s.normals[idx[1]] * uv.x + s.normals[idx[2]] * uv.y;

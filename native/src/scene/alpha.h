@@ -35,15 +35,8 @@ LANTERN_HD inline float alpha_hash(Vec3 o, Vec3 d, int32_t tri) {
 LANTERN_HD inline float alpha_at(const SceneView& s, int32_t tri, Vec2 bary) {
     const Material& m = s.materials[s.tri_material[tri]];
     if (!(m.tex_flags & kTexAlpha)) return 1.0f - m.transparency;
-    Vec2 st;
-    if (s.uvs) {
-        const uint32_t* idx = s.indices + 3 * tri;
-        float w0 = 1.0f - bary.x - bary.y;
-        st = Vec2{s.uvs[idx[0]].x * w0 + s.uvs[idx[1]].x * bary.x + s.uvs[idx[2]].x * bary.y,
-                  s.uvs[idx[0]].y * w0 + s.uvs[idx[1]].y * bary.x + s.uvs[idx[2]].y * bary.y};
-    }
     const Texture& t = s.textures[m.tex_alpha];
-    float a = texture_scalar(t, texture_lookup(t, s.texels, s.srgb_lut, st));
+    float a = texture_scalar(t, texture_lookup(t, s.texels, s.srgb_lut, triangle_uv(s, tri, bary)));
     return a >= 0.0f ? fminf(a, 1.0f) : 0.0f;  // NaN -> 0
 }
 

@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
 #include <stdexcept>
+#include <string>
 
 #include "integrator/camera.h"
 #include "bsdf/material.h"
@@ -43,6 +45,18 @@ Transform transform_from_rows(const float m[16]) {
 }
 
 namespace {
+
+// The index of `value` in `names` (an enum's order), or a clear error naming the choices.
+int32_t name_index(const std::string& value, std::initializer_list<const char*> names,
+                   const std::string& who, const char* what) {
+    int32_t k = 0;
+    std::string choices;
+    for (const char* n : names) {
+        if (value == n) return k;
+        choices += (k++ ? ", " : "") + std::string(n);
+    }
+    throw std::invalid_argument(who + ": unknown " + what + " '" + value + "' (" + choices + ")");
+}
 
 // The texture indices of a material and its alpha; an index out of range is a clear error.
 void set_material_textures(Material& m, const MaterialInput& mi, size_t k, size_t num_textures,
@@ -260,7 +274,7 @@ void HostScene::set_mix_leaves(const SceneInput& in) {
 
 void HostScene::add_textures(const SceneInput& in) {
     srgb_lut_.resize(256);
-    for (int i = 0; i < 256; ++i) srgb_lut_[i] = srgb_to_linear(float(i) / 255.0f);
+    for (int i = 0; i < 256; ++i) srgb_lut_[i] = srgb_decode(float(i) / 255.0f);
     for (size_t k = 0; k < in.textures.size(); ++k) {
         const TextureInput& ti = in.textures[k];
         const std::string who = "texture " + std::to_string(k) + " ('" + ti.name + "')";
@@ -286,24 +300,10 @@ void HostScene::add_textures(const SceneInput& in) {
             throw std::invalid_argument(who + ": unknown format '" + ti.format +
                                         "' (srgb, linear, float)");
         }
-        const char* wraps[] = {"repeat", "extend", "clip", "mirror"};
-        t.wrap = -1;
-        for (int w = 0; w < 4; ++w)
-            if (ti.wrap == wraps[w]) t.wrap = w;
-        if (t.wrap < 0)
-            throw std::invalid_argument(who + ": unknown wrap '" + ti.wrap +
-                                        "' (repeat, extend, clip, mirror)");
-        if (ti.interpolation == "linear") t.interp = kInterpLinear;
-        else if (ti.interpolation == "closest") t.interp = kInterpClosest;
-        else throw std::invalid_argument(who + ": unknown interpolation '" + ti.interpolation +
-                                         "' (linear, closest)");
-        const char* outputs[] = {"color", "alpha", "red", "green", "blue"};
-        t.output = -1;
-        for (int o = 0; o < 5; ++o)
-            if (ti.output == outputs[o]) t.output = o;
-        if (t.output < 0)
-            throw std::invalid_argument(who + ": unknown output '" + ti.output +
-                                        "' (color, alpha, red, green, blue)");
+        t.wrap = name_index(ti.wrap, {"repeat", "extend", "clip", "mirror"}, who, "wrap");
+        t.interp = name_index(ti.interpolation, {"linear", "closest"}, who, "interpolation");
+        t.output = name_index(ti.output, {"color", "alpha", "red", "green", "blue"}, who,
+                              "output");
         for (int i = 0; i < 6; ++i) {
             if (!std::isfinite(ti.uv[i]))
                 throw std::invalid_argument(who + ": uv transform must be finite");

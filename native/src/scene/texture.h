@@ -149,7 +149,4 @@ LANTERN_HD inline float texture_scalar(const Texture& t, Vec4 v) {
     }
 }
 
-// The same on the host, for the 256-entry table of closest lookups.
-inline float srgb_to_linear(float c) { return srgb_decode(c); }
-
 }  // namespace lantern

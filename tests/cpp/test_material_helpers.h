@@ -1,0 +1,34 @@
+// Checks of whole materials (bsdf/material.h) shared by test_bsdf_principled.cpp and
+// test_bsdf_mix.cpp.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include "bsdf/material.h"
+#include "test_bsdf_helpers.h"
+
+namespace lantern::test {
+
+// A whole material at three view angles: its non-delta samples against eval's forward pdf by
+// chi-square, and that pdf integrating to at most 1.
+inline void expect_material_samples_its_pdf(const Material& m, const char* what) {
+    for (float theta_o : {0.4f, 1.0f, 1.3f}) {
+        Vec3 wo = dir_from_angles(theta_o, 0.7f);
+        Chi2Result r = chi2_sphere(
+            [&](Vec2 u, float uc, Vec3* wi) {
+                BsdfSample s =
+                    material_sample(m, true, wo, vec3(u.x, u.y, uc), Transport::Radiance);
+                *wi = s.wi;
+                return s.valid && !s.delta;
+            },
+            [&](Vec3 wi) {
+                return double(material_eval(m, true, wo, wi, Transport::Radiance).pdf_fwd_w);
+            },
+            200000, 1, 32, 32, 12);
+        EXPECT_GT(r.p_value, 1e-4) << what << " theta " << theta_o << " chi2 " << r.chi2
+                                   << " dof " << r.dof;
+        EXPECT_LE(r.pdf_mass, 1.0 + 1e-2) << what;
+    }
+}
+
+}  // namespace lantern::test
