@@ -31,6 +31,26 @@ LANTERN_HD inline float filter_density_1d(float x, float w) {
     return fmaxf(0.0f, blackman_harris(x, 2.0f * w)) / (0.35875f * 2.0f * w);
 }
 
+// A camera splat at raster position r through the pixel filter: add(pixel, weight) for every
+// pixel the filter reaches, weight = filter density x `scale` (pixel = y * width + x).
+// The CPU session adds in slot order; the CUDA backend adds with atomics.
+template <typename Add>
+LANTERN_HD inline void splat_pixels(const CameraView& c, Vec2 r, double scale, Add&& add) {
+    const float w = filter_radius(c);
+    int x0 = max_int(0, int(ceilf(r.x - 0.5f - w)));
+    int x1 = min_int(c.width - 1, int(floorf(r.x - 0.5f + w)));
+    int y0 = max_int(0, int(ceilf(r.y - 0.5f - w)));
+    int y1 = min_int(c.height - 1, int(floorf(r.y - 0.5f + w)));
+    for (int py = y0; py <= y1; ++py) {
+        float fy = filter_density_1d(r.y - (float(py) + 0.5f), w);
+        if (fy <= 0.0f) continue;
+        for (int px = x0; px <= x1; ++px) {
+            double f = double(fy) * filter_density_1d(r.x - (float(px) + 0.5f), w) * scale;
+            if (f > 0.0) add(py * c.width + px, f);
+        }
+    }
+}
+
 // ---- Camera importance: where y projects, and We * G / (raster pdf) for a point at y ----
 struct CameraConnection {
     Vec3 wc;         // unit direction from y to the camera

@@ -52,28 +52,18 @@ int64_t Session::test_camera_segments(int active) {
 // Adds this bounce's unoccluded splats to the iteration's pixels, in queue (slot) order.
 void Session::splat(const std::vector<int32_t>& slots, int count) {
     const CameraView& c = scene_->view().camera;
-    const float w = filter_radius(c);
     // L = width * height * spp_per_iteration light paths; the image divides by spp
     const double scale = 1.0 / (double(width_) * double(height_));
     for (int k = 0; k < count; ++k) {
         int i = slots[k];
         if (!shadow_valid_[i] || occluded_[i]) continue;
-        Vec2 r = splat_xy_[i];
-        Vec3 v = shadow_c_[i];
-        int x0 = std::max(0, int(std::ceil(r.x - 0.5f - w))), x1 = std::min(width_ - 1, int(std::floor(r.x - 0.5f + w)));
-        int y0 = std::max(0, int(std::ceil(r.y - 0.5f - w))), y1 = std::min(height_ - 1, int(std::floor(r.y - 0.5f + w)));
-        for (int py = y0; py <= y1; ++py) {
-            float fy = filter_density_1d(r.y - (float(py) + 0.5f), w);
-            if (fy <= 0.0f) continue;
-            for (int px = x0; px <= x1; ++px) {
-                double f = double(fy) * filter_density_1d(r.x - (float(px) + 0.5f), w) * scale;
-                if (f <= 0.0) continue;
-                double* dst = &iteration_sum_[(size_t(py) * width_ + px) * 3];
-                dst[0] += f * v.x;
-                dst[1] += f * v.y;
-                dst[2] += f * v.z;
-            }
-        }
+        const Vec3 v = shadow_c_[i];
+        splat_pixels(c, splat_xy_[i], scale, [&](int pixel, double f) {
+            double* dst = &iteration_sum_[size_t(pixel) * 3];
+            dst[0] += f * v.x;
+            dst[1] += f * v.y;
+            dst[2] += f * v.z;
+        });
     }
 }
 

@@ -5,6 +5,7 @@
 #include <initializer_list>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 
 #include "integrator/camera.h"
 #include "bsdf/material.h"
@@ -568,6 +569,35 @@ void HostScene::build_filter(float filter_width) {
         double f = seg > 0.0 ? (target - cdf[j]) / seg : 0.0;
         filter_cdf_[i] = float(-0.5 * width + width * (double(j) + std::min(1.0, std::max(0.0, f))) / fine);
     }
+}
+
+// Keep in step with finish_view: every pointer of SceneView (and CameraView) is copied here.
+SceneView HostScene::copied_view(
+    const std::function<const void*(const void*, size_t)>& copy) const {
+    auto put = [&](const auto* host, size_t count) {
+        using T = std::remove_cv_t<std::remove_pointer_t<decltype(host)>>;
+        return static_cast<const T*>(host && count ? copy(host, count * sizeof(T)) : nullptr);
+    };
+    SceneView v = view_;
+    v.positions = put(view_.positions, positions_.size());
+    v.normals = put(view_.normals, normals_.size());
+    v.uvs = put(view_.uvs, uvs_.size());
+    v.tangents = put(view_.tangents, tangents_.size());
+    v.textures = put(view_.textures, textures_.size());
+    v.texels = put(view_.texels, texels_.size());
+    v.srgb_lut = put(view_.srgb_lut, srgb_lut_.size());
+    v.indices = put(view_.indices, indices_.size());
+    v.tri_material = put(view_.tri_material, tri_material_.size());
+    v.tri_flags = put(view_.tri_flags, tri_flags_.size());
+    v.tri_light = put(view_.tri_light, tri_light_.size());
+    v.materials = put(view_.materials, materials_.size());
+    v.lights = put(view_.lights, lights_.size());
+    v.light_cdf = put(view_.light_cdf, light_cdf_.size());
+    v.emit_cdf = put(view_.emit_cdf, emit_cdf_.size());
+    v.hittable_lights = put(view_.hittable_lights, hittable_lights_.size());
+    v.miss_lights = put(view_.miss_lights, miss_lights_.size());
+    v.camera.filter_cdf = put(view_.camera.filter_cdf, filter_cdf_.size());
+    return v;
 }
 
 void HostScene::finish_view(const SceneInput& in) {

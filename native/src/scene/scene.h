@@ -4,6 +4,7 @@
 // with a warning, and builds the light-selection distribution.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -113,6 +114,9 @@ public:
     const SceneView& view() const { return view_; }
     const std::vector<std::string>& warnings() const { return warnings_; }
     int num_triangles() const { return int(tri_material_.size()); }
+    // view() with every array it points into copied elsewhere (a GPU's memory): copy(host,
+    // bytes) receives each array (host null or bytes 0 when empty) and returns the copy's address.
+    SceneView copied_view(const std::function<const void*(const void*, size_t)>& copy) const;
 
 private:
     void set_mix_leaves(const SceneInput& in);

@@ -1,0 +1,125 @@
+// HostScene::copied_view, which the CUDA backend uploads the scene with: every array the view
+// points into must pass through the copy function (a pointer it misses would be a host address
+// on the GPU), and the copies must hold the same bytes.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <cstring>
+#include <map>
+#include <new>
+#include <vector>
+
+#include "scene/scene.h"
+
+using namespace lantern;
+
+namespace {
+
+// A scene that fills every array: normals, uvs, tangents, a texture, a mix, an emissive
+// triangle, area and point lights, a world colour.
+SceneInput full_scene() {
+    SceneInput in;
+    in.width = 8;
+    in.height = 6;
+    in.world_color = vec3(0.1f);
+    TextureInput t;
+    t.name = "checker";
+    t.width = t.height = 2;
+    t.bytes = {255, 0, 0, 255, 0, 255, 0, 255, 0, 0, 255, 255, 255, 255, 255, 255};
+    in.textures.push_back(t);
+    MaterialInput a;
+    a.name = "textured";
+    a.tex_base_color = 0;
+    MaterialInput b;
+    b.name = "metal";
+    b.type = "conductor";
+    MaterialInput m;
+    m.name = "mix";
+    m.type = "mix";
+    m.mix_children = {0, 1};
+    m.mix_weights = {0.5f, 0.5f};
+    MaterialInput e;
+    e.name = "lamp";
+    e.emission = vec3(3.0f);
+    in.materials = {a, b, m, e};
+    MeshInput mesh;
+    mesh.name = "quad";
+    mesh.positions = {-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0};
+    mesh.normals = {0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1};
+    mesh.uvs = {0, 0, 1, 0, 1, 1, 0, 1};
+    mesh.tangents = {1, 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1};
+    mesh.indices = {0, 1, 2, 0, 2, 3};
+    mesh.material_ids = {2, 3};
+    in.meshes.push_back(mesh);
+    LightInput area;
+    area.type = "area";
+    area.power = {10, 10, 10};
+    area.to_world[11] = 2.0f;
+    LightInput point;
+    point.type = "point";
+    point.power = {5, 5, 5};
+    point.radius = 0.1f;
+    point.position = {0, 0, 3};
+    in.lights = {area, point};
+    float cam[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 5, 0, 0, 0, 1};
+    std::memcpy(in.camera_to_world, cam, sizeof(cam));
+    return in;
+}
+
+// A HostScene in zeroed memory, so that padding inside its view is zero in both copies and only
+// pointers differ between two scenes built from the same input.
+struct ZeroedScene {
+    void* mem;
+    HostScene* scene;
+    explicit ZeroedScene(const SceneInput& in)
+        : mem(std::calloc(1, sizeof(HostScene))), scene(new (mem) HostScene(in)) {}
+    ~ZeroedScene() {
+        scene->~HostScene();
+        std::free(mem);
+    }
+};
+
+}  // namespace
+
+TEST(SceneCopy, EveryPointerOfTheViewIsCopied) {
+    const SceneInput in = full_scene();
+    ZeroedScene a(in), b(in);
+    std::map<const void*, std::vector<uint8_t>> copies;  // host array -> its copy
+    std::vector<std::vector<uint8_t>> storage;
+    const SceneView v = a.scene->copied_view([&](const void* host, size_t bytes) -> const void* {
+        storage.emplace_back(static_cast<const uint8_t*>(host),
+                             static_cast<const uint8_t*>(host) + bytes);
+        copies[host] = storage.back();
+        return storage.back().data();
+    });
+    // words of the view that differ between two scenes of the same input are pointers
+    const SceneView& va = a.scene->view();
+    const SceneView& vb = b.scene->view();
+    constexpr size_t kWords = sizeof(SceneView) / sizeof(uintptr_t);
+    uintptr_t wa[kWords], wb[kWords], wc[kWords];
+    std::memcpy(wa, &va, sizeof(wa));
+    std::memcpy(wb, &vb, sizeof(wb));
+    std::memcpy(wc, &v, sizeof(wc));
+    int pointers = 0;
+    for (size_t k = 0; k < kWords; ++k) {
+        if (wa[k] == wb[k]) continue;
+        ++pointers;
+        const void* host = reinterpret_cast<const void*>(wa[k]);
+        EXPECT_TRUE(copies.count(host)) << "SceneView word " << k << " (byte offset "
+                                        << k * sizeof(uintptr_t)
+                                        << ") points into the scene but was not copied";
+        EXPECT_NE(wc[k], wa[k]) << "SceneView word " << k << " still points at host memory";
+    }
+    // positions, normals, uvs, tangents, textures, texels, sRGB table, indices, triangle
+    // materials, flags and lights, materials, lights, both CDFs, hittable and miss lists (the
+    // world colour is a miss light), the camera's filter table: 18 arrays
+    EXPECT_EQ(pointers, 18);
+    // the copies hold the arrays' bytes, and the view's scalars are unchanged
+    EXPECT_EQ(std::memcmp(v.positions, va.positions, 4 * sizeof(Vec3)), 0);
+    EXPECT_EQ(std::memcmp(v.materials, va.materials, 4 * sizeof(Material)), 0);
+    EXPECT_EQ(v.num_triangles, va.num_triangles);
+    EXPECT_EQ(v.num_lights, va.num_lights);
+    EXPECT_EQ(v.camera.filter_table_size, va.camera.filter_table_size);
+    EXPECT_EQ(std::memcmp(v.camera.filter_cdf, va.camera.filter_cdf,
+                          sizeof(float) * va.camera.filter_table_size), 0);
+}
