@@ -9,6 +9,7 @@
 #endif
 
 #include "backend/backend.h"
+#include "backend/cuda/cuda_renderer.h"
 #include "integrator/pt.h"
 
 namespace lantern {
@@ -42,9 +43,9 @@ Session::Session(const SceneInput& scene, const SessionSettings& settings) : set
     if (settings_.cis_target != "contribution" && settings_.cis_target != "bsdf") {
         throw std::invalid_argument("cis_target must be 'contribution' or 'bsdf'");
     }
-    if (settings_.backend != "cpu") {
-        throw std::invalid_argument("backend '" + settings_.backend +
-                                    "' is not available in this build (only 'cpu')");
+    const std::string& want = settings_.backend;
+    if (want != "cpu" && want != "cuda" && want != "auto") {
+        throw std::invalid_argument("backend '" + want + "' is not one of cpu, cuda, auto");
     }
     if (settings_.spp_per_iteration < 1 || settings_.spp_per_iteration > 4096) {
         throw std::invalid_argument("spp_per_iteration must be in [1, 4096]");
@@ -56,7 +57,25 @@ Session::Session(const SceneInput& scene, const SessionSettings& settings) : set
     scene_ = std::make_unique<HostScene>(scene);
     if (settings_.integrator == "lt") check_light_tracing(scene);
     warnings_ = scene_->warnings();
-    backend_ = std::make_unique<CpuBackend>(scene_->view(), settings_.threads, warnings_);
+    // "auto" takes the GPU when there is a usable one; "cuda" without one says why. Either way
+    // the render goes on, on the CPU.
+    if (want == "cuda" || want == "auto") {
+        const CudaInfo info = cuda_info();
+        if (info.available) {
+            try {
+                gpu_ = make_cuda_renderer(*scene_, settings_, warnings_);
+                backend_name_ = "cuda";
+                device_name_ = gpu_->device_name();
+            } catch (const CudaUnavailable& e) {
+                warnings_.push_back(std::string("the CUDA backend cannot render this scene (") +
+                                    e.what() + "); rendering on the CPU");
+            }
+        } else if (want == "cuda") {
+            warnings_.push_back("the CUDA backend is not available: " + info.reason +
+                                "; rendering on the CPU");
+        }
+    }
+    if (!gpu_) start_cpu_backend();
     width_ = scene.width;
     height_ = scene.height;
     accum_.assign(size_t(width_) * height_ * 3, 0.0);
@@ -64,6 +83,42 @@ Session::Session(const SceneInput& scene, const SessionSettings& settings) : set
 }
 
 Session::~Session() = default;
+
+void Session::start_cpu_backend() {
+    backend_ = std::make_unique<CpuBackend>(scene_->view(), settings_.threads, warnings_);
+    backend_name_ = "cpu";
+    device_name_ = "cpu";
+}
+
+// A step on the GPU. When the GPU runs out of memory, the samples so far stay (the running sum
+// is read back), the GPU is let go and this and later steps render on the CPU.
+bool Session::step_cuda(Clock::time_point t0) {
+    try {
+        if (!gpu_->step(settings_, iteration_, stats_, cancel_, warnings_)) return false;
+    } catch (const CudaUnavailable& e) {
+        std::vector<double> sum;
+        try {
+            sum = gpu_->accum();
+        } catch (const std::exception&) {
+            sum.clear();
+        }
+        gpu_.reset();
+        warnings_.push_back(std::string("the GPU stopped (") + e.what() +
+                            "); the render goes on on the CPU");
+        if (sum.size() == accum_.size()) {
+            accum_ = sum;
+        } else {
+            std::fill(accum_.begin(), accum_.end(), 0.0);
+            spp_ = 0;
+        }
+        start_cpu_backend();
+        return step();
+    }
+    spp_ += settings_.spp_per_iteration;
+    ++stats_.iterations;
+    stats_.time_total += seconds_since(t0);
+    return true;
+}
 
 int Session::bdpt_samples_per_pass(int spp_it) {
     // a quarter of the physical memory, at most 4 GiB, for the cache of one pass
@@ -107,6 +162,7 @@ void Session::resize_state(int n) {
 bool Session::step() {
     cancel_.store(false);
     auto t0 = Clock::now();
+    if (gpu_) return step_cuda(t0);
     const int spp_it = settings_.spp_per_iteration;
     const int64_t pixels = int64_t(width_) * height_;
     const int64_t chunk_pixels = std::max<int64_t>(1, kChunkPaths / spp_it);
@@ -250,8 +306,11 @@ void Session::film(int64_t first_path, int n) {
 std::vector<float> Session::image() const {
     std::vector<float> img(accum_.size(), 0.0f);
     if (spp_ == 0) return img;
+    std::vector<double> gpu_sum;
+    if (gpu_) gpu_sum = gpu_->accum();
+    const std::vector<double>& sum = gpu_ ? gpu_sum : accum_;
     const double inv = 1.0 / double(spp_);
-    for (size_t k = 0; k < accum_.size(); ++k) img[k] = float(accum_[k] * inv);
+    for (size_t k = 0; k < sum.size() && k < img.size(); ++k) img[k] = float(sum[k] * inv);
     return img;
 }
 

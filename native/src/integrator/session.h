@@ -4,6 +4,7 @@
 #pragma once
 
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -17,6 +18,7 @@
 namespace lantern {
 
 class CpuBackend;
+class CudaRenderer;
 
 // Integrator "lt" cannot render receiver-dependent lights (soft-falloff point/spot of radius > 0):
 // throws std::invalid_argument naming the first one (docs/lvc_notes.md). lt_session.cpp.
@@ -50,6 +52,9 @@ struct SessionStats {
            time_film = 0, time_total = 0;
     double time_light_pass = 0, time_camera_pass = 0, time_sort = 0, time_cache = 0,
            time_splat = 0;
+    int64_t device_memory_peak = 0;  // CUDA: most device memory the renderer's buffers held
+    int64_t device_memory_used = 0;  // CUDA: most of the device's memory in use by this
+                                     // session (cudaMemGetInfo; with the kernels' local memory)
 };
 
 class Session {
@@ -67,8 +72,14 @@ public:
     int height() const { return height_; }
     const SessionStats& stats() const { return stats_; }
     const std::vector<std::string>& warnings() const { return warnings_; }
+    // The backend that renders ("cpu" or "cuda": "auto" and a failed "cuda" resolve to one) and
+    // its device ("cpu" or the GPU's name).
+    const std::string& backend_name() const { return backend_name_; }
+    const std::string& device_name() const { return device_name_; }
 
 private:
+    void start_cpu_backend();
+    bool step_cuda(std::chrono::steady_clock::time_point t0);
     void run_chunk(int64_t first_path, int num_paths);
     void run_lt_chunk(int64_t first_path, int num_paths);  // lt_session.cpp
     void film(int64_t first_path, int num_paths);
@@ -91,7 +102,9 @@ private:
 
     SessionSettings settings_;
     std::unique_ptr<HostScene> scene_;
-    std::unique_ptr<CpuBackend> backend_;
+    std::unique_ptr<CpuBackend> backend_;   // null while the GPU renders
+    std::unique_ptr<CudaRenderer> gpu_;
+    std::string backend_name_ = "cpu", device_name_ = "cpu";
     std::vector<std::string> warnings_;
     int width_ = 0, height_ = 0;
     std::vector<double> accum_, iteration_sum_;

@@ -11,6 +11,7 @@
 #include <type_traits>
 
 #include "backend/cpu/embree_loader.h"
+#include "backend/cuda/cuda_renderer.h"
 #include "integrator/session.h"
 
 namespace nb = nanobind;
@@ -261,14 +262,26 @@ void init_session(Session* self, const nb::dict& scene, const nb::dict& settings
 }  // namespace
 
 NB_MODULE(_core, m) {
-    m.doc() = "Lantern's native core (CPU backend).";
+    m.doc() = "Lantern's native core (CPU and CUDA backends).";
     m.def("embree_available", &embree_available);
     m.def("embree_version", &embree_version);
+    m.def("cuda_info", []() {
+        const CudaInfo info = cuda_info();
+        nb::dict d;
+        d["compiled"] = info.compiled;
+        d["available"] = info.available;
+        d["reason"] = info.reason;
+        d["name"] = info.name;
+        d["memory_bytes"] = info.memory_bytes;
+        d["compute_capability"] = info.compute_capability;
+        return d;
+    });
     m.def("build_info", []() {
         nb::dict d;
         d["embree_headers"] = bool(LANTERN_HAVE_EMBREE);
         d["embree_library"] = embree_library_path();
-        d["backends"] = std::vector<std::string>{"cpu"};
+        d["backends"] = cuda_info().compiled ? std::vector<std::string>{"cpu", "cuda", "auto"}
+                                             : std::vector<std::string>{"cpu", "auto"};
         d["integrators"] = std::vector<std::string>{"pt", "lt", "bdpt", "lvc", "cis"};
         return d;
     });
@@ -288,13 +301,18 @@ NB_MODULE(_core, m) {
                 data, {size_t(s.height()), size_t(s.width()), 3}, owner);
         })
         .def_prop_ro("spp", &Session::spp)
+        .def_prop_ro("backend", &Session::backend_name)
+        .def_prop_ro("device", &Session::device_name)
         .def("warnings", [](const Session& s) { return s.warnings(); })
         .def("stats", [](const Session& s) {
             const SessionStats& st = s.stats();
             nb::dict d;
             d["iterations"] = st.iterations;
             d["spp"] = s.spp();
-            d["backend"] = "cpu";
+            d["backend"] = s.backend_name();
+            d["device"] = s.device_name();
+            d["device_memory_peak"] = st.device_memory_peak;
+            d["device_memory_used"] = st.device_memory_used;
             d["embree"] = embree_version();
             d["rays_camera"] = st.rays_camera;
             d["rays_indirect"] = st.rays_indirect;

@@ -1,0 +1,1094 @@
+// The CUDA backend: the wavefront of session.cpp / bdpt_session.cpp / lt_session.cpp on the GPU.
+// The stages are the host+device functions the CPU runs (integrator/pt.h, lt.h, bdpt.h), each
+// launched as a kernel over a device queue of path slots; the BVH is accel/bvh.h, built on the
+// host and copied as it is. What differs from the CPU schedule, and why:
+//  - queues are compacted with CUB's stable DeviceSelect and sorted with a stable radix sort of
+//    the paper's material key (type above id) on only the bits in use; same slot order rules
+//  - the light vertex cache grows by an exclusive scan of the store flags (queue order, as on
+//    the CPU) and, for bdpt, is indexed by light path with a radix sort instead of counting
+//  - shadow rays of a camera bounce (next event + connections) are one batch of independent
+//    rays, one thread each; a second kernel adds the unoccluded ones per slot in a fixed order
+//  - light-tracing splats add into the iteration with double atomics: the image is the same
+//    estimate, but its last bits depend on scheduling (the CPU's do not)
+//  - the finished sum goes to pinned host memory on a copy stream; the next iteration's
+//    kernels run while it drains, only the final add into the sum waits for it
+// Every stage is timed with a stream synchronisation so that SessionStats' per-stage times are
+// real; the synchronisation costs a few microseconds per stage and bounce.
+#include "backend/cuda/cuda_renderer.h"
+
+#include <cuda_runtime.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <cub/device/device_radix_sort.cuh>
+#include <cub/device/device_scan.cuh>
+#include <cub/device/device_select.cuh>
+#include <utility>
+
+#include "accel/bvh.h"
+#include "accel/bvh_builder.h"
+#include "integrator/bdpt.h"
+#include "integrator/lt.h"
+#include "integrator/pt.h"
+#include "integrator/session.h"
+#include "scene/scene.h"
+
+namespace lantern {
+namespace cuda_detail {
+
+using Clock = std::chrono::steady_clock;
+inline double seconds_since(Clock::time_point t0) {
+    return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+[[noreturn]] void fail(cudaError_t e, const char* what) {
+    cudaGetLastError();  // clear it where it is not sticky
+    const std::string msg = std::string(what) + ": " + cudaGetErrorString(e);
+    if (e == cudaErrorMemoryAllocation) throw CudaUnavailable("out of GPU memory (" + msg + ")");
+    throw std::runtime_error("CUDA error in " + msg);
+}
+inline void check(cudaError_t e, const char* what) {
+    if (e != cudaSuccess) fail(e, what);
+}
+
+// Bytes of device memory held by one renderer, and the most it held at once.
+struct MemoryMeter {
+    int64_t current = 0, peak = 0;
+    void add(int64_t b) {
+        current += b;
+        peak = std::max(peak, current);
+    }
+};
+
+// A device array that only grows; grow(n, keep) preserves the first `keep` items.
+template <typename T>
+class DeviceArray {
+public:
+    DeviceArray() = default;
+    ~DeviceArray() { release(); }
+    DeviceArray(const DeviceArray&) = delete;
+    DeviceArray& operator=(const DeviceArray&) = delete;
+    void bind(MemoryMeter* m) { meter_ = m; }
+    T* data() const { return p_; }
+    size_t capacity() const { return cap_; }
+    void grow(size_t n, size_t keep = 0, cudaStream_t s = 0) {
+        if (n <= cap_) return;
+        T* p = nullptr;
+        check(cudaMalloc(&p, n * sizeof(T)), "cudaMalloc");
+        if (keep > 0) {
+            cudaError_t e = cudaMemcpyAsync(p, p_, std::min(keep, cap_) * sizeof(T),
+                                            cudaMemcpyDeviceToDevice, s);
+            if (e == cudaSuccess) e = cudaStreamSynchronize(s);
+            if (e != cudaSuccess) {
+                cudaFree(p);
+                fail(e, "cudaMemcpyAsync");
+            }
+        }
+        release();
+        p_ = p;
+        cap_ = n;
+        if (meter_) meter_->add(int64_t(n * sizeof(T)));
+    }
+    void release() {
+        if (!p_) return;
+        cudaFree(p_);
+        if (meter_) meter_->current -= int64_t(cap_ * sizeof(T));
+        p_ = nullptr;
+        cap_ = 0;
+    }
+    void swap(DeviceArray& o) {
+        std::swap(p_, o.p_);
+        std::swap(cap_, o.cap_);
+    }
+
+private:
+    T* p_ = nullptr;
+    size_t cap_ = 0;
+    MemoryMeter* meter_ = nullptr;
+};
+
+template <typename F>
+__global__ void each_kernel(int n, F f) {
+    const int i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i < n) f(i);
+}
+
+// Runs f(i) for i in [0, n) on stream s.
+template <typename F>
+void each(cudaStream_t s, int n, F f, int block = 128) {
+    if (n <= 0) return;
+    each_kernel<<<(n + block - 1) / block, block, 0, s>>>(n, f);
+    check(cudaGetLastError(), "kernel launch");
+}
+
+__global__ void probe_kernel() {}
+
+// Ray queries against the device BVH, with the scene's alpha test (scene/alpha.h).
+struct Tracer {
+    BvhView bvh;
+    SceneView s;
+    __device__ BvhHit closest(const Ray& r, uint32_t need) const {
+        return bvh_intersect(bvh, r, need, BvhAlphaTest{s, r});
+    }
+    __device__ bool blocked(const Ray& r, uint32_t need) const {
+        return bvh_occluded(bvh, r, need, BvhAlphaTest{s, r});
+    }
+};
+
+// Device counters read back once per step.
+enum Counter : int { kCtrShadow, kCtrConnection, kCtrCameraSegments, kCtrDropped, kCtrCount };
+
+constexpr int kGpuChunkPaths = 1 << 21;    // paths in flight per chunk (halved when memory is short)
+constexpr int kGpuMinChunkPaths = 1 << 15;
+constexpr int kGpuShadowBudget = 1 << 23;  // connection ray slots per camera chunk
+
+inline int bits_for(uint32_t v) {  // bits to write 0..v
+    int b = 0;
+    while (b < 32 && (v >> b) != 0) ++b;
+    return b;
+}
+
+// Public members throughout: nvcc's extended lambdas must not sit in private member functions.
+class Renderer final : public CudaRenderer {
+public:
+    Renderer(const HostScene& scene, const SessionSettings& settings,
+             std::vector<std::string>& warnings);
+    ~Renderer() override;
+    bool step(const SessionSettings& settings, uint64_t& iteration, SessionStats& stats,
+              const std::atomic<bool>& cancel, std::vector<std::string>& warnings) override;
+    bool try_step(const SessionSettings& settings, uint64_t& iteration, SessionStats& stats,
+                  const std::atomic<bool>& cancel, std::vector<std::string>& warnings);
+    void release_state();  // the wavefront's arrays (not the scene, the cache or the film)
+    std::vector<double> accum() override;
+    std::string device_name() const override { return name_; }
+    void release();  // everything the constructor made (it may have thrown half-way)
+
+    // ---- schedule pieces ----
+    void ensure_state(int n, int conn_cap);
+    template <typename F>
+    void timed(double& acc, F&& f) {
+        auto t = Clock::now();
+        f();
+        check(cudaStreamSynchronize(stream_), "stage");
+        acc += seconds_since(t);
+    }
+    int read_int(const int* d);
+    void* temp(size_t bytes);
+    int compact(int n);
+    void sort_queue(int n);
+    void trace(int n, uint32_t need);
+    int64_t test_camera_segments(int n);
+    void splat(int n);
+    void film(int64_t first_path, int n);
+    void count_dropped(int n);
+    void run_pt_chunk(int64_t first_path, int n);
+    void run_lt_chunk(int64_t first_path, int n);
+    bool run_bdpt_iteration();
+    void run_light_chunk(int64_t first_path, int n);
+    void run_camera_chunk(int64_t first_path, int n);
+    void index_cache_by_path(int64_t light_paths);
+    int bdpt_samples_per_pass(int spp_it, std::vector<std::string>& warnings);
+    BdptSettings bdpt_settings() const;
+    PtSettings pt_settings() const;
+    void finish_step();
+
+    // ---- device and scene ----
+    std::string name_;
+    cudaStream_t stream_ = nullptr, copy_stream_ = nullptr;
+    cudaEvent_t sum_ready_ = nullptr, copy_done_ = nullptr;
+    MemoryMeter mem_;
+    std::vector<void*> scene_mem_;
+    SceneView sv_{};
+    Tracer tracer_{};
+    int width_ = 0, height_ = 0;
+    int id_bits_ = 0;
+    int64_t free_at_start_ = 0;
+    int chunk_paths_ = kGpuChunkPaths;
+    double budget_scale_ = 1.0;  // of the cache budget, halved with the chunk
+    int64_t used_peak_ = 0;  // free memory at start minus free memory now, at its largest
+
+    // ---- settings of the running step ----
+    SessionSettings set_;
+    SessionStats* stats_ = nullptr;
+    const std::atomic<bool>* cancel_ = nullptr;
+    uint64_t iteration_ = 0;
+    bool bidirectional_ = false, sort_ = false;
+    int mode_ = 0, conn_cap_ = 0;
+    float mis_r_ = 1.0f;
+    double vertices_per_path_ = -1.0;
+    bool pilot_ = false, split_warned_ = false;
+    int64_t pilot_count_ = 0;
+
+    // ---- wavefront state (PathState / BdptState / LightPathState slots) ----
+    int state_cap_ = 0, conn_state_cap_ = 0;
+    DeviceArray<Vec3> ray_o_, ray_d_, throughput_, radiance_, shadow_o_, shadow_d_, shadow_c_;
+    DeviceArray<float> ray_tmin_, ray_tmax_, prev_pdf_, hit_t_, shadow_tmax_;
+    DeviceArray<Rng> rng_;
+    DeviceArray<int32_t> depth_, hit_prim_, queue_, next_queue_, scan_, store_flag_;
+    DeviceArray<Vec2> hit_uv_;
+    DeviceArray<uint8_t> alive_, dropped_, shadow_valid_, occluded_, flags_;
+    DeviceArray<float> dvcm_, dvc_;
+    DeviceArray<int32_t> light_id_, conn_n_;
+    DeviceArray<uint8_t> store_, conn_vis_;
+    DeviceArray<LightVertex> vertex_;
+    DeviceArray<Vec3> power_, conn_o_, conn_d_, conn_c_;
+    DeviceArray<Vec2> splat_xy_;
+    DeviceArray<float> conn_tmax_;
+    DeviceArray<uint32_t> keys_, keys_out_;
+    PathState ps_{};
+    BdptState bs_{};
+    // light vertex cache and its per-path index (bdpt)
+    DeviceArray<LightVertex> cache_;
+    int64_t cache_size_ = 0;
+    DeviceArray<int32_t> path_key_, path_key_out_, path_vertex_, path_vertex_in_, path_offset_;
+    // film: the iteration's sum, the running sum, its pinned host copy
+    DeviceArray<double> iter_, sum_;
+    double* host_sum_ = nullptr;
+    // small things
+    DeviceArray<uint8_t> temp_;
+    DeviceArray<int> small_;  // [0] selected count, [1] present-type mask, [2] scan total
+    DeviceArray<unsigned long long> counters_;
+    int* host_int_ = nullptr;
+    unsigned long long* host_counters_ = nullptr;
+};
+
+Renderer::Renderer(const HostScene& scene, const SessionSettings& settings,
+                   std::vector<std::string>& warnings)
+    : set_(settings) {
+    try {
+        check(cudaSetDevice(0), "cudaSetDevice");
+        cudaDeviceProp prop{};
+        check(cudaGetDeviceProperties(&prop, 0), "cudaGetDeviceProperties");
+        name_ = prop.name;
+        size_t free_b = 0, total_b = 0;
+        check(cudaMemGetInfo(&free_b, &total_b), "cudaMemGetInfo");
+        free_at_start_ = int64_t(free_b);
+        check(cudaStreamCreateWithFlags(&stream_, cudaStreamNonBlocking), "cudaStreamCreate");
+        check(cudaStreamCreateWithFlags(&copy_stream_, cudaStreamNonBlocking), "cudaStreamCreate");
+        check(cudaEventCreateWithFlags(&sum_ready_, cudaEventDisableTiming), "cudaEventCreate");
+        check(cudaEventCreateWithFlags(&copy_done_, cudaEventDisableTiming), "cudaEventCreate");
+        check(cudaEventRecord(copy_done_, copy_stream_), "cudaEventRecord");
+        for (auto* a : {&ray_o_, &ray_d_, &throughput_, &radiance_, &shadow_o_, &shadow_d_,
+                        &shadow_c_, &power_, &conn_o_, &conn_d_, &conn_c_})
+            a->bind(&mem_);
+        for (auto* a : {&ray_tmin_, &ray_tmax_, &prev_pdf_, &hit_t_, &shadow_tmax_, &dvcm_, &dvc_,
+                        &conn_tmax_})
+            a->bind(&mem_);
+        for (auto* a : {&depth_, &hit_prim_, &queue_, &next_queue_, &scan_, &store_flag_, &light_id_, &conn_n_,
+                        &path_key_, &path_key_out_, &path_vertex_, &path_vertex_in_, &path_offset_})
+            a->bind(&mem_);
+        for (auto* a : {&alive_, &dropped_, &shadow_valid_, &occluded_, &flags_, &store_,
+                        &conn_vis_, &temp_})
+            a->bind(&mem_);
+        for (auto* a : {&hit_uv_, &splat_xy_}) a->bind(&mem_);
+        for (auto* a : {&keys_, &keys_out_}) a->bind(&mem_);
+        for (auto* a : {&vertex_, &cache_}) a->bind(&mem_);
+        for (auto* a : {&iter_, &sum_}) a->bind(&mem_);
+        rng_.bind(&mem_);
+        small_.bind(&mem_);
+        counters_.bind(&mem_);
+
+        // the scene, array by array, then the BVH (built on the host, copied as it is)
+        sv_ = scene.copied_view([&](const void* host, size_t bytes) -> const void* {
+            void* d = nullptr;
+            check(cudaMalloc(&d, bytes), "cudaMalloc (scene)");
+            scene_mem_.push_back(d);
+            mem_.add(int64_t(bytes));
+            check(cudaMemcpy(d, host, bytes, cudaMemcpyHostToDevice), "cudaMemcpy (scene)");
+            return d;
+        });
+        std::vector<std::string> bvh_warnings;
+        Bvh bvh = build_bvh(scene.view(), BvhBuildOptions{}, bvh_warnings);
+        for (auto& w : bvh_warnings) warnings.push_back(w);
+        auto upload = [&](const void* host, size_t bytes) -> void* {
+            if (!host || bytes == 0) return nullptr;
+            void* d = nullptr;
+            check(cudaMalloc(&d, bytes), "cudaMalloc (BVH)");
+            scene_mem_.push_back(d);
+            mem_.add(int64_t(bytes));
+            check(cudaMemcpy(d, host, bytes, cudaMemcpyHostToDevice), "cudaMemcpy (BVH)");
+            return d;
+        };
+        BvhView bv = bvh.view();
+        bv.nodes = static_cast<const BvhNode*>(upload(bvh.nodes.data(), bvh.nodes.size() * sizeof(BvhNode)));
+        bv.tris = static_cast<const BvhTri*>(upload(bvh.tris.data(), bvh.tris.size() * sizeof(BvhTri)));
+        tracer_ = Tracer{bv, sv_};
+
+        width_ = scene.view().camera.width;
+        height_ = scene.view().camera.height;
+        id_bits_ = bits_for(uint32_t(std::max(0, scene.view().num_materials - 1)));
+        const size_t px3 = size_t(width_) * height_ * 3;
+        sum_.grow(px3);
+        iter_.grow(px3);
+        check(cudaMemset(sum_.data(), 0, px3 * sizeof(double)), "cudaMemset");
+        check(cudaMallocHost(&host_sum_, px3 * sizeof(double)), "cudaMallocHost");
+        std::fill(host_sum_, host_sum_ + px3, 0.0);
+        small_.grow(4);
+        counters_.grow(kCtrCount);
+        check(cudaMallocHost(&host_int_, 4 * sizeof(int)), "cudaMallocHost");
+        check(cudaMallocHost(&host_counters_, kCtrCount * sizeof(unsigned long long)),
+              "cudaMallocHost");
+        check(cudaMemset(counters_.data(), 0, kCtrCount * sizeof(unsigned long long)), "cudaMemset");
+        check(cudaDeviceSynchronize(), "scene upload");
+    } catch (const std::runtime_error& e) {
+        // a CUDA error while setting up means this GPU cannot render the scene: fall back
+        release();
+        throw CudaUnavailable(e.what());
+    }
+}
+
+Renderer::~Renderer() { release(); }
+
+void Renderer::release() {
+    if (stream_) cudaStreamSynchronize(stream_);
+    if (copy_stream_) cudaStreamSynchronize(copy_stream_);
+    for (void* p : scene_mem_) cudaFree(p);
+    if (host_sum_) cudaFreeHost(host_sum_);
+    if (host_int_) cudaFreeHost(host_int_);
+    if (host_counters_) cudaFreeHost(host_counters_);
+    if (sum_ready_) cudaEventDestroy(sum_ready_);
+    if (copy_done_) cudaEventDestroy(copy_done_);
+    if (stream_) cudaStreamDestroy(stream_);
+    if (copy_stream_) cudaStreamDestroy(copy_stream_);
+    scene_mem_.clear();
+    host_sum_ = nullptr;
+    host_int_ = nullptr;
+    host_counters_ = nullptr;
+    sum_ready_ = copy_done_ = nullptr;
+    stream_ = copy_stream_ = nullptr;
+}
+
+int Renderer::read_int(const int* d) {
+    check(cudaMemcpyAsync(host_int_, d, sizeof(int), cudaMemcpyDeviceToHost, stream_),
+          "cudaMemcpyAsync");
+    check(cudaStreamSynchronize(stream_), "cudaStreamSynchronize");
+    return *host_int_;
+}
+
+void* Renderer::temp(size_t bytes) {
+    temp_.grow(std::max<size_t>(bytes, 1));
+    return temp_.data();
+}
+
+void Renderer::ensure_state(int n, int conn_cap) {
+    if (n > state_cap_) {
+        const size_t m = size_t(n);
+        for (auto* a : {&ray_o_, &ray_d_, &throughput_, &radiance_, &shadow_o_, &shadow_d_,
+                        &shadow_c_})
+            a->grow(m);
+        for (auto* a : {&ray_tmin_, &ray_tmax_, &prev_pdf_, &hit_t_, &shadow_tmax_}) a->grow(m);
+        rng_.grow(m);
+        for (auto* a : {&depth_, &hit_prim_, &queue_, &next_queue_, &scan_, &store_flag_}) a->grow(m);
+        hit_uv_.grow(m);
+        for (auto* a : {&alive_, &dropped_, &shadow_valid_, &occluded_, &flags_}) a->grow(m);
+        power_.grow(m);
+        splat_xy_.grow(m);
+        keys_.grow(m);
+        keys_out_.grow(m);
+        if (bidirectional_) {
+            dvcm_.grow(m);
+            dvc_.grow(m);
+            light_id_.grow(m);
+            store_.grow(m);
+            vertex_.grow(m);
+            conn_n_.grow(m);
+        }
+        state_cap_ = n;
+    }
+    // connection slots are indexed by slot (< n): size them by this chunk, not the largest one
+    const size_t nc = size_t(n) * std::max(conn_cap, 1);
+    if (bidirectional_ && nc > conn_o_.capacity()) {
+        conn_o_.grow(nc);
+        conn_d_.grow(nc);
+        conn_c_.grow(nc);
+        conn_tmax_.grow(nc);
+    }
+    if (bidirectional_) conn_vis_.grow(size_t(n) * (std::max(conn_cap, 1) + 1));
+    ps_ = PathState{ray_o_.data(),      ray_d_.data(),     ray_tmin_.data(),   ray_tmax_.data(),
+                    throughput_.data(), radiance_.data(),  rng_.data(),        depth_.data(),
+                    prev_pdf_.data(),   alive_.data(),     dropped_.data(),    hit_t_.data(),
+                    hit_prim_.data(),   hit_uv_.data(),    shadow_o_.data(),   shadow_d_.data(),
+                    shadow_tmax_.data(), shadow_c_.data(), shadow_valid_.data()};
+    bs_ = BdptState{dvcm_.data(),     dvc_.data(),       light_id_.data(), store_.data(),
+                    vertex_.data(),   splat_xy_.data(),  power_.data(),    std::max(conn_cap, 1),
+                    conn_n_.data(),   conn_o_.data(),    conn_d_.data(),   conn_tmax_.data(),
+                    conn_c_.data()};
+}
+
+// The queue's live slots (alive[slot]), in queue order, become the queue; returns their count.
+int Renderer::compact(int n) {
+    if (n <= 0) return 0;
+    const uint8_t* alive = ps_.alive;
+    const int32_t* q = queue_.data();
+    uint8_t* f = flags_.data();
+    each(stream_, n, [=] __device__(int k) { f[k] = alive[q[k]]; });
+    size_t bytes = 0;
+    check(cub::DeviceSelect::Flagged(nullptr, bytes, q, f, next_queue_.data(), small_.data(), n,
+                                     stream_),
+          "DeviceSelect");
+    check(cub::DeviceSelect::Flagged(temp(bytes), bytes, q, f, next_queue_.data(), small_.data(),
+                                     n, stream_),
+          "DeviceSelect");
+    const int m = read_int(small_.data());
+    queue_.swap(next_queue_);
+    return m;
+}
+
+// Sorts the queue by the paper's key, material type above material id (misses last), on the
+// bits in use; skipped when one type would remain (counted as the CPU counts it).
+void Renderer::sort_queue(int n) {
+    if (!sort_ || n < 2) return;
+    auto t = Clock::now();
+    const SceneView s = sv_;
+    const int32_t* q = queue_.data();
+    const int32_t* prim = ps_.hit_prim;
+    uint32_t* keys = keys_.data();
+    int* mask = small_.data() + 1;
+    const int id_bits = id_bits_;
+    check(cudaMemsetAsync(mask, 0, sizeof(int), stream_), "cudaMemsetAsync");
+    each(stream_, n, [=] __device__(int k) {
+        const int tri = prim[q[k]];
+        uint32_t type = kMaterialTypeCount, id = 0;
+        if (tri >= 0) {
+            id = s.tri_material[tri];
+            type = s.materials[id].type;
+        }
+        keys[k] = (type << id_bits) | id;
+        atomicOr(mask, 1 << type);
+    });
+    const uint32_t present = uint32_t(read_int(mask));
+    if (__builtin_popcount(present) <= 1) {
+        ++stats_->unsorted_bounces;
+        stats_->time_sort += seconds_since(t);
+        return;
+    }
+    const int end_bit = id_bits_ + bits_for(uint32_t(31 - __builtin_clz(present)));
+    size_t bytes = 0;
+    check(cub::DeviceRadixSort::SortPairs(nullptr, bytes, keys, keys_out_.data(), q,
+                                          next_queue_.data(), n, 0, end_bit, stream_),
+          "DeviceRadixSort");
+    check(cub::DeviceRadixSort::SortPairs(temp(bytes), bytes, keys, keys_out_.data(), q,
+                                          next_queue_.data(), n, 0, end_bit, stream_),
+          "DeviceRadixSort");
+    check(cudaStreamSynchronize(stream_), "sort");
+    queue_.swap(next_queue_);
+    ++stats_->sorted_bounces;
+    stats_->time_sort += seconds_since(t);
+}
+
+// Closest hits of the queued slots' rays among triangles with `need`'s flags.
+void Renderer::trace(int n, uint32_t need) {
+    const PathState ps = ps_;
+    const int32_t* q = queue_.data();
+    const Tracer tr = tracer_;
+    timed(stats_->time_trace, [&] {
+        each(stream_, n, [=] __device__(int k) {
+            const int i = q[k];
+            const Ray r{ps.ray_o[i], ps.ray_d[i], ps.ray_tmin[i], ps.ray_tmax[i]};
+            const BvhHit h = tr.closest(r, need);
+            ps.hit_t[i] = h.t;
+            ps.hit_prim[i] = h.prim;
+            ps.hit_uv[i] = h.uv;
+        });
+    });
+}
+
+// Light tracing's camera segments against what the camera sees; returns how many were tested.
+int64_t Renderer::test_camera_segments(int n) {
+    const PathState ps = ps_;
+    const int32_t* q = queue_.data();
+    const Tracer tr = tracer_;
+    uint8_t* occ = occluded_.data();
+    unsigned long long* ctr = counters_.data() + kCtrCameraSegments;
+    check(cudaMemsetAsync(ctr, 0, sizeof(unsigned long long), stream_), "cudaMemsetAsync");
+    timed(stats_->time_shadow, [&] {
+        each(stream_, n, [=] __device__(int k) {
+            const int i = q[k];
+            if (!ps.shadow_valid[i]) return;
+            atomicAdd(ctr, 1ull);
+            const Ray r{ps.shadow_o[i], ps.shadow_d[i], 0.0f, ps.shadow_tmax[i]};
+            occ[i] = tr.blocked(r, kBvhNeedCamera) ? 1 : 0;
+        });
+    });
+    check(cudaMemcpyAsync(host_counters_, ctr, sizeof(unsigned long long), cudaMemcpyDeviceToHost,
+                          stream_),
+          "cudaMemcpyAsync");
+    check(cudaStreamSynchronize(stream_), "cudaStreamSynchronize");
+    return int64_t(host_counters_[0]);
+}
+
+// The bounce's unoccluded camera splats into the iteration (double atomics).
+void Renderer::splat(int n) {
+    const PathState ps = ps_;
+    const int32_t* q = queue_.data();
+    const uint8_t* occ = occluded_.data();
+    const Vec2* xy = splat_xy_.data();
+    const CameraView cam = sv_.camera;
+    double* dst = iter_.data();
+    const double scale = 1.0 / (double(width_) * double(height_));
+    each(stream_, n, [=] __device__(int k) {
+        const int i = q[k];
+        if (!ps.shadow_valid[i] || occ[i]) return;
+        const Vec3 v = ps.shadow_contrib[i];
+        splat_pixels(cam, xy[i], scale, [&](int pixel, double f) {
+            atomicAdd(dst + 3 * size_t(pixel) + 0, f * v.x);
+            atomicAdd(dst + 3 * size_t(pixel) + 1, f * v.y);
+            atomicAdd(dst + 3 * size_t(pixel) + 2, f * v.z);
+        });
+    });
+}
+
+// Adds each pixel's samples of the chunk to the iteration, one thread per pixel, in order.
+void Renderer::film(int64_t first_path, int n) {
+    const int spp_it = set_.spp_per_iteration;
+    const int64_t p0 = first_path / spp_it;
+    const int np = n / spp_it;
+    const Vec3* rad = ps_.radiance;
+    double* dst = iter_.data();
+    count_dropped(n);
+    timed(stats_->time_film, [&] {
+        each(stream_, np, [=] __device__(int p) {
+            double sum[3] = {0, 0, 0};
+            for (int s = 0; s < spp_it; ++s) {
+                const Vec3 c = rad[size_t(p) * spp_it + s];
+                sum[0] += c.x;
+                sum[1] += c.y;
+                sum[2] += c.z;
+            }
+            double* d = dst + size_t(p0 + p) * 3;
+            d[0] += sum[0];
+            d[1] += sum[1];
+            d[2] += sum[2];
+        });
+    });
+}
+
+void Renderer::count_dropped(int n) {
+    const uint8_t* dropped = ps_.dropped;
+    unsigned long long* ctr = counters_.data() + kCtrDropped;
+    each(stream_, n, [=] __device__(int i) {
+        if (dropped[i]) atomicAdd(ctr, 1ull);
+    });
+}
+
+PtSettings Renderer::pt_settings() const {
+    return PtSettings{set_.max_depth, set_.rr_depth, set_.spp_per_iteration, set_.seed,
+                      iteration_};
+}
+
+void Renderer::run_pt_chunk(int64_t first_path, int n) {
+    ensure_state(n, 0);
+    const SceneView s = sv_;
+    const PathState ps = ps_;
+    const PtSettings st = pt_settings();
+    const Tracer tr = tracer_;
+    unsigned long long* shadow_ctr = counters_.data() + kCtrShadow;
+    int32_t* q0 = queue_.data();
+    timed(stats_->time_generate, [&] {
+        each(stream_, n, [=] __device__(int i) {
+            pt_generate(s, ps, st, i, first_path + i);
+            q0[i] = i;
+        });
+    });
+    int active = n;
+    stats_->rays_camera += n;
+    bool first = true;
+    while (active > 0 && !cancel_->load()) {
+        trace(active, first ? kBvhNeedCamera : kBvhNeedIndirect);
+        const int32_t* q = queue_.data();
+        timed(stats_->time_shade,
+              [&] { each(stream_, active, [=] __device__(int k) { pt_shade(s, ps, st, q[k]); }); });
+        timed(stats_->time_shadow, [&] {
+            each(stream_, active, [=] __device__(int k) {
+                const int i = q[k];
+                if (!ps.shadow_valid[i]) return;
+                atomicAdd(shadow_ctr, 1ull);
+                const Ray r{ps.shadow_o[i], ps.shadow_d[i], 0.0f, ps.shadow_tmax[i]};
+                pt_shadow_result(ps, i, tr.blocked(r, kBvhNeedShadow));
+            });
+        });
+        active = compact(active);
+        if (active) stats_->rays_indirect += active;
+        first = false;
+    }
+    if (cancel_->load()) return;
+    film(first_path, n);
+}
+
+void Renderer::run_lt_chunk(int64_t first_path, int n) {
+    ensure_state(n, 0);
+    const SceneView s = sv_;
+    const PathState ps = ps_;
+    const PtSettings st = pt_settings();
+    const LightPathState lp{power_.data(), splat_xy_.data()};
+    int32_t* q0 = queue_.data();
+    timed(stats_->time_generate, [&] {
+        each(stream_, n, [=] __device__(int i) {
+            lt_generate(s, ps, lp, st, i, first_path + i);
+            q0[i] = i;
+        });
+    });
+    int active = n;
+    while (!cancel_->load()) {
+        stats_->rays_shadow += test_camera_segments(active);
+        timed(stats_->time_film, [&] { splat(active); });
+        active = compact(active);
+        if (active == 0) break;
+        stats_->rays_indirect += active;
+        trace(active, kBvhNeedIndirect);
+        const int32_t* q = queue_.data();
+        timed(stats_->time_shade,
+              [&] { each(stream_, active, [=] __device__(int k) { lt_shade(s, ps, lp, st, q[k]); }); });
+    }
+    count_dropped(n);
+}
+
+BdptSettings Renderer::bdpt_settings() const {
+    const double light_paths = double(width_) * height_ * set_.spp_per_iteration;
+    BdptSettings st{};
+    st.max_depth = set_.max_depth;
+    st.rr_depth = set_.rr_depth;
+    st.spp_per_iteration = set_.spp_per_iteration;
+    st.seed = set_.seed;
+    st.iteration = iteration_;
+    st.mode = mode_;
+    st.connections = set_.connections;
+    st.candidates = set_.candidates;
+    st.target = set_.cis_target == "bsdf" ? kTargetBsdf : kTargetContribution;
+    st.naive_ris = set_.naive_ris ? 1 : 0;
+    st.r = mis_r_;
+    st.n_lt = float(light_paths / set_.spp_per_iteration);
+    st.inv_light_paths = float(1.0 / light_paths);
+    return st;
+}
+
+// As Session::bdpt_samples_per_pass, with the GPU's free memory as the budget: half of what
+// was free when the renderer started, at most 8 GiB, or cache_budget_mb.
+int Renderer::bdpt_samples_per_pass(int spp_it, std::vector<std::string>& warnings) {
+    double budget = std::min(8.0 * (1 << 30), 0.5 * double(free_at_start_));
+    if (set_.cache_budget_mb > 0) budget = double(set_.cache_budget_mb) * (1 << 20);
+    budget *= budget_scale_;
+    const double vpp = vertices_per_path_ > 0.0 ? vertices_per_path_
+                                                : std::min(set_.max_depth - 1, 4);
+    const double per_spp = double(width_) * height_ *
+                           (std::max(vpp, 0.5) * sizeof(LightVertex) + 2 * sizeof(int32_t));
+    const int per_pass = int(std::clamp(budget / per_spp, 1.0, double(spp_it)));
+    if (per_pass < spp_it && !split_warned_) {
+        split_warned_ = true;
+        warnings.push_back("light vertex cache (GPU): " + std::to_string(spp_it) +
+                           " samples per iteration run as passes of " + std::to_string(per_pass) +
+                           " to stay within " + std::to_string(int(budget / (1 << 20))) + " MiB");
+    }
+    return per_pass;
+}
+
+bool Renderer::run_bdpt_iteration() {
+    const int spp_it = set_.spp_per_iteration;
+    const int64_t light_paths = int64_t(width_) * height_ * spp_it;
+    auto t = Clock::now();
+    if (mode_ == kBdptOwnPath) {
+        mis_r_ = 1.0f;
+    } else {
+        if (!(vertices_per_path_ >= 0.0)) {  // pilot pass: see bdpt_session.cpp
+            const int pilot = int(std::min<int64_t>(light_paths, 1 << 14));
+            pilot_ = true;
+            cache_size_ = 0;
+            run_light_chunk(0, pilot);
+            pilot_ = false;
+            vertices_per_path_ = double(pilot_count_) / pilot;
+            if (cancel_->load()) return false;
+        }
+        mis_r_ = vertices_per_path_ > 0.0 ? float(set_.connections / vertices_per_path_) : 1.0f;
+    }
+    cache_size_ = 0;
+    for (int64_t p0 = 0; p0 < light_paths; p0 += chunk_paths_) {
+        run_light_chunk(p0, int(std::min<int64_t>(chunk_paths_, light_paths - p0)));
+        if (cancel_->load()) return false;
+    }
+    stats_->cache_vertices = cache_size_;
+    vertices_per_path_ = double(cache_size_) / double(light_paths);
+    stats_->time_light_pass += seconds_since(t);
+    t = Clock::now();
+    if (mode_ == kBdptOwnPath) index_cache_by_path(light_paths);
+    stats_->time_cache += seconds_since(t);
+    t = Clock::now();
+    conn_cap_ = mode_ == kBdptOwnPath ? std::max(1, set_.max_depth - 1) : set_.connections;
+    const int64_t pixels = int64_t(width_) * height_;
+    const int chunk = std::max(spp_it, std::min(chunk_paths_, kGpuShadowBudget / conn_cap_));
+    const int64_t chunk_pixels = std::max<int64_t>(1, chunk / spp_it);
+    for (int64_t q0 = 0; q0 < pixels; q0 += chunk_pixels) {
+        const int64_t np = std::min(chunk_pixels, pixels - q0);
+        run_camera_chunk(q0 * spp_it, int(np * spp_it));
+        if (cancel_->load()) return false;
+    }
+    stats_->time_camera_pass += seconds_since(t);
+    return true;
+}
+
+// bdpt: the vertices of light path j are path_vertex[path_offset[j] .. path_offset[j + 1]), in
+// cache order (a stable sort of cache indices by path, then a binary search per path).
+void Renderer::index_cache_by_path(int64_t light_paths) {
+    const int nv = int(cache_size_);
+    const int np = int(light_paths);
+    path_offset_.grow(size_t(np) + 1);
+    path_key_.grow(std::max(nv, 1));
+    path_key_out_.grow(std::max(nv, 1));
+    path_vertex_.grow(std::max(nv, 1));
+    path_vertex_in_.grow(std::max(nv, 1));
+    const LightVertex* cache = cache_.data();
+    int32_t* key = path_key_.data();
+    int32_t* idx = path_vertex_in_.data();
+    each(stream_, nv, [=] __device__(int k) {
+        key[k] = cache[k].path;
+        idx[k] = k;
+    });
+    if (nv > 0) {
+        size_t bytes = 0;
+        const int end_bit = bits_for(uint32_t(np));
+        check(cub::DeviceRadixSort::SortPairs(nullptr, bytes, key, path_key_out_.data(), idx,
+                                              path_vertex_.data(), nv, 0, end_bit, stream_),
+              "DeviceRadixSort");
+        check(cub::DeviceRadixSort::SortPairs(temp(bytes), bytes, key, path_key_out_.data(), idx,
+                                              path_vertex_.data(), nv, 0, end_bit, stream_),
+              "DeviceRadixSort");
+    }
+    const int32_t* sorted = path_key_out_.data();
+    int32_t* off = path_offset_.data();
+    each(stream_, np + 1, [=] __device__(int j) {
+        int lo = 0, hi = nv;  // first sorted key >= j
+        while (lo < hi) {
+            const int mid = (lo + hi) >> 1;
+            if (sorted[mid] < j) lo = mid + 1; else hi = mid;
+        }
+        off[j] = lo;
+    });
+    check(cudaStreamSynchronize(stream_), "cache index");
+}
+
+void Renderer::run_light_chunk(int64_t first_path, int n) {
+    ensure_state(n, conn_cap_);
+    const SceneView s = sv_;
+    BdptSettings st = bdpt_settings();
+    if (pilot_) {
+        st.iteration = ~uint64_t(0);
+        pilot_count_ = 0;
+    }
+    const PathState ps = ps_;
+    const BdptState bs = bs_;
+    int32_t* q0 = queue_.data();
+    timed(stats_->time_generate, [&] {
+        each(stream_, n, [=] __device__(int i) {
+            bdpt_light_generate(s, ps, bs, st, i, first_path + i);
+            q0[i] = i;
+        });
+    });
+    int active = compact(n);
+    while (active > 0 && !cancel_->load()) {
+        stats_->rays_light += active;
+        trace(active, kBvhNeedIndirect);
+        sort_queue(active);
+        const int32_t* q = queue_.data();
+        timed(stats_->time_shade, [&] {
+            each(stream_, active, [=] __device__(int k) {
+                const int i = q[k];
+                bdpt_light_shade(s, ps, bs, st, i, first_path + i);
+            });
+        });
+        // store vertices in queue order: positions by an exclusive scan of the store flags
+        auto t = Clock::now();
+        int32_t* f = store_flag_.data();  // int: CUB sums in the input's type
+        int32_t* pos = scan_.data();
+        const uint8_t* store = bs.store;
+        each(stream_, active, [=] __device__(int k) { f[k] = store[q[k]]; });
+        size_t bytes = 0;
+        check(cub::DeviceScan::ExclusiveSum(nullptr, bytes, f, pos, active, stream_), "DeviceScan");
+        check(cub::DeviceScan::ExclusiveSum(temp(bytes), bytes, f, pos, active, stream_),
+              "DeviceScan");
+        int* total = small_.data() + 2;
+        const int last = active - 1;
+        each(stream_, 1, [=] __device__(int) { *total = pos[last] + f[last]; });
+        const int add = read_int(total);
+        if (pilot_) {
+            pilot_count_ += add;
+            active = compact(active);
+            continue;
+        }
+        if (size_t(cache_size_ + add) > cache_.capacity()) {
+            const size_t want = std::max<size_t>(size_t(cache_size_ + add), 2 * cache_.capacity());
+            try {
+                cache_.grow(want, size_t(cache_size_), stream_);
+            } catch (const CudaUnavailable&) {
+                cache_.grow(size_t(cache_size_ + add), size_t(cache_size_), stream_);
+            }
+        }
+        LightVertex* dst = cache_.data() + cache_size_;
+        const LightVertex* vtx = bs.vertex;
+        each(stream_, active, [=] __device__(int k) {
+            if (f[k]) dst[pos[k]] = vtx[q[k]];
+        });
+        cache_size_ += add;
+        check(cudaStreamSynchronize(stream_), "cache store");
+        stats_->time_cache += seconds_since(t);
+        stats_->rays_light_tracing += test_camera_segments(active);
+        timed(stats_->time_splat, [&] { splat(active); });
+        active = compact(active);
+    }
+    count_dropped(n);
+}
+
+void Renderer::run_camera_chunk(int64_t first_path, int n) {
+    ensure_state(n, conn_cap_);
+    const SceneView s = sv_;
+    const BdptSettings st = bdpt_settings();
+    const PathState ps = ps_;
+    const BdptState bs = bs_;
+    const Tracer tr = tracer_;
+    const LightCache cache{cache_.data(), int32_t(cache_size_),
+                           mode_ == kBdptOwnPath ? path_offset_.data() : nullptr,
+                           mode_ == kBdptOwnPath ? path_vertex_.data() : nullptr};
+    int32_t* q0 = queue_.data();
+    timed(stats_->time_generate, [&] {
+        each(stream_, n, [=] __device__(int i) {
+            bdpt_camera_generate(s, ps, bs, st, i, first_path + i);
+            q0[i] = i;
+        });
+    });
+    int active = n;
+    stats_->rays_camera += n;
+    bool first = true;
+    uint8_t* vis = conn_vis_.data();
+    unsigned long long* ctr = counters_.data();
+    while (active > 0 && !cancel_->load()) {
+        trace(active, first ? kBvhNeedCamera : kBvhNeedIndirect);
+        sort_queue(active);
+        const int32_t* q = queue_.data();
+        timed(stats_->time_shade, [&] {
+            each(stream_, active, [=] __device__(int k) {
+                const int i = q[k];
+                bdpt_camera_shade(s, ps, bs, st, cache, i, first_path + i);
+            }, 64);
+        });
+        // every shadow ray of the bounce, one thread each: [next event, connections...] per slot
+        const int per = bs.conn_cap + 1;
+        timed(stats_->time_shadow, [&] {
+            each(stream_, active * per, [=] __device__(int e) {
+                const int k = e / per, j = e - k * per;
+                const int i = q[k];
+                uint8_t v = 0;
+                if (j == 0) {
+                    if (ps.shadow_valid[i]) {
+                        atomicAdd(ctr + kCtrShadow, 1ull);
+                        const Ray r{ps.shadow_o[i], ps.shadow_d[i], 0.0f, ps.shadow_tmax[i]};
+                        v = tr.blocked(r, kBvhNeedShadow) ? 0 : 1;
+                    }
+                } else if (j - 1 < bs.conn_n[i]) {
+                    atomicAdd(ctr + kCtrConnection, 1ull);
+                    const size_t c = size_t(i) * bs.conn_cap + (j - 1);
+                    const Ray r{bs.conn_o[c], bs.conn_d[c], 0.0f, bs.conn_tmax[c]};
+                    v = tr.blocked(r, kBvhNeedShadow) ? 0 : 1;
+                }
+                vis[e] = v;
+            });
+            each(stream_, active, [=] __device__(int k) {
+                const int i = q[k];
+                const uint8_t* v = vis + size_t(k) * per;
+                if (v[0]) add_radiance(ps, i, ps.shadow_contrib[i]);
+                for (int j = 0; j < bs.conn_n[i]; ++j)
+                    if (v[1 + j]) add_radiance(ps, i, bs.conn_c[size_t(i) * bs.conn_cap + j]);
+            });
+        });
+        active = compact(active);
+        if (active) stats_->rays_indirect += active;
+        first = false;
+    }
+    if (cancel_->load()) return;
+    film(first_path, n);
+}
+
+// Out of memory inside a step: the step starts again with half as many paths in flight (the
+// wavefront state shrinks with them), down to kGpuMinChunkPaths; only then does the session
+// hear of it (and go on on the CPU).
+bool Renderer::step(const SessionSettings& settings, uint64_t& iteration, SessionStats& stats,
+                    const std::atomic<bool>& cancel, std::vector<std::string>& warnings) {
+    for (;;) {
+        const SessionStats saved = stats;
+        try {
+            return try_step(settings, iteration, stats, cancel, warnings);
+        } catch (const CudaUnavailable& e) {
+            if (chunk_paths_ <= kGpuMinChunkPaths) throw;
+            cudaStreamSynchronize(stream_);
+            cudaGetLastError();
+            stats = saved;
+            release_state();
+            cache_.release();  // and a smaller light vertex cache: more, smaller passes
+            cache_size_ = 0;
+            budget_scale_ *= 0.5;
+            split_warned_ = false;
+            chunk_paths_ /= 2;
+            warnings.push_back(std::string("GPU memory is short (") + e.what() + "): " +
+                               std::to_string(chunk_paths_) + " paths in flight from now on");
+        }
+    }
+}
+
+void Renderer::release_state() {
+    for (auto* a : {&ray_o_, &ray_d_, &throughput_, &radiance_, &shadow_o_, &shadow_d_,
+                    &shadow_c_, &power_, &conn_o_, &conn_d_, &conn_c_})
+        a->release();
+    for (auto* a : {&ray_tmin_, &ray_tmax_, &prev_pdf_, &hit_t_, &shadow_tmax_, &dvcm_, &dvc_,
+                    &conn_tmax_})
+        a->release();
+    for (auto* a : {&depth_, &hit_prim_, &queue_, &next_queue_, &scan_, &store_flag_, &light_id_,
+                    &conn_n_, &path_key_, &path_key_out_, &path_vertex_, &path_vertex_in_,
+                    &path_offset_})
+        a->release();
+    for (auto* a : {&alive_, &dropped_, &shadow_valid_, &occluded_, &flags_, &store_, &conn_vis_,
+                    &temp_})
+        a->release();
+    for (auto* a : {&hit_uv_, &splat_xy_}) a->release();
+    for (auto* a : {&keys_, &keys_out_}) a->release();
+    vertex_.release();
+    rng_.release();
+    state_cap_ = 0;
+}
+
+bool Renderer::try_step(const SessionSettings& settings, uint64_t& iteration, SessionStats& stats,
+                        const std::atomic<bool>& cancel, std::vector<std::string>& warnings) {
+    set_ = settings;
+    stats_ = &stats;
+    cancel_ = &cancel;
+    iteration_ = iteration;
+    const std::string& integ = set_.integrator;
+    bidirectional_ = integ == "bdpt" || integ == "lvc" || integ == "cis";
+    mode_ = integ == "bdpt" ? kBdptOwnPath : integ == "lvc" ? kLvcUniform : kCisResampled;
+    sort_ = set_.sort < 0 ? integ == "cis" : set_.sort != 0;
+    const int spp_it = set_.spp_per_iteration;
+    const int64_t pixels = int64_t(width_) * height_;
+    const size_t px3 = size_t(pixels) * 3;
+    check(cudaMemsetAsync(iter_.data(), 0, px3 * sizeof(double), stream_), "cudaMemsetAsync");
+    check(cudaMemsetAsync(counters_.data(), 0, kCtrCount * sizeof(unsigned long long), stream_),
+          "cudaMemsetAsync");
+    if (bidirectional_) {
+        const int per_pass = bdpt_samples_per_pass(spp_it, warnings);
+        for (int done = 0; done < spp_it;) {
+            const int s = std::min(per_pass, spp_it - done);
+            set_.spp_per_iteration = s;
+            if (!run_bdpt_iteration()) return false;
+            ++iteration_;
+            done += s;
+        }
+        set_.spp_per_iteration = spp_it;
+    } else {
+        const int64_t chunk_pixels = std::max<int64_t>(1, chunk_paths_ / spp_it);
+        for (int64_t p0 = 0; p0 < pixels; p0 += chunk_pixels) {
+            const int64_t np = std::min(chunk_pixels, pixels - p0);
+            if (integ == "lt") {
+                run_lt_chunk(p0 * spp_it, int(np * spp_it));
+            } else {
+                run_pt_chunk(p0 * spp_it, int(np * spp_it));
+            }
+            if (cancel_->load()) return false;
+        }
+        ++iteration_;
+    }
+    finish_step();
+    iteration = iteration_;
+    return true;
+}
+
+// The iteration joins the running sum once the last readback of the sum has finished, then a
+// copy of the sum starts on the copy stream (pinned memory): accum() waits for that copy only.
+void Renderer::finish_step() {
+    check(cudaStreamWaitEvent(stream_, copy_done_, 0), "cudaStreamWaitEvent");
+    const size_t px3 = size_t(width_) * height_ * 3;
+    double* sum = sum_.data();
+    const double* it = iter_.data();
+    each(stream_, int(px3), [=] __device__(int k) { sum[k] += it[k]; }, 256);
+    check(cudaMemcpyAsync(host_counters_, counters_.data(), kCtrCount * sizeof(unsigned long long),
+                          cudaMemcpyDeviceToHost, stream_),
+          "cudaMemcpyAsync");
+    check(cudaEventRecord(sum_ready_, stream_), "cudaEventRecord");
+    check(cudaStreamWaitEvent(copy_stream_, sum_ready_, 0), "cudaStreamWaitEvent");
+    check(cudaMemcpyAsync(host_sum_, sum, px3 * sizeof(double), cudaMemcpyDeviceToHost,
+                          copy_stream_),
+          "cudaMemcpyAsync");
+    check(cudaEventRecord(copy_done_, copy_stream_), "cudaEventRecord");
+    check(cudaStreamSynchronize(stream_), "step");
+    stats_->rays_shadow += int64_t(host_counters_[kCtrShadow]);
+    stats_->rays_connection += int64_t(host_counters_[kCtrConnection]);
+    stats_->nonfinite_dropped += int64_t(host_counters_[kCtrDropped]);
+    stats_->device_memory_peak = mem_.peak;
+    size_t free_b = 0, total_b = 0;
+    if (cudaMemGetInfo(&free_b, &total_b) == cudaSuccess)
+        used_peak_ = std::max(used_peak_, free_at_start_ - int64_t(free_b));
+    stats_->device_memory_used = used_peak_;
+}
+
+std::vector<double> Renderer::accum() {
+    check(cudaEventSynchronize(copy_done_), "readback");
+    const size_t px3 = size_t(width_) * height_ * 3;
+    return std::vector<double>(host_sum_, host_sum_ + px3);
+}
+
+}  // namespace cuda_detail
+
+CudaInfo cuda_info() {
+    CudaInfo info;
+    info.compiled = true;
+    const char* off = std::getenv("LANTERN_DISABLE_CUDA");
+    if (off && *off && std::string(off) != "0") {
+        info.reason = "disabled by LANTERN_DISABLE_CUDA";
+        return info;
+    }
+    int count = 0;
+    cudaError_t e = cudaGetDeviceCount(&count);
+    if (e != cudaSuccess) {
+        cudaGetLastError();
+        const std::string err = std::string("CUDA: ") + cudaGetErrorString(e);
+        if (e == cudaErrorInsufficientDriver) {
+            info.reason = "no NVIDIA driver found, or one too old for this build's CUDA " +
+                          std::to_string(CUDART_VERSION / 1000) + "." +
+                          std::to_string(CUDART_VERSION % 1000 / 10) + " runtime (" + err + ")";
+        } else if (e == cudaErrorNoDevice) {
+            info.reason = "no CUDA-capable GPU found (" + err + ")";
+        } else {
+            info.reason = "the CUDA driver cannot be used (" + err + ")";
+        }
+        return info;
+    }
+    if (count == 0) {
+        info.reason = "no CUDA device";
+        return info;
+    }
+    cudaDeviceProp prop{};
+    if (cudaGetDeviceProperties(&prop, 0) != cudaSuccess) {
+        cudaGetLastError();
+        info.reason = "cannot read the properties of CUDA device 0";
+        return info;
+    }
+    info.name = prop.name;
+    info.memory_bytes = int64_t(prop.totalGlobalMem);
+    info.compute_capability = std::to_string(prop.major) + "." + std::to_string(prop.minor);
+    cudaFuncAttributes attr{};
+    e = cudaFuncGetAttributes(&attr, cuda_detail::probe_kernel);
+    if (e != cudaSuccess) {
+        cudaGetLastError();
+        info.reason = "this build has no kernels for compute capability " +
+                      info.compute_capability + " (" + cudaGetErrorString(e) + ")";
+        return info;
+    }
+    info.available = true;
+    return info;
+}
+
+std::unique_ptr<CudaRenderer> make_cuda_renderer(const HostScene& scene,
+                                                 const SessionSettings& settings,
+                                                 std::vector<std::string>& warnings) {
+    const CudaInfo info = cuda_info();
+    if (!info.available) throw CudaUnavailable(info.reason);
+    return std::make_unique<cuda_detail::Renderer>(scene, settings, warnings);
+}
+
+}  // namespace lantern
