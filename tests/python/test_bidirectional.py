@@ -6,7 +6,6 @@ z = (mean_a - mean_pt) / sqrt(se_a^2 + se_pt^2), standard errors from the spread
 (Student t with K - 1 dof). Every |z| must stay under the Bonferroni threshold (alpha 1e-3 over
 all blocks), and no more blocks than a fair comparison gives may exceed |z| = 3 (binomial 99.9%
 bound on the t tail probability). The worst z-score is printed."""
-import math
 import time
 
 import numpy as np
@@ -35,24 +34,6 @@ def core():
     return _core  # without Embree the CPU backend uses its built-in BVH
 
 
-def _t_tail(t, dof):
-    """P(|T| > t) for Student's t with `dof` degrees of freedom (numerical integration)."""
-    c = math.gamma((dof + 1) / 2) / (math.sqrt(dof * math.pi) * math.gamma(dof / 2))
-    xs = np.linspace(t, t + 200.0, 400001)
-    pdf = c * (1.0 + xs * xs / dof) ** (-(dof + 1) / 2)
-    return 2.0 * float(np.trapz(pdf, xs))
-
-
-def _binomial_bound(n, p, alpha=1e-3):
-    """Smallest m with P(Binomial(n, p) > m) <= alpha."""
-    total, m = 0.0, 0
-    while True:
-        total += math.comb(n, m) * p ** m * (1 - p) ** (n - m)
-        if 1.0 - total <= alpha:
-            return m
-        m += 1
-
-
 def renders(scene, integrator, spp, seed0, k_seeds=K, backend="cpu", **settings):
     out = []
     for k in range(k_seeds):
@@ -66,11 +47,8 @@ def renders(scene, integrator, spp, seed0, k_seeds=K, backend="cpu", **settings)
 
 def check_agreement(name, renders_a, renders_pt):
     """renders_pt: the reference set (pt unless the test says otherwise)."""
-    cmp = metrics.compare_sets(renders_a, renders_pt, block=8)
+    _, cmp, over3, allowed = metrics.agreement(renders_a, renders_pt, block=8)
     thr = cmp.threshold(1e-3)
-    p3 = _t_tail(3.0, cmp.dof)
-    allowed = _binomial_bound(cmp.n, p3)
-    over3 = int(np.sum(np.abs(cmp.z) > 3.0))
     ma = np.stack(renders_a).mean(axis=(0, 1, 2))
     mp = np.stack(renders_pt).mean(axis=(0, 1, 2))
     print(f"{name}: worst |z| {cmp.worst:.2f} (Bonferroni threshold {thr:.2f}, {cmp.n} blocks, "
