@@ -140,7 +140,7 @@ else
 fi
 tlimit=$(( $(left) - 200 )); [ $tlimit -lt 60 ] && tlimit=60
 LANTERN_TEST_BACKENDS=$TEST_BACKENDS LANTERN_TEST_BACKENDS_STRICT=1 MPLBACKEND=Agg \
-    timeout "$tlimit" "$PY" -m pytest -q -rfEs -p no:cacheprovider --durations=10 \
+    timeout "$tlimit" "$PY" -m pytest -v -rfEs -p no:cacheprovider --durations=10 \
     "${PYTEST_ARGS[@]}" > "$LOG/pytest.txt" 2>&1
 rc=$?
 [ $rc = 124 ] && echo "gpu_check: pytest stopped after ${tlimit}s" >> "$LOG/pytest.txt"
