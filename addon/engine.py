@@ -39,6 +39,17 @@ def _report_warnings(engine, messages):
         engine.report({"WARNING"}, f"Lantern: {message}")
 
 
+def _report_info(engine, message):
+    print(f"Lantern: {message}")
+    engine.report({"INFO"}, f"Lantern: {message}")
+
+
+def backend_message(session):
+    """Which backend renders, in words for the render report: "rendering on the GPU (CUDA)"."""
+    used = getattr(session, "backend", "cpu")
+    return "rendering on the GPU (CUDA)" if used == "cuda" else "rendering on the CPU"
+
+
 def to_rect(image):
     """Mean radiance (H, W, 3), top row first -> Blender's RGBA rect, bottom row first."""
     h, w = image.shape[:2]
@@ -94,7 +105,8 @@ def render(engine, depsgraph):
         scene, report = export_scene(depsgraph)
         _report_warnings(engine, report.messages)
         session = lantern.Session(scene, **settings.session_settings())
-        _report_warnings(engine, session.warnings)
+        _report_warnings(engine, session.warnings)  # a CUDA fallback says why here
+        _report_info(engine, backend_message(session))
     except Exception as e:
         _report_error(engine, "could not start the render", e)
         return
@@ -127,12 +139,12 @@ def _render_loop(engine, session, result, target, time_limit, t0):
         stats = session.stats
         mrays = stats.get("rays_total", 0) / max(elapsed, 1e-9) / 1e6
         engine.update_stats("", f"Sample {session.spp}/{target} | {elapsed:.1f} s | "
-                                f"{mrays:.1f} Mrays/s")
+                                f"{mrays:.1f} Mrays/s | {getattr(session, 'backend', 'cpu')}")
         engine.update_progress(min(1.0, session.spp / max(1, target)))
         if cancelled or session.spp <= before or engine.test_break() or _past(time_limit, start):
             break
-    print(f"Lantern: {session.spp} spp in {time.perf_counter() - start:.2f} s "
-          f"(export and set-up {start - t0:.2f} s)")
+    print(f"Lantern: {session.spp} spp in {time.perf_counter() - start:.2f} s on "
+          f"{getattr(session, 'backend', 'cpu')} (export and set-up {start - t0:.2f} s)")
 
 
 def _past(time_limit, start):
@@ -161,6 +173,7 @@ class EngineState:
         # image pixels read by earlier viewport exports, by image name (export/texture.py):
         # an edit elsewhere re-exports the scene without re-reading unchanged images
         self.texture_cache = {}
+        self.reported = set()      # session warnings already shown (a CUDA fallback: once)
         _live_states.add(self)
 
     def stop_session(self):
@@ -248,6 +261,8 @@ def view_draw(engine, context, depsgraph):
             settings = context.scene.lantern
             state.view_key, state.dirty, state.error = view.key(), False, None
             session = lantern.Session(scene, **settings.session_settings())
+            _report_warnings(engine, [w for w in session.warnings if w not in state.reported])
+            state.reported.update(session.warnings)
             state.start_session(session, settings.preview_samples)  # old image shows meanwhile
         if state.error is not None:
             error, state.error = state.error, None

@@ -27,9 +27,11 @@ class LanternSceneSettings(bpy.types.PropertyGroup):
         default="pt")
     backend: EnumProperty(
         name="Device",
-        items=[("auto", "Automatic", "The GPU when one is usable, else the CPU"),
-               ("cpu", "CPU", "Render on the CPU (Embree)"),
-               ("cuda", "GPU (CUDA)", "Render on an NVIDIA GPU")],
+        description="Where to render; a GPU that is missing or out of memory falls back to "
+                    "the CPU with a warning",
+        items=[("auto", "Auto", "The GPU when one is usable, else the CPU"),
+               ("cuda", "GPU (CUDA)", "Render on an NVIDIA GPU (CUDA)"),
+               ("cpu", "CPU", "Render on the CPU (Embree, or Lantern's own BVH without it)")],
         default="auto")
     connections: IntProperty(name="Connections (N)", description="Light vertices each camera "
                              "vertex connects to", default=5, min=1, max=64)

@@ -4,6 +4,25 @@ import bpy
 
 ENGINE = "LANTERN"
 
+_gpu_label = None
+
+
+def gpu_label():
+    """One line about the GPU, asked once per Blender session (the driver query is not free)."""
+    global _gpu_label
+    if _gpu_label is None:
+        try:
+            import lantern
+            info = lantern.cuda_info()
+        except Exception as e:  # the package is missing or broken: the render reports it
+            info = {"available": False, "reason": str(e)}
+        if info.get("available"):
+            gib = info.get("memory_bytes", 0) / 2 ** 30
+            _gpu_label = f"GPU: {info.get('name') or 'CUDA device'} ({gib:.0f} GB)"
+        else:
+            _gpu_label = f"No GPU: {info.get('reason') or 'unknown reason'}; renders on the CPU"
+    return _gpu_label
+
 
 class LANTERN_PT_render(bpy.types.Panel):
     bl_label = "Lantern"
@@ -22,6 +41,10 @@ class LANTERN_PT_render(bpy.types.Panel):
         layout.use_property_split = True
         layout.prop(s, "integrator")
         layout.prop(s, "backend")
+        if s.backend != "cpu":
+            row = layout.row()
+            row.alignment = "RIGHT"
+            row.label(text=gpu_label())
         col = layout.column(align=True)
         col.prop(s, "samples")
         col.prop(s, "preview_samples")

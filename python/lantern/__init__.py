@@ -5,7 +5,7 @@ module; `Session` and `render` need `lantern._core`, built from the repository r
 `pip install --no-build-isolation --no-deps .`."""
 
 from .scene import Scene, load_scene
-from .session import Session, render, native_available, native_error
+from .session import Session, render, native_available, native_error, cuda_info
 
 __version__ = "0.1.0"
 
@@ -16,5 +16,6 @@ __all__ = [
     "render",
     "native_available",
     "native_error",
+    "cuda_info",
     "__version__",
 ]

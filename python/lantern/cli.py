@@ -124,6 +124,14 @@ def cmd_render(args):
                       candidates=args.candidates, sort=args.sort)
     for w in session.warnings:
         print(f"lantern: warning: {w}", file=sys.stderr)
+    used = session.backend
+    if not args.quiet:
+        gpu = ""
+        if used == "cuda":
+            from .session import cuda_info
+            info = cuda_info()
+            gpu = f" ({info.get('name') or 'GPU'}, {info.get('memory_bytes', 0) / 2**30:.0f} GiB)"
+        print(f"lantern: backend {used}{gpu} (asked: {args.backend})", file=sys.stderr)
     start = time.monotonic()
     last_print = -1.0
     try:
@@ -152,7 +160,7 @@ def cmd_render(args):
         imageio.write_image(args.png, img)
     if not args.quiet:
         print(f"lantern: wrote {args.output} ({session.spp} spp, "
-              f"{time.monotonic() - start:.1f} s)", file=sys.stderr)
+              f"{time.monotonic() - start:.1f} s, backend {used})", file=sys.stderr)
     return 0
 
 

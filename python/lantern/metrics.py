@@ -100,6 +100,36 @@ def z_threshold(n_tests, alpha=1e-3, dof=None):
             / (92160 * v ** 4))
 
 
+def t_tail(t, dof):
+    """P(|T| > t) for Student's t with `dof` degrees of freedom (numerical integration)."""
+    c = math.gamma((dof + 1) / 2) / (math.sqrt(dof * math.pi) * math.gamma(dof / 2))
+    xs = np.linspace(t, t + 200.0, 400001)
+    pdf = c * (1.0 + xs * xs / dof) ** (-(dof + 1) / 2)
+    trapezoid = getattr(np, "trapezoid", None) or np.trapz  # numpy 2 renamed it
+    return 2.0 * float(trapezoid(pdf, xs))
+
+
+def binomial_bound(n, p, alpha=1e-3):
+    """Smallest m with P(Binomial(n, p) > m) <= alpha."""
+    total, m = 0.0, 0
+    while True:
+        total += math.comb(n, m) * p ** m * (1 - p) ** (n - m)
+        if 1.0 - total <= alpha:
+            return m
+        m += 1
+
+
+def agreement(renders_a, renders_b, block=8, alpha=1e-3):
+    """The cross-integrator test (tests/python/test_bidirectional.py): two sets of independent
+    renders agree when every block's |z| is under the Bonferroni threshold for `alpha` and no
+    more blocks exceed |z| = 3 than a fair comparison gives (binomial bound at `alpha` on the
+    t tail probability). Returns (passed, Comparison, over3, allowed)."""
+    cmp = compare_sets(renders_a, renders_b, block=block)
+    allowed = binomial_bound(cmp.n, t_tail(3.0, cmp.dof), alpha)
+    over3 = int(np.sum(np.abs(cmp.z) > 3.0))
+    return cmp.passed(alpha) and over3 <= allowed, cmp, over3, allowed
+
+
 @dataclass
 class Comparison:
     """Per-block z-scores of a - b: `z` (Bh, Bw, C); `mean_a`, `mean_b`, `se` alike; `dof`

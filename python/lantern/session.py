@@ -1,7 +1,11 @@
 """`Session` and `render`: the Python face of the native core (`lantern._core`).
 
 Settings are checked here (names, ranges, reserved integrators, backend fallback) before they
-reach `_core.Session`; the core gets plain dicts and numpy arrays only."""
+reach `_core.Session`; the core gets plain dicts and numpy arrays only.
+
+Backends: a core with `cuda_info()` gets "cuda" and "auto" as asked and chooses itself (falling
+back to the CPU with a warning when no GPU is usable); `Session.backend` says which one
+rendered. A core without `cuda_info()` has only the CPU: "cuda" and "auto" become "cpu" here."""
 
 import importlib
 import logging
@@ -74,6 +78,47 @@ def require_core():
     return core
 
 
+NO_CUDA_INFO = {"compiled": False, "available": False,
+                "reason": "this build of lantern._core has no CUDA backend",
+                "name": "", "memory_bytes": 0, "compute_capability": ""}
+
+
+def _native_has_cuda():
+    """True when the native module has the CUDA backend's interface (`cuda_info`)."""
+    core = _load_core()
+    return core is not None and hasattr(core, "cuda_info")
+
+
+def cuda_info():
+    """The native module's `cuda_info()` dict: compiled, available, reason, name,
+    memory_bytes, compute_capability. Without the native module or without CUDA in it:
+    compiled and available False, with the reason."""
+    core = _load_core()
+    if core is None:
+        return dict(NO_CUDA_INFO, reason=f"lantern._core is not available ({_core_error})")
+    if not hasattr(core, "cuda_info"):
+        return dict(NO_CUDA_INFO)
+    info = dict(NO_CUDA_INFO)
+    info.update(dict(core.cuda_info()))
+    return info
+
+
+def backend_unavailable(name):
+    """None when backend `name` ("cpu", "cuda") can render here, else the reason why not."""
+    if name not in ("cpu", "cuda"):
+        return f"unknown backend {name!r} (cpu, cuda)"
+    if _load_core() is None:
+        return f"lantern._core is not available ({_core_error})"
+    if name == "cpu":
+        return None
+    info = cuda_info()
+    if not info.get("compiled"):
+        return f"CUDA is not compiled in: {info.get('reason') or 'no reason given'}"
+    if not info.get("available"):
+        return f"no usable CUDA GPU: {info.get('reason') or 'no reason given'}"
+    return None
+
+
 def _check_int(name, value, lo, hi):
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
         raise TypeError(f"setting {name!r} must be an integer, got {value!r}")
@@ -107,9 +152,9 @@ def resolve_settings(settings):
     backend = out["backend"]
     if backend not in BACKENDS:
         raise ValueError(f"setting 'backend' must be one of {BACKENDS}, got {backend!r}")
-    if backend in ("cuda", "auto"):
+    if backend in ("cuda", "auto") and not _native_has_cuda():
         if backend == "cuda":
-            warnings.append("the CUDA backend is not available yet; rendering on the CPU")
+            warnings.append("this build of lantern has no CUDA backend; rendering on the CPU")
         out["backend"] = "cpu"
 
     out["spp_per_iteration"] = _check_int("spp_per_iteration", out["spp_per_iteration"], 1, 4096)
@@ -170,6 +215,15 @@ class Session:
         return dict(_value(self._native.stats))
 
     @property
+    def backend(self):
+        """The backend that really renders: "cpu" or "cuda" (after any fallback)."""
+        native = getattr(self._native, "backend", None)
+        if native is not None:
+            return str(_value(native))
+        stats_backend = self.stats.get("backend")
+        return str(stats_backend) if stats_backend else self.settings["backend"]
+
+    @property
     def warnings(self):
         return list(self._warnings) + list(_value(self._native.warnings))
 
@@ -179,7 +233,7 @@ class Session:
         self._native.cancel()
 
     def __repr__(self):
-        return (f"<lantern.Session {self.settings['integrator']}/{self.settings['backend']} "
+        return (f"<lantern.Session {self.settings['integrator']}/{self.backend} "
                 f"spp={self.spp}>")
 
 

@@ -39,3 +39,15 @@ def test_unregister_restores_panels(addon):
     finally:
         addon.register()
     assert "LANTERN" in bpy.types.RENDER_PT_format.COMPAT_ENGINES
+
+
+def test_panel_names_the_gpu_or_why_not(addon):
+    import lantern
+    from lantern_blender import ui
+    ui._gpu_label = None
+    label = ui.gpu_label()
+    reason = lantern.session.backend_unavailable("cuda")
+    if reason:
+        assert label.startswith("No GPU: ") and "CPU" in label, label
+    else:
+        assert label.startswith("GPU: ") and lantern.cuda_info()["name"] in label, label

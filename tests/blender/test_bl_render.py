@@ -366,3 +366,36 @@ def test_white_principled_furnace_through_f12(empty, tmp_path, errors, integrato
           f"min {sphere.min():.3f}, max {sphere.max():.3f}")
     assert abs(mean - 1.0) < 0.02, mean
     assert not [c for c in errors if c[0] == "ERROR"]
+
+
+def test_backend_choice_is_reported(empty, tmp_path, errors, addon, monkeypatch):
+    """The Device setting reaches the session; the render report says which backend rendered;
+    asking for the GPU where none is usable renders on the CPU with a warning (not an error)."""
+    infos = []
+    orig = addon.engine._report_info
+    monkeypatch.setattr(addon.engine, "_report_info",
+                        lambda eng, msg: (infos.append(msg), orig(eng, msg)))
+    add_camera(empty, location=(0, 0, 5))
+    add_plane(empty, size=100.0, material=emission_material(2.0, (1, 1, 1)))
+    empty.lantern.samples = 2
+    empty.lantern.backend = "cuda"
+    px = render_exr(empty, tmp_path)
+    np.testing.assert_allclose(px[..., :3], 2.0, rtol=1e-4)
+    assert not [c for c in errors if c[0] == "ERROR"], errors
+    gpu_missing = lantern.session.backend_unavailable("cuda")
+    if gpu_missing:
+        assert infos == ["rendering on the CPU"], infos
+        assert any(c[0] == "WARNING" and "CUDA" in c[1] for c in errors), errors
+    else:
+        assert infos == ["rendering on the GPU (CUDA)"], infos
+    infos.clear()
+    empty.lantern.backend = "cpu"
+    render_exr(empty, tmp_path)
+    assert infos == ["rendering on the CPU"]
+
+
+def test_device_choices():
+    from lantern_blender.properties import LanternSceneSettings
+    items = LanternSceneSettings.__annotations__["backend"].keywords["items"]
+    assert [(i[0], i[1]) for i in items] == [("auto", "Auto"), ("cuda", "GPU (CUDA)"),
+                                             ("cpu", "CPU")]

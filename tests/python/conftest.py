@@ -35,3 +35,37 @@ import lantern  # noqa: E402  (after the path fix on purpose)
 if (_installed and os.path.realpath(_installed) != os.path.realpath(_here)
         and not _has_core(_here) and _has_core(_installed)):
     lantern.__path__.append(_installed)
+
+
+# ---- Backends ----
+# Tests that take a `backend` argument run once per backend in LANTERN_TEST_BACKENDS (comma
+# separated, default "cpu", e.g. "cpu,cuda"). A backend this build or machine cannot use is
+# skipped with the reason from lantern.cuda_info(); LANTERN_TEST_BACKENDS_STRICT=1 (the GPU
+# check) turns those skips into failures, so a broken CUDA build cannot pass as all-skipped.
+import pytest  # noqa: E402
+
+
+def test_backends():
+    names = [b.strip() for b in os.environ.get("LANTERN_TEST_BACKENDS", "cpu").split(",")]
+    return [b for b in names if b] or ["cpu"]
+
+
+test_backends.__test__ = False  # not a test
+
+
+def pytest_generate_tests(metafunc):
+    if "backend" in metafunc.fixturenames and not any(
+            "backend" in m.args[0] for m in metafunc.definition.iter_markers("parametrize")):
+        metafunc.parametrize("backend", test_backends(), indirect=True)
+
+
+@pytest.fixture
+def backend(request):
+    from lantern import session
+    name = request.param
+    reason = session.backend_unavailable(name)
+    if reason:
+        if os.environ.get("LANTERN_TEST_BACKENDS_STRICT") == "1":
+            pytest.fail(f"backend {name!r} was asked for but is unavailable: {reason}")
+        pytest.skip(f"backend {name!r}: {reason}")
+    return name

@@ -111,6 +111,7 @@ def test_render_through_stand_in_core(scene_file, tmp_path, fake, capsys):
                         "cache_budget_mb": 0}
     assert s.spp == 6 and s.stats()["iterations"] == 3
     assert "6/6 spp" in err and "Mrays/s" in err
+    assert "backend cpu (asked: auto)" in err and "backend cpu)" in err
     img = imageio.read_image(out)
     assert img.shape == (12, 16, 3) and np.allclose(img, [0.25, 0.5, 1.0])
     assert imageio.read_image(png).shape == (12, 16, 3)

@@ -21,8 +21,6 @@ def core():
     if not lantern.native_available():
         pytest.skip(f"lantern._core is not built ({lantern.native_error()})")
     from lantern import _core
-    if hasattr(_core, "embree_available") and not _core.embree_available():
-        pytest.skip("lantern._core was built without Embree")
     return _core
 
 
@@ -75,18 +73,19 @@ def cornell_sun():
     return scene
 
 
-def renders(scene, integrator, spp, seed0):
+def renders(scene, integrator, spp, seed0, backend="cpu"):
     return [lantern.render(scene, spp=spp, seed=seed0 + k, integrator=integrator,
-                           backend="cpu", max_depth=8) for k in range(K)]
+                           backend=backend, max_depth=8) for k in range(K)]
 
 
 @pytest.mark.parametrize("make", [cornell_area, cornell_point, cornell_mesh_light, cornell_spot,
                                   cornell_sphere, cornell_sun])
-def test_lt_matches_pt(core, make):
+def test_lt_matches_pt(core, make, backend):
     scene = make()
     t0 = time.perf_counter()
-    pt = renders(scene, "pt", 512, 1000)
-    lt = renders(scene, "lt", 256, 2000)  # lt is noisier where the emitter itself is seen
+    pt = renders(scene, "pt", 512, 1000, backend=backend)
+    # lt is noisier where the emitter itself is seen
+    lt = renders(scene, "lt", 256, 2000, backend=backend)
     cmp = metrics.compare_sets(lt, pt, block=8)
     thr = cmp.threshold(1e-3)
     mean_pt = np.stack(pt).mean(axis=(0, 1, 2))
@@ -111,7 +110,7 @@ def test_lt_same_bits_any_thread_count(core):
     assert not np.array_equal(a, c)
 
 
-def test_lt_refuses_soft_falloff_lights(core):
+def test_lt_refuses_soft_falloff_lights(core, backend):
     scene = scenes.cornell_box(8, 8)
     scene.add_light("point", position=[0.0, 0.0, 1.0], power=[10.0] * 3, radius=0.1,
                     soft_falloff=True)

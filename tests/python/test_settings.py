@@ -8,7 +8,8 @@ import lantern
 from lantern import scenes, session
 
 
-def test_defaults():
+def test_defaults(monkeypatch):
+    monkeypatch.setattr(session, "_native_has_cuda", lambda: False)  # a CPU-only core
     settings, warnings = session.resolve_settings({})
     assert settings == {"integrator": "pt", "backend": "cpu", "spp_per_iteration": 1,
                         "max_depth": 16, "seed": 0, "threads": 0, "rr_depth": 3,
@@ -53,12 +54,60 @@ def test_bad_values(settings, exc, message):
         session.resolve_settings(settings)
 
 
-def test_backend_fallback_warns():
+def test_backend_fallback_warns(monkeypatch):
+    # a core without cuda_info() (built before the CUDA backend): cuda and auto mean the CPU
+    monkeypatch.setattr(session, "_native_has_cuda", lambda: False)
     settings, warnings = session.resolve_settings({"backend": "cuda"})
     assert settings["backend"] == "cpu"
     assert any("CUDA" in w for w in warnings)
     settings, warnings = session.resolve_settings({"backend": "auto"})
-    assert settings["backend"] == "cpu"
+    assert settings["backend"] == "cpu" and warnings == []
+
+
+class _CudaCore:
+    """A stand-in core with the CUDA backend's interface: cuda_info() and Session.backend; its
+    GPU is unusable, so "cuda" falls back to the CPU with a warning, as the native core does."""
+    calls = []
+
+    @staticmethod
+    def cuda_info():
+        return {"compiled": True, "available": False, "reason": "no CUDA driver (test)",
+                "name": "", "memory_bytes": 0, "compute_capability": ""}
+
+    class Session:
+        def __init__(self, scene, settings):
+            _CudaCore.calls.append(settings)
+            self.backend = "cpu"
+            self._asked = settings["backend"]
+
+        def warnings(self):
+            return (["CUDA backend unavailable (no CUDA driver); rendering on the CPU"]
+                    if self._asked == "cuda" else [])
+
+
+def test_backend_passes_to_a_core_with_cuda(monkeypatch):
+    monkeypatch.setattr(session, "_core", _CudaCore)
+    monkeypatch.setattr(session, "_core_error", None)
+    _CudaCore.calls.clear()
+    for asked in ("cuda", "auto", "cpu"):
+        s = lantern.Session(scenes.furnace_sphere(subdivisions=1, width=4, height=4),
+                            backend=asked)
+        assert _CudaCore.calls[-1]["backend"] == asked  # the core decides, not Python
+        assert s.backend == "cpu"
+        assert any("CUDA" in w for w in s.warnings) == (asked == "cuda"), s.warnings
+    assert session.resolve_settings({})[0]["backend"] == "auto"
+    assert lantern.cuda_info()["compiled"] is True
+    assert "no CUDA driver (test)" in session.backend_unavailable("cuda")
+    assert session.backend_unavailable("cpu") is None
+
+
+def test_cuda_info_without_cuda(monkeypatch):
+    monkeypatch.setattr(session, "_core", object())  # a core without cuda_info
+    monkeypatch.setattr(session, "_core_error", None)
+    info = lantern.cuda_info()
+    assert info["compiled"] is False and info["available"] is False
+    assert "no CUDA backend" in session.backend_unavailable("cuda")
+    assert "unknown backend" in session.backend_unavailable("metal")
 
 
 def test_settings_checked_before_native(monkeypatch):

@@ -66,11 +66,11 @@ CHECKER = np.array([[[200, 30, 10, 255], [10, 180, 60, 255], [0, 0, 0, 255], [25
 
 @pytest.mark.parametrize("colorspace", ["srgb", "linear"])
 @pytest.mark.parametrize("integrator", ["pt", "cis"])
-def test_textured_plane_renders_its_texture(colorspace, integrator):
+def test_textured_plane_renders_its_texture(colorspace, integrator, backend):
     s = plane_scene()
     tex = s.add_texture(CHECKER, colorspace=colorspace, interpolation="closest")
     finish_plane(s, dict(base_color_texture=tex))
-    img = lantern.render(s, spp=16, integrator=integrator, seed=3, threads=2)
+    img = lantern.render(s, spp=16, integrator=integrator, seed=3, threads=2, backend=backend)
     assert np.isfinite(img).all()
     expected_all = CHECKER[..., :3] / 255.0
     if colorspace == "srgb":
@@ -89,7 +89,7 @@ def test_textured_plane_renders_its_texture(colorspace, integrator):
     assert worst < 5.0, worst
 
 
-def test_bilinear_ramp_and_wrap_modes():
+def test_bilinear_ramp_and_wrap_modes(backend):
     # two linear texels 0 and 255: bilinear filtering is the straight line between the texel
     # centres (u = 0.25 and 0.75); a symmetric pixel filter keeps a linear function's value
     ramp = np.array([[[0, 0, 0, 255], [255, 255, 255, 255]]], np.uint8)
@@ -102,7 +102,7 @@ def test_bilinear_ramp_and_wrap_modes():
         s = plane_scene()
         tex = s.add_texture(ramp, colorspace="linear", wrap=wrap)
         finish_plane(s, dict(base_color_texture=tex))
-        img = lantern.render(s, spp=16, integrator="pt", seed=5, threads=2)
+        img = lantern.render(s, spp=16, integrator="pt", seed=5, threads=2, backend=backend)
         cols = img[8:56, 2:62, 0].astype(np.float64)  # the outer columns also see the sky
         se = cols.std(axis=0, ddof=1) / math.sqrt(cols.shape[0]) + 1e-4
         z = np.abs(cols.mean(axis=0) - exp[2:62]) / se
@@ -112,7 +112,7 @@ def test_bilinear_ramp_and_wrap_modes():
     s = plane_scene()
     tex = s.add_texture(ramp, colorspace="srgb", wrap="extend")
     finish_plane(s, dict(base_color_texture=tex))
-    img = lantern.render(s, spp=16, integrator="pt", seed=5, threads=2)
+    img = lantern.render(s, spp=16, integrator="pt", seed=5, threads=2, backend=backend)
     cols = img[8:56, 2:62, 0].astype(np.float64)
     se = cols.std(axis=0, ddof=1) / math.sqrt(cols.shape[0]) + 1e-4
     exp = srgb_to_linear(np.clip(line, 0.0, 1.0))[2:62]
@@ -126,7 +126,7 @@ def test_bilinear_ramp_and_wrap_modes():
     tex = s.add_texture(white, colorspace="linear", wrap="clip", interpolation="closest",
                         uv_transform=[[2.0, 0.0, 0.0], [0.0, 2.0, 0.0]])
     finish_plane(s, dict(base_color_texture=tex))
-    img = lantern.render(s, spp=8, integrator="pt", seed=5, threads=2)
+    img = lantern.render(s, spp=8, integrator="pt", seed=5, threads=2, backend=backend)
     assert img[40:60, 4:28].mean() > 0.98      # lower-left quarter: uv' in [0, 1]
     assert img[4:28, 4:60].max() < 0.02        # upper half: v' > 1
     assert img[36:60, 36:60].max() < 0.02      # lower-right: u' > 1
@@ -230,7 +230,7 @@ def test_scene_file_carries_textures(tmp_path):
 
 
 @pytest.mark.parametrize("integrator", ["pt", "bdpt", "cis"])
-def test_alpha_coverage(integrator):
+def test_alpha_coverage(integrator, backend):
     """A red diffuse card of alpha a over a white diffuse floor under a sun, seen from above:
     each pixel of the card region is a mix a L_card + (1 - a) L_floor_behind, and the floor
     beside the card is lit through it: (1 - a) of the sun reaches the shadowed floor. All
@@ -247,7 +247,8 @@ def test_alpha_coverage(integrator):
     s.add_mesh(np.array([[-1, -1, 0.5], [0, -1, 0.5], [0, 1, 0.5], [-1, 1, 0.5]], np.float32),
                quad, material=card)
     s.add_light("sun", strength=[2.0, 2.0, 2.0], direction=[-1.0, 0.0, -1.0])
-    img = lantern.render(s, spp=64, integrator=integrator, seed=2, threads=2, max_depth=2)
+    img = lantern.render(s, spp=64, integrator=integrator, seed=2, threads=2, max_depth=2,
+                         backend=backend)
     assert np.isfinite(img).all()
     e = 2.0 / math.sqrt(2)                 # irradiance of the sun at 45 degrees
     lit_floor = 0.5 / math.pi * e
@@ -267,7 +268,7 @@ def test_alpha_coverage(integrator):
     check((u > 0.05) & (u < 0.95), np.full(3, lit_floor))
 
 
-def test_alpha_texture_cuts_out():
+def test_alpha_texture_cuts_out(backend):
     """An alpha-textured card (left texel alpha 0, right 255, closest) over a sunlit floor:
     the left half is absent for every ray (floor lit, no shadow), the right half opaque."""
     s = plane_scene(world=0.0)
@@ -281,7 +282,8 @@ def test_alpha_texture_cuts_out():
     s.add_mesh(np.array([[-1, -1, 0.5], [1, -1, 0.5], [1, 1, 0.5], [-1, 1, 0.5]], np.float32),
                quad, material=card, uvs=np.array([[0, 0], [1, 0], [1, 1], [0, 1]], np.float32))
     s.add_light("sun", strength=[2.0, 2.0, 2.0], direction=[0.0, 0.0, -1.0])
-    img = lantern.render(s, spp=16, integrator="cis", seed=2, threads=2, max_depth=2)
+    img = lantern.render(s, spp=16, integrator="cis", seed=2, threads=2, max_depth=2,
+                         backend=backend)
     np.testing.assert_allclose(img[8:56, 4:28].mean(axis=(0, 1)), 0.5 / math.pi * 2.0,
                                rtol=1e-3)
     np.testing.assert_allclose(img[8:56, 36:60].mean(axis=(0, 1)),
@@ -289,13 +291,13 @@ def test_alpha_texture_cuts_out():
 
 
 @pytest.mark.parametrize("integrator", ["pt", "cis"])
-def test_emission_texture_seen_directly(integrator):
+def test_emission_texture_seen_directly(integrator, backend):
     """An emission-textured plane in a black world shows texel x multiplier."""
     s = plane_scene(world=0.0)
     tex = s.add_texture(CHECKER, colorspace="srgb", interpolation="closest")
     finish_plane(s, dict(base_color=[0.0, 0.0, 0.0], emission=[2.0, 1.0, 0.5],
                          emission_texture=tex))
-    img = lantern.render(s, spp=8, integrator=integrator, seed=1, threads=2)
+    img = lantern.render(s, spp=8, integrator=integrator, seed=1, threads=2, backend=backend)
     expected_all = srgb_to_linear(CHECKER[..., :3] / 255.0) * [2.0, 1.0, 0.5]
     for ty in range(4):
         for tx in range(4):

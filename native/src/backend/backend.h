@@ -1,13 +1,16 @@
 // What the wavefront needs from a backend: for_all(n, fn) runs fn(k) for every queue item k in
 // [0, n) (any order, any thread: stages write only their own slots), intersect() finds the
-// closest hit, occluded() tests a shadow segment, compact() keeps the live queue items in order. The CPU backend is a thread pool + Embree; the
-// CUDA backend (a later issue) launches the same stage functions as kernels.
+// closest hit, occluded() tests a shadow segment, compact() keeps the live queue items in order.
+// The CPU backend is a thread pool + Embree, or Lantern's own BVH (the CUDA backend's traversal)
+// when Embree does not load or LANTERN_ACCEL=bvh asks for it; the CUDA backend launches the same
+// stage functions as kernels.
 #pragma once
 
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "backend/cpu/bvh_accel.h"
 #include "backend/cpu/embree_accel.h"
 #include "backend/cpu/thread_pool.h"
 
@@ -15,10 +18,10 @@ namespace lantern {
 
 class CpuBackend {
 public:
-    // threads: 0 = hardware concurrency. Throws std::runtime_error when Embree is unavailable.
-    CpuBackend(const SceneView& s, int threads, std::vector<std::string>& warnings)
-        : accel_(std::make_unique<EmbreeAccel>(s, warnings)),
-          pool_(std::make_unique<ThreadPool>(threads)) {}
+    // threads: 0 = hardware concurrency. Ray queries: Embree when it loads, else the built-in
+    // BVH (with a note in `warnings`); env LANTERN_ACCEL = "bvh" or "embree" forces one
+    // (cpu_accel.cpp).
+    CpuBackend(const SceneView& s, int threads, std::vector<std::string>& warnings);
 
     template <typename Fn>
     void for_all(int n, Fn&& fn, int grain = 256) {
@@ -35,13 +38,19 @@ public:
         }
         return m;
     }
-    HitRecord intersect(const Ray& r, RayKind kind) const { return accel_->intersect(r, kind); }
-    bool occluded(const Ray& r) const { return accel_->occluded(r); }
+    HitRecord intersect(const Ray& r, RayKind kind) const {
+        return embree_ ? embree_->intersect(r, kind) : bvh_->intersect(r, kind);
+    }
+    bool occluded(const Ray& r) const {
+        return embree_ ? embree_->occluded(r) : bvh_->occluded(r);
+    }
+    const char* accel() const { return embree_ ? "embree" : "bvh"; }
     int threads() const { return pool_->size(); }
     const char* name() const { return "cpu"; }
 
 private:
-    std::unique_ptr<EmbreeAccel> accel_;
+    std::unique_ptr<EmbreeAccel> embree_;  // exactly one of these two is set
+    std::unique_ptr<BvhAccel> bvh_;
     std::unique_ptr<ThreadPool> pool_;
 };
 

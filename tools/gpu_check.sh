@@ -1,0 +1,188 @@
+#!/usr/bin/env bash
+# The whole GPU check of issue 6 on a bare machine with an NVIDIA GPU, in about 8 minutes:
+#   1. build lantern._core with CUDA (sm_90), no Embree, the nanobind module for `python3`;
+#   2. pytest tests/python with LANTERN_TEST_BACKENDS=cpu,cuda (strict: an unavailable backend
+#      fails instead of skipping; tests needing bpy, Embree or OpenImageIO skip themselves);
+#   3. tools/gpu_compare.py: CUDA against CPU, per-block z-test, pt/bdpt/lvc/cis, no NaN/Inf;
+#   4. bench/gpu_bench.py: rays/s, ms per stage, the paper's Table 1 (cis with/without sorting);
+#   5. a short table, printed last.
+# Logs and images go under $OUT (default ./gpu_check_out): summary.txt, pytest.txt,
+# compare.md, gpu_bench.md, gpu_bench.json and logs.tar.gz (every log, compare PNGs, GPU memory
+# samples): six files, one folder level.
+#
+# Device tool (docs/gpu.md): run from the repository root, carry the benchmark scenes:
+#   run(command="bash tools/gpu_check.sh", carry=["build/bench_scenes"], timeout_s=600)
+# Carry: build/bench_scenes/{monkeybox,whiteroom,bedroom}.lantern (~44 MB, git-ignored; made by
+# tools/export_bench_scenes.py). Without them the benchmark runs on the committed
+# bench/scenes/*.lantern only (and says so). Committed scenes used: bench/scenes/*.lantern.
+#
+# Exit: 0 all passed; 1 a step failed; 3 no GPU (nothing run). Environment: PYTHON (python3),
+# OUT, GPU_CHECK_JOBS (nproc), GPU_CHECK_BUDGET (seconds, 480), GPU_CHECK_BUILD_DIR
+# (build/gpu_check), GPU_CHECK_CPU_ONLY=1 (test this script without a GPU: no build, the
+# existing python/lantern/_core, backend cpu, toy sizes), GPU_CHECK_NVIDIA_SMI (nvidia-smi;
+# tests point it elsewhere to see the no-GPU path), GPU_CHECK_PYTEST_K (pytest -k for the test
+# step; default "not cpu": the CPU variants run in CI, the minutes here go to the CUDA ones).
+set -u -o pipefail
+
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$ROOT"
+PY="${PYTHON:-python3}"
+OUT="${OUT:-$ROOT/gpu_check_out}"
+BUDGET="${GPU_CHECK_BUDGET:-480}"
+JOBS="${GPU_CHECK_JOBS:-$(nproc 2>/dev/null || echo 4)}"
+BUILD="${GPU_CHECK_BUILD_DIR:-$ROOT/build/gpu_check}"
+CPU_ONLY="${GPU_CHECK_CPU_ONLY:-0}"
+SMI="${GPU_CHECK_NVIDIA_SMI:-nvidia-smi}"
+PYTEST_K="${GPU_CHECK_PYTEST_K-not cpu}"
+mkdir -p "$OUT"
+LOG="$(mktemp -d)"
+SUMMARY="$OUT/summary.txt"
+: > "$SUMMARY"
+STATUS=0
+START=$SECONDS
+
+say() { echo "gpu_check: $*" | tee -a "$SUMMARY"; }
+left() { echo $((BUDGET - (SECONDS - START))); }
+step_result() {  # name rc seconds detail
+    printf '%-9s %-5s %5ss  %s\n' "$1" "$([ "$2" = 0 ] && echo ok || echo FAIL)" "$3" "$4" \
+        >> "$LOG/table.txt"
+    [ "$2" = 0 ] || STATUS=1
+}
+finish() {
+    pkill_sampler
+    cp "$LOG"/pytest.txt "$OUT/pytest.txt" 2>/dev/null
+    cp "$LOG"/compare/compare.md "$OUT/compare.md" 2>/dev/null
+    cp "$LOG"/bench/gpu_bench.md "$LOG"/bench/gpu_bench.json "$OUT/" 2>/dev/null
+    tar -czf "$OUT/logs.tar.gz" -C "$LOG" . 2>/dev/null
+    {
+        echo
+        echo "== gpu_check: $(date -u +%FT%TZ), $((SECONDS - START)) s, device: ${GPU_NAME:-none}"
+        [ -f "$LOG/table.txt" ] && cat "$LOG/table.txt"
+        [ -f "$LOG/mem_peak.txt" ] && cat "$LOG/mem_peak.txt"
+        [ -f "$LOG/bench_summary.txt" ] && cat "$LOG/bench_summary.txt"
+        echo "== gpu_check: $([ $STATUS = 0 ] && echo PASSED || echo FAILED) (logs in $OUT)"
+    } | tee -a "$SUMMARY"
+    rm -rf "$LOG"
+    exit $STATUS
+}
+SAMPLER=""
+pkill_sampler() {
+    if [ -n "$SAMPLER" ]; then kill "$SAMPLER" 2>/dev/null; wait "$SAMPLER" 2>/dev/null; fi
+    SAMPLER=""
+    if [ -s "$LOG/gpu_mem.csv" ]; then
+        sort -n "$LOG/gpu_mem.csv" | tail -1 |
+            awk '{printf "GPU memory peak while comparing and benchmarking: %d MiB\n", $1}' \
+            > "$LOG/mem_peak.txt"
+    fi
+}
+
+# ---- 0. A GPU, or a clear message ----
+if [ "$CPU_ONLY" = 1 ]; then
+    BACKEND=cpu
+    GPU_NAME="none (GPU_CHECK_CPU_ONLY=1: backend cpu, toy sizes)"
+    say "GPU_CHECK_CPU_ONLY=1: checking this script on the CPU; nothing here tests CUDA"
+else
+    BACKEND=cuda
+    if ! command -v "$SMI" >/dev/null 2>&1 ||
+        ! GPU_NAME="$("$SMI" --query-gpu=name,memory.total,driver_version \
+                      --format=csv,noheader 2>/dev/null | head -1)" || [ -z "$GPU_NAME" ]; then
+        say "no NVIDIA GPU here (nvidia-smi is missing or lists no GPU)."
+        say "This check needs the GPU machine: run it through the device tool, see docs/gpu.md."
+        exit 3
+    fi
+    if ! command -v nvcc >/dev/null 2>&1; then
+        say "GPU '$GPU_NAME' found, but no nvcc on PATH: cannot build the CUDA backend"
+        exit 3
+    fi
+    say "GPU: $GPU_NAME; $(nvcc --version | tail -1)"
+fi
+say "python: $($PY --version 2>&1) ($PY); jobs $JOBS; budget ${BUDGET}s"
+
+# ---- 1. Build ----
+t=$SECONDS
+if [ "$CPU_ONLY" = 1 ]; then
+    ls python/lantern/_core*.so >/dev/null 2>&1
+    step_result build $? 0 "skipped (CPU-only check: using the existing python/lantern/_core)"
+else
+    {
+        cmake -S . -B "$BUILD" -DCMAKE_BUILD_TYPE=Release -DLANTERN_BUILD_PYTHON=ON \
+            -DPython_EXECUTABLE="$(command -v "$PY")" -DLANTERN_CUDA=ON \
+            -DCMAKE_CUDA_ARCHITECTURES=90 -DLANTERN_EMBREE=OFF &&
+            cmake --build "$BUILD" -j "$JOBS" &&
+            cp "$BUILD"/_core*.so python/lantern/
+    } > "$LOG/build.txt" 2>&1
+    rc=$?
+    step_result build $rc $((SECONDS - t)) "$(grep -m1 'Lantern: CUDA' "$LOG/build.txt")"
+    if [ $rc != 0 ]; then
+        tail -40 "$LOG/build.txt"
+        finish
+    fi
+fi
+export PYTHONPATH="$ROOT/python${PYTHONPATH:+:$PYTHONPATH}"
+"$PY" -c "import lantern, json; print(json.dumps(lantern.cuda_info()))" > "$LOG/cuda_info.txt" 2>&1
+say "cuda_info: $(cat "$LOG/cuda_info.txt")"
+if [ "$BACKEND" = cuda ] && ! "$PY" -c "
+import sys, lantern.session as s
+r = s.backend_unavailable('cuda')
+sys.exit(print('CUDA unavailable:', r) or 1 if r else 0)" >> "$SUMMARY" 2>&1; then
+    step_result cuda 1 0 "the module cannot use the GPU (see cuda_info above)"
+fi
+
+# ---- 2. Tests, per backend ----
+t=$SECONDS
+if [ "$CPU_ONLY" = 1 ]; then
+    TEST_BACKENDS=cpu
+    PYTEST_ARGS=(tests/python/test_render.py)
+else
+    TEST_BACKENDS=cpu,cuda
+    PYTEST_ARGS=(tests/python)
+    [ -n "$PYTEST_K" ] && PYTEST_ARGS+=(-k "$PYTEST_K")
+fi
+tlimit=$(( $(left) - 200 )); [ $tlimit -lt 60 ] && tlimit=60
+LANTERN_TEST_BACKENDS=$TEST_BACKENDS LANTERN_TEST_BACKENDS_STRICT=1 MPLBACKEND=Agg \
+    timeout "$tlimit" "$PY" -m pytest -v -rfEs -p no:cacheprovider --durations=10 \
+    "${PYTEST_ARGS[@]}" > "$LOG/pytest.txt" 2>&1
+rc=$?
+[ $rc = 124 ] && echo "gpu_check: pytest stopped after ${tlimit}s" >> "$LOG/pytest.txt"
+step_result pytest $rc $((SECONDS - t)) "$(grep -E '^[0-9]+ (passed|failed)|^=+ .*(passed|failed)' \
+    "$LOG/pytest.txt" | tail -1 | tr -d '=')"
+
+# ---- 3. CUDA against CPU ----
+if [ "$BACKEND" = cuda ]; then
+    ("$SMI" --query-gpu=memory.used --format=csv,noheader,nounits -lms 250 \
+        > "$LOG/gpu_mem.csv" 2>/dev/null) &
+    SAMPLER=$!
+    COMPARE_ARGS=(--backends cpu,cuda)
+else
+    COMPARE_ARGS=(--backends cpu,cpu --quick)
+fi
+t=$SECONDS
+if [ "$(left)" -gt 120 ]; then
+    timeout $(( $(left) - 90 )) "$PY" tools/gpu_compare.py "${COMPARE_ARGS[@]}" \
+        --out "$LOG/compare" > "$LOG/compare.txt" 2>&1
+    rc=$?
+    step_result compare $rc $((SECONDS - t)) "$(tail -1 "$LOG/compare.txt")"
+else
+    step_result compare 1 0 "not run: out of time"
+fi
+
+# ---- 4. Benchmark ----
+t=$SECONDS
+if [ "$BACKEND" = cuda ]; then
+    BENCH_ARGS=(--backend cuda --budget 15)
+    have=$(ls build/bench_scenes/*.lantern 2>/dev/null | wc -l)
+    [ "$have" -eq 0 ] && BENCH_ARGS+=(--scenes bench_fixture,bench_glossy) &&
+        say "build/bench_scenes is empty (not carried): benchmarking the committed small scenes"
+else
+    BENCH_ARGS=(--backend cpu --quick)
+fi
+if [ "$(left)" -gt 45 ]; then
+    timeout $(( $(left) - 15 )) "$PY" bench/gpu_bench.py "${BENCH_ARGS[@]}" \
+        --out "$LOG/bench" > "$LOG/bench.txt" 2>&1
+    rc=$?
+    sed -n '/^== gpu_bench/,$p' "$LOG/bench.txt" > "$LOG/bench_summary.txt"
+    step_result bench $rc $((SECONDS - t)) "$(grep -c 'cumulative' "$LOG/bench.txt") runs"
+else
+    step_result bench 1 0 "not run: out of time"
+fi
+finish

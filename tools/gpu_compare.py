@@ -1,0 +1,167 @@
+"""CUDA against CPU, statistically: the same scenes, integrators and settings rendered on two
+backends must converge to the same image (DESIGN.md "Verification" 5).
+
+Per scene and integrator, K independent seeds on each backend (different seeds on the two, so
+the sets are independent); per 8x8 block and channel z = (mean_a - mean_b) / sqrt(se_a^2 +
+se_b^2) with standard errors from the spread of the seeds: the cross-integrator test of
+tests/python/test_bidirectional.py (lantern.metrics.agreement: Bonferroni threshold at alpha
+1e-3 over all blocks, and a binomial bound on the blocks over |z| = 3). Every image must be
+finite, and each session must really have run on the backend asked for (no silent fallback).
+
+    python3 tools/gpu_compare.py [--backends cpu,cuda] [--integrators pt,bdpt,lvc,cis]
+        [--scenes bench/scenes/bench_fixture.lantern,...] [--size 64] [--seeds 8] [--spp 64]
+        [--out DIR] [--quick]
+
+Scenes: .lantern files (their film is scaled to --size pixels wide, aspect kept) or names of
+lantern.scenes builders (cornell_box, features_box, ...). Writes compare.json, compare.md and
+one PNG per scene (the two backends' mean images side by side, pt) under --out. Exit status:
+0 all agree, 1 a disagreement or a non-finite pixel, 2 a backend unavailable."""
+
+import argparse
+import json
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "python"))
+
+import lantern  # noqa: E402
+from lantern import imageio, metrics, session  # noqa: E402
+
+# a light in a fixture, glossy metal, caustics through glass (the paper's hard cases, exported
+# from Blender), and alpha, textures, normal map and mix shaders (lantern.scenes.features_box(64,
+# 64) saved as a file)
+DEFAULT_SCENES = ["bench/scenes/bench_fixture.lantern", "bench/scenes/bench_glossy.lantern",
+                  "bench/scenes/bench_caustics.lantern", "bench/scenes/gpu_features.lantern"]
+
+
+def load(name, size, hard_falloff=True):
+    """A scene by .lantern path (film scaled to `size` wide) or lantern.scenes builder name.
+    hard_falloff: point and spot lights lose Blender's soft falloff, so that the bidirectional
+    integrators trace light paths from them (with it they render those lights by camera-side
+    techniques only: the same estimator as pt, which would test nothing new)."""
+    path = Path(name)
+    if not path.is_absolute():
+        path = ROOT / path
+    if name.endswith(".lantern"):
+        scene = lantern.load_scene(str(path))
+        w, h = int(scene.film["width"]), int(scene.film["height"])
+        scene.film["width"] = int(size)
+        scene.film["height"] = max(8, int(round(size * h / w / 8.0)) * 8)
+        if hard_falloff:
+            for light in scene.lights:
+                if light.get("type") in ("point", "spot"):
+                    light["soft_falloff"] = False
+        return scene
+    from lantern import scenes
+    builder = getattr(scenes, name, None)
+    if not callable(builder):
+        raise ValueError(f"scene {name!r}: not a .lantern file nor a lantern.scenes builder")
+    return builder(width=int(size), height=int(size))
+
+
+def render_set(scene, backend, integrator, seeds, spp, max_depth):
+    """K renders (4 iterations of spp/4 each, as the cross-integrator test), the backend the
+    sessions really used, and the seconds spent."""
+    images, used = [], set()
+    t0 = time.perf_counter()
+    for seed in seeds:
+        s = lantern.Session(scene, backend=backend, integrator=integrator, seed=seed,
+                            max_depth=max_depth, spp_per_iteration=max(1, spp // 4))
+        for _ in range(4):
+            s.step()
+        images.append(s.image())
+        used.add(s.backend)
+    return images, sorted(used), time.perf_counter() - t0
+
+
+def compare_one(scene, name, integrator, backends, k, spp, max_depth, scale_b=1.0):
+    a_name, b_name = backends
+    a, used_a, t_a = render_set(scene, a_name, integrator, range(1000, 1000 + k), spp, max_depth)
+    b, used_b, t_b = render_set(scene, b_name, integrator, range(5000, 5000 + k), spp, max_depth)
+    b = [x * np.float32(scale_b) for x in b]  # 1 except in the tool's own test
+    finite = bool(all(np.isfinite(x).all() for x in a + b))
+    passed, cmp, over3, allowed = metrics.agreement(a, b, block=8)
+    fell_back = [f"{want} ran on {got}" for want, got in ((a_name, used_a), (b_name, used_b))
+                 if got != [want]]
+    row = {"scene": name, "integrator": integrator, "backends": list(backends),
+           "worst_z": round(cmp.worst, 3), "threshold": round(cmp.threshold(1e-3), 3),
+           "blocks": cmp.n, "over3": over3, "allowed_over3": allowed, "finite": finite,
+           "mean_a": float(np.mean(a)), "mean_b": float(np.mean(b)),
+           "seconds_a": round(t_a, 3), "seconds_b": round(t_b, 3), "fell_back": fell_back,
+           "passed": bool(passed and finite and not fell_back), "detail": str(cmp)}
+    return row, np.mean(a, axis=0), np.mean(b, axis=0)
+
+
+def main(argv=None):
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("--backends", default="cpu,cuda", help="two backends (cpu,cuda)")
+    p.add_argument("--integrators", default="pt,bdpt,lvc,cis")
+    p.add_argument("--scenes", default=",".join(DEFAULT_SCENES))
+    p.add_argument("--size", type=int, default=64, help="image width in pixels (64)")
+    p.add_argument("--seeds", type=int, default=8, help="independent renders per set (8)")
+    p.add_argument("--spp", type=int, default=64, help="samples per render (64)")
+    p.add_argument("--max-depth", type=int, default=8)
+    p.add_argument("--scale-b", type=float, default=1.0,
+                   help="testing the tool: multiply the second backend's images (must fail)")
+    p.add_argument("--soft-falloff", action="store_true",
+                   help="keep the files' soft-falloff point lights (bidirectional = pt then)")
+    p.add_argument("--out", default=None, help="folder for compare.json/.md and PNGs")
+    p.add_argument("--quick", action="store_true",
+                   help="toy size for checking the tool: 16 px, 4 seeds, 8 spp, one scene")
+    args = p.parse_args(argv)
+    if args.quick:
+        args.size, args.seeds, args.spp = 16, 4, 8
+        if args.scenes == ",".join(DEFAULT_SCENES):
+            args.scenes = DEFAULT_SCENES[0]
+    backends = [b.strip() for b in args.backends.split(",") if b.strip()]
+    if len(backends) != 2:
+        p.error("--backends needs exactly two names, e.g. cpu,cuda")
+    for b in backends:
+        reason = session.backend_unavailable(b)
+        if reason:
+            print(f"gpu_compare: backend {b!r} unavailable: {reason}", file=sys.stderr)
+            return 2
+    out = Path(args.out) if args.out else None
+    if out:
+        out.mkdir(parents=True, exist_ok=True)
+    rows = []
+    for name in [s.strip() for s in args.scenes.split(",") if s.strip()]:
+        scene = load(name, args.size, hard_falloff=not args.soft_falloff)
+        label = Path(name).stem
+        previews = []
+        for integrator in [i.strip() for i in args.integrators.split(",") if i.strip()]:
+            row, mean_a, mean_b = compare_one(scene, label, integrator, backends, args.seeds,
+                                              args.spp, args.max_depth, args.scale_b)
+            rows.append(row)
+            print(f"{label:>18} {integrator:>5}: worst |z| {row['worst_z']:6.2f} (threshold "
+                  f"{row['threshold']:.2f}), |z|>3 in {row['over3']}/{row['blocks']} (allowed "
+                  f"{row['allowed_over3']}), means {row['mean_a']:.5g} vs {row['mean_b']:.5g}, "
+                  f"{'ok' if row['passed'] else 'FAIL'}"
+                  f"{'' if row['finite'] else ' NON-FINITE'}"
+                  f"{' ' + '; '.join(row['fell_back']) if row['fell_back'] else ''}", flush=True)
+            if integrator == "pt" or not previews:
+                previews = [mean_a, mean_b]
+        if out and previews:
+            imageio.write_image(str(out / f"compare_{label}.png"),
+                                np.concatenate(previews, axis=1), backend="builtin")
+    ok = all(r["passed"] for r in rows) and bool(rows)
+    if out:
+        (out / "compare.json").write_text(json.dumps({"args": vars(args), "rows": rows,
+                                                      "passed": ok}, indent=1))
+        lines = ["| scene | integrator | worst z | threshold | >3 (allowed) | finite | ok |",
+                 "|---|---|---|---|---|---|---|"]
+        lines += [f"| {r['scene']} | {r['integrator']} | {r['worst_z']:.2f} | "
+                  f"{r['threshold']:.2f} | {r['over3']} ({r['allowed_over3']}) | "
+                  f"{r['finite']} | {'yes' if r['passed'] else 'NO'} |" for r in rows]
+        (out / "compare.md").write_text("\n".join(lines) + "\n")
+    print(f"gpu_compare: {sum(r['passed'] for r in rows)}/{len(rows)} agree "
+          f"({backends[0]} vs {backends[1]})")
+    return 0 if ok else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
