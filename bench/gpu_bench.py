@@ -177,7 +177,11 @@ def main(argv=None):
                                if st.get("time_total") else None),
                 "sorted_bounces": st.get("sorted_bounces"),
                 "unsorted_bounces": st.get("unsorted_bounces"),
-                "rays_total": st.get("rays_total"), "warnings": r["warnings"]}
+                "rays_total": st.get("rays_total"), "warnings": r["warnings"],
+                # the backend's own buffers at most, and the device's memory in use by the
+                # session at most (with the kernels' local memory): issue 6's 6 GB target
+                "device_memory_peak": st.get("device_memory_peak"),
+                "device_memory_used": st.get("device_memory_used")}
             entry["stages_ms"][label] = per_stage(st)
             print(f"  {label:>10}: " + ", ".join(f"{v / 1000:.2f}" for v in r["ms"]) +
                   f" s cumulative{' (budget cut)' if r['cut'] else ''} on {r['backend']}",
@@ -213,7 +217,8 @@ def report_md(results, machine):
                      f"{fmt_rate(r['bounce'])} |")
     lines += ["", "## Table 1: cumulative ms after each iteration", "",
               "| scene | eff. spp | lvc | cis no sort | cis | paper LVC-BDPTmk | paper CIS-LBDPT |"
-              " sort share (cis) |", "|---|---|---|---|---|---|---|---|"]
+              " sort share (cis) | GPU memory (cis: buffers / in use, GiB) |",
+              "|---|---|---|---|---|---|---|---|---|"]
     for name, e in results["scenes"].items():
         t1, paper = e["table1"], e.get("paper")
         share = t1["cis"]["sort_share"]
@@ -222,8 +227,9 @@ def report_md(results, machine):
                      for c in ("lvc", "cis-nosort", "cis")]
             pl = f"{paper['lvc_ms'][i]}" if paper and i < 5 else "-"
             pc = f"{paper['cis_ms'][i]}" if paper and i < 5 else "-"
+            mem = f"{gib(t1['cis'].get('device_memory_peak'))} / {gib(t1['cis'].get('device_memory_used'))}"
             lines.append(f"| {name} | {e['spi'] * (i + 1)} | {' | '.join(cells)} | {pl} | {pc} | "
-                         f"{'' if share is None else f'{share:.1%}'} |")
+                         f"{'' if share is None else f'{share:.1%}'} | {mem} |")
     lines += ["", "## Time per iteration per stage (ms)", ""]
     for name, e in results["scenes"].items():
         stages = sorted({k for v in e["stages_ms"].values() for k in v})
@@ -235,12 +241,17 @@ def report_md(results, machine):
     return "\n".join(lines) + "\n"
 
 
+def gib(b):
+    return f"{b / 2**30:.2f}" if b else "-"
+
+
 def summary(results, machine):
     cuda = machine.get("cuda", {})
     lines = [f"== gpu_bench: backend {results['args']['backend']} on "
              f"{cuda.get('name') or machine.get('cpu')} =="]
     lines.append(f"{'scene':>10} {'camera':>12} {'shadow':>12} {'bounce':>12} "
-                 f"{'lvc s':>8} {'cis-ns s':>8} {'cis s':>8} {'sort%':>6} {'paper cis s':>11}")
+                 f"{'lvc s':>8} {'cis-ns s':>8} {'cis s':>8} {'sort%':>6} {'paper cis s':>11} "
+                 f"{'GiB':>5}")
     for name, e in results["scenes"].items():
         r, t1, paper = e["rays"], e["table1"], e.get("paper")
 
@@ -250,7 +261,8 @@ def summary(results, machine):
         lines.append(f"{name:>10} {fmt_rate(r['camera']):>12} {fmt_rate(r['shadow']):>12} "
                      f"{fmt_rate(r['bounce']):>12} {last('lvc'):>8} {last('cis-nosort'):>8} "
                      f"{last('cis'):>8} {'' if share is None else f'{100 * share:.1f}':>6} "
-                     f"{paper['cis_ms'][len(t1['cis']['ms']) - 1] / 1000 if paper else '-':>11}")
+                     f"{paper['cis_ms'][len(t1['cis']['ms']) - 1] / 1000 if paper else '-':>11} "
+                     f"{gib(t1['cis'].get('device_memory_used')):>5}")
     for name, why in results["skipped"].items():
         lines.append(f"{name:>10} skipped: {why}")
     return "\n".join(lines)

@@ -21,7 +21,8 @@
 # (build/gpu_check), GPU_CHECK_CPU_ONLY=1 (test this script without a GPU: no build, the
 # existing python/lantern/_core, backend cpu, toy sizes), GPU_CHECK_NVIDIA_SMI (nvidia-smi;
 # tests point it elsewhere to see the no-GPU path), GPU_CHECK_PYTEST_K (pytest -k for the test
-# step; default "not cpu": the CPU variants run in CI, the minutes here go to the CUDA ones).
+# step; default "cuda": the [cuda] variants of the backend-parametrized tests and
+# tests/python/test_cuda_backend.py; everything else runs in CI, the minutes here go to CUDA).
 set -u -o pipefail
 
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -33,7 +34,7 @@ JOBS="${GPU_CHECK_JOBS:-$(nproc 2>/dev/null || echo 4)}"
 BUILD="${GPU_CHECK_BUILD_DIR:-$ROOT/build/gpu_check}"
 CPU_ONLY="${GPU_CHECK_CPU_ONLY:-0}"
 SMI="${GPU_CHECK_NVIDIA_SMI:-nvidia-smi}"
-PYTEST_K="${GPU_CHECK_PYTEST_K-not cpu}"
+PYTEST_K="${GPU_CHECK_PYTEST_K-cuda}"
 mkdir -p "$OUT"
 LOG="$(mktemp -d)"
 SUMMARY="$OUT/summary.txt"
@@ -107,12 +108,14 @@ else
     {
         cmake -S . -B "$BUILD" -DCMAKE_BUILD_TYPE=Release -DLANTERN_BUILD_PYTHON=ON \
             -DPython_EXECUTABLE="$(command -v "$PY")" -DLANTERN_CUDA=ON \
-            -DCMAKE_CUDA_ARCHITECTURES=90 -DLANTERN_EMBREE=OFF &&
+            -DCMAKE_CUDA_ARCHITECTURES=90 -DLANTERN_EMBREE=OFF -DLANTERN_CUDA_RESOURCE_USAGE=ON &&
             cmake --build "$BUILD" -j "$JOBS" &&
             cp "$BUILD"/_core*.so python/lantern/
     } > "$LOG/build.txt" 2>&1
     rc=$?
-    step_result build $rc $((SECONDS - t)) "$(grep -m1 'Lantern: CUDA' "$LOG/build.txt")"
+    frame=$(grep -o '[0-9]* bytes stack frame' "$LOG/build.txt" | sort -n | tail -1)
+    step_result build $rc $((SECONDS - t)) "$(grep -m1 'Lantern: CUDA' "$LOG/build.txt" |
+        sed 's/^-- //'); largest kernel stack frame: ${frame:-unknown}"
     if [ $rc != 0 ]; then
         tail -40 "$LOG/build.txt"
         finish
