@@ -47,13 +47,37 @@ _core_error = None
 _core_lock = threading.Lock()
 
 
+def _borrow_installed_core():
+    """When this `lantern` (a source checkout on sys.path, say) has no native module but another
+    copy on sys.path (the installed one) has, let the package find `_core` there too, as
+    tests/python/conftest.py does. True when one was found."""
+    import glob
+    import os
+    import sys
+    pkg = sys.modules.get("lantern")
+    if pkg is None:
+        return False
+    here = {os.path.realpath(p) for p in pkg.__path__}
+    for entry in sys.path:
+        cand = os.path.join(entry or os.getcwd(), "lantern")
+        if (os.path.realpath(cand) not in here and glob.glob(os.path.join(cand, "_core*"))):
+            pkg.__path__.append(cand)
+            return True
+    return False
+
+
 def _load_core():
     """Import `lantern._core` once; remember why it failed so the message can say."""
     global _core, _core_error
     with _core_lock:
         if _core is None and _core_error is None:
             try:
-                _core = importlib.import_module("lantern._core")
+                try:
+                    _core = importlib.import_module("lantern._core")
+                except ModuleNotFoundError:
+                    if not _borrow_installed_core():
+                        raise
+                    _core = importlib.import_module("lantern._core")
             except Exception as e:  # ImportError, or a broken build raising anything
                 _core_error = f"{type(e).__name__}: {e}"
     return _core
