@@ -110,6 +110,17 @@ LANTERN_HD inline BvhRay bvh_ray(const Ray& r) {
     return b;
 }
 
+// A product that is never fused into a multiply-add: nvcc contracts a * b - c * d into an FMA
+// by default, and a fused edge function is no longer the exact negation of the neighbouring
+// triangle's, so a ray through a shared edge could miss both. (The host build has no FMA.)
+LANTERN_HD inline float bvh_mul(float a, float b) {
+#ifdef __CUDA_ARCH__
+    return __fmul_rn(a, b);
+#else
+    return a * b;
+#endif
+}
+
 // ---- Watertight ray-triangle test [Woop, Benthin, Wald 2013, "Watertight Ray/Triangle
 // Intersection", JCGT 2(1), fig. 6] ----
 // Accepts tmin < t <= tmax. Edges shared by two triangles are hit by exactly one or both, never
@@ -117,12 +128,12 @@ LANTERN_HD inline BvhRay bvh_ray(const Ray& r) {
 LANTERN_HD inline bool bvh_hit_triangle(const BvhRay& r, const BvhTri& tri, float tmax,
                                         float* t_out, float* u_out, float* v_out) {
     Vec3 a = tri.v0 - r.o, b = tri.v1 - r.o, c = tri.v2 - r.o;
-    float ax = a[r.kx] - r.sx * a[r.kz], ay = a[r.ky] - r.sy * a[r.kz];
-    float bx = b[r.kx] - r.sx * b[r.kz], by = b[r.ky] - r.sy * b[r.kz];
-    float cx = c[r.kx] - r.sx * c[r.kz], cy = c[r.ky] - r.sy * c[r.kz];
-    float u = cx * by - cy * bx;  // weight of v0
-    float v = ax * cy - ay * cx;  // weight of v1
-    float w = bx * ay - by * ax;  // weight of v2
+    float ax = a[r.kx] - bvh_mul(r.sx, a[r.kz]), ay = a[r.ky] - bvh_mul(r.sy, a[r.kz]);
+    float bx = b[r.kx] - bvh_mul(r.sx, b[r.kz]), by = b[r.ky] - bvh_mul(r.sy, b[r.kz]);
+    float cx = c[r.kx] - bvh_mul(r.sx, c[r.kz]), cy = c[r.ky] - bvh_mul(r.sy, c[r.kz]);
+    float u = bvh_mul(cx, by) - bvh_mul(cy, bx);  // weight of v0
+    float v = bvh_mul(ax, cy) - bvh_mul(ay, cx);  // weight of v1
+    float w = bvh_mul(bx, ay) - bvh_mul(by, ax);  // weight of v2
     if (u == 0.0f || v == 0.0f || w == 0.0f) {
         u = float(double(cx) * double(by) - double(cy) * double(bx));
         v = float(double(ax) * double(cy) - double(ay) * double(cx));

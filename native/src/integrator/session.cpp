@@ -90,12 +90,13 @@ void Session::start_cpu_backend() {
     device_name_ = "cpu";
 }
 
-// A step on the GPU. When the GPU runs out of memory, the samples so far stay (the running sum
-// is read back), the GPU is let go and this and later steps render on the CPU.
+// A step on the GPU. When the GPU runs out of memory (or fails otherwise), the samples so far
+// stay where they can be read back, the GPU is let go and this and later steps render on the
+// CPU. A sticky CUDA error loses the GPU's samples: the render restarts on the CPU.
 bool Session::step_cuda(Clock::time_point t0) {
     try {
         if (!gpu_->step(settings_, iteration_, stats_, cancel_, warnings_)) return false;
-    } catch (const CudaUnavailable& e) {
+    } catch (const std::runtime_error& e) {  // out of memory, or a CUDA error: never a crash
         std::vector<double> sum;
         try {
             sum = gpu_->accum();

@@ -89,7 +89,7 @@ void Renderer::index_cache_by_path(int64_t light_paths) {
 }
 
 void Renderer::run_light_chunk(int64_t first_path, int n) {
-    ensure_state(n, conn_cap_);
+    ensure_state(n, 0);  // the light pass queues no connections
     const SceneView s = sv_;
     BdptSettings st = bdpt_settings();
     if (pilot_) {

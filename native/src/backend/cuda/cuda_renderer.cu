@@ -3,7 +3,9 @@
 // launched as a kernel over a device queue of path slots; the BVH is accel/bvh.h, built on the
 // host and copied as it is. What differs from the CPU schedule, and why:
 //  - queues are compacted with CUB's stable DeviceSelect and sorted with a stable radix sort of
-//    the paper's material key (type above id) on only the bits in use; same slot order rules
+//    the paper's material key (type above id) on only the bits in use; the CPU sorts by type
+//    alone and runs smaller chunks, so the cache's order, and with it which vertex a random
+//    lvc/cis pick selects, differs from the CPU's: the same estimator, not the same samples
 //  - the light vertex cache grows by an exclusive scan of the store flags (queue order, as on
 //    the CPU) and, for bdpt, is indexed by light path with a radix sort instead of counting
 //  - shadow rays of a camera bounce (next event + connections) are one batch of independent
@@ -32,6 +34,10 @@ Renderer::Renderer(const HostScene& scene, const SessionSettings& settings,
         size_t free_b = 0, total_b = 0;
         check(cudaMemGetInfo(&free_b, &total_b), "cudaMemGetInfo");
         free_at_start_ = int64_t(free_b);
+        // the driver reserves each kernel's stack frame for every thread the card can hold, at
+        // the kernel's first launch: set that much aside before the cache budget is taken
+        stack_reserve_ = kShadeStackEstimate * int64_t(prop.maxThreadsPerMultiProcessor) *
+                         int64_t(prop.multiProcessorCount);
         check(cudaStreamCreateWithFlags(&stream_, cudaStreamNonBlocking), "cudaStreamCreate");
         check(cudaStreamCreateWithFlags(&copy_stream_, cudaStreamNonBlocking), "cudaStreamCreate");
         check(cudaEventCreateWithFlags(&sum_ready_, cudaEventDisableTiming), "cudaEventCreate");
@@ -140,6 +146,7 @@ void* Renderer::temp(size_t bytes) {
 }
 
 void Renderer::ensure_state(int n, int conn_cap) {
+    // conn_cap 0: no connection slots (pt, lt and the light pass never queue connections)
     if (n > state_cap_) {
         const size_t m = size_t(n);
         for (auto* a : {&ray_o_, &ray_d_, &throughput_, &radiance_, &shadow_o_, &shadow_d_,
@@ -164,15 +171,15 @@ void Renderer::ensure_state(int n, int conn_cap) {
         }
         state_cap_ = n;
     }
-    // connection slots are indexed by slot (< n): size them by this chunk, not the largest one
-    const size_t nc = size_t(n) * std::max(conn_cap, 1);
-    if (bidirectional_ && nc > conn_o_.capacity()) {
+    // connection slots are indexed by slot (< n): sized by this chunk, not the largest one
+    const size_t nc = size_t(n) * size_t(conn_cap);
+    if (bidirectional_ && conn_cap > 0 && nc > conn_o_.capacity()) {
         conn_o_.grow(nc);
         conn_d_.grow(nc);
         conn_c_.grow(nc);
         conn_tmax_.grow(nc);
     }
-    if (bidirectional_) conn_vis_.grow(size_t(n) * (std::max(conn_cap, 1) + 1));
+    if (bidirectional_ && conn_cap > 0) conn_vis_.grow(size_t(n) * (size_t(conn_cap) + 1));
     ps_ = PathState{ray_o_.data(),      ray_d_.data(),     ray_tmin_.data(),   ray_tmax_.data(),
                     throughput_.data(), radiance_.data(),  rng_.data(),        depth_.data(),
                     prev_pdf_.data(),   alive_.data(),     dropped_.data(),    hit_t_.data(),
@@ -365,9 +372,11 @@ BdptSettings Renderer::bdpt_settings() const {
 }
 
 // As Session::bdpt_samples_per_pass, with the GPU's free memory as the budget: half of what
-// was free when the renderer started, at most 8 GiB, or cache_budget_mb.
+// was free when the renderer started less the kernels' stack reservation, at most 8 GiB, or
+// cache_budget_mb.
 int Renderer::bdpt_samples_per_pass(int spp_it, std::vector<std::string>& warnings) {
-    double budget = std::min(8.0 * (1 << 30), 0.5 * double(free_at_start_));
+    double budget = std::min(8.0 * (1 << 30),
+                             0.5 * double(std::max<int64_t>(free_at_start_ - stack_reserve_, 0)));
     if (set_.cache_budget_mb > 0) budget = double(set_.cache_budget_mb) * (1 << 20);
     budget *= budget_scale_;
     const double vpp = vertices_per_path_ > 0.0 ? vertices_per_path_
@@ -475,6 +484,7 @@ bool Renderer::try_step(const SessionSettings& settings, uint64_t& iteration, Se
 // The iteration joins the running sum once the last readback of the sum has finished, then a
 // copy of the sum starts on the copy stream (pinned memory): accum() waits for that copy only.
 void Renderer::finish_step() {
+    std::lock_guard<std::mutex> lock(readback_mutex_);  // image() from another thread waits
     check(cudaStreamWaitEvent(stream_, copy_done_, 0), "cudaStreamWaitEvent");
     const size_t px3 = size_t(width_) * height_ * 3;
     double* sum = sum_.data();
@@ -501,6 +511,7 @@ void Renderer::finish_step() {
 }
 
 std::vector<double> Renderer::accum() {
+    std::lock_guard<std::mutex> lock(readback_mutex_);
     check(cudaEventSynchronize(copy_done_), "readback");
     const size_t px3 = size_t(width_) * height_ * 3;
     return std::vector<double>(host_sum_, host_sum_ + px3);

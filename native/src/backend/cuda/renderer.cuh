@@ -12,6 +12,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <mutex>
 #include <cub/device/device_radix_sort.cuh>
 #include <cub/device/device_scan.cuh>
 #include <cub/device/device_select.cuh>
@@ -131,6 +132,10 @@ enum Counter : int { kCtrShadow, kCtrConnection, kCtrCameraSegments, kCtrDropped
 constexpr int kGpuChunkPaths = 1 << 21;    // paths in flight per chunk (halved when memory is short)
 constexpr int kGpuMinChunkPaths = 1 << 15;
 constexpr int kGpuShadowBudget = 1 << 23;  // connection ray slots per camera chunk
+// Stack frame of the largest kernel per thread: bdpt_camera_shade measured 16,720 bytes with
+// ptxas for sm_90 (its MaterialScratch copies and cis candidates; tools/gpu_check.sh prints the
+// frames of the build it makes). The driver reserves it for every resident thread.
+constexpr int64_t kShadeStackEstimate = 17 * 1024;
 
 inline int bits_for(uint32_t v) {  // bits to write 0..v
     int b = 0;
@@ -193,6 +198,7 @@ public:
     int width_ = 0, height_ = 0;
     int id_bits_ = 0;
     int64_t free_at_start_ = 0;
+    int64_t stack_reserve_ = 0;  // local memory the driver will reserve for the shade kernels
     int chunk_paths_ = kGpuChunkPaths;
     double budget_scale_ = 1.0;  // of the cache budget, halved with the chunk
     int64_t used_peak_ = 0;  // free memory at start minus free memory now, at its largest
@@ -234,6 +240,7 @@ public:
     // film: the iteration's sum, the running sum, its pinned host copy
     DeviceArray<double> iter_, sum_;
     double* host_sum_ = nullptr;
+    std::mutex readback_mutex_;  // finish_step's re-recording of copy_done_ against accum()
     // small things
     DeviceArray<uint8_t> temp_;
     DeviceArray<int> small_;  // [0] selected count, [1] present-type mask, [2] scan total
