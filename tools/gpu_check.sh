@@ -19,7 +19,7 @@
 # Exit: 0 all passed; 1 a step failed; 3 no GPU (nothing run). Environment: PYTHON (python3),
 # OUT, GPU_CHECK_JOBS (nproc), GPU_CHECK_BUDGET (seconds, 480), GPU_CHECK_BUILD_DIR
 # (build/gpu_check), GPU_CHECK_CPU_ONLY=1 (test this script without a GPU: no build, the
-# existing python/lantern/_core, backend cpu, toy sizes), GPU_CHECK_NVIDIA_SMI (nvidia-smi;
+# lantern._core that PYTHON finds, backend cpu, toy sizes), GPU_CHECK_NVIDIA_SMI (nvidia-smi;
 # tests point it elsewhere to see the no-GPU path), GPU_CHECK_PYTEST_K (pytest -k for the test
 # step; default "cuda": the [cuda] variants of the backend-parametrized tests and
 # tests/python/test_cuda_backend.py; everything else runs in CI, the minutes here go to CUDA).
@@ -102,8 +102,8 @@ say "python: $($PY --version 2>&1) ($PY); jobs $JOBS; budget ${BUDGET}s"
 # ---- 1. Build ----
 t=$SECONDS
 if [ "$CPU_ONLY" = 1 ]; then
-    ls python/lantern/_core*.so >/dev/null 2>&1
-    step_result build $? 0 "skipped (CPU-only check: using the existing python/lantern/_core)"
+    PYTHONPATH="$ROOT/python" "$PY" -c "import lantern, sys; sys.exit(not lantern.native_available())"
+    step_result build $? 0 "skipped (CPU-only check: using the lantern._core this python finds)"
 else
     {
         cmake -S . -B "$BUILD" -DCMAKE_BUILD_TYPE=Release -DLANTERN_BUILD_PYTHON=ON \
