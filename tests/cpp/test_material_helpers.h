@@ -11,18 +11,20 @@ namespace lantern::test {
 
 // A whole material at three view angles: its non-delta samples against eval's forward pdf by
 // chi-square, and that pdf integrating to at most 1.
-inline void expect_material_samples_its_pdf(const Material& m, const char* what) {
+inline void expect_material_samples_its_pdf(const Material& m, const char* what,
+                                            Vec3 coat_n = vec3(0.0f, 0.0f, 1.0f)) {
     for (float theta_o : {0.4f, 1.0f, 1.3f}) {
         Vec3 wo = dir_from_angles(theta_o, 0.7f);
         Chi2Result r = chi2_sphere(
             [&](Vec2 u, float uc, Vec3* wi) {
                 BsdfSample s =
-                    material_sample(m, true, wo, vec3(u.x, u.y, uc), Transport::Radiance);
+                    material_sample(m, true, wo, vec3(u.x, u.y, uc), Transport::Radiance, coat_n);
                 *wi = s.wi;
                 return s.valid && !s.delta;
             },
             [&](Vec3 wi) {
-                return double(material_eval(m, true, wo, wi, Transport::Radiance).pdf_fwd_w);
+                return double(
+                    material_eval(m, true, wo, wi, Transport::Radiance, coat_n).pdf_fwd_w);
             },
             200000, 1, 32, 32, 12);
         EXPECT_GT(r.p_value, 1e-4) << what << " theta " << theta_o << " chi2 " << r.chi2

@@ -130,6 +130,9 @@ SceneInput to_input(const nb::dict& scene) {
             mi.tex_normal = get<int>(m, "normal_texture", -1);
             mi.tex_emission = get<int>(m, "emission_texture", -1);
             mi.normal_strength = get<float>(m, "normal_strength", mi.normal_strength);
+            mi.tex_coat_normal = get<int>(m, "coat_normal_texture", -1);
+            mi.coat_normal_strength = get<float>(m, "coat_normal_strength",
+                                                 mi.coat_normal_strength);
             mi.alpha = get<float>(m, "alpha", mi.alpha);
             if (has(m, "mix")) {  // [[leaf, weight], ...]
                 for (nb::handle e : nb::cast<nb::list>(m["mix"])) {

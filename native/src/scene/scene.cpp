@@ -81,6 +81,19 @@ void set_material_textures(Material& m, const MaterialInput& mi, size_t k, size_
     m.emission_scale = m.emission;  // with an emission texture: its multiplier
     m.normal_strength = std::isfinite(mi.normal_strength) ? std::max(mi.normal_strength, 0.0f)
                                                           : 1.0f;
+    // the coat's own normal: its map, or the smooth normal under a mapped base (Cycles: an
+    // unlinked Coat Normal is the interpolated normal, not the base's)
+    m.tex_coat_normal = -1;
+    int32_t coat_tex = -1;
+    check(mi.tex_coat_normal, "coat_normal", 0u, coat_tex);
+    if (m.type == kMaterialPrincipled && m.coat_weight > 0.0f &&
+        (coat_tex >= 0 || (m.tex_flags & kTexNormal))) {
+        m.tex_coat_normal = coat_tex;
+        m.tex_flags |= kCoatNormal;
+    }
+    m.coat_normal_strength = std::isfinite(mi.coat_normal_strength)
+                                 ? std::min(std::max(mi.coat_normal_strength, 0.0f), 1e3f)
+                                 : 1.0f;
     float alpha = std::isfinite(mi.alpha) ? std::min(std::max(mi.alpha, 0.0f), 1.0f) : 1.0f;
     if (!std::isfinite(mi.alpha))
         warnings.push_back("material '" + mi.name + "': alpha is not finite; opaque instead");
@@ -253,6 +266,12 @@ void HostScene::set_mix_leaves(const SceneInput& in) {
             m.mix_child[i] = c;
             m.mix_weight[i] = std::isfinite(w) ? std::max(w, 0.0f) : 0.0f;
             m.emission += materials_[c].emission * m.mix_weight[i];
+            // one coat normal per hit: the first leaf with its own
+            if ((materials_[c].tex_flags & kCoatNormal) && !(m.tex_flags & kCoatNormal)) {
+                m.tex_flags |= kCoatNormal;
+                m.tex_coat_normal = materials_[c].tex_coat_normal;
+                m.coat_normal_strength = materials_[c].coat_normal_strength;
+            }
             // one shading frame per hit: the first anisotropic leaf's tangent serves them all
             if (materials_[c].anisotropy > 0.0f && !(m.anisotropy > 0.0f)) {
                 m.anisotropy = materials_[c].anisotropy;

@@ -54,6 +54,10 @@ struct MaterialInput {
     int tex_base_color = -1, tex_roughness = -1, tex_metallic = -1, tex_alpha = -1,
         tex_normal = -1, tex_emission = -1;  // emission texture: radiance = texel x emission
     float normal_strength = 1.0f;
+    // principled coat's own normal map (Coat Normal), -1: none; the coat then follows the
+    // smooth interpolated normal wherever the base's Normal is mapped (Cycles)
+    int tex_coat_normal = -1;
+    float coat_normal_strength = 1.0f;
     float alpha = 1.0f;  // coverage: 0 lets every ray pass (Blender's Alpha)
     // mix: leaf materials (indices, not mixes) and weights; tex_mix: factor of two leaves
     std::vector<int> mix_children;

@@ -53,6 +53,11 @@ struct Material {
     float coat_weight, coat_roughness, coat_ior;
     Vec3 coat_tint;
     float coat_albedo[kPrincipledAlbedoN];  // its directional albedo by cosine
+    // kCoatNormal: the coat has its own shading normal (Principled Coat Normal): the normal
+    // map tex_coat_normal of coat_normal_strength on the interpolated normal, or (-1) the
+    // interpolated normal itself, as Cycles' coat when only the base Normal is mapped
+    int32_t tex_coat_normal;
+    float coat_normal_strength;
     // principled sheen: the top layer (bsdf/sheen.h)
     float sheen_weight, sheen_roughness;
     Vec3 sheen_tint;
@@ -84,6 +89,7 @@ enum MaterialTextureBits : uint32_t {
     kTexNormal = 16u,
     kTexMix = 32u,       // a mix's factor texture
     kTexEmission = 128u, // emission colour (mesh lights: lights.h triangle_emission)
+    kCoatNormal = 256u,  // the coat's own normal (SurfaceHit::coat_n; bsdf/principled.h)
     kMixResolve = 64u,   // every mix: material_at must point it at its leaves
     kTexShading = kTexBaseColor | kTexRoughness | kTexMetallic | kTexEmission,  // resolved per hit
     kMaterialResolve = kTexShading | kTexMix | kMixResolve,      // material_at copies
