@@ -156,18 +156,18 @@ def test_mix_factor_texture_f12(empty, addon, tmp_path, errors):
 
 def test_principled_fallbacks_are_reported(empty, addon):
     """Inputs rendered by a documented fallback say so: subsurface (as the diffuse base), thin
-    film (none), a linked coat normal (the base's)."""
+    film (none), a coat normal from a node other than a tangent-space Normal Map (ignored)."""
     mat = bpy.data.materials.new("Skin")
     nt = mat.node_tree
     p = nt.nodes["Principled BSDF"]
     p.inputs["Subsurface Weight"].default_value = 0.5
     p.inputs["Thin Film Thickness"].default_value = 300.0
     p.inputs["Coat Weight"].default_value = 1.0
-    nt.links.new(nt.nodes.new("ShaderNodeNormalMap").outputs[0], p.inputs["Coat Normal"])
+    nt.links.new(nt.nodes.new("ShaderNodeBump").outputs[0], p.inputs["Coat Normal"])
     add_plane(empty, material=mat)
     scene, report = export()
     text = "\n".join(report.messages)
     for what in ("Subsurface Weight is rendered as the diffuse base", "Thin Film",
-                 "Coat Normal"):
+                 "on Coat Normal is not supported"):
         assert what in text, (what, report.messages)
     assert scene.materials[1]["type"] == "principled"
