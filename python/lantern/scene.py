@@ -238,6 +238,7 @@ class Scene:
                      metallic=0.0, transmission=0.0, specular_level=0.5, multiscatter=True,
                      coat_weight=0.0, coat_roughness=0.03, coat_ior=1.5,
                      coat_tint=(1.0, 1.0, 1.0), sheen_weight=0.0, sheen_roughness=0.5,
+                     thin_film_thickness=0.0, thin_film_ior=1.33,
                      sheen_tint=(1.0, 1.0, 1.0), eta=None, k=None, distribution="ggx",
                      alpha=1.0, normal_strength=1.0, coat_normal_strength=1.0, mix=None,
                      diffuse_roughness=0.0,
@@ -263,7 +264,9 @@ class Scene:
         tangent-space normal map of `normal_strength`), `emission_texture` (radiance = texel x
         `emission`), `coat_normal_texture` (principled: the coat's own tangent-space normal map
         of `coat_normal_strength`; without it, a coat under a normal-mapped base follows the
-        smooth interpolated normal, as Cycles' unlinked Coat Normal)."""
+        smooth interpolated normal, as Cycles' unlinked Coat Normal). `thin_film_thickness`
+        (nm, 0: none) and `thin_film_ior`: principled thin-film interference on the specular
+        layer (docs/materials.md)."""
         if name is None:
             name = f"material_{len(self.materials)}"
         material = {
@@ -274,6 +277,7 @@ class Scene:
             "coat_roughness": coat_roughness, "coat_ior": coat_ior, "coat_tint": coat_tint,
             "sheen_weight": sheen_weight, "sheen_roughness": sheen_roughness,
             "sheen_tint": sheen_tint, "distribution": distribution, "alpha": alpha,
+            "thin_film_thickness": thin_film_thickness, "thin_film_ior": thin_film_ior,
             "normal_strength": normal_strength, "coat_normal_strength": coat_normal_strength,
             "diffuse_roughness": diffuse_roughness,
             "anisotropy": anisotropy, "anisotropic_rotation": anisotropic_rotation,
@@ -501,6 +505,8 @@ class Scene:
                                      ("coat_ior", 1.5, 1.0, 100.0),
                                      ("sheen_weight", 0.0, 0.0, 1e3),
                                      ("sheen_roughness", 0.5, 0.0, 1.0),
+                                     ("thin_film_thickness", 0.0, 0.0, 1e5),
+                                     ("thin_film_ior", 1.33, 1.0, 100.0),
                                      ("alpha", 1.0, 0.0, 1.0),
                                      ("normal_strength", 1.0, 0.0, 1e3),
                                      ("coat_normal_strength", 1.0, 0.0, 1e3)):

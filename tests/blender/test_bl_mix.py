@@ -156,18 +156,22 @@ def test_mix_factor_texture_f12(empty, addon, tmp_path, errors):
 
 def test_principled_fallbacks_are_reported(empty, addon):
     """Inputs rendered by a documented fallback say so: subsurface (as the diffuse base), thin
-    film (none), a coat normal from a node other than a tangent-space Normal Map (ignored)."""
+    film on a metal part (none there), a coat normal from a node other than a tangent-space
+    Normal Map (ignored)."""
     mat = bpy.data.materials.new("Skin")
     nt = mat.node_tree
     p = nt.nodes["Principled BSDF"]
     p.inputs["Subsurface Weight"].default_value = 0.5
     p.inputs["Thin Film Thickness"].default_value = 300.0
+    p.inputs["Metallic"].default_value = 0.3   # the film is not rendered on the metal part
     p.inputs["Coat Weight"].default_value = 1.0
     nt.links.new(nt.nodes.new("ShaderNodeBump").outputs[0], p.inputs["Coat Normal"])
     add_plane(empty, material=mat)
     scene, report = export()
     text = "\n".join(report.messages)
-    for what in ("Subsurface Weight is rendered as the diffuse base", "Thin Film",
+    for what in ("Subsurface Weight is rendered as the diffuse base",
+                 "Thin Film is rendered on the dielectric specular layer only",
                  "on Coat Normal is not supported"):
         assert what in text, (what, report.messages)
     assert scene.materials[1]["type"] == "principled"
+    assert scene.materials[1]["thin_film_thickness"] == 300.0

@@ -21,6 +21,7 @@
 #include "bsdf/oren_nayar.h"
 #include "bsdf/multiscatter.h"
 #include "bsdf/sheen.h"
+#include "bsdf/thin_film.h"
 #include "scene/scene_view.h"
 
 namespace lantern {
@@ -40,10 +41,26 @@ LANTERN_HD inline BsdfSample diffuse_base_sample(const Material& m, Vec3 wo, Vec
 // ---- The specular layer: GGX reflection with Cycles' generalized-Schlick Fresnel ----
 
 // Fresnel of the specular layer at cos(wo, m): the real dielectric curve of eta, rescaled to
-// start at F0 * tint (F0 of eta) and end at 1 (tint 1: the plain dielectric Fresnel).
+// start at F0 * tint (F0 of eta) and end at 1 (tint 1: the plain dielectric Fresnel). With a
+// thin film: the film's interference reflectance over the IOR (bsdf/thin_film.h), scaled per
+// channel by F0 * tint / F0(IOR) where it is near F0(IOR), by 1 where it reaches 1 (Specular IOR
+// Level and Tint keep their meaning; 1 with the defaults).
 LANTERN_HD inline Vec3 principled_spec_fresnel(const Material& m, float cos_h) {
     const float eta = m.spec_eta;
     const float f0 = sqr((eta - 1.0f) / (eta + 1.0f));
+    if (m.film_thickness > 0.0f) {
+        Vec3 f = thin_film_reflectance(cos_h, m.film_ior, m.ior, m.film_thickness);
+        const float f0_ior = sqr((m.ior - 1.0f) / (m.ior + 1.0f));
+        if (f0_ior > 1e-5f && f0_ior < 1.0f) {
+            auto scale = [&](float fc, float tint) {
+                const float s = clampf((1.0f - fc) / (1.0f - f0_ior), 0.0f, 1.0f);
+                return fc * (1.0f + (fminf(f0 * tint, 1.0f) / f0_ior - 1.0f) * s);
+            };
+            f = Vec3{scale(f.x, m.specular_tint.x), scale(f.y, m.specular_tint.y),
+                     scale(f.z, m.specular_tint.z)};
+        }
+        return f;
+    }
     const float f = fresnel_dielectric(fabsf(cos_h), eta);
     const float s = f0 < 1.0f ? clampf((f - f0) / (1.0f - f0), 0.0f, 1.0f) : 1.0f;
     Vec3 f0c = vec3(fminf(f0 * m.specular_tint.x, 1.0f), fminf(f0 * m.specular_tint.y, 1.0f),
@@ -88,10 +105,16 @@ inline float principled_spec_albedo_exact(const Material& m, float mu, int n = 6
     return clampf(max_component(e), 0.0f, 1.0f);
 }
 
-// Fills m.spec_albedo (host, at scene build).
+// Fills m.spec_albedo (host, at scene build). With a thin film the layer's weight is its Fresnel
+// at the view cosine (max channel), the smooth-surface estimate Cycles layers iridescence with.
 inline void principled_albedo_table(Material& m) {
-    for (int k = 0; k < kPrincipledAlbedoN; ++k)
-        m.spec_albedo[k] = principled_spec_albedo_exact(m, sqr(float(k) / (kPrincipledAlbedoN - 1)));
+    for (int k = 0; k < kPrincipledAlbedoN; ++k) {
+        const float mu = sqr(float(k) / (kPrincipledAlbedoN - 1));
+        m.spec_albedo[k] = m.film_thickness > 0.0f
+                               ? clampf(max_component(principled_spec_fresnel(m, fmaxf(mu, 1e-3f))),
+                                        0.0f, 1.0f)
+                               : principled_spec_albedo_exact(m, mu);
+    }
 }
 
 LANTERN_HD inline float principled_spec_albedo(const Material& m, float mu) {

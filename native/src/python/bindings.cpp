@@ -121,6 +121,8 @@ SceneInput to_input(const nb::dict& scene) {
             mi.coat_ior = get<float>(m, "coat_ior", mi.coat_ior);
             mi.coat_tint = get_vec3(m, "coat_tint", mi.coat_tint);
             mi.sheen_weight = get<float>(m, "sheen_weight", mi.sheen_weight);
+            mi.thin_film_thickness = get<float>(m, "thin_film_thickness", mi.thin_film_thickness);
+            mi.thin_film_ior = get<float>(m, "thin_film_ior", mi.thin_film_ior);
             mi.sheen_roughness = get<float>(m, "sheen_roughness", mi.sheen_roughness);
             mi.sheen_tint = get_vec3(m, "sheen_tint", mi.sheen_tint);
             mi.tex_base_color = get<int>(m, "base_color_texture", -1);

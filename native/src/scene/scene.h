@@ -49,6 +49,7 @@ struct MaterialInput {
     float coat_weight = 0.0f, coat_roughness = 0.03f, coat_ior = 1.5f;
     Vec3 coat_tint{1.0f, 1.0f, 1.0f};
     float sheen_weight = 0.0f, sheen_roughness = 0.5f;
+    float thin_film_thickness = 0.0f, thin_film_ior = 1.33f;  // nm (0: none); the film's index
     Vec3 sheen_tint{1.0f, 1.0f, 1.0f};
     // textures: indices into SceneInput::textures, -1 for none
     int tex_base_color = -1, tex_roughness = -1, tex_metallic = -1, tex_alpha = -1,

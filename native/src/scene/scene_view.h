@@ -43,6 +43,8 @@ struct Material {
     float metallic;
     float transmission;
     float spec_eta;      // the specular layer's IOR after Blender's Specular IOR Level
+    float film_thickness;  // Thin Film Thickness (nm) on the specular layer, 0: none
+    float film_ior;        // Thin Film IOR
     float spec_albedo[kPrincipledAlbedoN];  // its directional albedo (max channel) by cosine
     // GGX multiple-scattering compensation (conductor, principled): bsdf/multiscatter.h
     uint32_t multiscatter;  // 1: compensate (Blender's "Multiscatter GGX", the default)
