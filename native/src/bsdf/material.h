@@ -78,12 +78,9 @@ LANTERN_HD inline const Material& material_resolve_leaf(const SceneView& s, cons
     return scratch;
 }
 
-// The material of id at texture coordinates st, ready for material_eval / material_sample:
-// the scene's own entry, or a resolved copy in `scratch` (textures; a mix with its leaves).
-LANTERN_HD inline const Material& material_at(const SceneView& s, uint32_t id, Vec2 st,
-                                              MaterialScratch& scratch) {
-    const Material& m = s.materials[id];
-    if (!(m.tex_flags & kMaterialResolve)) return m;
+// material_at's resolution (textures; a mix with its leaves), kept out of its inlined check.
+LANTERN_HD inline const Material& material_resolve(const SceneView& s, const Material& m,
+                                                   Vec2 st, MaterialScratch& scratch) {
     if (m.type != kMaterialMix) return material_resolve_leaf(s, m, st, scratch.m);
     scratch.m = m;
     for (int i = 0; i < m.mix_count; ++i)
@@ -97,6 +94,16 @@ LANTERN_HD inline const Material& material_at(const SceneView& s, uint32_t id, V
         scratch.m.mix_weight[1] = f;
     }
     return scratch.m;
+}
+
+// The material of id at texture coordinates st, ready for material_eval / material_sample:
+// the scene's own entry, or a resolved copy in `scratch` (textures; a mix with its leaves). The
+// check is all a scene without textures or mixes runs (measured: bench/material_cost.py).
+LANTERN_HD inline const Material& material_at(const SceneView& s, uint32_t id, Vec2 st,
+                                              MaterialScratch& scratch) {
+    const Material& m = s.materials[id];
+    if (!(s.material_bits & kSceneResolve) || !(m.tex_flags & kMaterialResolve)) return m;
+    return material_resolve(s, m, st, scratch);
 }
 
 // True when every lobe of m is a delta distribution: a vertex there cannot be connected to.
@@ -239,7 +246,14 @@ LANTERN_HD inline BsdfSample mix_sample(const Material& m, bool front, Vec3 wo, 
 
 // ---- What the integrators call, on a material from material_at ----
 
+// Lambert, the diffuse type without roughness: the path a diffuse-only scene takes, checked
+// first so that it never reaches the mix, Oren-Nayar or layered code.
+LANTERN_HD inline bool material_is_lambert(const Material& m) {
+    return m.type == kMaterialDiffuse && !(m.diffuse_roughness > 0.0f);
+}
+
 LANTERN_HD inline bool material_is_delta(const Material& m) {
+    if (m.type == kMaterialDiffuse) return false;
     if (m.type != kMaterialMix) return material_is_delta_leaf(m);
     for (int i = 0; i < m.mix_count; ++i)
         if (m.mix_weight[i] > 0.0f && !material_is_delta_leaf(*m.mix_leaf[i])) return false;
@@ -256,6 +270,7 @@ LANTERN_HD inline bool material_transmits(const Material& m) {
 
 LANTERN_HD inline BsdfEval material_eval(const Material& m, bool front, Vec3 wo, Vec3 wi,
                                          Transport mode, Vec3 coat_n = Vec3{0.0f, 0.0f, 1.0f}) {
+    if (material_is_lambert(m)) return lambert_eval(m.base_color, wo, wi);
     return m.type == kMaterialMix ? mix_eval(m, front, wo, wi, mode, coat_n)
                                   : material_eval_leaf(m, front, wo, wi, mode, coat_n);
 }
@@ -263,6 +278,7 @@ LANTERN_HD inline BsdfEval material_eval(const Material& m, bool front, Vec3 wo,
 LANTERN_HD inline BsdfSample material_sample(const Material& m, bool front, Vec3 wo, Vec3 u,
                                              Transport mode,
                                              Vec3 coat_n = Vec3{0.0f, 0.0f, 1.0f}) {
+    if (material_is_lambert(m)) return lambert_sample(m.base_color, wo, Vec2{u.x, u.y});
     return m.type == kMaterialMix ? mix_sample(m, front, wo, u, mode, coat_n)
                                   : material_sample_leaf(m, front, wo, u, mode, coat_n);
 }

@@ -81,13 +81,16 @@ struct Frame {
     }
     // from_normal(n) turned about n by `angle` (radians): anisotropic lobes' local X follows
     // a surface tangent stored as that angle
+    // (the turn is its own function, so that the common angle 0 stays inlined and small)
     LANTERN_HD static Frame from_normal_angle(Vec3 n, float angle) {
-        Frame f = from_normal(n);
-        if (angle == 0.0f) return f;
+        const Frame f = from_normal(n);
+        return angle == 0.0f ? f : f.turned(angle);
+    }
+    LANTERN_HD Frame turned(float angle) const {
         const float c = cosf(angle), sn = sinf(angle);
-        const Vec3 s2 = f.s * c + f.t * sn;
-        f.t = f.t * c - f.s * sn;
-        f.s = s2;
+        Frame f = *this;
+        f.s = s * c + t * sn;
+        f.t = t * c - s * sn;
         return f;
     }
     LANTERN_HD Vec3 to_local(Vec3 v) const { return {dot(v, s), dot(v, t), dot(v, n)}; }

@@ -207,7 +207,7 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
         v.path = int32_t(path);
         v.length = int16_t(k);
         v.front = h.front ? 1 : 0;
-        v.coat_n = oct_encode(h.coat_n);
+        v.coat_n = (m.tex_flags & kCoatNormal) ? oct_encode(h.coat_n) : 0u;
         bs.vertex[i] = v;
         bs.store[i] = is_finite(beta) && is_finite(dvcm) && is_finite(dvc) ? 1 : 0;
     }

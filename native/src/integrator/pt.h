@@ -162,6 +162,26 @@ LANTERN_HD inline float anisotropy_angle(const SceneView& s, const Material& m, 
     return is_finite(angle) ? angle : 0.0f;
 }
 
+// The material-dependent part of the shading frame (kSceneFrames scenes only, so that the
+// common path stays small): a normal map on the front-side normal n, the anisotropy tangent and
+// the coat's own normal.
+LANTERN_HD inline void pt_surface_frames(const SceneView& s, SurfaceHit& h, int tri, Vec2 uv,
+                                         Vec3 n, Vec3 ng_front) {
+    const Material& m = s.materials[s.tri_material[tri]];
+    const Vec3 n_smooth = n;
+    if (m.tex_flags & kTexNormal)
+        n = apply_normal_map(s, m.tex_normal, m.normal_strength, tri, uv, n, ng_front, h.st);
+    h.ns = h.front ? n : -n;
+    if (m.anisotropy > 0.0f) h.tangent_angle = anisotropy_angle(s, m, tri, uv, h.ns);
+    if (m.tex_flags & kCoatNormal) {  // the coat's own normal: its map, or the smooth normal
+        Vec3 nc = m.tex_coat_normal >= 0 ? apply_normal_map(s, m.tex_coat_normal,
+                                                             m.coat_normal_strength, tri, uv,
+                                                             n_smooth, ng_front, h.st)
+                                         : n_smooth;
+        h.coat_n = normalize(h.frame().to_local(h.front ? nc : -nc));
+    }
+}
+
 LANTERN_HD inline SurfaceHit pt_surface(const SceneView& s, int tri, Vec2 uv, Vec3 d) {
     Vec3 a = triangle_vertex(s, tri, 0), b = triangle_vertex(s, tri, 1),
          c = triangle_vertex(s, tri, 2);
@@ -179,23 +199,12 @@ LANTERN_HD inline SurfaceHit pt_surface(const SceneView& s, int tri, Vec2 uv, Ve
             n = dot(ni, ng_front) < 0.0f ? -ni : ni;
         }
     }
-    // (the mapped normal depends on the surface point only, never on the arriving direction:
-    // camera and light sub-paths see the same BSDF, as BDPT's MIS needs; docs/materials.md)
-    const Material& m = s.materials[s.tri_material[tri]];
-    const Vec3 n_smooth = n;
-    if (m.tex_flags & kTexNormal)
-        n = apply_normal_map(s, m.tex_normal, m.normal_strength, tri, uv, n, ng_front, h.st);
     h.front = dot(ng_front, d) <= 0.0f;
     h.ng = h.front ? ng_front : -ng_front;
     h.ns = h.front ? n : -n;
-    if (m.anisotropy > 0.0f) h.tangent_angle = anisotropy_angle(s, m, tri, uv, h.ns);
-    if (m.tex_flags & kCoatNormal) {  // the coat's own normal: its map, or the smooth normal
-        Vec3 nc = m.tex_coat_normal >= 0 ? apply_normal_map(s, m.tex_coat_normal,
-                                                             m.coat_normal_strength, tri, uv,
-                                                             n_smooth, ng_front, h.st)
-                                         : n_smooth;
-        h.coat_n = normalize(h.frame().to_local(h.front ? nc : -nc));
-    }
+    // (the mapped normal depends on the surface point only, never on the arriving direction:
+    // camera and light sub-paths see the same BSDF, as BDPT's MIS needs; docs/materials.md)
+    if (s.material_bits & kSceneFrames) pt_surface_frames(s, h, tri, uv, n, ng_front);
     return h;
 }
 

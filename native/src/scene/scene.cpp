@@ -614,6 +614,12 @@ void HostScene::finish_view(const SceneInput& in) {
     v.num_triangles = int32_t(tri_material_.size());
     v.materials = materials_.data();
     v.num_materials = int32_t(materials_.size());
+    v.material_bits = 0;
+    for (const Material& m : materials_) {
+        if (m.tex_flags & kMaterialResolve) v.material_bits |= kSceneResolve;
+        if ((m.tex_flags & (kTexNormal | kCoatNormal)) || m.anisotropy > 0.0f)
+            v.material_bits |= kSceneFrames;
+    }
     v.lights = lights_.data();
     v.light_cdf = light_cdf_.data();
     v.emit_cdf = has_emitters_ ? emit_cdf_.data() : nullptr;

@@ -157,6 +157,15 @@ struct CameraView {
     float filter_width;
 };
 
+// What a scene's materials need at a hit, over all of them (HostScene::finish_view), so that a
+// scene whose materials need none of it skips the per-hit checks and loads: a diffuse-only
+// scene pays nothing for textures, mixes, normal maps or anisotropy. The default (every bit)
+// is the conservative one for views built by hand.
+enum SceneMaterialBits : uint32_t {
+    kSceneResolve = 1u,  // some material needs material_at to resolve it (textures, mixes)
+    kSceneFrames = 2u,   // some material has a normal map, a coat normal or anisotropy
+};
+
 struct SceneView {
     const Vec3* positions = nullptr;
     const Vec3* normals = nullptr;   // per vertex, may be null
@@ -169,6 +178,7 @@ struct SceneView {
 
     const Material* materials = nullptr;
     int32_t num_materials = 0;
+    uint32_t material_bits = ~0u;        // SceneMaterialBits
 
     const Texture* textures = nullptr;
     const uint8_t* texels = nullptr;     // the pool Texture::offset points into
