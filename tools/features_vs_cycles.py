@@ -70,12 +70,9 @@ KNOWN = {
                      "compensation yet"),
     "glass_bsdf": ("approximation", "rough glass transmission has no multiple-scattering "
                    "compensation yet"),
-    "thin_film": ("approximation", "interference colours within 4% per channel; most likely the "
-                  "colour matching (not isolated): Lantern integrates with the paper's Gaussian "
-                  "fit of CIE XYZ (illuminant E, white-scaled to D65), Cycles 5.0 with a table "
-                  "of the working-space RGB sensitivities' Fourier transform"),
-    "thin_film_metal": ("open gap", "Lantern renders Thin Film on the dielectric specular layer "
-                        "only; the metal reflects without interference (a warning)"),
+    "thin_film": ("open gap", "dielectric film: interference colours within 4% per channel, "
+                  "not within noise; the same film on a metal is, so not the colour matching; "
+                  "cause not isolated (docs/materials_vs_cycles.md)"),
 }
 
 

@@ -409,6 +409,11 @@ def _convert_shader(node, material, report, textures):
         transmission = _weight(value("Transmission Weight"))
         level = value("Specular IOR Level")
         level = 0.5 if level != level else min(max(level, 0.0), 1e3)
+        film = _weight(value("Thin Film Thickness"), 1e5) \
+            if "Thin Film Thickness" in node.inputs else 0.0   # Blender >= 4.2
+        if film > 0.0:   # on the specular layer and the metal (not the glass)
+            out.update(thin_film_thickness=film,
+                       thin_film_ior=max(_ior(value("Thin Film IOR")), 1.0))
         if metallic >= 0.999 and not metal_tex:  # the metal lobe alone: the cheaper conductor
             out.pop("metallic")
             out.update(type="conductor", base_color=base,
@@ -424,11 +429,6 @@ def _convert_shader(node, material, report, textures):
                            coat_ior=max(_ior(value("Coat IOR")), 1.0),
                            coat_tint=color("Coat Tint"))
                 inputs.normal_map(out, "Coat Normal", "coat_normal")
-            film = _weight(value("Thin Film Thickness"), 1e5) \
-                if "Thin Film Thickness" in node.inputs else 0.0   # Blender >= 4.2
-            if film > 0.0:
-                out.update(thin_film_thickness=film,
-                           thin_film_ior=max(_ior(value("Thin Film IOR")), 1.0))
             sheen = _weight(value("Sheen Weight"), 1e3)
             if sheen > 0.0:
                 out.update(sheen_weight=sheen, sheen_roughness=_unit(value("Sheen Roughness")),
@@ -495,10 +495,10 @@ def _principled_unsupported(node, material, report):
     if val("Subsurface Weight") > 0.0:
         report.warn(f"Material '{name}': Subsurface Weight is rendered as the diffuse base "
                     "(no subsurface scattering)")
-    if val("Thin Film Thickness") > 0.0 and (val("Metallic") > 0.0 or
-                                            val("Transmission Weight") > 0.0):
-        report.warn(f"Material '{name}': Thin Film is rendered on the dielectric specular layer "
-                    "only (the metal and glass parts reflect without interference)")
+    if val("Thin Film Thickness") > 0.0 and val("Transmission Weight") > 0.0 and \
+            val("Metallic") < 1.0:
+        report.warn(f"Material '{name}': Thin Film is rendered on the specular layer and the "
+                    "metal, not on the glass part (it refracts and reflects without interference)")
 
 
 def _turns(v):

@@ -265,8 +265,8 @@ class Scene:
         `emission`), `coat_normal_texture` (principled: the coat's own tangent-space normal map
         of `coat_normal_strength`; without it, a coat under a normal-mapped base follows the
         smooth interpolated normal, as Cycles' unlinked Coat Normal). `thin_film_thickness`
-        (nm, 0: none) and `thin_film_ior`: principled thin-film interference on the specular
-        layer (docs/materials.md)."""
+        (nm, 0: none) and `thin_film_ior`: thin-film interference on the principled specular layer
+        and metal, and on conductors (docs/materials.md)."""
         if name is None:
             name = f"material_{len(self.materials)}"
         material = {

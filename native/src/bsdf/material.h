@@ -25,6 +25,8 @@ LANTERN_HD inline ConductorParams material_conductor(const Material& m) {
                             : conductor_f82(m.roughness, m.base_color, m.specular_tint,
                                             m.anisotropy);
     p.beckmann = m.beckmann != 0;
+    p.film_thickness = m.film_thickness;
+    p.film_ior = m.film_ior;
     return p;
 }
 LANTERN_HD inline Vec3 material_conductor_scale(const Material& m) {

@@ -121,6 +121,14 @@ LANTERN_HD inline float principled_spec_albedo(const Material& m, float mu) {
     return ms_table(m.spec_albedo, mu);
 }
 
+// The metal lobe: F82-tint GGX of the base colour, with the thin film over it.
+LANTERN_HD inline ConductorParams principled_metal(const Material& m) {
+    ConductorParams c = conductor_f82(m.roughness, m.base_color, m.specular_tint, m.anisotropy);
+    c.film_thickness = m.film_thickness;
+    c.film_ior = m.film_ior;
+    return c;
+}
+
 // ---- The sheen: the top layer ----
 
 LANTERN_HD inline SheenParams principled_sheen(const Material& m) {
@@ -299,8 +307,7 @@ LANTERN_HD inline BsdfEval principled_eval(const Material& m, bool front, Vec3 w
     const Vec3 below = principled_below_coat(m, mu_v, mu_vc);
     Vec3 f_lower = vec3(0.0f);
     if (w.metal > 0.0f && reflect) {
-        BsdfEval l = conductor_eval(conductor_f82(m.roughness, m.base_color, m.specular_tint,
-                                                  m.anisotropy),
+        BsdfEval l = conductor_eval(principled_metal(m),
                                     wo, wi);
         f_lower += l.f * ms_scale(m, m.fms_metal, mu_v) * w.metal;
         e.pdf_fwd_w += pf.metal * l.pdf_fwd_w;
@@ -373,8 +380,7 @@ LANTERN_HD inline BsdfSample principled_sample(const Material& m, bool front, Ve
     BsdfSample l{vec3(0.0f), vec3(0.0f), 0.0f, false};
     Vec3 delta_f = vec3(0.0f);  // lobe weight x the lobe's own sample weight, for a delta pick
     if (lobe == 0) {
-        ConductorParams c = conductor_f82(m.roughness, m.base_color, m.specular_tint,
-                                          m.anisotropy);
+        ConductorParams c = principled_metal(m);
         l = conductor_sample(c, wo, ud);
         delta_f = l.weight * w.metal;
     } else if (lobe == 1) {

@@ -155,6 +155,14 @@ HostScene::HostScene(const SceneInput& in) {
                                         "' (ggx, beckmann)");
         }
         m.beckmann = mi.distribution == "beckmann" ? 1u : 0u;
+        // Thin Film (principled specular layer and metal, conductors): NaN or negative
+        // thickness -> none; above 100 um no interference is left to see, so clamp there
+        m.film_thickness = std::isfinite(mi.thin_film_thickness)
+                               ? std::min(std::max(mi.thin_film_thickness, 0.0f), 1e5f)
+                               : 0.0f;
+        m.film_ior = std::isfinite(mi.thin_film_ior)
+                         ? std::min(std::max(mi.thin_film_ior, 1.0f), 100.0f)
+                         : 1.33f;
         if (mi.type == "diffuse") {
             m.type = kMaterialDiffuse;
         } else if (mi.type == "conductor") {
@@ -180,14 +188,6 @@ HostScene::HostScene(const SceneInput& in) {
             f0 = std::min(f0 * 2.0f * level, 0.99f);
             const float r = std::sqrt(f0);
             m.spec_eta = (1.0f + r) / (1.0f - r);
-            // Thin Film: NaN or negative thickness -> none; above 100 um no interference is
-            // left to see (the sensitivity has decayed), so clamp there
-            m.film_thickness = std::isfinite(mi.thin_film_thickness)
-                                   ? std::min(std::max(mi.thin_film_thickness, 0.0f), 1e5f)
-                                   : 0.0f;
-            m.film_ior = std::isfinite(mi.thin_film_ior)
-                             ? std::min(std::max(mi.thin_film_ior, 1.0f), 100.0f)
-                             : 1.33f;
             m.coat_weight = unit(mi.coat_weight, 0.0f);
             m.coat_roughness = unit(mi.coat_roughness, 0.03f);
             m.coat_ior = std::isfinite(mi.coat_ior) ? std::min(std::max(mi.coat_ior, 1.0f), 100.0f)
