@@ -71,8 +71,9 @@ KNOWN = {
     "glass_bsdf": ("approximation", "rough glass transmission has no multiple-scattering "
                    "compensation yet"),
     "thin_film": ("open gap", "dielectric film: interference colours within 4% per channel, "
-                  "not within noise; the same film on a metal is, so not the colour matching; "
-                  "cause not isolated (docs/materials_vs_cycles.md)"),
+                  "not within noise; likely the colour matching (the paper's Gaussian XYZ fit vs "
+                  "Cycles' table of RGB sensitivities), which weighs most where the interference "
+                  "is most of the reflectance (docs/materials_vs_cycles.md)"),
 }
 
 
