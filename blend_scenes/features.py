@@ -425,6 +425,21 @@ def normal_map():
                   Roughness=0.4) for s in NORMAL_STRENGTH])
 
 
+FILM = (0.0, 250.0, 500.0, 800.0)   # Thin Film Thickness, nm
+
+
+@scene
+def thin_film():
+    row([principled(f"Film{d}", Base_Color=DARK, Roughness=0.2, Thin_Film_Thickness=d,
+                    Thin_Film_IOR=1.33) for d in FILM])
+
+
+@scene
+def thin_film_metal():
+    row([principled(f"FilmMetal{d}", Base_Color=(0.9, 0.9, 0.9), Metallic=1.0, Roughness=0.2,
+                    Thin_Film_Thickness=d, Thin_Film_IOR=1.33) for d in FILM])
+
+
 def _labels(prefix, values):
     return tuple(f"{prefix}{v}" for v in values)
 
@@ -479,6 +494,11 @@ FEATURES = {
                                "stripes 0.1 / 0.7 Image Texture (Non-Color) on Roughness"),
     "normal_map": Feature(normal_map, _labels("strength ", NORMAL_STRENGTH),
                           "ridge normal map (Non-Color) through a Normal Map node"),
+    "thin_film": Feature(thin_film, _labels("", FILM),
+                         "Thin Film Thickness (nm, film IOR 1.33), base 0.05, roughness 0.2"),
+    "thin_film_metal": Feature(thin_film_metal, _labels("", FILM),
+                               "Thin Film Thickness (nm, film IOR 1.33) on a grey 0.9 metal, "
+                               "roughness 0.2"),
 }
 
 

@@ -70,6 +70,10 @@ KNOWN = {
                      "compensation yet"),
     "glass_bsdf": ("approximation", "rough glass transmission has no multiple-scattering "
                    "compensation yet"),
+    "thin_film": ("open gap", "dielectric film: interference colours within 4% per channel, "
+                  "not within noise; likely the colour matching (the paper's Gaussian XYZ fit vs "
+                  "Cycles' table of RGB sensitivities), which weighs most where the interference "
+                  "is most of the reflectance (docs/materials_vs_cycles.md)"),
 }
 
 

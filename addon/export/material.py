@@ -18,7 +18,7 @@ Material Output's Surface:
 
 Textures (texture.py): an Image Texture feeding Base Color / Color, Roughness, Metallic or Alpha
 (directly, through a Separate Color channel, or its Alpha output) is rendered as a texture; a
-Normal Map node (tangent space) on Normal as a normal map. On other inputs (emission colour,
+Normal Map node (tangent space) on Normal (and Coat Normal) as a normal map. On other inputs (emission colour,
 coat, sheen, ...) the image's mean value is used, with a warning. A missing image is magenta.
 Alpha < 1 (constant or textured) lets rays pass the surface (docs/materials.md)."""
 
@@ -181,16 +181,17 @@ class _Inputs:
         col = list(MAGENTA) if tid == "missing" else self.color(socket_name, clamp=False)
         out["emission"] = [c * strength for c in col]
 
-    def normal_map(self, out):
-        """A tangent-space Normal Map node on the Normal input -> normal_texture."""
-        sock = self.node.inputs.get("Normal")
+    def normal_map(self, out, socket_name="Normal", key="normal"):
+        """A tangent-space Normal Map node on the Normal input -> normal_texture (Coat Normal:
+        socket_name "Coat Normal", key "coat_normal" -> coat_normal_texture)."""
+        sock = self.node.inputs.get(socket_name)
         if sock is None or not sock.is_linked:
             return
         src, _ = _source(sock)
         if src is None:
             return
         if src.type != "NORMAL_MAP":
-            self.report.warn(f"{self.where}: '{src.name}' ({src.type}) on Normal is not "
+            self.report.warn(f"{self.where}: '{src.name}' ({src.type}) on {socket_name} is not "
                              "supported (Normal Map nodes in tangent space are); ignored")
             return
         if getattr(src, "space", "TANGENT") != "TANGENT":
@@ -209,9 +210,9 @@ class _Inputs:
         tid = self.textures.add(img, "color", self.where)
         if tid is None:
             return
-        out["normal_texture"] = tid
+        out[key + "_texture"] = tid
         strength = _constant_float(src.inputs["Strength"], self.material, self.report)
-        out["normal_strength"] = min(max(strength, 0.0), 1e3) if strength == strength else 1.0
+        out[key + "_strength"] = min(max(strength, 0.0), 1e3) if strength == strength else 1.0
 
 
 def convert_material(material, report, textures=None, add_leaf=None):
@@ -408,6 +409,11 @@ def _convert_shader(node, material, report, textures):
         transmission = _weight(value("Transmission Weight"))
         level = value("Specular IOR Level")
         level = 0.5 if level != level else min(max(level, 0.0), 1e3)
+        film = _weight(value("Thin Film Thickness"), 1e5) \
+            if "Thin Film Thickness" in node.inputs else 0.0   # Blender >= 4.2
+        if film > 0.0:   # on the specular layer and the metal (not the glass)
+            out.update(thin_film_thickness=film,
+                       thin_film_ior=max(_ior(value("Thin Film IOR")), 1.0))
         if metallic >= 0.999 and not metal_tex:  # the metal lobe alone: the cheaper conductor
             out.pop("metallic")
             out.update(type="conductor", base_color=base,
@@ -422,6 +428,7 @@ def _convert_shader(node, material, report, textures):
                 out.update(coat_weight=coat, coat_roughness=_unit(value("Coat Roughness")),
                            coat_ior=max(_ior(value("Coat IOR")), 1.0),
                            coat_tint=color("Coat Tint"))
+                inputs.normal_map(out, "Coat Normal", "coat_normal")
             sheen = _weight(value("Sheen Weight"), 1e3)
             if sheen > 0.0:
                 out.update(sheen_weight=sheen, sheen_roughness=_unit(value("Sheen Roughness")),
@@ -488,12 +495,10 @@ def _principled_unsupported(node, material, report):
     if val("Subsurface Weight") > 0.0:
         report.warn(f"Material '{name}': Subsurface Weight is rendered as the diffuse base "
                     "(no subsurface scattering)")
-    if val("Thin Film Thickness") > 0.0:
-        report.warn(f"Material '{name}': Thin Film is not rendered yet (no interference)")
-    sock = node.inputs.get("Coat Normal")
-    if sock is not None and sock.is_linked and val("Coat Weight") > 0.0:
-        report.warn(f"Material '{name}': Coat Normal is not rendered yet; the coat uses the "
-                    "base's normal")
+    if val("Thin Film Thickness") > 0.0 and val("Transmission Weight") > 0.0 and \
+            val("Metallic") < 1.0:
+        report.warn(f"Material '{name}': Thin Film is rendered on the specular layer and the "
+                    "metal, not on the glass part (it refracts and reflects without interference)")
 
 
 def _turns(v):

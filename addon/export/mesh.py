@@ -72,7 +72,8 @@ def _corner_arrays(mesh):
 
 
 def _needs_tangents(m):
-    return "normal_texture" in m or (m.get("anisotropy", 0.0) > 0.0 and m.get("tangent") == "uv")
+    return "normal_texture" in m or "coat_normal_texture" in m or \
+        (m.get("anisotropy", 0.0) > 0.0 and m.get("tangent") == "uv")
 
 
 class MeshExporter:

@@ -26,7 +26,8 @@ TEXTURE_INTERPOLATIONS = ("linear", "closest")
 TEXTURE_OUTPUTS = ("color", "alpha", "red", "green", "blue")
 # material inputs that may name a texture (index into Scene.textures)
 MATERIAL_TEXTURES = ("base_color_texture", "roughness_texture", "metallic_texture",
-                     "alpha_texture", "normal_texture", "mix_texture", "emission_texture")
+                     "alpha_texture", "normal_texture", "mix_texture", "emission_texture",
+                     "coat_normal_texture")
 
 # Blender's default camera: 50 mm lens on a 36 mm sensor.
 DEFAULT_TAN_HALF = 18.0 / 50.0
@@ -237,8 +238,10 @@ class Scene:
                      metallic=0.0, transmission=0.0, specular_level=0.5, multiscatter=True,
                      coat_weight=0.0, coat_roughness=0.03, coat_ior=1.5,
                      coat_tint=(1.0, 1.0, 1.0), sheen_weight=0.0, sheen_roughness=0.5,
+                     thin_film_thickness=0.0, thin_film_ior=1.33,
                      sheen_tint=(1.0, 1.0, 1.0), eta=None, k=None, distribution="ggx",
-                     alpha=1.0, normal_strength=1.0, mix=None, diffuse_roughness=0.0,
+                     alpha=1.0, normal_strength=1.0, coat_normal_strength=1.0, mix=None,
+                     diffuse_roughness=0.0,
                      anisotropy=0.0, anisotropic_rotation=0.0, tangent="triangle", **textures):
         """Append a material; returns its id (index into `materials`).
 
@@ -259,7 +262,11 @@ class Scene:
         pass the surface (Blender's Alpha). Textures by id: `base_color_texture`,
         `roughness_texture`, `metallic_texture`, `alpha_texture`, `normal_texture` (a
         tangent-space normal map of `normal_strength`), `emission_texture` (radiance = texel x
-        `emission`)."""
+        `emission`), `coat_normal_texture` (principled: the coat's own tangent-space normal map
+        of `coat_normal_strength`; without it, a coat under a normal-mapped base follows the
+        smooth interpolated normal, as Cycles' unlinked Coat Normal). `thin_film_thickness`
+        (nm, 0: none) and `thin_film_ior`: thin-film interference on the principled specular layer
+        and metal, and on conductors (docs/materials.md)."""
         if name is None:
             name = f"material_{len(self.materials)}"
         material = {
@@ -270,7 +277,9 @@ class Scene:
             "coat_roughness": coat_roughness, "coat_ior": coat_ior, "coat_tint": coat_tint,
             "sheen_weight": sheen_weight, "sheen_roughness": sheen_roughness,
             "sheen_tint": sheen_tint, "distribution": distribution, "alpha": alpha,
-            "normal_strength": normal_strength, "diffuse_roughness": diffuse_roughness,
+            "thin_film_thickness": thin_film_thickness, "thin_film_ior": thin_film_ior,
+            "normal_strength": normal_strength, "coat_normal_strength": coat_normal_strength,
+            "diffuse_roughness": diffuse_roughness,
             "anisotropy": anisotropy, "anisotropic_rotation": anisotropic_rotation,
             "tangent": tangent,
         }
@@ -496,8 +505,11 @@ class Scene:
                                      ("coat_ior", 1.5, 1.0, 100.0),
                                      ("sheen_weight", 0.0, 0.0, 1e3),
                                      ("sheen_roughness", 0.5, 0.0, 1.0),
+                                     ("thin_film_thickness", 0.0, 0.0, 1e5),
+                                     ("thin_film_ior", 1.33, 1.0, 100.0),
                                      ("alpha", 1.0, 0.0, 1.0),
-                                     ("normal_strength", 1.0, 0.0, 1e3)):
+                                     ("normal_strength", 1.0, 0.0, 1e3),
+                                     ("coat_normal_strength", 1.0, 0.0, 1e3)):
             try:
                 v = float(material.get(key, default))
             except (TypeError, ValueError):

@@ -275,6 +275,43 @@ def _checker(n=8, a=(0.9, 0.85, 0.7), b=(0.15, 0.1, 0.05)):
     return np.where(tile[..., None] == 0, enc(a), enc(b)).astype(np.uint8)
 
 
+def _tilt_map(scene, degrees):
+    """A constant tangent-space normal map tilting the normal `degrees` towards -u."""
+    t = math.radians(degrees)
+    nrm = np.array([[[int(round((1 - math.sin(t)) * 127.5)), 128,
+                      int(round((math.cos(t) + 1) * 127.5)), 255]]], np.uint8)
+    return scene.add_texture(nrm, colorspace="linear")
+
+
+def coat_normal_box(width=64, height=64, light_power=40.0):
+    """Principled coats with their own normals (Coat Normal) in the Cornell box: the left wall
+    a red base under a rough coat whose normal is tilted 30 degrees (its own map), the right
+    wall a normal-mapped green base under a smooth (delta) coat on the interpolated normal, the
+    back wall a part-metal base under a tilted rougher coat, a white floor and boxes."""
+    scene, white, red, green = _box_room(width, height)
+    tilt30 = _tilt_map(scene, 30.0)
+    left = scene.add_material("coat_tilted", type="principled", base_color=(0.63, 0.065, 0.05),
+                              roughness=0.5, coat_weight=1.0, coat_roughness=0.15,
+                              coat_normal_texture=tilt30)
+    right = scene.add_material("base_mapped", type="principled", base_color=(0.14, 0.45, 0.091),
+                               roughness=0.4, coat_weight=1.0, coat_roughness=0.0,
+                               normal_texture=_tilt_map(scene, 35.0))
+    back = scene.add_material("coat_metal", type="principled", base_color=(0.8, 0.7, 0.5),
+                              metallic=0.4, roughness=0.4, coat_weight=0.8, coat_roughness=0.3,
+                              coat_normal_texture=tilt30, coat_normal_strength=0.7)
+    _walls(scene, white, left, right, back=back,
+           uvs=np.array([[0, 0], [1, 0], [1, 1], [0, 1]], np.float32))
+    pos, idx = _box((0.33, -0.3, 0.0), (0.6, 0.6, 0.6), -17.0)
+    scene.add_mesh(pos, idx, material=white, name="short_box")
+    pos, idx = _box((-0.35, 0.3, 0.0), (0.6, 0.6, 1.2), 17.0)
+    scene.add_mesh(pos, idx, material=white, name="tall_box")
+    to_world = np.eye(4)
+    to_world[:3, 3] = (0.0, 0.0, 1.98)
+    scene.add_light("area", to_world=to_world.tolist(), shape="rectangle", size=[0.5, 0.4],
+                    power=[light_power] * 3, visible_camera=True)
+    return scene
+
+
 def features_box(width=64, height=64, light_power=40.0):
     """What the material system adds beyond the Principled layers, in the Cornell box: a
     checker-textured floor, a Mix Shader back wall (0.7 diffuse + 0.3 anisotropic rough metal

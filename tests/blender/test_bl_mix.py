@@ -156,18 +156,38 @@ def test_mix_factor_texture_f12(empty, addon, tmp_path, errors):
 
 def test_principled_fallbacks_are_reported(empty, addon):
     """Inputs rendered by a documented fallback say so: subsurface (as the diffuse base), thin
-    film (none), a linked coat normal (the base's)."""
+    film on a glass part (none there), a coat normal from a node other than a tangent-space
+    Normal Map (ignored)."""
     mat = bpy.data.materials.new("Skin")
     nt = mat.node_tree
     p = nt.nodes["Principled BSDF"]
     p.inputs["Subsurface Weight"].default_value = 0.5
     p.inputs["Thin Film Thickness"].default_value = 300.0
+    p.inputs["Transmission Weight"].default_value = 0.3   # no film on the glass part
     p.inputs["Coat Weight"].default_value = 1.0
-    nt.links.new(nt.nodes.new("ShaderNodeNormalMap").outputs[0], p.inputs["Coat Normal"])
+    nt.links.new(nt.nodes.new("ShaderNodeBump").outputs[0], p.inputs["Coat Normal"])
     add_plane(empty, material=mat)
     scene, report = export()
     text = "\n".join(report.messages)
-    for what in ("Subsurface Weight is rendered as the diffuse base", "Thin Film",
-                 "Coat Normal"):
+    for what in ("Subsurface Weight is rendered as the diffuse base",
+                 "Thin Film is rendered on the specular layer and the metal, not on the glass",
+                 "on Coat Normal is not supported"):
         assert what in text, (what, report.messages)
     assert scene.materials[1]["type"] == "principled"
+    assert scene.materials[1]["thin_film_thickness"] == 300.0
+
+
+def test_thin_film_on_metal_exports(empty, addon):
+    """Metallic 1 exports as the conductor type, with its thin film (rendered over the metal)
+    and no fallback warning."""
+    mat = bpy.data.materials.new("Oily")
+    p = mat.node_tree.nodes["Principled BSDF"]
+    p.inputs["Metallic"].default_value = 1.0
+    p.inputs["Thin Film Thickness"].default_value = 400.0
+    p.inputs["Thin Film IOR"].default_value = 1.45
+    add_plane(empty, material=mat)
+    scene, report = export()
+    m = scene.materials[1]
+    assert m["type"] == "conductor"
+    assert m["thin_film_thickness"] == 400.0 and abs(m["thin_film_ior"] - 1.45) < 1e-6
+    assert not any("Thin Film" in w for w in report.messages), report.messages

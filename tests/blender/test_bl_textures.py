@@ -109,6 +109,33 @@ def test_export_image_texture(empty, addon):
     scene.validate()
 
 
+def test_export_coat_normal(empty, addon):
+    """A Normal Map on Coat Normal -> coat_normal_texture and strength, tangents exported, no
+    fallback warning; the base's own Normal Map stays normal_texture."""
+    mat = bpy.data.materials.new("Coated")
+    nt = mat.node_tree
+    bsdf = nt.nodes["Principled BSDF"]
+    bsdf.inputs["Coat Weight"].default_value = 1.0
+    for socket, strength in (("Coat Normal", 0.6), ("Normal", 1.0)):
+        tex = nt.nodes.new("ShaderNodeTexImage")
+        tex.image = make_image(socket, np.array([[[160, 128, 250, 255]]], np.uint8),
+                               colorspace="Non-Color")
+        nmap = nt.nodes.new("ShaderNodeNormalMap")
+        nmap.inputs["Strength"].default_value = strength
+        nt.links.new(tex.outputs["Color"], nmap.inputs["Color"])
+        nt.links.new(nmap.outputs["Normal"], bsdf.inputs[socket])
+    add_uvs(add_plane(empty, material=mat))
+    scene, report = export()
+    m = scene.materials[1]
+    assert m["type"] == "principled" and m["coat_weight"] == 1.0
+    assert scene.textures[m["coat_normal_texture"]]["name"].startswith("Coat Normal")
+    assert scene.textures[m["normal_texture"]]["name"].startswith("Normal")
+    assert m["coat_normal_strength"] == pytest.approx(0.6)
+    assert scene.meshes[0]["tangents"] is not None
+    assert not any("Coat Normal" in w for w in report.messages), report.messages
+    scene.validate()
+
+
 def test_export_channels_non_color_and_sharing(empty, addon):
     """Roughness from the green channel of a packed Non-Color map, metallic from its blue one:
     one image read once, two textures (different outputs)."""

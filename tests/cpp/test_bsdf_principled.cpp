@@ -9,53 +9,6 @@
 using namespace lantern;
 using namespace lantern::test;
 
-namespace {
-
-Material principled(Vec3 base, float metallic, float transmission, float roughness,
-                    float ior = 1.5f, float level = 0.5f) {
-    Material m{};
-    m.type = kMaterialPrincipled;
-    m.base_color = base;
-    m.metallic = metallic;
-    m.transmission = transmission;
-    m.roughness = roughness;
-    m.ior = ior;
-    m.specular_tint = vec3(1.0f);
-    float f0 = sqr((ior - 1.0f) / (ior + 1.0f)) * 2.0f * level;
-    float r = std::sqrt(std::min(f0, 0.99f));
-    m.spec_eta = (1.0f + r) / (1.0f - r);
-    principled_albedo_table(m);
-    return m;
-}
-
-Material coated(Material m, float weight, float roughness, float ior = 1.5f) {
-    m.coat_weight = weight;
-    m.coat_roughness = roughness;
-    m.coat_ior = ior;
-    m.coat_tint = vec3(1.0f);
-    principled_coat_table(m);
-    return m;
-}
-
-Material sheened(Material m, float weight, float roughness) {
-    m.sheen_weight = weight;
-    m.sheen_roughness = roughness;
-    m.sheen_tint = vec3(1.0f);
-    principled_sheen_table(m);
-    return m;
-}
-
-Material anisotropic(Material m, float a) {
-    m.anisotropy = a;
-    return m;
-}
-
-Material rough_base(Material m, float r) {
-    m.diffuse_roughness = r;
-    return m;
-}
-
-}  // namespace
 
 TEST(BsdfPrincipled, SampleMatchesMixturePdfChiSquare) {
     struct Case {

@@ -207,3 +207,52 @@ TEST(Camera, FilterOffsetsFollowBlackmanHarris) {
         EXPECT_NEAR(hist[b], mass[b] / total, 2e-4) << "bin " << b;
     }
 }
+
+// SceneView::material_bits: what the per-hit fast paths of a diffuse-only scene rely on
+// (material_at, pt_surface skip the per-material checks when a bit is clear), and the coat's
+// own-normal flag the scene sets (a Coat Normal map, or a mapped base under a coat).
+TEST(SceneView, MaterialBitsSayWhatTheMaterialsNeed) {
+    auto scene_bits = [](const std::vector<MaterialInput>& ms, Material* last = nullptr) {
+        SceneInput in;
+        in.materials = ms;
+        TextureInput t;
+        t.width = t.height = 1;
+        t.bytes = {128, 128, 255, 255};
+        in.textures.push_back(t);
+        HostScene s(in);
+        if (last) *last = s.view().materials[ms.size() - 1];
+        return s.view().material_bits;
+    };
+    MaterialInput diffuse;
+    EXPECT_EQ(scene_bits({diffuse, diffuse}), 0u);
+    MaterialInput aniso;
+    aniso.type = "conductor";
+    aniso.anisotropy = 0.5f;
+    EXPECT_EQ(scene_bits({diffuse, aniso}), uint32_t(kSceneFrames));
+    MaterialInput textured = diffuse;
+    textured.tex_base_color = 0;
+    EXPECT_EQ(scene_bits({diffuse, textured}), uint32_t(kSceneResolve));
+    MaterialInput mix;
+    mix.type = "mix";
+    mix.mix_children = {0};
+    mix.mix_weights = {1.0f};
+    EXPECT_EQ(scene_bits({diffuse, mix}), uint32_t(kSceneResolve));
+    MaterialInput coat;
+    coat.type = "principled";
+    coat.coat_weight = 1.0f;
+    Material m;
+    EXPECT_EQ(scene_bits({diffuse, coat}, &m), 0u);   // the coat shares the base's normal
+    EXPECT_FALSE(m.tex_flags & kCoatNormal);
+    coat.tex_normal = 0;                                // mapped base: the coat stays smooth
+    EXPECT_EQ(scene_bits({diffuse, coat}, &m), uint32_t(kSceneFrames));
+    EXPECT_TRUE(m.tex_flags & kCoatNormal);
+    EXPECT_EQ(m.tex_coat_normal, -1);
+    coat.tex_normal = -1;
+    coat.tex_coat_normal = 0;                           // its own map
+    coat.coat_normal_strength = NAN;
+    EXPECT_EQ(scene_bits({diffuse, coat}, &m), uint32_t(kSceneFrames));
+    EXPECT_EQ(m.tex_coat_normal, 0);
+    EXPECT_EQ(m.coat_normal_strength, 1.0f);
+    coat.coat_weight = 0.0f;                            // no coat: nothing to shade
+    EXPECT_EQ(scene_bits({diffuse, coat}, &m), 0u);
+}

@@ -11,18 +11,20 @@ namespace lantern::test {
 
 // A whole material at three view angles: its non-delta samples against eval's forward pdf by
 // chi-square, and that pdf integrating to at most 1.
-inline void expect_material_samples_its_pdf(const Material& m, const char* what) {
+inline void expect_material_samples_its_pdf(const Material& m, const char* what,
+                                            Vec3 coat_n = vec3(0.0f, 0.0f, 1.0f)) {
     for (float theta_o : {0.4f, 1.0f, 1.3f}) {
         Vec3 wo = dir_from_angles(theta_o, 0.7f);
         Chi2Result r = chi2_sphere(
             [&](Vec2 u, float uc, Vec3* wi) {
                 BsdfSample s =
-                    material_sample(m, true, wo, vec3(u.x, u.y, uc), Transport::Radiance);
+                    material_sample(m, true, wo, vec3(u.x, u.y, uc), Transport::Radiance, coat_n);
                 *wi = s.wi;
                 return s.valid && !s.delta;
             },
             [&](Vec3 wi) {
-                return double(material_eval(m, true, wo, wi, Transport::Radiance).pdf_fwd_w);
+                return double(
+                    material_eval(m, true, wo, wi, Transport::Radiance, coat_n).pdf_fwd_w);
             },
             200000, 1, 32, 32, 12);
         EXPECT_GT(r.p_value, 1e-4) << what << " theta " << theta_o << " chi2 " << r.chi2
@@ -30,5 +32,51 @@ inline void expect_material_samples_its_pdf(const Material& m, const char* what)
         EXPECT_LE(r.pdf_mass, 1.0 + 1e-2) << what;
     }
 }
+
+// Principled materials for the tests (tables filled as the scene build does).
+inline Material principled(Vec3 base, float metallic, float transmission, float roughness,
+                    float ior = 1.5f, float level = 0.5f) {
+    Material m{};
+    m.type = kMaterialPrincipled;
+    m.base_color = base;
+    m.metallic = metallic;
+    m.transmission = transmission;
+    m.roughness = roughness;
+    m.ior = ior;
+    m.specular_tint = vec3(1.0f);
+    float f0 = sqr((ior - 1.0f) / (ior + 1.0f)) * 2.0f * level;
+    float r = std::sqrt(std::min(f0, 0.99f));
+    m.spec_eta = (1.0f + r) / (1.0f - r);
+    principled_albedo_table(m);
+    return m;
+}
+
+inline Material coated(Material m, float weight, float roughness, float ior = 1.5f) {
+    m.coat_weight = weight;
+    m.coat_roughness = roughness;
+    m.coat_ior = ior;
+    m.coat_tint = vec3(1.0f);
+    principled_coat_table(m);
+    return m;
+}
+
+inline Material sheened(Material m, float weight, float roughness) {
+    m.sheen_weight = weight;
+    m.sheen_roughness = roughness;
+    m.sheen_tint = vec3(1.0f);
+    principled_sheen_table(m);
+    return m;
+}
+
+inline Material anisotropic(Material m, float a) {
+    m.anisotropy = a;
+    return m;
+}
+
+inline Material rough_base(Material m, float r) {
+    m.diffuse_roughness = r;
+    return m;
+}
+
 
 }  // namespace lantern::test

@@ -67,6 +67,8 @@ SCENES = {
     "principled": lambda: scenes.principled_box(SIZE, SIZE),  # layered, delta + non-delta
     # textures, normal map, Mix / Add shaders (a delta leaf), translucent, alpha
     "features": lambda: scenes.features_box(SIZE, SIZE),
+    # Principled coats with their own normals: per-lobe frames and adjoint factors
+    "coat_normal": lambda: scenes.coat_normal_box(SIZE, SIZE),
 }
 
 

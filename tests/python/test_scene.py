@@ -278,3 +278,35 @@ def test_expected_values():
     e = scenes.integrating_sphere_expected(0.5, 4 * np.pi ** 2, 1.0, 2)
     assert np.allclose(e, 0.5)
     assert np.allclose(scenes.integrating_sphere_expected(0.5, 4 * np.pi ** 2, 1.0, 1), 0.0)
+
+
+def test_thin_film_fields(tmp_path):
+    """Thin film: validated ranges, carried by the file, finite renders for hostile values that
+    reach the native core directly (NaN, negative, infinite, huge)."""
+    s = Scene()
+    for bad in (float("nan"), -1.0, 2e5):
+        with pytest.raises(ValueError, match="thin_film_thickness"):
+            s.add_material(type="principled", thin_film_thickness=bad)
+    with pytest.raises(ValueError, match="thin_film_ior"):
+        s.add_material(type="principled", thin_film_ior=0.5)
+    scene = scenes.cornell_box(16, 16)
+    m = scene.add_material("film", type="principled", base_color=(0.05, 0.05, 0.05),
+                           roughness=0.2, thin_film_thickness=500.0, thin_film_ior=1.33)
+    scene.meshes[-1]["material_ids"][:] = m   # the tall box
+    path = tmp_path / "film.lantern"
+    scene.save(path)
+    back = load_scene(path)
+    assert back.materials[m]["thin_film_thickness"] == 500.0
+    assert back.materials[m]["thin_film_ior"] == 1.33
+    film = lantern.render(scene, spp=8, seed=2, threads=2)
+    assert np.isfinite(film).all()
+    from lantern import _core
+    from lantern.session import resolve_settings
+    settings = dict(resolve_settings(dict(seed=2, threads=2, spp_per_iteration=8))[0])
+    for bad in (float("nan"), -3.0, float("inf"), 1e9):
+        native = scene.to_native()   # past the Python validation: the core clamps
+        native["materials"][m]["thin_film_thickness"] = bad
+        native["materials"][m]["thin_film_ior"] = bad
+        session = _core.Session(native, settings)
+        session.step()
+        assert np.isfinite(np.asarray(session.image())).all(), bad

@@ -6,6 +6,7 @@
 #include "bsdf/fresnel.h"
 #include "bsdf/lambert.h"
 #include "bsdf/microfacet.h"
+#include "bsdf/thin_film.h"
 
 namespace lantern {
 
@@ -17,6 +18,8 @@ struct ConductorParams {
     Vec3 eta_or_f0;  // Complex: eta; F82Tint: base colour F0
     Vec3 k_or_tint;  // Complex: k;   F82Tint: the F82 tint
     bool beckmann = false;  // Beckmann D and G of ggx.ax; ggx's visible normals still sample
+    float film_thickness = 0.0f;  // Principled Thin Film over the metal (nm; 0: none)
+    float film_ior = 1.33f;
 };
 
 // D * G2 of the lobe's distribution at half vector m.
@@ -38,7 +41,16 @@ LANTERN_HD inline bool conductor_is_delta(const ConductorParams& p) {
     return p.ggx.effectively_smooth();
 }
 
+// With a thin film: the film's interference over the metal's complex index (F82 metals: the
+// index estimated from F0 and F82, bsdf/thin_film.h).
+LANTERN_HD inline Vec3 conductor_film_fresnel(const ConductorParams& p, float cos_i) {
+    Vec3 n = p.eta_or_f0, k = p.k_or_tint;
+    if (p.fresnel == ConductorFresnel::F82Tint) f82_to_complex_ior(p.eta_or_f0, p.k_or_tint, &n, &k);
+    return thin_film_reflectance_conductor(cos_i, p.film_ior, n, k, p.film_thickness);
+}
+
 LANTERN_HD inline Vec3 conductor_fresnel(const ConductorParams& p, float cos_i) {
+    if (p.film_thickness > 0.0f) return conductor_film_fresnel(p, cos_i);
     return p.fresnel == ConductorFresnel::Complex
                ? fresnel_conductor(cos_i, p.eta_or_f0, p.k_or_tint)
                : fresnel_f82_tint(cos_i, p.eta_or_f0, p.k_or_tint);

@@ -3,6 +3,8 @@
 // side wo arrives from; `front` says whether that side is the surface's front (outside), which
 // fixes the relative index of refraction. Reflection lobes are two-sided (as in Cycles).
 // Light paths pass Transport::Importance: refraction then does not divide by eta^2.
+// coat_n: the coat's own normal in this frame (SurfaceHit::coat_n), read only by principled
+// materials with kCoatNormal.
 #pragma once
 
 #include "bsdf/conductor.h"
@@ -23,6 +25,8 @@ LANTERN_HD inline ConductorParams material_conductor(const Material& m) {
                             : conductor_f82(m.roughness, m.base_color, m.specular_tint,
                                             m.anisotropy);
     p.beckmann = m.beckmann != 0;
+    p.film_thickness = m.film_thickness;
+    p.film_ior = m.film_ior;
     return p;
 }
 LANTERN_HD inline Vec3 material_conductor_scale(const Material& m) {
@@ -76,12 +80,9 @@ LANTERN_HD inline const Material& material_resolve_leaf(const SceneView& s, cons
     return scratch;
 }
 
-// The material of id at texture coordinates st, ready for material_eval / material_sample:
-// the scene's own entry, or a resolved copy in `scratch` (textures; a mix with its leaves).
-LANTERN_HD inline const Material& material_at(const SceneView& s, uint32_t id, Vec2 st,
-                                              MaterialScratch& scratch) {
-    const Material& m = s.materials[id];
-    if (!(m.tex_flags & kMaterialResolve)) return m;
+// material_at's resolution (textures; a mix with its leaves), kept out of its inlined check.
+LANTERN_HD inline const Material& material_resolve(const SceneView& s, const Material& m,
+                                                   Vec2 st, MaterialScratch& scratch) {
     if (m.type != kMaterialMix) return material_resolve_leaf(s, m, st, scratch.m);
     scratch.m = m;
     for (int i = 0; i < m.mix_count; ++i)
@@ -95,6 +96,16 @@ LANTERN_HD inline const Material& material_at(const SceneView& s, uint32_t id, V
         scratch.m.mix_weight[1] = f;
     }
     return scratch.m;
+}
+
+// The material of id at texture coordinates st, ready for material_eval / material_sample:
+// the scene's own entry, or a resolved copy in `scratch` (textures; a mix with its leaves). The
+// check is all a scene without textures or mixes runs (measured: bench/material_cost.py).
+LANTERN_HD inline const Material& material_at(const SceneView& s, uint32_t id, Vec2 st,
+                                              MaterialScratch& scratch) {
+    const Material& m = s.materials[id];
+    if (!(s.material_bits & kSceneResolve) || !(m.tex_flags & kMaterialResolve)) return m;
+    return material_resolve(s, m, st, scratch);
 }
 
 // True when every lobe of m is a delta distribution: a vertex there cannot be connected to.
@@ -131,7 +142,7 @@ LANTERN_HD inline BsdfSample translucent_sample(Vec3 color, Vec3 wo, Vec2 u) {
 }
 
 LANTERN_HD inline BsdfEval material_eval_leaf(const Material& m, bool front, Vec3 wo, Vec3 wi,
-                                              Transport mode) {
+                                              Transport mode, Vec3 coat_n) {
     switch (m.type) {
     case kMaterialConductor: {
         BsdfEval e = conductor_eval(material_conductor(m), wo, wi);
@@ -145,7 +156,7 @@ LANTERN_HD inline BsdfEval material_eval_leaf(const Material& m, bool front, Vec
         return e;
     }
     case kMaterialPrincipled:
-        return principled_eval(m, front, wo, wi, mode);
+        return principled_eval(m, front, wo, wi, mode, coat_n);
     case kMaterialTranslucent:
         return translucent_eval(m.base_color, wo, wi);
     default:
@@ -155,7 +166,7 @@ LANTERN_HD inline BsdfEval material_eval_leaf(const Material& m, bool front, Vec
 
 // u.x, u.y choose the direction, u.z the lobe event (dielectric reflection or transmission).
 LANTERN_HD inline BsdfSample material_sample_leaf(const Material& m, bool front, Vec3 wo, Vec3 u,
-                                                  Transport mode) {
+                                                  Transport mode, Vec3 coat_n) {
     switch (m.type) {
     case kMaterialConductor: {
         BsdfSample s = conductor_sample(material_conductor(m), wo, Vec2{u.x, u.y});
@@ -171,7 +182,7 @@ LANTERN_HD inline BsdfSample material_sample_leaf(const Material& m, bool front,
         return s;
     }
     case kMaterialPrincipled:
-        return principled_sample(m, front, wo, u, mode);
+        return principled_sample(m, front, wo, u, mode, coat_n);
     case kMaterialTranslucent:
         return translucent_sample(m.base_color, wo, Vec2{u.x, u.y});
     default:
@@ -189,14 +200,14 @@ LANTERN_HD inline float mix_total(const Material& m) {
 }
 
 LANTERN_HD inline BsdfEval mix_eval(const Material& m, bool front, Vec3 wo, Vec3 wi,
-                                    Transport mode) {
+                                    Transport mode, Vec3 coat_n) {
     BsdfEval e{vec3(0.0f), 0.0f, 0.0f};
     const float total = mix_total(m);
     if (!(total > 0.0f)) return e;
     for (int i = 0; i < m.mix_count; ++i) {
         const float w = fmaxf(m.mix_weight[i], 0.0f);
         if (w <= 0.0f) continue;
-        BsdfEval l = material_eval_leaf(*m.mix_leaf[i], front, wo, wi, mode);
+        BsdfEval l = material_eval_leaf(*m.mix_leaf[i], front, wo, wi, mode, coat_n);
         e.f += l.f * w;
         e.pdf_fwd_w += l.pdf_fwd_w * (w / total);
         e.pdf_rev_w += l.pdf_rev_w * (w / total);
@@ -205,7 +216,7 @@ LANTERN_HD inline BsdfEval mix_eval(const Material& m, bool front, Vec3 wo, Vec3
 }
 
 LANTERN_HD inline BsdfSample mix_sample(const Material& m, bool front, Vec3 wo, Vec3 u,
-                                        Transport mode) {
+                                        Transport mode, Vec3 coat_n) {
     BsdfSample s{vec3(0.0f), vec3(0.0f), 0.0f, false};
     const float total = mix_total(m);
     if (!(total > 0.0f)) return s;
@@ -223,7 +234,7 @@ LANTERN_HD inline BsdfSample mix_sample(const Material& m, bool front, Vec3 wo, 
     const float w = fmaxf(m.mix_weight[pick], 0.0f), p = w / total;
     const float u_leaf = fminf(fmaxf((uc - before) / w, 0.0f), 0.99999994f);
     BsdfSample l = material_sample_leaf(*m.mix_leaf[pick], front, wo, Vec3{u.x, u.y, u_leaf},
-                                        mode);
+                                        mode, coat_n);
     if (!l.valid) return s;
     if (l.delta) {  // a delta lobe of one leaf: its discrete probability times the pick
         l.weight = l.weight * (w / p);
@@ -232,12 +243,19 @@ LANTERN_HD inline BsdfSample mix_sample(const Material& m, bool front, Vec3 wo, 
         l.valid = is_finite(l.weight);
         return l;
     }
-    return mixture_sample(l.wi, mix_eval(m, front, wo, l.wi, mode));
+    return mixture_sample(l.wi, mix_eval(m, front, wo, l.wi, mode, coat_n));
 }
 
 // ---- What the integrators call, on a material from material_at ----
 
+// Lambert, the diffuse type without roughness: the path a diffuse-only scene takes, checked
+// first so that it never reaches the mix, Oren-Nayar or layered code.
+LANTERN_HD inline bool material_is_lambert(const Material& m) {
+    return m.type == kMaterialDiffuse && !(m.diffuse_roughness > 0.0f);
+}
+
 LANTERN_HD inline bool material_is_delta(const Material& m) {
+    if (m.type == kMaterialDiffuse) return false;
     if (m.type != kMaterialMix) return material_is_delta_leaf(m);
     for (int i = 0; i < m.mix_count; ++i)
         if (m.mix_weight[i] > 0.0f && !material_is_delta_leaf(*m.mix_leaf[i])) return false;
@@ -253,15 +271,18 @@ LANTERN_HD inline bool material_transmits(const Material& m) {
 }
 
 LANTERN_HD inline BsdfEval material_eval(const Material& m, bool front, Vec3 wo, Vec3 wi,
-                                         Transport mode) {
-    return m.type == kMaterialMix ? mix_eval(m, front, wo, wi, mode)
-                                  : material_eval_leaf(m, front, wo, wi, mode);
+                                         Transport mode, Vec3 coat_n = Vec3{0.0f, 0.0f, 1.0f}) {
+    if (material_is_lambert(m)) return lambert_eval(m.base_color, wo, wi);
+    return m.type == kMaterialMix ? mix_eval(m, front, wo, wi, mode, coat_n)
+                                  : material_eval_leaf(m, front, wo, wi, mode, coat_n);
 }
 
 LANTERN_HD inline BsdfSample material_sample(const Material& m, bool front, Vec3 wo, Vec3 u,
-                                             Transport mode) {
-    return m.type == kMaterialMix ? mix_sample(m, front, wo, u, mode)
-                                  : material_sample_leaf(m, front, wo, u, mode);
+                                             Transport mode,
+                                             Vec3 coat_n = Vec3{0.0f, 0.0f, 1.0f}) {
+    if (material_is_lambert(m)) return lambert_sample(m.base_color, wo, Vec2{u.x, u.y});
+    return m.type == kMaterialMix ? mix_sample(m, front, wo, u, mode, coat_n)
+                                  : material_sample_leaf(m, front, wo, u, mode, coat_n);
 }
 
 }  // namespace lantern

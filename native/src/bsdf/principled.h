@@ -9,6 +9,10 @@
 // Sampling picks a lobe with probabilities from the albedos at the sampling direction, then the
 // lobe's direction; pdfs are the full mixture (forward and reverse), so MIS sees one BSDF.
 // Local frame: +Z the shading normal on the side of wo; `front` as in material.h.
+// Coat Normal (kCoatNormal): the coat lobe lives in the frame of its own normal nc (local, in the
+// base's frame); its value is f_c |w_l.nc| / |w_l.z| with w_l the light-side direction (wi for
+// radiance, wo for importance), so that the integrators' single cosine |w_l.z| and their adjoint
+// shading-normal factor [Veach thesis (5.19)] come out per lobe: f_c |w_l.nc| (docs/materials.md).
 #pragma once
 
 #include "bsdf/conductor.h"
@@ -16,7 +20,9 @@
 #include "bsdf/lambert.h"
 #include "bsdf/oren_nayar.h"
 #include "bsdf/multiscatter.h"
+#include "bsdf/principled_coat.h"
 #include "bsdf/sheen.h"
+#include "bsdf/thin_film.h"
 #include "scene/scene_view.h"
 
 namespace lantern {
@@ -36,10 +42,26 @@ LANTERN_HD inline BsdfSample diffuse_base_sample(const Material& m, Vec3 wo, Vec
 // ---- The specular layer: GGX reflection with Cycles' generalized-Schlick Fresnel ----
 
 // Fresnel of the specular layer at cos(wo, m): the real dielectric curve of eta, rescaled to
-// start at F0 * tint (F0 of eta) and end at 1 (tint 1: the plain dielectric Fresnel).
+// start at F0 * tint (F0 of eta) and end at 1 (tint 1: the plain dielectric Fresnel). With a
+// thin film: the film's interference reflectance over the IOR (bsdf/thin_film.h), scaled per
+// channel by F0 * tint / F0(IOR) where it is near F0(IOR), by 1 where it reaches 1 (Specular IOR
+// Level and Tint keep their meaning; 1 with the defaults).
 LANTERN_HD inline Vec3 principled_spec_fresnel(const Material& m, float cos_h) {
     const float eta = m.spec_eta;
     const float f0 = sqr((eta - 1.0f) / (eta + 1.0f));
+    if (m.film_thickness > 0.0f) {
+        Vec3 f = thin_film_reflectance(cos_h, m.film_ior, m.ior, m.film_thickness);
+        const float f0_ior = sqr((m.ior - 1.0f) / (m.ior + 1.0f));
+        if (f0_ior > 1e-5f && f0_ior < 1.0f) {
+            auto scale = [&](float fc, float tint) {
+                const float s = clampf((1.0f - fc) / (1.0f - f0_ior), 0.0f, 1.0f);
+                return fc * (1.0f + (fminf(f0 * tint, 1.0f) / f0_ior - 1.0f) * s);
+            };
+            f = Vec3{scale(f.x, m.specular_tint.x), scale(f.y, m.specular_tint.y),
+                     scale(f.z, m.specular_tint.z)};
+        }
+        return f;
+    }
     const float f = fresnel_dielectric(fabsf(cos_h), eta);
     const float s = f0 < 1.0f ? clampf((f - f0) / (1.0f - f0), 0.0f, 1.0f) : 1.0f;
     Vec3 f0c = vec3(fminf(f0 * m.specular_tint.x, 1.0f), fminf(f0 * m.specular_tint.y, 1.0f),
@@ -84,14 +106,28 @@ inline float principled_spec_albedo_exact(const Material& m, float mu, int n = 6
     return clampf(max_component(e), 0.0f, 1.0f);
 }
 
-// Fills m.spec_albedo (host, at scene build).
+// Fills m.spec_albedo (host, at scene build). With a thin film the layer's weight is its Fresnel
+// at the view cosine (max channel), the smooth-surface estimate Cycles layers iridescence with.
 inline void principled_albedo_table(Material& m) {
-    for (int k = 0; k < kPrincipledAlbedoN; ++k)
-        m.spec_albedo[k] = principled_spec_albedo_exact(m, sqr(float(k) / (kPrincipledAlbedoN - 1)));
+    for (int k = 0; k < kPrincipledAlbedoN; ++k) {
+        const float mu = sqr(float(k) / (kPrincipledAlbedoN - 1));
+        m.spec_albedo[k] = m.film_thickness > 0.0f
+                               ? clampf(max_component(principled_spec_fresnel(m, fmaxf(mu, 1e-3f))),
+                                        0.0f, 1.0f)
+                               : principled_spec_albedo_exact(m, mu);
+    }
 }
 
 LANTERN_HD inline float principled_spec_albedo(const Material& m, float mu) {
     return ms_table(m.spec_albedo, mu);
+}
+
+// The metal lobe: F82-tint GGX of the base colour, with the thin film over it.
+LANTERN_HD inline ConductorParams principled_metal(const Material& m) {
+    ConductorParams c = conductor_f82(m.roughness, m.base_color, m.specular_tint, m.anisotropy);
+    c.film_thickness = m.film_thickness;
+    c.film_ior = m.film_ior;
+    return c;
 }
 
 // ---- The sheen: the top layer ----
@@ -124,52 +160,19 @@ LANTERN_HD inline float principled_below_sheen(const Material& m, float mu) {
     return clampf(1.0f - e, 0.0f, 1.0f);
 }
 
-// ---- The coat: a dielectric GGX reflection layer over everything else ----
+// ---- The coat (bsdf/principled_coat.h): what it lets through ----
 
-LANTERN_HD inline Ggx principled_coat_ggx(const Material& m) {
-    return Ggx::isotropic(ggx_alpha_from_roughness(m.coat_roughness));
-}
-
-LANTERN_HD inline BsdfEval principled_coat_eval(const Material& m, Vec3 wo, Vec3 wi) {
-    BsdfEval e{vec3(0.0f), 0.0f, 0.0f};
-    Ggx g = principled_coat_ggx(m);
-    if (g.effectively_smooth() || wo.z <= 0.0f || wi.z <= 0.0f) return e;
-    Vec3 h = wo + wi;
-    if (length_sq(h) <= 0.0f) return e;
-    h = normalize(h);
-    const float d = g.d(h);
-    e.f = vec3(fresnel_dielectric(dot(wo, h), m.coat_ior) * d * g.g2(wo, wi) /
-               (4.0f * wo.z * wi.z));
-    e.pdf_fwd_w = g.g1(wo) * d / (4.0f * wo.z);
-    e.pdf_rev_w = g.g1(wi) * d / (4.0f * wi.z);
-    if (!is_finite(e.f) || !is_finite(e.pdf_fwd_w) || !is_finite(e.pdf_rev_w))
-        return BsdfEval{vec3(0.0f), 0.0f, 0.0f};
-    return e;
-}
-
-inline float principled_coat_albedo_exact(const Material& m, float mu, int n = 48) {
-    Ggx g = principled_coat_ggx(m);
-    if (g.effectively_smooth()) return fresnel_dielectric(clampf(mu, 1e-3f, 1.0f), m.coat_ior);
-    Vec3 e = ggx_reflection_albedo(
-        g, mu, [&m](float c) { return vec3(fresnel_dielectric(c, m.coat_ior)); }, n);
-    return clampf(e.x, 0.0f, 1.0f);
-}
-
-inline void principled_coat_table(Material& m) {
-    for (int k = 0; k < kPrincipledAlbedoN; ++k)
-        m.coat_albedo[k] = principled_coat_albedo_exact(m, sqr(float(k) / (kPrincipledAlbedoN - 1)));
-}
-
-// What reaches the layers under the coat, seen at camera-side cosine mu: the coat's
-// transmitted share and its tint along the refracted path (Beer, tint per unit thickness at
-// normal incidence, as Cycles).
-LANTERN_HD inline Vec3 principled_below_coat(const Material& m, float mu) {
+// What reaches the layers under the coat, seen at camera-side cosines mu (base normal: the
+// sheen) and mu_c (coat normal): the coat's transmitted share and its tint along the refracted
+// path (Beer, tint per unit thickness at normal incidence, as Cycles).
+LANTERN_HD inline Vec3 principled_below_coat(const Material& m, float mu, float mu_c) {
     const float cw = m.coat_weight;
     const float sheen_pass = principled_below_sheen(m, mu);
     if (!(cw > 0.0f)) return vec3(sheen_pass);
-    const float e = ms_table(m.coat_albedo, mu);
+    const float e = principled_coat_albedo(m, mu_c);
     Vec3 t = vec3(1.0f);
     if (!(m.coat_tint.x == 1.0f && m.coat_tint.y == 1.0f && m.coat_tint.z == 1.0f)) {
+        const float mu = clampf(mu_c, 0.0f, 1.0f);
         float sin2 = (1.0f - mu * mu) / (m.coat_ior * m.coat_ior);
         float cos_t = safe_sqrt(1.0f - sin2);
         float depth = 1.0f / fmaxf(cos_t, 1e-3f);
@@ -197,13 +200,14 @@ struct PrincipledPick {
     float metal, glass, spec, base, coat, sheen;
 };
 
-LANTERN_HD inline PrincipledPick principled_pick(const Material& m, float mu) {
+LANTERN_HD inline PrincipledPick principled_pick(const Material& m, float mu, float mu_c) {
     PrincipledWeights w = principled_weights(m);
     float es = principled_spec_albedo(m, mu);
     const float sheen_pass = principled_below_sheen(m, mu);
     const float esh = 1.0f - sheen_pass;
-    float ec = m.coat_weight > 0.0f ? sheen_pass * m.coat_weight * ms_table(m.coat_albedo, mu)
-                                    : 0.0f;
+    float ec = m.coat_weight > 0.0f
+                   ? sheen_pass * m.coat_weight * principled_coat_albedo(m, mu_c)
+                   : 0.0f;
     float below = sheen_pass - ec;
     PrincipledPick p{below * w.metal * (0.5f + 0.5f * luminance(m.base_color)),
                      below * w.glass, below * w.spec * es,
@@ -218,14 +222,18 @@ LANTERN_HD inline Vec3 principled_transmission_tint(const Material& m) {
     return vec3(sqrtf(m.base_color.x), sqrtf(m.base_color.y), sqrtf(m.base_color.z));
 }
 
+// nc: the coat's normal in this frame (read only with kCoatNormal).
 LANTERN_HD inline BsdfEval principled_eval(const Material& m, bool front, Vec3 wo, Vec3 wi,
-                                           Transport mode) {
+                                           Transport mode, Vec3 nc) {
     BsdfEval e{vec3(0.0f), 0.0f, 0.0f};
     if (wo.z <= 0.0f || wi.z == 0.0f) return e;
     const PrincipledWeights w = principled_weights(m);
-    const PrincipledPick pf = principled_pick(m, wo.z), pr = principled_pick(m, wi.z);
+    const float co = coat_cos(m, nc, wo), ci = coat_cos(m, nc, wi);
+    const PrincipledPick pf = principled_pick(m, wo.z, co), pr = principled_pick(m, wi.z, ci);
     const bool reflect = wi.z > 0.0f;
-    const float mu_v = mode == Transport::Radiance ? wo.z : wi.z;  // the camera side
+    const bool radiance = mode == Transport::Radiance;
+    const float mu_v = radiance ? wo.z : wi.z;  // the camera side
+    const float mu_vc = radiance ? co : ci;      // ... and its cosine with the coat normal
     if (m.sheen_weight > 0.0f && reflect) {
         BsdfEval l = sheen_eval(principled_sheen(m), wo, wi);
         e.f += l.f;
@@ -233,16 +241,15 @@ LANTERN_HD inline BsdfEval principled_eval(const Material& m, bool front, Vec3 w
         e.pdf_rev_w += pr.sheen * l.pdf_rev_w;
     }
     if (m.coat_weight > 0.0f && reflect) {
-        BsdfEval l = principled_coat_eval(m, wo, wi);
+        BsdfEval l = principled_coat_eval_tilted(m, nc, wo, wi, mode);
         e.f += l.f * (m.coat_weight * principled_below_sheen(m, mu_v));
         e.pdf_fwd_w += pf.coat * l.pdf_fwd_w;
         e.pdf_rev_w += pr.coat * l.pdf_rev_w;
     }
-    const Vec3 below = principled_below_coat(m, mu_v);
+    const Vec3 below = principled_below_coat(m, mu_v, mu_vc);
     Vec3 f_lower = vec3(0.0f);
     if (w.metal > 0.0f && reflect) {
-        BsdfEval l = conductor_eval(conductor_f82(m.roughness, m.base_color, m.specular_tint,
-                                                  m.anisotropy),
+        BsdfEval l = conductor_eval(principled_metal(m),
                                     wo, wi);
         f_lower += l.f * ms_scale(m, m.fms_metal, mu_v) * w.metal;
         e.pdf_fwd_w += pf.metal * l.pdf_fwd_w;
@@ -277,11 +284,12 @@ LANTERN_HD inline BsdfEval principled_eval(const Material& m, bool front, Vec3 w
 
 // u.x, u.y: the lobe's direction; u.z: the lobe (and, for glass, reflection or transmission).
 LANTERN_HD inline BsdfSample principled_sample(const Material& m, bool front, Vec3 wo, Vec3 u,
-                                               Transport mode) {
+                                               Transport mode, Vec3 nc) {
     BsdfSample s{vec3(0.0f), vec3(0.0f), 0.0f, false};
     if (wo.z <= 0.0f) return s;
     const PrincipledWeights w = principled_weights(m);
-    const PrincipledPick p = principled_pick(m, wo.z);
+    const bool radiance = mode == Transport::Radiance;
+    const PrincipledPick p = principled_pick(m, wo.z, coat_cos(m, nc, wo));
     float uc = u.z;
     const Vec2 ud{u.x, u.y};
     // choose the lobe; uc is rescaled into [0, 1) for the lobe's own use
@@ -314,8 +322,7 @@ LANTERN_HD inline BsdfSample principled_sample(const Material& m, bool front, Ve
     BsdfSample l{vec3(0.0f), vec3(0.0f), 0.0f, false};
     Vec3 delta_f = vec3(0.0f);  // lobe weight x the lobe's own sample weight, for a delta pick
     if (lobe == 0) {
-        ConductorParams c = conductor_f82(m.roughness, m.base_color, m.specular_tint,
-                                          m.anisotropy);
+        ConductorParams c = principled_metal(m);
         l = conductor_sample(c, wo, ud);
         delta_f = l.weight * w.metal;
     } else if (lobe == 1) {
@@ -337,19 +344,29 @@ LANTERN_HD inline BsdfSample principled_sample(const Material& m, bool front, Ve
             l.wi = reflect(wo, h);
             l.valid = l.wi.z > 0.0f;
         }
-    } else if (lobe == 4) {
+    } else if (lobe == 4) {  // in the coat's frame (its own normal, or the base's)
+        const bool tilted = (m.tex_flags & kCoatNormal) != 0;
+        const Frame cf = Frame::from_normal(tilted ? nc : vec3(0.0f, 0.0f, 1.0f));
+        const Vec3 wo_c = tilted ? cf.to_local(wo) : wo;
+        if (!(wo_c.z > 0.0f)) return s;
         Ggx g = principled_coat_ggx(m);
+        Vec3 wi_c;
         if (g.effectively_smooth()) {
-            l.wi = vec3(-wo.x, -wo.y, wo.z);
+            wi_c = vec3(-wo_c.x, -wo_c.y, wo_c.z);
+            l.wi = tilted ? cf.to_world(wi_c) : wi_c;
             l.pdf_fwd_w = l.pdf_rev_w = 1.0f;
             l.delta = true;
-            l.valid = true;
-            delta_f = vec3(fresnel_dielectric(wo.z, m.coat_ior) * m.coat_weight *
-                           principled_below_sheen(m, wo.z));
-        } else {
-            Vec3 h = g.sample_visible(wo, ud);
-            l.wi = reflect(wo, h);
             l.valid = l.wi.z > 0.0f;
+            // f_c |w_l.nc| / pdf, seen with the integrators' cosine |wi.z| (header); for the
+            // mirror |wo.nc| = |wi.nc|, so importance transport gains |wi.z| / |wo.z|
+            const float adj = tilted && !radiance ? fabsf(l.wi.z) / wo.z : 1.0f;
+            delta_f = vec3(fresnel_dielectric(wo_c.z, m.coat_ior) * m.coat_weight *
+                           principled_below_sheen(m, radiance ? wo.z : fabsf(l.wi.z)) * adj);
+        } else {
+            Vec3 h = g.sample_visible(wo_c, ud);
+            wi_c = reflect(wo_c, h);
+            l.wi = tilted ? cf.to_world(wi_c) : wi_c;
+            l.valid = wi_c.z > 0.0f && l.wi.z > 0.0f;
         }
     } else if (lobe == 5) {
         l = sheen_sample(principled_sheen(m), wo, ud);
@@ -358,15 +375,16 @@ LANTERN_HD inline BsdfSample principled_sample(const Material& m, bool front, Ve
     }
     if (!l.valid) return s;
     // a delta pick from a layer under the coat is seen through it
-    if (l.delta && lobe != 4)
-        delta_f = delta_f * principled_below_coat(m, mode == Transport::Radiance ? wo.z
-                                                                                  : fabsf(l.wi.z));
+    if (l.delta && lobe != 4) {
+        const Vec3 wv = radiance ? wo : l.wi;  // the camera side
+        delta_f = delta_f * principled_below_coat(m, fabsf(wv.z), coat_cos(m, nc, wv));
+    }
     if (l.delta) {
         // a delta lobe: its discrete probability times the pick probability
         s.wi = l.wi;
         s.delta = true;
         // (reverse: the same lobe picked from wi's side; BDPT uses the ratio of the two)
-        const PrincipledPick pr = principled_pick(m, fabsf(l.wi.z));
+        const PrincipledPick pr = principled_pick(m, fabsf(l.wi.z), coat_cos(m, nc, l.wi));
         const float p_rev = lobe == 0   ? pr.metal
                             : lobe == 1 ? pr.glass
                             : lobe == 4 ? pr.coat
@@ -378,7 +396,7 @@ LANTERN_HD inline BsdfSample principled_sample(const Material& m, bool front, Ve
         return s;
     }
     // a direction from a non-delta lobe: the whole mixture's value and pdfs
-    return mixture_sample(l.wi, principled_eval(m, front, wo, l.wi, mode));
+    return mixture_sample(l.wi, principled_eval(m, front, wo, l.wi, mode, nc));
 }
 
 }  // namespace lantern

@@ -81,13 +81,16 @@ struct Frame {
     }
     // from_normal(n) turned about n by `angle` (radians): anisotropic lobes' local X follows
     // a surface tangent stored as that angle
+    // (the turn is its own function, so that the common angle 0 stays inlined and small)
     LANTERN_HD static Frame from_normal_angle(Vec3 n, float angle) {
-        Frame f = from_normal(n);
-        if (angle == 0.0f) return f;
+        const Frame f = from_normal(n);
+        return angle == 0.0f ? f : f.turned(angle);
+    }
+    LANTERN_HD Frame turned(float angle) const {
         const float c = cosf(angle), sn = sinf(angle);
-        const Vec3 s2 = f.s * c + f.t * sn;
-        f.t = f.t * c - f.s * sn;
-        f.s = s2;
+        Frame f = *this;
+        f.s = s * c + t * sn;
+        f.t = t * c - s * sn;
         return f;
     }
     LANTERN_HD Vec3 to_local(Vec3 v) const { return {dot(v, s), dot(v, t), dot(v, n)}; }
@@ -117,5 +120,31 @@ struct Ray {
     float tmin = 0.0f;
     float tmax = kInf;
 };
+
+// A unit vector in 2 x 16 bits (octahedral map, signed-normalised: +Z is exact).
+LANTERN_HD inline uint32_t oct_encode(Vec3 v) {
+    const float l1 = fabsf(v.x) + fabsf(v.y) + fabsf(v.z);
+    if (!(l1 > 0.0f) || !is_finite(v)) return 0u;
+    float x = v.x / l1, y = v.y / l1;
+    if (v.z < 0.0f) {
+        const float ox = (1.0f - fabsf(y)) * (x >= 0.0f ? 1.0f : -1.0f);
+        y = (1.0f - fabsf(x)) * (y >= 0.0f ? 1.0f : -1.0f);
+        x = ox;
+    }
+    const int32_t qx = int32_t(rintf(clampf(x, -1.0f, 1.0f) * 32767.0f));
+    const int32_t qy = int32_t(rintf(clampf(y, -1.0f, 1.0f) * 32767.0f));
+    return (uint32_t(qx & 0xFFFF) << 16) | uint32_t(qy & 0xFFFF);
+}
+LANTERN_HD inline Vec3 oct_decode(uint32_t c) {
+    float x = float(int16_t(uint16_t(c >> 16))) / 32767.0f;
+    float y = float(int16_t(uint16_t(c & 0xFFFFu))) / 32767.0f;
+    const float z = 1.0f - fabsf(x) - fabsf(y);
+    if (z < 0.0f) {
+        const float ox = (1.0f - fabsf(y)) * (x >= 0.0f ? 1.0f : -1.0f);
+        y = (1.0f - fabsf(x)) * (y >= 0.0f ? 1.0f : -1.0f);
+        x = ox;
+    }
+    return normalize(vec3(x, y, z));
+}
 
 }  // namespace lantern

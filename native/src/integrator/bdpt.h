@@ -41,8 +41,9 @@ struct LightVertex {
     Vec2 st;        // texture coordinates (textured materials are resolved at connection)
     float tangent_angle;  // anisotropic materials: the frame's turn about ns (SurfaceHit)
     int32_t path;   // light path index (bdpt pairs camera path i with light path i)
-    int32_t length; // segments from the light to this vertex (y1 has 1)
-    int32_t front;
+    int16_t length; // segments from the light to this vertex (y1 has 1; max_depth <= 1024)
+    int16_t front;
+    uint32_t coat_n;  // kCoatNormal materials: SurfaceHit::coat_n, octahedral (oct_encode)
 };
 
 static_assert(sizeof(LightVertex) == 96, "update the cache size in docs/lvc_notes.md");
@@ -204,8 +205,9 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
         v.st = h.st;
         v.tangent_angle = h.tangent_angle;
         v.path = int32_t(path);
-        v.length = k;
+        v.length = int16_t(k);
         v.front = h.front ? 1 : 0;
+        v.coat_n = (m.tex_flags & kCoatNormal) ? oct_encode(h.coat_n) : 0u;
         bs.vertex[i] = v;
         bs.store[i] = is_finite(beta) && is_finite(dvcm) && is_finite(dvc) ? 1 : 0;
     }
@@ -214,7 +216,8 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
     if (!delta && k + 1 <= st.max_depth && (s.tri_flags[tri] & kVisibleCamera) != 0) {
         CameraConnection cc = connect_camera(s.camera, h.p, filter_radius(s.camera));
         if (cc.valid && sides_agree(cc.wc, h.ng, h.ns)) {
-            BsdfEval e = material_eval(m, h.front, wo, frame.to_local(cc.wc), Transport::Importance);
+            BsdfEval e = material_eval(m, h.front, wo, frame.to_local(cc.wc),
+                                       Transport::Importance, h.coat_n);
             if (!is_black(e.f)) {
                 float cos_wc_ng = fabsf(dot(cc.wc, h.ng));
                 // f |wc.ns| times the adjoint shading-normal factor [Veach thesis (5.19)]
@@ -233,7 +236,7 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
     Rng rng = ps.rng[i];
     Vec2 u_dir = rng.uniform2();
     BsdfSample b = material_sample(m, h.front, wo, Vec3{u_dir.x, u_dir.y, rng.uniform()},
-                                   Transport::Importance);
+                                   Transport::Importance, h.coat_n);
     Vec3 wi = frame.to_world(b.wi);
     if (b.valid && sides_agree(wi, h.ng, h.ns) && (b.delta || b.pdf_fwd_w > 0.0f)) {
         float cos_i_ng = fabsf(dot(wi, h.ng));
@@ -356,7 +359,8 @@ LANTERN_HD inline void bdpt_camera_nee(const SceneView& s, const PathState& ps,
     const Light& l = s.lights[li];
     LightSample ls = sample_light(s, l, z.h.p, u_light);
     if (!ls.valid || is_black(ls.le) || !sides_agree(ls.wi, z.h.ng, z.h.ns)) return;
-    BsdfEval e = material_eval(*z.m, z.h.front, z.wo, z.frame.to_local(ls.wi), Transport::Radiance);
+    BsdfEval e = material_eval(*z.m, z.h.front, z.wo, z.frame.to_local(ls.wi), Transport::Radiance,
+                               z.h.coat_n);
     float pdf_light_w = l.pick_pdf * ls.pdf_w;
     if (is_black(e.f) || !(pdf_light_w > 0.0f)) return;
     const bool infinite = !(ls.dist < kInf);
@@ -414,13 +418,15 @@ LANTERN_HD inline Connection bdpt_connect(const SceneView& s, const BdptSettings
     float dist = sqrtf(d2);
     dir = dir / dist;
     if (!sides_agree(dir, z.h.ng, z.h.ns) || !sides_agree(-dir, y.ng, y.ns)) return r;
-    BsdfEval ez = material_eval(*z.m, z.h.front, z.wo, z.frame.to_local(dir), Transport::Radiance);
+    BsdfEval ez = material_eval(*z.m, z.h.front, z.wo, z.frame.to_local(dir), Transport::Radiance,
+                                z.h.coat_n);
     if (is_black(ez.f)) return r;
     MaterialScratch scratch;
     const Material& my = material_at(s, y.material, y.st, scratch);
     Frame fy = Frame::from_normal_angle(y.ns, y.tangent_angle);
+    const Vec3 coat_y = (my.tex_flags & kCoatNormal) ? oct_decode(y.coat_n) : vec3(0.0f, 0.0f, 1.0f);
     BsdfEval ey = material_eval(my, y.front != 0, fy.to_local(y.wo), fy.to_local(-dir),
-                                Transport::Importance);
+                                Transport::Importance, coat_y);
     if (is_black(ey.f)) return r;
     const float cos_z_ng = fabsf(dot(dir, z.h.ng)), cos_y_ng = fabsf(dot(dir, y.ng));
     const float cos_z_ns = fabsf(dot(dir, z.h.ns));
@@ -579,7 +585,7 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
     // continue
     Vec2 u_dir = rng.uniform2();
     BsdfSample b = material_sample(m, z.h.front, z.wo, Vec3{u_dir.x, u_dir.y, rng.uniform()},
-                                   Transport::Radiance);
+                                   Transport::Radiance, z.h.coat_n);
     Vec3 wi = z.frame.to_world(b.wi);
     if (b.valid && sides_agree(wi, z.h.ng, z.h.ns) && (b.delta || b.pdf_fwd_w > 0.0f)) {
         Vec3 beta = z.beta * b.weight;

@@ -74,6 +74,7 @@ struct SurfaceHit {
     Vec2 st;    // texture coordinates (the mesh's uvs; 0 without)
     bool front; // the ray arrived on the triangle's front (counter-clockwise) side
     float tangent_angle = 0.0f;  // anisotropic materials: the shading frame's turn about ns
+    Vec3 coat_n{0.0f, 0.0f, 1.0f};  // kCoatNormal: the coat's normal, local to frame()
     LANTERN_HD Frame frame() const { return Frame::from_normal_angle(ns, tangent_angle); }
 };
 
@@ -120,22 +121,22 @@ LANTERN_HD inline bool uv_tangent(const SceneView& s, int tri, Vec2 bary, Vec3 n
     return true;
 }
 
-// A tangent-space normal map (Blender's Normal Map node, tangent space) applied to the front-side
-// shading normal n of triangle tri. Returns n unchanged where the map or the frame is
-// degenerate or would turn the normal below the surface.
-LANTERN_HD inline Vec3 apply_normal_map(const SceneView& s, const Material& m, int tri,
-                                        Vec2 bary, Vec3 n, Vec3 ng_front, Vec2 st) {
+// A tangent-space normal map (Blender's Normal Map node, tangent space): texture `tex` of
+// `strength` applied to the front-side shading normal n of triangle tri. Returns n unchanged
+// where the map or the frame is degenerate or would turn the normal below the surface.
+LANTERN_HD inline Vec3 apply_normal_map(const SceneView& s, int32_t tex_index, float strength,
+                                        int tri, Vec2 bary, Vec3 n, Vec3 ng_front, Vec2 st) {
     Vec3 t;
     float sign;
     if (!uv_tangent(s, tri, bary, n, &t, &sign)) return n;
     Vec3 b = cross(n, t) * sign;
-    const Texture& tex = s.textures[m.tex_normal];
+    const Texture& tex = s.textures[tex_index];
     Vec3 c = texture_color(texture_lookup(tex, s.texels, s.srgb_lut, st));
     Vec3 mapped = t * (2.0f * c.x - 1.0f) + b * (2.0f * c.y - 1.0f) + n * (2.0f * c.z - 1.0f);
     if (!is_finite(mapped) || !(length_sq(mapped) > 1e-12f)) return n;
     mapped = normalize(mapped);
-    if (m.normal_strength != 1.0f) {
-        mapped = n + (mapped - n) * fmaxf(m.normal_strength, 0.0f);
+    if (strength != 1.0f) {
+        mapped = n + (mapped - n) * fmaxf(strength, 0.0f);
         if (!is_finite(mapped) || !(length_sq(mapped) > 1e-12f)) return n;
         mapped = normalize(mapped);
     }
@@ -161,6 +162,26 @@ LANTERN_HD inline float anisotropy_angle(const SceneView& s, const Material& m, 
     return is_finite(angle) ? angle : 0.0f;
 }
 
+// The material-dependent part of the shading frame (kSceneFrames scenes only, so that the
+// common path stays small): a normal map on the front-side normal n, the anisotropy tangent and
+// the coat's own normal.
+LANTERN_HD inline void pt_surface_frames(const SceneView& s, SurfaceHit& h, int tri, Vec2 uv,
+                                         Vec3 n, Vec3 ng_front) {
+    const Material& m = s.materials[s.tri_material[tri]];
+    const Vec3 n_smooth = n;
+    if (m.tex_flags & kTexNormal)
+        n = apply_normal_map(s, m.tex_normal, m.normal_strength, tri, uv, n, ng_front, h.st);
+    h.ns = h.front ? n : -n;
+    if (m.anisotropy > 0.0f) h.tangent_angle = anisotropy_angle(s, m, tri, uv, h.ns);
+    if (m.tex_flags & kCoatNormal) {  // the coat's own normal: its map, or the smooth normal
+        Vec3 nc = m.tex_coat_normal >= 0 ? apply_normal_map(s, m.tex_coat_normal,
+                                                             m.coat_normal_strength, tri, uv,
+                                                             n_smooth, ng_front, h.st)
+                                         : n_smooth;
+        h.coat_n = normalize(h.frame().to_local(h.front ? nc : -nc));
+    }
+}
+
 LANTERN_HD inline SurfaceHit pt_surface(const SceneView& s, int tri, Vec2 uv, Vec3 d) {
     Vec3 a = triangle_vertex(s, tri, 0), b = triangle_vertex(s, tri, 1),
          c = triangle_vertex(s, tri, 2);
@@ -178,14 +199,12 @@ LANTERN_HD inline SurfaceHit pt_surface(const SceneView& s, int tri, Vec2 uv, Ve
             n = dot(ni, ng_front) < 0.0f ? -ni : ni;
         }
     }
-    // (the mapped normal depends on the surface point only, never on the arriving direction:
-    // camera and light sub-paths see the same BSDF, as BDPT's MIS needs; docs/materials.md)
-    const Material& m = s.materials[s.tri_material[tri]];
-    if (m.tex_flags & kTexNormal) n = apply_normal_map(s, m, tri, uv, n, ng_front, h.st);
     h.front = dot(ng_front, d) <= 0.0f;
     h.ng = h.front ? ng_front : -ng_front;
     h.ns = h.front ? n : -n;
-    if (m.anisotropy > 0.0f) h.tangent_angle = anisotropy_angle(s, m, tri, uv, h.ns);
+    // (the mapped normal depends on the surface point only, never on the arriving direction:
+    // camera and light sub-paths see the same BSDF, as BDPT's MIS needs; docs/materials.md)
+    if (s.material_bits & kSceneFrames) pt_surface_frames(s, h, tri, uv, n, ng_front);
     return h;
 }
 
@@ -230,7 +249,8 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
         const Light& l = s.lights[li];
         LightSample ls = sample_light(s, l, h.p, u_light);
         if (ls.valid && !delta_material && sides_agree(ls.wi, h.ng, h.ns) && !is_black(ls.le)) {
-            BsdfEval e = material_eval(m, h.front, wo, frame.to_local(ls.wi), Transport::Radiance);
+            BsdfEval e = material_eval(m, h.front, wo, frame.to_local(ls.wi), Transport::Radiance,
+                                       h.coat_n);
             float pdf_light = l.pick_pdf * ls.pdf_w;
             if (e.pdf_fwd_w > 0.0f && pdf_light > 0.0f) {
                 float w = ls.delta ? 1.0f : power_heuristic(pdf_light, e.pdf_fwd_w);
@@ -262,7 +282,7 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
     // continue the path
     Vec2 u_dir = rng.uniform2();
     BsdfSample bs = material_sample(m, h.front, wo, Vec3{u_dir.x, u_dir.y, rng.uniform()},
-                                    Transport::Radiance);
+                                    Transport::Radiance, h.coat_n);
     Vec3 wi = frame.to_world(bs.wi);
     if (bs.valid && sides_agree(wi, h.ng, h.ns)) {
         Vec3 beta = ps.throughput[i] * bs.weight;

@@ -122,6 +122,8 @@ SceneInput to_input(const nb::dict& scene) {
             mi.coat_ior = get<float>(m, "coat_ior", mi.coat_ior);
             mi.coat_tint = get_vec3(m, "coat_tint", mi.coat_tint);
             mi.sheen_weight = get<float>(m, "sheen_weight", mi.sheen_weight);
+            mi.thin_film_thickness = get<float>(m, "thin_film_thickness", mi.thin_film_thickness);
+            mi.thin_film_ior = get<float>(m, "thin_film_ior", mi.thin_film_ior);
             mi.sheen_roughness = get<float>(m, "sheen_roughness", mi.sheen_roughness);
             mi.sheen_tint = get_vec3(m, "sheen_tint", mi.sheen_tint);
             mi.tex_base_color = get<int>(m, "base_color_texture", -1);
@@ -131,6 +133,9 @@ SceneInput to_input(const nb::dict& scene) {
             mi.tex_normal = get<int>(m, "normal_texture", -1);
             mi.tex_emission = get<int>(m, "emission_texture", -1);
             mi.normal_strength = get<float>(m, "normal_strength", mi.normal_strength);
+            mi.tex_coat_normal = get<int>(m, "coat_normal_texture", -1);
+            mi.coat_normal_strength = get<float>(m, "coat_normal_strength",
+                                                 mi.coat_normal_strength);
             mi.alpha = get<float>(m, "alpha", mi.alpha);
             if (has(m, "mix")) {  // [[leaf, weight], ...]
                 for (nb::handle e : nb::cast<nb::list>(m["mix"])) {

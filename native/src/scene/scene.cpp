@@ -82,6 +82,19 @@ void set_material_textures(Material& m, const MaterialInput& mi, size_t k, size_
     m.emission_scale = m.emission;  // with an emission texture: its multiplier
     m.normal_strength = std::isfinite(mi.normal_strength) ? std::max(mi.normal_strength, 0.0f)
                                                           : 1.0f;
+    // the coat's own normal: its map, or the smooth normal under a mapped base (Cycles: an
+    // unlinked Coat Normal is the interpolated normal, not the base's)
+    m.tex_coat_normal = -1;
+    int32_t coat_tex = -1;
+    check(mi.tex_coat_normal, "coat_normal", 0u, coat_tex);
+    if (m.type == kMaterialPrincipled && m.coat_weight > 0.0f &&
+        (coat_tex >= 0 || (m.tex_flags & kTexNormal))) {
+        m.tex_coat_normal = coat_tex;
+        m.tex_flags |= kCoatNormal;
+    }
+    m.coat_normal_strength = std::isfinite(mi.coat_normal_strength)
+                                 ? std::min(std::max(mi.coat_normal_strength, 0.0f), 1e3f)
+                                 : 1.0f;
     float alpha = std::isfinite(mi.alpha) ? std::min(std::max(mi.alpha, 0.0f), 1.0f) : 1.0f;
     if (!std::isfinite(mi.alpha))
         warnings.push_back("material '" + mi.name + "': alpha is not finite; opaque instead");
@@ -143,6 +156,14 @@ HostScene::HostScene(const SceneInput& in) {
                                         "' (ggx, beckmann)");
         }
         m.beckmann = mi.distribution == "beckmann" ? 1u : 0u;
+        // Thin Film (principled specular layer and metal, conductors): NaN or negative
+        // thickness -> none; above 100 um no interference is left to see, so clamp there
+        m.film_thickness = std::isfinite(mi.thin_film_thickness)
+                               ? std::min(std::max(mi.thin_film_thickness, 0.0f), 1e5f)
+                               : 0.0f;
+        m.film_ior = std::isfinite(mi.thin_film_ior)
+                         ? std::min(std::max(mi.thin_film_ior, 1.0f), 100.0f)
+                         : 1.33f;
         if (mi.type == "diffuse") {
             m.type = kMaterialDiffuse;
         } else if (mi.type == "conductor") {
@@ -254,6 +275,12 @@ void HostScene::set_mix_leaves(const SceneInput& in) {
             m.mix_child[i] = c;
             m.mix_weight[i] = std::isfinite(w) ? std::max(w, 0.0f) : 0.0f;
             m.emission += materials_[c].emission * m.mix_weight[i];
+            // one coat normal per hit: the first leaf with its own
+            if ((materials_[c].tex_flags & kCoatNormal) && !(m.tex_flags & kCoatNormal)) {
+                m.tex_flags |= kCoatNormal;
+                m.tex_coat_normal = materials_[c].tex_coat_normal;
+                m.coat_normal_strength = materials_[c].coat_normal_strength;
+            }
             // one shading frame per hit: the first anisotropic leaf's tangent serves them all
             if (materials_[c].anisotropy > 0.0f && !(m.anisotropy > 0.0f)) {
                 m.anisotropy = materials_[c].anisotropy;
@@ -617,6 +644,12 @@ void HostScene::finish_view(const SceneInput& in) {
     v.num_triangles = int32_t(tri_material_.size());
     v.materials = materials_.data();
     v.num_materials = int32_t(materials_.size());
+    v.material_bits = 0;
+    for (const Material& m : materials_) {
+        if (m.tex_flags & kMaterialResolve) v.material_bits |= kSceneResolve;
+        if ((m.tex_flags & (kTexNormal | kCoatNormal)) || m.anisotropy > 0.0f)
+            v.material_bits |= kSceneFrames;
+    }
     v.lights = lights_.data();
     v.light_cdf = light_cdf_.data();
     v.emit_cdf = has_emitters_ ? emit_cdf_.data() : nullptr;

@@ -50,11 +50,16 @@ struct MaterialInput {
     float coat_weight = 0.0f, coat_roughness = 0.03f, coat_ior = 1.5f;
     Vec3 coat_tint{1.0f, 1.0f, 1.0f};
     float sheen_weight = 0.0f, sheen_roughness = 0.5f;
+    float thin_film_thickness = 0.0f, thin_film_ior = 1.33f;  // nm (0: none); the film's index
     Vec3 sheen_tint{1.0f, 1.0f, 1.0f};
     // textures: indices into SceneInput::textures, -1 for none
     int tex_base_color = -1, tex_roughness = -1, tex_metallic = -1, tex_alpha = -1,
         tex_normal = -1, tex_emission = -1;  // emission texture: radiance = texel x emission
     float normal_strength = 1.0f;
+    // principled coat's own normal map (Coat Normal), -1: none; the coat then follows the
+    // smooth interpolated normal wherever the base's Normal is mapped (Cycles)
+    int tex_coat_normal = -1;
+    float coat_normal_strength = 1.0f;
     float alpha = 1.0f;  // coverage: 0 lets every ray pass (Blender's Alpha)
     // mix: leaf materials (indices, not mixes) and weights; tex_mix: factor of two leaves
     std::vector<int> mix_children;

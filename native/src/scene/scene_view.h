@@ -43,6 +43,8 @@ struct Material {
     float metallic;
     float transmission;
     float spec_eta;      // the specular layer's IOR after Blender's Specular IOR Level
+    float film_thickness;  // Thin Film Thickness (nm) on the specular layer, 0: none
+    float film_ior;        // Thin Film IOR
     float spec_albedo[kPrincipledAlbedoN];  // its directional albedo (max channel) by cosine
     // GGX multiple-scattering compensation (conductor, principled): bsdf/multiscatter.h
     uint32_t multiscatter;  // 1: compensate (Blender's "Multiscatter GGX", the default)
@@ -53,6 +55,11 @@ struct Material {
     float coat_weight, coat_roughness, coat_ior;
     Vec3 coat_tint;
     float coat_albedo[kPrincipledAlbedoN];  // its directional albedo by cosine
+    // kCoatNormal: the coat has its own shading normal (Principled Coat Normal): the normal
+    // map tex_coat_normal of coat_normal_strength on the interpolated normal, or (-1) the
+    // interpolated normal itself, as Cycles' coat when only the base Normal is mapped
+    int32_t tex_coat_normal;
+    float coat_normal_strength;
     // principled sheen: the top layer (bsdf/sheen.h)
     float sheen_weight, sheen_roughness;
     Vec3 sheen_tint;
@@ -84,6 +91,7 @@ enum MaterialTextureBits : uint32_t {
     kTexNormal = 16u,
     kTexMix = 32u,       // a mix's factor texture
     kTexEmission = 128u, // emission colour (mesh lights: lights.h triangle_emission)
+    kCoatNormal = 256u,  // the coat's own normal (SurfaceHit::coat_n; bsdf/principled.h)
     kMixResolve = 64u,   // every mix: material_at must point it at its leaves
     kTexShading = kTexBaseColor | kTexRoughness | kTexMetallic | kTexEmission,  // resolved per hit
     kMaterialResolve = kTexShading | kTexMix | kMixResolve,      // material_at copies
@@ -149,6 +157,15 @@ struct CameraView {
     float filter_width;
 };
 
+// What a scene's materials need at a hit, over all of them (HostScene::finish_view), so that a
+// scene whose materials need none of it skips the per-hit checks and loads: a diffuse-only
+// scene pays nothing for textures, mixes, normal maps or anisotropy. The default (every bit)
+// is the conservative one for views built by hand.
+enum SceneMaterialBits : uint32_t {
+    kSceneResolve = 1u,  // some material needs material_at to resolve it (textures, mixes)
+    kSceneFrames = 2u,   // some material has a normal map, a coat normal or anisotropy
+};
+
 struct SceneView {
     const Vec3* positions = nullptr;
     const Vec3* normals = nullptr;   // per vertex, may be null
@@ -161,6 +178,7 @@ struct SceneView {
 
     const Material* materials = nullptr;
     int32_t num_materials = 0;
+    uint32_t material_bits = ~0u;        // SceneMaterialBits
 
     const Texture* textures = nullptr;
     const uint8_t* texels = nullptr;     // the pool Texture::offset points into
