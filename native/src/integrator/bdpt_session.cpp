@@ -22,23 +22,44 @@ constexpr int kChunkPaths = 1 << 18;
 constexpr int kShadowBudget = 1 << 21;  // connection shadow-ray slots per camera chunk
 }  // namespace
 
-BdptSettings Session::bdpt_settings() const {
-    const double light_paths = double(width_) * height_ * settings_.spp_per_iteration;
+BdptSettings make_bdpt_settings(const SessionSettings& s, int width, int height,
+                                uint64_t iteration, int mode, float r) {
+    const double light_paths = double(width) * height * s.spp_per_iteration;
     BdptSettings st{};
-    st.max_depth = settings_.max_depth;
-    st.rr_depth = settings_.rr_depth;
-    st.spp_per_iteration = settings_.spp_per_iteration;
-    st.seed = settings_.seed;
-    st.iteration = iteration_;
-    st.mode = mode_;
-    st.connections = settings_.connections;
-    st.candidates = settings_.candidates;
-    st.target = settings_.cis_target == "bsdf" ? kTargetBsdf : kTargetContribution;
-    st.naive_ris = settings_.naive_ris ? 1 : 0;
-    st.r = mis_r_;
-    st.n_lt = float(light_paths / settings_.spp_per_iteration);
+    st.max_depth = s.max_depth;
+    st.rr_depth = s.rr_depth;
+    st.spp_per_iteration = s.spp_per_iteration;
+    st.seed = s.seed;
+    st.iteration = iteration;
+    st.mode = mode;
+    st.connections = s.connections;
+    st.candidates = s.candidates;
+    st.target = s.cis_target == "bsdf" ? kTargetBsdf : kTargetContribution;
+    st.naive_ris = s.naive_ris ? 1 : 0;
+    st.r = r;
+    st.n_lt = float(light_paths / s.spp_per_iteration);
     st.inv_light_paths = float(1.0 / light_paths);
     return st;
+}
+
+int cache_samples_per_pass(double budget, double vertices_per_path, int max_depth, int spp_it,
+                           int width, int height, const char* what, bool* warned,
+                           std::vector<std::string>& warnings) {
+    const double vpp = vertices_per_path > 0.0 ? vertices_per_path : std::min(max_depth - 1, 4);
+    const double per_spp = double(width) * height *
+                           (std::max(vpp, 0.5) * sizeof(LightVertex) + 2 * sizeof(int32_t));
+    const int per_pass = int(std::clamp(budget / per_spp, 1.0, double(spp_it)));
+    if (per_pass < spp_it && !*warned) {
+        *warned = true;
+        warnings.push_back(std::string(what) + ": " + std::to_string(spp_it) +
+                           " samples per iteration run as passes of " + std::to_string(per_pass) +
+                           " to stay within " + std::to_string(int(budget / (1 << 20))) + " MiB");
+    }
+    return per_pass;
+}
+
+BdptSettings Session::bdpt_settings() const {
+    return make_bdpt_settings(settings_, width_, height_, iteration_, mode_, mis_r_);
 }
 
 void Session::resize_bdpt_state(int n, int conn_cap) {

@@ -129,19 +129,8 @@ int Session::bdpt_samples_per_pass(int spp_it) {
     if (phys > 0) budget = std::min(budget, 0.25 * phys);
 #endif
     if (settings_.cache_budget_mb > 0) budget = double(settings_.cache_budget_mb) * (1 << 20);
-    const double vpp = vertices_per_path_ > 0.0 ? vertices_per_path_
-                                                : std::min(settings_.max_depth - 1, 4);
-    const double per_spp = double(width_) * height_ *
-                           (std::max(vpp, 0.5) * sizeof(LightVertex) + 2 * sizeof(int32_t));
-    const int per_pass = int(std::clamp(budget / per_spp, 1.0, double(spp_it)));
-    if (per_pass < spp_it && !split_warned_) {
-        split_warned_ = true;
-        warnings_.push_back("light vertex cache: " + std::to_string(spp_it) +
-                            " samples per iteration run as passes of " +
-                            std::to_string(per_pass) + " to stay within " +
-                            std::to_string(int(budget / (1 << 20))) + " MiB");
-    }
-    return per_pass;
+    return cache_samples_per_pass(budget, vertices_per_path_, settings_.max_depth, spp_it, width_,
+                                  height_, "light vertex cache", &split_warned_, warnings_);
 }
 
 void Session::resize_state(int n) {

@@ -41,6 +41,17 @@ struct SessionSettings {
     int cache_budget_mb = 0;  // light vertex cache per pass; 0: min(4 GiB, RAM / 4)
 };
 
+// Shared by the CPU session and the CUDA backend (bdpt_session.cpp).
+// The settings of one pass of a bidirectional iteration: mode (BdptMode), MIS count r.
+BdptSettings make_bdpt_settings(const SessionSettings& s, int width, int height,
+                                uint64_t iteration, int mode, float r);
+// Samples per light pass so that its cache fits `budget` bytes (at least 1, at most spp_it),
+// from the last iteration's vertices per light path (< 0: none yet). When it splits and *warned
+// is false, appends a warning naming `what` and sets *warned.
+int cache_samples_per_pass(double budget, double vertices_per_path, int max_depth, int spp_it,
+                           int width, int height, const char* what, bool* warned,
+                           std::vector<std::string>& warnings);
+
 struct SessionStats {
     int64_t iterations = 0;
     int64_t rays_camera = 0, rays_indirect = 0, rays_shadow = 0;

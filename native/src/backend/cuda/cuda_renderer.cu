@@ -353,44 +353,19 @@ PtSettings Renderer::pt_settings() const {
 }
 
 BdptSettings Renderer::bdpt_settings() const {
-    const double light_paths = double(width_) * height_ * set_.spp_per_iteration;
-    BdptSettings st{};
-    st.max_depth = set_.max_depth;
-    st.rr_depth = set_.rr_depth;
-    st.spp_per_iteration = set_.spp_per_iteration;
-    st.seed = set_.seed;
-    st.iteration = iteration_;
-    st.mode = mode_;
-    st.connections = set_.connections;
-    st.candidates = set_.candidates;
-    st.target = set_.cis_target == "bsdf" ? kTargetBsdf : kTargetContribution;
-    st.naive_ris = set_.naive_ris ? 1 : 0;
-    st.r = mis_r_;
-    st.n_lt = float(light_paths / set_.spp_per_iteration);
-    st.inv_light_paths = float(1.0 / light_paths);
-    return st;
+    return make_bdpt_settings(set_, width_, height_, iteration_, mode_, mis_r_);
 }
 
-// As Session::bdpt_samples_per_pass, with the GPU's free memory as the budget: half of what
-// was free when the renderer started less the kernels' stack reservation, at most 8 GiB, or
+// As Session::bdpt_samples_per_pass, with the GPU's free memory as the budget: half of what was
+// free when the renderer started less the kernels' stack reservation, at most 8 GiB, or
 // cache_budget_mb.
 int Renderer::bdpt_samples_per_pass(int spp_it, std::vector<std::string>& warnings) {
     double budget = std::min(8.0 * (1 << 30),
                              0.5 * double(std::max<int64_t>(free_at_start_ - stack_reserve_, 0)));
     if (set_.cache_budget_mb > 0) budget = double(set_.cache_budget_mb) * (1 << 20);
     budget *= budget_scale_;
-    const double vpp = vertices_per_path_ > 0.0 ? vertices_per_path_
-                                                : std::min(set_.max_depth - 1, 4);
-    const double per_spp = double(width_) * height_ *
-                           (std::max(vpp, 0.5) * sizeof(LightVertex) + 2 * sizeof(int32_t));
-    const int per_pass = int(std::clamp(budget / per_spp, 1.0, double(spp_it)));
-    if (per_pass < spp_it && !split_warned_) {
-        split_warned_ = true;
-        warnings.push_back("light vertex cache (GPU): " + std::to_string(spp_it) +
-                           " samples per iteration run as passes of " + std::to_string(per_pass) +
-                           " to stay within " + std::to_string(int(budget / (1 << 20))) + " MiB");
-    }
-    return per_pass;
+    return cache_samples_per_pass(budget, vertices_per_path_, set_.max_depth, spp_it, width_,
+                                  height_, "light vertex cache (GPU)", &split_warned_, warnings);
 }
 
 bool Renderer::step(const SessionSettings& settings, uint64_t& iteration, SessionStats& stats,
