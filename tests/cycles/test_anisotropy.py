@@ -4,7 +4,6 @@ BSDF's Anisotropy of both signs. 8x8-block means over K independent seeds per re
 agree within their standard errors (Bonferroni over the blocks); the isotropic image is far
 outside that tolerance, so the test can tell anisotropy apart."""
 
-import math
 import os
 import sys
 
@@ -20,19 +19,13 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(
     os.path.abspath(__file__)))), "tools"))
 import render_compare as rc  # noqa: E402
 from lantern import metrics  # noqa: E402
+from sphere_stage import camera_light_world, sphere_scene  # noqa: E402
 
 SIZE, K, SPP, BLOCK = 48, 8, 32, 8
 
 
 def _scene(kind, value, tangent_node):
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    sc = bpy.context.scene
-    sc.render.resolution_x = sc.render.resolution_y = SIZE
-    sc.render.resolution_percentage = 100
-    bpy.ops.mesh.primitive_uv_sphere_add(segments=64, ring_count=32, radius=1.0)
-    obj = bpy.context.object
-    bpy.ops.object.shade_smooth()
-    mat = bpy.data.materials.new("Brushed")
+    sc, obj, mat = sphere_scene(SIZE, "Brushed")
     nt = mat.node_tree
     out = next(n for n in nt.nodes if n.type == "OUTPUT_MATERIAL")
     if kind == "principled":
@@ -53,23 +46,7 @@ def _scene(kind, value, tangent_node):
         t.direction_type = "UV_MAP"
         nt.links.new(t.outputs[0], node.inputs["Tangent"])
     obj.data.materials.append(mat)
-    cam = bpy.data.objects.new("Cam", bpy.data.cameras.new("Cam"))
-    cam.location, cam.rotation_euler = (0, -4.5, 1.5), (math.radians(72), 0, 0)
-    sc.collection.objects.link(cam)
-    sc.camera = cam
-    light = bpy.data.lights.new("Area", "AREA")
-    light.energy, light.size = 300.0, 1.0
-    lo = bpy.data.objects.new("Area", light)
-    lo.location, lo.rotation_euler = (2, -2, 3), (math.radians(40), math.radians(30), 0)
-    sc.collection.objects.link(lo)
-    world = bpy.data.worlds.new("W")
-    world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.05, 0.05, 0.05, 1)
-    sc.world = world
-
-
-def _blocks(imgs):
-    b = np.stack([metrics.block_means(i, BLOCK) for i in imgs])
-    return b.mean(axis=0), b.std(axis=0, ddof=1) / math.sqrt(len(imgs))
+    camera_light_world(sc)
 
 
 @pytest.mark.parametrize("kind, value, tangent_node", [
@@ -79,8 +56,8 @@ def test_anisotropy_matches_cycles(kind, value, tangent_node):
     _scene(kind, value, tangent_node)
     cyc = [rc.render_cycles(seed=10 + k, spp=SPP)[0] for k in range(K)]
     lan = [rc.render_lantern(seed=20 + k, spp=SPP, threads=2)[0] for k in range(K)]
-    mc, sc = _blocks(cyc)
-    ml, sl = _blocks(lan)
+    mc, sc = metrics.block_stats(cyc, BLOCK)
+    ml, sl = metrics.block_stats(lan, BLOCK)
     se = np.sqrt(sc ** 2 + sl ** 2 + (1e-3 * mc) ** 2)   # (the constant world: se ~ 0)
     z = (ml - mc) / se
     thr = metrics.z_threshold(z.size, 1e-3, dof=K - 1)
@@ -94,6 +71,6 @@ def test_anisotropy_matches_cycles(kind, value, tangent_node):
         bpy.context.object.active_material.node_tree.nodes["Principled BSDF"].inputs[
             "Anisotropic"].default_value = 0.0
         iso = [rc.render_lantern(seed=30 + k, spp=SPP, threads=2)[0] for k in range(K)]
-        mi, si = _blocks(iso)
+        mi, si = metrics.block_stats(iso, BLOCK)
         z_iso = (mi - mc) / np.sqrt(sc ** 2 + si ** 2 + (1e-3 * mc) ** 2)
         assert np.abs(z_iso).max() > 3 * thr

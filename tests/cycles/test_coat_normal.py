@@ -27,6 +27,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(
     os.path.abspath(__file__)))), "tools"))
 import render_compare as rc  # noqa: E402
 from lantern import metrics  # noqa: E402
+from sphere_stage import camera_light_world, sphere_scene  # noqa: E402
 
 SIZE, K, SPP, BLOCK = 48, 8, 128, 4
 LIMB_COS = 0.55
@@ -48,14 +49,7 @@ def _stripes():
 
 
 def _scene():
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    sc = bpy.context.scene
-    sc.render.resolution_x = sc.render.resolution_y = SIZE
-    sc.render.resolution_percentage = 100
-    bpy.ops.mesh.primitive_uv_sphere_add(segments=64, ring_count=32, radius=1.0)
-    obj = bpy.context.object
-    bpy.ops.object.shade_smooth()
-    mat = bpy.data.materials.new("CoatNormal")
+    sc, obj, mat = sphere_scene(SIZE, "CoatNormal")
     nt = mat.node_tree
     node = nt.nodes["Principled BSDF"]
     node.inputs["Base Color"].default_value = (0.2, 0.35, 0.8, 1)
@@ -69,24 +63,8 @@ def _scene():
     nt.links.new(tex.outputs["Color"], nmap.inputs["Color"])
     nt.links.new(nmap.outputs["Normal"], node.inputs["Coat Normal"])
     obj.data.materials.append(mat)
-    cam = bpy.data.objects.new("Cam", bpy.data.cameras.new("Cam"))
-    cam.location, cam.rotation_euler = (0, -4.5, 1.5), (math.radians(72), 0, 0)
-    sc.collection.objects.link(cam)
-    sc.camera = cam
-    light = bpy.data.lights.new("Area", "AREA")
-    light.energy, light.size = 300.0, 1.0
-    lo = bpy.data.objects.new("Area", light)
-    lo.location, lo.rotation_euler = (2, -2, 3), (math.radians(40), math.radians(30), 0)
-    sc.collection.objects.link(lo)
-    world = bpy.data.worlds.new("W")
-    world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.05, 0.05, 0.05, 1)
-    sc.world = world
+    camera_light_world(sc)
     return nt, node
-
-
-def _blocks(imgs):
-    b = np.stack([metrics.block_means(i, BLOCK) for i in imgs])
-    return b.mean(axis=0), b.std(axis=0, ddof=1) / math.sqrt(len(imgs))
 
 
 def _view_cosine():
@@ -136,8 +114,8 @@ def test_coat_normal_matches_cycles():
         img, messages = rc.render_lantern(seed=20 + k, spp=SPP, threads=2)
         lan.append(img)
     assert not any("Coat Normal" in str(m) for m in messages), messages
-    mc, sc = _blocks(cyc)
-    ml, sl = _blocks(lan)
+    mc, sc = metrics.block_stats(cyc, BLOCK)
+    ml, sl = metrics.block_stats(lan, BLOCK)
     se = np.sqrt(sc ** 2 + sl ** 2 + (1e-3 * mc) ** 2)   # (the constant world: se ~ 0)
     z = ((ml - mc) / se)[interior]
     thr = metrics.z_threshold(z.size, 1e-3, dof=K - 1)
@@ -149,7 +127,7 @@ def test_coat_normal_matches_cycles():
     # the test can fail: the coat on the smooth normal is far outside the tolerance
     nt.links.remove(node.inputs["Coat Normal"].links[0])
     smooth = [rc.render_lantern(seed=30 + k, spp=SPP, threads=2)[0] for k in range(K)]
-    ms, ss = _blocks(smooth)
+    ms, ss = metrics.block_stats(smooth, BLOCK)
     z_smooth = ((ms - mc) / np.sqrt(sc ** 2 + ss ** 2 + (1e-3 * mc) ** 2))[interior]
     print(f"coat on the smooth normal: worst |z| {np.abs(z_smooth).max():.2f}")
     assert interior.sum() >= 40
