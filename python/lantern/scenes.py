@@ -97,14 +97,8 @@ def cornell_box(width=64, height=64, light_power=40.0, boxes=True, light_visible
     scene, white, red, green = _box_room(width, height)
     _walls(scene, white, red, green)
     if boxes:
-        pos, idx = _box((0.33, -0.3, 0.0), (0.6, 0.6, 0.6), -17.0)
-        scene.add_mesh(pos, idx, material=white, name="short_box")
-        pos, idx = _box((-0.35, 0.3, 0.0), (0.6, 0.6, 1.2), 17.0)
-        scene.add_mesh(pos, idx, material=white, name="tall_box")
-    to_world = np.eye(4)
-    to_world[:3, 3] = (0.0, 0.0, 1.98)
-    scene.add_light("area", to_world=to_world.tolist(), shape="rectangle", size=[0.5, 0.4],
-                    power=[light_power] * 3, visible_camera=bool(light_visible))
+        _boxes(scene, white, white)
+    _ceiling_light(scene, light_power, visible=light_visible)
     return scene
 
 
@@ -153,6 +147,22 @@ def _walls(scene, white, red, green, floor=None, back=None, uvs=None):
     }
     for name, ((pos, idx), mat) in walls.items():
         scene.add_mesh(pos, idx, material=mat, name=name, uvs=uvs)
+
+
+def _boxes(scene, short, tall):
+    """The Cornell box's short and tall boxes, with their materials."""
+    pos, idx = _box((0.33, -0.3, 0.0), (0.6, 0.6, 0.6), -17.0)
+    scene.add_mesh(pos, idx, material=short, name="short_box")
+    pos, idx = _box((-0.35, 0.3, 0.0), (0.6, 0.6, 1.2), 17.0)
+    scene.add_mesh(pos, idx, material=tall, name="tall_box")
+
+
+def _ceiling_light(scene, power, visible=True):
+    """The Cornell box's 0.5 x 0.4 m rectangle light just under the ceiling, facing down."""
+    to_world = np.eye(4)
+    to_world[:3, 3] = (0.0, 0.0, 1.98)
+    scene.add_light("area", to_world=to_world.tolist(), shape="rectangle", size=[0.5, 0.4],
+                    power=[power] * 3, visible_camera=bool(visible))
 
 
 def _box_room(width, height):
@@ -253,18 +263,12 @@ def principled_box(width=64, height=64, light_power=40.0):
     pg = plastic("plastic_green", (0.14, 0.45, 0.091), roughness=0.3)
     _walls(scene, pw, pr, pg)
     coated = plastic("coated", (0.2, 0.3, 0.8), roughness=0.0)
-    pos, idx = _box((0.33, -0.3, 0.0), (0.6, 0.6, 0.6), -17.0)
-    scene.add_mesh(pos, idx, material=coated, name="short_box")
     half_metal = plastic("half_metal", (0.95, 0.7, 0.4), roughness=0.25, metallic=0.5)
-    pos, idx = _box((-0.35, 0.3, 0.0), (0.6, 0.6, 1.2), 17.0)
-    scene.add_mesh(pos, idx, material=half_metal, name="tall_box")
+    _boxes(scene, coated, half_metal)
     glass = plastic("glass_panel", (0.9, 1.0, 0.9), roughness=0.1, transmission=1.0)
     pos, idx = _shell((0.3, 0.2, 1.6), 0.3, 0.02)
     scene.add_mesh(pos, idx, material=glass, name="glass_cube")
-    to_world = np.eye(4)
-    to_world[:3, 3] = (0.0, 0.0, 1.98)
-    scene.add_light("area", to_world=to_world.tolist(), shape="rectangle", size=[0.5, 0.4],
-                    power=[light_power] * 3, visible_camera=True)
+    _ceiling_light(scene, light_power)
     return scene
 
 
@@ -301,14 +305,8 @@ def coat_normal_box(width=64, height=64, light_power=40.0):
                               coat_normal_texture=tilt30, coat_normal_strength=0.7)
     _walls(scene, white, left, right, back=back,
            uvs=np.array([[0, 0], [1, 0], [1, 1], [0, 1]], np.float32))
-    pos, idx = _box((0.33, -0.3, 0.0), (0.6, 0.6, 0.6), -17.0)
-    scene.add_mesh(pos, idx, material=white, name="short_box")
-    pos, idx = _box((-0.35, 0.3, 0.0), (0.6, 0.6, 1.2), 17.0)
-    scene.add_mesh(pos, idx, material=white, name="tall_box")
-    to_world = np.eye(4)
-    to_world[:3, 3] = (0.0, 0.0, 1.98)
-    scene.add_light("area", to_world=to_world.tolist(), shape="rectangle", size=[0.5, 0.4],
-                    power=[light_power] * 3, visible_camera=True)
+    _boxes(scene, white, white)
+    _ceiling_light(scene, light_power)
     return scene
 
 
@@ -340,19 +338,13 @@ def features_box(width=64, height=64, light_power=40.0):
                                base_color=(0.9, 0.95, 1.0))
     d_blue = scene.add_material("mix_blue", base_color=(0.2, 0.3, 0.8))
     glassy = scene.add_material("glass_diffuse", type="mix", mix=[[glass, 0.5], [d_blue, 0.5]])
-    pos, idx = _box((0.33, -0.3, 0.0), (0.6, 0.6, 0.6), -17.0)
-    scene.add_mesh(pos, idx, material=glassy, name="short_box")
     trans = scene.add_material("translucent", type="translucent", base_color=(0.8, 0.7, 0.5))
     d_tall = scene.add_material("tall_diffuse", base_color=(0.6, 0.6, 0.6))
     tall = scene.add_material("diffuse_translucent", type="mix",
                               mix=[[d_tall, 0.5], [trans, 0.5]])
-    pos, idx = _box((-0.35, 0.3, 0.0), (0.6, 0.6, 1.2), 17.0)
-    scene.add_mesh(pos, idx, material=tall, name="tall_box")
+    _boxes(scene, glassy, tall)
     card = scene.add_material("card", base_color=(0.9, 0.9, 0.2), alpha=0.5)
     pos, idx = _quad((-0.7, -0.3, 0.3), (0.0, -0.3, 0.3), (0.0, -0.3, 1.0), (-0.7, -0.3, 1.0))
     scene.add_mesh(pos, idx, material=card, name="alpha_card")
-    to_world = np.eye(4)
-    to_world[:3, 3] = (0.0, 0.0, 1.98)
-    scene.add_light("area", to_world=to_world.tolist(), shape="rectangle", size=[0.5, 0.4],
-                    power=[light_power] * 3, visible_camera=True)
+    _ceiling_light(scene, light_power)
     return scene
