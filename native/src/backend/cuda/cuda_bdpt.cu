@@ -66,14 +66,11 @@ void Renderer::index_cache_by_path(int64_t light_paths) {
         idx[k] = k;
     });
     if (nv > 0) {
-        size_t bytes = 0;
         const int end_bit = bits_for(uint32_t(np));
-        check(cub::DeviceRadixSort::SortPairs(nullptr, bytes, key, path_key_out_.data(), idx,
-                                              path_vertex_.data(), nv, 0, end_bit, stream_),
-              "DeviceRadixSort");
-        check(cub::DeviceRadixSort::SortPairs(temp(bytes), bytes, key, path_key_out_.data(), idx,
-                                              path_vertex_.data(), nv, 0, end_bit, stream_),
-              "DeviceRadixSort");
+        cub_run("DeviceRadixSort", [&](void* t, size_t& bytes) {
+            return cub::DeviceRadixSort::SortPairs(t, bytes, key, path_key_out_.data(), idx,
+                                                   path_vertex_.data(), nv, 0, end_bit, stream_);
+        });
     }
     const int32_t* sorted = path_key_out_.data();
     int32_t* off = path_offset_.data();
@@ -123,10 +120,9 @@ void Renderer::run_light_chunk(int64_t first_path, int n) {
         int32_t* pos = scan_.data();
         const uint8_t* store = bs.store;
         each(stream_, active, [=] __device__(int k) { f[k] = store[q[k]]; });
-        size_t bytes = 0;
-        check(cub::DeviceScan::ExclusiveSum(nullptr, bytes, f, pos, active, stream_), "DeviceScan");
-        check(cub::DeviceScan::ExclusiveSum(temp(bytes), bytes, f, pos, active, stream_),
-              "DeviceScan");
+        cub_run("DeviceScan", [&](void* t, size_t& bytes) {
+            return cub::DeviceScan::ExclusiveSum(t, bytes, f, pos, active, stream_);
+        });
         int* total = small_.data() + 2;
         const int last = active - 1;
         each(stream_, 1, [=] __device__(int) { *total = pos[last] + f[last]; });

@@ -64,26 +64,19 @@ Renderer::Renderer(const HostScene& scene, const SessionSettings& settings,
         counters_.bind(&mem_);
 
         // the scene, array by array, then the BVH (built on the host, copied as it is)
-        sv_ = scene.copied_view([&](const void* host, size_t bytes) -> const void* {
+        auto upload = [&](const void* host, size_t bytes) -> void* {
+            if (!host || bytes == 0) return nullptr;
             void* d = nullptr;
             check(cudaMalloc(&d, bytes), "cudaMalloc (scene)");
             scene_mem_.push_back(d);
             mem_.add(int64_t(bytes));
             check(cudaMemcpy(d, host, bytes, cudaMemcpyHostToDevice), "cudaMemcpy (scene)");
             return d;
-        });
+        };
+        sv_ = scene.copied_view(upload);
         std::vector<std::string> bvh_warnings;
         Bvh bvh = build_bvh(scene.view(), BvhBuildOptions{}, bvh_warnings);
         for (auto& w : bvh_warnings) warnings.push_back(w);
-        auto upload = [&](const void* host, size_t bytes) -> void* {
-            if (!host || bytes == 0) return nullptr;
-            void* d = nullptr;
-            check(cudaMalloc(&d, bytes), "cudaMalloc (BVH)");
-            scene_mem_.push_back(d);
-            mem_.add(int64_t(bytes));
-            check(cudaMemcpy(d, host, bytes, cudaMemcpyHostToDevice), "cudaMemcpy (BVH)");
-            return d;
-        };
         BvhView bv = bvh.view();
         bv.nodes = static_cast<const BvhNode*>(upload(bvh.nodes.data(), bvh.nodes.size() * sizeof(BvhNode)));
         bv.tris = static_cast<const BvhTri*>(upload(bvh.tris.data(), bvh.tris.size() * sizeof(BvhTri)));
@@ -140,11 +133,6 @@ int Renderer::read_int(const int* d) {
     return *host_int_;
 }
 
-void* Renderer::temp(size_t bytes) {
-    temp_.grow(std::max<size_t>(bytes, 1));
-    return temp_.data();
-}
-
 void Renderer::ensure_state(int n, int conn_cap) {
     // conn_cap 0: no connection slots (pt, lt and the light pass never queue connections)
     if (n > state_cap_) {
@@ -198,13 +186,10 @@ int Renderer::compact(int n) {
     const int32_t* q = queue_.data();
     uint8_t* f = flags_.data();
     each(stream_, n, [=] __device__(int k) { f[k] = alive[q[k]]; });
-    size_t bytes = 0;
-    check(cub::DeviceSelect::Flagged(nullptr, bytes, q, f, next_queue_.data(), small_.data(), n,
-                                     stream_),
-          "DeviceSelect");
-    check(cub::DeviceSelect::Flagged(temp(bytes), bytes, q, f, next_queue_.data(), small_.data(),
-                                     n, stream_),
-          "DeviceSelect");
+    cub_run("DeviceSelect", [&](void* t, size_t& bytes) {
+        return cub::DeviceSelect::Flagged(t, bytes, q, f, next_queue_.data(), small_.data(), n,
+                                          stream_);
+    });
     const int m = read_int(small_.data());
     queue_.swap(next_queue_);
     return m;
@@ -239,13 +224,10 @@ void Renderer::sort_queue(int n) {
         return;
     }
     const int end_bit = id_bits_ + bits_for(uint32_t(31 - __builtin_clz(present)));
-    size_t bytes = 0;
-    check(cub::DeviceRadixSort::SortPairs(nullptr, bytes, keys, keys_out_.data(), q,
-                                          next_queue_.data(), n, 0, end_bit, stream_),
-          "DeviceRadixSort");
-    check(cub::DeviceRadixSort::SortPairs(temp(bytes), bytes, keys, keys_out_.data(), q,
-                                          next_queue_.data(), n, 0, end_bit, stream_),
-          "DeviceRadixSort");
+    cub_run("DeviceRadixSort", [&](void* t, size_t& bytes) {
+        return cub::DeviceRadixSort::SortPairs(t, bytes, keys, keys_out_.data(), q,
+                                               next_queue_.data(), n, 0, end_bit, stream_);
+    });
     check(cudaStreamSynchronize(stream_), "sort");
     queue_.swap(next_queue_);
     ++stats_->sorted_bounces;

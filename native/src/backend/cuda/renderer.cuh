@@ -168,7 +168,16 @@ public:
         acc += seconds_since(t);
     }
     int read_int(const int* d);
-    void* temp(size_t bytes);
+    // A CUB device call: its scratch-size query, then the call on the shared scratch buffer
+    // (call(temp, bytes) returns cudaError_t). Earlier calls have finished by then: every CUB
+    // call is followed by a readback or a synchronisation.
+    template <typename F>
+    void cub_run(const char* what, F&& call) {
+        size_t bytes = 0;
+        check(call(static_cast<void*>(nullptr), bytes), what);
+        temp_.grow(std::max<size_t>(bytes, 1));
+        check(call(static_cast<void*>(temp_.data()), bytes), what);
+    }
     int compact(int n);
     void sort_queue(int n);
     void trace(int n, uint32_t need);
