@@ -15,8 +15,13 @@ namespace lantern {
 
 namespace {
 
+// A scalar input: clamped to [lo, hi] when finite, `fallback` when NaN or infinite.
+float finite_in(float v, float lo, float hi, float fallback) {
+    return std::isfinite(v) ? std::min(std::max(v, lo), hi) : fallback;
+}
+
 Vec3 sanitize_color(Vec3 c, float hi) {
-    auto f = [hi](float v) { return std::isfinite(v) ? std::min(std::max(v, 0.0f), hi) : 0.0f; };
+    auto f = [hi](float v) { return finite_in(v, 0.0f, hi, 0.0f); };
     return {f(c.x), f(c.y), f(c.z)};
 }
 
@@ -80,8 +85,7 @@ void set_material_textures(Material& m, const MaterialInput& mi, size_t k, size_
     check(mi.tex_normal, "normal", kTexNormal, m.tex_normal);
     check(mi.tex_emission, "emission", kTexEmission, m.tex_emission);
     m.emission_scale = m.emission;  // with an emission texture: its multiplier
-    m.normal_strength = std::isfinite(mi.normal_strength) ? std::max(mi.normal_strength, 0.0f)
-                                                          : 1.0f;
+    m.normal_strength = finite_in(mi.normal_strength, 0.0f, kInf, 1.0f);
     // the coat's own normal: its map, or the smooth normal under a mapped base (Cycles: an
     // unlinked Coat Normal is the interpolated normal, not the base's)
     m.tex_coat_normal = -1;
@@ -92,10 +96,8 @@ void set_material_textures(Material& m, const MaterialInput& mi, size_t k, size_
         m.tex_coat_normal = coat_tex;
         m.tex_flags |= kCoatNormal;
     }
-    m.coat_normal_strength = std::isfinite(mi.coat_normal_strength)
-                                 ? std::min(std::max(mi.coat_normal_strength, 0.0f), 1e3f)
-                                 : 1.0f;
-    float alpha = std::isfinite(mi.alpha) ? std::min(std::max(mi.alpha, 0.0f), 1.0f) : 1.0f;
+    m.coat_normal_strength = finite_in(mi.coat_normal_strength, 0.0f, 1e3f, 1.0f);
+    float alpha = finite_in(mi.alpha, 0.0f, 1.0f, 1.0f);
     if (!std::isfinite(mi.alpha))
         warnings.push_back("material '" + mi.name + "': alpha is not finite; opaque instead");
     m.transparency = 1.0f - alpha;
@@ -123,9 +125,8 @@ HostScene::HostScene(const SceneInput& in) {
         m.specular_tint = sanitize_color(mi.specular_tint, 1.0f);
         // NaN roughness -> 0.5, NaN/absurd ior -> 1.5; roughness clamps to [0, 1], ior to
         // [1/100, 100] (ior < 1, e.g. air bubbles in water, is legal)
-        m.roughness = std::isfinite(mi.roughness) ? std::min(std::max(mi.roughness, 0.0f), 1.0f) : 0.5f;
-        m.anisotropy = std::isfinite(mi.anisotropy) ? std::min(std::max(mi.anisotropy, 0.0f), 1.0f)
-                                                    : 0.0f;
+        m.roughness = finite_in(mi.roughness, 0.0f, 1.0f, 0.5f);
+        m.anisotropy = finite_in(mi.anisotropy, 0.0f, 1.0f, 0.0f);
         m.aniso_rotation = std::isfinite(mi.anisotropic_rotation)
                                ? mi.anisotropic_rotation - std::floor(mi.anisotropic_rotation)
                                : 0.0f;
@@ -135,9 +136,7 @@ HostScene::HostScene(const SceneInput& in) {
                                         "' (uv, triangle)");
         }
         m.aniso_uv_tangent = mi.tangent == "uv" ? 1u : 0u;
-        m.diffuse_roughness = std::isfinite(mi.diffuse_roughness)
-                                  ? std::min(std::max(mi.diffuse_roughness, 0.0f), 1.0f)
-                                  : 0.0f;
+        m.diffuse_roughness = finite_in(mi.diffuse_roughness, 0.0f, 1.0f, 0.0f);
         m.ior = std::isfinite(mi.ior) && mi.ior > 0.0f ? std::min(std::max(mi.ior, 0.01f), 100.0f) : 1.5f;
         // complex Fresnel: eta >= 0 (fresnel_conductor keeps it above 1e-4), k >= 0; a
         // non-finite entry falls back to a perfect mirror (eta 0, k 1)
@@ -158,12 +157,8 @@ HostScene::HostScene(const SceneInput& in) {
         m.beckmann = mi.distribution == "beckmann" ? 1u : 0u;
         // Thin Film (principled specular layer and metal, conductors): NaN or negative
         // thickness -> none; above 100 um no interference is left to see, so clamp there
-        m.film_thickness = std::isfinite(mi.thin_film_thickness)
-                               ? std::min(std::max(mi.thin_film_thickness, 0.0f), 1e5f)
-                               : 0.0f;
-        m.film_ior = std::isfinite(mi.thin_film_ior)
-                         ? std::min(std::max(mi.thin_film_ior, 1.0f), 100.0f)
-                         : 1.33f;
+        m.film_thickness = finite_in(mi.thin_film_thickness, 0.0f, 1e5f, 0.0f);
+        m.film_ior = finite_in(mi.thin_film_ior, 1.0f, 100.0f, 1.33f);
         if (mi.type == "diffuse") {
             m.type = kMaterialDiffuse;
         } else if (mi.type == "conductor") {
@@ -176,14 +171,11 @@ HostScene::HostScene(const SceneInput& in) {
             m.type = kMaterialMix;  // leaves checked below, once every material exists
         } else if (mi.type == "principled") {
             m.type = kMaterialPrincipled;
-            auto unit = [](float v, float fallback) {
-                return std::isfinite(v) ? std::min(std::max(v, 0.0f), 1.0f) : fallback;
-            };
+            auto unit = [](float v, float fallback) { return finite_in(v, 0.0f, 1.0f, fallback); };
             m.metallic = unit(mi.metallic, 0.0f);
             m.transmission = unit(mi.transmission, 0.0f);
             // Blender's Specular IOR Level scales F0 of the IOR (0.5: unchanged, 0: none)
-            const float level = std::isfinite(mi.specular_level) ? std::max(mi.specular_level, 0.0f)
-                                                                 : 0.5f;
+            const float level = finite_in(mi.specular_level, 0.0f, kInf, 0.5f);
             const float ior = std::max(m.ior, 1.0f / m.ior);
             float f0 = ((ior - 1.0f) / (ior + 1.0f)) * ((ior - 1.0f) / (ior + 1.0f));
             f0 = std::min(f0 * 2.0f * level, 0.99f);
@@ -191,11 +183,10 @@ HostScene::HostScene(const SceneInput& in) {
             m.spec_eta = (1.0f + r) / (1.0f - r);
             m.coat_weight = unit(mi.coat_weight, 0.0f);
             m.coat_roughness = unit(mi.coat_roughness, 0.03f);
-            m.coat_ior = std::isfinite(mi.coat_ior) ? std::min(std::max(mi.coat_ior, 1.0f), 100.0f)
-                                                    : 1.5f;
+            m.coat_ior = finite_in(mi.coat_ior, 1.0f, 100.0f, 1.5f);
             m.coat_tint = sanitize_color(mi.coat_tint, 1.0f);
             if (m.coat_weight > 0.0f) principled_coat_table(m);
-            m.sheen_weight = std::isfinite(mi.sheen_weight) ? std::max(mi.sheen_weight, 0.0f) : 0.0f;
+            m.sheen_weight = finite_in(mi.sheen_weight, 0.0f, kInf, 0.0f);
             m.sheen_roughness = unit(mi.sheen_roughness, 0.5f);
             m.sheen_tint = sanitize_color(mi.sheen_tint, 1.0f);
             if (m.sheen_weight > 0.0f) principled_sheen_table(m);
@@ -273,7 +264,7 @@ void HostScene::set_mix_leaves(const SceneInput& in) {
             }
             const float w = mi.mix_weights[i];
             m.mix_child[i] = c;
-            m.mix_weight[i] = std::isfinite(w) ? std::max(w, 0.0f) : 0.0f;
+            m.mix_weight[i] = finite_in(w, 0.0f, kInf, 0.0f);
             m.emission += materials_[c].emission * m.mix_weight[i];
             // one coat normal per hit: the first leaf with its own
             if ((materials_[c].tex_flags & kCoatNormal) && !(m.tex_flags & kCoatNormal)) {
@@ -473,7 +464,7 @@ void HostScene::add_lights(const SceneInput& in) {
             l.type = li.type == "point" ? kLightPoint : kLightSpot;
             l.frame = rigid(li.to_world);
             l.position = li.type == "point" ? li.position : l.frame.origin();
-            l.radius = std::isfinite(li.radius) ? std::max(li.radius, 0.0f) : 0.0f;
+            l.radius = finite_in(li.radius, 0.0f, kInf, 0.0f);
             l.soft_falloff = li.soft_falloff ? 1 : 0;
             l.intensity = pw * (0.25f * kInvPi);                 // W/sr
             if (l.radius > 0.0f) l.radiance = l.intensity * (1.0f / (kPi * l.radius * l.radius));
