@@ -80,6 +80,7 @@ Session::Session(const SceneInput& scene, const SessionSettings& settings) : set
     height_ = scene.height;
     accum_.assign(size_t(width_) * height_ * 3, 0.0);
     stats_.time_build = seconds_since(t0);
+    publish();
 }
 
 Session::~Session() = default;
@@ -103,19 +104,25 @@ bool Session::step_cuda(Clock::time_point t0) {
         } catch (const std::exception&) {
             sum.clear();
         }
-        gpu_.reset();
+        {
+            std::lock_guard<std::mutex> lock(result_mutex_);  // image() may be reading gpu_
+            gpu_.reset();
+            if (sum.size() == accum_.size()) {
+                accum_ = sum;
+            } else {
+                std::fill(accum_.begin(), accum_.end(), 0.0);
+                spp_ = 0;
+            }
+        }
         warnings_.push_back(std::string("the GPU stopped (") + e.what() +
                             "); the render goes on on the CPU");
-        if (sum.size() == accum_.size()) {
-            accum_ = sum;
-        } else {
-            std::fill(accum_.begin(), accum_.end(), 0.0);
-            spp_ = 0;
-        }
         start_cpu_backend();
-        return step();
+        return step_locked();
     }
-    spp_ += settings_.spp_per_iteration;
+    {
+        std::lock_guard<std::mutex> lock(result_mutex_);
+        spp_ += settings_.spp_per_iteration;
+    }
     ++stats_.iterations;
     stats_.time_total += seconds_since(t0);
     return true;
@@ -150,7 +157,40 @@ void Session::resize_state(int n) {
 }
 
 bool Session::step() {
-    cancel_.store(false);
+    std::lock_guard<std::mutex> serial(step_mutex_);
+    struct Finish {  // also when the step throws
+        Session* s;
+        ~Finish() {
+            s->cancel_.store(false);  // a cancel is served by the step that saw it
+            s->publish();
+        }
+    } finish{this};
+    if (cancel_.load()) return false;  // cancelled before it started
+    return step_locked();
+}
+
+void Session::publish() {
+    std::lock_guard<std::mutex> lock(result_mutex_);
+    published_stats_ = stats_;
+    published_warnings_ = warnings_;
+}
+
+int64_t Session::spp() const {
+    std::lock_guard<std::mutex> lock(result_mutex_);
+    return spp_;
+}
+
+SessionStats Session::stats() const {
+    std::lock_guard<std::mutex> lock(result_mutex_);
+    return published_stats_;
+}
+
+std::vector<std::string> Session::warnings() const {
+    std::lock_guard<std::mutex> lock(result_mutex_);
+    return published_warnings_;
+}
+
+bool Session::step_locked() {
     auto t0 = Clock::now();
     if (gpu_) return step_cuda(t0);
     const int spp_it = settings_.spp_per_iteration;
@@ -183,8 +223,11 @@ bool Session::step() {
             ++iteration_;  // every pass draws its own random numbers
             done += s;
         }
-        for (size_t k = 0; k < accum_.size(); ++k) accum_[k] += iteration_sum_[k];
-        spp_ += spp_it;
+        {
+            std::lock_guard<std::mutex> lock(result_mutex_);
+            for (size_t k = 0; k < accum_.size(); ++k) accum_[k] += iteration_sum_[k];
+            spp_ += spp_it;
+        }
         ++stats_.iterations;
         stats_.time_total += seconds_since(t0);
         return true;
@@ -198,8 +241,11 @@ bool Session::step() {
         }
         if (cancel_.load()) return false;
     }
-    for (size_t k = 0; k < accum_.size(); ++k) accum_[k] += iteration_sum_[k];
-    spp_ += spp_it;
+    {
+        std::lock_guard<std::mutex> lock(result_mutex_);
+        for (size_t k = 0; k < accum_.size(); ++k) accum_[k] += iteration_sum_[k];
+        spp_ += spp_it;
+    }
     ++iteration_;
     ++stats_.iterations;
     stats_.time_total += seconds_since(t0);
@@ -294,6 +340,7 @@ void Session::film(int64_t first_path, int n) {
 }
 
 std::vector<float> Session::image() const {
+    std::lock_guard<std::mutex> lock(result_mutex_);
     std::vector<float> img(accum_.size(), 0.0f);
     if (spp_ == 0) return img;
     std::vector<double> gpu_sum;

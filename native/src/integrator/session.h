@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -68,6 +69,10 @@ struct SessionStats {
                                      // session (cudaMemGetInfo; with the kernels' local memory)
 };
 
+// Thread safety: step() calls are serialised (a second caller waits for the first); image(),
+// spp(), stats() and warnings() may be called from any thread at any time and see the last
+// finished step; cancel() from any thread stops the running step, or, when none runs, the next
+// one: it stays set until a step has returned.
 class Session {
 public:
     Session(const SceneInput& scene, const SessionSettings& settings);
@@ -78,17 +83,19 @@ public:
     void cancel() { cancel_.store(true); }
     // Mean radiance, top row first, 3 floats per pixel.
     std::vector<float> image() const;
-    int64_t spp() const { return spp_; }
+    int64_t spp() const;
     int width() const { return width_; }
     int height() const { return height_; }
-    const SessionStats& stats() const { return stats_; }
-    const std::vector<std::string>& warnings() const { return warnings_; }
+    SessionStats stats() const;
+    std::vector<std::string> warnings() const;
     // The backend that renders ("cpu" or "cuda": "auto" and a failed "cuda" resolve to one) and
     // its device ("cpu" or the GPU's name).
     const std::string& backend_name() const { return backend_name_; }
     const std::string& device_name() const { return device_name_; }
 
 private:
+    bool step_locked();
+    void publish();  // copies the stepping thread's stats and warnings for the readers
     void start_cpu_backend();
     bool step_cuda(std::chrono::steady_clock::time_point t0);
     void run_chunk(int64_t first_path, int num_paths);
@@ -122,7 +129,11 @@ private:
     int64_t spp_ = 0;
     uint64_t iteration_ = 0;
     std::atomic<bool> cancel_{false};
-    SessionStats stats_;
+    SessionStats stats_;  // written by the stepping thread only
+    std::mutex step_mutex_;            // one step at a time
+    mutable std::mutex result_mutex_;  // accum_, spp_, gpu_'s lifetime, the published copies
+    SessionStats published_stats_;
+    std::vector<std::string> published_warnings_;
 
     // wavefront storage for one chunk of paths
     std::vector<Vec3> ray_o_, ray_d_, throughput_, radiance_, shadow_o_, shadow_d_, shadow_c_;
