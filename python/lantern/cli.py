@@ -1,4 +1,5 @@
-"""`python -m lantern`: render a `.lantern` scene file, or print a summary of one.
+"""`python -m lantern`: render a `.lantern` scene file (whole, or one sample chunk of it for a
+render farm), merge sample chunks, or print a summary of a scene.
 
 Errors print one line and exit non-zero; `--debug` shows the traceback instead."""
 
@@ -56,6 +57,9 @@ def build_parser():
     r.add_argument("--backend", default="auto", choices=("cpu", "cuda", "auto"),
                    help="backend (auto)")
     r.add_argument("--seed", type=_nonnegative_int, default=0, help="random seed (0)")
+    r.add_argument("--chunk", type=_nonnegative_int, default=0,
+                   help="sample chunk index: chunks of one seed hold independent samples, "
+                        "merged with `merge` (0)")
     r.add_argument("--threads", type=_nonnegative_int, default=0,
                    help="CPU threads, 0 = all cores (0)")
     r.add_argument("--max-depth", type=_positive_int, default=16,
@@ -86,6 +90,14 @@ def build_parser():
     m.add_argument("--debug", action="store_true", default=argparse.SUPPRESS,
                    help=argparse.SUPPRESS)
 
+    g = sub.add_parser("merge", help="merge sample chunks of one frame (EXRs), weighted by "
+                                     "the samples each records")
+    g.add_argument("inputs", nargs="+", help="chunk EXRs")
+    g.add_argument("-o", "--output", required=True, help="merged EXR")
+    g.add_argument("--half", action="store_true", help="write the EXR as half floats")
+    g.add_argument("--debug", action="store_true", default=argparse.SUPPRESS,
+                   help=argparse.SUPPRESS)
+
     i = sub.add_parser("info", help="print a summary of a .lantern scene")
     i.add_argument("scene", help="scene file (.lantern)")
     i.add_argument("--debug", action="store_true", default=argparse.SUPPRESS,
@@ -109,16 +121,20 @@ def _rays(stats):
 
 
 def cmd_render(args):
-    from . import imageio
+    from . import imageio, merge
     from .scene import load_scene
     from .session import Session
 
     if Path(args.output).suffix.lower() not in (".exr", ".png", ".npy"):
         raise ValueError(f"output {args.output!r}: use an .exr, .png or .npy file name")
+    if args.chunk and Path(args.output).suffix.lower() != ".exr":
+        raise ValueError(f"--chunk {args.chunk}: a sample chunk is merged later and must "
+                         f"record its samples: write an .exr")
     if args.png and Path(args.png).suffix.lower() != ".png":
         raise ValueError(f"--png {args.png!r}: the preview file name must end in .png")
     scene = load_scene(args.scene)
-    session = Session(scene, integrator=args.integrator, backend=args.backend, seed=args.seed,
+    seed = merge.chunk_seed(args.seed, args.chunk)
+    session = Session(scene, integrator=args.integrator, backend=args.backend, seed=seed,
                       threads=args.threads, max_depth=args.max_depth,
                       spp_per_iteration=args.spp_per_iteration, connections=args.connections,
                       candidates=args.candidates, sort=args.sort)
@@ -155,7 +171,9 @@ def cmd_render(args):
     if not args.quiet:
         print(file=sys.stderr)
     img = session.image()
-    imageio.write_image(args.output, img, half=args.half)
+    meta = merge.chunk_metadata(merge.scene_identity(scene, args.max_depth), session.spp,
+                                seed, args.chunk, args.integrator)
+    imageio.write_image(args.output, img, half=args.half, metadata=meta)
     if args.png:
         imageio.write_image(args.png, img)
     if not args.quiet:
@@ -187,6 +205,15 @@ def cmd_import_mitsuba(args):
     return 0
 
 
+def cmd_merge(args):
+    from .merge import merge_files
+
+    spp = merge_files(args.inputs, args.output, half=args.half)
+    print(f"lantern: wrote {args.output} ({len(args.inputs)} chunks, {spp} spp)",
+          file=sys.stderr)
+    return 0
+
+
 def cmd_info(args):
     from .scene import load_scene
 
@@ -208,9 +235,9 @@ def main(argv=None):
     if args.command is None:
         parser.print_usage(sys.stderr)
         print("python -m lantern: error: a command is required "
-              "(render, info, import-mitsuba)", file=sys.stderr)
+              "(render, merge, info, import-mitsuba)", file=sys.stderr)
         return EXIT_USAGE
-    handler = {"render": cmd_render, "info": cmd_info,
+    handler = {"render": cmd_render, "info": cmd_info, "merge": cmd_merge,
                "import-mitsuba": cmd_import_mitsuba}[args.command]
     try:
         return handler(args)

@@ -1,9 +1,10 @@
 """Image files: `.exr` (linear float32 or half RGB), `.png` (8-bit sRGB, for viewing), `.npy`.
 
 OpenImageIO is used when it imports; otherwise (or with LANTERN_NO_OIIO=1, or
-`backend="builtin"`) a small built-in codec: scanline OpenEXR (write: none/zip/zips; read:
-none/rle/zip/zips, half/float/uint channels) and PNG (8-bit, non-interlaced). OpenImageIO is imported
-only inside these functions: bpy ships its own OpenImageIO libraries in the same process."""
+`backend="builtin"`) a small built-in codec: scanline OpenEXR (exr.py, which also keeps named
+channels and header metadata; write: none/zip/zips; read: none/rle/zip/zips, half/float/uint
+channels) and PNG (8-bit, non-interlaced). OpenImageIO is imported only inside these
+functions: bpy ships its own OpenImageIO libraries in the same process."""
 
 import os
 import struct
@@ -11,6 +12,8 @@ import zlib
 from pathlib import Path
 
 import numpy as np
+
+from .exr import read_exr, write_exr
 
 BACKENDS = (None, "oiio", "builtin")
 
@@ -60,9 +63,10 @@ def to_png8(rgb):
     return np.round(srgb_encode(rgb) * 255.0).astype(np.uint8)
 
 
-def write_image(path, rgb, half=False, compression="zip", backend=None):
+def write_image(path, rgb, half=False, compression="zip", backend=None, metadata=None):
     """Write linear RGB (H, W, 3). `.exr`: float32 (or `half=True`) with `compression` in
-    none/zip/zips; `.png`: 8-bit sRGB, clamped; `.npy`: float32 array."""
+    none/zip/zips, and `metadata` (name -> str/int/float) in its header (the samples and scene
+    of a render-farm chunk: merge.py); `.png`: 8-bit sRGB, clamped; `.npy`: float32 array."""
     path = Path(path)
     ext = path.suffix.lower()
     img = _as_rgb(rgb)
@@ -74,10 +78,10 @@ def write_image(path, rgb, half=False, compression="zip", backend=None):
     if compression not in ("none", "zip", "zips"):
         raise ValueError(f"compression must be none, zip or zips, got {compression!r}")
     oiio = _want_oiio(backend)
-    if oiio is not None:
-        _oiio_write(oiio, path, img, half, compression)
-    elif ext == ".exr":
-        _exr_write(path, img, half, compression)
+    if ext == ".exr":
+        _exr_write(path, img, half, compression, metadata, oiio)
+    elif oiio is not None:
+        _oiio_write_png(oiio, path, img)
     else:
         _png_write(path, to_png8(img))
 
@@ -106,24 +110,17 @@ def read_image(path, backend=None):
 
 # ---- OpenImageIO ----
 
-def _oiio_write(oiio, path, img, half, compression):
+def _oiio_write_png(oiio, path, img):
     h, w, _ = img.shape
     out = oiio.ImageOutput.create(str(path))
     if out is None:
         raise OSError(f"{path}: OpenImageIO cannot write this format: {oiio.geterror()}")
-    if path.suffix.lower() == ".png":
-        data = to_png8(img)
-        spec = oiio.ImageSpec(w, h, 3, "uint8")
-        spec.attribute("oiio:ColorSpace", "sRGB")
-    else:
-        with np.errstate(over="ignore"):  # beyond half range -> inf, as OpenEXR does
-            data = img.astype(np.float16) if half else img
-        spec = oiio.ImageSpec(w, h, 3, "half" if half else "float")
-        spec.attribute("compression", compression)
+    spec = oiio.ImageSpec(w, h, 3, "uint8")
+    spec.attribute("oiio:ColorSpace", "sRGB")
     spec.channelnames = ("R", "G", "B")
     if not out.open(str(path), spec):
         raise OSError(f"{path}: cannot open for writing: {out.geterror()}")
-    ok = out.write_image(data)
+    ok = out.write_image(to_png8(img))
     out.close()
     if not ok:
         raise OSError(f"{path}: write failed: {out.geterror()}")
@@ -162,179 +159,16 @@ def _pick_rgb(data, names, path):
     raise ValueError(f"{path}: no RGB channels (channels: {names})")
 
 
-# ---- Built-in OpenEXR (scanline, single part) ----
+# ---- Built-in OpenEXR (exr.py) ----
 
-EXR_MAGIC = 20000630
-EXR_COMPRESSIONS = {0: "none", 1: "rle", 2: "zips", 3: "zip", 4: "piz", 5: "pxr24",
-                    6: "b44", 7: "b44a", 8: "dwaa", 9: "dwab", 10: "htj2k256", 11: "htj2k32"}
-EXR_LINES_PER_CHUNK = {0: 1, 1: 1, 2: 1, 3: 16}  # what the built-in codec handles
-EXR_PIXEL_TYPES = {0: np.dtype("<u4"), 1: np.dtype("<f2"), 2: np.dtype("<f4")}
-
-
-def _exr_attr(name, type_name, payload):
-    return (name.encode() + b"\0" + type_name.encode() + b"\0"
-            + struct.pack("<i", len(payload)) + payload)
-
-
-def _zip_predict(raw):
-    """OpenEXR's zip pre-filter: split even/odd bytes, then byte deltas (+128)."""
-    b = np.frombuffer(raw, dtype=np.uint8)
-    t = np.concatenate([b[0::2], b[1::2]])
-    d = t.copy()
-    d[1:] = (t[1:].astype(np.int16) - t[:-1].astype(np.int16) + 128).astype(np.uint8)
-    return d.tobytes()
-
-
-def _zip_unpredict(data):
-    t = np.frombuffer(data, dtype=np.uint8).astype(np.uint64)
-    if t.size:
-        t[1:] -= 128
-        t = (np.cumsum(t) & 0xFF).astype(np.uint8)
-    else:
-        t = t.astype(np.uint8)
-    half = (t.size + 1) // 2
-    out = np.empty(t.size, dtype=np.uint8)
-    out[0::2] = t[:half]
-    out[1::2] = t[half:]
-    return out.tobytes()
-
-
-def _rle_decode(data, expected):
-    """OpenEXR RLE: a signed count byte; c < 0: -c literal bytes follow; else one byte
-    repeated c + 1 times."""
-    out = bytearray()
-    src = memoryview(data)
-    i, n = 0, len(src)
-    while i < n:
-        c = src[i] - 256 if src[i] > 127 else src[i]
-        if c < 0:
-            out += src[i + 1:i + 1 - c]
-            i += 1 - c
-        else:
-            out += bytes([src[i + 1]]) * (c + 1)
-            i += 2
-        if len(out) > expected:
-            break
-    return bytes(out)
-
-
-def _exr_write(path, img, half, compression):
-    h, w, _ = img.shape
-    ptype = 1 if half else 2
-    dtype = EXR_PIXEL_TYPES[ptype]
-    comp = {"none": 0, "zips": 2, "zip": 3}[compression]
-    lines = EXR_LINES_PER_CHUNK[comp]
-    chlist = b""
-    for name in "BGR":  # channels are stored in alphabetical order
-        chlist += name.encode() + b"\0" + struct.pack("<iB3xii", ptype, 0, 1, 1)
-    chlist += b"\0"
-    box = struct.pack("<iiii", 0, 0, w - 1, h - 1)
-    header = (struct.pack("<ii", EXR_MAGIC, 2)
-              + _exr_attr("channels", "chlist", chlist)
-              + _exr_attr("compression", "compression", bytes([comp]))
-              + _exr_attr("dataWindow", "box2i", box)
-              + _exr_attr("displayWindow", "box2i", box)
-              + _exr_attr("lineOrder", "lineOrder", b"\0")
-              + _exr_attr("pixelAspectRatio", "float", struct.pack("<f", 1.0))
-              + _exr_attr("screenWindowCenter", "v2f", struct.pack("<ff", 0.0, 0.0))
-              + _exr_attr("screenWindowWidth", "float", struct.pack("<f", 1.0))
-              + b"\0")
-    with np.errstate(over="ignore"):  # beyond half range -> inf, as OpenEXR does
-        planes = img[:, :, ::-1].astype(dtype)  # B, G, R
-    chunks = []
-    for y0 in range(0, h, lines):
-        block = planes[y0:y0 + lines]  # (n, W, 3) -> per line, per channel, the pixels
-        raw = np.ascontiguousarray(block.transpose(0, 2, 1)).tobytes()
-        data = raw
-        if comp in (2, 3):
-            packed = zlib.compress(_zip_predict(raw), 6)
-            if len(packed) < len(raw):
-                data = packed
-        chunks.append(struct.pack("<ii", y0, len(data)) + data)
-    table_start = len(header)
-    offsets = []
-    pos = table_start + 8 * len(chunks)
-    for c in chunks:
-        offsets.append(pos)
-        pos += len(c)
-    with open(path, "wb") as f:
-        f.write(header)
-        f.write(struct.pack(f"<{len(offsets)}Q", *offsets))
-        for c in chunks:
-            f.write(c)
+def _exr_write(path, img, half, compression, metadata=None, oiio=None):
+    write_exr(path, {c: img[:, :, k] for k, c in enumerate("RGB")}, metadata, half, compression,
+              oiio)
 
 
 def _exr_read(path):
-    buf = Path(path).read_bytes()
-    if len(buf) < 8 or struct.unpack_from("<i", buf, 0)[0] != EXR_MAGIC:
-        raise ValueError(f"{path}: not an OpenEXR file")
-    flags = struct.unpack_from("<I", buf, 4)[0]
-    if flags & 0x200:
-        raise ValueError(f"{path}: tiled OpenEXR is not supported by the built-in reader; "
-                         f"install OpenImageIO to read it")
-    if flags & 0x1800:
-        raise ValueError(f"{path}: deep or multi-part OpenEXR is not supported by the built-in "
-                         f"reader; install OpenImageIO to read it")
-    pos = 8
-    attrs = {}
-    while buf[pos] != 0:
-        end = buf.index(b"\0", pos)
-        name = buf[pos:end].decode()
-        tend = buf.index(b"\0", end + 1)
-        tname = buf[end + 1:tend].decode()
-        size = struct.unpack_from("<i", buf, tend + 1)[0]
-        attrs[name] = (tname, buf[tend + 5:tend + 5 + size])
-        pos = tend + 5 + size
-    pos += 1
-    for key in ("channels", "compression", "dataWindow"):
-        if key not in attrs:
-            raise ValueError(f"{path}: OpenEXR header lacks {key!r}")
-    comp = attrs["compression"][1][0]
-    if comp not in EXR_LINES_PER_CHUNK:
-        name = EXR_COMPRESSIONS.get(comp, f"unknown ({comp})")
-        raise ValueError(f"{path}: OpenEXR compression {name.upper()} is not supported by the "
-                         f"built-in reader (it reads NONE, RLE, ZIP, ZIPS); install OpenImageIO "
-                         f"to read it")
-    channels = []
-    cl = attrs["channels"][1]
-    p = 0
-    while cl[p] != 0:
-        end = cl.index(b"\0", p)
-        cname = cl[p:end].decode()
-        ptype, _plinear, xs, ys = struct.unpack_from("<iB3xii", cl, end + 1)
-        if xs != 1 or ys != 1:
-            raise ValueError(f"{path}: subsampled channel {cname!r} is not supported by the "
-                             f"built-in reader")
-        channels.append((cname, EXR_PIXEL_TYPES[ptype]))
-        p = end + 17
-    xmin, ymin, xmax, ymax = struct.unpack("<iiii", attrs["dataWindow"][1])
-    w, h = xmax - xmin + 1, ymax - ymin + 1
-    lines = EXR_LINES_PER_CHUNK[comp]
-    nchunks = (h + lines - 1) // lines
-    offsets = struct.unpack_from(f"<{nchunks}Q", buf, pos)
-    out = np.zeros((h, w, len(channels)), dtype=np.float32)
-    line_bytes = sum(dt.itemsize for _, dt in channels) * w
-    for off in offsets:
-        y, size = struct.unpack_from("<ii", buf, off)
-        data = buf[off + 8:off + 8 + size]
-        row0 = y - ymin
-        n = min(lines, h - row0)
-        if row0 < 0 or n <= 0:
-            raise ValueError(f"{path}: corrupt OpenEXR chunk (y = {y})")
-        expected = line_bytes * n
-        if comp in (2, 3) and size < expected:
-            data = _zip_unpredict(zlib.decompress(data))
-        elif comp == 1 and size < expected:
-            data = _zip_unpredict(_rle_decode(data, expected))
-        if len(data) != expected:
-            raise ValueError(f"{path}: corrupt OpenEXR chunk at y = {y}")
-        p = 0
-        for r in range(n):
-            for c, (_, dt) in enumerate(channels):
-                nbytes = dt.itemsize * w
-                out[row0 + r, :, c] = np.frombuffer(data, dtype=dt, count=w, offset=p)
-                p += nbytes
-    return _pick_rgb(out, [c for c, _ in channels], path)
+    image = read_exr(path)
+    return _pick_rgb(np.stack(list(image.channels.values()), axis=2), list(image.channels), path)
 
 
 # ---- Built-in PNG (8-bit, non-interlaced) ----
