@@ -11,6 +11,8 @@ import weakref
 
 import numpy as np
 
+from . import farm
+
 _live_states = weakref.WeakSet()
 
 
@@ -118,6 +120,7 @@ def render(engine, depsgraph):
         _report_error(engine, "render failed", e)
     finally:
         engine.end_result(result)
+        farm.stamp_chunk(engine, scene, session, settings)  # samples and scene, for merges
 
 
 def _render_loop(engine, session, result, target, time_limit, t0):

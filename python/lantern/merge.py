@@ -10,6 +10,7 @@ samples twice). Every channel is merged, so Blender's multilayer EXRs keep their
 index and Cryptomatte passes are ids, not means: they are taken from the first file."""
 
 import hashlib
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -100,6 +101,10 @@ def _is_id_pass(name):
 
 
 def _oiio():
+    """OpenImageIO, except inside Blender (bpy brings its own OpenImageIO libraries into the
+    process): there the built-in codec reads the ZIP EXRs the farm job writes."""
+    if "bpy" in sys.modules:
+        return None
     from .imageio import _want_oiio
     return _want_oiio(None)
 
