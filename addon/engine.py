@@ -155,11 +155,21 @@ def _past(time_limit, start):
 
 
 # ---- Viewport ----
+# view_update notes what changed (export/changes.py); view_draw brings the exported scene up to
+# date (export/sync.py) and either replaces the session's camera (a view move: no export, no
+# rebuild) or starts a new session of the patched scene. The first iteration after a change
+# renders a quarter of the resolution when the region is large, so an image answers at once.
+
+COARSE_MIN_PIXELS = 256 * 256  # regions from this size get a coarse first iteration
+COARSE_FACTOR = 4
+
 
 class EngineState:
-    """Per-engine viewport state: the session, its refining thread, the drawn texture."""
+    """Per-engine viewport state: the incremental export, the session, its refining thread,
+    the drawn texture."""
 
     def __init__(self):
+        from .export.sync import ViewportSync
         self.session = None
         self.thread = None
         self.stop = threading.Event()
@@ -167,21 +177,27 @@ class EngineState:
         self.image = None          # latest image from the worker (numpy), guarded by lock
         self.image_serial = 0
         self.view_key = None
-        self.dirty = True
         self.target = 0
         self.draw = None           # viewport.ImageDraw
-        self.scene = None          # the last exported lantern.Scene (reused when only the view moves)
+        self.sync = ViewportSync()  # the exported lantern.Scene, its caches, pending changes
         self.error = None
         self.failed = False        # the last export failed: wait for a change before retrying
-        # image pixels read by earlier viewport exports, by image name (export/texture.py):
-        # an edit elsewhere re-exports the scene without re-reading unchanged images
-        self.texture_cache = {}
         self.reported = set()      # session warnings already shown (a CUDA fallback: once)
+        self.camera_updates = 0    # view moves served without a new session
         _live_states.add(self)
 
-    def stop_session(self):
+    @property
+    def scene(self):
+        return self.sync.scene
+
+    @property
+    def texture_cache(self):
+        return self.sync.texture_cache
+
+    def pause(self):
+        """Stop the refining thread (cancelling its step); the session stays."""
         self.stop.set()
-        if self.session is not None:
+        if self.session is not None and self.refining():  # a cancel outlives no step
             try:
                 self.session.cancel()
             except Exception:
@@ -189,26 +205,44 @@ class EngineState:
         if self.thread is not None:
             self.thread.join(5.0)
         self.thread = None
-        self.session = None
         self.stop = threading.Event()
 
-    def start_session(self, session, target):
-        self.stop_session()
+    def stop_session(self):
+        self.pause()
+        self.session = None
+
+    def _publish(self, image):
+        with self.lock:
+            self.image = image
+            self.image_serial += 1
+
+    def start_session(self, session, target, coarse=None):
+        """Refine `session` to `target` samples (0: until stopped) in a thread. `coarse`:
+        (small film, full film, camera) for a first iteration at a fraction of the pixels."""
+        if session is not self.session:
+            self.stop_session()
+        elif self.refining():
+            self.pause()
         self.session = session
         self.target = target
         stop = self.stop
 
         def refine():
             try:
+                if coarse is not None and _update_camera(session, coarse[0], coarse[2]):
+                    session.step()
+                    if stop.is_set():
+                        return
+                    if session.spp > 0:
+                        self._publish(session.image())
+                    if not session.update_camera(coarse[1], coarse[2]):
+                        raise RuntimeError("the session could not return to the full view")
                 while not stop.is_set() and (target <= 0 or session.spp < target):
                     before = session.spp
                     session.step()
                     if stop.is_set() or session.spp <= before:
                         break
-                    image = session.image()
-                    with self.lock:
-                        self.image = image
-                        self.image_serial += 1
+                    self._publish(session.image())
             except Exception as e:
                 self.error = e
         self.thread = threading.Thread(target=refine, name="lantern-viewport", daemon=True)
@@ -220,8 +254,7 @@ class EngineState:
     def free(self):
         self.stop_session()
         self.draw = None
-        self.scene = None
-        self.texture_cache = {}
+        self.sync = type(self.sync)()
 
 
 def stop_all():
@@ -229,15 +262,60 @@ def stop_all():
         state.free()
 
 
+def _update_camera(session, film, camera):
+    """session.update_camera where the session has it (an older lantern does not)."""
+    update = getattr(session, "update_camera", None)
+    return bool(update is not None and update(film, camera))
+
+
+def _coarse(view):
+    """(small film, full film, camera) for the first iteration, or None for small regions."""
+    film = view.film()
+    if film["width"] * film["height"] < COARSE_MIN_PIXELS:
+        return None
+    small = dict(film, width=max(1, film["width"] // COARSE_FACTOR),
+                 height=max(1, film["height"] // COARSE_FACTOR))
+    return small, film, view.camera()
+
+
 def view_update(engine, context, depsgraph):
+    from .export.changes import classify
     state = engine._lantern
-    # full re-export on any change (simple and correct); only images that changed are read again
-    for update in depsgraph.updates:
-        uid = getattr(update, "id", None)
-        if uid is not None and getattr(uid, "bl_rna", None) is not None and \
-                uid.bl_rna.identifier == "Image":
-            state.texture_cache.pop(getattr(uid.original, "name_full", uid.name_full), None)
-    state.dirty, state.failed = True, False
+    state.sync.note(classify(depsgraph.updates))
+    state.failed = False
+
+
+def _new_session(engine, state, lantern, settings, view):
+    session = lantern.Session(state.sync.scene, **settings.session_settings())
+    _report_warnings(engine, [w for w in session.warnings if w not in state.reported])
+    state.reported.update(session.warnings)
+    state.start_session(session, settings.preview_samples, _coarse(view))
+
+
+def _sync_viewport(engine, context, depsgraph, view, key):
+    """Export what changed and (re)start the render; returns nothing, raises on failure."""
+    from .export import ExportReport
+    state = engine._lantern
+    settings = context.scene.lantern
+    lantern = import_lantern()
+    if state.sync.needs_sync() or state.session is None:
+        state.stop_session()  # the old image shows meanwhile
+        report = ExportReport()
+        state.sync.sync(depsgraph, view, report)
+        _report_warnings(engine, report.messages)
+        state.view_key, state.error = key, None
+        _new_session(engine, state, lantern, settings, view)
+    elif key != state.view_key:  # only the view moved: the same scene, a new camera
+        state.pause()
+        scene = state.sync.scene
+        scene.film, scene.camera = view.film(), view.camera()
+        state.sync.pending.flags = 0  # a camera object's tags: served by the new camera
+        state.view_key, state.error = key, None
+        if _update_camera(state.session, scene.film, scene.camera):
+            state.camera_updates += 1
+            state.start_session(state.session, settings.preview_samples, _coarse(view))
+        else:  # a backend that keeps its own copy of the scene (the GPU)
+            _new_session(engine, state, lantern, settings, view)
 
 
 def view_draw(engine, context, depsgraph):
@@ -247,26 +325,10 @@ def view_draw(engine, context, depsgraph):
     view = None
     try:
         view = ViewportView(context)
-        export_needed = state.dirty or (state.scene is None and not state.failed)
-        if export_needed or (state.scene is not None and view.key() != state.view_key):
-            lantern = import_lantern()
-            from .export import export_scene
-            state.stop_session()
-            if export_needed:
-                state.scene = None
-                scene, report = export_scene(depsgraph, region_view=view,
-                                             texture_cache=state.texture_cache)
-                _report_warnings(engine, report.messages)
-                state.scene = scene
-            else:  # only the view moved: keep the exported scene, swap camera and film
-                scene = state.scene
-                scene.film, scene.camera = view.film(), view.camera()
-            settings = context.scene.lantern
-            state.view_key, state.dirty, state.error = view.key(), False, None
-            session = lantern.Session(scene, **settings.session_settings())
-            _report_warnings(engine, [w for w in session.warnings if w not in state.reported])
-            state.reported.update(session.warnings)
-            state.start_session(session, settings.preview_samples)  # old image shows meanwhile
+        key = (view.key(), view.filter_width)
+        if not state.failed and (state.sync.needs_sync() or state.session is None
+                                 or key != state.view_key):
+            _sync_viewport(engine, context, depsgraph, view, key)
         if state.error is not None:
             error, state.error = state.error, None
             _report_error(engine, "viewport render failed", error)
@@ -281,8 +343,10 @@ def view_draw(engine, context, depsgraph):
             engine.tag_redraw()
     except Exception as e:
         # do not retry a failing export on every redraw: wait for the next change
-        state.dirty, state.failed = False, True
-        state.scene = None
+        from .export.changes import FULL, Changes
+        state.stop_session()
+        state.failed = True
+        state.sync.pending |= Changes(FULL)
         if view is not None:
-            state.view_key = view.key()
+            state.view_key = (view.key(), view.filter_width)
         _report_error(engine, "viewport", e)

@@ -251,6 +251,21 @@ class Session:
     def warnings(self):
         return list(self._warnings) + list(_value(self._native.warnings))
 
+    def update_camera(self, film, camera):
+        """A new camera and film (dicts as in Scene.film / Scene.camera): sampling restarts
+        with the scene and its acceleration structure kept, as a new Session of the moved
+        camera would render (the viewport's view moves). False when this backend or core
+        cannot (the GPU keeps its own copy of the scene): make a new Session then. Call it from
+        the thread that reads image()."""
+        update = getattr(self._native, "update_camera", None)
+        if update is None:
+            return False
+        from .scene import Scene
+        view = Scene()
+        view.film, view.camera = dict(film), dict(camera)
+        native = view.to_native()  # the same checks as a new scene's
+        return bool(update({"film": native["film"], "camera": native["camera"]}))
+
     def cancel(self):
         """Thread-safe: a running `step()` returns early; the image stays at the last
         finished iteration."""

@@ -81,6 +81,11 @@ public:
     // One iteration; returns false if it was cancelled (the image is unchanged then).
     bool step();
     void cancel() { cancel_.store(true); }
+    // session_update.cpp: a new camera and film size (in's film and camera fields), sampling
+    // restarted, nothing rebuilt; waits for a running step. False where the renderer keeps a
+    // copy of the scene (the GPU): make a new Session. Call it from the thread that reads
+    // image(), width() and height() (their shapes change).
+    bool update_camera(const SceneInput& in);
     // Mean radiance, top row first, 3 floats per pixel.
     std::vector<float> image() const;
     int64_t spp() const;

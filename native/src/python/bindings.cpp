@@ -297,6 +297,11 @@ NB_MODULE(_core, m) {
             return s.step();
         })
         .def("cancel", &Session::cancel)
+        .def("update_camera", [](Session& s, const nb::dict& view) {
+            SceneInput in = to_input(view);  // its film and camera
+            nb::gil_scoped_release release;  // waits for a running step
+            return s.update_camera(in);
+        }, nb::arg("view"))
         .def("image", [](const Session& s) {
             std::vector<float> img = s.image();
             auto* data = new float[img.size()];

@@ -671,3 +671,28 @@ void HostScene::finish_view(const SceneInput& in) {
 }
 
 }  // namespace lantern
+
+namespace lantern {
+
+// The viewport's camera moves without a rebuild (Session::update_camera): the same fields as
+// finish_view sets, from a SceneInput of which only the film and camera are read.
+void HostScene::set_camera(const SceneInput& in) {
+    if (in.width <= 0 || in.height <= 0 || in.width > 65536 || in.height > 65536) {
+        throw std::invalid_argument("film size must be between 1 and 65536 pixels, got " +
+                                    std::to_string(in.width) + "x" + std::to_string(in.height));
+    }
+    if (in.filter_width != view_.camera.filter_width) build_filter(in.filter_width);
+    CameraView& c = view_.camera;
+    c.orthographic = in.orthographic ? 1 : 0;
+    c.width = in.width;
+    c.height = in.height;
+    c.to_world = rigid(in.camera_to_world);
+    for (int k = 0; k < 4; ++k) c.screen[k] = in.screen[k];
+    c.clip_start = std::max(0.0f, in.clip_start);
+    c.clip_end = in.clip_end > c.clip_start ? in.clip_end : kInf;
+    c.filter_cdf = filter_cdf_.data();
+    c.filter_table_size = int32_t(filter_cdf_.size());
+    c.filter_width = in.filter_width;
+}
+
+}  // namespace lantern

@@ -117,6 +117,8 @@ public:
     // Throws std::invalid_argument with a clear message for input that cannot be rendered.
     explicit HostScene(const SceneInput& in);
     const SceneView& view() const { return view_; }
+    // A new camera and film size (in's film and camera fields only); the rest stays.
+    void set_camera(const SceneInput& in);
     const std::vector<std::string>& warnings() const { return warnings_; }
     int num_triangles() const { return int(tri_material_.size()); }
     // view() with every array it points into copied elsewhere (a GPU's memory): copy(host,

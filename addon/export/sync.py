@@ -1,0 +1,156 @@
+"""The viewport's incremental export: a lantern.Scene kept between syncs and patched from what
+changed (changes.py), on Blender's main thread.
+
+- a view or camera move exports nothing (the session replaces its camera);
+- a material edit converts that material again, in its slot (its meshes keep their ids);
+- a world edit exports the world; lights (cheap) are exported at every scene-level sync;
+- meshes: the local arrays of each object (the foreach_get extraction, export/mesh.py) are
+  kept until its geometry changes, the placed world-space arrays of each instance until its
+  matrix changes; objects added, hidden or removed show up because every scene-level sync
+  walks the depsgraph's instances (dictionary look-ups for unchanged ones).
+
+`counts` says what the last sync exported (the tests check it). The loop mirrors
+export_scene (export/__init__.py), which final renders use: keep the two in step."""
+
+import numpy as np
+
+from . import changes as ch
+from .light import export_light
+from .material import MaterialTable
+from .mesh import MeshExporter, _needs_tangents
+from .world import export_world
+
+GEOMETRY_TYPES = {"MESH", "CURVE", "SURFACE", "META", "FONT", "CURVES"}
+
+
+def _local_key(obj):
+    data = getattr(obj, "data", None)
+    return (obj.name_full, data.name_full if data is not None else None)
+
+
+def _instance_key(inst):
+    obj = inst.object
+    pid = tuple(inst.persistent_id) if inst.is_instance else ()
+    parent = inst.parent.name_full if inst.is_instance and inst.parent else ""
+    return _local_key(obj) + (parent, pid)
+
+
+def _reconvert(table, material):
+    """Convert `material` again into its slot of `table`. False when that cannot be done in
+    place (a table without slots by name, or the material's need for tangents changed: its
+    meshes would need extracting again): then the caller exports everything."""
+    try:
+        from .material import convert_material
+        index, add_leaf = table._index, table._add_leaf
+    except (ImportError, AttributeError):
+        return False
+    slot = index.get(material.name_full)
+    if slot is None:
+        return True  # not in use yet: converted when a mesh asks for it
+    old = table.materials[slot]
+    new = convert_material(material, table.report, table.texture_table, add_leaf)
+    table.materials[slot] = new
+    return _needs_tangents(old) == _needs_tangents(new)
+
+
+class ViewportSync:
+    def __init__(self):
+        self.scene = None
+        self.texture_cache = {}   # image pixels by image name (export/texture.py)
+        self.pending = ch.Changes(ch.FULL)
+        self.counts = {}
+        self.syncs = 0
+        self._materials = None
+        self._meshes = None
+        self._placed = {}         # instance key -> (matrix bytes, exported mesh dict)
+
+    def note(self, changes):
+        """Changes from a view_update, applied at the next sync."""
+        for name in changes.images:
+            self.texture_cache.pop(name, None)
+        self.pending |= changes
+
+    def needs_sync(self):
+        return self.scene is None or bool(self.pending.flags & ~ch.VIEW)
+
+    def sync(self, depsgraph, view, report):
+        """Bring self.scene up to date with the pending changes; returns the Changes applied.
+        `view` is the camera.ViewportView to render; the scene's film and camera follow it."""
+        from ..engine import import_lantern
+        lantern = import_lantern()
+        todo, self.pending = self.pending, ch.Changes()
+        self.syncs += 1
+        self.counts = {"meshes_extracted": 0, "meshes_placed": 0, "materials": 0,
+                       "world": 0, "lights": 0}
+        if self.scene is None or todo.has(ch.IMAGES) or todo.all_materials:
+            todo.flags |= ch.FULL
+        if todo.has(ch.FULL):
+            self._materials = MaterialTable(report, self.texture_cache)
+            self._meshes = MeshExporter(self._materials, report)
+            self._placed = {}
+            self.scene = None
+        self._materials.report = self._meshes.report = report
+        known = _converted(self._materials)
+        if todo.has(ch.MATERIALS) and not todo.has(ch.FULL):
+            for name in sorted(todo.materials):
+                material = _find_material(depsgraph, name)
+                if material is None or not _reconvert(self._materials, material):
+                    self.pending = ch.Changes(ch.FULL)  # cannot patch it: export everything
+                    return self.sync(depsgraph, view, report)
+                self.counts["materials"] += 1
+        for name in todo.geometry:
+            for key in [k for k in self._meshes._cache if k[0] == name]:
+                del self._meshes._cache[key]
+        scene = self.scene if self.scene is not None else lantern.Scene()
+        scene.film, scene.camera = view.film(), view.camera()
+        if todo.flags & (ch.FULL | ch.WORLD | ch.SETTINGS):
+            scene.world = export_world(depsgraph.scene_eval.world, report)
+            self.counts["world"] = 1
+        if todo.flags & ~(ch.VIEW | ch.WORLD | ch.MATERIALS):
+            self._walk_instances(depsgraph, scene, report)
+        self.counts["materials"] += _converted(self._materials) - known
+        scene.materials = self._materials.materials
+        scene.textures = self._materials.textures
+        self.scene = scene
+        return todo
+
+    def _walk_instances(self, depsgraph, scene, report):
+        meshes, lights, placed = [], [], {}
+        for inst in depsgraph.object_instances:
+            obj = inst.object
+            if obj.type == "LIGHT":
+                light = export_light(obj, inst.matrix_world, report)
+                if light is not None:
+                    lights.append(light)
+                continue
+            if obj.type not in GEOMETRY_TYPES:
+                continue
+            key = _instance_key(inst)
+            matrix = np.array(inst.matrix_world, dtype=np.float64).tobytes()
+            old = self._placed.get(key)
+            if old is not None and old[0] == matrix:
+                mesh = old[1]
+            else:
+                if _local_key(obj) not in self._meshes._cache:
+                    self.counts["meshes_extracted"] += 1
+                mesh = self._meshes.export(inst)
+                self.counts["meshes_placed"] += 1
+            placed[key] = (matrix, mesh)
+            if mesh is not None:
+                meshes.append(mesh)
+        self._placed = placed
+        self.counts["lights"] = len(lights)
+        scene.meshes, scene.lights = meshes, lights
+
+
+def _converted(table):
+    """How many Blender materials `table` has converted (0 when it does not say)."""
+    return len(getattr(table, "_index", ()))
+
+
+def _find_material(depsgraph, name):
+    import bpy
+    material = bpy.data.materials.get(name)
+    if material is None:
+        return None
+    return material.evaluated_get(depsgraph) if hasattr(material, "evaluated_get") else material

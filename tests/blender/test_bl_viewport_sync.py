@@ -1,0 +1,224 @@
+"""Incremental viewport updates: what an edit tags (export/changes.py), what the next sync
+exports again (export/sync.py), and that the viewport then renders what a fresh export of the
+edited scene renders (bit for bit where the session is only re-aimed, statistically after a
+scene edit). Edits reach view_update as in Blender: through the depsgraph's updates, read in a
+depsgraph_update_post handler."""
+
+from types import SimpleNamespace
+
+import bpy
+import numpy as np
+import pytest
+
+import lantern
+from lantern import metrics
+from blender_helpers import add_camera, add_plane, diffuse_material
+
+pytestmark = pytest.mark.skipif(not lantern.session.native_available(),
+                                reason="lantern native module not built")
+
+SPP = 8
+
+
+class _Engine:
+    def __init__(self, addon):
+        self._lantern = addon.engine.EngineState()
+        self.reports = []
+
+    def report(self, kind, message):
+        self.reports.append((kind, message))
+
+    def tag_redraw(self):
+        pass
+
+
+class _Draw:
+    def update(self, image, serial):
+        pass
+
+    def draw(self, *args):
+        pass
+
+
+def _context(scene, view_matrix, size=(32, 24)):
+    cam = scene.camera
+    window = cam.calc_matrix_camera(bpy.context.evaluated_depsgraph_get(), x=size[0], y=size[1])
+    return SimpleNamespace(scene=scene, region=SimpleNamespace(width=size[0], height=size[1]),
+                           region_data=SimpleNamespace(view_matrix=view_matrix,
+                                                       window_matrix=window,
+                                                       is_perspective=True))
+
+
+def _edit(fn, on_updates):
+    """Apply `fn`, then let the depsgraph evaluate: `on_updates(depsgraph)` sees its updates."""
+    def handler(scene, depsgraph):
+        on_updates(depsgraph)
+    bpy.app.handlers.depsgraph_update_post.append(handler)
+    try:
+        fn()
+        bpy.context.view_layer.update()
+    finally:
+        bpy.app.handlers.depsgraph_update_post.remove(handler)
+
+
+@pytest.fixture
+def stage(empty):
+    empty.render.resolution_x, empty.render.resolution_y = 32, 24
+    add_camera(empty, location=(0, -4, 3), rotation=(0.93, 0, 0))
+    add_plane(empty, size=6.0, material=diffuse_material(0.8), name="Floor")
+    box = add_plane(empty, size=1.0, location=(0, 0, 0.5), name="Card")
+    box.data.materials.append(diffuse_material(0.5))
+    box.data.materials[0].name = "CardMat"
+    world = bpy.data.worlds.new("Sky")
+    world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.6, 0.6, 0.6, 1)
+    empty.world = world
+    empty.lantern.preview_samples = SPP
+    empty.lantern.backend = "cpu"
+    bpy.context.view_layer.update()
+    return empty
+
+
+def _changes(fn):
+    from lantern_blender.export.changes import classify
+    got = []
+    _edit(fn, lambda dg: got.append(classify(dg.updates)))
+    return got[-1]
+
+
+def test_edits_are_classified(stage):
+    from lantern_blender.export import changes as ch
+    card = bpy.data.objects["Card"]
+    mat = bpy.data.materials["CardMat"]
+    c = _changes(lambda: setattr(card, "location", (0.5, 0, 0.5)))
+    assert c.flags == ch.TRANSFORM
+    c = _changes(lambda: setattr(mat.node_tree.nodes["Principled BSDF"].inputs["Base Color"],
+                                 "default_value", (0.9, 0.1, 0.1, 1)))
+    assert c.flags == ch.MATERIALS and c.materials == {"CardMat"}
+    c = _changes(lambda: setattr(stage.world.node_tree.nodes["Background"].inputs["Color"],
+                                 "default_value", (0.2, 0.3, 0.9, 1)))
+    assert c.flags == ch.WORLD
+
+    def bend():
+        card.data.vertices[0].co.z += 0.3
+        card.data.update()
+    c = _changes(bend)
+    assert c.has(ch.GEOMETRY) and c.geometry == {"Card"} and not c.has(ch.FULL)
+    c = _changes(lambda: setattr(stage.camera, "location", (0.3, -4, 3)))
+    assert c.flags == ch.VIEW
+    c = _changes(lambda: card.hide_set(True))
+    assert c.has(ch.SETTINGS) and not c.has(ch.FULL)
+    assert ch.classify([]).has(ch.FULL)
+
+
+def _start(addon, stage):
+    engine = _Engine(addon)
+    engine._lantern.draw = _Draw()
+    view = stage.camera.matrix_world.inverted()
+    ctx = _context(stage, view)
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    addon.engine.view_update(engine, ctx, depsgraph)
+    addon.engine.view_draw(engine, ctx, depsgraph)
+    return engine, ctx
+
+
+def _refined(engine, addon, ctx):
+    state = engine._lantern
+    state.thread.join(30)
+    assert state.error is None and state.session.spp == SPP
+    return state.image
+
+
+def _fresh(stage, ctx, settings):
+    """A full export of the scene as it is now, for the viewport's view."""
+    from lantern_blender.export import export_scene
+    from lantern_blender.export.camera import ViewportView
+    scene, _ = export_scene(bpy.context.evaluated_depsgraph_get(), region_view=ViewportView(ctx))
+    return scene
+
+
+def _renders(scene, seeds):
+    return [lantern.render(scene, spp=SPP, backend="cpu", seed=s) for s in seeds]
+
+
+def _apply(addon, engine, ctx, fn):
+    _edit(fn, lambda dg: addon.engine.view_update(engine, ctx, dg))
+    addon.engine.view_draw(engine, ctx, bpy.context.evaluated_depsgraph_get())
+    return _refined(engine, addon, ctx)
+
+
+def _agrees(a, b):
+    return metrics.agreement(a, b, block=4)
+
+
+def test_camera_move_replaces_the_camera_only(addon, stage):
+    engine, ctx = _start(addon, stage)
+    state = engine._lantern
+    _refined(engine, addon, ctx)
+    session, syncs, counts = state.session, state.sync.syncs, dict(state.sync.counts)
+    assert counts["meshes_extracted"] == 2 and counts["materials"] == 2
+    moved = stage.camera.matrix_world.inverted()
+    moved[0][3] += 0.4
+    ctx2 = _context(stage, moved)
+    addon.engine.view_draw(engine, ctx2, bpy.context.evaluated_depsgraph_get())
+    image = _refined(engine, addon, ctx2)
+    assert state.session is session and state.camera_updates == 1
+    assert state.sync.syncs == syncs  # nothing exported, no new session, no BVH build
+    fresh = _fresh(stage, ctx2, stage.lantern)
+    want = lantern.render(fresh, spp=SPP, **stage.lantern.session_settings())
+    np.testing.assert_array_equal(image, want)  # a re-aimed session renders as a new one
+    state.free()
+
+
+def test_scene_edits_export_what_changed(addon, stage):
+    engine, ctx = _start(addon, stage)
+    state = engine._lantern
+    _refined(engine, addon, ctx)
+    before = _fresh(stage, ctx, stage.lantern)
+    mat = bpy.data.materials["CardMat"]
+    card = bpy.data.objects["Card"]
+    edits = [
+        ("material", lambda: setattr(mat.node_tree.nodes["Principled BSDF"].inputs[
+            "Base Color"], "default_value", (0.9, 0.05, 0.05, 1)),
+         {"materials": 1, "meshes_extracted": 0, "meshes_placed": 0, "world": 0}),
+        ("world", lambda: setattr(stage.world.node_tree.nodes["Background"].inputs["Color"],
+                                  "default_value", (0.1, 0.2, 1.0, 1)),
+         {"materials": 0, "meshes_extracted": 0, "meshes_placed": 0, "world": 1}),
+        ("transform", lambda: setattr(card, "location", (0.8, 0.3, 0.7)),
+         {"materials": 0, "meshes_extracted": 0, "meshes_placed": 1, "world": 0}),
+    ]
+    for what, fn, want in edits:
+        image = _apply(addon, engine, ctx, fn)
+        got = {k: state.sync.counts[k] for k in want}
+        assert got == want, what
+        np.testing.assert_array_equal(  # the viewport renders the patched scene...
+            image, lantern.render(state.sync.scene, spp=SPP,
+                                  **stage.lantern.session_settings()))
+        fresh = _fresh(stage, ctx, stage.lantern)
+        ok, cmp, over3, allowed = _agrees(_renders(state.sync.scene, range(1, 6)),
+                                          _renders(fresh, range(11, 16)))
+        assert ok, f"{what}: {cmp}; {over3} blocks over |z| 3 (allowed {allowed})"
+        # ...which is the edited scene: the one before the edit is told apart
+        assert not _agrees(_renders(before, range(21, 26)), _renders(fresh, range(11, 16)))[0]
+        before = fresh
+    state.free()
+
+
+def test_first_iteration_is_coarse(addon, stage):
+    engine = _Engine(addon)
+    engine._lantern.draw = _Draw()
+    state = engine._lantern
+    shapes = []
+    publish = state._publish
+    state._publish = lambda image: (shapes.append(image.shape[:2]), publish(image))
+    ctx = _context(stage, stage.camera.matrix_world.inverted(), size=(256, 256))
+    stage.lantern.preview_samples = 2
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    addon.engine.view_update(engine, ctx, depsgraph)
+    addon.engine.view_draw(engine, ctx, depsgraph)
+    state.thread.join(60)
+    assert state.error is None
+    assert shapes[0] == (64, 64) and shapes[-1] == (256, 256) and len(shapes) == 3
+    want = lantern.render(_fresh(stage, ctx, stage.lantern), spp=2,
+                          **stage.lantern.session_settings())
+    np.testing.assert_array_equal(state.image, want)  # the coarse pass leaves no trace
+    state.free()
