@@ -1,0 +1,45 @@
+"""Session.update_camera: a running session re-aimed (and resized) renders what a new session
+of the moved camera renders, bit for bit on the CPU; bad input is refused, the session goes on."""
+import copy
+
+import numpy as np
+import pytest
+
+from lantern import scenes, session
+
+pytestmark = pytest.mark.skipif(not session.native_available(),
+                                reason=f"lantern._core not built ({session.native_error()})")
+
+
+def _moved(scene, width, height):
+    moved = copy.deepcopy(scene)
+    moved.film = dict(scene.film, width=width, height=height)
+    moved.look_at((0.3, -3.2, 1.2), (0.0, 0.0, 0.9), fov=45)
+    return moved
+
+
+@pytest.mark.parametrize("integrator", ["pt", "bdpt", "cis"])
+def test_update_camera_renders_as_a_new_session(integrator):
+    scene = scenes.cornell_box(width=16, height=12)
+    s = session.Session(scene, integrator=integrator, backend="cpu", seed=3)
+    s.step()
+    s.step()
+    moved = _moved(scene, 20, 10)
+    assert s.update_camera(moved.film, moved.camera)
+    assert s.spp == 0 and s.image().shape == (10, 20, 3)
+    for _ in range(3):
+        s.step()
+    want = session.render(moved, spp=3, integrator=integrator, backend="cpu", seed=3)
+    np.testing.assert_array_equal(s.image(), want)
+
+
+def test_bad_camera_is_refused_and_the_session_goes_on():
+    scene = scenes.cornell_box(width=8, height=8)
+    s = session.Session(scene, backend="cpu")
+    s.step()
+    before = s.image()
+    with pytest.raises((ValueError, TypeError)):
+        s.update_camera(dict(scene.film, width=0), scene.camera)
+    assert s.spp == 1 and np.array_equal(s.image(), before)
+    s.step()
+    assert s.spp == 2
