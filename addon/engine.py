@@ -184,6 +184,8 @@ class EngineState:
         self.failed = False        # the last export failed: wait for a change before retrying
         self.reported = set()      # session warnings already shown (a CUDA fallback: once)
         self.camera_updates = 0    # view moves served without a new session
+        self.building = False      # the refining thread is building its session
+        self.new_warnings = []     # the new session's warnings, reported by view_draw
         _live_states.add(self)
 
     @property
@@ -216,35 +218,48 @@ class EngineState:
             self.image = image
             self.image_serial += 1
 
-    def start_session(self, session, target, coarse=None):
+    def start_session(self, session, target, coarse=None, make=None):
         """Refine `session` to `target` samples (0: until stopped) in a thread. `coarse`:
-        (small film, full film, camera) for a first iteration at a fraction of the pixels."""
-        if session is not self.session:
+        (small film, full film, camera) for a first iteration at a fraction of the pixels.
+        `make`: a function that builds the session, called in the thread (session None), so
+        that the acceleration structure is built off Blender's main thread."""
+        if session is not self.session or make is not None:
             self.stop_session()
         elif self.refining():
             self.pause()
         self.session = session
         self.target = target
+        self.building = make is not None
         stop = self.stop
 
         def refine():
+            s = session
             try:
-                if coarse is not None and _update_camera(session, coarse[0], coarse[2]):
-                    session.step()
+                if make is not None:
+                    try:
+                        s = make()
+                    finally:
+                        self.building = False
                     if stop.is_set():
                         return
-                    if session.spp > 0:
-                        self._publish(session.image())
-                    if not session.update_camera(coarse[1], coarse[2]):
+                    self.session, self.new_warnings = s, list(s.warnings)
+                if coarse is not None and _update_camera(s, coarse[0], coarse[2]):
+                    s.step()
+                    if stop.is_set():
+                        return
+                    if s.spp > 0:
+                        self._publish(s.image())
+                    if not s.update_camera(coarse[1], coarse[2]):
                         raise RuntimeError("the session could not return to the full view")
-                while not stop.is_set() and (target <= 0 or session.spp < target):
-                    before = session.spp
-                    session.step()
-                    if stop.is_set() or session.spp <= before:
+                while not stop.is_set() and (target <= 0 or s.spp < target):
+                    before = s.spp
+                    s.step()
+                    if stop.is_set() or s.spp <= before:
                         break
-                    self._publish(session.image())
+                    self._publish(s.image())
             except Exception as e:
                 self.error = e
+                self.failed = self.failed or s is None  # a scene that cannot start: wait
         self.thread = threading.Thread(target=refine, name="lantern-viewport", daemon=True)
         self.thread.start()
 
@@ -285,11 +300,26 @@ def view_update(engine, context, depsgraph):
     state.failed = False
 
 
+def _snapshot(scene, lantern):
+    """A copy of the scene's containers for a session built in the refining thread: the sync
+    replaces or patches them (a material in its slot) while the thread reads."""
+    copy = lantern.Scene()
+    copy.film, copy.camera, copy.world = dict(scene.film), dict(scene.camera), dict(scene.world)
+    copy.materials, copy.textures = list(scene.materials), list(scene.textures)
+    copy.meshes, copy.lights = list(scene.meshes), list(scene.lights)
+    return copy
+
+
 def _new_session(engine, state, lantern, settings, view):
-    session = lantern.Session(state.sync.scene, **settings.session_settings())
-    _report_warnings(engine, [w for w in session.warnings if w not in state.reported])
-    state.reported.update(session.warnings)
-    state.start_session(session, settings.preview_samples, _coarse(view))
+    scene, kwargs = _snapshot(state.sync.scene, lantern), settings.session_settings()
+    state.start_session(None, settings.preview_samples, _coarse(view),
+                        make=lambda: lantern.Session(scene, **kwargs))
+
+
+def _report_new_warnings(engine, state):
+    warnings, state.new_warnings = state.new_warnings, []
+    _report_warnings(engine, [w for w in warnings if w not in state.reported])
+    state.reported.update(warnings)
 
 
 def _sync_viewport(engine, context, depsgraph, view, key):
@@ -326,9 +356,13 @@ def view_draw(engine, context, depsgraph):
     try:
         view = ViewportView(context)
         key = (view.key(), view.filter_width)
-        if not state.failed and (state.sync.needs_sync() or state.session is None
-                                 or key != state.view_key):
+        # while the thread builds a session, changes wait (they accumulate) and the old image
+        # shows: the main thread never waits for a build
+        if not state.failed and not state.building and (
+                state.sync.needs_sync() or state.session is None or key != state.view_key):
             _sync_viewport(engine, context, depsgraph, view, key)
+        if state.new_warnings:
+            _report_new_warnings(engine, state)
         if state.error is not None:
             error, state.error = state.error, None
             _report_error(engine, "viewport render failed", error)

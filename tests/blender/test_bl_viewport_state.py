@@ -107,6 +107,8 @@ def test_view_draw_exports_refines_and_reuses_scene(empty, addon, monkeypatch):
         ValueError("broken (mocked)")))
     addon.engine.view_update(engine, ctx, depsgraph)
     addon.engine.view_draw(engine, ctx, depsgraph)
+    state.thread.join(10)  # the session is built in the refining thread
+    addon.engine.view_draw(engine, ctx, depsgraph)
     addon.engine.view_draw(engine, ctx, depsgraph)
     assert [m for k, m in engine.reports if "mocked" in m] and len(engine.reports) == 1
     state.free()
