@@ -209,14 +209,16 @@ def main():
     addon = load_addon()
     mach = machine()
     results = [run_scene(addon, name, size, args.repeat) for name in args.scenes.split(",")]
+    mach["load_1min_end"] = os.getloadavg()[0]
     out = Path(args.out or ROOT / "bench" / "results" /
                f"{datetime.date.today().isoformat()}-viewport-latency")
     out.mkdir(parents=True, exist_ok=True)
     doc = {"machine": mach, "region": size, "repeat": args.repeat, "results": results}
     (out / "results.json").write_text(json.dumps(doc, indent=1))
     text = (f"# Viewport latency ({size[0]} x {size[1]} region, median of {args.repeat})\n\n"
-            f"Machine: {mach['cpu']}, {mach['cores']} cores, load {mach['load_1min']:.2f} at "
-            f"the start; bpy {mach['bpy']}; commit {mach['commit']}.\n\n{table(results)}\n")
+            f"Machine: {mach['cpu']}, {mach['cores']} cores, 1-minute load {mach['load_1min']:.2f} "
+            f"at the start, {mach['load_1min_end']:.2f} at the end; bpy {mach['bpy']}; commit "
+            f"{mach['commit']}.\n\n{table(results)}\n")
     (out / "results.md").write_text(text)
     print(text)
 
