@@ -33,5 +33,6 @@ const sandbox = {
 };
 vm.createContext(sandbox);
 vm.runInContext(fs.readFileSync(script, "utf8") + "\ncompileJob(job);", sandbox);
-const clean = tasks.map(({ name, type, commands, dependencies }) => ({ name, type, commands, dependencies }));
+const clean = tasks.map(({ name, type, commands, dependencies }) =>
+    ({ name, type, commands, dependencies }));
 process.stdout.write(JSON.stringify(clean, null, 1) + "\n");

@@ -37,7 +37,8 @@ const JOB_TYPE = {
 function compileJob(job) {
     const settings = job.settings;
     if (settings.chunks < 1 || settings.samples < settings.chunks) {
-        throw `Need 1 <= chunks <= samples, got ${settings.chunks} chunks for ${settings.samples} samples`;
+        throw `Need 1 <= chunks <= samples, got ${settings.chunks} chunks for ` +
+            `${settings.samples} samples`;
     }
     const outDir = outputDir(job);
     settings.render_output_path = outDir;
