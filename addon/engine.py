@@ -294,9 +294,14 @@ def _coarse(view):
 
 
 def view_update(engine, context, depsgraph):
-    from .export.changes import classify
+    from .export.changes import FULL, Changes, classify
     state = engine._lantern
-    state.sync.note(classify(depsgraph.updates))
+    try:
+        changes = classify(depsgraph.updates)
+    except Exception:  # an update we cannot read: export everything rather than fail
+        traceback.print_exc()
+        changes = Changes(FULL)
+    state.sync.note(changes)
     state.failed = False
 
 
