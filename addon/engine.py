@@ -184,6 +184,7 @@ class EngineState:
         self.failed = False        # the last export failed: wait for a change before retrying
         self.reported = set()      # session warnings already shown (a CUDA fallback: once)
         self.camera_updates = 0    # view moves served without a new session
+        self.material_updates = 0  # material edits served without a new session
         self.building = False      # the refining thread is building its session
         self.new_warnings = []     # the new session's warnings, reported by view_draw
         _live_states.add(self)
@@ -277,10 +278,15 @@ def stop_all():
         state.free()
 
 
+def _update(session, method, *args):
+    """session.update_camera / update_materials where the session has it (an older lantern
+    does not); False when it has not or cannot."""
+    update = getattr(session, method, None)
+    return bool(update is not None and update(*args))
+
+
 def _update_camera(session, film, camera):
-    """session.update_camera where the session has it (an older lantern does not)."""
-    update = getattr(session, "update_camera", None)
-    return bool(update is not None and update(film, camera))
+    return _update(session, "update_camera", film, camera)
 
 
 def _coarse(view):
@@ -334,12 +340,23 @@ def _sync_viewport(engine, context, depsgraph, view, key):
     settings = context.scene.lantern
     lantern = import_lantern()
     if state.sync.needs_sync() or state.session is None:
-        state.stop_session()  # the old image shows meanwhile
+        from .export.changes import MATERIALS, VIEW
+        session = state.session
+        state.pause()  # the old image shows meanwhile
         report = ExportReport()
-        state.sync.sync(depsgraph, view, report)
+        todo = state.sync.sync(depsgraph, view, report)
         _report_warnings(engine, report.messages)
+        scene, moved = state.sync.scene, key != state.view_key
         state.view_key, state.error = key, None
-        _new_session(engine, state, lantern, settings, view)
+        # materials edited in place (colours, roughness, ...): the running session takes them
+        # without rebuilding its scene, when their emission, alpha and textures stay
+        if (session is not None and todo.flags & ~VIEW == MATERIALS
+                and _update(session, "update_materials", scene.materials, scene.textures)
+                and (not moved or _update(session, "update_camera", scene.film, scene.camera))):
+            state.material_updates += 1
+            state.start_session(session, settings.preview_samples, _coarse(view))
+        else:
+            _new_session(engine, state, lantern, settings, view)
     elif key != state.view_key:  # only the view moved: the same scene, a new camera
         state.pause()
         scene = state.sync.scene

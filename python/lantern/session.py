@@ -266,6 +266,21 @@ class Session:
         native = view.to_native()  # the same checks as a new scene's
         return bool(update({"film": native["film"], "camera": native["camera"]}))
 
+    def update_materials(self, materials, textures=()):
+        """New materials and textures (lists as in Scene.materials / Scene.textures, the same
+        number of materials), sampling restarted, the scene's geometry and acceleration
+        structure kept: as a new Session of the edited scene would render. False, with
+        nothing changed, when the edit reaches further (emission, alpha, textures, the
+        number of materials) or this backend cannot: make a new Session then."""
+        update = getattr(self._native, "update_materials", None)
+        if update is None:
+            return False
+        from .scene import Scene
+        edit = Scene()
+        edit.materials, edit.textures = list(materials), list(textures)
+        native = edit.to_native()
+        return bool(update({"materials": native["materials"], "textures": native["textures"]}))
+
     def cancel(self):
         """Thread-safe: a running `step()` returns early; the image stays at the last
         finished iteration."""

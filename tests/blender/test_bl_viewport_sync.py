@@ -187,9 +187,12 @@ def test_scene_edits_export_what_changed(addon, stage):
          {"materials": 0, "meshes_extracted": 0, "meshes_placed": 1, "world": 0}),
     ]
     for what, fn, want in edits:
+        session = state.session
         image = _apply(addon, engine, ctx, fn)
         got = {k: state.sync.counts[k] for k in want}
         assert got == want, what
+        # a colour edit is taken by the running session (no scene rebuild, no BVH build)
+        assert (state.session is session) == (what == "material"), what
         np.testing.assert_array_equal(  # the viewport renders the patched scene...
             image, lantern.render(state.sync.scene, spp=SPP,
                                   **stage.lantern.session_settings()))
@@ -200,6 +203,7 @@ def test_scene_edits_export_what_changed(addon, stage):
         # ...which is the edited scene: the one before the edit is told apart
         assert not _agrees(_renders(before, range(21, 26)), _renders(fresh, range(11, 16)))[0]
         before = fresh
+    assert state.material_updates == 1
     state.free()
 
 

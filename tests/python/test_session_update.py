@@ -43,3 +43,40 @@ def test_bad_camera_is_refused_and_the_session_goes_on():
     assert s.spp == 1 and np.array_equal(s.image(), before)
     s.step()
     assert s.spp == 2
+
+
+@pytest.mark.parametrize("integrator", ["pt", "cis"])
+def test_update_materials_renders_as_a_new_session(integrator):
+    scene = scenes.cornell_box(width=16, height=12)
+    s = session.Session(scene, integrator=integrator, backend="cpu", seed=5)
+    s.step()
+    edited = copy.deepcopy(scene)
+    wall = next(i for i, m in enumerate(edited.materials)
+                if not any(m.get("emission", (0, 0, 0))))
+    edited.materials[wall] = dict(edited.materials[wall], base_color=[0.1, 0.2, 0.9],
+                                  roughness=0.3)
+    assert s.update_materials(edited.materials, edited.textures)
+    assert s.spp == 0
+    for _ in range(3):
+        s.step()
+    want = session.render(edited, spp=3, integrator=integrator, backend="cpu", seed=5)
+    np.testing.assert_array_equal(s.image(), want)
+    # the old materials' image differs: the update took effect
+    assert not np.array_equal(want, session.render(scene, spp=3, integrator=integrator,
+                                                    backend="cpu", seed=5))
+
+
+def test_update_materials_refuses_what_reaches_further():
+    scene = scenes.cornell_box(width=8, height=8)
+    s = session.Session(scene, backend="cpu")
+    s.step()
+    glowing = copy.deepcopy(scene.materials)
+    glowing[0] = dict(glowing[0], emission=[5.0, 5.0, 5.0])  # the light list would change
+    assert not s.update_materials(glowing, scene.textures)
+    seethrough = copy.deepcopy(scene.materials)
+    seethrough[0] = dict(seethrough[0], alpha=0.5)  # its triangles would be alpha-tested
+    assert not s.update_materials(seethrough, scene.textures)
+    assert not s.update_materials(scene.materials[:-1], scene.textures)  # fewer materials
+    assert s.spp == 1  # refused: nothing changed
+    s.step()
+    assert s.spp == 2

@@ -86,6 +86,9 @@ public:
     // copy of the scene (the GPU): make a new Session. Call it from the thread that reads
     // image(), width() and height() (their shapes change).
     bool update_camera(const SceneInput& in);
+    // session_update.cpp: in's materials and textures (HostScene::update_materials), sampling
+    // restarted; false where the scene or renderer would need rebuilding.
+    bool update_materials(const SceneInput& in);
     // Mean radiance, top row first, 3 floats per pixel.
     std::vector<float> image() const;
     int64_t spp() const;
@@ -100,6 +103,7 @@ public:
 
 private:
     bool step_locked();
+    void restart();  // session_update.cpp: accumulation from zero, as in a new session
     void publish();  // copies the stepping thread's stats and warnings for the readers
     void start_cpu_backend();
     bool step_cuda(std::chrono::steady_clock::time_point t0);

@@ -1,6 +1,7 @@
 // Updates of a running session that keep its scene and acceleration structure: the viewport's
-// camera and view moves. Sampling restarts as in a new session (iteration 0, the same random
-// streams), so the image after an update is the image a new session of the moved camera gives.
+// camera and view moves, material edits. Sampling restarts as in a new session (iteration 0,
+// the same random streams), so the image after an update is the image a new session of the
+// updated scene gives.
 #include <algorithm>
 #include <mutex>
 
@@ -8,14 +9,11 @@
 
 namespace lantern {
 
-bool Session::update_camera(const SceneInput& in) {
-    std::lock_guard<std::mutex> serial(step_mutex_);  // after a running step returns
-    if (gpu_) return false;
-    scene_->set_camera(in);
+void Session::restart() {
     {
         std::lock_guard<std::mutex> lock(result_mutex_);
-        width_ = in.width;
-        height_ = in.height;
+        width_ = scene_->view().camera.width;
+        height_ = scene_->view().camera.height;
         accum_.assign(size_t(width_) * height_ * 3, 0.0);
         spp_ = 0;
     }
@@ -23,6 +21,20 @@ bool Session::update_camera(const SceneInput& in) {
     vertices_per_path_ = -1.0;  // the light vertex cache estimate is per view
     cancel_.store(false);       // a cancel of the old view's step is served
     publish();
+}
+
+bool Session::update_camera(const SceneInput& in) {
+    std::lock_guard<std::mutex> serial(step_mutex_);  // after a running step returns
+    if (gpu_) return false;
+    scene_->set_camera(in);
+    restart();
+    return true;
+}
+
+bool Session::update_materials(const SceneInput& in) {
+    std::lock_guard<std::mutex> serial(step_mutex_);
+    if (gpu_ || !scene_->update_materials(in)) return false;
+    restart();
     return true;
 }
 

@@ -302,6 +302,11 @@ NB_MODULE(_core, m) {
             nb::gil_scoped_release release;  // waits for a running step
             return s.update_camera(in);
         }, nb::arg("view"))
+        .def("update_materials", [](Session& s, const nb::dict& materials) {
+            SceneInput in = to_input(materials);  // its materials and textures
+            nb::gil_scoped_release release;
+            return s.update_materials(in);
+        }, nb::arg("materials"))
         .def("image", [](const Session& s) {
             std::vector<float> img = s.image();
             auto* data = new float[img.size()];

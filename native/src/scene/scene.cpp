@@ -1,6 +1,7 @@
 #include "scene/scene.h"
 
 #include <algorithm>
+#include <cstring>
 #include <cmath>
 #include <initializer_list>
 #include <stdexcept>
@@ -693,6 +694,58 @@ void HostScene::set_camera(const SceneInput& in) {
     c.filter_cdf = filter_cdf_.data();
     c.filter_table_size = int32_t(filter_cdf_.size());
     c.filter_width = in.filter_width;
+}
+
+}  // namespace lantern
+
+namespace lantern {
+
+namespace {
+
+bool same3(Vec3 a, Vec3 b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
+
+// What the triangles, the lights and the acceleration structure take from a material: its
+// emission (light list and power), transparency and alpha texture (alpha-tested triangles),
+// the textures it reads and the mix leaves it points at.
+bool same_use(const Material& a, const Material& b) {
+    if (!same3(a.emission, b.emission) || !same3(a.emission_scale, b.emission_scale)) return false;
+    if (a.transparency != b.transparency || a.tex_flags != b.tex_flags) return false;
+    if ((a.type == kMaterialMix) != (b.type == kMaterialMix) || a.mix_count != b.mix_count)
+        return false;
+    for (int i = 0; i < kMixLeaves; ++i) {
+        if (a.mix_child[i] != b.mix_child[i]) return false;
+    }
+    return a.tex_base_color == b.tex_base_color && a.tex_roughness == b.tex_roughness &&
+           a.tex_metallic == b.tex_metallic && a.tex_alpha == b.tex_alpha &&
+           a.tex_normal == b.tex_normal && a.tex_emission == b.tex_emission &&
+           a.tex_coat_normal == b.tex_coat_normal && a.tex_mix == b.tex_mix;
+}
+
+}  // namespace
+
+// A material edit without a rebuild (Session::update_materials): in's materials and textures,
+// converted and checked as a new scene's would be, replace these in place (the views of the
+// backends point at the same storage) when nothing else depends on what changed.
+bool HostScene::update_materials(const SceneInput& in) {
+    SceneInput probe;  // no geometry: only the materials and textures are converted
+    probe.width = view_.camera.width;
+    probe.height = view_.camera.height;
+    probe.filter_width = view_.camera.filter_width;
+    probe.materials = in.materials;
+    probe.textures = in.textures;
+    const HostScene next(probe);
+    if (next.materials_.size() != materials_.size() || next.textures_.size() != textures_.size() ||
+        next.texels_ != texels_ || next.view_.material_bits != view_.material_bits) {
+        return false;
+    }
+    if (!textures_.empty() &&
+        std::memcmp(next.textures_.data(), textures_.data(), textures_.size() * sizeof(Texture)))
+        return false;
+    for (size_t k = 0; k < materials_.size(); ++k) {
+        if (!same_use(materials_[k], next.materials_[k])) return false;
+    }
+    std::copy(next.materials_.begin(), next.materials_.end(), materials_.begin());
+    return true;
 }
 
 }  // namespace lantern

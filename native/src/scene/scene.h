@@ -119,6 +119,10 @@ public:
     const SceneView& view() const { return view_; }
     // A new camera and film size (in's film and camera fields only); the rest stays.
     void set_camera(const SceneInput& in);
+    // New materials and textures (in's) in place; false, with nothing changed, when the
+    // triangles, lights or acceleration structure would change too (emission, alpha,
+    // textures, the number of materials): build a new scene then.
+    bool update_materials(const SceneInput& in);
     const std::vector<std::string>& warnings() const { return warnings_; }
     int num_triangles() const { return int(tri_material_.size()); }
     // view() with every array it points into copied elsewhere (a GPU's memory): copy(host,
