@@ -96,6 +96,15 @@ def _spp(meta, path):
     return spp
 
 
+def _chunks(meta):
+    """The (seed, chunk) pairs a file holds: one for a chunk, several for a merged file."""
+    seeds = str(meta.get(SEED)).split(",")
+    chunks = str(meta.get(CHUNK)).split(",")
+    if len(chunks) != len(seeds):
+        chunks = chunks[:1] * len(seeds)
+    return list(zip(seeds, chunks))
+
+
 def _is_id_pass(name):
     return any(part.startswith(_ID_PASSES) for part in name.split("."))
 
@@ -133,11 +142,12 @@ def check_compatible(images, paths):
             raise MergeError(f"{path} and {p0} are renders of different scenes (scene "
                              f"identity {scene} vs {first.metadata.get(SCENE)}): only chunks "
                              f"of one scene and frame can be merged")
-        key = (str(img.metadata.get(SEED)), str(img.metadata.get(CHUNK)))
-        if key in seen:
-            raise MergeError(f"{path} and {seen[key]} hold the same samples (seed {key[0]}, "
-                             f"chunk {key[1]}): render each chunk with its own --chunk index")
-        seen[key] = path
+        for key in _chunks(img.metadata):
+            if key in seen:
+                raise MergeError(f"{path} and {seen[key]} hold the same samples (seed "
+                                 f"{key[0]}, chunk {key[1]}): render each chunk with its own "
+                                 f"--chunk index (or seed)")
+            seen[key] = path
     return spps
 
 

@@ -68,6 +68,8 @@ def test_merge_weights_by_samples_every_pass(tmp_path):
     m2 = exr.read_exr(out2)
     want = (16 * a[names[0]].astype(np.float64) + 48 * b[names[0]] + 64 * a[names[0]]) / 128
     np.testing.assert_allclose(m2.channels[names[0]], want, rtol=1e-6, atol=1e-7)
+    # ...but not with a chunk it already holds
+    assert cli.main(["merge", str(out), str(pb), "-o", str(tmp_path / "m3.exr")]) == 1
 
 
 def test_merge_refuses_with_a_reason(tmp_path, capsys):
