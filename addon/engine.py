@@ -321,10 +321,20 @@ def _snapshot(scene, lantern):
     return copy
 
 
-def _new_session(engine, state, lantern, settings, view):
+def _new_session(engine, state, lantern, settings, view, patch=None, moved=True):
+    """Build the session in the refining thread. `patch`: a running session whose scene
+    differs in its materials only: it takes them in place (colours, roughness, ...: no scene
+    rebuild, no BVH build) when their emission, alpha and textures stay."""
     scene, kwargs = _snapshot(state.sync.scene, lantern), settings.session_settings()
-    state.start_session(None, settings.preview_samples, _coarse(view),
-                        make=lambda: lantern.Session(scene, **kwargs))
+
+    def make():
+        if patch is not None and _update(patch, "update_materials", scene.materials,
+                                         scene.textures) and (
+                not moved or _update(patch, "update_camera", scene.film, scene.camera)):
+            state.material_updates += 1
+            return patch
+        return lantern.Session(scene, **kwargs)
+    state.start_session(None, settings.preview_samples, _coarse(view), make=make)
 
 
 def _report_new_warnings(engine, state):
@@ -346,17 +356,10 @@ def _sync_viewport(engine, context, depsgraph, view, key):
         report = ExportReport()
         todo = state.sync.sync(depsgraph, view, report)
         _report_warnings(engine, report.messages)
-        scene, moved = state.sync.scene, key != state.view_key
+        moved = key != state.view_key
         state.view_key, state.error = key, None
-        # materials edited in place (colours, roughness, ...): the running session takes them
-        # without rebuilding its scene, when their emission, alpha and textures stay
-        if (session is not None and todo.flags & ~VIEW == MATERIALS
-                and _update(session, "update_materials", scene.materials, scene.textures)
-                and (not moved or _update(session, "update_camera", scene.film, scene.camera))):
-            state.material_updates += 1
-            state.start_session(session, settings.preview_samples, _coarse(view))
-        else:
-            _new_session(engine, state, lantern, settings, view)
+        patch = session if todo.flags & ~VIEW == MATERIALS else None
+        _new_session(engine, state, lantern, settings, view, patch, moved)
     elif key != state.view_key:  # only the view moved: the same scene, a new camera
         state.pause()
         scene = state.sync.scene
