@@ -132,3 +132,36 @@ def test_data_passes_declared_and_filled_per_layer(empty, tmp_path, errors):
     assert not out[("ViewLayer", "Emission")].any()
     assert {p for (layer, p) in out if layer == "Plain"} == {"Combined"}
     assert not [c for c in errors if c[0] == "ERROR"]
+
+
+def _spp_rendered(capfd):
+    out = capfd.readouterr().out
+    line = [ln for ln in out.splitlines() if ln.startswith("Lantern: ") and " spp in " in ln][-1]
+    return int(line.split()[1]), "noise threshold reached" in line
+
+
+def test_noise_threshold_stops_a_converged_frame(empty, tmp_path, capfd):
+    """An emitter filling the view has no noise: the render stops at the first check."""
+    add_camera(empty, location=(0, 0, 5))
+    add_plane(empty, size=100.0, material=emission_material(1.0))
+    s = empty.lantern
+    s.samples, s.use_adaptive_sampling, s.adaptive_threshold, s.adaptive_min_samples = \
+        512, True, 0.01, 8
+    assert bpy.ops.render.render() == {"FINISHED"}
+    assert _spp_rendered(capfd) == (8, True)
+
+
+def test_noise_threshold_keeps_a_noisy_frame_going(empty, tmp_path, capfd):
+    add_camera(empty, location=(0, 0, 5))
+    mat, _ = shader_material("Grey", "ShaderNodeBsdfDiffuse", Color=(0.5, 0.5, 0.5, 1))
+    add_plane(empty, size=100.0, material=mat)
+    lamp = bpy.data.lights.new("Lamp", "POINT")
+    lamp.energy = 100.0
+    obj = bpy.data.objects.new("Lamp", lamp)
+    obj.location = (0.5, 0.3, 1.0)
+    empty.collection.objects.link(obj)
+    s = empty.lantern
+    s.samples, s.use_adaptive_sampling, s.adaptive_threshold, s.adaptive_min_samples = \
+        24, True, 0.0001, 4
+    assert bpy.ops.render.render() == {"FINISHED"}
+    assert _spp_rendered(capfd) == (24, False)
