@@ -154,7 +154,9 @@ def render(engine, depsgraph):
         if wanted:
             engine.update_stats("", f"Lantern: data passes of {view_layer.name}")
             from lantern.aov import render_aovs
-            aovs = render_aovs(scene, spp=min(max(1, target), 64), seed=settings.seed,
+            # camera rays only (cheap): at least 16 per pixel, so that the denoiser's features
+            # are smooth even when the image has few samples; at most 64
+            aovs = render_aovs(scene, spp=min(max(16, target), 64), seed=settings.seed,
                                threads=settings.threads)
             _warn_once(engine, [w for w in aovs.pop("warnings", []) if w not in
                                 session.warnings])

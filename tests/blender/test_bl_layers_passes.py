@@ -123,8 +123,8 @@ def test_data_passes_declared_and_filled_per_layer(empty, tmp_path, errors):
     out = render_passes(empty, tmp_path / "passes.exr")
     shape = (24, 32)
     np.testing.assert_allclose(out[("ViewLayer", "Depth")][..., 0], np.full(shape, 5.0), rtol=1e-5)
-    np.testing.assert_allclose(out[("ViewLayer", "Normal")], np.broadcast_to([0, 0, 1], shape + (3,)),
-                               atol=1e-6)
+    np.testing.assert_allclose(out[("ViewLayer", "Normal")],
+                               np.broadcast_to([0, 0, 1], shape + (3,)), atol=1e-6)
     np.testing.assert_allclose(out[("ViewLayer", "Denoising Normal")],
                                np.broadcast_to([0, 0, -1], shape + (3,)), atol=1e-6)
     np.testing.assert_allclose(out[("ViewLayer", "Diffuse Color")], 0.5, rtol=1e-5)

@@ -109,7 +109,8 @@ void sample_pixel(const SceneView& s, const CpuBackend& accel, const CameraAxes&
 }  // namespace
 
 AovImages render_aovs(const SceneInput& in, const AovSettings& st) {
-    if (st.spp < 1 || st.spp > 1 << 16) throw std::invalid_argument("AOV spp must be in [1, 65536]");
+    if (st.spp < 1 || st.spp > 1 << 16)
+        throw std::invalid_argument("AOV spp must be in [1, 65536]");
     AovImages out;
     HostScene scene(in);
     out.warnings = scene.warnings();

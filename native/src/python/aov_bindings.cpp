@@ -39,7 +39,8 @@ void bind_aovs(nb::module_& m, SceneInput (*to_input)(const nb::dict&)) {
             if (settings.contains("seed")) st.seed = nb::cast<uint64_t>(settings["seed"]);
             if (settings.contains("threads")) st.threads = nb::cast<int>(settings["threads"]);
         } catch (const nb::cast_error& e) {
-            throw nb::value_error((std::string("invalid scene or AOV settings: ") + e.what()).c_str());
+            const std::string what = std::string("invalid scene or AOV settings: ") + e.what();
+            throw nb::value_error(what.c_str());
         }
         AovImages img;
         try {
