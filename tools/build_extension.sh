@@ -8,7 +8,8 @@
 #      tool (blender_ext.py build, from the bpy in the venv).
 # Environment: PYTHON (default .venv/bin/python, else the shared venv), LANTERN_CUDA=OFF|ON|AUTO
 # (default OFF: a CPU-only core; ON needs nvcc; the CUDA runtime is linked statically, see
-# docs/extension.md), LANTERN_CUDA_ARCHS (default 90; releases: "75;80;86;89;90-real;90-virtual").
+# docs/extension.md), LANTERN_CUDA_ARCHS (default 90; releases: "75;80;86;89;90-real;90-virtual"),
+# LANTERN_EXT_BUILD (the build folder; default build/ext, build/ext-cuda with CUDA on).
 # Prints the path of the zip on its last line.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -33,14 +34,16 @@ fi
 # ---- 1. the wheel ----
 cuda=${LANTERN_CUDA:-OFF}
 archs=${LANTERN_CUDA_ARCHS:-90}
-wheeldir=build/ext/wheelhouse
+build=${LANTERN_EXT_BUILD:-build/ext}
+[ "$cuda" != "OFF" ] && [ -z "${LANTERN_EXT_BUILD:-}" ] && build=build/ext-cuda
+wheeldir=$build/wheelhouse
 rm -rf "$wheeldir"
 mkdir -p "$wheeldir"
-log=build/ext/wheel.log
+log=$build/wheel.log
 echo "build_extension: building the lantern wheel (CUDA $cuda; log in $log)"
 export CMAKE_BUILD_PARALLEL_LEVEL=${CMAKE_BUILD_PARALLEL_LEVEL:-$(nproc)}
 if ! "$py" -m pip wheel . --no-build-isolation --no-deps -w "$wheeldir" \
-    -C build-dir="$root/build/ext/cmake" \
+    -C build-dir="$root/$build/cmake" \
     -C cmake.define.LANTERN_BUILD_TESTS=OFF \
     -C cmake.define.LANTERN_CUDA="$cuda" \
     -C cmake.define.CMAKE_CUDA_ARCHITECTURES="$archs" \
@@ -76,8 +79,8 @@ case "$tag" in
 esac
 
 # ---- 2. the staged extension ----
-stage=build/ext/stage/lantern
-rm -rf build/ext/stage
+stage=$build/stage/lantern
+rm -rf "$build/stage"
 mkdir -p "$stage/wheels"
 git ls-files -co --exclude-standard -- addon | while read -r f; do
   [ -f "$f" ] || continue
@@ -114,8 +117,8 @@ EOF
 mkdir -p dist
 out="dist/lantern-$version-$platform.zip"
 rm -f "$out"
-"$py" "$ext_tool" build --source-dir "$stage" --output-filepath "$out" >build/ext/zip.log 2>&1 || {
-  cat build/ext/zip.log >&2; exit 1; }
-"$py" "$ext_tool" validate "$out" >>build/ext/zip.log 2>&1 || { cat build/ext/zip.log >&2; exit 1; }
+"$py" "$ext_tool" build --source-dir "$stage" --output-filepath "$out" >"$build/zip.log" 2>&1 || {
+  cat "$build/zip.log" >&2; exit 1; }
+"$py" "$ext_tool" validate "$out" >>"$build/zip.log" 2>&1 || { cat "$build/zip.log" >&2; exit 1; }
 echo "build_extension: $wheel_name ($platform) in"
 echo "$root/$out"
