@@ -150,17 +150,8 @@ def render(engine, depsgraph):
         if len(layer.passes["Combined"].rect) != width * height:
             raise RuntimeError(f"the render result is {len(layer.passes['Combined'].rect)} "
                                f"pixels, Lantern's film {width} x {height}")
-        wanted = [p[0] for p in passes.enabled_passes(view_layer)]
-        if wanted:
-            engine.update_stats("", f"Lantern: data passes of {view_layer.name}")
-            from lantern.aov import render_aovs
-            # camera rays only (cheap): at least 16 per pixel, so that the denoiser's features
-            # are smooth even when the image has few samples; at most 64
-            aovs = render_aovs(scene, spp=min(max(16, target), 64), seed=settings.seed,
-                               threads=settings.threads)
-            _warn_once(engine, [w for w in aovs.pop("warnings", []) if w not in
-                                session.warnings])
-            passes.write_data_passes(layer, aovs)
+        if passes.enabled_passes(view_layer):
+            _data_passes(engine, scene, settings, target, layer, session)
             engine.update_result(result)
         noise = None
         if settings.use_adaptive_sampling and not preview:
@@ -171,6 +162,24 @@ def render(engine, depsgraph):
         _report_error(engine, "render failed", e)
     finally:
         engine.end_result(result)
+
+
+def _data_passes(engine, scene, settings, target, layer, session):
+    """Depth, Normal, ... into the result layer; a failure here leaves them empty (said so) and
+    the render goes on."""
+    from . import passes
+    engine.update_stats("", f"Lantern: data passes of {layer.name}")
+    try:
+        from lantern.aov import render_aovs
+        # camera rays only (cheap): at least 16 per pixel, so that the denoiser's features are
+        # smooth even when the image has few samples; at most 64
+        aovs = render_aovs(scene, spp=min(max(16, target), 64), seed=settings.seed,
+                           threads=settings.threads)
+        _warn_once(engine, [w for w in aovs.pop("warnings", []) if w not in session.warnings])
+        passes.write_data_passes(layer, aovs)
+    except Exception as e:  # a warning: the render itself goes on and is fine
+        traceback.print_exc()
+        _warn_once(engine, [f"the data passes (Depth, Normal, ...) failed and stay empty: {e}"])
 
 
 def _render_loop(engine, session, result, target, time_limit, t0, noise=None):

@@ -165,3 +165,21 @@ def test_noise_threshold_keeps_a_noisy_frame_going(empty, tmp_path, capfd):
         24, True, 0.0001, 4
     assert bpy.ops.render.render() == {"FINISHED"}
     assert _spp_rendered(capfd) == (24, False)
+
+
+def test_failing_data_passes_leave_the_render_going(empty, tmp_path, errors, monkeypatch):
+    import lantern.aov
+
+    def broken(*args, **kwargs):
+        raise RuntimeError("no data passes today")
+    monkeypatch.setattr(lantern.aov, "render_aovs", broken)
+    add_camera(empty, location=(0, 0, 5))
+    add_plane(empty, size=100.0, material=emission_material(1.5))
+    empty.view_layers[0].use_pass_z = True
+    empty.lantern.samples = 2
+    out = render_passes(empty, tmp_path / "broken.exr")
+    np.testing.assert_allclose(out[("ViewLayer", "Combined")][..., :3], 1.5, rtol=1e-5)
+    depth = out[("ViewLayer", "Depth")]
+    assert (depth == depth.flat[0]).all() and depth.flat[0] != 5.0  # Blender's untouched default
+    assert [m for kind, m in errors if kind == "WARNING" and "no data passes today" in m]
+    assert not [c for c in errors if c[0] == "ERROR"]
