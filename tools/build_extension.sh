@@ -92,13 +92,21 @@ cp "$wheel" "$stage/wheels/"
 import sys
 path, wheel, platform = sys.argv[1:]
 text = open(path).read()
-if "\nwheels" in text or "\nplatforms" in text:
-    sys.exit("build_extension: addon/blender_manifest.toml already names wheels/platforms; "
-             "the build adds them")
+if "\nwheels" in text or "\nplatforms" in text or "\nblender_version_max" in text:
+    sys.exit("build_extension: addon/blender_manifest.toml already names wheels, platforms or "
+             "blender_version_max; the build adds them")
+# the Blender versions whose Python loads the wheel: 4.2 to 5.0 run Python 3.11, 5.1 runs 3.13
+python_tag = wheel.split("-")[2]
+version_max = {"cp311": "5.1.0"}.get(python_tag)
+if python_tag not in ("cp311", "cp313"):
+    sys.exit(f"build_extension: no Blender release runs Python {python_tag}")
+extra = f'blender_version_max = "{version_max}"\n' if version_max else ""
+if python_tag == "cp313":
+    text = text.replace('blender_version_min = "4.2.0"', 'blender_version_min = "5.1.0"')
 # top-level keys must come before the first [table]
 head, sep, tail = text.partition("\n[")
-head = head.rstrip("\n") + (f'\n\n# added by tools/build_extension.sh\nplatforms = ["{platform}"]\n'
-                            f'wheels = ["./wheels/{wheel}"]\n')
+head = head.rstrip("\n") + (f'\n\n# added by tools/build_extension.sh\n{extra}'
+                            f'platforms = ["{platform}"]\nwheels = ["./wheels/{wheel}"]\n')
 open(path, "w").write(head + (sep + tail if sep else "\n"))
 EOF
 
