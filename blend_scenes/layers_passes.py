@@ -5,7 +5,8 @@ Principled box, a green Diffuse block) lit by a 300 W square area light; 64 x 64
 - collection "Set": floor, back wall, box; collection "Props": the block;
 - view layer "Full" renders both, "NoProps" excludes "Props" (the block's shadow and its
   light bounced onto the floor disappear with it);
-- both layers ask for Depth, Normal and the denoising data (Cycles' and Lantern's switch);
+- both layers ask for Depth, Normal, Diffuse Color, Emission and the denoising data (Cycles'
+  and Lantern's switch);
 - the border (not switched on here) covers x 0.2-0.7, y 0.15-0.65 of the frame.
 
     .venv/bin/python blend_scenes/layers_passes.py [out.blend]"""
@@ -53,6 +54,7 @@ def layers_passes():
     no_props.layer_collection.children["Props"].exclude = True
     for vl in (full, no_props):
         vl.use_pass_z = vl.use_pass_normal = True
+        vl.use_pass_diffuse_color = vl.use_pass_emit = True
         vl.cycles.denoising_store_passes = True
         if hasattr(vl, "lantern"):
             vl.lantern.denoising_store_passes = True

@@ -4,7 +4,8 @@ into multilayer EXRs:
 
 - each view layer's Combined mean within 3% (per channel);
 - Depth within 1% (median relative difference over the pixels both see a surface in);
-- Normal and Denoising Albedo within 0.05 (mean absolute difference over every pixel);
+- Normal and Denoising Albedo within 0.05 (mean absolute difference over every pixel), and so
+  Denoising Normal and Diffuse Color;
 - border renders, crop and no crop, within 3% (mean over the frame they write).
 
 At these sample counts the image means carry about 0.3% of noise (measured: the spread of the
@@ -96,8 +97,13 @@ def test_depth_normal_albedo(renders, layer):
     normal = float(np.abs(lan[layer, "Normal"] - cyc[layer, "Normal"]).mean())
     albedo = float(np.abs(lan[layer, "Denoising Albedo"] - cyc[layer, "Denoising Albedo"]).mean())
     dnormal = float(np.abs(lan[layer, "Denoising Normal"] - cyc[layer, "Denoising Normal"]).mean())
+    diffuse = float(np.abs(lan[layer, "Diffuse Color"] - cyc[layer, "Diffuse Color"]).mean())
+    emission = float(np.abs(lan[layer, "Emission"] - cyc[layer, "Emission"]).mean())
     rc.REPORT.append(f"layers_passes {layer}: Depth median rel {depth:.5f}, Normal mean abs "
-                     f"{normal:.4f}, Denoising Albedo {albedo:.4f}, Denoising Normal {dnormal:.4f}")
+                     f"{normal:.4f}, Denoising Albedo {albedo:.4f}, Denoising Normal {dnormal:.4f}"
+                     f", Diffuse Color {diffuse:.4f}, Emission {emission:.4f}")
+    assert diffuse < 0.05
+    assert emission < 1e-6  # nothing in the scene emits
     assert depth < 0.01
     assert normal < 0.05
     assert albedo < 0.05
