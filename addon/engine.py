@@ -21,8 +21,9 @@ def import_lantern():
         import lantern
     except ImportError as e:
         raise RuntimeError(f"the 'lantern' Python package is not importable in Blender's "
-                           f"Python ({e}); install it (pip install . from the Lantern "
-                           f"repository) into the Python Blender runs") from e
+                           f"Python ({e}); install the extension zip that carries it "
+                           f"(tools/build_extension.sh -> dist/lantern-<version>-<platform>.zip,"
+                           f" docs/extension.md) rather than the bare add-on folder") from e
     return lantern
 
 
