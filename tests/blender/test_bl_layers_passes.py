@@ -183,3 +183,12 @@ def test_failing_data_passes_leave_the_render_going(empty, tmp_path, errors, mon
     assert (depth == depth.flat[0]).all() and depth.flat[0] != 5.0  # Blender's untouched default
     assert [m for kind, m in errors if kind == "WARNING" and "no data passes today" in m]
     assert not [c for c in errors if c[0] == "ERROR"]
+
+
+def test_view_layer_samples_override(empty, capfd):
+    add_camera(empty, location=(0, 0, 5))
+    add_plane(empty, size=100.0, material=emission_material(1.0))
+    empty.lantern.samples = 50
+    empty.view_layers[0].samples = 3
+    assert bpy.ops.render.render() == {"FINISHED"}
+    assert _spp_rendered(capfd) == (3, False)
