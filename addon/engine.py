@@ -23,7 +23,8 @@ def import_lantern():
         raise RuntimeError(f"the 'lantern' Python package is not importable in Blender's "
                            f"Python ({e}); install the extension zip that carries it "
                            f"(tools/build_extension.sh -> dist/lantern-<version>-<platform>.zip,"
-                           f" docs/extension.md) rather than the bare add-on folder") from e
+                           f" docs/extension.md), or pip install . from the Lantern repository "
+                           f"into the Python Blender runs") from e
     return lantern
 
 
