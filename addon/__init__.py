@@ -29,6 +29,10 @@ class LanternRenderEngine(bpy.types.RenderEngine):
     def render(self, depsgraph):
         engine.render(self, depsgraph)
 
+    def update_render_passes(self, scene=None, renderlayer=None):
+        from .passes import register_passes
+        register_passes(self, scene, renderlayer)
+
     def view_update(self, context, depsgraph):
         engine.view_update(self, context, depsgraph)
 

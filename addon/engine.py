@@ -4,6 +4,7 @@ viewport re-exports on change and refines in a background thread that never touc
 Errors never escape into Blender: they are reported with self.report and printed with their
 traceback; a final render keeps whatever image was finished."""
 
+import math
 import threading
 import time
 import traceback
@@ -22,8 +23,10 @@ def import_lantern():
         import lantern
     except ImportError as e:
         raise RuntimeError(f"the 'lantern' Python package is not importable in Blender's "
-                           f"Python ({e}); install it (pip install . from the Lantern "
-                           f"repository) into the Python Blender runs") from e
+                           f"Python ({e}); install the extension zip that carries it "
+                           f"(tools/build_extension.sh -> dist/lantern-<version>-<platform>.zip,"
+                           f" docs/extension.md), or pip install . from the Lantern repository "
+                           f"into the Python Blender runs") from e
     return lantern
 
 
@@ -36,14 +39,14 @@ def _report_error(engine, what, error):
 
 
 def _report_warnings(engine, messages):
+    # engine.report prints to the console itself (background) and shows in the status bar and
+    # the Info editor: one print per warning
     for message in messages:
-        print(f"Lantern warning: {message}")
         engine.report({"WARNING"}, f"Lantern: {message}")
 
 
 def _report_info(engine, message):
-    print(f"Lantern: {message}")
-    engine.report({"INFO"}, f"Lantern: {message}")
+    engine.report({"INFO"}, f"Lantern: {message}")  # printed by report, as warnings
 
 
 def backend_message(session):
@@ -93,29 +96,72 @@ class _Stepper:
 
 # ---- F12 ----
 
+def _final_reported(engine):
+    """Warnings already shown in this F12 render (one RenderEngine serves every view layer)."""
+    state = engine._lantern
+    seen = getattr(state, "final_reported", None)
+    if seen is None:
+        seen = state.final_reported = set()
+    return seen
+
+
+def _warn_once(engine, messages):
+    seen = _final_reported(engine)
+    fresh = [m for m in dict.fromkeys(messages) if m not in seen]
+    seen.update(fresh)
+    if fresh:
+        _report_warnings(engine, fresh)
+
+
 def render(engine, depsgraph):
+    """One view layer (Blender calls render() once per layer, each with its depsgraph): its
+    own result, Combined and the data passes it asks for, on the border when there is one."""
+    from . import final_render, passes
     bscene = depsgraph.scene
+    view_layer = depsgraph.view_layer
     settings = bscene.lantern
     preview = engine.is_preview
     target = settings.preview_samples if preview else settings.samples
+    if not preview and getattr(view_layer, "samples", 0) > 0:
+        target = view_layer.samples  # the view layer's own sample count (0: the scene's)
     time_limit = float(settings.time_limit)
     try:
         lantern = import_lantern()
         from .export import export_scene
-        engine.update_stats("", "Lantern: exporting scene")
+        engine.update_stats("", f"Lantern: exporting {view_layer.name}")
         t0 = time.perf_counter()
         scene, report = export_scene(depsgraph)
-        _report_warnings(engine, report.messages)
+        report.messages.extend(passes.unsupported_pass_warnings(view_layer))
+        full_w, full_h = scene.film["width"], scene.film["height"]
+        rect = final_render.border_rect(bscene.render, full_w, full_h)
+        if rect is not None:
+            final_render.crop_scene(scene, rect)
+        _warn_once(engine, report.messages)
         session = lantern.Session(scene, **settings.session_settings())
-        _report_warnings(engine, session.warnings)  # a CUDA fallback says why here
-        _report_info(engine, backend_message(session))
+        _warn_once(engine, session.warnings)  # a CUDA fallback says why here
+        info = backend_message(session)
+        if ("info", info) not in _final_reported(engine):  # once per render, not per layer
+            _final_reported(engine).add(("info", info))
+            _report_info(engine, info)
     except Exception as e:
         _report_error(engine, "could not start the render", e)
         return
     width, height = scene.film["width"], scene.film["height"]
-    result = engine.begin_result(0, 0, width, height)
+    # coordinates are relative to the border rectangle, which is the result's whole size
+    result = engine.begin_result(0, 0, width, height, layer=view_layer.name)
     try:
-        _render_loop(engine, session, result, target, time_limit, t0)
+        layer = result.layers[0]
+        if len(layer.passes["Combined"].rect) != width * height:
+            raise RuntimeError(f"the render result is {len(layer.passes['Combined'].rect)} "
+                               f"pixels, Lantern's film {width} x {height}")
+        if passes.enabled_passes(view_layer):
+            _data_passes(engine, scene, settings, target, layer, session)
+            engine.update_result(result)
+        noise = None
+        if settings.use_adaptive_sampling and not preview:
+            noise = final_render.NoiseCheck(settings.adaptive_threshold,
+                                            settings.adaptive_min_samples)
+        _render_loop(engine, session, result, target, time_limit, t0, noise)
     except Exception as e:
         _report_error(engine, "render failed", e)
     finally:
@@ -123,9 +169,28 @@ def render(engine, depsgraph):
         farm.stamp_chunk(engine, scene, session, settings)  # samples and scene, for merges
 
 
-def _render_loop(engine, session, result, target, time_limit, t0):
+def _data_passes(engine, scene, settings, target, layer, session):
+    """Depth, Normal, ... into the result layer; a failure here leaves them empty (said so) and
+    the render goes on."""
+    from . import passes
+    engine.update_stats("", f"Lantern: data passes of {layer.name}")
+    try:
+        from lantern.aov import render_aovs
+        # camera rays only (cheap): at least 16 per pixel, so that the denoiser's features are
+        # smooth even when the image has few samples; at most 64
+        aovs = render_aovs(scene, spp=min(max(16, target), 64), seed=settings.seed,
+                           threads=settings.threads)
+        _warn_once(engine, [w for w in aovs.pop("warnings", []) if w not in session.warnings])
+        passes.write_data_passes(layer, aovs)
+    except Exception as e:  # a warning: the render itself goes on and is fine
+        traceback.print_exc()
+        _warn_once(engine, [f"the data passes (Depth, Normal, ...) failed and stay empty: {e}"])
+
+
+def _render_loop(engine, session, result, target, time_limit, t0, noise=None):
     stepper = _Stepper(session)
     start = time.perf_counter()
+    converged = False
     while session.spp < max(1, target):
         before = session.spp
         stepper.start_step()
@@ -137,17 +202,25 @@ def _render_loop(engine, session, result, target, time_limit, t0):
         if stepper.error is not None:
             raise stepper.error
         if session.spp > before:
-            _write_result(engine, result, session.image())
+            image = session.image()
+            _write_result(engine, result, image)
+            if noise is not None:
+                converged = noise.add(image, session.spp)
         elapsed = time.perf_counter() - start
         stats = session.stats
         mrays = stats.get("rays_total", 0) / max(elapsed, 1e-9) / 1e6
+        noise_text = "" if noise is None or not math.isfinite(noise.error) else \
+            f" | noise {noise.error:.4f}/{noise.threshold:g}"
         engine.update_stats("", f"Sample {session.spp}/{target} | {elapsed:.1f} s | "
-                                f"{mrays:.1f} Mrays/s | {getattr(session, 'backend', 'cpu')}")
+                                f"{mrays:.1f} Mrays/s | {getattr(session, 'backend', 'cpu')}"
+                                f"{noise_text}")
         engine.update_progress(min(1.0, session.spp / max(1, target)))
-        if cancelled or session.spp <= before or engine.test_break() or _past(time_limit, start):
+        if cancelled or converged or session.spp <= before or engine.test_break() or \
+                _past(time_limit, start):
             break
+    why = " (noise threshold reached)" if converged else ""
     print(f"Lantern: {session.spp} spp in {time.perf_counter() - start:.2f} s on "
-          f"{getattr(session, 'backend', 'cpu')} (export and set-up {start - t0:.2f} s)")
+          f"{getattr(session, 'backend', 'cpu')}{why} (export and set-up {start - t0:.2f} s)")
 
 
 def _past(time_limit, start):

@@ -48,6 +48,18 @@ class LanternSceneSettings(bpy.types.PropertyGroup):
     spp_per_iteration: IntProperty(name="Samples per Iteration", default=1, min=1, max=4096)
     threads: IntProperty(name="Threads", description="CPU threads (0: all cores)", default=0,
                          min=0, max=1024)
+    use_adaptive_sampling: BoolProperty(
+        name="Noise Threshold", description="Stop a final render early once the noise is below "
+        "the threshold (Cycles' meaning: the relative error of each pixel's value)",
+        default=False)
+    adaptive_threshold: FloatProperty(
+        name="Noise Threshold", description="Relative standard error, per pixel, below which "
+        "the render stops (0.01 as Cycles' default); checked on the pixels' own sample "
+        "variance, estimated from two halves of the samples", default=0.01, min=0.0001,
+        max=1.0, precision=4, step=0.1)
+    adaptive_min_samples: IntProperty(
+        name="Min Samples", description="Samples before the noise is first checked (0: "
+        "automatic, as Cycles: enough for a stable estimate)", default=0, min=0, max=4096)
 
     def session_settings(self, preview=False):
         """Keyword arguments for lantern.Session."""
@@ -58,11 +70,30 @@ class LanternSceneSettings(bpy.types.PropertyGroup):
                 "sort": {"auto": None, "on": True, "off": False}[self.sort]}
 
 
+class LanternViewLayerSettings(bpy.types.PropertyGroup):
+    denoising_store_passes: BoolProperty(
+        name="Denoising Data", description="Write Denoising Albedo, Denoising Normal and "
+        "Denoising Depth (Cycles' names), for the compositor's Denoise node. Cycles' own "
+        "Denoising Data setting of the view layer turns them on too", default=False)
+
+
+def denoising_passes_enabled(view_layer):
+    """Lantern's Denoising Data switch of the view layer, or Cycles' (an artist's existing
+    compositor set-up keeps its inputs when the engine changes)."""
+    own = getattr(getattr(view_layer, "lantern", None), "denoising_store_passes", False)
+    cycles = getattr(getattr(view_layer, "cycles", None), "denoising_store_passes", False)
+    return bool(own or cycles)
+
+
 def register():
     bpy.utils.register_class(LanternSceneSettings)
+    bpy.utils.register_class(LanternViewLayerSettings)
     bpy.types.Scene.lantern = PointerProperty(type=LanternSceneSettings)
+    bpy.types.ViewLayer.lantern = PointerProperty(type=LanternViewLayerSettings)
 
 
 def unregister():
+    del bpy.types.ViewLayer.lantern
     del bpy.types.Scene.lantern
+    bpy.utils.unregister_class(LanternViewLayerSettings)
     bpy.utils.unregister_class(LanternSceneSettings)

@@ -65,6 +65,59 @@ class LANTERN_PT_render(bpy.types.Panel):
         col.prop(s, "threads")
 
 
+class LANTERN_PT_sampling_noise(bpy.types.Panel):
+    bl_label = "Noise Threshold"
+    bl_space_type = "PROPERTIES"
+    bl_region_type = "WINDOW"
+    bl_context = "render"
+    bl_parent_id = "LANTERN_PT_render"
+    COMPAT_ENGINES = {ENGINE}
+
+    @classmethod
+    def poll(cls, context):
+        return context.engine in cls.COMPAT_ENGINES
+
+    def draw_header(self, context):
+        self.layout.prop(context.scene.lantern, "use_adaptive_sampling", text="")
+
+    def draw(self, context):
+        s = context.scene.lantern
+        layout = self.layout
+        layout.use_property_split = True
+        layout.active = s.use_adaptive_sampling
+        col = layout.column(align=True)
+        col.prop(s, "adaptive_threshold", text="Threshold")
+        col.prop(s, "adaptive_min_samples")
+
+
+class LANTERN_PT_layer_passes(bpy.types.Panel):
+    """The passes Lantern writes, with Cycles' names (Cycles' own panels stay hidden)."""
+    bl_label = "Passes"
+    bl_space_type = "PROPERTIES"
+    bl_region_type = "WINDOW"
+    bl_context = "view_layer"
+    COMPAT_ENGINES = {ENGINE}
+
+    @classmethod
+    def poll(cls, context):
+        return context.engine in cls.COMPAT_ENGINES
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        layout.use_property_decorate = False
+        vl = context.view_layer
+        col = layout.column(heading="Data", align=True)
+        col.prop(vl, "use_pass_combined")
+        col.prop(vl, "use_pass_z")
+        col.prop(vl, "use_pass_normal")
+        col = layout.column(heading="Light", align=True)
+        col.prop(vl, "use_pass_diffuse_color", text="Diffuse Color")
+        col.prop(vl, "use_pass_emit", text="Emission")
+        col = layout.column(heading="Denoising", align=True)
+        col.prop(vl.lantern, "denoising_store_passes")
+
+
 class LANTERN_PT_object_visibility(bpy.types.Panel):
     bl_label = "Ray Visibility (Lantern)"
     bl_space_type = "PROPERTIES"
@@ -110,6 +163,8 @@ def _compatible_panels():
 
 def register():
     bpy.utils.register_class(LANTERN_PT_render)
+    bpy.utils.register_class(LANTERN_PT_sampling_noise)
+    bpy.utils.register_class(LANTERN_PT_layer_passes)
     bpy.utils.register_class(LANTERN_PT_object_visibility)
     for panel in _compatible_panels():
         if ENGINE not in panel.COMPAT_ENGINES:
@@ -122,4 +177,6 @@ def unregister():
         panel.COMPAT_ENGINES.discard(ENGINE)
     _patched.clear()
     bpy.utils.unregister_class(LANTERN_PT_object_visibility)
+    bpy.utils.unregister_class(LANTERN_PT_layer_passes)
+    bpy.utils.unregister_class(LANTERN_PT_sampling_noise)
     bpy.utils.unregister_class(LANTERN_PT_render)

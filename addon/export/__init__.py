@@ -5,6 +5,7 @@ from .camera import export_camera, export_film
 from .light import export_light
 from .material import MaterialTable
 from .mesh import MeshExporter
+from .unsupported import UnsupportedFeatures
 from .world import export_world
 
 __all__ = ["export_scene", "ExportReport"]
@@ -43,8 +44,13 @@ def export_scene(depsgraph, region_view=None, report=None, texture_cache=None):
     scene.world = export_world(bscene.world, report)
     materials = MaterialTable(report, texture_cache)
     meshes = MeshExporter(materials, report)
+    features = UnsupportedFeatures(report)
+    features.scene(depsgraph)
     for inst in depsgraph.object_instances:
         obj = inst.object
+        if not inst.show_self:  # an instancer hidden for render (show_instancer_for_render)
+            continue
+        features.object(obj)
         if obj.type == "LIGHT":
             light = export_light(obj, inst.matrix_world, report)
             if light is not None:
@@ -53,6 +59,8 @@ def export_scene(depsgraph, region_view=None, report=None, texture_cache=None):
             mesh = meshes.export(inst)
             if mesh is not None:
                 scene.meshes.append(mesh)
+            else:
+                features.hair_curves_without_mesh(obj)
     meshes.clear()
     scene.materials = materials.materials
     scene.textures = materials.textures

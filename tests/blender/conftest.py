@@ -9,6 +9,10 @@ import pytest
 bpy = pytest.importorskip("bpy")
 
 ADDON = Path(__file__).resolve().parents[2] / "addon"
+# the checkout's lantern package when it has its own native core (else the installed one)
+_SRC = Path(__file__).resolve().parents[2] / "python"
+if list((_SRC / "lantern").glob("_core*")) and str(_SRC) not in sys.path:
+    sys.path.insert(0, str(_SRC))
 
 
 def _load_addon():

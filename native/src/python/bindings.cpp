@@ -17,6 +17,10 @@
 namespace nb = nanobind;
 using namespace lantern;
 
+namespace lantern {
+void bind_aovs(nb::module_& m, SceneInput (*to_input)(const nb::dict&));  // aov_bindings.cpp
+}
+
 namespace {
 
 bool has(const nb::dict& d, const char* k) { return d.contains(k) && !d[k].is_none(); }
@@ -268,6 +272,7 @@ void init_session(Session* self, const nb::dict& scene, const nb::dict& settings
 
 NB_MODULE(_core, m) {
     m.doc() = "Lantern's native core (CPU and CUDA backends).";
+    bind_aovs(m, &to_input);
     m.def("embree_available", &embree_available);
     m.def("embree_version", &embree_version);
     m.def("cuda_info", []() {

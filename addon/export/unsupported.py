@@ -1,0 +1,147 @@
+"""Scene features Lantern does not render, each named in one warning (object, material, light,
+world, view layer or render setting, and the feature), never dropped silently. Shader nodes are
+material.py's, the world's surface and the camera world.py's / camera.py's; this file covers
+the rest. Every check reads settings only (cheap), once per datablock per export."""
+
+# ray-visibility switches Lantern does not honour (Camera and Shadow it does)
+_RAY_VISIBILITY = (("visible_diffuse", "Diffuse"), ("visible_glossy", "Glossy"),
+                   ("visible_transmission", "Transmission"),
+                   ("visible_volume_scatter", "Volume Scatter"))
+
+# object types that have no surface Lantern renders
+_NO_SURFACE = {"VOLUME": "volume objects (OpenVDB) are not rendered",
+               "POINTCLOUD": "point clouds are not rendered",
+               "GREASEPENCIL": "Grease Pencil strokes are not rendered",
+               "GPENCIL": "Grease Pencil strokes are not rendered"}
+
+
+def _linked(node_tree, output_type, socket):
+    """Whether the active output node of `output_type` has `socket` linked."""
+    if node_tree is None:
+        return False
+    outputs = [n for n in node_tree.nodes if n.type == output_type]
+    active = [n for n in outputs if getattr(n, "is_active_output", False)] or outputs
+    for node in active[:1]:
+        s = node.inputs.get(socket)
+        if s is not None and s.is_linked:
+            return True
+    return False
+
+
+class UnsupportedFeatures:
+    """Collects the warnings of one export into `report`, each datablock checked once."""
+
+    def __init__(self, report):
+        self.report = report
+        self._seen = set()
+
+    def _once(self, key):
+        if key in self._seen:
+            return False
+        self._seen.add(key)
+        return True
+
+    # ---- the scene, its render settings and the view layer ----
+    def scene(self, depsgraph):
+        scene, layer = depsgraph.scene_eval, depsgraph.view_layer_eval
+        r = scene.render
+        warn = self.report.warn
+        if r.use_motion_blur:
+            warn("Render settings: motion blur is not rendered (every object at the current "
+                 "frame)")
+        if getattr(r, "use_multiview", False):
+            warn("Render settings: stereoscopy / multi-view is not rendered (one view)")
+        if getattr(r, "use_freestyle", False) and getattr(layer, "use_freestyle", True):
+            warn(f"View layer '{layer.name}': Freestyle lines are not rendered")
+        if getattr(layer, "material_override", None) is not None:
+            warn(f"View layer '{layer.name}': the material override "
+                 f"'{layer.material_override.name}' is not applied (own materials render)")
+        for attr, what in (("use_solid", "Surfaces"), ("use_sky", "Environment")):
+            if not getattr(layer, attr, True):
+                warn(f"View layer '{layer.name}': the filter '{what}' switched off is not "
+                     f"honoured ({what.lower()} render)")
+        self._layer_collections(layer, layer.layer_collection)
+        self.world(scene.world)
+
+    def _layer_collections(self, layer, lc):
+        for child in lc.children:
+            if child.exclude:
+                continue
+            if child.holdout:
+                self.report.warn(f"View layer '{layer.name}': collection '{child.name}' is a "
+                                 "holdout, which Lantern does not render (it renders normally)")
+            if child.indirect_only:
+                self.report.warn(f"View layer '{layer.name}': collection '{child.name}' is "
+                                 "Indirect Only, which Lantern does not render (it renders "
+                                 "normally)")
+            self._layer_collections(layer, child)
+
+    def world(self, world):
+        if world is not None and self._once(("world", world.name)) and \
+                _linked(world.node_tree, "OUTPUT_WORLD", "Volume"):
+            self.report.warn(f"World '{world.name}': world volume is not rendered")
+
+    # ---- objects ----
+    def object(self, obj):
+        """Every evaluated object the depsgraph instances (checked once per name)."""
+        if not self._once(("object", obj.name)):
+            return
+        warn = self.report.warn
+        what = _NO_SURFACE.get(obj.type)
+        if what:
+            warn(f"Object '{obj.name}': {what}")
+        off = [label for attr, label in _RAY_VISIBILITY if not getattr(obj, attr, True)]
+        if off:
+            warn(f"Object '{obj.name}': ray visibility off for {', '.join(off)} rays is not "
+                 "honoured (only Camera and Shadow are)")
+        surface = obj.type not in {"LIGHT", "CAMERA", "EMPTY"}
+        if surface and getattr(obj, "is_holdout", False):
+            warn(f"Object '{obj.name}': holdout is not rendered (it renders normally)")
+        if surface and getattr(obj, "is_shadow_catcher", False):
+            warn(f"Object '{obj.name}': shadow catcher is not rendered (it renders normally)")
+        ll = getattr(obj, "light_linking", None)
+        if ll is not None and (ll.receiver_collection is not None or
+                               ll.blocker_collection is not None):
+            kind = "light linking" if ll.receiver_collection is not None else "shadow linking"
+            if ll.receiver_collection is not None and ll.blocker_collection is not None:
+                kind = "light and shadow linking"
+            warn(f"Object '{obj.name}': {kind} is not rendered (it lights and shadows "
+                 "everything)")
+        for psys in getattr(obj, "particle_systems", ()):
+            s = psys.settings
+            if s.type == "HAIR" and s.render_type == "PATH":
+                warn(f"Object '{obj.name}': particle hair ('{psys.name}') is not rendered")
+        if obj.type == "LIGHT":
+            self._light(obj)
+        for slot in getattr(obj, "material_slots", ()):
+            if slot.material is not None:
+                self.material(slot.material)
+
+    def hair_curves_without_mesh(self, obj):
+        if obj.type == "CURVES" and self._once(("curves", obj.name)):
+            self.report.warn(f"Object '{obj.name}': hair curves are not rendered")
+
+    def _light(self, obj):
+        light, warn = obj.data, self.report.warn
+        if not getattr(light, "use_shadow", True):
+            warn(f"Light '{obj.name}': 'Cast Shadow' off is not honoured (it casts shadows)")
+        tree = getattr(light, "node_tree", None)
+        if getattr(light, "use_nodes", False) and tree is not None:
+            if any(n.type == "TEX_IES" for n in tree.nodes):
+                warn(f"Light '{obj.name}': IES profiles are not rendered")
+            warn(f"Light '{obj.name}': light node trees are not rendered (the light uses its "
+                 "Color and Power)")
+
+    # ---- materials ----
+    def material(self, mat):
+        if not self._once(("material", mat.name)):
+            return
+        tree = mat.node_tree
+        if _linked(tree, "OUTPUT_MATERIAL", "Volume"):
+            surface = _linked(tree, "OUTPUT_MATERIAL", "Surface")
+            tail = "" if surface else "; without a Surface it renders as a black surface"
+            self.report.warn(f"Material '{mat.name}': volumes are not rendered (the Volume "
+                             f"output is ignored{tail})")
+        if _linked(tree, "OUTPUT_MATERIAL", "Displacement"):
+            self.report.warn(f"Material '{mat.name}': Displacement (and bump through the "
+                             "Displacement output) is not rendered")

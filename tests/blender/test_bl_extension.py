@@ -1,0 +1,128 @@
+"""The extension as a user gets it: tools/build_extension.sh's zip, installed with
+bpy.ops.extensions.package_install_files into a clean user folder, in a Blender (bpy) process
+that cannot see the checkout's `lantern` (nor one installed in the venv), then F12.
+
+The zip is built once per session and reused while it is newer than every source it holds
+(native/, python/lantern/, addon/, the build files), so CI pays for the native build only when
+the core changed."""
+
+import json
+import os
+import subprocess
+import sys
+import textwrap
+import tomllib
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+SOURCES = ("native", "python/lantern", "addon", "CMakeLists.txt", "pyproject.toml",
+           "tools/build_extension.sh")
+
+
+def _newest_source():
+    newest = 0.0
+    for rel in SOURCES:
+        p = ROOT / rel
+        paths = [p] if p.is_file() else [q for q in p.rglob("*") if q.is_file()]
+        for q in paths:
+            if "__pycache__" in q.parts or q.name.startswith("_core"):
+                continue
+            newest = max(newest, q.stat().st_mtime)
+    return newest
+
+
+@pytest.fixture(scope="session")
+def extension_zip():
+    version = tomllib.loads((ROOT / "addon/blender_manifest.toml").read_text())["version"]
+    zip_path = ROOT / "dist" / f"lantern-{version}-linux-x64.zip"
+    if not zip_path.exists() or zip_path.stat().st_mtime < _newest_source():
+        env = dict(os.environ, PYTHON=sys.executable)
+        run = subprocess.run(["bash", str(ROOT / "tools/build_extension.sh")], cwd=ROOT, env=env,
+                             capture_output=True, text=True, timeout=3600)
+        assert run.returncode == 0, f"build_extension.sh failed:\n{run.stdout}\n{run.stderr}"
+        assert run.stdout.strip().splitlines()[-1] == str(zip_path)
+    return zip_path
+
+
+# Runs in a fresh interpreter. The finder below lets `import lantern` find only the copy the
+# extension installed under BLENDER_USER_EXTENSIONS.
+_CHILD = textwrap.dedent(r'''
+    import importlib.machinery, json, os, sys
+    user_ext = os.path.realpath(os.environ["BLENDER_USER_EXTENSIONS"])
+
+    class OnlyTheExtensionsLantern:
+        @staticmethod
+        def find_spec(name, path=None, target=None):
+            if name != "lantern":
+                return None
+            dirs = [p for p in sys.path if os.path.realpath(p or ".").startswith(user_ext)]
+            spec = importlib.machinery.PathFinder.find_spec(name, dirs)
+            if spec is None:
+                raise ModuleNotFoundError("lantern is hidden outside the extensions folder")
+            return spec
+
+    sys.meta_path.insert(0, OnlyTheExtensionsLantern)
+    import bpy
+    out = {}
+    zip_path, exr = sys.argv[1], sys.argv[2]
+    bpy.ops.wm.read_factory_settings(use_empty=False)
+    res = bpy.ops.extensions.package_install_files(filepath=zip_path, repo="user_default",
+                                                   enable_on_install=True)
+    out["install"] = sorted(res)
+    out["addons"] = sorted(a.module for a in bpy.context.preferences.addons)
+    import lantern
+    out["lantern_file"] = os.path.realpath(lantern.__file__)
+    out["native"] = lantern.native_available()
+    scene = bpy.context.scene
+    scene.render.engine = "LANTERN"
+    scene.render.resolution_x, scene.render.resolution_y = 40, 30
+    scene.render.resolution_percentage = 100
+    scene.lantern.samples = 4
+    scene.lantern.backend = "cpu"
+    scene.render.filepath = exr
+    scene.render.image_settings.file_format = "OPEN_EXR"
+    scene.render.image_settings.color_depth = "32"
+    out["render"] = sorted(bpy.ops.render.render(write_still=True))
+    world = scene.world.node_tree.nodes["Background"].inputs
+    out["world"] = [c * world["Strength"].default_value for c in world["Color"].default_value[:3]]
+    print("RESULT " + json.dumps(out))
+''')
+
+
+def test_installed_extension_renders_f12(extension_zip, tmp_path):
+    user = tmp_path / "user"
+    env = {k: v for k, v in os.environ.items() if not k.startswith(("PYTHON", "BLENDER_"))}
+    for kind in ("RESOURCES", "CONFIG", "SCRIPTS", "EXTENSIONS", "DATAFILES"):
+        d = user / kind.lower()
+        d.mkdir(parents=True)
+        env[f"BLENDER_USER_{kind}"] = str(d)
+    env["LANTERN_DISABLE_CUDA"] = "1"
+    exr = tmp_path / "f12.exr"
+    run = subprocess.run([sys.executable, "-c", _CHILD, str(extension_zip), str(exr)],
+                         cwd=tmp_path, env=env, capture_output=True, text=True, timeout=600)
+    lines = [ln for ln in run.stdout.splitlines() if ln.startswith("RESULT ")]
+    assert run.returncode == 0 and lines, f"child failed:\n{run.stdout}\n{run.stderr}"
+    out = json.loads(lines[-1][len("RESULT "):])
+    assert out["install"] == ["FINISHED"]
+    assert "bl_ext.user_default.lantern" in out["addons"]
+    assert out["lantern_file"].startswith(os.path.realpath(env["BLENDER_USER_EXTENSIONS"]))
+    assert out["native"] is True
+    assert "Lantern: could not start" not in run.stdout + run.stderr
+    assert "render failed" not in run.stdout + run.stderr
+
+    from multilayer import read_passes
+    px = read_passes(exr)[("", "Combined")][..., :3]
+    assert px.shape == (30, 40, 3)
+    assert np.isfinite(px).all()
+    # the corners see the world only: exactly its colour (a camera ray that misses)
+    world = np.array(out["world"], dtype=np.float32)
+    for corner in (px[0, 0], px[0, -1], px[-1, 0], px[-1, -1]):
+        np.testing.assert_allclose(corner, world, rtol=1e-5)
+    # the default cube, lit by the default point light, fills the centre: much brighter than
+    # the world, and not one flat colour (it has lit and unlit faces)
+    centre = px[10:20, 15:25]
+    assert centre.mean() > 3 * world.mean()
+    assert centre.std() > 0.01

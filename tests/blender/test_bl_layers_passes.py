@@ -1,0 +1,194 @@
+"""F12 with view layers, border renders, the resolution percentage and the data passes, read
+back from a multilayer EXR. Emissive planes give closed-form pixels: an emitter that fills the
+view renders as its emission exactly."""
+
+import bpy
+import numpy as np
+import pytest
+
+import lantern
+from blender_helpers import add_camera, add_plane, emission_material, shader_material
+from multilayer import render_passes
+
+pytestmark = pytest.mark.skipif(not lantern.session.native_available(),
+                                reason="lantern native module not built")
+
+
+def _collection(scene, name):
+    col = bpy.data.collections.new(name)
+    scene.collection.children.link(col)
+    return col
+
+
+def _move(obj, col):
+    for c in list(obj.users_collection):
+        c.objects.unlink(obj)
+    col.objects.link(obj)
+
+
+def test_each_view_layer_renders_its_own_collections(empty, tmp_path, errors):
+    add_camera(empty, location=(0, 0, 5))
+    red = add_plane(empty, size=100.0, material=emission_material(2.0, (1, 0, 0)), name="Red")
+    green = add_plane(empty, size=100.0, location=(0, 0, 1),
+                      material=emission_material(3.0, (0, 1, 0)), name="Green")
+    _move(red, _collection(empty, "RedSet"))
+    _move(green, _collection(empty, "GreenSet"))
+    first = empty.view_layers[0]
+    first.name = "OnlyRed"
+    second = empty.view_layers.new("OnlyGreen")
+    first.layer_collection.children["GreenSet"].exclude = True
+    second.layer_collection.children["RedSet"].exclude = True
+    empty.lantern.samples = 2
+    out = render_passes(empty, tmp_path / "layers.exr")
+    np.testing.assert_allclose(out[("OnlyRed", "Combined")][..., :3],
+                               np.broadcast_to([2, 0, 0], (24, 32, 3)), rtol=1e-5)
+    np.testing.assert_allclose(out[("OnlyGreen", "Combined")][..., :3],
+                               np.broadcast_to([0, 3, 0], (24, 32, 3)), rtol=1e-5)
+    assert not [c for c in errors if c[0] == "ERROR"]
+
+
+def _split_scene(scene):
+    """Left of x = 0.3 red, right of it blue (two emitters side by side), seen from above."""
+    add_camera(scene, location=(0, 0, 5))
+    left = add_plane(scene, size=20.0, location=(-9.7, 0, 0),
+                     material=emission_material(1.0, (1, 0, 0)), name="Left")
+    right = add_plane(scene, size=20.0, location=(10.3, 0, 0),
+                      material=emission_material(1.0, (0, 0, 1)), name="Right")
+    return left, right
+
+
+def test_border_with_and_without_crop(empty, tmp_path, errors):
+    _split_scene(empty)
+    empty.render.resolution_x, empty.render.resolution_y = 40, 30
+    empty.lantern.samples = 8
+    full = render_passes(empty, tmp_path / "full.exr")[("ViewLayer", "Combined")]
+    r = empty.render
+    r.use_border = True
+    r.border_min_x, r.border_max_x, r.border_min_y, r.border_max_y = 0.3, 0.8, 0.1, 0.6
+    x0, x1, y0, y1 = 12, 32, 3, 18          # border * size, truncated (Blender's rule)
+    rows = slice(30 - y1, 30 - y0)           # EXR rows are top first, the border's y from below
+    r.use_crop_to_border = True
+    crop = render_passes(empty, tmp_path / "crop.exr")[("ViewLayer", "Combined")]
+    assert crop.shape[:2] == (y1 - y0, x1 - x0)
+    ref = full[rows, x0:x1]
+    # the same view of the same emitters: equal away from the red/blue edge (filter-blended
+    # there, with its own samples), and the edge column itself within its noise
+    pure = np.abs(ref[..., 0] - ref[..., 2]).min(axis=0) > 1 - 1e-5  # a column of one colour
+    away = np.where(pure)[0]
+    assert len(away) >= (x1 - x0) - 5  # the filter blends about 3 columns at the edge
+    np.testing.assert_allclose(crop[:, away], ref[:, away], rtol=1e-5, atol=1e-6)
+    np.testing.assert_allclose(crop[..., :3].mean(), ref[..., :3].mean(), rtol=0.03)
+    r.use_crop_to_border = False
+    nocrop = render_passes(empty, tmp_path / "nocrop.exr")[("ViewLayer", "Combined")]
+    assert nocrop.shape[:2] == (30, 40)
+    np.testing.assert_allclose(nocrop[rows, x0:x1][:, away], crop[:, away], rtol=1e-5, atol=1e-6)
+    outside = np.ones((30, 40), bool)
+    outside[rows, x0:x1] = False
+    assert not nocrop[outside].any()  # Blender leaves the rest of the frame empty
+    assert not [c for c in errors if c[0] == "ERROR"]
+
+
+def test_resolution_percentage(empty, tmp_path):
+    add_camera(empty, location=(0, 0, 5))
+    add_plane(empty, size=100.0, material=emission_material(1.0))
+    empty.render.resolution_x, empty.render.resolution_y = 64, 48
+    empty.render.resolution_percentage = 25
+    empty.lantern.samples = 1
+    out = render_passes(empty, tmp_path / "pct.exr")
+    assert out[("ViewLayer", "Combined")].shape == (12, 16, 4)
+
+
+def test_data_passes_declared_and_filled_per_layer(empty, tmp_path, errors):
+    add_camera(empty, location=(0, 0, 5))
+    mat, _ = shader_material("Grey", "ShaderNodeBsdfDiffuse", Color=(0.5, 0.5, 0.5, 1))
+    add_plane(empty, size=100.0, material=mat)
+    sun = bpy.data.lights.new("Sun", "SUN")
+    empty.collection.objects.link(bpy.data.objects.new("Sun", sun))
+    first = empty.view_layers[0]
+    first.use_pass_z = first.use_pass_normal = True
+    first.use_pass_diffuse_color = first.use_pass_emit = True
+    first.lantern.denoising_store_passes = True
+    plain = empty.view_layers.new("Plain")
+    # the compositor's Render Layers node shows what update_render_passes declares
+    tree = bpy.data.node_groups.new("Comp", "CompositorNodeTree")
+    empty.compositing_node_group = tree
+    node = tree.nodes.new("CompositorNodeRLayers")
+    node.scene, node.layer = empty, first.name
+    sockets = {o.name for o in node.outputs if o.enabled}
+    assert {"Depth", "Normal", "Diffuse Color", "Emission", "Denoising Albedo",
+            "Denoising Normal", "Denoising Depth"} <= sockets
+    node.layer = plain.name
+    assert "Depth" not in {o.name for o in node.outputs if o.enabled}
+    empty.lantern.samples = 4
+    out = render_passes(empty, tmp_path / "passes.exr")
+    shape = (24, 32)
+    np.testing.assert_allclose(out[("ViewLayer", "Depth")][..., 0], np.full(shape, 5.0), rtol=1e-5)
+    np.testing.assert_allclose(out[("ViewLayer", "Normal")],
+                               np.broadcast_to([0, 0, 1], shape + (3,)), atol=1e-6)
+    np.testing.assert_allclose(out[("ViewLayer", "Denoising Normal")],
+                               np.broadcast_to([0, 0, -1], shape + (3,)), atol=1e-6)
+    np.testing.assert_allclose(out[("ViewLayer", "Diffuse Color")], 0.5, rtol=1e-5)
+    np.testing.assert_allclose(out[("ViewLayer", "Denoising Albedo")], 0.5, rtol=1e-5)
+    assert not out[("ViewLayer", "Emission")].any()
+    assert {p for (layer, p) in out if layer == "Plain"} == {"Combined"}
+    assert not [c for c in errors if c[0] == "ERROR"]
+
+
+def _spp_rendered(capfd):
+    out = capfd.readouterr().out
+    line = [ln for ln in out.splitlines() if ln.startswith("Lantern: ") and " spp in " in ln][-1]
+    return int(line.split()[1]), "noise threshold reached" in line
+
+
+def test_noise_threshold_stops_a_converged_frame(empty, tmp_path, capfd):
+    """An emitter filling the view has no noise: the render stops at the first check."""
+    add_camera(empty, location=(0, 0, 5))
+    add_plane(empty, size=100.0, material=emission_material(1.0))
+    s = empty.lantern
+    s.samples, s.use_adaptive_sampling, s.adaptive_threshold, s.adaptive_min_samples = \
+        512, True, 0.01, 8
+    assert bpy.ops.render.render() == {"FINISHED"}
+    assert _spp_rendered(capfd) == (8, True)
+
+
+def test_noise_threshold_keeps_a_noisy_frame_going(empty, tmp_path, capfd):
+    add_camera(empty, location=(0, 0, 5))
+    mat, _ = shader_material("Grey", "ShaderNodeBsdfDiffuse", Color=(0.5, 0.5, 0.5, 1))
+    add_plane(empty, size=100.0, material=mat)
+    lamp = bpy.data.lights.new("Lamp", "POINT")
+    lamp.energy = 100.0
+    obj = bpy.data.objects.new("Lamp", lamp)
+    obj.location = (0.5, 0.3, 1.0)
+    empty.collection.objects.link(obj)
+    s = empty.lantern
+    s.samples, s.use_adaptive_sampling, s.adaptive_threshold, s.adaptive_min_samples = \
+        24, True, 0.0001, 4
+    assert bpy.ops.render.render() == {"FINISHED"}
+    assert _spp_rendered(capfd) == (24, False)
+
+
+def test_failing_data_passes_leave_the_render_going(empty, tmp_path, errors, monkeypatch):
+    import lantern.aov
+
+    def broken(*args, **kwargs):
+        raise RuntimeError("no data passes today")
+    monkeypatch.setattr(lantern.aov, "render_aovs", broken)
+    add_camera(empty, location=(0, 0, 5))
+    add_plane(empty, size=100.0, material=emission_material(1.5))
+    empty.view_layers[0].use_pass_z = True
+    empty.lantern.samples = 2
+    out = render_passes(empty, tmp_path / "broken.exr")
+    np.testing.assert_allclose(out[("ViewLayer", "Combined")][..., :3], 1.5, rtol=1e-5)
+    depth = out[("ViewLayer", "Depth")]
+    assert (depth == depth.flat[0]).all() and depth.flat[0] != 5.0  # Blender's untouched default
+    assert [m for kind, m in errors if kind == "WARNING" and "no data passes today" in m]
+    assert not [c for c in errors if c[0] == "ERROR"]
+
+
+def test_view_layer_samples_override(empty, capfd):
+    add_camera(empty, location=(0, 0, 5))
+    add_plane(empty, size=100.0, material=emission_material(1.0))
+    empty.lantern.samples = 50
+    empty.view_layers[0].samples = 3
+    assert bpy.ops.render.render() == {"FINISHED"}
+    assert _spp_rendered(capfd) == (3, False)

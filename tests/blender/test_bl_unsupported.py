@@ -1,0 +1,255 @@
+"""Nothing silent: one small scene per scene feature Lantern does not render, each F12 gives
+exactly one warning naming the datablock and the feature; an instancer hidden for render does
+not render; a warning is printed once per render, also with two view layers."""
+
+import bpy
+import numpy as np
+import pytest
+
+import lantern
+from blender_helpers import add_camera, add_plane, emission_material, render_exr
+
+pytestmark = pytest.mark.skipif(not lantern.session.native_available(),
+                                reason="lantern native module not built")
+
+
+def _base(scene):
+    add_camera(scene, location=(0, 0, 5))
+    return add_plane(scene, size=4.0, material=emission_material(1.0), name="Subject")
+
+
+def _material(name, socket, node_type):
+    mat = bpy.data.materials.new(name)
+    nt = mat.node_tree
+    out = nt.nodes["Material Output"]
+    node = nt.nodes.new(node_type)
+    nt.links.new(node.outputs[0], out.inputs[socket])
+    if socket == "Volume":  # a volume only, as a smoke or fog material is
+        nt.nodes.remove(nt.nodes["Principled BSDF"])
+    return mat
+
+
+def _with_material(scene, mat):
+    obj = _base(scene)
+    obj.data.materials.clear()
+    obj.data.materials.append(mat)
+
+
+def _light(scene, name="Lamp"):
+    data = bpy.data.lights.new(name, "POINT")
+    obj = bpy.data.objects.new(name, data)
+    obj.location = (0, 0, 2)
+    scene.collection.objects.link(obj)
+    return obj
+
+
+def motion_blur(s):
+    _base(s)
+    s.render.use_motion_blur = True
+
+
+def volume_material(s):
+    _with_material(s, _material("Fog", "Volume", "ShaderNodeVolumePrincipled"))
+
+
+def displacement(s):
+    _with_material(s, _material("Bumpy", "Displacement", "ShaderNodeDisplacement"))
+
+
+def world_volume(s):
+    _base(s)
+    world = bpy.data.worlds.new("Hazy")
+    nt = world.node_tree
+    vol = nt.nodes.new("ShaderNodeVolumePrincipled")
+    nt.links.new(vol.outputs[0], nt.nodes["World Output"].inputs["Volume"])
+    s.world = world
+
+
+def particle_hair(s):
+    obj = _base(s)
+    mod = obj.modifiers.new("Hair", "PARTICLE_SYSTEM")
+    mod.particle_system.settings.type = "HAIR"
+    mod.particle_system.settings.count = 10
+    mod.particle_system.name = "Fur"
+
+
+def light_linking(s):
+    obj = _base(s)
+    obj.light_linking.receiver_collection = bpy.data.collections.new("Receivers")
+
+
+def shadow_linking(s):
+    obj = _base(s)
+    obj.light_linking.blocker_collection = bpy.data.collections.new("Blockers")
+
+
+def glossy_visibility(s):
+    _base(s).visible_glossy = False
+
+
+def diffuse_visibility(s):
+    _base(s).visible_diffuse = False
+
+
+def light_nodes(s):
+    _base(s)
+    _light(s).data.use_nodes = True
+
+
+def ies(s):
+    _base(s)
+    lamp = _light(s)
+    lamp.data.use_nodes = True
+    lamp.data.node_tree.nodes.new("ShaderNodeTexIES")
+
+
+def no_shadow(s):
+    _base(s)
+    _light(s).data.use_shadow = False
+
+
+def holdout(s):
+    _base(s).is_holdout = True
+
+
+def shadow_catcher(s):
+    _base(s).is_shadow_catcher = True
+
+
+def _object(s, name, data):
+    _base(s)
+    obj = bpy.data.objects.new(name, data)
+    s.collection.objects.link(obj)
+
+
+def volume_object(s):
+    _object(s, "Cloud", bpy.data.volumes.new("Cloud"))
+
+
+def point_cloud(s):
+    _object(s, "Points", bpy.data.pointclouds.new("Points"))
+
+
+def hair_curves(s):
+    _object(s, "Strands", bpy.data.hair_curves.new("Strands"))
+
+
+def material_override(s):
+    _base(s)
+    s.view_layers[0].material_override = bpy.data.materials.new("Clay")
+
+
+def _child_collection(s, name):
+    col = bpy.data.collections.new(name)
+    s.collection.children.link(col)
+    obj = _base(s)
+    s.collection.objects.unlink(obj)
+    col.objects.link(obj)
+    return s.view_layers[0].layer_collection.children[name]
+
+
+def holdout_collection(s):
+    _child_collection(s, "Masked").holdout = True
+
+
+def indirect_only(s):
+    _child_collection(s, "Bounce").indirect_only = True
+
+
+def multiview(s):
+    _base(s)
+    s.render.use_multiview = True
+
+
+def freestyle(s):
+    _base(s)
+    s.render.use_freestyle = True
+
+
+def mist_pass(s):
+    _base(s)
+    s.view_layers[0].use_pass_mist = True
+
+
+def surfaces_filter(s):
+    _base(s)
+    s.view_layers[0].use_solid = False
+
+
+CASES = [  # builder, the name the warning must carry, a word of the feature
+    (motion_blur, "Render settings", "motion blur"),
+    (volume_material, "Material 'Fog'", "volumes"),
+    (displacement, "Material 'Bumpy'", "Displacement"),
+    (world_volume, "World 'Hazy'", "world volume"),
+    (particle_hair, "Object 'Subject'", "particle hair ('Fur')"),
+    (light_linking, "Object 'Subject'", "light linking"),
+    (shadow_linking, "Object 'Subject'", "shadow linking"),
+    (glossy_visibility, "Object 'Subject'", "Glossy rays"),
+    (diffuse_visibility, "Object 'Subject'", "Diffuse rays"),
+    (light_nodes, "Light 'Lamp'", "light node trees"),
+    (ies, "Light 'Lamp'", "IES"),
+    (no_shadow, "Light 'Lamp'", "Cast Shadow"),
+    (holdout, "Object 'Subject'", "holdout"),
+    (shadow_catcher, "Object 'Subject'", "shadow catcher"),
+    (volume_object, "Object 'Cloud'", "volume objects"),
+    (point_cloud, "Object 'Points'", "point clouds"),
+    (hair_curves, "Object 'Strands'", "hair curves"),
+    (material_override, "View layer 'ViewLayer'", "material override"),
+    (holdout_collection, "collection 'Masked'", "holdout"),
+    (indirect_only, "collection 'Bounce'", "Indirect Only"),
+    (multiview, "Render settings", "multi-view"),
+    (freestyle, "View layer 'ViewLayer'", "Freestyle"),
+    (mist_pass, "View layer 'ViewLayer'", "Mist pass"),
+    (surfaces_filter, "View layer 'ViewLayer'", "'Surfaces'"),
+]
+
+
+@pytest.mark.parametrize("build, who, feature", CASES, ids=[c[0].__name__ for c in CASES])
+def test_unsupported_feature_is_named_once(empty, tmp_path, errors, build, who, feature):
+    empty.render.resolution_x, empty.render.resolution_y = 8, 8
+    empty.lantern.samples = 1
+    build(empty)
+    assert bpy.ops.render.render() == {"FINISHED"}
+    warnings = [m for kind, m in errors if kind == "WARNING"]
+    hits = [m for m in warnings if feature in m]
+    assert len(hits) == 1, warnings
+    assert who in hits[0], hits[0]
+    assert not [c for c in errors if c[0] == "ERROR"]
+
+
+def test_a_plain_scene_has_no_feature_warnings(empty, tmp_path, errors):
+    empty.render.resolution_x, empty.render.resolution_y = 8, 8
+    empty.lantern.samples = 1
+    _base(empty)
+    _light(empty)
+    render_exr(empty, tmp_path)
+    assert not errors
+
+
+def test_instancer_hidden_for_render_does_not_render(empty, tmp_path, errors):
+    """An emissive plane that fills the view instances a small object on its vertices; with
+    show_instancer_for_render off, only the instances render (here: out of view)."""
+    add_camera(empty, location=(0, 0, 5))
+    plane = add_plane(empty, size=100.0, material=emission_material(2.0), name="Instancer")
+    child = add_plane(empty, size=0.1, material=emission_material(1.0), name="Child")
+    child.parent = plane
+    plane.instance_type = "VERTS"
+    empty.render.resolution_x, empty.render.resolution_y = 8, 8
+    empty.lantern.samples = 1
+    px = render_exr(empty, tmp_path, "shown.exr")
+    np.testing.assert_allclose(px[..., :3], 2.0, rtol=1e-5)
+    plane.show_instancer_for_render = False
+    px = render_exr(empty, tmp_path, "hidden.exr")
+    assert not px[..., :3].any()
+
+
+def test_each_warning_printed_once_with_two_view_layers(empty, tmp_path, errors, capfd):
+    empty.render.resolution_x, empty.render.resolution_y = 8, 8
+    empty.lantern.samples = 1
+    motion_blur(empty)
+    empty.view_layers.new("Second")
+    render_exr(empty, tmp_path)
+    out = capfd.readouterr()
+    printed = (out.out + out.err).count("motion blur is not rendered")
+    assert printed == 1, out.out + out.err
+    assert sum("motion blur" in m for kind, m in errors if kind == "WARNING") == 1

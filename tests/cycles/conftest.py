@@ -1,0 +1,17 @@
+"""The checkout's lantern package when it has its own native core (else the installed one)."""
+
+import sys
+from pathlib import Path
+
+_SRC = Path(__file__).resolve().parents[2] / "python"
+if list((_SRC / "lantern").glob("_core*")) and str(_SRC) not in sys.path:
+    sys.path.insert(0, str(_SRC))
+
+
+def pytest_terminal_summary(terminalreporter):
+    """The comparisons' measured numbers (render_compare.REPORT), in the CI log even without -s."""
+    rc = sys.modules.get("render_compare")
+    if rc is not None and rc.REPORT:
+        terminalreporter.section("Lantern against Cycles")
+        for line in rc.REPORT:
+            terminalreporter.write_line(line)
