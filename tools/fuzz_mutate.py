@@ -136,18 +136,21 @@ def mutate_zip(seed, rng):
     return zip_bytes(members), f"{op}:{victim}"
 
 
-def deflate_repeat(prefix, chunk, count, suffix=b""):
+def deflate_repeat(prefix, chunk, count, suffix=b"", crc=True):
     """(raw deflate stream, crc32, size) of prefix + chunk * count + suffix, in time and
-    memory of one chunk: after a full flush the compressor's output for a chunk repeats."""
+    memory of one chunk: after a full flush the compressor's output for a chunk repeats.
+    crc=False skips the checksum (0) for members a reader must refuse before reading."""
     c = zlib.compressobj(9, zlib.DEFLATED, -15)
     head = c.compress(prefix) + c.flush(zlib.Z_FULL_FLUSH)
     block = c.compress(chunk) + c.flush(zlib.Z_FULL_FLUSH)
     tail = c.compress(suffix) + c.flush()
-    crc = zlib.crc32(prefix)
-    for _ in range(count):
-        crc = zlib.crc32(chunk, crc)
-    crc = zlib.crc32(suffix, crc)
-    return head + block * count + tail, crc, len(prefix) + len(chunk) * count + len(suffix)
+    value = 0
+    if crc:
+        value = zlib.crc32(prefix)
+        for _ in range(count):
+            value = zlib.crc32(chunk, value)
+        value = zlib.crc32(suffix, value)
+    return head + block * count + tail, value, len(prefix) + len(chunk) * count + len(suffix)
 
 
 def raw_zip(members, bomb_name, bomb):

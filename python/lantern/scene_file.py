@@ -109,7 +109,7 @@ def parse_json(data):
     """Parse scene.json's bytes; ValueError with what was expected (the caller names the
     file and member)."""
     try:
-        text = data.decode("utf-8")
+        text = data.decode("utf-8-sig")  # a byte-order mark from an editor is harmless
     except UnicodeDecodeError as e:
         raise ValueError(f"is not UTF-8 text (byte {e.start}: {e.reason}); expected a JSON "
                          "document") from None
@@ -136,8 +136,7 @@ def parse_json(data):
 
 # ---- .npy ----
 def parse_npy_header(head, member_size):
-    """(dtype, shape, fortran_order, header_bytes) from the first bytes of a `.npy` member;
-    checks that the data the header declares is exactly what is left in the member."""
+    """(dtype, shape, fortran_order, header_bytes) from the first bytes of a `.npy` member."""
     magic = np.lib.format.MAGIC_PREFIX
     if len(head) < len(magic) + 2 or head[:len(magic)] != magic:
         raise ValueError("is not a .npy array (no \\x93NUMPY magic at its start)")
@@ -162,17 +161,21 @@ def parse_npy_header(head, member_size):
                                        max_header_size=MAX_NPY_HEADER)
     except (ValueError, TypeError, SyntaxError, RecursionError) as e:
         raise ValueError(f"has a bad .npy header: {_cause(e)}") from None
+    return dtype, shape, fortran, start + hlen
+
+
+def check_npy_size(dtype, shape, hbytes, member_size):
+    """The data the header declares must be exactly what is left in the member."""
     if any(d < 0 for d in shape):
         raise ValueError(f"declares a negative shape {shape}")
     count = 1
     for d in shape:
         count *= d
-    declared = start + hlen + count * dtype.itemsize
+    declared = hbytes + count * dtype.itemsize
     if declared != member_size:
         raise ValueError(f"declares shape {shape} of {dtype.str} ({_size(count * dtype.itemsize)}"
-                         f" of data) but the member holds {_size(max(member_size - start - hlen, 0))}"
+                         f" of data) but the member holds {_size(max(member_size - hbytes, 0))}"
                          " after its header")
-    return dtype, shape, fortran, start + hlen
 
 
 class SceneArchive:
@@ -210,10 +213,12 @@ class SceneArchive:
     def error(self, member, detail):
         return SceneError(self.path, member, detail)
 
-    def _info(self, member, what):
+    def _info(self, member, what, limit=None, limit_what=""):
         info = self.infos.get(member)
         if info is None:
             raise self.error(member, f"{what}: member {member!r} is missing from the archive")
+        if limit is not None and info.file_size > limit:
+            raise self.error(member, f"declares {_size(info.file_size)} of {limit_what}")
         if info.flag_bits & 0x1:
             raise self.error(member, "is encrypted; expected a plain (unencrypted) member")
         if info.compress_type not in ALLOWED_COMPRESSION:
@@ -245,11 +250,8 @@ class SceneArchive:
         return self.error(member, f"is corrupt: {_cause(e)}; expected an intact zip member")
 
     def read_json(self, member, what="scene"):
-        info = self._info(member, what)
-        if info.file_size > MAX_JSON_BYTES:
-            raise self.error(member, f"declares {_size(info.file_size)} of JSON; a scene's "
-                             f"JSON is at most {_size(MAX_JSON_BYTES)} (arrays go in .npy "
-                             "members)")
+        info = self._info(member, what, MAX_JSON_BYTES, f"JSON; a scene's JSON is at most "
+                          f"{_size(MAX_JSON_BYTES)} (arrays go in .npy members)")
         data = bytearray(info.file_size)
         try:
             with self.zf.open(info) as f:
@@ -284,6 +286,10 @@ class SceneArchive:
                                      f"{expect} (at most 8 bytes per value)")
                 if len(shape) != ndim or (last and shape[-1] not in last):
                     raise self.error(member, f"{what}: shape {shape}; {expect}")
+                try:
+                    check_npy_size(dtype, shape, hbytes, info.file_size)
+                except ValueError as e:
+                    raise self.error(member, f"{what}: {e}") from None
                 arr = np.empty(shape[::-1] if fortran else shape, dtype=dtype)
                 rest = np.frombuffer(head, np.uint8)[hbytes:]
                 flat = arr.reshape(-1).view(np.uint8)
