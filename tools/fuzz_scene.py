@@ -89,6 +89,7 @@ def make_case(seeds, seed, index, folder):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # zipfile's "Duplicate name": on purpose
         data, what = FAMILIES[family](_SEEDS[src], rng)
+    Path(folder).mkdir(parents=True, exist_ok=True)
     path = Path(folder) / f"case_{seed}_{index}.lantern"
     path.write_bytes(data)
     settings = {"integrator": rng.choice(INTEGRATORS), "max_depth": rng.choice([2, 4, 8]),
@@ -107,10 +108,14 @@ def child(case, settings_json, out_path, render_s):
     import lantern
     settings = json.loads(settings_json)
     result = {"class": None, "stage": "load", "message": ""}
+    selftest = settings.pop("_selftest", None)  # tests/python/test_fuzz.py: the classifier
 
     def finish(cls, message=""):
+        status = Path("/proc/self/status")
+        peak = [ln.split()[1] for ln in (status.read_text().splitlines() if status.exists()
+                                         else []) if ln.startswith("VmPeak")]
         result.update({"class": cls, "message": " ".join(str(message).split())[:500],
-                       "maxrss_kb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss})
+                       "vm_peak_mb": int(peak[0]) // 1024 if peak else None})
         Path(out_path).write_text(json.dumps(result))
         os._exit(0)
 
@@ -120,6 +125,8 @@ def child(case, settings_json, out_path, render_s):
         return f"{type(e).__name__}{where}: {e}"
 
     try:
+        if selftest:
+            _misbehave(selftest)
         scene = lantern.load_scene(case)
     except lantern.SceneError as e:
         finish("error" if str(case) in str(e) else "traceback", e)
@@ -149,6 +156,21 @@ def child(case, settings_json, out_path, render_s):
     finish("image" if session.spp > 0 else "cancelled", f"{img.shape}")
 
 
+def _misbehave(kind):
+    if kind == "crash":
+        os.abort()
+    if kind == "hang":
+        time.sleep(3600)
+    if kind == "rss":  # touched memory past --mem-mb, then a normal load
+        global _BALLAST
+        _BALLAST = bytearray(400 << 20)
+        _BALLAST[::4096] = b"x" * len(range(0, 400 << 20, 4096))
+    if kind == "alloc":  # past the address-space limit
+        _BALLAST = bytearray(64 << 30)
+    if kind == "traceback":
+        raise KeyError("selftest")
+
+
 # ---- The parent: run one case under limits ----
 def run_case(path, settings, accel, timeout_s, mem_mb, render_s):
     out = Path(str(path) + ".json")
@@ -157,7 +179,8 @@ def run_case(path, settings, accel, timeout_s, mem_mb, render_s):
 
     def limits():
         resource.setrlimit(resource.RLIMIT_CORE, (0, 0))
-        cap = (mem_mb * 2) << 20  # address space: room for thread stacks; RSS is checked too
+        cap = (mem_mb * 2 + 1024) << 20  # address space, with room for libraries and thread
+        # stacks (a render maps ~0.5 GB); the peak RSS is checked against mem_mb below
         resource.setrlimit(resource.RLIMIT_AS, (cap, cap))
         resource.setrlimit(resource.RLIMIT_CPU, (int(timeout_s * 4), int(timeout_s * 4) + 5))
     env = dict(os.environ, LANTERN_ACCEL=accel, PYTHONPATH=os.pathsep.join(
