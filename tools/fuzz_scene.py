@@ -232,7 +232,7 @@ def run(seed=1, cases=100, start=0, jobs=2, timeout_s=60.0, mem_mb=2048, render_
     work = Path(work or tempfile.mkdtemp(prefix="lantern_fuzz_"))
     seeds = build_seeds(work / "seeds")
     counts = collections.Counter()
-    failures = []
+    failures, rows = [], []
 
     def one(index):
         path, label, settings, accel = make_case(seeds, seed, index, work)
@@ -250,6 +250,8 @@ def run(seed=1, cases=100, start=0, jobs=2, timeout_s=60.0, mem_mb=2048, render_
     with ThreadPoolExecutor(max_workers=jobs) as pool:
         for result in pool.map(one, range(start, start + cases)):
             counts[result["class"]] += 1
+            rows.append([result["case"], result["class"], result["label"][:100],
+                         result["message"][:160]])
             bad = result["class"] in FAILURES
             if bad:
                 failures.append(result)
@@ -258,7 +260,8 @@ def run(seed=1, cases=100, start=0, jobs=2, timeout_s=60.0, mem_mb=2048, render_
                       f"{result.get('seconds', 0):5.1f}s {result['label'][:70]} | "
                       f"{result['message'][:160]}", flush=True)
     return {"seed": seed, "start": start, "cases": cases,
-            "counts": {c: counts.get(c, 0) for c in CLASSES}, "failures": failures}
+            "counts": {c: counts.get(c, 0) for c in CLASSES}, "failures": failures,
+            "cases": rows}
 
 
 def main(argv=None):
