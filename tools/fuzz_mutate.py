@@ -18,6 +18,12 @@ HOSTILE = [float("nan"), float("inf"), float("-inf"), 1e39, -1e39, 3e38, 1e300, 
            "y" * 100_000]
 DTYPES = ["<f8", ">f4", "<f2", "<i4", "<u8", "<i8", "|u1", "|b1", "|O", "<c8", "|S4", "<U3",
           "|V12", "[('a', '<f4'), ('b', '<f4'), ('c', '<f4')]", "('<f4', (3,))", "<m8", "<M8"]
+# every field a reader knows, for keys added where they do not belong
+FIELDS = ["soft_falloff", "visible_camera", "cast_shadow", "radius", "to_world", "position",
+          "direction", "size", "shape", "angle", "spot_size", "spot_blend", "power", "strength",
+          "eta", "k", "mix", "mix_texture", "base_color_texture", "normal_texture", "pixels",
+          "uv_transform", "type", "name", "screen", "clip", "color", "filter_width",
+          "zz_unknown"]
 SCALES = [1e-30, 1e-20, 1e-10, 1e-3, 1e3, 1e10, 1e15, 1e18, 1e19, 1e20, 1e30, 1e38, -1.0]
 OFFSETS = [1e6, 1e10, 1e18, 2e19, 1e30]
 
@@ -213,11 +219,13 @@ def mutate_json(seed, rng):
     members = dict(seed.members)
     doc = copy.deepcopy(seed.doc)
     paths = [p for p in _paths(doc) if p]
-    op = rng.choice(["replace", "replace", "replace", "delete", "unknown_key", "list", "swap",
+    op = rng.choice(["replace", "replace", "replace", "delete", "unknown_key", "unknown_key",
+                     "list", "swap",
                      "text_truncate", "text_flip", "bad_utf8", "deep", "bom", "trailing"])
     text = None
-    if op == "replace":
-        path = rng.choice(paths)
+    if op == "replace":  # a depth first, so shallow structure is hit as often as numbers
+        depth = rng.choice(sorted({len(p) for p in paths}))
+        path = rng.choice([p for p in paths if len(p) == depth])
         value = rng.choice(HOSTILE)
         _set(doc, path, value)
         op = f"replace {'/'.join(map(str, path))}={str(value)[:20]}"
@@ -230,7 +238,9 @@ def mutate_json(seed, rng):
         op = f"delete {'/'.join(map(str, path))}"
     elif op == "unknown_key":
         dicts = [p for p in _paths(doc) if isinstance(_get(doc, p), dict)]
-        _get(doc, rng.choice(dicts))["zz_unknown"] = rng.choice(HOSTILE)
+        key, value = rng.choice(FIELDS), rng.choice(HOSTILE)
+        _get(doc, rng.choice(dicts))[key] = value
+        op = f"add {key}={str(value)[:20]}"
     elif op == "list":
         lists = [p for p in _paths(doc) if isinstance(_get(doc, p), list) and _get(doc, p)]
         lst = _get(doc, rng.choice(lists))

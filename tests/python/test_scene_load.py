@@ -254,3 +254,18 @@ def test_cli_prints_one_line_for_a_bomb(tmp_path, seed):
     assert len(lines) == 1 and "Traceback" not in out.stderr, out.stderr
     assert lines[0].startswith(f"lantern: error: {path}: scene.json: declares 100.0 MiB"), lines
     assert lantern.SceneError is SceneError
+
+
+def test_light_fields_the_core_reads_are_checked(tmp_path):
+    """The core reads soft_falloff, to_world, size ... from every light: a value it cannot
+    take is named at load (not std::bad_cast later), one that does not apply is dropped."""
+    scene = scenes.integrating_sphere(width=4, height=4)
+    scene.lights[0].update(soft_falloff="yes")
+    path = tmp_path / "a.lantern"
+    with zipfile.ZipFile(path, "w") as zf:
+        doc = {"format": "lantern-scene", "version": 1, "lights": scene.lights}
+        zf.writestr("scene.json", json.dumps(doc))
+    refused(path, "scene.json", "light 0 (point) soft_falloff: expected a bool, got 'yes'")
+    scene.lights[0].update(soft_falloff=False, to_world="x", size="y", angle=[])
+    light = scene.validate().lights[0]
+    assert light["soft_falloff"] is False and not {"to_world", "size", "angle"} & set(light)
