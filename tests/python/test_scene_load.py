@@ -17,7 +17,7 @@ import lantern
 from lantern import SceneError, load_scene, scenes
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "..", "tools"))
-from fuzz_mutate import deflate_repeat, npy_raw, raw_zip  # noqa: E402
+from fuzz_zip import deflate_repeat, npy_raw, raw_zip  # noqa: E402
 
 
 @pytest.fixture
