@@ -334,8 +334,15 @@ def load_scene(path, max_bytes=None):
         raise FileNotFoundError(f"scene file not found: {path}")
     if not path.is_file():
         raise SceneError(path, None, "is not a file; expected a Lantern scene file")
+    try:
+        with open(path, "rb"):
+            pass
+    except OSError as e:
+        raise SceneError(path, None, f"cannot be read ({e.strerror or e}); expected a "
+                         "readable Lantern scene file") from None
     if not zipfile.is_zipfile(path):
-        raise SceneError(path, None, "not a Lantern scene file (not a zip archive)")
+        raise SceneError(path, None, "not a Lantern scene file (not a zip archive, or cut "
+                         "short); expected a zip of scene.json and .npy arrays")
     with SceneArchive(path, max_bytes) as archive:
         if "scene.json" not in archive.names():
             raise SceneError(path, None, "not a Lantern scene file (no scene.json inside)")
