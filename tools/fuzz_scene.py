@@ -8,9 +8,10 @@ under time and memory limits, and is classified:
   cancelled  too slow, stopped cleanly by cancel()  nonfinite  rendered, a NaN or Inf pixel
   traceback  an exception that is not a clean error crash      killed by a signal
   hang       no answer within the time limit        memory     MemoryError, or over --mem-mb
+  vague      an error from Session that only names a C++ exception ("std::bad_cast")
 
 A clean error is a `lantern.SceneError` from `load_scene` whose message names the file, or a
-ValueError / RuntimeError with a message from `Session`. Cases are reproducible: case i of
+ValueError / RuntimeError from `Session` whose message says more than a C++ exception's name. Cases are reproducible: case i of
 --seed S is the same file on every machine. Usage (tools/README.md):
 
   python tools/fuzz_scene.py --cases 1000 --seed 1 --jobs 2 --keep /tmp/fuzz_fail
@@ -35,8 +36,11 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "python"))
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-CLASSES = ("image", "cancelled", "error", "nonfinite", "traceback", "crash", "hang", "memory")
-FAILURES = ("nonfinite", "traceback", "crash", "hang", "memory")
+CLASSES = ("image", "cancelled", "error", "vague", "nonfinite", "traceback", "crash", "hang",
+           "memory")
+FAILURES = ("vague", "nonfinite", "traceback", "crash", "hang", "memory")
+VAGUE = ("std::", "bad_cast", "bad_alloc", "Bad CRC-32", "No data left in file",
+         "maximum recursion depth")  # alone, these say nothing a user can act on
 FAMILY_WEIGHTS = {"zip": 3, "json": 3, "npy": 3, "values": 3, "scale": 2}
 INTEGRATORS = ("pt", "bdpt", "lvc", "cis", "lt")
 
@@ -125,7 +129,7 @@ def child(case, settings_json, out_path, render_s):
         return f"{type(e).__name__}{where}: {e}"
 
     try:
-        if selftest:
+        if selftest and selftest != "vague":
             _misbehave(selftest)
         scene = lantern.load_scene(case)
     except lantern.SceneError as e:
@@ -136,6 +140,8 @@ def child(case, settings_json, out_path, render_s):
         finish("traceback", unexpected(e))
     try:
         result["stage"] = "session"
+        if selftest == "vague":
+            raise ValueError("invalid scene or settings: std::bad_cast")
         session = lantern.Session(scene, **settings)
         result["warnings"] = len(session.warnings)
         result["stage"] = "render"
@@ -147,7 +153,8 @@ def child(case, settings_json, out_path, render_s):
     except MemoryError as e:
         finish("memory", f"MemoryError: {e}")
     except (ValueError, RuntimeError) as e:
-        finish("error" if str(e).strip() else "traceback", f"{type(e).__name__}: {e}")
+        vague = not str(e).strip() or any(v in str(e) for v in VAGUE)
+        finish("vague" if vague else "error", f"{type(e).__name__}: {e}")
     except BaseException as e:
         finish("traceback", unexpected(e))
     result["spp"] = session.spp
@@ -251,7 +258,7 @@ def run(seed=1, cases=100, start=0, jobs=2, timeout_s=60.0, mem_mb=2048, render_
         for result in pool.map(one, range(start, start + cases)):
             counts[result["class"]] += 1
             rows.append([result["case"], result["class"], result["label"][:100],
-                         result["message"][:160]])
+                         result["message"][:160], result.get("rss_mb")])
             bad = result["class"] in FAILURES
             if bad:
                 failures.append(result)

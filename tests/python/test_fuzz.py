@@ -40,9 +40,11 @@ def test_cases_are_reproducible(tmp_path):
 
 @pytest.mark.parametrize("kind, expected", [("crash", "crash"), ("hang", "hang"),
                                             ("traceback", "traceback"), ("rss", "memory"),
-                                            ("alloc", "memory"), (None, "image")])
+                                            ("alloc", "memory"), ("vague", "vague"),
+                                            (None, "image")])
 def test_classifier(tmp_path, kind, expected):
-    """The classes are told apart: a child that aborts, sleeps, raises, or takes memory."""
+    """The classes are told apart: a child that aborts, sleeps, raises, takes memory, or says
+    only 'std::bad_cast'."""
     path = tmp_path / "box.lantern"
     scenes.cornell_box(width=8, height=8).save(path)
     settings = {"integrator": "pt", "max_depth": 2, "threads": 1, "backend": "cpu"}
