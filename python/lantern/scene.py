@@ -369,7 +369,6 @@ def load_scene(path, max_bytes=None):
             scene.lights = entries(archive, doc, "lights")
             textures = entries(archive, doc, "textures")
             meshes = entries(archive, doc, "meshes")
-            scene.textures = [None] * len(textures)
             scene.materials = [validate_material(m, i, len(textures))
                                for i, m in enumerate(scene.materials)]
             scene.lights = [validate_light(light, i) for i, light in enumerate(scene.lights)]
