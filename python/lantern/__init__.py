@@ -5,6 +5,7 @@ module; `Session` and `render` need `lantern._core`, built from the repository r
 `pip install --no-build-isolation --no-deps .`."""
 
 from .scene import Scene, load_scene
+from .scene_file import SceneError
 from .session import Session, render, native_available, native_error, cuda_info
 
 __version__ = "0.1.0"
@@ -12,6 +13,7 @@ __version__ = "0.1.0"
 __all__ = [
     "Scene",
     "load_scene",
+    "SceneError",
     "Session",
     "render",
     "native_available",

@@ -11,6 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .scene_file import ARRAY_SPECS, SceneArchive, SceneError, entries, member_name, read_mesh
 from .scene_schema import (
     MATERIAL_TEXTURES, MESH_ARRAYS, _int, default_camera, default_film, default_world, look_at,
     screen_for_fov, validate_camera, validate_film, validate_light, validate_material,
@@ -320,66 +321,82 @@ def _parse_major(version):
     raise ValueError(f"bad version {version!r}")
 
 
-def load_scene(path):
-    """Read a `.lantern` file written by `Scene.save` (or the add-on's exporter)."""
+def load_scene(path, max_bytes=None):
+    """Read a `.lantern` file written by `Scene.save` (or the add-on's exporter).
+
+    Nothing is read before it is checked: each member's declared size against the file's
+    load budget (scene_file.load_budget; `max_bytes` overrides it), scene.json's size, nesting
+    and strings, each `.npy` header's dtype and shape against the field and its data size
+    against the member. Any failure raises `SceneError` (a ValueError) naming the file, the
+    member and what was expected; a missing file raises FileNotFoundError."""
     path = Path(path)
     if not path.exists():
         raise FileNotFoundError(f"scene file not found: {path}")
+    if not path.is_file():
+        raise SceneError(path, None, "is not a file; expected a Lantern scene file")
+    try:
+        with open(path, "rb"):
+            pass
+    except OSError as e:
+        raise SceneError(path, None, f"cannot be read ({e.strerror or e}); expected a "
+                         "readable Lantern scene file") from None
     if not zipfile.is_zipfile(path):
-        raise ValueError(f"{path}: not a Lantern scene file (not a zip archive)")
-    with zipfile.ZipFile(path) as zf:
-        names = set(zf.namelist())
-        if "scene.json" not in names:
-            raise ValueError(f"{path}: not a Lantern scene file (no scene.json inside)")
-        try:
-            doc = json.loads(zf.read("scene.json").decode("utf-8"))
-        except (UnicodeDecodeError, json.JSONDecodeError) as e:
-            raise ValueError(f"{path}: scene.json is not valid JSON ({e})") from None
+        raise SceneError(path, None, "not a Lantern scene file (not a zip archive, or cut "
+                         "short); expected a zip of scene.json and .npy arrays")
+    with SceneArchive(path, max_bytes) as archive:
+        if "scene.json" not in archive.names():
+            raise SceneError(path, None, "not a Lantern scene file (no scene.json inside)")
+        doc = archive.read_json("scene.json")
         if not isinstance(doc, dict) or doc.get("format") != FORMAT_NAME:
             fmt = doc.get("format") if isinstance(doc, dict) else None
-            raise ValueError(f"{path}: not a Lantern scene file (format {fmt!r}, "
-                             f"expected {FORMAT_NAME!r})")
+            raise archive.error("scene.json", f"not a Lantern scene file (format {fmt!r}, "
+                                f"expected {FORMAT_NAME!r})")
         try:
             major = _parse_major(doc.get("version"))
         except ValueError:
-            raise ValueError(f"{path}: bad scene file version {doc.get('version')!r}") from None
+            raise archive.error("scene.json", f"bad scene file version "
+                                f"{doc.get('version')!r}, expected {FORMAT_VERSION}") from None
         if major > FORMAT_VERSION:
-            raise ValueError(f"{path}: scene file version {doc.get('version')} is newer than "
-                             f"this Lantern reads (version {FORMAT_VERSION}); "
-                             f"update Lantern to open it")
+            raise archive.error("scene.json", f"scene file version {doc.get('version')} is "
+                                f"newer than this Lantern reads (version {FORMAT_VERSION}); "
+                                f"update Lantern to open it")
         scene = Scene()
-        scene.film = doc.get("film", default_film())
-        scene.camera = doc.get("camera", default_camera())
-        scene.world = doc.get("world", default_world())
-        scene.materials = doc.get("materials", [])
-        scene.lights = doc.get("lights", [])
+        try:
+            scene.film = validate_film(doc.get("film", default_film()))
+            scene.camera = validate_camera(doc.get("camera", default_camera()))
+            scene.world = validate_world(doc.get("world", default_world()))
+            scene.materials = entries(archive, doc, "materials")
+            scene.lights = entries(archive, doc, "lights")
+            textures = entries(archive, doc, "textures")
+            meshes = entries(archive, doc, "meshes")
+            scene.materials = [validate_material(m, i, len(textures))
+                               for i, m in enumerate(scene.materials)]
+            scene.lights = [validate_light(light, i) for i, light in enumerate(scene.lights)]
+        except SceneError:
+            raise
+        except ValueError as e:
+            raise archive.error("scene.json", str(e)) from None
         scene.textures = []
-        for i, entry in enumerate(doc.get("textures", [])):
+        for i, entry in enumerate(textures):
             if not isinstance(entry, dict):
-                raise ValueError(f"{path}: texture {i} is not an object")
-            member = entry.get("pixels")
-            if not isinstance(member, str) or member not in names:
-                raise ValueError(f"{path}: texture {i} pixels: member {member!r} is missing")
+                raise archive.error("scene.json", f"texture {i}: expected an object, got "
+                                    f"{type(entry).__name__}")
+            what = f"texture {i} pixels"
+            member = member_name(archive, entry, "pixels", what)
+            kinds, ndim, last = ARRAY_SPECS["pixels"]
+            px = archive.read_array(member, what, kinds, ndim, last)
             try:
-                px = np.load(io.BytesIO(zf.read(member)), allow_pickle=False)
+                scene.textures.append(validate_texture(dict(entry, pixels=px), i))
             except ValueError as e:
-                raise ValueError(f"{path}: texture {i} pixels: bad .npy member ({e})") from None
-            scene.textures.append(dict(entry, pixels=px))
+                raise archive.error(member if "pixels" in str(e) else "scene.json",
+                                    str(e)) from None
         scene.meshes = []
-        for i, entry in enumerate(doc.get("meshes", [])):
+        for i, entry in enumerate(meshes):
             if not isinstance(entry, dict):
-                raise ValueError(f"{path}: mesh {i} is not an object")
-            mesh = dict(entry)
-            for key in MESH_ARRAYS:
-                member = entry.get(key)
-                if member is None:
-                    mesh[key] = None
-                    continue
-                if not isinstance(member, str) or member not in names:
-                    raise ValueError(f"{path}: mesh {i} {key}: member {member!r} is missing")
-                try:
-                    mesh[key] = np.load(io.BytesIO(zf.read(member)), allow_pickle=False)
-                except ValueError as e:
-                    raise ValueError(f"{path}: mesh {i} {key}: bad .npy member ({e})") from None
-            scene.meshes.append(mesh)
-    return scene.validate()
+                raise archive.error("scene.json", f"mesh {i}: expected an object, got "
+                                    f"{type(entry).__name__}")
+            scene.meshes.append(read_mesh(archive, entry, i, len(scene.materials)))
+        try:
+            return scene.validate()
+        except ValueError as e:  # what crosses elements: mix leaves
+            raise archive.error("scene.json", str(e)) from None

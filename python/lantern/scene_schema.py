@@ -486,4 +486,20 @@ def validate_light(light, index):
         if not 0.0 <= angle <= math.pi:
             raise ValueError(f"{what} angle: must be in [0, pi], got {angle}")
         out["angle"] = angle
+    if ltype in ("point", "spot") and light.get("soft_falloff") is not None:
+        out["soft_falloff"] = _bool(light["soft_falloff"], f"{what} soft_falloff")
+    if ltype == "sun" and light.get("visible_camera") is not None:
+        out["visible_camera"] = _bool(light["visible_camera"], f"{what} visible_camera")
+    for key in LIGHT_KEYS:  # the core reads every one of these from every light
+        if key not in LIGHT_KEYS_OF[ltype]:
+            out.pop(key, None)
     return out
+
+
+LIGHT_KEYS = ("to_world", "position", "direction", "radius", "spot_size", "spot_blend",
+              "shape", "size", "angle", "soft_falloff", "power", "strength")
+LIGHT_KEYS_OF = {"point": ("position", "radius", "soft_falloff", "power"),
+                 "spot": ("to_world", "radius", "spot_size", "spot_blend", "soft_falloff",
+                          "power"),
+                 "area": ("to_world", "shape", "size", "power"),
+                 "sun": ("direction", "angle", "strength")}
