@@ -1,5 +1,6 @@
 // Ray queries on the CPU through Embree 3 (loaded privately, see embree_loader.h). Triangles
-// with non-finite vertices or zero area are left out of the build and counted in warnings.
+// with non-finite vertices or zero area are left out of the build and counted in warnings; rays
+// Embree would assert on are moved into its range or refused first (prepare()).
 // When some objects are hidden from camera rays or cast no shadow, separate acceleration
 // structures serve those ray kinds; scenes that do not use the flags build only one.
 #pragma once
@@ -32,6 +33,9 @@ public:
 
     HitRecord intersect(const Ray& r, RayKind kind) const;
     bool occluded(const Ray& r) const;
+    // The ray as Embree can take it (origin o, range [tnear, tfar], hit distances then + shift),
+    // or false when there is nothing to trace (embree_accel.cpp, "Rays Embree can take").
+    static bool prepare(const Ray& r, float o[3], float* tnear, float* tfar, float* shift);
     // What the alpha filter of a Built's alpha-tested geometry reads (scene/alpha.h).
     struct AlphaFilter {
         SceneView s;
