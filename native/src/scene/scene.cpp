@@ -703,8 +703,8 @@ void HostScene::finish_view(const SceneInput& in) {
     if (!within_limit(c.to_world.origin()) && is_finite(c.to_world.origin())) {
         warnings_.push_back("the camera is " + format_metres(distance_from_origin(c.to_world.origin())) +
                             " m from the origin, beyond the " + format_metres(kMaxCoordinate) +
-                            " m the ray queries can take; its rays start where they enter that "
-                            "range");
+                            " m the ray queries can take; its rays start where they reach the "
+                            "scene's bounds");
     }
     for (int k = 0; k < 4; ++k) c.screen[k] = in.screen[k];
     c.clip_start = std::max(0.0f, in.clip_start);

@@ -23,6 +23,10 @@ struct HitRecord {
     Vec2 uv;
 };
 
+// Bounds of the triangles the accelerators hold (finite, not degenerate), padded: where
+// EmbreeAccel::prepare() moves rays that start beyond kMaxCoordinate. Empty (lo > hi) if none.
+void far_ray_bounds(const SceneView& s, Vec3 box[2]);
+
 class EmbreeAccel {
 public:
     // Builds from the scene's triangles; `warnings` receives what was skipped and why.
@@ -35,7 +39,8 @@ public:
     bool occluded(const Ray& r) const;
     // The ray as Embree can take it (origin o, range [tnear, tfar], hit distances then + shift),
     // or false when there is nothing to trace (embree_accel.cpp, "Rays Embree can take").
-    static bool prepare(const Ray& r, float o[3], float* tnear, float* tfar, float* shift);
+    static bool prepare(const Ray& r, const Vec3 box[2], float o[3], float* tnear, float* tfar,
+                        float* shift);
     // What the alpha filter of a Built's alpha-tested geometry reads (scene/alpha.h).
     struct AlphaFilter {
         SceneView s;
@@ -59,6 +64,7 @@ private:
     Built build(const SceneView& s, uint8_t need_flag);
     const Built& for_kind(RayKind kind) const;
 
+    Vec3 box_[2];  // far_ray_bounds()
     void* device_ = nullptr;                 // RTCDevice
     Built all_, camera_, shadow_;
     bool has_camera_ = false, has_shadow_ = false;
