@@ -234,3 +234,48 @@ def test_film_checked_against_the_address_space_limit():
     assert len(out) == 2, out
     for msg in out:
         assert msg.startswith("a 8192x8192 film needs 3.8 GiB for its buffers"), msg
+
+
+def test_non_finite_input_straight_to_the_native_core():
+    """Input that the Python checks would refuse, given to _core.Session directly: NaN and
+    infinite light positions, camera matrices and vertices. Each is a ValueError or a finite
+    image; none reaches Embree's assert (the child would die)."""
+    out = child("""
+        import json, numpy as np, lantern
+        from lantern.scenes import cornell_box
+        core = lantern.session.require_core()
+        nan, inf = float("nan"), float("inf")
+
+        def light_pos(n):
+            n["lights"].append({"type": "point", "position": [nan, 0.0, 1.0],
+                                "power": [10.0] * 3, "radius": 0.0, "soft_falloff": False})
+        def light_inf(n):
+            n["lights"].append({"type": "point", "position": [0.0, inf, 1.0],
+                                "power": [10.0] * 3, "radius": 0.0, "soft_falloff": False})
+        def camera_nan(n):
+            n["camera"]["to_world"] = np.full((4, 4), nan, np.float32)
+        def camera_far(n):
+            m = n["camera"]["to_world"].copy(); m[:3, 3] = [3e38, -3e38, 3e38]
+            n["camera"]["to_world"] = m
+        def vertices(n):
+            p = n["meshes"][0]["positions"].copy(); p[0] = [1e30, nan, -inf]
+            n["meshes"][0]["positions"] = p
+        def sun_nan(n):
+            n["lights"].append({"type": "sun", "direction": [nan, nan, nan],
+                                "strength": [1.0] * 3, "angle": 0.1})
+        out = {}
+        for case in (light_pos, light_inf, camera_nan, camera_far, vertices, sun_nan):
+            for integ in ("pt", "bdpt", "cis", "lt"):
+                n = cornell_box(width=8, height=8).to_native()
+                case(n)
+                try:
+                    s = core.Session(n, {"backend": "cpu", "threads": 2, "integrator": integ})
+                    s.step()
+                    out[case.__name__ + "/" + integ] = bool(np.isfinite(s.image()).all())
+                except ValueError as e:
+                    out[case.__name__ + "/" + integ] = "ValueError: " + str(e)
+        print(json.dumps(out))
+    """)
+    assert len(out) == 24
+    for case, result in out.items():
+        assert result is True or str(result).startswith("ValueError"), (case, result)
