@@ -263,7 +263,8 @@ class Session:
         self._native = core.Session(native_scene, dict(self.settings))
 
     def step(self):
-        """One iteration; returns the samples per pixel so far."""
+        """One iteration; returns the samples per pixel so far (unchanged when the step was
+        cancelled). Safe from several threads: steps run one at a time."""
         self._native.step()
         return self.spp
 
@@ -293,7 +294,8 @@ class Session:
 
     def cancel(self):
         """Thread-safe: a running `step()` returns early; the image stays at the last
-        finished iteration."""
+        finished iteration. With no step running, the next one is cancelled: the flag stays
+        set until a step has returned."""
         self._native.cancel()
 
     def __repr__(self):

@@ -89,8 +89,9 @@ def test_cancel_during_step():
     """A cancel during a long step stops it: it returns False, the image and spp stay at the
     last finished iteration, and the session renders on afterwards (pt's cancelled iteration is
     redrawn: the next step equals a fresh session's first)."""
-    scene = cornell_box(width=64, height=64)
-    settings = dict(CPU, integrator="pt", threads=2, spp_per_iteration=64)
+    # 524,288 paths (two chunks): 2.6 s with 2 threads here, far more than the 10 ms wait
+    scene = cornell_box(width=32, height=32)
+    settings = dict(CPU, integrator="pt", threads=2, spp_per_iteration=512)
     s = Session(scene, **settings)
     result = {}
 
@@ -99,12 +100,12 @@ def test_cancel_during_step():
         result["ok"] = s._native.step()
         result["seconds"] = time.monotonic() - t0
     threads = start(work)
-    time.sleep(0.05)
+    time.sleep(0.01)
     s.cancel()
     join(threads)
     assert result["ok"] is False, "the step ignored the cancel"
     assert s.spp == 0 and not s.image().any()
-    assert s.step() == 64
+    assert s.step() == 512
     fresh = Session(scene, **settings)
     fresh.step()
     assert s.image().tobytes() == fresh.image().tobytes()
