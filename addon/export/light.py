@@ -36,7 +36,8 @@ def export_light(obj, matrix_world, report):
         radius = float(light.shadow_soft_size)
         if not normalize and radius > 0:
             power = power * math.pi * radius * radius
-        out = {"type": light.type.lower(), "position": m[:3, 3].tolist(), "radius": radius,
+        out = {"type": light.type.lower(), "name": obj.name, "position": m[:3, 3].tolist(),
+               "radius": radius,
                "power": power.tolist(), "to_world": _rigid(m), "visible_camera": visible}
         if light.type == "SPOT":
             out["spot_size"] = float(light.spot_size)
@@ -58,12 +59,14 @@ def export_light(obj, matrix_world, report):
             return None
         if float(getattr(light, "spread", math.pi)) < math.pi - 1e-4:
             report.warn(f"Light '{obj.name}': area light spread is not supported yet (uses 180°)")
-        return {"type": "area", "to_world": _rigid(m), "shape": shape_out, "size": [w, h],
+        return {"type": "area", "name": obj.name, "to_world": _rigid(m), "shape": shape_out,
+                "size": [w, h],
                 "power": power.tolist(), "visible_camera": visible}
     if light.type == "SUN":
         d = -m[:3, 2]
         d = d / max(np.linalg.norm(d), 1e-30)
-        return {"type": "sun", "direction": d.tolist(), "angle": float(light.angle),
+        return {"type": "sun", "name": obj.name, "direction": d.tolist(),
+                "angle": float(light.angle),
                 "strength": power.tolist()}
     report.warn(f"Light '{obj.name}': type {light.type} is not supported")
     return None

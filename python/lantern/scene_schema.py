@@ -439,6 +439,8 @@ def validate_light(light, index):
         raise ValueError(f"light {index}: unknown type {ltype!r}, expected one of "
                          f"{LIGHT_TYPES}")
     out = dict(light)
+    if light.get("name") is not None:  # the object's name, for warnings
+        out["name"] = str(light["name"])
     energy_key = "strength" if ltype == "sun" else "power"
     if energy_key not in light:
         raise ValueError(f"{what}: missing {energy_key!r}")

@@ -200,6 +200,45 @@ def resolve_settings(settings):
     return out, warnings
 
 
+# Bytes the native film takes per pixel: running and iteration sums (3 doubles each) and the
+# float32 image (native/src/scene/scene_limits.h, kFilmBytesPerPixel).
+FILM_BYTES_PER_PIXEL = 2 * 3 * 8 + 3 * 4
+
+
+def memory_limit_bytes():
+    """Memory a render may use: the physical memory, or the address-space limit when lower."""
+    import os
+    limit = float("inf")
+    try:
+        limit = float(os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
+    except (AttributeError, ValueError, OSError):
+        pass
+    try:
+        import resource
+        soft, _ = resource.getrlimit(resource.RLIMIT_AS)
+        if soft != resource.RLIM_INFINITY:
+            limit = min(limit, float(soft))
+    except (ImportError, ValueError, OSError):
+        pass
+    return limit
+
+
+def _format_bytes(n):
+    return f"{n / 2**30:.1f} GiB" if n >= 2**30 else f"{n / 2**20:.0f} MiB"
+
+
+def check_film_memory(width, height):
+    """ValueError saying how much a width x height film needs when that is more than half the
+    memory (checked before anything is allocated; the native core checks the same)."""
+    need = float(width) * float(height) * FILM_BYTES_PER_PIXEL
+    have = 0.5 * memory_limit_bytes()  # the rest: scene, wavefront, light vertex cache
+    if need > have:
+        raise ValueError(f"a {width}x{height} film needs {_format_bytes(need)} for its buffers "
+                         f"({FILM_BYTES_PER_PIXEL} bytes per pixel), more than the "
+                         f"{_format_bytes(have)} a film may take (half the memory this process "
+                         f"may use); lower the resolution")
+
+
 def _value(attr):
     """A native attribute that may be bound as a property or as a method."""
     return attr() if callable(attr) else attr
@@ -218,12 +257,14 @@ class Session:
         if not hasattr(scene, "to_native"):
             raise TypeError(f"expected a lantern.Scene, got {type(scene).__name__}")
         native_scene = scene.to_native()  # scene errors first: they are the user's to fix
+        check_film_memory(native_scene["film"]["width"], native_scene["film"]["height"])
         core = require_core()
         self._scene = scene
         self._native = core.Session(native_scene, dict(self.settings))
 
     def step(self):
-        """One iteration; returns the samples per pixel so far."""
+        """One iteration; returns the samples per pixel so far (unchanged when the step was
+        cancelled). Safe from several threads: steps run one at a time."""
         self._native.step()
         return self.spp
 
@@ -283,7 +324,8 @@ class Session:
 
     def cancel(self):
         """Thread-safe: a running `step()` returns early; the image stays at the last
-        finished iteration."""
+        finished iteration. With no step running, the next one is cancelled: the flag stays
+        set until a step has returned."""
         self._native.cancel()
 
     def __repr__(self):

@@ -12,6 +12,7 @@
 #include <numeric>
 
 #include "backend/cpu/thread_pool.h"
+#include "scene/scene_limits.h"
 
 namespace lantern {
 namespace {
@@ -82,8 +83,8 @@ bool usable_triangle(const SceneView& s, int t, bool* nonfinite) {
          c = s.positions[s.indices[3 * t + 2]];
     *nonfinite = !(is_finite(a) && is_finite(b) && is_finite(c));
     if (*nonfinite) return false;
-    float a2 = length_sq(cross(b - a, c - a));
-    return a2 > 0.0f && is_finite(a2);
+    const double a2 = triangle_area2(a, b, c);  // double: float overflows past ~4e9 m edges
+    return a2 > 0.0 && std::isfinite(a2);
 }
 
 void set_child_box(BvhNode& n, int c, const Aabb& b) {

@@ -44,11 +44,18 @@ LANTERN_HD inline Vec3 cross(Vec3 a, Vec3 b) {
 }
 LANTERN_HD inline float length_sq(Vec3 a) { return dot(a, a); }
 LANTERN_HD inline float length(Vec3 a) { return sqrtf(dot(a, a)); }
+LANTERN_HD inline float max_component(Vec3 a) { return fmaxf(a.x, fmaxf(a.y, a.z)); }
+// When the squared length overflows (components over ~1.8e19: the normal of a triangle with
+// edges over ~4e9 m) or underflows, the vector is rescaled by its largest component first.
 LANTERN_HD inline Vec3 normalize(Vec3 a) {
     float l = length(a);
-    return l > 0.0f ? a * (1.0f / l) : Vec3{0, 0, 1};
+    if (l > 0.0f && l <= kInf) return a * (1.0f / l);
+    if (!(l >= 0.0f)) return Vec3{0, 0, 1};  // NaN
+    const float m = fmaxf(fabsf(a.x), fmaxf(fabsf(a.y), fabsf(a.z)));
+    if (!(m > 0.0f) || !(m <= kInf)) return Vec3{0, 0, 1};  // zero or infinite
+    a = a * (1.0f / m);
+    return a * (1.0f / length(a));
 }
-LANTERN_HD inline float max_component(Vec3 a) { return fmaxf(a.x, fmaxf(a.y, a.z)); }
 LANTERN_HD inline float luminance(Vec3 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
 LANTERN_HD inline bool is_finite(float v) {
 #if defined(__CUDA_ARCH__)

@@ -8,6 +8,7 @@
 
 #include <memory>
 #include <stdexcept>
+#include <system_error>
 #include <type_traits>
 
 #include "backend/cpu/embree_loader.h"
@@ -22,6 +23,8 @@ void bind_aovs(nb::module_& m, SceneInput (*to_input)(const nb::dict&));  // aov
 }
 
 namespace {
+
+constexpr int kMaxThreads = 4096;  // as python/lantern/session.py
 
 bool has(const nb::dict& d, const char* k) { return d.contains(k) && !d[k].is_none(); }
 
@@ -209,6 +212,7 @@ SceneInput to_input(const nb::dict& scene) {
         for (nb::handle h : nb::cast<nb::list>(scene["lights"])) {
             nb::dict l = nb::cast<nb::dict>(h);
             LightInput li;
+            li.name = get<std::string>(l, "name", "");
             li.type = get<std::string>(l, "type", "");
             get_matrix(l, "to_world", li.to_world);
             li.position = get_vec3(l, "position", {li.to_world[3], li.to_world[7], li.to_world[11]});
@@ -248,24 +252,84 @@ SessionSettings to_settings(const nb::dict& d) {
     s.cis_target = get<std::string>(d, "cis_target", s.cis_target);
     s.naive_ris = get<bool>(d, "naive_ris", s.naive_ris);
     s.cache_budget_mb = get<int>(d, "cache_budget_mb", s.cache_budget_mb);
+    if (s.threads < 0 || s.threads > kMaxThreads) {
+        throw std::invalid_argument("threads must be in [0, " + std::to_string(kMaxThreads) +
+                                    "] (0: one per core), got " + std::to_string(s.threads));
+    }
     return s;
 }
 
+// Raises a Python exception of `type` with `msg` (a C++ exception cannot carry one).
+[[noreturn]] void raise(PyObject* type, const std::string& msg) {
+    PyErr_SetString(type, msg.c_str());
+    throw nb::python_error();
+}
+
 void init_session(Session* self, const nb::dict& scene, const nb::dict& settings) {
+    SceneInput in;
+    SessionSettings st;
     try {
-        SceneInput in;
-        SessionSettings st;
         try {
             in = to_input(scene);
             st = to_settings(settings);
         } catch (const nb::cast_error& e) {
             throw std::invalid_argument(std::string("invalid scene or settings: ") + e.what());
         }
-        nb::gil_scoped_release release;
-        new (self) Session(in, st);
     } catch (const std::invalid_argument& e) {
         throw nb::value_error(e.what());
+    } catch (const std::bad_alloc&) {
+        raise(PyExc_MemoryError, "out of memory reading the scene");
     }
+    // Errors of the build become Python exceptions once the GIL is held again (the
+    // gil_scoped_release must be gone before raise() touches Python).
+    std::string error;
+    PyObject* type = nullptr;
+    {
+        nb::gil_scoped_release release;
+        try {
+            new (self) Session(in, st);
+        } catch (const std::invalid_argument& e) {
+            type = PyExc_ValueError;
+            error = e.what();
+        } catch (const std::system_error& e) {  // a thread the pool or Embree could not start
+            type = PyExc_RuntimeError;
+            error = "could not start the render threads (threads=" + std::to_string(st.threads) +
+                    "): " + e.what() + "; lower 'threads' or raise the process's limits";
+        } catch (const std::bad_alloc&) {
+            type = PyExc_MemoryError;
+            error = "out of memory building the scene (" + std::to_string(in.width) + "x" +
+                    std::to_string(in.height) + " film, " + std::to_string(in.meshes.size()) +
+                    " meshes)";
+        } catch (const std::exception& e) {
+            type = PyExc_RuntimeError;
+            error = e.what();
+        }
+    }
+    if (type) raise(type, error);
+}
+
+bool step_session(Session& s) {
+    std::string error;
+    PyObject* type = nullptr;
+    bool ok = false;
+    {
+        nb::gil_scoped_release release;
+        try {
+            ok = s.step();
+        } catch (const std::bad_alloc&) {
+            type = PyExc_MemoryError;
+            error = "out of memory during step() (" + std::to_string(s.width()) + "x" +
+                    std::to_string(s.height()) + " film); the image keeps the samples so far";
+        } catch (const std::system_error& e) {
+            type = PyExc_RuntimeError;
+            error = std::string("step() failed: ") + e.what();
+        } catch (const std::exception& e) {
+            type = PyExc_RuntimeError;
+            error = e.what();
+        }
+    }
+    if (type) raise(type, error);
+    return ok;
 }
 
 }  // namespace
@@ -297,10 +361,7 @@ NB_MODULE(_core, m) {
     });
     nb::class_<Session>(m, "Session")
         .def("__init__", &init_session, nb::arg("scene"), nb::arg("settings"))
-        .def("step", [](Session& s) {
-            nb::gil_scoped_release release;
-            return s.step();
-        })
+        .def("step", &step_session)
         .def("cancel", &Session::cancel)
         .def("update_camera", [](Session& s, const nb::dict& view) {
             SceneInput in = to_input(view);  // its film and camera
@@ -313,12 +374,17 @@ NB_MODULE(_core, m) {
             return s.update_materials(in);
         }, nb::arg("materials"))
         .def("image", [](const Session& s) {
-            std::vector<float> img = s.image();
-            auto* data = new float[img.size()];
-            std::copy(img.begin(), img.end(), data);
-            nb::capsule owner(data, [](void* p) noexcept { delete[] static_cast<float*>(p); });
+            // the snapshot itself becomes the array's memory (no second copy)
+            auto* img = new std::vector<float>();
+            {
+                nb::gil_scoped_release release;  // it may wait for a step to publish
+                *img = s.image();
+            }
+            nb::capsule owner(img, [](void* p) noexcept {
+                delete static_cast<std::vector<float>*>(p);
+            });
             return nb::ndarray<nb::numpy, float, nb::ndim<3>>(
-                data, {size_t(s.height()), size_t(s.width()), 3}, owner);
+                img->data(), {size_t(s.height()), size_t(s.width()), 3}, owner);
         })
         .def_prop_ro("spp", &Session::spp)
         .def_prop_ro("backend", &Session::backend_name)

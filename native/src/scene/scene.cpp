@@ -11,6 +11,7 @@
 #include "integrator/camera.h"
 #include "bsdf/material.h"
 #include "integrator/light_path.h"
+#include "scene/scene_limits.h"
 
 namespace lantern {
 
@@ -118,6 +119,7 @@ HostScene::HostScene(const SceneInput& in) {
         throw std::invalid_argument("film size must be between 1 and 65536 pixels, got " +
                                     std::to_string(in.width) + "x" + std::to_string(in.height));
     }
+    check_film_memory(in.width, in.height);  // before anything of the film's size is allocated
     for (size_t k = 0; k < in.materials.size(); ++k) {
         const MaterialInput& mi = in.materials[k];
         Material m{};
@@ -418,15 +420,34 @@ void HostScene::add_meshes(const SceneInput& in) {
         }
         const uint8_t flags = uint8_t((m.visible_camera ? kVisibleCamera : 0) |
                                       (m.cast_shadow ? kCastShadow : 0));
+        size_t far = 0, huge = 0;  // a (finite) vertex beyond kMaxCoordinate; edges > kMaxEdge
+        double far_max = 0.0, huge_max = 0.0;
         for (size_t t = 0; t < nt; ++t) {
+            bool is_far = false;
             for (int k = 0; k < 3; ++k) {
                 uint32_t idx = m.indices[3 * t + k];
                 if (idx >= nv) {
                     throw std::invalid_argument("mesh '" + m.name + "': vertex index " +
                                                 std::to_string(idx) + " out of range");
                 }
-                indices_.push_back(base + idx);
+                const Vec3 p = positions_[base + idx];
+                if (is_finite(p) && !within_limit(p)) {
+                    is_far = true;
+                    far_max = std::max(far_max, double(distance_from_origin(p)));
+                }
             }
+            if (is_far) {
+                ++far;
+                continue;
+            }
+            const double edge = max_edge(positions_[base + m.indices[3 * t]],
+                                         positions_[base + m.indices[3 * t + 1]],
+                                         positions_[base + m.indices[3 * t + 2]]);
+            if (edge > kMaxEdge) {  // kept: where the float tests find it, it renders right
+                ++huge;
+                huge_max = std::max(huge_max, edge);
+            }
+            for (int k = 0; k < 3; ++k) indices_.push_back(base + m.indices[3 * t + k]);
             uint32_t mat = m.material_ids[t];
             if (mat >= materials_.size()) {
                 throw std::invalid_argument("mesh '" + m.name + "': material id " +
@@ -437,6 +458,19 @@ void HostScene::add_meshes(const SceneInput& in) {
             const bool alpha = mm.transparency > 0.0f || (mm.tex_flags & kTexAlpha);
             tri_flags_.push_back(uint8_t(flags | (alpha ? kAlphaTested : 0)));
         }
+        if (far) {
+            warnings_.push_back("mesh '" + m.name + "': " + std::to_string(far) + " of " +
+                                std::to_string(nt) + " triangle(s) reach " +
+                                format_metres(far_max) + " m from the origin, beyond the " +
+                                format_metres(kMaxCoordinate) +
+                                " m the ray queries can take; they were left out");
+        }
+        if (huge) {
+            warnings_.push_back("mesh '" + m.name + "': " + std::to_string(huge) +
+                                " triangle(s) with edges up to " + format_metres(huge_max) +
+                                " m, beyond the " + format_metres(kMaxEdge) +
+                                " m the float ray-triangle tests handle: rays may miss them");
+        }
     }
     tri_light_.assign(tri_material_.size(), -1);
 }
@@ -446,7 +480,7 @@ void HostScene::add_lights(const SceneInput& in) {
     // scene extent, for the power of distant lights
     Vec3 lo = vec3(kInf), hi = vec3(-kInf);
     for (const Vec3& p : positions_) {
-        if (!is_finite(p)) continue;
+        if (!within_limit(p)) continue;  // non-finite or far: no triangle of the scene uses it
         lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
         hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
     }
@@ -456,7 +490,9 @@ void HostScene::add_lights(const SceneInput& in) {
     view_.offset_scale = std::min(1.0f, view_.scene_radius);
     const float disk_area = kPi * view_.scene_radius * view_.scene_radius;
 
-    for (const LightInput& li : in.lights) {
+    for (size_t k = 0; k < in.lights.size(); ++k) {
+        const LightInput& li = in.lights[k];
+        if (!light_within_limit(li, k, warnings_)) continue;
         Light l{};
         l.triangle = -1;
         l.visible_camera = li.visible_camera ? 1 : 0;
@@ -483,7 +519,8 @@ void HostScene::add_lights(const SceneInput& in) {
             l.half_y = 0.5f * std::fabs(square ? li.size_x : li.size_y);
             l.area = ellipse ? kPi * l.half_x * l.half_y : 4.0f * l.half_x * l.half_y;
             if (!(l.area > 0.0f) || !std::isfinite(l.area)) {
-                warnings_.push_back("an area light of zero size was skipped");
+                warnings_.push_back(light_label(li, k) + ": an area light of zero (or " +
+                                    "non-finite) size was skipped");
                 continue;
             }
             l.radiance = pw * (1.0f / (kPi * l.area));
@@ -518,7 +555,8 @@ void HostScene::add_lights(const SceneInput& in) {
         if (is_black(m.emission)) continue;
         Vec3 a = positions_[indices_[3 * t]], b = positions_[indices_[3 * t + 1]],
              c = positions_[indices_[3 * t + 2]];
-        float area = 0.5f * length(cross(b - a, c - a));
+        // in double: the float cross product's squared length overflows for edges over ~4e9 m
+        float area = float(0.5 * triangle_area2(a, b, c));
         if (!(area > 0.0f) || !std::isfinite(area)) continue;
         Light l{};
         l.type = kLightTriangle;
@@ -663,6 +701,12 @@ void HostScene::finish_view(const SceneInput& in) {
     c.width = in.width;
     c.height = in.height;
     c.to_world = rigid(in.camera_to_world);
+    if (!within_limit(c.to_world.origin()) && is_finite(c.to_world.origin())) {
+        warnings_.push_back("the camera is " + format_metres(distance_from_origin(c.to_world.origin())) +
+                            " m from the origin, beyond the " + format_metres(kMaxCoordinate) +
+                            " m the ray queries can take; its rays start where they reach the "
+                            "scene's bounds");
+    }
     for (int k = 0; k < 4; ++k) c.screen[k] = in.screen[k];
     c.clip_start = std::max(0.0f, in.clip_start);
     c.clip_end = in.clip_end > c.clip_start ? in.clip_end : kInf;

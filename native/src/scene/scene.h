@@ -82,6 +82,7 @@ struct TextureInput {
 };
 
 struct LightInput {
+    std::string name;        // the object's name, for warnings (may be empty)
     std::string type;        // point, spot, area, sun
     float to_world[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};  // row-major
     Vec3 position;

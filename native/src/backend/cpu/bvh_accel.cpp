@@ -19,6 +19,7 @@ BvhAccel::BvhAccel(const SceneView& s, int threads, std::vector<std::string>& wa
     BvhBuildOptions opt;
     opt.threads = threads;
     bvh_ = build_bvh(s, opt, warnings);
+    far_ray_bounds(s, box_);
     view_ = bvh_.view();
     for (int t = 0; t < s.num_triangles && s.tri_flags; ++t) {
         if (s.tri_flags[t] & kAlphaTested) {
@@ -28,13 +29,31 @@ BvhAccel::BvhAccel(const SceneView& s, int threads, std::vector<std::string>& wa
     }
 }
 
-HitRecord BvhAccel::intersect(const Ray& r, RayKind kind) const {
-    const BvhHit h = any_alpha_ ? bvh_intersect(view_, r, need_for(kind), BvhAlphaTest{s_, r})
-                                : bvh_intersect(view_, r, need_for(kind));
-    return {h.t, h.prim, h.uv};
+// The ray Embree would see (EmbreeAccel::prepare()); false: nothing to trace. Rays within range
+// come back unchanged, so ordinary scenes keep their bits.
+bool BvhAccel::guard(const Ray& r, Ray* out, float* shift) const {
+    float o[3];
+    if (!EmbreeAccel::prepare(r, box_, o, &out->tmin, &out->tmax, shift)) return false;
+    out->o = {o[0], o[1], o[2]};
+    out->d = r.d;
+    return true;
 }
 
-bool BvhAccel::occluded(const Ray& r) const {
+HitRecord BvhAccel::intersect(const Ray& ray, RayKind kind) const {
+    Ray r;
+    float shift = 0.0f;
+    if (!guard(ray, &r, &shift)) return {ray.tmax, -1, {0, 0}};
+    const BvhHit h = any_alpha_ ? bvh_intersect(view_, r, need_for(kind), BvhAlphaTest{s_, r})
+                                : bvh_intersect(view_, r, need_for(kind));
+    if (h.prim < 0) return {ray.tmax, -1, {0, 0}};
+    return {shift > 0.0f ? float(double(h.t) + shift) : h.t, h.prim, h.uv};
+}
+
+bool BvhAccel::occluded(const Ray& ray) const {
+    Ray r;
+    float shift = 0.0f;
+    if (!guard(ray, &r, &shift))
+        return !is_finite(ray.o) || !is_finite(ray.d) || !(ray.tmax >= 0.0f);
     return any_alpha_ ? bvh_occluded(view_, r, kBvhNeedShadow, BvhAlphaTest{s_, r})
                       : bvh_occluded(view_, r, kBvhNeedShadow);
 }

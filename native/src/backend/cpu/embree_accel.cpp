@@ -1,11 +1,89 @@
 #include "backend/cpu/embree_accel.h"
 
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 #include "backend/cpu/embree_loader.h"
 #include "scene/alpha.h"
+#include "scene/scene_limits.h"
 
 namespace lantern {
+
+// ---- Rays Embree can take ----
+// Embree asserts (SIGABRT) unless every origin and direction component is within
+// FLT_LARGE = 1.844e18 and tnear, tfar are not NaN (scene/scene_limits.h). Every triangle lies
+// within kMaxCoordinate, so a ray that starts outside that cube is moved, in double, to where it
+// enters `box` (the triangles' bounds, padded; `shift` is added back to the hit distance): close
+// enough that Embree's float tests still find the scene (from the cube's face a 1e17 m quad was
+// missed). One that misses the box misses the scene. Non-finite rays and directions that large
+// are refused. False: nothing to trace. Rays that start within the cube are passed unchanged.
+bool EmbreeAccel::prepare(const Ray& r, const Vec3 box[2], float o[3], float* tnear,
+                          float* tfar, float* shift) {
+    const float d[3] = {r.d.x, r.d.y, r.d.z};
+    const float org[3] = {r.o.x, r.o.y, r.o.z};
+    for (int k = 0; k < 3; ++k)
+        if (!(std::fabs(d[k]) <= kMaxCoordinate) || !std::isfinite(org[k])) return false;
+    if (!(r.tmax >= 0.0f)) return false;  // NaN or negative
+    *tnear = r.tmin >= 0.0f ? r.tmin : 0.0f;
+    *tfar = r.tmax;
+    *shift = 0.0f;
+    if (within_limit(r.o)) {
+        for (int k = 0; k < 3; ++k) o[k] = org[k];
+        return true;
+    }
+    // slab test against the box in double
+    const double lim = double(kMaxCoordinate);
+    double t0 = 0.0, t1 = double(r.tmax);
+    int enter = -1;      // the axis whose face the ray enters through
+    double face = 0.0;   // and that face's coordinate
+    for (int k = 0; k < 3; ++k) {
+        const double lo = double(box[0][k]), hi = double(box[1][k]);
+        if (!(lo <= hi)) return false;  // an empty scene
+        if (d[k] == 0.0f) {
+            if (org[k] < lo || org[k] > hi) return false;
+            continue;
+        }
+        const double a = (lo - double(org[k])) / double(d[k]),
+                     b = (hi - double(org[k])) / double(d[k]);
+        const double near = std::min(a, b);
+        if (near > t0) {
+            t0 = near;
+            enter = k;
+            face = d[k] > 0.0f ? lo : hi;
+        }
+        t1 = std::min(t1, std::max(a, b));
+    }
+    if (!(t0 <= t1) || t0 >= double(r.tmax)) return false;
+    for (int k = 0; k < 3; ++k) {
+        // the entry face exactly: org + t0 d there is a difference of two numbers of 1e19
+        const double p = k == enter ? face : double(org[k]) + t0 * double(d[k]);
+        o[k] = float(std::min(lim, std::max(-lim, p)));
+    }
+    *shift = float(t0);
+    *tnear = float(std::max(0.0, double(*tnear) - t0));
+    *tfar = float(double(r.tmax) - t0);
+    return true;
+}
+
+void far_ray_bounds(const SceneView& s, Vec3 box[2]) {
+    box[0] = vec3(kInf);
+    box[1] = vec3(-kInf);
+    for (int t = 0; t < s.num_triangles; ++t) {
+        const Vec3 a = s.positions[s.indices[3 * t]], b = s.positions[s.indices[3 * t + 1]],
+                   c = s.positions[s.indices[3 * t + 2]];
+        const double a2 = triangle_area2(a, b, c);
+        if (!(a2 > 0.0) || !std::isfinite(a2)) continue;  // what the accelerators leave out
+        for (const Vec3& p : {a, b, c}) {
+            box[0] = {std::fmin(box[0].x, p.x), std::fmin(box[0].y, p.y), std::fmin(box[0].z, p.z)};
+            box[1] = {std::fmax(box[1].x, p.x), std::fmax(box[1].y, p.y), std::fmax(box[1].z, p.z)};
+        }
+    }
+    if (!(box[0].x <= box[1].x)) return;  // no usable triangle: every far ray misses
+    const float pad = 1e-3f * max_component(box[1] - box[0]) + 1e-3f;
+    box[0] = box[0] - vec3(pad);
+    box[1] = box[1] + vec3(pad);
+}
 
 #if LANTERN_HAVE_EMBREE
 namespace {
@@ -23,12 +101,13 @@ bool finite_triangle(const SceneView& s, int t) {
     return true;
 }
 
-// Zero area (repeated or collinear vertices): no normal, never a meaningful hit.
+// Zero area (repeated or collinear vertices): no normal, never a meaningful hit. In double:
+// in float the test overflows for edges over ~4e9 m and took such triangles for degenerate.
 bool degenerate_triangle(const SceneView& s, int t) {
     Vec3 a = s.positions[s.indices[3 * t]], b = s.positions[s.indices[3 * t + 1]],
          c = s.positions[s.indices[3 * t + 2]];
-    float a2 = length_sq(cross(b - a, c - a));
-    return !(a2 > 0.0f) || !is_finite(a2);
+    const double a2 = triangle_area2(a, b, c);
+    return !(a2 > 0.0) || !std::isfinite(a2);
 }
 
 bool usable_triangle(const SceneView& s, int t) {
@@ -47,6 +126,7 @@ EmbreeAccel::EmbreeAccel(const SceneView& s, std::vector<std::string>& warnings)
         if (!finite_triangle(s, t)) ++nonfinite;
         else if (degenerate_triangle(s, t)) ++degenerate;
     }
+    far_ray_bounds(s, box_);
     if (nonfinite) {
         warnings.push_back(std::to_string(nonfinite) +
                            " triangle(s) with non-finite vertices were left out");
@@ -165,13 +245,15 @@ const EmbreeAccel::Built& EmbreeAccel::for_kind(RayKind kind) const {
 
 HitRecord EmbreeAccel::intersect(const Ray& r, RayKind kind) const {
     const Built& b = for_kind(kind);
+    float o[3], tnear, tfar, shift;
+    if (!prepare(r, box_, o, &tnear, &tfar, &shift)) return {r.tmax, -1, {0, 0}};
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     RTCRayHit rh;
-    rh.ray.org_x = r.o.x; rh.ray.org_y = r.o.y; rh.ray.org_z = r.o.z;
+    rh.ray.org_x = o[0]; rh.ray.org_y = o[1]; rh.ray.org_z = o[2];
     rh.ray.dir_x = r.d.x; rh.ray.dir_y = r.d.y; rh.ray.dir_z = r.d.z;
-    rh.ray.tnear = r.tmin;
-    rh.ray.tfar = r.tmax;
+    rh.ray.tnear = tnear;
+    rh.ray.tfar = tfar;
     rh.ray.time = 0.0f;
     rh.ray.mask = 0xFFFFFFFFu;
     rh.ray.id = 0;
@@ -180,18 +262,24 @@ HitRecord EmbreeAccel::intersect(const Ray& r, RayKind kind) const {
     rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
     embree_api().intersect1(static_cast<RTCScene>(b.scene), &ctx, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return {r.tmax, -1, {0, 0}};
-    return {rh.ray.tfar, b.tri(rh.hit.geomID, rh.hit.primID), {rh.hit.u, rh.hit.v}};
+    const float t = shift > 0.0f ? float(double(rh.ray.tfar) + shift) : rh.ray.tfar;
+    return {t, b.tri(rh.hit.geomID, rh.hit.primID), {rh.hit.u, rh.hit.v}};
 }
 
 bool EmbreeAccel::occluded(const Ray& r) const {
     const Built& b = for_kind(RayKind::kShadow);
+    float o[3], tnear, tfar, shift;
+    if (!prepare(r, box_, o, &tnear, &tfar, &shift)) {
+        // a segment outside everything is free; a non-finite one carries no light
+        return !is_finite(r.o) || !is_finite(r.d) || !(r.tmax >= 0.0f);
+    }
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     RTCRay ray;
-    ray.org_x = r.o.x; ray.org_y = r.o.y; ray.org_z = r.o.z;
+    ray.org_x = o[0]; ray.org_y = o[1]; ray.org_z = o[2];
     ray.dir_x = r.d.x; ray.dir_y = r.d.y; ray.dir_z = r.d.z;
-    ray.tnear = r.tmin;
-    ray.tfar = r.tmax;
+    ray.tnear = tnear;
+    ray.tfar = tfar;
     ray.time = 0.0f;
     ray.mask = 0xFFFFFFFFu;
     ray.id = 0;

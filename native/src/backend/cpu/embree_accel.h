@@ -1,5 +1,6 @@
 // Ray queries on the CPU through Embree 3 (loaded privately, see embree_loader.h). Triangles
-// with non-finite vertices or zero area are left out of the build and counted in warnings.
+// with non-finite vertices or zero area are left out of the build and counted in warnings; rays
+// Embree would assert on are moved into its range or refused first (prepare()).
 // When some objects are hidden from camera rays or cast no shadow, separate acceleration
 // structures serve those ray kinds; scenes that do not use the flags build only one.
 #pragma once
@@ -22,6 +23,10 @@ struct HitRecord {
     Vec2 uv;
 };
 
+// Bounds of the triangles the accelerators hold (finite, not degenerate), padded: where
+// EmbreeAccel::prepare() moves rays that start beyond kMaxCoordinate. Empty (lo > hi) if none.
+void far_ray_bounds(const SceneView& s, Vec3 box[2]);
+
 class EmbreeAccel {
 public:
     // Builds from the scene's triangles; `warnings` receives what was skipped and why.
@@ -32,6 +37,10 @@ public:
 
     HitRecord intersect(const Ray& r, RayKind kind) const;
     bool occluded(const Ray& r) const;
+    // The ray as Embree can take it (origin o, range [tnear, tfar], hit distances then + shift),
+    // or false when there is nothing to trace (embree_accel.cpp, "Rays Embree can take").
+    static bool prepare(const Ray& r, const Vec3 box[2], float o[3], float* tnear, float* tfar,
+                        float* shift);
     // What the alpha filter of a Built's alpha-tested geometry reads (scene/alpha.h).
     struct AlphaFilter {
         SceneView s;
@@ -55,6 +64,7 @@ private:
     Built build(const SceneView& s, uint8_t need_flag);
     const Built& for_kind(RayKind kind) const;
 
+    Vec3 box_[2];  // far_ray_bounds()
     void* device_ = nullptr;                 // RTCDevice
     Built all_, camera_, shadow_;
     bool has_camera_ = false, has_shadow_ = false;
