@@ -1,0 +1,238 @@
+"""The one statistical comparison of renders (tests/README.md): per-block agreement plus a test
+on the image mean, and the negative controls that prove a comparison can fail.
+
+compare_renders(a, b): a, b are sets of independent renders (different seeds), stored per-seed
+block means (metrics.SeedBlocks) or, for b, an exact value or image.
+- blocks: z = (mean_a - mean_b) / se per block and channel, Student t with Welch-Satterthwaite
+  dof per block; all must pass Bonferroni at `alpha` over the blocks compared (beyond the same
+  tolerated relative difference `bias_cap` as the mean).
+- image mean, per channel: |mean_a - mean_b| <= bias_cap |mean_b| + t(alpha / C, Welch dof) se,
+  se from the spread of the seeds' image means: a z-test that tolerates a stated systematic
+  difference `bias_cap` (default 0.2 %).
+False alarms: at most alpha for each of the two parts (2 alpha in all).
+negative_controls(a, b): the same comparison with a known bias injected into a (1 % on the
+whole image, +5 % on one block, two channels swapped); each must fail."""
+
+from dataclasses import dataclass, field
+from functools import cached_property
+
+import numpy as np
+
+from . import metrics, student_t
+
+DEFAULT_ALPHA = 1e-3
+DEFAULT_BIAS_CAP = 0.002    # a systematic image-mean difference tolerated (0.2 %)
+POWER_Z = 2.33              # one-sided normal quantile for 99 % power ("detectable")
+CONTROL_IMAGE_BIAS = 0.01
+CONTROL_BLOCK_BIAS = 0.05
+
+
+@dataclass
+class Agreement:
+    """The verdict of compare_renders: `blocks` (a metrics.Comparison, masked-out blocks have
+    z = 0 and do not count), the image means per channel and what the mean test allowed."""
+    blocks: metrics.Comparison
+    mean_a: np.ndarray
+    mean_b: np.ndarray
+    mean_se: np.ndarray
+    mean_dof: np.ndarray
+    alpha: float
+    bias_cap: float
+    mask: np.ndarray = None
+    name: str = ""
+    notes: list = field(default_factory=list)
+
+    @property
+    def mean_rel(self):
+        """(mean_a - mean_b) / mean_b per channel (0 where mean_b is 0 and they agree)."""
+        with np.errstate(divide="ignore", invalid="ignore"):
+            r = (self.mean_a - self.mean_b) / np.abs(self.mean_b)
+        return np.where(self.mean_a == self.mean_b, 0.0, r)
+
+    @cached_property
+    def mean_threshold(self):
+        c = len(self.mean_a)
+        return student_t.quantile(self.alpha / c, self.mean_dof)
+
+    @property
+    def mean_p(self):
+        """Per channel, P(a fair comparison exceeds the observed |difference| beyond the
+        cap): the two-sided t tail of (|d| - cap |mean_b|)+ / se (1 within the cap)."""
+        d = np.abs(self.mean_a - self.mean_b) - self.bias_cap * np.abs(self.mean_b)
+        z = metrics._z(np.maximum(d, 0.0), self.mean_se)
+        return student_t.two_sided_tail(z, self.mean_dof)
+
+    @property
+    def mean_allowed(self):
+        """The largest |mean_a - mean_b| the mean test accepts, per channel."""
+        return self.bias_cap * np.abs(self.mean_b) + self.mean_threshold * self.mean_se
+
+    @property
+    def mean_passed(self):
+        p = self.mean_p
+        return bool(np.all(np.isfinite(p)) and p.min() * len(p) > self.alpha)
+
+    @property
+    def blocks_passed(self):
+        return self.blocks.passed(self.alpha)
+
+    @property
+    def passed(self):
+        return self.mean_passed and self.blocks_passed
+
+    def __bool__(self):
+        return self.passed
+
+    def detectable_bias(self):
+        """Smallest relative whole-image bias the mean test flags with ~99 % probability
+        (largest over the channels): bias_cap + (threshold + 2.33) se / |mean_b|."""
+        with np.errstate(divide="ignore", invalid="ignore"):
+            r = self.bias_cap + (self.mean_threshold + POWER_Z) * self.mean_se / np.abs(
+                self.mean_b)
+        return float(np.max(np.where(np.abs(self.mean_b) > 0, r, np.inf)))
+
+    def block_resolution(self):
+        """Per block and channel, the smallest relative bias of that block alone the block
+        test flags with ~99 % probability ((Bonferroni threshold + 2.33) se / |mean_b|)."""
+        cmp = self.blocks
+        thr = student_t.quantile(self.alpha / cmp.n, cmp.dof_eff)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            r = (thr + POWER_Z) * cmp.se / np.abs(cmp.mean_b)
+        return np.where(np.abs(cmp.mean_b) > 0, r, np.inf)
+
+    def __str__(self):
+        cmp = self.blocks
+        rel = ", ".join(f"{x:+.3%}" for x in self.mean_rel)
+        allowed = ", ".join(f"{x:.3%}" for x in self.mean_allowed / np.abs(self.mean_b))
+        head = f"{self.name}: " if self.name else ""
+        return (f"{head}{'agree' if self.passed else 'DIFFER'}; image mean rel. diff [{rel}] "
+                f"(allowed [{allowed}]: cap {self.bias_cap:.2%} + t {np.max(self.mean_threshold):.2f}"
+                f" se; {'ok' if self.mean_passed else 'FAIL'}); blocks ({cmp.n} compared, "
+                f"dof {cmp.dof}..{np.min(cmp.dof_eff):.0f}+): {cmp}; "
+                f"{'ok' if self.blocks_passed else 'FAIL'}; detects a whole-image bias >= "
+                f"{self.detectable_bias():.2%}" + "".join(f"; {n}" for n in self.notes))
+
+
+def _seed_means(stack, mask):
+    """Per-seed image means (K, C) over the blocks in `mask` (Bh, Bw)."""
+    return stack[:, mask].mean(axis=1)
+
+
+def compare_renders(renders_a, renders_b, block=8, alpha=DEFAULT_ALPHA,
+                    bias_cap=DEFAULT_BIAS_CAP, mask=None, se_floor=0.0, rel_floor=1e-5,
+                    name=""):
+    """Compare two sets of independent renders (module docstring). `mask` (Bh, Bw) bool
+    selects the blocks compared (default all); `se_floor` (absolute) and `rel_floor` (times
+    |mean_b|) are float-rounding allowances added in quadrature to every standard error."""
+    sa = metrics.seed_blocks(renders_a, block)
+    b = _as_b(renders_b, block, sa.shape[1:])
+    cmp = metrics.compare_sets(metrics.SeedBlocks(sa), b, block, se_floor=se_floor,
+                               rel_floor=rel_floor)
+    bh, bw, c = cmp.z.shape
+    mask = np.ones((bh, bw), bool) if mask is None else np.asarray(mask, bool)
+    if mask.shape != (bh, bw):
+        raise ValueError(f"mask {mask.shape} does not match the block grid {(bh, bw)}")
+    if not mask.any():
+        raise ValueError("mask selects no blocks")
+    cmp.z = np.where(mask[..., None], cmp.z, 0.0)
+    cmp.n_compared = int(mask.sum()) * c
+    cmp.bias_cap = float(bias_cap)
+    # ---- image mean ----
+    ma = _seed_means(sa, mask)
+    ka = len(ma)
+    if isinstance(b, metrics.SeedBlocks):
+        mb = _seed_means(b.blocks, mask)
+        kb, mean_b, se2_b = len(mb), mb.mean(axis=0), mb.var(axis=0, ddof=1) / len(mb)
+    else:
+        kb, mean_b = None, cmp.mean_b[mask].mean(axis=0)
+        se2_b = np.zeros(c)
+    se2_a = ma.var(axis=0, ddof=1) / ka
+    floor2 = se_floor ** 2 / mask.sum() + (rel_floor * np.abs(mean_b)) ** 2
+    mean_se = np.sqrt(se2_a + se2_b + floor2)
+    dof = np.maximum(student_t.welch_dof(se2_a, ka, se2_b, kb), (ka if kb is None else
+                                                                 min(ka, kb)) - 1)
+    return Agreement(cmp, ma.mean(axis=0), mean_b, mean_se, dof, alpha, bias_cap, mask, name)
+
+
+def _as_b(renders_b, block, grid):
+    """renders_b as SeedBlocks, or as it is when it is an exact value or image."""
+    if isinstance(renders_b, metrics.SeedBlocks):
+        return renders_b
+    if metrics._exact_blocks(renders_b, 3, grid, block) is not None:
+        return renders_b
+    return metrics.SeedBlocks(metrics.seed_blocks(renders_b, block))
+
+
+# ---- Negative controls ----
+
+def control_block(agreement):
+    """The block the +5 % control goes into: among the compared blocks carrying at least a
+    tenth of the mean signal, the one with the median relative noise (a typical block)."""
+    cmp = agreement.blocks
+    lum = np.abs(cmp.mean_b).mean(axis=2)
+    rel = (cmp.se.mean(axis=2) / np.where(lum > 0, lum, np.inf))
+    ok = agreement.mask & (lum >= 0.1 * lum[agreement.mask].mean()) & (lum > 0)
+    idx = np.argwhere(ok)
+    order = np.argsort(rel[ok], kind="stable")
+    by, bx = idx[order[len(order) // 2]]
+    return int(by), int(bx)
+
+
+def _swap_pair(mean_b):
+    """The two channels whose image means differ most, when they differ by >= 2 %."""
+    if len(mean_b) < 2:
+        return None
+    best, pair = 0.0, None
+    for i in range(len(mean_b)):
+        for j in range(i + 1, len(mean_b)):
+            s = abs(mean_b[i]) + abs(mean_b[j])
+            d = 2 * abs(mean_b[i] - mean_b[j]) / s if s > 0 else 0.0
+            if d > best:
+                best, pair = d, (i, j)
+    return pair if best >= 0.02 else None
+
+
+def negative_controls(renders_a, renders_b, block=8, **kwargs):
+    """[(label, Agreement)]: compare_renders(a', b) for a' = a with a known bias injected into
+    every seed's block means. A swap is left out (label says why) where the reference's
+    channels are the same within 2 % (a grey image: the swap changes nothing)."""
+    sa = metrics.seed_blocks(renders_a, block)
+    base = compare_renders(metrics.SeedBlocks(sa), renders_b, block, **kwargs)
+    out = [(f"{CONTROL_IMAGE_BIAS:+.0%} on the whole image", metrics.SeedBlocks(
+        sa * (1.0 + CONTROL_IMAGE_BIAS)))]
+    by, bx = control_block(base)
+    one = sa.copy()
+    one[:, by, bx, :] *= 1.0 + CONTROL_BLOCK_BIAS
+    out.append((f"{CONTROL_BLOCK_BIAS:+.0%} on block ({by}, {bx})", metrics.SeedBlocks(one)))
+    pair = _swap_pair(base.mean_b)
+    results = [(label, compare_renders(x, renders_b, block, **kwargs)) for label, x in out]
+    if pair:
+        sw = sa.copy()
+        sw[..., [pair[0], pair[1]]] = sa[..., [pair[1], pair[0]]]
+        results.append((f"channels {'RGBA'[pair[0]]} and {'RGBA'[pair[1]]} swapped",
+                        compare_renders(metrics.SeedBlocks(sw), renders_b, block, **kwargs)))
+    return results
+
+
+def assert_agreement(name, renders_a, renders_b, block=8, controls=True, **kwargs):
+    """compare_renders, printed; asserts agreement and, with `controls`, that every negative
+    control fails (the comparison can see a 1 % image bias, +5 % on a typical block and a
+    swapped channel). Returns the Agreement."""
+    res = compare_renders(renders_a, renders_b, block, name=name, **kwargs)
+    print(res)
+    assert np.isfinite(res.blocks.mean_a).all(), f"{name}: non-finite pixels"
+    assert res.passed, str(res)
+    if controls:
+        for label, ctl in negative_controls(renders_a, renders_b, block, **kwargs):
+            print(f"  control {label}: {'caught' if not ctl.passed else 'MISSED'}")
+            assert not ctl.passed, (f"{name}: negative control '{label}' passed, so this "
+                                    f"comparison cannot see it: {ctl}")
+    return res
+
+
+def false_alarm_bound(trials, alpha, level=1e-3):
+    """Largest number of false alarms in `trials` independent fair comparisons consistent with
+    a rate <= alpha (binomial, one-sided at `level`)."""
+    return metrics.binomial_bound(trials, alpha, level)
+
+
