@@ -6,9 +6,10 @@ block means (metrics.SeedBlocks) or, for b, an exact value or image.
 - blocks: z = (mean_a - mean_b) / se per block and channel, Student t with Welch-Satterthwaite
   dof per block; all must pass Bonferroni at `alpha` over the blocks compared (beyond the same
   tolerated relative difference `bias_cap` as the mean).
-- image mean, per channel: |mean_a - mean_b| <= bias_cap |mean_b| + t(alpha / C, Welch dof) se,
-  se from the spread of the seeds' image means: a z-test that tolerates a stated systematic
-  difference `bias_cap` (default 0.2 %).
+- the overall level, per channel, twice: the image mean, and the mean of the blocks relative to
+  their reference level (each block with signal weighted equally). Each passes when
+  |relative difference| <= bias_cap + t(alpha / 2C, Welch dof) se, se from the spread of the
+  seeds' values: a z-test that tolerates a stated systematic difference `bias_cap` (0.2 %).
 False alarms: at most alpha for each of the two parts (2 alpha in all).
 negative_controls(a, b): the same comparison with a known bias injected into a (1 % on the
 whole image, +5 % on one block, two channels swapped); each must fail."""
@@ -27,15 +28,23 @@ CONTROL_IMAGE_BIAS = 0.01
 CONTROL_BLOCK_BIAS = 0.05
 
 
+MEAN_TESTS = ("image mean", "block-weighted mean")
+SIGNAL_FRACTION = 0.05      # blocks under this fraction of the mean stay out of the weighted mean
+
+
 @dataclass
 class Agreement:
-    """The verdict of compare_renders: `blocks` (a metrics.Comparison, masked-out blocks have
-    z = 0 and do not count), the image means per channel and what the mean test allowed."""
+    """The verdict of compare_renders: `blocks` (a metrics.Comparison; masked-out blocks have
+    z = 0 and do not count) and two tests of the overall level, per channel, in relative
+    terms (rows of `rel`, `rel_se`, `rel_dof`): the image mean, and the mean of each block
+    relative to its reference level (every block with signal weighted equally, so that a
+    bright, noisy emitter does not hide a bias elsewhere). `mean_a`, `mean_b`: image means."""
     blocks: metrics.Comparison
     mean_a: np.ndarray
     mean_b: np.ndarray
-    mean_se: np.ndarray
-    mean_dof: np.ndarray
+    rel: np.ndarray
+    rel_se: np.ndarray
+    rel_dof: np.ndarray
     alpha: float
     bias_cap: float
     mask: np.ndarray = None
@@ -44,33 +53,30 @@ class Agreement:
 
     @property
     def mean_rel(self):
-        """(mean_a - mean_b) / mean_b per channel (0 where mean_b is 0 and they agree)."""
-        with np.errstate(divide="ignore", invalid="ignore"):
-            r = (self.mean_a - self.mean_b) / np.abs(self.mean_b)
-        return np.where(self.mean_a == self.mean_b, 0.0, r)
+        """(mean_a - mean_b) / mean_b per channel: the image mean's relative difference."""
+        return self.rel[0]
 
     @cached_property
     def mean_threshold(self):
-        c = len(self.mean_a)
-        return student_t.quantile(self.alpha / c, self.mean_dof)
+        """t quantiles of the mean tests (Bonferroni over both tests and the channels)."""
+        return student_t.quantile(self.alpha / self.rel.size, self.rel_dof)
 
     @property
     def mean_p(self):
-        """Per channel, P(a fair comparison exceeds the observed |difference| beyond the
-        cap): the two-sided t tail of (|d| - cap |mean_b|)+ / se (1 within the cap)."""
-        d = np.abs(self.mean_a - self.mean_b) - self.bias_cap * np.abs(self.mean_b)
-        z = metrics._z(np.maximum(d, 0.0), self.mean_se)
-        return student_t.two_sided_tail(z, self.mean_dof)
+        """P(a fair comparison exceeds the observed |difference| beyond the cap), per test
+        and channel: the two-sided t tail of (|rel| - cap)+ / se (1 within the cap)."""
+        z = metrics._z(np.maximum(np.abs(self.rel) - self.bias_cap, 0.0), self.rel_se)
+        return student_t.two_sided_tail(np.where(np.isnan(self.rel), np.nan, z), self.rel_dof)
 
     @property
     def mean_allowed(self):
-        """The largest |mean_a - mean_b| the mean test accepts, per channel."""
-        return self.bias_cap * np.abs(self.mean_b) + self.mean_threshold * self.mean_se
+        """The largest relative difference each mean test accepts (tests x channels)."""
+        return self.bias_cap + self.mean_threshold * self.rel_se
 
     @property
     def mean_passed(self):
         p = self.mean_p
-        return bool(np.all(np.isfinite(p)) and p.min() * len(p) > self.alpha)
+        return bool(np.all(np.isfinite(p)) and p.min() * p.size > self.alpha)
 
     @property
     def blocks_passed(self):
@@ -84,38 +90,51 @@ class Agreement:
         return self.passed
 
     def detectable_bias(self):
-        """Smallest relative whole-image bias the mean test flags with ~99 % probability
-        (largest over the channels): bias_cap + (threshold + 2.33) se / |mean_b|."""
-        with np.errstate(divide="ignore", invalid="ignore"):
-            r = self.bias_cap + (self.mean_threshold + POWER_Z) * self.mean_se / np.abs(
-                self.mean_b)
-        return float(np.max(np.where(np.abs(self.mean_b) > 0, r, np.inf)))
+        """Smallest relative whole-image bias the mean tests flag with ~99 % probability:
+        bias_cap + (threshold + 2.33) se, the better of the two tests (worst channel)."""
+        r = self.bias_cap + (self.mean_threshold + POWER_Z) * self.rel_se
+        return float(np.min(np.max(np.where(np.isfinite(r), r, np.inf), axis=1)))
 
     def block_resolution(self):
         """Per block and channel, the smallest relative bias of that block alone the block
-        test flags with ~99 % probability ((Bonferroni threshold + 2.33) se / |mean_b|)."""
+        test flags with ~99 % probability (cap + (Bonferroni threshold + 2.33) se / |mean_b|)."""
         cmp = self.blocks
         thr = student_t.quantile(self.alpha / cmp.n, cmp.dof_eff)
         with np.errstate(divide="ignore", invalid="ignore"):
-            r = (thr + POWER_Z) * cmp.se / np.abs(cmp.mean_b)
+            r = self.bias_cap + (thr + POWER_Z) * cmp.se / np.abs(cmp.mean_b)
         return np.where(np.abs(cmp.mean_b) > 0, r, np.inf)
 
     def __str__(self):
         cmp = self.blocks
-        rel = ", ".join(f"{x:+.3%}" for x in self.mean_rel)
-        allowed = ", ".join(f"{x:.3%}" for x in self.mean_allowed / np.abs(self.mean_b))
+        tests = "; ".join(
+            f"{label} rel. diff [{', '.join(f'{x:+.3%}' for x in self.rel[t])}] (allowed "
+            f"{np.max(self.mean_allowed[t]):.3%})" for t, label in enumerate(MEAN_TESTS))
         head = f"{self.name}: " if self.name else ""
-        return (f"{head}{'agree' if self.passed else 'DIFFER'}; image mean rel. diff [{rel}] "
-                f"(allowed [{allowed}]: cap {self.bias_cap:.2%} + t {np.max(self.mean_threshold):.2f}"
-                f" se; {'ok' if self.mean_passed else 'FAIL'}); blocks ({cmp.n} compared, "
-                f"dof {cmp.dof}..{np.min(cmp.dof_eff):.0f}+): {cmp}; "
-                f"{'ok' if self.blocks_passed else 'FAIL'}; detects a whole-image bias >= "
-                f"{self.detectable_bias():.2%}" + "".join(f"; {n}" for n in self.notes))
+        return (f"{head}{'agree' if self.passed else 'DIFFER'}; {tests}: cap "
+                f"{self.bias_cap:.2%} + t {np.max(self.mean_threshold):.2f} se, "
+                f"{'ok' if self.mean_passed else 'FAIL'}; blocks ({cmp.n} compared, Welch dof >= "
+                f"{np.min(cmp.dof_eff):.1f}): {cmp}; {'ok' if self.blocks_passed else 'FAIL'}; "
+                f"detects a whole-image bias >= {self.detectable_bias():.2%}"
+                + "".join(f"; {n}" for n in self.notes))
 
 
-def _seed_means(stack, mask):
-    """Per-seed image means (K, C) over the blocks in `mask` (Bh, Bw)."""
-    return stack[:, mask].mean(axis=1)
+def _level_test(per_seed_a, per_seed_b, level):
+    """Relative difference of two per-seed statistics (K, C) over `level` (C), its standard
+    error and Welch dof; per_seed_b None: b is exactly `level`."""
+    ka = len(per_seed_a)
+    se2_a = per_seed_a.var(axis=0, ddof=1) / ka
+    mean_a = per_seed_a.mean(axis=0)
+    if per_seed_b is None:
+        mean_b, se2_b, kb = level, np.zeros_like(mean_a), None
+    else:
+        kb = len(per_seed_b)
+        mean_b, se2_b = per_seed_b.mean(axis=0), per_seed_b.var(axis=0, ddof=1) / kb
+    dof = np.maximum(student_t.welch_dof(se2_a, ka, se2_b, kb),
+                     (ka if kb is None else min(ka, kb)) - 1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rel = np.where(mean_a == mean_b, 0.0, (mean_a - mean_b) / np.abs(level))
+        se = np.where(level != 0, np.sqrt(se2_a + se2_b) / np.abs(level), np.inf)
+    return rel, se, dof
 
 
 def compare_renders(renders_a, renders_b, block=8, alpha=DEFAULT_ALPHA,
@@ -137,21 +156,28 @@ def compare_renders(renders_a, renders_b, block=8, alpha=DEFAULT_ALPHA,
     cmp.z = np.where(mask[..., None], cmp.z, 0.0)
     cmp.n_compared = int(mask.sum()) * c
     cmp.bias_cap = float(bias_cap)
-    # ---- image mean ----
-    ma = _seed_means(sa, mask)
-    ka = len(ma)
-    if isinstance(b, metrics.SeedBlocks):
-        mb = _seed_means(b.blocks, mask)
-        kb, mean_b, se2_b = len(mb), mb.mean(axis=0), mb.var(axis=0, ddof=1) / len(mb)
-    else:
-        kb, mean_b = None, cmp.mean_b[mask].mean(axis=0)
-        se2_b = np.zeros(c)
-    se2_a = ma.var(axis=0, ddof=1) / ka
-    floor2 = se_floor ** 2 / mask.sum() + (rel_floor * np.abs(mean_b)) ** 2
-    mean_se = np.sqrt(se2_a + se2_b + floor2)
-    dof = np.maximum(student_t.welch_dof(se2_a, ka, se2_b, kb), (ka if kb is None else
-                                                                 min(ka, kb)) - 1)
-    return Agreement(cmp, ma.mean(axis=0), mean_b, mean_se, dof, alpha, bias_cap, mask, name)
+    sb = b.blocks if isinstance(b, metrics.SeedBlocks) else None
+    # ---- the image mean ----
+    ma = sa[:, mask].mean(axis=1)
+    mb = None if sb is None else sb[:, mask].mean(axis=1)
+    level = cmp.mean_b[mask].mean(axis=0) if sb is None else mb.mean(axis=0)
+    r0, s0, d0 = _level_test(ma, mb, level)
+    # ---- every block with signal weighted equally, relative to its level ----
+    ref = cmp.mean_b if sb is None else 0.5 * (cmp.mean_a + cmp.mean_b)
+    signal = mask[..., None] & (np.abs(ref) >= SIGNAL_FRACTION * np.abs(ref[mask]).mean(axis=0))
+    signal &= np.abs(ref) > 0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        w = np.where(signal, 1.0 / np.abs(ref), 0.0) / np.maximum(signal.sum(axis=(0, 1)), 1)
+    wa = (sa * w).sum(axis=(1, 2))
+    wb = None if sb is None else (sb * w).sum(axis=(1, 2))
+    lw = (cmp.mean_b * w).sum(axis=(0, 1)) if sb is None else wb.mean(axis=0)
+    r1, s1, d1 = _level_test(wa, wb, np.where(signal.any(axis=(0, 1)), 1.0, 0.0) if sb is None
+                             else np.where(signal.any(axis=(0, 1)), lw, 0.0))
+    floor = np.sqrt(se_floor ** 2 / mask.sum() / np.maximum(np.abs(level), 1e-300) ** 2
+                    + rel_floor ** 2)
+    rel_se = np.sqrt(np.stack([s0, s1]) ** 2 + floor ** 2)
+    return Agreement(cmp, ma.mean(axis=0), level, np.stack([r0, r1]), rel_se,
+                     np.stack([d0, d1]), alpha, bias_cap, mask, name)
 
 
 def _as_b(renders_b, block, grid):
@@ -194,16 +220,20 @@ def _swap_pair(mean_b):
 
 def negative_controls(renders_a, renders_b, block=8, **kwargs):
     """[(label, Agreement)]: compare_renders(a', b) for a' = a with a known bias injected into
-    every seed's block means. A swap is left out (label says why) where the reference's
+    every seed's block means: +-1 % on the whole image, +-5 % on one typical block
+    (control_block), two channels swapped. A swap is left out (label says why) where the reference's
     channels are the same within 2 % (a grey image: the swap changes nothing)."""
     sa = metrics.seed_blocks(renders_a, block)
     base = compare_renders(metrics.SeedBlocks(sa), renders_b, block, **kwargs)
-    out = [(f"{CONTROL_IMAGE_BIAS:+.0%} on the whole image", metrics.SeedBlocks(
-        sa * (1.0 + CONTROL_IMAGE_BIAS)))]
     by, bx = control_block(base)
-    one = sa.copy()
-    one[:, by, bx, :] *= 1.0 + CONTROL_BLOCK_BIAS
-    out.append((f"{CONTROL_BLOCK_BIAS:+.0%} on block ({by}, {bx})", metrics.SeedBlocks(one)))
+    out = []
+    for sign in (1.0, -1.0):  # both signs: a difference already there cannot mask one
+        out.append((f"{sign * CONTROL_IMAGE_BIAS:+.0%} on the whole image",
+                    metrics.SeedBlocks(sa * (1.0 + sign * CONTROL_IMAGE_BIAS))))
+        one = sa.copy()
+        one[:, by, bx, :] *= 1.0 + sign * CONTROL_BLOCK_BIAS
+        out.append((f"{sign * CONTROL_BLOCK_BIAS:+.0%} on block ({by}, {bx})",
+                    metrics.SeedBlocks(one)))
     pair = _swap_pair(base.mean_b)
     results = [(label, compare_renders(x, renders_b, block, **kwargs)) for label, x in out]
     if pair:
@@ -223,8 +253,9 @@ def assert_agreement(name, renders_a, renders_b, block=8, controls=True, **kwarg
     assert np.isfinite(res.blocks.mean_a).all(), f"{name}: non-finite pixels"
     assert res.passed, str(res)
     if controls:
-        for label, ctl in negative_controls(renders_a, renders_b, block, **kwargs):
-            print(f"  control {label}: {'caught' if not ctl.passed else 'MISSED'}")
+        ctls = negative_controls(renders_a, renders_b, block, **kwargs)
+        print(f"  negative controls caught: {', '.join(label for label, c in ctls if not c)}")
+        for label, ctl in ctls:
             assert not ctl.passed, (f"{name}: negative control '{label}' passed, so this "
                                     f"comparison cannot see it: {ctl}")
     return res

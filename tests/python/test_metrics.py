@@ -148,10 +148,10 @@ def test_compare_renders_null_and_controls():
     assert res.passed, str(res)
     assert res.blocks.n == 48 and res.detectable_bias() < 0.01
     controls = dict(metrics.negative_controls(a, b, block=8))
-    assert len(controls) == 3 and not any(c.passed for c in controls.values())
+    assert len(controls) == 5 and not any(c.passed for c in controls.values())
     # a grey image has no channel swap to try; a mask leaves blocks out of both parts
     grey = [np.repeat(x[..., :1], 3, axis=2) for x in a]
-    assert len(metrics.negative_controls(grey, 1.0, block=8)) == 2
+    assert len(metrics.negative_controls(grey, 1.0, block=8)) == 4
     mask = np.ones((4, 4), bool)
     mask[0, 0] = False
     off = [x.copy() for x in a]
