@@ -64,7 +64,7 @@ REFERENCE = {"fixture": "bdpt", "glass": "bdpt"}
 OTHER_CONTROLS = (0.03, 0.10)   # the single-purpose comparisons below (delta lights, world, ...)
 CONTROLS = {"cornell": (0.015, 0.05), "glossy": (0.015, 0.05), "principled": (0.03, 0.10),
             "features": (0.03, 0.10), "coat_normal": (0.02, 0.05), "fixture": (0.025, 0.10),
-            "glass": (0.02, 0.10)}
+            "glass": (0.025, 0.10)}
 
 SCENES = {
     "cornell": lambda: scenes.cornell_box(SIZE, SIZE),
