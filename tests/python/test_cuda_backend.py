@@ -21,7 +21,8 @@ from lantern import metrics, scenes
 from lantern.session import DEFAULT_SETTINGS
 
 K = 16
-GPU_CONTROLS = (0.03, 0.10)   # whole image, one block: what 16 seeds x 64 spp resolve at 32x32
+GPU_CONTROLS = (0.04, 0.10)   # whole image, one block: what 16 seeds x 64 spp resolve at 32x32
+                              # (cpu vs cpu: Cornell lt 0.93 %, features cis 3.0 %)
 
 
 @pytest.fixture(scope="module")
