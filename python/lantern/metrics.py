@@ -1,7 +1,9 @@
 """Error metrics and statistical image comparisons for tests and benchmarks.
 
 Images are float arrays (H, W) or (H, W, C). Block statistics crop the image to whole blocks
-(the last H % block rows and W % block columns are ignored)."""
+(the last H % block rows and W % block columns are ignored). The comparison every render test
+uses is compare_renders / assert_agreement (lantern/agreement.py, tests/README.md); the
+pieces below (compare_sets, z_threshold, ...) stay for the tests and tools that call them."""
 
 import math
 from dataclasses import dataclass
@@ -112,10 +114,11 @@ def binomial_bound(n, p, alpha=1e-3):
 
 
 def agreement(renders_a, renders_b, block=8, alpha=1e-3):
-    """The cross-integrator test (tests/python/test_bidirectional.py): two sets of independent
-    renders agree when every block's |z| is under the Bonferroni threshold for `alpha` and no
-    more blocks exceed |z| = 3 than a fair comparison gives (binomial bound at `alpha` on the
-    t tail probability). Returns (passed, Comparison, over3, allowed)."""
+    """The former cross-integrator rule, kept for callers: two sets of independent renders
+    agree when every block passes Bonferroni at `alpha` (Welch dof) and no more blocks exceed
+    |z| = 3 than a fair comparison gives (binomial bound at `alpha` on the t tail at the
+    conservative dof). Returns (passed, Comparison, over3, allowed). New tests use
+    compare_renders, which also tests the image mean."""
     cmp = compare_sets(renders_a, renders_b, block=block)
     allowed = binomial_bound(cmp.n, t_tail(3.0, cmp.dof), alpha)
     over3 = int(np.sum(np.abs(cmp.z) > 3.0))
