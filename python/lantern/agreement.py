@@ -222,8 +222,8 @@ def negative_controls(renders_a, renders_b, block=8, image_bias=CONTROL_IMAGE_BI
                       block_bias=CONTROL_BLOCK_BIAS, **kwargs):
     """[(label, Agreement)]: compare_renders(a', b) for a' = a with a known bias injected into
     every seed's block means: +-image_bias (1 %) on the whole image, +-block_bias (5 %) on one
-    typical block (control_block), two channels swapped. A swap is left out (label says why) where the reference's
-    channels are the same within 2 % (a grey image: the swap changes nothing)."""
+    typical block (control_block), two channels swapped. The swap is left out where the
+    reference's channel means are the same within 2 % (a grey image: it changes nothing)."""
     sa = metrics.seed_blocks(renders_a, block)
     base = compare_renders(metrics.SeedBlocks(sa), renders_b, block, **kwargs)
     by, bx = control_block(base)

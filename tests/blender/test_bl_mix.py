@@ -118,7 +118,8 @@ def test_mix_f12_analytic(empty, addon, tmp_path, errors):
     left = px[10:22, 2:14].reshape(-1, 3)  # inside the plane (rows and columns 8..24, 0..16)
     z = _region_z(left, 0.7 * d_col + 0.3 * t_col)
     z_swapped = _region_z(left, 0.3 * d_col + 0.7 * t_col)
-    print(f"diffuse/translucent mix: mean {left.mean(axis=0)}, |z| {z:.2f}, swapped {z_swapped:.1f}")
+    print(f"diffuse/translucent mix: mean {left.mean(axis=0)}, |z| {z:.2f}, swapped "
+          f"{z_swapped:.1f}")
     assert z < 5, left.mean(axis=0)
     assert z_swapped > 20, left.mean(axis=0)
     bpy.data.objects.remove(dt)

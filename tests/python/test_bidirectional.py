@@ -58,8 +58,9 @@ def check_agreement(name, renders_a, renders_pt, controls=(0.01, 0.05)):
 
 # The reference per scene: pt, except where pt's own noise (a light inside a fixture, caustics
 # through glass) would swamp the comparison: there bdpt is the reference (checked against pt on
-# the five other scenes) and pt is not compared (at CI cost it resolves only ~6-10 %). Stated control levels (whole image, one block) where 1 % / 5 % costs more than CI
-# affords at 32x32 (tests/README.md, "Resolution"): from the printed "detects ... >=".
+# the five other scenes) and pt is not compared (at CI cost it resolves only ~6-10 %).
+# Stated control levels (whole image, one block) where 1 % / 5 % costs more than CI affords
+# at 32x32 (tests/README.md): from the printed "detects ... >=", with a margin.
 REFERENCE = {"fixture": "bdpt", "glass": "bdpt"}
 OTHER_CONTROLS = (0.03, 0.10)   # the single-purpose comparisons below (delta lights, world, ...)
 CONTROLS = {"cornell": (0.015, 0.05), "glossy": (0.015, 0.05), "principled": (0.03, 0.10),
