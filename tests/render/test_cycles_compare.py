@@ -28,6 +28,10 @@ REFS = sorted(os.path.splitext(os.path.basename(p))[0]
               for p in glob.glob(os.path.join(rc.REF_DIR, "*.npz")))
 LANTERN_SEEDS = int(os.environ.get("LANTERN_TEST_SEEDS", "16"))
 LANTERN_SPP = int(os.environ.get("LANTERN_TEST_SPP", "128"))
+# stated control levels (whole image, one block) where 1 % / 5 % is more than the noise allows:
+# the spot's blocks carry ~1 % noise per block in both renderers (measured z 5.0 for +5 %
+# against a Bonferroni threshold near 6.5 over 432 blocks)
+CONTROLS = {"light_spot": (0.01, 0.10)}
 
 
 @pytest.fixture(scope="module")
@@ -65,7 +69,9 @@ def test_matches_cycles(name, addon):
             f"resolved >= {res.detectable_bias():.2%}")
     rc.REPORT.append(line)
     _save_debug(name, lan, ref, res.blocks.z)
-    metrics.assert_agreement(name, images, cycles, block=rc.BLOCK)
+    image_bias, block_bias = CONTROLS.get(name, (0.01, 0.05))
+    metrics.assert_agreement(name, images, cycles, block=rc.BLOCK, image_bias=image_bias,
+                             block_bias=block_bias)
 
 
 def _save_debug(name, lan, ref, z):
