@@ -158,7 +158,7 @@ def test_resampled_and_uniform_picks_agree(core, backend):
     uniform = renders(scene, "lvc", 64, 5000, backend=backend)
     check_agreement("cis(bsdf target) vs lvc", renders(scene, "cis", 64, 6000,
                                                        cis_target="bsdf", backend=backend),
-                    uniform, OTHER_CONTROLS)
+                    uniform, (0.045, 0.10))  # lvc as the reference: resolves ~3.5 %
 
 
 def test_naive_resampling_weight_is_biased(core, backend):
