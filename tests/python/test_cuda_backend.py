@@ -22,7 +22,7 @@ from lantern.session import DEFAULT_SETTINGS
 
 K = 16
 GPU_CONTROLS = (0.04, 0.10)   # whole image, one block: what 16 seeds x 64 spp resolve at 32x32
-                              # (cpu vs cpu: Cornell lt 0.93 %, features cis 3.0 %)
+                              # (cpu vs cpu: Cornell pt 1.9 %, features cis 3.0 %)
 
 
 @pytest.fixture(scope="module")
