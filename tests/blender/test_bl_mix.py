@@ -92,28 +92,42 @@ def test_export_transparent_mixes_become_alpha(empty, addon):
     scene.validate()
 
 
+def _region_z(px, expected):
+    """Largest |z| of a region's mean against `expected` per channel (se from the pixels'
+    spread; 1e-4 floor where there is no noise)."""
+    se = px.std(axis=0, ddof=1) / np.sqrt(len(px)) + 1e-4
+    return float((np.abs(px.mean(axis=0) - expected) / se).max())
+
+
 def test_mix_f12_analytic(empty, addon, tmp_path, errors):
-    """Under a uniform white world: a plane of 0.5 white diffuse + 0.5 white translucent
-    reflects and transmits the world (radiance 1); in front of a red emitter, Mix(Transparent,
-    Emission 2, 0.5) shows 0.5 x 2 + 0.5 x red."""
+    """Under a uniform white world: a plane of 0.7 diffuse D + 0.3 translucent T (different
+    colours, so that the weights show) reflects and transmits the world: 0.7 D + 0.3 T; in front
+    of a red emitter, Mix(Transparent, Emission 2, 0.3) shows 0.7 x red + 0.3 x 2. The same
+    pixels against the swapped weights must fail (the test sees the weights)."""
     white_world(empty)
+    d_col, t_col = np.array([0.9, 0.5, 0.1]), np.array([0.1, 0.5, 0.9])
+
     def build(nodes, links):
-        d = shader(nodes, "ShaderNodeBsdfDiffuse", Color=(1, 1, 1, 1))
-        t = shader(nodes, "ShaderNodeBsdfTranslucent", Color=(1, 1, 1, 1))
-        return mix(nodes, links, 0.5, d, t).outputs[0]
+        d = shader(nodes, "ShaderNodeBsdfDiffuse", Color=(*d_col, 1))
+        t = shader(nodes, "ShaderNodeBsdfTranslucent", Color=(*t_col, 1))
+        return mix(nodes, links, 0.3, d, t).outputs[0]
     dt = add_plane(empty, size=1.0, location=(-0.5, 0, 0), material=node_material("DT", build))
     ortho_camera(empty)
     empty.lantern.samples = 64
     px = render_exr(empty, tmp_path, "dt.exr")[..., :3].astype(np.float64)
-    left = px[4:28, 2:14].reshape(-1, 3)
-    se = left.std(axis=0, ddof=1) / np.sqrt(len(left)) + 1e-4
-    assert (np.abs(left.mean(axis=0) - 1.0) / se).max() < 5, left.mean(axis=0)
+    left = px[10:22, 2:14].reshape(-1, 3)  # inside the plane (rows and columns 8..24, 0..16)
+    z = _region_z(left, 0.7 * d_col + 0.3 * t_col)
+    z_swapped = _region_z(left, 0.3 * d_col + 0.7 * t_col)
+    print(f"diffuse/translucent mix: mean {left.mean(axis=0)}, |z| {z:.2f}, swapped "
+          f"{z_swapped:.1f}")
+    assert z < 5, left.mean(axis=0)
+    assert z_swapped > 20, left.mean(axis=0)
     bpy.data.objects.remove(dt)
 
     def build_e(nodes, links):
         t = nodes.new("ShaderNodeBsdfTransparent")
         e = shader(nodes, "ShaderNodeEmission", Color=(1, 1, 1, 1), Strength=2.0)
-        return mix(nodes, links, 0.5, t, e).outputs[0]
+        return mix(nodes, links, 0.3, t, e).outputs[0]
     add_plane(empty, size=1.0, location=(0.5, 0, 0.5), material=node_material("Veil", build_e))
 
     def build_red(nodes, links):
@@ -121,9 +135,13 @@ def test_mix_f12_analytic(empty, addon, tmp_path, errors):
     add_plane(empty, size=1.0, location=(0.5, 0, 0), material=node_material("Red", build_red))
     px = render_exr(empty, tmp_path, "veil.exr")[..., :3].astype(np.float64)
     right = px[10:22, 18:30].reshape(-1, 3)
-    se = right.std(axis=0, ddof=1) / np.sqrt(len(right)) + 1e-4
-    expected = np.array([1.5, 1.0, 1.0])
-    assert (np.abs(right.mean(axis=0) - expected) / se).max() < 5, right.mean(axis=0)
+    red = np.array([1.0, 0.0, 0.0])
+    z = _region_z(right, 0.7 * red + 0.3 * 2.0)
+    z_swapped = _region_z(right, 0.3 * red + 0.7 * 2.0)
+    print(f"transparent/emission mix: mean {right.mean(axis=0)}, |z| {z:.2f}, swapped "
+          f"{z_swapped:.1f}")
+    assert z < 5, right.mean(axis=0)
+    assert z_swapped > 20, right.mean(axis=0)
     assert not [c for c in errors if c[0] == "ERROR"]
 
 

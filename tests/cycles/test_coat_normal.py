@@ -31,6 +31,7 @@ from sphere_stage import camera_light_world, sphere_scene  # noqa: E402
 
 SIZE, K, SPP, BLOCK = 48, 8, 128, 4
 LIMB_COS = 0.55
+LIMB_RATIO = 0.970  # Lantern / Cycles mean over the limb pixels (measured: 0.9701)
 TILT = math.radians(25.0)
 
 
@@ -114,23 +115,31 @@ def test_coat_normal_matches_cycles():
         img, messages = rc.render_lantern(seed=20 + k, spp=SPP, threads=2)
         lan.append(img)
     assert not any("Coat Normal" in str(m) for m in messages), messages
-    mc, sc = metrics.block_stats(cyc, BLOCK)
-    ml, sl = metrics.block_stats(lan, BLOCK)
-    se = np.sqrt(sc ** 2 + sl ** 2 + (1e-3 * mc) ** 2)   # (the constant world: se ~ 0)
-    z = ((ml - mc) / se)[interior]
-    thr = metrics.z_threshold(z.size, 1e-3, dof=K - 1)
-    ratio = np.stack(lan).mean() / np.stack(cyc).mean()
+    res = metrics.compare_renders(lan, cyc, block=BLOCK, mask=interior, rel_floor=1e-3,
+                                  name="coat normal")
     limb_ratio = np.stack(lan)[:, limb].mean() / np.stack(cyc)[:, limb].mean()
-    print(f"coat normal: {int(interior.sum())} interior blocks, worst |z| {np.abs(z).max():.2f} "
-          f"(threshold {thr:.2f}); image mean ratio {ratio:.4f}; limb ({int(limb.sum())} px, "
-          f"view cosine < {LIMB_COS}) mean ratio {limb_ratio:.4f}")
+    # the ratio's standard error from both sides' seeds (delta method)
+    l_seeds = np.stack(lan)[:, limb].reshape(K, -1).mean(axis=1)
+    c_seeds = np.stack(cyc)[:, limb].reshape(K, -1).mean(axis=1)
+    limb_se = limb_ratio * math.sqrt((l_seeds.var(ddof=1) / l_seeds.mean() ** 2
+                                      + c_seeds.var(ddof=1) / c_seeds.mean() ** 2) / K)
+    print(f"{res}\ncoat normal: {int(interior.sum())} interior blocks; limb "
+          f"({int(limb.sum())} px, view cosine < {LIMB_COS}) mean ratio {limb_ratio:.4f} "
+          f"(se {limb_se:.4f})")
+    assert interior.sum() >= 40
+    # interior: the comparison of tests/README.md (rel_floor: the constant world's se ~ 0),
+    # with its negative controls
+    metrics.assert_agreement("coat normal", lan, cyc, block=BLOCK, mask=interior,
+                             rel_floor=1e-3)
+    # the limb: Lantern keeps a mapped normal that faces away, Cycles bends it towards the
+    # viewer, so Lantern is darker there (documented): the measured LIMB_RATIO, within the
+    # noise of this run and of the measurement (sqrt 2)
+    assert abs(limb_ratio - LIMB_RATIO) < metrics.z_threshold(1, 1e-3, K - 1) * limb_se * \
+        math.sqrt(2), (limb_ratio, limb_se)
+    assert limb_ratio < 1.0
     # the test can fail: the coat on the smooth normal is far outside the tolerance
     nt.links.remove(node.inputs["Coat Normal"].links[0])
     smooth = [rc.render_lantern(seed=30 + k, spp=SPP, threads=2)[0] for k in range(K)]
-    ms, ss = metrics.block_stats(smooth, BLOCK)
-    z_smooth = ((ms - mc) / np.sqrt(sc ** 2 + ss ** 2 + (1e-3 * mc) ** 2))[interior]
-    print(f"coat on the smooth normal: worst |z| {np.abs(z_smooth).max():.2f}")
-    assert interior.sum() >= 40
-    assert np.abs(z).max() < thr
-    assert abs(ratio - 1.0) < 0.02
-    assert np.abs(z_smooth).max() > 2 * thr
+    off = metrics.compare_renders(smooth, cyc, block=BLOCK, mask=interior, rel_floor=1e-3)
+    print(f"coat on the smooth normal: {off}")
+    assert not off.blocks_passed

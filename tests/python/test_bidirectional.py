@@ -14,8 +14,9 @@ import pytest
 import lantern
 from lantern import metrics, scenes
 
-K = 8
+K = 16         # seeds per set: Welch dof >= 15 (Bonferroni threshold ~6 over 48 blocks, not 10)
 SIZE = 32
+SPP_REF, SPP = 256, 64    # the reference and the integrator under test, per seed
 BIDIRECTIONAL = [
     ("bdpt", {}),
     ("lvc", {}),
@@ -45,19 +46,26 @@ def renders(scene, integrator, spp, seed0, k_seeds=K, backend="cpu", **settings)
     return out
 
 
-def check_agreement(name, renders_a, renders_pt):
-    """renders_pt: the reference set (pt unless the test says otherwise)."""
-    _, cmp, over3, allowed = metrics.agreement(renders_a, renders_pt, block=8)
-    thr = cmp.threshold(1e-3)
-    ma = np.stack(renders_a).mean(axis=(0, 1, 2))
-    mp = np.stack(renders_pt).mean(axis=(0, 1, 2))
-    print(f"{name}: worst |z| {cmp.worst:.2f} (Bonferroni threshold {thr:.2f}, {cmp.n} blocks, "
-          f"dof {cmp.dof}); |z| > 3 in {over3} blocks (allowed {allowed}); image mean "
-          f"{ma} vs pt {mp}")
+def check_agreement(name, renders_a, renders_pt, controls=(0.01, 0.05)):
+    """renders_pt: the reference set (pt unless the test says otherwise). The comparison of
+    tests/README.md (lantern.metrics.assert_agreement) with its negative controls: `controls`
+    (whole-image bias, one-block bias) they inject, 1 % and 5 % unless the noise of a scene at
+    CI cost cannot resolve that (CONTROLS: measured, printed as "detects ... >=")."""
     assert all(np.isfinite(r).all() for r in renders_a)
-    assert cmp.passed(1e-3), f"{name}: {cmp}"
-    assert over3 <= allowed, f"{name}: {over3} blocks over |z| = 3, allowed {allowed}: {cmp}"
+    return metrics.assert_agreement(name, renders_a, renders_pt, block=8,
+                                    image_bias=controls[0], block_bias=controls[1])
 
+
+# The reference per scene: pt, except where pt's own noise (a light inside a fixture, caustics
+# through glass) would swamp the comparison: there bdpt is the reference (checked against pt on
+# the five other scenes) and pt is not compared (at CI cost it resolves only ~6-10 %).
+# Stated control levels (whole image, one block) where 1 % / 5 % costs more than CI affords
+# at 32x32 (tests/README.md): from the printed "detects ... >=", with a margin.
+REFERENCE = {"fixture": "bdpt", "glass": "bdpt"}
+OTHER_CONTROLS = (0.03, 0.10)   # the single-purpose comparisons below (delta lights, world, ...)
+CONTROLS = {"cornell": (0.015, 0.05), "glossy": (0.015, 0.05), "principled": (0.04, 0.10),
+            "features": (0.04, 0.10), "coat_normal": (0.02, 0.05), "fixture": (0.035, 0.10),
+            "glass": (0.025, 0.10)}
 
 SCENES = {
     "cornell": lambda: scenes.cornell_box(SIZE, SIZE),
@@ -76,10 +84,14 @@ SCENES = {
 def test_integrators_agree(core, scene_name, backend):
     scene = SCENES[scene_name]()
     t0 = time.perf_counter()
-    pt = renders(scene, "pt", 256, 1000, backend=backend)
+    ref_name = REFERENCE.get(scene_name, "pt")
+    ref = renders(scene, ref_name, SPP_REF, 1000, backend=backend)
     for integrator, settings in BIDIRECTIONAL:
-        r = renders(scene, integrator, 64, 2000, backend=backend, **settings)
-        check_agreement(f"{scene_name} {integrator} {settings}", r, pt)
+        if integrator == ref_name and not settings:
+            continue
+        r = renders(scene, integrator, SPP, 2000, backend=backend, **settings)
+        level = CONTROLS.get(f"{scene_name} {integrator}", CONTROLS[scene_name])
+        check_agreement(f"{scene_name} {integrator} {settings} vs {ref_name}", r, ref, level)
     print(f"{scene_name}: {time.perf_counter() - t0:.1f} s")
 
 
@@ -95,7 +107,7 @@ def test_delta_lights_agree(core, backend):
         for integrator, settings in [("bdpt", {}), ("cis", {})]:
             check_agreement(f"{name} {integrator}",
                             renders(scene, integrator, 64, 3000, backend=backend, **settings),
-                            pt)
+                            pt, OTHER_CONTROLS)
 
 
 def test_world_light_agrees(core, backend):
@@ -107,7 +119,8 @@ def test_world_light_agrees(core, backend):
     pt = renders(scene, "pt", 256, 1000, backend=backend)
     for integrator in ("bdpt", "cis"):
         check_agreement(f"world {integrator}",
-                        renders(scene, integrator, 64, 3000, backend=backend), pt)
+                        renders(scene, integrator, 64, 3000, backend=backend), pt,
+                        OTHER_CONTROLS)
 
 
 def test_sun_caustic_on_metal_matches_light_tracing(core, backend):
@@ -119,7 +132,8 @@ def test_sun_caustic_on_metal_matches_light_tracing(core, backend):
     scene.add_light("sun", direction=[0.2, 0.6, -0.3], strength=[1.5] * 3, angle=0.0)
     lt = renders(scene, "lt", 64, 1000, k_seeds=16, backend=backend)
     check_agreement("sun caustic cis vs lt",
-                    renders(scene, "cis", 64, 3000, k_seeds=16, backend=backend), lt)
+                    renders(scene, "cis", 64, 3000, k_seeds=16, backend=backend), lt,
+                    (0.06, 0.10))  # caustics: the mean tests resolve ~5.3 % here
 
 
 def test_soft_falloff_lights_stay_camera_side(core, backend):
@@ -130,7 +144,8 @@ def test_soft_falloff_lights_stay_camera_side(core, backend):
     scene.add_light("point", position=[0.2, 0.0, 1.5], power=[30.0] * 3, radius=0.2,
                     soft_falloff=True)
     pt = renders(scene, "pt", 256, 1000, backend=backend)
-    check_agreement("soft falloff cis", renders(scene, "cis", 64, 4000, backend=backend), pt)
+    check_agreement("soft falloff cis", renders(scene, "cis", 64, 4000, backend=backend), pt,
+                    OTHER_CONTROLS)
 
 
 # ---- Resampling: p-hat only approximates the contribution; the naive weight is biased ----
@@ -143,7 +158,7 @@ def test_resampled_and_uniform_picks_agree(core, backend):
     uniform = renders(scene, "lvc", 64, 5000, backend=backend)
     check_agreement("cis(bsdf target) vs lvc", renders(scene, "cis", 64, 6000,
                                                        cis_target="bsdf", backend=backend),
-                    uniform)
+                    uniform, (0.045, 0.10))  # lvc as the reference: resolves ~3.5 %
 
 
 def test_naive_resampling_weight_is_biased(core, backend):
@@ -163,24 +178,24 @@ def test_naive_resampling_weight_is_biased(core, backend):
 # ---- Analytic scenes ----
 
 ALL = [("pt", {}), ("lt", {})] + BIDIRECTIONAL
+ANALYTIC_CONTROLS = (0.01, 0.05)
+ANALYTIC_SPP = {"pt": 4, "lt": 16}   # x 16 spp per seed: pt and lt are the noisier here
 
 
 @pytest.mark.parametrize("integrator,settings", ALL,
                          ids=[f"{i}-{'-'.join(map(str, s.values())) or 'default'}" for i, s in ALL])
 def test_furnace(core, integrator, settings, backend):
-    """Closed emissive diffuse sphere of albedo a: every pixel sees Le * sum a^k."""
+    """Closed emissive diffuse sphere of albedo a: every pixel sees Le * sum a^k; K seeds
+    against that value (blocks, image mean; negative controls)."""
     a, le, depth = 0.5, 1.0, 12
     scene = scenes.furnace_sphere(albedo=a, emission=le, width=16, height=16)
     if integrator == "lt":
         pytest.skip("lt cannot see the emitter it starts on (covered in test_light_tracing)")
-    img = lantern.render(scene, spp=64, integrator=integrator, max_depth=depth, seed=1,
-                         backend=backend, **settings)
+    imgs = [lantern.render(scene, spp=16 * ANALYTIC_SPP.get(integrator, 1), seed=1 + k,
+                           integrator=integrator, max_depth=depth,
+                           backend=backend, **settings) for k in range(K)]
     expected = scenes.furnace_expected(le, a, depth)
-    rel = float(np.mean(img) / np.mean(expected) - 1.0)
-    print(f"furnace {integrator} {settings}: mean {np.mean(img):.5f} expected "
-          f"{np.mean(expected):.5f} ({rel:+.4%})")
-    assert np.isfinite(img).all()
-    assert abs(rel) < 0.005
+    check_agreement(f"furnace {integrator} {settings}", imgs, expected, ANALYTIC_CONTROLS)
 
 
 @pytest.mark.parametrize("integrator,settings", ALL,
@@ -192,15 +207,14 @@ def test_integrating_sphere(core, integrator, settings, backend):
     scene = scenes.integrating_sphere(albedo=a, power=power, light="sphere", light_radius=0.05,
                                       subdivisions=4, width=16, height=16)
     scene.lights[0]["soft_falloff"] = False
-    img = lantern.render(scene, spp=64, integrator=integrator, max_depth=depth, seed=2,
-                         backend=backend, **settings)
+    imgs = [lantern.render(scene, spp=16 * ANALYTIC_SPP.get(integrator, 1), seed=100 + k,
+                           integrator=integrator, max_depth=depth,
+                           backend=backend, **settings) for k in range(K)]
     expected = scenes.integrating_sphere_expected(a, power, 1.0, depth)
-    rel = float(np.mean(img) / np.mean(expected) - 1.0)
-    print(f"integrating sphere {integrator} {settings}: mean {np.mean(img):.5f} expected "
-          f"{np.mean(expected):.5f} ({rel:+.4%})")
-    assert np.isfinite(img).all()
-    # the icosphere (5120 facets) is a little smaller than the ideal sphere: 0.1% brighter
-    assert abs(rel) < 0.005
+    # the icosphere (5120 facets) is a little smaller than the ideal sphere: ~0.1 % brighter,
+    # inside the 0.2 % bias cap (test_render.py checks the direct term per pixel exactly)
+    check_agreement(f"integrating sphere {integrator} {settings}", imgs, expected,
+                    (0.02, 0.10) if integrator == "lt" else ANALYTIC_CONTROLS)
 
 
 # ---- Hard cases: finite everywhere ----
@@ -284,7 +298,8 @@ def test_scale_invariance(core, backend):
     ref = renders(scenes.glossy_box(SIZE, SIZE), "cis", 32, 100, backend=backend)
     for k in (1e-3, 1e4):
         check_agreement(f"scaled {k:g}", renders(_scaled(scenes.glossy_box(SIZE, SIZE), k),
-                                                 "cis", 32, 200, backend=backend), ref)
+                                                 "cis", 32, 200, backend=backend), ref,
+                        OTHER_CONTROLS)
 
 
 # ---- Progressive, deterministic, measured ----
@@ -339,4 +354,4 @@ def test_cache_budget_splits_the_iteration(core):
     for sess in split:
         sess.step()
         imgs.append(sess.image())
-    check_agreement("cache split into passes", imgs, whole)
+    check_agreement("cache split into passes", imgs, whole, (0.05, 0.10))  # resolves ~3.7 %

@@ -1,0 +1,136 @@
+"""False-alarm rates of the comparison families of tests/ (tests/README.md): each family's
+comparison (lantern.metrics.compare_renders, as its tests call it) on 20 independent seed sets
+of a fair pair, counting failures at the tests' alpha (1e-3) and, to see the calibration with 20
+trials, at alpha 0.05 and 0.2. Expected counts are 20 alpha.
+
+    nice python3 tools/false_alarm.py [--trials 20] [--families cross,analytic,backend,cycles]
+        [--out tests/false_alarm.json]
+
+Families (fair pairs; the settings are the tests' or cheaper, which changes the noise, not the
+null distribution):
+- cross: lt against pt on cornell_point (test_light_tracing), bdpt against pt on the Cornell box
+  (test_bidirectional), 16 seeds each;
+- analytic: pt furnace against its exact value (test_render, test_bidirectional), and the
+  direct term of the integrating sphere against the exact tessellated value;
+- backend: the GPU tests' rule (test_cuda_backend, tools/gpu_compare.py) on CPU against CPU,
+  two independent seed sets of the same integrator (what a correct GPU gives);
+- cycles: Lantern against the stored Cycles reference of light_sun (needs bpy; the reference
+  is one fixed set, so the 20 trials share it).
+"""
+
+import argparse
+import json
+import platform
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "python"))
+sys.path.insert(0, str(ROOT / "tools"))
+
+import lantern  # noqa: E402
+from lantern import metrics, scenes  # noqa: E402
+
+ALPHAS = (1e-3, 0.05, 0.2)
+
+
+def sets(scene, integrator, spp, seed0, k=16, **settings):
+    return [lantern.render(scene, spp=spp, seed=seed0 + i, integrator=integrator,
+                           backend="cpu", max_depth=8, **settings) for i in range(k)]
+
+
+def cornell_point():
+    s = scenes.cornell_box(32, 32)
+    s.lights = []
+    s.add_light("point", position=[0.2, -0.1, 1.5], power=[30.0, 25.0, 20.0], radius=0.0)
+    return s
+
+
+def pairs_cross(trial):
+    yield "lt vs pt, cornell_point", lambda: (
+        sets(cornell_point(), "lt", 16, 100000 + 1000 * trial),
+        sets(cornell_point(), "pt", 32, 500000 + 1000 * trial), {})
+    yield "bdpt vs pt, cornell", lambda: (
+        sets(scenes.cornell_box(32, 32), "bdpt", 8, 200000 + 1000 * trial),
+        sets(scenes.cornell_box(32, 32), "pt", 32, 600000 + 1000 * trial), {})
+
+
+def pairs_analytic(trial):
+    furnace = scenes.furnace_sphere(albedo=0.5, emission=1.0, subdivisions=3, width=16,
+                                    height=16)
+    yield "furnace pt, exact", lambda: (
+        [lantern.render(furnace, spp=32, seed=300000 + 1000 * trial + i, max_depth=16,
+                        backend="cpu") for i in range(8)],
+        scenes.furnace_expected(1.0, 0.5, 16), {"block": 4, "bias_cap": 1e-4,
+                                                 "rel_floor": 1e-5})
+    sys.path.insert(0, str(ROOT / "tests" / "python"))
+    import test_render  # the exact direct term of the tessellated sphere
+    power = 4 * np.pi ** 2
+    sphere = scenes.integrating_sphere(albedo=0.5, power=power, subdivisions=4, width=16,
+                                       height=16)
+    expected = test_render._direct_light_image(sphere, 0.5, power)
+    yield "integrating sphere direct, exact", lambda: (
+        [lantern.render(sphere, spp=8, max_depth=2, seed=400000 + 1000 * trial + i,
+                        backend="cpu") for i in range(16)], expected, {"bias_cap": 1e-4})
+
+
+def pairs_backend(trial):
+    for name, integ in (("pt", "pt"), ("cis", "cis")):
+        yield f"backend rule, {name} cornell (cpu vs cpu)", (lambda integ=integ: (
+            sets(scenes.cornell_box(32, 32), integ, 16, 700000 + 1000 * trial),
+            sets(scenes.cornell_box(32, 32), integ, 16, 800000 + 1000 * trial), {}))
+
+
+def pairs_cycles(trial):
+    import render_compare as rc
+    ref = dict(np.load(rc.REF_DIR + "/light_sun.npz"))
+    cycles = metrics.SeedBlocks(ref["seed_block_means"])
+
+    def run():
+        rc.build_scene("light_sun")
+        imgs = [rc.render_lantern(seed=900000 + 1000 * trial + i, spp=32)[0] for i in range(16)]
+        return imgs, cycles, {"block": rc.BLOCK}
+    yield "lantern vs stored Cycles, light_sun", run
+
+
+FAMILIES = {"cross": pairs_cross, "analytic": pairs_analytic, "backend": pairs_backend,
+            "cycles": pairs_cycles}
+
+
+def main(argv=None):
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("--trials", type=int, default=20)
+    p.add_argument("--families", default="cross,analytic,backend")
+    p.add_argument("--out", default=None)
+    args = p.parse_args(argv)
+    rows = {}
+    t0 = time.perf_counter()
+    for fam in [f.strip() for f in args.families.split(",") if f.strip()]:
+        for trial in range(args.trials):
+            for label, make in FAMILIES[fam](trial):
+                a, b, kw = make()
+                res = metrics.compare_renders(a, b, **kw)
+                row = rows.setdefault(label, {"family": fam, "trials": 0, "worst_p_x_n": [],
+                                              **{f"fails@{al:g}": 0 for al in ALPHAS}})
+                row["trials"] += 1
+                for al in ALPHAS:
+                    r = metrics.compare_renders(a, b, alpha=al, **kw)
+                    row[f"fails@{al:g}"] += int(not r.passed)
+                row["worst_p_x_n"].append(round(float(res.blocks.p.min() * res.blocks.n), 4))
+                print(f"{fam} trial {trial}: {label}: {'ok' if res.passed else 'FALSE ALARM'}"
+                      f" ({time.perf_counter() - t0:.0f} s)", flush=True)
+    out = {"machine": f"{platform.node()} {platform.processor() or platform.machine()}, "
+                      f"{platform.python_version()}", "command": " ".join(sys.argv),
+           "seconds": round(time.perf_counter() - t0, 1), "rows": rows}
+    print(json.dumps({k: {kk: vv for kk, vv in v.items() if kk != "worst_p_x_n"}
+                      for k, v in rows.items()}, indent=1))
+    if args.out:
+        Path(args.out).write_text(json.dumps(out, indent=1))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
