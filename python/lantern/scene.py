@@ -12,8 +12,8 @@ from pathlib import Path
 import numpy as np
 
 from .scene_schema import (
-    MATERIAL_TEXTURES, MESH_ARRAYS, _int, default_camera, default_film, default_world, look_at,
-    screen_for_fov, validate_camera, validate_film, validate_light, validate_material,
+    MATERIAL_TEXTURES, MESH_ARRAYS, _int, default_camera, default_film, default_world,
+    flatten_programs, look_at, screen_for_fov, validate_camera, validate_film, validate_light, validate_material,
     validate_mesh, validate_texture, validate_world)
 
 FORMAT_NAME = "lantern-scene"
@@ -33,6 +33,7 @@ class Scene:
         self.meshes = []
         self.lights = []
         self.textures = []
+        self.attribute_channels = []   # names of the meshes' per-vertex attribute channels
 
     # ---- Building ----
 
@@ -227,11 +228,28 @@ class Scene:
             t = dict(t)
             t["uv_transform"] = [float(x) for row in t["uv_transform"] for x in row]
             textures.append(t)
+        materials = [dict(m) for m in self.materials]
+        arrays, spans = flatten_programs(materials)
+        for m, (first, count) in zip(materials, spans):
+            if m.pop("programs", None):
+                m["program_first"], m["program_count"] = first, count
+        channels = len(self.attribute_channels)
+        extra = {}   # only scenes with node graphs carry them (docs/scene_format.md)
+        if len(arrays[0]) or channels:
+            extra["node_programs"] = {"programs": arrays[0], "code": arrays[1],
+                                      "consts": arrays[2], "attribute_channels": channels}
+        for m in meshes:
+            if channels == 0:
+                m.pop("attributes", None)
+            elif m.get("attributes") is None or m["attributes"].shape[1] != 3 * channels:
+                nv = len(m["positions"])
+                m["attributes"] = np.zeros((nv, 3 * channels), np.float32)
         return {
+            **extra,
             "film": dict(self.film),
             "camera": camera,
             "world": dict(self.world),
-            "materials": [dict(m) for m in self.materials],
+            "materials": materials,
             "textures": textures,
             "meshes": meshes,
             "lights": lights,
@@ -255,6 +273,7 @@ class Scene:
             "lights": self.lights,
             "meshes": [],
             "textures": [],
+            "attribute_channels": list(self.attribute_channels),
         }
         arrays = {}
         for i, tex in enumerate(self.textures):
@@ -353,6 +372,7 @@ def load_scene(path):
         scene.world = doc.get("world", default_world())
         scene.materials = doc.get("materials", [])
         scene.lights = doc.get("lights", [])
+        scene.attribute_channels = [str(c) for c in doc.get("attribute_channels", [])]
         scene.textures = []
         for i, entry in enumerate(doc.get("textures", [])):
             if not isinstance(entry, dict):
