@@ -54,6 +54,7 @@ def export_scene(depsgraph, region_view=None, report=None, texture_cache=None):
             if mesh is not None:
                 scene.meshes.append(mesh)
     meshes.clear()
+    scene.attribute_channels = materials.attributes.finish(scene.meshes)
     scene.materials = materials.materials
     scene.textures = materials.textures
     return scene, report

@@ -92,7 +92,7 @@ LANTERN_HD inline Vec3 hashf1_to_vec3(float x) {
     return Vec3{hashf1(x), hashf2(x, 1.0f), hashf2(x, 2.0f)};
 }
 LANTERN_HD inline Vec3 hashf4_to_vec3(float x, float y, float z, float w) {
-    return Vec3{hashf4(x, y, z, w), hashf4(z, w, x, y), hashf4(y, z, w, x)};
+    return Vec3{hashf4(x, y, z, w), hashf4(z, x, w, y), hashf4(w, z, y, x)};
 }
 // Blender's per-seed offsets of the colour channels and distortion: 100 + 100 h
 LANTERN_HD inline float noise_offset(float seed, float k) { return 100.0f + hashf2(seed, k) * 100.0f; }
