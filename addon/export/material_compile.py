@@ -27,46 +27,67 @@ class Val:
 
 
 class Builder:
-    """Registers, constants and instructions of one program."""
+    """Registers, constants and instructions of one program. Constants live in registers
+    0..K-1 (preloaded), temporaries after them; while building, temporaries are numbered from
+    TEMP and moved behind the constants by finish(). The registers of an instruction's input
+    block are reused once it has run (release), which keeps long graphs within REGS."""
+
+    TEMP = 4096
 
     def __init__(self):
-        self.image = []          # register image: constants, 0 for temporaries
-        self.const_top = 0       # registers below this are preloaded
+        self.consts = []         # the preloaded registers
+        self.ntemp = 0
         self.code = []           # [w0, w1, w2, w3]
-        self.tables = []         # (instruction index, floats): appended after the image
+        self.tables = []         # (instruction index, floats): appended after the constants
         self._consts = {}
+        self._free = []          # [base, size] of spent input blocks
 
     def alloc(self, n):
-        base = len(self.image)
-        if base + n > REGS:
+        base = self._reuse(n)
+        if base is not None:
+            return base
+        base = self.TEMP + self.ntemp
+        self.ntemp += n
+        if self.ntemp > REGS:
             raise Unsupported("the graph needs more registers than a program has")
-        self.image.extend([0.0] * n)
         return base
+
+    def _reuse(self, n):
+        for i, (base, size) in enumerate(self._free):
+            if size >= n:
+                if size == n:
+                    self._free.pop(i)
+                else:
+                    self._free[i] = [base + n, size - n]
+                return base
+        return None
+
+    def release(self, base, n):
+        self._free.append([base, n])
 
     def const(self, vals):
         vals = tuple(float(v) for v in vals)
         if vals not in self._consts:
-            base = self.alloc(len(vals))
-            self.image[base:base + len(vals)] = list(vals)
-            self.const_top = max(self.const_top, base + len(vals))
-            self._consts[vals] = base
+            self._consts[vals] = len(self.consts)
+            self.consts.extend(vals)
+            if len(self.consts) > REGS:
+                raise Unsupported("the graph has more constants than a program has registers")
         return self._consts[vals]
 
     def emit(self, op, mode=0, flags=0, dim=0, src=0, out=0, aux=0, aux2=0):
-        self.code.append([op | (mode << 8) | (flags << 16) | (dim << 24), src | (out << 16),
+        self.code.append([op | (mode << 8) | (flags << 16) | (dim << 24), src, out,
                           aux & 0xFFFFFFFF, aux2 & 0xFFFFFFFF])
         return len(self.code) - 1
 
     def block(self, vals):
-        """One contiguous input block holding vals (each already of the width wanted)."""
-        base = self.alloc(sum(v.width for v in vals))
+        """One contiguous block of temporaries holding vals (each of the width wanted):
+        copies of constant registers and of values (the core folds the constant ones)."""
+        n = sum(v.width for v in vals)
+        base = self.alloc(n)
         at = base
         for v in vals:
-            if v.const is not None:
-                self.image[at:at + v.width] = [float(x) for x in v.const]
-                self.const_top = max(self.const_top, at + v.width)
-            else:
-                self.emit(0, dim=v.width, src=v.reg, out=at)
+            src = self.const(v.const) if v.const is not None else v.reg
+            self.emit(0, dim=v.width, src=src, out=at)
             at += v.width
         return base
 
@@ -80,13 +101,20 @@ class Builder:
             reg = self.block([result, result, result])
         else:
             reg = result.reg
-        consts = self.image[:self.const_top]
-        code = [list(w) for w in self.code]
+        k = len(self.consts)
+        if k + self.ntemp > REGS:
+            raise Unsupported("the graph needs more registers than a program has")
+
+        def place(r):
+            return k + (r - self.TEMP) if r >= self.TEMP else r
+        code = [[w0, place(src) | (place(out) << 16), aux, aux2]
+                for w0, src, out, aux, aux2 in self.code]
+        consts = list(self.consts)
         for instr, floats in self.tables:
             code[instr][2] = len(consts)       # the table's offset in the program's constants
             consts.extend(floats)
-        return {"target": target, "code": code, "consts": consts, "num_const": self.const_top,
-                "result": reg}
+        return {"target": target, "code": code, "consts": consts, "num_const": k,
+                "result": place(reg)}
 
 
 class GraphCompiler:

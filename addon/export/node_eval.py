@@ -69,13 +69,13 @@ class NodeContext:
             if v.kind == "RGBA":
                 return self.const((0.2126 * x[0] + 0.7152 * x[1] + 0.0722 * x[2],), kind)
             return self.const(((x[0] + x[1] + x[2]) / 3.0,), kind)
-        out = self.b.alloc(4)
         if v.kind == "RGBA":
-            self.b.emit(OP["rgb_to_bw"], src=self.b.block([v]), out=out)
+            out, _ = self.emit_node("rgb_to_bw", [v], 1)
             return self.reg(out, 1, kind)
         third = self.const((1.0 / 3.0,) * 3, "VECTOR")
-        src = self.b.block([v, third, self.const((0, 0, 0), "VECTOR"), self.const((0,), "VALUE")])
-        self.b.emit(OP["vector_math"], mode=VECTOR_OPS.index("DOT_PRODUCT"), src=src, out=out)
+        out, _ = self.emit_node("vector_math", [v, third, self.const((0, 0, 0), "VECTOR"),
+                                                self.const((0,), "VALUE")], 4,
+                                mode=VECTOR_OPS.index("DOT_PRODUCT"))
         return self.reg(out + 3, 1, kind)
 
     def input_value(self, socket, path, kind=None):
@@ -132,6 +132,7 @@ class NodeContext:
         out = self.b.alloc(out_width)
         idx = self.b.emit(OP[op], mode=mode, flags=flags, dim=dim, src=src, out=out, aux=aux,
                           aux2=aux2)
+        self.b.release(src, sum(v.width for v in inputs))   # spent once the op has run
         return out, idx
 
     def geometry(self, mode, aux=0):

@@ -80,12 +80,14 @@ def render_lantern(spp=4, integrator="pt", max_depth=1, seed=1):
     return np.asarray(img, np.float64), list(report.messages)
 
 
-def render_cycles(sc, path, spp=4):
+def render_cycles(sc, path, spp=4, bounces=1, seed=0):
     sc.render.engine = "CYCLES"
     sc.cycles.device = "CPU"
     sc.cycles.samples = spp
+    sc.cycles.seed = seed
     sc.cycles.use_denoising = False
-    sc.cycles.max_bounces = 1
+    sc.cycles.max_bounces = bounces
+    sc.cycles.light_sampling_threshold = 0.0
     sc.cycles.sample_clamp_indirect = 0.0
     sc.view_settings.view_transform = "Standard"
     sc.render.filepath = str(path)

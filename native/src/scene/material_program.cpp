@@ -55,16 +55,24 @@ bool op_reads_hit(int op) {
     return op == kOpInput || op == kOpImage || op == kOpFresnel || op == kOpLayerWeight;
 }
 
-// Constant folding: every instruction whose inputs are all known is run here, once, and its
-// outputs join the preloaded registers; what is left runs per hit. A program left without
-// instructions is constant: folded into the material's own input by the caller.
+// Constant folding: every instruction whose inputs are all known (and whose outputs nothing
+// else writes: the compiler reuses the registers of spent input blocks) is run here, once,
+// and its outputs join the preloaded registers; what is left runs per hit. A program left
+// without instructions is constant: folded into the material's own input by the caller.
 void fold_program(MaterialProgram& p, std::vector<NodeInstr>& code, std::vector<float>& consts,
                   const SceneView& view) {
-    float r[kProgramRegs] = {};
-    bool known[kProgramRegs] = {};
+    float r[kProgramRegs] = {}, pre[kProgramRegs] = {};
+    bool known[kProgramRegs] = {}, has_pre[kProgramRegs] = {};
+    int writes[kProgramRegs] = {};  // preload counts as a write: only single writes fold
     for (int i = 0; i < p.num_const; ++i) {
-        r[i] = consts[size_t(p.first_const) + size_t(i)];
-        known[i] = true;
+        r[i] = pre[i] = consts[size_t(p.first_const) + size_t(i)];
+        known[i] = has_pre[i] = true;
+        writes[i] = 1;
+    }
+    for (int k = 0; k < p.num_instr; ++k) {
+        const NodeInstr& n = code[size_t(p.first_instr) + size_t(k)];
+        const OpSpan span = op_span(n.op, n.dim);
+        for (int i = 0; i < span.out; ++i) ++writes[n.out + i];
     }
     std::vector<NodeInstr> kept;
     ShadePoint sp{};
@@ -72,11 +80,15 @@ void fold_program(MaterialProgram& p, std::vector<NodeInstr>& code, std::vector<
     for (int k = 0; k < p.num_instr; ++k) {
         const NodeInstr& n = code[size_t(p.first_instr) + size_t(k)];
         const OpSpan span = op_span(n.op, n.dim);
-        bool all = !op_reads_hit(n.op);
-        for (int i = 0; all && i < span.in; ++i) all = known[n.in + i];
-        if (all) {
+        bool fold = !op_reads_hit(n.op);
+        for (int i = 0; fold && i < span.in; ++i) fold = known[n.in + i];
+        for (int i = 0; fold && i < span.out; ++i) fold = writes[n.out + i] == 1;
+        if (fold) {  // run once here; its outputs start the program preloaded
             program_step(view, sp, n, r);
-            for (int i = 0; i < span.out; ++i) known[n.out + i] = true;
+            for (int i = 0; i < span.out; ++i) {
+                known[n.out + i] = has_pre[n.out + i] = true;
+                pre[n.out + i] = r[n.out + i];
+            }
         } else {
             kept.push_back(n);
             for (int i = 0; i < span.out; ++i) known[n.out + i] = false;
@@ -84,10 +96,11 @@ void fold_program(MaterialProgram& p, std::vector<NodeInstr>& code, std::vector<
     }
     int top = 0;
     for (int i = 0; i < kProgramRegs; ++i)
-        if (known[i]) top = i + 1;
+        if (has_pre[i]) top = i + 1;
     p.first_const = int32_t(consts.size());
     p.num_const = top;
-    for (int i = 0; i < top; ++i) consts.push_back(known[i] && std::isfinite(r[i]) ? r[i] : 0.0f);
+    for (int i = 0; i < top; ++i)
+        consts.push_back(has_pre[i] && std::isfinite(pre[i]) ? pre[i] : 0.0f);
     p.first_instr = int32_t(code.size());
     p.num_instr = int32_t(kept.size());
     code.insert(code.end(), kept.begin(), kept.end());
