@@ -261,10 +261,38 @@ def is_graph(sock):
     feeds sock: material_compile handles it."""
     if sock is None or not sock.is_linked:
         return False
-    if _image_source(sock)[0] is not None:
-        return False
+    img, _ = _image_source(sock)
+    if img is not None:
+        return not _plain_image(img)
     src, _ = _source(sock)
     return src is not None and src.type not in ("RGB", "VALUE")
+
+
+def _plain_image(node):
+    """An Image Texture the texture path renders exactly: flat projection, its Vector the UV
+    map directly or through Mapping nodes with constant inputs and no X/Y rotation."""
+    if getattr(node, "projection", "FLAT") != "FLAT":
+        return False
+    sock = node.inputs.get("Vector")
+    for _ in range(16):
+        if sock is None or not sock.is_linked:
+            return True
+        link = sock.links[0]
+        src = link.from_node
+        if src.type == "REROUTE":
+            sock = src.inputs[0]
+        elif src.type == "UVMAP" or (src.type == "TEX_COORD" and link.from_socket.name == "UV"):
+            return True
+        elif src.type == "MAPPING" and src.vector_type in ("POINT", "TEXTURE", "VECTOR"):
+            rot = src.inputs.get("Rotation")
+            if any(s.is_linked for s in src.inputs[1:]) or \
+                    (rot is not None and (abs(rot.default_value[0]) > 1e-6 or
+                                          abs(rot.default_value[1]) > 1e-6)):
+                return False
+            sock = src.inputs.get("Vector")
+        else:
+            return False
+    return False
 
 
 def _socket_default(sock, fallback, color):

@@ -187,7 +187,125 @@ def view_dependent(idname, out, **inputs):
     return build
 
 
+def _image(name="grid", w=8, h=6):
+    """An 8 x 6 float image of distinct colours (float: no 8-bit rounding on either side)."""
+    img = bpy.data.images.new(name, w, h, float_buffer=True)
+    y, x = np.mgrid[0:h, 0:w]
+    px = np.stack([(x + 0.5) / w, (y + 0.5) / h, ((x * 7 + y * 3) % 5) / 4.0,
+                   np.ones_like(x, float)], axis=-1)
+    img.pixels.foreach_set(px.astype(np.float32).ravel())
+    img.pack()
+    return img
+
+
+def image(projection="FLAT", extension="REPEAT", interpolation="Closest", vector="UV",
+          scale=1.0):
+    def build(nt, emit):
+        n = nt.nodes.new("ShaderNodeTexImage")
+        n.image = _image()
+        n.projection, n.extension, n.interpolation = projection, extension, interpolation
+        m = nt.nodes.new("ShaderNodeMapping")
+        m.inputs["Location"].default_value = (-0.2, 0.1, 0.0)
+        m.inputs["Scale"].default_value = (scale, scale, 1.0)
+        nt.links.new(_coord(nt, vector), m.inputs["Vector"])
+        nt.links.new(m.outputs[0], n.inputs["Vector"])
+        _link(nt, n, "Color", emit)
+    return build
+
+
+def color_attribute(domain):
+    def build(nt, emit):
+        obj = bpy.data.objects["Plane"]
+        attr = obj.data.color_attributes.new("Col", "FLOAT_COLOR", domain)
+        n = len(attr.data)
+        vals = np.array([[0.9, 0.1, 0.2, 1], [0.1, 0.8, 0.3, 1], [0.2, 0.3, 0.9, 1],
+                         [0.7, 0.7, 0.1, 1]], np.float32)[np.arange(n) % 4]
+        attr.data.foreach_set("color", vals.ravel())
+        n = nt.nodes.new("ShaderNodeVertexColor")
+        n.layer_name = "Col"
+        _link(nt, n, "Color", emit)
+    return build
+
+
+def mix_vector(nonuniform):
+    def build(nt, emit):
+        m = nt.nodes.new("ShaderNodeMix")
+        m.data_type = "VECTOR"
+        m.factor_mode = "NON_UNIFORM" if nonuniform else "UNIFORM"
+        nt.links.new(_coord(nt), _ident(m, "A_Vector"))
+        _ident(m, "B_Vector").default_value = (0.9, 0.1, 0.5)
+        if nonuniform:
+            nt.links.new(_coord(nt, "UV"), _ident(m, "Factor_Vector"))
+        else:
+            _ident(m, "Factor_Float").default_value = 0.35
+        out = next(o for o in m.outputs if o.identifier == "Result_Vector")
+        nt.links.new(out, emit.inputs["Color"])
+    return build
+
+
+def map_range_vector(build_type):
+    def build(nt, emit):
+        m = nt.nodes.new("ShaderNodeMapRange")
+        m.data_type = "FLOAT_VECTOR"
+        m.interpolation_type = build_type
+        nt.links.new(_coord(nt), _ident(m, "Vector"))
+        _ident(m, "From_Min_FLOAT3").default_value = (0.2, 0.1, 0.0)
+        _ident(m, "To_Max_FLOAT3").default_value = (0.8, 1.0, 0.6)
+        _ident(m, "Steps_FLOAT3").default_value = (4.0, 3.0, 2.0)
+        out = next(o for o in m.outputs if o.identifier == "Vector")
+        nt.links.new(out, emit.inputs["Color"])
+    return build
+
+
+def curves(kind):
+    def build(nt, emit):
+        if kind == "rgb":
+            c = nt.nodes.new("ShaderNodeRGBCurve")
+            c.mapping.curves[3].points.new(0.4, 0.7)
+            c.mapping.curves[0].points.new(0.5, 0.2)
+            c.mapping.update()
+            nt.links.new(_coord(nt), c.inputs["Color"])
+            _link(nt, c, "Color", emit)
+        else:
+            c = nt.nodes.new("ShaderNodeFloatCurve")
+            c.mapping.curves[0].points.new(0.3, 0.8)
+            c.mapping.update()
+            x = nt.nodes.new("ShaderNodeSeparateXYZ")
+            nt.links.new(_coord(nt), x.inputs[0])
+            nt.links.new(x.outputs["Y"], c.inputs["Value"])
+            nt.links.new(c.outputs[0], emit.inputs["Strength"])
+    return build
+
+
+def separate_combine_hsv(nt, emit):
+    sep = nt.nodes.new("ShaderNodeSeparateColor")
+    sep.mode = "HSV"
+    nt.links.new(_coord(nt), sep.inputs[0])
+    comb = nt.nodes.new("ShaderNodeCombineColor")
+    comb.mode = "HSL"
+    nt.links.new(sep.outputs[0], comb.inputs[1])
+    nt.links.new(sep.outputs[1], comb.inputs[2])
+    nt.links.new(sep.outputs[2], comb.inputs[0])
+    _link(nt, comb, "Color", emit)
+
+
 CASES = {
+    "mix_vector_uniform": ("plane", mix_vector(False)),
+    "mix_vector_nonuniform": ("plane", mix_vector(True)),
+    "map_range_vector_stepped": ("plane", map_range_vector("STEPPED")),
+    "map_range_vector_smootherstep": ("plane", map_range_vector("SMOOTHERSTEP")),
+    "rgb_curves": ("plane", curves("rgb")),
+    "float_curve": ("plane", curves("float")),
+    "separate_combine_hsv_hsl": ("plane", separate_combine_hsv),
+    "image_flat_repeat": ("plane", image(scale=1.7)),
+    "image_flat_extend_linear": ("plane", image(extension="EXTEND", interpolation="Linear",
+                                                scale=1.5)),
+    "image_flat_mirror": ("plane", image(extension="MIRROR", scale=2.5)),
+    "image_flat_clip": ("plane", image(extension="CLIP", scale=1.4)),
+    "image_sphere_projection": ("sphere", image("SPHERE", vector="Generated")),
+    "image_tube_projection": ("sphere", image("TUBE", vector="Generated")),
+    "color_attribute_corner": ("plane", color_attribute("CORNER")),
+    "color_attribute_point": ("plane", color_attribute("POINT")),
     "texcoord_generated": ("plane", texcoord("Generated")),
     "texcoord_uv": ("plane", texcoord("UV")),
     "texcoord_object": ("plane", texcoord("Object")),
