@@ -5,8 +5,9 @@ deterministic nodes each pixel must agree within 1% (relative, 0.05 floor for va
 a node's output jumps at its discontinuities (checker edges, stepped ramps, saw waves), where
 one pixel's two renderers may land on either side within float rounding, so up to 0.5% of the
 pixels may differ there. Every case must vary over the image (a constant would pass anything)
-and export without a warning. Voronoi's random feature points do not reproduce Blender's (its
-cell hash differs; docs/nodes.md): its case uses Randomness 0, the regular grid."""
+and export without a warning. Voronoi hashes its integer cells with PCG (measured), White
+Noise the float bits of its input (its cases use floored coordinates, which both renderers
+compute bit-exactly)."""
 
 import math
 
@@ -370,6 +371,20 @@ CASES = {
     "magic": ("plane", texture("ShaderNodeTexMagic", Scale=2.0)),
     "voronoi_grid_f1": ("plane", texture("ShaderNodeTexVoronoi", out="Distance", Scale=4.0,
                                          Randomness=0.0)),
+    "voronoi_f1_color": ("plane", texture("ShaderNodeTexVoronoi", Scale=4.0)),
+    "voronoi_f1_distance": ("plane", texture("ShaderNodeTexVoronoi", out="Distance", Scale=4.0)),
+    "voronoi_f1_position": ("plane", texture("ShaderNodeTexVoronoi", out="Position",
+                                             absolute=True, Scale=3.0)),
+    "voronoi_f2_manhattan": ("plane", texture("ShaderNodeTexVoronoi", out="Distance", props={
+        "feature": "F2", "distance": "MANHATTAN"}, Scale=3.0, Randomness=0.8)),
+    "voronoi_smooth_f1": ("plane", texture("ShaderNodeTexVoronoi", props={
+        "feature": "SMOOTH_F1"}, Scale=3.0, Smoothness=0.6)),
+    "voronoi_2d_chebychev": ("plane", texture("ShaderNodeTexVoronoi", props={
+        "voronoi_dimensions": "2D", "distance": "CHEBYCHEV"}, Scale=4.0)),
+    "voronoi_2d_minkowski_distance": ("plane", texture("ShaderNodeTexVoronoi", out="Distance",
+                                                       props={"voronoi_dimensions": "2D",
+                                                              "distance": "MINKOWSKI"},
+                                                       Scale=4.0, Exponent=1.5)),
     "fresnel_sphere": ("sphere", view_dependent("ShaderNodeFresnel", "Fac", IOR=1.45)),
     "layer_weight_facing_sphere": ("sphere", view_dependent("ShaderNodeLayerWeight", "Facing",
                                                             Blend=0.3)),

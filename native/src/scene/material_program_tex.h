@@ -100,8 +100,16 @@ struct VoronoiOut {
     float distance;
     Vec3 color, position;
 };
-LANTERN_HD inline Vec3 voronoi_cell_hash(Vec3 c, int dim) {
-    return dim == 2 ? hashf2_to_vec3(c.x, c.y) : hashf3_to_vec3(c);
+// the feature point of an integer cell (PCG, as Blender), and a cell's colour
+LANTERN_HD inline Vec3 voronoi_point_hash(int x, int y, int z, int dim) {
+    if (dim == 2) {
+        const Vec2 h = pcg2d_unit(x, y);
+        return Vec3{h.x, h.y, 0.0f};
+    }
+    return pcg3d_unit(x, y, z);
+}
+LANTERN_HD inline Vec3 voronoi_color_hash(int x, int y, int z, int dim) {
+    return pcg3d_unit(x, y, dim == 2 ? 0 : z);
 }
 // feature 0 F1, 1 F2, 2 smooth F1
 LANTERN_HD inline VoronoiOut node_voronoi(Vec3 coord, int dim, int feature, int metric,
@@ -109,10 +117,9 @@ LANTERN_HD inline VoronoiOut node_voronoi(Vec3 coord, int dim, int feature, int 
     if (dim == 2) coord.z = 0.0f;
     const Vec3 cell{floorf(coord.x), floorf(coord.y), floorf(coord.z)};
     const Vec3 local = coord - cell;
-    const int kz = dim == 2 ? 0 : 1;
+    const int cx = int(cell.x), cy = int(cell.y), cz = int(cell.z);
     const int r = feature == 2 ? 2 : 1;
     const int rz = dim == 2 ? 0 : r;
-    (void)kz;
     VoronoiOut o{8.0f, Vec3{}, Vec3{}};
     float d1 = 8.0f, d2 = 8.0f;
     Vec3 off1{}, off2{}, pos1{}, pos2{};
@@ -120,9 +127,8 @@ LANTERN_HD inline VoronoiOut node_voronoi(Vec3 coord, int dim, int feature, int 
         for (int j = -r; j <= r; ++j)
             for (int i = -r; i <= r; ++i) {
                 const Vec3 off{float(i), float(j), float(k)};
-                Vec3 h = voronoi_cell_hash(cell + off, dim);
-                if (dim == 2) h.z = 0.0f;
-                const Vec3 pp = off + h * randomness;
+                const Vec3 pp = off + voronoi_point_hash(cx + i, cy + j, cz + k, dim) *
+                                          randomness;
                 const float d = voronoi_distance(pp, local, metric, exponent);
                 if (feature == 2) {
                     const float h01 = smoothstepf(0.0f, 1.0f,
@@ -130,7 +136,7 @@ LANTERN_HD inline VoronoiOut node_voronoi(Vec3 coord, int dim, int feature, int 
                     float corr = smoothness * h01 * (1.0f - h01);
                     o.distance = lerpf(o.distance, d, h01) - corr;
                     corr /= 1.0f + 3.0f * smoothness;
-                    const Vec3 cc = voronoi_cell_hash(cell + off, dim);
+                    const Vec3 cc = voronoi_color_hash(cx + i, cy + j, cz + k, dim);
                     o.color = mix3(o.color, cc, h01) - vec3(corr);
                     o.position = mix3(o.position, pp, h01) - vec3(corr);
                 } else if (d < d1) {
@@ -140,15 +146,18 @@ LANTERN_HD inline VoronoiOut node_voronoi(Vec3 coord, int dim, int feature, int 
                     d2 = d; off2 = off; pos2 = pp;
                 }
             }
+    auto color_of = [&](Vec3 off) {
+        return voronoi_color_hash(cx + int(off.x), cy + int(off.y), cz + int(off.z), dim);
+    };
     if (feature == 2) {
         o.position = o.position + cell;
     } else if (feature == 1) {
         o.distance = d2;
-        o.color = voronoi_cell_hash(cell + off2, dim);
+        o.color = color_of(off2);
         o.position = pos2 + cell;
     } else {
         o.distance = d1;
-        o.color = voronoi_cell_hash(cell + off1, dim);
+        o.color = color_of(off1);
         o.position = pos1 + cell;
     }
     if (dim == 2) o.position.z = 0.0f;
