@@ -151,6 +151,17 @@ LANTERN_HD inline const Material& material_at(const SceneView& s, uint32_t id,
     return material_resolve(s, m, sp, scratch);
 }
 
+// The same with the shading point built only when the material needs resolving: make() ->
+// ShadePoint (a lambda; a diffuse-only scene never builds one).
+template <class MakeShadePoint>
+LANTERN_HD inline const Material& material_at_point(const SceneView& s, uint32_t id,
+                                                    const MakeShadePoint& make,
+                                                    MaterialScratch& scratch) {
+    const Material& m = s.materials[id];
+    if (!(s.material_bits & kSceneResolve) || !(m.tex_flags & kMaterialResolve)) return m;
+    return material_resolve(s, m, make(), scratch);
+}
+
 // The same at texture coordinates st alone (no position: programs reading geometry see 0).
 LANTERN_HD inline const Material& material_at(const SceneView& s, uint32_t id, Vec2 st,
                                               MaterialScratch& scratch) {

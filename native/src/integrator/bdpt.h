@@ -187,8 +187,8 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
     const float dist = ps.hit_t[i];
     SurfaceHit h = pt_surface(s, tri, ps.hit_uv[i], d);
     MaterialScratch scratch;
-    const Material& m = material_at(s, s.tri_material[tri], shade_point(h, tri, ps.hit_uv[i], -d),
-                                    scratch);
+    const Material& m = material_at_point(
+        s, s.tri_material[tri], [&] { return shade_point(h, tri, ps.hit_uv[i], -d); }, scratch);
     const int k = ps.depth[i] + 1;  // segments from the light to this vertex
     ps.depth[i] = k;
     const Vec3 wo_w = -d;
@@ -447,7 +447,8 @@ LANTERN_HD inline Connection bdpt_connect(const SceneView& s, const BdptSettings
                                 z.h.coat_n);
     if (is_black(ez.f)) return r;
     MaterialScratch scratch;
-    const Material& my = material_at(s, y.material, shade_point_lv(s, y, -dir), scratch);
+    const Material& my = material_at_point(s, y.material, [&] { return shade_point_lv(s, y, -dir); },
+                                            scratch);
     Frame fy = Frame::from_normal_angle(y.ns, y.tangent_angle);
     const Vec3 coat_y = (my.tex_flags & kCoatNormal) ? oct_decode(y.coat_n) : vec3(0.0f, 0.0f, 1.0f);
     BsdfEval ey = material_eval(my, y.front != 0, fy.to_local(y.wo), fy.to_local(-dir),
@@ -570,7 +571,8 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
     CameraVertex z;
     MaterialScratch scratch;  // z.m points here when the material is resolved
     z.h = pt_surface(s, tri, ps.hit_uv[i], d);
-    z.m = &material_at(s, s.tri_material[tri], shade_point(z.h, tri, ps.hit_uv[i], -d), scratch);
+    z.m = &material_at_point(
+        s, s.tri_material[tri], [&] { return shade_point(z.h, tri, ps.hit_uv[i], -d); }, scratch);
     z.depth = ps.depth[i];
     const float cos_in = fabsf(dot(d, z.h.ng));
     if (!(cos_in > 0.0f) || !(t_hit > 0.0f)) return;

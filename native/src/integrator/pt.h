@@ -237,8 +237,8 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
     }
     SurfaceHit h = pt_surface(s, tri, ps.hit_uv[i], d);
     MaterialScratch scratch;
-    const Material& m = material_at(s, s.tri_material[tri], shade_point(h, tri, ps.hit_uv[i], -d),
-                                    scratch);
+    const Material& m = material_at_point(
+        s, s.tri_material[tri], [&] { return shade_point(h, tri, ps.hit_uv[i], -d); }, scratch);
     if (!is_black(m.emission)) {
         float pdf = 0.0f;
         int li = s.tri_light ? s.tri_light[tri] : -1;
