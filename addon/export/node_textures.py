@@ -43,8 +43,9 @@ def h_noise(ctx, node, out, path):
     w = _val(ctx, node, "W", path) if dim in (1, 4) else ctx.const((0.0,), "VALUE")
     names = ("Scale", "Detail", "Roughness", "Lacunarity", "Offset", "Gain", "Distortion")
     ins = [vec, w] + [_val(ctx, node, n, path) for n in names]
+    flags = (1 if getattr(node, "normalize", True) else 0) | (2 if out.identifier == "Fac" else 0)
     r, _ = ctx.emit_node("noise", ins, 4, mode=ne.NOISE_TYPES.index(node.noise_type),
-                         dim=dim, flags=1 if getattr(node, "normalize", True) else 0)
+                         dim=dim, flags=flags)   # 2: the value alone (no colour fractals)
     return _color_fac(ctx, r, out, color_first=False)
 
 

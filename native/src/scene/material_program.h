@@ -92,7 +92,8 @@ enum NodeOp : uint8_t {
     kOpChecker,        // in: vector(3) color1(3) color2(3) scale; out: color(3) fac
     kOpGradient,       // in: vector(3); mode type; out: color(3) fac
     kOpNoise,          // in: vector(3) w scale detail roughness lacunarity offset gain
-                       // distortion; mode type; dim; flags&1 normalize; out: fac color(3)
+                       // distortion; mode type; dim; flags&1 normalize, &2 no colour;
+                       // out: fac color(3)
     kOpWhiteNoise,     // in: vector(3) w; dim; out: value color(3)
     kOpVoronoi,        // in: vector(3) w scale smoothness exponent randomness; mode feature;
                        // aux metric; dim; out: distance color(3) position(3) w
@@ -245,9 +246,9 @@ LANTERN_HD inline void program_step(const SceneView& s, const ShadePoint& sp, co
         if (n.dim == 1) p[0] = a[3] * sc;
         NoiseParams np{clampf(a[5], 0.0f, 15.0f), fmaxf(a[6], 0.0f), a[7], a[8], a[9],
                        n.mode, n.flags & 1};
-        Vec3 c;
+        Vec3 c{};
         float v;
-        noise_texture(p, n.dim, a[10], np, &v, &c);
+        noise_texture(p, n.dim, a[10], np, &v, (n.flags & 2) ? nullptr : &c);  // 2: value only
         o[0] = v;
         set3(o, 1, c);
         break;
