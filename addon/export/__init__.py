@@ -62,6 +62,7 @@ def export_scene(depsgraph, region_view=None, report=None, texture_cache=None):
             else:
                 features.hair_curves_without_mesh(obj)
     meshes.clear()
+    scene.attribute_channels = materials.attributes.finish(scene.meshes)
     scene.materials = materials.materials
     scene.textures = materials.textures
     return scene, report

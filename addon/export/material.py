@@ -26,6 +26,7 @@ import math
 
 import bpy
 
+from .material_compile import GraphCompiler, attach
 from .texture import MAGENTA, TextureTable
 
 DEFAULT = {"name": "Lantern Default", "type": "diffuse", "base_color": [0.8, 0.8, 0.8],
@@ -100,6 +101,17 @@ class _Inputs:
     def __init__(self, node, material, report, textures):
         self.node, self.material, self.report, self.textures = node, material, report, textures
         self.where = f"Material '{material.name}'"
+        self.compiler = GraphCompiler(material, report, textures, textures.attributes)
+
+    def graph(self, out, socket_name, target, width, post=None):
+        """A node graph (not an image, RGB or Value node) on the input: compiled into a
+        program of `target` on out (material_compile); True when it drives the input."""
+        sock = self.node.inputs.get(socket_name)
+        if not is_graph(sock):
+            return False
+        prog = self.compiler.program(sock, target, width, post)
+        attach(out, prog)
+        return prog is not None
 
     def texture(self, socket_name, as_color):
         """Texture id feeding the input, "missing" for an unreadable image, or None."""
@@ -142,9 +154,35 @@ class _Inputs:
                 return 0.2126 * mean[0] + 0.7152 * mean[1] + 0.0722 * mean[2]
         return _constant_float(sock, self.material, self.report)
 
+    def emission_graph(self, out, color_name, strength_name):
+        """Emission colour x strength where a node graph drives either: one emission program
+        (the constant emission, for light selection only, is the strength's own value)."""
+        color, strength = self.node.inputs[color_name], self.node.inputs[strength_name]
+        if not (is_graph(color) or is_graph(strength)):
+            return False
+
+        def times_strength(ctx, v):
+            k = ctx.input_value(strength, (), "VECTOR")
+            r, _ = ctx.emit_node("vector_math", [ctx.convert(v, "VECTOR"), k,
+                                                 ctx.const((0, 0, 0), "VECTOR"),
+                                                 ctx.const((0,), "VALUE")], 4, mode=2)
+            return ctx.reg(r, 3, "RGBA")
+        prog = self.compiler.program(color, "emission", 3, post=times_strength)
+        if prog is None:
+            return False
+        attach(out, prog)
+        est = _weight(float(strength.default_value), 1e30) or 1.0
+        out["emission"] = [est] * 3
+        out["_emission_mean"] = [est] * 3
+        return True
+
     def base(self, out, key, socket_name):
         """A colour input Lantern textures (base colour, glass colour): out[key + '_texture']
-        and the image's mean as out[key], magenta for a missing image, else the constant."""
+        and the image's mean as out[key], magenta for a missing image, a node-graph program
+        (its constant: the socket's own value), else the constant."""
+        if key == "base_color" and self.graph(out, socket_name, "base_color", 3):
+            out[key] = _socket_default(self.node.inputs[socket_name], [0.8, 0.8, 0.8], True)
+            return out[key]
         tid = self.texture(socket_name, as_color=True)
         if tid == "missing":
             out[key] = list(MAGENTA)
@@ -159,7 +197,10 @@ class _Inputs:
 
     def scalar(self, out, key, socket_name, convert):
         """A value input Lantern textures (roughness, metallic, alpha): out[key + '_texture']
-        and convert(mean) as out[key], else convert(constant)."""
+        and convert(mean) as out[key], a node-graph program, else convert(constant)."""
+        if key in ("roughness", "metallic", "alpha") and self.graph(out, socket_name, key, 1):
+            out[key] = convert(_socket_default(self.node.inputs[socket_name], [0.5], False)[0])
+            return out[key]
         tid = self.texture(socket_name, as_color=False)
         if tid is not None and tid != "missing":
             out[key + "_texture"] = tid
@@ -169,7 +210,7 @@ class _Inputs:
     def emission(self, out, socket_name, strength):
         """Emission colour x strength; an image on the colour: emission_texture, the strength
         its multiplier (the image's mean x strength is kept as "_emission_mean" for shader
-        mixes, which cannot texture emission)."""
+        mixes, which cannot texture emission). Node graphs: emission_graph."""
         tid = self.texture(socket_name, as_color=True)
         if tid is not None and tid != "missing":
             out["emission_texture"] = tid
@@ -215,6 +256,55 @@ class _Inputs:
         out[key + "_strength"] = min(max(strength, 0.0), 1e3) if strength == strength else 1.0
 
 
+def is_graph(sock):
+    """A node other than an Image Texture (directly or through Separate Color), RGB or Value
+    feeds sock: material_compile handles it."""
+    if sock is None or not sock.is_linked:
+        return False
+    img, _ = _image_source(sock)
+    if img is not None:
+        return not _plain_image(img)
+    src, _ = _source(sock)
+    return src is not None and src.type not in ("RGB", "VALUE")
+
+
+def _plain_image(node):
+    """An Image Texture the texture path renders exactly: flat projection, its Vector the UV
+    map directly or through Mapping nodes with constant inputs and no X/Y rotation."""
+    if getattr(node, "projection", "FLAT") != "FLAT":
+        return False
+    sock = node.inputs.get("Vector")
+    for _ in range(16):
+        if sock is None or not sock.is_linked:
+            return True
+        link = sock.links[0]
+        src = link.from_node
+        if src.type == "REROUTE":
+            sock = src.inputs[0]
+        elif src.type == "UVMAP" or (src.type == "TEX_COORD" and link.from_socket.name == "UV"):
+            return True
+        elif src.type == "MAPPING" and src.vector_type in ("POINT", "TEXTURE", "VECTOR"):
+            rot = src.inputs.get("Rotation")
+            if any(s.is_linked for s in src.inputs[1:]) or \
+                    (rot is not None and (abs(rot.default_value[0]) > 1e-6 or
+                                          abs(rot.default_value[1]) > 1e-6)):
+                return False
+            sock = src.inputs.get("Vector")
+        else:
+            return False
+    return False
+
+
+def _socket_default(sock, fallback, color):
+    v = getattr(sock, "default_value", None)
+    try:
+        vals = [float(x) for x in v] if not isinstance(v, float) else [float(v)] * 3
+    except TypeError:
+        return fallback
+    vals = [x if math.isfinite(x) else 0.0 for x in vals[:3]]
+    return [min(max(x, 0.0), 1.0) for x in vals] if color else vals
+
+
 def convert_material(material, report, textures=None, add_leaf=None):
     """The Lantern material of a Blender material. A Mix / Add Shader tree becomes a "mix" of
     leaf materials, which add_leaf(dict) -> id appends to the scene (MaterialTable does)."""
@@ -227,6 +317,13 @@ def convert_material(material, report, textures=None, add_leaf=None):
         return out
     output = next((n for n in tree.nodes if n.type == "OUTPUT_MATERIAL" and n.is_active_output),
                   None) or next((n for n in tree.nodes if n.type == "OUTPUT_MATERIAL"), None)
+    disp = output.inputs.get("Displacement") if output is not None else None
+    if disp is not None and disp.is_linked:
+        report.warn(f"Material '{material.name}': the Material Output's Displacement is not "
+                    "rendered (neither as bump nor as true displacement)")
+    vol = output.inputs.get("Volume") if output is not None else None
+    if vol is not None and vol.is_linked:
+        report.warn(f"Material '{material.name}': volume shaders are not rendered")
     if output is None or not output.inputs["Surface"].is_linked:
         out["base_color"] = [0.0, 0.0, 0.0]  # no surface shader: black, as in Cycles
         return out
@@ -252,6 +349,10 @@ def _mix_leaves(socket, weight, material, report, depth=0):
         return []
     if node.type == "MIX_SHADER":
         f = _mix_factor(node, material, report)
+        if is_graph(node.inputs["Fac"]):
+            report.warn(f"Material '{material.name}': the node graph on the factor of nested "
+                        f"Mix Shader '{node.name}' is not rendered; its own value {f:.3g} is "
+                        "used (graph factors drive the top Mix Shader of two shaders)")
         return (_mix_leaves(node.inputs[1], weight * (1.0 - f), material, report, depth + 1) +
                 _mix_leaves(node.inputs[2], weight * f, material, report, depth + 1))
     if node.type == "ADD_SHADER":
@@ -260,8 +361,22 @@ def _mix_leaves(socket, weight, material, report, depth=0):
     return [(node, weight)]
 
 
+def _one_minus(ctx, v):
+    from .node_eval import MATH_OPS
+    r, _ = ctx.emit_node("math", [ctx.const((1.0,), "VALUE"), v, ctx.const((0.0,), "VALUE")],
+                         1, mode=MATH_OPS.index("SUBTRACT"), flags=1)
+    return ctx.reg(r, 1, "VALUE")
+
+
+def _unit_clamp(ctx, v):
+    return v   # the core clamps factors and alpha to [0, 1]
+
+
 def _mix_factor(node, material, report, textures=None):
     sock = node.inputs["Fac"]
+    if is_graph(sock):   # a graph factor: programs where the mix allows (_convert_mix)
+        v = sock.default_value
+        return 0.5 if v != v else min(max(float(v), 0.0), 1.0)
     img, output = _image_source(sock)
     if img is not None and textures is not None:
         mean = textures.mean(img, output, f"Material '{material.name}'")
@@ -298,6 +413,23 @@ def _convert_mix(top, material, report, textures, add_leaf):
         single = a is not None and b is not None and \
             a.type not in ("MIX_SHADER", "ADD_SHADER") and \
             b.type not in ("MIX_SHADER", "ADD_SHADER")
+        if img is None and not single and is_graph(top.inputs["Fac"]):
+            report.warn(f"{where}: the node graph on the factor of Mix Shader '{top.name}' is "
+                        "not rendered (graph factors mix two single shaders); its own value "
+                        "is used")
+        if img is None and single and is_graph(top.inputs["Fac"]) and \
+                not (a.type == "BSDF_TRANSPARENT" and b.type == "BSDF_TRANSPARENT"):
+            # a node graph on the factor (Fresnel, Layer Weight, noise, ...): a program
+            if b.type == "BSDF_TRANSPARENT":   # Mix(X, Transparent): alpha = 1 - fac
+                prog = GraphCompiler(material, report, textures, textures.attributes).program(
+                    top.inputs["Fac"], "alpha", 1, post=_one_minus)
+            else:
+                prog = GraphCompiler(material, report, textures, textures.attributes).program(
+                    top.inputs["Fac"], "alpha" if a.type == "BSDF_TRANSPARENT"
+                    else "mix_factor", 1, post=_unit_clamp)
+            if prog is not None:
+                fac_tex = ("program", prog, a.type == "BSDF_TRANSPARENT" or
+                           b.type == "BSDF_TRANSPARENT")
         if img is not None:
             if single and b.type != "BSDF_TRANSPARENT":
                 tid = textures.add(img, output, where)
@@ -321,6 +453,11 @@ def _convert_mix(top, material, report, textures, add_leaf):
                               "base_color": [0.0, 0.0, 0.0]}, w * (1.0 - t)))
             continue
         leaf = _convert_shader(node, material, report, textures)
+        progs = leaf.get("programs", [])
+        if any(p["target"] == "emission" for p in progs):
+            report.warn(f"{where}: the node graph on the emission of '{node.name}' inside a "
+                        "shader mix is not rendered; its strength is used")
+            leaf["programs"] = [p for p in progs if p["target"] != "emission"]
         if "emission_texture" in leaf:   # a mix's emission is constant: the image's mean
             report.warn(f"{where}: the emission image of '{node.name}' inside a shader mix is "
                         "used as its mean value")
@@ -340,6 +477,13 @@ def _convert_mix(top, material, report, textures, add_leaf):
         leaf["name"] = f"{name}/{node.name}"
         bsdf.append((leaf, w))
     alpha = min(max(1.0 - transparent, 0.0), 1.0)
+    prog = None
+    if fac_tex is not None and fac_tex[0] == "program":   # a node-graph factor
+        prog, transparent_leaf = fac_tex[1], fac_tex[2]
+        fac_tex = None
+        if transparent_leaf:    # the program is the alpha; what stops a ray is all X
+            alpha = 1.0
+            bsdf = [(leaf, 1.0) for leaf, _ in bsdf]
     if fac_tex is not None and fac_tex[1]:  # Mix(Transparent, X, fac): alpha = fac, textured;
         alpha = 1.0                         # where it stops a ray, the surface is all X
         bsdf = [(leaf, 1.0) for leaf, _ in bsdf]
@@ -365,6 +509,12 @@ def _convert_mix(top, material, report, textures, add_leaf):
         if fac_tex is not None and not fac_tex[1] and len(bsdf) == 2:
             out["mix_texture"] = fac_tex[0]
             out["mix"] = [[out["mix"][0][0], 0.5], [out["mix"][1][0], 0.5]]
+    if prog is not None:
+        if prog["target"] == "mix_factor" and out.get("type") == "mix" and len(out["mix"]) == 2:
+            out["mix"] = [[out["mix"][0][0], 0.5], [out["mix"][1][0], 0.5]]
+            attach(out, prog)
+        elif prog["target"] == "alpha":
+            attach(out, prog)
     if normals:
         out["normal_texture"] = normals[0]["normal_texture"]
         out["normal_strength"] = normals[0].get("normal_strength", 1.0)
@@ -392,9 +542,10 @@ def _convert_shader(node, material, report, textures):
         inputs.normal_map(out)
     if node.type == "BSDF_PRINCIPLED":
         base = inputs.base(out, "base_color", "Base Color")
-        strength = _weight(value("Emission Strength"), 1e30)
-        if strength != 0.0:
-            inputs.emission(out, "Emission Color", strength)
+        if not inputs.emission_graph(out, "Emission Color", "Emission Strength"):
+            strength = _weight(value("Emission Strength"), 1e30)
+            if strength != 0.0:
+                inputs.emission(out, "Emission Color", strength)
         roughness = inputs.scalar(out, "roughness", "Roughness", _unit)
         if "Diffuse Roughness" in node.inputs:   # Blender >= 4.3: Oren-Nayar base
             out["diffuse_roughness"] = _weight(value("Diffuse Roughness"))
@@ -441,9 +592,9 @@ def _convert_shader(node, material, report, textures):
         inputs.base(out, "base_color", "Color")
         out["diffuse_roughness"] = _weight(value("Roughness"))
     elif node.type == "EMISSION":
-        strength = _weight(value("Strength"), 1e30)
         out["base_color"] = [0.0, 0.0, 0.0]
-        inputs.emission(out, "Color", strength)
+        if not inputs.emission_graph(out, "Color", "Strength"):
+            inputs.emission(out, "Color", _weight(value("Strength"), 1e30))
     elif node.type == "BSDF_GLOSSY":
         # Cycles' Glossy has no Fresnel: a constant reflectance Color at every angle, which is
         # the conductor of index 0 + 1i (F = 1) scaled by the colour
@@ -571,6 +722,10 @@ class MaterialTable:
     @property
     def textures(self):
         return self.texture_table.textures
+
+    @property
+    def attributes(self):
+        return self.texture_table.attributes
 
     def index(self, material):
         if material is None:

@@ -68,7 +68,8 @@ def _corner_arrays(mesh):
         mesh.uv_layers.active.uv.foreach_get("vector", uvs)
         uvs = uvs.reshape(nl, 2)
     return {"positions": co[corner_vert], "normals": normals.reshape(nl, 3),
-            "uvs": uvs, "indices": tri.reshape(nt, 3).astype(np.uint32), "slots": mat}
+            "uvs": uvs, "indices": tri.reshape(nt, 3).astype(np.uint32), "slots": mat,
+            "corner_vert": corner_vert}
 
 
 def _needs_tangents(m):
@@ -104,6 +105,9 @@ class MeshExporter:
                 if arrays is not None and arrays["uvs"] is not None and any(
                         _needs_tangents(m) for m in self._slot_materials(slots)):
                     arrays["tangents"] = _corner_tangents(mesh, self.report, obj.name)
+                if arrays is not None:   # what node-graph materials read (node_attributes)
+                    arrays["attr_local"] = self.materials.attributes.local(
+                        obj, mesh, arrays, arrays.pop("corner_vert"))
             finally:
                 obj.to_mesh_clear()
         if arrays is not None:
@@ -172,7 +176,10 @@ class MeshExporter:
         if inst.is_instance:
             source = getattr(obj.data, "name", obj.name)
             name = f"{inst.parent.name if inst.parent else obj.name}: {source} (instance)"
-        return {"name": name, "positions": np.ascontiguousarray(positions, np.float32),
+        attrs = self.materials.attributes
+        extra = {"_attributes": attrs.instance(inst, local.get("attr_local", {}), len(positions))}\
+            if attrs.names else {}
+        return {**extra, "name": name, "positions": np.ascontiguousarray(positions, np.float32),
                 "indices": np.ascontiguousarray(indices, np.uint32),
                 "normals": None if normals is None else np.ascontiguousarray(normals, np.float32),
                 "uvs": local["uvs"], "tangents": tangents, "material_ids": material_ids,

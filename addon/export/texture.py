@@ -11,6 +11,8 @@ import math
 
 import numpy as np
 
+from .node_attributes import AttributeTable
+
 MAGENTA = [1.0, 0.0, 1.0]
 
 _LINEAR_SPACES = {"Non-Color", "Linear", "Linear Rec.709", "Raw", "Linear CIE-XYZ E",
@@ -102,6 +104,7 @@ class TextureTable:
         self.textures = []
         self._index = {}
         self._pixels = {}
+        self.attributes = AttributeTable(report)   # what node graphs read per vertex
         # pixels kept between viewport exports: by image name, valid while the image's stamp
         # (size, format, colour space, file, dirty flag) is unchanged and no depsgraph update
         # named the image (engine.view_update drops those)
@@ -174,7 +177,12 @@ class TextureTable:
                 pass
         return result
 
-    def add(self, node, output, where):
+    def add_raw(self, node, where):
+        """Texture id of an Image Texture node for a node-graph program (material_compile):
+        no uv transform (the program computes the coordinates), or None when missing."""
+        return self.add(node, "color", where, raw=True)
+
+    def add(self, node, output, where, raw=False):
         """Texture id for an Image Texture node read through `output` ("color", "alpha",
         "red", "green", "blue"), or None when its image is missing (a warning says so)."""
         image = node.image
@@ -191,11 +199,11 @@ class TextureTable:
         if interp in ("Cubic", "Smart"):
             self.report.warn(f"{where}: '{node.name}' uses {interp} interpolation; rendered "
                              "as Linear")
-        if getattr(node, "projection", "FLAT") != "FLAT":
+        if getattr(node, "projection", "FLAT") != "FLAT" and not raw:
             self.report.warn(f"{where}: '{node.name}' uses {node.projection} projection; "
                              "rendered as Flat")
         wrap = _EXTENSIONS.get(getattr(node, "extension", "REPEAT"), "repeat")
-        xf = uv_transform(node, where, self.report)
+        xf = IDENTITY_UV if raw else uv_transform(node, where, self.report)
         key = (image.name_full, wrap, interp == "Closest", output, xf)
         if key not in self._index:
             self._index[key] = len(self.textures)

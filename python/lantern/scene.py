@@ -13,8 +13,8 @@ import numpy as np
 
 from .scene_file import ARRAY_SPECS, SceneArchive, SceneError, entries, member_name, read_mesh
 from .scene_schema import (
-    MATERIAL_TEXTURES, MESH_ARRAYS, _int, default_camera, default_film, default_world, look_at,
-    screen_for_fov, validate_camera, validate_film, validate_light, validate_material,
+    MATERIAL_TEXTURES, MESH_ARRAYS, _int, default_camera, default_film, default_world,
+    flatten_programs, look_at, screen_for_fov, validate_camera, validate_film, validate_light, validate_material,
     validate_mesh, validate_texture, validate_world)
 
 FORMAT_NAME = "lantern-scene"
@@ -34,6 +34,7 @@ class Scene:
         self.meshes = []
         self.lights = []
         self.textures = []
+        self.attribute_channels = []   # names of the meshes' per-vertex attribute channels
 
     # ---- Building ----
 
@@ -228,11 +229,28 @@ class Scene:
             t = dict(t)
             t["uv_transform"] = [float(x) for row in t["uv_transform"] for x in row]
             textures.append(t)
+        materials = [dict(m) for m in self.materials]
+        arrays, spans = flatten_programs(materials)
+        for m, (first, count) in zip(materials, spans):
+            if m.pop("programs", None):
+                m["program_first"], m["program_count"] = first, count
+        channels = len(self.attribute_channels)
+        extra = {}   # only scenes with node graphs carry them (docs/scene_format.md)
+        if len(arrays[0]) or channels:
+            extra["node_programs"] = {"programs": arrays[0], "code": arrays[1],
+                                      "consts": arrays[2], "attribute_channels": channels}
+        for m in meshes:
+            if channels == 0:
+                m.pop("attributes", None)
+            elif m.get("attributes") is None or m["attributes"].shape[1] != 3 * channels:
+                nv = len(m["positions"])
+                m["attributes"] = np.zeros((nv, 3 * channels), np.float32)
         return {
+            **extra,
             "film": dict(self.film),
             "camera": camera,
             "world": dict(self.world),
-            "materials": [dict(m) for m in self.materials],
+            "materials": materials,
             "textures": textures,
             "meshes": meshes,
             "lights": lights,
@@ -256,6 +274,7 @@ class Scene:
             "lights": self.lights,
             "meshes": [],
             "textures": [],
+            "attribute_channels": list(self.attribute_channels),
         }
         arrays = {}
         for i, tex in enumerate(self.textures):
@@ -372,6 +391,10 @@ def load_scene(path, max_bytes=None):
             scene.materials = [validate_material(m, i, len(textures))
                                for i, m in enumerate(scene.materials)]
             scene.lights = [validate_light(light, i) for i, light in enumerate(scene.lights)]
+            channels = doc.get("attribute_channels", [])
+            if not isinstance(channels, list) or not all(isinstance(c, str) for c in channels):
+                raise ValueError("attribute_channels: expected a list of names (strings)")
+            scene.attribute_channels = list(channels)
         except SceneError:
             raise
         except ValueError as e:

@@ -307,7 +307,8 @@ class SceneArchive:
 # field -> (numpy dtype kinds, dimensions, allowed last dimension) of its .npy member
 ARRAY_SPECS = {"positions": ("f", 2, (3,)), "normals": ("f", 2, (3,)), "uvs": ("f", 2, (2,)),
                "tangents": ("f", 2, (4,)), "indices": ("iu", 2, (3,)),
-               "material_ids": ("iu", 1, None), "pixels": ("fiu", 3, (3, 4))}
+               "material_ids": ("iu", 1, None), "attributes": ("f", 2, None),
+               "pixels": ("fiu", 3, (3, 4))}
 
 
 def entries(archive, doc, key):

@@ -11,7 +11,11 @@ MATERIAL_TYPES = ("diffuse", "conductor", "dielectric", "principled", "mix", "tr
 MIX_LEAVES = 4
 LIGHT_TYPES = ("point", "spot", "area", "sun")
 AREA_SHAPES = ("square", "rectangle", "disk", "ellipse")
-MESH_ARRAYS = ("positions", "indices", "normals", "uvs", "tangents", "material_ids")
+MESH_ARRAYS = ("positions", "indices", "normals", "uvs", "tangents", "material_ids",
+               "attributes")
+# node-graph programs (docs/scene_format.md "Node programs"; native/src/scene/material_program.h)
+PROGRAM_TARGETS = ("base_color", "roughness", "metallic", "emission", "alpha", "mix_factor")
+PROGRAM_REGS = 192
 TEXTURE_COLORSPACES = ("srgb", "linear")
 TEXTURE_WRAPS = ("repeat", "extend", "clip", "mirror")
 TEXTURE_INTERPOLATIONS = ("linear", "closest")
@@ -373,7 +377,56 @@ def validate_material(material, index, num_textures=0):
             raise ValueError(f"{what} {key}: texture {t} out of range (scene has "
                              f"{num_textures} textures)")
         out[key] = t
+    if material.get("programs") is not None:
+        out["programs"] = [validate_program(p, f"{what} program {i}", num_textures)
+                           for i, p in enumerate(material["programs"])]
     return out
+
+
+def validate_program(prog, what, num_textures=0):
+    """A node-graph program: target, code ([[w0, w1, w2, w3], ...] uint32 words), consts
+    (floats: the register image, then tables), num_const, result (register)."""
+    if not isinstance(prog, dict):
+        raise ValueError(f"{what}: expected a dict")
+    target = prog.get("target")
+    if target not in PROGRAM_TARGETS:
+        raise ValueError(f"{what}: unknown target {target!r}, expected one of {PROGRAM_TARGETS}")
+    try:
+        code = np.asarray(prog.get("code", []), dtype=np.int64).reshape(-1, 4)
+        consts = np.asarray(prog.get("consts", []), dtype=np.float64).reshape(-1)
+    except (TypeError, ValueError):
+        raise ValueError(f"{what}: code must be rows of 4 integers and consts numbers") from None
+    if code.size and (code.min() < 0 or code.max() > 0xFFFFFFFF):
+        raise ValueError(f"{what}: code words must be 32-bit unsigned")
+    num_const = _int(prog.get("num_const", 0), f"{what} num_const", minimum=0)
+    result = _int(prog.get("result", 0), f"{what} result", minimum=0)
+    if num_const > min(len(consts), PROGRAM_REGS) or result + 3 > PROGRAM_REGS:
+        raise ValueError(f"{what}: num_const or result out of range")
+    return {"target": target, "code": code.tolist(), "consts": [float(c) for c in consts],
+            "num_const": num_const, "result": result}
+
+
+def flatten_programs(materials):
+    """The scene's programs as the arrays the core takes: (programs, code, consts) and, per
+    material, (first, count) into programs. Table offsets (ops ramp, curves: word 2) become
+    offsets in the scene's constants."""
+    rows, code, consts, spans = [], [], [], []
+    for m in materials:
+        progs = m.get("programs") or []
+        spans.append((len(rows), len(progs)))
+        for p in progs:
+            c = np.asarray(p["code"], dtype=np.uint32).reshape(-1, 4).copy()
+            base = sum(len(x) for x in consts)
+            tables = np.isin(c[:, 0] & 0xFF, (21, 22))   # kOpRamp, kOpCurves
+            c[tables, 2] += np.uint32(base)
+            rows.append([sum(len(x) for x in code), len(c), base, p["num_const"],
+                         PROGRAM_TARGETS.index(p["target"]), p["result"]])
+            code.append(c)
+            consts.append(np.asarray(p["consts"], np.float32))
+    return (np.asarray(rows, np.uint32).reshape(-1, 6),
+            np.ascontiguousarray(np.concatenate(code) if code else np.zeros((0, 4), np.uint32)),
+            np.ascontiguousarray(np.concatenate(consts) if consts else np.zeros(0, np.float32))
+            ), spans
 
 def validate_mesh(mesh, index, num_materials=None):
     """Validates and coerces `mesh` in place."""
@@ -425,6 +478,13 @@ def validate_mesh(mesh, index, num_materials=None):
     mesh["uvs"] = uvs
     mesh["tangents"] = tangents
     mesh["material_ids"] = mids
+    attrs = mesh.get("attributes")
+    if attrs is not None:
+        attrs = np.ascontiguousarray(np.asarray(attrs, dtype=np.float32))
+        if attrs.ndim != 2 or attrs.shape[0] != vcount or attrs.shape[1] % 3:
+            raise ValueError(f"{what} attributes: expected (V, 3 C) floats for {vcount} "
+                             f"vertices, got {attrs.shape}")
+    mesh["attributes"] = attrs
     mesh["visible_camera"] = _bool(mesh.get("visible_camera", True),
                                    f"{what} visible_camera")
     mesh["cast_shadow"] = _bool(mesh.get("cast_shadow", True), f"{what} cast_shadow")

@@ -6,6 +6,12 @@ from pathlib import Path
 
 import pytest
 
+# this checkout's package when it has a native module (as tests/python does), not an installed
+# copy: the add-on under test and the core it drives must be the same checkout's
+_SRC = Path(__file__).resolve().parents[2] / "python"
+if any((_SRC / "lantern").glob("_core*")) and str(_SRC) not in sys.path:
+    sys.path.insert(0, str(_SRC))
+
 bpy = pytest.importorskip("bpy")
 
 ADDON = Path(__file__).resolve().parents[2] / "addon"

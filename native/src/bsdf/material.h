@@ -12,6 +12,7 @@
 #include "bsdf/lambert.h"
 #include "bsdf/multiscatter.h"
 #include "bsdf/principled.h"
+#include "scene/material_program.h"
 #include "scene/texture.h"
 #include "scene/scene_view.h"
 
@@ -50,14 +51,51 @@ struct MaterialScratch {
     LANTERN_HD MaterialScratch() {}
 };
 
-// Material m (not a mix) at texture coordinates st: m itself when none of its BSDF inputs is
-// textured (no copy: untextured scenes pay nothing), else a copy in `scratch` with the texture
-// values (NaN -> 0, clamped to their ranges). The albedo and energy-compensation tables stay
-// those of the material's constant roughness (docs/materials.md: textures).
+// The inputs node-graph programs drive (kTexProgram), written into the copy `out` of m: only
+// the targets m has programs for run (NaN -> 0 inside program_run, then clamped to the
+// input's range, as textures are).
+LANTERN_HD inline void material_apply_programs(const SceneView& s, const Material& m,
+                                               const ShadePoint& sp, Material& out) {
+    auto unit = [](float v) { return v >= 0.0f ? fminf(v, 1.0f) : 0.0f; };
+    for (int i = 0; i < m.prog_count; ++i) {
+        const MaterialProgram& p = s.programs[m.prog_first + i];
+        if (p.target == kTargetAlpha) continue;  // alpha.h reads it where rays are traced
+        const Vec3 v = program_run(s, p, sp);
+        switch (p.target) {
+        case kTargetBaseColor: {
+            const Vec3 c{unit(v.x), unit(v.y), unit(v.z)};
+            out.base_color = c;
+            Vec3 favg = m.metal_favg0 + (m.metal_favg1 - m.metal_favg0) * c;
+            out.fms_metal = ms_fresnel_from_average(favg, m.e_avg);
+            break;
+        }
+        case kTargetRoughness: out.roughness = unit(v.x); break;
+        case kTargetMetallic: out.metallic = unit(v.x); break;
+        case kTargetEmission:
+            out.emission = Vec3{clampf(v.x, 0.0f, 1e30f), clampf(v.y, 0.0f, 1e30f),
+                                clampf(v.z, 0.0f, 1e30f)};
+            break;
+        case kTargetMixFactor: {
+            const float f = unit(v.x);
+            out.mix_weight[0] = 1.0f - f;
+            out.mix_weight[1] = f;
+            break;
+        }
+        default: break;
+        }
+    }
+}
+
+// Material m (not a mix) at shading point sp: m itself when none of its BSDF inputs is
+// textured or driven by a node graph (no copy: untextured scenes pay nothing), else a copy in
+// `scratch` with the texture and program values (NaN -> 0, clamped to their ranges). The
+// albedo and energy-compensation tables stay those of the material's constant roughness
+// (docs/materials.md: textures).
 LANTERN_HD inline const Material& material_resolve_leaf(const SceneView& s, const Material& m,
-                                                        Vec2 st, Material& scratch) {
+                                                        const ShadePoint& sp, Material& scratch) {
     if (!(m.tex_flags & kTexShading)) return m;
     scratch = m;
+    const Vec2 st = sp.st;
     auto unit = [](float v) { return v >= 0.0f ? fminf(v, 1.0f) : 0.0f; };  // NaN -> 0
     if (m.tex_flags & kTexRoughness) {
         const Texture& t = s.textures[m.tex_roughness];
@@ -77,35 +115,61 @@ LANTERN_HD inline const Material& material_resolve_leaf(const SceneView& s, cons
         Vec3 favg = m.metal_favg0 + (m.metal_favg1 - m.metal_favg0) * c;
         scratch.fms_metal = ms_fresnel_from_average(favg, m.e_avg);
     }
+    if (m.tex_flags & kTexProgram) material_apply_programs(s, m, sp, scratch);
     return scratch;
 }
 
-// material_at's resolution (textures; a mix with its leaves), kept out of its inlined check.
+// material_at's resolution (textures, programs; a mix with its leaves), kept out of its
+// inlined check.
 LANTERN_HD inline const Material& material_resolve(const SceneView& s, const Material& m,
-                                                   Vec2 st, MaterialScratch& scratch) {
-    if (m.type != kMaterialMix) return material_resolve_leaf(s, m, st, scratch.m);
+                                                   const ShadePoint& sp,
+                                                   MaterialScratch& scratch) {
+    if (m.type != kMaterialMix) return material_resolve_leaf(s, m, sp, scratch.m);
     scratch.m = m;
     for (int i = 0; i < m.mix_count; ++i)
         scratch.m.mix_leaf[i] =
-            &material_resolve_leaf(s, s.materials[m.mix_child[i]], st, scratch.leaf[i]);
+            &material_resolve_leaf(s, s.materials[m.mix_child[i]], sp, scratch.leaf[i]);
     if (m.tex_flags & kTexMix) {
         const Texture& t = s.textures[m.tex_mix];
-        float f = texture_scalar(t, texture_lookup(t, s.texels, s.srgb_lut, st));
+        float f = texture_scalar(t, texture_lookup(t, s.texels, s.srgb_lut, sp.st));
         f = f >= 0.0f ? fminf(f, 1.0f) : 0.0f;
         scratch.m.mix_weight[0] = 1.0f - f;
         scratch.m.mix_weight[1] = f;
     }
+    if (m.tex_flags & kTexProgram) material_apply_programs(s, m, sp, scratch.m);
     return scratch.m;
 }
 
-// The material of id at texture coordinates st, ready for material_eval / material_sample:
-// the scene's own entry, or a resolved copy in `scratch` (textures; a mix with its leaves). The
-// check is all a scene without textures or mixes runs (measured: bench/material_cost.py).
-LANTERN_HD inline const Material& material_at(const SceneView& s, uint32_t id, Vec2 st,
-                                              MaterialScratch& scratch) {
+// The material of id at shading point sp, ready for material_eval / material_sample: the
+// scene's own entry, or a resolved copy in `scratch` (textures, node-graph programs; a mix
+// with its leaves). The check is all a scene without textures, programs or mixes runs
+// (measured: bench/material_cost.py).
+LANTERN_HD inline const Material& material_at(const SceneView& s, uint32_t id,
+                                              const ShadePoint& sp, MaterialScratch& scratch) {
     const Material& m = s.materials[id];
     if (!(s.material_bits & kSceneResolve) || !(m.tex_flags & kMaterialResolve)) return m;
-    return material_resolve(s, m, st, scratch);
+    return material_resolve(s, m, sp, scratch);
+}
+
+// The same with the shading point built only when the material needs resolving: make() ->
+// ShadePoint (a lambda; a diffuse-only scene never builds one).
+template <class MakeShadePoint>
+LANTERN_HD inline const Material& material_at_point(const SceneView& s, uint32_t id,
+                                                    const MakeShadePoint& make,
+                                                    MaterialScratch& scratch) {
+    const Material& m = s.materials[id];
+    if (!(s.material_bits & kSceneResolve) || !(m.tex_flags & kMaterialResolve)) return m;
+    return material_resolve(s, m, make(), scratch);
+}
+
+// The same at texture coordinates st alone (no position: programs reading geometry see 0).
+LANTERN_HD inline const Material& material_at(const SceneView& s, uint32_t id, Vec2 st,
+                                              MaterialScratch& scratch) {
+    ShadePoint sp{};
+    sp.st = st;
+    sp.tri = -1;
+    sp.n = sp.ng = sp.wo = Vec3{0.0f, 0.0f, 1.0f};
+    return material_at(s, id, sp, scratch);
 }
 
 // True when every lobe of m is a delta distribution: a vertex there cannot be connected to.

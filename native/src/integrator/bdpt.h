@@ -38,7 +38,8 @@ struct LightVertex {
     Vec3 beta;      // light sub-path throughput, emitted flux / pick probability included
     float dvcm, dvc;
     uint32_t material;
-    Vec2 st;        // texture coordinates (textured materials are resolved at connection)
+    int32_t tri;    // the triangle and (bary16) its barycentrics, 2 x 16-bit unorm: textured
+    uint32_t bary16;  // and node-graph materials are resolved at connection (shade_point_lv)
     float tangent_angle;  // anisotropic materials: the frame's turn about ns (SurfaceHit)
     int32_t path;   // light path index (bdpt pairs camera path i with light path i)
     int16_t length; // segments from the light to this vertex (y1 has 1; max_depth <= 1024)
@@ -47,6 +48,28 @@ struct LightVertex {
 };
 
 static_assert(sizeof(LightVertex) == 96, "update the cache size in docs/lvc_notes.md");
+
+LANTERN_HD inline uint32_t bary16_encode(Vec2 b) {
+    auto q = [](float v) { return uint32_t(clampf(v, 0.0f, 1.0f) * 65535.0f + 0.5f); };
+    return q(b.x) | (q(b.y) << 16);
+}
+LANTERN_HD inline Vec2 bary16_decode(uint32_t c) {
+    return Vec2{float(c & 0xFFFFu) * (1.0f / 65535.0f), float(c >> 16) * (1.0f / 65535.0f)};
+}
+// The shading point of a cache vertex, seen from direction wo (the camera vertex it connects
+// to: Cycles' I for view-dependent nodes).
+LANTERN_HD inline ShadePoint shade_point_lv(const SceneView& s, const LightVertex& y, Vec3 wo) {
+    ShadePoint sp;
+    sp.p = y.p;
+    sp.n = y.ns;
+    sp.ng = y.ng;
+    sp.wo = wo;
+    sp.tri = y.tri;
+    sp.bary = bary16_decode(y.bary16);
+    sp.st = triangle_uv(s, y.tri, sp.bary);
+    sp.backfacing = y.front == 0;
+    return sp;
+}
 
 struct BdptSettings {
     int32_t max_depth, rr_depth, spp_per_iteration;
@@ -164,7 +187,8 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
     const float dist = ps.hit_t[i];
     SurfaceHit h = pt_surface(s, tri, ps.hit_uv[i], d);
     MaterialScratch scratch;
-    const Material& m = material_at(s, s.tri_material[tri], h.st, scratch);
+    const Material& m = material_at_point(
+        s, s.tri_material[tri], [&] { return shade_point(h, tri, ps.hit_uv[i], -d); }, scratch);
     const int k = ps.depth[i] + 1;  // segments from the light to this vertex
     ps.depth[i] = k;
     const Vec3 wo_w = -d;
@@ -202,7 +226,8 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
         v.dvcm = dvcm;
         v.dvc = dvc;
         v.material = s.tri_material[tri];
-        v.st = h.st;
+        v.tri = tri;
+        v.bary16 = bary16_encode(ps.hit_uv[i]);
         v.tangent_angle = h.tangent_angle;
         v.path = int32_t(path);
         v.length = int16_t(k);
@@ -422,7 +447,8 @@ LANTERN_HD inline Connection bdpt_connect(const SceneView& s, const BdptSettings
                                 z.h.coat_n);
     if (is_black(ez.f)) return r;
     MaterialScratch scratch;
-    const Material& my = material_at(s, y.material, y.st, scratch);
+    const Material& my = material_at_point(s, y.material, [&] { return shade_point_lv(s, y, -dir); },
+                                            scratch);
     Frame fy = Frame::from_normal_angle(y.ns, y.tangent_angle);
     const Vec3 coat_y = (my.tex_flags & kCoatNormal) ? oct_decode(y.coat_n) : vec3(0.0f, 0.0f, 1.0f);
     BsdfEval ey = material_eval(my, y.front != 0, fy.to_local(y.wo), fy.to_local(-dir),
@@ -545,7 +571,8 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
     CameraVertex z;
     MaterialScratch scratch;  // z.m points here when the material is resolved
     z.h = pt_surface(s, tri, ps.hit_uv[i], d);
-    z.m = &material_at(s, s.tri_material[tri], z.h.st, scratch);
+    z.m = &material_at_point(
+        s, s.tri_material[tri], [&] { return shade_point(z.h, tri, ps.hit_uv[i], -d); }, scratch);
     z.depth = ps.depth[i];
     const float cos_in = fabsf(dot(d, z.h.ng));
     if (!(cos_in > 0.0f) || !(t_hit > 0.0f)) return;

@@ -172,7 +172,8 @@ LANTERN_HD inline void lt_shade(const SceneView& s, const PathState& ps, const L
     Vec3 d = ps.ray_d[i];
     SurfaceHit h = pt_surface(s, tri, ps.hit_uv[i], d);
     MaterialScratch scratch;
-    const Material& m = material_at(s, s.tri_material[tri], h.st, scratch);
+    const Material& m = material_at_point(
+        s, s.tri_material[tri], [&] { return shade_point(h, tri, ps.hit_uv[i], -d); }, scratch);
     int depth = ps.depth[i] + 1;  // segments from the light to this vertex
     ps.depth[i] = depth;
     Vec3 wo_w = -d;  // towards the light

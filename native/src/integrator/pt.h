@@ -208,6 +208,20 @@ LANTERN_HD inline SurfaceHit pt_surface(const SceneView& s, int tri, Vec2 uv, Ve
     return h;
 }
 
+// What node-graph programs read at the hit (scene/material_program.h); wo: towards the viewer.
+LANTERN_HD inline ShadePoint shade_point(const SurfaceHit& h, int tri, Vec2 bary, Vec3 wo) {
+    ShadePoint sp;
+    sp.p = h.p;
+    sp.n = h.ns;
+    sp.ng = h.ng;
+    sp.wo = wo;
+    sp.st = h.st;
+    sp.tri = tri;
+    sp.bary = bary;
+    sp.backfacing = !h.front;
+    return sp;
+}
+
 // ---- Shade: emission, next-event estimation (a shadow ray), BSDF sampling, roulette ----
 LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const PtSettings& st,
                                 int i) {
@@ -223,7 +237,8 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
     }
     SurfaceHit h = pt_surface(s, tri, ps.hit_uv[i], d);
     MaterialScratch scratch;
-    const Material& m = material_at(s, s.tri_material[tri], h.st, scratch);
+    const Material& m = material_at_point(
+        s, s.tri_material[tri], [&] { return shade_point(h, tri, ps.hit_uv[i], -d); }, scratch);
     if (!is_black(m.emission)) {
         float pdf = 0.0f;
         int li = s.tri_light ? s.tri_light[tri] : -1;

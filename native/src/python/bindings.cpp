@@ -155,6 +155,8 @@ SceneInput to_input(const nb::dict& scene) {
                 }
             }
             mi.tex_mix = get<int>(m, "mix_texture", -1);
+            mi.program_first = get<int>(m, "program_first", 0);
+            mi.program_count = get<int>(m, "program_count", 0);
             in.materials.push_back(mi);
         }
     }
@@ -192,6 +194,13 @@ SceneInput to_input(const nb::dict& scene) {
             in.textures.push_back(std::move(ti));
         }
     }
+    if (has(scene, "node_programs")) {  // compiled node graphs (docs/scene_format.md)
+        nb::dict np = nb::cast<nb::dict>(scene["node_programs"]);
+        in.programs = get_array<uint32_t>(np, "programs", 6, "node_programs");
+        in.program_code = get_array<uint32_t>(np, "code", 4, "node_programs");
+        in.program_consts = get_array<float>(np, "consts", 1, "node_programs");
+        in.num_attribute_channels = get<int>(np, "attribute_channels", 0);
+    }
     if (has(scene, "meshes")) {
         for (nb::handle h : nb::cast<nb::list>(scene["meshes"])) {
             nb::dict m = nb::cast<nb::dict>(h);
@@ -203,6 +212,9 @@ SceneInput to_input(const nb::dict& scene) {
             mi.tangents = get_array<float>(m, "tangents", 4, "mesh '" + mi.name + "'");
             mi.indices = get_array<uint32_t>(m, "indices", 3, "mesh '" + mi.name + "'");
             mi.material_ids = get_array<uint32_t>(m, "material_ids", 1, "mesh '" + mi.name + "'");
+            if (in.num_attribute_channels > 0)
+                mi.attributes = get_array<float>(m, "attributes", 3 * in.num_attribute_channels,
+                                                 "mesh '" + mi.name + "'");
             mi.visible_camera = get<bool>(m, "visible_camera", true);
             mi.cast_shadow = get<bool>(m, "cast_shadow", true);
             in.meshes.push_back(std::move(mi));

@@ -10,6 +10,7 @@
 #include <cstring>
 
 #include "core/rng.h"
+#include "scene/material_program.h"
 #include "scene/scene_view.h"
 #include "scene/texture.h"
 
@@ -31,9 +32,12 @@ LANTERN_HD inline float alpha_hash(Vec3 o, Vec3 d, int32_t tri) {
 }
 
 // The coverage of triangle tri at barycentrics (u, v): the alpha texture there, else the
-// material's constant alpha.
-LANTERN_HD inline float alpha_at(const SceneView& s, int32_t tri, Vec2 bary) {
+// material's constant alpha; a node-graph alpha program (seen along ray direction d) first.
+LANTERN_HD inline float alpha_at(const SceneView& s, int32_t tri, Vec2 bary,
+                                 Vec3 d = Vec3{0.0f, 0.0f, -1.0f}) {
     const Material& m = s.materials[s.tri_material[tri]];
+    float pa;
+    if (program_alpha(s, m, tri, bary, -d, &pa)) return pa;
     if (!(m.tex_flags & kTexAlpha)) return 1.0f - m.transparency;
     const Texture& t = s.textures[m.tex_alpha];
     float a = texture_scalar(t, texture_lookup(t, s.texels, s.srgb_lut, triangle_uv(s, tri, bary)));
@@ -42,7 +46,7 @@ LANTERN_HD inline float alpha_at(const SceneView& s, int32_t tri, Vec2 bary) {
 
 // Whether the ray (o, d) stops at its hit of alpha-tested triangle tri.
 LANTERN_HD inline bool alpha_stops(const SceneView& s, int32_t tri, Vec2 bary, Vec3 o, Vec3 d) {
-    float a = alpha_at(s, tri, bary);
+    float a = alpha_at(s, tri, bary, d);
     if (a >= 1.0f) return true;
     if (a <= 0.0f) return false;
     return alpha_hash(o, d, tri) < a;

@@ -7,6 +7,7 @@
 #pragma once
 
 #include "core/sampling.h"
+#include "scene/material_program.h"
 #include "scene/scene_view.h"
 
 namespace lantern {
@@ -16,8 +17,12 @@ namespace lantern {
 // unbiased: only le varies; light selection uses the texture's mean).
 LANTERN_HD inline Vec3 triangle_emission(const SceneView& s, const Light& l, Vec2 bc) {
     const Material& m = s.materials[s.tri_material[l.triangle]];
-    if (!(m.tex_flags & kTexEmission)) return l.radiance;
-    return material_emission(s, m, triangle_uv(s, l.triangle, bc));
+    if (!(m.tex_flags & (kTexEmission | kTexProgram))) return l.radiance;
+    // a node-graph emitter is seen along its normal here (the receiver is not known)
+    const uint32_t* idx = s.indices + 3 * l.triangle;
+    const Vec3 ng = normalize(cross(s.positions[idx[1]] - s.positions[idx[0]],
+                                    s.positions[idx[2]] - s.positions[idx[0]]));
+    return material_emission_at(s, m, l.triangle, bc, ng);
 }
 
 struct LightSample {

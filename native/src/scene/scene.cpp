@@ -239,6 +239,7 @@ HostScene::HostScene(const SceneInput& in) {
     }
     add_textures(in);
     finish_emission_textures();
+    add_programs(in);
     add_meshes(in);
     add_lights(in);
     build_filter(in.filter_width);
@@ -401,6 +402,7 @@ void HostScene::add_meshes(const SceneInput& in) {
             throw std::invalid_argument("mesh '" + m.name + "': one material id per triangle needed");
         }
         const uint32_t base = uint32_t(positions_.size());
+        add_mesh_attributes(m, nv, size_t(num_attribute_channels_), attributes_);
         for (size_t v = 0; v < nv; ++v) {
             positions_.push_back({m.positions[3 * v], m.positions[3 * v + 1], m.positions[3 * v + 2]});
             if (any_normals) {
@@ -455,7 +457,8 @@ void HostScene::add_meshes(const SceneInput& in) {
             }
             tri_material_.push_back(mat);
             const Material& mm = materials_[mat];
-            const bool alpha = mm.transparency > 0.0f || (mm.tex_flags & kTexAlpha);
+            const bool alpha = mm.transparency > 0.0f || (mm.tex_flags & kTexAlpha) ||
+                               program_has_target(programs_.data(), mm, kTargetAlpha);
             tri_flags_.push_back(uint8_t(flags | (alpha ? kAlphaTested : 0)));
         }
         if (far) {
@@ -654,6 +657,10 @@ SceneView HostScene::copied_view(
     v.hittable_lights = put(view_.hittable_lights, hittable_lights_.size());
     v.miss_lights = put(view_.miss_lights, miss_lights_.size());
     v.camera.filter_cdf = put(view_.camera.filter_cdf, filter_cdf_.size());
+    v.programs = put(view_.programs, programs_.size());
+    v.program_code = put(view_.program_code, program_code_.size());
+    v.program_consts = put(view_.program_consts, program_consts_.size());
+    v.attributes = put(view_.attributes, attributes_.size());
     return v;
 }
 
@@ -679,7 +686,13 @@ void HostScene::finish_view(const SceneInput& in) {
         if (m.tex_flags & kMaterialResolve) v.material_bits |= kSceneResolve;
         if ((m.tex_flags & (kTexNormal | kCoatNormal)) || m.anisotropy > 0.0f)
             v.material_bits |= kSceneFrames;
+        if (m.tex_flags & kTexProgram) v.material_bits |= kScenePrograms;
     }
+    v.programs = programs_.empty() ? nullptr : programs_.data();
+    v.program_code = program_code_.empty() ? nullptr : program_code_.data();
+    v.program_consts = program_consts_.empty() ? nullptr : program_consts_.data();
+    v.attributes = attributes_.empty() ? nullptr : attributes_.data();
+    v.num_attribute_channels = attributes_.empty() ? 0 : num_attribute_channels_;
     v.lights = lights_.data();
     v.light_cdf = light_cdf_.data();
     v.emit_cdf = has_emitters_ ? emit_cdf_.data() : nullptr;

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "scene/material_program.h"
 #include "scene/scene_view.h"
 
 namespace lantern {
@@ -20,6 +21,7 @@ struct MeshInput {
     std::vector<float> tangents;       // 4 per vertex (xyz, bitangent sign) or empty
     std::vector<uint32_t> indices;     // 3 per triangle
     std::vector<uint32_t> material_ids;  // 1 per triangle
+    std::vector<float> attributes;     // SceneInput::num_attribute_channels x 3 per vertex, or empty
     bool visible_camera = true;
     bool cast_shadow = true;
 };
@@ -65,6 +67,8 @@ struct MaterialInput {
     std::vector<int> mix_children;
     std::vector<float> mix_weights;
     int tex_mix = -1;
+    // node-graph programs: SceneInput::programs rows program_first .. + program_count
+    int program_first = 0, program_count = 0;
 };
 
 // An image texture with its sampling settings. Texels: width x height x 4 (RGBA), rows bottom
@@ -111,6 +115,13 @@ struct SceneInput {
     std::vector<TextureInput> textures;
     std::vector<MeshInput> meshes;
     std::vector<LightInput> lights;
+    // compiled node graphs (scene/material_program.h, docs/scene_format.md "node programs"):
+    // programs 6 uint32 each (first_instr, num_instr, first_const, num_const, target, result),
+    // program_code 4 uint32 per instruction (op | mode << 8 | flags << 16 | dim << 24,
+    // in | out << 16, aux, aux2), program_consts the constants and tables
+    std::vector<uint32_t> programs, program_code;
+    std::vector<float> program_consts;
+    int num_attribute_channels = 0;  // per-vertex attribute channels of every mesh
 };
 
 class HostScene {
@@ -138,6 +149,7 @@ private:
     void add_lights(const SceneInput& in);
     void build_filter(float width);
     void finish_view(const SceneInput& in);
+    void add_programs(const SceneInput& in);  // scene/material_program.cpp
 
     std::vector<Vec3> positions_, normals_;
     std::vector<Vec2> uvs_;
@@ -153,11 +165,19 @@ private:
     std::vector<Material> materials_;
     std::vector<Light> lights_;
     std::vector<float> light_cdf_, emit_cdf_, filter_cdf_;
+    std::vector<MaterialProgram> programs_;
+    std::vector<NodeInstr> program_code_;
+    std::vector<float> program_consts_, attributes_;
+    int num_attribute_channels_ = 0;
     bool has_emitters_ = false;
     std::vector<std::string> warnings_;
     SceneView view_;
 };
 
 Transform transform_from_rows(const float m[16]);
+
+// Appends mesh m's attribute channels (zeros where it has none) to out (material_program.cpp).
+void add_mesh_attributes(const MeshInput& m, size_t num_vertices, size_t channels,
+                         std::vector<float>& out);
 
 }  // namespace lantern

@@ -81,6 +81,9 @@ struct Material {
     float mix_weight[kMixLeaves];
     int32_t tex_mix;
     const Material* mix_leaf[kMixLeaves];
+    // kTexProgram: the compiled node graph, programs prog_first .. + prog_count of
+    // SceneView::programs, one per input it drives (scene/material_program.h)
+    int32_t prog_first, prog_count;
 };
 
 enum MaterialTextureBits : uint32_t {
@@ -93,7 +96,9 @@ enum MaterialTextureBits : uint32_t {
     kTexEmission = 128u, // emission colour (mesh lights: lights.h triangle_emission)
     kCoatNormal = 256u,  // the coat's own normal (SurfaceHit::coat_n; bsdf/principled.h)
     kMixResolve = 64u,   // every mix: material_at must point it at its leaves
-    kTexShading = kTexBaseColor | kTexRoughness | kTexMetallic | kTexEmission,  // resolved per hit
+    kTexProgram = 512u,  // node-graph programs drive some inputs (scene/material_program.h)
+    kTexShading = kTexBaseColor | kTexRoughness | kTexMetallic | kTexEmission |
+                  kTexProgram,                                   // resolved per hit
     kMaterialResolve = kTexShading | kTexMix | kMixResolve,      // material_at copies
 };
 
@@ -164,7 +169,11 @@ struct CameraView {
 enum SceneMaterialBits : uint32_t {
     kSceneResolve = 1u,  // some material needs material_at to resolve it (textures, mixes)
     kSceneFrames = 2u,   // some material has a normal map, a coat normal or anisotropy
+    kScenePrograms = 4u, // some material runs node-graph programs (scene/material_program.h)
 };
+
+struct NodeInstr;
+struct MaterialProgram;
 
 struct SceneView {
     const Vec3* positions = nullptr;
@@ -185,6 +194,13 @@ struct SceneView {
     const float* srgb_lut = nullptr;     // 256 entries: 8-bit sRGB -> linear
     int32_t num_textures = 0;
     const float* tangents = nullptr;     // 4 per vertex (xyz, bitangent sign), may be null
+    // compiled node graphs (scene/material_program.h) and the per-vertex attribute channels
+    // they read (3 floats each: generated, object, colour attributes, ...)
+    const MaterialProgram* programs = nullptr;
+    const NodeInstr* program_code = nullptr;
+    const float* program_consts = nullptr;
+    const float* attributes = nullptr;   // num_attribute_channels x 3 per vertex
+    int32_t num_attribute_channels = 0;
 
     const Light* lights = nullptr;
     const float* light_cdf = nullptr;    // normalised, for next-event estimation

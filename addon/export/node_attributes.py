@@ -1,0 +1,125 @@
+"""Per-vertex attribute channels that node-graph programs read (kOpInput attribute mode):
+Generated and Object coordinates, the object-space normal, colour attributes and generic mesh
+attributes, and per-object values (Object Info location, random, colour). Only the channels
+some compiled material asked for are exported, 3 floats per corner vertex each."""
+
+import zlib
+
+import numpy as np
+
+LOCAL = ("generated", "object", "object_normal")          # from the mesh alone
+INSTANCE = ("object_location", "object_random", "object_color")
+
+
+class AttributeTable:
+    def __init__(self, report):
+        self.report = report
+        self.names = []
+
+    def channel(self, name):
+        if name not in self.names:
+            self.names.append(name)
+        return self.names.index(name)
+
+    # ---- per mesh (instance independent; while the evaluated mesh is alive) ----
+    def local(self, obj, mesh, arrays, corner_vert):
+        out = {}
+        if not self.names:
+            return out
+        pos = arrays["positions"]
+        for name in self.names:
+            if name == "generated":
+                lo, hi = pos.min(axis=0), pos.max(axis=0)
+                size = hi - lo
+                size = np.where(size > 1e-12, size, 0.0)
+                gen = np.where(size > 0, (pos - lo) / np.where(size > 0, size, 1.0), 0.5)
+                out[name] = gen.astype(np.float32)
+            elif name == "object":
+                out[name] = pos.astype(np.float32)
+            elif name == "object_normal":
+                out[name] = arrays["normals"].astype(np.float32)
+            elif name.startswith("color:") or name.startswith("attr:"):
+                v = self._mesh_attribute(obj, mesh, name, corner_vert)
+                if v is not None:
+                    out[name] = v
+        return out
+
+    def _mesh_attribute(self, obj, mesh, name, corner_vert):
+        kind, key = name.split(":", 1)
+        nl = len(corner_vert)
+        if kind == "color":
+            attrs = mesh.color_attributes
+            attr = attrs.get(key) if key else None
+            if attr is None and not key:
+                idx = getattr(attrs, "render_color_index", -1)
+                attr = attrs[idx] if 0 <= idx < len(attrs) else attrs.active_color
+        else:
+            attr = mesh.attributes.get(key)
+        if attr is None:
+            self.report.warn(f"Object '{obj.name}': no attribute '{key or '(render color)'}' "
+                             "for a material's node graph; it reads 0")
+            return None
+        n = len(attr.data)
+        dt = attr.data_type
+        if dt in ("FLOAT_COLOR", "BYTE_COLOR"):
+            buf = np.empty(n * 4, np.float32)
+            attr.data.foreach_get("color", buf)
+            v = buf.reshape(n, 4)[:, :3]
+        elif dt == "FLOAT_VECTOR":
+            buf = np.empty(n * 3, np.float32)
+            attr.data.foreach_get("vector", buf)
+            v = buf.reshape(n, 3)
+        elif dt == "FLOAT2":
+            buf = np.empty(n * 2, np.float32)
+            attr.data.foreach_get("vector", buf)
+            v = np.concatenate([buf.reshape(n, 2), np.zeros((n, 1), np.float32)], axis=1)
+        elif dt in ("FLOAT", "INT", "BOOLEAN"):
+            buf = np.empty(n, np.float32 if dt == "FLOAT" else np.int32)
+            attr.data.foreach_get("value", buf)
+            v = np.repeat(buf.astype(np.float32)[:, None], 3, axis=1)
+        else:
+            self.report.warn(f"Object '{obj.name}': attribute '{key}' of type {dt} is not "
+                             "supported by node graphs; it reads 0")
+            return None
+        if attr.domain == "POINT":
+            v = v[corner_vert]
+        elif attr.domain != "CORNER":
+            self.report.warn(f"Object '{obj.name}': attribute '{key}' on the {attr.domain} "
+                             "domain is not supported by node graphs; it reads 0")
+            return None
+        if len(v) != nl:
+            return None
+        return np.ascontiguousarray(v, np.float32)
+
+    # ---- per instance ----
+    def instance(self, inst, local, nl, normals_to_world=None):
+        """The channels of one instance: its local ones and the per-object values."""
+        out = dict(local)
+        obj = inst.object
+        if any(n in self.names for n in INSTANCE):
+            m = np.array(inst.matrix_world, dtype=np.float64)
+            seed = zlib.crc32(f"{obj.name}/{getattr(inst, 'random_id', 0)}".encode())
+            rnd = float(seed & 0xFFFFFF) / float(0xFFFFFF)
+            per = {"object_location": m[:3, 3],
+                   "object_random": (rnd, float(getattr(obj, "pass_index", 0)), 0.0),
+                   "object_color": tuple(getattr(obj, "color", (1, 1, 1, 1)))[:3]}
+            for name in INSTANCE:
+                if name in self.names:
+                    out[name] = np.tile(np.asarray(per[name], np.float32), (nl, 1))
+        return out
+
+    def finish(self, meshes):
+        """Replaces each mesh's channel dict with one (V, 3 C) array; returns the names."""
+        c = len(self.names)
+        for mesh in meshes:
+            got = mesh.pop("_attributes", None) or {}
+            if c == 0:
+                continue
+            nv = len(mesh["positions"])
+            arr = np.zeros((nv, 3 * c), np.float32)
+            for i, name in enumerate(self.names):
+                v = got.get(name)
+                if v is not None and len(v) == nv:
+                    arr[:, 3 * i:3 * i + 3] = v
+            mesh["attributes"] = arr
+        return list(self.names)

@@ -1,0 +1,197 @@
+"""Node graphs through the add-on (material_compile): graph clean-up (groups, reroutes, muted
+nodes) gives the same program as the plain graph, a material without graphs carries none, and
+bad input (cycles, unknown or newer node types, missing images, NaN and huge values) renders a
+finite image with a warning naming the problem. The node outputs themselves are checked
+against Cycles in tests/cycles/test_nodes.py."""
+
+import math
+
+import bpy
+import numpy as np
+import pytest
+
+from blender_helpers import add_camera, add_plane
+
+lantern = pytest.importorskip("lantern")
+
+
+def _export():
+    from lantern_blender.export import export_scene
+    return export_scene(bpy.context.evaluated_depsgraph_get())
+
+
+def _material(name="Graph"):
+    """A Principled material; returns (material, tree, principled node)."""
+    mat = bpy.data.materials.new(name)
+    nt = mat.node_tree
+    return mat, nt, nt.nodes["Principled BSDF"]
+
+
+def _scene_with(mat, scene):
+    add_camera(scene, location=(0, 0, 3))
+    plane = add_plane(scene, size=2.0, material=mat)
+    plane.data.uv_layers.new(name="UV")
+    light = bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", "SUN"))
+    scene.collection.objects.link(light)
+    return plane
+
+
+def _render(scene_obj, spp=2):
+    img = lantern.render(scene_obj, spp=spp, integrator="pt", max_depth=2, seed=3)
+    return np.asarray(img)
+
+
+def _checker_into(nt, socket):
+    c = nt.nodes.new("ShaderNodeTexChecker")
+    c.inputs["Scale"].default_value = 4.0
+    nt.links.new(c.outputs["Color"], socket)
+    return c
+
+
+def test_plain_materials_carry_no_program(empty):
+    mat, nt, bsdf = _material()
+    _scene_with(mat, empty)
+    scene, report = _export()
+    assert all("programs" not in m for m in scene.materials)
+    assert scene.attribute_channels == []
+    assert "node_programs" not in scene.to_native()
+
+
+def test_graph_exports_a_program_and_renders_it(empty):
+    mat, nt, bsdf = _material()
+    _checker_into(nt, bsdf.inputs["Base Color"])
+    _scene_with(mat, empty)
+    scene, report = _export()
+    assert report.messages == []
+    progs = scene.materials[1]["programs"]
+    assert [p["target"] for p in progs] == ["base_color"]
+    assert scene.attribute_channels == ["generated"]
+    img = _render(scene)
+    assert np.isfinite(img).all()
+    # the checker shows: the plane's centre rows hold both colours (Color1 0.8, Color2 0.2
+    # under the same light), where the old fallback rendered one constant
+    row = img[img.shape[0] // 2, img.shape[1] // 4: 3 * img.shape[1] // 4].mean(axis=1)
+    assert row.max() > 2.5 * row.min() > 0.0
+
+
+def test_group_reroute_and_muted_node_give_the_plain_program(empty):
+    # plain: checker -> Base Color
+    mat, nt, bsdf = _material("Plain")
+    _checker_into(nt, bsdf.inputs["Base Color"])
+    # same through a node group (with the checker inside), a reroute and a muted Invert
+    mat2, nt2, bsdf2 = _material("Wrapped")
+    group = bpy.data.node_groups.new("G", "ShaderNodeTree")
+    group.interface.new_socket("Out", in_out="OUTPUT", socket_type="NodeSocketColor")
+    group.interface.new_socket("S", in_out="INPUT", socket_type="NodeSocketFloat")
+    gin, gout = group.nodes.new("NodeGroupInput"), group.nodes.new("NodeGroupOutput")
+    chk = group.nodes.new("ShaderNodeTexChecker")
+    group.links.new(gin.outputs[0], chk.inputs["Scale"])
+    group.links.new(chk.outputs["Color"], gout.inputs[0])
+    gnode = nt2.nodes.new("ShaderNodeGroup")
+    gnode.node_tree = group
+    gnode.inputs[0].default_value = 4.0
+    reroute = nt2.nodes.new("NodeReroute")
+    inv = nt2.nodes.new("ShaderNodeInvert")
+    inv.mute = True
+    nt2.links.new(gnode.outputs[0], reroute.inputs[0])
+    nt2.links.new(reroute.outputs[0], inv.inputs["Color"])
+    nt2.links.new(inv.outputs[0], bsdf2.inputs["Base Color"])
+    _scene_with(mat, empty)
+    add_plane(empty, size=1.0, location=(5, 0, 0), material=mat2, name="Other")
+    scene, report = _export()
+    assert report.messages == []
+    by_name = {m["name"]: m for m in scene.materials}
+    a, b = by_name["Plain"]["programs"][0], by_name["Wrapped"]["programs"][0]
+    assert a["code"] == b["code"] and a["consts"] == b["consts"]
+
+
+def test_unknown_and_newer_nodes_warn_by_name(empty):
+    mat, nt, bsdf = _material()
+    brick = nt.nodes.new("ShaderNodeTexBrick")       # not evaluated by Lantern (yet)
+    brick.name = "Bricks"
+    nt.links.new(brick.outputs["Color"], bsdf.inputs["Base Color"])
+    _scene_with(mat, empty)
+    scene, report = _export()
+    assert any("Bricks" in m and "TEX_BRICK" in m for m in report.messages), report.messages
+    assert np.isfinite(_render(scene)).all()
+
+
+def test_cycle_in_a_graph_warns_and_renders(empty):
+    mat, nt, bsdf = _material()
+    a, b = nt.nodes.new("ShaderNodeMath"), nt.nodes.new("ShaderNodeMath")
+    nt.links.new(a.outputs[0], b.inputs[0])
+    nt.links.new(b.outputs[0], a.inputs[0])     # Blender marks one of the two invalid
+    nt.links.new(b.outputs[0], bsdf.inputs["Roughness"])
+    _scene_with(mat, empty)
+    scene, report = _export()
+    assert any("invalid" in m and "cycle" in m for m in report.messages), report.messages
+    assert np.isfinite(_render(scene)).all()
+
+
+def test_missing_image_in_a_graph_is_magenta_with_a_warning(empty):
+    mat, nt, bsdf = _material()
+    img = nt.nodes.new("ShaderNodeTexImage")          # no image
+    img.name = "Nothing"
+    mapping = nt.nodes.new("ShaderNodeMapping")
+    nt.links.new(nt.nodes.new("ShaderNodeTexCoord").outputs["UV"], mapping.inputs[0])
+    nt.links.new(mapping.outputs[0], img.inputs["Vector"])
+    emit = nt.nodes.new("ShaderNodeEmission")
+    nt.links.new(img.outputs["Color"], emit.inputs["Color"])
+    nt.links.new(emit.outputs[0], nt.nodes["Material Output"].inputs["Surface"])
+    _scene_with(mat, empty)
+    scene, report = _export()
+    assert any("Nothing" in m and "no image" in m for m in report.messages), report.messages
+    out = _render(scene)
+    centre = out[out.shape[0] // 2, out.shape[1] // 2]
+    assert np.isfinite(out).all()
+    assert centre[0] > 0.5 and centre[1] < 0.05 and centre[2] > 0.5   # magenta
+
+
+@pytest.mark.parametrize("value", [math.nan, math.inf, 1e30, -1e30])
+def test_nan_and_huge_values_render_finite(empty, value):
+    mat, nt, bsdf = _material()
+    v = nt.nodes.new("ShaderNodeValue")
+    v.outputs[0].default_value = value
+    m = nt.nodes.new("ShaderNodeMath")
+    m.operation = "MULTIPLY"
+    nt.links.new(v.outputs[0], m.inputs[0])
+    nt.links.new(nt.nodes.new("ShaderNodeTexNoise").outputs["Fac"], m.inputs[1])
+    nt.links.new(m.outputs[0], bsdf.inputs["Base Color"])
+    nt.links.new(m.outputs[0], bsdf.inputs["Roughness"])
+    nt.links.new(m.outputs[0], bsdf.inputs["Emission Strength"])
+    _scene_with(mat, empty)
+    scene, report = _export()
+    out = _render(scene)
+    assert np.isfinite(out).all()
+
+
+def test_fresnel_mix_factor_drives_the_mix(empty):
+    mat = bpy.data.materials.new("Rim")
+    nt = mat.node_tree
+    for n in list(nt.nodes):
+        if n.type != "OUTPUT_MATERIAL":
+            nt.nodes.remove(n)
+    mix = nt.nodes.new("ShaderNodeMixShader")
+    nt.links.new(nt.nodes.new("ShaderNodeFresnel").outputs[0], mix.inputs["Fac"])
+    nt.links.new(nt.nodes.new("ShaderNodeBsdfDiffuse").outputs[0], mix.inputs[1])
+    nt.links.new(nt.nodes.new("ShaderNodeBsdfGlossy").outputs[0], mix.inputs[2])
+    nt.links.new(mix.outputs[0], nt.nodes["Material Output"].inputs["Surface"])
+    _scene_with(mat, empty)
+    scene, report = _export()
+    assert report.messages == []
+    top = next(m for m in scene.materials if m["name"] == "Rim")
+    assert top["type"] == "mix"
+    assert [p["target"] for p in top["programs"]] == ["mix_factor"]
+
+
+def test_programs_survive_the_scene_file(empty, tmp_path):
+    mat, nt, bsdf = _material()
+    _checker_into(nt, bsdf.inputs["Base Color"])
+    _scene_with(mat, empty)
+    scene, report = _export()
+    path = tmp_path / "graph.lantern"
+    scene.save(path)
+    again = lantern.load_scene(path)
+    assert again.attribute_channels == scene.attribute_channels
+    assert again.materials[1]["programs"] == scene.materials[1]["programs"]
+    assert np.array_equal(_render(again), _render(scene))   # same seed: the same image

@@ -1,0 +1,229 @@
+// Node-graph programs (scene/material_program.h): the arithmetic against Blender's documented
+// conventions, the register machine, constant folding at load, bad programs rejected with a
+// message, and material_at applying a program at a hit (and nothing for a plain material).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <stdexcept>
+#include <vector>
+
+#include "bsdf/material.h"
+#include "scene/scene.h"
+
+using namespace lantern;
+
+namespace {
+
+uint32_t w0(int op, int mode = 0, int flags = 0, int dim = 0) {
+    return uint32_t(op) | (uint32_t(mode) << 8) | (uint32_t(flags) << 16) | (uint32_t(dim) << 24);
+}
+uint32_t w1(int in, int out) { return uint32_t(in) | (uint32_t(out) << 16); }
+
+// A plane (two triangles) of material 0 whose base colour is program `code` over `consts`.
+SceneInput plane_with_program(std::vector<uint32_t> code, std::vector<float> consts,
+                              int num_const, int result, int target = kTargetBaseColor) {
+    SceneInput in;
+    in.width = in.height = 4;
+    MaterialInput m;
+    m.name = "graph";
+    m.program_first = 0;
+    m.program_count = 1;
+    in.materials.push_back(m);
+    MeshInput mesh;
+    mesh.name = "plane";
+    mesh.positions = {-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0};
+    mesh.uvs = {0, 0, 1, 0, 1, 1, 0, 1};
+    mesh.indices = {0, 1, 2, 0, 2, 3};
+    mesh.material_ids = {0, 0};
+    in.meshes.push_back(mesh);
+    in.program_code = std::move(code);
+    in.program_consts = std::move(consts);
+    in.programs = {0, uint32_t(in.program_code.size() / 4), 0, uint32_t(num_const),
+                   uint32_t(target), uint32_t(result)};
+    return in;
+}
+
+ShadePoint point_at(Vec3 p, Vec2 st) {
+    ShadePoint sp{};
+    sp.p = p;
+    sp.n = sp.ng = sp.wo = Vec3{0, 0, 1};
+    sp.st = st;
+    sp.tri = 0;
+    sp.bary = Vec2{0.25f, 0.25f};
+    return sp;
+}
+
+}  // namespace
+
+TEST(MaterialProgram, MathFollowsBlendersSafeConventions) {
+    EXPECT_EQ(node_math(3, 1.0f, 0.0f, 0.0f), 0.0f);            // divide by 0
+    EXPECT_EQ(node_math(5, -2.0f, 0.5f, 0.0f), 0.0f);           // pow of a negative, non-integer
+    EXPECT_FLOAT_EQ(node_math(5, -2.0f, 3.0f, 0.0f), -8.0f);    // integer exponent is fine
+    EXPECT_EQ(node_math(6, -1.0f, 2.0f, 0.0f), 0.0f);           // log of a negative
+    EXPECT_EQ(node_math(7, -4.0f, 0.0f, 0.0f), 0.0f);           // sqrt of a negative
+    EXPECT_FLOAT_EQ(node_math(25, -1.0f, 3.0f, 0.0f), 2.0f);    // floored modulo
+    EXPECT_FLOAT_EQ(node_math(24, -1.0f, 3.0f, 0.0f), -1.0f);   // truncated modulo
+    EXPECT_FLOAT_EQ(node_math(26, 5.5f, 2.0f, 0.0f), 1.5f);     // wrap into [0, 2)
+    EXPECT_FLOAT_EQ(node_math(28, 3.0f, 2.0f, 0.0f), 1.0f);     // ping-pong
+    EXPECT_FLOAT_EQ(node_math(27, 2.7f, 0.5f, 0.0f), 2.5f);     // snap
+    EXPECT_FLOAT_EQ(node_math(16, 1.0f, 1.05f, 0.1f), 1.0f);    // compare within epsilon
+    EXPECT_NEAR(node_math(17, 1.0f, 1.0f, 1.0f), 1.0f - 1.0f / 6.0f, 1e-6f);  // smooth min
+    EXPECT_FLOAT_EQ(node_math(32, 2.0f, 0.0f, 0.0f), 0.5f * kPi);  // arcsine clamps
+    for (int op = 0; op <= 40; ++op)
+        EXPECT_FALSE(std::isnan(node_math(op, 0.3f, 0.7f, 0.2f))) << "op " << op;
+}
+
+TEST(MaterialProgram, VectorMathAndMapRange) {
+    float v;
+    Vec3 r = node_vector_math(6, Vec3{1, 1, 0}, Vec3{2, 0, 0}, Vec3{}, 0.0f, &v);  // project
+    EXPECT_FLOAT_EQ(r.x, 1.0f);
+    EXPECT_FLOAT_EQ(r.y, 0.0f);
+    r = node_vector_math(7, Vec3{1, -1, 0}, Vec3{0, 2, 0}, Vec3{}, 0.0f, &v);      // reflect
+    EXPECT_FLOAT_EQ(r.y, 1.0f);
+    node_vector_math(11, Vec3{0, 0, 0}, Vec3{3, 4, 0}, Vec3{}, 0.0f, &v);          // distance
+    EXPECT_FLOAT_EQ(v, 5.0f);
+    r = node_vector_math(14, Vec3{}, Vec3{}, Vec3{}, 0.0f, &v);                    // normalize 0
+    EXPECT_EQ(r.x + r.y + r.z, 0.0f);
+    EXPECT_FLOAT_EQ(node_map_range(0, true, 2.0f, 0, 1, 0, 10, 0), 10.0f);         // clamped
+    EXPECT_FLOAT_EQ(node_map_range(0, false, 2.0f, 0, 1, 0, 10, 0), 20.0f);
+    EXPECT_FLOAT_EQ(node_map_range(1, false, 0.6f, 0, 1, 0, 1, 4), 0.75f);         // stepped
+    EXPECT_FLOAT_EQ(node_map_range(2, false, 0.5f, 0, 1, 0, 1, 0), 0.5f);          // smoothstep
+    EXPECT_FLOAT_EQ(node_map_range(0, false, 1.0f, 1, 1, 0, 1, 0), 0.0f);          // empty range
+}
+
+TEST(MaterialProgram, ColourConversionsAndBlendModes) {
+    const Vec3 c{0.2f, 0.6f, 0.4f};
+    const Vec3 h = hsv_to_rgb(rgb_to_hsv(c));
+    EXPECT_NEAR(h.x, c.x, 1e-6f);
+    EXPECT_NEAR(h.y, c.y, 1e-6f);
+    EXPECT_NEAR(h.z, c.z, 1e-6f);
+    const Vec3 l = hsl_to_rgb(rgb_to_hsl(c));
+    EXPECT_NEAR(l.x, c.x, 1e-6f);
+    EXPECT_NEAR(l.z, c.z, 1e-6f);
+    const Vec3 b{0.9f, 0.1f, 0.5f};
+    for (int mode = 0; mode < 19; ++mode) {  // factor 0 leaves A (all modes but the HSV ones
+        const Vec3 r = node_blend(mode, 0.0f, c, b);  // round-trip through HSV)
+        EXPECT_NEAR(r.x, c.x, 1e-5f) << "mode " << mode;
+        EXPECT_NEAR(r.y, c.y, 1e-5f) << "mode " << mode;
+    }
+    const Vec3 mul = node_blend(2, 1.0f, c, b);
+    EXPECT_FLOAT_EQ(mul.x, c.x * b.x);
+    const Vec3 scr = node_blend(5, 1.0f, c, b);
+    EXPECT_FLOAT_EQ(scr.y, 1.0f - (1.0f - c.y) * (1.0f - b.y));
+}
+
+TEST(MaterialProgram, NoiseIsSmoothBoundedAndDeterministic) {
+    NoiseParams n{2.0f, 0.5f, 2.0f, 0.0f, 1.0f, kNoiseFbm, 1};
+    float lo = 1e9f, hi = -1e9f;
+    for (int i = 0; i < 2000; ++i) {
+        const float p[3] = {0.37f * float(i), 0.11f * float(i % 17), 1.3f};
+        const float v = noise_fractal(p, 3, n);
+        lo = fminf(lo, v);
+        hi = fmaxf(hi, v);
+        EXPECT_EQ(v, noise_fractal(p, 3, n));
+    }
+    EXPECT_GE(lo, 0.0f);
+    EXPECT_LE(hi, 1.0f);
+    EXPECT_LT(lo, 0.35f);   // it varies
+    EXPECT_GT(hi, 0.65f);
+    const float a[3] = {0.5f, 0.5f, 0.5f}, b[3] = {0.5001f, 0.5f, 0.5f};
+    EXPECT_NEAR(noise_fractal(a, 3, n), noise_fractal(b, 3, n), 1e-3f);  // continuous
+    const float huge[3] = {1e30f, -1e30f, 3e38f};
+    EXPECT_TRUE(std::isfinite(noise_fractal(huge, 3, n)));
+}
+
+TEST(MaterialProgram, ProgramDrivesBaseColourAtTheHit) {
+    // base colour = checker(uv * 1, white, black, scale 2)
+    // registers: 0..2 color1, 3..5 color2, 6 scale; then input uv -> 8, checker block 12..
+    std::vector<float> consts(7, 0.0f);
+    consts[0] = consts[1] = consts[2] = 1.0f;
+    consts[6] = 2.0f;
+    std::vector<uint32_t> code = {
+        w0(kOpInput, 2), w1(0, 8), 0, 0,               // uv -> r8
+        w0(kOpCopy, 0, 0, 3), w1(8, 12), 0, 0,         // vector into the checker block
+        w0(kOpCopy, 0, 0, 3), w1(0, 15), 0, 0,         // color1
+        w0(kOpCopy, 0, 0, 3), w1(3, 18), 0, 0,         // color2
+        w0(kOpCopy, 0, 0, 1), w1(6, 21), 0, 0,         // scale
+        w0(kOpChecker), w1(12, 24), 0, 0,
+    };
+    HostScene hs(plane_with_program(code, consts, 7, 24));
+    const SceneView& s = hs.view();
+    EXPECT_TRUE(s.material_bits & kScenePrograms);
+    EXPECT_TRUE(s.materials[0].tex_flags & kTexProgram);
+    EXPECT_GT(s.programs[0].num_instr, 0);
+    EXPECT_LT(s.programs[0].num_instr, 6);  // the copies of constants were folded
+    MaterialScratch scratch;
+    // Blender's checker: the cell at the origin takes Color2, its x neighbour Color1
+    const Material& a = material_at(s, 0, point_at(Vec3{}, Vec2{0.25f, 0.25f}), scratch);
+    EXPECT_FLOAT_EQ(a.base_color.x, 0.0f);
+    MaterialScratch scratch2;
+    const Material& b = material_at(s, 0, point_at(Vec3{}, Vec2{0.75f, 0.25f}), scratch2);
+    EXPECT_FLOAT_EQ(b.base_color.x, 1.0f);
+}
+
+TEST(MaterialProgram, ConstantProgramFoldsIntoTheMaterial) {
+    // roughness = 0.2 + 0.3: no instruction left, no program at hits
+    std::vector<float> consts = {0.2f, 0.3f, 0.0f};
+    std::vector<uint32_t> code = {w0(kOpMath, 0), w1(0, 4), 0, 0,
+                                  w0(kOpCopy, 0, 0, 1), w1(4, 5), 0, 0,
+                                  w0(kOpCopy, 0, 0, 1), w1(4, 6), 0, 0};
+    HostScene hs(plane_with_program(code, consts, 3, 4, kTargetRoughness));
+    const Material& m = hs.view().materials[0];
+    EXPECT_FALSE(m.tex_flags & kTexProgram);
+    EXPECT_EQ(m.prog_count, 0);
+    EXPECT_FLOAT_EQ(m.roughness, 0.5f);
+}
+
+TEST(MaterialProgram, NaNAndHugeValuesStayFinite) {
+    // base colour = uv / 0 * inf: every register non-finite, the material's inputs finite
+    std::vector<float> consts = {0.0f, 0.0f, 0.0f, 3e38f};
+    std::vector<uint32_t> code = {
+        w0(kOpInput, 2), w1(0, 8), 0, 0,
+        w0(kOpCopy, 0, 0, 3), w1(8, 12), 0, 0,
+        w0(kOpCopy, 0, 0, 3), w1(0, 15), 0, 0,
+        w0(kOpVectorMath, 3), w1(12, 24), 0, 0,      // uv / 0 -> 0 (safe divide)
+        w0(kOpCopy, 0, 0, 1), w1(3, 40), 0, 0,
+        w0(kOpCopy, 0, 0, 1), w1(3, 41), 0, 0,
+        w0(kOpMath, 2), w1(40, 44), 0, 0,            // 3e38 * 3e38 = inf
+        w0(kOpCopy, 0, 0, 1), w1(44, 50), 0, 0,
+        w0(kOpCopy, 0, 0, 1), w1(44, 51), 0, 0,
+        w0(kOpCopy, 0, 0, 1), w1(44, 52), 0, 0,
+    };
+    HostScene hs(plane_with_program(code, consts, 4, 50));
+    MaterialScratch scratch;
+    const Material& m = material_at(hs.view(), 0, point_at(Vec3{}, Vec2{0.5f, 0.5f}), scratch);
+    EXPECT_TRUE(is_finite(m.base_color));
+    EXPECT_LE(max_component(m.base_color), 1.0f);
+    EXPECT_GE(m.base_color.x, 0.0f);
+}
+
+TEST(MaterialProgram, BadProgramsAreErrorsNamingTheProblem) {
+    auto expect_error = [](SceneInput in, const char* what) {
+        try {
+            HostScene hs(in);
+            FAIL() << "accepted: " << what;
+        } catch (const std::invalid_argument& e) {
+            EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+        }
+    };
+    expect_error(plane_with_program({250, 0, 0, 0}, {}, 0, 0), "unknown op");
+    expect_error(plane_with_program({w0(kOpMath), w1(190, 0), 0, 0}, {}, 0, 0), "registers");
+    expect_error(plane_with_program({w0(kOpRamp), w1(0, 4), 0, 256}, {0, 0, 0}, 3, 4), "table");
+    SceneInput in = plane_with_program({}, {}, 0, 0);
+    in.programs[4] = 99;  // target
+    expect_error(in, "out of range");
+    in = plane_with_program({}, {}, 0, 0);
+    in.materials[0].program_count = 5;
+    expect_error(in, "node programs out of range");
+}
+
+TEST(MaterialProgram, PlainMaterialsRunNoProgram) {
+    SceneInput in = plane_with_program({}, {}, 0, 0);
+    in.materials[0].program_count = 0;
+    in.programs.clear();
+    HostScene hs(in);
+    EXPECT_FALSE(hs.view().material_bits & kScenePrograms);
+    MaterialScratch scratch;
+    const Material& m = material_at(hs.view(), 0, point_at(Vec3{}, Vec2{}), scratch);
+    EXPECT_EQ(&m, &hs.view().materials[0]);   // no copy, no evaluation
+}

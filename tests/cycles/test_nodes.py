@@ -1,0 +1,424 @@
+"""Shader nodes against Cycles, node by node: each case drives an emission-only material with
+one node (or a short chain), rendered with one bounce and a 0.01 px filter by Lantern (pt) and
+by Cycles (node_stage.py), so both images are the node's output at the pixel centres. For the
+deterministic nodes each pixel must agree within 1% (relative, 0.05 floor for values near 0);
+a node's output jumps at its discontinuities (checker edges, stepped ramps, saw waves), where
+one pixel's two renderers may land on either side within float rounding, so up to 0.5% of the
+pixels may differ there. Every case must vary over the image (a constant would pass anything)
+and export without a warning. Voronoi hashes its integer cells with PCG (measured), White
+Noise the float bits of its input (its cases use floored coordinates, which both renderers
+compute bit-exactly)."""
+
+import math
+
+import numpy as np
+import pytest
+
+bpy = pytest.importorskip("bpy")
+lantern = pytest.importorskip("lantern")
+if not lantern.native_available():
+    pytest.skip(f"native core unavailable: {lantern.native_error()}", allow_module_level=True)
+
+import node_stage as st  # noqa: E402
+
+TOL, OUTLIERS = 0.01, 0.005
+
+
+def _link(nt, node, out, emit, into="Color"):
+    nt.links.new(node.outputs[out], emit.inputs[into])
+
+
+def _node(nt, idname, props=None, **inputs):
+    n = nt.nodes.new(idname)
+    for k, v in (props or {}).items():   # first: they decide which inputs are available
+        setattr(n, k, v)
+    for k, v in inputs.items():
+        _ident(n, k).default_value = v
+    return n
+
+
+def _ident(node, identifier):
+    return next(s for s in node.inputs if s.identifier == identifier)
+
+
+def _coord(nt, out="Generated"):
+    return nt.nodes.new("ShaderNodeTexCoord").outputs[out]
+
+
+def _abs(nt, socket, scale=1.0):
+    """|v| * scale (emission is clamped at 0 in Lantern, signed in Cycles)."""
+    a = nt.nodes.new("ShaderNodeVectorMath")
+    a.operation = "ABSOLUTE"
+    nt.links.new(socket, a.inputs[0])
+    s = nt.nodes.new("ShaderNodeVectorMath")
+    s.operation = "SCALE"
+    s.inputs["Scale"].default_value = scale
+    nt.links.new(a.outputs[0], s.inputs[0])
+    return s.outputs[0]
+
+
+def _floored(nt, scale=7.3):
+    m = nt.nodes.new("ShaderNodeVectorMath")
+    m.operation = "SCALE"
+    m.inputs["Scale"].default_value = scale
+    nt.links.new(_coord(nt), m.inputs[0])
+    f = nt.nodes.new("ShaderNodeVectorMath")
+    f.operation = "FLOOR"
+    nt.links.new(m.outputs[0], f.inputs[0])
+    return f.outputs[0]
+
+
+# ---- cases: (shape, builder) ----
+def texcoord(out, scale=1.0):
+    def build(nt, emit):
+        nt.links.new(_abs(nt, _coord(nt, out), scale), emit.inputs["Color"])
+    return build
+
+
+def mapping(kind):
+    def build(nt, emit):
+        m = nt.nodes.new("ShaderNodeMapping")
+        m.vector_type = kind
+        for name, v in (("Location", (0.3, -0.2, 0.1)), ("Rotation", (0.2, 0.3, 0.7)),
+                        ("Scale", (1.5, 0.8, 1.2))):
+            if name in m.inputs:   # Vector and Normal mappings have no Location
+                m.inputs[name].default_value = v
+        nt.links.new(_coord(nt), m.inputs["Vector"])
+        c = _node(nt, "ShaderNodeTexChecker", Scale=3.0)
+        nt.links.new(m.outputs[0], c.inputs["Vector"]) if kind != "NORMAL" else \
+            nt.links.new(_abs(nt, m.outputs[0]), emit.inputs["Color"])
+        if kind != "NORMAL":
+            _link(nt, c, "Color", emit)
+    return build
+
+
+def math_chain(ops):
+    def build(nt, emit):
+        x = nt.nodes.new("ShaderNodeSeparateXYZ")
+        nt.links.new(_coord(nt), x.inputs[0])
+        prev = x.outputs["X"]
+        for op, b, c in ops:
+            m = _node(nt, "ShaderNodeMath")
+            m.operation = op
+            nt.links.new(prev, m.inputs[0])
+            m.inputs[1].default_value, m.inputs[2].default_value = b, c
+            prev = m.outputs[0]
+        nt.links.new(prev, emit.inputs["Strength"])
+    return build
+
+
+def vector_math(op):
+    def build(nt, emit):
+        m = nt.nodes.new("ShaderNodeVectorMath")
+        m.operation = op
+        nt.links.new(_coord(nt), m.inputs[0])
+        m.inputs[1].default_value = (0.3, 0.7, 0.4)
+        m.inputs[2].default_value = (0.5, 0.2, 0.9)
+        m.inputs[3].default_value = 0.7
+        out = m.outputs["Value"] if op in ("DOT_PRODUCT", "DISTANCE", "LENGTH") else \
+            m.outputs["Vector"]
+        nt.links.new(_abs(nt, out), emit.inputs["Color"])
+    return build
+
+
+def mix_color(blend):
+    def build(nt, emit):
+        m = nt.nodes.new("ShaderNodeMix")
+        m.data_type = "RGBA"
+        m.blend_type = blend
+        # (clamped where the result can leave [0, 1]: Lantern's emission is never negative)
+        m.clamp_result = blend in ("DODGE", "ADD", "SUBTRACT", "LINEAR_LIGHT")
+        nt.links.new(_coord(nt), _ident(m, "A_Color"))
+        g = _node(nt, "ShaderNodeTexChecker", Scale=2.0)
+        g.inputs["Color1"].default_value = (0.9, 0.3, 0.6, 1.0)
+        g.inputs["Color2"].default_value = (0.2, 0.8, 0.1, 1.0)
+        nt.links.new(g.outputs["Color"], _ident(m, "B_Color"))
+        _ident(m, "Factor_Float").default_value = 0.7
+        out = next(s for s in m.outputs if s.identifier == "Result_Color")
+        nt.links.new(out, emit.inputs["Color"])
+    return build
+
+
+def color_op(idname, inputs):
+    def build(nt, emit):
+        n = _node(nt, idname, **inputs)
+        nt.links.new(_coord(nt), n.inputs["Color"])
+        _link(nt, n, "Color", emit)
+    return build
+
+
+def ramp(interp):
+    def build(nt, emit):
+        r = nt.nodes.new("ShaderNodeValToRGB")
+        r.color_ramp.interpolation = interp
+        r.color_ramp.elements[0].color = (0.1, 0.2, 0.8, 1.0)
+        e = r.color_ramp.elements.new(0.4)
+        e.color = (0.9, 0.5, 0.1, 1.0)
+        x = nt.nodes.new("ShaderNodeSeparateXYZ")
+        nt.links.new(_coord(nt), x.inputs[0])
+        nt.links.new(x.outputs["X"], r.inputs[0])
+        _link(nt, r, "Color", emit)
+    return build
+
+
+def texture(idname, out="Color", props=None, absolute=False, **inputs):
+    def build(nt, emit):
+        n = _node(nt, idname, props, **inputs)
+        if absolute:   # signed outputs (Lantern's emission is never negative)
+            nt.links.new(_abs(nt, n.outputs[out]), emit.inputs["Color"])
+        else:
+            _link(nt, n, out, emit)
+    return build
+
+
+def white_noise(dim):
+    def build(nt, emit):
+        n = nt.nodes.new("ShaderNodeTexWhiteNoise")
+        n.noise_dimensions = dim
+        nt.links.new(_floored(nt), n.inputs["Vector"])
+        if dim in ("1D", "4D"):
+            _ident(n, "W").default_value = 2.0
+        _link(nt, n, "Color", emit)
+    return build
+
+
+def view_dependent(idname, out, **inputs):
+    def build(nt, emit):
+        _link(nt, _node(nt, idname, **inputs), out, emit)
+    return build
+
+
+def _image(name="grid", w=8, h=6):
+    """An 8 x 6 float image of distinct colours (float: no 8-bit rounding on either side)."""
+    img = bpy.data.images.new(name, w, h, float_buffer=True)
+    y, x = np.mgrid[0:h, 0:w]
+    px = np.stack([(x + 0.5) / w, (y + 0.5) / h, ((x * 7 + y * 3) % 5) / 4.0,
+                   np.ones_like(x, float)], axis=-1)
+    img.pixels.foreach_set(px.astype(np.float32).ravel())
+    img.pack()
+    return img
+
+
+def image(projection="FLAT", extension="REPEAT", interpolation="Closest", vector="UV",
+          scale=1.0):
+    def build(nt, emit):
+        n = nt.nodes.new("ShaderNodeTexImage")
+        n.image = _image()
+        n.projection, n.extension, n.interpolation = projection, extension, interpolation
+        m = nt.nodes.new("ShaderNodeMapping")
+        m.inputs["Location"].default_value = (-0.2, 0.1, 0.0)
+        m.inputs["Scale"].default_value = (scale, scale, 1.0)
+        nt.links.new(_coord(nt, vector), m.inputs["Vector"])
+        nt.links.new(m.outputs[0], n.inputs["Vector"])
+        _link(nt, n, "Color", emit)
+    return build
+
+
+def color_attribute(domain):
+    def build(nt, emit):
+        obj = bpy.data.objects["Plane"]
+        attr = obj.data.color_attributes.new("Col", "FLOAT_COLOR", domain)
+        n = len(attr.data)
+        vals = np.array([[0.9, 0.1, 0.2, 1], [0.1, 0.8, 0.3, 1], [0.2, 0.3, 0.9, 1],
+                         [0.7, 0.7, 0.1, 1]], np.float32)[np.arange(n) % 4]
+        attr.data.foreach_set("color", vals.ravel())
+        n = nt.nodes.new("ShaderNodeVertexColor")
+        n.layer_name = "Col"
+        _link(nt, n, "Color", emit)
+    return build
+
+
+def mix_vector(nonuniform):
+    def build(nt, emit):
+        m = nt.nodes.new("ShaderNodeMix")
+        m.data_type = "VECTOR"
+        m.factor_mode = "NON_UNIFORM" if nonuniform else "UNIFORM"
+        nt.links.new(_coord(nt), _ident(m, "A_Vector"))
+        _ident(m, "B_Vector").default_value = (0.9, 0.1, 0.5)
+        if nonuniform:
+            nt.links.new(_coord(nt, "UV"), _ident(m, "Factor_Vector"))
+        else:
+            _ident(m, "Factor_Float").default_value = 0.35
+        out = next(o for o in m.outputs if o.identifier == "Result_Vector")
+        nt.links.new(out, emit.inputs["Color"])
+    return build
+
+
+def map_range_vector(build_type):
+    def build(nt, emit):
+        m = nt.nodes.new("ShaderNodeMapRange")
+        m.data_type = "FLOAT_VECTOR"
+        m.interpolation_type = build_type
+        nt.links.new(_coord(nt), _ident(m, "Vector"))
+        _ident(m, "From_Min_FLOAT3").default_value = (0.2, 0.1, 0.0)
+        _ident(m, "To_Max_FLOAT3").default_value = (0.8, 1.0, 0.6)
+        _ident(m, "Steps_FLOAT3").default_value = (4.0, 3.0, 2.0)
+        out = next(o for o in m.outputs if o.identifier == "Vector")
+        nt.links.new(out, emit.inputs["Color"])
+    return build
+
+
+def curves(kind):
+    def build(nt, emit):
+        if kind == "rgb":
+            c = nt.nodes.new("ShaderNodeRGBCurve")
+            c.mapping.curves[3].points.new(0.4, 0.7)
+            c.mapping.curves[0].points.new(0.5, 0.2)
+            c.mapping.update()
+            nt.links.new(_coord(nt), c.inputs["Color"])
+            _link(nt, c, "Color", emit)
+        else:
+            c = nt.nodes.new("ShaderNodeFloatCurve")
+            c.mapping.curves[0].points.new(0.3, 0.8)
+            c.mapping.update()
+            x = nt.nodes.new("ShaderNodeSeparateXYZ")
+            nt.links.new(_coord(nt), x.inputs[0])
+            nt.links.new(x.outputs["Y"], c.inputs["Value"])
+            nt.links.new(c.outputs[0], emit.inputs["Strength"])
+    return build
+
+
+def separate_combine_hsv(nt, emit):
+    sep = nt.nodes.new("ShaderNodeSeparateColor")
+    sep.mode = "HSV"
+    nt.links.new(_coord(nt), sep.inputs[0])
+    comb = nt.nodes.new("ShaderNodeCombineColor")
+    comb.mode = "HSL"
+    nt.links.new(sep.outputs[0], comb.inputs[1])
+    nt.links.new(sep.outputs[1], comb.inputs[2])
+    nt.links.new(sep.outputs[2], comb.inputs[0])
+    _link(nt, comb, "Color", emit)
+
+
+CASES = {
+    "mix_vector_uniform": ("plane", mix_vector(False)),
+    "mix_vector_nonuniform": ("plane", mix_vector(True)),
+    "map_range_vector_stepped": ("plane", map_range_vector("STEPPED")),
+    "map_range_vector_smootherstep": ("plane", map_range_vector("SMOOTHERSTEP")),
+    "rgb_curves": ("plane", curves("rgb")),
+    "float_curve": ("plane", curves("float")),
+    "separate_combine_hsv_hsl": ("plane", separate_combine_hsv),
+    "image_flat_repeat": ("plane", image(scale=1.7)),
+    "image_flat_extend_linear": ("plane", image(extension="EXTEND", interpolation="Linear",
+                                                scale=1.5)),
+    "image_flat_mirror": ("plane", image(extension="MIRROR", scale=2.5)),
+    "image_flat_clip": ("plane", image(extension="CLIP", scale=1.4)),
+    "image_sphere_projection": ("sphere", image("SPHERE", vector="Generated")),
+    "image_tube_projection": ("sphere", image("TUBE", vector="Generated")),
+    "color_attribute_corner": ("plane", color_attribute("CORNER")),
+    "color_attribute_point": ("plane", color_attribute("POINT")),
+    "texcoord_generated": ("plane", texcoord("Generated")),
+    "texcoord_uv": ("plane", texcoord("UV")),
+    "texcoord_object": ("plane", texcoord("Object")),
+    "texcoord_camera": ("plane", texcoord("Camera", 0.3)),
+    "texcoord_window": ("plane", texcoord("Window")),
+    "texcoord_normal_sphere": ("sphere", texcoord("Normal")),
+    "texcoord_reflection_sphere": ("sphere", texcoord("Reflection")),
+    "mapping_point": ("plane", mapping("POINT")),
+    "mapping_texture": ("plane", mapping("TEXTURE")),
+    "mapping_vector": ("plane", mapping("VECTOR")),
+    "mapping_normal": ("plane", mapping("NORMAL")),
+    "math_arith": ("plane", math_chain([("MULTIPLY", 3.0, 0), ("POWER", 1.7, 0),
+                                        ("SUBTRACT", 0.4, 0), ("ABSOLUTE", 0, 0)])),
+    "math_periodic": ("plane", math_chain([("MULTIPLY", 9.0, 0), ("SINE", 0, 0),
+                                           ("ADD", 1.2, 0)])),
+    "math_wrap_smooth": ("plane", math_chain([("PINGPONG", 0.3, 0), ("SMOOTH_MAX", 0.1, 0.2),
+                                              ("WRAP", 0.25, 0.02)])),
+    "vector_cross": ("plane", vector_math("CROSS_PRODUCT")),
+    "vector_reflect": ("plane", vector_math("REFLECT")),
+    "vector_refract": ("plane", vector_math("REFRACT")),
+    "vector_distance": ("plane", vector_math("DISTANCE")),
+    "vector_project": ("plane", vector_math("PROJECT")),
+    "vector_wrap": ("plane", vector_math("WRAP")),
+    "ramp_linear": ("plane", ramp("LINEAR")),
+    "ramp_ease": ("plane", ramp("EASE")),
+    "ramp_bspline": ("plane", ramp("B_SPLINE")),
+    "ramp_cardinal": ("plane", ramp("CARDINAL")),
+    "ramp_constant": ("plane", ramp("CONSTANT")),
+    "hsv": ("plane", color_op("ShaderNodeHueSaturation", {"Hue": 0.3, "Saturation": 1.4,
+                                                          "Value": 0.8})),
+    "bright_contrast": ("plane", color_op("ShaderNodeBrightContrast", {"Bright": 0.1,
+                                                                       "Contrast": 0.4})),
+    "gamma": ("plane", color_op("ShaderNodeGamma", {"Gamma": 2.2})),
+    "invert": ("plane", color_op("ShaderNodeInvert", {"Fac": 0.8})),
+    "checker": ("plane", texture("ShaderNodeTexChecker", Scale=3.0)),
+    "gradient_radial": ("plane", texture("ShaderNodeTexGradient", props={"gradient_type":
+                                                                         "RADIAL"})),
+    "gradient_quadratic_sphere": ("plane", texture("ShaderNodeTexGradient", props={
+        "gradient_type": "QUADRATIC_SPHERE"})),
+    "noise_fbm": ("plane", texture("ShaderNodeTexNoise", Scale=4.0, Detail=3.5)),
+    "noise_distorted": ("plane", texture("ShaderNodeTexNoise", Scale=3.0, Distortion=1.5)),
+    "noise_ridged": ("plane", texture("ShaderNodeTexNoise", out="Fac", props={
+        "noise_type": "RIDGED_MULTIFRACTAL"}, Scale=3.0, Detail=4.0)),
+    "noise_hetero": ("plane", texture("ShaderNodeTexNoise", out="Fac", props={
+        "noise_type": "HETERO_TERRAIN"}, absolute=True, Scale=3.0, Detail=3.0)),
+    "noise_hybrid": ("plane", texture("ShaderNodeTexNoise", out="Fac", props={
+        "noise_type": "HYBRID_MULTIFRACTAL"}, absolute=True, Scale=3.0, Detail=3.0)),
+    "noise_multifractal": ("plane", texture("ShaderNodeTexNoise", out="Fac", props={
+        "noise_type": "MULTIFRACTAL"}, Scale=3.0, Detail=3.0)),
+    "noise_4d": ("plane", texture("ShaderNodeTexNoise", props={"noise_dimensions": "4D"},
+                                  Scale=3.0, W=0.7)),
+    "noise_2d": ("plane", texture("ShaderNodeTexNoise", props={"noise_dimensions": "2D"},
+                                  Scale=3.0)),
+    "noise_1d": ("plane", texture("ShaderNodeTexNoise", props={"noise_dimensions": "1D"},
+                                  Scale=3.0, W=0.35)),
+    "white_noise_2d": ("plane", white_noise("2D")),
+    "white_noise_3d": ("plane", white_noise("3D")),
+    "white_noise_4d": ("plane", white_noise("4D")),
+    "wave_bands": ("plane", texture("ShaderNodeTexWave", Scale=1.0)),
+    "wave_rings_saw": ("plane", texture("ShaderNodeTexWave", props={
+        "wave_type": "RINGS", "wave_profile": "SAW"}, Scale=1.5, Distortion=2.0)),
+    "magic": ("plane", texture("ShaderNodeTexMagic", Scale=2.0)),
+    "voronoi_grid_f1": ("plane", texture("ShaderNodeTexVoronoi", out="Distance", Scale=4.0,
+                                         Randomness=0.0)),
+    "voronoi_f1_color": ("plane", texture("ShaderNodeTexVoronoi", Scale=4.0)),
+    "voronoi_f1_distance": ("plane", texture("ShaderNodeTexVoronoi", out="Distance", Scale=4.0)),
+    "voronoi_f1_position": ("plane", texture("ShaderNodeTexVoronoi", out="Position",
+                                             absolute=True, Scale=3.0)),
+    "voronoi_f2_manhattan": ("plane", texture("ShaderNodeTexVoronoi", out="Distance", props={
+        "feature": "F2", "distance": "MANHATTAN"}, Scale=3.0, Randomness=0.8)),
+    "voronoi_smooth_f1": ("plane", texture("ShaderNodeTexVoronoi", props={
+        "feature": "SMOOTH_F1"}, Scale=3.0, Smoothness=0.6)),
+    "voronoi_2d_chebychev": ("plane", texture("ShaderNodeTexVoronoi", props={
+        "voronoi_dimensions": "2D", "distance": "CHEBYCHEV"}, Scale=4.0)),
+    "voronoi_2d_minkowski_distance": ("plane", texture("ShaderNodeTexVoronoi", out="Distance",
+                                                       props={"voronoi_dimensions": "2D",
+                                                              "distance": "MINKOWSKI"},
+                                                       Scale=4.0, Exponent=1.5)),
+    "fresnel_sphere": ("sphere", view_dependent("ShaderNodeFresnel", "Fac", IOR=1.45)),
+    "layer_weight_facing_sphere": ("sphere", view_dependent("ShaderNodeLayerWeight", "Facing",
+                                                            Blend=0.3)),
+    "layer_weight_fresnel_sphere": ("sphere", view_dependent("ShaderNodeLayerWeight",
+                                                             "Fresnel", Blend=0.6)),
+}
+for _blend in ("MIX", "DARKEN", "MULTIPLY", "BURN", "LIGHTEN", "SCREEN", "DODGE", "ADD",
+               "OVERLAY", "SOFT_LIGHT", "LINEAR_LIGHT", "DIFFERENCE", "EXCLUSION", "SUBTRACT",
+               "DIVIDE", "HUE", "SATURATION", "COLOR", "VALUE"):
+    CASES[f"mix_{_blend.lower()}"] = ("plane", mix_color(_blend))
+
+
+@pytest.fixture(scope="module", autouse=True)
+def _addon():
+    st.addon()
+
+
+@pytest.mark.parametrize("case", sorted(CASES))
+def test_node_output_matches_cycles(case, tmp_path):
+    shape, build = CASES[case]
+    sc, nt, emit = st.stage(shape)
+    build(nt, emit)
+    img_l, warnings = st.render_lantern()
+    img_c = st.render_cycles(sc, tmp_path / "cycles.exr")
+    assert warnings == []
+    covered = np.ones(img_c.shape[:2], bool)
+    if shape == "sphere":   # the sphere without its silhouette ring (grazing normals there
+        hit = img_c.max(axis=2) > 0   # are the interpolation's, differently rounded)
+        covered = hit.copy()
+        covered[1:-1, 1:-1] = hit[1:-1, 1:-1] & hit[:-2, 1:-1] & hit[2:, 1:-1] & \
+            hit[1:-1, :-2] & hit[1:-1, 2:]
+    assert np.std(img_c[covered]) > 0.01, "the case does not vary: it would test nothing"
+    rel = st.relative_error(img_l, img_c)[covered]
+    bad = np.mean(rel > TOL)
+    assert bad <= OUTLIERS, (f"{case}: {bad:.2%} of pixel channels off by more than 1% "
+                             f"(worst {rel.max():.3f}; means {img_l.mean():.4f} Lantern, "
+                             f"{img_c.mean():.4f} Cycles)")
