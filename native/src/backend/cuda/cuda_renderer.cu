@@ -440,6 +440,9 @@ bool Renderer::try_step(const SessionSettings& settings, uint64_t& iteration, Se
             *stats_ = saved;
             check(cudaMemsetAsync(iter_.data(), 0, px3 * sizeof(double), stream_),
                   "cudaMemsetAsync");
+            check(cudaMemsetAsync(counters_.data(), 0, kCtrCount * sizeof(unsigned long long),
+                                  stream_),
+                  "cudaMemsetAsync");
             vertices_per_path_ = std::max(vertices_per_path_, rate);
             per_pass = std::max(1, std::min(per_pass / 2, bdpt_samples_per_pass(spp_it, warnings)));
             if (!restart_warned_) {
