@@ -26,9 +26,10 @@ def demangle(names):
 
 def short(name):
     lam = re.search(r"each_kernel<(?:lantern::)?(?:cuda_detail::)?([\w:]+)\([^)]*\)(?: const)?::"
-                    r"\{lambda\([^)]*\)#(\d+)\}", name)
-    if lam:
-        return f"{lam.group(1)} #{lam.group(2)}"
+                    r"(\{lambda.*?)>\(int,", name)
+    if lam:  # nested lambdas (a kernel launched inside timed([&] { ... })): #outer.inner
+        nums = re.findall(r"\{lambda\([^)]*\)#(\d+)\}", lam.group(2))
+        return f"{lam.group(1)} #{'.'.join(nums)}"
     tag = re.search(r"__nv_dl_tag<[^,]*,\s*&?(?:lantern::)?(?:cuda_detail::)?([\w:]+),\s*(\d+)u?>",
                     name)
     if tag:
