@@ -1,14 +1,16 @@
 #!/usr/bin/env bash
 # The whole GPU check of issue 6 on a bare machine with an NVIDIA GPU, in about 8 minutes:
 #   1. build lantern._core with CUDA (sm_90), no Embree, the nanobind module for `python3`;
+#      then the executor conformance test (lantern_exec_conformance_cuda), which stops the check
+#      at the first primitive of CudaExec that disagrees with its reference;
 #   2. pytest tests/python with LANTERN_TEST_BACKENDS=cpu,cuda (strict: an unavailable backend
 #      fails instead of skipping; tests needing bpy, Embree or OpenImageIO skip themselves);
 #   3. tools/gpu_compare.py: CUDA against CPU, per-block z-test, pt/bdpt/lvc/cis, no NaN/Inf;
 #   4. bench/gpu_bench.py: rays/s, ms per stage, the paper's Table 1 (cis with/without sorting);
 #   5. a short table, printed last.
 # Logs and images go under $OUT (default ./gpu_check_out): summary.txt, pytest.txt,
-# compare.md, gpu_bench.md, gpu_bench.json and logs.tar.gz (every log, compare PNGs, GPU memory
-# samples): six files, one folder level.
+# compare.md, gpu_bench.md, gpu_bench.json, conformance.txt and logs.tar.gz (every log, compare
+# PNGs, GPU memory samples, resource_usage.md): seven files, one folder level.
 #
 # Device tool (docs/gpu.md): run from the repository root, carry the benchmark scenes:
 #   run(command="bash tools/gpu_check.sh", carry=["build/bench_scenes"], timeout_s=600)
@@ -121,6 +123,21 @@ else
         finish
     fi
 fi
+# ---- 1b. Executor conformance, first: every primitive of CudaExec against its plain reference
+# (tests/cpp/exec_conformance.h); a failure names the primitive and stops the check here ----
+if [ "$CPU_ONLY" != 1 ]; then
+    t=$SECONDS
+    "$PY" tools/cuda_resource_table.py "$LOG/build.txt" > "$LOG/resource_usage.md" 2>&1
+    timeout 120 "$BUILD/lantern_exec_conformance_cuda" > "$LOG/conformance.txt" 2>&1
+    rc=$?
+    step_result conform $rc $((SECONDS - t)) "$(tail -1 "$LOG/conformance.txt")"
+    cp "$LOG/conformance.txt" "$OUT/conformance.txt" 2>/dev/null
+    if [ $rc != 0 ]; then
+        grep -v ' ok$' "$LOG/conformance.txt" | head -20
+        finish
+    fi
+fi
+
 export PYTHONPATH="$ROOT/python${PYTHONPATH:+:$PYTHONPATH}"
 "$PY" -c "import lantern, json; print(json.dumps(lantern.cuda_info()))" > "$LOG/cuda_info.txt" 2>&1
 say "cuda_info: $(cat "$LOG/cuda_info.txt")"

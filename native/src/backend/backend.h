@@ -46,6 +46,7 @@ public:
     }
     const char* accel() const { return embree_ ? "embree" : "bvh"; }
     int threads() const { return pool_->size(); }
+    ThreadPool& pool() { return *pool_; }  // CpuExec runs its primitives on it
     const char* name() const { return "cpu"; }
 
 private:

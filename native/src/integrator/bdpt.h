@@ -486,6 +486,13 @@ LANTERN_HD inline void bdpt_queue_connection(const BdptState& bs, int i, const C
     bs.conn_n[i] = j + 1;
 }
 
+// A uniform index in [0, size) from 32 random bits: an integer multiply-shift (Lemire 2019), so
+// that every vertex of a cache of up to 2^31 is reachable, each by floor or ceil(2^32 / size)
+// words. (A 24-bit float times the size, int(u * size), reaches at most 2^24 of them.)
+LANTERN_HD inline int32_t cache_pick(uint32_t bits, int32_t size) {
+    return int32_t((uint64_t(bits) * uint64_t(uint32_t(size))) >> 32);
+}
+
 // Connections of camera vertex z to the cache: bdpt (own light path), lvc (uniform) or cis
 // (resampled). Each queued shadow ray carries its estimator weight.
 LANTERN_HD inline void bdpt_camera_connect(const SceneView& s, const BdptState& bs,
@@ -505,11 +512,11 @@ LANTERN_HD inline void bdpt_camera_connect(const SceneView& s, const BdptState& 
     Rng rng = Rng::for_path(st.seed ^ 0x434F4E4Eull, st.iteration,
                             uint64_t(path) * 1024u + uint64_t(z.depth));
     const float size = float(cache.size);
-    auto pick = [&](float u) { return min_int(int(u * size), cache.size - 1); };
+    auto pick = [&](uint32_t bits) { return cache_pick(bits, cache.size); };
     if (st.mode == kLvcUniform) {
         const float weight = size / float(st.connections) * st.inv_light_paths;
         for (int j = 0; j < st.connections; ++j) {
-            const LightVertex& y = cache.v[pick(rng.uniform())];
+            const LightVertex& y = cache.v[pick(rng.next())];
             Connection c = bdpt_connect(s, st, z, y);
             bdpt_queue_connection(bs, i, z, y, c, c.c * weight, s.offset_scale);
         }
@@ -524,7 +531,7 @@ LANTERN_HD inline void bdpt_camera_connect(const SceneView& s, const BdptState& 
     Connection cand[kMaxCandidates];  // kept for the picks: each candidate is evaluated once
     float sum = 0.0f;
     for (int j = 0; j < m; ++j) {
-        idx[j] = pick(rng.uniform());
+        idx[j] = pick(rng.next());
         cand[j] = bdpt_connect(s, st, z, cache.v[idx[j]]);
         const Connection& c = cand[j];
         float p_hat = st.target == kTargetBsdf ? (is_black(c.c) ? 0.0f : c.bsdf_target)

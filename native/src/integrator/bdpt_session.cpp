@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <new>
+#include <stdexcept>
 
 #include "backend/backend.h"
 #include "integrator/session.h"
@@ -40,22 +42,6 @@ BdptSettings make_bdpt_settings(const SessionSettings& s, int width, int height,
     st.n_lt = float(light_paths / s.spp_per_iteration);
     st.inv_light_paths = float(1.0 / light_paths);
     return st;
-}
-
-int cache_samples_per_pass(double budget, double vertices_per_path, int max_depth, int spp_it,
-                           int width, int height, const char* what, bool* warned,
-                           std::vector<std::string>& warnings) {
-    const double vpp = vertices_per_path > 0.0 ? vertices_per_path : std::min(max_depth - 1, 4);
-    const double per_spp = double(width) * height *
-                           (std::max(vpp, 0.5) * sizeof(LightVertex) + 2 * sizeof(int32_t));
-    const int per_pass = int(std::clamp(budget / per_spp, 1.0, double(spp_it)));
-    if (per_pass < spp_it && !*warned) {
-        *warned = true;
-        warnings.push_back(std::string(what) + ": " + std::to_string(spp_it) +
-                           " samples per iteration run as passes of " + std::to_string(per_pass) +
-                           " to stay within " + std::to_string(int(budget / (1 << 20))) + " MiB");
-    }
-    return per_pass;
 }
 
 BdptSettings Session::bdpt_settings() const {
@@ -126,6 +112,96 @@ void Session::sort_queue(int active) {
     stats_.time_sort += seconds_since(t);
 }
 
+// ---- An iteration as passes within the cache budget ----
+// The cache holds about L x (vertices per light path) x 96 bytes (+ the bdpt index) with
+// L = pixels x spp: past the budget, the step runs as several light + camera passes of fewer
+// samples each (the same estimator: more, smaller iterations). A pass whose cache would pass the
+// budget after all (its paths stored more than the measured rate predicted) stops, and the step
+// starts again from its first pass with the rate measured so far and passes of at most half the
+// samples; the counts do not depend on scheduling, so neither do the bits.
+bool Session::step_bidirectional(int spp_it) {
+    if (!(vertices_per_path_ >= 0.0)) {
+        measure_cache_rate();
+        if (cancel_.load()) return false;
+    }
+    const uint64_t iteration0 = iteration_;
+    const SessionStats stats0 = stats_;
+    int per_pass = bdpt_samples_per_pass(spp_it);
+    for (;;) {
+        std::string over;
+        double rate = 0.0;
+        for (int done = 0; done < spp_it;) {
+            const int s = std::min(per_pass, spp_it - done);
+            settings_.spp_per_iteration = s;
+            bool ok = false;
+            try {
+                ok = run_bdpt_iteration();
+            } catch (const CacheOverBudget& e) {
+                over = e.what();
+                rate = e.vertices_per_path;
+            } catch (const std::bad_alloc&) {
+                settings_.spp_per_iteration = spp_it;
+                release_cache();
+                throw std::runtime_error(
+                    "out of memory for the light vertex cache (" + std::to_string(width_) + "x" +
+                    std::to_string(height_) + ", " + std::to_string(s) +
+                    " samples per pass); lower the resolution or use integrator 'pt'");
+            }
+            settings_.spp_per_iteration = spp_it;
+            if (!over.empty()) break;
+            if (!ok) return false;
+            ++iteration_;  // every pass draws its own random numbers
+            done += s;
+        }
+        if (over.empty()) return true;
+        release_cache();
+        if (per_pass == 1)
+            throw std::runtime_error(over + ", at one sample per pass: raise cache_budget_mb, "
+                                            "or lower the resolution or max_depth, or use "
+                                            "integrator 'pt'");
+        iteration_ = iteration0;
+        stats_ = stats0;
+        stats_.cache_memory_peak = cache_meter_.peak;
+        std::fill(iteration_sum_.begin(), iteration_sum_.end(), 0.0);
+        vertices_per_path_ = std::max(vertices_per_path_, rate);
+        per_pass = std::max(1, std::min(per_pass / 2, bdpt_samples_per_pass(spp_it)));
+        if (!restart_warned_) {
+            restart_warned_ = true;
+            warnings_.push_back("light vertex cache: " + over + "; the iteration ran again in "
+                                "passes of " + std::to_string(per_pass) + " samples");
+        }
+    }
+}
+
+// The pilot: a small light pass with its own random numbers, stored nowhere, counts the cache
+// vertices per light path before the first iteration (its passes and, for lvc / cis, r).
+void Session::measure_cache_rate() {
+    const int64_t light_paths = int64_t(width_) * height_ * settings_.spp_per_iteration;
+    const int pilot = int(std::min<int64_t>(light_paths, 1 << 14));
+    pilot_ = true;
+    run_light_chunk(0, pilot);
+    pilot_ = false;
+    if (!cancel_.load()) vertices_per_path_ = double(pilot_count_) / pilot;
+}
+
+void Session::cache_reserve(size_t vertices) {
+    const size_t old = cache_.capacity();
+    if (vertices <= old) return;
+    cache_meter_.add(int64_t(vertices * sizeof(LightVertex)));  // old and new alive together
+    cache_.reserve(vertices);
+    cache_meter_.add(int64_t((cache_.capacity() - vertices) * sizeof(LightVertex)));
+    cache_meter_.sub(int64_t(old * sizeof(LightVertex)));
+}
+
+void Session::release_cache(bool vertices) {
+    cache_meter_.sub(int64_t((path_offset_.capacity() + path_vertex_.capacity()) * sizeof(int32_t)));
+    std::vector<int32_t>().swap(path_offset_);
+    std::vector<int32_t>().swap(path_vertex_);
+    if (!vertices) return;
+    cache_meter_.sub(int64_t(cache_.capacity() * sizeof(LightVertex)));
+    std::vector<LightVertex>().swap(cache_);
+}
+
 bool Session::run_bdpt_iteration() {
     const int spp_it = settings_.spp_per_iteration;
     const int64_t light_paths = int64_t(width_) * height_ * spp_it;
@@ -135,23 +211,19 @@ bool Session::run_bdpt_iteration() {
     // iteration: a small pilot light pass with its own random numbers), so the MIS weights never
     // depend on the paths they weight: any fixed r keeps the weights a partition of unity.
     auto t = Clock::now();
-    if (mode_ == kBdptOwnPath) {
-        mis_r_ = 1.0f;
-    } else {
-        if (!(vertices_per_path_ >= 0.0)) {
-            const int pilot = int(std::min<int64_t>(light_paths, 1 << 14));
-            pilot_ = true;
-            cache_.clear();
-            run_light_chunk(0, pilot);
-            pilot_ = false;
-            vertices_per_path_ = double(pilot_count_) / pilot;
-            if (cancel_.load()) return false;
-        }
-        mis_r_ = vertices_per_path_ > 0.0 ? float(settings_.connections / vertices_per_path_)
-                                          : 1.0f;
-    }
-    // ---- light pass ----
+    mis_r_ = mode_ == kBdptOwnPath || !(vertices_per_path_ > 0.0)
+                 ? 1.0f
+                 : float(settings_.connections / vertices_per_path_);
+    // ---- light pass: the cache starts at the capacity the measured rate predicts ----
+    pass_light_paths_ = light_paths;
+    const size_t want =
+        cache_initial_capacity(vertices_per_path_, light_paths, cache_budget_, cache_costs_);
     cache_.clear();
+    release_cache(false);  // the last pass's bdpt index
+    if (cache_.capacity() < want ||
+        cache_.capacity() > cache_max_vertices(cache_budget_, cache_costs_, double(light_paths)))
+        release_cache();  // empty: released before the new one, never both at once
+    cache_reserve(want);
     for (int64_t p0 = 0; p0 < light_paths; p0 += kChunkPaths) {
         run_light_chunk(p0, int(std::min<int64_t>(kChunkPaths, light_paths - p0)));
         if (cancel_.load()) return false;
@@ -160,14 +232,20 @@ bool Session::run_bdpt_iteration() {
     vertices_per_path_ = double(cache_.size()) / double(light_paths);
     stats_.time_light_pass += seconds_since(t);
     t = Clock::now();
-    if (mode_ == kBdptOwnPath) {
+    if (mode_ == kBdptOwnPath) {  // the per-path index, inside the budget (cache_costs)
         path_offset_.assign(size_t(light_paths) + 1, 0);
+        cache_meter_.add(int64_t(path_offset_.capacity() * sizeof(int32_t)));
         for (const LightVertex& v : cache_) ++path_offset_[size_t(v.path) + 1];
         for (size_t k = 1; k < path_offset_.size(); ++k) path_offset_[k] += path_offset_[k - 1];
         path_vertex_.resize(cache_.size());
+        cache_meter_.add(int64_t(path_vertex_.capacity() * sizeof(int32_t)));
         std::vector<int32_t> fill(path_offset_.begin(), path_offset_.end() - 1);
+        const int64_t fill_bytes = int64_t(fill.capacity() * sizeof(int32_t));
+        cache_meter_.add(fill_bytes);
         for (size_t k = 0; k < cache_.size(); ++k) path_vertex_[fill[cache_[k].path]++] = int32_t(k);
+        cache_meter_.sub(fill_bytes);
     }
+    stats_.cache_memory_peak = cache_meter_.peak;
     stats_.time_cache += seconds_since(t);
     // ---- camera pass ----
     t = Clock::now();
@@ -223,8 +301,10 @@ void Session::run_light_chunk(int64_t first_path, int n) {
             std::swap(queue_, next_queue_);
             continue;
         }
-        if (cache_.size() + add > cache_.capacity())
-            cache_.reserve(std::max(cache_.size() + add, 2 * cache_.capacity()));
+        if (cache_.size() + add > cache_.capacity())  // exact growth, or CacheOverBudget
+            cache_reserve(cache_grow_capacity(cache_.size() + add, cache_.capacity(),
+                                              first_path + n, pass_light_paths_, cache_budget_,
+                                              cache_costs_));
         for (int k = 0; k < active; ++k) {
             int i = queue_[k];
             if (store_[i]) cache_.push_back(vertex_[i]);

@@ -4,11 +4,8 @@
 #include <chrono>
 #include <stdexcept>
 
-#if defined(__unix__)
-#include <unistd.h>
-#endif
-
 #include "backend/backend.h"
+#include "backend/cpu/cpu_exec.h"
 #include "backend/cuda/cuda_renderer.h"
 #include "integrator/pt.h"
 
@@ -26,6 +23,16 @@ constexpr int kChunkPaths = 1 << 18;  // paths in flight per wavefront chunk on 
 }  // namespace
 
 Session::Session(const SceneInput& scene, const SessionSettings& settings) : settings_(settings) {
+    init(scene, nullptr);
+}
+
+Session::Session(const SceneInput& scene, const SessionSettings& settings,
+                 std::unique_ptr<CudaRenderer> gpu)
+    : settings_(settings) {
+    init(scene, std::move(gpu));
+}
+
+void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_gpu) {
     const std::string& integ = settings_.integrator;
     if (integ != "pt" && integ != "lt" && integ != "bdpt" && integ != "lvc" && integ != "cis") {
         throw std::invalid_argument("integrator '" + integ +
@@ -59,7 +66,11 @@ Session::Session(const SceneInput& scene, const SessionSettings& settings) : set
     warnings_ = scene_->warnings();
     // "auto" takes the GPU when there is a usable one; "cuda" without one says why. Either way
     // the render goes on, on the CPU.
-    if (want == "cuda" || want == "auto") {
+    if (test_gpu) {
+        gpu_ = std::move(test_gpu);
+        backend_name_ = "cuda";
+        device_name_ = gpu_->device_name();
+    } else if (want == "cuda" || want == "auto") {
         const CudaInfo info = cuda_info();
         if (info.available) {
             try {
@@ -99,8 +110,9 @@ bool Session::step_cuda(Clock::time_point t0) {
         if (!gpu_->step(settings_, iteration_, stats_, cancel_, warnings_)) return false;
     } catch (const std::runtime_error& e) {  // out of memory, or a CUDA error: never a crash
         std::vector<double> sum;
+        int64_t samples = 0;
         try {
-            sum = gpu_->accum();
+            sum = gpu_->accum(&samples);
         } catch (const std::exception&) {
             sum.clear();
         }
@@ -109,6 +121,7 @@ bool Session::step_cuda(Clock::time_point t0) {
             gpu_.reset();
             if (sum.size() == accum_.size()) {
                 accum_ = sum;
+                spp_ = samples;
             } else {
                 std::fill(accum_.begin(), accum_.end(), 0.0);
                 spp_ = 0;
@@ -129,15 +142,11 @@ bool Session::step_cuda(Clock::time_point t0) {
 }
 
 int Session::bdpt_samples_per_pass(int spp_it) {
-    // a quarter of the physical memory, at most 4 GiB, for the cache of one pass
-    double budget = 4.0 * (1 << 30);
-#if defined(__unix__)
-    const double phys = double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGE_SIZE));
-    if (phys > 0) budget = std::min(budget, 0.25 * phys);
-#endif
-    if (settings_.cache_budget_mb > 0) budget = double(settings_.cache_budget_mb) * (1 << 20);
-    return cache_samples_per_pass(budget, vertices_per_path_, settings_.max_depth, spp_it, width_,
-                                  height_, "light vertex cache", &split_warned_, warnings_);
+    cache_budget_ = CpuExec::cache_budget(settings_.cache_budget_mb);
+    cache_costs_ = CpuExec::cache_costs(mode_ == kBdptOwnPath);
+    return cache_samples_per_pass(cache_budget_, vertices_per_path_, cache_costs_,
+                                  settings_.max_depth, spp_it, width_, height_,
+                                  "light vertex cache", &split_warned_, warnings_);
 }
 
 void Session::resize_state(int n) {
@@ -199,30 +208,7 @@ bool Session::step_locked() {
     // chunks write their pixels into iteration_; it joins accum_ only if the step finishes
     iteration_sum_.assign(accum_.size(), 0.0);
     if (bidirectional_) {
-        // The light vertex cache holds about L x (vertices per light path) x 96 bytes with
-        // L = pixels x spp: past the budget, the step runs as several light + camera passes of
-        // fewer samples each (the same estimator: more, smaller iterations).
-        const int per_pass = bdpt_samples_per_pass(spp_it);
-        for (int done = 0; done < spp_it;) {
-            const int s = std::min(per_pass, spp_it - done);
-            settings_.spp_per_iteration = s;
-            bool ok = false;
-            try {
-                ok = run_bdpt_iteration();
-            } catch (const std::bad_alloc&) {
-                settings_.spp_per_iteration = spp_it;
-                cache_.clear();
-                cache_.shrink_to_fit();
-                throw std::runtime_error(
-                    "out of memory for the light vertex cache (" + std::to_string(width_) + "x" +
-                    std::to_string(height_) + ", " + std::to_string(s) +
-                    " samples per pass); lower the resolution or use integrator 'pt'");
-            }
-            settings_.spp_per_iteration = spp_it;
-            if (!ok) return false;
-            ++iteration_;  // every pass draws its own random numbers
-            done += s;
-        }
+        if (!step_bidirectional(spp_it)) return false;
         {
             std::lock_guard<std::mutex> lock(result_mutex_);
             for (size_t k = 0; k < accum_.size(); ++k) accum_[k] += iteration_sum_[k];
@@ -344,9 +330,11 @@ std::vector<float> Session::image() const {
     std::vector<float> img(accum_.size(), 0.0f);
     if (spp_ == 0) return img;
     std::vector<double> gpu_sum;
-    if (gpu_) gpu_sum = gpu_->accum();
+    int64_t samples = spp_;
+    if (gpu_) gpu_sum = gpu_->accum(&samples);  // the sum and its own sample count
+    if (samples <= 0) return img;
     const std::vector<double>& sum = gpu_ ? gpu_sum : accum_;
-    const double inv = 1.0 / double(spp_);
+    const double inv = 1.0 / double(samples);
     for (size_t k = 0; k < sum.size() && k < img.size(); ++k) img[k] = float(sum[k] * inv);
     return img;
 }

@@ -14,6 +14,7 @@
 
 #include "integrator/bdpt.h"
 #include "integrator/path_state.h"
+#include "integrator/wavefront_cache.h"
 #include "scene/scene.h"
 
 namespace lantern {
@@ -46,12 +47,7 @@ struct SessionSettings {
 // The settings of one pass of a bidirectional iteration: mode (BdptMode), MIS count r.
 BdptSettings make_bdpt_settings(const SessionSettings& s, int width, int height,
                                 uint64_t iteration, int mode, float r);
-// Samples per light pass so that its cache fits `budget` bytes (at least 1, at most spp_it),
-// from the last iteration's vertices per light path (< 0: none yet). When it splits and *warned
-// is false, appends a warning naming `what` and sets *warned.
-int cache_samples_per_pass(double budget, double vertices_per_path, int max_depth, int spp_it,
-                           int width, int height, const char* what, bool* warned,
-                           std::vector<std::string>& warnings);
+// Samples per light pass, the cache's capacity and growth: integrator/wavefront_cache.h.
 
 struct SessionStats {
     int64_t iterations = 0;
@@ -59,6 +55,8 @@ struct SessionStats {
     int64_t rays_light = 0, rays_connection = 0, rays_light_tracing = 0;
     int64_t nonfinite_dropped = 0;
     int64_t cache_vertices = 0;      // light vertex cache of the last iteration
+    int64_t cache_memory_peak = 0;   // CPU: most bytes the cache and its bdpt index held at once
+                                     // (a growth's old and new array together included)
     int64_t sorted_bounces = 0, unsorted_bounces = 0;
     double time_build = 0, time_generate = 0, time_trace = 0, time_shade = 0, time_shadow = 0,
            time_film = 0, time_total = 0;
@@ -76,6 +74,9 @@ struct SessionStats {
 class Session {
 public:
     Session(const SceneInput& scene, const SessionSettings& settings);
+    // Tests: renders with `gpu` (a test double of the CUDA renderer) until it fails.
+    Session(const SceneInput& scene, const SessionSettings& settings,
+            std::unique_ptr<CudaRenderer> gpu);
     ~Session();
 
     // One iteration; returns false if it was cancelled (the image is unchanged then).
@@ -102,8 +103,10 @@ public:
     const std::string& device_name() const { return device_name_; }
 
 private:
+    void init(const SceneInput& scene, std::unique_ptr<CudaRenderer> gpu);
     bool step_locked();
     void restart();  // session_update.cpp: accumulation from zero, as in a new session
+    bool step_bidirectional(int spp_it);
     void publish();  // copies the stepping thread's stats and warnings for the readers
     void start_cpu_backend();
     bool step_cuda(std::chrono::steady_clock::time_point t0);
@@ -124,6 +127,9 @@ private:
     void resize_bdpt_state(int n, int conn_cap);
     BdptSettings bdpt_settings() const;
     int bdpt_samples_per_pass(int spp_it);
+    void measure_cache_rate();           // the pilot light pass: vertices per light path
+    void cache_reserve(size_t vertices);  // capacity, keeping the contents, metered
+    void release_cache(bool vertices = true);  // the bdpt index and (vertices) the cache
     void splat(const std::vector<int32_t>& slots, int count);
     void resize_state(int n);
 
@@ -161,8 +167,12 @@ private:
     float mis_r_ = 1.0f;
     double vertices_per_path_ = -1.0;  // cache vertices per light path, last iteration (< 0: none)
     bool pilot_ = false;
-    bool split_warned_ = false;
+    bool split_warned_ = false, restart_warned_ = false;
     int64_t pilot_count_ = 0;
+    double cache_budget_ = 0.0;        // bytes a pass's cache and index may hold
+    CacheCosts cache_costs_{};
+    MemoryMeter cache_meter_;
+    int64_t pass_light_paths_ = 0;     // L of the running pass
     std::vector<float> dvcm_, dvc_, conn_tmax_;
     std::vector<int32_t> light_id_, conn_n_, sort_tmp_;
     std::vector<uint8_t> store_;

@@ -9,20 +9,19 @@ bool Renderer::run_bdpt_iteration() {
     const int spp_it = set_.spp_per_iteration;
     const int64_t light_paths = int64_t(width_) * height_ * spp_it;
     auto t = Clock::now();
-    if (mode_ == kBdptOwnPath) {
-        mis_r_ = 1.0f;
-    } else {
-        if (!(vertices_per_path_ >= 0.0)) {  // pilot pass: see bdpt_session.cpp
-            const int pilot = int(std::min<int64_t>(light_paths, 1 << 14));
-            pilot_ = true;
-            cache_size_ = 0;
-            run_light_chunk(0, pilot);
-            pilot_ = false;
-            vertices_per_path_ = double(pilot_count_) / pilot;
-            if (cancel_->load()) return false;
-        }
-        mis_r_ = vertices_per_path_ > 0.0 ? float(set_.connections / vertices_per_path_) : 1.0f;
-    }
+    mis_r_ = mode_ == kBdptOwnPath || !(vertices_per_path_ > 0.0)
+                 ? 1.0f
+                 : float(set_.connections / vertices_per_path_);
+    // the cache starts at the capacity the measured rate predicts (integrator/wavefront_cache.h)
+    pass_light_paths_ = light_paths;
+    for (auto* a : {&path_key_, &path_key_out_, &path_vertex_, &path_vertex_in_, &path_offset_})
+        a->release();  // the last pass's bdpt index
+    const size_t want =
+        cache_initial_capacity(vertices_per_path_, light_paths, cache_budget_, cache_costs_);
+    if (cache_.capacity() < want ||
+        cache_.capacity() > cache_max_vertices(cache_budget_, cache_costs_, double(light_paths)))
+        cache_.release();  // empty: released before the new one, never both at once
+    cache_.grow(want);
     cache_size_ = 0;
     for (int64_t p0 = 0; p0 < light_paths; p0 += chunk_paths_) {
         run_light_chunk(p0, int(std::min<int64_t>(chunk_paths_, light_paths - p0)));
@@ -85,6 +84,16 @@ void Renderer::index_cache_by_path(int64_t light_paths) {
     check(cudaStreamSynchronize(stream_), "cache index");
 }
 
+// The pilot: a small light pass with its own random numbers, stored nowhere (bdpt_session.cpp).
+void Renderer::measure_cache_rate() {
+    const int64_t light_paths = int64_t(width_) * height_ * set_.spp_per_iteration;
+    const int pilot = int(std::min<int64_t>(light_paths, 1 << 14));
+    pilot_ = true;
+    run_light_chunk(0, pilot);
+    pilot_ = false;
+    if (!cancel_->load()) vertices_per_path_ = double(pilot_count_) / pilot;
+}
+
 void Renderer::run_light_chunk(int64_t first_path, int n) {
     ensure_state(n, 0);  // the light pass queues no connections
     const SceneView s = sv_;
@@ -132,13 +141,11 @@ void Renderer::run_light_chunk(int64_t first_path, int n) {
             active = compact(active);
             continue;
         }
-        if (size_t(cache_size_ + add) > cache_.capacity()) {
-            const size_t want = std::max<size_t>(size_t(cache_size_ + add), 2 * cache_.capacity());
-            try {
-                cache_.grow(want, size_t(cache_size_), stream_);
-            } catch (const CudaUnavailable&) {
-                cache_.grow(size_t(cache_size_ + add), size_t(cache_size_), stream_);
-            }
+        if (size_t(cache_size_ + add) > cache_.capacity()) {  // exact, or CacheOverBudget
+            cache_.grow(cache_grow_capacity(size_t(cache_size_ + add), cache_.capacity(),
+                                            first_path + n, pass_light_paths_, cache_budget_,
+                                            cache_costs_),
+                        size_t(cache_size_), stream_);
         }
         LightVertex* dst = cache_.data() + cache_size_;
         const LightVertex* vtx = bs.vertex;

@@ -46,12 +46,12 @@ void Renderer::run_camera_chunk(int64_t first_path, int n) {
                 uint8_t v = 0;
                 if (j == 0) {
                     if (ps.shadow_valid[i]) {
-                        atomicAdd(ctr + kCtrShadow, 1ull);
+                        warp_count(ctr + kCtrShadow);
                         const Ray r{ps.shadow_o[i], ps.shadow_d[i], 0.0f, ps.shadow_tmax[i]};
                         v = tr.blocked(r, kBvhNeedShadow) ? 0 : 1;
                     }
                 } else if (j - 1 < bs.conn_n[i]) {
-                    atomicAdd(ctr + kCtrConnection, 1ull);
+                    warp_count(ctr + kCtrConnection);
                     const size_t c = size_t(i) * bs.conn_cap + (j - 1);
                     const Ray r{bs.conn_o[c], bs.conn_d[c], 0.0f, bs.conn_tmax[c]};
                     v = tr.blocked(r, kBvhNeedShadow) ? 0 : 1;

@@ -30,7 +30,7 @@ void Renderer::run_pt_chunk(int64_t first_path, int n) {
             each(stream_, active, [=] __device__(int k) {
                 const int i = q[k];
                 if (!ps.shadow_valid[i]) return;
-                atomicAdd(shadow_ctr, 1ull);
+                warp_count(shadow_ctr);
                 const Ray r{ps.shadow_o[i], ps.shadow_d[i], 0.0f, ps.shadow_tmax[i]};
                 pt_shadow_result(ps, i, tr.blocked(r, kBvhNeedShadow));
             });

@@ -27,9 +27,9 @@ Renderer::Renderer(const HostScene& scene, const SessionSettings& settings,
                    std::vector<std::string>& warnings)
     : set_(settings) {
     try {
-        check(cudaSetDevice(0), "cudaSetDevice");
+        use_device();
         cudaDeviceProp prop{};
-        check(cudaGetDeviceProperties(&prop, 0), "cudaGetDeviceProperties");
+        check(cudaGetDeviceProperties(&prop, device_), "cudaGetDeviceProperties");
         name_ = prop.name;
         size_t free_b = 0, total_b = 0;
         check(cudaMemGetInfo(&free_b, &total_b), "cudaMemGetInfo");
@@ -108,6 +108,7 @@ Renderer::Renderer(const HostScene& scene, const SessionSettings& settings,
 Renderer::~Renderer() { release(); }
 
 void Renderer::release() {
+    cudaSetDevice(device_);  // no throw: this runs in the destructor too
     if (stream_) cudaStreamSynchronize(stream_);
     if (copy_stream_) cudaStreamSynchronize(copy_stream_);
     for (void* p : scene_mem_) cudaFree(p);
@@ -215,7 +216,7 @@ void Renderer::sort_queue(int n) {
             type = s.materials[id].type;
         }
         keys[k] = (type << id_bits) | id;
-        atomicOr(mask, 1 << type);
+        warp_or(reinterpret_cast<unsigned*>(mask), 1u << type);
     });
     const uint32_t present = uint32_t(read_int(mask));
     if (__builtin_popcount(present) <= 1) {
@@ -263,7 +264,7 @@ int64_t Renderer::test_camera_segments(int n) {
         each(stream_, n, [=] __device__(int k) {
             const int i = q[k];
             if (!ps.shadow_valid[i]) return;
-            atomicAdd(ctr, 1ull);
+            warp_count(ctr);
             const Ray r{ps.shadow_o[i], ps.shadow_d[i], 0.0f, ps.shadow_tmax[i]};
             occ[i] = tr.blocked(r, kBvhNeedCamera) ? 1 : 0;
         });
@@ -325,7 +326,7 @@ void Renderer::count_dropped(int n) {
     const uint8_t* dropped = ps_.dropped;
     unsigned long long* ctr = counters_.data() + kCtrDropped;
     each(stream_, n, [=] __device__(int i) {
-        if (dropped[i]) atomicAdd(ctr, 1ull);
+        if (dropped[i]) warp_count(ctr);
     });
 }
 
@@ -340,18 +341,21 @@ BdptSettings Renderer::bdpt_settings() const {
 
 // As Session::bdpt_samples_per_pass, with the GPU's free memory as the budget: half of what was
 // free when the renderer started less the kernels' stack reservation, at most 8 GiB, or
-// cache_budget_mb.
+// cache_budget_mb; the bdpt index (four int arrays per vertex) is inside it (cache_costs).
 int Renderer::bdpt_samples_per_pass(int spp_it, std::vector<std::string>& warnings) {
     double budget = std::min(8.0 * (1 << 30),
                              0.5 * double(std::max<int64_t>(free_at_start_ - stack_reserve_, 0)));
     if (set_.cache_budget_mb > 0) budget = double(set_.cache_budget_mb) * (1 << 20);
-    budget *= budget_scale_;
-    return cache_samples_per_pass(budget, vertices_per_path_, set_.max_depth, spp_it, width_,
-                                  height_, "light vertex cache (GPU)", &split_warned_, warnings);
+    cache_budget_ = budget * budget_scale_;
+    cache_costs_ = cache_costs(mode_ == kBdptOwnPath, true);
+    return cache_samples_per_pass(cache_budget_, vertices_per_path_, cache_costs_, set_.max_depth,
+                                  spp_it, width_, height_, "light vertex cache (GPU)",
+                                  &split_warned_, warnings);
 }
 
 bool Renderer::step(const SessionSettings& settings, uint64_t& iteration, SessionStats& stats,
                     const std::atomic<bool>& cancel, std::vector<std::string>& warnings) {
+    use_device();
     for (;;) {
         const SessionStats saved = stats;
         try {
@@ -411,15 +415,42 @@ bool Renderer::try_step(const SessionSettings& settings, uint64_t& iteration, Se
     check(cudaMemsetAsync(counters_.data(), 0, kCtrCount * sizeof(unsigned long long), stream_),
           "cudaMemsetAsync");
     if (bidirectional_) {
-        const int per_pass = bdpt_samples_per_pass(spp_it, warnings);
-        for (int done = 0; done < spp_it;) {
-            const int s = std::min(per_pass, spp_it - done);
-            set_.spp_per_iteration = s;
-            if (!run_bdpt_iteration()) return false;
-            ++iteration_;
-            done += s;
+        // as Session::step_bidirectional: the pilot's rate, passes within the budget, and a
+        // pass whose cache would pass it starts the iteration again in smaller passes
+        if (!(vertices_per_path_ >= 0.0)) {
+            measure_cache_rate();
+            if (cancel_->load()) return false;
         }
-        set_.spp_per_iteration = spp_it;
+        const SessionStats saved = *stats_;
+        int per_pass = bdpt_samples_per_pass(spp_it, warnings);
+        for (;;) {
+            std::string over;
+            double rate = 0.0;
+            const bool ok = run_passes(spp_it, per_pass, &over, &rate);
+            if (over.empty()) {
+                if (!ok) return false;
+                break;
+            }
+            cache_.release();
+            cache_size_ = 0;
+            if (per_pass == 1)
+                throw std::runtime_error(over + ", at one sample per pass: raise cache_budget_mb, "
+                                                "or lower the resolution or max_depth");
+            iteration_ = iteration;
+            *stats_ = saved;
+            check(cudaMemsetAsync(iter_.data(), 0, px3 * sizeof(double), stream_),
+                  "cudaMemsetAsync");
+            check(cudaMemsetAsync(counters_.data(), 0, kCtrCount * sizeof(unsigned long long),
+                                  stream_),
+                  "cudaMemsetAsync");
+            vertices_per_path_ = std::max(vertices_per_path_, rate);
+            per_pass = std::max(1, std::min(per_pass / 2, bdpt_samples_per_pass(spp_it, warnings)));
+            if (!restart_warned_) {
+                restart_warned_ = true;
+                warnings.push_back("light vertex cache (GPU): " + over + "; the iteration ran "
+                                   "again in passes of " + std::to_string(per_pass) + " samples");
+            }
+        }
     } else {
         const int64_t chunk_pixels = std::max<int64_t>(1, chunk_paths_ / spp_it);
         for (int64_t p0 = 0; p0 < pixels; p0 += chunk_pixels) {
@@ -433,8 +464,30 @@ bool Renderer::try_step(const SessionSettings& settings, uint64_t& iteration, Se
         }
         ++iteration_;
     }
+    samples_ += spp_it;
     finish_step();
     iteration = iteration_;
+    return true;
+}
+
+// The passes of one bidirectional iteration; a pass over the cache budget stops them and says
+// why in *over (with the rate it measured), the iteration's sum then holds a partial result.
+bool Renderer::run_passes(int spp_it, int per_pass, std::string* over, double* rate) {
+    for (int done = 0; done < spp_it;) {
+        const int s = std::min(per_pass, spp_it - done);
+        set_.spp_per_iteration = s;
+        bool ok = false;
+        try {
+            ok = run_bdpt_iteration();
+        } catch (const CacheOverBudget& e) {
+            *over = e.what();
+            *rate = e.vertices_per_path;
+        }
+        set_.spp_per_iteration = spp_it;
+        if (!over->empty() || !ok) return false;
+        ++iteration_;
+        done += s;
+    }
     return true;
 }
 
@@ -456,6 +509,7 @@ void Renderer::finish_step() {
                           copy_stream_),
           "cudaMemcpyAsync");
     check(cudaEventRecord(copy_done_, copy_stream_), "cudaEventRecord");
+    samples_copied_ = samples_;  // what the copy that copy_done_ marks holds
     check(cudaStreamSynchronize(stream_), "step");
     stats_->rays_shadow += int64_t(host_counters_[kCtrShadow]);
     stats_->rays_connection += int64_t(host_counters_[kCtrConnection]);
@@ -467,10 +521,12 @@ void Renderer::finish_step() {
     stats_->device_memory_used = used_peak_;
 }
 
-std::vector<double> Renderer::accum() {
+std::vector<double> Renderer::accum(int64_t* samples) {
     std::lock_guard<std::mutex> lock(readback_mutex_);
+    use_device();
     check(cudaEventSynchronize(copy_done_), "readback");
     const size_t px3 = size_t(width_) * height_ * 3;
+    *samples = samples_copied_;
     return std::vector<double>(host_sum_, host_sum_ + px3);
 }
 

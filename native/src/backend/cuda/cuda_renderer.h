@@ -44,8 +44,10 @@ public:
     // when the GPU runs out of memory (the image so far stays readable through accum()).
     virtual bool step(const SessionSettings& settings, uint64_t& iteration, SessionStats& stats,
                       const std::atomic<bool>& cancel, std::vector<std::string>& warnings) = 0;
-    // The running sum of finished iterations (3 doubles per pixel, top row first).
-    virtual std::vector<double> accum() = 0;
+    // The running sum of finished iterations (3 doubles per pixel, top row first) and, in
+    // *samples, the samples per pixel it holds (the two always match: a reader on another
+    // thread never sees a new sum with an old count).
+    virtual std::vector<double> accum(int64_t* samples) = 0;
     virtual std::string device_name() const = 0;
 };
 

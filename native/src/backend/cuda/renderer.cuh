@@ -8,14 +8,13 @@
 
 #include <cuda_runtime.h>
 
+#include "backend/cuda/cuda_exec.cuh"  // fail / check, DeviceArray, each, warp reductions
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <mutex>
-#include <cub/device/device_radix_sort.cuh>
-#include <cub/device/device_scan.cuh>
-#include <cub/device/device_select.cuh>
 #include <utility>
 
 #include "accel/bvh.h"
@@ -32,86 +31,6 @@ namespace cuda_detail {
 using Clock = std::chrono::steady_clock;
 inline double seconds_since(Clock::time_point t0) {
     return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
-[[noreturn]] inline void fail(cudaError_t e, const char* what) {
-    cudaGetLastError();  // clear it where it is not sticky
-    const std::string msg = std::string(what) + ": " + cudaGetErrorString(e);
-    if (e == cudaErrorMemoryAllocation) throw CudaUnavailable("out of GPU memory (" + msg + ")");
-    throw std::runtime_error("CUDA error in " + msg);
-}
-inline void check(cudaError_t e, const char* what) {
-    if (e != cudaSuccess) fail(e, what);
-}
-
-// Bytes of device memory held by one renderer, and the most it held at once.
-struct MemoryMeter {
-    int64_t current = 0, peak = 0;
-    void add(int64_t b) {
-        current += b;
-        peak = std::max(peak, current);
-    }
-};
-
-// A device array that only grows; grow(n, keep) preserves the first `keep` items.
-template <typename T>
-class DeviceArray {
-public:
-    DeviceArray() = default;
-    ~DeviceArray() { release(); }
-    DeviceArray(const DeviceArray&) = delete;
-    DeviceArray& operator=(const DeviceArray&) = delete;
-    void bind(MemoryMeter* m) { meter_ = m; }
-    T* data() const { return p_; }
-    size_t capacity() const { return cap_; }
-    void grow(size_t n, size_t keep = 0, cudaStream_t s = 0) {
-        if (n <= cap_) return;
-        T* p = nullptr;
-        check(cudaMalloc(&p, n * sizeof(T)), "cudaMalloc");
-        if (keep > 0) {
-            cudaError_t e = cudaMemcpyAsync(p, p_, std::min(keep, cap_) * sizeof(T),
-                                            cudaMemcpyDeviceToDevice, s);
-            if (e == cudaSuccess) e = cudaStreamSynchronize(s);
-            if (e != cudaSuccess) {
-                cudaFree(p);
-                fail(e, "cudaMemcpyAsync");
-            }
-        }
-        release();
-        p_ = p;
-        cap_ = n;
-        if (meter_) meter_->add(int64_t(n * sizeof(T)));
-    }
-    void release() {
-        if (!p_) return;
-        cudaFree(p_);
-        if (meter_) meter_->current -= int64_t(cap_ * sizeof(T));
-        p_ = nullptr;
-        cap_ = 0;
-    }
-    void swap(DeviceArray& o) {
-        std::swap(p_, o.p_);
-        std::swap(cap_, o.cap_);
-    }
-
-private:
-    T* p_ = nullptr;
-    size_t cap_ = 0;
-    MemoryMeter* meter_ = nullptr;
-};
-
-template <typename F>
-__global__ void each_kernel(int n, F f) {
-    const int i = blockIdx.x * blockDim.x + threadIdx.x;
-    if (i < n) f(i);
-}
-
-// Runs f(i) for i in [0, n) on stream s.
-template <typename F>
-void each(cudaStream_t s, int n, F f, int block = 128) {
-    if (n <= 0) return;
-    each_kernel<<<(n + block - 1) / block, block, 0, s>>>(n, f);
-    check(cudaGetLastError(), "kernel launch");
 }
 
 // Ray queries against the device BVH, with the scene's alpha test (scene/alpha.h).
@@ -154,7 +73,11 @@ public:
     bool try_step(const SessionSettings& settings, uint64_t& iteration, SessionStats& stats,
                   const std::atomic<bool>& cancel, std::vector<std::string>& warnings);
     void release_state();  // the wavefront's arrays (not the scene, the cache or the film)
-    std::vector<double> accum() override;
+    std::vector<double> accum(int64_t* samples) override;
+    // Every call that launches work or touches device memory selects the renderer's device
+    // first: steps run on another thread than the one that made the renderer.
+    void use_device() const { check(cudaSetDevice(device_), "cudaSetDevice"); }
+    bool run_passes(int spp_it, int per_pass, std::string* over, double* rate);
     std::string device_name() const override { return name_; }
     void release();  // everything the constructor made (it may have thrown half-way)
 
@@ -188,6 +111,7 @@ public:
     void run_pt_chunk(int64_t first_path, int n);
     void run_lt_chunk(int64_t first_path, int n);
     bool run_bdpt_iteration();
+    void measure_cache_rate();
     void run_light_chunk(int64_t first_path, int n);
     void run_camera_chunk(int64_t first_path, int n);
     void index_cache_by_path(int64_t light_paths);
@@ -198,6 +122,7 @@ public:
 
     // ---- device and scene ----
     std::string name_;
+    int device_ = 0;
     cudaStream_t stream_ = nullptr, copy_stream_ = nullptr;
     cudaEvent_t sum_ready_ = nullptr, copy_done_ = nullptr;
     MemoryMeter mem_;
@@ -221,8 +146,12 @@ public:
     int mode_ = 0, conn_cap_ = 0;
     float mis_r_ = 1.0f;
     double vertices_per_path_ = -1.0;
-    bool pilot_ = false, split_warned_ = false;
+    bool pilot_ = false, split_warned_ = false, restart_warned_ = false;
     int64_t pilot_count_ = 0;
+    double cache_budget_ = 0.0;
+    CacheCosts cache_costs_{};
+    int64_t pass_light_paths_ = 0;
+    int64_t samples_ = 0, samples_copied_ = 0;  // per pixel in sum_, and in the host copy
 
     // ---- wavefront state (PathState / BdptState / LightPathState slots) ----
     int state_cap_ = 0, conn_state_cap_ = 0;

@@ -1,0 +1,81 @@
+"""Renders every integrator on a few committed scenes with fixed seeds and writes the images
+(and their hashes) to a folder, so that two builds can be compared bit for bit:
+
+    python bench/bits_check.py --out /tmp/a      # build A
+    python bench/bits_check.py --out /tmp/b      # build B
+    python bench/bits_check.py --compare /tmp/a /tmp/b
+
+Used for issue 13 (one wavefront): a change of schedule must keep the CPU's bits where the
+algorithm did not change. Small sizes: a check of identity, not of convergence."""
+import argparse
+import hashlib
+import os
+import sys
+
+import numpy as np
+
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "python"))
+import lantern  # noqa: E402
+from lantern import scenes  # noqa: E402
+
+SCENES = ["cornell_box", "fixture_box", "glass_lantern", "features_box", "bench_glossy"]
+INTEGRATORS = ["pt", "lt", "bdpt", "lvc", "cis"]
+
+
+def small(scene, width):
+    h = max(1, round(scene.film["height"] * width / scene.film["width"]))
+    scene.film["width"], scene.film["height"] = width, h
+    return scene
+
+
+def render_all(out, width, threads):
+    os.makedirs(out, exist_ok=True)
+    here = os.path.dirname(__file__)
+    for name in SCENES:
+        if name.startswith("bench_"):
+            scene = small(lantern.load_scene(os.path.join(here, "scenes", name + ".lantern")),
+                          width)
+        else:
+            scene = getattr(scenes, name)(width, width)
+        for integ in INTEGRATORS:
+            try:
+                s = lantern.Session(scene, integrator=integ, seed=7, spp_per_iteration=2,
+                                    backend="cpu", threads=threads)
+                s.step()
+                s.step()
+                img = s.image()
+            except Exception as e:  # an integrator that cannot render the scene says why
+                print(f"{name} {integ}: {e}")
+                continue
+            np.save(os.path.join(out, f"{name}_{integ}.npy"), img)
+            print(f"{name} {integ}: {hashlib.sha1(img.tobytes()).hexdigest()[:16]}")
+
+
+def compare(a, b):
+    same = True
+    for f in sorted(os.listdir(a)):
+        x = np.load(os.path.join(a, f))
+        pb = os.path.join(b, f)
+        if not os.path.exists(pb):
+            print(f"{f}: missing in {b}")
+            same = False
+            continue
+        y = np.load(pb)
+        eq = np.array_equal(x, y)
+        same &= eq
+        rel = float(np.abs(x.mean() - y.mean()) / max(abs(x.mean()), 1e-12))
+        print(f"{f}: {'identical' if eq else 'DIFFERENT'} (mean {x.mean():.6g} vs "
+              f"{y.mean():.6g}, relative {rel:.2e})")
+    return same
+
+
+if __name__ == "__main__":
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--out")
+    ap.add_argument("--compare", nargs=2)
+    ap.add_argument("--width", type=int, default=64)
+    ap.add_argument("--threads", type=int, default=2)
+    args = ap.parse_args()
+    if args.compare:
+        sys.exit(0 if compare(*args.compare) else 1)
+    render_all(args.out, args.width, args.threads)

@@ -1,0 +1,359 @@
+// The CUDA executor: the interface of backend/cpu/cpu_exec.h on a GPU. Device arrays with the
+// shared memory meter, each() as a kernel, CUB's stable DeviceSelect / DeviceScan /
+// DeviceRadixSort, integer reductions with one atomic per warp (cooperative groups), ray
+// queries over a queue against the device BVH, splats with double atomics (the last bits then
+// depend on scheduling: kDeterministicSplats is false), host readback, stage timing with a
+// stream synchronisation, and the GPU's budget and out-of-memory policy. Every call selects the
+// executor's device first: it may run on another thread than the one that made it.
+// tests/cuda/exec_conformance.cu checks it against tests/cpp/exec_conformance.h's references.
+#pragma once
+
+#include <cuda_runtime.h>
+
+#include <chrono>
+#include <cooperative_groups.h>
+#include <cooperative_groups/reduce.h>
+#include <cub/device/device_radix_sort.cuh>
+#include <cub/device/device_scan.cuh>
+#include <cub/device/device_select.cuh>
+#include <string>
+#include <utility>
+
+#include "accel/bvh.h"
+#include "backend/cpu/embree_accel.h"  // RayKind (plain enum)
+#include "backend/cuda/cuda_renderer.h"
+#include "integrator/lt.h"
+#include "integrator/wavefront_cache.h"
+
+namespace lantern {
+namespace cuda_detail {
+
+[[noreturn]] inline void fail(cudaError_t e, const char* what) {
+    cudaGetLastError();  // clear it where it is not sticky
+    const std::string msg = std::string(what) + ": " + cudaGetErrorString(e);
+    if (e == cudaErrorMemoryAllocation) throw CudaUnavailable("out of GPU memory (" + msg + ")");
+    throw std::runtime_error("CUDA error in " + msg);
+}
+inline void check(cudaError_t e, const char* what) {
+    if (e != cudaSuccess) fail(e, what);
+}
+
+// A device array that only grows; grow(n, keep) preserves the first `keep` items. The meter
+// holds old and new together while a growth copies.
+template <typename T>
+class DeviceArray {
+public:
+    DeviceArray() = default;
+    explicit DeviceArray(MemoryMeter* m) : meter_(m) {}
+    ~DeviceArray() { release(); }
+    DeviceArray(const DeviceArray&) = delete;
+    DeviceArray& operator=(const DeviceArray&) = delete;
+    DeviceArray(DeviceArray&& o) noexcept : meter_(o.meter_) { swap(o); }
+    void bind(MemoryMeter* m) { meter_ = m; }
+    T* data() const { return p_; }
+    size_t capacity() const { return cap_; }
+    void grow(size_t n, size_t keep = 0, cudaStream_t s = 0) {
+        if (n <= cap_) return;
+        T* p = nullptr;
+        cudaError_t e = cudaMalloc(&p, n * sizeof(T));
+        if (e != cudaSuccess) fail(e, "cudaMalloc");
+        if (meter_) meter_->add(int64_t(n * sizeof(T)));  // old and new alive together
+        if (keep > 0) {
+            e = cudaMemcpyAsync(p, p_, std::min(keep, cap_) * sizeof(T),
+                                cudaMemcpyDeviceToDevice, s);
+            if (e == cudaSuccess) e = cudaStreamSynchronize(s);
+            if (e != cudaSuccess) {
+                cudaFree(p);
+                if (meter_) meter_->sub(int64_t(n * sizeof(T)));
+                fail(e, "cudaMemcpyAsync");
+            }
+        }
+        release();
+        p_ = p;
+        cap_ = n;
+    }
+    void grow_keep(size_t n, size_t keep) { grow(n, keep); }
+    void release() {
+        if (!p_) return;
+        cudaFree(p_);
+        if (meter_) meter_->sub(int64_t(cap_ * sizeof(T)));
+        p_ = nullptr;
+        cap_ = 0;
+    }
+    void swap(DeviceArray& o) {
+        std::swap(p_, o.p_);
+        std::swap(cap_, o.cap_);
+    }
+    void upload(const T* host, size_t n, size_t at = 0) {
+        if (n) check(cudaMemcpy(p_ + at, host, n * sizeof(T), cudaMemcpyHostToDevice), "upload");
+    }
+    void download(T* host, size_t n, size_t at = 0) const {
+        if (n) check(cudaMemcpy(host, p_ + at, n * sizeof(T), cudaMemcpyDeviceToHost), "readback");
+    }
+
+private:
+    T* p_ = nullptr;
+    size_t cap_ = 0;
+    MemoryMeter* meter_ = nullptr;
+};
+
+template <typename F>
+__global__ void each_kernel(int n, F f) {
+    const int i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i < n) f(i);
+}
+
+// Runs f(i) for i in [0, n) on stream s.
+template <typename F>
+void each(cudaStream_t s, int n, F f, int block = 128) {
+    if (n <= 0) return;
+    each_kernel<<<(n + block - 1) / block, block, 0, s>>>(n, f);
+    check(cudaGetLastError(), "kernel launch");
+}
+
+// Device counters, reduced per warp first: the lanes that reach the call (a coalesced group)
+// add their total with one atomic; a mask is OR-ed with one atomic per warp.
+__device__ inline void warp_add(unsigned long long* ctr, unsigned long long v) {
+    namespace cg = cooperative_groups;
+    const cg::coalesced_group g = cg::coalesced_threads();
+    const unsigned long long all = cg::reduce(g, v, cg::plus<unsigned long long>());
+    if (g.thread_rank() == 0) atomicAdd(ctr, all);
+}
+__device__ inline void warp_count(unsigned long long* ctr) {
+    namespace cg = cooperative_groups;
+    const cg::coalesced_group g = cg::coalesced_threads();
+    if (g.thread_rank() == 0) atomicAdd(ctr, (unsigned long long)g.size());
+}
+__device__ inline void warp_or(unsigned* mask, unsigned bits) {
+    namespace cg = cooperative_groups;
+    const cg::coalesced_group g = cg::coalesced_threads();
+    const unsigned all = cg::reduce(g, bits, cg::bit_or<unsigned>());
+    if (g.thread_rank() == 0) atomicOr(mask, all);
+}
+
+}  // namespace cuda_detail
+
+// Public members throughout: nvcc's extended lambdas must not sit in private member functions.
+class CudaExec {
+public:
+    template <typename T>
+    using Array = cuda_detail::DeviceArray<T>;
+    static constexpr bool kGpu = true;
+    static constexpr bool kDeterministicSplats = false;  // double atomics
+
+    explicit CudaExec(int device = 0) : device_(device) {
+        use_device();
+        cuda_detail::check(cudaStreamCreateWithFlags(&stream_, cudaStreamNonBlocking),
+                           "cudaStreamCreate");
+        cuda_detail::check(cudaMallocHost(&host_, 4 * sizeof(unsigned long long)),
+                           "cudaMallocHost");
+        small_.bind(&meter_);
+        temp_.bind(&meter_);
+        scratch_keys_.bind(&meter_);
+        scratch_values_.bind(&meter_);
+        flags_.bind(&meter_);
+        small_.grow(4);
+    }
+    ~CudaExec() {
+        cudaSetDevice(device_);
+        if (stream_) cudaStreamSynchronize(stream_);
+        small_.release();
+        temp_.release();
+        scratch_keys_.release();
+        scratch_values_.release();
+        flags_.release();
+        if (host_) cudaFreeHost(host_);
+        if (stream_) cudaStreamDestroy(stream_);
+    }
+    CudaExec(const CudaExec&) = delete;
+    CudaExec& operator=(const CudaExec&) = delete;
+
+    void use_device() const { cuda_detail::check(cudaSetDevice(device_), "cudaSetDevice"); }
+    // Ray queries against a BVH already on the device, with the scene's alpha test.
+    void set_rays(const BvhView& bvh, const SceneView& s) {
+        bvh_ = bvh;
+        scene_ = s;
+    }
+    template <typename T>
+    Array<T> array() {
+        return Array<T>(&meter_);
+    }
+    MemoryMeter& meter() { return meter_; }
+    cudaStream_t stream() const { return stream_; }
+    const char* name() const { return "cuda"; }
+    void sync() { cuda_detail::check(cudaStreamSynchronize(stream_), "cudaStreamSynchronize"); }
+
+    template <typename F>
+    void each(int n, F f, int block = 128) {
+        use_device();
+        cuda_detail::each(stream_, n, f, block);
+    }
+
+    // ---- reductions (one atomic per warp) ----
+    template <typename F>
+    int64_t count(int n, F pred) {
+        unsigned long long* ctr = counter();
+        each(n, [=] __device__(int k) {
+            if (pred(k)) cuda_detail::warp_count(ctr);
+        });
+        return int64_t(read_counter());
+    }
+    template <typename T>
+    int64_t sum(const T* in, int n) {  // of values >= 0 (flags and counts): unsigned counters
+        unsigned long long* ctr = counter();
+        each(n, [=] __device__(int k) { cuda_detail::warp_add(ctr, (unsigned long long)in[k]); });
+        return int64_t(read_counter());
+    }
+    template <typename F>
+    uint32_t bits_or(int n, F bits) {
+        unsigned* mask = reinterpret_cast<unsigned*>(counter());
+        each(n, [=] __device__(int k) { cuda_detail::warp_or(mask, bits(k)); });
+        return uint32_t(read_counter());
+    }
+
+    // ---- exclusive scan (in and out differ); returns the total ----
+    int64_t exclusive_scan(const int32_t* in, int n, int32_t* out) {
+        if (n <= 0) return 0;
+        cub_run("DeviceScan", [&](void* t, size_t& bytes) {
+            return cub::DeviceScan::ExclusiveSum(t, bytes, in, out, n, stream_);
+        });
+        int32_t last[2];
+        cuda_detail::check(cudaMemcpyAsync(&last[0], out + n - 1, sizeof(int32_t),
+                                           cudaMemcpyDeviceToHost, stream_), "readback");
+        cuda_detail::check(cudaMemcpyAsync(&last[1], in + n - 1, sizeof(int32_t),
+                                           cudaMemcpyDeviceToHost, stream_), "readback");
+        sync();
+        return int64_t(last[0]) + last[1];
+    }
+
+    // ---- stable select (flags per item, or per slot through the queue) ----
+    int select_flagged(const int32_t* in, const uint8_t* flags, int n, int32_t* out,
+                       bool flags_of_item = true) {
+        if (n <= 0) return 0;
+        const uint8_t* f = flags;
+        if (!flags_of_item) {
+            flags_.grow(size_t(n));
+            uint8_t* g = flags_.data();
+            each(n, [=] __device__(int k) { g[k] = flags[in[k]]; });
+            f = g;
+        }
+        int* count = reinterpret_cast<int*>(small_.data());
+        cub_run("DeviceSelect", [&](void* t, size_t& bytes) {
+            return cub::DeviceSelect::Flagged(t, bytes, in, f, out, count, n, stream_);
+        });
+        return int(read_counter_int(count));
+    }
+
+    // ---- stable radix sort of pairs on key bits [begin_bit, end_bit), in place ----
+    void sort_pairs(uint32_t* keys, int32_t* values, int n, int begin_bit, int end_bit) {
+        if (n < 2 || end_bit <= begin_bit) return;
+        scratch_keys_.grow(size_t(n));
+        scratch_values_.grow(size_t(n));
+        uint32_t* ko = scratch_keys_.data();
+        int32_t* vo = scratch_values_.data();
+        cub_run("DeviceRadixSort", [&](void* t, size_t& bytes) {
+            return cub::DeviceRadixSort::SortPairs(t, bytes, keys, ko, values, vo, n, begin_bit,
+                                                   end_bit, stream_);
+        });
+        cuda_detail::check(cudaMemcpyAsync(keys, ko, size_t(n) * sizeof(uint32_t),
+                                           cudaMemcpyDeviceToDevice, stream_), "sort copy");
+        cuda_detail::check(cudaMemcpyAsync(values, vo, size_t(n) * sizeof(int32_t),
+                                           cudaMemcpyDeviceToDevice, stream_), "sort copy");
+        sync();
+    }
+
+    // ---- ray queries over [0, n): ray_of(k) -> Ray; hit(k, t, prim, uv) / blocked(k, bool) ----
+    template <typename RayOf, typename Out>
+    void closest(int n, RayKind kind, RayOf ray_of, Out hit) {
+        const uint32_t need = kind == RayKind::kCamera   ? kBvhNeedCamera
+                              : kind == RayKind::kShadow ? kBvhNeedShadow
+                                                         : kBvhNeedIndirect;
+        const BvhView b = bvh_;
+        const SceneView s = scene_;
+        each(n, [=] __device__(int k) {
+            const Ray r = ray_of(k);
+            const BvhHit h = bvh_intersect(b, r, need, BvhAlphaTest{s, r});
+            hit(k, h.t, h.prim, h.uv);
+        });
+    }
+    template <typename RayOf, typename Out>
+    void occluded(int n, RayOf ray_of, Out blocked) {  // shadow rays
+        const uint32_t need = kBvhNeedShadow;
+        const BvhView b = bvh_;
+        const SceneView s = scene_;
+        each(n, [=] __device__(int k) {
+            const Ray r = ray_of(k);
+            blocked(k, bvh_occluded(b, r, need, BvhAlphaTest{s, r}));
+        });
+    }
+
+    // ---- light-tracing splats (double atomics) ----
+    void splat(int n, const uint8_t* valid, const Vec2* xy, const Vec3* value,
+               const CameraView& cam, double scale, double* image) {
+        each(n, [=] __device__(int k) {
+            if (!valid[k]) return;
+            const Vec3 v = value[k];
+            splat_pixels(cam, xy[k], scale, [&](int pixel, double f) {
+                atomicAdd(image + 3 * size_t(pixel) + 0, f * v.x);
+                atomicAdd(image + 3 * size_t(pixel) + 1, f * v.y);
+                atomicAdd(image + 3 * size_t(pixel) + 2, f * v.z);
+            });
+        });
+    }
+
+    template <typename F>
+    void timed(double& acc, F&& f) {
+        const auto t = std::chrono::steady_clock::now();
+        f();
+        sync();
+        acc += std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+    }
+
+    // ---- budget and out-of-memory policy ----
+    static CacheCosts cache_costs(bool bdpt_index) { return lantern::cache_costs(bdpt_index, true); }
+    // Out of GPU memory arrives as CudaUnavailable: the renderer halves its paths in flight and
+    // the cache budget, down to a floor, then the session goes on on the CPU.
+    static bool out_of_memory(const std::exception& e) {
+        return dynamic_cast<const CudaUnavailable*>(&e) != nullptr;
+    }
+
+    // A CUB device call: its scratch-size query, then the call on the shared scratch.
+    template <typename F>
+    void cub_run(const char* what, F&& call) {
+        use_device();
+        size_t bytes = 0;
+        cuda_detail::check(call(static_cast<void*>(nullptr), bytes), what);
+        temp_.grow(std::max<size_t>(bytes, 1));
+        cuda_detail::check(call(static_cast<void*>(temp_.data()), bytes), what);
+    }
+    unsigned long long* counter() {
+        cuda_detail::check(cudaMemsetAsync(small_.data(), 0, sizeof(unsigned long long), stream_),
+                           "cudaMemsetAsync");
+        return small_.data();
+    }
+    unsigned long long read_counter() {
+        cuda_detail::check(cudaMemcpyAsync(host_, small_.data(), sizeof(unsigned long long),
+                                           cudaMemcpyDeviceToHost, stream_), "readback");
+        sync();
+        return host_[0];
+    }
+    int read_counter_int(const int* d) {
+        cuda_detail::check(cudaMemcpyAsync(host_, d, sizeof(int), cudaMemcpyDeviceToHost, stream_),
+                           "readback");
+        sync();
+        return *reinterpret_cast<const int*>(host_);
+    }
+
+    int device_ = 0;
+    cudaStream_t stream_ = nullptr;
+    MemoryMeter meter_;
+    Array<unsigned long long> small_;
+    Array<uint8_t> temp_, flags_;
+    Array<uint32_t> scratch_keys_;
+    Array<int32_t> scratch_values_;
+    unsigned long long* host_ = nullptr;
+    BvhView bvh_{};
+    SceneView scene_{};
+};
+
+}  // namespace lantern
