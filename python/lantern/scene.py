@@ -230,7 +230,7 @@ class Scene:
         return {
             "film": dict(self.film),
             "camera": camera,
-            "world": dict(self.world),
+            "world": _world_native(self.world),
             "materials": [dict(m) for m in self.materials],
             "textures": textures,
             "meshes": meshes,
@@ -250,13 +250,16 @@ class Scene:
             "generator": f"lantern {__version__}",
             "film": self.film,
             "camera": self.camera,
-            "world": self.world,
+            "world": {k: v for k, v in self.world.items() if k != "map"},
             "materials": self.materials,
             "lights": self.lights,
             "meshes": [],
             "textures": [],
         }
         arrays = {}
+        if self.world.get("map") is not None:
+            doc["world"]["map"] = "world/map.npy"
+            arrays["world/map.npy"] = self.world["map"]
         for i, tex in enumerate(self.textures):
             member = f"textures/{i}/pixels.npy"
             arrays[member] = tex["pixels"]
@@ -310,6 +313,14 @@ class Scene:
                 f"{len(self.materials)} materials, {len(self.lights)} lights>")
 
 
+def _world_native(world):
+    """The world as the core reads it: the map's 3x3 as 9 floats."""
+    out = dict(world)
+    if out.get("to_map") is not None:
+        out["to_map"] = [float(x) for row in out["to_map"] for x in row]
+    return out
+
+
 def _parse_major(version):
     if isinstance(version, bool):
         raise ValueError(f"bad version {version!r}")
@@ -351,6 +362,15 @@ def load_scene(path):
         scene.film = doc.get("film", default_film())
         scene.camera = doc.get("camera", default_camera())
         scene.world = doc.get("world", default_world())
+        if isinstance(scene.world, dict) and scene.world.get("map") is not None:
+            member = scene.world["map"]
+            if not isinstance(member, str) or member not in names:
+                raise ValueError(f"{path}: world map: member {member!r} is missing")
+            try:
+                px = np.load(io.BytesIO(zf.read(member)), allow_pickle=False)
+            except ValueError as e:
+                raise ValueError(f"{path}: world map: bad .npy member ({e})") from None
+            scene.world = dict(scene.world, map=px)
         scene.materials = doc.get("materials", [])
         scene.lights = doc.get("lights", [])
         scene.textures = []

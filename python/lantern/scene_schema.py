@@ -223,12 +223,48 @@ def validate_camera(camera):
     out["clip"] = clip
     return out
 
+WORLD_PROJECTIONS = ("equirectangular", "mirror_ball")
+
+
 def validate_world(world):
     if not isinstance(world, dict):
         raise ValueError("world: expected a dict")
     out = dict(world)
     out["color"] = _rgb(world.get("color", [0.0, 0.0, 0.0]), "world color")
+    out["visible_camera"] = _bool(world.get("visible_camera", True), "world visible_camera")
+    if world.get("map") is not None:
+        _validate_world_map(world, out)
     return out
+
+
+def _validate_world_map(world, out):
+    """The environment map: float32 (H, W, 3|4) linear radiance, rows bottom to top; its
+    non-finite or negative texels are the core's to clamp (with a warning), not an error."""
+    try:
+        px = np.asarray(world["map"])
+    except (TypeError, ValueError):
+        raise ValueError("world map: expected an array") from None
+    if px.ndim != 3 or px.shape[2] not in (3, 4) or px.shape[0] < 1 or px.shape[1] < 1:
+        raise ValueError(f"world map: expected shape (height, width, 3), got {px.shape}")
+    if px.shape[0] > 65536 or px.shape[1] > 65536:
+        raise ValueError(f"world map: {px.shape[1]}x{px.shape[0]} is too large")
+    if px.dtype.kind not in "fiu":
+        raise ValueError(f"world map: expected float32 texels, got {px.dtype}")
+    out["map"] = np.ascontiguousarray(px, dtype=np.float32)
+    out["map_name"] = str(world.get("map_name", ""))
+    out["strength"] = _rgb(world.get("strength", [1.0, 1.0, 1.0]), "world strength")
+    projection = world.get("projection", "equirectangular")
+    if projection not in WORLD_PROJECTIONS:
+        raise ValueError(f"world projection: expected one of {WORLD_PROJECTIONS}, "
+                         f"got {projection!r}")
+    out["projection"] = projection
+    try:
+        m = np.asarray(world.get("to_map", np.eye(3)), dtype=np.float64).reshape(-1)
+    except (TypeError, ValueError):
+        raise ValueError("world to_map: expected a 3x3 matrix") from None
+    if m.shape != (9,) or not np.isfinite(m).all():
+        raise ValueError(f"world to_map: expected a finite 3x3 matrix, got {m.tolist()}")
+    out["to_map"] = m.reshape(3, 3).tolist()
 
 def validate_texture(texture, index):
     if not isinstance(texture, dict):

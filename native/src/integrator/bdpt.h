@@ -289,7 +289,8 @@ LANTERN_HD inline float bdpt_emission_weight(const SceneView& s, const PathState
     const Vec3 o = ps.ray_o[i], d = ps.ray_d[i];
     const bool infinite = l.type == kLightSun || l.type == kLightWorld;
     float dvcm = bs.dvcm[i], dvc = bs.dvc[i];
-    float pdf_direct = l.pick_pdf * light_pdf_w(l, o, d, t_light, n);  // solid angle at o
+    float pdf_direct = l.pick_pdf * (l.type == kLightWorld ? world_pdf_w(s, d)
+                                                           : light_pdf_w(l, o, d, t_light, n));
     if (!infinite) {
         float cos_l = fabsf(dot(d, n));
         if (!(cos_l > 0.0f)) return 0.0f;
@@ -321,8 +322,10 @@ LANTERN_HD inline void bdpt_camera_emission(const SceneView& s, const PathState&
         const Light& l = s.lights[s.miss_lights[k]];
         if (l.type == kLightSun && (l.cos_sun >= 1.0f || camera || dot(d, -l.direction) < l.cos_sun))
             continue;
+        if (l.type == kLightWorld && camera && !l.visible_camera) continue;
         float w = bdpt_emission_weight(s, ps, bs, st, i, l, kInf, vec3(0.0f));
-        add_radiance(ps, i, ps.throughput[i] * l.radiance * w);
+        Vec3 le = l.type == kLightWorld ? world_radiance(s, l, d) : l.radiance;
+        add_radiance(ps, i, ps.throughput[i] * le * w);
     }
 }
 

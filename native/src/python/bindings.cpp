@@ -67,6 +67,28 @@ void get_matrix(const nb::dict& d, const char* k, float out[16]) {
     for (int i = 0; i < 16; ++i) out[i] = a.data()[i];
 }
 
+// The world's environment map (docs/scene_format.md): "map" float32 (H, W, 3 or 4).
+void get_world_map(const nb::dict& w, SceneInput& in) {
+    in.world_visible_camera = get<bool>(w, "visible_camera", true);
+    if (!has(w, "map")) return;
+    nb::ndarray<const float, nb::ndim<3>, nb::c_contig, nb::device::cpu> a;
+    if (!nb::try_cast(w["map"], a, false))
+        throw std::invalid_argument("world: 'map' must be a C-contiguous float32 (H, W, 3|4) array");
+    EnvMapInput& e = in.world_map;
+    e.name = get<std::string>(w, "map_name", "");
+    e.height = int(a.shape(0));
+    e.width = int(a.shape(1));
+    e.channels = int(a.shape(2));
+    e.pixels.assign(a.data(), a.data() + a.size());
+    e.strength = get_vec3(w, "strength", e.strength);
+    e.projection = get<std::string>(w, "projection", e.projection);
+    if (has(w, "to_map")) {
+        auto m = nb::cast<std::vector<float>>(w["to_map"]);
+        if (m.size() != 9) throw std::invalid_argument("world 'to_map' needs 9 values");
+        for (int k = 0; k < 9; ++k) e.to_map[k] = m[k];
+    }
+}
+
 SceneInput to_input(const nb::dict& scene) {
     SceneInput in;
     if (has(scene, "film")) {
@@ -91,7 +113,11 @@ SceneInput to_input(const nb::dict& scene) {
             in.clip_end = s[1];
         }
     }
-    if (has(scene, "world")) in.world_color = get_vec3(nb::cast<nb::dict>(scene["world"]), "color", {});
+    if (has(scene, "world")) {
+        nb::dict w = nb::cast<nb::dict>(scene["world"]);
+        in.world_color = get_vec3(w, "color", {});
+        get_world_map(w, in);
+    }
     if (has(scene, "materials")) {
         for (nb::handle h : nb::cast<nb::list>(scene["materials"])) {
             nb::dict m = nb::cast<nb::dict>(h);

@@ -530,13 +530,17 @@ void HostScene::add_lights(const SceneInput& in) {
         power.push_back(luminance(m.emission) * area * 2.0f * kPi);
     }
     Vec3 world = sanitize_color(in.world_color, 1e30f);
+    if (in.world_map.width > 0) {  // an environment map replaces the constant colour
+        build_envmap(in.world_map, env_, warnings_);
+        world = env_.view.width > 0 ? env_.mean : vec3(0.0f);
+    }
     view_.world_color = world;
     if (!is_black(world)) {
         Light l{};
         l.type = kLightWorld;
         l.triangle = -1;
-        l.radiance = world;
-        l.visible_camera = 1;
+        l.radiance = world;  // with a map: its mean (the light's power), SceneView::env per ray
+        l.visible_camera = in.world_visible_camera ? 1 : 0;
         view_.world_light = int32_t(lights_.size());
         lights_.push_back(l);
         power.push_back(luminance(world) * kPi * 4.0f * disk_area);
@@ -615,6 +619,9 @@ SceneView HostScene::copied_view(
     v.hittable_lights = put(view_.hittable_lights, hittable_lights_.size());
     v.miss_lights = put(view_.miss_lights, miss_lights_.size());
     v.camera.filter_cdf = put(view_.camera.filter_cdf, filter_cdf_.size());
+    v.env.texels = put(view_.env.texels, env_.texels.size());
+    v.env.marginal = put(view_.env.marginal, env_.marginal.size());
+    v.env.conditional = put(view_.env.conditional, env_.conditional.size());
     return v;
 }
 
@@ -641,6 +648,7 @@ void HostScene::finish_view(const SceneInput& in) {
         if ((m.tex_flags & (kTexNormal | kCoatNormal)) || m.anisotropy > 0.0f)
             v.material_bits |= kSceneFrames;
     }
+    v.env = env_.view;
     v.lights = lights_.data();
     v.light_cdf = light_cdf_.data();
     v.emit_cdf = has_emitters_ ? emit_cdf_.data() : nullptr;

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "scene/envmap_build.h"
 #include "scene/scene_view.h"
 
 namespace lantern {
@@ -106,6 +107,8 @@ struct SceneInput {
     float screen[4] = {-0.5f, 0.5f, -0.5f, 0.5f};
     float clip_start = 0.1f, clip_end = 1000.0f;
     Vec3 world_color;
+    EnvMapInput world_map;            // width 0: none (the world is world_color)
+    bool world_visible_camera = true; // false: camera rays see black (the world still lights)
     std::vector<MaterialInput> materials;
     std::vector<TextureInput> textures;
     std::vector<MeshInput> meshes;
@@ -146,6 +149,7 @@ private:
     std::vector<Material> materials_;
     std::vector<Light> lights_;
     std::vector<float> light_cdf_, emit_cdf_, filter_cdf_;
+    EnvMapStorage env_;
     bool has_emitters_ = false;
     std::vector<std::string> warnings_;
     SceneView view_;

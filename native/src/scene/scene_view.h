@@ -3,6 +3,7 @@
 #pragma once
 
 #include "core/math.h"
+#include "scene/envmap.h"
 #include "scene/texture.h"
 
 namespace lantern {
@@ -115,7 +116,7 @@ enum LightType : int32_t {
     kLightArea = 2,
     kLightSun = 3,
     kLightTriangle = 4,  // one emissive mesh triangle
-    kLightWorld = 5,     // constant background
+    kLightWorld = 5,     // the background: SceneView::env, or the constant radiance
 };
 
 enum AreaShape : int32_t { kShapeRectangle = 0, kShapeEllipse = 1 };
@@ -199,6 +200,7 @@ struct SceneView {
     int32_t num_miss_lights = 0;
 
     Vec3 world_color;
+    EnvMap env;                          // the world's environment map (width 0: constant)
     CameraView camera;
     float scene_radius = 1.0f;           // for sun/world sampling and offsets
     float offset_scale = 1.0f;           // min(1, scene_radius): core/offset.h
