@@ -66,8 +66,40 @@ def export_camera(bscene, cam_obj, film, report):
                     "rendering a perspective camera")
     r = bscene.render
     screen = camera_window(cam, film, (r.pixel_aspect_x, r.pixel_aspect_y))
-    return {"type": kind, "to_world": _rigid(cam_obj.matrix_world).tolist(), "screen": screen,
-            "clip": [float(cam.clip_start), float(cam.clip_end)]}
+    out = {"type": kind, "to_world": _rigid(cam_obj.matrix_world).tolist(), "screen": screen,
+           "clip": [float(cam.clip_start), float(cam.clip_end)]}
+    dof = export_dof(cam_obj, report)
+    if dof is not None:
+        out["dof"] = dof
+    return out
+
+
+def export_dof(cam_obj, report):
+    """Blender's depth of field as Cycles reads it: lens radius = focal length / (2 f-stop)
+    (f-stop at least 1e-5), focus distance along the view axis (to the focus object when set),
+    blades, rotation and aperture ratio. None when off."""
+    cam = cam_obj.data
+    dof = cam.dof
+    if not dof.use_dof:
+        return None
+    if cam.type != "PERSP":
+        report.warn(f"Camera '{cam_obj.name}': depth of field on a {cam.type} camera is not "
+                    "supported; rendered sharp")
+        return None
+    fstop = max(float(dof.aperture_fstop), 1e-5)
+    focus = float(dof.focus_distance)
+    target = dof.focus_object
+    if target is not None:
+        m = np.array(cam_obj.matrix_world, dtype=np.float64)
+        axis = -m[:3, 2] / max(np.linalg.norm(m[:3, 2]), 1e-30)
+        t = np.array(target.matrix_world, dtype=np.float64)[:3, 3]
+        if getattr(dof, "focus_subtarget", ""):
+            report.warn(f"Camera '{cam_obj.name}': the focus bone '{dof.focus_subtarget}' is "
+                        f"ignored; focusing on the object '{target.name}'")
+        focus = abs(float(np.dot(axis, t - m[:3, 3])))
+    return {"radius": float(cam.lens) * 1e-3 / (2.0 * fstop), "focus_distance": focus,
+            "blades": int(dof.aperture_blades), "rotation": float(dof.aperture_rotation),
+            "ratio": float(dof.aperture_ratio)}
 
 
 class ViewportView:
@@ -110,4 +142,5 @@ class ViewportView:
                 "clip": [max(0.0, d_near), float(d_far - min(0.0, d_near))]}
 
 
-__all__ = ["export_film", "export_camera", "camera_window", "view_window", "ViewportView"]
+__all__ = ["export_film", "export_camera", "export_dof", "camera_window", "view_window",
+           "ViewportView"]

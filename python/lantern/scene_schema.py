@@ -221,6 +221,26 @@ def validate_camera(camera):
     if not (0.0 <= clip[0] < clip[1]):
         raise ValueError(f"camera clip: need 0 <= start < end, got {clip}")
     out["clip"] = clip
+    if camera.get("dof") is not None:
+        out["dof"] = validate_dof(camera["dof"])
+    return out
+
+
+def validate_dof(dof):
+    """Depth of field: a thin lens of `radius` m (Blender: lens / (2 f-stop)) focused at
+    `focus_distance` m along the view axis; `blades` >= 3 make the aperture a polygon turned
+    by `rotation` (radians); `ratio` is Blender's anamorphic aperture ratio."""
+    if not isinstance(dof, dict):
+        raise ValueError("camera dof: expected a dict")
+    out = {"radius": _finite_float(dof.get("radius", 0.0), "camera dof radius"),
+           "focus_distance": _finite_float(dof.get("focus_distance", 10.0),
+                                           "camera dof focus_distance"),
+           "blades": _int(dof.get("blades", 0), "camera dof blades", minimum=0),
+           "rotation": _finite_float(dof.get("rotation", 0.0), "camera dof rotation"),
+           "ratio": _finite_float(dof.get("ratio", 1.0), "camera dof ratio")}
+    if out["radius"] < 0.0 or out["focus_distance"] < 0.0 or out["ratio"] <= 0.0:
+        raise ValueError(f"camera dof: need radius >= 0, focus_distance >= 0, ratio > 0, "
+                         f"got {out}")
     return out
 
 WORLD_PROJECTIONS = ("equirectangular", "mirror_ball")

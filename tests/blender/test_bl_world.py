@@ -119,3 +119,31 @@ def test_hdri_renders_finite_and_lit(empty, addon):
     scene, _ = export(addon)
     img = lantern.render(scene, spp=8, seed=1)
     assert np.isfinite(img).all() and img.mean() > 0.01
+
+
+# ---- Camera: depth of field as Cycles reads it ----
+
+def test_depth_of_field_export(empty, addon):
+    from blender_helpers import add_camera
+    cam = add_camera(empty, location=(0, -4, 0), rotation=(math.pi / 2, 0, 0), lens=50.0)
+    d = cam.data.dof
+    d.use_dof, d.aperture_fstop, d.focus_distance = True, 2.0, 3.0
+    d.aperture_blades, d.aperture_rotation, d.aperture_ratio = 6, 0.25, 1.5
+    scene, _ = export(addon)
+    dof = scene.camera["dof"]
+    assert dof["radius"] == pytest.approx(0.05 / 4.0)
+    assert dof["focus_distance"] == pytest.approx(3.0)
+    assert (dof["blades"], dof["rotation"], dof["ratio"]) == (6, pytest.approx(0.25), 1.5)
+    target = bpy.data.objects.new("Target", None)
+    empty.collection.objects.link(target)
+    target.location = (0.7, 2.5, 0.3)  # 6.5 m along the view axis (+Y)
+    d.focus_object = target
+    d.aperture_fstop = 0.0             # clamped as Cycles does: a huge but finite lens
+    scene, _ = export(addon)
+    assert scene.camera["dof"]["focus_distance"] == pytest.approx(6.5, abs=1e-5)
+    assert math.isfinite(scene.camera["dof"]["radius"])
+    scene.validate()
+    cam.data.type = "ORTHO"
+    scene, report = export(addon)
+    assert "dof" not in scene.camera
+    assert any("depth of field" in m for m in report.messages), report.messages

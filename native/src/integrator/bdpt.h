@@ -214,7 +214,8 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
 
     // ---- t = 1: connect to the camera (k + 1 segments) ----
     if (!delta && k + 1 <= st.max_depth && (s.tri_flags[tri] & kVisibleCamera) != 0) {
-        CameraConnection cc = connect_camera(s.camera, h.p, filter_radius(s.camera));
+        CameraConnection cc = connect_camera(s.camera, h.p, filter_radius(s.camera),
+                                             lens_sample(s.camera, ps, i));
         if (cc.valid && sides_agree(cc.wc, h.ng, h.ns)) {
             BsdfEval e = material_eval(m, h.front, wo, frame.to_local(cc.wc),
                                        Transport::Importance, h.coat_n);

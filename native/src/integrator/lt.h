@@ -60,11 +60,17 @@ struct CameraConnection {
     bool valid;
 };
 
-LANTERN_HD inline CameraConnection connect_camera(const CameraView& c, Vec3 y, float w) {
+// `lens`: a point of the aperture (sample_aperture) when the camera has depth of field: the
+// connection goes to it, and y lands where its ray through the lens meets the focal plane.
+LANTERN_HD inline CameraConnection connect_camera(const CameraView& c, Vec3 y, float w,
+                                                  Vec2 lens = Vec2{}) {
     CameraConnection cc{};
     cc.valid = false;
-    Vec3 rel = y - c.to_world.origin();
+    const bool thin_lens = c.lens_radius > 0.0f && !c.orthographic;
     Vec3 ax = c.to_world.axis(0), ay = c.to_world.axis(1), az = c.to_world.axis(2);
+    Vec3 lens_p = c.to_world.origin();
+    if (thin_lens) lens_p = lens_p + ax * lens.x + ay * lens.y;
+    Vec3 rel = y - lens_p;
     float lx = dot(rel, ax), ly = dot(rel, ay), depth = -dot(rel, az);
     if (!(depth >= c.clip_start && depth <= c.clip_end) || depth <= 0.0f) return cc;
     float sw = c.screen[1] - c.screen[0], sh = c.screen[3] - c.screen[2];
@@ -79,6 +85,10 @@ LANTERN_HD inline CameraConnection connect_camera(const CameraView& c, Vec3 y, f
     } else {
         sx = lx / depth;
         sy = ly / depth;
+        if (thin_lens) {  // the focal-plane point of the ray, seen from the lens centre
+            sx = (lens.x + lx * (c.focus_distance / depth)) / c.focus_distance;
+            sy = (lens.y + ly * (c.focus_distance / depth)) / c.focus_distance;
+        }
         float d2 = length_sq(rel);
         float d = sqrtf(d2);
         float cos_c = depth / d;
@@ -94,6 +104,16 @@ LANTERN_HD inline CameraConnection connect_camera(const CameraView& c, Vec3 y, f
         return cc;
     cc.valid = cc.importance > 0.0f && is_finite(cc.importance);
     return cc;
+}
+
+// A lens point for a connection to the camera, drawn from the slot's stream (a pinhole draws
+// nothing, so that its images keep their bits).
+LANTERN_HD inline Vec2 lens_sample(const CameraView& c, const PathState& ps, int i) {
+    if (!(c.lens_radius > 0.0f) || c.orthographic) return Vec2{};
+    Rng rng = ps.rng[i];
+    Vec2 u = rng.uniform2();
+    ps.rng[i] = rng;
+    return sample_aperture(c, u);
 }
 
 // Shadow ray from y (normal n, zero for none) to the camera; the splat waits for its result.
@@ -142,7 +162,7 @@ LANTERN_HD inline void lt_generate(const SceneView& s, const PathState& ps,
                                                     l.type == kLightSpot));
     if (visible && es.finite && !es.delta_pos) {
         float w = filter_radius(s.camera);
-        CameraConnection cc = connect_camera(s.camera, es.p, w);
+        CameraConnection cc = connect_camera(s.camera, es.p, w, lens_sample(s.camera, ps, i));
         float cos_c = cc.valid ? dot(cc.wc, es.n) : 0.0f;
         if (l.type == kLightTriangle) cos_c = fabsf(cos_c);
         if (cos_c > 0.0f) {
@@ -184,7 +204,8 @@ LANTERN_HD inline void lt_shade(const SceneView& s, const PathState& ps, const L
 
     // ---- Connect to the camera (t = 1): depth + 1 segments ----
     if ((s.tri_flags[tri] & kVisibleCamera) != 0) {
-        CameraConnection cc = connect_camera(s.camera, h.p, filter_radius(s.camera));
+        CameraConnection cc = connect_camera(s.camera, h.p, filter_radius(s.camera),
+                                             lens_sample(s.camera, ps, i));
         if (cc.valid && !material_is_delta(m) && sides_agree(cc.wc, h.ng, h.ns)) {
             BsdfEval e = material_eval(m, h.front, wo, frame.to_local(cc.wc),
                                        Transport::Importance, h.coat_n);

@@ -106,6 +106,14 @@ SceneInput to_input(const nb::dict& scene) {
             if (s.size() != 4) throw std::invalid_argument("camera 'screen' needs 4 values");
             for (int k = 0; k < 4; ++k) in.screen[k] = s[k];
         }
+        if (has(c, "dof")) {
+            nb::dict d = nb::cast<nb::dict>(c["dof"]);
+            in.lens_radius = get<float>(d, "radius", in.lens_radius);
+            in.focus_distance = get<float>(d, "focus_distance", in.focus_distance);
+            in.aperture_blades = get<int>(d, "blades", in.aperture_blades);
+            in.aperture_rotation = get<float>(d, "rotation", in.aperture_rotation);
+            in.aperture_ratio = get<float>(d, "ratio", in.aperture_ratio);
+        }
         if (has(c, "clip")) {
             auto s = nb::cast<std::vector<float>>(c["clip"]);
             if (s.size() != 2) throw std::invalid_argument("camera 'clip' needs 2 values");

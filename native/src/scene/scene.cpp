@@ -109,6 +109,21 @@ void set_material_textures(Material& m, const MaterialInput& mi, size_t k, size_
     }
 }
 
+// Depth of field, made safe: f-stop 0 (a huge radius) stays finite, focus distance 0 becomes
+// Cycles' 1e-5 m, a bad ratio 1; the lens is a pinhole for orthographic cameras (warned).
+void set_lens(const SceneInput& in, CameraView& c, std::vector<std::string>& warnings) {
+    c.lens_radius = finite_in(in.lens_radius, 0.0f, 1e6f, 0.0f);
+    c.focus_distance = finite_in(in.focus_distance, 1e-5f, 1e30f, 10.0f);
+    c.blades = in.aperture_blades >= 3 ? std::min(in.aperture_blades, 1000) : 0;
+    c.blade_rotation = finite_in(in.aperture_rotation, -1e4f, 1e4f, 0.0f);
+    c.inv_aperture_ratio = 1.0f / finite_in(in.aperture_ratio, 1e-3f, 1e3f, 1.0f);
+    if (c.lens_radius > 0.0f && c.orthographic) {
+        warnings.push_back("depth of field on an orthographic camera is not supported; "
+                           "rendered sharp");
+        c.lens_radius = 0.0f;
+    }
+}
+
 }  // namespace
 
 HostScene::HostScene(const SceneInput& in) {
@@ -676,6 +691,7 @@ void HostScene::finish_view(const SceneInput& in) {
     c.filter_cdf = filter_cdf_.data();
     c.filter_table_size = int32_t(filter_cdf_.size());
     c.filter_width = in.filter_width;
+    set_lens(in, c, warnings_);
 }
 
 }  // namespace lantern

@@ -106,6 +106,10 @@ struct SceneInput {
     float camera_to_world[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
     float screen[4] = {-0.5f, 0.5f, -0.5f, 0.5f};
     float clip_start = 0.1f, clip_end = 1000.0f;
+    // depth of field (CameraView): lens radius in metres (0: a pinhole), focus distance
+    float lens_radius = 0.0f, focus_distance = 10.0f;
+    int aperture_blades = 0;
+    float aperture_rotation = 0.0f, aperture_ratio = 1.0f;
     Vec3 world_color;
     EnvMapInput world_map;            // width 0: none (the world is world_color)
     bool world_visible_camera = true; // false: camera rays see black (the world still lights)

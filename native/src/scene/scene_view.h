@@ -156,6 +156,15 @@ struct CameraView {
     const float* filter_cdf;  // inverted CDF of the 1D pixel filter, filter_table_size entries
     int32_t filter_table_size;
     float filter_width;
+    // depth of field (integrator/camera.h): a thin lens of this radius (0: a pinhole) in the
+    // camera's z = 0 plane, focused on the plane focus_distance in front of it; the aperture
+    // is a disk or (blades >= 3) a regular polygon turned by blade_rotation, squeezed in x
+    // by 1 / aperture_ratio (Blender's anamorphic bokeh)
+    float lens_radius = 0.0f;
+    float focus_distance = 10.0f;
+    int32_t blades = 0;
+    float blade_rotation = 0.0f;
+    float inv_aperture_ratio = 1.0f;
 };
 
 // What a scene's materials need at a hit, over all of them (HostScene::finish_view), so that a
