@@ -50,16 +50,29 @@ def backend_message(session):
     return "rendering on the GPU (CUDA)" if used == "cuda" else "rendering on the CPU"
 
 
-def to_rect(image):
-    """Mean radiance (H, W, 3), top row first -> Blender's RGBA rect, bottom row first."""
+def to_rect(image, alpha=None):
+    """Mean radiance (H, W, 3), top row first -> Blender's RGBA rect, bottom row first;
+    `alpha` (H, W), top row first: the transparent film's coverage (None: opaque)."""
     h, w = image.shape[:2]
     rect = np.ones((h, w, 4), dtype=np.float32)
     rect[:, :, :3] = image[::-1]
+    if alpha is not None:
+        rect[:, :, 3] = alpha[::-1]
     return rect.reshape(h * w, 4)
 
 
-def _write_result(engine, result, image):
-    rect = to_rect(image)
+def film_alpha(lantern, scene, target, settings):
+    """The transparent film's alpha (lantern.film), or None for an opaque film."""
+    if not scene.film.get("transparent"):
+        return None
+    from lantern.film import render_alpha
+    rest = {k: v for k, v in settings.items() if k in ("backend", "threads")}
+    return render_alpha(scene, spp=min(max(1, target), 256), seed=int(settings.get("seed", 0)),
+                        **rest)
+
+
+def _write_result(engine, result, image, alpha=None):
+    rect = to_rect(image, alpha)
     combined = result.layers[0].passes["Combined"]
     combined.rect.foreach_set(rect.ravel()) if hasattr(combined.rect, "foreach_set") else \
         setattr(combined, "rect", rect)
@@ -107,20 +120,21 @@ def render(engine, depsgraph):
         session = lantern.Session(scene, **settings.session_settings())
         _report_warnings(engine, session.warnings)  # a CUDA fallback says why here
         _report_info(engine, backend_message(session))
+        alpha = film_alpha(lantern, scene, target, settings.session_settings())
     except Exception as e:
         _report_error(engine, "could not start the render", e)
         return
     width, height = scene.film["width"], scene.film["height"]
     result = engine.begin_result(0, 0, width, height)
     try:
-        _render_loop(engine, session, result, target, time_limit, t0)
+        _render_loop(engine, session, result, target, time_limit, t0, alpha)
     except Exception as e:
         _report_error(engine, "render failed", e)
     finally:
         engine.end_result(result)
 
 
-def _render_loop(engine, session, result, target, time_limit, t0):
+def _render_loop(engine, session, result, target, time_limit, t0, alpha=None):
     stepper = _Stepper(session)
     start = time.perf_counter()
     while session.spp < max(1, target):
@@ -134,7 +148,7 @@ def _render_loop(engine, session, result, target, time_limit, t0):
         if stepper.error is not None:
             raise stepper.error
         if session.spp > before:
-            _write_result(engine, result, session.image())
+            _write_result(engine, result, session.image(), alpha)
         elapsed = time.perf_counter() - start
         stats = session.stats
         mrays = stats.get("rays_total", 0) / max(elapsed, 1e-9) / 1e6

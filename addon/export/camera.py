@@ -10,7 +10,28 @@ def export_film(bscene):
     pct = r.resolution_percentage / 100.0
     width = max(1, int(r.resolution_x * pct))
     height = max(1, int(r.resolution_y * pct))
-    return {"width": width, "height": height, "filter_width": float(r.filter_size)}
+    return {"width": width, "height": height, "filter_width": float(r.filter_size),
+            "transparent": bool(r.film_transparent)}
+
+
+def warn_film_features(bscene, report):
+    """Name what Lantern does not render of the film: holdout objects and collections and
+    shadow catchers (rendered as ordinary objects)."""
+    for obj in bscene.objects:
+        if getattr(obj, "is_holdout", False):
+            report.warn(f"Object '{obj.name}': holdout is not supported; rendered as an "
+                        "ordinary object")
+        if getattr(obj, "is_shadow_catcher", False):
+            report.warn(f"Object '{obj.name}': shadow catcher is not supported; rendered as "
+                        "an ordinary object")
+    for layer in bscene.view_layers:
+        stack = [layer.layer_collection]
+        while stack:
+            lc = stack.pop()
+            if getattr(lc, "holdout", False):
+                report.warn(f"View layer '{layer.name}': the holdout collection "
+                            f"'{lc.name}' is not supported; rendered normally")
+            stack.extend(lc.children)
 
 
 def _rigid(matrix):
@@ -57,12 +78,14 @@ def export_camera(bscene, cam_obj, film, report):
         return {"type": "perspective", "to_world": np.eye(4).tolist(),
                 "screen": view_window(0.36, film["width"] >= film["height"], film["width"],
                                       film["height"], 0, 0), "clip": [0.1, 1000.0]}
+    warn_film_features(bscene, report)
     cam = cam_obj.data
     kind = "perspective"
     if cam.type == "ORTHO":
         kind = "orthographic"
     elif cam.type != "PERSP":
-        report.warn(f"Camera '{cam_obj.name}': {cam.type} cameras are not supported; "
+        pano = f" ({cam.panorama_type})" if cam.type == "PANO" else ""
+        report.warn(f"Camera '{cam_obj.name}': {cam.type}{pano} cameras are not supported; "
                     "rendering a perspective camera")
     r = bscene.render
     screen = camera_window(cam, film, (r.pixel_aspect_x, r.pixel_aspect_y))

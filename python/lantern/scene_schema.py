@@ -200,6 +200,8 @@ def validate_film(film):
     if fw < 0:
         raise ValueError(f"film filter_width: must be >= 0, got {fw}")
     out["filter_width"] = fw
+    if "transparent" in film:  # Blender's Film > Transparent (lantern.film)
+        out["transparent"] = _bool(film["transparent"], "film transparent")
     return out
 
 def validate_camera(camera):

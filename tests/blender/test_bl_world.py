@@ -147,3 +147,37 @@ def test_depth_of_field_export(empty, addon):
     scene, report = export(addon)
     assert "dof" not in scene.camera
     assert any("depth of field" in m for m in report.messages), report.messages
+
+
+# ---- Film: transparent film through F12; holdouts and shadow catchers are named ----
+
+def test_transparent_film_through_f12(empty, addon, tmp_path, errors):
+    """A plane over the left half of an orthographic view under a grey world: alpha 1 there,
+    0 on the right, where the world is not drawn (but it lights the plane)."""
+    import lantern
+    from blender_helpers import add_camera, add_plane, diffuse_material, render_exr
+    if not lantern.native_available():
+        pytest.skip("lantern native module not built")
+    cam = add_camera(empty, location=(0, 0, 5))
+    cam.data.type, cam.data.ortho_scale = "ORTHO", 4.0
+    add_plane(empty, size=4.0, location=(-2.0, 0.0, 0.0), material=diffuse_material(0.5))
+    world = bpy.data.worlds.new("Grey")
+    world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.8, 0.8, 0.8, 1)
+    empty.world = world
+    empty.render.film_transparent = True
+    empty.lantern.samples = 16
+    px = render_exr(empty, tmp_path)
+    assert px.shape == (24, 32, 4)
+    assert px[:, :12, 3].min() > 0.999 and px[:, -12:, 3].max() == 0.0
+    assert px[:, -12:, :3].max() == 0.0 and px[:, :12, :3].mean() > 0.2
+    assert not [c for c in errors if c[0] == "ERROR"]
+
+
+def test_holdout_and_shadow_catcher_are_named(empty, addon):
+    from blender_helpers import add_camera, add_plane
+    add_camera(empty)
+    add_plane(empty, name="Cutout").is_holdout = True
+    add_plane(empty, name="Catcher").is_shadow_catcher = True
+    _, report = export(addon)
+    assert any("Cutout" in m and "holdout" in m for m in report.messages), report.messages
+    assert any("Catcher" in m and "shadow catcher" in m for m in report.messages)

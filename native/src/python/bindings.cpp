@@ -96,6 +96,7 @@ SceneInput to_input(const nb::dict& scene) {
         in.width = get<int>(f, "width", 64);
         in.height = get<int>(f, "height", 64);
         in.filter_width = get<float>(f, "filter_width", 1.5f);
+        in.film_transparent = get<bool>(f, "transparent", false);
     }
     if (has(scene, "camera")) {
         nb::dict c = nb::cast<nb::dict>(scene["camera"]);

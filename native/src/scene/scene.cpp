@@ -555,7 +555,7 @@ void HostScene::add_lights(const SceneInput& in) {
         l.type = kLightWorld;
         l.triangle = -1;
         l.radiance = world;  // with a map: its mean (the light's power), SceneView::env per ray
-        l.visible_camera = in.world_visible_camera ? 1 : 0;
+        l.visible_camera = in.world_visible_camera && !in.film_transparent ? 1 : 0;
         view_.world_light = int32_t(lights_.size());
         lights_.push_back(l);
         power.push_back(luminance(world) * kPi * 4.0f * disk_area);

@@ -113,6 +113,7 @@ struct SceneInput {
     Vec3 world_color;
     EnvMapInput world_map;            // width 0: none (the world is world_color)
     bool world_visible_camera = true; // false: camera rays see black (the world still lights)
+    bool film_transparent = false;    // Blender's transparent film: the world is not drawn
     std::vector<MaterialInput> materials;
     std::vector<TextureInput> textures;
     std::vector<MeshInput> meshes;
