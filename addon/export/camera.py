@@ -81,16 +81,21 @@ def export_camera(bscene, cam_obj, film, report):
     warn_film_features(bscene, report)
     cam = cam_obj.data
     kind = "perspective"
+    pano = {}
     if cam.type == "ORTHO":
         kind = "orthographic"
+    elif cam.type == "PANO" and getattr(cam, "panorama_type", "") == "EQUIRECTANGULAR":
+        kind = "equirectangular"
+        pano = {"longitude": [float(cam.longitude_min), float(cam.longitude_max)],
+                "latitude": [float(cam.latitude_min), float(cam.latitude_max)]}
     elif cam.type != "PERSP":
-        pano = f" ({cam.panorama_type})" if cam.type == "PANO" else ""
-        report.warn(f"Camera '{cam_obj.name}': {cam.type}{pano} cameras are not supported; "
+        sub = f" ({cam.panorama_type})" if cam.type == "PANO" else ""
+        report.warn(f"Camera '{cam_obj.name}': {cam.type}{sub} cameras are not supported; "
                     "rendering a perspective camera")
     r = bscene.render
     screen = camera_window(cam, film, (r.pixel_aspect_x, r.pixel_aspect_y))
     out = {"type": kind, "to_world": _rigid(cam_obj.matrix_world).tolist(), "screen": screen,
-           "clip": [float(cam.clip_start), float(cam.clip_end)]}
+           "clip": [float(cam.clip_start), float(cam.clip_end)], **pano}
     dof = export_dof(cam_obj, report)
     if dof is not None:
         out["dof"] = dof

@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 
-CAMERA_TYPES = ("perspective", "orthographic")
+CAMERA_TYPES = ("perspective", "orthographic", "equirectangular")
 MATERIAL_TYPES = ("diffuse", "conductor", "dielectric", "principled", "mix", "translucent")
 MIX_LEAVES = 4
 LIGHT_TYPES = ("point", "spot", "area", "sun")
@@ -225,6 +225,13 @@ def validate_camera(camera):
     out["clip"] = clip
     if camera.get("dof") is not None:
         out["dof"] = validate_dof(camera["dof"])
+    for key, lim in (("longitude", math.pi), ("latitude", math.pi / 2)):
+        if camera.get(key) is not None:  # equirectangular: [min, max] radians
+            rng = _vec(camera[key], 2, f"camera {key}")
+            if not (-lim - 1e-6 <= rng[0] < rng[1] <= lim + 1e-6):
+                raise ValueError(f"camera {key}: need -{lim:.4f} <= min < max <= {lim:.4f}, "
+                                 f"got {rng}")
+            out[key] = rng
     return out
 
 

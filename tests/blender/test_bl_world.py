@@ -181,3 +181,21 @@ def test_holdout_and_shadow_catcher_are_named(empty, addon):
     _, report = export(addon)
     assert any("Cutout" in m and "holdout" in m for m in report.messages), report.messages
     assert any("Catcher" in m and "shadow catcher" in m for m in report.messages)
+
+
+def test_panoramic_equirectangular_export(empty, addon):
+    from blender_helpers import add_camera
+    cam = add_camera(empty)
+    cam.data.type = "PANO"
+    cam.data.panorama_type = "EQUIRECTANGULAR"
+    cam.data.longitude_min, cam.data.longitude_max = -2.0, 2.5
+    cam.data.latitude_min, cam.data.latitude_max = -1.0, 1.2
+    scene, report = export(addon)
+    assert scene.camera["type"] == "equirectangular"
+    assert scene.camera["longitude"] == pytest.approx([-2.0, 2.5])
+    assert scene.camera["latitude"] == pytest.approx([-1.0, 1.2])
+    assert not [m for m in report.messages if "Camera" in m], report.messages
+    scene.validate()
+    cam.data.panorama_type = "FISHEYE_EQUISOLID"
+    _, report = export(addon)
+    assert any("FISHEYE_EQUISOLID" in m for m in report.messages), report.messages

@@ -11,6 +11,7 @@
 
 #include "core/rng.h"
 #include "integrator/light_path.h"
+#include "integrator/bdpt.h"
 #include "integrator/lt.h"
 #include "integrator/session.h"
 #include "scene/scene.h"
@@ -258,6 +259,38 @@ TEST(Emission, CameraConnectionThroughTheLensInvertsCameraRay) {
             float sw = cam.screen[1] - cam.screen[0], sh = cam.screen[3] - cam.screen[2];
             float a_pix = sw * sh / (40.0f * 30.0f);
             EXPECT_NEAR(cc.importance * a_pix * cos_c * cos_c * cos_c * t * t, 1.0f, 1e-3f);
+        }
+    }
+}
+
+// Panoramic equirectangular: connect_camera inverts camera_ray (inside the range), and its
+// importance is bdpt's camera_pdf of the direction over the squared distance.
+TEST(Emission, PanoramaConnectionInvertsCameraRay) {
+    SceneInput in = scene_with(nullptr);
+    in.width = 64;
+    in.height = 32;
+    in.panoramic = true;
+    const float rows[16] = {0.8f, 0, 0.6f, 1, 0.6f, 0, -0.8f, -2, 0, 1, 0, 0.5f, 0, 0, 0, 1};
+    for (int k = 0; k < 16; ++k) in.camera_to_world[k] = rows[k];
+    for (int partial = 0; partial < 2; ++partial) {
+        if (partial) {
+            const float r[4] = {-2.0f, 1.0f, -0.7f, 1.2f};
+            for (int k = 0; k < 4; ++k) in.pano_range[k] = r[k];
+        }
+        HostScene hs(in);
+        const CameraView& cam = hs.view().camera;
+        ASSERT_EQ(cam.panoramic, 1);
+        Rng rng = Rng::for_path(7, 8, 9);
+        for (int k = 0; k < 300; ++k) {
+            float x = 1.0f + 62.0f * rng.uniform(), y = 1.0f + 30.0f * rng.uniform();
+            Ray r = camera_ray(cam, x, y);
+            float t = 0.5f + 5.0f * rng.uniform();
+            CameraConnection cc = connect_camera(cam, r.o + r.d * t, 1.5f);
+            ASSERT_TRUE(cc.valid);
+            EXPECT_NEAR(cc.raster_x, x, 2e-3f);
+            EXPECT_NEAR(cc.raster_y, y, 2e-3f);
+            EXPECT_NEAR(dot(cc.wc, r.d), -1.0f, 1e-5f);
+            EXPECT_NEAR(cc.importance * t * t / camera_pdf(cam, r.d), 1.0f, 1e-3f);
         }
     }
 }

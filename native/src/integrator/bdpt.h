@@ -261,6 +261,13 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
 // Solid-angle density of a pinhole camera ray along d for a raster density of one per pixel
 // (orthographic: the area density on the lens plane).
 LANTERN_HD inline float camera_pdf(const CameraView& c, Vec3 d) {
+    if (c.panoramic) {  // one sample per pixel's solid angle
+        float pixel_w;
+        Vec3 dl = {dot(d, c.to_world.axis(0)), dot(d, c.to_world.axis(1)),
+                   dot(d, c.to_world.axis(2))};
+        pano_raster(c, dl, &pixel_w);
+        return pixel_w > 0.0f ? 1.0f / pixel_w : 0.0f;
+    }
     float sw = c.screen[1] - c.screen[0], sh = c.screen[3] - c.screen[2];
     float a_pix = sw * sh / (float(c.width) * float(c.height));
     if (c.orthographic) return 1.0f / a_pix;

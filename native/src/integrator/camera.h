@@ -43,6 +43,25 @@ LANTERN_HD inline Vec2 sample_aperture(const CameraView& c, Vec2 u) {
     return {q.x * c.inv_aperture_ratio * c.lens_radius, q.y * c.lens_radius};
 }
 
+// ---- Panoramic equirectangular (Blender's): x runs from longitude max (left) to min, y from
+// latitude max (top) to min; longitude 0 latitude 0 is the view axis (-Z), +Y up ----
+LANTERN_HD inline Vec3 pano_direction(const CameraView& c, float x, float y) {
+    float lon = c.pano_range[1] - (x / float(c.width)) * (c.pano_range[1] - c.pano_range[0]);
+    float lat = c.pano_range[3] - (y / float(c.height)) * (c.pano_range[3] - c.pano_range[2]);
+    float cl = cosf(lat);
+    return {-cl * sinf(lon), sinf(lat), -cl * cosf(lon)};
+}
+
+// Raster position of camera-local direction d, and the solid angle of one pixel there.
+LANTERN_HD inline Vec2 pano_raster(const CameraView& c, Vec3 d, float* pixel_w) {
+    float lat = asinf(clampf(d.y, -1.0f, 1.0f));
+    float lon = atan2f(-d.x, -d.z);
+    float dlon = c.pano_range[1] - c.pano_range[0], dlat = c.pano_range[3] - c.pano_range[2];
+    *pixel_w = cosf(lat) * (dlon / float(c.width)) * (dlat / float(c.height));
+    return {(c.pano_range[1] - lon) / dlon * float(c.width),
+            (c.pano_range[3] - lat) / dlat * float(c.height)};
+}
+
 // Ray through raster position (x, y), y down from the top row; tmin/tmax carry the clip range.
 // A lens point (camera-local, from sample_aperture) moves the origin onto the lens and aims
 // the ray at the same point of the focal plane.
@@ -50,6 +69,13 @@ LANTERN_HD inline Ray camera_ray(const CameraView& c, float x, float y, Vec2 len
     float sx = c.screen[0] + (x / float(c.width)) * (c.screen[1] - c.screen[0]);
     float sy = c.screen[3] - (y / float(c.height)) * (c.screen[3] - c.screen[2]);
     Ray r;
+    if (c.panoramic) {  // clipping by distance along the ray, as Cycles' panoramas
+        r.o = c.to_world.origin();
+        r.d = normalize(c.to_world.vector(pano_direction(c, x, y)));
+        r.tmin = c.clip_start;
+        r.tmax = c.clip_end;
+        return r;
+    }
     if (c.orthographic) {
         r.o = c.to_world.point(vec3(sx, sy, 0.0f));
         r.d = normalize(c.to_world.vector(vec3(0.0f, 0.0f, -1.0f)));
@@ -77,7 +103,8 @@ LANTERN_HD inline Ray generate_camera_ray(const CameraView& c, int pixel, Rng& r
     Vec2 u = rng.uniform2();
     float x = float(px) + 0.5f + filter_offset(c, u.x);
     float y = float(py) + 0.5f + filter_offset(c, u.y);
-    Vec2 lens = c.lens_radius > 0.0f ? sample_aperture(c, rng.uniform2()) : Vec2{};
+    Vec2 lens = c.lens_radius > 0.0f ? sample_aperture(c, rng.uniform2()) : Vec2{};  // (pinhole
+                                                                                    // when panoramic)
     return camera_ray(c, x, y, lens);
 }
 

@@ -100,7 +100,19 @@ SceneInput to_input(const nb::dict& scene) {
     }
     if (has(scene, "camera")) {
         nb::dict c = nb::cast<nb::dict>(scene["camera"]);
-        in.orthographic = get<std::string>(c, "type", "perspective") == "orthographic";
+        const std::string type = get<std::string>(c, "type", "perspective");
+        in.orthographic = type == "orthographic";
+        in.panoramic = type == "equirectangular";
+        if (has(c, "longitude") || has(c, "latitude")) {
+            auto lon = has(c, "longitude") ? nb::cast<std::vector<float>>(c["longitude"])
+                                           : std::vector<float>{-kPi, kPi};
+            auto lat = has(c, "latitude") ? nb::cast<std::vector<float>>(c["latitude"])
+                                          : std::vector<float>{-0.5f * kPi, 0.5f * kPi};
+            if (lon.size() != 2 || lat.size() != 2)
+                throw std::invalid_argument("camera 'longitude' and 'latitude' need 2 values");
+            const float r[4] = {lon[0], lon[1], lat[0], lat[1]};
+            for (int k = 0; k < 4; ++k) in.pano_range[k] = r[k];
+        }
         get_matrix(c, "to_world", in.camera_to_world);
         if (has(c, "screen")) {
             auto s = nb::cast<std::vector<float>>(c["screen"]);

@@ -112,14 +112,26 @@ void set_material_textures(Material& m, const MaterialInput& mi, size_t k, size_
 // Depth of field, made safe: f-stop 0 (a huge radius) stays finite, focus distance 0 becomes
 // Cycles' 1e-5 m, a bad ratio 1; the lens is a pinhole for orthographic cameras (warned).
 void set_lens(const SceneInput& in, CameraView& c, std::vector<std::string>& warnings) {
+    c.panoramic = in.panoramic && !in.orthographic ? 1 : 0;
+    if (c.panoramic) {  // ranges clamped to the sphere; an empty one becomes the full sphere
+        float lo = finite_in(in.pano_range[0], -kPi, kPi, -kPi);
+        float hi = finite_in(in.pano_range[1], -kPi, kPi, kPi);
+        float la = finite_in(in.pano_range[2], -0.5f * kPi, 0.5f * kPi, -0.5f * kPi);
+        float lb = finite_in(in.pano_range[3], -0.5f * kPi, 0.5f * kPi, 0.5f * kPi);
+        if (!(hi > lo)) lo = -kPi, hi = kPi;
+        if (!(lb > la)) la = -0.5f * kPi, lb = 0.5f * kPi;
+        const float r[4] = {lo, hi, la, lb};
+        for (int k = 0; k < 4; ++k) c.pano_range[k] = r[k];
+    }
     c.lens_radius = finite_in(in.lens_radius, 0.0f, 1e6f, 0.0f);
     c.focus_distance = finite_in(in.focus_distance, 1e-5f, 1e30f, 10.0f);
     c.blades = in.aperture_blades >= 3 ? std::min(in.aperture_blades, 1000) : 0;
     c.blade_rotation = finite_in(in.aperture_rotation, -1e4f, 1e4f, 0.0f);
     c.inv_aperture_ratio = 1.0f / finite_in(in.aperture_ratio, 1e-3f, 1e3f, 1.0f);
-    if (c.lens_radius > 0.0f && c.orthographic) {
-        warnings.push_back("depth of field on an orthographic camera is not supported; "
-                           "rendered sharp");
+    if (c.lens_radius > 0.0f && (c.orthographic || c.panoramic)) {
+        warnings.push_back(std::string("depth of field on ") +
+                           (c.panoramic ? "a panoramic" : "an orthographic") +
+                           " camera is not supported; rendered sharp");
         c.lens_radius = 0.0f;
     }
 }

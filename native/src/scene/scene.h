@@ -103,6 +103,8 @@ struct SceneInput {
     int width = 64, height = 64;
     float filter_width = 1.5f;
     bool orthographic = false;
+    bool panoramic = false;  // equirectangular: pano_range = longitude min, max, latitude min, max
+    float pano_range[4] = {-kPi, kPi, -0.5f * kPi, 0.5f * kPi};
     float camera_to_world[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
     float screen[4] = {-0.5f, 0.5f, -0.5f, 0.5f};
     float clip_start = 0.1f, clip_end = 1000.0f;

@@ -149,6 +149,8 @@ enum TriangleFlags : uint8_t { kVisibleCamera = 1, kCastShadow = 2, kAlphaTested
 
 struct CameraView {
     int32_t orthographic;
+    int32_t panoramic = 0;  // 1: equirectangular (integrator/camera.h), longitudes and
+    float pano_range[4] = {-kPi, kPi, -0.5f * kPi, 0.5f * kPi};  // latitudes min, max
     int32_t width, height;
     Transform to_world;     // rigid; looks down local -Z
     float screen[4];        // xmin, xmax, ymin, ymax on the z = -1 plane (or metres, ortho)
