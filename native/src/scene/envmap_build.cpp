@@ -163,18 +163,19 @@ void build_envmap(const EnvMapInput& in, EnvMapStorage& out, std::vector<std::st
             sphere_sum += lum[k] * jac / (double(cx_n) * cy_n);
         }
     }
-    for (size_t i = 0; i < n; ++i) {  // the mean colour, texel by texel over the sphere
-        const size_t x = i % w, y = i / w;
-        double jac;
-        if (e.projection == kEnvMirrorBall) {
-            float j;
-            env_uv_to_direction(e.projection, Vec2{(float(x) + 0.5f) / float(w),
-                                                   (float(y) + 0.5f) / float(h)}, &j);
-            jac = j;
-        } else {
-            jac = band_jacobian(double(y) / double(h), double(y + 1) / double(h));
+    for (size_t y = 0; y < h; ++y) {  // the mean colour, texel by texel over the sphere
+        const double row_jac = band_jacobian(double(y) / double(h), double(y + 1) / double(h));
+        for (size_t x = 0; x < w; ++x) {
+            double jac = row_jac;
+            if (e.projection == kEnvMirrorBall) {
+                float j;
+                env_uv_to_direction(e.projection, Vec2{(float(x) + 0.5f) / float(w),
+                                                       (float(y) + 0.5f) / float(h)}, &j);
+                jac = j;
+            }
+            const float* t = &out.texels[3 * (y * w + x)];
+            for (int c = 0; c < 3; ++c) color_sum[c] += t[c] * jac;
         }
-        for (int c = 0; c < 3; ++c) color_sum[c] += out.texels[3 * i + size_t(c)] * jac;
     }
     const double norm = 1.0 / (double(n) * 4.0 * kPi);
     out.mean = {float(color_sum[0] * norm), float(color_sum[1] * norm), float(color_sum[2] * norm)};
