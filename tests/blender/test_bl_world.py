@@ -199,3 +199,17 @@ def test_panoramic_equirectangular_export(empty, addon):
     cam.data.panorama_type = "FISHEYE_EQUISOLID"
     _, report = export(addon)
     assert any("FISHEYE_EQUISOLID" in m for m in report.messages), report.messages
+
+
+def test_huge_map_is_reduced_with_a_warning(addon):
+    from lantern_blender.export import ExportReport
+    from lantern_blender.export.world import MAX_MAP_WIDTH, downsample
+    report = ExportReport()
+    rgb = np.ones((8, 16384, 3), np.float32)
+    rgb[0, 0] = np.nan  # bad texels stay for the core to clean (and warn about)
+    out = downsample(rgb, "World 'W'", report)
+    assert out.shape == (4, 8192, 3) and out.shape[1] <= MAX_MAP_WIDTH
+    assert np.isnan(out[0, 0]).any() and np.allclose(out[1:], 1.0)
+    assert any("16384x8" in m for m in report.messages), report.messages
+    small = np.ones((2, 64, 3), np.float32)
+    assert downsample(small, "w", report) is small
