@@ -247,10 +247,22 @@ def world_hdri():
     hdri_world("sunset.exr", rotation=(math.radians(8), 0.0, math.radians(125)))
 
 
+def world_hdri_dof():
+    """world_hdri seen through a wide-open lens: f/0.5 on the 32 mm camera (radius 3.2 cm),
+    focused on the orange box (its focus object), a 6-blade aperture turned 15 degrees."""
+    world_hdri()
+    cam = bpy.context.scene.camera.data
+    cam.dof.use_dof = True
+    cam.dof.aperture_fstop = 0.5
+    cam.dof.focus_object = bpy.data.objects["Box"]
+    cam.dof.aperture_blades = 6
+    cam.dof.aperture_rotation = math.radians(15)
+
+
 SCENES = {f.__name__: f for f in (
     cornell_box, light_point, light_spot, light_area_square, light_area_rectangle,
     light_area_disk, light_area_ellipse, light_sun, emissive_mesh, principled_emission_mesh,
-    world_color, world_hdri)}
+    world_color, world_hdri, world_hdri_dof)}
 
 
 def build(name, path=None):
