@@ -65,7 +65,10 @@ def film_alpha(lantern, scene, target, settings):
     """The transparent film's alpha (lantern.film), or None for an opaque film."""
     if not scene.film.get("transparent"):
         return None
-    from lantern.film import render_alpha
+    try:
+        from lantern.film import render_alpha
+    except ImportError:  # an older lantern package: opaque, as before
+        return None
     rest = {k: v for k, v in settings.items() if k in ("backend", "threads")}
     return render_alpha(scene, spp=min(max(1, target), 256), seed=int(settings.get("seed", 0)),
                         **rest)
