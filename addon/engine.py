@@ -55,16 +55,32 @@ def backend_message(session):
     return "rendering on the GPU (CUDA)" if used == "cuda" else "rendering on the CPU"
 
 
-def to_rect(image):
-    """Mean radiance (H, W, 3), top row first -> Blender's RGBA rect, bottom row first."""
+def to_rect(image, alpha=None):
+    """Mean radiance (H, W, 3), top row first -> Blender's RGBA rect, bottom row first;
+    `alpha` (H, W), top row first: the transparent film's coverage (None: opaque)."""
     h, w = image.shape[:2]
     rect = np.ones((h, w, 4), dtype=np.float32)
     rect[:, :, :3] = image[::-1]
+    if alpha is not None:
+        rect[:, :, 3] = alpha[::-1]
     return rect.reshape(h * w, 4)
 
 
-def _write_result(engine, result, image):
-    rect = to_rect(image)
+def film_alpha(lantern, scene, target, settings):
+    """The transparent film's alpha (lantern.film), or None for an opaque film."""
+    if not scene.film.get("transparent"):
+        return None
+    try:
+        from lantern.film import render_alpha
+    except ImportError:  # an older lantern package: opaque, as before
+        return None
+    rest = {k: v for k, v in settings.items() if k in ("backend", "threads")}
+    return render_alpha(scene, spp=min(max(1, target), 256), seed=int(settings.get("seed", 0)),
+                        **rest)
+
+
+def _write_result(engine, result, image, alpha=None):
+    rect = to_rect(image, alpha)
     combined = result.layers[0].passes["Combined"]
     combined.rect.foreach_set(rect.ravel()) if hasattr(combined.rect, "foreach_set") else \
         setattr(combined, "rect", rect)
@@ -143,6 +159,7 @@ def render(engine, depsgraph):
         if ("info", info) not in _final_reported(engine):  # once per render, not per layer
             _final_reported(engine).add(("info", info))
             _report_info(engine, info)
+        alpha = film_alpha(lantern, scene, target, settings.session_settings())
     except Exception as e:
         _report_error(engine, "could not start the render", e)
         return
@@ -161,7 +178,7 @@ def render(engine, depsgraph):
         if settings.use_adaptive_sampling and not preview:
             noise = final_render.NoiseCheck(settings.adaptive_threshold,
                                             settings.adaptive_min_samples)
-        _render_loop(engine, session, result, target, time_limit, t0, noise)
+        _render_loop(engine, session, result, target, time_limit, t0, noise, alpha)
     except Exception as e:
         _report_error(engine, "render failed", e)
     finally:
@@ -187,7 +204,8 @@ def _data_passes(engine, scene, settings, target, layer, session):
         _warn_once(engine, [f"the data passes (Depth, Normal, ...) failed and stay empty: {e}"])
 
 
-def _render_loop(engine, session, result, target, time_limit, t0, noise=None):
+def _render_loop(engine, session, result, target, time_limit, t0, noise=None,
+                 alpha=None):
     stepper = _Stepper(session)
     start = time.perf_counter()
     converged = False
@@ -203,7 +221,7 @@ def _render_loop(engine, session, result, target, time_limit, t0, noise=None):
             raise stepper.error
         if session.spp > before:
             image = session.image()
-            _write_result(engine, result, image)
+            _write_result(engine, result, image, alpha)
             if noise is not None:
                 converged = noise.add(image, session.spp)
         elapsed = time.perf_counter() - start

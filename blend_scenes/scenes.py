@@ -220,10 +220,49 @@ def world_color():
     _stage()
 
 
+def hdri_world(image="sunset.exr", rotation=(0.0, 0.0, 0.0), strength=1.0):
+    """The world: an HDRI that bpy ships (datafiles/studiolights/world) through Texture
+    Coordinate (Generated) and a Mapping rotation, into the Background."""
+    world = bpy.context.scene.world
+    nt = world.node_tree
+    path = os.path.join(bpy.utils.system_resource("DATAFILES"), "studiolights", "world", image)
+    env = nt.nodes.new("ShaderNodeTexEnvironment")
+    env.image = bpy.data.images.load(path, check_existing=True)
+    mapping = nt.nodes.new("ShaderNodeMapping")
+    mapping.inputs["Rotation"].default_value = rotation
+    coord = nt.nodes.new("ShaderNodeTexCoord")
+    nt.links.new(coord.outputs["Generated"], mapping.inputs["Vector"])
+    nt.links.new(mapping.outputs["Vector"], env.inputs["Vector"])
+    bg = nt.nodes["Background"]
+    nt.links.new(env.outputs["Color"], bg.inputs["Color"])
+    bg.inputs["Strength"].default_value = strength
+    return world
+
+
+def world_hdri():
+    """No lamps: bpy's sunset.exr (a low sun of ~2000) turned 125 degrees about Z and tilted
+    8 degrees about X lights the stage."""
+    _reset()
+    _stage()
+    hdri_world("sunset.exr", rotation=(math.radians(8), 0.0, math.radians(125)))
+
+
+def world_hdri_dof():
+    """world_hdri seen through a wide-open lens: f/0.5 on the 32 mm camera (radius 3.2 cm),
+    focused on the orange box (its focus object), a 6-blade aperture turned 15 degrees."""
+    world_hdri()
+    cam = bpy.context.scene.camera.data
+    cam.dof.use_dof = True
+    cam.dof.aperture_fstop = 0.5
+    cam.dof.focus_object = bpy.data.objects["Box"]
+    cam.dof.aperture_blades = 6
+    cam.dof.aperture_rotation = math.radians(15)
+
+
 SCENES = {f.__name__: f for f in (
     cornell_box, light_point, light_spot, light_area_square, light_area_rectangle,
     light_area_disk, light_area_ellipse, light_sun, emissive_mesh, principled_emission_mesh,
-    world_color)}
+    world_color, world_hdri, world_hdri_dof)}
 
 
 def build(name, path=None):

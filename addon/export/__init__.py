@@ -41,7 +41,7 @@ def export_scene(depsgraph, region_view=None, report=None, texture_cache=None):
     else:
         scene.film = region_view.film()
         scene.camera = region_view.camera()
-    scene.world = export_world(bscene.world, report)
+    scene.world = export_world(bscene.world, report, texture_cache)
     materials = MaterialTable(report, texture_cache)
     meshes = MeshExporter(materials, report)
     features = UnsupportedFeatures(report)

@@ -10,7 +10,28 @@ def export_film(bscene):
     pct = r.resolution_percentage / 100.0
     width = max(1, int(r.resolution_x * pct))
     height = max(1, int(r.resolution_y * pct))
-    return {"width": width, "height": height, "filter_width": float(r.filter_size)}
+    return {"width": width, "height": height, "filter_width": float(r.filter_size),
+            "transparent": bool(r.film_transparent)}
+
+
+def warn_film_features(bscene, report):
+    """Name what Lantern does not render of the film: holdout objects and collections and
+    shadow catchers (rendered as ordinary objects)."""
+    for obj in bscene.objects:
+        if getattr(obj, "is_holdout", False):
+            report.warn(f"Object '{obj.name}': holdout is not supported; rendered as an "
+                        "ordinary object")
+        if getattr(obj, "is_shadow_catcher", False):
+            report.warn(f"Object '{obj.name}': shadow catcher is not supported; rendered as "
+                        "an ordinary object")
+    for layer in bscene.view_layers:
+        stack = [layer.layer_collection]
+        while stack:
+            lc = stack.pop()
+            if getattr(lc, "holdout", False):
+                report.warn(f"View layer '{layer.name}': the holdout collection "
+                            f"'{lc.name}' is not supported; rendered normally")
+            stack.extend(lc.children)
 
 
 def _rigid(matrix):
@@ -57,17 +78,56 @@ def export_camera(bscene, cam_obj, film, report):
         return {"type": "perspective", "to_world": np.eye(4).tolist(),
                 "screen": view_window(0.36, film["width"] >= film["height"], film["width"],
                                       film["height"], 0, 0), "clip": [0.1, 1000.0]}
+    warn_film_features(bscene, report)
     cam = cam_obj.data
     kind = "perspective"
+    pano = {}
     if cam.type == "ORTHO":
         kind = "orthographic"
+    elif cam.type == "PANO" and getattr(cam, "panorama_type", "") == "EQUIRECTANGULAR":
+        kind = "equirectangular"
+        pano = {"longitude": [float(cam.longitude_min), float(cam.longitude_max)],
+                "latitude": [float(cam.latitude_min), float(cam.latitude_max)]}
     elif cam.type != "PERSP":
-        report.warn(f"Camera '{cam_obj.name}': {cam.type} cameras are not supported; "
+        sub = f" ({cam.panorama_type})" if cam.type == "PANO" else ""
+        report.warn(f"Camera '{cam_obj.name}': {cam.type}{sub} cameras are not supported; "
                     "rendering a perspective camera")
     r = bscene.render
     screen = camera_window(cam, film, (r.pixel_aspect_x, r.pixel_aspect_y))
-    return {"type": kind, "to_world": _rigid(cam_obj.matrix_world).tolist(), "screen": screen,
-            "clip": [float(cam.clip_start), float(cam.clip_end)]}
+    out = {"type": kind, "to_world": _rigid(cam_obj.matrix_world).tolist(), "screen": screen,
+           "clip": [float(cam.clip_start), float(cam.clip_end)], **pano}
+    dof = export_dof(cam_obj, report)
+    if dof is not None:
+        out["dof"] = dof
+    return out
+
+
+def export_dof(cam_obj, report):
+    """Blender's depth of field as Cycles reads it: lens radius = focal length / (2 f-stop)
+    (f-stop at least 1e-5), focus distance along the view axis (to the focus object when set),
+    blades, rotation and aperture ratio. None when off."""
+    cam = cam_obj.data
+    dof = cam.dof
+    if not dof.use_dof:
+        return None
+    if cam.type != "PERSP":
+        report.warn(f"Camera '{cam_obj.name}': depth of field on a {cam.type} camera is not "
+                    "supported; rendered sharp")
+        return None
+    fstop = max(float(dof.aperture_fstop), 1e-5)
+    focus = float(dof.focus_distance)
+    target = dof.focus_object
+    if target is not None:
+        m = np.array(cam_obj.matrix_world, dtype=np.float64)
+        axis = -m[:3, 2] / max(np.linalg.norm(m[:3, 2]), 1e-30)
+        t = np.array(target.matrix_world, dtype=np.float64)[:3, 3]
+        if getattr(dof, "focus_subtarget", ""):
+            report.warn(f"Camera '{cam_obj.name}': the focus bone '{dof.focus_subtarget}' is "
+                        f"ignored; focusing on the object '{target.name}'")
+        focus = abs(float(np.dot(axis, t - m[:3, 3])))
+    return {"radius": float(cam.lens) * 1e-3 / (2.0 * fstop), "focus_distance": focus,
+            "blades": int(dof.aperture_blades), "rotation": float(dof.aperture_rotation),
+            "ratio": float(dof.aperture_ratio)}
 
 
 class ViewportView:
@@ -110,4 +170,5 @@ class ViewportView:
                 "clip": [max(0.0, d_near), float(d_far - min(0.0, d_near))]}
 
 
-__all__ = ["export_film", "export_camera", "camera_window", "view_window", "ViewportView"]
+__all__ = ["export_film", "export_camera", "export_dof", "camera_window", "view_window",
+           "ViewportView"]

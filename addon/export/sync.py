@@ -104,7 +104,7 @@ class ViewportSync:
         scene = self.scene if self.scene is not None else lantern.Scene()
         scene.film, scene.camera = view.film(), view.camera()
         if todo.flags & (ch.FULL | ch.WORLD | ch.SETTINGS):
-            scene.world = export_world(depsgraph.scene_eval.world, report)
+            scene.world = export_world(depsgraph.scene_eval.world, report, self.texture_cache)
             self.counts["world"] = 1
         if todo.flags & ~(ch.VIEW | ch.WORLD | ch.MATERIALS):
             self._walk_instances(depsgraph, scene, report)

@@ -1,6 +1,19 @@
-"""World -> constant background radiance (color * strength of the Background node)."""
+"""World -> Lantern world (docs/scene_format.md, "World"): the Background node's colour times
+its strength, or an Environment Texture (equirectangular or mirror ball) reached through
+Texture Coordinate (Generated, Object) and Mapping nodes, as a float radiance map and the 3x3
+matrix that takes a world direction to the vector the texture reads. The core builds the
+map's importance distribution once per scene. A missing or unreadable image renders a black
+world with a warning; what Lantern does not render is named in a warning."""
+
+import math
 
 import bpy
+import numpy as np
+
+MAX_MAP_WIDTH = 8192  # wider maps are box-filtered down (their lighting changes little)
+_LINEAR_SPACES = {"Non-Color", "Linear", "Linear Rec.709", "Raw", "Generic Data",
+                  "Utility - Raw"}
+_PROJECTIONS = {"EQUIRECTANGULAR": "equirectangular", "MIRROR_BALL": "mirror_ball"}
 
 
 def _socket_color(socket):
@@ -8,7 +21,151 @@ def _socket_color(socket):
     return [float(v[0]), float(v[1]), float(v[2])]
 
 
-def export_world(world, report):
+def _euler_xyz(rx, ry, rz):
+    """Blender's XYZ Euler rotation matrix (X applied first)."""
+    cx, sx, cy, sy, cz, sz = (math.cos(rx), math.sin(rx), math.cos(ry), math.sin(ry),
+                              math.cos(rz), math.sin(rz))
+    x = np.array([[1, 0, 0], [0, cx, -sx], [0, sx, cx]])
+    y = np.array([[cy, 0, sy], [0, 1, 0], [-sy, 0, cy]])
+    z = np.array([[cz, -sz, 0], [sz, cz, 0], [0, 0, 1]])
+    return z @ y @ x
+
+
+def mapping_matrix(kind, location, rotation, scale, where, report):
+    """The linear part of a Mapping node of `kind` on a direction, as a 3x3 array, or None."""
+    r = _euler_xyz(*rotation)
+    s = np.diag(scale).astype(np.float64)
+    if kind in ("POINT", "TEXTURE") and max(abs(v) for v in location) > 1e-6:
+        report.warn(f"{where}: the Mapping Location moves a direction; Lantern ignores it for "
+                    "the world")
+    if kind in ("POINT", "VECTOR"):      # R (S v) (+ L)
+        return r @ s
+    if abs(np.linalg.det(s)) < 1e-12:
+        report.warn(f"{where}: a Mapping Scale of zero; the mapping is ignored")
+        return None
+    if kind == "TEXTURE":                # S^-1 R^-1 (v - L)
+        return np.linalg.inv(s) @ r.T
+    if kind == "NORMAL":                 # R (S^-1 v), normalised: a direction anyway
+        return r @ np.linalg.inv(s)
+    report.warn(f"{where}: Mapping type {kind} is not supported; ignored")
+    return None
+
+
+def _constant(node, name, where, report):
+    sock = node.inputs.get(name)
+    if sock is None:
+        return None
+    if sock.is_linked:
+        report.warn(f"{where}: the linked {name} of Mapping '{node.name}' is not supported; "
+                    "its own value is used")
+    return [float(x) for x in sock.default_value]
+
+
+def vector_matrix(env_node, where, report):
+    """World direction -> the Environment Texture's vector: Mapping and Texture Coordinate
+    nodes upstream of its Vector input, composed (3x3)."""
+    m = np.eye(3)
+    sock = env_node.inputs.get("Vector")
+    for _ in range(16):
+        if sock is None or not sock.is_linked:
+            break
+        link = sock.links[0]
+        src = link.from_node
+        if src.type == "REROUTE":
+            sock = src.inputs[0]
+        elif src.type == "MAPPING":
+            mm = mapping_matrix(getattr(src, "vector_type", "POINT"),
+                                _constant(src, "Location", where, report) or [0.0] * 3,
+                                _constant(src, "Rotation", where, report) or [0.0] * 3,
+                                _constant(src, "Scale", where, report) or [1.0] * 3,
+                                f"{where}: Mapping '{src.name}'", report)
+            if mm is not None:
+                m = m @ mm
+            sock = src.inputs.get("Vector")
+        elif src.type == "TEX_COORD":
+            out = link.from_socket.name
+            if out == "Object" and src.object is not None:
+                # Cycles transforms the direction by the object's inverse matrix
+                inv = np.linalg.inv(np.array(src.object.matrix_world, dtype=np.float64))
+                if np.abs(inv[:3, 3]).max() > 1e-6:
+                    report.warn(f"{where}: Texture Coordinate '{src.name}' Object: the "
+                                f"translation of '{src.object.name}' is ignored for the world")
+                m = m @ inv[:3, :3]
+            elif out not in ("Generated", "Object", "Normal"):
+                report.warn(f"{where}: Texture Coordinate output '{out}' is not supported for "
+                            "the world; the view direction is used")
+            break
+        else:
+            report.warn(f"{where}: '{src.name}' ({src.type}) feeding the Environment Texture's "
+                        "Vector is not supported; the view direction is used")
+            break
+    return m
+
+
+def read_map(image, where, report, cache=None):
+    """Linear RGB float32 (H, W, 3), rows bottom to top, of a Blender image; None when it
+    cannot be read (missing file, no pixels)."""
+    key = ("world", image.name_full, tuple(image.size), image.filepath_raw,
+           image.colorspace_settings.name, bool(image.is_dirty))
+    if cache is not None and key in cache:
+        return cache[key]
+    try:
+        w, h, ch = int(image.size[0]), int(image.size[1]), int(image.channels)
+        if w <= 0 or h <= 0 or ch not in (1, 2, 3, 4):
+            return None
+        buf = np.empty(w * h * ch, np.float32)
+        image.pixels.foreach_get(buf)
+    except (RuntimeError, ReferenceError, ValueError) as e:
+        report.warn(f"{where}: image '{image.name}' could not be read ({e})")
+        return None
+    buf = buf.reshape(h, w, ch)
+    rgb = np.repeat(buf[..., :1], 3, axis=2) if ch < 3 else buf[..., :3]
+    space = image.colorspace_settings.name
+    if not image.is_float and space not in _LINEAR_SPACES:
+        if space != "sRGB":
+            report.warn(f"{where}: image '{image.name}' is in colour space '{space}'; read as "
+                        "sRGB")
+        rgb = np.where(rgb <= 0.04045, rgb / 12.92, ((rgb + 0.055) / 1.055) ** 2.4)
+    elif image.is_float and space not in _LINEAR_SPACES:
+        report.warn(f"{where}: float image '{image.name}' is in colour space '{space}'; read as "
+                    "linear Rec.709")
+    rgb = downsample(np.ascontiguousarray(rgb, np.float32), where, report)
+    if cache is not None:
+        cache[key] = rgb
+    return rgb
+
+
+def downsample(rgb, where, report):
+    """Box-filter a map wider than MAX_MAP_WIDTH by an integer factor (NaN-safe: bad texels
+    stay the core's to clean and warn about)."""
+    h, w = rgb.shape[:2]
+    f = -(-w // MAX_MAP_WIDTH)
+    if f <= 1:
+        return rgb
+    report.warn(f"{where}: the {w}x{h} world map is reduced {f}x to {w // f}x{max(1, h // f)} "
+                "texels")
+    hh, ww = max(1, h // f), w // f
+    fy = f if h >= f else 1
+    out = rgb[:hh * fy, :ww * f].reshape(hh, fy, ww, f, 3).mean(axis=(1, 3))
+    return np.ascontiguousarray(out, np.float32)
+
+
+def _background_input(world, node, report):
+    """(colour socket source or None, constant colour, strength) of a Background node."""
+    color_in, strength_in = node.inputs["Color"], node.inputs["Strength"]
+    if strength_in.is_linked:
+        report.warn(f"World '{world.name}': a linked Background Strength is not supported; "
+                    "its own value is used")
+    s = float(strength_in.default_value)
+    src = color_in.links[0].from_node if color_in.is_linked else None
+    while src is not None and src.type == "REROUTE":
+        src = src.inputs[0].links[0].from_node if src.inputs[0].is_linked else None
+    return src, _socket_color(color_in), s
+
+
+def export_world(world, report, cache=None):
+    """The scene's world dict; `cache` (optional, kept between viewport exports) holds map
+    pixels by image."""
     if world is None:
         return {"color": [0.0, 0.0, 0.0]}
     tree = world.node_tree
@@ -27,9 +184,47 @@ def export_world(world, report):
         report.warn(f"World '{world.name}': node '{node.name}' ({node.type}) is not supported; "
                     "the world renders black")
         return {"color": [0.0, 0.0, 0.0]}
-    color_in, strength_in = node.inputs["Color"], node.inputs["Strength"]
-    if color_in.is_linked or strength_in.is_linked:
-        report.warn(f"World '{world.name}': only a constant Background color is supported; "
-                    "textures and linked inputs use the socket's own value")
-    s = float(strength_in.default_value)
-    return {"color": [c * s for c in _socket_color(color_in)]}
+    out = {"color": [0.0, 0.0, 0.0]}
+    out.update(_visibility(world, report))
+    src, color, s = _background_input(world, node, report)
+    if src is None:
+        out["color"] = [c * s for c in color]
+        return out
+    where = f"World '{world.name}'"
+    if src.type != "TEX_ENVIRONMENT":
+        report.warn(f"{where}: '{src.name}' ({src.type}) feeding the Background Color is not "
+                    "supported; the socket's own colour is used")
+        out["color"] = [c * s for c in color]
+        return out
+    image = src.image
+    rgb = read_map(image, where, report, cache) if image is not None else None
+    if rgb is None:
+        name = image.name if image is not None else "none"
+        path = (image.filepath or "no file") if image is not None else "no image"
+        report.warn(f"{where}: the Environment Texture's image '{name}' is missing or "
+                    f"unreadable ({path}); the world renders black")
+        return out
+    projection = _PROJECTIONS.get(src.projection)
+    if projection is None:
+        report.warn(f"{where}: Environment Texture projection {src.projection} is not "
+                    "supported; rendered as equirectangular")
+        projection = "equirectangular"
+    if src.interpolation not in ("Linear", "Smart", "Cubic"):
+        report.warn(f"{where}: Environment Texture interpolation {src.interpolation} renders "
+                    "as Linear")
+    out.update({"map": rgb, "map_name": image.name, "strength": [s, s, s],
+                "projection": projection,
+                "to_map": vector_matrix(src, where, report).tolist()})
+    return out
+
+
+def _visibility(world, report):
+    """Cycles' world ray visibility: Lantern honours camera; others render as visible."""
+    vis = getattr(world, "cycles_visibility", None)
+    if vis is None:
+        return {}
+    for ray in ("diffuse", "glossy", "transmission"):
+        if not getattr(vis, ray, True):
+            report.warn(f"World '{world.name}': hiding the world from {ray} rays is not "
+                        "supported; it stays visible to them")
+    return {"visible_camera": bool(getattr(vis, "camera", True))}

@@ -249,7 +249,7 @@ class Scene:
             **extra,
             "film": dict(self.film),
             "camera": camera,
-            "world": dict(self.world),
+            "world": _world_native(self.world),
             "materials": materials,
             "textures": textures,
             "meshes": meshes,
@@ -269,7 +269,7 @@ class Scene:
             "generator": f"lantern {__version__}",
             "film": self.film,
             "camera": self.camera,
-            "world": self.world,
+            "world": {k: v for k, v in self.world.items() if k != "map"},
             "materials": self.materials,
             "lights": self.lights,
             "meshes": [],
@@ -277,6 +277,9 @@ class Scene:
             "attribute_channels": list(self.attribute_channels),
         }
         arrays = {}
+        if self.world.get("map") is not None:
+            doc["world"]["map"] = "world/map.npy"
+            arrays["world/map.npy"] = self.world["map"]
         for i, tex in enumerate(self.textures):
             member = f"textures/{i}/pixels.npy"
             arrays[member] = tex["pixels"]
@@ -328,6 +331,14 @@ class Scene:
         return (f"<lantern.Scene {self.film['width']}x{self.film['height']}, "
                 f"{len(self.meshes)} meshes, {self.triangle_count} triangles, "
                 f"{len(self.materials)} materials, {len(self.lights)} lights>")
+
+
+def _world_native(world):
+    """The world as the core reads it: the map's 3x3 as 9 floats."""
+    out = dict(world)
+    if out.get("to_map") is not None:
+        out["to_map"] = [float(x) for row in out["to_map"] for x in row]
+    return out
 
 
 def _parse_major(version):
@@ -383,7 +394,13 @@ def load_scene(path, max_bytes=None):
         try:
             scene.film = validate_film(doc.get("film", default_film()))
             scene.camera = validate_camera(doc.get("camera", default_camera()))
-            scene.world = validate_world(doc.get("world", default_world()))
+            world = doc.get("world", default_world())
+            if isinstance(world, dict) and world.get("map") is not None:
+                what = "world map"
+                member = member_name(archive, world, "map", what)
+                kinds, ndim, last = ARRAY_SPECS["map"]
+                world = dict(world, map=archive.read_array(member, what, kinds, ndim, last))
+            scene.world = validate_world(world)
             scene.materials = entries(archive, doc, "materials")
             scene.lights = entries(archive, doc, "lights")
             textures = entries(archive, doc, "textures")

@@ -308,7 +308,7 @@ class SceneArchive:
 ARRAY_SPECS = {"positions": ("f", 2, (3,)), "normals": ("f", 2, (3,)), "uvs": ("f", 2, (2,)),
                "tangents": ("f", 2, (4,)), "indices": ("iu", 2, (3,)),
                "material_ids": ("iu", 1, None), "attributes": ("f", 2, None),
-               "pixels": ("fiu", 3, (3, 4))}
+               "pixels": ("fiu", 3, (3, 4)), "map": ("f", 3, (3, 4))}
 
 
 def entries(archive, doc, key):

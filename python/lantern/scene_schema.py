@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 
-CAMERA_TYPES = ("perspective", "orthographic")
+CAMERA_TYPES = ("perspective", "orthographic", "equirectangular")
 MATERIAL_TYPES = ("diffuse", "conductor", "dielectric", "principled", "mix", "translucent")
 MIX_LEAVES = 4
 LIGHT_TYPES = ("point", "spot", "area", "sun")
@@ -204,6 +204,8 @@ def validate_film(film):
     if fw < 0:
         raise ValueError(f"film filter_width: must be >= 0, got {fw}")
     out["filter_width"] = fw
+    if "transparent" in film:  # Blender's Film > Transparent (lantern.film)
+        out["transparent"] = _bool(film["transparent"], "film transparent")
     return out
 
 def validate_camera(camera):
@@ -225,14 +227,77 @@ def validate_camera(camera):
     if not (0.0 <= clip[0] < clip[1]):
         raise ValueError(f"camera clip: need 0 <= start < end, got {clip}")
     out["clip"] = clip
+    if camera.get("dof") is not None:
+        out["dof"] = validate_dof(camera["dof"])
+    for key, lim in (("longitude", math.pi), ("latitude", math.pi / 2)):
+        if camera.get(key) is not None:  # equirectangular: [min, max] radians
+            rng = _vec(camera[key], 2, f"camera {key}")
+            if not (-lim - 1e-6 <= rng[0] < rng[1] <= lim + 1e-6):
+                raise ValueError(f"camera {key}: need -{lim:.4f} <= min < max <= {lim:.4f}, "
+                                 f"got {rng}")
+            out[key] = rng
     return out
+
+
+def validate_dof(dof):
+    """Depth of field: a thin lens of `radius` m (Blender: lens / (2 f-stop)) focused at
+    `focus_distance` m along the view axis; `blades` >= 3 make the aperture a polygon turned
+    by `rotation` (radians); `ratio` is Blender's anamorphic aperture ratio."""
+    if not isinstance(dof, dict):
+        raise ValueError("camera dof: expected a dict")
+    out = {"radius": _finite_float(dof.get("radius", 0.0), "camera dof radius"),
+           "focus_distance": _finite_float(dof.get("focus_distance", 10.0),
+                                           "camera dof focus_distance"),
+           "blades": _int(dof.get("blades", 0), "camera dof blades", minimum=0),
+           "rotation": _finite_float(dof.get("rotation", 0.0), "camera dof rotation"),
+           "ratio": _finite_float(dof.get("ratio", 1.0), "camera dof ratio")}
+    if out["radius"] < 0.0 or out["focus_distance"] < 0.0 or out["ratio"] <= 0.0:
+        raise ValueError(f"camera dof: need radius >= 0, focus_distance >= 0, ratio > 0, "
+                         f"got {out}")
+    return out
+
+WORLD_PROJECTIONS = ("equirectangular", "mirror_ball")
+
 
 def validate_world(world):
     if not isinstance(world, dict):
         raise ValueError("world: expected a dict")
     out = dict(world)
     out["color"] = _rgb(world.get("color", [0.0, 0.0, 0.0]), "world color")
+    out["visible_camera"] = _bool(world.get("visible_camera", True), "world visible_camera")
+    if world.get("map") is not None:
+        _validate_world_map(world, out)
     return out
+
+
+def _validate_world_map(world, out):
+    """The environment map: float32 (H, W, 3|4) linear radiance, rows bottom to top; its
+    non-finite or negative texels are the core's to clamp (with a warning), not an error."""
+    try:
+        px = np.asarray(world["map"])
+    except (TypeError, ValueError):
+        raise ValueError("world map: expected an array") from None
+    if px.ndim != 3 or px.shape[2] not in (3, 4) or px.shape[0] < 1 or px.shape[1] < 1:
+        raise ValueError(f"world map: expected shape (height, width, 3), got {px.shape}")
+    if px.shape[0] > 65536 or px.shape[1] > 65536:
+        raise ValueError(f"world map: {px.shape[1]}x{px.shape[0]} is too large")
+    if px.dtype.kind not in "fiu":
+        raise ValueError(f"world map: expected float32 texels, got {px.dtype}")
+    out["map"] = np.ascontiguousarray(px, dtype=np.float32)
+    out["map_name"] = str(world.get("map_name", ""))
+    out["strength"] = _rgb(world.get("strength", [1.0, 1.0, 1.0]), "world strength")
+    projection = world.get("projection", "equirectangular")
+    if projection not in WORLD_PROJECTIONS:
+        raise ValueError(f"world projection: expected one of {WORLD_PROJECTIONS}, "
+                         f"got {projection!r}")
+    out["projection"] = projection
+    try:
+        m = np.asarray(world.get("to_map", np.eye(3)), dtype=np.float64).reshape(-1)
+    except (TypeError, ValueError):
+        raise ValueError("world to_map: expected a 3x3 matrix") from None
+    if m.shape != (9,) or not np.isfinite(m).all():
+        raise ValueError(f"world to_map: expected a finite 3x3 matrix, got {m.tolist()}")
+    out["to_map"] = m.reshape(3, 3).tolist()
 
 def validate_texture(texture, index):
     if not isinstance(texture, dict):

@@ -11,6 +11,7 @@
 
 #include "core/rng.h"
 #include "integrator/light_path.h"
+#include "integrator/bdpt.h"
 #include "integrator/lt.h"
 #include "integrator/session.h"
 #include "scene/scene.h"
@@ -222,6 +223,74 @@ TEST(Emission, CameraConnectionInvertsCameraRay) {
             EXPECT_NEAR(cc.raster_x, x, 2e-3f);
             EXPECT_NEAR(cc.raster_y, y, 2e-3f);
             EXPECT_NEAR(dot(cc.wc, r.d), -1.0f, 1e-5f);
+        }
+    }
+}
+
+// With a thin lens (depth of field): the connection through the same lens point lands on the
+// raster position of the camera ray, its direction is the ray's, and its importance is the
+// pinhole's about that lens point (camera_pdf's cos^3 law).
+TEST(Emission, CameraConnectionThroughTheLensInvertsCameraRay) {
+    SceneInput in = scene_with(nullptr);
+    in.width = 40;
+    in.height = 30;
+    const float rows[16] = {0.8f, 0, 0.6f, 1, 0.6f, 0, -0.8f, -2, 0, 1, 0, 0.5f, 0, 0, 0, 1};
+    for (int k = 0; k < 16; ++k) in.camera_to_world[k] = rows[k];
+    in.lens_radius = 0.3f;
+    in.focus_distance = 3.0f;
+    for (int blades : {0, 6}) {
+        in.aperture_blades = blades;
+        in.aperture_ratio = blades ? 2.0f : 1.0f;
+        HostScene hs(in);
+        const CameraView& cam = hs.view().camera;
+        Rng rng = Rng::for_path(4, 5, 6);
+        for (int k = 0; k < 200; ++k) {
+            float x = 40.0f * rng.uniform(), y = 30.0f * rng.uniform();
+            Vec2 lens = sample_aperture(cam, rng.uniform2());
+            ASSERT_LE(lens.x * lens.x * 4.0f + lens.y * lens.y, 0.3f * 0.3f * 4.0f + 1e-5f);
+            Ray r = camera_ray(cam, x, y, lens);
+            float t = r.tmin + (0.5f + 6.0f * rng.uniform());
+            CameraConnection cc = connect_camera(cam, r.o + r.d * t, 1.5f, lens);
+            ASSERT_TRUE(cc.valid);
+            EXPECT_NEAR(cc.raster_x, x, 2e-3f);
+            EXPECT_NEAR(cc.raster_y, y, 2e-3f);
+            EXPECT_NEAR(dot(cc.wc, r.d), -1.0f, 1e-5f);
+            float cos_c = -dot(r.d, cam.to_world.axis(2));
+            float sw = cam.screen[1] - cam.screen[0], sh = cam.screen[3] - cam.screen[2];
+            float a_pix = sw * sh / (40.0f * 30.0f);
+            EXPECT_NEAR(cc.importance * a_pix * cos_c * cos_c * cos_c * t * t, 1.0f, 1e-3f);
+        }
+    }
+}
+
+// Panoramic equirectangular: connect_camera inverts camera_ray (inside the range), and its
+// importance is bdpt's camera_pdf of the direction over the squared distance.
+TEST(Emission, PanoramaConnectionInvertsCameraRay) {
+    SceneInput in = scene_with(nullptr);
+    in.width = 64;
+    in.height = 32;
+    in.panoramic = true;
+    const float rows[16] = {0.8f, 0, 0.6f, 1, 0.6f, 0, -0.8f, -2, 0, 1, 0, 0.5f, 0, 0, 0, 1};
+    for (int k = 0; k < 16; ++k) in.camera_to_world[k] = rows[k];
+    for (int partial = 0; partial < 2; ++partial) {
+        if (partial) {
+            const float r[4] = {-2.0f, 1.0f, -0.7f, 1.2f};
+            for (int k = 0; k < 4; ++k) in.pano_range[k] = r[k];
+        }
+        HostScene hs(in);
+        const CameraView& cam = hs.view().camera;
+        ASSERT_EQ(cam.panoramic, 1);
+        Rng rng = Rng::for_path(7, 8, 9);
+        for (int k = 0; k < 300; ++k) {
+            float x = 1.0f + 62.0f * rng.uniform(), y = 1.0f + 30.0f * rng.uniform();
+            Ray r = camera_ray(cam, x, y);
+            float t = 0.5f + 5.0f * rng.uniform();
+            CameraConnection cc = connect_camera(cam, r.o + r.d * t, 1.5f);
+            ASSERT_TRUE(cc.valid);
+            EXPECT_NEAR(cc.raster_x, x, 2e-3f);
+            EXPECT_NEAR(cc.raster_y, y, 2e-3f);
+            EXPECT_NEAR(dot(cc.wc, r.d), -1.0f, 1e-5f);
+            EXPECT_NEAR(cc.importance * t * t / camera_pdf(cam, r.d), 1.0f, 1e-3f);
         }
     }
 }

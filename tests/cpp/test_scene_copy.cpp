@@ -123,3 +123,41 @@ TEST(SceneCopy, EveryPointerOfTheViewIsCopied) {
     EXPECT_EQ(std::memcmp(v.camera.filter_cdf, va.camera.filter_cdf,
                           sizeof(float) * va.camera.filter_table_size), 0);
 }
+
+// The world's environment map adds its texels and both CDFs (scene/envmap.h): 21 arrays.
+TEST(SceneCopy, TheEnvironmentMapIsCopied) {
+    SceneInput in = full_scene();
+    in.world_map.width = 4;
+    in.world_map.height = 2;
+    in.world_map.pixels.assign(4 * 2 * 3, 0.5f);
+    in.world_map.pixels[5] = 7.0f;
+    ZeroedScene a(in), b(in);
+    std::map<const void*, size_t> copied;
+    std::vector<std::vector<uint8_t>> storage;
+    const SceneView v = a.scene->copied_view([&](const void* host, size_t bytes) -> const void* {
+        storage.emplace_back(static_cast<const uint8_t*>(host),
+                             static_cast<const uint8_t*>(host) + bytes);
+        copied[host] = bytes;
+        return storage.back().data();
+    });
+    const SceneView& va = a.scene->view();
+    const SceneView& vb = b.scene->view();
+    constexpr size_t kWords = sizeof(SceneView) / sizeof(uintptr_t);
+    uintptr_t wa[kWords], wb[kWords], wc[kWords];
+    std::memcpy(wa, &va, sizeof(wa));
+    std::memcpy(wb, &vb, sizeof(wb));
+    std::memcpy(wc, &v, sizeof(wc));
+    int pointers = 0;
+    for (size_t k = 0; k < kWords; ++k) {
+        if (wa[k] == wb[k]) continue;
+        ++pointers;
+        EXPECT_TRUE(copied.count(reinterpret_cast<const void*>(wa[k]))) << "word " << k;
+        EXPECT_NE(wc[k], wa[k]) << "word " << k;
+    }
+    EXPECT_EQ(pointers, 21);
+    ASSERT_EQ(va.env.width, 4);
+    EXPECT_EQ(copied[va.env.texels], 4u * 2u * 3u * sizeof(float));
+    EXPECT_EQ(std::memcmp(v.env.texels, va.env.texels, 24 * sizeof(float)), 0);
+    EXPECT_EQ(std::memcmp(v.env.conditional, va.env.conditional, 8 * sizeof(float)), 0);
+    EXPECT_EQ(v.env.marginal[1], 1.0f);
+}

@@ -239,7 +239,8 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
 
     // ---- t = 1: connect to the camera (k + 1 segments) ----
     if (!delta && k + 1 <= st.max_depth && (s.tri_flags[tri] & kVisibleCamera) != 0) {
-        CameraConnection cc = connect_camera(s.camera, h.p, filter_radius(s.camera));
+        CameraConnection cc = connect_camera(s.camera, h.p, filter_radius(s.camera),
+                                             lens_sample(s.camera, ps, i));
         if (cc.valid && sides_agree(cc.wc, h.ng, h.ns)) {
             BsdfEval e = material_eval(m, h.front, wo, frame.to_local(cc.wc),
                                        Transport::Importance, h.coat_n);
@@ -285,6 +286,13 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
 // Solid-angle density of a pinhole camera ray along d for a raster density of one per pixel
 // (orthographic: the area density on the lens plane).
 LANTERN_HD inline float camera_pdf(const CameraView& c, Vec3 d) {
+    if (c.panoramic) {  // one sample per pixel's solid angle
+        float pixel_w;
+        Vec3 dl = {dot(d, c.to_world.axis(0)), dot(d, c.to_world.axis(1)),
+                   dot(d, c.to_world.axis(2))};
+        pano_raster(c, dl, &pixel_w);
+        return pixel_w > 0.0f ? 1.0f / pixel_w : 0.0f;
+    }
     float sw = c.screen[1] - c.screen[0], sh = c.screen[3] - c.screen[2];
     float a_pix = sw * sh / (float(c.width) * float(c.height));
     if (c.orthographic) return 1.0f / a_pix;
@@ -314,7 +322,8 @@ LANTERN_HD inline float bdpt_emission_weight(const SceneView& s, const PathState
     const Vec3 o = ps.ray_o[i], d = ps.ray_d[i];
     const bool infinite = l.type == kLightSun || l.type == kLightWorld;
     float dvcm = bs.dvcm[i], dvc = bs.dvc[i];
-    float pdf_direct = l.pick_pdf * light_pdf_w(l, o, d, t_light, n);  // solid angle at o
+    float pdf_direct = l.pick_pdf * (l.type == kLightWorld ? world_pdf_w(s, d)
+                                                           : light_pdf_w(l, o, d, t_light, n));
     if (!infinite) {
         float cos_l = fabsf(dot(d, n));
         if (!(cos_l > 0.0f)) return 0.0f;
@@ -346,8 +355,10 @@ LANTERN_HD inline void bdpt_camera_emission(const SceneView& s, const PathState&
         const Light& l = s.lights[s.miss_lights[k]];
         if (l.type == kLightSun && (l.cos_sun >= 1.0f || camera || dot(d, -l.direction) < l.cos_sun))
             continue;
+        if (l.type == kLightWorld && camera && !l.visible_camera) continue;
         float w = bdpt_emission_weight(s, ps, bs, st, i, l, kInf, vec3(0.0f));
-        add_radiance(ps, i, ps.throughput[i] * l.radiance * w);
+        Vec3 le = l.type == kLightWorld ? world_radiance(s, l, d) : l.radiance;
+        add_radiance(ps, i, ps.throughput[i] * le * w);
     }
 }
 

@@ -117,9 +117,9 @@ LANTERN_HD inline EmissionSample sample_emission(const SceneView& s, const Light
     case kLightWorld: {
         es.finite = false;
         if (l.type == kLightWorld) {
-            Vec3 to_light = sample_uniform_sphere(u_dir, &pdf_dir);
+            Vec3 to_light;
+            if (!world_sample(s, l, u_dir, &to_light, &pdf_dir, &es.le)) return es;
             es.d = -to_light;
-            es.le = l.radiance;
         } else if (l.cos_sun >= 1.0f) {
             es.d = l.direction;
             es.le = l.intensity;
@@ -193,7 +193,7 @@ LANTERN_HD inline EmissionPdf emission_pdf(const SceneView& s, const Light& l, V
         }
         return r;
     case kLightWorld:
-        r.pdf_direct = 0.25f * kInvPi;
+        r.pdf_direct = world_pdf_w(s, -d);
         r.pdf_emit = r.pdf_direct * inv_disk;
         return r;
     default:

@@ -31,14 +31,16 @@ LANTERN_HD inline float filter_density_1d(float x, float w) {
     return fmaxf(0.0f, blackman_harris(x, 2.0f * w)) / (0.35875f * 2.0f * w);
 }
 
-// A camera splat at raster position r through the pixel filter: add(pixel, weight) for every
-// pixel the filter reaches, weight = filter density x `scale` (pixel = y * width + x).
-// The CPU session adds in slot order; the CUDA backend adds with atomics.
+// One splat position through the separable filter; `wrap`: columns wrap around (a
+// 360-degree panorama), else the image's edges clip it.
 template <typename Add>
-LANTERN_HD inline void splat_pixels(const CameraView& c, Vec2 r, double scale, Add&& add) {
-    const float w = filter_radius(c);
-    int x0 = max_int(0, int(ceilf(r.x - 0.5f - w)));
-    int x1 = min_int(c.width - 1, int(floorf(r.x - 0.5f + w)));
+LANTERN_HD inline void splat_at(const CameraView& c, Vec2 r, float w, bool wrap, double scale,
+                                Add&& add) {
+    int x0 = int(ceilf(r.x - 0.5f - w)), x1 = int(floorf(r.x - 0.5f + w));
+    if (!wrap) {
+        x0 = max_int(0, x0);
+        x1 = min_int(c.width - 1, x1);
+    }
     int y0 = max_int(0, int(ceilf(r.y - 0.5f - w)));
     int y1 = min_int(c.height - 1, int(floorf(r.y - 0.5f + w)));
     for (int py = y0; py <= y1; ++py) {
@@ -46,9 +48,28 @@ LANTERN_HD inline void splat_pixels(const CameraView& c, Vec2 r, double scale, A
         if (fy <= 0.0f) continue;
         for (int px = x0; px <= x1; ++px) {
             double f = double(fy) * filter_density_1d(r.x - (float(px) + 0.5f), w) * scale;
-            if (f > 0.0) add(py * c.width + px, f);
+            int qx = wrap ? ((px % c.width) + c.width) % c.width : px;
+            if (f > 0.0) add(py * c.width + qx, f);
         }
     }
+}
+
+// A camera splat at raster position r through the pixel filter: add(pixel, weight) for every
+// pixel the filter reaches, weight = filter density x `scale` (pixel = y * width + x).
+// The CPU session adds in slot order; the CUDA backend adds with atomics. On a full
+// panorama the filter wraps as camera rays do: across the left and right edges, and over a
+// pole (a camera sample above the top row looks over the pole, half a turn round).
+template <typename Add>
+LANTERN_HD inline void splat_pixels(const CameraView& c, Vec2 r, double scale, Add&& add) {
+    const float w = filter_radius(c);
+    const bool wrap = c.panoramic && c.pano_range[1] - c.pano_range[0] >= 2.0f * kPi - 1e-4f;
+    splat_at(c, r, w, wrap, scale, add);
+    if (!wrap) return;
+    const float half = 0.5f * float(c.width), h = float(c.height);
+    if (c.pano_range[3] >= 0.5f * kPi - 1e-4f && r.y < w)
+        splat_at(c, Vec2{r.x - half, -r.y}, w, true, scale, add);
+    if (c.pano_range[2] <= -0.5f * kPi + 1e-4f && r.y > h - w)
+        splat_at(c, Vec2{r.x - half, 2.0f * h - r.y}, w, true, scale, add);
 }
 
 // ---- Camera importance: where y projects, and We * G / (raster pdf) for a point at y ----
@@ -60,12 +81,33 @@ struct CameraConnection {
     bool valid;
 };
 
-LANTERN_HD inline CameraConnection connect_camera(const CameraView& c, Vec3 y, float w) {
+// `lens`: a point of the aperture (sample_aperture) when the camera has depth of field: the
+// connection goes to it, and y lands where its ray through the lens meets the focal plane.
+LANTERN_HD inline CameraConnection connect_camera(const CameraView& c, Vec3 y, float w,
+                                                  Vec2 lens = Vec2{}) {
     CameraConnection cc{};
     cc.valid = false;
-    Vec3 rel = y - c.to_world.origin();
+    const bool thin_lens = c.lens_radius > 0.0f && !c.orthographic && !c.panoramic;
     Vec3 ax = c.to_world.axis(0), ay = c.to_world.axis(1), az = c.to_world.axis(2);
+    Vec3 lens_p = c.to_world.origin();
+    if (thin_lens) lens_p = lens_p + ax * lens.x + ay * lens.y;
+    Vec3 rel = y - lens_p;
     float lx = dot(rel, ax), ly = dot(rel, ay), depth = -dot(rel, az);
+    if (c.panoramic) {  // the pixel's solid angle over d^2: d(raster) / d(area at y)
+        float d = length(rel);
+        if (!(d >= c.clip_start && d <= c.clip_end) || !(d > 0.0f)) return cc;
+        cc.wc = -rel / d;
+        cc.dist = d - c.clip_start;
+        float pixel_w;
+        Vec2 r = pano_raster(c, vec3(lx, ly, -depth) / d, &pixel_w);
+        cc.raster_x = r.x;
+        cc.raster_y = r.y;
+        cc.importance = 1.0f / (pixel_w * d * d);
+        if (r.x <= -w || r.x >= float(c.width) + w || r.y <= -w || r.y >= float(c.height) + w)
+            return cc;  // (w: the filter's reach past a partial range's edge)
+        cc.valid = cc.importance > 0.0f && is_finite(cc.importance);
+        return cc;
+    }
     if (!(depth >= c.clip_start && depth <= c.clip_end) || depth <= 0.0f) return cc;
     float sw = c.screen[1] - c.screen[0], sh = c.screen[3] - c.screen[2];
     float a_pix = sw * sh / (float(c.width) * float(c.height));  // screen area of a pixel
@@ -79,6 +121,10 @@ LANTERN_HD inline CameraConnection connect_camera(const CameraView& c, Vec3 y, f
     } else {
         sx = lx / depth;
         sy = ly / depth;
+        if (thin_lens) {  // the focal-plane point of the ray, seen from the lens centre
+            sx = (lens.x + lx * (c.focus_distance / depth)) / c.focus_distance;
+            sy = (lens.y + ly * (c.focus_distance / depth)) / c.focus_distance;
+        }
         float d2 = length_sq(rel);
         float d = sqrtf(d2);
         float cos_c = depth / d;
@@ -94,6 +140,16 @@ LANTERN_HD inline CameraConnection connect_camera(const CameraView& c, Vec3 y, f
         return cc;
     cc.valid = cc.importance > 0.0f && is_finite(cc.importance);
     return cc;
+}
+
+// A lens point for a connection to the camera, drawn from the slot's stream (a pinhole draws
+// nothing, so that its images keep their bits).
+LANTERN_HD inline Vec2 lens_sample(const CameraView& c, const PathState& ps, int i) {
+    if (!(c.lens_radius > 0.0f) || c.orthographic || c.panoramic) return Vec2{};
+    Rng rng = ps.rng[i];
+    Vec2 u = rng.uniform2();
+    ps.rng[i] = rng;
+    return sample_aperture(c, u);
 }
 
 // Shadow ray from y (normal n, zero for none) to the camera; the splat waits for its result.
@@ -142,7 +198,7 @@ LANTERN_HD inline void lt_generate(const SceneView& s, const PathState& ps,
                                                     l.type == kLightSpot));
     if (visible && es.finite && !es.delta_pos) {
         float w = filter_radius(s.camera);
-        CameraConnection cc = connect_camera(s.camera, es.p, w);
+        CameraConnection cc = connect_camera(s.camera, es.p, w, lens_sample(s.camera, ps, i));
         float cos_c = cc.valid ? dot(cc.wc, es.n) : 0.0f;
         if (l.type == kLightTriangle) cos_c = fabsf(cos_c);
         if (cos_c > 0.0f) {
@@ -185,7 +241,8 @@ LANTERN_HD inline void lt_shade(const SceneView& s, const PathState& ps, const L
 
     // ---- Connect to the camera (t = 1): depth + 1 segments ----
     if ((s.tri_flags[tri] & kVisibleCamera) != 0) {
-        CameraConnection cc = connect_camera(s.camera, h.p, filter_radius(s.camera));
+        CameraConnection cc = connect_camera(s.camera, h.p, filter_radius(s.camera),
+                                             lens_sample(s.camera, ps, i));
         if (cc.valid && !material_is_delta(m) && sides_agree(cc.wc, h.ng, h.ns)) {
             BsdfEval e = material_eval(m, h.front, wo, frame.to_local(cc.wc),
                                        Transport::Importance, h.coat_n);

@@ -57,8 +57,10 @@ LANTERN_HD inline void pt_shade_miss(const SceneView& s, const PathState& ps, in
     for (int k = 0; k < s.num_miss_lights; ++k) {
         const Light& l = s.lights[s.miss_lights[k]];
         if (l.type == kLightWorld) {
-            float pdf = l.pick_pdf * light_pdf_w(l, vec3(0.0f), d, kInf, vec3(0.0f));
-            add_radiance(ps, i, ps.throughput[i] * l.radiance * pt_emission_weight(ps, i, pdf));
+            if (camera && !l.visible_camera) continue;
+            float pdf = l.pick_pdf * world_pdf_w(s, d);
+            add_radiance(ps, i, ps.throughput[i] * world_radiance(s, l, d) *
+                                    pt_emission_weight(ps, i, pdf));
         } else if (l.type == kLightSun && l.cos_sun < 1.0f && !camera) {
             if (dot(d, -l.direction) < l.cos_sun) continue;
             float pdf = l.pick_pdf * light_pdf_w(l, vec3(0.0f), d, kInf, vec3(0.0f));

@@ -74,6 +74,28 @@ void get_matrix(const nb::dict& d, const char* k, float out[16]) {
     for (int i = 0; i < 16; ++i) out[i] = a.data()[i];
 }
 
+// The world's environment map (docs/scene_format.md): "map" float32 (H, W, 3 or 4).
+void get_world_map(const nb::dict& w, SceneInput& in) {
+    in.world_visible_camera = get<bool>(w, "visible_camera", true);
+    if (!has(w, "map")) return;
+    nb::ndarray<const float, nb::ndim<3>, nb::c_contig, nb::device::cpu> a;
+    if (!nb::try_cast(w["map"], a, false))
+        throw std::invalid_argument("world: 'map' must be a C-contiguous float32 (H, W, 3|4) array");
+    EnvMapInput& e = in.world_map;
+    e.name = get<std::string>(w, "map_name", "");
+    e.height = int(a.shape(0));
+    e.width = int(a.shape(1));
+    e.channels = int(a.shape(2));
+    e.pixels.assign(a.data(), a.data() + a.size());
+    e.strength = get_vec3(w, "strength", e.strength);
+    e.projection = get<std::string>(w, "projection", e.projection);
+    if (has(w, "to_map")) {
+        auto m = nb::cast<std::vector<float>>(w["to_map"]);
+        if (m.size() != 9) throw std::invalid_argument("world 'to_map' needs 9 values");
+        for (int k = 0; k < 9; ++k) e.to_map[k] = m[k];
+    }
+}
+
 SceneInput to_input(const nb::dict& scene) {
     SceneInput in;
     if (has(scene, "film")) {
@@ -81,15 +103,36 @@ SceneInput to_input(const nb::dict& scene) {
         in.width = get<int>(f, "width", 64);
         in.height = get<int>(f, "height", 64);
         in.filter_width = get<float>(f, "filter_width", 1.5f);
+        in.film_transparent = get<bool>(f, "transparent", false);
     }
     if (has(scene, "camera")) {
         nb::dict c = nb::cast<nb::dict>(scene["camera"]);
-        in.orthographic = get<std::string>(c, "type", "perspective") == "orthographic";
+        const std::string type = get<std::string>(c, "type", "perspective");
+        in.orthographic = type == "orthographic";
+        in.panoramic = type == "equirectangular";
+        if (has(c, "longitude") || has(c, "latitude")) {
+            auto lon = has(c, "longitude") ? nb::cast<std::vector<float>>(c["longitude"])
+                                           : std::vector<float>{-kPi, kPi};
+            auto lat = has(c, "latitude") ? nb::cast<std::vector<float>>(c["latitude"])
+                                          : std::vector<float>{-0.5f * kPi, 0.5f * kPi};
+            if (lon.size() != 2 || lat.size() != 2)
+                throw std::invalid_argument("camera 'longitude' and 'latitude' need 2 values");
+            const float r[4] = {lon[0], lon[1], lat[0], lat[1]};
+            for (int k = 0; k < 4; ++k) in.pano_range[k] = r[k];
+        }
         get_matrix(c, "to_world", in.camera_to_world);
         if (has(c, "screen")) {
             auto s = nb::cast<std::vector<float>>(c["screen"]);
             if (s.size() != 4) throw std::invalid_argument("camera 'screen' needs 4 values");
             for (int k = 0; k < 4; ++k) in.screen[k] = s[k];
+        }
+        if (has(c, "dof")) {
+            nb::dict d = nb::cast<nb::dict>(c["dof"]);
+            in.lens_radius = get<float>(d, "radius", in.lens_radius);
+            in.focus_distance = get<float>(d, "focus_distance", in.focus_distance);
+            in.aperture_blades = get<int>(d, "blades", in.aperture_blades);
+            in.aperture_rotation = get<float>(d, "rotation", in.aperture_rotation);
+            in.aperture_ratio = get<float>(d, "ratio", in.aperture_ratio);
         }
         if (has(c, "clip")) {
             auto s = nb::cast<std::vector<float>>(c["clip"]);
@@ -98,7 +141,11 @@ SceneInput to_input(const nb::dict& scene) {
             in.clip_end = s[1];
         }
     }
-    if (has(scene, "world")) in.world_color = get_vec3(nb::cast<nb::dict>(scene["world"]), "color", {});
+    if (has(scene, "world")) {
+        nb::dict w = nb::cast<nb::dict>(scene["world"]);
+        in.world_color = get_vec3(w, "color", {});
+        get_world_map(w, in);
+    }
     if (has(scene, "materials")) {
         for (nb::handle h : nb::cast<nb::list>(scene["materials"])) {
             nb::dict m = nb::cast<nb::dict>(h);

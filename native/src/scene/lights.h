@@ -36,6 +36,26 @@ struct LightSample {
     bool valid;
 };
 
+// ---- The world: its environment map (SceneView::env), or a constant radiance ----
+// Radiance from world direction d (pointing away from the scene).
+LANTERN_HD inline Vec3 world_radiance(const SceneView& s, const Light& l, Vec3 d) {
+    return s.env.width > 0 ? env_radiance(s.env, d) : l.radiance;
+}
+
+// Solid-angle pdf of direction d when next-event estimation samples the world.
+LANTERN_HD inline float world_pdf_w(const SceneView& s, Vec3 d) {
+    return s.env.width > 0 ? env_pdf_w(s.env, d) : 0.25f * kInvPi;
+}
+
+// A direction towards the world, its solid-angle pdf and radiance; false for no sample.
+LANTERN_HD inline bool world_sample(const SceneView& s, const Light& l, Vec2 u, Vec3* d,
+                                    float* pdf_w, Vec3* le) {
+    if (s.env.width > 0) return env_sample(s.env, u, d, pdf_w, le);
+    *d = sample_uniform_sphere(u, pdf_w);
+    *le = l.radiance;
+    return true;
+}
+
 LANTERN_HD inline float smoothstep01(float t) {
     t = clampf(t, 0.0f, 1.0f);
     return t * t * (3.0f - 2.0f * t);
@@ -189,9 +209,8 @@ LANTERN_HD inline LightSample sample_light(const SceneView& s, const Light& l, V
         return ls;
     }
     case kLightWorld: {
-        ls.wi = sample_uniform_sphere(u, &ls.pdf_w);
         ls.dist = kInf;
-        ls.le = l.radiance;
+        if (!world_sample(s, l, u, &ls.wi, &ls.pdf_w, &ls.le)) return ls;
         ls.valid = true;
         return ls;
     }
@@ -201,7 +220,8 @@ LANTERN_HD inline LightSample sample_light(const SceneView& s, const Light& l, V
 }
 
 // Solid-angle pdf with which sample_light would produce direction wi from p, for a light hit at
-// distance t with surface normal n (area, sphere and triangle lights; sun and world ignore t).
+// distance t with surface normal n (area, sphere and triangle lights; the sun ignores t; the
+// world's is world_pdf_w).
 LANTERN_HD inline float light_pdf_w(const Light& l, Vec3 p, Vec3 wi, float t, Vec3 n) {
     switch (l.type) {
     case kLightPoint:
@@ -221,9 +241,7 @@ LANTERN_HD inline float light_pdf_w(const Light& l, Vec3 p, Vec3 wi, float t, Ve
     case kLightSun:
         if (l.cos_sun >= 1.0f) return 0.0f;
         return dot(wi, -l.direction) >= l.cos_sun ? pdf_uniform_cone(l.cos_sun) : 0.0f;
-    case kLightWorld:
-        return 0.25f * kInvPi;
-    default:
+    default:  // the world: world_pdf_w, which reads the scene's environment map
         return 0.0f;
     }
 }

@@ -111,6 +111,33 @@ void set_material_textures(Material& m, const MaterialInput& mi, size_t k, size_
     }
 }
 
+// Depth of field, made safe: f-stop 0 (a huge radius) stays finite, focus distance 0 becomes
+// Cycles' 1e-5 m, a bad ratio 1; the lens is a pinhole for orthographic cameras (warned).
+void set_lens(const SceneInput& in, CameraView& c, std::vector<std::string>& warnings) {
+    c.panoramic = in.panoramic && !in.orthographic ? 1 : 0;
+    if (c.panoramic) {  // ranges clamped to the sphere; an empty one becomes the full sphere
+        float lo = finite_in(in.pano_range[0], -kPi, kPi, -kPi);
+        float hi = finite_in(in.pano_range[1], -kPi, kPi, kPi);
+        float la = finite_in(in.pano_range[2], -0.5f * kPi, 0.5f * kPi, -0.5f * kPi);
+        float lb = finite_in(in.pano_range[3], -0.5f * kPi, 0.5f * kPi, 0.5f * kPi);
+        if (!(hi > lo)) lo = -kPi, hi = kPi;
+        if (!(lb > la)) la = -0.5f * kPi, lb = 0.5f * kPi;
+        const float r[4] = {lo, hi, la, lb};
+        for (int k = 0; k < 4; ++k) c.pano_range[k] = r[k];
+    }
+    c.lens_radius = finite_in(in.lens_radius, 0.0f, 1e6f, 0.0f);
+    c.focus_distance = finite_in(in.focus_distance, 1e-5f, 1e30f, 10.0f);
+    c.blades = in.aperture_blades >= 3 ? std::min(in.aperture_blades, 1000) : 0;
+    c.blade_rotation = finite_in(in.aperture_rotation, -1e4f, 1e4f, 0.0f);
+    c.inv_aperture_ratio = 1.0f / finite_in(in.aperture_ratio, 1e-3f, 1e3f, 1.0f);
+    if (c.lens_radius > 0.0f && (c.orthographic || c.panoramic)) {
+        warnings.push_back(std::string("depth of field on ") +
+                           (c.panoramic ? "a panoramic" : "an orthographic") +
+                           " camera is not supported; rendered sharp");
+        c.lens_radius = 0.0f;
+    }
+}
+
 }  // namespace
 
 HostScene::HostScene(const SceneInput& in) {
@@ -572,13 +599,17 @@ void HostScene::add_lights(const SceneInput& in) {
         power.push_back(luminance(m.emission) * area * 2.0f * kPi);
     }
     Vec3 world = sanitize_color(in.world_color, 1e30f);
+    if (in.world_map.width > 0) {  // an environment map replaces the constant colour
+        build_envmap(in.world_map, env_, warnings_);
+        world = env_.view.width > 0 ? env_.mean : vec3(0.0f);
+    }
     view_.world_color = world;
     if (!is_black(world)) {
         Light l{};
         l.type = kLightWorld;
         l.triangle = -1;
-        l.radiance = world;
-        l.visible_camera = 1;
+        l.radiance = world;  // with a map: its mean (the light's power), SceneView::env per ray
+        l.visible_camera = in.world_visible_camera && !in.film_transparent ? 1 : 0;
         view_.world_light = int32_t(lights_.size());
         lights_.push_back(l);
         power.push_back(luminance(world) * kPi * 4.0f * disk_area);
@@ -661,6 +692,9 @@ SceneView HostScene::copied_view(
     v.program_code = put(view_.program_code, program_code_.size());
     v.program_consts = put(view_.program_consts, program_consts_.size());
     v.attributes = put(view_.attributes, attributes_.size());
+    v.env.texels = put(view_.env.texels, env_.texels.size());
+    v.env.marginal = put(view_.env.marginal, env_.marginal.size());
+    v.env.conditional = put(view_.env.conditional, env_.conditional.size());
     return v;
 }
 
@@ -693,6 +727,7 @@ void HostScene::finish_view(const SceneInput& in) {
     v.program_consts = program_consts_.empty() ? nullptr : program_consts_.data();
     v.attributes = attributes_.empty() ? nullptr : attributes_.data();
     v.num_attribute_channels = attributes_.empty() ? 0 : num_attribute_channels_;
+    v.env = env_.view;
     v.lights = lights_.data();
     v.light_cdf = light_cdf_.data();
     v.emit_cdf = has_emitters_ ? emit_cdf_.data() : nullptr;
@@ -726,6 +761,7 @@ void HostScene::finish_view(const SceneInput& in) {
     c.filter_cdf = filter_cdf_.data();
     c.filter_table_size = int32_t(filter_cdf_.size());
     c.filter_width = in.filter_width;
+    set_lens(in, c, warnings_);
 }
 
 }  // namespace lantern

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "scene/material_program.h"
+#include "scene/envmap_build.h"
 #include "scene/scene_view.h"
 
 namespace lantern {
@@ -107,10 +108,19 @@ struct SceneInput {
     int width = 64, height = 64;
     float filter_width = 1.5f;
     bool orthographic = false;
+    bool panoramic = false;  // equirectangular: pano_range = longitude min, max, latitude min, max
+    float pano_range[4] = {-kPi, kPi, -0.5f * kPi, 0.5f * kPi};
     float camera_to_world[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
     float screen[4] = {-0.5f, 0.5f, -0.5f, 0.5f};
     float clip_start = 0.1f, clip_end = 1000.0f;
+    // depth of field (CameraView): lens radius in metres (0: a pinhole), focus distance
+    float lens_radius = 0.0f, focus_distance = 10.0f;
+    int aperture_blades = 0;
+    float aperture_rotation = 0.0f, aperture_ratio = 1.0f;
     Vec3 world_color;
+    EnvMapInput world_map;            // width 0: none (the world is world_color)
+    bool world_visible_camera = true; // false: camera rays see black (the world still lights)
+    bool film_transparent = false;    // Blender's transparent film: the world is not drawn
     std::vector<MaterialInput> materials;
     std::vector<TextureInput> textures;
     std::vector<MeshInput> meshes;
@@ -169,6 +179,7 @@ private:
     std::vector<NodeInstr> program_code_;
     std::vector<float> program_consts_, attributes_;
     int num_attribute_channels_ = 0;
+    EnvMapStorage env_;
     bool has_emitters_ = false;
     std::vector<std::string> warnings_;
     SceneView view_;

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "core/math.h"
+#include "scene/envmap.h"
 #include "scene/texture.h"
 
 namespace lantern {
@@ -120,7 +121,7 @@ enum LightType : int32_t {
     kLightArea = 2,
     kLightSun = 3,
     kLightTriangle = 4,  // one emissive mesh triangle
-    kLightWorld = 5,     // constant background
+    kLightWorld = 5,     // the background: SceneView::env, or the constant radiance
 };
 
 enum AreaShape : int32_t { kShapeRectangle = 0, kShapeEllipse = 1 };
@@ -153,6 +154,8 @@ enum TriangleFlags : uint8_t { kVisibleCamera = 1, kCastShadow = 2, kAlphaTested
 
 struct CameraView {
     int32_t orthographic;
+    int32_t panoramic = 0;  // 1: equirectangular (integrator/camera.h), longitudes and
+    float pano_range[4] = {-kPi, kPi, -0.5f * kPi, 0.5f * kPi};  // latitudes min, max
     int32_t width, height;
     Transform to_world;     // rigid; looks down local -Z
     float screen[4];        // xmin, xmax, ymin, ymax on the z = -1 plane (or metres, ortho)
@@ -160,6 +163,15 @@ struct CameraView {
     const float* filter_cdf;  // inverted CDF of the 1D pixel filter, filter_table_size entries
     int32_t filter_table_size;
     float filter_width;
+    // depth of field (integrator/camera.h): a thin lens of this radius (0: a pinhole) in the
+    // camera's z = 0 plane, focused on the plane focus_distance in front of it; the aperture
+    // is a disk or (blades >= 3) a regular polygon turned by blade_rotation, squeezed in x
+    // by 1 / aperture_ratio (Blender's anamorphic bokeh)
+    float lens_radius = 0.0f;
+    float focus_distance = 10.0f;
+    int32_t blades = 0;
+    float blade_rotation = 0.0f;
+    float inv_aperture_ratio = 1.0f;
 };
 
 // What a scene's materials need at a hit, over all of them (HostScene::finish_view), so that a
@@ -215,6 +227,7 @@ struct SceneView {
     int32_t num_miss_lights = 0;
 
     Vec3 world_color;
+    EnvMap env;                          // the world's environment map (width 0: constant)
     CameraView camera;
     float scene_radius = 1.0f;           // for sun/world sampling and offsets
     float offset_scale = 1.0f;           // min(1, scene_radius): core/offset.h

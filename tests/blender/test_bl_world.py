@@ -1,0 +1,215 @@
+"""World export (addon/export/world.py): an Environment Texture with the HDRIs bpy ships,
+through Texture Coordinate and Mapping; a missing image (warning, black world); what Lantern
+does not render is named."""
+
+import math
+import os
+
+import bpy
+import numpy as np
+import pytest
+
+
+def export(addon):
+    from lantern_blender.export import export_scene
+    return export_scene(bpy.context.evaluated_depsgraph_get())
+
+
+def studio_hdri(name="forest.exr"):
+    path = os.path.join(bpy.utils.system_resource("DATAFILES"), "studiolights", "world", name)
+    if not os.path.exists(path):
+        pytest.skip(f"bpy ships no {path}")
+    return path
+
+
+def env_world(scene, path, rotation=(0.0, 0.0, 0.0), strength=1.0, coord="Generated",
+              mapping_type="POINT"):
+    world = bpy.data.worlds.new("HDRI")
+    nt = world.node_tree
+    bg = nt.nodes["Background"]
+    bg.inputs["Strength"].default_value = strength
+    env = nt.nodes.new("ShaderNodeTexEnvironment")
+    env.image = bpy.data.images.load(path, check_existing=True)
+    mapping = nt.nodes.new("ShaderNodeMapping")
+    mapping.vector_type = mapping_type
+    mapping.inputs["Rotation"].default_value = rotation
+    tc = nt.nodes.new("ShaderNodeTexCoord")
+    nt.links.new(tc.outputs[coord], mapping.inputs["Vector"])
+    nt.links.new(mapping.outputs["Vector"], env.inputs["Vector"])
+    nt.links.new(env.outputs["Color"], bg.inputs["Color"])
+    scene.world = world
+    return world, env, mapping
+
+
+def test_environment_texture_through_mapping(empty, addon):
+    path = studio_hdri()
+    _, env, _ = env_world(empty, path, rotation=(0.0, 0.0, math.radians(30)), strength=1.5)
+    scene, report = export(addon)
+    w = scene.world
+    h_img, w_img = env.image.size[1], env.image.size[0]
+    assert w["map"].shape == (h_img, w_img, 3)
+    assert w["map"].dtype == np.float32
+    assert w["strength"] == pytest.approx([1.5] * 3)
+    assert w["projection"] == "equirectangular"
+    c, s = math.cos(math.radians(30)), math.sin(math.radians(30))
+    np.testing.assert_allclose(np.asarray(w["to_map"]), [[c, -s, 0], [s, c, 0], [0, 0, 1]],
+                               atol=1e-6)
+    # the pixels are bpy's own (linear float, rows bottom to top)
+    ref = np.empty(w_img * h_img * 4, np.float32)
+    env.image.pixels.foreach_get(ref)
+    np.testing.assert_array_equal(w["map"], ref.reshape(h_img, w_img, 4)[..., :3])
+    assert not [m for m in report.messages if "World" in m], report.messages
+    scene.validate()
+
+
+def test_texture_mapping_is_the_inverse(empty, addon):
+    path = studio_hdri()
+    env_world(empty, path, rotation=(0.3, -0.2, 1.0), mapping_type="TEXTURE")
+    point = np.asarray(export(addon)[0].world["to_map"])
+    bpy.data.worlds.remove(empty.world)
+    env_world(empty, path, rotation=(0.3, -0.2, 1.0), mapping_type="POINT")
+    inverse = np.asarray(export(addon)[0].world["to_map"])
+    np.testing.assert_allclose(point @ inverse, np.eye(3), atol=1e-6)
+
+
+def test_mirror_ball_and_unsupported_vector(empty, addon):
+    path = studio_hdri()
+    _, env, mapping = env_world(empty, path, coord="Window")
+    env.projection = "MIRROR_BALL"
+    mapping.inputs["Location"].default_value = (1.0, 0.0, 0.0)
+    scene, report = export(addon)
+    assert scene.world["projection"] == "mirror_ball"
+    assert any("Window" in m for m in report.messages), report.messages
+    assert any("Location" in m for m in report.messages), report.messages
+
+
+def test_missing_image_renders_a_black_world(empty, addon, tmp_path):
+    world = bpy.data.worlds.new("Lost")
+    nt = world.node_tree
+    env = nt.nodes.new("ShaderNodeTexEnvironment")
+    env.image = bpy.data.images.new("gone", 4, 4)  # a file that has since disappeared
+    env.image.source = "FILE"
+    env.image.filepath = str(tmp_path / "gone.exr")
+    nt.links.new(env.outputs["Color"], nt.nodes["Background"].inputs["Color"])
+    empty.world = world
+    scene, report = export(addon)
+    assert "map" not in scene.world
+    assert scene.world["color"] == [0.0, 0.0, 0.0]
+    assert any("gone" in m and "black" in m for m in report.messages), report.messages
+
+
+def test_world_visibility(empty, addon):
+    world = bpy.data.worlds.new("Vis")
+    world.cycles_visibility.camera = False
+    world.cycles_visibility.glossy = False
+    empty.world = world
+    scene, report = export(addon)
+    assert scene.world["visible_camera"] is False
+    assert any("glossy" in m for m in report.messages), report.messages
+
+
+def test_hdri_renders_finite_and_lit(empty, addon):
+    """End to end: the exported HDRI world lights a plane (the render goes through the core)."""
+    import lantern
+    from blender_helpers import add_camera, add_plane, diffuse_material
+    env_world(empty, studio_hdri(), strength=1.0)
+    add_camera(empty, location=(0, 0, 4))
+    add_plane(empty, size=2.0, material=diffuse_material(0.8))
+    empty.render.resolution_x = empty.render.resolution_y = 16
+    scene, _ = export(addon)
+    img = lantern.render(scene, spp=8, seed=1)
+    assert np.isfinite(img).all() and img.mean() > 0.01
+
+
+# ---- Camera: depth of field as Cycles reads it ----
+
+def test_depth_of_field_export(empty, addon):
+    from blender_helpers import add_camera
+    cam = add_camera(empty, location=(0, -4, 0), rotation=(math.pi / 2, 0, 0), lens=50.0)
+    d = cam.data.dof
+    d.use_dof, d.aperture_fstop, d.focus_distance = True, 2.0, 3.0
+    d.aperture_blades, d.aperture_rotation, d.aperture_ratio = 6, 0.25, 1.5
+    scene, _ = export(addon)
+    dof = scene.camera["dof"]
+    assert dof["radius"] == pytest.approx(0.05 / 4.0)
+    assert dof["focus_distance"] == pytest.approx(3.0)
+    assert (dof["blades"], dof["rotation"], dof["ratio"]) == (6, pytest.approx(0.25), 1.5)
+    target = bpy.data.objects.new("Target", None)
+    empty.collection.objects.link(target)
+    target.location = (0.7, 2.5, 0.3)  # 6.5 m along the view axis (+Y)
+    d.focus_object = target
+    d.aperture_fstop = 0.0             # clamped as Cycles does: a huge but finite lens
+    scene, _ = export(addon)
+    assert scene.camera["dof"]["focus_distance"] == pytest.approx(6.5, abs=1e-5)
+    assert math.isfinite(scene.camera["dof"]["radius"])
+    scene.validate()
+    cam.data.type = "ORTHO"
+    scene, report = export(addon)
+    assert "dof" not in scene.camera
+    assert any("depth of field" in m for m in report.messages), report.messages
+
+
+# ---- Film: transparent film through F12; holdouts and shadow catchers are named ----
+
+def test_transparent_film_through_f12(empty, addon, tmp_path, errors):
+    """A plane over the left half of an orthographic view under a grey world: alpha 1 there,
+    0 on the right, where the world is not drawn (but it lights the plane)."""
+    import lantern
+    from blender_helpers import add_camera, add_plane, diffuse_material, render_exr
+    if not lantern.native_available():
+        pytest.skip("lantern native module not built")
+    cam = add_camera(empty, location=(0, 0, 5))
+    cam.data.type, cam.data.ortho_scale = "ORTHO", 4.0
+    add_plane(empty, size=4.0, location=(-2.0, 0.0, 0.0), material=diffuse_material(0.5))
+    world = bpy.data.worlds.new("Grey")
+    world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.8, 0.8, 0.8, 1)
+    empty.world = world
+    empty.render.film_transparent = True
+    empty.lantern.samples = 16
+    px = render_exr(empty, tmp_path)
+    assert px.shape == (24, 32, 4)
+    assert px[:, :12, 3].min() > 0.999 and px[:, -12:, 3].max() == 0.0
+    assert px[:, -12:, :3].max() == 0.0 and px[:, :12, :3].mean() > 0.2
+    assert not [c for c in errors if c[0] == "ERROR"]
+
+
+def test_holdout_and_shadow_catcher_are_named(empty, addon):
+    from blender_helpers import add_camera, add_plane
+    add_camera(empty)
+    add_plane(empty, name="Cutout").is_holdout = True
+    add_plane(empty, name="Catcher").is_shadow_catcher = True
+    _, report = export(addon)
+    assert any("Cutout" in m and "holdout" in m for m in report.messages), report.messages
+    assert any("Catcher" in m and "shadow catcher" in m for m in report.messages)
+
+
+def test_panoramic_equirectangular_export(empty, addon):
+    from blender_helpers import add_camera
+    cam = add_camera(empty)
+    cam.data.type = "PANO"
+    cam.data.panorama_type = "EQUIRECTANGULAR"
+    cam.data.longitude_min, cam.data.longitude_max = -2.0, 2.5
+    cam.data.latitude_min, cam.data.latitude_max = -1.0, 1.2
+    scene, report = export(addon)
+    assert scene.camera["type"] == "equirectangular"
+    assert scene.camera["longitude"] == pytest.approx([-2.0, 2.5])
+    assert scene.camera["latitude"] == pytest.approx([-1.0, 1.2])
+    assert not [m for m in report.messages if "Camera" in m], report.messages
+    scene.validate()
+    cam.data.panorama_type = "FISHEYE_EQUISOLID"
+    _, report = export(addon)
+    assert any("FISHEYE_EQUISOLID" in m for m in report.messages), report.messages
+
+
+def test_huge_map_is_reduced_with_a_warning(addon):
+    from lantern_blender.export import ExportReport
+    from lantern_blender.export.world import MAX_MAP_WIDTH, downsample
+    report = ExportReport()
+    rgb = np.ones((8, 16384, 3), np.float32)
+    rgb[0, 0] = np.nan  # bad texels stay for the core to clean (and warn about)
+    out = downsample(rgb, "World 'W'", report)
+    assert out.shape == (4, 8192, 3) and out.shape[1] <= MAX_MAP_WIDTH
+    assert np.isnan(out[0, 0]).any() and np.allclose(out[1:], 1.0)
+    assert any("16384x8" in m for m in report.messages), report.messages
+    small = np.ones((2, 64, 3), np.float32)
+    assert downsample(small, "w", report) is small
