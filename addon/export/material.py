@@ -317,13 +317,7 @@ def convert_material(material, report, textures=None, add_leaf=None):
         return out
     output = next((n for n in tree.nodes if n.type == "OUTPUT_MATERIAL" and n.is_active_output),
                   None) or next((n for n in tree.nodes if n.type == "OUTPUT_MATERIAL"), None)
-    disp = output.inputs.get("Displacement") if output is not None else None
-    if disp is not None and disp.is_linked:
-        report.warn(f"Material '{material.name}': the Material Output's Displacement is not "
-                    "rendered (neither as bump nor as true displacement)")
-    vol = output.inputs.get("Volume") if output is not None else None
-    if vol is not None and vol.is_linked:
-        report.warn(f"Material '{material.name}': volume shaders are not rendered")
+    # Displacement and Volume outputs are named once per render by export/unsupported.py
     if output is None or not output.inputs["Surface"].is_linked:
         out["base_color"] = [0.0, 0.0, 0.0]  # no surface shader: black, as in Cycles
         return out
