@@ -14,26 +14,6 @@ def export_film(bscene):
             "transparent": bool(r.film_transparent)}
 
 
-def warn_film_features(bscene, report):
-    """Name what Lantern does not render of the film: holdout objects and collections and
-    shadow catchers (rendered as ordinary objects)."""
-    for obj in bscene.objects:
-        if getattr(obj, "is_holdout", False):
-            report.warn(f"Object '{obj.name}': holdout is not supported; rendered as an "
-                        "ordinary object")
-        if getattr(obj, "is_shadow_catcher", False):
-            report.warn(f"Object '{obj.name}': shadow catcher is not supported; rendered as "
-                        "an ordinary object")
-    for layer in bscene.view_layers:
-        stack = [layer.layer_collection]
-        while stack:
-            lc = stack.pop()
-            if getattr(lc, "holdout", False):
-                report.warn(f"View layer '{layer.name}': the holdout collection "
-                            f"'{lc.name}' is not supported; rendered normally")
-            stack.extend(lc.children)
-
-
 def _rigid(matrix):
     m = np.array(matrix, dtype=np.float64)
     for k in range(3):
@@ -78,7 +58,6 @@ def export_camera(bscene, cam_obj, film, report):
         return {"type": "perspective", "to_world": np.eye(4).tolist(),
                 "screen": view_window(0.36, film["width"] >= film["height"], film["width"],
                                       film["height"], 0, 0), "clip": [0.1, 1000.0]}
-    warn_film_features(bscene, report)
     cam = cam_obj.data
     kind = "perspective"
     pano = {}
