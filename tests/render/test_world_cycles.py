@@ -1,6 +1,7 @@
 """The HDRI world (blend_scenes/scenes.py:world_hdri: bpy's sunset.exr through a Mapping
 rotation) against Cycles for the bidirectional integrators too; pt runs in
-test_cycles_compare.py. Same rule: block z-scores within the t bound, image mean within 1%."""
+test_cycles_compare.py. Same rule as there (lantern.metrics.assert_agreement: Welch blocks,
+image-mean z-tests with the bias cap, negative controls that must fail)."""
 
 import json
 import os
@@ -11,11 +12,11 @@ import pytest
 bpy = pytest.importorskip("bpy")
 lantern = pytest.importorskip("lantern")
 import render_compare as rc  # noqa: E402
-from test_cycles_compare import MEAN_TOL, compare  # noqa: E402
+from lantern import metrics  # noqa: E402
+from test_cycles_compare import LANTERN_SEEDS, LANTERN_SPP  # noqa: E402
 
 NAME = "world_hdri"
 REF = os.path.join(rc.REF_DIR, NAME + ".npz")
-SPP = int(os.environ.get("LANTERN_TEST_SPP", "128"))
 
 
 @pytest.fixture(scope="module")
@@ -34,18 +35,14 @@ def test_hdri_world_matches_cycles(integrator, addon):
         meta = json.load(f)
     rc.build_scene(NAME)
     images = []
-    for k in range(rc.SEEDS):
-        img, warnings = rc.render_lantern(seed=k + 1, spp=SPP, integrator=integrator)
+    for k in range(LANTERN_SEEDS):
+        img, warnings = rc.render_lantern(seed=k + 1, spp=LANTERN_SPP, integrator=integrator)
         images.append(img)
     assert not warnings, f"export warnings: {warnings}"
-    lan = rc.stats_over_seeds(images)
-    assert np.isfinite(lan["mean"]).all()
-    res = compare(lan, ref, rc.SEEDS, len(meta["seeds"]))
-    ratio = float(lan["mean"].mean()) / float(ref["mean"].mean())
-    line = (f"{NAME} {integrator}: mean ratio lantern/cycles {ratio:.4f}; blocks |z|>3: "
-            f"{res['beyond']}/{res['n']} (allowed {res['allowed']}); worst z "
-            f"{res['worst_z']:+.2f} at {res['worst_at']}")
-    print("\n" + line)
-    rc.REPORT.append(line)
-    assert abs(ratio - 1.0) <= MEAN_TOL, line
-    assert res["beyond"] <= res["allowed"], line
+    cycles = metrics.SeedBlocks(ref["seed_block_means"])
+    assert len(cycles) == len(meta["seeds"])
+    name = f"{NAME} {integrator}"
+    res = metrics.compare_renders(images, cycles, block=rc.BLOCK, name=name)
+    rc.REPORT.append(f"{name}: {res.blocks}; whole-image bias resolved >= "
+                     f"{res.detectable_bias():.2%}")
+    metrics.assert_agreement(name, images, cycles, block=rc.BLOCK)
