@@ -21,16 +21,22 @@ _EXTENSIONS = {"REPEAT": "repeat", "EXTEND": "extend", "CLIP": "clip", "MIRROR":
 IDENTITY_UV = ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0))
 
 
+def mapping_constant(node, name, where, report):
+    """The constant value of a Mapping node's input `name` (None if it has none); a linked
+    input is named in a warning and its own value used."""
+    sock = node.inputs.get(name)
+    if sock is None:
+        return None
+    if sock.is_linked:
+        report.warn(f"{where}: the Mapping node '{node.name}' has a linked {name}; its "
+                    "constant value is used")
+    return [float(x) for x in sock.default_value]
+
+
 def _mapping_transform(node, where, report):
     """The 2D affine uv transform of a Mapping node with constant inputs, or None."""
     def const(name):
-        sock = node.inputs.get(name)
-        if sock is None:
-            return None
-        if sock.is_linked:
-            report.warn(f"{where}: the Mapping node '{node.name}' has a linked {name}; its "
-                        "constant value is used")
-        return [float(x) for x in sock.default_value]
+        return mapping_constant(node, name, where, report)
 
     kind = getattr(node, "vector_type", "POINT")
     loc = const("Location") or [0.0, 0.0, 0.0]

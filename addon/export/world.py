@@ -10,6 +10,8 @@ import math
 import bpy
 import numpy as np
 
+from .texture import mapping_constant
+
 MAX_MAP_WIDTH = 8192  # wider maps are box-filtered down (their lighting changes little)
 _LINEAR_SPACES = {"Non-Color", "Linear", "Linear Rec.709", "Raw", "Generic Data",
                   "Utility - Raw"}
@@ -51,16 +53,6 @@ def mapping_matrix(kind, location, rotation, scale, where, report):
     return None
 
 
-def _constant(node, name, where, report):
-    sock = node.inputs.get(name)
-    if sock is None:
-        return None
-    if sock.is_linked:
-        report.warn(f"{where}: the linked {name} of Mapping '{node.name}' is not supported; "
-                    "its own value is used")
-    return [float(x) for x in sock.default_value]
-
-
 def vector_matrix(env_node, where, report):
     """World direction -> the Environment Texture's vector: Mapping and Texture Coordinate
     nodes upstream of its Vector input, composed (3x3)."""
@@ -74,10 +66,10 @@ def vector_matrix(env_node, where, report):
         if src.type == "REROUTE":
             sock = src.inputs[0]
         elif src.type == "MAPPING":
-            mm = mapping_matrix(getattr(src, "vector_type", "POINT"),
-                                _constant(src, "Location", where, report) or [0.0] * 3,
-                                _constant(src, "Rotation", where, report) or [0.0] * 3,
-                                _constant(src, "Scale", where, report) or [1.0] * 3,
+            def const(name, default):
+                return mapping_constant(src, name, where, report) or [default] * 3
+            mm = mapping_matrix(getattr(src, "vector_type", "POINT"), const("Location", 0.0),
+                                const("Rotation", 0.0), const("Scale", 1.0),
                                 f"{where}: Mapping '{src.name}'", report)
             if mm is not None:
                 m = m @ mm
