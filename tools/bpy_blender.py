@@ -9,8 +9,10 @@ and the arguments go on); -f/--render-frame N (comma lists, ranges a..b) and -a/
 render and write. -b/--background and -y/--enable-autoexec are implied; everything after `--`
 is left to scripts (sys.argv).
 
-The Lantern add-on is what a Blender with the extension installed has registered: the add-on
-of this checkout unless an engine "LANTERN" is registered already (an installed extension).
+Like Blender, it starts by loading the user's preferences (BLENDER_USER_CONFIG), which enables
+the add-ons and extensions installed there: a worker with the Lantern extension installed
+renders with that. Only when no engine "LANTERN" is registered after that does it register the
+add-on of this checkout (tests, a checkout without the extension).
 Unlike Blender, the exit status is 1 when a frame wrote no file (so that jobs see failures)."""
 
 import importlib.util
@@ -21,8 +23,22 @@ import traceback
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
+def _load_user_preferences(bpy):
+    """What Blender does at start-up and bpy as a module does not: read userpref.blend, which
+    enables the add-ons and extensions the user installed (no file: the defaults)."""
+    try:
+        bpy.ops.wm.read_userpref()
+    except RuntimeError as e:
+        print(f"bpy_blender: user preferences not loaded ({e})", file=sys.stderr)
+
+
+def _lantern_registered(bpy):
+    return any(getattr(c, "bl_idname", None) == "LANTERN"
+               for c in bpy.types.RenderEngine.__subclasses__())
+
+
 def _ensure_lantern_engine(bpy):
-    if hasattr(bpy.types, "LanternRenderEngine") or "lantern_blender" in sys.modules:
+    if _lantern_registered(bpy) or "lantern_blender" in sys.modules:
         return
     try:
         import lantern  # noqa: F401  (an installed wheel, or PYTHONPATH)
@@ -64,6 +80,7 @@ def _render_frames(bpy, frames):
 
 def main(argv):
     import bpy
+    _load_user_preferences(bpy)
     _ensure_lantern_engine(bpy)
     if "--" in argv:
         cut = argv.index("--")

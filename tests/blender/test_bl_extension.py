@@ -49,7 +49,7 @@ def extension_zip():
 
 # Runs in a fresh interpreter. The finder below lets `import lantern` find only the copy the
 # extension installed under BLENDER_USER_EXTENSIONS.
-_CHILD = textwrap.dedent(r'''
+_HIDE = textwrap.dedent(r'''
     import importlib.machinery, json, os, sys
     user_ext = os.path.realpath(os.environ["BLENDER_USER_EXTENSIONS"])
 
@@ -65,6 +65,8 @@ _CHILD = textwrap.dedent(r'''
             return spec
 
     sys.meta_path.insert(0, OnlyTheExtensionsLantern)
+''')
+_CHILD = _HIDE + textwrap.dedent(r'''
     import bpy
     out = {}
     zip_path, exr = sys.argv[1], sys.argv[2]
@@ -92,7 +94,8 @@ _CHILD = textwrap.dedent(r'''
 ''')
 
 
-def test_installed_extension_renders_f12(extension_zip, tmp_path):
+def _user_env(tmp_path):
+    """A clean Blender user folder (config, extensions, ...) and no PYTHON* variables."""
     user = tmp_path / "user"
     env = {k: v for k, v in os.environ.items() if not k.startswith(("PYTHON", "BLENDER_"))}
     for kind in ("RESOURCES", "CONFIG", "SCRIPTS", "EXTENSIONS", "DATAFILES"):
@@ -100,6 +103,11 @@ def test_installed_extension_renders_f12(extension_zip, tmp_path):
         d.mkdir(parents=True)
         env[f"BLENDER_USER_{kind}"] = str(d)
     env["LANTERN_DISABLE_CUDA"] = "1"
+    return env
+
+
+def test_installed_extension_renders_f12(extension_zip, tmp_path):
+    env = _user_env(tmp_path)
     exr = tmp_path / "f12.exr"
     run = subprocess.run([sys.executable, "-c", _CHILD, str(extension_zip), str(exr)],
                          cwd=tmp_path, env=env, capture_output=True, text=True, timeout=600)
@@ -126,3 +134,68 @@ def test_installed_extension_renders_f12(extension_zip, tmp_path):
     centre = px[10:20, 15:25]
     assert centre.mean() > 3 * world.mean()
     assert centre.std() > 0.01
+
+
+# A farm worker: the extension was installed once (Preferences saved), then every frame is a
+# fresh `blender -b file.blend -E LANTERN -f N` (tools/bpy_blender.py stands in for the binary
+# and, like Blender, starts by loading the user's preferences). `lantern` stays hidden outside
+# the extensions folder, so the checkout's add-on cannot stand in for the extension.
+_INSTALL = _HIDE + textwrap.dedent(r'''
+    import bpy
+    zip_path, blend = sys.argv[1], sys.argv[2]
+    bpy.ops.wm.read_factory_settings(use_empty=False)
+    res = bpy.ops.extensions.package_install_files(filepath=zip_path, repo="user_default",
+                                                   enable_on_install=True)
+    assert res == {"FINISHED"}, res
+    assert bpy.ops.wm.save_userpref() == {"FINISHED"}
+    scene = bpy.context.scene
+    scene.render.resolution_x, scene.render.resolution_y = 40, 30
+    scene.render.resolution_percentage = 100
+    scene.lantern.samples = 4
+    scene.lantern.backend = "cpu"
+    scene.render.image_settings.file_format = "PNG"  # the command line asks for EXR
+    bpy.ops.wm.save_as_mainfile(filepath=blend)
+    world = scene.world.node_tree.nodes["Background"].inputs
+    print("RESULT " + json.dumps([c * world["Strength"].default_value
+                                  for c in world["Color"].default_value[:3]]))
+''')
+_WORKER = _HIDE + textwrap.dedent(r'''
+    import runpy
+    script = sys.argv[1]
+    sys.argv = [script] + sys.argv[2:]
+    runpy.run_path(script, run_name="__main__")
+''')
+
+
+def test_installed_extension_renders_headless(extension_zip, tmp_path):
+    env = _user_env(tmp_path)
+    blend = tmp_path / "farm.blend"
+    run = subprocess.run([sys.executable, "-c", _INSTALL, str(extension_zip), str(blend)],
+                         cwd=tmp_path, env=env, capture_output=True, text=True, timeout=600)
+    lines = [ln for ln in run.stdout.splitlines() if ln.startswith("RESULT ")]
+    assert run.returncode == 0 and lines, f"install failed:\n{run.stdout}\n{run.stderr}"
+    world = np.array(json.loads(lines[-1][len("RESULT "):]), dtype=np.float32)
+
+    which = ("import lantern, os; print('LANTERN_FILE', os.path.realpath(lantern.__file__)); "
+             "print('ENGINE', bpy.context.scene.render.engine)")
+    out = tmp_path / "frame_####"
+    run = subprocess.run([sys.executable, "-c", _WORKER, str(ROOT / "tools/bpy_blender.py"),
+                          "-b", str(blend), "-E", "LANTERN", "-o", str(out), "-F", "OPEN_EXR",
+                          "--python-exit-code", "3", "--python-expr", which, "-f", "1"],
+                         cwd=tmp_path, env=env, capture_output=True, text=True, timeout=600)
+    text = run.stdout + run.stderr
+    assert run.returncode == 0, f"worker failed:\n{text}"
+    files = [ln.split(" ", 1)[1] for ln in run.stdout.splitlines()
+             if ln.startswith("LANTERN_FILE ")]
+    assert files and files[0].startswith(os.path.realpath(env["BLENDER_USER_EXTENSIONS"])), text
+    assert "ENGINE LANTERN" in run.stdout
+    assert "Lantern: could not start" not in text and "render failed" not in text
+
+    from multilayer import read_passes
+    px = read_passes(tmp_path / "frame_0001.exr")[("", "Combined")][..., :3]
+    assert px.shape == (30, 40, 3)
+    assert np.isfinite(px).all()
+    for corner in (px[0, 0], px[0, -1], px[-1, 0], px[-1, -1]):  # camera rays that miss
+        np.testing.assert_allclose(corner, world, rtol=1e-5)
+    centre = px[10:20, 15:25]  # the default cube under the default light
+    assert centre.mean() > 3 * world.mean() and centre.std() > 0.01
