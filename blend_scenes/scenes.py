@@ -160,6 +160,13 @@ def light_point():
     light("POINT", "Point", (0.5, -1.0, 2.5), shadow_soft_size=0.15, energy=400.0)
 
 
+def light_point_sphere():
+    """light_point with soft falloff off: Cycles renders a sphere light of that radius, which is
+    also what light paths (bdpt, lvc, cis, lt) can start on."""
+    light_point()
+    bpy.data.lights["Point"].use_soft_falloff = False
+
+
 def light_spot():
     _reset()
     _stage()
@@ -260,9 +267,9 @@ def world_hdri_dof():
 
 
 SCENES = {f.__name__: f for f in (
-    cornell_box, light_point, light_spot, light_area_square, light_area_rectangle,
-    light_area_disk, light_area_ellipse, light_sun, emissive_mesh, principled_emission_mesh,
-    world_color, world_hdri, world_hdri_dof)}
+    cornell_box, light_point, light_point_sphere, light_spot, light_area_square,
+    light_area_rectangle, light_area_disk, light_area_ellipse, light_sun, emissive_mesh,
+    principled_emission_mesh, world_color, world_hdri, world_hdri_dof)}
 
 
 def build(name, path=None):

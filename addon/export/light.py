@@ -38,7 +38,10 @@ def export_light(obj, matrix_world, report):
             power = power * math.pi * radius * radius
         out = {"type": light.type.lower(), "name": obj.name, "position": m[:3, 3].tolist(),
                "radius": radius,
-               "power": power.tolist(), "to_world": _rigid(m), "visible_camera": visible}
+               "power": power.tolist(), "to_world": _rigid(m), "visible_camera": visible,
+               # off: a sphere light, which light paths (bdpt, lvc, cis, lt) can start on; on
+               # (Blender's default): a disk facing each receiver, camera-side only
+               "soft_falloff": bool(getattr(light, "use_soft_falloff", True))}
         if light.type == "SPOT":
             out["spot_size"] = float(light.spot_size)
             out["spot_blend"] = float(light.spot_blend)

@@ -244,6 +244,24 @@ def _value(attr):
     return attr() if callable(attr) else attr
 
 
+def camera_side_light_warnings(scene, integrator):
+    """Point and spot lights with a radius and soft falloff on (Blender's default) are a disk
+    facing each receiver: no light path can start on them (docs/lvc_notes.md), so bdpt, lvc and
+    cis light them from the camera side only, as pt does. Say so where it costs the integrator
+    what it was chosen for."""
+    if integrator not in ("bdpt", "lvc", "cis"):
+        return []
+    out = []
+    for k, light in enumerate(getattr(scene, "lights", [])):
+        if (light.get("type") in ("point", "spot") and float(light.get("radius", 0.0)) > 0.0
+                and light.get("soft_falloff", True)):
+            name = light.get("name") or f"lights[{k}]"
+            out.append(f"light '{name}': soft falloff is on, so {integrator}'s light paths "
+                       "cannot start on it (it is lit from the camera side only, as in pt); "
+                       "switch its Soft Falloff off for a sphere light")
+    return out
+
+
 class Session:
     """A progressive render of one scene.
 
@@ -261,6 +279,7 @@ class Session:
         core = require_core()
         self._scene = scene
         self._native = core.Session(native_scene, dict(self.settings))
+        self._warnings += camera_side_light_warnings(scene, self.settings["integrator"])
 
     def step(self):
         """One iteration; returns the samples per pixel so far (unchanged when the step was

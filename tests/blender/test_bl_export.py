@@ -175,8 +175,11 @@ def test_lights(empty, addon):
     area.scale = (2, 3, 1)
     area.visible_camera = True
     light("SUN", energy=3.0, angle=0.1)
+    light("POINT", energy=10, shadow_soft_size=0.05, use_soft_falloff=False)  # a sphere light
     scene, _ = export(addon)
     by = {l["type"]: l for l in scene.lights}
+    assert by["point"]["soft_falloff"] is False and by["point"]["radius"] == pytest.approx(0.05)
+    assert by["spot"]["soft_falloff"] is True  # Blender's default
     assert by["spot"]["power"] == pytest.approx([100, 50, 25])
     assert by["spot"]["spot_size"] == pytest.approx(1.0)
     assert by["area"]["size"] == pytest.approx([4.0, 1.5])

@@ -1,0 +1,38 @@
+"""Soft falloff decides whether light paths can start on a point light with a radius
+(docs/lvc_notes.md): off, a sphere light that bdpt, lvc and cis start light paths on; on
+(Blender's default), a disk facing each receiver that they light from the camera side only, and
+the session says so."""
+
+import pytest
+
+import lantern
+from lantern import scenes
+
+pytestmark = pytest.mark.skipif(not lantern.native_available(), reason="native core not built")
+
+
+def _session(soft, integrator):
+    scene = scenes.fixture_box(16, 16)
+    scene.lights[0]["soft_falloff"] = soft
+    s = lantern.Session(scene, integrator=integrator, spp_per_iteration=1, backend="cpu")
+    s.step()
+    return s
+
+
+@pytest.mark.parametrize("integrator", ["bdpt", "lvc", "cis"])
+def test_sphere_light_starts_light_paths(integrator):
+    s = _session(False, integrator)
+    assert s.stats["cache_vertices"] > 0 and s.stats["rays_light"] > 0
+    assert not any("soft falloff" in w for w in s.warnings)
+
+
+@pytest.mark.parametrize("integrator", ["bdpt", "lvc", "cis"])
+def test_soft_falloff_light_is_camera_side_and_warned(integrator):
+    s = _session(True, integrator)
+    assert s.stats["cache_vertices"] == 0 and s.stats["rays_light"] == 0
+    said = [w for w in s.warnings if "soft falloff" in w]
+    assert len(said) == 1 and integrator in said[0] and "lights[0]" in said[0]
+
+
+def test_pt_is_not_warned():
+    assert not any("soft falloff" in w for w in _session(True, "pt").warnings)
