@@ -1,0 +1,173 @@
+"""Lantern against Cycles: efficiency = 1 / (noise^2 x time), one thread each, the same run
+(issue 14's measure). Per scene, K independent seeds of each renderer at the same spp, rendered
+interleaved (seed k of Cycles, then seed k of each Lantern integrator) so that a change in the
+machine's load falls on all of them alike.
+
+    .venv/bin/python bench/efficiency_cycles.py                         # the default scene list
+    .venv/bin/python bench/efficiency_cycles.py --scenes cornell_box,room_area_point \\
+        --integrators pt,lvc,cis --seeds 6 --spp 64 --res 64 --out bench/results/<date>-efficiency
+
+noise = sqrt(mean over pixels of the per-pixel variance between seeds) / image mean (RGB
+averaged), and the same for the median variance over the pixels with signal (robust to
+fireflies); time = the mean
+wall time of one render (Cycles: `bpy.ops.render.render` with persistent data after a warm-up
+render, so the scene is synchronised once; Lantern: `Session.step()`, the BVH built before).
+The image-mean ratio against Cycles (with its standard error from the seeds) is printed beside
+the efficiency, so a speed figure always comes with the bias it carries."""
+
+import argparse
+import json
+import math
+import os
+import platform
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+BENCH = Path(__file__).resolve().parent
+ROOT = BENCH.parent
+sys.path.insert(0, str(BENCH))
+
+DEFAULT_SCENES = ("cornell_box,light_point,light_point_sphere,light_spot,light_area_square,light_area_disk,"
+                  "light_sun,emissive_mesh,world_color,world_hdri,room_area_point,"
+                  "room_spot_sun_world,many_lights,bench_fixture")
+
+
+def _noise(stack):
+    """(rms relative noise, median-pixel relative noise, image mean) of K images (K, H, W, 3)."""
+    lum = stack.mean(axis=3)
+    mean = float(lum.mean())
+    var = lum.var(axis=0, ddof=1)
+    lit = lum.mean(axis=0) > 0  # the median over pixels that see something (not the void)
+    med = float(np.median(var[lit])) if lit.any() else float("nan")
+    return math.sqrt(float(var.mean())) / mean, math.sqrt(med) / mean, mean
+
+
+def _machine():
+    cpu = "unknown"
+    try:
+        for line in open("/proc/cpuinfo"):
+            if line.startswith("model name"):
+                cpu = line.split(":", 1)[1].strip()
+                break
+    except OSError:
+        pass
+    return {"cpu": cpu, "cores": os.cpu_count(), "platform": platform.platform(),
+            "python": platform.python_version()}
+
+
+def run_scene(name, args, lantern, rmse_cycles):
+    import bpy
+    lscene = rmse_cycles.build_blend(name, args.res, args.res)
+    bscene = bpy.context.scene
+    depth = rmse_cycles.BOUNCES + 2
+    rmse_cycles.render(1, 1, threads=1)  # warm-up: synchronise the scene once (persistent data)
+    integrators = args.integrators.split(",")
+    images = {k: [] for k in ["cycles"] + integrators}
+    times = {k: [] for k in images}
+    for seed in range(args.seeds):
+        img, s = rmse_cycles.render(101 + seed, args.spp, threads=1)
+        images["cycles"].append(img.astype(np.float64))
+        times["cycles"].append(s)
+        for integ in integrators:
+            sess = lantern.Session(lscene, integrator=integ, seed=1 + seed, threads=1,
+                                   spp_per_iteration=args.spp, max_depth=depth, backend="cpu")
+            t0 = time.perf_counter()
+            sess.step()
+            times[integ].append(time.perf_counter() - t0)
+            images[integ].append(np.asarray(sess.image(), np.float64)[..., :3])
+    rows = []
+    c_rms, c_med, c_mean = _noise(np.stack(images["cycles"]))
+    c_t = float(np.mean(times["cycles"]))
+    c_se = float(np.stack(images["cycles"]).mean(axis=(1, 2, 3)).std(ddof=1)) / math.sqrt(args.seeds)
+    for k in ["cycles"] + integrators:
+        stack = np.stack(images[k])
+        rms, med, mean = _noise(stack)
+        t = float(np.mean(times[k]))
+        se = float(stack.mean(axis=(1, 2, 3)).std(ddof=1)) / math.sqrt(args.seeds)
+        eff_rms = 1.0 / (rms * rms * t)
+        eff_med = 1.0 / (med * med * t)
+        rows.append({
+            "scene": name, "renderer": k, "spp": args.spp, "seeds": args.seeds,
+            "res": args.res, "time_s": t, "noise_rms": rms, "noise_median": med,
+            "mean": mean, "mean_ratio": mean / c_mean,
+            "mean_ratio_se": math.hypot(se / c_mean, c_se * mean / c_mean ** 2),
+            "eff_rms_vs_cycles": eff_rms * (c_rms * c_rms * c_t),
+            "eff_median_vs_cycles": eff_med * (c_med * c_med * c_t),
+            "load_avg": os.getloadavg()[0]})
+    bscene.render.use_persistent_data = False
+    return rows
+
+
+def table(rows):
+    out = ["| scene | renderer | time (s) | noise rms | noise median px | mean / Cycles | "
+           "efficiency / Cycles (rms) | (median px) |", "|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        out.append(
+            f"| {r['scene']} | {r['renderer']} | {r['time_s']:.3f} | {100 * r['noise_rms']:.2f}% | "
+            f"{100 * r['noise_median']:.2f}% | {r['mean_ratio']:.4f} ± {r['mean_ratio_se']:.4f} | "
+            f"{r['eff_rms_vs_cycles']:.2f} | {r['eff_median_vs_cycles']:.2f} |")
+    return "\n".join(out)
+
+
+def plot(rows, path):
+    try:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        return
+    scenes = list(dict.fromkeys(r["scene"] for r in rows))
+    renderers = [k for k in dict.fromkeys(r["renderer"] for r in rows) if k != "cycles"]
+    fig, ax = plt.subplots(figsize=(max(6, 0.8 * len(scenes)), 4))
+    width = 0.8 / max(1, len(renderers))
+    for j, k in enumerate(renderers):
+        vals = [next((r["eff_rms_vs_cycles"] for r in rows
+                      if r["scene"] == s and r["renderer"] == k), np.nan) for s in scenes]
+        ax.bar(np.arange(len(scenes)) + j * width, vals, width, label=f"Lantern {k}")
+    ax.axhline(1.0, color="k", lw=0.8)
+    ax.set_yscale("log")
+    ax.set_xticks(np.arange(len(scenes)) + 0.4 - width / 2)
+    ax.set_xticklabels(scenes, rotation=45, ha="right")
+    ax.set_ylabel("efficiency / Cycles' (1 / noise² t)")
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--scenes", default=DEFAULT_SCENES)
+    ap.add_argument("--integrators", default="pt,lvc,cis")
+    ap.add_argument("--seeds", type=int, default=6)
+    ap.add_argument("--spp", type=int, default=64)
+    ap.add_argument("--res", type=int, default=64)
+    ap.add_argument("--out", default=None, help="folder for results.json, table.md, plot.png")
+    args = ap.parse_args(argv)
+    if args.seeds < 2:
+        ap.error("--seeds must be at least 2 (noise is the spread between seeds)")
+    import rmse_cycles
+    from rmse import import_lantern
+    lantern = import_lantern()  # this checkout's package (and its native module when built)
+    print(f"lantern from {lantern.__file__}")
+    rows = []
+    for name in args.scenes.split(","):
+        t0 = time.perf_counter()
+        rows += run_scene(name, args, lantern, rmse_cycles)
+        print(table([r for r in rows if r["scene"] == name]).split("\n", 2)[2])
+        print(f"  ({time.perf_counter() - t0:.0f} s)", flush=True)
+    text = table(rows)
+    print(text)
+    if args.out:
+        out = Path(args.out)
+        out.mkdir(parents=True, exist_ok=True)
+        (out / "results.json").write_text(json.dumps(
+            {"machine": _machine(), "args": vars(args), "rows": rows}, indent=1))
+        (out / "table.md").write_text(text + "\n")
+        plot(rows, out / "plot.png")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,79 @@
+"""Ordinary scenes for the Lantern-against-Cycles efficiency table (bench/efficiency_cycles.py,
+issue 14): closed rooms lit the way artists light them, and a stage with many small lights.
+Diffuse surfaces only (scenes.py's rule), so the two renderers converge to the same image.
+
+| Scene | Made of |
+|---|---|
+| `room_area_point` | 5 x 5 x 2.8 m room, camera inside; a 1.0 x 0.5 m area light 200 W under the ceiling facing down, and a small point light (10 W, radius 5 cm) low in the far corner |
+| `room_spot_sun_world` | the same room with a window in the right wall: a sun (4 W/m², 2°) through it, a world colour (0.4, 0.5, 0.7) seen and lighting through it, and a spot (600 W, 40°) from a ceiling corner aimed at the floor |
+| `many_lights` | the stage of scenes.py lit by 24 point lights of different colours and powers (5-120 W, radius 5 cm) |
+"""
+
+import math
+
+import numpy as np
+
+import scenes as sc
+
+W, D, H = 5.0, 5.0, 2.8
+WINDOW = (-0.6, 1.0, 0.9, 2.2)  # right wall (x = W/2): y0, y1, z0, z1
+
+
+def _room(window=False):
+    """Floor, ceiling, four walls (the right one with a window when asked), a table, a cabinet
+    and a block; the camera stands inside near the front wall."""
+    x, y = W / 2, D / 2
+    white = sc.diffuse("White", (0.8, 0.8, 0.8))
+    sc.quad("Floor", [(-x, -y, 0), (x, -y, 0), (x, y, 0), (-x, y, 0)],
+            sc.diffuse("Floor", (0.55, 0.45, 0.35)))
+    sc.quad("Ceiling", [(-x, -y, H), (-x, y, H), (x, y, H), (x, -y, H)], white)
+    sc.quad("Back", [(-x, y, 0), (x, y, 0), (x, y, H), (-x, y, H)], white)
+    sc.quad("Front", [(-x, -y, 0), (-x, -y, H), (x, -y, H), (x, -y, 0)], white)
+    sc.quad("Left", [(-x, -y, 0), (-x, y, 0), (-x, y, H), (-x, -y, H)],
+            sc.diffuse("Blue", (0.35, 0.45, 0.7)))
+    right = sc.diffuse("Sand", (0.75, 0.65, 0.45))
+    if not window:
+        sc.quad("Right", [(x, -y, 0), (x, -y, H), (x, y, H), (x, y, 0)], right)
+    else:
+        y0, y1, z0, z1 = WINDOW
+        for k, (ya, yb, za, zb) in enumerate(((-y, y0, 0, H), (y1, y, 0, H), (y0, y1, 0, z0),
+                                              (y0, y1, z1, H))):
+            sc.quad(f"Right{k}", [(x, ya, za), (x, ya, zb), (x, yb, zb), (x, yb, za)], right)
+    sc.box("Table", (0.3, 0.8, 0.375), (1.4, 0.8, 0.75), 10, sc.diffuse("Wood", (0.5, 0.3, 0.15)))
+    sc.box("Cabinet", (-1.9, 1.7, 0.6), (0.8, 0.6, 1.2), 0, sc.principled("Red", (0.7, 0.2, 0.15)))
+    sc.box("Block", (1.5, -0.6, 0.25), (0.5, 0.5, 0.5), 30, sc.diffuse("Green", (0.2, 0.6, 0.3)))
+    sc.camera((0.0, -2.2, 1.5), (0.2, 1.0, 0.9), lens=20.0)
+
+
+def room_area_point():
+    sc._reset()
+    _room()
+    sc.light("AREA", "Area", (0.4, 0.6, H - 0.02), target=(0.4, 0.6, 0.0), shape="RECTANGLE",
+             size=1.0, size_y=0.5, energy=200.0)
+    sc.light("POINT", "CornerLamp", (-2.2, 2.2, 0.4), shadow_soft_size=0.05, energy=10.0)
+
+
+def room_spot_sun_world():
+    sc._reset(world_color=(0.4, 0.5, 0.7))
+    _room(window=True)
+    # from outside, high to the right: through the window onto the floor and the table
+    sc.light("SUN", "Sun", (6.0, 0.2, 5.0), target=(0.0, 0.4, 0.0), energy=4.0,
+             angle=math.radians(2))
+    sc.light("SPOT", "Spot", (-2.3, -2.3, H - 0.05), target=(-0.8, 0.3, 0.0),
+             shadow_soft_size=0.05, energy=600.0, spot_size=math.radians(40), spot_blend=0.2)
+
+
+def many_lights():
+    sc._reset()
+    sc._stage()
+    rng = np.random.default_rng(14)
+    for k in range(24):
+        px, py = rng.uniform(-2.5, 2.5), rng.uniform(-2.5, 1.8)
+        pz = rng.uniform(0.3, 2.6)
+        colour = 0.3 + 0.7 * rng.uniform(size=3)
+        obj = sc.light("POINT", f"Lamp{k}", (px, py, pz), shadow_soft_size=0.05,
+                       energy=float(rng.uniform(5.0, 120.0)))
+        obj.data.color = tuple(float(c) for c in colour)
+
+
+SCENES = {f.__name__: f for f in (room_area_point, room_spot_sun_world, many_lights)}
