@@ -10,6 +10,7 @@ import math
 import bpy
 import numpy as np
 
+from .sky import sky_world
 from .texture import mapping_constant
 
 MAX_MAP_WIDTH = 8192  # wider maps are box-filtered down (their lighting changes little)
@@ -183,6 +184,8 @@ def export_world(world, report, cache=None):
         out["color"] = [c * s for c in color]
         return out
     where = f"World '{world.name}'"
+    if src.type == "TEX_SKY":  # addon/export/sky.py
+        return sky_world(src, out, color, s, vector_matrix(src, where, report), where, report)
     if src.type != "TEX_ENVIRONMENT":
         report.warn(f"{where}: '{src.name}' ({src.type}) feeding the Background Color is not "
                     "supported; the socket's own colour is used")
