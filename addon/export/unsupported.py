@@ -95,8 +95,6 @@ class UnsupportedFeatures:
             warn(f"Object '{obj.name}': ray visibility off for {', '.join(off)} rays is not "
                  "honoured (only Camera and Shadow are)")
         surface = obj.type not in {"LIGHT", "CAMERA", "EMPTY"}
-        if surface and getattr(obj, "is_holdout", False):
-            warn(f"Object '{obj.name}': holdout is not rendered (it renders normally)")
         if surface and getattr(obj, "is_shadow_catcher", False):
             warn(f"Object '{obj.name}': shadow catcher is not rendered (it renders normally)")
         ll = getattr(obj, "light_linking", None)

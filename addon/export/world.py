@@ -179,6 +179,7 @@ def export_world(world, report, cache=None):
         return {"color": [0.0, 0.0, 0.0]}
     out = {"color": [0.0, 0.0, 0.0]}
     out.update(_visibility(world, report))
+    _settings(world, report)
     src, color, s = _background_input(world, node, report)
     if src is None:
         out["color"] = [c * s for c in color]
@@ -223,3 +224,12 @@ def _visibility(world, report):
             report.warn(f"World '{world.name}': hiding the world from {ray} rays is not "
                         "supported; it stays visible to them")
     return {"visible_camera": bool(getattr(vis, "camera", True))}
+
+
+def _settings(world, report):
+    """Cycles' world settings that change the image and that Lantern does not honour."""
+    cw = getattr(world, "cycles", None)
+    bounces = getattr(cw, "max_bounces", 1024)
+    if bounces < 1024:
+        report.warn(f"World '{world.name}': Max Bounces {bounces} is not honoured (the world "
+                    "lights every bounce)")
