@@ -10,7 +10,7 @@ import math
 import bpy
 from mathutils import Vector
 
-import scenes
+# scenes.py imports this module at its end (register); scenes is imported where it is used
 
 SKY_SUN = (math.radians(35.0), math.radians(-30.0))   # elevation, azimuth from +X
 SKY_TURBIDITY = 3.0
@@ -31,6 +31,7 @@ def sky_world(sun=SKY_SUN, turbidity=SKY_TURBIDITY):
 def world_sky():
     """No lamps: a Preetham sky (sun 35 degrees up, turbidity 3) lights the stage; the camera
     sees the sky above the back wall."""
+    import scenes
     scenes._reset()
     scenes._stage()
     sky_world()
@@ -39,6 +40,7 @@ def world_sky():
 def world_pano():
     """world_hdri seen by an equirectangular panoramic camera (the full sphere, 192 x 96) from
     above the stage's floor: the sunset's sun, the stage and the sky in one image."""
+    import scenes
     scenes.world_hdri()
     scene = bpy.context.scene
     scene.render.resolution_x = 2 * scenes.RES
@@ -55,6 +57,7 @@ def world_film_holdout():
     """Transparent film over a constant world and one area light: the stage, a holdout object
     (the green block, Object > Visibility > Holdout) and a sphere with the Holdout shader; both
     cut the film to alpha 0 where the camera sees them, the world still lights the scene."""
+    import scenes
     scenes._reset(world_color=(0.3, 0.35, 0.4))
     scenes._stage()
     scene = bpy.context.scene
