@@ -28,7 +28,9 @@ ALPHA_TOL = 0.02
 bpy = pytest.importorskip("bpy")
 import render_compare as rc  # noqa: E402
 
-REF = os.path.join(rc.REF_DIR, NAME + ".npz")
+# beside, not in, refs/: test_cycles_compare.py compares every refs/*.npz as an opaque RGB scene
+REF_DIR = os.path.join(rc.REF_DIR, "film")
+REF = os.path.join(REF_DIR, NAME + ".npz")
 SEEDS = int(os.environ.get("LANTERN_TEST_SEEDS", "16"))
 SPP = int(os.environ.get("LANTERN_TEST_SPP", "128"))
 
@@ -79,8 +81,9 @@ def make_reference(spp, seeds):
     build()
     images = [render_cycles_rgba(1000 + k, spp)[0] for k in range(seeds)]
     st = rc.stats_over_seeds(images)
+    os.makedirs(REF_DIR, exist_ok=True)
     np.savez_compressed(REF, **st)
-    with open(os.path.join(rc.REF_DIR, NAME + ".json"), "w") as f:
+    with open(os.path.join(REF_DIR, NAME + ".json"), "w") as f:
         json.dump({"scene": NAME, "blend_script": "blend_scenes/world_scenes.py:" + NAME,
                    "renderer": "Cycles (CPU), transparent film, RGBA",
                    "blender_version": bpy.app.version_string, "spp_per_seed": spp,
