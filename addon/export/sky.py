@@ -14,6 +14,7 @@ The other sky types (Multiple Scattering, the default since Blender 5.0; Single 
 Hosek / Wilkie) are not rendered: a warning names them, and the Background's own colour lights
 the scene instead."""
 
+import functools
 import math
 
 import numpy as np
@@ -106,10 +107,17 @@ def sky_map(node, where, report):
                            any(abs(v - 1.0) > 1e-6 for v in tm.scale)):
         report.warn(f"{where}: Sky Texture '{node.name}': its own texture mapping is ignored "
                     "(use a Mapping node)")
+    return _preetham_map(tuple(float(v) for v in node.sun_direction), float(node.turbidity))
+
+
+@functools.lru_cache(maxsize=4)
+def _preetham_map(sun_dir, turbidity):
+    """The map of one sky (0.1 s): kept across viewport exports; read-only."""
     w, h = MAP_SIZE
-    rgb = preetham_radiance(equirect_directions(w, h), tuple(node.sun_direction),
-                            float(node.turbidity))
-    return np.ascontiguousarray(np.maximum(rgb, 0.0), np.float32)
+    rgb = np.ascontiguousarray(np.maximum(preetham_radiance(equirect_directions(w, h), sun_dir,
+                                                            turbidity), 0.0), np.float32)
+    rgb.setflags(write=False)
+    return rgb
 
 
 def sky_world(node, out, color, strength, to_map, where, report):
