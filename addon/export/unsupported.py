@@ -67,9 +67,6 @@ class UnsupportedFeatures:
         for child in lc.children:
             if child.exclude:
                 continue
-            if child.holdout:
-                self.report.warn(f"View layer '{layer.name}': collection '{child.name}' is a "
-                                 "holdout, which Lantern does not render (it renders normally)")
             if child.indirect_only:
                 self.report.warn(f"View layer '{layer.name}': collection '{child.name}' is "
                                  "Indirect Only, which Lantern does not render (it renders "

@@ -197,6 +197,15 @@ def test_holdouts_export_and_shadow_catcher_is_named(empty, addon):
     assert not any("holdout" in msg.lower() for msg in report.messages), report.messages
     assert any("Catcher" in msg and "shadow catcher" in msg for msg in report.messages)
     scene.validate()
+    # a holdout collection makes its objects holdouts, as in Cycles
+    col = bpy.data.collections.new("Masked")
+    empty.collection.children.link(col)
+    empty.collection.objects.unlink(bpy.data.objects["Catcher"])
+    col.objects.link(bpy.data.objects["Catcher"])
+    empty.view_layers[0].layer_collection.children["Masked"].holdout = True
+    scene, _ = export(addon)
+    by_name = {mesh["name"]: mesh for mesh in scene.meshes}
+    assert scene.materials[int(by_name["Catcher"]["material_ids"][0])].get("holdout")
     empty.lantern.integrator = "bdpt"
     _, report = export(addon)
     assert any("Cutout" in msg and "pt integrator only" in msg for msg in report.messages)
