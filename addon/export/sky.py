@@ -6,9 +6,10 @@ Practical Analytic Model for Daylight", SIGGRAPH 1999 (Perez et al.'s all-weathe
 distribution, its coefficients linear in turbidity T, Appendix A.2; the zenith luminance and
 chromaticities of Appendix A.3). Luminance and chromaticity x, y are each the zenith value times
 F(theta, gamma) / F(0, theta_sun), converted xyY -> XYZ -> linear Rec.709 (D65). Blender's
-conventions, measured against Cycles (bpy 5.0.1; blend scene world_sky in tests/render/test_cycles_compare.py): the result
-is scaled by 0.06 (Y in kcd/m^2 to Blender's radiance units), below the horizon the gradation
-term takes its horizon limit (1), and Preetham has no sun disc.
+conventions, measured against Cycles (bpy 5.0.1; the world_sky blend scene in
+tests/render/test_cycles_compare.py): the result is scaled by 0.06 (Y in kcd/m^2 to Blender's
+radiance units), below the horizon the gradation term takes its horizon limit (1), and Preetham
+has no sun disc.
 
 The other sky types (Multiple Scattering, the default since Blender 5.0; Single Scattering;
 Hosek / Wilkie) are not rendered: a warning names them, and the Background's own colour lights
