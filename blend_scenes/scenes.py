@@ -279,3 +279,7 @@ def build(name, path=None):
     os.makedirs(os.path.dirname(path), exist_ok=True)
     bpy.ops.wm.save_as_mainfile(filepath=path, check_existing=False)
     return path
+
+
+import world_scenes  # noqa: E402  (blend_scenes/world_scenes.py: sky, panorama)
+world_scenes.register(SCENES)

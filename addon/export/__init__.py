@@ -1,7 +1,8 @@
 """Depsgraph -> lantern.Scene. Everything here runs on Blender's main thread; the scene it
 returns holds only numpy arrays and plain values, safe to hand to a render thread."""
 
-from .camera import export_camera, export_film
+from .camera import export_camera, export_film, film_unsupported
+from .holdout import Holdouts
 from .light import export_light
 from .material import MaterialTable
 from .mesh import MeshExporter
@@ -38,6 +39,7 @@ def export_scene(depsgraph, region_view=None, report=None, texture_cache=None):
     if region_view is None:
         scene.film = export_film(bscene)
         scene.camera = export_camera(bscene, bscene.camera, scene.film, report)
+        film_unsupported(bscene, report)
     else:
         scene.film = region_view.film()
         scene.camera = region_view.camera()
@@ -45,6 +47,7 @@ def export_scene(depsgraph, region_view=None, report=None, texture_cache=None):
     materials = MaterialTable(report, texture_cache)
     meshes = MeshExporter(materials, report)
     features = UnsupportedFeatures(report)
+    holdouts = Holdouts(materials, report, _integrator(bscene), depsgraph.view_layer)
     features.scene(depsgraph)
     for inst in depsgraph.object_instances:
         obj = inst.object
@@ -58,6 +61,7 @@ def export_scene(depsgraph, region_view=None, report=None, texture_cache=None):
         elif obj.type in {"MESH", "CURVE", "SURFACE", "META", "FONT", "CURVES"}:
             mesh = meshes.export(inst)
             if mesh is not None:
+                holdouts.mesh(obj, mesh)  # export/holdout.py
                 scene.meshes.append(mesh)
             else:
                 features.hair_curves_without_mesh(obj)
@@ -66,3 +70,8 @@ def export_scene(depsgraph, region_view=None, report=None, texture_cache=None):
     scene.materials = materials.materials
     scene.textures = materials.textures
     return scene, report
+
+
+def _integrator(bscene):
+    settings = getattr(getattr(bscene, "original", bscene), "lantern", None)
+    return str(getattr(settings, "integrator", "pt")).lower()

@@ -14,6 +14,18 @@ def export_film(bscene):
             "transparent": bool(r.film_transparent)}
 
 
+def film_unsupported(bscene, report):
+    """Film settings that change the image and that Lantern does not honour, named."""
+    c = getattr(bscene, "cycles", None)
+    kind = getattr(c, "pixel_filter_type", "BLACKMAN_HARRIS")
+    if kind != "BLACKMAN_HARRIS":
+        report.warn(f"Render settings: the {kind.replace('_', ' ').title()} pixel filter is "
+                    "rendered as Blackman-Harris (of the same width)")
+    if bscene.render.film_transparent and getattr(c, "film_transparent_glass", False):
+        report.warn("Render settings: Transparent Glass is not rendered (glass stays opaque "
+                    "in the film's alpha)")
+
+
 def _rigid(matrix):
     m = np.array(matrix, dtype=np.float64)
     for k in range(3):
@@ -149,5 +161,5 @@ class ViewportView:
                 "clip": [max(0.0, d_near), float(d_far - min(0.0, d_near))]}
 
 
-__all__ = ["export_film", "export_camera", "export_dof", "camera_window", "view_window",
+__all__ = ["export_film", "film_unsupported", "export_camera", "export_dof", "camera_window", "view_window",
            "ViewportView"]

@@ -26,6 +26,7 @@ import math
 
 import bpy
 
+from .holdout import holdout_material
 from .material_compile import GraphCompiler, attach
 from .texture import MAGENTA, TextureTable
 
@@ -325,6 +326,8 @@ def convert_material(material, report, textures=None, add_leaf=None):
     if node is None:
         out["base_color"] = [0.0, 0.0, 0.0]
         return out
+    if node.type == "HOLDOUT":  # export/holdout.py
+        return holdout_material(material)
     if node.type in ("MIX_SHADER", "ADD_SHADER", "BSDF_TRANSPARENT"):
         return _convert_mix(node, material, report, textures, add_leaf)
     out = _convert_shader(node, material, report, textures)

@@ -67,9 +67,6 @@ class UnsupportedFeatures:
         for child in lc.children:
             if child.exclude:
                 continue
-            if child.holdout:
-                self.report.warn(f"View layer '{layer.name}': collection '{child.name}' is a "
-                                 "holdout, which Lantern does not render (it renders normally)")
             if child.indirect_only:
                 self.report.warn(f"View layer '{layer.name}': collection '{child.name}' is "
                                  "Indirect Only, which Lantern does not render (it renders "
@@ -95,8 +92,6 @@ class UnsupportedFeatures:
             warn(f"Object '{obj.name}': ray visibility off for {', '.join(off)} rays is not "
                  "honoured (only Camera and Shadow are)")
         surface = obj.type not in {"LIGHT", "CAMERA", "EMPTY"}
-        if surface and getattr(obj, "is_holdout", False):
-            warn(f"Object '{obj.name}': holdout is not rendered (it renders normally)")
         if surface and getattr(obj, "is_shadow_catcher", False):
             warn(f"Object '{obj.name}': shadow catcher is not rendered (it renders normally)")
         ll = getattr(obj, "light_linking", None)

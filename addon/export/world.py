@@ -10,6 +10,7 @@ import math
 import bpy
 import numpy as np
 
+from .sky import sky_world
 from .texture import mapping_constant
 
 MAX_MAP_WIDTH = 8192  # wider maps are box-filtered down (their lighting changes little)
@@ -178,11 +179,14 @@ def export_world(world, report, cache=None):
         return {"color": [0.0, 0.0, 0.0]}
     out = {"color": [0.0, 0.0, 0.0]}
     out.update(_visibility(world, report))
+    _settings(world, report)
     src, color, s = _background_input(world, node, report)
     if src is None:
         out["color"] = [c * s for c in color]
         return out
     where = f"World '{world.name}'"
+    if src.type == "TEX_SKY":  # addon/export/sky.py
+        return sky_world(src, out, color, s, vector_matrix(src, where, report), where, report)
     if src.type != "TEX_ENVIRONMENT":
         report.warn(f"{where}: '{src.name}' ({src.type}) feeding the Background Color is not "
                     "supported; the socket's own colour is used")
@@ -220,3 +224,12 @@ def _visibility(world, report):
             report.warn(f"World '{world.name}': hiding the world from {ray} rays is not "
                         "supported; it stays visible to them")
     return {"visible_camera": bool(getattr(vis, "camera", True))}
+
+
+def _settings(world, report):
+    """Cycles' world settings that change the image and that Lantern does not honour."""
+    cw = getattr(world, "cycles", None)
+    bounces = getattr(cw, "max_bounces", 1024)
+    if bounces < 1024:
+        report.warn(f"World '{world.name}': Max Bounces {bounces} is not honoured (the world "
+                    "lights every bounce)")

@@ -5,7 +5,9 @@ hides it from camera rays when `film["transparent"]`) but still lights the scene
 The coverage is rendered by its own cheap pass over the same scene, camera and pixel filter:
 every surface a black emitter of 1 (its alpha and alpha texture kept, so that a surface of
 alpha a covers a), no lights, a black world, camera rays only. Its pixel means are the alpha
-Cycles writes, with the same filter. Lights seen by the camera do not count as coverage."""
+Cycles writes, with the same filter. Lights seen by the camera do not count as coverage.
+Holdouts (material "holdout": True, addon/export/holdout.py) are opaque black: they cover
+nothing and hide what is behind them."""
 
 import copy
 
@@ -27,7 +29,9 @@ def coverage_scene(scene):
     out.materials = []
     for m in scene.materials:
         leaf = {k: m[k] for k in COVERAGE_KEEP if k in m}
-        leaf.update(type="diffuse", base_color=[0.0, 0.0, 0.0], emission=[1.0, 1.0, 1.0])
+        # a holdout covers nothing, yet hides what is behind it: a black, opaque surface
+        cover = 0.0 if m.get("holdout") else 1.0
+        leaf.update(type="diffuse", base_color=[0.0, 0.0, 0.0], emission=[cover] * 3)
         if m.get("type") == "mix":  # a mix's coverage: its leaves' alpha is not kept
             leaf.pop("alpha_texture", None)
         out.materials.append(leaf)

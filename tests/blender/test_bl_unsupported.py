@@ -108,8 +108,9 @@ def no_shadow(s):
     _light(s).data.use_shadow = False
 
 
-def holdout(s):
+def holdout(s):  # rendered by pt (export/holdout.py); the other integrators name it
     _base(s).is_holdout = True
+    s.lantern.integrator = "bdpt"
 
 
 def shadow_catcher(s):
@@ -148,8 +149,9 @@ def _child_collection(s, name):
     return s.view_layers[0].layer_collection.children[name]
 
 
-def holdout_collection(s):
+def holdout_collection(s):  # its objects are holdouts (export/holdout.py), pt only
     _child_collection(s, "Masked").holdout = True
+    s.lantern.integrator = "lvc"
 
 
 def indirect_only(s):
@@ -189,13 +191,13 @@ CASES = [  # builder, the name the warning must carry, a word of the feature
     (light_nodes, "Light 'Lamp'", "light node trees"),
     (ies, "Light 'Lamp'", "IES"),
     (no_shadow, "Light 'Lamp'", "Cast Shadow"),
-    (holdout, "Object 'Subject'", "holdout"),
+    (holdout, "Object 'Subject'", "pt integrator only"),
     (shadow_catcher, "Object 'Subject'", "shadow catcher"),
     (volume_object, "Object 'Cloud'", "volume objects"),
     (point_cloud, "Object 'Points'", "point clouds"),
     (hair_curves, "Object 'Strands'", "hair curves"),
     (material_override, "View layer 'ViewLayer'", "material override"),
-    (holdout_collection, "collection 'Masked'", "holdout"),
+    (holdout_collection, "Object 'Subject'", "lvc renders it as an ordinary surface"),
     (indirect_only, "collection 'Bounce'", "Indirect Only"),
     (multiview, "Render settings", "multi-view"),
     (freestyle, "View layer 'ViewLayer'", "Freestyle"),

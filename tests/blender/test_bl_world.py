@@ -173,14 +173,85 @@ def test_transparent_film_through_f12(empty, addon, tmp_path, errors):
     assert not [c for c in errors if c[0] == "ERROR"]
 
 
-def test_holdout_and_shadow_catcher_are_named(empty, addon):
-    from blender_helpers import add_camera, add_plane
+def test_holdouts_export_and_shadow_catcher_is_named(empty, addon):
+    """A holdout object keeps its own material, copied with "holdout" (indirect rays still see
+    it); a Holdout shader is a black holdout material; the shadow catcher is still named."""
+    from blender_helpers import add_camera, add_plane, diffuse_material
     add_camera(empty)
-    add_plane(empty, name="Cutout").is_holdout = True
-    add_plane(empty, name="Catcher").is_shadow_catcher = True
+    add_plane(empty, name="Cutout", material=diffuse_material(0.5)).is_holdout = True
+    m = bpy.data.materials.new("HoldoutShader")
+    nt = m.node_tree
+    nt.nodes.remove(nt.nodes["Principled BSDF"])
+    h = nt.nodes.new("ShaderNodeHoldout")
+    nt.links.new(h.outputs[0], nt.nodes["Material Output"].inputs["Surface"])
+    add_plane(empty, name="Shader", location=(3.0, 0.0, 0.0), material=m)
+    add_plane(empty, name="Catcher", location=(-3.0, 0.0, 0.0)).is_shadow_catcher = True
+    scene, report = export(addon)
+    by_name = {mesh["name"]: mesh for mesh in scene.meshes}
+    cut = scene.materials[int(by_name["Cutout"]["material_ids"][0])]
+    assert cut.get("holdout") and cut["base_color"] == pytest.approx([0.5] * 3, abs=1e-6)
+    shader = scene.materials[int(by_name["Shader"]["material_ids"][0])]
+    assert shader.get("holdout") and shader["base_color"] == [0.0, 0.0, 0.0]
+    catcher = scene.materials[int(by_name["Catcher"]["material_ids"][0])]
+    assert not catcher.get("holdout")
+    assert not any("holdout" in msg.lower() for msg in report.messages), report.messages
+    assert any("Catcher" in msg and "shadow catcher" in msg for msg in report.messages)
+    scene.validate()
+    # a holdout collection makes its objects holdouts, as in Cycles
+    col = bpy.data.collections.new("Masked")
+    empty.collection.children.link(col)
+    empty.collection.objects.unlink(bpy.data.objects["Catcher"])
+    col.objects.link(bpy.data.objects["Catcher"])
+    empty.view_layers[0].layer_collection.children["Masked"].holdout = True
+    scene, _ = export(addon)
+    by_name = {mesh["name"]: mesh for mesh in scene.meshes}
+    assert scene.materials[int(by_name["Catcher"]["material_ids"][0])].get("holdout")
+    empty.lantern.integrator = "bdpt"
     _, report = export(addon)
-    assert any("Cutout" in m and "holdout" in m for m in report.messages), report.messages
-    assert any("Catcher" in m and "shadow catcher" in m for m in report.messages)
+    assert any("Cutout" in msg and "pt integrator only" in msg for msg in report.messages)
+
+
+def sky_world(scene, sky_type, **props):
+    world = bpy.data.worlds.new("Sky")
+    nt = world.node_tree
+    sky = nt.nodes.new("ShaderNodeTexSky")
+    sky.sky_type = sky_type
+    for k, v in props.items():
+        setattr(sky, k, v)
+    nt.links.new(sky.outputs["Color"], nt.nodes["Background"].inputs["Color"])
+    nt.nodes["Background"].inputs["Strength"].default_value = 2.0
+    scene.world = world
+    return sky
+
+
+def test_preetham_sky_is_an_environment_map(empty, addon):
+    """Preetham becomes an equirectangular map (its values: tests/render, world_sky against
+    Cycles); the sun's side of the sky is the brighter, the strength is applied by the core."""
+    from blender_helpers import add_camera
+    add_camera(empty)
+    sky_world(empty, "PREETHAM", sun_direction=(1.0, 0.0, 0.3), turbidity=3.0)
+    scene, report = export(addon)
+    w = scene.world
+    assert not report.messages, report.messages
+    assert w["projection"] == "equirectangular" and w["strength"] == [2.0] * 3
+    rgb = np.asarray(w["map"])
+    h, width = rgb.shape[:2]
+    assert np.isfinite(rgb).all() and rgb.min() >= 0.0
+    # u = 0.5 - atan2(y, x) / 2 pi: +X (the sun's side) is the middle column, -X the edges
+    row = rgb[int(0.6 * h)]
+    assert row[width // 2].sum() > 1.5 * row[0].sum()
+
+
+@pytest.mark.parametrize("sky_type", ["MULTIPLE_SCATTERING", "SINGLE_SCATTERING",
+                                      "HOSEK_WILKIE"])
+def test_other_sky_types_are_named(empty, addon, sky_type):
+    from blender_helpers import add_camera
+    add_camera(empty)
+    sky_world(empty, sky_type)
+    scene, report = export(addon)
+    assert "map" not in scene.world
+    assert any("Sky Texture" in m and "not rendered" in m for m in report.messages), \
+        report.messages
 
 
 def test_panoramic_equirectangular_export(empty, addon):

@@ -223,3 +223,28 @@ TEST(EnvMap, BadTexelsAreCleanedWithWarnings) {
     Built e;
     EXPECT_THROW(build_envmap(wrong, e.st, e.warnings), std::invalid_argument);
 }
+
+// The distribution is built once per content (a viewport restart makes a new HostScene from the
+// same export): the same map returns the same storage, and its warnings again; a changed
+// texel, strength or mapping builds anew.
+TEST(EnvMap, BuiltOncePerContent) {
+    EnvMapInput in = test_map(64, 32, "equirectangular");
+    in.pixels[7] = -1.0f;  // one warning, to be repeated on a cache hit
+    std::vector<std::string> w1, w2, w3, w4;
+    const int64_t before = envmap_builds();
+    auto a = build_envmap_cached(in, w1);
+    auto b = build_envmap_cached(in, w2);
+    EXPECT_EQ(a.get(), b.get());
+    EXPECT_EQ(envmap_builds(), before + 1);
+    ASSERT_EQ(w1.size(), 1u);
+    EXPECT_EQ(w1, w2);
+    in.pixels[100] += 1.0f;
+    auto c = build_envmap_cached(in, w3);
+    EXPECT_NE(c.get(), a.get());
+    in.strength = Vec3{2.0f, 2.0f, 2.0f};
+    auto d = build_envmap_cached(in, w4);
+    EXPECT_NE(d.get(), c.get());
+    EXPECT_EQ(envmap_builds(), before + 3);
+    EXPECT_GT(d->mean.x, c->mean.x * 1.99f);  // the new strength, not the cached build's
+    EXPECT_EQ(b->view.texels, b->texels.data());  // the view still points into its storage
+}

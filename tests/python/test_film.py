@@ -61,3 +61,34 @@ def test_opaque_film_alpha_is_one(core):
     cov = coverage_scene(half_plane_scene(alpha=0.3))
     assert cov.lights == [] and cov.world["color"] == [0.0, 0.0, 0.0]
     assert cov.materials[0]["alpha"] == 0.3 and cov.materials[0]["emission"] == [1.0] * 3
+
+
+def holdout_scene():
+    """half_plane_scene with a holdout quad (material "holdout") over its middle, 0.5 above the
+    plane: it cuts the film and is black where the camera sees it, and it shadows the plane."""
+    scene = half_plane_scene()
+    h = scene.add_material("cut", base_color=(0.5, 0.5, 0.5))
+    scene.materials[h]["holdout"] = True
+    scene.add_mesh(np.array([[-1.5, -0.5, 0.5], [-0.5, -0.5, 0.5], [-0.5, 0.5, 0.5],
+                             [-1.5, 0.5, 0.5]], np.float32),
+                   np.array([[0, 1, 2], [0, 2, 3]], np.uint32), material=h, name="cut")
+    return scene
+
+
+def test_holdout_cuts_the_film_and_still_shadows(core):
+    """Where the camera sees a holdout: colour 0, alpha 0; where it sees the plane, the holdout
+    still occludes the world (the plane is darker under it than far from it)."""
+    scene = holdout_scene()
+    img = lantern.render(scene, spp=64, seed=1, integrator="pt")
+    alpha = render_alpha(scene, spp=64, seed=1)
+    # the screen spans [-1, 1] over 32 pixels: the quad covers columns 0..7, rows 8..23
+    assert img[10:22, :6].max() == 0.0 and alpha[10:22, :6].max() == 0.0
+    assert alpha[:4, :12].min() > 0.999 and alpha[-4:, :12].min() > 0.999
+    beside = img[12:20, 8:10].mean()             # the plane right next to the holdout's edge
+    far = img[:4, 2:12].mean()
+    assert far > 0.3 and beside < 0.9 * far, (beside, far)
+    # without "holdout" the quad renders as a grey surface and covers the film
+    scene.materials[1]["holdout"] = False
+    img2 = lantern.render(scene, spp=16, seed=1, integrator="pt")
+    assert img2[10:22, :6].mean() > 0.05
+    assert render_alpha(scene, spp=16, seed=1)[10:22, :6].min() > 0.999

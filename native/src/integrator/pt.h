@@ -237,6 +237,8 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
         pt_shade_miss(s, ps, i, d);
         return;
     }
+    // a holdout seen by the camera: no colour (its alpha 0 is lantern/film.py's coverage)
+    if (ps.depth[i] <= 1 && (s.tri_flags[tri] & kHoldout)) return;
     SurfaceHit h = pt_surface(s, tri, ps.hit_uv[i], d);
     MaterialScratch scratch;
     const Material& m = material_at_point(

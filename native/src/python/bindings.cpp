@@ -191,6 +191,7 @@ SceneInput to_input(const nb::dict& scene) {
             mi.coat_normal_strength = get<float>(m, "coat_normal_strength",
                                                  mi.coat_normal_strength);
             mi.alpha = get<float>(m, "alpha", mi.alpha);
+            mi.holdout = get<bool>(m, "holdout", false);
             if (has(m, "mix")) {  // [[leaf, weight], ...]
                 for (nb::handle e : nb::cast<nb::list>(m["mix"])) {
                     auto pair = nb::cast<std::vector<float>>(e);

@@ -5,6 +5,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <list>
+#include <mutex>
 #include <stdexcept>
 
 namespace lantern {
@@ -202,6 +205,83 @@ void build_envmap(const EnvMapInput& in, EnvMapStorage& out, std::vector<std::st
     e.height = in.height;
     e.cells_x = cx_n;
     e.cells_y = cy_n;
+}
+
+// ---- The cache: by a 64-bit hash of everything build_envmap reads ----
+namespace {
+
+struct EnvCacheEntry {
+    uint64_t key;
+    std::shared_ptr<const EnvMapStorage> storage;
+    std::vector<std::string> warnings;
+};
+
+uint64_t mix64(uint64_t h, uint64_t v) {  // splitmix64's finaliser over a running state
+    h ^= v + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2);
+    h ^= h >> 30;
+    h *= 0xbf58476d1ce4e5b9ull;
+    h ^= h >> 27;
+    h *= 0x94d049bb133111ebull;
+    return h ^ (h >> 31);
+}
+
+uint64_t envmap_key(const EnvMapInput& in) {
+    uint64_t h = mix64(0, uint64_t(uint32_t(in.width)) << 32 | uint32_t(in.height));
+    h = mix64(h, uint64_t(in.channels));
+    for (char c : in.projection) h = mix64(h, uint64_t(uint8_t(c)));
+    auto floats = [&h](const float* f, size_t n) {
+        size_t i = 0;
+        for (; i + 2 <= n; i += 2) {
+            uint64_t v;
+            std::memcpy(&v, f + i, 8);
+            h = mix64(h, v);
+        }
+        if (i < n) {
+            uint32_t v;
+            std::memcpy(&v, f + i, 4);
+            h = mix64(h, v);
+        }
+    };
+    floats(in.to_map, 9);
+    const float s[3] = {in.strength.x, in.strength.y, in.strength.z};
+    floats(s, 3);
+    floats(in.pixels.data(), in.pixels.size());
+    return mix64(h, in.pixels.size());
+}
+
+std::mutex g_env_mutex;
+std::list<EnvCacheEntry> g_env_cache;  // most recent first
+int64_t g_env_builds = 0;
+
+}  // namespace
+
+std::shared_ptr<const EnvMapStorage> build_envmap_cached(const EnvMapInput& in,
+                                                         std::vector<std::string>& warnings) {
+    const uint64_t key = envmap_key(in);
+    {
+        std::lock_guard<std::mutex> lock(g_env_mutex);
+        for (auto it = g_env_cache.begin(); it != g_env_cache.end(); ++it) {
+            if (it->key != key) continue;
+            g_env_cache.splice(g_env_cache.begin(), g_env_cache, it);
+            const EnvCacheEntry& e = g_env_cache.front();
+            warnings.insert(warnings.end(), e.warnings.begin(), e.warnings.end());
+            return e.storage;
+        }
+    }
+    auto storage = std::make_shared<EnvMapStorage>();
+    std::vector<std::string> w;
+    build_envmap(in, *storage, w);  // outside the lock: builds of different maps overlap
+    warnings.insert(warnings.end(), w.begin(), w.end());
+    std::lock_guard<std::mutex> lock(g_env_mutex);
+    ++g_env_builds;
+    g_env_cache.push_front(EnvCacheEntry{key, storage, std::move(w)});
+    while (int(g_env_cache.size()) > kEnvMapCacheSize) g_env_cache.pop_back();
+    return storage;
+}
+
+int64_t envmap_builds() {
+    std::lock_guard<std::mutex> lock(g_env_mutex);
+    return g_env_builds;
 }
 
 }  // namespace lantern

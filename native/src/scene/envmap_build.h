@@ -2,6 +2,7 @@
 // importance distribution once per scene, and keep the buffers the EnvMap view points into.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -31,5 +32,14 @@ struct EnvMapStorage {
 // mapping becomes the identity with a warning. Throws std::invalid_argument for pixel arrays
 // that do not match their size. An all-black map leaves out.view.width 0.
 void build_envmap(const EnvMapInput& in, EnvMapStorage& out, std::vector<std::string>& warnings);
+
+// build_envmap once per content: the same pixels, strength, projection and mapping (a viewport
+// restart, another Session of the same export) return the build already made, and its
+// warnings again. The last kEnvMapCacheSize builds are kept; thread-safe.
+constexpr int kEnvMapCacheSize = 2;
+std::shared_ptr<const EnvMapStorage> build_envmap_cached(const EnvMapInput& in,
+                                                         std::vector<std::string>& warnings);
+// Builds made (not found in the cache) since the process started: for tests.
+int64_t envmap_builds();
 
 }  // namespace lantern

@@ -103,6 +103,7 @@ void set_material_textures(Material& m, const MaterialInput& mi, size_t k, size_
     if (!std::isfinite(mi.alpha))
         warnings.push_back("material '" + mi.name + "': alpha is not finite; opaque instead");
     m.transparency = 1.0f - alpha;
+    m.holdout = mi.holdout ? 1u : 0u;
     if ((m.tex_flags & kTexMetallic) && m.type == kMaterialConductor) {
         // a metallic texture needs the principled layers; the conductor type has none
         m.tex_flags &= ~kTexMetallic;
@@ -486,7 +487,8 @@ void HostScene::add_meshes(const SceneInput& in) {
             const Material& mm = materials_[mat];
             const bool alpha = mm.transparency > 0.0f || (mm.tex_flags & kTexAlpha) ||
                                program_has_target(programs_.data(), mm, kTargetAlpha);
-            tri_flags_.push_back(uint8_t(flags | (alpha ? kAlphaTested : 0)));
+            tri_flags_.push_back(uint8_t(flags | (alpha ? kAlphaTested : 0) |
+                                         (mm.holdout ? kHoldout : 0)));
         }
         if (far) {
             warnings_.push_back("mesh '" + m.name + "': " + std::to_string(far) + " of " +
@@ -600,8 +602,8 @@ void HostScene::add_lights(const SceneInput& in) {
     }
     Vec3 world = sanitize_color(in.world_color, 1e30f);
     if (in.world_map.width > 0) {  // an environment map replaces the constant colour
-        build_envmap(in.world_map, env_, warnings_);
-        world = env_.view.width > 0 ? env_.mean : vec3(0.0f);
+        env_ = build_envmap_cached(in.world_map, warnings_);  // once per content
+        world = env_->view.width > 0 ? env_->mean : vec3(0.0f);
     }
     view_.world_color = world;
     if (!is_black(world)) {
@@ -692,9 +694,9 @@ SceneView HostScene::copied_view(
     v.program_code = put(view_.program_code, program_code_.size());
     v.program_consts = put(view_.program_consts, program_consts_.size());
     v.attributes = put(view_.attributes, attributes_.size());
-    v.env.texels = put(view_.env.texels, env_.texels.size());
-    v.env.marginal = put(view_.env.marginal, env_.marginal.size());
-    v.env.conditional = put(view_.env.conditional, env_.conditional.size());
+    v.env.texels = put(view_.env.texels, env_->texels.size());
+    v.env.marginal = put(view_.env.marginal, env_->marginal.size());
+    v.env.conditional = put(view_.env.conditional, env_->conditional.size());
     return v;
 }
 
@@ -727,7 +729,7 @@ void HostScene::finish_view(const SceneInput& in) {
     v.program_consts = program_consts_.empty() ? nullptr : program_consts_.data();
     v.attributes = attributes_.empty() ? nullptr : attributes_.data();
     v.num_attribute_channels = attributes_.empty() ? 0 : num_attribute_channels_;
-    v.env = env_.view;
+    v.env = env_->view;
     v.lights = lights_.data();
     v.light_cdf = light_cdf_.data();
     v.emit_cdf = has_emitters_ ? emit_cdf_.data() : nullptr;
@@ -803,6 +805,7 @@ bool same3(Vec3 a, Vec3 b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
 bool same_use(const Material& a, const Material& b) {
     if (!same3(a.emission, b.emission) || !same3(a.emission_scale, b.emission_scale)) return false;
     if (a.transparency != b.transparency || a.tex_flags != b.tex_flags) return false;
+    if (a.holdout != b.holdout) return false;  // a triangle flag
     if ((a.type == kMaterialMix) != (b.type == kMaterialMix) || a.mix_count != b.mix_count)
         return false;
     for (int i = 0; i < kMixLeaves; ++i) {

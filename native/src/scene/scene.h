@@ -64,6 +64,7 @@ struct MaterialInput {
     int tex_coat_normal = -1;
     float coat_normal_strength = 1.0f;
     float alpha = 1.0f;  // coverage: 0 lets every ray pass (Blender's Alpha)
+    bool holdout = false;  // Holdout shader or holdout object: camera paths end here
     // mix: leaf materials (indices, not mixes) and weights; tex_mix: factor of two leaves
     std::vector<int> mix_children;
     std::vector<float> mix_weights;
@@ -179,7 +180,7 @@ private:
     std::vector<NodeInstr> program_code_;
     std::vector<float> program_consts_, attributes_;
     int num_attribute_channels_ = 0;
-    EnvMapStorage env_;
+    std::shared_ptr<const EnvMapStorage> env_ = std::make_shared<EnvMapStorage>();  // cached
     bool has_emitters_ = false;
     std::vector<std::string> warnings_;
     SceneView view_;

@@ -85,6 +85,7 @@ struct Material {
     // kTexProgram: the compiled node graph, programs prog_first .. + prog_count of
     // SceneView::programs, one per input it drives (scene/material_program.h)
     int32_t prog_first, prog_count;
+    uint32_t holdout;  // 1: a holdout (TriangleFlags kHoldout on its triangles)
 };
 
 enum MaterialTextureBits : uint32_t {
@@ -150,7 +151,10 @@ struct Light {
 
 // kAlphaTested: the material has alpha < 1 (constant or textured): hits go through
 // scene/alpha.h's stochastic test
-enum TriangleFlags : uint8_t { kVisibleCamera = 1, kCastShadow = 2, kAlphaTested = 4 };
+// kHoldout: the material is a holdout (Holdout shader, holdout object): camera paths that
+// reach it end there, adding nothing (the film's alpha is 0 there: lantern/film.py)
+enum TriangleFlags : uint8_t { kVisibleCamera = 1, kCastShadow = 2, kAlphaTested = 4,
+                               kHoldout = 8 };
 
 struct CameraView {
     int32_t orthographic;

@@ -1,0 +1,69 @@
+"""Holdouts, with Cycles' meaning (measured with bpy 5.0.1, tests/render/test_world_film.py):
+where the camera sees a holdout, the pixel gets no colour and alpha 0; the holdout still hides
+what is behind it and casts shadows.
+
+- The Holdout shader: a material of "holdout": True that indirect rays see as black (it has no
+  BSDF), material.py's convert_material hands it here.
+- A holdout object (Object > Visibility > Holdout, or in a view layer's holdout collection):
+  its materials as they are, copied with "holdout": True, so that indirect rays still see them.
+
+The core ends camera paths on holdout triangles (integrator/pt.h, TriangleFlags kHoldout) and
+lantern/film.py gives them no coverage. Only pt does: the bidirectional integrators render
+holdouts as ordinary surfaces, and the export says so."""
+
+import numpy as np
+
+
+def holdout_material(material):
+    """The Lantern material of a Blender material whose surface is a Holdout shader."""
+    return {"name": material.name, "type": "diffuse", "base_color": [0.0, 0.0, 0.0],
+            "holdout": True}
+
+
+class Holdouts:
+    """Holdout objects' meshes pointed at holdout copies of their materials (one copy per
+    material), and the warning for integrators that do not render holdouts."""
+
+    def __init__(self, materials, report, integrator="pt", view_layer=None):
+        self.materials = materials      # export/material.py MaterialTable
+        self.report = report
+        self.integrator = integrator
+        self.view_layer = view_layer    # for holdout collections (Object.holdout_get)
+        self._copies = {}
+
+    def _copy(self, index):
+        if index not in self._copies:
+            table = self.materials.materials
+            m = dict(table[index], holdout=True)
+            m["name"] = f"{m.get('name', 'material')} (holdout)"
+            table.append(m)
+            self._copies[index] = len(table) - 1
+        return self._copies[index]
+
+    def mesh(self, obj, mesh):
+        """Called for every exported mesh of object `obj` (export/__init__.py)."""
+        shader = any(self.materials.materials[i].get("holdout") for i in
+                     np.unique(mesh["material_ids"]).tolist())
+        if self.is_holdout(obj):
+            ids = np.asarray(mesh["material_ids"], np.int64)
+            used = np.unique(ids)
+            lut = np.zeros(int(used.max()) + 1 if len(used) else 1, np.uint32)
+            for i in used.tolist():
+                lut[i] = self._copy(i)
+            mesh["material_ids"] = lut[ids]  # a new array: MeshExporter's cache keeps its own
+            shader = True
+        if shader and self.integrator != "pt":
+            self.report.warn(f"Object '{obj.name}': holdouts are rendered by the pt integrator "
+                             f"only; {self.integrator} renders it as an ordinary surface")
+
+    def is_holdout(self, obj):
+        """The object's own flag or a holdout collection of the view layer (what Cycles reads)."""
+        if getattr(obj, "is_holdout", False):
+            return True
+        original = getattr(obj, "original", obj)
+        if self.view_layer is None or not hasattr(original, "holdout_get"):
+            return False
+        try:
+            return bool(original.holdout_get(view_layer=self.view_layer))
+        except (TypeError, RuntimeError, ReferenceError):
+            return False

@@ -1,0 +1,133 @@
+"""Sky Texture -> an equirectangular radiance map, evaluated at export (numpy), that the core
+then importance-samples like any environment map (docs/scene_format.md, "World").
+
+Preetham is written from the published model: A. J. Preetham, P. Shirley, B. Smits, "A
+Practical Analytic Model for Daylight", SIGGRAPH 1999 (Perez et al.'s all-weather luminance
+distribution, its coefficients linear in turbidity T, Appendix A.2; the zenith luminance and
+chromaticities of Appendix A.3). Luminance and chromaticity x, y are each the zenith value times
+F(theta, gamma) / F(0, theta_sun), converted xyY -> XYZ -> linear Rec.709 (D65). Blender's
+conventions, measured against Cycles (bpy 5.0.1; the world_sky blend scene in
+tests/render/test_cycles_compare.py): the result is scaled by 0.06 (Y in kcd/m^2 to Blender's
+radiance units), below the horizon the gradation term takes its horizon limit (1), and Preetham
+has no sun disc.
+
+The other sky types (Multiple Scattering, the default since Blender 5.0; Single Scattering;
+Hosek / Wilkie) are not rendered: a warning names them, and the Background's own colour lights
+the scene instead."""
+
+import functools
+import math
+
+import numpy as np
+
+SCALE = 0.06            # Preetham's Y (kcd/m^2) -> Blender radiance (measured, see above)
+MAP_SIZE = (512, 256)   # width, height: a smooth sky needs no more
+
+# Perez coefficients (A..E) = a * T + b, for Y, x, y (Preetham et al. 1999, A.2)
+_PEREZ = {
+    "Y": ((0.1787, -1.4630), (-0.3554, 0.4275), (-0.0227, 5.3251), (0.1206, -2.5771),
+          (-0.0670, 0.3703)),
+    "x": ((-0.0193, -0.2592), (-0.0665, 0.0008), (-0.0004, 0.2125), (-0.0641, -0.8989),
+          (-0.0033, 0.0452)),
+    "y": ((-0.0167, -0.2608), (-0.0950, 0.0092), (-0.0079, 0.2102), (-0.0441, -1.6537),
+          (-0.0109, 0.0529)),
+}
+# zenith chromaticity = [T^2, T, 1] M [theta_s^3, theta_s^2, theta_s, 1] (A.3)
+_ZENITH_X = np.array([[0.00166, -0.00375, 0.00209, 0.0],
+                      [-0.02903, 0.06377, -0.03202, 0.00394],
+                      [0.11693, -0.21196, 0.06052, 0.25886]])
+_ZENITH_Y = np.array([[0.00275, -0.00610, 0.00317, 0.0],
+                      [-0.04214, 0.08970, -0.04153, 0.00516],
+                      [0.15346, -0.26756, 0.06670, 0.26688]])
+# CIE XYZ -> linear Rec.709 (D65), Blender's scene-linear space
+_XYZ_TO_REC709 = np.array([[3.2404542, -1.5371385, -0.4985314],
+                           [-0.9692660, 1.8760108, 0.0415560],
+                           [0.0556434, -0.2040259, 1.0572252]])
+
+
+def _perez(coeffs, cos_theta, gamma):
+    """Perez's F(theta, gamma); below the horizon (cos_theta <= 0) its gradation term is 1."""
+    a, b, c, d, e = coeffs
+    with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
+        grad = np.where(cos_theta > 1e-6, 1.0 + a * np.exp(b / np.maximum(cos_theta, 1e-6)),
+                        1.0)
+    return grad * (1.0 + c * np.exp(d * gamma) + e * np.cos(gamma) ** 2)
+
+
+def preetham_radiance(dirs, sun_dir, turbidity):
+    """Linear Rec.709 radiance (..., 3) of the Preetham sky for unit directions `dirs` (..., 3),
+    z up, the sun towards `sun_dir`."""
+    t = float(np.clip(turbidity, 1.0, 30.0))
+    s = np.asarray(sun_dir, np.float64)
+    s = s / max(np.linalg.norm(s), 1e-12)
+    theta_s = math.acos(float(np.clip(s[2], -1.0, 1.0)))
+    chi = (4.0 / 9.0 - t / 120.0) * (math.pi - 2.0 * theta_s)
+    zenith = {"Y": (4.0453 * t - 4.9710) * math.tan(chi) - 0.2155 * t + 2.4192}
+    tt = np.array([t * t, t, 1.0])
+    ts = np.array([theta_s ** 3, theta_s ** 2, theta_s, 1.0])
+    zenith["x"], zenith["y"] = tt @ _ZENITH_X @ ts, tt @ _ZENITH_Y @ ts
+    cos_theta = dirs[..., 2]
+    gamma = np.arccos(np.clip(dirs @ s, -1.0, 1.0))
+    val = {}
+    for k, rows in _PEREZ.items():
+        coeffs = [a * t + b for a, b in rows]
+        val[k] = zenith[k] * _perez(coeffs, cos_theta, gamma) / \
+            _perez(coeffs, np.float64(1.0), np.float64(theta_s))
+    x, y, big_y = val["x"], val["y"], val["Y"]
+    y = np.where(np.abs(y) > 1e-9, y, 1e-9)
+    xyz = np.stack([x / y * big_y, big_y, (1.0 - x - y) / y * big_y], axis=-1)
+    rgb = xyz @ _XYZ_TO_REC709.T * SCALE
+    return np.where(np.isfinite(rgb), rgb, 0.0)
+
+
+def equirect_directions(width, height):
+    """Unit directions (height, width, 3) of the texel centres of an equirectangular map as
+    scene/envmap.h reads it (rows bottom to top; u = 0.5 - atan2(y, x) / 2 pi)."""
+    u = (np.arange(width) + 0.5) / width
+    v = (np.arange(height) + 0.5) / height
+    phi = (0.5 - u) * 2.0 * math.pi
+    elev = (v - 0.5) * math.pi
+    ce = np.cos(elev)[:, None]
+    return np.stack([ce * np.cos(phi)[None, :], ce * np.sin(phi)[None, :],
+                     np.broadcast_to(np.sin(elev)[:, None], (height, width))], axis=-1)
+
+
+def sky_map(node, where, report):
+    """The Sky Texture node's radiance as an equirectangular float32 map (H, W, 3), rows bottom
+    to top; None (with a warning) for a sky type Lantern does not render."""
+    kind = getattr(node, "sky_type", "")
+    if kind != "PREETHAM":
+        label = {"MULTIPLE_SCATTERING": "Multiple Scattering", "SINGLE_SCATTERING":
+                 "Single Scattering", "HOSEK_WILKIE": "Hosek / Wilkie",
+                 "NISHITA": "Nishita"}.get(kind, kind)
+        report.warn(f"{where}: Sky Texture '{node.name}' of type {label} is not rendered (only "
+                    "Preetham is); the Background's own colour is used")
+        return None
+    tm = getattr(node, "texture_mapping", None)
+    if tm is not None and (any(abs(v) > 1e-6 for v in tm.rotation) or
+                           any(abs(v - 1.0) > 1e-6 for v in tm.scale)):
+        report.warn(f"{where}: Sky Texture '{node.name}': its own texture mapping is ignored "
+                    "(use a Mapping node)")
+    return _preetham_map(tuple(float(v) for v in node.sun_direction), float(node.turbidity))
+
+
+@functools.lru_cache(maxsize=4)
+def _preetham_map(sun_dir, turbidity):
+    """The map of one sky (0.1 s): kept across viewport exports; read-only."""
+    w, h = MAP_SIZE
+    rgb = np.ascontiguousarray(np.maximum(preetham_radiance(equirect_directions(w, h), sun_dir,
+                                                            turbidity), 0.0), np.float32)
+    rgb.setflags(write=False)
+    return rgb
+
+
+def sky_world(node, out, color, strength, to_map, where, report):
+    """`out` (the world dict) with the sky's map, or the Background colour when the sky type is
+    not rendered."""
+    rgb = sky_map(node, where, report)
+    if rgb is None:
+        out["color"] = [c * strength for c in color]
+        return out
+    out.update({"map": rgb, "map_name": f"sky:{node.name}", "strength": [strength] * 3,
+                "projection": "equirectangular", "to_map": np.asarray(to_map).tolist()})
+    return out

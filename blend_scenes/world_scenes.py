@@ -1,0 +1,83 @@
+"""World and camera scenes of issue 15 beside scenes.py's world_hdri / world_hdri_dof: a
+Preetham sky, the HDRI seen by a panoramic camera, and transparent film with holdouts. The sky
+and panorama join scenes.SCENES through register() (called at the end of scenes.py), so that
+tools/make_cycles_refs.py and tests/render build them like the others. The film scene is not
+registered: its Cycles reference needs transparent film, which make_cycles_refs turns off
+(tests/render/test_world_film.py renders it)."""
+
+import math
+
+import bpy
+from mathutils import Vector
+
+# scenes.py imports this module at its end (register); scenes is imported where it is used
+
+SKY_SUN = (math.radians(35.0), math.radians(-30.0))   # elevation, azimuth from +X
+SKY_TURBIDITY = 3.0
+
+
+def sky_world(sun=SKY_SUN, turbidity=SKY_TURBIDITY):
+    """The world: a Preetham Sky Texture (the sky type Lantern renders) into the Background."""
+    nt = bpy.context.scene.world.node_tree
+    sky = nt.nodes.new("ShaderNodeTexSky")
+    sky.sky_type = "PREETHAM"
+    el, az = sun
+    sky.sun_direction = (math.cos(el) * math.cos(az), math.cos(el) * math.sin(az), math.sin(el))
+    sky.turbidity = turbidity
+    nt.links.new(sky.outputs["Color"], nt.nodes["Background"].inputs["Color"])
+    return sky
+
+
+def world_sky():
+    """No lamps: a Preetham sky (sun 35 degrees up, turbidity 3) lights the stage; the camera
+    sees the sky above the back wall."""
+    import scenes
+    scenes._reset()
+    scenes._stage()
+    sky_world()
+
+
+def world_pano():
+    """world_hdri seen by an equirectangular panoramic camera (the full sphere, 192 x 96) from
+    above the stage's floor: the sunset's sun, the stage and the sky in one image."""
+    import scenes
+    scenes.world_hdri()
+    scene = bpy.context.scene
+    scene.render.resolution_x = 2 * scenes.RES
+    cam_obj = scene.camera
+    cam = cam_obj.data
+    cam.type = "PANO"
+    cam.panorama_type = "EQUIRECTANGULAR"
+    cam_obj.location = (0.3, -2.2, 1.2)
+    d = Vector((0.0, 1.0, -0.1))
+    cam_obj.rotation_euler = d.to_track_quat("-Z", "Y").to_euler()
+
+
+def world_film_holdout():
+    """Transparent film over a constant world and one area light: the stage, a holdout object
+    (the green block, Object > Visibility > Holdout) and a sphere with the Holdout shader; both
+    cut the film to alpha 0 where the camera sees them, the world still lights the scene."""
+    import scenes
+    scenes._reset(world_color=(0.3, 0.35, 0.4))
+    scenes._stage()
+    scene = bpy.context.scene
+    scene.render.film_transparent = True
+    bpy.data.objects["Block"].is_holdout = True
+    m = bpy.data.materials.new("Holdout")
+    nt = m.node_tree
+    nt.nodes.remove(nt.nodes["Principled BSDF"])
+    h = nt.nodes.new("ShaderNodeHoldout")
+    nt.links.new(h.outputs["Holdout"], nt.nodes["Material Output"].inputs["Surface"])
+    bpy.ops.mesh.primitive_uv_sphere_add(radius=0.35, location=(0.2, -1.2, 0.35), segments=32,
+                                         ring_count=16)
+    sphere = bpy.context.active_object
+    sphere.name = "HoldoutSphere"
+    sphere.data.materials.append(m)
+    bpy.ops.object.shade_smooth()
+    scenes.light("AREA", "Key", (1.0, -2.0, 3.0), (0.0, 0.3, 0.0), energy=300.0, size=0.8)
+
+
+def register(scenes_dict):
+    """The scenes with a Cycles reference by make_cycles_refs (not the film scene)."""
+    for f in (world_sky, world_pano):
+        scenes_dict.setdefault(f.__name__, f)

@@ -1,0 +1,134 @@
+"""Transparent film with holdouts against Cycles (blend_scenes/world_scenes.py:
+world_film_holdout: a holdout object and a Holdout-shader sphere on the stage, transparent
+film over a constant world, one area light). RGB through lantern.metrics.assert_agreement
+(Welch blocks and image-mean tests, negative controls); alpha per 8x8 block within 0.02 of
+Cycles' (issue 15), and exactly 0 inside the holdouts.
+
+The Cycles reference needs transparent film, which tools/make_cycles_refs.py turns off, so this
+module makes its own:
+
+    .venv/bin/python tests/render/test_world_film.py [--spp 128] [--seeds 8]
+"""
+
+import json
+import os
+import sys
+import tempfile
+
+import numpy as np
+import pytest
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(HERE))
+sys.path.insert(0, os.path.join(ROOT, "tools"))
+sys.path.insert(0, os.path.join(ROOT, "blend_scenes"))
+NAME = "world_film_holdout"
+ALPHA_TOL = 0.02
+
+bpy = pytest.importorskip("bpy")
+import render_compare as rc  # noqa: E402
+
+# beside, not in, refs/: test_cycles_compare.py compares every refs/*.npz as an opaque RGB scene
+REF_DIR = os.path.join(rc.REF_DIR, "film")
+REF = os.path.join(REF_DIR, NAME + ".npz")
+SEEDS = int(os.environ.get("LANTERN_TEST_SEEDS", "16"))
+SPP = int(os.environ.get("LANTERN_TEST_SPP", "128"))
+
+
+def build():
+    import world_scenes
+    world_scenes.world_film_holdout()
+
+
+def render_cycles_rgba(seed, spp):
+    """Cycles with the comparison settings, transparent film kept: (H, W, 4), top row first."""
+    import lantern_bpy
+    scene = bpy.context.scene
+    settings = rc.cycles_settings(scene, seed, spp)
+    scene.render.film_transparent = True       # cycles_settings turns it off
+    scene.render.image_settings.color_mode = "RGBA"
+    with tempfile.TemporaryDirectory() as tmp:
+        path = os.path.join(tmp, "cycles.exr")
+        scene.render.filepath = path
+        bpy.ops.render.render(write_still=True)
+        img = bpy.data.images.load(path, check_existing=False)
+        try:
+            w, h = img.size
+            px = np.empty(w * h * 4, np.float32)
+            img.pixels.foreach_get(px)
+        finally:
+            bpy.data.images.remove(img)
+    del lantern_bpy
+    return px.reshape(h, w, 4)[::-1].copy(), settings
+
+
+def render_lantern_rgba(seed, spp):
+    """The add-on's export, pt for the colour and lantern.film for the alpha: (H, W, 4)."""
+    import lantern
+    from lantern.film import render_alpha
+    rc.lantern_bpy.load_addon()
+    from lantern_blender.export import export_scene
+    scene, report = export_scene(bpy.context.evaluated_depsgraph_get())
+    s = lantern.Session(scene, integrator="pt", backend="cpu",
+                        max_depth=rc.lantern_depth(rc.BOUNCES), seed=seed, spp_per_iteration=spp)
+    s.step()
+    rgb = np.asarray(s.image(), np.float32)[..., :3]
+    alpha = render_alpha(scene, spp=spp, seed=seed, backend="cpu")
+    return np.concatenate([rgb, alpha[..., None]], axis=2), report.messages
+
+
+def make_reference(spp, seeds):
+    build()
+    images = [render_cycles_rgba(1000 + k, spp)[0] for k in range(seeds)]
+    st = rc.stats_over_seeds(images)
+    os.makedirs(REF_DIR, exist_ok=True)
+    np.savez_compressed(REF, **st)
+    with open(os.path.join(REF_DIR, NAME + ".json"), "w") as f:
+        json.dump({"scene": NAME, "blend_script": "blend_scenes/world_scenes.py:" + NAME,
+                   "renderer": "Cycles (CPU), transparent film, RGBA",
+                   "blender_version": bpy.app.version_string, "spp_per_seed": spp,
+                   "seeds": [1000 + k for k in range(seeds)], "block": rc.BLOCK,
+                   "image_mean_rgba": st["mean"].reshape(-1, 4).mean(0).tolist()}, f, indent=1)
+        f.write("\n")
+
+
+@pytest.fixture(scope="module")
+def renders():
+    lantern = pytest.importorskip("lantern")
+    if not lantern.native_available():
+        pytest.skip(f"native core not available: {lantern.native_error()}")
+    if not os.path.exists(REF):
+        pytest.skip(f"no Cycles reference {REF} (run this file as a script)")
+    build()
+    out = [render_lantern_rgba(k + 1, SPP) for k in range(SEEDS)]
+    return [img for img, _ in out], out[0][1], dict(np.load(REF))
+
+
+def test_film_holdout_colour_matches_cycles(renders):
+    from lantern import metrics
+    images, warnings, ref = renders
+    assert not warnings, f"export warnings: {warnings}"
+    cycles = metrics.SeedBlocks(ref["seed_block_means"][..., :3])
+    metrics.assert_agreement(NAME, [i[..., :3] for i in images], cycles, block=rc.BLOCK)
+
+
+def test_film_holdout_alpha_matches_cycles(renders):
+    images, _, ref = renders
+    lan = np.mean([rc.block_means(i[..., 3:]) for i in images], axis=0)[..., 0]
+    cyc = ref["block_mean"][..., 3]
+    diff = np.abs(lan - cyc)
+    rc.REPORT.append(f"{NAME} alpha: block means max |lantern - cycles| {diff.max():.4f} "
+                     f"(mean alpha lantern {lan.mean():.4f}, cycles {cyc.mean():.4f})")
+    assert diff.max() <= ALPHA_TOL, (diff.max(), np.unravel_index(diff.argmax(), diff.shape))
+    # the holdouts cut the film: some blocks are fully transparent in both, others opaque
+    assert (cyc < 0.02).any() and (lan[cyc < 0.02] < 0.02).all()
+    assert (cyc > 0.98).any()
+
+
+if __name__ == "__main__":
+    import argparse
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--spp", type=int, default=128)
+    ap.add_argument("--seeds", type=int, default=8)
+    a = ap.parse_args()
+    make_reference(a.spp, a.seeds)
