@@ -32,6 +32,10 @@ struct PathState {
     float* shadow_tmax;
     Vec3* shadow_contrib;
     uint8_t* shadow_valid;
+    // the previous surface vertex as the light tree saw it (point, light_pick_normal), for the
+    // pick probability in the MIS weight of emission a BSDF-sampled ray finds
+    Vec3* prev_p;
+    Vec3* prev_n;
 };
 
 struct PtSettings {

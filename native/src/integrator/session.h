@@ -152,6 +152,7 @@ private:
 
     // wavefront storage for one chunk of paths
     std::vector<Vec3> ray_o_, ray_d_, throughput_, radiance_, shadow_o_, shadow_d_, shadow_c_;
+    std::vector<Vec3> prev_p_, prev_n_;  // PathState::prev_p / prev_n (light tree MIS)
     std::vector<float> ray_tmin_, ray_tmax_, prev_pdf_, hit_t_, shadow_tmax_;
     std::vector<Rng> rng_;
     std::vector<int32_t> depth_, hit_prim_, queue_, next_queue_;
