@@ -183,7 +183,8 @@ TEST(LightTree, ProbabilitiesSumToOneAndMatchTheTraversal) {
         if (dof < 1) continue;
         // Wilson-Hilferty: chi2 / dof ~ normal; z > 4.26 is p < 1e-5 per trial
         const double k = dof;
-        const double z = (std::cbrt(chi2 / k) - (1.0 - 2.0 / (9.0 * k))) / std::sqrt(2.0 / (9.0 * k));
+        const double z =
+            (std::cbrt(chi2 / k) - (1.0 - 2.0 / (9.0 * k))) / std::sqrt(2.0 / (9.0 * k));
         EXPECT_LT(z, 4.26) << "trial " << trial << " chi2 " << chi2 << " dof " << dof;
     }
 }

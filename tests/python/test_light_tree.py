@@ -49,3 +49,13 @@ def test_tree_agrees_with_the_global_cdf(core, backend, monkeypatch):
     flat = renders(scene, "pt", SPP_REF, 3000, backend=backend)  # the same seeds
     assert not (tree[0] == flat[0]).all(), "LANTERN_LIGHT_TREE=0 changed nothing"
     check_agreement("many pt tree vs global CDF", tree, flat, CONTROLS["many"])
+
+
+@pytest.mark.parametrize("scene_name", list(SCENES))
+def test_resampled_direct_light_agrees(core, scene_name, backend):
+    """light_candidates M = 4 (integrator/nee_resample.h): the resampled weight W with the plain
+    strategy's MIS weights converges to pt's image; the plain weight would not."""
+    scene = SCENES[scene_name]()
+    plain = renders(scene, "pt", SPP_REF, 5000, backend=backend)
+    ris = renders(scene, "pt", SPP, 6000, backend=backend, light_candidates=4)
+    check_agreement(f"{scene_name} pt M=4 vs pt", ris, plain, CONTROLS[scene_name])

@@ -44,6 +44,8 @@ struct PtSettings {
     int32_t spp_per_iteration;
     uint64_t seed;
     uint64_t iteration;
+    int32_t light_candidates = 1;  // pt's next-event estimation: M > 1 resamples M light
+                                   // samples (integrator/nee_resample.h), 1 the plain one
 };
 
 // Russian roulette on the throughput `beta` once `depth` has reached rr_depth (0: off): survives

@@ -6,6 +6,7 @@
 #include "bsdf/material.h"
 #include "core/offset.h"
 #include "integrator/camera.h"
+#include "integrator/nee_resample.h"
 #include "integrator/path_state.h"
 #include "scene/light_tree.h"
 #include "scene/lights.h"
@@ -270,11 +271,26 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
     Vec2 u_pick = rng.uniform2();
     Vec2 u_light = rng.uniform2();
     const Vec3 n_pick = light_pick_normal(s, tri, h.ng);
-    const LightPick pick = delta_material ? LightPick{-1, 0.0f}
-                                          : light_pick(s, h.p, n_pick, u_pick.x);
+    LightPick pick{-1, 0.0f};
+    LightSample ls{};
+    float ris = 1.0f;  // resampled (light_candidates M > 1): W p_src(y), nee_resample.h
+    if (st.light_candidates > 1) {
+        const int mc = min_int(st.light_candidates, kMaxLightCandidates);
+        float u[3 * kMaxLightCandidates] = {u_pick.x, u_light.x, u_light.y};
+        for (int k = 3; k < 3 + nee_resample_extra_draws(mc); ++k) u[k] = rng.uniform();
+        auto target = [&](const LightSample& c) {  // luminance of the unshadowed contribution
+            if (!sides_agree(c.wi, h.ng, h.ns) || is_black(c.le)) return 0.0f;
+            BsdfEval e = material_eval(m, h.front, wo, frame.to_local(c.wi),
+                                       Transport::Radiance, h.coat_n);
+            return luminance(e.f * c.le) * fabsf(dot(c.wi, h.ns));
+        };
+        if (!delta_material)
+            ris = nee_resample(s, h.p, n_pick, mc, u, u_pick.y, target, &pick, &ls);
+    } else if (!delta_material) {
+        pick = light_pick(s, h.p, n_pick, u_pick.x);
+        if (pick.pmf > 0.0f) ls = sample_light(s, s.lights[pick.light], h.p, u_light);
+    }
     if (pick.pmf > 0.0f) {
-        const Light& l = s.lights[pick.light];
-        LightSample ls = sample_light(s, l, h.p, u_light);
         if (ls.valid && !delta_material && sides_agree(ls.wi, h.ng, h.ns) && !is_black(ls.le)) {
             BsdfEval e = material_eval(m, h.front, wo, frame.to_local(ls.wi), Transport::Radiance,
                                        h.coat_n);
@@ -282,7 +298,7 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
             if (e.pdf_fwd_w > 0.0f && pdf_light > 0.0f) {
                 float w = ls.delta ? 1.0f : power_heuristic(pdf_light, e.pdf_fwd_w);
                 float cos_i = fabsf(dot(ls.wi, h.ns));
-                Vec3 c = ps.throughput[i] * e.f * ls.le * (cos_i * w / pdf_light);
+                Vec3 c = ps.throughput[i] * e.f * ls.le * (cos_i * w * ris / pdf_light);
                 // Shortened at both ends: from the offset origin to the offset point on the
                 // light, aimed between the two offset points (aiming along wi from the un-offset
                 // point ends behind a light seen at a grazing angle, and the ray hits the light).

@@ -244,7 +244,7 @@ void Session::run_chunk(int64_t first_path, int n) {
     resize_state(n);
     const SceneView& sv = scene_->view();
     const PtSettings st{settings_.max_depth, settings_.rr_depth, settings_.spp_per_iteration,
-                        settings_.seed, iteration_};
+                        settings_.seed, iteration_, settings_.light_candidates};
     const PathState ps = state_;
     auto t = Clock::now();
     // Slots are chunk-local; the path's global index drives its random stream and pixel.

@@ -41,6 +41,7 @@ struct SessionSettings {
     std::string cis_target = "contribution";  // or "bsdf" (the paper's BSDF product)
     bool naive_ris = false; // test only: weight resampled picks like uniform ones (biased)
     int cache_budget_mb = 0;  // light vertex cache per pass; 0: min(4 GiB, RAM / 4)
+    int light_candidates = 1;  // pt: resampled next-event estimation over M candidates (1: off)
 };
 
 // Shared by the CPU session and the CUDA backend (bdpt_session.cpp).

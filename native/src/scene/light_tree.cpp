@@ -155,8 +155,8 @@ private:
         n.hi = b.hi;
         n.energy = b.energy;
         n.axis = b.axis;
-        n.theta_o = b.theta_o;
-        n.theta_e = b.theta_e;
+        n.cos_o = b.theta_o >= kPi ? -1.0f : std::cos(b.theta_o);
+        n.cos_e = b.theta_e >= 0.5f * kPi ? 0.0f : std::cos(b.theta_e);
         n.right = right;
         n.light = light;
     }

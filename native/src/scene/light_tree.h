@@ -14,6 +14,13 @@ struct LightPick {
     float pmf;
 };
 
+// cos(max(theta - delta, 0)) for theta with cosine c (sine sn) and an angle delta in [0, pi]
+// given by cos_d, sin_d: 1 where theta <= delta (trigonometry-free, as the importance needs).
+LANTERN_HD inline float cos_clamped_difference(float c, float sn, float cos_d, float sin_d) {
+    if (c >= cos_d) return 1.0f;  // theta <= delta
+    return c * cos_d + sn * sin_d;
+}
+
 // Importance of a node at p: its intensity times the bounds of the emitter's and the
 // receiver's cosines over the node's bounding sphere, over the squared distance (clamped to
 // the sphere's radius). n = 0 (a point that transmits) drops the receiver's cosine. Zero only
@@ -25,18 +32,21 @@ LANTERN_HD inline float light_node_importance(const LightTreeNode& nd, Vec3 p, V
     const float r2 = 0.25f * length_sq(nd.hi - nd.lo);
     float cos_t = 1.0f, cos_i = 1.0f;
     if (d2 > r2) {  // outside the bounding sphere: the angles it subtends bound the cosines
-        const float d = sqrtf(d2);
-        const Vec3 wh = w / d;
-        const float theta_u = asinf(fminf(sqrtf(r2 / d2), 1.0f));
-        const float theta = acosf(clampf(-dot(nd.axis, wh), -1.0f, 1.0f));
-        const float tp = fmaxf(theta - nd.theta_o - theta_u, 0.0f);
-        if (tp >= nd.theta_e) return 0.0f;
-        cos_t = cosf(tp);
+        const float inv_d = 1.0f / sqrtf(d2);
+        const Vec3 wh = w * inv_d;
+        const float sin_u = fminf(sqrtf(r2) * inv_d, 1.0f), cos_u = sqrtf(1.0f - sin_u * sin_u);
+        // theta' = max(theta - theta_o - theta_u, 0): theta_o + theta_u as one angle
+        const float sin_o = sqrtf(fmaxf(1.0f - nd.cos_o * nd.cos_o, 0.0f));
+        const float sin_ou = sin_o * cos_u + nd.cos_o * sin_u;
+        const float cos_ou = sin_ou < 0.0f ? -1.0f : nd.cos_o * cos_u - sin_o * sin_u;
+        const float ct = clampf(-dot(nd.axis, wh), -1.0f, 1.0f);
+        cos_t = cos_clamped_difference(ct, sqrtf(fmaxf(1.0f - ct * ct, 0.0f)), cos_ou,
+                                       sin_ou < 0.0f ? 0.0f : sin_ou);
+        if (cos_t <= nd.cos_e) return 0.0f;  // theta' >= theta_e
         if (n.x != 0.0f || n.y != 0.0f || n.z != 0.0f) {
-            const float theta_i = acosf(clampf(dot(n, wh), -1.0f, 1.0f));
-            const float tip = fmaxf(theta_i - theta_u, 0.0f);
-            if (tip >= 0.5f * kPi) return 0.0f;
-            cos_i = cosf(tip);
+            const float ci = clampf(dot(n, wh), -1.0f, 1.0f);
+            cos_i = cos_clamped_difference(ci, sqrtf(fmaxf(1.0f - ci * ci, 0.0f)), cos_u, sin_u);
+            if (cos_i <= 0.0f) return 0.0f;  // theta_i - theta_u >= pi / 2
         }
     }
     const float v = nd.energy * fmaxf(cos_t, 1e-7f) * fmaxf(cos_i, 1e-7f) /
@@ -51,15 +61,19 @@ LANTERN_HD inline float light_distant_importance(const Light& l, Vec3 n) {
     const bool two_sided = n.x == 0.0f && n.y == 0.0f && n.z == 0.0f;
     if (l.type == kLightWorld) return l.tree_energy * (two_sided ? 2.0f * kPi : kPi);
     if (two_sided) return l.tree_energy;
-    const float theta_i = acosf(clampf(dot(n, -l.direction), -1.0f, 1.0f));
-    const float half = l.cos_sun >= 1.0f ? 0.0f : acosf(l.cos_sun);
-    const float tip = fmaxf(theta_i - half, 0.0f);
-    if (tip >= 0.5f * kPi) return 0.0f;
-    return l.tree_energy * fmaxf(cosf(tip), 1e-7f);
+    const float ci = clampf(dot(n, -l.direction), -1.0f, 1.0f);
+    const float cos_h = fminf(l.cos_sun, 1.0f), sin_h = sqrtf(fmaxf(1.0f - cos_h * cos_h, 0.0f));
+    const float c = cos_clamped_difference(ci, sqrtf(fmaxf(1.0f - ci * ci, 0.0f)), cos_h, sin_h);
+    if (c <= 0.0f) return 0.0f;
+    return l.tree_energy * fmaxf(c, 1e-7f);
 }
 
-// The top level's total: the tree's root and every distant light.
+// The top level's total: the tree's root and every distant light (without distant lights, 1).
 LANTERN_HD inline float light_top_total(const SceneView& s, Vec3 p, Vec3 n, float* w_tree) {
+    if (s.num_distant_lights == 0) {  // the tree alone: chosen with probability one
+        *w_tree = 1.0f;
+        return 1.0f;
+    }
     *w_tree = s.num_tree_nodes > 0 ? light_node_importance(s.light_tree[0], p, n) : 0.0f;
     float total = *w_tree;
     for (int k = 0; k < s.num_distant_lights; ++k)

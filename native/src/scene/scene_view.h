@@ -155,14 +155,14 @@ struct Light {
 // A node of the light tree in depth-first order: the first child follows its parent, `right`
 // is the second (-1 at a leaf, which holds one light). Bounds of the lights' extent, their
 // total intensity, and the cone of their normals (axis, theta_o) widened by the emission
-// spread theta_e [Conty Estevez & Kulla 2018].
+// spread theta_e, both as cosines [Conty Estevez & Kulla 2018].
 struct LightTreeNode {
     Vec3 lo;
     float energy;
     Vec3 hi;
-    float theta_o;
+    float cos_o;  // cos theta_o
     Vec3 axis;
-    float theta_e;
+    float cos_e;  // cos theta_e
     int32_t right;
     int32_t light;
 };

@@ -333,7 +333,7 @@ void Renderer::count_dropped(int n) {
 
 PtSettings Renderer::pt_settings() const {
     return PtSettings{set_.max_depth, set_.rr_depth, set_.spp_per_iteration, set_.seed,
-                      iteration_};
+                      iteration_, set_.light_candidates};
 }
 
 BdptSettings Renderer::bdpt_settings() const {
