@@ -2,13 +2,15 @@
 // selection probabilities over all lights sum to one (less what reaches a dead end, counted),
 // light_pick_pmf is the frequency of the traversal's picks (chi-square) and bit for bit the pmf
 // the pick reports, a light's probability is zero only where its contribution is, and the
-// next-event estimate with tree-picked lights agrees with the sum over all lights (z-test).
+// next-event estimate with tree-picked lights agrees with the sum over all lights (z-test), and
+// so does the resampled one (integrator/nee_resample.h), where the plain weight would not.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <vector>
 
 #include "core/rng.h"
+#include "integrator/nee_resample.h"
 #include "scene/light_tree.h"
 #include "scene/lights.h"
 #include "scene/scene.h"
@@ -276,4 +278,59 @@ TEST(LightTree, NeeEstimateAgreesWithTheSumOverLights) {
         EXPECT_LT(std::fabs(mean_tree - mean_sum), 4.5 * se + 1e-9 * mean_sum)
             << "trial " << trial << ": tree " << mean_tree << " sum " << mean_sum << " se " << se;
     }
+}
+
+// Resampled direct light (integrator/nee_resample.h) on the same points: f Le cos times the
+// returned W p_src(y) over p_src(y) agrees with the sum over lights (z-test), and the plain
+// weight 1 / p_src(y) for the resampled choice (the negative control) does not.
+TEST(LightTree, ResampledEstimateAgreesAndThePlainWeightIsBiased) {
+    HostScene scene(many_lights());
+    const SceneView& v = scene.view();
+    Rng rng = Rng::for_path(9, 0, 0);
+    int biased_caught = 0;
+    const int trials = 8;
+    for (int trial = 0; trial < trials; ++trial) {
+        const Shading x = random_point(rng, false);
+        auto target = [&](const LightSample& c) {
+            const float cos_i = dot(c.wi, x.n);
+            return cos_i > 0.0f ? luminance(c.le) * cos_i : 0.0f;
+        };
+        const int n = 40000, m = 4;
+        double s1 = 0.0, s2 = 0.0, n1 = 0.0, n2 = 0.0;
+        for (int i = 0; i < n; ++i) {
+            float u[3 * kMaxLightCandidates];
+            for (int k = 0; k < 3 * m; ++k) u[k] = rng.uniform();
+            LightPick pk;
+            LightSample ls;
+            const float ris = nee_resample(v, x.p, x.n, m, u, rng.uniform(), target, &pk, &ls);
+            double c = 0.0, naive = 0.0;
+            if (pk.pmf > 0.0f) {
+                naive = double(target(ls)) / (double(pk.pmf) * ls.pdf_w);
+                c = naive * ris;
+            }
+            s1 += c;
+            s2 += c * c;
+            n1 += naive;
+            n2 += naive * naive;
+        }
+        double mean_sum = 0.0, var_sum = 0.0;
+        for (int k = 0; k < v.num_lights; ++k) {
+            double a = 0.0, b = 0.0;
+            const int ms = 4000;
+            for (int i = 0; i < ms; ++i) {
+                double c = sample_contribution(v, v.lights[k], x, rng.uniform2());
+                a += c;
+                b += c * c;
+            }
+            mean_sum += a / ms;
+            var_sum += (b / ms - (a / ms) * (a / ms)) / ms;
+        }
+        const double mean = s1 / n, var = (s2 / n - mean * mean) / n;
+        const double se = std::sqrt(var + var_sum);
+        EXPECT_LT(std::fabs(mean - mean_sum), 4.5 * se + 1e-9 * mean_sum)
+            << "trial " << trial << ": resampled " << mean << " sum " << mean_sum;
+        const double nm = n1 / n, nse = std::sqrt((n2 / n - nm * nm) / n + var_sum);
+        if (std::fabs(nm - mean_sum) > 4.5 * nse) ++biased_caught;
+    }
+    EXPECT_GE(biased_caught, trials / 2) << "the plain weight should be visibly biased";
 }
