@@ -348,3 +348,114 @@ def features_box(width=64, height=64, light_power=40.0):
     scene.add_mesh(pos, idx, material=card, name="alpha_card")
     _ceiling_light(scene, light_power)
     return scene
+
+
+# ---- Many-light scenes (issue 14: the light tree), after blend_scenes/efficiency.py ----
+
+def _aim(position, target):
+    """A rigid to_world at `position` whose local -Z looks at `target` (Blender's track)."""
+    p, t = np.asarray(position, dtype=np.float64), np.asarray(target, dtype=np.float64)
+    f = t - p
+    f /= np.linalg.norm(f)
+    up = np.array([0.0, 0.0, 1.0]) if abs(f[2]) < 0.999 else np.array([0.0, 1.0, 0.0])
+    x = np.cross(f, up)
+    x /= np.linalg.norm(x)
+    y = np.cross(x, f)
+    m = np.eye(4)
+    m[:3, 0], m[:3, 1], m[:3, 2], m[:3, 3] = x, y, -f, p
+    return m.tolist()
+
+
+def _efficiency_room(width, height, window=False):
+    """blend_scenes/efficiency.py's 5 x 5 x 2.8 m room (camera inside), a window of
+    y in [-0.6, 1.0], z in [0.9, 2.2] in the right wall when asked."""
+    scene = Scene()
+    scene.film.update(width=int(width), height=int(height))
+    scene.look_at((0.0, -2.2, 1.5), (0.2, 1.0, 0.9), fov=84.0)
+    x, y, h = 2.5, 2.5, 2.8
+    white = scene.add_material("white", base_color=(0.8, 0.8, 0.8))
+    quads = [((-x, -y, 0), (x, -y, 0), (x, y, 0), (-x, y, 0), (0.55, 0.45, 0.35)),
+             ((-x, -y, h), (-x, y, h), (x, y, h), (x, -y, h), white),
+             ((-x, y, 0), (x, y, 0), (x, y, h), (-x, y, h), white),
+             ((-x, -y, 0), (-x, -y, h), (x, -y, h), (x, -y, 0), white),
+             ((-x, -y, 0), (-x, y, 0), (-x, y, h), (-x, -y, h), (0.35, 0.45, 0.7))]
+    sand = (0.75, 0.65, 0.45)
+    if not window:
+        quads.append(((x, -y, 0), (x, -y, h), (x, y, h), (x, y, 0), sand))
+    else:
+        y0, y1, z0, z1 = -0.6, 1.0, 0.9, 2.2
+        for ya, yb, za, zb in ((-y, y0, 0, h), (y1, y, 0, h), (y0, y1, 0, z0), (y0, y1, z1, h)):
+            quads.append(((x, ya, za), (x, ya, zb), (x, yb, zb), (x, yb, za), sand))
+    for k, (a, b, c, d, m) in enumerate(quads):
+        mat = m if isinstance(m, int) else scene.add_material(f"wall{k}", base_color=m)
+        scene.add_mesh(*_quad(a, b, c, d), material=mat, name=f"wall{k}")
+    for name, center, size, angle, colour in (
+            ("table", (0.3, 0.8, 0.0), (1.4, 0.8, 0.75), 10, (0.5, 0.3, 0.15)),
+            ("cabinet", (-1.9, 1.7, 0.0), (0.8, 0.6, 1.2), 0, (0.7, 0.2, 0.15)),
+            ("block", (1.5, -0.6, 0.0), (0.5, 0.5, 0.5), 30, (0.2, 0.6, 0.3))):
+        mat = scene.add_material(name, base_color=colour)
+        scene.add_mesh(*_box(center, size, angle), material=mat, name=name)
+    return scene
+
+
+def room_area_point(width=64, height=64):
+    """The room lit by a 1.0 x 0.5 m area light of 200 W under the ceiling, facing down, and
+    a small point light (10 W, radius 5 cm) low in the far corner."""
+    scene = _efficiency_room(width, height)
+    scene.add_light("area", to_world=_aim((0.4, 0.6, 2.78), (0.4, 0.6, 0.0)),
+                    shape="rectangle", size=[1.0, 0.5], power=[200.0] * 3)
+    scene.add_light("point", position=[-2.2, 2.2, 0.4], radius=0.05, power=[10.0] * 3)
+    return scene
+
+
+def room_spot_sun_world(width=64, height=64):
+    """The room with a window: a sun (4 W/m^2, 2 degrees) through it, a world colour (0.4,
+    0.5, 0.7), and a spot (600 W, 40 degrees) from a ceiling corner aimed at the floor."""
+    scene = _efficiency_room(width, height, window=True)
+    scene.world["color"] = [0.4, 0.5, 0.7]
+    d = np.array([0.0, 0.4, 0.0]) - np.array([6.0, 0.2, 5.0])
+    scene.add_light("sun", direction=(d / np.linalg.norm(d)).tolist(), strength=[4.0] * 3,
+                    angle=math.radians(2.0))
+    scene.add_light("spot", to_world=_aim((-2.3, -2.3, 2.75), (-0.8, 0.3, 0.0)), radius=0.05,
+                    power=[600.0] * 3, spot_size=math.radians(40.0), spot_blend=0.2)
+    return scene
+
+
+def many_lights_stage(width=64, height=64, n=24, spot=True, sun=True, panel=False, seed=14):
+    """blend_scenes/scenes.py's stage (floor, back wall, two boxes) lit by n point lights of
+    different colours and powers (5-120 W, radius 5 cm), with a spot facing the floor, a sun
+    and an emissive panel (both sides, two triangles) when asked: the light tree's many-light
+    scene."""
+    scene = Scene()
+    scene.film.update(width=int(width), height=int(height))
+    scene.look_at((0.0, -5.5, 2.6), (0.0, 0.3, 0.7), fov=58.7)
+    grey = scene.add_material("grey", base_color=(0.8, 0.8, 0.8))
+    wall = scene.add_material("wall", base_color=(0.6, 0.7, 0.8))
+    scene.add_mesh(*_quad((-3, -3, 0), (3, -3, 0), (3, 3, 0), (-3, 3, 0)), material=grey,
+                   name="floor")
+    scene.add_mesh(*_quad((-3, 2, 0), (3, 2, 0), (3, 2, 3), (-3, 2, 3)), material=wall,
+                   name="back")
+    scene.add_mesh(*_box((-0.6, 0.4, 0.0), (0.9, 0.9, 1.0), 25),
+                   material=scene.add_material("orange", base_color=(0.8, 0.45, 0.15)),
+                   name="box")
+    scene.add_mesh(*_box((0.8, -0.3, 0.0), (0.6, 0.6, 0.6), -20),
+                   material=scene.add_material("green", base_color=(0.2, 0.7, 0.3)),
+                   name="block")
+    rng = np.random.default_rng(seed)
+    for _ in range(n):
+        p = [rng.uniform(-2.5, 2.5), rng.uniform(-2.5, 1.8), rng.uniform(0.3, 2.6)]
+        colour = 0.3 + 0.7 * rng.uniform(size=3)
+        scene.add_light("point", position=p, radius=0.05,
+                        power=(colour * rng.uniform(5.0, 120.0)).tolist())
+    if spot:
+        scene.add_light("spot", to_world=_aim((1.5, -1.5, 3.0), (0.0, 0.3, 0.0)), radius=0.1,
+                        power=[300.0] * 3, spot_size=math.radians(50.0), spot_blend=0.3)
+    if sun:
+        d = np.array([-0.8, 1.2, 0.0]) - np.array([0.0, 0.0, 5.0])
+        scene.add_light("sun", direction=(d / np.linalg.norm(d)).tolist(), strength=[0.5] * 3,
+                        angle=math.radians(10.0))
+    if panel:
+        glow = scene.add_material("glow", base_color=(0.0, 0.0, 0.0), emission=(4.0, 3.6, 2.8))
+        scene.add_mesh(*_quad((-0.4, -1.0, 2.2), (0.4, -1.0, 2.2), (0.4, -0.4, 2.6),
+                              (-0.4, -0.4, 2.6)), material=glow, name="panel")
+    return scene

@@ -37,6 +37,7 @@ DEFAULT_SETTINGS = {
     "naive_ris": False,       # tests only: the biased uniform weight for resampled picks
     "cache_budget_mb": 0,     # light vertex cache memory per pass (0: min(4 GiB, RAM / 4));
                               # a larger iteration runs as several passes
+    "light_candidates": 1,    # pt: resampled next-event estimation over M light samples (1: off)
 }
 
 BUILD_HINT = ("build it from the repository root with "
@@ -189,6 +190,7 @@ def resolve_settings(settings):
     out["connections"] = _check_int("connections", out["connections"], 1, 64)
     out["candidates"] = _check_int("candidates", out["candidates"], 1, 64)
     out["cache_budget_mb"] = _check_int("cache_budget_mb", out["cache_budget_mb"], 0, 1 << 30)
+    out["light_candidates"] = _check_int("light_candidates", out["light_candidates"], 1, 8)
     if out["sort"] is not None and not isinstance(out["sort"], (bool, np.bool_)):
         raise TypeError(f"setting 'sort' must be True, False or None, got {out['sort']!r}")
     if out["cis_target"] not in CIS_TARGETS:

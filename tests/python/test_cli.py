@@ -108,7 +108,7 @@ def test_render_through_stand_in_core(scene_file, tmp_path, fake, capsys):
                           "max_depth": 5, "seed": 3, "threads": 2, "rr_depth": 3,
                           "sort": None, "connections": 5, "candidates": 10,
                           "cis_target": "contribution", "naive_ris": False,
-                        "cache_budget_mb": 0}
+                        "cache_budget_mb": 0, "light_candidates": 1}
     assert s.spp == 6 and s.stats()["iterations"] == 3
     assert "6/6 spp" in err and "Mrays/s" in err
     assert "backend cpu (asked: auto)" in err and "backend cpu)" in err

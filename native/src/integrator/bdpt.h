@@ -137,7 +137,9 @@ LANTERN_HD inline void bdpt_light_generate(const SceneView& s, const PathState& 
     bs.power[i] = es.le * (es.cos_light / pdf_emit);
     // ratios of the techniques that end on the light (s = 1, s = 0) to a connection (count r)
     const float inv_r = 1.0f / mis(st.r);
-    bs.dvcm[i] = mis(l.pick_pdf * es.pdf_direct / pdf_emit) * inv_r;
+    // (next-event estimation's pick probability of this light depends on the receiver: the
+    // first hit multiplies it in, bdpt_light_shade)
+    bs.dvcm[i] = mis(es.pdf_direct / pdf_emit) * inv_r;
     bs.dvc[i] = (es.delta_pos || es.delta_dir)
                     ? 0.0f
                     : mis((es.finite ? es.cos_light : 1.0f) / pdf_emit) * inv_r;
@@ -206,6 +208,9 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
         Vec3 n0 = normalize(y0 - l.position);
         float pdf_a = light_pdf_w(l, h.p, wo_w, dist, n0) * fabsf(dot(d, n0)) / (dist * dist);
         dvcm *= mis(pdf_a * (4.0f * kPi * l.radius * l.radius));
+    }
+    if (k == 1) {  // next-event estimation from here picks this light with this probability
+        dvcm *= mis(light_pick_pmf(s, bs.light[i], h.p, light_pick_normal(s, tri, h.ng)));
     }
     if (k > 1 || !infinite) dvcm *= mis(dist * dist);
     dvcm /= mis(cos_o_ng);
@@ -322,8 +327,11 @@ LANTERN_HD inline float bdpt_emission_weight(const SceneView& s, const PathState
     const Vec3 o = ps.ray_o[i], d = ps.ray_d[i];
     const bool infinite = l.type == kLightSun || l.type == kLightWorld;
     float dvcm = bs.dvcm[i], dvc = bs.dvc[i];
-    float pdf_direct = l.pick_pdf * (l.type == kLightWorld ? world_pdf_w(s, d)
-                                                           : light_pdf_w(l, o, d, t_light, n));
+    const int li = int(&l - s.lights);
+    const float pick = s.light_tree_on ? light_pick_pmf(s, li, ps.prev_p[i], ps.prev_n[i])
+                                       : l.pick_pdf;  // at the previous vertex
+    float pdf_direct = pick * (l.type == kLightWorld ? world_pdf_w(s, d)
+                                                     : light_pdf_w(l, o, d, t_light, n));
     if (!infinite) {
         float cos_l = fabsf(dot(d, n));
         if (!(cos_l > 0.0f)) return 0.0f;
@@ -371,6 +379,7 @@ struct CameraVertex {
     float dvcm, dvc;
     const Material* m;
     int depth;    // segments from the camera
+    Vec3 n_pick;  // the normal the light tree sees here (light_pick_normal)
 };
 
 // Shadow segment from p (normal n) to q (normal nq; zero: no offset), shortened at both ends.
@@ -390,14 +399,14 @@ LANTERN_HD inline void bdpt_camera_nee(const SceneView& s, const PathState& ps,
                                        Rng& rng) {
     Vec2 u_pick = rng.uniform2();
     Vec2 u_light = rng.uniform2();
-    if (s.num_lights == 0) return;
-    int li = sample_cdf(s.light_cdf, s.num_lights, u_pick.x);
-    const Light& l = s.lights[li];
+    const LightPick pick = light_pick(s, z.h.p, z.n_pick, u_pick.x);
+    if (!(pick.pmf > 0.0f)) return;
+    const Light& l = s.lights[pick.light];
     LightSample ls = sample_light(s, l, z.h.p, u_light);
     if (!ls.valid || is_black(ls.le) || !sides_agree(ls.wi, z.h.ng, z.h.ns)) return;
     BsdfEval e = material_eval(*z.m, z.h.front, z.wo, z.frame.to_local(ls.wi), Transport::Radiance,
                                z.h.coat_n);
-    float pdf_light_w = l.pick_pdf * ls.pdf_w;
+    float pdf_light_w = pick.pmf * ls.pdf_w;
     if (is_black(e.f) || !(pdf_light_w > 0.0f)) return;
     const bool infinite = !(ls.dist < kInf);
     const float cos_z = fabsf(dot(ls.wi, z.h.ng));
@@ -410,7 +419,7 @@ LANTERN_HD inline void bdpt_camera_nee(const SceneView& s, const PathState& ps,
         pdf_lp = pdf_emit * cos_z;
     } else {
         float d2 = ls.dist * ls.dist;
-        pdf_nee = ls.delta ? l.pick_pdf : pdf_light_w * cos_l / d2;
+        pdf_nee = ls.delta ? pick.pmf : pdf_light_w * cos_l / d2;
         pdf_lp = pdf_emit * cos_z / d2;
     }
     float w_light = ls.delta ? 0.0f : mis(e.pdf_fwd_w / pdf_light_w);
@@ -606,7 +615,9 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
         int li = s.tri_light ? s.tri_light[tri] : -1;
         if (z.depth > 1 && li >= 0) {
             const Light& l = s.lights[li];
-            float pdf_direct = l.pick_pdf * light_pdf_w(l, ps.ray_o[i], d, t_hit, z.h.ng) *
+            const float pick = s.light_tree_on ? light_pick_pmf(s, li, ps.prev_p[i], ps.prev_n[i])
+                                               : l.pick_pdf;  // at the previous vertex
+            float pdf_direct = pick * light_pdf_w(l, ps.ray_o[i], d, t_hit, z.h.ng) *
                                cos_in / (t_hit * t_hit);
             float pdf_emit = l.emit_pick_pdf * emission_pdf(s, l, z.h.ng, -d).pdf_emit;
             w = 1.0f / (1.0f + mis(pdf_direct) * dvcm + mis(st.r * pdf_emit) * dvc);
@@ -619,6 +630,7 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
     z.beta = ps.throughput[i];
     z.dvcm = dvcm;
     z.dvc = dvc;
+    z.n_pick = light_pick_normal(s, tri, z.h.ng);
     Rng rng = ps.rng[i];
     if (!material_is_delta(m)) {
         bdpt_camera_nee(s, ps, st, z, i, rng);
@@ -643,6 +655,10 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
             bs.dvc[i] = dvc;
             set_next_ray(ps, i, z.h.p, z.h.ng, wi, b.delta ? 0.0f : b.pdf_fwd_w,
                          s.offset_scale);
+            if (s.light_tree_on) {
+                ps.prev_p[i] = z.h.p;
+                ps.prev_n[i] = z.n_pick;
+            }
         }
     }
     ps.rng[i] = rng;

@@ -32,6 +32,10 @@ struct PathState {
     float* shadow_tmax;
     Vec3* shadow_contrib;
     uint8_t* shadow_valid;
+    // the previous surface vertex as the light tree saw it (point, light_pick_normal), for the
+    // pick probability in the MIS weight of emission a BSDF-sampled ray finds
+    Vec3* prev_p;
+    Vec3* prev_n;
 };
 
 struct PtSettings {
@@ -40,6 +44,8 @@ struct PtSettings {
     int32_t spp_per_iteration;
     uint64_t seed;
     uint64_t iteration;
+    int32_t light_candidates = 1;  // pt's next-event estimation: M > 1 resamples M light
+                                   // samples (integrator/nee_resample.h), 1 the plain one
 };
 
 // Russian roulette on the throughput `beta` once `depth` has reached rr_depth (0: off): survives

@@ -6,7 +6,9 @@
 #include "bsdf/material.h"
 #include "core/offset.h"
 #include "integrator/camera.h"
+#include "integrator/nee_resample.h"
 #include "integrator/path_state.h"
+#include "scene/light_tree.h"
 #include "scene/lights.h"
 
 namespace lantern {
@@ -30,11 +32,16 @@ LANTERN_HD inline void pt_generate(const SceneView& s, const PathState& ps, cons
     ps.shadow_valid[i] = 0;
 }
 
-// MIS weight of emission found by a BSDF-sampled ray (depth > 1); camera rays and rays from a
-// delta lobe (prev_pdf_w 0: next-event estimation cannot find that light) take it all.
-LANTERN_HD inline float pt_emission_weight(const PathState& ps, int i, float light_pdf) {
+// MIS weight of emission from light li found by a BSDF-sampled ray (depth > 1), light_pdf_w the
+// light's own solid-angle pdf; next-event estimation picked it at the previous vertex with
+// light_pick_pmf. Camera rays and rays from a delta lobe (prev_pdf_w 0: next-event estimation
+// cannot find that light) take it all.
+LANTERN_HD inline float pt_emission_weight(const SceneView& s, const PathState& ps, int i, int li,
+                                           float light_pdf_w) {
     if (ps.depth[i] <= 1 || !(ps.prev_pdf_w[i] > 0.0f)) return 1.0f;
-    return power_heuristic(ps.prev_pdf_w[i], light_pdf);
+    const float pick = s.light_tree_on ? light_pick_pmf(s, li, ps.prev_p[i], ps.prev_n[i])
+                                       : s.lights[li].pick_pdf;
+    return power_heuristic(ps.prev_pdf_w[i], pick * light_pdf_w);
 }
 
 // ---- Lights along the segment: lights are not opaque; a ray collects every light it crosses ----
@@ -46,8 +53,9 @@ LANTERN_HD inline void pt_collect_lights(const SceneView& s, const PathState& ps
         if (camera && !l.visible_camera) continue;
         LightHit h = intersect_light(l, o, d, tmin, tmax);
         if (!h.hit || is_black(h.le)) continue;
-        float pdf = l.pick_pdf * light_pdf_w(l, o, d, h.t, h.n);
-        add_radiance(ps, i, ps.throughput[i] * h.le * pt_emission_weight(ps, i, pdf));
+        float pdf = light_pdf_w(l, o, d, h.t, h.n);
+        add_radiance(ps, i, ps.throughput[i] * h.le *
+                                pt_emission_weight(s, ps, i, s.hittable_lights[k], pdf));
     }
 }
 
@@ -58,13 +66,14 @@ LANTERN_HD inline void pt_shade_miss(const SceneView& s, const PathState& ps, in
         const Light& l = s.lights[s.miss_lights[k]];
         if (l.type == kLightWorld) {
             if (camera && !l.visible_camera) continue;
-            float pdf = l.pick_pdf * world_pdf_w(s, d);
+            float pdf = world_pdf_w(s, d);
             add_radiance(ps, i, ps.throughput[i] * world_radiance(s, l, d) *
-                                    pt_emission_weight(ps, i, pdf));
+                                    pt_emission_weight(s, ps, i, s.miss_lights[k], pdf));
         } else if (l.type == kLightSun && l.cos_sun < 1.0f && !camera) {
             if (dot(d, -l.direction) < l.cos_sun) continue;
-            float pdf = l.pick_pdf * light_pdf_w(l, vec3(0.0f), d, kInf, vec3(0.0f));
-            add_radiance(ps, i, ps.throughput[i] * l.radiance * pt_emission_weight(ps, i, pdf));
+            float pdf = light_pdf_w(l, vec3(0.0f), d, kInf, vec3(0.0f));
+            add_radiance(ps, i, ps.throughput[i] * l.radiance *
+                                    pt_emission_weight(s, ps, i, s.miss_lights[k], pdf));
         }
     }
 }
@@ -244,13 +253,13 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
     const Material& m = material_at_point(
         s, s.tri_material[tri], [&] { return shade_point(h, tri, ps.hit_uv[i], -d); }, scratch);
     if (!is_black(m.emission)) {
-        float pdf = 0.0f;
+        float w = 1.0f;
         int li = s.tri_light ? s.tri_light[tri] : -1;
         if (li >= 0) {
             const Light& l = s.lights[li];
-            pdf = l.pick_pdf * light_pdf_w(l, o, d, t_hit, h.ng);
+            w = pt_emission_weight(s, ps, i, li, light_pdf_w(l, o, d, t_hit, h.ng));
         }
-        add_radiance(ps, i, ps.throughput[i] * m.emission * pt_emission_weight(ps, i, pdf));
+        add_radiance(ps, i, ps.throughput[i] * m.emission * w);
     }
     int depth = ps.depth[i];
     if (depth >= st.max_depth) return;
@@ -263,18 +272,35 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
     const bool delta_material = material_is_delta(m);
     Vec2 u_pick = rng.uniform2();
     Vec2 u_light = rng.uniform2();
-    if (s.num_lights > 0) {
-        int li = sample_cdf(s.light_cdf, s.num_lights, u_pick.x);
-        const Light& l = s.lights[li];
-        LightSample ls = sample_light(s, l, h.p, u_light);
+    const Vec3 n_pick = light_pick_normal(s, tri, h.ng);
+    LightPick pick{-1, 0.0f};
+    LightSample ls{};
+    float ris = 1.0f;  // resampled (light_candidates M > 1): W p_src(y), nee_resample.h
+    if (st.light_candidates > 1) {
+        const int mc = min_int(st.light_candidates, kMaxLightCandidates);
+        float u[3 * kMaxLightCandidates] = {u_pick.x, u_light.x, u_light.y};
+        for (int k = 3; k < 3 + nee_resample_extra_draws(mc); ++k) u[k] = rng.uniform();
+        auto target = [&](const LightSample& c) {  // luminance of the unshadowed contribution
+            if (!sides_agree(c.wi, h.ng, h.ns) || is_black(c.le)) return 0.0f;
+            BsdfEval e = material_eval(m, h.front, wo, frame.to_local(c.wi),
+                                       Transport::Radiance, h.coat_n);
+            return luminance(e.f * c.le) * fabsf(dot(c.wi, h.ns));
+        };
+        if (!delta_material)
+            ris = nee_resample(s, h.p, n_pick, mc, u, u_pick.y, target, &pick, &ls);
+    } else if (!delta_material) {
+        pick = light_pick(s, h.p, n_pick, u_pick.x);
+        if (pick.pmf > 0.0f) ls = sample_light(s, s.lights[pick.light], h.p, u_light);
+    }
+    if (pick.pmf > 0.0f) {
         if (ls.valid && !delta_material && sides_agree(ls.wi, h.ng, h.ns) && !is_black(ls.le)) {
             BsdfEval e = material_eval(m, h.front, wo, frame.to_local(ls.wi), Transport::Radiance,
                                        h.coat_n);
-            float pdf_light = l.pick_pdf * ls.pdf_w;
+            float pdf_light = pick.pmf * ls.pdf_w;
             if (e.pdf_fwd_w > 0.0f && pdf_light > 0.0f) {
                 float w = ls.delta ? 1.0f : power_heuristic(pdf_light, e.pdf_fwd_w);
                 float cos_i = fabsf(dot(ls.wi, h.ns));
-                Vec3 c = ps.throughput[i] * e.f * ls.le * (cos_i * w / pdf_light);
+                Vec3 c = ps.throughput[i] * e.f * ls.le * (cos_i * w * ris / pdf_light);
                 // Shortened at both ends: from the offset origin to the offset point on the
                 // light, aimed between the two offset points (aiming along wi from the un-offset
                 // point ends behind a light seen at a grazing angle, and the ray hits the light).
@@ -311,6 +337,10 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
             ps.depth[i] = depth + 1;
             set_next_ray(ps, i, h.p, h.ng, wi, bs.delta ? 0.0f : bs.pdf_fwd_w,
                          s.offset_scale);
+            if (s.light_tree_on) {
+                ps.prev_p[i] = h.p;
+                ps.prev_n[i] = n_pick;
+            }
         }
     }
     ps.rng[i] = rng;

@@ -151,7 +151,8 @@ int Session::bdpt_samples_per_pass(int spp_it) {
 
 void Session::resize_state(int n) {
     if (int(alive_.size()) >= n) return;
-    for (auto* v : {&ray_o_, &ray_d_, &throughput_, &radiance_, &shadow_o_, &shadow_d_, &shadow_c_})
+    for (auto* v : {&ray_o_, &ray_d_, &throughput_, &radiance_, &shadow_o_, &shadow_d_, &shadow_c_,
+                    &prev_p_, &prev_n_})
         v->resize(n);
     for (auto* v : {&ray_tmin_, &ray_tmax_, &prev_pdf_, &hit_t_, &shadow_tmax_}) v->resize(n);
     rng_.resize(n);
@@ -162,7 +163,8 @@ void Session::resize_state(int n) {
                        throughput_.data(), radiance_.data(), rng_.data(),        depth_.data(),
                        prev_pdf_.data(),  alive_.data(),     dropped_.data(),     hit_t_.data(),
                        hit_prim_.data(),  hit_uv_.data(),    shadow_o_.data(),    shadow_d_.data(),
-                       shadow_tmax_.data(), shadow_c_.data(), shadow_valid_.data()};
+                       shadow_tmax_.data(), shadow_c_.data(), shadow_valid_.data(),
+                       prev_p_.data(),    prev_n_.data()};
 }
 
 bool Session::step() {
@@ -242,7 +244,7 @@ void Session::run_chunk(int64_t first_path, int n) {
     resize_state(n);
     const SceneView& sv = scene_->view();
     const PtSettings st{settings_.max_depth, settings_.rr_depth, settings_.spp_per_iteration,
-                        settings_.seed, iteration_};
+                        settings_.seed, iteration_, settings_.light_candidates};
     const PathState ps = state_;
     auto t = Clock::now();
     // Slots are chunk-local; the path's global index drives its random stream and pixel.

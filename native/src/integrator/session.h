@@ -41,6 +41,7 @@ struct SessionSettings {
     std::string cis_target = "contribution";  // or "bsdf" (the paper's BSDF product)
     bool naive_ris = false; // test only: weight resampled picks like uniform ones (biased)
     int cache_budget_mb = 0;  // light vertex cache per pass; 0: min(4 GiB, RAM / 4)
+    int light_candidates = 1;  // pt: resampled next-event estimation over M candidates (1: off)
 };
 
 // Shared by the CPU session and the CUDA backend (bdpt_session.cpp).
@@ -152,6 +153,7 @@ private:
 
     // wavefront storage for one chunk of paths
     std::vector<Vec3> ray_o_, ray_d_, throughput_, radiance_, shadow_o_, shadow_d_, shadow_c_;
+    std::vector<Vec3> prev_p_, prev_n_;  // PathState::prev_p / prev_n (light tree MIS)
     std::vector<float> ray_tmin_, ray_tmax_, prev_pdf_, hit_t_, shadow_tmax_;
     std::vector<Rng> rng_;
     std::vector<int32_t> depth_, hit_prim_, queue_, next_queue_;

@@ -312,6 +312,7 @@ SessionSettings to_settings(const nb::dict& d) {
     s.cis_target = get<std::string>(d, "cis_target", s.cis_target);
     s.naive_ris = get<bool>(d, "naive_ris", s.naive_ris);
     s.cache_budget_mb = get<int>(d, "cache_budget_mb", s.cache_budget_mb);
+    s.light_candidates = get<int>(d, "light_candidates", s.light_candidates);
     if (s.threads < 0 || s.threads > kMaxThreads) {
         throw std::invalid_argument("threads must be in [0, " + std::to_string(kMaxThreads) +
                                     "] (0: one per core), got " + std::to_string(s.threads));

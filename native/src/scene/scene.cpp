@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstring>
 #include <cmath>
+#include <cstdlib>
 #include <initializer_list>
 #include <stdexcept>
 #include <string>
@@ -639,6 +640,12 @@ void HostScene::add_lights(const SceneInput& in) {
     }
     if (emit_total > 0.0) emit_cdf_.back() = 1.0f;
     has_emitters_ = emit_total > 0.0;
+    // Next-event estimation picks by the light tree where there is a choice (a scene with one
+    // light keeps light_cdf); LANTERN_LIGHT_TREE=0 keeps the global CDF, for benchmarks.
+    const char* tree_env = std::getenv("LANTERN_LIGHT_TREE");
+    light_tree_on_ = lights_.size() >= 2 && !(tree_env && std::string(tree_env) == "0");
+    for (Light& l : lights_) l.tree_leaf = -1;
+    if (light_tree_on_) build_light_tree(lights_, positions_, indices_, light_tree_);
 }
 
 // Inverted CDF of the Blackman-Harris filter: maps u in [0,1] to an offset in pixels. As in
@@ -687,6 +694,8 @@ SceneView HostScene::copied_view(
     v.lights = put(view_.lights, lights_.size());
     v.light_cdf = put(view_.light_cdf, light_cdf_.size());
     v.emit_cdf = put(view_.emit_cdf, emit_cdf_.size());
+    v.light_tree = put(view_.light_tree, light_tree_.nodes.size());
+    v.distant_lights = put(view_.distant_lights, light_tree_.distant.size());
     v.hittable_lights = put(view_.hittable_lights, hittable_lights_.size());
     v.miss_lights = put(view_.miss_lights, miss_lights_.size());
     v.camera.filter_cdf = put(view_.camera.filter_cdf, filter_cdf_.size());
@@ -734,6 +743,11 @@ void HostScene::finish_view(const SceneInput& in) {
     v.light_cdf = light_cdf_.data();
     v.emit_cdf = has_emitters_ ? emit_cdf_.data() : nullptr;
     v.num_lights = int32_t(lights_.size());
+    v.light_tree_on = light_tree_on_ ? 1 : 0;
+    v.light_tree = light_tree_.nodes.empty() ? nullptr : light_tree_.nodes.data();
+    v.num_tree_nodes = int32_t(light_tree_.nodes.size());
+    v.distant_lights = light_tree_.distant.empty() ? nullptr : light_tree_.distant.data();
+    v.num_distant_lights = int32_t(light_tree_.distant.size());
     for (size_t k = 0; k < lights_.size(); ++k) {
         const Light& l = lights_[k];
         bool sphere = (l.type == kLightPoint || l.type == kLightSpot) && l.radius > 0.0f;

@@ -10,6 +10,7 @@
 
 #include "scene/material_program.h"
 #include "scene/envmap_build.h"
+#include "scene/light_tree_build.h"
 #include "scene/scene_view.h"
 
 namespace lantern {
@@ -182,6 +183,8 @@ private:
     int num_attribute_channels_ = 0;
     std::shared_ptr<const EnvMapStorage> env_ = std::make_shared<EnvMapStorage>();  // cached
     bool has_emitters_ = false;
+    LightTreeStorage light_tree_;  // next-event estimation's light tree (scene/light_tree.h)
+    bool light_tree_on_ = false;
     std::vector<std::string> warnings_;
     SceneView view_;
 };

@@ -147,6 +147,25 @@ struct Light {
     float cos_sun;          // sun: cosine of half the angle (1: delta)
     float pick_pdf;         // probability of choosing this light for next-event estimation
     float emit_pick_pdf;    // probability of starting a light sub-path on it (0: camera-side only)
+    // light tree (scene/light_tree.h): the leaf node of a local light (-1: distant or no tree)
+    // and the intensity that ranks it (W/sr; distant lights: the irradiance, W/m^2)
+    int32_t tree_leaf;
+    float tree_energy;
+};
+
+// A node of the light tree in depth-first order: the first child follows its parent, `right`
+// is the second (-1 at a leaf, which holds one light). Bounds of the lights' extent, their
+// total intensity, and the cone of their normals (axis, theta_o) widened by the emission
+// spread theta_e, both as cosines [Conty Estevez & Kulla 2018].
+struct LightTreeNode {
+    Vec3 lo;
+    float energy;
+    Vec3 hi;
+    float cos_o;  // cos theta_o
+    Vec3 axis;
+    float cos_e;  // cos theta_e
+    int32_t right;
+    int32_t light;
 };
 
 // kAlphaTested: the material has alpha < 1 (constant or textured): hits go through
@@ -223,6 +242,12 @@ struct SceneView {
     const float* emit_cdf = nullptr;     // normalised, for light sub-paths; null when none can start
     int32_t num_lights = 0;
     int32_t world_light = -1;            // index of the kLightWorld entry or -1
+    // next-event estimation's light tree (scene/light_tree.h); light_tree_on 0: light_cdf alone
+    const LightTreeNode* light_tree = nullptr;
+    int32_t num_tree_nodes = 0;
+    const int32_t* distant_lights = nullptr;  // sun and world, picked beside the tree
+    int32_t num_distant_lights = 0;
+    int32_t light_tree_on = 0;
     // lights a ray can cross (spheres, area lights) and lights seen on a miss (world, sun disk),
     // so that per-ray loops skip the many emissive triangles
     const int32_t* hittable_lights = nullptr;

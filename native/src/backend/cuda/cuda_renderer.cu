@@ -44,7 +44,7 @@ Renderer::Renderer(const HostScene& scene, const SessionSettings& settings,
         check(cudaEventCreateWithFlags(&copy_done_, cudaEventDisableTiming), "cudaEventCreate");
         check(cudaEventRecord(copy_done_, copy_stream_), "cudaEventRecord");
         for (auto* a : {&ray_o_, &ray_d_, &throughput_, &radiance_, &shadow_o_, &shadow_d_,
-                        &shadow_c_, &power_, &conn_o_, &conn_d_, &conn_c_})
+                        &shadow_c_, &power_, &conn_o_, &conn_d_, &conn_c_, &prev_p_, &prev_n_})
             a->bind(&mem_);
         for (auto* a : {&ray_tmin_, &ray_tmax_, &prev_pdf_, &hit_t_, &shadow_tmax_, &dvcm_, &dvc_,
                         &conn_tmax_})
@@ -139,7 +139,7 @@ void Renderer::ensure_state(int n, int conn_cap) {
     if (n > state_cap_) {
         const size_t m = size_t(n);
         for (auto* a : {&ray_o_, &ray_d_, &throughput_, &radiance_, &shadow_o_, &shadow_d_,
-                        &shadow_c_})
+                        &shadow_c_, &prev_p_, &prev_n_})
             a->grow(m);
         for (auto* a : {&ray_tmin_, &ray_tmax_, &prev_pdf_, &hit_t_, &shadow_tmax_}) a->grow(m);
         rng_.grow(m);
@@ -173,7 +173,8 @@ void Renderer::ensure_state(int n, int conn_cap) {
                     throughput_.data(), radiance_.data(),  rng_.data(),        depth_.data(),
                     prev_pdf_.data(),   alive_.data(),     dropped_.data(),    hit_t_.data(),
                     hit_prim_.data(),   hit_uv_.data(),    shadow_o_.data(),   shadow_d_.data(),
-                    shadow_tmax_.data(), shadow_c_.data(), shadow_valid_.data()};
+                    shadow_tmax_.data(), shadow_c_.data(), shadow_valid_.data(),
+                    prev_p_.data(),     prev_n_.data()};
     bs_ = BdptState{dvcm_.data(),     dvc_.data(),       light_id_.data(), store_.data(),
                     vertex_.data(),   splat_xy_.data(),  power_.data(),    std::max(conn_cap, 1),
                     conn_n_.data(),   conn_o_.data(),    conn_d_.data(),   conn_tmax_.data(),
@@ -332,7 +333,7 @@ void Renderer::count_dropped(int n) {
 
 PtSettings Renderer::pt_settings() const {
     return PtSettings{set_.max_depth, set_.rr_depth, set_.spp_per_iteration, set_.seed,
-                      iteration_};
+                      iteration_, set_.light_candidates};
 }
 
 BdptSettings Renderer::bdpt_settings() const {
@@ -379,7 +380,7 @@ bool Renderer::step(const SessionSettings& settings, uint64_t& iteration, Sessio
 
 void Renderer::release_state() {
     for (auto* a : {&ray_o_, &ray_d_, &throughput_, &radiance_, &shadow_o_, &shadow_d_,
-                    &shadow_c_, &power_, &conn_o_, &conn_d_, &conn_c_})
+                    &shadow_c_, &power_, &conn_o_, &conn_d_, &conn_c_, &prev_p_, &prev_n_})
         a->release();
     for (auto* a : {&ray_tmin_, &ray_tmax_, &prev_pdf_, &hit_t_, &shadow_tmax_, &dvcm_, &dvc_,
                     &conn_tmax_})

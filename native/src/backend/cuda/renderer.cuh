@@ -156,6 +156,7 @@ public:
     // ---- wavefront state (PathState / BdptState / LightPathState slots) ----
     int state_cap_ = 0, conn_state_cap_ = 0;
     DeviceArray<Vec3> ray_o_, ray_d_, throughput_, radiance_, shadow_o_, shadow_d_, shadow_c_;
+    DeviceArray<Vec3> prev_p_, prev_n_;  // PathState::prev_p / prev_n (light tree MIS)
     DeviceArray<float> ray_tmin_, ray_tmax_, prev_pdf_, hit_t_, shadow_tmax_;
     DeviceArray<Rng> rng_;
     DeviceArray<int32_t> depth_, hit_prim_, queue_, next_queue_, scan_, store_flag_;

@@ -1,0 +1,62 @@
+// Resampled next-event estimation (issue 14 item 3, in the spirit of CIS): M candidate light
+// samples (tree picks, each with its light sample), the target p-hat = luminance of the
+// unshadowed contribution, one chosen with probability proportional to w_j = p-hat(x_j) /
+// p_src(x_j), one shadow ray. The chosen sample y carries W = (1 / p-hat(y)) (1/M) sum_j w_j
+// (DESIGN.md, resampled connections); the MIS weights stay those of the plain strategy (pick
+// pmf times the light's pdf), never the random W.
+#pragma once
+
+#include "scene/light_tree.h"
+#include "scene/lights.h"
+
+namespace lantern {
+
+constexpr int kMaxLightCandidates = 8;  // PtSettings::light_candidates at most
+
+// The random numbers one resampled estimate draws beyond the plain one (u_pick, u_light):
+// 3 (M - 1) for the candidates past the first, always, so that the count per bounce is fixed.
+LANTERN_HD inline int nee_resample_extra_draws(int m) { return m > 1 ? 3 * (m - 1) : 0; }
+
+// Candidates j = 0 .. m-1 at p (pick normal n_pick) from u[3j], (u[3j+1], u[3j+2]); `target`
+// maps a light sample to p-hat (zero where the contribution is zero, positive where it is
+// not). Sets *pick and *ls to the chosen candidate and returns W p_src(y) = (1/M) sum_j w_j /
+// w_y, the factor that turns the plain estimate f Le cos / p_src(y) into the resampled one;
+// 0 when no candidate has weight (then *pick has pmf 0).
+template <class Target>
+LANTERN_HD inline float nee_resample(const SceneView& s, Vec3 p, Vec3 n_pick, int m,
+                                     const float* u, float u_choose, Target target,
+                                     LightPick* pick, LightSample* ls) {
+    LightPick cp[kMaxLightCandidates];
+    LightSample cs[kMaxLightCandidates];
+    float w[kMaxLightCandidates];
+    float sum = 0.0f;
+    m = m < kMaxLightCandidates ? m : kMaxLightCandidates;
+    for (int j = 0; j < m; ++j) {
+        w[j] = 0.0f;
+        cp[j] = light_pick(s, p, n_pick, u[3 * j]);
+        if (!(cp[j].pmf > 0.0f)) continue;
+        cs[j] = sample_light(s, s.lights[cp[j].light], p, Vec2{u[3 * j + 1], u[3 * j + 2]});
+        if (!cs[j].valid) continue;
+        const float src = cp[j].pmf * cs[j].pdf_w;  // a delta light's pdf_w is 1: its pmf
+        const float ph = target(cs[j]);
+        if (src > 0.0f && ph > 0.0f) w[j] = ph / src;
+        if (!(w[j] < 1e37f)) w[j] = 0.0f;  // overflow or NaN: never chosen, never summed
+        sum += w[j];
+    }
+    pick->light = -1;
+    pick->pmf = 0.0f;
+    if (!(sum > 0.0f) || !(sum < 1e38f)) return 0.0f;
+    float x = u_choose * sum;
+    int c = -1;
+    for (int j = 0; j < m; ++j) {
+        if (!(w[j] > 0.0f)) continue;
+        c = j;  // the last candidate with weight takes what rounding leaves
+        if (x < w[j]) break;
+        x -= w[j];
+    }
+    *pick = cp[c];
+    *ls = cs[c];
+    return sum / (float(m) * w[c]);
+}
+
+}  // namespace lantern
