@@ -13,7 +13,10 @@ lantern = pytest.importorskip("lantern")
 import render_compare as rc  # noqa: E402
 from lantern import metrics  # noqa: E402
 
-K, SPP, SIZE = 16, 64, 32
+K, SPP, SIZE = 16, 128, 32
+# the whole-image control: measured resolution 0.86 % (0 bounces) and 1.18 % (1 bounce: the
+# indirect light is noisier on both sides) at 16 x 128 spp; 64 spp resolved 1.13 / 1.44 %
+IMAGE_CONTROL = {0: 0.01, 1: 0.0125}
 
 
 def _lantern(bounces, monkeypatch, seed0, k_seeds=K):
@@ -36,7 +39,7 @@ def test_cycles_bounces_match_lantern_depth(bounces, monkeypatch):
     lan = _lantern(bounces, monkeypatch, 1)
     res = metrics.assert_agreement(
         f"Cycles max_bounces={bounces} vs Lantern max_depth={rc.lantern_depth(bounces)}",
-        lan, cyc, block=rc.BLOCK)
+        lan, cyc, block=rc.BLOCK, image_bias=IMAGE_CONTROL[bounces])
     rc.REPORT.append(str(res))
     # one bounce more in Lantern is far outside the comparison (the mapping is not off by one)
     off = metrics.compare_renders(_lantern(bounces + 1, monkeypatch, 100, 4), cyc, block=rc.BLOCK)
