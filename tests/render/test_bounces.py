@@ -2,8 +2,9 @@
 as Lantern with max_depth B + 2 (0 bounces = direct light only = 2 path segments). Cycles is
 rendered here, K seeds per renderer at 32 x 32, compared by lantern.metrics.assert_agreement
 (tests/README.md: Welch t per 8x8 block, the image mean within the 0.2 % bias cap plus its
-noise, and negative controls of +-1 % on the image and +-5 % on one block that must fail). The
-image means differ by 45 % between B = 0 and 1; the depth one off is checked to fail too."""
+noise, and negative controls of +-1 % on the image (1.25 % with one bounce) and +-5 % on one
+block that must fail). The image means differ by 45 % between B = 0 and 1; the depth one off
+is checked to fail too."""
 
 import numpy as np
 import pytest
