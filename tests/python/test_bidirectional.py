@@ -66,14 +66,15 @@ def check_agreement(name, renders_a, renders_pt, controls=(0.01, 0.05)):
 # the level it does resolve, rounded up, measured at these settings (tests/README.md). The
 # Cornell box, the delta lights, the soft falloff and the scaled scenes reach 1 % (0.65-0.96 %
 # since the weighted mean weights blocks by their noise and pt's reference has 512 spp).
-# glossy and coat_normal resolve 1.0-1.25 %: pt's highlights and the bidirectional side
-# share the noise, and 1 % would cost ~1.5x their samples. principled, features, fixture and
-# glass resolve 2-3 %: pt behind a lamp shade, through glass or Principled layers, and the
-# bidirectional integrators on textures, alpha and translucency; 1 % there costs ~10x the
+# glossy and coat_normal resolve 0.8-1.05 %: pt's highlights and the bidirectional side
+# share the noise, and 1 % with margin would cost ~1.5x their samples. principled resolves
+# 1.7 % (a block 7.6 %: the layered lobes' noise on both sides); features, fixture and glass
+# 2-3 % (last measured with equal weights): pt behind a lamp shade or through glass, the
+# bidirectional integrators on textures, alpha and translucency. 1 % there costs ~3-10x the
 # samples, beyond CI.
 REFERENCE = {"fixture": "bdpt", "glass": "bdpt"}
 ONE_PERCENT = (0.01, 0.05)
-CONTROLS = {"cornell": ONE_PERCENT, "glossy": (0.0125, 0.05), "principled": (0.04, 0.10),
+CONTROLS = {"cornell": ONE_PERCENT, "glossy": (0.0125, 0.05), "principled": (0.02, 0.10),
             "features": (0.04, 0.10), "coat_normal": (0.0125, 0.05), "fixture": (0.035, 0.10),
             "glass": (0.025, 0.10)}
 
