@@ -2,8 +2,9 @@
 by each light type; the same scene is written by hand as a lantern.Scene. Block means of K
 independent seeds per renderer must agree (lantern.metrics.assert_agreement, tests/README.md:
 Welch t per 8x8 block, the image mean within the 0.2 % bias cap plus its noise, and negative
-controls: +-1 % on the whole image and +-5 % on one block must fail). This pins the core's conversions (watts to radiance, spot cone, sun disk, pixel filter) to
-Cycles' own, independently of the exporter."""
+controls: +-1 % on the whole image and +-5 % on one block must fail). This pins the core's
+conversions (watts to radiance, spot cone, sun disk, pixel filter) to Cycles' own,
+independently of the exporter."""
 
 import math
 
