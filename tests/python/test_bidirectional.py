@@ -68,7 +68,8 @@ def check_agreement(name, renders_a, renders_pt, controls=(0.01, 0.05)):
 # since the weighted mean weights blocks by their noise and pt's reference has 512 spp).
 # glossy and coat_normal resolve 0.8-1.05 %: pt's highlights and the bidirectional side
 # share the noise, and 1 % with margin would cost ~1.5x their samples. principled resolves
-# 1.7 % (a block 7.6 %: the layered lobes' noise on both sides); features, fixture and glass
+# 1.7 % (a block 7.6 %) for all six integrators alike: the noise is pt's reference (the
+# layered lobes), and 4x its samples (about +75 s CPU) would reach ~1 %; features, fixture and glass
 # 2-3 % (last measured with equal weights): pt behind a lamp shade or through glass, the
 # bidirectional integrators on textures, alpha and translucency. 1 % there costs ~3-10x the
 # samples, beyond CI.
