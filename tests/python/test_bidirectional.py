@@ -72,7 +72,7 @@ def check_agreement(name, renders_a, renders_pt, controls=(0.01, 0.05)):
 # layered lobes), and 4x its samples (about +75 s CPU) would reach ~1 %; features 1.7-1.8 %
 # (a block 6.8-6.9 %: textures, alpha and translucency on both sides); against bdpt (pt
 # behind a lamp shade or through glass is noisier still) fixture 2.5-2.7 % (a block 8.7-9.3 %)
-# and glass 1.29-1.34 % (4.9-6.2 %). 1 % there costs ~2-7x the samples, beyond CI.
+# and glass 1.29-1.34 % (4.9-6.2 %). 1 % there costs ~2-10x the samples, beyond CI.
 REFERENCE = {"fixture": "bdpt", "glass": "bdpt"}
 ONE_PERCENT = (0.01, 0.05)
 CONTROLS = {"cornell": ONE_PERCENT, "glossy": (0.0125, 0.05), "principled": (0.02, 0.10),
