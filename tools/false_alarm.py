@@ -14,6 +14,9 @@ null distribution):
   direct term of the integrating sphere against the exact tessellated value;
 - backend: the GPU tests' rule (test_cuda_backend, tools/gpu_compare.py) on CPU against CPU,
   two independent seed sets of the same integrator (what a correct GPU gives);
+- paired: Lantern's own BVH against Embree with the same seeds, compared seed by seed
+  (test_cpu_accel: bvh_k - embree_k + mean(embree) against mean(embree)) on the alpha-tested
+  features box, pt, 16 seeds of 8 spp;
 - cycles: Lantern against the stored Cycles reference of light_sun (needs bpy; the reference
   is one fixed set, so the 20 trials share it).
 """
@@ -96,8 +99,25 @@ def pairs_cycles(trial):
     yield "lantern vs stored Cycles, light_sun", run
 
 
+def pairs_paired(trial):
+    import os
+
+    def run():
+        scene = scenes.features_box(32, 32)
+        out = {}
+        for accel in ("embree", "bvh"):
+            os.environ["LANTERN_ACCEL"] = accel
+            out[accel] = [np.asarray(lantern.render(scene, spp=8, seed=950000 + 1000 * trial + i,
+                                                    max_depth=6, backend="cpu"), np.float64)
+                          for i in range(16)]
+        os.environ.pop("LANTERN_ACCEL")
+        level = np.mean(out["embree"], axis=0)
+        return [b - e + level for b, e in zip(out["bvh"], out["embree"])], level, {}
+    yield "bvh vs embree, paired seeds, features pt", run
+
+
 FAMILIES = {"cross": pairs_cross, "analytic": pairs_analytic, "backend": pairs_backend,
-            "cycles": pairs_cycles}
+            "paired": pairs_paired, "cycles": pairs_cycles}
 
 
 def main(argv=None):

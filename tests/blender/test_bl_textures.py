@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 import lantern
+from lantern import metrics
 from blender_helpers import add_camera, add_plane, render_exr
 
 pytestmark = pytest.mark.skipif(not lantern.session.native_available(),
@@ -227,16 +228,31 @@ def test_normal_map_f12(empty, addon, tmp_path, errors, integrator):
     empty.collection.objects.link(obj)
     ortho_camera(empty)
     empty.lantern.integrator = integrator
-    empty.lantern.samples = 8
+    empty.lantern.samples = 8 if integrator == "pt" else 16
     scene, _ = export()
     assert scene.meshes[0]["tangents"] is not None
-    px = render_exr(empty, tmp_path)[..., :3]
     n = np.array([2 * v / 255 - 1 for v in b[:3]])
     n /= np.linalg.norm(n)
     light = np.array([math.sin(math.radians(45)), 0.0, math.cos(math.radians(45))])
     expected = 0.5 / math.pi * 2.0 * float(n @ light)
-    mean = float(px[6:26, 6:26].mean())
-    assert abs(mean - expected) < 0.01 * expected, (mean, expected, 0.5 / math.pi * 2 * light[2])
+    assert abs(expected - 0.5 / math.pi * 2 * light[2]) > 0.2 * expected  # tilt is visible
+    if integrator == "pt":
+        # pt sees only the sun here: noise-free, every pixel to 1e-4
+        px = render_exr(empty, tmp_path)[6:26, 6:26, :3].astype(np.float64)
+        err = np.abs(px / expected - 1.0)
+        assert err.max() <= 1e-4, (float(err.max()), float(px.mean()), expected)
+    else:
+        # cis also splats light paths (noisy): 16 seeds against the exact value, the 4x4
+        # blocks inside the plane's [8, 24) pixels (tests/README.md)
+        imgs = []
+        for k in range(16):
+            empty.lantern.seed = 10 + k
+            imgs.append(render_exr(empty, tmp_path, f"s{k}.exr")[..., :3].astype(np.float64))
+        mask = np.zeros((8, 8), bool)
+        mask[2:6, 2:6] = True
+        metrics.assert_agreement(f"normal map F12 {integrator}", imgs,
+                                 np.full((32, 32, 3), expected), block=4, mask=mask,
+                                 bias_cap=1e-4)
     assert not [c for c in errors if c[0] == "ERROR"]
 
 

@@ -3,16 +3,20 @@ traversal, backend/cpu/bvh_accel.h), chosen with env LANTERN_ACCEL.
 
 Same integrator, same seed, no alpha: near-identical images. Not bit-identical: the two
 ray-triangle tests round t and the barycentrics differently (last bits), which moves secondary
-ray origins slightly, and a ray grazing an edge may go another way. Tolerance: at most 1 % of
-pixel channels differ by more than 1e-3 relative and the image means within 0.2 % (measured on
-the flags scene at 32x32, 16 spp: no channel over 1e-3, largest difference 1.3e-5).
+ray origins slightly, and a ray grazing an edge may go another way. Tolerance (an exact case):
+the image means within 1e-4 relative and at most 0.2 % of pixel channels differ by more than
+1e-4 relative (measured on the flags scene at 32x32, 16 seeds of 8 spp: image means 4e-7 apart,
+0.006 % of cis's channels over 1e-4, none of pt's).
 
 With alpha-tested surfaces the same seed does not give near-identical images: the stochastic
 alpha decision hashes the ray's origin bits (scene/alpha.h), so the last-bit differences above
 flip decisions after the first bounce (about 30 % of pt pixels and nearly all cis pixels
-differ). There, and for every scene, independent seeds of each structure pass the
-cross-integrator block z-test (Bonferroni, alpha 1e-3), so a systematic difference (a lost
-alpha test, a camera-hidden panel seen, a shadowless panel casting shadows) fails."""
+differ). There, and for every scene, the two structures are compared seed by seed (the same
+seeds: a paired comparison, the per-seed differences' spread as the noise) through
+lantern.metrics.assert_agreement with its negative controls, so a systematic difference (a lost
+alpha test, a camera-hidden panel seen, a shadowless panel casting shadows) fails. Paired, the
+16 seeds of 8 spp resolve a whole-image bias of 0.2-0.6 %; independent seeds at that cost
+resolved only 1.8-3.9 %."""
 import numpy as np
 import pytest
 
@@ -20,6 +24,8 @@ import lantern
 from lantern import metrics, scenes
 
 SIZE = 32
+K = 16          # seeds (the same for both structures)
+EXACT = 1e-4
 
 
 @pytest.fixture(scope="module")
@@ -50,7 +56,7 @@ SCENES = {
 }
 
 
-def render(monkeypatch, accel, scene, integrator, seed, spp=16):
+def render(monkeypatch, accel, scene, integrator, seed, spp=8):
     monkeypatch.setenv("LANTERN_ACCEL", accel)
     s = lantern.Session(scene, integrator=integrator, seed=seed, backend="cpu", max_depth=6,
                         spp_per_iteration=spp)
@@ -79,29 +85,33 @@ def test_same_seed_near_identical(core, monkeypatch, integrator):
     if not core.embree_available():
         pytest.skip(f"no Embree to compare against ({core.embree_version()})")
     scene = flags_scene()
-    emb = np.stack([render(monkeypatch, "embree", scene, integrator, 10 + i) for i in range(2)])
-    bvh = np.stack([render(monkeypatch, "bvh", scene, integrator, 10 + i) for i in range(2)])
+    emb = np.stack([render(monkeypatch, "embree", scene, integrator, 10 + i) for i in range(K)])
+    bvh = np.stack([render(monkeypatch, "bvh", scene, integrator, 10 + i) for i in range(K)])
     a, b = emb.astype(np.float64), bvh.astype(np.float64)
     assert np.isfinite(b).all()
     rel = np.abs(a - b) / np.maximum(np.abs(a), 1e-3)
-    frac = float(np.mean(rel > 1e-3))
+    frac = float(np.mean(rel > EXACT))
     mean_rel = abs(b.mean() - a.mean()) / a.mean()
-    print(f"flags {integrator}: {frac:.4%} of pixel channels differ by > 1e-3 rel, max abs diff "
-          f"{np.abs(a - b).max():.3g}, image means {a.mean():.6g} vs {b.mean():.6g}")
-    assert frac <= 0.01, frac
-    assert mean_rel < 0.002, mean_rel
+    print(f"flags {integrator}: {frac:.4%} of pixel channels differ by > 1e-4 rel, max abs diff "
+          f"{np.abs(a - b).max():.3g}, image means {a.mean():.8g} vs {b.mean():.8g}")
+    assert frac <= 0.002, frac
+    assert mean_rel <= EXACT, mean_rel
 
 
 @pytest.mark.parametrize("integrator", ["pt", "cis"])
 @pytest.mark.parametrize("scene_name", list(SCENES))
-def test_independent_seeds_agree(core, monkeypatch, scene_name, integrator):
+def test_same_seeds_agree_statistically(core, monkeypatch, scene_name, integrator):
     if not core.embree_available():
         pytest.skip(f"no Embree to compare against ({core.embree_version()})")
     scene = SCENES[scene_name]()
-    k = 8
-    emb = [render(monkeypatch, "embree", scene, integrator, 10 + i) for i in range(k)]
-    bvh = [render(monkeypatch, "bvh", scene, integrator, 100 + i) for i in range(k)]
+    emb = [render(monkeypatch, "embree", scene, integrator, 10 + i).astype(np.float64)
+           for i in range(K)]
+    bvh = [render(monkeypatch, "bvh", scene, integrator, 10 + i).astype(np.float64)
+           for i in range(K)]
     assert all(np.isfinite(r).all() for r in bvh)
-    cmp = metrics.compare_sets(bvh, emb, block=8)
-    print(f"{scene_name} {integrator}: {cmp}")
-    assert cmp.passed(1e-3), str(cmp)
+    # paired: E[bvh_k - emb_k] = 0 is tested as bvh_k - emb_k + mean(emb) against mean(emb),
+    # taken as exact (its own noise is common to both and cancels in the difference)
+    level = np.mean(emb, axis=0)
+    paired = [b - e + level for b, e in zip(bvh, emb)]
+    metrics.assert_agreement(f"{scene_name} {integrator} bvh vs embree, paired seeds", paired,
+                             level, block=8)

@@ -177,3 +177,31 @@ def test_compare_renders_mean_false_alarm_rate():
                 for _ in range(trials))
     lo, hi = _rate_bounds(trials, alpha)
     assert lo <= fails <= hi, (fails, lo, hi)
+
+
+def test_block_weighted_mean_weights_by_noise():
+    """Two of 16 blocks 10x noisier (an emitter, a caustic): the block-weighted mean weights
+    blocks by their precision (floored at the median block's), so its standard error is well
+    under the image mean's, and its false-alarm rate stays at alpha (16 seeds a side, and 16
+    against an exact value); with fewer than PRECISION_SEEDS seeds the weights are equal."""
+    from lantern import agreement
+    rng = np.random.default_rng(20)
+    sd = np.full((32, 32, 1), 0.3)
+    sd[:8, :16] = 3.0
+
+    def hetero(k):
+        return [1.0 + sd * rng.standard_normal(sd.shape) for _ in range(k)]
+    trials, alpha = 400, 0.1
+    for other in (16, None):
+        fails, ratio = 0, []
+        for _ in range(trials):
+            res = metrics.compare_renders(hetero(16), hetero(other) if other else 1.0, block=8,
+                                          alpha=alpha, bias_cap=0.0)
+            fails += res.mean_p[1, 0] < alpha
+            ratio.append(res.rel_se[1, 0] / res.rel_se[0, 0])
+        lo, hi = _rate_bounds(trials, alpha)
+        assert lo <= fails <= hi, (other, fails, lo, hi)
+        assert np.median(ratio) < 0.5, (other, np.median(ratio))
+    few = metrics.compare_renders(hetero(agreement.PRECISION_SEEDS - 1), 1.0, block=8)
+    # equal weights over the 16 blocks: the weighted mean is the image mean here
+    assert abs(few.rel[1, 0] - few.rel[0, 0]) < 1e-12
