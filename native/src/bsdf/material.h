@@ -59,7 +59,8 @@ LANTERN_HD inline void material_apply_programs(const SceneView& s, const Materia
     auto unit = [](float v) { return v >= 0.0f ? fminf(v, 1.0f) : 0.0f; };
     for (int i = 0; i < m.prog_count; ++i) {
         const MaterialProgram& p = s.programs[m.prog_first + i];
-        if (p.target == kTargetAlpha) continue;  // alpha.h reads it where rays are traced
+        // alpha.h reads the alpha where rays are traced, pt_surface_frames the bump
+        if (p.target == kTargetAlpha || p.target == kTargetBump) continue;
         const Vec3 v = program_run(s, p, sp);
         switch (p.target) {
         case kTargetBaseColor: {

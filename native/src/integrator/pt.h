@@ -173,6 +173,7 @@ LANTERN_HD inline void pt_surface_frames(const SceneView& s, SurfaceHit& h, int 
     const Vec3 n_smooth = n;
     if (m.tex_flags & kTexNormal)
         n = apply_normal_map(s, m.tex_normal, m.normal_strength, tri, uv, n, ng_front, h.st);
+    if (m.tex_flags & kTexBump) n = program_bump(s, m, tri, uv, n, ng_front);  // node graphs
     h.ns = h.front ? n : -n;
     if (m.anisotropy > 0.0f) h.tangent_angle = anisotropy_angle(s, m, tri, uv, h.ns);
     if (m.tex_flags & kCoatNormal) {  // the coat's own normal: its map, or the smooth normal

@@ -109,6 +109,9 @@ enum NodeOp : uint8_t {
     kOpImage,          // in: vector(3); aux: texture; mode: projection; out: color(3) alpha
     kOpMapping,        // in: vector(3) location(3) rotation(3) scale(3); mode: type
     kOpNormalize,      // in: vector(3): a unit vector (0 stays 0)
+    kOpBrick,          // in: vector(3) color1(3) color2(3) mortar(3) scale mortar_size
+                       // mortar_smooth bias brick_width row_height offset squash;
+                       // aux offset frequency, aux2 squash frequency; out: color(3) fac
 };
 
 struct NodeInstr {
@@ -117,9 +120,12 @@ struct NodeInstr {
     int32_t aux, aux2;
 };
 
+// kTargetBump: a Bump node (or the Displacement output as bump) on the shading normal; its
+// result is (height, strength, distance signed by Invert), run by program_bump, not at
+// material_at.
 enum ProgramTarget : uint32_t {
     kTargetBaseColor = 0, kTargetRoughness = 1, kTargetMetallic = 2, kTargetEmission = 3,
-    kTargetAlpha = 4, kTargetMixFactor = 5, kTargetCount = 6,
+    kTargetAlpha = 4, kTargetMixFactor = 5, kTargetBump = 6, kTargetCount = 7,
 };
 
 struct MaterialProgram {
@@ -322,11 +328,29 @@ LANTERN_HD inline void program_step(const SceneView& s, const ShadePoint& sp, co
         set3(o, 0, node_mapping(n.mode, reg3(a, 0), reg3(a, 3), reg3(a, 6), reg3(a, 9)));
         break;
     case kOpNormalize: set3(o, 0, safe_normalize(reg3(a, 0))); break;
+    case kOpBrick: {
+        float tint;
+        const float f = node_brick(reg3(a, 0) * a[12], a[13], a[14], a[15], a[16], a[17],
+                                   a[18], n.aux, a[19], n.aux2, &tint);
+        Vec3 c1 = reg3(a, 3);
+        if (f != 1.0f) c1 = c1 * (1.0f - tint) + reg3(a, 6) * tint;
+        set3(o, 0, mix3(c1, reg3(a, 9), f));
+        o[3] = f;
+        break;
+    }
     default: break;
     }
 }
 
 // Runs program p at sp; its result (3 floats; scalars repeat in y, z unless the op wrote 3).
+// Never inlined (host and device): a call keeps the op switch and its 192 registers out of
+// the kernels and stages that reach it (a diffuse-only scene's shading stage paid for their
+// inlined copies, and ptxas took minutes over cuda_pt; docs/nodes.md "Cost").
+#ifdef __CUDACC__
+__noinline__
+#else
+__attribute__((noinline))
+#endif
 LANTERN_HD inline Vec3 program_run(const SceneView& s, const MaterialProgram& p,
                                    const ShadePoint& sp) {
     float r[kProgramRegs];
@@ -401,6 +425,68 @@ LANTERN_HD inline Vec3 material_emission_at(const SceneView& s, const Material& 
         program_eval(s, m, kTargetEmission, shade_point_on_triangle(s, tri, bary, wo), &e))
         return Vec3{clampf(e.x, 0.0f, 1e30f), clampf(e.y, 0.0f, 1e30f), clampf(e.z, 0.0f, 1e30f)};
     return material_emission(s, m, triangle_uv(s, tri, bary));
+}
+
+// ---- Bump ----
+// Cycles evaluates the height at the shading point and at offsets along its screen-space
+// differentials dP/dx, dP/dy (times the node's Filter Width) and forms the normal of the
+// bumped surface from the two differences. Lantern keeps no ray differentials; it takes the
+// same formula over two offsets along the triangle's own edges, in barycentrics (so that
+// every input a height graph reads, position, uv, attributes, moves consistently), each
+// kBumpStep long in world units relative to the point's magnitude: a forward-difference
+// estimate of the surface gradient, which converges to the gradient Cycles' finite
+// differences estimate when the height is smooth at the scale of a pixel's tenth. Heights
+// with detail finer than that differ (Cycles' then depend on the resolution; docs/nodes.md).
+constexpr float kBumpStep = 2e-4f;
+
+// The shading point of triangle tri at bary with normal n (front side) and the view along n:
+// height graphs see the surface, not the path (the bumped normal is a property of the point,
+// as BDPT's MIS needs).
+LANTERN_HD inline ShadePoint bump_point(const SceneView& s, int32_t tri, Vec2 bary, Vec3 n) {
+    ShadePoint sp = shade_point_on_triangle(s, tri, bary, n);
+    sp.n = n;
+    sp.wo = n;
+    return sp;
+}
+
+// The front-side shading normal n of triangle tri at bary bent by material m's bump programs
+// (in order: a Bump fed by another Bump); n unchanged where the result is degenerate or
+// would face below the surface (as for normal maps).
+LANTERN_HD inline Vec3 program_bump(const SceneView& s, const Material& m, int32_t tri,
+                                    Vec2 bary, Vec3 n, Vec3 ng_front) {
+    const uint32_t* idx = s.indices + 3 * tri;
+    const Vec3 a = s.positions[idx[0]];
+    const Vec3 e1 = s.positions[idx[1]] - a, e2 = s.positions[idx[2]] - a;
+    const Vec3 p = a + e1 * bary.x + e2 * bary.y;
+    const float step =
+        kBumpStep * fmaxf(1.0f, fmaxf(fabsf(p.x), fmaxf(fabsf(p.y), fabsf(p.z))));
+    const float l1 = length(e1), l2 = length(e2);
+    if (!(l1 > 0.0f) || !(l2 > 0.0f)) return n;
+    const float du = step / l1, dv = step / l2;
+    const Vec3 dpdx = e1 * du, dpdy = e2 * dv;   // the two offsets, world units
+    for (int i = 0; i < m.prog_count; ++i) {
+        const MaterialProgram& prog = s.programs[m.prog_first + i];
+        if (prog.target != kTargetBump) continue;
+        const Vec3 c = program_run(s, prog, bump_point(s, tri, bary, n));
+        const float hx =
+            program_run(s, prog, bump_point(s, tri, Vec2{bary.x + du, bary.y}, n)).x;
+        const float hy =
+            program_run(s, prog, bump_point(s, tri, Vec2{bary.x, bary.y + dv}, n)).x;
+        // the bumped surface's normal from the two differences [Cycles' Bump node; Mikkelsen,
+        // "Bump Mapping Unparametrized Surfaces on the GPU", 2010, eq. 4]
+        const Vec3 rx = cross(dpdy, n), ry = cross(n, dpdx);
+        const float det = dot(dpdx, rx);
+        const Vec3 grad = rx * (hx - c.x) + ry * (hy - c.x);
+        const float strength = fmaxf(c.y, 0.0f);
+        Vec3 nb = n * fabsf(det) - grad * (c.z * (det < 0.0f ? -1.0f : 1.0f));
+        if (!is_finite(nb) || !(length_sq(nb) > 0.0f)) continue;
+        nb = normalize(nb);
+        nb = nb * strength + n * (1.0f - strength);
+        if (!is_finite(nb) || !(length_sq(nb) > 1e-24f)) continue;
+        nb = normalize(nb);
+        if (dot(nb, ng_front) > 1e-4f) n = nb;
+    }
+    return n;
 }
 
 // Alpha (coverage) of material m's alpha program at tri, bary; false when it has none.
