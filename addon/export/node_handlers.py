@@ -280,6 +280,7 @@ def h_normalize_passthrough(ctx, node, out, path):
     return ctx.input_value(node.inputs[0], path, out.type)
 
 
+from .node_spectral import SPECTRAL_HANDLERS  # noqa: E402
 from .node_textures import TEXTURE_HANDLERS  # noqa: E402
 
 NODE_HANDLERS = {
@@ -301,3 +302,4 @@ NODE_HANDLERS = {
     "LAYER_WEIGHT": h_layer_weight, "MAPPING": h_mapping,
 }
 NODE_HANDLERS.update(TEXTURE_HANDLERS)
+NODE_HANDLERS.update(SPECTRAL_HANDLERS)
