@@ -417,7 +417,13 @@ LANTERN_HD inline ShadePoint shade_point_on_triangle(const SceneView& s, int32_t
 }
 
 // Emitted radiance of material m at triangle tri, bary, seen from wo: its emission program
-// there, else material_emission (texture or constant).
+// there, else material_emission (texture or constant). Never inlined (only textured and
+// node-graph emitters reach it: lights.h triangle_emission).
+#ifdef __CUDACC__
+__noinline__
+#else
+__attribute__((noinline))
+#endif
 LANTERN_HD inline Vec3 material_emission_at(const SceneView& s, const Material& m, int32_t tri,
                                             Vec2 bary, Vec3 wo) {
     Vec3 e;
