@@ -18,6 +18,7 @@ from .node_light import OwnerCompiler, compile_socket, evaluate, times_strength
 
 BAKE_WIDTH, BAKE_HEIGHT = 1024, 512
 _LEAVE = {"TEX_ENVIRONMENT", "TEX_SKY"}   # world.py's and the sky's own paths
+_BAKED = {}   # program -> baked map
 
 
 class WorldContext(NodeContext):
@@ -74,13 +75,20 @@ def bake(world, background, out, report):
     prog = compile_socket(compiler, color, times_strength(strength), context=WorldContext)
     if prog is None:
         return False
-    d = directions().reshape(-1, 3)
-    rgb = evaluate(prog, d, -d)
+    key = (tuple(tuple(w) for w in prog["code"]), tuple(prog["consts"]), prog["num_const"],
+           prog["result"])
+    rgb = _BAKED.get(key)
     if rgb is None:
-        return False
-    rgb = np.nan_to_num(rgb, nan=0.0, posinf=0.0, neginf=0.0)
-    rgb = np.maximum(rgb, 0.0).reshape(BAKE_HEIGHT, BAKE_WIDTH, 3)
-    out.update({"map": np.ascontiguousarray(rgb, np.float32), "map_name": f"{world.name} "
+        d = directions().reshape(-1, 3)
+        rgb = evaluate(prog, d, -d)
+        if rgb is None:
+            return False
+        rgb = np.nan_to_num(rgb, nan=0.0, posinf=0.0, neginf=0.0)
+        rgb = np.maximum(rgb, 0.0).reshape(BAKE_HEIGHT, BAKE_WIDTH, 3)
+        if len(_BAKED) >= 4:   # viewport syncs re-export the world: the last few bakes kept
+            _BAKED.pop(next(iter(_BAKED)))
+        _BAKED[key] = rgb
+    out.update({"map": rgb.astype(np.float32, copy=True), "map_name": f"{world.name} "
                 "(node graph)", "strength": [1.0, 1.0, 1.0], "projection": "equirectangular",
                 "to_map": np.eye(3).tolist()})
     return True
