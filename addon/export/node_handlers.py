@@ -78,6 +78,20 @@ def h_object_info(ctx, node, out, path):
     return ctx.fallback(out)
 
 
+def h_camera_data(ctx, node, out, path):
+    """Camera Data: the point in camera space (x right, y up, z forward): its direction, its
+    depth along the view axis and its distance."""
+    cam = ctx.geometry(ne.IN_CAMERA)
+    zero, one = ctx.const((0.0, 0.0, 0.0), "VECTOR"), ctx.const((1.0,), "VALUE")
+    if out.identifier == "View Z Depth":
+        return ctx.reg(cam.reg + 2, 1, "VALUE")
+    op = "NORMALIZE" if out.identifier == "View Vector" else "LENGTH"
+    r, _ = ctx.emit_node("vector_math", [cam, zero, zero, one], 4, mode=ne.VECTOR_OPS.index(op))
+    if op == "LENGTH":
+        return ctx.reg(r + 3, 1, "VALUE")
+    return ctx.reg(r, 3, "VECTOR")
+
+
 def h_color_attribute(ctx, node, out, path):
     name = getattr(node, "layer_name", "")
     if out.identifier == "Alpha":
@@ -286,7 +300,7 @@ from .node_textures import TEXTURE_HANDLERS  # noqa: E402
 NODE_HANDLERS = {
     "VALUE": h_value, "RGB": h_rgb, "TEX_COORD": h_tex_coord, "UVMAP": h_uvmap,
     "NEW_GEOMETRY": h_geometry, "OBJECT_INFO": h_object_info,
-    "VERTEX_COLOR": h_color_attribute, "ATTRIBUTE": h_attribute,
+    "VERTEX_COLOR": h_color_attribute, "ATTRIBUTE": h_attribute, "CAMERA": h_camera_data,
     "MATH": h_math, "VECT_MATH": h_vector_math, "MIX": h_mix, "MIX_RGB": h_mix_rgb,
     "MAP_RANGE": h_map_range, "CLAMP": h_clamp,
     "INVERT": _color_op("invert", [("Fac", "VALUE"), ("Color", "RGBA")]),

@@ -200,6 +200,26 @@ def spectral(idname, socket, lo, hi):
     return build
 
 
+def camera_data(out, lo, hi):
+    """A Camera Data output mapped from [lo, hi] to [0, 1] (signed outputs stay visible)."""
+    def build(nt, emit):
+        c = nt.nodes.new("ShaderNodeCameraData")
+        m = _node(nt, "ShaderNodeMapRange", {"data_type": "FLOAT_VECTOR"} if out == "View Vector"
+                  else None)
+        src = c.outputs[out]
+        if out == "View Vector":
+            nt.links.new(src, _ident(m, "Vector"))
+            _ident(m, "From_Min_FLOAT3").default_value = (lo, lo, lo)
+            _ident(m, "From_Max_FLOAT3").default_value = (hi, hi, hi)
+            nt.links.new(next(s for s in m.outputs if s.identifier == "Vector"),
+                         emit.inputs["Color"])
+        else:
+            nt.links.new(src, m.inputs["Value"])
+            m.inputs["From Min"].default_value, m.inputs["From Max"].default_value = lo, hi
+            nt.links.new(m.outputs[0], emit.inputs["Strength"])
+    return build
+
+
 def view_dependent(idname, out, **inputs):
     def build(nt, emit):
         _link(nt, _node(nt, idname, **inputs), out, emit)
@@ -412,6 +432,9 @@ CASES = {
         "Mortar Smooth": 0.0})),   # (a smooth band narrower than a pixel would be an edge)
     "blackbody": ("plane", spectral("ShaderNodeBlackbody", "Temperature", 1800.0, 11000.0)),
     "wavelength": ("plane", spectral("ShaderNodeWavelength", "Wavelength", 400.0, 700.0)),
+    "camera_view_vector_sphere": ("sphere", camera_data("View Vector", -0.5, 1.0)),
+    "camera_z_depth_sphere": ("sphere", camera_data("View Z Depth", 2.5, 4.5)),
+    "camera_distance_sphere": ("sphere", camera_data("View Distance", 2.5, 4.5)),
     "fresnel_sphere": ("sphere", view_dependent("ShaderNodeFresnel", "Fac", IOR=1.45)),
     "layer_weight_facing_sphere": ("sphere", view_dependent("ShaderNodeLayerWeight", "Facing",
                                                             Blend=0.3)),
