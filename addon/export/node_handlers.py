@@ -92,6 +92,24 @@ def h_camera_data(ctx, node, out, path):
     return ctx.reg(r, 3, "VECTOR")
 
 
+def h_normal(ctx, node, out, path):
+    """Normal: its own direction (the output socket's value), and Dot: that direction with
+    the normalised input."""
+    d = ne.ng.socket_value(node.outputs[0]) or (0.0, 0.0, 1.0)
+    length = sum(x * x for x in d) ** 0.5
+    d = tuple(x / length for x in d) if length > 0 else (0.0, 0.0, 1.0)
+    direction = ctx.const(d, "VECTOR")
+    if out.identifier == "Normal":
+        return direction
+    zero, one = ctx.const((0.0, 0.0, 0.0), "VECTOR"), ctx.const((1.0,), "VALUE")
+    n = ctx.input_value(node.inputs[0], path, "VECTOR")
+    r, _ = ctx.emit_node("vector_math", [n, zero, zero, one], 4,
+                         mode=ne.VECTOR_OPS.index("NORMALIZE"))
+    r2, _ = ctx.emit_node("vector_math", [ctx.reg(r, 3, "VECTOR"), direction, zero, one], 4,
+                          mode=ne.VECTOR_OPS.index("DOT_PRODUCT"))
+    return ctx.reg(r2 + 3, 1, "VALUE")
+
+
 def h_color_attribute(ctx, node, out, path):
     name = getattr(node, "layer_name", "")
     if out.identifier == "Alpha":
@@ -301,6 +319,7 @@ NODE_HANDLERS = {
     "VALUE": h_value, "RGB": h_rgb, "TEX_COORD": h_tex_coord, "UVMAP": h_uvmap,
     "NEW_GEOMETRY": h_geometry, "OBJECT_INFO": h_object_info,
     "VERTEX_COLOR": h_color_attribute, "ATTRIBUTE": h_attribute, "CAMERA": h_camera_data,
+    "NORMAL": h_normal,
     "MATH": h_math, "VECT_MATH": h_vector_math, "MIX": h_mix, "MIX_RGB": h_mix_rgb,
     "MAP_RANGE": h_map_range, "CLAMP": h_clamp,
     "INVERT": _color_op("invert", [("Fac", "VALUE"), ("Color", "RGBA")]),

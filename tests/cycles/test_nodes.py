@@ -220,6 +220,17 @@ def camera_data(out, lo, hi):
     return build
 
 
+def normal_dot(nt, emit):
+    """Normal node: Dot of the sphere's normal with its own direction, mapped to [0, 1]."""
+    n = nt.nodes.new("ShaderNodeNormal")
+    n.outputs["Normal"].default_value = (0.6, -1.6, 1.0)   # not unit: Blender normalises it
+    nt.links.new(nt.nodes.new("ShaderNodeNewGeometry").outputs["Normal"], n.inputs["Normal"])
+    m = _node(nt, "ShaderNodeMapRange")
+    m.inputs["From Min"].default_value = -1.0
+    nt.links.new(n.outputs["Dot"], m.inputs["Value"])
+    nt.links.new(m.outputs[0], emit.inputs["Strength"])
+
+
 def view_dependent(idname, out, **inputs):
     def build(nt, emit):
         _link(nt, _node(nt, idname, **inputs), out, emit)
@@ -435,6 +446,7 @@ CASES = {
     "camera_view_vector_sphere": ("sphere", camera_data("View Vector", -0.5, 1.0)),
     "camera_z_depth_sphere": ("sphere", camera_data("View Z Depth", 2.5, 4.5)),
     "camera_distance_sphere": ("sphere", camera_data("View Distance", 2.5, 4.5)),
+    "normal_dot_sphere": ("sphere", normal_dot),
     "fresnel_sphere": ("sphere", view_dependent("ShaderNodeFresnel", "Fac", IOR=1.45)),
     "layer_weight_facing_sphere": ("sphere", view_dependent("ShaderNodeLayerWeight", "Facing",
                                                             Blend=0.3)),
