@@ -1,6 +1,6 @@
 """One handler per shader node type: handler(ctx, node, out, path) -> Val of output `out`.
 Register layouts of the instructions are those documented at NodeOp in
-native/src/scene/material_program.h."""
+native/src/scene/material_program_ops.h."""
 
 from . import node_eval as ne
 
