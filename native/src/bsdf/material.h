@@ -121,11 +121,9 @@ LANTERN_HD inline const Material& material_resolve_leaf(const SceneView& s, cons
 }
 
 // material_at's resolution (textures, programs; a mix with its leaves), kept out of its
-// inlined check: never inlined, so that the stages of a scene without textures, programs or
-// mixes carry none of it (bench/material_cost.py; docs/nodes.md "Cost").
-#ifdef __CUDACC__
-__noinline__
-#else
+// inlined check: never inlined on the host, so that the stages of a scene without textures,
+// programs or mixes carry none of it (bench/material_cost.py; docs/nodes.md "Cost").
+#ifndef __CUDA_ARCH__
 __attribute__((noinline))
 #endif
 LANTERN_HD inline const Material& material_resolve(const SceneView& s, const Material& m,

@@ -166,10 +166,8 @@ LANTERN_HD inline float anisotropy_angle(const SceneView& s, const Material& m, 
 
 // The material-dependent part of the shading frame (kSceneFrames scenes only, so that the
 // common path stays small): a normal map on the front-side normal n, the anisotropy tangent and
-// the coat's own normal; node-graph bumps. Never inlined: pt_surface stays small without it.
-#ifdef __CUDACC__
-__noinline__
-#else
+// the coat's own normal; node-graph bumps. Never inlined on the host (pt_surface stays small).
+#ifndef __CUDA_ARCH__
 __attribute__((noinline))
 #endif
 LANTERN_HD inline void pt_surface_frames(const SceneView& s, SurfaceHit& h, int tri, Vec2 uv,
