@@ -9,6 +9,11 @@ Lantern.
 - `nodes_utility`: Math, Vector Math, Map Range, Clamp, Mix (colour blend modes), RGB Curves,
   Separate/Combine HSV, Bright/Contrast, Gamma, Invert, a node group and a reroute; a
   Layer Weight factor mixing Diffuse and Glossy; a noise-driven emission quad (lit by it).
+- `nodes_vector`: Bump (strength, distance, invert, two chained), the Displacement output as
+  bump, Mapping, Vector Math.
+- `nodes_input`: Geometry, Texture Coordinate, Object Info, Color Attribute; the light through
+  its node tree (Blackbody).
+- `nodes_world`: a procedural world (Gradient, Noise, ColorRamp, Mix) lighting the scene.
 
     .venv/bin/python blend_scenes/nodes.py nodes_procedural out.blend"""
 
@@ -214,7 +219,151 @@ def nodes_utility():
     return bpy.context.scene
 
 
-SCENES = {"nodes_procedural": nodes_procedural, "nodes_utility": nodes_utility}
+def _bump(nt, shader, height, distance, strength=1.0, invert=False):
+    b = _node(nt, "ShaderNodeBump", {"invert": invert}, Distance=distance, Strength=strength)
+    nt.links.new(height, b.inputs["Height"])
+    nt.links.new(b.outputs[0], shader.inputs["Normal"])
+    return b
+
+
+def nodes_vector():
+    """Bump (strength, distance, invert, a chain of two), the Displacement output as bump,
+    Mapping (normal), Vector Math and Separate XYZ: the vector family."""
+    _reset()
+    mat, nt, d = _material("Floor")
+    coord = nt.nodes.new("ShaderNodeTexCoord")
+    mapping = _node(nt, "ShaderNodeMapping", Rotation=(0, 0, 0.3), Scale=(1.5, 1.5, 1.5))
+    nt.links.new(coord.outputs["Object"], mapping.inputs["Vector"])
+    chk = _node(nt, "ShaderNodeTexChecker", Scale=1.0, Color1=(0.75, 0.7, 0.6, 1),
+                Color2=(0.35, 0.4, 0.45, 1))
+    nt.links.new(mapping.outputs[0], chk.inputs["Vector"])
+    nt.links.new(chk.outputs["Color"], d.inputs["Color"])
+    noise = _node(nt, "ShaderNodeTexNoise", Scale=1.5, Detail=2.0)
+    nt.links.new(mapping.outputs[0], noise.inputs["Vector"])
+    _bump(nt, d, noise.outputs["Fac"], 0.4, strength=0.8)
+    _floor(mat)
+
+    mat, nt, d = _material("Waves")
+    d.inputs["Color"].default_value = (0.7, 0.5, 0.3, 1)
+    wave = _node(nt, "ShaderNodeTexWave", Scale=2.0)
+    _bump(nt, d, wave.outputs["Fac"], 0.03, invert=True)
+    _sphere(mat, -1.6)
+
+    mat, nt, d = _material("Cells")
+    mat.displacement_method = "BUMP"
+    d.inputs["Color"].default_value = (0.4, 0.6, 0.7, 1)
+    vor = _node(nt, "ShaderNodeTexVoronoi", Scale=4.0)
+    disp = _node(nt, "ShaderNodeDisplacement", Midlevel=0.0, Scale=0.15)
+    nt.links.new(vor.outputs["Distance"], disp.inputs["Height"])
+    nt.links.new(disp.outputs[0], nt.nodes["Material Output"].inputs["Displacement"])
+    _sphere(mat, 0.0)
+
+    mat, nt, d = _material("Chained")
+    geo = nt.nodes.new("ShaderNodeNewGeometry")
+    mp = _node(nt, "ShaderNodeMapping", {"vector_type": "NORMAL"}, Rotation=(0.4, 0, 0.9))
+    nt.links.new(geo.outputs["Normal"], mp.inputs["Vector"])
+    vm = _node(nt, "ShaderNodeVectorMath", {"operation": "MULTIPLY_ADD"},
+               Vector_001=(0.35, 0.35, 0.35), Vector_002=(0.5, 0.5, 0.5))
+    nt.links.new(mp.outputs[0], vm.inputs[0])
+    nt.links.new(vm.outputs[0], d.inputs["Color"])
+    n1 = _node(nt, "ShaderNodeTexNoise", Scale=3.0)
+    b1 = _node(nt, "ShaderNodeBump", Distance=0.05)
+    nt.links.new(n1.outputs["Fac"], b1.inputs["Height"])
+    ripple = _node(nt, "ShaderNodeTexWave", {"bands_direction": "Z"}, Scale=3.0)
+    b2 = _bump(nt, d, ripple.outputs["Fac"], 0.03, strength=0.6)
+    nt.links.new(b1.outputs[0], b2.inputs["Normal"])
+    _sphere(mat, 1.6)
+    return bpy.context.scene
+
+
+def nodes_input():
+    """Geometry, Texture Coordinate, Object Info, Color Attribute and Attribute; the area light
+    through a light node tree (Blackbody x strength)."""
+    sc = _reset()
+    lamp = bpy.data.lights["Area"]
+    lamp.use_nodes = True
+    lt = lamp.node_tree
+    emit = next(n for n in lt.nodes if n.type == "EMISSION")
+    bb = _node(lt, "ShaderNodeBlackbody", Temperature=4200.0)
+    lt.links.new(bb.outputs[0], emit.inputs["Color"])
+    emit.inputs["Strength"].default_value = 1.3
+
+    mat, nt, d = _material("Floor")
+    geo = nt.nodes.new("ShaderNodeNewGeometry")
+    vm = _node(nt, "ShaderNodeVectorMath", {"operation": "FRACTION"})
+    nt.links.new(geo.outputs["Position"], vm.inputs[0])
+    nt.links.new(vm.outputs[0], d.inputs["Color"])
+    _floor(mat)
+
+    mat, nt, d = _material("Coords")
+    tc = nt.nodes.new("ShaderNodeTexCoord")
+    mix = _node(nt, "ShaderNodeMix", {"data_type": "RGBA"}, Factor_Float=0.5)
+    nt.links.new(tc.outputs["Generated"], _ident(mix.inputs, "A_Color"))
+    nt.links.new(tc.outputs["UV"], _ident(mix.inputs, "B_Color"))
+    nt.links.new(_ident(mix.outputs, "Result_Color"), d.inputs["Color"])
+    _sphere(mat, -1.6)
+
+    mat, nt, d = _material("Located")
+    info = nt.nodes.new("ShaderNodeObjectInfo")
+    tc = nt.nodes.new("ShaderNodeTexCoord")
+    add = _node(nt, "ShaderNodeVectorMath", {"operation": "SUBTRACT"})
+    nt.links.new(tc.outputs["Object"], add.inputs[0])
+    nt.links.new(info.outputs["Location"], add.inputs[1])
+    ab = _node(nt, "ShaderNodeVectorMath", {"operation": "ABSOLUTE"})
+    nt.links.new(add.outputs[0], ab.inputs[0])
+    nt.links.new(ab.outputs[0], d.inputs["Color"])
+    _sphere(mat, 0.0)
+
+    mat, nt, d = _material("Painted")
+    ca = nt.nodes.new("ShaderNodeVertexColor")
+    ca.layer_name = "Paint"
+    nt.links.new(ca.outputs["Color"], d.inputs["Color"])
+    _sphere(mat, 1.6)
+    mesh = bpy.context.object.data
+    attr = mesh.color_attributes.new("Paint", "FLOAT_COLOR", "POINT")
+    for i, v in enumerate(mesh.vertices):
+        x, y, z = v.co
+        attr.data[i].color = (0.5 + 0.5 * x / 0.7, 0.3 + 0.4 * (z > 0), 0.6, 1.0)
+    return sc
+
+
+def nodes_world():
+    """A procedural world (Gradient, Noise, ColorRamp, Mix into Background) baked into an
+    environment map (addon/export/world_nodes.py); no other light."""
+    sc = _reset()
+    bpy.data.objects.remove(bpy.data.objects["Area"])
+    nt = sc.world.node_tree
+    bg = nt.nodes["Background"]
+    tc = nt.nodes.new("ShaderNodeTexCoord")
+    sep = nt.nodes.new("ShaderNodeSeparateXYZ")
+    nt.links.new(tc.outputs["Generated"], sep.inputs[0])
+    ramp = nt.nodes.new("ShaderNodeValToRGB")
+    ramp.color_ramp.elements[0].position = 0.45
+    ramp.color_ramp.elements[0].color = (0.25, 0.2, 0.15, 1)
+    ramp.color_ramp.elements[1].color = (0.3, 0.55, 1.0, 1)
+    mr = _node(nt, "ShaderNodeMapRange", **{"From Min": -1.0})
+    nt.links.new(sep.outputs["Z"], mr.inputs["Value"])
+    nt.links.new(mr.outputs[0], ramp.inputs[0])
+    noise = _node(nt, "ShaderNodeTexNoise", Scale=2.0)
+    nt.links.new(tc.outputs["Generated"], noise.inputs["Vector"])
+    mix = _node(nt, "ShaderNodeMix", {"data_type": "RGBA", "blend_type": "SCREEN"},
+                Factor_Float=0.35)
+    nt.links.new(ramp.outputs["Color"], _ident(mix.inputs, "A_Color"))
+    nt.links.new(noise.outputs["Color"], _ident(mix.inputs, "B_Color"))
+    nt.links.new(_ident(mix.outputs, "Result_Color"), bg.inputs["Color"])
+    bg.inputs["Strength"].default_value = 1.5
+    for name, x, col in (("Left", -1.6, (0.8, 0.8, 0.8, 1)), ("Mid", 0.0, (0.8, 0.3, 0.2, 1)),
+                         ("Right", 1.6, (0.2, 0.6, 0.3, 1))):
+        mat, _, d = _material(name)
+        d.inputs["Color"].default_value = col
+        _sphere(mat, x)
+    mat, _, d = _material("Floor")
+    _floor(mat)
+    return sc
+
+
+SCENES = {"nodes_procedural": nodes_procedural, "nodes_utility": nodes_utility,
+          "nodes_vector": nodes_vector, "nodes_input": nodes_input, "nodes_world": nodes_world}
 
 if __name__ == "__main__":
     SCENES[sys.argv[1]]()

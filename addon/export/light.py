@@ -4,6 +4,8 @@ import math
 
 import numpy as np
 
+from .node_light import light_factor
+
 
 def _color(light):
     c = np.array(light.color[:3], dtype=np.float64)
@@ -30,6 +32,9 @@ def export_light(obj, matrix_world, report):
     light = obj.data
     m = np.array(matrix_world, dtype=np.float64)
     power = _color(light)
+    factor = light_factor(obj, matrix_world, report)   # the light's node tree (node_light.py)
+    if factor is not None:
+        power = power * np.array(factor, dtype=np.float64)
     visible = bool(getattr(obj, "visible_camera", False))
     normalize = bool(getattr(light, "normalize", True))
     if light.type in {"POINT", "SPOT"}:

@@ -27,6 +27,7 @@ import math
 import bpy
 
 from .holdout import holdout_material
+from . import node_bump
 from .material_compile import GraphCompiler, attach
 from .texture import MAGENTA, TextureTable
 
@@ -229,6 +230,12 @@ class _Inputs:
         sock = self.node.inputs.get(socket_name)
         if sock is None or not sock.is_linked:
             return
+        if key == "normal" and node_bump.is_bump(sock):   # Bump nodes: programs
+            for prog in node_bump.bump_chain(
+                    self.compiler, self.node, normal_map=lambda owner: _Inputs(
+                        owner, self.material, self.report, self.textures).normal_map(out)):
+                attach(out, prog)
+            return
         src, _ = _source(sock)
         if src is None:
             return
@@ -329,9 +336,14 @@ def convert_material(material, report, textures=None, add_leaf=None):
     if node.type == "HOLDOUT":  # export/holdout.py
         return holdout_material(material)
     if node.type in ("MIX_SHADER", "ADD_SHADER", "BSDF_TRANSPARENT"):
-        return _convert_mix(node, material, report, textures, add_leaf)
-    out = _convert_shader(node, material, report, textures)
-    out.pop("_emission_mean", None)
+        out = _convert_mix(node, material, report, textures, add_leaf)
+    else:
+        out = _convert_shader(node, material, report, textures)
+        out.pop("_emission_mean", None)
+    disp = node_bump.displacement(GraphCompiler(material, report, textures,
+                                                textures.attributes), material, output)
+    if disp is not None:   # the displaced surface first, then the shader's own Bump nodes
+        out.setdefault("programs", []).insert(0, disp)
     return out
 
 
@@ -512,6 +524,7 @@ def _convert_mix(top, material, report, textures, add_leaf):
             attach(out, prog)
         elif prog["target"] == "alpha":
             attach(out, prog)
+    node_bump.hoist(out, [leaf for leaf, _ in bsdf], report, where)
     if normals:
         out["normal_texture"] = normals[0]["normal_texture"]
         out["normal_strength"] = normals[0].get("normal_strength", 1.0)

@@ -9,7 +9,7 @@ from . import node_graph as ng
 from .node_eval import NODE_HANDLERS, NodeContext
 
 REGS = 192          # kProgramRegs
-TARGETS = ("base_color", "roughness", "metallic", "emission", "alpha", "mix_factor")
+TARGETS = ("base_color", "roughness", "metallic", "emission", "alpha", "mix_factor", "bump")
 
 
 class Unsupported(Exception):

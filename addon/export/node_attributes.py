@@ -11,6 +11,22 @@ LOCAL = ("generated", "object", "object_normal")          # from the mesh alone
 INSTANCE = ("object_location", "object_random", "object_color")
 
 
+def _generated(mesh, pos):
+    """Generated coordinates: the position in the mesh's texture space mapped to [0, 1]^3.
+    Blender's own texture space where the mesh has one (auto: the bounding box, each half
+    extent at least 1e-5 and an empty one 1, as Blender makes it), else the bounding box."""
+    try:
+        loc = np.array(mesh.texspace_location[:3], np.float64)
+        half = np.array(mesh.texspace_size[:3], np.float64)
+    except (AttributeError, TypeError):
+        lo, hi = pos.min(axis=0).astype(np.float64), pos.max(axis=0).astype(np.float64)
+        loc, half = 0.5 * (lo + hi), 0.5 * (hi - lo)
+        half = np.where(half == 0.0, 1.0, np.maximum(half, 1e-5))
+    half = np.where(np.isfinite(half) & (np.abs(half) > 0.0), half, 1.0)
+    gen = (pos.astype(np.float64) - (loc - half)) / (2.0 * half)
+    return np.nan_to_num(gen, nan=0.5, posinf=0.5, neginf=0.5).astype(np.float32)
+
+
 class AttributeTable:
     def __init__(self, report):
         self.report = report
@@ -29,11 +45,7 @@ class AttributeTable:
         pos = arrays["positions"]
         for name in self.names:
             if name == "generated":
-                lo, hi = pos.min(axis=0), pos.max(axis=0)
-                size = hi - lo
-                size = np.where(size > 1e-12, size, 0.0)
-                gen = np.where(size > 0, (pos - lo) / np.where(size > 0, size, 1.0), 0.5)
-                out[name] = gen.astype(np.float32)
+                out[name] = _generated(mesh, pos)
             elif name == "object":
                 out[name] = pos.astype(np.float32)
             elif name == "object_normal":

@@ -1,6 +1,6 @@
 """One handler per shader node type: handler(ctx, node, out, path) -> Val of output `out`.
 Register layouts of the instructions are those documented at NodeOp in
-native/src/scene/material_program.h."""
+native/src/scene/material_program_ops.h."""
 
 from . import node_eval as ne
 
@@ -76,6 +76,38 @@ def h_object_info(ctx, node, out, path):
     if name == "Alpha":
         return ctx.const((1.0,), "VALUE")
     return ctx.fallback(out)
+
+
+def h_camera_data(ctx, node, out, path):
+    """Camera Data: the point in camera space (x right, y up, z forward): its direction, its
+    depth along the view axis and its distance."""
+    cam = ctx.geometry(ne.IN_CAMERA)
+    zero, one = ctx.const((0.0, 0.0, 0.0), "VECTOR"), ctx.const((1.0,), "VALUE")
+    if out.identifier == "View Z Depth":
+        return ctx.reg(cam.reg + 2, 1, "VALUE")
+    op = "NORMALIZE" if out.identifier == "View Vector" else "LENGTH"
+    r, _ = ctx.emit_node("vector_math", [cam, zero, zero, one], 4, mode=ne.VECTOR_OPS.index(op))
+    if op == "LENGTH":
+        return ctx.reg(r + 3, 1, "VALUE")
+    return ctx.reg(r, 3, "VECTOR")
+
+
+def h_normal(ctx, node, out, path):
+    """Normal: its own direction (the output socket's value), and Dot: that direction with
+    the normalised input."""
+    d = ne.ng.socket_value(node.outputs[0]) or (0.0, 0.0, 1.0)
+    length = sum(x * x for x in d) ** 0.5
+    d = tuple(x / length for x in d) if length > 0 else (0.0, 0.0, 1.0)
+    direction = ctx.const(d, "VECTOR")
+    if out.identifier == "Normal":
+        return direction
+    zero, one = ctx.const((0.0, 0.0, 0.0), "VECTOR"), ctx.const((1.0,), "VALUE")
+    n = ctx.input_value(node.inputs[0], path, "VECTOR")
+    r, _ = ctx.emit_node("vector_math", [n, zero, zero, one], 4,
+                         mode=ne.VECTOR_OPS.index("NORMALIZE"))
+    r2, _ = ctx.emit_node("vector_math", [ctx.reg(r, 3, "VECTOR"), direction, zero, one], 4,
+                          mode=ne.VECTOR_OPS.index("DOT_PRODUCT"))
+    return ctx.reg(r2 + 3, 1, "VALUE")
 
 
 def h_color_attribute(ctx, node, out, path):
@@ -280,12 +312,14 @@ def h_normalize_passthrough(ctx, node, out, path):
     return ctx.input_value(node.inputs[0], path, out.type)
 
 
+from .node_spectral import SPECTRAL_HANDLERS  # noqa: E402
 from .node_textures import TEXTURE_HANDLERS  # noqa: E402
 
 NODE_HANDLERS = {
     "VALUE": h_value, "RGB": h_rgb, "TEX_COORD": h_tex_coord, "UVMAP": h_uvmap,
     "NEW_GEOMETRY": h_geometry, "OBJECT_INFO": h_object_info,
-    "VERTEX_COLOR": h_color_attribute, "ATTRIBUTE": h_attribute,
+    "VERTEX_COLOR": h_color_attribute, "ATTRIBUTE": h_attribute, "CAMERA": h_camera_data,
+    "NORMAL": h_normal,
     "MATH": h_math, "VECT_MATH": h_vector_math, "MIX": h_mix, "MIX_RGB": h_mix_rgb,
     "MAP_RANGE": h_map_range, "CLAMP": h_clamp,
     "INVERT": _color_op("invert", [("Fac", "VALUE"), ("Color", "RGBA")]),
@@ -301,3 +335,4 @@ NODE_HANDLERS = {
     "LAYER_WEIGHT": h_layer_weight, "MAPPING": h_mapping,
 }
 NODE_HANDLERS.update(TEXTURE_HANDLERS)
+NODE_HANDLERS.update(SPECTRAL_HANDLERS)

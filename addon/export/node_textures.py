@@ -115,8 +115,19 @@ def h_image(ctx, node, out, path):
     return ctx.reg(r, 3, "RGBA")
 
 
+def h_brick(ctx, node, out, path):
+    colors = [ctx.inp(node, n, path, "RGBA", identifier=True)
+              for n in ("Color1", "Color2", "Mortar")]
+    names = ("Scale", "Mortar Size", "Mortar Smooth", "Bias", "Brick Width", "Row Height")
+    ins = [_vec(ctx, node, path)] + colors + [_val(ctx, node, n, path) for n in names] + \
+        [ctx.const((float(node.offset),), "VALUE"), ctx.const((float(node.squash),), "VALUE")]
+    r, _ = ctx.emit_node("brick", ins, 4, aux=int(node.offset_frequency),
+                         aux2=int(node.squash_frequency))
+    return _color_fac(ctx, r, out)
+
+
 TEXTURE_HANDLERS = {
     "TEX_CHECKER": h_checker, "TEX_GRADIENT": h_gradient, "TEX_NOISE": h_noise,
     "TEX_WHITE_NOISE": h_white_noise, "TEX_VORONOI": h_voronoi, "TEX_WAVE": h_wave,
-    "TEX_MAGIC": h_magic, "TEX_IMAGE": h_image,
+    "TEX_MAGIC": h_magic, "TEX_IMAGE": h_image, "TEX_BRICK": h_brick,
 }

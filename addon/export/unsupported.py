@@ -121,11 +121,9 @@ class UnsupportedFeatures:
         if not getattr(light, "use_shadow", True):
             warn(f"Light '{obj.name}': 'Cast Shadow' off is not honoured (it casts shadows)")
         tree = getattr(light, "node_tree", None)
-        if getattr(light, "use_nodes", False) and tree is not None:
+        if getattr(light, "use_nodes", False) and tree is not None:   # the rest: node_light.py
             if any(n.type == "TEX_IES" for n in tree.nodes):
                 warn(f"Light '{obj.name}': IES profiles are not rendered")
-            warn(f"Light '{obj.name}': light node trees are not rendered (the light uses its "
-                 "Color and Power)")
 
     # ---- materials ----
     def material(self, mat):
@@ -137,6 +135,8 @@ class UnsupportedFeatures:
             tail = "" if surface else "; without a Surface it renders as a black surface"
             self.report.warn(f"Material '{mat.name}': volumes are not rendered (the Volume "
                              f"output is ignored{tail})")
-        if _linked(tree, "OUTPUT_MATERIAL", "Displacement"):
-            self.report.warn(f"Material '{mat.name}': Displacement (and bump through the "
-                             "Displacement output) is not rendered")
+        method = getattr(mat, "displacement_method", "BUMP")
+        if _linked(tree, "OUTPUT_MATERIAL", "Displacement") and method != "BUMP":
+            self.report.warn(f"Material '{mat.name}': true displacement (Displacement method "
+                             f"'{method}') is not rendered; the Displacement output renders "
+                             "as bump (export/node_bump.py)")

@@ -12,6 +12,7 @@ import numpy as np
 
 from .sky import sky_world
 from .texture import mapping_constant
+from .world_nodes import bake as bake_node_world
 
 MAX_MAP_WIDTH = 8192  # wider maps are box-filtered down (their lighting changes little)
 _LINEAR_SPACES = {"Non-Color", "Linear", "Linear Rec.709", "Raw", "Generic Data",
@@ -180,6 +181,8 @@ def export_world(world, report, cache=None):
     out = {"color": [0.0, 0.0, 0.0]}
     out.update(_visibility(world, report))
     _settings(world, report)
+    if bake_node_world(world, node, out, report):   # procedural worlds (world_nodes.py)
+        return out
     src, color, s = _background_input(world, node, report)
     if src is None:
         out["color"] = [c * s for c in color]

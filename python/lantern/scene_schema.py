@@ -14,7 +14,8 @@ AREA_SHAPES = ("square", "rectangle", "disk", "ellipse")
 MESH_ARRAYS = ("positions", "indices", "normals", "uvs", "tangents", "material_ids",
                "attributes")
 # node-graph programs (docs/scene_format.md "Node programs"; native/src/scene/material_program.h)
-PROGRAM_TARGETS = ("base_color", "roughness", "metallic", "emission", "alpha", "mix_factor")
+PROGRAM_TARGETS = ("base_color", "roughness", "metallic", "emission", "alpha", "mix_factor",
+                   "bump")
 PROGRAM_REGS = 192
 TEXTURE_COLORSPACES = ("srgb", "linear")
 TEXTURE_WRAPS = ("repeat", "extend", "clip", "mirror")

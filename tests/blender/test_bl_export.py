@@ -252,9 +252,9 @@ def test_geometry_nodes_instances(empty, addon):
 def test_textured_principled_warns_and_uses_default(empty, addon):
     mat = diffuse_material(0.3)
     # a node Lantern does not evaluate (Noise and most others compile: test_bl_nodes.py)
-    tex = mat.node_tree.nodes.new("ShaderNodeTexBrick")
+    tex = mat.node_tree.nodes.new("ShaderNodeTexGabor")
     bsdf = mat.node_tree.nodes["Principled BSDF"]
-    mat.node_tree.links.new(tex.outputs["Color"], bsdf.inputs["Base Color"])
+    mat.node_tree.links.new(tex.outputs["Value"], bsdf.inputs["Base Color"])
     rgb = mat.node_tree.nodes.new("ShaderNodeRGB")
     rgb.outputs[0].default_value = (0, 1, 0, 1)
     bsdf.inputs["Emission Strength"].default_value = 2.0

@@ -107,12 +107,12 @@ def test_group_reroute_and_muted_node_give_the_plain_program(empty):
 
 def test_unknown_and_newer_nodes_warn_by_name(empty):
     mat, nt, bsdf = _material()
-    brick = nt.nodes.new("ShaderNodeTexBrick")       # not evaluated by Lantern (yet)
-    brick.name = "Bricks"
-    nt.links.new(brick.outputs["Color"], bsdf.inputs["Base Color"])
+    gabor = nt.nodes.new("ShaderNodeTexGabor")       # not evaluated by Lantern (yet)
+    gabor.name = "Ripples"
+    nt.links.new(gabor.outputs["Value"], bsdf.inputs["Base Color"])
     _scene_with(mat, empty)
     scene, report = _export()
-    assert any("Bricks" in m and "TEX_BRICK" in m for m in report.messages), report.messages
+    assert any("Ripples" in m and "TEX_GABOR" in m for m in report.messages), report.messages
     assert np.isfinite(_render(scene)).all()
 
 
@@ -195,3 +195,101 @@ def test_programs_survive_the_scene_file(empty, tmp_path):
     assert again.attribute_channels == scene.attribute_channels
     assert again.materials[1]["programs"] == scene.materials[1]["programs"]
     assert np.array_equal(_render(again), _render(scene))   # same seed: the same image
+
+
+def _bump_material(name="Bumpy", height_node="ShaderNodeTexNoise"):
+    mat, nt, bsdf = _material(name)
+    h = nt.nodes.new(height_node)
+    bump = nt.nodes.new("ShaderNodeBump")
+    bump.inputs["Distance"].default_value = 0.2
+    nt.links.new(h.outputs[0], bump.inputs["Height"])
+    nt.links.new(bump.outputs[0], bsdf.inputs["Normal"])
+    return mat, nt, bsdf, bump
+
+
+def test_bump_exports_a_program_and_bends_the_image(empty):
+    mat, nt, bsdf, bump = _bump_material()
+    inner = nt.nodes.new("ShaderNodeBump")   # a chain: the inner bump first
+    nt.links.new(nt.nodes.new("ShaderNodeTexWave").outputs["Fac"], inner.inputs["Height"])
+    nt.links.new(inner.outputs[0], bump.inputs["Normal"])
+    _scene_with(mat, empty)
+    scene, report = _export()
+    assert report.messages == []
+    progs = scene.materials[1]["programs"]
+    assert [p["target"] for p in progs] == ["bump", "bump"]
+    bumped = _render(scene, spp=4)
+    nt.links.remove(bsdf.inputs["Normal"].links[0])
+    flat_scene, _ = _export()
+    assert "programs" not in flat_scene.materials[1]
+    flat = _render(flat_scene, spp=4)
+    assert np.isfinite(bumped).all()
+    assert np.abs(bumped - flat).mean() > 0.01 * flat.mean()   # the normal moved
+
+
+def test_constant_bump_and_displacement_as_bump(empty):
+    mat, nt, bsdf, bump = _bump_material(height_node="ShaderNodeValue")
+    disp = nt.nodes.new("ShaderNodeDisplacement")
+    nt.links.new(nt.nodes.new("ShaderNodeTexVoronoi").outputs["Distance"], disp.inputs["Height"])
+    nt.links.new(disp.outputs[0], nt.nodes["Material Output"].inputs["Displacement"])
+    _scene_with(mat, empty)
+    scene, report = _export()
+    assert report.messages == []   # Bump Only (the default method) renders: no warning
+    # the constant height bends nothing (no program); the displacement is one bump program
+    assert [p["target"] for p in scene.materials[1]["programs"]] == ["bump"]
+    assert np.isfinite(_render(scene)).all()
+    mat.displacement_method = "BOTH"
+    _, report = _export()
+    assert any("true displacement" in m and "'BOTH'" in m for m in report.messages), \
+        report.messages
+    nt.links.new(nt.nodes.new("ShaderNodeVectorDisplacement").outputs[0],
+                 nt.nodes["Material Output"].inputs["Displacement"])
+    _, report = _export()
+    assert any("VECTOR_DISPLACEMENT" in m for m in report.messages), report.messages
+
+
+def test_light_node_tree_scales_the_light(empty):
+    from lantern_blender.export import node_spectral
+    _scene_with(_material()[0], empty)
+    lamp = bpy.data.lights["Sun"]
+    lamp.energy = 2.0
+    lamp.use_nodes = True
+    lt = lamp.node_tree
+    emit = next(n for n in lt.nodes if n.type == "EMISSION")
+    bb = lt.nodes.new("ShaderNodeBlackbody")
+    bb.inputs["Temperature"].default_value = 3000.0
+    m = lt.nodes.new("ShaderNodeMath")           # folds to a constant: 1.5
+    m.inputs[0].default_value, m.inputs[1].default_value = 0.5, 1.0
+    lt.links.new(bb.outputs[0], emit.inputs["Color"])
+    lt.links.new(m.outputs[0], emit.inputs["Strength"])
+    scene, report = _export()
+    assert report.messages == []
+    sun = next(x for x in scene.lights if x["type"] == "sun")
+    want = [2.0 * 1.5 * c for c in node_spectral.blackbody_rgb(3000.0)]
+    assert sun["strength"] == pytest.approx(want, rel=1e-4)
+    assert sun["strength"][0] > 1.5 * sun["strength"][2]   # warm
+
+
+def test_procedural_world_bakes_an_environment_map(empty):
+    _scene_with(_material()[0], empty)
+    world = bpy.data.worlds.new("Sky")
+    empty.world = world
+    nt = world.node_tree
+    bg = nt.nodes["Background"]
+    grad = nt.nodes.new("ShaderNodeTexGradient")   # along Generated X: the direction's x
+    nt.links.new(grad.outputs["Color"], bg.inputs["Color"])
+    bg.inputs["Strength"].default_value = 2.0
+    scene, report = _export()
+    assert report.messages == []
+    w = scene.world
+    h, wd = w["map"].shape[:2]
+    assert (h, wd) == (512, 1024) and np.isfinite(w["map"]).all()
+    # texel (x, y) -> direction x = cos(elevation) cos(phi) (scene/envmap.h): texel W/2 of the
+    # middle row faces +x (gradient ~1, strength 2), texel 0 faces -x (gradient 0, clamped)
+    row = w["map"][h // 2]
+    x = math.cos(math.pi / (2 * h)) * math.cos(math.pi / wd)
+    assert row[wd // 2, 0] == pytest.approx(2.0 * x, rel=1e-3)
+    assert row[0, 0] == 0.0
+    assert np.isfinite(_render(scene)).all()
+    nt.links.remove(bg.inputs["Color"].links[0])
+    scene, _ = _export()
+    assert "map" not in scene.world   # a constant world stays a colour

@@ -52,8 +52,10 @@ def volume_material(s):
     _with_material(s, _material("Fog", "Volume", "ShaderNodeVolumePrincipled"))
 
 
-def displacement(s):
-    _with_material(s, _material("Bumpy", "Displacement", "ShaderNodeDisplacement"))
+def displacement(s):   # true displacement; the Bump Only method renders (test_bl_nodes.py)
+    mat = _material("Bumpy", "Displacement", "ShaderNodeDisplacement")
+    mat.displacement_method = "DISPLACEMENT"
+    _with_material(s, mat)
 
 
 def world_volume(s):
@@ -91,9 +93,13 @@ def diffuse_visibility(s):
     _base(s).visible_diffuse = False
 
 
-def light_nodes(s):
+def light_nodes(s):   # a texture on a light (constant trees render: test_bl_nodes.py)
     _base(s)
-    _light(s).data.use_nodes = True
+    lamp = _light(s).data
+    lamp.use_nodes = True
+    nt = lamp.node_tree
+    emit = next(n for n in nt.nodes if n.type == "EMISSION")
+    nt.links.new(nt.nodes.new("ShaderNodeTexNoise").outputs["Color"], emit.inputs["Color"])
 
 
 def ies(s):
@@ -181,14 +187,14 @@ def surfaces_filter(s):
 CASES = [  # builder, the name the warning must carry, a word of the feature
     (motion_blur, "Render settings", "motion blur"),
     (volume_material, "Material 'Fog'", "volumes"),
-    (displacement, "Material 'Bumpy'", "Displacement"),
+    (displacement, "Material 'Bumpy'", "true displacement"),
     (world_volume, "World 'Hazy'", "world volume"),
     (particle_hair, "Object 'Subject'", "particle hair ('Fur')"),
     (light_linking, "Object 'Subject'", "light linking"),
     (shadow_linking, "Object 'Subject'", "shadow linking"),
     (glossy_visibility, "Object 'Subject'", "Glossy rays"),
     (diffuse_visibility, "Object 'Subject'", "Diffuse rays"),
-    (light_nodes, "Light 'Lamp'", "light node trees"),
+    (light_nodes, "Light 'Lamp'", "varies over the light"),
     (ies, "Light 'Lamp'", "IES"),
     (no_shadow, "Light 'Lamp'", "Cast Shadow"),
     (holdout, "Object 'Subject'", "pt integrator only"),

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "bsdf/material.h"
+#include "scene/material_program_host.h"
 #include "scene/scene.h"
 
 using namespace lantern;
@@ -226,4 +227,114 @@ TEST(MaterialProgram, PlainMaterialsRunNoProgram) {
     MaterialScratch scratch;
     const Material& m = material_at(hs.view(), 0, point_at(Vec3{}, Vec2{}), scratch);
     EXPECT_EQ(&m, &hs.view().materials[0]);   // no copy, no evaluation
+}
+
+namespace {
+
+// A bump program on the plane: height = dot(position, (k, 0, 0)), result (height, strength,
+// distance).
+SceneInput plane_with_bump(float k, float strength, float distance) {
+    std::vector<float> consts = {k, 0, 0, 0, 0, 0, 0, strength, distance};
+    std::vector<uint32_t> code = {
+        w0(kOpInput, 0), w1(0, 10), 0, 0,               // position -> r10
+        w0(kOpCopy, 0, 0, 3), w1(10, 20), 0, 0,
+        w0(kOpCopy, 0, 0, 3), w1(0, 23), 0, 0,
+        w0(kOpCopy, 0, 0, 3), w1(3, 26), 0, 0,
+        w0(kOpCopy, 0, 0, 1), w1(6, 29), 0, 0,
+        w0(kOpVectorMath, 10), w1(20, 32), 0, 0,       // dot -> r35
+        w0(kOpCopy, 0, 0, 1), w1(35, 40), 0, 0,
+        w0(kOpCopy, 0, 0, 1), w1(7, 41), 0, 0,
+        w0(kOpCopy, 0, 0, 1), w1(8, 42), 0, 0,
+    };
+    return plane_with_program(code, consts, 9, 40, kTargetBump);
+}
+
+Vec3 bumped(const SceneInput& in) {
+    HostScene hs(in);
+    const SceneView& s = hs.view();
+    return program_bump(s, s.materials[0], 0, Vec2{0.25f, 0.25f}, Vec3{0, 0, 1},
+                        Vec3{0, 0, 1});
+}
+
+}  // namespace
+
+TEST(MaterialProgram, BumpBendsTheNormalAgainstTheHeightGradient) {
+    {
+        HostScene hs(plane_with_bump(0.5f, 1.0f, 1.0f));
+        const SceneView& s = hs.view();
+        EXPECT_TRUE(s.materials[0].tex_flags & kTexBump);
+        EXPECT_TRUE(s.material_bits & kSceneFrames);   // pt_surface_frames runs it
+    }
+    // n' = normalize(n - distance * grad h): grad h = (0.5, 0, 0)
+    const Vec3 want = normalize(Vec3{-0.5f, 0.0f, 1.0f});
+    const Vec3 n = bumped(plane_with_bump(0.5f, 1.0f, 1.0f));
+    EXPECT_NEAR(n.x, want.x, 1e-3f);
+    EXPECT_NEAR(n.y, 0.0f, 1e-3f);
+    EXPECT_NEAR(n.z, want.z, 1e-3f);
+    const Vec3 inv = bumped(plane_with_bump(0.5f, 1.0f, -1.0f));   // Invert: the other way
+    EXPECT_NEAR(inv.x, -want.x, 1e-3f);
+    const Vec3 none = bumped(plane_with_bump(0.5f, 0.0f, 1.0f));   // strength 0: unchanged
+    EXPECT_NEAR(none.z, 1.0f, 1e-6f);
+    const Vec3 half = bumped(plane_with_bump(0.5f, 0.5f, 1.0f));   // a blend of the two
+    EXPECT_NEAR(half.x, normalize(want * 0.5f + Vec3{0, 0, 0.5f}).x, 1e-3f);
+    // a height too steep to face the viewer's side keeps the normal (as normal maps do)
+    const Vec3 steep = bumped(plane_with_bump(1e6f, 1.0f, 1.0f));
+    EXPECT_TRUE(is_finite(steep));
+    EXPECT_GT(steep.z, 0.0f);
+}
+
+TEST(MaterialProgram, ConstantHeightBendsNothingAndRunsNoProgram) {
+    HostScene hs(plane_with_bump(0.0f, 1.0f, 1.0f));   // dot with 0: folds to a constant?
+    // (position is read per hit, so only the value is constant: the program stays, and the
+    // normal does not move)
+    const SceneView& s = hs.view();
+    const Vec3 n = program_bump(s, s.materials[0], 0, Vec2{0.25f, 0.25f}, Vec3{0, 0, 1},
+                                Vec3{0, 0, 1});
+    EXPECT_NEAR(n.z, 1.0f, 1e-6f);
+    std::vector<float> consts = {0.3f, 1.0f, 1.0f};   // height, strength, distance constants
+    HostScene hc(plane_with_program({}, consts, 3, 0, kTargetBump));
+    EXPECT_FALSE(hc.view().materials[0].tex_flags & kTexBump);
+    EXPECT_FALSE(hc.view().material_bits & kSceneFrames);
+}
+
+TEST(MaterialProgram, BrickFollowsItsDefinition) {
+    float tint = -1.0f;
+    // inside a brick, far from its edges: no mortar; on an edge: all mortar
+    EXPECT_EQ(node_brick(Vec3{0.2f, 0.1f, 0}, 0.02f, 0.1f, 0, 0.5f, 0.25f, 0.5f, 2, 1, 2, &tint),
+              0.0f);
+    EXPECT_GE(tint, 0.0f);
+    EXPECT_LE(tint, 1.0f);
+    EXPECT_EQ(node_brick(Vec3{0.2f, 0.001f, 0}, 0.02f, 0.0f, 0, 0.5f, 0.25f, 0.5f, 2, 1, 2, &tint),
+              1.0f);
+    // every other row (row 0, 2, ...) is shifted by offset x width = 0.25: its bricks end at
+    // x = 0.25, where row 1's bricks are whole
+    const float a = node_brick(Vec3{0.24f, 0.1f, 0}, 0.02f, 0.0f, 0, 0.5f, 0.25f, 0.5f, 2, 1, 2,
+                               &tint);
+    const float b = node_brick(Vec3{0.24f, 0.35f, 0}, 0.02f, 0.0f, 0, 0.5f, 0.25f, 0.5f, 2, 1,
+                               2, &tint);
+    EXPECT_EQ(a, 1.0f);
+    EXPECT_EQ(b, 0.0f);
+    // degenerate sizes and huge coordinates: finite, no crash
+    EXPECT_EQ(node_brick(Vec3{1, 1, 0}, 0.02f, 0.1f, 0, 0.0f, 0.25f, 0.5f, 2, 1, 2, &tint), 0.0f);
+    const float h = node_brick(Vec3{3e30f, -3e30f, 0}, 0.02f, 0.1f, 0, 0.5f, 0.25f, 0.5f, 2, 1, 2,
+                               &tint);
+    EXPECT_TRUE(std::isfinite(h) && std::isfinite(tint));
+}
+
+TEST(MaterialProgram, EvaluatesOutsideAScene) {
+    // position.x * 2 at two points; a bad op is an error naming the instruction
+    std::vector<float> consts = {2.0f, 0.0f};
+    std::vector<uint32_t> code = {w0(kOpInput, 0), w1(0, 4), 0, 0,
+                                  w0(kOpCopy, 0, 0, 1), w1(4, 8), 0, 0,
+                                  w0(kOpCopy, 0, 0, 1), w1(0, 9), 0, 0,
+                                  w0(kOpCopy, 0, 0, 1), w1(1, 10), 0, 0,
+                                  w0(kOpMath, 2), w1(8, 12), 0, 0};
+    const std::vector<float> out =
+        evaluate_program(code, consts, 2, 12, {1, 0, 0, -3, 0, 0}, {0, 0, 1, 0, 0, 1});
+    ASSERT_EQ(out.size(), 6u);
+    EXPECT_FLOAT_EQ(out[0], 2.0f);
+    EXPECT_FLOAT_EQ(out[3], -6.0f);
+    EXPECT_THROW(evaluate_program({250, 0, 0, 0}, {}, 0, 0, {0, 0, 0}, {0, 0, 1}),
+                 std::invalid_argument);
+    EXPECT_THROW(evaluate_program(code, consts, 2, 12, {0, 0}, {0, 0}), std::invalid_argument);
 }

@@ -59,7 +59,8 @@ LANTERN_HD inline void material_apply_programs(const SceneView& s, const Materia
     auto unit = [](float v) { return v >= 0.0f ? fminf(v, 1.0f) : 0.0f; };
     for (int i = 0; i < m.prog_count; ++i) {
         const MaterialProgram& p = s.programs[m.prog_first + i];
-        if (p.target == kTargetAlpha) continue;  // alpha.h reads it where rays are traced
+        // alpha.h reads the alpha where rays are traced, pt_surface_frames the bump
+        if (p.target == kTargetAlpha || p.target == kTargetBump) continue;
         const Vec3 v = program_run(s, p, sp);
         switch (p.target) {
         case kTargetBaseColor: {
@@ -120,7 +121,11 @@ LANTERN_HD inline const Material& material_resolve_leaf(const SceneView& s, cons
 }
 
 // material_at's resolution (textures, programs; a mix with its leaves), kept out of its
-// inlined check.
+// inlined check: never inlined on the host, so that the stages of a scene without textures,
+// programs or mixes carry none of it (bench/material_cost.py; docs/nodes.md "Cost").
+#ifndef __CUDA_ARCH__
+__attribute__((noinline))
+#endif
 LANTERN_HD inline const Material& material_resolve(const SceneView& s, const Material& m,
                                                    const ShadePoint& sp,
                                                    MaterialScratch& scratch) {

@@ -175,13 +175,17 @@ LANTERN_HD inline float anisotropy_angle(const SceneView& s, const Material& m, 
 
 // The material-dependent part of the shading frame (kSceneFrames scenes only, so that the
 // common path stays small): a normal map on the front-side normal n, the anisotropy tangent and
-// the coat's own normal.
+// the coat's own normal; node-graph bumps. Never inlined on the host (pt_surface stays small).
+#ifndef __CUDA_ARCH__
+__attribute__((noinline))
+#endif
 LANTERN_HD inline void pt_surface_frames(const SceneView& s, SurfaceHit& h, int tri, Vec2 uv,
                                          Vec3 n, Vec3 ng_front) {
     const Material& m = s.materials[s.tri_material[tri]];
     const Vec3 n_smooth = n;
     if (m.tex_flags & kTexNormal)
         n = apply_normal_map(s, m.tex_normal, m.normal_strength, tri, uv, n, ng_front, h.st);
+    if (m.tex_flags & kTexBump) n = program_bump(s, m, tri, uv, n, ng_front);  // node graphs
     h.ns = h.front ? n : -n;
     if (m.anisotropy > 0.0f) h.tangent_angle = anisotropy_angle(s, m, tri, uv, h.ns);
     if (m.tex_flags & kCoatNormal) {  // the coat's own normal: its map, or the smooth normal

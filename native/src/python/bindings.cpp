@@ -20,6 +20,7 @@ using namespace lantern;
 
 namespace lantern {
 void bind_aovs(nb::module_& m, SceneInput (*to_input)(const nb::dict&));  // aov_bindings.cpp
+void bind_programs(nb::module_& m);  // program_bindings.cpp
 }
 
 namespace {
@@ -398,6 +399,7 @@ bool step_session(Session& s) {
 NB_MODULE(_core, m) {
     m.doc() = "Lantern's native core (CPU and CUDA backends).";
     bind_aovs(m, &to_input);
+    bind_programs(m);
     m.def("embree_available", &embree_available);
     m.def("embree_version", &embree_version);
     m.def("cuda_info", []() {

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "bsdf/material.h"
+#include "scene/material_program_host.h"
 #include "scene/scene.h"
 
 namespace lantern {
@@ -46,9 +47,85 @@ OpSpan op_span(int op, int dim) {
     case kOpImage: return {3, 4};
     case kOpMapping: return {12, 3};
     case kOpNormalize: return {3, 3};
+    case kOpBrick: return {20, 4};
     default: return {-1, -1};
     }
 }
+
+// Instruction k of a program's code (4 words), checked: ops, dimensions, registers, tables
+// (within nc constants) and textures; an error names the instruction.
+NodeInstr decode_instr(const uint32_t* w, size_t k, size_t nc, size_t num_textures,
+                       int num_channels) {
+    NodeInstr n;
+    n.op = uint8_t(w[0] & 0xFF);
+    n.mode = uint8_t((w[0] >> 8) & 0xFF);
+    n.flags = uint8_t((w[0] >> 16) & 0xFF);
+    n.dim = uint8_t(w[0] >> 24);
+    n.in = uint16_t(w[1] & 0xFFFF);
+    n.out = uint16_t(w[1] >> 16);
+    n.aux = int32_t(w[2]);
+    n.aux2 = int32_t(w[3]);
+    const std::string who = "node program instruction " + std::to_string(k);
+    const OpSpan sp = op_span(n.op, n.dim);
+    if (sp.in < 0) throw std::invalid_argument(who + ": unknown op " + std::to_string(n.op));
+    if (n.op == kOpCopy && (n.dim < 1 || n.dim > 3))
+        throw std::invalid_argument(who + ": copy of " + std::to_string(n.dim) + " values");
+    if ((n.op == kOpNoise || n.op == kOpWhiteNoise) && (n.dim < 1 || n.dim > 4))
+        throw std::invalid_argument(who + ": noise of dimension " + std::to_string(n.dim));
+    if (n.op == kOpVoronoi && n.dim != 2 && n.dim != 3)
+        throw std::invalid_argument(who + ": voronoi of dimension " + std::to_string(n.dim));
+    if (n.op == kOpMapRange && n.dim != 1 && n.dim != 3)
+        throw std::invalid_argument(who + ": map range of dimension " + std::to_string(n.dim));
+    if (int(n.in) + sp.in > kProgramRegs || int(n.out) + sp.out > kProgramRegs)
+        throw std::invalid_argument(who + ": registers out of range");
+    if (n.op == kOpRamp || n.op == kOpCurves) {
+        const size_t extra = n.op == kOpCurves ? 2 : 0;
+        if (n.aux < 0 || n.aux2 < 2 || size_t(n.aux) + 4 * size_t(n.aux2) + extra > nc)
+            throw std::invalid_argument(who + ": table out of range");
+    }
+    if (n.op == kOpImage && n.aux >= int32_t(num_textures))
+        throw std::invalid_argument(who + ": texture " + std::to_string(n.aux) +
+                                    " out of range");
+    if (n.op == kOpInput && n.mode == 4 && n.aux >= num_channels) n.aux = -1;
+    return n;
+}
+
+}  // namespace
+
+std::vector<float> evaluate_program(const std::vector<uint32_t>& code,
+                                    const std::vector<float>& consts, int num_const, int result,
+                                    const std::vector<float>& points,
+                                    const std::vector<float>& normals) {
+    if (code.size() % 4 || num_const < 0 || num_const > kProgramRegs ||
+        size_t(num_const) > consts.size() || result < 0 || result + 3 > kProgramRegs) {
+        throw std::invalid_argument("node program: constants or result out of range");
+    }
+    if (points.size() % 3 || normals.size() != points.size())
+        throw std::invalid_argument("node program: points and normals need 3 floats each");
+    std::vector<NodeInstr> instrs;
+    for (size_t k = 0; k < code.size() / 4; ++k)
+        instrs.push_back(decode_instr(&code[4 * k], k, consts.size(), 0, 0));
+    std::vector<float> c(consts.size());
+    for (size_t i = 0; i < consts.size(); ++i) c[i] = std::isfinite(consts[i]) ? consts[i] : 0.0f;
+    MaterialProgram p{0, int32_t(instrs.size()), 0, num_const, 0, result};
+    SceneView view{};
+    view.program_consts = c.data();
+    view.program_code = instrs.data();
+    std::vector<float> out(points.size());
+    for (size_t i = 0; i < points.size() / 3; ++i) {
+        ShadePoint sp{};
+        sp.tri = -1;
+        sp.p = Vec3{points[3 * i], points[3 * i + 1], points[3 * i + 2]};
+        sp.n = sp.ng = sp.wo = Vec3{normals[3 * i], normals[3 * i + 1], normals[3 * i + 2]};
+        const Vec3 v = program_run(view, p, sp);
+        out[3 * i] = v.x;
+        out[3 * i + 1] = v.y;
+        out[3 * i + 2] = v.z;
+    }
+    return out;
+}
+
+namespace {
 
 // Ops whose value depends on the shading point (or an image): never folded.
 bool op_reads_hit(int op) {
@@ -128,41 +205,9 @@ void HostScene::add_programs(const SceneInput& in) {
     }
     const size_t np = in.programs.size() / 6, ni = in.program_code.size() / 4;
     const size_t nc = in.program_consts.size();
-    for (size_t k = 0; k < ni; ++k) {
-        const uint32_t* w = &in.program_code[4 * k];
-        NodeInstr n;
-        n.op = uint8_t(w[0] & 0xFF);
-        n.mode = uint8_t((w[0] >> 8) & 0xFF);
-        n.flags = uint8_t((w[0] >> 16) & 0xFF);
-        n.dim = uint8_t(w[0] >> 24);
-        n.in = uint16_t(w[1] & 0xFFFF);
-        n.out = uint16_t(w[1] >> 16);
-        n.aux = int32_t(w[2]);
-        n.aux2 = int32_t(w[3]);
-        const std::string who = "node program instruction " + std::to_string(k);
-        const OpSpan sp = op_span(n.op, n.dim);
-        if (sp.in < 0) throw std::invalid_argument(who + ": unknown op " + std::to_string(n.op));
-        if (n.op == kOpCopy && (n.dim < 1 || n.dim > 3))
-            throw std::invalid_argument(who + ": copy of " + std::to_string(n.dim) + " values");
-        if ((n.op == kOpNoise || n.op == kOpWhiteNoise) && (n.dim < 1 || n.dim > 4))
-            throw std::invalid_argument(who + ": noise of dimension " + std::to_string(n.dim));
-        if (n.op == kOpVoronoi && n.dim != 2 && n.dim != 3)
-            throw std::invalid_argument(who + ": voronoi of dimension " + std::to_string(n.dim));
-        if (n.op == kOpMapRange && n.dim != 1 && n.dim != 3)
-            throw std::invalid_argument(who + ": map range of dimension " + std::to_string(n.dim));
-        if (int(n.in) + sp.in > kProgramRegs || int(n.out) + sp.out > kProgramRegs)
-            throw std::invalid_argument(who + ": registers out of range");
-        if (n.op == kOpRamp || n.op == kOpCurves) {
-            const size_t extra = n.op == kOpCurves ? 2 : 0;
-            if (n.aux < 0 || n.aux2 < 2 || size_t(n.aux) + 4 * size_t(n.aux2) + extra > nc)
-                throw std::invalid_argument(who + ": table out of range");
-        }
-        if (n.op == kOpImage && n.aux >= int32_t(in.textures.size()))
-            throw std::invalid_argument(who + ": texture " + std::to_string(n.aux) +
-                                        " out of range");
-        if (n.op == kOpInput && n.mode == 4 && n.aux >= num_attribute_channels_) n.aux = -1;
-        program_code_.push_back(n);
-    }
+    for (size_t k = 0; k < ni; ++k)
+        program_code_.push_back(decode_instr(&in.program_code[4 * k], k, nc, in.textures.size(),
+                                             num_attribute_channels_));
     for (size_t k = 0; k < np; ++k) {
         const uint32_t* w = &in.programs[6 * k];
         MaterialProgram p{int32_t(w[0]), int32_t(w[1]), int32_t(w[2]), int32_t(w[3]),
@@ -200,8 +245,10 @@ void HostScene::add_programs(const SceneInput& in) {
             host.program_consts = program_consts_.data();
             if (p.num_instr > 0) {
                 kept.push_back(p);
+                if (p.target == kTargetBump) m.tex_flags |= kTexBump;
                 continue;
             }
+            if (p.target == kTargetBump) continue;  // a constant height bends nothing
             // constant: apply it to m as a hit would (the same clamps)
             std::vector<MaterialProgram> one{p};
             host.programs = one.data();

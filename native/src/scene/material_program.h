@@ -7,119 +7,16 @@
 // evaluates the shading targets, alpha.h the alpha, lights.h the emission.
 #pragma once
 
-#include "scene/material_program_tex.h"
-#include "scene/scene_view.h"
+#include "scene/material_program_ops.h"
 
 namespace lantern {
 
-constexpr int kProgramRegs = 192;  // floats per evaluation (the compiler stays below)
-
-// What a node graph can read at a hit.
-struct ShadePoint {
-    Vec3 p;        // world position
-    Vec3 n;        // shading normal, turned to the side the path arrived from (Cycles' N)
-    Vec3 ng;       // geometric normal, same side
-    Vec3 wo;       // unit direction towards the viewer (Cycles' I)
-    Vec2 st;       // the mesh's uv map
-    int32_t tri;   // triangle, -1 when unknown (attributes then read 0)
-    Vec2 bary;     // barycentrics of vertices 1 and 2
-    bool backfacing;
-};
-
-// Per-vertex attribute channel c (3 floats) of the hit's triangle, interpolated.
-LANTERN_HD inline Vec3 shade_attribute(const SceneView& s, const ShadePoint& sp, int c) {
-    if (sp.tri < 0 || !s.attributes || c < 0 || c >= s.num_attribute_channels) return Vec3{};
-    const uint32_t* idx = s.indices + 3 * sp.tri;
-    const float w[3] = {1.0f - sp.bary.x - sp.bary.y, sp.bary.x, sp.bary.y};
-    Vec3 r{};
-    const size_t stride = size_t(3) * size_t(s.num_attribute_channels);
-    for (int k = 0; k < 3; ++k) {
-        const float* a = s.attributes + size_t(idx[k]) * stride + 3 * c;
-        r += Vec3{a[0], a[1], a[2]} * w[k];
-    }
-    return r;
-}
-
-// ---- Geometry inputs (kOpInput modes, material_compile.INPUTS) ----
-LANTERN_HD inline Vec3 shade_input(const SceneView& s, const ShadePoint& sp, int mode, int aux) {
-    switch (mode) {
-    case 0: return sp.p;
-    case 1: return sp.n;
-    case 2: return Vec3{sp.st.x, sp.st.y, 0.0f};
-    case 3: return sp.wo;
-    case 4: return shade_attribute(s, sp, aux);  // generated, object, colour, ...
-    case 5: {  // camera space: x right, y up, z forward (Cycles' camera coordinates)
-        const Transform& c = s.camera.to_world;
-        const Vec3 d = sp.p - c.origin();
-        return Vec3{dot(d, c.axis(0)), dot(d, c.axis(1)), -dot(d, c.axis(2))};
-    }
-    case 6: {  // window: the point's place on the film in [0, 1]^2
-        const Transform& c = s.camera.to_world;
-        const Vec3 d = sp.p - c.origin();
-        float x = dot(d, c.axis(0)), y = dot(d, c.axis(1)), z = -dot(d, c.axis(2));
-        if (!s.camera.orthographic) {
-            if (!(z > 0.0f)) return Vec3{};
-            x /= z;
-            y /= z;
-        }
-        const float* w = s.camera.screen;
-        return Vec3{safe_div(x - w[0], w[1] - w[0]), safe_div(y - w[2], w[3] - w[2]), 0.0f};
-    }
-    case 7: return sp.n * (2.0f * dot(sp.n, sp.wo)) - sp.wo;  // reflection
-    case 8: return sp.ng;
-    case 9: return vec3(sp.backfacing ? 1.0f : 0.0f);
-    default: return Vec3{};
-    }
-}
-
-// ---- The program ----
-enum NodeOp : uint8_t {
-    kOpCopy = 0,       // out[0..dim) = in[0..dim)
-    kOpInput,          // mode: shade_input; aux: attribute channel
-    kOpMath,           // in: a b c; mode: operation; flags&1 clamp
-    kOpVectorMath,     // in: a(3) b(3) c(3) scale; out: vector(3) value
-    kOpMix,            // in: fac(3) a(3) b(3); mode: blend; flags: 1 clamp factor, 2 clamp
-                       // result, 4 non-uniform factor
-    kOpMapRange,       // in: value min max to_min to_max steps (each dim floats)
-    kOpClamp,          // in: value min max
-    kOpInvert,         // in: fac color(3)
-    kOpGamma,          // in: color(3) gamma
-    kOpBrightContrast, // in: color(3) bright contrast
-    kOpHsv,            // in: hue sat val fac color(3)
-    kOpSeparate,       // in: color(3); mode 0 rgb/xyz, 1 hsv, 2 hsl; out 3
-    kOpCombine,        // in: 3 floats; mode 0 rgb/xyz, 1 hsv, 2 hsl; out 3
-    kOpRgbToBw,        // in: color(3)
-    kOpChecker,        // in: vector(3) color1(3) color2(3) scale; out: color(3) fac
-    kOpGradient,       // in: vector(3); mode type; out: color(3) fac
-    kOpNoise,          // in: vector(3) w scale detail roughness lacunarity offset gain
-                       // distortion; mode type; dim; flags&1 normalize, &2 no colour;
-                       // out: fac color(3)
-    kOpWhiteNoise,     // in: vector(3) w; dim; out: value color(3)
-    kOpVoronoi,        // in: vector(3) w scale smoothness exponent randomness; mode feature;
-                       // aux metric; dim; out: distance color(3) position(3) w
-    kOpWave,           // in: vector(3) scale distortion detail dscale droughness phase;
-                       // mode type; aux dir; aux2 profile; out: color(3) fac
-    kOpMagic,          // in: vector(3) scale distortion; aux depth; out: color(3) fac
-    kOpRamp,           // in: fac; aux: table in consts, aux2: entries; flags&1 interpolate;
-                       // out: color(3) alpha
-    kOpCurves,         // in: fac color(3); aux: table (n entries of r g b c, then lo hi);
-                       // aux2: n; mode 0 rgb, 1 float (reads in[1]); out color(3)
-    kOpFresnel,        // in: ior normal(3); out: fac
-    kOpLayerWeight,    // in: blend normal(3); out: fresnel facing
-    kOpImage,          // in: vector(3); aux: texture; mode: projection; out: color(3) alpha
-    kOpMapping,        // in: vector(3) location(3) rotation(3) scale(3); mode: type
-    kOpNormalize,      // in: vector(3): a unit vector (0 stays 0)
-};
-
-struct NodeInstr {
-    uint8_t op, mode, flags, dim;
-    uint16_t in, out;   // first register of the input and output blocks
-    int32_t aux, aux2;
-};
-
+// kTargetBump: a Bump node (or the Displacement output as bump) on the shading normal; its
+// result is (height, strength, distance signed by Invert), run by program_bump, not at
+// material_at.
 enum ProgramTarget : uint32_t {
     kTargetBaseColor = 0, kTargetRoughness = 1, kTargetMetallic = 2, kTargetEmission = 3,
-    kTargetAlpha = 4, kTargetMixFactor = 5, kTargetCount = 6,
+    kTargetAlpha = 4, kTargetMixFactor = 5, kTargetBump = 6, kTargetCount = 7,
 };
 
 struct MaterialProgram {
@@ -129,204 +26,14 @@ struct MaterialProgram {
     int32_t result;                   // register of the result (3 floats for colours)
 };
 
-LANTERN_HD inline Vec3 reg3(const float* r, int i) { return Vec3{r[i], r[i + 1], r[i + 2]}; }
-LANTERN_HD inline void set3(float* r, int i, Vec3 v) {
-    r[i] = v.x;
-    r[i + 1] = v.y;
-    r[i + 2] = v.z;
-}
-
-LANTERN_HD inline Vec3 rotate_euler_xyz(Vec3 v, Vec3 a, bool inverse) {
-    const float cx = cosf(a.x), sx = sinf(a.x), cy = cosf(a.y), sy = sinf(a.y),
-                cz = cosf(a.z), sz = sinf(a.z);
-    // R = Rz Ry Rx (Blender's XYZ Euler), rows
-    const Vec3 r0{cy * cz, sy * sx * cz - cx * sz, sy * cx * cz + sx * sz};
-    const Vec3 r1{cy * sz, sy * sx * sz + cx * cz, sy * cx * sz - sx * cz};
-    const Vec3 r2{-sy, cy * sx, cy * cx};
-    if (!inverse) return Vec3{dot(r0, v), dot(r1, v), dot(r2, v)};
-    return r0 * v.x + r1 * v.y + r2 * v.z;
-}
-
-LANTERN_HD inline Vec3 node_mapping(int type, Vec3 v, Vec3 loc, Vec3 rot, Vec3 scale) {
-    switch (type) {
-    case 1:  // texture: the inverse of point
-        return Vec3{safe_div(1.0f, scale.x), safe_div(1.0f, scale.y), safe_div(1.0f, scale.z)} *
-               rotate_euler_xyz(v - loc, rot, true);
-    case 2: return rotate_euler_xyz(v * scale, rot, false);  // vector
-    case 3: return safe_normalize(rotate_euler_xyz(  // normal
-                Vec3{safe_div(v.x, scale.x), safe_div(v.y, scale.y), safe_div(v.z, scale.z)},
-                rot, false));
-    default: return rotate_euler_xyz(v * scale, rot, false) + loc;  // point
-    }
-}
-
-// One instruction; r: the register file.
-LANTERN_HD inline void program_step(const SceneView& s, const ShadePoint& sp, const NodeInstr& n,
-                                    float* r) {
-    const float* a = r + n.in;
-    float* o = r + n.out;
-    switch (n.op) {
-    case kOpCopy:
-        for (int k = 0; k < n.dim; ++k) o[k] = a[k];
-        break;
-    case kOpInput: set3(o, 0, shade_input(s, sp, n.mode, n.aux)); break;
-    case kOpMath: {
-        float v = node_math(n.mode, a[0], a[1], a[2]);
-        o[0] = (n.flags & 1) ? clampf(v, 0.0f, 1.0f) : v;
-        break;
-    }
-    case kOpVectorMath: {
-        float value;
-        set3(o, 0, node_vector_math(n.mode, reg3(a, 0), reg3(a, 3), reg3(a, 6), a[9], &value));
-        o[3] = value;
-        break;
-    }
-    case kOpMix: {
-        Vec3 t = (n.flags & 4) ? reg3(a, 0) : vec3(a[0]);
-        if (n.flags & 1) t = Vec3{clampf(t.x, 0, 1), clampf(t.y, 0, 1), clampf(t.z, 0, 1)};
-        Vec3 c;
-        if (n.mode == 255 || (n.flags & 4))  // float / vector mix: a lerp per component
-            c = reg3(a, 3) * (vec3(1.0f) - t) + reg3(a, 6) * t;
-        else
-            c = node_blend(n.mode, t.x, reg3(a, 3), reg3(a, 6));
-        if (n.flags & 2) c = Vec3{clampf(c.x, 0, 1), clampf(c.y, 0, 1), clampf(c.z, 0, 1)};
-        set3(o, 0, c);
-        break;
-    }
-    case kOpMapRange:
-        for (int k = 0; k < n.dim; ++k)
-            o[k] = node_map_range(n.mode, n.flags & 1, a[k], a[n.dim + k], a[2 * n.dim + k],
-                                  a[3 * n.dim + k], a[4 * n.dim + k], a[5 * n.dim + k]);
-        break;
-    case kOpClamp: o[0] = node_clamp(n.mode, a[0], a[1], a[2]); break;
-    case kOpInvert: set3(o, 0, mix3(reg3(a, 1), vec3(1.0f) - reg3(a, 1), a[0])); break;
-    case kOpGamma:
-        for (int k = 0; k < 3; ++k) o[k] = a[k] > 0.0f ? powf(a[k], a[3]) : a[k];
-        break;
-    case kOpBrightContrast: {
-        const float ca = 1.0f + a[4], cb = a[3] - a[4] * 0.5f;
-        for (int k = 0; k < 3; ++k) o[k] = fmaxf(ca * a[k] + cb, 0.0f);
-        break;
-    }
-    case kOpHsv: {
-        const Vec3 in = reg3(a, 4);
-        Vec3 h = rgb_to_hsv(in);
-        h.x = h.x + a[0] + 0.5f;
-        h.x -= floorf(h.x);
-        h.y = clampf(h.y * a[1], 0.0f, 1.0f);
-        h.z *= a[2];
-        Vec3 c = mix3(in, hsv_to_rgb(h), a[3]);
-        set3(o, 0, Vec3{fmaxf(c.x, 0.0f), fmaxf(c.y, 0.0f), fmaxf(c.z, 0.0f)});
-        break;
-    }
-    case kOpSeparate:
-        set3(o, 0, n.mode == 1 ? rgb_to_hsv(reg3(a, 0))
-                               : n.mode == 2 ? rgb_to_hsl(reg3(a, 0)) : reg3(a, 0));
-        break;
-    case kOpCombine:
-        set3(o, 0, n.mode == 1 ? hsv_to_rgb(reg3(a, 0))
-                               : n.mode == 2 ? hsl_to_rgb(reg3(a, 0)) : reg3(a, 0));
-        break;
-    case kOpRgbToBw: o[0] = luminance(reg3(a, 0)); break;
-    case kOpChecker: {
-        const float f = node_checker(reg3(a, 0) * a[9]);
-        set3(o, 0, f == 1.0f ? reg3(a, 3) : reg3(a, 6));
-        o[3] = f;
-        break;
-    }
-    case kOpGradient: {
-        const float f = node_gradient(n.mode, reg3(a, 0));
-        set3(o, 0, vec3(f));
-        o[3] = f;
-        break;
-    }
-    case kOpNoise: {
-        const float sc = a[4];
-        float p[4] = {a[0] * sc, a[1] * sc, a[2] * sc, a[3] * sc};
-        if (n.dim == 1) p[0] = a[3] * sc;
-        NoiseParams np{clampf(a[5], 0.0f, 15.0f), fmaxf(a[6], 0.0f), a[7], a[8], a[9],
-                       n.mode, n.flags & 1};
-        Vec3 c{};
-        float v;
-        noise_texture(p, n.dim, a[10], np, &v, (n.flags & 2) ? nullptr : &c);  // 2: value only
-        o[0] = v;
-        set3(o, 1, c);
-        break;
-    }
-    case kOpWhiteNoise: {
-        Vec3 c;
-        o[0] = node_white_noise(reg3(a, 0), a[3], n.dim, &c);
-        set3(o, 1, c);
-        break;
-    }
-    case kOpVoronoi: {
-        const float sc = a[4];
-        VoronoiOut v = node_voronoi(reg3(a, 0) * sc, n.dim, n.mode, n.aux, a[6], a[7],
-                                    clampf(a[5] * 0.5f, 0.0f, 0.5f));
-        o[0] = v.distance;
-        set3(o, 1, v.color);
-        set3(o, 4, Vec3{safe_div(v.position.x, sc), safe_div(v.position.y, sc),
-                        safe_div(v.position.z, sc)});
-        o[7] = 0.0f;
-        break;
-    }
-    case kOpWave: {
-        const float f = node_wave(reg3(a, 0) * a[3], n.mode, n.aux, n.aux2, a[4], a[5], a[6],
-                                  a[7], a[8]);
-        set3(o, 0, vec3(f));
-        o[3] = f;
-        break;
-    }
-    case kOpMagic: {
-        const Vec3 c = node_magic(reg3(a, 0) * a[3], n.aux, a[4]);
-        set3(o, 0, c);
-        o[3] = (c.x + c.y + c.z) * (1.0f / 3.0f);
-        break;
-    }
-    case kOpRamp: {
-        float c[4];
-        table_lookup(s.program_consts + n.aux, n.aux2, a[0], n.flags & 1, c);
-        set3(o, 0, Vec3{c[0], c[1], c[2]});
-        o[3] = c[3];
-        break;
-    }
-    case kOpCurves: {
-        const float* t = s.program_consts + n.aux;
-        const float lo = t[4 * n.aux2], hi = t[4 * n.aux2 + 1];
-        if (n.mode == 1) {  // float curve: value in[1]
-            o[0] = lerpf(a[1], curve_lookup(t, n.aux2, 0, lo, hi, a[1]), a[0]);
-            break;
-        }
-        const Vec3 in = reg3(a, 1);
-        const Vec3 c{curve_lookup(t, n.aux2, 0, lo, hi, in.x),
-                     curve_lookup(t, n.aux2, 1, lo, hi, in.y),
-                     curve_lookup(t, n.aux2, 2, lo, hi, in.z)};
-        set3(o, 0, mix3(in, c, a[0]));
-        break;
-    }
-    case kOpFresnel: o[0] = node_fresnel(a[0], sp.wo, reg3(a, 1), sp.backfacing); break;
-    case kOpLayerWeight: node_layer_weight(a[0], sp.wo, reg3(a, 1), sp.backfacing, o, o + 1); break;
-    case kOpImage: {
-        Vec4 c{};
-        if (n.aux >= 0 && n.aux < s.num_textures) {
-            const Texture& t = s.textures[n.aux];
-            c = texture_lookup(t, s.texels, s.srgb_lut, image_projection(n.mode, reg3(a, 0)));
-        } else {
-            c = Vec4{1.0f, 0.0f, 1.0f, 1.0f};  // a missing image: magenta, as Cycles
-        }
-        set3(o, 0, Vec3{c.x, c.y, c.z});
-        o[3] = c.w;
-        break;
-    }
-    case kOpMapping:
-        set3(o, 0, node_mapping(n.mode, reg3(a, 0), reg3(a, 3), reg3(a, 6), reg3(a, 9)));
-        break;
-    case kOpNormalize: set3(o, 0, safe_normalize(reg3(a, 0))); break;
-    default: break;
-    }
-}
-
 // Runs program p at sp; its result (3 floats; scalars repeat in y, z unless the op wrote 3).
+// Never inlined on the host: a call keeps the op switch and its 192 registers out of the
+// stages that reach it (a diffuse-only scene's shading stage paid for their inlined copies).
+// Inlined on the device, as before: out of line there, ptxas spent 5% less CPU on cuda_pt but
+// its shade kernel took 216 registers instead of 192 (docs/nodes.md "Cost").
+#ifndef __CUDA_ARCH__
+__attribute__((noinline))
+#endif
 LANTERN_HD inline Vec3 program_run(const SceneView& s, const MaterialProgram& p,
                                    const ShadePoint& sp) {
     float r[kProgramRegs];
@@ -393,7 +100,11 @@ LANTERN_HD inline ShadePoint shade_point_on_triangle(const SceneView& s, int32_t
 }
 
 // Emitted radiance of material m at triangle tri, bary, seen from wo: its emission program
-// there, else material_emission (texture or constant).
+// there, else material_emission (texture or constant). Never inlined on the host (only
+// textured and node-graph emitters reach it: lights.h triangle_emission).
+#ifndef __CUDA_ARCH__
+__attribute__((noinline))
+#endif
 LANTERN_HD inline Vec3 material_emission_at(const SceneView& s, const Material& m, int32_t tri,
                                             Vec2 bary, Vec3 wo) {
     Vec3 e;
@@ -401,6 +112,68 @@ LANTERN_HD inline Vec3 material_emission_at(const SceneView& s, const Material& 
         program_eval(s, m, kTargetEmission, shade_point_on_triangle(s, tri, bary, wo), &e))
         return Vec3{clampf(e.x, 0.0f, 1e30f), clampf(e.y, 0.0f, 1e30f), clampf(e.z, 0.0f, 1e30f)};
     return material_emission(s, m, triangle_uv(s, tri, bary));
+}
+
+// ---- Bump ----
+// Cycles evaluates the height at the shading point and at offsets along its screen-space
+// differentials dP/dx, dP/dy (times the node's Filter Width) and forms the normal of the
+// bumped surface from the two differences. Lantern keeps no ray differentials; it takes the
+// same formula over two offsets along the triangle's own edges, in barycentrics (so that
+// every input a height graph reads, position, uv, attributes, moves consistently), each
+// kBumpStep long in world units relative to the point's magnitude: a forward-difference
+// estimate of the surface gradient, which converges to the gradient Cycles' finite
+// differences estimate when the height is smooth at the scale of a pixel's tenth. Heights
+// with detail finer than that differ (Cycles' then depend on the resolution; docs/nodes.md).
+constexpr float kBumpStep = 2e-4f;
+
+// The shading point of triangle tri at bary with normal n (front side) and the view along n:
+// height graphs see the surface, not the path (the bumped normal is a property of the point,
+// as BDPT's MIS needs).
+LANTERN_HD inline ShadePoint bump_point(const SceneView& s, int32_t tri, Vec2 bary, Vec3 n) {
+    ShadePoint sp = shade_point_on_triangle(s, tri, bary, n);
+    sp.n = n;
+    sp.wo = n;
+    return sp;
+}
+
+// The front-side shading normal n of triangle tri at bary bent by material m's bump programs
+// (in order: a Bump fed by another Bump); n unchanged where the result is degenerate or
+// would face below the surface (as for normal maps).
+LANTERN_HD inline Vec3 program_bump(const SceneView& s, const Material& m, int32_t tri,
+                                    Vec2 bary, Vec3 n, Vec3 ng_front) {
+    const uint32_t* idx = s.indices + 3 * tri;
+    const Vec3 a = s.positions[idx[0]];
+    const Vec3 e1 = s.positions[idx[1]] - a, e2 = s.positions[idx[2]] - a;
+    const Vec3 p = a + e1 * bary.x + e2 * bary.y;
+    const float step =
+        kBumpStep * fmaxf(1.0f, fmaxf(fabsf(p.x), fmaxf(fabsf(p.y), fabsf(p.z))));
+    const float l1 = length(e1), l2 = length(e2);
+    if (!(l1 > 0.0f) || !(l2 > 0.0f)) return n;
+    const float du = step / l1, dv = step / l2;
+    const Vec3 dpdx = e1 * du, dpdy = e2 * dv;   // the two offsets, world units
+    for (int i = 0; i < m.prog_count; ++i) {
+        const MaterialProgram& prog = s.programs[m.prog_first + i];
+        if (prog.target != kTargetBump) continue;
+        const Vec3 c = program_run(s, prog, bump_point(s, tri, bary, n));
+        const float hx =
+            program_run(s, prog, bump_point(s, tri, Vec2{bary.x + du, bary.y}, n)).x;
+        const float hy =
+            program_run(s, prog, bump_point(s, tri, Vec2{bary.x, bary.y + dv}, n)).x;
+        // the bumped surface's normal from the two differences [Cycles' Bump node; Mikkelsen,
+        // "Bump Mapping Unparametrized Surfaces on the GPU", 2010, eq. 4]
+        const Vec3 rx = cross(dpdy, n), ry = cross(n, dpdx);
+        const float det = dot(dpdx, rx);
+        const Vec3 grad = rx * (hx - c.x) + ry * (hy - c.x);
+        const float strength = fmaxf(c.y, 0.0f);
+        Vec3 nb = n * fabsf(det) - grad * (c.z * (det < 0.0f ? -1.0f : 1.0f));
+        if (!is_finite(nb) || !(length_sq(nb) > 0.0f)) continue;
+        nb = normalize(nb);
+        nb = nb * strength + n * (1.0f - strength);
+        if (!is_finite(nb) || !(length_sq(nb) > 1e-24f)) continue;
+        nb = normalize(nb);
+        if (dot(nb, ng_front) > 1e-4f) n = nb;
+    }
+    return n;
 }
 
 // Alpha (coverage) of material m's alpha program at tri, bary; false when it has none.

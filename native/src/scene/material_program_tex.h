@@ -56,6 +56,40 @@ LANTERN_HD inline Vec3 node_magic(Vec3 p, int depth, float d) {
     return Vec3{0.5f - x, 0.5f - y, 0.5f - z};
 }
 
+// Brick (Blender's manual: rows of height row_height, bricks of brick_width, every
+// offset_freq-th row shifted by offset x width, every squash_freq-th row's bricks squash x
+// wide); tint from the integer noise of the brick's (row, column) (Hugo Elias' hash), mortar
+// within mortar_size of a brick's edge, softened over mortar_smooth. Returns the mortar factor.
+LANTERN_HD inline float brick_noise(uint32_t n) {
+    n = (n + 1013u) & 0x7fffffffu;
+    n = (n >> 13) ^ n;
+    const uint32_t nn = (n * (n * n * 60493u + 19990303u) + 1376312589u) & 0x7fffffffu;
+    return 0.5f * (float(nn) / 1073741824.0f);
+}
+LANTERN_HD inline float node_brick(Vec3 p, float mortar_size, float mortar_smooth, float bias,
+                                   float width, float row_height, float offset, int offset_freq,
+                                   float squash, int squash_freq, float* tint) {
+    *tint = 0.0f;
+    if (!(width > 0.0f) || !(row_height > 0.0f)) return 0.0f;  // degenerate bricks: all brick
+    auto cell = [](float v) { return int(clampf(floorf(v), -1073741824.0f, 1073741824.0f)); };
+    const int row = cell(p.y / row_height);
+    float shift = 0.0f;
+    if (offset_freq != 0 && squash_freq != 0) {
+        width *= (row % squash_freq) != 0 ? 1.0f : squash;
+        shift = (row % offset_freq) != 0 ? 0.0f : width * offset;
+    }
+    const int col = cell((p.x + shift) / width);
+    const float x = (p.x + shift) - width * float(col);
+    const float y = p.y - row_height * float(row);
+    *tint = clampf(brick_noise((uint32_t(row) << 16) + (uint32_t(col) & 0xFFFFu)) + bias, 0.0f,
+                   1.0f);
+    float d = fminf(fminf(x, y), fminf(width - x, row_height - y));
+    if (d >= mortar_size) return 0.0f;
+    if (mortar_smooth == 0.0f) return 1.0f;
+    d = 1.0f - d / mortar_size;
+    return d < mortar_smooth ? smoothstepf(0.0f, mortar_smooth, d) : 1.0f;
+}
+
 // Wave: type 0 bands, 1 rings; dir: bands X, Y, Z, diagonal / rings X, Y, Z, spherical;
 // profile 0 sine, 1 saw, 2 triangle
 LANTERN_HD inline float node_wave(Vec3 p, int type, int dir, int profile, float distortion,

@@ -729,7 +729,7 @@ void HostScene::finish_view(const SceneInput& in) {
     v.material_bits = 0;
     for (const Material& m : materials_) {
         if (m.tex_flags & kMaterialResolve) v.material_bits |= kSceneResolve;
-        if ((m.tex_flags & (kTexNormal | kCoatNormal)) || m.anisotropy > 0.0f)
+        if ((m.tex_flags & (kTexNormal | kCoatNormal | kTexBump)) || m.anisotropy > 0.0f)
             v.material_bits |= kSceneFrames;
         if (m.tex_flags & kTexProgram) v.material_bits |= kScenePrograms;
     }

@@ -99,6 +99,7 @@ enum MaterialTextureBits : uint32_t {
     kCoatNormal = 256u,  // the coat's own normal (SurfaceHit::coat_n; bsdf/principled.h)
     kMixResolve = 64u,   // every mix: material_at must point it at its leaves
     kTexProgram = 512u,  // node-graph programs drive some inputs (scene/material_program.h)
+    kTexBump = 1024u,    // a bump program bends the shading normal (program_bump; not resolved)
     kTexShading = kTexBaseColor | kTexRoughness | kTexMetallic | kTexEmission |
                   kTexProgram,                                   // resolved per hit
     kMaterialResolve = kTexShading | kTexMix | kMixResolve,      // material_at copies

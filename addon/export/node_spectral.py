@@ -1,0 +1,120 @@
+"""Blackbody and Wavelength: colours of a spectrum, computed here (numpy) into 256-entry tables
+that the core's ColorRamp op interpolates (no op of their own). Spectra are integrated against
+the CIE 1931 2-degree observer in the multi-lobe Gaussian fit of Wyman, Sloan and Shirley
+(JCGT 2013; within about 1% of the tabulated functions), then taken to linear Rec.709 (D65).
+Blackbody (Planck's law) is normalised to luminance Y = 1 over 800-12000 K (clamped outside),
+as Blender defines it; the table runs in 1/T, where the colour changes smoothly. Wavelength
+(380-780 nm) is the observer's own colour, scaled so that no channel exceeds 1 and clamped
+at 0, as Cycles does (docs/nodes.md: measured against Cycles)."""
+
+import math
+
+from . import node_eval as ne
+
+T_MIN, T_MAX = 800.0, 12000.0
+L_MIN, L_MAX = 380.0, 780.0
+WAVELENGTH_SCALE = 1.0 / 2.52   # Cycles' empirical scale that keeps every channel <= 1
+XYZ_TO_REC709 = ((3.2404542, -1.5371385, -0.4985314),
+                 (-0.9692660, 1.8760108, 0.0415560),
+                 (0.0556434, -0.2040259, 1.0572252))
+
+
+def _g(x, mu, s1, s2):
+    t = (x - mu) / (s1 if x < mu else s2)
+    return math.exp(-0.5 * t * t)
+
+
+def cie_xyz(lam):
+    """The CIE 1931 colour matching functions at wavelength lam (nm), Wyman et al.'s fit."""
+    x = 1.056 * _g(lam, 599.8, 37.9, 31.0) + 0.362 * _g(lam, 442.0, 16.0, 26.7) \
+        - 0.065 * _g(lam, 501.1, 20.4, 26.2)
+    y = 0.821 * _g(lam, 568.8, 46.9, 40.5) + 0.286 * _g(lam, 530.9, 16.3, 31.1)
+    z = 1.217 * _g(lam, 437.0, 11.8, 36.0) + 0.681 * _g(lam, 459.0, 26.0, 13.8)
+    return x, y, z
+
+
+def _rgb(xyz):
+    return [sum(XYZ_TO_REC709[r][c] * xyz[c] for c in range(3)) for r in range(3)]
+
+
+_CMF = [(float(lam), cie_xyz(float(lam))) for lam in range(360, 831)]   # 1 nm steps
+
+
+def blackbody_rgb(t):
+    """Linear Rec.709 colour of a blackbody at t kelvin, luminance 1."""
+    t = min(max(float(t), T_MIN), T_MAX)
+    c1, c2 = 3.741771852e-16, 1.438776877e-2   # 2 pi h c^2, h c / k (SI)
+    acc = [0.0, 0.0, 0.0]
+    for lam, xyz in _CMF:
+        m = lam * 1e-9
+        b = c1 / (m ** 5 * math.expm1(c2 / (m * t)))
+        for k in range(3):
+            acc[k] += b * xyz[k]
+    return [c / acc[1] for c in _rgb(acc)]
+
+
+def wavelength_rgb(lam):
+    lam = min(max(float(lam), L_MIN), L_MAX)
+    return [max(c * WAVELENGTH_SCALE, 0.0) for c in _rgb(cie_xyz(lam))]
+
+
+def _table(fn, us):
+    floats = []
+    for u in us:
+        floats.extend(list(fn(u)) + [1.0])
+    return floats
+
+
+_TABLES = {}
+
+
+def _blackbody_table():
+    if "bb" not in _TABLES:   # uniform in 1/T from 1/T_MIN to 1/T_MAX
+        a, b = 1.0 / T_MIN, 1.0 / T_MAX
+        n = ne.TABLE_SIZE
+        _TABLES["bb"] = _table(blackbody_rgb, [1.0 / (a + (b - a) * i / (n - 1))
+                                               for i in range(n)])
+    return _TABLES["bb"]
+
+
+def _wavelength_table():
+    if "wl" not in _TABLES:
+        n = ne.TABLE_SIZE
+        _TABLES["wl"] = _table(wavelength_rgb, [L_MIN + (L_MAX - L_MIN) * i / (n - 1)
+                                                for i in range(n)])
+    return _TABLES["wl"]
+
+
+def _math(ctx, op, a, b, c=0.0):
+    vals = [a, ctx.const((b,), "VALUE") if isinstance(b, float) else b,
+            ctx.const((c,), "VALUE")]
+    r, _ = ctx.emit_node("math", vals, 1, mode=ne.MATH_OPS.index(op))
+    return ctx.reg(r, 1, "VALUE")
+
+
+def _ramp(ctx, fac, floats):
+    r, idx = ctx.emit_node("ramp", [fac], 4, flags=1, aux2=ne.TABLE_SIZE)
+    ctx.b.table(idx, floats)
+    return ctx.reg(r, 3, "RGBA")
+
+
+def h_blackbody(ctx, node, out, path):
+    t = ctx.inp(node, "Temperature", path, "VALUE")
+    if t.const is not None:
+        return ctx.const(tuple(blackbody_rgb(t.const[0])), "RGBA")
+    a, b = 1.0 / T_MIN, 1.0 / T_MAX
+    t = _math(ctx, "MAXIMUM", t, 1.0)
+    inv = _math(ctx, "DIVIDE", ctx.const((1.0,), "VALUE"), t)       # 1/T
+    u = _math(ctx, "MULTIPLY_ADD", inv, 1.0 / (b - a), -a / (b - a))  # 0 at T_MIN, 1 at T_MAX
+    return _ramp(ctx, u, _blackbody_table())
+
+
+def h_wavelength(ctx, node, out, path):
+    lam = ctx.inp(node, "Wavelength", path, "VALUE")
+    if lam.const is not None:
+        return ctx.const(tuple(wavelength_rgb(lam.const[0])), "RGBA")
+    u = _math(ctx, "MULTIPLY_ADD", lam, 1.0 / (L_MAX - L_MIN), -L_MIN / (L_MAX - L_MIN))
+    return _ramp(ctx, u, _wavelength_table())
+
+
+SPECTRAL_HANDLERS = {"BLACKBODY": h_blackbody, "WAVELENGTH": h_wavelength}
