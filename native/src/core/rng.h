@@ -1,43 +1,55 @@
-// Counter-based random numbers: every path owns a stream derived from (seed, iteration, path),
-// so an image does not depend on how threads or GPU blocks are scheduled.
+// The numbers every stage draws: a low-discrepancy stream (core/sampler.h) that hands out the
+// dimensions of one sample in order (which event takes which: core/sample_dims.h). Stateless
+// apart from (key, index, next dimension), so an image does not depend on how threads or GPU
+// blocks are scheduled, and the same seed, settings and backend give the same bits.
 #pragma once
 
-#include "core/math.h"
+#include "core/sampler.h"
 
 namespace lantern {
 
-LANTERN_HD inline uint64_t mix64(uint64_t z) {  // SplitMix64 finaliser
-    z += 0x9E3779B97F4A7C15ull;
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-}
-
-// PCG32 (O'Neill 2014): 64-bit state, 32-bit output.
 struct Rng {
-    uint64_t state = 0;
-    uint64_t inc = 1;
+    uint64_t key = 0;     // scramble of the stream: seed, salt and pixel (or iteration)
+    uint32_t index = 0;   // sample index within the scramble's sequence
+    uint32_t dim = 0;     // next dimension to hand out
 
+    // Camera paths: sample `sample` of `pixel` (iteration x spp_per_iteration + its number in
+    // the iteration), one scramble per pixel, so pixels are decorrelated and a pixel's samples
+    // are stratified over the whole render, progressively.
+    LANTERN_HD static Rng for_pixel(uint64_t seed, uint64_t pixel, uint64_t sample) {
+        return make(stream_key(seed, pixel, 0x5049584Cull + (sample >> 32)), sample);
+    }
+    // Camera path `path` of an iteration (pixel path / spp_per_iteration, the pixel's sample
+    // iteration x spp_per_iteration + path % spp_per_iteration).
+    LANTERN_HD static Rng for_camera(uint64_t seed, uint64_t iteration, int spp_per_iteration,
+                                     int64_t path) {
+        const uint64_t spp = uint64_t(spp_per_iteration > 0 ? spp_per_iteration : 1);
+        return for_pixel(seed, uint64_t(path) / spp, iteration * spp + uint64_t(path) % spp);
+    }
+    // Light paths (and any stream numbered within an iteration): path `path` of the iteration's
+    // sequence, scrambled per iteration, so the iteration's paths are stratified as one set.
     LANTERN_HD static Rng for_path(uint64_t seed, uint64_t iteration, uint64_t path) {
-        Rng r;
-        r.inc = (mix64(seed * 0x632BE59BD9B4E019ull + iteration) << 1u) | 1u;
-        r.state = mix64(mix64(seed ^ 0xA0761D6478BD642Full) + iteration * 0xE7037ED1A0B428DBull
-                        + path);
-        r.next();
-        return r;
+        return make(stream_key(seed, iteration, 0x50415448ull + (path >> 32)), path);
     }
-    LANTERN_HD uint32_t next() {
-        uint64_t old = state;
-        state = old * 6364136223846793005ull + inc;
-        uint32_t xorshifted = uint32_t(((old >> 18u) ^ old) >> 27u);
-        uint32_t rot = uint32_t(old >> 59u);
-        return (xorshifted >> rot) | (xorshifted << ((~rot + 1u) & 31));
-    }
-    // Uniform in [0, 1): 24 random bits, never rounds up to 1.
-    LANTERN_HD float uniform() { return float(next() >> 8) * 0x1p-24f; }
+    // 32 uniform bits (one dimension).
+    LANTERN_HD uint32_t next() { return sample_bits(index, key, dim++); }
+    // Uniform in [0, 1): 24 bits, never rounds up to 1 (one dimension).
+    LANTERN_HD float uniform() { return bits_to_unit(next()); }
+    // A stratified pair: starts at an even dimension (skipping one if needed), so the pair is
+    // always the two dimensions of one padded 2D Sobol' set.
     LANTERN_HD Vec2 uniform2() {
+        dim += dim & 1u;
         float a = uniform();
         return {a, uniform()};
+    }
+
+  private:
+    LANTERN_HD static Rng make(uint64_t key, uint64_t index) {
+        Rng r;
+        r.key = key;
+        r.index = uint32_t(index);
+        r.dim = 0;
+        return r;
     }
 };
 
