@@ -8,6 +8,7 @@
 
 namespace lantern {
 
+#ifndef LANTERN_RNG_PCG
 struct Rng {
     uint64_t key = 0;     // scramble of the stream: seed, salt and pixel (or iteration)
     uint32_t index = 0;   // sample index within the scramble's sequence
@@ -52,5 +53,40 @@ struct Rng {
         return r;
     }
 };
+#else
+// Bench only (bench/qmc_noise.py): the pseudo-random PCG32 stream [O'Neill 2014] used before
+// issue 14, behind the same interface, to measure the sampler against it.
+struct Rng {
+    uint64_t state = 0;
+    uint64_t inc = 1;
+
+    LANTERN_HD static Rng for_pixel(uint64_t seed, uint64_t pixel, uint64_t sample) {
+        return for_path(seed, sample, pixel);
+    }
+    LANTERN_HD static Rng for_camera(uint64_t seed, uint64_t iteration, int, int64_t path) {
+        return for_path(seed, iteration, uint64_t(path));
+    }
+    LANTERN_HD static Rng for_path(uint64_t seed, uint64_t iteration, uint64_t path) {
+        Rng r;
+        r.inc = (mix64(seed * 0x632BE59BD9B4E019ull + iteration) << 1u) | 1u;
+        r.state = mix64(mix64(seed ^ 0xA0761D6478BD642Full) + iteration * 0xE7037ED1A0B428DBull
+                        + path);
+        r.next();
+        return r;
+    }
+    LANTERN_HD uint32_t next() {
+        uint64_t old = state;
+        state = old * 6364136223846793005ull + inc;
+        uint32_t xorshifted = uint32_t(((old >> 18u) ^ old) >> 27u);
+        uint32_t rot = uint32_t(old >> 59u);
+        return (xorshifted >> rot) | (xorshifted << ((~rot + 1u) & 31));
+    }
+    LANTERN_HD float uniform() { return bits_to_unit(next()); }
+    LANTERN_HD Vec2 uniform2() {
+        float a = uniform();
+        return {a, uniform()};
+    }
+};
+#endif
 
 }  // namespace lantern

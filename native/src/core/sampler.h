@@ -33,9 +33,20 @@ LANTERN_HD inline uint32_t reverse_bits32(uint32_t x) {
 // ---- Sobol' dimensions 0 and 1, as 32-bit fractions ----
 // Dimension 0 is van der Corput's radical inverse: generator matrix = the bit reversal.
 // Dimension 1 is Joe & Kuo's first entry (primitive polynomial x + 1, m_1 = 1): its direction
-// numbers obey v_{k+1} = v_k ^ (v_k >> 1) from v_0 = 2^31, i.e. the Pascal matrix mod 2.
+// numbers obey v_{k+1} = v_k ^ (v_k >> 1) from v_0 = 2^31, so v_k has fraction bit t exactly
+// when t is a bit-subset of k (Lucas), and output bit t is the xor of index bits k over the
+// supersets of t: a superset-sum over the five bits of the position, then the bit reversal.
 LANTERN_HD inline uint32_t sobol_dim0(uint32_t i) { return reverse_bits32(i); }
 LANTERN_HD inline uint32_t sobol_dim1(uint32_t i) {
+    i ^= (i >> 1) & 0x55555555u;
+    i ^= (i >> 2) & 0x33333333u;
+    i ^= (i >> 4) & 0x0F0F0F0Fu;
+    i ^= (i >> 8) & 0x00FF00FFu;
+    i ^= (i >> 16) & 0x0000FFFFu;
+    return reverse_bits32(i);
+}
+// The same from its direction numbers, one per index bit (the reference the tests compare to).
+LANTERN_HD inline uint32_t sobol_dim1_reference(uint32_t i) {
     uint32_t r = 0, v = 0x80000000u;
     for (; i != 0; i >>= 1, v ^= v >> 1)
         if (i & 1u) r ^= v;
@@ -60,7 +71,7 @@ LANTERN_HD inline uint32_t owen_scramble(uint32_t x, uint32_t seed) {
 }
 
 LANTERN_HD inline uint32_t hash_seed32(uint64_t key, uint64_t salt) {
-    return uint32_t(mix64(key ^ mix64(salt)) >> 32);
+    return uint32_t(mix64(key + salt * 0xD1B54A32D192ED03ull) >> 32);
 }
 
 // ---- The sampler: 32 uniform bits for (index, key, dim) ----
@@ -70,7 +81,7 @@ LANTERN_HD inline uint32_t hash_seed32(uint64_t key, uint64_t salt) {
 // every pair while different pairs are decorrelated. Each dimension then gets its own scramble.
 LANTERN_HD inline uint32_t sample_bits(uint32_t index, uint64_t key, uint32_t dim) {
     if (dim >= kQmcDims)
-        return uint32_t(mix64(key ^ mix64((uint64_t(index) << 32) | dim)) >> 32);
+        return uint32_t(mix64(key ^ mix64((uint64_t(index) << 32) | dim)) >> 32);  // hashed
     const uint32_t group = dim >> 1;
     const uint32_t shuffled = owen_scramble(index, hash_seed32(key, 0x5348554600000000ull | group));
     const uint32_t x = (dim & 1u) ? sobol_dim1(shuffled) : sobol_dim0(shuffled);
