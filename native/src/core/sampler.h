@@ -71,7 +71,7 @@ LANTERN_HD inline uint32_t owen_scramble(uint32_t x, uint32_t seed) {
 }
 
 LANTERN_HD inline uint32_t hash_seed32(uint64_t key, uint64_t salt) {
-    return uint32_t(mix64(key + salt * 0xD1B54A32D192ED03ull) >> 32);
+    return uint32_t(mix64(key ^ mix64(salt)) >> 32);
 }
 
 // ---- The sampler: 32 uniform bits for (index, key, dim) ----
