@@ -8,6 +8,8 @@
 
 #include "core/rng.h"
 #include "core/sample_dims.h"
+#include "integrator/pt.h"
+#include "scene/scene.h"
 
 using namespace lantern;
 
@@ -122,7 +124,7 @@ TEST(Sampler, PairsFillElementaryIntervals) {
 TEST(Sampler, AnySampleCountIsBalanced) {
     // n = q 2^k + r: every elementary interval of volume 2^-k holds q or q + 1 of the first n
     for (int n : {3, 100, 1000, 3001}) {
-        for (uint32_t g : {0u, 1u, 4u, 20u}) {
+        for (uint32_t g : {0u, 1u, 4u, kQmcDims / 2 - 1}) {
             std::vector<Vec2> p(n);
             for (int i = 0; i < n; ++i) {
                 Rng r = Rng::for_pixel(5, 77, uint64_t(i));
@@ -259,5 +261,62 @@ TEST(Sampler, LightPathsOfAnIterationAreOneStratifiedSet) {
         }
         for (int a = 0; a <= 10; ++a)
             for (int c : cell_counts(p, n, a, 10 - a)) ASSERT_EQ(c, 1) << "iteration " << it;
+    }
+}
+
+// ---- The table (core/sample_dims.h) is what the stages draw ----
+
+namespace {
+
+// One pt path slot: generate, then shade one bounce on the floor; the stream's next dimension
+// after each stage, rounded up to even (where the next pair starts).
+struct OneSlot {
+    Vec3 o, d, beta, rad, so, sd, sc;
+    float tmin, tmax, prev_pdf, hit_t = 1.0f, stmax;
+    Rng rng;
+    int32_t depth, prim = 0;
+    uint8_t alive, dropped, svalid;
+    Vec2 uv{0.25f, 0.25f};
+    PathState ps() {
+        return PathState{&o, &d, &tmin, &tmax, &beta, &rad, &rng, &depth, &prev_pdf, &alive,
+                         &dropped, &hit_t, &prim, &uv, &so, &sd, &stmax, &sc, &svalid};
+    }
+};
+
+uint32_t next_pair(const Rng& r) { return r.dim + (r.dim & 1u); }
+
+}  // namespace
+
+TEST(SampleDims, CameraPathsDrawWhatTheTableSays) {
+    for (bool aperture : {false, true}) {
+        for (int rr_depth : {0, 1}) {
+            SceneInput in;
+            in.lens_radius = aperture ? 0.05f : 0.0f;
+            MeshInput floor;
+            floor.positions = {-5, -5, -2, 5, -5, -2, 5, 5, -2, -5, 5, -2};
+            floor.indices = {0, 1, 2, 0, 2, 3};
+            floor.material_ids = {0, 0};
+            in.meshes.push_back(floor);
+            in.materials.push_back(MaterialInput{});
+            LightInput l;
+            l.type = "point";
+            l.position = {0, 0, 1};
+            l.power = {10, 10, 10};
+            in.lights.push_back(l);
+            HostScene s(in);
+            PtSettings st{8, rr_depth, 4, 3, 2};
+            OneSlot slot;
+            PathState ps = slot.ps();
+            for (int64_t path : {0, 5, 17}) {
+                pt_generate(s.view(), ps, st, 0, path);
+                EXPECT_EQ(next_pair(slot.rng), camera_bounce_dim(aperture, 1));
+                for (uint32_t bounce = 1; bounce <= 3; ++bounce) {
+                    slot.depth = int32_t(bounce);
+                    pt_shade(s.view(), ps, st, 0);
+                    EXPECT_EQ(next_pair(slot.rng), camera_bounce_dim(aperture, bounce + 1))
+                        << "aperture " << aperture << " rr " << rr_depth << " bounce " << bounce;
+                }
+            }
+        }
     }
 }
