@@ -249,6 +249,22 @@ TEST(Sampler, SameKeySameBitsOtherKeysOtherBits) {
     EXPECT_EQ(differ_kind, 200);
 }
 
+TEST(Sampler, ProgressiveIterationsDrawWhatOneBatchDraws) {
+    // 16 iterations of 1 spp and one iteration of 16 spp: the same stream for every sample
+    for (int64_t pixel : {0, 3, 4095}) {
+        for (int s = 0; s < 16; ++s) {
+            Rng a = Rng::for_camera(7, uint64_t(s), 1, pixel);
+            Rng b = Rng::for_camera(7, 0, 16, pixel * 16 + s);
+            Rng c = Rng::for_camera(7, uint64_t(s / 4), 4, pixel * 4 + s % 4);
+            for (int d = 0; d < 80; ++d) {
+                uint32_t x = a.next();
+                ASSERT_EQ(x, b.next()) << "pixel " << pixel << " sample " << s << " dim " << d;
+                ASSERT_EQ(x, c.next()) << "pixel " << pixel << " sample " << s << " dim " << d;
+            }
+        }
+    }
+}
+
 TEST(Sampler, LightPathsOfAnIterationAreOneStratifiedSet) {
     // the iteration's first 2^10 light paths: the (pos) pair fills every elementary interval
     const int n = 1 << 10;

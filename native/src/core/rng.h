@@ -30,6 +30,7 @@ struct Pcg32 {
     LANTERN_HD static Pcg32 for_camera(uint64_t seed, uint64_t iteration, int, int64_t path) {
         return for_path(seed, iteration, uint64_t(path));
     }
+    LANTERN_HD static Pcg32 hashed(Pcg32 r) { return r; }  // (Rng::hashed's twin: no change)
     LANTERN_HD uint32_t next() {
         uint64_t old = state;
         state = old * 6364136223846793005ull + inc;
@@ -68,6 +69,13 @@ struct Rng {
     // sequence, scrambled per iteration, so the iteration's paths are stratified as one set.
     LANTERN_HD static Rng for_path(uint64_t seed, uint64_t iteration, uint64_t path) {
         return make(stream_seed(seed, iteration, 0x50415448ull + (path >> 32)), path);
+    }
+    // The same stream with every number hashed (its dimensions start at kQmcDims): for draws
+    // that stratification cannot help, such as picks from a light-vertex cache that is rebuilt
+    // every iteration (the same pick of sample k and sample k + 1 addresses different caches).
+    LANTERN_HD static Rng hashed(Rng r) {
+        r.dim = kQmcDims;
+        return r;
     }
     LANTERN_HD uint32_t index() const { return reverse_bits32(rindex); }
     // 32 uniform bits (one dimension).

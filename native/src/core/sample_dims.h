@@ -10,7 +10,8 @@ namespace lantern {
 
 // ---- Streams: which sequence and scramble a path draws from (seed, salt, key; index) ----
 //   pt camera path, bdpt/lvc/cis camera path   Rng::for_camera(seed, ...)     key pixel
-//   lvc/cis connections at camera depth k      Rng::for_camera(seed ^ "CONN" ^ k << 40, ...)
+//   lvc/cis connections at camera depth k      Rng::hashed(Rng::for_camera(seed ^ "CONN" ^ k << 40,
+//                                              ...)), all numbers hashed
 //   pt AOV pass, sample k of a pixel           Rng::for_pixel(seed ^ kAovStream, pixel, k)
 //   lt light path                              Rng::for_path(seed ^ "LT", iteration, path)
 //   bdpt/lvc/cis light path (and the pilot pass, iteration ~0)
@@ -65,8 +66,11 @@ constexpr uint32_t kLightBounce0 = 6;
 constexpr uint32_t kLightBounceDims = 4;
 
 // ---- Connections of a camera vertex (lvc, cis; bdpt draws none), own stream per depth ----
-//   lvc: dims 0 .. N-1   N uniform cache picks (N = connections), one number each
-//   cis: dims 0 .. M-1   M uniform candidates, then M .. M+N-1 the N resampled picks
+//   Rng::hashed: every number past kQmcDims. The cache is rebuilt every iteration, so the same
+//   pick in a pixel's next sample addresses another cache: nothing for Sobol' to stratify, and
+//   a hashed number costs a third of a scrambled one (bench/results/2026-12-01-qmc/).
+//   lvc: +0 .. N-1       N uniform cache picks (N = connections), one number each
+//   cis: +0 .. M-1       M uniform candidates, then M .. M+N-1 the N resampled picks
 //   Counts vary with the settings, never with the path.
 
 // ---- AOV pass (aov.cpp: depth, normal, albedo features) ----
