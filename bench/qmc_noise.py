@@ -1,11 +1,12 @@
 """Per-pixel noise and efficiency at equal spp, the QMC sampler (core/sampler.h) against PCG.
 
 Noise = RMS over pixels of the spread (sd) between K independent seeds, relative to the image
-mean; efficiency = 1 / (noise^2 x time), time the worker process's CPU time (a loaded machine's wall
-time mostly measures the other processes; both are recorded). One thread. Both samplers run in the same run, in two
-worker processes that take turns seed by seed (the order alternates), so a change of the
-machine's load hits both alike. The PCG build is this checkout compiled with -DLANTERN_RNG_PCG
-(core/rng.h then makes Rng the pseudo-random Pcg32 stream used before issue 14):
+mean; efficiency = 1 / (noise^2 x time), time the worker process's CPU time (a loaded
+machine's wall time mostly measures the other processes; both are recorded). One thread. Both
+samplers run in the same run, in two worker processes that take turns seed by seed (the order
+alternates), so a change of the machine's load hits both alike. The PCG build is this checkout
+compiled with -DLANTERN_RNG_PCG (core/rng.h then makes Rng the pseudo-random Pcg32 stream used
+before issue 14):
 
     cmake -S . -B build/pcg -G Ninja -DCMAKE_BUILD_TYPE=Release -DLANTERN_BUILD_PYTHON=ON \\
           -DLANTERN_BUILD_TESTS=OFF -DLANTERN_CUDA=OFF -DPython_EXECUTABLE=$PY \\

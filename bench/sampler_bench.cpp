@@ -114,7 +114,8 @@ int main(int argc, char** argv) {
     }
     std::printf("%d paths x (1 + %d bounces x 8) draws, %d interleaved rounds, kQmcDims %u\n",
                 paths, bounces, rounds, kQmcDims);
-    std::printf("| stream | CPU ns / number (median) | min | instructions / number |\n|---|---|---|---|\n");
+    std::printf("| stream | CPU ns / number (median) | min | instructions / number |\n");
+    std::printf("|---|---|---|---|\n");
     auto row = [&](const char* name, const std::vector<double>& ns, const std::vector<double>& in) {
         char ins[32] = "n/a";
         if (fd >= 0) std::snprintf(ins, sizeof(ins), "%.1f", median(in));

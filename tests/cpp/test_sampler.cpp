@@ -144,7 +144,8 @@ TEST(Sampler, AnySampleCountIsBalanced) {
 }
 
 TEST(Sampler, SobolDimensionOneMatchesItsDirectionNumbers) {
-    for (uint32_t i = 0; i < (1u << 16); ++i) ASSERT_EQ(sobol_dim1(i), sobol_dim1_reference(i)) << i;
+    for (uint32_t i = 0; i < (1u << 16); ++i)
+        ASSERT_EQ(sobol_dim1(i), sobol_dim1_reference(i)) << i;
     for (uint32_t k = 0, i = 12345u; k < 100000; ++k, i = i * 747796405u + 2891336453u)
         ASSERT_EQ(sobol_dim1(i), sobol_dim1_reference(i)) << i;
     // the first points: 1/2, 3/4, 1/4 (Joe & Kuo's dimension 2)
