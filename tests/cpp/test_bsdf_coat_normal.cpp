@@ -46,7 +46,7 @@ TEST(BsdfPrincipledCoatNormal, SampleMatchesMixturePdfChiSquare) {
 }
 
 TEST(BsdfPrincipledCoatNormal, WeightsAndReversePdfsMatchEval) {
-    Rng rng = Rng::for_path(21, 0, 0);
+    Pcg32 rng = Pcg32::for_path(21, 0, 0);
     const Material ms[] = {
         coat_normal(coated(principled(vec3(0.7f), 0.0f, 0.0f, 0.45f), 1.0f, 0.25f)),
         coat_normal(coated(principled(vec3(0.6f, 0.8f, 0.9f), 0.3f, 0.4f, 0.3f), 0.6f, 0.0f)),
@@ -95,7 +95,7 @@ TEST(BsdfPrincipledCoatNormal, ImportanceIsTheSwappedRadianceFunction) {
     Material m = coat_normal(
         sheened(coated(principled(vec3(0.6f, 0.4f, 0.3f), 0.2f, 0.0f, 0.4f), 0.8f, 0.2f), 0.5f,
                 0.5f));
-    Rng rng = Rng::for_path(22, 0, 0);
+    Pcg32 rng = Pcg32::for_path(22, 0, 0);
     int nonzero = 0;
     for (int i = 0; i < 2000; ++i) {
         Vec3 a = dir_from_angles(1.5f * rng.uniform(), 6.28f * rng.uniform());
@@ -116,7 +116,7 @@ TEST(BsdfPrincipledCoatNormal, CoatFollowsItsNormal) {
     Material tilted = coat_normal(coated(principled(vec3(0.0f), 0.0f, 0.0f, 0.5f, 1.5f, 0.0f),
                                          1.0f, 0.3f));
     Material flat = coated(principled(vec3(0.0f), 0.0f, 0.0f, 0.5f, 1.5f, 0.0f), 1.0f, 0.3f);
-    Rng rng = Rng::for_path(23, 0, 0);
+    Pcg32 rng = Pcg32::for_path(23, 0, 0);
     int compared = 0;
     for (Transport mode : {Transport::Radiance, Transport::Importance})
         for (int i = 0; i < 1000; ++i) {
@@ -149,7 +149,7 @@ TEST(BsdfPrincipledCoatNormal, EnergyAtMostOne) {
             Material m = coat_normal(coated(principled(vec3(1.0f), 0.0f, 0.0f, 0.4f), 1.0f,
                                             coat_rough));
             Vec3 wo = dir_from_angles(theta_o, 0.3f);
-            Rng rng = Rng::for_path(24, 0, 0);
+            Pcg32 rng = Pcg32::for_path(24, 0, 0);
             const int n = 40000;
             double sum = 0.0;
             for (int i = 0; i < n; ++i) {
@@ -164,7 +164,7 @@ TEST(BsdfPrincipledCoatNormal, EnergyAtMostOne) {
 }
 
 TEST(BsdfPrincipledCoatNormal, HostileNormalsStayFinite) {
-    Rng rng = Rng::for_path(25, 0, 0);
+    Pcg32 rng = Pcg32::for_path(25, 0, 0);
     for (Vec3 nc : {vec3(0.0f, 0.0f, -1.0f), vec3(1.0f, 0.0f, 0.0f), vec3(0.0f, 0.0f, 1.0f),
                     normalize(vec3(1.0f, 1.0f, 1e-7f))})
         for (float coat_rough : {0.0f, 0.3f}) {
@@ -184,7 +184,7 @@ TEST(BsdfPrincipledCoatNormal, HostileNormalsStayFinite) {
 
 TEST(OctahedralNormal, RoundTrips) {
     EXPECT_EQ(oct_decode(oct_encode(vec3(0.0f, 0.0f, 1.0f))).z, 1.0f);
-    Rng rng = Rng::for_path(26, 0, 0);
+    Pcg32 rng = Pcg32::for_path(26, 0, 0);
     for (int i = 0; i < 2000; ++i) {
         Vec3 v = dir_from_angles(3.14159f * rng.uniform(), 6.28f * rng.uniform());
         EXPECT_GT(dot(oct_decode(oct_encode(v)), v), 1.0f - 1e-6f);

@@ -39,7 +39,7 @@ TEST(BsdfConductor, SampleMatchesPdfChiSquare) {
 }
 
 TEST(BsdfConductor, WeightIsFCosOverPdfAndPdfsAreConsistent) {
-    Rng rng = Rng::for_path(3, 0, 0);
+    Pcg32 rng = Pcg32::for_path(3, 0, 0);
     for (const ConductorParams& p : cases()) {
         Vec3 wo = dir_from_angles(0.9f, 1.0f);
         for (int i = 0; i < 2000; ++i) {
@@ -61,7 +61,7 @@ TEST(BsdfConductor, WeightIsFCosOverPdfAndPdfsAreConsistent) {
 
 TEST(BsdfConductor, WhiteFurnace) {
     auto albedo = [](const ConductorParams& p, Vec3 wo) {
-        Rng rng = Rng::for_path(5, 0, 0);
+        Pcg32 rng = Pcg32::for_path(5, 0, 0);
         const int n = 100000;
         Vec3 sum = vec3(0.0f);
         for (int i = 0; i < n; ++i) {
@@ -103,7 +103,7 @@ TEST(BsdfConductor, SmoothIsADeltaMirror) {
 }
 
 TEST(BsdfConductor, HostileInputsStayFinite) {
-    Rng rng = Rng::for_path(9, 0, 0);
+    Pcg32 rng = Pcg32::for_path(9, 0, 0);
     for (float rough : {0.0f, 0.031f, 0.04f, 1.0f})
         for (Vec3 eta : {vec3(1.0f), vec3(0.0f), vec3(0.5f), kGoldEta})
             for (Vec3 wo : {vec3(0, 0, 1), vec3(1, 0, 0), normalize(vec3(1, 0, 1e-7f)),
@@ -135,7 +135,7 @@ TEST(BsdfConductor, BeckmannSampledThroughGgxProposal) {
             ConductorParams p = conductor_f82(rough, vec3(1.0f), vec3(1.0f));
             p.beckmann = true;
             Vec3 wo = dir_from_angles(theta_o, 0.2f);
-            Rng rng = Rng::for_path(21, 0, 0);
+            Pcg32 rng = Pcg32::for_path(21, 0, 0);
             double sum = 0.0;
             const int n = 60000;
             for (int i = 0; i < n; ++i) {

@@ -31,7 +31,7 @@ TEST(BsdfDielectric, RoughSampleMatchesPdfChiSquare) {
 }
 
 TEST(BsdfDielectric, WeightPdfsAndGeneralisedReciprocity) {
-    Rng rng = Rng::for_path(3, 0, 0);
+    Pcg32 rng = Pcg32::for_path(3, 0, 0);
     for (float eta : {1.5f, 0.8f})
         for (float theta_o : {0.7f, kPi - 0.9f}) {
             DielectricParams rad = dielectric(0.4f, eta, Transport::Radiance);
@@ -65,7 +65,7 @@ TEST(BsdfDielectric, RoughWhiteFurnace) {
                 for (Transport mode : {Transport::Importance, Transport::Radiance}) {
                     if (mode == Transport::Radiance && wo.z < 0.0f) continue;
                     DielectricParams p = dielectric(rough, eta, mode);
-                    Rng rng = Rng::for_path(7, 0, 0);
+                    Pcg32 rng = Pcg32::for_path(7, 0, 0);
                     const int n = 50000;
                     double sum = 0.0;
                     for (int i = 0; i < n; ++i) {
@@ -119,7 +119,7 @@ TEST(BsdfDielectric, SmoothReflectPlusTransmitIsExactlyOne) {
 }
 
 TEST(BsdfDielectric, HostileInputsStayFinite) {
-    Rng rng = Rng::for_path(9, 0, 0);
+    Pcg32 rng = Pcg32::for_path(9, 0, 0);
     for (float rough : {0.0f, 0.032f, 0.2f, 1.0f})
         for (float eta : {1.0f, 1.0005f, 1.01f, 0.5f, 0.0f, 2.4f})
             for (Vec3 wo : {vec3(0, 0, 1), vec3(0, 0, -1), vec3(1, 0, 0),

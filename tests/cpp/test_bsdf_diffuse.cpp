@@ -30,7 +30,7 @@ void check_lobe(const P& p, Eval eval, Sample sample, const char* name) {
         EXPECT_NEAR(r.pdf_mass, 1.0, 2e-3) << name;
         EXPECT_EQ(r.valid_frac, 1.0) << name;
     }
-    Rng rng = Rng::for_path(3, 0, 0);
+    Pcg32 rng = Pcg32::for_path(3, 0, 0);
     Vec3 wo = dir_from_angles(1.1f, 0.3f);
     for (int i = 0; i < 1000; ++i) {
         BsdfSample s = sample(p, wo, rng.uniform2());
@@ -47,7 +47,7 @@ void check_lobe(const P& p, Eval eval, Sample sample, const char* name) {
 
 template <typename P, typename Sample>
 float albedo(const P& p, Sample sample, Vec3 wo) {
-    Rng rng = Rng::for_path(5, 0, 0);
+    Pcg32 rng = Pcg32::for_path(5, 0, 0);
     const int n = 40000;
     double sum = 0.0;
     for (int i = 0; i < n; ++i) {
@@ -144,7 +144,7 @@ TEST(BsdfSheen, AlbedoMatchesIndependentIntegral) {
                             std::sin((i + 0.5) * dt);
                 }
             quad *= dt * dp;
-            Rng rng = Rng::for_path(5, 0, 0);
+            Pcg32 rng = Pcg32::for_path(5, 0, 0);
             const int m = 100000;
             double sum = 0.0, sum2 = 0.0;
             for (int k = 0; k < m; ++k) {
@@ -170,7 +170,7 @@ TEST(BsdfSheen, WhiteFurnaceBelowOne) {
 }
 
 TEST(BsdfDiffuseLobes, HostileInputsStayFinite) {
-    Rng rng = Rng::for_path(9, 0, 0);
+    Pcg32 rng = Pcg32::for_path(9, 0, 0);
     for (float r : {-1.0f, 0.0f, 1.0f, 3.0f})
         for (Vec3 wo : {vec3(0, 0, 1), vec3(1, 0, 0), normalize(vec3(1, 0, 1e-7f)),
                         normalize(vec3(1, 0, -0.2f))})

@@ -44,7 +44,7 @@ inline Chi2Result chi2_sphere(const std::function<bool(Vec2, float, Vec3*)>& sam
     };
     Chi2Result r;
     std::vector<double> observed(bins, 0.0), expected(bins, 0.0);
-    Rng rng = Rng::for_path(seed, 0, 0);
+    Pcg32 rng = Pcg32::for_path(seed, 0, 0);
     int valid = 0;
     for (int i = 0; i < n_samples; ++i) {
         Vec2 u = rng.uniform2();

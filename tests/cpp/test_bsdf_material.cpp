@@ -39,7 +39,7 @@ void expect_vec_near(Vec3 a, Vec3 b, float rel, const char* what) {
 }  // namespace
 
 TEST(BsdfMaterial, ComplexModeIsConductorComplex) {
-    Rng rng = Rng::for_path(11, 0, 0);
+    Pcg32 rng = Pcg32::for_path(11, 0, 0);
     for (float rough : {0.0f, 0.1f, 0.316f, 0.7f}) {
         Material m = complex_conductor(rough, kVeachEta, kVeachK);
         ConductorParams p = conductor_complex(rough, kVeachEta, kVeachK);
@@ -72,7 +72,7 @@ TEST(BsdfMaterial, BaseColorScalesComplexFresnelAndF82IsUnchanged) {
     f82.fresnel = kFresnelF82Tint;
     f82.specular_tint = {0.7f, 0.9f, 1.0f};
     ConductorParams pf = conductor_f82(0.4f, tint, f82.specular_tint);
-    Rng rng = Rng::for_path(12, 0, 0);
+    Pcg32 rng = Pcg32::for_path(12, 0, 0);
     for (int i = 0; i < 100; ++i) {
         Vec3 wo = dir_from_angles(1.4f * rng.uniform(), 6.28f * rng.uniform());
         Vec3 wi = dir_from_angles(1.4f * rng.uniform(), 6.28f * rng.uniform());
@@ -96,7 +96,7 @@ TEST(BsdfMaterial, BaseColorScalesComplexFresnelAndF82IsUnchanged) {
 
 TEST(BsdfMaterial, ComplexWhiteFurnaceAlbedoAtMostOne) {
     auto albedo = [](const Material& m, Vec3 wo) {
-        Rng rng = Rng::for_path(13, 0, 0);
+        Pcg32 rng = Pcg32::for_path(13, 0, 0);
         const int n = 100000;
         double sum[3] = {0.0, 0.0, 0.0};  // (a float sum drifts by ~0.1% over n samples)
         for (int i = 0; i < n; ++i) {

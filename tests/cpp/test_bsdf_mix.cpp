@@ -77,7 +77,7 @@ TEST(BsdfMix, WeightsAndReversePdfsMatchEval) {
     const Material d = diffuse(vec3(0.6f)), rough_metal = metal(vec3(0.9f), 0.3f),
                    t = translucent(vec3(0.4f, 0.5f, 0.6f));
     const Material m = mix({{&d, 0.5f}, {&rough_metal, 0.25f}, {&t, 0.25f}});
-    Rng rng = Rng::for_path(3, 0, 0);
+    Pcg32 rng = Pcg32::for_path(3, 0, 0);
     for (Transport mode : {Transport::Radiance, Transport::Importance})
         for (float theta_o : {0.2f, 1.2f}) {
             Vec3 wo = dir_from_angles(theta_o, 2.0f);
@@ -107,7 +107,7 @@ TEST(BsdfMix, WeightsAndReversePdfsMatchEval) {
 // mixture is a uniform cosine lobe on the whole sphere); Add Shader of the two: 2.
 TEST(BsdfMix, WhiteFurnace) {
     const Material d = diffuse(vec3(1.0f)), t = translucent(vec3(1.0f));
-    Rng rng = Rng::for_path(5, 0, 0);
+    Pcg32 rng = Pcg32::for_path(5, 0, 0);
     for (float w : {0.5f, 1.0f}) {
         const Material m = mix({{&d, w}, {&t, w}});
         Vec3 wo = dir_from_angles(0.8f, 1.0f);
@@ -131,7 +131,7 @@ TEST(BsdfMix, DeltaLeafEnergyAndPdfs) {
     const Material m = mix({{&d, 0.6f}, {&smooth, 0.4f}});
     EXPECT_FALSE(material_is_delta(m));
     EXPECT_TRUE(material_transmits(m));
-    Rng rng = Rng::for_path(7, 0, 0);
+    Pcg32 rng = Pcg32::for_path(7, 0, 0);
     for (float theta_o : {0.3f, 1.2f}) {
         Vec3 wo = dir_from_angles(theta_o, 0.5f);
         const int n = 200000;

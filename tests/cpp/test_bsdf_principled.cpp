@@ -36,7 +36,7 @@ TEST(BsdfPrincipled, SampleMatchesMixturePdfChiSquare) {
 }
 
 TEST(BsdfPrincipled, WeightsAndReversePdfsMatchEval) {
-    Rng rng = Rng::for_path(11, 0, 0);
+    Pcg32 rng = Pcg32::for_path(11, 0, 0);
     for (Transport mode : {Transport::Radiance, Transport::Importance})
         for (const Material& m : {principled(vec3(0.7f), 0.0f, 0.0f, 0.45f),
                                   principled(vec3(0.6f, 0.8f, 0.9f), 0.3f, 0.4f, 0.3f),
@@ -67,7 +67,7 @@ TEST(BsdfPrincipled, WhiteFurnaceConservesEnergy) {
             for (float theta_o : {0.0f, 0.8f, 1.3f, 1.53f}) {
                 Material m = principled(vec3(1.0f), 0.0f, 0.0f, rough, ior);
                 Vec3 wo = dir_from_angles(theta_o, 0.3f);
-                Rng rng = Rng::for_path(5, 0, 0);
+                Pcg32 rng = Pcg32::for_path(5, 0, 0);
                 const int n = 40000;
                 double sum = 0.0;
                 for (int i = 0; i < n; ++i) {
@@ -84,7 +84,7 @@ TEST(BsdfPrincipled, WhiteFurnaceConservesEnergy) {
         for (float coat_rough : {0.0f, 0.2f, 0.6f}) {
             Material m = coated(principled(vec3(1.0f), 0.0f, 0.0f, 0.4f), 1.0f, coat_rough);
             Vec3 wo = dir_from_angles(theta_o, 0.3f);
-            Rng rng = Rng::for_path(8, 0, 0);
+            Pcg32 rng = Pcg32::for_path(8, 0, 0);
             const int n = 40000;
             double sum = 0.0;
             for (int i = 0; i < n; ++i) {
@@ -101,7 +101,7 @@ TEST(BsdfPrincipled, WhiteFurnaceConservesEnergy) {
         Material m = sheened(coated(principled(vec3(1.0f), 0.0f, 0.0f, 0.4f), 1.0f, 0.3f), 1.0f,
                              0.4f);
         Vec3 wo = dir_from_angles(theta_o, 0.3f);
-        Rng rng = Rng::for_path(8, 0, 0);
+        Pcg32 rng = Pcg32::for_path(8, 0, 0);
         const int n = 40000;
         double sum = 0.0;
         for (int i = 0; i < n; ++i) {
@@ -121,7 +121,7 @@ TEST(BsdfPrincipled, WhiteFurnaceConservesEnergy) {
                               principled(vec3(1.0f), 0.6f, 1.0f, 0.2f, 1.5f, 1.0f)})
         for (float theta_o : {0.1f, 1.0f, 1.5f}) {
             Vec3 wo = dir_from_angles(theta_o, 0.0f);
-            Rng rng = Rng::for_path(6, 0, 0);
+            Pcg32 rng = Pcg32::for_path(6, 0, 0);
             double sum = 0.0;
             const int n = 40000;
             for (int i = 0; i < n; ++i) {
@@ -156,7 +156,7 @@ TEST(BsdfPrincipled, LimitsReduceToSingleLobes) {
 }
 
 TEST(BsdfPrincipled, HostileInputsStayFinite) {
-    Rng rng = Rng::for_path(9, 0, 0);
+    Pcg32 rng = Pcg32::for_path(9, 0, 0);
     for (float rough : {0.0f, 1e-4f, 1.0f})
         for (float ior : {1.0f, 0.5f, 1.5f, 50.0f}) {
             Material m = principled(vec3(1.0f), 0.3f, 0.3f, rough, ior);
@@ -189,7 +189,7 @@ TEST(BsdfMultiscatter, WhiteRoughMetalReflectsOne) {
             m.fms_metal = ms_fresnel([&](float mu) { return conductor_fresnel(material_conductor(m), mu); },
                                      e_avg);
             Vec3 wo = dir_from_angles(theta_o, 0.5f);
-            Rng rng = Rng::for_path(13, 0, 0);
+            Pcg32 rng = Pcg32::for_path(13, 0, 0);
             double single = 0.0, multi = 0.0;
             const int n = 40000;
             for (int i = 0; i < n; ++i) {
@@ -228,7 +228,7 @@ TEST(BsdfPrincipled, AnisotropyFollowsTheTangent) {
     EXPECT_NEAR(g.ax / g.ay, 1.0f / (1.0f - 0.72f), 1e-4f);
     Material m = anisotropic(principled(vec3(0.8f), 1.0f, 0.0f, 0.4f), 0.8f);
     const Vec3 n = normalize(vec3(0.2f, -0.3f, 0.9f));
-    Rng rng = Rng::for_path(2, 0, 0);
+    Pcg32 rng = Pcg32::for_path(2, 0, 0);
     for (int i = 0; i < 200; ++i) {
         const float angle = 6.0f * rng.uniform();
         Frame f = Frame::from_normal_angle(n, angle), f0 = Frame::from_normal(n);

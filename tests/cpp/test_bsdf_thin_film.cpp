@@ -167,7 +167,7 @@ TEST(ThinFilm, Limits) {
 TEST(ThinFilm, PrincipledLayerSamplesAndConserves) {
     const Material m = filmed(principled(vec3(0.3f, 0.2f, 0.6f), 0.0f, 0.0f, 0.3f), 500.0f, 1.33f);
     expect_material_samples_its_pdf(m, "thin film over plastic");
-    Rng rng = Rng::for_path(31, 0, 0);
+    Pcg32 rng = Pcg32::for_path(31, 0, 0);
     for (Transport mode : {Transport::Radiance, Transport::Importance})
         for (float theta_o : {0.3f, 1.1f}) {
             Vec3 wo = dir_from_angles(theta_o, 1.0f);
@@ -185,7 +185,7 @@ TEST(ThinFilm, PrincipledLayerSamplesAndConserves) {
         for (float theta_o : {0.0f, 0.9f, 1.4f}) {
             Material w = filmed(principled(vec3(1.0f), 0.0f, 0.0f, 0.4f), d, 1.33f);
             Vec3 wo = dir_from_angles(theta_o, 0.3f);
-            Rng r2 = Rng::for_path(32, 0, 0);
+            Pcg32 r2 = Pcg32::for_path(32, 0, 0);
             double sum[3] = {0, 0, 0};
             const int n = 40000;
             for (int i = 0; i < n; ++i) {
@@ -229,7 +229,7 @@ TEST(ThinFilm, HostileInputsStayFinite) {
     metal.film_thickness = 400.0f;
     metal.film_ior = 1.5f;
     Material m = filmed(principled(vec3(0.5f), 0.5f, 0.0f, 0.0f, 1.0f), 300.0f, 2.0f);
-    Rng rng = Rng::for_path(33, 0, 0);
+    Pcg32 rng = Pcg32::for_path(33, 0, 0);
     for (const Material& mm : {m, metal})
         for (int i = 0; i < 300; ++i) {
             Vec3 wo = dir_from_angles(rng.uniform() * 1.5707f, rng.uniform() * 6.28f);

@@ -118,7 +118,7 @@ Mesh sphere(int level, Vec3 c = {0, 0, 0}, float r = 1.0f) {
 // n random triangles of edge about `size` in the unit cube, random flags when `mixed`.
 Mesh soup(int n, float size, uint64_t seed, bool mixed = false) {
     Mesh m;
-    Rng rng = Rng::for_path(seed, 0, 0);
+    Pcg32 rng = Pcg32::for_path(seed, 0, 0);
     auto u3 = [&] { return vec3(rng.uniform(), rng.uniform(), rng.uniform()); };
     for (int i = 0; i < n; ++i) {
         Vec3 c = u3();
@@ -188,7 +188,7 @@ bool same_t(const Mesh& m, const Ray& r, int pa, float ta, int pb, float tb) {
 }
 
 // One ray, every kind: closest hit and occlusion against Embree.
-void compare_ray(const Mesh& m, const EmbreeAccel& e, const BvhView& bvh, Ray r, Rng& rng,
+void compare_ray(const Mesh& m, const EmbreeAccel& e, const BvhView& bvh, Ray r, Pcg32& rng,
                  Tally& tl) {
     for (RayKind kind : {RayKind::kCamera, RayKind::kIndirect, RayKind::kShadow}) {
         HitRecord he = e.intersect(r, kind);
@@ -263,7 +263,7 @@ Tally compare_many(const Mesh& m, int n, Make make, uint64_t seed) {
     std::vector<std::thread> pool;
     for (int k = 0; k < threads; ++k) {
         pool.emplace_back([&, k] {
-            Rng rng = Rng::for_path(seed, 1, k);
+            Pcg32 rng = Pcg32::for_path(seed, 1, k);
             for (int i = k; i < n; i += threads)
                 compare_ray(m, e, bvh.view(), make(rng, i), rng, parts[k]);
         });
@@ -288,7 +288,7 @@ void expect_agree(const Tally& t) {
 
 // Random ray: origin in the box [lo, hi], uniform direction, unbounded.
 auto random_rays(Vec3 lo, Vec3 hi) {
-    return [=](Rng& rng, int) {
+    return [=](Pcg32& rng, int) {
         Vec3 u{rng.uniform(), rng.uniform(), rng.uniform()};
         return Ray{lo + (hi - lo) * u, uniform_dir(rng.uniform2()), 0.0f, kInf};
     };
@@ -296,7 +296,7 @@ auto random_rays(Vec3 lo, Vec3 hi) {
 
 // Pinhole rays from `eye` through a square window on the plane z = zw.
 auto camera_rays(Vec3 eye, float x0, float x1, float y0, float y1, float zw, int res) {
-    return [=](Rng&, int i) {
+    return [=](Pcg32&, int i) {
         float x = x0 + (x1 - x0) * ((i % res) + 0.5f) / res,
               y = y0 + (y1 - y0) * ((i / res % res) + 0.5f) / res;
         return Ray{eye, normalize(Vec3{x, y, zw} - eye), 0.0f, kInf};
@@ -419,7 +419,7 @@ TEST(Bvh, MatchesBruteForce) {
         std::vector<std::string> w;
         Bvh bvh = build_bvh(m.view(), {}, w);
         EXPECT_LE(bvh.stats.max_leaf_size, 8);
-        Rng rng = Rng::for_path(12, which, 0);
+        Pcg32 rng = Pcg32::for_path(12, which, 0);
         const int n = which == 2 ? 1500 : 20000;
         int inexact = 0;
         for (int i = 0; i < n; ++i) {
@@ -456,7 +456,7 @@ TEST(Bvh, SegmentEnds) {
     Mesh m = sphere(4);
     std::vector<std::string> w;
     Bvh bvh = build_bvh(m.view(), {}, w);
-    Rng rng = Rng::for_path(13, 0, 0);
+    Pcg32 rng = Pcg32::for_path(13, 0, 0);
     for (int i = 0; i < 20000; ++i) {
         Ray r{Vec3{rng.uniform(), rng.uniform(), rng.uniform()} * 0.8f - vec3(0.4f),
               uniform_dir(rng.uniform2()), 0.0f, kInf};
@@ -487,7 +487,7 @@ TEST(Bvh, OriginOnSurface) {
     m.flags.insert(m.flags.end(), s.flags.begin(), s.flags.end());
     std::vector<std::string> w;
     Bvh bvh = build_bvh(m.view(), {}, w);
-    Rng rng = Rng::for_path(14, 0, 0);
+    Pcg32 rng = Pcg32::for_path(14, 0, 0);
     for (int i = 0; i < 50000; ++i) {
         int t = int(rng.next() % uint32_t(m.count()));
         Vec3 a = m.p[m.idx[3 * t]], b = m.p[m.idx[3 * t + 1]], c = m.p[m.idx[3 * t + 2]];
@@ -585,7 +585,7 @@ TEST(Bvh, AlphaTestAgreesWithEmbree) {
     std::vector<std::string> w;
     EmbreeAccel e(s, w);
     Bvh bvh = build_bvh(s, {}, w);
-    Rng rng = Rng::for_path(5, 0, 0);
+    Pcg32 rng = Pcg32::for_path(5, 0, 0);
     int differ = 0, n = 20000, alpha_first = 0, alpha_stopped = 0;
     for (int i = 0; i < n; ++i) {
         Ray r{Vec3{rng.uniform(), rng.uniform(), rng.uniform()}, uniform_dir(rng.uniform2())};

@@ -19,7 +19,7 @@ namespace {
 // Monte Carlo estimate of the integral of pdf(w) over the sphere, with uniform directions.
 template <typename Pdf>
 double integrate_over_sphere(Pdf pdf, int n = 400000) {
-    Rng rng = Rng::for_path(1, 2, 3);
+    Pcg32 rng = Pcg32::for_path(1, 2, 3);
     double sum = 0.0;
     for (int i = 0; i < n; ++i) {
         float p;
@@ -44,7 +44,7 @@ TEST(Sampling, ConePdfIntegratesToOne) {
 
 TEST(Sampling, CosineSamplesMatchTheirPdf) {
     // histogram of cos(theta) in 10 bins against the exact mass: P(z in [a,b]) = b^2 - a^2
-    Rng rng = Rng::for_path(7, 0, 0);
+    Pcg32 rng = Pcg32::for_path(7, 0, 0);
     const int n = 200000, bins = 10;
     int hist[bins] = {};
     for (int i = 0; i < n; ++i) {
@@ -64,7 +64,7 @@ TEST(Sampling, CosineSamplesMatchTheirPdf) {
 }
 
 TEST(Sampling, TriangleSamplesAreInside) {
-    Rng rng = Rng::for_path(3, 0, 0);
+    Pcg32 rng = Pcg32::for_path(3, 0, 0);
     for (int i = 0; i < 10000; ++i) {
         Vec2 b = sample_triangle(rng.uniform2());
         ASSERT_GE(b.x, 0.0f);
@@ -138,7 +138,7 @@ TEST(Lights, PointIrradianceFallsOffWithDistanceSquared) {
     in.lights.push_back(l);
     HostScene s(in);
     const SceneView& v = s.view();
-    Rng rng = Rng::for_path(0, 0, 0);
+    Pcg32 rng = Pcg32::for_path(0, 0, 0);
     LightSample ls = sample_light(v, v.lights[0], vec3(0, 0, 1), rng.uniform2());
     ASSERT_TRUE(ls.valid);
     EXPECT_TRUE(ls.delta);
@@ -156,7 +156,7 @@ TEST(Lights, SphereLightMatchesPointLightFarAway) {
     in.lights.push_back(l);
     HostScene s(in);
     const SceneView& v = s.view();
-    Rng rng = Rng::for_path(0, 0, 0);
+    Pcg32 rng = Pcg32::for_path(0, 0, 0);
     double e = 0.0;
     const int n = 20000;
     for (int i = 0; i < n; ++i) {

@@ -37,7 +37,7 @@ Soup soup(int n, uint64_t seed) {
     Soup m;
     m.mats.resize(2);
     m.mats[1].transparency = 0.6f;
-    Rng rng = Rng::for_path(seed, 0, 0);
+    Pcg32 rng = Pcg32::for_path(seed, 0, 0);
     auto u3 = [&] { return vec3(rng.uniform(), rng.uniform(), rng.uniform()); };
     for (int i = 0; i < n; ++i) {
         Vec3 c = u3();
@@ -76,7 +76,7 @@ TEST(CpuAccel, BvhAccelMatchesEmbreeAccelForEveryRayKind) {
     std::vector<std::string> w;
     EmbreeAccel e(s, w);
     BvhAccel b(s, 2, w);
-    Rng rng = Rng::for_path(9, 0, 0);
+    Pcg32 rng = Pcg32::for_path(9, 0, 0);
     const int n = 20000;
     int differ[3] = {0, 0, 0}, hits[3] = {0, 0, 0}, occl_differ = 0, occluded = 0;
     for (int i = 0; i < n; ++i) {

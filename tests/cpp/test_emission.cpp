@@ -124,7 +124,7 @@ TEST(Emission, PdfsMatchEvaluationAndFluxIsPower) {
         const SceneView& v = hs.view();
         ASSERT_GE(v.num_lights, 1) << c.name;
         const Light& l = the_light(v);
-        Rng rng = Rng::for_path(11, 0, 0);
+        Pcg32 rng = Pcg32::for_path(11, 0, 0);
         const int n = 400000;
         double flux = 0.0, flux2 = 0.0;
         int checked = 0;
@@ -160,7 +160,7 @@ TEST(Emission, DirectionPdfIntegratesToOne) {
         const SceneView& v = hs.view();
         const Light& l = the_light(v);
         if (l.type == kLightSun && l.cos_sun >= 1.0f) continue;  // delta direction
-        Rng rng = Rng::for_path(5, 0, 0);
+        Pcg32 rng = Pcg32::for_path(5, 0, 0);
         EmissionSample ref{};
         for (int k = 0; k < 1000 && !ref.valid; ++k)  // a surface normal to evaluate at
             ref = sample_emission(v, l, rng.uniform2(), rng.uniform2());
@@ -213,7 +213,7 @@ TEST(Emission, CameraConnectionInvertsCameraRay) {
         in.screen[0] = -0.6f, in.screen[1] = 0.4f, in.screen[2] = -0.3f, in.screen[3] = 0.45f;
         HostScene hs(in);
         const CameraView& cam = hs.view().camera;
-        Rng rng = Rng::for_path(1, 2, 3);
+        Pcg32 rng = Pcg32::for_path(1, 2, 3);
         for (int k = 0; k < 200; ++k) {
             float x = 40.0f * rng.uniform(), y = 30.0f * rng.uniform();
             Ray r = camera_ray(cam, x, y);
@@ -243,7 +243,7 @@ TEST(Emission, CameraConnectionThroughTheLensInvertsCameraRay) {
         in.aperture_ratio = blades ? 2.0f : 1.0f;
         HostScene hs(in);
         const CameraView& cam = hs.view().camera;
-        Rng rng = Rng::for_path(4, 5, 6);
+        Pcg32 rng = Pcg32::for_path(4, 5, 6);
         for (int k = 0; k < 200; ++k) {
             float x = 40.0f * rng.uniform(), y = 30.0f * rng.uniform();
             Vec2 lens = sample_aperture(cam, rng.uniform2());
@@ -280,7 +280,7 @@ TEST(Emission, PanoramaConnectionInvertsCameraRay) {
         HostScene hs(in);
         const CameraView& cam = hs.view().camera;
         ASSERT_EQ(cam.panoramic, 1);
-        Rng rng = Rng::for_path(7, 8, 9);
+        Pcg32 rng = Pcg32::for_path(7, 8, 9);
         for (int k = 0; k < 300; ++k) {
             float x = 1.0f + 62.0f * rng.uniform(), y = 1.0f + 30.0f * rng.uniform();
             Ray r = camera_ray(cam, x, y);

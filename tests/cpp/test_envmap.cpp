@@ -54,7 +54,7 @@ struct Built {
 void check_pdf(const EnvMap& e, const std::string& what) {
     // integral of the pdf over the sphere by a fine stratified grid (4 pi / N per point)
     const int n = 1000;
-    Rng rng = Rng::for_path(1, 2, 3);
+    Pcg32 rng = Pcg32::for_path(1, 2, 3);
     double integral = 0.0;
     for (int i = 0; i < n; ++i)
         for (int j = 0; j < n; ++j) {
@@ -92,7 +92,7 @@ void check_chi2(const EnvMap& e, const std::string& what) {
             expected[(a / fine) * nphi + b / fine] +=
                 env_pdf_w(e, sphere_dir(u, v)) * cell * samples;
         }
-    Rng rng = Rng::for_path(9, 9, 9);
+    Pcg32 rng = Pcg32::for_path(9, 9, 9);
     for (int k = 0; k < samples; ++k) {
         Vec3 d, le;
         float pdf;
@@ -117,7 +117,7 @@ void check_chi2(const EnvMap& e, const std::string& what) {
 }  // namespace
 
 TEST(EnvMap, ProjectionsInvert) {
-    Rng rng = Rng::for_path(4, 5, 6);
+    Pcg32 rng = Pcg32::for_path(4, 5, 6);
     for (int p : {int(kEnvEquirect), int(kEnvMirrorBall)})
         for (int k = 0; k < 2000; ++k) {
             Vec2 uv = rng.uniform2();
@@ -181,7 +181,7 @@ TEST(EnvMap, OneTexelIsAConstantWorld) {
     ASSERT_EQ(b.st.view.width, 1);
     EXPECT_NEAR(b.st.mean.x, 1.0f, 1e-5f);
     EXPECT_NEAR(b.st.mean.z, 4.0f, 1e-5f);
-    Rng rng = Rng::for_path(1, 1, 1);
+    Pcg32 rng = Pcg32::for_path(1, 1, 1);
     for (int k = 0; k < 100; ++k) {
         Vec3 d = sphere_dir(rng.uniform(), rng.uniform());
         EXPECT_NEAR(env_radiance(b.st.view, d).y, 0.5f, 1e-6f);

@@ -20,7 +20,7 @@ namespace {
 template <typename Sample, typename Mass>
 double chi2_theta_phi(Sample sample, Mass mass, int n, int bt, int bp) {
     std::vector<int> hist(size_t(bt) * bp, 0);
-    Rng rng = Rng::for_path(11, 0, 0);
+    Pcg32 rng = Pcg32::for_path(11, 0, 0);
     for (int i = 0; i < n; ++i) {
         int t, p;
         if (!sample(rng.uniform2(), &t, &p)) return 1e30;
@@ -98,7 +98,7 @@ TEST(Sampling, CosineHemisphereChiSquare2D) {
 }
 
 TEST(Sampling, ConcentricDiskStaysInsideWithUniformArea) {
-    Rng rng = Rng::for_path(4, 0, 0);
+    Pcg32 rng = Pcg32::for_path(4, 0, 0);
     const int n = 100000;
     int inner = 0;
     for (int i = 0; i < n; ++i) {
@@ -118,7 +118,7 @@ TEST(Sampling, PowerHeuristicWeightsSumToOne) {
 
 TEST(Lambert, SampleAgreesWithEval) {
     const Vec3 albedo{0.2f, 0.5f, 0.9f};
-    Rng rng = Rng::for_path(9, 1, 2);
+    Pcg32 rng = Pcg32::for_path(9, 1, 2);
     for (int i = 0; i < 2000; ++i) {
         float pdf;
         Vec3 wo = sample_cosine_hemisphere(rng.uniform2(), &pdf);
@@ -147,7 +147,7 @@ TEST(Lambert, SampleAgreesWithEval) {
 TEST(Lambert, WhiteFurnaceAlbedoIsReflectance) {
     // E[weight] over BSDF samples = albedo (energy conservation, exactly for Lambert)
     const Vec3 albedo{0.7f, 0.7f, 0.7f};
-    Rng rng = Rng::for_path(1, 1, 1);
+    Pcg32 rng = Pcg32::for_path(1, 1, 1);
     double sum = 0.0;
     const int n = 10000;
     for (int i = 0; i < n; ++i) {

@@ -24,7 +24,7 @@ double ddot(DVec a, DVec b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 
 // Fraction of offset origins that end strictly on the requested side of the triangle's plane.
 double fraction_on_side(float scale, float sign) {
-    Rng rng = Rng::for_path(uint64_t(scale * 1000.0f), 1, 2);
+    Pcg32 rng = Pcg32::for_path(uint64_t(scale * 1000.0f), 1, 2);
     const int n = 20000;
     int good = 0;
     for (int i = 0; i < n; ++i) {
@@ -68,7 +68,7 @@ TEST(Sampling, SphereSolidAngleWarp) {
     const float dist = 3.0f, radius = 1.0f;
     const float cos_max = std::sqrt(1.0f - radius * radius / (dist * dist));
     const double solid_angle = 2.0 * kPi * (1.0 - cos_max);
-    Rng rng = Rng::for_path(2, 3, 4);
+    Pcg32 rng = Pcg32::for_path(2, 3, 4);
     for (int i = 0; i < 10000; ++i) {
         float pdf;
         Vec3 w = sample_sphere_solid_angle(rng.uniform2(), dist * dist, radius, &pdf);

@@ -62,7 +62,7 @@ Vec3 to_camera(const CameraAxes& c, Vec3 n) { return {dot(n, c.x), dot(n, c.y), 
 // ---- One sample of one pixel ----
 void sample_pixel(const SceneView& s, const CpuBackend& accel, const CameraAxes& cam,
                   const AovSettings& st, int pixel, int k, PixelSum& sum) {
-    Rng rng = Rng::for_path(st.seed ^ kAovStream, uint64_t(k), uint64_t(pixel));
+    Rng rng = Rng::for_pixel(st.seed ^ kAovStream, uint64_t(pixel), uint64_t(k));
     Ray ray = generate_camera_ray(s.camera, pixel, rng);
     HitRecord hit = accel.intersect(ray, RayKind::kCamera);
     const Vec3 world = s.world_light >= 0 ? s.lights[s.world_light].radiance : vec3(0.0f);

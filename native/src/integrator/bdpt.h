@@ -529,8 +529,8 @@ LANTERN_HD inline void bdpt_camera_connect(const SceneView& s, const BdptState& 
         return;
     }
     // own stream per (path, depth), so that the three camera-pass stages never share one
-    Rng rng = Rng::for_path(st.seed ^ 0x434F4E4Eull, st.iteration,
-                            uint64_t(path) * 1024u + uint64_t(z.depth));
+    Rng rng = Rng::hashed(Rng::for_camera(st.seed ^ 0x434F4E4Eull ^ (uint64_t(z.depth) << 40),
+                                          st.iteration, st.spp_per_iteration, path));
     const float size = float(cache.size);
     auto pick = [&](uint32_t bits) { return cache_pick(bits, cache.size); };
     if (st.mode == kLvcUniform) {

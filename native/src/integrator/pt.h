@@ -16,7 +16,7 @@ namespace lantern {
 // ---- Generate: slot i starts path `path` of the iteration, in pixel path / spp_per_iteration ----
 LANTERN_HD inline void pt_generate(const SceneView& s, const PathState& ps, const PtSettings& st,
                                    int i, int64_t path) {
-    Rng rng = Rng::for_path(st.seed, st.iteration, uint64_t(path));
+    Rng rng = Rng::for_camera(st.seed, st.iteration, st.spp_per_iteration, path);
     Ray r = generate_camera_ray(s.camera, int(path / st.spp_per_iteration), rng);
     ps.ray_o[i] = r.o;
     ps.ray_d[i] = r.d;
