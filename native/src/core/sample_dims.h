@@ -32,8 +32,13 @@ namespace lantern {
 //     +7              Russian roulette (only at depth >= rr_depth; otherwise skipped)
 //   Fixed per bounce: a delta material still consumes +0..+3 (bdpt) or draws them unused (pt);
 //   emission and misses draw nothing. With kQmcDims 34, bounces 1-4 are Sobol' (of a pinhole).
-//   To add draws to a bounce (e.g. resampled direct light: M candidates), put them after +7 as
-//   whole pairs and raise kCameraBounceDims by their count rounded up to even.
+//   The light pick walks the light tree (scene/light_tree.h) with +0 alone, rescaled per level.
+//   pt with resampled direct light (PtSettings::light_candidates M > 1, integrator/
+//   nee_resample.h): +1 chooses among the candidates, and 3 (M - 1) single numbers (pick, point)
+//   for candidates 2..M follow +3, always drawn, so the BSDF pair and what follows it start
+//   3 (M - 1) dims later, rounded up to even by uniform2(); the table below is that of M = 1.
+//   To add draws to a bounce, better put them after +7 as whole pairs and raise
+//   kCameraBounceDims by their count rounded up to even.
 constexpr uint32_t kCameraFilter = 0;
 constexpr uint32_t kCameraLens = 2;
 constexpr uint32_t kCameraBounce0 = 2;  // of a pinhole; + 2 with an aperture
