@@ -11,6 +11,7 @@
 #include <cuda_runtime.h>
 
 #include <chrono>
+#include <memory>
 #include <cooperative_groups.h>
 #include <cooperative_groups/reduce.h>
 #include <cub/device/device_radix_sort.cuh>
@@ -198,6 +199,12 @@ public:
         });
         return int64_t(read_counter());
     }
+    template <typename F>
+    int64_t sum_of(int n, F value) {  // value(k) -> an integer >= 0
+        unsigned long long* ctr = counter();
+        each(n, [=] __device__(int k) { cuda_detail::warp_add(ctr, (unsigned long long)value(k)); });
+        return int64_t(read_counter());
+    }
     template <typename T>
     int64_t sum(const T* in, int n) {  // of values >= 0 (flags and counts): unsigned counters
         unsigned long long* ctr = counter();
@@ -287,13 +294,30 @@ public:
         });
     }
 
-    // ---- light-tracing splats (double atomics) ----
+    // A ray query one thread of an each() makes: value-captured by the schedule's kernels.
+    struct Rays {
+        BvhView bvh;
+        SceneView s;
+        __device__ static uint32_t need(RayKind kind) {
+            return kind == RayKind::kCamera   ? kBvhNeedCamera
+                   : kind == RayKind::kShadow ? kBvhNeedShadow
+                                              : kBvhNeedIndirect;
+        }
+        __device__ bool occluded(const Ray& r, RayKind kind) const {
+            return bvh_occluded(bvh, r, need(kind), BvhAlphaTest{s, r});
+        }
+    };
+    Rays rays() const { return Rays{bvh_, scene_}; }
+
+    // ---- light-tracing splats (double atomics); with `slots`, item k is slot slots[k] ----
     void splat(int n, const uint8_t* valid, const Vec2* xy, const Vec3* value,
-               const CameraView& cam, double scale, double* image) {
+               const CameraView& cam, double scale, double* image,
+               const int32_t* slots = nullptr) {
         each(n, [=] __device__(int k) {
-            if (!valid[k]) return;
-            const Vec3 v = value[k];
-            splat_pixels(cam, xy[k], scale, [&](int pixel, double f) {
+            const int i = slots ? slots[k] : k;
+            if (!valid[i]) return;
+            const Vec3 v = value[i];
+            splat_pixels(cam, xy[i], scale, [&](int pixel, double f) {
                 atomicAdd(image + 3 * size_t(pixel) + 0, f * v.x);
                 atomicAdd(image + 3 * size_t(pixel) + 1, f * v.y);
                 atomicAdd(image + 3 * size_t(pixel) + 2, f * v.z);
@@ -310,7 +334,7 @@ public:
     }
 
     // ---- budget and out-of-memory policy ----
-    static CacheCosts cache_costs(bool bdpt_index) { return lantern::cache_costs(bdpt_index, true); }
+    static CacheCosts cache_costs(bool bdpt_index) { return lantern::cache_costs(bdpt_index); }
     // Out of GPU memory arrives as CudaUnavailable: the renderer halves its paths in flight and
     // the cache budget, down to a floor, then the session goes on on the CPU.
     static bool out_of_memory(const std::exception& e) {

@@ -347,7 +347,7 @@ int Renderer::bdpt_samples_per_pass(int spp_it, std::vector<std::string>& warnin
                              0.5 * double(std::max<int64_t>(free_at_start_ - stack_reserve_, 0)));
     if (set_.cache_budget_mb > 0) budget = double(set_.cache_budget_mb) * (1 << 20);
     cache_budget_ = budget * budget_scale_;
-    cache_costs_ = cache_costs(mode_ == kBdptOwnPath, true);
+    cache_costs_ = cache_costs(mode_ == kBdptOwnPath);
     return cache_samples_per_pass(cache_budget_, vertices_per_path_, cache_costs_, set_.max_depth,
                                   spp_it, width_, height_, "light vertex cache (GPU)",
                                   &split_warned_, warnings);
