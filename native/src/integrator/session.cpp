@@ -183,18 +183,11 @@ bool Session::step_locked() {
     auto t0 = Clock::now();
     if (gpu_) return step_cuda(t0);
     iteration_sum_.assign(accum_.size(), 0.0);
-    WavefrontStep st;
-    st.set = settings_;
-    st.width = width_;
-    st.height = height_;
+    WavefrontStep st(settings_, width_, height_, iteration_, iteration_sum_.data(), &stats_,
+                     &cancel_, &warnings_);
     st.chunk_paths = kChunkPaths;
     st.shadow_budget = kShadowBudget;
     st.cache_budget = CpuExec::cache_budget(settings_.cache_budget_mb);
-    st.iteration = iteration_;
-    st.sum = iteration_sum_.data();
-    st.stats = &stats_;
-    st.cancel = &cancel_;
-    st.warnings = &warnings_;
     const bool ok = wf::run_iteration(*exec_, *wave_, scene_->view(), st);
     iteration_ = st.iteration;
     if (!ok) return false;

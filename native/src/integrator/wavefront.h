@@ -36,19 +36,23 @@ inline int bits_for(uint32_t v) {  // bits to write 0..v
     return b;
 }
 
-// What one step asks of the schedule; the backend fills in its sizes and budget.
+// What one step asks of the schedule; the backend sets its sizes and budget.
 struct WavefrontStep {
+    WavefrontStep(const SessionSettings& s, int w, int h, uint64_t it, double* out,
+                  SessionStats* st, const std::atomic<bool>* c, std::vector<std::string>* warn)
+        : set(s), width(w), height(h), iteration(it), sum(out), stats(st), cancel(c),
+          warnings(warn) {}
     SessionSettings set;            // spp_per_iteration is a pass's while a pass runs
     int width = 0, height = 0;
-    int chunk_paths = 1 << 18;      // paths in flight per chunk
-    int shadow_budget = 1 << 21;    // connection slots per camera chunk
-    double cache_budget = 0.0;      // bytes of a pass's cache and its bdpt index
-    const char* cache_name = "light vertex cache";
     uint64_t iteration = 0;         // random-number stream of the running pass
     double* sum = nullptr;          // the iteration's sum in the executor's memory (3 per pixel)
     SessionStats* stats = nullptr;
     const std::atomic<bool>* cancel = nullptr;
     std::vector<std::string>* warnings = nullptr;
+    int chunk_paths = 1 << 18;      // paths in flight per chunk
+    int shadow_budget = 1 << 21;    // connection slots per camera chunk
+    double cache_budget = 0.0;      // bytes of a pass's cache and its bdpt index
+    const char* cache_name = "light vertex cache";
     bool cancelled() const { return cancel->load(); }
 };
 
