@@ -1,11 +1,9 @@
-// The CUDA executor: the interface of backend/cpu/cpu_exec.h on a GPU. Device arrays with the
-// shared memory meter, each() as a kernel, CUB's stable DeviceSelect / DeviceScan /
-// DeviceRadixSort, integer reductions with one atomic per warp (cooperative groups), ray
-// queries over a queue against the device BVH, splats with double atomics (the last bits then
-// depend on scheduling: kDeterministicSplats is false), host readback, stage timing with a
-// stream synchronisation, and the GPU's budget and out-of-memory policy. Every call selects the
-// executor's device first: it may run on another thread than the one that made it.
-// tests/cuda/exec_conformance.cu checks it against tests/cpp/exec_conformance.h's references.
+// The CUDA executor: backend/cpu/cpu_exec.h's interface on a GPU (device arrays on the shared
+// meter, each() as a kernel, CUB's stable select / scan / radix sort, integer reductions with one
+// atomic per warp, ray queries against the device BVH, splats with double atomics, readback,
+// timing with a stream synchronisation, the out-of-memory policy). Every call selects the device
+// first: steps run on another thread than the one that made it. tests/cuda/exec_conformance.cu
+// checks it against tests/cpp/exec_conformance.h's references.
 #pragma once
 
 #include <cuda_runtime.h>
@@ -207,9 +205,7 @@ public:
     }
     template <typename T>
     int64_t sum(const T* in, int n) {  // of values >= 0 (flags and counts): unsigned counters
-        unsigned long long* ctr = counter();
-        each(n, [=] __device__(int k) { cuda_detail::warp_add(ctr, (unsigned long long)in[k]); });
-        return int64_t(read_counter());
+        return sum_of(n, [=] __device__(int k) { return in[k]; });
     }
     template <typename F>
     uint32_t bits_or(int n, F bits) {
