@@ -66,7 +66,7 @@ bool has_warning(const Session& s, const std::string& part) {
 }  // namespace
 
 TEST(CacheBudget, GrowthIsExactAndStopsAtTheBudget) {
-    const CacheCosts c = cache_costs(false, false);
+    const CacheCosts c = cache_costs(false);
     // room for 1000 more vertices than stored: exactly the stored ones plus the rate's share
     EXPECT_EQ(cache_grow_capacity(1000, 0, 100, 200, 1e9, c), size_t(1000 + 1050));
     // the copy's transient (old + new) past the budget throws, with the rate measured so far
@@ -79,7 +79,7 @@ TEST(CacheBudget, GrowthIsExactAndStopsAtTheBudget) {
         EXPECT_DOUBLE_EQ(e.vertices_per_path, 40.0);
     }
     // the bdpt index is inside the budget: fewer vertices fit, and fewer samples per pass
-    const CacheCosts bdpt = cache_costs(true, false);
+    const CacheCosts bdpt = cache_costs(true);
     EXPECT_LT(cache_max_vertices(budget, bdpt, 100), cache_max_vertices(budget, c, 100));
     bool warned = false;
     std::vector<std::string> w;

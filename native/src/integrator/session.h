@@ -13,14 +13,15 @@
 #include <vector>
 
 #include "integrator/bdpt.h"
-#include "integrator/path_state.h"
-#include "integrator/wavefront_cache.h"
 #include "scene/scene.h"
 
 namespace lantern {
 
 class CpuBackend;
+class CpuExec;
 class CudaRenderer;
+template <class Exec>
+struct Wavefront;
 
 // Integrator "lt" cannot render receiver-dependent lights (soft-falloff point/spot of radius > 0):
 // throws std::invalid_argument naming the first one (docs/lvc_notes.md). lt_session.cpp.
@@ -44,8 +45,8 @@ struct SessionSettings {
     int light_candidates = 1;  // pt: resampled next-event estimation over M candidates (1: off)
 };
 
-// Shared by the CPU session and the CUDA backend (bdpt_session.cpp).
-// The settings of one pass of a bidirectional iteration: mode (BdptMode), MIS count r.
+// The settings of one pass of a bidirectional iteration: mode (BdptMode), MIS count r
+// (bdpt_session.cpp; the schedule's, integrator/schedule_bdpt.h, for every backend).
 BdptSettings make_bdpt_settings(const SessionSettings& s, int width, int height,
                                 uint64_t iteration, int mode, float r);
 // Samples per light pass, the cache's capacity and growth: integrator/wavefront_cache.h.
@@ -107,36 +108,15 @@ private:
     void init(const SceneInput& scene, std::unique_ptr<CudaRenderer> gpu);
     bool step_locked();
     void restart();  // session_update.cpp: accumulation from zero, as in a new session
-    bool step_bidirectional(int spp_it);
     void publish();  // copies the stepping thread's stats and warnings for the readers
     void start_cpu_backend();
     bool step_cuda(std::chrono::steady_clock::time_point t0);
-    void run_chunk(int64_t first_path, int num_paths);
-    void run_lt_chunk(int64_t first_path, int num_paths);  // lt_session.cpp
-    void film(int64_t first_path, int num_paths);
-    // shared by every schedule: closest hits of the queued slots' rays (camera rays see only
-    // camera-visible triangles), the queued light-tracing segments against what the camera sees (returns how
-    // many were tested), and the chunk's dropped non-finite contributions into the stats
-    void trace_queue(int active, bool camera_rays);
-    int64_t test_camera_segments(int active);
-    void count_dropped(int n);
-    // bdpt_session.cpp: one iteration of bdpt / lvc / cis into iteration_sum_
-    bool run_bdpt_iteration();
-    void run_light_chunk(int64_t first_path, int num_paths);
-    void run_camera_chunk(int64_t first_path, int num_paths);
-    void sort_queue(int active);
-    void resize_bdpt_state(int n, int conn_cap);
-    BdptSettings bdpt_settings() const;
-    int bdpt_samples_per_pass(int spp_it);
-    void measure_cache_rate();           // the pilot light pass: vertices per light path
-    void cache_reserve(size_t vertices);  // capacity, keeping the contents, metered
-    void release_cache(bool vertices = true);  // the bdpt index and (vertices) the cache
-    void splat(const std::vector<int32_t>& slots, int count);
-    void resize_state(int n);
 
     SessionSettings settings_;
     std::unique_ptr<HostScene> scene_;
     std::unique_ptr<CpuBackend> backend_;   // null while the GPU renders
+    std::unique_ptr<CpuExec> exec_;         // on backend_: the schedule's executor
+    std::unique_ptr<Wavefront<CpuExec>> wave_;  // the schedule's state (integrator/wavefront.h)
     std::unique_ptr<CudaRenderer> gpu_;
     std::string backend_name_ = "cpu", device_name_ = "cpu";
     std::vector<std::string> warnings_;
@@ -150,38 +130,6 @@ private:
     mutable std::mutex result_mutex_;  // accum_, spp_, gpu_'s lifetime, the published copies
     SessionStats published_stats_;
     std::vector<std::string> published_warnings_;
-
-    // wavefront storage for one chunk of paths
-    std::vector<Vec3> ray_o_, ray_d_, throughput_, radiance_, shadow_o_, shadow_d_, shadow_c_;
-    std::vector<Vec3> prev_p_, prev_n_;  // PathState::prev_p / prev_n (light tree MIS)
-    std::vector<float> ray_tmin_, ray_tmax_, prev_pdf_, hit_t_, shadow_tmax_;
-    std::vector<Rng> rng_;
-    std::vector<int32_t> depth_, hit_prim_, queue_, next_queue_;
-    std::vector<Vec2> hit_uv_;
-    std::vector<uint8_t> alive_, dropped_, shadow_valid_, occluded_;
-    PathState state_{};
-    // light paths (integrator "lt")
-    std::vector<Vec3> power_;
-    std::vector<Vec2> splat_xy_;
-    // bidirectional integrators
-    bool bidirectional_ = false, sort_ = false;
-    int mode_ = 0, conn_cap_ = 0;
-    float mis_r_ = 1.0f;
-    double vertices_per_path_ = -1.0;  // cache vertices per light path, last iteration (< 0: none)
-    bool pilot_ = false;
-    bool split_warned_ = false, restart_warned_ = false;
-    int64_t pilot_count_ = 0;
-    double cache_budget_ = 0.0;        // bytes a pass's cache and index may hold
-    CacheCosts cache_costs_{};
-    MemoryMeter cache_meter_;
-    int64_t pass_light_paths_ = 0;     // L of the running pass
-    std::vector<float> dvcm_, dvc_, conn_tmax_;
-    std::vector<int32_t> light_id_, conn_n_, sort_tmp_;
-    std::vector<uint8_t> store_;
-    std::vector<LightVertex> vertex_, cache_;
-    std::vector<Vec3> conn_o_, conn_d_, conn_c_;
-    std::vector<int32_t> path_offset_, path_vertex_;
-    BdptState bdpt_state_{};
 };
 
 }  // namespace lantern

@@ -7,6 +7,9 @@
 
 #include "integrator/session.h"
 
+#include "backend/cpu/cpu_exec.h"
+#include "integrator/wavefront.h"
+
 namespace lantern {
 
 void Session::restart() {
@@ -18,7 +21,7 @@ void Session::restart() {
         spp_ = 0;
     }
     iteration_ = 0;
-    vertices_per_path_ = -1.0;  // the light vertex cache estimate is per view
+    if (wave_) wave_->vertices_per_path = -1.0;  // the light vertex cache estimate is per view
     cancel_.store(false);       // a cancel of the old view's step is served
     publish();
 }

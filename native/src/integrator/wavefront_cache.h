@@ -19,14 +19,20 @@
 namespace lantern {
 
 // Bytes a meter holds now and the most it held at once, transient peaks included: an owner adds
-// a new allocation before it frees the old one.
+// a new allocation before it frees the old one. A meter with a parent (the cache's, under the
+// executor's) passes every change on, so the parent sees the whole.
 struct MemoryMeter {
     int64_t current = 0, peak = 0;
+    MemoryMeter* parent = nullptr;
     void add(int64_t b) {
         current += b;
         peak = std::max(peak, current);
+        if (parent) parent->add(b);
     }
-    void sub(int64_t b) { current -= b; }
+    void sub(int64_t b) {
+        current -= b;
+        if (parent) parent->sub(b);
+    }
 };
 
 // Bytes of one pass's cache per stored vertex and per light path.
@@ -35,14 +41,14 @@ struct CacheCosts {
     double per_path = 0.0;                    // the bdpt index's entries per light path
 };
 
-// bdpt indexes the cache by light path. CPU: path_vertex (4 B per vertex), path_offset and its
-// fill counters (8 B per path). CUDA: path_vertex, its input, the keys and the sorted keys
-// (16 B per vertex), path_offset (4 B per path). lvc and cis keep no index.
-inline CacheCosts cache_costs(bool bdpt_index, bool gpu) {
+// bdpt indexes the cache by light path, the same way on every backend (schedule_bdpt.h): the
+// path keys and path_vertex, with the sort's scratch copy of both (16 B per vertex), and
+// path_offset (4 B per path). lvc and cis keep no index.
+inline CacheCosts cache_costs(bool bdpt_index) {
     CacheCosts c;
     if (bdpt_index) {
-        c.per_vertex += gpu ? 4 * sizeof(int32_t) : sizeof(int32_t);
-        c.per_path = gpu ? sizeof(int32_t) : 2 * sizeof(int32_t);
+        c.per_vertex += 4 * sizeof(int32_t);
+        c.per_path = sizeof(int32_t);
     }
     return c;
 }

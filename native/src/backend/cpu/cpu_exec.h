@@ -84,7 +84,7 @@ private:
     void allocate(size_t n) {
         if (meter_) meter_->add(int64_t(n * sizeof(T)));
         try {
-            p_.reset(new T[n]);
+            p_.reset(new T[n]());  // zeroed, as a std::vector's new items
         } catch (...) {
             if (meter_) meter_->sub(int64_t(n * sizeof(T)));
             throw;
@@ -133,6 +133,14 @@ public:
         return block_sum(n, [&](int b, int e) {
             int64_t c = 0;
             for (int k = b; k < e; ++k) c += pred(k) ? 1 : 0;
+            return c;
+        });
+    }
+    template <typename F>
+    int64_t sum_of(int n, F&& value) {  // value(k) -> an integer
+        return block_sum(n, [&](int b, int e) {
+            int64_t c = 0;
+            for (int k = b; k < e; ++k) c += int64_t(value(k));
             return c;
         });
     }
@@ -218,14 +226,28 @@ public:
         each(n, [&](int k) { blocked(k, rays_->occluded(ray_of(k))); });
     }
 
+    // A ray query one item of an each() can make: value-captured by the schedule's kernels.
+    // occluded(r, kind): a shadow ray (kShadow), or any hit among what `kind` sees.
+    struct Rays {
+        const CpuBackend* b;
+        HitRecord closest(const Ray& r, RayKind kind) const { return b->intersect(r, kind); }
+        bool occluded(const Ray& r, RayKind kind) const {
+            return kind == RayKind::kShadow ? b->occluded(r) : b->intersect(r, kind).prim >= 0;
+        }
+    };
+    Rays rays() const { return Rays{rays_}; }
+
     // ---- light-tracing splats: for k in queue order with valid[k], value[k] through the pixel
     // filter at raster position xy[k] into image (3 doubles per pixel), scaled by `scale`.
+    // With `slots`, item k reads valid, xy and value at slots[k] (a queue of path slots).
     void splat(int n, const uint8_t* valid, const Vec2* xy, const Vec3* value,
-               const CameraView& cam, double scale, double* image) {
+               const CameraView& cam, double scale, double* image,
+               const int32_t* slots = nullptr) {
         for (int k = 0; k < n; ++k) {
-            if (!valid[k]) continue;
-            const Vec3 v = value[k];
-            splat_pixels(cam, xy[k], scale, [&](int pixel, double f) {
+            const int i = slots ? slots[k] : k;
+            if (!valid[i]) continue;
+            const Vec3 v = value[i];
+            splat_pixels(cam, xy[i], scale, [&](int pixel, double f) {
                 double* d = image + size_t(pixel) * 3;
                 d[0] += f * v.x;
                 d[1] += f * v.y;
@@ -254,7 +276,7 @@ public:
         if (cache_budget_mb > 0) budget = double(cache_budget_mb) * (1 << 20);
         return budget;
     }
-    static CacheCosts cache_costs(bool bdpt_index) { return lantern::cache_costs(bdpt_index, false); }
+    static CacheCosts cache_costs(bool bdpt_index) { return lantern::cache_costs(bdpt_index); }
     // Host memory runs out as std::bad_alloc: the step fails with a message that says what to
     // lower (the session keeps the image of the finished steps).
     static bool out_of_memory(const std::exception& e) {

@@ -1,16 +1,15 @@
-// The CUDA executor: the interface of backend/cpu/cpu_exec.h on a GPU. Device arrays with the
-// shared memory meter, each() as a kernel, CUB's stable DeviceSelect / DeviceScan /
-// DeviceRadixSort, integer reductions with one atomic per warp (cooperative groups), ray
-// queries over a queue against the device BVH, splats with double atomics (the last bits then
-// depend on scheduling: kDeterministicSplats is false), host readback, stage timing with a
-// stream synchronisation, and the GPU's budget and out-of-memory policy. Every call selects the
-// executor's device first: it may run on another thread than the one that made it.
-// tests/cuda/exec_conformance.cu checks it against tests/cpp/exec_conformance.h's references.
+// The CUDA executor: backend/cpu/cpu_exec.h's interface on a GPU (device arrays on the shared
+// meter, each() as a kernel, CUB's stable select / scan / radix sort, integer reductions with one
+// atomic per warp, ray queries against the device BVH, splats with double atomics, readback,
+// timing with a stream synchronisation, the out-of-memory policy). Every call selects the device
+// first: steps run on another thread than the one that made it. tests/cuda/exec_conformance.cu
+// checks it against tests/cpp/exec_conformance.h's references.
 #pragma once
 
 #include <cuda_runtime.h>
 
 #include <chrono>
+#include <memory>
 #include <cooperative_groups.h>
 #include <cooperative_groups/reduce.h>
 #include <cub/device/device_radix_sort.cuh>
@@ -198,11 +197,15 @@ public:
         });
         return int64_t(read_counter());
     }
+    template <typename F>
+    int64_t sum_of(int n, F value) {  // value(k) -> an integer >= 0
+        unsigned long long* ctr = counter();
+        each(n, [=] __device__(int k) { cuda_detail::warp_add(ctr, (unsigned long long)value(k)); });
+        return int64_t(read_counter());
+    }
     template <typename T>
     int64_t sum(const T* in, int n) {  // of values >= 0 (flags and counts): unsigned counters
-        unsigned long long* ctr = counter();
-        each(n, [=] __device__(int k) { cuda_detail::warp_add(ctr, (unsigned long long)in[k]); });
-        return int64_t(read_counter());
+        return sum_of(n, [=] __device__(int k) { return in[k]; });
     }
     template <typename F>
     uint32_t bits_or(int n, F bits) {
@@ -287,13 +290,30 @@ public:
         });
     }
 
-    // ---- light-tracing splats (double atomics) ----
+    // A ray query one thread of an each() makes: value-captured by the schedule's kernels.
+    struct Rays {
+        BvhView bvh;
+        SceneView s;
+        __device__ static uint32_t need(RayKind kind) {
+            return kind == RayKind::kCamera   ? kBvhNeedCamera
+                   : kind == RayKind::kShadow ? kBvhNeedShadow
+                                              : kBvhNeedIndirect;
+        }
+        __device__ bool occluded(const Ray& r, RayKind kind) const {
+            return bvh_occluded(bvh, r, need(kind), BvhAlphaTest{s, r});
+        }
+    };
+    Rays rays() const { return Rays{bvh_, scene_}; }
+
+    // ---- light-tracing splats (double atomics); with `slots`, item k is slot slots[k] ----
     void splat(int n, const uint8_t* valid, const Vec2* xy, const Vec3* value,
-               const CameraView& cam, double scale, double* image) {
+               const CameraView& cam, double scale, double* image,
+               const int32_t* slots = nullptr) {
         each(n, [=] __device__(int k) {
-            if (!valid[k]) return;
-            const Vec3 v = value[k];
-            splat_pixels(cam, xy[k], scale, [&](int pixel, double f) {
+            const int i = slots ? slots[k] : k;
+            if (!valid[i]) return;
+            const Vec3 v = value[i];
+            splat_pixels(cam, xy[i], scale, [&](int pixel, double f) {
                 atomicAdd(image + 3 * size_t(pixel) + 0, f * v.x);
                 atomicAdd(image + 3 * size_t(pixel) + 1, f * v.y);
                 atomicAdd(image + 3 * size_t(pixel) + 2, f * v.z);
@@ -310,7 +330,7 @@ public:
     }
 
     // ---- budget and out-of-memory policy ----
-    static CacheCosts cache_costs(bool bdpt_index) { return lantern::cache_costs(bdpt_index, true); }
+    static CacheCosts cache_costs(bool bdpt_index) { return lantern::cache_costs(bdpt_index); }
     // Out of GPU memory arrives as CudaUnavailable: the renderer halves its paths in flight and
     // the cache budget, down to a floor, then the session goes on on the CPU.
     static bool out_of_memory(const std::exception& e) {

@@ -1,7 +1,7 @@
 // The CUDA backend as the session sees it: plain C++ (no CUDA types), so session.cpp compiles
 // with or without CUDA. cuda_renderer.cu implements it when nvcc is found; cuda_stub.cpp says
-// "not compiled" otherwise. The renderer runs the same host+device stages as the CPU session
-// (integrator/pt.h, lt.h, bdpt.h) as kernels over device queues; docs/gpu.md.
+// "not compiled" otherwise. The renderer runs the CPU session's schedule (integrator/wavefront.h)
+// on CudaExec; docs/cuda_backend.md.
 #pragma once
 
 #include <atomic>

@@ -1,0 +1,342 @@
+// The bidirectional integrators' schedule (bdpt, lvc, cis: Algorithms 1 and 2 of the paper), for
+// every executor. One iteration = passes within the cache budget; a pass = a light pass over
+// L = width x height x spp light paths (trace, sort, shade, store vertices into the cache in
+// queue order by an exclusive scan, splat to the camera), the bdpt per-path index (a stable sort
+// of cache indices by path), then a camera pass in chunks (trace, sort, shade = emission + next
+// event + connections + next bounce, the bounce's shadow rays, compact). The CPU tests a slot's
+// shadow rays in one fused item (faster there); the GPU tests them as one batch, a thread per
+// ray, then adds the unoccluded ones per slot in a fixed order.
+#pragma once
+
+#include <new>
+#include <stdexcept>
+
+#include "integrator/bdpt.h"
+#include "integrator/wavefront.h"
+
+namespace lantern {
+namespace wf {
+
+template <class Exec>
+BdptSettings bdpt_settings(const Wavefront<Exec>& w, const WavefrontStep& st) {
+    return make_bdpt_settings(st.set, st.width, st.height, st.iteration, w.mode, w.mis_r);
+}
+
+// Samples per light pass so that the cache fits the budget (integrator/wavefront_cache.h).
+template <class Exec>
+int bdpt_samples_per_pass(Wavefront<Exec>& w, WavefrontStep& st, int spp_it) {
+    w.cache_costs = Exec::cache_costs(w.mode == kBdptOwnPath);
+    return cache_samples_per_pass(st.cache_budget, w.vertices_per_path, w.cache_costs,
+                                  st.set.max_depth, spp_it, st.width, st.height, st.cache_name,
+                                  &w.split_warned, *st.warnings);
+}
+
+template <class Exec>
+void light_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep& st,
+                 int64_t first_path, int n) {
+    w.resize(n, 0, Exec::kGpu);  // the light pass queues no connections
+    SessionStats& stats = *st.stats;
+    BdptSettings bst = bdpt_settings(w, st);
+    if (w.pilot) {
+        bst.iteration = ~uint64_t(0);  // its own random numbers
+        w.pilot_count = 0;
+    }
+    const PathState ps = w.ps;
+    const BdptState bs = w.bs;
+    int32_t* q0 = w.queue.data();
+    ex.timed(stats.time_generate, [&] {
+        ex.each(n, LANTERN_KERNEL(int i) {
+            bdpt_light_generate(s, ps, bs, bst, i, first_path + i);
+            q0[i] = i;
+        });
+    });
+    int active = compact(ex, w, n);
+    while (active > 0 && !st.cancelled()) {
+        stats.rays_light += active;
+        trace(ex, w, active, false, stats);
+        sort_queue(ex, w, s, active, stats);
+        const int32_t* q = w.queue.data();
+        ex.timed(stats.time_shade, [&] {
+            ex.each(active, LANTERN_KERNEL(int k) {
+                const int i = q[k];
+                bdpt_light_shade(s, ps, bs, bst, i, first_path + i);
+            });
+        });
+        // store vertices in queue order: places by an exclusive scan of the store flags
+        const auto t = Clock::now();
+        int32_t* f = w.flag.data();
+        int32_t* pos = w.scan.data();
+        const uint8_t* store = bs.store;
+        ex.each(active, LANTERN_KERNEL(int k) { f[k] = store[q[k]]; });
+        const int64_t add = ex.exclusive_scan(f, active, pos);
+        if (w.pilot) {
+            w.pilot_count += add;
+            active = compact(ex, w, active);
+            continue;
+        }
+        if (size_t(w.cache_size + add) > w.cache.capacity())  // exact growth, or CacheOverBudget
+            w.cache.grow_keep(cache_grow_capacity(size_t(w.cache_size + add), w.cache.capacity(),
+                                                  first_path + n, w.pass_light_paths,
+                                                  st.cache_budget, w.cache_costs),
+                              size_t(w.cache_size));
+        LightVertex* dst = w.cache.data() + w.cache_size;
+        const LightVertex* vtx = bs.vertex;
+        ex.each(active, LANTERN_KERNEL(int k) {
+            if (f[k]) dst[pos[k]] = vtx[q[k]];
+        });
+        w.cache_size += add;
+        ex.sync();
+        stats.time_cache += seconds_since(t);
+        // light tracing: camera segments against what the camera sees, then the splats
+        stats.rays_light_tracing += camera_segments(ex, w, active, stats);
+        ex.timed(stats.time_splat, [&] { splat(ex, w, s, st, active); });
+        active = compact(ex, w, active);
+    }
+    count_dropped(ex, w, n, stats);
+}
+
+// bdpt: the vertices of light path j are path_vertex[path_offset[j] .. path_offset[j + 1]), in
+// cache order (a stable sort of cache indices by path, then a binary search per path).
+template <class Exec>
+void index_cache_by_path(Exec& ex, Wavefront<Exec>& w, int64_t light_paths) {
+    const int nv = int(w.cache_size);
+    const int np = int(light_paths);
+    w.path_offset.grow(size_t(np) + 1);
+    w.path_key.grow(size_t(std::max(nv, 1)));
+    w.path_vertex.grow(size_t(std::max(nv, 1)));
+    const LightVertex* cache = w.cache.data();
+    uint32_t* key = w.path_key.data();
+    int32_t* idx = w.path_vertex.data();
+    ex.each(nv, LANTERN_KERNEL(int k) {
+        key[k] = uint32_t(cache[k].path);
+        idx[k] = k;
+    });
+    ex.sort_pairs(key, idx, nv, 0, bits_for(uint32_t(np)));
+    const uint32_t* sorted = key;
+    int32_t* off = w.path_offset.data();
+    ex.each(np + 1, LANTERN_KERNEL(int j) {
+        int lo = 0, hi = nv;  // first sorted key >= j
+        while (lo < hi) {
+            const int mid = (lo + hi) >> 1;
+            if (int64_t(sorted[mid]) < j) lo = mid + 1; else hi = mid;
+        }
+        off[j] = lo;
+    });
+    ex.sync();
+}
+
+template <class Exec>
+void camera_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep& st,
+                  int64_t first_path, int n) {
+    w.resize(n, w.conn_cap, Exec::kGpu);
+    SessionStats& stats = *st.stats;
+    const BdptSettings bst = bdpt_settings(w, st);
+    const PathState ps = w.ps;
+    const BdptState bs = w.bs;
+    const bool own = w.mode == kBdptOwnPath;
+    const LightCache cache{w.cache.data(), int32_t(w.cache_size),
+                           own ? w.path_offset.data() : nullptr,
+                           own ? w.path_vertex.data() : nullptr};
+    const auto rays = ex.rays();
+    int32_t* q0 = w.queue.data();
+    ex.timed(stats.time_generate, [&] {
+        ex.each(n, LANTERN_KERNEL(int i) {
+            bdpt_camera_generate(s, ps, bs, bst, i, first_path + i);
+            q0[i] = i;
+        });
+    });
+    int active = n;
+    stats.rays_camera += n;
+    bool first = true;
+    while (active > 0 && !st.cancelled()) {
+        trace(ex, w, active, first, stats);
+        sort_queue(ex, w, s, active, stats);
+        const int32_t* q = w.queue.data();
+        ex.timed(stats.time_shade, [&] {
+            ex.each(active, LANTERN_KERNEL(int k) {
+                const int i = q[k];
+                bdpt_camera_shade(s, ps, bs, bst, cache, i, first_path + i);
+            }, 64);
+        });
+        // every shadow ray of the bounce: next event and connections
+        ex.timed(stats.time_shadow, [&] {
+            stats.rays_shadow +=
+                ex.count(active, LANTERN_KERNEL(int k) { return ps.shadow_valid[q[k]] != 0; });
+            stats.rays_connection +=
+                ex.sum_of(active, LANTERN_KERNEL(int k) { return bs.conn_n[q[k]]; });
+            if constexpr (!Exec::kGpu) {  // one item per slot, in a fixed order
+                ex.each(active, LANTERN_KERNEL(int k) {
+                    const int i = q[k];
+                    if (ps.shadow_valid[i]) {
+                        const Ray r{ps.shadow_o[i], ps.shadow_d[i], 0.0f, ps.shadow_tmax[i]};
+                        if (!rays.occluded(r, RayKind::kShadow))
+                            add_radiance(ps, i, ps.shadow_contrib[i]);
+                    }
+                    for (int j = 0; j < bs.conn_n[i]; ++j) {
+                        const size_t e = size_t(i) * bs.conn_cap + j;
+                        const Ray r{bs.conn_o[e], bs.conn_d[e], 0.0f, bs.conn_tmax[e]};
+                        if (!rays.occluded(r, RayKind::kShadow)) add_radiance(ps, i, bs.conn_c[e]);
+                    }
+                }, 64);
+            } else {  // one thread per ray, [next event, connections...] per slot
+                const int per = bs.conn_cap + 1;
+                uint8_t* vis = w.conn_vis.data();
+                ex.each(active * per, LANTERN_KERNEL(int e) {
+                    const int k = e / per, j = e - k * per;
+                    const int i = q[k];
+                    uint8_t v = 0;
+                    if (j == 0) {
+                        if (ps.shadow_valid[i]) {
+                            const Ray r{ps.shadow_o[i], ps.shadow_d[i], 0.0f, ps.shadow_tmax[i]};
+                            v = rays.occluded(r, RayKind::kShadow) ? 0 : 1;
+                        }
+                    } else if (j - 1 < bs.conn_n[i]) {
+                        const size_t c = size_t(i) * bs.conn_cap + (j - 1);
+                        const Ray r{bs.conn_o[c], bs.conn_d[c], 0.0f, bs.conn_tmax[c]};
+                        v = rays.occluded(r, RayKind::kShadow) ? 0 : 1;
+                    }
+                    vis[e] = v;
+                });
+                ex.each(active, LANTERN_KERNEL(int k) {
+                    const int i = q[k];
+                    const uint8_t* v = vis + size_t(k) * per;
+                    if (v[0]) add_radiance(ps, i, ps.shadow_contrib[i]);
+                    for (int j = 0; j < bs.conn_n[i]; ++j)
+                        if (v[1 + j]) add_radiance(ps, i, bs.conn_c[size_t(i) * bs.conn_cap + j]);
+                });
+            }
+        });
+        active = compact(ex, w, active);
+        if (active) stats.rays_indirect += active;
+        first = false;
+    }
+    if (st.cancelled()) return;
+    film(ex, w, st, first_path, n);
+}
+
+// The pilot: a small light pass with its own random numbers, stored nowhere, counts the cache
+// vertices per light path before the first iteration (its passes and, for lvc / cis, r).
+template <class Exec>
+void measure_cache_rate(Exec& ex, Wavefront<Exec>& w, const SceneView& s, WavefrontStep& st) {
+    const int64_t light_paths = int64_t(st.width) * st.height * st.set.spp_per_iteration;
+    const int pilot = int(std::min<int64_t>(light_paths, 1 << 14));
+    w.pilot = true;
+    light_chunk(ex, w, s, st, 0, pilot);
+    w.pilot = false;
+    if (!st.cancelled()) w.vertices_per_path = double(w.pilot_count) / pilot;
+}
+
+// One pass: light pass into the cache, its index (bdpt), camera pass.
+template <class Exec>
+bool bdpt_pass(Exec& ex, Wavefront<Exec>& w, const SceneView& s, WavefrontStep& st) {
+    const int spp_it = st.set.spp_per_iteration;
+    const int64_t light_paths = int64_t(st.width) * st.height * spp_it;
+    SessionStats& stats = *st.stats;
+    // MIS count of a connection, r = N L / |C|: bdpt connects to every vertex of one light path
+    // (r = 1); lvc and cis take N picks out of |C| vertices from L paths, r from the previous
+    // iteration's cache (or the pilot), so the weights never depend on the paths they weight
+    auto t = Clock::now();
+    w.mis_r = w.mode == kBdptOwnPath || !(w.vertices_per_path > 0.0)
+                  ? 1.0f
+                  : float(st.set.connections / w.vertices_per_path);
+    // the cache starts at the capacity the measured rate predicts (wavefront_cache.h)
+    w.pass_light_paths = light_paths;
+    w.release_index();  // the last pass's
+    w.cache_size = 0;
+    const size_t want =
+        cache_initial_capacity(w.vertices_per_path, light_paths, st.cache_budget, w.cache_costs);
+    if (w.cache.capacity() < want ||
+        w.cache.capacity() > cache_max_vertices(st.cache_budget, w.cache_costs, double(light_paths)))
+        w.cache.release();  // empty: released before the new one, never both at once
+    w.cache.grow(want);
+    for (int64_t p0 = 0; p0 < light_paths; p0 += st.chunk_paths) {
+        light_chunk(ex, w, s, st, p0, int(std::min<int64_t>(st.chunk_paths, light_paths - p0)));
+        if (st.cancelled()) return false;
+    }
+    stats.cache_vertices = w.cache_size;
+    w.vertices_per_path = double(w.cache_size) / double(light_paths);
+    stats.time_light_pass += seconds_since(t);
+    t = Clock::now();
+    if (w.mode == kBdptOwnPath) index_cache_by_path(ex, w, light_paths);
+    stats.cache_memory_peak = w.cache_meter.peak;
+    stats.time_cache += seconds_since(t);
+    t = Clock::now();
+    w.conn_cap = w.mode == kBdptOwnPath ? std::max(1, st.set.max_depth - 1) : st.set.connections;
+    const int64_t pixels = int64_t(st.width) * st.height;
+    const int chunk = std::max(spp_it, std::min(st.chunk_paths, st.shadow_budget / w.conn_cap));
+    const int64_t chunk_pixels = std::max<int64_t>(1, chunk / spp_it);
+    for (int64_t q0 = 0; q0 < pixels; q0 += chunk_pixels) {
+        const int64_t np = std::min(chunk_pixels, pixels - q0);
+        camera_chunk(ex, w, s, st, q0 * spp_it, int(np * spp_it));
+        if (st.cancelled()) return false;
+    }
+    stats.time_camera_pass += seconds_since(t);
+    return true;
+}
+
+// An iteration as passes within the cache budget: past it, several light + camera passes of
+// fewer samples each (the same estimator: more, smaller iterations). A pass whose cache would
+// pass the budget after all stops, and the iteration starts again from its first pass with the
+// rate measured so far and passes of at most half the samples; the counts do not depend on
+// scheduling, so neither do the bits.
+template <class Exec>
+bool bidirectional_iteration(Exec& ex, Wavefront<Exec>& w, const SceneView& s,
+                             WavefrontStep& st) {
+    if (!(w.vertices_per_path >= 0.0)) {
+        measure_cache_rate(ex, w, s, st);
+        if (st.cancelled()) return false;
+    }
+    const int spp_it = st.set.spp_per_iteration;
+    const uint64_t iteration0 = st.iteration;
+    const SessionStats stats0 = *st.stats;
+    int per_pass = bdpt_samples_per_pass(w, st, spp_it);
+    for (;;) {
+        std::string over;
+        double rate = 0.0;
+        for (int done = 0; done < spp_it;) {
+            const int n = std::min(per_pass, spp_it - done);
+            st.set.spp_per_iteration = n;
+            bool ok = false;
+            try {
+                ok = bdpt_pass(ex, w, s, st);
+            } catch (const CacheOverBudget& e) {
+                over = e.what();
+                rate = e.vertices_per_path;
+            } catch (const std::bad_alloc&) {
+                st.set.spp_per_iteration = spp_it;
+                w.release_cache();
+                throw std::runtime_error(
+                    "out of memory for the light vertex cache (" + std::to_string(st.width) +
+                    "x" + std::to_string(st.height) + ", " + std::to_string(n) +
+                    " samples per pass); lower the resolution or use integrator 'pt'");
+            }
+            st.set.spp_per_iteration = spp_it;
+            if (!over.empty()) break;
+            if (!ok) return false;
+            ++st.iteration;  // every pass draws its own random numbers
+            done += n;
+        }
+        if (over.empty()) return true;
+        w.release_cache();
+        if (per_pass == 1)
+            throw std::runtime_error(over + ", at one sample per pass: raise cache_budget_mb, "
+                                            "or lower the resolution or max_depth, or use "
+                                            "integrator 'pt'");
+        st.iteration = iteration0;
+        *st.stats = stats0;
+        st.stats->cache_memory_peak = w.cache_meter.peak;
+        double* sum = st.sum;
+        ex.each(st.width * st.height * 3, LANTERN_KERNEL(int k) { sum[k] = 0.0; });
+        w.vertices_per_path = std::max(w.vertices_per_path, rate);
+        per_pass = std::max(1, std::min(per_pass / 2, bdpt_samples_per_pass(w, st, spp_it)));
+        if (!w.restart_warned) {
+            w.restart_warned = true;
+            st.warnings->push_back(std::string(st.cache_name) + ": " + over +
+                                   "; the iteration ran again in passes of " +
+                                   std::to_string(per_pass) + " samples");
+        }
+    }
+}
+
+}  // namespace wf
+}  // namespace lantern

@@ -1,0 +1,45 @@
+// The light tracer's chunk (integrator "lt"), for every executor: generate light paths, then per
+// bounce test the camera segments, splat the visible ones (in slot order on the CPU: the same
+// bits for any thread count), compact, trace and shade (wavefront.h).
+#pragma once
+
+#include "integrator/lt.h"
+#include "integrator/wavefront.h"
+
+namespace lantern {
+namespace wf {
+
+template <class Exec>
+void lt_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep& st,
+              int64_t first_path, int n) {
+    w.resize(n, 0, Exec::kGpu);
+    SessionStats& stats = *st.stats;
+    const PathState ps = w.ps;
+    const PtSettings pt{st.set.max_depth, st.set.rr_depth, st.set.spp_per_iteration, st.set.seed,
+                        st.iteration, st.set.light_candidates};
+    const LightPathState lp{w.power.data(), w.splat_xy.data()};
+    int32_t* q0 = w.queue.data();
+    ex.timed(stats.time_generate, [&] {
+        ex.each(n, LANTERN_KERNEL(int i) {
+            lt_generate(s, ps, lp, pt, i, first_path + i);
+            q0[i] = i;
+        });
+    });
+    int active = n;
+    while (!st.cancelled()) {
+        stats.rays_shadow += camera_segments(ex, w, active, stats);
+        ex.timed(stats.time_film, [&] { splat(ex, w, s, st, active); });
+        active = compact(ex, w, active);
+        if (active == 0) break;
+        stats.rays_indirect += active;  // light rays
+        trace(ex, w, active, false, stats);
+        const int32_t* q = w.queue.data();
+        ex.timed(stats.time_shade, [&] {
+            ex.each(active, LANTERN_KERNEL(int k) { lt_shade(s, ps, lp, pt, q[k]); });
+        });
+    }
+    count_dropped(ex, w, n, stats);
+}
+
+}  // namespace wf
+}  // namespace lantern

@@ -1,0 +1,55 @@
+// The path tracer's chunk (integrator "pt"), for every executor: generate camera paths, then per
+// bounce trace, shade, test the next-event shadow rays, compact (wavefront.h).
+#pragma once
+
+#include "integrator/pt.h"
+#include "integrator/wavefront.h"
+
+namespace lantern {
+namespace wf {
+
+template <class Exec>
+void pt_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep& st,
+              int64_t first_path, int n) {
+    w.resize(n, 0, Exec::kGpu);
+    SessionStats& stats = *st.stats;
+    const PathState ps = w.ps;
+    const PtSettings pt{st.set.max_depth, st.set.rr_depth, st.set.spp_per_iteration, st.set.seed,
+                        st.iteration, st.set.light_candidates};
+    const auto rays = ex.rays();
+    int32_t* q0 = w.queue.data();
+    // slots are chunk-local; the path's global index drives its random stream and pixel
+    ex.timed(stats.time_generate, [&] {
+        ex.each(n, LANTERN_KERNEL(int i) {
+            pt_generate(s, ps, pt, i, first_path + i);
+            q0[i] = i;
+        });
+    });
+    int active = n;
+    stats.rays_camera += n;
+    bool first = true;
+    while (active > 0 && !st.cancelled()) {
+        trace(ex, w, active, first, stats);
+        const int32_t* q = w.queue.data();
+        ex.timed(stats.time_shade,
+                 [&] { ex.each(active, LANTERN_KERNEL(int k) { pt_shade(s, ps, pt, q[k]); }); });
+        ex.timed(stats.time_shadow, [&] {
+            stats.rays_shadow +=
+                ex.count(active, LANTERN_KERNEL(int k) { return ps.shadow_valid[q[k]] != 0; });
+            ex.each(active, LANTERN_KERNEL(int k) {
+                const int i = q[k];
+                if (!ps.shadow_valid[i]) return;
+                const Ray r{ps.shadow_o[i], ps.shadow_d[i], 0.0f, ps.shadow_tmax[i]};
+                pt_shadow_result(ps, i, rays.occluded(r, RayKind::kShadow));
+            });
+        });
+        active = compact(ex, w, active);
+        if (active) stats.rays_indirect += active;
+        first = false;
+    }
+    if (st.cancelled()) return;
+    film(ex, w, st, first_path, n);
+}
+
+}  // namespace wf
+}  // namespace lantern
