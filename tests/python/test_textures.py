@@ -126,6 +126,10 @@ def test_bilinear_ramp_and_wrap_modes(backend):
         cols = img[8:56, 2:62, 0].astype(np.float64)  # the outer columns also see the sky
         se = cols.std(axis=0, ddof=1) / math.sqrt(cols.shape[0]) + 1e-4
         z = np.abs(cols.mean(axis=0) - exp[2:62]) / se
+        # the filter (1.5 px wide) averages across the kinks at the texel centres: compare
+        # only the columns whose filter support stays on one linear piece
+        x = np.arange(2, 62) + 0.5
+        z[(np.abs(x - 16) < 1.5) | (np.abs(x - 48) < 1.5)] = 0.0
         assert z.max() < 4.5, (wrap, z.max(), int(z.argmax()) + 2)
     # 8-bit sRGB is filtered encoded and decoded afterwards, as Cycles does: halfway between
     # black and white texels is decode(0.5) = 0.214, not 0.5
