@@ -19,7 +19,6 @@ import argparse
 import json
 import math
 import os
-import platform
 import sys
 import time
 from pathlib import Path
@@ -43,19 +42,6 @@ def _noise(stack):
     lit = lum.mean(axis=0) > 0  # the median over pixels that see something (not the void)
     med = float(np.median(var[lit])) if lit.any() else float("nan")
     return math.sqrt(float(var.mean())) / mean, math.sqrt(med) / mean, mean
-
-
-def _machine():
-    cpu = "unknown"
-    try:
-        for line in open("/proc/cpuinfo"):
-            if line.startswith("model name"):
-                cpu = line.split(":", 1)[1].strip()
-                break
-    except OSError:
-        pass
-    return {"cpu": cpu, "cores": os.cpu_count(), "platform": platform.platform(),
-            "python": platform.python_version()}
 
 
 def run_scene(name, args, lantern, rmse_cycles):
@@ -149,6 +135,7 @@ def main(argv=None):
     if args.seeds < 2:
         ap.error("--seeds must be at least 2 (noise is the spread between seeds)")
     import rmse_cycles
+    from light_tree_noise import machine
     from rmse import import_lantern
     lantern = import_lantern()  # this checkout's package (and its native module when built)
     print(f"lantern from {lantern.__file__}")
@@ -164,7 +151,7 @@ def main(argv=None):
         out = Path(args.out)
         out.mkdir(parents=True, exist_ok=True)
         (out / "results.json").write_text(json.dumps(
-            {"machine": _machine(), "args": vars(args), "rows": rows}, indent=1))
+            {"machine": machine(), "args": vars(args), "rows": rows}, indent=1))
         (out / "table.md").write_text(text + "\n")
         plot(rows, out / "plot.png")
 
