@@ -14,8 +14,7 @@ void pt_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep& st
     w.resize(n, 0, Exec::kGpu);
     SessionStats& stats = *st.stats;
     const PathState ps = w.ps;
-    const PtSettings pt{st.set.max_depth, st.set.rr_depth, st.set.spp_per_iteration, st.set.seed,
-                        st.iteration, st.set.light_candidates};
+    const PtSettings pt = st.pt_settings();
     const auto rays = ex.rays();
     int32_t* q0 = w.queue.data();
     // slots are chunk-local; the path's global index drives its random stream and pixel

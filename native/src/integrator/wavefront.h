@@ -54,6 +54,10 @@ struct WavefrontStep {
     double cache_budget = 0.0;      // bytes of a pass's cache and its bdpt index
     const char* cache_name = "light vertex cache";
     bool cancelled() const { return cancel->load(); }
+    PtSettings pt_settings() const {  // the camera paths' (pt) and the light paths' (lt)
+        return PtSettings{set.max_depth, set.rr_depth, set.spp_per_iteration, set.seed, iteration,
+                          set.light_candidates};
+    }
 };
 
 template <class Exec>
