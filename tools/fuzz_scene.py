@@ -115,11 +115,17 @@ def child(case, settings_json, out_path, render_s):
     selftest = settings.pop("_selftest", None)  # tests/python/test_fuzz.py: the classifier
 
     def finish(cls, message=""):
+        # VmHWM is this program's own peak RSS: exec starts it afresh. The parent's ru_maxrss
+        # is not: Linux carries the pre-exec high-water mark, the forked copy of the parent
+        # (a pytest process of a few hundred MB), into it.
         status = Path("/proc/self/status")
-        peak = [ln.split()[1] for ln in (status.read_text().splitlines() if status.exists()
-                                         else []) if ln.startswith("VmPeak")]
+        fields = dict(ln.split(":", 1) for ln in (status.read_text().splitlines()
+                                                  if status.exists() else []) if ":" in ln)
+
+        def mb(key):
+            return int(fields[key].split()[0]) // 1024 if key in fields else None
         result.update({"class": cls, "message": " ".join(str(message).split())[:500],
-                       "vm_peak_mb": int(peak[0]) // 1024 if peak else None})
+                       "vm_peak_mb": mb("VmPeak"), "rss_peak_mb": mb("VmHWM")})
         Path(out_path).write_text(json.dumps(result))
         os._exit(0)
 
@@ -214,7 +220,7 @@ def run_case(path, settings, accel, timeout_s, mem_mb, render_s):
     proc.returncode = os.waitstatus_to_exitcode(status)
     log.close()
     seconds = round(time.monotonic() - start, 2)
-    rss_mb = rusage.ru_maxrss / 1024
+    rss_mb = rusage.ru_maxrss / 1024  # includes the parent's size at fork: see child()
     if os.WIFSIGNALED(status):
         tail = Path(str(path) + ".log").read_bytes()[-300:].decode("utf8", "replace")
         sig = signal.Signals(os.WTERMSIG(status)).name
@@ -226,6 +232,8 @@ def run_case(path, settings, accel, timeout_s, mem_mb, render_s):
         return {"class": cls, "message": f"exit {proc.returncode}, no result: "
                 f"{' '.join(tail.split())[-200:]}", "seconds": seconds}
     result = json.loads(out.read_text())
+    if result.get("rss_peak_mb") is not None:
+        rss_mb = result["rss_peak_mb"]
     result.update(seconds=seconds, rss_mb=round(rss_mb))
     if rss_mb > mem_mb and result["class"] not in FAILURES:
         result["message"] = f"peak {rss_mb:.0f} MB (limit {mem_mb}): {result['message']}"

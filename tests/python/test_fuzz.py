@@ -53,3 +53,16 @@ def test_classifier(tmp_path, kind, expected):
     result = fuzz_scene.run_case(path, settings, "auto", timeout_s=4.0 if kind == "hang" else 60,
                                  mem_mb=256, render_s=10.0)
     assert result["class"] == expected, result
+
+
+def test_memory_is_the_child_own(tmp_path):
+    """A large parent does not count against the child: ru_maxrss carries the forked parent's
+    RSS across exec (CI's pytest process passed 256 MB and an 8x8 render was called 'memory')."""
+    ballast = bytearray(320 << 20)
+    ballast[::4096] = b"x" * len(range(0, 320 << 20, 4096))
+    path = tmp_path / "box.lantern"
+    scenes.cornell_box(width=8, height=8).save(path)
+    settings = {"integrator": "pt", "max_depth": 2, "threads": 1, "backend": "cpu"}
+    result = fuzz_scene.run_case(path, settings, "auto", timeout_s=60, mem_mb=256, render_s=10.0)
+    del ballast
+    assert result["class"] == "image" and result["rss_mb"] < 256, result
