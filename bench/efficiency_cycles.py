@@ -58,8 +58,11 @@ def run_scene(name, args, lantern, rmse_cycles):
         images["cycles"].append(img.astype(np.float64))
         times["cycles"].append(s)
         for integ in integrators:
-            sess = lantern.Session(lscene, integrator=integ, seed=1 + seed, threads=1,
-                                   spp_per_iteration=args.spp, max_depth=depth, backend="cpu")
+            name_, _, rr = integ.partition(":rr=")  # "pt:rr=3": pt with roulette from depth 3
+            extra = {"rr_depth": int(rr)} if rr else {}
+            sess = lantern.Session(lscene, integrator=name_, seed=1 + seed, threads=1,
+                                   spp_per_iteration=args.spp, max_depth=depth, backend="cpu",
+                                   **extra)
             t0 = time.perf_counter()
             sess.step()
             times[integ].append(time.perf_counter() - t0)
@@ -126,7 +129,8 @@ def plot(rows, path):
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--scenes", default=DEFAULT_SCENES)
-    ap.add_argument("--integrators", default="pt,lvc,cis")
+    ap.add_argument("--integrators", default="pt,lvc,cis",
+                    help="comma-separated; NAME:rr=N sets Russian roulette's first depth")
     ap.add_argument("--seeds", type=int, default=6)
     ap.add_argument("--spp", type=int, default=64)
     ap.add_argument("--res", type=int, default=64)

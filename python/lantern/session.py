@@ -28,7 +28,7 @@ DEFAULT_SETTINGS = {
     "max_depth": 16,
     "seed": 0,
     "threads": 0,
-    "rr_depth": 3,
+    "rr_depth": 4,          # Russian roulette from this depth (path_state.h); 0: off
     # bidirectional integrators (bdpt, lvc, cis)
     "sort": None,             # sort hits by material type: None = on for cis only
     "connections": 5,         # N: cache vertices per camera vertex (the paper's N = 5)

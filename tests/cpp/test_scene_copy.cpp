@@ -111,10 +111,11 @@ TEST(SceneCopy, EveryPointerOfTheViewIsCopied) {
         EXPECT_NE(wc[k], wa[k]) << "SceneView word " << k << " still points at host memory";
     }
     // positions, normals, uvs, tangents, textures, texels, sRGB table, indices, triangle
-    // materials, flags and lights, materials, lights, both CDFs, hittable and miss lists (the
-    // world colour is a miss light), the camera's filter table, the light tree's nodes and its
-    // distant lights (scene/light_tree.h: the scene has four lights): 20 arrays
-    EXPECT_EQ(pointers, 20);
+    // materials, flags and lights, materials, lights, the three CDFs (lt's, next-event
+    // estimation's, light paths'), hittable and miss lists (the world colour is a miss light),
+    // the camera's filter table, the light tree's nodes and its distant lights
+    // (scene/light_tree.h: the scene has four lights): 21 arrays
+    EXPECT_EQ(pointers, 21);
     // the copies hold the arrays' bytes, and the view's scalars are unchanged
     EXPECT_EQ(std::memcmp(v.positions, va.positions, 4 * sizeof(Vec3)), 0);
     EXPECT_EQ(std::memcmp(v.materials, va.materials, 4 * sizeof(Material)), 0);
@@ -155,9 +156,10 @@ TEST(SceneCopy, TheEnvironmentMapIsCopied) {
         EXPECT_TRUE(copied.count(reinterpret_cast<const void*>(wa[k]))) << "word " << k;
         EXPECT_NE(wc[k], wa[k]) << "word " << k;
     }
-    // 20 arrays differ (the light tree's two among them) between the two scenes; the map's three (texels, marginal, conditional)
-    // are shared, built once per content (build_envmap_cached), and copied all the same
-    EXPECT_EQ(pointers, 20);
+    // 21 arrays differ (the light tree's two among them) between the two scenes; the map's
+    // three (texels, marginal, conditional) are shared, built once per content
+    // (build_envmap_cached), and copied all the same
+    EXPECT_EQ(pointers, 21);
     ASSERT_EQ(va.env.width, 4);
     EXPECT_EQ(va.env.texels, vb.env.texels);
     for (const void* p : {static_cast<const void*>(va.env.texels),

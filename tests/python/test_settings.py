@@ -12,7 +12,7 @@ def test_defaults(monkeypatch):
     monkeypatch.setattr(session, "_native_has_cuda", lambda: False)  # a CPU-only core
     settings, warnings = session.resolve_settings({})
     assert settings == {"integrator": "pt", "backend": "cpu", "spp_per_iteration": 1,
-                        "max_depth": 16, "seed": 0, "threads": 0, "rr_depth": 3,
+                        "max_depth": 16, "seed": 0, "threads": 0, "rr_depth": 4,
                         "sort": None, "connections": 5, "candidates": 10,
                         "cis_target": "contribution", "naive_ris": False,
                         "cache_budget_mb": 0, "light_candidates": 1}

@@ -329,7 +329,7 @@ LANTERN_HD inline float bdpt_emission_weight(const SceneView& s, const PathState
     float dvcm = bs.dvcm[i], dvc = bs.dvc[i];
     const int li = int(&l - s.lights);
     const float pick = s.light_tree_on ? light_pick_pmf(s, li, ps.prev_p[i], ps.prev_n[i])
-                                       : l.pick_pdf;  // at the previous vertex
+                                       : l.nee_pdf;  // at the previous vertex
     float pdf_direct = pick * (l.type == kLightWorld ? world_pdf_w(s, d)
                                                      : light_pdf_w(l, o, d, t_light, n));
     if (!infinite) {
@@ -616,7 +616,7 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
         if (z.depth > 1 && li >= 0) {
             const Light& l = s.lights[li];
             const float pick = s.light_tree_on ? light_pick_pmf(s, li, ps.prev_p[i], ps.prev_n[i])
-                                               : l.pick_pdf;  // at the previous vertex
+                                               : l.nee_pdf;  // at the previous vertex
             float pdf_direct = pick * light_pdf_w(l, ps.ray_o[i], d, t_hit, z.h.ng) *
                                cos_in / (t_hit * t_hit);
             float pdf_emit = l.emit_pick_pdf * emission_pdf(s, l, z.h.ng, -d).pdf_emit;

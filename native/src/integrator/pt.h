@@ -40,7 +40,7 @@ LANTERN_HD inline float pt_emission_weight(const SceneView& s, const PathState& 
                                            float light_pdf_w) {
     if (ps.depth[i] <= 1 || !(ps.prev_pdf_w[i] > 0.0f)) return 1.0f;
     const float pick = s.light_tree_on ? light_pick_pmf(s, li, ps.prev_p[i], ps.prev_n[i])
-                                       : s.lights[li].pick_pdf;
+                                       : s.lights[li].nee_pdf;
     return power_heuristic(ps.prev_pdf_w[i], pick * light_pdf_w);
 }
 

@@ -32,7 +32,7 @@ struct SessionSettings {
     std::string backend = "cpu";
     int spp_per_iteration = 1;
     int max_depth = 16;
-    int rr_depth = 3;
+    int rr_depth = 4;  // Russian roulette from this depth (path_state.h); 0: off
     uint64_t seed = 0;
     int threads = 0;
     // bidirectional integrators (bdpt, lvc, cis)

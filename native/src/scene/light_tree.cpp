@@ -243,7 +243,7 @@ void build_light_tree(std::vector<Light>& lights, const std::vector<Vec3>& posit
                                           : l.radiance * (kPi * (1.0f - l.cos_sun * l.cos_sun)));
             out.distant.push_back(int32_t(k));
         } else if (l.type == kLightWorld) {
-            l.tree_energy = luminance(l.radiance);
+            l.tree_energy = l.nee_pdf > 0.0f ? luminance(l.radiance) : 0.0f;  // 0: never picked
             out.distant.push_back(int32_t(k));
         } else {
             Prim p{int32_t(k), light_bounds(l, positions, indices), vec3(0.0f)};

@@ -97,8 +97,9 @@ LANTERN_HD inline LightPick light_pick(const SceneView& s, Vec3 p, Vec3 n, float
     LightPick r{-1, 0.0f};
     if (s.num_lights <= 0) return r;
     if (!s.light_tree_on) {
-        r.light = sample_cdf(s.light_cdf, s.num_lights, u);
-        r.pmf = s.lights[r.light].pick_pdf;
+        if (!s.nee_cdf) return r;
+        r.light = sample_cdf(s.nee_cdf, s.num_lights, u);
+        r.pmf = s.lights[r.light].nee_pdf;
         return r;
     }
     float w_tree;
@@ -141,7 +142,7 @@ LANTERN_HD inline LightPick light_pick(const SceneView& s, Vec3 p, Vec3 n, float
 // order (subtrees are contiguous in depth-first order, so the leaf's index says the way down).
 LANTERN_HD inline float light_pick_pmf(const SceneView& s, int li, Vec3 p, Vec3 n) {
     const Light& l = s.lights[li];
-    if (!s.light_tree_on) return l.pick_pdf;
+    if (!s.light_tree_on) return l.nee_pdf;
     float w_tree;
     const float total = light_top_total(s, p, n, &w_tree);
     if (!(total > 0.0f)) return 0.0f;

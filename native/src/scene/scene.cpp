@@ -626,6 +626,24 @@ void HostScene::add_lights(const SceneInput& in) {
         light_cdf_.push_back(float(acc / total));
     }
     if (!light_cdf_.empty()) light_cdf_.back() = 1.0f;
+    // Next-event estimation leaves out a constant world: BSDF sampling alone is the better
+    // strategy there (its integrand is the BSDF times visibility), and saves the shadow ray.
+    // Cycles' "Auto" world sampling does the same for a solid colour (its manual: importance
+    // sampling "for non-solid colors is recommended"). A map (HDRI, sky) is sampled.
+    const bool world_map = env_->view.width > 0;
+    double nee_total = 0.0;
+    auto nee_power = [&](size_t k) {
+        return lights_[k].type == kLightWorld && !world_map ? 0.0 : double(power[k]);
+    };
+    for (size_t k = 0; k < lights_.size(); ++k) nee_total += nee_power(k);
+    acc = 0.0;
+    for (size_t k = 0; k < lights_.size(); ++k) {
+        lights_[k].nee_pdf = nee_total > 0.0 ? float(nee_power(k) / nee_total) : 0.0f;
+        acc += nee_power(k);
+        nee_cdf_.push_back(nee_total > 0.0 ? float(acc / nee_total) : 0.0f);
+    }
+    if (nee_total > 0.0) nee_cdf_.back() = 1.0f;
+    has_nee_lights_ = nee_total > 0.0;
     // Light sub-paths (bdpt, lvc, cis) start by power too, but never on a receiver-dependent
     // light (soft-falloff point/spot): it has no emission distribution (docs/lvc_notes.md).
     double emit_total = 0.0;
@@ -693,6 +711,7 @@ SceneView HostScene::copied_view(
     v.materials = put(view_.materials, materials_.size());
     v.lights = put(view_.lights, lights_.size());
     v.light_cdf = put(view_.light_cdf, light_cdf_.size());
+    v.nee_cdf = put(view_.nee_cdf, nee_cdf_.size());
     v.emit_cdf = put(view_.emit_cdf, emit_cdf_.size());
     v.light_tree = put(view_.light_tree, light_tree_.nodes.size());
     v.distant_lights = put(view_.distant_lights, light_tree_.distant.size());
@@ -741,6 +760,7 @@ void HostScene::finish_view(const SceneInput& in) {
     v.env = env_->view;
     v.lights = lights_.data();
     v.light_cdf = light_cdf_.data();
+    v.nee_cdf = has_nee_lights_ ? nee_cdf_.data() : nullptr;
     v.emit_cdf = has_emitters_ ? emit_cdf_.data() : nullptr;
     v.num_lights = int32_t(lights_.size());
     v.light_tree_on = light_tree_on_ ? 1 : 0;

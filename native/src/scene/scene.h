@@ -176,13 +176,14 @@ private:
     std::vector<int32_t> tri_light_, hittable_lights_, miss_lights_;
     std::vector<Material> materials_;
     std::vector<Light> lights_;
-    std::vector<float> light_cdf_, emit_cdf_, filter_cdf_;
+    std::vector<float> light_cdf_, nee_cdf_, emit_cdf_, filter_cdf_;
     std::vector<MaterialProgram> programs_;
     std::vector<NodeInstr> program_code_;
     std::vector<float> program_consts_, attributes_;
     int num_attribute_channels_ = 0;
     std::shared_ptr<const EnvMapStorage> env_ = std::make_shared<EnvMapStorage>();  // cached
     bool has_emitters_ = false;
+    bool has_nee_lights_ = false;  // next-event estimation has a light to pick
     LightTreeStorage light_tree_;  // next-event estimation's light tree (scene/light_tree.h)
     bool light_tree_on_ = false;
     std::vector<std::string> warnings_;

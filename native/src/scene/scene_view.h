@@ -146,7 +146,9 @@ struct Light {
     float cos_half_spot;    // spot: cosine of half the cone angle
     float spot_smooth;      // spot: (1 - cos_half_spot) * blend
     float cos_sun;          // sun: cosine of half the angle (1: delta)
-    float pick_pdf;         // probability of choosing this light for next-event estimation
+    float pick_pdf;         // probability of starting a light tracer's (lt) path on it
+    float nee_pdf;          // probability of next-event estimation choosing it (no light tree);
+                            // 0 for a constant world, which BSDF sampling finds better alone
     float emit_pick_pdf;    // probability of starting a light sub-path on it (0: camera-side only)
     // light tree (scene/light_tree.h): the leaf node of a local light (-1: distant or no tree)
     // and the intensity that ranks it (W/sr; distant lights: the irradiance, W/m^2)
@@ -239,7 +241,8 @@ struct SceneView {
     int32_t num_attribute_channels = 0;
 
     const Light* lights = nullptr;
-    const float* light_cdf = nullptr;    // normalised, for next-event estimation
+    const float* light_cdf = nullptr;    // normalised, by power: lt's light pick
+    const float* nee_cdf = nullptr;      // next-event estimation's (no tree); null: no light
     const float* emit_cdf = nullptr;     // normalised, for light sub-paths; null when none can start
     int32_t num_lights = 0;
     int32_t world_light = -1;            // index of the kLightWorld entry or -1
