@@ -1,6 +1,7 @@
 // The CUDA backend: the schedule every backend runs (integrator/wavefront.h, schedule_pt.h,
-// schedule_lt.h, schedule_bdpt.h) instantiated on CudaExec (cuda_exec.cuh). What is left here
-// is CUDA-only: the scene and BVH upload, the GPU's cache budget and out-of-memory policy, the
+// schedule_lt.h, schedule_bdpt.h) instantiated on CudaExec (cuda_exec.cuh) in cuda_schedule_*.cu,
+// one translation unit per part so that they compile side by side. What is left here is
+// CUDA-only: the scene and BVH upload, the GPU's cache budget and out-of-memory policy, the
 // film's running sum with its pinned readback on a copy stream (the next iteration's kernels run
 // while it drains; only the final add into the sum waits for it), and cuda_info().
 #include <algorithm>
@@ -9,9 +10,7 @@
 
 #include "accel/bvh_builder.h"
 #include "backend/cuda/cuda_exec.cuh"
-#include "integrator/schedule_bdpt.h"
-#include "integrator/schedule_lt.h"
-#include "integrator/schedule_pt.h"
+#include "integrator/wavefront.h"
 #include "scene/scene.h"
 
 namespace lantern {
