@@ -1,6 +1,7 @@
 """Pieces of the final (F12) render that need no Blender: the border rectangle in pixels as
-Blender computes it, cropping an exported scene to it, and the noise-threshold stop (adaptive
-sampling with Cycles' error measure)."""
+Blender computes it, cropping an exported scene to it, and adaptive sampling (Cycles' noise
+threshold): the core stops each converged pixel on the CPU (native/src/integrator/adaptive.h);
+NoiseCheck stops a GPU render's whole frame once every pixel has converged."""
 
 import math
 
@@ -49,6 +50,22 @@ def crop_scene(scene, rect):
                         ymin + y0 * sy, ymin + (y0 + h) * sy]
     film["width"], film["height"] = w, h
     scene.film, scene.camera = film, camera
+
+
+def adaptive_settings(settings, on):
+    """The Session settings of the scene's Noise Threshold panel (none when it is off)."""
+    if not on:
+        return {}
+    return {"adaptive_threshold": float(settings.adaptive_threshold),
+            "adaptive_min_samples": int(settings.adaptive_min_samples)}
+
+
+def adaptive_status(session):
+    """The status line's part for per-pixel adaptive sampling: pixels still sampling."""
+    total = max(1, session.pixel_samples().size)
+    err = session.noise_error
+    worst = f", noise {err:.4f}" if err >= 0 else ""
+    return f" | {100.0 * session.active_pixels / total:.0f}% of pixels sampling{worst}"
 
 
 def auto_min_samples(threshold):

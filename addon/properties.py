@@ -49,12 +49,13 @@ class LanternSceneSettings(bpy.types.PropertyGroup):
     threads: IntProperty(name="Threads", description="CPU threads (0: all cores)", default=0,
                          min=0, max=1024)
     use_adaptive_sampling: BoolProperty(
-        name="Noise Threshold", description="Stop a final render early once the noise is below "
-        "the threshold (Cycles' meaning: the relative error of each pixel's value)",
+        name="Noise Threshold", description="Stop sampling each pixel of a final render once "
+        "its noise is below the threshold (Cycles' meaning: the relative error of each pixel's "
+        "value); the render ends when every pixel has",
         default=False)
     adaptive_threshold: FloatProperty(
         name="Noise Threshold", description="Relative standard error, per pixel, below which "
-        "the render stops (0.01 as Cycles' default); checked on the pixels' own sample "
+        "a pixel stops sampling (0.01 as Cycles' default); checked on the pixels' own sample "
         "variance, estimated from two halves of the samples", default=0.01, min=0.0001,
         max=1.0, precision=4, step=0.1)
     adaptive_min_samples: IntProperty(

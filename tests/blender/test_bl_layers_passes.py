@@ -167,6 +167,30 @@ def test_noise_threshold_keeps_a_noisy_frame_going(empty, tmp_path, capfd):
     assert _spp_rendered(capfd) == (24, False)
 
 
+def test_noise_threshold_stops_each_pixel(empty, capfd):
+    """Half the view an emitter (no noise), half a lit diffuse plane: the emitter's pixels
+    stop at min samples, the plane's go on, so a pixel's mean samples lie between."""
+    add_camera(empty, location=(0, 0, 5))
+    mat, _ = shader_material("Grey", "ShaderNodeBsdfDiffuse", Color=(0.5, 0.5, 0.5, 1))
+    add_plane(empty, size=100.0, material=mat)
+    add_plane(empty, size=50.0, material=emission_material(1.0), location=(-25.0, 0.0, 0.1),
+              name="Glow")
+    lamp = bpy.data.lights.new("Lamp", "AREA")
+    lamp.energy, lamp.size = 100.0, 2.0
+    obj = bpy.data.objects.new("Lamp", lamp)
+    obj.location = (2.0, 0.3, 1.0)
+    empty.collection.objects.link(obj)
+    s = empty.lantern
+    s.samples, s.use_adaptive_sampling, s.adaptive_threshold, s.adaptive_min_samples = \
+        32, True, 0.001, 4
+    assert bpy.ops.render.render() == {"FINISHED"}
+    out = capfd.readouterr().out
+    line = [ln for ln in out.splitlines() if ln.startswith("Lantern: ") and " spp in " in ln][-1]
+    assert int(line.split()[1]) == 32
+    mean = float(line.split("(adaptive: ")[1].split()[0])
+    assert 4 < mean < 32, line
+
+
 def test_failing_data_passes_leave_the_render_going(empty, tmp_path, errors, monkeypatch):
     import lantern.aov
 
