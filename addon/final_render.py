@@ -73,9 +73,17 @@ def auto_min_samples(threshold):
     return max(4, int(math.ceil(16.0 / threshold ** 0.3)))
 
 
+def half_a(first_sample, samples):
+    """Whether a step's samples first_sample.. (a step of `samples`) go to half A: aligned
+    blocks of max(4, samples) alternate as the parity of the block index's bits (as the core's
+    adaptive_half_a, native/src/integrator/adaptive.h): every other sample would put the QMC
+    sampler's even-indexed points, which fill half a pixel, in one half."""
+    return bin(int(first_sample) // max(4, int(samples))).count("1") % 2 == 1
+
+
 class NoiseCheck:
     """Cycles' per-pixel error (Cycles' film_adaptive_sampling_convergence_check): with I the
-    mean of all samples and A the mean of every other step's samples,
+    mean of all samples and A the mean of half of them (half_a),
     error = |I - A|_1 / (1e-4 + sqrt(I_r + I_g + I_b)); the render has converged when every
     pixel's error is below the threshold. Lantern renders whole frames, so it stops the frame
     where Cycles would stop its last pixel."""
@@ -98,7 +106,7 @@ class NoiseCheck:
             self._prev_sum = np.zeros_like(total)
             self._half_sum = np.zeros_like(total)
         step = total - self._prev_sum
-        if self._steps % 2 == 0:
+        if half_a(self._prev_spp, spp - self._prev_spp):
             self._half_sum += step
             self._half_spp += spp - self._prev_spp
         self._prev_sum, self._prev_spp = total, spp

@@ -27,9 +27,9 @@ def test_error_is_cycles_formula():
     check = final_render.NoiseCheck(0.01, min_samples=2)
     a = np.array([[[1.0, 2.0, 3.0]]], dtype=np.float32)
     b = np.array([[[3.0, 2.0, 1.0]]], dtype=np.float32)
-    check.add(a, 1)                 # step 0: the "A" half
-    check.add((a + b) / 2, 2)       # step 1
-    mean, half = (a + b) / 2, a
+    for n in range(1, 9):           # samples 0-3 are a, 4-7 (the "A" half) b
+        check.add(((min(n, 4) * a + max(n - 4, 0) * b) / n).astype(np.float32), n)
+    mean, half = (a + b) / 2, b
     want = np.abs(mean - half).sum() / (1e-4 + math.sqrt(mean.sum()))
     assert math.isclose(check.error, float(want), rel_tol=1e-6)
 
@@ -65,6 +65,14 @@ def test_converges_when_the_noise_is_low_enough():
     # sqrt(n) / sqrt(3): below 0.05 from n ~ 100; never before the noise allows it
     assert 30 < stopped < 300
     assert check.error < 0.05
+
+
+def test_halves_alternate_in_blocks_of_four():
+    """Not every other sample: blocks of 4 (or of a step's samples) alternate as the bits'
+    parity of the block index, so each half of the QMC points is spread over the pixel."""
+    a = [final_render.half_a(k, 1) for k in range(32)]
+    assert a[:8] == [False] * 4 + [True] * 4 and sum(a[:16]) == 8 and sum(a) == 16
+    assert [final_render.half_a(16 * k, 16) for k in range(4)] == [False, True, True, False]
 
 
 def test_automatic_min_samples_as_cycles():

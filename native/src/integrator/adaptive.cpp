@@ -29,19 +29,26 @@ void AdaptiveFilm::reset(int width, int height) {
     max_error_ = -1.0;
 }
 
-void AdaptiveFilm::add(const double* it, std::vector<double>& accum, int spp_it) {
+bool adaptive_half_a(int64_t first_sample, int spp_it) {
+    const int64_t block = std::max(4, spp_it);
+    return (__builtin_popcountll(uint64_t(first_sample / block)) & 1) != 0;
+}
+
+void AdaptiveFilm::add(const double* it, std::vector<double>& accum, int spp_it,
+                       int64_t first_sample) {
     if (!on()) {
         for (size_t k = 0; k < accum.size(); ++k) accum[k] += it[k];
         for (int32_t& c : count_) c += spp_it;
         return;
     }
+    const bool half = adaptive_half_a(first_sample, spp_it);
     for (const int32_t p : list_) {
         double* a = accum.data() + size_t(p) * 3;
         const double* s = it + size_t(p) * 3;
         a[0] += s[0];
         a[1] += s[1];
         a[2] += s[2];
-        if ((count_[p] / spp_it) % 2 == 1) {  // the pixel's own odd iterations
+        if (half) {
             double* h = half_.data() + size_t(p) * 3;
             h[0] += s[0];
             h[1] += s[1];

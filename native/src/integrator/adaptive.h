@@ -1,5 +1,5 @@
 // Per-pixel adaptive sampling (issue 17), host code: each pixel keeps its own sample count and
-// a second sum of every other iteration of its own (the "half" buffer); every `step` samples
+// a second sum of half its samples (the "half" buffer, adaptive_half_a); every `step` samples
 // past the minimum, Cycles' error (|I - A|_1 / (1e-4 + sqrt(I_r + I_g + I_b)), I the pixel's
 // mean, A the mean of its half) decides which pixels have converged, the unconverged ones are
 // dilated by one pixel (a 3x3 box, so that an edge's neighbours keep sampling), and the rest
@@ -21,9 +21,11 @@ public:
     bool on() const { return threshold_ > 0.0f; }
     // Empties the film for width x height pixels: every pixel active.
     void reset(int width, int height);
-    // Adds an iteration's sum (3 doubles a pixel, every pixel's) of spp_it samples to accum
-    // for the active pixels only, and to their halves on their odd iterations.
-    void add(const double* iteration_sum, std::vector<double>& accum, int spp_it);
+    // Adds an iteration's sum (3 doubles a pixel, every pixel's) of spp_it samples, the
+    // sampler's indices first_sample on, to accum for the active pixels only, and to their
+    // halves when those samples are in half A.
+    void add(const double* iteration_sum, std::vector<double>& accum, int spp_it,
+             int64_t first_sample);
     // After add(): the convergence test when frame_spp (the iterations' samples) is due; true
     // when the active pixels changed.
     bool update(const std::vector<double>& accum, int64_t frame_spp);
@@ -51,5 +53,11 @@ private:
 
 // Cycles' automatic minimum before the first convergence check.
 int adaptive_auto_min_samples(float threshold);
+// Whether the samples first_sample.. of an iteration go to half A. Not every other sample:
+// the QMC sampler's even-indexed points fill only half of a pixel's first dimensions, so such
+// a half differs from the mean by far more than the noise. Aligned blocks of max(4, spp_it)
+// samples (each a stratified set) alternate as the parity of the block index's bits does
+// (Thue-Morse), so each half is itself well spread, as Cycles splits its samples.
+bool adaptive_half_a(int64_t first_sample, int spp_it);
 
 }  // namespace lantern

@@ -207,6 +207,7 @@ bool Session::step_locked() {
     st.chunk_paths = kChunkPaths;
     st.shadow_budget = kShadowBudget;
     st.cache_budget = CpuExec::cache_budget(settings_.cache_budget_mb);
+    const uint64_t first_iteration = iteration_;  // the sampler's sample index: it x spp
     const bool ok = wf::run_iteration(*exec_, *wave_, scene_->view(), st);
     iteration_ = st.iteration;
     if (!ok) return false;
@@ -214,7 +215,8 @@ bool Session::step_locked() {
         std::lock_guard<std::mutex> lock(result_mutex_);
         // the active pixels only: a converged pixel's splats of this iteration are dropped
         // with its camera paths, so that each of its iterations is a whole estimate
-        film_.add(iteration_sum_.data(), accum_, settings_.spp_per_iteration);
+        film_.add(iteration_sum_.data(), accum_, settings_.spp_per_iteration,
+                  int64_t(first_iteration) * settings_.spp_per_iteration);
         spp_ += settings_.spp_per_iteration;
         film_.update(accum_, spp_);
     }
