@@ -74,17 +74,25 @@ def auto_min_samples(threshold):
 
 
 def half_a(first_sample, samples):
-    """Whether a step's samples first_sample.. (a step of `samples`) go to half A: aligned
-    blocks of max(4, samples) alternate as the parity of the block index's bits (as the core's
-    adaptive_half_a, native/src/integrator/adaptive.h): every other sample would put the QMC
-    sampler's even-indexed points, which fill half a pixel, in one half."""
-    return bin(int(first_sample) // max(4, int(samples))).count("1") % 2 == 1
+    """Whether a step's samples first_sample.. (a step of `samples`) go to half A: the parity
+    of the odd bits of the sample's index (of the step's, for steps of several samples), as
+    Cycles and the core's adaptive_half_a (native/src/integrator/adaptive.h): every other
+    sample would put the QMC sampler's even-indexed points, which fill half a pixel, in one
+    half."""
+    q = int(first_sample) // int(samples) if samples > 1 else int(first_sample)
+    return bin(q & 0xAAAAAAAAAAAAAAAA).count("1") % 2 == 1
+
+
+def error_norm(intensity):
+    """Cycles' normaliser of |I - A|_1: sqrt of R + G + B below 1, R + G + B itself above."""
+    intensity = np.maximum(intensity, 0.0)
+    return np.where(intensity < 1.0, np.sqrt(intensity), intensity)
 
 
 class NoiseCheck:
     """Cycles' per-pixel error (Cycles' film_adaptive_sampling_convergence_check): with I the
     mean of all samples and A the mean of half of them (half_a),
-    error = |I - A|_1 / (1e-4 + sqrt(I_r + I_g + I_b)); the render has converged when every
+    error = |I - A|_1 / (1e-4 + error_norm(I_r + I_g + I_b)); the render has converged when every
     pixel's error is below the threshold. Lantern renders whole frames, so it stops the frame
     where Cycles would stop its last pixel."""
 
@@ -116,7 +124,7 @@ class NoiseCheck:
         mean = total / spp
         half = self._half_sum / self._half_spp
         diff = np.abs(mean - half).sum(axis=2)
-        norm = np.sqrt(np.maximum(mean.sum(axis=2), 0.0))
+        norm = error_norm(mean.sum(axis=2))
         err = diff / (1e-4 + norm)
         self.error = float(err.max())
         return self.error < self.threshold

@@ -30,8 +30,13 @@ void AdaptiveFilm::reset(int width, int height) {
 }
 
 bool adaptive_half_a(int64_t first_sample, int spp_it) {
-    const int64_t block = std::max(4, spp_it);
-    return (__builtin_popcountll(uint64_t(first_sample / block)) & 1) != 0;
+    const uint64_t q = uint64_t(spp_it > 1 ? first_sample / spp_it : first_sample);
+    return (__builtin_popcountll(q & 0xaaaaaaaaaaaaaaaaull) & 1) != 0;
+}
+
+double adaptive_error(double diff_l1, double intensity) {
+    intensity = std::max(intensity, 0.0);
+    return diff_l1 / (1e-4 + (intensity < 1.0 ? std::sqrt(intensity) : intensity));
 }
 
 void AdaptiveFilm::add(const double* it, std::vector<double>& accum, int spp_it,
@@ -90,7 +95,7 @@ bool AdaptiveFilm::update(const std::vector<double>& accum, int64_t frame_spp) {
             diff += std::fabs(mean - h[k] / hc);
             sum += mean;
         }
-        const double err = diff / (1e-4 + std::sqrt(std::max(sum, 0.0)));
+        const double err = adaptive_error(diff, sum);
         worst = std::max(worst, err);
         noisy[p] = !(err < double(threshold_));  // NaN keeps sampling
     }

@@ -1,7 +1,7 @@
 // Per-pixel adaptive sampling (issue 17), host code: each pixel keeps its own sample count and
 // a second sum of half its samples (the "half" buffer, adaptive_half_a); every `step` samples
-// past the minimum, Cycles' error (|I - A|_1 / (1e-4 + sqrt(I_r + I_g + I_b)), I the pixel's
-// mean, A the mean of its half) decides which pixels have converged, the unconverged ones are
+// past the minimum, Cycles' error (adaptive_error, I the pixel's mean, A the mean of its half)
+// decides which pixels have converged, the unconverged ones are
 // dilated by one pixel (a 3x3 box, so that an edge's neighbours keep sampling), and the rest
 // become the camera pass's pixel list. A pixel adds an iteration's sum (camera paths and the
 // light paths' splats of that iteration alike) only while it is active: each of its
@@ -55,9 +55,13 @@ private:
 int adaptive_auto_min_samples(float threshold);
 // Whether the samples first_sample.. of an iteration go to half A. Not every other sample:
 // the QMC sampler's even-indexed points fill only half of a pixel's first dimensions, so such
-// a half differs from the mean by far more than the noise. Aligned blocks of max(4, spp_it)
-// samples (each a stratified set) alternate as the parity of the block index's bits does
-// (Thue-Morse), so each half is itself well spread, as Cycles splits its samples.
+// a half differs from the mean by far more than the noise. As Cycles (after Christensen et
+// al., progressive multi-jittered sequences, 10.2.1): the parity of the index's odd bits,
+// which splits a (0,2)-sequence into two well-spread halves; an iteration of spp_it > 1
+// samples (an aligned block) goes whole, by its own index.
 bool adaptive_half_a(int64_t first_sample, int spp_it);
+// Cycles' per-pixel error: |I - A|_1 over the intensity I_r + I_g + I_b's square root below 1
+// and the intensity itself from 1 on (brighter pixels need less: Cycles' note on exposure).
+double adaptive_error(double diff_l1, double intensity);
 
 }  // namespace lantern
