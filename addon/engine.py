@@ -181,6 +181,9 @@ def render(engine, depsgraph):
             noise = final_render.NoiseCheck(settings.adaptive_threshold,
                                             settings.adaptive_min_samples)
         _render_loop(engine, session, result, target, time_limit, t0, noise, alpha)
+        if passes.sample_count_enabled(view_layer):
+            passes.write_sample_count(layer, session.pixel_samples())
+            engine.update_result(result)
     except Exception as e:
         _report_error(engine, "render failed", e)
     finally:

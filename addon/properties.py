@@ -76,6 +76,10 @@ class LanternViewLayerSettings(bpy.types.PropertyGroup):
         name="Denoising Data", description="Write Denoising Albedo, Denoising Normal and "
         "Denoising Depth (Cycles' names), for the compositor's Denoise node. Cycles' own "
         "Denoising Data setting of the view layer turns them on too", default=False)
+    pass_sample_count: BoolProperty(
+        name="Sample Count", description="Debug Sample Count (Cycles' name): each pixel's own "
+        "samples, fewer where adaptive sampling stopped it. Cycles' own switch of the view "
+        "layer turns it on too", default=False)
 
 
 def denoising_passes_enabled(view_layer):
