@@ -153,7 +153,9 @@ def render(engine, depsgraph):
         if rect is not None:
             final_render.crop_scene(scene, rect)
         _warn_once(engine, report.messages)
-        session = lantern.Session(scene, **settings.session_settings())
+        adaptive = settings.use_adaptive_sampling and not preview
+        session = lantern.Session(scene, **settings.session_settings(),
+                                  **final_render.adaptive_settings(settings, adaptive))
         _warn_once(engine, session.warnings)  # a CUDA fallback says why here
         info = backend_message(session)
         if ("info", info) not in _final_reported(engine):  # once per render, not per layer
@@ -174,11 +176,14 @@ def render(engine, depsgraph):
         if passes.enabled_passes(view_layer):
             _data_passes(engine, scene, settings, target, layer, session)
             engine.update_result(result)
-        noise = None
-        if settings.use_adaptive_sampling and not preview:
+        noise = None  # the core stops each pixel; the GPU only the frame, checked here
+        if adaptive and getattr(session, "backend", "cpu") != "cpu":
             noise = final_render.NoiseCheck(settings.adaptive_threshold,
                                             settings.adaptive_min_samples)
         _render_loop(engine, session, result, target, time_limit, t0, noise, alpha)
+        if passes.sample_count_enabled(view_layer):
+            passes.write_sample_count(layer, session.pixel_samples())
+            engine.update_result(result)
     except Exception as e:
         _report_error(engine, "render failed", e)
     finally:
@@ -224,11 +229,15 @@ def _render_loop(engine, session, result, target, time_limit, t0, noise=None,
             _write_result(engine, result, image, alpha)
             if noise is not None:
                 converged = noise.add(image, session.spp)
+        converged = converged or bool(getattr(session, "converged", False))
         elapsed = time.perf_counter() - start
         stats = session.stats
         mrays = stats.get("rays_total", 0) / max(elapsed, 1e-9) / 1e6
         noise_text = "" if noise is None or not math.isfinite(noise.error) else \
             f" | noise {noise.error:.4f}/{noise.threshold:g}"
+        if noise is None and getattr(session, "settings", {}).get("adaptive_threshold", 0) > 0:
+            from .final_render import adaptive_status
+            noise_text = adaptive_status(session)
         engine.update_stats("", f"Sample {session.spp}/{target} | {elapsed:.1f} s | "
                                 f"{mrays:.1f} Mrays/s | {getattr(session, 'backend', 'cpu')}"
                                 f"{noise_text}")
@@ -237,6 +246,8 @@ def _render_loop(engine, session, result, target, time_limit, t0, noise=None,
                 _past(time_limit, start):
             break
     why = " (noise threshold reached)" if converged else ""
+    if noise is None and getattr(session, "settings", {}).get("adaptive_threshold", 0) > 0:
+        why += f" (adaptive: {session.pixel_samples().mean():.1f} samples a pixel)"
     print(f"Lantern: {session.spp} spp in {time.perf_counter() - start:.2f} s on "
           f"{getattr(session, 'backend', 'cpu')}{why} (export and set-up {start - t0:.2f} s)")
 

@@ -1,6 +1,7 @@
 """Pieces of the final (F12) render that need no Blender: the border rectangle in pixels as
-Blender computes it, cropping an exported scene to it, and the noise-threshold stop (adaptive
-sampling with Cycles' error measure)."""
+Blender computes it, cropping an exported scene to it, and adaptive sampling (Cycles' noise
+threshold): the core stops each converged pixel on the CPU (native/src/integrator/adaptive.h);
+NoiseCheck stops a GPU render's whole frame once every pixel has converged."""
 
 import math
 
@@ -51,15 +52,47 @@ def crop_scene(scene, rect):
     scene.film, scene.camera = film, camera
 
 
+def adaptive_settings(settings, on):
+    """The Session settings of the scene's Noise Threshold panel (none when it is off)."""
+    if not on:
+        return {}
+    return {"adaptive_threshold": float(settings.adaptive_threshold),
+            "adaptive_min_samples": int(settings.adaptive_min_samples)}
+
+
+def adaptive_status(session):
+    """The status line's part for per-pixel adaptive sampling: pixels still sampling."""
+    total = max(1, session.pixel_samples().size)
+    err = session.noise_error
+    worst = f", noise {err:.4f}" if err >= 0 else ""
+    return f" | {100.0 * session.active_pixels / total:.0f}% of pixels sampling{worst}"
+
+
 def auto_min_samples(threshold):
     """Cycles' automatic minimum before the first convergence check."""
     return max(4, int(math.ceil(16.0 / threshold ** 0.3)))
 
 
+def half_a(first_sample, samples):
+    """Whether a step's samples first_sample.. (a step of `samples`) go to half A: the parity
+    of the odd bits of the sample's index (of the step's, for steps of several samples), as
+    Cycles and the core's adaptive_half_a (native/src/integrator/adaptive.h): every other
+    sample would put the QMC sampler's even-indexed points, which fill half a pixel, in one
+    half."""
+    q = int(first_sample) // int(samples) if samples > 1 else int(first_sample)
+    return bin(q & 0xAAAAAAAAAAAAAAAA).count("1") % 2 == 1
+
+
+def error_norm(intensity):
+    """Cycles' normaliser of |I - A|_1: sqrt of R + G + B below 1, R + G + B itself above."""
+    intensity = np.maximum(intensity, 0.0)
+    return np.where(intensity < 1.0, np.sqrt(intensity), intensity)
+
+
 class NoiseCheck:
     """Cycles' per-pixel error (Cycles' film_adaptive_sampling_convergence_check): with I the
-    mean of all samples and A the mean of every other step's samples,
-    error = |I - A|_1 / (1e-4 + sqrt(I_r + I_g + I_b)); the render has converged when every
+    mean of all samples and A the mean of half of them (half_a),
+    error = |I - A|_1 / (1e-4 + error_norm(I_r + I_g + I_b)); the render has converged when every
     pixel's error is below the threshold. Lantern renders whole frames, so it stops the frame
     where Cycles would stop its last pixel."""
 
@@ -81,7 +114,7 @@ class NoiseCheck:
             self._prev_sum = np.zeros_like(total)
             self._half_sum = np.zeros_like(total)
         step = total - self._prev_sum
-        if self._steps % 2 == 0:
+        if half_a(self._prev_spp, spp - self._prev_spp):
             self._half_sum += step
             self._half_spp += spp - self._prev_spp
         self._prev_sum, self._prev_spp = total, spp
@@ -91,7 +124,7 @@ class NoiseCheck:
         mean = total / spp
         half = self._half_sum / self._half_spp
         diff = np.abs(mean - half).sum(axis=2)
-        norm = np.sqrt(np.maximum(mean.sum(axis=2), 0.0))
+        norm = error_norm(mean.sum(axis=2))
         err = diff / (1e-4 + norm)
         self.error = float(err.max())
         return self.error < self.threshold

@@ -51,12 +51,32 @@ def enabled_passes(view_layer):
     return out
 
 
+SAMPLE_COUNT = "Debug Sample Count"
+
+
+def sample_count_enabled(view_layer):
+    """Lantern's Sample Count switch of the view layer, or Cycles' Debug Sample Count."""
+    own = getattr(getattr(view_layer, "lantern", None), "pass_sample_count", False)
+    cycles = getattr(getattr(view_layer, "cycles", None), "pass_debug_sample_count", False)
+    return bool(own or cycles)
+
+
 def register_passes(engine, scene, view_layer):
     """update_render_passes: Combined and every enabled data pass, so that the compositor's
     Render Layers node shows their sockets."""
     engine.register_pass(scene, view_layer, "Combined", 4, "RGBA", "COLOR")
     for name, channels, chan_id, kind in enabled_passes(view_layer):
         engine.register_pass(scene, view_layer, name, channels, chan_id, kind)
+    if sample_count_enabled(view_layer):
+        engine.register_pass(scene, view_layer, SAMPLE_COUNT, 1, "X", "VALUE")
+
+
+def write_sample_count(layer, counts):
+    """Each pixel's samples, (H, W) top row first, into the layer's Debug Sample Count pass
+    (Cycles writes the count itself there too)."""
+    for render_pass in layer.passes:
+        if render_pass.name == SAMPLE_COUNT:
+            _set_rect(render_pass, np.asarray(counts, np.float32)[..., None])
 
 
 def unsupported_pass_warnings(view_layer):

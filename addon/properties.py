@@ -49,12 +49,13 @@ class LanternSceneSettings(bpy.types.PropertyGroup):
     threads: IntProperty(name="Threads", description="CPU threads (0: all cores)", default=0,
                          min=0, max=1024)
     use_adaptive_sampling: BoolProperty(
-        name="Noise Threshold", description="Stop a final render early once the noise is below "
-        "the threshold (Cycles' meaning: the relative error of each pixel's value)",
+        name="Noise Threshold", description="Stop sampling each pixel of a final render once "
+        "its noise is below the threshold (Cycles' meaning: the relative error of each pixel's "
+        "value); the render ends when every pixel has",
         default=False)
     adaptive_threshold: FloatProperty(
         name="Noise Threshold", description="Relative standard error, per pixel, below which "
-        "the render stops (0.01 as Cycles' default); checked on the pixels' own sample "
+        "a pixel stops sampling (0.01 as Cycles' default); checked on the pixels' own sample "
         "variance, estimated from two halves of the samples", default=0.01, min=0.0001,
         max=1.0, precision=4, step=0.1)
     adaptive_min_samples: IntProperty(
@@ -75,6 +76,10 @@ class LanternViewLayerSettings(bpy.types.PropertyGroup):
         name="Denoising Data", description="Write Denoising Albedo, Denoising Normal and "
         "Denoising Depth (Cycles' names), for the compositor's Denoise node. Cycles' own "
         "Denoising Data setting of the view layer turns them on too", default=False)
+    pass_sample_count: BoolProperty(
+        name="Sample Count", description="Debug Sample Count (Cycles' name): each pixel's own "
+        "samples, fewer where adaptive sampling stopped it. Cycles' own switch of the view "
+        "layer turns it on too", default=False)
 
 
 def denoising_passes_enabled(view_layer):

@@ -116,6 +116,8 @@ class LANTERN_PT_layer_passes(bpy.types.Panel):
         col.prop(vl, "use_pass_emit", text="Emission")
         col = layout.column(heading="Denoising", align=True)
         col.prop(vl.lantern, "denoising_store_passes")
+        col = layout.column(heading="Debug", align=True)
+        col.prop(vl.lantern, "pass_sample_count")
 
 
 class LANTERN_PT_object_visibility(bpy.types.Panel):

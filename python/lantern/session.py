@@ -38,6 +38,12 @@ DEFAULT_SETTINGS = {
     "cache_budget_mb": 0,     # light vertex cache memory per pass (0: min(4 GiB, RAM / 4));
                               # a larger iteration runs as several passes
     "light_candidates": 1,    # pt: resampled next-event estimation over M light samples (1: off)
+    # per-pixel adaptive sampling (CPU backend; native/src/integrator/adaptive.h): Cycles'
+    # noise threshold (0: off), samples before the first check (0: Cycles' automatic
+    # minimum), samples between checks
+    "adaptive_threshold": 0.0,
+    "adaptive_min_samples": 0,
+    "adaptive_step": 4,
 }
 
 BUILD_HINT = ("build it from the repository root with "
@@ -191,6 +197,15 @@ def resolve_settings(settings):
     out["candidates"] = _check_int("candidates", out["candidates"], 1, 64)
     out["cache_budget_mb"] = _check_int("cache_budget_mb", out["cache_budget_mb"], 0, 1 << 30)
     out["light_candidates"] = _check_int("light_candidates", out["light_candidates"], 1, 8)
+    thr = out["adaptive_threshold"]
+    if isinstance(thr, bool) or not isinstance(thr, (int, float, np.integer, np.floating)) \
+            or not float(thr) >= 0.0 or not np.isfinite(float(thr)):
+        raise ValueError(f"setting 'adaptive_threshold' must be a number >= 0 (0: off), "
+                         f"got {thr!r}")
+    out["adaptive_threshold"] = float(thr)
+    out["adaptive_min_samples"] = _check_int("adaptive_min_samples",
+                                             out["adaptive_min_samples"], 0, 1 << 30)
+    out["adaptive_step"] = _check_int("adaptive_step", out["adaptive_step"], 1, 1 << 20)
     if out["sort"] is not None and not isinstance(out["sort"], (bool, np.bool_)):
         raise TypeError(f"setting 'sort' must be True, False or None, got {out['sort']!r}")
     if out["cis_target"] not in CIS_TARGETS:
@@ -296,6 +311,30 @@ class Session:
     def spp(self):
         return int(_value(self._native.spp))
 
+    def pixel_samples(self):
+        """Each pixel's own samples, int32 (H, W), top row first: with adaptive sampling a
+        converged pixel stops counting (Cycles' "Sample Count" debug pass); else all spp."""
+        native = getattr(self._native, "pixel_samples", None)
+        if native is None:
+            h, w = self.image().shape[:2]
+            return np.full((h, w), self.spp, np.int32)
+        return np.asarray(native())
+
+    @property
+    def converged(self):
+        """Adaptive sampling: True once every pixel has converged (a step adds nothing)."""
+        return bool(_value(getattr(self._native, "converged", False)))
+
+    @property
+    def active_pixels(self):
+        """Pixels that still sample (all of them without adaptive sampling)."""
+        return int(_value(self._native.active_pixels))
+
+    @property
+    def noise_error(self):
+        """The worst still-sampling pixel's error at the last check (-1 before one)."""
+        return float(_value(self._native.noise_error))
+
     @property
     def stats(self):
         return dict(_value(self._native.stats))
@@ -371,8 +410,8 @@ def render(scene, spp=16, time_limit=None, progress=None, **settings):
         session.step()
         if progress is not None:
             progress(session.spp, int(spp))
-        if session.spp <= before:
-            break  # cancelled or no progress: never spin
+        if session.spp <= before or session.converged:
+            break  # cancelled, converged (adaptive sampling) or no progress: never spin
         if time_limit is not None and time.monotonic() - start >= time_limit:
             break
     return session.image()

@@ -167,6 +167,52 @@ def test_noise_threshold_keeps_a_noisy_frame_going(empty, tmp_path, capfd):
     assert _spp_rendered(capfd) == (24, False)
 
 
+def _half_emitter(empty):
+    """Half the view an emitter (no noise), half a diffuse plane lit by an area light."""
+    add_camera(empty, location=(0, 0, 5))
+    mat, _ = shader_material("Grey", "ShaderNodeBsdfDiffuse", Color=(0.5, 0.5, 0.5, 1))
+    add_plane(empty, size=100.0, material=mat)
+    add_plane(empty, size=50.0, material=emission_material(1.0), location=(-25.0, 0.0, 0.1),
+              name="Glow")
+    lamp = bpy.data.lights.new("Lamp", "AREA")
+    lamp.energy, lamp.size = 100.0, 2.0
+    obj = bpy.data.objects.new("Lamp", lamp)
+    obj.location = (2.0, 0.3, 1.0)
+    empty.collection.objects.link(obj)
+    s = empty.lantern
+    s.samples, s.use_adaptive_sampling, s.adaptive_threshold, s.adaptive_min_samples = \
+        32, True, 0.001, 4
+
+
+def test_noise_threshold_stops_each_pixel(empty, capfd):
+    """The emitter's pixels stop at min samples, the plane's go on, so a pixel's mean samples
+    lie between."""
+    _half_emitter(empty)
+    assert bpy.ops.render.render() == {"FINISHED"}
+    out = capfd.readouterr().out
+    line = [ln for ln in out.splitlines() if ln.startswith("Lantern: ") and " spp in " in ln][-1]
+    assert int(line.split()[1]) == 32
+    mean = float(line.split("(adaptive: ")[1].split()[0])
+    assert 4 < mean < 32, line
+
+
+@pytest.mark.parametrize("switch", ["lantern", "cycles"])
+def test_sample_count_pass(empty, tmp_path, switch):
+    """Debug Sample Count (Cycles' name and switch, or Lantern's): each pixel's samples."""
+    _half_emitter(empty)
+    vl = empty.view_layers[0]
+    if switch == "lantern":
+        vl.lantern.pass_sample_count = True
+    else:
+        vl.cycles.pass_debug_sample_count = True
+    out = render_passes(empty, tmp_path / "count.exr")
+    n = out[("ViewLayer", "Debug Sample Count")]
+    n = n[..., 0] if n.ndim == 3 else n
+    w = n.shape[1]
+    assert (n[:, : w // 2 - 2] == 4).all(), n  # the emitter (x < 0): min samples
+    assert (n[:, w // 2 + 2:] == 32).mean() > 0.9, n  # the lit plane: every sample
+
+
 def test_failing_data_passes_leave_the_render_going(empty, tmp_path, errors, monkeypatch):
     import lantern.aov
 

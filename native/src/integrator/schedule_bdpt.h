@@ -139,9 +139,11 @@ void camera_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep
                            own ? w.path_vertex.data() : nullptr};
     const auto rays = ex.rays();
     int32_t* q0 = w.queue.data();
+    const int32_t* list = st.pixel_list;  // adaptive sampling's pixels, or null: all
+    const int spp = st.set.spp_per_iteration;
     ex.timed(stats.time_generate, [&] {
         ex.each(n, LANTERN_KERNEL(int i) {
-            bdpt_camera_generate(s, ps, bs, bst, i, first_path + i);
+            bdpt_camera_generate(s, ps, bs, bst, i, camera_path(list, spp, first_path + i));
             q0[i] = i;
         });
     });
@@ -155,7 +157,8 @@ void camera_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep
         ex.timed(stats.time_shade, [&] {
             ex.each(active, LANTERN_KERNEL(int k) {
                 const int i = q[k];
-                bdpt_camera_shade(s, ps, bs, bst, cache, i, first_path + i);
+                const int64_t path = camera_path(list, spp, first_path + i);
+                bdpt_camera_shade(s, ps, bs, bst, cache, i, path);
             }, 64);
         });
         // every shadow ray of the bounce: next event and connections
@@ -262,7 +265,7 @@ bool bdpt_pass(Exec& ex, Wavefront<Exec>& w, const SceneView& s, WavefrontStep& 
     stats.time_cache += seconds_since(t);
     t = Clock::now();
     w.conn_cap = w.mode == kBdptOwnPath ? std::max(1, st.set.max_depth - 1) : st.set.connections;
-    const int64_t pixels = int64_t(st.width) * st.height;
+    const int64_t pixels = st.camera_pixels();
     const int chunk = std::max(spp_it, std::min(st.chunk_paths, st.shadow_budget / w.conn_cap));
     const int64_t chunk_pixels = std::max<int64_t>(1, chunk / spp_it);
     for (int64_t q0 = 0; q0 < pixels; q0 += chunk_pixels) {

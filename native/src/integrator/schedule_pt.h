@@ -17,10 +17,12 @@ void pt_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep& st
     const PtSettings pt = st.pt_settings();
     const auto rays = ex.rays();
     int32_t* q0 = w.queue.data();
+    const int32_t* list = st.pixel_list;  // adaptive sampling's pixels, or null: all
+    const int spp = pt.spp_per_iteration;
     // slots are chunk-local; the path's global index drives its random stream and pixel
     ex.timed(stats.time_generate, [&] {
         ex.each(n, LANTERN_KERNEL(int i) {
-            pt_generate(s, ps, pt, i, first_path + i);
+            pt_generate(s, ps, pt, i, camera_path(list, spp, first_path + i));
             q0[i] = i;
         });
     });

@@ -59,6 +59,11 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
     if (settings_.max_depth < 1 || settings_.max_depth > 1024) {
         throw std::invalid_argument("max_depth must be in [1, 1024]");
     }
+    if (!(settings_.adaptive_threshold >= 0.0f) || settings_.adaptive_min_samples < 0 ||
+        settings_.adaptive_step < 1) {
+        throw std::invalid_argument("adaptive sampling: the threshold must be >= 0, the min "
+                                    "samples >= 0 and the step >= 1");
+    }
     auto t0 = Clock::now();
     scene_ = std::make_unique<HostScene>(scene);
     if (settings_.integrator == "lt") check_light_tracing(scene);
@@ -89,6 +94,12 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
     width_ = scene.width;
     height_ = scene.height;
     accum_.assign(size_t(width_) * height_ * 3, 0.0);
+    film_.configure(settings_.adaptive_threshold, settings_.adaptive_min_samples,
+                    settings_.adaptive_step);
+    film_.reset(width_, height_);
+    if (gpu_ && film_.on())
+        warnings_.push_back("adaptive sampling per pixel runs on the CPU backend only; on the "
+                            "GPU every pixel samples until the frame has converged");
     stats_.time_build = seconds_since(t0);
     publish();
 }
@@ -128,6 +139,7 @@ bool Session::step_cuda(Clock::time_point t0) {
                 std::fill(accum_.begin(), accum_.end(), 0.0);
                 spp_ = 0;
             }
+            film_.assume_uniform(spp_);
         }
         warnings_.push_back(std::string("the GPU stopped (") + e.what() +
                             "); the render goes on on the CPU");
@@ -182,19 +194,31 @@ std::vector<std::string> Session::warnings() const {
 bool Session::step_locked() {
     auto t0 = Clock::now();
     if (gpu_) return step_cuda(t0);
+    if (spp_ == 0) {  // a new or restarted accumulation (session_update.cpp)
+        std::lock_guard<std::mutex> lock(result_mutex_);
+        film_.reset(width_, height_);
+    }
+    if (film_.converged()) return true;  // every pixel has converged: nothing left to add
     iteration_sum_.assign(accum_.size(), 0.0);
     WavefrontStep st(settings_, width_, height_, iteration_, iteration_sum_.data(), &stats_,
                      &cancel_, &warnings_);
+    st.pixel_list = film_.pixel_list();
+    st.pixel_count = film_.active_count();
     st.chunk_paths = kChunkPaths;
     st.shadow_budget = kShadowBudget;
     st.cache_budget = CpuExec::cache_budget(settings_.cache_budget_mb);
+    const uint64_t first_iteration = iteration_;  // the sampler's sample index: it x spp
     const bool ok = wf::run_iteration(*exec_, *wave_, scene_->view(), st);
     iteration_ = st.iteration;
     if (!ok) return false;
     {
         std::lock_guard<std::mutex> lock(result_mutex_);
-        for (size_t k = 0; k < accum_.size(); ++k) accum_[k] += iteration_sum_[k];
+        // the active pixels only: a converged pixel's splats of this iteration are dropped
+        // with its camera paths, so that each of its iterations is a whole estimate
+        film_.add(iteration_sum_.data(), accum_, settings_.spp_per_iteration,
+                  int64_t(first_iteration) * settings_.spp_per_iteration);
         spp_ += settings_.spp_per_iteration;
+        film_.update(accum_, spp_);
     }
     ++stats_.iterations;
     stats_.time_total += seconds_since(t0);
@@ -210,9 +234,38 @@ std::vector<float> Session::image() const {
     if (gpu_) gpu_sum = gpu_->accum(&samples);  // the sum and its own sample count
     if (samples <= 0) return img;
     const std::vector<double>& sum = gpu_ ? gpu_sum : accum_;
+    const std::vector<int32_t>& count = film_.samples();
+    if (!gpu_ && film_.on() && count.size() * 3 == sum.size()) {  // each pixel its own count
+        for (size_t k = 0; k < sum.size() && k < img.size(); ++k)
+            img[k] = count[k / 3] > 0 ? float(sum[k] / double(count[k / 3])) : 0.0f;
+        return img;
+    }
     const double inv = 1.0 / double(samples);
     for (size_t k = 0; k < sum.size() && k < img.size(); ++k) img[k] = float(sum[k] * inv);
     return img;
+}
+
+std::vector<int32_t> Session::pixel_samples() const {
+    std::lock_guard<std::mutex> lock(result_mutex_);
+    if (spp_ == 0) return std::vector<int32_t>(size_t(width_) * height_, 0);
+    if (gpu_ || film_.samples().size() != size_t(width_) * height_)
+        return std::vector<int32_t>(size_t(width_) * height_, int32_t(spp_));
+    return film_.samples();
+}
+
+int64_t Session::active_pixels() const {
+    std::lock_guard<std::mutex> lock(result_mutex_);
+    return gpu_ ? int64_t(width_) * height_ : film_.active_count();
+}
+
+bool Session::converged() const {
+    std::lock_guard<std::mutex> lock(result_mutex_);
+    return !gpu_ && film_.converged();
+}
+
+double Session::noise_error() const {
+    std::lock_guard<std::mutex> lock(result_mutex_);
+    return film_.max_error();
 }
 
 }  // namespace lantern

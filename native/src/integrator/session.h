@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "integrator/adaptive.h"
 #include "integrator/bdpt.h"
 #include "scene/scene.h"
 
@@ -43,6 +44,12 @@ struct SessionSettings {
     bool naive_ris = false; // test only: weight resampled picks like uniform ones (biased)
     int cache_budget_mb = 0;  // light vertex cache per pass; 0: min(4 GiB, RAM / 4)
     int light_candidates = 1;  // pt: resampled next-event estimation over M candidates (1: off)
+    // per-pixel adaptive sampling (integrator/adaptive.h; CPU backend): Cycles' noise
+    // threshold (0: off), the samples before the first check (0: Cycles' automatic minimum)
+    // and the samples between checks
+    float adaptive_threshold = 0.0f;
+    int adaptive_min_samples = 0;
+    int adaptive_step = 4;
 };
 
 // The settings of one pass of a bidirectional iteration: mode (BdptMode), MIS count r
@@ -92,9 +99,17 @@ public:
     // session_update.cpp: in's materials and textures (HostScene::update_materials), sampling
     // restarted; false where the scene or renderer would need rebuilding.
     bool update_materials(const SceneInput& in);
-    // Mean radiance, top row first, 3 floats per pixel.
+    // Mean radiance, top row first, 3 floats per pixel (each pixel over its own samples).
     std::vector<float> image() const;
+    // The iterations' samples per pixel: what a pixel that never converged has.
     int64_t spp() const;
+    // Adaptive sampling: each pixel's own samples (top row first), the pixels still sampling,
+    // true once none is (further steps add nothing), the worst active pixel's error at the
+    // last check (-1 before it).
+    std::vector<int32_t> pixel_samples() const;
+    int64_t active_pixels() const;
+    bool converged() const;
+    double noise_error() const;
     int width() const { return width_; }
     int height() const { return height_; }
     SessionStats stats() const;
@@ -122,6 +137,7 @@ private:
     std::vector<std::string> warnings_;
     int width_ = 0, height_ = 0;
     std::vector<double> accum_, iteration_sum_;
+    AdaptiveFilm film_;  // per-pixel counts; on the CPU only (the GPU samples every pixel)
     int64_t spp_ = 0;
     uint64_t iteration_ = 0;
     std::atomic<bool> cancel_{false};

@@ -53,6 +53,13 @@ struct WavefrontStep {
     int shadow_budget = 1 << 21;    // connection slots per camera chunk
     double cache_budget = 0.0;      // bytes of a pass's cache and its bdpt index
     const char* cache_name = "light vertex cache";
+    // adaptive sampling (integrator/adaptive.h): the camera pass's pixels, in order, in the
+    // executor's memory; null: every pixel. Light passes still start on every light sample.
+    const int32_t* pixel_list = nullptr;
+    int64_t pixel_count = 0;
+    int64_t camera_pixels() const {
+        return pixel_list ? pixel_count : int64_t(width) * int64_t(height);
+    }
     bool cancelled() const { return cancel->load(); }
     PtSettings pt_settings() const {  // the camera paths' (pt) and the light paths' (lt)
         return PtSettings{set.max_depth, set.rr_depth, set.spp_per_iteration, set.seed, iteration,
@@ -179,6 +186,12 @@ struct Wavefront {
 
 namespace wf {
 
+// The global path index (pixel x spp + sample) of the camera pass's k-th path: through the
+// adaptive pixel list when there is one.
+LANTERN_HD inline int64_t camera_path(const int32_t* list, int spp, int64_t k) {
+    return list ? int64_t(list[k / spp]) * spp + k % spp : k;
+}
+
 using Clock = std::chrono::steady_clock;
 inline double seconds_since(Clock::time_point t0) {
     return std::chrono::duration<double>(Clock::now() - t0).count();
@@ -250,6 +263,7 @@ void film(Exec& ex, Wavefront<Exec>& w, WavefrontStep& st, int64_t first_path, i
     const int spp_it = st.set.spp_per_iteration;
     const int64_t p0 = first_path / spp_it;
     const Vec3* rad = w.ps.radiance;
+    const int32_t* list = st.pixel_list;
     double* dst = st.sum;
     ex.timed(st.stats->time_film, [&] {
         count_dropped(ex, w, n, *st.stats);
@@ -261,7 +275,7 @@ void film(Exec& ex, Wavefront<Exec>& w, WavefrontStep& st, int64_t first_path, i
                 sum[1] += c.y;
                 sum[2] += c.z;
             }
-            double* d = dst + size_t(p0 + p) * 3;
+            double* d = dst + size_t(list ? list[p0 + p] : p0 + p) * 3;
             d[0] += sum[0];
             d[1] += sum[1];
             d[2] += sum[2];
@@ -329,9 +343,9 @@ bool run_iteration(Exec& ex, Wavefront<Exec>& w, const SceneView& s, WavefrontSt
     configure(w, st.set);
     if (w.bidirectional) return bidirectional_iteration(ex, w, s, st);
     const int spp_it = st.set.spp_per_iteration;
-    const int64_t pixels = int64_t(st.width) * st.height;
-    const int64_t chunk_pixels = std::max<int64_t>(1, st.chunk_paths / spp_it);
     const bool lt = st.set.integrator == "lt";
+    const int64_t pixels = lt ? int64_t(st.width) * st.height : st.camera_pixels();
+    const int64_t chunk_pixels = std::max<int64_t>(1, st.chunk_paths / spp_it);
     for (int64_t p0 = 0; p0 < pixels; p0 += chunk_pixels) {
         const int64_t np = std::min(chunk_pixels, pixels - p0);
         if (lt) {

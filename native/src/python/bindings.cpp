@@ -314,6 +314,9 @@ SessionSettings to_settings(const nb::dict& d) {
     s.naive_ris = get<bool>(d, "naive_ris", s.naive_ris);
     s.cache_budget_mb = get<int>(d, "cache_budget_mb", s.cache_budget_mb);
     s.light_candidates = get<int>(d, "light_candidates", s.light_candidates);
+    s.adaptive_threshold = get<float>(d, "adaptive_threshold", s.adaptive_threshold);
+    s.adaptive_min_samples = get<int>(d, "adaptive_min_samples", s.adaptive_min_samples);
+    s.adaptive_step = get<int>(d, "adaptive_step", s.adaptive_step);
     if (s.threads < 0 || s.threads > kMaxThreads) {
         throw std::invalid_argument("threads must be in [0, " + std::to_string(kMaxThreads) +
                                     "] (0: one per core), got " + std::to_string(s.threads));
@@ -450,6 +453,17 @@ NB_MODULE(_core, m) {
                 img->data(), {size_t(s.height()), size_t(s.width()), 3}, owner);
         })
         .def_prop_ro("spp", &Session::spp)
+        .def("pixel_samples", [](const Session& s) {  // adaptive sampling: (H, W) int32
+            auto* n = new std::vector<int32_t>(s.pixel_samples());
+            nb::capsule owner(n, [](void* p) noexcept {
+                delete static_cast<std::vector<int32_t>*>(p);
+            });
+            return nb::ndarray<nb::numpy, int32_t, nb::ndim<2>>(
+                n->data(), {size_t(s.height()), size_t(s.width())}, owner);
+        })
+        .def_prop_ro("active_pixels", &Session::active_pixels)
+        .def_prop_ro("converged", &Session::converged)
+        .def_prop_ro("noise_error", &Session::noise_error)
         .def_prop_ro("backend", &Session::backend_name)
         .def_prop_ro("device", &Session::device_name)
         .def("warnings", [](const Session& s) { return s.warnings(); })
