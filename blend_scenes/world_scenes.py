@@ -1,7 +1,7 @@
 """World and camera scenes of issue 15 beside scenes.py's world_hdri / world_hdri_dof: a
 Preetham sky, the HDRI seen by a panoramic camera, and transparent film with holdouts. The sky
 and panorama join scenes.SCENES through register() (called at the end of scenes.py), so that
-tools/make_cycles_refs.py and tests/render build them like the others. The film scene is not
+tools/make_cycles_refs.py and tests/render build them like the others. The film scenes are not
 registered: its Cycles reference needs transparent film, which make_cycles_refs turns off
 (tests/render/test_world_film.py renders it)."""
 
@@ -75,6 +75,14 @@ def world_film_holdout():
     sphere.data.materials.append(m)
     bpy.ops.object.shade_smooth()
     scenes.light("AREA", "Key", (1.0, -2.0, 3.0), (0.0, 0.3, 0.0), energy=300.0, size=0.8)
+
+
+def world_film_catcher():
+    """world_film_holdout with the floor a shadow catcher (Object > Visibility > Shadow
+    Catcher): over the transparent film only the shadows of the boxes, the holdout block and
+    the sphere on the floor show, as alpha; the catcher still lights the scene indirectly."""
+    world_film_holdout()
+    bpy.data.objects["Floor"].is_shadow_catcher = True
 
 
 def register(scenes_dict):

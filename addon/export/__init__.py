@@ -47,7 +47,8 @@ def export_scene(depsgraph, region_view=None, report=None, texture_cache=None):
     materials = MaterialTable(report, texture_cache)
     meshes = MeshExporter(materials, report)
     features = UnsupportedFeatures(report)
-    holdouts = Holdouts(materials, report, _integrator(bscene), depsgraph.view_layer)
+    holdouts = Holdouts(materials, report, _integrator(bscene), depsgraph.view_layer,
+                        bool(scene.film.get("transparent", False)))
     features.scene(depsgraph)
     for inst in depsgraph.object_instances:
         obj = inst.object

@@ -211,6 +211,28 @@ def test_holdouts_export_and_shadow_catcher_is_named(empty, addon):
     assert any("Cutout" in msg and "pt integrator only" in msg for msg in report.messages)
 
 
+def test_shadow_catcher_export(empty, addon):
+    """Over transparent film with pt a shadow catcher's mesh is flagged (lantern/film.py renders
+    it) without a warning; opaque film or another integrator renders it as an ordinary surface,
+    named in a warning."""
+    from blender_helpers import add_camera, add_plane
+    add_camera(empty)
+    add_plane(empty, name="Floor").is_shadow_catcher = True
+    add_plane(empty, name="Other", location=(3.0, 0.0, 0.0))
+    empty.render.film_transparent = True
+    scene, report = export(addon)
+    by_name = {mesh["name"]: mesh for mesh in scene.meshes}
+    assert by_name["Floor"].get("shadow_catcher") and not by_name["Other"].get("shadow_catcher")
+    assert not any("shadow catcher" in msg for msg in report.messages), report.messages
+    scene.validate()
+    for setting, words in (("film", "transparent film only"), ("integrator", "pt integrator")):
+        empty.render.film_transparent = setting != "film"
+        empty.lantern.integrator = "bdpt" if setting == "integrator" else "pt"
+        scene, report = export(addon)
+        assert not any(m.get("shadow_catcher") for m in scene.meshes)
+        assert any("'Floor'" in msg and words in msg for msg in report.messages), report.messages
+
+
 def sky_world(scene, sky_type, **props):
     world = bpy.data.worlds.new("Sky")
     nt = world.node_tree

@@ -237,6 +237,24 @@ LANTERN_HD inline ShadePoint shade_point(const SurfaceHit& h, int tri, Vec2 bary
     return sp;
 }
 
+// ---- Shadow catchers (SceneView::catcher_mode; lantern/film.py combines the three renders) ----
+// True when the path ends or passes through at hit tri: a camera ray reaching a catcher in the
+// matte, or anything else in the other two modes; in kCatcherPass later rays go through every
+// surface that is not a catcher (the ray continues from the hit, a segment more).
+LANTERN_HD inline bool pt_catcher_skips(const SceneView& s, const PathState& ps, int i, int tri) {
+    const bool catcher = (s.tri_flags[tri] & kShadowCatcher) != 0;
+    if (ps.depth[i] <= 1) return s.catcher_mode == kCatcherMatte ? catcher : !catcher;
+    if (s.catcher_mode != kCatcherPass || catcher) return false;
+    const Vec3 d = ps.ray_d[i];
+    const SurfaceHit h = pt_surface(s, tri, ps.hit_uv[i], d);
+    ps.ray_o[i] = offset_ray_origin(h.p, h.ng, d, s.offset_scale);
+    ps.ray_tmin[i] = 0.0f;
+    ps.ray_tmax[i] = kInf;
+    ps.depth[i] += 1;  // prev_pdf_w, prev_p and prev_n stay those of the last real vertex
+    ps.alive[i] = 1;
+    return true;
+}
+
 // ---- Shade: emission, next-event estimation (a shadow ray), BSDF sampling, roulette ----
 LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const PtSettings& st,
                                 int i) {
@@ -245,13 +263,19 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
     int tri = ps.hit_prim[i];
     ps.shadow_valid[i] = 0;
     ps.alive[i] = 0;
-    pt_collect_lights(s, ps, i, o, d, ps.ray_tmin[i], tri >= 0 ? t_hit : ps.ray_tmax[i]);
+    // the catcher renders (kCatcherObject, kCatcherPass) keep only camera rays reaching one
+    const bool catcher_camera = s.catcher_mode != kCatcherMatte && ps.depth[i] <= 1;
+    if (!catcher_camera)
+        pt_collect_lights(s, ps, i, o, d, ps.ray_tmin[i], tri >= 0 ? t_hit : ps.ray_tmax[i]);
     if (tri < 0) {  // past the far clip plane too: the background shows, as in Cycles
-        pt_shade_miss(s, ps, i, d);
+        if (!catcher_camera) pt_shade_miss(s, ps, i, d);
         return;
     }
     // a holdout seen by the camera: no colour (its alpha 0 is lantern/film.py's coverage)
     if (ps.depth[i] <= 1 && (s.tri_flags[tri] & kHoldout)) return;
+    if ((s.catcher_mode != kCatcherMatte || (s.tri_flags[tri] & kShadowCatcher)) &&
+        pt_catcher_skips(s, ps, i, tri))
+        return;
     SurfaceHit h = pt_surface(s, tri, ps.hit_uv[i], d);
     MaterialScratch scratch;
     const Material& m = material_at_point(

@@ -105,6 +105,7 @@ SceneInput to_input(const nb::dict& scene) {
         in.height = get<int>(f, "height", 64);
         in.filter_width = get<float>(f, "filter_width", 1.5f);
         in.film_transparent = get<bool>(f, "transparent", false);
+        in.catcher_mode = get<int>(f, "catcher_mode", 0);
     }
     if (has(scene, "camera")) {
         nb::dict c = nb::cast<nb::dict>(scene["camera"]);
@@ -266,6 +267,7 @@ SceneInput to_input(const nb::dict& scene) {
                                                  "mesh '" + mi.name + "'");
             mi.visible_camera = get<bool>(m, "visible_camera", true);
             mi.cast_shadow = get<bool>(m, "cast_shadow", true);
+            mi.shadow_catcher = get<bool>(m, "shadow_catcher", false);
             in.meshes.push_back(std::move(mi));
         }
     }
