@@ -104,8 +104,26 @@ def test_world_visibility(empty, addon):
     world.cycles_visibility.glossy = False
     empty.world = world
     scene, report = export(addon)
-    assert scene.world["visible_camera"] is False
-    assert any("glossy" in m for m in report.messages), report.messages
+    assert scene.world["visible_camera"] is False and scene.world["visible_glossy"] is False
+    assert "visible_diffuse" not in scene.world and "visible_transmission" not in scene.world
+    assert not any("World" in m for m in report.messages), report.messages
+    # glossy hidden, diffuse not: Principled and mixes see it in every reflection, named
+    from blender_helpers import add_plane
+    add_plane(empty, name="Plastic").data.materials.append(bpy.data.materials.new("Plastic"))
+    scene, report = export(addon)
+    assert any("glossy rays only" in m and "Plastic" in m for m in report.messages), \
+        report.messages
+    world.cycles_visibility.diffuse = False
+    world.cycles_visibility.transmission = False
+    scene, report = export(addon)
+    assert not any("World" in m for m in report.messages), report.messages
+    assert not any(scene.world[f"visible_{r}"] for r in ("diffuse", "glossy", "transmission"))
+    scene.validate()
+    empty.lantern.integrator = "bdpt"
+    scene, report = export(addon)
+    assert "visible_diffuse" not in scene.world
+    assert any("pt integrator only" in m and "diffuse, glossy, transmission" in m
+               for m in report.messages), report.messages
 
 
 def test_hdri_renders_finite_and_lit(empty, addon):

@@ -30,6 +30,24 @@ LANTERN_HD inline void pt_generate(const SceneView& s, const PathState& ps, cons
     ps.alive[i] = 1;
     ps.dropped[i] = 0;
     ps.shadow_valid[i] = 0;
+    if (ps.world_hidden) ps.world_hidden[i] = 0;
+}
+
+// Whether a ray scattered by material m towards wi (ng: the geometric normal facing the
+// arriving ray) sees the world (SceneView::world_rays), as Cycles decides: through the surface
+// a transmission; a reflection off the diffuse materials (Diffuse BSDF: Lambert, Oren-Nayar)
+// diffuse, off conductors and glass glossy; off Principled and mixes (lobes of both kinds)
+// visible when either kind is (addon/export/world.py names that case).
+LANTERN_HD inline bool pt_world_sees(const SceneView& s, const Material& m, Vec3 wi, Vec3 ng) {
+    const uint32_t r = s.world_rays;
+    if (dot(wi, ng) < 0.0f) return (r & kWorldTransmission) != 0;
+    switch (m.type) {
+    case kMaterialConductor:
+    case kMaterialDielectric: return (r & kWorldGlossy) != 0;
+    case kMaterialPrincipled:
+    case kMaterialMix: return (r & (kWorldDiffuse | kWorldGlossy)) != 0;
+    default: return (r & kWorldDiffuse) != 0;
+    }
 }
 
 // MIS weight of emission from light li found by a BSDF-sampled ray (depth > 1), light_pdf_w the
@@ -66,6 +84,7 @@ LANTERN_HD inline void pt_shade_miss(const SceneView& s, const PathState& ps, in
         const Light& l = s.lights[s.miss_lights[k]];
         if (l.type == kLightWorld) {
             if (camera && !l.visible_camera) continue;
+            if (!camera && ps.world_hidden && ps.world_hidden[i]) continue;  // world_rays
             float pdf = world_pdf_w(s, d);
             add_radiance(ps, i, ps.throughput[i] * world_radiance(s, l, d) *
                                     pt_emission_weight(s, ps, i, s.miss_lights[k], pdf));
@@ -320,6 +339,9 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
         pick = light_pick(s, h.p, n_pick, u_pick.x);
         if (pick.pmf > 0.0f) ls = sample_light(s, s.lights[pick.light], h.p, u_light);
     }
+    if (pick.pmf > 0.0f && pick.light == s.world_light && s.world_rays != kWorldRaysAll &&
+        !pt_world_sees(s, m, ls.wi, h.ng))
+        ls.valid = false;  // the world hidden from this kind of scattering lights nothing here
     if (pick.pmf > 0.0f) {
         if (ls.valid && !delta_material && sides_agree(ls.wi, h.ng, h.ns) && !is_black(ls.le)) {
             BsdfEval e = material_eval(m, h.front, wo, frame.to_local(ls.wi), Transport::Radiance,
@@ -363,6 +385,8 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
             is_finite(beta)) {
             ps.throughput[i] = beta;
             ps.depth[i] = depth + 1;
+            if (s.world_rays != kWorldRaysAll && ps.world_hidden)
+                ps.world_hidden[i] = pt_world_sees(s, m, wi, h.ng) ? 0 : 1;
             set_next_ray(ps, i, h.p, h.ng, wi, bs.delta ? 0.0f : bs.pdf_fwd_w,
                          s.offset_scale);
             if (s.light_tree_on) {

@@ -747,6 +747,7 @@ void HostScene::finish_view(const SceneInput& in) {
     v.light_tree_on = light_tree_on_ ? 1 : 0;
     v.catcher_mode = in.catcher_mode >= kCatcherMatte && in.catcher_mode <= kCatcherPass
                          ? in.catcher_mode : kCatcherMatte;
+    v.world_rays = in.world_rays & kWorldRaysAll;
     v.light_tree = light_tree_.nodes.empty() ? nullptr : light_tree_.nodes.data();
     v.num_tree_nodes = int32_t(light_tree_.nodes.size());
     v.distant_lights = light_tree_.distant.empty() ? nullptr : light_tree_.distant.data();

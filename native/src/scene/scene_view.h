@@ -184,6 +184,12 @@ enum TriangleFlags : uint8_t { kVisibleCamera = 1, kCastShadow = 2, kAlphaTested
 // render also casts no shadow from them), so the catcher is lit as if it were alone.
 enum CatcherMode : int32_t { kCatcherMatte = 0, kCatcherObject = 1, kCatcherPass = 2 };
 
+// SceneView::world_rays: the scatterings whose rays see the world (Cycles' world ray
+// visibility; camera rays: the world light's visible_camera). Transmission is any scattering
+// through the surface; diffuse and glossy are reflections (integrator/pt.h pt_world_sees).
+enum WorldRays : uint32_t { kWorldDiffuse = 1, kWorldGlossy = 2, kWorldTransmission = 4,
+                            kWorldRaysAll = 7 };
+
 struct CameraView {
     int32_t orthographic;
     int32_t panoramic = 0;  // 1: equirectangular (integrator/camera.h), longitudes and
@@ -265,6 +271,7 @@ struct SceneView {
     int32_t num_miss_lights = 0;
 
     int32_t catcher_mode = kCatcherMatte;  // CatcherMode: shadow catchers (pt)
+    uint32_t world_rays = kWorldRaysAll;   // WorldRays (pt)
     Vec3 world_color;
     EnvMap env;                          // the world's environment map (width 0: constant)
     CameraView camera;
