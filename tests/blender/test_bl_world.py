@@ -191,6 +191,31 @@ def test_transparent_film_through_f12(empty, addon, tmp_path, errors):
     assert not [c for c in errors if c[0] == "ERROR"]
 
 
+def test_shadow_catcher_through_f12(empty, addon, tmp_path, errors):
+    """test_transparent_film_through_f12's plane as a shadow catcher, a plane outside the view
+    (z 0.3, left of x = -2.3) shading its left edge from the world: colour 0 everywhere,
+    alpha the shadow, strongest at the left edge, 0 on the right where there is no catcher."""
+    import lantern
+    from blender_helpers import add_camera, add_plane, diffuse_material, render_exr
+    if not lantern.native_available():
+        pytest.skip("lantern native module not built")
+    cam = add_camera(empty, location=(0, 0, 5))
+    cam.data.type, cam.data.ortho_scale = "ORTHO", 4.0
+    add_plane(empty, size=4.0, location=(-2.0, 0.0, 0.0),
+              material=diffuse_material(0.5)).is_shadow_catcher = True
+    add_plane(empty, size=10.0, location=(-7.3, 0.0, 0.3), material=diffuse_material(0.5))
+    world = bpy.data.worlds.new("Grey")
+    world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.8, 0.8, 0.8, 1)
+    empty.world = world
+    empty.render.film_transparent = True
+    empty.lantern.samples = 16
+    px = render_exr(empty, tmp_path)
+    assert px[..., :3].max() == 0.0 and px[:, -12:, 3].max() == 0.0
+    edge, inner = px[:, :2, 3].mean(), px[:, 12:14, 3].mean()
+    assert edge > 0.04 and edge > 4.0 * inner, (edge, inner)  # about 0.08 and 0.004
+    assert not [c for c in errors if c[0] == "ERROR"]
+
+
 def test_holdouts_export_and_shadow_catcher_is_named(empty, addon):
     """A holdout object keeps its own material, copied with "holdout" (indirect rays still see
     it); a Holdout shader is a black holdout material; the shadow catcher is still named."""
