@@ -48,7 +48,7 @@ def export_scene(depsgraph, region_view=None, report=None, texture_cache=None):
     meshes = MeshExporter(materials, report)
     features = UnsupportedFeatures(report)
     holdouts = Holdouts(materials, report, _integrator(bscene), depsgraph.view_layer,
-                        bool(scene.film.get("transparent", False)))
+                        None if region_view else bool(scene.film.get("transparent", False)))
     features.scene(depsgraph)
     for inst in depsgraph.object_instances:
         obj = inst.object

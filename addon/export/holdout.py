@@ -33,7 +33,7 @@ class Holdouts:
         self.materials = materials      # export/material.py MaterialTable
         self.report = report
         self.integrator = integrator
-        self.transparent = transparent  # the film's: shadow catchers need it
+        self.transparent = transparent  # the film's (None: the viewport): catchers need it
         self.view_layer = view_layer    # for holdout collections (Object.holdout_get)
         self._copies = {}
 
@@ -69,6 +69,10 @@ class Holdouts:
             self.report.warn(f"Object '{obj.name}': a shadow catcher is rendered by the pt "
                              f"integrator only; {self.integrator} renders it as an ordinary "
                              "surface")
+        elif self.transparent is None:
+            self.report.warn(f"Object '{obj.name}': the viewport renders the shadow catcher "
+                             "as an ordinary surface (a final render over transparent film "
+                             "shows its shadow only)")
         elif not self.transparent:
             self.report.warn(f"Object '{obj.name}': a shadow catcher is rendered over "
                              "transparent film only (Film > Transparent); it renders as an "
