@@ -74,7 +74,7 @@ def film_alpha(lantern, scene, target, settings):
         from lantern.film import render_alpha
     except ImportError:  # an older lantern package: opaque, as before
         return None
-    rest = {k: v for k, v in settings.items() if k in ("backend", "threads")}
+    rest = {k: v for k, v in settings.items() if k in ("backend", "threads", "max_depth")}
     return render_alpha(scene, spp=min(max(1, target), 256), seed=int(settings.get("seed", 0)),
                         **rest)
 

@@ -1,7 +1,7 @@
 """World and camera scenes of issue 15 beside scenes.py's world_hdri / world_hdri_dof: a
 Preetham sky, the HDRI seen by a panoramic camera, and transparent film with holdouts. The sky
 and panorama join scenes.SCENES through register() (called at the end of scenes.py), so that
-tools/make_cycles_refs.py and tests/render build them like the others. The film scene is not
+tools/make_cycles_refs.py and tests/render build them like the others. The film scenes are not
 registered: its Cycles reference needs transparent film, which make_cycles_refs turns off
 (tests/render/test_world_film.py renders it)."""
 
@@ -77,7 +77,37 @@ def world_film_holdout():
     scenes.light("AREA", "Key", (1.0, -2.0, 3.0), (0.0, 0.3, 0.0), energy=300.0, size=0.8)
 
 
+def world_film_catcher():
+    """world_film_holdout with the floor a shadow catcher (Object > Visibility > Shadow
+    Catcher): over the transparent film only the shadows of the boxes, the holdout block and
+    the sphere on the floor show, as alpha; the catcher still lights the scene indirectly."""
+    world_film_holdout()
+    bpy.data.objects["Floor"].is_shadow_catcher = True
+
+
+def world_visibility():
+    """The stage under a constant world hidden from diffuse rays (World > Settings > Ray
+    Visibility > Diffuse off), one area light, the box a Glossy BSDF: the diffuse surfaces are
+    lit by the lamp alone (and by what the box reflects), the box still mirrors the world, the
+    camera sees it above the wall."""
+    import scenes
+    scenes._reset(world_color=(0.6, 0.65, 0.7))
+    scenes._stage()
+    m = bpy.data.materials.new("Glossy")
+    nt = m.node_tree
+    nt.nodes.remove(nt.nodes["Principled BSDF"])
+    g = nt.nodes.new("ShaderNodeBsdfAnisotropic")  # the Glossy BSDF
+    g.inputs["Color"].default_value = (0.8, 0.45, 0.15, 1.0)
+    g.inputs["Roughness"].default_value = 0.25
+    nt.links.new(g.outputs["BSDF"], nt.nodes["Material Output"].inputs["Surface"])
+    box = bpy.data.objects["Box"]
+    box.data.materials.clear()
+    box.data.materials.append(m)
+    bpy.context.scene.world.cycles_visibility.diffuse = False
+    scenes.light("AREA", "Key", (1.0, -2.0, 3.0), (0.0, 0.3, 0.0), energy=300.0, size=0.8)
+
+
 def register(scenes_dict):
-    """The scenes with a Cycles reference by make_cycles_refs (not the film scene)."""
-    for f in (world_sky, world_pano):
+    """The scenes with a Cycles reference by make_cycles_refs (not the film scenes)."""
+    for f in (world_sky, world_pano, world_visibility):
         scenes_dict.setdefault(f.__name__, f)

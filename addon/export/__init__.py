@@ -7,7 +7,7 @@ from .light import export_light
 from .material import MaterialTable
 from .mesh import MeshExporter
 from .unsupported import UnsupportedFeatures
-from .world import export_world
+from .world import export_world, mixed_lobe_warning
 
 __all__ = ["export_scene", "ExportReport"]
 
@@ -43,11 +43,12 @@ def export_scene(depsgraph, region_view=None, report=None, texture_cache=None):
     else:
         scene.film = region_view.film()
         scene.camera = region_view.camera()
-    scene.world = export_world(bscene.world, report, texture_cache)
+    scene.world = export_world(bscene.world, report, texture_cache, _integrator(bscene))
     materials = MaterialTable(report, texture_cache)
     meshes = MeshExporter(materials, report)
     features = UnsupportedFeatures(report)
-    holdouts = Holdouts(materials, report, _integrator(bscene), depsgraph.view_layer)
+    holdouts = Holdouts(materials, report, _integrator(bscene), depsgraph.view_layer,
+                        None if region_view else bool(scene.film.get("transparent", False)))
     features.scene(depsgraph)
     for inst in depsgraph.object_instances:
         obj = inst.object
@@ -69,6 +70,7 @@ def export_scene(depsgraph, region_view=None, report=None, texture_cache=None):
     scene.attribute_channels = materials.attributes.finish(scene.meshes)
     scene.materials = materials.materials
     scene.textures = materials.textures
+    mixed_lobe_warning(bscene.world, scene.world, scene.materials, report)  # export/world.py
     return scene, report
 
 

@@ -7,9 +7,14 @@ what is behind it and casts shadows.
 - A holdout object (Object > Visibility > Holdout, or in a view layer's holdout collection):
   its materials as they are, copied with "holdout": True, so that indirect rays still see them.
 
-The core ends camera paths on holdout triangles (integrator/pt.h, TriangleFlags kHoldout) and
-lantern/film.py gives them no coverage. Only pt does: the bidirectional integrators render
-holdouts as ordinary surfaces, and the export says so."""
+- A shadow catcher object (Object > Visibility > Shadow Catcher): its mesh gets
+  "shadow_catcher": True; over transparent film only the shadow it receives shows, as alpha
+  (lantern/film.py has the whole meaning, Cycles' with the Shadow Catcher pass off).
+
+The core ends camera paths on holdout and catcher triangles (integrator/pt.h, TriangleFlags
+kHoldout, kShadowCatcher) and lantern/film.py gives them no coverage. Only pt does: the
+bidirectional integrators render both as ordinary surfaces, and the export says so; a shadow
+catcher without transparent film renders as an ordinary surface too, named in a warning."""
 
 import numpy as np
 
@@ -24,10 +29,11 @@ class Holdouts:
     """Holdout objects' meshes pointed at holdout copies of their materials (one copy per
     material), and the warning for integrators that do not render holdouts."""
 
-    def __init__(self, materials, report, integrator="pt", view_layer=None):
+    def __init__(self, materials, report, integrator="pt", view_layer=None, transparent=True):
         self.materials = materials      # export/material.py MaterialTable
         self.report = report
         self.integrator = integrator
+        self.transparent = transparent  # the film's (None: the viewport): catchers need it
         self.view_layer = view_layer    # for holdout collections (Object.holdout_get)
         self._copies = {}
 
@@ -42,6 +48,8 @@ class Holdouts:
 
     def mesh(self, obj, mesh):
         """Called for every exported mesh of object `obj` (export/__init__.py)."""
+        if getattr(obj, "is_shadow_catcher", False):
+            self.shadow_catcher(obj, mesh)
         shader = any(self.materials.materials[i].get("holdout") for i in
                      np.unique(mesh["material_ids"]).tolist())
         if self.is_holdout(obj):
@@ -55,6 +63,22 @@ class Holdouts:
         if shader and self.integrator != "pt":
             self.report.warn(f"Object '{obj.name}': holdouts are rendered by the pt integrator "
                              f"only; {self.integrator} renders it as an ordinary surface")
+
+    def shadow_catcher(self, obj, mesh):
+        if self.integrator != "pt":
+            self.report.warn(f"Object '{obj.name}': a shadow catcher is rendered by the pt "
+                             f"integrator only; {self.integrator} renders it as an ordinary "
+                             "surface")
+        elif self.transparent is None:
+            self.report.warn(f"Object '{obj.name}': the viewport renders the shadow catcher "
+                             "as an ordinary surface (a final render over transparent film "
+                             "shows its shadow only)")
+        elif not self.transparent:
+            self.report.warn(f"Object '{obj.name}': a shadow catcher is rendered over "
+                             "transparent film only (Film > Transparent); it renders as an "
+                             "ordinary surface")
+        else:
+            mesh["shadow_catcher"] = True
 
     def is_holdout(self, obj):
         """The object's own flag or a holdout collection of the view layer (what Cycles reads)."""

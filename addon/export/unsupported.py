@@ -91,9 +91,7 @@ class UnsupportedFeatures:
         if off:
             warn(f"Object '{obj.name}': ray visibility off for {', '.join(off)} rays is not "
                  "honoured (only Camera and Shadow are)")
-        surface = obj.type not in {"LIGHT", "CAMERA", "EMPTY"}
-        if surface and getattr(obj, "is_shadow_catcher", False):
-            warn(f"Object '{obj.name}': shadow catcher is not rendered (it renders normally)")
+        # shadow catchers: export/holdout.py
         ll = getattr(obj, "light_linking", None)
         if ll is not None and (ll.receiver_collection is not None or
                                ll.blocker_collection is not None):

@@ -157,9 +157,9 @@ def _background_input(world, node, report):
     return src, _socket_color(color_in), s
 
 
-def export_world(world, report, cache=None):
+def export_world(world, report, cache=None, integrator="pt"):
     """The scene's world dict; `cache` (optional, kept between viewport exports) holds map
-    pixels by image."""
+    pixels by image; `integrator` for the ray visibility's warnings."""
     if world is None:
         return {"color": [0.0, 0.0, 0.0]}
     tree = world.node_tree
@@ -179,7 +179,7 @@ def export_world(world, report, cache=None):
                     "the world renders black")
         return {"color": [0.0, 0.0, 0.0]}
     out = {"color": [0.0, 0.0, 0.0]}
-    out.update(_visibility(world, report))
+    out.update(_visibility(world, report, integrator))
     _settings(world, report)
     if bake_node_world(world, node, out, report):   # procedural worlds (world_nodes.py)
         return out
@@ -217,16 +217,35 @@ def export_world(world, report, cache=None):
     return out
 
 
-def _visibility(world, report):
-    """Cycles' world ray visibility: Lantern honours camera; others render as visible."""
+def _visibility(world, report, integrator="pt"):
+    """Cycles' world ray visibility (World > Settings > Ray Visibility): camera for every
+    integrator, diffuse, glossy and transmission for pt (integrator/pt.h pt_world_sees)."""
     vis = getattr(world, "cycles_visibility", None)
     if vis is None:
         return {}
-    for ray in ("diffuse", "glossy", "transmission"):
-        if not getattr(vis, ray, True):
-            report.warn(f"World '{world.name}': hiding the world from {ray} rays is not "
-                        "supported; it stays visible to them")
-    return {"visible_camera": bool(getattr(vis, "camera", True))}
+    out = {"visible_camera": bool(getattr(vis, "camera", True))}
+    off = [ray for ray in ("diffuse", "glossy", "transmission") if not getattr(vis, ray, True)]
+    if off and integrator != "pt":
+        report.warn(f"World '{world.name}': hiding the world from {', '.join(off)} rays is "
+                    f"rendered by the pt integrator only; {integrator} keeps it visible to them")
+        return out
+    out.update({f"visible_{ray}": False for ray in off})
+    return out
+
+
+def mixed_lobe_warning(world, world_out, materials, report):
+    """Where the world is hidden from diffuse or glossy rays but not both, the materials that
+    have lobes of both kinds (Principled, mixes) see it in every reflection (integrator/pt.h
+    pt_world_sees): named, once, when the scene has such a material."""
+    d, g = (world_out.get(f"visible_{ray}", True) for ray in ("diffuse", "glossy"))
+    if d == g or world is None:
+        return
+    mixed = [m.get("name", "?") for m in materials if m.get("type") in ("principled", "mix")]
+    if mixed:
+        report.warn(f"World '{world.name}': the world is hidden from "
+                    f"{'glossy' if d else 'diffuse'} rays only; Principled and mixed materials "
+                    f"({', '.join(mixed[:3])}{', ...' if len(mixed) > 3 else ''}) see it in "
+                    "every reflection")
 
 
 def _settings(world, report):

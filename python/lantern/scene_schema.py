@@ -207,6 +207,10 @@ def validate_film(film):
     out["filter_width"] = fw
     if "transparent" in film:  # Blender's Film > Transparent (lantern.film)
         out["transparent"] = _bool(film["transparent"], "film transparent")
+    if "catcher_mode" in film:  # the renders of shadow catchers (lantern/film.py)
+        out["catcher_mode"] = _int(film["catcher_mode"], "film catcher_mode", minimum=0)
+        if out["catcher_mode"] > 2:
+            raise ValueError(f"film catcher_mode: expected 0, 1 or 2, got {out['catcher_mode']}")
     return out
 
 def validate_camera(camera):
@@ -266,6 +270,9 @@ def validate_world(world):
     out = dict(world)
     out["color"] = _rgb(world.get("color", [0.0, 0.0, 0.0]), "world color")
     out["visible_camera"] = _bool(world.get("visible_camera", True), "world visible_camera")
+    for ray in ("diffuse", "glossy", "transmission"):  # ray visibility (pt)
+        if f"visible_{ray}" in world:
+            out[f"visible_{ray}"] = _bool(world[f"visible_{ray}"], f"world visible_{ray}")
     if world.get("map") is not None:
         _validate_world_map(world, out)
     return out
@@ -554,6 +561,8 @@ def validate_mesh(mesh, index, num_materials=None):
     mesh["visible_camera"] = _bool(mesh.get("visible_camera", True),
                                    f"{what} visible_camera")
     mesh["cast_shadow"] = _bool(mesh.get("cast_shadow", True), f"{what} cast_shadow")
+    if "shadow_catcher" in mesh:  # a shadow catcher (pt; lantern/film.py)
+        mesh["shadow_catcher"] = _bool(mesh["shadow_catcher"], f"{what} shadow_catcher")
     return mesh
 
 def validate_light(light, index):

@@ -104,8 +104,26 @@ def test_world_visibility(empty, addon):
     world.cycles_visibility.glossy = False
     empty.world = world
     scene, report = export(addon)
-    assert scene.world["visible_camera"] is False
-    assert any("glossy" in m for m in report.messages), report.messages
+    assert scene.world["visible_camera"] is False and scene.world["visible_glossy"] is False
+    assert "visible_diffuse" not in scene.world and "visible_transmission" not in scene.world
+    assert not any("World" in m for m in report.messages), report.messages
+    # glossy hidden, diffuse not: Principled and mixes see it in every reflection, named
+    from blender_helpers import add_plane
+    add_plane(empty, name="Plastic").data.materials.append(bpy.data.materials.new("Plastic"))
+    scene, report = export(addon)
+    assert any("glossy rays only" in m and "Plastic" in m for m in report.messages), \
+        report.messages
+    world.cycles_visibility.diffuse = False
+    world.cycles_visibility.transmission = False
+    scene, report = export(addon)
+    assert not any("World" in m for m in report.messages), report.messages
+    assert not any(scene.world[f"visible_{r}"] for r in ("diffuse", "glossy", "transmission"))
+    scene.validate()
+    empty.lantern.integrator = "bdpt"
+    scene, report = export(addon)
+    assert "visible_diffuse" not in scene.world
+    assert any("pt integrator only" in m and "diffuse, glossy, transmission" in m
+               for m in report.messages), report.messages
 
 
 def test_hdri_renders_finite_and_lit(empty, addon):
@@ -173,6 +191,31 @@ def test_transparent_film_through_f12(empty, addon, tmp_path, errors):
     assert not [c for c in errors if c[0] == "ERROR"]
 
 
+def test_shadow_catcher_through_f12(empty, addon, tmp_path, errors):
+    """test_transparent_film_through_f12's plane as a shadow catcher, a plane outside the view
+    (z 0.3, left of x = -2.3) shading its left edge from the world: colour 0 everywhere,
+    alpha the shadow, strongest at the left edge, 0 on the right where there is no catcher."""
+    import lantern
+    from blender_helpers import add_camera, add_plane, diffuse_material, render_exr
+    if not lantern.native_available():
+        pytest.skip("lantern native module not built")
+    cam = add_camera(empty, location=(0, 0, 5))
+    cam.data.type, cam.data.ortho_scale = "ORTHO", 4.0
+    add_plane(empty, size=4.0, location=(-2.0, 0.0, 0.0),
+              material=diffuse_material(0.5)).is_shadow_catcher = True
+    add_plane(empty, size=10.0, location=(-7.3, 0.0, 0.3), material=diffuse_material(0.5))
+    world = bpy.data.worlds.new("Grey")
+    world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.8, 0.8, 0.8, 1)
+    empty.world = world
+    empty.render.film_transparent = True
+    empty.lantern.samples = 16
+    px = render_exr(empty, tmp_path)
+    assert px[..., :3].max() == 0.0 and px[:, -12:, 3].max() == 0.0
+    edge, inner = px[:, :2, 3].mean(), px[:, 12:14, 3].mean()
+    assert edge > 0.04 and edge > 4.0 * inner, (edge, inner)  # about 0.08 and 0.004
+    assert not [c for c in errors if c[0] == "ERROR"]
+
+
 def test_holdouts_export_and_shadow_catcher_is_named(empty, addon):
     """A holdout object keeps its own material, copied with "holdout" (indirect rays still see
     it); a Holdout shader is a black holdout material; the shadow catcher is still named."""
@@ -209,6 +252,28 @@ def test_holdouts_export_and_shadow_catcher_is_named(empty, addon):
     empty.lantern.integrator = "bdpt"
     _, report = export(addon)
     assert any("Cutout" in msg and "pt integrator only" in msg for msg in report.messages)
+
+
+def test_shadow_catcher_export(empty, addon):
+    """Over transparent film with pt a shadow catcher's mesh is flagged (lantern/film.py renders
+    it) without a warning; opaque film or another integrator renders it as an ordinary surface,
+    named in a warning."""
+    from blender_helpers import add_camera, add_plane
+    add_camera(empty)
+    add_plane(empty, name="Floor").is_shadow_catcher = True
+    add_plane(empty, name="Other", location=(3.0, 0.0, 0.0))
+    empty.render.film_transparent = True
+    scene, report = export(addon)
+    by_name = {mesh["name"]: mesh for mesh in scene.meshes}
+    assert by_name["Floor"].get("shadow_catcher") and not by_name["Other"].get("shadow_catcher")
+    assert not any("shadow catcher" in msg for msg in report.messages), report.messages
+    scene.validate()
+    for setting, words in (("film", "transparent film only"), ("integrator", "pt integrator")):
+        empty.render.film_transparent = setting != "film"
+        empty.lantern.integrator = "bdpt" if setting == "integrator" else "pt"
+        scene, report = export(addon)
+        assert not any(m.get("shadow_catcher") for m in scene.meshes)
+        assert any("'Floor'" in msg and words in msg for msg in report.messages), report.messages
 
 
 def sky_world(scene, sky_type, **props):

@@ -1,5 +1,6 @@
 """Transparent film (lantern.film): the world is not drawn but still lights; alpha is the
-coverage by geometry, with the camera's pixel filter; a surface of alpha a covers a."""
+coverage by geometry, with the camera's pixel filter; a surface of alpha a covers a; a shadow
+catcher shows only the shadow it receives, as alpha."""
 import numpy as np
 import pytest
 
@@ -60,7 +61,7 @@ def test_opaque_film_alpha_is_one(core):
     assert (render_alpha(scene, spp=1) == 1.0).all()
     cov = coverage_scene(half_plane_scene(alpha=0.3))
     assert cov.lights == [] and cov.world["color"] == [0.0, 0.0, 0.0]
-    assert cov.materials[0]["alpha"] == 0.3 and cov.materials[0]["emission"] == [1.0] * 3
+    assert cov.materials[0]["alpha"] == 0.3 and cov.materials[0]["emission"] == [1.0, 0.0, 0.0]
 
 
 def holdout_scene():
@@ -92,3 +93,36 @@ def test_holdout_cuts_the_film_and_still_shadows(core):
     img2 = lantern.render(scene, spp=16, seed=1, integrator="pt")
     assert img2[10:22, :6].mean() > 0.05
     assert render_alpha(scene, spp=16, seed=1)[10:22, :6].min() > 0.999
+
+
+def catcher_scene(wall):
+    """half_plane_scene with the plane a shadow catcher; `wall`: a black vertical wall at
+    x = -0.5 (edge-on to the camera, so unseen), 100 m high and long: from every point of the
+    plane it hides the half of the uniform world towards it, a shadow of 1/2 of the cosine-
+    weighted sky (less than 1e-3 of the sky shows above or beside it)."""
+    scene = half_plane_scene()
+    scene.meshes[0]["shadow_catcher"] = True
+    if wall:
+        b = scene.add_material("black", base_color=(0.0, 0.0, 0.0))
+        scene.add_mesh(np.array([[-0.5, -100, 0], [-0.5, 100, 0], [-0.5, 100, 100],
+                                 [-0.5, -100, 100]], np.float32),
+                       np.array([[0, 1, 2], [0, 2, 3]], np.uint32), material=b, name="wall")
+    return scene
+
+
+def test_shadow_catcher_alpha_is_the_shadow(core):
+    """The catcher is a matte (colour 0); alone under the world it casts no alpha at all (the
+    two catcher renders agree bit for bit); beside the wall its alpha is the shadow, 1/2."""
+    scene = catcher_scene(wall=False)
+    img = lantern.render(scene, spp=16, seed=1, integrator="pt")
+    assert img.max() == 0.0
+    assert render_alpha(scene, spp=16, seed=1, max_depth=4).max() == 0.0
+    scene = catcher_scene(wall=True)
+    assert lantern.render(scene, spp=16, seed=1, integrator="pt").max() == 0.0
+    a = [render_alpha(scene, spp=32, seed=k, max_depth=4) for k in range(6)]
+    # columns 0..15 see the plane (x < 0) and the wall sits between columns 11 and 12
+    inner = np.stack([x[:, [1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 13, 14]] for x in a])
+    assert np.stack(a)[:, :, -12:].max() == 0.0
+    cmp = metrics.compare_sets(list(inner), [0.5], block=4, se_floor=1e-6)
+    print(f"shadow catcher beside a wall: {cmp}")
+    assert cmp.passed(1e-3), str(cmp)

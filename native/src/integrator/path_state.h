@@ -36,6 +36,9 @@ struct PathState {
     // pick probability in the MIS weight of emission a BSDF-sampled ray finds
     Vec3* prev_p;
     Vec3* prev_n;
+    // 1: the last scattering's kind does not see the world (SceneView::world_rays; pt, and
+    // only written where the scene hides the world from some kind; may be null otherwise)
+    uint8_t* world_hidden = nullptr;
 };
 
 struct PtSettings {

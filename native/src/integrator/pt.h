@@ -30,6 +30,24 @@ LANTERN_HD inline void pt_generate(const SceneView& s, const PathState& ps, cons
     ps.alive[i] = 1;
     ps.dropped[i] = 0;
     ps.shadow_valid[i] = 0;
+    if (ps.world_hidden) ps.world_hidden[i] = 0;
+}
+
+// Whether a ray scattered by material m towards wi (ng: the geometric normal facing the
+// arriving ray) sees the world (SceneView::world_rays), as Cycles decides: through the surface
+// a transmission; a reflection off the diffuse materials (Diffuse BSDF: Lambert, Oren-Nayar)
+// diffuse, off conductors and glass glossy; off Principled and mixes (lobes of both kinds)
+// visible when either kind is (addon/export/world.py names that case).
+LANTERN_HD inline bool pt_world_sees(const SceneView& s, const Material& m, Vec3 wi, Vec3 ng) {
+    const uint32_t r = s.world_rays;
+    if (dot(wi, ng) < 0.0f) return (r & kWorldTransmission) != 0;
+    switch (m.type) {
+    case kMaterialConductor:
+    case kMaterialDielectric: return (r & kWorldGlossy) != 0;
+    case kMaterialPrincipled:
+    case kMaterialMix: return (r & (kWorldDiffuse | kWorldGlossy)) != 0;
+    default: return (r & kWorldDiffuse) != 0;
+    }
 }
 
 // MIS weight of emission from light li found by a BSDF-sampled ray (depth > 1), light_pdf_w the
@@ -66,6 +84,7 @@ LANTERN_HD inline void pt_shade_miss(const SceneView& s, const PathState& ps, in
         const Light& l = s.lights[s.miss_lights[k]];
         if (l.type == kLightWorld) {
             if (camera && !l.visible_camera) continue;
+            if (!camera && ps.world_hidden && ps.world_hidden[i]) continue;  // world_rays
             float pdf = world_pdf_w(s, d);
             add_radiance(ps, i, ps.throughput[i] * world_radiance(s, l, d) *
                                     pt_emission_weight(s, ps, i, s.miss_lights[k], pdf));
@@ -237,6 +256,24 @@ LANTERN_HD inline ShadePoint shade_point(const SurfaceHit& h, int tri, Vec2 bary
     return sp;
 }
 
+// ---- Shadow catchers (SceneView::catcher_mode; lantern/film.py combines the three renders) ----
+// True when the path ends or passes through at hit tri: a camera ray reaching a catcher in the
+// matte, or anything else in the other two modes; in kCatcherPass later rays go through every
+// surface that is not a catcher (the ray continues from the hit, a segment more).
+LANTERN_HD inline bool pt_catcher_skips(const SceneView& s, const PathState& ps, int i, int tri) {
+    const bool catcher = (s.tri_flags[tri] & kShadowCatcher) != 0;
+    if (ps.depth[i] <= 1) return s.catcher_mode == kCatcherMatte ? catcher : !catcher;
+    if (s.catcher_mode != kCatcherPass || catcher) return false;
+    const Vec3 d = ps.ray_d[i];
+    const SurfaceHit h = pt_surface(s, tri, ps.hit_uv[i], d);
+    ps.ray_o[i] = offset_ray_origin(h.p, h.ng, d, s.offset_scale);
+    ps.ray_tmin[i] = 0.0f;
+    ps.ray_tmax[i] = kInf;
+    ps.depth[i] += 1;  // prev_pdf_w, prev_p and prev_n stay those of the last real vertex
+    ps.alive[i] = 1;
+    return true;
+}
+
 // ---- Shade: emission, next-event estimation (a shadow ray), BSDF sampling, roulette ----
 LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const PtSettings& st,
                                 int i) {
@@ -245,13 +282,19 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
     int tri = ps.hit_prim[i];
     ps.shadow_valid[i] = 0;
     ps.alive[i] = 0;
-    pt_collect_lights(s, ps, i, o, d, ps.ray_tmin[i], tri >= 0 ? t_hit : ps.ray_tmax[i]);
+    // the catcher renders (kCatcherObject, kCatcherPass) keep only camera rays reaching one
+    const bool catcher_camera = s.catcher_mode != kCatcherMatte && ps.depth[i] <= 1;
+    if (!catcher_camera)
+        pt_collect_lights(s, ps, i, o, d, ps.ray_tmin[i], tri >= 0 ? t_hit : ps.ray_tmax[i]);
     if (tri < 0) {  // past the far clip plane too: the background shows, as in Cycles
-        pt_shade_miss(s, ps, i, d);
+        if (!catcher_camera) pt_shade_miss(s, ps, i, d);
         return;
     }
     // a holdout seen by the camera: no colour (its alpha 0 is lantern/film.py's coverage)
     if (ps.depth[i] <= 1 && (s.tri_flags[tri] & kHoldout)) return;
+    if ((s.catcher_mode != kCatcherMatte || (s.tri_flags[tri] & kShadowCatcher)) &&
+        pt_catcher_skips(s, ps, i, tri))
+        return;
     SurfaceHit h = pt_surface(s, tri, ps.hit_uv[i], d);
     MaterialScratch scratch;
     const Material& m = material_at_point(
@@ -296,6 +339,9 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
         pick = light_pick(s, h.p, n_pick, u_pick.x);
         if (pick.pmf > 0.0f) ls = sample_light(s, s.lights[pick.light], h.p, u_light);
     }
+    if (pick.pmf > 0.0f && pick.light == s.world_light && s.world_rays != kWorldRaysAll &&
+        !pt_world_sees(s, m, ls.wi, h.ng))
+        ls.valid = false;  // the world hidden from this kind of scattering lights nothing here
     if (pick.pmf > 0.0f) {
         if (ls.valid && !delta_material && sides_agree(ls.wi, h.ng, h.ns) && !is_black(ls.le)) {
             BsdfEval e = material_eval(m, h.front, wo, frame.to_local(ls.wi), Transport::Radiance,
@@ -339,6 +385,8 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
             is_finite(beta)) {
             ps.throughput[i] = beta;
             ps.depth[i] = depth + 1;
+            if (s.world_rays != kWorldRaysAll && ps.world_hidden)
+                ps.world_hidden[i] = pt_world_sees(s, m, wi, h.ng) ? 0 : 1;
             set_next_ray(ps, i, h.p, h.ng, wi, bs.delta ? 0.0f : bs.pdf_fwd_w,
                          s.offset_scale);
             if (s.light_tree_on) {

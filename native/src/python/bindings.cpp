@@ -78,6 +78,9 @@ void get_matrix(const nb::dict& d, const char* k, float out[16]) {
 // The world's environment map (docs/scene_format.md): "map" float32 (H, W, 3 or 4).
 void get_world_map(const nb::dict& w, SceneInput& in) {
     in.world_visible_camera = get<bool>(w, "visible_camera", true);
+    in.world_rays = (get<bool>(w, "visible_diffuse", true) ? kWorldDiffuse : 0u) |
+                    (get<bool>(w, "visible_glossy", true) ? kWorldGlossy : 0u) |
+                    (get<bool>(w, "visible_transmission", true) ? kWorldTransmission : 0u);
     if (!has(w, "map")) return;
     nb::ndarray<const float, nb::ndim<3>, nb::c_contig, nb::device::cpu> a;
     if (!nb::try_cast(w["map"], a, false))
@@ -105,6 +108,7 @@ SceneInput to_input(const nb::dict& scene) {
         in.height = get<int>(f, "height", 64);
         in.filter_width = get<float>(f, "filter_width", 1.5f);
         in.film_transparent = get<bool>(f, "transparent", false);
+        in.catcher_mode = get<int>(f, "catcher_mode", 0);
     }
     if (has(scene, "camera")) {
         nb::dict c = nb::cast<nb::dict>(scene["camera"]);
@@ -266,6 +270,7 @@ SceneInput to_input(const nb::dict& scene) {
                                                  "mesh '" + mi.name + "'");
             mi.visible_camera = get<bool>(m, "visible_camera", true);
             mi.cast_shadow = get<bool>(m, "cast_shadow", true);
+            mi.shadow_catcher = get<bool>(m, "shadow_catcher", false);
             in.meshes.push_back(std::move(mi));
         }
     }

@@ -450,7 +450,8 @@ void HostScene::add_meshes(const SceneInput& in) {
             }
         }
         const uint8_t flags = uint8_t((m.visible_camera ? kVisibleCamera : 0) |
-                                      (m.cast_shadow ? kCastShadow : 0));
+                                      (m.cast_shadow ? kCastShadow : 0) |
+                                      (m.shadow_catcher ? kShadowCatcher : 0));
         size_t far = 0, huge = 0;  // a (finite) vertex beyond kMaxCoordinate; edges > kMaxEdge
         double far_max = 0.0, huge_max = 0.0;
         for (size_t t = 0; t < nt; ++t) {
@@ -764,6 +765,9 @@ void HostScene::finish_view(const SceneInput& in) {
     v.emit_cdf = has_emitters_ ? emit_cdf_.data() : nullptr;
     v.num_lights = int32_t(lights_.size());
     v.light_tree_on = light_tree_on_ ? 1 : 0;
+    v.catcher_mode = in.catcher_mode >= kCatcherMatte && in.catcher_mode <= kCatcherPass
+                         ? in.catcher_mode : kCatcherMatte;
+    v.world_rays = in.world_rays & kWorldRaysAll;
     v.light_tree = light_tree_.nodes.empty() ? nullptr : light_tree_.nodes.data();
     v.num_tree_nodes = int32_t(light_tree_.nodes.size());
     v.distant_lights = light_tree_.distant.empty() ? nullptr : light_tree_.distant.data();

@@ -26,6 +26,7 @@ struct MeshInput {
     std::vector<float> attributes;     // SceneInput::num_attribute_channels x 3 per vertex, or empty
     bool visible_camera = true;
     bool cast_shadow = true;
+    bool shadow_catcher = false;       // TriangleFlags kShadowCatcher (pt)
 };
 
 struct MaterialInput {
@@ -123,6 +124,8 @@ struct SceneInput {
     EnvMapInput world_map;            // width 0: none (the world is world_color)
     bool world_visible_camera = true; // false: camera rays see black (the world still lights)
     bool film_transparent = false;    // Blender's transparent film: the world is not drawn
+    int catcher_mode = 0;             // SceneView::catcher_mode (lantern/film.py)
+    unsigned world_rays = 7;          // SceneView::world_rays (WorldRays)
     std::vector<MaterialInput> materials;
     std::vector<TextureInput> textures;
     std::vector<MeshInput> meshes;

@@ -175,8 +175,22 @@ struct LightTreeNode {
 // scene/alpha.h's stochastic test
 // kHoldout: the material is a holdout (Holdout shader, holdout object): camera paths that
 // reach it end there, adding nothing (the film's alpha is 0 there: lantern/film.py)
+// kShadowCatcher: a shadow catcher object (pt only; SceneView::catcher_mode says how pt treats it)
 enum TriangleFlags : uint8_t { kVisibleCamera = 1, kCastShadow = 2, kAlphaTested = 4,
-                               kHoldout = 8 };
+                               kHoldout = 8, kShadowCatcher = 16 };
+
+// SceneView::catcher_mode, the three renders of a scene with shadow catchers (lantern/film.py):
+// kCatcherMatte (the beauty): camera rays that reach a catcher end there, as at a holdout;
+// kCatcherObject: only paths whose camera ray reaches a catcher count, in the full scene;
+// kCatcherPass: the same, and after the catcher every other surface is passed through (the
+// render also casts no shadow from them), so the catcher is lit as if it were alone.
+enum CatcherMode : int32_t { kCatcherMatte = 0, kCatcherObject = 1, kCatcherPass = 2 };
+
+// SceneView::world_rays: the scatterings whose rays see the world (Cycles' world ray
+// visibility; camera rays: the world light's visible_camera). Transmission is any scattering
+// through the surface; diffuse and glossy are reflections (integrator/pt.h pt_world_sees).
+enum WorldRays : uint32_t { kWorldDiffuse = 1, kWorldGlossy = 2, kWorldTransmission = 4,
+                            kWorldRaysAll = 7 };
 
 struct CameraView {
     int32_t orthographic;
@@ -259,6 +273,8 @@ struct SceneView {
     const int32_t* miss_lights = nullptr;
     int32_t num_miss_lights = 0;
 
+    int32_t catcher_mode = kCatcherMatte;  // CatcherMode: shadow catchers (pt)
+    uint32_t world_rays = kWorldRaysAll;   // WorldRays (pt)
     Vec3 world_color;
     EnvMap env;                          // the world's environment map (width 0: constant)
     CameraView camera;
