@@ -1,6 +1,7 @@
 """Bump: a Bump node on a shader's Normal input and the Material Output's Displacement (as
-bump), compiled into "bump" programs whose result is (height, strength, signed distance);
-the core bends the shading normal by them (native/src/scene/material_program.h,
+bump), compiled into "bump" and "displacement" programs whose result is (height, strength,
+signed distance); the core bends the shading normal by them (the displacement first: it is
+the normal node graphs read, Cycles' N) (native/src/scene/material_program.h,
 program_bump). A Bump fed by another Bump gives two programs, the inner first; a Normal Map
 (tangent space, an image) under the innermost Bump is the material's normal map, applied
 before them. Filter Width is not used (Lantern has no ray differentials: docs/nodes.md)."""
@@ -12,7 +13,7 @@ from .node_eval import NodeContext
 MAX_CHAIN = 8
 
 
-def _program(compiler, parts, what):
+def _program(compiler, parts, what, target="bump"):
     """A bump program from parts(ctx) -> (height, strength, distance) Vals; None for a
     constant height (it bends nothing) or a graph that does not compile (a warning)."""
     b = Builder()
@@ -22,7 +23,7 @@ def _program(compiler, parts, what):
         if h.const is not None:
             return None
         reg = b.block([h, s, d])
-        return b.finish(ctx.reg(reg, 3, "VECTOR"), "bump")
+        return b.finish(ctx.reg(reg, 3, "VECTOR"), target)
     except Unsupported as e:
         compiler.warn(f"the height graph of {what} is not rendered ({e}); no bump")
         return None
@@ -107,13 +108,13 @@ def displacement(compiler, material, output):
                                        ctx.const((0.0,), "VALUE")], 1, mode=2)
         one = ctx.const((1.0,), "VALUE")
         return ctx.reg(r2, 1, "VALUE"), one, one
-    return _program(compiler, parts, f"Displacement '{node.name}'")
+    return _program(compiler, parts, f"Displacement '{node.name}'", "displacement")
 
 
 def hoist(out, leaves, report, where):
     """A shader mix bends one normal: the bump programs of its first leaf that has any (a
     warning when leaves differ)."""
-    found = [[p for p in leaf.get("programs", []) if p["target"] == "bump"]
+    found = [[p for p in leaf.get("programs", []) if p["target"] in ("bump", "displacement")]
              for leaf in leaves]
     found = [f for f in found if f]
     if not found:

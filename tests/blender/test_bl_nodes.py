@@ -234,8 +234,8 @@ def test_constant_bump_and_displacement_as_bump(empty):
     _scene_with(mat, empty)
     scene, report = _export()
     assert report.messages == []   # Bump Only (the default method) renders: no warning
-    # the constant height bends nothing (no program); the displacement is one bump program
-    assert [p["target"] for p in scene.materials[1]["programs"]] == ["bump"]
+    # the constant height bends nothing (no program); the displacement is one program
+    assert [p["target"] for p in scene.materials[1]["programs"]] == ["displacement"]
     assert np.isfinite(_render(scene)).all()
     mat.displacement_method = "BOTH"
     _, report = _export()
