@@ -3,8 +3,8 @@ bump), compiled into "bump" and "displacement" programs whose result is (height,
 signed distance); the core bends the shading normal by them (the displacement first: it is
 the normal node graphs read, Cycles' N) (native/src/scene/material_program.h,
 program_bump). A Bump fed by another Bump gives two programs, the inner first; a Normal Map
-(tangent space, an image) under the innermost Bump is the material's normal map, applied
-before them. Filter Width is not used (Lantern has no ray differentials: docs/nodes.md)."""
+(tangent space, an image or a graph) under the innermost Bump is the material's normal map,
+applied before them. Filter Width is not used (Lantern has no ray differentials: docs/nodes.md)."""
 
 from . import node_graph as ng
 from .material_compile import Builder, Unsupported
