@@ -247,6 +247,32 @@ def test_constant_bump_and_displacement_as_bump(empty):
     assert any("VECTOR_DISPLACEMENT" in m for m in report.messages), report.messages
 
 
+def test_normal_map_fed_by_a_graph_exports_a_program(empty):
+    """A Normal Map whose Color a graph drives: a normal_map program (strength beside it)
+    that bends the image; on Coat Normal it warns by name (images only there)."""
+    mat, nt, bsdf = _material("Mapped")
+    nm = nt.nodes.new("ShaderNodeNormalMap")
+    nm.inputs["Strength"].default_value = 0.7
+    _checker_into(nt, nm.inputs["Color"])
+    nt.links.new(nm.outputs[0], bsdf.inputs["Normal"])
+    _scene_with(mat, empty)
+    scene, report = _export()
+    assert report.messages == []
+    m = scene.materials[1]
+    assert [p["target"] for p in m["programs"]] == ["normal_map"]
+    assert m["normal_strength"] == pytest.approx(0.7)
+    mapped = _render(scene, spp=4)
+    nt.links.remove(bsdf.inputs["Normal"].links[0])
+    flat = _render(_export()[0], spp=4)
+    assert np.isfinite(mapped).all()
+    assert np.abs(mapped - flat).mean() > 0.01 * flat.mean()   # the normal moved
+    bsdf.inputs["Coat Weight"].default_value = 0.5
+    nt.links.new(nm.outputs[0], bsdf.inputs["Coat Normal"])
+    _, report = _export()
+    assert any("Normal Map 'Normal Map'" in w and "Coat Normal" in w for w in report.messages), \
+        report.messages
+
+
 def test_light_node_tree_scales_the_light(empty):
     from lantern_blender.export import node_spectral
     _scene_with(_material()[0], empty)
