@@ -112,9 +112,10 @@ def displacement(compiler, material, output):
 
 
 def hoist(out, leaves, report, where):
-    """A shader mix bends one normal: the bump programs of its first leaf that has any (a
-    warning when leaves differ)."""
-    found = [[p for p in leaf.get("programs", []) if p["target"] in ("bump", "displacement")]
+    """A shader mix bends one normal: the bump (and graph-fed normal map) programs of its first
+    leaf that has any (a warning when leaves differ)."""
+    found = [[p for p in leaf.get("programs", [])
+              if p["target"] in ("bump", "displacement", "normal_map")]
              for leaf in leaves]
     found = [f for f in found if f]
     if not found:
@@ -123,3 +124,8 @@ def hoist(out, leaves, report, where):
         report.warn(f"{where}: mixed shaders with different bumps; the first is used")
     if out.get("type") == "mix":
         out.setdefault("programs", []).extend(found[0])
+        first = next(leaf for leaf in leaves if any(
+            p["target"] in ("bump", "displacement", "normal_map")
+            for p in leaf.get("programs", [])))
+        if any(p["target"] == "normal_map" for p in found[0]):   # a graph-fed Normal Map
+            out["normal_strength"] = first.get("normal_strength", 1.0)

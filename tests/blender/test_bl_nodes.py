@@ -266,6 +266,17 @@ def test_normal_map_fed_by_a_graph_exports_a_program(empty):
     flat = _render(_export()[0], spp=4)
     assert np.isfinite(mapped).all()
     assert np.abs(mapped - flat).mean() > 0.01 * flat.mean()   # the normal moved
+    # in a shader mix the mix carries it (a mix bends one normal)
+    nt.links.new(nm.outputs[0], bsdf.inputs["Normal"])
+    mix = nt.nodes.new("ShaderNodeMixShader")
+    nt.links.new(bsdf.outputs[0], mix.inputs[1])
+    nt.links.new(nt.nodes.new("ShaderNodeBsdfDiffuse").outputs[0], mix.inputs[2])
+    nt.links.new(mix.outputs[0], nt.nodes["Material Output"].inputs["Surface"])
+    scene, report = _export()
+    top = next(m for m in scene.materials if m.get("type") == "mix")
+    assert [p["target"] for p in top["programs"]] == ["normal_map"]
+    assert top["normal_strength"] == pytest.approx(0.7)
+    nt.links.new(bsdf.outputs[0], nt.nodes["Material Output"].inputs["Surface"])
     bsdf.inputs["Coat Weight"].default_value = 0.5
     nt.links.new(nm.outputs[0], bsdf.inputs["Coat Normal"])
     _, report = _export()
