@@ -226,8 +226,9 @@ class _Inputs:
 
     def normal_map(self, out, socket_name="Normal", key="normal"):
         """A tangent-space Normal Map node on the Normal input -> normal_texture, or a
-        "normal_map" program where a node graph drives its Color (Coat Normal: socket_name
-        "Coat Normal", key "coat_normal" -> coat_normal_texture, images only)."""
+        "normal_map" program where a node graph drives its Color; Object and World spaces: a
+        "normal_map_world" program (node_bump.world_normal_map). Coat Normal: socket_name
+        "Coat Normal", key "coat_normal" -> coat_normal_texture, tangent-space images only."""
         sock = self.node.inputs.get(socket_name)
         if sock is None or not sock.is_linked:
             return
@@ -244,9 +245,17 @@ class _Inputs:
             self.report.warn(f"{self.where}: '{src.name}' ({src.type}) on {socket_name} is not "
                              "supported (Normal Map nodes in tangent space are); ignored")
             return
-        if getattr(src, "space", "TANGENT") != "TANGENT":
-            self.report.warn(f"{self.where}: Normal Map '{src.name}' in {src.space} space is "
-                             "not supported (tangent space is); ignored")
+        if getattr(src, "space", "TANGENT") != "TANGENT":   # a program gives the normal
+            if key != "normal":
+                self.report.warn(f"{self.where}: Normal Map '{src.name}' in {src.space} space "
+                                 f"on {socket_name} is not supported (tangent space is); ignored")
+                return
+            prog = node_bump.world_normal_map(self.compiler, src)
+            if prog is not None:
+                attach(out, prog)
+                strength = _constant_float(src.inputs["Strength"], self.material, self.report)
+                out[key + "_strength"] = min(max(strength, 0.0), 1e3) \
+                    if strength == strength else 1.0
             return
         if getattr(src, "uv_map", ""):
             self.report.warn(f"{self.where}: Normal Map '{src.name}' names UV map "

@@ -8,6 +8,7 @@ applied before them. Filter Width is not used (Lantern has no ray differentials:
 
 from . import node_graph as ng
 from .material_compile import Builder, Unsupported
+from . import node_eval as ne
 from .node_eval import NodeContext
 
 MAX_CHAIN = 8
@@ -69,6 +70,35 @@ def bump_chain(compiler, owner, path=(), normal_map=None, depth=0):
     return progs + ([prog] if prog is not None else [])
 
 
+def world_normal_map(compiler, node):
+    """The "normal_map_world" program of an Object or World space Normal Map node: its colour
+    decoded to a direction (2c - 1; Blender's own spaces flip y and z), object space taken to
+    the world by the shaded object's normal matrix (per-instance attribute channels); None
+    when the graph does not compile (a warning)."""
+    space = node.space
+    ctx_ops = ne.VECTOR_OPS
+
+    def post(ctx, v):
+        zero, nil = ctx.const((0.0, 0.0, 0.0), "VECTOR"), ctx.const((0.0,), "VALUE")
+        flip = -1.0 if space.startswith("BLENDER_") else 1.0
+        r, _ = ctx.emit_node("vector_math", [ctx.convert(v, "VECTOR"),
+                                             ctx.const((2.0, 2.0 * flip, 2.0 * flip), "VECTOR"),
+                                             ctx.const((-1.0, -flip, -flip), "VECTOR"), nil],
+                             4, mode=ctx_ops.index("MULTIPLY_ADD"))
+        n = ctx.reg(r, 3, "VECTOR")
+        if not space.endswith("OBJECT"):
+            return n
+        rows = []
+        for axis in "xyz":   # world component = the normal matrix's row . n
+            d, _ = ctx.emit_node("vector_math", [ctx.attribute(f"object_normal_{axis}"), n,
+                                                 zero, nil], 4,
+                                 mode=ctx_ops.index("DOT_PRODUCT"))
+            rows.append(ctx.reg(d + 3, 1, "VALUE"))
+        c, _ = ctx.emit_node("combine", rows, 3, mode=0)
+        return ctx.reg(c, 3, "VECTOR")
+    return compiler.program(node.inputs["Color"], "normal_map_world", 3, post=post)
+
+
 def is_bump(sock):
     """Whether a Bump node (through reroutes and groups) feeds sock."""
     if sock is None or not sock.is_linked:
@@ -115,7 +145,7 @@ def hoist(out, leaves, report, where):
     """A shader mix bends one normal: the bump (and graph-fed normal map) programs of its first
     leaf that has any (a warning when leaves differ)."""
     found = [[p for p in leaf.get("programs", [])
-              if p["target"] in ("bump", "displacement", "normal_map")]
+              if p["target"] in ("bump", "displacement", "normal_map", "normal_map_world")]
              for leaf in leaves]
     found = [f for f in found if f]
     if not found:
@@ -125,7 +155,7 @@ def hoist(out, leaves, report, where):
     if out.get("type") == "mix":
         out.setdefault("programs", []).extend(found[0])
         first = next(leaf for leaf in leaves if any(
-            p["target"] in ("bump", "displacement", "normal_map")
+            p["target"] in ("bump", "displacement", "normal_map", "normal_map_world")
             for p in leaf.get("programs", [])))
-        if any(p["target"] == "normal_map" for p in found[0]):   # a graph-fed Normal Map
+        if any(p["target"] in ("normal_map", "normal_map_world") for p in found[0]):
             out["normal_strength"] = first.get("normal_strength", 1.0)

@@ -600,13 +600,29 @@ def test_bump_matches_cycles(case, tmp_path):
                              f"(worst {rel.max():.3f})")
 
 
-# ---- Normal Map fed by a node graph (its Color a mix of two tangent-space colours along x,
-# Strength 0.8), on a diffuse plane under an oblique sun turned about both axes, so that
-# both tangent directions show; the tilts stay under 0.25, where Cycles' extra darkening of
-# bent normals (docs/nodes.md "Bump and displacement") is under 0.3%.
-def test_normal_map_from_a_graph_matches_cycles(tmp_path):
+# ---- Normal Map fed by a node graph (its Color a mix of two colours along x, Strength 0.8),
+# on a diffuse plane under an oblique sun turned about both axes, so that both tilt
+# directions show; the tilts stay under 0.25, where Cycles' extra darkening of bent normals
+# (docs/nodes.md "Bump and displacement") is under 0.3%. World and object spaces on a turned
+# plane (its uv tangent frame turns with it), object space also unevenly scaled (the normal
+# matrix is the inverse transpose); Blender's own spaces flip y and z. Measured controls:
+# Lantern rendering the world case as tangent space puts 73% of the pixel channels off, the
+# object case as world space 52%, Blender World as World 95%.
+NORMAL_MAP_COLORS = {"TANGENT": ((0.38, 0.6, 1.0), (0.62, 0.42, 0.95)),
+                     "WORLD": ((0.38, 0.6, 1.0), (0.62, 0.42, 0.95)),
+                     "OBJECT": ((0.4, 0.58, 1.0), (0.6, 0.45, 0.95)),
+                     "BLENDER_WORLD": ((0.38, 0.4, 0.0), (0.62, 0.58, 0.05))}
+
+
+@pytest.mark.parametrize("space", sorted(NORMAL_MAP_COLORS))
+def test_normal_map_from_a_graph_matches_cycles(space, tmp_path):
     sc, nt, emit = st.stage("plane")
     nt.nodes.remove(emit)
+    obj = bpy.data.objects["Plane"]
+    if space != "TANGENT":   # turned: world, object and tangent frames all differ
+        obj.rotation_euler = (0.0, 0.0, 0.8)
+    if space == "OBJECT":
+        obj.scale = (1.4, 0.7, 1.0)
     d = _node(nt, "ShaderNodeBsdfDiffuse", Color=(0.8, 0.8, 0.8, 1.0))
     nt.links.new(d.outputs[0], nt.nodes["Material Output"].inputs["Surface"])
     x = nt.nodes.new("ShaderNodeSeparateXYZ")
@@ -614,9 +630,10 @@ def test_normal_map_from_a_graph_matches_cycles(tmp_path):
     m = nt.nodes.new("ShaderNodeMix")
     m.data_type = "RGBA"
     nt.links.new(x.outputs["X"], _ident(m, "Factor_Float"))
-    _ident(m, "A_Color").default_value = (0.38, 0.6, 1.0, 1.0)
-    _ident(m, "B_Color").default_value = (0.62, 0.42, 0.95, 1.0)
-    nm = _node(nt, "ShaderNodeNormalMap", Strength=0.8)
+    a, b = NORMAL_MAP_COLORS[space]
+    _ident(m, "A_Color").default_value = a + (1.0,)
+    _ident(m, "B_Color").default_value = b + (1.0,)
+    nm = _node(nt, "ShaderNodeNormalMap", {"space": space}, Strength=0.8)
     nt.links.new(next(s for s in m.outputs if s.identifier == "Result_Color"), nm.inputs["Color"])
     nt.links.new(nm.outputs[0], d.inputs["Normal"])
     sun = bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", "SUN"))
@@ -629,5 +646,5 @@ def test_normal_map_from_a_graph_matches_cycles(tmp_path):
     assert np.std(img_c) > 0.01 * img_c.mean(), "the map bends nothing: it would test nothing"
     rel = st.relative_error(img_l, img_c)
     bad = np.mean(rel > TOL)
-    assert bad <= OUTLIERS, (f"{bad:.2%} of pixel channels off by more than 1% "
+    assert bad <= OUTLIERS, (f"{space}: {bad:.2%} of pixel channels off by more than 1% "
                              f"(worst {rel.max():.3f})")

@@ -159,12 +159,23 @@ LANTERN_HD inline Vec3 apply_normal_map(const SceneView& s, int32_t tex_index, f
     return normal_from_tangent_color(s, c, strength, tri, bary, n, ng_front);
 }
 // The same with the colour from material m's normal-map program (a graph on the Normal Map
-// node's Color), evaluated on the surface (the view along n; its Normal reads n).
+// node's Color), evaluated on the surface (the view along n; its Normal reads n); an Object
+// or World space map's program gives the normal itself (kTargetNormalMapWorld).
 LANTERN_HD inline Vec3 program_normal_map(const SceneView& s, const Material& m, int tri,
                                           Vec2 bary, Vec3 n, Vec3 ng_front) {
     Vec3 c;
-    if (!program_eval(s, m, kTargetNormalMap, bump_point(s, tri, bary, n), &c)) return n;
-    return normal_from_tangent_color(s, c, m.normal_strength, tri, bary, n, ng_front);
+    const ShadePoint sp = bump_point(s, tri, bary, n);
+    if (program_eval(s, m, kTargetNormalMap, sp, &c))
+        return normal_from_tangent_color(s, c, m.normal_strength, tri, bary, n, ng_front);
+    if (!program_eval(s, m, kTargetNormalMapWorld, sp, &c)) return n;
+    if (!(length_sq(c) > 1e-12f)) return n;
+    Vec3 mapped = normalize(c);
+    if (m.normal_strength != 1.0f) {
+        mapped = n + (mapped - n) * fmaxf(m.normal_strength, 0.0f);
+        if (!is_finite(mapped) || !(length_sq(mapped) > 1e-12f)) return n;
+        mapped = normalize(mapped);
+    }
+    return dot(mapped, ng_front) > 1e-4f ? mapped : n;
 }
 
 // The anisotropy tangent of an anisotropic material, as the angle from Frame::from_normal(ns)'s

@@ -18,10 +18,12 @@ namespace lantern {
 enum ProgramTarget : uint32_t {
     kTargetBaseColor = 0, kTargetRoughness = 1, kTargetMetallic = 2, kTargetEmission = 3,
     kTargetAlpha = 4, kTargetMixFactor = 5, kTargetBump = 6, kTargetDisplacement = 7,
-    kTargetNormalMap = 8, kTargetCount = 9,
+    kTargetNormalMap = 8, kTargetNormalMapWorld = 9, kTargetCount = 10,
 };
-// kTargetNormalMap: the Color of a tangent-space Normal Map node driven by a graph; the
-// material then has kTexNormal with tex_normal -1 (pt.h program_normal_map applies it).
+// kTargetNormalMap: the Color of a tangent-space Normal Map node driven by a graph;
+// kTargetNormalMapWorld: an Object or World space Normal Map's normal, already a world
+// direction (the add-on compiles the colour's decoding and the object's normal matrix into
+// it). The material then has kTexNormal with tex_normal -1 (pt.h program_normal_map).
 
 struct MaterialProgram {
     int32_t first_instr, num_instr;
