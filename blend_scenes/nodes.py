@@ -352,6 +352,11 @@ def nodes_world():
     nt.links.new(noise.outputs["Color"], _ident(mix.inputs, "B_Color"))
     nt.links.new(_ident(mix.outputs, "Result_Color"), bg.inputs["Color"])
     bg.inputs["Strength"].default_value = 1.5
+    # Cycles' importance map of the world: 128 texels wide instead of its automatic 1024 (what
+    # the map sets is Cycles' noise, not its image; the procedural world's map took 22 of
+    # each Cycles render's 23 s)
+    sc.world.cycles.sampling_method = "MANUAL"
+    sc.world.cycles.sample_map_resolution = 128
     for name, x, col in (("Left", -1.6, (0.8, 0.8, 0.8, 1)), ("Mid", 0.0, (0.8, 0.3, 0.2, 1)),
                          ("Right", 1.6, (0.2, 0.6, 0.3, 1))):
         mat, _, d = _material(name)

@@ -225,8 +225,10 @@ class _Inputs:
         out["emission"] = [c * strength for c in col]
 
     def normal_map(self, out, socket_name="Normal", key="normal"):
-        """A tangent-space Normal Map node on the Normal input -> normal_texture (Coat Normal:
-        socket_name "Coat Normal", key "coat_normal" -> coat_normal_texture)."""
+        """A tangent-space Normal Map node on the Normal input -> normal_texture, or a
+        "normal_map" program where a node graph drives its Color; Object and World spaces: a
+        "normal_map_world" program (node_bump.world_normal_map). Coat Normal: socket_name
+        "Coat Normal", key "coat_normal" -> coat_normal_texture, tangent-space images only."""
         sock = self.node.inputs.get(socket_name)
         if sock is None or not sock.is_linked:
             return
@@ -243,23 +245,45 @@ class _Inputs:
             self.report.warn(f"{self.where}: '{src.name}' ({src.type}) on {socket_name} is not "
                              "supported (Normal Map nodes in tangent space are); ignored")
             return
-        if getattr(src, "space", "TANGENT") != "TANGENT":
-            self.report.warn(f"{self.where}: Normal Map '{src.name}' in {src.space} space is "
-                             "not supported (tangent space is); ignored")
+        if getattr(src, "space", "TANGENT") != "TANGENT":   # a program gives the normal
+            if key != "normal":
+                self.report.warn(f"{self.where}: Normal Map '{src.name}' in {src.space} space "
+                                 f"on {socket_name} is not supported (tangent space is); ignored")
+                return
+            prog = node_bump.world_normal_map(self.compiler, src)
+            if prog is not None:
+                attach(out, prog)
+                strength = _constant_float(src.inputs["Strength"], self.material, self.report)
+                out[key + "_strength"] = min(max(strength, 0.0), 1e3) \
+                    if strength == strength else 1.0
             return
         if getattr(src, "uv_map", ""):
             self.report.warn(f"{self.where}: Normal Map '{src.name}' names UV map "
                              f"'{src.uv_map}'; the active render UV map is used")
-        img, output = _image_source(src.inputs["Color"])
-        if img is None or output != "color":
-            if src.inputs["Color"].is_linked:
+        color = src.inputs["Color"]
+        img, output = _image_source(color)
+        if is_graph(color):
+            # a node graph drives the colour: a "normal_map" program (its result the
+            # tangent-space colour), applied where the texture would be
+            if key != "normal":
+                self.report.warn(f"{self.where}: Normal Map '{src.name}' on {socket_name} is "
+                                 "fed by a node graph (only an Image Texture is rendered "
+                                 "there); ignored")
+                return
+            prog = self.compiler.program(color, "normal_map", 3)
+            if prog is None:
+                return
+            attach(out, prog)
+        elif img is None or output != "color":
+            if color.is_linked:
                 self.report.warn(f"{self.where}: Normal Map '{src.name}' is not fed by an "
-                                 "Image Texture's Color; ignored")
+                                 "Image Texture's Color or a node graph; ignored")
             return
-        tid = self.textures.add(img, "color", self.where)
-        if tid is None:
-            return
-        out[key + "_texture"] = tid
+        else:
+            tid = self.textures.add(img, "color", self.where)
+            if tid is None:
+                return
+            out[key + "_texture"] = tid
         strength = _constant_float(src.inputs["Strength"], self.material, self.report)
         out[key + "_strength"] = min(max(strength, 0.0), 1e3) if strength == strength else 1.0
 
@@ -524,6 +548,10 @@ def _convert_mix(top, material, report, textures, add_leaf):
             attach(out, prog)
         elif prog["target"] == "alpha":
             attach(out, prog)
+        else:   # an emission leaf takes its share of the factor's own value
+            report.warn(f"{where}: the node graph on the factor of Mix Shader '{top.name}' is "
+                        "not rendered (graph factors mix two BSDFs, or a BSDF and "
+                        "Transparent); its own value is used")
     node_bump.hoist(out, [leaf for leaf, _ in bsdf], report, where)
     if normals:
         out["normal_texture"] = normals[0]["normal_texture"]

@@ -9,7 +9,8 @@ from . import node_graph as ng
 from .node_eval import NODE_HANDLERS, NodeContext
 
 REGS = 192          # kProgramRegs
-TARGETS = ("base_color", "roughness", "metallic", "emission", "alpha", "mix_factor", "bump")
+TARGETS = ("base_color", "roughness", "metallic", "emission", "alpha", "mix_factor", "bump",
+           "displacement", "normal_map", "normal_map_world")
 
 
 class Unsupported(Exception):

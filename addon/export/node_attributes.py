@@ -8,7 +8,8 @@ import zlib
 import numpy as np
 
 LOCAL = ("generated", "object", "object_normal")          # from the mesh alone
-INSTANCE = ("object_location", "object_random", "object_color")
+INSTANCE = ("object_location", "object_random", "object_color", "object_normal_x",
+            "object_normal_y", "object_normal_z")   # the last three: the normal matrix's rows
 
 
 def _generated(mesh, pos):
@@ -115,6 +116,12 @@ class AttributeTable:
             per = {"object_location": m[:3, 3],
                    "object_random": (rnd, float(getattr(obj, "pass_index", 0)), 0.0),
                    "object_color": tuple(getattr(obj, "color", (1, 1, 1, 1)))[:3]}
+            try:   # object-space normals to the world: the inverse transpose
+                nrm = np.linalg.inv(m[:3, :3]).T
+            except np.linalg.LinAlgError:
+                nrm = np.eye(3)
+            for k, axis in enumerate("xyz"):
+                per[f"object_normal_{axis}"] = nrm[k]
             for name in INSTANCE:
                 if name in self.names:
                     out[name] = np.tile(np.asarray(per[name], np.float32), (nl, 1))

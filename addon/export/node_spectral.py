@@ -1,7 +1,7 @@
 """Blackbody and Wavelength: colours of a spectrum, computed here (numpy) into 256-entry tables
 that the core's ColorRamp op interpolates (no op of their own). Spectra are integrated against
-the CIE 1931 2-degree observer in the multi-lobe Gaussian fit of Wyman, Sloan and Shirley
-(JCGT 2013; within about 1% of the tabulated functions), then taken to linear Rec.709 (D65).
+the tabulated CIE 1931 2-degree observer (node_cie1931; until 2026-12 the multi-lobe Gaussian
+fit of Wyman, Sloan and Shirley, 3% off in the red tail), then taken to linear Rec.709 (D65).
 Blackbody (Planck's law) is normalised to luminance Y = 1 over 800-12000 K (clamped outside),
 as Blender defines it; the table runs in 1/T, where the colour changes smoothly. Wavelength
 (380-780 nm) is the observer's own colour, scaled so that no channel exceeds 1 and clamped
@@ -9,6 +9,7 @@ at 0, as Cycles does (docs/nodes.md: measured against Cycles)."""
 
 import math
 
+from . import node_cie1931 as cie
 from . import node_eval as ne
 
 T_MIN, T_MAX = 800.0, 12000.0
@@ -19,18 +20,16 @@ XYZ_TO_REC709 = ((3.2404542, -1.5371385, -0.4985314),
                  (0.0556434, -0.2040259, 1.0572252))
 
 
-def _g(x, mu, s1, s2):
-    t = (x - mu) / (s1 if x < mu else s2)
-    return math.exp(-0.5 * t * t)
-
-
 def cie_xyz(lam):
-    """The CIE 1931 colour matching functions at wavelength lam (nm), Wyman et al.'s fit."""
-    x = 1.056 * _g(lam, 599.8, 37.9, 31.0) + 0.362 * _g(lam, 442.0, 16.0, 26.7) \
-        - 0.065 * _g(lam, 501.1, 20.4, 26.2)
-    y = 0.821 * _g(lam, 568.8, 46.9, 40.5) + 0.286 * _g(lam, 530.9, 16.3, 31.1)
-    z = 1.217 * _g(lam, 437.0, 11.8, 36.0) + 0.681 * _g(lam, 459.0, 26.0, 13.8)
-    return x, y, z
+    """The CIE 1931 colour matching functions at wavelength lam (nm): the tabulated observer
+    (node_cie1931), linearly interpolated; 0 outside 360-830 nm."""
+    u = (lam - cie.LAMBDA_MIN) / cie.LAMBDA_STEP
+    i = int(math.floor(u))
+    if i < 0 or i >= len(cie.CMF_5NM) - 1:
+        return cie.CMF_5NM[-1] if i == len(cie.CMF_5NM) - 1 and u == i else (0.0, 0.0, 0.0)
+    f = u - i
+    a, b = cie.CMF_5NM[i], cie.CMF_5NM[i + 1]
+    return tuple(a[k] + (b[k] - a[k]) * f for k in range(3))
 
 
 def _rgb(xyz):

@@ -105,11 +105,13 @@ def h_magic(ctx, node, out, path):
 
 def h_image(ctx, node, out, path):
     proj = ("FLAT", "BOX", "SPHERE", "TUBE").index(getattr(node, "projection", "FLAT"))
-    if proj == 1:
-        ctx.c.warn(f"Image Texture '{node.name}': Box projection is rendered as Flat")
     tid = ctx.c.textures.add_raw(node, ctx.c.where)
-    r, _ = ctx.emit_node("image", [_vec(ctx, node, path, "uv")], 4, mode=proj,
-                         aux=-1 if tid is None else tid)
+    ins = [_vec(ctx, node, path, "uv")]
+    if proj == 1:   # box: the sides by the object-space normal, blended by Projection Blend
+        blend = float(getattr(node, "projection_blend", 0.0))
+        ins += [ctx.attribute("object_normal"),
+                ctx.const((min(max(blend, 0.0), 1.0) if blend == blend else 0.0,), "VALUE")]
+    r, _ = ctx.emit_node("image", ins, 4, mode=proj, aux=-1 if tid is None else tid)
     if out.identifier == "Alpha":
         return ctx.reg(r + 3, 1, "VALUE")
     return ctx.reg(r, 3, "RGBA")

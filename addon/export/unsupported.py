@@ -120,8 +120,10 @@ class UnsupportedFeatures:
             warn(f"Light '{obj.name}': 'Cast Shadow' off is not honoured (it casts shadows)")
         tree = getattr(light, "node_tree", None)
         if getattr(light, "use_nodes", False) and tree is not None:   # the rest: node_light.py
-            if any(n.type == "TEX_IES" for n in tree.nodes):
-                warn(f"Light '{obj.name}': IES profiles are not rendered")
+            for n in tree.nodes:
+                if n.type == "TEX_IES":
+                    warn(f"Light '{obj.name}': IES Texture '{n.name}' is not rendered (Lantern "
+                         "reads no IES profiles: the light emits as it would without it)")
 
     # ---- materials ----
     def material(self, mat):

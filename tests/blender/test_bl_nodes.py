@@ -234,8 +234,8 @@ def test_constant_bump_and_displacement_as_bump(empty):
     _scene_with(mat, empty)
     scene, report = _export()
     assert report.messages == []   # Bump Only (the default method) renders: no warning
-    # the constant height bends nothing (no program); the displacement is one bump program
-    assert [p["target"] for p in scene.materials[1]["programs"]] == ["bump"]
+    # the constant height bends nothing (no program); the displacement is one program
+    assert [p["target"] for p in scene.materials[1]["programs"]] == ["displacement"]
     assert np.isfinite(_render(scene)).all()
     mat.displacement_method = "BOTH"
     _, report = _export()
@@ -245,6 +245,43 @@ def test_constant_bump_and_displacement_as_bump(empty):
                  nt.nodes["Material Output"].inputs["Displacement"])
     _, report = _export()
     assert any("VECTOR_DISPLACEMENT" in m for m in report.messages), report.messages
+
+
+def test_normal_map_fed_by_a_graph_exports_a_program(empty):
+    """A Normal Map whose Color a graph drives: a normal_map program (strength beside it)
+    that bends the image; on Coat Normal it warns by name (images only there)."""
+    mat, nt, bsdf = _material("Mapped")
+    nm = nt.nodes.new("ShaderNodeNormalMap")
+    nm.inputs["Strength"].default_value = 0.7
+    _checker_into(nt, nm.inputs["Color"])
+    nt.links.new(nm.outputs[0], bsdf.inputs["Normal"])
+    _scene_with(mat, empty)
+    scene, report = _export()
+    assert report.messages == []
+    m = scene.materials[1]
+    assert [p["target"] for p in m["programs"]] == ["normal_map"]
+    assert m["normal_strength"] == pytest.approx(0.7)
+    mapped = _render(scene, spp=4)
+    nt.links.remove(bsdf.inputs["Normal"].links[0])
+    flat = _render(_export()[0], spp=4)
+    assert np.isfinite(mapped).all()
+    assert np.abs(mapped - flat).mean() > 0.01 * flat.mean()   # the normal moved
+    # in a shader mix the mix carries it (a mix bends one normal)
+    nt.links.new(nm.outputs[0], bsdf.inputs["Normal"])
+    mix = nt.nodes.new("ShaderNodeMixShader")
+    nt.links.new(bsdf.outputs[0], mix.inputs[1])
+    nt.links.new(nt.nodes.new("ShaderNodeBsdfDiffuse").outputs[0], mix.inputs[2])
+    nt.links.new(mix.outputs[0], nt.nodes["Material Output"].inputs["Surface"])
+    scene, report = _export()
+    top = next(m for m in scene.materials if m.get("type") == "mix")
+    assert [p["target"] for p in top["programs"]] == ["normal_map"]
+    assert top["normal_strength"] == pytest.approx(0.7)
+    nt.links.new(bsdf.outputs[0], nt.nodes["Material Output"].inputs["Surface"])
+    bsdf.inputs["Coat Weight"].default_value = 0.5
+    nt.links.new(nm.outputs[0], bsdf.inputs["Coat Normal"])
+    _, report = _export()
+    assert any("Normal Map 'Normal Map'" in w and "Coat Normal" in w for w in report.messages), \
+        report.messages
 
 
 def test_light_node_tree_scales_the_light(empty):

@@ -338,3 +338,32 @@ TEST(MaterialProgram, EvaluatesOutsideAScene) {
                  std::invalid_argument);
     EXPECT_THROW(evaluate_program(code, consts, 2, 12, {0, 0}, {0, 0}), std::invalid_argument);
 }
+
+// Box projection (Image Texture, Box): the side weights partition 1, blend 0 picks one side,
+// and with a blend they change continuously over the sphere of normals (no seam).
+TEST(MaterialProgram, BoxProjectionWeightsPartitionAndBlendWithoutSeams) {
+    EXPECT_EQ(image_box_weights(Vec3{-1.0f, 0.0f, 0.0f}, 0.3f).x, 1.0f);
+    EXPECT_EQ(image_box_weights(Vec3{0.1f, -0.9f, 0.2f}, 0.0f).y, 1.0f);
+    EXPECT_EQ(image_box_weights(Vec3{0.0f, 0.0f, 0.0f}, 0.3f).z, 1.0f);  // degenerate: a side
+    for (float blend : {0.0f, 0.15f, 0.5f, 1.0f}) {
+        Vec3 prev{};
+        for (int i = 0; i <= 4000; ++i) {  // a path over the sphere through every region
+            const float t = float(i) / 4000.0f * 6.2831853f;
+            const Vec3 n{cosf(t) * cosf(0.4f * t), sinf(t) * cosf(0.4f * t), sinf(0.4f * t)};
+            const Vec3 w = image_box_weights(n, blend);
+            EXPECT_GE(fminf(w.x, fminf(w.y, w.z)), 0.0f);
+            EXPECT_NEAR(w.x + w.y + w.z, 1.0f, 1e-5f);
+            if (blend == 0.0f) EXPECT_EQ(fmaxf(w.x, fmaxf(w.y, w.z)), 1.0f);
+            if (blend > 0.0f && i > 0) {  // steps of 1.6e-3 rad move a weight by far less than 0.05
+                EXPECT_LT(fabsf(w.x - prev.x) + fabsf(w.y - prev.y) + fabsf(w.z - prev.z),
+                          0.05f)
+                    << "blend " << blend << " at t " << t;
+            }
+            prev = w;
+        }
+    }
+    // the side facing -x reads its image mirrored, so that it reads the same way round the box
+    const Vec3 co{0.2f, 0.3f, 0.7f};
+    EXPECT_FLOAT_EQ(image_box_uv(0, co, Vec3{1.0f, 0.0f, 0.0f}).x, 0.3f);
+    EXPECT_FLOAT_EQ(image_box_uv(0, co, Vec3{-1.0f, 0.0f, 0.0f}).x, 0.7f);
+}

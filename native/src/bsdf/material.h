@@ -60,7 +60,10 @@ LANTERN_HD inline void material_apply_programs(const SceneView& s, const Materia
     for (int i = 0; i < m.prog_count; ++i) {
         const MaterialProgram& p = s.programs[m.prog_first + i];
         // alpha.h reads the alpha where rays are traced, pt_surface_frames the bump
-        if (p.target == kTargetAlpha || p.target == kTargetBump) continue;
+        if (p.target == kTargetAlpha || p.target == kTargetBump ||
+            p.target == kTargetDisplacement || p.target == kTargetNormalMap ||
+            p.target == kTargetNormalMapWorld)
+            continue;
         const Vec3 v = program_run(s, p, sp);
         switch (p.target) {
         case kTargetBaseColor: {
@@ -127,8 +130,11 @@ LANTERN_HD inline const Material& material_resolve_leaf(const SceneView& s, cons
 __attribute__((noinline))
 #endif
 LANTERN_HD inline const Material& material_resolve(const SceneView& s, const Material& m,
-                                                   const ShadePoint& sp,
+                                                   const ShadePoint& sp_hit,
                                                    MaterialScratch& scratch) {
+    // a bumped or normal-mapped hit's shading normal is not the one node graphs read
+    ShadePoint sp = sp_hit;
+    if (m.tex_flags & (kTexBump | kTexNormal)) sp.n = program_graph_normal(s, m, sp_hit);
     if (m.type != kMaterialMix) return material_resolve_leaf(s, m, sp, scratch.m);
     scratch.m = m;
     for (int i = 0; i < m.mix_count; ++i)

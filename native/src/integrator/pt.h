@@ -151,22 +151,46 @@ LANTERN_HD inline bool uv_tangent(const SceneView& s, int tri, Vec2 bary, Vec3 n
     return true;
 }
 
-// A tangent-space normal map (Blender's Normal Map node, tangent space): texture `tex` of
-// `strength` applied to the front-side shading normal n of triangle tri. Returns n unchanged
-// where the map or the frame is degenerate or would turn the normal below the surface.
-LANTERN_HD inline Vec3 apply_normal_map(const SceneView& s, int32_t tex_index, float strength,
-                                        int tri, Vec2 bary, Vec3 n, Vec3 ng_front, Vec2 st) {
+// A tangent-space normal map (Blender's Normal Map node, tangent space): colour c (2c - 1 in
+// the uv tangent frame) of `strength` applied to the front-side shading normal n of triangle
+// tri. Returns n unchanged where the map or the frame is degenerate or would turn the normal
+// below the surface. apply_normal_map reads c from a texture, program_normal_map from a graph.
+LANTERN_HD inline Vec3 normal_from_tangent_color(const SceneView& s, Vec3 c, float strength,
+                                                 int tri, Vec2 bary, Vec3 n, Vec3 ng_front) {
     Vec3 t;
     float sign;
     if (!uv_tangent(s, tri, bary, n, &t, &sign)) return n;
     Vec3 b = cross(n, t) * sign;
-    const Texture& tex = s.textures[tex_index];
-    Vec3 c = texture_color(texture_lookup(tex, s.texels, s.srgb_lut, st));
     Vec3 mapped = t * (2.0f * c.x - 1.0f) + b * (2.0f * c.y - 1.0f) + n * (2.0f * c.z - 1.0f);
     if (!is_finite(mapped) || !(length_sq(mapped) > 1e-12f)) return n;
     mapped = normalize(mapped);
     if (strength != 1.0f) {
         mapped = n + (mapped - n) * fmaxf(strength, 0.0f);
+        if (!is_finite(mapped) || !(length_sq(mapped) > 1e-12f)) return n;
+        mapped = normalize(mapped);
+    }
+    return dot(mapped, ng_front) > 1e-4f ? mapped : n;
+}
+LANTERN_HD inline Vec3 apply_normal_map(const SceneView& s, int32_t tex_index, float strength,
+                                        int tri, Vec2 bary, Vec3 n, Vec3 ng_front, Vec2 st) {
+    const Texture& tex = s.textures[tex_index];
+    const Vec3 c = texture_color(texture_lookup(tex, s.texels, s.srgb_lut, st));
+    return normal_from_tangent_color(s, c, strength, tri, bary, n, ng_front);
+}
+// The same with the colour from material m's normal-map program (a graph on the Normal Map
+// node's Color), evaluated on the surface (the view along n; its Normal reads n); an Object
+// or World space map's program gives the normal itself (kTargetNormalMapWorld).
+LANTERN_HD inline Vec3 program_normal_map(const SceneView& s, const Material& m, int tri,
+                                          Vec2 bary, Vec3 n, Vec3 ng_front) {
+    Vec3 c;
+    const ShadePoint sp = bump_point(s, tri, bary, n);
+    if (program_eval(s, m, kTargetNormalMap, sp, &c))
+        return normal_from_tangent_color(s, c, m.normal_strength, tri, bary, n, ng_front);
+    if (!program_eval(s, m, kTargetNormalMapWorld, sp, &c)) return n;
+    if (!(length_sq(c) > 1e-12f)) return n;
+    Vec3 mapped = normalize(c);
+    if (m.normal_strength != 1.0f) {
+        mapped = n + (mapped - n) * fmaxf(m.normal_strength, 0.0f);
         if (!is_finite(mapped) || !(length_sq(mapped) > 1e-12f)) return n;
         mapped = normalize(mapped);
     }
@@ -201,9 +225,13 @@ __attribute__((noinline))
 LANTERN_HD inline void pt_surface_frames(const SceneView& s, SurfaceHit& h, int tri, Vec2 uv,
                                          Vec3 n, Vec3 ng_front) {
     const Material& m = s.materials[s.tri_material[tri]];
+    if (m.tex_flags & kTexBump)  // the Displacement output as bump: Cycles' N itself, first
+        n = program_bump(s, m, tri, uv, n, ng_front, kTargetDisplacement);
     const Vec3 n_smooth = n;
     if (m.tex_flags & kTexNormal)
-        n = apply_normal_map(s, m.tex_normal, m.normal_strength, tri, uv, n, ng_front, h.st);
+        n = m.tex_normal >= 0 ? apply_normal_map(s, m.tex_normal, m.normal_strength, tri, uv,
+                                                 n, ng_front, h.st)
+                              : program_normal_map(s, m, tri, uv, n, ng_front);
     if (m.tex_flags & kTexBump) n = program_bump(s, m, tri, uv, n, ng_front);  // node graphs
     h.ns = h.front ? n : -n;
     if (m.anisotropy > 0.0f) h.tangent_angle = anisotropy_angle(s, m, tri, uv, h.ns);

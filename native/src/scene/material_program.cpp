@@ -18,7 +18,7 @@ namespace {
 struct OpSpan {
     int in, out;
 };
-OpSpan op_span(int op, int dim) {
+OpSpan op_span(int op, int dim, int mode) {
     switch (op) {
     case kOpCopy: return {dim, dim};
     case kOpInput: return {0, 3};
@@ -44,7 +44,7 @@ OpSpan op_span(int op, int dim) {
     case kOpCurves: return {4, 3};
     case kOpFresnel: return {4, 1};
     case kOpLayerWeight: return {4, 2};
-    case kOpImage: return {3, 4};
+    case kOpImage: return {mode == 1 ? 7 : 3, 4};   // box: vector, normal, blend
     case kOpMapping: return {12, 3};
     case kOpNormalize: return {3, 3};
     case kOpBrick: return {20, 4};
@@ -66,7 +66,7 @@ NodeInstr decode_instr(const uint32_t* w, size_t k, size_t nc, size_t num_textur
     n.aux = int32_t(w[2]);
     n.aux2 = int32_t(w[3]);
     const std::string who = "node program instruction " + std::to_string(k);
-    const OpSpan sp = op_span(n.op, n.dim);
+    const OpSpan sp = op_span(n.op, n.dim, n.mode);
     if (sp.in < 0) throw std::invalid_argument(who + ": unknown op " + std::to_string(n.op));
     if (n.op == kOpCopy && (n.dim < 1 || n.dim > 3))
         throw std::invalid_argument(who + ": copy of " + std::to_string(n.dim) + " values");
@@ -148,7 +148,7 @@ void fold_program(MaterialProgram& p, std::vector<NodeInstr>& code, std::vector<
     }
     for (int k = 0; k < p.num_instr; ++k) {
         const NodeInstr& n = code[size_t(p.first_instr) + size_t(k)];
-        const OpSpan span = op_span(n.op, n.dim);
+        const OpSpan span = op_span(n.op, n.dim, n.mode);
         for (int i = 0; i < span.out; ++i) ++writes[n.out + i];
     }
     std::vector<NodeInstr> kept;
@@ -156,7 +156,7 @@ void fold_program(MaterialProgram& p, std::vector<NodeInstr>& code, std::vector<
     sp.tri = -1;
     for (int k = 0; k < p.num_instr; ++k) {
         const NodeInstr& n = code[size_t(p.first_instr) + size_t(k)];
-        const OpSpan span = op_span(n.op, n.dim);
+        const OpSpan span = op_span(n.op, n.dim, n.mode);
         bool fold = !op_reads_hit(n.op);
         for (int i = 0; fold && i < span.in; ++i) fold = known[n.in + i];
         for (int i = 0; fold && i < span.out; ++i) fold = writes[n.out + i] == 1;
@@ -243,12 +243,22 @@ void HostScene::add_programs(const SceneInput& in) {
             MaterialProgram p = programs_[size_t(mi.program_first) + size_t(i)];
             fold_program(p, program_code_, program_consts_, host);
             host.program_consts = program_consts_.data();
-            if (p.num_instr > 0) {
+            if (p.target == kTargetNormalMap || p.target == kTargetNormalMapWorld) {  // kept
                 kept.push_back(p);
-                if (p.target == kTargetBump) m.tex_flags |= kTexBump;
+                m.tex_flags |= kTexNormal;
+                m.tex_normal = -1;
+                if (m.type == kMaterialPrincipled && m.coat_weight > 0.0f)
+                    m.tex_flags |= kCoatNormal;  // the coat keeps the unmapped normal
                 continue;
             }
-            if (p.target == kTargetBump) continue;  // a constant height bends nothing
+            if (p.num_instr > 0) {
+                kept.push_back(p);
+                if (p.target == kTargetBump || p.target == kTargetDisplacement)
+                    m.tex_flags |= kTexBump;
+                continue;
+            }
+            if (p.target == kTargetBump || p.target == kTargetDisplacement)
+                continue;  // a constant height bends nothing
             // constant: apply it to m as a hit would (the same clamps)
             std::vector<MaterialProgram> one{p};
             host.programs = one.data();

@@ -11,13 +11,19 @@
 
 namespace lantern {
 
-// kTargetBump: a Bump node (or the Displacement output as bump) on the shading normal; its
-// result is (height, strength, distance signed by Invert), run by program_bump, not at
-// material_at.
+// kTargetBump: a Bump node on the shading normal; its result is (height, strength, distance
+// signed by Invert), run by program_bump, not at material_at. kTargetDisplacement: the
+// Material Output's Displacement as bump, the same result; it bends Cycles' N itself, which
+// node graphs read (program_graph_normal), before normal maps and Bump nodes.
 enum ProgramTarget : uint32_t {
     kTargetBaseColor = 0, kTargetRoughness = 1, kTargetMetallic = 2, kTargetEmission = 3,
-    kTargetAlpha = 4, kTargetMixFactor = 5, kTargetBump = 6, kTargetCount = 7,
+    kTargetAlpha = 4, kTargetMixFactor = 5, kTargetBump = 6, kTargetDisplacement = 7,
+    kTargetNormalMap = 8, kTargetNormalMapWorld = 9, kTargetCount = 10,
 };
+// kTargetNormalMap: the Color of a tangent-space Normal Map node driven by a graph;
+// kTargetNormalMapWorld: an Object or World space Normal Map's normal, already a world
+// direction (the add-on compiles the colour's decoding and the object's normal matrix into
+// it). The material then has kTexNormal with tex_normal -1 (pt.h program_normal_map).
 
 struct MaterialProgram {
     int32_t first_instr, num_instr;
@@ -99,21 +105,6 @@ LANTERN_HD inline ShadePoint shade_point_on_triangle(const SceneView& s, int32_t
     return sp;
 }
 
-// Emitted radiance of material m at triangle tri, bary, seen from wo: its emission program
-// there, else material_emission (texture or constant). Never inlined on the host (only
-// textured and node-graph emitters reach it: lights.h triangle_emission).
-#ifndef __CUDA_ARCH__
-__attribute__((noinline))
-#endif
-LANTERN_HD inline Vec3 material_emission_at(const SceneView& s, const Material& m, int32_t tri,
-                                            Vec2 bary, Vec3 wo) {
-    Vec3 e;
-    if ((m.tex_flags & kTexProgram) &&
-        program_eval(s, m, kTargetEmission, shade_point_on_triangle(s, tri, bary, wo), &e))
-        return Vec3{clampf(e.x, 0.0f, 1e30f), clampf(e.y, 0.0f, 1e30f), clampf(e.z, 0.0f, 1e30f)};
-    return material_emission(s, m, triangle_uv(s, tri, bary));
-}
-
 // ---- Bump ----
 // Cycles evaluates the height at the shading point and at offsets along its screen-space
 // differentials dP/dx, dP/dy (times the node's Filter Width) and forms the normal of the
@@ -137,10 +128,12 @@ LANTERN_HD inline ShadePoint bump_point(const SceneView& s, int32_t tri, Vec2 ba
 }
 
 // The front-side shading normal n of triangle tri at bary bent by material m's bump programs
-// (in order: a Bump fed by another Bump); n unchanged where the result is degenerate or
-// would face below the surface (as for normal maps).
+// of `target` (kTargetBump, in order: a Bump fed by another Bump; or kTargetDisplacement); n
+// unchanged where the result is degenerate or would face below the surface (as for normal
+// maps).
 LANTERN_HD inline Vec3 program_bump(const SceneView& s, const Material& m, int32_t tri,
-                                    Vec2 bary, Vec3 n, Vec3 ng_front) {
+                                    Vec2 bary, Vec3 n, Vec3 ng_front,
+                                    uint32_t target = kTargetBump) {
     const uint32_t* idx = s.indices + 3 * tri;
     const Vec3 a = s.positions[idx[0]];
     const Vec3 e1 = s.positions[idx[1]] - a, e2 = s.positions[idx[2]] - a;
@@ -153,7 +146,7 @@ LANTERN_HD inline Vec3 program_bump(const SceneView& s, const Material& m, int32
     const Vec3 dpdx = e1 * du, dpdy = e2 * dv;   // the two offsets, world units
     for (int i = 0; i < m.prog_count; ++i) {
         const MaterialProgram& prog = s.programs[m.prog_first + i];
-        if (prog.target != kTargetBump) continue;
+        if (uint32_t(prog.target) != target) continue;
         const Vec3 c = program_run(s, prog, bump_point(s, tri, bary, n));
         const float hx =
             program_run(s, prog, bump_point(s, tri, Vec2{bary.x + du, bary.y}, n)).x;
@@ -174,6 +167,48 @@ LANTERN_HD inline Vec3 program_bump(const SceneView& s, const Material& m, int32
         if (dot(nb, ng_front) > 1e-4f) n = nb;
     }
     return n;
+}
+
+// The normal node graphs read at sp (Blender's Geometry > Normal; the default Normal of
+// Fresnel, Layer Weight, Bump): Cycles' N, the interpolated normal bent by the Material
+// Output's Displacement (as bump) alone. Bump and Normal Map nodes bend the normal of the
+// BSDFs they feed, not this one (measured with bpy 5.0.1 and Cycles: test_nodes.py
+// geometry_normal_*). On sp's side; sp.n where sp has no triangle.
+LANTERN_HD inline Vec3 program_graph_normal(const SceneView& s, const Material& m,
+                                            const ShadePoint& sp) {
+    if (sp.tri < 0) return sp.n;
+    const uint32_t* idx = s.indices + 3 * sp.tri;
+    const float w0 = 1.0f - sp.bary.x - sp.bary.y;
+    const Vec3 a = s.positions[idx[0]], b = s.positions[idx[1]], c = s.positions[idx[2]];
+    const Vec3 ng_front = normalize(cross(b - a, c - a));
+    if (!is_finite(ng_front)) return sp.n;
+    Vec3 n = ng_front;
+    if (s.normals) {
+        const Vec3 ni = s.normals[idx[0]] * w0 + s.normals[idx[1]] * sp.bary.x +
+                        s.normals[idx[2]] * sp.bary.y;
+        if (is_finite(ni) && length_sq(ni) > 1e-12f) n = normalize(ni);
+        if (dot(n, ng_front) < 0.0f) n = -n;
+    }
+    if (m.tex_flags & kTexBump)
+        n = program_bump(s, m, sp.tri, sp.bary, n, ng_front, kTargetDisplacement);
+    return sp.backfacing ? -n : n;
+}
+
+// Emitted radiance of material m at triangle tri, bary, seen from wo: its emission program
+// there, else material_emission (texture or constant). Never inlined on the host (only
+// textured and node-graph emitters reach it: lights.h triangle_emission).
+#ifndef __CUDA_ARCH__
+__attribute__((noinline))
+#endif
+LANTERN_HD inline Vec3 material_emission_at(const SceneView& s, const Material& m, int32_t tri,
+                                            Vec2 bary, Vec3 wo) {
+    Vec3 e;
+    if (!(m.tex_flags & kTexProgram)) return material_emission(s, m, triangle_uv(s, tri, bary));
+    ShadePoint sp = shade_point_on_triangle(s, tri, bary, wo);
+    if (m.tex_flags & kTexBump) sp.n = program_graph_normal(s, m, sp);  // Cycles' N
+    if (program_eval(s, m, kTargetEmission, sp, &e))
+        return Vec3{clampf(e.x, 0.0f, 1e30f), clampf(e.y, 0.0f, 1e30f), clampf(e.z, 0.0f, 1e30f)};
+    return material_emission(s, m, triangle_uv(s, tri, bary));
 }
 
 // Alpha (coverage) of material m's alpha program at tri, bary; false when it has none.

@@ -102,7 +102,8 @@ enum NodeOp : uint8_t {
                        // aux2: n; mode 0 rgb, 1 float (reads in[1]); out color(3)
     kOpFresnel,        // in: ior normal(3); out: fac
     kOpLayerWeight,    // in: blend normal(3); out: fresnel facing
-    kOpImage,          // in: vector(3); aux: texture; mode: projection; out: color(3) alpha
+    kOpImage,          // in: vector(3), box (mode 1) also normal(3) blend; aux: texture;
+                       // mode: projection; out: color(3) alpha
     kOpMapping,        // in: vector(3) location(3) rotation(3) scale(3); mode: type
     kOpNormalize,      // in: vector(3): a unit vector (0 stays 0)
     kOpBrick,          // in: vector(3) color1(3) color2(3) mortar(3) scale mortar_size
@@ -295,7 +296,19 @@ LANTERN_HD inline void program_step(const SceneView& s, const ShadePoint& sp, co
     case kOpLayerWeight: node_layer_weight(a[0], sp.wo, reg3(a, 1), sp.backfacing, o, o + 1); break;
     case kOpImage: {
         Vec4 c{};
-        if (n.aux >= 0 && n.aux < s.num_textures) {
+        if (n.aux >= 0 && n.aux < s.num_textures && n.mode == 1) {  // box: up to three sides
+            const Texture& t = s.textures[n.aux];
+            const Vec3 nb = sp.backfacing ? -reg3(a, 3) : reg3(a, 3);
+            const Vec3 w = image_box_weights(nb, a[6]);
+            const float wk[3] = {w.x, w.y, w.z};
+            for (int k = 0; k < 3; ++k) {
+                if (!(wk[k] > 0.0f)) continue;
+                const Vec4 q =
+                    texture_lookup(t, s.texels, s.srgb_lut, image_box_uv(k, reg3(a, 0), nb));
+                c = Vec4{c.x + q.x * wk[k], c.y + q.y * wk[k], c.z + q.z * wk[k],
+                         c.w + q.w * wk[k]};
+            }
+        } else if (n.aux >= 0 && n.aux < s.num_textures) {
             const Texture& t = s.textures[n.aux];
             c = texture_lookup(t, s.texels, s.srgb_lut, image_projection(n.mode, reg3(a, 0)));
         } else {

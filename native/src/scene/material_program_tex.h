@@ -266,7 +266,55 @@ LANTERN_HD inline void node_layer_weight(float blend, Vec3 i, Vec3 n, bool backf
     *facing = 1.0f - f;
 }
 
-// Image Texture projections of a vector: 0 flat (x, y), 2 sphere, 3 tube (box: the program)
+// ---- Box projection (Image Texture, projection Box) ----
+// Blender's definition: the object-space shading normal n picks the box side whose axis it is
+// nearest, the image laid on that side's plane (X side: (y, z), Y side: (x, z), Z side:
+// (y, x), mirrored on the sides facing so that the image reads the same way round the box);
+// Blend in [0, 1] widens each edge between sides into a band where two (at a corner three)
+// sides mix. The weights of the X, Y, Z sides, summing to 1, from the normalised |n|.
+LANTERN_HD inline Vec3 image_box_weights(Vec3 n, float blend) {
+    Vec3 a{fabsf(n.x), fabsf(n.y), fabsf(n.z)};
+    const float sum = a.x + a.y + a.z;
+    if (!(sum > 0.0f)) return Vec3{0.0f, 0.0f, 1.0f};
+    a = a / sum;
+    blend = clampf(blend, 0.0f, 1.0f);
+    const float limit = 0.5f * (1.0f + blend);
+    if (a.x > limit * (a.x + a.y) && a.x > limit * (a.x + a.z)) return Vec3{1.0f, 0.0f, 0.0f};
+    if (a.y > limit * (a.x + a.y) && a.y > limit * (a.y + a.z)) return Vec3{0.0f, 1.0f, 0.0f};
+    if (a.z > limit * (a.x + a.z) && a.z > limit * (a.y + a.z)) return Vec3{0.0f, 0.0f, 1.0f};
+    if (!(blend > 0.0f)) return Vec3{0.0f, 0.0f, 1.0f};  // no side stands out: one side
+    // an edge band between two sides: the ratio of their two components, rescaled to [0, 1]
+    auto edge = [blend](float p, float q) {
+        return clampf((p / (p + q) - 0.5f * (1.0f - blend)) / blend, 0.0f, 1.0f);
+    };
+    if (a.z < (1.0f - limit) * (a.x + a.y)) {
+        const float w = edge(a.x, a.y);
+        return Vec3{w, 1.0f - w, 0.0f};
+    }
+    if (a.x < (1.0f - limit) * (a.y + a.z)) {
+        const float w = edge(a.y, a.z);
+        return Vec3{0.0f, w, 1.0f - w};
+    }
+    if (a.y < (1.0f - limit) * (a.x + a.z)) {
+        const float w = edge(a.x, a.z);
+        return Vec3{w, 0.0f, 1.0f - w};
+    }
+    // a corner: all three sides
+    const float k = 1.0f / (2.0f * limit - 1.0f);
+    return Vec3{((2.0f - limit) * a.x + (limit - 1.0f)) * k,
+                ((2.0f - limit) * a.y + (limit - 1.0f)) * k,
+                ((2.0f - limit) * a.z + (limit - 1.0f)) * k};
+}
+
+// The image coordinates of box side `axis` (0 X, 1 Y, 2 Z) for the point co, normal n.
+LANTERN_HD inline Vec2 image_box_uv(int axis, Vec3 co, Vec3 n) {
+    if (axis == 0) return Vec2{n.x < 0.0f ? 1.0f - co.y : co.y, co.z};
+    if (axis == 1) return Vec2{n.y > 0.0f ? 1.0f - co.x : co.x, co.z};
+    return Vec2{n.z > 0.0f ? 1.0f - co.y : co.y, co.x};
+}
+
+// Image Texture projections of a vector: 0 flat (x, y), 2 sphere, 3 tube (box: the weights
+// above, three lookups: material_program_ops.h)
 LANTERN_HD inline Vec2 image_projection(int projection, Vec3 co) {
     if (projection == 0 || projection == 1) return Vec2{co.x, co.y};
     const Vec3 d = (co - vec3(0.5f)) * 2.0f;
