@@ -15,7 +15,7 @@ def test_defaults(monkeypatch):
                         "max_depth": 16, "seed": 0, "threads": 0, "rr_depth": 3,
                         "sort": None, "connections": 5, "candidates": 10,
                         "cis_target": "contribution", "naive_ris": False,
-                        "cache_budget_mb": 0, "light_candidates": 1}
+                        "cache_budget_mb": 0, "light_candidates": 1, "instancing": False}
     assert warnings == []
 
 

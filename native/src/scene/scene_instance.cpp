@@ -56,7 +56,13 @@ bool HostScene::move_mesh(int k, const Transform& m) {
         }
     }
     std::copy(moved.begin(), moved.end(), positions_.begin() + vb);
-    if (!given->normals.empty()) {
+    bool identity = true;  // back where it was given: the given arrays, bit for bit
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 4; ++j) identity &= m.m[i][j] == (i == j ? 1.0f : 0.0f);
+    if (identity) {
+        std::copy(given->normals.begin(), given->normals.end(), normals_.begin() + vb);
+        std::copy(given->tangents.begin(), given->tangents.end(), tangents_.begin() + 4 * vb);
+    } else if (!given->normals.empty()) {
         for (size_t v = 0; v < nv; ++v) {  // n M^-1, i.e. M^-T n
             const Vec3 n = given->normals[v];
             const Vec3 w{inv.m[0][0] * n.x + inv.m[1][0] * n.y + inv.m[2][0] * n.z,
@@ -65,7 +71,7 @@ bool HostScene::move_mesh(int k, const Transform& m) {
             normals_[vb + v] = normalised_or_zero(w);
         }
     }
-    if (!given->tangents.empty()) {
+    if (!identity && !given->tangents.empty()) {
         for (size_t v = 0; v < nv; ++v) {
             const float* g = &given->tangents[4 * v];
             const Vec3 t = normalised_or_zero(m.vector(Vec3{g[0], g[1], g[2]}));
