@@ -124,23 +124,31 @@ class ViewportSync:
     def session_base(self):
         """The instances' placements in the current scene; set `base` to it when a new
         session of this scene starts: later moves are relative to it."""
-        return (list(self._order), {k: self._placed[k][0] for k in self._order})
+        mats = {k: self._placed[k][0] for k in self._order}
+        return (list(self._order), mats, dict(mats))  # order, placed in its scene, now there
 
     def session_moves(self):
-        """[(mesh index, 4x4)] that take the marked session's scene to the current one by
-        moving instances alone, or None when more than transforms differ."""
+        """[(mesh index, 4x4)] that take the running session (base) to the current scene by
+        moving instances alone (each instance whose placement differs from what the session
+        has now, a move back included), or None when more than transforms differ. The
+        session's placements count as updated: call it only to apply the moves."""
         if self.base is None or self.base[0] != self._order:
             return None
         out = []
         for k, key in enumerate(self._order):
-            then, now = self.base[1][key], self._placed[key][0]
-            if then == now:
+            given, applied, now = self.base[1][key], self.base[2][key], self._placed[key][0]
+            if applied == now:
                 continue
-            a = np.frombuffer(then, dtype=np.float64).reshape(4, 4)
+            if given == now:  # back where the session's scene has it: exactly
+                out.append((k, np.eye(4)))
+                continue
+            a = np.frombuffer(given, dtype=np.float64).reshape(4, 4)
             b = np.frombuffer(now, dtype=np.float64).reshape(4, 4)
             if abs(np.linalg.det(a[:3, :3])) < 1e-30:
                 return None
             out.append((k, b @ np.linalg.inv(a)))
+        for key in self._order:
+            self.base[2][key] = self._placed[key][0]
         return out
 
     def _walk_instances(self, depsgraph, scene, report):

@@ -199,11 +199,17 @@ def test_scene_edits_export_what_changed(addon, stage):
                 image, lantern.render(state.sync.scene, spp=SPP,
                                       **stage.lantern.session_settings()))
         fresh = _fresh(stage, ctx, stage.lantern)
-        ok, cmp, over3, allowed = _agrees(_renders(state.sync.scene, range(1, 6)),
-                                          _renders(fresh, range(11, 16)))
-        assert ok, f"{what}: {cmp}; {over3} blocks over |z| 3 (allowed {allowed})"
-        # ...which is the edited scene: the one before the edit is told apart
-        assert not _agrees(_renders(before, range(21, 26)), _renders(fresh, range(11, 16)))[0]
+        if what == "transform":  # its images: test_transform_edit_moves_one_instance; the
+            # sync's scene (what a later new session starts from) is placed as a fresh export
+            for got, want in zip(state.sync.scene.meshes, fresh.meshes, strict=True):
+                np.testing.assert_allclose(got["positions"], want["positions"], atol=1e-6)
+        else:
+            ok, cmp, over3, allowed = _agrees(_renders(state.sync.scene, range(1, 6)),
+                                              _renders(fresh, range(11, 16)))
+            assert ok, f"{what}: {cmp}; {over3} blocks over |z| 3 (allowed {allowed})"
+            # ...which is the edited scene: the one before the edit is told apart
+            assert not _agrees(_renders(before, range(21, 26)),
+                               _renders(fresh, range(11, 16)))[0]
         before = fresh
     assert state.material_updates == 1 and state.instance_moves == 1
     state.free()
@@ -226,7 +232,7 @@ def test_transform_edit_moves_one_instance(addon, stage, monkeypatch, accel):
         stage.lantern.seed = seed
         engine, ctx = _start(addon, stage)
         state = engine._lantern
-        _refined(engine, addon, ctx)
+        unmoved = _refined(engine, addon, ctx)
         session = state.session
         builds = session.stats["accel_bottom_builds"]
         assert builds == 2  # one bottom level per mesh: the floor and the card
@@ -242,6 +248,12 @@ def test_transform_edit_moves_one_instance(addon, stage, monkeypatch, accel):
         assert state.session is session and state.instance_moves == 1
         st = session.stats
         assert st["instance_moves"] == 1 and st["accel_bottom_builds"] == builds
+        if seed == 1:  # moved back: the session's own placement again, bit for bit
+
+            def back():
+                card.location, card.rotation_euler, card.scale = home, (0, 0, 0), (1, 1, 1)
+            np.testing.assert_array_equal(_apply(addon, engine, ctx, back), unmoved)
+            assert state.session is session and session.stats["instance_moves"] == 2
         state.free()
         card.rotation_euler, card.scale = (0, 0, 0), (1, 1, 1)
     card.location = (0.6, 0.4, 0.8)
