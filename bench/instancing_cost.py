@@ -6,7 +6,10 @@ Cornell box merged) and on the Cornell box itself (7 meshes). --base PKG adds a 
 before (a folder holding its `lantern` package, e.g. /work/main/python), instancing off.
 Runs interleave, one process each; medians and ranges are printed as a table:
 
-    python bench/instancing_cost.py --reps 5 [--base /work/main/python] [--size 96]"""
+    python bench/instancing_cost.py --reps 5 [--base /work/main/python] [--size 96]
+
+--callgrind counts instead the instructions per ray of the render steps under valgrind (the
+process with the steps less the same process without them): a figure the load does not move."""
 import argparse
 import os
 import statistics
@@ -22,7 +25,7 @@ import numpy as np
 sys.path.insert(0, sys.argv[1])
 import lantern
 from lantern import scenes
-accel, name, inst, size, steps = sys.argv[2], sys.argv[3], sys.argv[4] == "1", int(sys.argv[5]), int(sys.argv[6])
+name, inst, size, steps = sys.argv[3], sys.argv[4] == "1", int(sys.argv[5]), int(sys.argv[6])
 scene = scenes.cornell_box(size, size)
 if name == "one_mesh":
     pos, idx, mat, base = [], [], [], 0
@@ -53,6 +56,39 @@ def run(pkg, accel, scene, inst, size, steps):
     return float(out[-1]) / float(out[-2])  # rays per CPU second
 
 
+def instructions(pkg, accel, scene, inst, size, steps):
+    """Instructions of the child process under callgrind, and the rays it traced."""
+    import tempfile
+    env = dict(os.environ, LANTERN_ACCEL=accel)
+    with tempfile.TemporaryDirectory() as tmp:
+        out = os.path.join(tmp, "cg.out")
+        res = subprocess.run(["valgrind", "--tool=callgrind", f"--callgrind-out-file={out}",
+                              sys.executable, "-c", CHILD, pkg, accel, scene,
+                              "1" if inst else "0", str(size), str(steps)],
+                             capture_output=True, text=True, check=True, env=env)
+        rays = int(res.stdout.split()[-1])
+        for line in open(out):
+            if line.startswith("summary:") or line.startswith("totals:"):
+                return int(line.split()[1]), rays
+    raise RuntimeError("callgrind wrote no totals")
+
+
+def callgrind(args, configs):
+    print("| scene | accel | " + " | ".join(f"{c[0]} instr/ray" for c in configs) +
+          " | two-level / flat - 1 |")
+    print("|---|---|" + "---:|" * (len(configs) + 1))
+    for scene in ("one_mesh", "cornell_box"):
+        for accel in args.accels.split(","):
+            per = {}
+            for label, pkg, inst in configs:
+                base, _ = instructions(pkg, accel, scene, inst, args.size, 0)
+                total, rays = instructions(pkg, accel, scene, inst, args.size, args.steps)
+                per[label] = (total - base) / rays
+            cells = " | ".join(f"{per[c[0]]:.0f}" for c in configs)
+            print(f"| {scene} | {accel} | {cells} | {per['two-level'] / per['flat'] - 1:+.1%} |",
+                  flush=True)
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--reps", type=int, default=5)
@@ -60,11 +96,14 @@ def main():
     ap.add_argument("--steps", type=int, default=3)
     ap.add_argument("--base", default=None, help="a build from before: its python/ folder")
     ap.add_argument("--accels", default="embree,bvh")
+    ap.add_argument("--callgrind", action="store_true")
     args = ap.parse_args()
     here = str(ROOT / "python")
     configs = [("flat", here, False), ("two-level", here, True)]
     if args.base:
         configs.insert(0, ("before (flat)", args.base, False))
+    if args.callgrind:
+        return callgrind(args, configs)
     head = " | ".join(f"{c[0]} Mrays/s" for c in configs)
     print(f"| scene | accel | {head} | two-level / flat - 1 |")
     print("|---|---|" + "---:|" * (len(configs) + 1))

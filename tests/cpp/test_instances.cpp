@@ -93,7 +93,8 @@ void check_moved_hits(const char* accel) {
     Soup moved = given;
     const Transform m = moved_transform();
     const MeshRange& r = given.meshes[1];
-    for (int v = r.vert_begin; v < r.vert_begin + r.vert_count; ++v) moved.p[v] = m.point(given.p[v]);
+    for (int v = r.vert_begin; v < r.vert_begin + r.vert_count; ++v)
+        moved.p[v] = m.point(given.p[v]);
     std::vector<std::string> w;
     const SceneView sg = given.view(), sm = moved.view();
     CpuBackend inst(sg, 2, w, &given.meshes), flat(sm, 2, w);
@@ -114,18 +115,21 @@ void check_moved_hits(const char* accel) {
     for (int i = 0; i < n; ++i) {
         float pdf;
         // half the rays aim at an interior point of a moved triangle
-        Vec3 o{rng.uniform() * 1.6f - 0.3f, rng.uniform() * 1.6f - 0.3f, rng.uniform() * 1.6f - 0.3f};
+        auto u = [&] { return rng.uniform() * 1.6f - 0.3f; };
+        Vec3 o{u(), u(), u()};
         Vec3 d = sample_uniform_sphere(rng.uniform2(), &pdf);
         if (i % 2 == 0) {
             const int t = r.tri_begin + int(rng.next() % uint32_t(r.tri_count));
             float b1 = 0.1f + 0.8f * rng.uniform(), b2 = (0.9f - b1) * rng.uniform() + 0.05f;
-            const Vec3 a = sm.positions[sm.indices[3 * t]], b = sm.positions[sm.indices[3 * t + 1]],
+            const Vec3 a = sm.positions[sm.indices[3 * t]],
+                       b = sm.positions[sm.indices[3 * t + 1]],
                        c = sm.positions[sm.indices[3 * t + 2]];
             d = (a * (1.0f - b1 - b2) + b * b1 + c * b2) - o;  // unnormalised on purpose
         }
         const Ray ray{o, d, 1e-4f, kInf};
         for (int k = 0; k < 3; ++k) {
-            const HitRecord hf = flat.intersect(ray, RayKind(k)), hi = inst.intersect(ray, RayKind(k));
+            const HitRecord hf = flat.intersect(ray, RayKind(k));
+            const HitRecord hi = inst.intersect(ray, RayKind(k));
             hits[k] += hf.prim >= 0;
             if (hf.prim != hi.prim) {  // only a tie of two triangles at one distance
                 ASSERT_TRUE(hf.prim >= 0 && hi.prim >= 0) << accel << " ray " << i << " kind " << k
@@ -238,7 +242,8 @@ TEST(Instances, MoveMeshWritesTheArraysOfAFreshScene) {
     for (int v = 0; v < 90; ++v) {
         EXPECT_LE(length(a.positions[v] - b.positions[v]), 1e-5f) << v;
         EXPECT_LE(length(a.normals[v] - b.normals[v]), 1e-5f) << v;
-        for (int c = 0; c < 4; ++c) EXPECT_NEAR(a.tangents[4 * v + c], b.tangents[4 * v + c], 1e-5f);
+        for (int c = 0; c < 4; ++c)
+            EXPECT_NEAR(a.tangents[4 * v + c], b.tangents[4 * v + c], 1e-5f);
     }
     EXPECT_FALSE(moved.move_mesh(2, m)) << "an emitting mesh moved in place";
     Transform mirror{};

@@ -118,7 +118,8 @@ void transformed_box(const Vec3 box[2], const Transform& m, Vec3 out[2]) {
     }
     if (!identity) {  // the corners were rounded: pad by a few ulps of the coordinates
         float far = 0.0f;
-        for (int a = 0; a < 3; ++a) far = std::max({far, std::fabs(out[0][a]), std::fabs(out[1][a])});
+        for (int a = 0; a < 3; ++a)
+            far = std::max({far, std::fabs(out[0][a]), std::fabs(out[1][a])});
         const float pad = 1e-6f * (max_component(out[1] - out[0]) + far);
         out[0] = out[0] - vec3(pad);
         out[1] = out[1] + vec3(pad);

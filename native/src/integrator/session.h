@@ -70,7 +70,7 @@ struct SessionStats {
     int64_t device_memory_peak = 0;  // CUDA: most device memory the renderer's buffers held
     int64_t device_memory_used = 0;  // CUDA: most of the device's memory in use by this
                                      // session (cudaMemGetInfo; with the kernels' local memory)
-    int64_t accel_bottom_builds = 0;  // CPU: bottom-level structures built (flat: 1 per kind)
+    int64_t accel_bottom_builds = 0;  // CPU: bottom-level structures built (flat: 1)
     int64_t instance_moves = 0;       // move_instance() calls served
 };
 

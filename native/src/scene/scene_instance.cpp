@@ -26,9 +26,10 @@ bool HostScene::move_mesh(int k, const Transform& m) {
     }
     Transform inv;
     if (!invert_affine(m, &inv)) return false;
-    const double det = double(m.m[0][0]) * (double(m.m[1][1]) * m.m[2][2] - double(m.m[1][2]) * m.m[2][1]) -
-                       double(m.m[0][1]) * (double(m.m[1][0]) * m.m[2][2] - double(m.m[1][2]) * m.m[2][0]) +
-                       double(m.m[0][2]) * (double(m.m[1][0]) * m.m[2][1] - double(m.m[1][1]) * m.m[2][0]);
+    auto e = [&](int r, int c) { return double(m.m[r][c]); };
+    const double det = e(0, 0) * (e(1, 1) * e(2, 2) - e(1, 2) * e(2, 1)) -
+                       e(0, 1) * (e(1, 0) * e(2, 2) - e(1, 2) * e(2, 0)) +
+                       e(0, 2) * (e(1, 0) * e(2, 1) - e(1, 1) * e(2, 0));
     if (!(det > 0.0)) return false;  // mirrored: the add-on flips the winding, export again
     if (mesh_given_.size() < mesh_ranges_.size()) mesh_given_.resize(mesh_ranges_.size());
     std::unique_ptr<MeshCopy> fresh;

@@ -314,7 +314,8 @@ bool EmbreeAccel::occluded(const Ray& r) const {
     return ray.tfar < 0.0f;  // Embree sets tfar = -inf on a hit
 }
 #else
-EmbreeAccel::EmbreeAccel(const SceneView&, std::vector<std::string>&, const std::vector<MeshRange>*) {
+EmbreeAccel::EmbreeAccel(const SceneView&, std::vector<std::string>&,
+                         const std::vector<MeshRange>*) {
     throw std::runtime_error("Lantern was built without Embree: the CPU backend is unavailable");
 }
 EmbreeAccel::~EmbreeAccel() = default;
