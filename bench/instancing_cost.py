@@ -2,7 +2,7 @@
 process_time of the render steps, so the shared machine's load matters less) with
 instancing off (the flat structure final renders use) and on (a bottom-level BVH per mesh,
 what viewport sessions use), for Embree and the built-in BVH, on a scene of one mesh (the
-Cornell box merged) and on the Cornell box itself (7 meshes). --base PKG adds a build from
+Cornell box and a 20k-triangle sphere, merged) and on the Cornell box itself (7 meshes). --base PKG adds a build from
 before (a folder holding its `lantern` package, e.g. /work/main/python), instancing off.
 Runs interleave, one process each; medians and ranges are printed as a table:
 
@@ -27,7 +27,10 @@ import lantern
 from lantern import scenes
 name, inst, size, steps = sys.argv[3], sys.argv[4] == "1", int(sys.argv[5]), int(sys.argv[6])
 scene = scenes.cornell_box(size, size)
-if name == "one_mesh":
+if name == "one_mesh":  # the box and a 20k-triangle sphere in it, as one mesh
+    sp, si = scenes.icosphere(5, radius=0.35, center=(-0.3, 0.2, 1.3))
+    scene.meshes.append({"positions": sp, "indices": si,
+                         "material_ids": np.zeros(len(si), np.uint32)})
     pos, idx, mat, base = [], [], [], 0
     for m in scene.meshes:
         pos.append(m["positions"]); idx.append(np.asarray(m["indices"]) + base)
@@ -77,7 +80,7 @@ def callgrind(args, configs):
     print("| scene | accel | " + " | ".join(f"{c[0]} instr/ray" for c in configs) +
           " | two-level / flat - 1 |")
     print("|---|---|" + "---:|" * (len(configs) + 1))
-    for scene in ("one_mesh", "cornell_box"):
+    for scene in args.scenes.split(","):
         for accel in args.accels.split(","):
             per = {}
             for label, pkg, inst in configs:
@@ -97,6 +100,7 @@ def main():
     ap.add_argument("--base", default=None, help="a build from before: its python/ folder")
     ap.add_argument("--accels", default="embree,bvh")
     ap.add_argument("--callgrind", action="store_true")
+    ap.add_argument("--scenes", default="one_mesh,cornell_box")
     args = ap.parse_args()
     here = str(ROOT / "python")
     configs = [("flat", here, False), ("two-level", here, True)]
@@ -107,7 +111,7 @@ def main():
     head = " | ".join(f"{c[0]} Mrays/s" for c in configs)
     print(f"| scene | accel | {head} | two-level / flat - 1 |")
     print("|---|---|" + "---:|" * (len(configs) + 1))
-    for scene in ("one_mesh", "cornell_box"):
+    for scene in args.scenes.split(","):
         for accel in args.accels.split(","):
             got = {c[0]: [] for c in configs}
             for _ in range(args.reps):
