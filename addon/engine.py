@@ -287,6 +287,7 @@ class EngineState:
         self.reported = set()      # session warnings already shown (a CUDA fallback: once)
         self.camera_updates = 0    # view moves served without a new session
         self.material_updates = 0  # material edits served without a new session
+        self.instance_moves = 0    # transform edits served by moving instances (no new session)
         self.building = False      # the refining thread is building its session
         self.new_warnings = []     # the new session's warnings, reported by view_draw
         _live_states.add(self)
@@ -428,6 +429,9 @@ def _new_session(engine, state, lantern, settings, view, patch=None, moved=True)
     differs in its materials only: it takes them in place (colours, roughness, ...: no scene
     rebuild, no BVH build) when their emission, alpha and textures stay."""
     scene, kwargs = _snapshot(state.sync.scene, lantern), settings.session_settings()
+    if "instancing" in getattr(lantern.session, "DEFAULT_SETTINGS", {}):
+        kwargs["instancing"] = True  # transform edits then move instances (_move_instances)
+    base = state.sync.session_base()
 
     def make():
         if patch is not None and _update(patch, "update_materials", scene.materials,
@@ -435,7 +439,9 @@ def _new_session(engine, state, lantern, settings, view, patch=None, moved=True)
                 not moved or _update(patch, "update_camera", scene.film, scene.camera)):
             state.material_updates += 1
             return patch
-        return lantern.Session(scene, **kwargs)
+        session = lantern.Session(scene, **kwargs)
+        state.sync.base = base
+        return session
     state.start_session(None, settings.preview_samples, _coarse(view), make=make)
 
 
@@ -452,7 +458,7 @@ def _sync_viewport(engine, context, depsgraph, view, key):
     settings = context.scene.lantern
     lantern = import_lantern()
     if state.sync.needs_sync() or state.session is None:
-        from .export.changes import MATERIALS, VIEW
+        from .export.changes import MATERIALS, TRANSFORM, VIEW
         session = state.session
         state.pause()  # the old image shows meanwhile
         report = ExportReport()
@@ -461,6 +467,9 @@ def _sync_viewport(engine, context, depsgraph, view, key):
         moved = key != state.view_key
         state.view_key, state.error = key, None
         patch = session if todo.flags & ~VIEW == MATERIALS else None
+        if todo.flags & ~VIEW == TRANSFORM and _move_instances(state, session, view, moved,
+                                                            settings.preview_samples):
+            return
         _new_session(engine, state, lantern, settings, view, patch, moved)
     elif key != state.view_key:  # only the view moved: the same scene, a new camera
         state.pause()
@@ -473,6 +482,28 @@ def _sync_viewport(engine, context, depsgraph, view, key):
             state.start_session(state.session, settings.preview_samples, _coarse(view))
         else:  # a backend that keeps its own copy of the scene (the GPU)
             _new_session(engine, state, lantern, settings, view)
+
+
+def _move_instances(state, session, view, moved, samples):
+    """A transform edit served by the running session: each moved instance placed again
+    (Session.move_instance: no geometry sent, no bottom-level BVH built), sampling restarted.
+    False when it cannot (the meshes' list changed, a move the core refuses, an older core):
+    then a new session is built, from the scene the sync has just placed."""
+    moves = state.sync.session_moves() if session is not None else None
+    move = getattr(session, "move_instance", None)
+    if moves is None or move is None:
+        return False
+    try:
+        if not all(move(k, m) for k, m in moves):
+            return False  # partly moved: the new session replaces it
+    except (ValueError, IndexError):
+        return False
+    scene = state.sync.scene
+    if moved and not _update_camera(session, scene.film, scene.camera):
+        return False
+    state.instance_moves += 1
+    state.start_session(session, samples, _coarse(view))
+    return True
 
 
 def view_draw(engine, context, depsgraph):

@@ -9,6 +9,11 @@ changed (changes.py), on Blender's main thread.
   matrix changes; objects added, hidden or removed show up because every scene-level sync
   walks the depsgraph's instances (dictionary look-ups for unchanged ones).
 
+- a transform edit places the moved instances' arrays again (numpy, no extraction), so the
+  scene stays a full export; session_moves() gives the running session's move_instance
+  calls (two-level instancing in the core: no mesh sent, no bottom-level BVH built), each
+  matrix relative to the instance's placement in that session's scene (session_base()).
+
 `counts` says what the last sync exported (the tests check it). The loop mirrors
 export_scene (export/__init__.py), which final renders use: keep the two in step."""
 
@@ -63,6 +68,8 @@ class ViewportSync:
         self._materials = None
         self._meshes = None
         self._placed = {}         # instance key -> (matrix bytes, exported mesh dict)
+        self._order = []          # instance keys of scene.meshes, in order
+        self.base = None          # session_base() of the running session's scene
 
     def note(self, changes):
         """Changes from a view_update, applied at the next sync."""
@@ -114,8 +121,38 @@ class ViewportSync:
         self.scene = scene
         return todo
 
+    def session_base(self):
+        """The instances' placements in the current scene; set `base` to it when a new
+        session of this scene starts: later moves are relative to it."""
+        mats = {k: self._placed[k][0] for k in self._order}
+        return (list(self._order), mats, dict(mats))  # order, placed in its scene, now there
+
+    def session_moves(self):
+        """[(mesh index, 4x4)] that take the running session (base) to the current scene by
+        moving instances alone (each instance whose placement differs from what the session
+        has now, a move back included), or None when more than transforms differ. The
+        session's placements count as updated: call it only to apply the moves."""
+        if self.base is None or self.base[0] != self._order:
+            return None
+        out = []
+        for k, key in enumerate(self._order):
+            given, applied, now = self.base[1][key], self.base[2][key], self._placed[key][0]
+            if applied == now:
+                continue
+            if given == now:  # back where the session's scene has it: exactly
+                out.append((k, np.eye(4)))
+                continue
+            a = np.frombuffer(given, dtype=np.float64).reshape(4, 4)
+            b = np.frombuffer(now, dtype=np.float64).reshape(4, 4)
+            if abs(np.linalg.det(a[:3, :3])) < 1e-30:
+                return None
+            out.append((k, b @ np.linalg.inv(a)))
+        for key in self._order:
+            self.base[2][key] = self._placed[key][0]
+        return out
+
     def _walk_instances(self, depsgraph, scene, report):
-        meshes, lights, placed = [], [], {}
+        meshes, lights, placed, order = [], [], {}, []
         for inst in depsgraph.object_instances:
             obj = inst.object
             if obj.type == "LIGHT":
@@ -138,7 +175,8 @@ class ViewportSync:
             placed[key] = (matrix, mesh)
             if mesh is not None:
                 meshes.append(mesh)
-        self._placed = placed
+                order.append(key)
+        self._placed, self._order = placed, order
         self.counts["lights"] = len(lights)
         scene.meshes, scene.lights = meshes, lights
 

@@ -44,6 +44,7 @@ DEFAULT_SETTINGS = {
     "adaptive_threshold": 0.0,
     "adaptive_min_samples": 0,
     "adaptive_step": 4,
+    "instancing": False,      # a bottom-level BVH per mesh, so move_instance() builds none
 }
 
 BUILD_HINT = ("build it from the repository root with "
@@ -214,6 +215,9 @@ def resolve_settings(settings):
     if not isinstance(out["naive_ris"], (bool, np.bool_)):
         raise TypeError(f"setting 'naive_ris' must be a bool, got {out['naive_ris']!r}")
     out["naive_ris"] = bool(out["naive_ris"])
+    if not isinstance(out["instancing"], (bool, np.bool_)):
+        raise TypeError(f"setting 'instancing' must be a bool, got {out['instancing']!r}")
+    out["instancing"] = bool(out["instancing"])
     return out, warnings
 
 
@@ -381,6 +385,25 @@ class Session:
         edit.materials, edit.textures = list(materials), list(textures)
         native = edit.to_native()
         return bool(update({"materials": native["materials"], "textures": native["textures"]}))
+
+    def move_instance(self, index, matrix):
+        """Place scene.meshes[index] by `matrix` (4x4, applied to the positions the mesh was
+        given with; the identity puts it back), sampling restarted, no geometry re-exported and
+        no bottom-level BVH built: as a new Session of the moved scene would render. Needs the
+        setting instancing=True. False, with nothing changed, where the move reaches further (an
+        emitting mesh, a mirroring or singular matrix, a vertex leaving the scene's bounding
+        sphere) or this backend cannot (the GPU): make a new Session then."""
+        move = getattr(self._native, "move_instance", None)
+        if move is None or not self.settings.get("instancing"):
+            return False
+        m = np.asarray(matrix, dtype=np.float64)
+        if m.shape != (4, 4):
+            raise ValueError(f"move_instance needs a 4x4 matrix, got shape {m.shape}")
+        if not 0 <= int(index) < len(self._scene.meshes):
+            raise IndexError(f"mesh index {index} out of range ({len(self._scene.meshes)} meshes)")
+        if not np.isfinite(m).all() or not np.allclose(m[3], (0, 0, 0, 1)):
+            return False
+        return bool(move(int(index), [float(x) for x in m.ravel()]))
 
     def cancel(self):
         """Thread-safe: a running `step()` returns early; the image stays at the last

@@ -191,20 +191,81 @@ def test_scene_edits_export_what_changed(addon, stage):
         image = _apply(addon, engine, ctx, fn)
         got = {k: state.sync.counts[k] for k in want}
         assert got == want, what
-        # a colour edit is taken by the running session (no scene rebuild, no BVH build)
-        assert (state.session is session) == (what == "material"), what
-        np.testing.assert_array_equal(  # the viewport renders the patched scene...
-            image, lantern.render(state.sync.scene, spp=SPP,
-                                  **stage.lantern.session_settings()))
+        # a colour edit and a move are taken by the running session (no scene rebuild, no
+        # bottom-level BVH build: test_transform_edit_moves_one_instance)
+        assert (state.session is session) == (what in ("material", "transform")), what
+        if what != "transform":  # a moved instance: another BVH layout, the same image in law
+            np.testing.assert_array_equal(  # the viewport renders the patched scene...
+                image, lantern.render(state.sync.scene, spp=SPP,
+                                      **stage.lantern.session_settings()))
         fresh = _fresh(stage, ctx, stage.lantern)
-        ok, cmp, over3, allowed = _agrees(_renders(state.sync.scene, range(1, 6)),
-                                          _renders(fresh, range(11, 16)))
-        assert ok, f"{what}: {cmp}; {over3} blocks over |z| 3 (allowed {allowed})"
-        # ...which is the edited scene: the one before the edit is told apart
-        assert not _agrees(_renders(before, range(21, 26)), _renders(fresh, range(11, 16)))[0]
+        if what == "transform":  # its images: test_transform_edit_moves_one_instance; the
+            # sync's scene (what a later new session starts from) is placed as a fresh export
+            for got, want in zip(state.sync.scene.meshes, fresh.meshes, strict=True):
+                np.testing.assert_allclose(got["positions"], want["positions"], atol=1e-6)
+        else:
+            ok, cmp, over3, allowed = _agrees(_renders(state.sync.scene, range(1, 6)),
+                                              _renders(fresh, range(11, 16)))
+            assert ok, f"{what}: {cmp}; {over3} blocks over |z| 3 (allowed {allowed})"
+            # ...which is the edited scene: the one before the edit is told apart
+            assert not _agrees(_renders(before, range(21, 26)),
+                               _renders(fresh, range(11, 16)))[0]
         before = fresh
-    assert state.material_updates == 1
+    assert state.material_updates == 1 and state.instance_moves == 1
     state.free()
+
+
+@pytest.mark.parametrize("accel", ["bvh", "embree"])
+def test_transform_edit_moves_one_instance(addon, stage, monkeypatch, accel):
+    """After a move only that instance changes: no mesh extracted, one placed, the running
+    session moves it (no bottom-level BVH built, counted by the core), and the viewport's
+    image agrees with fresh renders of the moved scene (independent seeds on both sides)."""
+    if accel == "embree" and not lantern.session.require_core().embree_available():
+        pytest.skip("no Embree")
+    monkeypatch.setenv("LANTERN_ACCEL", accel)
+    card = bpy.data.objects["Card"]
+    home = tuple(card.location)
+    images = []
+    for seed in range(1, 6):
+        card.location = home
+        bpy.context.view_layer.update()
+        stage.lantern.seed = seed
+        engine, ctx = _start(addon, stage)
+        state = engine._lantern
+        unmoved = _refined(engine, addon, ctx)
+        session = state.session
+        builds = session.stats["accel_bottom_builds"]
+        assert builds == 2  # one bottom level per mesh: the floor and the card
+        assert any("built-in BVH" in w for w in session.warnings) == (accel == "bvh")
+
+        def move():
+            card.location = (0.6, 0.4, 0.8)
+            card.rotation_euler = (0.3, 0.2, 0.5)
+            card.scale = (1.3, 0.8, 1.0)
+        images.append(_apply(addon, engine, ctx, move))
+        counts = state.sync.counts
+        assert counts["meshes_extracted"] == 0 and counts["meshes_placed"] == 1
+        assert state.session is session and state.instance_moves == 1
+        st = session.stats
+        assert st["instance_moves"] == 1 and st["accel_bottom_builds"] == builds
+        if seed == 1:  # moved back: the session's own placement again, bit for bit
+
+            def back():
+                card.location, card.rotation_euler, card.scale = home, (0, 0, 0), (1, 1, 1)
+            np.testing.assert_array_equal(_apply(addon, engine, ctx, back), unmoved)
+            assert state.session is session and session.stats["instance_moves"] == 2
+        state.free()
+        card.rotation_euler, card.scale = (0, 0, 0), (1, 1, 1)
+    card.location = (0.6, 0.4, 0.8)
+    card.rotation_euler, card.scale = (0.3, 0.2, 0.5), (1.3, 0.8, 1.0)
+    bpy.context.view_layer.update()
+    fresh = _fresh(stage, ctx, stage.lantern)
+    ok, cmp, over3, allowed = _agrees(images, _renders(fresh, range(11, 16)))
+    assert ok, f"{cmp}; {over3} blocks over |z| 3 (allowed {allowed})"
+    card.location = home  # the unmoved scene is told apart
+    card.rotation_euler, card.scale = (0, 0, 0), (1, 1, 1)
+    bpy.context.view_layer.update()
+    assert not _agrees(images, _renders(_fresh(stage, ctx, stage.lantern), range(21, 26)))[0]
 
 
 def test_first_iteration_is_coarse(addon, stage):

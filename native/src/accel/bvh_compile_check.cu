@@ -2,6 +2,7 @@
 // and indirect rays and occlusion for shadow rays. The CUDA backend's real kernels are a later
 // issue; this only keeps bvh.h device-clean.
 #include "accel/bvh.h"
+#include "accel/tlas.h"
 
 namespace lantern {
 
@@ -28,6 +29,18 @@ __global__ void bvh_occluded_alpha_kernel(BvhView bvh, SceneView scene, const Ra
     int i = blockIdx.x * blockDim.x + threadIdx.x;
     if (i < n)
         occluded[i] = bvh_occluded(bvh, rays[i], kBvhNeedShadow, BvhAlphaTest{scene, rays[i]}) ? 1 : 0;
+}
+
+// The two-level traversal (accel/tlas.h): instances over per-mesh bottom levels.
+__global__ void tlas_intersect_alpha_kernel(TlasView tl, SceneView scene, const Ray* rays,
+                                            BvhHit* hits, int n, uint32_t need) {
+    int i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i < n) hits[i] = tlas_intersect(tl, rays[i], need, BvhAlphaTest{scene, rays[i]});
+}
+
+__global__ void tlas_occluded_kernel(TlasView tl, const Ray* rays, uint8_t* occluded, int n) {
+    int i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i < n) occluded[i] = tlas_occluded(tl, rays[i], kBvhNeedShadow) ? 1 : 0;
 }
 
 }  // namespace lantern

@@ -21,7 +21,10 @@ public:
     // threads: 0 = hardware concurrency. Ray queries: Embree when it loads, else the built-in
     // BVH (with a note in `warnings`); env LANTERN_ACCEL = "bvh" or "embree" forces one
     // (cpu_accel.cpp).
-    CpuBackend(const SceneView& s, int threads, std::vector<std::string>& warnings);
+    // `instances`: two-level structures, one bottom level per mesh range, so that
+    // move_instance() places a mesh again without a build (accel/tlas_build.h).
+    CpuBackend(const SceneView& s, int threads, std::vector<std::string>& warnings,
+               const std::vector<MeshRange>* instances = nullptr);
 
     template <typename Fn>
     void for_all(int n, Fn&& fn, int grain = 256) {
@@ -45,6 +48,14 @@ public:
         return embree_ ? embree_->occluded(r) : bvh_->occluded(r);
     }
     const char* accel() const { return embree_ ? "embree" : "bvh"; }
+    // Mesh k placed by to_world (relative to its exported positions); false, nothing changed,
+    // without two levels or for a singular transform (cpu_accel.cpp).
+    bool move_instance(int k, const Transform& to_world);
+    bool instanced() const { return embree_ ? embree_->two_level() : bvh_->two_level(); }
+    // Bottom-level structures built so far (a flat structure counts one): a move adds none.
+    int64_t bottom_builds() const {
+        return embree_ ? embree_->bottom_builds() : bvh_->bottom_builds();
+    }
     int threads() const { return pool_->size(); }
     ThreadPool& pool() { return *pool_; }  // CpuExec runs its primitives on it
     const char* name() const { return "cpu"; }
@@ -53,6 +64,7 @@ private:
     std::unique_ptr<EmbreeAccel> embree_;  // exactly one of these two is set
     std::unique_ptr<BvhAccel> bvh_;
     std::unique_ptr<ThreadPool> pool_;
+    std::vector<Vec3> mesh_box_;  // Embree with instances: each mesh's exported bounds
 };
 
 }  // namespace lantern

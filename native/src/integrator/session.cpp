@@ -107,7 +107,11 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
 Session::~Session() = default;
 
 void Session::start_cpu_backend() {
-    backend_ = std::make_unique<CpuBackend>(scene_->view(), settings_.threads, warnings_);
+    const std::vector<MeshRange>* instances =
+        settings_.instancing ? &scene_->mesh_ranges() : nullptr;  // two levels: move_instance
+    backend_ =
+        std::make_unique<CpuBackend>(scene_->view(), settings_.threads, warnings_, instances);
+    stats_.accel_bottom_builds = backend_->bottom_builds();
     exec_ = std::make_unique<CpuExec>(*backend_);
     wave_ = std::make_unique<Wavefront<CpuExec>>();
     wave_->bind(&exec_->meter());

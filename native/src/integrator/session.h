@@ -50,6 +50,9 @@ struct SessionSettings {
     float adaptive_threshold = 0.0f;
     int adaptive_min_samples = 0;
     int adaptive_step = 4;
+    // two-level ray queries (a bottom level per mesh) so that move_instance() needs no build:
+    // the viewport's; off, one flat structure (final renders)
+    bool instancing = false;
 };
 
 // The settings of one pass of a bidirectional iteration: mode (BdptMode), MIS count r
@@ -74,6 +77,8 @@ struct SessionStats {
     int64_t device_memory_peak = 0;  // CUDA: most device memory the renderer's buffers held
     int64_t device_memory_used = 0;  // CUDA: most of the device's memory in use by this
                                      // session (cudaMemGetInfo; with the kernels' local memory)
+    int64_t accel_bottom_builds = 0;  // CPU: bottom-level structures built (flat: 1)
+    int64_t instance_moves = 0;       // move_instance() calls served
 };
 
 // Thread safety: step() calls are serialised (a second caller waits for the first); image(),
@@ -99,6 +104,11 @@ public:
     // session_update.cpp: in's materials and textures (HostScene::update_materials), sampling
     // restarted; false where the scene or renderer would need rebuilding.
     bool update_materials(const SceneInput& in);
+    // session_update.cpp: mesh k (of the SceneInput's meshes) placed by to_world relative to
+    // the positions it was given with: HostScene::move_mesh, the two-level accel's top level
+    // rebuilt (no bottom level), sampling restarted. False, nothing changed, without
+    // settings.instancing, on the GPU, or where HostScene::move_mesh refuses: a new Session.
+    bool move_instance(int k, const Transform& to_world);
     // Mean radiance, top row first, 3 floats per pixel (each pixel over its own samples).
     std::vector<float> image() const;
     // The iterations' samples per pixel: what a pixel that never converged has.

@@ -1,12 +1,14 @@
 // Updates of a running session that keep its scene and acceleration structure: the viewport's
-// camera and view moves, material edits. Sampling restarts as in a new session (iteration 0,
+// camera and view moves, material edits, instance moves (the top level only). Sampling restarts as in a new session (iteration 0,
 // the same random streams), so the image after an update is the image a new session of the
 // updated scene gives.
 #include <algorithm>
 #include <mutex>
+#include <stdexcept>
 
 #include "integrator/session.h"
 
+#include "backend/backend.h"
 #include "backend/cpu/cpu_exec.h"
 #include "integrator/wavefront.h"
 
@@ -37,6 +39,21 @@ bool Session::update_camera(const SceneInput& in) {
 bool Session::update_materials(const SceneInput& in) {
     std::lock_guard<std::mutex> serial(step_mutex_);
     if (gpu_ || !scene_->update_materials(in)) return false;
+    restart();
+    return true;
+}
+
+bool Session::move_instance(int k, const Transform& to_world) {
+    std::lock_guard<std::mutex> serial(step_mutex_);
+    if (gpu_ || !backend_ || !backend_->instanced()) return false;
+    Transform inv;
+    if (!invert_affine(to_world, &inv)) return false;
+    if (!scene_->move_mesh(k, to_world)) return false;
+    if (!backend_->move_instance(k, to_world)) {  // cannot happen after move_mesh agreed
+        throw std::logic_error("the accel refused a move the scene took");
+    }
+    ++stats_.instance_moves;
+    stats_.accel_bottom_builds = backend_->bottom_builds();
     restart();
     return true;
 }

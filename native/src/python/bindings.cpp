@@ -322,6 +322,7 @@ SessionSettings to_settings(const nb::dict& d) {
     s.adaptive_threshold = get<float>(d, "adaptive_threshold", s.adaptive_threshold);
     s.adaptive_min_samples = get<int>(d, "adaptive_min_samples", s.adaptive_min_samples);
     s.adaptive_step = get<int>(d, "adaptive_step", s.adaptive_step);
+    s.instancing = get<bool>(d, "instancing", s.instancing);
     if (s.threads < 0 || s.threads > kMaxThreads) {
         throw std::invalid_argument("threads must be in [0, " + std::to_string(kMaxThreads) +
                                     "] (0: one per core), got " + std::to_string(s.threads));
@@ -444,6 +445,15 @@ NB_MODULE(_core, m) {
             nb::gil_scoped_release release;
             return s.update_materials(in);
         }, nb::arg("materials"))
+        .def("move_instance", [](Session& s, int k, const std::vector<float>& m) {
+            // m: 16 floats, row-major object-to-world relative to the exported positions
+            if (m.size() != 16) throw std::invalid_argument("move_instance needs a 4x4 matrix");
+            if (m[12] != 0.0f || m[13] != 0.0f || m[14] != 0.0f || m[15] != 1.0f)
+                throw std::invalid_argument("move_instance: the matrix's last row must be 0 0 0 1");
+            const Transform t = transform_from_rows(m.data());
+            nb::gil_scoped_release release;
+            return s.move_instance(k, t);
+        }, nb::arg("index"), nb::arg("matrix"))
         .def("image", [](const Session& s) {
             // the snapshot itself becomes the array's memory (no second copy)
             auto* img = new std::vector<float>();
@@ -481,6 +491,8 @@ NB_MODULE(_core, m) {
             d["device"] = s.device_name();
             d["device_memory_peak"] = st.device_memory_peak;
             d["device_memory_used"] = st.device_memory_used;
+            d["accel_bottom_builds"] = st.accel_bottom_builds;
+            d["instance_moves"] = st.instance_moves;
             d["embree"] = embree_version();
             d["rays_camera"] = st.rays_camera;
             d["rays_indirect"] = st.rays_indirect;

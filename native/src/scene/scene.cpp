@@ -431,6 +431,7 @@ void HostScene::add_meshes(const SceneInput& in) {
             throw std::invalid_argument("mesh '" + m.name + "': one material id per triangle needed");
         }
         const uint32_t base = uint32_t(positions_.size());
+        MeshRange range{int32_t(tri_material_.size()), 0, int32_t(base), int32_t(nv)};
         add_mesh_attributes(m, nv, size_t(num_attribute_channels_), attributes_);
         for (size_t v = 0; v < nv; ++v) {
             positions_.push_back({m.positions[3 * v], m.positions[3 * v + 1], m.positions[3 * v + 2]});
@@ -492,6 +493,8 @@ void HostScene::add_meshes(const SceneInput& in) {
             tri_flags_.push_back(uint8_t(flags | (alpha ? kAlphaTested : 0) |
                                          (mm.holdout ? kHoldout : 0)));
         }
+        range.tri_count = int32_t(tri_material_.size()) - range.tri_begin;
+        mesh_ranges_.push_back(range);
         if (far) {
             warnings_.push_back("mesh '" + m.name + "': " + std::to_string(far) + " of " +
                                 std::to_string(nt) + " triangle(s) reach " +

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "accel/tlas_build.h"
 #include "scene/material_program.h"
 #include "scene/envmap_build.h"
 #include "scene/light_tree_build.h"
@@ -151,6 +152,14 @@ public:
     // textures, the number of materials): build a new scene then.
     bool update_materials(const SceneInput& in);
     const std::vector<std::string>& warnings() const { return warnings_; }
+    // Where each of in.meshes lies in the scene's arrays (the instances of two-level accels).
+    const std::vector<MeshRange>& mesh_ranges() const { return mesh_ranges_; }
+    // scene_instance.cpp: mesh k placed by to_world relative to the positions it was given
+    // with (its world-space positions, normals and tangents written again, in place). False,
+    // nothing changed, where the move reaches further: k out of range, an emitting mesh (the
+    // lights would change), a singular, mirroring or non-finite transform, or a vertex leaving
+    // the scene's bounding sphere (distant lights' disk) or the ray queries' range.
+    bool move_mesh(int k, const Transform& to_world);
     int num_triangles() const { return int(tri_material_.size()); }
     // view() with every array it points into copied elsewhere (a GPU's memory): copy(host,
     // bytes) receives each array (host null or bytes 0 when empty) and returns the copy's address.
@@ -191,6 +200,12 @@ private:
     bool light_tree_on_ = false;
     std::vector<std::string> warnings_;
     SceneView view_;
+    std::vector<MeshRange> mesh_ranges_;
+    struct MeshCopy {  // a moved mesh's arrays as given (move_mesh places them again)
+        std::vector<Vec3> positions, normals;
+        std::vector<float> tangents;
+    };
+    std::vector<std::unique_ptr<MeshCopy>> mesh_given_;  // per mesh, null until it moves
 };
 
 Transform transform_from_rows(const float m[16]);

@@ -14,11 +14,18 @@ uint32_t need_for(RayKind kind) {
 
 }  // namespace
 
-BvhAccel::BvhAccel(const SceneView& s, int threads, std::vector<std::string>& warnings)
+BvhAccel::BvhAccel(const SceneView& s, int threads, std::vector<std::string>& warnings,
+                   const std::vector<MeshRange>* meshes)
     : s_(s) {
-    BvhBuildOptions opt;
-    opt.threads = threads;
-    bvh_ = build_bvh(s, opt, warnings);
+    if (meshes) {
+        two_level_ = true;
+        build_tlas_scene(tl_, s, *meshes, threads, warnings);
+        tl_view_ = tl_.view();
+    } else {
+        BvhBuildOptions opt;
+        opt.threads = threads;
+        bvh_ = build_bvh(s, opt, warnings);
+    }
     far_ray_bounds(s, box_);
     view_ = bvh_.view();
     for (int t = 0; t < s.num_triangles && s.tri_flags; ++t) {
@@ -43,8 +50,15 @@ HitRecord BvhAccel::intersect(const Ray& ray, RayKind kind) const {
     Ray r;
     float shift = 0.0f;
     if (!guard(ray, &r, &shift)) return {ray.tmax, -1, {0, 0}};
-    const BvhHit h = any_alpha_ ? bvh_intersect(view_, r, need_for(kind), BvhAlphaTest{s_, r})
-                                : bvh_intersect(view_, r, need_for(kind));
+    const uint32_t need = need_for(kind);
+    BvhHit h;
+    if (two_level_) {
+        h = any_alpha_ ? tlas_intersect(tl_view_, r, need, BvhAlphaTest{s_, r})
+                       : tlas_intersect(tl_view_, r, need);
+    } else {
+        h = any_alpha_ ? bvh_intersect(view_, r, need, BvhAlphaTest{s_, r})
+                       : bvh_intersect(view_, r, need);
+    }
     if (h.prim < 0) return {ray.tmax, -1, {0, 0}};
     return {shift > 0.0f ? float(double(h.t) + shift) : h.t, h.prim, h.uv};
 }
@@ -54,8 +68,22 @@ bool BvhAccel::occluded(const Ray& ray) const {
     float shift = 0.0f;
     if (!guard(ray, &r, &shift))
         return !is_finite(ray.o) || !is_finite(ray.d) || !(ray.tmax >= 0.0f);
+    if (two_level_) {
+        return any_alpha_ ? tlas_occluded(tl_view_, r, kBvhNeedShadow, BvhAlphaTest{s_, r})
+                          : tlas_occluded(tl_view_, r, kBvhNeedShadow);
+    }
     return any_alpha_ ? bvh_occluded(view_, r, kBvhNeedShadow, BvhAlphaTest{s_, r})
                       : bvh_occluded(view_, r, kBvhNeedShadow);
+}
+
+bool BvhAccel::move(int k, const Transform& to_world) {
+    if (!two_level_ || !set_instance_transform(tl_, k, to_world)) return false;
+    build_tlas(tl_);
+    tl_view_ = tl_.view();
+    Vec3 b[2];
+    instance_world_box(tl_, k, b);
+    grow_far_ray_bounds(box_, b);
+    return true;
 }
 
 }  // namespace lantern

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "accel/bvh_builder.h"
+#include "accel/tlas_build.h"
 #include "backend/cpu/embree_accel.h"
 
 namespace lantern {
@@ -16,11 +17,19 @@ namespace lantern {
 class BvhAccel {
 public:
     // `s` must outlive the accel (the alpha test reads the scene's materials and textures).
-    BvhAccel(const SceneView& s, int threads, std::vector<std::string>& warnings);
+    // `meshes`: two levels, one bottom-level BVH per mesh (accel/tlas_build.h), so that
+    // move() can place a mesh again; null: one BVH over every triangle.
+    BvhAccel(const SceneView& s, int threads, std::vector<std::string>& warnings,
+             const std::vector<MeshRange>* meshes = nullptr);
 
     HitRecord intersect(const Ray& r, RayKind kind) const;
     bool occluded(const Ray& r) const;
     const BvhStats& stats() const { return bvh_.stats; }
+    // Two levels only: mesh k placed by to_world (relative to its exported positions), the top
+    // level rebuilt; false, nothing changed, without two levels or for a singular transform.
+    bool move(int k, const Transform& to_world);
+    bool two_level() const { return two_level_; }
+    int64_t bottom_builds() const { return two_level_ ? tl_.blas_builds : 1; }
 
 private:
     bool guard(const Ray& r, Ray* out, float* shift) const;
@@ -30,6 +39,9 @@ private:
     Bvh bvh_;
     BvhView view_;
     bool any_alpha_ = false;
+    bool two_level_ = false;
+    Tlas tl_;
+    TlasView tl_view_;
 };
 
 }  // namespace lantern

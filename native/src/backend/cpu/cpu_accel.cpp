@@ -9,7 +9,8 @@
 
 namespace lantern {
 
-CpuBackend::CpuBackend(const SceneView& s, int threads, std::vector<std::string>& warnings)
+CpuBackend::CpuBackend(const SceneView& s, int threads, std::vector<std::string>& warnings,
+                       const std::vector<MeshRange>* instances)
     : pool_(std::make_unique<ThreadPool>(threads)) {
     const char* env = std::getenv("LANTERN_ACCEL");
     const std::string want = env ? env : "";
@@ -25,7 +26,8 @@ CpuBackend::CpuBackend(const SceneView& s, int threads, std::vector<std::string>
         if (want == "embree") throw std::runtime_error("LANTERN_ACCEL=embree, but " + why);
     } else {
         try {
-            embree_ = std::make_unique<EmbreeAccel>(s, warnings);
+            embree_ = std::make_unique<EmbreeAccel>(s, warnings, instances);
+            if (instances) mesh_boxes(s, *instances, mesh_box_);
             return;
         } catch (const std::runtime_error& e) {
             if (want == "embree") throw;
@@ -33,7 +35,21 @@ CpuBackend::CpuBackend(const SceneView& s, int threads, std::vector<std::string>
         }
     }
     warnings.push_back("CPU ray queries use the built-in BVH (" + why + ")");
-    bvh_ = std::make_unique<BvhAccel>(s, pool_->size(), warnings);
+    bvh_ = std::make_unique<BvhAccel>(s, pool_->size(), warnings, instances);
+}
+
+bool CpuBackend::move_instance(int k, const Transform& to_world) {
+    if (!embree_) return bvh_->move(k, to_world);
+    if (!embree_->two_level()) return false;
+    Transform inv;
+    if (k < 0 || 2 * size_t(k) >= mesh_box_.size() || !invert_affine(to_world, &inv))
+        return false;
+    float m[12];
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 4; ++c) m[4 * r + c] = to_world.m[r][c];
+    Vec3 b[2];  // the moved mesh's world box, for the far-ray bounds
+    transformed_box(&mesh_box_[2 * k], to_world, b);
+    return embree_->move(k, m, b);
 }
 
 }  // namespace lantern

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "backend/cpu/embree_internal.h"
 #include "backend/cpu/embree_loader.h"
 #include "scene/alpha.h"
 #include "scene/scene_limits.h"
@@ -66,6 +67,15 @@ bool EmbreeAccel::prepare(const Ray& r, const Vec3 box[2], float o[3], float* tn
     return true;
 }
 
+void grow_far_ray_bounds(Vec3 box[2], const Vec3 b[2]) {
+    if (!(b[0].x <= b[1].x)) return;
+    const float pad = 1e-3f * max_component(b[1] - b[0]) + 1e-3f;
+    box[0] = {std::fmin(box[0].x, b[0].x - pad), std::fmin(box[0].y, b[0].y - pad),
+              std::fmin(box[0].z, b[0].z - pad)};
+    box[1] = {std::fmax(box[1].x, b[1].x + pad), std::fmax(box[1].y, b[1].y + pad),
+              std::fmax(box[1].z, b[1].z + pad)};
+}
+
 void far_ray_bounds(const SceneView& s, Vec3 box[2]) {
     box[0] = vec3(kInf);
     box[1] = vec3(-kInf);
@@ -116,7 +126,8 @@ bool usable_triangle(const SceneView& s, int t) {
 
 }  // namespace
 
-EmbreeAccel::EmbreeAccel(const SceneView& s, std::vector<std::string>& warnings) {
+EmbreeAccel::EmbreeAccel(const SceneView& s, std::vector<std::string>& warnings,
+                         const std::vector<MeshRange>* meshes) {
     const EmbreeApi& e = embree_api();
     device_ = e.newDevice(nullptr);
     if (!device_) throw std::runtime_error("Embree: rtcNewDevice failed");
@@ -140,7 +151,12 @@ EmbreeAccel::EmbreeAccel(const SceneView& s, std::vector<std::string>& warnings)
         any_hidden |= !(s.tri_flags[t] & kVisibleCamera);
         any_no_shadow |= !(s.tri_flags[t] & kCastShadow);
     }
+    if (meshes) {
+        build_instanced(s, *meshes);
+        return;
+    }
     all_ = build(s, 0);
+    bottom_builds_ = 1;
     if (any_hidden) { camera_ = build(s, kVisibleCamera); has_camera_ = true; }
     if (any_no_shadow) { shadow_ = build(s, kCastShadow); has_shadow_ = true; }
 }
@@ -184,13 +200,19 @@ void alpha_filter(const RTCFilterFunctionNArguments* args) {
                RTCRayN_org_z(args->ray, n, i)};
         Vec3 d{RTCRayN_dir_x(args->ray, n, i), RTCRayN_dir_y(args->ray, n, i),
                RTCRayN_dir_z(args->ray, n, i)};
+        if (f->instanced) {  // the ray is in the instance's space: alpha sees the world's
+            const auto* w = reinterpret_cast<const EmbreeWorldContext*>(args->context);
+            o = {w->o[0], w->o[1], w->o[2]};
+            d = {w->d[0], w->d[1], w->d[2]};
+        }
         if (!alpha_stops(f->s, tri, bary, o, d)) args->valid[i] = 0;
     }
 }
 
 }  // namespace
 
-EmbreeAccel::Built EmbreeAccel::build(const SceneView& s, uint8_t need_flag) {
+EmbreeAccel::Built EmbreeAccel::build(const SceneView& s, uint8_t need_flag, int begin,
+                                      int end, bool instanced) {
     const EmbreeApi& e = embree_api();
     auto dev = static_cast<RTCDevice>(device_);
     Built b;
@@ -199,7 +221,8 @@ EmbreeAccel::Built EmbreeAccel::build(const SceneView& s, uint8_t need_flag) {
     e.setSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);
     e.setSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
     std::vector<int32_t> alpha;
-    for (int t = 0; t < s.num_triangles; ++t) {
+    if (end < 0) end = s.num_triangles;
+    for (int t = begin; t < end; ++t) {
         if (need_flag && !(s.tri_flags[t] & need_flag)) continue;
         if (!usable_triangle(s, t)) continue;
         if (s.tri_flags[t] & kAlphaTested) alpha.push_back(t);
@@ -215,7 +238,7 @@ EmbreeAccel::Built EmbreeAccel::build(const SceneView& s, uint8_t need_flag) {
     if (!alpha.empty()) {
         b.alpha_base = n;
         b.prim_to_tri.insert(b.prim_to_tri.end(), alpha.begin(), alpha.end());
-        b.filter.reset(new AlphaFilter{s, b.prim_to_tri.data() + n});
+        b.filter.reset(new AlphaFilter{s, b.prim_to_tri.data() + n, instanced});
         RTCGeometry g = make_geometry(e, dev, s, alpha.data(), alpha.size());
         e.setGeometryUserData(g, b.filter.get());
         e.setGeometryIntersectFilterFunction(g, alpha_filter);
@@ -231,6 +254,7 @@ EmbreeAccel::Built EmbreeAccel::build(const SceneView& s, uint8_t need_flag) {
 EmbreeAccel::~EmbreeAccel() {
     if (!embree_available()) return;
     const EmbreeApi& e = embree_api();
+    release_instanced();
     for (Built* b : {&all_, &camera_, &shadow_}) {
         if (b->scene) e.releaseScene(static_cast<RTCScene>(b->scene));
     }
@@ -244,6 +268,7 @@ const EmbreeAccel::Built& EmbreeAccel::for_kind(RayKind kind) const {
 }
 
 HitRecord EmbreeAccel::intersect(const Ray& r, RayKind kind) const {
+    if (two_level_) return intersect_instanced(r, kind);
     const Built& b = for_kind(kind);
     float o[3], tnear, tfar, shift;
     if (!prepare(r, box_, o, &tnear, &tfar, &shift)) return {r.tmax, -1, {0, 0}};
@@ -267,6 +292,7 @@ HitRecord EmbreeAccel::intersect(const Ray& r, RayKind kind) const {
 }
 
 bool EmbreeAccel::occluded(const Ray& r) const {
+    if (two_level_) return occluded_instanced(r);
     const Built& b = for_kind(RayKind::kShadow);
     float o[3], tnear, tfar, shift;
     if (!prepare(r, box_, o, &tnear, &tfar, &shift)) {
@@ -288,12 +314,14 @@ bool EmbreeAccel::occluded(const Ray& r) const {
     return ray.tfar < 0.0f;  // Embree sets tfar = -inf on a hit
 }
 #else
-EmbreeAccel::EmbreeAccel(const SceneView&, std::vector<std::string>&) {
+EmbreeAccel::EmbreeAccel(const SceneView&, std::vector<std::string>&,
+                         const std::vector<MeshRange>*) {
     throw std::runtime_error("Lantern was built without Embree: the CPU backend is unavailable");
 }
 EmbreeAccel::~EmbreeAccel() = default;
 HitRecord EmbreeAccel::intersect(const Ray& r, RayKind) const { return {r.tmax, -1, {0, 0}}; }
 bool EmbreeAccel::occluded(const Ray&) const { return false; }
+bool EmbreeAccel::move(int, const float*, const Vec3*) { return false; }
 #endif
 
 }  // namespace lantern

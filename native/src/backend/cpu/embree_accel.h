@@ -26,11 +26,18 @@ struct HitRecord {
 // Bounds of the triangles the accelerators hold (finite, not degenerate), padded: where
 // EmbreeAccel::prepare() moves rays that start beyond kMaxCoordinate. Empty (lo > hi) if none.
 void far_ray_bounds(const SceneView& s, Vec3 box[2]);
+// box grown to hold b (a moved instance's world bounds), padded as far_ray_bounds pads.
+void grow_far_ray_bounds(Vec3 box[2], const Vec3 b[2]);
+
+struct MeshRange;  // accel/tlas_build.h
 
 class EmbreeAccel {
 public:
     // Builds from the scene's triangles; `warnings` receives what was skipped and why.
-    EmbreeAccel(const SceneView& s, std::vector<std::string>& warnings);
+    // `meshes`: two levels (embree_instances.cpp), a child scene per mesh under instances,
+    // so that move() places a mesh again without building it; null: one flat scene per kind.
+    EmbreeAccel(const SceneView& s, std::vector<std::string>& warnings,
+                const std::vector<MeshRange>* meshes = nullptr);
     ~EmbreeAccel();
     EmbreeAccel(const EmbreeAccel&) = delete;
     EmbreeAccel& operator=(const EmbreeAccel&) = delete;
@@ -45,7 +52,13 @@ public:
     struct AlphaFilter {
         SceneView s;
         const int32_t* prim_to_tri = nullptr;  // that geometry's primID -> scene triangle
+        bool instanced = false;  // under an instance: the world ray is in the WorldContext
     };
+    // Two levels only: mesh k placed by to_world (row-major 3x4, relative to its exported
+    // positions), the top scenes committed again; false without two levels.
+    bool move(int k, const float to_world[12], const Vec3 world_box[2]);
+    bool two_level() const { return two_level_; }
+    int64_t bottom_builds() const { return bottom_builds_; }
 
 
 private:
@@ -61,8 +74,25 @@ private:
             return prim_to_tri[(geom == alpha_geom ? alpha_base : 0) + prim];
         }
     };
-    Built build(const SceneView& s, uint8_t need_flag);
+    Built build(const SceneView& s, uint8_t need_flag, int begin = 0, int end = -1,
+                bool instanced = false);
     const Built& for_kind(RayKind kind) const;
+    // ---- two levels (embree_instances.cpp) ----
+    struct Top {
+        void* scene = nullptr;            // RTCScene of instances
+        std::vector<void*> geom;          // per mesh: its instance (RTCGeometry), or null
+        std::vector<int32_t> geom_mesh;   // instance geomID -> mesh
+        std::vector<const Built*> child;  // per mesh: the child scene it instances
+    };
+    void build_instanced(const SceneView& s, const std::vector<MeshRange>& meshes);
+    void release_instanced();
+    const Top& top_for_kind(RayKind kind) const;
+    HitRecord intersect_instanced(const Ray& r, RayKind kind) const;
+    bool occluded_instanced(const Ray& r) const;
+    bool two_level_ = false;
+    int64_t bottom_builds_ = 0;
+    std::vector<std::unique_ptr<Built>> children_;  // per mesh, and filtered per-kind copies
+    Top top_all_, top_camera_, top_shadow_;
 
     Vec3 box_[2];  // far_ray_bounds()
     void* device_ = nullptr;                 // RTCDevice

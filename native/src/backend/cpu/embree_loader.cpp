@@ -60,6 +60,8 @@ Loaded load() {
             l.error);
     resolve(l.handle, "rtcIntersect1", a.intersect1, l.error);
     resolve(l.handle, "rtcOccluded1", a.occluded1, l.error);
+    resolve(l.handle, "rtcSetGeometryInstancedScene", a.setGeometryInstancedScene, l.error);
+    resolve(l.handle, "rtcSetGeometryTransform", a.setGeometryTransform, l.error);
     if (l.error.empty()) {
         Dl_info info;
         if (dladdr(reinterpret_cast<void*>(a.newDevice), &info) && info.dli_fname) {

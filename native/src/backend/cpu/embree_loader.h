@@ -37,6 +37,9 @@ struct EmbreeApi {
     decltype(&rtcSetGeometryOccludedFilterFunction) setGeometryOccludedFilterFunction = nullptr;
     decltype(&rtcIntersect1) intersect1 = nullptr;
     decltype(&rtcOccluded1) occluded1 = nullptr;
+    // two-level instancing (embree_instances.cpp)
+    decltype(&rtcSetGeometryInstancedScene) setGeometryInstancedScene = nullptr;
+    decltype(&rtcSetGeometryTransform) setGeometryTransform = nullptr;
 };
 
 // The process-wide API table, loaded on first use. Throws std::runtime_error with a clear

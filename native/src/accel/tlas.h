@@ -1,0 +1,127 @@
+// Two-level BVH (host+device): a top level over instances, each a bottom-level BVH (accel/bvh.h,
+// one per mesh, built once) placed by a world-to-object transform. A ray enters an instance in
+// its object space with the direction left unnormalised, so its t, and the hit's primitive and
+// barycentrics, are the flattened scene's; shading reads the scene's world-space arrays as
+// before. Moving an instance changes its transform and rebuilds only the top level (tlas_build.h).
+#pragma once
+
+#include "accel/bvh.h"
+
+namespace lantern {
+
+// One instance: world -> object (rows of a 3x4), the bottom level it places and its child mask
+// (the OR of its triangles' flags | kBvhNonEmpty, or 0 when empty). identity: no transform.
+struct BvhInstance {
+    float to_object[3][4];
+    int32_t blas;
+    int32_t identity;
+    uint32_t mask;
+    int32_t pad;
+};
+
+// Top-level nodes are BvhNodes whose leaves index leaf_inst (instance ids in leaf order).
+struct TlasView {
+    const BvhNode* nodes = nullptr;
+    int32_t num_nodes = 0;
+    const int32_t* leaf_inst = nullptr;
+    const BvhInstance* instances = nullptr;
+    const BvhView* blas = nullptr;  // bottom levels; their triangles carry scene triangle ids
+};
+
+LANTERN_HD inline Ray tlas_object_ray(const BvhInstance& in, const Ray& r, float tmax) {
+    Ray o;
+    o.tmin = r.tmin;
+    o.tmax = tmax;
+    if (in.identity) {
+        o.o = r.o;
+        o.d = r.d;
+        return o;
+    }
+    const float(*m)[4] = in.to_object;
+    o.o = {m[0][0] * r.o.x + m[0][1] * r.o.y + m[0][2] * r.o.z + m[0][3],
+           m[1][0] * r.o.x + m[1][1] * r.o.y + m[1][2] * r.o.z + m[1][3],
+           m[2][0] * r.o.x + m[2][1] * r.o.y + m[2][2] * r.o.z + m[2][3]};
+    o.d = {m[0][0] * r.d.x + m[0][1] * r.d.y + m[0][2] * r.d.z,
+           m[1][0] * r.d.x + m[1][1] * r.d.y + m[1][2] * r.d.z,
+           m[2][0] * r.d.x + m[2][1] * r.d.y + m[2][2] * r.d.z};
+    return o;
+}
+
+// ---- Traversal ----
+// The top level as bvh_traverse walks a BVH (nearer child first, a fixed stack); at a leaf each
+// instance's bottom level is traversed with the ray shortened to the closest hit so far. The
+// accept functor sees the world-space ray's triangle (its ids are the scene's).
+template <bool kAnyHit, typename Accept = BvhAcceptAll>
+LANTERN_HD inline BvhHit tlas_traverse(const TlasView& tl, const Ray& ray, uint32_t need,
+                                       const Accept& accept = Accept()) {
+    BvhHit hit{ray.tmax, -1, {0.0f, 0.0f}};
+    if (tl.num_nodes == 0) return hit;
+    const BvhRay r = bvh_ray(ray);
+    float tmax = ray.tmax;
+    int32_t stack_node[kBvhStackSize];
+    float stack_dist[kBvhStackSize];
+    int sp = 0;
+    int32_t cur = 0;
+    for (;;) {
+        const BvhNode& n = tl.nodes[cur];
+        float d[2];
+        int mask = bvh_hit_boxes(r, n, tmax, &d[0], &d[1]);
+        if (!bvh_child_wanted(n.meta[0], need)) mask &= ~1;
+        if (!bvh_child_wanted(n.meta[1], need)) mask &= ~2;
+        int first = (mask == 3 && d[1] < d[0]) ? 1 : 0;
+        int32_t next = -1;
+        for (int k = 0; k < 2; ++k) {
+            int c = first ^ k;
+            if (!(mask & (1 << c))) continue;
+            if (k == 1 && d[c] > tmax) continue;
+            uint32_t count = n.meta[c] & kBvhCountMask;
+            if (count == 0) {
+                if (next < 0) {
+                    next = n.child[c];
+                } else {
+                    stack_node[sp] = n.child[c];
+                    stack_dist[sp] = d[c];
+                    ++sp;
+                }
+                continue;
+            }
+            int32_t begin = n.child[c];
+            for (int32_t i = begin; i < begin + int32_t(count); ++i) {
+                const BvhInstance& in = tl.instances[tl.leaf_inst[i]];
+                if (!bvh_child_wanted(in.mask << 24, need)) continue;
+                const Ray o = tlas_object_ray(in, ray, tmax);
+                const BvhHit h = bvh_traverse<kAnyHit>(tl.blas[in.blas], o, need, accept);
+                if (h.prim < 0) continue;
+                hit = h;
+                if (kAnyHit) return hit;
+                tmax = h.t;
+            }
+        }
+        if (next < 0) {
+            while (sp > 0) {
+                --sp;
+                if (stack_dist[sp] <= tmax) {
+                    next = stack_node[sp];
+                    break;
+                }
+            }
+            if (next < 0) return hit;
+        }
+        cur = next;
+    }
+}
+
+template <typename Accept = BvhAcceptAll>
+LANTERN_HD inline BvhHit tlas_intersect(const TlasView& tl, const Ray& ray, uint32_t need,
+                                        const Accept& accept = Accept()) {
+    return tlas_traverse<false>(tl, ray, need, accept);
+}
+
+template <typename Accept = BvhAcceptAll>
+LANTERN_HD inline bool tlas_occluded(const TlasView& tl, const Ray& ray,
+                                     uint32_t need = kBvhNeedShadow,
+                                     const Accept& accept = Accept()) {
+    return tlas_traverse<true>(tl, ray, need, accept).prim >= 0;
+}
+
+}  // namespace lantern
