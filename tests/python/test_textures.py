@@ -141,6 +141,8 @@ def test_bilinear_ramp_and_wrap_modes(backend):
     se = cols.std(axis=0, ddof=1) / math.sqrt(cols.shape[0]) + 1e-4
     exp = srgb_to_linear(np.clip(line, 0.0, 1.0))[2:62]
     z = np.abs(cols.mean(axis=0) - exp) / se
+    x = np.arange(2, 62) + 0.5
+    z[(np.abs(x - 16) < 1.5) | (np.abs(x - 48) < 1.5)] = 0.0  # the kinks, as above
     assert z.max() < 4.5, ("srgb", z.max(), int(z.argmax()) + 2)
     mid = cols[:, 29:31].mean()                  # u about 0.5: decode(0.5) = 0.214
     # (the z-test above checks every column against decode(line); this names the point)
