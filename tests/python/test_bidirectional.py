@@ -77,7 +77,7 @@ REFERENCE = {"fixture": "bdpt", "glass": "bdpt"}
 ONE_PERCENT = (0.01, 0.05)
 CONTROLS = {"cornell": ONE_PERCENT, "glossy": ONE_PERCENT, "principled": (0.02, 0.10),
             "features": (0.02, 0.075), "coat_normal": ONE_PERCENT, "fixture": (0.03, 0.10),
-            "glass": (0.015, 0.075)}
+            "glass": ONE_PERCENT}
 
 SCENES = {
     "cornell": lambda: scenes.cornell_box(SIZE, SIZE),
