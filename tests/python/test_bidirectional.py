@@ -67,14 +67,16 @@ def check_agreement(name, renders_a, renders_pt, controls=(0.01, 0.05)):
 # the light tree landed (tools/measure_controls.py; tests/README.md): Cornell and coat_normal
 # as before, glossy 0.92-1.02 % (a block 3.0-3.1 %), features 1.03-1.11 % (1.9-2.5 %), glass
 # against bdpt 0.96-1.01 % (2.8-3.2 %), principled with pt at 2048 spp 1.07-1.17 % (3.4-3.7 %);
-# every 1 % / 5 % control is caught at the tests' seeds.
+# every 1 % / 5 % control is caught at the tests' seeds. The fixture against bdpt resolves
+# 1.96-2.33 % (a block 5.3-6.5 %; 2.5-2.7 % / 8.7-9.3 % before): 1 % would take ~6x the
+# samples of both sides (the scene takes ~85 s CPU now: ~+7 CPU-minutes), beyond CI.
 REFERENCE = {"fixture": "bdpt", "glass": "bdpt"}
 # principled's noise is pt's reference (the layered lobes): at 512 spp every integrator
 # resolved 1.26-1.32 % (a block 5.4-5.9 %), at 2048 1.07-1.17 % (3.4-3.7 %; +75 s CPU)
 REF_SPP_SCENE = {"principled": 2048}
 ONE_PERCENT = (0.01, 0.05)
 CONTROLS = {"cornell": ONE_PERCENT, "glossy": ONE_PERCENT, "principled": ONE_PERCENT,
-            "features": ONE_PERCENT, "coat_normal": ONE_PERCENT, "fixture": (0.03, 0.10),
+            "features": ONE_PERCENT, "coat_normal": ONE_PERCENT, "fixture": (0.025, 0.075),
             "glass": ONE_PERCENT}
 
 SCENES = {
