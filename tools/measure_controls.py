@@ -16,6 +16,9 @@ import test_bidirectional as tb
 from lantern import agreement, metrics, scenes
 
 
+REF_SPP = SPP = 0  # the test's settings unless MEASURE_SPP_REF / MEASURE_SPP say otherwise
+
+
 def report(name, a, b):
     res = metrics.compare_renders(a, b, block=8)
     by, bx = agreement.control_block(res)
@@ -30,12 +33,14 @@ def report(name, a, b):
 def scene_set(scene_name):
     scene = tb.SCENES[scene_name]()
     ref_name = tb.REFERENCE.get(scene_name, "pt")
-    ref = tb.renders(scene, ref_name, tb.SPP_REF[ref_name], 1000)
+    ref = tb.renders(scene, ref_name, REF_SPP or tb.REF_SPP_SCENE.get(scene_name,
+                                                                 tb.SPP_REF[ref_name]), 1000)
     for integrator, settings in tb.BIDIRECTIONAL:
         if integrator == ref_name and not settings:
             continue
         report(f"{scene_name} {integrator} {settings} vs {ref_name}",
-               tb.renders(scene, integrator, tb.SPP, 2000, **settings), ref)
+               tb.renders(scene, integrator, SPP or tb.SPP_SCENE.get(scene_name, tb.SPP), 2000,
+                          **settings), ref)
 
 
 def world():
@@ -86,11 +91,10 @@ JOBS.update({n: (lambda n=n: scene_set(n)) for n in tb.SCENES})
 
 if __name__ == "__main__":
     import os
-    if "MEASURE_SPP_REF" in os.environ:
-        tb.SPP_REF = {k: int(os.environ["MEASURE_SPP_REF"]) for k in tb.SPP_REF}
-    tb.SPP = int(os.environ.get("MEASURE_SPP", tb.SPP))
+    REF_SPP = int(os.environ.get("MEASURE_SPP_REF", 0))
+    SPP = int(os.environ.get("MEASURE_SPP", 0))
     for name in sys.argv[1:] or list(JOBS):
         t0 = time.perf_counter()
         JOBS[name]()
-        print(f"-- {name}: {time.perf_counter() - t0:.0f} s wall, {time.process_time():.0f} s CPU so far",
-              flush=True)
+        print(f"-- {name}: {time.perf_counter() - t0:.0f} s wall, "
+              f"{time.process_time():.0f} s CPU so far", flush=True)
