@@ -17,6 +17,8 @@ null distribution):
 - paired: Lantern's own BVH against Embree with the same seeds, compared seed by seed
   (test_cpu_accel: bvh_k - embree_k + mean(embree) against mean(embree)) on the alpha-tested
   features box, pt, 16 seeds of 8 spp;
+- scale: the glossy box at 1 m against 1 mm with the same seeds, paired
+  (test_bidirectional.py::test_scale_invariance: cis, 16 seeds of 8 spp);
 - cycles: Lantern against the stored Cycles reference of light_sun (needs bpy; the reference
   is one fixed set, so the 20 trials share it).
 """
@@ -116,8 +118,21 @@ def pairs_paired(trial):
     yield "bvh vs embree, paired seeds, features pt", run
 
 
+def pairs_scale(trial):
+    sys.path.insert(0, str(ROOT / "tests" / "python"))
+    import test_bidirectional as tb  # its _scaled and renders, the test's settings
+
+    def run():
+        ref = tb.renders(scenes.glossy_box(32, 32), "cis", 8, 960000 + 1000 * trial)
+        scaled = tb.renders(tb._scaled(scenes.glossy_box(32, 32), 1e-3), "cis", 8,
+                            960000 + 1000 * trial)
+        level = np.mean(ref, axis=0)
+        return [a - b + level for a, b in zip(scaled, ref)], level, {}
+    yield "scale invariance 1e-3, paired seeds, glossy cis", run
+
+
 FAMILIES = {"cross": pairs_cross, "analytic": pairs_analytic, "backend": pairs_backend,
-            "paired": pairs_paired, "cycles": pairs_cycles}
+            "paired": pairs_paired, "scale": pairs_scale, "cycles": pairs_cycles}
 
 
 def main(argv=None):

@@ -117,16 +117,16 @@ needs_core = pytest.mark.skipif(not session.native_available(),
 
 @needs_core
 def test_four_chunks_agree_with_one_render(tmp_path):
-    """Four 64-spp chunks merged agree with a 256-spp render, block by block, over independent
-    repetitions (z-scores with standard errors from the repetitions' spread)."""
+    """Four 32-spp chunks merged agree with a 128-spp render over 16 independent repetitions:
+    lantern.metrics.assert_agreement (tests/README.md), with its 1 % / 5 % negative controls."""
     path = tmp_path / "box.lantern"
     scenes.cornell_box(width=32, height=32).save(path)
     merged, full = [], []
-    for rep in range(6):
+    for rep in range(16):
         chunks = []
         for k in range(4):
             out = tmp_path / f"r{rep}_c{k}.exr"
-            assert cli.main(["render", str(path), "-o", str(out), "--spp", "64", "-q",
+            assert cli.main(["render", str(path), "-o", str(out), "--spp", "32", "-q",
                              "--backend", "cpu", "--seed", str(10 + rep), "--chunk",
                              str(k)]) == 0
             chunks.append(out)
@@ -138,12 +138,9 @@ def test_four_chunks_agree_with_one_render(tmp_path):
         np.testing.assert_allclose(m, np.mean(images, axis=0), rtol=1e-5, atol=1e-6)
         merged.append(m)
         ref = tmp_path / f"full{rep}.exr"
-        assert cli.main(["render", str(path), "-o", str(ref), "--spp", "256", "-q",
+        assert cli.main(["render", str(path), "-o", str(ref), "--spp", "128", "-q",
                          "--backend", "cpu", "--seed", str(1000 + rep)]) == 0
         full.append(imageio.read_image(ref))
-    assert exr.read_exr(tmp_path / "r0.exr").metadata[merge.SPP] == 256
-    ok, cmp, over3, allowed = metrics.agreement(merged, full, block=8)
-    assert ok, f"{cmp}; {over3} blocks over |z| = 3 (allowed {allowed})"
-    # the comparison can fail: merges 5% too bright do
-    brighter = [m * 1.05 for m in merged]
-    assert not metrics.agreement(brighter, full, block=8)[0]
+    assert exr.read_exr(tmp_path / "r0.exr").metadata[merge.SPP] == 128
+    metrics.assert_agreement("4 merged chunks vs one render", [m[..., :3] for m in merged],
+                             [f[..., :3] for f in full], block=8)
