@@ -105,10 +105,12 @@ def test_render_through_stand_in_core(scene_file, tmp_path, fake, capsys):
     assert code == 0, err
     s = fake.Session.instances[-1]
     assert s.settings == {"integrator": "pt", "backend": "cpu", "spp_per_iteration": 2,
-                          "max_depth": 5, "seed": 3, "threads": 2, "rr_depth": 3,
+                          "max_depth": 5, "seed": 3, "threads": 2, "rr_depth": 4,
                           "sort": None, "connections": 5, "candidates": 10,
                           "cis_target": "contribution", "naive_ris": False,
-                        "cache_budget_mb": 0, "light_candidates": 1}
+                          "cache_budget_mb": 0, "light_candidates": 1,
+                          "adaptive_threshold": 0.0, "adaptive_min_samples": 0,
+                          "adaptive_step": 4, "instancing": False}
     assert s.spp == 6 and s.stats()["iterations"] == 3
     assert "6/6 spp" in err and "Mrays/s" in err
     assert "backend cpu (asked: auto)" in err and "backend cpu)" in err
