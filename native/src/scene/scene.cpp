@@ -140,6 +140,23 @@ void set_lens(const SceneInput& in, CameraView& c, std::vector<std::string>& war
     }
 }
 
+// Pick probabilities proportional to `weight`, handed to set(k, pdf) (0 where the weights sum to
+// 0), and their CDF appended to `cdf` (the last entry exactly 1; all 0 when nothing can be
+// picked). True when some light can be picked.
+template <class SetPdf>
+bool build_pick_cdf(const std::vector<double>& weight, std::vector<float>& cdf, SetPdf set) {
+    double total = 0.0;
+    for (double w : weight) total += w;
+    double acc = 0.0;
+    for (size_t k = 0; k < weight.size(); ++k) {
+        set(k, total > 0.0 ? float(weight[k] / total) : 0.0f);
+        acc += weight[k];
+        cdf.push_back(total > 0.0 ? float(acc / total) : 0.0f);
+    }
+    if (total > 0.0) cdf.back() = 1.0f;
+    return total > 0.0;
+}
+
 }  // namespace
 
 HostScene::HostScene(const SceneInput& in) {
@@ -635,33 +652,17 @@ void HostScene::add_lights(const SceneInput& in) {
     // Cycles' "Auto" world sampling does the same for a solid colour (its manual: importance
     // sampling "for non-solid colors is recommended"). A map (HDRI, sky) is sampled.
     const bool world_map = env_->view.width > 0;
-    double nee_total = 0.0;
-    auto nee_power = [&](size_t k) {
-        return lights_[k].type == kLightWorld && !world_map ? 0.0 : double(power[k]);
-    };
-    for (size_t k = 0; k < lights_.size(); ++k) nee_total += nee_power(k);
-    acc = 0.0;
-    for (size_t k = 0; k < lights_.size(); ++k) {
-        lights_[k].nee_pdf = nee_total > 0.0 ? float(nee_power(k) / nee_total) : 0.0f;
-        acc += nee_power(k);
-        nee_cdf_.push_back(nee_total > 0.0 ? float(acc / nee_total) : 0.0f);
-    }
-    if (nee_total > 0.0) nee_cdf_.back() = 1.0f;
-    has_nee_lights_ = nee_total > 0.0;
+    std::vector<double> weight(lights_.size());
+    for (size_t k = 0; k < lights_.size(); ++k)
+        weight[k] = lights_[k].type == kLightWorld && !world_map ? 0.0 : double(power[k]);
+    has_nee_lights_ = build_pick_cdf(weight, nee_cdf_,
+                                     [&](size_t k, float pdf) { lights_[k].nee_pdf = pdf; });
     // Light sub-paths (bdpt, lvc, cis) start by power too, but never on a receiver-dependent
     // light (soft-falloff point/spot): it has no emission distribution (docs/lvc_notes.md).
-    double emit_total = 0.0;
     for (size_t k = 0; k < lights_.size(); ++k)
-        if (!light_receiver_dependent(lights_[k])) emit_total += power[k];
-    acc = 0.0;
-    for (size_t k = 0; k < lights_.size(); ++k) {
-        double p = light_receiver_dependent(lights_[k]) || !(emit_total > 0.0) ? 0.0 : power[k];
-        lights_[k].emit_pick_pdf = float(p / std::max(emit_total, 1e-300));
-        acc += p;
-        emit_cdf_.push_back(emit_total > 0.0 ? float(acc / emit_total) : 0.0f);
-    }
-    if (emit_total > 0.0) emit_cdf_.back() = 1.0f;
-    has_emitters_ = emit_total > 0.0;
+        weight[k] = light_receiver_dependent(lights_[k]) ? 0.0 : double(power[k]);
+    has_emitters_ = build_pick_cdf(weight, emit_cdf_,
+                                   [&](size_t k, float pdf) { lights_[k].emit_pick_pdf = pdf; });
     // Next-event estimation picks by the light tree where there is a choice (a scene with one
     // light keeps light_cdf); LANTERN_LIGHT_TREE=0 keeps the global CDF, for benchmarks.
     const char* tree_env = std::getenv("LANTERN_LIGHT_TREE");
