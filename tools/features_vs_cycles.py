@@ -115,7 +115,7 @@ def region_stats(lan, cyc, mask=None):
                            + (ml / mc ** 2) ** 2 * sc.var(0, ddof=1) / len(sc))
         z = np.where(se > 0, (ml - mc) / se, 0.0)
     return {"mean_lantern": ml, "mean_cycles": mc, "ratio": ratio, "ratio_se": se_ratio,
-            "z": z}
+            "se": se, "z": z}
 
 
 def rmse_stats(lan, cyc):

@@ -91,9 +91,10 @@ def _capped_z(discs, cap):
     """Each disc's z with a stated relative bias `cap` taken off the mean difference."""
     out = []
     for d in discs:
-        diff = np.abs(d["mean_lantern"] - d["mean_cycles"])
-        se = np.where(np.abs(d["z"]) > 0, diff / np.maximum(np.abs(d["z"]), 1e-30), np.inf)
-        out.append(np.maximum(diff - cap * np.abs(d["mean_cycles"]), 0.0) / se)
+        excess = np.maximum(np.abs(d["mean_lantern"] - d["mean_cycles"])
+                            - cap * np.abs(d["mean_cycles"]), 0.0)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            out.append(np.where(d["se"] > 0, excess / d["se"], 0.0))
     return np.array(out)
 
 
