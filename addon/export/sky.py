@@ -11,14 +11,26 @@ tests/render/test_cycles_compare.py): the result is scaled by 0.06 (Y in kcd/m^2
 radiance units), below the horizon the gradation term takes its horizon limit (1), and Preetham
 has no sun disc.
 
-The other sky types (Multiple Scattering, the default since Blender 5.0; Single Scattering;
-Hosek / Wilkie) are not rendered: a warning names them, and the Background's own colour lights
-the scene instead."""
+Multiple Scattering (Blender 5.0's default) is García Liñán's model as Blender 5.0 evaluates
+it, written in numpy in sky_ms.py (its sources and constants are cited there): the map, built
+once per sky (0.3 s for 512 x 256, the machine of bench/ under load), matches Cycles' sky to
+0.1 % per direction (tests/render/test_sky_cycles.py renders it through a panoramic camera).
+Its sun disc, a fraction of a texel in the map, is not drawn into the map: it becomes a sun
+light of the world (world["sun"], docs/scene_format.md) with the disc's angle and irradiance,
+which lights the scene, shadows and reflections as the disc does, but camera rays do not see
+it (a warning says so). Sun Intensity scales the disc alone, as in Cycles; Ground Albedo
+belongs to Hosek / Wilkie (the model's ground albedo is its own constant 0.3).
+
+Single Scattering (the former Nishita: another model, 21 wavelengths) and Hosek / Wilkie (its
+data set is large) are not rendered: a warning names them, and the Background's own colour
+lights the scene instead."""
 
 import functools
 import math
 
 import numpy as np
+
+from . import sky_ms
 
 SCALE = 0.06            # Preetham's Y (kcd/m^2) -> Blender radiance (measured, see above)
 MAP_SIZE = (512, 256)   # width, height: a smooth sky needs no more
@@ -92,23 +104,54 @@ def equirect_directions(width, height):
                      np.broadcast_to(np.sin(elev)[:, None], (height, width))], axis=-1)
 
 
-def sky_map(node, where, report):
-    """The Sky Texture node's radiance as an equirectangular float32 map (H, W, 3), rows bottom
-    to top; None (with a warning) for a sky type Lantern does not render."""
-    kind = getattr(node, "sky_type", "")
-    if kind != "PREETHAM":
-        label = {"MULTIPLE_SCATTERING": "Multiple Scattering", "SINGLE_SCATTERING":
-                 "Single Scattering", "HOSEK_WILKIE": "Hosek / Wilkie",
-                 "NISHITA": "Nishita"}.get(kind, kind)
-        report.warn(f"{where}: Sky Texture '{node.name}' of type {label} is not rendered (only "
-                    "Preetham is); the Background's own colour is used")
-        return None
+_LABELS = {"MULTIPLE_SCATTERING": "Multiple Scattering", "SINGLE_SCATTERING": "Single Scattering",
+           "HOSEK_WILKIE": "Hosek / Wilkie", "NISHITA": "Nishita"}
+
+
+def _check_mapping(node, where, report):
     tm = getattr(node, "texture_mapping", None)
     if tm is not None and (any(abs(v) > 1e-6 for v in tm.rotation) or
                            any(abs(v - 1.0) > 1e-6 for v in tm.scale)):
         report.warn(f"{where}: Sky Texture '{node.name}': its own texture mapping is ignored "
                     "(use a Mapping node)")
-    return _preetham_map(tuple(float(v) for v in node.sun_direction), float(node.turbidity))
+
+
+def _finite(node, name, default, lo=None, hi=None):
+    v = float(getattr(node, name, default))
+    if not math.isfinite(v):
+        v = default
+    if lo is not None:
+        v = max(v, lo)
+    if hi is not None:
+        v = min(v, hi)
+    return v
+
+
+def _ms_params(node):
+    """The Multiple Scattering node's settings, made finite and in range."""
+    return (_finite(node, "sun_elevation", math.radians(15.0)),
+            _finite(node, "sun_rotation", 0.0),
+            _finite(node, "altitude", 100.0, 0.0, 100000.0),
+            _finite(node, "air_density", 1.0, 0.0, 1000.0),
+            _finite(node, "aerosol_density", 1.0, 0.0, 1000.0),
+            _finite(node, "ozone_density", 1.0, 0.0, 1000.0))
+
+
+def sky_map(node, where, report):
+    """The Sky Texture node's radiance as an equirectangular float32 map (H, W, 3), rows bottom
+    to top (no sun disc: see sky_sun); None (with a warning) for a sky type Lantern does not
+    render."""
+    kind = getattr(node, "sky_type", "")
+    if kind not in ("PREETHAM", "MULTIPLE_SCATTERING"):
+        report.warn(f"{where}: Sky Texture '{node.name}' of type {_LABELS.get(kind, kind)} is "
+                    "not rendered (Preetham and Multiple Scattering are); the Background's "
+                    "own colour is used")
+        return None
+    _check_mapping(node, where, report)
+    if kind == "PREETHAM":
+        return _preetham_map(tuple(float(v) for v in node.sun_direction),
+                             float(node.turbidity))
+    return _multiple_scattering_map(_ms_params(node))
 
 
 @functools.lru_cache(maxsize=4)
@@ -121,13 +164,59 @@ def _preetham_map(sun_dir, turbidity):
     return rgb
 
 
+@functools.lru_cache(maxsize=4)
+def _multiple_scattering_map(params):
+    """The Multiple Scattering map of one sky (sky_ms.py; 0.3 s): kept, read-only."""
+    w, h = MAP_SIZE
+    rgb = sky_ms.sky_radiance(equirect_directions(w, h), *params, _XYZ_TO_REC709)
+    rgb = np.ascontiguousarray(rgb, np.float32)
+    rgb.setflags(write=False)
+    return rgb
+
+
+def sky_sun(node, strength, to_map, where, report):
+    """The Multiple Scattering sky's sun disc as a sun light (docs/scene_format.md, "World"):
+    the disc's angle, its irradiance times the Background strength, towards the world
+    direction the texture's vector maps onto the sun; None without a disc (Sun Disc off, the
+    sun below the planet's horizon, or a black disc)."""
+    if getattr(node, "sky_type", "") != "MULTIPLE_SCATTERING" or not bool(node.sun_disc):
+        return None
+    elev, rot, alt, air, aerosol, ozone = _ms_params(node)
+    sun = sky_ms.sun_light(elev, rot, _finite(node, "sun_size", 0.009512, 0.0, math.pi / 2),
+                           _finite(node, "sun_intensity", 1.0, 0.0, 1000.0), alt, air,
+                           aerosol, ozone, _XYZ_TO_REC709)
+    if sun is None:
+        return None
+    towards, angle, irradiance = sun
+    m = np.asarray(to_map, np.float64)
+    try:  # to_map takes a world direction to the texture's vector: invert it for the sun
+        d = np.linalg.solve(m, towards)
+    except np.linalg.LinAlgError:
+        d = None
+    if d is None or not np.all(np.isfinite(d)) or np.linalg.norm(d) < 1e-12:
+        report.warn(f"{where}: Sky Texture '{node.name}': the sun disc is dropped (the "
+                    "texture's mapping is singular)")
+        return None
+    d = d / np.linalg.norm(d)
+    power = [float(c) * strength for c in irradiance]
+    if max(power) <= 0.0 or not all(math.isfinite(c) for c in power):
+        return None
+    report.warn(f"{where}: Sky Texture '{node.name}': the sun disc lights the scene as a sun "
+                "lamp; camera rays do not see it")
+    return {"type": "sun", "name": f"sky:{node.name}", "direction": (-d).tolist(),
+            "angle": angle, "strength": power}
+
+
 def sky_world(node, out, color, strength, to_map, where, report):
-    """`out` (the world dict) with the sky's map, or the Background colour when the sky type is
-    not rendered."""
+    """`out` (the world dict) with the sky's map (and sun), or the Background colour when the
+    sky type is not rendered."""
     rgb = sky_map(node, where, report)
     if rgb is None:
         out["color"] = [c * strength for c in color]
         return out
     out.update({"map": rgb, "map_name": f"sky:{node.name}", "strength": [strength] * 3,
                 "projection": "equirectangular", "to_map": np.asarray(to_map).tolist()})
+    sun = sky_sun(node, strength, to_map, where, report)
+    if sun is not None:
+        out["sun"] = sun
     return out

@@ -223,6 +223,8 @@ class Scene:
             if "to_world" in light:
                 light["to_world"] = mat(light["to_world"])
             lights.append(light)
+        if self.world.get("sun") is not None:   # the sky's sun disc joins the lights
+            lights.append(dict(self.world["sun"]))
         meshes = [dict(m) for m in self.meshes]
         textures = []
         for t in self.textures:
@@ -334,8 +336,9 @@ class Scene:
 
 
 def _world_native(world):
-    """The world as the core reads it: the map's 3x3 as 9 floats."""
+    """The world as the core reads it: the map's 3x3 as 9 floats; its sun is a light."""
     out = dict(world)
+    out.pop("sun", None)
     if out.get("to_map") is not None:
         out["to_map"] = [float(x) for row in out["to_map"] for x in row]
     return out

@@ -275,6 +275,13 @@ def validate_world(world):
             out[f"visible_{ray}"] = _bool(world[f"visible_{ray}"], f"world visible_{ray}")
     if world.get("map") is not None:
         _validate_world_map(world, out)
+    if world.get("sun") is not None:  # the Sky Texture's sun disc: a sun light of the world
+        sun = world["sun"]
+        if not isinstance(sun, dict) or sun.get("type") != "sun":
+            raise ValueError("world sun: expected a light dict of type 'sun'")
+        out["sun"] = validate_light(sun, "of the world")
+    else:
+        out.pop("sun", None)
     return out
 
 

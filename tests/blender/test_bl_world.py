@@ -307,16 +307,76 @@ def test_preetham_sky_is_an_environment_map(empty, addon):
     assert row[width // 2].sum() > 1.5 * row[0].sum()
 
 
-@pytest.mark.parametrize("sky_type", ["MULTIPLE_SCATTERING", "SINGLE_SCATTERING",
-                                      "HOSEK_WILKIE"])
+@pytest.mark.parametrize("sky_type", ["SINGLE_SCATTERING", "HOSEK_WILKIE"])
 def test_other_sky_types_are_named(empty, addon, sky_type):
     from blender_helpers import add_camera
     add_camera(empty)
     sky_world(empty, sky_type)
     scene, report = export(addon)
-    assert "map" not in scene.world
+    assert "map" not in scene.world and "sun" not in scene.world
     assert any("Sky Texture" in m and "not rendered" in m for m in report.messages), \
         report.messages
+
+
+def test_multiple_scattering_sky_is_a_map_and_a_sun(empty, addon):
+    """Blender 5.0's default sky type: a map (its values against Cycles:
+    tests/render/test_sky_cycles.py) and the sun disc as a sun light of the world, towards
+    Blender's sun (elevation e, rotation r: (cos e sin r, cos e cos r, sin e)), its angle the
+    Sun Size, its strength times the Background's; the core receives the sun as a light."""
+    from blender_helpers import add_camera
+    add_camera(empty)
+    sky = sky_world(empty, "MULTIPLE_SCATTERING", sun_rotation=math.radians(90.0))
+    assert bpy.data.worlds["Sky"].node_tree.nodes.new("ShaderNodeTexSky").sky_type == \
+        "MULTIPLE_SCATTERING"   # what an artist gets in 5.0.1
+    scene, report = export(addon)
+    w = scene.world
+    assert report.messages == [f"World 'Sky': Sky Texture '{sky.name}': the sun disc lights "
+                               "the scene as a sun lamp; camera rays do not see it"]
+    rgb = np.asarray(w["map"])
+    assert rgb.shape == (256, 512, 3) and np.isfinite(rgb).all() and rgb.min() >= 0.0
+    assert w["strength"] == [2.0] * 3
+    # the sun towards +X (rotation 90 degrees): +X is the middle column, -X the edges
+    row = rgb[int(0.55 * 256)]
+    assert row[256].sum() > 3.0 * row[0].sum()
+    sun = w["sun"]
+    e = sky.sun_elevation
+    assert np.allclose(sun["direction"], [-math.cos(e), 0.0, -math.sin(e)], atol=1e-6)
+    assert sun["angle"] == pytest.approx(sky.sun_size)
+    off = sky_world(empty, "MULTIPLE_SCATTERING", sun_rotation=math.radians(90.0),
+                    sun_intensity=0.5)
+    half = np.asarray(export(addon)[0].world["sun"]["strength"])
+    assert np.allclose(half, 0.5 * np.asarray(sun["strength"]))
+    off.sun_disc = False
+    scene2, report2 = export(addon)
+    assert "sun" not in scene2.world and not report2.messages
+    native = scene.to_native()
+    assert native["lights"][-1]["type"] == "sun" and "sun" not in native["world"]
+
+
+@pytest.mark.parametrize("props", [
+    {"sun_elevation": math.radians(-30.0)},          # the sun well below the horizon
+    {"sun_elevation": math.radians(95.0), "sun_rotation": -7.0},   # past the zenith
+    {"air_density": 0.0, "aerosol_density": 0.0, "ozone_density": 0.0},
+    {"air_density": 1000.0, "aerosol_density": 1000.0, "ozone_density": 1000.0},
+    {"altitude": 100000.0, "sun_size": 0.0},
+    {"altitude": 0.0, "sun_size": math.pi / 2, "sun_intensity": 1000.0},
+])
+def test_multiple_scattering_bad_input_is_finite(empty, addon, props):
+    """Settings at and past their ends give a finite, non-negative map and a finite sun (or
+    none: below the planet's horizon)."""
+    from blender_helpers import add_camera
+    add_camera(empty)
+    sky_world(empty, "MULTIPLE_SCATTERING", **props)
+    scene, report = export(addon)
+    rgb = np.asarray(scene.world["map"])
+    assert np.isfinite(rgb).all() and rgb.min() >= 0.0
+    sun = scene.world.get("sun")
+    if props.get("sun_elevation", 0.0) < 0.0:
+        assert sun is None
+    if sun is not None:
+        assert np.isfinite(sun["strength"]).all() and min(sun["strength"]) >= 0.0
+        assert np.isfinite(sun["direction"]).all()
+    scene.validate()
 
 
 def test_panoramic_equirectangular_export(empty, addon):
