@@ -1,6 +1,6 @@
 """World and camera scenes of issue 15 beside scenes.py's world_hdri / world_hdri_dof: a
-Preetham sky, the HDRI seen by a panoramic camera, and transparent film with holdouts. The sky
-and panorama join scenes.SCENES through register() (called at the end of scenes.py), so that
+Preetham sky, Blender 5.0's Multiple Scattering sky, the HDRI seen by a panoramic camera, and
+transparent film with holdouts. The skies and panorama join scenes.SCENES through register() (called at the end of scenes.py), so that
 tools/make_cycles_refs.py and tests/render build them like the others. The film scenes are not
 registered: its Cycles reference needs transparent film, which make_cycles_refs turns off
 (tests/render/test_world_film.py renders it)."""
@@ -35,6 +35,26 @@ def world_sky():
     scenes._reset()
     scenes._stage()
     sky_world()
+
+
+# the Multiple Scattering sky's only change from its defaults: the sun, 15 degrees up, turned
+# from +Y (behind the back wall, whose shadow would cover the stage) to the camera's left
+SKY_MS_ROTATION = math.radians(210.0)
+
+
+def world_sky_ms():
+    """No lamps: Blender 5.0's default Sky Texture (Multiple Scattering, every setting at its
+    default: sun 15 degrees up, Sun Size 0.545 degrees, altitude 100 m, densities 1) but the
+    Sun Rotation (210 degrees: the sun behind the camera, to its left) lights the stage; the
+    camera sees the sky above the back wall, not the sun."""
+    import scenes
+    scenes._reset()
+    scenes._stage()
+    nt = bpy.context.scene.world.node_tree
+    sky = nt.nodes.new("ShaderNodeTexSky")
+    assert sky.sky_type == "MULTIPLE_SCATTERING"
+    sky.sun_rotation = SKY_MS_ROTATION
+    nt.links.new(sky.outputs["Color"], nt.nodes["Background"].inputs["Color"])
 
 
 def world_pano():
@@ -109,5 +129,5 @@ def world_visibility():
 
 def register(scenes_dict):
     """The scenes with a Cycles reference by make_cycles_refs (not the film scenes)."""
-    for f in (world_sky, world_pano, world_visibility):
+    for f in (world_sky, world_sky_ms, world_pano, world_visibility):
         scenes_dict.setdefault(f.__name__, f)

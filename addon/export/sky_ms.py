@@ -109,6 +109,7 @@ class Atmosphere:
         cos = np.linspace(-1.0, 1.0, T_RES_COS)
         alt_n = np.linspace(0.0, 1.0, T_RES_ALT)
         self.table = self.transmittance(cos[None, :], alt_n[:, None])  # (alt, cos, 4)
+        self.flat = np.ascontiguousarray(self.table.reshape(-1, 4), np.float32)
 
     def transmittance(self, cos, alt_n):
         """Transmittance to the top of the atmosphere from altitude alt_n * 100 km towards a
@@ -125,15 +126,20 @@ class Atmosphere:
         return np.exp(-(depth @ self.ext))
 
     def lookup(self, cos, alt_n):
-        """The table read bilinearly (clamped), as Blender reads it: (..., 4)."""
-        x = np.clip(cos * 0.5 + 0.5, 0.0, 1.0) * (T_RES_COS - 1)
-        y = np.clip(alt_n, 0.0, 1.0) * (T_RES_ALT - 1)
-        x1, y1 = x.astype(np.int64), y.astype(np.int64)
-        x2, y2 = np.minimum(x1 + 1, T_RES_COS - 1), np.minimum(y1 + 1, T_RES_ALT - 1)
+        """The table read bilinearly (clamped), as Blender reads it: (..., 4), float32 (as
+        Blender's)."""
+        x = (np.clip(cos * 0.5 + 0.5, 0.0, 1.0) * (T_RES_COS - 1)).astype(np.float32)
+        y = (np.clip(alt_n, 0.0, 1.0) * (T_RES_ALT - 1)).astype(np.float32)
+        x1, y1 = x.astype(np.int32), y.astype(np.int32)
         fx, fy = (x - x1)[..., None], (y - y1)[..., None]
-        tb = self.table
-        bottom = tb[y1, x1] + fx * (tb[y1, x2] - tb[y1, x1])
-        top = tb[y2, x1] + fx * (tb[y2, x2] - tb[y2, x1])
+        dx = (x1 < T_RES_COS - 1).astype(np.int32)
+        dy = (y1 < T_RES_ALT - 1).astype(np.int32) * T_RES_COS
+        i = y1 * T_RES_COS + x1
+        flat = self.flat
+        c11, c12 = flat[i], flat[i + dx]
+        c21, c22 = flat[i + dy], flat[i + dy + dx]
+        bottom = c11 + fx * (c12 - c11)
+        top = c21 + fx * (c22 - c21)
         return bottom + fy * (top - bottom)
 
     def ground_term(self, cos_s):
@@ -245,26 +251,65 @@ def xyz_to_rgb(xyz, matrix):
     return np.maximum(xyz @ matrix.T, 0.0)
 
 
-def sky_radiance(dirs, sun_elevation, sun_rotation, altitude, air, aerosol, ozone, matrix):
-    """Linear RGB (..., 3) of the sky (no sun disc) for unit directions `dirs` (..., 3), z up;
-    `matrix` XYZ -> RGB."""
+def sky_table(sun_elevation, sun_rotation, altitude, air, aerosol, ozone):
+    """One sky's march (march()) with its sun: what sky_radiance reads, for many directions."""
     s = sun_vector(sun_elevation, sun_rotation)
     elev_s = math.asin(float(np.clip(s[2], -1.0, 1.0)))
     atm = _atmosphere(float(air), float(aerosol), float(ozone))
-    tab = march(atm, elev_s, _clamp_altitude(altitude))
-    d = np.asarray(dirs, np.float64)
-    elev = np.arcsin(np.clip(d[..., 2], -1.0, 1.0))
-    # azimuth from the anti-sun: the table's a (the sun at pi); any reference at a zenith sun
+    # azimuths from the sun's side; any reference serves a sun at the zenith
     hs = np.array([s[0], s[1]]) if math.hypot(s[0], s[1]) > 1e-9 else \
         np.array([math.sin(sun_rotation), math.cos(sun_rotation)])
+    return march(atm, elev_s, _clamp_altitude(altitude)), s, hs
+
+
+def table_radiance(table, dirs, matrix):
+    """Linear RGB (..., 3) of a sky_table for unit directions `dirs` (..., 3), z up; `matrix`
+    XYZ -> RGB."""
+    tab, s, hs = table
+    d = np.asarray(dirs, np.float64)
+    elev = np.arcsin(np.clip(d[..., 2], -1.0, 1.0))
     dot = d[..., 0] * hs[0] + d[..., 1] * hs[1]
     cross = d[..., 0] * hs[1] - d[..., 1] * hs[0]
-    az = math.pi - np.arctan2(np.abs(cross), dot)
+    az = math.pi - np.arctan2(np.abs(cross), dot)     # the table's azimuth: the sun at pi
     i_m, i_a, i_ms = _interp_table(tab, elev, az)
     p_m, p_a = _phases(-(d @ s))
     spectrum = SUN_IRRADIANCE * (p_m[..., None] * i_m + p_a[..., None] * i_a + i_ms)
     rgb = xyz_to_rgb(spectrum @ SPECTRAL_XYZ, matrix)
     return np.where(np.isfinite(rgb), rgb, 0.0)
+
+
+def table_grid(table, elev, phi, matrix):
+    """Linear RGB (rows, columns, 3) of a sky_table on a grid of directions (cos e cos phi,
+    cos e sin phi, sin e), elevations `elev` (rows) by azimuths `phi` (columns): table_radiance
+    made separable (the table read per row in elevation, then per column in azimuth; spectra
+    folded into RGB before the per-texel phase functions), float32."""
+    tab, s, hs = table
+    elev, phi = np.asarray(elev, np.float64), np.asarray(phi, np.float64)
+    y = np.sqrt(np.abs(elev) / (0.5 * math.pi)) * np.sign(elev) * 0.5 + 0.5
+    y = np.clip(y * SKY_ROWS - 0.5, 0.0, SKY_ROWS - 1.0)
+    y1 = y.astype(np.int64)
+    y2, fy = np.minimum(y1 + 1, SKY_ROWS - 1), (y - y1)[None, :, None, None]
+    rows = tab[:, y1] + fy * (tab[:, y2] - tab[:, y1])                 # (3, rows, az, 4)
+    to_rgb = (SUN_IRRADIANCE[:, None] * SPECTRAL_XYZ) @ np.asarray(matrix).T   # (4, 3)
+    rows = (rows @ to_rgb).astype(np.float32)                          # (3, rows, az, 3)
+    cp, sp = np.cos(phi), np.sin(phi)
+    az = math.pi - np.arctan2(np.abs(cp * hs[1] - sp * hs[0]), cp * hs[0] + sp * hs[1])
+    x = np.clip(az / math.pi * (SKY_AZIMUTHS - 1), 0.0, SKY_AZIMUTHS - 1.0)
+    x1 = x.astype(np.int64)
+    x2, fx = np.minimum(x1 + 1, SKY_AZIMUTHS - 1), (x - x1).astype(np.float32)[:, None]
+    j = rows[:, :, x1] + fx * (rows[:, :, x2] - rows[:, :, x1])        # (3, rows, cols, 3)
+    cos_view = -(np.cos(elev)[:, None] * (cp * s[0] + sp * s[1])[None, :] +
+                 (np.sin(elev) * s[2])[:, None])
+    p_m, p_a = (p.astype(np.float32)[..., None] for p in _phases(cos_view))
+    rgb = np.maximum(p_m * j[0] + p_a * j[1] + j[2], 0.0)
+    return np.where(np.isfinite(rgb), rgb, np.float32(0.0))
+
+
+def sky_radiance(dirs, sun_elevation, sun_rotation, altitude, air, aerosol, ozone, matrix):
+    """Linear RGB (..., 3) of the sky (no sun disc) for unit directions `dirs` (..., 3), z up;
+    `matrix` XYZ -> RGB."""
+    return table_radiance(sky_table(sun_elevation, sun_rotation, altitude, air, aerosol, ozone),
+                          dirs, matrix)
 
 
 @functools.lru_cache(maxsize=4)

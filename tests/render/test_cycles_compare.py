@@ -40,6 +40,9 @@ CONTROLS = {"light_spot": (0.01, 0.10)}
 # Bonferroni threshold is 13.9) let +5 % pass at 64 spp in the merged build (the block the
 # control picks, and its noise, move with the sampler and the roulette); at 128 all are caught
 RUNS = {"world_visibility": (8, 64), "principled_emission_mesh": (16, 128)}
+# warnings a scene is known to give (the rest fail the test): the Multiple Scattering sky's
+# disc is a sun light that camera rays do not see (addon/export/sky.py); the camera sees no sun
+EXPECTED_WARNINGS = {"world_sky_ms": ("the sun disc lights the scene as a sun lamp",)}
 
 
 @pytest.fixture(scope="module")
@@ -62,7 +65,8 @@ def test_matches_cycles(name, addon):
     for k in range(seeds):
         img, warnings = rc.render_lantern(seed=k + 1, spp=spp)
         images.append(img)
-    assert not warnings, f"export warnings: {warnings}"
+    known = EXPECTED_WARNINGS.get(name, ())
+    assert all(any(k in w for k in known) for w in warnings), f"export warnings: {warnings}"
     lan = rc.stats_over_seeds(images)
     assert lan["mean"].shape == ref["mean"].shape, (lan["mean"].shape, ref["mean"].shape)
     assert np.isfinite(lan["mean"]).all()

@@ -1,0 +1,163 @@
+"""The Multiple Scattering Sky Texture (addon/export/sky_ms.py) against Cycles itself, texel by
+direction: Cycles renders the world alone through a full-sphere equirectangular panoramic
+camera (512 x 256, one sample, a pixel filter of 0.01 px: each pixel is its centre's
+direction), and a first render of the Texture Coordinate's Generated vector gives each pixel's
+direction. The model is deterministic, so the tolerance is its own agreement, not noise: within
+1 % at every direction where the sky is not black; a negative control (the aerosols 5 %
+denser) must fail it. The exported map (1024 x 512) is the model at its texels' directions
+outside the horizon band, whose texels are the model's means over their elevation extent
+(sky.HORIZON_BAND; world_sky_ms in test_cycles_compare.py compares what they light and show).
+
+The sun disc, which Lantern exports as a sun light, against the disc Cycles draws: a camera 2.5 disc diameters wide
+centred on the sun (Blackman-Harris 1.5 px: the edge antialiased), rendered with and without the disc; the difference summed over the
+pixels' solid angles is the disc's irradiance, within 1 % of the light's (the control: 3 %
+more Sun Intensity fails). The scene-level comparison (the stage lit by this sky) is
+world_sky_ms in test_cycles_compare.py."""
+
+import math
+import os
+import tempfile
+
+import numpy as np
+import pytest
+
+bpy = pytest.importorskip("bpy")
+import lantern_bpy  # noqa: E402
+import render_compare as rc  # noqa: E402
+
+TOL = 0.01
+CONFIGS = {
+    "defaults": {},
+    "low_sun_thin_air": {"sun_elevation": math.radians(3.0), "sun_rotation": math.radians(40.0),
+                         "altitude": 3000.0, "air_density": 2.0, "aerosol_density": 0.3,
+                         "ozone_density": 3.0},
+}
+
+
+@pytest.fixture(scope="module")
+def addon():
+    return lantern_bpy.load_addon()
+
+
+def _render(scene, spp, width, height, filter_width=0.01):
+    rc.cycles_settings(scene, 1, spp)
+    scene.cycles.filter_width = filter_width
+    scene.cycles.max_bounces = 0
+    scene.render.resolution_x, scene.render.resolution_y = width, height
+    scene.render.resolution_percentage = 100
+    with tempfile.TemporaryDirectory() as tmp:
+        path = os.path.join(tmp, "sky.exr")
+        scene.render.filepath = path
+        bpy.ops.render.render(write_still=True)
+        return lantern_bpy.read_image_bpy(path)[..., :3].astype(np.float64)
+
+
+def _world():
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    scene = bpy.context.scene
+    world = bpy.data.worlds.new("Sky")
+    scene.world = world
+    nt = world.node_tree
+    sky = nt.nodes.new("ShaderNodeTexSky")
+    return scene, nt, sky
+
+
+def _camera(scene, data):
+    obj = bpy.data.objects.new("Camera", data)
+    scene.collection.objects.link(obj)
+    scene.camera = obj
+    return obj
+
+
+@pytest.fixture(scope="module")
+def panorama(addon):
+    """(scene, the sky node, the Background node, each pixel's direction (H, W, 3))."""
+    scene, nt, node = _world()
+    cam = bpy.data.cameras.new("Pano")
+    cam.type = "PANO"
+    cam.panorama_type = "EQUIRECTANGULAR"
+    _camera(scene, cam).rotation_euler = (math.pi / 2, 0.0, 0.0)
+    bg = nt.nodes["Background"]
+    coord = nt.nodes.new("ShaderNodeTexCoord")
+    half = nt.nodes.new("ShaderNodeVectorMath")
+    half.operation = "MULTIPLY_ADD"      # (d + 1) / 2: non-negative colours
+    half.inputs[1].default_value = half.inputs[2].default_value = (0.5, 0.5, 0.5)
+    nt.links.new(coord.outputs["Generated"], half.inputs[0])
+    nt.links.new(half.outputs[0], bg.inputs["Color"])
+    d = _render(scene, 1, 512, 256) * 2.0 - 1.0
+    d /= np.linalg.norm(d, axis=-1, keepdims=True)
+    nt.links.new(node.outputs["Color"], bg.inputs["Color"])
+    return scene, node, d
+
+
+@pytest.mark.parametrize("config", list(CONFIGS))
+def test_sky_model_matches_cycles(config, panorama, addon):
+    from lantern_blender.export import ExportReport, sky
+    scene, node, d = panorama
+    node.sun_disc = False
+    for k, v in CONFIGS[config].items():
+        setattr(node, k, v)
+    cycles = _render(scene, 1, 512, 256)
+
+    def model(directions):
+        table = sky.sky_ms.sky_table(*sky._ms_params(node))
+        return sky.sky_ms.table_radiance(table, directions, sky._XYZ_TO_REC709)
+
+    lit = cycles.sum(-1) > 1e-3 * np.median(cycles.sum(-1))
+    assert lit.mean() > 0.9
+    dev = np.abs(model(d)[lit] / cycles[lit] - 1.0)
+    print(f"{config}: |model / Cycles - 1| median {np.median(dev):.2e}, 99 % "
+          f"{np.percentile(dev, 99):.2e}, max {dev.max():.2e} over {lit.sum()} directions")
+    assert dev.max() < TOL, (config, dev.max())
+    # the exported map: the model at its texels, means over sub-rows in the horizon band
+    report = ExportReport()
+    rgb = np.asarray(sky.sky_map(node, "test", report), np.float64)
+    assert not report.messages, report.messages
+    w, h = sky.MS_MAP_SIZE
+    assert rgb.shape == (h, w, 3)
+    texels = sky.equirect_directions(w, h)
+    point = np.abs(np.arcsin(texels[:, 0, 2])) >= sky.HORIZON_BAND
+    assert 0 < (~point).sum() < h // 10
+    assert np.allclose(rgb[point], model(texels[point]), rtol=1e-5, atol=1e-7)
+    band = rgb[~point]
+    assert np.isfinite(band).all() and band.min() >= 0.0
+    # the control: the same model with 5 % more aerosols is told apart
+    node.aerosol_density = node.aerosol_density * 1.05
+    assert np.abs(model(d)[lit] / cycles[lit] - 1.0).max() > TOL
+
+
+@pytest.mark.parametrize("props", [{"sun_elevation": math.radians(8.0), "sun_size":
+                                    math.radians(1.5), "sun_intensity": 0.5,
+                                    "sun_rotation": 2.0}])
+def test_sun_disc_irradiance_matches_cycles(props, addon):
+    from mathutils import Vector
+    from lantern_blender.export import ExportReport, sky
+    scene, nt, node = _world()
+    nt.links.new(node.outputs["Color"], nt.nodes["Background"].inputs["Color"])
+    for k, v in props.items():
+        setattr(node, k, v)
+    fov, n = 1.25 * max(node.sun_size, math.radians(0.6)) * 2.0, 48
+    cam = bpy.data.cameras.new("Sun")
+    cam.angle = fov
+    towards = Vector(tuple(float(c) for c in np.asarray(
+        sky.sky_ms.sun_vector(node.sun_elevation, node.sun_rotation))))
+    _camera(scene, cam).rotation_euler = towards.to_track_quat("-Z", "Y").to_euler()
+    node.sun_disc = True
+    with_disc = _render(scene, 16, n, n, 1.5)   # a wide filter: the disc's edge antialiased
+    node.sun_disc = False
+    sky_only = _render(scene, 16, n, n, 1.5)
+    node.sun_disc = True
+    # a pinhole pixel's solid angle: (2 tan(fov / 2) / n)^2 cos^3 of its angle off the axis
+    t = ((np.arange(n) + 0.5) / n - 0.5) * 2.0 * math.tan(fov / 2)
+    cos3 = (1.0 + t[:, None] ** 2 + t[None, :] ** 2) ** -1.5
+    omega = (2.0 * math.tan(fov / 2) / n) ** 2 * cos3
+    cycles = ((with_disc - sky_only) * omega[..., None]).sum((0, 1))
+    report = ExportReport()
+    light = sky.sky_sun(node, 1.0, np.eye(3), "test", report)
+    assert np.allclose(light["direction"], -np.asarray(towards), atol=1e-6)
+    mine = np.asarray(light["strength"])
+    print(f"sun disc {props}: Lantern {mine}, Cycles {cycles}")
+    assert np.abs(mine / cycles - 1.0).max() < TOL, (mine, cycles)
+    node.sun_intensity = node.sun_intensity * 1.03
+    brighter = np.asarray(sky.sky_sun(node, 1.0, np.eye(3), "test", report)["strength"])
+    assert np.abs(brighter / cycles - 1.0).max() > TOL
