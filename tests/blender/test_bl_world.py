@@ -333,11 +333,11 @@ def test_multiple_scattering_sky_is_a_map_and_a_sun(empty, addon):
     assert report.messages == [f"World 'Sky': Sky Texture '{sky.name}': the sun disc lights "
                                "the scene as a sun lamp; camera rays do not see it"]
     rgb = np.asarray(w["map"])
-    assert rgb.shape == (256, 512, 3) and np.isfinite(rgb).all() and rgb.min() >= 0.0
+    assert rgb.shape == (512, 1024, 3) and np.isfinite(rgb).all() and rgb.min() >= 0.0
     assert w["strength"] == [2.0] * 3
     # the sun towards +X (rotation 90 degrees): +X is the middle column, -X the edges
-    row = rgb[int(0.55 * 256)]
-    assert row[256].sum() > 3.0 * row[0].sum()
+    row = rgb[int(0.55 * 512)]
+    assert row[512].sum() > 3.0 * row[0].sum()
     sun = w["sun"]
     e = sky.sun_elevation
     assert np.allclose(sun["direction"], [-math.cos(e), 0.0, -math.sin(e)], atol=1e-6)
@@ -356,10 +356,10 @@ def test_multiple_scattering_sky_is_a_map_and_a_sun(empty, addon):
 @pytest.mark.parametrize("props", [
     {"sun_elevation": math.radians(-30.0)},          # the sun well below the horizon
     {"sun_elevation": math.radians(95.0), "sun_rotation": -7.0},   # past the zenith
-    {"air_density": 0.0, "aerosol_density": 0.0, "ozone_density": 0.0},
-    {"air_density": 1000.0, "aerosol_density": 1000.0, "ozone_density": 1000.0},
-    {"altitude": 100000.0, "sun_size": 0.0},
-    {"altitude": 0.0, "sun_size": math.pi / 2, "sun_intensity": 1000.0},
+    {"air_density": 0.0, "aerosol_density": 0.0, "ozone_density": 0.0, "altitude": 100000.0,
+     "sun_size": 0.0},                               # no atmosphere, at its top
+    {"air_density": 1000.0, "aerosol_density": 1000.0, "ozone_density": 1000.0,
+     "altitude": 0.0, "sun_size": math.pi / 2, "sun_intensity": 1000.0},
 ])
 def test_multiple_scattering_bad_input_is_finite(empty, addon, props):
     """Settings at and past their ends give a finite, non-negative map and a finite sun (or
