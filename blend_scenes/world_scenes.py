@@ -1,7 +1,8 @@
 """World and camera scenes of issue 15 beside scenes.py's world_hdri / world_hdri_dof: a
 Preetham sky, Blender 5.0's Multiple Scattering sky, the HDRI seen by a panoramic camera, and
-transparent film with holdouts. The skies and panorama join scenes.SCENES through register() (called at the end of scenes.py), so that
-tools/make_cycles_refs.py and tests/render build them like the others. The film scenes are not
+transparent film with holdouts. The skies and panorama join scenes.SCENES through register()
+(called at the end of scenes.py), so that tools/make_cycles_refs.py and tests/render build them
+like the others. The film scenes are not
 registered: its Cycles reference needs transparent film, which make_cycles_refs turns off
 (tests/render/test_world_film.py renders it)."""
 

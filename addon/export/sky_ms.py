@@ -12,7 +12,7 @@ the view ray with Hillaire's energy-conserving step ((S - S T_step) / sigma_t, f
 Based Sky, Atmosphere and Cloud Rendering in Frostbite", 2016), plus a multiple-scattering
 source term.
 
-Constants, all from García Liñán's model as Blender 5.0 states them (sky_multiple_scattering.cpp):
+Constants, all García Liñán's model as Blender 5.0 states it (sky_multiple_scattering.cpp):
 - geometry: Earth radius 6371 km, atmosphere 100 km thick; 64 march steps on every ray; a
   transmittance table of 256 (cos of the sun's zenith angle, linear in [-1, 1]) x 64 (altitude,
   linear in [0, 100 km]) entries, read bilinearly;

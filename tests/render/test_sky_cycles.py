@@ -1,6 +1,6 @@
 """The Multiple Scattering Sky Texture (addon/export/sky_ms.py) against Cycles itself, texel by
 direction: Cycles renders the world alone through a full-sphere equirectangular panoramic
-camera (512 x 256, one sample, a pixel filter of 0.01 px: each pixel is its centre's
+camera (256 x 128, one sample, a pixel filter of 0.01 px: each pixel is its centre's
 direction), and a first render of the Texture Coordinate's Generated vector gives each pixel's
 direction. The model is deterministic, so the tolerance is its own agreement, not noise: within
 1 % at every direction where the sky is not black; a negative control (the aerosols 5 %
@@ -8,11 +8,12 @@ denser) must fail it. The exported map (1024 x 512) is the model at its texels' 
 outside the horizon band, whose texels are the model's means over their elevation extent
 (sky.HORIZON_BAND; world_sky_ms in test_cycles_compare.py compares what they light and show).
 
-The sun disc, which Lantern exports as a sun light, against the disc Cycles draws: a camera 2.5 disc diameters wide
-centred on the sun (Blackman-Harris 1.5 px: the edge antialiased), rendered with and without the disc; the difference summed over the
-pixels' solid angles is the disc's irradiance, within 1 % of the light's (the control: 3 %
-more Sun Intensity fails). The scene-level comparison (the stage lit by this sky) is
-world_sky_ms in test_cycles_compare.py."""
+The sun disc, which Lantern exports as a sun light, against the disc Cycles draws: a camera 2.5
+disc diameters wide centred on the sun (Blackman-Harris 1.5 px: the edge antialiased), rendered
+with and without the disc; the difference summed over the pixels' solid angles is the disc's
+irradiance, within 1 % of the light's (the control: 3 % more Sun Intensity fails). The
+scene-level comparison (the stage lit by this sky, the default disc included) is world_sky_ms
+in test_cycles_compare.py."""
 
 import math
 import os
@@ -26,6 +27,7 @@ import lantern_bpy  # noqa: E402
 import render_compare as rc  # noqa: E402
 
 TOL = 0.01
+PANO = (256, 128)   # the panorama's pixels (a direction each)
 CONFIGS = {
     "defaults": {},
     "low_sun_thin_air": {"sun_elevation": math.radians(3.0), "sun_rotation": math.radians(40.0),
@@ -84,7 +86,7 @@ def panorama(addon):
     half.inputs[1].default_value = half.inputs[2].default_value = (0.5, 0.5, 0.5)
     nt.links.new(coord.outputs["Generated"], half.inputs[0])
     nt.links.new(half.outputs[0], bg.inputs["Color"])
-    d = _render(scene, 1, 512, 256) * 2.0 - 1.0
+    d = _render(scene, 1, *PANO) * 2.0 - 1.0
     d /= np.linalg.norm(d, axis=-1, keepdims=True)
     nt.links.new(node.outputs["Color"], bg.inputs["Color"])
     return scene, node, d
@@ -97,11 +99,13 @@ def test_sky_model_matches_cycles(config, panorama, addon):
     node.sun_disc = False
     for k, v in CONFIGS[config].items():
         setattr(node, k, v)
-    cycles = _render(scene, 1, 512, 256)
+    cycles = _render(scene, 1, *PANO)
 
-    def model(directions):
-        table = sky.sky_ms.sky_table(*sky._ms_params(node))
-        return sky.sky_ms.table_radiance(table, directions, sky._XYZ_TO_REC709)
+    def model(directions, tables={}):
+        params = sky._ms_params(node)
+        if params not in tables:
+            tables[params] = sky.sky_ms.sky_table(*params)
+        return sky.sky_ms.table_radiance(tables[params], directions, sky._XYZ_TO_REC709)
 
     lit = cycles.sum(-1) > 1e-3 * np.median(cycles.sum(-1))
     assert lit.mean() > 0.9
@@ -118,7 +122,8 @@ def test_sky_model_matches_cycles(config, panorama, addon):
     texels = sky.equirect_directions(w, h)
     point = np.abs(np.arcsin(texels[:, 0, 2])) >= sky.HORIZON_BAND
     assert 0 < (~point).sum() < h // 10
-    assert np.allclose(rgb[point], model(texels[point]), rtol=1e-5, atol=1e-7)
+    some = np.nonzero(point)[0][::5]      # a fifth of the rows: the same code makes them all
+    assert np.allclose(rgb[some], model(texels[some]), rtol=1e-5, atol=1e-7)
     band = rgb[~point]
     assert np.isfinite(band).all() and band.min() >= 0.0
     # the control: the same model with 5 % more aerosols is told apart
@@ -143,9 +148,9 @@ def test_sun_disc_irradiance_matches_cycles(props, addon):
         sky.sky_ms.sun_vector(node.sun_elevation, node.sun_rotation))))
     _camera(scene, cam).rotation_euler = towards.to_track_quat("-Z", "Y").to_euler()
     node.sun_disc = True
-    with_disc = _render(scene, 16, n, n, 1.5)   # a wide filter: the disc's edge antialiased
+    with_disc = _render(scene, 8, n, n, 1.5)   # a wide filter: the disc's edge antialiased
     node.sun_disc = False
-    sky_only = _render(scene, 16, n, n, 1.5)
+    sky_only = _render(scene, 8, n, n, 1.5)
     node.sun_disc = True
     # a pinhole pixel's solid angle: (2 tan(fov / 2) / n)^2 cos^3 of its angle off the axis
     t = ((np.arange(n) + 0.5) / n - 0.5) * 2.0 * math.tan(fov / 2)
