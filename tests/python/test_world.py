@@ -202,3 +202,27 @@ def test_world_hidden_from_camera_still_lights(core):
     img = renders(scene, "pt", 16, 3, k_seeds=1)[0]
     assert img[0, 0].max() == 0.0            # the corner sees only the world
     assert img[8, 8].min() > 0.4             # the ball is lit
+
+
+def test_world_sun_is_a_light(core, tmp_path):
+    """world["sun"] (the Sky Texture's disc, addon/export/sky.py) renders bit for bit as the
+    same sun among the lights, survives a scene file, and a malformed one is refused."""
+    sun = {"type": "sun", "direction": [-0.3, 0.4, -0.8], "angle": 0.05,
+           "strength": [3.0, 2.0, 1.0]}
+    with_world = furnace_scene(16)
+    with_world.world = {"color": [0.1] * 3, "sun": dict(sun)}
+    with_lights = furnace_scene(16)
+    with_lights.world = {"color": [0.1] * 3}
+    with_lights.lights = [dict(sun)]
+    a = lantern.render(with_world, spp=4, seed=3)
+    b = lantern.render(with_lights, spp=4, seed=3)
+    np.testing.assert_array_equal(a, b)
+    assert a.max() > 0.11                    # the sun lights the ball beyond the world's 0.1
+    path = tmp_path / "sun.lantern"
+    with_world.save(path)
+    back = lantern.load_scene(path)
+    assert back.world["sun"]["strength"] == sun["strength"]
+    np.testing.assert_array_equal(lantern.render(back, spp=4, seed=3), a)
+    with_world.world["sun"] = {"type": "point", "power": [1.0] * 3}
+    with pytest.raises(ValueError, match="world sun"):
+        with_world.validate()
