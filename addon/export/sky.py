@@ -235,4 +235,10 @@ def sky_world(node, out, color, strength, to_map, where, report):
     sun = sky_sun(node, strength, to_map, where, report)
     if sun is not None:
         out["sun"] = sun
+        hidden = [ray for ray in ("diffuse", "glossy", "transmission")
+                  if not out.get(f"visible_{ray}", True)]
+        if hidden:
+            report.warn(f"{where}: Sky Texture '{node.name}': its sun disc still lights "
+                        f"{', '.join(hidden)} rays (the world's ray visibility does not reach "
+                        "the sun light)")
     return out

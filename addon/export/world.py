@@ -59,7 +59,9 @@ def vector_matrix(env_node, where, report):
     """World direction -> the Environment Texture's vector: Mapping and Texture Coordinate
     nodes upstream of its Vector input, composed (3x3)."""
     m = np.eye(3)
-    sock = env_node.inputs.get("Vector")
+    # by identifier: bpy 5.0.1's inputs.get misses a socket it holds unavailable (a new
+    # Multiple Scattering Sky Texture's Vector until its tree updates)
+    sock = next((s for s in env_node.inputs if s.identifier == "Vector"), None)
     for _ in range(16):
         if sock is None or not sock.is_linked:
             break
