@@ -37,7 +37,8 @@ from . import sky_ms
 SCALE = 0.06            # Preetham's Y (kcd/m^2) -> Blender radiance (measured, see above)
 MAP_SIZE = (512, 256)   # width, height: a smooth sky needs no more
 # Multiple Scattering: its horizon is sharp (Cycles' table has rows of 0.001 degrees there), so
-# a finer map, whose texels within HORIZON_BAND of the horizon hold their mean over
+# a finer map, whose texels from HORIZON_BAND below the planet's edge (below the horizon by
+# the dip of the altitude) to HORIZON_BAND above the horizon hold their mean over
 # HORIZON_SUBROWS elevations (point values elsewhere): in world_sky_ms the horizon's blocks
 # were 1 % off Cycles with 512 x 256 point texels, 0.25 % with 1024 x 512, within 0.1 % with
 # the band averaged
@@ -174,6 +175,11 @@ def _preetham_map(sun_dir, turbidity):
     return rgb
 
 
+def horizon_band(elev, altitude):
+    """Which elevations (rad) lie in the averaged band: the horizon and the planet's edge."""
+    return (elev < HORIZON_BAND) & (elev > -sky_ms.earth_dip(altitude) - HORIZON_BAND)
+
+
 @functools.lru_cache(maxsize=4)
 def _multiple_scattering_map(params):
     """The Multiple Scattering map of one sky (sky_ms.py; 0.5 s): kept, read-only."""
@@ -182,7 +188,7 @@ def _multiple_scattering_map(params):
     elev = ((np.arange(h) + 0.5) / h - 0.5) * math.pi        # equirect_directions' texels
     phi = (0.5 - (np.arange(w) + 0.5) / w) * 2.0 * math.pi
     rgb = sky_ms.table_grid(table, elev, phi, _XYZ_TO_REC709)
-    rows = np.nonzero(np.abs(elev) < HORIZON_BAND)[0]
+    rows = np.nonzero(horizon_band(elev, params[2]))[0]
     if len(rows):
         sub = ((np.arange(HORIZON_SUBROWS) + 0.5) / HORIZON_SUBROWS - 0.5) * (math.pi / h)
         e = (elev[rows][:, None] + sub[None, :]).ravel()
