@@ -20,7 +20,12 @@ null distribution):
 - scale: the glossy box at 1 m against 1 mm with the same seeds, paired
   (test_bidirectional.py::test_scale_invariance: cis, 16 seeds of 8 spp);
 - cycles: Lantern against the stored Cycles reference of light_sun (needs bpy; the reference
-  is one fixed set, so the 20 trials share it).
+  is one fixed set, so the 20 trials share it);
+- fixture: the fixture's paired comparisons of test_bidirectional (lvc against bdpt, cis with
+  the BSDF-product target against lvc: the same seeds on both sides), 16 seeds of 16 spp;
+- gpu_paired: test_cuda_backend's paired rule on CPU data: the built-in BVH against Embree with
+  the same seeds (another traversal, the same wavefront), Cornell pt at that test's settings
+  (32x32, 16 seeds of 64 spp, max_depth 8; one iteration of 64 where the test runs 4 of 16).
 """
 
 import argparse
@@ -131,8 +136,47 @@ def pairs_scale(trial):
     yield "scale invariance 1e-3, paired seeds, glossy cis", run
 
 
+def _paired(a, b):
+    level = np.mean(b, axis=0, dtype=np.float64)
+    return [np.asarray(x, np.float64) - y + level for x, y in zip(a, b)], level
+
+
+def pairs_fixture(trial):
+    sys.path.insert(0, str(ROOT / "tests" / "python"))
+    import test_bidirectional as tb
+
+    def run(integ, ref, **settings):
+        scene = scenes.fixture_box(32, 32)
+        seed0 = 970000 + 1000 * trial
+        a = tb.renders(scene, integ, 16, seed0, **settings)
+        b = tb.renders(scene, ref, 16, seed0)
+        return (*_paired(a, b), {})
+    yield "fixture lvc vs bdpt, paired seeds", lambda: run("lvc", "bdpt")
+    yield "fixture cis(bsdf) vs lvc, paired seeds", lambda: run("cis", "lvc", cis_target="bsdf")
+
+
+def pairs_gpu_paired(trial):
+    import os
+
+    def run():
+        scene = scenes.cornell_box(32, 32)
+        out = {}
+        for accel in ("embree", "bvh"):
+            os.environ["LANTERN_ACCEL"] = accel
+            out[accel] = [lantern.Session(scene, integrator="pt", seed=980000 + 1000 * trial + i,
+                                          backend="cpu", max_depth=8, spp_per_iteration=64)
+                          for i in range(16)]
+            for s in out[accel]:
+                s.step()
+            out[accel] = [s.image() for s in out[accel]]
+        os.environ.pop("LANTERN_ACCEL")
+        return (*_paired(out["bvh"], out["embree"]), {})
+    yield "gpu rule (paired) on cpu: bvh vs embree, cornell pt", run
+
+
 FAMILIES = {"cross": pairs_cross, "analytic": pairs_analytic, "backend": pairs_backend,
-            "paired": pairs_paired, "scale": pairs_scale, "cycles": pairs_cycles}
+            "paired": pairs_paired, "scale": pairs_scale, "cycles": pairs_cycles,
+            "fixture": pairs_fixture, "gpu_paired": pairs_gpu_paired}
 
 
 def main(argv=None):

@@ -60,10 +60,28 @@ def caustic():
            tb.renders(scene, "lt", 64, 1000))
 
 
-def cis_lvc():
+def _paired(a, b):
+    level = np.mean(b, axis=0, dtype=np.float64)
+    return [np.asarray(x, np.float64) - y + level for x, y in zip(a, b)], level
+
+
+def cis_lvc():  # paired seeds, as test_resampled_and_uniform_picks_agree
     scene = scenes.fixture_box(tb.SIZE, tb.SIZE)
-    report("cis(bsdf) vs lvc", tb.renders(scene, "cis", 64, 6000, cis_target="bsdf"),
-           tb.renders(scene, "lvc", 64, 5000))
+    report("cis(bsdf) vs lvc, paired", *_paired(
+        tb.renders(scene, "cis", 64, 5000, cis_target="bsdf"), tb.renders(scene, "lvc", 64, 5000)))
+
+
+def fixture_chain():  # test_integrators_agree[fixture]: _fixture_chain's paired seeds
+    scene = scenes.fixture_box(tb.SIZE, tb.SIZE)
+    n, spp = tb.FIXTURE_SEEDS, SPP or tb.FIXTURE_SPP
+    lvc = tb.renders(scene, "lvc", spp, 2000, k_seeds=n)
+    report("fixture lvc vs bdpt, paired", *_paired(lvc, tb.renders(scene, "bdpt", spp, 2000,
+                                                                    k_seeds=n)))
+    for integrator, settings in tb.BIDIRECTIONAL:
+        if (integrator in ("bdpt", "lvc") and not settings) or "cis_target" in settings:
+            continue
+        report(f"fixture {integrator} {settings} vs lvc, paired", *_paired(
+            tb.renders(scene, integrator, spp, 2000, **settings), lvc[:tb.K]))
 
 
 def scale():
@@ -88,6 +106,7 @@ def cache_split():
 JOBS = {"world": world, "caustic": caustic, "cis_lvc": cis_lvc, "scale": scale,
         "cache_split": cache_split}
 JOBS.update({n: (lambda n=n: scene_set(n)) for n in tb.SCENES})
+JOBS["fixture"] = fixture_chain  # the test pairs the fixture's seeds
 
 if __name__ == "__main__":
     import os
