@@ -47,8 +47,9 @@ def test_world_hidden_but_lights(core):
 def test_alpha_is_coverage(core, alpha):
     scene = half_plane_scene(alpha=alpha)
     # alpha < 1 is a stochastic pick per sample: 256 of them a pixel, 4 x 4 blocks, so that a
-    # 1 % bias on the covered columns and 5 % on one block read beyond the noise
-    a = [render_alpha(scene, spp=256, seed=k) for k in range(K)]
+    # 1 % bias on the covered columns and 5 % on one block read beyond the noise (at alpha 1
+    # only the edge is noisy: 32 resolve 0.03 %)
+    a = [render_alpha(scene, spp=256 if alpha < 1 else 32, seed=k) for k in range(K)]
     assert a[0].shape == (32, 32)
     assert max(x[:, -12:].max() for x in a) == 0.0
     # fully covered (the filter spans 3 px): alpha exactly, in columns 0..11
