@@ -62,6 +62,9 @@ def sky_map(w=64, h=32, sun=(0.3, 0.78), sun_value=400.0):
     return sky
 
 
+LT_FURNACE_CONTROL = 0.05
+
+
 def furnace_scene(size=16):
     """A flat-shaded white icosphere filling part of the view: convex, so every point sees
     the whole world above it once."""
@@ -84,7 +87,9 @@ def test_white_furnace_under_constant_map(core, integrator, settings, backend):
     stretch = rotation_z(0.6) @ np.diag([2.0, 1.0, 0.7])
     scene.world = {"color": [0.0, 0.0, 0.0], "map": np.tile(value.astype(np.float32), (8, 16, 1)),
                    "strength": [2.0] * 3, "to_map": stretch.tolist()}
-    imgs = renders(scene, integrator, 32, 100, backend=backend, max_depth=4, **settings)
+    lt = integrator == "lt"  # noisier here: its light paths start on the bounding disk
+    imgs = renders(scene, integrator, 256 if lt else 32, 100, k_seeds=16 if lt else K,
+                   backend=backend, max_depth=4, **settings)
     expected = 2.0 * value
     if integrator == "lt":  # the object's pixels only: lt does not see the world directly
         glow = furnace_scene()  # the ball as a black emitter of 1: coverage, noise-free
@@ -94,16 +99,25 @@ def test_white_furnace_under_constant_map(core, integrator, settings, backend):
         assert mask.sum() > 20
         vals = np.stack([im[mask] for im in imgs])  # (K, n, 3)
         mean = vals.mean(axis=(0, 1))
-        se = vals.mean(axis=1).std(axis=0, ddof=1) / math.sqrt(K)
-        z = (mean - expected) / np.maximum(se, 1e-9)
-        print(f"furnace lt: mean {mean} expected {expected}, z {z}")
-        assert np.all(np.abs(z) < metrics.z_threshold(3, 1e-3, K - 1)), (mean, se)
+        se = vals.mean(axis=1).std(axis=0, ddof=1) / math.sqrt(len(vals))
+        limit = metrics.z_threshold(3, 1e-3, len(vals) - 1)
+
+        def within(exp):
+            return np.all(np.abs(mean - exp) < limit * np.maximum(se, 1e-9) + 1e-4 * exp)
+        print(f"furnace lt: mean {mean} expected {expected}, z {(mean - expected) / se}")
+        assert within(expected), (mean, se)
+        # negative controls at what lt resolves here: it sees the ball only, from light paths
+        # that start on the scene's bounding disk: 2.5 % noise a channel at 8 x 32 spp, 0.6 %
+        # at 16 x 256 (1 % would take another ~16x; test_light_tracing holds lt to 1 % / 5 %
+        # against pt)
+        for bias in (LT_FURNACE_CONTROL, -LT_FURNACE_CONTROL):
+            assert not within(expected * (1 + bias)), (bias, mean, se)
         return
-    # a tiny floor on the standard error: pixels that see only the world have no variance
-    cmp = metrics.compare_sets(imgs, expected, block=8, se_floor=1e-6 * expected.max())
-    print(f"furnace {integrator} {settings}: {cmp}")
     assert all(np.isfinite(i).all() for i in imgs)
-    assert cmp.passed(1e-3), str(cmp)
+    # exact (tests/README.md): bias cap 1e-4; a tiny floor on the standard error: pixels that
+    # see only the world have no variance
+    metrics.assert_agreement(f"furnace {integrator} {settings}", imgs, expected, block=8,
+                             bias_cap=1e-4, se_floor=1e-6 * expected.max())
 
 
 def hdri_scene(size=32):
@@ -192,9 +206,9 @@ def test_tiny_and_huge_maps(core, shape):
     h, w = shape
     m = np.full((h, w, 3), 0.25, np.float32)
     scene.world = {"color": [0.0] * 3, "map": m}
-    imgs = renders(scene, "pt", 8, 7, k_seeds=4, max_depth=4)
-    cmp = metrics.compare_sets(imgs, [0.25] * 3, block=8, se_floor=1e-6)
-    assert cmp.passed(1e-3), str(cmp)
+    imgs = renders(scene, "pt", 16, 7, k_seeds=16, max_depth=4)
+    metrics.assert_agreement(f"{shape} map furnace", imgs, [0.25] * 3, block=4, bias_cap=1e-4,
+                             se_floor=1e-6)
 
 
 def test_map_round_trips_through_a_scene_file(core, tmp_path):
