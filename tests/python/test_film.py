@@ -142,6 +142,7 @@ def wall_shadow(d, y0, n=20001):
 # 7 and 8: the filter (1.5 px) of columns 1..6 and 9..14 stays on one side of it, where the
 # shadow is linear in the distance to within 1e-5 (the filter's average is its centre's)
 CATCHER_COLUMNS = [1, 2, 3, 4, 5, 6, 9, 10, 11, 12, 13, 14]
+CATCHER_CAP = 3e-4
 
 
 def test_shadow_catcher_alpha_is_the_shadow(core):
@@ -160,5 +161,8 @@ def test_shadow_catcher_alpha_is_the_shadow(core):
     y0 = 1.0 - (np.arange(32) + 0.5) / 16.0          # rows, top first
     d = np.abs(-1.0 + (np.array(CATCHER_COLUMNS) + 0.5) / 16.0 - WALL_X)
     expected = np.array([[[wall_shadow(dc, yr)] for dc in d] for yr in y0])  # (32, 12, 1)
+    # the cap: the catcher's shadow is a per-pixel ratio of two 32-spp estimates, biased by
+    # +0.012 +- 0.006 % (96 seeds; 0.002 +- 0.005 % at 128 spp), which at 1e-4 raised the
+    # false alarms at alpha 0.05 to 6 in 20 (tools/false_alarm.py --families film)
     metrics.assert_agreement("shadow catcher beside a wall vs its exact shadow", list(inner),
-                             expected, block=4, bias_cap=1e-4)
+                             expected, block=4, bias_cap=CATCHER_CAP)
