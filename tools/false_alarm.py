@@ -25,6 +25,8 @@ null distribution):
   (test_adaptive_sampling's threshold, seeds and block);
 - film: the shadow catcher's alpha against the wall's exact shadow (test_film, its settings);
 - rotation: the HDRI turned by its mapping against the rolled map, paired seeds (test_world);
+- pano: lt against pt through the panoramic camera (test_camera_pano, its samples);
+- lighttree: bdpt against pt on the many-light stage with the tree (test_light_tree);
 - cycles: Lantern against the stored Cycles reference of light_sun (needs bpy; the reference
   is one fixed set, so the 20 trials share it).
 """
@@ -216,10 +218,35 @@ def pairs_rotation(trial):
     yield "map rotation vs rolled map, paired seeds (test_world)", run
 
 
+def pairs_pano(trial):
+    sys.path.insert(0, str(ROOT / "tests" / "python"))
+    import test_camera_pano as tp  # the panorama box and the test's samples
+
+    def run():
+        scene = tp.pano_box()
+        scene.world["visible_camera"] = False
+        seed0 = 1000 * trial + 700000
+        return (tp.renders(scene, "lt", tp.SPP["lt"], seed0),
+                tp.renders(scene, "pt", tp.PT_SPP, seed0 + 500), {})
+    yield "lt vs pt through the panorama (test_camera_pano)", run
+
+
+def pairs_lighttree(trial):
+    sys.path.insert(0, str(ROOT / "tests" / "python"))
+    import test_light_tree as tlt  # its scenes and samples (test_bidirectional's renders)
+
+    def run():
+        scene = tlt.SCENES["many"]()
+        seed0 = 1000 * trial + 800000
+        return (tlt.renders(scene, "bdpt", tlt.SPP, seed0),
+                tlt.renders(scene, "pt", tlt.PT_REF, seed0 + 500), {})
+    yield "bdpt vs pt, many lights with the tree (test_light_tree)", run
+
+
 FAMILIES = {"cross": pairs_cross, "analytic": pairs_analytic, "backend": pairs_backend,
             "paired": pairs_paired, "scale": pairs_scale, "cycles": pairs_cycles,
             "instance": pairs_instance, "adaptive": pairs_adaptive, "film": pairs_film,
-            "rotation": pairs_rotation}
+            "rotation": pairs_rotation, "pano": pairs_pano, "lighttree": pairs_lighttree}
 
 
 def main(argv=None):
