@@ -151,10 +151,17 @@ def test_integrators_agree_under_hdri(core, backend):
         other = renders(scene, integrator, HDRI_SPP, 3000, k_seeds=16, backend=backend,
                         **settings)
         assert all(np.isfinite(i).all() for i in other)
-        metrics.assert_agreement(f"hdri {integrator} vs pt", other, pt, block=8)
+        metrics.assert_agreement(f"hdri {integrator} vs pt", other, pt, block=8,
+                                 image_bias=HDRI_CONTROLS[0], block_bias=HDRI_CONTROLS[1])
 
 
-HDRI_PT_SPP, HDRI_SPP = 128, 64  # 16 seeds a side
+# 16 seeds a side. The small bright sun (400) is the noise: these detect a whole-image bias
+# from 1.57-1.59 % (8 x 128 / 8 x 64 before: 2.2 %); 1 % would take ~2.5x the samples of both
+# sides (~+12 s CPU), so the image control is 2 % (the 1 % ones fail at these seeds too, but
+# partly through a block already at |z| 3.9, not by power); the typical block resolves 5.5 %
+# (the 5 % ones fail here), so its control is 6 %
+HDRI_PT_SPP, HDRI_SPP = 128, 64
+HDRI_CONTROLS = (0.02, 0.06)
 
 
 def test_map_rotation_turns_the_image(core):
