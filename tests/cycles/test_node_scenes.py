@@ -6,9 +6,9 @@
   a measured difference from Cycles (CAP) within that, and their controls beyond it.
 - Cross-integrator: pt, bdpt, lvc and cis on the node-heavy scene and on the bump scene, 16
   seeds each, every integrator against pt by lantern.metrics.assert_agreement with its 1 % / 5 %
-  negative controls (the comparison tests/python/test_bidirectional.py uses). Their graphs are not view-dependent
-  (nodes_procedural, nodes_vector), and a bumped normal depends on the point only, so every
-  integrator sees the same BSDF at a vertex."""
+  negative controls (the comparison tests/python/test_bidirectional.py uses). Their graphs
+  are not view-dependent (nodes_procedural, nodes_vector), and a bumped normal depends on the
+  point only, so every integrator sees the same BSDF at a vertex."""
 
 import os
 import sys
