@@ -19,6 +19,14 @@ null distribution):
   features box, pt, 16 seeds of 8 spp;
 - scale: the glossy box at 1 m against 1 mm with the same seeds, paired
   (test_bidirectional.py::test_scale_invariance: cis, 16 seeds of 8 spp);
+- instance: a box moved in a running session against a fresh render of the moved scene, the
+  same seeds, paired (test_instance_move: 16 seeds of 8 spp, the built-in BVH);
+- adaptive: adaptive renders against full ones on the half-emitter box, pt
+  (test_adaptive_sampling's threshold, seeds and block);
+- film: the shadow catcher's alpha against the wall's exact shadow (test_film, its settings);
+- rotation: the HDRI turned by its mapping against the rolled map, paired seeds (test_world);
+- pano: lt against pt through the panoramic camera (test_camera_pano, its samples);
+- lighttree: bdpt against pt on the many-light stage with the tree (test_light_tree);
 - cycles: Lantern against the stored Cycles reference of light_sun (needs bpy; the reference
   is one fixed set, so the 20 trials share it);
 - fixture: the fixture's paired comparisons of test_bidirectional (lvc against bdpt, cis with
@@ -174,9 +182,115 @@ def pairs_gpu_paired(trial):
     yield "gpu rule (paired) on cpu: bvh vs embree, cornell pt", run
 
 
+def pairs_instance(trial):
+    sys.path.insert(0, str(ROOT / "tests" / "python"))
+    import test_instance_move as tim  # its _matrix, _moved and settings
+
+    def run():
+        from lantern import session
+        scene = scenes.cornell_box(width=tim.SIZE, height=tim.SIZE)
+        m = tim._matrix()
+        moved = tim._moved(scene, m)
+        a, b = [], []
+        for k in range(tim.K):
+            seed = 970000 + 1000 * trial + k
+            s = session.Session(scene, backend="cpu", seed=seed, instancing=True)
+            s.step()
+            s.move_instance(tim.BOX, m)
+            f = session.Session(moved, backend="cpu", seed=seed)
+            for _ in range(tim.SPP):
+                s.step()
+                f.step()
+            a.append(s.image().astype(np.float64))
+            b.append(f.image().astype(np.float64))
+        level = np.mean(b, axis=0)
+        return [x - y + level for x, y in zip(a, b)], level, {}
+    yield "moved instance vs fresh render, paired seeds, cornell pt (bvh)", run
+
+
+def pairs_adaptive(trial):
+    sys.path.insert(0, str(ROOT / "tests" / "python"))
+    import test_adaptive_sampling as tas  # its scene, run() and settings
+
+    def run():
+        ad = [tas.run(adaptive_threshold=tas.THRESHOLD["pt"], adaptive_min_samples=8,
+                      seed=980000 + 1000 * trial + k, integrator="pt",
+                      spp_per_iteration=4).image().astype(np.float64)
+              for k in range(tas.AGREE_SEEDS)]
+        spp = tas.FULL_SPP["pt"]
+        full = [tas.run(spp=spp, seed=990000 + 1000 * trial + k, integrator="pt",
+                        spp_per_iteration=spp).image().astype(np.float64)
+                for k in range(tas.AGREE_SEEDS)]
+        return ad, full, {"block": tas.BLOCK}
+    yield "adaptive vs full, half-emitter box pt", run
+
+
+def pairs_film(trial):
+    sys.path.insert(0, str(ROOT / "tests" / "python"))
+    import test_film as tf  # the catcher scene and its exact shadow
+
+    def run():
+        from lantern.film import render_alpha
+        scene = tf.catcher_scene(wall=True)
+        a = [render_alpha(scene, spp=32, seed=1000 * trial + 500000 + k, max_depth=4)
+             [:, tf.CATCHER_COLUMNS] for k in range(tf.K)]
+        y0 = 1.0 - (np.arange(32) + 0.5) / 16.0
+        d = np.abs(-1.0 + (np.array(tf.CATCHER_COLUMNS) + 0.5) / 16.0 - tf.WALL_X)
+        expected = np.array([[[tf.wall_shadow(dc, yr)] for dc in d] for yr in y0])
+        return a, expected, {"block": 4, "bias_cap": tf.CATCHER_CAP}
+    yield "shadow catcher vs its exact wall shadow (test_film)", run
+
+
+def pairs_rotation(trial):
+    sys.path.insert(0, str(ROOT / "tests" / "python"))
+    import test_world as tw  # the rotation test's scene and settings
+
+    def run():
+        import math
+        scene = tw.hdri_scene(16)
+        scene.world["map"] = tw.sky_map(sun_value=tw.ROT_SUN)
+        scene.world["to_map"] = tw.rotation_z(2.0 * math.pi * 16 / 64).tolist()
+        seed0 = 1000 * trial + 600000
+        turned = tw.renders(scene, "pt", tw.ROT_SPP, seed0, k_seeds=16)
+        scene.world["map"] = np.ascontiguousarray(np.roll(tw.sky_map(sun_value=tw.ROT_SUN), 16,
+                                                          axis=1))
+        scene.world["to_map"] = np.eye(3).tolist()
+        rolled = tw.renders(scene, "pt", tw.ROT_SPP, seed0, k_seeds=16)
+        level = np.mean(rolled, axis=0)
+        return [t - r + level for t, r in zip(turned, rolled)], level, {"block": 4}
+    yield "map rotation vs rolled map, paired seeds (test_world)", run
+
+
+def pairs_pano(trial):
+    sys.path.insert(0, str(ROOT / "tests" / "python"))
+    import test_camera_pano as tp  # the panorama box and the test's samples
+
+    def run():
+        scene = tp.pano_box()
+        scene.world["visible_camera"] = False
+        seed0 = 1000 * trial + 700000
+        return (tp.renders(scene, "lt", tp.SPP["lt"], seed0),
+                tp.renders(scene, "pt", tp.PT_SPP, seed0 + 500), {})
+    yield "lt vs pt through the panorama (test_camera_pano)", run
+
+
+def pairs_lighttree(trial):
+    sys.path.insert(0, str(ROOT / "tests" / "python"))
+    import test_light_tree as tlt  # its scenes and samples (test_bidirectional's renders)
+
+    def run():
+        scene = tlt.SCENES["many"]()
+        seed0 = 1000 * trial + 800000
+        return (tlt.renders(scene, "bdpt", tlt.SPP, seed0),
+                tlt.renders(scene, "pt", tlt.PT_REF, seed0 + 500), {})
+    yield "bdpt vs pt, many lights with the tree (test_light_tree)", run
+
+
 FAMILIES = {"cross": pairs_cross, "analytic": pairs_analytic, "backend": pairs_backend,
             "paired": pairs_paired, "scale": pairs_scale, "cycles": pairs_cycles,
-            "fixture": pairs_fixture, "gpu_paired": pairs_gpu_paired}
+            "fixture": pairs_fixture, "gpu_paired": pairs_gpu_paired,
+            "instance": pairs_instance, "adaptive": pairs_adaptive, "film": pairs_film,
+            "rotation": pairs_rotation, "pano": pairs_pano, "lighttree": pairs_lighttree}
 
 
 def main(argv=None):

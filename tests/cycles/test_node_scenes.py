@@ -1,13 +1,14 @@
 """Node-graph scenes (blend_scenes/nodes.py) against Cycles and across Lantern's integrators.
 
 - Cycles: K seeds each (Cycles CPU, Lantern pt); every 8 x 8 block and channel, and the image
-  mean, must agree within the noise plus 2% (lantern.metrics.assert_agreement, bias_cap 2%,
-  Bonferroni at 1e-3), and the negative controls beyond that slack must fail.
-- Cross-integrator: pt, bdpt, lvc and cis on the node-heavy scene and on the bump scene, K
-  seeds each, pairwise lantern.metrics.agreement against pt (the same test
-  tests/python/test_bidirectional.py uses). Their graphs are not view-dependent
-  (nodes_procedural, nodes_vector), and a bumped normal depends on the point only, so every
-  integrator sees the same BSDF at a vertex."""
+  mean, must agree within the noise plus the default 0.2 % cap (lantern.metrics.
+  assert_agreement, Bonferroni at 1e-3) with the 1 % / 5 % negative controls; two scenes with
+  a measured difference from Cycles (CAP) within that, and their controls beyond it.
+- Cross-integrator: pt, bdpt, lvc and cis on the node-heavy scene and on the bump scene, 16
+  seeds each, every integrator against pt by lantern.metrics.assert_agreement with its 1 % / 5 %
+  negative controls (the comparison tests/python/test_bidirectional.py uses). Their graphs
+  are not view-dependent (nodes_procedural, nodes_vector), and a bumped normal depends on the
+  point only, so every integrator sees the same BSDF at a vertex."""
 
 import os
 import sys
@@ -26,8 +27,15 @@ from lantern import metrics  # noqa: E402
 sys.path.insert(0, os.path.join(st.ROOT, "blend_scenes"))
 import nodes as node_scenes  # noqa: E402
 
-K, SPP, ALPHA, SLACK = 6, 32, 1e-3, 0.02
-IMAGE_CONTROL, BLOCK_CONTROL = 0.05, 0.25   # controls detectable beyond the 2 % slack
+K, SPP, ALPHA = 16, 12, 1e-3   # 16 seeds of 12 spp a side: the samples of the 6 x 32 before
+# Known differences from Cycles, measured with 16 x 16 spp a side (these were under the 2 %
+# slack every scene had): nodes_vector's image is 0.68-0.98 % darker (a block 3.2 % in blue,
+# z 13), one block of nodes_world 2.3 % brighter in red (z 8). Those two keep a stated cap,
+# with controls beyond it; the others are held to the default 0.2 % and 1 % / 5 %
+CAP = {"nodes_vector": 0.015, "nodes_world": 0.03}
+# the cross-integrator sets: 16 seeds a side (Welch dof >= 15: Bonferroni 6.6 over 108 values
+# where 6 seeds x 16 spp gave ~17), about the samples of before: they detect 0.75-0.88 %
+CROSS_K, CROSS_SPP_PT, CROSS_SPP = 16, 8, 6
 
 
 @pytest.fixture(scope="module", autouse=True)
@@ -47,9 +55,13 @@ def test_node_scene_matches_cycles(name, tmp_path):
            for k in range(K)]
     # blocks and the image mean within the noise plus 2 %; the controls it must still catch
     # are stated beyond that 2 % (tests/README.md: controls)
-    metrics.assert_agreement(f"{name} vs Cycles", lan, cyc, block=8, alpha=ALPHA,
-                             bias_cap=SLACK, image_bias=IMAGE_CONTROL,
-                             block_bias=BLOCK_CONTROL)
+    cap = CAP.get(name)
+    if cap is None:
+        metrics.assert_agreement(f"{name} vs Cycles", lan, cyc, block=8, alpha=ALPHA)
+    else:  # controls beyond the stated difference (tests/README.md: controls)
+        metrics.assert_agreement(f"{name} vs Cycles (cap {cap:.1%})", lan, cyc, block=8,
+                                 alpha=ALPHA, bias_cap=cap, image_bias=cap + 0.01,
+                                 block_bias=cap + 0.07)
 
 
 @pytest.mark.parametrize("name", ["nodes_procedural", "nodes_vector"])
@@ -59,10 +71,11 @@ def test_node_scene_integrators_agree(name):
     scene, report = export_scene(bpy.context.evaluated_depsgraph_get())
     assert report.messages == []
     sets = {}
-    for integ in ("pt", "bdpt", "lvc", "cis"):
-        sets[integ] = [np.asarray(lantern.render(scene, spp=16, integrator=integ, max_depth=6,
-                                                 seed=101 + k), np.float64) for k in range(K)]
+    for i, integ in enumerate(("pt", "bdpt", "lvc", "cis")):
+        spp = CROSS_SPP_PT if integ == "pt" else CROSS_SPP
+        sets[integ] = [np.asarray(lantern.render(scene, spp=spp, integrator=integ, max_depth=6,
+                                                 seed=101 + 1000 * i + k), np.float64)
+                       for k in range(CROSS_K)]
     for integ in ("bdpt", "lvc", "cis"):
-        ok, cmp, over3, allowed = metrics.agreement(sets[integ], sets["pt"], block=8,
-                                                    alpha=ALPHA)
-        assert ok, f"{integ} vs pt: {cmp}; {over3} blocks over |z| 3 (allowed {allowed})"
+        metrics.assert_agreement(f"{name} {integ} vs pt", sets[integ], sets["pt"], block=8,
+                                 alpha=ALPHA)

@@ -3,6 +3,7 @@ pt, bdpt, lvc and cis still converge to the same image (an MIS weight with the w
 probability, forward or reverse, biases them apart), and pt with the tree agrees with pt on the
 global power CDF (LANTERN_LIGHT_TREE=0). Statistics as in test_bidirectional.py (K seeds,
 lantern.metrics.assert_agreement with its negative controls)."""
+import numpy as np
 import pytest
 
 import lantern
@@ -10,7 +11,7 @@ from lantern import scenes
 
 from test_bidirectional import K, SIZE, SPP, check_agreement, renders
 
-PT_REF = 256  # spp per seed of the pt references (the control levels below were measured at it)
+PT_REF = 256  # spp per seed of the pt reference, one per scene (the control levels below: at it)
 
 # the many-light stage: 16 point lights of different powers, a spot, a sun and an emissive
 # panel (triangle lights); the room of issue 14: a spot, and a sun and a world colour through
@@ -19,7 +20,12 @@ SCENES = {
     "many": lambda: scenes.many_lights_stage(SIZE, SIZE, n=16, panel=True),
     "room": lambda: scenes.room_spot_sun_world(SIZE, SIZE),
 }
-CONTROLS = {"many": (0.02, 0.06), "room": (0.04, 0.10)}
+# 1 % / 5 % everywhere since pt's reference is rendered once per scene (reference()) and the
+# tree against the global CDF takes paired seeds: detects 0.66-0.95 % (2 % / 6 % and 4 % / 10 %
+# were stated before); the room's M = 4 at 64 spp detected 1.25 % (its 1 % controls caught at
+# these seeds), hence 128 there
+CONTROLS = {"many": (0.01, 0.05), "room": (0.01, 0.05)}
+RIS_SPP = {"room": 128}
 
 
 @pytest.fixture(scope="module")
@@ -35,22 +41,38 @@ def global_cdf(monkeypatch):
     monkeypatch.setenv("LANTERN_LIGHT_TREE", "0")
 
 
+_REF = {}
+
+
+def reference(scene_name, backend):
+    """pt with the tree on `scene_name`, rendered once for the three tests that compare
+    against it."""
+    key = (scene_name, backend)
+    if key not in _REF:
+        _REF[key] = renders(SCENES[scene_name](), "pt", PT_REF, 1000, backend=backend)
+    return _REF[key]
+
+
 @pytest.mark.parametrize("scene_name", list(SCENES))
 def test_integrators_agree_with_the_tree(core, scene_name, backend):
     scene = SCENES[scene_name]()
-    ref = renders(scene, "pt", PT_REF, 1000, backend=backend)
+    ref = reference(scene_name, backend)
     for integrator, settings in (("bdpt", {}), ("lvc", {}), ("cis", {})):
         r = renders(scene, integrator, SPP, 2000, backend=backend, **settings)
         check_agreement(f"{scene_name} {integrator} vs pt (tree)", r, ref, CONTROLS[scene_name])
 
 
 def test_tree_agrees_with_the_global_cdf(core, backend, monkeypatch):
-    scene = SCENES["many"]()
-    tree = renders(scene, "pt", PT_REF, 3000, backend=backend)
+    """Paired seeds: the global CDF renders the reference's seeds, so both sides share their
+    camera paths and BSDF samples and differ where the light pick does; the comparison sees
+    the spread of the per-seed differences (tests/README.md)."""
+    tree = reference("many", backend)
     global_cdf(monkeypatch)
-    flat = renders(scene, "pt", PT_REF, 3000, backend=backend)  # the same seeds
+    flat = renders(SCENES["many"](), "pt", PT_REF, 1000, backend=backend)  # the same seeds
     assert not (tree[0] == flat[0]).all(), "LANTERN_LIGHT_TREE=0 changed nothing"
-    check_agreement("many pt tree vs global CDF", tree, flat, CONTROLS["many"])
+    level = np.mean(flat, axis=0)
+    check_agreement("many pt tree vs global CDF, paired seeds",
+                    [t - f + level for t, f in zip(tree, flat)], level, CONTROLS["many"])
 
 
 @pytest.mark.parametrize("scene_name", list(SCENES))
@@ -58,6 +80,7 @@ def test_resampled_direct_light_agrees(core, scene_name, backend):
     """light_candidates M = 4 (integrator/nee_resample.h): the resampled weight W with the plain
     strategy's MIS weights converges to pt's image; the plain weight would not."""
     scene = SCENES[scene_name]()
-    plain = renders(scene, "pt", PT_REF, 5000, backend=backend)
-    ris = renders(scene, "pt", SPP, 6000, backend=backend, light_candidates=4)
+    plain = reference(scene_name, backend)
+    ris = renders(scene, "pt", RIS_SPP.get(scene_name, SPP), 6000, backend=backend,
+                  light_candidates=4)
     check_agreement(f"{scene_name} pt M=4 vs pt", ris, plain, CONTROLS[scene_name])

@@ -2,9 +2,10 @@
 integrator/pt.h pt_world_sees): a kind of scattering that does not see the world finds it black
 and is lit by it neither through next-event estimation nor through BSDF sampling.
 
-A convex ball under a constant world of 0.5, seen by the camera: white diffuse, white metal and
-clear glass balls are each a furnace (their image is the world's 0.5 where their kind sees it),
-and exactly black (diffuse, metal) or only their reflection (glass) where it does not."""
+A convex ball under a constant world of 0.5, seen by the camera: white diffuse and clear glass
+balls are each a furnace (their image is the world's 0.5 where their kind sees it; a white
+metal renders the same bits as with the world visible to all), and exactly black (diffuse,
+metal) or only their reflection (glass) where it does not."""
 import numpy as np
 import pytest
 
@@ -45,6 +46,13 @@ def render(scene, seed, spp=16, integrator="pt"):
 
 
 BALL = (slice(6, 10), slice(6, 10))  # the middle of the ball (the world in the corners)
+K = 16  # seeds of the furnaces (tests/README.md: Welch dof >= 15)
+
+
+def furnace(name, renders):
+    """The ball's middle against the world's value, exactly (bias cap 1e-4), with the 1 % / 5 %
+    negative controls (2 x 2 blocks: four)."""
+    metrics.assert_agreement(name, renders, [WORLD] * 3, block=2, bias_cap=1e-4, se_floor=1e-6)
 
 
 @pytest.mark.parametrize("kind,visible,hidden", [
@@ -52,19 +60,25 @@ BALL = (slice(6, 10), slice(6, 10))  # the middle of the ball (the world in the 
     ("metal", ("diffuse", "transmission"), "glossy"),
 ])
 def test_reflections_see_the_world_by_kind(core, kind, visible, hidden):
-    lit = [render(ball_scene(kind, visible), seed=k)[BALL] for k in range(6)]
-    cmp = metrics.compare_sets(lit, [WORLD], block=2, se_floor=1e-6)
-    print(f"{kind}, world hidden from {visible}: {cmp}")
-    assert cmp.passed(1e-3), str(cmp)
+    if kind == "metal":
+        # a glossy-only ball traces the same paths whatever the other kinds see: the same bits
+        # as the world visible to all (exact, no statistics). Not a furnace test: the white
+        # rough metal reads 0.63 +- 0.05 % dark at roughness 0.3 (16 x 64 spp; 0.1 and 0.6
+        # within 0.1 %), the multiscatter compensation's error there (docs/materials.md)
+        for k in range(4):
+            np.testing.assert_array_equal(render(ball_scene(kind, visible), seed=k),
+                                          render(ball_scene(kind), seed=k))
+    else:
+        lit = [render(ball_scene(kind, visible), seed=k)[BALL] for k in range(K)]
+        furnace(f"{kind}, world hidden from {visible}", lit)
     dark = render(ball_scene(kind, (hidden,)), seed=1)
     assert dark[BALL].max() == 0.0                # no light through either strategy
     assert dark[0, 0] == pytest.approx([WORLD] * 3)  # the camera still sees the world
 
 
 def test_glass_without_transmission_shows_only_its_reflection(core):
-    full = [render(ball_scene("glass"), seed=k)[BALL] for k in range(6)]
-    cmp = metrics.compare_sets(full, [WORLD], block=2, se_floor=1e-6)  # a clear glass furnace
-    assert cmp.passed(1e-3), str(cmp)
+    full = [render(ball_scene("glass"), seed=k)[BALL] for k in range(K)]
+    furnace("clear glass", full)
     refl = np.mean([render(ball_scene("glass", ("transmission",)), seed=k)[BALL].mean()
                     for k in range(4)])
     # head-on Fresnel reflection of glass is 4 %; the middle of the ball is near normal
@@ -77,5 +91,6 @@ def test_glass_without_transmission_shows_only_its_reflection(core):
 def test_the_other_integrators_ignore_it(core):
     """bdpt keeps the world visible to every kind (the export warns, addon/export/world.py):
     the diffuse furnace stays lit."""
-    img = render(ball_scene("diffuse", ("diffuse",)), seed=1, integrator="bdpt")
-    assert img[BALL].mean() > 0.8 * WORLD
+    imgs = [render(ball_scene("diffuse", ("diffuse",)), seed=k, integrator="bdpt")[BALL]
+            for k in range(K)]
+    furnace("bdpt, world hidden from diffuse (ignored)", imgs)
