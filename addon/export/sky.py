@@ -19,9 +19,20 @@ bench/sky_export.py) matches Cycles' sky within 0.5 % at every direction, 0.03 %
 lights within 0.1 % (world_sky_ms, tests/render/test_cycles_compare.py).
 Its sun disc, a fraction of a texel in the map, is not drawn into the map: it becomes a sun
 light of the world (world["sun"], docs/scene_format.md) with the disc's angle and irradiance,
-which lights the scene, shadows and reflections as the disc does, but camera rays do not see
-it (a warning says so). Sun Intensity scales the disc alone, as in Cycles; Ground Albedo
-belongs to Hosek / Wilkie (the model's ground albedo is its own constant 0.3).
+which lights the scene, shadows and reflections as the disc does and, as the world's own light
+(python/lantern/scene.py to_native), is drawn for camera rays where the world is (a Blender sun
+lamp never is) and follows the world's ray visibility; tests/render/test_sky_cycles.py compares
+the disc the camera sees with Cycles' (the lt integrator, Python API only, draws neither the
+world nor the disc for the camera: the core warns). Inside the disc the map's sky stays under
+it, where Cycles draws the disc alone (the sky there is 2e-5 to 4e-5 of the disc's radiance at
+Blender's defaults, 1e-3 with test_sky_cycles.py's wide dim disc; sky_ms.sky_radiance). Sun
+Intensity scales the disc alone, as in Cycles; Ground Albedo belongs to Hosek / Wilkie (the
+model's ground albedo is its own constant 0.3).
+
+A Mapping on the Vector turns the sky (map and sun) as Cycles 5.0.1 does (measured in
+tests/render/test_sky_cycles.py): Preetham's always; Multiple Scattering's only with the Sun
+Disc off, since with it on Blender holds the Vector unavailable and Cycles ignores the link
+(world.vector_matrix names it).
 
 Single Scattering (the former Nishita: another model, 21 wavelengths) and Hosek / Wilkie (its
 data set is large) are not rendered: a warning names them, and the Background's own colour
@@ -226,8 +237,6 @@ def sky_sun(node, strength, to_map, where, report):
     power = [float(c) * strength for c in irradiance]
     if max(power) <= 0.0 or not all(math.isfinite(c) for c in power):
         return None
-    report.warn(f"{where}: Sky Texture '{node.name}': the sun disc lights the scene as a sun "
-                "lamp; camera rays do not see it")
     return {"type": "sun", "name": f"sky:{node.name}", "direction": (-d).tolist(),
             "angle": angle, "strength": power}
 
@@ -242,12 +251,6 @@ def sky_world(node, out, color, strength, to_map, where, report):
     out.update({"map": rgb, "map_name": f"sky:{node.name}", "strength": [strength] * 3,
                 "projection": "equirectangular", "to_map": np.asarray(to_map).tolist()})
     sun = sky_sun(node, strength, to_map, where, report)
-    if sun is not None:
+    if sun is not None:   # the world's: its ray visibility applies (scene.py to_native)
         out["sun"] = sun
-        hidden = [ray for ray in ("diffuse", "glossy", "transmission")
-                  if not out.get(f"visible_{ray}", True)]
-        if hidden:
-            report.warn(f"{where}: Sky Texture '{node.name}': its sun disc still lights "
-                        f"{', '.join(hidden)} rays (the world's ray visibility does not reach "
-                        "the sun light)")
     return out

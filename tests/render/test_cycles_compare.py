@@ -44,9 +44,8 @@ CONTROLS = {"light_spot": (0.01, 0.10)}
 # at 16 seeds), world_sky's 0.25 %, world_sky_ms's 0.31 %
 RUNS = {"world_visibility": (8, 64), "principled_emission_mesh": (16, 128),
         "world_sky": (8, 64), "world_sky_ms": (8, 64), "world_pano": (8, 64)}
-# warnings a scene is known to give (the rest fail the test): the Multiple Scattering sky's
-# disc is a sun light that camera rays do not see (addon/export/sky.py); the camera sees no sun
-EXPECTED_WARNINGS = {"world_sky_ms": ("the sun disc lights the scene as a sun lamp",)}
+# warnings a scene is known to give (the rest fail the test)
+EXPECTED_WARNINGS = {}
 
 
 @pytest.fixture(scope="module")
