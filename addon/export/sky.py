@@ -34,16 +34,19 @@ tests/render/test_sky_cycles.py): Preetham's always; Multiple Scattering's only 
 Disc off, since with it on Blender holds the Vector unavailable and Cycles ignores the link
 (world.vector_matrix names it).
 
-Single Scattering (the former Nishita: another model, 21 wavelengths) and Hosek / Wilkie (its
-data set is large) are not rendered: a warning names them, and the Background's own colour
-lights the scene instead."""
+Single Scattering (the former Nishita: 21 wavelengths, one scattering) is Cycles' own table of
+it, built and read as Cycles does in sky_ss.py (within 4e-4 of Cycles at every direction,
+tests/render/test_sky_cycles.py; 1.5 s CPU per sky), sampled into a 1024 x 512 map (texels
+within HORIZON_BAND of the horizon averaged over their elevation), its disc a sun light as
+above (within 0.1 % of Cycles' irradiance). Hosek / Wilkie (its data set is large) is not
+rendered: a warning names it, and the Background's own colour lights the scene instead."""
 
 import functools
 import math
 
 import numpy as np
 
-from . import sky_ms
+from . import sky_ms, sky_ss
 
 SCALE = 0.06            # Preetham's Y (kcd/m^2) -> Blender radiance (measured, see above)
 MAP_SIZE = (512, 256)   # width, height: a smooth sky needs no more
@@ -164,15 +167,17 @@ def sky_map(node, where, report):
     to top (no sun disc: see sky_sun); None (with a warning) for a sky type Lantern does not
     render."""
     kind = getattr(node, "sky_type", "")
-    if kind not in ("PREETHAM", "MULTIPLE_SCATTERING"):
+    if kind not in ("PREETHAM", "MULTIPLE_SCATTERING", "SINGLE_SCATTERING"):
         report.warn(f"{where}: Sky Texture '{node.name}' of type {_LABELS.get(kind, kind)} is "
-                    "not rendered (Preetham and Multiple Scattering are); the Background's "
-                    "own colour is used")
+                    "not rendered (Preetham, Single and Multiple Scattering are); the "
+                    "Background's own colour is used")
         return None
     _check_mapping(node, where, report)
     if kind == "PREETHAM":
         return _preetham_map(tuple(float(v) for v in node.sun_direction),
                              float(node.turbidity))
+    if kind == "SINGLE_SCATTERING":
+        return _single_scattering_map(_ms_params(node))
     return _multiple_scattering_map(_ms_params(node))
 
 
@@ -210,17 +215,55 @@ def _multiple_scattering_map(params):
     return rgb
 
 
+def ss_table(params):
+    """The Single Scattering table (sky_ss.py) of _ms_params: the sun's rotation is the
+    lookup's, not the table's."""
+    elev, _, alt, air, aerosol, ozone = params
+    return sky_ss.sky_table(elev, alt, air, aerosol, ozone)
+
+
+@functools.lru_cache(maxsize=4)
+def _single_scattering_map(params):
+    """The Single Scattering map of one sky (sky_ss.py; 1.5 s): Cycles' table read at the
+    texels (means over HORIZON_SUBROWS elevations within HORIZON_BAND of the horizon, where
+    the table's rows are dense); kept, read-only."""
+    w, h = MS_MAP_SIZE
+    table = ss_table(params)
+    dirs = equirect_directions(w, h)
+    rgb = sky_ss.table_radiance(table, dirs, params[1], _XYZ_TO_REC709)
+    elev = ((np.arange(h) + 0.5) / h - 0.5) * math.pi
+    rows = np.nonzero(np.abs(elev) < HORIZON_BAND)[0]
+    if len(rows):
+        sub = ((np.arange(HORIZON_SUBROWS) + 0.5) / HORIZON_SUBROWS - 0.5) * (math.pi / h)
+        e = elev[rows][:, None] + sub[None, :]                       # (rows, sub)
+        az = dirs[rows[0], :, :2] / np.linalg.norm(dirs[rows[0], :, :2], axis=-1)[..., None]
+        d = np.concatenate([np.cos(e)[..., None, None] * az[None, None],
+                            np.broadcast_to(np.sin(e)[..., None, None],
+                                            e.shape + (w, 1))], axis=-1)
+        band = sky_ss.table_radiance(table, d, params[1], _XYZ_TO_REC709)
+        rgb[rows] = band.mean(axis=1)
+    rgb = np.ascontiguousarray(rgb, np.float32)
+    rgb.setflags(write=False)
+    return rgb
+
+
 def sky_sun(node, strength, to_map, where, report):
     """The Multiple Scattering sky's sun disc as a sun light (docs/scene_format.md, "World"):
     the disc's angle, its irradiance times the Background strength, towards the world
     direction the texture's vector maps onto the sun; None without a disc (Sun Disc off, the
     sun below the planet's horizon, or a black disc)."""
-    if getattr(node, "sky_type", "") != "MULTIPLE_SCATTERING" or not bool(node.sun_disc):
+    kind = getattr(node, "sky_type", "")
+    if kind not in ("MULTIPLE_SCATTERING", "SINGLE_SCATTERING") or not bool(node.sun_disc):
         return None
     elev, rot, alt, air, aerosol, ozone = _ms_params(node)
-    sun = sky_ms.sun_light(elev, rot, _finite(node, "sun_size", 0.009512, 0.0, math.pi / 2),
-                           _finite(node, "sun_intensity", 1.0, 0.0, 1000.0), alt, air,
-                           aerosol, ozone, _XYZ_TO_REC709)
+    size = _finite(node, "sun_size", 0.009512, 0.0, math.pi / 2)
+    intensity = _finite(node, "sun_intensity", 1.0, 0.0, 1000.0)
+    if kind == "SINGLE_SCATTERING":
+        disc = sky_ss.sun_light(elev, size, intensity, alt, air, aerosol, _XYZ_TO_REC709)
+        sun = None if disc is None else (sky_ms.sun_vector(elev, rot),) + disc
+    else:
+        sun = sky_ms.sun_light(elev, rot, size, intensity, alt, air, aerosol, ozone,
+                               _XYZ_TO_REC709)
     if sun is None:
         return None
     towards, angle, irradiance = sun

@@ -307,15 +307,33 @@ def test_preetham_sky_is_an_environment_map(empty, addon):
     assert row[width // 2].sum() > 1.5 * row[0].sum()
 
 
-@pytest.mark.parametrize("sky_type", ["SINGLE_SCATTERING", "HOSEK_WILKIE"])
-def test_other_sky_types_are_named(empty, addon, sky_type):
+def test_hosek_wilkie_sky_is_named(empty, addon):
     from blender_helpers import add_camera
     add_camera(empty)
-    sky_world(empty, sky_type)
+    sky_world(empty, "HOSEK_WILKIE")
     scene, report = export(addon)
     assert "map" not in scene.world and "sun" not in scene.world
     assert any("Sky Texture" in m and "not rendered" in m for m in report.messages), \
         report.messages
+
+
+def test_single_scattering_sky_is_a_map_and_a_sun(empty, addon):
+    """The former Nishita: a 1024 x 512 map (its values against Cycles:
+    tests/render/test_sky_cycles.py) and its disc as the world's sun, towards Blender's sun;
+    no warning."""
+    from blender_helpers import add_camera
+    add_camera(empty)
+    sky = sky_world(empty, "SINGLE_SCATTERING", sun_rotation=math.radians(90.0))
+    scene, report = export(addon)
+    assert not report.messages, report.messages
+    rgb = np.asarray(scene.world["map"])
+    assert rgb.shape == (512, 1024, 3) and np.isfinite(rgb).all() and rgb.min() >= 0.0
+    row = rgb[int(0.55 * 512)]              # the sun towards +X: the middle column
+    assert row[512].sum() > 3.0 * row[0].sum()
+    e = sky.sun_elevation
+    sun = scene.world["sun"]
+    assert np.allclose(sun["direction"], [-math.cos(e), 0.0, -math.sin(e)], atol=1e-6)
+    assert sun["angle"] == pytest.approx(sky.sun_size) and min(sun["strength"]) > 0.0
 
 
 def test_multiple_scattering_sky_is_a_map_and_a_sun(empty, addon):
