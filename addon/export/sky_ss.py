@@ -101,24 +101,27 @@ NODES, WEIGHTS = _laguerre()
 
 
 def _densities(h):
-    """(..., 3): molecules, aerosols, ozone at altitudes h (m)."""
-    return np.stack([np.exp(-h / RAYLEIGH_SCALE), np.exp(-h / MIE_SCALE),
-                     np.maximum(0.0, 1.0 - np.abs(h - 25e3) / 15e3)], axis=-1)
+    """Molecules, aerosols, ozone at altitudes h (m): three arrays."""
+    return (np.exp(-h / RAYLEIGH_SCALE), np.exp(-h / MIE_SCALE),
+            np.maximum(0.0, 1.0 - np.abs(h - 25e3) / 15e3))
 
 
-def _exit(pos, d):
-    """Distance along unit d from pos (..., 3) to the atmosphere's edge."""
-    b = 2.0 * np.sum(d * pos, axis=-1)
-    c = np.sum(pos * pos, axis=-1) - ATMOS_R ** 2
-    return 0.5 * (-b + np.sqrt(np.maximum(b * b - 4.0 * c, 0.0)))
+def _exit(r2, mu):
+    """Distance to the atmosphere's edge from a point at squared radius r2 (m^2) along a unit
+    direction whose dot product with the point's position is mu (m)."""
+    return -mu + np.sqrt(np.maximum(mu * mu - r2 + ATMOS_R ** 2, 0.0))
 
 
-def _optical_depth(pos, d):
-    """(..., 3) optical depths (density times metres) from pos along d to the edge."""
-    length = _exit(pos, d)
-    pts = pos[..., None, :] + (NODES[:, None] * length[..., None, None]) * d[..., None, :]
-    h = np.linalg.norm(pts, axis=-1) - EARTH_R
-    return np.einsum("...ik,i->...k", _densities(h), WEIGHTS) * length[..., None]
+def _optical_depth(r2, mu):
+    """The three optical depths (density times metres) to the atmosphere's edge from points
+    (r2, mu as in _exit), by the Gauss-Laguerre rule."""
+    length = _exit(r2, mu)
+    out = [np.zeros_like(length) for _ in range(3)]
+    for x, w in zip(NODES, WEIGHTS):
+        s = x * length
+        for acc, dens in zip(out, _densities(np.sqrt(r2 + 2.0 * s * mu + s * s) - EARTH_R)):
+            acc += w * dens
+    return [acc * length for acc in out]
 
 
 def _phases(mu):
@@ -133,28 +136,26 @@ def single_scattering(dirs, sun, altitude, scale):
     """XYZ (..., 3) in-scattered along unit view directions `dirs` (..., 3) from the altitude
     (m), the sun towards unit `sun`; `scale` the densities' factors (air, aerosol, ozone)."""
     d = np.asarray(dirs, np.float64)
-    origin = np.array([0.0, 0.0, EARTH_R + altitude])
-    o = np.broadcast_to(origin, d.shape)
-    seg = _exit(o, d) / STEPS                                      # (...)
+    sun = np.asarray(sun, np.float64)
+    r0 = EARTH_R + altitude                   # the camera at (0, 0, r0)
+    seg = _exit(r0 * r0, r0 * d[..., 2]) / STEPS
     t = (np.arange(STEPS) + 0.5).reshape((STEPS,) + (1,) * seg.ndim) * seg[None]  # (S, ...)
-    pts = origin + t[..., None] * d[None]                          # (S, ..., 3)
-    dens = _densities(np.linalg.norm(pts, axis=-1) - EARTH_R) * scale
-    view_od = np.cumsum(dens, axis=0) * seg[None, ..., None]       # up to each segment's end
-    sun_od = _optical_depth(pts, np.broadcast_to(sun, pts.shape)) * scale
+    r2 = r0 * r0 + 2.0 * t * r0 * d[..., 2] + t * t              # |P|^2 at the segments
+    mu = r0 * sun[2] + t * (d @ sun)                              # P . sun
+    dens = [k * x for k, x in zip(scale, _densities(np.sqrt(r2) - EARTH_R))]
+    view = [np.cumsum(x, axis=0) * seg for x in dens]             # up to each segment's end
+    light = [k * x for k, x in zip(scale, _optical_depth(r2, mu))]
     # the planet hides the sun: a downward sun ray that meets the sphere (as Blender tests it)
-    if sun[2] < 0.0:
-        b = 2.0 * (pts @ sun)
-        c = np.sum(pts * pts, axis=-1) - EARTH_R ** 2
-        lit = b * b - 4.0 * c < 0.0
-    else:
-        lit = np.ones(pts.shape[:-1], bool)
-    total = view_od + sun_od
-    ext = np.stack([RAYLEIGH, np.full(21, MIE_EXTINCTION * MIE_COEFF), OZONE])   # (3, 21)
-    atten = np.exp(-(total @ ext))                                 # (S, ..., 21)
-    pr, pm = (p[..., None] for p in _phases(d @ sun))
-    scat = (dens[..., 0:1] * pr * RAYLEIGH + dens[..., 1:2] * pm * MIE_COEFF)    # (S, ..., 21)
-    spectrum = np.sum(np.where(lit[..., None], atten * scat, 0.0), axis=0) * \
-        (IRRADIANCE * seg[..., None])
+    lit = (4.0 * mu * mu - 4.0 * (r2 - EARTH_R ** 2) < 0.0) if sun[2] < 0.0 else \
+        np.ones(r2.shape, bool)
+    pr, pm = _phases(d @ sun)
+    spectrum = np.zeros(seg.shape + (21,))
+    for wl in range(21):
+        tau = (view[0] + light[0]) * RAYLEIGH[wl] + \
+            (view[1] + light[1]) * (MIE_EXTINCTION * MIE_COEFF) + (view[2] + light[2]) * OZONE[wl]
+        scat = dens[0] * (pr * RAYLEIGH[wl]) + dens[1] * (pm * MIE_COEFF)
+        spectrum[..., wl] = np.sum(np.where(lit, np.exp(-tau) * scat, 0.0), axis=0)
+    spectrum *= IRRADIANCE * seg[..., None]
     return spectrum @ CMF * STEP_LAMBDA
 
 
@@ -220,12 +221,10 @@ def sun_light(sun_elevation, sun_size, sun_intensity, altitude, air, aerosol, ma
     top = sun_elevation + 0.5 * size
     if top <= 0.0:
         return None
-    alt = _clamp_altitude(altitude)
-    origin = np.array([0.0, 0.0, EARTH_R + alt])
+    r0 = EARTH_R + _clamp_altitude(altitude)
     edges = np.maximum([sun_elevation - 0.5 * size, top], 0.0)
-    dirs = np.stack([np.cos(edges), np.zeros(2), np.sin(edges)], axis=-1)
-    od = _optical_depth(np.broadcast_to(origin, dirs.shape), dirs)
-    t = np.exp(-(RAYLEIGH[None] * od[:, 0:1] * air +
-                 MIE_EXTINCTION * MIE_COEFF * od[:, 1:2] * aerosol)).mean(axis=0)
+    od = _optical_depth(np.full(2, r0 * r0), r0 * np.sin(edges))
+    t = np.exp(-(RAYLEIGH[None] * od[0][:, None] * air +
+                 MIE_EXTINCTION * MIE_COEFF * od[1][:, None] * aerosol)).mean(axis=0)
     rgb = np.maximum(((IRRADIANCE * t) @ CMF * STEP_LAMBDA) @ matrix.T, 0.0)
     return size, 0.8 * rgb * max(float(sun_intensity), 0.0)
