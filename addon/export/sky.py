@@ -36,11 +36,11 @@ Disc off, since with it on Blender holds the Vector unavailable and Cycles ignor
 
 Single Scattering (the former Nishita: 21 wavelengths, one scattering) is Cycles' own table of
 it, built and read as Cycles does in sky_ss.py (within 4.3e-4 of Cycles at every direction,
-tests/render/test_sky_cycles.py; 0.8 s CPU per sky at load 10), sampled into a 1024 x 512 map
-(texels within HORIZON_BAND of the horizon averaged over their elevation), its disc a sun
-light as above (within 0.1 % of Cycles' irradiance). Hosek / Wilkie (its data set is large)
-is not rendered: a warning names it, and the Background's own colour lights the scene
-instead."""
+tests/render/test_sky_cycles.py; 0.5-0.7 s CPU per sky, bench/sky_export.py), sampled into
+a 1024 x 512 map (texels within HORIZON_BAND of the horizon averaged over their elevation),
+its disc a sun light as above (within 0.1 % of Cycles' irradiance). Hosek / Wilkie (its data
+set is large) is not rendered: a warning names it, and the Background's own colour lights the
+scene instead."""
 
 import functools
 import math
@@ -225,9 +225,9 @@ def ss_table(params):
 
 @functools.lru_cache(maxsize=4)
 def _single_scattering_map(params):
-    """The Single Scattering map of one sky (sky_ss.py; 0.8 s CPU): Cycles' table read at the
-    texels (means over HORIZON_SUBROWS elevations within HORIZON_BAND of the horizon, where
-    the table's rows are dense); kept, read-only."""
+    """The Single Scattering map of one sky (sky_ss.py; 0.6 s CPU, bench/sky_export.py):
+    Cycles' table read at the texels (means over HORIZON_SUBROWS elevations within
+    HORIZON_BAND of the horizon, where the table's rows are dense); kept, read-only."""
     w, h = MS_MAP_SIZE
     table = ss_table(params)
     dirs = equirect_directions(w, h)
