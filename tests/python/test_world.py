@@ -153,7 +153,7 @@ def test_integrators_agree_under_hdri(core, backend):
         assert ok, f"{integrator}: {cmp}"
     # the control: bdpt with the same sun as a lamp (not drawn for the camera) is told apart
     scene.lights = [scene.world.pop("sun")]
-    lamp = renders(scene, "bdpt", 16, 5000, k_seeds=4, backend=backend)
+    lamp = renders(scene, "bdpt", 4, 5000, k_seeds=4, backend=backend)
     assert not metrics.agreement(lamp, pt, block=8)[0]
 
 
