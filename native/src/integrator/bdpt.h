@@ -361,8 +361,9 @@ LANTERN_HD inline void bdpt_camera_emission(const SceneView& s, const PathState&
     if (!miss) return;
     for (int k = 0; k < s.num_miss_lights; ++k) {
         const Light& l = s.lights[s.miss_lights[k]];
-        if (l.type == kLightSun && (l.cos_sun >= 1.0f || camera || dot(d, -l.direction) < l.cos_sun))
-            continue;
+        if (l.type == kLightSun && (l.cos_sun >= 1.0f || (camera && !l.visible_camera) ||
+                                    dot(d, -l.direction) < l.cos_sun))
+            continue;  // a sun lamp is hidden from the camera; the world's disc (of_world) not
         if (l.type == kLightWorld && camera && !l.visible_camera) continue;
         float w = bdpt_emission_weight(s, ps, bs, st, i, l, kInf, vec3(0.0f));
         Vec3 le = l.type == kLightWorld ? world_radiance(s, l, d) : l.radiance;
