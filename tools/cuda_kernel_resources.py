@@ -3,14 +3,15 @@
 The full SASS build runs ptxas over every kernel of a translation unit in one process (1690 s
 for the schedule on a 2-core VM). This script instead compiles each CUDA translation unit of a
 configured build to PTX with the build's own nvcc flags (from `ninja -t commands`), then runs
-ptxas on one entry at a time (`--entry`), niced and under a timeout, so one slow kernel costs
-only itself and a change can be measured on the kernels it touches:
+ptxas on one entry at a time (`--entry`) under a timeout, so one slow kernel costs only itself
+and a change can be measured on the kernels it touches (run it under `nice`; it adds none of
+its own, so its ptxas runs share the machine as evenly as the other niced work):
 
     cmake -S . -B build/ptx -G Ninja -DLANTERN_CUDA=ON -DCMAKE_CUDA_ARCHITECTURES=90-virtual \
           -DLANTERN_BUILD_TESTS=OFF -DLANTERN_BUILD_PYTHON=OFF
-    python tools/cuda_kernel_resources.py build/ptx --ptx-dir /tmp/ptx           # all kernels
-    python tools/cuda_kernel_resources.py build/ptx --ptx-dir /tmp/ptx --only pt_chunk
-    python tools/cuda_kernel_resources.py --reuse --ptx-dir /tmp/ptx             # PTX kept
+    nice python tools/cuda_kernel_resources.py build/ptx --ptx-dir /tmp/ptx      # all kernels
+    nice python tools/cuda_kernel_resources.py build/ptx --ptx-dir /tmp/ptx --only pt_chunk
+    nice python tools/cuda_kernel_resources.py --reuse --ptx-dir /tmp/ptx --tu cuda_schedule_pt
 
 Prints the Markdown table of tools/cuda_resource_table.py (largest stack frame first) with a
 column for the largest stack frame among the functions a kernel calls (non-inlined device
@@ -30,7 +31,7 @@ from cuda_resource_table import demangle, short  # noqa: E402
 OWNER = re.compile(r"lantern::((?:wf|CudaExec|cuda_detail::Renderer)::\w+)")
 LAMBDA = re.compile(r"\{lambda\([^)]*\)#(\d+)\}")
 
-ENTRY = re.compile(r"^\.(?:visible |weak )*\.entry\s+([\w$]+)\(", re.M)
+ENTRY = re.compile(r"^(?:\.visible |\.weak )*\.entry\s+([\w$]+)\(", re.M)
 FUNC = re.compile(r"Function properties for ([\w$]+)")
 FRAME = re.compile(r"(\d+) bytes stack frame, (\d+) bytes spill stores, (\d+) bytes spill loads")
 REGS = re.compile(r"Used (\d+) registers")
@@ -109,11 +110,29 @@ def build_ptx(build_dir, ptx_dir, only_tu):
             continue
         path = os.path.join(ptx_dir, name + ".ptx")
         print(f"nvcc -ptx {name}", file=sys.stderr, flush=True)
-        subprocess.run(["nice"] + cmd + ["-o", path], check=True)
+        subprocess.run(cmd + ["-o", path], check=True)
+
+
+def depots(ptx_text):
+    """Each entry's local depot in the PTX: what cicc already put in local memory (arrays,
+    address-taken structures), before ptxas adds its spills. Non-inlined functions have their
+    own depots (and frames), not counted here."""
+    out, cur = {}, None
+    for line in ptx_text.splitlines():
+        if line.startswith(".") and (" .entry " in line or line.startswith(".entry ")):
+            m = re.search(r"\.entry\s+([\w$]+)", line)
+            cur = m.group(1) if m else None
+        elif re.match(r"^\.(?:visible |weak |extern )*\.func", line):
+            cur = None
+        elif cur and ".local" in line and "__local_depot" in line:
+            m = re.search(r"__local_depot\d+\[(\d+)\]", line)
+            if m:
+                out.setdefault(cur, int(m.group(1)))
+    return out
 
 
 def ptxas(ptx, entry, arch, timeout):
-    cmd = ["nice", "timeout", str(timeout), "ptxas", f"-arch={arch}", "-v", f"--entry={entry}",
+    cmd = ["timeout", str(timeout), "ptxas", f"-arch={arch}", "-v", f"--entry={entry}",
            ptx, "-o", os.devnull]
     r = subprocess.run(cmd, capture_output=True, text=True)
     text = r.stdout + r.stderr
@@ -146,7 +165,9 @@ def main():
     ap.add_argument("--ptx-dir", required=True)
     ap.add_argument("--reuse", action="store_true", help="use the PTX already in --ptx-dir")
     ap.add_argument("--tu", action="append", help="only this translation unit (repeatable)")
-    ap.add_argument("--only", help="only kernels whose demangled name contains this")
+    ap.add_argument("--only", help="only kernels whose table name contains this")
+    ap.add_argument("--skip", action="append", help="not the kernels whose table name contains "
+                    "this (repeatable)")
     ap.add_argument("--arch", default="sm_90")
     ap.add_argument("--timeout", type=int, default=900, help="seconds per kernel")
     ap.add_argument("-j", type=int, default=1, help="ptxas processes at once")
@@ -155,14 +176,18 @@ def main():
         if not a.build_dir:
             sys.exit("give a build dir, or --reuse")
         build_ptx(a.build_dir, a.ptx_dir, a.tu)
-    jobs = []
+    jobs, depot = [], {}
     for f in sorted(os.listdir(a.ptx_dir)):
         if not f.endswith(".ptx") or (a.tu and f[:-4] not in a.tu):
             continue
         path = os.path.join(a.ptx_dir, f)
-        entries = ENTRY.findall(open(path).read())
+        text = open(path).read()
+        entries = ENTRY.findall(text)
+        depot.update(depots(text))
         for e, name in zip(entries, demangle(entries)):
-            if a.only and a.only not in name:
+            if a.only and a.only not in label(name, e):
+                continue
+            if any(x in label(name, e) for x in a.skip or []):
                 continue
             jobs.append((path, e, name))
     rows = []
@@ -172,17 +197,21 @@ def main():
             r = fut.result()
             r["name"] = label(futs[fut], r["mangled"])
             rows.append(r)
-            print(f"{r['name']}: {r.get('regs')} regs, {r.get('stack')} B", file=sys.stderr,
-                  flush=True)
+            print(f"{r['name']} ({r['tu']}): {r.get('regs')} registers, {r.get('stack')} B stack, "
+                  f"callees {r['callee_stack']} B, spills {r.get('spill_st')} / "
+                  f"{r.get('spill_ld')} B, rc {r['rc']}", file=sys.stderr, flush=True)
     print("| kernel | file | registers | stack frame (B) | callees' largest frame (B) | "
-          "spill stores / loads (B) |")
-    print("|---|---|---:|---:|---:|---:|")
-    for r in sorted(rows, key=lambda r: (-r.get("stack", 0), -r.get("regs", 0), r["name"])):
+          "spill stores / loads (B) | PTX depot (B) |")
+    print("|---|---|---:|---:|---:|---:|---:|")
+    for r in sorted(rows, key=lambda r: (-r.get("stack", depot.get(r["mangled"], 0)),
+                                         -r.get("regs", 0), r["name"])):
+        d = f"{depot.get(r['mangled'], 0):,}"
         if "regs" not in r:
-            print(f"| `{r['name']}` | {r['tu']} | ptxas failed (rc {r['rc']}) | | | |")
+            why = "ptxas timed out" if r["rc"] in (124, -9, 137) else f"ptxas failed (rc {r['rc']})"
+            print(f"| `{r['name']}` | {r['tu']} | {why} | | | | {d} |")
             continue
         print(f"| `{r['name']}` | {r['tu']} | {r['regs']} | {r.get('stack', 0):,} | "
-              f"{r['callee_stack']:,} | {r.get('spill_st', 0)} / {r.get('spill_ld', 0)} |")
+              f"{r['callee_stack']:,} | {r.get('spill_st', 0)} / {r.get('spill_ld', 0)} | {d} |")
     over = [r for r in rows if r.get("regs", 999) > 128 or
             r.get("stack", 0) + r["callee_stack"] > 2048]
     print(f"\n{len(rows)} kernels; {len(over)} over 128 registers or 2 KB of stack "
