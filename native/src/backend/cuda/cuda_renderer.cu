@@ -19,9 +19,10 @@ namespace cuda_detail {
 constexpr int kGpuChunkPaths = 1 << 21;  // paths in flight per chunk (halved when memory is short)
 constexpr int kGpuMinChunkPaths = 1 << 15;
 constexpr int kGpuShadowBudget = 1 << 23;  // connection ray slots per camera chunk
-// Stack frame of the largest kernel per thread (bdpt_camera_shade, ptxas for sm_90: docs/
-// cuda_backend.md): the driver reserves it for every resident thread, the cache budget leaves it.
-constexpr int64_t kShadeStackEstimate = 17 * 1024;
+// Stack frame of the largest kernel per thread (bdpt_camera_shade: 11,936 B, ptxas for sm_90 on
+// 2026-12-02, docs/cuda_backend.md): the driver reserves it for every resident thread, the
+// cache budget leaves it.
+constexpr int64_t kShadeStackEstimate = 12 * 1024;
 
 // Public members throughout: nvcc's extended lambdas must not sit in private member functions.
 class Renderer final : public CudaRenderer {
