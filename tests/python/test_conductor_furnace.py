@@ -1,8 +1,9 @@
 """White furnace of a rough white conductor (docs/materials.md, GGX multiple scattering): a
 white metal ball (F82 base colour 1, so F = 1; one per roughness, in a row) under a constant
-world of 0.5 reflects all of it at every angle once bsdf/multiscatter.h restores the energy single scattering loses between
-microfacets, so the whole image (ball and world alike) is exactly 0.5, a comparison against an
-exact value with noise-only tolerance, over a roughness sweep. Found dark at roughness 0.3
+world of 0.5 reflects all of it at every angle once bsdf/multiscatter.h restores the energy
+single scattering loses between microfacets, so the whole image (balls and world alike) is
+exactly 0.5: a comparison against an exact value with noise-only tolerance, over a roughness
+sweep. Found dark at roughness 0.3
 (0.63 % at the ball's middle, 2026-12-02) while 0.1 and 0.6 were right: the albedo tables missed
 GGX's long tail (multiscatter.h, ggx_reflection_albedo). Measured here (16 seeds x 64 spp,
 each ball's 16 x 16 square; its mean, old core -> fixed): roughness 0.1 -0.03 % -> -0.005 %,
