@@ -2,6 +2,8 @@
 // (chi-square), sample weights and reverse pdfs against eval, energy (white furnace), and the
 // limits that must reduce to single lobes.
 #include <gtest/gtest.h>
+#include <algorithm>
+#include <cmath>
 
 #include "bsdf/material.h"
 #include "test_material_helpers.h"
@@ -176,8 +178,11 @@ TEST(BsdfPrincipled, HostileInputsStayFinite) {
 
 
 TEST(BsdfMultiscatter, WhiteRoughMetalReflectsOne) {
-    // single-scattering GGX loses energy as roughness grows; the compensation restores it
-    for (float rough : {0.3f, 0.6f, 1.0f})
+    // single-scattering GGX loses energy as roughness grows; the compensation restores it, to
+    // within the estimate's own noise (4 standard errors) plus 5e-4 for the table's
+    // interpolation: the coarse table that left roughness 0.2-0.4 0.2-0.7 % dark at normal
+    // incidence (E(1) 0.9978 against 0.9907 at 0.3) fails this
+    for (float rough : {0.1f, 0.2f, 0.3f, 0.4f, 0.6f, 1.0f})
         for (float theta_o : {0.0f, 0.9f, 1.4f}) {
             Material m{};
             m.type = kMaterialConductor;
@@ -190,16 +195,22 @@ TEST(BsdfMultiscatter, WhiteRoughMetalReflectsOne) {
                                      e_avg);
             Vec3 wo = dir_from_angles(theta_o, 0.5f);
             Pcg32 rng = Pcg32::for_path(13, 0, 0);
-            double single = 0.0, multi = 0.0;
+            double single = 0.0, multi = 0.0, multi2 = 0.0;
             const int n = 40000;
             for (int i = 0; i < n; ++i) {
                 Vec3 u = vec3(rng.uniform(), rng.uniform(), rng.uniform());
                 BsdfSample s = material_sample(m, true, wo, u, Transport::Radiance);
-                if (s.valid) multi += s.weight.x;
+                if (s.valid) {
+                    multi += s.weight.x;
+                    multi2 += double(s.weight.x) * s.weight.x;
+                }
                 BsdfSample s1 = conductor_sample(material_conductor(m), wo, Vec2{u.x, u.y});
                 if (s1.valid) single += s1.weight.x;
             }
-            EXPECT_NEAR(multi / n, 1.0, 0.02) << "rough " << rough << " theta " << theta_o;
+            const double mean = multi / n;
+            const double se = std::sqrt(std::max(multi2 / n - mean * mean, 0.0) / (n - 1));
+            EXPECT_NEAR(mean, 1.0, 4.0 * se + 5e-4)
+                << "rough " << rough << " theta " << theta_o << " se " << se;
             if (rough >= 0.6f) EXPECT_LT(single / n, 0.95) << "rough " << rough;
         }
 }
