@@ -25,6 +25,8 @@ null distribution):
   (test_adaptive_sampling's threshold, seeds and block);
 - film: the shadow catcher's alpha against the wall's exact shadow (test_film, its settings);
 - rotation: the HDRI turned by its mapping against the rolled map, paired seeds (test_world);
+- hdri: test_world's HDRI scene, bdpt against pt (16 x 32 / 16 x 64 spp) and lvc against bdpt
+  on the same seeds, paired (test_integrators_agree_under_hdri);
 - pano: lt against pt through the panoramic camera (test_camera_pano, its samples);
 - lighttree: bdpt against pt on the many-light stage with the tree (test_light_tree);
 - cycles: Lantern against the stored Cycles reference of light_sun (needs bpy; the reference
@@ -261,6 +263,32 @@ def pairs_rotation(trial):
     yield "map rotation vs rolled map, paired seeds (test_world)", run
 
 
+def pairs_hdri(trial):
+    sys.path.insert(0, str(ROOT / "tests" / "python"))
+    import test_world as tw  # the HDRI test's scene (its 4x4 sun) and samples
+
+    def renders(integrator, spp, seed0):
+        return tw.renders(tw.hdri_scene(), integrator, spp, seed0, k_seeds=16)
+
+    seed0 = 1000 * trial + 900000
+    cache = {}
+
+    def bdpt():
+        if "bdpt" not in cache:
+            cache["bdpt"] = renders("bdpt", tw.HDRI_SPP, seed0 + 500)
+        return cache["bdpt"]
+
+    def unpaired():
+        return bdpt(), renders("pt", tw.HDRI_PT_SPP, seed0), {"block": 8}
+
+    def paired():
+        lvc = renders("lvc", tw.HDRI_SPP, seed0 + 500)  # bdpt's seeds
+        level = np.mean(bdpt(), axis=0)
+        return [o - b + level for o, b in zip(lvc, bdpt())], level, {"block": 8}
+    yield "hdri bdpt vs pt (test_world)", unpaired
+    yield "hdri lvc vs bdpt, paired seeds (test_world)", paired
+
+
 def pairs_pano(trial):
     sys.path.insert(0, str(ROOT / "tests" / "python"))
     import test_camera_pano as tp  # the panorama box and the test's samples
@@ -290,7 +318,8 @@ FAMILIES = {"cross": pairs_cross, "analytic": pairs_analytic, "backend": pairs_b
             "paired": pairs_paired, "scale": pairs_scale, "cycles": pairs_cycles,
             "fixture": pairs_fixture, "gpu_paired": pairs_gpu_paired,
             "instance": pairs_instance, "adaptive": pairs_adaptive, "film": pairs_film,
-            "rotation": pairs_rotation, "pano": pairs_pano, "lighttree": pairs_lighttree}
+            "rotation": pairs_rotation, "pano": pairs_pano, "lighttree": pairs_lighttree,
+            "hdri": pairs_hdri}
 
 
 def main(argv=None):
