@@ -1,6 +1,6 @@
-"""Export cost of the Multiple Scattering Sky Texture (addon/export/sky.py, sky_ms.py): the
-map built from scratch (every cache cleared) for a few skies, wall and CPU time, median of N,
-and the sun light. CPU time (this process only) carries the machine's load less than wall.
+"""Export cost of the Multiple and Single Scattering Sky Textures (addon/export/sky.py,
+sky_ms.py, sky_ss.py): the map built from scratch (every cache cleared) for a few skies, wall
+and CPU time, median of N. CPU time (this process only) carries the machine's load less than wall.
 
 Run: .venv/bin/python bench/sky_export.py [--runs N] [--out DIR]"""
 
@@ -28,21 +28,32 @@ def main():
     import lantern_bpy
     lantern_bpy.load_addon()
     from lantern_blender.export import sky
-    lines = [f"# Multiple Scattering sky export cost ({time.strftime('%Y-%m-%d %H:%M')})", "",
+    lines = [f"# Sky export cost ({time.strftime('%Y-%m-%d %H:%M')})", "",
+             "Machine: 2-core AMD EPYC VM, 24 GB, Debian 12, numpy of the repo's venv; shared",
+             "with other jobs (load below), so wall time carries the load, CPU time (this",
+             "process) much less.", "",
              f"map {sky.MS_MAP_SIZE[0]} x {sky.MS_MAP_SIZE[1]}, load average "
              f"{os.getloadavg()[0]:.1f} on {os.cpu_count()} CPUs at the start", "",
-             "| sky | wall median (s) | wall min (s) | CPU median (s) |", "|---|---|---|---|"]
-    for name, params in SKIES.items():
-        wall, cpu = [], []
-        for _ in range(args.runs):
-            sky._multiple_scattering_map.cache_clear()
-            sky.sky_ms._atmosphere.cache_clear()
-            t0, c0 = time.perf_counter(), time.process_time()
-            sky._multiple_scattering_map(params)
-            wall.append(time.perf_counter() - t0)
-            cpu.append(time.process_time() - c0)
-        lines.append(f"| {name} | {statistics.median(wall):.3f} | {min(wall):.3f} | "
-                     f"{statistics.median(cpu):.3f} |")
+             "| model | sky | wall median (s) | wall min (s) | CPU median (s) |",
+             "|---|---|---|---|---|"]
+
+    def clear():
+        sky._multiple_scattering_map.cache_clear()
+        sky.sky_ms._atmosphere.cache_clear()
+        sky._single_scattering_map.cache_clear()
+        sky.sky_ss.sky_table.cache_clear()
+    for model, build in (("multiple", sky._multiple_scattering_map),
+                         ("single", sky._single_scattering_map)):
+        for name, params in SKIES.items():
+            wall, cpu = [], []
+            for _ in range(args.runs):
+                clear()
+                t0, c0 = time.perf_counter(), time.process_time()
+                build(params)
+                wall.append(time.perf_counter() - t0)
+                cpu.append(time.process_time() - c0)
+            lines.append(f"| {model} | {name} | {statistics.median(wall):.3f} | "
+                         f"{min(wall):.3f} | {statistics.median(cpu):.3f} |")
     lines += ["", f"load average at the end {os.getloadavg()[0]:.1f}"]
     text = "\n".join(lines) + "\n"
     print(text)

@@ -19,20 +19,35 @@ bench/sky_export.py) matches Cycles' sky within 0.5 % at every direction, 0.03 %
 lights within 0.1 % (world_sky_ms, tests/render/test_cycles_compare.py).
 Its sun disc, a fraction of a texel in the map, is not drawn into the map: it becomes a sun
 light of the world (world["sun"], docs/scene_format.md) with the disc's angle and irradiance,
-which lights the scene, shadows and reflections as the disc does, but camera rays do not see
-it (a warning says so). Sun Intensity scales the disc alone, as in Cycles; Ground Albedo
-belongs to Hosek / Wilkie (the model's ground albedo is its own constant 0.3).
+which lights the scene, shadows and reflections as the disc does and, as the world's own light
+(python/lantern/scene.py to_native), is drawn for camera rays where the world is (a Blender sun
+lamp never is) and follows the world's ray visibility; tests/render/test_sky_cycles.py compares
+the disc the camera sees with Cycles' (the lt integrator, Python API only, draws neither the
+world nor the disc for the camera: the core warns). Inside the disc the map's sky stays under
+it, where Cycles draws the disc alone (the sky there is 2e-5 to 4e-5 of the disc's radiance at
+Blender's defaults, 1e-3 with test_sky_cycles.py's wide dim disc; sky_ms.sky_radiance). Sun
+Intensity scales the disc alone, as in Cycles; Ground Albedo belongs to Hosek / Wilkie (the
+model's ground albedo is its own constant 0.3).
 
-Single Scattering (the former Nishita: another model, 21 wavelengths) and Hosek / Wilkie (its
-data set is large) are not rendered: a warning names them, and the Background's own colour
-lights the scene instead."""
+A Mapping on the Vector turns the sky (map and sun) as Cycles 5.0.1 does (measured in
+tests/render/test_sky_cycles.py): Preetham's always; Multiple Scattering's only with the Sun
+Disc off, since with it on Blender holds the Vector unavailable and Cycles ignores the link
+(world.vector_matrix names it).
+
+Single Scattering (the former Nishita: 21 wavelengths, one scattering) is Cycles' own table of
+it, built and read as Cycles does in sky_ss.py (within 4.3e-4 of Cycles at every direction,
+tests/render/test_sky_cycles.py; 0.5-0.7 s CPU per sky, bench/sky_export.py), sampled into
+a 1024 x 512 map (texels within HORIZON_BAND of the horizon averaged over their elevation),
+its disc a sun light as above (within 0.1 % of Cycles' irradiance). Hosek / Wilkie (its data
+set is large) is not rendered: a warning names it, and the Background's own colour lights the
+scene instead."""
 
 import functools
 import math
 
 import numpy as np
 
-from . import sky_ms
+from . import sky_ms, sky_ss
 
 SCALE = 0.06            # Preetham's Y (kcd/m^2) -> Blender radiance (measured, see above)
 MAP_SIZE = (512, 256)   # width, height: a smooth sky needs no more
@@ -153,15 +168,17 @@ def sky_map(node, where, report):
     to top (no sun disc: see sky_sun); None (with a warning) for a sky type Lantern does not
     render."""
     kind = getattr(node, "sky_type", "")
-    if kind not in ("PREETHAM", "MULTIPLE_SCATTERING"):
+    if kind not in ("PREETHAM", "MULTIPLE_SCATTERING", "SINGLE_SCATTERING"):
         report.warn(f"{where}: Sky Texture '{node.name}' of type {_LABELS.get(kind, kind)} is "
-                    "not rendered (Preetham and Multiple Scattering are); the Background's "
-                    "own colour is used")
+                    "not rendered (Preetham, Single and Multiple Scattering are); the "
+                    "Background's own colour is used")
         return None
     _check_mapping(node, where, report)
     if kind == "PREETHAM":
         return _preetham_map(tuple(float(v) for v in node.sun_direction),
                              float(node.turbidity))
+    if kind == "SINGLE_SCATTERING":
+        return _single_scattering_map(_ms_params(node))
     return _multiple_scattering_map(_ms_params(node))
 
 
@@ -199,17 +216,55 @@ def _multiple_scattering_map(params):
     return rgb
 
 
+def ss_table(params):
+    """The Single Scattering table (sky_ss.py) of _ms_params: the sun's rotation is the
+    lookup's, not the table's."""
+    elev, _, alt, air, aerosol, ozone = params
+    return sky_ss.sky_table(elev, alt, air, aerosol, ozone)
+
+
+@functools.lru_cache(maxsize=4)
+def _single_scattering_map(params):
+    """The Single Scattering map of one sky (sky_ss.py; 0.6 s CPU, bench/sky_export.py):
+    Cycles' table read at the texels (means over HORIZON_SUBROWS elevations within
+    HORIZON_BAND of the horizon, where the table's rows are dense); kept, read-only."""
+    w, h = MS_MAP_SIZE
+    table = ss_table(params)
+    dirs = equirect_directions(w, h)
+    rgb = sky_ss.table_radiance(table, dirs, params[1], _XYZ_TO_REC709)
+    elev = ((np.arange(h) + 0.5) / h - 0.5) * math.pi
+    rows = np.nonzero(np.abs(elev) < HORIZON_BAND)[0]
+    if len(rows):
+        sub = ((np.arange(HORIZON_SUBROWS) + 0.5) / HORIZON_SUBROWS - 0.5) * (math.pi / h)
+        e = elev[rows][:, None] + sub[None, :]                       # (rows, sub)
+        az = dirs[rows[0], :, :2] / np.linalg.norm(dirs[rows[0], :, :2], axis=-1)[..., None]
+        d = np.concatenate([np.cos(e)[..., None, None] * az[None, None],
+                            np.broadcast_to(np.sin(e)[..., None, None],
+                                            e.shape + (w, 1))], axis=-1)
+        band = sky_ss.table_radiance(table, d, params[1], _XYZ_TO_REC709)
+        rgb[rows] = band.mean(axis=1)
+    rgb = np.ascontiguousarray(rgb, np.float32)
+    rgb.setflags(write=False)
+    return rgb
+
+
 def sky_sun(node, strength, to_map, where, report):
     """The Multiple Scattering sky's sun disc as a sun light (docs/scene_format.md, "World"):
     the disc's angle, its irradiance times the Background strength, towards the world
     direction the texture's vector maps onto the sun; None without a disc (Sun Disc off, the
     sun below the planet's horizon, or a black disc)."""
-    if getattr(node, "sky_type", "") != "MULTIPLE_SCATTERING" or not bool(node.sun_disc):
+    kind = getattr(node, "sky_type", "")
+    if kind not in ("MULTIPLE_SCATTERING", "SINGLE_SCATTERING") or not bool(node.sun_disc):
         return None
     elev, rot, alt, air, aerosol, ozone = _ms_params(node)
-    sun = sky_ms.sun_light(elev, rot, _finite(node, "sun_size", 0.009512, 0.0, math.pi / 2),
-                           _finite(node, "sun_intensity", 1.0, 0.0, 1000.0), alt, air,
-                           aerosol, ozone, _XYZ_TO_REC709)
+    size = _finite(node, "sun_size", 0.009512, 0.0, math.pi / 2)
+    intensity = _finite(node, "sun_intensity", 1.0, 0.0, 1000.0)
+    if kind == "SINGLE_SCATTERING":
+        disc = sky_ss.sun_light(elev, size, intensity, alt, air, aerosol, _XYZ_TO_REC709)
+        sun = None if disc is None else (sky_ms.sun_vector(elev, rot),) + disc
+    else:
+        sun = sky_ms.sun_light(elev, rot, size, intensity, alt, air, aerosol, ozone,
+                               _XYZ_TO_REC709)
     if sun is None:
         return None
     towards, angle, irradiance = sun
@@ -226,8 +281,6 @@ def sky_sun(node, strength, to_map, where, report):
     power = [float(c) * strength for c in irradiance]
     if max(power) <= 0.0 or not all(math.isfinite(c) for c in power):
         return None
-    report.warn(f"{where}: Sky Texture '{node.name}': the sun disc lights the scene as a sun "
-                "lamp; camera rays do not see it")
     return {"type": "sun", "name": f"sky:{node.name}", "direction": (-d).tolist(),
             "angle": angle, "strength": power}
 
@@ -242,12 +295,6 @@ def sky_world(node, out, color, strength, to_map, where, report):
     out.update({"map": rgb, "map_name": f"sky:{node.name}", "strength": [strength] * 3,
                 "projection": "equirectangular", "to_map": np.asarray(to_map).tolist()})
     sun = sky_sun(node, strength, to_map, where, report)
-    if sun is not None:
+    if sun is not None:   # the world's: its ray visibility applies (scene.py to_native)
         out["sun"] = sun
-        hidden = [ray for ray in ("diffuse", "glossy", "transmission")
-                  if not out.get(f"visible_{ray}", True)]
-        if hidden:
-            report.warn(f"{where}: Sky Texture '{node.name}': its sun disc still lights "
-                        f"{', '.join(hidden)} rays (the world's ray visibility does not reach "
-                        "the sun light)")
     return out

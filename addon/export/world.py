@@ -59,9 +59,15 @@ def vector_matrix(env_node, where, report):
     """World direction -> the Environment Texture's vector: Mapping and Texture Coordinate
     nodes upstream of its Vector input, composed (3x3)."""
     m = np.eye(3)
-    # by identifier: bpy 5.0.1's inputs.get misses a socket it holds unavailable (a new
-    # Multiple Scattering Sky Texture's Vector until its tree updates)
+    # by identifier: bpy 5.0.1's inputs.get misses a socket it holds unavailable
     sock = next((s for s in env_node.inputs if s.identifier == "Vector"), None)
+    if sock is not None and sock.is_linked and not (sock.enabled and sock.links[0].is_valid):
+        # bpy 5.0.1 holds the Multiple and Single Scattering Sky Texture's Vector unavailable
+        # while its Sun Disc is on, and Cycles then ignores a link into it: the sky is not
+        # turned (measured, tests/render/test_sky_cycles.py); Preetham's is always available
+        report.warn(f"{where}: '{env_node.name}': the link into its unavailable Vector input "
+                    "is ignored (as Cycles does)")
+        return m
     for _ in range(16):
         if sock is None or not sock.is_linked:
             break

@@ -223,8 +223,10 @@ class Scene:
             if "to_world" in light:
                 light["to_world"] = mat(light["to_world"])
             lights.append(light)
-        if self.world.get("sun") is not None:   # the sky's sun disc joins the lights
-            lights.append(dict(self.world["sun"]))
+        if self.world.get("sun") is not None:   # the sky's sun disc joins the lights, as the
+            # world's own: the camera sees it where it sees the world, and the world's ray
+            # visibility (pt) applies to it (LightInput::of_world, native/src/scene/scene.h)
+            lights.append(dict(self.world["sun"], of_world=True))
         meshes = [dict(m) for m in self.meshes]
         textures = []
         for t in self.textures:

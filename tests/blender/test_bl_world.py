@@ -307,22 +307,41 @@ def test_preetham_sky_is_an_environment_map(empty, addon):
     assert row[width // 2].sum() > 1.5 * row[0].sum()
 
 
-@pytest.mark.parametrize("sky_type", ["SINGLE_SCATTERING", "HOSEK_WILKIE"])
-def test_other_sky_types_are_named(empty, addon, sky_type):
+def test_hosek_wilkie_sky_is_named(empty, addon):
     from blender_helpers import add_camera
     add_camera(empty)
-    sky_world(empty, sky_type)
+    sky_world(empty, "HOSEK_WILKIE")
     scene, report = export(addon)
     assert "map" not in scene.world and "sun" not in scene.world
     assert any("Sky Texture" in m and "not rendered" in m for m in report.messages), \
         report.messages
 
 
+def test_single_scattering_sky_is_a_map_and_a_sun(empty, addon):
+    """The former Nishita: a 1024 x 512 map (its values against Cycles:
+    tests/render/test_sky_cycles.py) and its disc as the world's sun, towards Blender's sun;
+    no warning."""
+    from blender_helpers import add_camera
+    add_camera(empty)
+    sky = sky_world(empty, "SINGLE_SCATTERING", sun_rotation=math.radians(90.0))
+    scene, report = export(addon)
+    assert not report.messages, report.messages
+    rgb = np.asarray(scene.world["map"])
+    assert rgb.shape == (512, 1024, 3) and np.isfinite(rgb).all() and rgb.min() >= 0.0
+    row = rgb[int(0.55 * 512)]              # the sun towards +X: the middle column
+    assert row[512].sum() > 3.0 * row[0].sum()
+    e = sky.sun_elevation
+    sun = scene.world["sun"]
+    assert np.allclose(sun["direction"], [-math.cos(e), 0.0, -math.sin(e)], atol=1e-6)
+    assert sun["angle"] == pytest.approx(sky.sun_size) and min(sun["strength"]) > 0.0
+
+
 def test_multiple_scattering_sky_is_a_map_and_a_sun(empty, addon):
     """Blender 5.0's default sky type: a map (its values against Cycles:
     tests/render/test_sky_cycles.py) and the sun disc as a sun light of the world, towards
     Blender's sun (elevation e, rotation r: (cos e sin r, cos e cos r, sin e)), its angle the
-    Sun Size, its strength times the Background's; the core receives the sun as a light."""
+    Sun Size, its strength times the Background's; the core receives the sun as the world's
+    light (drawn for the camera)."""
     from blender_helpers import add_camera
     add_camera(empty)
     sky = sky_world(empty, "MULTIPLE_SCATTERING", sun_rotation=math.radians(90.0))
@@ -330,8 +349,7 @@ def test_multiple_scattering_sky_is_a_map_and_a_sun(empty, addon):
         "MULTIPLE_SCATTERING"   # what an artist gets in 5.0.1
     scene, report = export(addon)
     w = scene.world
-    assert report.messages == [f"World 'Sky': Sky Texture '{sky.name}': the sun disc lights "
-                               "the scene as a sun lamp; camera rays do not see it"]
+    assert report.messages == []
     rgb = np.asarray(w["map"])
     assert rgb.shape == (512, 1024, 3) and np.isfinite(rgb).all() and rgb.min() >= 0.0
     assert w["strength"] == [2.0] * 3
@@ -351,28 +369,42 @@ def test_multiple_scattering_sky_is_a_map_and_a_sun(empty, addon):
     assert "sun" not in scene2.world and not report2.messages
     native = scene.to_native()
     assert native["lights"][-1]["type"] == "sun" and "sun" not in native["world"]
+    assert native["lights"][-1]["of_world"] is True
 
 
-def test_multiple_scattering_sun_follows_the_mapping(empty, addon):
-    """A Mapping rotation on the sky's Vector turns the sun light with the map: the texture's
-    sun (rotation 0: +Y) seen through a 90 degree turn about Z comes from +X; the world hidden
-    from diffuse rays names the sun light that still lights them."""
+def test_sky_mapping_as_cycles_applies_it(empty, addon):
+    """Cycles 5.0.1 (tests/render/test_sky_cycles.py, measured) turns a Preetham sky with a
+    Mapping on its Vector, and ignores the link into the Multiple Scattering sky's Vector,
+    which is unavailable there: Lantern's map and sun alike (the sun, rotation 0, towards +Y
+    whatever the Mapping, the link's neglect named). The world hidden from diffuse rays hides
+    its sun from them too (the core's of_world: tests/python/test_world.py), unwarned."""
     from blender_helpers import add_camera
     add_camera(empty)
-    sky = sky_world(empty, "MULTIPLE_SCATTERING")
-    nt = bpy.data.worlds["Sky"].node_tree
-    mapping = nt.nodes.new("ShaderNodeMapping")
-    mapping.inputs["Rotation"].default_value = (0.0, 0.0, math.radians(90.0))
-    coord = nt.nodes.new("ShaderNodeTexCoord")
-    nt.links.new(coord.outputs["Generated"], mapping.inputs["Vector"])
-    nt.links.new(mapping.outputs["Vector"], sky.inputs[0])   # "Vector" (unavailable by name
-    # until the tree updates; Cycles 5.0.1 turns the Multiple Scattering sky with it, measured)
-    bpy.data.worlds["Sky"].cycles_visibility.diffuse = False
-    scene, report = export(addon)
-    e = sky.sun_elevation
-    assert np.allclose(scene.world["sun"]["direction"], [-math.cos(e), 0.0, -math.sin(e)],
-                       atol=1e-6)
-    assert any("still lights diffuse rays" in m for m in report.messages), report.messages
+    for kind in ("PREETHAM", "MULTIPLE_SCATTERING"):
+        sky = sky_world(empty, kind)
+        world = empty.world
+        nt = world.node_tree
+        mapping = nt.nodes.new("ShaderNodeMapping")
+        mapping.inputs["Rotation"].default_value = (0.0, 0.0, math.radians(90.0))
+        coord = nt.nodes.new("ShaderNodeTexCoord")
+        nt.links.new(coord.outputs["Generated"], mapping.inputs["Vector"])
+        nt.links.new(mapping.outputs["Vector"], sky.inputs[0])   # "Vector", by index: the
+        # name misses it where it is unavailable
+        world.cycles_visibility.diffuse = False
+        scene, report = export(addon)
+        to_map = np.asarray(scene.world["to_map"])
+        assert scene.world["visible_diffuse"] is False
+        if kind == "PREETHAM":   # world +X -> the texture's +Y (a 90 degree turn about Z)
+            assert np.allclose(to_map @ [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], atol=1e-6)
+            assert not report.messages, report.messages
+            continue
+        assert np.allclose(to_map, np.eye(3))
+        e = sky.sun_elevation
+        assert np.allclose(scene.world["sun"]["direction"], [0.0, -math.cos(e), -math.sin(e)],
+                           atol=1e-6)
+        assert report.messages == [f"World '{world.name}': '{sky.name}': the link into its "
+                                   "unavailable Vector input is ignored (as Cycles does)"], \
+            report.messages
 
 
 @pytest.mark.parametrize("props", [

@@ -62,9 +62,9 @@ def furnace(name, renders):
 def test_reflections_see_the_world_by_kind(core, kind, visible, hidden):
     if kind == "metal":
         # a glossy-only ball traces the same paths whatever the other kinds see: the same bits
-        # as the world visible to all (exact, no statistics). Not a furnace test: the white
-        # rough metal reads 0.63 +- 0.05 % dark at roughness 0.3 (16 x 64 spp; 0.1 and 0.6
-        # within 0.1 %), the multiscatter compensation's error there (docs/materials.md)
+        # as the world visible to all (exact, no statistics); that the white rough metal is
+        # a furnace is test_conductor_furnace.py's (it read 0.63 % dark here at roughness 0.3
+        # until the compensation tables caught GGX's tail, docs/materials.md)
         for k in range(4):
             np.testing.assert_array_equal(render(ball_scene(kind, visible), seed=k),
                                           render(ball_scene(kind), seed=k))

@@ -41,9 +41,8 @@ LANTERN_SPP = int(os.environ.get("LANTERN_TEST_SPP", "32"))
 #   spp; at 256 z 10.2-11.7 against 6.8-7.6 (a new Cycles reference would not have helped)
 RUNS = {"world_visibility": (8, 64), "principled_emission_mesh": (16, 128),
         "cornell_box": (16, 64), "light_spot": (16, 256)}
-# warnings a scene is known to give (the rest fail the test): the Multiple Scattering sky's
-# disc is a sun light that camera rays do not see (addon/export/sky.py); the camera sees no sun
-EXPECTED_WARNINGS = {"world_sky_ms": ("the sun disc lights the scene as a sun lamp",)}
+# warnings a scene is known to give (the rest fail the test)
+EXPECTED_WARNINGS = {}
 
 
 @pytest.fixture(scope="module")

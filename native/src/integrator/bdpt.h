@@ -361,8 +361,9 @@ LANTERN_HD inline void bdpt_camera_emission(const SceneView& s, const PathState&
     if (!miss) return;
     for (int k = 0; k < s.num_miss_lights; ++k) {
         const Light& l = s.lights[s.miss_lights[k]];
-        if (l.type == kLightSun && (l.cos_sun >= 1.0f || camera || dot(d, -l.direction) < l.cos_sun))
-            continue;
+        if (l.type == kLightSun && (l.cos_sun >= 1.0f || (camera && !l.visible_camera) ||
+                                    dot(d, -l.direction) < l.cos_sun))
+            continue;  // a sun lamp is hidden from the camera; the world's disc (of_world) not
         if (l.type == kLightWorld && camera && !l.visible_camera) continue;
         float w = bdpt_emission_weight(s, ps, bs, st, i, l, kInf, vec3(0.0f));
         Vec3 le = l.type == kLightWorld ? world_radiance(s, l, d) : l.radiance;
@@ -545,19 +546,26 @@ LANTERN_HD inline void bdpt_camera_connect(const SceneView& s, const BdptState& 
     // cis: M uniform candidates with w_j = p-hat(x_j) |C|, N picks proportional to w_j, each
     // carrying W / (N L) with W = (1 / p-hat(y)) (1/M) sum_j w_j  (DESIGN.md)
     constexpr int kMaxCandidates = 64;
+#ifdef __CUDA_ARCH__
+    // a GPU thread keeps (index, p-hat) per candidate and connects the picked ones again (the
+    // same arithmetic, so the same connection): 64 connections would be 2 KB of its stack
+    constexpr int kKept = 1;
+#else
+    constexpr int kKept = kMaxCandidates;  // the CPU keeps them: each is evaluated once
+#endif
     const int m = min_int(st.candidates, kMaxCandidates);
     int idx[kMaxCandidates];
-    float cdf[kMaxCandidates];
-    Connection cand[kMaxCandidates];  // kept for the picks: each candidate is evaluated once
+    float cdf[kMaxCandidates], p_hats[kMaxCandidates];
+    Connection cand[kKept];
     float sum = 0.0f;
     for (int j = 0; j < m; ++j) {
         idx[j] = pick(rng.next());
-        cand[j] = bdpt_connect(s, st, z, cache.v[idx[j]]);
-        const Connection& c = cand[j];
+        const Connection c = bdpt_connect(s, st, z, cache.v[idx[j]]);
+        if constexpr (kKept > 1) cand[j] = c;
         float p_hat = st.target == kTargetBsdf ? (is_black(c.c) ? 0.0f : c.bsdf_target)
                                                : luminance(c.c);
         if (!(p_hat > 0.0f) || !is_finite(p_hat)) p_hat = 0.0f;
-        cand[j].bsdf_target = p_hat;  // from here on: the candidate's p-hat
+        p_hats[j] = p_hat;
         sum += p_hat * size;
         cdf[j] = sum;
     }
@@ -568,17 +576,22 @@ LANTERN_HD inline void bdpt_camera_connect(const SceneView& s, const BdptState& 
         float u = rng.uniform() * sum;
         int j = 0;
         while (j < m - 1 && !(u < cdf[j])) ++j;
-        while (j > 0 && cand[j].bsdf_target == 0.0f) --j;  // never a zero-weight candidate
+        while (j > 0 && p_hats[j] == 0.0f) --j;  // never a zero-weight candidate
         ++count[j];
     }
     // the same candidate picked twice shares one shadow ray (same segment, same visibility)
     for (int j = 0; j < m; ++j) {
-        const float p_hat = cand[j].bsdf_target;
+        const float p_hat = p_hats[j];
         if (count[j] == 0 || !(p_hat > 0.0f)) continue;
         float w_ris = st.naive_ris ? size : (sum / float(m)) / p_hat;
         float weight = w_ris * float(count[j]) / float(st.connections) * st.inv_light_paths;
-        bdpt_queue_connection(bs, i, z, cache.v[idx[j]], cand[j], cand[j].c * weight,
-                              s.offset_scale);
+        const LightVertex& y = cache.v[idx[j]];
+        Connection c;
+        if constexpr (kKept > 1)
+            c = cand[j];
+        else
+            c = bdpt_connect(s, st, z, y);
+        bdpt_queue_connection(bs, i, z, y, c, c.c * weight, s.offset_scale);
     }
 }
 

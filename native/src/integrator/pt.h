@@ -88,7 +88,11 @@ LANTERN_HD inline void pt_shade_miss(const SceneView& s, const PathState& ps, in
             float pdf = world_pdf_w(s, d);
             add_radiance(ps, i, ps.throughput[i] * world_radiance(s, l, d) *
                                     pt_emission_weight(s, ps, i, s.miss_lights[k], pdf));
-        } else if (l.type == kLightSun && l.cos_sun < 1.0f && !camera) {
+        } else if (l.type == kLightSun && l.cos_sun < 1.0f) {
+            // a sun lamp is hidden from the camera (as in Cycles); the world's disc is not
+            if (camera ? !l.visible_camera
+                       : (l.of_world && ps.world_hidden && ps.world_hidden[i]))
+                continue;
             if (dot(d, -l.direction) < l.cos_sun) continue;
             float pdf = light_pdf_w(l, vec3(0.0f), d, kInf, vec3(0.0f));
             add_radiance(ps, i, ps.throughput[i] * l.radiance *
@@ -367,8 +371,8 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
         pick = light_pick(s, h.p, n_pick, u_pick.x);
         if (pick.pmf > 0.0f) ls = sample_light(s, s.lights[pick.light], h.p, u_light);
     }
-    if (pick.pmf > 0.0f && pick.light == s.world_light && s.world_rays != kWorldRaysAll &&
-        !pt_world_sees(s, m, ls.wi, h.ng))
+    if (pick.pmf > 0.0f && (pick.light == s.world_light || s.lights[pick.light].of_world) &&
+        s.world_rays != kWorldRaysAll && !pt_world_sees(s, m, ls.wi, h.ng))
         ls.valid = false;  // the world hidden from this kind of scattering lights nothing here
     if (pick.pmf > 0.0f) {
         if (ls.valid && !delta_material && sides_agree(ls.wi, h.ng, h.ns) && !is_black(ls.le)) {

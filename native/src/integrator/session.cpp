@@ -68,6 +68,14 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
     scene_ = std::make_unique<HostScene>(scene);
     if (settings_.integrator == "lt") check_light_tracing(scene);
     warnings_ = scene_->warnings();
+    if (settings_.integrator == "lt" && scene.world_visible_camera && !scene.film_transparent) {
+        for (const LightInput& l : scene.lights)
+            if (l.of_world) {  // no light path reaches the camera from an infinite light
+                warnings_.push_back("integrator 'lt' does not draw the world's sun disc (nor the "
+                                    "world) for the camera; pt, bdpt, lvc and cis do");
+                break;
+            }
+    }
     // "auto" takes the GPU when there is a usable one; "cuda" without one says why. Either way
     // the render goes on, on the CPU.
     if (test_gpu) {

@@ -297,6 +297,7 @@ SceneInput to_input(const nb::dict& scene) {
             li.angle = get<float>(l, "angle", 0.0f);
             li.soft_falloff = get<bool>(l, "soft_falloff", true);
             li.visible_camera = get<bool>(l, "visible_camera", false);
+            li.of_world = get<bool>(l, "of_world", false);
             in.lights.push_back(li);
         }
     }

@@ -593,6 +593,10 @@ void HostScene::add_lights(const SceneInput& in) {
                 l.radiance = s * (1.0f / (kPi * sin2));
             }
             power.push_back(luminance(s) * disk_area);
+            if (li.of_world) {  // the world's disc: the camera sees it where it sees the world
+                l.of_world = 1;
+                l.visible_camera = in.world_visible_camera && !in.film_transparent ? 1 : 0;
+            }
         } else {
             warnings_.push_back("unknown light type '" + li.type + "' was skipped");
             continue;

@@ -106,6 +106,10 @@ struct LightInput {
     float angle = 0.0f;
     bool soft_falloff = true;
     bool visible_camera = false;
+    // sun: the world's own (the Sky Texture's disc, lantern/scene.py to_native): seen by the
+    // camera as the world is (world_visible_camera, not through transparent film), hidden
+    // from the scatterings the world is hidden from (world_rays, pt)
+    bool of_world = false;
 };
 
 struct SceneInput {

@@ -135,6 +135,7 @@ struct Light {
     int32_t visible_camera;
     int32_t soft_falloff;   // point/spot: a disk facing the shaded point (Blender's default),
                             // else a sphere
+    int32_t of_world;       // sun: part of the world (LightInput::of_world): world_rays apply
     Transform frame;        // area/spot: axes x, y and -z = emission direction; origin = centre
     Vec3 position;          // point/spot centre
     Vec3 direction;         // sun: direction the light travels; spot: cone axis

@@ -96,8 +96,12 @@ private:
     MemoryMeter* meter_ = nullptr;
 };
 
+// The functor stays in kernel-parameter memory (__grid_constant__): the stages take the captured
+// SceneView and states by reference, which would otherwise make ptxas copy them to the stack.
+// Blocks of up to 256 threads, 2 per SM at least: at most 128 registers per thread (ptxas spills
+// the rest; docs/cuda_backend.md "Kernel resources" has what each kernel spills).
 template <typename F>
-__global__ void each_kernel(int n, F f) {
+__global__ void __launch_bounds__(256, 2) each_kernel(int n, const __grid_constant__ F f) {
     const int i = blockIdx.x * blockDim.x + threadIdx.x;
     if (i < n) f(i);
 }

@@ -3,9 +3,9 @@
 // one translation unit per part so that they compile side by side. What is left here is
 // CUDA-only: the scene and BVH upload, the GPU's cache budget and out-of-memory policy, the
 // film's running sum with its pinned readback on a copy stream (the next iteration's kernels run
-// while it drains; only the final add into the sum waits for it), and cuda_info().
+// while it drains; only the final add into the sum waits for it). cuda_info() is in
+// backend/cuda_info.cu.
 #include <algorithm>
-#include <cstdlib>
 #include <mutex>
 
 #include "accel/bvh_builder.h"
@@ -16,14 +16,13 @@
 namespace lantern {
 namespace cuda_detail {
 
-__global__ void probe_kernel() {}
-
 constexpr int kGpuChunkPaths = 1 << 21;  // paths in flight per chunk (halved when memory is short)
 constexpr int kGpuMinChunkPaths = 1 << 15;
 constexpr int kGpuShadowBudget = 1 << 23;  // connection ray slots per camera chunk
-// Stack frame of the largest kernel per thread (bdpt_camera_shade, ptxas for sm_90: docs/
-// cuda_backend.md): the driver reserves it for every resident thread, the cache budget leaves it.
-constexpr int64_t kShadeStackEstimate = 17 * 1024;
+// Stack frame of the largest kernel per thread (bdpt_camera_shade: 11,936 B, ptxas for sm_90 on
+// 2026-12-02, docs/cuda_backend.md): the driver reserves it for every resident thread, the
+// cache budget leaves it.
+constexpr int64_t kShadeStackEstimate = 12 * 1024;
 
 // Public members throughout: nvcc's extended lambdas must not sit in private member functions.
 class Renderer final : public CudaRenderer {
@@ -188,48 +187,6 @@ public:
 };
 
 }  // namespace cuda_detail
-
-CudaInfo cuda_info() {
-    CudaInfo info;
-    info.compiled = true;
-    const char* off = std::getenv("LANTERN_DISABLE_CUDA");
-    if (off && *off && std::string(off) != "0") {
-        info.reason = "disabled by LANTERN_DISABLE_CUDA";
-        return info;
-    }
-    int count = 0;
-    cudaError_t e = cudaGetDeviceCount(&count);
-    if (e != cudaSuccess) {
-        cudaGetLastError();
-        const std::string err = std::string(" (CUDA: ") + cudaGetErrorString(e) + ")";
-        info.reason = e == cudaErrorInsufficientDriver
-                          ? "no NVIDIA driver found, or one too old for this build's CUDA " +
-                                std::to_string(CUDART_VERSION / 1000) + "." +
-                                std::to_string(CUDART_VERSION % 1000 / 10) + " runtime" + err
-                      : e == cudaErrorNoDevice ? "no CUDA-capable GPU found" + err
-                                               : "the CUDA driver cannot be used" + err;
-        return info;
-    }
-    cudaDeviceProp prop{};
-    if (count == 0 || cudaGetDeviceProperties(&prop, 0) != cudaSuccess) {
-        cudaGetLastError();
-        info.reason = count == 0 ? "no CUDA device" : "cannot read the properties of CUDA device 0";
-        return info;
-    }
-    info.name = prop.name;
-    info.memory_bytes = int64_t(prop.totalGlobalMem);
-    info.compute_capability = std::to_string(prop.major) + "." + std::to_string(prop.minor);
-    cudaFuncAttributes attr{};
-    e = cudaFuncGetAttributes(&attr, cuda_detail::probe_kernel);
-    if (e != cudaSuccess) {
-        cudaGetLastError();
-        info.reason = "this build has no kernels for compute capability " +
-                      info.compute_capability + " (" + cudaGetErrorString(e) + ")";
-        return info;
-    }
-    info.available = true;
-    return info;
-}
 
 std::unique_ptr<CudaRenderer> make_cuda_renderer(const HostScene& scene, const SessionSettings&,
                                                  std::vector<std::string>& warnings) {

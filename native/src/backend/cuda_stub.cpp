@@ -1,4 +1,5 @@
-// The CUDA backend in a build without nvcc: never available, with the reason.
+// The CUDA backend in a build without nvcc: never available, with the reason (cuda_info.cu and
+// backend/cuda/ otherwise).
 #include "backend/cuda/cuda_renderer.h"
 
 namespace lantern {
