@@ -25,6 +25,10 @@ null distribution):
   (test_adaptive_sampling's threshold, seeds and block);
 - film: the shadow catcher's alpha against the wall's exact shadow (test_film, its settings);
 - rotation: the HDRI turned by its mapping against the rolled map, paired seeds (test_world);
+- hdri: test_world's HDRI scene with its world sun, bdpt against pt (16 x 64 spp a side) and
+  lvc against bdpt on the same seeds, paired (test_integrators_agree_under_hdri);
+- layers: tests/cycles/test_layers_passes' Combined of both view layers and the uncropped
+  border against Cycles, 8 seeds of 16 spp an engine (needs bpy, like cycles);
 - pano: lt against pt through the panoramic camera (test_camera_pano, its samples);
 - lighttree: bdpt against pt on the many-light stage with the tree (test_light_tree);
 - cycles: Lantern against the stored Cycles reference of light_sun (needs bpy; the reference
@@ -261,6 +265,79 @@ def pairs_rotation(trial):
     yield "map rotation vs rolled map, paired seeds (test_world)", run
 
 
+def pairs_hdri(trial):
+    sys.path.insert(0, str(ROOT / "tests" / "python"))
+    import test_world as tw  # the HDRI test's scene (its 4x4 sun) and samples
+
+    def renders(integrator, spp, seed0):
+        scene = tw.hdri_scene()
+        scene.world["sun"] = tw.sky_sun()  # as the test: the world's sun disc in view
+        return tw.renders(scene, integrator, spp, seed0, k_seeds=16)
+
+    seed0 = 1000 * trial + 900000
+    cache = {}
+
+    def bdpt():
+        if "bdpt" not in cache:
+            cache["bdpt"] = renders("bdpt", tw.HDRI_SPP, seed0 + 500)
+        return cache["bdpt"]
+
+    def unpaired():
+        return bdpt(), renders("pt", tw.HDRI_PT_SPP, seed0), {"block": 8}
+
+    def paired():
+        lvc = renders("lvc", tw.HDRI_SPP, seed0 + 500)  # bdpt's seeds
+        level = np.mean(bdpt(), axis=0)
+        return [o - b + level for o, b in zip(lvc, bdpt())], level, {"block": 8}
+    yield "hdri bdpt vs pt (test_world)", unpaired
+    yield "hdri lvc vs bdpt, paired seeds (test_world)", paired
+
+
+def pairs_layers(trial):
+    """test_layers_passes' Combined (both view layers) and uncropped border against Cycles:
+    8 seeds of 16 spp an engine, each trial its own seeds on both sides (needs bpy)."""
+    sys.path.insert(0, str(ROOT / "blend_scenes"))
+    sys.path.insert(0, str(ROOT / "tests" / "cycles"))
+    import tempfile
+
+    import exr_passes
+    import lantern_bpy
+    import layers_passes
+    import test_layers_passes as tl
+    lantern_bpy.load_addon()
+    cache = {}
+
+    def renders():
+        if not cache:
+            tmp = Path(tempfile.mkdtemp())
+            for engine, setup, seed0, case in (
+                    ("cycles", tl._cycles, 10000 + 100 * trial, "full"),
+                    ("lantern", tl._lantern, 20000 + 100 * trial, "full"),
+                    ("lantern", tl._lantern, 20000 + 100 * trial, "nocrop")):
+                for k in range(tl.SEEDS):
+                    scene = layers_passes.layers_passes()
+                    setup(scene, seed0 + k)
+                    if case != "full":
+                        layers_passes.set_border(scene, crop=False)
+                    cache.setdefault((engine, case), []).append(
+                        exr_passes.render_passes(scene, tmp / f"{engine}_{case}{k}.exr"))
+        return cache
+
+    def combined(layer):
+        r = renders()
+        return (tl._combined(r["lantern", "full"], layer), tl._combined(r["cycles", "full"], layer),
+                {"block": 8})
+
+    def border(layer):
+        r = renders()
+        cut = (slice(64 - tl.BY1, 64 - tl.BY0), slice(tl.BX0, tl.BX1))
+        return ([x[cut] for x in tl._combined(r["lantern", "nocrop"], layer)],
+                [x[cut] for x in tl._combined(r["cycles", "full"], layer)], {"block": 8})
+    for layer in tl.LAYERS:
+        yield f"layers_passes {layer} Combined vs Cycles", lambda layer=layer: combined(layer)
+        yield f"layers_passes {layer} border vs Cycles", lambda layer=layer: border(layer)
+
+
 def pairs_pano(trial):
     sys.path.insert(0, str(ROOT / "tests" / "python"))
     import test_camera_pano as tp  # the panorama box and the test's samples
@@ -290,7 +367,8 @@ FAMILIES = {"cross": pairs_cross, "analytic": pairs_analytic, "backend": pairs_b
             "paired": pairs_paired, "scale": pairs_scale, "cycles": pairs_cycles,
             "fixture": pairs_fixture, "gpu_paired": pairs_gpu_paired,
             "instance": pairs_instance, "adaptive": pairs_adaptive, "film": pairs_film,
-            "rotation": pairs_rotation, "pano": pairs_pano, "lighttree": pairs_lighttree}
+            "rotation": pairs_rotation, "pano": pairs_pano, "lighttree": pairs_lighttree,
+            "hdri": pairs_hdri, "layers": pairs_layers}
 
 
 def main(argv=None):

@@ -443,12 +443,15 @@ def test_complex_fresnel_mirror_renders_fresnel_times_reflectance():
 
 # ---- the Bitterli Cornell box against Tungsten ----
 
-def cornell_comparison(size=128, spp=1024, seed=7):
-    """Render the imported Cornell box at size x size and compare with Tungsten's 1024^2
-    reference box-downsampled to the same size; emitter pixels (and a 1-pixel rim) masked."""
+def cornell_comparison(size=128, spp=None, seeds=None):
+    """Render the imported Cornell box at size x size, `seeds` seeds of `spp`, and compare with
+    Tungsten's 1024^2 reference box-downsampled to the same size; emitter pixels (and a
+    1-pixel rim) masked. The per-seed masked means give the image mean's standard error."""
+    spp, seeds = spp or CORNELL_SPP, seeds or CORNELL_SEEDS
     scene = mi.load_mitsuba(SCENES / "cornell-box" / "scene.xml", size, size)
     start = time.monotonic()
-    img = lantern.render(scene, spp=spp, max_depth=scene.metadata["max_depth"], seed=seed)
+    imgs = [np.asarray(lantern.render(scene, spp=spp, max_depth=scene.metadata["max_depth"],
+                                      seed=7 + k), dtype=np.float64) for k in range(seeds)]
     seconds = time.monotonic() - start
     ref = imageio.read_image(SCENES / "cornell-box" / "TungstenRender.exr").astype(np.float64)
     f = ref.shape[0] // size
@@ -460,10 +463,15 @@ def cornell_comparison(size=128, spp=1024, seed=7):
     rim[:, :-1] |= rim[:, 1:].copy()
     keep = ~rim
     ref = ref.reshape(size, f, size, f, 3).mean(axis=(1, 3))
-    img = np.asarray(img, dtype=np.float64)
+    img = np.mean(imgs, axis=0)
     blocks = metrics.block_means(keep.astype(np.float64), 8) == 1.0
+    # per seed: [grey, r, g, b] masked means over the reference's
+    per_seed = np.array([[im[keep].mean() / ref[keep].mean() - 1.0,
+                          *(im[keep].mean(axis=0) / ref[keep].mean(axis=0) - 1.0)]
+                         for im in imgs])
     return {
         "seconds": seconds,
+        "per_seed": per_seed,
         "mean_rel": img[keep].mean() / ref[keep].mean() - 1.0,
         "channel_rel": img[keep].mean(axis=0) / ref[keep].mean(axis=0) - 1.0,
         "rrmse": metrics.relative_rmse(img, ref, mask=keep),
@@ -474,20 +482,43 @@ def cornell_comparison(size=128, spp=1024, seed=7):
     }
 
 
+def cornell_mean_agrees(per_seed, bias=0.0):
+    """The grey and channel means against Tungsten's (with `bias` injected into Lantern's):
+    |mean - 0| <= CORNELL_CAP + t se, t the Bonferroni Student quantile over the four."""
+    x = (1.0 + per_seed) * (1.0 + bias) - 1.0
+    se = x.std(axis=0, ddof=1) / math.sqrt(len(x))
+    t = metrics.z_threshold(x.shape[1], 1e-3, len(x) - 1)
+    return bool(np.all(np.abs(x.mean(axis=0)) <= CORNELL_CAP + t * se)), CORNELL_CAP + t * se
+
+
+# 8 seeds of 128 spp (one render of 1024 before: the same samples). Tungsten's reference is one
+# stored image (its own noise on the masked mean ~1e-5: ~0.6 % a pixel over 10^6 pixels, from
+# neighbouring pixels' differences), so what differs is Lantern's noise (seed spread of the
+# mean 0.027 % at 256 spp) and the two renderers' systematic difference: +0.06..+0.12 % on
+# four seeds of 256 spp, +0.11 % at 1024 (seed 7). The cap states that difference (~3x); a
+# +-1 % bias of the whole image is the negative control. Blocks are not held to 5 %: against
+# the box-downsampled reference, 8x8 blocks differ by 2.1 % rms and up to 30 % where walls
+# meet (Lantern's pixel filter against a box), structure, not noise; the RMSE bounds stay.
+CORNELL_SEEDS, CORNELL_SPP, CORNELL_CAP = 8, 128, 0.003
+
+
 @pytest.mark.skipif(not (SCENES / "cornell-box" / "TungstenRender.exr").exists(),
                     reason="shared scenes not present")
 def test_cornell_box_matches_tungsten():
     if not lantern.native_available():
         pytest.skip(f"lantern._core is not built ({lantern.native_error()})")
     r = cornell_comparison()
-    print(f"\ncornell-box 128x128 1024 spp ({r['seconds']:.1f} s): mean {r['mean_rel']:+.3%} "
-          f"(r, g, b {np.round(r['channel_rel'] * 100, 3).tolist()} %), relative RMSE "
+    ok, allowed = cornell_mean_agrees(r["per_seed"])
+    print(f"\ncornell-box 128x128 {CORNELL_SEEDS} x {CORNELL_SPP} spp ({r['seconds']:.1f} s): "
+          f"mean {r['mean_rel']:+.3%} (r, g, b {np.round(r['channel_rel'] * 100, 3).tolist()} "
+          f"%; allowed {np.round(allowed * 100, 3).tolist()} %), relative RMSE "
           f"{r['rrmse']:.2%} per pixel (= 8x blocks of the 1024^2 reference; Mitsuba 2.9%), "
           f"{r['rrmse_8x']:.2%} after a further 8x downsample")
     left, right = r["left_right"]
     assert left[0] > 2 * left[1] and right[1] > 2 * right[0]   # red wall left, green right
-    assert abs(r["mean_rel"]) < 0.02
-    assert (np.abs(r["channel_rel"]) < 0.02).all()
+    assert ok, (r["per_seed"].mean(axis=0), allowed)
+    for bias in (0.01, -0.01):  # negative controls: a 1 % bias of the whole image must fail
+        assert not cornell_mean_agrees(r["per_seed"], bias)[0], bias
     assert r["rrmse"] < 0.05 and r["rrmse_8x"] < 0.02
 
 
