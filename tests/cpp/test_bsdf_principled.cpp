@@ -190,7 +190,7 @@ TEST(BsdfMultiscatter, WhiteRoughMetalReflectsOne) {
             m.specular_tint = vec3(1.0f);
             m.roughness = rough;
             m.multiscatter = 1;
-            float e_avg = ms_fill_table(m);
+            float e_avg = ms_fill_table(m, own_tables(m));
             m.fms_metal = ms_fresnel([&](float mu) { return conductor_fresnel(material_conductor(m), mu); },
                                      e_avg);
             Vec3 wo = dir_from_angles(theta_o, 0.5f);

@@ -83,7 +83,7 @@ Vec3 brute_force_film_metal(double cos_i, double eta_f, Vec3 n, Vec3 k, double d
 Material filmed(Material m, float thickness, float ior) {
     m.film_thickness = thickness;
     m.film_ior = ior;
-    principled_albedo_table(m);
+    principled_albedo_table(m, own_tables(m));
     return m;
 }
 

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <deque>
+
 #include "bsdf/material.h"
 #include "test_bsdf_helpers.h"
 
@@ -33,6 +35,16 @@ inline void expect_material_samples_its_pdf(const Material& m, const char* what,
     }
 }
 
+// Tables of m of its own (a copy of those it had, if any), which m points at: the scene keeps
+// them in SceneView::material_tables; a test's live here, for the test program's lifetime,
+// so that a material returned or copied by value keeps them and a changed copy gets new ones.
+inline MaterialTables& own_tables(Material& m) {
+    static std::deque<MaterialTables> pool;  // push_back keeps the earlier ones in place
+    pool.push_back(m.tables ? *m.tables : MaterialTables{});
+    m.tables = &pool.back();
+    return pool.back();
+}
+
 // Principled materials for the tests (tables filled as the scene build does).
 inline Material principled(Vec3 base, float metallic, float transmission, float roughness,
                     float ior = 1.5f, float level = 0.5f) {
@@ -47,7 +59,7 @@ inline Material principled(Vec3 base, float metallic, float transmission, float 
     float f0 = sqr((ior - 1.0f) / (ior + 1.0f)) * 2.0f * level;
     float r = std::sqrt(std::min(f0, 0.99f));
     m.spec_eta = (1.0f + r) / (1.0f - r);
-    principled_albedo_table(m);
+    principled_albedo_table(m, own_tables(m));
     return m;
 }
 
@@ -56,7 +68,7 @@ inline Material coated(Material m, float weight, float roughness, float ior = 1.
     m.coat_roughness = roughness;
     m.coat_ior = ior;
     m.coat_tint = vec3(1.0f);
-    principled_coat_table(m);
+    principled_coat_table(m, own_tables(m));
     return m;
 }
 
@@ -64,7 +76,7 @@ inline Material sheened(Material m, float weight, float roughness) {
     m.sheen_weight = weight;
     m.sheen_roughness = roughness;
     m.sheen_tint = vec3(1.0f);
-    principled_sheen_table(m);
+    principled_sheen_table(m, own_tables(m));
     return m;
 }
 

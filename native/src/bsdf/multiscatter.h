@@ -24,7 +24,7 @@ LANTERN_HD inline float ms_table(const float* t, float mu) {
 // The factor for a lobe with multiple-scattering Fresnel fms, seen at camera-side cosine mu.
 LANTERN_HD inline Vec3 ms_scale(const Material& m, Vec3 fms, float mu) {
     if (!m.multiscatter) return vec3(1.0f);
-    float e = ms_table(m.ms_e, mu);
+    float e = ms_table(m.tables->ms_e, mu);
     if (!(e > 1e-3f) || e >= 1.0f) return vec3(1.0f);
     return vec3(1.0f) + fms * ((1.0f - e) / e);
 }
@@ -66,15 +66,15 @@ inline float ggx_white_albedo(float roughness, float mu, int n = 48) {
     return ggx_reflection_albedo(g, mu, [](float) { return vec3(1.0f); }, n).x;
 }
 
-// Fills m.ms_e and returns E_avg = 2 int E(mu) mu dmu.
-inline float ms_fill_table(Material& m) {
+// Fills t.ms_e (m's tables) and returns E_avg = 2 int E(mu) mu dmu.
+inline float ms_fill_table(const Material& m, MaterialTables& t) {
     for (int k = 0; k < kPrincipledAlbedoN; ++k)
-        m.ms_e[k] = ggx_white_albedo(m.roughness, sqr(float(k) / (kPrincipledAlbedoN - 1)));
+        t.ms_e[k] = ggx_white_albedo(m.roughness, sqr(float(k) / (kPrincipledAlbedoN - 1)));
     const int n = 256;
     double avg = 0.0;
     for (int i = 0; i < n; ++i) {
         float mu = (i + 0.5f) / n;
-        avg += 2.0 * ms_table(m.ms_e, mu) * mu / n;
+        avg += 2.0 * ms_table(t.ms_e, mu) * mu / n;
     }
     return float(avg);
 }

@@ -106,12 +106,12 @@ inline float principled_spec_albedo_exact(const Material& m, float mu, int n = 6
     return clampf(max_component(e), 0.0f, 1.0f);
 }
 
-// Fills m.spec_albedo (host, at scene build). With a thin film the layer's weight is its Fresnel
+// Fills t.spec_albedo (host, at scene build; m.tables is t: the exact albedo reads t.ms_e). With a thin film the layer's weight is its Fresnel
 // at the view cosine (max channel), the smooth-surface estimate Cycles layers iridescence with.
-inline void principled_albedo_table(Material& m) {
+inline void principled_albedo_table(const Material& m, MaterialTables& t) {
     for (int k = 0; k < kPrincipledAlbedoN; ++k) {
         const float mu = sqr(float(k) / (kPrincipledAlbedoN - 1));
-        m.spec_albedo[k] = m.film_thickness > 0.0f
+        t.spec_albedo[k] = m.film_thickness > 0.0f
                                ? clampf(max_component(principled_spec_fresnel(m, fmaxf(mu, 1e-3f))),
                                         0.0f, 1.0f)
                                : principled_spec_albedo_exact(m, mu);
@@ -119,7 +119,7 @@ inline void principled_albedo_table(Material& m) {
 }
 
 LANTERN_HD inline float principled_spec_albedo(const Material& m, float mu) {
-    return ms_table(m.spec_albedo, mu);
+    return ms_table(m.tables->spec_albedo, mu);
 }
 
 // The metal lobe: F82-tint GGX of the base colour, with the thin film over it.
@@ -136,7 +136,7 @@ LANTERN_HD inline SheenParams principled_sheen(const Material& m) {
     return {m.sheen_tint * m.sheen_weight, m.sheen_roughness};
 }
 
-inline void principled_sheen_table(Material& m) {
+inline void principled_sheen_table(const Material& m, MaterialTables& t) {
     SheenParams white{vec3(1.0f), m.sheen_roughness};
     const int n = 64;
     for (int k = 0; k < kPrincipledAlbedoN; ++k) {
@@ -149,14 +149,14 @@ inline void principled_sheen_table(Material& m) {
                 Vec3 wi = sample_cosine_hemisphere(Vec2{(i + 0.5f) / n, (j + 0.5f) / n}, &pdf);
                 if (pdf > 0.0f) sum += sheen_f(white, wo, wi).x * wi.z / pdf;
             }
-        m.sheen_albedo[k] = clampf(float(sum / (n * n)), 0.0f, 1.0f);
+        t.sheen_albedo[k] = clampf(float(sum / (n * n)), 0.0f, 1.0f);
     }
 }
 
 // What the sheen lets through to the coat and below, at camera-side cosine mu.
 LANTERN_HD inline float principled_below_sheen(const Material& m, float mu) {
     if (!(m.sheen_weight > 0.0f)) return 1.0f;
-    float e = ms_table(m.sheen_albedo, mu) * m.sheen_weight * max_component(m.sheen_tint);
+    float e = ms_table(m.tables->sheen_albedo, mu) * m.sheen_weight * max_component(m.sheen_tint);
     return clampf(1.0f - e, 0.0f, 1.0f);
 }
 

@@ -41,9 +41,9 @@ inline float principled_coat_albedo_exact(const Material& m, float mu, int n = 4
     return clampf(e.x, 0.0f, 1.0f);
 }
 
-inline void principled_coat_table(Material& m) {
+inline void principled_coat_table(const Material& m, MaterialTables& t) {
     for (int k = 0; k < kPrincipledAlbedoN; ++k)
-        m.coat_albedo[k] = principled_coat_albedo_exact(m, sqr(float(k) / (kPrincipledAlbedoN - 1)));
+        t.coat_albedo[k] = principled_coat_albedo_exact(m, sqr(float(k) / (kPrincipledAlbedoN - 1)));
 }
 
 // Cosine of local direction w with the coat's normal nc (the base's +Z without kCoatNormal),
@@ -55,7 +55,7 @@ LANTERN_HD inline float coat_cos(const Material& m, Vec3 nc, Vec3 w) {
 
 // The coat's directional albedo at coat cosine mu_c (none from below its surface).
 LANTERN_HD inline float principled_coat_albedo(const Material& m, float mu_c) {
-    return mu_c > 0.0f ? ms_table(m.coat_albedo, mu_c) : 0.0f;
+    return mu_c > 0.0f ? ms_table(m.tables->coat_albedo, mu_c) : 0.0f;
 }
 
 // The coat lobe at (wo, wi) in the base's frame, seen in the frame of its normal nc: f_c

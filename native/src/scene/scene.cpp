@@ -169,6 +169,8 @@ HostScene::HostScene(const SceneInput& in) {
     for (size_t k = 0; k < in.materials.size(); ++k) {
         const MaterialInput& mi = in.materials[k];
         Material m{};
+        MaterialTables tab{};  // m's until the loop ends, then material_tables_[k]
+        m.tables = &tab;
         m.base_color = sanitize_color(mi.base_color, 1.0f);
         m.emission = sanitize_color(mi.emission, 1e30f);
         m.specular_tint = sanitize_color(mi.specular_tint, 1.0f);
@@ -234,11 +236,11 @@ HostScene::HostScene(const SceneInput& in) {
             m.coat_roughness = unit(mi.coat_roughness, 0.03f);
             m.coat_ior = finite_in(mi.coat_ior, 1.0f, 100.0f, 1.5f);
             m.coat_tint = sanitize_color(mi.coat_tint, 1.0f);
-            if (m.coat_weight > 0.0f) principled_coat_table(m);
+            if (m.coat_weight > 0.0f) principled_coat_table(m, tab);
             m.sheen_weight = finite_in(mi.sheen_weight, 0.0f, kInf, 0.0f);
             m.sheen_roughness = unit(mi.sheen_roughness, 0.5f);
             m.sheen_tint = sanitize_color(mi.sheen_tint, 1.0f);
-            if (m.sheen_weight > 0.0f) principled_sheen_table(m);
+            if (m.sheen_weight > 0.0f) principled_sheen_table(m, tab);
         } else {
             throw std::invalid_argument("material " + std::to_string(k) + " ('" + mi.name +
                                         "'): unknown type '" + mi.type +
@@ -248,7 +250,7 @@ HostScene::HostScene(const SceneInput& in) {
         // (the compensation tables are GGX's: a Beckmann conductor goes without, as Mitsuba)
         m.multiscatter = mi.multiscatter && !m.beckmann ? 1u : 0u;
         if (m.type == kMaterialConductor || m.type == kMaterialPrincipled) {
-            const float e_avg = ms_fill_table(m);
+            const float e_avg = ms_fill_table(m, tab);
             Material mc = m;
             auto metal_fresnel = [&](float mu) {
                 return conductor_fresnel(material_conductor(mc), mu) *
@@ -266,13 +268,13 @@ HostScene::HostScene(const SceneInput& in) {
             if (m.type == kMaterialPrincipled) {
                 m.fms_spec = ms_fresnel(
                     [&](float mu) { return principled_spec_fresnel(mc, mu); }, e_avg);
-                principled_albedo_table(m);
+                principled_albedo_table(m, tab);
             }
         }
         set_material_textures(m, mi, k, in.textures.size(), warnings_);
         materials_.push_back(m);
+        material_tables_.push_back(tab);
     }
-    set_mix_leaves(in);
     if (materials_.empty()) {
         Material m{};
         m.base_color = {0.8f, 0.8f, 0.8f};
@@ -282,7 +284,10 @@ HostScene::HostScene(const SceneInput& in) {
         m.specular_tint = {1.0f, 1.0f, 1.0f};
         m.fresnel = kFresnelF82Tint;
         materials_.push_back(m);
+        material_tables_.push_back(MaterialTables{});
     }
+    point_material_tables();
+    set_mix_leaves(in);
     add_textures(in);
     finish_emission_textures();
     add_programs(in);
@@ -290,6 +295,12 @@ HostScene::HostScene(const SceneInput& in) {
     add_lights(in);
     build_filter(in.filter_width);
     finish_view(in);
+}
+
+// Each material at its own tables (the vectors no longer grow; a copy of the scene would need
+// this again, see the class).
+void HostScene::point_material_tables() {
+    for (size_t k = 0; k < materials_.size(); ++k) materials_[k].tables = &material_tables_[k];
 }
 
 // Mix materials: their leaves exist and are not mixes, weights finite and >= 0; the mix
@@ -717,7 +728,12 @@ SceneView HostScene::copied_view(
     v.tri_material = put(view_.tri_material, tri_material_.size());
     v.tri_flags = put(view_.tri_flags, tri_flags_.size());
     v.tri_light = put(view_.tri_light, tri_light_.size());
-    v.materials = put(view_.materials, materials_.size());
+    // the materials point at their tables: the copies point at the copied tables
+    v.material_tables = put(view_.material_tables, material_tables_.size());
+    std::vector<Material> rebased(materials_);
+    for (size_t k = 0; k < rebased.size(); ++k)
+        rebased[k].tables = v.material_tables ? v.material_tables + k : nullptr;
+    v.materials = put(rebased.data(), rebased.size());
     v.lights = put(view_.lights, lights_.size());
     v.light_cdf = put(view_.light_cdf, light_cdf_.size());
     v.nee_cdf = put(view_.nee_cdf, nee_cdf_.size());
@@ -753,6 +769,7 @@ void HostScene::finish_view(const SceneInput& in) {
     v.tri_light = tri_light_.data();
     v.num_triangles = int32_t(tri_material_.size());
     v.materials = materials_.data();
+    v.material_tables = material_tables_.data();
     v.num_materials = int32_t(materials_.size());
     v.material_bits = 0;
     for (const Material& m : materials_) {
@@ -887,6 +904,9 @@ bool HostScene::update_materials(const SceneInput& in) {
         if (!same_use(materials_[k], next.materials_[k])) return false;
     }
     std::copy(next.materials_.begin(), next.materials_.end(), materials_.begin());
+    std::copy(next.material_tables_.begin(), next.material_tables_.end(),
+              material_tables_.begin());
+    point_material_tables();  // the copies point at next's tables
     return true;
 }
 

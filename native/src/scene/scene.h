@@ -148,6 +148,9 @@ class HostScene {
 public:
     // Throws std::invalid_argument with a clear message for input that cannot be rendered.
     explicit HostScene(const SceneInput& in);
+    // not copyable: each material points at its tables in this scene (point_material_tables)
+    HostScene(const HostScene&) = delete;
+    HostScene& operator=(const HostScene&) = delete;
     const SceneView& view() const { return view_; }
     // A new camera and film size (in's film and camera fields only); the rest stays.
     void set_camera(const SceneInput& in);
@@ -170,6 +173,7 @@ public:
     SceneView copied_view(const std::function<const void*(const void*, size_t)>& copy) const;
 
 private:
+    void point_material_tables();
     void set_mix_leaves(const SceneInput& in);
     void add_textures(const SceneInput& in);
     void finish_emission_textures();
@@ -191,6 +195,7 @@ private:
     std::vector<uint8_t> tri_flags_;
     std::vector<int32_t> tri_light_, hittable_lights_, miss_lights_;
     std::vector<Material> materials_;
+    std::vector<MaterialTables> material_tables_;  // materials_[k].tables: the k-th
     std::vector<Light> lights_;
     std::vector<float> light_cdf_, nee_cdf_, emit_cdf_, filter_cdf_;
     std::vector<MaterialProgram> programs_;

@@ -25,6 +25,17 @@ constexpr int kMixLeaves = 4;  // leaves of one mix material (nested mixes are f
 
 constexpr int kPrincipledAlbedoN = 33;  // at cosines (k / 32)^2: dense where Fresnel rises
 
+// A material's albedo tables by cosine (bsdf/multiscatter.h ms_table), made when the scene is
+// built. Resolving a hit's material (bsdf/material.h material_at) never changes them, so they
+// live apart, one per material in SceneView::material_tables, and the resolved copies a GPU
+// thread keeps on its stack (MaterialScratch) hold only the pointer.
+struct MaterialTables {
+    float spec_albedo[kPrincipledAlbedoN];  // principled specular layer (max channel)
+    float ms_e[kPrincipledAlbedoN];         // the white GGX lobe of the material's roughness
+    float coat_albedo[kPrincipledAlbedoN];  // principled coat
+    float sheen_albedo[kPrincipledAlbedoN]; // the white sheen lobe
+};
+
 struct Material {
     Vec3 base_color;
     Vec3 emission;       // radiance, both sides
@@ -46,16 +57,16 @@ struct Material {
     float spec_eta;      // the specular layer's IOR after Blender's Specular IOR Level
     float film_thickness;  // Thin Film Thickness (nm) on the specular layer, 0: none
     float film_ior;        // Thin Film IOR
-    float spec_albedo[kPrincipledAlbedoN];  // its directional albedo (max channel) by cosine
     // GGX multiple-scattering compensation (conductor, principled): bsdf/multiscatter.h
     uint32_t multiscatter;  // 1: compensate (Blender's "Multiscatter GGX", the default)
-    float ms_e[kPrincipledAlbedoN];  // albedo of the white GGX lobe of this roughness by cosine
     Vec3 fms_metal;      // Kulla-Conty multiple-scattering Fresnel of the metal lobe
     Vec3 fms_spec;       // ... of the principled specular layer
+    // the albedo tables (specular layer, white GGX, coat, sheen): SceneView::material_tables
+    // [material id], or for a mix leaf the leaf's; a resolved copy keeps its material's
+    const MaterialTables* tables;
     // principled coat: a dielectric GGX layer over everything else
     float coat_weight, coat_roughness, coat_ior;
     Vec3 coat_tint;
-    float coat_albedo[kPrincipledAlbedoN];  // its directional albedo by cosine
     // kCoatNormal: the coat has its own shading normal (Principled Coat Normal): the normal
     // map tex_coat_normal of coat_normal_strength on the interpolated normal, or (-1) the
     // interpolated normal itself, as Cycles' coat when only the base Normal is mapped
@@ -64,7 +75,6 @@ struct Material {
     // principled sheen: the top layer (bsdf/sheen.h)
     float sheen_weight, sheen_roughness;
     Vec3 sheen_tint;
-    float sheen_albedo[kPrincipledAlbedoN];  // of the white sheen lobe, by cosine
     // textured inputs (bsdf/material.h material_at): bits of MaterialTextureBits say which
     // tex_* index is used; zero (the default) means a constant material that is never copied
     uint32_t tex_flags;
@@ -239,6 +249,7 @@ struct SceneView {
     int32_t num_triangles = 0;
 
     const Material* materials = nullptr;
+    const MaterialTables* material_tables = nullptr;  // one per material: Material::tables
     int32_t num_materials = 0;
     uint32_t material_bits = ~0u;        // SceneMaterialBits
 
