@@ -104,7 +104,7 @@ def test_white_furnace_under_constant_map(core, integrator, settings, backend):
         # the image's totals over the coverage's: every light path that reaches the camera
         # counts (the fully covered pixels alone drop 40 % of them). A mask of "fully covered"
         # pixels from a 16 spp coverage let 11 rim pixels covered 91-99 % in, which read the
-        # ball ~0.4 % low (t19c's -0.48 +- 0.14 %; with the exact mask +0.08 +- 0.07 %)
+        # ball ~0.4 % low (t19c's -0.48 +- 0.14 %; with the exact mask +0.08 %, se ~0.08 %)
         ratio = np.stack([im.sum(axis=(0, 1)) for im in imgs]) / (cover.sum() * expected)
         # a white ball under a constant map: the channels are the same paths, so one ratio
         # (a channel gone astray would leave the others)
