@@ -80,3 +80,23 @@ def test_update_materials_refuses_what_reaches_further():
     assert s.spp == 1  # refused: nothing changed
     s.step()
     assert s.spp == 2
+
+
+@pytest.mark.parametrize("integrator", ["pt", "cis"])
+def test_update_materials_renews_the_albedo_tables(integrator):
+    """A rough conductor (energy-compensation tables, kept beside the materials since the
+    tables left Material) re-roughened in a running session: its tables are the new ones, bit
+    for bit what a new session renders."""
+    scene = scenes.features_box(16, 12)
+    metal = next(i for i, m in enumerate(scene.materials) if m.get("type") == "conductor")
+    s = session.Session(scene, integrator=integrator, backend="cpu", seed=7)
+    s.step()
+    edited = copy.deepcopy(scene)
+    edited.materials[metal] = dict(edited.materials[metal], roughness=0.8)
+    assert s.update_materials(edited.materials, edited.textures)
+    for _ in range(2):
+        s.step()
+    want = session.render(edited, spp=2, integrator=integrator, backend="cpu", seed=7)
+    np.testing.assert_array_equal(s.image(), want)
+    assert not np.array_equal(want, session.render(scene, spp=2, integrator=integrator,
+                                                    backend="cpu", seed=7))
