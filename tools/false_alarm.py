@@ -130,8 +130,7 @@ def pairs_paired(trial):
                                                     max_depth=6, backend="cpu"), np.float64)
                           for i in range(16)]
         os.environ.pop("LANTERN_ACCEL")
-        level = np.mean(out["embree"], axis=0)
-        return [b - e + level for b, e in zip(out["bvh"], out["embree"])], level, {}
+        return (*metrics.paired_sets(out["bvh"], out["embree"]), {})
     yield "bvh vs embree, paired seeds, features pt", run
 
 
@@ -143,14 +142,8 @@ def pairs_scale(trial):
         ref = tb.renders(scenes.glossy_box(32, 32), "cis", 8, 960000 + 1000 * trial)
         scaled = tb.renders(tb._scaled(scenes.glossy_box(32, 32), 1e-3), "cis", 8,
                             960000 + 1000 * trial)
-        level = np.mean(ref, axis=0)
-        return [a - b + level for a, b in zip(scaled, ref)], level, {}
+        return (*metrics.paired_sets(scaled, ref), {})
     yield "scale invariance 1e-3, paired seeds, glossy cis", run
-
-
-def _paired(a, b):
-    level = np.mean(b, axis=0, dtype=np.float64)
-    return [np.asarray(x, np.float64) - y + level for x, y in zip(a, b)], level
 
 
 def pairs_fixture(trial):
@@ -162,7 +155,7 @@ def pairs_fixture(trial):
         seed0 = 970000 + 1000 * trial
         a = tb.renders(scene, integ, 16, seed0, **settings)
         b = tb.renders(scene, ref, 16, seed0)
-        return (*_paired(a, b), {})
+        return (*metrics.paired_sets(a, b), {})
     yield "fixture lvc vs bdpt, paired seeds", lambda: run("lvc", "bdpt")
     yield "fixture cis(bsdf) vs lvc, paired seeds", lambda: run("cis", "lvc", cis_target="bsdf")
 
@@ -182,7 +175,7 @@ def pairs_gpu_paired(trial):
                 s.step()
             out[accel] = [s.image() for s in out[accel]]
         os.environ.pop("LANTERN_ACCEL")
-        return (*_paired(out["bvh"], out["embree"]), {})
+        return (*metrics.paired_sets(out["bvh"], out["embree"]), {})
     yield "gpu rule (paired) on cpu: bvh vs embree, cornell pt", run
 
 
@@ -207,8 +200,7 @@ def pairs_instance(trial):
                 f.step()
             a.append(s.image().astype(np.float64))
             b.append(f.image().astype(np.float64))
-        level = np.mean(b, axis=0)
-        return [x - y + level for x, y in zip(a, b)], level, {}
+        return (*metrics.paired_sets(a, b), {})
     yield "moved instance vs fresh render, paired seeds, cornell pt (bvh)", run
 
 
@@ -260,8 +252,7 @@ def pairs_rotation(trial):
                                                           axis=1))
         scene.world["to_map"] = np.eye(3).tolist()
         rolled = tw.renders(scene, "pt", tw.ROT_SPP, seed0, k_seeds=16)
-        level = np.mean(rolled, axis=0)
-        return [t - r + level for t, r in zip(turned, rolled)], level, {"block": 4}
+        return (*metrics.paired_sets(turned, rolled), {"block": 4})
     yield "map rotation vs rolled map, paired seeds (test_world)", run
 
 
@@ -287,8 +278,7 @@ def pairs_hdri(trial):
 
     def paired():
         lvc = renders("lvc", tw.HDRI_SPP, seed0 + 500)  # bdpt's seeds
-        level = np.mean(bdpt(), axis=0)
-        return [o - b + level for o, b in zip(lvc, bdpt())], level, {"block": 8}
+        return (*metrics.paired_sets(lvc, bdpt()), {"block": 8})
     yield "hdri bdpt vs pt (test_world)", unpaired
     yield "hdri lvc vs bdpt, paired seeds (test_world)", paired
 

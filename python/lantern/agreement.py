@@ -282,6 +282,18 @@ def negative_controls(renders_a, renders_b, block=8, image_bias=CONTROL_IMAGE_BI
     return results
 
 
+def paired_sets(renders_a, renders_b):
+    """Renders of the same seeds on both sides (a_k and b_k trace the same random numbers), as
+    a comparison of independent sets against an exact value (tests/README.md, "Paired seeds"):
+    E[a_k - b_k] = 0 is tested as a_k - b_k + mean(b) against mean(b), so the noise is the
+    spread of the per-seed differences. Returns (the K differences plus the level, the level),
+    in float64, for compare_renders / assert_agreement."""
+    level = np.mean(renders_b, axis=0, dtype=np.float64)
+    paired = [np.asarray(a, np.float64) - b + level
+              for a, b in zip(renders_a, renders_b, strict=True)]
+    return paired, level
+
+
 def assert_agreement(name, renders_a, renders_b, block=8, controls=True,
                      image_bias=CONTROL_IMAGE_BIAS, block_bias=CONTROL_BLOCK_BIAS, **kwargs):
     """compare_renders, printed; asserts agreement and, with `controls`, that every negative

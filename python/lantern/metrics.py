@@ -306,4 +306,4 @@ def compare_to_reference(img_a, var_a, img_b, var_b, block=8):
 
 # the one comparison of renders and its negative controls (lantern/agreement.py)
 from .agreement import (DEFAULT_BIAS_CAP, Agreement, assert_agreement,  # noqa: E402
-                        compare_renders, negative_controls)
+                        compare_renders, negative_controls, paired_sets)

@@ -147,9 +147,7 @@ def _paired(name, a, b):
     (tests/README.md): E[a_k - b_k] = 0 is tested as a_k - b_k + mean(b) against mean(b),
     taken as exact (the noise both share cancels), by lantern.metrics.assert_agreement with
     its 1 % / 5 % negative controls; identical images pass exactly."""
-    level = np.mean(b, axis=0)
-    paired = [x - y + level for x, y in zip(a, b, strict=True)]
-    return metrics.assert_agreement(name, paired, level, block=4)
+    return metrics.assert_agreement(name, *metrics.paired_sets(a, b), block=4)
 
 
 def _apply(addon, engine, ctx, fn):

@@ -111,7 +111,5 @@ def test_same_seeds_agree_statistically(core, monkeypatch, scene_name, integrato
     assert all(np.isfinite(r).all() for r in bvh)
     # paired: E[bvh_k - emb_k] = 0 is tested as bvh_k - emb_k + mean(emb) against mean(emb),
     # taken as exact (its own noise is common to both and cancels in the difference)
-    level = np.mean(emb, axis=0)
-    paired = [b - e + level for b, e in zip(bvh, emb)]
-    metrics.assert_agreement(f"{scene_name} {integrator} bvh vs embree, paired seeds", paired,
-                             level, block=8)
+    metrics.assert_agreement(f"{scene_name} {integrator} bvh vs embree, paired seeds",
+                             *metrics.paired_sets(bvh, emb), block=8)

@@ -142,8 +142,7 @@ def _renders(core, scene, backend, integrator, seed0, spp=64, **settings):
 
 def _agree_paired(name, a, b):
     """a, b: the same seeds on two backends; paired (module docstring)."""
-    level = np.mean(b, axis=0, dtype=np.float64)
-    paired = [np.asarray(x, np.float64) - y + level for x, y in zip(a, b, strict=True)]
+    paired, level = metrics.paired_sets(a, b)
     metrics.assert_agreement(name + ", paired seeds", paired, level, block=8,
                              image_bias=GPU_CONTROLS[0], block_bias=GPU_CONTROLS[1])
 

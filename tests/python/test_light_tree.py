@@ -3,11 +3,10 @@ pt, bdpt, lvc and cis still converge to the same image (an MIS weight with the w
 probability, forward or reverse, biases them apart), and pt with the tree agrees with pt on the
 global power CDF (LANTERN_LIGHT_TREE=0). Statistics as in test_bidirectional.py (K seeds,
 lantern.metrics.assert_agreement with its negative controls)."""
-import numpy as np
 import pytest
 
 import lantern
-from lantern import scenes
+from lantern import metrics, scenes
 
 from test_bidirectional import K, SIZE, SPP, check_agreement, renders
 
@@ -70,9 +69,8 @@ def test_tree_agrees_with_the_global_cdf(core, backend, monkeypatch):
     global_cdf(monkeypatch)
     flat = renders(SCENES["many"](), "pt", PT_REF, 1000, backend=backend)  # the same seeds
     assert not (tree[0] == flat[0]).all(), "LANTERN_LIGHT_TREE=0 changed nothing"
-    level = np.mean(flat, axis=0)
     check_agreement("many pt tree vs global CDF, paired seeds",
-                    [t - f + level for t, f in zip(tree, flat)], level, CONTROLS["many"])
+                    *metrics.paired_sets(tree, flat), CONTROLS["many"])
 
 
 @pytest.mark.parametrize("scene_name", list(SCENES))

@@ -179,12 +179,10 @@ def test_integrators_agree_under_hdri(core, backend):
     # paired (tests/README.md): lvc_k - bdpt_k + mean(bdpt) against mean(bdpt); the per-seed
     # image means correlate at 0.98 (measured without the world sun), so this resolves ~0.2 %
     # where the unpaired ~1 %
-    level = np.mean(others["bdpt"], axis=0)
     for integrator in ("lvc", "cis"):
         metrics.assert_agreement(f"hdri {integrator} vs bdpt, paired seeds",
-                                 [o - b + level for o, b in zip(others[integrator],
-                                                                others["bdpt"])],
-                                 level, block=8)
+                                 *metrics.paired_sets(others[integrator], others["bdpt"]),
+                                 block=8)
     # the control: bdpt with the same sun as a lamp (not drawn for the camera) is told apart
     scene.lights = [scene.world.pop("sun")]
     lamp = renders(scene, "bdpt", 4, 5000, k_seeds=4, backend=backend)
@@ -223,9 +221,8 @@ def test_map_rotation_turns_the_image(core):
     # (the paths that miss the map's importance sampling trace alike), so the per-seed
     # differences are ~4x quieter than the renders; E[turned_k - rolled_k] = 0 is tested as
     # turned_k - rolled_k + mean(rolled) against mean(rolled)
-    level = np.mean(rolled, axis=0)
     metrics.assert_agreement("rotation vs rolled pixels, paired seeds",
-                             [t - r + level for t, r in zip(turned, rolled)], level, block=4)
+                             *metrics.paired_sets(turned, rolled), block=4)
 
 
 ROT_SPP, ROT_SUN = 32, 20.0
