@@ -55,15 +55,21 @@ def test_update_materials_renders_as_a_new_session(integrator):
                 if not any(m.get("emission", (0, 0, 0))))
     edited.materials[wall] = dict(edited.materials[wall], base_color=[0.1, 0.2, 0.9],
                                   roughness=0.3)
+    _renders_as_a_new_session(s, scene, edited, integrator, 5, 3)
+
+
+def _renders_as_a_new_session(s, scene, edited, integrator, seed, spp):
+    """s, a running session of `scene`, takes edited's materials and renders `spp` samples
+    bit for bit as a new session of `edited` does; the old materials' image differs (the update
+    took effect)."""
     assert s.update_materials(edited.materials, edited.textures)
     assert s.spp == 0
-    for _ in range(3):
+    for _ in range(spp):
         s.step()
-    want = session.render(edited, spp=3, integrator=integrator, backend="cpu", seed=5)
+    want = session.render(edited, spp=spp, integrator=integrator, backend="cpu", seed=seed)
     np.testing.assert_array_equal(s.image(), want)
-    # the old materials' image differs: the update took effect
-    assert not np.array_equal(want, session.render(scene, spp=3, integrator=integrator,
-                                                    backend="cpu", seed=5))
+    assert not np.array_equal(want, session.render(scene, spp=spp, integrator=integrator,
+                                                    backend="cpu", seed=seed))
 
 
 def test_update_materials_refuses_what_reaches_further():
@@ -93,10 +99,4 @@ def test_update_materials_renews_the_albedo_tables(integrator):
     s.step()
     edited = copy.deepcopy(scene)
     edited.materials[metal] = dict(edited.materials[metal], roughness=0.8)
-    assert s.update_materials(edited.materials, edited.textures)
-    for _ in range(2):
-        s.step()
-    want = session.render(edited, spp=2, integrator=integrator, backend="cpu", seed=7)
-    np.testing.assert_array_equal(s.image(), want)
-    assert not np.array_equal(want, session.render(scene, spp=2, integrator=integrator,
-                                                    backend="cpu", seed=7))
+    _renders_as_a_new_session(s, scene, edited, integrator, 7, 2)
