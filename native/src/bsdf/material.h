@@ -4,7 +4,7 @@
 // fixes the relative index of refraction. Reflection lobes are two-sided (as in Cycles).
 // Light paths pass Transport::Importance: refraction then does not divide by eta^2.
 // coat_n: the coat's own normal in this frame (SurfaceHit::coat_n), read only by principled
-// materials with kCoatNormal.
+// materials with kCoatNormal, and by a bumped Lambert as its unbent normal.
 #pragma once
 
 #include "bsdf/conductor.h"
@@ -330,6 +330,14 @@ LANTERN_HD inline bool material_is_lambert(const Material& m) {
     return m.type == kMaterialDiffuse && !(m.diffuse_roughness > 0.0f);
 }
 
+// A Lambert whose normal a Bump, Displacement or Normal Map bends: Cycles' diffuse convention
+// (bsdf/lambert.h lambert_bumped_eval), which reads the light's side only; coat_n then carries
+// the unbent normal (SurfaceHit::coat_n). The view's side of a connection to such a vertex
+// needs the geometric normal alone (view_side_agrees, integrator/pt.h).
+LANTERN_HD inline bool material_reads_light_side(const Material& m) {
+    return material_is_lambert(m) && (m.tex_flags & (kTexBump | kTexNormal)) != 0;
+}
+
 LANTERN_HD inline bool material_is_delta(const Material& m) {
     if (m.type == kMaterialDiffuse) return false;
     if (m.type != kMaterialMix) return material_is_delta_leaf(m);
@@ -346,17 +354,30 @@ LANTERN_HD inline bool material_transmits(const Material& m) {
     return false;
 }
 
+// ng_l: the geometric normal in this frame, read by a bumped Lambert only (the axis of its
+// light sub-path sampler, so its importance sample and its reverse pdf in radiance); +Z (the
+// default) where the caller reads neither (pt: no reverse pdfs).
 LANTERN_HD inline BsdfEval material_eval(const Material& m, bool front, Vec3 wo, Vec3 wi,
-                                         Transport mode, Vec3 coat_n = Vec3{0.0f, 0.0f, 1.0f}) {
-    if (material_is_lambert(m)) return lambert_eval(m.base_color, wo, wi);
+                                         Transport mode, Vec3 coat_n = Vec3{0.0f, 0.0f, 1.0f},
+                                         Vec3 ng_l = Vec3{0.0f, 0.0f, 1.0f}) {
+    if (material_is_lambert(m))
+        return (m.tex_flags & (kTexBump | kTexNormal))
+                   ? lambert_bumped_eval(m.base_color, coat_n, ng_l, wo, wi,
+                                         mode == Transport::Radiance)
+                   : lambert_eval(m.base_color, wo, wi);
     return m.type == kMaterialMix ? mix_eval(m, front, wo, wi, mode, coat_n)
                                   : material_eval_leaf(m, front, wo, wi, mode, coat_n);
 }
 
 LANTERN_HD inline BsdfSample material_sample(const Material& m, bool front, Vec3 wo, Vec3 u,
                                              Transport mode,
-                                             Vec3 coat_n = Vec3{0.0f, 0.0f, 1.0f}) {
-    if (material_is_lambert(m)) return lambert_sample(m.base_color, wo, Vec2{u.x, u.y});
+                                             Vec3 coat_n = Vec3{0.0f, 0.0f, 1.0f},
+                                             Vec3 ng_l = Vec3{0.0f, 0.0f, 1.0f}) {
+    if (material_is_lambert(m))
+        return (m.tex_flags & (kTexBump | kTexNormal))
+                   ? lambert_bumped_sample(m.base_color, coat_n, ng_l, wo, Vec2{u.x, u.y},
+                                           mode == Transport::Radiance)
+                   : lambert_sample(m.base_color, wo, Vec2{u.x, u.y});
     return m.type == kMaterialMix ? mix_sample(m, front, wo, u, mode, coat_n)
                                   : material_sample_leaf(m, front, wo, u, mode, coat_n);
 }

@@ -44,7 +44,7 @@ struct LightVertex {
     int32_t path;   // light path index (bdpt pairs camera path i with light path i)
     int16_t length; // segments from the light to this vertex (y1 has 1; max_depth <= 1024)
     int16_t front;
-    uint32_t coat_n;  // kCoatNormal materials: SurfaceHit::coat_n, octahedral (oct_encode)
+    uint32_t coat_n;  // kCoatNormal, material_reads_light_side: SurfaceHit::coat_n (oct_encode)
 };
 
 static_assert(sizeof(LightVertex) == 96, "update the cache size in docs/lvc_notes.md");
@@ -237,7 +237,9 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
         v.path = int32_t(path);
         v.length = int16_t(k);
         v.front = h.front ? 1 : 0;
-        v.coat_n = (m.tex_flags & kCoatNormal) ? oct_encode(h.coat_n) : 0u;
+        v.coat_n = (m.tex_flags & kCoatNormal) || material_reads_light_side(m)
+                       ? oct_encode(h.coat_n)
+                       : 0u;
         bs.vertex[i] = v;
         bs.store[i] = is_finite(beta) && is_finite(dvcm) && is_finite(dvc) ? 1 : 0;
     }
@@ -246,9 +248,9 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
     if (!delta && k + 1 <= st.max_depth && (s.tri_flags[tri] & kVisibleCamera) != 0) {
         CameraConnection cc = connect_camera(s.camera, h.p, filter_radius(s.camera),
                                              lens_sample(s.camera, ps, i));
-        if (cc.valid && sides_agree(cc.wc, h.ng, h.ns)) {
+        if (cc.valid && view_side_agrees(m, cc.wc, h.ng, h.ns)) {
             BsdfEval e = material_eval(m, h.front, wo, frame.to_local(cc.wc),
-                                       Transport::Importance, h.coat_n);
+                                       Transport::Importance, h.coat_n, frame.to_local(h.ng));
             if (!is_black(e.f)) {
                 float cos_wc_ng = fabsf(dot(cc.wc, h.ng));
                 // f |wc.ns| times the adjoint shading-normal factor [Veach thesis (5.19)]
@@ -267,9 +269,9 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
     Rng rng = ps.rng[i];
     Vec2 u_dir = rng.uniform2();
     BsdfSample b = material_sample(m, h.front, wo, Vec3{u_dir.x, u_dir.y, rng.uniform()},
-                                   Transport::Importance, h.coat_n);
+                                   Transport::Importance, h.coat_n, frame.to_local(h.ng));
     Vec3 wi = frame.to_world(b.wi);
-    if (b.valid && sides_agree(wi, h.ng, h.ns) && (b.delta || b.pdf_fwd_w > 0.0f)) {
+    if (b.valid && view_side_agrees(m, wi, h.ng, h.ns) && (b.delta || b.pdf_fwd_w > 0.0f)) {
         float cos_i_ng = fabsf(dot(wi, h.ng));
         float adj = cos_o_ns * cos_i_ng / (cos_o_ng * fabsf(b.wi.z));
         Vec3 t = ps.throughput[i] * b.weight * adj;
@@ -406,7 +408,7 @@ LANTERN_HD inline void bdpt_camera_nee(const SceneView& s, const PathState& ps,
     LightSample ls = sample_light(s, l, z.h.p, u_light);
     if (!ls.valid || is_black(ls.le) || !sides_agree(ls.wi, z.h.ng, z.h.ns)) return;
     BsdfEval e = material_eval(*z.m, z.h.front, z.wo, z.frame.to_local(ls.wi), Transport::Radiance,
-                               z.h.coat_n);
+                               z.h.coat_n, z.frame.to_local(z.h.ng));
     float pdf_light_w = pick.pmf * ls.pdf_w;
     if (is_black(e.f) || !(pdf_light_w > 0.0f)) return;
     const bool infinite = !(ls.dist < kInf);
@@ -463,17 +465,21 @@ LANTERN_HD inline Connection bdpt_connect(const SceneView& s, const BdptSettings
     if (!(d2 > 0.0f) || !is_finite(d2)) return r;
     float dist = sqrtf(d2);
     dir = dir / dist;
-    if (!sides_agree(dir, z.h.ng, z.h.ns) || !sides_agree(-dir, y.ng, y.ns)) return r;
+    if (!sides_agree(dir, z.h.ng, z.h.ns) ||
+        !view_side_agrees(s.materials[y.material], -dir, y.ng, y.ns))
+        return r;
     BsdfEval ez = material_eval(*z.m, z.h.front, z.wo, z.frame.to_local(dir), Transport::Radiance,
-                                z.h.coat_n);
+                                z.h.coat_n, z.frame.to_local(z.h.ng));
     if (is_black(ez.f)) return r;
     MaterialScratch scratch;
     const Material& my = material_at_point(s, y.material, [&] { return shade_point_lv(s, y, -dir); },
                                             scratch);
     Frame fy = Frame::from_normal_angle(y.ns, y.tangent_angle);
-    const Vec3 coat_y = (my.tex_flags & kCoatNormal) ? oct_decode(y.coat_n) : vec3(0.0f, 0.0f, 1.0f);
+    const Vec3 coat_y = (my.tex_flags & kCoatNormal) || material_reads_light_side(my)
+                            ? oct_decode(y.coat_n)
+                            : vec3(0.0f, 0.0f, 1.0f);
     BsdfEval ey = material_eval(my, y.front != 0, fy.to_local(y.wo), fy.to_local(-dir),
-                                Transport::Importance, coat_y);
+                                Transport::Importance, coat_y, fy.to_local(y.ng));
     if (is_black(ey.f)) return r;
     const float cos_z_ng = fabsf(dot(dir, z.h.ng)), cos_y_ng = fabsf(dot(dir, y.ng));
     const float cos_z_ns = fabsf(dot(dir, z.h.ns));
@@ -655,7 +661,7 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
     // continue
     Vec2 u_dir = rng.uniform2();
     BsdfSample b = material_sample(m, z.h.front, z.wo, Vec3{u_dir.x, u_dir.y, rng.uniform()},
-                                   Transport::Radiance, z.h.coat_n);
+                                   Transport::Radiance, z.h.coat_n, z.frame.to_local(z.h.ng));
     Vec3 wi = z.frame.to_world(b.wi);
     if (b.valid && sides_agree(wi, z.h.ng, z.h.ns) && (b.delta || b.pdf_fwd_w > 0.0f)) {
         Vec3 beta = z.beta * b.weight;

@@ -243,9 +243,9 @@ LANTERN_HD inline void lt_shade(const SceneView& s, const PathState& ps, const L
     if ((s.tri_flags[tri] & kVisibleCamera) != 0) {
         CameraConnection cc = connect_camera(s.camera, h.p, filter_radius(s.camera),
                                              lens_sample(s.camera, ps, i));
-        if (cc.valid && !material_is_delta(m) && sides_agree(cc.wc, h.ng, h.ns)) {
+        if (cc.valid && !material_is_delta(m) && view_side_agrees(m, cc.wc, h.ng, h.ns)) {
             BsdfEval e = material_eval(m, h.front, wo, frame.to_local(cc.wc),
-                                       Transport::Importance, h.coat_n);
+                                       Transport::Importance, h.coat_n, frame.to_local(h.ng));
             // f * |cos_ns(wc)| with the adjoint shading-normal factor
             // |wo.ns| |wc.ng| / (|wo.ng| |wc.ns|)  [Veach thesis (5.19)]
             float cos_y = cos_o_ns * fabsf(dot(cc.wc, h.ng)) / cos_o_ng;
@@ -258,9 +258,9 @@ LANTERN_HD inline void lt_shade(const SceneView& s, const PathState& ps, const L
     Rng rng = ps.rng[i];
     Vec2 u_dir = rng.uniform2();
     BsdfSample bs = material_sample(m, h.front, wo, Vec3{u_dir.x, u_dir.y, rng.uniform()},
-                                    Transport::Importance, h.coat_n);
+                                    Transport::Importance, h.coat_n, frame.to_local(h.ng));
     Vec3 wi = frame.to_world(bs.wi);
-    if (bs.valid && sides_agree(wi, h.ng, h.ns)) {
+    if (bs.valid && view_side_agrees(m, wi, h.ng, h.ns)) {
         float adj = cos_o_ns * fabsf(dot(wi, h.ng)) / (cos_o_ng * fabsf(bs.wi.z));
         Vec3 t = ps.throughput[i] * bs.weight * adj;
         if (russian_roulette(t, depth + 1, st.rr_depth, rng) && max_component(t) > 0.0f &&

@@ -108,7 +108,9 @@ struct SurfaceHit {
     Vec2 st;    // texture coordinates (the mesh's uvs; 0 without)
     bool front; // the ray arrived on the triangle's front (counter-clockwise) side
     float tangent_angle = 0.0f;  // anisotropic materials: the shading frame's turn about ns
-    Vec3 coat_n{0.0f, 0.0f, 1.0f};  // kCoatNormal: the coat's normal, local to frame()
+    // kCoatNormal: the coat's normal; material_reads_light_side: the normal before Bump and
+    // Normal Map nodes (Cycles' N), both local to frame(); (0, 0, 1) where unbent
+    Vec3 coat_n{0.0f, 0.0f, 1.0f};
     LANTERN_HD Frame frame() const { return Frame::from_normal_angle(ns, tangent_angle); }
 };
 
@@ -116,6 +118,13 @@ struct SurfaceHit {
 // its side (reflection or transmission); otherwise light would leak through the shading normal.
 LANTERN_HD inline bool sides_agree(Vec3 w, Vec3 ng, Vec3 ns) {
     return dot(w, ng) * dot(w, ns) > 0.0f;
+}
+// The same for the view's side w at a light sub-path vertex (its connection to the camera or
+// to a camera vertex, the direction it samples): a BSDF that reads the light's side only (a
+// bumped Lambert, Cycles' diffuse) needs the reflection's geometric side alone, ng facing the
+// light there.
+LANTERN_HD inline bool view_side_agrees(const Material& m, Vec3 w, Vec3 ng, Vec3 ns) {
+    return material_reads_light_side(m) ? dot(w, ng) > 0.0f : sides_agree(w, ng, ns);
 }
 
 // The uv tangent (direction of increasing u) of triangle tri at barycentrics bary, unit and
@@ -239,7 +248,10 @@ LANTERN_HD inline void pt_surface_frames(const SceneView& s, SurfaceHit& h, int 
     if (m.tex_flags & kTexBump) n = program_bump(s, m, tri, uv, n, ng_front);  // node graphs
     h.ns = h.front ? n : -n;
     if (m.anisotropy > 0.0f) h.tangent_angle = anisotropy_angle(s, m, tri, uv, h.ns);
-    if (m.tex_flags & kCoatNormal) {  // the coat's own normal: its map, or the smooth normal
+    if (material_reads_light_side(m) &&
+        !(n.x == n_smooth.x && n.y == n_smooth.y && n.z == n_smooth.z)) {
+        h.coat_n = normalize(h.frame().to_local(h.front ? n_smooth : -n_smooth));
+    } else if (m.tex_flags & kCoatNormal) {  // the coat's own normal: its map, or the smooth normal
         Vec3 nc = m.tex_coat_normal >= 0 ? apply_normal_map(s, m.tex_coat_normal,
                                                              m.coat_normal_strength, tri, uv,
                                                              n_smooth, ng_front, h.st)
