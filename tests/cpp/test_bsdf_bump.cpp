@@ -112,7 +112,8 @@ TEST(BsdfLambertBumped, SampleAgreesWithEvalInBothTransports) {
                 return lit ? double(pdf_cosine_hemisphere(wi.z)) : 0.0;
             },
             60000, 1, 16, 16, 32);  // a fine quadrature: the pdf has an edge (N_s)
-        EXPECT_GT(r.p_value, 1e-4) << "radiance " << radiance << " chi2 " << r.chi2 << " dof " << r.dof;
+        EXPECT_GT(r.p_value, 1e-4)
+            << "radiance " << radiance << " chi2 " << r.chi2 << " dof " << r.dof;
         Pcg32 rng = Pcg32::for_path(3, 0, 0);
         int kept = 0, below_n = 0;
         for (int i = 0; i < 2000; ++i) {
