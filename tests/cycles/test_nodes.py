@@ -606,8 +606,8 @@ def test_bump_matches_cycles(case, tmp_path):
 
 # ---- Normal Map fed by a node graph (its Color a mix of two colours along x, Strength 0.8),
 # on a diffuse plane under an oblique sun turned about both axes, so that both tilt
-# directions show; the tilts stay under 0.25, where Cycles' extra darkening of bent normals
-# (docs/nodes.md "Bump and displacement") is under 0.3%. World and object spaces on a turned
+# directions show; the tilts stay under 0.25, where Cycles' bump shadowing term (docs/nodes.md
+# "Bump and displacement", which Lantern applies too) is under 0.3%. World and object spaces on a turned
 # plane (its uv tangent frame turns with it), object space also unevenly scaled (the normal
 # matrix is the inverse transpose); Blender's own spaces flip y and z. Measured controls:
 # Lantern rendering the world case as tangent space puts 73% of the pixel channels off, the
