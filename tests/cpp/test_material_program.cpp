@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
 #include <vector>
 
@@ -160,6 +161,56 @@ TEST(MaterialProgram, ProgramDrivesBaseColourAtTheHit) {
     MaterialScratch scratch2;
     const Material& b = material_at(s, 0, point_at(Vec3{}, Vec2{0.75f, 0.25f}), scratch2);
     EXPECT_FLOAT_EQ(b.base_color.x, 1.0f);
+}
+
+// A mix keeps its textured leaves' resolved inputs, not copies of them (MaterialScratch);
+// mix_leaf_at must give, byte for byte, the copy that resolving the leaf alone gives, and the
+// scene's own leaf (no copy) for an untextured one.
+TEST(MaterialProgram, MixLeavesResolveAsTheLeafAlone) {
+    std::vector<float> consts(7, 0.0f);
+    consts[0] = consts[1] = consts[2] = 1.0f;
+    consts[6] = 2.0f;
+    std::vector<uint32_t> code = {
+        w0(kOpInput, 2), w1(0, 8), 0, 0,               // uv -> r8
+        w0(kOpCopy, 0, 0, 3), w1(8, 12), 0, 0,         // vector into the checker block
+        w0(kOpCopy, 0, 0, 3), w1(0, 15), 0, 0,         // color1
+        w0(kOpCopy, 0, 0, 3), w1(3, 18), 0, 0,         // color2
+        w0(kOpCopy, 0, 0, 1), w1(6, 21), 0, 0,         // scale
+        w0(kOpChecker), w1(12, 24), 0, 0,
+    };
+    SceneInput in = plane_with_program(code, consts, 7, 24);
+    in.materials[0].type = "principled";
+    in.materials[0].metallic = 0.5f;
+    MaterialInput plain;
+    plain.name = "plain";
+    plain.type = "conductor";
+    MaterialInput mix;
+    mix.name = "mix";
+    mix.type = "mix";
+    mix.mix_children = {1, 0};
+    mix.mix_weights = {0.25f, 0.75f};
+    in.materials.push_back(plain);
+    in.materials.push_back(mix);
+    in.meshes[0].material_ids = {2, 2};
+    HostScene hs(in);
+    const SceneView& s = hs.view();
+    for (Vec2 st : {Vec2{0.25f, 0.25f}, Vec2{0.75f, 0.25f}}) {
+        const ShadePoint sp = point_at(Vec3{}, st);
+        MaterialScratch scratch, alone;
+        const Material& m = material_at(s, 2, sp, scratch);
+        ASSERT_EQ(m.type, uint32_t(kMaterialMix));
+        ASSERT_EQ(m.mix_count, 2);
+        Material tmp;
+        EXPECT_EQ(&mix_leaf_at(m, 0, tmp), &s.materials[1]);  // untextured: the scene's
+        const Material& leaf = mix_leaf_at(m, 1, tmp);
+        EXPECT_EQ(&leaf, &tmp);
+        const Material& ref = material_resolve_leaf(s, s.materials[0], sp, alone.m);
+        ASSERT_EQ(&ref, &alone.m);
+        EXPECT_EQ(std::memcmp(&leaf, &ref, sizeof(Material)), 0);
+        // the checker's cells: Color2 (0) at the origin's, Color1 (1) at its x neighbour's
+        EXPECT_FLOAT_EQ(leaf.base_color.x, st.x < 0.5f ? 0.0f : 1.0f);
+        EXPECT_FLOAT_EQ(s.materials[0].base_color.x, 0.8f);  // the scene's leaf unchanged
+    }
 }
 
 TEST(MaterialProgram, ConstantProgramFoldsIntoTheMaterial) {

@@ -38,25 +38,64 @@ LANTERN_HD inline DielectricParams material_dielectric(const Material& m, bool f
     return dielectric(m.roughness, front ? m.ior : 1.0f / m.ior, mode, m.anisotropy);
 }
 
-// Room for what material_at resolves: the material and, for a mix, its leaves. Left
-// uninitialised (Material is trivially copyable and only ever assigned whole), so that the
-// common untextured hit pays nothing for it. 5 x 368 = 1,840 bytes (x86-64 and CUDA alike):
-// the albedo tables, which resolution never changes, stay in the scene (Material::tables).
+// What resolving a material at a hit can change (textures, node-graph programs): the rest of
+// a resolved copy is the material's own. A mix keeps these for its textured leaves instead of
+// whole copies (mix_leaf_at puts them back), so that a GPU thread's scratch holds one Material.
+struct MaterialInputs {
+    Vec3 base_color, emission, fms_metal;
+    float roughness, metallic;
+    float mix_weight[2];  // kTargetMixFactor (read only where the material is a mix)
+    uint32_t resolved;    // a mix leaf's: 0 when the leaf is the scene's as it is
+};
+LANTERN_HD inline MaterialInputs material_inputs(const Material& m) {
+    MaterialInputs in;
+    in.base_color = m.base_color;
+    in.emission = m.emission;
+    in.fms_metal = m.fms_metal;
+    in.roughness = m.roughness;
+    in.metallic = m.metallic;
+    in.mix_weight[0] = m.mix_weight[0];
+    in.mix_weight[1] = m.mix_weight[1];
+    in.resolved = 1;
+    return in;
+}
+LANTERN_HD inline void material_set_inputs(Material& m, const MaterialInputs& in) {
+    m.base_color = in.base_color;
+    m.emission = in.emission;
+    m.fms_metal = in.fms_metal;
+    m.roughness = in.roughness;
+    m.metallic = in.metallic;
+    m.mix_weight[0] = in.mix_weight[0];
+    m.mix_weight[1] = in.mix_weight[1];
+}
+
+// Room for what material_at resolves: a copy of the material and, for a mix, its leaves'
+// inputs. Left uninitialised (Material is trivially copyable and only ever assigned whole), so
+// that the common untextured hit pays nothing for it. 376 + 4 x 56 = 600 bytes (x86-64 and
+// CUDA alike; with whole leaves 5 x 368 = 1,840): the albedo tables, which resolution never
+// changes, stay in the scene (Material::tables).
 struct MaterialScratch {
     union {
         Material m;
     };
-    union {
-        Material leaf[kMixLeaves];
-    };
+    MaterialInputs leaf[kMixLeaves];
     LANTERN_HD MaterialScratch() {}
 };
 
-// The inputs node-graph programs drive (kTexProgram), written into the copy `out` of m: only
-// the targets m has programs for run (NaN -> 0 inside program_run, then clamped to the
-// input's range, as textures are).
+// Leaf i of the resolved mix m: the scene's leaf, or its copy in `tmp` with the inputs
+// material_at resolved for it.
+LANTERN_HD inline const Material& mix_leaf_at(const Material& m, int i, Material& tmp) {
+    if (!m.mix_inputs || !m.mix_inputs[i].resolved) return *m.mix_leaf[i];
+    tmp = *m.mix_leaf[i];
+    material_set_inputs(tmp, m.mix_inputs[i]);
+    return tmp;
+}
+
+// The inputs node-graph programs drive (kTexProgram), written into `out` (m's inputs, maybe
+// already textured): only the targets m has programs for run (NaN -> 0 inside program_run,
+// then clamped to the input's range, as textures are).
 LANTERN_HD inline void material_apply_programs(const SceneView& s, const Material& m,
-                                               const ShadePoint& sp, Material& out) {
+                                               const ShadePoint& sp, MaterialInputs& out) {
     auto unit = [](float v) { return v >= 0.0f ? fminf(v, 1.0f) : 0.0f; };
     for (int i = 0; i < m.prog_count; ++i) {
         const MaterialProgram& p = s.programs[m.prog_first + i];
@@ -91,36 +130,46 @@ LANTERN_HD inline void material_apply_programs(const SceneView& s, const Materia
     }
 }
 
-// Material m (not a mix) at shading point sp: m itself when none of its BSDF inputs is
-// textured or driven by a node graph (no copy: untextured scenes pay nothing), else a copy in
-// `scratch` with the texture and program values (NaN -> 0, clamped to their ranges). The
+// The inputs of material m (not a mix, with kTexShading) at shading point sp: `out` starts as
+// m's own and takes the texture and program values (NaN -> 0, clamped to their ranges). The
 // albedo and energy-compensation tables stay those of the material's constant roughness
 // (docs/materials.md: textures).
-LANTERN_HD inline const Material& material_resolve_leaf(const SceneView& s, const Material& m,
-                                                        const ShadePoint& sp, Material& scratch) {
-    if (!(m.tex_flags & kTexShading)) return m;
-    scratch = m;
+LANTERN_HD inline void material_resolve_inputs(const SceneView& s, const Material& m,
+                                               const ShadePoint& sp, MaterialInputs& out) {
+    out = material_inputs(m);
     const Vec2 st = sp.st;
     auto unit = [](float v) { return v >= 0.0f ? fminf(v, 1.0f) : 0.0f; };  // NaN -> 0
     if (m.tex_flags & kTexRoughness) {
         const Texture& t = s.textures[m.tex_roughness];
-        scratch.roughness = unit(texture_scalar(t, texture_lookup(t, s.texels, s.srgb_lut, st)));
+        out.roughness = unit(texture_scalar(t, texture_lookup(t, s.texels, s.srgb_lut, st)));
     }
     if (m.tex_flags & kTexMetallic) {
         const Texture& t = s.textures[m.tex_metallic];
-        scratch.metallic = unit(texture_scalar(t, texture_lookup(t, s.texels, s.srgb_lut, st)));
+        out.metallic = unit(texture_scalar(t, texture_lookup(t, s.texels, s.srgb_lut, st)));
     }
-    if (m.tex_flags & kTexEmission) scratch.emission = material_emission(s, m, st);
+    if (m.tex_flags & kTexEmission) out.emission = material_emission(s, m, st);
     if (m.tex_flags & kTexBaseColor) {
         const Texture& t = s.textures[m.tex_base_color];
         Vec3 c = texture_color(texture_lookup(t, s.texels, s.srgb_lut, st));
         c = Vec3{unit(c.x), unit(c.y), unit(c.z)};
-        scratch.base_color = c;
+        out.base_color = c;
         // the metal's multiple-scattering Fresnel follows F0 = base colour (affine in F0)
         Vec3 favg = m.metal_favg0 + (m.metal_favg1 - m.metal_favg0) * c;
-        scratch.fms_metal = ms_fresnel_from_average(favg, m.e_avg);
+        out.fms_metal = ms_fresnel_from_average(favg, m.e_avg);
     }
-    if (m.tex_flags & kTexProgram) material_apply_programs(s, m, sp, scratch);
+    if (m.tex_flags & kTexProgram) material_apply_programs(s, m, sp, out);
+}
+
+// Material m (not a mix) at shading point sp: m itself when none of its BSDF inputs is
+// textured or driven by a node graph (no copy: untextured scenes pay nothing), else a copy in
+// `scratch` with the resolved inputs.
+LANTERN_HD inline const Material& material_resolve_leaf(const SceneView& s, const Material& m,
+                                                        const ShadePoint& sp, Material& scratch) {
+    if (!(m.tex_flags & kTexShading)) return m;
+    MaterialInputs in;
+    material_resolve_inputs(s, m, sp, in);
+    scratch = m;
+    material_set_inputs(scratch, in);
     return scratch;
 }
 
@@ -138,9 +187,13 @@ LANTERN_HD inline const Material& material_resolve(const SceneView& s, const Mat
     if (m.tex_flags & (kTexBump | kTexNormal)) sp.n = program_graph_normal(s, m, sp_hit);
     if (m.type != kMaterialMix) return material_resolve_leaf(s, m, sp, scratch.m);
     scratch.m = m;
-    for (int i = 0; i < m.mix_count; ++i)
-        scratch.m.mix_leaf[i] =
-            &material_resolve_leaf(s, s.materials[m.mix_child[i]], sp, scratch.leaf[i]);
+    scratch.m.mix_inputs = scratch.leaf;
+    for (int i = 0; i < m.mix_count; ++i) {
+        const Material& leaf = s.materials[m.mix_child[i]];
+        scratch.m.mix_leaf[i] = &leaf;
+        scratch.leaf[i].resolved = 0;
+        if (leaf.tex_flags & kTexShading) material_resolve_inputs(s, leaf, sp, scratch.leaf[i]);
+    }
     if (m.tex_flags & kTexMix) {
         const Texture& t = s.textures[m.tex_mix];
         float f = texture_scalar(t, texture_lookup(t, s.texels, s.srgb_lut, sp.st));
@@ -148,7 +201,11 @@ LANTERN_HD inline const Material& material_resolve(const SceneView& s, const Mat
         scratch.m.mix_weight[0] = 1.0f - f;
         scratch.m.mix_weight[1] = f;
     }
-    if (m.tex_flags & kTexProgram) material_apply_programs(s, m, sp, scratch.m);
+    if (m.tex_flags & kTexProgram) {
+        MaterialInputs in = material_inputs(scratch.m);
+        material_apply_programs(s, m, sp, in);
+        material_set_inputs(scratch.m, in);
+    }
     return scratch.m;
 }
 
@@ -275,20 +332,30 @@ LANTERN_HD inline float mix_total(const Material& m) {
     return sum;
 }
 
+// tmp: room for a resolved leaf (mix_leaf_at), one at a time
 LANTERN_HD inline BsdfEval mix_eval(const Material& m, bool front, Vec3 wo, Vec3 wi,
-                                    Transport mode, Vec3 coat_n) {
+                                    Transport mode, Vec3 coat_n, Material& tmp) {
     BsdfEval e{vec3(0.0f), 0.0f, 0.0f};
     const float total = mix_total(m);
     if (!(total > 0.0f)) return e;
     for (int i = 0; i < m.mix_count; ++i) {
         const float w = fmaxf(m.mix_weight[i], 0.0f);
         if (w <= 0.0f) continue;
-        BsdfEval l = material_eval_leaf(*m.mix_leaf[i], front, wo, wi, mode, coat_n);
+        BsdfEval l = material_eval_leaf(mix_leaf_at(m, i, tmp), front, wo, wi, mode, coat_n);
         e.f += l.f * w;
         e.pdf_fwd_w += l.pdf_fwd_w * (w / total);
         e.pdf_rev_w += l.pdf_rev_w * (w / total);
     }
     return e;
+}
+
+LANTERN_HD inline BsdfEval mix_eval(const Material& m, bool front, Vec3 wo, Vec3 wi,
+                                    Transport mode, Vec3 coat_n) {
+    union Leaf {  // uninitialised: assigned whole where a leaf is resolved
+        Material m;
+        LANTERN_HD Leaf() {}
+    } tmp;
+    return mix_eval(m, front, wo, wi, mode, coat_n, tmp.m);
 }
 
 LANTERN_HD inline BsdfSample mix_sample(const Material& m, bool front, Vec3 wo, Vec3 u,
@@ -309,8 +376,12 @@ LANTERN_HD inline BsdfSample mix_sample(const Material& m, bool front, Vec3 wo, 
     if (pick < 0) return s;
     const float w = fmaxf(m.mix_weight[pick], 0.0f), p = w / total;
     const float u_leaf = fminf(fmaxf((uc - before) / w, 0.0f), 0.99999994f);
-    BsdfSample l = material_sample_leaf(*m.mix_leaf[pick], front, wo, Vec3{u.x, u.y, u_leaf},
-                                        mode, coat_n);
+    union Leaf {
+        Material m;
+        LANTERN_HD Leaf() {}
+    } tmp;
+    BsdfSample l = material_sample_leaf(mix_leaf_at(m, pick, tmp.m), front, wo,
+                                        Vec3{u.x, u.y, u_leaf}, mode, coat_n);
     if (!l.valid) return s;
     if (l.delta) {  // a delta lobe of one leaf: its discrete probability times the pick
         l.weight = l.weight * (w / p);
@@ -319,7 +390,7 @@ LANTERN_HD inline BsdfSample mix_sample(const Material& m, bool front, Vec3 wo, 
         l.valid = is_finite(l.weight);
         return l;
     }
-    return mixture_sample(l.wi, mix_eval(m, front, wo, l.wi, mode, coat_n));
+    return mixture_sample(l.wi, mix_eval(m, front, wo, l.wi, mode, coat_n, tmp.m));
 }
 
 // ---- What the integrators call, on a material from material_at ----
@@ -338,18 +409,28 @@ LANTERN_HD inline bool material_reads_light_side(const Material& m) {
     return material_is_lambert(m) && (m.tex_flags & (kTexBump | kTexNormal)) != 0;
 }
 
+// Out of line on the device: its room for a resolved leaf (376 B) is then a frame of its own,
+// off the shade kernels' deepest call chain, not a part of theirs.
+#ifdef __CUDA_ARCH__
+__noinline__
+#endif
+LANTERN_HD inline bool mix_is_delta(const Material& m) {
+    Material tmp;
+    for (int i = 0; i < m.mix_count; ++i)
+        if (m.mix_weight[i] > 0.0f && !material_is_delta_leaf(mix_leaf_at(m, i, tmp)))
+            return false;
+    return true;
+}
+
 LANTERN_HD inline bool material_is_delta(const Material& m) {
     if (m.type == kMaterialDiffuse) return false;
-    if (m.type != kMaterialMix) return material_is_delta_leaf(m);
-    for (int i = 0; i < m.mix_count; ++i)
-        if (m.mix_weight[i] > 0.0f && !material_is_delta_leaf(*m.mix_leaf[i])) return false;
-    return true;
+    return m.type == kMaterialMix ? mix_is_delta(m) : material_is_delta_leaf(m);
 }
 
 // True when m can send light to the other side of the surface.
 LANTERN_HD inline bool material_transmits(const Material& m) {
     if (m.type != kMaterialMix) return material_transmits_leaf(m);
-    for (int i = 0; i < m.mix_count; ++i)
+    for (int i = 0; i < m.mix_count; ++i)  // type and transmission are never resolved
         if (material_transmits_leaf(*m.mix_leaf[i])) return true;
     return false;
 }

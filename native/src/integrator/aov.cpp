@@ -35,8 +35,9 @@ Vec3 diffuse_color_leaf(const Material& m, float mu) {
 Vec3 diffuse_color(const Material& m, float mu) {
     if (m.type != kMaterialMix) return diffuse_color_leaf(m, mu);
     Vec3 c = vec3(0.0f);
+    Material tmp;
     for (int i = 0; i < m.mix_count; ++i) {
-        if (m.mix_leaf[i]) c += diffuse_color_leaf(*m.mix_leaf[i], mu) * m.mix_weight[i];
+        if (m.mix_leaf[i]) c += diffuse_color_leaf(mix_leaf_at(m, i, tmp), mu) * m.mix_weight[i];
     }
     return c;
 }

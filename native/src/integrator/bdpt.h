@@ -560,38 +560,40 @@ LANTERN_HD inline void bdpt_camera_connect(const SceneView& s, const BdptState& 
     constexpr int kKept = kMaxCandidates;  // the CPU keeps them: each is evaluated once
 #endif
     const int m = min_int(st.candidates, kMaxCandidates);
-    int idx[kMaxCandidates];
-    float cdf[kMaxCandidates], p_hats[kMaxCandidates];
+    // per candidate only p-hat and its pick count: the indices are drawn again from a copy of
+    // the stream and the cumulative sums summed again in the same order (the same bits), so
+    // that a GPU thread holds 320 bytes here, not 1,024
+    Rng rng_candidates = rng;
+    float p_hats[kMaxCandidates];
     Connection cand[kKept];
     float sum = 0.0f;
     for (int j = 0; j < m; ++j) {
-        idx[j] = pick(rng.next());
-        const Connection c = bdpt_connect(s, st, z, cache.v[idx[j]]);
+        const Connection c = bdpt_connect(s, st, z, cache.v[pick(rng.next())]);
         if constexpr (kKept > 1) cand[j] = c;
         float p_hat = st.target == kTargetBsdf ? (is_black(c.c) ? 0.0f : c.bsdf_target)
                                                : luminance(c.c);
         if (!(p_hat > 0.0f) || !is_finite(p_hat)) p_hat = 0.0f;
         p_hats[j] = p_hat;
         sum += p_hat * size;
-        cdf[j] = sum;
     }
     if (!(sum > 0.0f) || !is_finite(sum)) return;
-    int count[kMaxCandidates];
+    uint8_t count[kMaxCandidates];  // of st.connections <= 64 picks (Session checks)
     for (int j = 0; j < m; ++j) count[j] = 0;
     for (int n = 0; n < st.connections; ++n) {
         float u = rng.uniform() * sum;
         int j = 0;
-        while (j < m - 1 && !(u < cdf[j])) ++j;
+        float cdf = p_hats[0] * size;  // the first loop's running sum, term for term
+        while (j < m - 1 && !(u < cdf)) cdf += p_hats[++j] * size;
         while (j > 0 && p_hats[j] == 0.0f) --j;  // never a zero-weight candidate
         ++count[j];
     }
     // the same candidate picked twice shares one shadow ray (same segment, same visibility)
     for (int j = 0; j < m; ++j) {
+        const LightVertex& y = cache.v[pick(rng_candidates.next())];
         const float p_hat = p_hats[j];
         if (count[j] == 0 || !(p_hat > 0.0f)) continue;
         float w_ris = st.naive_ris ? size : (sum / float(m)) / p_hat;
         float weight = w_ris * float(count[j]) / float(st.connections) * st.inv_light_paths;
-        const LightVertex& y = cache.v[idx[j]];
         Connection c;
         if constexpr (kKept > 1)
             c = cand[j];

@@ -21,24 +21,25 @@ LANTERN_HD inline int nee_resample_extra_draws(int m) { return m > 1 ? 3 * (m - 
 // maps a light sample to p-hat (zero where the contribution is zero, positive where it is
 // not). Sets *pick and *ls to the chosen candidate and returns W p_src(y) = (1/M) sum_j w_j /
 // w_y, the factor that turns the plain estimate f Le cos / p_src(y) into the resampled one;
-// 0 when no candidate has weight (then *pick has pmf 0).
+// 0 when no candidate has weight (then *pick has pmf 0). Only the weights are kept: the
+// chosen candidate is drawn again from its numbers (the same pick and sample), so that a GPU
+// thread holds no M light samples.
 template <class Target>
 LANTERN_HD inline float nee_resample(const SceneView& s, Vec3 p, Vec3 n_pick, int m,
                                      const float* u, float u_choose, Target target,
                                      LightPick* pick, LightSample* ls) {
-    LightPick cp[kMaxLightCandidates];
-    LightSample cs[kMaxLightCandidates];
     float w[kMaxLightCandidates];
     float sum = 0.0f;
     m = m < kMaxLightCandidates ? m : kMaxLightCandidates;
     for (int j = 0; j < m; ++j) {
         w[j] = 0.0f;
-        cp[j] = light_pick(s, p, n_pick, u[3 * j]);
-        if (!(cp[j].pmf > 0.0f)) continue;
-        cs[j] = sample_light(s, s.lights[cp[j].light], p, Vec2{u[3 * j + 1], u[3 * j + 2]});
-        if (!cs[j].valid) continue;
-        const float src = cp[j].pmf * cs[j].pdf_w;  // a delta light's pdf_w is 1: its pmf
-        const float ph = target(cs[j]);
+        const LightPick cp = light_pick(s, p, n_pick, u[3 * j]);
+        if (!(cp.pmf > 0.0f)) continue;
+        const LightSample cs =
+            sample_light(s, s.lights[cp.light], p, Vec2{u[3 * j + 1], u[3 * j + 2]});
+        if (!cs.valid) continue;
+        const float src = cp.pmf * cs.pdf_w;  // a delta light's pdf_w is 1: its pmf
+        const float ph = target(cs);
         if (src > 0.0f && ph > 0.0f) w[j] = ph / src;
         if (!(w[j] < 1e37f)) w[j] = 0.0f;  // overflow or NaN: never chosen, never summed
         sum += w[j];
@@ -54,8 +55,8 @@ LANTERN_HD inline float nee_resample(const SceneView& s, Vec3 p, Vec3 n_pick, in
         if (x < w[j]) break;
         x -= w[j];
     }
-    *pick = cp[c];
-    *ls = cs[c];
+    *pick = light_pick(s, p, n_pick, u[3 * c]);
+    *ls = sample_light(s, s.lights[pick->light], p, Vec2{u[3 * c + 1], u[3 * c + 2]});
     return sum / (float(m) * w[c]);
 }
 

@@ -271,7 +271,9 @@ void HostScene::add_programs(const SceneInput& in) {
                 const Vec3 a = program_run(host, p, sp);
                 m.transparency = 1.0f - (a.x >= 0.0f ? std::min(a.x, 1.0f) : 0.0f);
             } else {
-                material_apply_programs(host, tmp, sp, m);
+                MaterialInputs inputs = material_inputs(m);
+                material_apply_programs(host, tmp, sp, inputs);
+                material_set_inputs(m, inputs);
             }
             host.programs = nullptr;
         }

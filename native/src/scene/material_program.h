@@ -33,15 +33,16 @@ struct MaterialProgram {
 };
 
 // Runs program p at sp; its result (3 floats; scalars repeat in y, z unless the op wrote 3).
-// Never inlined on the host: a call keeps the op switch and its 192 registers out of the
-// stages that reach it (a diffuse-only scene's shading stage paid for their inlined copies).
-// Inlined on the device, as before: out of line there, ptxas spent 5% less CPU on cuda_pt but
-// its shade kernel took 216 registers instead of 192 (docs/nodes.md "Cost").
-#ifndef __CUDA_ARCH__
+// Never inlined: on the host a call keeps the op switch and its 192 registers out of the
+// stages that reach it (a diffuse-only scene's shading stage paid for their inlined copies);
+// on the device the registers (768 B of local memory) are then one frame of their own instead
+// of a copy inlined at each of a kernel's call sites, which cicc does not overlap (a shade
+// kernel held two along one path: bench/results/2026-12-02-stack). sp by value: a call
+// site's shading point then travels as a parameter, where by reference each of a kernel's
+// call sites kept its own copy in local memory.
 __attribute__((noinline))
-#endif
 LANTERN_HD inline Vec3 program_run(const SceneView& s, const MaterialProgram& p,
-                                   const ShadePoint& sp) {
+                                   const ShadePoint sp) {
     float r[kProgramRegs];
     const int nc = min_int(p.num_const, kProgramRegs);
     for (int i = 0; i < nc; ++i) r[i] = s.program_consts[p.first_const + i];

@@ -36,6 +36,8 @@ struct MaterialTables {
     float sheen_albedo[kPrincipledAlbedoN]; // the white sheen lobe
 };
 
+struct MaterialInputs;  // bsdf/material.h: what resolving a leaf at a hit changes
+
 struct Material {
     Vec3 base_color;
     Vec3 emission;       // radiance, both sides
@@ -86,12 +88,15 @@ struct Material {
     float e_avg;                    // E_avg: fms_metal for a textured base colour
     // mix (kMaterialMix): leaf materials (never mixes) by index with constant weights, or for
     // two leaves weights (1 - t, t) from the factor texture tex_mix (kTexMix); material_at
-    // points mix_leaf at the leaves, resolved (textures) where needed
+    // points mix_leaf at the scene's leaves
     int32_t mix_count;
     int32_t mix_child[kMixLeaves];
     float mix_weight[kMixLeaves];
     int32_t tex_mix;
     const Material* mix_leaf[kMixLeaves];
+    // a resolved mix: its textured leaves' resolved inputs (MaterialScratch::leaf), which
+    // mix_leaf_at applies to the scene's leaf where resolved is set; null: the leaves as they are
+    const MaterialInputs* mix_inputs;
     // kTexProgram: the compiled node graph, programs prog_first .. + prog_count of
     // SceneView::programs, one per input it drives (scene/material_program.h)
     int32_t prog_first, prog_count;
