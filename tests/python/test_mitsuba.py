@@ -443,18 +443,43 @@ def test_complex_fresnel_mirror_renders_fresnel_times_reflectance():
 
 # ---- the Bitterli Cornell box against Tungsten ----
 
-def cornell_comparison(size=128, spp=None, seeds=None):
-    """Render the imported Cornell box at size x size, `seeds` seeds of `spp`, and compare with
-    Tungsten's 1024^2 reference box-downsampled to the same size; emitter pixels (and a
-    1-pixel rim) masked. The per-seed masked means give the image mean's standard error."""
+def downsample(img, f):
+    """f x f box means of an (H, W, C) image (H, W multiples of f), RGB."""
+    h, w = img.shape[0] // f, img.shape[1] // f
+    return img[..., :3].reshape(h, f, w, f, 3).mean(axis=(1, 3))
+
+
+def reference_block_se(ref, f, block=8):
+    """Per block of the f x downsampled image, the standard error of Tungsten's own block mean
+    (one stored render: no seeds), from its pixels' noise: the second difference along rows,
+    x_i - (x_i-1 + x_i+1) / 2, has variance sigma^2 (1.5 - 2 rho) = sigma^2 for the tent's
+    neighbour correlation rho = 1/4 (radius one pixel), and the block mean of N pixels
+    sigma^2 (1 + 2 rho)^2 / N; sigma^2 from the median of the squares (/ 0.455, a normal's),
+    so that edges and shading in the block do not count as noise."""
+    d = ref[:, 1:-1] - 0.5 * (ref[:, :-2] + ref[:, 2:])
+    d = np.concatenate([d[:, :1], d, d[:, -1:]], axis=1)
+    n = f * block
+    bh, bw = ref.shape[0] // n, ref.shape[1] // n
+    sq = (d[:bh * n, :bw * n] ** 2).reshape(bh, n, bw, n, 3).transpose(0, 2, 1, 3, 4)
+    sigma2 = np.median(sq.reshape(bh, bw, n * n, 3), axis=2) / 0.455
+    return np.sqrt(2.25 * sigma2 / (n * n))
+
+
+def cornell_comparison(seeds=None, spp=None, size=128):
+    """Render the imported Cornell box at the reference's 1024^2 with its pixel filter (the
+    importer's Blackman-Harris of the tent's standard deviation), `seeds` seeds of `spp`, and
+    box-downsample both to size x size as the reference was made: Lantern's pixels and
+    Tungsten's then average the same footprint. Emitter pixels (and a 1-pixel rim) masked;
+    the blocks compared are the 8x8 blocks clear of that mask."""
     spp, seeds = spp or CORNELL_SPP, seeds or CORNELL_SEEDS
-    scene = mi.load_mitsuba(SCENES / "cornell-box" / "scene.xml", size, size)
-    start = time.monotonic()
-    imgs = [np.asarray(lantern.render(scene, spp=spp, max_depth=scene.metadata["max_depth"],
-                                      seed=7 + k), dtype=np.float64) for k in range(seeds)]
-    seconds = time.monotonic() - start
     ref = imageio.read_image(SCENES / "cornell-box" / "TungstenRender.exr").astype(np.float64)
     f = ref.shape[0] // size
+    scene = mi.load_mitsuba(SCENES / "cornell-box" / "scene.xml", ref.shape[1], ref.shape[0])
+    start = time.monotonic()
+    imgs = [downsample(np.asarray(lantern.render(scene, spp=spp, seed=7 + k,
+                                                 max_depth=scene.metadata["max_depth"]),
+                                  dtype=np.float64), f) for k in range(seeds)]
+    seconds = time.monotonic() - start
     hot = (ref.max(axis=2) > 1.5).reshape(size, f, size, f).any(axis=(1, 3))
     rim = hot.copy()
     rim[1:] |= hot[:-1]
@@ -462,18 +487,13 @@ def cornell_comparison(size=128, spp=None, seeds=None):
     rim[:, 1:] |= rim[:, :-1].copy()
     rim[:, :-1] |= rim[:, 1:].copy()
     keep = ~rim
-    ref = ref.reshape(size, f, size, f, 3).mean(axis=(1, 3))
+    ref_se = reference_block_se(ref, f)
+    ref = downsample(ref, f)
     img = np.mean(imgs, axis=0)
     blocks = metrics.block_means(keep.astype(np.float64), 8) == 1.0
-    # per seed: [grey, r, g, b] masked means over the reference's
-    per_seed = np.array([[im[keep].mean() / ref[keep].mean() - 1.0,
-                          *(im[keep].mean(axis=0) / ref[keep].mean(axis=0) - 1.0)]
-                         for im in imgs])
     return {
-        "seconds": seconds,
-        "per_seed": per_seed,
-        "mean_rel": img[keep].mean() / ref[keep].mean() - 1.0,
-        "channel_rel": img[keep].mean(axis=0) / ref[keep].mean(axis=0) - 1.0,
+        "seconds": seconds, "imgs": imgs, "ref": ref, "blocks": blocks,
+        "ref_block_rel_se": (ref_se / metrics.block_means(ref, 8))[blocks],
         "rrmse": metrics.relative_rmse(img, ref, mask=keep),
         "rrmse_8x": metrics.relative_rmse(metrics.block_means(img, 8),
                                           metrics.block_means(ref, 8), mask=blocks),
@@ -482,24 +502,16 @@ def cornell_comparison(size=128, spp=None, seeds=None):
     }
 
 
-def cornell_mean_agrees(per_seed, bias=0.0):
-    """The grey and channel means against Tungsten's (with `bias` injected into Lantern's):
-    |mean - 0| <= CORNELL_CAP + t se, t the Bonferroni Student quantile over the four."""
-    x = (1.0 + per_seed) * (1.0 + bias) - 1.0
-    se = x.std(axis=0, ddof=1) / math.sqrt(len(x))
-    t = metrics.z_threshold(x.shape[1], 1e-3, len(x) - 1)
-    return bool(np.all(np.abs(x.mean(axis=0)) <= CORNELL_CAP + t * se)), CORNELL_CAP + t * se
-
-
-# 8 seeds of 128 spp (one render of 1024 before: the same samples). Tungsten's reference is one
-# stored image (its own noise on the masked mean ~1e-5: ~0.6 % a pixel over 10^6 pixels, from
-# neighbouring pixels' differences), so what differs is Lantern's noise (seed spread of the
-# mean 0.027 % at 256 spp) and the two renderers' systematic difference: +0.06..+0.12 % on
-# four seeds of 256 spp, +0.11 % at 1024 (seed 7). The cap states that difference (~3x); a
-# +-1 % bias of the whole image is the negative control. Blocks are not held to 5 %: against
-# the box-downsampled reference, 8x8 blocks differ by 2.1 % rms and up to 30 % where walls
-# meet (Lantern's pixel filter against a box), structure, not noise; the RMSE bounds stay.
-CORNELL_SEEDS, CORNELL_SPP, CORNELL_CAP = 8, 128, 0.003
+# 16 seeds of 1 spp at Tungsten's 1024^2 (the samples of 8 x 128 at 128^2, as before; 16 seeds
+# for the Bonferroni threshold), both box-downsampled 8x. Rendered at 128^2 with the tent
+# scaled to that film, the blocks differed from the reference by 2.1 % rms and up to 30 % where
+# walls meet (the footprints differed, not the light); at the reference's own resolution and
+# filter they differ by their noise (0.67 % rms, worst |z| 3.5 against 7.7 over 756 values).
+# Tungsten's reference is one stored image: its own block noise (reference_block_se) is 0.02 %
+# (median; at most 0.14 %) against Lantern's 0.30 %, and the 0.3 % cap covers it (asserted).
+# The cap also states the renderers' systematic difference in the image mean: +0.06..+0.16 %
+# measured (16 x 1: +0.16 %; 8 x 128 at 128^2: +0.09 %; four seeds of 256 spp +0.06..+0.12 %).
+CORNELL_SEEDS, CORNELL_SPP, CORNELL_CAP = 14, 1, 0.003
 
 
 @pytest.mark.skipif(not (SCENES / "cornell-box" / "TungstenRender.exr").exists(),
@@ -508,17 +520,18 @@ def test_cornell_box_matches_tungsten():
     if not lantern.native_available():
         pytest.skip(f"lantern._core is not built ({lantern.native_error()})")
     r = cornell_comparison()
-    ok, allowed = cornell_mean_agrees(r["per_seed"])
-    print(f"\ncornell-box 128x128 {CORNELL_SEEDS} x {CORNELL_SPP} spp ({r['seconds']:.1f} s): "
-          f"mean {r['mean_rel']:+.3%} (r, g, b {np.round(r['channel_rel'] * 100, 3).tolist()} "
-          f"%; allowed {np.round(allowed * 100, 3).tolist()} %), relative RMSE "
-          f"{r['rrmse']:.2%} per pixel (= 8x blocks of the 1024^2 reference; Mitsuba 2.9%), "
-          f"{r['rrmse_8x']:.2%} after a further 8x downsample")
+    print(f"\ncornell-box 1024^2 {CORNELL_SEEDS} x {CORNELL_SPP} spp ({r['seconds']:.1f} s), "
+          f"box-downsampled 8x: relative RMSE {r['rrmse']:.2%} per 128^2 pixel (Mitsuba 2.9%), "
+          f"{r['rrmse_8x']:.2%} per 8x8 block; Tungsten's block noise "
+          f"{np.median(r['ref_block_rel_se']):.3%} (median), {r['ref_block_rel_se'].max():.3%} "
+          f"(max)")
     left, right = r["left_right"]
     assert left[0] > 2 * left[1] and right[1] > 2 * right[0]   # red wall left, green right
-    assert ok, (r["per_seed"].mean(axis=0), allowed)
-    for bias in (0.01, -0.01):  # negative controls: a 1 % bias of the whole image must fail
-        assert not cornell_mean_agrees(r["per_seed"], bias)[0], bias
+    assert r["ref_block_rel_se"].max() < 0.5 * CORNELL_CAP     # the cap covers the reference
+    # per block, the image mean and the block-weighted mean against the reference (exact but
+    # for the cap), with the 1 % / +5 % block / swapped-channel controls (tests/README.md)
+    metrics.assert_agreement("cornell-box vs Tungsten", r["imgs"], r["ref"], block=8,
+                             mask=r["blocks"], bias_cap=CORNELL_CAP)
     assert r["rrmse"] < 0.05 and r["rrmse_8x"] < 0.02
 
 
