@@ -465,7 +465,7 @@ def reference_block_se(ref, f, block=8):
     return np.sqrt(2.25 * sigma2 / (n * n))
 
 
-def cornell_comparison(seeds=None, spp=None, size=128):
+def cornell_comparison(seeds=None, spp=None, size=128, seed0=7):
     """Render the imported Cornell box at the reference's 1024^2 with its pixel filter (the
     importer's Blackman-Harris of the tent's standard deviation), `seeds` seeds of `spp`, and
     box-downsample both to size x size as the reference was made: Lantern's pixels and
@@ -476,7 +476,7 @@ def cornell_comparison(seeds=None, spp=None, size=128):
     f = ref.shape[0] // size
     scene = mi.load_mitsuba(SCENES / "cornell-box" / "scene.xml", ref.shape[1], ref.shape[0])
     start = time.monotonic()
-    imgs = [downsample(np.asarray(lantern.render(scene, spp=spp, seed=7 + k,
+    imgs = [downsample(np.asarray(lantern.render(scene, spp=spp, seed=seed0 + k,
                                                  max_depth=scene.metadata["max_depth"]),
                                   dtype=np.float64), f) for k in range(seeds)]
     seconds = time.monotonic() - start
@@ -576,7 +576,7 @@ def veach_sixths(img, ref, mask):
     return np.array(out)
 
 
-def veach_comparison(seeds=None, indirect_seeds=None, factor=8, max_depth=2):
+def veach_comparison(seeds=None, indirect_seeds=None, factor=8, max_depth=2, seed0=7):
     """Render the imported veach-mis at its 1280x720 with its filter, `seeds` seeds of 1 spp,
     and box-downsample by factor as Tungsten's reference is (both then average the same
     footprint); the three sphere lights seen directly (and a 1-pixel rim) masked, the 8x8
@@ -587,15 +587,17 @@ def veach_comparison(seeds=None, indirect_seeds=None, factor=8, max_depth=2):
     max_depth 2, and the one indirect bounce of the file's max_depth 3 separately: the first
     `indirect_seeds` seeds rendered again at that depth, their gain over max_depth 2 outside
     the highlights (paired, seed by seed) compared with Mitsuba's."""
-    seeds, indirect_seeds = seeds or VEACH_SEEDS, indirect_seeds or VEACH_INDIRECT_SEEDS
+    seeds = seeds or VEACH_SEEDS
+    indirect_seeds = VEACH_INDIRECT_SEEDS if indirect_seeds is None else indirect_seeds
     folder = SCENES / "veach-mis"
     ref = imageio.read_image(folder / "TungstenRender.exr").astype(np.float64)
     h, w = ref.shape[0] // factor, ref.shape[1] // factor
     scene = mi.load_mitsuba(folder / "scene.xml", ref.shape[1], ref.shape[0])
 
     def renders(depth, n):
-        return [downsample(np.asarray(lantern.render(scene, spp=1, max_depth=depth, seed=7 + k),
-                                      dtype=np.float64), factor) for k in range(n)]
+        return [downsample(np.asarray(lantern.render(scene, spp=1, max_depth=depth,
+                                                     seed=seed0 + k), dtype=np.float64), factor)
+                for k in range(n)]
     start = time.monotonic()
     imgs = renders(max_depth, seeds)
     seconds = time.monotonic() - start
@@ -610,6 +612,8 @@ def veach_comparison(seeds=None, indirect_seeds=None, factor=8, max_depth=2):
     rows = h // 8 * 8                                  # whole 8x8 blocks (90 rows: 88)
     blocks = metrics.block_means(keep[:rows].astype(np.float64), 8) == 1.0
     gain = np.array([b[rest].mean() / a[rest].mean() - 1.0 for a, b in zip(imgs, imgs3)])
+    if not indirect_seeds:  # the Tungsten comparison alone (tools/false_alarm.py)
+        return {"imgs": [im[:rows] for im in imgs], "ref": ref[:rows], "blocks": blocks}
     return {
         "seconds": seconds, "size": (w, h), "seeds": seeds, "max_depth": max_depth,
         "file_max_depth": scene.metadata["max_depth"], "indirect_seeds": indirect_seeds,
