@@ -35,6 +35,8 @@ null distribution):
   is one fixed set, so the 20 trials share it);
 - fixture: the fixture's paired comparisons of test_bidirectional (lvc against bdpt, cis with
   the BSDF-product target against lvc: the same seeds on both sides), 16 seeds of 16 spp;
+- tungsten: test_mitsuba's Cornell box and veach-mis against Tungsten's stored references,
+  rendered at their footprints (the 20 trials share each reference, as cycles does);
 - gpu_paired: test_cuda_backend's paired rule on CPU data: the built-in BVH against Embree with
   the same seeds (another traversal, the same wavefront), Cornell pt at that test's settings
   (32x32, 16 seeds of 64 spp, max_depth 8; one iteration of 64 where the test runs 4 of 16).
@@ -353,12 +355,27 @@ def pairs_lighttree(trial):
     yield "bdpt vs pt, many lights with the tree (test_light_tree)", run
 
 
+def pairs_tungsten(trial):
+    sys.path.insert(0, str(ROOT / "tests" / "python"))
+    import test_mitsuba as tm  # its renders at the references' footprints, masks and caps
+
+    def cornell():
+        r = tm.cornell_comparison(seed0=1000 * trial + 700000)
+        return r["imgs"], r["ref"], {"mask": r["blocks"], "bias_cap": tm.CORNELL_CAP}
+
+    def veach():
+        r = tm.veach_comparison(indirect_seeds=0, seed0=1000 * trial + 710000)
+        return r["imgs"], r["ref"], {"mask": r["blocks"], "bias_cap": tm.VEACH_CAP}
+    yield "cornell-box vs Tungsten (test_mitsuba)", cornell
+    yield "veach-mis max_depth 2 vs Tungsten (test_mitsuba)", veach
+
+
 FAMILIES = {"cross": pairs_cross, "analytic": pairs_analytic, "backend": pairs_backend,
             "paired": pairs_paired, "scale": pairs_scale, "cycles": pairs_cycles,
             "fixture": pairs_fixture, "gpu_paired": pairs_gpu_paired,
             "instance": pairs_instance, "adaptive": pairs_adaptive, "film": pairs_film,
             "rotation": pairs_rotation, "pano": pairs_pano, "lighttree": pairs_lighttree,
-            "hdri": pairs_hdri, "layers": pairs_layers}
+            "hdri": pairs_hdri, "layers": pairs_layers, "tungsten": pairs_tungsten}
 
 
 def main(argv=None):
@@ -383,14 +400,19 @@ def main(argv=None):
                 row["worst_p_x_n"].append(round(float(res.blocks.p.min() * res.blocks.n), 4))
                 print(f"{fam} trial {trial}: {label}: {'ok' if res.passed else 'FALSE ALARM'}"
                       f" ({time.perf_counter() - t0:.0f} s)", flush=True)
+                save(args.out, rows, t0)  # after every trial: a run cut short keeps its counts
+    print(json.dumps({k: {kk: vv for kk, vv in v.items() if kk != "worst_p_x_n"}
+                      for k, v in rows.items()}, indent=1))
+    return 0
+
+
+def save(path, rows, t0):
+    if not path:
+        return
     out = {"machine": f"{platform.node()} {platform.processor() or platform.machine()}, "
                       f"{platform.python_version()}", "command": " ".join(sys.argv),
            "seconds": round(time.perf_counter() - t0, 1), "rows": rows}
-    print(json.dumps({k: {kk: vv for kk, vv in v.items() if kk != "worst_p_x_n"}
-                      for k, v in rows.items()}, indent=1))
-    if args.out:
-        Path(args.out).write_text(json.dumps(out, indent=1))
-    return 0
+    Path(path).write_text(json.dumps(out, indent=1))
 
 
 if __name__ == "__main__":
