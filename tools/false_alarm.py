@@ -421,8 +421,7 @@ def pairs_bl_hdri(trial):
         scene, expected = _BL_SCENES["hdri"]
         imgs = [lantern.render(scene, spp=tw.HDRI_SPP, seed=1000 * trial + 950000 + k)
                 for k in range(16)]
-        return [x[tw.HDRI_PLANE][..., :3] for x in imgs], expected, {"block": 5,
-                                                                     "bias_cap": 1e-4}
+        return [x[tw.HDRI_PLANE][..., :3] for x in imgs], expected, {"block": 5}
     yield "HDRI world on a Lambert plane vs its exact irradiance (test_bl_world)", run
 
 

@@ -204,6 +204,8 @@ def test_programs_survive_the_scene_file(empty, tmp_path):
 # with Specular IOR Level 0, docs/materials.md) under a sharp sun off the vertical and no world,
 # pt: each sample sees the one light once, so a pixel reads rho E max(0, n . l) / pi to float
 # rounding, whatever the filter, where the shading normal n is constant over its footprint
+# (Lantern's model: Cycles darkens bent normals under an oblique sun by a further term,
+# docs/nodes.md "Bump and displacement", which tests/cycles/test_nodes.py measures)
 SUN_E, ALBEDO, SUN_ROT = 2.0, 0.8, (0.55, -0.35, 0.0)
 PLANE_COLS = slice(2, 30)
 EXACT_RTOL = 1e-5   # float rounding
