@@ -200,14 +200,14 @@ def test_programs_survive_the_scene_file(empty, tmp_path):
 
 # ---- Shading by a bent normal, exactly: a Lambert plane under one sharp sun ----
 # _scene_with's plane (2 m at the origin, seen from 3 m with the 50 mm lens: 0.0675 m a pixel,
-# every row and columns 2..29 on it, the 1.5 px filter included) as white Lambert (Principled
+# every row and columns 3..28 on it, the filter's +-1.5 px included) as white Lambert (Principled
 # with Specular IOR Level 0, docs/materials.md) under a sharp sun off the vertical and no world,
 # pt: each sample sees the one light once, so a pixel reads rho E max(0, n . l) / pi to float
 # rounding, whatever the filter, where the shading normal n is constant over its footprint
 # (Lantern's model: Cycles darkens bent normals under an oblique sun by a further term,
 # docs/nodes.md "Bump and displacement", which tests/cycles/test_nodes.py measures)
 SUN_E, ALBEDO, SUN_ROT = 2.0, 0.8, (0.55, -0.35, 0.0)
-PLANE_COLS = slice(2, 30)
+PLANE_COLS = slice(3, 29)
 EXACT_RTOL = 1e-5   # float rounding
 BUMP_RTOL = 2e-4    # and the bump's forward difference in float (kBumpStep): 8.5e-5 measured
 
@@ -350,7 +350,7 @@ def test_normal_map_fed_by_a_graph_exports_a_program(empty):
         return np.array([0.0, 0.0, 1.0]) + (t - [0.0, 0.0, 1.0]) * strength
 
     mapped = _render(scene)
-    for c, cols in zip(colours, (slice(2, 15), slice(17, 30))):  # the halves, off x = 0
+    for c, cols in zip(colours, (slice(3, 14), slice(18, 29))):  # the halves, off x = 0
         _assert_shading(f"normal map {c}", mapped[:, cols], _lambert(mapped_normal(c), to_sun),
                         _lambert(mapped_normal(c, 0.665), to_sun))   # strength 5 % short
     nt.links.remove(bsdf.inputs["Normal"].links[0])
