@@ -34,7 +34,7 @@ null distribution):
 - bl_catcher: tests/blender/test_bl_world's F12 shadow catcher scene, exported, its alpha
   against the wall's exact shadow (16 seeds of 8 spp; needs bpy);
 - bl_hdri: the same file's HDRI-lit Lambert plane against its exact irradiance (16 seeds of
-  48 spp; needs bpy);
+  24 spp; needs bpy);
 - pano: lt against pt through the panoramic camera (test_camera_pano, its samples);
 - lighttree: bdpt against pt on the many-light stage with the tree (test_light_tree);
 - cycles: Lantern against the stored Cycles reference of light_sun (needs bpy; the reference

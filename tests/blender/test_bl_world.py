@@ -126,7 +126,7 @@ def test_world_visibility(empty, addon):
                for m in report.messages), report.messages
 
 
-HDRI_SPP = 48   # 16 seeds over the whole view: the mean resolves 0.65 % (8 spp over 100 px: 3 %)
+HDRI_SPP = 24   # 16 seeds over the whole view: the mean resolves ~0.65 % (8 spp over 100 px: 3 %)
 
 
 def hdri_plane(scene):
