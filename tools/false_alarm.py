@@ -29,6 +29,12 @@ null distribution):
   lvc against bdpt on the same seeds, paired (test_integrators_agree_under_hdri);
 - layers: tests/cycles/test_layers_passes' Combined of both view layers and the uncropped
   border against Cycles, 8 seeds of 16 spp an engine (needs bpy, like cycles);
+- passes: the same test's data passes (Normal, Denoising Albedo, Denoising Normal, Diffuse
+  Color) against Cycles, the same seeds and samples (needs bpy);
+- bl_catcher: tests/blender/test_bl_world's F12 shadow catcher scene, exported, its alpha
+  against the wall's exact shadow (16 seeds of 8 spp; needs bpy);
+- bl_hdri: the same file's HDRI-lit Lambert plane against its exact irradiance (16 seeds of
+  24 spp; needs bpy);
 - pano: lt against pt through the panoramic camera (test_camera_pano, its samples);
 - lighttree: bdpt against pt on the many-light stage with the tree (test_light_tree);
 - cycles: Lantern against the stored Cycles reference of light_sun (needs bpy; the reference
@@ -330,6 +336,102 @@ def pairs_layers(trial):
         yield f"layers_passes {layer} border vs Cycles", lambda layer=layer: border(layer)
 
 
+def pairs_passes(trial):
+    """test_layers_passes' data passes (Normal, Denoising Albedo, Denoising Normal, Diffuse
+    Color; both view layers) against Cycles, 8 seeds of 16 spp an engine, each trial its own
+    seeds on both sides (needs bpy)."""
+    sys.path.insert(0, str(ROOT / "blend_scenes"))
+    sys.path.insert(0, str(ROOT / "tests" / "cycles"))
+    import tempfile
+
+    import exr_passes
+    import lantern_bpy
+    import layers_passes
+    import test_layers_passes as tl
+    lantern_bpy.load_addon()
+    cache = {}
+
+    def renders():
+        if not cache:
+            tmp = Path(tempfile.mkdtemp())
+            for engine, setup, seed0 in (("cycles", tl._cycles, 30000 + 100 * trial),
+                                         ("lantern", tl._lantern, 40000 + 100 * trial)):
+                for k in range(tl.SEEDS):
+                    scene = layers_passes.layers_passes()
+                    setup(scene, seed0 + k)
+                    cache.setdefault(engine, []).append(
+                        exr_passes.render_passes(scene, tmp / f"{engine}{k}.exr"))
+        return cache
+
+    def one(layer, name):
+        r = renders()
+        return (tl._pass_seeds(r["lantern"], layer, name),
+                tl._pass_seeds(r["cycles"], layer, name), {"block": 8})
+    for layer in tl.LAYERS:
+        for name in tl.DATA_PASSES:
+            yield (f"layers_passes {layer} {name} vs Cycles",
+                   lambda layer=layer, name=name: one(layer, name))
+
+
+def _bl_empty_scene():
+    """tests/blender's `empty` fixture: factory settings, no objects, Lantern, 32 x 24."""
+    sys.path.insert(0, str(ROOT / "tests" / "blender"))
+    import bpy
+    import lantern_bpy
+    lantern_bpy.load_addon()
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    scene = bpy.context.scene
+    scene.render.engine = "LANTERN"
+    scene.render.resolution_x, scene.render.resolution_y = 32, 24
+    scene.render.resolution_percentage = 100
+    return scene
+
+
+_BL_SCENES = {}
+
+
+def pairs_bl_catcher(trial):
+    """test_bl_world.py::test_shadow_catcher_through_f12: the exported catcher-and-wall scene's
+    alpha (16 seeds of 8 spp) against the wall's exact shadow (needs bpy)."""
+    sys.path.insert(0, str(ROOT / "tests" / "blender"))
+    import test_bl_world as tw
+    from lantern.film import render_alpha
+
+    def run():
+        if "catcher" not in _BL_SCENES:
+            tf = tw._film_test_module()
+            bscene = _bl_empty_scene()
+            tw.catcher_wall_scene(bscene, tf)
+            _BL_SCENES["catcher"] = (tw.export(None)[0], bscene.lantern.max_depth,
+                                     tw.catcher_expected(tf), tf.CATCHER_CAP)
+        scene, depth, expected, cap = _BL_SCENES["catcher"]
+        a = [render_alpha(scene, spp=tw.CATCHER_SPP, seed=1000 * trial + 900000 + k,
+                          max_depth=depth)[:, tw.CATCHER_COLS] for k in range(tw.CATCHER_SEEDS)]
+        return a, expected, {"block": 4, "bias_cap": cap}
+    yield "F12 shadow catcher vs its exact wall shadow (test_bl_world)", run
+
+
+def pairs_bl_hdri(trial):
+    """test_bl_world.py::test_hdri_renders_finite_and_lit: the exported HDRI-lit Lambert plane
+    (16 seeds of 128 spp) against its exact irradiance (needs bpy)."""
+    sys.path.insert(0, str(ROOT / "tests" / "blender"))
+    import test_bl_world as tw
+
+    def run():
+        if "hdri" not in _BL_SCENES:
+            _BL_SCENES["hdri"] = tw.hdri_plane(_bl_empty_scene())
+        scene, expected = _BL_SCENES["hdri"]
+        imgs = [lantern.render(scene, spp=tw.HDRI_SPP, seed=1000 * trial + 950000 + k)
+                for k in range(16)]
+        return [x[tw.HDRI_PLANE][..., :3] for x in imgs], expected, {"block": 4,
+                                                                     "bias_cap": 1e-4}
+    yield "HDRI world on a Lambert plane vs its exact irradiance (test_bl_world)", run
+
+
+FAMILIES_BL = {"passes": pairs_passes, "bl_catcher": pairs_bl_catcher,
+               "bl_hdri": pairs_bl_hdri}
+
+
 def pairs_pano(trial):
     sys.path.insert(0, str(ROOT / "tests" / "python"))
     import test_camera_pano as tp  # the panorama box and the test's samples
@@ -375,7 +477,8 @@ FAMILIES = {"cross": pairs_cross, "analytic": pairs_analytic, "backend": pairs_b
             "fixture": pairs_fixture, "gpu_paired": pairs_gpu_paired,
             "instance": pairs_instance, "adaptive": pairs_adaptive, "film": pairs_film,
             "rotation": pairs_rotation, "pano": pairs_pano, "lighttree": pairs_lighttree,
-            "hdri": pairs_hdri, "layers": pairs_layers, "tungsten": pairs_tungsten}
+            "hdri": pairs_hdri, "layers": pairs_layers, "tungsten": pairs_tungsten,
+            **FAMILIES_BL}
 
 
 def main(argv=None):

@@ -197,6 +197,55 @@ def test_programs_survive_the_scene_file(empty, tmp_path):
     assert np.array_equal(_render(again), _render(scene))   # same seed: the same image
 
 
+
+# ---- Shading by a bent normal, exactly: a Lambert plane under one sharp sun ----
+# _scene_with's plane (2 m at the origin, seen from 3 m with the 50 mm lens: 0.0675 m a pixel,
+# every row and columns 3..28 on it, the filter's +-1.5 px included) as white Lambert (Principled
+# with Specular IOR Level 0, docs/materials.md) under a sharp sun off the vertical and no world,
+# pt: each sample sees the one light once, so a pixel reads rho E max(0, n . l) / pi to float
+# rounding, whatever the filter, where the shading normal n is constant over its footprint
+# (Lantern's model: Cycles darkens bent normals under an oblique sun by a further term,
+# docs/nodes.md "Bump and displacement", which tests/cycles/test_nodes.py measures)
+SUN_E, ALBEDO, SUN_ROT = 2.0, 0.8, (0.55, -0.35, 0.0)
+PLANE_COLS = slice(3, 29)
+EXACT_RTOL = 1e-5   # float rounding
+BUMP_RTOL = 2e-4    # and the bump's forward difference in float (kBumpStep): 8.5e-5 measured
+
+
+def _lambert_under_sun(scene, bsdf):
+    import mathutils
+    bsdf.inputs["Base Color"].default_value = (ALBEDO, ALBEDO, ALBEDO, 1.0)
+    bsdf.inputs["Specular IOR Level"].default_value = 0.0
+    sun = bpy.data.lights["Sun"]
+    sun.energy, sun.angle = SUN_E, 0.0
+    bpy.data.objects["Sun"].rotation_euler = SUN_ROT
+    uv = bpy.data.objects["Plane"].data.uv_layers["UV"]
+    for loop, st in zip(uv.data, [(0, 0), (1, 0), (1, 1), (0, 1)]):  # u along +x, v along +y
+        loop.uv = st
+    # the sun shines along its -Z: towards it is its +Z
+    return np.array(mathutils.Euler(SUN_ROT).to_matrix() @ mathutils.Vector((0, 0, 1)))
+
+
+def _lambert(n, to_sun):
+    n = np.asarray(n, np.float64)
+    return ALBEDO * SUN_E / math.pi * max(0.0, float(n @ to_sun) / np.linalg.norm(n))
+
+
+def _assert_shading(name, img, expected, wrong, rtol=EXACT_RTOL):
+    """img (H, W, 3) against the exact shading `expected` ((H, W) or scalar) per pixel to
+    `rtol` (no noise: a 1 % bias fails by far); `wrong`, the shading of a normal a little off
+    (the control: a bump distance or a strength 5 % short), must fail it by 10x."""
+    img = np.asarray(img, np.float64)[..., :3]
+    expected = np.broadcast_to(np.asarray(expected, np.float64)[..., None], img.shape)
+    wrong = np.broadcast_to(np.asarray(wrong, np.float64)[..., None], img.shape)
+    err = np.abs(img / expected - 1.0)
+    off = np.abs(img / wrong - 1.0)
+    print(f"{name}: max rel. error {err.max():.2e} (allowed {rtol:.0e}); against the "
+          f"control's normal {off.min():.2e} at least")
+    assert err.max() <= rtol, (name, err.max())
+    assert off.min() > 10 * rtol, (name, "control", off.min())
+
+
 def _bump_material(name="Bumpy", height_node="ShaderNodeTexNoise"):
     mat, nt, bsdf = _material(name)
     h = nt.nodes.new(height_node)
@@ -208,22 +257,38 @@ def _bump_material(name="Bumpy", height_node="ShaderNodeTexNoise"):
 
 
 def test_bump_exports_a_program_and_bends_the_image(empty):
-    mat, nt, bsdf, bump = _bump_material()
-    inner = nt.nodes.new("ShaderNodeBump")   # a chain: the inner bump first
-    nt.links.new(nt.nodes.new("ShaderNodeTexWave").outputs["Fac"], inner.inputs["Height"])
-    nt.links.new(inner.outputs[0], bump.inputs["Normal"])
+    """A Bump fed by another Bump, on heights of constant slope (the Object coordinates' x
+    under the inner one, y under the outer one): two programs, and the plane shaded by the
+    bent normal exactly. Blender's Bump over a normal n with a height of surface gradient g
+    gives n |det| - d g (Mikkelsen 2010, eq. 4; Cycles' svm bump): the inner one bends z to
+    (-d1, 0, 1) / s1 (s1 = sqrt(1 + d1^2)); the outer one's surface gradient over that normal
+    is y scaled by n_z, so it gives n - d2 y: (-d1, -d2 s1, 1) up to length."""
+    mat, nt, bsdf = _material("Bumpy")
+    sep = nt.nodes.new("ShaderNodeSeparateXYZ")
+    nt.links.new(nt.nodes.new("ShaderNodeTexCoord").outputs["Object"], sep.inputs[0])
+    inner, outer = nt.nodes.new("ShaderNodeBump"), nt.nodes.new("ShaderNodeBump")
+    d1, d2 = 0.3, 0.2
+    inner.inputs["Distance"].default_value = d1
+    outer.inputs["Distance"].default_value = d2
+    nt.links.new(sep.outputs["X"], inner.inputs["Height"])
+    nt.links.new(sep.outputs["Y"], outer.inputs["Height"])
+    nt.links.new(inner.outputs[0], outer.inputs["Normal"])   # a chain: the inner bump first
+    nt.links.new(outer.outputs[0], bsdf.inputs["Normal"])
     _scene_with(mat, empty)
+    to_sun = _lambert_under_sun(empty, bsdf)
     scene, report = _export()
     assert report.messages == []
     progs = scene.materials[1]["programs"]
     assert [p["target"] for p in progs] == ["bump", "bump"]
-    bumped = _render(scene, spp=4)
+    s1 = math.hypot(1.0, d1)
+    bumped = _render(scene)[:, PLANE_COLS]
+    _assert_shading("two bumps", bumped, _lambert((-d1, -d2 * s1, 1.0), to_sun),
+                    _lambert((-d1, -0.95 * d2 * s1, 1.0), to_sun), BUMP_RTOL)  # outer 5 % short
     nt.links.remove(bsdf.inputs["Normal"].links[0])
     flat_scene, _ = _export()
     assert "programs" not in flat_scene.materials[1]
-    flat = _render(flat_scene, spp=4)
-    assert np.isfinite(bumped).all()
-    assert np.abs(bumped - flat).mean() > 0.01 * flat.mean()   # the normal moved
+    _assert_shading("no bump", _render(flat_scene)[:, PLANE_COLS], _lambert((0, 0, 1), to_sun),
+                    _lambert((-d1, -d2 * s1, 1.0), to_sun))
 
 
 def test_constant_bump_and_displacement_as_bump(empty):
@@ -253,19 +318,44 @@ def test_normal_map_fed_by_a_graph_exports_a_program(empty):
     mat, nt, bsdf = _material("Mapped")
     nm = nt.nodes.new("ShaderNodeNormalMap")
     nm.inputs["Strength"].default_value = 0.7
-    _checker_into(nt, nm.inputs["Color"])
+    # the graph: colour A where the Object x < 0, B where x > 0 (a Mix by x > 0)
+    colours = ((0.6, 0.45, 0.9), (0.35, 0.6, 0.85))
+    sep = nt.nodes.new("ShaderNodeSeparateXYZ")
+    nt.links.new(nt.nodes.new("ShaderNodeTexCoord").outputs["Object"], sep.inputs[0])
+    step = nt.nodes.new("ShaderNodeMath")
+    step.operation = "GREATER_THAN"
+    step.inputs[1].default_value = 0.0
+    nt.links.new(sep.outputs["X"], step.inputs[0])
+    mix = nt.nodes.new("ShaderNodeMix")
+    mix.data_type = "RGBA"
+    sock = {s.identifier: s for s in mix.inputs}
+    sock["A_Color"].default_value, sock["B_Color"].default_value = [(*c, 1.0) for c in colours]
+    nt.links.new(step.outputs[0], sock["Factor_Float"])
+    nt.links.new(next(s for s in mix.outputs if s.identifier == "Result_Color"),
+                 nm.inputs["Color"])
     nt.links.new(nm.outputs[0], bsdf.inputs["Normal"])
     _scene_with(mat, empty)
+    to_sun = _lambert_under_sun(empty, bsdf)
     scene, report = _export()
     assert report.messages == []
     m = scene.materials[1]
     assert [p["target"] for p in m["programs"]] == ["normal_map"]
     assert m["normal_strength"] == pytest.approx(0.7)
-    mapped = _render(scene, spp=4)
+
+    def mapped_normal(c, strength=0.7):
+        # tangent space (the plane's u along x, v along y: x, y, z), then Blender's Strength:
+        # n + (mapped - n) strength, renormalised
+        t = 2.0 * np.asarray(c) - 1.0
+        t /= np.linalg.norm(t)
+        return np.array([0.0, 0.0, 1.0]) + (t - [0.0, 0.0, 1.0]) * strength
+
+    mapped = _render(scene)
+    for c, cols in zip(colours, (slice(3, 14), slice(18, 29))):  # the halves, off x = 0
+        _assert_shading(f"normal map {c}", mapped[:, cols], _lambert(mapped_normal(c), to_sun),
+                        _lambert(mapped_normal(c, 0.665), to_sun))   # strength 5 % short
     nt.links.remove(bsdf.inputs["Normal"].links[0])
-    flat = _render(_export()[0], spp=4)
-    assert np.isfinite(mapped).all()
-    assert np.abs(mapped - flat).mean() > 0.01 * flat.mean()   # the normal moved
+    _assert_shading("no normal map", _render(_export()[0])[:, PLANE_COLS],
+                    _lambert((0, 0, 1), to_sun), _lambert(mapped_normal(colours[0]), to_sun))
     # in a shader mix the mix carries it (a mix bends one normal)
     nt.links.new(nm.outputs[0], bsdf.inputs["Normal"])
     mix = nt.nodes.new("ShaderNodeMixShader")
@@ -277,6 +367,7 @@ def test_normal_map_fed_by_a_graph_exports_a_program(empty):
     assert [p["target"] for p in top["programs"]] == ["normal_map"]
     assert top["normal_strength"] == pytest.approx(0.7)
     nt.links.new(bsdf.outputs[0], nt.nodes["Material Output"].inputs["Surface"])
+    bsdf.inputs["Specular IOR Level"].default_value = 0.5   # a Principled again, not Lambert
     bsdf.inputs["Coat Weight"].default_value = 0.5
     nt.links.new(nm.outputs[0], bsdf.inputs["Coat Normal"])
     _, report = _export()

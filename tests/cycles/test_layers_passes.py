@@ -5,9 +5,10 @@ into multilayer EXRs:
 - each view layer's Combined against Cycles: 8 seeds of 16 spp an engine,
   lantern.metrics.assert_agreement (8x8 blocks, the image mean) with its 1 % / 5 % negative
   controls (tests/README.md; was a 3 % bound on one render's mean);
-- Depth within 1% (median relative difference over the pixels both see a surface in);
-- Normal and Denoising Albedo within 0.05 (mean absolute difference over every pixel), and so
-  Denoising Normal and Diffuse Color (on the seeds' mean passes);
+- Depth exactly (both engines read it at the pixel centres: float rounding); Normal,
+  Denoising Albedo, Denoising Normal and Diffuse Color like Combined, on the same seeds (were
+  a median within 1 % and mean absolute differences within 0.05 on one seed); Emission
+  exactly 0 in both;
 - the border without crop: 8 seeds against Cycles' full frame over the border's pixels (Cycles'
   border render is its full render's pixels bit for bit, measured), with the same controls,
   and black outside; the border with crop: the same bits as the uncropped border with the same
@@ -78,14 +79,6 @@ def _combined(seeds, layer):
     return [p[layer, "Combined"][..., :3].astype(np.float64) for p in seeds]
 
 
-def _mean_pass(seeds, layer, name):
-    return np.mean([p[layer, name] for p in seeds], axis=0)
-
-
-def _rel(a, b):
-    return np.abs(a - b) / np.maximum(np.abs(b), 1e-12)
-
-
 @pytest.mark.parametrize("layer", LAYERS)
 def test_combined_per_view_layer(renders, layer):
     lan = _combined(renders["lantern", "full"], layer)
@@ -109,28 +102,55 @@ def test_view_layers_differ_where_the_props_are(renders):
     assert np.abs(full - no_props).mean() > 0.01
 
 
+def _pass_seeds(seeds, layer, name):
+    """One data pass of every seed as float64 images for compare_renders, in a form whose
+    levels are positive: the normals as 0.5 + 0.5 n (a normal map's colours: a miss's 0 reads
+    0.5), colours as they are."""
+    out = []
+    for p in seeds:
+        x = np.asarray(p[layer, name], np.float64)[..., :3]
+        out.append(0.5 + 0.5 * x if "Normal" in name else x)
+    return out
+
+
 @pytest.mark.parametrize("layer", LAYERS)
-def test_depth_normal_albedo(renders, layer):
-    lan, cyc = renders["lantern", "full"][0], renders["cycles", "full"][0]
-    dl, dc = lan[layer, "Depth"][..., 0], cyc[layer, "Depth"][..., 0]
-    hit = (dl < 1e9) & (dc < 1e9)
-    assert hit.mean() > 0.5
-    assert (dl >= 1e9).mean() == pytest.approx((dc >= 1e9).mean(), abs=0.02)
-    depth = float(np.median(_rel(dl[hit], dc[hit])))
-    normal = float(np.abs(lan[layer, "Normal"] - cyc[layer, "Normal"]).mean())
-    albedo = float(np.abs(lan[layer, "Denoising Albedo"] - cyc[layer, "Denoising Albedo"]).mean())
-    dnormal = float(np.abs(lan[layer, "Denoising Normal"] - cyc[layer, "Denoising Normal"]).mean())
-    diffuse = float(np.abs(lan[layer, "Diffuse Color"] - cyc[layer, "Diffuse Color"]).mean())
-    emission = float(np.abs(lan[layer, "Emission"] - cyc[layer, "Emission"]).mean())
-    rc.REPORT.append(f"layers_passes {layer}: Depth median rel {depth:.5f}, Normal mean abs "
-                     f"{normal:.4f}, Denoising Albedo {albedo:.4f}, Denoising Normal {dnormal:.4f}"
-                     f", Diffuse Color {diffuse:.4f}, Emission {emission:.4f}")
-    assert diffuse < 0.05
-    assert emission < 1e-6  # nothing in the scene emits
-    assert depth < 0.01
-    assert normal < 0.05
-    assert albedo < 0.05
-    assert dnormal < 0.05
+def test_depth_is_cycles_at_the_pixel_centres(renders, layer):
+    """Exact: both engines take Depth from their first sample, which goes through the pixel
+    centre (Cycles' sample 0; Lantern's AOV pass since this test found it jittered: 0.8 % more
+    inverse depth than Cycles, the edges blurred), so every seed writes the same Depth and the
+    engines agree per pixel to float rounding (6e-5 measured), misses (1e10) included; was the
+    median relative difference within 1 % on one seed."""
+    lan = np.stack([p[layer, "Depth"][..., 0] for p in renders["lantern", "full"]])
+    cyc = np.stack([p[layer, "Depth"][..., 0] for p in renders["cycles", "full"]])
+    assert (lan == lan[0]).all() and (cyc == cyc[0]).all()   # no noise on either side
+    assert 0.5 < (cyc[0] < 1e9).mean() < 1.0                  # surfaces and misses both
+    np.testing.assert_allclose(lan[0], cyc[0], rtol=1e-4)
+    assert not np.allclose(lan[0] * 1.01, cyc[0], rtol=1e-4)  # the 1 % control fails
+
+
+# The other data passes, 8 seeds a side: the mean of 16 samples (Lantern's AOV pass at the
+# render's 16, Cycles' 16); inside a surface they hardly vary, at edges they carry the coverage
+# noise. Compared like Combined (8x8 blocks, the image mean, the 1 % / 5 % controls; were mean
+# absolute differences within 0.05 on one seed).
+DATA_PASSES = ("Normal", "Denoising Albedo", "Denoising Normal", "Diffuse Color")
+
+
+@pytest.mark.parametrize("name", DATA_PASSES)
+@pytest.mark.parametrize("layer", LAYERS)
+def test_data_pass_against_cycles(renders, layer, name):
+    lan = _pass_seeds(renders["lantern", "full"], layer, name)
+    cyc = _pass_seeds(renders["cycles", "full"], layer, name)
+    ratio = np.mean(lan, axis=(0, 1, 2)) / np.mean(cyc, axis=(0, 1, 2))
+    rc.REPORT.append(f"layers_passes {layer}: {name} mean Lantern/Cycles "
+                     f"{np.round(ratio, 4).tolist()}")
+    metrics.assert_agreement(f"layers_passes {layer} {name} vs Cycles", lan, cyc, block=8)
+
+
+@pytest.mark.parametrize("layer", LAYERS)
+def test_nothing_emits(renders, layer):
+    """Nothing in the scene emits: the Emission pass is exactly 0 in every seed of both."""
+    for engine in ("lantern", "cycles"):
+        assert all((p[layer, "Emission"] == 0).all() for p in renders[engine, "full"]), engine
 
 
 def test_border_against_cycles(renders):

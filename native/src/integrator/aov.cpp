@@ -64,7 +64,13 @@ Vec3 to_camera(const CameraAxes& c, Vec3 n) { return {dot(n, c.x), dot(n, c.y), 
 void sample_pixel(const SceneView& s, const CpuBackend& accel, const CameraAxes& cam,
                   const AovSettings& st, int pixel, int k, PixelSum& sum) {
     Rng rng = Rng::for_pixel(st.seed ^ kAovStream, uint64_t(pixel), uint64_t(k));
-    Ray ray = generate_camera_ray(s.camera, pixel, rng);
+    // Cycles' sample 0 goes through the pixel centre (its filter sample is (0.5, 0.5)), so its
+    // Depth, read from that sample, is the centre's; the others sample the pixel filter
+    Ray ray = k == 0 ? camera_ray(s.camera, float(pixel % s.camera.width) + 0.5f,
+                                  float(pixel / s.camera.width) + 0.5f,
+                                  s.camera.lens_radius > 0.0f
+                                      ? sample_aperture(s.camera, rng.uniform2()) : Vec2{})
+                     : generate_camera_ray(s.camera, pixel, rng);
     HitRecord hit = accel.intersect(ray, RayKind::kCamera);
     const Vec3 world = s.world_light >= 0 ? s.lights[s.world_light].radiance : vec3(0.0f);
     if (hit.prim < 0) {

@@ -1,7 +1,8 @@
 // First-hit data passes for the compositor, with Cycles' meanings (measured with bpy 5.0.1):
-// Depth (camera z of the first hit, from the first sample; 1e10 on a miss), Normal (world-space
-// shading normal facing the ray, mean over samples; 0 on a miss), Diffuse Color and Emission of
-// the first hit, and the denoiser's features: Denoising Albedo and Denoising Normal (camera
+// Depth (camera z of the first hit, from the first sample, which goes through the pixel centre
+// as Cycles' sample 0 does; 1e10 on a miss), Normal (world-space shading normal facing the ray,
+// mean over samples; 0 on a miss), Diffuse Color and Emission of the first hit, and the
+// denoiser's features: Denoising Albedo and Denoising Normal (camera
 // space, Cycles' axes: x right, y up, z forward) at the first surface that is not a mirror or
 // clear glass (those are passed through, tinting the albedo), Denoising Depth there.
 // A pass of its own over camera rays (the CPU accelerator), independent of the integrators.
