@@ -273,15 +273,9 @@ def test_scene_file_carries_textures(tmp_path):
 ALPHA_SPP = 4   # x K seeds, the old single render's 64: pt resolves 0.63 % (0.89 % at 2)
 
 
-@pytest.mark.parametrize("integrator", ["pt", "bdpt", "cis"])
-def test_alpha_coverage(integrator, backend):
-    """A red diffuse card of alpha a over a white diffuse floor under a sun, seen from above:
-    each pixel of the card region is a mix a L_card + (1 - a) L_floor_behind, and the floor
-    beside the card is lit through it: (1 - a) of the sun reaches the shadowed floor. All
-    expected values analytic (sun 45 degrees, direct light only: max_depth 2): K seeds against
-    them with assert_agreement and its 1 % / 5 % negative controls (it was z < 5 on one
-    render's pixel spread, no control)."""
-    a = 0.3
+def alpha_card_scene(a):
+    """A red diffuse card of alpha a, 0.5 m over a grey diffuse floor, under a sun from +x 45
+    degrees up, seen from above (plane_scene's view, no world)."""
     s = plane_scene(world=0.0)
     floor = s.add_material(base_color=[0.5, 0.5, 0.5])
     card = s.add_material(base_color=[0.8, 0.1, 0.1], alpha=a)
@@ -293,14 +287,16 @@ def test_alpha_coverage(integrator, backend):
     s.add_mesh(np.array([[-1, -1, 0.5], [0, -1, 0.5], [0, 1, 0.5], [-1, 1, 0.5]], np.float32),
                quad, material=card)
     s.add_light("sun", strength=[2.0, 2.0, 2.0], direction=[-1.0, 0.0, -1.0])
-    imgs = [lantern.render(s, spp=ALPHA_SPP, integrator=integrator, seed=2 + k, threads=2,
-                           max_depth=2, backend=backend) for k in range(K)]
-    assert np.isfinite(np.stack(imgs)).all()
+    return s
+
+
+def alpha_card_expected(a):
+    """alpha_card_scene's exact image (direct light only) and the mask of its 4 x 4 blocks of
+    rows 8:56 whose columns keep 1.5 px (the filter) from every edge."""
     e = 2.0 / math.sqrt(2)                 # irradiance of the sun at 45 degrees
     lit_floor = 0.5 / math.pi * e
     card_l = np.array([0.8, 0.1, 0.1]) / math.pi * e
-    # the expected image by column (x of column i's centre: (i + 0.5) / 32 - 1), compared in
-    # the 4 x 4 blocks of rows 8:56 whose columns keep 1.5 px (the filter) from every edge
+    # by column (x of column i's centre: (i + 0.5) / 32 - 1)
     expected = np.zeros((64, 64, 3))
     # card over shadowed floor (x in [-1, -0.5], columns 0-15): a card + (1 - a) floor seen
     # through it, itself lit by the (1 - a) of the sun that passes the card
@@ -312,6 +308,23 @@ def test_alpha_coverage(integrator, backend):
     mask = np.zeros((16, 16), bool)
     for cols in (slice(1, 3), slice(5, 7), slice(9, 15)):   # columns 4-11, 20-27, 36-59
         mask[2:14, cols] = True
+    return expected, mask
+
+
+@pytest.mark.parametrize("integrator", ["pt", "bdpt", "cis"])
+def test_alpha_coverage(integrator, backend):
+    """A red diffuse card of alpha a over a white diffuse floor under a sun, seen from above:
+    each pixel of the card region is a mix a L_card + (1 - a) L_floor_behind, and the floor
+    beside the card is lit through it: (1 - a) of the sun reaches the shadowed floor. All
+    expected values analytic (sun 45 degrees, direct light only: max_depth 2): K seeds against
+    them with assert_agreement and its 1 % / 5 % negative controls (it was z < 5 on one
+    render's pixel spread, no control)."""
+    a = 0.3
+    s = alpha_card_scene(a)
+    imgs = [lantern.render(s, spp=ALPHA_SPP, integrator=integrator, seed=2 + k, threads=2,
+                           max_depth=2, backend=backend) for k in range(K)]
+    assert np.isfinite(np.stack(imgs)).all()
+    expected, mask = alpha_card_expected(a)
     metrics.assert_agreement(f"alpha coverage {integrator}", imgs, expected, block=4,
                              mask=mask, bias_cap=EXACT)
 
