@@ -18,8 +18,9 @@ px: the edge antialiased); the image less the model's sky (Cycles' without the d
 0.3 % per pixel, the disc sums then within 3e-6 of the difference of two Cycles renders,
 measured) summed over the pixels' solid angles is the disc's irradiance, within 1 % of the
 light's (the control: 3 % more Sun Intensity fails). Lantern's camera sees the disc (the
-world's sun light) in the same view: its summed radiance within 1 % plus 4 standard errors
-(4 seeds x 16 spp) of Cycles'; the control, the same light as a sun lamp (invisible to the
+world's sun light) in the same view: its summed radiance within a stated 0.3 % (measured:
++0.09 %, +0.19 %) plus Student t standard errors (8 seeds x 16 spp) of the light's strength,
+and +-1 % more or less must fail; the control, the same light as a sun lamp (invisible to the
 camera, as Blender's are), fails. The scene-level comparison (the stage lit by this sky, the
 default disc included) is world_sky_ms in test_cycles_compare.py. Tests that use the
 panorama fixture run before the disc tests, which reset Blender's data."""
@@ -34,6 +35,7 @@ import pytest
 bpy = pytest.importorskip("bpy")
 import lantern_bpy  # noqa: E402
 import render_compare as rc  # noqa: E402
+from lantern import metrics  # noqa: E402
 
 TOL = 0.01
 PANO = (256, 128)   # the panorama's pixels (a direction each)
@@ -279,14 +281,23 @@ def test_sun_disc_irradiance_matches_cycles(props, addon):
     node.sun_disc = True
     discs = _lantern(omega, LANTERN_SEEDS) - lantern_sky
     mean, se = discs.mean(0), discs.std(0, ddof=1) / math.sqrt(len(discs))
-    tol = TOL + 4.0 * se / mean
-    print(f"sun disc seen by Lantern's camera: {mean} +- {se} (Cycles {cycles})")
-    assert np.all(np.abs(mean / cycles - 1.0) < tol), (mean, se, cycles)
+    # against the light's strength (itself within 1 % of Cycles' disc, above): a stated cap
+    # (measured, 2026-12-02: the drawn disc sums +0.09 % and +0.19 % over it, 8 x 16 spp; over
+    # Cycles' +0.1 % and +0.3 %) + Student t at 1e-3 over the channels; the +-1 % controls
+    # must fail (was within 1 % + 4 se of 4 seeds of Cycles': a 1 % bias passed)
+    tol = DISC_CAP + metrics.z_threshold(3, 1e-3, dof=LANTERN_SEEDS - 1) * se / mean
+    print(f"sun disc seen by Lantern's camera: {mean} +- {se} (light {mine}, Cycles "
+          f"{cycles}): {mean / mine - 1.0} (allowed {tol})")
+    assert np.all(np.abs(mean / mine - 1.0) < tol), (mean, se, mine)
+    for bias in (0.01, -0.01):
+        assert not np.all(np.abs(mean * (1.0 + bias) / mine - 1.0) < tol), (bias, mean, se)
     lamp = _lantern(omega, 1, as_lamp=True)[0] - lantern_sky
-    assert np.all(np.abs(lamp / cycles - 1.0) > tol), lamp
+    assert np.all(np.abs(lamp / mine - 1.0) > tol), lamp
 
 
-LANTERN_SEEDS, LANTERN_SPP = 4, 16
+LANTERN_SEEDS, LANTERN_SPP = 8, 16   # 4 x 16 before; 16 x 4 gave se 0.1 % (QMC: fewer spp a seed, more noise per sample)
+DISC_CAP = 0.003
+
 
 
 def _sky_model(node, dirs):
