@@ -272,7 +272,7 @@ def pairs_exact_images(trial):
         scene = tv.ball_scene("glass", ("transmission",))
         imgs = [tv.render(scene, seed=seed0 + k, spp=128)[tv.BALL] for k in range(tv.K)]
         expected = tv.reflection_image(range(6, 10), range(6, 10))
-        return imgs, np.repeat(expected[..., None], 3, axis=2), {"block": 2}
+        return imgs, np.repeat(expected[..., None], 3, axis=2), {"block": 4}
     yield "glass reflection only vs its exact image (test_world_visibility)", glass
 
 

@@ -124,16 +124,19 @@ def test_glass_without_transmission_shows_only_its_reflection(core):
     full = [render(ball_scene("glass"), seed=k)[BALL] for k in range(K)]
     furnace("clear glass", full)
     # only the reflection: BALL against reflection_image (the filter's support stays on the
-    # ball there; 16 x 16 points a pixel converge to 3e-5), 16 seeds of 128 spp, 2 x 2 blocks,
-    # default cap. Reflection is picked with probability F (~4 %), so its noise is large: it
-    # resolves 3.4 %, hence 5 % / 15 % controls (1 % would need ~16 x 1024 spp, ~3 s). Was
+    # ball there; 16 x 16 points a pixel converge to 3e-5), 16 seeds of 128 spp, default cap,
+    # as one 4 x 4 block. Reflection is picked with probability F (~4 %) and the QMC sampler
+    # stratifies the pick: each pixel counts 5 or 6 reflections of 128 (two values), so the
+    # block is the whole middle (2 x 2 blocks with precision weights from such seeds false-
+    # alarmed 1 in 20 at 1e-3: blocks whose 16 seeds all counted 5 weighed most and read
+    # -2.3 %). It resolves ~3.4 %: 5 % controls (1 % would need ~16 x 1024 spp, ~3 s). Was
     # 0 < the mean of 4 seeds of 16 spp < 15 % of the world (true: 4 %)
     refl = [render(ball_scene("glass", ("transmission",)), seed=k, spp=128)[BALL]
             for k in range(K)]
     expected = reflection_image(range(6, 10), range(6, 10))
     metrics.assert_agreement("clear glass, reflection only", refl,
-                             np.repeat(expected[..., None], 3, axis=2), block=2,
-                             image_bias=0.05, block_bias=0.15)
+                             np.repeat(expected[..., None], 3, axis=2), block=4,
+                             image_bias=0.05, block_bias=0.05)
     # and without glossy either the camera sees nothing of the world through the ball
     none = render(ball_scene("glass", ("transmission", "glossy")), seed=1)
     assert none[BALL].max() == 0.0
