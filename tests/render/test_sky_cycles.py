@@ -295,7 +295,8 @@ def test_sun_disc_irradiance_matches_cycles(props, addon):
     assert np.all(np.abs(lamp / mine - 1.0) > tol), lamp
 
 
-LANTERN_SEEDS, LANTERN_SPP = 8, 16   # 4 x 16 before; 16 x 4 gave se 0.1 % (QMC: fewer spp a seed, more noise per sample)
+# 4 x 16 before; 16 x 4 gave se 0.1 % (QMC: fewer spp a seed, more noise per sample)
+LANTERN_SEEDS, LANTERN_SPP = 8, 16
 DISC_CAP = 0.003
 
 
