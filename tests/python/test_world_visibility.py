@@ -86,11 +86,11 @@ def fresnel_dielectric(c, eta=1.5):
 
 def reflection_image(rows, cols, size=16, sub=16):
     """The glass ball's reflection of the world alone at pixels [rows, cols] (ranges), exactly:
-    each camera ray that enters the
-    flat-faceted icosphere (ball_scene; convex: the entry face is the one of largest t among
-    those facing the ray) sees WORLD x F(cos) (the reflected ray leaves to the world), a miss
-    sees WORLD; each pixel averaged over sub x sub points of the separable Blackman-Harris
-    filter's support (+-1.5 px, integrator/camera.h) with its weights."""
+    each camera ray that enters the flat-faceted icosphere (ball_scene, ior 1.5; convex: the
+    entry face is the one of largest t among those facing the ray) sees WORLD x F(cos) (the
+    reflected ray leaves to the world), a miss sees WORLD; each pixel averaged over sub x sub
+    points of the separable Blackman-Harris filter's support (+-1.5 px, integrator/camera.h)
+    with its weights."""
     pos, idx = scenes.icosphere(2, 0.9)
     tri = np.asarray(pos, np.float64)[np.asarray(idx).reshape(-1, 3)]
     n = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
@@ -101,8 +101,10 @@ def reflection_image(rows, cols, size=16, sub=16):
     off = (np.arange(sub) + 0.5) / sub * 3.0 - 1.5
     v = 2 * math.pi * (off / 3.0 + 0.5)
     bh = 0.35875 - 0.48829 * np.cos(v) + 0.14128 * np.cos(2 * v) - 0.01168 * np.cos(3 * v)
+
     def axis(px):
         return ((np.asarray(px)[:, None] + 0.5 + off[None, :]).ravel() / size * 2 - 1) * tan
+
     uu, vv = np.meshgrid(axis(cols), axis(rows))  # image x along X, y along -Z (signs moot)
     d = np.stack([uu.ravel(), np.ones(uu.size), -vv.ravel()], axis=1)
     d /= np.linalg.norm(d, axis=1, keepdims=True)
