@@ -1,7 +1,9 @@
 """Shader nodes against Cycles, node by node: each case drives an emission-only material with
 one node (or a short chain), rendered with one bounce and a 0.01 px filter by Lantern (pt) and
 by Cycles (node_stage.py), so both images are the node's output at the pixel centres. For the
-deterministic nodes each pixel must agree within 1% (relative, 0.05 floor for values near 0);
+deterministic nodes each pixel must agree within 0.6% (relative, 0.05 floor for values near 0;
+the bump cases 1%), and Lantern's image 1% brighter or darker, or 5% brighter on one 8x8 block,
+must fail that (negative controls, tests/README.md);
 a node's output jumps at its discontinuities (checker edges, stepped ramps, saw waves), where
 one pixel's two renderers may land on either side within float rounding, so up to 0.5% of the
 pixels may differ there. Every case must vary over the image (a constant would pass anything)
@@ -21,7 +23,10 @@ if not lantern.native_available():
 
 import node_stage as st  # noqa: E402
 
-TOL, OUTLIERS = 0.01, 0.005
+# 0.6 % (was 1 %, which a 1 % bias could pass: it moved every pixel by about the tolerance
+# itself): each case's 99.5th percentile of the relative error is <= 0.50 % (measured,
+# 2026-12-02, texcoord_normal_sphere reads 0.26 % low throughout); the bump cases keep 1 %
+TOL, OUTLIERS, BUMP_TOL = 0.006, 0.005, 0.01
 # Blackbody and Wavelength integrate the tabulated CIE observer (docs/nodes.md); Cycles' own
 # blackbody is a fit: their stated bounds, from the measured worst pixel (Blackbody 2.8%
 # relative below 3000 K, 0.43% above, mean 0.0003 absolute; Wavelength 0.0136 absolute, mean
@@ -535,9 +540,30 @@ def test_node_output_matches_cycles(case, tmp_path):
         return
     rel = st.relative_error(img_l, img_c)[covered]
     bad = np.mean(rel > TOL)
-    assert bad <= OUTLIERS, (f"{case}: {bad:.2%} of pixel channels off by more than 1% "
+    assert bad <= OUTLIERS, (f"{case}: {bad:.2%} of pixel channels off by more than {TOL:.1%} "
                              f"(worst {rel.max():.3f}; means {img_l.mean():.4f} Lantern, "
                              f"{img_c.mean():.4f} Cycles)")
+    _assert_controls_fail(case, img_l, img_c, covered)
+
+
+def _assert_controls_fail(case, img_l, img_c, covered, block=8):
+    """Negative controls of the per-pixel rule (tests/README.md): Lantern's image 1 % brighter,
+    1 % darker, and 5 % brighter on one block of covered pixels (the median-bright of those
+    whose Cycles mean is over the 0.05 floor) must each fail it."""
+    def passes(img):
+        return np.mean(st.relative_error(img, img_c)[covered] > TOL) <= OUTLIERS
+    for f in (1.01, 0.99):
+        assert not passes(img_l * f), f"{case}: Lantern x {f} passes: a 1 % bias is invisible"
+    h, w = covered.shape
+    cands = [(img_c[y:y + block, x:x + block].mean(), y, x)
+             for y in range(0, h - block + 1, block) for x in range(0, w - block + 1, block)
+             if covered[y:y + block, x:x + block].all()
+             and img_c[y:y + block, x:x + block].mean() > 0.05]
+    assert cands, f"{case}: no covered block over the floor for the 5 % control"
+    _, y, x = sorted(cands)[len(cands) // 2]
+    one = img_l.copy()
+    one[y:y + block, x:x + block] *= 1.05
+    assert not passes(one), f"{case}: +5 % on the block at ({y}, {x}) passes"
 
 
 # ---- Bump: a diffuse plane under a sun straight above, one bounce: each pixel is
@@ -595,7 +621,7 @@ def test_bump_matches_cycles(case, tmp_path):
     # the normal moved (a plain plane renders `flat` everywhere)
     assert np.abs(img_c - flat).max() > 0.01 * flat, "no bump: the case would test nothing"
     rel = st.relative_error(img_l, img_c)
-    bad = np.mean(rel > TOL)
+    bad = np.mean(rel > BUMP_TOL)
     assert bad <= OUTLIERS, (f"{case}: {bad:.2%} of pixel channels off by more than 1% "
                              f"(worst {rel.max():.3f})")
 
@@ -646,5 +672,6 @@ def test_normal_map_from_a_graph_matches_cycles(space, tmp_path):
     assert np.std(img_c) > 0.01 * img_c.mean(), "the map bends nothing: it would test nothing"
     rel = st.relative_error(img_l, img_c)
     bad = np.mean(rel > TOL)
-    assert bad <= OUTLIERS, (f"{space}: {bad:.2%} of pixel channels off by more than 1% "
+    assert bad <= OUTLIERS, (f"{space}: {bad:.2%} of pixel channels off by more than {TOL:.1%} "
                              f"(worst {rel.max():.3f})")
+    _assert_controls_fail(space, img_l, img_c, np.ones(img_c.shape[:2], bool))
