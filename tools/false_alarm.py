@@ -43,6 +43,9 @@ null distribution):
   the BSDF-product target against lvc: the same seeds on both sides), 16 seeds of 16 spp;
 - tungsten: test_mitsuba's Cornell box and veach-mis against Tungsten's stored references,
   rendered at their footprints (the 20 trials share each reference, as cycles does);
+- exact_images: the alpha card (test_textures, pt), the ball under a world hidden from the
+  camera (test_world) and the glass ball's reflection alone (test_world_visibility) against
+  their exact images, at their tests' settings;
 - gpu_paired: test_cuda_backend's paired rule on CPU data: the built-in BVH against Embree with
   the same seeds (another traversal, the same wavefront), Cornell pt at that test's settings
   (32x32, 16 seeds of 64 spp, max_depth 8; one iteration of 64 where the test runs 4 of 16).
@@ -243,6 +246,42 @@ def pairs_film(trial):
         expected = np.array([[[tf.wall_shadow(dc, yr)] for dc in d] for yr in y0])
         return a, expected, {"block": 4, "bias_cap": tf.CATCHER_CAP}
     yield "shadow catcher vs its exact wall shadow (test_film)", run
+
+
+def pairs_exact_images(trial):
+    """The exact images of the audit round (their tests' settings): the alpha card
+    (test_textures, pt), the ball under a world hidden from the camera (test_world), the glass
+    ball's reflection alone (test_world_visibility)."""
+    sys.path.insert(0, str(ROOT / "tests" / "python"))
+    import test_textures as tt
+    import test_world as tw
+    import test_world_visibility as tv
+    seed0 = 1000 * trial + 700000
+
+    def card():
+        imgs = [lantern.render(tt.alpha_card_scene(0.3), spp=tt.ALPHA_SPP, integrator="pt",
+                               seed=seed0 + k, max_depth=2, backend="cpu") for k in range(tt.K)]
+        expected, mask = tt.alpha_card_expected(0.3)
+        return imgs, expected, {"block": 4, "mask": mask, "bias_cap": tt.EXACT}
+    yield "alpha card pt vs its exact image (test_textures)", card
+
+    def hidden():
+        scene = tw.furnace_scene(16)
+        scene.world = {"color": [0.0] * 3, "map": np.full((4, 8, 3), 0.5, np.float32),
+                       "visible_camera": False}
+        inside = np.zeros((8, 8), bool)
+        inside[2:6, 2:6] = True
+        inside[[2, 2, 5, 5], [2, 5, 2, 5]] = False
+        return (tw.renders(scene, "pt", 16, seed0, k_seeds=16), [0.5] * 3,
+                {"block": 2, "mask": inside, "bias_cap": 1e-4, "se_floor": 1e-6})
+    yield "ball under a world hidden from the camera vs 0.5 (test_world)", hidden
+
+    def glass():
+        scene = tv.ball_scene("glass", ("transmission",))
+        imgs = [tv.render(scene, seed=seed0 + k, spp=128)[tv.BALL] for k in range(tv.K)]
+        expected = tv.reflection_image(range(6, 10), range(6, 10))
+        return imgs, np.repeat(expected[..., None], 3, axis=2), {"block": 4}
+    yield "glass reflection only vs its exact image (test_world_visibility)", glass
 
 
 def pairs_rotation(trial):
@@ -478,7 +517,7 @@ FAMILIES = {"cross": pairs_cross, "analytic": pairs_analytic, "backend": pairs_b
             "instance": pairs_instance, "adaptive": pairs_adaptive, "film": pairs_film,
             "rotation": pairs_rotation, "pano": pairs_pano, "lighttree": pairs_lighttree,
             "hdri": pairs_hdri, "layers": pairs_layers, "tungsten": pairs_tungsten,
-            **FAMILIES_BL}
+            **FAMILIES_BL, "exact_images": pairs_exact_images}
 
 
 def main(argv=None):

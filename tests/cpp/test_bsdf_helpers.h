@@ -1,11 +1,17 @@
 // Shared checks for the lobe tests (tests/cpp/test_bsdf_*.cpp): a chi-square goodness-of-fit of
 // a sampler against a pdf over the sphere, binned in (cos theta, phi) with low-expectation bins
 // merged, and small helpers. The pdf is integrated per bin with a midpoint rule on a sub-grid.
+// MeanSe / mean_matches: a Monte Carlo mean against an exact value with a tolerance from its own
+// standard error, and its +-1 % negative controls (tests/README.md).
 #pragma once
+
+#include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <functional>
+#include <string>
 #include <vector>
 
 #include "core/math.h"
@@ -108,6 +114,57 @@ inline Vec3 dir_from_angles(float theta, float phi) {
 
 inline bool finite_eval(Vec3 f, float a, float b) {
     return is_finite(f) && is_finite(a) && is_finite(b);
+}
+
+// ---- A Monte Carlo mean against an exact value ----
+
+// The mean of independent samples and its standard error.
+struct MeanSe {
+    double sum = 0.0, sum2 = 0.0;
+    long n = 0;
+    void add(double x) {
+        sum += x;
+        sum2 += x * x;
+        ++n;
+    }
+    double mean() const { return n > 0 ? sum / double(n) : 0.0; }
+    double se() const {
+        if (n < 2) return 0.0;
+        double m = mean(), var = std::max(0.0, (sum2 / double(n) - m * m) * n / (n - 1.0));
+        return std::sqrt(var / double(n));
+    }
+};
+
+// |z| that a fair comparison of n_tests normal z-scores exceeds with probability alpha in all
+// (Bonferroni: the 1 - alpha / (2 n) normal quantile, by bisection on erfc).
+inline double z_bonferroni(int n_tests, double alpha = 1e-3) {
+    double target = alpha / n_tests, lo = 0.0, hi = 40.0;
+    for (int i = 0; i < 200; ++i) {
+        double mid = 0.5 * (lo + hi);
+        (std::erfc(mid / std::sqrt(2.0)) > target ? lo : hi) = mid;
+    }
+    return 0.5 * (lo + hi);
+}
+
+// m's mean agrees with `expected` when |mean - expected| <= cap |expected| + z se (cap: a
+// stated systematic difference, 1e-4 for an exact case; z: z_bonferroni over the test's
+// comparisons), and the negative controls, the mean `control` (1 %) higher and lower, must
+// not (a case whose noise cannot afford 1 % states its level; 0: none, for a stated defect).
+inline ::testing::AssertionResult mean_matches(const MeanSe& m, double expected, double z,
+                                               double cap = 1e-4, double control = 0.01) {
+    double allowed = cap * std::fabs(expected) + z * m.se();
+    char buf[256];
+    std::snprintf(buf, sizeof buf, "mean %.6f +- %.6f against %.6f (%+.4f%%, allowed %.4f%%)",
+                  m.mean(), m.se(), expected, 100.0 * (m.mean() - expected) / expected,
+                  100.0 * allowed / std::fabs(expected));
+    if (!(std::fabs(m.mean() - expected) <= allowed))
+        return ::testing::AssertionFailure() << buf;
+    for (double bias : {control, -control})
+        if (control > 0.0 && std::fabs(m.mean() * (1.0 + bias) - expected) <= allowed)
+            return ::testing::AssertionFailure()
+                   << "negative control " << 100.0 * bias << " % passed, so the test cannot see "
+                   << "it: " << buf;
+    return ::testing::AssertionSuccess() << buf;
 }
 
 }  // namespace lantern::test

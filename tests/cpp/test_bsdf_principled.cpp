@@ -62,24 +62,36 @@ TEST(BsdfPrincipled, WeightsAndReversePdfsMatchEval) {
             }
 }
 
+// The albedo tables' interpolation: roughness 0.05 reads -0.06 % to +0.08 % with se <= 0.02 %.
+constexpr double kFurnaceCap = 1e-3;
+// Measured (2026-12-02, 240000 samples; the test draws 40000): the sheen over the coat at
+// theta_o 1.45 reflects 1.0173 +- 0.0018 (z 9.6; 1.0002 and 1.0005 at 0 and 1.0): energy gained
+// at grazing, a defect left to the sheen's owner: that case keeps the old 2 % and has no
+// control until it is fixed.
+constexpr double kSheenGrazingCap = 0.02;
+
 TEST(BsdfPrincipled, WhiteFurnaceConservesEnergy) {
-    // a white base under the specular layer reflects exactly what the layer does not: 1
+    // a white base under the specular layer reflects exactly what the layer does not: 1, the
+    // mean weight of 40000 samples against 1 within cap + z se (Bonferroni over the 60 cases),
+    // +-1 % controls (was |mean - 1| <= 0.02); roughness 0.05 with 10000 (se <= 0.04 %)
+    const double z = z_bonferroni(60);
+    const double cap = kFurnaceCap;
     for (float rough : {0.05f, 0.3f, 0.5f, 1.0f})
         for (float ior : {1.33f, 1.5f, 2.4f})
             for (float theta_o : {0.0f, 0.8f, 1.3f, 1.53f}) {
                 Material m = principled(vec3(1.0f), 0.0f, 0.0f, rough, ior);
                 Vec3 wo = dir_from_angles(theta_o, 0.3f);
                 Pcg32 rng = Pcg32::for_path(5, 0, 0);
-                const int n = 40000;
-                double sum = 0.0;
+                const int n = rough < 0.1f ? 10000 : 40000;
+                MeanSe sum;
                 for (int i = 0; i < n; ++i) {
                     BsdfSample s = material_sample(m, true, wo, vec3(rng.uniform(), rng.uniform(),
                                                                      rng.uniform()),
                                                    Transport::Radiance);
-                    if (s.valid) sum += s.weight.x;
+                    sum.add(s.valid ? s.weight.x : 0.0);
                 }
-                EXPECT_NEAR(sum / n, 1.0, 0.02) << "rough " << rough << " ior " << ior
-                                                << " theta " << theta_o;
+                EXPECT_TRUE(mean_matches(sum, 1.0, z, cap))
+                    << "rough " << rough << " ior " << ior << " theta " << theta_o;
             }
     // a coat over it changes nothing: what the coat does not reflect reaches the rest
     for (float theta_o : {0.0f, 1.0f, 1.45f})
@@ -88,15 +100,15 @@ TEST(BsdfPrincipled, WhiteFurnaceConservesEnergy) {
             Vec3 wo = dir_from_angles(theta_o, 0.3f);
             Pcg32 rng = Pcg32::for_path(8, 0, 0);
             const int n = 40000;
-            double sum = 0.0;
+            MeanSe sum;
             for (int i = 0; i < n; ++i) {
                 BsdfSample s = material_sample(m, true, wo, vec3(rng.uniform(), rng.uniform(),
                                                                  rng.uniform()),
                                                Transport::Radiance);
-                if (s.valid) sum += s.weight.x;
+                sum.add(s.valid ? s.weight.x : 0.0);
             }
-            EXPECT_NEAR(sum / n, 1.0, 0.02) << "coat roughness " << coat_rough << " theta "
-                                            << theta_o;
+            EXPECT_TRUE(mean_matches(sum, 1.0, z, cap))
+                << "coat roughness " << coat_rough << " theta " << theta_o;
         }
     // and a sheen on top of both
     for (float theta_o : {0.0f, 1.0f, 1.45f}) {
@@ -105,14 +117,17 @@ TEST(BsdfPrincipled, WhiteFurnaceConservesEnergy) {
         Vec3 wo = dir_from_angles(theta_o, 0.3f);
         Pcg32 rng = Pcg32::for_path(8, 0, 0);
         const int n = 40000;
-        double sum = 0.0;
+        MeanSe sum;
         for (int i = 0; i < n; ++i) {
             BsdfSample s = material_sample(m, true, wo, vec3(rng.uniform(), rng.uniform(),
                                                              rng.uniform()),
                                            Transport::Radiance);
-            if (s.valid) sum += s.weight.x;
+            sum.add(s.valid ? s.weight.x : 0.0);
         }
-        EXPECT_NEAR(sum / n, 1.0, 0.02) << "sheen, theta " << theta_o;
+        bool grazing = theta_o > 1.4f;
+        EXPECT_TRUE(mean_matches(sum, 1.0, z, grazing ? kSheenGrazingCap : cap,
+                                 grazing ? 0.0 : 0.01))
+            << "sheen, theta " << theta_o;
     }
     // nothing reflects more than 1: metals, glass, tints. (Importance transport only without
     // the specular layer: weighting the base by the camera-side albedo, as Cycles does, is not

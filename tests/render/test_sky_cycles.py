@@ -3,8 +3,8 @@ direction: Cycles renders the world alone through a full-sphere equirectangular 
 camera (256 x 128, one sample, a pixel filter of 0.01 px: each pixel is its centre's
 direction), and a first render of the Texture Coordinate's Generated vector gives each pixel's
 direction. The model is deterministic, so the tolerance is its own agreement, not noise: within
-1 % at every direction where the sky is not black; a negative control (the aerosols 5 %
-denser) must fail it. The exported map (1024 x 512) is the model at its texels' directions
+0.5 % at every direction where the sky is not black (at most 0.36 % measured); negative
+controls (the model 1 % brighter or darker; the aerosols 5 % denser) must fail it. The exported map (1024 x 512) is the model at its texels' directions
 outside the horizon band, whose texels are the model's means over their elevation extent
 (sky.horizon_band; world_sky_ms in test_cycles_compare.py compares what they light and show).
 The same for Single Scattering (sky_ss.py) and Preetham. The panorama's sky reads its Vector
@@ -16,10 +16,11 @@ The sun disc, which Lantern exports as a sun light, against the disc Cycles draw
 Single Scattering): a camera 2.5 disc diameters wide centred on the sun (Blackman-Harris 1.5
 px: the edge antialiased); the image less the model's sky (Cycles' without the disc within
 0.3 % per pixel, the disc sums then within 3e-6 of the difference of two Cycles renders,
-measured) summed over the pixels' solid angles is the disc's irradiance, within 1 % of the
+measured) summed over the pixels' solid angles is the disc's irradiance, within 0.5 % of the
 light's (the control: 3 % more Sun Intensity fails). Lantern's camera sees the disc (the
-world's sun light) in the same view: its summed radiance within 1 % plus 4 standard errors
-(4 seeds x 16 spp) of Cycles'; the control, the same light as a sun lamp (invisible to the
+world's sun light) in the same view: its summed radiance within a stated 0.3 % (measured:
++0.09 %, +0.19 %) plus Student t standard errors (8 seeds x 16 spp) of the light's strength,
+and +-1 % more or less must fail; the control, the same light as a sun lamp (invisible to the
 camera, as Blender's are), fails. The scene-level comparison (the stage lit by this sky, the
 default disc included) is world_sky_ms in test_cycles_compare.py. Tests that use the
 panorama fixture run before the disc tests, which reset Blender's data."""
@@ -34,8 +35,18 @@ import pytest
 bpy = pytest.importorskip("bpy")
 import lantern_bpy  # noqa: E402
 import render_compare as rc  # noqa: E402
+from lantern import metrics  # noqa: E402
 
-TOL = 0.01
+# The models are deterministic: agreement measured 2026-12-02 at most 0.36 % (the defaults'
+# Multiple Scattering sky; 7.5e-4, 4.3e-4, 2.4e-4 in the others, the disc strengths 0.11 %).
+# 0.5 %, so that a model 1 % brighter or darker fails everywhere (was 1 %, the size of the
+# bias itself); each test checks that (controls_fail)
+TOL = 0.005
+
+
+def controls_fail(ratio):
+    """The +-1 % controls of a deterministic ratio model / reference: both must exceed TOL."""
+    return all(np.abs(f * np.asarray(ratio) - 1.0).max() > TOL for f in (1.01, 0.99))
 PANO = (256, 128)   # the panorama's pixels (a direction each)
 CONFIGS = {   # Blender's defaults have the Sun Disc on: the Vector is unavailable then
     "defaults": {"sun_disc": True},
@@ -138,6 +149,7 @@ def test_sky_model_matches_cycles(config, panorama, addon):
     print(f"{config}: |model / Cycles - 1| median {np.median(dev):.2e}, 99 % "
           f"{np.percentile(dev, 99):.2e}, max {dev.max():.2e} over {lit.sum()} directions")
     assert dev.max() < TOL, (config, dev.max())
+    assert controls_fail(model(d @ to_map.T)[lit] / cycles[lit])
     assert np.abs(model(d @ other.T)[lit] / cycles[lit] - 1.0).max() > TOL   # the other turn
     # the exported map: the model at its texels, means over sub-rows in the horizon band
     report = ExportReport()
@@ -191,6 +203,7 @@ def test_single_scattering_matches_cycles(panorama, addon):
     print(f"Single Scattering: |model / Cycles - 1| median {np.median(dev):.2e}, max "
           f"{dev.max():.2e} over {lit.sum()} directions")
     assert dev.max() < TOL
+    assert controls_fail(model(params, d @ to_map.T)[lit] / cycles[lit])
     assert np.abs(model(control, d @ to_map.T)[lit] / cycles[lit] - 1.0).max() > TOL
     w, h = sky.MS_MAP_SIZE
     texels = sky.equirect_directions(w, h)
@@ -218,13 +231,14 @@ def test_preetham_turns_with_the_mapping(panorama, addon):
     lit = cycles.sum(-1) > 1e-3 * np.median(cycles.sum(-1))
     assert lit.mean() > 0.9
 
-    def dev(m):
-        model = sky.preetham_radiance(d @ m.T, node.sun_direction, node.turbidity)
-        return np.abs(model[lit] / cycles[lit] - 1.0)
-    turned, unturned = dev(to_map), dev(np.eye(3))
+    def ratio(m):
+        return sky.preetham_radiance(d @ m.T, node.sun_direction, node.turbidity)[lit] / \
+            cycles[lit]
+    turned, unturned = np.abs(ratio(to_map) - 1.0), np.abs(ratio(np.eye(3)) - 1.0)
     print(f"Preetham through a Mapping: |model / Cycles - 1| median {np.median(turned):.2e}, "
           f"max {turned.max():.2e}; unturned max {unturned.max():.2e}")
     assert turned.max() < TOL
+    assert controls_fail(ratio(to_map))
     assert unturned.max() > 10 * TOL
 
 
@@ -266,6 +280,7 @@ def test_sun_disc_irradiance_matches_cycles(props, addon):
     mine = np.asarray(light["strength"])
     print(f"sun disc {props}: Lantern {mine}, Cycles {cycles}")
     assert np.abs(mine / cycles - 1.0).max() < TOL, (mine, cycles)
+    assert controls_fail(mine / cycles)
     intensity = node.sun_intensity
     node.sun_intensity = intensity * 1.03
     brighter = np.asarray(sky.sky_sun(node, 1.0, np.eye(3), "test", report)["strength"])
@@ -279,14 +294,24 @@ def test_sun_disc_irradiance_matches_cycles(props, addon):
     node.sun_disc = True
     discs = _lantern(omega, LANTERN_SEEDS) - lantern_sky
     mean, se = discs.mean(0), discs.std(0, ddof=1) / math.sqrt(len(discs))
-    tol = TOL + 4.0 * se / mean
-    print(f"sun disc seen by Lantern's camera: {mean} +- {se} (Cycles {cycles})")
-    assert np.all(np.abs(mean / cycles - 1.0) < tol), (mean, se, cycles)
+    # against the light's strength (itself within 0.5 % of Cycles' disc, above): a stated cap
+    # (measured, 2026-12-02: the drawn disc sums +0.09 % and +0.19 % over it, 8 x 16 spp; over
+    # Cycles' +0.1 % and +0.3 %) + Student t at 1e-3 over the channels; the +-1 % controls
+    # must fail (was within 1 % + 4 se of 4 seeds of Cycles': a 1 % bias passed)
+    tol = DISC_CAP + metrics.z_threshold(3, 1e-3, dof=LANTERN_SEEDS - 1) * se / mean
+    print(f"sun disc seen by Lantern's camera: {mean} +- {se} (light {mine}, Cycles "
+          f"{cycles}): {mean / mine - 1.0} (allowed {tol})")
+    assert np.all(np.abs(mean / mine - 1.0) < tol), (mean, se, mine)
+    for bias in (0.01, -0.01):
+        assert not np.all(np.abs(mean * (1.0 + bias) / mine - 1.0) < tol), (bias, mean, se)
     lamp = _lantern(omega, 1, as_lamp=True)[0] - lantern_sky
-    assert np.all(np.abs(lamp / cycles - 1.0) > tol), lamp
+    assert np.all(np.abs(lamp / mine - 1.0) > tol), lamp
 
 
-LANTERN_SEEDS, LANTERN_SPP = 4, 16
+# 4 x 16 before; 16 x 4 gave se 0.1 % (QMC: fewer spp a seed, more noise per sample)
+LANTERN_SEEDS, LANTERN_SPP = 8, 16
+DISC_CAP = 0.003
+
 
 
 def _sky_model(node, dirs):
