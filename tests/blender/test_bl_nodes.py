@@ -203,9 +203,8 @@ def test_programs_survive_the_scene_file(empty, tmp_path):
 # every row and columns 3..28 on it, the filter's +-1.5 px included) as white Lambert (Principled
 # with Specular IOR Level 0, docs/materials.md) under a sharp sun off the vertical and no world,
 # pt: each sample sees the one light once, so a pixel reads rho E max(0, n . l) / pi to float
-# rounding, whatever the filter, where the shading normal n is constant over its footprint
-# (Lantern's model: Cycles darkens bent normals under an oblique sun by a further term,
-# docs/nodes.md "Bump and displacement", which tests/cycles/test_nodes.py measures)
+# rounding, whatever the filter, where the shading normal n is constant over its footprint,
+# times the bump shadowing term Lantern's bumped Lambert takes from Cycles (_lambert)
 SUN_E, ALBEDO, SUN_ROT = 2.0, 0.8, (0.55, -0.35, 0.0)
 PLANE_COLS = slice(3, 29)
 EXACT_RTOL = 1e-5   # float rounding
@@ -227,8 +226,15 @@ def _lambert_under_sun(scene, bsdf):
 
 
 def _lambert(n, to_sun):
-    n = np.asarray(n, np.float64)
-    return ALBEDO * SUN_E / math.pi * max(0.0, float(n @ to_sun) / np.linalg.norm(n))
+    """rho E max(0, n . l) / pi, times Cycles' bump shadowing term, which Lantern's bumped
+    Lambert applies (bsdf/lambert.h, docs/nodes.md "Bump and displacement"): the GGX masking G1
+    with alpha^2 = min(tan^2(n, z) / 8, 1) at the sun's angle to the plane's own normal +z; 1
+    for the unbent normal."""
+    n = np.asarray(n, np.float64) / np.linalg.norm(n)
+    cos_l = float(n @ to_sun)
+    alpha2 = min((1.0 / n[2] ** 2 - 1.0) / 8.0, 1.0)
+    g = 2.0 / (1.0 + math.sqrt(1.0 + alpha2 * (1.0 / to_sun[2] ** 2 - 1.0)))
+    return ALBEDO * SUN_E / math.pi * max(0.0, cos_l) * g
 
 
 def _assert_shading(name, img, expected, wrong, rtol=EXACT_RTOL):
