@@ -560,9 +560,7 @@ void HostScene::add_lights(const SceneInput& in) {
     for (const Vec3& p : positions_) {
         if (within_limit(p)) reach = std::max(reach, length(p - view_.scene_center));
     }
-    view_.emit_radius = lo.x <= hi.x ? std::max(std::min(view_.scene_radius,
-                                                         reach * (1.0f + 1e-5f)), 1e-3f)
-                                     : view_.scene_radius;  // no geometry: as before
+    view_.emit_radius = std::max(std::min(view_.scene_radius, reach * (1.0f + 1e-5f)), 1e-3f);
     const float disk_area = kPi * view_.scene_radius * view_.scene_radius;
 
     for (size_t k = 0; k < in.lights.size(); ++k) {
