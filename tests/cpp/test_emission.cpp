@@ -96,7 +96,7 @@ std::vector<Case> cases() {
     }
     {
         HostScene probe(scene_with(nullptr));
-        double r = probe.view().emit_radius, disk = kPi * r * r;
+        double r = probe.view().scene_radius, disk = kPi * r * r;
         LightInput s;
         s.type = "sun";
         s.direction = {0.3f, -0.2f, -1.0f};
@@ -172,7 +172,7 @@ TEST(Emission, DirectionPdfIntegratesToOne) {
             EmissionPdf p = emission_pdf(v, l, ref.n, d);
             // the direction's pdf: pdf_emit over the point's (finite) or the disk's density
             double pdf_dir = ref.finite ? (p.pdf_direct > 0 ? p.pdf_emit / p.pdf_direct : 0.0)
-                                        : p.pdf_emit * kPi * v.emit_radius * v.emit_radius;
+                                        : p.pdf_emit * kPi * v.scene_radius * v.scene_radius;
             acc += pdf_dir * 4.0 * kPi;
             acc2 += sqr(float(pdf_dir * 4.0 * kPi));
         }

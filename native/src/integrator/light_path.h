@@ -31,12 +31,12 @@ LANTERN_HD inline bool light_receiver_dependent(const Light& l) {
     return (l.type == kLightPoint || l.type == kLightSpot) && l.radius > 0.0f && l.soft_falloff;
 }
 
-// The disk of the scene's bounding sphere (emit_radius) perpendicular to d, a radius behind
-// the centre: every ray along d that can reach the scene crosses it.
+// The disk of the scene's bounding sphere perpendicular to d, a radius behind the centre:
+// every ray along d that can reach the scene crosses it.
 LANTERN_HD inline Vec3 distant_disk_point(const SceneView& s, Vec3 d, Vec2 u) {
     Frame f = Frame::from_normal(d);
     Vec2 q = sample_concentric_disk(u);
-    return s.scene_center + (f.s * q.x + f.t * q.y - d) * s.emit_radius;
+    return s.scene_center + (f.s * q.x + f.t * q.y - d) * s.scene_radius;
 }
 
 // Emission sample of light l from two 2D numbers: u_pos chooses the point, u_dir the direction.
@@ -132,7 +132,7 @@ LANTERN_HD inline EmissionSample sample_emission(const SceneView& s, const Light
         }
         es.p = distant_disk_point(s, es.d, u_pos);
         es.pdf_direct = pdf_dir;  // solid angle, as next-event estimation samples it
-        es.pdf_emit = pdf_dir / (kPi * s.emit_radius * s.emit_radius);
+        es.pdf_emit = pdf_dir / (kPi * s.scene_radius * s.scene_radius);
         break;
     }
     default:
@@ -158,7 +158,7 @@ struct EmissionPdf {
 // with geometric normal n (finite surface lights; ignored for points, sun and world).
 LANTERN_HD inline EmissionPdf emission_pdf(const SceneView& s, const Light& l, Vec3 n, Vec3 d) {
     EmissionPdf r{0.0f, 0.0f};
-    const float inv_disk = 1.0f / (kPi * s.emit_radius * s.emit_radius);
+    const float inv_disk = 1.0f / (kPi * s.scene_radius * s.scene_radius);
     switch (l.type) {
     case kLightPoint:
     case kLightSpot:

@@ -46,7 +46,7 @@ bool HostScene::move_mesh(int k, const Transform& m) {
     }
     // every vertex its triangles use must stay within the ray queries' range and the sphere
     // that distant lights' paths cover (HostScene::add_lights)
-    const float reach = view_.emit_radius * (1.0f + 1e-4f);
+    const float reach = view_.scene_radius * (1.0f + 1e-4f);
     std::vector<Vec3> moved(nv);
     for (size_t v = 0; v < nv; ++v) moved[v] = m.point(given->positions[v]);
     for (int t = r.tri_begin; t < r.tri_begin + r.tri_count; ++t) {

@@ -295,10 +295,7 @@ struct SceneView {
     Vec3 world_color;
     EnvMap env;                          // the world's environment map (width 0: constant)
     CameraView camera;
-    float scene_radius = 1.0f;           // half the bounding box's diagonal: offsets, distant
-                                         // lights' power
-    float emit_radius = 1.0f;            // <= scene_radius, about scene_center: the sphere every
-                                         // vertex lies in, whose disk sun and world paths leave
+    float scene_radius = 1.0f;           // for sun/world sampling and offsets
     float offset_scale = 1.0f;           // min(1, scene_radius): core/offset.h
     Vec3 scene_center;
 };
