@@ -165,7 +165,7 @@ public:
     // with (its world-space positions, normals and tangents written again, in place). False,
     // nothing changed, where the move reaches further: k out of range, an emitting mesh (the
     // lights would change), a singular, mirroring or non-finite transform, or a vertex leaving
-    // the sphere distant lights' paths cover (emit_radius) or the ray queries' range.
+    // the scene's bounding sphere (distant lights' disk) or the ray queries' range.
     bool move_mesh(int k, const Transform& to_world);
     int num_triangles() const { return int(tri_material_.size()); }
     // view() with every array it points into copied elsewhere (a GPU's memory): copy(host,
