@@ -560,16 +560,22 @@ LANTERN_HD inline void bdpt_camera_connect(const SceneView& s, const BdptState& 
     constexpr int kKept = kMaxCandidates;  // the CPU keeps them: each is evaluated once
 #endif
     const int m = min_int(st.candidates, kMaxCandidates);
-    // per candidate only p-hat and its pick count: the indices are drawn again from a copy of
-    // the stream and the cumulative sums summed again in the same order (the same bits), so
-    // that a GPU thread holds 320 bytes here, not 1,024
-    Rng rng_candidates = rng;
+    // per candidate p-hat and its pick count; the cumulative sums are summed again in the same
+    // order (the same bits), and a GPU thread draws the indices again from a copy of the
+    // stream: it holds 320 bytes here, not 1,024 (the CPU keeps the indices with the
+    // connections)
+    [[maybe_unused]] Rng rng_candidates = rng;
     float p_hats[kMaxCandidates];
     Connection cand[kKept];
+    [[maybe_unused]] int idx[kKept];
     float sum = 0.0f;
     for (int j = 0; j < m; ++j) {
-        const Connection c = bdpt_connect(s, st, z, cache.v[pick(rng.next())]);
-        if constexpr (kKept > 1) cand[j] = c;
+        const int index = pick(rng.next());
+        const Connection c = bdpt_connect(s, st, z, cache.v[index]);
+        if constexpr (kKept > 1) {
+            cand[j] = c;
+            idx[j] = index;
+        }
         float p_hat = st.target == kTargetBsdf ? (is_black(c.c) ? 0.0f : c.bsdf_target)
                                                : luminance(c.c);
         if (!(p_hat > 0.0f) || !is_finite(p_hat)) p_hat = 0.0f;
@@ -589,7 +595,12 @@ LANTERN_HD inline void bdpt_camera_connect(const SceneView& s, const BdptState& 
     }
     // the same candidate picked twice shares one shadow ray (same segment, same visibility)
     for (int j = 0; j < m; ++j) {
-        const LightVertex& y = cache.v[pick(rng_candidates.next())];
+        int index;
+        if constexpr (kKept > 1)
+            index = idx[j];
+        else
+            index = pick(rng_candidates.next());  // every j, in order: the same stream
+        const LightVertex& y = cache.v[index];
         const float p_hat = p_hats[j];
         if (count[j] == 0 || !(p_hat > 0.0f)) continue;
         float w_ris = st.naive_ris ? size : (sum / float(m)) / p_hat;
