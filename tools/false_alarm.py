@@ -415,15 +415,10 @@ def pairs_passes(trial):
 def _bl_empty_scene():
     """tests/blender's `empty` fixture: factory settings, no objects, Lantern, 32 x 24."""
     sys.path.insert(0, str(ROOT / "tests" / "blender"))
-    import bpy
     import lantern_bpy
     lantern_bpy.load_addon()
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    scene = bpy.context.scene
-    scene.render.engine = "LANTERN"
-    scene.render.resolution_x, scene.render.resolution_y = 32, 24
-    scene.render.resolution_percentage = 100
-    return scene
+    from blender_helpers import empty_scene
+    return empty_scene()
 
 
 _BL_SCENES = {}

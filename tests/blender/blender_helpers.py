@@ -5,6 +5,17 @@ import bpy
 import numpy as np
 
 
+def empty_scene():
+    """Factory settings, no objects, Lantern selected, a tiny 32 x 24 resolution (the `empty`
+    fixture; tools/false_alarm.py builds its Blender scenes on it too)."""
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    scene = bpy.context.scene
+    scene.render.engine = "LANTERN"
+    scene.render.resolution_x, scene.render.resolution_y = 32, 24
+    scene.render.resolution_percentage = 100
+    return scene
+
+
 def add_camera(scene, location=(0, 0, 5), rotation=(0, 0, 0), lens=50.0, name="Camera"):
     data = bpy.data.cameras.new(name)
     data.lens = lens

@@ -43,12 +43,8 @@ def addon():
 @pytest.fixture
 def empty(addon):
     """An empty scene (factory settings), Lantern selected, a tiny resolution."""
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    scene = bpy.context.scene
-    scene.render.engine = "LANTERN"
-    scene.render.resolution_x, scene.render.resolution_y = 32, 24
-    scene.render.resolution_percentage = 100
-    return scene
+    from blender_helpers import empty_scene
+    return empty_scene()
 
 
 @pytest.fixture
