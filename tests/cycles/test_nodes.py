@@ -1,15 +1,18 @@
 """Shader nodes against Cycles, node by node: each case drives an emission-only material with
-one node (or a short chain), rendered with one bounce and a 0.01 px filter by Lantern (pt) and
-by Cycles (node_stage.py), so both images are the node's output at the pixel centres. For the
-deterministic nodes each pixel must agree within 0.6% (relative, 0.05 floor for values near 0;
-the bump cases 1%), and Lantern's image 1% brighter or darker, or 5% brighter on one 8x8 block,
-must fail that (negative controls, tests/README.md);
-a node's output jumps at its discontinuities (checker edges, stepped ramps, saw waves), where
-one pixel's two renderers may land on either side within float rounding, so up to 0.5% of the
-pixels may differ there. Every case must vary over the image (a constant would pass anything)
-and export without a warning. Voronoi hashes its integer cells with PCG (measured), White
-Noise the float bits of its input (its cases use floored coordinates, which both renderers
-compute bit-exactly)."""
+one node (or a short chain), rendered with one bounce by Lantern (pt) and by Cycles
+(node_stage.py), each at 1 spp through the pixel centres: Cycles' sample 0 goes through the
+centre (its filter sample is (0.5, 0.5), in every seed), and Lantern's pixel filter is narrowed
+to FILTER_PX. So both images are the node's output at the pixel centres, with no filter
+footprint left to straddle the node's discontinuities (checker edges, stepped ramps, saw
+waves) and no noise: every pixel channel must agree within TOL (relative, 0.05 floor for values
+near 0), none allowed beyond, and Lantern's image 1 % brighter or darker, or 5 % brighter on
+one 8x8 block, must fail that (negative controls, tests/README.md). The sphere cases leave out
+the silhouette ring (grazing normals there are the interpolation's, differently rounded).
+Every case must vary over the image (a constant would pass anything) and export without a
+warning. Voronoi hashes its integer cells with PCG (measured), White Noise the float bits of
+its input (its cases use floored coordinates, which both renderers compute bit-exactly).
+Blackbody and Wavelength are held to an independent computation (Planck and the CIE observer
+integrated here, not with the exporter's code), Cycles' own blackbody being a fit."""
 
 import math
 
@@ -23,12 +26,173 @@ if not lantern.native_available():
 
 import node_stage as st  # noqa: E402
 
-TOL, OUTLIERS = 0.01, 0.005
-# Blackbody and Wavelength integrate the tabulated CIE observer (docs/nodes.md); Cycles' own
-# blackbody is a fit: their stated bounds, from the measured worst pixel (Blackbody 2.8%
-# relative below 3000 K, 0.43% above, mean 0.0003 absolute; Wavelength 0.0136 absolute, mean
-# 5e-5, on a peak of about 1)
-SPECTRAL = {"blackbody": ("relative", 0.03), "wavelength": ("absolute", 0.015)}
+FILTER_PX = 1e-6   # Lantern's filter width (Blender's filter size), pixels: the centre
+TOL = 1e-4   # relative per pixel channel (0.05 floor): the float rounding of two
+# implementations, measured at most 3.4e-5 (noise_distorted; most cases under 1e-5)
+BLOCK = 8    # the +5 % control's block
+# Lantern's Bump and Displacement difference the height over offsets of 2e-4 relative to the
+# point in float: the bent normal carries about 3e-4 of rounding (test_bl_nodes.py measures
+# 8.5e-5 on a plane at the origin), so lit bumps are compared on the scale of the unbent
+# value (the floor) and normals on their own (floor 1)
+BENT_TOL = 6e-4
+# (tol, floor) where a case is wider than TOL, each explained in docs/nodes.md
+CASE_TOL = {
+    # ColorRamp and the curves: both bake 256 entries of Blender's evaluation and step
+    # linearly between them; Ease, Cardinal and curves differ by up to 2.2e-4 (not found)
+    "ramp_ease": (4e-4, 0.05), "ramp_cardinal": (4e-4, 0.05), "rgb_curves": (4e-4, 0.05),
+    "float_curve": (4e-4, 0.05),
+    "geometry_normal_displacement_sphere": (BENT_TOL, 1.0),
+}
+
+
+def render_lantern(max_depth=1, seed=1):
+    """Lantern's image at the pixel centres (1 spp, the exported filter narrowed to FILTER_PX)
+    and the export's warnings."""
+    from lantern_blender.export import export_scene
+    scene, report = export_scene(bpy.context.evaluated_depsgraph_get())
+    scene.film["filter_width"] = FILTER_PX
+    img = lantern.render(scene, spp=1, integrator="pt", max_depth=max_depth, seed=seed)
+    return np.asarray(img, np.float64), list(report.messages)
+
+
+def render_cycles(sc, path, bounces=0, seed=0):
+    """Cycles' image at the pixel centres: its sample 0 (1 spp) goes through them. No bounce:
+    the Principled cases' specular would otherwise add a sampled reflection of the sphere.
+    Nor is an emitting mesh a light: Cycles' next-event samples of the sphere reach its own
+    surface through the inside, where a bumped normal turns the specular towards them (a few
+    pixels of geometry_normal_under_bump_sphere, 1-5 % brighter, seed by seed)."""
+    for mat in bpy.data.materials:
+        mat.cycles.emission_sampling = "NONE"
+    return st.render_cycles(sc, path, spp=1, bounces=bounces, seed=seed)
+
+
+def _control_block(ref, mask):
+    """(row, col) of the BLOCK x BLOCK block inside `mask` that is brightest in `ref`."""
+    best, where = -1.0, None
+    for i in range(0, ref.shape[0] - BLOCK + 1, BLOCK):
+        for j in range(0, ref.shape[1] - BLOCK + 1, BLOCK):
+            m = mask[i:i + BLOCK, j:j + BLOCK]
+            v = ref[i:i + BLOCK, j:j + BLOCK][m].mean() if m.all() else -1.0
+            if v > best:
+                best, where = v, (i, j)
+    assert where is not None, "no block inside the compared pixels for the +5 % control"
+    return where
+
+
+def assert_exact(name, img_l, ref, mask=None, tol=TOL, floor=0.05, mean_tol=None):
+    """Every pixel channel of `mask` within `tol` of `ref` (relative, `floor` near 0), none
+    beyond, and (where a per-pixel cap is wide: `mean_tol`) the image mean within `mean_tol`
+    relative; Lantern's image x 1.01, x 0.99 and +5 % on one block must each fail that."""
+    mask = np.ones(ref.shape[:2], bool) if mask is None else mask
+
+    def off(img):
+        """(worst pixel channel, the image mean's relative error)"""
+        return (float(st.relative_error(img, ref, floor)[mask].max()),
+                abs(float(img[mask].mean() / ref[mask].mean()) - 1.0))
+
+    def fails(img):
+        w, m = off(img)
+        return w > tol or (mean_tol is not None and m > mean_tol)
+
+    w, m = off(img_l)
+    assert w <= tol, (f"{name}: worst pixel channel off by {w:.2e} > {tol:.0e} "
+                      f"({int((st.relative_error(img_l, ref, floor)[mask] > tol).sum())} of "
+                      f"{int(mask.sum()) * 3}; means {img_l[mask].mean():.4f} Lantern, "
+                      f"{ref[mask].mean():.4f} reference)")
+    assert mean_tol is None or m <= mean_tol, f"{name}: image mean off by {m:.2e}"
+    i, j = _control_block(ref, mask)
+    block = img_l.copy()
+    block[i:i + BLOCK, j:j + BLOCK] *= 1.05
+    for label, biased in (("x 1.01", img_l * 1.01), ("x 0.99", img_l * 0.99),
+                          ("+5 % on one block", block)):
+        assert fails(biased), (f"{name}: negative control {label} passed, so this "
+                               "comparison cannot see it")
+    return w, m
+
+
+# ---- Blackbody and Wavelength, computed here: Planck's law from h, c and k, and the CIE 1931
+# observer's 5 nm table (node_cie1931, the data: checked against illuminant A below) linearly
+# interpolated and integrated by the trapezoid rule at 0.1 nm, taken to linear Rec.709 by the
+# matrix of its primaries and the CIE's D65 white (X, Z = 0.95047, 1.08883). Not the exporter's
+# code (its 1 nm sums, its matrix, its tables in the core are what is under test). Cycles' own
+# blackbody is a fit (docs/nodes.md), so Cycles is held only to its bound there.
+H_PLANCK, C_LIGHT, K_BOLTZMANN = 6.62607015e-34, 299792458.0, 1.380649e-23   # SI, exact
+BLACKBODY_K, WAVELENGTH_NM = (1800.0, 11000.0), (400.0, 700.0)   # over Generated X
+# per pixel channel against the computation above: Blackbody's 256 knots in 1/T interpolate
+# within 2.9e-4 of the exact colour (the 1 nm sums 7e-5 from the 0.1 nm ones); Wavelength's
+# knots are the observer's rows, so only float rounding is left
+SPECTRAL_TOL = {"blackbody": 5e-4, "wavelength": 2e-5}
+# against Cycles, (tol, floor), from the measured worst pixel channel: Blackbody 0.75 %
+# relative at 1915 K, at most 0.06 % from 2835 K up (Cycles' blackbody is a fit); Wavelength
+# 1.8e-4 absolute (floor 1; peak about 1): Cycles' observer table is rounded to 4 decimals
+# (up to 1.05e-4 through the matrix) and its XYZ to Rec.709 matrix comes from OpenColorIO
+SPECTRAL_CYCLES = {"blackbody": (0.01, 0.05), "wavelength": (3e-4, 1.0)}
+
+
+def _observer():
+    from lantern_blender.export import node_cie1931 as cie
+    lam = cie.LAMBDA_MIN + cie.LAMBDA_STEP * np.arange(len(cie.CMF_5NM))
+    return lam, np.array(cie.CMF_5NM, np.float64)
+
+
+def _xyz_to_rec709():
+    xy = np.array([[0.64, 0.33], [0.30, 0.60], [0.15, 0.06]])   # R, G, B
+    prim = np.stack([xy[:, 0] / xy[:, 1], np.ones(3), (1.0 - xy.sum(axis=1)) / xy[:, 1]])
+    white = np.array([0.95047, 1.0, 1.08883])
+    return np.linalg.inv(prim * np.linalg.solve(prim, white))
+
+
+def _centres(lo, hi, width):
+    """The spectral cases' input at the pixel centres (Generated X = (j + 0.5) / width)."""
+    return lo + (hi - lo) * (np.arange(width) + 0.5) / width
+
+
+def blackbody_expected(width):
+    """(width, 3): a blackbody's linear Rec.709 colour at luminance 1, per column."""
+    lam, cmf = _observer()
+    fine = np.arange(360.0, 830.0 + 1e-9, 0.1)
+    obs = np.stack([np.interp(fine, lam, cmf[:, k]) for k in range(3)], axis=1)
+    m = fine * 1e-9
+    out = []
+    for t in _centres(*BLACKBODY_K, width):
+        b = 2.0 * H_PLANCK * C_LIGHT ** 2 / m ** 5 / np.expm1(H_PLANCK * C_LIGHT /
+                                                             (m * K_BOLTZMANN * t))
+        y = b[:, None] * obs
+        xyz = ((y[1:] + y[:-1]) * 0.5 * np.diff(fine)[:, None]).sum(axis=0)
+        out.append(_xyz_to_rec709() @ xyz / xyz[1])
+    return np.array(out)
+
+
+def wavelength_expected(width):
+    """(width, 3): the observer at one wavelength in linear Rec.709, / 2.52 (Cycles' scale,
+    which keeps every channel under 1), clamped at 0, per column."""
+    lam, cmf = _observer()
+    xyz = np.stack([np.interp(_centres(*WAVELENGTH_NM, width), lam, cmf[:, k])
+                    for k in range(3)], axis=1)
+    return np.maximum(xyz @ _xyz_to_rec709().T / 2.52, 0.0)
+
+
+SPECTRAL_EXPECTED = {"blackbody": blackbody_expected, "wavelength": wavelength_expected}
+
+
+def test_observer_table_gives_illuminant_a():
+    """The observer's data (node_cie1931): CIE illuminant A, a Planckian radiator whose
+    relative spectrum CIE 15 defines with c2 = 1.435e-2 m K at 2848 K, summed over the 5 nm
+    rows from 380 to 780 nm, has the published chromaticity x, y = 0.44757, 0.40745 (CIE
+    15:2004), here within the fifth digit's rounding; x-bar 1 % higher must miss it."""
+    lam, cmf = _observer()
+    rows = (lam >= 380.0) & (lam <= 780.0)
+    s_a = 100.0 * (560.0 / lam[rows]) ** 5 * np.expm1(1.435e7 / (2848.0 * 560.0)) / \
+        np.expm1(1.435e7 / (2848.0 * lam[rows]))
+
+    def xy(obs):
+        xyz = (s_a[:, None] * obs[rows]).sum(axis=0)
+        return xyz[:2] / xyz.sum()
+
+    tol = 1e-5
+    got = xy(cmf)
+    assert np.abs(got - (0.44757, 0.40745)).max() <= tol, got
+    assert np.abs(xy(cmf * (1.01, 1.0, 1.0)) - (0.44757, 0.40745)).max() > tol
 
 
 def _link(nt, node, out, emit, into="Color"):
@@ -136,7 +300,8 @@ def mix_color(blend):
         # (clamped where the result can leave [0, 1]: Lantern's emission is never negative)
         m.clamp_result = blend in ("DODGE", "ADD", "SUBTRACT", "LINEAR_LIGHT")
         nt.links.new(_coord(nt), _ident(m, "A_Color"))
-        g = _node(nt, "ShaderNodeTexChecker", Scale=2.0)
+        g = _node(nt, "ShaderNodeTexChecker", Scale=2.3)   # (not 2: the plane's Generated z
+        # is 0.5, at scale 2 a checker edge, where each pixel's side is float rounding's)
         g.inputs["Color1"].default_value = (0.9, 0.3, 0.6, 1.0)
         g.inputs["Color2"].default_value = (0.2, 0.8, 0.1, 1.0)
         nt.links.new(g.outputs["Color"], _ident(m, "B_Color"))
@@ -490,8 +655,8 @@ CASES = {
         "offset": 0.3, "offset_frequency": 3, "squash": 0.6, "squash_frequency": 2}, **{
         "Scale": 2.5, "Bias": 0.3, "Brick Width": 0.4, "Row Height": 0.2, "Mortar Size": 0.06,
         "Mortar Smooth": 0.0})),   # (a smooth band narrower than a pixel would be an edge)
-    "blackbody": ("plane", spectral("ShaderNodeBlackbody", "Temperature", 1800.0, 11000.0)),
-    "wavelength": ("plane", spectral("ShaderNodeWavelength", "Wavelength", 400.0, 700.0)),
+    "blackbody": ("plane", spectral("ShaderNodeBlackbody", "Temperature", *BLACKBODY_K)),
+    "wavelength": ("plane", spectral("ShaderNodeWavelength", "Wavelength", *WAVELENGTH_NM)),
     "camera_view_vector_sphere": ("sphere", camera_data("View Vector", -0.5, 1.0)),
     "camera_z_depth_sphere": ("sphere", camera_data("View Z Depth", 2.5, 4.5)),
     "camera_distance_sphere": ("sphere", camera_data("View Distance", 2.5, 4.5)),
@@ -515,31 +680,39 @@ def _addon():
     st.addon()
 
 
+def _covered(shape, img_c):
+    """The compared pixels: all of the plane; the sphere without its silhouette ring."""
+    if shape != "sphere":
+        return np.ones(img_c.shape[:2], bool)
+    hit = img_c.max(axis=2) > 0
+    covered = np.zeros_like(hit)
+    covered[1:-1, 1:-1] = hit[1:-1, 1:-1] & hit[:-2, 1:-1] & hit[2:, 1:-1] & \
+        hit[1:-1, :-2] & hit[1:-1, 2:]
+    return covered
+
+
 @pytest.mark.parametrize("case", sorted(CASES))
 def test_node_output_matches_cycles(case, tmp_path):
     shape, build = CASES[case]
     sc, nt, emit = st.stage(shape)
     build(nt, emit)
-    img_l, warnings = st.render_lantern()
-    img_c = st.render_cycles(sc, tmp_path / "cycles.exr")
+    img_l, warnings = render_lantern()
+    img_c = render_cycles(sc, tmp_path / "cycles.exr")
     assert warnings == []
-    covered = np.ones(img_c.shape[:2], bool)
-    if shape == "sphere":   # the sphere without its silhouette ring (grazing normals there
-        hit = img_c.max(axis=2) > 0   # are the interpolation's, differently rounded)
-        covered = hit.copy()
-        covered[1:-1, 1:-1] = hit[1:-1, 1:-1] & hit[:-2, 1:-1] & hit[2:, 1:-1] & \
-            hit[1:-1, :-2] & hit[1:-1, 2:]
+    covered = _covered(shape, img_c)
     assert np.std(img_c[covered]) > 0.01, "the case does not vary: it would test nothing"
-    if case in SPECTRAL:
-        kind, tol = SPECTRAL[case]
-        err = st.relative_error(img_l, img_c) if kind == "relative" else np.abs(img_l - img_c)
-        assert err[covered].max() <= tol, f"{case}: worst {kind} error {err.max():.4f} > {tol}"
+    if case in SPECTRAL_CYCLES:   # against the independent computation; Cycles within its bound
+        expected = SPECTRAL_EXPECTED[case](img_c.shape[1])
+        assert_exact(case, img_l, np.broadcast_to(expected, img_l.shape).copy(),
+                     tol=SPECTRAL_TOL[case])
+        tol, floor = SPECTRAL_CYCLES[case]
+        if case == "wavelength":   # Cycles' own table and matrix: with the controls too
+            assert_exact(case, img_l, img_c, tol=tol, floor=floor)
+        else:   # Cycles' fit: a bound
+            err = st.relative_error(img_l, img_c, floor).max()
+            assert err <= tol, f"{case}: worst error against Cycles {err:.4f} > {tol}"
         return
-    rel = st.relative_error(img_l, img_c)[covered]
-    bad = np.mean(rel > TOL)
-    assert bad <= OUTLIERS, (f"{case}: {bad:.2%} of pixel channels off by more than 1% "
-                             f"(worst {rel.max():.3f}; means {img_l.mean():.4f} Lantern, "
-                             f"{img_c.mean():.4f} Cycles)")
+    assert_exact(case, img_l, img_c, covered, *CASE_TOL.get(case, (TOL, 0.05)))
 
 
 # ---- Bump: a diffuse plane under a sun straight above, one bounce: each pixel is
@@ -547,7 +720,9 @@ def test_node_output_matches_cycles(case, tmp_path):
 # sun Cycles also applies its bump shadowing term (the GGX masking of the normal's tilt at the
 # sun's angle to the unbent normal, docs/nodes.md "Bump and displacement"), as Lantern does:
 # bump_linear_oblique_sun (slope 0.5, sun 60 deg off the plane's normal) is 2.2 % darker than
-# the cosine, which a Lantern without the term puts off in every pixel.
+# the cosine, which a Lantern without the term puts off in every pixel. Its sun is on the side
+# the normal tilts towards (the term is the same either way): tilted away, the pixels read
+# 0.045 of the unbent 0.38, where the normal's float rounding (BENT_TOL) is 1 % of them.
 def _bump_stage(height_idname, inputs, distance, strength=1.0, invert=False, chain=False,
                 displacement=False, sun_deg=0.0):
     sc, nt, emit = st.stage("plane")
@@ -576,9 +751,18 @@ def _bump_stage(height_idname, inputs, distance, strength=1.0, invert=False, cha
     return sc
 
 
+# Noise and Wave heights: Cycles differences them over the ray differentials (0.1 px, the
+# Bump's Filter Width), Lantern over its 2e-4 offsets, and a height that bends within a pixel
+# has another slope over each (docs/nodes.md "Bump and displacement"): per pixel the measured
+# worst (3.5e-3, 7.1e-3, 1.8e-3 on the unbent value), which a 1 % bias of either sign still
+# exceeds where the differences have that sign, and the image mean within 2e-4, where they
+# cancel (measured 5.8e-6, 4.2e-5, 5.0e-6)
+BUMP_TOL = {"bump_noise": (5e-3, 2e-4), "bump_wave_chained": (1e-2, 2e-4),
+            "displacement_as_bump": (2.5e-3, 2e-4)}
+
 BUMPS = {
     "bump_linear": ("ShaderNodeTexGradient", {}, {"distance": 0.5}),
-    "bump_linear_oblique_sun": ("ShaderNodeTexGradient", {}, {"distance": 1.0, "sun_deg": 60.0}),
+    "bump_linear_oblique_sun": ("ShaderNodeTexGradient", {}, {"distance": 1.0, "sun_deg": -60.0}),
     "bump_linear_inverted_half": ("ShaderNodeTexGradient", {}, {"distance": 1.0,
                                                                  "invert": True,
                                                                  "strength": 0.5}),
@@ -594,16 +778,14 @@ BUMPS = {
 def test_bump_matches_cycles(case, tmp_path):
     idname, inputs, kw = BUMPS[case]
     sc = _bump_stage(idname, inputs, **kw)
-    img_l, warnings = st.render_lantern(max_depth=2)
-    img_c = st.render_cycles(sc, tmp_path / "cycles.exr", bounces=0)
+    img_l, warnings = render_lantern(max_depth=2)
+    img_c = render_cycles(sc, tmp_path / "cycles.exr", bounces=0)
     assert warnings == []
     flat = 0.8 / math.pi * 3.0 * math.cos(math.radians(kw.get("sun_deg", 0.0)))
     # the normal moved (a plain plane renders `flat` everywhere)
     assert np.abs(img_c - flat).max() > 0.01 * flat, "no bump: the case would test nothing"
-    rel = st.relative_error(img_l, img_c)
-    bad = np.mean(rel > TOL)
-    assert bad <= OUTLIERS, (f"{case}: {bad:.2%} of pixel channels off by more than 1% "
-                             f"(worst {rel.max():.3f})")
+    tol, mean_tol = BUMP_TOL.get(case, (BENT_TOL, None))
+    assert_exact(case, img_l, img_c, tol=tol, floor=flat, mean_tol=mean_tol)
 
 
 # ---- Normal Map fed by a node graph (its Color a mix of two colours along x, Strength 0.8),
@@ -614,14 +796,19 @@ def test_bump_matches_cycles(case, tmp_path):
 # matrix is the inverse transpose); Blender's own spaces flip y and z. Measured controls:
 # Lantern rendering the world case as tangent space puts 73% of the pixel channels off, the
 # object case as world space 52%, Blender World as World 95%.
+# Tangent space: Cycles applies Strength to the mapped vector before normalising it (the
+# colour's 2c - 1 in the tangent frame, of length 0.95-1.05 here), Lantern to the normalised
+# one (pt.h normal_from_tangent_color); with Strength 0.8 the images differ by up to 1.7e-3
+# on the unbent value, a model of Cycles' order reproduces Cycles to 1e-5 (docs/nodes.md);
+# the Object and World spaces normalise first in both
+NORMAL_MAP_TOL = {"TANGENT": 2.5e-3}
 NORMAL_MAP_COLORS = {"TANGENT": ((0.38, 0.6, 1.0), (0.62, 0.42, 0.95)),
                      "WORLD": ((0.38, 0.6, 1.0), (0.62, 0.42, 0.95)),
                      "OBJECT": ((0.4, 0.58, 1.0), (0.6, 0.45, 0.95)),
                      "BLENDER_WORLD": ((0.38, 0.4, 0.0), (0.62, 0.58, 0.05))}
 
 
-@pytest.mark.parametrize("space", sorted(NORMAL_MAP_COLORS))
-def test_normal_map_from_a_graph_matches_cycles(space, tmp_path):
+def _normal_map_stage(space):
     sc, nt, emit = st.stage("plane")
     nt.nodes.remove(emit)
     obj = bpy.data.objects["Plane"]
@@ -646,11 +833,15 @@ def test_normal_map_from_a_graph_matches_cycles(space, tmp_path):
     sun.data.energy, sun.data.angle = 3.0, 0.0
     sun.rotation_euler = (0.5, 0.6, 0.0)
     sc.collection.objects.link(sun)
-    img_l, warnings = st.render_lantern(max_depth=2)
-    img_c = st.render_cycles(sc, tmp_path / "cycles.exr", bounces=0)
+    return sc
+
+
+@pytest.mark.parametrize("space", sorted(NORMAL_MAP_COLORS))
+def test_normal_map_from_a_graph_matches_cycles(space, tmp_path):
+    sc = _normal_map_stage(space)
+    img_l, warnings = render_lantern(max_depth=2)
+    img_c = render_cycles(sc, tmp_path / "cycles.exr", bounces=0)
     assert warnings == []
     assert np.std(img_c) > 0.01 * img_c.mean(), "the map bends nothing: it would test nothing"
-    rel = st.relative_error(img_l, img_c)
-    bad = np.mean(rel > TOL)
-    assert bad <= OUTLIERS, (f"{space}: {bad:.2%} of pixel channels off by more than 1% "
-                             f"(worst {rel.max():.3f})")
+    assert_exact(space, img_l, img_c, tol=NORMAL_MAP_TOL.get(space, BENT_TOL),
+                 floor=0.8 / math.pi * 3.0)
