@@ -35,6 +35,8 @@ null distribution):
   against the wall's exact shadow (16 seeds of 8 spp; needs bpy);
 - bl_hdri: the same file's HDRI-lit Lambert plane against its exact irradiance (16 seeds of
   24 spp; needs bpy);
+- coat_normal: tests/cycles/test_coat_normal's interior blocks against Cycles, 12 seeds of
+  128 spp an engine, each trial its own seeds on both sides (needs bpy);
 - pano: lt against pt through the panoramic camera (test_camera_pano, its samples);
 - lighttree: bdpt against pt on the many-light stage with the tree (test_light_tree);
 - cycles: Lantern against the stored Cycles reference of light_sun (needs bpy; the reference
@@ -462,8 +464,41 @@ def pairs_bl_hdri(trial):
     yield "HDRI world on a Lambert plane vs its exact irradiance (test_bl_world)", run
 
 
+_COAT = {}
+
+
+def coat_normal_renders(trial):
+    """tests/cycles/test_coat_normal.py's renders for one trial: K Cycles and K Lantern seeds of
+    SPP (each trial its own seeds on both sides), the interior blocks and the limb mask."""
+    sys.path.insert(0, str(ROOT / "tests" / "cycles"))
+    import lantern_bpy
+    import render_compare as rc
+    import test_coat_normal as tc
+    lantern_bpy.load_addon()
+    if trial not in _COAT:
+        _COAT.clear()
+        tc._scene()
+        interior, limb = tc._interior_blocks()
+        cyc = [rc.render_cycles(seed=50000 + 100 * trial + k, spp=tc.SPP)[0]
+               for k in range(tc.K)]
+        lan = [rc.render_lantern(seed=60000 + 100 * trial + k, spp=tc.SPP, threads=2)[0]
+               for k in range(tc.K)]
+        _COAT[trial] = (lan, cyc, interior, limb)
+    return _COAT[trial]
+
+
+def pairs_coat_normal(trial):
+    """test_coat_normal.py's interior comparison: Principled Coat Normal against Cycles, 12
+    seeds of 128 spp a renderer, 4x4 blocks away from the limb (needs bpy). Its limb ratio is
+    counted by tools/false_alarm_coat_limb.py from the same renders."""
+    def run():
+        lan, cyc, interior, _ = coat_normal_renders(trial)
+        return lan, cyc, {"block": 4, "mask": interior, "rel_floor": 1e-3}
+    yield "coat normal interior vs Cycles (test_coat_normal)", run
+
+
 FAMILIES_BL = {"passes": pairs_passes, "bl_catcher": pairs_bl_catcher,
-               "bl_hdri": pairs_bl_hdri}
+               "bl_hdri": pairs_bl_hdri, "coat_normal": pairs_coat_normal}
 
 
 def pairs_pano(trial):
