@@ -10,8 +10,9 @@ the runs; writes nothing else. Issue 13: speed within 3 % of the build before.
 
 A scene is a lantern.scenes builder name, or file:PATH (a saved .lantern scene, its film scaled
 to --size wide). --callgrind counts instead the instructions of two steps after the warm-up under valgrind
-(callgrind; the whole process less A's process without those steps): a figure the machine's
-load does not change."""
+(callgrind; each build's whole process less its own process without those steps, so that a
+build's warm-up step counts as its warm-up, not as its steps): a figure the machine's load does
+not change."""
 import argparse
 import os
 import statistics
@@ -73,16 +74,20 @@ if __name__ == "__main__":
                     help="instructions of two steps after the warm-up, per build, instead")
     args = ap.parse_args()
     if args.callgrind:
-        # steps = (process with the warm-up and 2 steps) - (A's process with the warm-up only):
-        # everything before the steps is the same code in both builds
-        print("| scene | integrator | A: 2 steps (instructions) | B: 2 steps | B / A - 1 |")
-        print("|---|---|---:|---:|---:|")
+        # steps = (process with the warm-up and 2 steps) - (the same build's process with the
+        # warm-up only): the warm-up step runs the changed code too, so subtracting A's from
+        # both would count B's warm-up difference as B's steps
+        print("| scene | integrator | A0 (warm-up only) | B0 | A: 2 steps (instructions) | "
+              "B: 2 steps | B / A - 1 |")
+        print("|---|---|---:|---:|---:|---:|---:|")
         for scene in args.scenes.split(","):
             for integ in args.integrators.split(","):
-                base = instructions(args.a, integ, scene, args.size, 0)
-                a = instructions(args.a, integ, scene, args.size, 2) - base
-                b = instructions(args.b, integ, scene, args.size, 2) - base
-                print(f"| {scene} | {integ} | {a:,} | {b:,} | {b / a - 1:+.2%} |", flush=True)
+                a0 = instructions(args.a, integ, scene, args.size, 0)
+                b0 = instructions(args.b, integ, scene, args.size, 0)
+                a = instructions(args.a, integ, scene, args.size, 2) - a0
+                b = instructions(args.b, integ, scene, args.size, 2) - b0
+                print(f"| {scene} | {integ} | {a0:,} | {b0:,} | {a:,} | {b:,} | "
+                      f"{b / a - 1:+.2%} |", flush=True)
         sys.exit(0)
     print("| scene | integrator | A median (s) | B median (s) | B / A - 1 | A range | B range |")
     print("|---|---|---:|---:|---:|---|---|")

@@ -373,6 +373,15 @@ LANTERN_HD inline void bdpt_camera_emission(const SceneView& s, const PathState&
     }
 }
 
+// On a GPU thread a connection resolves the cache vertex's material into the camera vertex's
+// scratch (one MaterialScratch on the shade kernel's stack, not two: 600 B of its frame) and
+// then the camera vertex's again (the same inputs, so the same material). The CPU keeps both.
+#ifdef __CUDA_ARCH__
+constexpr bool kOneScratch = true;
+#else
+constexpr bool kOneScratch = false;
+#endif
+
 // A camera vertex: what next-event estimation and connections read.
 struct CameraVertex {
     SurfaceHit h;
@@ -383,7 +392,22 @@ struct CameraVertex {
     const Material* m;
     int depth;    // segments from the camera
     Vec3 n_pick;  // the normal the light tree sees here (light_pick_normal)
+    // kOneScratch: where m may live, and what resolves it again (the hit's triangle, its
+    // barycentrics and the direction towards the previous vertex)
+    MaterialScratch* scratch;
+    int tri;
+    Vec2 uv;
+    Vec3 wo_w;
 };
+
+// The camera vertex's material, resolved (again) into its scratch: shade_point as the shade
+// stage built it.
+LANTERN_HD inline const Material& camera_vertex_material(const SceneView& s,
+                                                         const CameraVertex& z) {
+    return material_at_point(
+        s, s.tri_material[z.tri], [&] { return shade_point(z.h, z.tri, z.uv, z.wo_w); },
+        *z.scratch);
+}
 
 // Shadow segment from p (normal n) to q (normal nq; zero: no offset), shortened at both ends.
 LANTERN_HD inline void shadow_segment(Vec3 p, Vec3 n, Vec3 q, Vec3 nq, Vec3 dir, float scale,
@@ -456,8 +480,9 @@ struct Connection {
     float bsdf_target;
 };
 
-LANTERN_HD inline Connection bdpt_connect(const SceneView& s, const BdptSettings& st,
-                                          const CameraVertex& z, const LightVertex& y) {
+LANTERN_HD inline Connection bdpt_connect_in(const SceneView& s, const BdptSettings& st,
+                                             const CameraVertex& z, const LightVertex& y,
+                                             bool* clobbered) {
     Connection r{vec3(0.0f), vec3(0.0f), 0.0f, 0.0f};
     if (z.depth + 1 + y.length > st.max_depth) return r;
     Vec3 dir = y.p - z.h.p;
@@ -471,9 +496,14 @@ LANTERN_HD inline Connection bdpt_connect(const SceneView& s, const BdptSettings
     BsdfEval ez = material_eval(*z.m, z.h.front, z.wo, z.frame.to_local(dir), Transport::Radiance,
                                 z.h.coat_n, z.frame.to_local(z.h.ng));
     if (is_black(ez.f)) return r;
+#ifdef __CUDA_ARCH__
+    MaterialScratch& scratch = *z.scratch;  // kOneScratch: z's material is not read again here
+#else
     MaterialScratch scratch;
+#endif
     const Material& my = material_at_point(s, y.material, [&] { return shade_point_lv(s, y, -dir); },
                                             scratch);
+    *clobbered = &my == &scratch.m;
     Frame fy = Frame::from_normal_angle(y.ns, y.tangent_angle);
     const Vec3 coat_y = (my.tex_flags & kCoatNormal) || material_reads_light_side(my)
                             ? oct_decode(y.coat_n)
@@ -498,6 +528,14 @@ LANTERN_HD inline Connection bdpt_connect(const SceneView& s, const BdptSettings
     r.dir = dir;
     r.dist = dist;
     r.bsdf_target = luminance(ez.f) * luminance(ey.f);
+    return r;
+}
+
+LANTERN_HD inline Connection bdpt_connect(const SceneView& s, const BdptSettings& st,
+                                          const CameraVertex& z, const LightVertex& y) {
+    bool clobbered = false;  // the cache vertex's material took z's scratch (kOneScratch)
+    const Connection r = bdpt_connect_in(s, st, z, y, &clobbered);
+    if (kOneScratch && clobbered && z.m == &z.scratch->m) camera_vertex_material(s, z);
     return r;
 }
 
@@ -630,8 +668,11 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
     CameraVertex z;
     MaterialScratch scratch;  // z.m points here when the material is resolved
     z.h = pt_surface(s, tri, ps.hit_uv[i], d);
-    z.m = &material_at_point(
-        s, s.tri_material[tri], [&] { return shade_point(z.h, tri, ps.hit_uv[i], -d); }, scratch);
+    z.scratch = &scratch;
+    z.tri = tri;
+    z.uv = ps.hit_uv[i];
+    z.wo_w = -d;
+    z.m = &camera_vertex_material(s, z);
     z.depth = ps.depth[i];
     const float cos_in = fabsf(dot(d, z.h.ng));
     if (!(cos_in > 0.0f) || !(t_hit > 0.0f)) return;
