@@ -64,11 +64,6 @@ TEST(BsdfPrincipled, WeightsAndReversePdfsMatchEval) {
 
 // The albedo tables' interpolation: roughness 0.05 reads -0.06 % to +0.08 % with se <= 0.02 %.
 constexpr double kFurnaceCap = 1e-3;
-// Measured (2026-12-02, 240000 samples; the test draws 40000): the sheen over the coat at
-// theta_o 1.45 reflects 1.0173 +- 0.0018 (z 9.6; 1.0002 and 1.0005 at 0 and 1.0): energy gained
-// at grazing, a defect left to the sheen's owner: that case keeps the old 2 % and has no
-// control until it is fixed.
-constexpr double kSheenGrazingCap = 0.02;
 
 TEST(BsdfPrincipled, WhiteFurnaceConservesEnergy) {
     // a white base under the specular layer reflects exactly what the layer does not: 1, the
@@ -110,13 +105,17 @@ TEST(BsdfPrincipled, WhiteFurnaceConservesEnergy) {
             EXPECT_TRUE(mean_matches(sum, 1.0, z, cap))
                 << "coat roughness " << coat_rough << " theta " << theta_o;
         }
-    // and a sheen on top of both
+    // and a sheen on top of both: 1 - E_sheen(mu_o) reaches the coat, so the furnace is exact
+    // where the sheen's albedo table is (BsdfSheen.LayerTableMatchesIndependentIntegral). The
+    // grazing case carries the sheen's noise (se 0.44 % at 40000 samples), hence 320000 there
+    // (se ~0.16 %, allowed ~0.8 %; theta 1.53 would need ~10^6). Before the table's quadrature
+    // was fixed theta 1.45 read 1.0173 +- 0.0018.
     for (float theta_o : {0.0f, 1.0f, 1.45f}) {
         Material m = sheened(coated(principled(vec3(1.0f), 0.0f, 0.0f, 0.4f), 1.0f, 0.3f), 1.0f,
                              0.4f);
         Vec3 wo = dir_from_angles(theta_o, 0.3f);
         Pcg32 rng = Pcg32::for_path(8, 0, 0);
-        const int n = 40000;
+        const int n = theta_o > 1.4f ? 320000 : 40000;
         MeanSe sum;
         for (int i = 0; i < n; ++i) {
             BsdfSample s = material_sample(m, true, wo, vec3(rng.uniform(), rng.uniform(),
@@ -124,31 +123,32 @@ TEST(BsdfPrincipled, WhiteFurnaceConservesEnergy) {
                                            Transport::Radiance);
             sum.add(s.valid ? s.weight.x : 0.0);
         }
-        bool grazing = theta_o > 1.4f;
-        EXPECT_TRUE(mean_matches(sum, 1.0, z, grazing ? kSheenGrazingCap : cap,
-                                 grazing ? 0.0 : 0.01))
-            << "sheen, theta " << theta_o;
+        EXPECT_TRUE(mean_matches(sum, 1.0, z, cap)) << "sheen, theta " << theta_o;
     }
     // nothing reflects more than 1: metals, glass, tints. (Importance transport only without
     // the specular layer: weighting the base by the camera-side albedo, as Cycles does, is not
     // reciprocal, and seen from the light at grazing angles the layer + base may pass 1 by
-    // E_s(mu_light) - (average E_s); radiance transport conserves energy exactly.)
+    // E_s(mu_light) - (average E_s); radiance transport conserves energy exactly.) Cap 0 + z se
+    // (Bonferroni over the 9); a 1 % gain must fail where it nearly reaches 1.
+    const double z9 = z_bonferroni(9);
+    int caught = 0;
     for (const Material& m : {principled(vec3(1.0f), 1.0f, 0.0f, 0.5f),
                               principled(vec3(1.0f), 0.0f, 1.0f, 0.4f),
                               principled(vec3(1.0f), 0.6f, 1.0f, 0.2f, 1.5f, 1.0f)})
         for (float theta_o : {0.1f, 1.0f, 1.5f}) {
             Vec3 wo = dir_from_angles(theta_o, 0.0f);
             Pcg32 rng = Pcg32::for_path(6, 0, 0);
-            double sum = 0.0;
+            MeanSe sum;
             const int n = 40000;
             for (int i = 0; i < n; ++i) {
                 BsdfSample s = material_sample(m, true, wo, vec3(rng.uniform(), rng.uniform(),
                                                                  rng.uniform()),
                                                Transport::Importance);
-                if (s.valid) sum += s.weight.x;
+                sum.add(s.valid ? s.weight.x : 0.0);
             }
-            EXPECT_LE(sum / n, 1.0 + 1e-2) << "theta " << theta_o;
+            EXPECT_TRUE(mean_at_most(sum, 1.0, z9, 0.0, &caught)) << "theta " << theta_o;
         }
+    EXPECT_GE(caught, 1) << "no case within 1 % of 1: a 1 % energy gain would pass";
 }
 
 TEST(BsdfPrincipled, LimitsReduceToSingleLobes) {

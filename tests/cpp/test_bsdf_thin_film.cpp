@@ -180,25 +180,33 @@ TEST(ThinFilm, PrincipledLayerSamplesAndConserves) {
                             1e-4f * (1.0f + s.weight.z));
             }
         }
-    // a white base under an iridescent layer reflects at most 1 (radiance transport)
+    // a white base under an iridescent layer reflects at most 1 (radiance transport), per
+    // channel, within a stated cap of 0.5 % + z se (Bonferroni over the 27); a 1 % gain must
+    // fail where it nearly reaches 1. The cap: 500 nm at normal incidence reads 1.00266 +-
+    // 0.00017 in red (z 15.7): the base is weighted by 1 - the film's Fresnel at the view
+    // cosine (principled.h, the smooth-surface estimate Cycles layers iridescence with), not by
+    // the rough layer's albedo, whose microfacets see the film at other angles (was 3 %).
+    constexpr double kFilmLayeringCap = 5e-3;
+    const double z = z_bonferroni(27);
+    int caught = 0;
     for (float d : {250.0f, 500.0f, 800.0f})
         for (float theta_o : {0.0f, 0.9f, 1.4f}) {
             Material w = filmed(principled(vec3(1.0f), 0.0f, 0.0f, 0.4f), d, 1.33f);
             Vec3 wo = dir_from_angles(theta_o, 0.3f);
             Pcg32 r2 = Pcg32::for_path(32, 0, 0);
-            double sum[3] = {0, 0, 0};
+            MeanSe sum[3];
             const int n = 40000;
             for (int i = 0; i < n; ++i) {
                 BsdfSample s = material_sample(
                     w, true, wo, vec3(r2.uniform(), r2.uniform(), r2.uniform()),
                     Transport::Radiance);
-                if (!s.valid) continue;
-                sum[0] += s.weight.x;
-                sum[1] += s.weight.y;
-                sum[2] += s.weight.z;
+                for (int c = 0; c < 3; ++c) sum[c].add(s.valid ? s.weight[c] : 0.0);
             }
-            for (double v : sum) EXPECT_LE(v / n, 1.0 + 0.03) << d << " " << theta_o;
+            for (int c = 0; c < 3; ++c)
+                EXPECT_TRUE(mean_at_most(sum[c], 1.0, z, kFilmLayeringCap, &caught))
+                    << d << " " << theta_o << " channel " << c;
         }
+    EXPECT_GE(caught, 1) << "no case within 1 % of 1: a 1 % energy gain would pass";
 }
 
 TEST(ThinFilm, HostileInputsStayFinite) {
