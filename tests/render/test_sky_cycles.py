@@ -270,6 +270,8 @@ def disc_view(props):
         sky.sky_ms.sun_vector(node.sun_elevation, node.sun_rotation))))
     rotation = towards.to_track_quat("-Z", "Y").to_euler()
     _camera(scene, cam).rotation_euler = rotation
+    scene.render.resolution_x = scene.render.resolution_y = n  # as _render sets it for Cycles
+    scene.render.resolution_percentage = 100
     # a pinhole pixel's solid angle: (2 tan(fov / 2) / n)^2 cos^3 of its angle off the axis
     t = ((np.arange(n) + 0.5) / n - 0.5) * 2.0 * math.tan(fov / 2)
     cos3 = (1.0 + t[:, None] ** 2 + t[None, :] ** 2) ** -1.5
