@@ -51,6 +51,10 @@ null distribution):
 - gpu_paired: test_cuda_backend's paired rule on CPU data: the built-in BVH against Embree with
   the same seeds (another traversal, the same wavefront), Cornell pt at that test's settings
   (32x32, 16 seeds of 64 spp, max_depth 8; one iteration of 64 where the test runs 4 of 16).
+- lt_furnace: test_world's lt furnace, the image's totals over the ball's value times pt's
+  coverage, one value a seed, against 1 (its seeds and samples; the coverage render is shared);
+- sun_disc: render/test_sky_cycles' disc Lantern's camera sees, summed over the pixels' solid
+  angles, against its light's strength (both skies, 8 seeds of 16 spp, cap 0.3 %; needs bpy).
 """
 
 import argparse
@@ -278,11 +282,8 @@ def pairs_exact_images(trial):
                 {"block": 2, "mask": inside, "bias_cap": 1e-4, "se_floor": 1e-6})
     yield "ball under a world hidden from the camera vs 0.5 (test_world)", hidden
 
-    def glass():
-        scene = tv.ball_scene("glass", ("transmission",))
-        imgs = [tv.render(scene, seed=seed0 + k, spp=128)[tv.BALL] for k in range(tv.K)]
-        expected = tv.reflection_image(range(6, 10), range(6, 10))
-        return imgs, np.repeat(expected[..., None], 3, axis=2), {"block": 4}
+    def glass():  # through its view window of the ball's middle, one block
+        return tv.reflection_renders(seed0), tv.reflection_expected(), {"block": 16}
     yield "glass reflection only vs its exact image (test_world_visibility)", glass
 
 
@@ -497,8 +498,31 @@ def pairs_coat_normal(trial):
     yield "coat normal interior vs Cycles (test_coat_normal)", run
 
 
+def pairs_sun_disc(trial):
+    """test_sky_cycles.py::test_sun_disc_irradiance_matches_cycles, Lantern's side: the disc
+    its camera sees (8 seeds of 16 spp, summed over the pixels' solid angles, less the sky)
+    against the light's strength, cap 0.3 %, for both skies (needs bpy)."""
+    sys.path.insert(0, str(ROOT / "tests" / "render"))
+    import test_sky_cycles as ts
+
+    def run(i):
+        if ("disc", i) not in _BL_SCENES:
+            import lantern_bpy
+            lantern_bpy.load_addon()
+            node, omega, _, _ = ts.disc_view(ts.DISC_PROPS[i])
+            light, scene, sky = ts.lantern_disc(node, omega)
+            _BL_SCENES["disc", i] = (scene, omega, sky, np.asarray(light["strength"]))
+        scene, omega, sky, mine = _BL_SCENES["disc", i]
+        discs = ts.disc_sums(scene, omega, sky, seed0=1000 * trial + 960000)
+        return discs, mine, {"block": 1, "bias_cap": ts.DISC_CAP}
+    for i, props in enumerate(ts.DISC_PROPS):
+        yield (f"sun disc {props.get('sky_type', 'MULTIPLE_SCATTERING')} vs its light "
+               f"(test_sky_cycles)", lambda i=i: run(i))
+
+
 FAMILIES_BL = {"passes": pairs_passes, "bl_catcher": pairs_bl_catcher,
-               "bl_hdri": pairs_bl_hdri, "coat_normal": pairs_coat_normal}
+               "bl_hdri": pairs_bl_hdri, "coat_normal": pairs_coat_normal,
+               "sun_disc": pairs_sun_disc}
 
 
 def pairs_pano(trial):
@@ -526,6 +550,16 @@ def pairs_lighttree(trial):
     yield "bdpt vs pt, many lights with the tree (test_light_tree)", run
 
 
+def pairs_lt_furnace(trial):
+    sys.path.insert(0, str(ROOT / "tests" / "python"))
+    import test_world as tw  # its scene, coverage, seeds and samples
+
+    def run():
+        return tw.lt_furnace_ratios(seed0=1000 * trial + 310000), 1.0, {"block": 1,
+                                                                        "bias_cap": 1e-4}
+    yield "lt furnace, image totals vs the ball's (test_world)", run
+
+
 def pairs_tungsten(trial):
     sys.path.insert(0, str(ROOT / "tests" / "python"))
     import test_mitsuba as tm  # its renders at the references' footprints, masks and caps
@@ -547,7 +581,8 @@ FAMILIES = {"cross": pairs_cross, "analytic": pairs_analytic, "backend": pairs_b
             "instance": pairs_instance, "adaptive": pairs_adaptive, "film": pairs_film,
             "rotation": pairs_rotation, "pano": pairs_pano, "lighttree": pairs_lighttree,
             "hdri": pairs_hdri, "layers": pairs_layers, "tungsten": pairs_tungsten,
-            **FAMILIES_BL, "exact_images": pairs_exact_images}
+            **FAMILIES_BL, "exact_images": pairs_exact_images,
+            "lt_furnace": pairs_lt_furnace}
 
 
 def main(argv=None):

@@ -186,7 +186,7 @@ LANTERN_HD inline void lt_generate(const SceneView& s, const PathState& ps,
     if (s.num_lights == 0) return;
     int li = sample_cdf(s.light_cdf, s.num_lights, u_pick);
     const Light& l = s.lights[li];
-    EmissionSample es = sample_emission(s, l, u_pos, u_dir);
+    EmissionSample es = sample_emission(s, l, u_pos, u_dir, kTightDisk);  // no MIS here
     if (!es.valid || !(l.pick_pdf > 0.0f)) return;
     lp.power[i] = emission_weight(es) / l.pick_pdf;
     ps.rng[i] = rng;

@@ -553,6 +553,16 @@ void HostScene::add_lights(const SceneInput& in) {
     view_.scene_center = lo.x <= hi.x ? (lo + hi) * 0.5f : vec3(0.0f);
     view_.scene_radius = std::max(radius, 1e-3f);
     view_.offset_scale = std::min(1.0f, view_.scene_radius);
+    // the pure light tracer's sun and world paths leave the disk of the sphere about the same
+    // centre through the farthest vertex: no larger than the box's (kept where they round alike,
+    // a box's corners), a third of its area about a ball (light_path.h, kTightDisk)
+    float reach = 0.0f;
+    for (const Vec3& p : positions_) {
+        if (within_limit(p)) reach = std::max(reach, length(p - view_.scene_center));
+    }
+    view_.emit_radius = lo.x <= hi.x ? std::max(std::min(view_.scene_radius,
+                                                         reach * (1.0f + 1e-5f)), 1e-3f)
+                                     : view_.scene_radius;  // no geometry: as the box's
     const float disk_area = kPi * view_.scene_radius * view_.scene_radius;
 
     for (size_t k = 0; k < in.lights.size(); ++k) {

@@ -57,6 +57,13 @@ bool HostScene::move_mesh(int k, const Transform& m) {
         }
     }
     std::copy(moved.begin(), moved.end(), positions_.begin() + vb);
+    // the pure light tracer's disk grows to cover the moved mesh (never past scene_radius,
+    // which bounds it above): its sun and world paths keep reaching every vertex
+    float far = view_.emit_radius;
+    for (const Vec3& p : moved) {
+        if (within_limit(p)) far = std::max(far, length(p - view_.scene_center) * (1.0f + 1e-5f));
+    }
+    view_.emit_radius = std::min(far, view_.scene_radius);
     bool identity = true;  // back where it was given: the given arrays, bit for bit
     for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 4; ++j) identity &= m.m[i][j] == (i == j ? 1.0f : 0.0f);

@@ -295,7 +295,11 @@ struct SceneView {
     Vec3 world_color;
     EnvMap env;                          // the world's environment map (width 0: constant)
     CameraView camera;
-    float scene_radius = 1.0f;           // for sun/world sampling and offsets
+    float scene_radius = 1.0f;           // half the bounding box's diagonal: offsets, distant
+                                         // lights' power, the disk their paths leave
+    float emit_radius = 1.0f;            // <= scene_radius, about scene_center: the sphere every
+                                         // vertex lies in, the disk the pure light tracer's sun
+                                         // and world paths leave (light_path.h, kTightDisk)
     float offset_scale = 1.0f;           // min(1, scene_radius): core/offset.h
     Vec3 scene_center;
 };
