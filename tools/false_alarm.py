@@ -852,9 +852,36 @@ def pairs_node_integrators(trial):
                 lambda name=name, integ=integ: (sets(name)[integ], sets(name)["pt"], {}))
 
 
+
+def pairs_bounces(trial):
+    """render/test_bounces.py: Cycles' max_bounces 0 and 1 against Lantern's max_depth 2 and 3
+    on the Cornell box at 32 x 32, 16 seeds a side of 64 (0 bounces) or 128 spp (1), both
+    re-rendered every trial with their own seeds (needs bpy and Cycles)."""
+    import bpy
+    import lantern_bpy
+    import render_compare as rc
+    lantern_bpy.load_addon()
+    seed0 = 1000 * trial + 1700000
+
+    def run(bounces):
+        rc.build_scene("cornell_box")
+        sc = bpy.context.scene
+        sc.render.resolution_x = sc.render.resolution_y = 32
+        sc.render.threads_mode, sc.render.threads = "FIXED", 2
+        rc.BOUNCES = bounces
+        spp = {0: 64, 1: 128}[bounces]
+        cyc = [rc.render_cycles(seed=seed0 + k, spp=spp)[0] for k in range(16)]
+        lan = [rc.render_lantern(seed=seed0 + 500 + k, spp=spp, threads=2)[0] for k in range(16)]
+        return lan, cyc, {"block": rc.BLOCK}
+    for bounces in (0, 1):
+        yield (f"Cycles max_bounces={bounces} vs Lantern max_depth={bounces + 2} "
+               "(render/test_bounces)", lambda bounces=bounces: run(bounces))
+
+
 FAMILIES.update({"dof_moments": pairs_dof_moments, "dof": pairs_dof,
                  "bl_region": pairs_bl_region, "bl_border": pairs_bl_border,
-                 "texels": pairs_texels, "node_integrators": pairs_node_integrators})
+                 "texels": pairs_texels, "node_integrators": pairs_node_integrators,
+                 "bounces": pairs_bounces})
 
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
