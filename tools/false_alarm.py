@@ -858,30 +858,18 @@ def pairs_texels(trial):
         yield f"alpha card {integ} vs its exact image (test_textures)", (
             lambda integ=integ: card(integ))
 
-    # the test's two emitters, as in test_emission_texture_lights_like_its_bright_part
-    def textured(s):
-        tex = s.add_texture(np.array([[[255, 255, 255, 255], [0, 0, 0, 255]]], np.uint8),
-                            colorspace="linear", interpolation="closest")
-        m = s.add_material(base_color=[0, 0, 0], emission=[3.0] * 3, emission_texture=tex)
-        s.add_mesh(np.array([[-0.5, -0.5, 1], [-0.5, 0.5, 1], [0.5, 0.5, 1], [0.5, -0.5, 1]],
-                            np.float32), [[0, 1, 2], [0, 2, 3]], material=m,
-                   uvs=np.array([[0, 0], [0, 1], [1, 1], [1, 0]], np.float32),
-                   visible_camera=False)
-
-    def half(s):
-        m = s.add_material(base_color=[0, 0, 0], emission=[3.0] * 3)
-        s.add_mesh(np.array([[-0.5, -0.5, 1], [-0.5, 0.5, 1], [0.0, 0.5, 1], [0.0, -0.5, 1]],
-                            np.float32), [[0, 1, 2], [0, 2, 3]], material=m,
-                   visible_camera=False)
+    # the test's two emitters (test_emission_texture_lights_like_its_bright_part)
     cache = {}
 
     def emitter(integrator):
         if "ref" not in cache:
-            cache["ref"] = [lantern.render(tt._lit_floor(half), spp=96, integrator="pt",
-                                           seed=seed0 + 300 + k, threads=2, max_depth=2)
+            cache["ref"] = [lantern.render(tt._lit_floor(tt._half_emitter), spp=96,
+                                           integrator="pt", seed=seed0 + 300 + k, threads=2,
+                                           max_depth=2)
                             for k in range(2 * tt.K)]
-        got = [lantern.render(tt._lit_floor(textured), spp=48, integrator=integrator,
-                              seed=seed0 + 400 + k, threads=2, max_depth=2)
+        got = [lantern.render(tt._lit_floor(tt._textured_emitter), spp=48,
+                              integrator=integrator, seed=seed0 + 400 + k, threads=2,
+                              max_depth=2)
                for k in range(2 * tt.K)]
         return got, cache["ref"], {"block": 8}
     for integ in ("pt", "bdpt", "cis"):

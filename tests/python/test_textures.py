@@ -391,31 +391,35 @@ def _lit_floor(emitter):
     return s
 
 
+def _textured_emitter(s):
+    """A quad emitter whose texture is white on its left half, black on its right."""
+    tex = s.add_texture(np.array([[[255, 255, 255, 255], [0, 0, 0, 255]]], np.uint8),
+                        colorspace="linear", interpolation="closest")
+    m = s.add_material(base_color=[0, 0, 0], emission=[3.0] * 3, emission_texture=tex)
+    s.add_mesh(np.array([[-0.5, -0.5, 1], [-0.5, 0.5, 1], [0.5, 0.5, 1], [0.5, -0.5, 1]],
+                        np.float32), [[0, 1, 2], [0, 2, 3]], material=m,
+               uvs=np.array([[0, 0], [0, 1], [1, 1], [1, 0]], np.float32),
+               visible_camera=False)
+
+
+def _half_emitter(s):
+    """The constant emitter of that quad's left half alone."""
+    m = s.add_material(base_color=[0, 0, 0], emission=[3.0] * 3)
+    s.add_mesh(np.array([[-0.5, -0.5, 1], [-0.5, 0.5, 1], [0.0, 0.5, 1], [0.0, -0.5, 1]],
+                        np.float32), [[0, 1, 2], [0, 2, 3]], material=m,
+               visible_camera=False)
+
+
 def test_emission_texture_lights_like_its_bright_part():
     """A quad emitter whose texture is white on its left half and black on its right lights a
     floor as a constant emitter of the left half alone (pt, bdpt, cis agree with that)."""
-    def textured(s):
-        tex = s.add_texture(np.array([[[255, 255, 255, 255], [0, 0, 0, 255]]], np.uint8),
-                            colorspace="linear", interpolation="closest")
-        m = s.add_material(base_color=[0, 0, 0], emission=[3.0] * 3, emission_texture=tex)
-        s.add_mesh(np.array([[-0.5, -0.5, 1], [-0.5, 0.5, 1], [0.5, 0.5, 1], [0.5, -0.5, 1]],
-                            np.float32), [[0, 1, 2], [0, 2, 3]], material=m,
-                   uvs=np.array([[0, 0], [0, 1], [1, 1], [1, 0]], np.float32),
-                   visible_camera=False)
-
-    def half(s):
-        m = s.add_material(base_color=[0, 0, 0], emission=[3.0] * 3)
-        s.add_mesh(np.array([[-0.5, -0.5, 1], [-0.5, 0.5, 1], [0.0, 0.5, 1], [0.0, -0.5, 1]],
-                            np.float32), [[0, 1, 2], [0, 2, 3]], material=m,
-                   visible_camera=False)
-
     # the floor's noise at this cost resolves a whole-image bias of ~2 % with 16 x 24 spp a
     # side: 32 seeds, the shared reference at twice the samples (about 0.95 %)
-    ref = [lantern.render(_lit_floor(half), spp=96, integrator="pt", seed=100 + k, threads=2,
-                          max_depth=2) for k in range(2 * K)]
+    ref = [lantern.render(_lit_floor(_half_emitter), spp=96, integrator="pt", seed=100 + k,
+                          threads=2, max_depth=2) for k in range(2 * K)]
     for integrator in ("pt", "bdpt", "cis"):
-        got = [lantern.render(_lit_floor(textured), spp=48, integrator=integrator, seed=200 + k,
-                              threads=2, max_depth=2) for k in range(2 * K)]
+        got = [lantern.render(_lit_floor(_textured_emitter), spp=48, integrator=integrator,
+                              seed=200 + k, threads=2, max_depth=2) for k in range(2 * K)]
         metrics.assert_agreement(f"textured emitter {integrator} vs half emitter pt", got, ref,
                                  block=8)
 
