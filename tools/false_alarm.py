@@ -941,12 +941,26 @@ FAMILIES.update({"dof_moments": pairs_dof_moments, "dof": pairs_dof,
                  "texels": pairs_texels, "node_integrators": pairs_node_integrators,
                  "bounces": pairs_bounces})
 
+
+def load_family_modules():
+    """Families kept in modules of their own: every tools/fa_*.py with a FAMILIES dict (name ->
+    pairs function, as above) joins FAMILIES; a name given twice is an error."""
+    import importlib
+    for path in sorted((ROOT / "tools").glob("fa_*.py")):
+        mod = importlib.import_module(path.stem)
+        for name, fn in getattr(mod, "FAMILIES", {}).items():
+            if name in FAMILIES:
+                raise SystemExit(f"false_alarm: family '{name}' of {path.name} is defined twice")
+            FAMILIES[name] = fn
+
+
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--trials", type=int, default=20)
     p.add_argument("--families", default="cross,analytic,backend")
     p.add_argument("--out", default=None)
     args = p.parse_args(argv)
+    load_family_modules()
     rows = {}
     t0 = time.perf_counter()
     for fam in [f.strip() for f in args.families.split(",") if f.strip()]:
