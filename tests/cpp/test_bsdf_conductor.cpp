@@ -33,9 +33,21 @@ TEST(BsdfConductor, SampleMatchesPdfChiSquare) {
                 [&](Vec3 wi) { return double(conductor_eval(p, wo, wi).pdf_fwd_w); }, 200000);
             EXPECT_GT(r.p_value, 1e-4) << "alpha " << p.ggx.ax << " theta " << theta_o << " chi2 "
                                        << r.chi2 << " dof " << r.dof;
-            EXPECT_LE(r.pdf_mass, 1.0 + 1e-2);
-            EXPECT_NEAR(r.pdf_mass, r.valid_frac, 1e-2) << "alpha " << p.ggx.ax;
+            expect_pdf_mass(r, "alpha " + std::to_string(p.ggx.ax) + " theta " +
+                                   std::to_string(theta_o));
         }
+    // negative control: the same lobe with its pdf 1 % high fails the mass check
+    const ConductorParams p = cases()[1];
+    const Vec3 wo = dir_from_angles(0.3f, 0.4f);
+    Chi2Result off = chi2_sphere(
+        [&](Vec2 u, float, Vec3* wi) {
+            BsdfSample s = conductor_sample(p, wo, u);
+            *wi = s.wi;
+            return s.valid;
+        },
+        [&](Vec3 wi) { return 1.01 * double(conductor_eval(p, wo, wi).pdf_fwd_w); }, 200000);
+    EXPECT_FALSE(pdf_mass_agrees(off)) << "a 1 % pdf error passed: mass " << off.pdf_mass
+                                       << " against " << off.valid_frac;
 }
 
 TEST(BsdfConductor, WeightIsFCosOverPdfAndPdfsAreConsistent) {

@@ -28,7 +28,7 @@ void check_lobe(const P& p, Eval eval, Sample sample, const char* name) {
             },
             [&](Vec3 wi) { return double(eval(p, wo, wi).pdf_fwd_w); }, 100000, 1, 16, 16, 4);
         EXPECT_GT(r.p_value, 1e-4) << name << " chi2 " << r.chi2 << " dof " << r.dof;
-        EXPECT_NEAR(r.pdf_mass, 1.0, 2e-3) << name;
+        expect_pdf_mass(r, name);
         EXPECT_EQ(r.valid_frac, 1.0) << name;
     }
     Pcg32 rng = Pcg32::for_path(3, 0, 0);
