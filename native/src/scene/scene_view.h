@@ -270,6 +270,12 @@ struct SceneView {
     const float* program_consts = nullptr;
     const float* attributes = nullptr;   // num_attribute_channels x 3 per vertex
     int32_t num_attribute_channels = 0;
+    // on the device only: the programs' register files, kProgramRegs x program_regs_stride
+    // floats laid out [register][thread] (scene/material_program_ops.h ProgramRegs), a column
+    // per thread of a launch (at most program_regs_stride threads: CudaExec::each); null on
+    // the host, whose programs keep their registers on the stack
+    uint32_t program_regs_stride = 0;
+    float* program_regs = nullptr;
 
     const Light* lights = nullptr;
     const float* light_cdf = nullptr;    // normalised, by power: lt's light pick

@@ -33,6 +33,7 @@ public:
             w_.bind(&ex_->meter());
             iter_.bind(&ex_->meter());
             sum_.bind(&ex_->meter());
+            program_regs_.bind(&ex_->meter());
             cudaDeviceProp prop{};
             check(cudaGetDeviceProperties(&prop, ex_->device_), "cudaGetDeviceProperties");
             name_ = prop.name;
@@ -56,6 +57,14 @@ public:
                 return d;
             };
             sv_ = scene.copied_view(upload);
+            // node programs' registers (scene/material_program.h program_run): a column per
+            // thread of a launch, launches capped to as many threads (CudaExec::each)
+            if (sv_.material_bits & kScenePrograms) {
+                program_regs_.grow(size_t(kProgramRegs) * size_t(kProgramLaunchThreads));
+                sv_.program_regs = program_regs_.data();
+                sv_.program_regs_stride = uint32_t(kProgramLaunchThreads);
+                ex_->set_max_threads(kProgramLaunchThreads);
+            }
             Bvh bvh = build_bvh(scene.view(), BvhBuildOptions{}, warnings);
             BvhView bv = bvh.view();
             bv.nodes = static_cast<const BvhNode*>(upload(bvh.nodes.data(), bvh.nodes.size() * sizeof(BvhNode)));
@@ -124,9 +133,11 @@ public:
                          &warnings);
         st.chunk_paths = chunk_paths_;
         st.shadow_budget = kGpuShadowBudget;
-        // half of what was free at the start less the kernels' stack reservation, at most
-        // 8 GiB, or cache_budget_mb; halved with the paths in flight when memory is short
-        const double free = double(std::max<int64_t>(free_at_start_ - stack_reserve_, 0));
+        // half of what was free at the start less the kernels' stack reservation and the
+        // programs' registers, at most 8 GiB, or cache_budget_mb; halved with the paths in
+        // flight when memory is short
+        const int64_t regs = int64_t(program_regs_.capacity() * sizeof(float));
+        const double free = double(std::max<int64_t>(free_at_start_ - stack_reserve_ - regs, 0));
         st.cache_budget = budget_scale_ * (set.cache_budget_mb > 0
                                                ? double(set.cache_budget_mb) * (1 << 20)
                                                : std::min(8.0 * (1 << 30), 0.5 * free));
@@ -172,6 +183,7 @@ public:
     std::unique_ptr<CudaExec> ex_;  // first: the arrays below free into its meter
     Wavefront<CudaExec> w_;
     DeviceArray<double> iter_, sum_;  // the iteration's sum, the running sum
+    DeviceArray<float> program_regs_;  // SceneView::program_regs (scenes with node programs)
     std::string name_;
     cudaStream_t copy_stream_ = nullptr;
     cudaEvent_t sum_ready_ = nullptr, copy_done_ = nullptr;
