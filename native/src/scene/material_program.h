@@ -63,9 +63,8 @@ __attribute__((noinline))
 LANTERN_HD inline Vec3 program_run(const SceneView& s, const MaterialProgram& p,
                                    const ShadePoint sp) {
 #ifdef __CUDA_ARCH__
-    const uint32_t t = blockIdx.x * blockDim.x + threadIdx.x;
-    if (!s.program_regs || t >= s.program_regs_stride) __trap();  // a launch past the buffer
-    return program_run_on(s, p, sp, ProgramRegs{s.program_regs + t, s.program_regs_stride});
+    const uint32_t t = launch_thread(s.program_regs, s.device_threads);
+    return program_run_on(s, p, sp, ProgramRegs{s.program_regs + t, s.device_threads});
 #else
     float r[kProgramRegs];
     return program_run_on(s, p, sp, r);

@@ -132,6 +132,16 @@ struct ProgramRegs {
     }
 };
 
+#ifdef __CUDA_ARCH__
+// This thread's index in its launch: its column of SceneView's per-thread scratch, of
+// `threads` columns (a launch past them is a bug of the launch: the kernel stops).
+__device__ inline uint32_t launch_thread(const void* buffer, uint32_t threads) {
+    const uint32_t t = blockIdx.x * blockDim.x + threadIdx.x;
+    if (!buffer || t >= threads) __trap();
+    return t;
+}
+#endif
+
 template <typename R>
 LANTERN_HD inline Vec3 reg3(const R& r, int i) { return Vec3{r[i], r[i + 1], r[i + 2]}; }
 template <typename R>

@@ -108,12 +108,13 @@ __global__ void __launch_bounds__(256, 2) each_kernel(int n, const __grid_consta
     for (int i = int(blockIdx.x * blockDim.x + threadIdx.x); i < n; i += step) f(i);
 }
 
-// Threads of one launch at most when the scene runs node programs: each thread's program
-// registers are a column of a buffer of this many (SceneView::program_regs; 2^17 x 768 B =
-// 96 MiB). An H200 holds 132 SMs x 512 resident threads at 128 registers (67,584), so the cap
-// costs the 128-register kernels no occupancy; the small ones (under 64 registers) hold fewer
-// threads than the SMs could.
-constexpr int kProgramLaunchThreads = 1 << 17;
+// Threads of one launch at most once the renderer has per-thread scratch (SceneView::
+// device_threads: node programs' registers, 2^17 x 768 B = 96 MiB; cis's candidates, 64 MiB;
+// resolved mix leaves, 188 MiB): each thread's is a column of a buffer of this many. An H200
+// holds 132 SMs x 512 resident threads at 128 registers (67,584), so the cap costs the
+// 128-register kernels no occupancy; the small ones (under 64 registers) hold fewer threads
+// than the SMs could.
+constexpr int kDeviceThreads = 1 << 17;
 
 // Runs f(i) for i in [0, n) on stream s, with at most max_threads threads (0: one per item).
 template <typename F>
