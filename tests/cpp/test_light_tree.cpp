@@ -309,11 +309,13 @@ TEST(LightTree, ResampledEstimateAgreesAndThePlainWeightIsBiased) {
         const int n = 40000, m = 4;
         double s1 = 0.0, s2 = 0.0, n1 = 0.0, n2 = 0.0;
         for (int i = 0; i < n; ++i) {
-            float u[3 * kMaxLightCandidates];
-            for (int k = 0; k < 3 * m; ++k) u[k] = rng.uniform();
+            const Vec3 u0{rng.uniform(), rng.uniform(), rng.uniform()};
+            const Rng rest = rng;  // candidates 2..m draw from here
+            nee_resample_skip(rng, nee_resample_extra_draws(m));
             LightPick pk;
             LightSample ls;
-            const float ris = nee_resample(v, x.p, x.n, m, u, rng.uniform(), target, &pk, &ls);
+            const float ris =
+                nee_resample(v, x.p, x.n, m, u0, rest, rng.uniform(), target, &pk, &ls);
             double c = 0.0, naive = 0.0;
             if (pk.pmf > 0.0f) {
                 naive = double(target(ls)) / (double(pk.pmf) * ls.pdf_w);

@@ -71,24 +71,33 @@ LANTERN_HD inline void material_set_inputs(Material& m, const MaterialInputs& in
 
 // Room for what material_at resolves: a copy of the material and, for a mix, its leaves'
 // inputs. Left uninitialised (Material is trivially copyable and only ever assigned whole), so
-// that the common untextured hit pays nothing for it. 376 + 4 x 56 = 600 bytes (x86-64 and
-// CUDA alike; with whole leaves 5 x 368 = 1,840): the albedo tables, which resolution never
-// changes, stay in the scene (Material::tables).
+// that the common untextured hit pays nothing for it. 376 + 4 x 56 = 600 bytes on the host
+// (with whole leaves 5 x 368 = 1,840): the albedo tables, which resolution never changes,
+// stay in the scene (Material::tables). On the device 376: a GPU thread's resolved mix
+// leaves are whole Materials in its slot of SceneView::mix_leaves (material_resolve), not on
+// the shade kernels' stack, and no leaf is copied where it is evaluated.
 struct MaterialScratch {
     union {
         Material m;
     };
+#ifndef __CUDA_ARCH__
     MaterialInputs leaf[kMixLeaves];
+#endif
     LANTERN_HD MaterialScratch() {}
 };
 
 // Leaf i of the resolved mix m: the scene's leaf, or its copy in `tmp` with the inputs
 // material_at resolved for it.
 LANTERN_HD inline const Material& mix_leaf_at(const Material& m, int i, Material& tmp) {
+#ifdef __CUDA_ARCH__
+    (void)tmp;  // the device's resolved leaves are whole already (MaterialScratch)
+    return *m.mix_leaf[i];
+#else
     if (!m.mix_inputs || !m.mix_inputs[i].resolved) return *m.mix_leaf[i];
     tmp = *m.mix_leaf[i];
     material_set_inputs(tmp, m.mix_inputs[i]);
     return tmp;
+#endif
 }
 
 // The inputs node-graph programs drive (kTexProgram), written into `out` (m's inputs, maybe
@@ -187,6 +196,25 @@ LANTERN_HD inline const Material& material_resolve(const SceneView& s, const Mat
     if (m.tex_flags & (kTexBump | kTexNormal)) sp.n = program_graph_normal(s, m, sp_hit);
     if (m.type != kMaterialMix) return material_resolve_leaf(s, m, sp, scratch.m);
     scratch.m = m;
+#ifdef __CUDA_ARCH__
+    // this thread's slot of SceneView::mix_leaves holds its textured leaves, resolved whole:
+    // one resolved mix per thread at a time, as one MaterialScratch per shade kernel (the
+    // camera kernel's, bdpt.h kOneScratch, resolves the camera vertex's again after a cache
+    // vertex's took it)
+    scratch.m.mix_inputs = nullptr;
+    for (int i = 0; i < m.mix_count; ++i) {
+        const Material& leaf = s.materials[m.mix_child[i]];
+        scratch.m.mix_leaf[i] = &leaf;
+        if (!(leaf.tex_flags & kTexShading)) continue;
+        Material& own =
+            s.mix_leaves[size_t(launch_thread(s.mix_leaves, s.device_threads)) * kMixLeaves + i];
+        MaterialInputs in;
+        material_resolve_inputs(s, leaf, sp, in);
+        own = leaf;
+        material_set_inputs(own, in);
+        scratch.m.mix_leaf[i] = &own;
+    }
+#else
     scratch.m.mix_inputs = scratch.leaf;
     for (int i = 0; i < m.mix_count; ++i) {
         const Material& leaf = s.materials[m.mix_child[i]];
@@ -194,6 +222,7 @@ LANTERN_HD inline const Material& material_resolve(const SceneView& s, const Mat
         scratch.leaf[i].resolved = 0;
         if (leaf.tex_flags & kTexShading) material_resolve_inputs(s, leaf, sp, scratch.leaf[i]);
     }
+#endif
     if (m.tex_flags & kTexMix) {
         const Texture& t = s.textures[m.tex_mix];
         float f = texture_scalar(t, texture_lookup(t, s.texels, s.srgb_lut, sp.st));

@@ -551,6 +551,10 @@ LANTERN_HD inline void bdpt_queue_connection(const BdptState& bs, int i, const C
     bs.conn_n[i] = j + 1;
 }
 
+// cis's candidates per camera vertex at most (BdptSettings::candidates); SceneView's
+// cis_candidates holds 2 x kCisCandidates floats per GPU thread.
+constexpr int kCisCandidates = 64;
+
 // A uniform index in [0, size) from 32 random bits: an integer multiply-shift (Lemire 2019), so
 // that every vertex of a cache of up to 2^31 is reachable, each by floor or ceil(2^32 / size)
 // words. (A 24-bit float times the size, int(u * size), reaches at most 2^24 of them.)
@@ -589,7 +593,7 @@ LANTERN_HD inline void bdpt_camera_connect(const SceneView& s, const BdptState& 
     }
     // cis: M uniform candidates with w_j = p-hat(x_j) |C|, N picks proportional to w_j, each
     // carrying W / (N L) with W = (1 / p-hat(y)) (1/M) sum_j w_j  (DESIGN.md)
-    constexpr int kMaxCandidates = 64;
+    constexpr int kMaxCandidates = kCisCandidates;
 #ifdef __CUDA_ARCH__
     // a GPU thread keeps (index, p-hat) per candidate and connects the picked ones again (the
     // same arithmetic, so the same connection): 64 connections would be 2 KB of its stack
@@ -603,7 +607,16 @@ LANTERN_HD inline void bdpt_camera_connect(const SceneView& s, const BdptState& 
     // stream: it holds 320 bytes here, not 1,024 (the CPU keeps the indices with the
     // connections)
     [[maybe_unused]] Rng rng_candidates = rng;
+#ifdef __CUDA_ARCH__
+    // and those 320 bytes are its column of SceneView::cis_candidates ([candidate][thread],
+    // as program registers): p-hats, then the pick counts as floats (exact up to 64)
+    const uint32_t t = launch_thread(s.cis_candidates, s.device_threads);
+    const ProgramRegs p_hats{s.cis_candidates + t, s.device_threads};
+    const ProgramRegs count = p_hats + kMaxCandidates;
+#else
     float p_hats[kMaxCandidates];
+    uint8_t count[kMaxCandidates];  // of st.connections <= 64 picks (Session checks)
+#endif
     Connection cand[kKept];
     [[maybe_unused]] int idx[kKept];
     float sum = 0.0f;
@@ -621,7 +634,6 @@ LANTERN_HD inline void bdpt_camera_connect(const SceneView& s, const BdptState& 
         sum += p_hat * size;
     }
     if (!(sum > 0.0f) || !is_finite(sum)) return;
-    uint8_t count[kMaxCandidates];  // of st.connections <= 64 picks (Session checks)
     for (int j = 0; j < m; ++j) count[j] = 0;
     for (int n = 0; n < st.connections; ++n) {
         float u = rng.uniform() * sum;

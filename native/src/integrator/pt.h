@@ -318,6 +318,23 @@ LANTERN_HD inline bool pt_catcher_skips(const SceneView& s, const PathState& ps,
     return true;
 }
 
+// material_eval and material_sample for pt_shade, out of line on the device: inlined there
+// (nee_resample's target is), the lobes' local arrays joined the shade kernel's own local
+// memory, which every call below it adds to. The host calls them as before.
+#ifdef __CUDA_ARCH__
+__noinline__
+#endif
+LANTERN_HD inline BsdfEval pt_eval(const Material& m, bool front, Vec3 wo, Vec3 wi, Vec3 coat_n) {
+    return material_eval(m, front, wo, wi, Transport::Radiance, coat_n);
+}
+#ifdef __CUDA_ARCH__
+__noinline__
+#endif
+LANTERN_HD inline BsdfSample pt_sample(const Material& m, bool front, Vec3 wo, Vec3 u,
+                                       Vec3 coat_n) {
+    return material_sample(m, front, wo, u, Transport::Radiance, coat_n);
+}
+
 // ---- Shade: emission, next-event estimation (a shadow ray), BSDF sampling, roulette ----
 LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const PtSettings& st,
                                 int i) {
@@ -342,7 +359,9 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
     SurfaceHit h = pt_surface(s, tri, ps.hit_uv[i], d);
     MaterialScratch scratch;
     const Material& m = material_at_point(
-        s, s.tri_material[tri], [&] { return shade_point(h, tri, ps.hit_uv[i], -d); }, scratch);
+        s, s.tri_material[tri],
+        // by value: what it captures by reference the device keeps in local memory throughout
+        [h, tri, uv = ps.hit_uv[i], wo = -d] { return shade_point(h, tri, uv, wo); }, scratch);
     if (!is_black(m.emission)) {
         float w = 1.0f;
         int li = s.tri_light ? s.tri_light[tri] : -1;
@@ -369,16 +388,17 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
     float ris = 1.0f;  // resampled (light_candidates M > 1): W p_src(y), nee_resample.h
     if (st.light_candidates > 1) {
         const int mc = min_int(st.light_candidates, kMaxLightCandidates);
-        float u[3 * kMaxLightCandidates] = {u_pick.x, u_light.x, u_light.y};
-        for (int k = 3; k < 3 + nee_resample_extra_draws(mc); ++k) u[k] = rng.uniform();
-        auto target = [&](const LightSample& c) {  // luminance of the unshadowed contribution
+        const Rng rest = rng;  // candidates 2..M's numbers, drawn inside nee_resample
+        nee_resample_skip(rng, nee_resample_extra_draws(mc));
+        // luminance of the unshadowed contribution
+        auto target = [&](const LightSample& c) LANTERN_DEVICE_INLINE {
             if (!sides_agree(c.wi, h.ng, h.ns) || is_black(c.le)) return 0.0f;
-            BsdfEval e = material_eval(m, h.front, wo, frame.to_local(c.wi),
-                                       Transport::Radiance, h.coat_n);
+            BsdfEval e = pt_eval(m, h.front, wo, frame.to_local(c.wi), h.coat_n);
             return luminance(e.f * c.le) * fabsf(dot(c.wi, h.ns));
         };
         if (!delta_material)
-            ris = nee_resample(s, h.p, n_pick, mc, u, u_pick.y, target, &pick, &ls);
+            ris = nee_resample(s, h.p, n_pick, mc, Vec3{u_pick.x, u_light.x, u_light.y},
+                               rest, u_pick.y, target, &pick, &ls);
     } else if (!delta_material) {
         pick = light_pick(s, h.p, n_pick, u_pick.x);
         if (pick.pmf > 0.0f) ls = sample_light(s, s.lights[pick.light], h.p, u_light);
@@ -388,8 +408,7 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
         ls.valid = false;  // the world hidden from this kind of scattering lights nothing here
     if (pick.pmf > 0.0f) {
         if (ls.valid && !delta_material && sides_agree(ls.wi, h.ng, h.ns) && !is_black(ls.le)) {
-            BsdfEval e = material_eval(m, h.front, wo, frame.to_local(ls.wi), Transport::Radiance,
-                                       h.coat_n);
+            BsdfEval e = pt_eval(m, h.front, wo, frame.to_local(ls.wi), h.coat_n);
             float pdf_light = pick.pmf * ls.pdf_w;
             if (e.pdf_fwd_w > 0.0f && pdf_light > 0.0f) {
                 float w = ls.delta ? 1.0f : power_heuristic(pdf_light, e.pdf_fwd_w);
@@ -420,8 +439,7 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
 
     // continue the path
     Vec2 u_dir = rng.uniform2();
-    BsdfSample bs = material_sample(m, h.front, wo, Vec3{u_dir.x, u_dir.y, rng.uniform()},
-                                    Transport::Radiance, h.coat_n);
+    BsdfSample bs = pt_sample(m, h.front, wo, Vec3{u_dir.x, u_dir.y, rng.uniform()}, h.coat_n);
     Vec3 wi = frame.to_world(bs.wi);
     if (bs.valid && sides_agree(wi, h.ng, h.ns)) {
         Vec3 beta = ps.throughput[i] * bs.weight;

@@ -32,18 +32,13 @@ struct MaterialProgram {
     int32_t result;                   // register of the result (3 floats for colours)
 };
 
-// Runs program p at sp; its result (3 floats; scalars repeat in y, z unless the op wrote 3).
-// Never inlined: on the host a call keeps the op switch and its 192 registers out of the
-// stages that reach it (a diffuse-only scene's shading stage paid for their inlined copies);
-// on the device the registers (768 B of local memory) are then one frame of their own instead
-// of a copy inlined at each of a kernel's call sites, which cicc does not overlap (a shade
-// kernel held two along one path: bench/results/2026-12-02-stack). sp by value: a call
-// site's shading point then travels as a parameter, where by reference each of a kernel's
-// call sites kept its own copy in local memory.
-__attribute__((noinline))
-LANTERN_HD inline Vec3 program_run(const SceneView& s, const MaterialProgram& p,
-                                   const ShadePoint sp) {
-    float r[kProgramRegs];
+// Runs program p at sp on register file r (material_program_ops.h: float* or ProgramRegs);
+// its result (3 floats; scalars repeat in y, z unless the op wrote 3). program_run's body,
+// a function of its own so that tests run the device's register file on the CPU.
+template <typename R>
+__attribute__((always_inline)) LANTERN_HD inline Vec3 program_run_on(const SceneView& s,
+                                                                     const MaterialProgram& p,
+                                                                     const ShadePoint& sp, R r) {
     const int nc = min_int(p.num_const, kProgramRegs);
     for (int i = 0; i < nc; ++i) r[i] = s.program_consts[p.first_const + i];
     for (int i = 0; i < p.num_instr; ++i)
@@ -53,6 +48,27 @@ LANTERN_HD inline Vec3 program_run(const SceneView& s, const MaterialProgram& p,
     // NaN and infinities never leave a program (huge values are clamped by the caller)
     return Vec3{is_finite(v.x) ? v.x : 0.0f, is_finite(v.y) ? v.y : 0.0f,
                 is_finite(v.z) ? v.z : 0.0f};
+}
+
+// Runs program p at sp. Never inlined: on the host a call keeps the op switch and its 192
+// registers (a stack array) out of the stages that reach it (a diffuse-only scene's shading
+// stage paid for their inlined copies). On the device the registers are the thread's column
+// of SceneView::program_regs (global memory the CUDA renderer allocates when the scene has
+// programs), not 768 B of every shade kernel's stack frame; its index is the thread's index
+// in the launch, which CudaExec::each keeps below the buffer's stride (a grid-stride loop),
+// and no program runs inside another, so one column per thread is enough. sp by value: a
+// call site's shading point then travels as a parameter, where by reference each of a
+// kernel's call sites kept its own copy in local memory.
+__attribute__((noinline))
+LANTERN_HD inline Vec3 program_run(const SceneView& s, const MaterialProgram& p,
+                                   const ShadePoint sp) {
+#ifdef __CUDA_ARCH__
+    const uint32_t t = launch_thread(s.program_regs, s.device_threads);
+    return program_run_on(s, p, sp, ProgramRegs{s.program_regs + t, s.device_threads});
+#else
+    float r[kProgramRegs];
+    return program_run_on(s, p, sp, r);
+#endif
 }
 
 LANTERN_HD inline bool program_has_target(const MaterialProgram* programs, const Material& m,

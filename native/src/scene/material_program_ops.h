@@ -117,8 +117,35 @@ struct NodeInstr {
     int32_t aux, aux2;
 };
 
-LANTERN_HD inline Vec3 reg3(const float* r, int i) { return Vec3{r[i], r[i + 1], r[i + 2]}; }
-LANTERN_HD inline void set3(float* r, int i, Vec3 v) {
+// The register file program_step works on (R): a float* on the host, a stack array of
+// kProgramRegs floats (the generated code of a plain array); on the device a ProgramRegs, one
+// thread's column of a device buffer laid out [register][thread] (SceneView::program_regs),
+// so that a warp's accesses to one register are consecutive words, as local memory's are, and
+// no kernel's stack frame holds the 768 B of registers (docs/cuda_backend.md "Kernel
+// resources"). tests/cpp/test_material_program.cpp runs every op through both on the CPU.
+struct ProgramRegs {
+    float* p;         // register 0 of this thread
+    uint32_t stride;  // floats from one register to the next (threads in the buffer)
+    LANTERN_HD float& operator[](int j) const { return p[uint32_t(j) * stride]; }
+    LANTERN_HD ProgramRegs operator+(int k) const {
+        return ProgramRegs{p + uint32_t(k) * stride, stride};
+    }
+};
+
+#ifdef __CUDA_ARCH__
+// This thread's index in its launch: its column of SceneView's per-thread scratch, of
+// `threads` columns (a launch past them is a bug of the launch: the kernel stops).
+__device__ inline uint32_t launch_thread(const void* buffer, uint32_t threads) {
+    const uint32_t t = blockIdx.x * blockDim.x + threadIdx.x;
+    if (!buffer || t >= threads) __trap();
+    return t;
+}
+#endif
+
+template <typename R>
+LANTERN_HD inline Vec3 reg3(const R& r, int i) { return Vec3{r[i], r[i + 1], r[i + 2]}; }
+template <typename R>
+LANTERN_HD inline void set3(const R& r, int i, Vec3 v) {
     r[i] = v.x;
     r[i + 1] = v.y;
     r[i + 2] = v.z;
@@ -148,11 +175,12 @@ LANTERN_HD inline Vec3 node_mapping(int type, Vec3 v, Vec3 loc, Vec3 rot, Vec3 s
     }
 }
 
-// One instruction; r: the register file.
+// One instruction; r: the register file (float* or ProgramRegs, above).
+template <typename R>
 LANTERN_HD inline void program_step(const SceneView& s, const ShadePoint& sp, const NodeInstr& n,
-                                    float* r) {
-    const float* a = r + n.in;
-    float* o = r + n.out;
+                                    R r) {
+    const R a = r + n.in;  // read only
+    const R o = r + n.out;
     switch (n.op) {
     case kOpCopy:
         for (int k = 0; k < n.dim; ++k) o[k] = a[k];
@@ -293,7 +321,13 @@ LANTERN_HD inline void program_step(const SceneView& s, const ShadePoint& sp, co
         break;
     }
     case kOpFresnel: o[0] = node_fresnel(a[0], sp.wo, reg3(a, 1), sp.backfacing); break;
-    case kOpLayerWeight: node_layer_weight(a[0], sp.wo, reg3(a, 1), sp.backfacing, o, o + 1); break;
+    case kOpLayerWeight: {
+        float fresnel, facing;
+        node_layer_weight(a[0], sp.wo, reg3(a, 1), sp.backfacing, &fresnel, &facing);
+        o[0] = fresnel;
+        o[1] = facing;
+        break;
+    }
     case kOpImage: {
         Vec4 c{};
         if (n.aux >= 0 && n.aux < s.num_textures && n.mode == 1) {  // box: up to three sides

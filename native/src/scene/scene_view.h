@@ -270,6 +270,18 @@ struct SceneView {
     const float* program_consts = nullptr;
     const float* attributes = nullptr;   // num_attribute_channels x 3 per vertex
     int32_t num_attribute_channels = 0;
+    // On the device only (null on the host, which keeps these on its stack): per-thread
+    // scratch of a launch, at the thread's index in it (CudaExec::each keeps a launch to
+    // device_threads threads; scene/material_program_ops.h launch_thread). Node programs'
+    // registers, kProgramRegs floats per thread laid out [register][thread] (ProgramRegs);
+    // cis's candidates, kCisCandidates p-hats then as many pick counts, the same layout
+    // (integrator/bdpt.h); a resolved mix's leaves, kMixLeaves Materials per thread
+    // (bsdf/material.h material_resolve). The CUDA renderer allocates each only when the
+    // scene or the integrator uses it.
+    uint32_t device_threads = 0;
+    float* program_regs = nullptr;
+    float* cis_candidates = nullptr;
+    Material* mix_leaves = nullptr;
 
     const Light* lights = nullptr;
     const float* light_cdf = nullptr;    // normalised, by power: lt's light pick

@@ -8,6 +8,7 @@
 
 #include <cuda_runtime.h>
 
+#include <algorithm>
 #include <chrono>
 #include <memory>
 #include <cooperative_groups.h>
@@ -100,17 +101,28 @@ private:
 // SceneView and states by reference, which would otherwise make ptxas copy them to the stack.
 // Blocks of up to 256 threads, 2 per SM at least: at most 128 registers per thread (ptxas spills
 // the rest; docs/cuda_backend.md "Kernel resources" has what each kernel spills).
+// A grid-stride loop: a launch may have fewer threads than items (each() below).
 template <typename F>
 __global__ void __launch_bounds__(256, 2) each_kernel(int n, const __grid_constant__ F f) {
-    const int i = blockIdx.x * blockDim.x + threadIdx.x;
-    if (i < n) f(i);
+    const int step = int(gridDim.x * blockDim.x);
+    for (int i = int(blockIdx.x * blockDim.x + threadIdx.x); i < n; i += step) f(i);
 }
 
-// Runs f(i) for i in [0, n) on stream s.
+// Threads of one launch at most once the renderer has per-thread scratch (SceneView::
+// device_threads: node programs' registers, 2^17 x 768 B = 96 MiB; cis's candidates, 64 MiB;
+// resolved mix leaves, 188 MiB): each thread's is a column of a buffer of this many. An H200
+// holds 132 SMs x 512 resident threads at 128 registers (67,584), so the cap costs the
+// 128-register kernels no occupancy; the small ones (under 64 registers) hold fewer threads
+// than the SMs could.
+constexpr int kDeviceThreads = 1 << 17;
+
+// Runs f(i) for i in [0, n) on stream s, with at most max_threads threads (0: one per item).
 template <typename F>
-void each(cudaStream_t s, int n, F f, int block = 128) {
+void each(cudaStream_t s, int n, F f, int block = 128, int max_threads = 0) {
     if (n <= 0) return;
-    each_kernel<<<(n + block - 1) / block, block, 0, s>>>(n, f);
+    int blocks = (n + block - 1) / block;
+    if (max_threads > 0) blocks = std::max(1, std::min(blocks, max_threads / block));
+    each_kernel<<<blocks, block, 0, s>>>(n, f);
     check(cudaGetLastError(), "kernel launch");
 }
 
@@ -186,11 +198,15 @@ public:
     const char* name() const { return "cuda"; }
     void sync() { cuda_detail::check(cudaStreamSynchronize(stream_), "cudaStreamSynchronize"); }
 
+    // Every kernel of the executor is an each() on the one stream, in order: kernels that run
+    // node programs never overlap, so they share one register buffer (SceneView::program_regs)
+    // of max_threads_ columns; the CUDA renderer sets it when the scene has programs.
     template <typename F>
     void each(int n, F f, int block = 128) {
         use_device();
-        cuda_detail::each(stream_, n, f, block);
+        cuda_detail::each(stream_, n, f, block, max_threads_);
     }
+    void set_max_threads(int threads) { max_threads_ = threads; }
 
     // ---- reductions (one atomic per warp) ----
     template <typename F>
@@ -369,6 +385,7 @@ public:
     }
 
     int device_ = 0;
+    int max_threads_ = 0;  // threads per launch at most (0: one per item)
     cudaStream_t stream_ = nullptr;
     MemoryMeter meter_;
     Array<unsigned long long> small_;
