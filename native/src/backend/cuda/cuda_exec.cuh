@@ -198,9 +198,10 @@ public:
     const char* name() const { return "cuda"; }
     void sync() { cuda_detail::check(cudaStreamSynchronize(stream_), "cudaStreamSynchronize"); }
 
-    // Every kernel of the executor is an each() on the one stream, in order: kernels that run
-    // node programs never overlap, so they share one register buffer (SceneView::program_regs)
-    // of max_threads_ columns; the CUDA renderer sets it when the scene has programs.
+    // Every kernel of the executor (each() and CUB's) runs on the one stream, in order: kernels
+    // using SceneView's per-thread scratch (program registers, cis candidates, mix leaves)
+    // never overlap, so they share its max_threads_ columns; the CUDA renderer sets the cap
+    // once it allocates any of them (cuda_renderer.cu use_thread_scratch).
     template <typename F>
     void each(int n, F f, int block = 128) {
         use_device();

@@ -20,11 +20,10 @@ constexpr int kGpuChunkPaths = 1 << 21;  // paths in flight per chunk (halved wh
 constexpr int kGpuMinChunkPaths = 1 << 15;
 constexpr int kGpuShadowBudget = 1 << 23;  // connection ray slots per camera chunk
 // Stack frame of the largest kernel per thread: the driver reserves it for every resident
-// thread, the cache budget leaves it. 2 KB, the line every kernel is held to: the largest
-// measured (ptxas 13.0.88, sm_90, from PTX; docs/cuda_backend.md "Kernel resources") is light
-// shade's 1,952 B (2026-12-02, before the per-thread scratch), camera shade 1,680 B and pt
-// shade 1,216 B after it (2026-12-03). Not checked on a GPU.
-constexpr int64_t kShadeStackEstimate = 2 * 1024;
+// thread, the cache budget leaves it. bdpt_camera_shade's 1,680 B, the largest of every
+// kernel (ptxas 13.0.88 for sm_90 from PTX, 2026-12-03, docs/cuda_backend.md "Kernel
+// resources"); not checked on a GPU.
+constexpr int64_t kShadeStackEstimate = 1680;
 
 // Public members throughout: nvcc's extended lambdas must not sit in private member functions.
 class Renderer final : public CudaRenderer {
