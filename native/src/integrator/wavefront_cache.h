@@ -92,6 +92,16 @@ inline int cache_samples_per_pass(double budget, double vertices_per_path, const
     return per_pass;
 }
 
+// A GPU's cache budget: cache_budget_mb when it is set, else half of the memory that was free
+// at the start less what the renderer keeps reserved (the kernels' stacks, per-thread
+// scratch), at most 8 GiB; times `scale` (halved with the paths in flight when memory is short).
+inline double gpu_cache_budget(int64_t free_at_start, int64_t reserved, int cache_budget_mb,
+                               double scale) {
+    const double free = double(std::max<int64_t>(free_at_start - reserved, 0));
+    return scale * (cache_budget_mb > 0 ? double(cache_budget_mb) * (1 << 20)
+                                        : std::min(8.0 * (1 << 30), 0.5 * free));
+}
+
 // Vertices the cache can hold when the whole budget, less the index of L paths, is vertices.
 inline size_t cache_max_vertices(double budget, const CacheCosts& c, double light_paths) {
     const double v = (budget - light_paths * c.per_path) / c.per_vertex;

@@ -108,12 +108,9 @@ __global__ void __launch_bounds__(256, 2) each_kernel(int n, const __grid_consta
     for (int i = int(blockIdx.x * blockDim.x + threadIdx.x); i < n; i += step) f(i);
 }
 
-// Threads of one launch at most once the renderer has per-thread scratch (SceneView::
-// device_threads: node programs' registers, 2^17 x 768 B = 96 MiB; cis's candidates, 64 MiB;
-// resolved mix leaves, 188 MiB): each thread's is a column of a buffer of this many. An H200
-// holds 132 SMs x 512 resident threads at 128 registers (67,584), so the cap costs the
-// 128-register kernels no occupancy; the small ones (under 64 registers) hold fewer threads
-// than the SMs could.
+// Threads of one launch at most once the renderer has per-thread scratch (thread_scratch.h;
+// 2^17 x 768 B = 96 MiB of program registers): an H200 holds 132 SMs x 512 resident threads at
+// 128 registers (67,584), so the 128-register kernels lose no occupancy.
 constexpr int kDeviceThreads = 1 << 17;
 
 // Runs f(i) for i in [0, n) on stream s, with at most max_threads threads (0: one per item).
@@ -171,12 +168,7 @@ public:
     }
     ~CudaExec() {
         cudaSetDevice(device_);
-        if (stream_) cudaStreamSynchronize(stream_);
-        small_.release();
-        temp_.release();
-        scratch_keys_.release();
-        scratch_values_.release();
-        flags_.release();
+        if (stream_) cudaStreamSynchronize(stream_);  // the arrays free after this, on device_
         if (host_) cudaFreeHost(host_);
         if (stream_) cudaStreamDestroy(stream_);
     }
@@ -289,9 +281,7 @@ public:
     // ---- ray queries over [0, n): ray_of(k) -> Ray; hit(k, t, prim, uv) / blocked(k, bool) ----
     template <typename RayOf, typename Out>
     void closest(int n, RayKind kind, RayOf ray_of, Out hit) {
-        const uint32_t need = kind == RayKind::kCamera   ? kBvhNeedCamera
-                              : kind == RayKind::kShadow ? kBvhNeedShadow
-                                                         : kBvhNeedIndirect;
+        const uint32_t need = Rays::need(kind);
         const BvhView b = bvh_;
         const SceneView s = scene_;
         each(n, [=] __device__(int k) {
@@ -315,7 +305,7 @@ public:
     struct Rays {
         BvhView bvh;
         SceneView s;
-        __device__ static uint32_t need(RayKind kind) {
+        __host__ __device__ static uint32_t need(RayKind kind) {
             return kind == RayKind::kCamera   ? kBvhNeedCamera
                    : kind == RayKind::kShadow ? kBvhNeedShadow
                                               : kBvhNeedIndirect;

@@ -10,6 +10,7 @@
 
 #include "accel/bvh_builder.h"
 #include "backend/cuda/cuda_exec.cuh"
+#include "integrator/thread_scratch.h"
 #include "integrator/wavefront.h"
 #include "scene/scene.h"
 
@@ -19,10 +20,8 @@ namespace cuda_detail {
 constexpr int kGpuChunkPaths = 1 << 21;  // paths in flight per chunk (halved when memory is short)
 constexpr int kGpuMinChunkPaths = 1 << 15;
 constexpr int kGpuShadowBudget = 1 << 23;  // connection ray slots per camera chunk
-// Stack frame of the largest kernel per thread: the driver reserves it for every resident
-// thread, the cache budget leaves it. bdpt_camera_shade's 1,680 B, the largest of every
-// kernel (ptxas 13.0.88 for sm_90 from PTX, 2026-12-03, docs/cuda_backend.md "Kernel
-// resources"); not checked on a GPU.
+// Stack frame of the largest kernel (bdpt_camera_shade, ptxas 13.0.88 for sm_90, 2026-12-03,
+// docs/cuda_backend.md): the driver reserves it for every resident thread, the budget leaves it.
 constexpr int64_t kShadeStackEstimate = 1680;
 
 // Public members throughout: nvcc's extended lambdas must not sit in private member functions.
@@ -34,9 +33,7 @@ public:
             w_.bind(&ex_->meter());
             iter_.bind(&ex_->meter());
             sum_.bind(&ex_->meter());
-            program_regs_.bind(&ex_->meter());
-            cis_candidates_.bind(&ex_->meter());
-            mix_leaves_.bind(&ex_->meter());
+            scratch_.bind(&ex_->meter());
             cudaDeviceProp prop{};
             check(cudaGetDeviceProperties(&prop, ex_->device_), "cudaGetDeviceProperties");
             name_ = prop.name;
@@ -60,22 +57,13 @@ public:
                 return d;
             };
             sv_ = scene.copied_view(upload);
-            // per-thread scratch (SceneView::device_threads): node programs' registers and
-            // resolved mix leaves where the scene has them; cis's candidates at its first step
-            if (sv_.material_bits & kScenePrograms) {
-                program_regs_.grow(size_t(kProgramRegs) * size_t(kDeviceThreads));
-                sv_.program_regs = program_regs_.data();
-            }
-            if (has_textured_mix_leaf(scene.view())) {
-                mix_leaves_.grow(size_t(kMixLeaves) * size_t(kDeviceThreads));
-                sv_.mix_leaves = mix_leaves_.data();
-            }
-            use_thread_scratch();
+            const bool scratch = scratch_.prepare_scene(scene.view(), sv_, kDeviceThreads);
             Bvh bvh = build_bvh(scene.view(), BvhBuildOptions{}, warnings);
             BvhView bv = bvh.view();
             bv.nodes = static_cast<const BvhNode*>(upload(bvh.nodes.data(), bvh.nodes.size() * sizeof(BvhNode)));
             bv.tris = static_cast<const BvhTri*>(upload(bvh.tris.data(), bvh.tris.size() * sizeof(BvhTri)));
             ex_->set_rays(bv, sv_);
+            if (scratch) ex_->set_max_threads(kDeviceThreads);
             width_ = scene.view().camera.width;
             height_ = scene.view().camera.height;
             sum_.grow(px3());
@@ -91,27 +79,6 @@ public:
         }
     }
     ~Renderer() override { release(); }
-    static bool has_textured_mix_leaf(const SceneView& s) {
-        for (int k = 0; k < s.num_materials; ++k) {
-            const Material& m = s.materials[k];
-            if (m.type != kMaterialMix) continue;
-            for (int i = 0; i < m.mix_count; ++i)
-                if (s.materials[m.mix_child[i]].tex_flags & kTexShading) return true;
-        }
-        return false;
-    }
-    // Launches of at most kDeviceThreads threads once any per-thread scratch exists.
-    void use_thread_scratch() {
-        if (!sv_.program_regs && !sv_.mix_leaves && !sv_.cis_candidates) return;
-        sv_.device_threads = uint32_t(kDeviceThreads);
-        ex_->set_max_threads(kDeviceThreads);
-        ex_->set_rays(ex_->bvh_, sv_);  // the alpha tests run programs
-    }
-    int64_t thread_scratch_bytes() const {
-        return int64_t(program_regs_.capacity() * sizeof(float) +
-                       cis_candidates_.capacity() * sizeof(float) +
-                       mix_leaves_.capacity() * sizeof(Material));
-    }
     void release() {  // everything the constructor made outside arrays (no throw)
         if (ex_) cudaSetDevice(ex_->device_);
         if (copy_stream_) cudaStreamSynchronize(copy_stream_);
@@ -160,19 +127,12 @@ public:
                          &warnings);
         st.chunk_paths = chunk_paths_;
         st.shadow_budget = kGpuShadowBudget;
-        if (set.integrator == "cis" && !cis_candidates_.data()) {  // bdpt.h, on the device
-            cis_candidates_.grow(size_t(2 * kCisCandidates) * size_t(kDeviceThreads));
-            sv_.cis_candidates = cis_candidates_.data();
-            use_thread_scratch();
+        if (scratch_.prepare_integrator(set.integrator, sv_, kDeviceThreads)) {
+            ex_->set_max_threads(kDeviceThreads);  // launches of at most the scratch's columns
+            ex_->set_rays(ex_->bvh_, sv_);
         }
-        // half of what was free at the start less the kernels' stack reservation and the
-        // per-thread scratch, at most 8 GiB, or cache_budget_mb; halved with the paths in
-        // flight when memory is short
-        const double free = double(std::max<int64_t>(
-            free_at_start_ - stack_reserve_ - thread_scratch_bytes(), 0));
-        st.cache_budget = budget_scale_ * (set.cache_budget_mb > 0
-                                               ? double(set.cache_budget_mb) * (1 << 20)
-                                               : std::min(8.0 * (1 << 30), 0.5 * free));
+        st.cache_budget = gpu_cache_budget(free_at_start_, stack_reserve_ + scratch_.bytes(),
+                                           set.cache_budget_mb, budget_scale_);
         st.cache_name = "light vertex cache (GPU)";
         if (!wf::run_iteration(*ex_, w_, sv_, st)) return false;
         samples_ += set.spp_per_iteration;
@@ -215,9 +175,7 @@ public:
     std::unique_ptr<CudaExec> ex_;  // first: the arrays below free into its meter
     Wavefront<CudaExec> w_;
     DeviceArray<double> iter_, sum_;  // the iteration's sum, the running sum
-    // SceneView's per-thread scratch: node programs' registers, cis's candidates, mix leaves
-    DeviceArray<float> program_regs_, cis_candidates_;
-    DeviceArray<Material> mix_leaves_;
+    ThreadScratch<CudaExec> scratch_;  // SceneView's per-thread scratch (thread_scratch.h)
     std::string name_;
     cudaStream_t copy_stream_ = nullptr;
     cudaEvent_t sum_ready_ = nullptr, copy_done_ = nullptr;
