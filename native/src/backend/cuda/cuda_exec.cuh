@@ -193,7 +193,7 @@ public:
     // Every kernel of the executor (each() and CUB's) runs on the one stream, in order: kernels
     // using SceneView's per-thread scratch (program registers, cis candidates, mix leaves)
     // never overlap, so they share its max_threads_ columns; the CUDA renderer sets the cap
-    // once it allocates any of them (cuda_renderer.cu use_thread_scratch).
+    // once it allocates any of them (integrator/thread_scratch.h).
     template <typename F>
     void each(int n, F f, int block = 128) {
         use_device();
