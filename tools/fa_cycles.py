@@ -34,6 +34,12 @@ def _stored(ref_dir, name, channels=slice(None)):
     return ref, cycles
 
 
+def _trial(trial):
+    """The trial's seed index: FA_TRIAL_OFFSET (default 0) added, so that a run cut short can
+    be continued with the trials it did not reach (their seeds as in one run)."""
+    return trial + int(os.environ.get("FA_TRIAL_OFFSET", "0"))
+
+
 def _addon():
     import lantern_bpy
     lantern_bpy.load_addon()
@@ -42,6 +48,7 @@ def _addon():
 def pairs_cycles_refs(trial):
     """test_matches_cycles on each stored reference but light_sun: Lantern seeds
     2000000 + 1000 trial + k at the test's (seeds, spp), against the stored Cycles blocks."""
+    trial = _trial(trial)
     import render_compare as rc
     import test_cycles_compare as tc
     _addon()
@@ -62,6 +69,7 @@ def pairs_cycles_refs(trial):
 def pairs_world_cycles(trial):
     """test_world_cycles.py: world_hdri with bdpt, lvc and cis, LANTERN_SEEDS x LANTERN_SPP,
     Lantern seeds 2100000 + 1000 trial + 100 i + k, against the stored Cycles blocks."""
+    trial = _trial(trial)
     import render_compare as rc
     import test_world_cycles as tw
     _addon()
@@ -82,6 +90,7 @@ def pairs_world_film(trial):
     seeds 2200000 + 1000 trial + 100 i + k; the colour against the stored RGB blocks and the
     alpha of the partly transparent blocks (Cycles' block mean in (0.01, 0.99)) against the
     stored alpha blocks, as the two tests compare them."""
+    trial = _trial(trial)
     import render_compare as rc
     import test_world_film as tf
     _addon()
