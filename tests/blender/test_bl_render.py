@@ -295,15 +295,44 @@ def test_area_light_seen_by_camera(empty, tmp_path):
     np.testing.assert_allclose(px[..., :3], 1.0, rtol=1e-3)
 
 
+def seed_renders(scene, tmp_path, stem, seeds):
+    """One F12 per seed (scene.lantern.seed, or scene.cycles.seed when Cycles renders): the
+    written EXRs' RGB as float64."""
+    out = []
+    for seed in seeds:
+        scene.lantern.seed = seed
+        scene.cycles.seed = seed
+        out.append(render_exr(scene, tmp_path, f"{stem}{seed}.exr")[..., :3].astype(np.float64))
+    return out
+
+
+def direct_light_scene(scene):
+    """test_matches_cycles_direct_light's scene: a point light and a sun over a diffuse plane."""
+    add_camera(scene, location=(0, 0, 5), lens=80)
+    add_plane(scene, size=100.0, material=diffuse_bsdf(0.5))
+    _light(scene, "POINT", (0.3, 0.2, 2), energy=500.0, shadow_soft_size=0.0)
+    _light(scene, "SUN", (0, 0, 0), energy=1.0, angle=0.0)
+
+
+def direct_light_cycles(scene, tmp_path, seeds, spp):
+    """The same scene through Cycles (CPU, clamps and light threshold off), one F12 a seed."""
+    scene.render.engine = "CYCLES"
+    c = scene.cycles
+    c.device, c.samples, c.use_denoising, c.use_adaptive_sampling = "CPU", spp, False, False
+    c.sample_clamp_indirect, c.sample_clamp_direct = 0.0, 0.0
+    c.light_sampling_threshold = 0.0
+    c.max_bounces = 12
+    c.use_animated_seed = False
+    scene.render.filter_size = 1.5
+    return seed_renders(scene, tmp_path, "cycles", seeds)
+
+
 def test_matches_cycles_direct_light(empty, tmp_path):
     """The same small scene (sun + point light over a diffuse plane) through Cycles and through
     Lantern, K seeds each: lantern.metrics.assert_agreement (8x8 blocks, image
     means, negative controls; Cycles' clamp and light threshold off)."""
     from lantern import metrics
-    add_camera(empty, location=(0, 0, 5), lens=80)
-    add_plane(empty, size=100.0, material=diffuse_bsdf(0.5))
-    _light(empty, "POINT", (0.3, 0.2, 2), energy=500.0, shadow_soft_size=0.0)
-    _light(empty, "SUN", (0, 0, 0), energy=1.0, angle=0.0)
+    direct_light_scene(empty)
     # no world: with a grey world beside the two lights Lantern's pixels scatter 15x wider
     # than Cycles' (std 3.1 against 0.21 at 16 spp), see tests/README.md, "Noticed"
     # Lantern picks the sun (its power over the 100 m plane's disk) far more often than the
@@ -312,24 +341,13 @@ def test_matches_cycles_direct_light(empty, tmp_path):
     # on a block of 1.4), so 16 seeds of 64 spp (was 32 of 1024, 37-47 s against 1.6 s) keep
     # what it resolves: the image 0.21 % (the cap), the +5 % block at z in the hundreds
     k, spp = 8, 16
-    empty.lantern.samples = 64
-    lan = []
-    for i in range(16):
-        empty.lantern.seed = 1 + i
-        lan.append(render_exr(empty, tmp_path, f"lantern{i}.exr")[..., :3].astype(np.float64))
-    empty.render.engine = "CYCLES"
-    c = empty.cycles
-    c.device, c.samples, c.use_denoising, c.use_adaptive_sampling = "CPU", spp, False, False
-    c.sample_clamp_indirect, c.sample_clamp_direct = 0.0, 0.0
-    c.light_sampling_threshold = 0.0
-    c.max_bounces = 12
-    c.use_animated_seed = False
-    empty.render.filter_size = 1.5
-    cyc = []
-    for i in range(k):
-        c.seed = 100 + i
-        cyc.append(render_exr(empty, tmp_path, f"cycles{i}.exr")[..., :3].astype(np.float64))
+    empty.lantern.samples = DIRECT_SPP
+    lan = seed_renders(empty, tmp_path, "lantern", range(1, 1 + DIRECT_SEEDS))
+    cyc = direct_light_cycles(empty, tmp_path, range(100, 100 + k), spp)
     metrics.assert_agreement("direct light vs Cycles", lan, cyc, block=8)
+
+
+DIRECT_SEEDS, DIRECT_SPP = 16, 64
 
 
 def test_missing_lantern_package_is_reported(empty, tmp_path, errors, monkeypatch):
@@ -339,6 +357,28 @@ def test_missing_lantern_package_is_reported(empty, tmp_path, errors, monkeypatc
     with pytest.raises(RuntimeError, match="not importable"):
         render_exr(empty, tmp_path)
     assert any("pip install" in msg for kind, msg in errors if kind == "ERROR")
+
+
+def mirror_scene(scene, integrator):
+    """A white F82 mirror under an emissive ceiling of strength 2, 16 x 16, 1 spp."""
+    add_camera(scene, location=(0, 0, 1), rotation=(0, 0, 0), lens=80.0)  # looks down -Z
+    mirror = shader_material("Mirror", "ShaderNodeBsdfMetallic", **{
+        "Base Color": (1, 1, 1, 1), "Edge Tint": (1, 1, 1, 1), "Roughness": 0.0})[0]
+    add_plane(scene, size=100.0, location=(0, 0, 0), material=mirror, name="Floor")
+    add_plane(scene, size=100.0, location=(0, 0, 3), material=emission_material(2.0),
+              name="Ceiling")
+    scene.lantern.integrator = integrator
+    scene.lantern.samples = 1  # the mirror is exact sample by sample
+    scene.lantern.max_depth = 4
+    scene.render.resolution_x, scene.render.resolution_y = 16, 16
+
+
+def add_glass_pane(scene):
+    """A smooth glass pane (IOR 1.5) over the mirror; max_depth 8, GLASS_SPP a seed."""
+    glass = shader_material("Glass", "ShaderNodeBsdfGlass", **{"Roughness": 0.0, "IOR": 1.5})[0]
+    add_plane(scene, size=100.0, location=(0, 0, 0.5), material=glass, name="Pane")
+    scene.lantern.max_depth = 8
+    scene.lantern.samples = GLASS_SPP
 
 
 @pytest.mark.parametrize("integrator", ["pt", "cis"])
@@ -354,26 +394,11 @@ def test_mirror_and_glass_through_f12(empty, tmp_path, errors, integrator):
     with its 1 % / 5 % controls (cap 1e-4). Two interfaces without the returns, (1 - F)^2 + F =
     0.962, read 18 se off."""
     from lantern import metrics
-    add_camera(empty, location=(0, 0, 1), rotation=(0, 0, 0), lens=80.0)  # looks down -Z
-    mirror = shader_material("Mirror", "ShaderNodeBsdfMetallic", **{
-        "Base Color": (1, 1, 1, 1), "Edge Tint": (1, 1, 1, 1), "Roughness": 0.0})[0]
-    add_plane(empty, size=100.0, location=(0, 0, 0), material=mirror, name="Floor")
-    add_plane(empty, size=100.0, location=(0, 0, 3), material=emission_material(2.0),
-              name="Ceiling")
-    empty.lantern.integrator = integrator
-    empty.lantern.samples = 1  # the mirror is exact sample by sample
-    empty.lantern.max_depth = 4
-    empty.render.resolution_x, empty.render.resolution_y = 16, 16
+    mirror_scene(empty, integrator)
     px = render_exr(empty, tmp_path)
     np.testing.assert_allclose(px[..., :3], 2.0, rtol=1e-3)
-    glass = shader_material("Glass", "ShaderNodeBsdfGlass", **{"Roughness": 0.0, "IOR": 1.5})[0]
-    add_plane(empty, size=100.0, location=(0, 0, 0.5), material=glass, name="Pane")
-    empty.lantern.max_depth = 8
-    empty.lantern.samples = GLASS_SPP
-    seeds = []
-    for k in range(GLASS_SEEDS):
-        empty.lantern.seed = 1 + k
-        seeds.append(render_exr(empty, tmp_path, f"glass{k}.exr")[..., :3].astype(np.float64))
+    add_glass_pane(empty)
+    seeds = seed_renders(empty, tmp_path, "glass", range(1, 1 + GLASS_SEEDS))
     print(f"glass pane ({integrator}): mean / 2 = {np.mean(seeds) / 2.0:.5f}")
     metrics.assert_agreement(f"glass pane over a mirror ({integrator})", seeds, 2.0, block=4,
                              bias_cap=1e-4)
@@ -387,22 +412,19 @@ GLASS_SEEDS, GLASS_SPP = 16, 4
 
 
 FURNACE_SEEDS, FURNACE_SPP = 16, 8
+# a convex object sees only the world: one bounce, albedo 1 -> radiance 1. The sphere (radius 1
+# at 6 m, 80 mm lens: ~24 px across) covers the inner 16 x 16 square, out to ~0.94 of its
+# radius at the corners (grazing light included)
+FURNACE_CROP = (slice(8, 24), slice(8, 24))
 
 
-@pytest.mark.parametrize("integrator", ["pt", "cis"])
-def test_white_principled_furnace_through_f12(empty, tmp_path, errors, integrator):
-    """A white Principled BSDF (base 1, part metal, a coat, multiscatter GGX) on a sphere under a
-    uniform white world reflects exactly the world: every pixel 1 in expectation (the layering
-    and the multiple-scattering compensation conserve energy; any loss or gain shows as a
-    ring). Exact value, noise from the seeds: lantern.metrics.assert_agreement against 1 over
-    the sphere's inner square (16 seeds, 4x4 blocks, bias cap 1e-4), with its 1 % / 5 %
-    negative controls."""
-    from lantern import metrics
-    add_camera(empty, location=(0, 0, 6), lens=80.0)
+def furnace_scene(scene, integrator):
+    """A white Principled sphere (part metal, a coat) under a uniform white world, 32 x 32."""
+    add_camera(scene, location=(0, 0, 6), lens=80.0)
     world = bpy.data.worlds.new("White")
     world.node_tree.nodes["Background"].inputs["Color"].default_value = (1, 1, 1, 1)
     world.node_tree.nodes["Background"].inputs["Strength"].default_value = 1.0
-    empty.world = world
+    scene.world = world
     mat = bpy.data.materials.new("WhitePrincipled")
     p = mat.node_tree.nodes["Principled BSDF"]
     p.inputs["Base Color"].default_value = (1, 1, 1, 1)
@@ -414,19 +436,25 @@ def test_white_principled_furnace_through_f12(empty, tmp_path, errors, integrato
     obj = bpy.context.object
     bpy.ops.object.shade_smooth()
     obj.data.materials.append(mat)
-    empty.lantern.integrator = integrator
-    empty.lantern.samples = FURNACE_SPP
-    empty.lantern.max_depth = 8
-    empty.render.resolution_x, empty.render.resolution_y = 32, 32
-    # a convex object sees only the world: one bounce, albedo 1 -> radiance 1. The sphere
-    # (radius 1 at 6 m, 80 mm lens: ~24 px across) covers the inner 16 x 16 square, out to
-    # ~0.94 of its radius at the corners (grazing light included)
-    sphere = []
-    for k in range(FURNACE_SEEDS):
-        empty.lantern.seed = 1 + k
-        px = render_exr(empty, tmp_path, f"furnace{k}.exr")[..., :3].astype(np.float64)
-        assert np.isfinite(px).all()
-        sphere.append(px[8:24, 8:24])
+    scene.lantern.integrator = integrator
+    scene.lantern.samples = FURNACE_SPP
+    scene.lantern.max_depth = 8
+    scene.render.resolution_x, scene.render.resolution_y = 32, 32
+
+
+@pytest.mark.parametrize("integrator", ["pt", "cis"])
+def test_white_principled_furnace_through_f12(empty, tmp_path, errors, integrator):
+    """A white Principled BSDF (base 1, part metal, a coat, multiscatter GGX) on a sphere under a
+    uniform white world reflects exactly the world: every pixel 1 in expectation (the layering
+    and the multiple-scattering compensation conserve energy; any loss or gain shows as a
+    ring). Exact value, noise from the seeds: lantern.metrics.assert_agreement against 1 over
+    the sphere's inner square (16 seeds, 4x4 blocks, bias cap 1e-4), with its 1 % / 5 %
+    negative controls."""
+    from lantern import metrics
+    furnace_scene(empty, integrator)
+    full = seed_renders(empty, tmp_path, "furnace", range(1, 1 + FURNACE_SEEDS))
+    assert all(np.isfinite(px).all() for px in full)
+    sphere = [px[FURNACE_CROP] for px in full]
     mean = np.mean(sphere, axis=0)
     print(f"white principled furnace ({integrator}): sphere mean {mean.mean():.5f}, "
           f"min {mean.min():.3f}, max {mean.max():.3f}")

@@ -219,6 +219,46 @@ def test_textured_plane_f12_matches_texture(empty, addon, tmp_path, errors):
     assert not [c for c in errors if c[0] == "ERROR"]
 
 
+def normal_map_scene(scene, integrator):
+    """test_normal_map_f12's plane, sun and camera; returns the mapped normal n, the direction
+    to the sun and the exact radiance rho E (n . l) G1 / pi."""
+    b = (round((math.sin(math.radians(30)) + 1) * 127.5), 128,
+         round((math.cos(math.radians(30)) + 1) * 127.5), 255)
+    img = make_image("Normal", np.array([[b]], np.uint8), colorspace="Non-Color")
+    mat = lambert_material("Bumpy", 0.5, normal_image=img)
+    add_uvs(add_plane(scene, size=2.0, material=mat))
+    sun = bpy.data.lights.new("Sun", "SUN")
+    sun.energy = 2.0
+    sun.angle = 0.0
+    obj = bpy.data.objects.new("Sun", sun)
+    obj.rotation_euler = (0.0, math.radians(45), 0.0)  # -Z tilted: light travels towards -x
+    scene.collection.objects.link(obj)
+    ortho_camera(scene)
+    scene.lantern.integrator = integrator
+    scene.lantern.samples = 8 if integrator == "pt" else 16
+    n = np.array([2 * v / 255 - 1 for v in b[:3]])
+    n /= np.linalg.norm(n)
+    light = np.array([math.sin(math.radians(45)), 0.0, math.cos(math.radians(45))])
+    tilt = math.acos(n[2])  # the map's tilt off the plane's normal, 30 degrees to rounding
+    alpha2 = min(math.tan(tilt) ** 2 / 8.0, 1.0)
+    g1 = 2.0 / (1.0 + math.sqrt(1.0 + alpha2 * math.tan(math.radians(45)) ** 2))
+    return n, light, 0.5 / math.pi * 2.0 * float(n @ light) * g1
+
+
+def normal_map_seeds(scene, tmp_path, seeds):
+    """One F12 a seed of the normal-map scene: RGB float64 (32, 32, 3) each."""
+    imgs = []
+    for k in seeds:
+        scene.lantern.seed = k
+        imgs.append(render_exr(scene, tmp_path, f"s{k}.exr")[..., :3].astype(np.float64))
+    return imgs
+
+
+# the 4x4 blocks inside the plane's [8, 24) pixels
+NORMAL_MAP_MASK = np.zeros((8, 8), bool)
+NORMAL_MAP_MASK[2:6, 2:6] = True
+
+
 @pytest.mark.parametrize("integrator", ["pt", "cis"])
 def test_normal_map_f12(empty, addon, tmp_path, errors, integrator):
     """A constant tangent-space normal map tilting the normal 30 degrees towards +x (the
@@ -226,29 +266,9 @@ def test_normal_map_f12(empty, addon, tmp_path, errors, integrator):
     cos 45, times Cycles' bump shadowing term (docs/nodes.md "Bump and displacement"): the GGX
     masking G1 with alpha^2 = tan^2(30 deg) / 8 at the sun's 45 degrees to the plane's own
     normal, 0.9898."""
-    b = (round((math.sin(math.radians(30)) + 1) * 127.5), 128,
-         round((math.cos(math.radians(30)) + 1) * 127.5), 255)
-    img = make_image("Normal", np.array([[b]], np.uint8), colorspace="Non-Color")
-    mat = lambert_material("Bumpy", 0.5, normal_image=img)
-    add_uvs(add_plane(empty, size=2.0, material=mat))
-    sun = bpy.data.lights.new("Sun", "SUN")
-    sun.energy = 2.0
-    sun.angle = 0.0
-    obj = bpy.data.objects.new("Sun", sun)
-    obj.rotation_euler = (0.0, math.radians(45), 0.0)  # -Z tilted: light travels towards -x
-    empty.collection.objects.link(obj)
-    ortho_camera(empty)
-    empty.lantern.integrator = integrator
-    empty.lantern.samples = 8 if integrator == "pt" else 16
+    n, light, expected = normal_map_scene(empty, integrator)
     scene, _ = export()
     assert scene.meshes[0]["tangents"] is not None
-    n = np.array([2 * v / 255 - 1 for v in b[:3]])
-    n /= np.linalg.norm(n)
-    light = np.array([math.sin(math.radians(45)), 0.0, math.cos(math.radians(45))])
-    tilt = math.acos(n[2])  # the map's tilt off the plane's normal, 30 degrees to rounding
-    alpha2 = min(math.tan(tilt) ** 2 / 8.0, 1.0)
-    g1 = 2.0 / (1.0 + math.sqrt(1.0 + alpha2 * math.tan(math.radians(45)) ** 2))
-    expected = 0.5 / math.pi * 2.0 * float(n @ light) * g1
     assert abs(expected - 0.5 / math.pi * 2 * light[2]) > 0.2 * expected  # tilt is visible
     if integrator == "pt":
         # pt sees only the sun here: noise-free, every pixel to 1e-4
@@ -258,15 +278,10 @@ def test_normal_map_f12(empty, addon, tmp_path, errors, integrator):
     else:
         # cis also splats light paths (noisy): 16 seeds against the exact value, the 4x4
         # blocks inside the plane's [8, 24) pixels (tests/README.md)
-        imgs = []
-        for k in range(16):
-            empty.lantern.seed = 10 + k
-            imgs.append(render_exr(empty, tmp_path, f"s{k}.exr")[..., :3].astype(np.float64))
-        mask = np.zeros((8, 8), bool)
-        mask[2:6, 2:6] = True
+        imgs = normal_map_seeds(empty, tmp_path, range(10, 26))
         metrics.assert_agreement(f"normal map F12 {integrator}", imgs,
-                                 np.full((32, 32, 3), expected), block=4, mask=mask,
-                                 bias_cap=1e-4)
+                                 np.full((32, 32, 3), expected), block=4,
+                                 mask=NORMAL_MAP_MASK, bias_cap=1e-4)
     assert not [c for c in errors if c[0] == "ERROR"]
 
 

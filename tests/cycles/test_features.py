@@ -98,15 +98,28 @@ def _capped_z(discs, cap):
     return np.array(out)
 
 
-@pytest.mark.parametrize("name", list(SCENES))
-def test_feature_matches_cycles(name):
-    t0 = time.perf_counter()
+def build(name):
+    """The scene of row `name` as the test renders it; returns its spheres' pixels."""
     features.build(name)
     if SCENES[name]:
         SCENES[name]()
     scene = bpy.context.scene
     scene.render.threads_mode, scene.render.threads = "FIXED", 2
-    spheres = features.sphere_pixels()
+    return features.sphere_pixels()
+
+
+def disc_z(lan, cyc, spheres, name):
+    """Every sphere's disc statistics and |z| per disc and channel (less the row's stated
+    DISC_BIAS), and the Bonferroni threshold at ALPHA (Student t, K - 1 dof): the disc test."""
+    discs = [fv.region_stats(lan, cyc, m) for m in fv.disc_masks(cyc.shape[1:], spheres)]
+    z_disc = _capped_z(discs, DISC_BIAS.get(name, 0.0))
+    return discs, z_disc, metrics.z_threshold(z_disc.size, ALPHA, dof=K - 1)
+
+
+@pytest.mark.parametrize("name", list(SCENES))
+def test_feature_matches_cycles(name):
+    t0 = time.perf_counter()
+    spheres = build(name)
     cyc = np.stack([rc.render_cycles(seed=500 + k, spp=CYCLES_SPP)[0] for k in range(K)])
     lan, warnings = [], []
     for k in range(K):
@@ -120,10 +133,8 @@ def test_feature_matches_cycles(name):
     mask = BLOCK_MASKS[name](cyc.shape[1:], spheres, rc.BLOCK) if name in BLOCK_MASKS else None
     res = metrics.compare_renders(lan, cyc, block=rc.BLOCK, se_floor=fv.SE_FLOOR, name=name,
                                   mask=mask)
-    discs = [fv.region_stats(lan, cyc, m) for m in fv.disc_masks(cyc.shape[1:], spheres)]
+    discs, z_disc, t_disc = disc_z(lan, cyc, spheres, name)
     cap = DISC_BIAS.get(name, 0.0)
-    z_disc = _capped_z(discs, cap)
-    t_disc = metrics.z_threshold(z_disc.size, ALPHA, dof=K - 1)
     ratios = "; ".join(f"sphere {i}: {np.round(d['ratio'], 3)}" for i, d in enumerate(discs))
     line = (f"{res}; sphere ratios {ratios}; worst sphere |z| "
             f"{np.abs(z_disc).max():.2f} / {t_disc:.2f} ({time.perf_counter() - t0:.1f} s)")

@@ -69,12 +69,12 @@ def _cycles_scene(kind):
     return s
 
 
-def _cycles_renders(kind, tmp_path):
+def _cycles_renders(kind, tmp_path, seed0=0):
     s = _cycles_scene(kind)
     s.render.image_settings.file_format = "OPEN_EXR"
     s.render.image_settings.color_depth = "32"
     out = []
-    for seed in range(SEEDS):
+    for seed in range(seed0, seed0 + SEEDS):
         s.cycles.seed = seed
         path = str(tmp_path / f"{kind}_{seed}.exr")
         s.render.filepath = path
