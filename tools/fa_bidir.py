@@ -31,7 +31,7 @@ sys.path.insert(0, str(ROOT / "tests" / "python"))
 from lantern import metrics  # noqa: E402
 
 REF_SPP, SPP = 64, 8   # bidir_scenes: the test's 512 (pt) / 256 (bdpt) and 64, cut by 8
-LIGHTS_CUT = 4         # bidir_lights: the tests' samples per seed over this
+LIGHTS_CUT = 8         # bidir_lights: the tests' samples per seed over this
 
 
 def _tb():
