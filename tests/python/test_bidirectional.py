@@ -147,14 +147,19 @@ def test_integrators_agree(core, scene_name, backend):
     print(f"{scene_name}: {time.perf_counter() - t0:.1f} s")
 
 
-def test_delta_lights_agree(core, backend):
-    """A point light (delta position) over glossy metal, and a sharp sun (delta direction) in the
-    diffuse box: every technique that cannot reach a delta light must get weight zero."""
+def delta_light_scenes():
+    """test_delta_lights_agree's scenes (tools/fa_bidir.py measures them too)."""
     glossy_point = scenes.glossy_box(SIZE, SIZE, delta_light=True)
     sun = scenes.cornell_box(SIZE, SIZE)
     sun.lights = []
     sun.add_light("sun", direction=[0.2, 0.6, -0.3], strength=[1.5] * 3, angle=0.0)
-    for name, scene in (("point over metal", glossy_point), ("sharp sun", sun)):
+    return {"point over metal": glossy_point, "sharp sun": sun}
+
+
+def test_delta_lights_agree(core, backend):
+    """A point light (delta position) over glossy metal, and a sharp sun (delta direction) in the
+    diffuse box: every technique that cannot reach a delta light must get weight zero."""
+    for name, scene in delta_light_scenes().items():
         pt = renders(scene, "pt", SPP_REF["pt"], 1000, backend=backend)
         for integrator, settings in [("bdpt", {}), ("cis", {})]:
             check_agreement(f"{name} {integrator}",
@@ -162,12 +167,17 @@ def test_delta_lights_agree(core, backend):
                             pt, ONE_PERCENT)  # resolves 0.82-0.92 %
 
 
-def test_world_light_agrees(core, backend):
-    """A constant world (an infinite light: light paths start on the scene's bounding disk)
-    seen through the box's open front, with the glass lantern unlit inside."""
+def world_light_scene():
     scene = scenes.glass_lantern(SIZE, SIZE)
     scene.lights = []
     scene.world = {"color": [0.6, 0.7, 0.8]}
+    return scene
+
+
+def test_world_light_agrees(core, backend):
+    """A constant world (an infinite light: light paths start on the scene's bounding disk)
+    seen through the box's open front, with the glass lantern unlit inside."""
+    scene = world_light_scene()
     pt = renders(scene, "pt", SPP_REF["pt"], 1000, backend=backend)
     for integrator in ("bdpt", "cis"):
         check_agreement(f"world {integrator}",
@@ -175,13 +185,18 @@ def test_world_light_agrees(core, backend):
                         ONE_PERCENT)  # resolves 0.80-1.00 %, a block 2.2-2.8 % (with QMC)
 
 
+def sun_caustic_scene():
+    scene = scenes.glossy_box(SIZE, SIZE, delta_light=True, roughness=0.3)
+    scene.lights = []
+    scene.add_light("sun", direction=[0.2, 0.6, -0.3], strength=[1.5] * 3, angle=0.0)
+    return scene
+
+
 def test_sun_caustic_on_metal_matches_light_tracing(core, backend):
     """A sharp sun reflected by a glossy metal floor onto the walls: a caustic pt finds only
     through rare BSDF samples next to the mirror direction (its block means are heavy-tailed and
     read low at test sizes), so the reference here is light tracing, which sees it directly."""
-    scene = scenes.glossy_box(SIZE, SIZE, delta_light=True, roughness=0.3)
-    scene.lights = []
-    scene.add_light("sun", direction=[0.2, 0.6, -0.3], strength=[1.5] * 3, angle=0.0)
+    scene = sun_caustic_scene()
     # lt is cheap per sample (16 x 256 spp: 5 s CPU) and the noisier side (alone it resolves
     # 1.18 % there, cis at 128 spp 0.69 %): the samples go to lt. 16 x 1024 lt and 16 x 128 cis
     # resolve ~0.9 %; 64 spp a side resolved 2.0 % (a block 7.1 %)
@@ -191,13 +206,18 @@ def test_sun_caustic_on_metal_matches_light_tracing(core, backend):
                     ONE_PERCENT)
 
 
-def test_soft_falloff_lights_stay_camera_side(core, backend):
-    """Blender's default soft-falloff point light has no emission distribution: bidirectional
-    integrators render it by the camera-side techniques only, and still agree with pt."""
+def soft_falloff_scene():
     scene = scenes.cornell_box(SIZE, SIZE)
     scene.lights = []
     scene.add_light("point", position=[0.2, 0.0, 1.5], power=[30.0] * 3, radius=0.2,
                     soft_falloff=True)
+    return scene
+
+
+def test_soft_falloff_lights_stay_camera_side(core, backend):
+    """Blender's default soft-falloff point light has no emission distribution: bidirectional
+    integrators render it by the camera-side techniques only, and still agree with pt."""
+    scene = soft_falloff_scene()
     pt = renders(scene, "pt", SPP_REF["pt"], 1000, backend=backend)
     check_agreement("soft falloff cis", renders(scene, "cis", 64, 4000, backend=backend), pt,
                     ONE_PERCENT)  # resolves 0.79 %
@@ -242,19 +262,40 @@ ANALYTIC_CONTROLS = (0.01, 0.05)
 ANALYTIC_SPP = {"pt": 4, "lt": 64}
 
 
+ANALYTIC_DEPTH = 12
+
+
+def furnace_case():
+    """test_furnace's scene and exact value (tools/fa_bidir.py measures them too)."""
+    a, le = 0.5, 1.0
+    scene = scenes.furnace_sphere(albedo=a, emission=le, width=16, height=16)
+    return scene, scenes.furnace_expected(le, a, ANALYTIC_DEPTH)
+
+
+def integrating_sphere_case():
+    """test_integrating_sphere's scene and exact value."""
+    a, power = 0.5, 100.0
+    scene = scenes.integrating_sphere(albedo=a, power=power, light="sphere", light_radius=0.05,
+                                      subdivisions=4, width=16, height=16)
+    scene.lights[0]["soft_falloff"] = False
+    return scene, scenes.integrating_sphere_expected(a, power, 1.0, ANALYTIC_DEPTH)
+
+
+def analytic_renders(scene, integrator, settings, seed0, backend="cpu"):
+    return [lantern.render(scene, spp=16 * ANALYTIC_SPP.get(integrator, 1), seed=seed0 + k,
+                           integrator=integrator, max_depth=ANALYTIC_DEPTH,
+                           backend=backend, **settings) for k in range(K)]
+
+
 @pytest.mark.parametrize("integrator,settings", ALL,
                          ids=[f"{i}-{'-'.join(map(str, s.values())) or 'default'}" for i, s in ALL])
 def test_furnace(core, integrator, settings, backend):
     """Closed emissive diffuse sphere of albedo a: every pixel sees Le * sum a^k; K seeds
     against that value (blocks, image mean; negative controls)."""
-    a, le, depth = 0.5, 1.0, 12
-    scene = scenes.furnace_sphere(albedo=a, emission=le, width=16, height=16)
     if integrator == "lt":
         pytest.skip("lt cannot see the emitter it starts on (covered in test_light_tracing)")
-    imgs = [lantern.render(scene, spp=16 * ANALYTIC_SPP.get(integrator, 1), seed=1 + k,
-                           integrator=integrator, max_depth=depth,
-                           backend=backend, **settings) for k in range(K)]
-    expected = scenes.furnace_expected(le, a, depth)
+    scene, expected = furnace_case()
+    imgs = analytic_renders(scene, integrator, settings, 1, backend)
     check_agreement(f"furnace {integrator} {settings}", imgs, expected, ANALYTIC_CONTROLS)
 
 
@@ -263,14 +304,8 @@ def test_furnace(core, integrator, settings, backend):
 def test_integrating_sphere(core, integrator, settings, backend):
     """A small sphere light (soft falloff off) inside a closed diffuse sphere: the wall radiance
     is a E / (pi (1 - a)) for the truncated series, E = P / (4 pi R^2)."""
-    a, power, depth = 0.5, 100.0, 12
-    scene = scenes.integrating_sphere(albedo=a, power=power, light="sphere", light_radius=0.05,
-                                      subdivisions=4, width=16, height=16)
-    scene.lights[0]["soft_falloff"] = False
-    imgs = [lantern.render(scene, spp=16 * ANALYTIC_SPP.get(integrator, 1), seed=100 + k,
-                           integrator=integrator, max_depth=depth,
-                           backend=backend, **settings) for k in range(K)]
-    expected = scenes.integrating_sphere_expected(a, power, 1.0, depth)
+    scene, expected = integrating_sphere_case()
+    imgs = analytic_renders(scene, integrator, settings, 100, backend)
     # the icosphere (5120 facets) is a little smaller than the ideal sphere: ~0.1 % brighter,
     # inside the 0.2 % bias cap (test_render.py checks the direct term per pixel exactly)
     check_agreement(f"integrating sphere {integrator} {settings}", imgs, expected,
@@ -404,6 +439,21 @@ def test_stats_by_stage(core, backend):
     assert st["time_light_pass"] > 0 and st["time_camera_pass"] > 0
 
 
+def cache_split_renders(seed_split, seed_whole, spp=64):
+    """The Cornell box in cis with the light vertex cache split into passes (K seeds of `spp`
+    in one step each) and whole (renders()); every split session must say it split."""
+    scene = scenes.cornell_box(SIZE, SIZE)
+    split = [lantern.Session(scene, integrator="cis", seed=seed_split + k, spp_per_iteration=spp,
+                             max_depth=8, cache_budget_mb=1, backend="cpu") for k in range(K)]
+    whole = renders(scene, "cis", spp, seed_whole, backend="cpu")
+    imgs = []
+    for sess in split:
+        sess.step()
+        assert any("passes" in w for w in sess.warnings), sess.warnings
+        imgs.append(sess.image())
+    return imgs, whole
+
+
 def test_cache_budget_splits_the_iteration(core):
     """A light vertex cache over the memory budget: the step runs as several light + camera
     passes, says so once, and renders the same image statistically."""
@@ -416,13 +466,5 @@ def test_cache_budget_splits_the_iteration(core):
     # the statistics on the Cornell box: the split is the same mechanism in any scene, and there
     # cis at 64 spp a side resolves 0.73 % (a block 1.8 %), where the fixture resolved 3.0 %
     # (7-9 %) at the same cost
-    scene = scenes.cornell_box(SIZE, SIZE)
-    split = [lantern.Session(scene, integrator="cis", seed=100 + k, spp_per_iteration=64,
-                             max_depth=8, cache_budget_mb=1, backend="cpu") for k in range(K)]
-    whole = renders(scene, "cis", 64, 200, backend="cpu")
-    imgs = []
-    for sess in split:
-        sess.step()
-        assert any("passes" in w for w in sess.warnings), sess.warnings
-        imgs.append(sess.image())
+    imgs, whole = cache_split_renders(100, 200)
     check_agreement("cache split into passes", imgs, whole, ONE_PERCENT)

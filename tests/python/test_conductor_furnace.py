@@ -56,6 +56,14 @@ def render(scene, seed, spp=SPP):
     return np.asarray(s.image(), np.float64)
 
 
+def ball_mask(i):
+    """The 4 x 4 blocks of ball i's square (test_white_rough_metal_reflects_everything)."""
+    n = len(ROUGHNESS)
+    mask = np.zeros((4, 4 * n), bool)
+    mask[:, 4 * i:4 * i + 4] = True
+    return mask
+
+
 def test_white_rough_metal_reflects_everything(core):
     """Each ball's square against 0.5 exactly (bias cap 5e-4: the tables' interpolation), its
     4 x 4 blocks and its mean (a mask per ball; Bonferroni over the balls), with the 1 % / 5 %
@@ -63,8 +71,7 @@ def test_white_rough_metal_reflects_everything(core):
     imgs = [render(metal_balls(), seed=k) for k in range(K)]
     n = len(ROUGHNESS)
     for i, r in enumerate(ROUGHNESS):
-        mask = np.zeros((4, 4 * n), bool)
-        mask[:, 4 * i:4 * i + 4] = True
+        mask = ball_mask(i)
         metrics.assert_agreement(f"white metal furnace, roughness {r}", imgs, [WORLD] * 3,
                                  block=4, bias_cap=5e-4, se_floor=1e-6, mask=mask,
                                  alpha=1e-3 / n)

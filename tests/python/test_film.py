@@ -33,9 +33,24 @@ def half_plane_scene(alpha=1.0, size=32):
 K = 16  # seeds per statistical check (tests/README.md: Welch dof >= 15)
 
 
+def hidden_world_renders(seed0=1):
+    """test_world_hidden_but_lights' renders (tools/fa_python.py measures its comparison)."""
+    return [lantern.render(half_plane_scene(), spp=8, seed=seed0 + k) for k in range(K)]
+
+
+def alpha_renders(alpha, seed0=0):
+    """test_alpha_is_coverage's alpha renders."""
+    scene = half_plane_scene(alpha=alpha)
+    return [render_alpha(scene, spp=256 if alpha < 1 else 32, seed=seed0 + k) for k in range(K)]
+
+
+def folded_edge(a):
+    """The columns 12..19 about the edge, folded (test_alpha_is_coverage)."""
+    return [0.5 * (x[:, 12:16] + x[:, 16:20][:, ::-1]) for x in a]
+
+
 def test_world_hidden_but_lights(core):
-    scene = half_plane_scene()
-    imgs = [lantern.render(scene, spp=8, seed=1 + k) for k in range(K)]
+    imgs = hidden_world_renders()
     assert max(img[:, -8:].max() for img in imgs) == 0.0      # the world is not drawn
     # a grey Lambert plane under a uniform world of 0.8 (one bounce: it sees no geometry):
     # 0.5 x 0.8 exactly, against the fully covered columns 0..7 (four 8 x 8 blocks)
@@ -45,11 +60,10 @@ def test_world_hidden_but_lights(core):
 
 @pytest.mark.parametrize("alpha", [1.0, 0.3])
 def test_alpha_is_coverage(core, alpha):
-    scene = half_plane_scene(alpha=alpha)
     # alpha < 1 is a stochastic pick per sample: 256 of them a pixel, 4 x 4 blocks, so that a
     # 1 % bias on the covered columns and 5 % on one block read beyond the noise (at alpha 1
     # only the edge is noisy: 32 resolve 0.03 %)
-    a = [render_alpha(scene, spp=256 if alpha < 1 else 32, seed=k) for k in range(K)]
+    a = alpha_renders(alpha)
     assert a[0].shape == (32, 32)
     assert max(x[:, -12:].max() for x in a) == 0.0
     # fully covered (the filter spans 3 px): alpha exactly, in columns 0..11
@@ -59,7 +73,7 @@ def test_alpha_is_coverage(core, alpha):
     # 15 - i and 16 + i together cover exactly one pixel, so columns 12..19 (past the filter's
     # reach on both sides) average alpha / 2 exactly in every row: folded about the edge,
     # (column 15 - i + column 16 + i) / 2 for i = 0..3, it is alpha / 2 in every pixel
-    folded = [0.5 * (x[:, 12:16] + x[:, 16:20][:, ::-1]) for x in a]
+    folded = folded_edge(a)
     metrics.assert_agreement(f"alpha {alpha}: the edge's columns folded", folded, 0.5 * alpha,
                              block=4, bias_cap=1e-4)
 

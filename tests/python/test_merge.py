@@ -116,9 +116,10 @@ needs_core = pytest.mark.skipif(not session.native_available(),
 
 
 @needs_core
-def test_four_chunks_agree_with_one_render(tmp_path):
-    """Four 32-spp chunks merged agree with a 128-spp render over 16 independent repetitions:
-    lantern.metrics.assert_agreement (tests/README.md), with its 1 % / 5 % negative controls."""
+def merged_and_full(tmp_path, seed_merged=10, seed_full=1000):
+    """test_four_chunks_agree_with_one_render's 16 repetitions: 4 chunks of 32 spp rendered
+    and merged through the CLI (the merge checked against the chunks' mean), and one render of
+    128 spp (tools/fa_python.py measures the comparison with other seeds)."""
     path = tmp_path / "box.lantern"
     scenes.cornell_box(width=32, height=32).save(path)
     merged, full = [], []
@@ -127,7 +128,7 @@ def test_four_chunks_agree_with_one_render(tmp_path):
         for k in range(4):
             out = tmp_path / f"r{rep}_c{k}.exr"
             assert cli.main(["render", str(path), "-o", str(out), "--spp", "32", "-q",
-                             "--backend", "cpu", "--seed", str(10 + rep), "--chunk",
+                             "--backend", "cpu", "--seed", str(seed_merged + rep), "--chunk",
                              str(k)]) == 0
             chunks.append(out)
         out = tmp_path / f"r{rep}.exr"
@@ -139,8 +140,15 @@ def test_four_chunks_agree_with_one_render(tmp_path):
         merged.append(m)
         ref = tmp_path / f"full{rep}.exr"
         assert cli.main(["render", str(path), "-o", str(ref), "--spp", "128", "-q",
-                         "--backend", "cpu", "--seed", str(1000 + rep)]) == 0
+                         "--backend", "cpu", "--seed", str(seed_full + rep)]) == 0
         full.append(imageio.read_image(ref))
+    return merged, full
+
+
+def test_four_chunks_agree_with_one_render(tmp_path):
+    """Four 32-spp chunks merged agree with a 128-spp render over 16 independent repetitions:
+    lantern.metrics.assert_agreement (tests/README.md), with its 1 % / 5 % negative controls."""
+    merged, full = merged_and_full(tmp_path)
     assert exr.read_exr(tmp_path / "r0.exr").metadata[merge.SPP] == 128
     metrics.assert_agreement("4 merged chunks vs one render", [m[..., :3] for m in merged],
                              [f[..., :3] for f in full], block=8)

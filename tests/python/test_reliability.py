@@ -198,6 +198,29 @@ def test_native_core_refuses_absurd_settings(settings, message):
         core.Session(native, dict({"backend": "cpu"}, **settings))
 
 
+ENORMOUS_SEEDS = (("pt", 1), ("cis", 12))
+
+
+def enormous_spp_estimate(integrator, seeds, seed0=0):
+    """test_enormous_spp_per_iteration_is_correct's estimate for one integrator: the furnace's
+    mean, its standard error and dof (pt: its 16 pixels of one seed; cis: `seeds` seeds), and
+    the exact value (tools/fa_python.py measures the rule)."""
+    scene = furnace_sphere(albedo=0.5, emission=1.0, width=4, height=4)
+    expected = furnace_expected(1.0, 0.5, 8)[0]
+    means, pixels = [], None
+    for seed in range(seed0, seed0 + seeds):
+        s = Session(scene, integrator=integrator, spp_per_iteration=4096, max_depth=8,
+                    threads=2, cache_budget_mb=1, seed=seed, **CPU)
+        s.step()
+        px = s.image()[..., 0].ravel().astype(np.float64)
+        assert np.isfinite(px).all() and s.spp == 4096
+        means.append(px.mean())
+        pixels = px
+    if seeds == 1:
+        return pixels.mean(), pixels.std(ddof=1) / np.sqrt(pixels.size), pixels.size - 1, expected
+    return np.mean(means), np.std(means, ddof=1) / np.sqrt(seeds), seeds - 1, expected
+
+
 def test_enormous_spp_per_iteration_is_correct():
     """4096 samples per pixel in one iteration (the most the API takes), pt and cis (whose cache
     then splits into passes): the furnace's analytic radiance, as an exact value (cap 1e-4 +
@@ -205,24 +228,8 @@ def test_enormous_spp_per_iteration_is_correct():
     negative controls must fail. pt's 16 pixels are independent estimates; cis's pixels share
     one light vertex cache (correlated), so its standard error comes from independent seeds
     instead. (A 5 % block control does not apply: one value per integrator.)"""
-    scene = furnace_sphere(albedo=0.5, emission=1.0, width=4, height=4)
-    expected = furnace_expected(1.0, 0.5, 8)[0]
-    for integrator, seeds in (("pt", 1), ("cis", 12)):
-        means, pixels = [], None
-        for seed in range(seeds):
-            s = Session(scene, integrator=integrator, spp_per_iteration=4096, max_depth=8,
-                        threads=2, cache_budget_mb=1, seed=seed, **CPU)
-            s.step()
-            px = s.image()[..., 0].ravel().astype(np.float64)
-            assert np.isfinite(px).all() and s.spp == 4096
-            means.append(px.mean())
-            pixels = px
-        if seeds == 1:
-            mean, se = pixels.mean(), pixels.std(ddof=1) / np.sqrt(pixels.size)
-            dof = pixels.size - 1
-        else:
-            mean, se = np.mean(means), np.std(means, ddof=1) / np.sqrt(seeds)
-            dof = seeds - 1
+    for integrator, seeds in ENORMOUS_SEEDS:
+        mean, se, dof, expected = enormous_spp_estimate(integrator, seeds)
         allowed = 1e-4 * expected + metrics.z_threshold(2, 1e-3, dof) * se
         print(f"{integrator} at 4096 spp: {mean:.6f} +- {se:.6f} against {expected:.6f} "
               f"({(mean - expected) / expected:+.4%}, allowed {allowed / expected:.4%})")
