@@ -15,6 +15,7 @@ seeds instead (test seeds + 1000 (trial + 1)). Needs bpy.
   (16 seeds of 12 spp a side).
 """
 
+import os
 import sys
 import tempfile
 from pathlib import Path
@@ -27,8 +28,10 @@ for sub in ("tools", "tests/cycles", "blend_scenes"):
     if str(ROOT / sub) not in sys.path:
         sys.path.insert(0, str(ROOT / sub))
 
-SHARED_CYCLES = {"anisotropy": True, "features": True, "light_units": True,
-                 "node_cycles": True}
+# FA_CYCLES_PER_TRIAL=1 in the environment: every family renders its Cycles side per trial
+_PER_TRIAL = os.environ.get("FA_CYCLES_PER_TRIAL") == "1"
+SHARED_CYCLES = {f: not _PER_TRIAL for f in ("anisotropy", "features", "light_units",
+                                             "node_cycles")}
 _CYCLES = {}   # (family, case) -> the shared Cycles set
 _TMP = Path(tempfile.mkdtemp(prefix="fa_cycles_tests_"))
 

@@ -4,7 +4,7 @@ trials whose ratio misses the test's LIMB_RATIO by more than its allowance, at t
 (1e-3) and at 0.05 and 0.2, and runs the family's interior comparison on the same renders.
 
     PYTHONPATH=python nice python tools/false_alarm_coat_limb.py [--trials 20]
-        [--out tests/false_alarm_coat.json]
+        [--first 0] [--out tests/false_alarm_coat.json]
 """
 
 import argparse
@@ -38,6 +38,7 @@ def limb(lan, cyc, mask, k):
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--trials", type=int, default=20)
+    p.add_argument("--first", type=int, default=0, help="first trial (its seeds): 20 continues")
     p.add_argument("--out", default=None)
     args = p.parse_args(argv)
     import test_coat_normal as tc
@@ -45,7 +46,7 @@ def main(argv=None):
     rows = {"limb": {f"fails@{a:g}": 0 for a in ALPHAS},
             "interior": {f"fails@{a:g}": 0 for a in ALPHAS}, "trials": 0, "ratios": [],
             "worst_p_x_n": []}
-    for trial in range(args.trials):
+    for trial in range(args.first, args.first + args.trials):
         lan, cyc, interior, mask = fa.coat_normal_renders(trial)
         ratio, se = limb(lan, cyc, mask, tc.K)
         rows["ratios"].append([round(ratio, 5), round(se, 5)])
