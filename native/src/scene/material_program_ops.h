@@ -122,7 +122,7 @@ struct NodeInstr {
 // thread's column of a device buffer laid out [register][thread] (SceneView::program_regs),
 // so that a warp's accesses to one register are consecutive words, as local memory's are, and
 // no kernel's stack frame holds the 768 B of registers (docs/cuda_backend.md "Kernel
-// resources"). tests/cpp/test_material_program.cpp runs every op through both on the CPU.
+// resources"). tests/cpp/test_program_regs.cpp runs every op through both on the CPU.
 struct ProgramRegs {
     float* p;         // register 0 of this thread
     uint32_t stride;  // floats from one register to the next (threads in the buffer)
