@@ -232,6 +232,36 @@ def glass_lantern(width=64, height=64, roughness=0.0, light_power=60.0, light_ra
     return scene
 
 
+def emitter_in_glass(width=32, height=32, roughness=0.0, emission=2.0, fov=None, floor=False):
+    """An emissive sphere (radius 0.3 m, `emission` W/m^2/sr, black BSDF) inside a solid glass
+    sphere (radius 0.6 m, IOR 1.5, `roughness`), centred at the origin, seen from 4 m on -Y;
+    world black. fov None: 6 degrees, so that every pixel looks through the glass at the
+    emitter near normal incidence: as Cycles, radiance leaves the glass unscaled by 1/eta^2,
+    each pixel tends to emission * (1 - F) (`emitter_in_glass_expected`). `floor`: a diffuse
+    floor under the sphere (wider view), lit through the glass."""
+    scene = Scene()
+    scene.film.update(width=int(width), height=int(height))
+    scene.look_at((0.0, -4.0, 0.0), (0.0, 0.0, 0.0), fov=6.0 if fov is None else fov)
+    glass = scene.add_material("glass", type="dielectric", base_color=(1.0, 1.0, 1.0),
+                               roughness=roughness, ior=1.5)
+    lamp = scene.add_material("lamp", base_color=(0.0, 0.0, 0.0), emission=[emission] * 3)
+    pos, idx = icosphere(4, 0.6)
+    scene.add_mesh(pos, idx, material=glass, normals=pos / 0.6, name="glass_sphere")
+    pos, idx = icosphere(3, 0.3)
+    scene.add_mesh(pos, idx, material=lamp, name="emitter")
+    if floor:
+        white = scene.add_material("white", base_color=(0.7, 0.7, 0.7))
+        scene.add_mesh(*_quad((-3, -3, -0.6), (3, -3, -0.6), (3, 3, -0.6), (-3, 3, -0.6)),
+                       material=white, name="floor")
+    return scene
+
+
+def emitter_in_glass_expected(emission=2.0, ior=1.5):
+    """What `emitter_in_glass` (smooth) converges to at normal incidence: emission * (1 - F0)."""
+    f0 = ((ior - 1.0) / (ior + 1.0)) ** 2
+    return emission * (1.0 - f0)
+
+
 def glossy_box(width=64, height=64, roughness=0.15, light_power=20.0, light_radius=0.02,
                delta_light=False):
     """Glossy surfaces with a small light: a metal floor (GGX, `roughness`) and a rougher metal

@@ -1,8 +1,11 @@
 // Dielectric interface: rough GGX reflection + transmission (Walter et al. 2007 with visible-normal
 // sampling), or smooth specular reflection + transmission as delta lobes when alpha < 1e-3 or the
 // index is ~1. Local frame: +Z is the normal on the outside; wo and wi may lie on either side.
-// eta = n_inside / n_outside. Radiance transport divides transmission by eta'^2, importance does
-// not, so f_radiance(wo, wi) == f_importance(wi, wo) (Veach 1997, sec. 5.2).
+// eta = n_inside / n_outside. As in Cycles, radiance transport does not scale refraction by
+// 1/eta'^2 (radiance is carried as if every medium had index 1, so an emitter inside glass is as
+// bright seen through it as in air, less Fresnel); importance transport, its adjoint, divides
+// transmission by eta'^2 (eta' of wo's side), so that f_radiance(wo, wi) == f_importance(wi, wo)
+// (Veach 1997, sec. 5.2) and light paths carry what camera paths do.
 #pragma once
 
 #include "bsdf/fresnel.h"
@@ -78,7 +81,7 @@ LANTERN_HD inline Vec3 dielectric_f_rough(const DielectricParams& p, Vec3 wo, Ve
     } else {
         float denom = sqr(dot(wi, m) + dot(wo, m) / etap);
         v = dg * (1.0f - f) * fabsf(dot(wi, m) * dot(wo, m)) / (cos_io * denom);  // [Walter (21)]
-        if (p.mode == Transport::Radiance) v /= etap * etap;
+        if (p.mode == Transport::Importance) v /= etap * etap;
     }
     return is_finite(v) ? vec3(v) : vec3(0.0f);
 }
@@ -112,7 +115,7 @@ LANTERN_HD inline BsdfSample dielectric_sample(const DielectricParams& p, Vec3 w
             float etap = wo.z > 0.0f ? p.eta : 1.0f / p.eta;
             if (!refract(wo, vec3(0.0f, 0.0f, side), etap, &s.wi)) return s;
             s.pdf_fwd_w = 1.0f - f;
-            s.weight = vec3(p.mode == Transport::Radiance ? 1.0f / (etap * etap) : 1.0f);
+            s.weight = vec3(p.mode == Transport::Importance ? 1.0f / (etap * etap) : 1.0f);
         }
         // Fresnel is the same seen from either side of a refraction: reverse = forward
         s.pdf_rev_w = s.pdf_fwd_w;

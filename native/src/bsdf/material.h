@@ -2,7 +2,7 @@
 // material type to the lobes of this folder. Local frame: +Z is the shading normal turned to the
 // side wo arrives from; `front` says whether that side is the surface's front (outside), which
 // fixes the relative index of refraction. Reflection lobes are two-sided (as in Cycles).
-// Light paths pass Transport::Importance: refraction then does not divide by eta^2.
+// Light paths pass Transport::Importance: refraction then divides by eta'^2 (bsdf/dielectric.h).
 // coat_n: the coat's own normal in this frame (SurfaceHit::coat_n), read only by principled
 // materials with kCoatNormal, and by a bumped Lambert as its unbent normal.
 #pragma once
