@@ -240,7 +240,7 @@ def _render_loop(engine, session, result, target, time_limit, t0, noise=None,
             noise_text = adaptive_status(session)
         engine.update_stats("", f"Sample {session.spp}/{target} | {elapsed:.1f} s | "
                                 f"{mrays:.1f} Mrays/s | {getattr(session, 'backend', 'cpu')}"
-                                f"{noise_text}")
+                                f"{auto_status(stats)}{noise_text}")
         engine.update_progress(min(1.0, session.spp / max(1, target)))
         if cancelled or converged or session.spp <= before or engine.test_break() or \
                 _past(time_limit, start):
@@ -250,6 +250,30 @@ def _render_loop(engine, session, result, target, time_limit, t0, noise=None,
         why += f" (adaptive: {session.pixel_samples().mean():.1f} samples a pixel)"
     print(f"Lantern: {session.spp} spp in {time.perf_counter() - start:.2f} s on "
           f"{getattr(session, 'backend', 'cpu')}{why} (export and set-up {start - t0:.2f} s)")
+
+
+LAST_AUTO = {"text": ""}  # what "auto" chose in the last render, for the Lantern panel
+
+
+def auto_status(stats):
+    """' | Auto: ...' for the status bar while integrator "auto" renders (native/src/integrator/
+    allocation.h): measuring, or which integrator it chose and its estimate of cis's efficiency
+    against pt's (light paths per iteration: one per pixel sample under cis, none under pt).
+    Empty for the other integrators."""
+    choice = stats.get("auto_choice")
+    if choice is None:
+        return ""
+    ratio = float(stats.get("auto_cis_over_pt", 0.0))
+    if choice == "pilot":
+        text = "Auto: measuring path tracing and CIS-LBDPT"
+    elif choice == "cis":
+        text = f"Auto: CIS-LBDPT (estimated {ratio:.3g}x path tracing's efficiency)"
+    elif ratio > 0.0:
+        text = f"Auto: path tracing (CIS-LBDPT estimated at {ratio:.2g}x its efficiency)"
+    else:
+        text = "Auto: path tracing"
+    LAST_AUTO["text"] = text
+    return " | " + text
 
 
 def _past(time_limit, start):

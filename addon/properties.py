@@ -17,14 +17,17 @@ class LanternSceneSettings(bpy.types.PropertyGroup):
                            min=1, max=1024)
     integrator: EnumProperty(
         name="Integrator",
-        items=[("pt", "Path Tracing", "Unidirectional path tracing with light sampling"),
+        items=[("auto", "Automatic", "Path tracing or CIS-LBDPT, chosen per render from "
+                "the render's own measurements of each one's noise and cost (the status bar "
+                "says which)"),
+               ("pt", "Path Tracing", "Unidirectional path tracing with light sampling"),
                ("bdpt", "BDPT", "Bidirectional path tracing: each camera path connects to "
                 "every vertex of its own light path (a reference)"),
                ("lvc", "LVC-BDPT", "Light-vertex-cache BDPT: each camera vertex connects to N "
                 "light vertices picked uniformly"),
                ("cis", "CIS-LBDPT", "Light-vertex-cache BDPT with sorting and resampled "
                 "connections: the best of M candidates, N kept (lights in fixtures, glass)")],
-        default="pt")
+        default="auto")
     backend: EnumProperty(
         name="Device",
         description="Where to render; a GPU that is missing or out of memory falls back to "

@@ -40,6 +40,12 @@ class LANTERN_PT_render(bpy.types.Panel):
         layout = self.layout
         layout.use_property_split = True
         layout.prop(s, "integrator")
+        if s.integrator == "auto":
+            from .engine import LAST_AUTO
+            if LAST_AUTO["text"]:
+                row = layout.row()
+                row.alignment = "RIGHT"
+                row.label(text=f"Last render: {LAST_AUTO['text'][len('Auto: '):]}")
         layout.prop(s, "backend")
         if s.backend != "cpu":
             row = layout.row()
@@ -51,12 +57,12 @@ class LANTERN_PT_render(bpy.types.Panel):
         col.prop(s, "time_limit")
         layout.prop(s, "max_depth")
         col = layout.column(align=True)
-        col.active = s.integrator in {"bdpt", "lvc", "cis"}
+        col.active = s.integrator in {"auto", "bdpt", "lvc", "cis"}
         sub = col.column(align=True)
-        sub.active = s.integrator in {"lvc", "cis"}
+        sub.active = s.integrator in {"auto", "lvc", "cis"}
         sub.prop(s, "connections")
         sub2 = col.column(align=True)
-        sub2.active = s.integrator == "cis"
+        sub2.active = s.integrator in {"auto", "cis"}
         sub2.prop(s, "candidates")
         col.prop(s, "sort")
         col = layout.column(align=True)

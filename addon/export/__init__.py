@@ -75,5 +75,8 @@ def export_scene(depsgraph, region_view=None, report=None, texture_cache=None):
 
 
 def _integrator(bscene):
+    """The integrator whose features the export checks: "auto" renders holdouts, shadow
+    catchers and a world hidden from some rays with pt (native/src/integrator/allocation.h)."""
     settings = getattr(getattr(bscene, "original", bscene), "lantern", None)
-    return str(getattr(settings, "integrator", "pt")).lower()
+    integrator = str(getattr(settings, "integrator", "pt")).lower()
+    return "pt" if integrator == "auto" else integrator

@@ -52,8 +52,10 @@ def build_parser():
     r.add_argument("scene", help="scene file (.lantern)")
     r.add_argument("-o", "--output", required=True, help="output image (.exr, .png or .npy)")
     r.add_argument("--spp", type=_positive_int, default=64, help="samples per pixel (64)")
-    r.add_argument("--integrator", default="pt", choices=("pt", "bdpt", "lvc", "cis", "lt"),
-                   help="integrator (pt)")
+    r.add_argument("--integrator", default="auto",
+                   choices=("auto", "pt", "bdpt", "lvc", "cis", "lt"),
+                   help="integrator (auto: pt or cis, whichever the render measures as more "
+                        "efficient)")
     r.add_argument("--backend", default="auto", choices=("cpu", "cuda", "auto"),
                    help="backend (auto)")
     r.add_argument("--seed", type=_nonnegative_int, default=0, help="random seed (0)")

@@ -16,8 +16,8 @@ import numpy as np
 
 log = logging.getLogger("lantern")
 
-INTEGRATORS = ("pt", "bdpt", "lvc", "cis", "lt")  # lt: light tracing, a reference
-IMPLEMENTED_INTEGRATORS = ("pt", "bdpt", "lvc", "cis", "lt")
+INTEGRATORS = ("auto", "pt", "bdpt", "lvc", "cis", "lt")  # auto: pt or cis per iteration; lt: a reference
+IMPLEMENTED_INTEGRATORS = ("auto", "pt", "bdpt", "lvc", "cis", "lt")
 CIS_TARGETS = ("contribution", "bsdf")
 BACKENDS = ("cpu", "cuda", "auto")
 

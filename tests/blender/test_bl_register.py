@@ -10,7 +10,7 @@ def test_engine_registered(addon):
 
 def test_settings_defaults(empty):
     s = empty.lantern
-    assert (s.samples, s.preview_samples, s.max_depth, s.integrator) == (64, 1024, 12, "pt")
+    assert (s.samples, s.preview_samples, s.max_depth, s.integrator) == (64, 1024, 12, "auto")
     assert (s.connections, s.candidates, s.seed, s.spp_per_iteration, s.threads) == (5, 10, 0, 1, 0)
     assert s.backend == "auto" and s.time_limit == 0.0 and s.sort == "auto"
 

@@ -15,7 +15,7 @@ class Session:
             assert mesh["positions"].dtype == np.float32
             assert mesh["indices"].dtype == np.uint32
         assert scene["camera"]["to_world"].dtype == np.float32
-        assert settings["backend"] == "cpu" and settings["integrator"] == "pt"
+        assert settings["backend"] == "cpu" and settings["integrator"] in ("pt", "auto")
         self.scene, self.settings = scene, settings
         self._spp = 0
         self._iterations = 0

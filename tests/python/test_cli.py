@@ -104,7 +104,7 @@ def test_render_through_stand_in_core(scene_file, tmp_path, fake, capsys):
     err = capsys.readouterr().err
     assert code == 0, err
     s = fake.Session.instances[-1]
-    assert s.settings == {"integrator": "pt", "backend": "cpu", "spp_per_iteration": 2,
+    assert s.settings == {"integrator": "auto", "backend": "cpu", "spp_per_iteration": 2,
                           "max_depth": 5, "seed": 3, "threads": 2, "rr_depth": 4,
                           "sort": None, "connections": 5, "candidates": 10,
                           "cis_target": "contribution", "naive_ris": False,

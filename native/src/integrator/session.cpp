@@ -36,9 +36,10 @@ Session::Session(const SceneInput& scene, const SessionSettings& settings,
 
 void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_gpu) {
     const std::string& integ = settings_.integrator;
-    if (integ != "pt" && integ != "lt" && integ != "bdpt" && integ != "lvc" && integ != "cis") {
+    if (integ != "pt" && integ != "lt" && integ != "bdpt" && integ != "lvc" && integ != "cis" &&
+        integ != "auto") {
         throw std::invalid_argument("integrator '" + integ +
-                                    "' is not available (pt, lt, bdpt, lvc, cis)");
+                                    "' is not available (auto, pt, lt, bdpt, lvc, cis)");
     }
     if (settings_.connections < 1 || settings_.connections > 64) {
         throw std::invalid_argument("connections (N) must be in [1, 64]");
@@ -99,6 +100,15 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
         }
     }
     if (!gpu_) start_cpu_backend();
+    if (integ == "auto") {
+        const std::string why = pt_only_reason(scene);
+        alloc_ = std::make_unique<Allocation>(int64_t(scene.width) * scene.height, !why.empty(),
+                                              settings_.candidates);
+        stats_.auto_choice = alloc_->choice();
+        if (!why.empty())
+            warnings_.push_back("integrator 'auto' renders this scene with path tracing: it has " +
+                                why + ", which only pt renders");
+    }
     width_ = scene.width;
     height_ = scene.height;
     accum_.assign(size_t(width_) * height_ * 3, 0.0);
@@ -131,8 +141,22 @@ void Session::start_cpu_backend() {
 // stay where they can be read back, the GPU is let go and this and later steps render on the
 // CPU. A sticky CUDA error loses the GPU's samples: the render restarts on the CPU.
 bool Session::step_cuda(Clock::time_point t0) {
+    const SessionSettings run = iteration_settings();
+    const SessionStats before = stats_;
+    std::vector<double> prev;  // the running sum before the step, where "auto" wants the image
+    int64_t prev_samples = 0;
     try {
-        if (!gpu_->step(settings_, iteration_, stats_, cancel_, warnings_)) return false;
+        if (alloc_ && alloc_->wants_image()) prev = gpu_->accum(&prev_samples);
+        if (!gpu_->step(run, iteration_counter(), stats_, cancel_, warnings_)) return false;
+        if (alloc_) {
+            std::vector<double> sum;
+            if (!prev.empty()) {
+                int64_t samples = 0;
+                sum = gpu_->accum(&samples);
+                for (size_t k = 0; k < sum.size() && k < prev.size(); ++k) sum[k] -= prev[k];
+            }
+            observe(run, sum.empty() ? nullptr : sum.data(), before);
+        }
     } catch (const std::runtime_error& e) {  // out of memory, or a CUDA error: never a crash
         std::vector<double> sum;
         int64_t samples = 0;
@@ -180,6 +204,49 @@ bool Session::step() {
     return step_locked();
 }
 
+bool Session::run_trial() {
+    iteration_sum_.assign(accum_.size(), 0.0);
+    const SessionSettings run = iteration_settings();
+    const SessionStats before = stats_;
+    uint64_t& counter = iteration_counter();
+    WavefrontStep st(run, width_, height_, counter, iteration_sum_.data(), &stats_, &cancel_,
+                     &warnings_);
+    st.chunk_paths = kChunkPaths;
+    st.shadow_budget = kShadowBudget;
+    st.cache_budget = CpuExec::cache_budget(settings_.cache_budget_mb);
+    const bool ok = wf::run_iteration(*exec_, *wave_, scene_->view(), st);
+    counter = st.iteration;
+    if (ok) observe(run, iteration_sum_.data(), before);
+    return ok;
+}
+
+SessionSettings Session::iteration_settings() const {
+    SessionSettings run = settings_;
+    if (!alloc_) return run;
+    run.integrator = alloc_->next();
+    // trials draw numbers independent of every kept iteration's and of each other's (each
+    // the first sample of a scramble of its own: two samples of one QMC sequence are
+    // stratified against each other, and their spread would read low), on the CPU; the GPU
+    // keeps its pilot (allocation.h)
+    if (!gpu_ && alloc_->next_is_trial())
+        run.seed = settings_.seed ^ (0x9e3779b97f4a7c15ull * uint64_t(alloc_->pt_iterations() + 1));
+    return run;
+}
+
+uint64_t& Session::iteration_counter() {
+    if (!alloc_) return iteration_;
+    if (!gpu_ && alloc_->next_is_trial()) return auto_iteration_[0] = 0;
+    return auto_iteration_[1];
+}
+
+void Session::observe(const SessionSettings& run, const double* sum, const SessionStats& before) {
+    alloc_->observe(run.integrator.c_str(), sum, run.spp_per_iteration, before, stats_);
+    stats_.auto_choice = alloc_->choice();
+    stats_.auto_cis_over_pt = alloc_->cis_over_pt();
+    stats_.auto_pt_iterations = alloc_->pt_iterations();
+    stats_.auto_cis_iterations = alloc_->cis_iterations();
+}
+
 void Session::publish() {
     std::lock_guard<std::mutex> lock(result_mutex_);
     published_stats_ = stats_;
@@ -211,18 +278,25 @@ bool Session::step_locked() {
         film_.reset(width_, height_);
     }
     if (film_.converged()) return true;  // every pixel has converged: nothing left to add
+    while (alloc_ && alloc_->next_is_trial() && film_.all_active())
+        if (!run_trial()) return false;
     iteration_sum_.assign(accum_.size(), 0.0);
-    WavefrontStep st(settings_, width_, height_, iteration_, iteration_sum_.data(), &stats_,
-                     &cancel_, &warnings_);
+    const SessionSettings run = iteration_settings();
+    const SessionStats before = stats_;
+    uint64_t& counter = iteration_counter();
+    WavefrontStep st(run, width_, height_, counter, iteration_sum_.data(), &stats_, &cancel_,
+                     &warnings_);
     st.pixel_list = film_.pixel_list();
     st.pixel_count = film_.active_count();
     st.chunk_paths = kChunkPaths;
     st.shadow_budget = kShadowBudget;
     st.cache_budget = CpuExec::cache_budget(settings_.cache_budget_mb);
-    const uint64_t first_iteration = iteration_;  // the sampler's sample index: it x spp
+    const uint64_t first_iteration = counter;  // the sampler's sample index: it x spp
     const bool ok = wf::run_iteration(*exec_, *wave_, scene_->view(), st);
-    iteration_ = st.iteration;
+    counter = st.iteration;
     if (!ok) return false;
+    // the image of every pixel, before add() drops the converged pixels' splats
+    if (alloc_) observe(run, film_.all_active() ? iteration_sum_.data() : nullptr, before);
     {
         std::lock_guard<std::mutex> lock(result_mutex_);
         // the active pixels only: a converged pixel's splats of this iteration are dropped

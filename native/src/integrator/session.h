@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "integrator/adaptive.h"
+#include "integrator/allocation.h"
 #include "integrator/bdpt.h"
 #include "scene/scene.h"
 
@@ -29,6 +30,7 @@ struct Wavefront;
 void check_light_tracing(const SceneInput& in);
 
 struct SessionSettings {
+    // pt, lt, bdpt, lvc, cis, or auto: pt or cis per iteration (integrator/allocation.h)
     std::string integrator = "pt";
     std::string backend = "cpu";
     int spp_per_iteration = 1;
@@ -77,6 +79,11 @@ struct SessionStats {
     int64_t device_memory_peak = 0;  // CUDA: most device memory the renderer's buffers held
     int64_t device_memory_used = 0;  // CUDA: most of the device's memory in use by this
                                      // session (cudaMemGetInfo; with the kernels' local memory)
+    // integrator "auto" (integrator/allocation.h): -1 another integrator, 0 piloting, 1 pt,
+    // 2 cis; the estimated efficiency of cis over pt; the iterations each rendered
+    int auto_choice = -1;
+    double auto_cis_over_pt = 0.0;
+    int64_t auto_pt_iterations = 0, auto_cis_iterations = 0;
     int64_t accel_bottom_builds = 0;  // CPU: bottom-level structures built (flat: 1)
     int64_t instance_moves = 0;       // move_instance() calls served
 };
@@ -136,6 +143,15 @@ private:
     void publish();  // copies the stepping thread's stats and warnings for the readers
     void start_cpu_backend();
     bool step_cuda(std::chrono::steady_clock::time_point t0);
+    // The settings of the next iteration: settings_, with "auto" resolved (allocation.h), and
+    // its random-number streams' counter: iteration_, or under "auto" the pilot trials' (each
+    // with a seed of its own) apart from the kept iterations', so that the kept ones, pt or
+    // cis, are one unbroken run of the QMC sequence (its first 2^k samples well spread: pt
+    // and cis draw a camera path's numbers from the same dimensions).
+    SessionSettings iteration_settings() const;
+    uint64_t& iteration_counter();
+    void observe(const SessionSettings& run, const double* sum, const SessionStats& before);
+    bool run_trial();  // a pilot iteration of "auto" that the image does not keep (CPU)
 
     SessionSettings settings_;
     std::unique_ptr<HostScene> scene_;
@@ -143,6 +159,8 @@ private:
     std::unique_ptr<CpuExec> exec_;         // on backend_: the schedule's executor
     std::unique_ptr<Wavefront<CpuExec>> wave_;  // the schedule's state (integrator/wavefront.h)
     std::unique_ptr<CudaRenderer> gpu_;
+    std::unique_ptr<Allocation> alloc_;  // integrator "auto" only
+    uint64_t auto_iteration_[2] = {0, 0};  // its trials' streams and its kept iterations'
     std::string backend_name_ = "cpu", device_name_ = "cpu";
     std::vector<std::string> warnings_;
     int width_ = 0, height_ = 0;

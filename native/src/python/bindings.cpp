@@ -429,7 +429,7 @@ NB_MODULE(_core, m) {
         d["embree_library"] = embree_library_path();
         d["backends"] = cuda_info().compiled ? std::vector<std::string>{"cpu", "cuda", "auto"}
                                              : std::vector<std::string>{"cpu", "auto"};
-        d["integrators"] = std::vector<std::string>{"pt", "lt", "bdpt", "lvc", "cis"};
+        d["integrators"] = std::vector<std::string>{"auto", "pt", "lt", "bdpt", "lvc", "cis"};
         return d;
     });
     nb::class_<Session>(m, "Session")
@@ -503,6 +503,13 @@ NB_MODULE(_core, m) {
             d["rays_light_tracing"] = st.rays_light_tracing;
             d["rays_total"] = st.rays_camera + st.rays_indirect + st.rays_shadow + st.rays_light +
                               st.rays_connection + st.rays_light_tracing;
+            if (st.auto_choice >= 0) {  // integrator "auto" (integrator/allocation.h)
+                static const char* const kChoice[] = {"pilot", "pt", "cis"};
+                d["auto_choice"] = kChoice[std::min(st.auto_choice, 2)];
+                d["auto_cis_over_pt"] = st.auto_cis_over_pt;
+                d["auto_pt_iterations"] = st.auto_pt_iterations;
+                d["auto_cis_iterations"] = st.auto_cis_iterations;
+            }
             d["cache_vertices"] = st.cache_vertices;
             d["sorted_bounces"] = st.sorted_bounces;
             d["unsorted_bounces"] = st.unsorted_bounces;

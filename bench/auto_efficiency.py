@@ -1,0 +1,107 @@
+"""Integrator "auto" against pt and cis (issue 27): per-pixel efficiency 1 / (noise^2 x time),
+one thread, K seeds, on the scenes of lantern.scenes (no Blender needed).
+
+noise = mean over pixels of the spread (sample standard deviation) of the luminance between
+seeds, over the image's mean luminance; time = CPU seconds of one render (process time, which
+a loaded machine disturbs less than wall time), median over seeds. A render is `--spp`
+iterations of one sample each (as the add-on's final render), so auto's pilot (pt, pt, cis)
+is inside the measured time and noise. Also printed: what auto chose and its own estimate of
+cis's efficiency over pt's.
+
+    .venv/bin/python bench/auto_efficiency.py --res 64x64 --spp 64 --seeds 6 \\
+        --out bench/results/2026-12-04-auto
+"""
+import argparse
+import json
+import os
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+SCENES = {  # name -> (lantern.scenes builder, keyword arguments)
+    "cornell": ("cornell_box", {}),
+    "room_area_point": ("room_area_point", {}),
+    "room_spot_sun_world": ("room_spot_sun_world", {}),
+    "many_lights": ("many_lights_stage", {"n": 24, "panel": True}),
+    "fixture": ("fixture_box", {}),
+    "glass_lantern": ("glass_lantern", {}),
+    "glossy": ("glossy_box", {}),
+    "principled": ("principled_box", {}),
+}
+
+
+def measure(scene_name, integrator, args):
+    import lantern
+    from lantern import scenes
+    builder, kw = SCENES[scene_name]
+    w, h = (int(v) for v in args.res.split("x"))
+    scene = getattr(scenes, builder)(w, h, **kw)
+    imgs, times, chosen = [], [], []
+    for k in range(args.seeds):
+        s = lantern.Session(scene, integrator=integrator, seed=1000 + k, backend="cpu",
+                            threads=1, max_depth=args.max_depth, spp_per_iteration=1)
+        c0 = time.process_time()
+        for _ in range(args.spp):
+            s.step()
+        times.append(time.process_time() - c0)
+        imgs.append(s.image())
+        st = s.stats
+        if "auto_choice" in st:
+            chosen.append((st["auto_choice"], round(st["auto_cis_over_pt"], 3)))
+    lum = np.einsum("kyxc,c->kyx", np.asarray(imgs, dtype=np.float64), [0.2126, 0.7152, 0.0722])
+    mean = lum.mean()
+    noise = float(lum.std(axis=0, ddof=1).mean() / mean)
+    t = float(np.median(times))
+    return {"scene": scene_name, "integrator": integrator, "mean": float(mean), "noise": noise,
+            "time_s": t, "efficiency": 1.0 / (noise * noise * t), "auto": chosen}
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--scenes", default=",".join(SCENES))
+    ap.add_argument("--integrators", default="pt,cis,auto")
+    ap.add_argument("--res", default="64x64")
+    ap.add_argument("--spp", type=int, default=64)
+    ap.add_argument("--seeds", type=int, default=6)
+    ap.add_argument("--max-depth", type=int, default=12)
+    ap.add_argument("--out", default="")
+    args = ap.parse_args()
+    from light_tree_noise import machine
+    info = {"before": machine()}
+    rows = []
+    for scene in args.scenes.split(","):
+        for integ in args.integrators.split(","):
+            r = measure(scene, integ, args)
+            rows.append(r)
+            print(json.dumps(r), flush=True)
+    info["after"] = machine()
+    info["settings"] = vars(args)
+    lines = ["| scene | " + " | ".join(f"{i} noise | {i} time (s)" for i in
+                                        args.integrators.split(",")) +
+             " | " + " | ".join(f"{i} / pt" for i in args.integrators.split(",") if i != "pt") +
+             " | auto chose |", "|---" * (3 * len(args.integrators.split(",")) ) + "|---|"]
+    for scene in args.scenes.split(","):
+        by = {r["integrator"]: r for r in rows if r["scene"] == scene}
+        cells = [f"{100 * by[i]['noise']:.2f} % | {by[i]['time_s']:.2f}"
+                 for i in args.integrators.split(",")]
+        ratios = [f"{by[i]['efficiency'] / by['pt']['efficiency']:.2f}"
+                  for i in args.integrators.split(",") if i != "pt" and "pt" in by]
+        chose = ", ".join(f"{c} ({r})" for c, r in by.get("auto", {}).get("auto", []))
+        lines.append(f"| {scene} | " + " | ".join(cells) + " | " + " | ".join(ratios) +
+                     f" | {chose} |")
+    table = "\n".join(lines)
+    print(table)
+    if args.out:
+        os.makedirs(args.out, exist_ok=True)
+        with open(os.path.join(args.out, "auto_efficiency.json"), "w") as f:
+            json.dump({"machine": info, "rows": rows}, f, indent=1)
+        with open(os.path.join(args.out, "table.md"), "w") as f:
+            f.write(table + "\n")
+
+
+if __name__ == "__main__":
+    main()
