@@ -76,6 +76,10 @@ def stage(empty):
     empty.world = world
     empty.lantern.preview_samples = SPP
     empty.lantern.backend = "cpu"
+    # the sync's invariants (an update gives the bits of a fresh render) are the integrator's
+    # own; "auto", the default, keeps its choice across a camera move (no new pilot at every
+    # move: test_auto_keeps_its_choice_across_a_camera_move), which a fresh render makes anew
+    empty.lantern.integrator = "pt"
     bpy.context.view_layer.update()
     return empty
 
@@ -301,4 +305,26 @@ def test_first_iteration_is_coarse(addon, stage):
     want = lantern.render(_fresh(stage, ctx, stage.lantern), spp=2,
                           **stage.lantern.session_settings())
     np.testing.assert_array_equal(state.image, want)  # the coarse pass leaves no trace
+    state.free()
+
+
+def test_auto_keeps_its_choice_across_a_camera_move(addon, stage):
+    """Integrator "auto" (native/src/integrator/allocation.h) decides once per viewport
+    session: after the coarse first pass at 64 x 64 the full-size render does not pilot
+    again (its first refined frame would cost four pt trials and a cis iteration more)."""
+    stage.lantern.integrator = "auto"
+    engine = _Engine(addon)
+    engine._lantern.draw = _Draw()
+    state = engine._lantern
+    ctx = _context(stage, stage.camera.matrix_world.inverted(), size=(256, 256))
+    stage.lantern.preview_samples = 2
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    addon.engine.view_update(engine, ctx, depsgraph)
+    addon.engine.view_draw(engine, ctx, depsgraph)
+    state.thread.join(60)
+    assert state.error is None
+    st = state.session.stats
+    assert st["auto_choice"] in ("pt", "cis")
+    # one pilot (four trials and a cis iteration), then the full size's two samples
+    assert st["auto_pt_iterations"] + st["auto_cis_iterations"] <= 4 + 1 + 1 + 2
     state.free()
