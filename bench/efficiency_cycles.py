@@ -11,7 +11,9 @@ noise = sqrt(mean over pixels of the per-pixel variance between seeds) / image m
 averaged), and the same for the median variance over the pixels with signal (robust to
 fireflies); time = the mean
 wall time of one render (Cycles: `bpy.ops.render.render` with persistent data after a warm-up
-render, so the scene is synchronised once; Lantern: `Session.step()`, the BVH built before).
+render, so the scene is synchronised once; Lantern: `Session.step()`, the BVH built before;
+`auto`, the default integrator, in steps of one sample as the add-on renders, its pilot inside
+the time).
 The image-mean ratio against Cycles (with its standard error from the seeds) is printed beside
 the efficiency, so a speed figure always comes with the bias it carries."""
 
@@ -60,11 +62,14 @@ def run_scene(name, args, lantern, rmse_cycles):
         for integ in integrators:
             name_, _, rr = integ.partition(":rr=")  # "pt:rr=3": pt with roulette from depth 3
             extra = {"rr_depth": int(rr)} if rr else {}
+            # auto as the add-on runs it: iterations of one sample, its pilot inside the time
+            steps = args.spp if name_ == "auto" else 1
             sess = lantern.Session(lscene, integrator=name_, seed=1 + seed, threads=1,
-                                   spp_per_iteration=args.spp, max_depth=depth, backend="cpu",
-                                   **extra)
+                                   spp_per_iteration=args.spp // steps, max_depth=depth,
+                                   backend="cpu", **extra)
             t0 = time.perf_counter()
-            sess.step()
+            for _ in range(steps):
+                sess.step()
             times[integ].append(time.perf_counter() - t0)
             images[integ].append(np.asarray(sess.image(), np.float64)[..., :3])
     rows = []
@@ -129,7 +134,7 @@ def plot(rows, path):
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--scenes", default=DEFAULT_SCENES)
-    ap.add_argument("--integrators", default="pt,lvc,cis",
+    ap.add_argument("--integrators", default="auto,pt,lvc,cis",
                     help="comma-separated; NAME:rr=N sets Russian roulette's first depth")
     ap.add_argument("--seeds", type=int, default=6)
     ap.add_argument("--spp", type=int, default=64)

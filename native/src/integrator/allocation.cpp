@@ -60,10 +60,12 @@ void Allocation::observe(const char* integ, const double* sum, int spp_it,
     const int t = cis ? 1 : 0;
     // no image (adaptive sampling has stopped pixels): the pilot goes on without it
     if (choice_ == 0 && !sum) return;
-    cost_[t] += iteration_cost(cis, candidates_, before, after);
+    spp_it = std::max(spp_it, 1);
+    cost_[t] += iteration_cost(cis, candidates_, before, after) / spp_it;  // per sample
     ++n_[t];
     if (choice_ != 0) return;
-    const double inv = 1.0 / double(std::max(spp_it, 1));
+    if (cis) cis_spp_ = spp_it;
+    const double inv = 1.0 / double(spp_it);
     for (size_t k = 0; k < cis_.size(); ++k) {
         const double v = luma(sum + 3 * int64_t(k) * stride_) * inv;
         if (cis) {
@@ -76,7 +78,9 @@ void Allocation::observe(const char* integ, const double* sum, int spp_it,
     if (n_[0] >= kPilotPt && n_[1] >= kPilotCis) decide();
 }
 
-// Efficiency 1 / (V C): V the summed per-pixel variance of an iteration, C its mean cost.
+// Efficiency 1 / (V C): V the summed per-pixel variance of a sample, C its mean cost. The trials
+// are of one sample each; the cis iteration's mean over cis_spp_ samples has 1 / cis_spp_ of a
+// sample's variance.
 void Allocation::decide() {
     const double n = double(n_[0]);
     double var_pt = 0.0, var_cis = 0.0;
@@ -87,6 +91,7 @@ void Allocation::decide() {
         // one cis iteration against pt's mean: E[(x - m)^2] = var_cis + var_pt / n
         var_cis += (cis_[k] - mean) * (cis_[k] - mean) - v / n;
     }
+    var_cis *= double(cis_spp_);
     const double cost_pt = cost_[0] / n, cost_cis = cost_[1] / double(n_[1]);
     if (!(var_pt > 0.0) || !(cost_pt > 0.0) || !(cost_cis > 0.0)) {
         ratio_ = 0.0;  // nothing to gain (a noiseless image): the cheaper

@@ -51,6 +51,7 @@ public:
     bool next_is_trial() const;
     // After an iteration of integrator `integ` (what next() said): its sum (3 doubles a
     // pixel, spp_it samples each, every pixel's) or null, and the stats before and after it.
+    // Trials are of one sample a pixel (Session::iteration_settings).
     void observe(const char* integ, const double* sum, int spp_it, const SessionStats& before,
                  const SessionStats& after);
 
@@ -71,6 +72,7 @@ private:
     int64_t n_[2] = {0, 0};
     double cost_[2] = {0.0, 0.0};  // summed over each technique's iterations
     int choice_ = 0;
+    int cis_spp_ = 1;  // samples per pixel of the pilot's cis iteration
     double ratio_ = 0.0;
 };
 

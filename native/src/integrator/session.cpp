@@ -228,8 +228,10 @@ SessionSettings Session::iteration_settings() const {
     // the first sample of a scramble of its own: two samples of one QMC sequence are
     // stratified against each other, and their spread would read low), on the CPU; the GPU
     // keeps its pilot (allocation.h)
-    if (!gpu_ && alloc_->next_is_trial())
+    if (!gpu_ && alloc_->next_is_trial()) {
         run.seed = settings_.seed ^ (0x9e3779b97f4a7c15ull * uint64_t(alloc_->pt_iterations() + 1));
+        run.spp_per_iteration = 1;  // a trial is one sample, whatever an iteration's count
+    }
     return run;
 }
 
