@@ -45,6 +45,7 @@ DEFAULT_SETTINGS = {
     "adaptive_min_samples": 0,
     "adaptive_step": 4,
     "instancing": False,      # a bottom-level BVH per mesh, so move_instance() builds none
+    "auto_keep_pilot": False,  # integrator auto: the pilot in the image, as on the GPU (tests)
 }
 
 BUILD_HINT = ("build it from the repository root with "
@@ -215,9 +216,10 @@ def resolve_settings(settings):
     if not isinstance(out["naive_ris"], (bool, np.bool_)):
         raise TypeError(f"setting 'naive_ris' must be a bool, got {out['naive_ris']!r}")
     out["naive_ris"] = bool(out["naive_ris"])
-    if not isinstance(out["instancing"], (bool, np.bool_)):
-        raise TypeError(f"setting 'instancing' must be a bool, got {out['instancing']!r}")
-    out["instancing"] = bool(out["instancing"])
+    for key in ("instancing", "auto_keep_pilot"):
+        if not isinstance(out[key], (bool, np.bool_)):
+            raise TypeError(f"setting '{key}' must be a bool, got {out[key]!r}")
+        out[key] = bool(out[key])
     return out, warnings
 
 

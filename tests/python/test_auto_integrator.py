@@ -1,10 +1,11 @@
-"""Integrator "auto" (issue 27; native/src/integrator/allocation.h): pt or cis per iteration,
-chosen from the render's own estimates of each one's efficiency.
+"""Integrator "auto" (issue 27; native/src/integrator/allocation.h): pt or cis, chosen from the
+render's own estimates of each one's efficiency.
 
-- Unbiased where it switches: on the Cornell box it renders its pilot's cis iteration and
-  then pt; on the fixture it keeps cis; on a furnace it must give the analytic value. Each
-  against pt (or the exact value) by lantern.metrics.assert_agreement with its negative
-  controls (tests/README.md).
+- Unbiased: against pt on the Cornell box (it renders pt there) and against cis on the fixture
+  (cis), a furnace against its exact value; with `auto_keep_pilot` (the GPU's policy: the
+  pilot's four pt and one cis iterations stay in the image, then the choice renders) it
+  switches integrators mid-render, against pt. Each by lantern.metrics.assert_agreement with
+  its negative controls (tests/README.md).
 - Deterministic: same seed, same bits; the pilot's trials are not in the image (a render of
   one step holds one sample).
 - It chooses cis where cis is several times more efficient (the fixture: 7x, bench/results/
@@ -26,11 +27,11 @@ def core():
         pytest.skip(f"lantern._core is not built ({lantern.native_error()})")
 
 
-def _renders(scene, integrator, spp, seed0, k=K, depth=8):
+def _renders(scene, integrator, spp, seed0, k=K, depth=8, **settings):
     out, stats = [], []
     for i in range(k):
         s = lantern.Session(scene, integrator=integrator, seed=seed0 + i, backend="cpu",
-                            max_depth=depth, spp_per_iteration=1)
+                            max_depth=depth, spp_per_iteration=1, **settings)
         for _ in range(spp):
             s.step()
         assert s.spp == spp
@@ -39,29 +40,41 @@ def _renders(scene, integrator, spp, seed0, k=K, depth=8):
     return out, stats
 
 
-def test_cornell_switches_from_cis_to_pt_unbiased():
+@pytest.fixture(scope="module")
+def cornell_pt():
     scene = scenes.cornell_box(SIZE, SIZE)
+    return scene, _renders(scene, "pt", 96, 900)[0]
+
+
+def test_cornell_renders_pt_unbiased(cornell_pt):
+    scene, ref = cornell_pt
     auto, stats = _renders(scene, "auto", 24, 500)
     assert all(st["auto_choice"] == "pt" for st in stats), [st["auto_choice"] for st in stats]
-    # the kept iterations: the pilot's cis, then pt (the four pt trials are not kept)
-    assert all((st["auto_cis_iterations"], st["auto_pt_iterations"]) == (1, 27) for st in stats)
-    ref, _ = _renders(scene, "pt", 96, 900)
-    metrics.assert_agreement("auto (cis then pt) vs pt, Cornell", auto, ref)
+    # the pilot: four pt trials and one cis trial, none in the image; then 24 pt iterations
+    assert all((st["auto_cis_iterations"], st["auto_pt_iterations"]) == (1, 28) for st in stats)
+    metrics.assert_agreement("auto (pt) vs pt, Cornell", auto, ref)
 
 
-def test_fixture_chooses_cis_and_renders_what_cis_does():
-    """Where it chooses cis from the start, its kept iterations are cis's own, with the same
-    seed and the same QMC indices (the pilot's pt trials draw from scrambles of their own and
-    leave the bidirectional state alone): the same bits as integrator cis."""
+def test_kept_pilot_switches_mid_render_unbiased(cornell_pt):
+    """The GPU's policy on the CPU: four pt and one cis iteration of the pilot stay in the
+    image (each of its own scramble), then pt: integrators switch twice within the render."""
+    scene, ref = cornell_pt
+    auto, stats = _renders(scene, "auto", 24, 300, auto_keep_pilot=True)
+    assert all(st["auto_choice"] == "pt" for st in stats), [st["auto_choice"] for st in stats]
+    assert all((st["auto_cis_iterations"], st["auto_pt_iterations"]) == (1, 23) for st in stats)
+    metrics.assert_agreement("auto, pilot kept (pt, cis, pt) vs pt, Cornell", auto, ref)
+
+
+def test_fixture_chooses_cis_unbiased():
     scene = scenes.fixture_box(SIZE, SIZE)
-    auto, stats = _renders(scene, "auto", 6, 600)
+    auto, stats = _renders(scene, "auto", 32, 600)
     # the choice rests on a pilot's noisy estimates (allocation.h: 1 of 16 seeds below 1 here)
     chose = [st["auto_choice"] for st in stats]
     assert chose.count("cis") >= 12, chose
-    for k, (img, c) in enumerate(zip(auto, chose)):
-        if c == "cis":
-            ref, _ = _renders(scene, "cis", 6, 600 + k, k=1)
-            assert np.array_equal(img, ref[0]), f"seed {600 + k}"
+    ref, _ = _renders(scene, "cis", 32, 700)
+    # the fixture's noise at CI cost resolves ~5 % on the image (paired seeds are not possible:
+    # auto's cis starts from the pilot's cache rate, not cis's own)
+    metrics.assert_agreement("auto vs cis, fixture", auto, ref, image_bias=0.1, block_bias=0.5)
 
 
 def test_furnace_exact():
@@ -80,8 +93,13 @@ def test_same_seed_same_bits_and_trials_not_kept():
     assert np.array_equal(a[0], b[0])
     s = lantern.Session(scene, integrator="auto", seed=7, backend="cpu", max_depth=8)
     s.step()
-    assert s.spp == 1 and s.stats["auto_pt_iterations"] == 4  # four trials, not kept
-    assert s.stats["auto_cis_iterations"] == 1
+    assert s.spp == 1  # the pilot's five trials are not samples of the image
+    assert (s.stats["auto_pt_iterations"], s.stats["auto_cis_iterations"]) in ((5, 1), (4, 2))
+    # where it chose pt, the image is pt's own render of the same seed, bit for bit
+    if s.stats["auto_choice"] == "pt":
+        p = lantern.Session(scene, integrator="pt", seed=7, backend="cpu", max_depth=8)
+        p.step()
+        assert np.array_equal(s.image(), p.image())
 
 
 def test_holdout_scene_is_rendered_by_pt_alone():

@@ -1,26 +1,28 @@
-// Integrator "auto" (issue 27), host code every backend's session shares: per iteration it
-// chooses path tracing (no light paths) or CIS-LBDPT from the running render's own estimates
-// of each one's efficiency, 1 / (variance of an iteration x its cost).
+// Integrator "auto" (issue 27), host code every backend's session shares: it chooses path
+// tracing (no light paths) or CIS-LBDPT from the render's own estimates of each one's
+// efficiency, 1 / (variance of a sample x its cost).
 //
-// - A pilot runs pt four times, then cis; then the technique of higher estimated efficiency renders every
-//   later iteration. Each iteration is a whole, unbiased estimate of the image and the film
-//   averages iterations with equal weight per sample, so choosing later iterations from
-//   earlier ones keeps the image unbiased (no weight depends on the samples it multiplies).
-//   On the CPU the pilot's pt iterations are trials, measured and never added to the image
-//   (a fixed rule, so still unbiased): where cis wins, pt's samples are many times noisier and
-//   would weigh on the image (on the fixture, 36x cis's variance a sample); they cost four pt
-//   iterations. The GPU keeps them (its renderer accumulates every step).
-// - The estimates are noisy where pt's noise is heavy-tailed and the image small (32 x 32:
-//   the fixture's estimate of cis over pt ranged 0.8 to 1e5 over 16 seeds, one below 1); a
-//   re-probe later in the render would refine them (not done).
-// - Variance: the sum over (at most kMaxTracked evenly spaced) pixels of the luminance's
-//   per-iteration variance; pt's from its pilot trials' spread (each trial the first sample
-//   of a scramble of its own, so independent), cis's from its pilot iteration against pt's
-//   mean, less that mean's own variance.
+// - A pilot of four pt trials and one cis trial, each of one sample a pixel drawn from an Owen
+//   scramble of its own (independent samples: two samples of one QMC sequence are stratified
+//   against each other and their spread reads low), on the tracked pixels only (at most
+//   kMaxTracked, an eighth of the image's beyond 4,096: evenly spaced). On the CPU the trials
+//   are never added to the image, a fixed rule, so the image is unbiased; the render then
+//   starts as a fresh render of the chosen integrator (one unbroken run of its QMC sequence).
+//   The GPU (and `auto_keep_pilot`, for tests) keeps the pilot in the image, whole iterations
+//   of the full image: each is an unbiased estimate, weighted equally, and later choices
+//   depend on earlier iterations only, so that image is unbiased too.
+// - Variance: the luminance's per-sample variance summed over the tracked pixels; pt's from
+//   the trials' spread, cis's from its trial against pt's mean, less that mean's own variance.
 // - Cost: a deterministic count, never a clock (same seed, same bits): rays traced plus
 //   kCandidateCost per cis candidate evaluated (M per camera vertex), fitted to CPU time on
-//   the Cornell box, the two-light room, the fixture and the glass lantern (0.23-0.49 of a ray;
-//   bench/results/2026-12-04-auto/README.md).
+//   the Cornell box, the two-light room, the fixture and the glass lantern (0.23-0.49 of a
+//   ray; docs/auto_integrator.md).
+// - Where pt is chosen, its render's iterations go on feeding pt's estimate (CPU, iterations
+//   of the pilot's sample count), and at its 8th, 16th, 32nd, ... iteration (up to
+//   kMaxWatched) the choice is made again: pt's noise is often heavy-tailed (caustics through
+//   glass), and four trials miss the rare paths that make it (the glass lantern: cis 18x pt,
+//   estimated 0.3-0.7 from the pilot alone). A switch to cis is for good; switching on
+//   earlier iterations only keeps the image unbiased.
 // - Scenes with what only pt renders (holdouts, shadow catchers, the world hidden from some
 //   rays) are rendered by pt alone.
 #pragma once
@@ -38,17 +40,22 @@ class Allocation {
 public:
     static constexpr int kMaxTracked = 1 << 16;    // pixels whose variance is tracked
     static constexpr double kCandidateCost = 0.36;  // one candidate evaluation, in rays
+    static constexpr int64_t kMaxWatched = 4096;    // pt iterations watched after the pilot
 
     // pixels: the film's; pt_only: the scene has what only pt renders (pt_only_reason).
     Allocation(int64_t pixels, bool pt_only, int candidates);
+    int64_t pilot_index() const { return n_[0] + n_[1]; }  // the pilot's iterations so far
 
     // The integrator of the next iteration: "pt" or "cis".
     const char* next() const;
     // Whether the next iteration's image is wanted by observe() (the GPU reads it back only
     // then).
     bool wants_image() const;
-    // Whether the next iteration is a pilot trial: measured, not added to the image (CPU).
-    bool next_is_trial() const;
+    // Whether the next iteration is the pilot's.
+    bool piloting() const { return choice_ == 0; }
+    // The tracked pixels (indices into the film, row-major), in order; every pilot trial
+    // renders these only.
+    const std::vector<int32_t>& tracked() const { return tracked_; }
     // After an iteration of integrator `integ` (what next() said): its sum (3 doubles a
     // pixel, spp_it samples each, every pixel's) or null, and the stats before and after it.
     // Trials are of one sample a pixel (Session::iteration_settings).
@@ -64,15 +71,18 @@ public:
 
 private:
     void decide();
+    void release();  // the per-pixel sums, once no longer watched
 
     bool pt_only_;
     int candidates_;
     int64_t stride_ = 1;
+    std::vector<int32_t> tracked_;
     std::vector<double> sum_pt_, sum2_pt_, cis_;  // per tracked pixel (luminance)
     int64_t n_[2] = {0, 0};
+    int64_t pt_seen_ = 0;  // pt samples in sum_pt_ (the trials, then the render's)
     double cost_[2] = {0.0, 0.0};  // summed over each technique's iterations
     int choice_ = 0;
-    int cis_spp_ = 1;  // samples per pixel of the pilot's cis iteration
+    int cis_spp_ = 1, pt_spp_ = 1;  // samples per pixel of the pilot's iterations
     double ratio_ = 0.0;
 };
 

@@ -204,6 +204,11 @@ bool Session::step() {
     return step_locked();
 }
 
+bool Session::trial_next() const {
+    return alloc_ && alloc_->piloting() && !gpu_ && !settings_.auto_keep_pilot;
+}
+
+// A pilot trial of "auto": one sample on the tracked pixels, measured, never added to the image.
 bool Session::run_trial() {
     iteration_sum_.assign(accum_.size(), 0.0);
     const SessionSettings run = iteration_settings();
@@ -211,6 +216,11 @@ bool Session::run_trial() {
     uint64_t& counter = iteration_counter();
     WavefrontStep st(run, width_, height_, counter, iteration_sum_.data(), &stats_, &cancel_,
                      &warnings_);
+    const std::vector<int32_t>& px = alloc_->tracked();
+    if (int64_t(px.size()) < int64_t(width_) * height_) {
+        st.pixel_list = px.data();
+        st.pixel_count = int64_t(px.size());
+    }
     st.chunk_paths = kChunkPaths;
     st.shadow_budget = kShadowBudget;
     st.cache_budget = CpuExec::cache_budget(settings_.cache_budget_mb);
@@ -224,20 +234,19 @@ SessionSettings Session::iteration_settings() const {
     SessionSettings run = settings_;
     if (!alloc_) return run;
     run.integrator = alloc_->next();
-    // trials draw numbers independent of every kept iteration's and of each other's (each
-    // the first sample of a scramble of its own: two samples of one QMC sequence are
-    // stratified against each other, and their spread would read low), on the CPU; the GPU
-    // keeps its pilot (allocation.h)
-    if (!gpu_ && alloc_->next_is_trial()) {
-        run.seed = settings_.seed ^ (0x9e3779b97f4a7c15ull * uint64_t(alloc_->pt_iterations() + 1));
-        run.spp_per_iteration = 1;  // a trial is one sample, whatever an iteration's count
+    // the pilot draws numbers independent of every kept iteration's and of each other's (the
+    // first samples of scrambles of their own: two samples of one QMC sequence are stratified
+    // against each other, and their spread would read low)
+    if (alloc_->piloting()) {
+        run.seed = settings_.seed ^ (0x9e3779b97f4a7c15ull * uint64_t(alloc_->pilot_index() + 1));
+        if (trial_next()) run.spp_per_iteration = 1;  // a trial: one sample a pixel
     }
     return run;
 }
 
 uint64_t& Session::iteration_counter() {
     if (!alloc_) return iteration_;
-    if (!gpu_ && alloc_->next_is_trial()) return auto_iteration_[0] = 0;
+    if (alloc_->piloting()) return auto_iteration_[0] = 0;
     return auto_iteration_[1];
 }
 
@@ -280,7 +289,7 @@ bool Session::step_locked() {
         film_.reset(width_, height_);
     }
     if (film_.converged()) return true;  // every pixel has converged: nothing left to add
-    while (alloc_ && alloc_->next_is_trial() && film_.all_active())
+    while (trial_next() && film_.all_active())
         if (!run_trial()) return false;
     iteration_sum_.assign(accum_.size(), 0.0);
     const SessionSettings run = iteration_settings();

@@ -55,6 +55,8 @@ struct SessionSettings {
     // two-level ray queries (a bottom level per mesh) so that move_instance() needs no build:
     // the viewport's; off, one flat structure (final renders)
     bool instancing = false;
+    // integrator "auto": keep the pilot's iterations in the image, as the GPU does (tests)
+    bool auto_keep_pilot = false;
 };
 
 // The settings of one pass of a bidirectional iteration: mode (BdptMode), MIS count r
@@ -144,14 +146,14 @@ private:
     void start_cpu_backend();
     bool step_cuda(std::chrono::steady_clock::time_point t0);
     // The settings of the next iteration: settings_, with "auto" resolved (allocation.h), and
-    // its random-number streams' counter: iteration_, or under "auto" the pilot trials' (each
-    // with a seed of its own) apart from the kept iterations', so that the kept ones, pt or
-    // cis, are one unbroken run of the QMC sequence (its first 2^k samples well spread: pt
-    // and cis draw a camera path's numbers from the same dimensions).
+    // its random-number streams' counter: iteration_, or under "auto" the pilot's (each of its
+    // iterations with a seed of its own) apart from the render's, so that the render's
+    // iterations are one unbroken run of the QMC sequence (its first 2^k samples well spread).
     SessionSettings iteration_settings() const;
     uint64_t& iteration_counter();
     void observe(const SessionSettings& run, const double* sum, const SessionStats& before);
-    bool run_trial();  // a pilot iteration of "auto" that the image does not keep (CPU)
+    bool trial_next() const;  // the next iteration is a pilot trial of "auto" (CPU)
+    bool run_trial();         // ... which the image does not keep
 
     SessionSettings settings_;
     std::unique_ptr<HostScene> scene_;

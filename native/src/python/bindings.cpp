@@ -324,6 +324,7 @@ SessionSettings to_settings(const nb::dict& d) {
     s.adaptive_min_samples = get<int>(d, "adaptive_min_samples", s.adaptive_min_samples);
     s.adaptive_step = get<int>(d, "adaptive_step", s.adaptive_step);
     s.instancing = get<bool>(d, "instancing", s.instancing);
+    s.auto_keep_pilot = get<bool>(d, "auto_keep_pilot", s.auto_keep_pilot);
     if (s.threads < 0 || s.threads > kMaxThreads) {
         throw std::invalid_argument("threads must be in [0, " + std::to_string(kMaxThreads) +
                                     "] (0: one per core), got " + std::to_string(s.threads));
