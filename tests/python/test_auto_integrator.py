@@ -49,10 +49,11 @@ def cornell_pt():
 def test_cornell_renders_pt_unbiased(cornell_pt):
     scene, ref = cornell_pt
     auto, stats = _renders(scene, "auto", 24, 500)
-    assert all(st["auto_choice"] == "pt" for st in stats), [st["auto_choice"] for st in stats]
-    # the pilot: four pt trials and one cis trial, none in the image; then 24 pt iterations
-    assert all((st["auto_cis_iterations"], st["auto_pt_iterations"]) == (1, 28) for st in stats)
-    metrics.assert_agreement("auto (pt) vs pt, Cornell", auto, ref)
+    # cis is about half as efficient here; one pilot's estimate is noisy, the checkpoints at
+    # the 8th and 16th iteration choose again (allocation.h)
+    chose = [st["auto_choice"] for st in stats]
+    assert chose.count("pt") >= 12, chose
+    metrics.assert_agreement("auto vs pt, Cornell", auto, ref)
 
 
 def test_kept_pilot_switches_mid_render_unbiased(cornell_pt):
@@ -60,9 +61,12 @@ def test_kept_pilot_switches_mid_render_unbiased(cornell_pt):
     image (each of its own scramble), then pt: integrators switch twice within the render."""
     scene, ref = cornell_pt
     auto, stats = _renders(scene, "auto", 24, 300, auto_keep_pilot=True)
-    assert all(st["auto_choice"] == "pt" for st in stats), [st["auto_choice"] for st in stats]
-    assert all((st["auto_cis_iterations"], st["auto_pt_iterations"]) == (1, 23) for st in stats)
-    metrics.assert_agreement("auto, pilot kept (pt, cis, pt) vs pt, Cornell", auto, ref)
+    # every render holds both integrators' iterations: the pilot's four pt and one cis, then
+    # the choice (and whatever the checkpoints switched to)
+    assert all(st["auto_cis_iterations"] >= 1 and st["auto_pt_iterations"] >= 4
+               for st in stats)
+    metrics.assert_agreement("auto, pilot kept (pt, cis, then the choice) vs pt, Cornell", auto,
+                             ref)
 
 
 def test_fixture_chooses_cis_unbiased():
@@ -94,7 +98,7 @@ def test_same_seed_same_bits_and_trials_not_kept():
     s = lantern.Session(scene, integrator="auto", seed=7, backend="cpu", max_depth=8)
     s.step()
     assert s.spp == 1  # the pilot's five trials are not samples of the image
-    assert (s.stats["auto_pt_iterations"], s.stats["auto_cis_iterations"]) in ((5, 1), (4, 2))
+    assert s.stats["auto_pt_iterations"] + s.stats["auto_cis_iterations"] == 6
     # where it chose pt, the image is pt's own render of the same seed, bit for bit
     if s.stats["auto_choice"] == "pt":
         p = lantern.Session(scene, integrator="pt", seed=7, backend="cpu", max_depth=8)

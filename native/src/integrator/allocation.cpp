@@ -31,8 +31,8 @@ double iteration_cost(bool cis, int candidates, const SessionStats& a, const Ses
 
 }  // namespace
 
-Allocation::Allocation(int64_t pixels, bool pt_only, int candidates)
-    : pt_only_(pt_only), candidates_(candidates) {
+Allocation::Allocation(int64_t pixels, bool pt_only, int candidates, bool watch)
+    : pt_only_(pt_only), watch_(watch), candidates_(candidates) {
     if (pt_only_) {
         choice_ = 1;
         return;
@@ -41,66 +41,83 @@ Allocation::Allocation(int64_t pixels, bool pt_only, int candidates)
     stride_ = std::max<int64_t>(1, (pixels + std::min<int64_t>(want, kMaxTracked) - 1) /
                                        std::min<int64_t>(want, kMaxTracked));
     for (int64_t p = 0; p < pixels; p += stride_) tracked_.push_back(int32_t(p));
-    sum_pt_.assign(tracked_.size(), 0.0);
-    sum2_pt_.assign(tracked_.size(), 0.0);
-    cis_.assign(tracked_.size(), 0.0);
+    for (std::vector<double>* v : {&sum_pt_, &sum2_pt_, &sum_cis_, &sum2_cis_})
+        v->assign(tracked_.size(), 0.0);
+    pilot_.assign(tracked_.size() * (kPilotPt + kPilotCis), 0.0f);
 }
 
 const char* Allocation::next() const {
+    if (trials_due_ > 0) return "pt";
     if (choice_ == 1) return "pt";
     if (choice_ == 2) return "cis";
     return n_[0] < kPilotPt ? "pt" : "cis";
 }
 
-bool Allocation::wants_image() const { return choice_ == 0; }  // the GPU: the pilot only
+bool Allocation::next_is_trial() const { return choice_ == 0 || trials_due_ > 0; }
 
+bool Allocation::wants_image() const { return choice_ == 0; }  // the GPU: the pilot only
 
 void Allocation::observe(const char* integ, const double* sum, int spp_it,
                          const SessionStats& before, const SessionStats& after) {
     const bool cis = std::string(integ) == "cis";
     const int t = cis ? 1 : 0;
+    const bool trial = next_is_trial();
     // no image (adaptive sampling has stopped pixels): the pilot goes on without it
     if (choice_ == 0 && !sum) return;
     spp_it = std::max(spp_it, 1);
     cost_[t] += iteration_cost(cis, candidates_, before, after) / spp_it;  // per sample
     ++n_[t];
-    // after choosing pt, its iterations of the pilot's sample count go on feeding the estimate
-    const bool watching = choice_ == 1 && !cis && sum && spp_it == pt_spp_ && !cis_.empty();
-    if (choice_ != 0 && !watching) return;
+    if (trials_due_ > 0) --trials_due_;
+    if (!trial) ++kept_;
     if (choice_ == 0) (cis ? cis_spp_ : pt_spp_) = spp_it;
-    const double inv = 1.0 / double(spp_it);
-    for (size_t k = 0; k < cis_.size(); ++k) {
-        const double v = luma(sum + 3 * int64_t(tracked_[k])) * inv;
-        if (cis) {
-            cis_[k] = v;
-        } else {
-            sum_pt_[k] += v;
-            sum2_pt_[k] += v * v;
+    // every iteration of the pilot's sample count feeds its integrator's estimate while watched
+    const bool feed = sum && !tracked_.empty() && spp_it == (cis ? cis_spp_ : pt_spp_);
+    if (feed) {
+        const double inv = 1.0 / double(spp_it);
+        const int64_t slot = choice_ == 0 ? pilot_index() - 1 : -1;  // the pilot's
+        std::vector<double>& s1 = cis ? sum_cis_ : sum_pt_;
+        std::vector<double>& s2 = cis ? sum2_cis_ : sum2_pt_;
+        for (size_t k = 0; k < tracked_.size(); ++k) {
+            const double v = luma(sum + 3 * int64_t(tracked_[k])) * inv;
+            if (slot >= 0 && slot < kPilotPt + kPilotCis)
+                pilot_[k * (kPilotPt + kPilotCis) + size_t(slot)] = float(v);
+            s1[k] += v;
+            s2[k] += v * v;
         }
+        ++seen_[t];
     }
-    if (!cis) ++pt_seen_;
     if (choice_ == 0) {
-        if (pt_seen_ >= kPilotPt && n_[1] >= kPilotCis) decide();
+        if (seen_[0] >= kPilotPt && seen_[1] >= kPilotCis) decide();
         return;
     }
-    // checkpoints at 8, 16, 32, ... of the render's pt iterations; watched up to kMaxWatched
-    const int64_t kept = pt_seen_ - kPilotPt;
-    if (kept >= 8 && (kept & (kept - 1)) == 0) decide();
-    if (choice_ == 1 && kept >= kMaxWatched) release();
+    if (tracked_.empty() || !watch_) return;
+    // checkpoints at the render's 8th, 16th, 32nd, ... iteration: pt's own iterations refine
+    // pt's estimate; under cis, two pt trials first (its own iterations refine cis's)
+    if (!trial && kept_ >= 8 && (kept_ & (kept_ - 1)) == 0) {
+        if (choice_ == 2)
+            trials_due_ = 2;
+        else
+            decide();
+    } else if (trial && trials_due_ == 0 && choice_ == 2) {
+        decide();
+    }
+    if (kept_ >= kMaxWatched && trials_due_ == 0) release();
 }
 
-// Efficiency 1 / (V C): V the summed per-pixel variance of a sample, C its mean cost. pt's
-// samples (its trials', then its render's) are of pt_spp_ samples a pixel each; the cis trial's
-// mean over cis_spp_ samples has 1 / cis_spp_ of a sample's variance.
+// Efficiency 1 / (V C): V the summed weighted per-pixel variance of a sample, C its mean cost.
+// Each integrator's samples are of its pilot's sample count a pixel (pt_spp_, cis_spp_); cis's
+// variance from its samples' spread about pt's mean: E[(x - m)^2] = var_cis + var_pt / n_pt
+// (pt's mean, not cis's: its samples are one QMC run, stratified against each other).
 void Allocation::decide() {
-    const double n = double(pt_seen_);
+    if (weight_.empty()) weigh();
+    const double n = double(seen_[0]), nc = double(seen_[1]);
     double var_pt = 0.0, var_cis = 0.0;
-    for (size_t k = 0; k < cis_.size(); ++k) {
+    for (size_t k = 0; k < tracked_.size(); ++k) {
         const double mean = sum_pt_[k] / n;
         const double v = std::max(0.0, (sum2_pt_[k] - sum_pt_[k] * mean) / (n - 1.0));
-        var_pt += v;
-        // one cis iteration against pt's mean: E[(x - m)^2] = var_cis + var_pt / n
-        var_cis += (cis_[k] - mean) * (cis_[k] - mean) - v / n;
+        var_pt += weight_[k] * v;
+        const double dev2 = (sum2_cis_[k] - 2.0 * mean * sum_cis_[k]) / nc + mean * mean;
+        var_cis += weight_[k] * (dev2 - v / n);
     }
     var_cis *= double(cis_spp_);
     var_pt *= double(pt_spp_);  // trials of one sample on the CPU, an iteration's on the GPU
@@ -114,13 +131,39 @@ void Allocation::decide() {
         ratio_ = std::min((var_pt * cost_pt) / (vc * cost_cis), 1e6);
         choice_ = ratio_ > 1.0 ? 2 : 1;
     }
-    if (choice_ == 2) release();
+}
+
+// Each pixel's variance relative to its value: weight 1 / (median^2 + floor^2), the median of
+// its five pilot samples (robust to the one firefly a pt trial may hold, which would hide that
+// pixel's noise behind its own mean), the floor 5 % of the image's mean median, so dark pixels'
+// noise counts without dividing by zero. Relative, not absolute: summed absolute variances are
+// ruled by a few bright pixels (a light seen through glass) that every integrator renders
+// alike, and miss where cis helps (the glass lantern: cis 18x pt by the mean pixel's noise,
+// 1.25x by the root mean square).
+void Allocation::weigh() {
+    constexpr int kSamples = kPilotPt + kPilotCis;
+    const size_t n = tracked_.size();
+    std::vector<double> med(n);
+    double mean = 0.0;
+    for (size_t k = 0; k < n; ++k) {
+        float v[kSamples];
+        std::copy(pilot_.begin() + k * kSamples, pilot_.begin() + (k + 1) * kSamples, v);
+        std::nth_element(v, v + kSamples / 2, v + kSamples);
+        med[k] = std::fabs(double(v[kSamples / 2]));
+        mean += med[k];
+    }
+    mean = n ? mean / double(n) : 0.0;
+    const double floor2 = mean > 0.0 ? 0.0025 * mean * mean : 1.0;
+    weight_.resize(n);
+    for (size_t k = 0; k < n; ++k) weight_[k] = 1.0 / (med[k] * med[k] + floor2);
+    std::vector<float>().swap(pilot_);
 }
 
 void Allocation::release() {
-    std::vector<double>().swap(sum_pt_);
-    std::vector<double>().swap(sum2_pt_);
-    std::vector<double>().swap(cis_);
+    for (std::vector<double>* v : {&sum_pt_, &sum2_pt_, &sum_cis_, &sum2_cis_})
+        std::vector<double>().swap(*v);
+    std::vector<double>().swap(weight_);
+    std::vector<float>().swap(pilot_);
     std::vector<int32_t>().swap(tracked_);
 }
 

@@ -11,18 +11,19 @@
 //   The GPU (and `auto_keep_pilot`, for tests) keeps the pilot in the image, whole iterations
 //   of the full image: each is an unbiased estimate, weighted equally, and later choices
 //   depend on earlier iterations only, so that image is unbiased too.
-// - Variance: the luminance's per-sample variance summed over the tracked pixels; pt's from
-//   the trials' spread, cis's from its trial against pt's mean, less that mean's own variance.
+// - Variance: the luminance's per-sample variance relative to the pixel's value (weigh()),
+//   summed over the tracked pixels; pt's from the trials' spread, cis's from its trial against
+//   pt's mean, less that mean's own variance.
 // - Cost: a deterministic count, never a clock (same seed, same bits): rays traced plus
 //   kCandidateCost per cis candidate evaluated (M per camera vertex), fitted to CPU time on
 //   the Cornell box, the two-light room, the fixture and the glass lantern (0.23-0.49 of a
 //   ray; docs/auto_integrator.md).
-// - Where pt is chosen, its render's iterations go on feeding pt's estimate (CPU, iterations
-//   of the pilot's sample count), and at its 8th, 16th, 32nd, ... iteration (up to
-//   kMaxWatched) the choice is made again: pt's noise is often heavy-tailed (caustics through
-//   glass), and four trials miss the rare paths that make it (the glass lantern: cis 18x pt,
-//   estimated 0.3-0.7 from the pilot alone). A switch to cis is for good; switching on
-//   earlier iterations only keeps the image unbiased.
+// - The render's own iterations go on feeding their integrator's estimate (CPU, iterations of
+//   the pilot's sample count), and at its 8th, 16th, 32nd, ... iteration (up to kMaxWatched)
+//   the choice is made again, after two more pt trials where cis renders: one pilot's
+//   estimates are noisy (pt's noise is often heavy-tailed; on a 32 x 32 Cornell box 3 of 16
+//   pilots put cis above pt, where it is 0.5x). Choices on earlier iterations only, equal
+//   weights: the image stays unbiased.
 // - Scenes with what only pt renders (holdouts, shadow catchers, the world hidden from some
 //   rays) are rendered by pt alone.
 #pragma once
@@ -42,17 +43,20 @@ public:
     static constexpr double kCandidateCost = 0.36;  // one candidate evaluation, in rays
     static constexpr int64_t kMaxWatched = 4096;    // pt iterations watched after the pilot
 
-    // pixels: the film's; pt_only: the scene has what only pt renders (pt_only_reason).
-    Allocation(int64_t pixels, bool pt_only, int candidates);
-    int64_t pilot_index() const { return n_[0] + n_[1]; }  // the pilot's iterations so far
+    // pixels: the film's; pt_only: the scene has what only pt renders (pt_only_reason);
+    // watch: choose again at checkpoints (the CPU; the GPU chooses once, after its pilot).
+    Allocation(int64_t pixels, bool pt_only, int candidates, bool watch);
+    int64_t pilot_index() const { return seen_[0] + seen_[1]; }  // the pilot's so far
 
     // The integrator of the next iteration: "pt" or "cis".
     const char* next() const;
     // Whether the next iteration's image is wanted by observe() (the GPU reads it back only
     // then).
     bool wants_image() const;
-    // Whether the next iteration is the pilot's.
+    // Whether the next iteration is the pilot's; whether it is a trial (the pilot's, or a pt
+    // trial at a checkpoint while cis renders: on the CPU, never added to the image).
     bool piloting() const { return choice_ == 0; }
+    bool next_is_trial() const;
     // The tracked pixels (indices into the film, row-major), in order; every pilot trial
     // renders these only.
     const std::vector<int32_t>& tracked() const { return tracked_; }
@@ -72,14 +76,19 @@ public:
 private:
     void decide();
     void release();  // the per-pixel sums, once no longer watched
+    void weigh();    // weight_ from the pilot's samples
 
-    bool pt_only_;
+    bool pt_only_, watch_;
     int candidates_;
     int64_t stride_ = 1;
     std::vector<int32_t> tracked_;
-    std::vector<double> sum_pt_, sum2_pt_, cis_;  // per tracked pixel (luminance)
-    int64_t n_[2] = {0, 0};
-    int64_t pt_seen_ = 0;  // pt samples in sum_pt_ (the trials, then the render's)
+    std::vector<float> pilot_;     // the pilot's values, kPilotPt + kPilotCis a tracked pixel
+    std::vector<double> weight_;   // each tracked pixel's: 1 / its value^2 (weigh())
+    std::vector<double> sum_pt_, sum2_pt_, sum_cis_, sum2_cis_;  // per tracked pixel (luma)
+    int64_t n_[2] = {0, 0};     // iterations of pt, cis (trials included)
+    int64_t seen_[2] = {0, 0};  // ... in the sums
+    int64_t kept_ = 0;          // the render's iterations (not trials)
+    int trials_due_ = 0;        // pt trials asked for at a checkpoint under cis
     double cost_[2] = {0.0, 0.0};  // summed over each technique's iterations
     int choice_ = 0;
     int cis_spp_ = 1, pt_spp_ = 1;  // samples per pixel of the pilot's iterations

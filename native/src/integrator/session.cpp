@@ -103,7 +103,7 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
     if (integ == "auto") {
         const std::string why = pt_only_reason(scene);
         alloc_ = std::make_unique<Allocation>(int64_t(scene.width) * scene.height, !why.empty(),
-                                              settings_.candidates);
+                                              settings_.candidates, !gpu_);
         stats_.auto_choice = alloc_->choice();
         if (!why.empty())
             warnings_.push_back("integrator 'auto' renders this scene with path tracing: it has " +
@@ -205,7 +205,7 @@ bool Session::step() {
 }
 
 bool Session::trial_next() const {
-    return alloc_ && alloc_->piloting() && !gpu_ && !settings_.auto_keep_pilot;
+    return alloc_ && alloc_->next_is_trial() && !gpu_ && !settings_.auto_keep_pilot;
 }
 
 // A pilot trial of "auto": one sample on the tracked pixels, measured, never added to the image.
@@ -237,8 +237,9 @@ SessionSettings Session::iteration_settings() const {
     // the pilot draws numbers independent of every kept iteration's and of each other's (the
     // first samples of scrambles of their own: two samples of one QMC sequence are stratified
     // against each other, and their spread would read low)
-    if (alloc_->piloting()) {
-        run.seed = settings_.seed ^ (0x9e3779b97f4a7c15ull * uint64_t(alloc_->pilot_index() + 1));
+    if (alloc_->piloting() || trial_next()) {
+        const uint64_t k = uint64_t(alloc_->pt_iterations() + alloc_->cis_iterations() + 1);
+        run.seed = settings_.seed ^ (0x9e3779b97f4a7c15ull * k);
         if (trial_next()) run.spp_per_iteration = 1;  // a trial: one sample a pixel
     }
     return run;
@@ -246,7 +247,7 @@ SessionSettings Session::iteration_settings() const {
 
 uint64_t& Session::iteration_counter() {
     if (!alloc_) return iteration_;
-    if (alloc_->piloting()) return auto_iteration_[0] = 0;
+    if (alloc_->piloting() || trial_next()) return auto_iteration_[0] = 0;
     return auto_iteration_[1];
 }
 

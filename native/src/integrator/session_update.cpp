@@ -27,7 +27,7 @@ void Session::restart() {
     // "auto" keeps its choice for the new view; a pilot under way starts again at its size
     if (alloc_ && alloc_->choice() == 0)
         alloc_ = std::make_unique<Allocation>(int64_t(width_) * height_, false,
-                                              settings_.candidates);
+                                              settings_.candidates, !gpu_);
     if (wave_) wave_->vertices_per_path = -1.0;  // the light vertex cache estimate is per view
     cancel_.store(false);       // a cancel of the old view's step is served
     publish();
