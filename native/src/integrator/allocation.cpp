@@ -11,7 +11,7 @@ namespace lantern {
 
 namespace {
 
-constexpr int kPilotPt = 4, kPilotCis = 1;
+constexpr int kPilotPt = 4, kPilotCis = 2;
 
 double luma(const double* rgb) { return 0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2]; }
 
@@ -50,7 +50,7 @@ const char* Allocation::next() const {
     if (trials_due_ > 0) return "pt";
     if (choice_ == 1) return "pt";
     if (choice_ == 2) return "cis";
-    return n_[0] < kPilotPt ? "pt" : "cis";
+    return seen_[0] < kPilotPt ? "pt" : "cis";
 }
 
 bool Allocation::next_is_trial() const { return choice_ == 0 || trials_due_ > 0; }
@@ -105,19 +105,23 @@ void Allocation::observe(const char* integ, const double* sum, int spp_it,
 }
 
 // Efficiency 1 / (V C): V the summed weighted per-pixel variance of a sample, C its mean cost.
-// Each integrator's samples are of its pilot's sample count a pixel (pt_spp_, cis_spp_); cis's
-// variance from its samples' spread about pt's mean: E[(x - m)^2] = var_cis + var_pt / n_pt
-// (pt's mean, not cis's: its samples are one QMC run, stratified against each other).
+// Each integrator's samples are of its pilot's sample count a pixel (pt_spp_, cis_spp_), and
+// each integrator's variance is its own samples' spread: not cis's spread about pt's mean,
+// which holds pt's error too, and where pt's noise is heavy-tailed the trials miss that error
+// (a pixel whose four pt trials all missed the light through the glass reads cis's whole value
+// as cis's deviation). The render's iterations are one QMC run, stratified against each other:
+// their spread reads each sample's variance a little high, not low.
 void Allocation::decide() {
+    // the pilot's medians weigh the pixels for good: a mean of the samples so far would let a
+    // pixel's own firefly weigh its noise away (the fixture then went to pt, 0 of 16 seeds)
     if (weight_.empty()) weigh();
     const double n = double(seen_[0]), nc = double(seen_[1]);
     double var_pt = 0.0, var_cis = 0.0;
     for (size_t k = 0; k < tracked_.size(); ++k) {
-        const double mean = sum_pt_[k] / n;
-        const double v = std::max(0.0, (sum2_pt_[k] - sum_pt_[k] * mean) / (n - 1.0));
-        var_pt += weight_[k] * v;
-        const double dev2 = (sum2_cis_[k] - 2.0 * mean * sum_cis_[k]) / nc + mean * mean;
-        var_cis += weight_[k] * (dev2 - v / n);
+        const double mean = sum_pt_[k] / n, mean_c = sum_cis_[k] / nc;
+        var_pt += weight_[k] * std::max(0.0, (sum2_pt_[k] - sum_pt_[k] * mean) / (n - 1.0));
+        var_cis +=
+            weight_[k] * std::max(0.0, (sum2_cis_[k] - sum_cis_[k] * mean_c) / (nc - 1.0));
     }
     var_cis *= double(cis_spp_);
     var_pt *= double(pt_spp_);  // trials of one sample on the CPU, an iteration's on the GPU
@@ -126,7 +130,7 @@ void Allocation::decide() {
         ratio_ = 0.0;  // nothing to gain (a noiseless image so far): the cheaper
         choice_ = cost_cis < cost_pt ? 2 : 1;
     } else {
-        // an estimate at or below zero: cis's noise is below what pt's samples can resolve
+        // no spread in cis's samples at all: as good as it gets
         const double vc = std::max(var_cis, 1e-6 * var_pt);
         ratio_ = std::min((var_pt * cost_pt) / (vc * cost_cis), 1e6);
         choice_ = ratio_ > 1.0 ? 2 : 1;

@@ -2,7 +2,7 @@
 // tracing (no light paths) or CIS-LBDPT from the render's own estimates of each one's
 // efficiency, 1 / (variance of a sample x its cost).
 //
-// - A pilot of four pt trials and one cis trial, each of one sample a pixel drawn from an Owen
+// - A pilot of four pt trials and two cis trials, each of one sample a pixel drawn from an Owen
 //   scramble of its own (independent samples: two samples of one QMC sequence are stratified
 //   against each other and their spread reads low), on the tracked pixels only (at most
 //   kMaxTracked, an eighth of the image's beyond 4,096: evenly spaced). On the CPU the trials
@@ -12,8 +12,7 @@
 //   of the full image: each is an unbiased estimate, weighted equally, and later choices
 //   depend on earlier iterations only, so that image is unbiased too.
 // - Variance: the luminance's per-sample variance relative to the pixel's value (weigh()),
-//   summed over the tracked pixels; pt's from the trials' spread, cis's from its trial against
-//   pt's mean, less that mean's own variance.
+//   summed over the tracked pixels; each integrator's from its own samples' spread.
 // - Cost: a deterministic count, never a clock (same seed, same bits): rays traced plus
 //   kCandidateCost per cis candidate evaluated (M per camera vertex), fitted to CPU time on
 //   the Cornell box, the two-light room, the fixture and the glass lantern (0.23-0.49 of a
