@@ -133,7 +133,12 @@ void Allocation::decide() {
         // no spread in cis's samples at all: as good as it gets
         const double vc = std::max(var_cis, 1e-6 * var_pt);
         ratio_ = std::min((var_pt * cost_pt) / (vc * cost_cis), 1e6);
-        choice_ = ratio_ > 1.0 ? 2 : 1;
+        // past the pilot a switch needs a margin: near 1 the estimates flip from checkpoint to
+        // checkpoint (the glossy box: 0.3-1.4), and each flip costs a cis iteration or trials
+        const double margin = choice_ == 0 ? 1.0 : kSwitchMargin;
+        if (choice_ != 2 && ratio_ > margin) choice_ = 2;
+        else if (choice_ != 1 && ratio_ < 1.0 / margin) choice_ = 1;
+        if (choice_ == 0) choice_ = 1;  // exactly 1 (or NaN): the cheaper per sample
     }
 }
 

@@ -40,7 +40,8 @@ class Allocation {
 public:
     static constexpr int kMaxTracked = 1 << 16;    // pixels whose variance is tracked
     static constexpr double kCandidateCost = 0.36;  // one candidate evaluation, in rays
-    static constexpr int64_t kMaxWatched = 4096;    // pt iterations watched after the pilot
+    static constexpr int64_t kMaxWatched = 4096;    // iterations watched after the pilot
+    static constexpr double kSwitchMargin = 1.3;    // a checkpoint switches past 1.3x or 1/1.3
 
     // pixels: the film's; pt_only: the scene has what only pt renders (pt_only_reason);
     // watch: choose again at checkpoints (the CPU; the GPU chooses once, after its pilot).
