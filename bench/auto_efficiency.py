@@ -60,8 +60,29 @@ def measure(scene_name, integrator, args):
             "time_s": t, "efficiency": 1.0 / (noise * noise * t), "auto": chosen}
 
 
+def step_times(scene_name, integrators, args):
+    """CPU time of each step of one render (seed 3) per integrator: where auto's pilot goes."""
+    import lantern
+    from lantern import scenes
+    builder, kw = SCENES[scene_name]
+    w, h = (int(v) for v in args.res.split("x"))
+    scene = getattr(scenes, builder)(w, h, **kw)
+    for integ in integrators:
+        s = lantern.Session(scene, integrator=integ, seed=3, backend="cpu", threads=1,
+                            max_depth=args.max_depth, spp_per_iteration=1)
+        ts = []
+        for _ in range(args.spp):
+            c0 = time.process_time()
+            s.step()
+            ts.append(time.process_time() - c0)
+        print(json.dumps({"scene": scene_name, "integrator": integ,
+                          "step_cpu_s": [round(t, 4) for t in ts]}))
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--steps", action="store_true",
+                    help="print each step's CPU time of one render instead")
     ap.add_argument("--scenes", default=",".join(SCENES))
     ap.add_argument("--integrators", default="pt,cis,auto")
     ap.add_argument("--res", default="64x64")
@@ -70,6 +91,10 @@ def main():
     ap.add_argument("--max-depth", type=int, default=12)
     ap.add_argument("--out", default="")
     args = ap.parse_args()
+    if args.steps:
+        for scene in args.scenes.split(","):
+            step_times(scene, args.integrators.split(","), args)
+        return
     from light_tree_noise import machine
     info = {"before": machine()}
     rows = []

@@ -15,24 +15,27 @@ constexpr int kPilotPt = 4, kPilotCis = 2;
 
 double luma(const double* rgb) { return 0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2]; }
 
-// Rays traced in an iteration, and the candidates cis evaluated (M per camera vertex: each
-// camera or indirect ray's hit), in rays.
-double iteration_cost(bool cis, int candidates, const SessionStats& a, const SessionStats& b) {
-    const double rays = double(b.rays_camera - a.rays_camera) +
-                        double(b.rays_indirect - a.rays_indirect) +
-                        double(b.rays_shadow - a.rays_shadow) + double(b.rays_light - a.rays_light) +
-                        double(b.rays_connection - a.rays_connection) +
-                        double(b.rays_light_tracing - a.rays_light_tracing);
-    if (!cis) return rays;
+// An iteration's cost per pixel sample, in rays: the camera side's work (camera, indirect,
+// shadow and connection rays, and the candidates cis evaluates, M per camera vertex: each
+// camera or indirect ray's hit) over the camera paths it traced, plus the light side's (light
+// and light-tracing rays) over its light paths (one per pixel sample of the whole film, even
+// where a trial's camera pass covers the tracked pixels only).
+double sample_cost(bool cis, int candidates, const SessionStats& a, const SessionStats& b,
+                   double camera_paths, double light_paths) {
     const double vertices = double(b.rays_camera - a.rays_camera) +
                             double(b.rays_indirect - a.rays_indirect);
-    return rays + Allocation::kCandidateCost * candidates * vertices;
+    double camera = vertices + double(b.rays_shadow - a.rays_shadow) +
+                    double(b.rays_connection - a.rays_connection);
+    if (cis) camera += Allocation::kCandidateCost * candidates * vertices;
+    const double light = double(b.rays_light - a.rays_light) +
+                         double(b.rays_light_tracing - a.rays_light_tracing);
+    return camera / std::max(camera_paths, 1.0) + light / std::max(light_paths, 1.0);
 }
 
 }  // namespace
 
 Allocation::Allocation(int64_t pixels, bool pt_only, int candidates, bool watch)
-    : pt_only_(pt_only), watch_(watch), candidates_(candidates) {
+    : pt_only_(pt_only), watch_(watch), candidates_(candidates), pixels_(pixels) {
     if (pt_only_) {
         choice_ = 1;
         return;
@@ -47,17 +50,20 @@ Allocation::Allocation(int64_t pixels, bool pt_only, int candidates, bool watch)
 }
 
 const char* Allocation::next() const {
+    if (cis_due_ > 0) return "cis";
     if (trials_due_ > 0) return "pt";
     if (choice_ == 1) return "pt";
     if (choice_ == 2) return "cis";
     return seen_[0] < kPilotPt ? "pt" : "cis";
 }
 
-bool Allocation::next_is_trial() const { return choice_ == 0 || trials_due_ > 0; }
+bool Allocation::next_is_trial() const {
+    return choice_ == 0 || trials_due_ > 0 || cis_due_ > 0;
+}
 
 bool Allocation::wants_image() const { return choice_ == 0; }  // the GPU: the pilot only
 
-void Allocation::observe(const char* integ, const double* sum, int spp_it,
+void Allocation::observe(const char* integ, const double* sum, int spp_it, int64_t pixels,
                          const SessionStats& before, const SessionStats& after) {
     const bool cis = std::string(integ) == "cis";
     const int t = cis ? 1 : 0;
@@ -65,9 +71,10 @@ void Allocation::observe(const char* integ, const double* sum, int spp_it,
     // no image (adaptive sampling has stopped pixels): the pilot goes on without it
     if (choice_ == 0 && !sum) return;
     spp_it = std::max(spp_it, 1);
-    cost_[t] += iteration_cost(cis, candidates_, before, after) / spp_it;  // per sample
+    cost_[t] += sample_cost(cis, candidates_, before, after, double(pixels) * spp_it,
+                            double(pixels_) * spp_it);
     ++n_[t];
-    if (trials_due_ > 0) --trials_due_;
+    if (trial && choice_ != 0) --(cis ? cis_due_ : trials_due_);
     if (!trial) ++kept_;
     if (choice_ == 0) (cis ? cis_spp_ : pt_spp_) = spp_it;
     // every iteration of the pilot's sample count feeds its integrator's estimate while watched
@@ -91,17 +98,22 @@ void Allocation::observe(const char* integ, const double* sum, int spp_it,
         return;
     }
     if (tracked_.empty() || !watch_) return;
-    // checkpoints at the render's 8th, 16th, 32nd, ... iteration: pt's own iterations refine
-    // pt's estimate; under cis, two pt trials first (its own iterations refine cis's)
+    // checkpoints at the render's 8th, 16th, 32nd, ... iteration. Under cis: two pt trials,
+    // then the choice (cis's own iterations refine cis's estimate). Under pt, whose own
+    // iterations refine pt's: where cis now looks better, one cis trial first (its estimate
+    // would otherwise rest on the pilot's two samples; the two-light room flipped to cis and back
+    // on them), then the choice
     if (!trial && kept_ >= 8 && (kept_ & (kept_ - 1)) == 0) {
-        if (choice_ == 2)
+        if (choice_ == 2) {
             trials_due_ = 2;
-        else
-            decide();
-    } else if (trial && trials_due_ == 0 && choice_ == 2) {
+        } else {
+            ratio_ = estimate();
+            if (ratio_ > 1.0) cis_due_ = 1;
+        }
+    } else if (trial && trials_due_ == 0 && cis_due_ == 0) {
         decide();
     }
-    if (kept_ >= kMaxWatched && trials_due_ == 0) release();
+    if (kept_ >= kMaxWatched && trials_due_ == 0 && cis_due_ == 0) release();
 }
 
 // Efficiency 1 / (V C): V the summed weighted per-pixel variance of a sample, C its mean cost.
@@ -111,7 +123,7 @@ void Allocation::observe(const char* integ, const double* sum, int spp_it,
 // (a pixel whose four pt trials all missed the light through the glass reads cis's whole value
 // as cis's deviation). The render's iterations are one QMC run, stratified against each other:
 // their spread reads each sample's variance a little high, not low.
-void Allocation::decide() {
+double Allocation::estimate() {
     // the pilot's medians weigh the pixels for good: a mean of the samples so far would let a
     // pixel's own firefly weigh its noise away (the fixture then went to pt, 0 of 16 seeds)
     if (weight_.empty()) weigh();
@@ -126,13 +138,17 @@ void Allocation::decide() {
     var_cis *= double(cis_spp_);
     var_pt *= double(pt_spp_);  // trials of one sample on the CPU, an iteration's on the GPU
     const double cost_pt = cost_[0] / double(n_[0]), cost_cis = cost_[1] / double(n_[1]);
-    if (!(var_pt > 0.0) || !(cost_pt > 0.0) || !(cost_cis > 0.0)) {
-        ratio_ = 0.0;  // nothing to gain (a noiseless image so far): the cheaper
-        choice_ = cost_cis < cost_pt ? 2 : 1;
-    } else {
-        // no spread in cis's samples at all: as good as it gets
-        const double vc = std::max(var_cis, 1e-6 * var_pt);
-        ratio_ = std::min((var_pt * cost_pt) / (vc * cost_cis), 1e6);
+    // nothing to gain (a noiseless image so far): the cheaper per sample
+    if (!(var_pt > 0.0) || !(cost_pt > 0.0) || !(cost_cis > 0.0))
+        return cost_cis < cost_pt ? 1e6 : 0.0;
+    // no spread in cis's samples at all: as good as it gets
+    const double vc = std::max(var_cis, 1e-6 * var_pt);
+    return std::min((var_pt * cost_pt) / (vc * cost_cis), 1e6);
+}
+
+void Allocation::decide() {
+    ratio_ = estimate();
+    {
         // past the pilot a switch needs a margin: near 1 the estimates flip from checkpoint to
         // checkpoint (the glossy box: 0.3-1.4), and each flip costs a cis iteration or trials
         const double margin = choice_ == 0 ? 1.0 : kSwitchMargin;

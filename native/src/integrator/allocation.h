@@ -61,10 +61,11 @@ public:
     // renders these only.
     const std::vector<int32_t>& tracked() const { return tracked_; }
     // After an iteration of integrator `integ` (what next() said): its sum (3 doubles a
-    // pixel, spp_it samples each, every pixel's) or null, and the stats before and after it.
-    // Trials are of one sample a pixel (Session::iteration_settings).
-    void observe(const char* integ, const double* sum, int spp_it, const SessionStats& before,
-                 const SessionStats& after);
+    // pixel, spp_it samples each, every pixel's) or null, the pixels its camera pass covered,
+    // and the stats before and after it. Trials are of one sample a pixel, on the tracked
+    // pixels (Session::run_trial).
+    void observe(const char* integ, const double* sum, int spp_it, int64_t pixels,
+                 const SessionStats& before, const SessionStats& after);
 
     // What it chose, for the stats: 0 while piloting, 1 pt, 2 cis; the estimated efficiency of
     // cis over pt (0 before it is known); iterations of each.
@@ -74,12 +75,14 @@ public:
     int64_t cis_iterations() const { return n_[1]; }
 
 private:
-    void decide();
+    double estimate();  // cis's efficiency over pt's from the samples so far
+    void decide();      // ... and the choice
     void release();  // the per-pixel sums, once no longer watched
     void weigh();    // weight_ from the pilot's samples
 
     bool pt_only_, watch_;
     int candidates_;
+    int64_t pixels_;  // the film's
     int64_t stride_ = 1;
     std::vector<int32_t> tracked_;
     std::vector<float> pilot_;     // the pilot's values, kPilotPt + kPilotCis a tracked pixel
@@ -89,6 +92,7 @@ private:
     int64_t seen_[2] = {0, 0};  // ... in the sums
     int64_t kept_ = 0;          // the render's iterations (not trials)
     int trials_due_ = 0;        // pt trials asked for at a checkpoint under cis
+    int cis_due_ = 0;           // a cis trial asked for at a checkpoint under pt
     double cost_[2] = {0.0, 0.0};  // summed over each technique's iterations
     int choice_ = 0;
     int cis_spp_ = 1, pt_spp_ = 1;  // samples per pixel of the pilot's iterations

@@ -155,7 +155,7 @@ bool Session::step_cuda(Clock::time_point t0) {
                 sum = gpu_->accum(&samples);
                 for (size_t k = 0; k < sum.size() && k < prev.size(); ++k) sum[k] -= prev[k];
             }
-            observe(run, sum.empty() ? nullptr : sum.data(), before);
+            observe(run, sum.empty() ? nullptr : sum.data(), before, int64_t(width_) * height_);
         }
     } catch (const std::runtime_error& e) {  // out of memory, or a CUDA error: never a crash
         std::vector<double> sum;
@@ -226,7 +226,7 @@ bool Session::run_trial() {
     st.cache_budget = CpuExec::cache_budget(settings_.cache_budget_mb);
     const bool ok = wf::run_iteration(*exec_, *wave_, scene_->view(), st);
     counter = st.iteration;
-    if (ok) observe(run, iteration_sum_.data(), before);
+    if (ok) observe(run, iteration_sum_.data(), before, st.camera_pixels());
     return ok;
 }
 
@@ -251,8 +251,9 @@ uint64_t& Session::iteration_counter() {
     return auto_iteration_[1];
 }
 
-void Session::observe(const SessionSettings& run, const double* sum, const SessionStats& before) {
-    alloc_->observe(run.integrator.c_str(), sum, run.spp_per_iteration, before, stats_);
+void Session::observe(const SessionSettings& run, const double* sum, const SessionStats& before,
+                      int64_t pixels) {
+    alloc_->observe(run.integrator.c_str(), sum, run.spp_per_iteration, pixels, before, stats_);
     stats_.auto_choice = alloc_->choice();
     stats_.auto_cis_over_pt = alloc_->cis_over_pt();
     stats_.auto_pt_iterations = alloc_->pt_iterations();
@@ -308,7 +309,9 @@ bool Session::step_locked() {
     counter = st.iteration;
     if (!ok) return false;
     // the image of every pixel, before add() drops the converged pixels' splats
-    if (alloc_) observe(run, film_.all_active() ? iteration_sum_.data() : nullptr, before);
+    if (alloc_)
+        observe(run, film_.all_active() ? iteration_sum_.data() : nullptr, before,
+                st.camera_pixels());
     {
         std::lock_guard<std::mutex> lock(result_mutex_);
         // the active pixels only: a converged pixel's splats of this iteration are dropped

@@ -151,7 +151,8 @@ private:
     // iterations are one unbroken run of the QMC sequence (its first 2^k samples well spread).
     SessionSettings iteration_settings() const;
     uint64_t& iteration_counter();
-    void observe(const SessionSettings& run, const double* sum, const SessionStats& before);
+    void observe(const SessionSettings& run, const double* sum, const SessionStats& before,
+                 int64_t pixels);
     bool trial_next() const;  // the next iteration is a pilot trial of "auto" (CPU)
     bool run_trial();         // ... which the image does not keep
 
