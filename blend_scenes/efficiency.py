@@ -6,6 +6,7 @@ Diffuse surfaces only (scenes.py's rule), so the two renderers converge to the s
 |---|---|
 | `room_area_point` | 5 x 5 x 2.8 m room, camera inside; a 1.0 x 0.5 m area light 200 W under the ceiling facing down, and a small point light (10 W, radius 5 cm) low in the far corner |
 | `room_spot_sun_world` | the same room with a window in the right wall: a sun (4 W/m², 2°) through it, a world colour (0.4, 0.5, 0.7) seen and lighting through it, and a spot (600 W, 40°) from a ceiling corner aimed at the floor |
+| `small_room_two_lights` | issue 28's "several lights": a closed 2 x 2 x 2 m room, a rough Principled ball (roughness 0.5) on the floor, a 0.5 x 0.3 m area light 30 W 2 cm under the ceiling facing down and a point light 15 W (radius 5 cm, soft falloff) at mid height; `_area` / `_point`: one light alone |
 | `many_lights` | the stage of scenes.py lit by 24 point lights of different colours and powers (5-120 W, radius 5 cm) |
 """
 
@@ -76,4 +77,51 @@ def many_lights():
         obj.data.color = tuple(float(c) for c in colour)
 
 
-SCENES = {f.__name__: f for f in (room_area_point, room_spot_sun_world, many_lights)}
+# lantern.scenes.SMALL_ROOM_WALLS, kept equal by hand: floor, ceiling, back, front, left, right
+SMALL_ROOM_WALLS = (
+    ((-1, -1, 0), (1, -1, 0), (1, 1, 0), (-1, 1, 0), (0.6, 0.6, 0.6)),
+    ((-1, -1, 2), (-1, 1, 2), (1, 1, 2), (1, -1, 2), (0.8, 0.8, 0.8)),
+    ((-1, 1, 0), (1, 1, 0), (1, 1, 2), (-1, 1, 2), (0.8, 0.8, 0.8)),
+    ((-1, -1, 0), (-1, -1, 2), (1, -1, 2), (1, -1, 0), (0.8, 0.8, 0.8)),
+    ((-1, -1, 0), (-1, 1, 0), (-1, 1, 2), (-1, -1, 2), (0.7, 0.2, 0.15)),
+    ((1, -1, 0), (1, -1, 2), (1, 1, 2), (1, 1, 0), (0.2, 0.6, 0.25)))
+
+
+def _small_room(lights):
+    """lantern.scenes.small_room_two_lights in Blender (flat-shaded icosphere ball)."""
+    import bpy
+    sc._reset()
+    for k, (a, b, c, d, colour) in enumerate(SMALL_ROOM_WALLS):
+        sc.quad(f"Wall{k}", [a, b, c, d], sc.diffuse(f"Wall{k}", colour))
+    bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=4, radius=0.3, location=(0.3, 0.3, 0.3))
+    ball = bpy.context.active_object
+    ball.name = "Ball"
+    m = bpy.data.materials.new("Ball")
+    p = m.node_tree.nodes["Principled BSDF"]
+    p.inputs["Base Color"].default_value = (0.8, 0.5, 0.3, 1.0)
+    p.inputs["Roughness"].default_value = 0.5
+    ball.data.materials.append(m)
+    sc.camera((0.0, -0.9, 1.0), (0.0, 1.0, 0.9), lens=18.0)
+    if lights in ("both", "area"):
+        sc.light("AREA", "Area", (0.0, 0.2, 1.98), target=(0.0, 0.2, 0.0), shape="RECTANGLE",
+                 size=0.5, size_y=0.3, energy=30.0)
+    if lights in ("both", "point"):
+        sc.light("POINT", "Point", (-0.6, 0.5, 0.7), shadow_soft_size=0.05, energy=15.0,
+                 use_soft_falloff=True)
+
+
+def small_room_two_lights():
+    _small_room("both")
+
+
+def small_room_two_lights_area():
+    _small_room("area")
+
+
+def small_room_two_lights_point():
+    _small_room("point")
+
+
+SCENES = {f.__name__: f for f in (room_area_point, room_spot_sun_world, many_lights,
+                                  small_room_two_lights, small_room_two_lights_area,
+                                  small_room_two_lights_point)}

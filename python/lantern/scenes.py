@@ -438,6 +438,41 @@ def room_area_point(width=64, height=64):
     return scene
 
 
+def small_room_two_lights(width=64, height=64, lights="both"):
+    """blend_scenes/efficiency.py's `small_room_two_lights` (issue 28, "Several lights"): a
+    closed 2 x 2 x 2 m room (camera inside), a rough Principled ball on the floor, a 0.5 x 0.3 m
+    rectangular area light (30 W) 2 cm under the ceiling facing down, and a small point light
+    (15 W, radius 5 cm, soft falloff) at mid height near the left wall. `lights`: "both",
+    "area" or "point" (one light alone, the issue's controls)."""
+    scene = Scene()
+    scene.film.update(width=int(width), height=int(height))
+    scene.look_at((0.0, -0.9, 1.0), (0.0, 1.0, 0.9), fov=90.0)
+    for k, (a, b, c, d, colour) in enumerate(SMALL_ROOM_WALLS):
+        mat = scene.add_material(f"wall{k}", base_color=colour)
+        scene.add_mesh(*_quad(a, b, c, d), material=mat, name=f"wall{k}")
+    ball = scene.add_material("ball", type="principled", base_color=(0.8, 0.5, 0.3),
+                              roughness=0.5)
+    pos, idx = icosphere(4, 0.3, (0.3, 0.3, 0.3))
+    scene.add_mesh(pos, idx, material=ball, name="ball")
+    if lights in ("both", "area"):
+        scene.add_light("area", to_world=_aim((0.0, 0.2, 1.98), (0.0, 0.2, 0.0)),
+                        shape="rectangle", size=[0.5, 0.3], power=[30.0] * 3)
+    if lights in ("both", "point"):
+        scene.add_light("point", position=[-0.6, 0.5, 0.7], radius=0.05, soft_falloff=True,
+                        power=[15.0] * 3)
+    return scene
+
+
+# floor, ceiling, back, front, left (red), right (green): corners counter-clockwise from inside
+SMALL_ROOM_WALLS = (
+    ((-1, -1, 0), (1, -1, 0), (1, 1, 0), (-1, 1, 0), (0.6, 0.6, 0.6)),
+    ((-1, -1, 2), (-1, 1, 2), (1, 1, 2), (1, -1, 2), (0.8, 0.8, 0.8)),
+    ((-1, 1, 0), (1, 1, 0), (1, 1, 2), (-1, 1, 2), (0.8, 0.8, 0.8)),
+    ((-1, -1, 0), (-1, -1, 2), (1, -1, 2), (1, -1, 0), (0.8, 0.8, 0.8)),
+    ((-1, -1, 0), (-1, 1, 0), (-1, 1, 2), (-1, -1, 2), (0.7, 0.2, 0.15)),
+    ((1, -1, 0), (1, -1, 2), (1, 1, 2), (1, 1, 0), (0.2, 0.6, 0.25)))
+
+
 def room_spot_sun_world(width=64, height=64):
     """The room with a window: a sun (4 W/m^2, 2 degrees) through it, a world colour (0.4,
     0.5, 0.7), and a spot (600 W, 40 degrees) from a ceiling corner aimed at the floor."""

@@ -21,6 +21,7 @@ using namespace lantern;
 namespace lantern {
 void bind_aovs(nb::module_& m, SceneInput (*to_input)(const nb::dict&));  // aov_bindings.cpp
 void bind_programs(nb::module_& m);  // program_bindings.cpp
+void bind_light_probe(nb::module_& m, SceneInput (*to_input)(const nb::dict&));  // light_probe_bindings.cpp
 }
 
 namespace {
@@ -411,6 +412,7 @@ NB_MODULE(_core, m) {
     m.doc() = "Lantern's native core (CPU and CUDA backends).";
     bind_aovs(m, &to_input);
     bind_programs(m);
+    bind_light_probe(m, &to_input);
     m.def("embree_available", &embree_available);
     m.def("embree_version", &embree_version);
     m.def("cuda_info", []() {

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "core/sampling.h"
+#include "scene/light_estimate.h"
 #include "scene/scene_view.h"
 
 namespace lantern {
@@ -81,11 +82,34 @@ LANTERN_HD inline float light_top_total(const SceneView& s, Vec3 p, Vec3 n, floa
     return total;
 }
 
+// Importance of child node c of a split at (p, n). A leaf beside a leaf: the light's own
+// unshadowed irradiance there (scene/light_estimate.h), so that two lights compete by what they
+// give, not by bounds that differ in looseness (a rectangle's bounding sphere beside a small
+// point's); kept above 1e-4 of the bound, which is positive wherever the light reaches p. A
+// leaf beside a subtree: the bound, as the subtree's, but zero behind a one-sided area light's
+// plane, where it gives nothing (the bound's sphere reaches behind it).
+LANTERN_HD inline float light_child_importance(const SceneView& s, int c, bool leaf_pair, Vec3 p,
+                                               Vec3 n) {
+    const LightTreeNode& nd = s.light_tree[c];
+    if (nd.right >= 0) return light_node_importance(nd, p, n);
+    const Light& l = s.lights[nd.light];
+    if (l.type == kLightArea && !(dot(l.frame.origin() - p, l.frame.axis(2)) > 0.0f))
+        return 0.0f;  // behind the emitting side (-Z) or in its plane
+    const float bound = light_node_importance(nd, p, n);
+    if (!leaf_pair || !(bound > 0.0f)) return bound;
+    const float e = light_irradiance_estimate(s, l, p, n);
+    if (e < 0.0f) return bound;  // a spot: its bound
+    const float v = fmaxf(e, 1e-4f * bound);
+    return v < 1e37f ? v : 1e37f;
+}
+
 // Probability of the left child of interior node nd at (p, n); false where neither child can
 // reach the point (a dead end: the lights below contribute nothing there).
 LANTERN_HD inline bool light_split(const SceneView& s, int node, Vec3 p, Vec3 n, float* p_left) {
-    const float il = light_node_importance(s.light_tree[node + 1], p, n);
-    const float ir = light_node_importance(s.light_tree[s.light_tree[node].right], p, n);
+    const int left = node + 1, right = s.light_tree[node].right;
+    const bool leaf_pair = s.light_tree[left].right < 0 && s.light_tree[right].right < 0;
+    const float il = light_child_importance(s, left, leaf_pair, p, n);
+    const float ir = light_child_importance(s, right, leaf_pair, p, n);
     const float sum = il + ir;
     if (!(sum > 0.0f)) return false;
     *p_left = il / sum;
