@@ -10,12 +10,55 @@ import numpy as np
 LOCAL = ("generated", "object", "object_normal")          # from the mesh alone
 INSTANCE = ("object_location", "object_random", "object_color", "object_normal_x",
             "object_normal_y", "object_normal_z")   # the last three: the normal matrix's rows
+# Modifiers that only move vertices: Blender leaves them out of the undeformed coordinates
+# (CD_ORCO) that Generated reads, so a mesh whose stack has only these reads its original
+# vertices where the depsgraph computed no ORCO (a viewport depsgraph without a 3D view asking
+# for it: a background export)
+DEFORM_ONLY = frozenset((
+    "ARMATURE", "CAST", "CLOTH", "CORRECTIVE_SMOOTH", "CURVE", "DISPLACE", "HOOK",
+    "LAPLACIANDEFORM", "LAPLACIANSMOOTH", "LATTICE", "MESH_CACHE", "MESH_DEFORM",
+    "SHRINKWRAP", "SIMPLE_DEFORM", "SMOOTH", "SOFT_BODY", "SURFACE_DEFORM", "WARP", "WAVE"))
+
+
+def _undeformed(obj, mesh, report=None):
+    """The vertices Generated reads, (V, 3) float32: Blender's undeformed coordinates
+    (MeshVertex.undeformed_co: the vertices before deforming modifiers and shape keys, where
+    the evaluated mesh carries them, as it does in a render depsgraph), as Cycles reads them;
+    without them, the original mesh's vertices where the stack only deforms (the same vertices,
+    found the same way), else the evaluated ones (Cycles' own fallback, with a warning where
+    the stack deforms)."""
+    nv = len(mesh.vertices)
+    co, und = np.empty(nv * 3, np.float32), np.empty(nv * 3, np.float32)
+    mesh.vertices.foreach_get("co", co)
+    co = co.reshape(nv, 3)
+    try:
+        mesh.vertices.foreach_get("undeformed_co", und)
+    except (AttributeError, RuntimeError, TypeError):
+        return co
+    und = und.reshape(nv, 3)
+    if not np.array_equal(und, co):
+        return und   # the depsgraph's own undeformed coordinates
+    orig = getattr(obj, "original", None)
+    data = getattr(orig, "data", None)
+    if getattr(orig, "type", None) != "MESH" or data is None or \
+            data == getattr(obj, "data", None) or len(data.vertices) != nv:
+        return co
+    mods = [m for m in getattr(orig, "modifiers", ()) if m.show_render or m.show_viewport]
+    if any(m.type not in DEFORM_ONLY for m in mods):
+        if report is not None and any(m.type in DEFORM_ONLY for m in mods):
+            report.warn(f"Object '{obj.name}': Generated coordinates follow the deformed mesh "
+                        "(this depsgraph has no undeformed coordinates for a modifier stack "
+                        "that deforms and builds; a final render has them)")
+        return co
+    base = np.empty(nv * 3, np.float32)
+    data.vertices.foreach_get("co", base)
+    return base.reshape(nv, 3)
 
 
 def _generated(mesh, pos):
-    """Generated coordinates: the position in the mesh's texture space mapped to [0, 1]^3.
-    Blender's own texture space where the mesh has one (auto: the bounding box, each half
-    extent at least 1e-5 and an empty one 1, as Blender makes it), else the bounding box."""
+    """Generated coordinates: the (undeformed) position in the mesh's texture space mapped to
+    [0, 1]^3. Blender's own texture space where the mesh has one (auto: the bounding box, each
+    half extent at least 1e-5 and an empty one 1, as Blender makes it), else the bounding box."""
     try:
         loc = np.array(mesh.texspace_location[:3], np.float64)
         half = np.array(mesh.texspace_size[:3], np.float64)
@@ -46,7 +89,7 @@ class AttributeTable:
         pos = arrays["positions"]
         for name in self.names:
             if name == "generated":
-                out[name] = _generated(mesh, pos)
+                out[name] = _generated(mesh, _undeformed(obj, mesh, self.report)[corner_vert])
             elif name == "object":
                 out[name] = pos.astype(np.float32)
             elif name == "object_normal":

@@ -1,5 +1,7 @@
 """Handlers of the texture nodes (node_handlers): procedural textures and Image Texture.
-An unlinked Vector reads Generated coordinates (UV for Image Texture), as in Blender."""
+An unlinked Vector reads Generated coordinates (UV for Image Texture), as in Blender; White
+Noise's reads its socket's own value, (0, 0, 0) unless a script set it (Cycles gives its Vector
+no implicit coordinates: on a mesh it is one colour)."""
 
 from . import node_eval as ne
 
@@ -51,7 +53,8 @@ def h_noise(ctx, node, out, path):
 
 def h_white_noise(ctx, node, out, path):
     dim = _dim(node, "noise_dimensions")
-    vec = _vec(ctx, node, path) if dim > 1 else ctx.const((0.0, 0.0, 0.0), "VECTOR")
+    vec = ctx.inp(node, "Vector", path, "VECTOR", identifier=True) if dim > 1 else \
+        ctx.const((0.0, 0.0, 0.0), "VECTOR")
     w = _val(ctx, node, "W", path) if dim in (1, 4) else ctx.const((0.0,), "VALUE")
     r, _ = ctx.emit_node("white_noise", [vec, w], 4, dim=dim)
     return _color_fac(ctx, r, out, color_first=False)

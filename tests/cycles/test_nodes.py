@@ -669,6 +669,122 @@ CASES = {
     "layer_weight_fresnel_sphere": ("sphere", view_dependent("ShaderNodeLayerWeight",
                                                              "Fresnel", Blend=0.6)),
 }
+# Texture nodes with their Vector unlinked on the sphere: Blender reads Generated (UV for Image
+# Texture), here varying in all three axes (the plane's cases above read a constant z of 0.5)
+UNLINKED = {
+    "checker": ("ShaderNodeTexChecker", "Color", None, {"Scale": 3.3}),
+    "noise_3d": ("ShaderNodeTexNoise", "Color", None, {"Scale": 3.0, "Detail": 3.0}),
+    "noise_4d": ("ShaderNodeTexNoise", "Fac", {"noise_dimensions": "4D"},
+                 {"Scale": 2.5, "W": 0.4}),
+    "noise_ridged": ("ShaderNodeTexNoise", "Fac", {"noise_type": "RIDGED_MULTIFRACTAL"},
+                     {"Scale": 2.0, "Detail": 3.0}),
+    "magic": ("ShaderNodeTexMagic", "Color", {"turbulence_depth": 3}, {"Scale": 2.5}),
+    # (a sharp mortar: a smooth one's band is so steep that Generated's float rounding on
+    # the sphere, 5e-7 between the two, moves its pixels by 4e-4)
+    "brick": ("ShaderNodeTexBrick", "Color", None, {
+        "Scale": 3.0, "Mortar": (0.1, 0.2, 0.3, 1.0), "Mortar Size": 0.05,
+        "Mortar Smooth": 0.0}),
+    "image_uv": ("ShaderNodeTexImage", "Color", None, {}),
+    "voronoi_f1_distance": ("ShaderNodeTexVoronoi", "Distance", None, {"Scale": 5.0}),
+    "voronoi_f1_color": ("ShaderNodeTexVoronoi", "Color", None, {"Scale": 5.0}),
+    "voronoi_f1_position": ("ShaderNodeTexVoronoi", "Position", None, {"Scale": 3.0}),
+    "voronoi_f2_chebychev": ("ShaderNodeTexVoronoi", "Distance", {
+        "feature": "F2", "distance": "CHEBYCHEV"}, {"Scale": 4.0, "Randomness": 0.7}),
+    "voronoi_f1_manhattan": ("ShaderNodeTexVoronoi", "Distance", {"distance": "MANHATTAN"},
+                             {"Scale": 4.0}),
+    "voronoi_smooth_f1_minkowski": ("ShaderNodeTexVoronoi", "Color", {
+        "feature": "SMOOTH_F1", "distance": "MINKOWSKI"},
+        {"Scale": 3.0, "Smoothness": 0.5, "Exponent": 0.8}),
+    "voronoi_2d": ("ShaderNodeTexVoronoi", "Distance", {"voronoi_dimensions": "2D"},
+                   {"Scale": 5.0}),
+}
+for _g in ("LINEAR", "QUADRATIC", "EASING", "DIAGONAL", "SPHERICAL", "QUADRATIC_SPHERE",
+           "RADIAL"):
+    UNLINKED[f"gradient_{_g.lower()}"] = ("ShaderNodeTexGradient", "Color",
+                                          {"gradient_type": _g}, {})
+for _t, _dirs in (("BANDS", ("X", "Y", "Z", "DIAGONAL")), ("RINGS", ("X", "Y", "Z",
+                                                                      "SPHERICAL"))):
+    for _d, _profile in zip(_dirs, ("SIN", "SAW", "TRI", "SIN")):
+        UNLINKED[f"wave_{_t.lower()}_{_d.lower()}_{_profile.lower()}"] = (
+            "ShaderNodeTexWave", "Color", {"wave_type": _t, f"{_t.lower()}_direction": _d,
+                                           "wave_profile": _profile},
+            {"Scale": 1.3, "Distortion": 1.5, "Detail": 2.0})
+
+
+def unlinked(idname, out, props, inputs):
+    def build(nt, emit):
+        n = _node(nt, idname, props, **inputs)
+        if idname == "ShaderNodeTexImage":
+            n.image = _image()
+        assert not n.inputs["Vector"].is_linked
+        if out == "Position":   # signed
+            nt.links.new(_abs(nt, n.outputs[out], 0.5), emit.inputs["Color"])
+        else:
+            _link(nt, n, out, emit)
+    return build
+
+
+for _name, _spec in UNLINKED.items():
+    CASES[f"{_name}_unlinked_sphere"] = ("sphere", unlinked(*_spec))
+
+
+def white_noise_unlinked(dim, vector=None):
+    """White Noise with its Vector unlinked: Cycles reads the socket's value there (no
+    implicit Generated), so the case varies through W (4D: floored Generated X) alone."""
+    def build(nt, emit):
+        n = nt.nodes.new("ShaderNodeTexWhiteNoise")
+        n.noise_dimensions = dim
+        if vector is not None:
+            n.inputs["Vector"].default_value = vector
+        x = nt.nodes.new("ShaderNodeSeparateXYZ")
+        nt.links.new(_floored(nt), x.inputs[0])
+        nt.links.new(x.outputs["X"], _ident(n, "W"))
+        assert not n.inputs["Vector"].is_linked
+        _link(nt, n, "Color", emit)
+    return build
+
+
+def deform(kind):
+    """Deforms the sphere (modifiers, a shape key): Generated stays on the undeformed mesh."""
+    obj = bpy.data.objects["Sphere"]
+    if kind == "twist":
+        m = obj.modifiers.new("Twist", "SIMPLE_DEFORM")
+        m.deform_method, m.angle = "TWIST", 0.8
+    elif kind == "displace":   # no texture: along the normals by strength x (1 - midlevel)
+        obj.modifiers.new("Displace", "DISPLACE").strength = 0.3
+    elif kind == "shape_key":
+        obj.shape_key_add(name="Basis")
+        key = obj.shape_key_add(name="Lean")
+        co = np.empty(3 * len(key.data), np.float32)
+        key.data.foreach_get("co", co)
+        co = co.reshape(-1, 3)
+        co[:, 0] *= 1.0 + 0.4 * co[:, 2]
+        key.data.foreach_set("co", co.ravel())
+        key.value = 0.7
+    elif kind == "subsurf_bend":   # builds, then deforms
+        obj.modifiers.new("Subdivision", "SUBSURF").render_levels = 1
+        m = obj.modifiers.new("Bend", "SIMPLE_DEFORM")
+        m.deform_method, m.angle = "BEND", 0.8
+    else:
+        raise ValueError(kind)
+
+
+def deformed(kind, build):
+    def run(nt, emit):
+        deform(kind)
+        build(nt, emit)
+    return run
+
+
+CASES["texcoord_generated_twisted_sphere"] = ("sphere", deformed("twist",
+                                                                 texcoord("Generated")))
+CASES["voronoi_f1_unlinked_displaced_sphere"] = ("sphere", deformed(
+    "displace", unlinked(*UNLINKED["voronoi_f1_distance"])))
+CASES["wave_unlinked_shape_key_sphere"] = ("sphere", deformed(
+    "shape_key", unlinked(*UNLINKED["wave_bands_x_sin"])))
+CASES["white_noise_4d_unlinked_sphere"] = ("sphere", white_noise_unlinked("4D"))
+CASES["white_noise_4d_unlinked_vector_set"] = ("plane", white_noise_unlinked(
+    "4D", (0.3, -1.7, 2.25)))
 for _blend in ("MIX", "DARKEN", "MULTIPLY", "BURN", "LIGHTEN", "SCREEN", "DODGE", "ADD",
                "OVERLAY", "SOFT_LIGHT", "LINEAR_LIGHT", "DIFFERENCE", "EXCLUSION", "SUBTRACT",
                "DIVIDE", "HUE", "SATURATION", "COLOR", "VALUE"):
