@@ -41,10 +41,10 @@ def _undeformed(obj, mesh, report=None):
     orig = getattr(obj, "original", None)
     data = getattr(orig, "data", None)
     if getattr(orig, "type", None) != "MESH" or data is None or \
-            data == getattr(obj, "data", None) or len(data.vertices) != nv:
+            data == getattr(obj, "data", None):
         return co
     mods = [m for m in getattr(orig, "modifiers", ()) if m.show_render or m.show_viewport]
-    if any(m.type not in DEFORM_ONLY for m in mods):
+    if any(m.type not in DEFORM_ONLY for m in mods) or len(data.vertices) != nv:
         if report is not None and any(m.type in DEFORM_ONLY for m in mods):
             report.warn(f"Object '{obj.name}': Generated coordinates follow the deformed mesh "
                         "(this depsgraph has no undeformed coordinates for a modifier stack "

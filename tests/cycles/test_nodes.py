@@ -831,6 +831,53 @@ def test_node_output_matches_cycles(case, tmp_path):
     assert_exact(case, img_l, img_c, covered, *CASE_TOL.get(case, (TOL, 0.05)))
 
 
+# ---- Generated through a final render: its depsgraph computes Blender's undeformed
+# coordinates (ORCO) for every mesh, carried through the modifiers that build (Array,
+# Subdivision) but not those that deform, which no viewport depsgraph without a 3D view has, so
+# test_node_output_matches_cycles never reads them. The engine's own export is rendered at the
+# pixel centres (the F12 it ran is discarded).
+@pytest.mark.parametrize("stack", ["array_twist", "subsurf_bend"])
+def test_generated_through_final_render(stack, tmp_path, monkeypatch):
+    import importlib
+    sc, nt, emit = st.stage("sphere")
+    obj = bpy.data.objects["Sphere"]
+    if stack == "array_twist":
+        a = obj.modifiers.new("Array", "ARRAY")
+        a.count, a.relative_offset_displace = 2, (0.5, 0.0, 0.0)
+        m = obj.modifiers.new("Twist", "SIMPLE_DEFORM")
+        m.deform_method, m.angle = "TWIST", 0.8
+    else:
+        deform("subsurf_bend")
+    texcoord("Generated")(nt, emit)
+    export = importlib.import_module("lantern_blender.export")
+    captured = []
+
+    def capture(depsgraph):
+        captured.append((depsgraph.mode, *export_scene(depsgraph)))
+        return captured[-1][1:]
+
+    export_scene = export.export_scene
+    monkeypatch.setattr(export, "export_scene", capture)
+    sc.render.engine = "LANTERN"
+    sc.lantern.samples, sc.lantern.max_depth, sc.lantern.integrator = 1, 1, "pt"
+    sc.render.filepath = str(tmp_path / "f12.exr")
+    bpy.ops.render.render(write_still=False)
+    monkeypatch.undo()
+    assert [c[0] for c in captured] == ["RENDER"], "the engine's export did not run"
+    _, scene, report = captured[0]
+    assert list(report.messages) == []
+    scene.film["filter_width"] = FILTER_PX
+    img_l = np.asarray(lantern.render(scene, spp=1, integrator="pt", max_depth=1, seed=1),
+                       np.float64)
+    img_c = render_cycles(sc, tmp_path / "cycles.exr")
+    covered = _covered("sphere", img_c)
+    assert np.std(img_c[covered]) > 0.01
+    assert_exact(f"generated_final_render_{stack}", img_l, img_c, covered)
+    # and the viewport depsgraph's export, which has no ORCO here, says what it cannot do
+    _, warnings = render_lantern()
+    assert any("Generated coordinates follow the deformed mesh" in w for w in warnings), warnings
+
+
 # ---- Bump: a diffuse plane under a sun straight above, one bounce: each pixel is
 # albedo / pi x E x cos(bumped normal), so the image is the bumped normal's z. Under an oblique
 # sun Cycles also applies its bump shadowing term (the GGX masking of the normal's tilt at the
