@@ -63,9 +63,9 @@ def h_white_noise(ctx, node, out, path):
 def h_voronoi(ctx, node, out, path):
     dim = _dim(node, "voronoi_dimensions")
     feature = {"F1": 0, "F2": 1, "SMOOTH_F1": 2}.get(node.feature)
-    if dim not in (2, 3) or feature is None:
-        ctx.c.warn(f"Voronoi '{node.name}': {node.voronoi_dimensions} {node.feature} is not "
-                   "supported (2D and 3D F1, F2, Smooth F1 are); its default is used")
+    if feature is None:
+        ctx.c.warn(f"Voronoi '{node.name}': {node.feature} is not supported (F1, F2, Smooth "
+                   "F1 are); its default is used")
         return ctx.fallback(out)
     detail = ne.ng.enabled_input(node, "Detail")
     if detail is not None and (detail.is_linked or detail.default_value != 0.0):
@@ -74,8 +74,9 @@ def h_voronoi(ctx, node, out, path):
         ctx.c.warn(f"Voronoi '{node.name}': Normalize is not supported; ignored")
     metric = ("EUCLIDEAN", "MANHATTAN", "CHEBYCHEV", "MINKOWSKI").index(node.distance)
     names = ("Scale", "Smoothness", "Exponent", "Randomness")
-    ins = [_vec(ctx, node, path), ctx.const((0.0,), "VALUE")] + \
-        [_val(ctx, node, n, path) for n in names]
+    vec = _vec(ctx, node, path) if dim > 1 else ctx.const((0.0, 0.0, 0.0), "VECTOR")
+    w = _val(ctx, node, "W", path) if dim in (1, 4) else ctx.const((0.0,), "VALUE")
+    ins = [vec, w] + [_val(ctx, node, n, path) for n in names]
     r, _ = ctx.emit_node("voronoi", ins, 8, mode=feature, dim=dim, aux=metric)
     k = out.identifier
     if k == "Distance":
@@ -84,6 +85,8 @@ def h_voronoi(ctx, node, out, path):
         return ctx.reg(r + 1, 3, "RGBA")
     if k == "Position":
         return ctx.reg(r + 4, 3, "VECTOR")
+    if k == "W":
+        return ctx.reg(r + 7, 1, "VALUE")
     ctx.c.warn(f"Voronoi '{node.name}': output '{out.name}' is not supported; 0 is used")
     return ctx.fallback(out)
 

@@ -776,6 +776,52 @@ def deformed(kind, build):
     return run
 
 
+def voronoi_dims(dim, feature, metric, out, **inputs):
+    """1D and 4D Voronoi on the sphere: 4D with its Vector unlinked and W set, 1D over W
+    linked to 2.7 x Generated X (1D reads no vector). The W output as emission strength."""
+    def build(nt, emit):
+        n = _node(nt, "ShaderNodeTexVoronoi", {"voronoi_dimensions": dim, "feature": feature,
+                                               "distance": metric}, **inputs)
+        if dim == "1D":
+            x = nt.nodes.new("ShaderNodeSeparateXYZ")
+            nt.links.new(_coord(nt), x.inputs[0])
+            m = _node(nt, "ShaderNodeMath", {"operation": "MULTIPLY"})
+            nt.links.new(x.outputs["X"], m.inputs[0])
+            m.inputs[1].default_value = 2.7
+            nt.links.new(m.outputs[0], _ident(n, "W"))
+        else:
+            _ident(n, "W").default_value = 0.7
+        if out == "W":
+            nt.links.new(n.outputs["W"], emit.inputs["Strength"])
+        elif out == "Position":
+            nt.links.new(_abs(nt, n.outputs[out], 0.5), emit.inputs["Color"])
+        else:
+            _link(nt, n, out, emit)
+    return build
+
+
+def voronoi_linked_randomness(value):
+    """Randomness from a link, outside [0, 1]: Cycles clamps it there."""
+    def build(nt, emit):
+        n = _node(nt, "ShaderNodeTexVoronoi", Scale=4.0)
+        v = nt.nodes.new("ShaderNodeValue")
+        v.outputs[0].default_value = value
+        nt.links.new(v.outputs[0], n.inputs["Randomness"])
+        _link(nt, n, "Color", emit)
+    return build
+
+
+for _dim, _feature, _metric, _out in (
+        ("4D", "F1", "EUCLIDEAN", "Color"), ("4D", "F2", "MANHATTAN", "Distance"),
+        ("4D", "SMOOTH_F1", "EUCLIDEAN", "Color"), ("4D", "F1", "CHEBYCHEV", "Position"),
+        ("4D", "F1", "MINKOWSKI", "W"), ("1D", "F1", "EUCLIDEAN", "Color"),
+        ("1D", "F2", "EUCLIDEAN", "Distance"), ("1D", "SMOOTH_F1", "EUCLIDEAN", "Distance"),
+        ("1D", "F1", "EUCLIDEAN", "W")):
+    CASES[f"voronoi_{_dim.lower()}_{_feature.lower()}_{_metric.lower()}_{_out.lower()}"] = (
+        "sphere", voronoi_dims(_dim, _feature, _metric, _out, Scale=3.0, Exponent=1.5,
+                               Smoothness=0.6, Randomness=0.9))
+CASES["voronoi_randomness_linked_above_one"] = ("plane", voronoi_linked_randomness(1.6))
+CASES["voronoi_randomness_linked_below_zero"] = ("plane", voronoi_linked_randomness(-0.3))
 CASES["texcoord_generated_twisted_sphere"] = ("sphere", deformed("twist",
                                                                  texcoord("Generated")))
 CASES["voronoi_f1_unlinked_displaced_sphere"] = ("sphere", deformed(

@@ -72,7 +72,7 @@ NodeInstr decode_instr(const uint32_t* w, size_t k, size_t nc, size_t num_textur
         throw std::invalid_argument(who + ": copy of " + std::to_string(n.dim) + " values");
     if ((n.op == kOpNoise || n.op == kOpWhiteNoise) && (n.dim < 1 || n.dim > 4))
         throw std::invalid_argument(who + ": noise of dimension " + std::to_string(n.dim));
-    if (n.op == kOpVoronoi && n.dim != 2 && n.dim != 3)
+    if (n.op == kOpVoronoi && (n.dim < 1 || n.dim > 4))
         throw std::invalid_argument(who + ": voronoi of dimension " + std::to_string(n.dim));
     if (n.op == kOpMapRange && n.dim != 1 && n.dim != 3)
         throw std::invalid_argument(who + ": map range of dimension " + std::to_string(n.dim));

@@ -94,7 +94,7 @@ LANTERN_HD inline Vec3 hashf1_to_vec3(float x) {
 LANTERN_HD inline Vec3 hashf4_to_vec3(float x, float y, float z, float w) {
     return Vec3{hashf4(x, y, z, w), hashf4(z, x, w, y), hashf4(w, z, y, x)};
 }
-// ---- PCG 2D / 3D (Jarzynski & Olano, "Hash Functions for GPU Rendering", JCGT 2020) in
+// ---- PCG 2D / 3D / 4D (Jarzynski & Olano, "Hash Functions for GPU Rendering", JCGT 2020) in
 // Blender's signed-integer form (arithmetic shifts, the sign bit masked off at the end), over
 // integer cells: what Blender's Voronoi hashes its cells with (measured against Cycles) ----
 LANTERN_HD inline int32_t imul(int32_t a, int32_t b) { return int32_t(uint32_t(a) * uint32_t(b)); }
@@ -113,6 +113,20 @@ LANTERN_HD inline Vec3 pcg3d_unit(int32_t x, int32_t y, int32_t z) {
     const float s = 1.0f / float(0x7FFFFFFF);
     return Vec3{float(v[0] & 0x7FFFFFFF) * s, float(v[1] & 0x7FFFFFFF) * s,
                 float(v[2] & 0x7FFFFFFF) * s};
+}
+LANTERN_HD inline void pcg4d_unit(int32_t x, int32_t y, int32_t z, int32_t w, float out[4]) {
+    int32_t v[4] = {x, y, z, w};
+    for (int i = 0; i < 4; ++i) v[i] = iadd(imul(v[i], 1664525), 1013904223);
+    for (int round = 0; round < 2; ++round) {
+        if (round == 1)
+            for (int i = 0; i < 4; ++i) v[i] ^= ashr16(v[i]);
+        v[0] = iadd(v[0], imul(v[1], v[3]));
+        v[1] = iadd(v[1], imul(v[2], v[0]));
+        v[2] = iadd(v[2], imul(v[0], v[1]));
+        v[3] = iadd(v[3], imul(v[1], v[2]));
+    }
+    const float s = 1.0f / float(0x7FFFFFFF);
+    for (int i = 0; i < 4; ++i) out[i] = float(v[i] & 0x7FFFFFFF) * s;
 }
 LANTERN_HD inline Vec2 pcg2d_unit(int32_t x, int32_t y) {
     int32_t v[2] = {iadd(imul(x, 1664525), 1013904223), iadd(imul(y, 1664525), 1013904223)};

@@ -277,13 +277,14 @@ LANTERN_HD inline void program_step(const SceneView& s, const ShadePoint& sp, co
     }
     case kOpVoronoi: {
         const float sc = a[4];
-        VoronoiOut v = node_voronoi(reg3(a, 0) * sc, n.dim, n.mode, n.aux, a[6], a[7],
+        const float coord[4] = {a[0] * sc, a[1] * sc, a[2] * sc, a[3] * sc};
+        VoronoiOut v = node_voronoi(coord, n.dim, n.mode, n.aux, a[6], clampf(a[7], 0.0f, 1.0f),
                                     clampf(a[5] * 0.5f, 0.0f, 0.5f));
         o[0] = v.distance;
         set3(o, 1, v.color);
         set3(o, 4, Vec3{safe_div(v.position.x, sc), safe_div(v.position.y, sc),
                         safe_div(v.position.z, sc)});
-        o[7] = 0.0f;
+        o[7] = safe_div(v.w, sc);
         break;
     }
     case kOpWave: {

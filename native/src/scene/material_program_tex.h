@@ -1,5 +1,5 @@
 // Blender's procedural texture nodes and the view-dependent utility nodes as host+device code:
-// Checker, Gradient, Magic, Wave, Voronoi (F1, F2, smooth F1; four metrics; 2D/3D), White
+// Checker, Gradient, Magic, Wave, Voronoi (F1, F2, smooth F1; four metrics; 1D-4D), White
 // Noise, ColorRamp and curve tables, Fresnel, Layer Weight, and the image projections. Formulas
 // from the manual's definitions and the published algorithms (Worley 1996 for Voronoi).
 #pragma once
@@ -119,82 +119,147 @@ LANTERN_HD inline float node_wave(Vec3 p, int type, int dir, int profile, float 
 }
 
 // ---- Voronoi (Worley): features F1, F2, smooth F1; metrics Euclidean, Manhattan, Chebychev,
-// Minkowski; 2D (p.z ignored) or 3D ----
-LANTERN_HD inline float voronoi_distance(Vec3 a, Vec3 b, int metric, float exponent) {
-    const Vec3 d = a - b;
-    switch (metric) {
-    case 1: return fabsf(d.x) + fabsf(d.y) + fabsf(d.z);
-    case 2: return fmaxf(fabsf(d.x), fmaxf(fabsf(d.y), fabsf(d.z)));
-    case 3: return powf(powf(fabsf(d.x), exponent) + powf(fabsf(d.y), exponent) +
-                            powf(fabsf(d.z), exponent), 1.0f / exponent);
-    default: return length(d);
-    }
-}
+// Minkowski (1D: |a - b| whatever the metric); 1D (over w), 2D (x, y), 3D (x, y, z), 4D
+// (x, y, z, w). Written once over D axes (D a template parameter, so that each dimension's
+// loops unroll as the 3D-only code's did). ----
 struct VoronoiOut {
     float distance;
     Vec3 color, position;
+    float w;  // the position's w (1D and 4D)
 };
-// the feature point of an integer cell (PCG, as Blender), and a cell's colour
-LANTERN_HD inline Vec3 voronoi_point_hash(int x, int y, int z, int dim) {
-    if (dim == 2) {
-        const Vec2 h = pcg2d_unit(x, y);
-        return Vec3{h.x, h.y, 0.0f};
+template <int D>
+LANTERN_HD inline float voronoi_distance(const float* a, const float* b, int metric,
+                                         float exponent) {
+    if (D == 1) return fabsf(b[0] - a[0]);
+    float acc = 0.0f;
+    for (int i = 0; i < D; ++i) {
+        const float d = fabsf(a[i] - b[i]);
+        switch (metric) {
+        case 1: acc += d; break;
+        case 2: acc = fmaxf(acc, d); break;
+        case 3: acc += powf(d, exponent); break;
+        default: acc += d * d; break;
+        }
     }
-    return pcg3d_unit(x, y, z);
+    if (metric == 3) return powf(acc, 1.0f / exponent);
+    return metric == 0 ? sqrtf(acc) : acc;
 }
-LANTERN_HD inline Vec3 voronoi_color_hash(int x, int y, int z, int dim) {
-    return pcg3d_unit(x, y, dim == 2 ? 0 : z);
-}
-// feature 0 F1, 1 F2, 2 smooth F1
-LANTERN_HD inline VoronoiOut node_voronoi(Vec3 coord, int dim, int feature, int metric,
-                                          float exponent, float randomness, float smoothness) {
-    if (dim == 2) coord.z = 0.0f;
-    const Vec3 cell{floorf(coord.x), floorf(coord.y), floorf(coord.z)};
-    const Vec3 local = coord - cell;
-    const int cx = int(cell.x), cy = int(cell.y), cz = int(cell.z);
-    const int r = feature == 2 ? 2 : 1;
-    const int rz = dim == 2 ? 0 : r;
-    VoronoiOut o{8.0f, Vec3{}, Vec3{}};
-    float d1 = 8.0f, d2 = 8.0f;
-    Vec3 off1{}, off2{}, pos1{}, pos2{};
-    for (int k = -rz; k <= rz; ++k)
-        for (int j = -r; j <= r; ++j)
-            for (int i = -r; i <= r; ++i) {
-                const Vec3 off{float(i), float(j), float(k)};
-                const Vec3 pp = off + voronoi_point_hash(cx + i, cy + j, cz + k, dim) *
-                                          randomness;
-                const float d = voronoi_distance(pp, local, metric, exponent);
-                if (feature == 2) {
-                    const float h01 = smoothstepf(0.0f, 1.0f,
-                                                  0.5f + 0.5f * (o.distance - d) / smoothness);
-                    float corr = smoothness * h01 * (1.0f - h01);
-                    o.distance = lerpf(o.distance, d, h01) - corr;
-                    corr /= 1.0f + 3.0f * smoothness;
-                    const Vec3 cc = voronoi_color_hash(cx + i, cy + j, cz + k, dim);
-                    o.color = mix3(o.color, cc, h01) - vec3(corr);
-                    o.position = mix3(o.position, pp, h01) - vec3(corr);
-                } else if (d < d1) {
-                    d2 = d1; off2 = off1; pos2 = pos1;
-                    d1 = d; off1 = off; pos1 = pp;
-                } else if (d < d2) {
-                    d2 = d; off2 = off; pos2 = pp;
-                }
-            }
-    auto color_of = [&](Vec3 off) {
-        return voronoi_color_hash(cx + int(off.x), cy + int(off.y), cz + int(off.z), dim);
-    };
-    if (feature == 2) {
-        o.position = o.position + cell;
-    } else if (feature == 1) {
-        o.distance = d2;
-        o.color = color_of(off2);
-        o.position = pos2 + cell;
+// the feature point of integer cell c in [0, 1) per axis (PCG, as Blender; 1D: the float
+// hash of the cell's value), and the cell's colour (2D: PCG 3D with z = 0, 4D: the first
+// three of PCG 4D)
+template <int D>
+LANTERN_HD inline void voronoi_point_hash(const int* c, float* h) {
+    if constexpr (D == 1) {
+        h[0] = hashf1(float(c[0]));
+    } else if constexpr (D == 2) {
+        const Vec2 v = pcg2d_unit(c[0], c[1]);
+        h[0] = v.x, h[1] = v.y;
+    } else if constexpr (D == 3) {
+        const Vec3 v = pcg3d_unit(c[0], c[1], c[2]);
+        h[0] = v.x, h[1] = v.y, h[2] = v.z;
     } else {
-        o.distance = d1;
-        o.color = color_of(off1);
-        o.position = pos1 + cell;
+        pcg4d_unit(c[0], c[1], c[2], c[3], h);
     }
-    if (dim == 2) o.position.z = 0.0f;
+}
+template <int D>
+LANTERN_HD inline Vec3 voronoi_color_hash(const int* c) {
+    if constexpr (D == 1) {
+        return hashf1_to_vec3(float(c[0]));
+    } else if constexpr (D == 4) {
+        float h[4];
+        pcg4d_unit(c[0], c[1], c[2], c[3], h);
+        return Vec3{h[0], h[1], h[2]};
+    } else {
+        return pcg3d_unit(c[0], c[1], D == 2 ? 0 : c[2]);
+    }
+}
+// feature 0 F1, 1 F2, 2 smooth F1 at p (D coordinates, scaled); randomness in [0, 1],
+// smoothness in [0, 0.5] (the op clamps them, as Cycles). position: D coordinates.
+template <int D>
+LANTERN_HD inline float voronoi_features(const float* p, int feature, int metric, float exponent,
+                                         float randomness, float smoothness, Vec3* color,
+                                         float* position) {
+    int cell[D], off[D], best1[D] = {}, best2[D] = {};
+    float local[D], pos1[D] = {}, pos2[D] = {}, smooth_pos[D] = {};
+    for (int a = 0; a < D; ++a) {
+        const float f = floorf(p[a]);
+        cell[a] = int(f);
+        local[a] = p[a] - f;
+    }
+    const int r = feature == 2 ? 2 : 1;
+    for (int a = 0; a < D; ++a) off[a] = -r;
+    float d1 = kInf, d2 = kInf, smooth_d = 0.0f;
+    Vec3 smooth_color{};
+    bool first = true;
+    for (;;) {   // every offset in [-r, r]^D, axis 0 fastest (Cycles' order)
+        int c[D];
+        float h[D], pp[D];
+        for (int a = 0; a < D; ++a) c[a] = cell[a] + off[a];
+        voronoi_point_hash<D>(c, h);
+        for (int a = 0; a < D; ++a) pp[a] = float(off[a]) + h[a] * randomness;
+        const float d = voronoi_distance<D>(pp, local, metric, exponent);
+        if (feature == 2) {   // Cycles' first cell takes h = 1 (no blend)
+            const float h01 = first ? 1.0f
+                                    : smoothstepf(0.0f, 1.0f,
+                                                  0.5f + 0.5f * (smooth_d - d) / smoothness);
+            first = false;
+            float corr = smoothness * h01 * (1.0f - h01);
+            smooth_d = lerpf(smooth_d, d, h01) - corr;
+            corr /= 1.0f + 3.0f * smoothness;
+            smooth_color = mix3(smooth_color, voronoi_color_hash<D>(c), h01) - vec3(corr);
+            for (int a = 0; a < D; ++a) smooth_pos[a] = lerpf(smooth_pos[a], pp[a], h01) - corr;
+        } else if (d < d1) {
+            d2 = d1;
+            d1 = d;
+            for (int a = 0; a < D; ++a) {
+                best2[a] = best1[a], best1[a] = off[a];
+                pos2[a] = pos1[a], pos1[a] = pp[a];
+            }
+        } else if (d < d2) {
+            d2 = d;
+            for (int a = 0; a < D; ++a) best2[a] = off[a], pos2[a] = pp[a];
+        }
+        int a = 0;
+        while (a < D && off[a] == r) off[a++] = -r;
+        if (a == D) break;
+        ++off[a];
+    }
+    const float* pos = feature == 2 ? smooth_pos : feature == 1 ? pos2 : pos1;
+    for (int a = 0; a < D; ++a) position[a] = pos[a] + float(cell[a]);
+    if (feature == 2) {
+        *color = smooth_color;
+        return smooth_d;
+    }
+    int c[D];
+    for (int a = 0; a < D; ++a) c[a] = cell[a] + (feature == 1 ? best2[a] : best1[a]);
+    *color = voronoi_color_hash<D>(c);
+    return feature == 1 ? d2 : d1;
+}
+// coord (x, y, z, w), already scaled; dim 1 reads w, 2 x and y, 3 x, y and z, 4 all
+LANTERN_HD inline VoronoiOut node_voronoi(const float coord[4], int dim, int feature, int metric,
+                                          float exponent, float randomness, float smoothness) {
+    VoronoiOut o{0.0f, Vec3{}, Vec3{}, 0.0f};
+    float pos[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+    switch (dim) {
+    case 1:
+        o.distance = voronoi_features<1>(coord + 3, feature, metric, exponent, randomness,
+                                         smoothness, &o.color, pos + 3);
+        break;
+    case 2:
+        o.distance = voronoi_features<2>(coord, feature, metric, exponent, randomness,
+                                         smoothness, &o.color, pos);
+        break;
+    case 4:
+        o.distance = voronoi_features<4>(coord, feature, metric, exponent, randomness,
+                                         smoothness, &o.color, pos);
+        break;
+    default:
+        o.distance = voronoi_features<3>(coord, feature, metric, exponent, randomness,
+                                         smoothness, &o.color, pos);
+        break;
+    }
+    o.position = Vec3{pos[0], pos[1], pos[2]};
+    o.w = pos[3];
     return o;
 }
 
