@@ -73,7 +73,7 @@ std::vector<NodeInstr> every_op(int in, int out) {
         for (int dim = 1; dim <= 4; ++dim)
             for (int flags = 0; flags <= 3; ++flags) add(kOpNoise, mode, flags, dim);
     for (int dim = 1; dim <= 4; ++dim) add(kOpWhiteNoise, 0, 0, dim);
-    for (int dim = 2; dim <= 3; ++dim)
+    for (int dim = 1; dim <= 4; ++dim)
         for (int mode = 0; mode <= 5; ++mode)
             for (int metric = 0; metric <= 3; ++metric) add(kOpVoronoi, mode, 0, dim, metric);
     for (int mode = 0; mode <= 1; ++mode)
