@@ -100,6 +100,12 @@ def build_parser():
     g.add_argument("--debug", action="store_true", default=argparse.SUPPRESS,
                    help=argparse.SUPPRESS)
 
+    c = sub.add_parser("gpu-check", help="the GPU self-check of backend auto: read its cached "
+                                         "verdict for this GPU, or run it")
+    c.add_argument("--again", action="store_true", help="run it again, replacing the verdict")
+    c.add_argument("--debug", action="store_true", default=argparse.SUPPRESS,
+                   help=argparse.SUPPRESS)
+
     i = sub.add_parser("info", help="print a summary of a .lantern scene")
     i.add_argument("scene", help="scene file (.lantern)")
     i.add_argument("--debug", action="store_true", default=argparse.SUPPRESS,
@@ -231,16 +237,31 @@ def cmd_info(args):
     return 0
 
 
+def cmd_gpu_check(args):
+    import json
+
+    from . import gpu_selfcheck
+    from .session import cuda_info
+
+    info = cuda_info()
+    if not info.get("available"):
+        print(f"lantern: no usable GPU: {info.get('reason')}", file=sys.stderr)
+        return EXIT_ERROR
+    v = gpu_selfcheck.verdict(info, again=args.again)
+    print(json.dumps(dict(v, key=gpu_selfcheck.key(info)), indent=1, sort_keys=True))
+    return 0 if v.get("ok") else EXIT_ERROR
+
+
 def main(argv=None):
     parser = build_parser()
     args = parser.parse_args(argv)
     if args.command is None:
         parser.print_usage(sys.stderr)
         print("python -m lantern: error: a command is required "
-              "(render, merge, info, import-mitsuba)", file=sys.stderr)
+              "(render, merge, info, import-mitsuba, gpu-check)", file=sys.stderr)
         return EXIT_USAGE
     handler = {"render": cmd_render, "info": cmd_info, "merge": cmd_merge,
-               "import-mitsuba": cmd_import_mitsuba}[args.command]
+               "import-mitsuba": cmd_import_mitsuba, "gpu-check": cmd_gpu_check}[args.command]
     try:
         return handler(args)
     except KeyboardInterrupt:

@@ -5,7 +5,10 @@ reach `_core.Session`; the core gets plain dicts and numpy arrays only.
 
 Backends: a core with `cuda_info()` gets "cuda" and "auto" as asked and chooses itself (falling
 back to the CPU with a warning when no GPU is usable); `Session.backend` says which one
-rendered. A core without `cuda_info()` has only the CPU: "cuda" and "auto" become "cpu" here."""
+rendered. A core without `cuda_info()` has only the CPU: "cuda" and "auto" become "cpu" here.
+"auto" takes a GPU only once the GPU self-check passed on it (gpu_selfcheck.py: once per card,
+driver and build, in a child process); else it renders on the CPU and says why in `warnings`.
+"cuda" forces the GPU without the check."""
 
 import importlib
 import logging
@@ -13,6 +16,8 @@ import threading
 import time
 
 import numpy as np
+
+from . import gpu_selfcheck
 
 log = logging.getLogger("lantern")
 
@@ -113,7 +118,7 @@ def require_core():
 
 NO_CUDA_INFO = {"compiled": False, "available": False,
                 "reason": "this build of lantern._core has no CUDA backend",
-                "name": "", "memory_bytes": 0, "compute_capability": ""}
+                "name": "", "memory_bytes": 0, "compute_capability": "", "driver_version": 0}
 
 
 def _native_has_cuda():
@@ -293,6 +298,12 @@ class Session:
 
     def __init__(self, scene, **settings):
         self.settings, self._warnings = resolve_settings(settings)
+        if self.settings["backend"] == "auto":
+            # a GPU is trusted only after the self-check passed on it (gpu_selfcheck.py)
+            veto = gpu_selfcheck.auto_backend_veto(cuda_info())
+            if veto:
+                self.settings["backend"] = "cpu"
+                self._warnings.append(veto)
         for w in self._warnings:
             log.warning(w)
         if not hasattr(scene, "to_native"):

@@ -45,6 +45,8 @@ CudaInfo cuda_info() {
     info.name = prop.name;
     info.memory_bytes = int64_t(prop.totalGlobalMem);
     info.compute_capability = std::to_string(prop.major) + "." + std::to_string(prop.minor);
+    int driver = 0;
+    if (cudaDriverGetVersion(&driver) == cudaSuccess) info.driver_version = driver;
     cudaFuncAttributes attr{};
     e = cudaFuncGetAttributes(&attr, probe_kernel);
     if (e != cudaSuccess) {

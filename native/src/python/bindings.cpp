@@ -424,6 +424,7 @@ NB_MODULE(_core, m) {
         d["name"] = info.name;
         d["memory_bytes"] = info.memory_bytes;
         d["compute_capability"] = info.compute_capability;
+        d["driver_version"] = info.driver_version;
         return d;
     });
     m.def("build_info", []() {

@@ -24,6 +24,7 @@ struct CudaInfo {
     std::string name;        // device 0
     int64_t memory_bytes = 0;
     std::string compute_capability;
+    int driver_version = 0;  // cudaDriverGetVersion: 13000 for 13.0 (0: unknown)
 };
 
 // Device 0 and whether kernels of this build run on it. LANTERN_DISABLE_CUDA=1 hides the GPU.

@@ -1,0 +1,175 @@
+"""The child process of the GPU self-check (gpu_selfcheck.py): renders the conformance set on
+the GPU and on the CPU and compares them. Run by the parent only:
+
+    python -m lantern.gpu_selfcheck_run [--double pass|fail|nan|hang|crash] [--cases a/b,...]
+
+Protocol (stdout): "start <case>" before each case (so that a parent whose child hung or
+crashed can name the case), then one "result {json}" line: ok, reason, case, cases. Exit
+status 0 when every case passed, 1 when one failed; anything else is a crash.
+
+The set (32 x 32, max_depth 6, pt and cis each): a diffuse furnace, the features box (a
+textured floor, an alpha card, a normal map, mix shaders, glass), a glass lantern around a
+light, and a glossy ball under an environment map with a sun. Each case renders SEEDS seeds
+of SPP samples on each side and compares them with lantern.metrics.compare_renders (8 x 8
+blocks and the image mean, Bonferroni at 1e-3); a failed comparison is rendered again with
+fresh seeds and counts only when that fails too (a correct GPU then fails the set with
+probability about 8 x (2e-3)^2). The doubles stand in for the GPU renderer: "pass" renders on
+the CPU (other seeds), "fail" does so 25 % too bright, "nan" puts a NaN in a pixel, "hang"
+sleeps, "crash" aborts the process."""
+
+import argparse
+import json
+import os
+import sys
+import time
+
+import numpy as np
+
+SIZE = 32
+SEEDS = 8
+SPP = 8
+MAX_DEPTH = 6
+CASES = ("furnace/pt", "features/pt", "envmap/pt", "furnace/cis", "features/cis", "glass/cis",
+         "envmap/cis")   # glass/pt: pt cannot render the lantern in seconds (noise 5-8 %)
+ABSURD = 1e7   # a pixel brighter than this in these scenes is a fault, not light
+
+
+def _envmap_scene(size):
+    from lantern import Scene, scenes
+    scene = Scene()
+    scene.film.update(width=size, height=size)
+    scene.look_at((0.0, -3.0, 0.4), (0.0, 0.0, 0.0), fov=45.0)
+    gloss = scene.add_material("gloss", type="conductor", base_color=(0.9, 0.7, 0.5),
+                               roughness=0.3)
+    pos, idx = scenes.icosphere(3, 0.9)
+    scene.add_mesh(pos, idx, material=gloss, name="ball")
+    h, w = 16, 32
+    up = np.clip((np.arange(h)[::-1] + 0.5) / h * 2.0 - 1.0, 0.0, 1.0)
+    sky = np.empty((h, w, 3), np.float32)
+    sky[..., 0], sky[..., 1], sky[..., 2] = (0.3 + 0.4 * up)[:, None], 0.35 + 0.4 * up[:, None], \
+        (0.4 + 0.6 * up)[:, None]
+    sky[h // 2:] *= 0.3
+    sky[3:6, 9:12] = [40.0, 36.0, 28.0]   # a sun: importance sampling matters
+    scene.world = {"color": [0.0, 0.0, 0.0], "map": sky, "strength": [1.0, 1.0, 1.0]}
+    return scene
+
+
+def scene_for(name, size=SIZE):
+    from lantern import scenes
+    if name == "furnace":  # every path runs to max_depth: the smallest film that has 4 blocks
+        return scenes.furnace_sphere(albedo=0.5, emission=1.0, width=16, height=16)
+    if name == "features":
+        return scenes.features_box(width=size, height=size)
+    if name == "glass":
+        return scenes.glass_lantern(width=size, height=size)
+    if name == "envmap":
+        return _envmap_scene(size)
+    raise ValueError(f"unknown self-check scene {name!r}")
+
+
+def render(scene, backend, integrator, seeds):
+    """One image per seed; raises when a session did not run on `backend`."""
+    import lantern
+    out = []
+    for seed in seeds:
+        s = lantern.Session(scene, backend=backend, integrator=integrator, seed=seed,
+                            max_depth=MAX_DEPTH, spp_per_iteration=SPP // 2, threads=0)
+        s.step()
+        s.step()
+        if s.backend != backend:
+            raise RuntimeError(f"the session rendered on {s.backend}, not {backend}: "
+                               f"{'; '.join(s.warnings)}")
+        out.append(np.asarray(s.image(), np.float64))
+    return out
+
+
+def gpu_renderer(double):
+    """The GPU renderer, or a test double standing in for it."""
+    if not double:
+        return lambda scene, integ, seeds: render(scene, "cuda", integ, seeds)
+    if double == "pass":
+        return lambda scene, integ, seeds: render(scene, "cpu", integ, [s + 7919 for s in seeds])
+    if double == "fail":
+        return lambda scene, integ, seeds: [1.25 * im for im in
+                                            render(scene, "cpu", integ, [s + 7919 for s in seeds])]
+    if double == "nan":
+        def nan(scene, integ, seeds):
+            ims = render(scene, "cpu", integ, [s + 7919 for s in seeds])
+            ims[0][SIZE // 2, SIZE // 2, 1] = np.nan
+            return ims
+        return nan
+    if double == "hang":
+        def hang(scene, integ, seeds):
+            time.sleep(3600.0)
+            return []
+        return hang
+    if double == "crash":
+        def crash(scene, integ, seeds):
+            sys.stdout.flush()
+            os.abort()
+        return crash
+    raise ValueError(f"unknown self-check double {double!r}")
+
+
+def check_values(images):
+    """None when every pixel is finite, non-negative and below ABSURD, else what is wrong."""
+    for k, im in enumerate(images):
+        bad = ~np.isfinite(im)
+        if bad.any():
+            y, x = np.argwhere(bad)[0][:2]
+            return f"{int(bad.sum())} non-finite values (first at pixel ({x}, {y}) of seed {k})"
+        if im.min() < -1e-6:
+            return f"a negative pixel value {im.min():.3g}"
+        if im.max() > ABSURD:
+            return f"a pixel value of {im.max():.3g}"
+    return None
+
+
+def run_case(case, gpu, round_=0):
+    """None when the case passes, else the reason."""
+    from lantern import metrics
+    scene_name, integ = case.split("/")
+    scene = scene_for(scene_name)
+    seeds = [1000 * round_ + k for k in range(SEEDS)]
+    try:
+        a = gpu(scene, integ, seeds)
+    except Exception as e:  # a launch error, an out-of-memory, a fallback
+        return f"the GPU render raised {type(e).__name__}: {str(e).strip()[:300]}"
+    bad = check_values(a)
+    if bad:
+        return f"the GPU image has {bad}"
+    b = render(scene, "cpu", integ, [s + 104729 for s in seeds])
+    res = metrics.compare_renders(a, b, block=8)
+    if res.passed:
+        return None
+    first = str(res).strip().splitlines()
+    return f"the GPU image differs from the CPU's ({first[0] if first else 'no detail'})"
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--double", default=None)
+    ap.add_argument("--cases", default=None)
+    a = ap.parse_args(argv)
+    cases = a.cases.split(",") if a.cases else list(CASES)
+    gpu = gpu_renderer(a.double)
+    done = []
+    for case in cases:
+        print(f"start {case}", flush=True)
+        why = run_case(case, gpu)
+        if why and "differs" in why:
+            print(f"confirm {case}", flush=True)
+            why = run_case(case, gpu, round_=1)  # fresh seeds: one unlucky comparison is not a fault
+        done.append({"case": case, "ok": why is None, "reason": why or ""})
+        if why:
+            result = {"ok": False, "case": case, "cases": done,
+                      "reason": f"the GPU self-check failed on '{case}': {why}"}
+            print("result " + json.dumps(result), flush=True)
+            return 1
+    print("result " + json.dumps({"ok": True, "case": "", "cases": done,
+                                  "reason": f"the GPU passed {len(done)} cases"}), flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
