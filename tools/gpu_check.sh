@@ -18,6 +18,16 @@
 # tools/export_bench_scenes.py). Without them the benchmark runs on the committed
 # bench/scenes/*.lantern only (and says so). Committed scenes used: bench/scenes/*.lantern.
 #
+# Options: --prebuilt [DIR] links the CUDA objects tools/gpu_prebuild.sh made beforehand on a
+# developer machine (DIR default build/gpu_prebuilt, carried with the working tree; its stamp
+# must match these sources, checked first, before the GPU; it never rebuilds them), so the
+# build step is the C++ core and the Python module only (about a minute on 16 cores):
+#   run(command="bash tools/gpu_check.sh --prebuilt", carry=["build/gpu_prebuilt",
+#       "build/bench_scenes"], timeout_s=600)
+# --quick: the CUDA backend's own tests, the quick comparison and benchmark, a 200 s budget
+# (with --prebuilt, under 4 minutes in all). Every step runs under a timeout from the budget,
+# so a hang in one still leaves the table of the others.
+#
 # Exit: 0 all passed; 1 a step failed; 3 no GPU (nothing run). Environment: PYTHON (python3),
 # OUT, GPU_CHECK_JOBS (nproc), GPU_CHECK_BUDGET (seconds, 480), GPU_CHECK_BUILD_DIR
 # (build/gpu_check), GPU_CHECK_CPU_ONLY=1 (test this script without a GPU: no build, the
@@ -29,9 +39,23 @@ set -u -o pipefail
 
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$ROOT"
+PREBUILT=""
+QUICK=0
+while [ $# -gt 0 ]; do
+    case "$1" in
+        --prebuilt)
+            PREBUILT="$ROOT/build/gpu_prebuilt"
+            if [ $# -gt 1 ] && [ "${2#--}" = "$2" ]; then PREBUILT="$(cd "$2" 2>/dev/null && pwd || echo "$2")"; shift; fi ;;
+        --quick) QUICK=1 ;;
+        -h|--help) sed -n '2,40p' "${BASH_SOURCE[0]}"; exit 0 ;;
+        *) echo "gpu_check: unknown option $1 (--prebuilt [DIR], --quick)" >&2; exit 2 ;;
+    esac
+    shift
+done
 PY="${PYTHON:-python3}"
 OUT="${OUT:-$ROOT/gpu_check_out}"
-BUDGET="${GPU_CHECK_BUDGET:-480}"
+DEFAULT_BUDGET=480; [ "$QUICK" = 1 ] && DEFAULT_BUDGET=200
+BUDGET="${GPU_CHECK_BUDGET:-$DEFAULT_BUDGET}"
 JOBS="${GPU_CHECK_JOBS:-$(nproc 2>/dev/null || echo 4)}"
 BUILD="${GPU_CHECK_BUILD_DIR:-$ROOT/build/gpu_check}"
 CPU_ONLY="${GPU_CHECK_CPU_ONLY:-0}"
@@ -79,7 +103,26 @@ pkill_sampler() {
     fi
 }
 
-# ---- 0. A GPU, or a clear message ----
+# ---- 0. A prebuilt backend that matches these sources (before the GPU: it costs seconds) ----
+if [ -n "$PREBUILT" ]; then
+    if [ ! -f "$PREBUILT/stamp.txt" ] || ! ls "$PREBUILT"/objects/*.o >/dev/null 2>&1; then
+        say "--prebuilt: $PREBUILT has no stamp.txt or objects/*.o: make it with tools/gpu_prebuild.sh and carry it"
+        exit 1
+    fi
+    want="$(head -1 "$PREBUILT/stamp.txt")"
+    nvcc_line="$(sed -n 2p "$PREBUILT/stamp.txt")"
+    have="$("$PY" tools/gpu_prebuilt_stamp.py --nvcc "$nvcc_line")"
+    if [ "$want" != "$have" ]; then
+        say "--prebuilt: $PREBUILT is stale (its stamp $want, these sources $have): run tools/gpu_prebuild.sh again"
+        exit 1
+    fi
+    if command -v nvcc >/dev/null 2>&1 && [ "$(nvcc --version | tail -1)" != "$nvcc_line" ]; then
+        say "--prebuilt: built by '$nvcc_line', this machine has '$(nvcc --version | tail -1)'"
+    fi
+    say "--prebuilt: $PREBUILT, stamp $want ($(sed -n 3p "$PREBUILT/stamp.txt"))"
+fi
+
+# ---- 0b. A GPU, or a clear message ----
 if [ "$CPU_ONLY" = 1 ]; then
     BACKEND=cpu
     GPU_NAME="none (GPU_CHECK_CPU_ONLY=1: backend cpu, toy sizes)"
@@ -93,11 +136,11 @@ else
         say "This check needs the GPU machine: run it through the device tool, see docs/gpu.md."
         exit 3
     fi
-    if ! command -v nvcc >/dev/null 2>&1; then
+    if [ -z "$PREBUILT" ] && ! command -v nvcc >/dev/null 2>&1; then
         say "GPU '$GPU_NAME' found, but no nvcc on PATH: cannot build the CUDA backend"
         exit 3
     fi
-    say "GPU: $GPU_NAME; $(nvcc --version | tail -1)"
+    say "GPU: $GPU_NAME; $(nvcc --version 2>/dev/null | tail -1)"
 fi
 say "python: $($PY --version 2>&1) ($PY); jobs $JOBS; budget ${BUDGET}s"
 
@@ -107,14 +150,22 @@ if [ "$CPU_ONLY" = 1 ]; then
     PYTHONPATH="$ROOT/python" "$PY" -c "import lantern, sys; sys.exit(not lantern.native_available())"
     step_result build $? 0 "skipped (CPU-only check: using the lantern._core this python finds)"
 else
+    if [ -n "$PREBUILT" ]; then
+        CUDA_ARGS=(-DLANTERN_CUDA_PREBUILT="$PREBUILT" -DLANTERN_BUILD_TESTS=OFF)
+        TARGETS=(--target _core)
+    else
+        CUDA_ARGS=(-DLANTERN_CUDA=ON -DCMAKE_CUDA_ARCHITECTURES=90 -DLANTERN_CUDA_RESOURCE_USAGE=ON
+                   -DLANTERN_CUDA_PREBUILT=)
+        TARGETS=()
+    fi
     {
         cmake -S . -B "$BUILD" -DCMAKE_BUILD_TYPE=Release -DLANTERN_BUILD_PYTHON=ON \
-            -DPython_EXECUTABLE="$(command -v "$PY")" -DLANTERN_CUDA=ON \
-            -DCMAKE_CUDA_ARCHITECTURES=90 -DLANTERN_EMBREE=OFF -DLANTERN_CUDA_RESOURCE_USAGE=ON &&
-            cmake --build "$BUILD" -j "$JOBS" &&
+            -DPython_EXECUTABLE="$(command -v "$PY")" -DLANTERN_EMBREE=OFF "${CUDA_ARGS[@]}" &&
+            timeout $(( $(left) - 60 )) cmake --build "$BUILD" -j "$JOBS" "${TARGETS[@]}" &&
             cp "$BUILD"/_core*.so python/lantern/
     } > "$LOG/build.txt" 2>&1
     rc=$?
+    [ -n "$PREBUILT" ] && cat "$PREBUILT/build.txt" >> "$LOG/build.txt" 2>/dev/null
     frame=$(grep -o '[0-9]* bytes stack frame' "$LOG/build.txt" | sort -n | tail -1)
     step_result build $rc $((SECONDS - t)) "$(grep -m1 'Lantern: CUDA' "$LOG/build.txt" |
         sed 's/^-- //'); largest kernel stack frame: ${frame:-unknown}"
@@ -128,7 +179,9 @@ fi
 if [ "$CPU_ONLY" != 1 ]; then
     t=$SECONDS
     "$PY" tools/cuda_resource_table.py "$LOG/build.txt" > "$LOG/resource_usage.md" 2>&1
-    timeout 120 "$BUILD/lantern_exec_conformance_cuda" > "$LOG/conformance.txt" 2>&1
+    CONFORMANCE="$BUILD/lantern_exec_conformance_cuda"
+    [ -n "$PREBUILT" ] && CONFORMANCE="$PREBUILT/lantern_exec_conformance_cuda"
+    timeout 120 "$CONFORMANCE" > "$LOG/conformance.txt" 2>&1
     rc=$?
     step_result conform $rc $((SECONDS - t)) "$(tail -1 "$LOG/conformance.txt")"
     cp "$LOG/conformance.txt" "$OUT/conformance.txt" 2>/dev/null
@@ -156,9 +209,11 @@ if [ "$CPU_ONLY" = 1 ]; then
 else
     TEST_BACKENDS=cpu,cuda
     PYTEST_ARGS=(tests/python)
+    [ "$QUICK" = 1 ] && PYTEST_ARGS=(tests/python/test_cuda_backend.py)
     [ -n "$PYTEST_K" ] && PYTEST_ARGS+=(-k "$PYTEST_K")
 fi
-tlimit=$(( $(left) - 200 )); [ $tlimit -lt 60 ] && tlimit=60
+tlimit=$(( $(left) - 200 )); [ "$QUICK" = 1 ] && tlimit=$(( $(left) - 100 ))
+[ $tlimit -lt 60 ] && tlimit=60
 LANTERN_TEST_BACKENDS=$TEST_BACKENDS LANTERN_TEST_BACKENDS_STRICT=1 MPLBACKEND=Agg \
     timeout "$tlimit" "$PY" -m pytest -v -rfEs -p no:cacheprovider --durations=10 \
     "${PYTEST_ARGS[@]}" > "$LOG/pytest.txt" 2>&1
@@ -173,6 +228,7 @@ if [ "$BACKEND" = cuda ]; then
         > "$LOG/gpu_mem.csv" 2>/dev/null) &
     SAMPLER=$!
     COMPARE_ARGS=(--backends cpu,cuda)
+    [ "$QUICK" = 1 ] && COMPARE_ARGS+=(--quick)
 else
     COMPARE_ARGS=(--backends cpu,cpu --quick)
 fi
@@ -190,6 +246,7 @@ fi
 t=$SECONDS
 if [ "$BACKEND" = cuda ]; then
     BENCH_ARGS=(--backend cuda --budget 15)
+    [ "$QUICK" = 1 ] && BENCH_ARGS=(--backend cuda --budget 8 --scenes bench_fixture,bench_glossy)
     have=$(ls build/bench_scenes/*.lantern 2>/dev/null | wc -l)
     [ "$have" -eq 0 ] && BENCH_ARGS+=(--scenes bench_fixture,bench_glossy) &&
         say "build/bench_scenes is empty (not carried): benchmarking the committed small scenes"

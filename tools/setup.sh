@@ -39,7 +39,7 @@ fi
 
 # ---- build and install lantern (incremental: build/py keeps the CMake tree) ----
 export CMAKE_BUILD_PARALLEL_LEVEL=${CMAKE_BUILD_PARALLEL_LEVEL:-$(nproc)}
-export CMAKE_ARGS="${CMAKE_ARGS:-} -DCMAKE_CUDA_ARCHITECTURES=${LANTERN_CUDA_ARCHS:-90}"
+export CMAKE_ARGS="${CMAKE_ARGS:-} -DCMAKE_CUDA_ARCHITECTURES=${LANTERN_CUDA_ARCHS:-90} -DLANTERN_CUDA_KEEP_PTX=$PWD/build/ptx"
 log=build/setup-build.log
 mkdir -p build
 if ! .venv/bin/python -m pip install --no-build-isolation --no-deps . >"$log" 2>&1; then

@@ -9,7 +9,7 @@
 namespace lantern {
 
 // Every lobe's eval and sample on the device (native/src/bsdf/): one thread per direction pair.
-__global__ void bsdf_lobes_kernel(const Vec3* wo, const Vec3* wi, const Vec2* u, Vec3* out, int n) {
+__global__ void __launch_bounds__(256, 2) bsdf_lobes_kernel(const Vec3* wo, const Vec3* wi, const Vec2* u, Vec3* out, int n) {
     int i = blockIdx.x * blockDim.x + threadIdx.x;
     if (i >= n) return;
     ConductorParams c = conductor_complex(0.3f, vec3(0.2f), vec3(3.0f));

@@ -75,3 +75,63 @@ def test_gpu_check_without_gpu_says_so(tmp_path):
     assert p.returncode == 3, p.stdout + p.stderr
     assert "no NVIDIA GPU" in p.stdout and "docs/gpu.md" in p.stdout
     assert "no NVIDIA GPU" in (tmp_path / "summary.txt").read_text()
+
+
+def fake_prebuilt(folder, stamp=None):
+    """A carried prebuilt backend (tools/gpu_prebuild.sh's layout) with the stamp of these
+    sources, or the one given."""
+    (folder / "objects").mkdir(parents=True)
+    (folder / "objects" / "cuda_renderer.cu.o").write_bytes(b"\0")
+    nvcc = "Build cuda_13.0.r13.0/compiler.test_0"
+    if stamp is None:
+        stamp = run(sys.executable, ROOT / "tools" / "gpu_prebuilt_stamp.py", "--nvcc",
+                    nvcc).stdout.strip()
+    (folder / "stamp.txt").write_text(f"{stamp}\n{nvcc}\narchs 90-real;90-virtual, built "
+                                      f"2026-12-04T00:00:00Z in 1 s on test\n")
+    return folder
+
+
+def test_gpu_check_prebuilt_without_gpu_exits_in_seconds_and_never_builds(tmp_path):
+    pre = fake_prebuilt(tmp_path / "pre")
+    build = tmp_path / "build"
+    p = run("bash", ROOT / "tools" / "gpu_check.sh", "--prebuilt", pre,
+            env={"GPU_CHECK_NVIDIA_SMI": "/nonexistent/nvidia-smi", "OUT": str(tmp_path / "o"),
+                 "GPU_CHECK_BUILD_DIR": str(build), "PYTHON": sys.executable}, timeout=30)
+    assert p.returncode == 3, p.stdout + p.stderr
+    assert "--prebuilt: " in p.stdout and "stamp" in p.stdout and "no NVIDIA GPU" in p.stdout
+    assert not build.exists()
+
+
+@pytest.mark.parametrize("layout", ["stale", "empty"])
+def test_gpu_check_refuses_a_stale_or_missing_prebuilt(tmp_path, layout):
+    pre = tmp_path / "pre"
+    if layout == "stale":
+        fake_prebuilt(pre, stamp="0123456789abcdef0123")
+    p = run("bash", ROOT / "tools" / "gpu_check.sh", "--prebuilt", pre,
+            env={"GPU_CHECK_NVIDIA_SMI": "/nonexistent/nvidia-smi", "OUT": str(tmp_path / "o"),
+                 "PYTHON": sys.executable}, timeout=30)
+    assert p.returncode == 1, p.stdout + p.stderr
+    assert ("is stale" if layout == "stale" else "gpu_prebuild.sh") in p.stdout
+
+
+@pytest.mark.skipif(subprocess.run("command -v nvcc", shell=True).returncode != 0,
+                    reason="no nvcc")
+def test_kernel_check_fails_an_unbounded_kernel_it_cannot_measure(tmp_path):
+    """tools/cuda_kernel_check.py (CI's check of every kernel): a kernel without a launch bound
+    passes when ptxas measures it here, fails when it is too large to measure here (the
+    negative control), and a bounded one passes either way."""
+    src = tmp_path / "k.cu"
+    src.write_text("__global__ void unbounded(float* a) { a[threadIdx.x] = 1.0f; }\n"
+                   "__global__ void __launch_bounds__(256, 2) bounded(float* a) "
+                   "{ a[threadIdx.x] = 2.0f; }\n")
+    (tmp_path / "ptx").mkdir()
+    subprocess.run(["nvcc", "-ptx", "-arch=compute_90", str(src), "-o",
+                    str(tmp_path / "ptx" / "k.ptx")], check=True, timeout=120)
+    tool = ROOT / "tools" / "cuda_kernel_check.py"
+    p = run(sys.executable, tool, tmp_path / "ptx", "-j", "1")
+    assert p.returncode == 0, p.stdout + p.stderr
+    assert "2 kernels: 0 failing, 2 measured" in p.stdout
+    p = run(sys.executable, tool, tmp_path / "ptx", "--max-lines", "0")
+    assert p.returncode == 1, p.stdout + p.stderr
+    assert "`unbounded(float*)` **FAIL: not measured here and no launch bound" in p.stdout
+    assert "2 kernels: 1 failing, 0 measured" in p.stdout

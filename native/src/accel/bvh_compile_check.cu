@@ -4,27 +4,31 @@
 #include "accel/bvh.h"
 #include "accel/tlas.h"
 
+// At most 128 registers a thread, as the backend's kernels (each_kernel's bound): the alpha-tested
+// traversals took 178-222 without it.
+#define LANTERN_TRAVERSAL_BOUNDS __launch_bounds__(256, 2)
+
 namespace lantern {
 
-__global__ void bvh_intersect_kernel(BvhView bvh, const Ray* rays, BvhHit* hits, int n,
+__global__ void LANTERN_TRAVERSAL_BOUNDS bvh_intersect_kernel(BvhView bvh, const Ray* rays, BvhHit* hits, int n,
                                      uint32_t need) {
     int i = blockIdx.x * blockDim.x + threadIdx.x;
     if (i < n) hits[i] = bvh_intersect(bvh, rays[i], need);
 }
 
-__global__ void bvh_occluded_kernel(BvhView bvh, const Ray* rays, uint8_t* occluded, int n) {
+__global__ void LANTERN_TRAVERSAL_BOUNDS bvh_occluded_kernel(BvhView bvh, const Ray* rays, uint8_t* occluded, int n) {
     int i = blockIdx.x * blockDim.x + threadIdx.x;
     if (i < n) occluded[i] = bvh_occluded(bvh, rays[i], kBvhNeedShadow) ? 1 : 0;
 }
 
 // With the scene's stochastic alpha test (scene/alpha.h), as the backend will call it.
-__global__ void bvh_intersect_alpha_kernel(BvhView bvh, SceneView scene, const Ray* rays,
+__global__ void LANTERN_TRAVERSAL_BOUNDS bvh_intersect_alpha_kernel(BvhView bvh, SceneView scene, const Ray* rays,
                                            BvhHit* hits, int n, uint32_t need) {
     int i = blockIdx.x * blockDim.x + threadIdx.x;
     if (i < n) hits[i] = bvh_intersect(bvh, rays[i], need, BvhAlphaTest{scene, rays[i]});
 }
 
-__global__ void bvh_occluded_alpha_kernel(BvhView bvh, SceneView scene, const Ray* rays,
+__global__ void LANTERN_TRAVERSAL_BOUNDS bvh_occluded_alpha_kernel(BvhView bvh, SceneView scene, const Ray* rays,
                                           uint8_t* occluded, int n) {
     int i = blockIdx.x * blockDim.x + threadIdx.x;
     if (i < n)
@@ -32,13 +36,13 @@ __global__ void bvh_occluded_alpha_kernel(BvhView bvh, SceneView scene, const Ra
 }
 
 // The two-level traversal (accel/tlas.h): instances over per-mesh bottom levels.
-__global__ void tlas_intersect_alpha_kernel(TlasView tl, SceneView scene, const Ray* rays,
+__global__ void LANTERN_TRAVERSAL_BOUNDS tlas_intersect_alpha_kernel(TlasView tl, SceneView scene, const Ray* rays,
                                             BvhHit* hits, int n, uint32_t need) {
     int i = blockIdx.x * blockDim.x + threadIdx.x;
     if (i < n) hits[i] = tlas_intersect(tl, rays[i], need, BvhAlphaTest{scene, rays[i]});
 }
 
-__global__ void tlas_occluded_kernel(TlasView tl, const Ray* rays, uint8_t* occluded, int n) {
+__global__ void LANTERN_TRAVERSAL_BOUNDS tlas_occluded_kernel(TlasView tl, const Ray* rays, uint8_t* occluded, int n) {
     int i = blockIdx.x * blockDim.x + threadIdx.x;
     if (i < n) occluded[i] = tlas_occluded(tl, rays[i], kBvhNeedShadow) ? 1 : 0;
 }

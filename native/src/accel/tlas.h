@@ -47,6 +47,11 @@ LANTERN_HD inline Ray tlas_object_ray(const BvhInstance& in, const Ray& r, float
     return o;
 }
 
+// The top level's stack: its builder (median splits) stops at depth kTlasStackSize - 2, so 2^30
+// leaves fit; half the bottom level's, so a thread's two stacks take 768 bytes, not 1,024 (the
+// alpha-tested two-level traversal was 2,144 bytes of stack frame with 64).
+constexpr int kTlasStackSize = 32;
+
 // ---- Traversal ----
 // The top level as bvh_traverse walks a BVH (nearer child first, a fixed stack); at a leaf each
 // instance's bottom level is traversed with the ray shortened to the closest hit so far. The
@@ -58,8 +63,8 @@ LANTERN_HD inline BvhHit tlas_traverse(const TlasView& tl, const Ray& ray, uint3
     if (tl.num_nodes == 0) return hit;
     const BvhRay r = bvh_ray(ray);
     float tmax = ray.tmax;
-    int32_t stack_node[kBvhStackSize];
-    float stack_dist[kBvhStackSize];
+    int32_t stack_node[kTlasStackSize];
+    float stack_dist[kTlasStackSize];
     int sp = 0;
     int32_t cur = 0;
     for (;;) {

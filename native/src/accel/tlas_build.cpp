@@ -41,7 +41,7 @@ struct TopBuilder {
             grow(r, box[2 * ids[i]], box[2 * ids[i] + 1]);
             r.mask |= tl.instances[ids[i]].mask;
         }
-        if (e - b <= kTlasLeaf || depth >= kBvhStackSize - 2) {
+        if (e - b <= kTlasLeaf || depth >= kTlasStackSize - 2) {
             r.index = int32_t(tl.leaf_inst.size());
             r.count = uint32_t(e - b);
             for (int i = b; i < e; ++i) tl.leaf_inst.push_back(ids[i]);
