@@ -6,7 +6,11 @@
     python bench/bits_check.py --compare /tmp/a /tmp/b
 
 Used for issue 13 (one wavefront): a change of schedule must keep the CPU's bits where the
-algorithm did not change. Small sizes: a check of identity, not of convergence."""
+algorithm did not change. Small sizes: a check of identity, not of convergence. Beyond the
+scenes' own materials: the features box with its mix leaves textured (every integrator), pt
+with resampled next-event estimation (light_candidates 4) there and on the many-light stage,
+and with --node-scene a node-program scene (bench/node_cost.py export OUT 8: every Base Color a
+Noise -> 6 Math -> ColorRamp graph) with every integrator."""
 import argparse
 import hashlib
 import os
@@ -28,7 +32,35 @@ def small(scene, width):
     return scene
 
 
-def render_all(out, width, threads):
+def features_textured_mix(width):
+    """features_box with its mix leaves textured: the back wall's diffuse and metal leaves take
+    the floor's checker as base colour (and the metal as roughness)."""
+    scene = scenes.features_box(width, width)
+    checker = scene.materials[scene.material_id("checker_floor")]["base_color_texture"]
+    for name, keys in (("mix_diffuse", ["base_color_texture"]),
+                       ("mix_metal", ["base_color_texture", "roughness_texture"])):
+        m = scene.materials[scene.material_id(name)]
+        for k in keys:
+            m[k] = checker
+    return scene
+
+
+def render_one(out, name, scene, integ, threads, **settings):
+    tag = integ + "".join(f"_{k}{v}" for k, v in sorted(settings.items()))
+    try:
+        s = lantern.Session(scene, integrator=integ, seed=7, spp_per_iteration=2,
+                            backend="cpu", threads=threads, **settings)
+        s.step()
+        s.step()
+        img = s.image()
+    except Exception as e:  # an integrator that cannot render the scene says why
+        print(f"{name} {tag}: {e}")
+        return
+    np.save(os.path.join(out, f"{name}_{tag}.npy"), img)
+    print(f"{name} {tag}: {hashlib.sha1(img.tobytes()).hexdigest()[:16]}")
+
+
+def render_all(out, width, threads, node_scene=None):
     os.makedirs(out, exist_ok=True)
     here = os.path.dirname(__file__)
     for name in SCENES:
@@ -38,17 +70,18 @@ def render_all(out, width, threads):
         else:
             scene = getattr(scenes, name)(width, width)
         for integ in INTEGRATORS:
-            try:
-                s = lantern.Session(scene, integrator=integ, seed=7, spp_per_iteration=2,
-                                    backend="cpu", threads=threads)
-                s.step()
-                s.step()
-                img = s.image()
-            except Exception as e:  # an integrator that cannot render the scene says why
-                print(f"{name} {integ}: {e}")
-                continue
-            np.save(os.path.join(out, f"{name}_{integ}.npy"), img)
-            print(f"{name} {integ}: {hashlib.sha1(img.tobytes()).hexdigest()[:16]}")
+            render_one(out, name, scene, integ, threads)
+    textured = features_textured_mix(width)
+    for integ in INTEGRATORS:
+        render_one(out, "features_textured_mix", textured, integ, threads)
+    render_one(out, "features_textured_mix", textured, "pt", threads, light_candidates=4)
+    render_one(out, "many_lights_stage", scenes.many_lights_stage(width, width), "pt", threads,
+               light_candidates=4)
+    if node_scene:
+        nodes = small(lantern.load_scene(node_scene), width)
+        for integ in INTEGRATORS:
+            render_one(out, "nodes", nodes, integ, threads)
+        render_one(out, "nodes", nodes, "pt", threads, light_candidates=4)
 
 
 def compare(a, b):
@@ -75,7 +108,8 @@ if __name__ == "__main__":
     ap.add_argument("--compare", nargs=2)
     ap.add_argument("--width", type=int, default=64)
     ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--node-scene", help="a node-program scene (bench/node_cost.py export)")
     args = ap.parse_args()
     if args.compare:
         sys.exit(0 if compare(*args.compare) else 1)
-    render_all(args.out, args.width, args.threads)
+    render_all(args.out, args.width, args.threads, args.node_scene)
