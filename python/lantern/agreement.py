@@ -20,7 +20,7 @@ from functools import cached_property
 
 import numpy as np
 
-from . import metrics, student_t
+from . import blocks as stats, student_t
 
 DEFAULT_ALPHA = 1e-3
 DEFAULT_BIAS_CAP = 0.002    # a systematic image-mean difference tolerated (0.2 %)
@@ -42,7 +42,7 @@ class Agreement:
     relative to its reference level (every block with signal weighted by its precision, at most
     the median block's, so that a bright, noisy emitter does not hide a bias elsewhere).
     `mean_a`, `mean_b`: image means."""
-    blocks: metrics.Comparison
+    blocks: stats.Comparison
     mean_a: np.ndarray
     mean_b: np.ndarray
     rel: np.ndarray
@@ -68,7 +68,7 @@ class Agreement:
     def mean_p(self):
         """P(a fair comparison exceeds the observed |difference| beyond the cap), per test
         and channel: the two-sided t tail of (|rel| - cap)+ / se (1 within the cap)."""
-        z = metrics._z(np.maximum(np.abs(self.rel) - self.bias_cap, 0.0), self.rel_se)
+        z = stats._z(np.maximum(np.abs(self.rel) - self.bias_cap, 0.0), self.rel_se)
         return student_t.two_sided_tail(np.where(np.isnan(self.rel), np.nan, z), self.rel_dof)
 
     @property
@@ -146,9 +146,9 @@ def compare_renders(renders_a, renders_b, block=8, alpha=DEFAULT_ALPHA,
     """Compare two sets of independent renders (module docstring). `mask` (Bh, Bw) bool
     selects the blocks compared (default all); `se_floor` (absolute) and `rel_floor` (times
     |mean_b|) are float-rounding allowances added in quadrature to every standard error."""
-    sa = metrics.seed_blocks(renders_a, block)
+    sa = stats.seed_blocks(renders_a, block)
     b = _as_b(renders_b, block, sa.shape[1:])
-    cmp = metrics.compare_sets(metrics.SeedBlocks(sa), b, block, se_floor=se_floor,
+    cmp = stats.compare_sets(stats.SeedBlocks(sa), b, block, se_floor=se_floor,
                                rel_floor=rel_floor)
     bh, bw, c = cmp.z.shape
     mask = np.ones((bh, bw), bool) if mask is None else np.asarray(mask, bool)
@@ -159,7 +159,7 @@ def compare_renders(renders_a, renders_b, block=8, alpha=DEFAULT_ALPHA,
     cmp.z = np.where(mask[..., None], cmp.z, 0.0)
     cmp.n_compared = int(mask.sum()) * c
     cmp.bias_cap = float(bias_cap)
-    sb = b.blocks if isinstance(b, metrics.SeedBlocks) else None
+    sb = b.blocks if isinstance(b, stats.SeedBlocks) else None
     # ---- the image mean ----
     ma = sa[:, mask].mean(axis=1)
     mb = None if sb is None else sb[:, mask].mean(axis=1)
@@ -219,11 +219,11 @@ def _nanmean_stack(x):
 
 def _as_b(renders_b, block, grid):
     """renders_b as SeedBlocks, or as it is when it is an exact value or image."""
-    if isinstance(renders_b, metrics.SeedBlocks):
+    if isinstance(renders_b, stats.SeedBlocks):
         return renders_b
-    if metrics._exact_blocks(renders_b, 3, grid, block) is not None:
+    if stats._exact_blocks(renders_b, 3, grid, block) is not None:
         return renders_b
-    return metrics.SeedBlocks(metrics.seed_blocks(renders_b, block))
+    return stats.SeedBlocks(stats.seed_blocks(renders_b, block))
 
 
 # ---- Negative controls ----
@@ -261,24 +261,24 @@ def negative_controls(renders_a, renders_b, block=8, image_bias=CONTROL_IMAGE_BI
     every seed's block means: +-image_bias (1 %) on the whole image, +-block_bias (5 %) on one
     typical block (control_block), two channels swapped. The swap is left out where the
     reference's channel means are the same within 2 % (a grey image: it changes nothing)."""
-    sa = metrics.seed_blocks(renders_a, block)
-    base = compare_renders(metrics.SeedBlocks(sa), renders_b, block, **kwargs)
+    sa = stats.seed_blocks(renders_a, block)
+    base = compare_renders(stats.SeedBlocks(sa), renders_b, block, **kwargs)
     by, bx = control_block(base)
     out = []
     for sign in (1.0, -1.0):  # both signs: a difference already there cannot mask one
         out.append((f"{sign * image_bias:+.1%} on the whole image",
-                    metrics.SeedBlocks(sa * (1.0 + sign * image_bias))))
+                    stats.SeedBlocks(sa * (1.0 + sign * image_bias))))
         one = sa.copy()
         one[:, by, bx, :] *= 1.0 + sign * block_bias
         out.append((f"{sign * block_bias:+.0%} on block ({by}, {bx})",
-                    metrics.SeedBlocks(one)))
+                    stats.SeedBlocks(one)))
     pair = _swap_pair(base.mean_b)
     results = [(label, compare_renders(x, renders_b, block, **kwargs)) for label, x in out]
     if pair:
         sw = sa.copy()
         sw[..., [pair[0], pair[1]]] = sa[..., [pair[1], pair[0]]]
         results.append((f"channels {'RGBA'[pair[0]]} and {'RGBA'[pair[1]]} swapped",
-                        compare_renders(metrics.SeedBlocks(sw), renders_b, block, **kwargs)))
+                        compare_renders(stats.SeedBlocks(sw), renders_b, block, **kwargs)))
     return results
 
 
@@ -316,6 +316,6 @@ def assert_agreement(name, renders_a, renders_b, block=8, controls=True,
 def false_alarm_bound(trials, alpha, level=1e-3):
     """Largest number of false alarms in `trials` independent fair comparisons consistent with
     a rate <= alpha (binomial, one-sided at `level`)."""
-    return metrics.binomial_bound(trials, alpha, level)
+    return stats.binomial_bound(trials, alpha, level)
 
 

@@ -1,0 +1,36 @@
+"""The house's layout rules (tools/layout_check.py, issue 31): no new source file over 600
+lines, no new import circle in python/lantern or addon, no source file in bench/results; the
+known exceptions may only shrink. The checker itself must see what it checks for."""
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT / "tools"))
+import layout_check  # noqa: E402
+
+
+def test_the_layout_keeps_to_its_rules():
+    p = subprocess.run([sys.executable, str(ROOT / "tools" / "layout_check.py")],
+                       capture_output=True, text=True, timeout=120)
+    assert p.returncode == 0, p.stdout + p.stderr
+
+
+def test_the_checker_finds_a_circle_and_none_in_a_line():
+    assert layout_check.cycles({"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}) == \
+        [["a", "b", "c"]]
+    assert layout_check.cycles({"a": {"b"}, "b": set(), "c": {"a", "b"}}) == []
+
+
+def test_python_lantern_has_no_import_circle():
+    """lantern.metrics re-exports blocks and agreement, which import neither it nor each
+    other back; gpu_selfcheck imports no other lantern module (issue 31)."""
+    mods = layout_check.modules("python/lantern", "lantern")
+    graph = {m: layout_check.imports(m, p, mods, p.endswith("__init__.py"))
+             for m, p in mods.items()}
+    graph = {m: {t for t in ts if not (mods[m].endswith("__init__.py") and
+                                       t.startswith(m + "."))} for m, ts in graph.items()}
+    assert layout_check.cycles(graph) == []
+    assert "lantern.metrics" not in graph["lantern.agreement"]
+    assert graph["lantern.gpu_selfcheck"] == set()
