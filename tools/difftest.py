@@ -39,6 +39,7 @@ if glob.glob(os.path.join(_SRC, "lantern", "_core*")) and _SRC not in sys.path:
 import difftest_build as db  # noqa: E402
 import difftest_known as dk  # noqa: E402
 import difftest_scene as ds  # noqa: E402
+import difftest_shrink  # noqa: E402
 
 ALPHA = 1e-3
 # the shrinker's test: stricter, so that a step that loses the disagreement is not kept on a
@@ -62,6 +63,16 @@ class Settings:
 def known_tags(case):
     """The known disagreements (difftest_known.KNOWN) a case has."""
     return sorted(dk.tags(case))
+
+
+# tags about noise, not about the image's expectation: they cannot explain a failed
+# agreement test (whose tolerance is each side's own measured noise)
+NOISE_ONLY = {"two lights"}
+
+
+def explaining_tags(case):
+    """The known tags of a case that could explain a disagreement (not NOISE_ONLY)."""
+    return dk.tags(case) - NOISE_ONLY
 
 
 # ---- rendering ----
@@ -142,6 +153,7 @@ class Result:
     status: str             # agree, differ, black, nonfinite, unsupported
     mean_rel: list = None   # Lantern / Cycles - 1, image mean per channel
     worst_z: float = 0.0
+    worst_excess: float = 0.0   # the worst block's z beyond the agreement test's bias cap
     threshold: float = 0.0
     worst_block: list = None
     worst_block_rel: float = 0.0
@@ -155,8 +167,9 @@ class Result:
         if self.status in ("black", "unsupported"):
             return self.status + (f" ({self.warnings[0]})" if self.warnings else "")
         mr = ", ".join(f"{x:+.2%}" for x in self.mean_rel or [])
-        return (f"{self.status}: image mean [{mr}], worst block z {self.worst_z:.1f} "
-                f"(threshold {self.threshold:.1f}) at {self.worst_block} "
+        return (f"{self.status}: image mean [{mr}], worst block z {self.worst_z:.1f}, "
+                f"{self.worst_excess:.1f} beyond the 0.2 % cap (threshold "
+                f"{self.threshold:.1f}) at {self.worst_block} "
                 f"({self.worst_block_rel:+.1%}), detects {self.detects:.1%}, "
                 f"{self.seconds:.1f} s")
 
@@ -180,7 +193,8 @@ def compare(lan, cyc, alpha=ALPHA, controls=True):
         mean_rel = [float(x) for x in np.where(a.mean_b != 0, a.mean_a / a.mean_b - 1.0,
                                                np.inf)]
     res = Result("agree" if a.passed else "differ", mean_rel=mean_rel,
-                 worst_z=float(cmp.worst), threshold=float(cmp.threshold(alpha)),
+                 worst_z=float(cmp.worst),
+                 worst_excess=float(np.max(np.abs(cmp.z_excess))), threshold=float(cmp.threshold(alpha)),
                  worst_block=list(idx), worst_block_rel=rel_block,
                  detects=float(a.detectable_bias()), text=str(a))
     if controls:
@@ -255,12 +269,20 @@ def parse(argv):
     ap.add_argument("--integrator", default="pt", choices=("pt", "bdpt", "lvc", "cis"))
     ap.add_argument("--threads", type=int, default=1)
     ap.add_argument("--minutes", type=float, default=None, help="stop starting cases after")
+    ap.add_argument("--until", metavar="HH:MM", default=None,
+                    help="a deadline (UTC, today): no case starts and no shrink step runs "
+                    "after it")
+    ap.add_argument("--resume", action="store_true",
+                    help="continue the run logged in --out: seeds already in its log.jsonl "
+                    "are skipped (so --seed S --cases N, run again, reaches N cases in all)")
     ap.add_argument("--no-shrink", action="store_true")
     ap.add_argument("--max-evals", type=int, default=150, help="shrink budget (renders of "
                     "the case on both sides)")
     ap.add_argument("--avoid", action="append", default=[], metavar="TAG",
                     help="draw no case with this known tag (difftest_known.KNOWN)")
     ap.add_argument("--avoid-known", action="store_true", help="avoid every known tag")
+    ap.add_argument("--allow", action="append", default=[], metavar="TAG",
+                    help="with --avoid-known: draw cases with this tag all the same")
     ap.add_argument("--blend", help="replay a saved .blend (its settings inside)")
     ap.add_argument("--case", nargs="+", help="rebuild and replay saved .json cases")
     return ap.parse_args(argv)
@@ -272,10 +294,11 @@ def _log(out_dir, entry):
         f.write(json.dumps(entry) + "\n")
 
 
-def investigate(case, st, out_dir, max_evals, shrink=True, mutate=None, say=print):
-    """A case that differed: confirm with other seeds and twice the samples, shrink, save.
-    Returns the info dict (also in the saved .json)."""
-    import difftest_shrink
+def investigate(case, st, out_dir, max_evals, shrink=True, mutate=None, say=print,
+                deadline=None):
+    """A case that differed: confirm with other seeds and twice the samples, shrink (a case
+    with a known tag is not shrunk: it is counted as known), save. Returns the info dict
+    (also in the saved .json)."""
     name = f"case-{case['profile']}-{case['seed']}"
     conf = run_case(case, st, base=1000, spp_factor=2, mutate=mutate, controls=False)
     say(f"  confirm (seeds 1001.., 2x spp): {conf.line()}")
@@ -284,7 +307,15 @@ def investigate(case, st, out_dir, max_evals, shrink=True, mutate=None, say=prin
     if conf.status not in ("differ", "nonfinite"):
         info["verdict"] = "not confirmed"
         return info
+    info["class"] = "known" if explaining_tags(case) else "new"
+    if info["class"] == "known":
+        say(f"  confirmed; known tags {sorted(explaining_tags(case))}: not shrunk")
+        info["verdict"] = "confirmed (known tag)"
+        return info
     small = case
+    if shrink and deadline is not None and time.time() > deadline:
+        say("  past the deadline: not shrunk")
+        shrink = False
     if shrink:
         strict = Settings(**dict(asdict(st), alpha=SHRINK_ALPHA))
         own = dk.tags(case)
@@ -295,7 +326,7 @@ def investigate(case, st, out_dir, max_evals, shrink=True, mutate=None, say=prin
                     "differ", "nonfinite")
         small, trail = difftest_shrink.shrink(
             case, fails,
-            max_evals=max_evals, say=say)
+            max_evals=max_evals, say=say, deadline=deadline)
         info["shrink_steps"] = trail
     final = run_case(small, st, base=3000, spp_factor=2, mutate=mutate, controls=False)
     say(f"  shrunk: {ds.describe(small)}")
@@ -334,29 +365,110 @@ def main(argv=None):
         return worst
     st = Settings(seeds=args.seeds, spp=args.spp, cycles_spp=args.cycles_spp or args.spp,
                   integrator=args.integrator, threads=args.threads)
+    deadline = None
+    if args.until:
+        import datetime
+        hh, mm = (int(x) for x in args.until.split(":"))
+        now = datetime.datetime.now(datetime.timezone.utc)
+        deadline = now.replace(hour=hh, minute=mm, second=0, microsecond=0).timestamp()
+    avoid = set(args.avoid) | (set(dk.KNOWN) - set(args.allow) if args.avoid_known else set())
+    run = {"profile": args.profile, "size": args.size, "settings": asdict(st),
+           "avoid": sorted(avoid), "command": " ".join([os.path.relpath(__file__)] +
+                                                       (argv or sys.argv[1:]))}
+    done = set()
+    if args.resume:
+        for e in read_log(args.out):
+            if e.get("profile") == args.profile and e.get("settings", asdict(st)) == asdict(st):
+                done.add(e["seed"])
     t_start = time.perf_counter()
     counts = {}
-    print(f"lantern {lantern.__file__}; settings {asdict(st)}", flush=True)
-    for i in range(args.cases):
+    print(f"lantern {lantern.__file__}; settings {asdict(st)}; avoid {sorted(avoid)}"
+          + (f"; resuming, {len(done)} cases in the log" if done else ""), flush=True)
+    seed, ran = args.seed - 1, 0
+    while ran < args.cases:
+        seed += 1
+        if seed in done:
+            continue
         if args.minutes and time.perf_counter() - t_start > 60 * args.minutes:
-            print(f"time limit: stopped after {i} cases")
+            print(f"time limit: stopped after {ran} cases")
             break
-        seed = args.seed + i
-        avoid = set(args.avoid) | (set(dk.KNOWN) if args.avoid_known else set())
+        if deadline is not None and time.time() > deadline:
+            print(f"deadline {args.until} UTC: stopped after {ran} cases")
+            break
+        ran += 1
         case = ds.generate(seed, args.profile, args.size, avoid)
         res = run_case(case, st)
         counts[res.status] = counts.get(res.status, 0) + 1
         print(f"[{seed}] {ds.describe(case)}\n  {res.line()}", flush=True)
-        entry = {"seed": seed, "profile": args.profile, "describe": ds.describe(case),
+        entry = {"seed": seed, "profile": args.profile, "settings": asdict(st),
+                 "avoid": sorted(avoid), "describe": ds.describe(case),
                  "result": asdict(res), "tags": known_tags(case)}
         if res.status in ("differ", "nonfinite"):
             entry["investigation"] = investigate(case, st, args.out, args.max_evals,
-                                                 shrink=not args.no_shrink)
+                                                 shrink=not args.no_shrink, deadline=deadline)
         _log(args.out, entry)
+        write_summary(args.out, run)
     wall = time.perf_counter() - t_start
     print(f"done in {wall / 60:.1f} min: " + ", ".join(f"{k} {v}" for k, v in
                                                      sorted(counts.items())))
     return 0
+
+
+def read_log(out_dir):
+    path = os.path.join(out_dir, "log.jsonl")
+    if not os.path.exists(path):
+        return []
+    with open(path) as f:
+        return [json.loads(line) for line in f if line.strip()]
+
+
+def classify(entry):
+    """agree | black | unsupported | not confirmed | known | new (a confirmed disagreement
+    with no known tag that explains it)."""
+    status = entry["result"]["status"]
+    if status not in ("differ", "nonfinite"):
+        return status
+    inv = entry.get("investigation", {})
+    if inv.get("verdict") == "not confirmed":
+        return "not confirmed"
+    return inv.get("class", "new")
+
+
+def write_summary(out_dir, run):
+    """DIR/summary.json from the whole log (every session that appended to it)."""
+    log = read_log(out_dir)
+    counts, new, known, secs = {}, [], [], []
+    for e in log:
+        k = classify(e)
+        counts[k] = counts.get(k, 0) + 1
+        secs.append(e["result"]["seconds"])
+        inv = e.get("investigation", {})
+        item = {"seed": e["seed"], "profile": e["profile"], "describe": e["describe"],
+                "first": e["result"]["status"], "tags": e["tags"]}
+        if k == "new":
+            name = f"case-{e['profile']}-{e['seed']}"
+            item.update(verdict=inv.get("verdict"), shrunk=inv.get("shrunk_describe"),
+                        command=inv.get("command"),
+                        files=[name + ".json", name + ".blend"] if inv.get("command") else [])
+            new.append(item)
+        elif k == "known":
+            known.append(item)
+    # agreeing cases whose noise would not show Lantern's image x 1.05 / x 0.95 (weak)
+    blind = [e["seed"] for e in log if e["result"]["status"] == "agree" and
+             e["result"].get("gain_flagged") is False]
+    summary = {"run": run, "cases": len(log), "counts": counts,
+               "agree_but_blind_to_5_percent": {"count": len(blind), "seeds": blind},
+               "seeds": [min((e["seed"] for e in log), default=None),
+                         max((e["seed"] for e in log), default=None)],
+               "seconds_per_case_first_render": {
+                   "mean": float(np.mean(secs)) if secs else None,
+                   "median": float(np.median(secs)) if secs else None},
+               "new": new, "known": known,
+               "updated": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())}
+    with open(os.path.join(out_dir, "summary.json"), "w") as f:
+        json.dump(summary, f, indent=1)
+        f.write("\n")
+    return summary
 
 
 if __name__ == "__main__":

@@ -6,6 +6,7 @@ result rebuilds exactly; an input or property dropped from the description takes
 default."""
 
 import copy
+import time
 
 # optional light keys: dropped, the light takes Blender's default (bpy.data.lights.new)
 LIGHT_OPTIONAL = ("color", "radius", "soft_falloff", "spot_size", "spot_blend", "size_y",
@@ -130,10 +131,11 @@ def size(case):
     return n
 
 
-def shrink(case, fails, max_evals=150, say=print):
-    """The smallest case reached by edits that keep fails(case) True; and the edits kept."""
+def shrink(case, fails, max_evals=150, say=print, deadline=None):
+    """The smallest case reached by edits that keep fails(case) True; and the edits kept.
+    deadline: a time.time() after which no further edit is tried."""
     evals, kept, i, progress = 0, [], 0, False
-    while evals < max_evals:
+    while evals < max_evals and (deadline is None or time.time() < deadline):
         cands = list(candidates(case))
         if i >= len(cands):        # the end of a pass: another while the last one shrank
             if not progress:
