@@ -46,6 +46,10 @@ ALPHA = 1e-3
 # false alarm (one in 1e3 comparisons at ALPHA, over a hundred steps) and the case does not
 # drift to noise (seen before: a case shrunk on ALPHA agreed at the end, z 9.9 of 10.0)
 SHRINK_ALPHA = 1e-6
+# ... which at the run's own samples kept no edit of a real disagreement of z 8-9 (ci seed 6:
+# 0 of 30 kept): the shrinker renders with this many times the samples, so that a
+# disagreement's z doubles while the false-alarm rate stays SHRINK_ALPHA
+SHRINK_SPP_FACTOR = 4
 BLOCK = 8
 GAIN = 0.05          # the negative control: Lantern's image x (1 +- GAIN) must be flagged
 BLACK = 1e-7         # image means under this on both sides: nothing to compare
@@ -278,6 +282,8 @@ def parse(argv):
     ap.add_argument("--no-shrink", action="store_true")
     ap.add_argument("--max-evals", type=int, default=150, help="shrink budget (renders of "
                     "the case on both sides)")
+    ap.add_argument("--shrink-spp-factor", type=int, default=SHRINK_SPP_FACTOR,
+                    help="samples of a shrink step, times --spp (default %(default)s)")
     ap.add_argument("--avoid", action="append", default=[], metavar="TAG",
                     help="draw no case with this known tag (difftest_known.KNOWN)")
     ap.add_argument("--avoid-known", action="store_true", help="avoid every known tag")
@@ -295,7 +301,7 @@ def _log(out_dir, entry):
 
 
 def investigate(case, st, out_dir, max_evals, shrink=True, mutate=None, say=print,
-                deadline=None):
+                deadline=None, shrink_spp_factor=SHRINK_SPP_FACTOR):
     """A case that differed: confirm with other seeds and twice the samples, shrink (a case
     with a known tag is not shrunk: it is counted as known), save. Returns the info dict
     (also in the saved .json)."""
@@ -322,7 +328,8 @@ def investigate(case, st, out_dir, max_evals, shrink=True, mutate=None, say=prin
 
         def fails(c):   # an edit that adds a known disagreement would drift into it
             return not (dk.tags(c) - own) and run_case(
-                c, strict, base=2000, mutate=mutate, controls=False).status in (
+                c, strict, base=2000, spp_factor=shrink_spp_factor, mutate=mutate,
+                controls=False).status in (
                     "differ", "nonfinite")
         small, trail = difftest_shrink.shrink(
             case, fails,
@@ -405,7 +412,8 @@ def main(argv=None):
                  "result": asdict(res), "tags": known_tags(case)}
         if res.status in ("differ", "nonfinite"):
             entry["investigation"] = investigate(case, st, args.out, args.max_evals,
-                                                 shrink=not args.no_shrink, deadline=deadline)
+                                                 shrink=not args.no_shrink, deadline=deadline,
+                                                 shrink_spp_factor=args.shrink_spp_factor)
         _log(args.out, entry)
         write_summary(args.out, run)
     wall = time.perf_counter() - t_start

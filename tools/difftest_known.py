@@ -55,6 +55,8 @@ KNOWN = {
                                  "alpha or on a plane) differs",
     "light intersects geometry": "D20: a spot light whose sphere (Radius) cuts a surface lights "
                                  "it in Cycles, not in Lantern",
+    "specular tint on glass": "D21: Specular Tint on a Principled glass scales Cycles' "
+                              "Fresnel F0 (reflection and transmission), not Lantern's",
 }
 # what keeps an emission graph's value at or above 0 (the generator puts one in front)
 NON_NEGATIVE = {("ShaderNodeMath", "MAXIMUM"), ("ShaderNodeMix", True)}
@@ -127,6 +129,11 @@ def _graph_tags(graph, found):
             found.add("graph on metallic")
         if t == "ShaderNodeBsdfPrincipled" and n.get("props", {}).get("distribution") == "GGX":
             found.add("principled GGX")
+        if t == "ShaderNodeBsdfPrincipled" and (ins.get("Transmission Weight", 0.0) > 0 or
+                                                _linked(graph, name, "Transmission Weight")) \
+                and (any(c != 1.0 for c in ins.get("Specular Tint", [1, 1, 1])[:3]) or
+                     _linked(graph, name, "Specular Tint")):
+            found.add("specular tint on glass")
         if t == "ShaderNodeBsdfGlass" and (any(c < 1.0 for c in ins.get("Color", [1, 1, 1])[:3])
                                            or _linked(graph, name, "Color")):
             found.add("tinted glass")
