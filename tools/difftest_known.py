@@ -57,6 +57,8 @@ KNOWN = {
                                  "it in Cycles, not in Lantern",
     "specular tint on glass": "D21: Specular Tint on a Principled glass scales Cycles' "
                               "Fresnel F0 (reflection and transmission), not Lantern's",
+    "emitter with alpha": "D22: an emitter with Alpha < 1 lights the scene with its full "
+                          "emission in Lantern, alpha x emission in Cycles",
 }
 # what keeps an emission graph's value at or above 0 (the generator puts one in front)
 NON_NEGATIVE = {("ShaderNodeMath", "MAXIMUM"), ("ShaderNodeMix", True)}
@@ -129,6 +131,10 @@ def _graph_tags(graph, found):
             found.add("graph on metallic")
         if t == "ShaderNodeBsdfPrincipled" and n.get("props", {}).get("distribution") == "GGX":
             found.add("principled GGX")
+        if t == "ShaderNodeBsdfPrincipled" and (ins.get("Emission Strength", 0.0) > 0 or
+                                                _linked(graph, name, "Emission Strength")) \
+                and (ins.get("Alpha", 1.0) < 1.0 or _linked(graph, name, "Alpha")):
+            found.add("emitter with alpha")
         if t == "ShaderNodeBsdfPrincipled" and (ins.get("Transmission Weight", 0.0) > 0 or
                                                 _linked(graph, name, "Transmission Weight")) \
                 and (any(c != 1.0 for c in ins.get("Specular Tint", [1, 1, 1])[:3]) or
