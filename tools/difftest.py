@@ -17,7 +17,15 @@ lantern_depth); Blackman-Harris 1.5 px on both; one thread per render on both si
         [--profile full|ci] [--seeds 16] [--spp 16] [--integrator pt] [--minutes M]
         [--no-shrink] [--size 32]
     .venv/bin/python tools/difftest.py --blend DIR/case.blend     # replay a saved case
-    .venv/bin/python tools/difftest.py --case DIR/case.json       # rebuild and replay"""
+    .venv/bin/python tools/difftest.py --case DIR/case.json       # rebuild and replay
+        [--blend-out DIR2]                                         # ... and save its .blend
+    nice .venv/bin/python tools/difftest.py --avoid-known --allow "two lights" --resume \
+        --until 07:38 --cases 1000 --out bench/results/DATE-difftest   # the long run
+
+A run appends one line per case to DIR/log.jsonl and rewrites DIR/summary.json after each;
+--resume skips the seeds already in the log (same profile and settings), so a run stopped by
+--until or --minutes continues where it stopped. docs/difftest.md: profiles, statistics and
+what the tester has found."""
 
 import argparse
 import glob
@@ -291,6 +299,8 @@ def parse(argv):
                     help="with --avoid-known: draw cases with this tag all the same")
     ap.add_argument("--blend", help="replay a saved .blend (its settings inside)")
     ap.add_argument("--case", nargs="+", help="rebuild and replay saved .json cases")
+    ap.add_argument("--blend-out", metavar="DIR", help="with --case: also save each case as "
+                    "DIR/<name>.blend (replay it with --blend)")
     return ap.parse_args(argv)
 
 
@@ -364,6 +374,10 @@ def main(argv=None):
             with open(path) as f:
                 doc = json.load(f)
             st = Settings(**doc["settings"])
+            if args.blend_out:
+                name = os.path.splitext(os.path.basename(path))[0]
+                print(save_case(doc["case"], st, args.blend_out, name, doc.get("info") or
+                                {k: doc[k] for k in ("why", "found") if k in doc}))
             res = run_case(doc["case"], st, controls=False)
             print(f"{path}: {ds.describe(doc['case'])}\n  {res.line()}", flush=True)
             if len(args.case) == 1:
