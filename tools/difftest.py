@@ -464,6 +464,14 @@ def classify(entry):
     return inv.get("class", "new")
 
 
+def _quantiles(xs):
+    """Median, 90th percentile and maximum (or None) of a list of numbers."""
+    if not xs:
+        return None
+    return {"median": float(np.median(xs)), "p90": float(np.percentile(xs, 90)),
+            "max": float(np.max(xs))}
+
+
 def write_summary(out_dir, run):
     """DIR/summary.json from the whole log (every session that appended to it)."""
     log = read_log(out_dir)
@@ -495,6 +503,9 @@ def write_summary(out_dir, run):
                "agree_but_blind_to_5_percent": {"count": len(blind), "seeds": blind},
                "seeds": [min((e["seed"] for e in log), default=None),
                          max((e["seed"] for e in log), default=None)],
+               "detects_whole_image_bias": _quantiles(
+                   [e.get("recheck", e["result"])["detects"] for e in log
+                    if e.get("recheck", e["result"])["status"] == "agree"]),
                "seconds_per_case_first_render": {
                    "mean": float(np.mean(secs)) if secs else None,
                    "median": float(np.median(secs)) if secs else None},
