@@ -178,6 +178,8 @@ class Result:
     def line(self):
         if self.status in ("black", "unsupported"):
             return self.status + (f" ({self.warnings[0]})" if self.warnings else "")
+        if self.status == "nonfinite":
+            return f"nonfinite: {self.text}, {self.seconds:.1f} s"
         mr = ", ".join(f"{x:+.2%}" for x in self.mean_rel or [])
         return (f"{self.status}: image mean [{mr}], worst block z {self.worst_z:.1f}, "
                 f"{self.worst_excess:.1f} beyond the 0.2 % cap (threshold "
