@@ -5,6 +5,8 @@ this tester found (docs/difftest.md, D1...). The "ci" profile draws no case with
 shrinker keeps no edit that adds a tag the case did not have (so a case does not drift from
 its own disagreement into a known one)."""
 
+import math
+
 import difftest_scene as ds
 
 KNOWN = {
@@ -59,6 +61,10 @@ KNOWN = {
                               "Fresnel F0 (reflection and transmission), not Lantern's",
     "emitter with alpha": "D22: an emitter with Alpha < 1 lights the scene with its full "
                           "emission in Lantern, alpha x emission in Cycles",
+    "infinite graph value": "D23: Voronoi Minkowski with a linked Exponent (0 gives +inf): "
+                            "Lantern clamps an infinite emission to 1e30, Cycles drops it",
+    "environment pole in view": "D24: an Environment Texture seen near a pole: Cycles wraps "
+                                "the image's rows there (EXTENSION_REPEAT), Lantern clamps",
 }
 # what keeps an emission graph's value at or above 0 (the generator puts one in front)
 NON_NEGATIVE = {("ShaderNodeMath", "MAXIMUM"), ("ShaderNodeMix", True)}
@@ -131,6 +137,9 @@ def _graph_tags(graph, found):
             found.add("graph on metallic")
         if t == "ShaderNodeBsdfPrincipled" and n.get("props", {}).get("distribution") == "GGX":
             found.add("principled GGX")
+        if t == "ShaderNodeTexVoronoi" and n.get("props", {}).get("distance") == "MINKOWSKI" \
+                and (_linked(graph, name, "Exponent") or ins.get("Exponent", 0.5) < 0.05):
+            found.add("infinite graph value")
         if t == "ShaderNodeBsdfPrincipled" and (ins.get("Emission Strength", 0.0) > 0 or
                                                 _linked(graph, name, "Emission Strength")) \
                 and (ins.get("Alpha", 1.0) < 1.0 or _linked(graph, name, "Alpha")):
@@ -195,9 +204,33 @@ def _graph_tags(graph, found):
             found.add("emission under a graph mix")
 
 
+def _pole_in_view(case):
+    """The camera sees the zenith or nadir of an environment image (within half a texel of
+    the pole, plus a pixel): D24. Occlusion is not considered (a conservative tag)."""
+    world = case.get("world") or {}
+    envs = [n["image"] for n in world.get("nodes", {}).values()
+            if n["type"] == "ShaderNodeTexEnvironment" and "image" in n]
+    if not envs:
+        return False
+    c = case["camera"]
+    rx, ry, rz = c["rotation"]
+    # the camera looks along -Z rotated by Euler XYZ: R = Rz Ry Rx; only its z matters
+    dz = -math.cos(rx) * math.cos(ry)
+    off_pole = math.acos(min(1.0, abs(dz)))          # angle from the nearer pole
+    band = max(0.5 * math.pi / e["h"] for e in envs)
+    if "ortho_scale" in c:
+        half = 0.0
+    else:
+        half = math.atan(18.0 * math.sqrt(2.0) / c.get("lens", 50.0))
+    pixel = 2.0 * math.atan(18.0 / c.get("lens", 50.0)) / case["size"] if half else 0.0
+    return off_pole < half + band + pixel
+
+
 def tags(case):
     """The KNOWN tags of a case."""
     found = set()
+    if _pole_in_view(case):
+        found.add("environment pole in view")
     mats = case["materials"]
     for g in [o for o in case["objects"] if o.get("material") in mats and any(
             n["type"] in GLASSY for n in mats[o["material"]]["nodes"].values())]:
