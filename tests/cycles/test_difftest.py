@@ -155,3 +155,35 @@ def test_found_disagreement_replays(name):
         pytest.xfail(f"{doc['why']}: {res.line()}")
     warnings.warn(f"{name} agrees with Cycles now ({res.line()}): if it is fixed, set "
                   f"\"fixed\": true in its .json and move it in docs/difftest.md")
+
+
+def test_run_log_summary_and_resume(tmp_path):
+    """The long run's bookkeeping (no rendering): summary.json counts each class, a confirmed
+    disagreement in a case with a known tag other than the noise tag counts as known, and
+    --resume's reading of the log sees every seed logged."""
+    def entry(seed, status, inv=None, recheck=None, gain=True):
+        e = {"seed": seed, "profile": "full", "settings": {}, "describe": "", "tags": [],
+             "result": {"status": status, "seconds": 1.0, "detects": 0.01,
+                        "gain_flagged": gain}}
+        if inv is not None:
+            e["investigation"] = inv
+        if recheck is not None:
+            e["recheck"] = recheck
+        return e
+    log = [entry(0, "agree"), entry(1, "agree", gain=False), entry(2, "black"),
+           entry(3, "differ", {"verdict": "not confirmed"}),
+           entry(4, "differ", {"verdict": "confirmed (known tag)", "class": "known"}),
+           entry(5, "nonfinite", {"verdict": "confirmed", "class": "new", "command": "x"}),
+           entry(6, "agree", gain=False,
+                 recheck={"status": "agree", "detects": 0.02, "gain_flagged": True})]
+    for e in log:
+        dt._log(str(tmp_path), e)
+    s = dt.write_summary(str(tmp_path), {"test": True})
+    assert s["cases"] == 7
+    assert s["counts"] == {"agree": 3, "black": 1, "not confirmed": 1, "known": 1, "new": 1}
+    assert s["agree_but_blind_to_5_percent"]["seeds"] == [1]
+    assert [n["seed"] for n in s["new"]] == [5] and [k["seed"] for k in s["known"]] == [4]
+    assert sorted(e["seed"] for e in dt.read_log(str(tmp_path))) == list(range(7))
+    # a known tag explains a disagreement; the noise tag does not
+    case = ds.generate(3, "full")
+    assert dt.explaining_tags(case) == dk.tags(case) - {"two lights"}
