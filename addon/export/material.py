@@ -164,7 +164,9 @@ class _Inputs:
             return False
 
         def times_strength(ctx, v):
-            k = ctx.input_value(strength, (), "VECTOR")
+            # Strength is a float socket: a colour feeding it is its luminance there, as
+            # Blender converts (not a per-channel scale)
+            k = ctx.convert(ctx.input_value(strength, (), "VALUE"), "VECTOR")
             r, _ = ctx.emit_node("vector_math", [ctx.convert(v, "VECTOR"), k,
                                                  ctx.const((0, 0, 0), "VECTOR"),
                                                  ctx.const((0,), "VALUE")], 4, mode=2)
@@ -401,6 +403,19 @@ def _one_minus(ctx, v):
     return ctx.reg(r, 1, "VALUE")
 
 
+def _lerp_colors(ctx, f, a, b):
+    """a + clamp(f, 0, 1) (b - a) for constant colours a, b: a program's colour."""
+    from .node_eval import MATH_OPS, VECTOR_OPS
+    f = ctx.convert(f, "VALUE")   # the program's width-3 value of the Fac socket
+    r, _ = ctx.emit_node("math", [f, ctx.const((1.0,), "VALUE"), ctx.const((0.0,), "VALUE")],
+                         1, mode=MATH_OPS.index("MULTIPLY"), flags=1)
+    f = ctx.convert(ctx.reg(r, 1, "VALUE"), "VECTOR")
+    r, _ = ctx.emit_node("vector_math", [f, ctx.const([y - x for x, y in zip(a, b)], "VECTOR"),
+                                         ctx.const(a, "VECTOR"), ctx.const((0.0,), "VALUE")], 4,
+                         mode=VECTOR_OPS.index("MULTIPLY_ADD"))
+    return ctx.reg(r, 3, "RGBA")
+
+
 def _unit_clamp(ctx, v):
     return v   # the core clamps factors and alpha to [0, 1]
 
@@ -471,7 +486,11 @@ def _convert_mix(top, material, report, textures, add_leaf):
                 report.warn(f"{where}: the image texture on Mix Shader '{top.name}' Fac is "
                             "used as its mean value (textured factors mix two shaders, or "
                             "Transparent first and one shader)")
+    # a graph factor between two shaders, neither Transparent: both stay leaves of a
+    # two-leaf mix in order (an Emission leaf as a black one) and the emission is a program
+    graph_mix = fac_tex is not None and fac_tex[0] == "program" and not fac_tex[2]
     transparent, emission, bsdf = 0.0, [0.0, 0.0, 0.0], []
+    leaf_emission = []   # (unweighted emission of each leaf in order): graph_mix's program
     for node, w in leaves:
         if node.type == "BSDF_TRANSPARENT":
             c = [x if math.isfinite(x) else 0.0 for x in
@@ -497,8 +516,12 @@ def _convert_mix(top, material, report, textures, add_leaf):
             leaf["emission"] = leaf.pop("_emission_mean")
             leaf.pop("emission_texture")
         leaf.pop("_emission_mean", None)
+        leaf_emission.append(list(leaf.get("emission", [0.0, 0.0, 0.0])))
         if node.type == "EMISSION":
             emission = [e + w * x for e, x in zip(emission, leaf["emission"])]
+            if graph_mix:   # its share of the BSDF is black
+                bsdf.append(({"name": f"{name}/black", "type": "diffuse",
+                              "base_color": [0.0, 0.0, 0.0]}, w))
             continue
         emission = [e + w * x for e, x in zip(emission, leaf.get("emission", [0, 0, 0]))]
         leaf["emission"] = [0.0, 0.0, 0.0]
@@ -546,6 +569,15 @@ def _convert_mix(top, material, report, textures, add_leaf):
         if prog["target"] == "mix_factor" and out.get("type") == "mix" and len(out["mix"]) == 2:
             out["mix"] = [[out["mix"][0][0], 0.5], [out["mix"][1][0], 0.5]]
             attach(out, prog)
+            if len(leaf_emission) == 2 and any(max(e) > 0.0 for e in leaf_emission):
+                # the leaves' emission mixed by the same factor, (1 - f) E_a + f E_b (Cycles
+                # clamps the factor to [0, 1]); the constant, for light selection only, is
+                # their mean, so that a leaf that emits anywhere makes the mesh a light
+                ea, eb = leaf_emission
+                attach(out, GraphCompiler(material, report, textures, textures.attributes)
+                       .program(top.inputs["Fac"], "emission", 3,
+                                post=lambda ctx, v: _lerp_colors(ctx, v, ea, eb)))
+                emission = [0.5 * (x + y) for x, y in zip(ea, eb)]
         elif prog["target"] == "alpha":
             attach(out, prog)
         else:   # an emission leaf takes its share of the factor's own value

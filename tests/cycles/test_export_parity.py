@@ -1,0 +1,126 @@
+"""Export cases the differential tester (issue 28) found against Cycles, each on a minimal
+scene of node_stage.py: emission-only cases at the pixel centres (1 spp, no bounce: the image is
+the exported emission, exact up to float rounding, as in test_nodes.py), lit cases as K seeds a
+side compared by lantern.metrics.assert_agreement with its negative controls."""
+
+import math
+
+import numpy as np
+import pytest
+
+bpy = pytest.importorskip("bpy")
+lantern = pytest.importorskip("lantern")
+if not lantern.native_available():
+    pytest.skip(f"native core unavailable: {lantern.native_error()}", allow_module_level=True)
+
+import node_stage as st  # noqa: E402
+from lantern import metrics  # noqa: E402
+
+SIZE = 24
+FILTER_PX = 1e-6
+TOL = 1e-4      # relative per pixel channel (0.05 floor): float rounding (test_nodes.py)
+K, SPP, ALPHA = 8, 16, 1e-3
+
+
+@pytest.fixture(scope="module", autouse=True)
+def _addon():
+    st.addon()
+
+
+def lantern_centres(max_depth=1):
+    """Lantern's image at the pixel centres and the export's warnings."""
+    from lantern_blender.export import export_scene
+    scene, report = export_scene(bpy.context.evaluated_depsgraph_get())
+    scene.film["filter_width"] = FILTER_PX
+    img = lantern.render(scene, spp=1, integrator="pt", max_depth=max_depth, seed=1, threads=1)
+    return np.asarray(img, np.float64), list(report.messages)
+
+
+def cycles_centres(sc, tmp_path):
+    for mat in bpy.data.materials:
+        mat.cycles.emission_sampling = "NONE"
+    sc.render.threads_mode = "FIXED"
+    sc.render.threads = 1
+    return st.render_cycles(sc, tmp_path / "c.exr", spp=1, bounces=0, seed=0)
+
+
+def assert_exact(name, img_l, ref, tol=TOL, floor=0.05):
+    """Every pixel channel within tol of ref (relative, floor near 0); Lantern's image x 1.01
+    and x 0.99 must fail that, and the image must vary (a constant would pass anything)."""
+    def worst(img):
+        return float(st.relative_error(img, ref, floor).max())
+    w = worst(img_l)
+    print(f"{name}: worst pixel channel {w:.2e}, means {img_l.mean():.5f} Lantern, "
+          f"{ref.mean():.5f} Cycles")
+    assert w <= tol, f"{name}: worst pixel channel off by {w:.2e} > {tol:.0e}"
+    assert ref.std() > 1e-2 * max(ref.mean(), 1e-3), f"{name}: the image does not vary"
+    for gain in (1.01, 0.99):
+        assert worst(img_l * gain) > tol, f"{name}: control x {gain} passed"
+
+
+def _shader(nt, idname, **inputs):
+    n = nt.nodes.new(idname)
+    for k, v in inputs.items():
+        n.inputs[k].default_value = v
+    return n
+
+
+def _gradient(nt):
+    """A Gradient Texture over Generated X: 0 at the plane's left edge, 1 at its right."""
+    tc = nt.nodes.new("ShaderNodeTexCoord")
+    g = nt.nodes.new("ShaderNodeTexGradient")
+    nt.links.new(tc.outputs["Generated"], g.inputs["Vector"])
+    return g
+
+
+# ---- D9: a Mix Shader whose Fac is a node graph mixes its leaves' emission by that graph ----
+
+@pytest.mark.parametrize("leaves", ["emission_emission", "principled_diffuse"])
+def test_graph_mix_factor_mixes_emission(leaves, tmp_path):
+    """Mix(a, b, Fac = gradient): Cycles emits (1 - f) E_a + f E_b at each point; Lantern used
+    the Fac socket's own value (0.5) for the emission (difftest D9: -50 %)."""
+    sc, nt, emit = st.stage("plane", SIZE)
+    out = nt.nodes["Material Output"]
+    nt.nodes.remove(emit)
+    mix = nt.nodes.new("ShaderNodeMixShader")
+    mix.inputs["Fac"].default_value = 0.5
+    if leaves == "emission_emission":
+        a = _shader(nt, "ShaderNodeEmission", Color=(1.0, 0.2, 0.1, 1.0), Strength=1.0)
+        b = _shader(nt, "ShaderNodeEmission", Color=(0.1, 0.6, 1.0, 1.0), Strength=2.0)
+    else:
+        a = _shader(nt, "ShaderNodeBsdfPrincipled", **{
+            "Emission Color": (1.0, 0.5, 0.2, 1.0), "Emission Strength": 1.6})
+        b = _shader(nt, "ShaderNodeBsdfDiffuse")
+    nt.links.new(a.outputs[0], mix.inputs[1])
+    nt.links.new(b.outputs[0], mix.inputs[2])
+    nt.links.new(_gradient(nt).outputs["Fac"], mix.inputs["Fac"])
+    nt.links.new(mix.outputs[0], out.inputs["Surface"])
+    img, warnings = lantern_centres()
+    assert warnings == []
+    assert_exact(f"mix emission {leaves}", img, cycles_centres(sc, tmp_path))
+
+
+# ---- D1: a colour on a float socket (Emission Strength) is its luminance ----
+
+@pytest.mark.parametrize("shader", ["principled", "emission"])
+def test_colour_into_emission_strength_is_its_luminance(shader, tmp_path):
+    """A Checker's Color on Emission Strength: Blender converts the colour to a float (its
+    luminance) for the socket; Lantern scaled each channel by it (difftest D1: -33 % red,
+    +13 % green)."""
+    sc, nt, emit = st.stage("plane", SIZE)
+    if shader == "principled":
+        nt.nodes.remove(emit)
+        emit = _shader(nt, "ShaderNodeBsdfPrincipled", **{"Emission Color": (1, 1, 1, 1)})
+        nt.links.new(emit.outputs[0], nt.nodes["Material Output"].inputs["Surface"])
+        strength = emit.inputs["Emission Strength"]
+    else:
+        emit.inputs["Color"].default_value = (0.9, 0.7, 0.3, 1.0)
+        strength = emit.inputs["Strength"]
+    checker = _shader(nt, "ShaderNodeTexChecker", Color1=(0.9, 0.2, 0.1, 1.0),
+                      Color2=(0.18, 0.97, 0.25, 1.0), Scale=3.0)
+    nt.links.new(checker.outputs["Color"], strength)
+    img, warnings = lantern_centres()
+    assert warnings == []
+    # 2e-4: the colour's luminance is computed twice, 8.3e-5 apart at most (measured); the
+    # controls are 1 %
+    assert_exact(f"colour on strength {shader}", img, cycles_centres(sc, tmp_path), tol=2e-4)
