@@ -620,7 +620,10 @@ def _convert_shader(node, material, report, textures):
         if "Diffuse Roughness" in node.inputs:   # Blender >= 4.3: Oren-Nayar base
             out["diffuse_roughness"] = _weight(value("Diffuse Roughness"))
         metallic = inputs.scalar(out, "metallic", "Metallic", _weight)
-        metal_tex = "metallic_texture" in out
+        # a texture or a node graph drives Metallic: the principled type whatever the
+        # socket's own value (the conductor has no metallic input)
+        metal_tex = "metallic_texture" in out or \
+            any(p["target"] == "metallic" for p in out.get("programs", []))
         inputs.scalar(out, "alpha", "Alpha", lambda v: min(max(v, 0.0), 1.0) if v == v else 1.0)
         aniso = _weight(value("Anisotropic"))
         if aniso > 0.0:

@@ -124,3 +124,43 @@ def test_colour_into_emission_strength_is_its_luminance(shader, tmp_path):
     # 2e-4: the colour's luminance is computed twice, 8.3e-5 apart at most (measured); the
     # controls are 1 %
     assert_exact(f"colour on strength {shader}", img, cycles_centres(sc, tmp_path), tol=2e-4)
+
+
+# ---- lit cases: K seeds a side, the agreement test ----
+
+def lit_stage(world=0.8):
+    """node_stage's plane, its material's emission removed, under a uniform grey world."""
+    sc, nt, emit = st.stage("plane", SIZE)
+    nt.nodes.remove(emit)
+    sc.world.node_tree.nodes["Background"].inputs["Color"].default_value = (world,) * 3 + (1,)
+    sc.render.filter_size = sc.cycles.filter_width = 1.5
+    return sc, nt
+
+
+def assert_lit_agreement(name, sc, tmp_path, bounces=1, integrator="pt", **kwargs):
+    """K renders a side (Lantern max_depth bounces + 2, Cycles `bounces`), compared by
+    metrics.assert_agreement (8 x 8 blocks and the image mean, its negative controls)."""
+    from lantern_blender.export import export_scene
+    scene, report = export_scene(bpy.context.evaluated_depsgraph_get())
+    assert report.messages == []
+    lan = [np.asarray(lantern.render(scene, spp=SPP, integrator=integrator,
+                                     max_depth=bounces + 2, seed=11 + k, threads=1), np.float64)
+           for k in range(K)]
+    sc.render.threads_mode = "FIXED"
+    sc.render.threads = 1
+    cyc = [st.render_cycles(sc, tmp_path / f"c{k}.exr", spp=SPP, bounces=bounces, seed=300 + k)
+           for k in range(K)]
+    return metrics.assert_agreement(name, lan, cyc, block=8, alpha=ALPHA, **kwargs)
+
+
+# ---- D4: a node graph on Metallic keeps the principled type whatever the socket's value ----
+
+def test_graph_on_metallic_with_socket_at_one(tmp_path):
+    """Metallic 1 with a Gradient on it: the graph drives the metal share; Lantern exported the
+    pure conductor and dropped the graph (difftest D4)."""
+    sc, nt = lit_stage()
+    bsdf = _shader(nt, "ShaderNodeBsdfPrincipled", Metallic=1.0, Roughness=0.3,
+                   **{"Base Color": (0.9, 0.5, 0.2, 1.0)})
+    nt.links.new(_gradient(nt).outputs["Fac"], bsdf.inputs["Metallic"])
+    nt.links.new(bsdf.outputs[0], nt.nodes["Material Output"].inputs["Surface"])
+    assert_lit_agreement("graph on metallic", sc, tmp_path)
