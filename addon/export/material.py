@@ -33,6 +33,15 @@ from .texture import MAGENTA, TextureTable
 
 DEFAULT = {"name": "Lantern Default", "type": "diffuse", "base_color": [0.8, 0.8, 0.8],
            "emission": [0.0, 0.0, 0.0]}
+# What Blender renders where an object has no material (no slot, or an empty one): its default
+# surface material, a Principled BSDF at its defaults (measured with bpy 5.0.1: Cycles renders
+# such an object exactly as one with a new material, not as its own Diffuse 0.8 default
+# shader); this is convert_material of that Principled (tests/blender/test_bl_export.py)
+DEFAULT_SURFACE = {"name": "Lantern Default", "type": "principled",
+                   "base_color": [0.8, 0.8, 0.8], "emission": [0.0, 0.0, 0.0],
+                   "roughness": 0.5, "diffuse_roughness": 0.0, "metallic": 0.0, "alpha": 1.0,
+                   "specular_tint": [1.0, 1.0, 1.0], "ior": 1.5, "transmission": 0.0,
+                   "specular_level": 0.5}
 
 
 def _constant_color(socket, material, report):
@@ -784,11 +793,12 @@ def _ior(v):
 
 
 class MaterialTable:
-    """Unique Lantern materials by Blender material; index 0 is the default material."""
+    """Unique Lantern materials by Blender material; index 0 is the default material (Blender's
+    default surface, DEFAULT_SURFACE)."""
 
     def __init__(self, report, texture_cache=None):
         self.report = report
-        self.materials = [dict(DEFAULT)]
+        self.materials = [dict(DEFAULT_SURFACE)]
         self._index = {}
         self.texture_table = TextureTable(report, texture_cache)
 

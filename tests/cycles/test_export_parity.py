@@ -164,3 +164,19 @@ def test_graph_on_metallic_with_socket_at_one(tmp_path):
     nt.links.new(_gradient(nt).outputs["Fac"], bsdf.inputs["Metallic"])
     nt.links.new(bsdf.outputs[0], nt.nodes["Material Output"].inputs["Surface"])
     assert_lit_agreement("graph on metallic", sc, tmp_path)
+
+
+# ---- D2: an object without a material is Blender's default surface ----
+
+def test_no_material_renders_as_cycles(tmp_path):
+    """The plane without a material under a grey world and a sun: Cycles renders Blender's
+    default surface material (a default Principled BSDF), where Lantern rendered Lambert 0.8
+    (difftest D2: +4.9 %)."""
+    sc, nt = lit_stage(0.5)
+    plane = next(o for o in sc.objects if o.type == "MESH")
+    plane.data.materials.clear()
+    sun = bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", "SUN"))
+    sun.data.energy = 2.0
+    sun.rotation_euler = (0.5, 0.3, 0.0)
+    sc.collection.objects.link(sun)
+    assert_lit_agreement("no material", sc, tmp_path)
