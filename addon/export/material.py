@@ -542,6 +542,20 @@ def _convert_mix(top, material, report, textures, add_leaf):
         leaf["name"] = f"{name}/{node.name}"
         bsdf.append((leaf, w))
     alpha = min(max(1.0 - transparent, 0.0), 1.0)
+    opaque = sum(w for _, w in bsdf)
+    if fac_tex is None and transparent > 1.0 - 1e-6 and opaque > 1e-6:
+        # Transparent BSDF weight t >= 1 beside BSDFs of weight W (an Add Shader): Cycles
+        # passes rays with weight t and scatters W, more than one surface can (t + W > 1).
+        # Coverage passes rays with weight 1 only, so the surface is normalised to t + W: the
+        # share t / (t + W) of rays passes and the rest scatters the BSDFs at their own
+        # weights (scale below). Passed light is then 1 / (t + W) of Cycles'; where alpha
+        # would be 0 the BSDFs were dropped before (difftest D8: black, -100 %). Exact needs
+        # a pass weight in the core's alpha test (docs/materials.md).
+        alpha = opaque / (transparent + opaque)
+        report.warn(f"{where}: Transparent BSDF of weight {transparent:.3g} added to shaders "
+                    f"of weight {opaque:.3g}: light passing the surface is rendered "
+                    f"{1.0 / (transparent + opaque):.3g} x as bright (Lantern's transparency "
+                    "passes at most all rays)")
     prog = None
     if fac_tex is not None and fac_tex[0] == "program":   # a node-graph factor
         prog, transparent_leaf = fac_tex[1], fac_tex[2]

@@ -137,20 +137,23 @@ def lit_stage(world=0.8):
     return sc, nt
 
 
-def assert_lit_agreement(name, sc, tmp_path, bounces=1, integrator="pt", **kwargs):
+def assert_lit_agreement(name, sc, tmp_path, bounces=1, integrator="pt", warns=0, spp=SPP,
+                         **kwargs):
     """K renders a side (Lantern max_depth bounces + 2, Cycles `bounces`), compared by
-    metrics.assert_agreement (8 x 8 blocks and the image mean, its negative controls)."""
+    metrics.assert_agreement (8 x 8 blocks and the image mean, its negative controls); the
+    export warns `warns` times."""
     from lantern_blender.export import export_scene
     scene, report = export_scene(bpy.context.evaluated_depsgraph_get())
-    assert report.messages == []
-    lan = [np.asarray(lantern.render(scene, spp=SPP, integrator=integrator,
+    lan = [np.asarray(lantern.render(scene, spp=spp, integrator=integrator,
                                      max_depth=bounces + 2, seed=11 + k, threads=1), np.float64)
            for k in range(K)]
     sc.render.threads_mode = "FIXED"
     sc.render.threads = 1
-    cyc = [st.render_cycles(sc, tmp_path / f"c{k}.exr", spp=SPP, bounces=bounces, seed=300 + k)
+    cyc = [st.render_cycles(sc, tmp_path / f"c{k}.exr", spp=spp, bounces=bounces, seed=300 + k)
            for k in range(K)]
-    return metrics.assert_agreement(name, lan, cyc, block=8, alpha=ALPHA, **kwargs)
+    res = metrics.assert_agreement(name, lan, cyc, block=8, alpha=ALPHA, **kwargs)
+    assert len(report.messages) == warns, report.messages
+    return res
 
 
 # ---- D4: a node graph on Metallic keeps the principled type whatever the socket's value ----
@@ -180,3 +183,25 @@ def test_no_material_renders_as_cycles(tmp_path):
     sun.rotation_euler = (0.5, 0.3, 0.0)
     sc.collection.objects.link(sun)
     assert_lit_agreement("no material", sc, tmp_path)
+
+
+# ---- D8: Add Shader of Transparent and a BSDF keeps the BSDF ----
+
+def test_add_transparent_keeps_the_bsdf(tmp_path):
+    """Add(Transparent, Diffuse) on a plane under a sun, nothing behind it and a black world:
+    Cycles renders the whole diffuse reflection (and passes every ray, which sees black).
+    Lantern made the surface fully transparent and dropped the diffuse (difftest D8: black).
+    Transparency and BSDFs above weight 1 in all are normalised (a warning): the reflected
+    light is exact, the passed light 1 / (t + W) of Cycles' (not seen here)."""
+    sc, nt = lit_stage(0.0)
+    add = nt.nodes.new("ShaderNodeAddShader")
+    nt.links.new(nt.nodes.new("ShaderNodeBsdfTransparent").outputs[0], add.inputs[0])
+    nt.links.new(_shader(nt, "ShaderNodeBsdfDiffuse", Color=(0.7, 0.5, 0.3, 1.0)).outputs[0],
+                 add.inputs[1])
+    nt.links.new(add.outputs[0], nt.nodes["Material Output"].inputs["Surface"])
+    sun = bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", "SUN"))
+    sun.data.energy = 2.0
+    sun.rotation_euler = (0.5, 0.3, 0.0)
+    sc.collection.objects.link(sun)
+    # the coverage test's noise (half the rays pass): 4x the samples
+    assert_lit_agreement("add transparent", sc, tmp_path, warns=1, spp=4 * SPP)
