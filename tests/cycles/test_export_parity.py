@@ -205,3 +205,25 @@ def test_add_transparent_keeps_the_bsdf(tmp_path):
     sc.collection.objects.link(sun)
     # the coverage test's noise (half the rays pass): 4x the samples
     assert_lit_agreement("add transparent", sc, tmp_path, warns=1, spp=4 * SPP)
+
+
+# ---- D19: Texture Coordinate Normal on back faces faces the viewer ----
+
+def test_texcoord_normal_on_back_faces(tmp_path):
+    """The camera inside the sphere sees only back faces: Cycles' Normal coordinate is its N,
+    flipped towards the ray, in object space; Lantern read the vertex normal unflipped
+    (difftest D19). Shown as N / 2 + 1/2 (emission is not negative)."""
+    sc, nt, emit = st.stage("sphere", SIZE)
+    sc.camera.location = (0.0, 0.3, 0.1)
+    sc.camera.data.lens = 20.0
+    tc = nt.nodes.new("ShaderNodeTexCoord")
+    half = nt.nodes.new("ShaderNodeVectorMath")
+    half.operation = "MULTIPLY_ADD"
+    half.inputs[1].default_value = half.inputs[2].default_value = (0.5, 0.5, 0.5)
+    nt.links.new(tc.outputs["Normal"], half.inputs[0])
+    nt.links.new(half.outputs[0], emit.inputs["Color"])
+    img, warnings = lantern_centres()
+    assert warnings == []
+    ref = cycles_centres(sc, tmp_path)
+    assert ref.min() > 0.0, "a pixel misses the sphere"
+    assert_exact("texcoord normal, back faces", img, ref)
