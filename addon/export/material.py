@@ -189,12 +189,14 @@ class _Inputs:
         out["_emission_mean"] = [est] * 3
         return True
 
-    def base(self, out, key, socket_name):
+    def base(self, out, key, socket_name, clamp=True):
         """A colour input Lantern textures (base colour, glass colour): out[key + '_texture']
         and the image's mean as out[key], magenta for a missing image, a node-graph program
-        (its constant: the socket's own value), else the constant."""
+        (its constant: the socket's own value), else the constant. clamp=False: an albedo
+        alone (Diffuse, Translucent BSDF), above 1 as Cycles uses it (the core keeps it)."""
         if key == "base_color" and self.graph(out, socket_name, "base_color", 3):
-            out[key] = _socket_default(self.node.inputs[socket_name], [0.8, 0.8, 0.8], True)
+            v = _socket_default(self.node.inputs[socket_name], [0.8, 0.8, 0.8], clamp)
+            out[key] = [max(x, 0.0) for x in v]
             return out[key]
         tid = self.texture(socket_name, as_color=True)
         if tid == "missing":
@@ -205,7 +207,7 @@ class _Inputs:
             mean = self.textures.mean(img, output, self.where) or [0.8, 0.8, 0.8]
             out[key] = [min(max(c, 0.0), 1.0) for c in mean]
         else:
-            out[key] = self.color(socket_name)
+            out[key] = self.color(socket_name, clamp)
         return out[key]
 
     def scalar(self, out, key, socket_name, convert):
@@ -683,9 +685,15 @@ def _convert_shader(node, material, report, textures):
         else:  # Specular IOR Level 0, no metal, no glass: exactly Lambert (the diffuse type)
             out.pop("roughness_texture", None)
             out.pop("metallic")
+            # Cycles' diffuse base is not clamped to 1 (nor is it in the core's diffuse type)
+            sock = node.inputs["Base Color"]
+            if any(p["target"] == "base_color" for p in out.get("programs", [])):
+                out["base_color"] = [max(x, 0.0) for x in _socket_default(sock, base, False)]
+            elif "base_color_texture" not in out and _image_source(sock)[0] is None:
+                out["base_color"] = color("Base Color", clamp=False)
         _principled_unsupported(node, material, report)
     elif node.type == "BSDF_DIFFUSE":
-        inputs.base(out, "base_color", "Color")
+        inputs.base(out, "base_color", "Color", clamp=False)
         out["diffuse_roughness"] = _weight(value("Roughness"))
     elif node.type == "EMISSION":
         out["base_color"] = [0.0, 0.0, 0.0]
@@ -715,7 +723,7 @@ def _convert_shader(node, material, report, textures):
                         f"approximated by its normal-incidence reflectance (F82 tint white)")
     elif node.type == "BSDF_TRANSLUCENT":
         out["type"] = "translucent"
-        inputs.base(out, "base_color", "Color")
+        inputs.base(out, "base_color", "Color", clamp=False)
     elif node.type in ("BSDF_GLASS", "BSDF_REFRACTION"):
         inputs.base(out, "base_color", "Color")
         out.update(type="dielectric", ior=_ior(value("IOR")))

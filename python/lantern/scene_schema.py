@@ -372,8 +372,10 @@ def validate_material(material, index, num_textures=0):
     out["type"] = mtype
     out["base_color"] = _rgb(material.get("base_color", [0.8, 0.8, 0.8]),
                              f"{what} base_color")
-    if max(out["base_color"]) > 1.0:
-        raise ValueError(f"{what} base_color: albedo must be in [0, 1], "
+    # an albedo alone (diffuse, translucent) may exceed 1, as Cycles' Diffuse and Translucent
+    # colours do (docs/nodes.md); where it is also a Fresnel F0 or a tint it may not
+    if max(out["base_color"]) > 1.0 and mtype not in ("diffuse", "translucent"):
+        raise ValueError(f"{what} base_color: must be in [0, 1] for type {mtype!r}, "
                          f"got {out['base_color']}")
     out["emission"] = _rgb(material.get("emission", [0.0, 0.0, 0.0]), f"{what} emission")
     out["specular_tint"] = _rgb(material.get("specular_tint", [1.0, 1.0, 1.0]),

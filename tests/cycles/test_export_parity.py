@@ -207,6 +207,41 @@ def test_add_transparent_keeps_the_bsdf(tmp_path):
     assert_lit_agreement("add transparent", sc, tmp_path, warns=1, spp=4 * SPP)
 
 
+# ---- D13: an albedo above 1 (Diffuse BSDF colour) is used as given ----
+
+def _sun(sc, energy=2.0):
+    sun = bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", "SUN"))
+    sun.data.energy = energy
+    sun.rotation_euler = (0.5, 0.3, 0.0)
+    sc.collection.objects.link(sun)
+
+
+@pytest.mark.parametrize("case", ["graph", "constant", "principled_level0"])
+def test_albedo_above_one(case, tmp_path):
+    """A Diffuse BSDF colour above 1 (a node graph's, or the socket's own): Cycles uses it as
+    the closure weight, unclamped (svm closure: Diffuse's weight is its colour; the Principled
+    diffuse base is clamped below only); Lantern clamped it to 1 (difftest D13: -76 %). Under
+    a sun with a black world and no bounce every path's energy is finite (Cycles' and
+    Lantern's depth limits bound it in any scene)."""
+    sc, nt = lit_stage(0.0)
+    if case == "principled_level0":
+        bsdf = _shader(nt, "ShaderNodeBsdfPrincipled", **{"Specular IOR Level": 0.0})
+        sock = bsdf.inputs["Base Color"]
+    else:
+        bsdf = _shader(nt, "ShaderNodeBsdfDiffuse")
+        sock = bsdf.inputs["Color"]
+    if case == "graph":
+        times = _shader(nt, "ShaderNodeMath", Value_001=2.5)
+        times.operation = "MULTIPLY"
+        nt.links.new(_gradient(nt).outputs["Fac"], times.inputs[0])
+        nt.links.new(times.outputs[0], sock)
+    else:
+        sock.default_value = (1.6, 1.2, 0.5, 1.0)
+    nt.links.new(bsdf.outputs[0], nt.nodes["Material Output"].inputs["Surface"])
+    _sun(sc)
+    assert_lit_agreement(f"albedo above one, {case}", sc, tmp_path)
+
+
 # ---- D19: Texture Coordinate Normal on back faces faces the viewer ----
 
 def test_texcoord_normal_on_back_faces(tmp_path):

@@ -171,7 +171,11 @@ HostScene::HostScene(const SceneInput& in) {
         Material m{};
         MaterialTables tab{};  // m's until the loop ends, then material_tables_[k]
         m.tables = &tab;
-        m.base_color = sanitize_color(mi.base_color, 1.0f);
+        // an albedo alone (Diffuse, Translucent BSDF) is used as given, above 1 too, as
+        // Cycles does (its closure weight); where the base colour is also a Fresnel F0 or a
+        // transmission tint (metal, glass, principled) it stays within [0, 1]
+        const bool albedo_only = mi.type == "diffuse" || mi.type == "translucent";
+        m.base_color = sanitize_color(mi.base_color, albedo_only ? 1e30f : 1.0f);
         m.emission = sanitize_color(mi.emission, 1e30f);
         m.specular_tint = sanitize_color(mi.specular_tint, 1.0f);
         // NaN roughness -> 0.5, NaN/absurd ior -> 1.5; roughness clamps to [0, 1], ior to
