@@ -28,6 +28,7 @@ import bpy
 
 from .holdout import holdout_material
 from . import node_bump
+from . import node_eval as ne
 from .material_compile import GraphCompiler, attach
 from .texture import MAGENTA, TextureTable
 
@@ -654,7 +655,7 @@ def _convert_shader(node, material, report, textures):
         if aniso > 0.0:
             out.update(anisotropy=aniso,
                        anisotropic_rotation=_turns(value("Anisotropic Rotation")),
-                       tangent=_tangent_mode(node, material, report))
+                       tangent=_tangent_mode(node, material, report, out, textures))
         transmission = _weight(value("Transmission Weight"))
         level = value("Specular IOR Level")
         level = 0.5 if level != level else min(max(level, 0.0), 1e3)
@@ -761,23 +762,61 @@ def _turns(v):
     return float(v) % 1.0 if math.isfinite(v) else 0.0
 
 
-def _tangent_mode(node, material, report):
-    """The anisotropy tangent of a shader node: the UV map's (MikkTSpace), for a Tangent node
-    in UV Map mode and for an unlinked Tangent input (on a UV sphere Cycles' default tangent
-    renders the same highlight as the UV tangent, measured; docs/materials.md). Meshes without
-    UVs fall back to each triangle's first minus third vertex."""
+def _tangent_mode(node, material, report, out=None, textures=None):
+    """The anisotropy tangent of a shader node: the UV map's (MikkTSpace) for a Tangent node
+    in UV Map mode (meshes without UVs: each triangle's first minus third vertex); Cycles'
+    radial tangent for an unlinked Tangent input (its default: radial about the object's Z
+    axis) and for a Tangent node in Radial mode, as a "tangent" program attached to out."""
     sock = node.inputs.get("Tangent")
-    if sock is None or not sock.is_linked:
-        return "uv"
-    src, _ = _source(sock)
+    src = None
+    if sock is not None and sock.is_linked:
+        src, _ = _source(sock)
     if src is not None and src.type == "TANGENT" and src.direction_type == "UV_MAP":
         if getattr(src, "uv_map", ""):
             report.warn(f"Material '{material.name}': Tangent node '{src.name}' names UV map "
                         f"'{src.uv_map}'; the active render UV map is used")
         return "uv"
+    axis = None
+    if src is None:
+        axis = "Z"
+    elif src.type == "TANGENT" and src.direction_type == "RADIAL":
+        axis = src.axis
+    if axis is not None and out is not None and textures is not None:
+        prog = _radial_tangent(GraphCompiler(material, report, textures, textures.attributes),
+                               axis)
+        if prog is not None:
+            attach(out, prog)
+            return "uv"
     report.warn(f"Material '{material.name}': '{getattr(src, 'name', '?')}' on Tangent is not "
                 "supported (a Tangent node in UV Map mode is); the UV tangent is used")
     return "uv"
+
+
+def _radial_tangent(compiler, axis):
+    """Cycles' radial tangent (its Tangent node, and an unlinked Tangent input: axis Z): the
+    object-space direction about `axis` through the point's Generated coordinates less 1/2,
+    axis x (g - 1/2) (Cycles' own up to sign, which anisotropy does not see), taken to the
+    world by the object's normal matrix (per-instance attribute channels, as
+    node_bump.world_normal_map); the core projects it onto the shading plane."""
+    from .material_compile import Builder, NodeContext
+    ops = ne.VECTOR_OPS
+    b = Builder()
+    ctx = NodeContext(compiler, b)
+    zero, nil = ctx.const((0.0, 0.0, 0.0), "VECTOR"), ctx.const((0.0,), "VALUE")
+    a = ctx.const(tuple(1.0 if c == axis else 0.0 for c in "XYZ"), "VECTOR")
+    r, _ = ctx.emit_node("vector_math", [ctx.attribute("generated"),
+                                         ctx.const((0.5, 0.5, 0.5), "VECTOR"), zero, nil], 4,
+                         mode=ops.index("SUBTRACT"))
+    r, _ = ctx.emit_node("vector_math", [a, ctx.reg(r, 3, "VECTOR"), zero, nil], 4,
+                         mode=ops.index("CROSS_PRODUCT"))
+    t = ctx.reg(r, 3, "VECTOR")
+    rows = []
+    for c in "xyz":   # world component = the normal matrix's row . t
+        d, _ = ctx.emit_node("vector_math", [ctx.attribute(f"object_normal_{c}"), t, zero, nil],
+                             4, mode=ops.index("DOT_PRODUCT"))
+        rows.append(ctx.reg(d + 3, 1, "VALUE"))
+    c, _ = ctx.emit_node("combine", rows, 3, mode=0)
+    return b.finish(ctx.reg(c, 3, "VECTOR"), "tangent")
 
 
 def _glossy_anisotropy(node, out, inputs, material, report):
@@ -796,7 +835,7 @@ def _glossy_anisotropy(node, out, inputs, material, report):
     b = min((1.0 - (1.0 - abs(a)) ** 2) / 0.9, 1.0)
     rotation = _turns(inputs.value("Rotation")) + (0.25 if a > 0 else 0.0)
     out.update(anisotropy=b, anisotropic_rotation=rotation % 1.0,
-               tangent=_tangent_mode(node, material, report))
+               tangent=_tangent_mode(node, material, report, out, inputs.textures))
 
 
 def _weight(v, hi=1.0):

@@ -262,3 +262,31 @@ def test_texcoord_normal_on_back_faces(tmp_path):
     ref = cycles_centres(sc, tmp_path)
     assert ref.min() > 0.0, "a pixel misses the sphere"
     assert_exact("texcoord normal, back faces", img, ref)
+
+
+# ---- D10: an unlinked Tangent input is Cycles' radial tangent about the object's Z ----
+
+@pytest.mark.parametrize("kind", ["principled", "glossy", "radial_z_node"])
+def test_default_anisotropy_tangent_is_radial(kind, tmp_path):
+    """An anisotropic metal plane under a sun, seen from above: with the Tangent input
+    unlinked Cycles' tangent turns about the object's Z axis through the Generated centre (a
+    radial Tangent node, its default), so the highlight changes round the centre; Lantern used
+    the uv tangent, the same everywhere (difftest D10: +8.6 %). radial_z_node: that Tangent
+    node linked (about X or Y it would be the plane's normal here: degenerate in both)."""
+    sc, nt = lit_stage(0.0)
+    if kind == "glossy":
+        bsdf = _shader(nt, "ShaderNodeBsdfGlossy", Color=(0.9, 0.8, 0.6, 1.0), Roughness=0.35,
+                       Anisotropy=0.6)
+    else:
+        bsdf = _shader(nt, "ShaderNodeBsdfPrincipled", Metallic=1.0, Roughness=0.35,
+                       Anisotropic=0.8, **{"Base Color": (0.9, 0.8, 0.6, 1.0)})
+    if kind == "radial_z_node":
+        t = nt.nodes.new("ShaderNodeTangent")
+        t.direction_type, t.axis = "RADIAL", "Z"
+        nt.links.new(t.outputs[0], bsdf.inputs["Tangent"])
+    nt.links.new(bsdf.outputs[0], nt.nodes["Material Output"].inputs["Surface"])
+    sun = bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", "SUN"))
+    sun.data.energy, sun.data.angle = 3.0, 0.0   # a delta sun: next-event only, little noise
+    sun.rotation_euler = (0.45, 0.2, 0.0)
+    sc.collection.objects.link(sun)
+    assert_lit_agreement(f"default tangent, {kind}", sc, tmp_path)
