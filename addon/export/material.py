@@ -664,6 +664,15 @@ def _convert_shader(node, material, report, textures):
         if film > 0.0:   # on the specular layer and the metal (not the glass)
             out.update(thin_film_thickness=film,
                        thin_film_ior=max(_ior(value("Thin Film IOR")), 1.0))
+        if not (metallic > 0.0 or metal_tex or transmission > 0.0):
+            # no metal or glass reads the base colour: an albedo alone, which Cycles does not
+            # clamp above 1 (the core keeps it: kAlbedoBase)
+            sock = node.inputs["Base Color"]
+            if any(p["target"] == "base_color" for p in out.get("programs", [])):
+                base = [max(x, 0.0) for x in _socket_default(sock, base, False)]
+            elif "base_color_texture" not in out and _image_source(sock)[0] is None:
+                base = color("Base Color", clamp=False)
+            out["base_color"] = base
         if metallic >= 0.999 and not metal_tex:  # the metal lobe alone: the cheaper conductor
             out.pop("metallic")
             out.update(type="conductor", base_color=base,
@@ -686,12 +695,6 @@ def _convert_shader(node, material, report, textures):
         else:  # Specular IOR Level 0, no metal, no glass: exactly Lambert (the diffuse type)
             out.pop("roughness_texture", None)
             out.pop("metallic")
-            # Cycles' diffuse base is not clamped to 1 (nor is it in the core's diffuse type)
-            sock = node.inputs["Base Color"]
-            if any(p["target"] == "base_color" for p in out.get("programs", [])):
-                out["base_color"] = [max(x, 0.0) for x in _socket_default(sock, base, False)]
-            elif "base_color_texture" not in out and _image_source(sock)[0] is None:
-                out["base_color"] = color("Base Color", clamp=False)
         _principled_unsupported(node, material, report)
     elif node.type == "BSDF_DIFFUSE":
         inputs.base(out, "base_color", "Color", clamp=False)

@@ -372,9 +372,13 @@ def validate_material(material, index, num_textures=0):
     out["type"] = mtype
     out["base_color"] = _rgb(material.get("base_color", [0.8, 0.8, 0.8]),
                              f"{what} base_color")
-    # an albedo alone (diffuse, translucent) may exceed 1, as Cycles' Diffuse and Translucent
-    # colours do (docs/nodes.md); where it is also a Fresnel F0 or a tint it may not
-    if max(out["base_color"]) > 1.0 and mtype not in ("diffuse", "translucent"):
+    # an albedo alone (diffuse, translucent, a principled without metal or glass) may exceed
+    # 1, as Cycles' closure weights do (docs/nodes.md); where it is also a Fresnel F0 or a
+    # tint it may not (the core clamps it there, kAlbedoBase)
+    albedo = mtype in ("diffuse", "translucent") or (
+        mtype == "principled" and not material.get("metallic", 0.0) and
+        not material.get("transmission", 0.0) and "metallic_texture" not in material)
+    if max(out["base_color"]) > 1.0 and not albedo:
         raise ValueError(f"{what} base_color: must be in [0, 1] for type {mtype!r}, "
                          f"got {out['base_color']}")
     out["emission"] = _rgb(material.get("emission", [0.0, 0.0, 0.0]), f"{what} emission")

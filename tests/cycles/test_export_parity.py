@@ -216,7 +216,8 @@ def _sun(sc, energy=2.0):
     sc.collection.objects.link(sun)
 
 
-@pytest.mark.parametrize("case", ["graph", "constant", "principled_level0"])
+@pytest.mark.parametrize("case", ["graph", "constant", "principled_level0", "principled",
+                                  "principled_graph"])
 def test_albedo_above_one(case, tmp_path):
     """A Diffuse BSDF colour above 1 (a node graph's, or the socket's own): Cycles uses it as
     the closure weight, unclamped (svm closure: Diffuse's weight is its colour; the Principled
@@ -224,13 +225,15 @@ def test_albedo_above_one(case, tmp_path):
     a sun with a black world and no bounce every path's energy is finite (Cycles' and
     Lantern's depth limits bound it in any scene)."""
     sc, nt = lit_stage(0.0)
-    if case == "principled_level0":
-        bsdf = _shader(nt, "ShaderNodeBsdfPrincipled", **{"Specular IOR Level": 0.0})
+    if case.startswith("principled"):
+        # level 0: exported as Lambert; else the principled type, no metal or glass (D14)
+        level = 0.0 if case == "principled_level0" else 0.5
+        bsdf = _shader(nt, "ShaderNodeBsdfPrincipled", **{"Specular IOR Level": level})
         sock = bsdf.inputs["Base Color"]
     else:
         bsdf = _shader(nt, "ShaderNodeBsdfDiffuse")
         sock = bsdf.inputs["Color"]
-    if case == "graph":
+    if case.endswith("graph"):
         times = _shader(nt, "ShaderNodeMath", Value_001=2.5)
         times.operation = "MULTIPLY"
         nt.links.new(_gradient(nt).outputs["Fac"], times.inputs[0])

@@ -116,9 +116,8 @@ LANTERN_HD inline void material_apply_programs(const SceneView& s, const Materia
         const Vec3 v = program_run(s, p, sp);
         switch (p.target) {
         case kTargetBaseColor: {
-            // an albedo alone (Diffuse, Translucent) above 1 as Cycles uses it (scene.cpp)
-            const bool albedo_only = m.type == kMaterialDiffuse || m.type == kMaterialTranslucent;
-            const Vec3 c = albedo_only ? Vec3{fmaxf(v.x, 0.0f), fmaxf(v.y, 0.0f), fmaxf(v.z, 0.0f)}
+            // an albedo alone above 1 as Cycles uses it (kAlbedoBase, scene.cpp)
+            const Vec3 c = (m.tex_flags & kAlbedoBase) ? Vec3{fmaxf(v.x, 0.0f), fmaxf(v.y, 0.0f), fmaxf(v.z, 0.0f)}
                                        : Vec3{unit(v.x), unit(v.y), unit(v.z)};
             out.base_color = c;
             Vec3 favg = m.metal_favg0 + (m.metal_favg1 - m.metal_favg0) * c;

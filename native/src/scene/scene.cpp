@@ -171,10 +171,20 @@ HostScene::HostScene(const SceneInput& in) {
         Material m{};
         MaterialTables tab{};  // m's until the loop ends, then material_tables_[k]
         m.tables = &tab;
-        // an albedo alone (Diffuse, Translucent BSDF) is used as given, above 1 too, as
-        // Cycles does (its closure weight); where the base colour is also a Fresnel F0 or a
-        // transmission tint (metal, glass, principled) it stays within [0, 1]
-        const bool albedo_only = mi.type == "diffuse" || mi.type == "translucent";
+        // an albedo alone (Diffuse, Translucent BSDF, a principled with no metal or glass
+        // anywhere: Metallic and Transmission 0, no texture or program on Metallic) is used
+        // as given, above 1 too, as Cycles does (a closure weight; its Principled clamps the
+        // base colour only as the metal's F0, the glass tint and subsurface); where the base
+        // colour is also a Fresnel F0 or a tint it stays within [0, 1]
+        bool drives_metallic = false;
+        for (int i = 0; i < mi.program_count && mi.program_first >= 0; ++i) {
+            const size_t at = 6 * (size_t(mi.program_first) + size_t(i)) + 4;
+            drives_metallic |= at < in.programs.size() && in.programs[at] == kTargetMetallic;
+        }
+        const bool albedo_only =
+            mi.type == "diffuse" || mi.type == "translucent" ||
+            (mi.type == "principled" && !(mi.metallic > 0.0f) && !(mi.transmission > 0.0f) &&
+             mi.tex_metallic < 0 && !drives_metallic);
         m.base_color = sanitize_color(mi.base_color, albedo_only ? 1e30f : 1.0f);
         m.emission = sanitize_color(mi.emission, 1e30f);
         m.specular_tint = sanitize_color(mi.specular_tint, 1.0f);
@@ -276,6 +286,7 @@ HostScene::HostScene(const SceneInput& in) {
             }
         }
         set_material_textures(m, mi, k, in.textures.size(), warnings_);
+        if (albedo_only) m.tex_flags |= kAlbedoBase;
         materials_.push_back(m);
         material_tables_.push_back(tab);
     }
