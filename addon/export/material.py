@@ -28,11 +28,21 @@ import bpy
 
 from .holdout import holdout_material
 from . import node_bump
+from . import node_eval as ne
 from .material_compile import GraphCompiler, attach
 from .texture import MAGENTA, TextureTable
 
 DEFAULT = {"name": "Lantern Default", "type": "diffuse", "base_color": [0.8, 0.8, 0.8],
            "emission": [0.0, 0.0, 0.0]}
+# What Blender renders where an object has no material (no slot, or an empty one): its default
+# surface material, a Principled BSDF at its defaults (measured with bpy 5.0.1: Cycles renders
+# such an object exactly as one with a new material, not as its own Diffuse 0.8 default
+# shader); this is convert_material of that Principled (tests/blender/test_bl_export.py)
+DEFAULT_SURFACE = {"name": "Lantern Default", "type": "principled",
+                   "base_color": [0.8, 0.8, 0.8], "emission": [0.0, 0.0, 0.0],
+                   "roughness": 0.5, "diffuse_roughness": 0.0, "metallic": 0.0, "alpha": 1.0,
+                   "specular_tint": [1.0, 1.0, 1.0], "ior": 1.5, "transmission": 0.0,
+                   "specular_level": 0.5}
 
 
 def _constant_color(socket, material, report):
@@ -164,7 +174,9 @@ class _Inputs:
             return False
 
         def times_strength(ctx, v):
-            k = ctx.input_value(strength, (), "VECTOR")
+            # Strength is a float socket: a colour feeding it is its luminance there, as
+            # Blender converts (not a per-channel scale)
+            k = ctx.convert(ctx.input_value(strength, (), "VALUE"), "VECTOR")
             r, _ = ctx.emit_node("vector_math", [ctx.convert(v, "VECTOR"), k,
                                                  ctx.const((0, 0, 0), "VECTOR"),
                                                  ctx.const((0,), "VALUE")], 4, mode=2)
@@ -178,12 +190,14 @@ class _Inputs:
         out["_emission_mean"] = [est] * 3
         return True
 
-    def base(self, out, key, socket_name):
+    def base(self, out, key, socket_name, clamp=True):
         """A colour input Lantern textures (base colour, glass colour): out[key + '_texture']
         and the image's mean as out[key], magenta for a missing image, a node-graph program
-        (its constant: the socket's own value), else the constant."""
+        (its constant: the socket's own value), else the constant. clamp=False: an albedo
+        alone (Diffuse, Translucent BSDF), above 1 as Cycles uses it (the core keeps it)."""
         if key == "base_color" and self.graph(out, socket_name, "base_color", 3):
-            out[key] = _socket_default(self.node.inputs[socket_name], [0.8, 0.8, 0.8], True)
+            v = _socket_default(self.node.inputs[socket_name], [0.8, 0.8, 0.8], clamp)
+            out[key] = [max(x, 0.0) for x in v]
             return out[key]
         tid = self.texture(socket_name, as_color=True)
         if tid == "missing":
@@ -194,7 +208,7 @@ class _Inputs:
             mean = self.textures.mean(img, output, self.where) or [0.8, 0.8, 0.8]
             out[key] = [min(max(c, 0.0), 1.0) for c in mean]
         else:
-            out[key] = self.color(socket_name)
+            out[key] = self.color(socket_name, clamp)
         return out[key]
 
     def scalar(self, out, key, socket_name, convert):
@@ -401,6 +415,19 @@ def _one_minus(ctx, v):
     return ctx.reg(r, 1, "VALUE")
 
 
+def _lerp_colors(ctx, f, a, b):
+    """a + clamp(f, 0, 1) (b - a) for constant colours a, b: a program's colour."""
+    from .node_eval import MATH_OPS, VECTOR_OPS
+    f = ctx.convert(f, "VALUE")   # the program's width-3 value of the Fac socket
+    r, _ = ctx.emit_node("math", [f, ctx.const((1.0,), "VALUE"), ctx.const((0.0,), "VALUE")],
+                         1, mode=MATH_OPS.index("MULTIPLY"), flags=1)
+    f = ctx.convert(ctx.reg(r, 1, "VALUE"), "VECTOR")
+    r, _ = ctx.emit_node("vector_math", [f, ctx.const([y - x for x, y in zip(a, b)], "VECTOR"),
+                                         ctx.const(a, "VECTOR"), ctx.const((0.0,), "VALUE")], 4,
+                         mode=VECTOR_OPS.index("MULTIPLY_ADD"))
+    return ctx.reg(r, 3, "RGBA")
+
+
 def _unit_clamp(ctx, v):
     return v   # the core clamps factors and alpha to [0, 1]
 
@@ -471,7 +498,11 @@ def _convert_mix(top, material, report, textures, add_leaf):
                 report.warn(f"{where}: the image texture on Mix Shader '{top.name}' Fac is "
                             "used as its mean value (textured factors mix two shaders, or "
                             "Transparent first and one shader)")
+    # a graph factor between two shaders, neither Transparent: both stay leaves of a
+    # two-leaf mix in order (an Emission leaf as a black one) and the emission is a program
+    graph_mix = fac_tex is not None and fac_tex[0] == "program" and not fac_tex[2]
     transparent, emission, bsdf = 0.0, [0.0, 0.0, 0.0], []
+    leaf_emission = []   # (unweighted emission of each leaf in order): graph_mix's program
     for node, w in leaves:
         if node.type == "BSDF_TRANSPARENT":
             c = [x if math.isfinite(x) else 0.0 for x in
@@ -497,8 +528,12 @@ def _convert_mix(top, material, report, textures, add_leaf):
             leaf["emission"] = leaf.pop("_emission_mean")
             leaf.pop("emission_texture")
         leaf.pop("_emission_mean", None)
+        leaf_emission.append(list(leaf.get("emission", [0.0, 0.0, 0.0])))
         if node.type == "EMISSION":
             emission = [e + w * x for e, x in zip(emission, leaf["emission"])]
+            if graph_mix:   # its share of the BSDF is black
+                bsdf.append(({"name": f"{name}/black", "type": "diffuse",
+                              "base_color": [0.0, 0.0, 0.0]}, w))
             continue
         emission = [e + w * x for e, x in zip(emission, leaf.get("emission", [0, 0, 0]))]
         leaf["emission"] = [0.0, 0.0, 0.0]
@@ -510,6 +545,20 @@ def _convert_mix(top, material, report, textures, add_leaf):
         leaf["name"] = f"{name}/{node.name}"
         bsdf.append((leaf, w))
     alpha = min(max(1.0 - transparent, 0.0), 1.0)
+    opaque = sum(w for _, w in bsdf)
+    if fac_tex is None and transparent > 1.0 - 1e-6 and opaque > 1e-6:
+        # Transparent BSDF weight t >= 1 beside BSDFs of weight W (an Add Shader): Cycles
+        # passes rays with weight t and scatters W, more than one surface can (t + W > 1).
+        # Coverage passes rays with weight 1 only, so the surface is normalised to t + W: the
+        # share t / (t + W) of rays passes and the rest scatters the BSDFs at their own
+        # weights (scale below). Passed light is then 1 / (t + W) of Cycles'; where alpha
+        # would be 0 the BSDFs were dropped before (difftest D8: black, -100 %). Exact needs
+        # a pass weight in the core's alpha test (docs/materials.md).
+        alpha = opaque / (transparent + opaque)
+        report.warn(f"{where}: Transparent BSDF of weight {transparent:.3g} added to shaders "
+                    f"of weight {opaque:.3g}: light passing the surface is rendered "
+                    f"{1.0 / (transparent + opaque):.3g} x as bright (Lantern's transparency "
+                    "passes at most all rays)")
     prog = None
     if fac_tex is not None and fac_tex[0] == "program":   # a node-graph factor
         prog, transparent_leaf = fac_tex[1], fac_tex[2]
@@ -546,6 +595,15 @@ def _convert_mix(top, material, report, textures, add_leaf):
         if prog["target"] == "mix_factor" and out.get("type") == "mix" and len(out["mix"]) == 2:
             out["mix"] = [[out["mix"][0][0], 0.5], [out["mix"][1][0], 0.5]]
             attach(out, prog)
+            if len(leaf_emission) == 2 and any(max(e) > 0.0 for e in leaf_emission):
+                # the leaves' emission mixed by the same factor, (1 - f) E_a + f E_b (Cycles
+                # clamps the factor to [0, 1]); the constant, for light selection only, is
+                # their mean, so that a leaf that emits anywhere makes the mesh a light
+                ea, eb = leaf_emission
+                attach(out, GraphCompiler(material, report, textures, textures.attributes)
+                       .program(top.inputs["Fac"], "emission", 3,
+                                post=lambda ctx, v: _lerp_colors(ctx, v, ea, eb)))
+                emission = [0.5 * (x + y) for x, y in zip(ea, eb)]
         elif prog["target"] == "alpha":
             attach(out, prog)
         else:   # an emission leaf takes its share of the factor's own value
@@ -588,13 +646,16 @@ def _convert_shader(node, material, report, textures):
         if "Diffuse Roughness" in node.inputs:   # Blender >= 4.3: Oren-Nayar base
             out["diffuse_roughness"] = _weight(value("Diffuse Roughness"))
         metallic = inputs.scalar(out, "metallic", "Metallic", _weight)
-        metal_tex = "metallic_texture" in out
+        # a texture or a node graph drives Metallic: the principled type whatever the
+        # socket's own value (the conductor has no metallic input)
+        metal_tex = "metallic_texture" in out or \
+            any(p["target"] == "metallic" for p in out.get("programs", []))
         inputs.scalar(out, "alpha", "Alpha", lambda v: min(max(v, 0.0), 1.0) if v == v else 1.0)
         aniso = _weight(value("Anisotropic"))
         if aniso > 0.0:
             out.update(anisotropy=aniso,
                        anisotropic_rotation=_turns(value("Anisotropic Rotation")),
-                       tangent=_tangent_mode(node, material, report))
+                       tangent=_tangent_mode(node, material, report, out, textures))
         transmission = _weight(value("Transmission Weight"))
         level = value("Specular IOR Level")
         level = 0.5 if level != level else min(max(level, 0.0), 1e3)
@@ -603,6 +664,15 @@ def _convert_shader(node, material, report, textures):
         if film > 0.0:   # on the specular layer and the metal (not the glass)
             out.update(thin_film_thickness=film,
                        thin_film_ior=max(_ior(value("Thin Film IOR")), 1.0))
+        if not (metallic > 0.0 or metal_tex or transmission > 0.0):
+            # no metal or glass reads the base colour: an albedo alone, which Cycles does not
+            # clamp above 1 (the core keeps it: kAlbedoBase)
+            sock = node.inputs["Base Color"]
+            if any(p["target"] == "base_color" for p in out.get("programs", [])):
+                base = [max(x, 0.0) for x in _socket_default(sock, base, False)]
+            elif "base_color_texture" not in out and _image_source(sock)[0] is None:
+                base = color("Base Color", clamp=False)
+            out["base_color"] = base
         if metallic >= 0.999 and not metal_tex:  # the metal lobe alone: the cheaper conductor
             out.pop("metallic")
             out.update(type="conductor", base_color=base,
@@ -627,7 +697,7 @@ def _convert_shader(node, material, report, textures):
             out.pop("metallic")
         _principled_unsupported(node, material, report)
     elif node.type == "BSDF_DIFFUSE":
-        inputs.base(out, "base_color", "Color")
+        inputs.base(out, "base_color", "Color", clamp=False)
         out["diffuse_roughness"] = _weight(value("Roughness"))
     elif node.type == "EMISSION":
         out["base_color"] = [0.0, 0.0, 0.0]
@@ -657,7 +727,7 @@ def _convert_shader(node, material, report, textures):
                         f"approximated by its normal-incidence reflectance (F82 tint white)")
     elif node.type == "BSDF_TRANSLUCENT":
         out["type"] = "translucent"
-        inputs.base(out, "base_color", "Color")
+        inputs.base(out, "base_color", "Color", clamp=False)
     elif node.type in ("BSDF_GLASS", "BSDF_REFRACTION"):
         inputs.base(out, "base_color", "Color")
         out.update(type="dielectric", ior=_ior(value("IOR")))
@@ -695,23 +765,61 @@ def _turns(v):
     return float(v) % 1.0 if math.isfinite(v) else 0.0
 
 
-def _tangent_mode(node, material, report):
-    """The anisotropy tangent of a shader node: the UV map's (MikkTSpace), for a Tangent node
-    in UV Map mode and for an unlinked Tangent input (on a UV sphere Cycles' default tangent
-    renders the same highlight as the UV tangent, measured; docs/materials.md). Meshes without
-    UVs fall back to each triangle's first minus third vertex."""
+def _tangent_mode(node, material, report, out=None, textures=None):
+    """The anisotropy tangent of a shader node: the UV map's (MikkTSpace) for a Tangent node
+    in UV Map mode (meshes without UVs: each triangle's first minus third vertex); Cycles'
+    radial tangent for an unlinked Tangent input (its default: radial about the object's Z
+    axis) and for a Tangent node in Radial mode, as a "tangent" program attached to out."""
     sock = node.inputs.get("Tangent")
-    if sock is None or not sock.is_linked:
-        return "uv"
-    src, _ = _source(sock)
+    src = None
+    if sock is not None and sock.is_linked:
+        src, _ = _source(sock)
     if src is not None and src.type == "TANGENT" and src.direction_type == "UV_MAP":
         if getattr(src, "uv_map", ""):
             report.warn(f"Material '{material.name}': Tangent node '{src.name}' names UV map "
                         f"'{src.uv_map}'; the active render UV map is used")
         return "uv"
+    axis = None
+    if src is None:
+        axis = "Z"
+    elif src.type == "TANGENT" and src.direction_type == "RADIAL":
+        axis = src.axis
+    if axis is not None and out is not None and textures is not None:
+        prog = _radial_tangent(GraphCompiler(material, report, textures, textures.attributes),
+                               axis)
+        if prog is not None:
+            attach(out, prog)
+            return "uv"
     report.warn(f"Material '{material.name}': '{getattr(src, 'name', '?')}' on Tangent is not "
                 "supported (a Tangent node in UV Map mode is); the UV tangent is used")
     return "uv"
+
+
+def _radial_tangent(compiler, axis):
+    """Cycles' radial tangent (its Tangent node, and an unlinked Tangent input: axis Z): the
+    object-space direction about `axis` through the point's Generated coordinates less 1/2,
+    axis x (g - 1/2) (Cycles' own up to sign, which anisotropy does not see), taken to the
+    world by the object's normal matrix (per-instance attribute channels, as
+    node_bump.world_normal_map); the core projects it onto the shading plane."""
+    from .material_compile import Builder, NodeContext
+    ops = ne.VECTOR_OPS
+    b = Builder()
+    ctx = NodeContext(compiler, b)
+    zero, nil = ctx.const((0.0, 0.0, 0.0), "VECTOR"), ctx.const((0.0,), "VALUE")
+    a = ctx.const(tuple(1.0 if c == axis else 0.0 for c in "XYZ"), "VECTOR")
+    r, _ = ctx.emit_node("vector_math", [ctx.attribute("generated"),
+                                         ctx.const((0.5, 0.5, 0.5), "VECTOR"), zero, nil], 4,
+                         mode=ops.index("SUBTRACT"))
+    r, _ = ctx.emit_node("vector_math", [a, ctx.reg(r, 3, "VECTOR"), zero, nil], 4,
+                         mode=ops.index("CROSS_PRODUCT"))
+    t = ctx.reg(r, 3, "VECTOR")
+    rows = []
+    for c in "xyz":   # world component = the normal matrix's row . t
+        d, _ = ctx.emit_node("vector_math", [ctx.attribute(f"object_normal_{c}"), t, zero, nil],
+                             4, mode=ops.index("DOT_PRODUCT"))
+        rows.append(ctx.reg(d + 3, 1, "VALUE"))
+    c, _ = ctx.emit_node("combine", rows, 3, mode=0)
+    return b.finish(ctx.reg(c, 3, "VECTOR"), "tangent")
 
 
 def _glossy_anisotropy(node, out, inputs, material, report):
@@ -730,7 +838,7 @@ def _glossy_anisotropy(node, out, inputs, material, report):
     b = min((1.0 - (1.0 - abs(a)) ** 2) / 0.9, 1.0)
     rotation = _turns(inputs.value("Rotation")) + (0.25 if a > 0 else 0.0)
     out.update(anisotropy=b, anisotropic_rotation=rotation % 1.0,
-               tangent=_tangent_mode(node, material, report))
+               tangent=_tangent_mode(node, material, report, out, inputs.textures))
 
 
 def _weight(v, hi=1.0):
@@ -749,11 +857,12 @@ def _ior(v):
 
 
 class MaterialTable:
-    """Unique Lantern materials by Blender material; index 0 is the default material."""
+    """Unique Lantern materials by Blender material; index 0 is the default material (Blender's
+    default surface, DEFAULT_SURFACE)."""
 
     def __init__(self, report, texture_cache=None):
         self.report = report
-        self.materials = [dict(DEFAULT)]
+        self.materials = [dict(DEFAULT_SURFACE)]
         self._index = {}
         self.texture_table = TextureTable(report, texture_cache)
 

@@ -10,7 +10,7 @@ from .node_eval import NODE_HANDLERS, NodeContext
 
 REGS = 192          # kProgramRegs
 TARGETS = ("base_color", "roughness", "metallic", "emission", "alpha", "mix_factor", "bump",
-           "displacement", "normal_map", "normal_map_world")
+           "displacement", "normal_map", "normal_map_world", "tangent")
 
 
 class Unsupported(Exception):

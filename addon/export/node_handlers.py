@@ -33,6 +33,19 @@ def _normalized(ctx, v):
     return ctx.reg(r, 3, "VECTOR")
 
 
+def _facing_viewer(ctx, v):
+    """v negated on back faces: Cycles' Normal coordinate is its shading normal N in object
+    space, and N faces the incoming ray (difftest D19: back faces seen through alpha)."""
+    b = ctx.geometry(ne.IN_BACKFACING)
+    r, _ = ctx.emit_node("math", [ctx.reg(b.reg, 1, "VALUE"), ctx.const((-2.0,), "VALUE"),
+                                  ctx.const((1.0,), "VALUE")], 1,
+                         mode=ne.MATH_OPS.index("MULTIPLY_ADD"))
+    zero = ctx.const((0.0, 0.0, 0.0), "VECTOR")
+    r, _ = ctx.emit_node("vector_math", [v, zero, zero, ctx.reg(r, 1, "VALUE")], 4,
+                         mode=ne.VECTOR_OPS.index("SCALE"))
+    return ctx.reg(r, 3, "VECTOR")
+
+
 def h_tex_coord(ctx, node, out, path):
     name = out.identifier
     if getattr(node, "object", None) is not None and name == "Object":
@@ -41,7 +54,8 @@ def h_tex_coord(ctx, node, out, path):
     if getattr(node, "from_instancer", False):
         ctx.c.warn(f"Texture Coordinate '{node.name}': From Instancer is not supported")
     table = {"Generated": lambda: ctx.attribute("generated"),
-             "Normal": lambda: _normalized(ctx, ctx.attribute("object_normal")),
+             "Normal": lambda: _facing_viewer(ctx, _normalized(
+                 ctx, ctx.attribute("object_normal"))),
              "UV": lambda: ctx.geometry(ne.IN_UV),
              "Object": lambda: ctx.attribute("object"),
              "Camera": lambda: ctx.geometry(ne.IN_CAMERA),

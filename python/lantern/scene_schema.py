@@ -15,7 +15,7 @@ MESH_ARRAYS = ("positions", "indices", "normals", "uvs", "tangents", "material_i
                "attributes")
 # node-graph programs (docs/scene_format.md "Node programs"; native/src/scene/material_program.h)
 PROGRAM_TARGETS = ("base_color", "roughness", "metallic", "emission", "alpha", "mix_factor",
-                   "bump", "displacement", "normal_map", "normal_map_world")
+                   "bump", "displacement", "normal_map", "normal_map_world", "tangent")
 PROGRAM_REGS = 192
 TEXTURE_COLORSPACES = ("srgb", "linear")
 TEXTURE_WRAPS = ("repeat", "extend", "clip", "mirror")
@@ -372,8 +372,14 @@ def validate_material(material, index, num_textures=0):
     out["type"] = mtype
     out["base_color"] = _rgb(material.get("base_color", [0.8, 0.8, 0.8]),
                              f"{what} base_color")
-    if max(out["base_color"]) > 1.0:
-        raise ValueError(f"{what} base_color: albedo must be in [0, 1], "
+    # an albedo alone (diffuse, translucent, a principled without metal or glass) may exceed
+    # 1, as Cycles' closure weights do (docs/nodes.md); where it is also a Fresnel F0 or a
+    # tint it may not (the core clamps it there, kAlbedoBase)
+    albedo = mtype in ("diffuse", "translucent") or (
+        mtype == "principled" and not material.get("metallic", 0.0) and
+        not material.get("transmission", 0.0) and "metallic_texture" not in material)
+    if max(out["base_color"]) > 1.0 and not albedo:
+        raise ValueError(f"{what} base_color: must be in [0, 1] for type {mtype!r}, "
                          f"got {out['base_color']}")
     out["emission"] = _rgb(material.get("emission", [0.0, 0.0, 0.0]), f"{what} emission")
     out["specular_tint"] = _rgb(material.get("specular_tint", [1.0, 1.0, 1.0]),

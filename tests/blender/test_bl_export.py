@@ -162,6 +162,29 @@ def test_multi_material_slots(empty, addon):
     assert emit["emission"] == pytest.approx([5, 5, 5])
 
 
+@pytest.mark.parametrize("slots", ["none", "empty_slot"])
+def test_no_material_is_the_default_principled(empty, addon, slots):
+    """An object without a material (no slot, or an empty one) renders as Blender's default
+    surface, a Principled BSDF at its defaults (Cycles does, bpy 5.0.1; tests/cycles/
+    test_export_parity.py): the exported material is the export of a new material's."""
+    bpy.ops.mesh.primitive_cube_add()
+    obj = bpy.context.object
+    if slots == "empty_slot":
+        obj.data.materials.append(None)
+    bpy.ops.mesh.primitive_plane_add(location=(5, 0, 0))
+    bpy.context.object.data.materials.append(bpy.data.materials.new("Fresh"))
+    add_camera(empty)
+    scene, report = export(addon)
+    assert report.messages == []
+    by_name = {m["name"]: m for m in scene.materials}
+    cube = next(m for m in scene.meshes if m["positions"][:, 0].max() < 2)
+    got = scene.materials[int(cube["material_ids"][0])]
+    fresh = dict(by_name["Fresh"], name=got["name"])
+    assert got.keys() == fresh.keys() and got["type"] == "principled"
+    for k, v in fresh.items():
+        assert got[k] == (v if isinstance(v, str) else pytest.approx(v, rel=1e-6)), k
+
+
 def test_lights(empty, addon):
     def light(kind, **kw):
         data = bpy.data.lights.new(kind, kind)

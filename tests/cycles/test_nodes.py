@@ -651,6 +651,10 @@ CASES = {
     "brick": ("plane", texture("ShaderNodeTexBrick", Scale=3.0)),
     "brick_fac_smooth": ("plane", texture("ShaderNodeTexBrick", out="Fac", **{
         "Scale": 2.0, "Mortar Size": 0.05, "Mortar Smooth": 0.6})),
+    # a negative Mortar Smooth: no mortar anywhere in Cycles (its smoothstep of a negative
+    # ratio), the bricks' colours alone (difftest D18: Lantern drew the mortar)
+    "brick_negative_mortar_smooth": ("plane", texture("ShaderNodeTexBrick", **{
+        "Scale": 3.0, "Mortar Size": 0.08, "Mortar Smooth": -0.4})),
     "brick_offset_squash": ("plane", texture("ShaderNodeTexBrick", props={
         "offset": 0.3, "offset_frequency": 3, "squash": 0.6, "squash_frequency": 2}, **{
         "Scale": 2.5, "Bias": 0.3, "Brick Width": 0.4, "Row Height": 0.2, "Mortar Size": 0.06,

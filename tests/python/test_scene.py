@@ -111,7 +111,9 @@ def test_mesh_validation_messages(mutate, message):
     (lambda s: s.world.update(color=[0, 0]), r"world color"),
     (lambda s: s.world.update(color=[0, np.nan, 0]), r"world color.*finite"),
     (lambda s: s.materials[0].update(type="glass"), r"material 0 \('white'\).*unknown type"),
-    (lambda s: s.materials[0].update(base_color=[2, 0, 0]), r"albedo"),
+    # above 1 where the base colour is also a Fresnel F0 (a diffuse albedo may be: Cycles')
+    (lambda s: s.materials[0].update(type="conductor", base_color=[2, 0, 0]),
+     r"base_color.*\[0, 1\].*conductor"),
     (lambda s: s.materials[0].update(emission=[-1, 0, 0]), r"emission.*>= 0"),
     (lambda s: s.lights.append({"type": "laser", "power": 1}), r"light 0.*unknown type"),
     (lambda s: s.lights.append({"type": "point"}), r"light 0 \(point\): missing 'power'"),

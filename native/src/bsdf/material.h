@@ -111,12 +111,14 @@ LANTERN_HD inline void material_apply_programs(const SceneView& s, const Materia
         // alpha.h reads the alpha where rays are traced, pt_surface_frames the bump
         if (p.target == kTargetAlpha || p.target == kTargetBump ||
             p.target == kTargetDisplacement || p.target == kTargetNormalMap ||
-            p.target == kTargetNormalMapWorld)
+            p.target == kTargetNormalMapWorld || p.target == kTargetTangent)
             continue;
         const Vec3 v = program_run(s, p, sp);
         switch (p.target) {
         case kTargetBaseColor: {
-            const Vec3 c{unit(v.x), unit(v.y), unit(v.z)};
+            // an albedo alone above 1 as Cycles uses it (kAlbedoBase, scene.cpp)
+            const Vec3 c = (m.tex_flags & kAlbedoBase) ? Vec3{fmaxf(v.x, 0.0f), fmaxf(v.y, 0.0f), fmaxf(v.z, 0.0f)}
+                                       : Vec3{unit(v.x), unit(v.y), unit(v.z)};
             out.base_color = c;
             Vec3 favg = m.metal_favg0 + (m.metal_favg1 - m.metal_favg0) * c;
             out.fms_metal = ms_fresnel_from_average(favg, m.e_avg);

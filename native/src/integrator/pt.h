@@ -211,14 +211,19 @@ LANTERN_HD inline Vec3 program_normal_map(const SceneView& s, const Material& m,
 }
 
 // The anisotropy tangent of an anisotropic material, as the angle from Frame::from_normal(ns)'s
-// first axis (0 for isotropic materials, whose lobes do not turn with the frame): the uv
-// tangent (a Tangent node in UV mode) or the triangle's p0 - p2 (Cycles' dPdu, what an unlinked
-// Tangent input means), turned by the material's rotation.
+// first axis (0 for isotropic materials, whose lobes do not turn with the frame): a tangent
+// program's (an unlinked Tangent input, Cycles' radial tangent about the object's Z; a Radial
+// Tangent node), the uv tangent (a Tangent node in UV mode) or the triangle's p0 - p2, turned
+// by the material's rotation.
 LANTERN_HD inline float anisotropy_angle(const SceneView& s, const Material& m, int tri,
                                          Vec2 bary, Vec3 ns) {
     Vec3 t;
     float sign;
-    if (!(m.aniso_uv_tangent && uv_tangent(s, tri, bary, ns, &t, &sign))) {
+    if ((m.tex_flags & kTexProgram) && program_eval(s, m, kTargetTangent,
+                                                    bump_point(s, tri, bary, ns), &t)) {
+        t = t - ns * dot(ns, t);   // a program's world tangent (kTargetTangent)
+        if (!(length_sq(t) > 1e-20f) || !is_finite(t)) return 0.0f;
+    } else if (!(m.aniso_uv_tangent && uv_tangent(s, tri, bary, ns, &t, &sign))) {
         const uint32_t* idx = s.indices + 3 * tri;
         t = s.positions[idx[0]] - s.positions[idx[2]];
         t = t - ns * dot(ns, t);

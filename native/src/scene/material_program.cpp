@@ -243,6 +243,10 @@ void HostScene::add_programs(const SceneInput& in) {
             MaterialProgram p = programs_[size_t(mi.program_first) + size_t(i)];
             fold_program(p, program_code_, program_consts_, host);
             host.program_consts = program_consts_.data();
+            if (p.target == kTargetTangent) {  // kept: anisotropy_angle runs it
+                kept.push_back(p);
+                continue;
+            }
             if (p.target == kTargetNormalMap || p.target == kTargetNormalMapWorld) {  // kept
                 kept.push_back(p);
                 m.tex_flags |= kTexNormal;

@@ -18,8 +18,11 @@ namespace lantern {
 enum ProgramTarget : uint32_t {
     kTargetBaseColor = 0, kTargetRoughness = 1, kTargetMetallic = 2, kTargetEmission = 3,
     kTargetAlpha = 4, kTargetMixFactor = 5, kTargetBump = 6, kTargetDisplacement = 7,
-    kTargetNormalMap = 8, kTargetNormalMapWorld = 9, kTargetCount = 10,
+    kTargetNormalMap = 8, kTargetNormalMapWorld = 9, kTargetTangent = 10, kTargetCount = 11,
 };
+// kTargetTangent: the anisotropy tangent, a world direction (an unlinked Tangent input's
+// default, Cycles' radial tangent about the object's Z axis, or a Tangent node in Radial
+// mode), read by pt.h anisotropy_angle in place of the uv or triangle tangent.
 // kTargetNormalMap: the Color of a tangent-space Normal Map node driven by a graph;
 // kTargetNormalMapWorld: an Object or World space Normal Map's normal, already a world
 // direction (the add-on compiles the colour's decoding and the object's normal matrix into

@@ -59,7 +59,8 @@ LANTERN_HD inline Vec3 node_magic(Vec3 p, int depth, float d) {
 // Brick (Blender's manual: rows of height row_height, bricks of brick_width, every
 // offset_freq-th row shifted by offset x width, every squash_freq-th row's bricks squash x
 // wide); tint from the integer noise of the brick's (row, column) (Hugo Elias' hash), mortar
-// within mortar_size of a brick's edge, softened over mortar_smooth. Returns the mortar factor.
+// within mortar_size of a brick's edge, softened over mortar_smooth (none where it is negative,
+// as in Cycles). Returns the mortar factor.
 LANTERN_HD inline float brick_noise(uint32_t n) {
     n = (n + 1013u) & 0x7fffffffu;
     n = (n >> 13) ^ n;
@@ -86,8 +87,11 @@ LANTERN_HD inline float node_brick(Vec3 p, float mortar_size, float mortar_smoot
     float d = fminf(fminf(x, y), fminf(width - x, row_height - y));
     if (d >= mortar_size) return 0.0f;
     if (mortar_smooth == 0.0f) return 1.0f;
-    d = 1.0f - d / mortar_size;
-    return d < mortar_smooth ? smoothstepf(0.0f, mortar_smooth, d) : 1.0f;
+    // Cycles' smoothstep of d / mortar_smooth, 0 below 0: a negative Mortar Smooth leaves no
+    // mortar at all (d > 0 here), where smoothstep(0, s, d) read 1 (difftest D18)
+    const float f = (1.0f - d / mortar_size) / mortar_smooth;
+    if (!(f > 0.0f)) return 0.0f;
+    return f >= 1.0f ? 1.0f : f * f * (3.0f - 2.0f * f);
 }
 
 // Wave: type 0 bands, 1 rings; dir: bands X, Y, Z, diagonal / rings X, Y, Z, spherical;

@@ -171,7 +171,21 @@ HostScene::HostScene(const SceneInput& in) {
         Material m{};
         MaterialTables tab{};  // m's until the loop ends, then material_tables_[k]
         m.tables = &tab;
-        m.base_color = sanitize_color(mi.base_color, 1.0f);
+        // an albedo alone (Diffuse, Translucent BSDF, a principled with no metal or glass
+        // anywhere: Metallic and Transmission 0, no texture or program on Metallic) is used
+        // as given, above 1 too, as Cycles does (a closure weight; its Principled clamps the
+        // base colour only as the metal's F0, the glass tint and subsurface); where the base
+        // colour is also a Fresnel F0 or a tint it stays within [0, 1]
+        bool drives_metallic = false;
+        for (int i = 0; i < mi.program_count && mi.program_first >= 0; ++i) {
+            const size_t at = 6 * (size_t(mi.program_first) + size_t(i)) + 4;
+            drives_metallic |= at < in.programs.size() && in.programs[at] == kTargetMetallic;
+        }
+        const bool albedo_only =
+            mi.type == "diffuse" || mi.type == "translucent" ||
+            (mi.type == "principled" && !(mi.metallic > 0.0f) && !(mi.transmission > 0.0f) &&
+             mi.tex_metallic < 0 && !drives_metallic);
+        m.base_color = sanitize_color(mi.base_color, albedo_only ? 1e30f : 1.0f);
         m.emission = sanitize_color(mi.emission, 1e30f);
         m.specular_tint = sanitize_color(mi.specular_tint, 1.0f);
         // NaN roughness -> 0.5, NaN/absurd ior -> 1.5; roughness clamps to [0, 1], ior to
@@ -272,6 +286,7 @@ HostScene::HostScene(const SceneInput& in) {
             }
         }
         set_material_textures(m, mi, k, in.textures.size(), warnings_);
+        if (albedo_only) m.tex_flags |= kAlbedoBase;
         materials_.push_back(m);
         material_tables_.push_back(tab);
     }

@@ -115,6 +115,7 @@ enum MaterialTextureBits : uint32_t {
     kMixResolve = 64u,   // every mix: material_at must point it at its leaves
     kTexProgram = 512u,  // node-graph programs drive some inputs (scene/material_program.h)
     kTexBump = 1024u,    // a bump program bends the shading normal (program_bump; not resolved)
+    kAlbedoBase = 2048u, // base_color is an albedo alone (no metal or glass reads it): above 1 kept
     kTexShading = kTexBaseColor | kTexRoughness | kTexMetallic | kTexEmission |
                   kTexProgram,                                   // resolved per hit
     kMaterialResolve = kTexShading | kTexMix | kMixResolve,      // material_at copies
