@@ -88,13 +88,23 @@ TEST(ViewCorrected, GrazingViewBelowTheNormalIsLit) {
     EXPECT_FALSE(material_corrects_view(principled(vec3(0.8f), 0.0f, 1.0f, 0.3f)));
 }
 
+// A bumped Principled: coat_n carries the unbent normal (here ng, a flat surface), and its
+// base takes the bump shadowing term against it
+Material bumped(Material m) {
+    m.tex_flags |= kTexBump;
+    return m;
+}
+
 TEST(ViewCorrected, OneBsdfForBothTransports) {
     const Grazing g;
     const Material mats[] = {principled(vec3(0.8f, 0.5f, 0.3f), 0.0f, 0.0f, 0.4f),
-                             principled(vec3(0.9f, 0.6f, 0.3f), 1.0f, 0.0f, 0.3f)};
+                             principled(vec3(0.9f, 0.6f, 0.3f), 1.0f, 0.0f, 0.3f),
+                             bumped(principled(vec3(0.8f, 0.5f, 0.3f), 0.0f, 0.0f, 0.4f))};
     Pcg32 rng = Pcg32::for_path(5, 0, 0);
     int corrected = 0;
     for (const Material& m : mats) {
+        const Vec3 z = (m.tex_flags & kTexBump) ? g.ng : vec3(0.0f, 0.0f, 1.0f);
+        ASSERT_EQ(corrected_base_shadowed(m, z), (m.tex_flags & kTexBump) != 0);
         for (int i = 0; i < 400; ++i) {
             // views from grazing (below n) to steep, lights over the geometric hemisphere
             const Vec2 a = rng.uniform2(), b = rng.uniform2();
@@ -105,7 +115,6 @@ TEST(ViewCorrected, OneBsdfForBothTransports) {
                      std::sqrt(b.x) * std::sin(6.2831853f * b.y), std::sqrt(1.0f - b.x)));
             if (!(dot(v, g.ng) > 0.0f) || !(dot(l, g.ng) > 0.0f)) continue;
             corrected += valid_reflection_normal(g.ng, v).z < 1.0f;
-            const Vec3 z = vec3(0.0f, 0.0f, 1.0f);
             const BsdfEval r = material_eval(m, true, v, l, Transport::Radiance, z, g.ng);
             const BsdfEval t = material_eval(m, true, l, v, Transport::Importance, z, g.ng);
             for (int c = 0; c < 3; ++c) EXPECT_NEAR(r.f[c], t.f[c], 1e-5f * (1.0f + r.f[c]));
@@ -118,43 +127,47 @@ TEST(ViewCorrected, OneBsdfForBothTransports) {
 
 TEST(ViewCorrected, SampleAgreesWithEvalInBothTransports) {
     const Grazing g;
-    const Vec3 z = vec3(0.0f, 0.0f, 1.0f);
-    const Material m = principled(vec3(0.8f, 0.5f, 0.3f), 0.0f, 0.0f, 0.4f);
-    for (bool radiance : {true, false}) {
-        // radiance: the grazing view below n; importance: a light above n and ng
-        const Vec3 wo = radiance ? g.v : normalize(vec3(-0.2f, 0.1f, 1.0f));
-        const Transport mode = radiance ? Transport::Radiance : Transport::Importance;
-        Pcg32 rng = Pcg32::for_path(7, 0, 0);
-        int kept = 0, turned = 0;
-        for (int i = 0; i < 3000; ++i) {
-            const Vec2 u = rng.uniform2();
-            BsdfSample s = material_sample(m, true, wo, vec3(u.x, u.y, rng.uniform()), mode, z,
-                                           g.ng);
-            if (!s.valid || !(dot(s.wi, g.ng) > 0.0f)) continue;
-            ++kept;
-            const Vec3 v = radiance ? wo : s.wi;
-            turned += valid_reflection_normal(g.ng, v).z < 1.0f;
-            const BsdfEval e = material_eval(m, true, wo, s.wi, mode, z, g.ng);
-            EXPECT_NEAR(e.pdf_fwd_w, s.pdf_fwd_w, 1e-4f * (1.0f + s.pdf_fwd_w));
-            EXPECT_NEAR(e.pdf_rev_w, s.pdf_rev_w, 1e-4f * (1.0f + s.pdf_rev_w));
-            for (int c = 0; c < 3; ++c)
-                EXPECT_NEAR(s.weight[c], e.f[c] * std::fabs(s.wi.z) / e.pdf_fwd_w,
-                            1e-4f * (1.0f + s.weight[c]));
+    for (bool bump : {false, true}) {
+        const Vec3 z = bump ? g.ng : vec3(0.0f, 0.0f, 1.0f);
+        const Material m0 = principled(vec3(0.8f, 0.5f, 0.3f), 0.0f, 0.0f, 0.4f);
+        const Material m = bump ? bumped(m0) : m0;
+        for (bool radiance : {true, false}) {
+            // radiance: the grazing view below n; importance: a light above n and ng
+            const Vec3 wo = radiance ? g.v : normalize(vec3(-0.2f, 0.1f, 1.0f));
+            const Transport mode = radiance ? Transport::Radiance : Transport::Importance;
+            Pcg32 rng = Pcg32::for_path(7, 0, 0);
+            int kept = 0, turned = 0;
+            for (int i = 0; i < 3000; ++i) {
+                const Vec2 u = rng.uniform2();
+                BsdfSample s = material_sample(m, true, wo, vec3(u.x, u.y, rng.uniform()), mode, z,
+                                               g.ng);
+                if (!s.valid || !(dot(s.wi, g.ng) > 0.0f)) continue;
+                ++kept;
+                const Vec3 v = radiance ? wo : s.wi;
+                turned += valid_reflection_normal(g.ng, v).z < 1.0f;
+                const BsdfEval e = material_eval(m, true, wo, s.wi, mode, z, g.ng);
+                EXPECT_NEAR(e.pdf_fwd_w, s.pdf_fwd_w, 1e-4f * (1.0f + s.pdf_fwd_w));
+                EXPECT_NEAR(e.pdf_rev_w, s.pdf_rev_w, 1e-4f * (1.0f + s.pdf_rev_w));
+                for (int c = 0; c < 3; ++c)
+                    EXPECT_NEAR(s.weight[c], e.f[c] * std::fabs(s.wi.z) / e.pdf_fwd_w,
+                                1e-4f * (1.0f + s.weight[c]));
+            }
+            EXPECT_GT(kept, 1000) << radiance;
+            EXPECT_GT(turned, radiance ? kept - 1 : 20) << radiance;
         }
-        EXPECT_GT(kept, 1000) << radiance;
-        EXPECT_GT(turned, radiance ? kept - 1 : 20) << radiance;
+        // the camera sub-path's sampler about the corrected normal against eval's pdf
+        Chi2Result r = chi2_sphere(
+            [&](Vec2 u, float uc, Vec3* wi) {
+                BsdfSample s =
+                    material_sample(m, true, g.v, vec3(u.x, u.y, uc), Transport::Radiance, z, g.ng);
+                *wi = s.wi;
+                return s.valid;
+            },
+            [&](Vec3 wi) {
+                const BsdfEval e = material_eval(m, true, g.v, wi, Transport::Radiance, z, g.ng);
+                return double(e.pdf_fwd_w);
+            },
+            200000, 1, 32, 32, 12);
+        EXPECT_GT(r.p_value, 1e-4) << "chi2 " << r.chi2 << " dof " << r.dof << " bump " << bump;
     }
-    // the camera sub-path's sampler about the corrected normal against eval's pdf
-    Chi2Result r = chi2_sphere(
-        [&](Vec2 u, float uc, Vec3* wi) {
-            BsdfSample s =
-                material_sample(m, true, g.v, vec3(u.x, u.y, uc), Transport::Radiance, z, g.ng);
-            *wi = s.wi;
-            return s.valid;
-        },
-        [&](Vec3 wi) {
-            return double(material_eval(m, true, g.v, wi, Transport::Radiance, z, g.ng).pdf_fwd_w);
-        },
-        200000, 1, 32, 32, 12);
-    EXPECT_GT(r.p_value, 1e-4) << "chi2 " << r.chi2 << " dof " << r.dof;
 }

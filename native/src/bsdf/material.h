@@ -493,18 +493,15 @@ LANTERN_HD inline bool material_transmits(const Material& m) {
     return false;
 }
 
-// ng_l: the geometric normal in this frame, read by a bumped Lambert only (the axis of its
-// light sub-path sampler, so its importance sample and its reverse pdf in radiance); +Z (the
-// default) where the caller reads neither (pt: no reverse pdfs).
 // ---- View-corrected glossy materials (material_corrects_view) ----
 // f(v, l) is the lobes' value about n'(v) = valid_reflection_normal(ng, v), v the camera side,
 // times |l.n'| / |l.n| (the integrators apply |l.n|), for l above the geometric surface, under n
-// too (integrator/pt.h light_side_agrees). A Principled base with the Lambert lobe stays on n, as Cycles' diffuse
-// closure: the light's side only, times the bump shadowing term against the unbent normal where
-// coat_n carries it (material_keeps_unbent_normal). Camera sub-paths sample l about n'(v);
-// light sub-paths, which do not know v before sampling it, sample v about n as before: each pdf
-// is its own sampler's, so both sub-paths see one BSDF and every MIS weight stays exact. Where
-// n'(v) = n and nothing is bumped all of this is the lobes' own eval.
+// too (integrator/pt.h light_side_agrees). A Principled base with the Lambert lobe stays on n,
+// as Cycles' diffuse closure: the light's side only, times the bump shadowing term against the
+// unbent normal where coat_n carries it (material_keeps_unbent_normal). Camera sub-paths
+// sample l about n'(v); light sub-paths, which do not know v before sampling it, sample v about
+// n as before: each pdf is its own sampler's, so both sub-paths see one BSDF and every MIS
+// weight stays exact. Where n'(v) = n and nothing is bumped all of this is the lobes' own eval.
 LANTERN_HD inline bool corrected_base_shadowed(const Material& m, Vec3 coat_n) {
     return material_keeps_unbent_normal(m) && m.type == kMaterialPrincipled && coat_n.z < 1.0f;
 }
@@ -572,6 +569,10 @@ LANTERN_HD inline BsdfSample corrected_sample(const Material& m, bool front, Vec
     return mixture_sample(wi, corrected_eval(m, front, wo, wi, mode, coat_n, ng_l));
 }
 
+// ng_l: the geometric normal in this frame: the axis of a Lambert's light sub-path sampler (its
+// importance sample and its reverse pdf in radiance) and what a view-corrected glossy material
+// corrects towards; +Z (the default: nothing corrected) only where the caller has no such
+// normal.
 LANTERN_HD inline BsdfEval material_eval(const Material& m, bool front, Vec3 wo, Vec3 wi,
                                          Transport mode, Vec3 coat_n = Vec3{0.0f, 0.0f, 1.0f},
                                          Vec3 ng_l = Vec3{0.0f, 0.0f, 1.0f}) {
