@@ -302,6 +302,28 @@ def principled_box(width=64, height=64, light_power=40.0):
     return scene
 
 
+def smooth_glossy_box(width=64, height=64, light_power=40.0):
+    """Coarse smooth-shaded spheres (icosphere level 1, vertex normals on the sphere: up to 20
+    degrees off the facets) in the Cornell box under the rectangle light: rough metal, plastic
+    (Principled) and diffuse. Their rims show views below the interpolated normal, where the
+    glossy lobes take the view-corrected normal and the diffuse reads the light's side
+    (docs/materials.md, "Shading normals below the view")."""
+    scene, white, red, green = _box_room(width, height)
+    _walls(scene, white, red, green)
+    metal = scene.add_material("rough_metal", type="conductor", base_color=(0.95, 0.64, 0.54),
+                               roughness=0.3)
+    plastic = scene.add_material("plastic", type="principled", base_color=(0.2, 0.3, 0.8),
+                                 roughness=0.4)
+    for name, mat, c in (("metal_ball", metal, (-0.5, 0.1, 0.4)),
+                         ("plastic_ball", plastic, (0.5, -0.1, 0.4)),
+                         ("diffuse_ball", white, (0.0, 0.5, 1.1))):
+        pos, idx = icosphere(1, 0.38, c)
+        scene.add_mesh(pos, idx, material=mat, normals=(pos - np.asarray(c, np.float32)) / 0.38,
+                       name=name)
+    _ceiling_light(scene, light_power)
+    return scene
+
+
 def _checker(n=8, a=(0.9, 0.85, 0.7), b=(0.15, 0.1, 0.05)):
     """An n x n 8-bit sRGB checker texture (RGBA)."""
     enc = lambda c: [int(round(255 * (x ** (1 / 2.2)))) for x in c] + [255]

@@ -12,6 +12,7 @@
 #include "bsdf/lambert.h"
 #include "bsdf/multiscatter.h"
 #include "bsdf/principled.h"
+#include "bsdf/shading_normal.h"
 #include "scene/material_program.h"
 #include "scene/texture.h"
 #include "scene/scene_view.h"
@@ -432,12 +433,40 @@ LANTERN_HD inline bool material_is_lambert(const Material& m) {
     return m.type == kMaterialDiffuse && !(m.diffuse_roughness > 0.0f);
 }
 
-// A Lambert whose normal a Bump, Displacement or Normal Map bends: Cycles' diffuse convention
-// (bsdf/lambert.h lambert_bumped_eval), which reads the light's side only; coat_n then carries
-// the unbent normal (SurfaceHit::coat_n). The view's side of a connection to such a vertex
-// needs the geometric normal alone (view_side_agrees, integrator/pt.h).
+// A Lambert whose normal a Bump, Displacement or Normal Map bends: coat_n then carries the
+// unbent normal (SurfaceHit::coat_n) for the bump shadowing term (bsdf/lambert.h).
 LANTERN_HD inline bool material_reads_light_side(const Material& m) {
     return material_is_lambert(m) && (m.tex_flags & (kTexBump | kTexNormal)) != 0;
+}
+
+// A glossy material whose lobes take the view-corrected normal (bsdf/shading_normal.h, Cycles'
+// Bump Map Correction, applied to a Glossy / Metallic BSDF and the Principled BSDF's specular,
+// metal and coat): reflection only, and no delta lobe (a delta lobe sampled about the corrected
+// normal on camera sub-paths but about n on light sub-paths would be two BSDFs). The
+// Principled base is corrected with its specular layer (Cycles keeps it on n: a difference
+// only where the correction acts, at grazing views).
+LANTERN_HD inline bool material_corrects_view(const Material& m) {
+    if (m.type == kMaterialConductor) return !conductor_is_delta(material_conductor(m));
+    if (m.type != kMaterialPrincipled) return false;
+    return !(m.transmission > 0.0f) && !principled_spec_is_delta(m) &&
+           !(m.coat_weight > 0.0f && principled_coat_ggx(m).effectively_smooth());
+}
+
+// A material whose coat_n carries the normal before Bump and Normal Map nodes (Cycles' N), for
+// the bump shadowing term of a diffuse lobe (bsdf/lambert.h): a bumped Lambert, or a bumped
+// Principled BSDF without a coat normal of its own (its base, corrected_eval).
+LANTERN_HD inline bool material_keeps_unbent_normal(const Material& m) {
+    return material_reads_light_side(m) ||
+           (m.type == kMaterialPrincipled && (m.tex_flags & (kTexBump | kTexNormal)) != 0 &&
+            !(m.tex_flags & kCoatNormal));
+}
+
+// A BSDF defined for every view on the geometric normal's side, above or below the shading
+// normal: a Lambert (Cycles' diffuse reads the light's side only: bsdf/lambert.h
+// lambert_bumped_eval) or a view-corrected glossy material. A light sub-path's view side then
+// needs the geometric normal alone (view_side_agrees, integrator/pt.h).
+LANTERN_HD inline bool material_view_geometric(const Material& m) {
+    return material_is_lambert(m) || material_corrects_view(m);
 }
 
 // Out of line on the device: its room for a resolved leaf (376 B) is then a frame of its own,
@@ -466,17 +495,96 @@ LANTERN_HD inline bool material_transmits(const Material& m) {
     return false;
 }
 
-// ng_l: the geometric normal in this frame, read by a bumped Lambert only (the axis of its
-// light sub-path sampler, so its importance sample and its reverse pdf in radiance); +Z (the
-// default) where the caller reads neither (pt: no reverse pdfs).
+// ---- View-corrected glossy materials (material_corrects_view) ----
+// f(v, l) is the lobes' value about n'(v) = valid_reflection_normal(ng, v), v the camera side,
+// times |l.n'| / |l.n| (the integrators apply |l.n|), for l above the geometric surface, under n
+// too (integrator/pt.h light_side_agrees). A Principled base with the Lambert lobe stays on n,
+// as Cycles' diffuse closure: the light's side only, times the bump shadowing term against the
+// unbent normal where coat_n carries it (material_keeps_unbent_normal). Camera sub-paths
+// sample l about n'(v); light sub-paths, which do not know v before sampling it, sample v about
+// n as before: each pdf is its own sampler's, so both sub-paths see one BSDF and every MIS
+// weight stays exact. Where n'(v) = n and nothing is bumped all of this is the lobes' own eval.
+LANTERN_HD inline bool corrected_base_shadowed(const Material& m, Vec3 coat_n) {
+    return material_keeps_unbent_normal(m) && m.type == kMaterialPrincipled && coat_n.z < 1.0f;
+}
+
+LANTERN_HD inline BsdfEval corrected_eval(const Material& m, bool front, Vec3 wo, Vec3 wi,
+                                          Transport mode, Vec3 coat_n, Vec3 ng_l) {
+    const bool radiance = mode == Transport::Radiance;
+    const Vec3 v = radiance ? wo : wi, l = radiance ? wi : wo;
+    BsdfEval e{vec3(0.0f), 0.0f, 0.0f};
+    if (!(dot(v, ng_l) > 0.0f)) return e;
+    const Vec3 n2 = valid_reflection_normal(ng_l, v);
+    const bool turned = n2.z < 1.0f, shadowed = corrected_base_shadowed(m, coat_n);
+    if (!turned && !shadowed) return material_eval_leaf(m, front, wo, wi, mode, coat_n);
+    // l under n: only the lobes about n' (the integrators' cosine is |l.n|)
+    if (!(fabsf(l.z) > 1e-6f)) return e;
+    const Frame f = turned ? valid_reflection_frame(n2) : Frame{{1.0f, 0.0f, 0.0f},
+                                                                {0.0f, 1.0f, 0.0f},
+                                                                {0.0f, 0.0f, 1.0f}};
+    const Vec3 v2 = f.to_local(v), l2 = f.to_local(l), nc2 = f.to_local(coat_n);
+    const BsdfEval er = material_eval_leaf(m, front, v2, l2, Transport::Radiance, nc2);
+    // the light sub-path's sampler (about n) for v given l
+    const float pdf_v = turned ? material_eval_leaf(m, front, l, v, Transport::Importance, coat_n)
+                                     .pdf_fwd_w
+                               : er.pdf_rev_w;
+    const float keep = fabsf(l2.z) / fabsf(l.z);
+    e.f = er.f * keep;
+    if (m.type == kMaterialPrincipled && !(m.diffuse_roughness > 0.0f)) {
+        // the base: off n' (as principled_eval weighs it at the camera-side cosine), onto n
+        const float g = !(l.z > 0.0f) ? 0.0f : shadowed ? bump_shadowing(coat_n, l) : 1.0f;
+        const float on_n2 = v2.z > 0.0f && l2.z > 0.0f ? keep : 0.0f;
+        const float w_base = principled_weights(m).spec *
+                             (1.0f - principled_spec_albedo(m, v2.z));
+        const Vec3 below = principled_below_coat(m, v2.z, coat_cos(m, nc2, v2));
+        e.f += below * m.base_color * (w_base * kInvPi * (g - on_n2));
+        e.f = Vec3{fmaxf(e.f.x, 0.0f), fmaxf(e.f.y, 0.0f), fmaxf(e.f.z, 0.0f)};
+    }
+    e.pdf_fwd_w = radiance ? er.pdf_fwd_w : pdf_v;
+    e.pdf_rev_w = radiance ? pdf_v : er.pdf_fwd_w;
+    if (!is_finite(e.f)) return BsdfEval{vec3(0.0f), 0.0f, 0.0f};
+    return e;
+}
+
+LANTERN_HD inline BsdfSample corrected_sample(const Material& m, bool front, Vec3 wo, Vec3 u,
+                                              Transport mode, Vec3 coat_n, Vec3 ng_l) {
+    BsdfSample s{vec3(0.0f), vec3(0.0f), 0.0f, false};
+    bool turned;
+    if (mode == Transport::Radiance) {  // the view is wo: sample l about n'(wo)
+        if (!(dot(wo, ng_l) > 0.0f)) return s;
+        const Vec3 n2 = valid_reflection_normal(ng_l, wo);
+        turned = n2.z < 1.0f;
+        if (!turned) {
+            s = material_sample_leaf(m, front, wo, u, mode, coat_n);
+        } else {
+            const Frame f = valid_reflection_frame(n2);
+            s = material_sample_leaf(m, front, f.to_local(wo), u, mode, f.to_local(coat_n));
+            s.wi = f.to_world(s.wi);
+        }
+    } else {  // the light is wo: sample the view about n
+        s = material_sample_leaf(m, front, wo, u, mode, coat_n);
+        turned = s.valid && valid_reflection_normal(ng_l, s.wi).z < 1.0f;
+    }
+    // (no delta lobe here: material_corrects_view)
+    if (!s.valid || s.delta || !(turned || corrected_base_shadowed(m, coat_n))) return s;
+    const Vec3 wi = s.wi;
+    return mixture_sample(wi, corrected_eval(m, front, wo, wi, mode, coat_n, ng_l));
+}
+
+// ng_l: the geometric normal in this frame: the axis of a Lambert's light sub-path sampler (its
+// importance sample and its reverse pdf in radiance) and what a view-corrected glossy material
+// corrects towards; +Z (the default: nothing corrected) only where the caller has no such
+// normal.
 LANTERN_HD inline BsdfEval material_eval(const Material& m, bool front, Vec3 wo, Vec3 wi,
                                          Transport mode, Vec3 coat_n = Vec3{0.0f, 0.0f, 1.0f},
                                          Vec3 ng_l = Vec3{0.0f, 0.0f, 1.0f}) {
-    if (material_is_lambert(m))
-        return (m.tex_flags & (kTexBump | kTexNormal))
-                   ? lambert_bumped_eval(m.base_color, coat_n, ng_l, wo, wi,
-                                         mode == Transport::Radiance)
-                   : lambert_eval(m.base_color, wo, wi);
+    if (material_is_lambert(m))  // Cycles' diffuse: the light's side only, for every view
+        return lambert_bumped_eval(m.base_color,
+                                   (m.tex_flags & (kTexBump | kTexNormal))
+                                       ? coat_n
+                                       : Vec3{0.0f, 0.0f, 1.0f},
+                                   ng_l, wo, wi, mode == Transport::Radiance);
+    if (material_corrects_view(m)) return corrected_eval(m, front, wo, wi, mode, coat_n, ng_l);
     return m.type == kMaterialMix ? mix_eval(m, front, wo, wi, mode, coat_n)
                                   : material_eval_leaf(m, front, wo, wi, mode, coat_n);
 }
@@ -486,10 +594,13 @@ LANTERN_HD inline BsdfSample material_sample(const Material& m, bool front, Vec3
                                              Vec3 coat_n = Vec3{0.0f, 0.0f, 1.0f},
                                              Vec3 ng_l = Vec3{0.0f, 0.0f, 1.0f}) {
     if (material_is_lambert(m))
-        return (m.tex_flags & (kTexBump | kTexNormal))
-                   ? lambert_bumped_sample(m.base_color, coat_n, ng_l, wo, Vec2{u.x, u.y},
-                                           mode == Transport::Radiance)
-                   : lambert_sample(m.base_color, wo, Vec2{u.x, u.y});
+        return lambert_bumped_sample(m.base_color,
+                                     (m.tex_flags & (kTexBump | kTexNormal))
+                                         ? coat_n
+                                         : Vec3{0.0f, 0.0f, 1.0f},
+                                     ng_l, wo, Vec2{u.x, u.y}, mode == Transport::Radiance);
+    if (material_corrects_view(m))
+        return corrected_sample(m, front, wo, u, mode, coat_n, ng_l);
     return m.type == kMaterialMix ? mix_sample(m, front, wo, u, mode, coat_n)
                                   : material_sample_leaf(m, front, wo, u, mode, coat_n);
 }

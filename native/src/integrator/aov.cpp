@@ -92,7 +92,8 @@ void sample_pixel(const SceneView& s, const CpuBackend& accel, const CameraAxes&
         const Frame frame = h.frame();
         const Vec3 wo = frame.to_local(-ray.d);
         Vec3 u{rng.uniform(), rng.uniform(), rng.uniform()};
-        BsdfSample bs = material_sample(*m, h.front, wo, u, Transport::Radiance, h.coat_n);
+        BsdfSample bs = material_sample(*m, h.front, wo, u, Transport::Radiance, h.coat_n,
+                                        frame.to_local(h.ng));
         if (!material_is_delta(*m) || bounce >= st.max_passthrough) {
             if (bs.valid && is_finite(bs.weight)) sum.add(sum.alb, tp * bs.weight);
             sum.add(sum.dn, to_camera(cam, h.ns));

@@ -44,7 +44,7 @@ struct LightVertex {
     int32_t path;   // light path index (bdpt pairs camera path i with light path i)
     int16_t length; // segments from the light to this vertex (y1 has 1; max_depth <= 1024)
     int16_t front;
-    uint32_t coat_n;  // kCoatNormal, material_reads_light_side: SurfaceHit::coat_n (oct_encode)
+    uint32_t coat_n;  // kCoatNormal, material_keeps_unbent_normal: SurfaceHit::coat_n (oct_encode)
 };
 
 static_assert(sizeof(LightVertex) == 96, "update the cache size in docs/lvc_notes.md");
@@ -237,7 +237,7 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
         v.path = int32_t(path);
         v.length = int16_t(k);
         v.front = h.front ? 1 : 0;
-        v.coat_n = (m.tex_flags & kCoatNormal) || material_reads_light_side(m)
+        v.coat_n = (m.tex_flags & kCoatNormal) || material_keeps_unbent_normal(m)
                        ? oct_encode(h.coat_n)
                        : 0u;
         bs.vertex[i] = v;
@@ -430,7 +430,7 @@ LANTERN_HD inline void bdpt_camera_nee(const SceneView& s, const PathState& ps,
     if (!(pick.pmf > 0.0f)) return;
     const Light& l = s.lights[pick.light];
     LightSample ls = sample_light(s, l, z.h.p, u_light);
-    if (!ls.valid || is_black(ls.le) || !sides_agree(ls.wi, z.h.ng, z.h.ns)) return;
+    if (!ls.valid || is_black(ls.le) || !light_side_agrees(*z.m, ls.wi, z.h.ng, z.h.ns)) return;
     BsdfEval e = material_eval(*z.m, z.h.front, z.wo, z.frame.to_local(ls.wi), Transport::Radiance,
                                z.h.coat_n, z.frame.to_local(z.h.ng));
     float pdf_light_w = pick.pmf * ls.pdf_w;
@@ -490,7 +490,7 @@ LANTERN_HD inline Connection bdpt_connect_in(const SceneView& s, const BdptSetti
     if (!(d2 > 0.0f) || !is_finite(d2)) return r;
     float dist = sqrtf(d2);
     dir = dir / dist;
-    if (!sides_agree(dir, z.h.ng, z.h.ns) ||
+    if (!light_side_agrees(*z.m, dir, z.h.ng, z.h.ns) ||
         !view_side_agrees(s.materials[y.material], -dir, y.ng, y.ns))
         return r;
     BsdfEval ez = material_eval(*z.m, z.h.front, z.wo, z.frame.to_local(dir), Transport::Radiance,
@@ -505,7 +505,7 @@ LANTERN_HD inline Connection bdpt_connect_in(const SceneView& s, const BdptSetti
                                             scratch);
     *clobbered = &my == &scratch.m;
     Frame fy = Frame::from_normal_angle(y.ns, y.tangent_angle);
-    const Vec3 coat_y = (my.tex_flags & kCoatNormal) || material_reads_light_side(my)
+    const Vec3 coat_y = (my.tex_flags & kCoatNormal) || material_keeps_unbent_normal(my)
                             ? oct_decode(y.coat_n)
                             : vec3(0.0f, 0.0f, 1.0f);
     BsdfEval ey = material_eval(my, y.front != 0, fy.to_local(y.wo), fy.to_local(-dir),
@@ -729,7 +729,7 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
     BsdfSample b = material_sample(m, z.h.front, z.wo, Vec3{u_dir.x, u_dir.y, rng.uniform()},
                                    Transport::Radiance, z.h.coat_n, z.frame.to_local(z.h.ng));
     Vec3 wi = z.frame.to_world(b.wi);
-    if (b.valid && sides_agree(wi, z.h.ng, z.h.ns) && (b.delta || b.pdf_fwd_w > 0.0f)) {
+    if (b.valid && light_side_agrees(m, wi, z.h.ng, z.h.ns) && (b.delta || b.pdf_fwd_w > 0.0f)) {
         Vec3 beta = z.beta * b.weight;
         if (russian_roulette(beta, z.depth, st.rr_depth, rng) && max_component(beta) > 0.0f &&
             is_finite(beta)) {

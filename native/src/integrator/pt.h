@@ -108,7 +108,7 @@ struct SurfaceHit {
     Vec2 st;    // texture coordinates (the mesh's uvs; 0 without)
     bool front; // the ray arrived on the triangle's front (counter-clockwise) side
     float tangent_angle = 0.0f;  // anisotropic materials: the shading frame's turn about ns
-    // kCoatNormal: the coat's normal; material_reads_light_side: the normal before Bump and
+    // kCoatNormal: the coat's normal; material_keeps_unbent_normal: the normal before Bump and
     // Normal Map nodes (Cycles' N), both local to frame(); (0, 0, 1) where unbent
     Vec3 coat_n{0.0f, 0.0f, 1.0f};
     LANTERN_HD Frame frame() const { return Frame::from_normal_angle(ns, tangent_angle); }
@@ -121,10 +121,16 @@ LANTERN_HD inline bool sides_agree(Vec3 w, Vec3 ng, Vec3 ns) {
 }
 // The same for the view's side w at a light sub-path vertex (its connection to the camera or
 // to a camera vertex, the direction it samples): a BSDF that reads the light's side only (a
-// bumped Lambert, Cycles' diffuse) needs the reflection's geometric side alone, ng facing the
-// light there.
+// Lambert, Cycles' diffuse; a view-corrected glossy material: material_view_geometric) needs the
+// reflection's geometric side alone, ng facing the light there.
 LANTERN_HD inline bool view_side_agrees(const Material& m, Vec3 w, Vec3 ng, Vec3 ns) {
-    return material_reads_light_side(m) ? dot(w, ng) > 0.0f : sides_agree(w, ng, ns);
+    return material_view_geometric(m) ? dot(w, ng) > 0.0f : sides_agree(w, ng, ns);
+}
+// The same for the light's side w at a camera sub-path vertex: a view-corrected glossy material
+// (material_corrects_view) reflects light from under its shading normal (its lobes lie about
+// the corrected one, its base reads the shading normal itself), so only the geometric side.
+LANTERN_HD inline bool light_side_agrees(const Material& m, Vec3 w, Vec3 ng, Vec3 ns) {
+    return material_corrects_view(m) ? dot(w, ng) > 0.0f : sides_agree(w, ng, ns);
 }
 
 // The uv tangent (direction of increasing u) of triangle tri at barycentrics bary, unit and
@@ -253,7 +259,7 @@ LANTERN_HD inline void pt_surface_frames(const SceneView& s, SurfaceHit& h, int 
     if (m.tex_flags & kTexBump) n = program_bump(s, m, tri, uv, n, ng_front);  // node graphs
     h.ns = h.front ? n : -n;
     if (m.anisotropy > 0.0f) h.tangent_angle = anisotropy_angle(s, m, tri, uv, h.ns);
-    if (material_reads_light_side(m) &&
+    if (material_keeps_unbent_normal(m) &&
         !(n.x == n_smooth.x && n.y == n_smooth.y && n.z == n_smooth.z)) {
         h.coat_n = normalize(h.frame().to_local(h.front ? n_smooth : -n_smooth));
     } else if (m.tex_flags & kCoatNormal) {  // the coat's own normal: its map, or the smooth normal
@@ -329,15 +335,17 @@ LANTERN_HD inline bool pt_catcher_skips(const SceneView& s, const PathState& ps,
 #ifdef __CUDA_ARCH__
 __noinline__
 #endif
-LANTERN_HD inline BsdfEval pt_eval(const Material& m, bool front, Vec3 wo, Vec3 wi, Vec3 coat_n) {
-    return material_eval(m, front, wo, wi, Transport::Radiance, coat_n);
+// ng_l: the geometric normal in the shading frame (view-corrected glossy materials read it)
+LANTERN_HD inline BsdfEval pt_eval(const Material& m, bool front, Vec3 wo, Vec3 wi, Vec3 coat_n,
+                                   Vec3 ng_l) {
+    return material_eval(m, front, wo, wi, Transport::Radiance, coat_n, ng_l);
 }
 #ifdef __CUDA_ARCH__
 __noinline__
 #endif
 LANTERN_HD inline BsdfSample pt_sample(const Material& m, bool front, Vec3 wo, Vec3 u,
-                                       Vec3 coat_n) {
-    return material_sample(m, front, wo, u, Transport::Radiance, coat_n);
+                                       Vec3 coat_n, Vec3 ng_l) {
+    return material_sample(m, front, wo, u, Transport::Radiance, coat_n, ng_l);
 }
 
 // ---- Shade: emission, next-event estimation (a shadow ray), BSDF sampling, roulette ----
@@ -381,6 +389,7 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
 
     Frame frame = h.frame();
     Vec3 wo = frame.to_local(-d);
+    const Vec3 ng_l = frame.to_local(h.ng);
     Rng rng = ps.rng[i];
 
     // next-event estimation
@@ -397,8 +406,8 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
         nee_resample_skip(rng, nee_resample_extra_draws(mc));
         // luminance of the unshadowed contribution
         auto target = [&](const LightSample& c) LANTERN_DEVICE_INLINE {
-            if (!sides_agree(c.wi, h.ng, h.ns) || is_black(c.le)) return 0.0f;
-            BsdfEval e = pt_eval(m, h.front, wo, frame.to_local(c.wi), h.coat_n);
+            if (!light_side_agrees(m, c.wi, h.ng, h.ns) || is_black(c.le)) return 0.0f;
+            BsdfEval e = pt_eval(m, h.front, wo, frame.to_local(c.wi), h.coat_n, ng_l);
             return luminance(e.f * c.le) * fabsf(dot(c.wi, h.ns));
         };
         if (!delta_material)
@@ -412,8 +421,9 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
         s.world_rays != kWorldRaysAll && !pt_world_sees(s, m, ls.wi, h.ng))
         ls.valid = false;  // the world hidden from this kind of scattering lights nothing here
     if (pick.pmf > 0.0f) {
-        if (ls.valid && !delta_material && sides_agree(ls.wi, h.ng, h.ns) && !is_black(ls.le)) {
-            BsdfEval e = pt_eval(m, h.front, wo, frame.to_local(ls.wi), h.coat_n);
+        if (ls.valid && !delta_material && light_side_agrees(m, ls.wi, h.ng, h.ns) &&
+            !is_black(ls.le)) {
+            BsdfEval e = pt_eval(m, h.front, wo, frame.to_local(ls.wi), h.coat_n, ng_l);
             float pdf_light = pick.pmf * ls.pdf_w;
             if (e.pdf_fwd_w > 0.0f && pdf_light > 0.0f) {
                 float w = ls.delta ? 1.0f : power_heuristic(pdf_light, e.pdf_fwd_w);
@@ -444,9 +454,10 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
 
     // continue the path
     Vec2 u_dir = rng.uniform2();
-    BsdfSample bs = pt_sample(m, h.front, wo, Vec3{u_dir.x, u_dir.y, rng.uniform()}, h.coat_n);
+    BsdfSample bs = pt_sample(m, h.front, wo, Vec3{u_dir.x, u_dir.y, rng.uniform()}, h.coat_n,
+                              ng_l);
     Vec3 wi = frame.to_world(bs.wi);
-    if (bs.valid && sides_agree(wi, h.ng, h.ns)) {
+    if (bs.valid && light_side_agrees(m, wi, h.ng, h.ns)) {
         Vec3 beta = ps.throughput[i] * bs.weight;
         if (russian_roulette(beta, depth, st.rr_depth, rng) && max_component(beta) > 0.0f &&
             is_finite(beta)) {
