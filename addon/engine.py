@@ -219,7 +219,9 @@ def _render_loop(engine, session, result, target, time_limit, t0, noise=None,
         stepper.start_step()
         cancelled = False
         while not stepper.wait(0.05):
-            if not cancelled and (engine.test_break() or _past(time_limit, start)):
+            # a time limit shorter than one sample still gives one (a black frame helps no one)
+            if not cancelled and (engine.test_break() or
+                                  (before > 0 and _past(time_limit, start))):
                 session.cancel()
                 cancelled = True
         if stepper.error is not None:

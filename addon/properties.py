@@ -11,7 +11,7 @@ class LanternSceneSettings(bpy.types.PropertyGroup):
                                  description="Samples per pixel in the viewport (0: unlimited)",
                                  default=1024, min=0, max=1 << 20)
     time_limit: FloatProperty(name="Time Limit", description="Stop a final render after this "
-                              "many seconds (0: no limit)", default=0.0, min=0.0, unit="TIME_ABSOLUTE")
+                              "many seconds (0: no limit); the first sample always completes", default=0.0, min=0.0, unit="TIME_ABSOLUTE")
     max_depth: IntProperty(name="Max Depth", description="Longest path, in segments: 1 shows "
                            "emitters only, 2 direct light, 3 one indirect bounce", default=12,
                            min=1, max=1024)

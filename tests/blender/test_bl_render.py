@@ -136,6 +136,18 @@ def test_time_limit_stops_early(empty, tmp_path):
     np.testing.assert_allclose(px[..., :3], 1.0, rtol=1e-4)
 
 
+def test_a_time_limit_shorter_than_a_sample_still_gives_one(empty, tmp_path):
+    """The first sample is never cut (a loaded machine made the 0.5 s limit above fall inside
+    it: 0 spp, a black frame); what comes after it is."""
+    add_camera(empty)
+    add_plane(empty, size=100.0, location=(0, 0, -5), material=emission_material(1.0))
+    empty.render.resolution_x, empty.render.resolution_y = 480, 360  # a step > 50 ms
+    empty.lantern.samples = 1_000_000
+    empty.lantern.time_limit = 1e-6
+    px = render_exr(empty, tmp_path)
+    np.testing.assert_allclose(px[..., :3], 1.0, rtol=1e-4)
+
+
 # ---- Bad input through F12: a finite image, nothing escapes, warnings reported ----
 
 def test_empty_scene_with_camera(empty, tmp_path, errors):
