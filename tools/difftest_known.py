@@ -65,6 +65,10 @@ KNOWN = {
                             "Lantern clamps an infinite emission to 1e30, Cycles drops it",
     "environment pole in view": "D24: an Environment Texture seen near a pole: Cycles wraps "
                                 "the image's rows there (EXTENSION_REPEAT), Lantern clamps",
+    "visible sphere light": "D25: a point or spot light with a Radius seen by the camera: "
+                            "the rim of its disk reads brighter in Lantern",
+    "wavelength out of range": "D26: Wavelength outside 380-780 nm: Lantern clamps to the "
+                               "ends' colours, Cycles gives black",
 }
 # what keeps an emission graph's value at or above 0 (the generator puts one in front)
 NON_NEGATIVE = {("ShaderNodeMath", "MAXIMUM"), ("ShaderNodeMix", True)}
@@ -137,6 +141,9 @@ def _graph_tags(graph, found):
             found.add("graph on metallic")
         if t == "ShaderNodeBsdfPrincipled" and n.get("props", {}).get("distribution") == "GGX":
             found.add("principled GGX")
+        if t == "ShaderNodeWavelength" and (_linked(graph, name, "Wavelength") or not (
+                380.0 <= ins.get("Wavelength", 500.0) < 780.0)):
+            found.add("wavelength out of range")
         if t == "ShaderNodeTexVoronoi" and n.get("props", {}).get("distance") == "MINKOWSKI" \
                 and (_linked(graph, name, "Exponent") or ins.get("Exponent", 0.5) < 0.05):
             found.add("infinite graph value")
@@ -256,6 +263,10 @@ def tags(case):
         if lt["type"] in ("POINT", "SPOT") and lt.get("radius", 0.0) > 0 and \
                 lt["radius"] >= ds.clearance(lt, case["objects"]):
             found.add("light intersects geometry")
+        # bpy.data.lights.new gives Radius 0 (a light without "radius" has no sphere)
+        if lt["type"] in ("POINT", "SPOT") and lt.get("radius", 0.0) > 0 and \
+                lt.get("visible_camera"):
+            found.add("visible sphere light")
     for o in case["objects"]:
         if o.get("material") is None:
             found.add("no material")
