@@ -440,11 +440,8 @@ LANTERN_HD inline bool material_reads_light_side(const Material& m) {
 }
 
 // A glossy material whose lobes take the view-corrected normal (bsdf/shading_normal.h, Cycles'
-// Bump Map Correction, applied to a Glossy / Metallic BSDF and the Principled BSDF's specular,
-// metal and coat): reflection only, and no delta lobe (a delta lobe sampled about the corrected
-// normal on camera sub-paths but about n on light sub-paths would be two BSDFs). The
-// Principled base is corrected with its specular layer (Cycles keeps it on n: a difference
-// only where the correction acts, at grazing views).
+// Bump Map Correction): reflection only, no delta lobe (sampled about n' on camera sub-paths but
+// about n on light sub-paths, one would be two BSDFs). docs/materials.md, "Shading normals".
 LANTERN_HD inline bool material_corrects_view(const Material& m) {
     if (m.type == kMaterialConductor) return !conductor_is_delta(material_conductor(m));
     if (m.type != kMaterialPrincipled) return false;
@@ -452,19 +449,16 @@ LANTERN_HD inline bool material_corrects_view(const Material& m) {
            !(m.coat_weight > 0.0f && principled_coat_ggx(m).effectively_smooth());
 }
 
-// A material whose coat_n carries the normal before Bump and Normal Map nodes (Cycles' N), for
-// the bump shadowing term of a diffuse lobe (bsdf/lambert.h): a bumped Lambert, or a bumped
-// Principled BSDF without a coat normal of its own (its base, corrected_eval).
+// coat_n carries the normal before Bump and Normal Map nodes (Cycles' N) for a diffuse lobe's
+// bump shadowing term: a bumped Lambert, a bumped Principled without a coat normal of its own.
 LANTERN_HD inline bool material_keeps_unbent_normal(const Material& m) {
     return material_reads_light_side(m) ||
            (m.type == kMaterialPrincipled && (m.tex_flags & (kTexBump | kTexNormal)) != 0 &&
             !(m.tex_flags & kCoatNormal));
 }
 
-// A BSDF defined for every view on the geometric normal's side, above or below the shading
-// normal: a Lambert (Cycles' diffuse reads the light's side only: bsdf/lambert.h
-// lambert_bumped_eval) or a view-corrected glossy material. A light sub-path's view side then
-// needs the geometric normal alone (view_side_agrees, integrator/pt.h).
+// A BSDF defined for every view on ng's side, below the shading normal too (a Lambert reads the
+// light's side only; a view-corrected glossy material): view_side_agrees, integrator/pt.h.
 LANTERN_HD inline bool material_view_geometric(const Material& m) {
     return material_is_lambert(m) || material_corrects_view(m);
 }
@@ -496,14 +490,11 @@ LANTERN_HD inline bool material_transmits(const Material& m) {
 }
 
 // ---- View-corrected glossy materials (material_corrects_view) ----
-// f(v, l) is the lobes' value about n'(v) = valid_reflection_normal(ng, v), v the camera side,
-// times |l.n'| / |l.n| (the integrators apply |l.n|), for l above the geometric surface, under n
-// too (integrator/pt.h light_side_agrees). A Principled base with the Lambert lobe stays on n,
-// as Cycles' diffuse closure: the light's side only, times the bump shadowing term against the
-// unbent normal where coat_n carries it (material_keeps_unbent_normal). Camera sub-paths
-// sample l about n'(v); light sub-paths, which do not know v before sampling it, sample v about
-// n as before: each pdf is its own sampler's, so both sub-paths see one BSDF and every MIS
-// weight stays exact. Where n'(v) = n and nothing is bumped all of this is the lobes' own eval.
+// f(v, l): the lobes about n'(v) = valid_reflection_normal(ng, v), v the camera side, times
+// |l.n'| / |l.n| (the integrators apply |l.n|), l under n too (light_side_agrees); a Principled
+// Lambert base stays on n, light side only, with the bump shadowing term (Cycles' diffuse).
+// Camera sub-paths sample l about n'(v), light sub-paths v about n: each pdf its own sampler's,
+// one BSDF, exact MIS. Where n'(v) = n and nothing is bumped: the lobes' own eval.
 LANTERN_HD inline bool corrected_base_shadowed(const Material& m, Vec3 coat_n) {
     return material_keeps_unbent_normal(m) && m.type == kMaterialPrincipled && coat_n.z < 1.0f;
 }
