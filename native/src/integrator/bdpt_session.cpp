@@ -24,6 +24,7 @@ BdptSettings make_bdpt_settings(const SessionSettings& s, int width, int height,
     st.r = r;
     st.n_lt = float(light_paths / s.spp_per_iteration);
     st.inv_light_paths = float(1.0 / light_paths);
+    st.lt_direct = 1.0f;  // light tracing's count for direct light (bdpt.h)
     return st;
 }
 
