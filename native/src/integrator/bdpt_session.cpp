@@ -24,7 +24,9 @@ BdptSettings make_bdpt_settings(const SessionSettings& s, int width, int height,
     st.r = r;
     st.n_lt = float(light_paths / s.spp_per_iteration);
     st.inv_light_paths = float(1.0 / light_paths);
-    st.lt_direct = 1.0f;  // light tracing's count for direct light (bdpt.h)
+    // cis counts light tracing of direct light as a quarter (bdpt.h, BdptSettings::lt_direct);
+    // bdpt and lvc keep the textbook counts
+    st.lt_direct = mode == kCisResampled ? 0.25f : 1.0f;
     return st;
 }
 
