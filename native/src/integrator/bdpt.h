@@ -339,8 +339,10 @@ LANTERN_HD inline void bdpt_camera_generate(const SceneView& s, const PathState&
     const PtSettings pst{st.max_depth, st.rr_depth, st.spp_per_iteration, st.seed, st.iteration};
     pt_generate(s, ps, pst, i, path);
     bs.conn_n[i] = 0;
-    // the light tracing technique relative to a connection (count r)
-    bs.dvcm[i] = mis(st.n_lt / (st.r * camera_pdf(s.camera, ps.ray_d[i])));
+    // the light tracing technique relative to a connection (count r); none without light paths
+    // (then r = 0 too: every weight of the camera pass is path tracing's)
+    bs.dvcm[i] = st.n_lt > 0.0f ? mis(st.n_lt / (st.r * camera_pdf(s.camera, ps.ray_d[i])))
+                                : 0.0f;
     bs.dvc[i] = 0.0f;
 }
 
