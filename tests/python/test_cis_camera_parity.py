@@ -107,3 +107,15 @@ def test_light_path_fraction_checked(core):
             lantern.Session(scene, integrator="cis", light_path_fraction=bad, backend="cpu")
     with pytest.raises(Exception):
         lantern.Session(scene, integrator="bdpt", light_path_fraction=0.5, backend="cpu")
+
+
+@pytest.mark.parametrize("fraction", [0.25])
+def test_fewer_light_paths_agree_with_pt(core, fraction):
+    """A light pass of a quarter of the paths (n_lt, the splats' scale and r follow L): cis with
+    every technique still agrees with pt."""
+    scene = SCENES["two_light_room"]()
+    pt = [render(scene, "pt", 500 + k) for k in range(K)]
+    part = [render(scene, "cis", 600 + k, light_path_fraction=fraction) for k in range(K)]
+    assert all(np.isfinite(x).all() for x in part)
+    metrics.assert_agreement(f"two-light room: cis, light paths x {fraction}, vs pt", part, pt,
+                             block=8, image_bias=0.03, block_bias=0.1)
