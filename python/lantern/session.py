@@ -38,6 +38,8 @@ DEFAULT_SETTINGS = {
     "sort": None,             # sort hits by material type: None = on for cis only
     "connections": 5,         # N: cache vertices per camera vertex (the paper's N = 5)
     "candidates": 10,         # M: cis candidates (the paper's M = 10)
+    "light_path_fraction": 1.0,  # lvc, cis: light paths per camera sample (0: none, so no
+                                 # light tracing or connections: path tracing; bdpt: 1 only)
     "cis_target": "contribution",  # or "bsdf": the paper's BSDF-product target
     "naive_ris": False,       # tests only: the biased uniform weight for resampled picks
     "cache_budget_mb": 0,     # light vertex cache memory per pass (0: min(4 GiB, RAM / 4));
@@ -202,6 +204,11 @@ def resolve_settings(settings):
     out["rr_depth"] = _check_int("rr_depth", out["rr_depth"], 0, 1024)
     out["connections"] = _check_int("connections", out["connections"], 1, 64)
     out["candidates"] = _check_int("candidates", out["candidates"], 1, 64)
+    f = out["light_path_fraction"]
+    if isinstance(f, bool) or not isinstance(f, (int, float, np.integer, np.floating)) \
+            or not 0.0 <= float(f) <= 1.0:
+        raise ValueError(f"setting 'light_path_fraction' must be a number in [0, 1], got {f!r}")
+    out["light_path_fraction"] = float(f)
     out["cache_budget_mb"] = _check_int("cache_budget_mb", out["cache_budget_mb"], 0, 1 << 30)
     out["light_candidates"] = _check_int("light_candidates", out["light_candidates"], 1, 8)
     thr = out["adaptive_threshold"]

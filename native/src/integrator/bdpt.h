@@ -71,6 +71,17 @@ LANTERN_HD inline ShadePoint shade_point_lv(const SceneView& s, const LightVerte
     return sp;
 }
 
+// material_eval with its commonest case inline, the same arithmetic: an unbumped Lambert (a
+// connection evaluates two BSDFs per candidate, M per camera vertex; the call costs as much as
+// the eval). Cycles' diffuse reads the light's side only, its view-side pdf about ng.
+LANTERN_HD inline BsdfEval bdpt_eval(const Material& m, bool front, Vec3 wo, Vec3 wi,
+                                     Transport mode, Vec3 coat_n, const Frame& f, Vec3 ng) {
+    if (material_is_lambert(m) && !(m.tex_flags & (kTexBump | kTexNormal)))
+        return lambert_bumped_eval(m.base_color, Vec3{0.0f, 0.0f, 1.0f}, f.to_local(ng), wo, wi,
+                                   mode == Transport::Radiance);
+    return material_eval(m, front, wo, wi, mode, coat_n, f.to_local(ng));
+}
+
 struct BdptSettings {
     int32_t max_depth, rr_depth, spp_per_iteration;
     uint64_t seed, iteration;
@@ -82,7 +93,20 @@ struct BdptSettings {
     float r;             // MIS count of a connection: N L / |C| (bdpt: 1)
     float n_lt;          // MIS count of light tracing: L / spp_per_iteration
     float inv_light_paths;  // 1 / L
+    float lt_direct;     // light tracing's count for direct light, relative to n_lt (see below)
 };
+
+// Light tracing's MIS count on paths of two segments (light, surface, camera: direct light),
+// relative to n_lt. Next-event estimation and light tracing often have similar densities there,
+// and the power heuristic then shares direct light between them, but light tracing's number of
+// paths that reach a pixel is random where a pixel's camera samples are a fixed number: its
+// share is noisier than its density says (room_area_point at max_depth 2: cis 2.3x pt's noise
+// at equal spp with the count n_lt, 0.98x with n_lt / 4; bench/results/2026-12-04-cis-profile).
+// Any positive count keeps the weights a partition of unity, as long as every technique of
+// such a path uses it: the light tracing splat of a first light vertex (k = 1), next-event
+// estimation at the first camera vertex and the second camera vertex's emission (where the
+// light tracing term is the whole of z.dvcm, respectively dvc). Longer paths keep n_lt.
+LANTERN_HD inline float bdpt_direct_lt(const BdptSettings& st) { return mis(st.lt_direct); }
 
 // Slots beyond PathState. Light pass: the light a path started on, the vertex it may store and
 // its splat position. Camera pass: up to conn_cap connection shadow rays per slot.
@@ -157,8 +181,9 @@ LANTERN_HD inline void bdpt_light_generate(const SceneView& s, const PathState& 
 // density of this vertex (raster density 1 per pixel), pdf_rev the BSDF's density of the light
 // path's incoming direction given the camera direction.
 LANTERN_HD inline float bdpt_light_tracing_weight(const BdptSettings& st, float dvcm, float dvc,
-                                                  float camera_pdf_a, float pdf_rev) {
-    float w_light = mis(camera_pdf_a * st.r / st.n_lt) * (dvcm + dvc * mis(pdf_rev));
+                                                  float camera_pdf_a, float pdf_rev, int k) {
+    const float n_lt = k == 1 ? st.n_lt * st.lt_direct : st.n_lt;  // (BdptSettings::lt_direct)
+    float w_light = mis(camera_pdf_a * st.r / n_lt) * (dvcm + dvc * mis(pdf_rev));
     return 1.0f / (1.0f + w_light);
 }
 
@@ -249,14 +274,14 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
         CameraConnection cc = connect_camera(s.camera, h.p, filter_radius(s.camera),
                                              lens_sample(s.camera, ps, i));
         if (cc.valid && view_side_agrees(m, cc.wc, h.ng, h.ns)) {
-            BsdfEval e = material_eval(m, h.front, wo, frame.to_local(cc.wc),
-                                       Transport::Importance, h.coat_n, frame.to_local(h.ng));
+            BsdfEval e = bdpt_eval(m, h.front, wo, frame.to_local(cc.wc), Transport::Importance,
+                                   h.coat_n, frame, h.ng);
             if (!is_black(e.f)) {
                 float cos_wc_ng = fabsf(dot(cc.wc, h.ng));
                 // f |wc.ns| times the adjoint shading-normal factor [Veach thesis (5.19)]
                 float cos_y = cos_o_ns * cos_wc_ng / cos_o_ng;
                 float w = bdpt_light_tracing_weight(st, dvcm, dvc, cc.importance * cos_wc_ng,
-                                                    e.pdf_rev_w);
+                                                    e.pdf_rev_w, k);
                 LightPathState lp{nullptr, bs.splat_xy};
                 lt_queue_splat(ps, lp, i, h.p, h.ng, cc, beta * e.f * (cos_y * cc.importance * w),
                                s.offset_scale);
@@ -315,8 +340,10 @@ LANTERN_HD inline void bdpt_camera_generate(const SceneView& s, const PathState&
     const PtSettings pst{st.max_depth, st.rr_depth, st.spp_per_iteration, st.seed, st.iteration};
     pt_generate(s, ps, pst, i, path);
     bs.conn_n[i] = 0;
-    // the light tracing technique relative to a connection (count r)
-    bs.dvcm[i] = mis(st.n_lt / (st.r * camera_pdf(s.camera, ps.ray_d[i])));
+    // the light tracing technique relative to a connection (count r); none without light paths
+    // (then r = 0 too: every weight of the camera pass is path tracing's)
+    bs.dvcm[i] = st.n_lt > 0.0f ? mis(st.n_lt / (st.r * camera_pdf(s.camera, ps.ray_d[i])))
+                                : 0.0f;
     bs.dvc[i] = 0.0f;
 }
 
@@ -342,6 +369,8 @@ LANTERN_HD inline float bdpt_emission_weight(const SceneView& s, const PathState
         pdf_direct *= cos_l / (t_light * t_light);  // area
     }
     float pdf_emit = l.emit_pick_pdf * emission_pdf(s, l, n, -d).pdf_emit;
+    // (the second vertex: dvc is light tracing's term alone, BdptSettings::lt_direct)
+    if (ps.depth[i] == 2) dvc *= bdpt_direct_lt(st);
     float w_camera = mis(pdf_direct) * dvcm + mis(st.r * pdf_emit) * dvc;
     return 1.0f / (1.0f + w_camera);
 }
@@ -392,6 +421,7 @@ struct CameraVertex {
     const Material* m;
     int depth;    // segments from the camera
     Vec3 n_pick;  // the normal the light tree sees here (light_pick_normal)
+    Vec3 ng_l;    // the geometric normal in frame (what a bumped Lambert reads)
     // kOneScratch: where m may live, and what resolves it again (the hit's triangle, its
     // barycentrics and the direction towards the previous vertex)
     MaterialScratch* scratch;
@@ -432,7 +462,7 @@ LANTERN_HD inline void bdpt_camera_nee(const SceneView& s, const PathState& ps,
     LightSample ls = sample_light(s, l, z.h.p, u_light);
     if (!ls.valid || is_black(ls.le) || !light_side_agrees(*z.m, ls.wi, z.h.ng, z.h.ns)) return;
     BsdfEval e = material_eval(*z.m, z.h.front, z.wo, z.frame.to_local(ls.wi), Transport::Radiance,
-                               z.h.coat_n, z.frame.to_local(z.h.ng));
+                               z.h.coat_n, z.ng_l);
     float pdf_light_w = pick.pmf * ls.pdf_w;
     if (is_black(e.f) || !(pdf_light_w > 0.0f)) return;
     const bool infinite = !(ls.dist < kInf);
@@ -450,7 +480,9 @@ LANTERN_HD inline void bdpt_camera_nee(const SceneView& s, const PathState& ps,
         pdf_lp = pdf_emit * cos_z / d2;
     }
     float w_light = ls.delta ? 0.0f : mis(e.pdf_fwd_w / pdf_light_w);
-    float w_camera = mis(st.r * pdf_lp / pdf_nee) * (z.dvcm + z.dvc * mis(e.pdf_rev_w));
+    // (the first vertex: z.dvcm is light tracing's term alone, BdptSettings::lt_direct)
+    const float dvcm_z = z.depth == 1 ? z.dvcm * bdpt_direct_lt(st) : z.dvcm;
+    float w_camera = mis(st.r * pdf_lp / pdf_nee) * (dvcm_z + z.dvc * mis(e.pdf_rev_w));
     float w = 1.0f / (w_light + 1.0f + w_camera);
     float cos_i = fabsf(dot(ls.wi, z.h.ns));
     Vec3 c = z.beta * e.f * ls.le * (cos_i * w / pdf_light_w);
@@ -490,11 +522,16 @@ LANTERN_HD inline Connection bdpt_connect_in(const SceneView& s, const BdptSetti
     if (!(d2 > 0.0f) || !is_finite(d2)) return r;
     float dist = sqrtf(d2);
     dir = dir / dist;
-    if (!light_side_agrees(*z.m, dir, z.h.ng, z.h.ns) ||
-        !view_side_agrees(s.materials[y.material], -dir, y.ng, y.ns))
-        return r;
-    BsdfEval ez = material_eval(*z.m, z.h.front, z.wo, z.frame.to_local(dir), Transport::Radiance,
-                                z.h.coat_n, z.frame.to_local(z.h.ng));
+    // each dot product once (the frames' third axes are the shading normals: the local
+    // directions' z are dir.ns): light_side_agrees of (dir, z), view_side_agrees of (-dir, y)
+    const Vec3 wi_z = z.frame.to_local(dir);
+    const float dz_ng = dot(dir, z.h.ng), dy_ng = dot(-dir, y.ng);
+    if (!(material_corrects_view(*z.m) ? dz_ng > 0.0f : dz_ng * wi_z.z > 0.0f)) return r;
+    const float dy_ns = dot(-dir, y.ns);
+    const bool y_geometric = material_view_geometric(s.materials[y.material]);
+    if (!(y_geometric ? dy_ng > 0.0f : dy_ng * dy_ns > 0.0f)) return r;
+    BsdfEval ez = bdpt_eval(*z.m, z.h.front, z.wo, wi_z, Transport::Radiance, z.h.coat_n,
+                            z.frame, z.h.ng);
     if (is_black(ez.f)) return r;
 #ifdef __CUDA_ARCH__
     MaterialScratch& scratch = *z.scratch;  // kOneScratch: z's material is not read again here
@@ -508,12 +545,13 @@ LANTERN_HD inline Connection bdpt_connect_in(const SceneView& s, const BdptSetti
     const Vec3 coat_y = (my.tex_flags & kCoatNormal) || material_keeps_unbent_normal(my)
                             ? oct_decode(y.coat_n)
                             : vec3(0.0f, 0.0f, 1.0f);
-    BsdfEval ey = material_eval(my, y.front != 0, fy.to_local(y.wo), fy.to_local(-dir),
-                                Transport::Importance, coat_y, fy.to_local(y.ng));
+    const Vec3 wo_y = fy.to_local(y.wo);
+    const Vec3 wi_y = Vec3{dot(-dir, fy.s), dot(-dir, fy.t), dy_ns};
+    BsdfEval ey = bdpt_eval(my, y.front != 0, wo_y, wi_y, Transport::Importance, coat_y, fy, y.ng);
     if (is_black(ey.f)) return r;
-    const float cos_z_ng = fabsf(dot(dir, z.h.ng)), cos_y_ng = fabsf(dot(dir, y.ng));
-    const float cos_z_ns = fabsf(dot(dir, z.h.ns));
-    const float cos_yo_ns = fabsf(dot(y.wo, y.ns)), cos_yo_ng = fabsf(dot(y.wo, y.ng));
+    const float cos_z_ng = fabsf(dz_ng), cos_y_ng = fabsf(dy_ng);
+    const float cos_z_ns = fabsf(wi_z.z);
+    const float cos_yo_ns = fabsf(wo_y.z), cos_yo_ng = fabsf(dot(y.wo, y.ng));
     if (!(cos_yo_ng > 0.0f)) return r;
     // light side: f |dir.ns| with the adjoint shading-normal factor
     const float cos_y = cos_yo_ns * cos_y_ng / cos_yo_ng;
@@ -551,6 +589,11 @@ LANTERN_HD inline void bdpt_queue_connection(const BdptState& bs, int i, const C
     bs.conn_n[i] = j + 1;
 }
 
+// A candidate the CPU keeps for its picks: what bdpt_queue_connection reads of its Connection.
+struct KeptCandidate {
+    float cx, cy, cz, dx, dy, dz;
+};
+
 // cis's candidates per camera vertex at most (BdptSettings::candidates); SceneView's
 // cis_candidates holds 2 x kCisCandidates floats per GPU thread.
 constexpr int kCisCandidates = 64;
@@ -568,7 +611,8 @@ LANTERN_HD inline void bdpt_camera_connect(const SceneView& s, const BdptState& 
                                            const BdptSettings& st, const LightCache& cache,
                                            const CameraVertex& z, int i, int64_t path) {
     bs.conn_n[i] = 0;
-    if (cache.size <= 0) return;
+    // every cache vertex is at least one segment from its light: past max_depth from here
+    if (cache.size <= 0 || z.depth + 2 > st.max_depth) return;
     if (st.mode == kBdptOwnPath) {
         for (int k = cache.path_offset[path]; k < cache.path_offset[path + 1]; ++k) {
             const LightVertex& y = cache.v[cache.path_vertex[k]];
@@ -617,14 +661,14 @@ LANTERN_HD inline void bdpt_camera_connect(const SceneView& s, const BdptState& 
     float p_hats[kMaxCandidates];
     uint8_t count[kMaxCandidates];  // of st.connections <= 64 picks (Session checks)
 #endif
-    Connection cand[kKept];
+    KeptCandidate cand[kKept];  // plain floats: a Connection array would be zero-filled
     [[maybe_unused]] int idx[kKept];
     float sum = 0.0f;
     for (int j = 0; j < m; ++j) {
         const int index = pick(rng.next());
         const Connection c = bdpt_connect(s, st, z, cache.v[index]);
         if constexpr (kKept > 1) {
-            cand[j] = c;
+            cand[j] = KeptCandidate{c.c.x, c.c.y, c.c.z, c.dir.x, c.dir.y, c.dir.z};
             idx[j] = index;
         }
         float p_hat = st.target == kTargetBsdf ? (is_black(c.c) ? 0.0f : c.bsdf_target)
@@ -656,10 +700,12 @@ LANTERN_HD inline void bdpt_camera_connect(const SceneView& s, const BdptState& 
         float w_ris = st.naive_ris ? size : (sum / float(m)) / p_hat;
         float weight = w_ris * float(count[j]) / float(st.connections) * st.inv_light_paths;
         Connection c;
-        if constexpr (kKept > 1)
-            c = cand[j];
-        else
+        if constexpr (kKept > 1) {
+            c.c = vec3(cand[j].cx, cand[j].cy, cand[j].cz);
+            c.dir = vec3(cand[j].dx, cand[j].dy, cand[j].dz);
+        } else {
             c = bdpt_connect(s, st, z, y);
+        }
         bdpt_queue_connection(bs, i, z, y, c, c.c * weight, s.offset_scale);
     }
 }
@@ -705,13 +751,15 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
             float pdf_direct = pick * light_pdf_w(l, ps.ray_o[i], d, t_hit, z.h.ng) *
                                cos_in / (t_hit * t_hit);
             float pdf_emit = l.emit_pick_pdf * emission_pdf(s, l, z.h.ng, -d).pdf_emit;
-            w = 1.0f / (1.0f + mis(pdf_direct) * dvcm + mis(st.r * pdf_emit) * dvc);
+            const float dvc_e = z.depth == 2 ? dvc * bdpt_direct_lt(st) : dvc;  // (lt_direct)
+            w = 1.0f / (1.0f + mis(pdf_direct) * dvcm + mis(st.r * pdf_emit) * dvc_e);
         }
         add_radiance(ps, i, ps.throughput[i] * m.emission * w);
     }
     if (z.depth >= st.max_depth) return;
     z.frame = z.h.frame();
     z.wo = z.frame.to_local(-d);
+    z.ng_l = z.frame.to_local(z.h.ng);
     z.beta = ps.throughput[i];
     z.dvcm = dvcm;
     z.dvc = dvc;
@@ -727,7 +775,7 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
     // continue
     Vec2 u_dir = rng.uniform2();
     BsdfSample b = material_sample(m, z.h.front, z.wo, Vec3{u_dir.x, u_dir.y, rng.uniform()},
-                                   Transport::Radiance, z.h.coat_n, z.frame.to_local(z.h.ng));
+                                   Transport::Radiance, z.h.coat_n, z.ng_l);
     Vec3 wi = z.frame.to_world(b.wi);
     if (b.valid && light_side_agrees(m, wi, z.h.ng, z.h.ns) && (b.delta || b.pdf_fwd_w > 0.0f)) {
         Vec3 beta = z.beta * b.weight;

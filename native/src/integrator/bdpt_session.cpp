@@ -1,15 +1,24 @@
 // The bidirectional integrators (bdpt, lvc, cis): the settings of a pass, and the schedule
 // (integrator/schedule_bdpt.h: Algorithms 1 and 2 of the paper, every reduction in queue order,
 // so the image has the same bits for any thread count) on the CPU executor.
+#include <algorithm>
+#include <cmath>
+
 #include "backend/cpu/cpu_exec.h"
 #include "integrator/schedule_bdpt.h"
 #include "integrator/session.h"
 
 namespace lantern {
 
+int64_t bdpt_light_paths(const SessionSettings& s, int width, int height) {
+    const int64_t all = int64_t(width) * height * s.spp_per_iteration;
+    if (s.light_path_fraction >= 1.0f) return all;
+    return std::min<int64_t>(all, std::llround(double(s.light_path_fraction) * double(all)));
+}
+
 BdptSettings make_bdpt_settings(const SessionSettings& s, int width, int height,
                                 uint64_t iteration, int mode, float r) {
-    const double light_paths = double(width) * height * s.spp_per_iteration;
+    const double light_paths = double(bdpt_light_paths(s, width, height));
     BdptSettings st{};
     st.max_depth = s.max_depth;
     st.rr_depth = s.rr_depth;
@@ -23,7 +32,11 @@ BdptSettings make_bdpt_settings(const SessionSettings& s, int width, int height,
     st.naive_ris = s.naive_ris ? 1 : 0;
     st.r = r;
     st.n_lt = float(light_paths / s.spp_per_iteration);
-    st.inv_light_paths = float(1.0 / light_paths);
+    // (no light paths: r = 0 too, and the camera pass's weights are path tracing's)
+    st.inv_light_paths = light_paths > 0.0 ? float(1.0 / light_paths) : 0.0f;
+    // cis counts light tracing of direct light as a quarter (bdpt.h, BdptSettings::lt_direct);
+    // bdpt and lvc keep the textbook counts
+    st.lt_direct = mode == kCisResampled ? 0.25f : 1.0f;
     return st;
 }
 

@@ -223,6 +223,10 @@ template <class Exec>
 void measure_cache_rate(Exec& ex, Wavefront<Exec>& w, const SceneView& s, WavefrontStep& st) {
     const int64_t light_paths = int64_t(st.width) * st.height * st.set.spp_per_iteration;
     const int pilot = int(std::min<int64_t>(light_paths, 1 << 14));
+    if (bdpt_light_paths(st.set, st.width, st.height) == 0) {  // no light pass, no cache
+        w.vertices_per_path = 0.0;
+        return;
+    }
     w.pilot = true;
     light_chunk(ex, w, s, st, 0, pilot);
     w.pilot = false;
@@ -233,15 +237,19 @@ void measure_cache_rate(Exec& ex, Wavefront<Exec>& w, const SceneView& s, Wavefr
 template <class Exec>
 bool bdpt_pass(Exec& ex, Wavefront<Exec>& w, const SceneView& s, WavefrontStep& st) {
     const int spp_it = st.set.spp_per_iteration;
-    const int64_t light_paths = int64_t(st.width) * st.height * spp_it;
+    const int64_t light_paths = bdpt_light_paths(st.set, st.width, st.height);
     SessionStats& stats = *st.stats;
     // MIS count of a connection, r = N L / |C|: bdpt connects to every vertex of one light path
     // (r = 1); lvc and cis take N picks out of |C| vertices from L paths, r from the previous
-    // iteration's cache (or the pilot), so the weights never depend on the paths they weight
+    // iteration's cache (or the pilot), so the weights never depend on the paths they weight;
+    // without light paths (SessionSettings::light_path_fraction 0) there are no connections
     auto t = Clock::now();
-    w.mis_r = w.mode == kBdptOwnPath || !(w.vertices_per_path > 0.0)
-                  ? 1.0f
-                  : float(st.set.connections / w.vertices_per_path);
+    if (light_paths == 0)
+        w.mis_r = 0.0f;
+    else if (w.mode == kBdptOwnPath || !(w.vertices_per_path > 0.0))
+        w.mis_r = 1.0f;
+    else
+        w.mis_r = float(st.set.connections / w.vertices_per_path);
     // the cache starts at the capacity the measured rate predicts (wavefront_cache.h)
     w.pass_light_paths = light_paths;
     w.release_index();  // the last pass's
@@ -257,7 +265,7 @@ bool bdpt_pass(Exec& ex, Wavefront<Exec>& w, const SceneView& s, WavefrontStep& 
         if (st.cancelled()) return false;
     }
     stats.cache_vertices = w.cache_size;
-    w.vertices_per_path = double(w.cache_size) / double(light_paths);
+    if (light_paths > 0) w.vertices_per_path = double(w.cache_size) / double(light_paths);
     stats.time_light_pass += seconds_since(t);
     t = Clock::now();
     if (w.mode == kBdptOwnPath) index_cache_by_path(ex, w, light_paths);

@@ -44,6 +44,11 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
     if (settings_.connections < 1 || settings_.connections > 64) {
         throw std::invalid_argument("connections (N) must be in [1, 64]");
     }
+    if (!(settings_.light_path_fraction >= 0.0f && settings_.light_path_fraction <= 1.0f) ||
+        (integ == "bdpt" && settings_.light_path_fraction != 1.0f)) {
+        throw std::invalid_argument("light_path_fraction must be in [0, 1] (bdpt: 1, a light "
+                                    "path for every camera path)");
+    }
     if (settings_.candidates < 1 || settings_.candidates > 64) {
         throw std::invalid_argument("candidates (M) must be in [1, 64]");
     }

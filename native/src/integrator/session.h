@@ -42,6 +42,10 @@ struct SessionSettings {
     int sort = -1;          // sort each bounce's hits by material type: 1 on, 0 off, -1 = cis only
     int connections = 5;    // N: cache vertices each camera vertex connects to (paper: 5)
     int candidates = 10;    // M: cis candidates (paper: 10)
+    // lvc, cis: light paths per camera sample, L = round(f width height spp) (bdpt: 1 only);
+    // 0: no light pass, so no light tracing and no connections: the camera pass alone, whose
+    // weights are then path tracing's (bdpt.h)
+    float light_path_fraction = 1.0f;
     std::string cis_target = "contribution";  // or "bsdf" (the paper's BSDF product)
     bool naive_ris = false; // test only: weight resampled picks like uniform ones (biased)
     int cache_budget_mb = 0;  // light vertex cache per pass; 0: min(4 GiB, RAM / 4)
@@ -63,6 +67,8 @@ struct SessionSettings {
 // (bdpt_session.cpp; the schedule's, integrator/schedule_bdpt.h, for every backend).
 BdptSettings make_bdpt_settings(const SessionSettings& s, int width, int height,
                                 uint64_t iteration, int mode, float r);
+// Light paths L of a pass of s.spp_per_iteration samples (SessionSettings::light_path_fraction).
+int64_t bdpt_light_paths(const SessionSettings& s, int width, int height);
 // Samples per light pass, the cache's capacity and growth: integrator/wavefront_cache.h.
 
 struct SessionStats {

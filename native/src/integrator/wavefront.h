@@ -310,7 +310,13 @@ int64_t camera_segments(Exec& ex, Wavefront<Exec>& w, int n, SessionStats& stats
 // The bounce's visible camera splats into the iteration's sum, in queue order on the CPU.
 template <class Exec>
 void splat(Exec& ex, Wavefront<Exec>& w, const SceneView& s, WavefrontStep& st, int n) {
-    const double scale = 1.0 / (double(st.width) * double(st.height));  // L / spp paths
+    // 1 / (L / spp): L light paths for spp camera samples a pixel (lt: L = width height spp;
+    // lvc, cis: SessionSettings::light_path_fraction of that)
+    const double pixels = double(st.width) * double(st.height);
+    const double scale = !w.bidirectional || w.pass_light_paths == int64_t(pixels) *
+                                                                     st.set.spp_per_iteration
+                             ? 1.0 / pixels
+                             : double(st.set.spp_per_iteration) / double(w.pass_light_paths);
     ex.splat(n, w.visible.data(), w.splat_xy.data(), w.ps.shadow_contrib, s.camera, scale,
              st.sum, w.queue.data());
 }

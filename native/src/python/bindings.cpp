@@ -317,6 +317,7 @@ SessionSettings to_settings(const nb::dict& d) {
     if (d.contains("sort") && !d["sort"].is_none()) s.sort = nb::cast<bool>(d["sort"]) ? 1 : 0;
     s.connections = get<int>(d, "connections", s.connections);
     s.candidates = get<int>(d, "candidates", s.candidates);
+    s.light_path_fraction = get<float>(d, "light_path_fraction", s.light_path_fraction);
     s.cis_target = get<std::string>(d, "cis_target", s.cis_target);
     s.naive_ris = get<bool>(d, "naive_ris", s.naive_ris);
     s.cache_budget_mb = get<int>(d, "cache_budget_mb", s.cache_budget_mb);
