@@ -4,7 +4,8 @@ Material Output's Surface:
 - Principled BSDF -> principled (bsdf/principled.h): sheen and coat over metal, glass and a
   dielectric specular layer (IOR, Specular IOR Level, Specular Tint, Roughness) over a diffuse
   Base Color (Lambert, or Oren-Nayar with Diffuse Roughness). Metallic 1 -> conductor (the
-  same lobe, cheaper); Specular IOR Level 0 without metal or glass -> diffuse. Subsurface is
+  same lobe, cheaper); Specular IOR Level 0 without metal or glass -> diffuse; either only
+  without coat and sheen (they would be lost: difftest D16). Subsurface is
   not rendered (a warning). Emission Color x Strength in every case.
 - Diffuse BSDF -> diffuse (Roughness > 0: Blender's energy-preserving Oren-Nayar);
   Translucent BSDF -> translucent; Emission -> emission; Glossy BSDF -> conductor of constant
@@ -603,22 +604,23 @@ def _convert_shader(node, material, report, textures):
         if film > 0.0:   # on the specular layer and the metal (not the glass)
             out.update(thin_film_thickness=film,
                        thin_film_ior=max(_ior(value("Thin Film IOR")), 1.0))
-        if metallic >= 0.999 and not metal_tex:  # the metal lobe alone: the cheaper conductor
-            out.pop("metallic")
+        coat = _weight(value("Coat Weight"))
+        sheen = _weight(value("Sheen Weight"), 1e3)
+        layered = coat > 0.0 or sheen > 0.0   # the simpler types have no coat or sheen
+        if metallic >= 0.999 and not metal_tex and not layered:  # the metal lobe alone: the
+            out.pop("metallic")                                  # cheaper conductor
             out.update(type="conductor", base_color=base,
                        specular_tint=color("Specular Tint"), roughness=roughness)
-        elif level > 0.0 or metallic > 0.0 or transmission > 0.0 or metal_tex:
+        elif level > 0.0 or metallic > 0.0 or transmission > 0.0 or metal_tex or layered:
             out.update(type="principled", base_color=base,
                        specular_tint=color("Specular Tint"), roughness=roughness,
                        ior=_ior(value("IOR")), metallic=metallic, transmission=transmission,
                        specular_level=min(level, 1e3))
-            coat = _weight(value("Coat Weight"))
             if coat > 0.0:
                 out.update(coat_weight=coat, coat_roughness=_unit(value("Coat Roughness")),
                            coat_ior=max(_ior(value("Coat IOR")), 1.0),
                            coat_tint=color("Coat Tint"))
                 inputs.normal_map(out, "Coat Normal", "coat_normal")
-            sheen = _weight(value("Sheen Weight"), 1e3)
             if sheen > 0.0:
                 out.update(sheen_weight=sheen, sheen_roughness=_unit(value("Sheen Roughness")),
                            sheen_tint=color("Sheen Tint"))
