@@ -11,8 +11,9 @@ Material Output's Surface:
   Translucent BSDF -> translucent; Emission -> emission; Glossy BSDF -> conductor of constant
   reflectance Color (Cycles' Glossy has no Fresnel: eta 0, k 1 scaled by Color); Metallic BSDF
   (F82) -> conductor (Base Color, Edge Tint), physical-conductor mode -> its normal-incidence
-  reflectance as F0, with a warning; Glass BSDF -> dielectric; Refraction BSDF -> dielectric
-  (its reflection included), with a warning.
+  reflectance as F0, with a warning; Glass BSDF -> dielectric (Color tints reflection and
+  transmission, as Cycles); Refraction BSDF -> dielectric (its reflection included, untinted),
+  with a warning.
 - Mix Shader, Add Shader -> mix (Transparent BSDF leaves -> alpha); see _convert_mix.
 - Anything else: grey 0.8 diffuse, with a warning naming the material and the node.
 - Negative or non-finite colours read as 0, non-finite weights as 0 (a warning).
@@ -662,7 +663,9 @@ def _convert_shader(node, material, report, textures):
         inputs.base(out, "base_color", "Color")
     elif node.type in ("BSDF_GLASS", "BSDF_REFRACTION"):
         inputs.base(out, "base_color", "Color")
-        out.update(type="dielectric", ior=_ior(value("IOR")))
+        # Glass: Color tints reflection and transmission (Cycles), Refraction: transmission
+        out.update(type="dielectric", ior=_ior(value("IOR")),
+                   tint_reflection=node.type == "BSDF_GLASS")
         inputs.scalar(out, "roughness", "Roughness", _unit)
         if node.type == "BSDF_REFRACTION":
             report.warn(f"Material '{name}': Refraction BSDF rendered as glass (its Fresnel "

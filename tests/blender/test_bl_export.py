@@ -313,6 +313,7 @@ def test_metal_and_glass_nodes_map_to_material_types(empty, addon):
     assert got["glass"]["type"] == "dielectric" and got["glass"]["roughness"] == pytest.approx(0.05)
     assert got["refraction"]["type"] == "dielectric" and got["refraction"]["ior"] == pytest.approx(1.33)
     assert any("refraction" in m and "Refraction" in m for m in report.messages)
+    assert got["glass"]["tint_reflection"] and not got["refraction"]["tint_reflection"]
     assert got["p_metal_coat"]["type"] == "principled"
     assert got["p_metal_coat"]["metallic"] == 1.0
     assert got["p_metal_coat"]["coat_weight"] == pytest.approx(0.79)

@@ -707,7 +707,11 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
             float pdf_emit = l.emit_pick_pdf * emission_pdf(s, l, z.h.ng, -d).pdf_emit;
             w = 1.0f / (1.0f + mis(pdf_direct) * dvcm + mis(st.r * pdf_emit) * dvc);
         }
-        add_radiance(ps, i, ps.throughput[i] * m.emission * w);
+        // the camera's direct view of a Principled emitter: under its coat and sheen
+        // (principled_emission_through; light it casts stays undimmed)
+        const Vec3 le = z.depth <= 1 ? m.emission * principled_emission_through(m, dot(d, z.h.ng))
+                                     : m.emission;
+        add_radiance(ps, i, ps.throughput[i] * le * w);
     }
     if (z.depth >= st.max_depth) return;
     z.frame = z.h.frame();
