@@ -4,14 +4,16 @@ Material Output's Surface:
 - Principled BSDF -> principled (bsdf/principled.h): sheen and coat over metal, glass and a
   dielectric specular layer (IOR, Specular IOR Level, Specular Tint, Roughness) over a diffuse
   Base Color (Lambert, or Oren-Nayar with Diffuse Roughness). Metallic 1 -> conductor (the
-  same lobe, cheaper); Specular IOR Level 0 without metal or glass -> diffuse. Subsurface is
+  same lobe, cheaper); Specular IOR Level 0 without metal or glass -> diffuse; either only
+  without coat and sheen (they would be lost: difftest D16). Subsurface is
   not rendered (a warning). Emission Color x Strength in every case.
 - Diffuse BSDF -> diffuse (Roughness > 0: Blender's energy-preserving Oren-Nayar);
   Translucent BSDF -> translucent; Emission -> emission; Glossy BSDF -> conductor of constant
   reflectance Color (Cycles' Glossy has no Fresnel: eta 0, k 1 scaled by Color); Metallic BSDF
   (F82) -> conductor (Base Color, Edge Tint), physical-conductor mode -> its normal-incidence
-  reflectance as F0, with a warning; Glass BSDF -> dielectric; Refraction BSDF -> dielectric
-  (its reflection included), with a warning.
+  reflectance as F0, with a warning; Glass BSDF -> dielectric (Color tints reflection and
+  transmission, as Cycles); Refraction BSDF -> dielectric (its reflection included, untinted),
+  with a warning.
 - Mix Shader, Add Shader -> mix (Transparent BSDF leaves -> alpha); see _convert_mix.
 - Anything else: grey 0.8 diffuse, with a warning naming the material and the node.
 - Negative or non-finite colours read as 0, non-finite weights as 0 (a warning).
@@ -673,22 +675,23 @@ def _convert_shader(node, material, report, textures):
             elif "base_color_texture" not in out and _image_source(sock)[0] is None:
                 base = color("Base Color", clamp=False)
             out["base_color"] = base
-        if metallic >= 0.999 and not metal_tex:  # the metal lobe alone: the cheaper conductor
-            out.pop("metallic")
+        coat = _weight(value("Coat Weight"))
+        sheen = _weight(value("Sheen Weight"), 1e3)
+        layered = coat > 0.0 or sheen > 0.0   # the simpler types have no coat or sheen
+        if metallic >= 0.999 and not metal_tex and not layered:  # the metal lobe alone: the
+            out.pop("metallic")                                  # cheaper conductor
             out.update(type="conductor", base_color=base,
                        specular_tint=color("Specular Tint"), roughness=roughness)
-        elif level > 0.0 or metallic > 0.0 or transmission > 0.0 or metal_tex:
+        elif level > 0.0 or metallic > 0.0 or transmission > 0.0 or metal_tex or layered:
             out.update(type="principled", base_color=base,
                        specular_tint=color("Specular Tint"), roughness=roughness,
                        ior=_ior(value("IOR")), metallic=metallic, transmission=transmission,
                        specular_level=min(level, 1e3))
-            coat = _weight(value("Coat Weight"))
             if coat > 0.0:
                 out.update(coat_weight=coat, coat_roughness=_unit(value("Coat Roughness")),
                            coat_ior=max(_ior(value("Coat IOR")), 1.0),
                            coat_tint=color("Coat Tint"))
                 inputs.normal_map(out, "Coat Normal", "coat_normal")
-            sheen = _weight(value("Sheen Weight"), 1e3)
             if sheen > 0.0:
                 out.update(sheen_weight=sheen, sheen_roughness=_unit(value("Sheen Roughness")),
                            sheen_tint=color("Sheen Tint"))
@@ -730,7 +733,9 @@ def _convert_shader(node, material, report, textures):
         inputs.base(out, "base_color", "Color", clamp=False)
     elif node.type in ("BSDF_GLASS", "BSDF_REFRACTION"):
         inputs.base(out, "base_color", "Color")
-        out.update(type="dielectric", ior=_ior(value("IOR")))
+        # Glass: Color tints reflection and transmission (Cycles), Refraction: transmission
+        out.update(type="dielectric", ior=_ior(value("IOR")),
+                   tint_reflection=node.type == "BSDF_GLASS")
         inputs.scalar(out, "roughness", "Roughness", _unit)
         if node.type == "BSDF_REFRACTION":
             report.warn(f"Material '{name}': Refraction BSDF rendered as glass (its Fresnel "

@@ -60,6 +60,7 @@ class Scene:
     def add_material(self, name=None, base_color=(0.8, 0.8, 0.8), emission=(0.0, 0.0, 0.0),
                      type="diffuse", roughness=0.5, ior=1.5, specular_tint=(1.0, 1.0, 1.0),
                      metallic=0.0, transmission=0.0, specular_level=0.5, multiscatter=True,
+                     tint_reflection=False,
                      coat_weight=0.0, coat_roughness=0.03, coat_ior=1.5,
                      coat_tint=(1.0, 1.0, 1.0), sheen_weight=0.0, sheen_roughness=0.5,
                      thin_film_thickness=0.0, thin_film_ior=1.33,
@@ -73,7 +74,8 @@ class Scene:
         energy-preserving Oren-Nayar), "conductor" (GGX metal with F0 `base_color` and F82
         `specular_tint`; given `eta` and `k` (RGB, complex index eta + i k) the exact conductor
         Fresnel instead, scaled by `base_color`), "dielectric" (glass of index `ior`, GGX
-        `roughness`; roughness 0 is smooth, `base_color` tints transmission), "principled"
+        `roughness`; roughness 0 is smooth, `base_color` tints transmission, and reflection too with
+        `tint_reflection`, as Blender's Glass BSDF), "principled"
         (Blender's Principled BSDF as layers: sheen, coat, `metallic`, `transmission`, a
         dielectric specular layer of `ior`, `specular_level` and `specular_tint` over a diffuse
         `base_color`; docs/materials.md), "translucent" (Lambertian transmission of colour
@@ -97,7 +99,8 @@ class Scene:
             "name": str(name), "type": type, "base_color": base_color, "emission": emission,
             "roughness": roughness, "ior": ior, "specular_tint": specular_tint,
             "metallic": metallic, "transmission": transmission, "specular_level": specular_level,
-            "multiscatter": multiscatter, "coat_weight": coat_weight,
+            "multiscatter": multiscatter, "tint_reflection": tint_reflection,
+            "coat_weight": coat_weight,
             "coat_roughness": coat_roughness, "coat_ior": coat_ior, "coat_tint": coat_tint,
             "sheen_weight": sheen_weight, "sheen_roughness": sheen_roughness,
             "sheen_tint": sheen_tint, "distribution": distribution, "alpha": alpha,

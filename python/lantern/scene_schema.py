@@ -424,6 +424,10 @@ def validate_material(material, index, num_textures=0):
     if not isinstance(ms, (bool, np.bool_)):
         raise ValueError(f"{what} multiscatter: expected True or False, got {ms!r}")
     out["multiscatter"] = bool(ms)
+    tint = material.get("tint_reflection", False)
+    if not isinstance(tint, (bool, np.bool_)):
+        raise ValueError(f"{what} tint_reflection: expected True or False, got {tint!r}")
+    out["tint_reflection"] = bool(tint)
     eta, k = material.get("eta"), material.get("k")
     out.pop("eta", None)
     out.pop("k", None)

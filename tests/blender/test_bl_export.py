@@ -309,6 +309,11 @@ def test_metal_and_glass_nodes_map_to_material_types(empty, addon):
             "Color": (1, 1, 1, 1), "Roughness": 0.05, "IOR": 1.5})[0],
         "refraction": shader_material("refraction", "ShaderNodeBsdfRefraction", **{
             "IOR": 1.33})[0],
+        # the cheaper types have no coat or sheen: these stay principled (difftest D16)
+        "p_metal_coat": shader_material("p_metal_coat", "ShaderNodeBsdfPrincipled", **{
+            "Metallic": 1.0, "Coat Weight": 0.79})[0],
+        "p_level0_sheen": shader_material("p_level0_sheen", "ShaderNodeBsdfPrincipled", **{
+            "Specular IOR Level": 0.0, "Sheen Weight": 1.0})[0],
     }
     for k, (name, mat) in enumerate(mats.items()):
         add_plane(empty, material=mat, location=(3 * k, 0, 0), name=name)
@@ -331,3 +336,9 @@ def test_metal_and_glass_nodes_map_to_material_types(empty, addon):
     assert got["glass"]["type"] == "dielectric" and got["glass"]["roughness"] == pytest.approx(0.05)
     assert got["refraction"]["type"] == "dielectric" and got["refraction"]["ior"] == pytest.approx(1.33)
     assert any("refraction" in m and "Refraction" in m for m in report.messages)
+    assert got["glass"]["tint_reflection"] and not got["refraction"]["tint_reflection"]
+    assert got["p_metal_coat"]["type"] == "principled"
+    assert got["p_metal_coat"]["metallic"] == 1.0
+    assert got["p_metal_coat"]["coat_weight"] == pytest.approx(0.79)
+    assert got["p_level0_sheen"]["type"] == "principled"
+    assert got["p_level0_sheen"]["sheen_weight"] == pytest.approx(1.0)

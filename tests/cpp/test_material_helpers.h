@@ -64,6 +64,21 @@ inline Material principled(Vec3 base, float metallic, float transmission, float 
     return m;
 }
 
+// The same with Blender's default Multiscatter GGX: the compensation's tables and Fresnels as
+// the scene build makes them (scene.cpp fill_lobe_tables), then the layer's albedo with it.
+inline Material principled_ms(Vec3 base, float metallic, float transmission, float roughness,
+                              float ior = 1.5f, float level = 0.5f) {
+    Material m = principled(base, metallic, transmission, roughness, ior, level);
+    m.multiscatter = 1;
+    MaterialTables& t = own_tables(m);
+    const float e_avg = ms_fill_table(m, t);
+    m.fms_metal = ms_fresnel([&](float mu) { return conductor_fresnel(principled_metal(m), mu); },
+                             e_avg);
+    m.fms_spec = ms_fresnel([&](float mu) { return principled_spec_fresnel(m, mu); }, e_avg);
+    principled_albedo_table(m, t);
+    return m;
+}
+
 inline Material coated(Material m, float weight, float roughness, float ior = 1.5f) {
     m.coat_weight = weight;
     m.coat_roughness = roughness;

@@ -43,7 +43,7 @@ LANTERN_HD inline DielectricParams material_dielectric(const Material& m, bool f
 // a resolved copy is the material's own. A mix keeps these for its textured leaves instead of
 // whole copies (mix_leaf_at puts them back), so that a GPU thread's scratch holds one Material.
 struct MaterialInputs {
-    Vec3 base_color, emission, fms_metal;
+    Vec3 base_color, emission, fms_metal, fms_spec;
     float roughness, metallic;
     float mix_weight[2];  // kTargetMixFactor (read only where the material is a mix)
     uint32_t resolved;    // a mix leaf's: 0 when the leaf is the scene's as it is
@@ -53,6 +53,7 @@ LANTERN_HD inline MaterialInputs material_inputs(const Material& m) {
     in.base_color = m.base_color;
     in.emission = m.emission;
     in.fms_metal = m.fms_metal;
+    in.fms_spec = m.fms_spec;
     in.roughness = m.roughness;
     in.metallic = m.metallic;
     in.mix_weight[0] = m.mix_weight[0];
@@ -64,6 +65,7 @@ LANTERN_HD inline void material_set_inputs(Material& m, const MaterialInputs& in
     m.base_color = in.base_color;
     m.emission = in.emission;
     m.fms_metal = in.fms_metal;
+    m.fms_spec = in.fms_spec;
     m.roughness = in.roughness;
     m.metallic = in.metallic;
     m.mix_weight[0] = in.mix_weight[0];
@@ -72,7 +74,7 @@ LANTERN_HD inline void material_set_inputs(Material& m, const MaterialInputs& in
 
 // Room for what material_at resolves: a copy of the material and, for a mix, its leaves'
 // inputs. Left uninitialised (Material is trivially copyable and only ever assigned whole), so
-// that the common untextured hit pays nothing for it. 376 + 4 x 56 = 600 bytes on the host
+// that the common untextured hit pays nothing for it. 376 + 4 x 68 = 648 bytes on the host
 // (with whole leaves 5 x 368 = 1,840): the albedo tables, which resolution never changes,
 // stay in the scene (Material::tables). On the device 376: a GPU thread's resolved mix
 // leaves are whole Materials in its slot of SceneView::mix_leaves (material_resolve), not on
@@ -142,10 +144,22 @@ LANTERN_HD inline void material_apply_programs(const SceneView& s, const Materia
     }
 }
 
+// The multiple-scattering Fresnels of m at a per-hit roughness (its tables' rough_rows): E_avg
+// from the roughness rows, the metal's average Fresnel at the hit's base colour (affine in it),
+// the specular layer's its own. The lobes read E(mu) and the layer's albedo from the rows too
+// (ms_white_albedo, principled_spec_albedo), so no table is that of the socket's hidden value.
+LANTERN_HD inline void material_rough_fms(const Material& m, MaterialInputs& out) {
+    if (!m.tables || !m.tables->rough_rows || !m.multiscatter) return;
+    const float e_avg =
+        ms_rough(m, out.roughness, [](const MaterialTables& t) { return t.e_avg; });
+    out.fms_metal = ms_fresnel_from_average(
+        m.metal_favg0 + (m.metal_favg1 - m.metal_favg0) * out.base_color, e_avg);
+    out.fms_spec = ms_fresnel_from_average(m.tables->spec_favg, e_avg);
+}
+
 // The inputs of material m (not a mix, with kTexShading) at shading point sp: `out` starts as
-// m's own and takes the texture and program values (NaN -> 0, clamped to their ranges). The
-// albedo and energy-compensation tables stay those of the material's constant roughness
-// (docs/materials.md: textures).
+// m's own and takes the texture and program values (NaN -> 0, clamped to their ranges). Where
+// the roughness is per hit, the tables are read at it (rough_rows; material_rough_fms).
 LANTERN_HD inline void material_resolve_inputs(const SceneView& s, const Material& m,
                                                const ShadePoint& sp, MaterialInputs& out) {
     out = material_inputs(m);
@@ -170,6 +184,7 @@ LANTERN_HD inline void material_resolve_inputs(const SceneView& s, const Materia
         out.fms_metal = ms_fresnel_from_average(favg, m.e_avg);
     }
     if (m.tex_flags & kTexProgram) material_apply_programs(s, m, sp, out);
+    material_rough_fms(m, out);
 }
 
 // Material m (not a mix) at shading point sp: m itself when none of its BSDF inputs is
@@ -316,8 +331,10 @@ LANTERN_HD inline BsdfEval material_eval_leaf(const Material& m, bool front, Vec
         return e;
     }
     case kMaterialDielectric: {
+        // base_color tints transmission; with kTintReflection (Blender's Glass BSDF Color: Cycles'
+        // reflection_tint and transmission_tint are both Color) reflection as well
         BsdfEval e = dielectric_eval(material_dielectric(m, front, mode), wo, wi);
-        if (wo.z * wi.z < 0.0f) e.f = e.f * m.base_color;  // transmission tint
+        if (wo.z * wi.z < 0.0f || (m.tex_flags & kTintReflection)) e.f = e.f * m.base_color;
         return e;
     }
     case kMaterialPrincipled:
@@ -343,7 +360,8 @@ LANTERN_HD inline BsdfSample material_sample_leaf(const Material& m, bool front,
     }
     case kMaterialDielectric: {
         BsdfSample s = dielectric_sample(material_dielectric(m, front, mode), wo, Vec2{u.x, u.y}, u.z);
-        if (s.valid && wo.z * s.wi.z < 0.0f) s.weight = s.weight * m.base_color;
+        if (s.valid && (wo.z * s.wi.z < 0.0f || (m.tex_flags & kTintReflection)))
+            s.weight = s.weight * m.base_color;
         return s;
     }
     case kMaterialPrincipled:

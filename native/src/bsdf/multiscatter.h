@@ -21,10 +21,36 @@ LANTERN_HD inline float ms_table(const float* t, float mu) {
     return t[i] * (1.0f - f) + t[i + 1] * f;
 }
 
+// A value of m's roughness rows (MaterialTables::rough_rows) at roughness r: get(row) ->
+// float of one row, interpolated cubically (Catmull-Rom) between the rows at j / (kRoughRows -
+// 1). The values are smooth in r but for the quadrature's own variation from one roughness to
+// the next (up to 1e-3 in E), which no interpolation removes: the rows agree with a constant
+// material's own tables within that (tests/cpp/test_bsdf_rough_rows.cpp).
+template <class Get>
+LANTERN_HD inline float ms_rough(const Material& m, float r, const Get& get) {
+    const MaterialTables* rows = m.tables + m.tables->rough_rows;
+    const float x = clampf(r, 0.0f, 1.0f) * (kRoughRows - 1);
+    const int j = min_int(int(x), kRoughRows - 2);
+    const float t = x - float(j);
+    const float p1 = get(rows[j]), p2 = get(rows[j + 1]);
+    const float p0 = j > 0 ? get(rows[j - 1]) : 2.0f * p1 - p2;
+    const float p3 = j + 2 < kRoughRows ? get(rows[j + 2]) : 2.0f * p2 - p1;
+    const float t2 = t * t, t3 = t2 * t;
+    return 0.5f * (2.0f * p1 + (p2 - p0) * t + (2.0f * p0 - 5.0f * p1 + 4.0f * p2 - p3) * t2 +
+                   (3.0f * p1 - p0 - 3.0f * p2 + p3) * t3);
+}
+
+// E(mu) of the white GGX lobe at m's roughness: its table, or its rows at a per-hit roughness.
+LANTERN_HD inline float ms_white_albedo(const Material& m, float mu) {
+    if (!m.tables->rough_rows) return ms_table(m.tables->ms_e, mu);
+    return ms_rough(m, m.roughness,
+                    [mu](const MaterialTables& t) { return ms_table(t.ms_e, mu); });
+}
+
 // The factor for a lobe with multiple-scattering Fresnel fms, seen at camera-side cosine mu.
 LANTERN_HD inline Vec3 ms_scale(const Material& m, Vec3 fms, float mu) {
     if (!m.multiscatter) return vec3(1.0f);
-    float e = ms_table(m.tables->ms_e, mu);
+    float e = ms_white_albedo(m, mu);
     if (!(e > 1e-3f) || e >= 1.0f) return vec3(1.0f);
     return vec3(1.0f) + fms * ((1.0f - e) / e);
 }
@@ -66,17 +92,21 @@ inline float ggx_white_albedo(float roughness, float mu, int n = 48) {
     return ggx_reflection_albedo(g, mu, [](float) { return vec3(1.0f); }, n).x;
 }
 
-// Fills t.ms_e (m's tables) and returns E_avg = 2 int E(mu) mu dmu.
-inline float ms_fill_table(const Material& m, MaterialTables& t) {
+// Fills t.ms_e and t.e_avg for roughness r and returns E_avg = 2 int E(mu) mu dmu.
+inline float ms_fill_table(float r, MaterialTables& t) {
     for (int k = 0; k < kPrincipledAlbedoN; ++k)
-        t.ms_e[k] = ggx_white_albedo(m.roughness, sqr(float(k) / (kPrincipledAlbedoN - 1)));
+        t.ms_e[k] = ggx_white_albedo(r, sqr(float(k) / (kPrincipledAlbedoN - 1)));
     const int n = 256;
     double avg = 0.0;
     for (int i = 0; i < n; ++i) {
         float mu = (i + 0.5f) / n;
         avg += 2.0 * ms_table(t.ms_e, mu) * mu / n;
     }
-    return float(avg);
+    t.e_avg = float(avg);
+    return t.e_avg;
+}
+inline float ms_fill_table(const Material& m, MaterialTables& t) {
+    return ms_fill_table(m.roughness, t);
 }
 
 // The cosine-weighted average 2 int F(mu) mu dmu of a Fresnel function F(mu) -> Vec3.

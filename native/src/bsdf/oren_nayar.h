@@ -38,10 +38,13 @@ LANTERN_HD inline Vec3 oren_nayar_f(const OrenNayarParams& p, Vec3 wo, Vec3 wi) 
     float e_avg = a_f * (1.0f + kFonC2 * r);
     float e_o = oren_nayar_e_fon(mu_o, r), e_i = oren_nayar_e_fon(mu_i, r);
     float ms = kInvPi * fmaxf(eps, 1.0f - e_o) * fmaxf(eps, 1.0f - e_i) / fmaxf(eps, 1.0f - e_avg);
+    // Cycles (closure/bsdf_oren_nayar.h) weights the whole closure by the colour and puts the
+    // paper's rho_ms inside it too: its multiple scattering is rho x rho_ms, which Blender renders
+    // and so Lantern follows (1-3 % darker than EON's rho_ms at rho 0.8: difftest D3)
     Vec3 rho_ms;
     for (int c = 0; c < 3; ++c) {
         float rc = rho[c];
-        float v = rc * rc * e_avg / (1.0f - rc * (1.0f - e_avg));
+        float v = rc * rc * rc * e_avg / (1.0f - rc * (1.0f - e_avg));
         (c == 0 ? rho_ms.x : c == 1 ? rho_ms.y : rho_ms.z) = v;
     }
     if (r == 0.0f) return f_ss;  // exactly Lambert

@@ -101,8 +101,18 @@ inline float principled_spec_albedo_exact(const Material& m, float mu, int n = 6
     if (g.effectively_smooth()) return max_component(principled_spec_fresnel(m, clampf(mu, 1e-3f, 1.0f)));
     Vec3 e = ggx_reflection_albedo(
         g, mu, [&m](float c) { return principled_spec_fresnel(m, c); }, n);
-    // with the multiple-scattering energy the lobe gets (bsdf/multiscatter.h)
-    e = e * ms_scale(m, m.fms_spec, clampf(mu, 1e-3f, 1.0f));
+    if (m.multiscatter) {
+        // with the multiple-scattering energy the lobe gets (bsdf/multiscatter.h)
+        e = e * ms_scale(m, m.fms_spec, clampf(mu, 1e-3f, 1.0f));
+    } else {
+        // plain GGX: Cycles layers the base under the albedo of the energy-preserving lobe
+        // all the same (its estimate F0 + (1 - F0) s, s from a table of the Fresnel-weighted
+        // albedo over the white one: closure/bsdf_microfacet.h), not the lobe's own, which
+        // lacks the energy of the missing bounces: E_F / E_white (difftest D6)
+        const float white =
+            ggx_reflection_albedo(g, mu, [](float) { return vec3(1.0f); }, n).x;
+        if (white > 1e-4f) e = e / white;
+    }
     return clampf(max_component(e), 0.0f, 1.0f);
 }
 
@@ -118,8 +128,58 @@ inline void principled_albedo_table(const Material& m, MaterialTables& t) {
     }
 }
 
+// The specular layer's albedo split by its Fresnel (host, the roughness rows): with F = F0 +
+// (1 - F0) s(cos) (principled_spec_fresnel without a film), E_F = F0 E + (1 - F0) S, E the white
+// lobe's albedo and S that of s, both from one quadrature of principled_spec_albedo_exact's
+// (64 x 64). S depends on the specular IOR alone, so a scene's materials share the rows of an
+// IOR (scene.cpp caches them): a material's rows then cost no quadrature of their own.
+struct SpecBasis {
+    float e[kPrincipledAlbedoN], s[kPrincipledAlbedoN];
+};
+inline void principled_spec_basis(float roughness, float eta, SpecBasis& out, int n = 64) {
+    const Ggx g = ggx_from_roughness(roughness, 0.0f);
+    const float f0 = sqr((eta - 1.0f) / (eta + 1.0f));
+    auto rise = [eta, f0](float c) {
+        const float f = fresnel_dielectric(fabsf(c), eta);
+        return f0 < 1.0f ? clampf((f - f0) / (1.0f - f0), 0.0f, 1.0f) : 1.0f;
+    };
+    for (int k = 0; k < kPrincipledAlbedoN; ++k) {
+        const float mu = sqr(float(k) / (kPrincipledAlbedoN - 1));
+        if (g.effectively_smooth()) {
+            out.e[k] = 1.0f;
+            out.s[k] = rise(clampf(mu, 1e-3f, 1.0f));
+            continue;
+        }
+        const Vec3 v = ggx_reflection_albedo(
+            g, mu, [&rise](float c) { return vec3(1.0f, rise(c), 0.0f); }, n);
+        out.e[k] = v.x;
+        out.s[k] = v.y;
+    }
+}
+
+// Fills t.spec_albedo of m (no film, isotropic; m.tables = &t with t.ms_e filled) from the
+// basis b of its roughness: what principled_albedo_table computes, without a quadrature.
+inline void principled_albedo_from_basis(const Material& m, const SpecBasis& b,
+                                         MaterialTables& t) {
+    const float f0 = sqr((m.spec_eta - 1.0f) / (m.spec_eta + 1.0f));
+    const Vec3 f0c = vec3(fminf(f0 * m.specular_tint.x, 1.0f), fminf(f0 * m.specular_tint.y, 1.0f),
+                          fminf(f0 * m.specular_tint.z, 1.0f));
+    for (int k = 0; k < kPrincipledAlbedoN; ++k) {
+        const float mu = sqr(float(k) / (kPrincipledAlbedoN - 1));
+        Vec3 e = f0c * b.e[k] + (vec3(1.0f) - f0c) * b.s[k];
+        if (m.multiscatter)
+            e = e * ms_scale(m, m.fms_spec, clampf(mu, 1e-3f, 1.0f));
+        else if (b.e[k] > 1e-4f)
+            e = e / b.e[k];
+        t.spec_albedo[k] = clampf(max_component(e), 0.0f, 1.0f);
+    }
+}
+
 LANTERN_HD inline float principled_spec_albedo(const Material& m, float mu) {
-    return ms_table(m.tables->spec_albedo, mu);
+    if (!m.tables->rough_rows) return ms_table(m.tables->spec_albedo, mu);
+    return clampf(ms_rough(m, m.roughness,
+                           [mu](const MaterialTables& t) { return ms_table(t.spec_albedo, mu); }),
+                  0.0f, 1.0f);
 }
 
 // The metal lobe: F82-tint GGX of the base colour, with the thin film over it.
@@ -194,6 +254,23 @@ LANTERN_HD inline Vec3 principled_below_coat(const Material& m, float mu, float 
         t = vec3(1.0f) * (1.0f - cw) + tt * cw;
     }
     return t * ((1.0f - cw * e) * sheen_pass);
+}
+
+// What of a Principled surface's Emission the camera sees at cosine mu with its normal: Cycles
+// puts the emission under the sheen and the coat (svm/closure.h: the emission's weight is the
+// one the layers above leave), so the coat's reflectance at mu, its tint along the refracted
+// path and the sheen's albedo dim it (difftest D12). Only where the full shader runs, though:
+// evaluated as a light (next-event estimation, PATH_RAY_EMISSION) it allocates no closures, so
+// no layer dims it, and Cycles' lighting by such an emitter is a blend of both by its MIS
+// weights. Lantern dims the camera's direct view (camera rays and light tracing's splat of
+// the emitter, the two techniques that render it) and leaves the light it casts undimmed, the
+// same in every integrator (docs/materials.md). 1 for every other material; a mix's emission
+// is its leaves' sum and stays undimmed.
+LANTERN_HD inline Vec3 principled_emission_through(const Material& m, float mu) {
+    if (m.type != kMaterialPrincipled || !(m.coat_weight > 0.0f || m.sheen_weight > 0.0f))
+        return vec3(1.0f);
+    const float c = clampf(fabsf(mu), 0.0f, 1.0f);
+    return principled_below_coat(m, c, c);
 }
 
 // ---- The layers together ----

@@ -754,7 +754,11 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
             const float dvc_e = z.depth == 2 ? dvc * bdpt_direct_lt(st) : dvc;  // (lt_direct)
             w = 1.0f / (1.0f + mis(pdf_direct) * dvcm + mis(st.r * pdf_emit) * dvc_e);
         }
-        add_radiance(ps, i, ps.throughput[i] * m.emission * w);
+        // the camera's direct view of a Principled emitter: under its coat and sheen
+        // (principled_emission_through; light it casts stays undimmed)
+        const Vec3 le = z.depth <= 1 ? m.emission * principled_emission_through(m, dot(d, z.h.ng))
+                                     : m.emission;
+        add_radiance(ps, i, ps.throughput[i] * le * w);
     }
     if (z.depth >= st.max_depth) return;
     z.frame = z.h.frame();

@@ -202,7 +202,9 @@ LANTERN_HD inline void lt_generate(const SceneView& s, const PathState& ps,
         float cos_c = cc.valid ? dot(cc.wc, es.n) : 0.0f;
         if (l.type == kLightTriangle) cos_c = fabsf(cos_c);
         if (cos_c > 0.0f) {
-            Vec3 le = l.type == kLightTriangle ? es.le : l.radiance;
+            // the camera's direct view of a Principled emitter: under its coat and sheen
+            Vec3 le = l.type == kLightTriangle ? es.le * triangle_emission_through(s, l, cos_c)
+                                               : l.radiance;
             if (l.type == kLightSpot) le = le * spot_attenuation(l, cc.wc);
             // Le * cos / (pick * pdf_a): the vertex's area density, not pdf_emit
             Vec3 c = le * (cos_c * cc.importance / (l.pick_pdf * es.pdf_direct));

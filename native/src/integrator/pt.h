@@ -382,7 +382,11 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
             const Light& l = s.lights[li];
             w = pt_emission_weight(s, ps, i, li, light_pdf_w(l, o, d, t_hit, h.ng));
         }
-        add_radiance(ps, i, ps.throughput[i] * m.emission * w);
+        // the camera's direct view of a Principled emitter: under its coat and sheen
+        // (principled_emission_through; light it casts stays undimmed)
+        const Vec3 le = ps.depth[i] <= 1 ? m.emission * principled_emission_through(m, dot(d, h.ng))
+                                         : m.emission;
+        add_radiance(ps, i, ps.throughput[i] * le * w);
     }
     int depth = ps.depth[i];
     if (depth >= st.max_depth) return;

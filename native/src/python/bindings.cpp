@@ -176,6 +176,7 @@ SceneInput to_input(const nb::dict& scene) {
             mi.transmission = get<float>(m, "transmission", mi.transmission);
             mi.specular_level = get<float>(m, "specular_level", mi.specular_level);
             mi.multiscatter = get<bool>(m, "multiscatter", mi.multiscatter);
+            mi.tint_reflection = get<bool>(m, "tint_reflection", mi.tint_reflection);
             mi.distribution = get<std::string>(m, "distribution", mi.distribution);
             mi.coat_weight = get<float>(m, "coat_weight", mi.coat_weight);
             mi.coat_roughness = get<float>(m, "coat_roughness", mi.coat_roughness);

@@ -6,6 +6,7 @@
 // from both sides.
 #pragma once
 
+#include "bsdf/principled.h"
 #include "core/sampling.h"
 #include "scene/material_program.h"
 #include "scene/scene_view.h"
@@ -23,6 +24,12 @@ LANTERN_HD inline Vec3 triangle_emission(const SceneView& s, const Light& l, Vec
     const Vec3 ng = normalize(cross(s.positions[idx[1]] - s.positions[idx[0]],
                                     s.positions[idx[2]] - s.positions[idx[0]]));
     return material_emission_at(s, m, l.triangle, bc, ng);
+}
+
+// What an emissive triangle's layers (a Principled coat or sheen) let out towards the camera
+// at cosine cos_l with its normal (bsdf/principled.h principled_emission_through).
+LANTERN_HD inline Vec3 triangle_emission_through(const SceneView& s, const Light& l, float cos_l) {
+    return principled_emission_through(s.materials[s.tri_material[l.triangle]], cos_l);
 }
 
 struct LightSample {

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdlib>
 #include <initializer_list>
+#include <map>
+#include <mutex>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -260,33 +262,13 @@ HostScene::HostScene(const SceneInput& in) {
                                         "'): unknown type '" + mi.type +
                                         "' (diffuse, conductor, dielectric, principled, mix, translucent)");
         }
-        // GGX multiple-scattering compensation, then the principled layer's albedo (with it)
-        // (the compensation tables are GGX's: a Beckmann conductor goes without, as Mitsuba)
+        // GGX multiple-scattering compensation (the compensation tables are GGX's: a Beckmann
+        // conductor goes without, as Mitsuba); its tables are made once the node programs
+        // have set the material's inputs (fill_lobe_tables)
         m.multiscatter = mi.multiscatter && !m.beckmann ? 1u : 0u;
-        if (m.type == kMaterialConductor || m.type == kMaterialPrincipled) {
-            const float e_avg = ms_fill_table(m, tab);
-            Material mc = m;
-            auto metal_fresnel = [&](float mu) {
-                return conductor_fresnel(material_conductor(mc), mu) *
-                       material_conductor_scale(mc);
-            };
-            m.fms_metal = ms_fresnel(metal_fresnel, e_avg);
-            // F_avg is affine in F0 (F82-tint and the scaled complex Fresnel alike): its ends
-            // give fms_metal for a textured base colour (material_at)
-            m.e_avg = e_avg;
-            mc.base_color = vec3(0.0f);
-            m.metal_favg0 = ms_average_fresnel(metal_fresnel);
-            mc.base_color = vec3(1.0f);
-            m.metal_favg1 = ms_average_fresnel(metal_fresnel);
-            mc = m;
-            if (m.type == kMaterialPrincipled) {
-                m.fms_spec = ms_fresnel(
-                    [&](float mu) { return principled_spec_fresnel(mc, mu); }, e_avg);
-                principled_albedo_table(m, tab);
-            }
-        }
         set_material_textures(m, mi, k, in.textures.size(), warnings_);
         if (albedo_only) m.tex_flags |= kAlbedoBase;
+        if (m.type == kMaterialDielectric && mi.tint_reflection) m.tex_flags |= kTintReflection;
         materials_.push_back(m);
         material_tables_.push_back(tab);
     }
@@ -306,10 +288,111 @@ HostScene::HostScene(const SceneInput& in) {
     add_textures(in);
     finish_emission_textures();
     add_programs(in);
+    fill_lobe_tables();
     add_meshes(in);
     add_lights(in);
     build_filter(in.filter_width);
     finish_view(in);
+}
+
+namespace {
+
+// The white GGX lobe's tables (ms_e, e_avg) at the roughness rows: the same for every
+// material, made once per process
+const MaterialTables* white_ggx_rows() {
+    static const std::vector<MaterialTables> rows = [] {
+        std::vector<MaterialTables> r(kRoughRows, MaterialTables{});
+        for (int j = 0; j < kRoughRows; ++j) ms_fill_table(float(j) / (kRoughRows - 1), r[j]);
+        return r;
+    }();
+    return rows.data();
+}
+
+// The specular-layer basis (bsdf/principled.h SpecBasis) at the roughness rows for specular
+// IOR eta, made once per IOR and process (a scene's Principled materials mostly share one)
+const SpecBasis* spec_basis_rows(float eta) {
+    static std::mutex lock;
+    static std::map<float, std::vector<SpecBasis>> rows;
+    std::lock_guard<std::mutex> hold(lock);
+    auto it = rows.find(eta);
+    if (it == rows.end()) {
+        std::vector<SpecBasis> r(kRoughRows);
+        for (int j = 0; j < kRoughRows; ++j)
+            principled_spec_basis(float(j) / (kRoughRows - 1), eta, r[j]);
+        it = rows.emplace(eta, std::move(r)).first;
+    }
+    return it->second.data();
+}
+
+// True when a texture or a node program gives m's roughness per hit.
+bool roughness_per_hit(const Material& m, const std::vector<MaterialProgram>& programs) {
+    if (m.tex_flags & kTexRoughness) return true;
+    if (!(m.tex_flags & kTexProgram)) return false;
+    for (int i = 0; i < m.prog_count; ++i)
+        if (programs[size_t(m.prog_first + i)].target == kTargetRoughness) return true;
+    return false;
+}
+
+}  // namespace
+
+// The multiple-scattering compensation and the principled layer's albedo (with it), at the
+// material's roughness as the node programs left it (a constant graph folded into it); with a
+// roughness per hit also at the roughness rows (MaterialTables::rough_rows), appended after
+// the materials' own tables.
+void HostScene::fill_lobe_tables() {
+    const size_t own = materials_.size();
+    std::vector<MaterialTables> rows;
+    for (size_t k = 0; k < own; ++k) {
+        Material& m = materials_[k];
+        if (m.type != kMaterialConductor && m.type != kMaterialPrincipled) continue;
+        MaterialTables& tab = material_tables_[k];
+        m.tables = &tab;
+        const float e_avg = ms_fill_table(m, tab);
+        Material mc = m;
+        auto metal_fresnel = [&](float mu) {
+            return conductor_fresnel(material_conductor(mc), mu) * material_conductor_scale(mc);
+        };
+        m.fms_metal = ms_fresnel(metal_fresnel, e_avg);
+        // F_avg is affine in F0 (F82-tint and the scaled complex Fresnel alike): its ends
+        // give fms_metal for a textured base colour (material_at)
+        m.e_avg = e_avg;
+        mc.base_color = vec3(0.0f);
+        m.metal_favg0 = ms_average_fresnel(metal_fresnel);
+        mc.base_color = vec3(1.0f);
+        m.metal_favg1 = ms_average_fresnel(metal_fresnel);
+        mc = m;
+        if (m.type == kMaterialPrincipled) {
+            tab.spec_favg =
+                ms_average_fresnel([&](float mu) { return principled_spec_fresnel(mc, mu); });
+            m.fms_spec = ms_fresnel_from_average(tab.spec_favg, e_avg);
+            principled_albedo_table(m, tab);
+        }
+        tab.rough_rows = 0;
+        const bool rows_read = m.multiscatter || m.type == kMaterialPrincipled;
+        if (!rows_read || !roughness_per_hit(m, programs_)) continue;
+        tab.rough_rows = int32_t(own + rows.size() - k);
+        const MaterialTables* white = white_ggx_rows();
+        // the layer's albedo from the shared basis of its IOR, or (a film, anisotropy) its own
+        const bool shared = !(m.film_thickness > 0.0f) && !(m.anisotropy > 0.0f);
+        const SpecBasis* basis =
+            m.type == kMaterialPrincipled && shared ? spec_basis_rows(m.spec_eta) : nullptr;
+        for (int j = 0; j < kRoughRows; ++j) {
+            MaterialTables row = white[j];
+            if (m.type == kMaterialPrincipled) {
+                Material mr = m;
+                mr.roughness = float(j) / (kRoughRows - 1);
+                mr.tables = &row;  // a row: rough_rows 0, its own tables
+                mr.fms_spec = ms_fresnel_from_average(tab.spec_favg, row.e_avg);
+                if (basis)
+                    principled_albedo_from_basis(mr, basis[j], row);
+                else
+                    principled_albedo_table(mr, row);
+            }
+            rows.push_back(row);
+        }
+    }
+    material_tables_.insert(material_tables_.end(), rows.begin(), rows.end());
+    point_material_tables();
 }
 
 // Each material at its own tables (the vectors no longer grow; a copy of the scene would need
@@ -919,6 +1002,7 @@ bool HostScene::update_materials(const SceneInput& in) {
     probe.textures = in.textures;
     const HostScene next(probe);
     if (next.materials_.size() != materials_.size() || next.textures_.size() != textures_.size() ||
+        next.material_tables_.size() != material_tables_.size() ||
         next.texels_ != texels_ || next.view_.material_bits != view_.material_bits) {
         return false;
     }

@@ -46,6 +46,9 @@ struct MaterialInput {
     // Mitsuba's specular_reflectance) instead of the F82-tint model
     bool complex_fresnel = false;
     std::string distribution = "ggx";  // conductor: "ggx" or "beckmann"
+    // dielectric: base_color tints reflection as well as transmission (Blender's Glass BSDF
+    // Color; Mitsuba's specular_transmittance tints transmission only)
+    bool tint_reflection = false;
     Vec3 eta{0.0f, 0.0f, 0.0f};
     Vec3 k{1.0f, 1.0f, 1.0f};
     // principled
@@ -182,6 +185,7 @@ private:
     void build_filter(float width);
     void finish_view(const SceneInput& in);
     void add_programs(const SceneInput& in);  // scene/material_program.cpp
+    void fill_lobe_tables();
 
     std::vector<Vec3> positions_, normals_;
     std::vector<Vec2> uvs_;

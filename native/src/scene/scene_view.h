@@ -24,6 +24,10 @@ enum MaterialType : uint32_t {
 constexpr int kMixLeaves = 4;  // leaves of one mix material (nested mixes are flattened)
 
 constexpr int kPrincipledAlbedoN = 33;  // at cosines (k / 32)^2: dense where Fresnel rises
+// Roughness rows of a material whose roughness a texture or node graph gives per hit: its
+// tables at roughness j / (kRoughRows - 1), read by cubic interpolation at the hit's roughness
+// (bsdf/multiscatter.h ms_rough)
+constexpr int kRoughRows = 33;
 
 // A material's albedo tables by cosine (bsdf/multiscatter.h ms_table), made when the scene is
 // built. Resolving a hit's material (bsdf/material.h material_at) never changes them, so they
@@ -34,6 +38,13 @@ struct MaterialTables {
     float ms_e[kPrincipledAlbedoN];         // the white GGX lobe of the material's roughness
     float coat_albedo[kPrincipledAlbedoN];  // principled coat
     float sheen_albedo[kPrincipledAlbedoN]; // the white sheen lobe
+    float e_avg;                            // E_avg of ms_e (a roughness row's)
+    // per-hit roughness (a texture or node graph on Roughness): this + rough_rows is the first
+    // of kRoughRows rows (ms_e, e_avg and spec_albedo at roughness j / (kRoughRows - 1)),
+    // which the lobes read at the hit's roughness; 0: none (these are the roughness's own).
+    // Here, not in Material, so that a resolved copy on a GPU thread's stack stays its size.
+    int32_t rough_rows;
+    Vec3 spec_favg;  // the principled specular layer's average Fresnel: fms_spec per hit
 };
 
 struct MaterialInputs;  // bsdf/material.h: what resolving a leaf at a hit changes
@@ -116,6 +127,7 @@ enum MaterialTextureBits : uint32_t {
     kTexProgram = 512u,  // node-graph programs drive some inputs (scene/material_program.h)
     kTexBump = 1024u,    // a bump program bends the shading normal (program_bump; not resolved)
     kAlbedoBase = 2048u, // base_color is an albedo alone (no metal or glass reads it): above 1 kept
+    kTintReflection = 4096u,  // dielectric: base_color tints reflection too (not resolved)
     kTexShading = kTexBaseColor | kTexRoughness | kTexMetallic | kTexEmission |
                   kTexProgram,                                   // resolved per hit
     kMaterialResolve = kTexShading | kTexMix | kMixResolve,      // material_at copies
