@@ -69,6 +69,8 @@ KNOWN = {
                             "the rim of its disk reads brighter in Lantern",
     "wavelength out of range": "D26: Wavelength outside 380-780 nm: Lantern clamps to the "
                                "ends' colours, Cycles gives black",
+    "bump on translucent": "D27: Bump on a Translucent BSDF: Cycles' bumped-diffuse "
+                           "convention, which Lantern applies to the Lambert only",
 }
 # what keeps an emission graph's value at or above 0 (the generator puts one in front)
 NON_NEGATIVE = {("ShaderNodeMath", "MAXIMUM"), ("ShaderNodeMix", True)}
@@ -141,6 +143,8 @@ def _graph_tags(graph, found):
             found.add("graph on metallic")
         if t == "ShaderNodeBsdfPrincipled" and n.get("props", {}).get("distribution") == "GGX":
             found.add("principled GGX")
+        if t == "ShaderNodeBsdfTranslucent" and _linked(graph, name, "Normal"):
+            found.add("bump on translucent")
         if t == "ShaderNodeWavelength" and (_linked(graph, name, "Wavelength") or not (
                 380.0 <= ins.get("Wavelength", 500.0) < 780.0)):
             found.add("wavelength out of range")
