@@ -474,7 +474,8 @@ def _quantiles(xs):
     xs = np.asarray(xs, float)
     fin = np.isfinite(xs)
     big = np.where(fin, xs, np.finfo(float).max)
-    out = {"median": float(np.median(big)), "p90": float(np.percentile(big, 90)),
+    out = {"median": float(np.percentile(big, 50, method="higher")),
+           "p90": float(np.percentile(big, 90, method="higher")),
            "max_finite": float(xs[fin].max()) if fin.any() else None,
            "infinite": int((~fin).sum())}
     return {k: (None if isinstance(v, float) and v >= np.finfo(float).max else v)
