@@ -71,6 +71,7 @@ KNOWN = {
                                "ends' colours, Cycles gives black",
     "bump on translucent": "D27: Bump on a Translucent BSDF: Cycles' bumped-diffuse "
                            "convention, which Lantern applies to the Lambert only",
+    "coat over glass": "D28: a coat over a Principled glass reads brighter in Lantern",
 }
 # what keeps an emission graph's value at or above 0 (the generator puts one in front)
 NON_NEGATIVE = {("ShaderNodeMath", "MAXIMUM"), ("ShaderNodeMix", True)}
@@ -143,6 +144,10 @@ def _graph_tags(graph, found):
             found.add("graph on metallic")
         if t == "ShaderNodeBsdfPrincipled" and n.get("props", {}).get("distribution") == "GGX":
             found.add("principled GGX")
+        if t == "ShaderNodeBsdfPrincipled" and (ins.get("Transmission Weight", 0.0) > 0 or
+                                                _linked(graph, name, "Transmission Weight")) \
+                and (ins.get("Coat Weight", 0.0) > 0 or _linked(graph, name, "Coat Weight")):
+            found.add("coat over glass")
         if t == "ShaderNodeBsdfTranslucent" and _linked(graph, name, "Normal"):
             found.add("bump on translucent")
         if t == "ShaderNodeWavelength" and (_linked(graph, name, "Wavelength") or not (
