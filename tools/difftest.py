@@ -467,11 +467,19 @@ def classify(entry):
 
 
 def _quantiles(xs):
-    """Median, 90th percentile and maximum (or None) of a list of numbers."""
+    """Median, 90th percentile and maximum (or None) of a list of numbers; the infinite ones
+    (a comparison with no resolution at all) are counted, and ranked above the rest."""
     if not xs:
         return None
-    return {"median": float(np.median(xs)), "p90": float(np.percentile(xs, 90)),
-            "max": float(np.max(xs))}
+    xs = np.asarray(xs, float)
+    fin = np.isfinite(xs)
+    big = np.where(fin, xs, np.finfo(float).max)
+    out = {"median": float(np.percentile(big, 50, method="higher")),
+           "p90": float(np.percentile(big, 90, method="higher")),
+           "max_finite": float(xs[fin].max()) if fin.any() else None,
+           "infinite": int((~fin).sum())}
+    return {k: (None if isinstance(v, float) and v >= np.finfo(float).max else v)
+            for k, v in out.items()}
 
 
 def write_summary(out_dir, run):

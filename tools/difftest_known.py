@@ -69,6 +69,11 @@ KNOWN = {
                             "the rim of its disk reads brighter in Lantern",
     "wavelength out of range": "D26: Wavelength outside 380-780 nm: Lantern clamps to the "
                                "ends' colours, Cycles gives black",
+    "bump on translucent": "D27: Bump on a Translucent BSDF: Cycles' bumped-diffuse "
+                           "convention, which Lantern applies to the Lambert only",
+    "coat over glass": "D28: a coat over a Principled glass reads brighter in Lantern",
+    "window coordinates": "D29: Texture Coordinate Window read at points the camera does "
+                          "not see directly (through a bounce) differs",
 }
 # what keeps an emission graph's value at or above 0 (the generator puts one in front)
 NON_NEGATIVE = {("ShaderNodeMath", "MAXIMUM"), ("ShaderNodeMix", True)}
@@ -141,6 +146,15 @@ def _graph_tags(graph, found):
             found.add("graph on metallic")
         if t == "ShaderNodeBsdfPrincipled" and n.get("props", {}).get("distribution") == "GGX":
             found.add("principled GGX")
+        if t == "ShaderNodeBsdfPrincipled" and (ins.get("Transmission Weight", 0.0) > 0 or
+                                                _linked(graph, name, "Transmission Weight")) \
+                and (ins.get("Coat Weight", 0.0) > 0 or _linked(graph, name, "Coat Weight")):
+            found.add("coat over glass")
+        if t == "ShaderNodeTexCoord" and any(lk[0] == name and lk[1] == "Window"
+                                             for lk in graph["links"]):
+            found.add("window coordinates")
+        if t == "ShaderNodeBsdfTranslucent" and _linked(graph, name, "Normal"):
+            found.add("bump on translucent")
         if t == "ShaderNodeWavelength" and (_linked(graph, name, "Wavelength") or not (
                 380.0 <= ins.get("Wavelength", 500.0) < 780.0)):
             found.add("wavelength out of range")
