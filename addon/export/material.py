@@ -505,6 +505,7 @@ def _convert_mix(top, material, report, textures, add_leaf):
     graph_mix = fac_tex is not None and fac_tex[0] == "program" and not fac_tex[2]
     transparent, emission, bsdf = 0.0, [0.0, 0.0, 0.0], []
     leaf_emission = []   # (unweighted emission of each leaf in order): graph_mix's program
+    shader_emits = False  # an Emission shader of its own in the mix (not under any coat)
     for node, w in leaves:
         if node.type == "BSDF_TRANSPARENT":
             c = [x if math.isfinite(x) else 0.0 for x in
@@ -532,6 +533,7 @@ def _convert_mix(top, material, report, textures, add_leaf):
         leaf.pop("_emission_mean", None)
         leaf_emission.append(list(leaf.get("emission", [0.0, 0.0, 0.0])))
         if node.type == "EMISSION":
+            shader_emits = shader_emits or max(leaf["emission"]) > 0.0
             emission = [e + w * x for e, x in zip(emission, leaf["emission"])]
             if graph_mix:   # its share of the BSDF is black
                 bsdf.append(({"name": f"{name}/black", "type": "diffuse",
@@ -583,8 +585,12 @@ def _convert_mix(top, material, report, textures, add_leaf):
     if not bsdf:
         out.update(base_color=[0.0, 0.0, 0.0])
     elif len(bsdf) == 1 and abs(bsdf[0][1] * scale - 1.0) < 1e-6 and \
-            (fac_tex is None or fac_tex[1]):
-        out = dict(bsdf[0][0], name=name)      # one shader: no mix needed
+            (fac_tex is None or fac_tex[1]) and \
+            not (shader_emits and _layered(bsdf[0][0])):
+        # one shader: no mix needed (but an Emission shader beside a Principled with a coat or
+        # sheen stays a mix of one leaf: the core dims a Principled's own emission under its
+        # layers, and Cycles does not dim a separate Emission closure; difftest ci seed 16)
+        out = dict(bsdf[0][0], name=name)
     else:
         if add_leaf is None:
             raise ValueError("convert_material: a shader mix needs add_leaf")
@@ -744,6 +750,12 @@ def _convert_shader(node, material, report, textures):
         report.warn(f"Material '{name}': shader node '{node.name}' ({node.type}) is not "
                     "supported yet; rendering grey diffuse instead")
     return out
+
+
+def _layered(leaf):
+    """A Principled leaf with a coat or sheen: its own emission is under them."""
+    return leaf.get("type") == "principled" and (leaf.get("coat_weight", 0.0) > 0.0 or
+                                                 leaf.get("sheen_weight", 0.0) > 0.0)
 
 
 def _principled_unsupported(node, material, report):
