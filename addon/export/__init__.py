@@ -70,8 +70,26 @@ def export_scene(depsgraph, region_view=None, report=None, texture_cache=None):
     scene.attribute_channels = materials.attributes.finish(scene.meshes)
     scene.materials = materials.materials
     scene.textures = materials.textures
-    mixed_lobe_warning(bscene.world, scene.world, scene.materials, report)  # export/world.py
+    mixed_lobe_warning(bscene.world, scene.world, _used_materials(scene), report)  # world.py
     return scene, report
+
+
+def _used_materials(scene):
+    """The materials some mesh's triangles use, with their mix leaves (the default material 0,
+    a Principled for objects without one, is always exported and often unused)."""
+    import numpy as np
+    used, todo = set(), []
+    for mesh in scene.meshes:
+        ids = mesh.get("material_ids")
+        if ids is not None:
+            todo += [int(i) for i in np.unique(np.asarray(ids)).tolist()]
+    while todo:
+        i = todo.pop()
+        if i in used or not 0 <= i < len(scene.materials):
+            continue
+        used.add(i)
+        todo += [int(leaf) for leaf, _ in scene.materials[i].get("mix", [])]
+    return [scene.materials[i] for i in sorted(used)]
 
 
 def _integrator(bscene):
