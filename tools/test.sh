@@ -6,7 +6,7 @@ cd "$root"
 bash tools/setup.sh || exit 1
 echo "== C++ tests (ctest)"
 ctest=.venv/bin/ctest; [ -x "$ctest" ] || ctest=ctest
-"$ctest" --test-dir build/py --output-on-failure
+"$ctest" --test-dir build/py --output-on-failure -j "$(nproc)"
 cpp=$?
 # Every CUDA kernel of every CUDA object: bounded to 128 registers, and measured by ptxas where
 # that is quick (tools/cuda_kernel_check.py, on the PTX the build kept in build/ptx)
@@ -15,16 +15,47 @@ echo "== CUDA kernels (tools/cuda_kernel_check.py)"
 kern=$?
 tail -1 build/cuda_kernels.md
 [ $kern -ne 0 ] && grep FAIL build/cuda_kernels.md && cpp=$kern
-# One pytest process per folder: bpy brings its own OpenImageIO and Embree into the process, and
-# same-named test modules in different folders must not meet in one session.
-py=0
-for dir in tests/*/; do
-  [ "$dir" = "tests/cpp/" ] && continue
+# pytest, one process per unit: bpy brings its own OpenImageIO and Embree into the process, and
+# same-named test modules in different folders must not meet in one session. A unit is a folder
+# (tests/blender shares session fixtures; tests/cycles and tests/render are short) or one file of
+# tests/python (no shared fixtures; the longest folder). Units run side by side,
+# LANTERN_TEST_LANES at a time (default: the cores, at most 4), longest first; each unit's output
+# is printed whole, in order, once all have ended.
+lanes=${LANTERN_TEST_LANES:-$(nproc)}
+[ "$lanes" -gt 4 ] && lanes=4
+[ "$lanes" -lt 1 ] && lanes=1
+logs=build/test-logs
+rm -rf "$logs"; mkdir -p "$logs"
+units=()
+for dir in tests/cycles/ tests/blender/ tests/render/ tests/*/; do
+  [ "$dir" = "tests/cpp/" ] || [ "$dir" = "tests/python/" ] && continue
   ls "$dir"test_*.py >/dev/null 2>&1 || continue
-  echo "== pytest $dir"
-  .venv/bin/python -m pytest -q -rs "$@" "$dir"
-  rc=$?
-  [ $rc -ne 0 ] && py=$rc
+  [[ " ${units[*]} " == *" $dir "* ]] && continue
+  units+=("$dir")
+done
+units+=(tests/python/test_*.py)
+run_unit() {  # $1: the unit's index; its log and exit status land in $logs
+  local unit=${units[$1]}
+  .venv/bin/python -m pytest -q -rs "${@:2}" "$unit" > "$logs/$1.log" 2>&1
+  local rc=$?
+  # a file whose tests a -k in "$@" deselects entirely collects nothing (5): not a failure
+  [[ $rc -eq 5 && $unit == *.py ]] && rc=0
+  echo $rc > "$logs/$1.rc"
+}
+echo "== pytest: ${#units[@]} units, $lanes side by side"
+running=0
+for i in "${!units[@]}"; do
+  if [ $running -ge "$lanes" ]; then wait -n; running=$((running - 1)); fi
+  run_unit "$i" "$@" &
+  running=$((running + 1))
+done
+wait
+py=0
+for i in "${!units[@]}"; do
+  echo "== pytest ${units[$i]}"
+  cat "$logs/$i.log"
+  rc=$(cat "$logs/$i.rc" 2>/dev/null || echo 1)
+  [ "$rc" -ne 0 ] && py=$rc
 done
 echo "ctest exit $cpp, pytest exit $py"
 [ $cpp -eq 0 ] && [ $py -eq 0 ]
