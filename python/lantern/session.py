@@ -27,7 +27,7 @@ CIS_TARGETS = ("contribution", "bsdf")
 BACKENDS = ("cpu", "cuda", "auto")
 
 DEFAULT_SETTINGS = {
-    "integrator": "pt",
+    "integrator": "auto",  # pt or cis, whichever the render measures as more efficient
     "backend": "auto",
     "spp_per_iteration": 1,
     "max_depth": 16,

@@ -242,11 +242,12 @@ def test_cancel_stops_within_an_iteration(addon):
                          "positions": np.array([[-9, -9, -1], [9, -9, -1], [9, 9, -1], [-9, 9, -1]],
                                                np.float32),
                          "indices": np.array([[0, 1, 2], [0, 2, 3]], np.uint32)})
-    session = lantern.Session(scene, spp_per_iteration=1)
+    session = lantern.Session(scene, spp_per_iteration=1, integrator="pt")
     t = time.perf_counter()
     session.step()
     one = time.perf_counter() - t
-    session = lantern.Session(scene, spp_per_iteration=max(64, int(64 * 0.5 / max(one, 1e-4))))
+    session = lantern.Session(scene, spp_per_iteration=max(64, int(64 * 0.5 / max(one, 1e-4))),
+                              integrator="pt")
     engine = _FakeEngine(breaks_after=1)
     t = time.perf_counter()
     addon.engine._render_loop(engine, session, _FakeResult(), 10**9, 0.0, t)

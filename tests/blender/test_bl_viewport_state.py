@@ -25,7 +25,7 @@ def _scene(size=32):
 
 def test_refines_to_target(addon):
     state = addon.engine.EngineState()
-    state.start_session(lantern.Session(_scene()), 8)
+    state.start_session(lantern.Session(_scene(), integrator="pt"), 8)
     state.thread.join(10)
     assert not state.refining() and state.error is None
     assert state.session.spp == 8 and state.image_serial == 8
@@ -36,7 +36,7 @@ def test_refines_to_target(addon):
 
 def test_stops_promptly_when_unlimited(addon):
     state = addon.engine.EngineState()
-    state.start_session(lantern.Session(_scene(256)), 0)  # 0: refine until stopped
+    state.start_session(lantern.Session(_scene(256), integrator="pt"), 0)  # 0: refine until stopped
     time.sleep(0.2)
     assert state.refining()
     t = time.perf_counter()

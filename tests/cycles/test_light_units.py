@@ -125,7 +125,8 @@ def _lantern_scene(kind):
 def test_light_matches_cycles(kind, tmp_path):
     cyc = _cycles_renders(kind, tmp_path)
     scene = _lantern_scene(kind)
-    lan = np.array([lantern.render(scene, spp=LANTERN_SPP, seed=100 + k, max_depth=2)
+    lan = np.array([lantern.render(scene, spp=LANTERN_SPP, seed=100 + k, max_depth=2,
+                                   integrator="pt")
                     for k in range(SEEDS)], dtype=np.float64)
     assert np.isfinite(lan).all()
     # 16 blocks x 3 channels, Welch dof ~30; the grey plane leaves the channel swap out

@@ -47,7 +47,7 @@ def scene():
 
 
 def run(spp=MAX_SPP, **settings):
-    s = lantern.Session(scene(), backend="cpu", **settings)
+    s = lantern.Session(scene(), **dict({"backend": "cpu", "integrator": "pt"}, **settings))
     while s.spp < spp and not s.converged:
         s.step()
     return s
@@ -95,7 +95,7 @@ def test_min_samples_are_honoured(core):
     five = run(adaptive_threshold=1e3, adaptive_min_samples=5, seed=2)
     assert (five.pixel_samples() == 5).all()
     assert lantern.render(scene(), spp=64, adaptive_threshold=1e3, adaptive_min_samples=6,
-                          backend="cpu").shape == (H, W, 3)
+                          backend="cpu", integrator="pt").shape == (H, W, 3)
 
 
 def test_a_converged_session_steps_without_adding_samples(core):
@@ -107,11 +107,11 @@ def test_a_converged_session_steps_without_adding_samples(core):
 
 def test_bad_settings_say_what_is_wrong(core):
     with pytest.raises(ValueError, match="adaptive_threshold"):
-        lantern.Session(scene(), adaptive_threshold=-0.1)
+        lantern.Session(scene(), adaptive_threshold=-0.1, integrator="pt")
     with pytest.raises(ValueError, match="adaptive_min_samples"):
-        lantern.Session(scene(), adaptive_min_samples=-1)
+        lantern.Session(scene(), adaptive_min_samples=-1, integrator="pt")
     with pytest.raises(ValueError, match="adaptive_step"):
-        lantern.Session(scene(), adaptive_step=0)
+        lantern.Session(scene(), adaptive_step=0, integrator="pt")
 
 
 # the agreement test's settings: 16 seeds a side (Welch dof >= 15), 4 x 4 blocks (36), the
@@ -155,7 +155,7 @@ def test_lvc_stopped_pixels_count_their_own_samples(core):
 
 def test_cancel_keeps_the_samples_and_counts(core):
     s = lantern.Session(scene(), backend="cpu", adaptive_threshold=0.02,
-                        adaptive_min_samples=4, seed=5)
+                        adaptive_min_samples=4, seed=5, integrator="pt")
     while s.active_pixels == W * H:
         s.step()  # some pixels have stopped: the camera pass runs on a pixel list
     img, n, spp = s.image(), s.pixel_samples(), s.spp
@@ -165,7 +165,7 @@ def test_cancel_keeps_the_samples_and_counts(core):
     assert np.array_equal(s.pixel_samples(), n)
     # a cancel during a long step returns promptly and leaves everything as it was
     big = lantern.Session(scene(), backend="cpu", adaptive_threshold=0.02,
-                          adaptive_min_samples=4, seed=5, spp_per_iteration=4096)
+                          adaptive_min_samples=4, seed=5, spp_per_iteration=4096, integrator="pt")
     done = {}
 
     def worker():

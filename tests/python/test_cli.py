@@ -122,7 +122,7 @@ def test_render_through_stand_in_core(scene_file, tmp_path, fake, capsys):
 
 def test_session_wrapper_with_stand_in_core(fake):
     scene = scenes.furnace_sphere(subdivisions=1, width=8, height=4)
-    s = lantern.Session(scene, spp_per_iteration=4, backend="cuda", seed=9)
+    s = lantern.Session(scene, spp_per_iteration=4, backend="cuda", seed=9, integrator="pt")
     assert s.spp == 0
     assert s.step() == 4 and s.spp == 4
     assert s.image().shape == (4, 8, 3)
@@ -133,7 +133,7 @@ def test_session_wrapper_with_stand_in_core(fake):
     assert s.spp == 4
     calls = []
     img = lantern.render(scene, spp=10, spp_per_iteration=3,
-                         progress=lambda done, total: calls.append((done, total)))
+                         progress=lambda done, total: calls.append((done, total)), integrator="pt")
     assert calls == [(3, 10), (6, 10), (9, 10), (12, 10)]
     assert img.shape == (4, 8, 3)
 
@@ -148,5 +148,5 @@ def test_rays_from_stats():
 def test_render_stops_when_cancelled(fake, monkeypatch):
     # a core that makes no progress (cancelled) must not spin forever
     monkeypatch.setattr(fake.Session, "step", lambda self: None)
-    img = lantern.render(lantern.Scene(), spp=5)
+    img = lantern.render(lantern.Scene(), spp=5, integrator="pt")
     assert img.shape == (64, 64, 3)

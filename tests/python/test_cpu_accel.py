@@ -69,13 +69,13 @@ def render(monkeypatch, accel, scene, integrator, seed, spp=8):
 def test_bvh_is_the_fallback_and_can_be_forced(core, monkeypatch):
     scene = scenes.cornell_box(8, 8)
     monkeypatch.setenv("LANTERN_ACCEL", "bvh")
-    s = lantern.Session(scene, backend="cpu")
+    s = lantern.Session(scene, backend="cpu", integrator="pt")
     assert any("LANTERN_ACCEL=bvh" in w for w in s.warnings)
     monkeypatch.setenv("LANTERN_ACCEL", "octree")
     with pytest.raises(ValueError, match="LANTERN_ACCEL"):
-        lantern.Session(scene, backend="cpu")
+        lantern.Session(scene, backend="cpu", integrator="pt")
     monkeypatch.delenv("LANTERN_ACCEL")
-    s = lantern.Session(scene, backend="cpu")
+    s = lantern.Session(scene, backend="cpu", integrator="pt")
     bvh_note = any("built-in BVH" in w for w in s.warnings)
     assert bvh_note == (not core.embree_available()), s.warnings
 

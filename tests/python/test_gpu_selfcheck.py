@@ -98,7 +98,7 @@ def test_a_passing_gpu_is_trusted_once_checked(fake_gpu, monkeypatch):
 
 def test_forcing_the_gpu_or_switching_the_check_off_skips_it(fake_gpu, monkeypatch):
     monkeypatch.setattr(gpu_selfcheck, "run_check", no_child)
-    s = lantern.Session(scenes.cornell_box(8, 8), backend="cuda", threads=1)
+    s = lantern.Session(scenes.cornell_box(8, 8), backend="cuda", threads=1, integrator="pt")
     assert not any("self-check" in w for w in s.warnings)
     monkeypatch.setenv("LANTERN_GPU_SELFCHECK", "off")
     assert small_session().settings["backend"] == "auto"

@@ -59,7 +59,7 @@ def test_moved_instance_renders_as_a_fresh_render_of_the_moved_scene(monkeypatch
     moved = _moved(scene, m)
     renders, fresh = [], []
     for k in range(K):
-        s = session.Session(scene, backend="cpu", seed=100 + k, instancing=True)
+        s = session.Session(scene, backend="cpu", seed=100 + k, instancing=True, integrator="pt")
         assert any("built-in BVH" in w for w in s.warnings) == (accel == "bvh")
         s.step()
         builds = s.stats["accel_bottom_builds"]
@@ -71,7 +71,7 @@ def test_moved_instance_renders_as_a_fresh_render_of_the_moved_scene(monkeypatch
         st = s.stats
         assert st["accel_bottom_builds"] == builds and st["instance_moves"] == 1
         renders.append(s.image().astype(np.float64))
-        f = session.Session(moved, backend="cpu", seed=100 + k)
+        f = session.Session(moved, backend="cpu", seed=100 + k, integrator="pt")
         for _ in range(SPP):  # the same seed and steps: the same paths
             f.step()
         fresh.append(f.image().astype(np.float64))
@@ -81,7 +81,7 @@ def test_moved_instance_renders_as_a_fresh_render_of_the_moved_scene(monkeypatch
     metrics.assert_agreement(f"moved box ({accel}) vs fresh render of the moved scene, "
                              "paired seeds", *metrics.paired_sets(renders, fresh), block=8)
     # and the move took effect: the unmoved scene's renders are told apart
-    unmoved = [session.render(scene, spp=SPP // 4, backend="cpu", seed=300 + k)
+    unmoved = [session.render(scene, spp=SPP // 4, backend="cpu", seed=300 + k, integrator="pt")
                .astype(np.float64) for k in range(K)]
     assert not metrics.compare_renders(renders, unmoved, block=8).passed
 
@@ -90,7 +90,7 @@ def test_moved_instance_renders_as_a_fresh_render_of_the_moved_scene(monkeypatch
 def test_moving_back_renders_the_given_scene_bit_for_bit(monkeypatch, accel):
     _accel(monkeypatch, accel)
     scene = scenes.cornell_box(width=12, height=12)
-    s = session.Session(scene, backend="cpu", seed=7, instancing=True)
+    s = session.Session(scene, backend="cpu", seed=7, instancing=True, integrator="pt")
     for _ in range(2):
         s.step()
     before = s.image()
@@ -104,7 +104,7 @@ def test_moving_back_renders_the_given_scene_bit_for_bit(monkeypatch, accel):
 
 def test_moves_that_reach_further_are_refused_and_the_session_goes_on():
     scene = scenes.cornell_box(width=8, height=8)
-    s = session.Session(scene, backend="cpu", instancing=True)
+    s = session.Session(scene, backend="cpu", instancing=True, integrator="pt")
     s.step()
     mirror = np.diag([-1.0, 1.0, 1.0, 1.0])
     assert not s.move_instance(BOX, mirror)        # the winding would flip: export again
@@ -122,7 +122,7 @@ def test_moves_that_reach_further_are_refused_and_the_session_goes_on():
     assert s.spp == 1 and s.stats["instance_moves"] == 0  # nothing changed
     s.step()
     assert s.spp == 2
-    flat = session.Session(scene, backend="cpu")   # instancing off: the flat structure
+    flat = session.Session(scene, backend="cpu", integrator="pt")  # instancing off: flat
     assert not flat.move_instance(BOX, _matrix())
 
 
@@ -134,5 +134,5 @@ def test_an_emitting_mesh_is_not_moved_in_place():
     mesh = dict(glowing.meshes[BOX])
     mesh["material_ids"] = np.full_like(mesh["material_ids"], len(glowing.materials) - 1)
     glowing.meshes[BOX] = mesh
-    s = session.Session(glowing, backend="cpu", instancing=True)
+    s = session.Session(glowing, backend="cpu", instancing=True, integrator="pt")
     assert not s.move_instance(BOX, _matrix())     # the lights would change: a new session

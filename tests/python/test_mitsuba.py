@@ -435,7 +435,8 @@ def test_complex_fresnel_mirror_renders_fresnel_times_reflectance():
         mid = s.add_material("metal", type="conductor", roughness=0.0, **kwargs)
         s.add_mesh([[-5, -5, -1], [5, -5, -1], [5, 5, -1], [-5, 5, -1]], [[0, 1, 2], [0, 2, 3]],
                    material=mid)
-        images.append(np.asarray(lantern.render(s, spp=4, max_depth=4), dtype=np.float64))
+        images.append(np.asarray(lantern.render(s, spp=4, max_depth=4, integrator="pt"),
+                                 dtype=np.float64))
     expect = np.array([0.5, 0.8, 1.0]) * fresnel_conductor(1.0, eta, k)
     assert np.allclose(images[0].mean(axis=(0, 1)), expect, rtol=2e-3), (images[0][0, 0], expect)
     assert np.allclose(images[1].mean(axis=(0, 1)), [0.5, 0.8, 1.0], rtol=2e-3)
@@ -477,7 +478,8 @@ def cornell_comparison(seeds=None, spp=None, size=128, seed0=7):
     scene = mi.load_mitsuba(SCENES / "cornell-box" / "scene.xml", ref.shape[1], ref.shape[0])
     start = time.monotonic()
     imgs = [downsample(np.asarray(lantern.render(scene, spp=spp, seed=seed0 + k,
-                                                 max_depth=scene.metadata["max_depth"]),
+                                                 max_depth=scene.metadata["max_depth"],
+                                                 integrator="pt"),
                                   dtype=np.float64), f) for k in range(seeds)]
     seconds = time.monotonic() - start
     hot = (ref.max(axis=2) > 1.5).reshape(size, f, size, f).any(axis=(1, 3))
@@ -596,7 +598,8 @@ def veach_comparison(seeds=None, indirect_seeds=None, factor=8, max_depth=2, see
 
     def renders(depth, n):
         return [downsample(np.asarray(lantern.render(scene, spp=1, max_depth=depth,
-                                                     seed=seed0 + k), dtype=np.float64), factor)
+                                                     seed=seed0 + k, integrator="pt"),
+                                                     dtype=np.float64), factor)
                 for k in range(n)]
     start = time.monotonic()
     imgs = renders(max_depth, seeds)

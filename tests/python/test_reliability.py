@@ -72,7 +72,7 @@ def test_cancel_before_step_is_not_lost():
     """Issue 12: step() cleared the flag as it started, so 10 of 20 cancels were dropped. Now
     the cancelled step returns False at once: no ray traced, image and spp unchanged; the next
     step renders."""
-    s = Session(cornell_box(width=16, height=16), threads=2, **CPU)
+    s = Session(cornell_box(width=16, height=16), threads=2, integrator="pt", **CPU)
     for k in range(20):
         before = s.image()
         rays = s.stats["rays_camera"]
@@ -112,7 +112,7 @@ def test_cancel_during_step():
 
 
 def test_cancel_from_many_threads_and_without_steps():
-    s = Session(cornell_box(width=8, height=8), threads=1, **CPU)
+    s = Session(cornell_box(width=8, height=8), threads=1, integrator="pt", **CPU)
     join(start(s.cancel, 8))
     assert s.step() == 0  # one cancelled step serves them all
     assert s.step() == 1

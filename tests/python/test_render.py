@@ -29,7 +29,8 @@ def test_build_info(core):
 
 def test_session_interface(core, backend):
     scene = scenes.cornell_box(width=16, height=12)
-    s = lantern.Session(scene, seed=1, threads=1, spp_per_iteration=2, backend=backend)
+    s = lantern.Session(scene, seed=1, threads=1, spp_per_iteration=2, backend=backend,
+                        integrator="pt")
     assert s.spp == 0
     s.step()
     assert s.spp == 2
@@ -42,33 +43,37 @@ def test_session_interface(core, backend):
 
 
 def test_empty_scene_shows_world(core, backend):
-    black = lantern.render(lantern.Scene(), spp=1, backend=backend)
+    black = lantern.render(lantern.Scene(), spp=1, backend=backend,
+                        integrator="pt")
     assert black.shape == (64, 64, 3) and not black.any()
     scene = lantern.Scene()
     scene.film.update(width=8, height=8)
     scene.world["color"] = [0.2, 0.5, 1.5]
-    img = lantern.render(scene, spp=2, backend=backend)
+    img = lantern.render(scene, spp=2, backend=backend,
+                        integrator="pt")
     assert np.allclose(img, [0.2, 0.5, 1.5], rtol=1e-5)
 
 
 def test_same_seed_same_bits(core):
     scene = scenes.cornell_box(width=32, height=32)
-    a = lantern.render(scene, spp=4, seed=7, threads=0, backend="cpu")
-    b = lantern.render(scene, spp=4, seed=7, threads=0, backend="cpu")
+    a = lantern.render(scene, spp=4, seed=7, threads=0, backend="cpu", integrator="pt")
+    b = lantern.render(scene, spp=4, seed=7, threads=0, backend="cpu", integrator="pt")
     assert a.tobytes() == b.tobytes()
 
 
 def test_thread_count_does_not_change_the_image(core):
     scene = scenes.cornell_box(width=24, height=16)
-    a = lantern.render(scene, spp=3, seed=11, threads=1, backend="cpu")
-    b = lantern.render(scene, spp=3, seed=11, threads=2, backend="cpu")
+    a = lantern.render(scene, spp=3, seed=11, threads=1, backend="cpu", integrator="pt")
+    b = lantern.render(scene, spp=3, seed=11, threads=2, backend="cpu", integrator="pt")
     assert a.tobytes() == b.tobytes()
 
 
 def test_different_seeds_differ(core, backend):
     scene = scenes.cornell_box(width=32, height=32)
-    a = lantern.render(scene, spp=2, seed=1, backend=backend)
-    b = lantern.render(scene, spp=2, seed=2, backend=backend)
+    a = lantern.render(scene, spp=2, seed=1, backend=backend,
+                        integrator="pt")
+    b = lantern.render(scene, spp=2, seed=2, backend=backend,
+                        integrator="pt")
     assert not np.array_equal(a, b)
     # That different seeds estimate the same image is what every comparison of seeds against
     # an exact value checks (test_furnace, test_integrating_sphere_direct: 1 % / 5 % controls);
@@ -79,10 +84,11 @@ def test_different_seeds_differ(core, backend):
 def test_progress_and_time_limit(core):
     calls = []
     scene = scenes.cornell_box(width=16, height=16)
-    lantern.render(scene, spp=4, spp_per_iteration=2, progress=lambda d, t: calls.append((d, t)))
+    lantern.render(scene, spp=4, spp_per_iteration=2, progress=lambda d, t: calls.append((d, t)),
+                   integrator="pt")
     assert calls == [(2, 4), (4, 4)]
     start = time.monotonic()
-    lantern.render(scene, spp=10 ** 6, time_limit=0.5)
+    lantern.render(scene, spp=10 ** 6, time_limit=0.5, integrator="pt")
     assert time.monotonic() - start < 10
 
 
@@ -124,7 +130,8 @@ def test_furnace_direct(core, backend):
     # depth 1: every camera ray hits the emitter: exactly Le, no noise
     scene = scenes.furnace_sphere(albedo=0.5, emission=[1.0, 2.0, 0.5], subdivisions=2,
                                   width=16, height=16)
-    img = lantern.render(scene, spp=4, max_depth=1, backend=backend)
+    img = lantern.render(scene, spp=4, max_depth=1, backend=backend,
+                        integrator="pt")
     assert np.allclose(img, [1.0, 2.0, 0.5], rtol=1e-5)
 
 
@@ -137,7 +144,8 @@ def test_furnace(core, backend, max_depth):
                                   width=16, height=16)
     k = 8
     renders = [lantern.render(scene, spp=128, seed=100 + i, max_depth=max_depth,
-                              backend=backend) for i in range(k)]
+                              backend=backend,
+                        integrator="pt") for i in range(k)]
     assert np.isfinite(np.stack(renders)).all()
     # blocks and image means against the exact value, cap 1e-4; a float32 rounding allowance
     # of 1e-5 where the estimator has (almost) no variance; negative controls
@@ -187,7 +195,8 @@ def test_integrating_sphere_direct(core, backend):
     expected = _direct_light_image(scene, 0.5, power)
     ideal = scenes.integrating_sphere_expected(0.5, power, 1.0, 2)
     print(f"direct term: tessellated sphere {expected.mean():.6f}, ideal {ideal[0]:.6f}")
-    imgs = [lantern.render(scene, spp=8, max_depth=2, seed=10 + k, backend=backend)
+    imgs = [lantern.render(scene, spp=8, max_depth=2, seed=10 + k, backend=backend,
+                        integrator="pt")
             for k in range(16)]
     metrics.assert_agreement("integrating sphere, direct", imgs, expected, block=8,
                              bias_cap=1e-4)
@@ -205,6 +214,6 @@ def test_cli_render(core, tmp_path, capsys):
     assert code == 0, err
     assert "4/4 spp" in err
     img = imageio.read_image(out)
-    ref = lantern.render(lantern.load_scene(path), spp=4, seed=5)
+    ref = lantern.render(lantern.load_scene(path), spp=4, seed=5, integrator="pt")
     assert np.array_equal(img, ref)
     assert (tmp_path / "box.png").exists()

@@ -35,7 +35,7 @@ def test_update_camera_renders_as_a_new_session(integrator):
 
 def test_bad_camera_is_refused_and_the_session_goes_on():
     scene = scenes.cornell_box(width=8, height=8)
-    s = session.Session(scene, backend="cpu")
+    s = session.Session(scene, backend="cpu", integrator="pt")
     s.step()
     before = s.image()
     with pytest.raises((ValueError, TypeError)):
@@ -74,7 +74,7 @@ def _renders_as_a_new_session(s, scene, edited, integrator, seed, spp):
 
 def test_update_materials_refuses_what_reaches_further():
     scene = scenes.cornell_box(width=8, height=8)
-    s = session.Session(scene, backend="cpu")
+    s = session.Session(scene, backend="cpu", integrator="pt")
     s.step()
     glowing = copy.deepcopy(scene.materials)
     glowing[0] = dict(glowing[0], emission=[5.0, 5.0, 5.0])  # the light list would change

@@ -11,7 +11,7 @@ from lantern import scenes, session
 def test_defaults(monkeypatch):
     monkeypatch.setattr(session, "_native_has_cuda", lambda: False)  # a CPU-only core
     settings, warnings = session.resolve_settings({})
-    assert settings == {"integrator": "pt", "backend": "cpu", "spp_per_iteration": 1,
+    assert settings == {"integrator": "auto", "backend": "cpu", "spp_per_iteration": 1,
                         "max_depth": 16, "seed": 0, "threads": 0, "rr_depth": 4,
                         "sort": None, "connections": 5, "candidates": 10,
                         "light_path_fraction": 1.0, "cis_target": "contribution", "naive_ris": False,
@@ -93,7 +93,7 @@ def test_backend_passes_to_a_core_with_cuda(monkeypatch):
     _CudaCore.calls.clear()
     for asked in ("cuda", "auto", "cpu"):
         s = lantern.Session(scenes.furnace_sphere(subdivisions=1, width=4, height=4),
-                            backend=asked)
+                            backend=asked, integrator="pt")
         assert _CudaCore.calls[-1]["backend"] == asked  # the core decides, not Python
         assert s.backend == "cpu"
         assert any("CUDA" in w for w in s.warnings) == (asked == "cuda"), s.warnings
@@ -117,7 +117,7 @@ def test_settings_checked_before_native(monkeypatch):
     monkeypatch.setattr(session, "_core", None)
     monkeypatch.setattr(session, "_core_error", "ImportError: simulated")
     with pytest.raises(TypeError, match="unknown setting"):
-        lantern.Session(lantern.Scene(), bounces=3)
+        lantern.Session(lantern.Scene(), bounces=3, integrator="pt")
 
 
 def test_missing_native_module_is_explained(monkeypatch):
@@ -127,9 +127,9 @@ def test_missing_native_module_is_explained(monkeypatch):
     assert not lantern.native_available()
     assert "ModuleNotFoundError" in lantern.native_error()
     with pytest.raises(RuntimeError, match=r"lantern\._core.*pip install --no-build-isolation"):
-        lantern.Session(scenes.furnace_sphere(subdivisions=1))
+        lantern.Session(scenes.furnace_sphere(subdivisions=1), integrator="pt")
     with pytest.raises(RuntimeError, match="native module"):
-        lantern.render(lantern.Scene(), spp=1)
+        lantern.render(lantern.Scene(), spp=1, integrator="pt")
 
 
 def test_import_survives_broken_native_module(tmp_path):
@@ -165,6 +165,6 @@ except RuntimeError as e:
 
 def test_render_argument_checks():
     with pytest.raises(ValueError, match="spp"):
-        lantern.render(lantern.Scene(), spp=0)
+        lantern.render(lantern.Scene(), spp=0, integrator="pt")
     with pytest.raises(ValueError, match="time_limit"):
-        lantern.render(lantern.Scene(), spp=1, time_limit=0)
+        lantern.render(lantern.Scene(), spp=1, time_limit=0, integrator="pt")

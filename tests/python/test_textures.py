@@ -238,7 +238,7 @@ def test_float_texture_with_nan_and_bad_uvs():
     tex = s.add_texture(px, interpolation="closest")
     finish_plane(s, dict(base_color_texture=tex))
     s.meshes[0]["uvs"] = np.array([[np.nan, 0], [1e30, 0], [1, -1e30], [0, 1]], np.float32)
-    session = lantern.Session(s, seed=1, threads=2)
+    session = lantern.Session(s, seed=1, threads=2, integrator="pt")
     session.step()
     img = session.image()
     assert np.isfinite(img).all()
@@ -274,8 +274,8 @@ def test_scene_file_carries_textures(tmp_path):
     assert np.array_equal(back.textures[1]["pixels"], s.textures[1]["pixels"])
     assert back.textures[0]["wrap"] == "mirror"
     assert back.materials[0]["base_color_texture"] == 0
-    a = lantern.render(s, spp=4, seed=9, threads=1)
-    b = lantern.render(back, spp=4, seed=9, threads=1)
+    a = lantern.render(s, spp=4, seed=9, threads=1, integrator="pt")
+    b = lantern.render(back, spp=4, seed=9, threads=1, integrator="pt")
     assert np.array_equal(a, b)
 
 

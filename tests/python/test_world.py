@@ -278,8 +278,8 @@ def test_map_round_trips_through_a_scene_file(core, tmp_path):
     back = lantern.load_scene(path)
     np.testing.assert_array_equal(back.world["map"], scene.world["map"])
     assert back.world["to_map"] == scene.world["to_map"]
-    a = lantern.render(scene, spp=4, seed=3)
-    b = lantern.render(back, spp=4, seed=3)
+    a = lantern.render(scene, spp=4, seed=3, integrator="pt")
+    b = lantern.render(back, spp=4, seed=3, integrator="pt")
     np.testing.assert_array_equal(a, b)
 
 
@@ -309,15 +309,15 @@ def test_world_sun_is_a_light(core, tmp_path):
     with_lights = furnace_scene(16)
     with_lights.world = {"color": [0.1] * 3}
     with_lights.lights = [dict(sun)]
-    a = lantern.render(with_world, spp=4, seed=3)
-    b = lantern.render(with_lights, spp=4, seed=3)
+    a = lantern.render(with_world, spp=4, seed=3, integrator="pt")
+    b = lantern.render(with_lights, spp=4, seed=3, integrator="pt")
     np.testing.assert_array_equal(a, b)
     assert a.max() > 0.11                    # the sun lights the ball beyond the world's 0.1
     path = tmp_path / "sun.lantern"
     with_world.save(path)
     back = lantern.load_scene(path)
     assert back.world["sun"]["strength"] == sun["strength"]
-    np.testing.assert_array_equal(lantern.render(back, spp=4, seed=3), a)
+    np.testing.assert_array_equal(lantern.render(back, spp=4, seed=3, integrator="pt"), a)
     with_world.world["sun"] = {"type": "point", "power": [1.0] * 3}
     with pytest.raises(ValueError, match="world sun"):
         with_world.validate()
