@@ -19,7 +19,6 @@ SOURCE_EXT = (".py", ".h", ".cpp", ".cu", ".cuh", ".c", ".hpp", ".sh", ".patch")
 PACKAGES = {"python/lantern": "lantern", "addon": "lantern_blender"}
 # issue 31 splits these; the count is the file's length when it was listed
 LONG_FILES = {
-    "native/src/scene/scene.cpp": 923,
     "addon/export/material.py": 782,
     "native/src/integrator/bdpt.h": 752,
     "python/lantern/scene_schema.py": 649,
