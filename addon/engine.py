@@ -13,21 +13,9 @@ import weakref
 import numpy as np
 
 from . import farm
+from .native import import_lantern
 
 _live_states = weakref.WeakSet()
-
-
-def import_lantern():
-    """The `lantern` package, or a RuntimeError that says how to get it."""
-    try:
-        import lantern
-    except ImportError as e:
-        raise RuntimeError(f"the 'lantern' Python package is not importable in Blender's "
-                           f"Python ({e}); install the extension zip that carries it "
-                           f"(tools/build_extension.sh -> dist/lantern-<version>-<platform>.zip,"
-                           f" docs/extension.md), or pip install . from the Lantern repository "
-                           f"into the Python Blender runs") from e
-    return lantern
 
 
 def _report_error(engine, what, error):

@@ -1,8 +1,8 @@
-"""World and camera scenes of issue 15 beside scenes.py's world_hdri / world_hdri_dof: a
-Preetham sky, Blender 5.0's Multiple Scattering sky, the HDRI seen by a panoramic camera, and
-transparent film with holdouts. The skies and panorama join scenes.SCENES through register()
-(called at the end of scenes.py), so that tools/make_cycles_refs.py and tests/render build them
-like the others. The film scenes are not
+"""World and camera scenes: bpy's sunset HDRI lighting the stage (world_hdri) and seen through a
+wide-open lens (world_hdri_dof), a Preetham sky, Blender 5.0's Multiple Scattering sky, the HDRI
+seen by a panoramic camera, and transparent film with holdouts. All but the film scenes join
+scenes.SCENES through register() (called at the end of scenes.py), so that
+tools/make_cycles_refs.py and tests/render build them like the others. The film scenes are not
 registered: its Cycles reference needs transparent film, which make_cycles_refs turns off
 (tests/render/test_world_film.py renders it)."""
 
@@ -11,7 +11,9 @@ import math
 import bpy
 from mathutils import Vector
 
-# scenes.py imports this module at its end (register); scenes is imported where it is used
+import stage
+
+# scenes.py imports this module at its end (register); this one imports stage, never scenes
 
 SKY_SUN = (math.radians(35.0), math.radians(-30.0))   # elevation, azimuth from +X
 SKY_TURBIDITY = 3.0
@@ -29,12 +31,31 @@ def sky_world(sun=SKY_SUN, turbidity=SKY_TURBIDITY):
     return sky
 
 
+def world_hdri():
+    """No lamps: bpy's sunset.exr (a low sun of ~2000) turned 125 degrees about Z and tilted
+    8 degrees about X lights the stage."""
+    stage._reset()
+    stage._stage()
+    stage.hdri_world("sunset.exr", rotation=(math.radians(8), 0.0, math.radians(125)))
+
+
+def world_hdri_dof():
+    """world_hdri seen through a wide-open lens: f/0.5 on the 32 mm camera (radius 3.2 cm),
+    focused on the orange box (its focus object), a 6-blade aperture turned 15 degrees."""
+    world_hdri()
+    cam = bpy.context.scene.camera.data
+    cam.dof.use_dof = True
+    cam.dof.aperture_fstop = 0.5
+    cam.dof.focus_object = bpy.data.objects["Box"]
+    cam.dof.aperture_blades = 6
+    cam.dof.aperture_rotation = math.radians(15)
+
+
 def world_sky():
     """No lamps: a Preetham sky (sun 35 degrees up, turbidity 3) lights the stage; the camera
     sees the sky above the back wall."""
-    import scenes
-    scenes._reset()
-    scenes._stage()
+    stage._reset()
+    stage._stage()
     sky_world()
 
 
@@ -48,9 +69,8 @@ def world_sky_ms():
     default: sun 15 degrees up, Sun Size 0.545 degrees, altitude 100 m, densities 1) but the
     Sun Rotation (210 degrees: the sun behind the camera, to its left) lights the stage; the
     camera sees the sky above the back wall, not the sun."""
-    import scenes
-    scenes._reset()
-    scenes._stage()
+    stage._reset()
+    stage._stage()
     nt = bpy.context.scene.world.node_tree
     sky = nt.nodes.new("ShaderNodeTexSky")
     assert sky.sky_type == "MULTIPLE_SCATTERING"
@@ -61,10 +81,9 @@ def world_sky_ms():
 def world_pano():
     """world_hdri seen by an equirectangular panoramic camera (the full sphere, 192 x 96) from
     above the stage's floor: the sunset's sun, the stage and the sky in one image."""
-    import scenes
-    scenes.world_hdri()
+    world_hdri()
     scene = bpy.context.scene
-    scene.render.resolution_x = 2 * scenes.RES
+    scene.render.resolution_x = 2 * stage.RES
     cam_obj = scene.camera
     cam = cam_obj.data
     cam.type = "PANO"
@@ -78,9 +97,8 @@ def world_film_holdout():
     """Transparent film over a constant world and one area light: the stage, a holdout object
     (the green block, Object > Visibility > Holdout) and a sphere with the Holdout shader; both
     cut the film to alpha 0 where the camera sees them, the world still lights the scene."""
-    import scenes
-    scenes._reset(world_color=(0.3, 0.35, 0.4))
-    scenes._stage()
+    stage._reset(world_color=(0.3, 0.35, 0.4))
+    stage._stage()
     scene = bpy.context.scene
     scene.render.film_transparent = True
     bpy.data.objects["Block"].is_holdout = True
@@ -95,7 +113,7 @@ def world_film_holdout():
     sphere.name = "HoldoutSphere"
     sphere.data.materials.append(m)
     bpy.ops.object.shade_smooth()
-    scenes.light("AREA", "Key", (1.0, -2.0, 3.0), (0.0, 0.3, 0.0), energy=300.0, size=0.8)
+    stage.light("AREA", "Key", (1.0, -2.0, 3.0), (0.0, 0.3, 0.0), energy=300.0, size=0.8)
 
 
 def world_film_catcher():
@@ -111,9 +129,8 @@ def world_visibility():
     Visibility > Diffuse off), one area light, the box a Glossy BSDF: the diffuse surfaces are
     lit by the lamp alone (and by what the box reflects), the box still mirrors the world, the
     camera sees it above the wall."""
-    import scenes
-    scenes._reset(world_color=(0.6, 0.65, 0.7))
-    scenes._stage()
+    stage._reset(world_color=(0.6, 0.65, 0.7))
+    stage._stage()
     m = bpy.data.materials.new("Glossy")
     nt = m.node_tree
     nt.nodes.remove(nt.nodes["Principled BSDF"])
@@ -125,10 +142,10 @@ def world_visibility():
     box.data.materials.clear()
     box.data.materials.append(m)
     bpy.context.scene.world.cycles_visibility.diffuse = False
-    scenes.light("AREA", "Key", (1.0, -2.0, 3.0), (0.0, 0.3, 0.0), energy=300.0, size=0.8)
+    stage.light("AREA", "Key", (1.0, -2.0, 3.0), (0.0, 0.3, 0.0), energy=300.0, size=0.8)
 
 
 def register(scenes_dict):
     """The scenes with a Cycles reference by make_cycles_refs (not the film scenes)."""
-    for f in (world_sky, world_sky_ms, world_pano, world_visibility):
+    for f in (world_hdri, world_hdri_dof, world_sky, world_sky_ms, world_pano, world_visibility):
         scenes_dict.setdefault(f.__name__, f)

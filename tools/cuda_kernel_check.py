@@ -28,51 +28,10 @@ import sys
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from cuda_kernel_resources import label, ptxas  # noqa: E402
 from cuda_resource_table import demangle  # noqa: E402
+from ptx_parse import closure, definitions  # noqa: E402
 
 RECORD = os.path.join(os.path.dirname(os.path.abspath(__file__)), "cuda_kernel_resources.json")
 MAX_REGS, MAX_STACK = 128, 2048
-HEAD = re.compile(r"^(?:\.visible |\.weak |\.extern )*\.(entry|func)\s+(?:\([^)]*\)\s*)?([\w$]+)")
-CALL = re.compile(r"\bcall(?:\.uni)?\s+(?:\([^)]*\),\s*)?([\w$]+)")
-
-
-def definitions(text):
-    """{name: (kind, body lines)} of every .entry and .func defined in a PTX file (a
-    declaration, ended by ";" before its "{", is skipped)."""
-    out, cur, kind, lines, body = {}, None, None, [], False
-    for line in text.splitlines():
-        m = HEAD.match(line)
-        if m and cur is None:
-            kind, cur, lines, body = m.group(1), m.group(2), [line], False
-            if line.rstrip().endswith(";"):
-                cur = None
-            continue
-        if cur is None:
-            continue
-        lines.append(line)
-        if not body:
-            if line.strip() == "{":
-                body = True
-            elif line.rstrip().endswith(";"):
-                cur = None  # a prototype
-            continue
-        if line == "}":
-            out[cur] = (kind, lines)
-            cur = None
-    return out
-
-
-def closure(name, defs):
-    """The entry and every function it calls (transitively), in a stable order."""
-    seen, todo = [], [name]
-    while todo:
-        n = todo.pop()
-        if n in seen or n not in defs:
-            continue
-        seen.append(n)
-        todo.extend(sorted(set(CALL.findall("\n".join(defs[n][1])))))
-    return seen
-
-
 def reg_bound(body):
     """The most registers ptxas may give a kernel with these directives (None: unbounded)."""
     text = "\n".join(body[:40])

@@ -28,6 +28,7 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from cuda_resource_table import demangle, short  # noqa: E402
+from ptx_parse import depots  # noqa: E402
 
 OWNER = re.compile(r"lantern::((?:wf|CudaExec|cuda_detail::Renderer)::\w+)")
 LAMBDA = re.compile(r"\{lambda\([^)]*\)#(\d+)\}")
@@ -112,24 +113,6 @@ def build_ptx(build_dir, ptx_dir, only_tu):
         path = os.path.join(ptx_dir, name + ".ptx")
         print(f"nvcc -ptx {name}", file=sys.stderr, flush=True)
         subprocess.run(cmd + ["-o", path], check=True)
-
-
-def depots(ptx_text):
-    """Each entry's local depot in the PTX: what cicc already put in local memory (arrays,
-    address-taken structures), before ptxas adds its spills. Non-inlined functions have their
-    own depots (and frames), not counted here."""
-    out, cur = {}, None
-    for line in ptx_text.splitlines():
-        if line.startswith(".") and (" .entry " in line or line.startswith(".entry ")):
-            m = re.search(r"\.entry\s+([\w$]+)", line)
-            cur = m.group(1) if m else None
-        elif re.match(r"^\.(?:visible |weak |extern )*\.func", line):
-            cur = None
-        elif cur and ".local" in line and "__local_depot" in line:
-            m = re.search(r"__local_depot\d+\[(\d+)\]", line)
-            if m:
-                out.setdefault(cur, int(m.group(1)))
-    return out
 
 
 def ptxas(ptx, entry, arch, timeout):

@@ -90,35 +90,13 @@ def explaining_tags(case):
 # ---- rendering ----
 
 def cycles_settings(sc, seed, spp, bounces, threads):
-    c = sc.cycles
-    sc.render.engine = "CYCLES"
-    c.device = "CPU"
-    c.samples = spp
-    c.use_adaptive_sampling = False
-    c.use_denoising = False
-    c.seed = seed
-    c.use_animated_seed = False
-    c.max_bounces = bounces
-    for k in ("diffuse_bounces", "glossy_bounces", "transmission_bounces", "volume_bounces"):
-        setattr(c, k, bounces)
-    # Lantern has no transparency limit (alpha and Transparent BSDF passes are not bounces):
-    # Cycles' own must not bind (at B = 0 a Transparent sphere rendered black in Cycles)
-    c.transparent_max_bounces = 64
-    c.blur_glossy = 0.0
-    c.sample_clamp_direct = c.sample_clamp_indirect = 0.0
-    c.light_sampling_threshold = 0.0
-    c.pixel_filter_type = "BLACKMAN_HARRIS"
-    c.filter_width = 1.5
-    sc.render.filter_size = 1.5
-    sc.render.film_transparent = False
-    sc.render.threads_mode = "FIXED"
-    sc.render.threads = threads
-    sc.view_settings.view_transform = "Standard"
-    sc.view_settings.look = "None"
-    sc.view_settings.exposure = 0.0
-    sc.view_settings.gamma = 1.0
-    s = sc.render.image_settings
-    s.file_format, s.color_depth, s.exr_codec = "OPEN_EXR", "32", "ZIP"
+    """render_compare.cycles_settings with the tester's choices: Lantern has no transparency
+    limit (alpha and Transparent BSDF passes are not bounces), so Cycles' own must not bind (at
+    B = 0 a Transparent sphere rendered black in Cycles): 64; the film filter 1.5; fixed
+    threads."""
+    import render_compare as rc
+    rc.cycles_settings(sc, seed, spp, bounces, transparent_bounces=64, threads=threads,
+                       filter_size=1.5)
 
 
 def render_cycles(bounces, seeds, spp, threads):

@@ -32,6 +32,7 @@ sys.path.insert(0, str(ROOT / "python"))
 
 import lantern  # noqa: E402
 from lantern import imageio, metrics, session  # noqa: E402
+from lantern.gpu_selfcheck_run import render_seeds  # noqa: E402
 
 # a light in a fixture, glossy metal, caustics through glass (the paper's hard cases, exported
 # from Blender), and alpha, textures, normal map and mix shaders (lantern.scenes.features_box(64,
@@ -68,16 +69,9 @@ def load(name, size, hard_falloff=True):
 def render_set(scene, backend, integrator, seeds, spp, max_depth):
     """K renders (4 iterations of spp/4 each, as the cross-integrator test), the backend the
     sessions really used, and the seconds spent."""
-    images, used = [], set()
     t0 = time.perf_counter()
-    for seed in seeds:
-        s = lantern.Session(scene, backend=backend, integrator=integrator, seed=seed,
-                            max_depth=max_depth, spp_per_iteration=max(1, spp // 4))
-        for _ in range(4):
-            s.step()
-        images.append(s.image())
-        used.add(s.backend)
-    return images, sorted(used), time.perf_counter() - t0
+    images, used = render_seeds(scene, backend, integrator, seeds, spp, max_depth, iterations=4)
+    return images, used, time.perf_counter() - t0
 
 
 def compare_one(scene, name, integrator, backends, k, spp, max_depth, scale_b=1.0):

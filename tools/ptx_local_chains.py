@@ -11,53 +11,14 @@ depots down for a what-if: "name" zeroes the depots of functions whose name cont
 "name:N" lowers them by N bytes (which chain is next deepest once one is fixed). PTX: from
 tools/cuda_kernel_resources.py --ptx-dir, or the build's kept PTX (build/ptx)."""
 import argparse
-import re
+import os
 import subprocess
 import sys
 
-HEAD = re.compile(r"^(?:\.visible |\.weak |\.extern )*\.(entry|func)\s+(?:\([^)]*\)\s*)?([\w$]+)\(")
-DEPOT = re.compile(r"\.local .*__local_depot\d+\[(\d+)\]")
-PARAM = re.compile(r"\.param .*\.b8 \w+\[(\d+)\]")
-CALLEE = re.compile(r"call(?:\.uni)?\s*(?:\([^)]*\),\s*)?(_Z[\w$]+)")
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from ptx_parse import call_graph  # noqa: E402
+
 KERNEL_PREFIX = "_ZN7lantern11cuda_detail11each_kernel"
-
-
-def parse(lines):
-    """{function: {"depot": bytes, "calls": [(callee, param bytes)]}}."""
-    funcs, cur, call = {}, None, None
-    for line in lines:
-        m = HEAD.match(line)
-        if m:
-            cur = m.group(2)
-            funcs[cur] = {"depot": 0, "calls": []}
-            continue
-        if cur is None:
-            continue
-        m = DEPOT.search(line)
-        if m:
-            funcs[cur]["depot"] = int(m.group(1))
-            continue
-        if "{ // callseq" in line:
-            call = {"bytes": 0, "callee": None, "next_line": False}
-            continue
-        if call is None:
-            continue
-        m = PARAM.search(line)
-        if m:
-            call["bytes"] += int(m.group(1))
-        if re.match(r"\s*call", line):
-            m = CALLEE.search(line)
-            if m:
-                call["callee"] = m.group(1)
-            else:
-                call["next_line"] = True  # the callee's name is on the next line
-            continue
-        if call["next_line"]:
-            call["callee"], call["next_line"] = line.strip().rstrip(",").strip(), False
-        if "} // callseq" in line:
-            funcs[cur]["calls"].append((call["callee"], call["bytes"]))
-            call = None
-    return funcs
 
 
 def deepest(funcs):
@@ -86,7 +47,7 @@ def main():
     ap.add_argument("--lower", default="", help='"name" or "name:N", comma-separated')
     ap.add_argument("--min", type=int, default=200, help="print chains of at least B bytes")
     a = ap.parse_args()
-    funcs = parse(open(a.ptx).read().splitlines())
+    funcs = call_graph(open(a.ptx).read().splitlines())
     names = list(funcs)
     pretty = dict(zip(names, subprocess.run(["c++filt"], input="\n".join(names),
                                             capture_output=True, text=True).stdout.splitlines()))

@@ -33,7 +33,14 @@ def build_scene(name):
     return scenes.build(name)
 
 
-def cycles_settings(scene, seed, spp):
+def cycles_settings(scene, seed, spp, bounces=BOUNCES, transparent_bounces=None, threads=None,
+                    filter_size=None):
+    """Cycles set to match Lantern (the one place these are written; tools/difftest.py and
+    make_cycles_refs.py use it too): CPU, `spp` samples of `seed`, no adaptive sampling,
+    denoising, clamping or light threshold, Filter Glossy 0, `bounces` of every kind
+    (transparent: `transparent_bounces`, default `bounces`), Blackman-Harris 1.5 (and
+    render.filter_size when given), opaque film, the Standard view, 32-bit EXR; `threads`
+    fixes the thread count. Returns the Cycles settings that matter."""
     c = scene.cycles
     scene.render.engine = "CYCLES"
     c.device = "CPU"
@@ -42,17 +49,22 @@ def cycles_settings(scene, seed, spp):
     c.use_denoising = False
     c.seed = seed
     c.use_animated_seed = False
-    c.max_bounces = BOUNCES
-    for k in ("diffuse_bounces", "glossy_bounces", "transmission_bounces", "volume_bounces",
-              "transparent_max_bounces"):
-        setattr(c, k, BOUNCES)
+    c.max_bounces = bounces
+    for k in ("diffuse_bounces", "glossy_bounces", "transmission_bounces", "volume_bounces"):
+        setattr(c, k, bounces)
+    c.transparent_max_bounces = bounces if transparent_bounces is None else transparent_bounces
     c.blur_glossy = 0.0  # Filter Glossy (default 1) roughens glossy lobes after diffuse bounces
     c.sample_clamp_direct = 0.0
     c.sample_clamp_indirect = 0.0
     c.light_sampling_threshold = 0.0
     c.pixel_filter_type = "BLACKMAN_HARRIS"
     c.filter_width = 1.5
+    if filter_size is not None:
+        scene.render.filter_size = filter_size
     scene.render.film_transparent = False
+    if threads is not None:
+        scene.render.threads_mode = "FIXED"
+        scene.render.threads = threads
     scene.view_settings.view_transform = "Standard"
     scene.view_settings.look = "None"
     scene.view_settings.exposure = 0.0

@@ -30,7 +30,7 @@ def export_scene(depsgraph, region_view=None, report=None, texture_cache=None):
     export/texture.py), or None to read every image afresh (final renders).
     region_view: None for a final render (scene camera, render resolution), else a
     camera.ViewportView describing the 3D viewport to render."""
-    from ..engine import import_lantern
+    from ..native import import_lantern
     lantern = import_lantern()
 
     report = report or ExportReport()

@@ -1,42 +1,15 @@
-"""What each shader node compiles to (material_compile): a handler per node type emits the
-node's instructions and returns the Val of the output asked for. Operation lists follow the
-order of the switch statements in native/src/scene/material_program_*.h."""
+"""What each shader node compiles to (material_compile): NodeContext follows a socket's links
+(node_graph), converts between socket types and calls the handler of each node type
+(node_handlers.NODE_HANDLERS), which emits the node's instructions (opcodes in node_ops) and
+returns the Val of the output asked for."""
 
 from . import node_graph as ng
-
-OP = {name: i for i, name in enumerate((
-    "copy", "input", "math", "vector_math", "mix", "map_range", "clamp", "invert", "gamma",
-    "bright_contrast", "hsv", "separate", "combine", "rgb_to_bw", "checker", "gradient",
-    "noise", "white_noise", "voronoi", "wave", "magic", "ramp", "curves", "fresnel",
-    "layer_weight", "image", "mapping", "normalize", "brick"))}
-
-MATH_OPS = ("ADD", "SUBTRACT", "MULTIPLY", "DIVIDE", "MULTIPLY_ADD", "POWER", "LOGARITHM",
-            "SQRT", "INVERSE_SQRT", "ABSOLUTE", "EXPONENT", "MINIMUM", "MAXIMUM", "LESS_THAN",
-            "GREATER_THAN", "SIGN", "COMPARE", "SMOOTH_MIN", "SMOOTH_MAX", "ROUND", "FLOOR",
-            "CEIL", "TRUNC", "FRACT", "MODULO", "FLOORED_MODULO", "WRAP", "SNAP", "PINGPONG",
-            "SINE", "COSINE", "TANGENT", "ARCSINE", "ARCCOSINE", "ARCTANGENT", "ARCTAN2", "SINH",
-            "COSH", "TANH", "RADIANS", "DEGREES")
-VECTOR_OPS = ("ADD", "SUBTRACT", "MULTIPLY", "DIVIDE", "MULTIPLY_ADD", "CROSS_PRODUCT",
-              "PROJECT", "REFLECT", "REFRACT", "FACEFORWARD", "DOT_PRODUCT", "DISTANCE",
-              "LENGTH", "SCALE", "NORMALIZE", "SNAP", "FLOOR", "CEIL", "MODULO", "WRAP",
-              "FRACTION", "ABSOLUTE", "MINIMUM", "MAXIMUM", "SINE", "COSINE", "TANGENT", "POWER",
-              "SIGN")
-BLEND_MODES = ("MIX", "DARKEN", "MULTIPLY", "BURN", "LIGHTEN", "SCREEN", "DODGE", "ADD",
-               "OVERLAY", "SUBTRACT", "DIVIDE", "DIFFERENCE", "EXCLUSION", "SOFT_LIGHT",
-               "LINEAR_LIGHT", "HUE", "SATURATION", "VALUE", "COLOR")
-GRADIENT_TYPES = ("LINEAR", "QUADRATIC", "EASING", "DIAGONAL", "RADIAL", "QUADRATIC_SPHERE",
-                  "SPHERICAL")
-NOISE_TYPES = ("MULTIFRACTAL", "RIDGED_MULTIFRACTAL", "HYBRID_MULTIFRACTAL", "FBM",
-               "HETERO_TERRAIN")
-MAP_RANGE_MODES = ("LINEAR", "STEPPED", "SMOOTHSTEP", "SMOOTHERSTEP")
-# kOpInput modes (shade_input)
-IN_POSITION, IN_NORMAL, IN_UV, IN_INCOMING, IN_ATTRIBUTE, IN_CAMERA, IN_WINDOW, \
-    IN_REFLECTION, IN_TRUE_NORMAL, IN_BACKFACING = range(10)
-TABLE_SIZE = 256
-
-
-def _width(kind):
-    return 1 if kind in ("VALUE", "INT", "BOOLEAN") else 3
+from .node_handlers import NODE_HANDLERS
+from .node_ops import (  # noqa: F401 (read as node_eval.X by the compilers)
+    BLEND_MODES, GRADIENT_TYPES, IN_ATTRIBUTE, IN_BACKFACING, IN_CAMERA, IN_INCOMING,
+    IN_NORMAL, IN_POSITION, IN_REFLECTION, IN_TRUE_NORMAL, IN_UV, IN_WINDOW, MAP_RANGE_MODES,
+    MATH_OPS, NOISE_TYPES, OP, TABLE_SIZE, VECTOR_OPS, _width)
+from .program_builder import Unsupported, Val
 
 
 class NodeContext:
@@ -44,7 +17,6 @@ class NodeContext:
     types, a memo per node output and cycle detection."""
 
     def __init__(self, compiler, builder):
-        from .material_compile import Unsupported, Val
         self.c, self.b, self.Val, self.Unsupported = compiler, builder, Val, Unsupported
         self.memo, self.visiting = {}, set()
 
@@ -153,5 +125,3 @@ class NodeContext:
             return self.input_value(sock, path, "VECTOR")
         return self.geometry(IN_UV) if default == "uv" else self.attribute("generated")
 
-
-from .node_handlers import NODE_HANDLERS  # noqa: E402  (handlers use NodeContext's helpers)

@@ -2,7 +2,10 @@
 Register layouts of the instructions are those documented at NodeOp in
 native/src/scene/material_program_ops.h."""
 
-from . import node_eval as ne
+from . import node_graph as ng
+from . import node_ops as ne
+from .node_spectral import SPECTRAL_HANDLERS
+from .node_textures import TEXTURE_HANDLERS
 
 OP = ne.OP
 
@@ -17,11 +20,11 @@ def _v(ctx, node, name, path, kind="VALUE"):
 
 # ---- inputs ----
 def h_value(ctx, node, out, path):
-    return ctx.const(ne.ng.socket_value(node.outputs[0]), "VALUE")
+    return ctx.const(ng.socket_value(node.outputs[0]), "VALUE")
 
 
 def h_rgb(ctx, node, out, path):
-    return ctx.const(ne.ng.socket_value(node.outputs[0]), "RGBA")
+    return ctx.const(ng.socket_value(node.outputs[0]), "RGBA")
 
 
 def _normalized(ctx, v):
@@ -118,7 +121,7 @@ def h_camera_data(ctx, node, out, path):
 def h_normal(ctx, node, out, path):
     """Normal: its own direction (the output socket's value), and Dot: that direction with
     the normalised input."""
-    d = ne.ng.socket_value(node.outputs[0]) or (0.0, 0.0, 1.0)
+    d = ng.socket_value(node.outputs[0]) or (0.0, 0.0, 1.0)
     length = sum(x * x for x in d) ** 0.5
     d = tuple(x / length for x in d) if length > 0 else (0.0, 0.0, 1.0)
     direction = ctx.const(d, "VECTOR")
@@ -300,7 +303,7 @@ def h_curves(ctx, node, out, path):
 
 
 def _normal_in(ctx, node, path):
-    sock = ne.ng.named_input(node, "Normal")
+    sock = ng.named_input(node, "Normal")
     if sock is not None and sock.is_linked:
         return ctx.input_value(sock, path, "VECTOR")
     return ctx.geometry(ne.IN_NORMAL)
@@ -335,8 +338,6 @@ def h_normalize_passthrough(ctx, node, out, path):
     return ctx.input_value(node.inputs[0], path, out.type)
 
 
-from .node_spectral import SPECTRAL_HANDLERS  # noqa: E402
-from .node_textures import TEXTURE_HANDLERS  # noqa: E402
 
 NODE_HANDLERS = {
     "VALUE": h_value, "RGB": h_rgb, "TEX_COORD": h_tex_coord, "UVMAP": h_uvmap,

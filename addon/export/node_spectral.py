@@ -13,7 +13,7 @@ to 2.3e-4 at the 5 nm kinks)."""
 import math
 
 from . import node_cie1931 as cie
-from . import node_eval as ne
+from . import node_ops as ne
 
 T_MIN, T_MAX = 800.0, 12000.0
 L_MIN, L_MAX = 380.0, 780.0

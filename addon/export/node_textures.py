@@ -3,7 +3,8 @@ An unlinked Vector reads Generated coordinates (UV for Image Texture), as in Ble
 Noise's reads its socket's own value, (0, 0, 0) unless a script set it (Cycles gives its Vector
 no implicit coordinates: on a mesh it is one colour)."""
 
-from . import node_eval as ne
+from . import node_graph as ng
+from . import node_ops as ne
 
 
 def _vec(ctx, node, path, default="generated"):
@@ -67,7 +68,7 @@ def h_voronoi(ctx, node, out, path):
         ctx.c.warn(f"Voronoi '{node.name}': {node.feature} is not supported (F1, F2, Smooth "
                    "F1 are); its default is used")
         return ctx.fallback(out)
-    detail = ne.ng.enabled_input(node, "Detail")
+    detail = ng.enabled_input(node, "Detail")
     if detail is not None and (detail.is_linked or detail.default_value != 0.0):
         ctx.c.warn(f"Voronoi '{node.name}': Detail above 0 is rendered as 0 (one octave)")
     if getattr(node, "normalize", False):

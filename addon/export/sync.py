@@ -83,7 +83,7 @@ class ViewportSync:
     def sync(self, depsgraph, view, report):
         """Bring self.scene up to date with the pending changes; returns the Changes applied.
         `view` is the camera.ViewportView to render; the scene's film and camera follow it."""
-        from ..engine import import_lantern
+        from ..native import import_lantern
         lantern = import_lantern()
         todo, self.pending = self.pending, ch.Changes()
         self.syncs += 1

@@ -67,20 +67,35 @@ def scene_for(name, size=SIZE):
     raise ValueError(f"unknown self-check scene {name!r}")
 
 
-def render(scene, backend, integrator, seeds):
-    """One image per seed; raises when a session did not run on `backend`."""
+def render_seeds(scene, backend, integrator, seeds, spp, max_depth, iterations=2, check=None,
+                 **settings):
+    """One image per seed (a Session of `iterations` steps of spp // iterations samples, at
+    least 1) and the backends the sessions ran on; check(session), when given, sees each
+    session after its steps. tools/gpu_compare.py renders its sets with it too."""
     import lantern
-    out = []
+    images, used = [], set()
     for seed in seeds:
         s = lantern.Session(scene, backend=backend, integrator=integrator, seed=seed,
-                            max_depth=MAX_DEPTH, spp_per_iteration=SPP // 2, threads=0)
-        s.step()
-        s.step()
+                            max_depth=max_depth, spp_per_iteration=max(1, spp // iterations),
+                            **settings)
+        for _ in range(iterations):
+            s.step()
+        if check is not None:
+            check(s)
+        images.append(s.image())
+        used.add(s.backend)
+    return images, sorted(used)
+
+
+def render(scene, backend, integrator, seeds):
+    """One image per seed; raises when a session did not run on `backend`."""
+    def check(s):
         if s.backend != backend:
             raise RuntimeError(f"the session rendered on {s.backend}, not {backend}: "
                                f"{'; '.join(s.warnings)}")
-        out.append(np.asarray(s.image(), np.float64))
-    return out
+    images, _ = render_seeds(scene, backend, integrator, seeds, SPP, MAX_DEPTH, check=check,
+                             threads=0)
+    return [np.asarray(im, np.float64) for im in images]
 
 
 def gpu_renderer(double):

@@ -28,10 +28,6 @@ import warnings
 
 import pytest
 
-bpy = pytest.importorskip("bpy")
-lantern = pytest.importorskip("lantern")
-if not lantern.native_available():
-    pytest.skip(f"native core unavailable: {lantern.native_error()}", allow_module_level=True)
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(ROOT, "tools"))

@@ -17,10 +17,8 @@ import sys
 import numpy as np
 import pytest
 
-bpy = pytest.importorskip("bpy")
-lantern = pytest.importorskip("lantern")
-if not lantern.native_available():
-    pytest.skip(f"native core unavailable: {lantern.native_error()}", allow_module_level=True)
+import bpy  # noqa: E402 (conftest.py skips this folder without bpy or the core)
+import lantern  # noqa: E402
 
 import node_stage as st  # noqa: E402
 from lantern import metrics  # noqa: E402

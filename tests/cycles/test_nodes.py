@@ -19,10 +19,8 @@ import math
 import numpy as np
 import pytest
 
-bpy = pytest.importorskip("bpy")
-lantern = pytest.importorskip("lantern")
-if not lantern.native_available():
-    pytest.skip(f"native core unavailable: {lantern.native_error()}", allow_module_level=True)
+import bpy  # noqa: E402 (conftest.py skips this folder without bpy or the core)
+import lantern  # noqa: E402
 
 import node_stage as st  # noqa: E402
 
@@ -1071,7 +1069,7 @@ def test_normal_map_from_a_graph_matches_cycles(space, tmp_path):
 # textured_roughness_cycles.py): a metal sphere in a white world whose Roughness is a Voronoi
 # Distance rendered 5.5 % darker than Cycles, a Wave Fac 8 % darker, hidden values 0 and 1 from
 # -15 % to +66 %. Now a material with a per-hit roughness reads its tables from rows at
-# roughness j / 32 interpolated at the hit's (scene/scene.cpp fill_lobe_tables, bsdf/
+# roughness j / 32 interpolated at the hit's (scene/scene_materials.cpp fill_lobe_tables, bsdf/
 # multiscatter.h ms_rough). Noise-free checks, same seed: a graph whose value is 0.3 everywhere
 # (not constant-folded) renders the same image whatever the hidden value (TOL: only float
 # rounding may differ), and matches the constant 0.3 within ROWS_TOL, the rows' interpolation

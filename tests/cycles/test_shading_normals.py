@@ -26,11 +26,9 @@ import sys
 import numpy as np
 import pytest
 
-bpy = pytest.importorskip("bpy")
+import bpy  # noqa: E402 (conftest.py skips this folder without bpy or the core)
 from mathutils import Vector  # noqa: E402
-lantern = pytest.importorskip("lantern")
-if not lantern.native_available():
-    pytest.skip(f"native core unavailable: {lantern.native_error()}", allow_module_level=True)
+import lantern  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import node_stage as st  # noqa: E402

@@ -64,11 +64,11 @@ def check_agreement(name, renders_a, renders_pt, controls=(0.01, 0.05)):
 # Control levels (whole image, one block): 1 % / 5 % where the comparison resolves it with 99 %
 # power (the printed "detects ... >=" and the typical block's resolution at most that), else
 # the level it does resolve, rounded up, measured at these settings after the QMC sampler and
-# the light tree landed (tools/measure_controls.py; tests/README.md): Cornell and coat_normal
-# as before, glossy 0.92-1.02 % (a block 3.0-3.1 %), features 1.03-1.11 % (1.9-2.5 %), glass
-# against bdpt 0.96-1.01 % (2.8-3.2 %), principled with pt at 2048 spp 1.07-1.17 % (3.4-3.7 %);
-# every 1 % / 5 % control is caught at the tests' seeds. The fixture: paired seeds
-# (_fixture_chain below).
+# the light tree landed (lantern.testing.measure_controls; tests/README.md): Cornell and
+# coat_normal as before, glossy 0.92-1.02 % (a block 3.0-3.1 %), features 1.03-1.11 %
+# (1.9-2.5 %), glass against bdpt 0.96-1.01 % (2.8-3.2 %), principled with pt at 2048 spp
+# 1.07-1.17 % (3.4-3.7 %); every 1 % / 5 % control is caught at the tests' seeds. The fixture:
+# paired seeds (_fixture_chain below).
 REFERENCE = {"fixture": "bdpt", "glass": "bdpt"}
 # principled's noise is pt's reference (the layered lobes): at 512 spp every integrator
 # resolved 1.26-1.32 % (a block 5.4-5.9 %), at 2048 1.07-1.17 % (3.4-3.7 %; +75 s CPU)
@@ -163,7 +163,7 @@ def test_view_corrected_normals_agree(core, backend):
 
 
 def delta_light_scenes():
-    """test_delta_lights_agree's scenes (tools/fa_bidir.py measures them too)."""
+    """test_delta_lights_agree's scenes (python/lantern/testing/fa_bidir.py measures them too)."""
     glossy_point = scenes.glossy_box(SIZE, SIZE, delta_light=True)
     sun = scenes.cornell_box(SIZE, SIZE)
     sun.lights = []
@@ -281,7 +281,7 @@ ANALYTIC_DEPTH = 12
 
 
 def furnace_case():
-    """test_furnace's scene and exact value (tools/fa_bidir.py measures them too)."""
+    """test_furnace's scene and exact value (lantern/testing/fa_bidir.py measures them too)."""
     a, le = 0.5, 1.0
     scene = scenes.furnace_sphere(albedo=a, emission=le, width=16, height=16)
     return scene, scenes.furnace_expected(le, a, ANALYTIC_DEPTH)

@@ -21,6 +21,7 @@ import pytest
 
 import lantern
 from lantern import metrics, scenes
+from seed_renders import render_once
 
 K = 12
 SIZE = 24
@@ -42,10 +43,8 @@ SCENES = {
 
 
 def render(scene, integrator, seed, spp=SPP, **extra):
-    s = lantern.Session(scene, integrator=integrator, seed=seed, backend="cpu", threads=1,
-                        spp_per_iteration=spp, **extra)
-    s.step()
-    return np.asarray(s.image(), np.float64)[..., :3]
+    return np.asarray(render_once(scene, integrator, seed, spp, backend="cpu", threads=1,
+                                  **extra), np.float64)[..., :3]
 
 
 def noise(stack):

@@ -15,6 +15,7 @@ import pytest
 
 import lantern
 from lantern import metrics, scenes
+from seed_renders import render_seeds
 
 K = 16
 SIZE = 32
@@ -45,13 +46,8 @@ def light_over_metal(n=SIZE):
 
 
 def renders(scene, integrator, spp, seed0, backend):
-    out = []
-    for k in range(K):
-        s = lantern.Session(scene, integrator=integrator, seed=seed0 + k, backend=backend,
-                            max_depth=2, spp_per_iteration=spp)
-        s.step()
-        out.append(s.image())
-    return out
+    return render_seeds(scene, integrator, range(seed0, seed0 + K), spp, backend=backend,
+                        max_depth=2)
 
 
 @pytest.mark.parametrize("integrator", ["cis", "lvc"])

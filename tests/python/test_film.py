@@ -34,7 +34,8 @@ K = 16  # seeds per statistical check (tests/README.md: Welch dof >= 15)
 
 
 def hidden_world_renders(seed0=1):
-    """test_world_hidden_but_lights' renders (tools/fa_python.py measures its comparison)."""
+    """test_world_hidden_but_lights' renders (lantern/testing/fa_python.py measures its
+    comparison)."""
     return [lantern.render(half_plane_scene(), spp=8, seed=seed0 + k, integrator="pt")
             for k in range(K)]
 

@@ -119,7 +119,7 @@ needs_core = pytest.mark.skipif(not session.native_available(),
 def merged_and_full(tmp_path, seed_merged=10, seed_full=1000):
     """test_four_chunks_agree_with_one_render's 16 repetitions: 4 chunks of 32 spp rendered
     and merged through the CLI (the merge checked against the chunks' mean), and one render of
-    128 spp (tools/fa_python.py measures the comparison with other seeds)."""
+    128 spp (python/lantern/testing/fa_python.py measures the comparison with other seeds)."""
     path = tmp_path / "box.lantern"
     scenes.cornell_box(width=32, height=32).save(path)
     merged, full = [], []

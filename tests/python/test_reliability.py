@@ -204,7 +204,7 @@ ENORMOUS_SEEDS = (("pt", 1), ("cis", 12))
 def enormous_spp_estimate(integrator, seeds, seed0=0):
     """test_enormous_spp_per_iteration_is_correct's estimate for one integrator: the furnace's
     mean, its standard error and dof (pt: its 16 pixels of one seed; cis: `seeds` seeds), and
-    the exact value (tools/fa_python.py measures the rule)."""
+    the exact value (python/lantern/testing/fa_python.py measures the rule)."""
     scene = furnace_sphere(albedo=0.5, emission=1.0, width=4, height=4)
     expected = furnace_expected(1.0, 0.5, 8)[0]
     means, pixels = [], None

@@ -1,4 +1,4 @@
-"""False-alarm families of tests/blender's F12 comparisons, for tools/false_alarm.py (its
+"""False-alarm families of tests/blender's F12 comparisons, for false_alarm.py (its
 FAMILIES, loaded by load_family_modules). Each trial builds the test's scene on the `empty`
 fixture's scene (blender_helpers.empty_scene) through the test file's own helpers and renders it
 with its own seeds (scene.lantern.seed; Cycles' scene.cycles.seed), at the test's settings.
@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[3]
 for sub in ("tools", "tests/blender"):
     if str(ROOT / sub) not in sys.path:
         sys.path.insert(0, str(ROOT / sub))

@@ -2,7 +2,7 @@
 the printed "detects a whole-image bias >= x", the control block's resolution, and whether
 the 1 % / 5 % negative controls are caught (tests/README.md, "What each family resolves").
 
-    PYTHONPATH=python:tests/python nice python tools/measure_controls.py [name ...]
+    PYTHONPATH=python:tests/python nice python -m lantern.testing.measure_controls [name ...]
 
 MEASURE_SPP_REF / MEASURE_SPP (environment) override the scene sets' reference and
 integrator samples per seed, to see what fewer or more samples would resolve.

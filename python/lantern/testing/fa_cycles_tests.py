@@ -1,5 +1,5 @@
 """False-alarm families of tests/cycles' comparisons against Cycles rendered in-process, for
-tools/false_alarm.py (its FAMILIES, loaded by load_family_modules). Each trial renders the
+false_alarm.py (its FAMILIES, loaded by load_family_modules). Each trial renders the
 Lantern side with its own seeds at the test's settings. A Cycles trial costs minutes here, so
 the Cycles side is one set per case, rendered once per process at the test's own Cycles seeds
 and shared by the 20 trials, as the stored references of the `cycles` family are (each
@@ -23,7 +23,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[3]
 for sub in ("tools", "tests/cycles", "blend_scenes"):
     if str(ROOT / sub) not in sys.path:
         sys.path.insert(0, str(ROOT / sub))
@@ -129,7 +129,8 @@ def pairs_light_units(trial):
                       lambda off: tl._cycles_renders(kind, _TMP, seed0=off))
         scene = tl._lantern_scene(kind)
         lan = np.array([lantern.render(scene, spp=tl.LANTERN_SPP,
-                                       seed=2500000 + 1000 * trial + k, max_depth=2)
+                                       seed=2500000 + 1000 * trial + k, max_depth=2,
+                                       integrator="pt")
                         for k in range(tl.SEEDS)], dtype=np.float64)
         return list(lan), list(cyc), {"block": tl.BLOCK}
     for kind in ("POINT", "POINT_SPHERE", "SPOT", "AREA", "AREA_ELLIPSE", "SUN"):

@@ -1,9 +1,9 @@
-"""False-alarm families of tests/python/test_bidirectional.py that tools/false_alarm.py's own
+"""False-alarm families of tests/python/test_bidirectional.py that false_alarm.py's own
 families (cross: Cornell bdpt vs pt; fixture: lvc vs bdpt and cis(bsdf) vs lvc; scale: 1e-3;
 analytic: the furnace in pt at other settings) leave out. Loaded by false_alarm.py
 (load_family_modules); run as
 
-    PYTHONPATH=python nice python tools/false_alarm.py --trials 20 --families bidir_scenes
+    PYTHONPATH=python nice python -m lantern.testing.false_alarm --trials 20 --families bidir_scenes
 
 Each family calls the test's own scenes, renders() and rule (compare_renders with block 8, as
 check_agreement / check_paired), each trial with its own seeds; where a row says "cheaper" the
@@ -25,7 +25,7 @@ changes the noise, not the null distribution:
 import sys
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[3]
 sys.path.insert(0, str(ROOT / "tests" / "python"))
 
 from lantern import metrics  # noqa: E402

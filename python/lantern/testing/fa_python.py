@@ -1,7 +1,7 @@
-"""False-alarm families of the Python-API tests (tests/python) that tools/false_alarm.py's own
+"""False-alarm families of the Python-API tests (tests/python) that false_alarm.py's own
 families leave out. Loaded by false_alarm.py (load_family_modules); run as
 
-    PYTHONPATH=python nice python tools/false_alarm.py --trials 20 --families lt_scenes
+    PYTHONPATH=python nice python -m lantern.testing.false_alarm --trials 20 --families lt_scenes
 
 Each family calls its test's own scenes, render helpers and rule, each trial with its own seeds;
 where a family says "cheaper" the samples per seed are cut (the seeds, the references shared
@@ -35,7 +35,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[3]
 sys.path.insert(0, str(ROOT / "tests" / "python"))
 
 from lantern import metrics, student_t  # noqa: E402

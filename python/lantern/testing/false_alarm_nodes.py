@@ -4,7 +4,7 @@ the file (node outputs, bumps, graph-fed normal maps) rendered again with Lanter
 tolerances and negative controls), counting the trials in which a case fails. The rule has no
 alpha: a fair pair either agrees within the float rounding or it does not.
 
-    PYTHONPATH=python nice python tools/false_alarm_nodes.py [--trials 20]
+    PYTHONPATH=python nice python -m lantern.testing.false_alarm_nodes [--trials 20]
         [--out tests/false_alarm_nodes.json]
 """
 
@@ -17,7 +17,7 @@ import tempfile
 import time
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[3]
 sys.path.insert(0, str(ROOT / "tests" / "cycles"))
 
 

@@ -1,5 +1,5 @@
 """False-alarm families of the comparisons against stored Cycles references (tests/render), for
-tools/false_alarm.py (its FAMILIES, loaded by load_family_modules). Each trial renders the
+false_alarm.py (its FAMILIES, loaded by load_family_modules). Each trial renders the
 Lantern side with its own seeds at the test's settings; the Cycles side is the stored reference
 (8 Cycles seeds), one fixed set shared by the 20 trials, as the `cycles` family does with
 light_sun. Needs bpy.
@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[3]
 for sub in ("tools", "tests/render", "blend_scenes"):
     if str(ROOT / sub) not in sys.path:
         sys.path.insert(0, str(ROOT / sub))

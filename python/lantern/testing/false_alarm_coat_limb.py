@@ -1,9 +1,9 @@
 """The limb ratio of tests/cycles/test_coat_normal.py over independent seed sets (the renders of
-tools/false_alarm.py's coat_normal family, each trial its own seeds on both sides): counts the
+false_alarm.py's coat_normal family, each trial its own seeds on both sides): counts the
 trials whose ratio misses the test's LIMB_RATIO by more than its allowance, at the test's alpha
 (1e-3) and at 0.05 and 0.2, and runs the family's interior comparison on the same renders.
 
-    PYTHONPATH=python nice python tools/false_alarm_coat_limb.py [--trials 20]
+    PYTHONPATH=python nice python -m lantern.testing.false_alarm_coat_limb [--trials 20]
         [--first 0] [--out tests/false_alarm_coat.json]
 """
 
@@ -16,11 +16,11 @@ from pathlib import Path
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[3]
 sys.path.insert(0, str(ROOT / "tools"))
 sys.path.insert(0, str(ROOT / "tests" / "cycles"))
 
-import false_alarm as fa  # noqa: E402
+from lantern.testing import fa_bl_scenes as fa  # noqa: E402
 from lantern import metrics  # noqa: E402
 
 ALPHAS = (1e-3, 0.05, 0.2)
