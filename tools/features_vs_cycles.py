@@ -52,10 +52,6 @@ SE_FLOOR = 1e-6     # absolute: float rounding of noise-free blocks (the world s
 # Kinds: "by design" (a deliberate choice), "approximation" (documented, could be improved),
 # "open gap" (not deliberate: Lantern should follow Cycles).
 KNOWN = {
-    "sheen_weight": ("by design", "Lantern's sheen is the Charlie lobe (Estevez & Kulla 2017), "
-                     "Cycles' the LTC microfiber sheen (Zeltner et al. 2022)"),
-    "sheen_roughness": ("by design", "sheen model (Charlie vs Cycles' microfiber LTC)"),
-    "sheen_tint": ("by design", "sheen model (Charlie vs Cycles' microfiber LTC)"),
     "subsurface_weight": ("by design", "no subsurface in Lantern: rendered as the diffuse base "
                           "(a warning)"),
     "normal_map": ("by design", "Cycles bends mapped normals that face away from the viewer "

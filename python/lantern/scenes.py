@@ -362,6 +362,28 @@ def coat_normal_box(width=64, height=64, light_power=40.0):
     return scene
 
 
+def sheen_box(width=64, height=64, light_power=40.0):
+    """Principled sheens (the LTC microfiber sheen, bsdf/sheen.h) in the Cornell box: every wall
+    and box under a sheen of its own roughness (0.1 to 1), tint and weight, over diffuse,
+    plastic and coated bases. The lobe is not reciprocal: light sub-paths evaluate its adjoint,
+    so bidirectional integrators agree with pt only if both transports evaluate one function."""
+    scene, white, red, green = _box_room(width, height)
+    sheen = lambda name, c, w, r, tint=(1.0, 1.0, 1.0), **kw: scene.add_material(
+        name, type="principled", base_color=c, sheen_weight=w, sheen_roughness=r,
+        sheen_tint=tint, **kw)
+    floor = sheen("sheen_floor", (0.5, 0.5, 0.5), 1.0, 0.5, roughness=0.5)
+    left = sheen("sheen_red", (0.63, 0.065, 0.05), 1.0, 0.3, (1.0, 0.9, 0.8), roughness=0.6)
+    right = sheen("sheen_green", (0.14, 0.45, 0.091), 0.8, 1.0, (0.6, 0.8, 1.0), roughness=0.5)
+    back = sheen("sheen_back", (0.3, 0.3, 0.6), 1.0, 0.1, roughness=0.3)
+    _walls(scene, white, left, right, floor=floor, back=back)
+    short = sheen("sheen_coated", (0.6, 0.3, 0.2), 1.0, 0.7, (1.0, 0.6, 0.3), roughness=0.4,
+                  coat_weight=0.6, coat_roughness=0.2)
+    tall = sheen("sheen_velvet", (0.05, 0.05, 0.15), 1.0, 0.4, roughness=0.8)
+    _boxes(scene, short, tall)
+    _ceiling_light(scene, light_power)
+    return scene
+
+
 def features_box(width=64, height=64, light_power=40.0):
     """What the material system adds beyond the Principled layers, in the Cornell box: a
     checker-textured floor, a Mix Shader back wall (0.7 diffuse + 0.3 anisotropic rough metal

@@ -106,11 +106,9 @@ TEST(BsdfPrincipled, WhiteFurnaceConservesEnergy) {
             EXPECT_TRUE(mean_matches(sum, 1.0, z, cap))
                 << "coat roughness " << coat_rough << " theta " << theta_o;
         }
-    // and a sheen on top of both: 1 - E_sheen(mu_o) reaches the coat, so the furnace is exact
-    // where the sheen's albedo table is (BsdfSheen.LayerTableMatchesIndependentIntegral). The
-    // grazing case carries the sheen's noise (se 0.44 % at 40000 samples), hence 320000 there
-    // (se ~0.16 %, allowed ~0.8 %; theta 1.53 would need ~10^6). Before the table's quadrature
-    // was fixed theta 1.45 read 1.0173 +- 0.0018.
+    // and a sheen on top of both: 1 - R_sheen(mu_o) reaches the coat, and the LTC sheen
+    // reflects exactly R (BsdfSheen.AlbedoIsTheFitAndAtMostOne), so the furnace is exact. The
+    // grazing case kept 320000 samples from the Charlie sheen it replaced (its noise there).
     for (float theta_o : {0.0f, 1.0f, 1.45f}) {
         Material m = sheened(coated(principled_ms(vec3(1.0f), 0.0f, 0.0f, 0.4f), 1.0f, 0.3f), 1.0f,
                              0.4f);

@@ -9,20 +9,20 @@
 namespace lantern {
 
 // Every lobe's eval and sample on the device (native/src/bsdf/): one thread per direction pair.
-__global__ void __launch_bounds__(256, 2) bsdf_lobes_kernel(const Vec3* wo, const Vec3* wi, const Vec2* u, Vec3* out, int n) {
+__global__ void __launch_bounds__(256, 2) bsdf_lobes_kernel(const Vec3* wo, const Vec3* wi, const Vec2* u, const float* sheen_ltc, Vec3* out, int n) {
     int i = blockIdx.x * blockDim.x + threadIdx.x;
     if (i >= n) return;
     ConductorParams c = conductor_complex(0.3f, vec3(0.2f), vec3(3.0f));
     ConductorParams c82 = conductor_f82(0.3f, vec3(0.9f), vec3(0.8f));
     DielectricParams d = dielectric(0.2f, 1.5f, Transport::Radiance);
     OrenNayarParams on{vec3(0.8f), 0.5f};
-    SheenParams sh{vec3(1.0f), 0.4f};
+    SheenParams sh{vec3(1.0f), sheen_ltc};
     Vec3 acc = conductor_eval(c, wo[i], wi[i]).f + conductor_eval(c82, wo[i], wi[i]).f +
                dielectric_eval(d, wo[i], wi[i]).f + oren_nayar_eval(on, wo[i], wi[i]).f +
-               sheen_eval(sh, wo[i], wi[i]).f;
+               sheen_eval(sh, wo[i], wi[i], Transport::Radiance).f;
     acc += conductor_sample(c, wo[i], u[i]).weight +
            dielectric_sample(d, wo[i], u[i], u[i].x).weight +
-           oren_nayar_sample(on, wo[i], u[i]).weight + sheen_sample(sh, wo[i], u[i]).weight;
+           oren_nayar_sample(on, wo[i], u[i]).weight + sheen_sample(sh, wo[i], u[i], Transport::Importance).weight;
     out[i] = acc;
 }
 

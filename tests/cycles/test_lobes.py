@@ -158,13 +158,27 @@ def test_coat_over_metal_matches_cycles():
     _compare("coat over metal", spp=64)
 
 
-@pytest.mark.xfail(strict=True, reason="Lantern's sheen is Estevez-Kulla 'Charlie' sheen, "
-                   "Cycles' the LTC microfiber sheen of Zeltner et al. 2022: alone on a black "
-                   "base in a white world Lantern reads 1.7-1.9x Cycles (issue 28)")
 def test_sheen_matches_cycles():
-    """Sheen Weight 1 over a dark base of Specular IOR Level 0 (the issue's sheen item)."""
+    """Sheen Weight 1 over a dark base of Specular IOR Level 0 (the issue's sheen item). Before
+    the LTC sheen (bsdf/sheen.h) Lantern's Charlie sheen read 1.7-1.9x Cycles here."""
     nt = _stage("plane")
     _shader(nt, "ShaderNodeBsdfPrincipled", **{"Specular IOR Level": 0.0,
                                               "Base Color": (0.1, 0.1, 0.3, 1.0),
                                               "Sheen Weight": 1.0})
     _compare("sheen")
+
+
+@pytest.mark.parametrize("roughness", [0.1, 0.5, 1.0])
+def test_tinted_sheen_over_a_coloured_base(roughness):
+    """A tinted sheen (weight 0.8) over a coloured Principled base with its specular layer, on a
+    sphere seen from normal incidence to grazing: the lobe's view dependence, the tint and the
+    layering of the base under 1 - weight max(tint) R(mu_v), in pt and (at roughness 0.5) the
+    light paths of bdpt."""
+    nt = _stage("sphere")
+    _shader(nt, "ShaderNodeBsdfPrincipled", **{"Base Color": (0.2, 0.5, 0.3, 1.0),
+                                              "Roughness": 0.4,
+                                              "Sheen Weight": 0.8,
+                                              "Sheen Roughness": roughness,
+                                              "Sheen Tint": (1.0, 0.5, 0.2, 1.0)})
+    _compare(f"tinted sheen r {roughness}",
+             integrators=("pt", "bdpt") if roughness == 0.5 else ("pt",))

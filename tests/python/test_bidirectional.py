@@ -75,12 +75,12 @@ REFERENCE = {"fixture": "bdpt", "glass": "bdpt"}
 # the Cornell box and coat_normal over-resolve with QMC: half the samples a side (pt 256, the
 # others 32) resolve 0.62-0.74 % (a block 2.3-2.4 %; 37 s CPU where 512 / 64 took ~63 s) and
 # 0.81-0.93 % (2.5-2.7 %; 71 s CPU, about half of what 512 / 64 take)
-REF_SPP_SCENE = {"principled": 2048, "cornell": 256, "coat_normal": 256}
-SPP_SCENE = {"cornell": 32, "coat_normal": 32}
+REF_SPP_SCENE = {"principled": 2048, "cornell": 256, "coat_normal": 256, "sheen": 256}
+SPP_SCENE = {"cornell": 32, "coat_normal": 32, "sheen": 32}
 ONE_PERCENT = (0.01, 0.05)
 CONTROLS = {"cornell": ONE_PERCENT, "glossy": ONE_PERCENT, "principled": ONE_PERCENT,
             "features": ONE_PERCENT, "coat_normal": ONE_PERCENT, "fixture": ONE_PERCENT,
-            "glass": ONE_PERCENT}
+            "glass": ONE_PERCENT, "sheen": ONE_PERCENT}
 
 SCENES = {
     "cornell": lambda: scenes.cornell_box(SIZE, SIZE),
@@ -92,6 +92,9 @@ SCENES = {
     "features": lambda: scenes.features_box(SIZE, SIZE),
     # Principled coats with their own normals: per-lobe frames and adjoint factors
     "coat_normal": lambda: scenes.coat_normal_box(SIZE, SIZE),
+    # the LTC sheen over every surface: a lobe that is not reciprocal (its adjoint on light
+    # sub-paths)
+    "sheen": lambda: scenes.sheen_box(SIZE, SIZE),
 }
 
 

@@ -1,5 +1,5 @@
 // What every lobe returns (BsdfEval, BsdfSample), and the eval/sample pair shared by reflection
-// lobes that are sampled by the cosine hemisphere (Lambert, Oren-Nayar, sheen): local frame,
+// lobes that are sampled by the cosine hemisphere (Lambert, Oren-Nayar): local frame,
 // +Z the shading normal on the side of wo; both pdfs in solid angle.
 #pragma once
 

@@ -193,43 +193,20 @@ LANTERN_HD inline ConductorParams principled_metal(const Material& m) {
 // ---- The sheen: the top layer ----
 
 LANTERN_HD inline SheenParams principled_sheen(const Material& m) {
-    return {m.sheen_tint * m.sheen_weight, m.sheen_roughness};
+    return {m.sheen_tint * m.sheen_weight, m.tables->sheen_ltc};
 }
 
-// The white sheen's directional albedo E(mu) = int f cos_i dw at the table's cosines, by the
-// midpoint rule over (t, phi) with cos_i = t^2 (dw = 2 t dt dphi; wo in the xz-plane, so phi in
-// [0, pi) counted twice), 64 x 64 points: within 2e-4 of a 2048 x 256 reference at every
-// roughness and cosine. Near grazing wo the lobe's mass lies at grazing wi (D peaks for
-// horizontal m, V = 1 / (4 (mu_i + mu_o - mu_i mu_o)) grows), where cosine-weighted samples are
-// sparse: the 64 x 64 cosine-hemisphere grid this replaced read E 2-13 % low for mu < 0.12,
-// so the layers below got 1 - E too much and a white furnace reflected 1.017 at theta 1.45.
-inline float principled_sheen_albedo_exact(float roughness, float mu, int n = 64) {
-    const SheenParams white{vec3(1.0f), roughness};
-    mu = clampf(mu, 1e-3f, 1.0f);
-    const Vec3 wo = vec3(safe_sqrt(1.0f - mu * mu), 0.0f, mu);
-    double sum = 0.0;
-    for (int i = 0; i < n; ++i) {
-        const float t = (i + 0.5f) / n, ci = t * t, si = safe_sqrt(1.0f - ci * ci);
-        double row = 0.0;
-        for (int j = 0; j < n; ++j) {
-            const float phi = kPi * (j + 0.5f) / n;
-            row += sheen_f(white, wo, vec3(si * cosf(phi), si * sinf(phi), ci)).x;
-        }
-        sum += row * ci * 2.0f * t;
-    }
-    return clampf(float(sum * 2.0 * kPi / (double(n) * n)), 0.0f, 1.0f);
-}
-
+// The sheen's fit at the material's roughness (host, at scene build).
 inline void principled_sheen_table(const Material& m, MaterialTables& t) {
-    for (int k = 0; k < kPrincipledAlbedoN; ++k)
-        t.sheen_albedo[k] = principled_sheen_albedo_exact(
-            m.sheen_roughness, sqr(float(k) / (kPrincipledAlbedoN - 1)));
+    sheen_ltc_rows(m.sheen_roughness, t.sheen_ltc);
 }
 
-// What the sheen lets through to the coat and below, at camera-side cosine mu.
+// What the sheen lets through to the coat and below, at camera-side cosine mu: 1 - its albedo
+// (the fit's R, exact for the LTC lobe) times the weight's largest channel, as Cycles layers it.
 LANTERN_HD inline float principled_below_sheen(const Material& m, float mu) {
     if (!(m.sheen_weight > 0.0f)) return 1.0f;
-    float e = ms_table(m.tables->sheen_albedo, mu) * m.sheen_weight * max_component(m.sheen_tint);
+    float e = sheen_ltc_at(m.tables->sheen_ltc, fabsf(mu)).r * m.sheen_weight *
+              max_component(m.sheen_tint);
     return clampf(1.0f - e, 0.0f, 1.0f);
 }
 
@@ -325,7 +302,7 @@ LANTERN_HD inline BsdfEval principled_eval(const Material& m, bool front, Vec3 w
     const float mu_v = radiance ? wo.z : wi.z;  // the camera side
     const float mu_vc = radiance ? co : ci;      // ... and its cosine with the coat normal
     if (m.sheen_weight > 0.0f && reflect) {
-        BsdfEval l = sheen_eval(principled_sheen(m), wo, wi);
+        BsdfEval l = sheen_eval(principled_sheen(m), wo, wi, mode);
         e.f += l.f;
         e.pdf_fwd_w += pf.sheen * l.pdf_fwd_w;
         e.pdf_rev_w += pr.sheen * l.pdf_rev_w;
@@ -459,7 +436,9 @@ LANTERN_HD inline BsdfSample principled_sample(const Material& m, bool front, Ve
             l.valid = wi_c.z > 0.0f && l.wi.z > 0.0f;
         }
     } else if (lobe == 5) {
-        l = sheen_sample(principled_sheen(m), wo, ud);
+        Vec3 wi;
+        l.valid = sheen_sample_dir(principled_sheen(m), wo, ud, &wi);
+        l.wi = wi;
     } else {
         l = diffuse_base_sample(m, wo, ud);
     }

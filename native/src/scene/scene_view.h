@@ -28,6 +28,8 @@ constexpr int kPrincipledAlbedoN = 33;  // at cosines (k / 32)^2: dense where Fr
 // tables at roughness j / (kRoughRows - 1), read by cubic interpolation at the hit's roughness
 // (bsdf/multiscatter.h ms_rough)
 constexpr int kRoughRows = 33;
+// The LTC sheen's fit (bsdf/sheen.h): a, b and R at cosines i / (kSheenLtcN - 1)
+constexpr int kSheenLtcN = 32;
 
 // A material's albedo tables by cosine (bsdf/multiscatter.h ms_table), made when the scene is
 // built. Resolving a hit's material (bsdf/material.h material_at) never changes them, so they
@@ -37,7 +39,7 @@ struct MaterialTables {
     float spec_albedo[kPrincipledAlbedoN];  // principled specular layer (max channel)
     float ms_e[kPrincipledAlbedoN];         // the white GGX lobe of the material's roughness
     float coat_albedo[kPrincipledAlbedoN];  // principled coat
-    float sheen_albedo[kPrincipledAlbedoN]; // the white sheen lobe
+    float sheen_ltc[3 * kSheenLtcN];        // the sheen's fit at its roughness (bsdf/sheen.h)
     float e_avg;                            // E_avg of ms_e (a roughness row's)
     // per-hit roughness (a texture or node graph on Roughness): this + rough_rows is the first
     // of kRoughRows rows (ms_e, e_avg and spec_albedo at roughness j / (kRoughRows - 1)),
