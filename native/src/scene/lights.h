@@ -142,8 +142,18 @@ LANTERN_HD inline LightSample sample_light(const SceneView& s, const Light& l, V
             ls.n_light = -dir;
             // the cone applies along the sampled ray, as when a ray hits the disk
             ls.le = l.radiance * (l.type == kLightSpot ? spot_attenuation(l, -ls.wi) : 1.0f);
+        } else if (d2 <= l.radius * l.radius) {
+            // inside the sphere light: its far side, uniform over directions; no spot cone
+            // (Cycles: a receiver inside a sphere light sees its whole inner surface, unshaped)
+            Vec3 w = sample_uniform_sphere(u, &ls.pdf_w);
+            float t = intersect_sphere(p, w, l.position, l.radius, 0.0f, kInf);
+            if (!(t > 0.0f)) return ls;
+            ls.wi = w;
+            ls.dist = t;
+            ls.p_light = p + w * t;
+            ls.n_light = normalize(ls.p_light - l.position);
+            ls.le = l.radiance;
         } else {
-            if (d2 <= l.radius * l.radius) return ls;  // inside the sphere light
             Frame f = Frame::from_normal(dir);
             Vec3 w = f.to_world(sample_sphere_solid_angle(u, d2, l.radius, &ls.pdf_w));
             if (!(ls.pdf_w > 0.0f)) return ls;
@@ -239,7 +249,7 @@ LANTERN_HD inline float light_pdf_w(const Light& l, Vec3 p, Vec3 wi, float t, Ve
             return pdf_a_to_w(1.0f / (kPi * l.radius * l.radius), t * t, fabsf(dot(wi, n)));
         }
         float d2 = length_sq(l.position - p);
-        if (d2 <= l.radius * l.radius) return 0.0f;
+        if (d2 <= l.radius * l.radius) return 1.0f / (4.0f * kPi);  // inside: uniform
         return pdf_uniform_cone(safe_sqrt(1.0f - l.radius * l.radius / d2));
     }
     case kLightArea:
@@ -280,7 +290,9 @@ LANTERN_HD inline LightHit intersect_light(const Light& l, Vec3 o, Vec3 d, float
             if (t < 0.0f) return h;
             n = normalize(o + d * t - l.position);
         }
-        float atten = l.type == kLightSpot ? spot_attenuation(l, -d) : 1.0f;
+        // a ray from inside the sphere sees it unshaped by the spot cone, as sample_light
+        const bool inside = !l.soft_falloff && length_sq(o - l.position) <= l.radius * l.radius;
+        float atten = l.type == kLightSpot && !inside ? spot_attenuation(l, -d) : 1.0f;
         h = {l.radiance * atten, t, n, true};
         return h;
     }
