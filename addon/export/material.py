@@ -30,6 +30,7 @@ import bpy
 
 from .holdout import holdout_material
 from . import node_bump
+from . import negative_emission
 from . import node_eval as ne
 from .material_compile import GraphCompiler, attach
 from .texture import MAGENTA, TextureTable
@@ -186,6 +187,7 @@ class _Inputs:
         prog = self.compiler.program(color, "emission", 3, post=times_strength)
         if prog is None:
             return False
+        negative_emission.check_program(self.report, self.where, prog)
         attach(out, prog)
         est = _weight(float(strength.default_value), 1e30) or 1.0
         out["emission"] = [est] * 3
@@ -647,6 +649,8 @@ def _convert_shader(node, material, report, textures):
     if node.type == "BSDF_PRINCIPLED":
         base = inputs.base(out, "base_color", "Base Color")
         if not inputs.emission_graph(out, "Emission Color", "Emission Strength"):
+            negative_emission.check_constant(report, inputs.where, "Emission Strength",
+                                             value("Emission Strength"))
             strength = _weight(value("Emission Strength"), 1e30)
             if strength != 0.0:
                 inputs.emission(out, "Emission Color", strength)
@@ -711,6 +715,7 @@ def _convert_shader(node, material, report, textures):
     elif node.type == "EMISSION":
         out["base_color"] = [0.0, 0.0, 0.0]
         if not inputs.emission_graph(out, "Color", "Strength"):
+            negative_emission.check_constant(report, inputs.where, "Strength", value("Strength"))
             inputs.emission(out, "Color", _weight(value("Strength"), 1e30))
     elif node.type == "BSDF_GLOSSY":
         # Cycles' Glossy has no Fresnel: a constant reflectance Color at every angle, which is
