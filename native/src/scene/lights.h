@@ -8,6 +8,7 @@
 
 #include "bsdf/principled.h"
 #include "core/sampling.h"
+#include "scene/alpha.h"
 #include "scene/material_program.h"
 #include "scene/scene_view.h"
 
@@ -16,14 +17,18 @@ namespace lantern {
 // Radiance of an emissive triangle's light at barycentrics bc: its material's emission texture
 // there, else the constant radiance (an area-uniform sample of a textured emitter stays
 // unbiased: only le varies; light selection uses the texture's mean).
+// An emitter of coverage a < 1 (Alpha) gives a of its emission: a ray stops at it with
+// probability a (alpha.h), so that is what a camera or BSDF ray sees of it, and what Cycles
+// renders; next-event estimation and light paths take it here (difftest D22: 1/a too bright).
 LANTERN_HD inline Vec3 triangle_emission(const SceneView& s, const Light& l, Vec2 bc) {
     const Material& m = s.materials[s.tri_material[l.triangle]];
-    if (!(m.tex_flags & (kTexEmission | kTexProgram))) return l.radiance;
+    const float a = alpha_at(s, l.triangle, bc);
+    if (!(m.tex_flags & (kTexEmission | kTexProgram))) return l.radiance * a;
     // a node-graph emitter is seen along its normal here (the receiver is not known)
     const uint32_t* idx = s.indices + 3 * l.triangle;
     const Vec3 ng = normalize(cross(s.positions[idx[1]] - s.positions[idx[0]],
                                     s.positions[idx[2]] - s.positions[idx[0]]));
-    return material_emission_at(s, m, l.triangle, bc, ng);
+    return material_emission_at(s, m, l.triangle, bc, ng) * a;
 }
 
 // What an emissive triangle's layers (a Principled coat or sheen) let out towards the camera
