@@ -5,6 +5,7 @@ Color), and _Inputs, which turns each input into a constant, a texture id or a n
 
 import math
 
+from . import negative_emission
 from . import node_bump
 from .material_compile import GraphCompiler, attach
 from .texture import MAGENTA
@@ -164,6 +165,7 @@ class _Inputs:
         prog = self.compiler.program(color, "emission", 3, post=times_strength)
         if prog is None:
             return False
+        negative_emission.check_program(self.report, self.where, prog)
         attach(out, prog)
         est = _weight(float(strength.default_value), 1e30) or 1.0
         out["emission"] = [est] * 3

@@ -5,6 +5,7 @@ map's, or Cycles' radial tangent as a program)."""
 
 import math
 
+from . import negative_emission
 from . import node_eval as ne
 from .material_compile import GraphCompiler, attach
 from .material_inputs import (DEFAULT, _constant_color, _constant_float, _image_source, _Inputs,
@@ -29,6 +30,8 @@ def _convert_shader(node, material, report, textures):
     if node.type == "BSDF_PRINCIPLED":
         base = inputs.base(out, "base_color", "Base Color")
         if not inputs.emission_graph(out, "Emission Color", "Emission Strength"):
+            negative_emission.check_constant(report, inputs.where, "Emission Strength",
+                                             value("Emission Strength"))
             strength = _weight(value("Emission Strength"), 1e30)
             if strength != 0.0:
                 inputs.emission(out, "Emission Color", strength)
@@ -93,6 +96,7 @@ def _convert_shader(node, material, report, textures):
     elif node.type == "EMISSION":
         out["base_color"] = [0.0, 0.0, 0.0]
         if not inputs.emission_graph(out, "Color", "Strength"):
+            negative_emission.check_constant(report, inputs.where, "Strength", value("Strength"))
             inputs.emission(out, "Color", _weight(value("Strength"), 1e30))
     elif node.type == "BSDF_GLOSSY":
         # Cycles' Glossy has no Fresnel: a constant reflectance Color at every angle, which is

@@ -55,9 +55,25 @@ def blackbody_rgb(t):
     return [c / acc[1] for c in _rgb(acc)]
 
 
-def wavelength_rgb(lam, clamp=True):
+def _observer_rgb(lam, clamp=True):
+    """The Wavelength node's colour inside its table (380-780 nm; lam clamped to it)."""
     lam = min(max(float(lam), L_MIN), L_MAX)
     rgb = [c * WAVELENGTH_SCALE for c in _rgb(cie_xyz(lam))]
+    return [max(c, 0.0) for c in rgb] if clamp else rgb
+
+
+def wavelength_rgb(lam, clamp=True):
+    """The Wavelength node as Cycles evaluates it: its row index (lam - 380) / 5 truncated to
+    an integer, black outside rows 0-79 (lam <= 375 nm or >= 780 nm: difftest D26, where 0.35 nm
+    read the 380 nm colour), rows 0 and 1 extrapolated for 375-380 nm."""
+    lam = float(lam)
+    if not (L_MIN - cie.LAMBDA_STEP < lam < L_MAX):
+        return [0.0, 0.0, 0.0]
+    if lam >= L_MIN:
+        return _observer_rgb(lam, clamp)
+    a, b = _observer_rgb(L_MIN, False), _observer_rgb(L_MIN + cie.LAMBDA_STEP, False)
+    t = (lam - L_MIN) / cie.LAMBDA_STEP
+    rgb = [x + (y - x) * t for x, y in zip(a, b)]
     return [max(c, 0.0) for c in rgb] if clamp else rgb
 
 
@@ -85,7 +101,7 @@ def _blackbody_table():
 
 def _wavelength_table():
     if "wl" not in _TABLES:   # unclamped, at the observer's rows (clamped after the lookup)
-        _TABLES["wl"] = _table(lambda lam: wavelength_rgb(lam, clamp=False),
+        _TABLES["wl"] = _table(lambda lam: _observer_rgb(lam, clamp=False),
                                [L_MIN + cie.LAMBDA_STEP * i for i in range(WAVELENGTH_KNOTS)])
     return _TABLES["wl"]
 
@@ -123,6 +139,12 @@ def h_wavelength(ctx, node, out, path):
     zero, one = ctx.const((0.0, 0.0, 0.0), "VECTOR"), ctx.const((1.0,), "VALUE")
     r, _ = ctx.emit_node("vector_math", [rgb, zero, zero, one], 4,
                          mode=ne.VECTOR_OPS.index("MAXIMUM"))
+    # black outside Cycles' rows (wavelength_rgb); 375-380 nm reads the 380 nm row here, where
+    # Cycles extrapolates (at most 0.002 apart)
+    inside = _math(ctx, "MULTIPLY", _math(ctx, "GREATER_THAN", lam, L_MIN - cie.LAMBDA_STEP),
+                   _math(ctx, "LESS_THAN", lam, L_MAX))
+    r, _ = ctx.emit_node("vector_math", [ctx.reg(r, 3, "VECTOR"), zero, zero, inside], 4,
+                         mode=ne.VECTOR_OPS.index("SCALE"))
     return ctx.reg(r, 3, "RGBA")
 
 

@@ -12,7 +12,7 @@ lantern.metrics.compare_renders (8x8 blocks and the image mean, Bonferroni at 1e
   tests/cycles/difftest_cases/: each must build, export without a warning and render (hard
   asserts), then is an expected failure while its .json has a "why"; one that agrees by chance
   or by a fix passes with a warning. A case without "why" (or with "fixed": true) is a
-  regression test that must agree. CI replays the expected failures in CI_REPLAYS only (three
+  regression test that must agree; "fixed": "black", one that both render black. CI replays the expected failures in CI_REPLAYS only (three
   cheap ones, so that the replay path is exercised); LANTERN_DIFFTEST_ALL=1 replays them all.
 - The generator is deterministic: the same seed gives the same case.
 
@@ -142,6 +142,9 @@ def test_found_disagreement_replays(name):
     st = dt.Settings(**doc["settings"])
     res = dt.run_case(doc["case"], st, controls=False)
     print(f"{name}: {res.line()}")
+    if doc.get("fixed") == "black":   # fixed where Cycles renders nothing: both images black
+        assert res.status == "black", f"{name} (fixed, black on both sides) differs: {res.line()}"
+        return
     assert res.status not in ("unsupported", "black"), (
         f"{name}: the saved case no longer replays: {res.line()}")
     if not known:

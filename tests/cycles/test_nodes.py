@@ -40,6 +40,8 @@ CASE_TOL = {
     "ramp_ease": (4e-4, 0.05), "ramp_cardinal": (4e-4, 0.05), "rgb_curves": (4e-4, 0.05),
     "float_curve": (4e-4, 0.05),
     "geometry_normal_displacement_sphere": (BENT_TOL, 1.0),
+    # Cycles' own table and matrix, as the in-range case's bound (SPECTRAL_CYCLES)
+    "wavelength_out_of_range": (3e-4, 1.0),
 }
 
 
@@ -659,6 +661,10 @@ CASES = {
         "Mortar Smooth": 0.0})),   # (a smooth band narrower than a pixel would be an edge)
     "blackbody": ("plane", spectral("ShaderNodeBlackbody", "Temperature", *BLACKBODY_K)),
     "wavelength": ("plane", spectral("ShaderNodeWavelength", "Wavelength", *WAVELENGTH_NM)),
+    # past both ends of the table (difftest D26): black there in Cycles; 330-830 nm puts no
+    # pixel centre at 375-380 nm, where Cycles extrapolates and Lantern reads the 380 nm row
+    "wavelength_out_of_range": ("plane", spectral("ShaderNodeWavelength", "Wavelength", 330.0,
+                                                  830.0)),
     "camera_view_vector_sphere": ("sphere", camera_data("View Vector", -0.5, 1.0)),
     "camera_z_depth_sphere": ("sphere", camera_data("View Z Depth", 2.5, 4.5)),
     "camera_distance_sphere": ("sphere", camera_data("View Distance", 2.5, 4.5)),

@@ -1,6 +1,6 @@
 // Rough conductor: GGX with height-correlated Smith G2 and visible-normal sampling; Fresnel is
 // either the exact complex-IOR one (eta, k per channel) or Blender's F82-tint. Reflection only,
-// local frame with +Z the shading normal on the side of wo; a delta mirror when alpha < 1e-3.
+// local frame with +Z the shading normal on the side of wo; a delta mirror when ax ay <= 2e-10.
 #pragma once
 
 #include "bsdf/fresnel.h"

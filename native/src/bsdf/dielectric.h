@@ -1,5 +1,5 @@
 // Dielectric interface: rough GGX reflection + transmission (Walter et al. 2007 with visible-normal
-// sampling), or smooth specular reflection + transmission as delta lobes when alpha < 1e-3 or the
+// sampling), or smooth specular reflection + transmission as delta lobes when ax ay <= 2e-10 or the
 // index is ~1. Local frame: +Z is the normal on the outside; wo and wi may lie on either side.
 // eta = n_inside / n_outside. As in Cycles, radiance transport does not scale refraction by
 // 1/eta'^2 (radiance is carried as if every medium had index 1, so an emitter inside glass is as

@@ -126,10 +126,13 @@ LANTERN_HD inline void material_apply_programs(const SceneView& s, const Materia
         }
         case kTargetRoughness: out.roughness = unit(v.x); break;
         case kTargetMetallic: out.metallic = unit(v.x); break;
-        case kTargetEmission:
-            out.emission = Vec3{clampf(v.x, 0.0f, 1e30f), clampf(v.y, 0.0f, 1e30f),
-                                clampf(v.z, 0.0f, 1e30f)};
+        case kTargetEmission: {
+            // a non-finite emission (a degenerate graph's +inf) is none, as Cycles' film drops a
+            // non-finite contribution (difftest D23); negatives are 0 (docs/nodes.md, D17)
+            auto em = [](float x) { return x >= 0.0f && x < kInf ? fminf(x, 1e30f) : 0.0f; };
+            out.emission = Vec3{em(v.x), em(v.y), em(v.z)};
             break;
+        }
         case kTargetMixFactor: {
             const float f = unit(v.x);
             out.mix_weight[0] = 1.0f - f;

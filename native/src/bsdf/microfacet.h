@@ -7,10 +7,17 @@
 
 namespace lantern {
 
-// Below this alpha a lobe is treated as smooth (a delta lobe) by its owner; D itself stays
-// finite down to kGgxMinAlpha, the clamp every lobe applies to its roughness.
-constexpr float kGgxMinAlpha = 1e-4f;
-constexpr float kGgxSmoothAlpha = 1e-3f;
+// A lobe is treated as smooth (a delta lobe) by its owner when ax * ay <= kGgxSingularAlpha2:
+// Cycles' rule for its microfacet closures, with the constant bpy 5.0.1 renders (bisected on a
+// metal under a point light, tests/cycles/test_sharp_glossy.py: glossy at ax ay = 2.03e-10,
+// singular at 1.98e-10; the Cycles sources read say 1e-7 or 5e-7, not what 5.0.1 does).
+// Isotropic: alpha <= 1.41e-5, Roughness <= 0.00376. A threshold of alpha < 1e-3 (Roughness
+// 0.0316) left Roughness 0.004-0.03 lobes black under point lights (difftest seed 628). D stays
+// finite down to kGgxMinAlpha, the clamp every lobe applies to its alphas: below the threshold
+// (an anisotropic alpha_y of the smallest glossy lobe is 4.5e-6), so that it clamps only delta
+// lobes; at the threshold D peaks at 1 / (pi 2e-10) = 1.6e9, far inside float.
+constexpr float kGgxMinAlpha = 1e-6f;
+constexpr float kGgxSingularAlpha2 = 2e-10f;
 
 // Blender's convention: alpha = roughness^2, clamped.
 LANTERN_HD inline float ggx_alpha_from_roughness(float roughness) {
@@ -27,7 +34,7 @@ struct Ggx {
         float a = clampf(alpha, kGgxMinAlpha, 1.0f);
         return {a, a};
     }
-    LANTERN_HD bool effectively_smooth() const { return fmaxf(ax, ay) < kGgxSmoothAlpha; }
+    LANTERN_HD bool effectively_smooth() const { return ax * ay <= kGgxSingularAlpha2; }
 
     // D(m) = 1 / (pi ax ay ((mx/ax)^2 + (my/ay)^2 + mz^2)^2); this form keeps full precision
     // at m = +Z for tiny alphas (the 1 - mz^2 (1 - a^2) form rounds to zero there).

@@ -98,6 +98,11 @@ LANTERN_HD inline BsdfEval principled_spec_eval(const Material& m, Vec3 wo, Vec3
 // stratified visible-normal sampling (smooth: the Fresnel itself). Used to fill the table.
 inline float principled_spec_albedo_exact(const Material& m, float mu, int n = 64) {
     Ggx g = principled_ggx(m);
+    // an anisotropic layer's albedo depends on the view's azimuth, which a table in mu alone
+    // cannot hold: Cycles layers the base under the isotropic lobe of alpha sqrt(ax ay); the
+    // table read the lobe along its tangent (its widest alpha), so the base showed 13 % too
+    // bright under Anisotropic 0.8 (difftest D10)
+    if (m.anisotropy > 0.0f) g = Ggx::isotropic(sqrtf(g.ax * g.ay));
     if (g.effectively_smooth()) return max_component(principled_spec_fresnel(m, clampf(mu, 1e-3f, 1.0f)));
     Vec3 e = ggx_reflection_albedo(
         g, mu, [&m](float c) { return principled_spec_fresnel(m, c); }, n);

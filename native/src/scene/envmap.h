@@ -84,8 +84,13 @@ LANTERN_HD inline Vec3 env_lookup(const EnvMap& e, Vec2 uv) {
         x0 = min_int(max_int(x0, 0), e.width - 1);
         x1 = min_int(max_int(x1, 0), e.width - 1);
     }
-    y0 = min_int(max_int(y0, 0), e.height - 1);
-    y1 = min_int(max_int(y1, 0), e.height - 1);
+    if (e.projection == kEnvEquirect) {  // rows wrap too: Cycles reads environment images
+        y0 = (y0 % e.height + e.height) % e.height;  // with EXTENSION_REPEAT, so within half a
+        y1 = (y1 % e.height + e.height) % e.height;  // texel of a pole the far row blends in (D24)
+    } else {
+        y0 = min_int(max_int(y0, 0), e.height - 1);
+        y1 = min_int(max_int(y1, 0), e.height - 1);
+    }
     Vec3 a = env_texel(e, x0, y0) * (1.0f - tx) + env_texel(e, x1, y0) * tx;
     Vec3 b = env_texel(e, x0, y1) * (1.0f - tx) + env_texel(e, x1, y1) * tx;
     return a * (1.0f - ty) + b * ty;

@@ -8,6 +8,7 @@
 
 #include "bsdf/principled.h"
 #include "core/sampling.h"
+#include "scene/alpha.h"
 #include "scene/material_program.h"
 #include "scene/scene_view.h"
 
@@ -16,14 +17,18 @@ namespace lantern {
 // Radiance of an emissive triangle's light at barycentrics bc: its material's emission texture
 // there, else the constant radiance (an area-uniform sample of a textured emitter stays
 // unbiased: only le varies; light selection uses the texture's mean).
+// An emitter of coverage a < 1 (Alpha) gives a of its emission: a ray stops at it with
+// probability a (alpha.h), so that is what a camera or BSDF ray sees of it, and what Cycles
+// renders; next-event estimation and light paths take it here (difftest D22: 1/a too bright).
 LANTERN_HD inline Vec3 triangle_emission(const SceneView& s, const Light& l, Vec2 bc) {
     const Material& m = s.materials[s.tri_material[l.triangle]];
-    if (!(m.tex_flags & (kTexEmission | kTexProgram))) return l.radiance;
+    const float a = alpha_at(s, l.triangle, bc);
+    if (!(m.tex_flags & (kTexEmission | kTexProgram))) return l.radiance * a;
     // a node-graph emitter is seen along its normal here (the receiver is not known)
     const uint32_t* idx = s.indices + 3 * l.triangle;
     const Vec3 ng = normalize(cross(s.positions[idx[1]] - s.positions[idx[0]],
                                     s.positions[idx[2]] - s.positions[idx[0]]));
-    return material_emission_at(s, m, l.triangle, bc, ng);
+    return material_emission_at(s, m, l.triangle, bc, ng) * a;
 }
 
 // What an emissive triangle's layers (a Principled coat or sheen) let out towards the camera
@@ -142,8 +147,18 @@ LANTERN_HD inline LightSample sample_light(const SceneView& s, const Light& l, V
             ls.n_light = -dir;
             // the cone applies along the sampled ray, as when a ray hits the disk
             ls.le = l.radiance * (l.type == kLightSpot ? spot_attenuation(l, -ls.wi) : 1.0f);
+        } else if (d2 <= l.radius * l.radius) {
+            // inside the sphere light: its far side, uniform over directions; no spot cone
+            // (Cycles: a receiver inside a sphere light sees its whole inner surface, unshaped)
+            Vec3 w = sample_uniform_sphere(u, &ls.pdf_w);
+            float t = intersect_sphere(p, w, l.position, l.radius, 0.0f, kInf);
+            if (!(t > 0.0f)) return ls;
+            ls.wi = w;
+            ls.dist = t;
+            ls.p_light = p + w * t;
+            ls.n_light = normalize(ls.p_light - l.position);
+            ls.le = l.radiance;
         } else {
-            if (d2 <= l.radius * l.radius) return ls;  // inside the sphere light
             Frame f = Frame::from_normal(dir);
             Vec3 w = f.to_world(sample_sphere_solid_angle(u, d2, l.radius, &ls.pdf_w));
             if (!(ls.pdf_w > 0.0f)) return ls;
@@ -239,7 +254,7 @@ LANTERN_HD inline float light_pdf_w(const Light& l, Vec3 p, Vec3 wi, float t, Ve
             return pdf_a_to_w(1.0f / (kPi * l.radius * l.radius), t * t, fabsf(dot(wi, n)));
         }
         float d2 = length_sq(l.position - p);
-        if (d2 <= l.radius * l.radius) return 0.0f;
+        if (d2 <= l.radius * l.radius) return 1.0f / (4.0f * kPi);  // inside: uniform
         return pdf_uniform_cone(safe_sqrt(1.0f - l.radius * l.radius / d2));
     }
     case kLightArea:
@@ -280,7 +295,9 @@ LANTERN_HD inline LightHit intersect_light(const Light& l, Vec3 o, Vec3 d, float
             if (t < 0.0f) return h;
             n = normalize(o + d * t - l.position);
         }
-        float atten = l.type == kLightSpot ? spot_attenuation(l, -d) : 1.0f;
+        // a ray from inside the sphere sees it unshaped by the spot cone, as sample_light
+        const bool inside = !l.soft_falloff && length_sq(o - l.position) <= l.radius * l.radius;
+        float atten = l.type == kLightSpot && !inside ? spot_attenuation(l, -d) : 1.0f;
         h = {l.radiance * atten, t, n, true};
         return h;
     }
