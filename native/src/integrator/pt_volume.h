@@ -99,6 +99,9 @@ LANTERN_HD inline void pt_medium_vertex(const SceneView& s, const PathState& ps,
 // this stage shaded the medium vertex and the hit is not shaded). Otherwise the throughput
 // carries the segment's transmittance and the caller shades the hit or the miss; the lights
 // the segment crosses are collected here either way. ----
+#ifndef __CUDA_ARCH__
+__attribute__((noinline))  // out of line on the host: pt_shade stays as small as without media
+#endif
 LANTERN_HD inline bool pt_medium_segment(const SceneView& s, const PathState& ps,
                                          const PtSettings& st, int i, bool catcher_camera) {
     const Medium& m = s.media[ps.medium[i]];
@@ -127,6 +130,9 @@ LANTERN_HD inline bool pt_medium_segment(const SceneView& s, const PathState& ps
 
 // ---- A volume boundary (no surface) at hit tri: the ray goes on beyond it in the medium on the
 // other side; not a bounce (depth and the last vertex's MIS data stay) ----
+#ifndef __CUDA_ARCH__
+__attribute__((noinline))  // out of line on the host: pt_shade stays as small as without media
+#endif
 LANTERN_HD inline void pt_cross_boundary(const SceneView& s, const PathState& ps, int i,
                                          int tri) {
     const Vec3 d = ps.ray_d[i];
