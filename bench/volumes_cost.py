@@ -4,7 +4,8 @@ without media, for the lantern package on PYTHONPATH (run once per build, interl
     PYTHONPATH=/path/to/base/python   python bench/volumes_cost.py --tag base --out r.txt
     PYTHONPATH=/path/to/branch/python python bench/volumes_cost.py --tag volumes --out r.txt
 
-Each line: tag, scene, best and median of --repeats renders (seconds), samples, threads."""
+Each line: tag, scene, best and median of --repeats renders in process CPU seconds (one
+render thread; less sensitive to a loaded machine than wall time), samples, threads."""
 import argparse
 import platform
 import statistics
@@ -31,11 +32,11 @@ def main():
             for r in range(args.repeats):
                 s = lantern.Session(scene, integrator="pt", seed=r, spp_per_iteration=args.spp,
                                     backend="cpu", threads=1)
-                t0 = time.perf_counter()
+                t0 = time.process_time()
                 s.step()
-                times.append(time.perf_counter() - t0)
-            line = (f"{args.tag} {name} best {min(times):.4f} s median "
-                    f"{statistics.median(times):.4f} s spp {args.spp} threads 1 "
+                times.append(time.process_time() - t0)
+            line = (f"{args.tag} {name} best {min(times):.4f} cpu-s median "
+                    f"{statistics.median(times):.4f} cpu-s spp {args.spp} threads 1 "
                     f"({platform.processor() or platform.machine()}, {lantern.__file__})")
             print(line)
             f.write(line + "\n")
