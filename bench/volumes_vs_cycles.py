@@ -13,6 +13,7 @@ import time
 import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(ROOT, "python"))  # this checkout's lantern, as the tests' conftest
 sys.path.insert(0, os.path.join(ROOT, "tests", "cycles"))
 sys.path.insert(0, os.path.join(ROOT, "tools"))
 import render_compare as rc  # noqa: E402
