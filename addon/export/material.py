@@ -37,11 +37,18 @@ from .material_inputs import DEFAULT, DEFAULT_SURFACE, _source
 from .material_mix import _convert_mix
 from .material_shader import _convert_shader
 from .texture import TextureTable
+from .volume import attach_material_volume
 
 
 def convert_material(material, report, textures=None, add_leaf=None):
     """The Lantern material of a Blender material. A Mix / Add Shader tree becomes a "mix" of
-    leaf materials, which add_leaf(dict) -> id appends to the scene (MaterialTable does)."""
+    leaf materials, which add_leaf(dict) -> id appends to the scene (MaterialTable does). The
+    Volume output: export/volume.py."""
+    out = _convert_surface(material, report, textures, add_leaf)
+    return attach_material_volume(material, out, report)
+
+
+def _convert_surface(material, report, textures=None, add_leaf=None):
     textures = textures if textures is not None else TextureTable(report)
     out = dict(DEFAULT, name=material.name)
     tree = material.node_tree
@@ -51,7 +58,7 @@ def convert_material(material, report, textures=None, add_leaf=None):
         return out
     output = next((n for n in tree.nodes if n.type == "OUTPUT_MATERIAL" and n.is_active_output),
                   None) or next((n for n in tree.nodes if n.type == "OUTPUT_MATERIAL"), None)
-    # Displacement and Volume outputs are named once per render by export/unsupported.py
+    # the Volume output: export/volume.py; true displacement: export/unsupported.py
     if output is None or not output.inputs["Surface"].is_linked:
         out["base_color"] = [0.0, 0.0, 0.0]  # no surface shader: black, as in Cycles
         return out

@@ -8,6 +8,8 @@ _RAY_VISIBILITY = (("visible_diffuse", "Diffuse"), ("visible_glossy", "Glossy"),
                    ("visible_transmission", "Transmission"),
                    ("visible_volume_scatter", "Volume Scatter"))
 
+from .volume import volume_settings
+
 # object types that have no surface Lantern renders
 _NO_SURFACE = {"VOLUME": "volume objects (OpenVDB) are not rendered",
                "POINTCLOUD": "point clouds are not rendered",
@@ -34,6 +36,7 @@ class UnsupportedFeatures:
     def __init__(self, report):
         self.report = report
         self._seen = set()
+        self._scene = None
 
     def _once(self, key):
         if key in self._seen:
@@ -44,6 +47,7 @@ class UnsupportedFeatures:
     # ---- the scene, its render settings and the view layer ----
     def scene(self, depsgraph):
         scene, layer = depsgraph.scene_eval, depsgraph.view_layer_eval
+        self._scene = scene
         r = scene.render
         warn = self.report.warn
         if r.use_motion_blur:
@@ -76,7 +80,11 @@ class UnsupportedFeatures:
     def world(self, world):
         if world is not None and self._once(("world", world.name)) and \
                 _linked(world.node_tree, "OUTPUT_WORLD", "Volume"):
-            self.report.warn(f"World '{world.name}': world volume is not rendered")
+            self._volumes()  # the volume itself: export/volume.py
+
+    def _volumes(self):
+        if self._scene is not None and self._once(("volume settings",)):
+            volume_settings(self._scene, self.report)
 
     # ---- objects ----
     def object(self, obj):
@@ -131,10 +139,7 @@ class UnsupportedFeatures:
             return
         tree = mat.node_tree
         if _linked(tree, "OUTPUT_MATERIAL", "Volume"):
-            surface = _linked(tree, "OUTPUT_MATERIAL", "Surface")
-            tail = "" if surface else "; without a Surface it renders as a black surface"
-            self.report.warn(f"Material '{mat.name}': volumes are not rendered (the Volume "
-                             f"output is ignored{tail})")
+            self._volumes()  # the volume itself: export/volume.py
         method = getattr(mat, "displacement_method", "BUMP")
         if _linked(tree, "OUTPUT_MATERIAL", "Displacement") and method != "BUMP":
             self.report.warn(f"Material '{mat.name}': true displacement (Displacement method "

@@ -12,6 +12,7 @@ import numpy as np
 
 from .sky import sky_world
 from .texture import mapping_constant
+from .volume import attach_world_volume
 from .world_nodes import bake as bake_node_world
 
 MAX_MAP_WIDTH = 8192  # wider maps are box-filtered down (their lighting changes little)
@@ -167,7 +168,13 @@ def _background_input(world, node, report):
 
 def export_world(world, report, cache=None, integrator="pt"):
     """The scene's world dict; `cache` (optional, kept between viewport exports) holds map
-    pixels by image; `integrator` for the ray visibility's warnings."""
+    pixels by image; `integrator` for the ray visibility's warnings. The Volume output:
+    export/volume.py."""
+    out = _export_world_surface(world, report, cache, integrator)
+    return attach_world_volume(world, out, report)
+
+
+def _export_world_surface(world, report, cache=None, integrator="pt"):
     if world is None:
         return {"color": [0.0, 0.0, 0.0]}
     tree = world.node_tree

@@ -10,6 +10,7 @@ import math
 
 import numpy as np
 
+from .medium_schema import validate_world_volume
 from .scene_fields import (  # noqa: F401 (imported from here: scene.py, scene_file.py)
     AREA_SHAPES, CAMERA_TYPES, LIGHT_TYPES, MATERIAL_TEXTURES, MATERIAL_TYPES, MESH_ARRAYS,
     MIX_LEAVES, PROGRAM_REGS, PROGRAM_TARGETS, TEXTURE_COLORSPACES, TEXTURE_INTERPOLATIONS,
@@ -168,6 +169,7 @@ def validate_world(world):
         out["sun"] = validate_light(sun, "of the world")
     else:
         out.pop("sun", None)
+    validate_world_volume(world, out)  # media: lantern/medium_schema.py
     return out
 
 

@@ -6,6 +6,7 @@ import math
 
 import numpy as np
 
+from .medium_schema import validate_material_volume
 from .scene_fields import (AREA_SHAPES, LIGHT_TYPES, MATERIAL_TEXTURES, MATERIAL_TYPES,
                            MIX_LEAVES, PROGRAM_REGS, PROGRAM_TARGETS, _bool, _finite_float,
                            _float_array, _index_array, _int, _matrix, _rgb, _vec, identity4)
@@ -122,6 +123,7 @@ def validate_material(material, index, num_textures=0):
     if material.get("programs") is not None:
         out["programs"] = [validate_program(p, f"{what} program {i}", num_textures)
                            for i, p in enumerate(material["programs"])]
+    validate_material_volume(material, out, what)  # media: lantern/medium_schema.py
     return out
 
 

@@ -48,7 +48,15 @@ def motion_blur(s):
     s.render.use_motion_blur = True
 
 
-def volume_material(s):
+def volume_material(s):   # a heterogeneous medium: a texture on Density (docs/volumes.md)
+    mat = _material("Fog", "Volume", "ShaderNodeVolumePrincipled")
+    nt = mat.node_tree
+    noise = nt.nodes.new("ShaderNodeTexNoise")
+    nt.links.new(noise.outputs["Fac"], nt.nodes["Principled Volume"].inputs["Density"])
+    _with_material(s, mat)
+
+
+def volume_bounces(s):   # a homogeneous medium renders; Cycles' Volume Bounces 0 does not apply
     _with_material(s, _material("Fog", "Volume", "ShaderNodeVolumePrincipled"))
 
 
@@ -63,6 +71,7 @@ def world_volume(s):
     world = bpy.data.worlds.new("Hazy")
     nt = world.node_tree
     vol = nt.nodes.new("ShaderNodeVolumePrincipled")
+    vol.inputs["Blackbody Intensity"].default_value = 1.0  # fire from temperature: next
     nt.links.new(vol.outputs[0], nt.nodes["World Output"].inputs["Volume"])
     s.world = world
 
@@ -186,9 +195,10 @@ def surfaces_filter(s):
 
 CASES = [  # builder, the name the warning must carry, a word of the feature
     (motion_blur, "Render settings", "motion blur"),
-    (volume_material, "Material 'Fog'", "volumes"),
+    (volume_material, "Material 'Fog'", "heterogeneous"),
+    (volume_bounces, "Render settings", "Volume Bounces"),
     (displacement, "Material 'Bumpy'", "true displacement"),
-    (world_volume, "World 'Hazy'", "world volume"),
+    (world_volume, "World 'Hazy'", "Blackbody"),
     (particle_hair, "Object 'Subject'", "particle hair ('Fur')"),
     (light_linking, "Object 'Subject'", "light linking"),
     (shadow_linking, "Object 'Subject'", "shadow linking"),

@@ -199,6 +199,7 @@ std::string pt_only_reason(const SceneInput& in) {
         if (m.shadow_catcher) return "a shadow catcher (mesh '" + m.name + "')";
     if (in.catcher_mode != 0) return "a shadow catcher pass";
     if (in.world_rays != 7) return "the world hidden from some rays";
+    if (std::string v = media_reason(in); !v.empty()) return v;  // media: pt only (volumes.md)
     return "";
 }
 

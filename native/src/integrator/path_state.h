@@ -39,6 +39,10 @@ struct PathState {
     // 1: the last scattering's kind does not see the world (SceneView::world_rays; pt, and
     // only written where the scene hides the world from some kind; may be null otherwise)
     uint8_t* world_hidden = nullptr;
+    // participating media (integrator/pt_volume.h): the medium the current ray and the shadow
+    // ray travel in (SceneView::media, -1: none); read only where SceneView::num_media > 0
+    int32_t* medium = nullptr;
+    int32_t* shadow_medium = nullptr;
 };
 
 struct PtSettings {

@@ -31,6 +31,7 @@ LANTERN_HD inline void pt_generate(const SceneView& s, const PathState& ps, cons
     ps.dropped[i] = 0;
     ps.shadow_valid[i] = 0;
     if (ps.world_hidden) ps.world_hidden[i] = 0;
+    if (s.num_media > 0) ps.medium[i] = s.camera_medium;
 }
 
 // Whether a ray scattered by material m towards wi (ng: the geometric normal facing the
@@ -76,6 +77,12 @@ LANTERN_HD inline void pt_collect_lights(const SceneView& s, const PathState& ps
                                 pt_emission_weight(s, ps, i, s.hittable_lights[k], pdf));
     }
 }
+
+}  // namespace lantern
+
+#include "integrator/pt_volume.h"  // media: uses pt_emission_weight
+
+namespace lantern {
 
 // ---- Miss: world background and the sun's disk ----
 LANTERN_HD inline void pt_shade_miss(const SceneView& s, const PathState& ps, int i, Vec3 d) {
@@ -358,10 +365,17 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
     ps.alive[i] = 0;
     // the catcher renders (kCatcherObject, kCatcherPass) keep only camera rays reaching one
     const bool catcher_camera = s.catcher_mode != kCatcherMatte && ps.depth[i] <= 1;
-    if (!catcher_camera)
+    // in a medium: its segment (emission, lights crossed, a scattering inside: pt_volume.h)
+    const bool in_medium = s.num_media > 0 && ps.medium[i] >= 0;
+    if (in_medium && pt_medium_segment(s, ps, st, i, catcher_camera)) return;
+    if (!catcher_camera && !in_medium)
         pt_collect_lights(s, ps, i, o, d, ps.ray_tmin[i], tri >= 0 ? t_hit : ps.ray_tmax[i]);
     if (tri < 0) {  // past the far clip plane too: the background shows, as in Cycles
         if (!catcher_camera) pt_shade_miss(s, ps, i, d);
+        return;
+    }
+    if (s.num_media > 0 && (s.tri_flags[tri] & kVolumeBoundary)) {  // no surface: go on
+        pt_cross_boundary(s, ps, i, tri);
         return;
     }
     // a holdout seen by the camera: no colour (its alpha 0 is lantern/film.py's coverage)
@@ -452,6 +466,10 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
                 ps.shadow_tmax[i] = tmax;
                 ps.shadow_contrib[i] = c;
                 ps.shadow_valid[i] = 1;
+                if (s.num_media > 0)  // through the surface: the medium beyond it
+                    ps.shadow_medium[i] = dot(ls.wi, h.ng) < 0.0f
+                                              ? medium_across(s, tri, h.front, ps.medium[i])
+                                              : ps.medium[i];
             }
         }
     }
@@ -471,6 +489,8 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
                 ps.world_hidden[i] = pt_world_sees(s, m, wi, h.ng) ? 0 : 1;
             set_next_ray(ps, i, h.p, h.ng, wi, bs.delta ? 0.0f : bs.pdf_fwd_w,
                          s.offset_scale);
+            if (s.num_media > 0 && dot(wi, h.ng) < 0.0f)  // through the surface
+                ps.medium[i] = medium_across(s, tri, h.front, ps.medium[i]);
             if (s.light_tree_on) {
                 ps.prev_p[i] = h.p;
                 ps.prev_n[i] = n_pick;

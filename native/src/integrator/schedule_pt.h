@@ -40,6 +40,10 @@ void pt_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep& st
             ex.each(active, LANTERN_KERNEL(int k) {
                 const int i = q[k];
                 if (!ps.shadow_valid[i]) return;
+                if (s.num_media > 0) {  // through media and volume boundaries (pt_volume.h)
+                    pt_shadow_medium(s, rays, RayKind::kShadow, ps, i);
+                    return;
+                }
                 const Ray r{ps.shadow_o[i], ps.shadow_d[i], 0.0f, ps.shadow_tmax[i]};
                 pt_shadow_result(ps, i, rays.occluded(r, RayKind::kShadow));
             });

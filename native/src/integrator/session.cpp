@@ -70,10 +70,24 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
         throw std::invalid_argument("adaptive sampling: the threshold must be >= 0, the min "
                                     "samples >= 0 and the step >= 1");
     }
+    // media: only pt has medium vertices yet (docs/volumes.md); the others hand over to it
+    std::string media_note;
+    if (integ != "pt" && integ != "auto") {
+        const std::string why = media_reason(scene);
+        if (!why.empty()) {
+            media_note = "integrator '" + integ + "' does not render participating media (the " +
+                         "scene has " + why + "; " +
+                         (integ == "lt" ? std::string("light tracing would ignore it")
+                                        : std::string("no medium vertices in its paths")) +
+                         "): rendering with pt";
+            settings_.integrator = "pt";
+        }
+    }
     auto t0 = Clock::now();
     scene_ = std::make_unique<HostScene>(scene);
     if (settings_.integrator == "lt") check_light_tracing(scene);
     warnings_ = scene_->warnings();
+    if (!media_note.empty()) warnings_.push_back(media_note);
     if (settings_.integrator == "lt" && scene.world_visible_camera && !scene.film_transparent) {
         for (const LightInput& l : scene.lights)
             if (l.of_world) {  // no light path reaches the camera from an infinite light

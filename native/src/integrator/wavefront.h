@@ -78,6 +78,7 @@ struct Wavefront {
     Array<float> ray_tmin, ray_tmax, prev_pdf, hit_t, shadow_tmax, dvcm, dvc;
     Array<Rng> rng;
     Array<int32_t> depth, hit_prim, queue, next_queue, flag, scan, light_id, conn_n;
+    Array<int32_t> medium, shadow_medium;  // PathState::medium / shadow_medium (pt in media)
     Array<Vec2> hit_uv, splat_xy;
     Array<uint8_t> alive, dropped, shadow_valid, visible, store, world_hidden;
     Array<uint32_t> keys;
@@ -111,7 +112,9 @@ struct Wavefront {
                         &power, &prev_p, &prev_n})
             f(*a);
         for (auto* a : {&ray_tmin, &ray_tmax, &prev_pdf, &hit_t, &shadow_tmax}) f(*a);
-        for (auto* a : {&depth, &hit_prim, &queue, &next_queue, &flag, &scan}) f(*a);
+        for (auto* a : {&depth, &hit_prim, &queue, &next_queue, &flag, &scan, &medium,
+                        &shadow_medium})
+            f(*a);
         for (auto* a : {&hit_uv, &splat_xy}) f(*a);
         for (auto* a : {&alive, &dropped, &shadow_valid, &visible, &world_hidden}) f(*a);
         f(rng);
@@ -175,7 +178,8 @@ struct Wavefront {
                        prev_pdf.data(),   alive.data(),     dropped.data(),    hit_t.data(),
                        hit_prim.data(),   hit_uv.data(),    shadow_o.data(),   shadow_d.data(),
                        shadow_tmax.data(), shadow_c.data(), shadow_valid.data(),
-                       prev_p.data(),     prev_n.data(),    world_hidden.data()};
+                       prev_p.data(),     prev_n.data(),    world_hidden.data(),
+                       medium.data(),     shadow_medium.data()};
         bs = BdptState{dvcm.data(),     dvc.data(),      light_id.data(),   store.data(),
                        vertex.data(),   splat_xy.data(), power.data(),      std::max(conn_slots, 1),
                        conn_n.data(),   conn_o.data(),   conn_d.data(),     conn_tmax.data(),

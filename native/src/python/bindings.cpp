@@ -101,6 +101,20 @@ void get_world_map(const nb::dict& w, SceneInput& in) {
     }
 }
 
+// A homogeneous medium (docs/volumes.md): {"sigma_a", "sigma_s", "emission": rgb, "g": float};
+// appended to in.media, its index returned.
+int get_medium(const nb::handle& h, const std::string& name, SceneInput& in) {
+    nb::dict v = nb::cast<nb::dict>(h);
+    MediumInput mi;
+    mi.name = name;
+    mi.sigma_a = get_vec3(v, "sigma_a", mi.sigma_a);
+    mi.sigma_s = get_vec3(v, "sigma_s", mi.sigma_s);
+    mi.emission = get_vec3(v, "emission", mi.emission);
+    mi.g = get<float>(v, "g", mi.g);
+    in.media.push_back(mi);
+    return int(in.media.size()) - 1;
+}
+
 SceneInput to_input(const nb::dict& scene) {
     SceneInput in;
     if (has(scene, "film")) {
@@ -151,6 +165,7 @@ SceneInput to_input(const nb::dict& scene) {
         nb::dict w = nb::cast<nb::dict>(scene["world"]);
         in.world_color = get_vec3(w, "color", {});
         get_world_map(w, in);
+        if (has(w, "volume")) in.world_medium = get_medium(w["volume"], "world", in);
     }
     if (has(scene, "materials")) {
         for (nb::handle h : nb::cast<nb::list>(scene["materials"])) {
@@ -199,6 +214,8 @@ SceneInput to_input(const nb::dict& scene) {
                                                  mi.coat_normal_strength);
             mi.alpha = get<float>(m, "alpha", mi.alpha);
             mi.holdout = get<bool>(m, "holdout", false);
+            if (has(m, "volume")) mi.medium = get_medium(m["volume"], mi.name, in);
+            mi.volume_only = get<bool>(m, "volume_only", false);
             if (has(m, "mix")) {  // [[leaf, weight], ...]
                 for (nb::handle e : nb::cast<nb::list>(m["mix"])) {
                     auto pair = nb::cast<std::vector<float>>(e);

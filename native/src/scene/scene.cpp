@@ -234,6 +234,7 @@ HostScene::HostScene(const SceneInput& in) {
     add_lights(in);
     build_filter(in.filter_width);
     finish_view(in);
+    build_media(in);
 }
 
 // Inverted CDF of the Blackman-Harris filter: maps u in [0,1] to an offset in pixels. As in
@@ -300,6 +301,8 @@ SceneView HostScene::copied_view(
     v.env.texels = put(view_.env.texels, env_->texels.size());
     v.env.marginal = put(view_.env.marginal, env_->marginal.size());
     v.env.conditional = put(view_.env.conditional, env_->conditional.size());
+    v.media = put(view_.media, media_.size());
+    v.material_medium = put(view_.material_medium, material_medium_.size());
     return v;
 }
 
@@ -398,6 +401,7 @@ void HostScene::set_camera(const SceneInput& in) {
     c.filter_cdf = filter_cdf_.data();
     c.filter_table_size = int32_t(filter_cdf_.size());
     c.filter_width = in.filter_width;
+    if (!media_.empty()) view_.camera_medium = camera_medium_at(c.to_world.origin());
 }
 
 }  // namespace lantern

@@ -12,6 +12,7 @@
 #include "scene/material_program.h"
 #include "scene/envmap_build.h"
 #include "scene/light_tree_build.h"
+#include "scene/medium_input.h"
 #include "scene/scene_view.h"
 
 namespace lantern {
@@ -77,6 +78,10 @@ struct MaterialInput {
     int tex_mix = -1;
     // node-graph programs: SceneInput::programs rows program_first .. + program_count
     int program_first = 0, program_count = 0;
+    // media (docs/volumes.md): SceneInput::media index of the medium inside the mesh, -1 none;
+    // volume_only: no surface (a volume boundary that pt passes through)
+    int medium = -1;
+    bool volume_only = false;
 };
 
 // An image texture with its sampling settings. Texels: width x height x 4 (RGBA), rows bottom
@@ -145,6 +150,8 @@ struct SceneInput {
     std::vector<uint32_t> programs, program_code;
     std::vector<float> program_consts;
     int num_attribute_channels = 0;  // per-vertex attribute channels of every mesh
+    std::vector<MediumInput> media;  // homogeneous media (scene/medium_build.cpp)
+    int world_medium = -1;           // the world's Volume: an index into media, -1 none
 };
 
 class HostScene {
@@ -186,6 +193,8 @@ private:
     void finish_view(const SceneInput& in);
     void add_programs(const SceneInput& in);  // scene/material_program.cpp
     void fill_lobe_tables();
+    void build_media(const SceneInput& in);  // scene/medium_build.cpp
+    int32_t camera_medium_at(Vec3 p) const;
 
     std::vector<Vec3> positions_, normals_;
     std::vector<Vec2> uvs_;
@@ -205,6 +214,8 @@ private:
     std::vector<MaterialProgram> programs_;
     std::vector<NodeInstr> program_code_;
     std::vector<float> program_consts_, attributes_;
+    std::vector<Medium> media_;               // SceneView::media
+    std::vector<int32_t> material_medium_;    // SceneView::material_medium (empty: no media)
     int num_attribute_channels_ = 0;
     std::shared_ptr<const EnvMapStorage> env_ = std::make_shared<EnvMapStorage>();  // cached
     bool has_emitters_ = false;

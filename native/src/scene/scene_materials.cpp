@@ -295,6 +295,7 @@ bool HostScene::update_materials(const SceneInput& in) {
     probe.filter_width = view_.camera.filter_width;
     probe.materials = in.materials;
     probe.textures = in.textures;
+    if (!media_.empty() || !in.media.empty()) return false;  // media: a new scene
     const HostScene next(probe);
     if (next.materials_.size() != materials_.size() || next.textures_.size() != textures_.size() ||
         next.material_tables_.size() != material_tables_.size() ||

@@ -4,6 +4,7 @@
 
 #include "core/math.h"
 #include "scene/envmap.h"
+#include "scene/medium.h"
 #include "scene/texture.h"
 
 namespace lantern {
@@ -207,8 +208,10 @@ struct LightTreeNode {
 // kHoldout: the material is a holdout (Holdout shader, holdout object): camera paths that
 // reach it end there, adding nothing (the film's alpha is 0 there: lantern/film.py)
 // kShadowCatcher: a shadow catcher object (pt only; SceneView::catcher_mode says how pt treats it)
+// kVolumeBoundary: a material with a volume and no surface: pt passes through it, entering or
+// leaving its medium (integrator/pt_volume.h)
 enum TriangleFlags : uint8_t { kVisibleCamera = 1, kCastShadow = 2, kAlphaTested = 4,
-                               kHoldout = 8, kShadowCatcher = 16 };
+                               kHoldout = 8, kShadowCatcher = 16, kVolumeBoundary = 32 };
 
 // SceneView::catcher_mode, the three renders of a scene with shadow catchers (lantern/film.py):
 // kCatcherMatte (the beauty): camera rays that reach a catcher end there, as at a holdout;
@@ -329,6 +332,13 @@ struct SceneView {
                                          // and world paths leave (light_path.h, kTightDisk)
     float offset_scale = 1.0f;           // min(1, scene_radius): core/offset.h
     Vec3 scene_center;
+    // participating media (scene/medium.h, docs/volumes.md); num_media 0: none, and no stage
+    // reads further. A mesh medium holds the world's coefficients too (as Cycles' stack sums).
+    const Medium* media = nullptr;
+    const int32_t* material_medium = nullptr;  // per material: the medium inside, -1: none
+    int32_t num_media = 0;
+    int32_t world_medium = -1;   // outside every mesh medium, -1: vacuum
+    int32_t camera_medium = -1;  // where camera rays start
 };
 
 // Texture coordinates of triangle tri at barycentrics (weights of vertices 1 and 2); 0 without uvs.

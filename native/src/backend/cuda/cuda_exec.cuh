@@ -313,6 +313,9 @@ public:
         __device__ bool occluded(const Ray& r, RayKind kind) const {
             return bvh_occluded(bvh, r, need(kind), BvhAlphaTest{s, r});
         }
+        __device__ BvhHit closest(const Ray& r, RayKind kind) const {  // pt_shadow_medium
+            return bvh_intersect(bvh, r, need(kind), BvhAlphaTest{s, r});
+        }
     };
     Rays rays() const { return Rays{bvh_, scene_}; }
 

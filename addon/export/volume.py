@@ -1,0 +1,161 @@
+"""Volume outputs -> homogeneous media (docs/volumes.md): a material's Volume output becomes
+the medium inside its mesh ("volume"; a material without a Surface is a pure volume boundary,
+"volume_only", which rays pass as in Cycles), the world's Volume the medium filling the scene.
+Principled Volume, Volume Scatter (Henyey-Greenstein), Volume Absorption and Emission, under
+Add and Mix Shader nodes of constant factors, with constant inputs, convert as Cycles sets up
+their closures (kernel/svm/closure.h): scattering Color x Density; Principled absorption
+max(1 - Color, 0) x max(1 - sqrt(Absorption Color), 0) x Density; Volume Absorption
+max(1 - Color, 0) x Density; emission Strength x Color. What is not constant (a texture on
+Density: a heterogeneous medium), Blackbody, other phase functions: a warning by name."""
+
+import math
+
+_SHADERS = ("PRINCIPLED_VOLUME", "VOLUME_SCATTER", "VOLUME_ABSORPTION", "EMISSION")
+# inputs that only matter for grids (Volume objects) or other phase functions
+_IGNORED = {"Weight", "Color Attribute", "Density Attribute", "Temperature Attribute",
+            "IOR", "Backscatter", "Alpha", "Diameter"}
+
+
+def _source(socket):
+    """(node) feeding `socket` through reroutes, or None."""
+    for _ in range(16):
+        if not socket.is_linked:
+            return None
+        node = socket.links[0].from_node
+        if node.type != "REROUTE":
+            return node
+        socket = node.inputs[0]
+    return None
+
+
+def _value(node, name, where, report):
+    """A constant input: its own value; a linked one is named in a warning (its own value is
+    used: heterogeneous media are not rendered yet)."""
+    sock = node.inputs.get(name)
+    if sock is None:
+        return None
+    if sock.is_linked and _source(sock) is not None:
+        report.warn(f"{where}: the input '{name}' of '{node.name}' is linked; heterogeneous "
+                    "(textured) volumes are not rendered yet, the socket's own value is used")
+    v = sock.default_value
+    try:
+        vals = [float(x) for x in v][:3]
+    except TypeError:
+        return float(v) if math.isfinite(float(v)) else 0.0
+    return [x if math.isfinite(x) else 0.0 for x in vals]
+
+
+def _leaves(socket, weight, where, report, depth=0):
+    """[(shader node, weight)] below a Volume socket through Add and Mix Shader nodes."""
+    node = _source(socket)
+    if node is None or weight <= 0.0:
+        return []
+    if depth > 16:
+        report.warn(f"{where}: volume shader mixes nested too deep; cut")
+        return []
+    if node.type == "ADD_SHADER":
+        return (_leaves(node.inputs[0], weight, where, report, depth + 1) +
+                _leaves(node.inputs[1], weight, where, report, depth + 1))
+    if node.type == "MIX_SHADER":
+        f = _value(node, "Fac", where, report)
+        f = min(max(float(f), 0.0), 1.0)
+        return (_leaves(node.inputs[1], weight * (1.0 - f), where, report, depth + 1) +
+                _leaves(node.inputs[2], weight * f, where, report, depth + 1))
+    return [(node, weight)]
+
+
+def convert_volume(socket, where, report):
+    """The medium dict of the shaders under a Volume socket, or None (nothing renders)."""
+    sigma_a, sigma_s, emission = [0.0] * 3, [0.0] * 3, [0.0] * 3
+    lobes = []  # (scattering luminance, g)
+    for node, w in _leaves(socket, 1.0, where, report):
+        if node.type not in _SHADERS:
+            report.warn(f"{where}: '{node.name}' ({node.type}) in the Volume output is not "
+                        "rendered")
+            continue
+        for sock in node.inputs:
+            if sock.name not in _IGNORED and sock.is_linked and _source(sock) is not None:
+                _value(node, sock.name, where, report)  # names it
+        color = _value(node, "Color", where, report) or [1.0, 1.0, 1.0]
+        if node.type == "EMISSION":
+            s = _value(node, "Strength", where, report)
+            emission = [e + w * s * c for e, c in zip(emission, color)]
+            continue
+        density = w * max(_value(node, "Density", where, report), 0.0)
+        if node.type == "VOLUME_ABSORPTION":
+            sigma_a = [a + density * max(1.0 - c, 0.0) for a, c in zip(sigma_a, color)]
+            continue
+        g = _value(node, "Anisotropy", where, report)
+        scatter = [density * max(c, 0.0) for c in color]
+        sigma_s = [a + b for a, b in zip(sigma_s, scatter)]
+        lobes.append((0.2126 * scatter[0] + 0.7152 * scatter[1] + 0.0722 * scatter[2], g))
+        if node.type == "VOLUME_SCATTER":
+            phase = getattr(node, "phase", "HENYEY_GREENSTEIN")
+            if phase != "HENYEY_GREENSTEIN":
+                report.warn(f"{where}: the phase function '{phase}' of '{node.name}' is not "
+                            "rendered; Henyey-Greenstein of its Anisotropy stands for it")
+            continue
+        absorb = _value(node, "Absorption Color", where, report)
+        sigma_a = [a + density * max(1.0 - c, 0.0) * max(1.0 - math.sqrt(max(k, 0.0)), 0.0)
+                   for a, c, k in zip(sigma_a, color, absorb)]
+        strength = _value(node, "Emission Strength", where, report)
+        ecolor = _value(node, "Emission Color", where, report)
+        emission = [e + w * strength * c for e, c in zip(emission, ecolor)]
+        if _value(node, "Blackbody Intensity", where, report) > 0.0:
+            report.warn(f"{where}: the Blackbody emission of '{node.name}' is not rendered "
+                        "(fire from temperature is next, docs/volumes.md)")
+    total = sum(s for s, _ in lobes)
+    g = sum(s * gg for s, gg in lobes) / total if total > 0.0 else 0.0
+    if len({round(gg, 6) for s, gg in lobes if s > 0.0}) > 1:
+        report.warn(f"{where}: volume scatterers of different Anisotropy are mixed; one lobe of "
+                    f"their mean anisotropy {g:.3g} stands for them")
+    if max(sigma_a + sigma_s + emission) <= 0.0:
+        return None
+    return {"sigma_a": sigma_a, "sigma_s": sigma_s, "emission": emission,
+            "g": min(max(g, -0.999), 0.999)}
+
+
+def _output(tree, kind):
+    outs = [n for n in tree.nodes if n.type == kind]
+    return next((n for n in outs if getattr(n, "is_active_output", False)), None) or \
+        (outs[0] if outs else None)
+
+
+def attach_material_volume(material, out, report):
+    """out (a converted material dict) with the material's Volume output: "volume" and, without
+    a Surface, "volume_only". Returns out."""
+    tree = getattr(material, "node_tree", None)
+    output = _output(tree, "OUTPUT_MATERIAL") if tree is not None else None
+    if output is None or output.inputs.get("Volume") is None or \
+            _source(output.inputs["Volume"]) is None:
+        return out
+    where = f"Material '{material.name}'"
+    medium = convert_volume(output.inputs["Volume"], where, report)
+    if medium is not None:
+        out["volume"] = medium
+    if _source(output.inputs["Surface"]) is None:
+        out["volume_only"] = True  # no surface: rays pass its boundary (Cycles)
+    return out
+
+
+def attach_world_volume(world, out, report):
+    """out (the world dict) with the world's Volume output as "volume". Returns out."""
+    tree = getattr(world, "node_tree", None) if world is not None else None
+    output = _output(tree, "OUTPUT_WORLD") if tree is not None else None
+    if output is None or output.inputs.get("Volume") is None:
+        return out
+    medium = convert_volume(output.inputs["Volume"], f"World '{world.name}'", report)
+    if medium is not None:
+        out["volume"] = medium
+    return out
+
+
+def volume_settings(scene, report):
+    """Render settings of volumes that Lantern does not honour, named once per export."""
+    c = getattr(scene, "cycles", None)
+    if c is None:
+        return
+    vb, mb = getattr(c, "volume_bounces", None), getattr(c, "max_bounces", None)
+    if vb is not None and mb is not None and vb < mb:
+        report.warn(f"Render settings: Volume Bounces ({vb}) is not honoured; Lantern scatters "
+                    f"in volumes up to Max Bounces (Cycles stops after {vb} volume scatterings)")

@@ -1,0 +1,184 @@
+// pt's stages in homogeneous media (docs/volumes.md): per traced segment, the medium's emission
+// (integrated exactly), a free-flight distance (one-sample MIS over the RGB channels) and,
+// where it falls inside the segment, a medium vertex: next-event estimation with the
+// Henyey-Greenstein phase function (power heuristic against phase sampling) and a phase-sampled
+// continuation. Volume boundaries (materials with no surface) are passed through; shadow rays
+// carry the transmittance of every medium they cross. Run only where SceneView::num_media > 0.
+// Included by pt.h after pt_emission_weight, which it uses.
+#pragma once
+
+#include "scene/medium.h"
+
+namespace lantern {
+
+// The medium on the far side of triangle tri for a ray crossing it (front: entering it from the
+// side its normal faces): a material with a medium is entered and left for the world's; one
+// without keeps the medium the ray is in (Cycles' stack ignores objects without a volume).
+LANTERN_HD inline int32_t medium_across(const SceneView& s, int tri, bool front, int32_t now) {
+    const int32_t inside = s.material_medium[s.tri_material[tri]];
+    if (inside < 0) return now;
+    return front ? inside : s.world_medium;
+}
+
+// ---- Lights along the segment, each seen through the medium up to where it lies ----
+LANTERN_HD inline void pt_collect_lights_medium(const SceneView& s, const PathState& ps, int i,
+                                                Vec3 o, Vec3 d, float tmin, float tmax,
+                                                const Medium& m, Vec3 pmf) {
+    const bool camera = ps.depth[i] <= 1;
+    for (int k = 0; k < s.num_hittable_lights; ++k) {
+        const Light& l = s.lights[s.hittable_lights[k]];
+        if (camera && !l.visible_camera) continue;
+        const LightHit h = intersect_light(l, o, d, tmin, tmax);
+        if (!h.hit || is_black(h.le)) continue;
+        const float pdf = light_pdf_w(l, o, d, h.t, h.n);
+        const Vec3 tr = medium_pass_weight(m, pmf, h.t - tmin);
+        add_radiance(ps, i, ps.throughput[i] * tr * h.le *
+                                pt_emission_weight(s, ps, i, s.hittable_lights[k], pdf));
+    }
+}
+
+// ---- A medium vertex at p, reached along d: next-event estimation, then the phase sample ----
+LANTERN_HD inline void pt_medium_vertex(const SceneView& s, const PathState& ps,
+                                        const PtSettings& st, int i, Vec3 p, Vec3 d,
+                                        const Medium& m, Rng& rng) {
+    const int depth = ps.depth[i];
+    if (depth >= st.max_depth) return;
+    const Vec3 beta = ps.throughput[i];
+    const Vec2 u_pick = rng.uniform2();
+    const Vec2 u_light = rng.uniform2();
+    const Vec3 n_pick = vec3(0.0f);  // a medium point receives from every direction
+    const LightPick pick = light_pick(s, p, n_pick, u_pick.x);
+    if (pick.pmf > 0.0f) {
+        const LightSample ls = sample_light(s, s.lights[pick.light], p, u_light);
+        const float pdf_light = pick.pmf * ls.pdf_w;
+        if (ls.valid && !is_black(ls.le) && pdf_light > 0.0f) {
+            const float phase = hg_phase(m.g, dot(d, ls.wi));
+            const float w = ls.delta ? 1.0f : power_heuristic(pdf_light, phase);
+            Vec3 sd = ls.wi;
+            float tmax = kInf;
+            if (ls.dist < kInf) {  // aimed at the offset point on the light, shortened there
+                Vec3 target = ls.p_light;
+                if (!is_black(ls.n_light))
+                    target = offset_ray_origin(target, ls.n_light, -ls.wi, s.offset_scale);
+                const Vec3 seg = target - p;
+                const float len = length(seg);
+                if (len > 0.0f) sd = seg / len;
+                tmax = len * (1.0f - 1e-4f);
+            }
+            ps.shadow_o[i] = p;
+            ps.shadow_d[i] = sd;
+            ps.shadow_tmax[i] = tmax;
+            ps.shadow_contrib[i] = beta * ls.le * (phase * w / pdf_light);
+            ps.shadow_medium[i] = ps.medium[i];
+            ps.shadow_valid[i] = 1;
+        }
+    }
+    // the phase function's own sample: its weight phase / pdf is 1
+    float pdf_w = 0.0f;
+    const Vec3 wi = hg_sample(m.g, d, rng.uniform2(), &pdf_w);
+    Vec3 b = beta;
+    if (!(pdf_w > 0.0f) || !russian_roulette(b, depth, st.rr_depth, rng) ||
+        !(max_component(b) > 0.0f) || !is_finite(b))
+        return;
+    ps.throughput[i] = b;
+    ps.depth[i] = depth + 1;
+    ps.ray_o[i] = p;
+    ps.ray_d[i] = wi;
+    ps.ray_tmin[i] = 0.0f;
+    ps.ray_tmax[i] = kInf;
+    ps.prev_pdf_w[i] = pdf_w;
+    ps.alive[i] = 1;
+    if (ps.world_hidden) ps.world_hidden[i] = 0;  // the world is seen from a medium (its own flag)
+    if (s.light_tree_on) {
+        ps.prev_p[i] = p;
+        ps.prev_n[i] = n_pick;
+    }
+}
+
+// ---- The traced segment in the slot's medium; true when the path scattered inside it (then
+// this stage shaded the medium vertex and the hit is not shaded). Otherwise the throughput
+// carries the segment's transmittance and the caller shades the hit or the miss; the lights
+// the segment crosses are collected here either way. ----
+#ifndef __CUDA_ARCH__
+__attribute__((noinline))  // out of line on the host: pt_shade stays as small as without media
+#endif
+LANTERN_HD inline bool pt_medium_segment(const SceneView& s, const PathState& ps,
+                                         const PtSettings& st, int i, bool catcher_camera) {
+    const Medium& m = s.media[ps.medium[i]];
+    const Vec3 o = ps.ray_o[i], d = ps.ray_d[i];
+    const float tmin = ps.ray_tmin[i];
+    const float t_end = ps.hit_prim[i] >= 0 ? ps.hit_t[i] : ps.ray_tmax[i];
+    const float len = t_end - tmin;
+    const Vec3 beta = ps.throughput[i];
+    if (m.emits && !catcher_camera) add_radiance(ps, i, beta * medium_emission_integral(m, len));
+    Rng rng = ps.rng[i];
+    const Vec3 pmf = medium_channel_pmf(beta);
+    float u_channel = 0.0f, u_dist = 0.0f;
+    if (m.scatters) {
+        u_channel = rng.uniform();
+        u_dist = rng.uniform();
+    }
+    const MediumStep step = medium_sample_distance(m, len, pmf, u_channel, u_dist);
+    if (!catcher_camera)
+        pt_collect_lights_medium(s, ps, i, o, d, tmin, step.scattered ? tmin + step.t : t_end, m,
+                                 pmf);
+    ps.throughput[i] = beta * step.weight;
+    if (step.scattered) pt_medium_vertex(s, ps, st, i, o + d * (tmin + step.t), d, m, rng);
+    ps.rng[i] = rng;
+    return step.scattered;
+}
+
+// ---- A volume boundary (no surface) at hit tri: the ray goes on beyond it in the medium on the
+// other side; not a bounce (depth and the last vertex's MIS data stay) ----
+#ifndef __CUDA_ARCH__
+__attribute__((noinline))  // out of line on the host: pt_shade stays as small as without media
+#endif
+LANTERN_HD inline void pt_cross_boundary(const SceneView& s, const PathState& ps, int i,
+                                         int tri) {
+    const Vec3 d = ps.ray_d[i];
+    const Vec3 a = triangle_vertex(s, tri, 0), b = triangle_vertex(s, tri, 1),
+               c = triangle_vertex(s, tri, 2);
+    const Vec3 ng = cross(b - a, c - a);
+    const bool front = dot(ng, d) <= 0.0f;
+    const Vec2 uv = ps.hit_uv[i];
+    const Vec3 p = a * (1.0f - uv.x - uv.y) + b * uv.x + c * uv.y;
+    ps.medium[i] = medium_across(s, tri, front, ps.medium[i]);
+    ps.ray_o[i] = offset_ray_origin(p, normalize(ng), d, s.offset_scale);
+    ps.ray_tmin[i] = 0.0f;
+    const float tmax = ps.ray_tmax[i];
+    ps.ray_tmax[i] = tmax < kInf ? fmaxf(tmax - ps.hit_t[i], 0.0f) : kInf;
+    ps.alive[i] = 1;
+}
+
+// ---- Shadow ray through media: the transmittance of every medium it crosses; blocked by any
+// surface but a volume boundary. Rays is the executor's ray query (closest(r, kind)), kind its
+// shadow rays' RayKind. ----
+template <class Rays, class Kind>
+LANTERN_HD inline void pt_shadow_medium(const SceneView& s, const Rays& rays, Kind kind,
+                                        const PathState& ps, int i) {
+    Vec3 o = ps.shadow_o[i];
+    const Vec3 d = ps.shadow_d[i];
+    float tmax = ps.shadow_tmax[i];
+    int32_t med = ps.shadow_medium[i];
+    Vec3 tr = vec3(1.0f);
+    for (int k = 0; k < 256; ++k) {  // boundaries crossed (a bound: never an endless loop)
+        const auto h = rays.closest(Ray{o, d, 0.0f, tmax}, kind);
+        const bool hit = h.prim >= 0 && h.t < tmax;
+        if (med >= 0) tr = tr * medium_transmittance(s.media[med], hit ? h.t : tmax);
+        if (!hit) {
+            add_radiance(ps, i, ps.shadow_contrib[i] * tr);
+            return;
+        }
+        if (!(s.tri_flags[h.prim] & kVolumeBoundary) || is_black(tr)) return;  // blocked
+        const Vec3 a = triangle_vertex(s, h.prim, 0), b = triangle_vertex(s, h.prim, 1),
+                   c = triangle_vertex(s, h.prim, 2);
+        const Vec3 ng = cross(b - a, c - a);
+        med = medium_across(s, h.prim, dot(ng, d) <= 0.0f, med);
+        const Vec3 p = o + d * h.t;
+        const Vec3 next = offset_ray_origin(p, normalize(ng), d, s.offset_scale);
+        if (tmax < kInf) tmax = fmaxf(tmax - dot(next - o, d), 0.0f);
+        o = next;
+    }
+}
+
+}  // namespace lantern

@@ -1,0 +1,150 @@
+// The scene's media (docs/volumes.md): SceneInput::media sanitised into SceneView::media, the
+// medium inside each material, the volume boundaries' triangle flags and the camera's medium.
+// A mesh medium in a world volume holds both (Cycles sums the volumes it is inside).
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "scene/scene.h"
+
+namespace lantern {
+
+namespace {
+
+// Non-finite or negative coefficients become 0, enormous ones 1e9 / m (a wall, and still
+// finite through every product the stages form), each with a warning.
+Vec3 clean(Vec3 v, const std::string& what, std::vector<std::string>& warnings) {
+    float c[3] = {v.x, v.y, v.z};
+    bool bad = false, huge = false;
+    for (float& x : c) {
+        if (!std::isfinite(x) || x < 0.0f) {
+            bad = true;
+            x = 0.0f;
+        } else if (x > 1e9f) {
+            huge = true;
+            x = 1e9f;
+        }
+    }
+    if (bad) warnings.push_back(what + ": a non-finite or negative value is taken as 0");
+    if (huge) warnings.push_back(what + ": a value above 1e9 per metre is taken as 1e9");
+    return Vec3{c[0], c[1], c[2]};
+}
+
+Medium to_medium(const MediumInput& in, std::vector<std::string>& warnings) {
+    const std::string who = "medium '" + in.name + "'";
+    Medium m{};
+    m.sigma_a = clean(in.sigma_a, who + " absorption", warnings);
+    m.sigma_s = clean(in.sigma_s, who + " scattering", warnings);
+    m.emission = clean(in.emission, who + " emission", warnings);
+    // Cycles keeps |g| below 1 too: a delta lobe would need a phase sampler of its own
+    m.g = std::isfinite(in.g) ? std::fmin(std::fmax(in.g, -0.999f), 0.999f) : 0.0f;
+    return m;
+}
+
+void finish(Medium& m) {
+    m.sigma_t = m.sigma_a + m.sigma_s;
+    m.scatters = max_component(m.sigma_s) > 0.0f ? 1u : 0u;
+    m.emits = max_component(m.emission) > 0.0f ? 1u : 0u;
+}
+
+// The world's medium added to a mesh's: coefficients add; one Henyey-Greenstein lobe stands
+// for both, its g the scattering-weighted mean (exact when only one of them scatters).
+Medium combined(const Medium& a, const Medium& w, const std::string& name,
+                std::vector<std::string>& warnings) {
+    Medium m = a;
+    m.sigma_a = a.sigma_a + w.sigma_a;
+    m.sigma_s = a.sigma_s + w.sigma_s;
+    m.emission = a.emission + w.emission;
+    const float sa = luminance(a.sigma_s), sw = luminance(w.sigma_s);
+    if (sa + sw > 0.0f) m.g = (a.g * sa + w.g * sw) / (sa + sw);
+    if (sa > 0.0f && sw > 0.0f && a.g != w.g)
+        warnings.push_back("medium '" + name + "' inside the world's volume: their anisotropies "
+                           "differ; one lobe of their mean anisotropy stands for both");
+    return m;
+}
+
+}  // namespace
+
+std::string media_reason(const SceneInput& in) {
+    if (in.world_medium >= 0) return "the world's volume";
+    for (const MaterialInput& m : in.materials)
+        if (m.medium >= 0 || m.volume_only) return "a volume (material '" + m.name + "')";
+    return "";
+}
+
+void HostScene::build_media(const SceneInput& in) {
+    bool any = in.world_medium >= 0;
+    for (const MaterialInput& mi : in.materials) any = any || mi.medium >= 0 || mi.volume_only;
+    if (!any) return;
+    const int n_in = int(in.media.size());
+    auto check = [&](int k, const std::string& who) {
+        if (k < -1 || k >= n_in)
+            throw std::invalid_argument(who + ": medium " + std::to_string(k) +
+                                        " out of range (the scene has " + std::to_string(n_in) +
+                                        " media)");
+    };
+    check(in.world_medium, "world");
+    Medium world{};
+    const bool has_world = in.world_medium >= 0;
+    if (has_world) {
+        world = to_medium(in.media[size_t(in.world_medium)], warnings_);
+        finish(world);
+        media_.push_back(world);
+    }
+    std::vector<int32_t> of_input(size_t(n_in), -1);  // input medium -> media_ index
+    material_medium_.assign(materials_.size(), -1);
+    for (size_t k = 0; k < in.materials.size(); ++k) {
+        const MaterialInput& mi = in.materials[k];
+        check(mi.medium, "material '" + mi.name + "'");
+        if (mi.medium < 0) continue;
+        int32_t& at = of_input[size_t(mi.medium)];
+        if (at < 0) {
+            const MediumInput& src = in.media[size_t(mi.medium)];
+            Medium m = to_medium(src, warnings_);
+            if (has_world) m = combined(m, world, src.name, warnings_);
+            finish(m);
+            at = int32_t(media_.size());
+            media_.push_back(m);
+        }
+        material_medium_[k] = at;
+    }
+    for (size_t t = 0; t < tri_material_.size(); ++t)
+        if (tri_material_[t] < in.materials.size() && in.materials[tri_material_[t]].volume_only)
+            tri_flags_[t] |= kVolumeBoundary;
+    view_.tri_flags = tri_flags_.data();
+    view_.media = media_.empty() ? nullptr : media_.data();
+    view_.num_media = int32_t(media_.size());
+    view_.material_medium = material_medium_.data();
+    view_.world_medium = has_world ? 0 : -1;
+    view_.camera_medium = camera_medium_at(view_.camera.to_world.origin());
+}
+
+// The medium at p: the nearest medium boundary along a fixed ray from p, left through its back
+// (p is inside that material's medium) or entered through its front (p is outside: the
+// world's). Closed, non-overlapping meshes with outward normals, as pt's tracking assumes.
+int32_t HostScene::camera_medium_at(Vec3 p) const {
+    const Vec3 d = normalize(Vec3{0.5773f, 0.5801f, 0.5749f});  // off every axis and diagonal
+    float best = kInf;
+    int32_t medium = view_.world_medium;
+    for (size_t t = 0; t < tri_material_.size(); ++t) {
+        const uint32_t mat = tri_material_[t];
+        if (mat >= material_medium_.size() || material_medium_[mat] < 0) continue;
+        const Vec3 a = positions_[indices_[3 * t]], b = positions_[indices_[3 * t + 1]],
+                   c = positions_[indices_[3 * t + 2]];
+        const Vec3 e1 = b - a, e2 = c - a, q = cross(d, e2);
+        const float det = dot(e1, q);
+        if (std::fabs(det) < 1e-20f) continue;
+        const Vec3 s = p - a;
+        const float u = dot(s, q) / det;
+        const Vec3 r = cross(s, e1);
+        const float v = dot(d, r) / det;
+        const float th = dot(e2, r) / det;
+        if (u < 0.0f || v < 0.0f || u + v > 1.0f || !(th > 0.0f) || th >= best) continue;
+        best = th;
+        medium = dot(cross(e1, e2), d) > 0.0f ? material_medium_[mat] : view_.world_medium;
+    }
+    return medium;
+}
+
+}  // namespace lantern

@@ -1,0 +1,25 @@
+// What a scene says about its participating media (host side; docs/volumes.md): homogeneous
+// coefficients per RGB channel in Blender's units, attached to materials (the medium inside
+// their mesh) and to the world (the medium everywhere else).
+#pragma once
+
+#include <string>
+
+#include "core/math.h"
+
+namespace lantern {
+
+struct MediumInput {
+    std::string name;
+    Vec3 sigma_a{0.0f, 0.0f, 0.0f};  // absorption, 1/m
+    Vec3 sigma_s{0.0f, 0.0f, 0.0f};  // scattering, 1/m
+    Vec3 emission{0.0f, 0.0f, 0.0f}; // radiance added per metre (Cycles' volume emission)
+    float g = 0.0f;                  // Henyey-Greenstein anisotropy
+};
+
+struct SceneInput;
+// What in the scene is a participating medium, in words ("the world's volume", "a volume
+// (material 'fog')"); empty: none. Integrators other than pt name it when they hand over.
+std::string media_reason(const SceneInput& in);
+
+}  // namespace lantern

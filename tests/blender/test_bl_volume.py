@@ -1,0 +1,90 @@
+"""Export of volume outputs (addon/export/volume.py, docs/volumes.md): the coefficients of
+Principled Volume, Volume Scatter + Volume Absorption under a Mix Shader, and the world's
+Volume, against Cycles' closure setup written out by hand; a Volume without Surface is a pure
+volume boundary, one with a Surface keeps it."""
+
+import math
+
+import bpy
+import numpy as np
+
+from blender_helpers import add_camera, add_plane
+
+
+def export(addon):
+    from lantern_blender.export import export_scene
+    return export_scene(bpy.context.evaluated_depsgraph_get())
+
+
+def _volume_only(name):
+    mat = bpy.data.materials.new(name)
+    nt = mat.node_tree
+    nt.nodes.remove(nt.nodes["Principled BSDF"])
+    return mat, nt, nt.nodes["Material Output"]
+
+
+def _by_name(scene, name):
+    return next(m for m in scene.materials if m["name"] == name)
+
+
+def test_principled_volume_coefficients(empty, addon):
+    add_camera(empty)
+    mat, nt, out = _volume_only("Fog")
+    v = nt.nodes.new("ShaderNodeVolumePrincipled")
+    v.inputs["Density"].default_value = 2.0
+    v.inputs["Color"].default_value = (0.5, 0.6, 0.7, 1)
+    v.inputs["Absorption Color"].default_value = (0.25, 0.36, 0.49, 1)
+    v.inputs["Anisotropy"].default_value = 0.3
+    v.inputs["Emission Strength"].default_value = 2.0
+    v.inputs["Emission Color"].default_value = (1.0, 0.5, 0.25, 1)
+    nt.links.new(v.outputs[0], out.inputs["Volume"])
+    add_plane(empty, material=mat, name="Box")
+    scene, report = export(addon)
+    m = _by_name(scene, "Fog")
+    assert m["volume_only"] is True
+    vol = m["volume"]
+    c, a = np.array([0.5, 0.6, 0.7]), np.sqrt([0.25, 0.36, 0.49])
+    np.testing.assert_allclose(vol["sigma_s"], 2.0 * c, rtol=1e-6)
+    np.testing.assert_allclose(vol["sigma_a"], 2.0 * (1 - c) * (1 - a), rtol=1e-5)
+    np.testing.assert_allclose(vol["emission"], [2.0, 1.0, 0.5], rtol=1e-6)
+    assert math.isclose(vol["g"], 0.3, rel_tol=1e-6)
+
+
+def test_mixed_scatter_and_absorption_with_surface(empty, addon):
+    add_camera(empty)
+    mat = bpy.data.materials.new("Murky")   # keeps its Principled BSDF surface
+    nt = mat.node_tree
+    out = nt.nodes["Material Output"]
+    sc = nt.nodes.new("ShaderNodeVolumeScatter")
+    sc.inputs["Density"].default_value = 4.0
+    sc.inputs["Color"].default_value = (0.2, 0.4, 0.8, 1)
+    sc.inputs["Anisotropy"].default_value = -0.2
+    ab = nt.nodes.new("ShaderNodeVolumeAbsorption")
+    ab.inputs["Density"].default_value = 1.0
+    ab.inputs["Color"].default_value = (0.9, 0.5, 0.1, 1)
+    mix = nt.nodes.new("ShaderNodeMixShader")
+    mix.inputs["Fac"].default_value = 0.25
+    nt.links.new(sc.outputs[0], mix.inputs[1])
+    nt.links.new(ab.outputs[0], mix.inputs[2])
+    nt.links.new(mix.outputs[0], out.inputs["Volume"])
+    add_plane(empty, material=mat, name="Glass")
+    scene, report = export(addon)
+    m = _by_name(scene, "Murky")
+    assert not m.get("volume_only", False)
+    vol = m["volume"]
+    np.testing.assert_allclose(vol["sigma_s"], 0.75 * 4.0 * np.array([0.2, 0.4, 0.8]), rtol=1e-6)
+    np.testing.assert_allclose(vol["sigma_a"], 0.25 * np.array([0.1, 0.5, 0.9]), rtol=1e-5)
+    assert math.isclose(vol["g"], -0.2, rel_tol=1e-6)
+
+
+def test_world_volume(empty, addon):
+    add_camera(empty)
+    world = bpy.data.worlds.new("Hazy")
+    nt = world.node_tree
+    sc = nt.nodes.new("ShaderNodeVolumeScatter")
+    sc.inputs["Density"].default_value = 0.1
+    nt.links.new(sc.outputs[0], nt.nodes["World Output"].inputs["Volume"])
+    empty.world = world
+    scene, report = export(addon)
+    np.testing.assert_allclose(scene.world["volume"]["sigma_s"], [0.08, 0.08, 0.08], rtol=1e-6)
+    np.testing.assert_allclose(scene.world["volume"]["sigma_a"], [0, 0, 0])
