@@ -42,6 +42,7 @@ public:
     static constexpr double kCandidateCost = 0.36;  // one candidate evaluation, in rays
     static constexpr int64_t kMaxWatched = 4096;    // iterations watched after the pilot
     static constexpr double kSwitchMargin = 1.3;    // a checkpoint switches past 1.3x or 1/1.3
+    static constexpr double kMissedShare = 0.01;    // light pt cannot sample: past 1 %, cis
 
     // pixels: the film's; pt_only: the scene has what only pt renders (pt_only_reason);
     // watch: choose again at checkpoints (the CPU; the GPU chooses once, after its pilot).
@@ -64,13 +65,18 @@ public:
     // pixel, spp_it samples each, every pixel's) or null, the pixels its camera pass covered,
     // and the stats before and after it. Trials are of one sample a pixel, on the tracked
     // pixels (Session::run_trial).
+    // moments: a cis trial whose sum holds BdptSettings::moments's channels (bdpt.h): the
+    // luminance, path tracing's second moment through the MIS identity, and the light pt
+    // cannot sample, per pixel.
     void observe(const char* integ, const double* sum, int spp_it, int64_t pixels,
-                 const SessionStats& before, const SessionStats& after);
+                 const SessionStats& before, const SessionStats& after, bool moments = false);
 
     // What it chose, for the stats: 0 while piloting, 1 pt, 2 cis; the estimated efficiency of
     // cis over pt (0 before it is known); iterations of each.
     int choice() const { return choice_; }
     double cis_over_pt() const { return ratio_; }
+    // pt's variance through the MIS identity over its own samples' (0: not estimated)
+    double pt_tail() const { return tail_; }
     int64_t pt_iterations() const { return n_[0]; }
     int64_t cis_iterations() const { return n_[1]; }
 
@@ -78,16 +84,16 @@ private:
     double estimate();  // cis's efficiency over pt's from the samples so far
     void decide();      // ... and the choice
     void release();  // the per-pixel sums, once no longer watched
-    void weigh();    // weight_ from the pilot's samples
 
     bool pt_only_, watch_;
     int candidates_;
     int64_t pixels_;  // the film's
     int64_t stride_ = 1;
     std::vector<int32_t> tracked_;
-    std::vector<float> pilot_;     // the pilot's values, kPilotPt + kPilotCis a tracked pixel
-    std::vector<double> weight_;   // each tracked pixel's: 1 / its value^2 (weigh())
     std::vector<double> sum_pt_, sum2_pt_, sum_cis_, sum2_cis_;  // per tracked pixel (luma)
+    // ... of cis's moment trials: pt's second moment, light pt misses, cis's values
+    std::vector<double> sum_m2_, sum_miss_, sum_cm_, sum2_cm_;
+    int64_t seen_m_ = 0;                     // cis trials in sum_m2_
     int64_t n_[2] = {0, 0};     // iterations of pt, cis (trials included)
     int64_t seen_[2] = {0, 0};  // ... in the sums
     int64_t kept_ = 0;          // the render's iterations (not trials)
@@ -97,6 +103,7 @@ private:
     int choice_ = 0;
     int cis_spp_ = 1, pt_spp_ = 1;  // samples per pixel of the pilot's iterations
     double ratio_ = 0.0;
+    double tail_ = 0.0;
 };
 
 // Why a scene must be rendered by pt alone under "auto" (empty: it need not).
