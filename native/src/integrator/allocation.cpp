@@ -40,7 +40,7 @@ Allocation::Allocation(int64_t pixels, bool pt_only, int candidates, bool watch)
         choice_ = 1;
         return;
     }
-    const int64_t want = std::min<int64_t>(pixels, std::max<int64_t>(4096, pixels / 8));
+    const int64_t want = std::min<int64_t>(pixels, std::max<int64_t>(kMinTracked, pixels / 8));
     stride_ = std::max<int64_t>(1, (pixels + std::min<int64_t>(want, kMaxTracked) - 1) /
                                        std::min<int64_t>(want, kMaxTracked));
     for (int64_t p = 0; p < pixels; p += stride_) tracked_.push_back(int32_t(p));

@@ -333,8 +333,10 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
                     const float x = mis(cc.importance * cos_wc_ng * st.r / n_lt);
                     const float a = x * dpt0 * mis(e.pdf_rev_w);
                     const float b = x * (k == 1 ? dvcm : dpt1 * mis(e.pdf_rev_w));
-                    // (the splat's scale is 1 / n_lt, wavefront.h's splat(): the unit contribution's)
-                    c = bdpt_moment(c, c * (1.0f / st.n_lt), bdpt_pt_factor(1.0f / w, a, b));
+                    // f / q of the contribution the sum receives, c / st.n_lt (the splat's
+                    // scale, wavefront.h's splat()), is that times st.n_lt / n_lt (the count its
+                    // weight assumes: lt_direct): c / n_lt
+                    c = bdpt_moment(c, c * (1.0f / n_lt), bdpt_pt_factor(1.0f / w, a, b));
                 }
                 lt_queue_splat(ps, lp, i, h.p, h.ng, cc, c, s.offset_scale);
             }
