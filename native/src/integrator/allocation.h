@@ -41,7 +41,7 @@ public:
     static constexpr int kMaxTracked = 1 << 16;    // pixels whose variance is tracked
     // ... at least (else an eighth of the image): fewer makes the pilot's choice unreliable on
     // small images (48 x 48 Cornell box: wrong in 0 of 8 seeds with all 2,304 pixels, 2 of 8
-    // with 768, 3 of 8 with 576; bench/results/2026-12-04-auto3)
+    // with 768, 3 of 8 with 461; bench/results/2026-12-04-auto3)
     static constexpr int kMinTracked = 4096;
     static constexpr double kCandidateCost = 0.36;  // one candidate evaluation, in rays
     static constexpr int64_t kMaxWatched = 4096;    // iterations watched after the pilot
