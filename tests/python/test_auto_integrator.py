@@ -9,8 +9,12 @@ render's own estimates of each one's efficiency.
 - Deterministic: same seed, same bits; the pilot's trials are not in the image (a render of
   one step holds one sample).
 - It chooses cis where cis is several times more efficient (the fixture: 7x, bench/results/
-  2026-12-04-auto) and pt where cis is half as efficient (the Cornell box), and pt alone where
-  the scene has what only pt renders (a holdout), saying so."""
+  2026-12-04-auto; a bulb in a closed glass globe, where pt's own samples miss its heavy tail
+  and its second moment through the MIS identity from cis's trials sees it) and pt where cis
+  is half as efficient (the Cornell box), and pt alone where the scene has what only pt
+  renders (a holdout), saying so.
+- The moment channels (that identity, bdpt.h bdpt_moment) equal pt's own second moment where
+  it has no covariance to miss (direct light)."""
 import numpy as np
 import pytest
 

@@ -11,8 +11,10 @@
 //   The GPU (and `auto_keep_pilot`, for tests) keeps the pilot in the image, whole iterations
 //   of the full image: each is an unbiased estimate, weighted equally, and later choices
 //   depend on earlier iterations only, so that image is unbiased too.
-// - Variance: the luminance's per-sample variance relative to the pixel's value (weigh()),
-//   summed over the tracked pixels; each integrator's from its own samples' spread.
+// - Noise: the luminance's per-sample standard deviation summed over the tracked pixels (the
+//   mean pixel's noise), squared. cis's from its samples' spread; pt's the larger of its
+//   samples' spread and its second moment through the MIS identity from cis's trials, which
+//   sees the heavy tail pt's own few samples miss (bdpt.h, bdpt_moment; estimate()).
 // - Cost: a deterministic count, never a clock (same seed, same bits): rays traced plus
 //   kCandidateCost per cis candidate evaluated (M per camera vertex), fitted to CPU time on
 //   the Cornell box, the two-light room, the fixture and the glass lantern (0.23-0.49 of a

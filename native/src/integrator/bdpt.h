@@ -357,10 +357,9 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
         if (russian_roulette(t, k + 1, st.rr_depth, rng) && max_component(t) > 0.0f &&
             is_finite(t)) {
             if (st.moments) {  // dvc's recursion, each part on its own (dvcm: k = 1 only)
+                const float ratio = b.pdf_fwd_w > 0.0f ? b.pdf_rev_w / b.pdf_fwd_w : 1.0f;
                 const float fwd = b.delta ? 1.0f : mis(cos_i_ng / b.pdf_fwd_w);
-                const float rev =
-                    b.delta ? mis(cos_i_ng * (b.pdf_fwd_w > 0.0f ? b.pdf_rev_w / b.pdf_fwd_w : 1.0f))
-                            : mis(b.pdf_rev_w);
+                const float rev = b.delta ? mis(cos_i_ng * ratio) : mis(b.pdf_rev_w);
                 bs.dpt0[i] = fwd * dpt0 * rev;
                 bs.dpt1[i] = fwd * (dpt1 * rev + (k == 1 && !b.delta ? dvcm : 0.0f));
             }
@@ -788,9 +787,10 @@ LANTERN_HD inline void bdpt_camera_connect(const SceneView& s, const BdptState& 
         }
         Vec3 contrib = c.c * weight;
         // (moments: the unit contribution is the uniform pick's, size / (N L))
-        if (st.moments)
-            contrib = bdpt_moment(contrib, c.c * (size / float(st.connections) * st.inv_light_paths),
-                                  c.pt_factor);
+        if (st.moments) {
+            const float uniform = size / float(st.connections) * st.inv_light_paths;
+            contrib = bdpt_moment(contrib, c.c * uniform, c.pt_factor);
+        }
         bdpt_queue_connection(bs, i, z, y, c, contrib, s.offset_scale);
     }
 }
