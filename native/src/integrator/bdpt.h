@@ -693,7 +693,8 @@ LANTERN_HD inline void bdpt_camera_connect(const SceneView& s, const BdptState& 
         for (int k = cache.path_offset[path]; k < cache.path_offset[path + 1]; ++k) {
             const LightVertex& y = cache.v[cache.path_vertex[k]];
             Connection c = bdpt_connect(s, st, z, y);
-            bdpt_queue_connection(bs, i, z, y, c, c.c, s.offset_scale);
+            const Vec3 contrib = st.moments ? bdpt_moment(c.c, c.c, c.pt_factor) : c.c;
+            bdpt_queue_connection(bs, i, z, y, c, contrib, s.offset_scale);
         }
         return;
     }
