@@ -3,7 +3,9 @@ one thread, K seeds, on the scenes of lantern.scenes (no Blender needed).
 
 noise = mean over pixels of the spread (sample standard deviation) of the luminance between
 seeds, over the image's mean luminance; time = CPU seconds of one render (process time, which
-a loaded machine disturbs less than wall time), median over seeds. A render is `--spp`
+a loaded machine disturbs less than wall time), median over seeds. Also a deterministic cost
+(`work`: rays traced plus 0.36 of a ray per cis candidate, M = 10 per camera vertex of cis,
+allocation.h's count), and the efficiency by it, which no machine load disturbs. A render is `--spp`
 iterations of one sample each (as the add-on's final render), so auto's pilot (pt, pt, cis)
 is inside the measured time and noise. Also printed: what auto chose and its own estimate of
 cis's efficiency over pt's.
@@ -40,7 +42,7 @@ def measure(scene_name, integrator, args):
     builder, kw = SCENES[scene_name]
     w, h = (int(v) for v in args.res.split("x"))
     scene = getattr(scenes, builder)(w, h, **kw)
-    imgs, times, chosen = [], [], []
+    imgs, times, chosen, rays, work = [], [], [], [], []
     for k in range(args.seeds):
         s = lantern.Session(scene, integrator=integrator, seed=1000 + k, backend="cpu",
                             threads=1, max_depth=args.max_depth, spp_per_iteration=1)
@@ -50,14 +52,27 @@ def measure(scene_name, integrator, args):
         times.append(time.process_time() - c0)
         imgs.append(s.image())
         st = s.stats
+        # deterministic cost counts (the same seed, the same counts on any machine): rays, and
+        # rays plus 0.36 of a ray per cis candidate (allocation.h's cost; M per camera vertex)
+        rays.append(st["rays_total"])
+        cis_vertices = (st["rays_camera"] + st["rays_indirect"]) if integrator == "cis" else 0
+        if integrator == "auto":  # the share of camera vertices cis rendered, by iterations
+            it = st["auto_pt_iterations"] + st["auto_cis_iterations"]
+            cis_vertices = (st["rays_camera"] + st["rays_indirect"]) * (
+                st["auto_cis_iterations"] / max(it, 1))
+        work.append(st["rays_total"] + 0.36 * 10 * cis_vertices)
         if "auto_choice" in st:
-            chosen.append((st["auto_choice"], round(st["auto_cis_over_pt"], 3)))
+            chosen.append((st["auto_choice"], round(st["auto_cis_over_pt"], 3),
+                           round(st.get("auto_pt_tail", 0.0), 2)))
     lum = np.einsum("kyxc,c->kyx", np.asarray(imgs, dtype=np.float64), [0.2126, 0.7152, 0.0722])
     mean = lum.mean()
     noise = float(lum.std(axis=0, ddof=1).mean() / mean)
     t = float(np.median(times))
+    c = float(np.median(work))
     return {"scene": scene_name, "integrator": integrator, "mean": float(mean), "noise": noise,
-            "time_s": t, "efficiency": 1.0 / (noise * noise * t), "auto": chosen}
+            "time_s": t, "efficiency": 1.0 / (noise * noise * t), "auto": chosen,
+            "rays": float(np.median(rays)), "work": c,
+            "efficiency_work": 1.0 / (noise * noise * c)}
 
 
 def step_times(scene_name, integrators, args):
@@ -108,16 +123,21 @@ def main():
     lines = ["| scene | " + " | ".join(f"{i} noise | {i} time (s)" for i in
                                         args.integrators.split(",")) +
              " | " + " | ".join(f"{i} / pt" for i in args.integrators.split(",") if i != "pt") +
-             " | auto chose |", "|---" * (3 * len(args.integrators.split(",")) ) + "|---|"]
+             " | " + " | ".join(f"{i} / pt (work)" for i in args.integrators.split(",")
+                                if i != "pt") +
+             " | auto chose (estimate, pt tail) |",
+             "|---" * (4 * len(args.integrators.split(",")) - 1) + "|---|"]
     for scene in args.scenes.split(","):
         by = {r["integrator"]: r for r in rows if r["scene"] == scene}
         cells = [f"{100 * by[i]['noise']:.2f} % | {by[i]['time_s']:.2f}"
                  for i in args.integrators.split(",")]
         ratios = [f"{by[i]['efficiency'] / by['pt']['efficiency']:.2f}"
                   for i in args.integrators.split(",") if i != "pt" and "pt" in by]
-        chose = ", ".join(f"{c} ({r})" for c, r in by.get("auto", {}).get("auto", []))
+        ratios_w = [f"{by[i]['efficiency_work'] / by['pt']['efficiency_work']:.2f}"
+                    for i in args.integrators.split(",") if i != "pt" and "pt" in by]
+        chose = ", ".join(f"{c} ({r}, {t})" for c, r, t in by.get("auto", {}).get("auto", []))
         lines.append(f"| {scene} | " + " | ".join(cells) + " | " + " | ".join(ratios) +
-                     f" | {chose} |")
+                     " | " + " | ".join(ratios_w) + f" | {chose} |")
     table = "\n".join(lines)
     print(table)
     if args.out:

@@ -53,6 +53,9 @@ DEFAULT_SETTINGS = {
     "adaptive_step": 4,
     "instancing": False,      # a bottom-level BVH per mesh, so move_instance() builds none
     "auto_keep_pilot": False,  # integrator auto: the pilot in the image, as on the GPU (tests)
+    # tests only (lvc, cis, bdpt): each pixel holds integrator auto's moment channels, not RGB
+    # (luminance, path tracing's second moment by the MIS identity, light pt cannot sample)
+    "moment_channels": False,
 }
 
 BUILD_HINT = ("build it from the repository root with "
@@ -228,7 +231,7 @@ def resolve_settings(settings):
     if not isinstance(out["naive_ris"], (bool, np.bool_)):
         raise TypeError(f"setting 'naive_ris' must be a bool, got {out['naive_ris']!r}")
     out["naive_ris"] = bool(out["naive_ris"])
-    for key in ("instancing", "auto_keep_pilot"):
+    for key in ("instancing", "auto_keep_pilot", "moment_channels"):
         if not isinstance(out[key], (bool, np.bool_)):
             raise TypeError(f"setting '{key}' must be a bool, got {out[key]!r}")
         out[key] = bool(out[key])

@@ -9,8 +9,12 @@ render's own estimates of each one's efficiency.
 - Deterministic: same seed, same bits; the pilot's trials are not in the image (a render of
   one step holds one sample).
 - It chooses cis where cis is several times more efficient (the fixture: 7x, bench/results/
-  2026-12-04-auto) and pt where cis is half as efficient (the Cornell box), and pt alone where
-  the scene has what only pt renders (a holdout), saying so."""
+  2026-12-04-auto; a bulb in a closed glass globe, where pt's own samples miss its heavy tail
+  and its second moment through the MIS identity from cis's trials sees it) and pt where cis
+  is half as efficient (the Cornell box), and pt alone where the scene has what only pt
+  renders (a holdout), saying so.
+- The moment channels (that identity, bdpt.h bdpt_moment) equal pt's own second moment where
+  it has no covariance to miss (direct light)."""
 import numpy as np
 import pytest
 
@@ -114,3 +118,104 @@ def test_holdout_scene_is_rendered_by_pt_alone():
     s.step()
     assert s.stats["auto_choice"] == "pt" and s.stats["auto_cis_iterations"] == 0
     assert any("holdout" in w and "auto" in w for w in s.warnings)
+
+
+def _pilot_choices(scene, seeds, **settings):
+    out = []
+    for seed in seeds:
+        s = lantern.Session(scene, integrator="auto", seed=seed, backend="cpu", max_depth=12,
+                            spp_per_iteration=1, **settings)
+        s.step()  # the pilot, its choice, and the first iteration
+        while s.stats["auto_choice"] == "pilot":  # auto_keep_pilot: a step an iteration
+            s.step()
+        out.append((s.stats["auto_choice"], round(s.stats["auto_cis_over_pt"], 2)))
+    return out
+
+
+def test_glass_globe_chooses_cis_cornell_pt():
+    """The pilot's choice (deterministic per seed): cis on a light in a closed glass globe,
+    where pt's own few samples miss its heavy tail (pt's second moment from cis's trials
+    through the MIS identity sees it: bdpt.h, bdpt_moment; cis is ~17x pt's efficiency there,
+    bench/results/2026-12-04-auto2), and pt on the diffuse Cornell box (cis ~0.5x). Negative
+    control: without the moment trials (the GPU's policy, auto_keep_pilot: no trials, pt's
+    variance from its own samples alone) the globe goes to pt on most seeds."""
+    seeds = range(2000, 2008)
+    globe = scenes.glass_lantern(48, 48)
+    chose = _pilot_choices(globe, seeds)
+    assert [c for c, _ in chose].count("cis") == len(seeds), chose
+    cornell = _pilot_choices(scenes.cornell_box(48, 48), seeds)
+    assert [c for c, _ in cornell].count("pt") >= len(seeds) - 1, cornell
+    blind = _pilot_choices(globe, seeds, auto_keep_pilot=True)
+    assert [c for c, _ in blind].count("pt") >= len(seeds) // 2, blind
+
+
+def _image_means(scene, integrator, seeds, depth, channel=None, **settings):
+    out = []
+    for seed in seeds:
+        s = lantern.Session(scene, integrator=integrator, seed=seed, backend="cpu",
+                            max_depth=depth, spp_per_iteration=1, **settings)
+        s.step()
+        img = s.image().astype(np.float64)
+        if channel is None:  # pt's second moment of the luminance, the image's mean
+            out.append(float(np.mean((img @ np.array([0.2126, 0.7152, 0.0722])) ** 2)))
+        else:
+            out.append(float(np.mean(img[..., channel])))
+    return np.array(out)
+
+
+@pytest.mark.parametrize("integrator", ["cis", "lvc"])
+def test_moment_identity_matches_pt_on_direct_light(integrator):
+    """The moment channels (integrator auto's cis trials, bdpt.h): pt's second moment through
+    the MIS identity, from another integrator's samples. At max_depth 2 (direct light: pt's
+    next-event sample and emission hit, cis's also light tracing with its own count) the
+    identity's expectation is pt's second moment per technique, which there is pt's own
+    E[Y^2] up to the two techniques' covariance (small: each dominates where the other is weak).
+    Compared over independent seeds with their standard errors; the tolerance must resolve
+    3 % (light tracing's term with the wrong count read 8 % off)."""
+    scene = scenes.room_area_point(24, 24)
+    k = 48
+    pt = _image_means(scene, "pt", range(10, 10 + k), 2)
+    ident = _image_means(scene, integrator, range(500, 500 + k), 2, channel=1,
+                         moment_channels=True)
+    se = np.hypot(pt.std(ddof=1), ident.std(ddof=1)) / np.sqrt(k)
+    assert 4 * se < 0.03 * pt.mean(), (pt.mean(), ident.mean(), se)
+    assert abs(ident.mean() - pt.mean()) < 4 * se, (pt.mean(), ident.mean(), se)
+    # channel 0 is the luminance of the image
+    lum = _image_means(scene, integrator, range(500, 500 + 8), 2, channel=0,
+                       moment_channels=True)
+    plain = []
+    for seed in range(500, 508):
+        s = lantern.Session(scene, integrator=integrator, seed=seed, backend="cpu", max_depth=2)
+        s.step()
+        plain.append(float(np.mean(s.image().astype(np.float64) @
+                                   np.array([0.2126, 0.7152, 0.0722]))))
+    np.testing.assert_allclose(lum, plain, rtol=1e-4)
+
+
+def test_moment_identity_agrees_across_integrators():
+    """Past direct light the identity is pt's second moment per technique whichever MIS
+    configuration delivers it: bdpt (each camera path with its own light path, count 1), lvc
+    (uniform picks from the cache, count N L / |C|) and cis (resampled picks, light tracing of
+    direct light counted a quarter) must agree within their standard errors. This checks the
+    connections' and light tracing's pdf ratios (LightVertex::dpt0/dpt1): a wrong count or
+    ratio there moves one integrator's value and not the others'. Pixels that see the light
+    directly (the same exact term for all) are left out."""
+    scene = scenes.cornell_box(24, 24)
+    k = 32
+
+    def per_seed(integrator, seed0):
+        out = []
+        for seed in range(seed0, seed0 + k):
+            s = lantern.Session(scene, integrator=integrator, seed=seed, backend="cpu",
+                                max_depth=5, spp_per_iteration=1, moment_channels=True)
+            s.step()
+            out.append(s.image().astype(np.float64))
+        return np.array(out)
+
+    bdpt, cis = per_seed("bdpt", 100), per_seed("cis", 300)
+    mask = (bdpt[..., 0].mean(axis=0) < 2.0) & (cis[..., 0].mean(axis=0) < 2.0)
+    a, b = bdpt[..., 1][:, mask].mean(axis=1), cis[..., 1][:, mask].mean(axis=1)
+    se = np.hypot(a.std(ddof=1), b.std(ddof=1)) / np.sqrt(k)
+    assert 4 * se < 0.06 * a.mean(), (a.mean(), b.mean(), se)
+    assert abs(a.mean() - b.mean()) < 4 * se, (a.mean(), b.mean(), se)
+    assert bdpt[..., 2].max() == 0.0 and cis[..., 2].max() == 0.0  # pt samples every path

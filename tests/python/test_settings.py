@@ -17,7 +17,8 @@ def test_defaults(monkeypatch):
                         "light_path_fraction": 1.0, "cis_target": "contribution", "naive_ris": False,
                         "cache_budget_mb": 0, "light_candidates": 1,
                         "adaptive_threshold": 0.0, "adaptive_min_samples": 0,
-                        "adaptive_step": 4, "instancing": False, "auto_keep_pilot": False}
+                        "adaptive_step": 4, "instancing": False, "auto_keep_pilot": False,
+                        "moment_channels": False}
     assert warnings == []
 
 

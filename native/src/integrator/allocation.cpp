@@ -40,13 +40,13 @@ Allocation::Allocation(int64_t pixels, bool pt_only, int candidates, bool watch)
         choice_ = 1;
         return;
     }
-    const int64_t want = std::min<int64_t>(pixels, std::max<int64_t>(4096, pixels / 8));
+    const int64_t want = std::min<int64_t>(pixels, std::max<int64_t>(kMinTracked, pixels / 8));
     stride_ = std::max<int64_t>(1, (pixels + std::min<int64_t>(want, kMaxTracked) - 1) /
                                        std::min<int64_t>(want, kMaxTracked));
     for (int64_t p = 0; p < pixels; p += stride_) tracked_.push_back(int32_t(p));
-    for (std::vector<double>* v : {&sum_pt_, &sum2_pt_, &sum_cis_, &sum2_cis_})
+    for (std::vector<double>* v : {&sum_pt_, &sum2_pt_, &sum_cis_, &sum2_cis_, &sum_m2_,
+                                   &sum_miss_, &sum_cm_, &sum2_cm_})
         v->assign(tracked_.size(), 0.0);
-    pilot_.assign(tracked_.size() * (kPilotPt + kPilotCis), 0.0f);
 }
 
 const char* Allocation::next() const {
@@ -64,7 +64,7 @@ bool Allocation::next_is_trial() const {
 bool Allocation::wants_image() const { return choice_ == 0; }  // the GPU: the pilot only
 
 void Allocation::observe(const char* integ, const double* sum, int spp_it, int64_t pixels,
-                         const SessionStats& before, const SessionStats& after) {
+                         const SessionStats& before, const SessionStats& after, bool moments) {
     const bool cis = std::string(integ) == "cis";
     const int t = cis ? 1 : 0;
     const bool trial = next_is_trial();
@@ -81,17 +81,23 @@ void Allocation::observe(const char* integ, const double* sum, int spp_it, int64
     const bool feed = sum && !tracked_.empty() && spp_it == (cis ? cis_spp_ : pt_spp_);
     if (feed) {
         const double inv = 1.0 / double(spp_it);
-        const int64_t slot = choice_ == 0 ? pilot_index() - 1 : -1;  // the pilot's
         std::vector<double>& s1 = cis ? sum_cis_ : sum_pt_;
         std::vector<double>& s2 = cis ? sum2_cis_ : sum2_pt_;
+        moments = moments && cis;
         for (size_t k = 0; k < tracked_.size(); ++k) {
-            const double v = luma(sum + 3 * int64_t(tracked_[k])) * inv;
-            if (slot >= 0 && slot < kPilotPt + kPilotCis)
-                pilot_[k * (kPilotPt + kPilotCis) + size_t(slot)] = float(v);
+            const double* px = sum + 3 * int64_t(tracked_[k]);
+            const double v = (moments ? px[0] : luma(px)) * inv;
+            if (moments) {
+                sum_cm_[k] += v;
+                sum2_cm_[k] += v * v;
+                sum_m2_[k] += px[1] * inv;
+                sum_miss_[k] += px[2] * inv;
+            }
             s1[k] += v;
             s2[k] += v * v;
         }
         ++seen_[t];
+        if (moments) ++seen_m_;
     }
     if (choice_ == 0) {
         if (seen_[0] >= kPilotPt && seen_[1] >= kPilotCis) decide();
@@ -116,27 +122,57 @@ void Allocation::observe(const char* integ, const double* sum, int spp_it, int64
     if (kept_ >= kMaxWatched && trials_due_ == 0 && cis_due_ == 0) release();
 }
 
-// Efficiency 1 / (V C): V the summed weighted per-pixel variance of a sample, C its mean cost.
-// Each integrator's samples are of its pilot's sample count a pixel (pt_spp_, cis_spp_), and
-// each integrator's variance is its own samples' spread: not cis's spread about pt's mean,
-// which holds pt's error too, and where pt's noise is heavy-tailed the trials miss that error
-// (a pixel whose four pt trials all missed the light through the glass reads cis's whole value
-// as cis's deviation). The render's iterations are one QMC run, stratified against each other:
-// their spread reads each sample's variance a little high, not low.
+// Efficiency 1 / (S^2 C): S the summed standard deviation of a sample over the tracked pixels
+// (the mean pixel's noise, as bench/auto_efficiency.py measures it), C its mean cost. Summed
+// standard deviations, not variances: a few pixels' spikes (a firefly, a light seen through
+// glass that both render alike) rule a sum of variances, and its pilot estimate with them.
+// Each integrator's samples are of its pilot's sample count a pixel (pt_spp_, cis_spp_).
+// - cis: its samples' spread. pt: the larger of its samples' spread and its second moment
+//   through the MIS identity from cis's trials (bdpt.h, bdpt_moment). pt's own samples miss
+//   the rare paths of a heavy tail (the glass lantern, the fixture: light reaching the room
+//   through glass or a shade; its few samples read low-variance); the identity misses the
+//   covariance of a path's terms (its vertices' next-event samples and emission hits at once).
+// - Each sum of per-pixel standard deviations from m samples reads low by c4(m) (normal
+//   samples) and by more where the noise is heavy-tailed; the identity's sum and cis's from
+//   the same trials read low alike, so pt's identity estimate is cis's whole estimate times
+//   their ratio (cis's own iterations refine cis's estimate; the identity has the trials only).
+// - Every choice depends on earlier iterations only (the image stays unbiased).
 double Allocation::estimate() {
-    // the pilot's medians weigh the pixels for good: a mean of the samples so far would let a
-    // pixel's own firefly weigh its noise away (the fixture then went to pt, 0 of 16 seeds)
-    if (weight_.empty()) weigh();
-    const double n = double(seen_[0]), nc = double(seen_[1]);
-    double var_pt = 0.0, var_cis = 0.0;
+    const double n = double(seen_[0]), nc = double(seen_[1]), nm = double(seen_m_);
+    auto sd = [](double s1, double s2, double m) {
+        return m > 1.0 ? std::sqrt(std::max(0.0, (s2 - s1 * s1 / m) / (m - 1.0))) : 0.0;
+    };
+    double sd_pt = 0.0, sd_cis = 0.0, sd_cis_m = 0.0, sd_id = 0.0, missed = 0.0, light = 0.0;
     for (size_t k = 0; k < tracked_.size(); ++k) {
-        const double mean = sum_pt_[k] / n, mean_c = sum_cis_[k] / nc;
-        var_pt += weight_[k] * std::max(0.0, (sum2_pt_[k] - sum_pt_[k] * mean) / (n - 1.0));
-        var_cis +=
-            weight_[k] * std::max(0.0, (sum2_cis_[k] - sum_cis_[k] * mean_c) / (nc - 1.0));
+        sd_pt += sd(sum_pt_[k], sum2_pt_[k], n);
+        sd_cis += sd(sum_cis_[k], sum2_cis_[k], nc);
+        if (nm > 0.0) {  // pt's second moment from cis's trials, less their mean's square
+            const double mean = sum_cm_[k] / nm;
+            sd_id += std::sqrt(std::max(0.0, sum_m2_[k] / nm - mean * mean));
+            sd_cis_m += sd(sum_cm_[k], sum2_cm_[k], nm);
+            missed += sum_miss_[k] / nm;
+            light += std::fabs(mean);
+        }
     }
-    var_cis *= double(cis_spp_);
-    var_pt *= double(pt_spp_);  // trials of one sample on the CPU, an iteration's on the GPU
+    auto c4 = [](double m) {
+        return m < 2.0 ? 1.0
+                       : std::sqrt(2.0 / (m - 1.0)) *
+                             std::exp(std::lgamma(m / 2.0) - std::lgamma((m - 1.0) / 2.0));
+    };
+    sd_pt /= c4(n);
+    sd_cis /= c4(nc);
+    // trials of one sample on the CPU, an iteration's on the GPU (no moment trials there)
+    double var_pt = sd_pt * sd_pt * double(pt_spp_), var_cis = sd_cis * sd_cis * double(cis_spp_);
+    tail_ = 0.0;
+    if (nm > 1.0 && sd_cis_m > 0.0) {
+        const double id = sd_id / sd_cis_m * sd_cis;
+        const double var_id = id * id * double(cis_spp_);
+        tail_ = var_pt > 0.0 ? var_id / var_pt : 0.0;
+        var_pt = std::max(var_pt, var_id);
+    }
+    // light that pt cannot sample at all (a + b = 0 in bdpt_moment: a caustic of a point light
+    // through glass): pt's image lacks it, an error no sample count cures
+    if (light > 0.0 && missed > kMissedShare * light) return 1e6;
     const double cost_pt = cost_[0] / double(n_[0]), cost_cis = cost_[1] / double(n_[1]);
     // nothing to gain (a noiseless image so far): the cheaper per sample
     if (!(var_pt > 0.0) || !(cost_pt > 0.0) || !(cost_cis > 0.0))
@@ -158,37 +194,10 @@ void Allocation::decide() {
     }
 }
 
-// Each pixel's variance relative to its value: weight 1 / (median^2 + floor^2), the median of
-// its five pilot samples (robust to the one firefly a pt trial may hold, which would hide that
-// pixel's noise behind its own mean), the floor 5 % of the image's mean median, so dark pixels'
-// noise counts without dividing by zero. Relative, not absolute: summed absolute variances are
-// ruled by a few bright pixels (a light seen through glass) that every integrator renders
-// alike, and miss where cis helps (the glass lantern: cis 18x pt by the mean pixel's noise,
-// 1.25x by the root mean square).
-void Allocation::weigh() {
-    constexpr int kSamples = kPilotPt + kPilotCis;
-    const size_t n = tracked_.size();
-    std::vector<double> med(n);
-    double mean = 0.0;
-    for (size_t k = 0; k < n; ++k) {
-        float v[kSamples];
-        std::copy(pilot_.begin() + k * kSamples, pilot_.begin() + (k + 1) * kSamples, v);
-        std::nth_element(v, v + kSamples / 2, v + kSamples);
-        med[k] = std::fabs(double(v[kSamples / 2]));
-        mean += med[k];
-    }
-    mean = n ? mean / double(n) : 0.0;
-    const double floor2 = mean > 0.0 ? 0.0025 * mean * mean : 1.0;
-    weight_.resize(n);
-    for (size_t k = 0; k < n; ++k) weight_[k] = 1.0 / (med[k] * med[k] + floor2);
-    std::vector<float>().swap(pilot_);
-}
-
 void Allocation::release() {
-    for (std::vector<double>* v : {&sum_pt_, &sum2_pt_, &sum_cis_, &sum2_cis_})
+    for (std::vector<double>* v : {&sum_pt_, &sum2_pt_, &sum_cis_, &sum2_cis_, &sum_m2_,
+                                   &sum_miss_, &sum_cm_, &sum2_cm_})
         std::vector<double>().swap(*v);
-    std::vector<double>().swap(weight_);
-    std::vector<float>().swap(pilot_);
     std::vector<int32_t>().swap(tracked_);
 }
 

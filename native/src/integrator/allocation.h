@@ -11,8 +11,10 @@
 //   The GPU (and `auto_keep_pilot`, for tests) keeps the pilot in the image, whole iterations
 //   of the full image: each is an unbiased estimate, weighted equally, and later choices
 //   depend on earlier iterations only, so that image is unbiased too.
-// - Variance: the luminance's per-sample variance relative to the pixel's value (weigh()),
-//   summed over the tracked pixels; each integrator's from its own samples' spread.
+// - Noise: the luminance's per-sample standard deviation summed over the tracked pixels (the
+//   mean pixel's noise), squared. cis's from its samples' spread; pt's the larger of its
+//   samples' spread and its second moment through the MIS identity from cis's trials, which
+//   sees the heavy tail pt's own few samples miss (bdpt.h, bdpt_moment; estimate()).
 // - Cost: a deterministic count, never a clock (same seed, same bits): rays traced plus
 //   kCandidateCost per cis candidate evaluated (M per camera vertex), fitted to CPU time on
 //   the Cornell box, the two-light room, the fixture and the glass lantern (0.23-0.49 of a
@@ -39,9 +41,14 @@ struct SessionStats;
 class Allocation {
 public:
     static constexpr int kMaxTracked = 1 << 16;    // pixels whose variance is tracked
+    // ... at least (else an eighth of the image): fewer makes the pilot's choice unreliable on
+    // small images (48 x 48 Cornell box: wrong in 0 of 8 seeds with all 2,304 pixels, 2 of 8
+    // with 768, 3 of 8 with 461; bench/results/2026-12-04-auto3)
+    static constexpr int kMinTracked = 4096;
     static constexpr double kCandidateCost = 0.36;  // one candidate evaluation, in rays
     static constexpr int64_t kMaxWatched = 4096;    // iterations watched after the pilot
     static constexpr double kSwitchMargin = 1.3;    // a checkpoint switches past 1.3x or 1/1.3
+    static constexpr double kMissedShare = 0.01;    // light pt cannot sample: past 1 %, cis
 
     // pixels: the film's; pt_only: the scene has what only pt renders (pt_only_reason);
     // watch: choose again at checkpoints (the CPU; the GPU chooses once, after its pilot).
@@ -64,13 +71,18 @@ public:
     // pixel, spp_it samples each, every pixel's) or null, the pixels its camera pass covered,
     // and the stats before and after it. Trials are of one sample a pixel, on the tracked
     // pixels (Session::run_trial).
+    // moments: a cis trial whose sum holds BdptSettings::moments's channels (bdpt.h): the
+    // luminance, path tracing's second moment through the MIS identity, and the light pt
+    // cannot sample, per pixel.
     void observe(const char* integ, const double* sum, int spp_it, int64_t pixels,
-                 const SessionStats& before, const SessionStats& after);
+                 const SessionStats& before, const SessionStats& after, bool moments = false);
 
     // What it chose, for the stats: 0 while piloting, 1 pt, 2 cis; the estimated efficiency of
     // cis over pt (0 before it is known); iterations of each.
     int choice() const { return choice_; }
     double cis_over_pt() const { return ratio_; }
+    // pt's variance through the MIS identity over its own samples' (0: not estimated)
+    double pt_tail() const { return tail_; }
     int64_t pt_iterations() const { return n_[0]; }
     int64_t cis_iterations() const { return n_[1]; }
 
@@ -78,16 +90,16 @@ private:
     double estimate();  // cis's efficiency over pt's from the samples so far
     void decide();      // ... and the choice
     void release();  // the per-pixel sums, once no longer watched
-    void weigh();    // weight_ from the pilot's samples
 
     bool pt_only_, watch_;
     int candidates_;
     int64_t pixels_;  // the film's
     int64_t stride_ = 1;
     std::vector<int32_t> tracked_;
-    std::vector<float> pilot_;     // the pilot's values, kPilotPt + kPilotCis a tracked pixel
-    std::vector<double> weight_;   // each tracked pixel's: 1 / its value^2 (weigh())
     std::vector<double> sum_pt_, sum2_pt_, sum_cis_, sum2_cis_;  // per tracked pixel (luma)
+    // ... of cis's moment trials: pt's second moment, light pt misses, cis's values
+    std::vector<double> sum_m2_, sum_miss_, sum_cm_, sum2_cm_;
+    int64_t seen_m_ = 0;                     // cis trials in sum_m2_
     int64_t n_[2] = {0, 0};     // iterations of pt, cis (trials included)
     int64_t seen_[2] = {0, 0};  // ... in the sums
     int64_t kept_ = 0;          // the render's iterations (not trials)
@@ -97,6 +109,7 @@ private:
     int choice_ = 0;
     int cis_spp_ = 1, pt_spp_ = 1;  // samples per pixel of the pilot's iterations
     double ratio_ = 0.0;
+    double tail_ = 0.0;
 };
 
 // Why a scene must be rendered by pt alone under "auto" (empty: it need not).

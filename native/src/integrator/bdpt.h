@@ -45,9 +45,10 @@ struct LightVertex {
     int16_t length; // segments from the light to this vertex (y1 has 1; max_depth <= 1024)
     int16_t front;
     uint32_t coat_n;  // kCoatNormal, material_keeps_unbent_normal: SurfaceHit::coat_n (oct_encode)
+    float dpt0, dpt1; // BdptSettings::moments: path tracing's techniques (BdptState::dpt0)
 };
 
-static_assert(sizeof(LightVertex) == 96, "update the cache size in docs/lvc_notes.md");
+static_assert(sizeof(LightVertex) == 104, "update the cache size in docs/lvc_notes.md");
 
 LANTERN_HD inline uint32_t bary16_encode(Vec2 b) {
     auto q = [](float v) { return uint32_t(clampf(v, 0.0f, 1.0f) * 65535.0f + 0.5f); };
@@ -94,7 +95,35 @@ struct BdptSettings {
     float n_lt;          // MIS count of light tracing: L / spp_per_iteration
     float inv_light_paths;  // 1 / L
     float lt_direct;     // light tracing's count for direct light, relative to n_lt (see below)
+    int32_t moments;     // integrator "auto"'s cis trials: moment channels (bdpt_moment)
 };
+
+// Integrator "auto" (allocation.h) estimates path tracing's second moment from cis's samples
+// through the MIS identity: for weights that sum to one, sum_t sum_i w_t g / p_t is unbiased
+// for the integral of g; with g = f^2 / q (q: pt's density of the path, its own power-heuristic
+// mix of BSDF sampling, s = 0, and next-event estimation, s = 1), each contribution c = w_t f /
+// (n_t p_t) adds c f / q. With a = (p_0 / n_t p_t)^2, b = (p_1 / n_t p_t)^2 (the squared
+// ratios the recursive weights sum; cis's s = 0 and s = 1 are pt's techniques, count 1) and
+// 1 / w_t = 1 + sum of every ratio, f / q = c_unit (1 / w_t) (a^1.5 + b^1.5) / (a + b)^2, where
+// pt's power heuristic makes its second moment f^2 (p_0^3 + p_1^3) / (p_0^2 + p_1^2)^2.
+// c_unit: c without resampling's random weight (its expectation is the same). A cis trial of
+// "auto" (moments on) writes instead of each contribution's RGB the channels (luminance of c,
+// its pt second-moment term, luminance of light pt cannot sample: a + b = 0). Only the
+// luminance of the contributions is used, and a splat's filter weight enters linearly: an
+// estimate for a choice, never an image (trials are never added to it).
+LANTERN_HD inline float bdpt_pt_factor(float inv_w, float a, float b) {
+    if (!(a + b > 0.0f)) return -1.0f;  // pt cannot sample the path
+    const float mx = fmaxf(a, b), an = a / mx, bn = b / mx;  // (overflows late)
+    return inv_w * (an * sqrtf(an) + bn * sqrtf(bn)) / ((an + bn) * (an + bn) * sqrtf(mx));
+}
+LANTERN_HD inline Vec3 bdpt_moment(Vec3 c, Vec3 c_unit, float pt_factor) {
+    const float l = fabsf(luminance(c));
+    if (!(l > 0.0f)) return vec3(0.0f);
+    if (pt_factor < 0.0f) return Vec3{l, 0.0f, l};
+    float m = l * fabsf(luminance(c_unit)) * pt_factor;
+    if (!(m < 1e30f)) m = 1e30f;
+    return Vec3{l, m, 0.0f};
+}
 
 // Light tracing's MIS count on paths of two segments (light, surface, camera: direct light),
 // relative to n_lt. Next-event estimation and light tracing often have similar densities there,
@@ -125,6 +154,8 @@ struct BdptState {
     Vec3* conn_d;
     float* conn_tmax;
     Vec3* conn_c;
+    float* dpt0;  // BdptSettings::moments, light pass: dvc's parts that are pt's techniques
+    float* dpt1;
 };
 
 // What the camera pass reads of the cache.
@@ -168,6 +199,10 @@ LANTERN_HD inline void bdpt_light_generate(const SceneView& s, const PathState& 
                     ? 0.0f
                     : mis((es.finite ? es.cos_light : 1.0f) / pdf_emit) * inv_r;
     bs.light[i] = li;
+    if (st.moments) {  // path tracing's techniques: all camera-sampled (dVC's), next-event
+        bs.dpt0[i] = bs.dvc[i];
+        bs.dpt1[i] = 0.0f;
+    }
     if (st.max_depth < 2) return;
     ps.ray_o[i] = is_black(es.n) ? es.p : offset_ray_origin(es.p, es.n, es.d, s.offset_scale);
     ps.ray_d[i] = es.d;
@@ -240,6 +275,13 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
     if (k > 1 || !infinite) dvcm *= mis(dist * dist);
     dvcm /= mis(cos_o_ng);
     dvc /= mis(cos_o_ng);
+    // (moments) the parts of dvc that are pt's techniques: dpt0 all camera-sampled, dpt1 the
+    // camera sampling all but y0, which next-event estimation samples (at k = 1: dvcm itself)
+    float dpt0 = 0.0f, dpt1 = 0.0f;
+    if (st.moments) {
+        dpt0 = bs.dpt0[i] / mis(cos_o_ng);
+        dpt1 = bs.dpt1[i] / mis(cos_o_ng);
+    }
 
     Frame frame = h.frame();
     const Vec3 wo = frame.to_local(wo_w);
@@ -265,6 +307,8 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
         v.coat_n = (m.tex_flags & kCoatNormal) || material_keeps_unbent_normal(m)
                        ? oct_encode(h.coat_n)
                        : 0u;
+        v.dpt0 = dpt0;
+        v.dpt1 = dpt1;
         bs.vertex[i] = v;
         bs.store[i] = is_finite(beta) && is_finite(dvcm) && is_finite(dvc) ? 1 : 0;
     }
@@ -283,8 +327,18 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
                 float w = bdpt_light_tracing_weight(st, dvcm, dvc, cc.importance * cos_wc_ng,
                                                     e.pdf_rev_w, k);
                 LightPathState lp{nullptr, bs.splat_xy};
-                lt_queue_splat(ps, lp, i, h.p, h.ng, cc, beta * e.f * (cos_y * cc.importance * w),
-                               s.offset_scale);
+                Vec3 c = beta * e.f * (cos_y * cc.importance * w);
+                if (st.moments) {
+                    const float n_lt = k == 1 ? st.n_lt * st.lt_direct : st.n_lt;
+                    const float x = mis(cc.importance * cos_wc_ng * st.r / n_lt);
+                    const float a = x * dpt0 * mis(e.pdf_rev_w);
+                    const float b = x * (k == 1 ? dvcm : dpt1 * mis(e.pdf_rev_w));
+                    // f / q of the contribution the sum receives, c / st.n_lt (the splat's
+                    // scale, wavefront.h's splat()), is that times st.n_lt / n_lt (the count its
+                    // weight assumes: lt_direct): c / n_lt
+                    c = bdpt_moment(c, c * (1.0f / n_lt), bdpt_pt_factor(1.0f / w, a, b));
+                }
+                lt_queue_splat(ps, lp, i, h.p, h.ng, cc, c, s.offset_scale);
             }
         }
     }
@@ -302,6 +356,13 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
         Vec3 t = ps.throughput[i] * b.weight * adj;
         if (russian_roulette(t, k + 1, st.rr_depth, rng) && max_component(t) > 0.0f &&
             is_finite(t)) {
+            if (st.moments) {  // dvc's recursion, each part on its own (dvcm: k = 1 only)
+                const float ratio = b.pdf_fwd_w > 0.0f ? b.pdf_rev_w / b.pdf_fwd_w : 1.0f;
+                const float fwd = b.delta ? 1.0f : mis(cos_i_ng / b.pdf_fwd_w);
+                const float rev = b.delta ? mis(cos_i_ng * ratio) : mis(b.pdf_rev_w);
+                bs.dpt0[i] = fwd * dpt0 * rev;
+                bs.dpt1[i] = fwd * (dpt1 * rev + (k == 1 && !b.delta ? dvcm : 0.0f));
+            }
             bdpt_scatter_update(dvcm, dvc, b, cos_i_ng);
             ps.throughput[i] = t;
             bs.dvcm[i] = dvcm;
@@ -351,7 +412,8 @@ LANTERN_HD inline void bdpt_camera_generate(const SceneView& s, const PathState&
 // with geometric normal n there. dvcm, dvc are the slot's values before this segment.
 LANTERN_HD inline float bdpt_emission_weight(const SceneView& s, const PathState& ps,
                                              const BdptState& bs, const BdptSettings& st, int i,
-                                             const Light& l, float t_light, Vec3 n) {
+                                             const Light& l, float t_light, Vec3 n,
+                                             float* nee_ratio = nullptr) {
     if (ps.depth[i] <= 1) return 1.0f;  // seen directly: no other technique renders it
     const Vec3 o = ps.ray_o[i], d = ps.ray_d[i];
     const bool infinite = l.type == kLightSun || l.type == kLightWorld;
@@ -372,6 +434,7 @@ LANTERN_HD inline float bdpt_emission_weight(const SceneView& s, const PathState
     // (the second vertex: dvc is light tracing's term alone, BdptSettings::lt_direct)
     if (ps.depth[i] == 2) dvc *= bdpt_direct_lt(st);
     float w_camera = mis(pdf_direct) * dvcm + mis(st.r * pdf_emit) * dvc;
+    if (nee_ratio) *nee_ratio = mis(pdf_direct) * dvcm;  // next-event estimation's (moments)
     return 1.0f / (1.0f + w_camera);
 }
 
@@ -386,8 +449,11 @@ LANTERN_HD inline void bdpt_camera_emission(const SceneView& s, const PathState&
         if (camera && !l.visible_camera) continue;
         LightHit h = intersect_light(l, o, d, ps.ray_tmin[i], t_end);
         if (!h.hit || is_black(h.le)) continue;
-        float w = bdpt_emission_weight(s, ps, bs, st, i, l, h.t, h.n);
-        add_radiance(ps, i, ps.throughput[i] * h.le * w);
+        float nee = 0.0f;
+        float w = bdpt_emission_weight(s, ps, bs, st, i, l, h.t, h.n, &nee);
+        Vec3 c = ps.throughput[i] * h.le * w;
+        if (st.moments) c = bdpt_moment(c, c, bdpt_pt_factor(1.0f / w, 1.0f, nee));
+        add_radiance(ps, i, c);
     }
     if (!miss) return;
     for (int k = 0; k < s.num_miss_lights; ++k) {
@@ -396,9 +462,12 @@ LANTERN_HD inline void bdpt_camera_emission(const SceneView& s, const PathState&
                                     dot(d, -l.direction) < l.cos_sun))
             continue;  // a sun lamp is hidden from the camera; the world's disc (of_world) not
         if (l.type == kLightWorld && camera && !l.visible_camera) continue;
-        float w = bdpt_emission_weight(s, ps, bs, st, i, l, kInf, vec3(0.0f));
+        float nee = 0.0f;
+        float w = bdpt_emission_weight(s, ps, bs, st, i, l, kInf, vec3(0.0f), &nee);
         Vec3 le = l.type == kLightWorld ? world_radiance(s, l, d) : l.radiance;
-        add_radiance(ps, i, ps.throughput[i] * le * w);
+        Vec3 c = ps.throughput[i] * le * w;
+        if (st.moments) c = bdpt_moment(c, c, bdpt_pt_factor(1.0f / w, 1.0f, nee));
+        add_radiance(ps, i, c);
     }
 }
 
@@ -486,6 +555,7 @@ LANTERN_HD inline void bdpt_camera_nee(const SceneView& s, const PathState& ps,
     float w = 1.0f / (w_light + 1.0f + w_camera);
     float cos_i = fabsf(dot(ls.wi, z.h.ns));
     Vec3 c = z.beta * e.f * ls.le * (cos_i * w / pdf_light_w);
+    if (st.moments) c = bdpt_moment(c, c, bdpt_pt_factor(w_light + 1.0f + w_camera, w_light, 1.0f));
     if (!is_finite(c)) {
         ps.dropped[i] = 1;
         return;
@@ -510,12 +580,13 @@ struct Connection {
     Vec3 dir;      // unit, z -> y
     float dist;
     float bsdf_target;
+    float pt_factor;  // BdptSettings::moments: bdpt_pt_factor
 };
 
 LANTERN_HD inline Connection bdpt_connect_in(const SceneView& s, const BdptSettings& st,
                                              const CameraVertex& z, const LightVertex& y,
                                              bool* clobbered) {
-    Connection r{vec3(0.0f), vec3(0.0f), 0.0f, 0.0f};
+    Connection r{vec3(0.0f), vec3(0.0f), 0.0f, 0.0f, 0.0f};
     if (z.depth + 1 + y.length > st.max_depth) return r;
     Vec3 dir = y.p - z.h.p;
     float d2 = length_sq(dir);
@@ -566,6 +637,11 @@ LANTERN_HD inline Connection bdpt_connect_in(const SceneView& s, const BdptSetti
     r.dir = dir;
     r.dist = dist;
     r.bsdf_target = luminance(ez.f) * luminance(ey.f);
+    if (st.moments) {  // pt's techniques: dpt0, dpt1 as dvc's parts (dvcm itself for y1)
+        const float rev = mis(ey.pdf_rev_w), x = mis(pdf_cam_a);
+        r.pt_factor = bdpt_pt_factor(w_light + 1.0f + w_camera, x * y.dpt0 * rev,
+                                     x * (y.length == 1 ? y.dvcm : y.dpt1 * rev));
+    }
     return r;
 }
 
@@ -591,7 +667,7 @@ LANTERN_HD inline void bdpt_queue_connection(const BdptState& bs, int i, const C
 
 // A candidate the CPU keeps for its picks: what bdpt_queue_connection reads of its Connection.
 struct KeptCandidate {
-    float cx, cy, cz, dx, dy, dz;
+    float cx, cy, cz, dx, dy, dz, pt_factor;
 };
 
 // cis's candidates per camera vertex at most (BdptSettings::candidates); SceneView's
@@ -617,7 +693,8 @@ LANTERN_HD inline void bdpt_camera_connect(const SceneView& s, const BdptState& 
         for (int k = cache.path_offset[path]; k < cache.path_offset[path + 1]; ++k) {
             const LightVertex& y = cache.v[cache.path_vertex[k]];
             Connection c = bdpt_connect(s, st, z, y);
-            bdpt_queue_connection(bs, i, z, y, c, c.c, s.offset_scale);
+            const Vec3 contrib = st.moments ? bdpt_moment(c.c, c.c, c.pt_factor) : c.c;
+            bdpt_queue_connection(bs, i, z, y, c, contrib, s.offset_scale);
         }
         return;
     }
@@ -631,7 +708,9 @@ LANTERN_HD inline void bdpt_camera_connect(const SceneView& s, const BdptState& 
         for (int j = 0; j < st.connections; ++j) {
             const LightVertex& y = cache.v[pick(rng.next())];
             Connection c = bdpt_connect(s, st, z, y);
-            bdpt_queue_connection(bs, i, z, y, c, c.c * weight, s.offset_scale);
+            Vec3 contrib = c.c * weight;
+            if (st.moments) contrib = bdpt_moment(contrib, contrib, c.pt_factor);
+            bdpt_queue_connection(bs, i, z, y, c, contrib, s.offset_scale);
         }
         return;
     }
@@ -668,7 +747,7 @@ LANTERN_HD inline void bdpt_camera_connect(const SceneView& s, const BdptState& 
         const int index = pick(rng.next());
         const Connection c = bdpt_connect(s, st, z, cache.v[index]);
         if constexpr (kKept > 1) {
-            cand[j] = KeptCandidate{c.c.x, c.c.y, c.c.z, c.dir.x, c.dir.y, c.dir.z};
+            cand[j] = KeptCandidate{c.c.x, c.c.y, c.c.z, c.dir.x, c.dir.y, c.dir.z, c.pt_factor};
             idx[j] = index;
         }
         float p_hat = st.target == kTargetBsdf ? (is_black(c.c) ? 0.0f : c.bsdf_target)
@@ -703,10 +782,17 @@ LANTERN_HD inline void bdpt_camera_connect(const SceneView& s, const BdptState& 
         if constexpr (kKept > 1) {
             c.c = vec3(cand[j].cx, cand[j].cy, cand[j].cz);
             c.dir = vec3(cand[j].dx, cand[j].dy, cand[j].dz);
+            c.pt_factor = cand[j].pt_factor;
         } else {
             c = bdpt_connect(s, st, z, y);
         }
-        bdpt_queue_connection(bs, i, z, y, c, c.c * weight, s.offset_scale);
+        Vec3 contrib = c.c * weight;
+        // (moments: the unit contribution is the uniform pick's, size / (N L))
+        if (st.moments) {
+            const float uniform = size / float(st.connections) * st.inv_light_paths;
+            contrib = bdpt_moment(contrib, c.c * uniform, c.pt_factor);
+        }
+        bdpt_queue_connection(bs, i, z, y, c, contrib, s.offset_scale);
     }
 }
 
@@ -742,7 +828,7 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
     // emission of a mesh light at the hit
     const Material& m = *z.m;
     if (!is_black(m.emission)) {
-        float w = 1.0f;
+        float w = 1.0f, nee = 0.0f;
         int li = s.tri_light ? s.tri_light[tri] : -1;
         if (z.depth > 1 && li >= 0) {
             const Light& l = s.lights[li];
@@ -753,12 +839,15 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
             float pdf_emit = l.emit_pick_pdf * emission_pdf(s, l, z.h.ng, -d).pdf_emit;
             const float dvc_e = z.depth == 2 ? dvc * bdpt_direct_lt(st) : dvc;  // (lt_direct)
             w = 1.0f / (1.0f + mis(pdf_direct) * dvcm + mis(st.r * pdf_emit) * dvc_e);
+            nee = mis(pdf_direct) * dvcm;
         }
         // the camera's direct view of a Principled emitter: under its coat and sheen
         // (principled_emission_through; light it casts stays undimmed)
         const Vec3 le = z.depth <= 1 ? m.emission * principled_emission_through(m, dot(d, z.h.ng))
                                      : m.emission;
-        add_radiance(ps, i, ps.throughput[i] * le * w);
+        Vec3 c = ps.throughput[i] * le * w;
+        if (st.moments) c = bdpt_moment(c, c, bdpt_pt_factor(1.0f / w, 1.0f, nee));
+        add_radiance(ps, i, c);
     }
     if (z.depth >= st.max_depth) return;
     z.frame = z.h.frame();

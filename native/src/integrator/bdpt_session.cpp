@@ -37,6 +37,7 @@ BdptSettings make_bdpt_settings(const SessionSettings& s, int width, int height,
     // cis counts light tracing of direct light as a quarter (bdpt.h, BdptSettings::lt_direct);
     // bdpt and lvc keep the textbook counts
     st.lt_direct = mode == kCisResampled ? 0.25f : 1.0f;
+    st.moments = s.auto_moments ? 1 : 0;
     return st;
 }
 

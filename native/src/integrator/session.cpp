@@ -256,10 +256,14 @@ SessionSettings Session::iteration_settings() const {
     // the pilot draws numbers independent of every kept iteration's and of each other's (the
     // first samples of scrambles of their own: two samples of one QMC sequence are stratified
     // against each other, and their spread would read low)
+    run.auto_moments = false;  // (a test's moment_channels: lvc, cis and bdpt alone)
     if (alloc_->piloting() || trial_next()) {
         const uint64_t k = uint64_t(alloc_->pt_iterations() + alloc_->cis_iterations() + 1);
         run.seed = settings_.seed ^ (0x9e3779b97f4a7c15ull * k);
         if (trial_next()) run.spp_per_iteration = 1;  // a trial: one sample a pixel
+        // a cis trial also estimates pt's second moment (allocation.h): its sum holds moment
+        // channels, not RGB (never added to the image)
+        if (trial_next() && run.integrator == "cis") run.auto_moments = true;
     }
     return run;
 }
@@ -272,9 +276,11 @@ uint64_t& Session::iteration_counter() {
 
 void Session::observe(const SessionSettings& run, const double* sum, const SessionStats& before,
                       int64_t pixels) {
-    alloc_->observe(run.integrator.c_str(), sum, run.spp_per_iteration, pixels, before, stats_);
+    alloc_->observe(run.integrator.c_str(), sum, run.spp_per_iteration, pixels, before, stats_,
+                    run.auto_moments);
     stats_.auto_choice = alloc_->choice();
     stats_.auto_cis_over_pt = alloc_->cis_over_pt();
+    stats_.auto_pt_tail = alloc_->pt_tail();
     stats_.auto_pt_iterations = alloc_->pt_iterations();
     stats_.auto_cis_iterations = alloc_->cis_iterations();
 }

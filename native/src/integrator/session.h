@@ -61,6 +61,9 @@ struct SessionSettings {
     bool instancing = false;
     // integrator "auto": keep the pilot's iterations in the image, as the GPU does (tests)
     bool auto_keep_pilot = false;
+    // (internal) a cis trial of "auto": each pixel's sum holds the moment channels of
+    // BdptSettings::moments (bdpt.h) instead of RGB; never set on a rendered iteration
+    bool auto_moments = false;
 };
 
 // The settings of one pass of a bidirectional iteration: mode (BdptMode), MIS count r
@@ -91,6 +94,9 @@ struct SessionStats {
     // 2 cis; the estimated efficiency of cis over pt; the iterations each rendered
     int auto_choice = -1;
     double auto_cis_over_pt = 0.0;
+    // pt's variance through the MIS identity from cis's trials over its own samples' spread
+    // (allocation.cpp; 0: not estimated)
+    double auto_pt_tail = 0.0;
     int64_t auto_pt_iterations = 0, auto_cis_iterations = 0;
     int64_t accel_bottom_builds = 0;  // CPU: bottom-level structures built (flat: 1)
     int64_t instance_moves = 0;       // move_instance() calls served

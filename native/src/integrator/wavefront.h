@@ -75,7 +75,7 @@ struct Wavefront {
     // ---- slots (PathState, LightPathState, BdptState) and queues ----
     Array<Vec3> ray_o, ray_d, throughput, radiance, shadow_o, shadow_d, shadow_c, power;
     Array<Vec3> prev_p, prev_n;  // PathState::prev_p / prev_n (the light tree's MIS)
-    Array<float> ray_tmin, ray_tmax, prev_pdf, hit_t, shadow_tmax, dvcm, dvc;
+    Array<float> ray_tmin, ray_tmax, prev_pdf, hit_t, shadow_tmax, dvcm, dvc, dpt0, dpt1;
     Array<Rng> rng;
     Array<int32_t> depth, hit_prim, queue, next_queue, flag, scan, light_id, conn_n;
     Array<int32_t> medium, shadow_medium;  // PathState::medium / shadow_medium (pt in media)
@@ -122,7 +122,7 @@ struct Wavefront {
     }
     template <typename F>
     void for_bdpt(F&& f) {  // the bidirectional integrators' (connection slots apart)
-        for (auto* a : {&dvcm, &dvc}) f(*a);
+        for (auto* a : {&dvcm, &dvc, &dpt0, &dpt1}) f(*a);
         for (auto* a : {&light_id, &conn_n}) f(*a);
         f(store);
         f(vertex);
@@ -183,7 +183,7 @@ struct Wavefront {
         bs = BdptState{dvcm.data(),     dvc.data(),      light_id.data(),   store.data(),
                        vertex.data(),   splat_xy.data(), power.data(),      std::max(conn_slots, 1),
                        conn_n.data(),   conn_o.data(),   conn_d.data(),     conn_tmax.data(),
-                       conn_c.data()};
+                       conn_c.data(),   dpt0.data(),     dpt1.data()};
     }
 
 };

@@ -345,6 +345,7 @@ SessionSettings to_settings(const nb::dict& d) {
     s.adaptive_step = get<int>(d, "adaptive_step", s.adaptive_step);
     s.instancing = get<bool>(d, "instancing", s.instancing);
     s.auto_keep_pilot = get<bool>(d, "auto_keep_pilot", s.auto_keep_pilot);
+    s.auto_moments = get<bool>(d, "moment_channels", s.auto_moments);  // (tests)
     if (s.threads < 0 || s.threads > kMaxThreads) {
         throw std::invalid_argument("threads must be in [0, " + std::to_string(kMaxThreads) +
                                     "] (0: one per core), got " + std::to_string(s.threads));
@@ -530,6 +531,7 @@ NB_MODULE(_core, m) {
                 static const char* const kChoice[] = {"pilot", "pt", "cis"};
                 d["auto_choice"] = kChoice[std::min(st.auto_choice, 2)];
                 d["auto_cis_over_pt"] = st.auto_cis_over_pt;
+                d["auto_pt_tail"] = st.auto_pt_tail;
                 d["auto_pt_iterations"] = st.auto_pt_iterations;
                 d["auto_cis_iterations"] = st.auto_cis_iterations;
             }
