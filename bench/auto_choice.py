@@ -2,7 +2,7 @@
 with its estimate of cis over pt and pt's tail (auto_pt_tail: pt's variance through the MIS
 identity over its own samples'). No timing.
 
-    PYTHONPATH=python .venv/bin/python bench/results/2026-12-04-auto3/choice.py RES STEPS SEEDS [scenes]
+    PYTHONPATH=python .venv/bin/python bench/auto_choice.py RES STEPS SEEDS [scenes]
 """
 import sys
 from pathlib import Path
@@ -10,7 +10,7 @@ from pathlib import Path
 import lantern
 from lantern import scenes
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
+sys.path.insert(0, str(Path(__file__).resolve().parent))
 from auto_efficiency import SCENES  # noqa: E402
 
 res, steps, seeds = int(sys.argv[1]), int(sys.argv[2]), int(sys.argv[3])

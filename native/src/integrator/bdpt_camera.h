@@ -1,0 +1,524 @@
+// The camera pass of the bidirectional stages (bdpt.h): camera sub-paths with emission (s = 0),
+// next-event estimation (s = 1) and connections to the cache (s >= 2): own path (bdpt),
+// uniform (lvc) or resampled (cis). MIS quantities: bdpt_common.h.
+#pragma once
+
+#include "integrator/bdpt_common.h"
+
+namespace lantern {
+
+// Solid-angle density of a pinhole camera ray along d for a raster density of one per pixel
+// (orthographic: the area density on the lens plane).
+LANTERN_HD inline float camera_pdf(const CameraView& c, Vec3 d) {
+    if (c.panoramic) {  // one sample per pixel's solid angle
+        float pixel_w;
+        Vec3 dl = {dot(d, c.to_world.axis(0)), dot(d, c.to_world.axis(1)),
+                   dot(d, c.to_world.axis(2))};
+        pano_raster(c, dl, &pixel_w);
+        return pixel_w > 0.0f ? 1.0f / pixel_w : 0.0f;
+    }
+    float sw = c.screen[1] - c.screen[0], sh = c.screen[3] - c.screen[2];
+    float a_pix = sw * sh / (float(c.width) * float(c.height));
+    if (c.orthographic) return 1.0f / a_pix;
+    float cos_c = -dot(d, c.to_world.axis(2));
+    if (!(cos_c > 0.0f)) return 0.0f;
+    return 1.0f / (a_pix * cos_c * cos_c * cos_c);
+}
+
+LANTERN_HD inline void bdpt_camera_generate(const SceneView& s, const PathState& ps,
+                                            const BdptState& bs, const BdptSettings& st, int i,
+                                            int64_t path) {
+    // the same camera sample as pt's (same random stream), plus the MIS quantities
+    const PtSettings pst{st.max_depth, st.rr_depth, st.spp_per_iteration, st.seed, st.iteration};
+    pt_generate(s, ps, pst, i, path);
+    bs.conn_n[i] = 0;
+    // the light tracing technique relative to a connection (count r); none without light paths
+    // (then r = 0 too: every weight of the camera pass is path tracing's)
+    bs.dvcm[i] = st.n_lt > 0.0f ? mis(st.n_lt / (st.r * camera_pdf(s.camera, ps.ray_d[i])))
+                                : 0.0f;
+    bs.dvc[i] = 0.0f;
+}
+
+// Weight of emission le found by the camera path at distance t_light along its ray, on light l
+// with geometric normal n there. dvcm, dvc are the slot's values before this segment.
+LANTERN_HD inline float bdpt_emission_weight(const SceneView& s, const PathState& ps,
+                                             const BdptState& bs, const BdptSettings& st, int i,
+                                             const Light& l, float t_light, Vec3 n,
+                                             float* nee_ratio = nullptr) {
+    if (ps.depth[i] <= 1) return 1.0f;  // seen directly: no other technique renders it
+    const Vec3 o = ps.ray_o[i], d = ps.ray_d[i];
+    const bool infinite = l.type == kLightSun || l.type == kLightWorld;
+    float dvcm = bs.dvcm[i], dvc = bs.dvc[i];
+    const int li = int(&l - s.lights);
+    const float pick = s.light_tree_on ? light_pick_pmf(s, li, ps.prev_p[i], ps.prev_n[i])
+                                       : l.nee_pdf;  // at the previous vertex
+    float pdf_direct = pick * (l.type == kLightWorld ? world_pdf_w(s, d)
+                                                     : light_pdf_w(l, o, d, t_light, n));
+    if (!infinite) {
+        float cos_l = fabsf(dot(d, n));
+        if (!(cos_l > 0.0f)) return 0.0f;
+        dvcm *= mis(t_light * t_light) / mis(cos_l);
+        dvc /= mis(cos_l);
+        pdf_direct *= cos_l / (t_light * t_light);  // area
+    }
+    float pdf_emit = l.emit_pick_pdf * emission_pdf(s, l, n, -d).pdf_emit;
+    // (the second vertex: dvc is light tracing's term alone, BdptSettings::lt_direct)
+    if (ps.depth[i] == 2) dvc *= bdpt_direct_lt(st);
+    float w_camera = mis(pdf_direct) * dvcm + mis(st.r * pdf_emit) * dvc;
+    if (nee_ratio) *nee_ratio = mis(pdf_direct) * dvcm;  // next-event estimation's (moments)
+    return 1.0f / (1.0f + w_camera);
+}
+
+// Lights crossed by the segment, and the background on a miss (s = 0).
+LANTERN_HD inline void bdpt_camera_emission(const SceneView& s, const PathState& ps,
+                                            const BdptState& bs, const BdptSettings& st, int i,
+                                            float t_end, bool miss) {
+    const Vec3 o = ps.ray_o[i], d = ps.ray_d[i];
+    const bool camera = ps.depth[i] <= 1;
+    for (int k = 0; k < s.num_hittable_lights; ++k) {
+        const Light& l = s.lights[s.hittable_lights[k]];
+        if (camera && !l.visible_camera) continue;
+        LightHit h = intersect_light(l, o, d, ps.ray_tmin[i], t_end);
+        if (!h.hit || is_black(h.le)) continue;
+        float nee = 0.0f;
+        float w = bdpt_emission_weight(s, ps, bs, st, i, l, h.t, h.n, &nee);
+        Vec3 c = ps.throughput[i] * h.le * w;
+        if (st.moments) c = bdpt_moment(c, c, bdpt_pt_factor(1.0f / w, 1.0f, nee));
+        add_radiance(ps, i, c);
+    }
+    if (!miss) return;
+    for (int k = 0; k < s.num_miss_lights; ++k) {
+        const Light& l = s.lights[s.miss_lights[k]];
+        if (l.type == kLightSun && (l.cos_sun >= 1.0f || (camera && !l.visible_camera) ||
+                                    dot(d, -l.direction) < l.cos_sun))
+            continue;  // a sun lamp is hidden from the camera; the world's disc (of_world) not
+        if (l.type == kLightWorld && camera && !l.visible_camera) continue;
+        float nee = 0.0f;
+        float w = bdpt_emission_weight(s, ps, bs, st, i, l, kInf, vec3(0.0f), &nee);
+        Vec3 le = l.type == kLightWorld ? world_radiance(s, l, d) : l.radiance;
+        Vec3 c = ps.throughput[i] * le * w;
+        if (st.moments) c = bdpt_moment(c, c, bdpt_pt_factor(1.0f / w, 1.0f, nee));
+        add_radiance(ps, i, c);
+    }
+}
+
+// On a GPU thread a connection resolves the cache vertex's material into the camera vertex's
+// scratch (one MaterialScratch on the shade kernel's stack, not two: 600 B of its frame) and
+// then the camera vertex's again (the same inputs, so the same material). The CPU keeps both.
+#ifdef __CUDA_ARCH__
+constexpr bool kOneScratch = true;
+#else
+constexpr bool kOneScratch = false;
+#endif
+
+// A camera vertex: what next-event estimation and connections read.
+struct CameraVertex {
+    SurfaceHit h;
+    Frame frame;
+    Vec3 wo;      // local
+    Vec3 beta;
+    float dvcm, dvc;
+    const Material* m;
+    int depth;    // segments from the camera
+    Vec3 n_pick;  // the normal the light tree sees here (light_pick_normal)
+    Vec3 ng_l;    // the geometric normal in frame (what a bumped Lambert reads)
+    // kOneScratch: where m may live, and what resolves it again (the hit's triangle, its
+    // barycentrics and the direction towards the previous vertex)
+    MaterialScratch* scratch;
+    int tri;
+    Vec2 uv;
+    Vec3 wo_w;
+};
+
+// The camera vertex's material, resolved (again) into its scratch: shade_point as the shade
+// stage built it.
+LANTERN_HD inline const Material& camera_vertex_material(const SceneView& s,
+                                                         const CameraVertex& z) {
+    return material_at_point(
+        s, s.tri_material[z.tri], [&] { return shade_point(z.h, z.tri, z.uv, z.wo_w); },
+        *z.scratch);
+}
+
+// Shadow segment from p (normal n) to q (normal nq; zero: no offset), shortened at both ends.
+LANTERN_HD inline void shadow_segment(Vec3 p, Vec3 n, Vec3 q, Vec3 nq, Vec3 dir, float scale,
+                                      Vec3* o, Vec3* sd, float* tmax) {
+    *o = offset_ray_origin(p, n, dir, scale);
+    Vec3 target = is_black(nq) ? q : offset_ray_origin(q, nq, -dir, scale);
+    Vec3 seg = target - *o;
+    float len = length(seg);
+    *sd = len > 0.0f ? seg / len : dir;
+    *tmax = len * (1.0f - 1e-4f);
+}
+
+// s = 1: one light sample; the shadow ray waits in the slot's shadow fields.
+LANTERN_HD inline void bdpt_camera_nee(const SceneView& s, const PathState& ps,
+                                       const BdptSettings& st, const CameraVertex& z, int i,
+                                       Rng& rng) {
+    Vec2 u_pick = rng.uniform2();
+    Vec2 u_light = rng.uniform2();
+    const LightPick pick = light_pick(s, z.h.p, z.n_pick, u_pick.x);
+    if (!(pick.pmf > 0.0f)) return;
+    const Light& l = s.lights[pick.light];
+    LightSample ls = sample_light(s, l, z.h.p, u_light);
+    if (!ls.valid || is_black(ls.le) || !light_side_agrees(*z.m, ls.wi, z.h.ng, z.h.ns)) return;
+    BsdfEval e = material_eval(*z.m, z.h.front, z.wo, z.frame.to_local(ls.wi), Transport::Radiance,
+                               z.h.coat_n, z.ng_l);
+    float pdf_light_w = pick.pmf * ls.pdf_w;
+    if (is_black(e.f) || !(pdf_light_w > 0.0f)) return;
+    const bool infinite = !(ls.dist < kInf);
+    const float cos_z = fabsf(dot(ls.wi, z.h.ng));
+    // densities of the light point: by next-event estimation, by the light sub-path (s = 2)
+    float cos_l = is_black(ls.n_light) ? 1.0f : fabsf(dot(ls.wi, ls.n_light));
+    float pdf_nee, pdf_lp;
+    float pdf_emit = l.emit_pick_pdf * emission_pdf(s, l, ls.n_light, -ls.wi).pdf_emit;
+    if (infinite) {
+        pdf_nee = pdf_light_w;
+        pdf_lp = pdf_emit * cos_z;
+    } else {
+        float d2 = ls.dist * ls.dist;
+        pdf_nee = ls.delta ? pick.pmf : pdf_light_w * cos_l / d2;
+        pdf_lp = pdf_emit * cos_z / d2;
+    }
+    float w_light = ls.delta ? 0.0f : mis(e.pdf_fwd_w / pdf_light_w);
+    // (the first vertex: z.dvcm is light tracing's term alone, BdptSettings::lt_direct)
+    const float dvcm_z = z.depth == 1 ? z.dvcm * bdpt_direct_lt(st) : z.dvcm;
+    float w_camera = mis(st.r * pdf_lp / pdf_nee) * (dvcm_z + z.dvc * mis(e.pdf_rev_w));
+    float w = 1.0f / (w_light + 1.0f + w_camera);
+    float cos_i = fabsf(dot(ls.wi, z.h.ns));
+    Vec3 c = z.beta * e.f * ls.le * (cos_i * w / pdf_light_w);
+    if (st.moments) c = bdpt_moment(c, c, bdpt_pt_factor(w_light + 1.0f + w_camera, w_light, 1.0f));
+    if (!is_finite(c)) {
+        ps.dropped[i] = 1;
+        return;
+    }
+    Vec3 target_n = ls.dist < kInf ? ls.n_light : vec3(0.0f);
+    if (ls.dist < kInf) {
+        shadow_segment(z.h.p, z.h.ng, ls.p_light, target_n, ls.wi, s.offset_scale, &ps.shadow_o[i],
+                       &ps.shadow_d[i], &ps.shadow_tmax[i]);
+    } else {
+        ps.shadow_o[i] = offset_ray_origin(z.h.p, z.h.ng, ls.wi, s.offset_scale);
+        ps.shadow_d[i] = ls.wi;
+        ps.shadow_tmax[i] = kInf;
+    }
+    ps.shadow_contrib[i] = c;
+    ps.shadow_valid[i] = 1;
+}
+
+// s >= 2: the unshadowed, MIS-weighted contribution of connecting z to cache vertex y (per unit
+// estimator weight), and the BSDF-product target. Zero when the path would be too long.
+struct Connection {
+    Vec3 c;
+    Vec3 dir;      // unit, z -> y
+    float dist;
+    float bsdf_target;
+    float pt_factor;  // BdptSettings::moments: bdpt_pt_factor
+};
+
+LANTERN_HD inline Connection bdpt_connect_in(const SceneView& s, const BdptSettings& st,
+                                             const CameraVertex& z, const LightVertex& y,
+                                             bool* clobbered) {
+    Connection r{vec3(0.0f), vec3(0.0f), 0.0f, 0.0f, 0.0f};
+    if (z.depth + 1 + y.length > st.max_depth) return r;
+    Vec3 dir = y.p - z.h.p;
+    float d2 = length_sq(dir);
+    if (!(d2 > 0.0f) || !is_finite(d2)) return r;
+    float dist = sqrtf(d2);
+    dir = dir / dist;
+    // each dot product once (the frames' third axes are the shading normals: the local
+    // directions' z are dir.ns): light_side_agrees of (dir, z), view_side_agrees of (-dir, y)
+    const Vec3 wi_z = z.frame.to_local(dir);
+    const float dz_ng = dot(dir, z.h.ng), dy_ng = dot(-dir, y.ng);
+    if (!(material_corrects_view(*z.m) ? dz_ng > 0.0f : dz_ng * wi_z.z > 0.0f)) return r;
+    const float dy_ns = dot(-dir, y.ns);
+    const bool y_geometric = material_view_geometric(s.materials[y.material]);
+    if (!(y_geometric ? dy_ng > 0.0f : dy_ng * dy_ns > 0.0f)) return r;
+    BsdfEval ez = bdpt_eval(*z.m, z.h.front, z.wo, wi_z, Transport::Radiance, z.h.coat_n,
+                            z.frame, z.h.ng);
+    if (is_black(ez.f)) return r;
+#ifdef __CUDA_ARCH__
+    MaterialScratch& scratch = *z.scratch;  // kOneScratch: z's material is not read again here
+#else
+    MaterialScratch scratch;
+#endif
+    const Material& my = material_at_point(s, y.material, [&] { return shade_point_lv(s, y, -dir); },
+                                            scratch);
+    *clobbered = &my == &scratch.m;
+    Frame fy = Frame::from_normal_angle(y.ns, y.tangent_angle);
+    const Vec3 coat_y = (my.tex_flags & kCoatNormal) || material_keeps_unbent_normal(my)
+                            ? oct_decode(y.coat_n)
+                            : vec3(0.0f, 0.0f, 1.0f);
+    const Vec3 wo_y = fy.to_local(y.wo);
+    const Vec3 wi_y = Vec3{dot(-dir, fy.s), dot(-dir, fy.t), dy_ns};
+    BsdfEval ey = bdpt_eval(my, y.front != 0, wo_y, wi_y, Transport::Importance, coat_y, fy, y.ng);
+    if (is_black(ey.f)) return r;
+    const float cos_z_ng = fabsf(dz_ng), cos_y_ng = fabsf(dy_ng);
+    const float cos_z_ns = fabsf(wi_z.z);
+    const float cos_yo_ns = fabsf(wo_y.z), cos_yo_ng = fabsf(dot(y.wo, y.ng));
+    if (!(cos_yo_ng > 0.0f)) return r;
+    // light side: f |dir.ns| with the adjoint shading-normal factor
+    const float cos_y = cos_yo_ns * cos_y_ng / cos_yo_ng;
+    const float inv_d2 = 1.0f / d2;
+    float pdf_cam_a = ez.pdf_fwd_w * cos_y_ng * inv_d2;   // camera BSDF samples y
+    float pdf_light_a = ey.pdf_fwd_w * cos_z_ng * inv_d2; // light BSDF samples z
+    float w_light = mis(pdf_cam_a) * (y.dvcm + y.dvc * mis(ey.pdf_rev_w));
+    float w_camera = mis(pdf_light_a) * (z.dvcm + z.dvc * mis(ez.pdf_rev_w));
+    float w = 1.0f / (w_light + 1.0f + w_camera);
+    r.c = z.beta * ez.f * y.beta * ey.f * (cos_z_ns * cos_y * inv_d2 * w);
+    if (!is_finite(r.c)) r.c = vec3(0.0f);
+    r.dir = dir;
+    r.dist = dist;
+    r.bsdf_target = luminance(ez.f) * luminance(ey.f);
+    if (st.moments) {  // pt's techniques: dpt0, dpt1 as dvc's parts (dvcm itself for y1)
+        const float rev = mis(ey.pdf_rev_w), x = mis(pdf_cam_a);
+        r.pt_factor = bdpt_pt_factor(w_light + 1.0f + w_camera, x * y.dpt0 * rev,
+                                     x * (y.length == 1 ? y.dvcm : y.dpt1 * rev));
+    }
+    return r;
+}
+
+LANTERN_HD inline Connection bdpt_connect(const SceneView& s, const BdptSettings& st,
+                                          const CameraVertex& z, const LightVertex& y) {
+    bool clobbered = false;  // the cache vertex's material took z's scratch (kOneScratch)
+    const Connection r = bdpt_connect_in(s, st, z, y, &clobbered);
+    if (kOneScratch && clobbered && z.m == &z.scratch->m) camera_vertex_material(s, z);
+    return r;
+}
+
+LANTERN_HD inline void bdpt_queue_connection(const BdptState& bs, int i, const CameraVertex& z,
+                                             const LightVertex& y, const Connection& c,
+                                             Vec3 contrib, float offset_scale) {
+    int j = bs.conn_n[i];
+    if (j >= bs.conn_cap || is_black(contrib) || !is_finite(contrib)) return;
+    int e = i * bs.conn_cap + j;
+    shadow_segment(z.h.p, z.h.ng, y.p, y.ng, c.dir, offset_scale, &bs.conn_o[e], &bs.conn_d[e],
+                   &bs.conn_tmax[e]);
+    bs.conn_c[e] = contrib;
+    bs.conn_n[i] = j + 1;
+}
+
+// A candidate the CPU keeps for its picks: what bdpt_queue_connection reads of its Connection.
+struct KeptCandidate {
+    float cx, cy, cz, dx, dy, dz, pt_factor;
+};
+
+// cis's candidates per camera vertex at most (BdptSettings::candidates); SceneView's
+// cis_candidates holds 2 x kCisCandidates floats per GPU thread.
+constexpr int kCisCandidates = 64;
+
+// A uniform index in [0, size) from 32 random bits: an integer multiply-shift (Lemire 2019), so
+// that every vertex of a cache of up to 2^31 is reachable, each by floor or ceil(2^32 / size)
+// words. (A 24-bit float times the size, int(u * size), reaches at most 2^24 of them.)
+LANTERN_HD inline int32_t cache_pick(uint32_t bits, int32_t size) {
+    return int32_t((uint64_t(bits) * uint64_t(uint32_t(size))) >> 32);
+}
+
+// Connections of camera vertex z to the cache: bdpt (own light path), lvc (uniform) or cis
+// (resampled). Each queued shadow ray carries its estimator weight.
+LANTERN_HD inline void bdpt_camera_connect(const SceneView& s, const BdptState& bs,
+                                           const BdptSettings& st, const LightCache& cache,
+                                           const CameraVertex& z, int i, int64_t path) {
+    bs.conn_n[i] = 0;
+    // every cache vertex is at least one segment from its light: past max_depth from here
+    if (cache.size <= 0 || z.depth + 2 > st.max_depth) return;
+    if (st.mode == kBdptOwnPath) {
+        for (int k = cache.path_offset[path]; k < cache.path_offset[path + 1]; ++k) {
+            const LightVertex& y = cache.v[cache.path_vertex[k]];
+            Connection c = bdpt_connect(s, st, z, y);
+            const Vec3 contrib = st.moments ? bdpt_moment(c.c, c.c, c.pt_factor) : c.c;
+            bdpt_queue_connection(bs, i, z, y, c, contrib, s.offset_scale);
+        }
+        return;
+    }
+    // own stream per (path, depth), so that the three camera-pass stages never share one
+    Rng rng = Rng::hashed(Rng::for_camera(st.seed ^ 0x434F4E4Eull ^ (uint64_t(z.depth) << 40),
+                                          st.iteration, st.spp_per_iteration, path));
+    const float size = float(cache.size);
+    auto pick = [&](uint32_t bits) { return cache_pick(bits, cache.size); };
+    if (st.mode == kLvcUniform) {
+        const float weight = size / float(st.connections) * st.inv_light_paths;
+        for (int j = 0; j < st.connections; ++j) {
+            const LightVertex& y = cache.v[pick(rng.next())];
+            Connection c = bdpt_connect(s, st, z, y);
+            Vec3 contrib = c.c * weight;
+            if (st.moments) contrib = bdpt_moment(contrib, contrib, c.pt_factor);
+            bdpt_queue_connection(bs, i, z, y, c, contrib, s.offset_scale);
+        }
+        return;
+    }
+    // cis: M uniform candidates with w_j = p-hat(x_j) |C|, N picks proportional to w_j, each
+    // carrying W / (N L) with W = (1 / p-hat(y)) (1/M) sum_j w_j  (DESIGN.md)
+    constexpr int kMaxCandidates = kCisCandidates;
+#ifdef __CUDA_ARCH__
+    // a GPU thread keeps (index, p-hat) per candidate and connects the picked ones again (the
+    // same arithmetic, so the same connection): 64 connections would be 2 KB of its stack
+    constexpr int kKept = 1;
+#else
+    constexpr int kKept = kMaxCandidates;  // the CPU keeps them: each is evaluated once
+#endif
+    const int m = min_int(st.candidates, kMaxCandidates);
+    // per candidate p-hat and its pick count; the cumulative sums are summed again in the same
+    // order (the same bits), and a GPU thread draws the indices again from a copy of the
+    // stream: it holds 320 bytes here, not 1,024 (the CPU keeps the indices with the
+    // connections)
+    [[maybe_unused]] Rng rng_candidates = rng;
+#ifdef __CUDA_ARCH__
+    // and those 320 bytes are its column of SceneView::cis_candidates ([candidate][thread],
+    // as program registers): p-hats, then the pick counts as floats (exact up to 64)
+    const uint32_t t = launch_thread(s.cis_candidates, s.device_threads);
+    const ProgramRegs p_hats{s.cis_candidates + t, s.device_threads};
+    const ProgramRegs count = p_hats + kMaxCandidates;
+#else
+    float p_hats[kMaxCandidates];
+    uint8_t count[kMaxCandidates];  // of st.connections <= 64 picks (Session checks)
+#endif
+    KeptCandidate cand[kKept];  // plain floats: a Connection array would be zero-filled
+    [[maybe_unused]] int idx[kKept];
+    float sum = 0.0f;
+    for (int j = 0; j < m; ++j) {
+        const int index = pick(rng.next());
+        const Connection c = bdpt_connect(s, st, z, cache.v[index]);
+        if constexpr (kKept > 1) {
+            cand[j] = KeptCandidate{c.c.x, c.c.y, c.c.z, c.dir.x, c.dir.y, c.dir.z, c.pt_factor};
+            idx[j] = index;
+        }
+        float p_hat = st.target == kTargetBsdf ? (is_black(c.c) ? 0.0f : c.bsdf_target)
+                                               : luminance(c.c);
+        if (!(p_hat > 0.0f) || !is_finite(p_hat)) p_hat = 0.0f;
+        p_hats[j] = p_hat;
+        sum += p_hat * size;
+    }
+    if (!(sum > 0.0f) || !is_finite(sum)) return;
+    for (int j = 0; j < m; ++j) count[j] = 0;
+    for (int n = 0; n < st.connections; ++n) {
+        float u = rng.uniform() * sum;
+        int j = 0;
+        float cdf = p_hats[0] * size;  // the first loop's running sum, term for term
+        while (j < m - 1 && !(u < cdf)) cdf += p_hats[++j] * size;
+        while (j > 0 && p_hats[j] == 0.0f) --j;  // never a zero-weight candidate
+        ++count[j];
+    }
+    // the same candidate picked twice shares one shadow ray (same segment, same visibility)
+    for (int j = 0; j < m; ++j) {
+        int index;
+        if constexpr (kKept > 1)
+            index = idx[j];
+        else
+            index = pick(rng_candidates.next());  // every j, in order: the same stream
+        const LightVertex& y = cache.v[index];
+        const float p_hat = p_hats[j];
+        if (count[j] == 0 || !(p_hat > 0.0f)) continue;
+        float w_ris = st.naive_ris ? size : (sum / float(m)) / p_hat;
+        float weight = w_ris * float(count[j]) / float(st.connections) * st.inv_light_paths;
+        Connection c;
+        if constexpr (kKept > 1) {
+            c.c = vec3(cand[j].cx, cand[j].cy, cand[j].cz);
+            c.dir = vec3(cand[j].dx, cand[j].dy, cand[j].dz);
+            c.pt_factor = cand[j].pt_factor;
+        } else {
+            c = bdpt_connect(s, st, z, y);
+        }
+        Vec3 contrib = c.c * weight;
+        // (moments: the unit contribution is the uniform pick's, size / (N L))
+        if (st.moments) {
+            const float uniform = size / float(st.connections) * st.inv_light_paths;
+            contrib = bdpt_moment(contrib, c.c * uniform, c.pt_factor);
+        }
+        bdpt_queue_connection(bs, i, z, y, c, contrib, s.offset_scale);
+    }
+}
+
+// Camera-path shading: emission (s = 0), then at a surface NEE (s = 1), connections (s >= 2) and
+// the next direction. The three parts are separate functions so a GPU can launch them apart.
+LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps,
+                                         const BdptState& bs, const BdptSettings& st,
+                                         const LightCache& cache, int i, int64_t path) {
+    ps.shadow_valid[i] = 0;
+    ps.alive[i] = 0;
+    bs.conn_n[i] = 0;
+    const int tri = ps.hit_prim[i];
+    const Vec3 d = ps.ray_d[i];
+    const float t_hit = ps.hit_t[i];
+    bdpt_camera_emission(s, ps, bs, st, i, tri >= 0 ? t_hit : ps.ray_tmax[i], tri < 0);
+    if (tri < 0) return;
+    CameraVertex z;
+    MaterialScratch scratch;  // z.m points here when the material is resolved
+    z.h = pt_surface(s, tri, ps.hit_uv[i], d);
+    z.scratch = &scratch;
+    z.tri = tri;
+    z.uv = ps.hit_uv[i];
+    z.wo_w = -d;
+    z.m = &camera_vertex_material(s, z);
+    z.depth = ps.depth[i];
+    const float cos_in = fabsf(dot(d, z.h.ng));
+    if (!(cos_in > 0.0f) || !(t_hit > 0.0f)) return;
+    // MIS update for the new vertex (an orthographic camera's first vertex has no distance term)
+    float dvcm = bs.dvcm[i], dvc = bs.dvc[i];
+    if (!(z.depth == 1 && s.camera.orthographic)) dvcm *= mis(t_hit * t_hit);
+    dvcm /= mis(cos_in);
+    dvc /= mis(cos_in);
+    // emission of a mesh light at the hit
+    const Material& m = *z.m;
+    if (!is_black(m.emission)) {
+        float w = 1.0f, nee = 0.0f;
+        int li = s.tri_light ? s.tri_light[tri] : -1;
+        if (z.depth > 1 && li >= 0) {
+            const Light& l = s.lights[li];
+            const float pick = s.light_tree_on ? light_pick_pmf(s, li, ps.prev_p[i], ps.prev_n[i])
+                                               : l.nee_pdf;  // at the previous vertex
+            float pdf_direct = pick * light_pdf_w(l, ps.ray_o[i], d, t_hit, z.h.ng) *
+                               cos_in / (t_hit * t_hit);
+            float pdf_emit = l.emit_pick_pdf * emission_pdf(s, l, z.h.ng, -d).pdf_emit;
+            const float dvc_e = z.depth == 2 ? dvc * bdpt_direct_lt(st) : dvc;  // (lt_direct)
+            w = 1.0f / (1.0f + mis(pdf_direct) * dvcm + mis(st.r * pdf_emit) * dvc_e);
+            nee = mis(pdf_direct) * dvcm;
+        }
+        // the camera's direct view of a Principled emitter: under its coat and sheen
+        // (principled_emission_through; light it casts stays undimmed)
+        const Vec3 le = z.depth <= 1 ? m.emission * principled_emission_through(m, dot(d, z.h.ng))
+                                     : m.emission;
+        Vec3 c = ps.throughput[i] * le * w;
+        if (st.moments) c = bdpt_moment(c, c, bdpt_pt_factor(1.0f / w, 1.0f, nee));
+        add_radiance(ps, i, c);
+    }
+    if (z.depth >= st.max_depth) return;
+    z.frame = z.h.frame();
+    z.wo = z.frame.to_local(-d);
+    z.ng_l = z.frame.to_local(z.h.ng);
+    z.beta = ps.throughput[i];
+    z.dvcm = dvcm;
+    z.dvc = dvc;
+    z.n_pick = light_pick_normal(s, tri, z.h.ng);
+    Rng rng = ps.rng[i];
+    if (!material_is_delta(m)) {
+        bdpt_camera_nee(s, ps, st, z, i, rng);
+        bdpt_camera_connect(s, bs, st, cache, z, i, path);
+    } else {
+        rng.uniform2();
+        rng.uniform2();
+    }
+    // continue
+    Vec2 u_dir = rng.uniform2();
+    BsdfSample b = material_sample(m, z.h.front, z.wo, Vec3{u_dir.x, u_dir.y, rng.uniform()},
+                                   Transport::Radiance, z.h.coat_n, z.ng_l);
+    Vec3 wi = z.frame.to_world(b.wi);
+    if (b.valid && light_side_agrees(m, wi, z.h.ng, z.h.ns) && (b.delta || b.pdf_fwd_w > 0.0f)) {
+        Vec3 beta = z.beta * b.weight;
+        if (russian_roulette(beta, z.depth, st.rr_depth, rng) && max_component(beta) > 0.0f &&
+            is_finite(beta)) {
+            bdpt_scatter_update(dvcm, dvc, b, fabsf(dot(wi, z.h.ng)));
+            ps.throughput[i] = beta;
+            ps.depth[i] = z.depth + 1;
+            bs.dvcm[i] = dvcm;
+            bs.dvc[i] = dvc;
+            set_next_ray(ps, i, z.h.p, z.h.ng, wi, b.delta ? 0.0f : b.pdf_fwd_w,
+                         s.offset_scale);
+            if (s.light_tree_on) {
+                ps.prev_p[i] = z.h.p;
+                ps.prev_n[i] = z.n_pick;
+            }
+        }
+    }
+    ps.rng[i] = rng;
+}
+
+}  // namespace lantern

@@ -1,0 +1,201 @@
+// The light pass of the bidirectional stages (bdpt.h): light sub-paths, the cache vertices
+// they store and their light-tracing splats (t = 1). MIS quantities: bdpt_common.h.
+#pragma once
+
+#include "integrator/bdpt_common.h"
+
+namespace lantern {
+
+LANTERN_HD inline void bdpt_light_generate(const SceneView& s, const PathState& ps,
+                                           const BdptState& bs, const BdptSettings& st, int i,
+                                           int64_t path) {
+    Rng rng = Rng::for_path(st.seed ^ 0x4C5643ull, st.iteration, uint64_t(path));
+    ps.alive[i] = 0;
+    ps.dropped[i] = 0;
+    ps.shadow_valid[i] = 0;
+    ps.depth[i] = 0;
+    ps.throughput[i] = vec3(1.0f);
+    bs.power[i] = vec3(0.0f);
+    bs.store[i] = 0;
+    float u_pick = rng.uniform();
+    Vec2 u_pos = rng.uniform2(), u_dir = rng.uniform2();
+    ps.rng[i] = rng;
+    if (!s.emit_cdf) return;
+    int li = sample_cdf(s.emit_cdf, s.num_lights, u_pick);
+    const Light& l = s.lights[li];
+    if (!(l.emit_pick_pdf > 0.0f)) return;
+    EmissionSample es = sample_emission(s, l, u_pos, u_dir);
+    if (!es.valid) return;
+    const float pdf_emit = es.pdf_emit * l.emit_pick_pdf;
+    bs.power[i] = es.le * (es.cos_light / pdf_emit);
+    // ratios of the techniques that end on the light (s = 1, s = 0) to a connection (count r)
+    const float inv_r = 1.0f / mis(st.r);
+    // (next-event estimation's pick probability of this light depends on the receiver: the
+    // first hit multiplies it in, bdpt_light_shade)
+    bs.dvcm[i] = mis(es.pdf_direct / pdf_emit) * inv_r;
+    bs.dvc[i] = (es.delta_pos || es.delta_dir)
+                    ? 0.0f
+                    : mis((es.finite ? es.cos_light : 1.0f) / pdf_emit) * inv_r;
+    bs.light[i] = li;
+    if (st.moments) {  // path tracing's techniques: all camera-sampled (dVC's), next-event
+        bs.dpt0[i] = bs.dvc[i];
+        bs.dpt1[i] = 0.0f;
+    }
+    if (st.max_depth < 2) return;
+    ps.ray_o[i] = is_black(es.n) ? es.p : offset_ray_origin(es.p, es.n, es.d, s.offset_scale);
+    ps.ray_d[i] = es.d;
+    ps.ray_tmin[i] = 0.0f;
+    ps.ray_tmax[i] = kInf;
+    ps.prev_pdf_w[i] = pdf_emit;
+    ps.alive[i] = 1;
+}
+
+// Weight of the light tracing splat (t = 1) of a light vertex: camera_pdf_a is the camera's
+// density of this vertex (raster density 1 per pixel), pdf_rev the BSDF's density of the light
+// path's incoming direction given the camera direction.
+LANTERN_HD inline float bdpt_light_tracing_weight(const BdptSettings& st, float dvcm, float dvc,
+                                                  float camera_pdf_a, float pdf_rev, int k) {
+    const float n_lt = k == 1 ? st.n_lt * st.lt_direct : st.n_lt;  // (BdptSettings::lt_direct)
+    float w_light = mis(camera_pdf_a * st.r / n_lt) * (dvcm + dvc * mis(pdf_rev));
+    return 1.0f / (1.0f + w_light);
+}
+
+// At a light path's hit: MIS update, the vertex to store, the camera splat, the next direction.
+LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
+                                        const BdptState& bs, const BdptSettings& st, int i,
+                                        int64_t path) {
+    ps.shadow_valid[i] = 0;
+    ps.alive[i] = 0;
+    bs.store[i] = 0;
+    int tri = ps.hit_prim[i];
+    if (tri < 0) return;
+    const Vec3 d = ps.ray_d[i];
+    const float dist = ps.hit_t[i];
+    SurfaceHit h = pt_surface(s, tri, ps.hit_uv[i], d);
+    MaterialScratch scratch;
+    const Material& m = material_at_point(
+        s, s.tri_material[tri], [&] { return shade_point(h, tri, ps.hit_uv[i], -d); }, scratch);
+    const int k = ps.depth[i] + 1;  // segments from the light to this vertex
+    ps.depth[i] = k;
+    const Vec3 wo_w = -d;
+    const float cos_o_ns = fabsf(dot(wo_w, h.ns)), cos_o_ng = fabsf(dot(wo_w, h.ng));
+    if (!(cos_o_ng > 0.0f) || !(dist > 0.0f)) return;
+
+    // ---- MIS quantities at this vertex ----
+    float dvcm = bs.dvcm[i], dvc = bs.dvc[i];
+    const Light& l = s.lights[bs.light[i]];
+    const bool infinite = l.type == kLightSun || l.type == kLightWorld;
+    if (k == 1 && (l.type == kLightPoint || l.type == kLightSpot) && l.radius > 0.0f) {
+        // next-event estimation samples a sphere light's visible cap: its area density at y0
+        // depends on the receiver y1 (here), not 1 / area as assumed at generation
+        Vec3 y0 = ps.ray_o[i];
+        Vec3 n0 = normalize(y0 - l.position);
+        float pdf_a = light_pdf_w(l, h.p, wo_w, dist, n0) * fabsf(dot(d, n0)) / (dist * dist);
+        dvcm *= mis(pdf_a * (4.0f * kPi * l.radius * l.radius));
+    }
+    if (k == 1) {  // next-event estimation from here picks this light with this probability
+        dvcm *= mis(light_pick_pmf(s, bs.light[i], h.p, light_pick_normal(s, tri, h.ng)));
+    }
+    if (k > 1 || !infinite) dvcm *= mis(dist * dist);
+    dvcm /= mis(cos_o_ng);
+    dvc /= mis(cos_o_ng);
+    // (moments) the parts of dvc that are pt's techniques: dpt0 all camera-sampled, dpt1 the
+    // camera sampling all but y0, which next-event estimation samples (at k = 1: dvcm itself)
+    float dpt0 = 0.0f, dpt1 = 0.0f;
+    if (st.moments) {
+        dpt0 = bs.dpt0[i] / mis(cos_o_ng);
+        dpt1 = bs.dpt1[i] / mis(cos_o_ng);
+    }
+
+    Frame frame = h.frame();
+    const Vec3 wo = frame.to_local(wo_w);
+    const Vec3 beta = bs.power[i] * ps.throughput[i];
+    const bool delta = material_is_delta(m);
+
+    if (!delta) {
+        LightVertex v;
+        v.p = h.p;
+        v.ng = h.ng;
+        v.ns = h.ns;
+        v.wo = wo_w;
+        v.beta = beta;
+        v.dvcm = dvcm;
+        v.dvc = dvc;
+        v.material = s.tri_material[tri];
+        v.tri = tri;
+        v.bary16 = bary16_encode(ps.hit_uv[i]);
+        v.tangent_angle = h.tangent_angle;
+        v.path = int32_t(path);
+        v.length = int16_t(k);
+        v.front = h.front ? 1 : 0;
+        v.coat_n = (m.tex_flags & kCoatNormal) || material_keeps_unbent_normal(m)
+                       ? oct_encode(h.coat_n)
+                       : 0u;
+        v.dpt0 = dpt0;
+        v.dpt1 = dpt1;
+        bs.vertex[i] = v;
+        bs.store[i] = is_finite(beta) && is_finite(dvcm) && is_finite(dvc) ? 1 : 0;
+    }
+
+    // ---- t = 1: connect to the camera (k + 1 segments) ----
+    if (!delta && k + 1 <= st.max_depth && (s.tri_flags[tri] & kVisibleCamera) != 0) {
+        CameraConnection cc = connect_camera(s.camera, h.p, filter_radius(s.camera),
+                                             lens_sample(s.camera, ps, i));
+        if (cc.valid && view_side_agrees(m, cc.wc, h.ng, h.ns)) {
+            BsdfEval e = bdpt_eval(m, h.front, wo, frame.to_local(cc.wc), Transport::Importance,
+                                   h.coat_n, frame, h.ng);
+            if (!is_black(e.f)) {
+                float cos_wc_ng = fabsf(dot(cc.wc, h.ng));
+                // f |wc.ns| times the adjoint shading-normal factor [Veach thesis (5.19)]
+                float cos_y = cos_o_ns * cos_wc_ng / cos_o_ng;
+                float w = bdpt_light_tracing_weight(st, dvcm, dvc, cc.importance * cos_wc_ng,
+                                                    e.pdf_rev_w, k);
+                LightPathState lp{nullptr, bs.splat_xy};
+                Vec3 c = beta * e.f * (cos_y * cc.importance * w);
+                if (st.moments) {
+                    const float n_lt = k == 1 ? st.n_lt * st.lt_direct : st.n_lt;
+                    const float x = mis(cc.importance * cos_wc_ng * st.r / n_lt);
+                    const float a = x * dpt0 * mis(e.pdf_rev_w);
+                    const float b = x * (k == 1 ? dvcm : dpt1 * mis(e.pdf_rev_w));
+                    // f / q of the contribution the sum receives, c / st.n_lt (the splat's
+                    // scale, wavefront.h's splat()), is that times st.n_lt / n_lt (the count its
+                    // weight assumes: lt_direct): c / n_lt
+                    c = bdpt_moment(c, c * (1.0f / n_lt), bdpt_pt_factor(1.0f / w, a, b));
+                }
+                lt_queue_splat(ps, lp, i, h.p, h.ng, cc, c, s.offset_scale);
+            }
+        }
+    }
+    if (k + 2 > st.max_depth) return;  // the next vertex could not be used by any technique
+
+    // ---- continue with the adjoint BSDF ----
+    Rng rng = ps.rng[i];
+    Vec2 u_dir = rng.uniform2();
+    BsdfSample b = material_sample(m, h.front, wo, Vec3{u_dir.x, u_dir.y, rng.uniform()},
+                                   Transport::Importance, h.coat_n, frame.to_local(h.ng));
+    Vec3 wi = frame.to_world(b.wi);
+    if (b.valid && view_side_agrees(m, wi, h.ng, h.ns) && (b.delta || b.pdf_fwd_w > 0.0f)) {
+        float cos_i_ng = fabsf(dot(wi, h.ng));
+        float adj = cos_o_ns * cos_i_ng / (cos_o_ng * fabsf(b.wi.z));
+        Vec3 t = ps.throughput[i] * b.weight * adj;
+        if (russian_roulette(t, k + 1, st.rr_depth, rng) && max_component(t) > 0.0f &&
+            is_finite(t)) {
+            if (st.moments) {  // dvc's recursion, each part on its own (dvcm: k = 1 only)
+                const float ratio = b.pdf_fwd_w > 0.0f ? b.pdf_rev_w / b.pdf_fwd_w : 1.0f;
+                const float fwd = b.delta ? 1.0f : mis(cos_i_ng / b.pdf_fwd_w);
+                const float rev = b.delta ? mis(cos_i_ng * ratio) : mis(b.pdf_rev_w);
+                bs.dpt0[i] = fwd * dpt0 * rev;
+                bs.dpt1[i] = fwd * (dpt1 * rev + (k == 1 && !b.delta ? dvcm : 0.0f));
+            }
+            bdpt_scatter_update(dvcm, dvc, b, cos_i_ng);
+            ps.throughput[i] = t;
+            bs.dvcm[i] = dvcm;
+            bs.dvc[i] = dvc;
+            set_next_ray(ps, i, h.p, h.ng, wi, b.delta ? 0.0f : b.pdf_fwd_w,
+                         s.offset_scale);
+        }
+    }
+    ps.rng[i] = rng;
+}
+
+}  // namespace lantern
