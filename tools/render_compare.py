@@ -33,14 +33,17 @@ def build_scene(name):
     return scenes.build(name)
 
 
-def cycles_settings(scene, seed, spp, bounces=BOUNCES, transparent_bounces=None, threads=None,
+def cycles_settings(scene, seed, spp, bounces=None, transparent_bounces=None, threads=None,
                     filter_size=None):
     """Cycles set to match Lantern (the one place these are written; tools/difftest.py and
     make_cycles_refs.py use it too): CPU, `spp` samples of `seed`, no adaptive sampling,
     denoising, clamping or light threshold, Filter Glossy 0, `bounces` of every kind
     (transparent: `transparent_bounces`, default `bounces`), Blackman-Harris 1.5 (and
     render.filter_size when given), opaque film, the Standard view, 32-bit EXR; `threads`
-    fixes the thread count. Returns the Cycles settings that matter."""
+    fixes the thread count; `bounces` defaults to the module's BOUNCES at the call (tests set
+    it). Returns the Cycles settings that matter."""
+    if bounces is None:
+        bounces = BOUNCES
     c = scene.cycles
     scene.render.engine = "CYCLES"
     c.device = "CPU"
