@@ -26,14 +26,18 @@ lanes=${LANTERN_TEST_LANES:-$(nproc)}
 [ "$lanes" -lt 1 ] && lanes=1
 logs=build/test-logs
 rm -rf "$logs"; mkdir -p "$logs"
-units=()
+# the longest units first (measured at load 3-6 on 2 cores: test_bidirectional 30 min, tests/cycles
+# 11, tests/render 9, test_mitsuba 7), so that the lanes end close together
+units=(tests/python/test_bidirectional.py tests/python/test_mitsuba.py)
 for dir in tests/cycles/ tests/blender/ tests/render/ tests/*/; do
   [ "$dir" = "tests/cpp/" ] || [ "$dir" = "tests/python/" ] && continue
   ls "$dir"test_*.py >/dev/null 2>&1 || continue
   [[ " ${units[*]} " == *" $dir "* ]] && continue
   units+=("$dir")
 done
-units+=(tests/python/test_*.py)
+for f in tests/python/test_*.py; do
+  [[ " ${units[*]} " == *" $f "* ]] || units+=("$f")
+done
 run_unit() {  # $1: the unit's index; its log and exit status land in $logs
   local unit=${units[$1]}
   .venv/bin/python -m pytest -q -rs "${@:2}" "$unit" > "$logs/$1.log" 2>&1
