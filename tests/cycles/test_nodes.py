@@ -505,6 +505,28 @@ def mix_vector(nonuniform):
     return build
 
 
+def mix_float_converted(nt, emit):
+    """A float Mix fed by a colour and a vector (difftest seed 627, D32): Blender converts the
+    colour to its luminance and the vector to its mean before mixing; Lantern took the first
+    channel of each."""
+    m = nt.nodes.new("ShaderNodeMix")
+    m.data_type = "FLOAT"
+    comb = nt.nodes.new("ShaderNodeCombineColor")
+    sep = nt.nodes.new("ShaderNodeSeparateXYZ")
+    nt.links.new(_coord(nt), sep.inputs[0])
+    nt.links.new(sep.outputs["X"], comb.inputs[0])   # red along x, green along y, blue 0.8
+    nt.links.new(sep.outputs["Y"], comb.inputs[1])
+    comb.inputs[2].default_value = 0.8
+    nt.links.new(comb.outputs[0], _ident(m, "A_Float"))
+    swap = _node(nt, "ShaderNodeCombineXYZ", Z=0.6)   # the vector (y, x, 0.6)
+    nt.links.new(sep.outputs["Y"], swap.inputs["X"])
+    nt.links.new(sep.outputs["X"], swap.inputs["Y"])
+    nt.links.new(swap.outputs[0], _ident(m, "B_Float"))
+    _ident(m, "Factor_Float").default_value = 0.35
+    out = next(o for o in m.outputs if o.identifier == "Result_Float")
+    nt.links.new(out, emit.inputs["Strength"])
+
+
 def map_range_vector(build_type):
     def build(nt, emit):
         m = nt.nodes.new("ShaderNodeMapRange")
@@ -554,6 +576,7 @@ def separate_combine_hsv(nt, emit):
 CASES = {
     "mix_vector_uniform": ("plane", mix_vector(False)),
     "mix_vector_nonuniform": ("plane", mix_vector(True)),
+    "mix_float_converted": ("plane", mix_float_converted),
     "map_range_vector_stepped": ("plane", map_range_vector("STEPPED")),
     "map_range_vector_smootherstep": ("plane", map_range_vector("SMOOTHERSTEP")),
     "rgb_curves": ("plane", curves("rgb")),
