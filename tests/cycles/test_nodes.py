@@ -541,6 +541,15 @@ def mix_float_converted(nt, emit):
     nt.links.new(out, emit.inputs["Strength"])
 
 
+def brick_zero_width(nt, emit):
+    """Bricks of Width 0 are all mortar in Cycles (difftest D36): the Mortar colour, here
+    Generated so that the image varies; Lantern's core reads them as all brick (Color1)."""
+    b = _node(nt, "ShaderNodeTexBrick", **{"Brick Width": 0.0})
+    nt.links.new(_coord(nt), b.inputs["Mortar"])
+    nt.links.new(_coord(nt), b.inputs["Vector"])
+    _link(nt, b, "Color", emit)
+
+
 def map_range_vector(build_type):
     def build(nt, emit):
         m = nt.nodes.new("ShaderNodeMapRange")
@@ -591,6 +600,7 @@ CASES = {
     "mix_vector_uniform": ("plane", mix_vector(False)),
     "mix_vector_nonuniform": ("plane", mix_vector(True)),
     "mix_float_converted": ("plane", mix_float_converted),
+    "brick_zero_width": ("plane", brick_zero_width),
     "map_range_vector_stepped": ("plane", map_range_vector("STEPPED")),
     "map_range_vector_smootherstep": ("plane", map_range_vector("SMOOTHERSTEP")),
     "rgb_curves": ("plane", curves("rgb")),
