@@ -74,6 +74,8 @@ KNOWN = {
     "coat over glass": "D28: a coat over a Principled glass reads brighter in Lantern",
     "window coordinates": "D29: Texture Coordinate Window read at points the camera does "
                           "not see directly (through a bounce) differs",
+    "power of zero": "D35: Math / Vector Math Power of a zero base and a negative exponent: "
+                     "Cycles gives 0 at render time, Lantern +inf",
 }
 # what keeps an emission graph's value at or above 0 (the generator puts one in front)
 NON_NEGATIVE = {("ShaderNodeMath", "MAXIMUM"), ("ShaderNodeMix", True)}
@@ -206,6 +208,16 @@ def _graph_tags(graph, found):
             if key not in NON_NEGATIVE and sn["type"] not in ("ShaderNodeRGB",
                                                               "ShaderNodeValue"):
                 found.add("negative emission")
+        if t in ("ShaderNodeMath", "ShaderNodeVectorMath") and \
+                n.get("props", {}).get("operation") == "POWER":
+            base, expo = ("Value", "Value_001") if t == "ShaderNodeMath" else \
+                ("Vector", "Vector_001")
+            b = ins.get(base, 0.5 if t == "ShaderNodeMath" else [0.0, 0.0, 0.0])
+            e = ins.get(expo, 0.5 if t == "ShaderNodeMath" else [0.0, 0.0, 0.0])
+            zero = not _linked(graph, name, base) and 0.0 in (b if isinstance(b, list) else [b])
+            if zero and (_linked(graph, name, expo) or
+                         min(e if isinstance(e, list) else [e]) < 0.0):
+                found.add("power of zero")
         if t == "ShaderNodeTexBrick" and ins.get("Mortar Smooth", 0.1) < 0:
             found.add("negative mortar smooth")
         if t in ("ShaderNodeBsdfPrincipled", "ShaderNodeBsdfGlossy", "ShaderNodeBsdfMetallic",

@@ -187,8 +187,10 @@ def h_mix(ctx, node, out, path):
                   "VECTOR" if nonuniform else "VALUE", identifier=True)
     if not nonuniform:
         fac = ctx.convert(fac, "VECTOR")
-    a = ctx.inp(node, f"A_{suffix}", path, "VECTOR", identifier=True)
-    b = ctx.inp(node, f"B_{suffix}", path, "VECTOR", identifier=True)
+    # a float Mix converts what feeds A and B to a value first (a colour's luminance, a
+    # vector's mean), then the op mixes the repeated value
+    a, b = (ctx.convert(ctx.inp(node, f"{ab}_{suffix}", path, kind, identifier=True), "VECTOR")
+            for ab in "AB")
     flags = (1 if node.clamp_factor else 0) | (4 if nonuniform else 0)
     mode = 255
     if dt == "RGBA":

@@ -3,7 +3,7 @@ that the core's ColorRamp op interpolates (no op of their own). Spectra are inte
 the tabulated CIE 1931 2-degree observer (node_cie1931; until 2026-12 the multi-lobe Gaussian
 fit of Wyman, Sloan and Shirley, 3% off in the red tail), then taken to linear Rec.709 (D65).
 Blackbody (Planck's law) is normalised to luminance Y = 1 over 800-12000 K (clamped outside),
-as Blender defines it; the table runs in 1/T, where the colour changes smoothly. Wavelength
+as Blender defines it, and clamped at 0 after (Cycles does: blue is negative below 1900 K); the table runs in 1/T, where the colour changes smoothly. Wavelength
 (380-780 nm) is the observer's own colour, scaled so that no channel exceeds 1 and clamped
 at 0, as Cycles does (docs/nodes.md: measured against Cycles): its table has a knot at each of
 the observer's 5 nm rows, unclamped, and the clamp follows the lookup, so the core's linear
@@ -120,14 +120,20 @@ def _ramp(ctx, fac, floats, size=ne.TABLE_SIZE):
 
 
 def h_blackbody(ctx, node, out, path):
+    # Cycles' node outputs max(colour, 0): below about 1900 K blue is negative in Rec.709 (below
+    # 950 K green too), which a graph that reads the colour as a value sees (difftest D33)
     t = ctx.inp(node, "Temperature", path, "VALUE")
     if t.const is not None:
-        return ctx.const(tuple(blackbody_rgb(t.const[0])), "RGBA")
+        return ctx.const(tuple(max(c, 0.0) for c in blackbody_rgb(t.const[0])), "RGBA")
     a, b = 1.0 / T_MIN, 1.0 / T_MAX
     t = _math(ctx, "MAXIMUM", t, 1.0)
     inv = _math(ctx, "DIVIDE", ctx.const((1.0,), "VALUE"), t)       # 1/T
     u = _math(ctx, "MULTIPLY_ADD", inv, 1.0 / (b - a), -a / (b - a))  # 0 at T_MIN, 1 at T_MAX
-    return _ramp(ctx, u, _blackbody_table())
+    rgb = _ramp(ctx, u, _blackbody_table())   # unclamped knots, clamped after the lookup
+    zero, one = ctx.const((0.0, 0.0, 0.0), "VECTOR"), ctx.const((1.0,), "VALUE")
+    r, _ = ctx.emit_node("vector_math", [rgb, zero, zero, one], 4,
+                         mode=ne.VECTOR_OPS.index("MAXIMUM"))
+    return ctx.reg(r, 3, "RGBA")
 
 
 def h_wavelength(ctx, node, out, path):

@@ -118,15 +118,20 @@ def assert_exact(name, img_l, ref, mask=None, tol=TOL, floor=0.05, mean_tol=None
 # blackbody is a fit (docs/nodes.md), so Cycles is held only to its bound there.
 H_PLANCK, C_LIGHT, K_BOLTZMANN = 6.62607015e-34, 299792458.0, 1.380649e-23   # SI, exact
 BLACKBODY_K, WAVELENGTH_NM = (1800.0, 11000.0), (400.0, 700.0)   # over Generated X
+# below about 1900 K blue is negative in Rec.709, below 950 K green too: Cycles' node outputs
+# max(colour, 0), which only a graph reading the colour as a value can see (its luminance: 1.15
+# at 800 K, not 1; difftest seed 643, D33)
+BLACKBODY_LOW_K = (800.0, 2400.0)
 # per pixel channel against the computation above: Blackbody's 256 knots in 1/T interpolate
 # within 2.9e-4 of the exact colour (the 1 nm sums 7e-5 from the 0.1 nm ones); Wavelength's
 # knots are the observer's rows, so only float rounding is left
-SPECTRAL_TOL = {"blackbody": 5e-4, "wavelength": 2e-5}
+SPECTRAL_TOL = {"blackbody": 5e-4, "blackbody_luminance": 5e-4, "wavelength": 2e-5}
 # against Cycles, (tol, floor), from the measured worst pixel channel: Blackbody 0.75 %
 # relative at 1915 K, at most 0.06 % from 2835 K up (Cycles' blackbody is a fit); Wavelength
 # 1.8e-4 absolute (floor 1; peak about 1): Cycles' observer table is rounded to 4 decimals
 # (up to 1.05e-4 through the matrix) and its XYZ to Rec.709 matrix comes from OpenColorIO
-SPECTRAL_CYCLES = {"blackbody": (0.01, 0.05), "wavelength": (3e-4, 1.0)}
+SPECTRAL_CYCLES = {"blackbody": (0.01, 0.05), "blackbody_luminance": (0.01, 0.05),
+                   "wavelength": (3e-4, 1.0)}
 
 
 def _observer():
@@ -147,14 +152,14 @@ def _centres(lo, hi, width):
     return lo + (hi - lo) * (np.arange(width) + 0.5) / width
 
 
-def blackbody_expected(width):
+def blackbody_expected(width, kelvin=BLACKBODY_K):
     """(width, 3): a blackbody's linear Rec.709 colour at luminance 1, per column."""
     lam, cmf = _observer()
     fine = np.arange(360.0, 830.0 + 1e-9, 0.1)
     obs = np.stack([np.interp(fine, lam, cmf[:, k]) for k in range(3)], axis=1)
     m = fine * 1e-9
     out = []
-    for t in _centres(*BLACKBODY_K, width):
+    for t in _centres(*kelvin, width):
         b = 2.0 * H_PLANCK * C_LIGHT ** 2 / m ** 5 / np.expm1(H_PLANCK * C_LIGHT /
                                                              (m * K_BOLTZMANN * t))
         y = b[:, None] * obs
@@ -172,7 +177,15 @@ def wavelength_expected(width):
     return np.maximum(xyz @ _xyz_to_rec709().T / 2.52, 0.0)
 
 
-SPECTRAL_EXPECTED = {"blackbody": blackbody_expected, "wavelength": wavelength_expected}
+def blackbody_luminance_expected(width):
+    """(width, 3): the luminance of the blackbody colour clamped at 0 (as Cycles' node
+    outputs it), the grey an Emission Strength reads, per column."""
+    rgb = np.maximum(blackbody_expected(width, BLACKBODY_LOW_K), 0.0)
+    return np.repeat((rgb @ np.array([0.2126, 0.7152, 0.0722]))[:, None], 3, axis=1)
+
+
+SPECTRAL_EXPECTED = {"blackbody": blackbody_expected, "wavelength": wavelength_expected,
+                     "blackbody_luminance": blackbody_luminance_expected}
 
 
 def test_observer_table_gives_illuminant_a():
@@ -354,8 +367,9 @@ def white_noise(dim):
     return build
 
 
-def spectral(idname, socket, lo, hi):
-    """Blackbody / Wavelength over a range of its input along Generated X."""
+def spectral(idname, socket, lo, hi, into="Color"):
+    """Blackbody / Wavelength over a range of its input along Generated X, on the emission's
+    `into` (Strength: the colour's luminance)."""
     def build(nt, emit):
         x = nt.nodes.new("ShaderNodeSeparateXYZ")
         nt.links.new(_coord(nt), x.inputs[0])
@@ -364,7 +378,7 @@ def spectral(idname, socket, lo, hi):
         m.inputs["To Min"].default_value, m.inputs["To Max"].default_value = lo, hi
         n = nt.nodes.new(idname)
         nt.links.new(m.outputs[0], n.inputs[socket])
-        _link(nt, n, "Color", emit)
+        _link(nt, n, "Color", emit, into)
     return build
 
 
@@ -505,6 +519,37 @@ def mix_vector(nonuniform):
     return build
 
 
+def mix_float_converted(nt, emit):
+    """A float Mix fed by a colour and a vector (difftest seed 627, D32): Blender converts the
+    colour to its luminance and the vector to its mean before mixing; Lantern took the first
+    channel of each."""
+    m = nt.nodes.new("ShaderNodeMix")
+    m.data_type = "FLOAT"
+    comb = nt.nodes.new("ShaderNodeCombineColor")
+    sep = nt.nodes.new("ShaderNodeSeparateXYZ")
+    nt.links.new(_coord(nt), sep.inputs[0])
+    nt.links.new(sep.outputs["X"], comb.inputs[0])   # red along x, green along y, blue 0.8
+    nt.links.new(sep.outputs["Y"], comb.inputs[1])
+    comb.inputs[2].default_value = 0.8
+    nt.links.new(comb.outputs[0], _ident(m, "A_Float"))
+    swap = _node(nt, "ShaderNodeCombineXYZ", Z=0.6)   # the vector (y, x, 0.6)
+    nt.links.new(sep.outputs["Y"], swap.inputs["X"])
+    nt.links.new(sep.outputs["X"], swap.inputs["Y"])
+    nt.links.new(swap.outputs[0], _ident(m, "B_Float"))
+    _ident(m, "Factor_Float").default_value = 0.35
+    out = next(o for o in m.outputs if o.identifier == "Result_Float")
+    nt.links.new(out, emit.inputs["Strength"])
+
+
+def brick_zero_width(nt, emit):
+    """Bricks of Width 0 are all mortar in Cycles (difftest D36): the Mortar colour, here
+    Generated so that the image varies; Lantern's core reads them as all brick (Color1)."""
+    b = _node(nt, "ShaderNodeTexBrick", **{"Brick Width": 0.0})
+    nt.links.new(_coord(nt), b.inputs["Mortar"])
+    nt.links.new(_coord(nt), b.inputs["Vector"])
+    _link(nt, b, "Color", emit)
+
+
 def map_range_vector(build_type):
     def build(nt, emit):
         m = nt.nodes.new("ShaderNodeMapRange")
@@ -554,6 +599,8 @@ def separate_combine_hsv(nt, emit):
 CASES = {
     "mix_vector_uniform": ("plane", mix_vector(False)),
     "mix_vector_nonuniform": ("plane", mix_vector(True)),
+    "mix_float_converted": ("plane", mix_float_converted),
+    "brick_zero_width": ("plane", brick_zero_width),
     "map_range_vector_stepped": ("plane", map_range_vector("STEPPED")),
     "map_range_vector_smootherstep": ("plane", map_range_vector("SMOOTHERSTEP")),
     "rgb_curves": ("plane", curves("rgb")),
@@ -660,6 +707,8 @@ CASES = {
         "Scale": 2.5, "Bias": 0.3, "Brick Width": 0.4, "Row Height": 0.2, "Mortar Size": 0.06,
         "Mortar Smooth": 0.0})),   # (a smooth band narrower than a pixel would be an edge)
     "blackbody": ("plane", spectral("ShaderNodeBlackbody", "Temperature", *BLACKBODY_K)),
+    "blackbody_luminance": ("plane", spectral("ShaderNodeBlackbody", "Temperature",
+                                              *BLACKBODY_LOW_K, into="Strength")),
     "wavelength": ("plane", spectral("ShaderNodeWavelength", "Wavelength", *WAVELENGTH_NM)),
     # past both ends of the table (difftest D26): black there in Cycles; 330-830 nm puts no
     # pixel centre at 375-380 nm, where Cycles extrapolates and Lantern reads the 380 nm row
