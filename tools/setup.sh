@@ -39,7 +39,19 @@ fi
 
 # ---- build and install lantern (incremental: build/py keeps the CMake tree) ----
 export CMAKE_BUILD_PARALLEL_LEVEL=${CMAKE_BUILD_PARALLEL_LEVEL:-$(nproc)}
-export CMAKE_ARGS="${CMAKE_ARGS:-} -DCMAKE_CUDA_ARCHITECTURES=${LANTERN_CUDA_ARCHS:-90} -DLANTERN_CUDA_KEEP_PTX=$PWD/build/ptx"
+# CUDA targets: LANTERN_CUDA_ARCHS, else sm_90 SASS where a GPU is visible, else PTX only as CI
+# builds it (no ptxas: ~30 CPU-minutes of SASS nothing here could run, and one configuration
+# for this script, tools/render_default.sh and .ci/run, so that switching between them does not
+# rebuild every CUDA object)
+archs=${LANTERN_CUDA_ARCHS:-}
+if [ -z "$archs" ]; then
+  if command -v nvidia-smi >/dev/null 2>&1 && nvidia-smi -L 2>/dev/null | grep -q "^GPU"; then
+    archs=90
+  else
+    archs=90-virtual
+  fi
+fi
+export CMAKE_ARGS="${CMAKE_ARGS:-} -DCMAKE_CUDA_ARCHITECTURES=$archs -DLANTERN_CUDA_KEEP_PTX=$PWD/build/ptx"
 log=build/setup-build.log
 mkdir -p build
 if ! .venv/bin/python -m pip install --no-build-isolation --no-deps . >"$log" 2>&1; then
