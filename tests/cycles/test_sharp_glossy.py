@@ -23,10 +23,7 @@ import sys
 import numpy as np
 import pytest
 
-bpy = pytest.importorskip("bpy")
-lantern = pytest.importorskip("lantern")
-if not lantern.native_available():
-    pytest.skip(f"native core unavailable: {lantern.native_error()}", allow_module_level=True)
+import bpy  # noqa: E402 (conftest.py skips this folder without bpy or the core)
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(
     os.path.abspath(__file__)))), "tools"))
