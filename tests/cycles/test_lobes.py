@@ -18,73 +18,27 @@ import math
 import os
 import sys
 
-import numpy as np
 import pytest
 
 import bpy  # noqa: E402 (conftest.py skips this folder without bpy or the core)
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(
     os.path.abspath(__file__)))), "tools"))
-import render_compare as rc  # noqa: E402
-from lantern import metrics  # noqa: E402
+import lobe_stage  # noqa: E402
+from lobe_stage import shader as _shader  # noqa: E402
 
 SIZE, K, SPP = 32, 8, 16   # Lantern and Cycles alike, per seed
 
 
 def _stage(kind):
-    """A factory-empty scene: a 40 m plane at z = 0 (or a unit sphere at z = 1 over nothing),
-    the camera 3 m up looking 45 degrees down, a white uniform world; returns the node tree of
-    the material the object carries (emptied but for the output)."""
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    sc = bpy.context.scene
-    sc.render.resolution_x = sc.render.resolution_y = SIZE
-    sc.render.resolution_percentage = 100
-    if kind == "plane":
-        bpy.ops.mesh.primitive_plane_add(size=40.0)
-    else:
-        bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=4, radius=1.0, location=(0, 0, 1))
-        bpy.ops.object.shade_smooth()
-    obj = bpy.context.object
-    mat = bpy.data.materials.new("Lobe")
-    nt = mat.node_tree
-    for n in list(nt.nodes):
-        if n.type != "OUTPUT_MATERIAL":
-            nt.nodes.remove(n)
-    obj.data.materials.append(mat)
-    cam = bpy.data.objects.new("Cam", bpy.data.cameras.new("Cam"))
-    cam.location = (0.0, -3.0, 3.0) if kind == "plane" else (0.0, -3.2, 2.6)
-    cam.rotation_euler = (math.radians(45.0 if kind == "plane" else 65.0), 0.0, 0.0)
-    sc.collection.objects.link(cam)
-    sc.camera = cam
-    world = bpy.data.worlds.new("W")
-    world.node_tree.nodes["Background"].inputs["Color"].default_value = (1, 1, 1, 1)
-    sc.world = world
+    """lobe_stage's plane or sphere under a white uniform world; returns the material's nodes."""
+    sc, nt = lobe_stage.stage(SIZE, kind)
+    lobe_stage.world(sc)
     return nt
 
 
-def _shader(nt, kind, **inputs):
-    node = nt.nodes.new(kind)
-    for key, value in inputs.items():
-        node.inputs[key].default_value = value
-    out = next(n for n in nt.nodes if n.type == "OUTPUT_MATERIAL")
-    nt.links.new(node.outputs[0], out.inputs["Surface"])
-    return node
-
-
 def _compare(name, integrators=("pt",), spp=SPP):
-    cyc = [rc.render_cycles(seed=100 + k, spp=spp)[0] for k in range(K)]
-    for integrator in integrators:
-        lan = []
-        for k in range(K):
-            img, messages = rc.render_lantern(seed=200 + k, spp=spp, threads=1,
-                                              integrator=integrator)
-            assert messages == [], messages
-            lan.append(img)
-        ratio = np.mean(lan) / np.mean(cyc)
-        label = f"{name} ({integrator})"
-        print(f"{label}: Lantern / Cycles image mean {ratio:.4f}")
-        rc.REPORT.append(f"lobes {label}: Lantern / Cycles image mean {ratio:.4f}")
-        metrics.assert_agreement(label, lan, cyc, block=8, rel_floor=1e-3)
+    lobe_stage.compare("lobes", name, integrators, K, spp)
 
 
 def test_oren_nayar_matches_cycles():

@@ -16,7 +16,6 @@ point-light case 0.000 (black); the sphere-light metal 0.97 (its tail missing). 
 noise (docs/difftest.md, D31).
 """
 
-import math
 import os
 import sys
 
@@ -27,8 +26,9 @@ import bpy  # noqa: E402 (conftest.py skips this folder without bpy or the core)
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(
     os.path.abspath(__file__)))), "tools"))
+import lobe_stage  # noqa: E402
 import render_compare as rc  # noqa: E402
-from lantern import metrics  # noqa: E402
+from lobe_stage import shader as _shader  # noqa: E402
 
 SIZE, K, SPP = 32, 8, 16   # Lantern and Cycles alike, per seed
 
@@ -38,29 +38,12 @@ PEAK = (0.4, 3.3, 2.6)   # ... inside the picture, near its centre
 
 
 def _stage(light_radius, location=TAIL):
-    """A factory-empty scene: a 40 m plane at z = 0, the camera 3 m up looking 45 degrees down
-    at the origin, a black world, one light. At TAIL the light's reflection (the lobe's peak)
-    lands outside the picture, which reads the lobe's tail: noise-free under a point light (but
-    for the pixel filter), so every block resolves a small bias; at PEAK the reflection is in
-    the picture. Radius 0: a point light; else a sphere light (soft falloff off). Returns the
-    node tree of the plane's material (emptied but for the output)."""
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    sc = bpy.context.scene
-    sc.render.resolution_x = sc.render.resolution_y = SIZE
-    sc.render.resolution_percentage = 100
-    bpy.ops.mesh.primitive_plane_add(size=40.0)
-    obj = bpy.context.object
-    mat = bpy.data.materials.new("Sharp")
-    nt = mat.node_tree
-    for n in list(nt.nodes):
-        if n.type != "OUTPUT_MATERIAL":
-            nt.nodes.remove(n)
-    obj.data.materials.append(mat)
-    cam = bpy.data.objects.new("Cam", bpy.data.cameras.new("Cam"))
-    cam.location = (0.0, -3.0, 3.0)
-    cam.rotation_euler = (math.radians(45.0), 0.0, 0.0)
-    sc.collection.objects.link(cam)
-    sc.camera = cam
+    """lobe_stage's plane under a black world and one light. At TAIL the light's reflection (the
+    lobe's peak) lands outside the picture, which reads the lobe's tail: noise-free under a
+    point light (but for the pixel filter), so every block resolves a small bias; at PEAK the
+    reflection is in the picture. Radius 0: a point light; else a sphere light (soft falloff
+    off). Returns the node tree of the plane's material."""
+    sc, nt = lobe_stage.stage(SIZE, "plane", material="Sharp")
     light = bpy.data.lights.new("L", "POINT")
     light.energy = 300.0
     light.shadow_soft_size = light_radius
@@ -68,40 +51,16 @@ def _stage(light_radius, location=TAIL):
     lo = bpy.data.objects.new("L", light)
     lo.location = location
     sc.collection.objects.link(lo)
-    world = bpy.data.worlds.new("W")
-    world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.0
-    sc.world = world
+    lobe_stage.world(sc, strength=0.0)
     return nt
 
 
-def _shader(nt, kind, **inputs):
-    node = nt.nodes.new(kind)
-    for key, value in inputs.items():
-        node.inputs[key].default_value = value
-    out = next(n for n in nt.nodes if n.type == "OUTPUT_MATERIAL")
-    nt.links.new(node.outputs[0], out.inputs["Surface"])
-    return node
-
-
-def _lantern(integrator, base=200, k_seeds=K, spp=SPP):
-    imgs = []
-    for k in range(k_seeds):
-        img, messages = rc.render_lantern(seed=base + k, spp=spp, threads=1, integrator=integrator)
-        assert messages == [], messages
-        imgs.append(img)
-    return imgs
+def _lantern(integrator, k_seeds=K, spp=SPP):
+    return lobe_stage.lantern_seeds(integrator, k_seeds, spp)
 
 
 def _compare(name, integrators=("pt",), k_seeds=K, spp=SPP, block_bias=0.05):
-    cyc = [rc.render_cycles(seed=100 + k, spp=spp)[0] for k in range(k_seeds)]
-    assert np.mean(cyc) > 0.0, "Cycles rendered the scene black"
-    for integrator in integrators:
-        lan = _lantern(integrator, k_seeds=k_seeds, spp=spp)
-        ratio = np.mean(lan) / np.mean(cyc)
-        label = f"{name} ({integrator})"
-        print(f"{label}: Lantern / Cycles image mean {ratio:.4f}")
-        rc.REPORT.append(f"sharp glossy {label}: Lantern / Cycles image mean {ratio:.4f}")
-        metrics.assert_agreement(label, lan, cyc, block=8, rel_floor=1e-3, block_bias=block_bias)
+    lobe_stage.compare("sharp glossy", name, integrators, k_seeds, spp, block_bias)
 
 
 def _metal(nt, roughness, anisotropic=0.0):

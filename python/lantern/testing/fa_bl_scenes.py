@@ -13,9 +13,10 @@ sys.path.insert(0, str(ROOT / "tools"))      # render_compare, lantern_bpy
 import lantern  # noqa: E402
 
 
-def pairs_layers(trial):
-    """test_layers_passes' Combined (both view layers) and uncropped border against Cycles:
-    8 seeds of 16 spp an engine, each trial its own seeds on both sides (needs bpy)."""
+def _layers_passes(runs):
+    """test_layers_passes' module (the add-on loaded) and a getter of its renders, made on the
+    first call: for each (key, engine, seed0, crop) of `runs`, tl.SEEDS renders of the
+    layers_passes scene by that engine from seed0 on (crop False: the border uncropped)."""
     sys.path.insert(0, str(ROOT / "blend_scenes"))
     sys.path.insert(0, str(ROOT / "tests" / "cycles"))
     import tempfile
@@ -30,29 +31,35 @@ def pairs_layers(trial):
     def renders():
         if not cache:
             tmp = Path(tempfile.mkdtemp())
-            for engine, setup, seed0, case in (
-                    ("cycles", tl._cycles, 10000 + 100 * trial, "full"),
-                    ("lantern", tl._lantern, 20000 + 100 * trial, "full"),
-                    ("lantern", tl._lantern, 20000 + 100 * trial, "nocrop")):
+            for key, engine, seed0, crop in runs:
+                setup = tl._cycles if engine == "cycles" else tl._lantern
                 for k in range(tl.SEEDS):
                     scene = layers_passes.layers_passes()
                     setup(scene, seed0 + k)
-                    if case != "full":
+                    if not crop:
                         layers_passes.set_border(scene, crop=False)
-                    cache.setdefault((engine, case), []).append(
-                        exr_passes.render_passes(scene, tmp / f"{engine}_{case}{k}.exr"))
+                    cache.setdefault(key, []).append(
+                        exr_passes.render_passes(scene, tmp / f"{key}{k}.exr"))
         return cache
+    return tl, renders
+
+
+def pairs_layers(trial):
+    """test_layers_passes' Combined (both view layers) and uncropped border against Cycles:
+    8 seeds of 16 spp an engine, each trial its own seeds on both sides (needs bpy)."""
+    tl, renders = _layers_passes((("cycles", "cycles", 10000 + 100 * trial, True),
+                                  ("lantern", "lantern", 20000 + 100 * trial, True),
+                                  ("nocrop", "lantern", 20000 + 100 * trial, False)))
 
     def combined(layer):
         r = renders()
-        return (tl._combined(r["lantern", "full"], layer), tl._combined(r["cycles", "full"], layer),
-                {"block": 8})
+        return tl._combined(r["lantern"], layer), tl._combined(r["cycles"], layer), {"block": 8}
 
     def border(layer):
         r = renders()
         cut = (slice(64 - tl.BY1, 64 - tl.BY0), slice(tl.BX0, tl.BX1))
-        return ([x[cut] for x in tl._combined(r["lantern", "nocrop"], layer)],
-                [x[cut] for x in tl._combined(r["cycles", "full"], layer)], {"block": 8})
+        return ([x[cut] for x in tl._combined(r["nocrop"], layer)],
+                [x[cut] for x in tl._combined(r["cycles"], layer)], {"block": 8})
     for layer in tl.LAYERS:
         yield f"layers_passes {layer} Combined vs Cycles", lambda layer=layer: combined(layer)
         yield f"layers_passes {layer} border vs Cycles", lambda layer=layer: border(layer)
@@ -62,28 +69,8 @@ def pairs_passes(trial):
     """test_layers_passes' data passes (Normal, Denoising Albedo, Denoising Normal, Diffuse
     Color; both view layers) against Cycles, 8 seeds of 16 spp an engine, each trial its own
     seeds on both sides (needs bpy)."""
-    sys.path.insert(0, str(ROOT / "blend_scenes"))
-    sys.path.insert(0, str(ROOT / "tests" / "cycles"))
-    import tempfile
-
-    import exr_passes
-    import lantern_bpy
-    import layers_passes
-    import test_layers_passes as tl
-    lantern_bpy.load_addon()
-    cache = {}
-
-    def renders():
-        if not cache:
-            tmp = Path(tempfile.mkdtemp())
-            for engine, setup, seed0 in (("cycles", tl._cycles, 30000 + 100 * trial),
-                                         ("lantern", tl._lantern, 40000 + 100 * trial)):
-                for k in range(tl.SEEDS):
-                    scene = layers_passes.layers_passes()
-                    setup(scene, seed0 + k)
-                    cache.setdefault(engine, []).append(
-                        exr_passes.render_passes(scene, tmp / f"{engine}{k}.exr"))
-        return cache
+    tl, renders = _layers_passes((("cycles", "cycles", 30000 + 100 * trial, True),
+                                  ("lantern", "lantern", 40000 + 100 * trial, True)))
 
     def one(layer, name):
         r = renders()
