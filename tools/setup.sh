@@ -39,14 +39,17 @@ fi
 
 # ---- build and install lantern (incremental: build/py keeps the CMake tree) ----
 export CMAKE_BUILD_PARALLEL_LEVEL=${CMAKE_BUILD_PARALLEL_LEVEL:-$(nproc)}
-# CUDA targets: LANTERN_CUDA_ARCHS, else sm_90 SASS where a GPU is visible, else PTX only as CI
-# builds it (no ptxas: ~30 CPU-minutes of SASS nothing here could run, and one configuration
-# for this script, tools/render_default.sh and .ci/run, so that switching between them does not
-# rebuild every CUDA object)
+# CUDA targets: LANTERN_CUDA_ARCHS, else SASS (and PTX) for the compute capability of each GPU
+# nvidia-smi lists (an RTX 3080 is 86, an H100 90; sm_90 code does not load on an 8.x card; a
+# driver too old to report it: 90), else PTX only as CI builds it (no ptxas: ~30 CPU-minutes of
+# SASS nothing here could run, and one configuration for this script, tools/render_default.sh
+# and .ci/run, so that switching between them does not rebuild every CUDA object)
 archs=${LANTERN_CUDA_ARCHS:-}
 if [ -z "$archs" ]; then
   if command -v nvidia-smi >/dev/null 2>&1 && nvidia-smi -L 2>/dev/null | grep -q "^GPU"; then
-    archs=90
+    archs=$(nvidia-smi --query-gpu=compute_cap --format=csv,noheader 2>/dev/null \
+            | tr -d ' .' | grep -E '^[0-9]+$' | sort -u | paste -sd ';')
+    [ -n "$archs" ] || archs=90
   else
     archs=90-virtual
   fi
