@@ -388,16 +388,19 @@ def main(argv=None):
     counts = {}
     print(f"lantern {lantern.__file__}; settings {asdict(st)}; avoid {sorted(avoid)}"
           + (f"; resuming, {len(done)} cases in the log" if done else ""), flush=True)
-    seed, ran = args.seed - 1, 0
+    # --cases counts the run's cases, the log's included: a resumed run stops at N in all
+    seed, ran = args.seed - 1, len(done)
+    if ran >= args.cases:
+        print(f"the log holds {ran} cases, --cases {args.cases}: nothing to run")
     while ran < args.cases:
         seed += 1
         if seed in done:
             continue
         if args.minutes and time.perf_counter() - t_start > 60 * args.minutes:
-            print(f"time limit: stopped after {ran} cases")
+            print(f"time limit: stopped at {ran} cases")
             break
         if deadline is not None and time.time() > deadline:
-            print(f"deadline {args.until} UTC: stopped after {ran} cases")
+            print(f"deadline {args.until} UTC: stopped at {ran} cases")
             break
         ran += 1
         case = ds.generate(seed, args.profile, args.size, avoid)

@@ -75,7 +75,8 @@ KNOWN = {
     "window coordinates": "D29: Texture Coordinate Window read at points the camera does "
                           "not see directly (through a bounce) differs",
     "power of zero": "D35: Math / Vector Math Power of a zero base and a negative exponent: "
-                     "Cycles gives 0 at render time, Lantern +inf",
+                     "Cycles gives 0 at render time, Lantern +inf (fixed, parity4: the tag "
+                     "stays until a long run has drawn such graphs again)",
 }
 # what keeps an emission graph's value at or above 0 (the generator puts one in front)
 NON_NEGATIVE = {("ShaderNodeMath", "MAXIMUM"), ("ShaderNodeMix", True)}

@@ -125,15 +125,8 @@ def h_image(ctx, node, out, path):
 
 
 def h_brick(ctx, node, out, path):
-    # bricks of no width or height (a constant <= 0) are all mortar in Cycles: Fac 1, the
-    # Mortar colour (measured, bpy 5.0.1; difftest D36). The core's op reads them as all brick,
-    # so a constant is folded here; one a graph computes at render time still differs
-    for n in ("Brick Width", "Row Height"):
-        v = _val(ctx, node, n, path)
-        if v.const is not None and not v.const[0] > 0.0:
-            if out.identifier == "Fac":
-                return ctx.const((1.0,), "VALUE")
-            return ctx.inp(node, "Mortar", path, "RGBA", identifier=True)
+    # bricks of no (or negative) width or height, constant or computed, are all mortar in
+    # Cycles wherever Mortar Size > 0 (difftest D36): the core's op runs the same arithmetic
     colors = [ctx.inp(node, n, path, "RGBA", identifier=True)
               for n in ("Color1", "Color2", "Mortar")]
     names = ("Scale", "Mortar Size", "Mortar Smooth", "Bias", "Brick Width", "Row Height")

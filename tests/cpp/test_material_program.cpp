@@ -75,6 +75,37 @@ TEST(MaterialProgram, MathFollowsBlendersSafeConventions) {
         EXPECT_FALSE(std::isnan(node_math(op, 0.3f, 0.7f, 0.2f))) << "op " << op;
 }
 
+// Power and Logarithm at zero as Cycles gives them (bpy 5.0.1, difftest D35): 0 to a negative
+// power is 0 at render time, +inf where Cycles folds constant inputs on the host (an
+// instruction fold_program marks kInstrConstant); log base 1 is 0 (a safe division).
+TEST(MaterialProgram, PowerOfZeroAsCyclesRendersAndFolds) {
+    EXPECT_EQ(node_math(5, 0.0f, -1.0f, 0.0f), 0.0f);
+    EXPECT_EQ(node_math(5, 0.0f, -0.5f, 0.0f), 0.0f);
+    EXPECT_EQ(node_math(5, 0.0f, 0.0f, 0.0f), 1.0f);
+    EXPECT_EQ(node_math(5, 0.0f, 2.0f, 0.0f), 0.0f);
+    EXPECT_EQ(node_math(6, 0.5f, 1.0f, 0.0f), 0.0f);
+    EXPECT_EQ(node_math(6, 1.0f, 1.0f, 0.0f), 0.0f);
+    float v;
+    const Vec3 r = node_vector_math(27, Vec3{0, 2, 0}, Vec3{-1, -1, 0}, Vec3{}, 0.0f, &v);
+    EXPECT_EQ(r.x, 0.0f);
+    EXPECT_FLOAT_EQ(r.y, 0.5f);
+    EXPECT_EQ(r.z, 1.0f);
+    SceneView view{};
+    ShadePoint sp{};
+    for (uint8_t flags : {uint8_t(0), kInstrConstant}) {
+        float regs[16] = {0.0f, -1.0f, 0.0f};
+        NodeInstr n{kOpMath, 5, flags, 1, 0, 4, 0, 0};
+        program_step(view, sp, n, regs);
+        EXPECT_EQ(regs[4], flags ? INFINITY : 0.0f);
+        float vregs[16] = {0, 0, 3, -1, -2, -1};
+        NodeInstr vn{kOpVectorMath, 27, flags, 3, 0, 10, 0, 0};
+        program_step(view, sp, vn, vregs);
+        EXPECT_EQ(vregs[10], flags ? INFINITY : 0.0f);
+        EXPECT_EQ(vregs[11], flags ? INFINITY : 0.0f);
+        EXPECT_FLOAT_EQ(vregs[12], 1.0f / 3.0f);
+    }
+}
+
 TEST(MaterialProgram, VectorMathAndMapRange) {
     float v;
     Vec3 r = node_vector_math(6, Vec3{1, 1, 0}, Vec3{2, 0, 0}, Vec3{}, 0.0f, &v);  // project
@@ -377,8 +408,15 @@ TEST(MaterialProgram, BrickFollowsItsDefinition) {
                                2, &tint);
     EXPECT_EQ(a, 1.0f);
     EXPECT_EQ(b, 0.0f);
-    // degenerate sizes and huge coordinates: finite, no crash
-    EXPECT_EQ(node_brick(Vec3{1, 1, 0}, 0.02f, 0.1f, 0, 0.0f, 0.25f, 0.5f, 2, 1, 2, &tint), 0.0f);
+    // bricks of no or negative width or height: all mortar wherever mortar_size > 0, as
+    // Cycles' arithmetic gives (difftest D36; was all brick); huge coordinates: finite
+    EXPECT_EQ(node_brick(Vec3{1, 1, 0}, 0.02f, 0.1f, 0, 0.0f, 0.25f, 0.5f, 2, 1, 2, &tint), 1.0f);
+    EXPECT_TRUE(std::isfinite(tint));
+    EXPECT_EQ(node_brick(Vec3{0, 0, 0}, 0.02f, 0.1f, 0, 0.0f, 0.25f, 0.5f, 2, 1, 2, &tint), 1.0f);
+    EXPECT_EQ(node_brick(Vec3{0.3f, 1, 0}, 0.02f, 0.0f, 0, 0.5f, 0.0f, 0.5f, 2, 1, 2, &tint),
+              1.0f);
+    EXPECT_EQ(node_brick(Vec3{0.3f, 1, 0}, 0.02f, 0.0f, 0, -0.4f, 0.25f, 0.5f, 2, 1, 2, &tint),
+              1.0f);
     const float h = node_brick(Vec3{3e30f, -3e30f, 0}, 0.02f, 0.1f, 0, 0.5f, 0.25f, 0.5f, 2, 1, 2,
                                &tint);
     EXPECT_TRUE(std::isfinite(h) && std::isfinite(tint));

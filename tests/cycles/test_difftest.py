@@ -25,6 +25,7 @@ import json
 import os
 import sys
 import warnings
+from dataclasses import asdict
 
 import pytest
 
@@ -186,3 +187,29 @@ def test_run_log_summary_and_resume(tmp_path):
     # a known tag explains a disagreement; the noise tag does not
     case = ds.generate(3, "full")
     assert dt.explaining_tags(case) == dk.tags(case) - {"two lights"}
+
+
+def test_resume_counts_the_logs_cases(tmp_path, monkeypatch):
+    """--resume --cases N stops at N cases in all, the log's included (it counted this
+    invocation's only, so a resumed run went on past its last seed): with 3 cases logged,
+    --cases 3 draws nothing and --cases 4 draws the next seed (the draw is intercepted, nothing
+    is rendered)."""
+    st = dt.Settings()
+    for seed in range(3):
+        dt._log(str(tmp_path), {"seed": seed, "profile": "full", "settings": asdict(st),
+                                "describe": "", "tags": [],
+                                "result": {"status": "agree", "seconds": 1.0}})
+    drawn = []
+
+    class Drawn(Exception):
+        pass
+
+    def generate(seed, *a, **k):
+        drawn.append(seed)
+        raise Drawn()
+    monkeypatch.setattr(dt.ds, "generate", generate)
+    args = ["--resume", "--seed", "0", "--out", str(tmp_path), "--no-shrink"]
+    assert dt.main(args + ["--cases", "3"]) == 0 and drawn == []
+    with pytest.raises(Drawn):
+        dt.main(args + ["--cases", "4"])
+    assert drawn == [3]

@@ -550,6 +550,89 @@ def brick_zero_width(nt, emit):
     _link(nt, b, "Color", emit)
 
 
+def brick_computed_size(socket, scale, offset):
+    """Bricks whose width or row height a graph computes (not a constant the export could
+    fold) as <= 0: Cycles runs its arithmetic on them, so they are all mortar (difftest D36);
+    the core read them as all brick. Mortar Generated, so that the image varies."""
+    def build(nt, emit):
+        x = nt.nodes.new("ShaderNodeSeparateXYZ")
+        nt.links.new(_coord(nt), x.inputs[0])
+        m = _node(nt, "ShaderNodeMath", {"operation": "MULTIPLY_ADD"})
+        nt.links.new(x.outputs["X"], m.inputs[0])
+        m.inputs[1].default_value, m.inputs[2].default_value = scale, offset
+        b = _node(nt, "ShaderNodeTexBrick", Scale=3.0)
+        nt.links.new(m.outputs[0], b.inputs[socket])
+        nt.links.new(_coord(nt), b.inputs["Mortar"])
+        nt.links.new(_coord(nt), b.inputs["Vector"])
+        _link(nt, b, "Color", emit)
+    return build
+
+
+def _sep(nt, comp):
+    x = nt.nodes.new("ShaderNodeSeparateXYZ")
+    nt.links.new(_coord(nt), x.inputs[0])
+    return x.outputs[comp]
+
+
+def _math(nt, op, a, b=None, c=None):
+    """A Math node of sockets or constants."""
+    m = _node(nt, "ShaderNodeMath", {"operation": op})
+    for i, v in enumerate((a, b, c)):
+        if v is None:
+            continue
+        if isinstance(v, (int, float)):
+            m.inputs[i].default_value = v
+        else:
+            nt.links.new(v, m.inputs[i])
+    return m.outputs[0]
+
+
+def power_of_zero(vector, constant):
+    """Power of a zero base and a negative exponent (difftest D35), read through a Minimum so
+    that +inf and 0 differ: at render time (a base the graph computes: floor(5x) / 2 - 1, so
+    -1, -0.5, 0, 0.5, 1 along x; the exponent -1.6 .. 1.4 along y) Cycles gives 0, as for a
+    negative base to a fractional power; a Power of constants it folds on the host to +inf
+    (Minimum with 2x then reads 2x). Plus x, so that the image varies."""
+    def build(nt, emit):
+        x, y = _sep(nt, "X"), _sep(nt, "Y")
+        if constant:
+            base, expo = 0.0, -1.0
+        else:
+            base = _math(nt, "MULTIPLY", _math(nt, "FLOOR", _math(nt, "MULTIPLY", x, 5.0)), 0.5)
+            base = _math(nt, "SUBTRACT", base, 1.0)
+            expo = _math(nt, "SUBTRACT", _math(nt, "MULTIPLY", y, 3.0), 1.6)
+        if vector:
+            vb, ve = (_node(nt, "ShaderNodeCombineXYZ") for _ in range(2))
+            for k in range(3):
+                for node, v in ((vb, base), (ve, expo)):
+                    if isinstance(v, float):
+                        node.inputs[k].default_value = v
+                    else:
+                        nt.links.new(v, node.inputs[k])
+            p = _node(nt, "ShaderNodeVectorMath", {"operation": "POWER"})
+            nt.links.new(vb.outputs[0], p.inputs[0])
+            nt.links.new(ve.outputs[0], p.inputs[1])
+            sx = nt.nodes.new("ShaderNodeSeparateXYZ")
+            nt.links.new(p.outputs["Vector"], sx.inputs[0])
+            r = sx.outputs["Y"]
+        else:
+            r = _math(nt, "POWER", base, expo)
+        cap = _math(nt, "MULTIPLY", x, 2.0) if constant else 2.0
+        nt.links.new(_math(nt, "ADD", _math(nt, "MINIMUM", r, cap), x), emit.inputs["Strength"])
+    return build
+
+
+def log_base_one(nt, emit):
+    """Logarithm to a base the graph computes as 1: log(a) / log(1) is 0 in Cycles (its safe
+    division), where Lantern divided by 0 (+-inf, NaN at a = 1); clamped to [-2, 2], plus
+    2 + x."""
+    x, y = _sep(nt, "X"), _sep(nt, "Y")
+    one = _math(nt, "ADD", _math(nt, "FLOOR", x), 1.0)
+    lg = _math(nt, "LOGARITHM", _math(nt, "MULTIPLY_ADD", y, 2.0, 0.1), one)
+    v = _math(nt, "MAXIMUM", _math(nt, "MINIMUM", lg, 2.0), -2.0)
+    nt.links.new(_math(nt, "ADD", _math(nt, "ADD", v, 2.0), x), emit.inputs["Strength"])
+
+
 def map_range_vector(build_type):
     def build(nt, emit):
         m = nt.nodes.new("ShaderNodeMapRange")
@@ -601,6 +684,13 @@ CASES = {
     "mix_vector_nonuniform": ("plane", mix_vector(True)),
     "mix_float_converted": ("plane", mix_float_converted),
     "brick_zero_width": ("plane", brick_zero_width),
+    "brick_computed_zero_row_height": ("plane", brick_computed_size("Row Height", 0.0, 0.0)),
+    "brick_computed_negative_width": ("plane", brick_computed_size("Brick Width", -0.3, -0.05)),
+    "math_power_of_zero": ("plane", power_of_zero(False, False)),
+    "vector_power_of_zero": ("plane", power_of_zero(True, False)),
+    "math_power_of_zero_folded": ("plane", power_of_zero(False, True)),
+    "vector_power_of_zero_folded": ("plane", power_of_zero(True, True)),
+    "math_log_base_one": ("plane", log_base_one),
     "map_range_vector_stepped": ("plane", map_range_vector("STEPPED")),
     "map_range_vector_smootherstep": ("plane", map_range_vector("SMOOTHERSTEP")),
     "rgb_curves": ("plane", curves("rgb")),

@@ -154,9 +154,19 @@ void fold_program(MaterialProgram& p, std::vector<NodeInstr>& code, std::vector<
     std::vector<NodeInstr> kept;
     ShadePoint sp{};
     sp.tri = -1;
+    // constant[]: the register holds a value no hit changes, folded or not (a folded value's
+    // register may be one the compiler reuses, so that the instruction stays): an instruction
+    // of constant inputs is one Cycles folds on the host, kInstrConstant says so to the ops
+    // whose folded value differs from their render-time one (material_program_ops.h)
+    bool constant[kProgramRegs] = {};
+    for (int i = 0; i < p.num_const; ++i) constant[i] = true;
     for (int k = 0; k < p.num_instr; ++k) {
-        const NodeInstr& n = code[size_t(p.first_instr) + size_t(k)];
+        NodeInstr n = code[size_t(p.first_instr) + size_t(k)];
         const OpSpan span = op_span(n.op, n.dim, n.mode);
+        bool inputs_constant = !op_reads_hit(n.op);
+        for (int i = 0; inputs_constant && i < span.in; ++i) inputs_constant = constant[n.in + i];
+        if (inputs_constant) n.flags |= kInstrConstant;
+        for (int i = 0; i < span.out; ++i) constant[n.out + i] = inputs_constant;
         bool fold = !op_reads_hit(n.op);
         for (int i = 0; fold && i < span.in; ++i) fold = known[n.in + i];
         for (int i = 0; fold && i < span.out; ++i) fold = writes[n.out + i] == 1;

@@ -13,12 +13,22 @@ LANTERN_HD inline float safe_fmod(float a, float b) { return b != 0.0f ? fmodf(a
 LANTERN_HD inline float floored_mod(float a, float b) {
     return b != 0.0f ? a - floorf(a / b) * b : 0.0f;
 }
+// Cycles at render time (bpy 5.0.1, measured on every Math and Vector Math op over zero,
+// negative, integer and fractional operands; difftest D35): a negative base to a fractional
+// power is 0, and so is 0 to a negative power (powf's +inf). Its constant folding on the host
+// keeps +inf there: folded_pow, for an instruction marked kInstrConstant.
 LANTERN_HD inline float safe_pow(float a, float b) {
     if (a < 0.0f && b != floorf(b)) return 0.0f;
+    if (a == 0.0f && b < 0.0f) return 0.0f;
     return powf(a, b);
 }
+// a Power Cycles folds (constant inputs): 0 to a negative exponent stays powf's +inf there
+LANTERN_HD inline float folded_pow(float a, float b, float v) {
+    return (a == 0.0f && b < 0.0f) ? powf(a, b) : v;
+}
+// log base 1 divides by log(1) = 0: 0 in Cycles (its safe division), folded or not
 LANTERN_HD inline float safe_log(float a, float b) {
-    return (a > 0.0f && b > 0.0f) ? logf(a) / logf(b) : 0.0f;
+    return (a > 0.0f && b > 0.0f) ? safe_div(logf(a), logf(b)) : 0.0f;
 }
 LANTERN_HD inline float wrapf(float v, float hi, float lo) {
     const float range = hi - lo;

@@ -111,6 +111,11 @@ enum NodeOp : uint8_t {
                        // aux offset frequency, aux2 squash frequency; out: color(3) fac
 };
 
+// NodeInstr::flags bit set by the core's constant folding (material_program.cpp) on an
+// instruction whose inputs are all constant: Cycles folds such a node on the host, where a
+// Power of 0 to a negative exponent is powf's +inf, not the 0 it gives at render time
+constexpr uint8_t kInstrConstant = 0x80;
+
 struct NodeInstr {
     uint8_t op, mode, flags, dim;
     uint16_t in, out;   // first register of the input and output blocks
@@ -188,12 +193,17 @@ LANTERN_HD inline void program_step(const SceneView& s, const ShadePoint& sp, co
     case kOpInput: set3(o, 0, shade_input(s, sp, n.mode, n.aux)); break;
     case kOpMath: {
         float v = node_math(n.mode, a[0], a[1], a[2]);
+        if ((n.flags & kInstrConstant) && n.mode == 5) v = folded_pow(a[0], a[1], v);
         o[0] = (n.flags & 1) ? clampf(v, 0.0f, 1.0f) : v;
         break;
     }
     case kOpVectorMath: {
         float value;
-        set3(o, 0, node_vector_math(n.mode, reg3(a, 0), reg3(a, 3), reg3(a, 6), a[9], &value));
+        Vec3 v = node_vector_math(n.mode, reg3(a, 0), reg3(a, 3), reg3(a, 6), a[9], &value);
+        if ((n.flags & kInstrConstant) && n.mode == 27)
+            v = Vec3{folded_pow(a[0], a[3], v.x), folded_pow(a[1], a[4], v.y),
+                     folded_pow(a[2], a[5], v.z)};
+        set3(o, 0, v);
         o[3] = value;
         break;
     }

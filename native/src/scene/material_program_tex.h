@@ -70,8 +70,10 @@ LANTERN_HD inline float brick_noise(uint32_t n) {
 LANTERN_HD inline float node_brick(Vec3 p, float mortar_size, float mortar_smooth, float bias,
                                    float width, float row_height, float offset, int offset_freq,
                                    float squash, int squash_freq, float* tint) {
-    *tint = 0.0f;
-    if (!(width > 0.0f) || !(row_height > 0.0f)) return 0.0f;  // degenerate bricks: all brick
+    // Bricks of no (or negative) width or height go through the same arithmetic, as in Cycles:
+    // x / 0 is +-inf or NaN, whose cell (clamped; NaN to the low end) hashes and divides as
+    // Cycles' integer conversion of it does, and the distance to the far edge is <= 0, so such
+    // bricks are all mortar wherever mortar_size > 0 (difftest D36)
     auto cell = [](float v) { return int(clampf(floorf(v), -1073741824.0f, 1073741824.0f)); };
     const int row = cell(p.y / row_height);
     float shift = 0.0f;
