@@ -17,7 +17,10 @@ namespace lantern {
 LANTERN_HD inline void pt_generate(const SceneView& s, const PathState& ps, const PtSettings& st,
                                    int i, int64_t path) {
     Rng rng = Rng::for_camera(st.seed, st.iteration, st.spp_per_iteration, path);
-    Ray r = generate_camera_ray(s.camera, int(path / st.spp_per_iteration), rng);
+    Ray r = s.motion.camera_steps > 1  // a moving camera: where it is at the path's time
+                ? generate_camera_ray(motion_camera(s.camera, s.motion, motion_time(rng)),
+                                      int(path / st.spp_per_iteration), rng)
+                : generate_camera_ray(s.camera, int(path / st.spp_per_iteration), rng);
     ps.ray_o[i] = r.o;
     ps.ray_d[i] = r.d;
     ps.ray_tmin[i] = r.tmin;
@@ -304,6 +307,14 @@ LANTERN_HD inline SurfaceHit pt_surface(const SceneView& s, int tri, Vec2 uv, Ve
     return h;
 }
 
+// The hit at the path's time: a moving mesh's (motion blur, scene/motion.h) moved there.
+LANTERN_HD inline SurfaceHit pt_surface_at(const SceneView& s, int tri, Vec2 uv, Vec3 d,
+                                           const Rng& rng) {
+    if (s.motion.num_objects == 0) return pt_surface(s, tri, uv, d);
+    return motion_surface<SurfaceHit>(s.motion, tri, d, motion_time(rng),
+                                      [&](Vec3 dx) { return pt_surface(s, tri, uv, dx); });
+}
+
 // What node-graph programs read at the hit (scene/material_program.h); wo: towards the viewer.
 LANTERN_HD inline ShadePoint shade_point(const SurfaceHit& h, int tri, Vec2 bary, Vec3 wo) {
     ShadePoint sp;
@@ -327,7 +338,7 @@ LANTERN_HD inline bool pt_catcher_skips(const SceneView& s, const PathState& ps,
     if (ps.depth[i] <= 1) return s.catcher_mode == kCatcherMatte ? catcher : !catcher;
     if (s.catcher_mode != kCatcherPass || catcher) return false;
     const Vec3 d = ps.ray_d[i];
-    const SurfaceHit h = pt_surface(s, tri, ps.hit_uv[i], d);
+    const SurfaceHit h = pt_surface_at(s, tri, ps.hit_uv[i], d, ps.rng[i]);
     ps.ray_o[i] = offset_ray_origin(h.p, h.ng, d, s.offset_scale);
     ps.ray_tmin[i] = 0.0f;
     ps.ray_tmax[i] = kInf;
@@ -383,7 +394,7 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
     if ((s.catcher_mode != kCatcherMatte || (s.tri_flags[tri] & kShadowCatcher)) &&
         pt_catcher_skips(s, ps, i, tri))
         return;
-    SurfaceHit h = pt_surface(s, tri, ps.hit_uv[i], d);
+    SurfaceHit h = pt_surface_at(s, tri, ps.hit_uv[i], d, ps.rng[i]);
     MaterialScratch scratch;
     const Material& m = material_at_point(
         s, s.tri_material[tri],

@@ -30,7 +30,7 @@ void pt_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep& st
     stats.rays_camera += n;
     bool first = true;
     while (active > 0 && !st.cancelled()) {
-        trace(ex, w, active, first, stats);
+        trace(ex, w, active, first, stats, s.motion.any());
         const int32_t* q = w.queue.data();
         ex.timed(stats.time_shade,
                  [&] { ex.each(active, LANTERN_KERNEL(int k) { pt_shade(s, ps, pt, q[k]); }); });
@@ -44,7 +44,8 @@ void pt_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep& st
                     pt_shadow_medium(s, rays, RayKind::kShadow, ps, i);
                     return;
                 }
-                const Ray r{ps.shadow_o[i], ps.shadow_d[i], 0.0f, ps.shadow_tmax[i]};
+                const Ray r = timed_ray({ps.shadow_o[i], ps.shadow_d[i], 0.0f, ps.shadow_tmax[i]},
+                                        s.motion, ps.rng[i]);
                 pt_shadow_result(ps, i, rays.occluded(r, RayKind::kShadow));
             });
         });

@@ -202,8 +202,10 @@ inline double seconds_since(Clock::time_point t0) {
 }
 
 // Closest hits of the queued slots' rays; camera rays see only camera-visible triangles.
+// motion: the rays carry their path's time (motion blur, scene/motion.h).
 template <class Exec>
-void trace(Exec& ex, Wavefront<Exec>& w, int n, bool camera, SessionStats& stats) {
+void trace(Exec& ex, Wavefront<Exec>& w, int n, bool camera, SessionStats& stats,
+           bool motion = false) {
     const PathState ps = w.ps;
     const int32_t* q = w.queue.data();
     ex.timed(stats.time_trace, [&] {
@@ -211,7 +213,9 @@ void trace(Exec& ex, Wavefront<Exec>& w, int n, bool camera, SessionStats& stats
             n, camera ? RayKind::kCamera : RayKind::kIndirect,
             LANTERN_KERNEL(int k) {
                 const int i = q[k];
-                return Ray{ps.ray_o[i], ps.ray_d[i], ps.ray_tmin[i], ps.ray_tmax[i]};
+                Ray r{ps.ray_o[i], ps.ray_d[i], ps.ray_tmin[i], ps.ray_tmax[i]};
+                if (motion) r.time = motion_time(ps.rng[i]);
+                return r;
             },
             LANTERN_KERNEL(int k, float t, int32_t prim, Vec2 uv) {
                 const int i = q[k];
