@@ -146,3 +146,23 @@ def test_bidirectional_hands_motion_to_pt(integrator):
     img, warnings = _render(_moving("slide"), 2, 4, integrator)
     assert any(f"integrator '{integrator}' does not render motion blur" in w for w in warnings)
     assert np.array_equal(img, _render(_moving("slide"), 2, 4, "pt")[0])
+
+
+@pytest.mark.parametrize("name", ["slide", "spin"])
+def test_embree_motion_instances_match_builtin_bvh(name, monkeypatch):
+    """Embree's motion instances (the default CPU accelerator) against the built-in BVH's
+    motion TLAS: the same shutter integral, statistically (different traversal and rounding)."""
+    if not session.require_core().embree_available():
+        pytest.skip("Embree is not available")
+    scene = _moving(name)
+    out = {}
+    for accel in ("embree", "bvh"):
+        monkeypatch.setenv("LANTERN_ACCEL", accel)
+        imgs = []
+        for k in range(K):
+            img, warnings = _render(scene, 1 + k + (0 if accel == "embree" else 100), SPP)
+            assert all("built-in BVH (LANTERN_ACCEL=bvh)" in w for w in warnings), warnings
+            imgs.append(img)
+        out[accel] = np.stack(imgs)
+    metrics.assert_agreement(f"{name} embree/bvh", out["embree"], out["bvh"], block=8,
+                             se_floor=1e-6)

@@ -19,16 +19,8 @@ CpuBackend::CpuBackend(const SceneView& s, int threads, std::vector<std::string>
                                     want + "'");
     }
     std::string why;
-    // moving meshes (motion blur): the built-in two-level BVH places them per ray at its time
-    // (accel/tlas.h); Embree's motion instances are not wired up
-    const bool motion = s.motion.num_objects > 0 && instances;
-    if (motion) {
-        if (want == "embree")
-            throw std::runtime_error("LANTERN_ACCEL=embree, but the scene has moving meshes "
-                                     "(motion blur), which only the built-in BVH renders");
-        bvh_ = std::make_unique<BvhAccel>(s, pool_->size(), warnings, instances);
-        return;
-    }
+    // moving meshes (motion blur) need two levels (Session passes them): Embree's motion
+    // instances (embree_instances.cpp) or the built-in TLAS (accel/tlas.h)
     if (want == "bvh") {
         why = "LANTERN_ACCEL=bvh";
     } else if (!embree_available()) {
