@@ -166,3 +166,17 @@ def test_embree_motion_instances_match_builtin_bvh(name, monkeypatch):
         out[accel] = np.stack(imgs)
     metrics.assert_agreement(f"{name} embree/bvh", out["embree"], out["bvh"], block=8,
                              se_floor=1e-6)
+
+
+def test_motion_survives_the_scene_file(tmp_path):
+    """The .lantern file keeps the steps (mesh motion and motion_base, camera motion): the
+    loaded scene renders the same bits."""
+    scene = _moving("spin")
+    scene.camera["motion"] = _moving("camera").camera["motion"]
+    path = tmp_path / "motion.lantern"
+    scene.save(path)
+    loaded = lantern.load_scene(path)
+    assert len(loaded.meshes[CUBE]["motion"]) == 3 and len(loaded.camera["motion"]) == 3
+    a = _render(scene, 4, 2)[0]
+    assert np.array_equal(a, _render(loaded, 4, 2)[0])
+    assert not np.array_equal(a, _render(_scene(), 4, 2)[0])
