@@ -8,6 +8,16 @@
 namespace lantern {
 namespace wf {
 
+// A next-event shadow ray at its path's time (motion blur, scene/motion.h; scenes with media
+// render without motion).
+template <class Rays>
+LANTERN_HD inline void pt_shadow_at_time(const Rays& rays, const PathState& ps, int i) {
+    if (!ps.shadow_valid[i]) return;
+    Ray r{ps.shadow_o[i], ps.shadow_d[i], 0.0f, ps.shadow_tmax[i]};
+    r.time = motion_time(ps.rng[i]);
+    pt_shadow_result(ps, i, rays.occluded(r, RayKind::kShadow));
+}
+
 template <class Exec>
 void pt_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep& st,
               int64_t first_path, int n) {
@@ -37,6 +47,10 @@ void pt_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep& st
         ex.timed(stats.time_shadow, [&] {
             stats.rays_shadow +=
                 ex.count(active, LANTERN_KERNEL(int k) { return ps.shadow_valid[q[k]] != 0; });
+            if (s.motion.num_objects > 0) {  // motion blur: each at its path's time (no media)
+                ex.each(active, LANTERN_KERNEL(int k) { pt_shadow_at_time(rays, ps, q[k]); });
+                return;
+            }
             ex.each(active, LANTERN_KERNEL(int k) {
                 const int i = q[k];
                 if (!ps.shadow_valid[i]) return;
@@ -44,8 +58,7 @@ void pt_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep& st
                     pt_shadow_medium(s, rays, RayKind::kShadow, ps, i);
                     return;
                 }
-                const Ray r = timed_ray({ps.shadow_o[i], ps.shadow_d[i], 0.0f, ps.shadow_tmax[i]},
-                                        s.motion, ps.rng[i]);
+                const Ray r{ps.shadow_o[i], ps.shadow_d[i], 0.0f, ps.shadow_tmax[i]};
                 pt_shadow_result(ps, i, rays.occluded(r, RayKind::kShadow));
             });
         });
