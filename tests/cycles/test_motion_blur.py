@@ -8,6 +8,7 @@ the negative controls that must fail):
   8x8 blocks: the blocks see a blur that stays within one block only as its mean);
 - spin: a 2.4 x 0.4 m box spinning about its vertical axis, 90 degrees over the shutter;
 - camera: the camera sliding sideways over the static stage, 2 m over the shutter;
+- parented: a cube on an arc, its parent turning 120 degrees over the shutter, 5 steps;
 - slide_start, slide_end: the slide with the shutter's Position Start and End (each against
   Cycles' own, and the two must differ from each other);
 - a negative control: Lantern with motion blur off must not agree with Cycles' blurred slide.
@@ -114,7 +115,23 @@ def camera():
     scene.frame_set(1)
 
 
-SCENES = {"slide": slide, "spin": spin, "camera": camera,
+def parented():
+    """A cube parented to an empty that turns 120 degrees over the shutter, 1.5 m off its axis
+    (an arc: Cycles interpolates the child's world matrix, translation along the chords), with
+    Motion Steps 2 (5 steps)."""
+    scene = _reset()
+    cube, _ = _stage(scene)
+    pivot = bpy.data.objects.new("pivot", None)
+    scene.collection.objects.link(pivot)
+    pivot.location = (0, 0, 0)
+    cube.parent = pivot
+    cube.location = (1.5, 0, 0.5)
+    cube.cycles.motion_steps = 2
+    _keys(pivot, "rotation_euler", 2, (0.0, math.radians(480)))
+    scene.frame_set(1)
+
+
+SCENES = {"slide": slide, "spin": spin, "camera": camera, "parented": parented,
           "slide_start": lambda: slide("START"), "slide_end": lambda: slide("END")}
 
 
