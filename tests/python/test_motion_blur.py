@@ -189,3 +189,40 @@ def test_motion_survives_the_scene_file(tmp_path):
     a = _render(scene, 4, 2)[0]
     assert np.array_equal(a, _render(loaded, 4, 2)[0])
     assert not np.array_equal(a, _render(_scene(), 4, 2)[0])
+
+
+def _emitting(sc):
+    sc.materials[sc.material_id("red")]["emission"] = [1.0, 0.5, 0.5]
+
+
+def _singular_base(sc):
+    sc.meshes[CUBE]["motion_base"] = np.diag([1.0, 1.0, 0.0, 1.0])
+
+
+def _camera_nan(sc):
+    steps = [np.array(m, np.float64) for m in _moving("camera").camera["motion"]]
+    steps[2][1, 3] = np.inf
+    sc.camera["motion"] = steps
+
+
+@pytest.mark.parametrize("case, words", [
+    (_emitting, "emits light: moving emitters are not motion-blurred"),
+    (_singular_base, "the matrix it was exported with is singular or not finite"),
+    (_camera_nan, "the camera: its matrix at motion step 2 is singular or not finite"),
+])
+def test_what_does_not_move_says_so(case, words):
+    """Each limit is a warning, a finite image, and the object (or camera) where it was
+    exported: the same bits as the scene without that motion."""
+    sc = _moving("slide")
+    case(sc)
+    img, warnings = _render(sc, 6, 4)
+    assert np.isfinite(img).all()
+    assert any(words in w for w in warnings), warnings
+    still = _scene()
+    case(still)
+    still.meshes[CUBE].pop("motion", None)
+    still.meshes[CUBE].pop("motion_base", None)
+    still.camera.pop("motion", None)
+    if case is _camera_nan:  # the mesh's motion stays: compare with it alone
+        still = _moving("slide")
+    assert np.array_equal(img, _render(still, 6, 4)[0])
