@@ -40,7 +40,7 @@ void pt_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep& st
     stats.rays_camera += n;
     bool first = true;
     while (active > 0 && !st.cancelled()) {
-        trace(ex, w, active, first, stats, s.motion.any());
+        trace(ex, w, active, first, stats, s.motion.num_objects > 0);
         const int32_t* q = w.queue.data();
         ex.timed(stats.time_shade,
                  [&] { ex.each(active, LANTERN_KERNEL(int k) { pt_shade(s, ps, pt, q[k]); }); });
