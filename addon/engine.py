@@ -134,7 +134,7 @@ def render(engine, depsgraph):
         from .export import export_scene
         engine.update_stats("", f"Lantern: exporting {view_layer.name}")
         t0 = time.perf_counter()
-        scene, report = export_scene(depsgraph)
+        scene, report = export_scene(depsgraph, frame_set=engine.frame_set)
         report.messages.extend(passes.unsupported_pass_warnings(view_layer))
         full_w, full_h = scene.film["width"], scene.film["height"]
         rect = final_render.border_rect(bscene.render, full_w, full_h)

@@ -1,11 +1,12 @@
 """Depsgraph -> lantern.Scene. Everything here runs on Blender's main thread; the scene it
 returns holds only numpy arrays and plain values, safe to hand to a render thread."""
 
-from .camera import export_camera, export_film, film_unsupported
+from .camera import camera_to_world, export_camera, export_film, film_unsupported
 from .holdout import Holdouts
 from .light import export_light
 from .material import MaterialTable
 from .mesh import MeshExporter
+from .motion import MotionRecorder
 from .unsupported import UnsupportedFeatures
 from .world import export_world, mixed_lobe_warning
 
@@ -23,13 +24,15 @@ class ExportReport:
             self.messages.append(message)
 
 
-def export_scene(depsgraph, region_view=None, report=None, texture_cache=None):
+def export_scene(depsgraph, region_view=None, report=None, texture_cache=None, frame_set=None):
     """Build a lantern.Scene from an evaluated depsgraph.
 
     texture_cache: a dict kept between viewport exports (image pixels by image name, see
     export/texture.py), or None to read every image afresh (final renders).
     region_view: None for a final render (scene camera, render resolution), else a
-    camera.ViewportView describing the 3D viewport to render."""
+    camera.ViewportView describing the 3D viewport to render.
+    frame_set: how to move the scene to a subframe for motion blur's steps (the render
+    engine's frame_set during a render; default the scene's), export/motion.py."""
     from ..native import import_lantern
     lantern = import_lantern()
 
@@ -50,6 +53,7 @@ def export_scene(depsgraph, region_view=None, report=None, texture_cache=None):
     holdouts = Holdouts(materials, report, _integrator(bscene), depsgraph.view_layer,
                         None if region_view else bool(scene.film.get("transparent", False)))
     features.scene(depsgraph)
+    motion = MotionRecorder(depsgraph, report, frame_set, final=region_view is None)
     for inst in depsgraph.object_instances:
         obj = inst.object
         if not inst.show_self:  # an instancer hidden for render (show_instancer_for_render)
@@ -63,10 +67,13 @@ def export_scene(depsgraph, region_view=None, report=None, texture_cache=None):
             mesh = meshes.export(inst)
             if mesh is not None:
                 holdouts.mesh(obj, mesh)  # export/holdout.py
+                motion.mesh(inst, mesh)
                 scene.meshes.append(mesh)
             else:
                 features.hair_curves_without_mesh(obj)
     meshes.clear()
+    if region_view is None and bscene.camera is not None:
+        motion.finish(scene, bscene.camera, camera_to_world)
     scene.attribute_channels = materials.attributes.finish(scene.meshes)
     scene.materials = materials.materials
     scene.textures = materials.textures

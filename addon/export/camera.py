@@ -35,6 +35,11 @@ def _rigid(matrix):
     return m
 
 
+def camera_to_world(cam_obj):
+    """The exported camera's to_world of cam_obj as it is now (motion blur's steps)."""
+    return _rigid(cam_obj.matrix_world)
+
+
 def view_window(half_fit, horizontal_fit, xaspect, yaspect, shift_x, shift_y):
     """Window [xmin, xmax, ymin, ymax] given the half extent of the fitted dimension."""
     if horizontal_fit:

@@ -50,9 +50,7 @@ class UnsupportedFeatures:
         self._scene = scene
         r = scene.render
         warn = self.report.warn
-        if r.use_motion_blur:
-            warn("Render settings: motion blur is not rendered (every object at the current "
-                 "frame)")
+        # motion blur: export/motion.py (transform motion; deformation warns there)
         if getattr(r, "use_multiview", False):
             warn("Render settings: stereoscopy / multi-view is not rendered (one view)")
         if getattr(r, "use_freestyle", False) and getattr(layer, "use_freestyle", True):

@@ -220,6 +220,12 @@ class Scene:
 
         camera = dict(self.camera)
         camera["to_world"] = mat(camera["to_world"])
+
+        def steps(m):  # motion blur: (S, 4, 4) -> float32 (S, 16)
+            return np.ascontiguousarray(np.asarray(m, dtype=np.float32).reshape(-1, 16))
+
+        if camera.get("motion") is not None:
+            camera["motion"] = steps(camera["motion"])
         lights = []
         for light in self.lights:
             light = dict(light)
@@ -231,6 +237,13 @@ class Scene:
             # visibility (pt) applies to it (LightInput::of_world, native/src/scene/scene.h)
             lights.append(dict(self.world["sun"], of_world=True))
         meshes = [dict(m) for m in self.meshes]
+        for m in meshes:
+            if m.get("motion") is not None:
+                m["motion"] = steps(m["motion"])
+                m["motion_base"] = mat(m["motion_base"])
+            else:
+                m.pop("motion", None)
+                m.pop("motion_base", None)
         textures = []
         for t in self.textures:
             t = dict(t)

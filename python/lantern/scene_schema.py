@@ -120,6 +120,9 @@ def validate_camera(camera):
     out["clip"] = clip
     if camera.get("dof") is not None:
         out["dof"] = validate_dof(camera["dof"])
+    if camera.get("motion") is not None:  # motion blur: to_world at the shutter's steps
+        from .scene_schema_objects import motion_steps
+        out["motion"] = motion_steps(camera["motion"], "camera motion")
     for key, lim in (("longitude", math.pi), ("latitude", math.pi / 2)):
         if camera.get(key) is not None:  # equirectangular: [min, max] radians
             rng = _vec(camera[key], 2, f"camera {key}")

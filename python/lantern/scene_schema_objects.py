@@ -235,7 +235,25 @@ def validate_mesh(mesh, index, num_materials=None):
     mesh["cast_shadow"] = _bool(mesh.get("cast_shadow", True), f"{what} cast_shadow")
     if "shadow_catcher" in mesh:  # a shadow catcher (pt; lantern/film.py)
         mesh["shadow_catcher"] = _bool(mesh["shadow_catcher"], f"{what} shadow_catcher")
+    if mesh.get("motion") is not None:  # motion blur (docs/motion_blur.md)
+        mesh["motion"] = motion_steps(mesh["motion"], f"{what} motion")
+        base = mesh.get("motion_base")
+        mesh["motion_base"] = motion_steps([base if base is not None else np.eye(4)] * 2,
+                                           f"{what} motion_base")[0]
     return mesh
+
+
+def motion_steps(steps, what):
+    """Motion blur's matrices at the shutter's steps as nested lists (S, 4, 4), S >= 2. Values
+    are not judged here: a singular or non-finite step gets the core's warning (the object then
+    renders without motion blur)."""
+    try:
+        a = np.asarray(steps, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ValueError(f"{what}: expected a list of 4x4 matrices") from None
+    if a.ndim != 3 or a.shape[1:] != (4, 4) or a.shape[0] < 2:
+        raise ValueError(f"{what}: expected at least 2 matrices of 4x4, got shape {a.shape}")
+    return a.tolist()
 
 
 def validate_light(light, index):

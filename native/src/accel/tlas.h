@@ -6,17 +6,19 @@
 #pragma once
 
 #include "accel/bvh.h"
+#include "scene/motion.h"
 
 namespace lantern {
 
 // One instance: world -> object (rows of a 3x4), the bottom level it places and its child mask
 // (the OR of its triangles' flags | kBvhNonEmpty, or 0 when empty). identity: no transform.
+// motion: its index in TlasView::motion.objects (motion blur, scene/motion.h), -1: to_object.
 struct BvhInstance {
     float to_object[3][4];
     int32_t blas;
     int32_t identity;
     uint32_t mask;
-    int32_t pad;
+    int32_t motion;
 };
 
 // Top-level nodes are BvhNodes whose leaves index leaf_inst (instance ids in leaf order).
@@ -26,9 +28,11 @@ struct TlasView {
     const int32_t* leaf_inst = nullptr;
     const BvhInstance* instances = nullptr;
     const BvhView* blas = nullptr;  // bottom levels; their triangles carry scene triangle ids
+    MotionView motion;              // moving instances' steps (scene/motion.h)
 };
 
-LANTERN_HD inline Ray tlas_object_ray(const BvhInstance& in, const Ray& r, float tmax) {
+LANTERN_HD inline Ray tlas_object_ray(const BvhInstance& in, const Ray& r, float tmax,
+                                      const MotionView& motion) {
     Ray o;
     o.tmin = r.tmin;
     o.tmax = tmax;
@@ -38,6 +42,16 @@ LANTERN_HD inline Ray tlas_object_ray(const BvhInstance& in, const Ray& r, float
         return o;
     }
     const float(*m)[4] = in.to_object;
+    Transform moved;  // a moving instance: world at the ray's time -> exported world
+    if (in.motion >= 0) {
+        if (!object_motion_to_exported(motion, motion.objects[in.motion], r.time, &moved)) {
+            o.tmax = -1.0f;  // singular at this time: nothing to hit
+            o.o = r.o;
+            o.d = r.d;
+            return o;
+        }
+        m = moved.m;
+    }
     o.o = {m[0][0] * r.o.x + m[0][1] * r.o.y + m[0][2] * r.o.z + m[0][3],
            m[1][0] * r.o.x + m[1][1] * r.o.y + m[1][2] * r.o.z + m[1][3],
            m[2][0] * r.o.x + m[2][1] * r.o.y + m[2][2] * r.o.z + m[2][3]};
@@ -94,7 +108,8 @@ LANTERN_HD inline BvhHit tlas_traverse(const TlasView& tl, const Ray& ray, uint3
             for (int32_t i = begin; i < begin + int32_t(count); ++i) {
                 const BvhInstance& in = tl.instances[tl.leaf_inst[i]];
                 if (!bvh_child_wanted(in.mask << 24, need)) continue;
-                const Ray o = tlas_object_ray(in, ray, tmax);
+                const Ray o = tlas_object_ray(in, ray, tmax, tl.motion);
+                if (!(o.tmax >= o.tmin)) continue;
                 const BvhHit h = bvh_traverse<kAnyHit>(tl.blas[in.blas], o, need, accept);
                 if (h.prim < 0) continue;
                 hit = h;

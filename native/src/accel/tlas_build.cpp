@@ -1,4 +1,5 @@
 #include "accel/tlas_build.h"
+#include "scene/motion_build.h"
 
 #include <algorithm>
 #include <cmath>
@@ -127,7 +128,12 @@ void transformed_box(const Vec3 box[2], const Transform& m, Vec3 out[2]) {
 }
 
 void instance_world_box(const Tlas& tl, int k, Vec3 box[2]) {
-    transformed_box(&tl.blas_box[2 * k], tl.to_world[k], box);
+    const int32_t mi = tl.instances[k].motion;
+    if (mi < 0) {
+        transformed_box(&tl.blas_box[2 * k], tl.to_world[k], box);
+        return;
+    }
+    motion_world_box(tl.motion, tl.motion.objects[mi], &tl.blas_box[2 * k], box);  // motion_build
 }
 
 void mesh_boxes(const SceneView& s, const std::vector<MeshRange>& meshes, std::vector<Vec3>& out) {
@@ -240,12 +246,20 @@ void build_tlas_scene(Tlas& tl, const SceneView& s, const std::vector<MeshRange>
         BvhInstance& in = tl.instances[k];
         in = BvhInstance{};
         in.blas = int32_t(k);
+        in.motion = -1;
         in.mask = b.tris.empty() ? 0u : (mask | kBvhNonEmpty);
         Transform id{};
         for (int r = 0; r < 3; ++r) id.m[r][r] = 1.0f;
         set_instance_transform(tl, int(k), id);
     }
     tl.blas_builds += int64_t(n);
+    tl.motion = s.motion;  // moving instances: placed per ray at its time (tlas.h)
+    for (int j = 0; j < s.motion.num_objects; ++j) {
+        const int mesh = s.motion.objects[j].mesh;
+        if (mesh < 0 || size_t(mesh) >= n) continue;
+        tl.instances[mesh].motion = j;
+        tl.instances[mesh].identity = 0;
+    }
     if (nonfinite) {
         warnings.push_back(std::to_string(nonfinite) +
                            " triangle(s) with non-finite vertices were left out");

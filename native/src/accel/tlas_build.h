@@ -28,9 +28,10 @@ struct Tlas {
     std::vector<BvhNode> nodes;          // the top level
     std::vector<int32_t> leaf_inst;
     int64_t blas_builds = 0, tlas_builds = 0;  // counted: a move must not build a bottom level
+    MotionView motion;                   // the scene's (motion blur): moving instances
     TlasView view() const {
         return {nodes.data(), int32_t(nodes.size()), leaf_inst.data(), instances.data(),
-                blas_views.data()};
+                blas_views.data(), motion};
     }
 };
 
@@ -45,7 +46,8 @@ void build_tlas(Tlas& tl);
 bool set_instance_transform(Tlas& tl, int k, const Transform& to_world);
 // The inverse of an affine transform in double; false when it is singular or not finite.
 bool invert_affine(const Transform& m, Transform* inv);
-// World bounds of instance k (lo, hi); empty (lo > hi) for an empty mesh.
+// World bounds of instance k (lo, hi) over the shutter where it moves; empty (lo > hi) for an
+// empty mesh.
 void instance_world_box(const Tlas& tl, int k, Vec3 box[2]);
 // The box (lo, hi) under m, padded by a few ulps unless m is the identity; empty stays empty.
 void transformed_box(const Vec3 box[2], const Transform& m, Vec3 out[2]);

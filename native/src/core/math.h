@@ -141,6 +141,7 @@ struct Ray {
     Vec3 d;
     float tmin = 0.0f;
     float tmax = kInf;
+    float time = 0.0f;  // shutter time in [0, 1] (motion blur, scene/motion.h); else unread
 };
 
 // A unit vector in 2 x 16 bits (octahedral map, signed-normalised: +Z is exact).

@@ -23,7 +23,8 @@ namespace lantern {
 // ---- Camera paths (pt, and the camera side of bdpt / lvc / cis) ----
 //   dims 0, 1         pixel filter offset (camera.h)
 //   dims 2, 3         lens point, only with an aperture (camera.h: lens_radius > 0); the
-//                     bounces then start 2 later. (A time sample would take the next pair.)
+//                     bounces then start 2 later. (The motion blur time takes no dimension:
+//                     "Motion blur" below.)
 //   per bounce b = 1, 2, ... from camera_bounce_dim(aperture, b):
 //     +0, +1          light pick (x; y unused), next-event estimation
 //     +2, +3          point on the light (area, sphere, spot, sun disk, env map, mesh triangle)
@@ -77,6 +78,11 @@ constexpr uint32_t kLightBounceDims = 4;
 //   lvc: +0 .. N-1       N uniform cache picks (N = connections), one number each
 //   cis: +0 .. M-1       M uniform candidates, then M .. M+N-1 the N resampled picks
 //   Counts vary with the settings, never with the path.
+
+// ---- Motion blur (scene/motion.h), apart from the table above ----
+//   A camera path's shutter time is no dimension of its stream: motion_time(rng) reads the
+//   path's (scramble, index) under a salt of its own (1D Owen-scrambled Sobol', stratified per
+//   pixel), so no draw above moves and scenes without motion keep their bits.
 
 // ---- AOV pass (aov.cpp: depth, normal, albedo features) ----
 //   dims 0, 1 the pixel filter, 2, 3 the lens (with an aperture), then three single numbers per

@@ -1,5 +1,6 @@
 // Integrator "auto": the pilot, the estimates and the choice (allocation.h).
 #include "integrator/allocation.h"
+#include "scene/motion_build.h"
 
 #include <algorithm>
 #include <cmath>
@@ -209,6 +210,7 @@ std::string pt_only_reason(const SceneInput& in) {
     if (in.catcher_mode != 0) return "a shadow catcher pass";
     if (in.world_rays != 7) return "the world hidden from some rays";
     if (std::string v = media_reason(in); !v.empty()) return v;  // media: pt only (volumes.md)
+    if (std::string v = motion_reason(in); !v.empty()) return v;  // motion blur: pt only
     return "";
 }
 

@@ -13,11 +13,29 @@
 
 namespace lantern {
 
+// A moving camera (motion blur, scene/motion.h): the still camera's ray r carried rigidly to
+// where the camera is at the path's time (the same draws, the same clip distances); out of
+// line on the host, so that pt_generate's still path stays as it was.
+#ifndef __CUDA_ARCH__
+__attribute__((noinline))
+#endif
+LANTERN_HD inline void pt_camera_ray_moved(const SceneView& s, const Rng& rng, Ray& r) {
+    Transform still_inv;
+    if (!transform_inverse(s.camera.to_world, &still_inv)) return;
+    const Transform m = transform_mul(
+        motion_at(s.motion.steps, s.motion.camera_first, s.motion.camera_steps,
+                  motion_time(rng)),
+        still_inv);
+    r.o = m.point(r.o);
+    r.d = normalize(m.vector(r.d));
+}
+
 // ---- Generate: slot i starts path `path` of the iteration, in pixel path / spp_per_iteration ----
 LANTERN_HD inline void pt_generate(const SceneView& s, const PathState& ps, const PtSettings& st,
                                    int i, int64_t path) {
     Rng rng = Rng::for_camera(st.seed, st.iteration, st.spp_per_iteration, path);
     Ray r = generate_camera_ray(s.camera, int(path / st.spp_per_iteration), rng);
+    if (s.motion.camera_steps > 1) pt_camera_ray_moved(s, rng, r);  // motion blur
     ps.ray_o[i] = r.o;
     ps.ray_d[i] = r.d;
     ps.ray_tmin[i] = r.tmin;
@@ -304,6 +322,17 @@ LANTERN_HD inline SurfaceHit pt_surface(const SceneView& s, int tri, Vec2 uv, Ve
     return h;
 }
 
+// The hit at the path's time where meshes move (motion blur, scene/motion.h); out of line on
+// the host, so that pt_shade's still path stays as it was.
+#ifndef __CUDA_ARCH__
+__attribute__((noinline))
+#endif
+LANTERN_HD inline SurfaceHit pt_surface_moved(const SceneView& s, int tri, Vec2 uv, Vec3 d,
+                                              const Rng& rng) {
+    return motion_surface<SurfaceHit>(s.motion, tri, d, motion_time(rng),
+                                      [&](Vec3 dx) { return pt_surface(s, tri, uv, dx); });
+}
+
 // What node-graph programs read at the hit (scene/material_program.h); wo: towards the viewer.
 LANTERN_HD inline ShadePoint shade_point(const SurfaceHit& h, int tri, Vec2 bary, Vec3 wo) {
     ShadePoint sp;
@@ -327,7 +356,8 @@ LANTERN_HD inline bool pt_catcher_skips(const SceneView& s, const PathState& ps,
     if (ps.depth[i] <= 1) return s.catcher_mode == kCatcherMatte ? catcher : !catcher;
     if (s.catcher_mode != kCatcherPass || catcher) return false;
     const Vec3 d = ps.ray_d[i];
-    const SurfaceHit h = pt_surface(s, tri, ps.hit_uv[i], d);
+    const SurfaceHit h = s.motion.num_objects ? pt_surface_moved(s, tri, ps.hit_uv[i], d, ps.rng[i])
+                                               : pt_surface(s, tri, ps.hit_uv[i], d);
     ps.ray_o[i] = offset_ray_origin(h.p, h.ng, d, s.offset_scale);
     ps.ray_tmin[i] = 0.0f;
     ps.ray_tmax[i] = kInf;
@@ -383,7 +413,8 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
     if ((s.catcher_mode != kCatcherMatte || (s.tri_flags[tri] & kShadowCatcher)) &&
         pt_catcher_skips(s, ps, i, tri))
         return;
-    SurfaceHit h = pt_surface(s, tri, ps.hit_uv[i], d);
+    SurfaceHit h = s.motion.num_objects ? pt_surface_moved(s, tri, ps.hit_uv[i], d, ps.rng[i])
+                                        : pt_surface(s, tri, ps.hit_uv[i], d);
     MaterialScratch scratch;
     const Material& m = material_at_point(
         s, s.tri_material[tri],

@@ -8,6 +8,16 @@
 namespace lantern {
 namespace wf {
 
+// A next-event shadow ray at its path's time (motion blur, scene/motion.h; scenes with media
+// render without motion).
+template <class Rays>
+LANTERN_HD inline void pt_shadow_at_time(const Rays& rays, const PathState& ps, int i) {
+    if (!ps.shadow_valid[i]) return;
+    Ray r{ps.shadow_o[i], ps.shadow_d[i], 0.0f, ps.shadow_tmax[i]};
+    r.time = motion_time(ps.rng[i]);
+    pt_shadow_result(ps, i, rays.occluded(r, RayKind::kShadow));
+}
+
 template <class Exec>
 void pt_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep& st,
               int64_t first_path, int n) {
@@ -30,13 +40,17 @@ void pt_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep& st
     stats.rays_camera += n;
     bool first = true;
     while (active > 0 && !st.cancelled()) {
-        trace(ex, w, active, first, stats);
+        trace(ex, w, active, first, stats, s.motion.num_objects > 0);
         const int32_t* q = w.queue.data();
         ex.timed(stats.time_shade,
                  [&] { ex.each(active, LANTERN_KERNEL(int k) { pt_shade(s, ps, pt, q[k]); }); });
         ex.timed(stats.time_shadow, [&] {
             stats.rays_shadow +=
                 ex.count(active, LANTERN_KERNEL(int k) { return ps.shadow_valid[q[k]] != 0; });
+            if (s.motion.num_objects > 0) {  // motion blur: each at its path's time (no media)
+                ex.each(active, LANTERN_KERNEL(int k) { pt_shadow_at_time(rays, ps, q[k]); });
+                return;
+            }
             ex.each(active, LANTERN_KERNEL(int k) {
                 const int i = q[k];
                 if (!ps.shadow_valid[i]) return;

@@ -1,4 +1,5 @@
 #include "integrator/session.h"
+#include "scene/motion_build.h"
 
 #include <algorithm>
 #include <chrono>
@@ -83,6 +84,16 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
             settings_.integrator = "pt";
         }
     }
+    // motion blur: only pt draws one time per path so far (docs/motion_blur.md)
+    if (media_note.empty() && integ != "pt" && integ != "auto") {
+        const std::string why = motion_reason(scene);
+        if (!why.empty()) {
+            media_note = "integrator '" + integ + "' does not render motion blur (the scene " +
+                         "has " + why + "; its light paths would need the camera path's "
+                         "time): rendering with pt";
+            settings_.integrator = "pt";
+        }
+    }
     auto t0 = Clock::now();
     scene_ = std::make_unique<HostScene>(scene);
     if (settings_.integrator == "lt") check_light_tracing(scene);
@@ -104,7 +115,10 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
         device_name_ = gpu_->device_name();
     } else if (want == "cuda" || want == "auto") {
         const CudaInfo info = cuda_info();
-        if (info.available) {
+        if (info.available && scene_->view().motion.any()) {
+            warnings_.push_back("the CUDA backend does not render motion blur yet; rendering "
+                                "on the CPU");
+        } else if (info.available) {
             try {
                 gpu_ = make_cuda_renderer(*scene_, settings_, warnings_);
                 backend_name_ = "cuda";
@@ -144,8 +158,9 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
 Session::~Session() = default;
 
 void Session::start_cpu_backend() {
-    const std::vector<MeshRange>* instances =
-        settings_.instancing ? &scene_->mesh_ranges() : nullptr;  // two levels: move_instance
+    const std::vector<MeshRange>* instances =  // two levels: move_instance, moving meshes
+        settings_.instancing || scene_->view().motion.num_objects > 0 ? &scene_->mesh_ranges()
+                                                                      : nullptr;
     backend_ =
         std::make_unique<CpuBackend>(scene_->view(), settings_.threads, warnings_, instances);
     stats_.accel_bottom_builds = backend_->bottom_builds();

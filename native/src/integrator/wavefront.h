@@ -202,23 +202,39 @@ inline double seconds_since(Clock::time_point t0) {
 }
 
 // Closest hits of the queued slots' rays; camera rays see only camera-visible triangles.
+// motion: the rays carry their path's time (motion blur, scene/motion.h).
 template <class Exec>
-void trace(Exec& ex, Wavefront<Exec>& w, int n, bool camera, SessionStats& stats) {
+void trace(Exec& ex, Wavefront<Exec>& w, int n, bool camera, SessionStats& stats,
+           bool motion = false) {
     const PathState ps = w.ps;
     const int32_t* q = w.queue.data();
+    auto hit = LANTERN_KERNEL(int k, float t, int32_t prim, Vec2 uv) {
+        const int i = q[k];
+        ps.hit_t[i] = t;
+        ps.hit_prim[i] = prim;
+        ps.hit_uv[i] = uv;
+    };
+    const RayKind kind = camera ? RayKind::kCamera : RayKind::kIndirect;
     ex.timed(stats.time_trace, [&] {
+        if (motion) {  // each ray at its path's time (its own loop: still scenes pay nothing)
+            ex.closest(
+                n, kind,
+                LANTERN_KERNEL(int k) {
+                    const int i = q[k];
+                    Ray r{ps.ray_o[i], ps.ray_d[i], ps.ray_tmin[i], ps.ray_tmax[i]};
+                    r.time = motion_time(ps.rng[i]);
+                    return r;
+                },
+                hit);
+            return;
+        }
         ex.closest(
-            n, camera ? RayKind::kCamera : RayKind::kIndirect,
+            n, kind,
             LANTERN_KERNEL(int k) {
                 const int i = q[k];
                 return Ray{ps.ray_o[i], ps.ray_d[i], ps.ray_tmin[i], ps.ray_tmax[i]};
             },
-            LANTERN_KERNEL(int k, float t, int32_t prim, Vec2 uv) {
-                const int i = q[k];
-                ps.hit_t[i] = t;
-                ps.hit_prim[i] = prim;
-                ps.hit_uv[i] = uv;
-            });
+            hit);
     });
 }
 

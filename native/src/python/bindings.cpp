@@ -141,6 +141,7 @@ SceneInput to_input(const nb::dict& scene) {
             for (int k = 0; k < 4; ++k) in.pano_range[k] = r[k];
         }
         get_matrix(c, "to_world", in.camera_to_world);
+        in.camera_motion = get_array<float>(c, "motion", 16, "camera");  // motion blur
         if (has(c, "screen")) {
             auto s = nb::cast<std::vector<float>>(c["screen"]);
             if (s.size() != 4) throw std::invalid_argument("camera 'screen' needs 4 values");
@@ -290,6 +291,9 @@ SceneInput to_input(const nb::dict& scene) {
             mi.visible_camera = get<bool>(m, "visible_camera", true);
             mi.cast_shadow = get<bool>(m, "cast_shadow", true);
             mi.shadow_catcher = get<bool>(m, "shadow_catcher", false);
+            // motion blur: (S, 16) object-to-world matrices at the shutter's steps
+            mi.motion = get_array<float>(m, "motion", 16, "mesh '" + mi.name + "'");
+            get_matrix(m, "motion_base", mi.motion_base);
             in.meshes.push_back(std::move(mi));
         }
     }

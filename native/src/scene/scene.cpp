@@ -235,6 +235,7 @@ HostScene::HostScene(const SceneInput& in) {
     build_filter(in.filter_width);
     finish_view(in);
     build_media(in);
+    build_motion(in);
 }
 
 // Inverted CDF of the Blackman-Harris filter: maps u in [0,1] to an offset in pixels. As in
@@ -303,6 +304,8 @@ SceneView HostScene::copied_view(
     v.env.conditional = put(view_.env.conditional, env_->conditional.size());
     v.media = put(view_.media, media_.size());
     v.material_medium = put(view_.material_medium, material_medium_.size());
+    v.motion.steps = put(view_.motion.steps, motion_steps_.size());
+    v.motion.objects = put(view_.motion.objects, motion_objects_.size());
     return v;
 }
 

@@ -29,6 +29,10 @@ struct MeshInput {
     bool visible_camera = true;
     bool cast_shadow = true;
     bool shadow_catcher = false;       // TriangleFlags kShadowCatcher (pt)
+    // motion blur (scene/motion_build.cpp): object-to-world at the shutter's steps, 16 floats
+    // (row-major 4x4) each, and motion_base, the one positions were exported with; empty: still
+    std::vector<float> motion;
+    float motion_base[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
 };
 
 struct MaterialInput {
@@ -152,6 +156,7 @@ struct SceneInput {
     int num_attribute_channels = 0;  // per-vertex attribute channels of every mesh
     std::vector<MediumInput> media;  // homogeneous media (scene/medium_build.cpp)
     int world_medium = -1;           // the world's Volume: an index into media, -1 none
+    std::vector<float> camera_motion;  // camera_to_world at the shutter's steps (16 each), or empty
 };
 
 class HostScene {
@@ -195,6 +200,7 @@ private:
     void fill_lobe_tables();
     void build_media(const SceneInput& in);  // scene/medium_build.cpp
     int32_t camera_medium_at(Vec3 p) const;
+    void build_motion(const SceneInput& in);  // scene/motion_build.cpp
 
     std::vector<Vec3> positions_, normals_;
     std::vector<Vec2> uvs_;
@@ -230,6 +236,8 @@ private:
         std::vector<float> tangents;
     };
     std::vector<std::unique_ptr<MeshCopy>> mesh_given_;  // per mesh, null until it moves
+    std::vector<MotionStep> motion_steps_;      // SceneView::motion (motion blur)
+    std::vector<ObjectMotion> motion_objects_;
 };
 
 Transform transform_from_rows(const float m[16]);

@@ -5,6 +5,7 @@
 #include "core/math.h"
 #include "scene/envmap.h"
 #include "scene/medium.h"
+#include "scene/motion.h"
 #include "scene/texture.h"
 
 namespace lantern {
@@ -339,6 +340,8 @@ struct SceneView {
     int32_t num_media = 0;
     int32_t world_medium = -1;   // outside every mesh medium, -1: vacuum
     int32_t camera_medium = -1;  // where camera rays start
+    // motion blur (scene/motion.h): moving meshes and the camera's steps; any() false: none
+    MotionView motion;
 };
 
 // Texture coordinates of triangle tri at barycentrics (weights of vertices 1 and 2); 0 without uvs.

@@ -43,6 +43,7 @@ bool BvhAccel::guard(const Ray& r, Ray* out, float* shift) const {
     if (!EmbreeAccel::prepare(r, box_, o, &out->tmin, &out->tmax, shift)) return false;
     out->o = {o[0], o[1], o[2]};
     out->d = r.d;
+    out->time = r.time;
     return true;
 }
 

@@ -19,6 +19,8 @@ CpuBackend::CpuBackend(const SceneView& s, int threads, std::vector<std::string>
                                     want + "'");
     }
     std::string why;
+    // moving meshes (motion blur) need two levels (Session passes them): Embree's motion
+    // instances (embree_instances.cpp) or the built-in TLAS (accel/tlas.h)
     if (want == "bvh") {
         why = "LANTERN_ACCEL=bvh";
     } else if (!embree_available()) {

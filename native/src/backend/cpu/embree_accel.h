@@ -93,6 +93,9 @@ private:
     int64_t bottom_builds_ = 0;
     std::vector<std::unique_ptr<Built>> children_;  // per mesh, and filtered per-kind copies
     Top top_all_, top_camera_, top_shadow_;
+    // motion blur: the scene's positions with each moving mesh's in its object space (its
+    // child is built there and placed by its steps at the ray's time, embree_instances.cpp)
+    std::vector<Vec3> motion_positions_;
 
     Vec3 box_[2];  // far_ray_bounds()
     void* device_ = nullptr;                 // RTCDevice

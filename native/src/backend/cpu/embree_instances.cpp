@@ -2,6 +2,7 @@
 // geometries, as the flat scene has them), placed by an instance geometry in one top scene per
 // ray kind (camera rays see only camera-visible meshes, shadow rays only shadow casters). A move
 // sets one instance's transform and commits the top scenes again; no child is rebuilt.
+#include <algorithm>
 #include <cstring>
 #include <stdexcept>
 
@@ -18,11 +19,30 @@ void EmbreeAccel::build_instanced(const SceneView& s, const std::vector<MeshRang
     auto dev = static_cast<RTCDevice>(device_);
     two_level_ = true;
     const size_t n = meshes.size();
+    // motion blur: a moving mesh's child holds it in object space (motion_base's inverse), its
+    // instance interpolates the object-to-world steps as the core does (scene/motion.h: Embree's
+    // quaternion decomposition is the same T R U, slerped and lerped)
+    std::vector<const ObjectMotion*> moving(n, nullptr);
+    SceneView local = s;
+    if (s.motion.num_objects > 0) {
+        size_t nv = 0;
+        for (const MeshRange& m : meshes) nv = std::max(nv, size_t(m.vert_begin + m.vert_count));
+        motion_positions_.assign(s.positions, s.positions + nv);
+        for (int j = 0; j < s.motion.num_objects; ++j) {
+            const ObjectMotion& o = s.motion.objects[j];
+            if (o.mesh < 0 || size_t(o.mesh) >= n) continue;
+            moving[o.mesh] = &o;
+            const MeshRange& m = meshes[o.mesh];
+            for (int v = m.vert_begin; v < m.vert_begin + m.vert_count; ++v)
+                motion_positions_[v] = o.base_inv.point(s.positions[v]);
+        }
+        local.positions = motion_positions_.data();
+    }
     std::vector<const Built*> all(n, nullptr);
     for (size_t k = 0; k < n; ++k) {
         const MeshRange& m = meshes[k];
         children_.push_back(std::make_unique<Built>(
-            build(s, 0, m.tri_begin, m.tri_begin + m.tri_count, true)));
+            build(moving[k] ? local : s, 0, m.tri_begin, m.tri_begin + m.tri_count, true)));
         ++bottom_builds_;
         all[k] = children_.back().get();
     }
@@ -43,14 +63,30 @@ void EmbreeAccel::build_instanced(const SceneView& s, const std::vector<MeshRang
             const Built* child = all[k];
             if (with < m.tri_count) {  // a mesh with mixed flags: its own child for this kind
                 children_.push_back(std::make_unique<Built>(
-                    build(s, need_flag, m.tri_begin, m.tri_begin + m.tri_count, true)));
+                    build(moving[k] ? local : s, need_flag, m.tri_begin,
+                          m.tri_begin + m.tri_count, true)));
                 ++bottom_builds_;
                 child = children_.back().get();
             }
             if (child->prim_to_tri.empty()) continue;
             RTCGeometry g = e.newGeometry(dev, RTC_GEOMETRY_TYPE_INSTANCE);
             e.setGeometryInstancedScene(g, static_cast<RTCScene>(child->scene));
-            e.setGeometryTransform(g, 0, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, kIdentity);
+            if (const ObjectMotion* o = moving[k]) {
+                e.setGeometryTimeStepCount(g, unsigned(o->num_steps));
+                for (int i = 0; i < o->num_steps; ++i) {
+                    const MotionStep& st = s.motion.steps[o->first_step + i];
+                    RTCQuaternionDecomposition qd;
+                    rtcInitQuaternionDecomposition(&qd);
+                    rtcQuaternionDecompositionSetQuaternion(&qd, st.q[3], st.q[0], st.q[1],
+                                                            st.q[2]);
+                    rtcQuaternionDecompositionSetScale(&qd, st.u[0], st.u[3], st.u[5]);
+                    rtcQuaternionDecompositionSetSkew(&qd, st.u[1], st.u[2], st.u[4]);
+                    rtcQuaternionDecompositionSetTranslation(&qd, st.t[0], st.t[1], st.t[2]);
+                    e.setGeometryTransformQuaternion(g, unsigned(i), &qd);
+                }
+            } else {
+                e.setGeometryTransform(g, 0, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, kIdentity);
+            }
             e.commitGeometry(g);
             const uint32_t id = e.attachGeometry(scene, g);
             if (top.geom_mesh.size() <= id) top.geom_mesh.resize(id + 1, -1);
@@ -118,7 +154,7 @@ HitRecord EmbreeAccel::intersect_instanced(const Ray& r, RayKind kind) const {
     rh.ray.dir_x = r.d.x; rh.ray.dir_y = r.d.y; rh.ray.dir_z = r.d.z;
     rh.ray.tnear = tnear;
     rh.ray.tfar = tfar;
-    rh.ray.time = 0.0f;
+    rh.ray.time = r.time;  // motion blur: moving instances at the path's time
     rh.ray.mask = 0xFFFFFFFFu;
     rh.ray.id = 0;
     rh.ray.flags = 0;
@@ -147,7 +183,7 @@ bool EmbreeAccel::occluded_instanced(const Ray& r) const {
     ray.dir_x = r.d.x; ray.dir_y = r.d.y; ray.dir_z = r.d.z;
     ray.tnear = tnear;
     ray.tfar = tfar;
-    ray.time = 0.0f;
+    ray.time = r.time;
     ray.mask = 0xFFFFFFFFu;
     ray.id = 0;
     ray.flags = 0;

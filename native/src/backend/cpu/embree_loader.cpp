@@ -62,6 +62,9 @@ Loaded load() {
     resolve(l.handle, "rtcOccluded1", a.occluded1, l.error);
     resolve(l.handle, "rtcSetGeometryInstancedScene", a.setGeometryInstancedScene, l.error);
     resolve(l.handle, "rtcSetGeometryTransform", a.setGeometryTransform, l.error);
+    resolve(l.handle, "rtcSetGeometryTimeStepCount", a.setGeometryTimeStepCount, l.error);
+    resolve(l.handle, "rtcSetGeometryTransformQuaternion", a.setGeometryTransformQuaternion,
+            l.error);
     if (l.error.empty()) {
         Dl_info info;
         if (dladdr(reinterpret_cast<void*>(a.newDevice), &info) && info.dli_fname) {

@@ -40,6 +40,9 @@ struct EmbreeApi {
     // two-level instancing (embree_instances.cpp)
     decltype(&rtcSetGeometryInstancedScene) setGeometryInstancedScene = nullptr;
     decltype(&rtcSetGeometryTransform) setGeometryTransform = nullptr;
+    // motion blur's moving instances (embree_instances.cpp)
+    decltype(&rtcSetGeometryTimeStepCount) setGeometryTimeStepCount = nullptr;
+    decltype(&rtcSetGeometryTransformQuaternion) setGeometryTransformQuaternion = nullptr;
 };
 
 // The process-wide API table, loaded on first use. Throws std::runtime_error with a clear

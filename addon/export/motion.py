@@ -1,0 +1,145 @@
+"""Transform motion blur (docs/motion_blur.md): with Render > Motion Blur on, every moving
+object's world matrix (and the camera's) at the shutter's steps, read as Cycles reads them:
+the shutter (Render > Motion Blur > Shutter, in frames) opens at the frame (Position Start),
+around it (Center) or closes at it (End); an object with Motion Blur on (Object Properties >
+Motion Blur) takes 2^(Steps - 1) x 2 + 1 evenly spread steps, the camera too. The steps are
+read by setting the scene to each step's subframe (`frame_set`: the render engine's own during a
+render), then back to the frame. Meshes keep their positions as exported at the frame with the
+matrix they were exported with (`motion_base`); the core interpolates the steps per ray.
+Deformation (armatures, shape keys, modifiers that move vertices) is not blurred: a warning."""
+
+import math
+
+import numpy as np
+
+POSITION_OFFSET = {"START": 0.5, "CENTER": 0.0, "END": -0.5}  # x shutter: the middle's offset
+
+
+def motion_enabled(bscene):
+    return bool(getattr(bscene.render, "use_motion_blur", False))
+
+
+def object_steps(obj, instancer=None):
+    """How many steps obj takes (0: its motion blur is off), as Cycles: the object's Motion
+    Steps s gives 2^(s - 1) x 2 + 1 (3, 5, 9, ...), an instancer's larger count wins."""
+    def own(o):
+        c = getattr(o, "cycles", None)
+        if c is None:
+            return 3
+        if not getattr(c, "use_motion_blur", True):
+            return 0
+        return (2 << (max(1, int(getattr(c, "motion_steps", 1))) - 1)) + 1
+    n = own(obj)
+    if n and instancer is not None and instancer is not obj:
+        m = own(instancer)
+        n = max(n, m) if m else 0
+    return n
+
+
+def step_offsets(bscene, n):
+    """Frame offsets (from the current frame) of n steps over the shutter."""
+    r = bscene.render
+    shutter = float(r.motion_blur_shutter)
+    middle = POSITION_OFFSET.get(getattr(r, "motion_blur_position", "CENTER"), 0.0) * shutter
+    return [middle + shutter * (-0.5 + i / (n - 1)) for i in range(n)]
+
+
+def instance_key(inst):
+    obj = inst.object
+    if inst.is_instance:
+        return (obj.name, tuple(inst.persistent_id), inst.parent.name if inst.parent else "")
+    return (obj.name,)
+
+
+def _deforms(obj):
+    """Whether obj's vertices may move over the shutter (not blurred: a warning)."""
+    c = getattr(obj, "cycles", None)
+    if c is not None and not getattr(c, "use_deform_motion", True):
+        return False
+    data = getattr(obj, "data", None)
+    keys = getattr(data, "shape_keys", None)
+    if keys is not None and (keys.animation_data is not None or len(keys.key_blocks) > 1):
+        return True
+    return any(m.type in {"ARMATURE", "MESH_DEFORM", "LATTICE", "CURVE", "HOOK", "CAST",
+                          "DISPLACE", "WAVE", "OCEAN", "SIMPLE_DEFORM", "SMOOTH",
+                          "SURFACE_DEFORM", "WARP", "NODES", "MESH_CACHE",
+                          "MESH_SEQUENCE_CACHE", "CLOTH", "SOFT_BODY"}
+               for m in getattr(obj, "modifiers", ()))
+
+
+class MotionRecorder:
+    """Collects the exported meshes that may move, then reads their steps (finish)."""
+
+    def __init__(self, depsgraph, report, frame_set=None, final=True):
+        self.depsgraph = depsgraph
+        self.report = report
+        self.bscene = depsgraph.scene_eval
+        self.on = final and motion_enabled(self.bscene)
+        self.frame_set = frame_set or depsgraph.scene.frame_set
+        self._meshes = {}  # key -> (mesh dict, steps)
+
+    def mesh(self, inst, mesh):
+        if not self.on:
+            return
+        obj = inst.object
+        n = object_steps(obj, inst.parent if inst.is_instance else None)
+        if n < 2:
+            return
+        key = instance_key(inst)
+        if key in self._meshes:  # the same key twice: leave both still
+            self._meshes[key] = (None, 0)
+            return
+        mesh["motion_base"] = np.array(inst.matrix_world, dtype=np.float64).tolist()
+        self._meshes[key] = (mesh, n)
+        if _deforms(obj):
+            self.report.warn(f"Object '{obj.name}': deformation motion blur is not rendered "
+                             "(its transform is blurred, its vertices stay as at the frame)")
+
+    def finish(self, scene, camera_obj, camera_matrix):
+        """Reads the steps and writes mesh["motion"] and scene.camera["motion"];
+        camera_matrix(obj) is the exported camera's to_world of obj now."""
+        if not self.on:
+            return
+        cam_n = object_steps(camera_obj) if camera_obj is not None else 0
+        counts = {n for _, n in self._meshes.values() if n >= 2}
+        if cam_n >= 2:
+            counts.add(cam_n)
+        if not counts:
+            return
+        bscene = self.bscene
+        frame, sub0 = bscene.frame_current, float(getattr(bscene, "frame_subframe", 0.0))
+        offsets = sorted({round(o, 9) for n in counts for o in step_offsets(bscene, n)})
+        at = {}  # offset -> {key: matrix}, "camera": matrix
+        try:
+            for off in offsets:
+                t = frame + sub0 + off
+                f = math.floor(t)
+                self.frame_set(int(f), subframe=float(t - f))
+                mats = {}
+                for inst in self.depsgraph.object_instances:
+                    key = instance_key(inst)
+                    if key in self._meshes:
+                        mats[key] = np.array(inst.matrix_world, dtype=np.float64)
+                if cam_n >= 2:
+                    cam_eval = camera_obj.evaluated_get(self.depsgraph)
+                    mats["camera"] = np.asarray(camera_matrix(cam_eval), dtype=np.float64)
+                at[off] = mats
+        finally:
+            self.frame_set(int(frame), subframe=sub0)
+        for key, (mesh, n) in self._meshes.items():
+            if mesh is None:
+                continue
+            steps = [at[round(o, 9)].get(key) for o in step_offsets(bscene, n)]
+            if any(s is None for s in steps):
+                continue  # gone at some step: left still
+            if all(np.array_equal(steps[0], s) for s in steps[1:]):
+                mesh.pop("motion_base", None)
+                continue
+            mesh["motion"] = [s.tolist() for s in steps]
+        if cam_n >= 2:
+            steps = [at[round(o, 9)]["camera"] for o in step_offsets(bscene, cam_n)]
+            if not all(np.array_equal(steps[0], s) for s in steps[1:]):
+                scene.camera["motion"] = [s.tolist() for s in steps]
+        for mesh, _ in self._meshes.values():
+            if mesh is not None and "motion" not in mesh:
+                mesh.pop("motion_base", None)

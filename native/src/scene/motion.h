@@ -1,0 +1,229 @@
+// Transform motion blur (host+device; docs/motion_blur.md). A moving object keeps its triangles
+// where they were exported (the scene's world arrays, the bottom-level BVH) and carries its
+// object-to-world matrices at the shutter's steps, decomposed as Cycles interpolates them:
+// a rotation quaternion (slerped), a translation and an upper-triangular scale-and-shear
+// matrix (both lerped), the steps evenly spread over the shutter, time 0 its opening and 1 its
+// close. Each camera path draws one time; its rays carry it (Ray::time): the two-level BVH
+// places a moving instance at that time, shading moves the exported hit there, and the camera
+// moves with its own steps. Scenes without motion draw nothing and run none of this.
+#pragma once
+
+#include "core/math.h"
+#include "core/rng.h"
+
+namespace lantern {
+
+// One step: M = [R(q) U | t], U = [[u0 u1 u2] [0 u3 u4] [0 0 u5]], q = (x, y, z, w).
+struct MotionStep {
+    float q[4];
+    float t[3];
+    float u[6];
+};
+
+// A moving mesh: triangles [tri_begin, tri_begin + tri_count) of the scene, its steps
+// [first_step, first_step + num_steps) of MotionView::steps, and `base_inv`, the inverse of the
+// object-to-world matrix its positions were exported with (exported world -> object space).
+struct ObjectMotion {
+    int32_t tri_begin, tri_count;
+    int32_t first_step, num_steps;
+    int32_t mesh;  // its index among the scene's meshes (the two-level BVH's instance)
+    int32_t pad;
+    Transform base_inv;
+    Transform base;  // the exported object-to-world matrix itself
+};
+
+struct MotionView {
+    const MotionStep* steps = nullptr;
+    const ObjectMotion* objects = nullptr;  // ordered by tri_begin, ranges disjoint
+    int32_t num_objects = 0;
+    int32_t camera_first = 0, camera_steps = 0;  // camera: steps of its to_world (< 2: still)
+    LANTERN_HD bool any() const { return num_objects > 0 || camera_steps > 1; }
+};
+
+// ---- Time: one number per camera path, outside the path's own dimensions (sample_dims.h,
+// "motion blur"): the 1D Owen-scrambled Sobol' sequence of the path's sample index under its own
+// scramble, so that a pixel's times are stratified and no existing draw changes ----
+constexpr uint32_t kMotionTimeSalt = 0x54494D45u;  // "TIME"
+LANTERN_HD inline float motion_time(const Rng& rng) {
+#ifdef LANTERN_RNG_PCG
+    return bits_to_unit(uint32_t(mix64(rng.state ^ kMotionTimeSalt)));
+#else
+    const uint32_t seed = rng.seed ^ kMotionTimeSalt;
+    return bits_to_unit(sobol_owen(sobol_shuffled(rng.rindex, seed, 0), seed, 0));
+#endif
+}
+
+// ---- Interpolation ----
+LANTERN_HD inline Transform motion_compose(const float q[4], const float t[3], const float u[6]) {
+    const float x = q[0], y = q[1], z = q[2], w = q[3];
+    const float r[3][3] = {{1.0f - 2.0f * (y * y + z * z), 2.0f * (x * y - w * z),
+                            2.0f * (x * z + w * y)},
+                           {2.0f * (x * y + w * z), 1.0f - 2.0f * (x * x + z * z),
+                            2.0f * (y * z - w * x)},
+                           {2.0f * (x * z - w * y), 2.0f * (y * z + w * x),
+                            1.0f - 2.0f * (x * x + y * y)}};
+    const float um[3][3] = {{u[0], u[1], u[2]}, {0.0f, u[3], u[4]}, {0.0f, 0.0f, u[5]}};
+    Transform m;
+    for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j)
+            m.m[i][j] = r[i][0] * um[0][j] + r[i][1] * um[1][j] + r[i][2] * um[2][j];
+        m.m[i][3] = t[i];
+    }
+    return m;
+}
+
+// Steps a, b mixed at f in [0, 1]: slerp of the rotations (b's quaternion is on a's side: the
+// builder flips signs), lerp of the rest.
+LANTERN_HD inline Transform motion_mix(const MotionStep& a, const MotionStep& b, float f) {
+    float q[4], t[3], u[6];
+    const float c = a.q[0] * b.q[0] + a.q[1] * b.q[1] + a.q[2] * b.q[2] + a.q[3] * b.q[3];
+    float wa = 1.0f - f, wb = f;
+    if (c < 0.9995f) {  // slerp; nearly parallel: the normalised lerp
+        const float th = acosf(fmaxf(c, -1.0f));
+        const float st = sinf(th);
+        wa = sinf((1.0f - f) * th) / st;
+        wb = sinf(f * th) / st;
+    }
+    float l = 0.0f;
+    for (int k = 0; k < 4; ++k) {
+        q[k] = wa * a.q[k] + wb * b.q[k];
+        l += q[k] * q[k];
+    }
+    l = l > 0.0f ? 1.0f / sqrtf(l) : 0.0f;
+    for (int k = 0; k < 4; ++k) q[k] *= l;
+    for (int k = 0; k < 3; ++k) t[k] = (1.0f - f) * a.t[k] + f * b.t[k];
+    for (int k = 0; k < 6; ++k) u[k] = (1.0f - f) * a.u[k] + f * b.u[k];
+    return motion_compose(q, t, u);
+}
+
+// The object-to-world matrix of steps [first, first + n) at time in [0, 1].
+LANTERN_HD inline Transform motion_at(const MotionStep* steps, int first, int n, float time) {
+    if (n < 2) return motion_compose(steps[first].q, steps[first].t, steps[first].u);
+    const float x = fminf(fmaxf(time, 0.0f), 1.0f) * float(n - 1);
+    const int k = x >= float(n - 1) ? n - 2 : int(x);
+    return motion_mix(steps[first + k], steps[first + k + 1], x - float(k));
+}
+
+LANTERN_HD inline Transform transform_mul(const Transform& a, const Transform& b) {
+    Transform m;
+    for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 4; ++j) {
+            float v = a.m[i][0] * b.m[0][j] + a.m[i][1] * b.m[1][j] + a.m[i][2] * b.m[2][j];
+            m.m[i][j] = j == 3 ? v + a.m[i][3] : v;
+        }
+    }
+    return m;
+}
+
+// Inverse of an affine transform; false (m untouched) when it is singular or not finite.
+LANTERN_HD inline bool transform_inverse(const Transform& a, Transform* out) {
+    const float(*m)[4] = a.m;
+    const float c00 = m[1][1] * m[2][2] - m[1][2] * m[2][1];
+    const float c01 = m[1][2] * m[2][0] - m[1][0] * m[2][2];
+    const float c02 = m[1][0] * m[2][1] - m[1][1] * m[2][0];
+    const float det = m[0][0] * c00 + m[0][1] * c01 + m[0][2] * c02;
+    if (!(fabsf(det) > 1e-30f) || !(fabsf(det) < 1e30f)) return false;
+    const float id = 1.0f / det;
+    Transform r;
+    r.m[0][0] = c00 * id;
+    r.m[1][0] = c01 * id;
+    r.m[2][0] = c02 * id;
+    r.m[0][1] = (m[0][2] * m[2][1] - m[0][1] * m[2][2]) * id;
+    r.m[1][1] = (m[0][0] * m[2][2] - m[0][2] * m[2][0]) * id;
+    r.m[2][1] = (m[0][1] * m[2][0] - m[0][0] * m[2][1]) * id;
+    r.m[0][2] = (m[0][1] * m[1][2] - m[0][2] * m[1][1]) * id;
+    r.m[1][2] = (m[0][2] * m[1][0] - m[0][0] * m[1][2]) * id;
+    r.m[2][2] = (m[0][0] * m[1][1] - m[0][1] * m[1][0]) * id;
+    for (int i = 0; i < 3; ++i)
+        r.m[i][3] = -(r.m[i][0] * m[0][3] + r.m[i][1] * m[1][3] + r.m[i][2] * m[2][3]);
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 4; ++j)
+            if (!(fabsf(r.m[i][j]) <= 3.0e38f)) return false;  // NaN or inf
+    *out = r;
+    return true;
+}
+
+// Exported world -> world at `time` (the mesh's arrays are placed there).
+LANTERN_HD inline Transform object_motion_to_world(const MotionView& mv, const ObjectMotion& o,
+                                                   float time) {
+    return transform_mul(motion_at(mv.steps, o.first_step, o.num_steps, time), o.base_inv);
+}
+
+// World at `time` -> exported world (a ray's frame for the bottom level); false where the
+// object's matrix is singular at that time (a scale through zero: nothing to hit).
+LANTERN_HD inline bool object_motion_to_exported(const MotionView& mv, const ObjectMotion& o,
+                                                 float time, Transform* out) {
+    Transform inv;
+    if (!transform_inverse(motion_at(mv.steps, o.first_step, o.num_steps, time), &inv))
+        return false;
+    *out = transform_mul(o.base, inv);
+    return true;
+}
+
+// The moving object that holds triangle tri, or null (a binary search over the few movers).
+LANTERN_HD inline const ObjectMotion* object_motion_of(const MotionView& mv, int tri) {
+    int lo = 0, hi = mv.num_objects - 1;
+    while (lo <= hi) {
+        const int mid = (lo + hi) >> 1;
+        const ObjectMotion& o = mv.objects[mid];
+        if (tri < o.tri_begin) {
+            hi = mid - 1;
+        } else if (tri >= o.tri_begin + o.tri_count) {
+            lo = mid + 1;
+        } else {
+            return &o;
+        }
+    }
+    return nullptr;
+}
+
+// A normal under m: (m^-1)^T n through the cofactors (scale does not matter: normalised later).
+LANTERN_HD inline Vec3 motion_normal(const Transform& a, Vec3 n) {
+    const float(*m)[4] = a.m;
+    const Vec3 c0{m[1][1] * m[2][2] - m[1][2] * m[2][1], m[1][2] * m[2][0] - m[1][0] * m[2][2],
+                  m[1][0] * m[2][1] - m[1][1] * m[2][0]};
+    const Vec3 c1{m[0][2] * m[2][1] - m[0][1] * m[2][2], m[0][0] * m[2][2] - m[0][2] * m[2][0],
+                  m[0][1] * m[2][0] - m[0][0] * m[2][1]};
+    const Vec3 c2{m[0][1] * m[1][2] - m[0][2] * m[1][1], m[0][2] * m[1][0] - m[0][0] * m[1][2],
+                  m[0][0] * m[1][1] - m[0][1] * m[1][0]};
+    // cofactor matrix C with C[i][j] = rows above: c0 = (C00, C01, C02) ... n' = C n
+    return Vec3{c0.x * n.x + c0.y * n.y + c0.z * n.z, c1.x * n.x + c1.y * n.y + c1.z * n.z,
+                c2.x * n.x + c2.y * n.y + c2.z * n.z};
+}
+
+// A hit on a moving mesh at `time`: surface(dx) shades the exported triangle for the ray's
+// direction dx brought there; its point and normals are then moved to `time` (normals by the
+// cofactors, as the moved triangle's own; a mirroring step keeps them facing the ray).
+template <class Hit, class Surface>
+LANTERN_HD inline Hit motion_surface(const MotionView& mv, int tri, Vec3 d, float time,
+                                     const Surface& surface) {
+    const ObjectMotion* o = object_motion_of(mv, tri);
+    if (!o) return surface(d);
+    const Transform m = object_motion_to_world(mv, *o, time);
+    Transform inv;
+    if (!transform_inverse(m, &inv)) return surface(d);
+    Hit h = surface(inv.vector(d));
+    const float det = m.m[0][0] * (m.m[1][1] * m.m[2][2] - m.m[1][2] * m.m[2][1]) -
+                      m.m[0][1] * (m.m[1][0] * m.m[2][2] - m.m[1][2] * m.m[2][0]) +
+                      m.m[0][2] * (m.m[1][0] * m.m[2][1] - m.m[1][1] * m.m[2][0]);
+    const float sign = det < 0.0f ? -1.0f : 1.0f;
+    h.p = m.point(h.p);
+    h.ng = normalize(motion_normal(m, h.ng)) * sign;
+    h.ns = normalize(motion_normal(m, h.ns)) * sign;
+    return h;
+}
+
+// The camera at `time` (its steps: rigid, CameraView::to_world).
+template <class Camera>  // CameraView (scene_view.h, which includes this file)
+LANTERN_HD inline Camera motion_camera(Camera c, const MotionView& mv, float time) {
+    c.to_world = motion_at(mv.steps, mv.camera_first, mv.camera_steps, time);
+    return c;
+}
+
+// A ray of the camera path whose stream is rng, at the path's time where the scene moves.
+LANTERN_HD inline Ray timed_ray(Ray r, const MotionView& mv, const Rng& rng) {
+    if (mv.any()) r.time = motion_time(rng);
+    return r;
+}
+
+}  // namespace lantern

@@ -1,0 +1,239 @@
+// Motion blur's host side (scene/motion.h, docs/motion_blur.md): each moving mesh's matrices at
+// the shutter's steps decomposed into rotation, translation and scale-and-shear (as Cycles
+// interpolates them), checked (a singular or non-finite step, a moving emitter: a warning and
+// the mesh stays where it was exported), and bounded over the shutter for the top-level BVH.
+#include "scene/motion_build.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "scene/scene.h"
+
+namespace lantern {
+
+namespace {
+
+// The unit quaternion (x, y, z, w) of rotation matrix r (Shepperd's choice of the largest term).
+void quaternion_of(const double r[3][3], float q[4]) {
+    const double tr = r[0][0] + r[1][1] + r[2][2];
+    double x, y, z, w;
+    if (tr > 0.0) {
+        const double s = 2.0 * std::sqrt(tr + 1.0);
+        w = 0.25 * s;
+        x = (r[2][1] - r[1][2]) / s;
+        y = (r[0][2] - r[2][0]) / s;
+        z = (r[1][0] - r[0][1]) / s;
+    } else if (r[0][0] >= r[1][1] && r[0][0] >= r[2][2]) {
+        const double s = 2.0 * std::sqrt(std::max(0.0, 1.0 + r[0][0] - r[1][1] - r[2][2]));
+        x = 0.25 * s;
+        w = (r[2][1] - r[1][2]) / s;
+        y = (r[0][1] + r[1][0]) / s;
+        z = (r[0][2] + r[2][0]) / s;
+    } else if (r[1][1] >= r[2][2]) {
+        const double s = 2.0 * std::sqrt(std::max(0.0, 1.0 + r[1][1] - r[0][0] - r[2][2]));
+        y = 0.25 * s;
+        w = (r[0][2] - r[2][0]) / s;
+        x = (r[0][1] + r[1][0]) / s;
+        z = (r[1][2] + r[2][1]) / s;
+    } else {
+        const double s = 2.0 * std::sqrt(std::max(0.0, 1.0 + r[2][2] - r[0][0] - r[1][1]));
+        z = 0.25 * s;
+        w = (r[1][0] - r[0][1]) / s;
+        x = (r[0][2] + r[2][0]) / s;
+        y = (r[1][2] + r[2][1]) / s;
+    }
+    const double l = std::sqrt(x * x + y * y + z * z + w * w);
+    q[0] = float(x / l), q[1] = float(y / l), q[2] = float(z / l), q[3] = float(w / l);
+}
+
+bool same_matrix(const float* a, const float* b) {
+    for (int k = 0; k < 12; ++k)
+        if (a[k] != b[k]) return false;
+    return true;
+}
+
+}  // namespace
+
+bool decompose_motion_step(const float m[16], MotionStep* out) {
+    for (int k = 0; k < 12; ++k)
+        if (!std::isfinite(m[k])) return false;
+    // columns of the 3x3 part, orthonormalised in order (Gram-Schmidt): A = Q U
+    double c[3][3];
+    for (int j = 0; j < 3; ++j)
+        for (int i = 0; i < 3; ++i) c[j][i] = m[4 * i + j];
+    auto dot3 = [](const double* a, const double* b) {
+        return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    };
+    double u[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
+    for (int j = 0; j < 3; ++j) {
+        for (int k = 0; k < j; ++k) {
+            u[k][j] = dot3(c[k], c[j]);
+            for (int i = 0; i < 3; ++i) c[j][i] -= u[k][j] * c[k][i];
+        }
+        u[j][j] = std::sqrt(dot3(c[j], c[j]));
+        if (!(u[j][j] > 1e-12 * (1.0 + std::fabs(m[4 * 0 + j]) + std::fabs(m[4 * 1 + j]) +
+                                 std::fabs(m[4 * 2 + j]))))
+            return false;  // singular (a zero scale, collapsed axes)
+        for (int i = 0; i < 3; ++i) c[j][i] /= u[j][j];
+    }
+    double r[3][3];
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) r[i][j] = c[j][i];
+    const double det = r[0][0] * (r[1][1] * r[2][2] - r[1][2] * r[2][1]) -
+                       r[0][1] * (r[1][0] * r[2][2] - r[1][2] * r[2][0]) +
+                       r[0][2] * (r[1][0] * r[2][1] - r[1][1] * r[2][0]);
+    if (det < 0.0) {  // a mirror: the rotation is -Q, the scale -U
+        for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j) r[i][j] = -r[i][j], u[i][j] = -u[i][j];
+    }
+    quaternion_of(r, out->q);
+    for (int i = 0; i < 3; ++i) out->t[i] = m[4 * i + 3];
+    out->u[0] = float(u[0][0]), out->u[1] = float(u[0][1]), out->u[2] = float(u[0][2]);
+    out->u[3] = float(u[1][1]), out->u[4] = float(u[1][2]), out->u[5] = float(u[2][2]);
+    return true;
+}
+
+void motion_world_box(const MotionView& mv, const ObjectMotion& o, const Vec3 box[2],
+                      Vec3 out[2]) {
+    out[0] = vec3(kInf);
+    out[1] = vec3(-kInf);
+    if (!(box[0].x <= box[1].x)) return;
+    // the box's corners at 16 times per step interval, padded by the farthest a corner moves
+    // between two of them (a corner's path between samples stays within that of its chord)
+    constexpr int kSub = 16;
+    const int n = std::max(2, o.num_steps);
+    const int samples = (n - 1) * kSub;
+    Vec3 prev[8];
+    float pad = 0.0f;
+    for (int s = 0; s <= samples; ++s) {
+        const float time = float(s) / float(samples);
+        const Transform m = object_motion_to_world(mv, o, time);
+        for (int c = 0; c < 8; ++c) {
+            const Vec3 p{c & 1 ? box[1].x : box[0].x, c & 2 ? box[1].y : box[0].y,
+                         c & 4 ? box[1].z : box[0].z};
+            const Vec3 w = m.point(p);
+            out[0] = {std::min(out[0].x, w.x), std::min(out[0].y, w.y), std::min(out[0].z, w.z)};
+            out[1] = {std::max(out[1].x, w.x), std::max(out[1].y, w.y), std::max(out[1].z, w.z)};
+            if (s > 0) pad = std::max(pad, length(w - prev[c]));
+            prev[c] = w;
+        }
+    }
+    float far = 0.0f;
+    for (int a = 0; a < 3; ++a) far = std::max({far, std::fabs(out[0][a]), std::fabs(out[1][a])});
+    pad += 1e-5f * (max_component(out[1] - out[0]) + far);
+    out[0] = out[0] - vec3(pad);
+    out[1] = out[1] + vec3(pad);
+}
+
+std::string motion_reason(const SceneInput& in) {
+    auto moves = [](const std::vector<float>& m) {
+        for (size_t k = 16; k + 16 <= m.size(); k += 16)
+            if (!same_matrix(&m[0], &m[k])) return true;
+        return false;
+    };
+    for (const MeshInput& m : in.meshes)
+        if (moves(m.motion)) return "motion blur (mesh '" + m.name + "' moves)";
+    if (moves(in.camera_motion)) return "motion blur (the camera moves)";
+    return "";
+}
+
+void HostScene::build_motion(const SceneInput& in) {
+    motion_steps_.clear();
+    motion_objects_.clear();
+    view_.motion = MotionView{};
+    bool any = !in.camera_motion.empty();
+    for (const MeshInput& m : in.meshes) any |= !m.motion.empty();
+    if (!any) return;
+    if (!media_.empty()) {
+        warnings_.push_back("motion blur is not rendered in a scene with volumes (participating "
+                            "media): every object and the camera at the frame's instant");
+        return;
+    }
+    // steps of one matrix list; false (with a warning naming `who`) where one is unusable
+    auto add_steps = [&](const std::vector<float>& mats, const std::string& who,
+                         bool rigid) -> int {
+        const size_t n = mats.size() / 16;
+        if (mats.size() % 16 != 0 || n < 2) {
+            warnings_.push_back(who + ": its motion needs at least 2 steps of 4x4 matrices (got " +
+                                std::to_string(mats.size()) + " numbers); rendered without "
+                                "motion blur");
+            return -1;
+        }
+        bool still = true;
+        for (size_t k = 1; k < n; ++k) still &= same_matrix(&mats[0], &mats[16 * k]);
+        if (still) return 0;
+        const size_t first = motion_steps_.size();
+        for (size_t k = 0; k < n; ++k) {
+            MotionStep st;
+            if (!decompose_motion_step(&mats[16 * k], &st)) {
+                motion_steps_.resize(first);
+                warnings_.push_back(who + ": its matrix at motion step " + std::to_string(k) +
+                                    " is singular or not finite; rendered without motion blur "
+                                    "(where it is at the frame)");
+                return -1;
+            }
+            if (rigid) {
+                st.u[0] = st.u[3] = st.u[5] = 1.0f;
+                st.u[1] = st.u[2] = st.u[4] = 0.0f;
+            }
+            if (k > 0) {  // the shorter way round: q and -q are the same rotation
+                const MotionStep& p = motion_steps_.back();
+                const float d = p.q[0] * st.q[0] + p.q[1] * st.q[1] + p.q[2] * st.q[2] +
+                                p.q[3] * st.q[3];
+                if (d < 0.0f)
+                    for (float& x : st.q) x = -x;
+            }
+            motion_steps_.push_back(st);
+        }
+        return int(n);
+    };
+    for (size_t k = 0; k < in.meshes.size() && k < mesh_ranges_.size(); ++k) {
+        const MeshInput& m = in.meshes[k];
+        if (m.motion.empty()) continue;
+        const std::string who = "mesh '" + m.name + "'";
+        const MeshRange& r = mesh_ranges_[k];
+        if (r.tri_count == 0) continue;
+        bool emits = false;
+        for (int t = r.tri_begin; t < r.tri_begin + r.tri_count && !emits; ++t)
+            emits = tri_light_[t] >= 0;
+        Transform base = transform_from_rows(m.motion_base), base_inv;
+        if (!transform_inverse(base, &base_inv)) {
+            warnings_.push_back(who + ": the matrix it was exported with is singular or not "
+                                "finite; rendered without motion blur");
+            continue;
+        }
+        const size_t first = motion_steps_.size();
+        const int n = add_steps(m.motion, who, false);
+        if (n <= 0) continue;
+        if (emits) {  // the light tree holds its triangles where they were exported
+            motion_steps_.resize(first);
+            warnings_.push_back(who + " emits light: moving emitters are not motion-blurred "
+                                "(rendered where it is at the frame)");
+            continue;
+        }
+        ObjectMotion o{};
+        o.tri_begin = r.tri_begin;
+        o.tri_count = r.tri_count;
+        o.first_step = int32_t(first);
+        o.num_steps = n;
+        o.mesh = int32_t(k);
+        o.pad = 0;
+        o.base = base;
+        o.base_inv = base_inv;
+        motion_objects_.push_back(o);
+    }
+    int camera_first = 0, camera_steps = 0;
+    if (!in.camera_motion.empty()) {
+        camera_first = int(motion_steps_.size());
+        camera_steps = std::max(0, add_steps(in.camera_motion, "the camera", true));
+    }
+    if (motion_objects_.empty() && camera_steps < 2) return;
+    view_.motion.steps = motion_steps_.data();
+    view_.motion.objects = motion_objects_.empty() ? nullptr : motion_objects_.data();
+    view_.motion.num_objects = int32_t(motion_objects_.size());
+    view_.motion.camera_first = camera_first;
+    view_.motion.camera_steps = camera_steps;
+}
+
+}  // namespace lantern
