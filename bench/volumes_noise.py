@@ -1,0 +1,78 @@
+"""Noise and time of Lantern (pt) on the volume scenes of tests/cycles/test_volumes.py, for
+before/after measurements of a sampling change (docs/volumes.md): the scene is exported once,
+rendered with K seeds, and the spread over seeds gives per-pixel variance. Reported: the
+relative standard error of the image mean over one seed, the mean per-pixel relative standard
+deviation (over pixels whose mean is > 1 % of the image mean), the wall time per seed and the
+efficiency 1 / (mean pixel variance x time). Run inside bpy's Python:
+
+    nice python bench/volumes_noise.py --scenes fog_spot --spp 64 --seeds 8 \\
+        --out bench/results/2026-12-04-volumes2/noise.txt"""
+import argparse
+import os
+import platform
+import sys
+import time
+
+import numpy as np
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+if "--root" in sys.argv:  # another checkout's lantern and scenes (a "before" measurement)
+    ROOT = os.path.abspath(sys.argv[sys.argv.index("--root") + 1])
+sys.path.insert(0, os.path.join(ROOT, "python"))  # this checkout's lantern
+sys.path.insert(0, os.path.join(ROOT, "tests", "cycles"))
+sys.path.insert(0, os.path.join(ROOT, "tools"))
+import render_compare as rc  # noqa: E402
+import test_volumes as tv  # noqa: E402
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--scenes", nargs="+", default=["fog_spot"])
+    ap.add_argument("--spp", type=int, default=64)
+    ap.add_argument("--seeds", type=int, default=8)
+    ap.add_argument("--threads", type=int, default=1)
+    ap.add_argument("--label", default="")
+    ap.add_argument("--root", default=ROOT, help="the checkout to measure (default: this one)")
+    ap.add_argument("--out", required=True)
+    args = ap.parse_args()
+    import bpy
+    import lantern
+    rc.lantern_bpy.load_addon()
+    from lantern_blender.export import export_scene
+    machine = (f"{platform.node()} {platform.processor() or platform.machine()}, "
+               f"{os.cpu_count()} cores, load {os.getloadavg()[0]:.1f}")
+    for name in args.scenes:
+        tv.SCENES[name]()
+        scene, _ = export_scene(bpy.context.evaluated_depsgraph_get())
+        imgs, secs = [], []
+        for k in range(args.seeds):
+            t0 = time.perf_counter()
+            s = lantern.Session(scene, integrator="pt", backend="cpu",
+                                max_depth=rc.lantern_depth(rc.BOUNCES), seed=1 + k,
+                                spp_per_iteration=args.spp, threads=args.threads)
+            while s.spp < args.spp:
+                s.step()
+            imgs.append(np.asarray(s.image(), dtype=np.float64)[..., :3])
+            secs.append(time.perf_counter() - t0)
+        imgs = np.stack(imgs)
+        mean = imgs.mean(axis=0)
+        var = imgs.var(axis=0, ddof=1)
+        lum_mean = mean.mean()
+        rel_img = imgs.mean(axis=(1, 2, 3)).std(ddof=1) / lum_mean
+        mask = mean > 0.01 * lum_mean
+        rel_px = float(np.mean(np.sqrt(var[mask]) / mean[mask]))
+        t = float(np.median(secs))
+        eff = 1.0 / (var.mean() * t)
+        line = (f"{name} {args.label}: {args.seeds} seeds x {args.spp} spp, {args.threads} "
+                f"thread(s); image mean {lum_mean:.5f}; rel. se of the image mean "
+                f"{rel_img:.4f}; mean pixel rel. sd {rel_px:.4f}; mean pixel variance "
+                f"{var.mean():.3e}; {t:.2f} s per seed; efficiency 1/(var t) {eff:.4g}; "
+                f"{machine}")
+        print(line, flush=True)
+        os.makedirs(os.path.dirname(os.path.abspath(args.out)), exist_ok=True)
+        with open(args.out, "a") as f:
+            f.write(line + "\n")
+
+
+if __name__ == "__main__":
+    main()
