@@ -3,7 +3,8 @@ before/after measurements of a sampling change (docs/volumes.md): the scene is e
 rendered with K seeds, and the spread over seeds gives per-pixel variance. Reported: the
 relative standard error of the image mean over one seed, the mean per-pixel relative standard
 deviation (over pixels whose mean is > 1 % of the image mean), the wall time per seed and the
-efficiency 1 / (mean pixel variance x time). Run inside bpy's Python:
+efficiency 1 / (mean pixel variance x time); with --cycles the same for Cycles (CPU, the tests'
+settings) and the ratio of the two efficiencies. Run inside bpy's Python:
 
     nice python bench/volumes_noise.py --scenes fog_spot --spp 64 --seeds 8 \\
         --out bench/results/2026-12-04-volumes2/noise.txt"""
@@ -33,6 +34,9 @@ def main():
     ap.add_argument("--threads", type=int, default=1)
     ap.add_argument("--label", default="")
     ap.add_argument("--root", default=ROOT, help="the checkout to measure (default: this one)")
+    ap.add_argument("--cycles", action="store_true",
+                    help="also Cycles (CPU, the tests' settings, the same threads), for the "
+                         "efficiency ratio; its time per seed includes writing and reading an EXR")
     ap.add_argument("--out", required=True)
     args = ap.parse_args()
     import bpy
@@ -54,24 +58,48 @@ def main():
                 s.step()
             imgs.append(np.asarray(s.image(), dtype=np.float64)[..., :3])
             secs.append(time.perf_counter() - t0)
-        imgs = np.stack(imgs)
-        mean = imgs.mean(axis=0)
-        var = imgs.var(axis=0, ddof=1)
-        lum_mean = mean.mean()
-        rel_img = imgs.mean(axis=(1, 2, 3)).std(ddof=1) / lum_mean
-        mask = mean > 0.01 * lum_mean
-        rel_px = float(np.mean(np.sqrt(var[mask]) / mean[mask]))
-        t = float(np.median(secs))
-        eff = 1.0 / (var.mean() * t)
-        line = (f"{name} {args.label}: {args.seeds} seeds x {args.spp} spp, {args.threads} "
-                f"thread(s); image mean {lum_mean:.5f}; rel. se of the image mean "
-                f"{rel_img:.4f}; mean pixel rel. sd {rel_px:.4f}; mean pixel variance "
-                f"{var.mean():.3e}; {t:.2f} s per seed; efficiency 1/(var t) {eff:.4g}; "
-                f"{machine}")
-        print(line, flush=True)
-        os.makedirs(os.path.dirname(os.path.abspath(args.out)), exist_ok=True)
-        with open(args.out, "a") as f:
-            f.write(line + "\n")
+        line = _stats(name, f"Lantern pt {args.label}", np.stack(imgs), secs, args, machine)
+        if args.cycles:
+            bpy.context.scene.render.threads_mode = "FIXED"
+            bpy.context.scene.render.threads = args.threads
+            cimgs, csecs = [], []
+            for k in range(args.seeds):
+                t0 = time.perf_counter()
+                cimgs.append(np.asarray(rc.render_cycles(seed=900 + k, spp=args.spp)[0],
+                                        dtype=np.float64)[..., :3])
+                csecs.append(time.perf_counter() - t0)
+            cline = _stats(name, "Cycles", np.stack(cimgs), csecs, args, machine)
+            lv, lt = line[1], line[2]
+            cv, ct = cline[1], cline[2]
+            ratio = (cv * ct) / (lv * lt)
+            text = (f"{name}: efficiency Lantern pt {args.label} / Cycles = {ratio:.3g} "
+                    f"(variance x time per seed, {args.spp} spp, {args.threads} thread(s); "
+                    f"image means {line[3]:.5f} / {cline[3]:.5f})")
+            print(text, flush=True)
+            with open(args.out, "a") as f:
+                f.write(text + "\n")
+
+
+def _stats(name, who, imgs, secs, args, machine):
+    """Writes one result line; returns (line, mean pixel variance, time per seed, image mean)."""
+    mean = imgs.mean(axis=0)
+    var = imgs.var(axis=0, ddof=1)
+    lum_mean = mean.mean()
+    rel_img = imgs.mean(axis=(1, 2, 3)).std(ddof=1) / lum_mean
+    mask = mean > 0.01 * lum_mean
+    rel_px = float(np.mean(np.sqrt(var[mask]) / mean[mask]))
+    t = float(np.median(secs))
+    eff = 1.0 / (var.mean() * t)
+    line = (f"{name} {who}: {args.seeds} seeds x {args.spp} spp, {args.threads} "
+            f"thread(s); image mean {lum_mean:.5f}; rel. se of the image mean "
+            f"{rel_img:.4f}; mean pixel rel. sd {rel_px:.4f}; mean pixel variance "
+            f"{var.mean():.3e}; {t:.2f} s per seed; efficiency 1/(var t) {eff:.4g}; "
+            f"{machine}")
+    print(line, flush=True)
+    os.makedirs(os.path.dirname(os.path.abspath(args.out)), exist_ok=True)
+    with open(args.out, "a") as f:
+        f.write(line + "\n")
+    return line, float(var.mean()), t, float(lum_mean)
 
 
 if __name__ == "__main__":

@@ -426,6 +426,53 @@ TEST(MediumPt, SingleScatteringFromAPointLightIsTheLineIntegral) {
     }
 }
 
+// Bad coefficients through equiangular sampling: an enormous scattering (1e12 / m, taken as
+// 1e9 with a warning) and a NaN absorption (taken as 0), in the world and in a box, lit by a
+// point light and a spot: every pixel finite, nothing dropped (render() checks), warnings said,
+// and the world fog that is a wall leaves the image black but for the box's own light.
+TEST(MediumPt, EnormousAndNonFiniteDensitiesGiveAFiniteImage) {
+    if (!embree_available()) GTEST_SKIP() << "Embree not loadable: " << embree_version();
+    for (bool world : {true, false}) {
+        SceneInput in = base_scene(false, 0.5f);
+        MaterialInput floor;
+        floor.base_color = vec3(0.5f);
+        in.materials.push_back(floor);
+        in.meshes.push_back(box({-5, -5, -6}, {5, 5, -5}, 0, "floor"));
+        LightInput l;
+        l.type = "point";
+        l.position = vec3(0.2f, 0.0f, -2.0f);
+        l.power = vec3(100.0f);
+        l.soft_falloff = false;
+        in.lights.push_back(l);
+        LightInput sp = l;
+        sp.type = "spot";
+        sp.position = vec3(0.0f, 0.5f, -1.0f);
+        in.lights.push_back(sp);
+        MediumInput bad;
+        bad.name = "wall";
+        bad.sigma_s = vec3(1e12f, 0.5f, 1e12f);
+        bad.sigma_a = vec3(std::nanf(""), 0.1f, 0.0f);
+        in.media.push_back(bad);
+        if (world) {
+            in.world_medium = 0;
+        } else {
+            in.materials.push_back(volume_material(0));
+            in.meshes.push_back(box({-1, -1, -4}, {1, 1, -1.5f}, 1, "cloud"));
+        }
+        std::vector<std::string> warnings;
+        const std::vector<float> img = render(in, 6, 8, 7, "pt", &warnings);
+        bool finite = true;
+        for (float x : img) finite = finite && std::isfinite(x) && x >= 0.0f;
+        EXPECT_TRUE(finite) << (world ? "world" : "box");
+        bool said_huge = false, said_bad = false;
+        for (const std::string& w : warnings) {
+            said_huge = said_huge || w.find("above 1e9") != std::string::npos;
+            said_bad = said_bad || w.find("non-finite or negative") != std::string::npos;
+        }
+        EXPECT_TRUE(said_huge && said_bad) << (world ? "world" : "box");
+    }
+}
+
 // The furnace: a closed volume boundary holding a chromatic, anisotropic scattering medium of
 // albedo 1 in a white world: every pixel stays 1, seen from outside and from inside (the
 // camera's medium). 16 seeds of 32 spp on 16 x 16 pixels, their image means against 1 with
