@@ -2,8 +2,9 @@
 before/after measurements of a sampling change (docs/volumes.md): the scene is exported once,
 rendered with K seeds, and the spread over seeds gives per-pixel variance. Reported: the
 relative standard error of the image mean over one seed, the mean per-pixel relative standard
-deviation (over pixels whose mean is > 1 % of the image mean), the wall time per seed and the
-efficiency 1 / (mean pixel variance x time); with --cycles the same for Cycles (CPU, the tests'
+deviation (over pixels whose mean is > 1 % of the image mean), the process CPU time per seed
+(and the wall time; the shared machine's load moves wall time by tens of percent) and the
+efficiency 1 / (mean pixel variance x CPU time); with --cycles the same for Cycles (CPU, the tests'
 settings) and the ratio of the two efficiencies. Run inside bpy's Python:
 
     nice python bench/volumes_noise.py --scenes fog_spot --spp 64 --seeds 8 \\
@@ -50,30 +51,31 @@ def main():
         scene, _ = export_scene(bpy.context.evaluated_depsgraph_get())
         imgs, secs = [], []
         for k in range(args.seeds):
-            t0 = time.perf_counter()
+            t0, c0 = time.perf_counter(), time.process_time()
             s = lantern.Session(scene, integrator="pt", backend="cpu",
                                 max_depth=rc.lantern_depth(rc.BOUNCES), seed=1 + k,
                                 spp_per_iteration=args.spp, threads=args.threads)
             while s.spp < args.spp:
                 s.step()
             imgs.append(np.asarray(s.image(), dtype=np.float64)[..., :3])
-            secs.append(time.perf_counter() - t0)
+            secs.append((time.perf_counter() - t0, time.process_time() - c0))
         line = _stats(name, f"Lantern pt {args.label}", np.stack(imgs), secs, args, machine)
         if args.cycles:
             bpy.context.scene.render.threads_mode = "FIXED"
             bpy.context.scene.render.threads = args.threads
             cimgs, csecs = [], []
             for k in range(args.seeds):
-                t0 = time.perf_counter()
+                t0, c0 = time.perf_counter(), time.process_time()
                 cimgs.append(np.asarray(rc.render_cycles(seed=900 + k, spp=args.spp)[0],
                                         dtype=np.float64)[..., :3])
-                csecs.append(time.perf_counter() - t0)
+                csecs.append((time.perf_counter() - t0, time.process_time() - c0))
             cline = _stats(name, "Cycles", np.stack(cimgs), csecs, args, machine)
             lv, lt = line[1], line[2]
             cv, ct = cline[1], cline[2]
             ratio = (cv * ct) / (lv * lt)
             text = (f"{name}: efficiency Lantern pt {args.label} / Cycles = {ratio:.3g} "
-                    f"(variance x time per seed, {args.spp} spp, {args.threads} thread(s); "
+                    f"(variance x process CPU time per seed, {args.spp} spp, {args.threads} "
+                    f"thread(s); "
                     f"image means {line[3]:.5f} / {cline[3]:.5f})")
             print(text, flush=True)
             with open(args.out, "a") as f:
@@ -88,12 +90,14 @@ def _stats(name, who, imgs, secs, args, machine):
     rel_img = imgs.mean(axis=(1, 2, 3)).std(ddof=1) / lum_mean
     mask = mean > 0.01 * lum_mean
     rel_px = float(np.mean(np.sqrt(var[mask]) / mean[mask]))
-    t = float(np.median(secs))
+    wall = float(np.median([w for w, _ in secs]))
+    t = float(np.median([c for _, c in secs]))  # process CPU seconds: the load moves them less
     eff = 1.0 / (var.mean() * t)
     line = (f"{name} {who}: {args.seeds} seeds x {args.spp} spp, {args.threads} "
             f"thread(s); image mean {lum_mean:.5f}; rel. se of the image mean "
             f"{rel_img:.4f}; mean pixel rel. sd {rel_px:.4f}; mean pixel variance "
-            f"{var.mean():.3e}; {t:.2f} s per seed; efficiency 1/(var t) {eff:.4g}; "
+            f"{var.mean():.3e}; {t:.2f} CPU s ({wall:.2f} s wall) per seed; efficiency "
+            f"1/(var CPU t) {eff:.4g}; "
             f"{machine}")
     print(line, flush=True)
     os.makedirs(os.path.dirname(os.path.abspath(args.out)), exist_ok=True)
