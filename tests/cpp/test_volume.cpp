@@ -167,6 +167,17 @@ TEST(Medium, EquiangularChiSquareAndMass) {
         const Equiangular wrong = equiangular_setup(o, d, 0.8f, 2.2f, vec3(1.5f, 0.1f, 0.0f));
         EXPECT_LT(equiangular_chi2(e, wrong, 3.0f, 3.0f).p_value, 1e-6);
     }
+    {  // softened by a light's radius 0.1, the point on the line itself
+        const Equiangular e = equiangular_setup(o, d, 3.0f, vec3(1.5f, 0.0f, 0.0f), 0.1f);
+        ASSERT_TRUE(e.ok);
+        const Chi2_1d r = equiangular_chi2(e, e, 3.0f, 3.0f);
+        std::printf("equiangular softened by 0.1: chi2 %.1f dof %d p %.3g mass %.5f\n", r.chi2,
+                    r.dof, r.p_value, r.mass);
+        EXPECT_GT(r.p_value, 1e-3);
+        EXPECT_NEAR(r.mass, 1.0, 1e-3);
+        const Equiangular wrong = equiangular_setup(o, d, 3.0f, vec3(1.5f, 0.0f, 0.0f), 0.08f);
+        EXPECT_LT(equiangular_chi2(e, wrong, 3.0f, 3.0f).p_value, 1e-6);
+    }
     for (const Case& c : cases) {
         const Equiangular e = equiangular_setup(o, d, c.len, c.x);
         ASSERT_TRUE(e.ok);

@@ -134,9 +134,9 @@ LANTERN_HD inline Equiangular pt_equiangular_setup(const SceneView& s, Vec3 o, V
         float a, b;
         if (!spot_cone_interval(l.position, -l.frame.axis(2), l.cos_half_spot, o, d, len, &a, &b))
             return none;
-        return equiangular_setup(o, d, a, b, l.position);
-    } else if (l.type == kLightPoint) {
-        x = l.position;  // its centre, whichever side the segment sees
+        return equiangular_setup(o, d, a, b, l.position, l.radius);
+    } else if (l.type == kLightPoint) {  // its centre, softened by its radius
+        return equiangular_setup(o, d, len, l.position, l.radius);
     } else if (l.type == kLightSun || l.type == kLightWorld) {
         return none;
     } else {

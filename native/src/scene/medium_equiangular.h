@@ -19,11 +19,16 @@ struct Equiangular {
 };
 
 // The set-up for the interval [a, b] (b may be kInf) of a ray from o along unit d, towards x.
-LANTERN_HD inline Equiangular equiangular_setup(Vec3 o, Vec3 d, float a, float b, Vec3 x) {
+// soften > 0: the density of 1 / (D^2 + soften^2 + (s - delta)^2), for a light of that radius
+// whose irradiance is I / (d^2 + r^2) (a soft-falloff point or spot): with the bare centre a
+// ray passing through the light (D -> 0) drew weights growing as 1 / D (fireflies).
+LANTERN_HD inline Equiangular equiangular_setup(Vec3 o, Vec3 d, float a, float b, Vec3 x,
+                                                float soften = 0.0f) {
     Equiangular e{};
     const Vec3 ox = x - o;
     e.delta = dot(ox, d);
     e.dist = length(ox - d * e.delta);
+    if (soften > 0.0f) e.dist = sqrtf(e.dist * e.dist + soften * soften);
     e.a = a;
     e.b = b;
     e.theta0 = atan2f(a - e.delta, e.dist);
@@ -34,8 +39,9 @@ LANTERN_HD inline Equiangular equiangular_setup(Vec3 o, Vec3 d, float a, float b
     return e;
 }
 // ... over the whole segment [0, len]
-LANTERN_HD inline Equiangular equiangular_setup(Vec3 o, Vec3 d, float len, Vec3 x) {
-    return equiangular_setup(o, d, 0.0f, len, x);
+LANTERN_HD inline Equiangular equiangular_setup(Vec3 o, Vec3 d, float len, Vec3 x,
+                                                float soften = 0.0f) {
+    return equiangular_setup(o, d, 0.0f, len, x, soften);
 }
 
 // The density of s (0 outside [a, b]).
