@@ -5,10 +5,13 @@ Principled Volume, Volume Scatter (Henyey-Greenstein), Volume Absorption and Emi
 Add and Mix Shader nodes of constant factors, with constant inputs, convert as Cycles sets up
 their closures (kernel/svm/closure.h): scattering Color x Density; Principled absorption
 max(1 - Color, 0) x max(1 - sqrt(Absorption Color), 0) x Density; Volume Absorption
-max(1 - Color, 0) x Density; emission Strength x Color. What is not constant (a texture on
-Density: a heterogeneous medium), Blackbody, other phase functions: a warning by name."""
+max(1 - Color, 0) x Density; emission Strength x Color, and Principled Volume's Blackbody
+(blackbody_emission). What is not constant (a texture on Density: a heterogeneous medium),
+other phase functions: a warning by name."""
 
 import math
+
+from .node_spectral import blackbody_rgb
 
 _SHADERS = ("PRINCIPLED_VOLUME", "VOLUME_SCATTER", "VOLUME_ABSORPTION", "EMISSION")
 # inputs that only matter for grids (Volume objects) or other phase functions
@@ -43,6 +46,32 @@ def _value(node, name, where, report):
     except TypeError:
         return float(v) if math.isfinite(float(v)) else 0.0
     return [x if math.isfinite(x) else 0.0 for x in vals]
+
+
+# Cycles' Principled Volume blackbody (kernel/svm/closure.h, measured with bpy 5.0.1): the
+# Stefan-Boltzmann law per unit of the Temperature socket, sigma T^4 / pi in W / (m^2 sr) scaled
+# by 1e-6, mixed with 1 by the Blackbody Intensity
+_SIGMA_BB = 5.670373e-8 * 1e-6 / math.pi
+_CUTOFF = 1e-5   # Cycles' CLOSURE_WEIGHT_CUTOFF: smaller intensities add nothing
+
+
+def blackbody_emission(node, where, report):
+    """The emission (RGB, radiance per metre) of a Principled Volume's Blackbody: Blackbody Tint
+    x sigma x mix(1, T^4, Blackbody Intensity) x the blackbody colour of T (luminance 1,
+    node_spectral.blackbody_rgb, as Cycles' Blackbody node), as Cycles adds it. A mesh has no
+    temperature attribute, so T is the Temperature socket's (a Volume object's grid would
+    multiply it). Cycles' colour goes negative in blue below about 1900 K; Lantern clamps each
+    channel at 0."""
+    bb = _value(node, "Blackbody Intensity", where, report)
+    if bb is None or not bb > _CUTOFF:
+        return [0.0, 0.0, 0.0]
+    t = max(_value(node, "Temperature", where, report) or 0.0, 0.0)
+    intensity = _SIGMA_BB * ((1.0 - bb) + bb * t ** 4)
+    if not intensity > _CUTOFF or not math.isfinite(intensity):
+        return [0.0, 0.0, 0.0]
+    tint = _value(node, "Blackbody Tint", where, report) or [1.0, 1.0, 1.0]
+    color = blackbody_rgb(t)
+    return [max(k, 0.0) * intensity * max(c, 0.0) for k, c in zip(tint, color)]
 
 
 def _leaves(socket, weight, where, report, depth=0):
@@ -86,6 +115,7 @@ def convert_volume(socket, where, report):
             sigma_a = [a + density * max(1.0 - c, 0.0) for a, c in zip(sigma_a, color)]
             continue
         g = _value(node, "Anisotropy", where, report)
+        g = 0.0 if g is None else g  # a phase function without one (Volume Scatter's Rayleigh)
         scatter = [density * max(c, 0.0) for c in color]
         sigma_s = [a + b for a, b in zip(sigma_s, scatter)]
         lobes.append((0.2126 * scatter[0] + 0.7152 * scatter[1] + 0.0722 * scatter[2], g))
@@ -101,9 +131,8 @@ def convert_volume(socket, where, report):
         strength = _value(node, "Emission Strength", where, report)
         ecolor = _value(node, "Emission Color", where, report)
         emission = [e + w * strength * c for e, c in zip(emission, ecolor)]
-        if _value(node, "Blackbody Intensity", where, report) > 0.0:
-            report.warn(f"{where}: the Blackbody emission of '{node.name}' is not rendered "
-                        "(fire from temperature is next, docs/volumes.md)")
+        bb = blackbody_emission(node, where, report)
+        emission = [e + w * b for e, b in zip(emission, bb)]
     total = sum(s for s, _ in lobes)
     g = sum(s * gg for s, gg in lobes) / total if total > 0.0 else 0.0
     if len({round(gg, 6) for s, gg in lobes if s > 0.0}) > 1:

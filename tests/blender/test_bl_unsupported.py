@@ -72,8 +72,8 @@ def world_volume(s):
     _base(s)
     world = bpy.data.worlds.new("Hazy")
     nt = world.node_tree
-    vol = nt.nodes.new("ShaderNodeVolumePrincipled")
-    vol.inputs["Blackbody Intensity"].default_value = 1.0  # fire from temperature: next
+    vol = nt.nodes.new("ShaderNodeVolumeScatter")
+    vol.phase = "RAYLEIGH"  # Henyey-Greenstein stands for it (blackbody renders since volumes2)
     nt.links.new(vol.outputs[0], nt.nodes["World Output"].inputs["Volume"])
     s.world = world
 
@@ -200,7 +200,7 @@ CASES = [  # builder, the name the warning must carry, a word of the feature
     (volume_material, "Material 'Fog'", "heterogeneous"),
     (volume_bounces, "Render settings", "Volume Bounces"),
     (displacement, "Material 'Bumpy'", "true displacement"),
-    (world_volume, "World 'Hazy'", "Blackbody"),
+    (world_volume, "World 'Hazy'", "phase function 'RAYLEIGH'"),
     (particle_hair, "Object 'Subject'", "particle hair ('Fur')"),
     (light_linking, "Object 'Subject'", "light linking"),
     (shadow_linking, "Object 'Subject'", "shadow linking"),

@@ -88,3 +88,35 @@ def test_world_volume(empty, addon):
     scene, report = export(addon)
     np.testing.assert_allclose(scene.world["volume"]["sigma_s"], [0.08, 0.08, 0.08], rtol=1e-6)
     np.testing.assert_allclose(scene.world["volume"]["sigma_a"], [0, 0, 0])
+
+
+def test_principled_volume_blackbody(empty, addon):
+    """Blackbody: Tint x (5.670373e-8 x 1e-6 / pi) x mix(1, T^4, intensity) x the blackbody
+    colour of luminance 1, beside the plain emission (Cycles' closure, written out by hand; the
+    colour itself is node_spectral's, checked against Planck's law in tests/cycles/test_nodes);
+    nothing and no warning at intensity 0; rendered against Cycles in tests/cycles (fire)."""
+    from lantern_blender.export.node_spectral import blackbody_rgb
+    add_camera(empty)
+    mat, nt, out = _volume_only("Fire")
+    v = nt.nodes.new("ShaderNodeVolumePrincipled")
+    v.inputs["Emission Strength"].default_value = 0.5
+    v.inputs["Blackbody Intensity"].default_value = 0.75
+    v.inputs["Temperature"].default_value = 2500.0
+    v.inputs["Blackbody Tint"].default_value = (1.0, 0.5, 0.25, 1)
+    nt.links.new(v.outputs[0], out.inputs["Volume"])
+    add_plane(empty, material=mat, name="Box")
+    cold, nt2, out2 = _volume_only("Cold")
+    v2 = nt2.nodes.new("ShaderNodeVolumePrincipled")
+    v2.inputs["Emission Strength"].default_value = 0.5
+    nt2.links.new(v2.outputs[0], out2.inputs["Volume"])
+    add_plane(empty, material=cold, name="Other")
+    scene, report = export(addon)
+    sigma = 5.670373e-8 * 1e-6 / math.pi
+    intensity = sigma * (0.25 + 0.75 * 2500.0 ** 4)
+    rgb = np.maximum(np.array(blackbody_rgb(2500.0)), 0.0)
+    want = 0.5 + np.array([1.0, 0.5, 0.25]) * intensity * rgb
+    np.testing.assert_allclose(_by_name(scene, "Fire")["volume"]["emission"], want, rtol=1e-5)
+    assert intensity > 0.5  # a visible fire: the T^4 term carries it
+    np.testing.assert_allclose(_by_name(scene, "Cold")["volume"]["emission"], [0.5] * 3,
+                               rtol=1e-6)
+    assert not [m for m in report.messages if "Blackbody" in m], report.messages

@@ -43,6 +43,14 @@ struct PathState {
     // ray travel in (SceneView::media, -1: none); read only where SceneView::num_media > 0
     int32_t* medium = nullptr;
     int32_t* shadow_medium = nullptr;
+    // a second shadow ray per path and bounce, from a medium point that equiangular sampling
+    // chose along the segment (pt_volume.h); allocated only where the scene has media
+    Vec3* vshadow_o = nullptr;
+    Vec3* vshadow_d = nullptr;
+    float* vshadow_tmax = nullptr;
+    Vec3* vshadow_contrib = nullptr;
+    int32_t* vshadow_medium = nullptr;
+    uint8_t* vshadow_valid = nullptr;
 };
 
 struct PtSettings {

@@ -49,7 +49,10 @@ LANTERN_HD inline void pt_generate(const SceneView& s, const PathState& ps, cons
     ps.dropped[i] = 0;
     ps.shadow_valid[i] = 0;
     if (ps.world_hidden) ps.world_hidden[i] = 0;
-    if (s.num_media > 0) ps.medium[i] = s.camera_medium;
+    if (s.num_media > 0) {
+        ps.medium[i] = s.camera_medium;
+        if (ps.vshadow_valid) ps.vshadow_valid[i] = 0;
+    }
 }
 
 // Whether a ray scattered by material m towards wi (ng: the geometric normal facing the

@@ -8,6 +8,7 @@
 #pragma once
 
 #include "scene/medium.h"
+#include "scene/medium_equiangular.h"
 
 namespace lantern {
 
@@ -37,42 +38,63 @@ LANTERN_HD inline void pt_collect_lights_medium(const SceneView& s, const PathSt
     }
 }
 
-// ---- A medium vertex at p, reached along d: next-event estimation, then the phase sample ----
+// ---- Next-event estimation from a medium point p reached along d: a light from the light tree
+// (an omnidirectional receiver, n = 0), weighted by the power heuristic against the phase
+// sample, the contribution scaled by `factor` (the path's throughput to p and, for a distance
+// chosen by two strategies, its MIS weight); into the slot's shadow ray, or into its medium
+// shadow ray (second: the equiangular estimate, PathState::vshadow_*) ----
+LANTERN_HD inline void pt_medium_nee(const SceneView& s, const PathState& ps, int i, Vec3 p,
+                                     Vec3 d, const Medium& m, Vec3 factor, bool second,
+                                     Rng& rng) {
+    const Vec2 u_pick = rng.uniform2();
+    const Vec2 u_light = rng.uniform2();
+    const LightPick pick = light_pick(s, p, vec3(0.0f), u_pick.x);
+    if (!(pick.pmf > 0.0f) || is_black(factor)) return;
+    const LightSample ls = sample_light(s, s.lights[pick.light], p, u_light);
+    const float pdf_light = pick.pmf * ls.pdf_w;
+    if (!ls.valid || is_black(ls.le) || !(pdf_light > 0.0f)) return;
+    const float phase = hg_phase(m.g, dot(d, ls.wi));
+    const float w = ls.delta ? 1.0f : power_heuristic(pdf_light, phase);
+    Vec3 sd = ls.wi;
+    float tmax = kInf;
+    if (ls.dist < kInf) {  // aimed at the offset point on the light, shortened there
+        Vec3 target = ls.p_light;
+        if (!is_black(ls.n_light))
+            target = offset_ray_origin(target, ls.n_light, -ls.wi, s.offset_scale);
+        const Vec3 seg = target - p;
+        const float len = length(seg);
+        if (len > 0.0f) sd = seg / len;
+        tmax = len * (1.0f - 1e-4f);
+    }
+    const Vec3 c = factor * ls.le * (phase * w / pdf_light);
+    if (second) {
+        ps.vshadow_o[i] = p;
+        ps.vshadow_d[i] = sd;
+        ps.vshadow_tmax[i] = tmax;
+        ps.vshadow_contrib[i] = c;
+        ps.vshadow_medium[i] = ps.medium[i];
+        ps.vshadow_valid[i] = 1;
+    } else {
+        ps.shadow_o[i] = p;
+        ps.shadow_d[i] = sd;
+        ps.shadow_tmax[i] = tmax;
+        ps.shadow_contrib[i] = c;
+        ps.shadow_medium[i] = ps.medium[i];
+        ps.shadow_valid[i] = 1;
+    }
+}
+
+// ---- A medium vertex at p, reached along d: next-event estimation (its contribution times
+// nee_weight, the distance strategy's MIS weight against equiangular sampling), then the phase
+// sample ----
 LANTERN_HD inline void pt_medium_vertex(const SceneView& s, const PathState& ps,
                                         const PtSettings& st, int i, Vec3 p, Vec3 d,
-                                        const Medium& m, Rng& rng) {
+                                        const Medium& m, float nee_weight, Rng& rng) {
     const int depth = ps.depth[i];
     if (depth >= st.max_depth) return;
     const Vec3 beta = ps.throughput[i];
-    const Vec2 u_pick = rng.uniform2();
-    const Vec2 u_light = rng.uniform2();
     const Vec3 n_pick = vec3(0.0f);  // a medium point receives from every direction
-    const LightPick pick = light_pick(s, p, n_pick, u_pick.x);
-    if (pick.pmf > 0.0f) {
-        const LightSample ls = sample_light(s, s.lights[pick.light], p, u_light);
-        const float pdf_light = pick.pmf * ls.pdf_w;
-        if (ls.valid && !is_black(ls.le) && pdf_light > 0.0f) {
-            const float phase = hg_phase(m.g, dot(d, ls.wi));
-            const float w = ls.delta ? 1.0f : power_heuristic(pdf_light, phase);
-            Vec3 sd = ls.wi;
-            float tmax = kInf;
-            if (ls.dist < kInf) {  // aimed at the offset point on the light, shortened there
-                Vec3 target = ls.p_light;
-                if (!is_black(ls.n_light))
-                    target = offset_ray_origin(target, ls.n_light, -ls.wi, s.offset_scale);
-                const Vec3 seg = target - p;
-                const float len = length(seg);
-                if (len > 0.0f) sd = seg / len;
-                tmax = len * (1.0f - 1e-4f);
-            }
-            ps.shadow_o[i] = p;
-            ps.shadow_d[i] = sd;
-            ps.shadow_tmax[i] = tmax;
-            ps.shadow_contrib[i] = beta * ls.le * (phase * w / pdf_light);
-            ps.shadow_medium[i] = ps.medium[i];
-            ps.shadow_valid[i] = 1;
-        }
-    }
+    pt_medium_nee(s, ps, i, p, d, m, beta * nee_weight, false, rng);
     // the phase function's own sample: its weight phase / pdf is 1
     float pdf_w = 0.0f;
     const Vec3 wi = hg_sample(m.g, d, rng.uniform2(), &pdf_w);
@@ -95,6 +117,36 @@ LANTERN_HD inline void pt_medium_vertex(const SceneView& s, const PathState& ps,
     }
 }
 
+// ---- Equiangular sampling's set-up for a segment from o along d over [0, len]: a light
+// picked (light tree at o, n = 0) and a point on it drawn for the whole segment, independent
+// of the distances then sampled; none (ok false) for distant lights or no light ----
+LANTERN_HD inline Equiangular pt_equiangular_setup(const SceneView& s, Vec3 o, Vec3 d, float len,
+                                                   Rng& rng) {
+    const Vec2 u_pick = rng.uniform2();
+    const Vec2 u_light = rng.uniform2();
+    Equiangular none{};
+    none.ok = false;
+    const LightPick pick = light_pick(s, o, vec3(0.0f), u_pick.x);
+    if (pick.light < 0) return none;
+    const Light& l = s.lights[pick.light];
+    Vec3 x;
+    if (l.type == kLightSpot) {  // its centre, over the part of the segment in its cone
+        float a, b;
+        if (!spot_cone_interval(l.position, -l.frame.axis(2), l.cos_half_spot, o, d, len, &a, &b))
+            return none;
+        return equiangular_setup(o, d, a, b, l.position, l.radius);
+    } else if (l.type == kLightPoint) {  // its centre, softened by its radius
+        return equiangular_setup(o, d, len, l.position, l.radius);
+    } else if (l.type == kLightSun || l.type == kLightWorld) {
+        return none;
+    } else {
+        const LightSample ls = sample_light(s, l, o, u_light);
+        if (!ls.valid || !(ls.dist < kInf)) return none;
+        x = ls.p_light;
+    }
+    return equiangular_setup(o, d, len, x);
+}
+
 // ---- The traced segment in the slot's medium; true when the path scattered inside it (then
 // this stage shaded the medium vertex and the hit is not shaded). Otherwise the throughput
 // carries the segment's transmittance and the caller shades the hit or the miss; the lights
@@ -110,6 +162,7 @@ LANTERN_HD inline bool pt_medium_segment(const SceneView& s, const PathState& ps
     const float t_end = ps.hit_prim[i] >= 0 ? ps.hit_t[i] : ps.ray_tmax[i];
     const float len = t_end - tmin;
     const Vec3 beta = ps.throughput[i];
+    ps.vshadow_valid[i] = 0;
     if (m.emits && !catcher_camera) add_radiance(ps, i, beta * medium_emission_integral(m, len));
     Rng rng = ps.rng[i];
     const Vec3 pmf = medium_channel_pmf(beta);
@@ -122,8 +175,28 @@ LANTERN_HD inline bool pt_medium_segment(const SceneView& s, const PathState& ps
     if (!catcher_camera)
         pt_collect_lights_medium(s, ps, i, o, d, tmin, step.scattered ? tmin + step.t : t_end, m,
                                  pmf);
+    // next-event estimation along the segment by two strategies for the distance, combined by
+    // the power heuristic: the free flight's scattering (below) and equiangular sampling
+    // towards a light point chosen for the segment (its own shadow ray, PathState::vshadow_*)
+    float nee_weight = 1.0f;
+    if (m.scatters && ps.depth[i] < st.max_depth) {
+        const Equiangular e = pt_equiangular_setup(s, o + d * tmin, d, len, rng);
+        if (e.ok) {
+            const float se = equiangular_sample(e, rng.uniform());
+            const float pe = equiangular_pdf(e, se), pd = medium_distance_pdf(m, pmf, se);
+            if (pe > 0.0f) {
+                const Vec3 f = beta * m.sigma_s * medium_transmittance(m, se) *
+                               (power_heuristic(pe, pd) / pe);
+                pt_medium_nee(s, ps, i, o + d * (tmin + se), d, m, f, true, rng);
+            }
+            if (step.scattered)
+                nee_weight = power_heuristic(medium_distance_pdf(m, pmf, step.t),
+                                             equiangular_pdf(e, step.t));
+        }
+    }
     ps.throughput[i] = beta * step.weight;
-    if (step.scattered) pt_medium_vertex(s, ps, st, i, o + d * (tmin + step.t), d, m, rng);
+    if (step.scattered)
+        pt_medium_vertex(s, ps, st, i, o + d * (tmin + step.t), d, m, nee_weight, rng);
     ps.rng[i] = rng;
     return step.scattered;
 }
@@ -150,26 +223,19 @@ LANTERN_HD inline void pt_cross_boundary(const SceneView& s, const PathState& ps
     ps.alive[i] = 1;
 }
 
-// ---- Shadow ray through media: the transmittance of every medium it crosses; blocked by any
-// surface but a volume boundary. Rays is the executor's ray query (closest(r, kind)), kind its
-// shadow rays' RayKind. ----
+// ---- Shadow ray through media: the transmittance of every medium it crosses (zero when it is
+// blocked by any surface but a volume boundary), from o along d up to tmax, starting in medium
+// med. Rays is the executor's ray query (closest(r, kind)), kind its shadow rays' RayKind. ----
 template <class Rays, class Kind>
-LANTERN_HD inline void pt_shadow_medium(const SceneView& s, const Rays& rays, Kind kind,
-                                        const PathState& ps, int i) {
-    Vec3 o = ps.shadow_o[i];
-    const Vec3 d = ps.shadow_d[i];
-    float tmax = ps.shadow_tmax[i];
-    int32_t med = ps.shadow_medium[i];
+LANTERN_HD inline Vec3 pt_shadow_transmittance(const SceneView& s, const Rays& rays, Kind kind,
+                                               Vec3 o, Vec3 d, float tmax, int32_t med) {
     Vec3 tr = vec3(1.0f);
     for (int k = 0; k < 256; ++k) {  // boundaries crossed (a bound: never an endless loop)
         const auto h = rays.closest(Ray{o, d, 0.0f, tmax}, kind);
         const bool hit = h.prim >= 0 && h.t < tmax;
         if (med >= 0) tr = tr * medium_transmittance(s.media[med], hit ? h.t : tmax);
-        if (!hit) {
-            add_radiance(ps, i, ps.shadow_contrib[i] * tr);
-            return;
-        }
-        if (!(s.tri_flags[h.prim] & kVolumeBoundary) || is_black(tr)) return;  // blocked
+        if (!hit) return tr;
+        if (!(s.tri_flags[h.prim] & kVolumeBoundary) || is_black(tr)) return vec3(0.0f);
         const Vec3 a = triangle_vertex(s, h.prim, 0), b = triangle_vertex(s, h.prim, 1),
                    c = triangle_vertex(s, h.prim, 2);
         const Vec3 ng = cross(b - a, c - a);
@@ -178,6 +244,25 @@ LANTERN_HD inline void pt_shadow_medium(const SceneView& s, const Rays& rays, Ki
         const Vec3 next = offset_ray_origin(p, normalize(ng), d, s.offset_scale);
         if (tmax < kInf) tmax = fmaxf(tmax - dot(next - o, d), 0.0f);
         o = next;
+    }
+    return vec3(0.0f);
+}
+
+// The slot's shadow rays in a scene with media: the surface's or medium vertex's, and the
+// equiangular one (cleared here once tested).
+template <class Rays, class Kind>
+LANTERN_HD inline void pt_shadow_medium(const SceneView& s, const Rays& rays, Kind kind,
+                                        const PathState& ps, int i) {
+    if (ps.shadow_valid[i]) {
+        const Vec3 tr = pt_shadow_transmittance(s, rays, kind, ps.shadow_o[i], ps.shadow_d[i],
+                                                ps.shadow_tmax[i], ps.shadow_medium[i]);
+        if (!is_black(tr)) add_radiance(ps, i, ps.shadow_contrib[i] * tr);
+    }
+    if (ps.vshadow_valid[i]) {
+        const Vec3 tr = pt_shadow_transmittance(s, rays, kind, ps.vshadow_o[i], ps.vshadow_d[i],
+                                                ps.vshadow_tmax[i], ps.vshadow_medium[i]);
+        if (!is_black(tr)) add_radiance(ps, i, ps.vshadow_contrib[i] * tr);
+        ps.vshadow_valid[i] = 0;
     }
 }
 

@@ -21,6 +21,7 @@ LANTERN_HD inline void pt_shadow_at_time(const Rays& rays, const PathState& ps, 
 template <class Exec>
 void pt_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep& st,
               int64_t first_path, int n) {
+    w.media = s.num_media > 0;
     w.resize(n, 0, Exec::kGpu);
     SessionStats& stats = *st.stats;
     const PathState ps = w.ps;
@@ -47,17 +48,20 @@ void pt_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep& st
         ex.timed(stats.time_shadow, [&] {
             stats.rays_shadow +=
                 ex.count(active, LANTERN_KERNEL(int k) { return ps.shadow_valid[q[k]] != 0; });
+            if (s.num_media > 0)  // media's equiangular shadow rays (pt_volume.h)
+                stats.rays_shadow += ex.count(
+                    active, LANTERN_KERNEL(int k) { return ps.vshadow_valid[q[k]] != 0; });
             if (s.motion.num_objects > 0) {  // motion blur: each at its path's time (no media)
                 ex.each(active, LANTERN_KERNEL(int k) { pt_shadow_at_time(rays, ps, q[k]); });
                 return;
             }
             ex.each(active, LANTERN_KERNEL(int k) {
                 const int i = q[k];
-                if (!ps.shadow_valid[i]) return;
                 if (s.num_media > 0) {  // through media and volume boundaries (pt_volume.h)
                     pt_shadow_medium(s, rays, RayKind::kShadow, ps, i);
                     return;
                 }
+                if (!ps.shadow_valid[i]) return;
                 const Ray r{ps.shadow_o[i], ps.shadow_d[i], 0.0f, ps.shadow_tmax[i]};
                 pt_shadow_result(ps, i, rays.occluded(r, RayKind::kShadow));
             });

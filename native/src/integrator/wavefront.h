@@ -82,6 +82,12 @@ struct Wavefront {
     Array<Vec2> hit_uv, splat_xy;
     Array<uint8_t> alive, dropped, shadow_valid, visible, store, world_hidden;
     Array<uint32_t> keys;
+    // PathState::vshadow_* (pt's equiangular shadow rays in media): grown only when `media`
+    Array<Vec3> vshadow_o, vshadow_d, vshadow_c;
+    Array<float> vshadow_tmax;
+    Array<int32_t> vshadow_medium;
+    Array<uint8_t> vshadow_valid;
+    bool media = false;  // set by the schedule before resize: the scene has media
     Array<LightVertex> vertex;
     Array<Vec3> conn_o, conn_d, conn_c;  // n x conn_cap connection slots
     Array<float> conn_tmax;
@@ -121,6 +127,13 @@ struct Wavefront {
         f(keys);
     }
     template <typename F>
+    void for_media(F&& f) {  // pt's in media
+        for (auto* a : {&vshadow_o, &vshadow_d, &vshadow_c}) f(*a);
+        f(vshadow_tmax);
+        f(vshadow_medium);
+        f(vshadow_valid);
+    }
+    template <typename F>
     void for_bdpt(F&& f) {  // the bidirectional integrators' (connection slots apart)
         for (auto* a : {&dvcm, &dvc, &dpt0, &dpt1}) f(*a);
         for (auto* a : {&light_id, &conn_n}) f(*a);
@@ -130,6 +143,7 @@ struct Wavefront {
     template <typename F>
     void for_state(F&& f) {
         for_slots(f);
+        for_media(f);
         for_bdpt(f);
         for (auto* a : {&conn_o, &conn_d, &conn_c}) f(*a);
         f(conn_tmax);
@@ -164,6 +178,7 @@ struct Wavefront {
         const size_t m = size_t(n);  // a growth discards the contents: slots are per chunk
         for_slots([&](auto& a) { a.grow(m); });
         if (bidirectional) for_bdpt([&](auto& a) { a.grow(m); });
+        if (media) for_media([&](auto& a) { a.grow(m); });
         cap = std::max(cap, n);
         const size_t nc = size_t(n) * size_t(std::max(conn_slots, 1));
         if (bidirectional && conn_slots > 0) {
@@ -180,6 +195,14 @@ struct Wavefront {
                        shadow_tmax.data(), shadow_c.data(), shadow_valid.data(),
                        prev_p.data(),     prev_n.data(),    world_hidden.data(),
                        medium.data(),     shadow_medium.data()};
+        if (media) {
+            ps.vshadow_o = vshadow_o.data();
+            ps.vshadow_d = vshadow_d.data();
+            ps.vshadow_tmax = vshadow_tmax.data();
+            ps.vshadow_contrib = vshadow_c.data();
+            ps.vshadow_medium = vshadow_medium.data();
+            ps.vshadow_valid = vshadow_valid.data();
+        }
         bs = BdptState{dvcm.data(),     dvc.data(),      light_id.data(),   store.data(),
                        vertex.data(),   splat_xy.data(), power.data(),      std::max(conn_slots, 1),
                        conn_n.data(),   conn_o.data(),   conn_d.data(),     conn_tmax.data(),
