@@ -155,7 +155,9 @@ def _subsurface_radius(node, value, color):
 def _subsurface(node, weight, value, color):
     """The Principled BSDF's subsurface inputs -> the material dict's subsurface_* keys."""
     method = getattr(node, "subsurface_method", "RANDOM_WALK")
-    ior = value("Subsurface IOR") if "Subsurface IOR" in node.inputs else 1.4
+    # Cycles: Random Walk enters with the material's IOR, Skin with Subsurface IOR
+    key = "Subsurface IOR" if method == "RANDOM_WALK_SKIN" else "IOR"
+    ior = value(key) if key in node.inputs else 1.4
     g = value("Subsurface Anisotropy") if "Subsurface Anisotropy" in node.inputs else 0.0
     return {"subsurface_weight": weight,
             "subsurface_radius": [min(x, 1e30) for x in _subsurface_radius(node, value, color)],

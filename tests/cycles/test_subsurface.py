@@ -58,9 +58,10 @@ def _material(name, color=(0.8, 0.8, 0.8), roughness=1.0, sss=0.0, radius=(1.0, 
     p.inputs["Subsurface Weight"].default_value = sss
     p.inputs["Subsurface Radius"].default_value = radius
     p.inputs["Subsurface Scale"].default_value = scale
-    p.inputs["Subsurface IOR"].default_value = ior
     p.inputs["Subsurface Anisotropy"].default_value = anisotropy
     p.subsurface_method = method
+    if method == "RANDOM_WALK_SKIN":  # Random Walk enters with the main IOR (the socket is off)
+        p.inputs["Subsurface IOR"].default_value = ior
     return m
 
 

@@ -34,11 +34,18 @@ def _renders(scene, k=6, spp=16, integrator="pt", max_depth=16):
             for i in range(k)]
 
 
+# Radius x Scale giving a mean free path of about 0.5 m in the unit sphere (Random Walk walks
+# radius / 4 pi; Skin radius x sqrt(3 (1 - a')), a' = 0.999999 for a white base): walks then
+# leave long before the 256-scattering bound that ends a few of them, in Cycles too
+FURNACE_RADIUS = {"random_walk": 6.0, "random_walk_skin": 300.0}
+
+
 @pytest.mark.parametrize("method", ["random_walk", "random_walk_skin"])
 def test_furnace_white_walk_conserves_energy(method):
     # Specular IOR Level 0: the base alone, all of it under the surface; albedo 1 inside a
     # closed convex mesh under a world of 1: every path leaves with its throughput, so 1
-    renders = _renders(sphere_scene(method=method))
+    r = FURNACE_RADIUS[method]
+    renders = _renders(sphere_scene(method=method, radius=(r, r, r)))
     metrics.assert_agreement(f"subsurface furnace {method}", renders, np.ones(3), block=4,
                              bias_cap=1e-3, rel_floor=1e-5)
 
@@ -46,7 +53,7 @@ def test_furnace_white_walk_conserves_energy(method):
 def test_furnace_grey_walk_is_darker():
     # the furnace's negative control: a base colour of 0.5 absorbs inside, so the same
     # comparison against 1 must fail
-    renders = _renders(sphere_scene(base=0.5), k=4)
+    renders = _renders(sphere_scene(base=0.5, radius=(6.0, 6.0, 6.0)), k=4)
     res = metrics.compare_renders(renders, np.ones(3), block=4, bias_cap=1e-3, rel_floor=1e-5)
     assert not res.passed
     inner = np.stack(renders)[:, 4:8, 4:8].mean()

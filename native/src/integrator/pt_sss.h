@@ -53,6 +53,34 @@ LANTERN_HD inline void sss_remap(float albedo, float d, float g, float* sigma_t,
     *sigma_t = 1.0f / (fmaxf(d, 1e-16f) * (1.0f - g));
 }
 
+// ---- The mean free path from Radius x Scale, as Cycles reads it: Random Walk takes
+// radius / (4 pi); Skin scales it by sqrt(3 (1 - a')), a' the single-scattering albedo whose
+// classical dipole (Jensen et al. 2001, boundary term of the IOR) reflects the base colour ----
+LANTERN_HD inline float sss_dipole_rd(float a, float four_thirds_A) {
+    const float s = sqrtf(3.0f * (1.0f - a));
+    return 0.5f * a * (1.0f + expf(-four_thirds_A * s)) * expf(-s);
+}
+
+LANTERN_HD inline float sss_mean_free_path(const Material& m, float radius, float albedo) {
+    if (!m.ss_skin) return radius * (0.25f * kInvPi);
+    const float e = m.ss_ior, ie = 1.0f / e;
+    const float fdr = -1.440f * ie * ie + 0.710f * ie + 0.668f + 0.0636f * e;
+    const float k = (4.0f / 3.0f) * (1.0f + fdr) / (1.0f - fdr);
+    float a;
+    if (albedo < 1e-4f) {
+        a = 0.0f;
+    } else if (albedo >= 0.995f) {
+        a = 0.999999f;
+    } else {  // Rd grows with a: bisection
+        float lo = 0.0f, hi = 1.0f;
+        for (int it = 0; it < 12; ++it) {
+            a = 0.5f * (lo + hi);
+            if (sss_dipole_rd(a, k) < albedo) lo = a; else hi = a;
+        }
+    }
+    return radius * sqrtf(3.0f * (1.0f - a));
+}
+
 // ---- The probability of the walk at a hit (wo local, +Z the shading normal on its side):
 // the walk's share of the lobes' albedos, the same in pt_sss_choose and pt_sss_walk ----
 LANTERN_HD inline float sss_pick_prob(const Material& m, float mu_o) {
@@ -190,19 +218,22 @@ LANTERN_HD inline void pt_sss_walk(const SceneView& s, const Rays& rays, Kind ki
     const Frame frame = h.frame();
     const Vec3 wo = frame.to_local(-d);
     Rng rng = ps.rng[i];
-    // the base's weight under the layers above it, W of it, the albedo divided out (the walk
-    // puts it back); pt_sss_choose has divided by the walk's probability
+    // the base's weight under the layers above it, W of it; the albedo (the base colour within
+    // [0, 1], as Cycles) the walk puts in. pt_sss_choose has divided by the walk's probability.
     const PrincipledWeights pw = principled_weights(m);
     const Vec3 below = principled_below_coat(m, wo.z, coat_cos(m, h.coat_n, wo));
     const float base = pw.spec * (1.0f - principled_spec_albedo(m, wo.z)) * m.subsurface;
-    float albedo[3], ratio[3];
-    for (int c = 0; c < 3; ++c) {
-        const float b = m.base_color[c];
-        albedo[c] = clampf(b, 0.0f, 1.0f);
-        ratio[c] = albedo[c] > 0.0f ? b / albedo[c] : 0.0f;
+    float albedo[3];
+    for (int c = 0; c < 3; ++c) albedo[c] = clampf(m.base_color[c], 0.0f, 1.0f);
+    const Vec3 beta0 = ps.throughput[i] * below * base;
+    // after a scattering that was not a delta (Cycles: after a diffuse ancestor), subsurface is
+    // a Lambert lobe of the same weight at the hit (Cycles' bssrdf_setup)
+    if (ps.depth[i] > 1 && ps.prev_pdf_w[i] > 0.0f) {
+        pt_sss_exit(s, ps, st, i, tri, h.p, h.ng, h.ns,
+                    beta0 * Vec3{albedo[0], albedo[1], albedo[2]}, ps.depth[i], rng);
+        ps.rng[i] = rng;
+        return;
     }
-    const Vec3 beta0 =
-        ps.throughput[i] * below * Vec3{ratio[0], ratio[1], ratio[2]} * base;
     Vec3 wi_l;
     const bool entered = sss_entry(m, wo, rng.uniform2(), &wi_l);
     Vec3 dir = frame.to_world(wi_l);
@@ -214,7 +245,8 @@ LANTERN_HD inline void pt_sss_walk(const SceneView& s, const Rays& rays, Kind ki
     const float g = m.ss_anisotropy;
     float st3[3], al3[3], low[3];
     for (int c = 0; c < 3; ++c) {
-        sss_remap(albedo[c], m.ss_radius[c], g, &st3[c], &al3[c]);
+        sss_remap(albedo[c], sss_mean_free_path(m, m.ss_radius[c], albedo[c]), g, &st3[c],
+                  &al3[c]);
         low[c] = 1.0f;
         if (al3[c] < 0.2f) {  // a low albedo walks as 0.2 with the throughput scaled (as Cycles)
             low[c] = al3[c] / 0.2f;
