@@ -416,7 +416,7 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
     const Vec3 ng_l = frame.to_local(h.ng);
     Rng rng = ps.rng[i];
     // under the surface: the walk stage takes the path (integrator/pt_sss.h)
-    if (s.has_subsurface && m.subsurface > 0.0f && pt_sss_choose(ps, i, m, wo, rng)) {
+    if (s.has_subsurface && m.subsurface > 0.0f && pt_sss_choose(ps, i, m, wo, ng_l, rng)) {
         ps.rng[i] = rng;
         return;
     }

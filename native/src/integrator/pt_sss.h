@@ -101,9 +101,11 @@ LANTERN_HD inline float sss_pick_prob(const Material& m, float mu_o) {
 // ---- At a shaded hit (after emission, before next-event estimation): true when the path
 // goes under the surface (alive = kAliveSss; the walk stage takes it from there), false when
 // it stays a surface path; either way the throughput carries 1 / the branch's probability ----
+// (ng_l: the geometric normal in the shading frame; where the shading normal turns away from
+// the viewer, the walk enters about the geometric normal: sss_entry_frame)
 LANTERN_HD inline bool pt_sss_choose(const PathState& ps, int i, const Material& m, Vec3 wo,
-                                     Rng& rng) {
-    const float p = sss_pick_prob(m, wo.z);
+                                     Vec3 ng_l, Rng& rng) {
+    const float p = sss_pick_prob(m, wo.z > 0.0f ? wo.z : dot(wo, ng_l));
     if (!(p > 0.0f)) return false;
     if (rng.uniform() < p) {
         ps.throughput[i] = ps.throughput[i] * (1.0f / p);
@@ -215,7 +217,10 @@ LANTERN_HD inline void pt_sss_walk(const SceneView& s, const Rays& rays, Kind ki
     const Material& m = material_at_point(
         s, s.tri_material[tri], [h, tri, uv, wo = -d] { return shade_point(h, tri, uv, wo); },
         scratch);
-    const Frame frame = h.frame();
+    // the entry's frame: the shading normal's, or where it turns away from the viewer (smooth
+    // normals at a silhouette) the geometric normal's (Cycles bends N there instead)
+    const Frame shading = h.frame();
+    const Frame frame = shading.to_local(-d).z > 0.0f ? shading : Frame::from_normal(h.ng);
     const Vec3 wo = frame.to_local(-d);
     Rng rng = ps.rng[i];
     // the base's weight under the layers above it, W of it; the albedo (the base colour within
