@@ -69,11 +69,14 @@ def _convert_shader(node, material, report, textures):
         coat = _weight(value("Coat Weight"))
         sheen = _weight(value("Sheen Weight"), 1e3)
         layered = coat > 0.0 or sheen > 0.0   # the simpler types have no coat or sheen
+        sss = min(_weight(value("Subsurface Weight")), 1.0) \
+            if "Subsurface Weight" in node.inputs else 0.0
         if metallic >= 0.999 and not metal_tex and not layered:  # the metal lobe alone: the
             out.pop("metallic")                                  # cheaper conductor
             out.update(type="conductor", base_color=base,
                        specular_tint=color("Specular Tint"), roughness=roughness)
-        elif level > 0.0 or metallic > 0.0 or transmission > 0.0 or metal_tex or layered:
+        elif level > 0.0 or metallic > 0.0 or transmission > 0.0 or metal_tex or layered or \
+                sss > 0.0:
             out.update(type="principled", base_color=base,
                        specular_tint=color("Specular Tint"), roughness=roughness,
                        ior=_ior(value("IOR")), metallic=metallic, transmission=transmission,
@@ -86,6 +89,8 @@ def _convert_shader(node, material, report, textures):
             if sheen > 0.0:
                 out.update(sheen_weight=sheen, sheen_roughness=_unit(value("Sheen Roughness")),
                            sheen_tint=color("Sheen Tint"))
+            if sss > 0.0:   # random-walk subsurface (docs/subsurface.md)
+                out.update(_subsurface(node, sss, value, color))
         else:  # Specular IOR Level 0, no metal, no glass: exactly Lambert (the diffuse type)
             out.pop("roughness_texture", None)
             out.pop("metallic")
@@ -138,6 +143,30 @@ def _convert_shader(node, material, report, textures):
     return out
 
 
+def _subsurface_radius(node, value, color):
+    """Radius x Scale in metres (negative and NaN entries 0)."""
+    sock = node.inputs.get("Subsurface Radius")
+    rgb = list(sock.default_value)[:3] if sock is not None else [1.0, 0.2, 0.1]
+    scale = value("Subsurface Scale")
+    scale = scale if scale == scale and scale > 0.0 else 0.0
+    return [float(x) * scale if x == x and x > 0.0 else 0.0 for x in rgb]
+
+
+def _subsurface(node, weight, value, color):
+    """The Principled BSDF's subsurface inputs -> the material dict's subsurface_* keys."""
+    method = getattr(node, "subsurface_method", "RANDOM_WALK")
+    # Cycles: Random Walk enters with the material's IOR, Skin with Subsurface IOR
+    key = "Subsurface IOR" if method == "RANDOM_WALK_SKIN" else "IOR"
+    ior = value(key) if key in node.inputs else 1.4
+    g = value("Subsurface Anisotropy") if "Subsurface Anisotropy" in node.inputs else 0.0
+    return {"subsurface_weight": weight,
+            "subsurface_radius": [min(x, 1e30) for x in _subsurface_radius(node, value, color)],
+            "subsurface_ior": min(max(ior, 1.01), 3.8) if ior == ior else 1.4,
+            "subsurface_anisotropy": min(max(g, 0.0), 0.9) if g == g else 0.0,
+            "subsurface_method": "random_walk_skin" if method == "RANDOM_WALK_SKIN"
+            else "random_walk"}
+
+
 def _principled_unsupported(node, material, report):
     """Warnings for the Principled inputs Lantern renders by a documented fallback."""
     name = material.name
@@ -149,8 +178,19 @@ def _principled_unsupported(node, material, report):
         v = _constant_float(sock, material, report) if not sock.is_linked else 1.0
         return v if math.isfinite(v) else 0.0
     if val("Subsurface Weight") > 0.0:
-        report.warn(f"Material '{name}': Subsurface Weight is rendered as the diffuse base "
-                    "(no subsurface scattering)")
+        if getattr(node, "subsurface_method", "RANDOM_WALK") == "BURLEY":
+            report.warn(f"Material '{name}': Christensen-Burley subsurface is rendered as "
+                        "Random Walk")
+        for key in ("Subsurface Weight", "Subsurface Radius", "Subsurface Scale",
+                    "Subsurface IOR", "Subsurface Anisotropy"):
+            sock = node.inputs.get(key)
+            if sock is not None and sock.is_linked:
+                report.warn(f"Material '{name}': {key} driven by a node is rendered with "
+                            "the socket's constant value")
+        radius = _subsurface_radius(node, lambda k: val(k), None)
+        if max(radius) <= 0.0:
+            report.warn(f"Material '{name}': Subsurface Radius x Scale is 0: rendered as the "
+                        "diffuse base, as Cycles does")
     if val("Thin Film Thickness") > 0.0 and val("Transmission Weight") > 0.0 and \
             val("Metallic") < 1.0:
         report.warn(f"Material '{name}': Thin Film is rendered on the specular layer and the "

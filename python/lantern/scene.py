@@ -67,7 +67,8 @@ class Scene:
                      sheen_tint=(1.0, 1.0, 1.0), eta=None, k=None, distribution="ggx",
                      alpha=1.0, normal_strength=1.0, coat_normal_strength=1.0, mix=None,
                      diffuse_roughness=0.0,
-                     anisotropy=0.0, anisotropic_rotation=0.0, tangent="triangle", **textures):
+                     anisotropy=0.0, anisotropic_rotation=0.0, tangent="triangle",
+                     subsurface=None, **textures):
         """Append a material; returns its id (index into `materials`).
 
         `type`: "diffuse" (Lambert, albedo `base_color`; `diffuse_roughness` > 0: Blender's
@@ -112,6 +113,12 @@ class Scene:
         }
         if mix is not None:
             material["mix"] = mix
+        if subsurface is not None:  # dict: weight, radius (x scale, metres), ior, anisotropy,
+            # method ("random_walk", "random_walk_skin"); docs/subsurface.md
+            unknown = set(subsurface) - {"weight", "radius", "ior", "anisotropy", "method"}
+            if unknown:
+                raise TypeError(f"add_material() subsurface: unknown keys {sorted(unknown)}")
+            material.update({"subsurface_" + k: v for k, v in subsurface.items()})
         for key, value in textures.items():
             if key not in MATERIAL_TEXTURES:
                 raise TypeError(f"add_material() got an unexpected keyword argument {key!r}")

@@ -73,6 +73,7 @@ def validate_material(material, index, num_textures=0):
     if dist == "beckmann" and mtype != "conductor":
         raise ValueError(f"{what}: the Beckmann distribution applies to conductors only")
     out["distribution"] = dist
+    _validate_subsurface(material, out, what, mtype)
     ms = material.get("multiscatter", True)
     if not isinstance(ms, (bool, np.bool_)):
         raise ValueError(f"{what} multiscatter: expected True or False, got {ms!r}")
@@ -333,3 +334,38 @@ LIGHT_KEYS_OF = {"point": ("position", "radius", "soft_falloff", "power"),
                           "power"),
                  "area": ("to_world", "shape", "size", "power"),
                  "sun": ("direction", "angle", "strength")}
+
+
+SUBSURFACE_METHODS = ("random_walk", "random_walk_skin")
+
+
+def _validate_subsurface(material, out, what, mtype):
+    """Principled subsurface (docs/subsurface.md): kept only where a key is given, so that
+    materials without it stay as they were. Radius is Blender's Radius x Scale in metres; 0
+    renders as the diffuse base and above 1e6 is clamped (the core says so in its warnings)."""
+    keys = ("subsurface_weight", "subsurface_radius", "subsurface_ior",
+            "subsurface_anisotropy", "subsurface_method")
+    for key in keys:
+        out.pop(key, None)
+    if not any(key in material for key in keys):
+        return
+    if mtype != "principled":
+        raise ValueError(f"{what}: subsurface applies to principled materials only "
+                         f"(type {mtype!r})")
+    for key, default, lo, hi in (("subsurface_weight", 0.0, 0.0, 1.0),
+                                 ("subsurface_ior", 1.4, 0.01, 100.0),
+                                 ("subsurface_anisotropy", 0.0, -1.0, 1.0)):
+        try:
+            v = float(material.get(key, default))
+        except (TypeError, ValueError):
+            raise ValueError(f"{what} {key}: expected a number, got {material.get(key)!r}")
+        if not (lo <= v <= hi):
+            raise ValueError(f"{what} {key}: must be in [{lo}, {hi}], got {v}")
+        out[key] = v
+    out["subsurface_radius"] = _rgb(material.get("subsurface_radius", [0.05, 0.02, 0.01]),
+                                    f"{what} subsurface_radius")
+    method = material.get("subsurface_method", "random_walk")
+    if method not in SUBSURFACE_METHODS:
+        raise ValueError(f"{what} subsurface_method: one of {SUBSURFACE_METHODS}, "
+                         f"got {method!r}")
+    out["subsurface_method"] = method

@@ -190,13 +190,14 @@ def test_mix_factor_texture_f12(empty, addon, tmp_path, errors):
 
 
 def test_principled_fallbacks_are_reported(empty, addon):
-    """Inputs rendered by a documented fallback say so: subsurface (as the diffuse base), thin
-    film on a glass part (none there), a coat normal from a node other than a tangent-space
-    Normal Map (ignored)."""
+    """Inputs rendered by a documented fallback say so: a subsurface input driven by a node (its
+    constant), thin film on a glass part (none there), a coat normal from a node other than a
+    tangent-space Normal Map (ignored); constant subsurface inputs export without a warning."""
     mat = bpy.data.materials.new("Skin")
     nt = mat.node_tree
     p = nt.nodes["Principled BSDF"]
     p.inputs["Subsurface Weight"].default_value = 0.5
+    nt.links.new(nt.nodes.new("ShaderNodeValue").outputs[0], p.inputs["Subsurface Scale"])
     p.inputs["Thin Film Thickness"].default_value = 300.0
     p.inputs["Transmission Weight"].default_value = 0.3   # no film on the glass part
     p.inputs["Coat Weight"].default_value = 1.0
@@ -204,12 +205,15 @@ def test_principled_fallbacks_are_reported(empty, addon):
     add_plane(empty, material=mat)
     scene, report = export()
     text = "\n".join(report.messages)
-    for what in ("Subsurface Weight is rendered as the diffuse base",
+    for what in ("Subsurface Scale driven by a node is rendered with the socket's constant",
                  "Thin Film is rendered on the specular layer and the metal, not on the glass",
                  "on Coat Normal is not supported"):
         assert what in text, (what, report.messages)
     assert scene.materials[1]["type"] == "principled"
     assert scene.materials[1]["thin_film_thickness"] == 300.0
+    assert scene.materials[1]["subsurface_weight"] == 0.5
+    assert scene.materials[1]["subsurface_method"] == "random_walk"
+    assert "Subsurface Weight is rendered as the diffuse base" not in text
 
 
 def test_thin_film_on_metal_exports(empty, addon):

@@ -283,7 +283,8 @@ LANTERN_HD inline PrincipledPick principled_pick(const Material& m, float mu, fl
     float below = sheen_pass - ec;
     PrincipledPick p{below * w.metal * (0.5f + 0.5f * luminance(m.base_color)),
                      below * w.glass, below * w.spec * es,
-                     below * w.spec * (1.0f - es) * luminance(m.base_color), ec, esh};
+                     below * w.spec * (1.0f - es) * (1.0f - m.subsurface) * luminance(m.base_color),
+                     ec, esh};  // the base less what scatters under the surface (pt_sss.h)
     float sum = p.metal + p.glass + p.spec + p.base + p.coat + p.sheen;
     if (!(sum > 0.0f)) return {0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f};
     return {p.metal / sum, p.glass / sum, p.spec / sum, p.base / sum, p.coat / sum,
@@ -342,7 +343,8 @@ LANTERN_HD inline BsdfEval principled_eval(const Material& m, bool front, Vec3 w
         e.pdf_fwd_w += pf.spec * l.pdf_fwd_w;
         e.pdf_rev_w += pr.spec * l.pdf_rev_w;
         // the base under the specular layer, attenuated on the camera side
-        const float base_w = w.spec * (1.0f - principled_spec_albedo(m, mu_v));
+        const float base_w =  // less what scatters under the surface (integrator/pt_sss.h)
+            w.spec * (1.0f - principled_spec_albedo(m, mu_v)) * (1.0f - m.subsurface);
         BsdfEval b = diffuse_base_eval(m, wo, wi);
         f_lower += b.f * base_w;
         e.pdf_fwd_w += pf.base * b.pdf_fwd_w;

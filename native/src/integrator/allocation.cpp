@@ -7,6 +7,7 @@
 
 #include "integrator/session.h"
 #include "scene/scene.h"
+#include "scene/subsurface_input.h"
 
 namespace lantern {
 
@@ -211,6 +212,7 @@ std::string pt_only_reason(const SceneInput& in) {
     if (in.world_rays != 7) return "the world hidden from some rays";
     if (std::string v = media_reason(in); !v.empty()) return v;  // media: pt only (volumes.md)
     if (std::string v = motion_reason(in); !v.empty()) return v;  // motion blur: pt only
+    if (std::string v = subsurface_reason(in); !v.empty()) return v;  // docs/subsurface.md
     return "";
 }
 

@@ -388,6 +388,12 @@ LANTERN_HD inline BsdfSample pt_sample(const Material& m, bool front, Vec3 wo, V
     return material_sample(m, front, wo, u, Transport::Radiance, coat_n, ng_l);
 }
 
+}  // namespace lantern
+
+#include "integrator/pt_sss.h"  // subsurface: uses pt_surface, shade_point
+
+namespace lantern {
+
 // ---- Shade: emission, next-event estimation (a shadow ray), BSDF sampling, roulette ----
 LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const PtSettings& st,
                                 int i) {
@@ -443,6 +449,11 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
     Vec3 wo = frame.to_local(-d);
     const Vec3 ng_l = frame.to_local(h.ng);
     Rng rng = ps.rng[i];
+    // under the surface: the walk stage takes the path (integrator/pt_sss.h)
+    if (s.has_subsurface && m.subsurface > 0.0f && pt_sss_choose(ps, i, m, wo, ng_l, rng)) {
+        ps.rng[i] = rng;
+        return;
+    }
 
     // next-event estimation
     const bool delta_material = material_is_delta(m);

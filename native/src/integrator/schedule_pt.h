@@ -45,6 +45,10 @@ void pt_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep& st
         const int32_t* q = w.queue.data();
         ex.timed(stats.time_shade,
                  [&] { ex.each(active, LANTERN_KERNEL(int k) { pt_shade(s, ps, pt, q[k]); }); });
+        if (s.has_subsurface)  // the walks of the paths that went under a surface (pt_sss.h)
+            ex.timed(stats.time_shade, [&] {
+                ex.each(active, LANTERN_KERNEL(int k) { pt_sss_walk(s, rays, RayKind::kIndirect, ps, pt, q[k]); });
+            });
         ex.timed(stats.time_shadow, [&] {
             stats.rays_shadow +=
                 ex.count(active, LANTERN_KERNEL(int k) { return ps.shadow_valid[q[k]] != 0; });

@@ -1,5 +1,6 @@
 #include "integrator/session.h"
 #include "scene/motion_build.h"
+#include "scene/subsurface_input.h"
 
 #include <algorithm>
 #include <chrono>
@@ -81,6 +82,11 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
                          (integ == "lt" ? std::string("light tracing would ignore it")
                                         : std::string("no medium vertices in its paths")) +
                          "): rendering with pt";
+            settings_.integrator = "pt";
+        } else if (const std::string ss = subsurface_reason(scene); !ss.empty()) {
+            // subsurface: only pt walks yet (docs/subsurface.md)
+            media_note = "integrator '" + integ + "' does not render subsurface scattering (the " +
+                         "scene has " + ss + "; no walk in its paths): rendering with pt";
             settings_.integrator = "pt";
         }
     }

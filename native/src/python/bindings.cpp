@@ -203,6 +203,12 @@ SceneInput to_input(const nb::dict& scene) {
             mi.thin_film_ior = get<float>(m, "thin_film_ior", mi.thin_film_ior);
             mi.sheen_roughness = get<float>(m, "sheen_roughness", mi.sheen_roughness);
             mi.sheen_tint = get_vec3(m, "sheen_tint", mi.sheen_tint);
+            mi.subsurface_weight = get<float>(m, "subsurface_weight", mi.subsurface_weight);
+            mi.subsurface_radius = get_vec3(m, "subsurface_radius", mi.subsurface_radius);
+            mi.subsurface_ior = get<float>(m, "subsurface_ior", mi.subsurface_ior);
+            mi.subsurface_anisotropy =
+                get<float>(m, "subsurface_anisotropy", mi.subsurface_anisotropy);
+            mi.subsurface_method = get<std::string>(m, "subsurface_method", mi.subsurface_method);
             mi.tex_base_color = get<int>(m, "base_color_texture", -1);
             mi.tex_roughness = get<int>(m, "roughness_texture", -1);
             mi.tex_metallic = get<int>(m, "metallic_texture", -1);

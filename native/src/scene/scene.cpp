@@ -14,6 +14,7 @@
 #include "bsdf/material.h"
 #include "scene/scene_checks.h"
 #include "scene/scene_limits.h"
+#include "scene/subsurface_input.h"
 
 namespace lantern {
 
@@ -198,6 +199,7 @@ HostScene::HostScene(const SceneInput& in) {
             m.sheen_roughness = unit(mi.sheen_roughness, 0.5f);
             m.sheen_tint = sanitize_color(mi.sheen_tint, 1.0f);
             if (m.sheen_weight > 0.0f) principled_sheen_table(m, tab);
+            set_material_subsurface(m, mi, k, warnings_);
         } else {
             throw std::invalid_argument("material " + std::to_string(k) + " ('" + mi.name +
                                         "'): unknown type '" + mi.type +
@@ -328,7 +330,9 @@ void HostScene::finish_view(const SceneInput& in) {
     v.material_tables = material_tables_.data();
     v.num_materials = int32_t(materials_.size());
     v.material_bits = 0;
+    v.has_subsurface = 0;
     for (const Material& m : materials_) {
+        if (m.subsurface > 0.0f) v.has_subsurface = 1;
         if (m.tex_flags & kMaterialResolve) v.material_bits |= kSceneResolve;
         if ((m.tex_flags & (kTexNormal | kCoatNormal | kTexBump)) || m.anisotropy > 0.0f)
             v.material_bits |= kSceneFrames;

@@ -66,6 +66,12 @@ struct MaterialInput {
     float sheen_weight = 0.0f, sheen_roughness = 0.5f;
     float thin_film_thickness = 0.0f, thin_film_ior = 1.33f;  // nm (0: none); the film's index
     Vec3 sheen_tint{1.0f, 1.0f, 1.0f};
+    // principled subsurface (integrator/pt_sss.h): Subsurface Weight, Radius x Scale (metres),
+    // IOR, Anisotropy; method "random_walk" or "random_walk_skin"
+    float subsurface_weight = 0.0f;
+    Vec3 subsurface_radius{0.0f, 0.0f, 0.0f};
+    float subsurface_ior = 1.4f, subsurface_anisotropy = 0.0f;
+    std::string subsurface_method = "random_walk";
     // textures: indices into SceneInput::textures, -1 for none
     int tex_base_color = -1, tex_roughness = -1, tex_metallic = -1, tex_alpha = -1,
         tex_normal = -1, tex_emission = -1;  // emission texture: radiance = texel x emission

@@ -178,6 +178,11 @@ void HostScene::set_mix_leaves(const SceneInput& in) {
             m.mix_child[i] = c;
             m.mix_weight[i] = finite_in(w, 0.0f, kInf, 0.0f);
             m.emission += materials_[c].emission * m.mix_weight[i];
+            if (materials_[c].subsurface > 0.0f) {  // pt's walk starts at a top-level material
+                materials_[c].subsurface = 0.0f;
+                warnings_.push_back(who + ": subsurface scattering of a mix leaf is rendered as "
+                                          "its diffuse base");
+            }
             // one coat normal per hit: the first leaf with its own
             if ((materials_[c].tex_flags & kCoatNormal) && !(m.tex_flags & kCoatNormal)) {
                 m.tex_flags |= kCoatNormal;

@@ -116,6 +116,14 @@ struct Material {
     // SceneView::programs, one per input it drives (scene/material_program.h)
     int32_t prog_first, prog_count;
     uint32_t holdout;  // 1: a holdout (TriangleFlags kHoldout on its triangles)
+    // principled subsurface (random walk, integrator/pt_sss.h): the share `subsurface` of the
+    // diffuse base that scatters inside the mesh (0: none; the base keeps 1 - subsurface),
+    // mean free paths ss_radius (Radius x Scale, metres), the entry's IOR, the walk's
+    // Henyey-Greenstein anisotropy; ss_skin 1: Random Walk (Skin)
+    float subsurface;
+    Vec3 ss_radius;
+    float ss_ior, ss_anisotropy;
+    uint32_t ss_skin;
 };
 
 enum MaterialTextureBits : uint32_t {
@@ -338,6 +346,8 @@ struct SceneView {
     const Medium* media = nullptr;
     const int32_t* material_medium = nullptr;  // per material: the medium inside, -1: none
     int32_t num_media = 0;
+    // 1: some material scatters under its surface (pt's walk stage runs: integrator/pt_sss.h)
+    int32_t has_subsurface = 0;
     int32_t world_medium = -1;   // outside every mesh medium, -1: vacuum
     int32_t camera_medium = -1;  // where camera rays start
     // motion blur (scene/motion.h): moving meshes and the camera's steps; any() false: none

@@ -1,0 +1,162 @@
+"""Random-walk subsurface scattering against Cycles through the add-on (docs/subsurface.md),
+CI-sized: three small scenes built here in bpy, each rendered with K seeds by Cycles (CPU) and by
+Lantern (pt) with tools/render_compare.py's settings, compared by lantern.metrics.assert_agreement
+(Welch t per 8x8 block and channel, the image and block means within the bias cap plus noise, and
+negative controls that must fail):
+
+- marble: a sphere of Principled BSDF with Subsurface Weight 1 (Random Walk, a long radius) on a
+  floor under an area light;
+- skin: a smooth torus with Random Walk (Skin), a reddish radius, lit by a point light;
+- slab: a thin slab lit from behind by an area light, seen from the front (only light that
+  walked through the slab reaches the camera: an ear against the light).
+Before subsurface scattering, Lantern rendered these as the diffuse base (a warning), which
+fails each comparison by far more than the noise."""
+
+import math
+import os
+import sys
+import time
+
+import numpy as np
+import pytest
+
+bpy = pytest.importorskip("bpy")
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+sys.path.insert(0, os.path.join(ROOT, "tools"))
+import render_compare as rc  # noqa: E402
+from lantern import metrics  # noqa: E402
+
+K = 6
+SIZE = 32
+SE_FLOOR = 1e-6
+SPP = {"marble": (128, 128), "skin": (128, 128), "slab": (128, 128)}
+# negative controls (image, block) the noise affords at these sample counts
+CONTROLS = {"marble": (0.02, 0.10), "skin": (0.02, 0.10), "slab": (0.02, 0.10)}
+
+
+def _reset():
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    scene = bpy.context.scene
+    scene.render.resolution_x = scene.render.resolution_y = SIZE
+    scene.render.resolution_percentage = 100
+    scene.render.threads_mode, scene.render.threads = "FIXED", 2
+    world = bpy.data.worlds.new("World")
+    scene.world = world
+    world.use_nodes = True
+    world.node_tree.nodes["Background"].inputs["Color"].default_value = (0, 0, 0, 1)
+    return scene
+
+
+def _material(name, color=(0.8, 0.8, 0.8), roughness=1.0, sss=0.0, radius=(1.0, 0.2, 0.1),
+              scale=0.05, method="RANDOM_WALK", ior=1.4, anisotropy=0.0):
+    m = bpy.data.materials.new(name)
+    m.use_nodes = True
+    p = m.node_tree.nodes["Principled BSDF"]
+    p.inputs["Base Color"].default_value = (*color, 1.0)
+    p.inputs["Roughness"].default_value = roughness
+    p.inputs["Subsurface Weight"].default_value = sss
+    p.inputs["Subsurface Radius"].default_value = radius
+    p.inputs["Subsurface Scale"].default_value = scale
+    p.inputs["Subsurface Anisotropy"].default_value = anisotropy
+    p.subsurface_method = method
+    if method == "RANDOM_WALK_SKIN":  # Random Walk enters with the main IOR (the socket is off)
+        p.inputs["Subsurface IOR"].default_value = ior
+    return m
+
+
+def _cube(name, location, size, material, scale=(1, 1, 1)):
+    bpy.ops.mesh.primitive_cube_add(size=size, location=location, scale=scale)
+    obj = bpy.context.active_object
+    obj.name = name
+    obj.data.materials.append(material)
+    return obj
+
+
+def _camera(scene, location, rotation, lens=35.0):
+    cam = bpy.data.cameras.new("Camera")
+    cam.lens = lens
+    obj = bpy.data.objects.new("Camera", cam)
+    scene.collection.objects.link(obj)
+    obj.location = location
+    obj.rotation_euler = [math.radians(a) for a in rotation]
+    scene.camera = obj
+
+
+def _light(scene, kind, location, energy, rotation=(0, 0, 0), **kw):
+    data = bpy.data.lights.new(kind, kind)
+    data.energy = energy
+    for k, v in kw.items():
+        setattr(data, k, v)
+    obj = bpy.data.objects.new(kind, data)
+    scene.collection.objects.link(obj)
+    obj.location = location
+    obj.rotation_euler = [math.radians(a) for a in rotation]
+
+
+def marble():
+    scene = _reset()
+    _cube("floor", (0, 0, -0.05), 1.0, _material("floor", (0.5, 0.5, 0.5)), scale=(6, 6, 0.1))
+    bpy.ops.mesh.primitive_uv_sphere_add(radius=0.6, location=(0, 0, 0.6), segments=32,
+                                         ring_count=16)
+    obj = bpy.context.active_object
+    bpy.ops.object.shade_smooth()
+    obj.data.materials.append(_material("marble", (0.9, 0.88, 0.85), roughness=0.3, sss=1.0,
+                                        radius=(1.0, 0.8, 0.6), scale=0.1))
+    _light(scene, "AREA", (1.2, -1.0, 2.2), 200.0, rotation=(35, 30, 0), size=1.0)
+    _camera(scene, (0, -3.2, 1.2), (78, 0, 0), lens=40.0)
+
+
+def skin():
+    # a smooth torus: closed and concave (light leaves one part and enters another). Suzanne,
+    # open at the eyes with separate eyeballs, renders 5 % dark here (docs/subsurface.md)
+    scene = _reset()
+    bpy.ops.mesh.primitive_torus_add(major_radius=0.6, minor_radius=0.25, rotation=(1.2, 0, 0))
+    obj = bpy.context.active_object
+    bpy.ops.object.shade_smooth()
+    obj.data.materials.append(_material("skin", (0.8, 0.55, 0.45), roughness=0.5, sss=1.0,
+                                        radius=(1.0, 0.35, 0.2), scale=0.08,
+                                        method="RANDOM_WALK_SKIN"))
+    _light(scene, "POINT", (1.0, -2.0, 1.5), 300.0, shadow_soft_size=0.2)
+    _camera(scene, (0, -3.5, 0.2), (88, 0, 0), lens=45.0)
+
+
+def slab():
+    scene = _reset()
+    # 2 cm thick, mean free paths 2.4 / 1.6 / 1.2 cm (Radius x Scale / 4 pi): every channel
+    # comes through; it fills the view, the light behind it faces the camera
+    _cube("slab", (0, 0, 0), 1.0, _material("ear", (0.9, 0.75, 0.7), roughness=0.5, sss=1.0,
+                                            radius=(1.0, 0.65, 0.5), scale=0.3),
+          scale=(1.6, 0.02, 1.6))
+    _light(scene, "AREA", (0, 1.0, 0), 150.0, rotation=(-90, 0, 0), size=1.0)  # faces -Y
+    _camera(scene, (0, -2.0, 0), (90, 0, 0), lens=50.0)
+
+
+SCENES = {"marble": marble, "skin": skin, "slab": slab}
+
+
+def render_both(name, cycles_spp, lantern_spp):
+    SCENES[name]()
+    cyc = np.stack([rc.render_cycles(seed=900 + k, spp=cycles_spp)[0] for k in range(K)])
+    lan, warnings = [], []
+    for k in range(K):
+        img, warnings = rc.render_lantern(seed=1 + k, spp=lantern_spp, threads=2)
+        lan.append(img)
+    return np.stack(lan).astype(np.float64), cyc.astype(np.float64), warnings
+
+
+@pytest.mark.parametrize("name", list(SCENES))
+def test_subsurface_matches_cycles(name):
+    t0 = time.perf_counter()
+    lan, cyc, warnings = render_both(name, *SPP[name])
+    assert not warnings, warnings
+    assert np.isfinite(lan).all()
+    assert cyc.mean() > 1e-3, "the scene is black in Cycles"
+    res = metrics.compare_renders(lan, cyc, block=rc.BLOCK, se_floor=SE_FLOOR, name=name)
+    line = (f"{res}; mean ratio {lan.mean() / cyc.mean():.4f} "
+            f"({time.perf_counter() - t0:.1f} s)")
+    print(line)
+    rc.REPORT.append(line)
+    image_bias, block_bias = CONTROLS[name]
+    metrics.assert_agreement(name, lan, cyc, block=rc.BLOCK, se_floor=SE_FLOOR,
+                             image_bias=image_bias, block_bias=block_bias)
