@@ -11,9 +11,10 @@
 //   iteration's (common random numbers: the same camera rays, so noise both integrators
 //   share, a light's edge seen by the camera, reads alike in both; unpaired, the few edge
 //   pixels of a small set ruled the estimate: the 64 x 64 Cornell box chose cis on a third of
-//   the seeds). On the CPU the trials are never added to the image, a fixed rule, so the
-//   image is unbiased; the render then starts as a fresh render of the chosen integrator (one
-//   unbroken run of its QMC sequence).
+//   the seeds). An estimate within 1.25x of a tie takes one more pair first. On the CPU the
+//   trials are never added to the image, a fixed rule, so the image is unbiased; the render
+//   then starts as a fresh render of the chosen integrator (one unbroken run of its QMC
+//   sequence).
 // - The GPU (and `auto_keep_pilot`, for tests) keeps the pilot in the image: four pt and two
 //   cis iterations of the full image, each of a scramble of its own, read on an eighth of the
 //   image (at least kMinTracked pixels, at most kMaxTracked): each is an unbiased estimate,
@@ -112,7 +113,9 @@ private:
     int candidates_;
     int64_t pixels_;  // the film's
     int64_t stride_ = 1;
-    int pilot_pt_ = 4;  // the pilot's pt iterations (trials: 2); cis's: kPilotCis
+    int pilot_pt_ = 4;   // the pilot's pt iterations (trials: 2, or 3 near a tie)
+    int pilot_cis_ = 2;  // ... cis's (trials: 3 near a tie)
+    bool trials_ = false;
     std::vector<int32_t> tracked_;
     std::vector<double> sum_pt_, sum2_pt_, sum_cis_, sum2_cis_;  // per tracked pixel (luma)
     // ... of cis's moment trials: pt's second moment, light pt misses, cis's values
