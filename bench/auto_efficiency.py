@@ -3,7 +3,8 @@ one thread, K seeds, on the scenes of lantern.scenes (no Blender needed).
 
 noise = mean over pixels of the spread (sample standard deviation) of the luminance between
 seeds, over the image's mean luminance; time = CPU seconds of one render (process time, which
-a loaded machine disturbs less than wall time), median over seeds. Also a deterministic cost
+a loaded machine disturbs less than wall time), median over seeds; the integrators' renders
+interleaved (seed k of each in turn). Also a deterministic cost
 (`work`: rays traced plus 0.36 of a ray per cis candidate, M = 10 per camera vertex of cis,
 allocation.h's count), and the efficiency by it, which no machine load disturbs. A render is `--spp`
 iterations of one sample each (as the add-on's final render), so auto's pilot (pt, pt, cis)
@@ -12,6 +13,9 @@ cis's efficiency over pt's.
 
     .venv/bin/python bench/auto_efficiency.py --res 64x64 --spp 64 --seeds 6 \\
         --out bench/results/2026-12-04-auto
+
+A scene may also be `file:PATH`, a .lantern file rendered at --res (the Bedroom: tools/
+export_bench_scenes.py bedroom, then --scenes file:build/bench_scenes/bedroom.lantern --res 99x54).
 """
 import argparse
 import json
@@ -36,28 +40,61 @@ SCENES = {  # name -> (lantern.scenes builder, keyword arguments)
 }
 
 
-def measure(scene_name, integrator, args):
+_FILES = {}
+
+
+def build_scene(scene_name, args):
+    """A scene of SCENES at --res, or `file:PATH` (a .lantern file, e.g. the Bedroom exported by
+    tools/export_bench_scenes.py) with its film set to --res (keep the file's aspect ratio: the
+    camera's screen window is the file's)."""
     import lantern
     from lantern import scenes
-    builder, kw = SCENES[scene_name]
     w, h = (int(v) for v in args.res.split("x"))
-    scene = getattr(scenes, builder)(w, h, **kw)
-    imgs, times, chosen, rays, work = [], [], [], [], []
+    if scene_name.startswith("file:"):
+        if scene_name not in _FILES:
+            _FILES[scene_name] = lantern.load_scene(scene_name[5:])
+        scene = _FILES[scene_name]
+        scene.film["width"], scene.film["height"] = w, h
+        return scene
+    builder, kw = SCENES[scene_name]
+    return getattr(scenes, builder)(w, h, **kw)
+
+
+def render_one(scene, integrator, seed, args):
+    """One render of --spp one-sample steps: (image, CPU seconds, stats)."""
+    import lantern
+    s = lantern.Session(scene, integrator=integrator, seed=seed, backend="cpu", threads=1,
+                        max_depth=args.max_depth, spp_per_iteration=1)
+    c0 = time.process_time()
+    for _ in range(args.spp):
+        s.step()
+    return s.image(), time.process_time() - c0, s.stats
+
+
+def measure_all(scene_name, integrators, args):
+    """Every integrator, seeds interleaved (seed k of each in turn), so that a change in the
+    machine's load falls on all of them alike."""
+    scene = build_scene(scene_name, args)
+    runs = {i: [] for i in integrators}
     for k in range(args.seeds):
-        s = lantern.Session(scene, integrator=integrator, seed=1000 + k, backend="cpu",
-                            threads=1, max_depth=args.max_depth, spp_per_iteration=1)
-        c0 = time.process_time()
-        for _ in range(args.spp):
-            s.step()
-        times.append(time.process_time() - c0)
-        imgs.append(s.image())
-        st = s.stats
+        for integ in integrators:
+            runs[integ].append(render_one(scene, integ, 1000 + k, args))
+    return [summarise(scene_name, integ, runs[integ]) for integ in integrators]
+
+
+def summarise(scene_name, integrator, runs):
+    imgs, times, chosen, rays, work = [], [], [], [], []
+    for img, t, st in runs:
+        times.append(t)
+        imgs.append(img)
         # deterministic cost counts (the same seed, the same counts on any machine): rays, and
         # rays plus 0.36 of a ray per cis candidate (allocation.h's cost; M per camera vertex)
         rays.append(st["rays_total"])
         cis_vertices = (st["rays_camera"] + st["rays_indirect"]) if integrator == "cis" else 0
-        if integrator == "auto":  # the share of camera vertices cis rendered, by iterations
-            it = st["auto_pt_iterations"] + st["auto_cis_iterations"]
+        if integrator == "auto" and "auto_cis_vertices" in st:  # cis's own, trials included
+            cis_vertices = st["auto_cis_vertices"]
+        elif integrator == "auto":  # (an older core) the share by iterations: trials over the
+            it = st["auto_pt_iterations"] + st["auto_cis_iterations"]  # whole image only
             cis_vertices = (st["rays_camera"] + st["rays_indirect"]) * (
                 st["auto_cis_iterations"] / max(it, 1))
         work.append(st["rays_total"] + 0.36 * 10 * cis_vertices)
@@ -78,10 +115,7 @@ def measure(scene_name, integrator, args):
 def step_times(scene_name, integrators, args):
     """CPU time of each step of one render (seed 3) per integrator: where auto's pilot goes."""
     import lantern
-    from lantern import scenes
-    builder, kw = SCENES[scene_name]
-    w, h = (int(v) for v in args.res.split("x"))
-    scene = getattr(scenes, builder)(w, h, **kw)
+    scene = build_scene(scene_name, args)
     for integ in integrators:
         s = lantern.Session(scene, integrator=integ, seed=3, backend="cpu", threads=1,
                             max_depth=args.max_depth, spp_per_iteration=1)
@@ -114,8 +148,7 @@ def main():
     info = {"before": machine()}
     rows = []
     for scene in args.scenes.split(","):
-        for integ in args.integrators.split(","):
-            r = measure(scene, integ, args)
+        for r in measure_all(scene, args.integrators.split(","), args):
             rows.append(r)
             print(json.dumps(r), flush=True)
     info["after"] = machine()

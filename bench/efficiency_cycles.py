@@ -13,9 +13,15 @@ fireflies); time = the mean
 wall time of one render (Cycles: `bpy.ops.render.render` with persistent data after a warm-up
 render, so the scene is synchronised once; Lantern: `Session.step()`, the BVH built before;
 `auto`, the default integrator, in steps of one sample as the add-on renders, its pilot inside
-the time).
+the time, and with it in the run every Lantern integrator in such steps).
 The image-mean ratio against Cycles (with its standard error from the seeds) is printed beside
-the efficiency, so a speed figure always comes with the bias it carries."""
+the efficiency, so a speed figure always comes with the bias it carries.
+
+`--scenes all`: every builder of blend_scenes/ (scenes.SCENES with the world scenes, and the
+benchmark scenes of bench_registry.py: Monkeybox, Whiteroom, Bedroom, the four small hard
+cases), each at --res x --res (a scene that fails to build or render is listed with its error,
+not fatal). The table and the plot carry auto / pt, the default integrator against path
+tracing (issue 27's line: at least 0.9 on ordinary scenes)."""
 
 import argparse
 import json
@@ -56,21 +62,25 @@ def run_scene(name, args, lantern, rmse_cycles):
     images = {k: [] for k in ["cycles"] + integrators}
     times = {k: [] for k in images}
     for seed in range(args.seeds):
+        c0 = time.process_time()
         img, s = rmse_cycles.render(101 + seed, args.spp, threads=1)
         images["cycles"].append(img.astype(np.float64))
-        times["cycles"].append(s)
+        times["cycles"].append(time.process_time() - c0 if args.cpu_time else s)
         for integ in integrators:
             name_, _, rr = integ.partition(":rr=")  # "pt:rr=3": pt with roulette from depth 3
             extra = {"rr_depth": int(rr)} if rr else {}
-            # auto as the add-on runs it: iterations of one sample, its pilot inside the time
-            steps = args.spp if name_ == "auto" else 1
+            # auto as the add-on runs it: iterations of one sample, its pilot inside the time;
+            # with auto in the run, every Lantern integrator so (auto / pt is then the choice and
+            # the pilot, not the cost of 64 steps against one)
+            steps = args.spp if name_ == "auto" or "auto" in integrators else 1
             sess = lantern.Session(lscene, integrator=name_, seed=1 + seed, threads=1,
                                    spp_per_iteration=args.spp // steps, max_depth=depth,
                                    backend="cpu", **extra)
-            t0 = time.perf_counter()
+            clock = time.process_time if args.cpu_time else time.perf_counter
+            t0 = clock()
             for _ in range(steps):
                 sess.step()
-            times[integ].append(time.perf_counter() - t0)
+            times[integ].append(clock() - t0)
             images[integ].append(np.asarray(sess.image(), np.float64)[..., :3])
     rows = []
     c_rms, c_med, c_mean = _noise(np.stack(images["cycles"]))
@@ -97,13 +107,27 @@ def run_scene(name, args, lantern, rmse_cycles):
 
 def table(rows):
     out = ["| scene | renderer | time (s) | noise rms | noise median px | mean / Cycles | "
-           "efficiency / Cycles (rms) | (median px) |", "|---|---|---|---|---|---|---|---|"]
+           "efficiency / Cycles (rms) | (median px) | / pt (rms) |",
+           "|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
+        if "error" in r:
+            out.append(f"| {r['scene']} | (failed) | {r['error']} | | | | | | |")
+            continue
+        pt = next((q for q in rows if q["scene"] == r["scene"] and q.get("renderer") == "pt"
+                   and "error" not in q), None)
+        vs_pt = (f"{r['eff_rms_vs_cycles'] / pt['eff_rms_vs_cycles']:.2f}"
+                 if pt and r["renderer"] not in ("cycles", "pt") else "")
         out.append(
             f"| {r['scene']} | {r['renderer']} | {r['time_s']:.3f} | {100 * r['noise_rms']:.2f}% | "
             f"{100 * r['noise_median']:.2f}% | {r['mean_ratio']:.4f} ± {r['mean_ratio_se']:.4f} | "
-            f"{r['eff_rms_vs_cycles']:.2f} | {r['eff_median_vs_cycles']:.2f} |")
+            f"{r['eff_rms_vs_cycles']:.2f} | {r['eff_median_vs_cycles']:.2f} | {vs_pt} |")
     return "\n".join(out)
+
+
+def all_scenes():
+    """Every builder of blend_scenes/ (rmse_cycles._blend_builders), in its order."""
+    import rmse_cycles
+    return ",".join(rmse_cycles._blend_builders())
 
 
 def plot(rows, path):
@@ -113,9 +137,10 @@ def plot(rows, path):
         import matplotlib.pyplot as plt
     except ImportError:
         return
+    rows = [r for r in rows if "error" not in r]
     scenes = list(dict.fromkeys(r["scene"] for r in rows))
     renderers = [k for k in dict.fromkeys(r["renderer"] for r in rows) if k != "cycles"]
-    fig, ax = plt.subplots(figsize=(max(6, 0.8 * len(scenes)), 4))
+    fig, (ax, ax2) = plt.subplots(2, 1, figsize=(max(6, 0.45 * len(scenes)), 7), sharex=True)
     width = 0.8 / max(1, len(renderers))
     for j, k in enumerate(renderers):
         vals = [next((r["eff_rms_vs_cycles"] for r in rows
@@ -123,10 +148,27 @@ def plot(rows, path):
         ax.bar(np.arange(len(scenes)) + j * width, vals, width, label=f"Lantern {k}")
     ax.axhline(1.0, color="k", lw=0.8)
     ax.set_yscale("log")
-    ax.set_xticks(np.arange(len(scenes)) + 0.4 - width / 2)
-    ax.set_xticklabels(scenes, rotation=45, ha="right")
     ax.set_ylabel("efficiency / Cycles' (1 / noise² t)")
-    ax.legend()
+    ax.legend(fontsize=8)
+    # the default integrator against path tracing, with issue 27's 0.9 line
+    others = [k for k in renderers if k != "pt"]
+    w2 = 0.8 / max(1, len(others))
+    for j, k in enumerate(others):
+        vals = []
+        for s in scenes:
+            a = next((r["eff_rms_vs_cycles"] for r in rows
+                      if r["scene"] == s and r["renderer"] == k), np.nan)
+            p = next((r["eff_rms_vs_cycles"] for r in rows
+                      if r["scene"] == s and r["renderer"] == "pt"), np.nan)
+            vals.append(a / p)
+        ax2.bar(np.arange(len(scenes)) + j * w2, vals, w2, label=f"{k} / pt")
+    ax2.axhline(1.0, color="k", lw=0.8)
+    ax2.axhline(0.9, color="r", lw=0.8, ls="--")
+    ax2.set_yscale("log")
+    ax2.set_ylabel("efficiency / pt's")
+    ax2.legend(fontsize=8)
+    ax2.set_xticks(np.arange(len(scenes)) + 0.4 - width / 2)
+    ax2.set_xticklabels(scenes, rotation=60, ha="right", fontsize=8)
     fig.tight_layout()
     fig.savefig(path, dpi=120)
 
@@ -140,6 +182,9 @@ def main(argv=None):
     ap.add_argument("--spp", type=int, default=64)
     ap.add_argument("--res", type=int, default=64)
     ap.add_argument("--out", default=None, help="folder for results.json, table.md, plot.png")
+    ap.add_argument("--cpu-time", action="store_true",
+                    help="the process's CPU time instead of wall time (a loaded machine; Cycles "
+                         "with one thread in this process, its EXR written and read included)")
     args = ap.parse_args(argv)
     if args.seeds < 2:
         ap.error("--seeds must be at least 2 (noise is the spread between seeds)")
@@ -149,9 +194,13 @@ def main(argv=None):
     lantern = import_lantern()  # this checkout's package (and its native module when built)
     print(f"lantern from {lantern.__file__}")
     rows = []
-    for name in args.scenes.split(","):
+    names = all_scenes() if args.scenes == "all" else args.scenes
+    for name in names.split(","):
         t0 = time.perf_counter()
-        rows += run_scene(name, args, lantern, rmse_cycles)
+        try:
+            rows += run_scene(name, args, lantern, rmse_cycles)
+        except Exception as e:  # noqa: BLE001 -- one scene's failure is a row, not the end
+            rows.append({"scene": name, "error": f"{type(e).__name__}: {e}"[:160]})
         print(table([r for r in rows if r["scene"] == name]).split("\n", 2)[2])
         print(f"  ({time.perf_counter() - t0:.0f} s)", flush=True)
     text = table(rows)

@@ -311,7 +311,7 @@ def test_first_iteration_is_coarse(addon, stage):
 def test_auto_keeps_its_choice_across_a_camera_move(addon, stage):
     """Integrator "auto" (native/src/integrator/allocation.h) decides once per viewport
     session: after the coarse first pass at 64 x 64 the full-size render does not pilot
-    again (its first refined frame would cost the pilot's six trials more)."""
+    again (its first refined frame would cost the pilot's four trials more)."""
     stage.lantern.integrator = "auto"
     engine = _Engine(addon)
     engine._lantern.draw = _Draw()
@@ -325,7 +325,7 @@ def test_auto_keeps_its_choice_across_a_camera_move(addon, stage):
     assert state.error is None
     st = state.session.stats
     assert st["auto_choice"] in ("pt", "cis")
-    # one pilot (four pt and two cis trials), the coarse pass's sample, the full size's two
-    # (a second pilot would add six)
-    assert st["auto_pt_iterations"] + st["auto_cis_iterations"] <= 4 + 2 + 1 + 2
+    # one pilot (two pt and two cis trials), the coarse pass's sample, the full size's two
+    # (a second pilot would add four)
+    assert st["auto_pt_iterations"] + st["auto_cis_iterations"] <= 2 + 2 + 1 + 2
     state.free()

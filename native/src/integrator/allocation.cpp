@@ -13,7 +13,14 @@ namespace lantern {
 
 namespace {
 
-constexpr int kPilotPt = 4, kPilotCis = 2;
+// the pilot's cis iterations, and its pt trials (whole iterations: pilot_pt_ = 4). Two pt trials
+// suffice: paired with cis's, they chose right on 32 of 32 seeds of the 64 x 64 Cornell box
+// (bench/results/2026-12-04-auto4)
+constexpr int kPilotCis = 2, kPilotPtTrials = 2;
+// trials: a pilot whose estimate lands within this factor of a tie takes one more pair of trials
+// before it chooses (once): on 32 seeds of the 64 x 64 Principled box (cis 3.6x pt by work)
+// the lowest estimate was 1.01, the Cornell box's (0.66x) highest 0.75
+constexpr double kTieBand = 1.25;
 
 double luma(const double* rgb) { return 0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2]; }
 
@@ -36,16 +43,29 @@ double sample_cost(bool cis, int candidates, const SessionStats& a, const Sessio
 
 }  // namespace
 
-Allocation::Allocation(int64_t pixels, bool pt_only, int candidates, bool watch)
+Allocation::Allocation(int64_t pixels, bool pt_only, int candidates, bool watch, bool trials,
+                       int64_t width)
     : pt_only_(pt_only), watch_(watch), candidates_(candidates), pixels_(pixels) {
     if (pt_only_) {
         choice_ = 1;
         return;
     }
-    const int64_t want = std::min<int64_t>(pixels, std::max<int64_t>(kMinTracked, pixels / 8));
-    stride_ = std::max<int64_t>(1, (pixels + std::min<int64_t>(want, kMaxTracked) - 1) /
-                                       std::min<int64_t>(want, kMaxTracked));
-    for (int64_t p = 0; p < pixels; p += stride_) tracked_.push_back(int32_t(p));
+    int64_t want = std::min<int64_t>(pixels, std::max<int64_t>(kMinTracked, pixels / 8));
+    want = std::min<int64_t>(want, kMaxTracked);
+    if (trials) {
+        want = std::min<int64_t>(pixels, std::max<int64_t>(kMinTrackedTrials, want / 8));
+        pilot_pt_ = kPilotPtTrials;
+        trials_ = true;
+    }
+    stride_ = std::max<int64_t>(1, pixels / want);
+    // evenly spaced; each image row's picks move on by 3 pixels (mod the stride), so that a
+    // stride dividing the width picks no fixed columns
+    for (int64_t k = 0; k * stride_ < pixels; ++k) {
+        const int64_t base = k * stride_;
+        const int64_t row = width > 0 ? base / width : 0;
+        const int64_t p = base + (3 * row) % stride_;
+        tracked_.push_back(int32_t(std::min<int64_t>(p, pixels - 1)));
+    }
     for (std::vector<double>* v : {&sum_pt_, &sum2_pt_, &sum_cis_, &sum2_cis_, &sum_m2_,
                                    &sum_miss_, &sum_cm_, &sum2_cm_})
         v->assign(tracked_.size(), 0.0);
@@ -56,7 +76,11 @@ const char* Allocation::next() const {
     if (trials_due_ > 0) return "pt";
     if (choice_ == 1) return "pt";
     if (choice_ == 2) return "cis";
-    return seen_[0] < kPilotPt ? "pt" : "cis";
+    return seen_[0] < pilot_pt_ ? "pt" : "cis";  // (an extended pilot: pt's, then cis's)
+}
+
+int64_t Allocation::trial_stream() const {
+    return (std::string(next()) == "cis" ? n_[1] : n_[0]) + 1;
 }
 
 bool Allocation::next_is_trial() const {
@@ -102,7 +126,16 @@ void Allocation::observe(const char* integ, const double* sum, int spp_it, int64
         if (moments) ++seen_m_;
     }
     if (choice_ == 0) {
-        if (seen_[0] >= kPilotPt && seen_[1] >= kPilotCis) decide();
+        if (seen_[0] >= pilot_pt_ && seen_[1] >= pilot_cis_) {
+            const double r = estimate();
+            if (trials_ && pilot_cis_ == kPilotCis && r > 1.0 / kTieBand && r < kTieBand) {
+                ++pilot_pt_;  // near a tie: one more pt and cis trial (one scramble), then choose
+                ++pilot_cis_;
+                ratio_ = r;
+            } else {
+                decide();
+            }
+        }
         return;
     }
     if (tracked_.empty() || !watch_) return;

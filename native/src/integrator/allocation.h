@@ -2,17 +2,26 @@
 // tracing (no light paths) or CIS-LBDPT from the render's own estimates of each one's
 // efficiency, 1 / (variance of a sample x its cost).
 //
-// - A pilot of four pt trials and two cis trials, each of one sample a pixel drawn from an Owen
-//   scramble of its own (independent samples: two samples of one QMC sequence are stratified
-//   against each other and their spread reads low), on the tracked pixels only (at most
-//   kMaxTracked, an eighth of the image's beyond 4,096: evenly spaced). On the CPU the trials
-//   are never added to the image, a fixed rule, so the image is unbiased; the render then
-//   starts as a fresh render of the chosen integrator (one unbroken run of its QMC sequence).
-//   The GPU (and `auto_keep_pilot`, for tests) keeps the pilot in the image, whole iterations
-//   of the full image: each is an unbiased estimate, weighted equally, and later choices
-//   depend on earlier iterations only, so that image is unbiased too.
-// - Noise: the luminance's per-sample standard deviation summed over the tracked pixels (the
-//   mean pixel's noise), squared. cis's from its samples' spread; pt's the larger of its
+// - A pilot of two pt trials and two cis trials of one sample a pixel, on the tracked pixels
+//   only: an eighth of those whole iterations read (below), at least kMinTrackedTrials (512
+//   of 64 x 64, 1,024 of 256 x 256), on a lattice whose rows are staggered. The cis trials'
+//   light passes are the whole film's, as in a render (fewer light paths change cis's noise:
+//   the glossy box read 0.8x pt with an eighth of them, 2.7x with all). pt's i-th and cis's
+//   i-th trial draw from one Owen scramble of their own, independent of every kept
+//   iteration's (common random numbers: the same camera rays, so noise both integrators
+//   share, a light's edge seen by the camera, reads alike in both; unpaired, the few edge
+//   pixels of a small set ruled the estimate: the 64 x 64 Cornell box chose cis on a third of
+//   the seeds). An estimate within 1.25x of a tie takes one more pair first. On the CPU the
+//   trials are never added to the image, a fixed rule, so the image is unbiased; the render
+//   then starts as a fresh render of the chosen integrator (one unbroken run of its QMC
+//   sequence).
+// - The GPU (and `auto_keep_pilot`, for tests) keeps the pilot in the image: four pt and two
+//   cis iterations of the full image, each of a scramble of its own, read on an eighth of the
+//   image (at least kMinTracked pixels, at most kMaxTracked): each is an unbiased estimate,
+//   weighted equally, and later choices depend on earlier iterations only, so that image is
+//   unbiased too.
+// - Noise: the luminance's per-sample standard deviation averaged over the tracked pixels
+//   (the mean pixel's noise), squared. cis's from its samples' spread; pt's the larger of its
 //   samples' spread and its second moment through the MIS identity from cis's trials, which
 //   sees the heavy tail pt's own few samples miss (bdpt.h, bdpt_moment; estimate()).
 // - Cost: a deterministic count, never a clock (same seed, same bits): rays traced plus
@@ -45,14 +54,21 @@ public:
     // small images (48 x 48 Cornell box: wrong in 0 of 8 seeds with all 2,304 pixels, 2 of 8
     // with 768, 3 of 8 with 461; bench/results/2026-12-04-auto3)
     static constexpr int kMinTracked = 4096;
+    // ... where the pilot is of trials: an eighth as many, at least this many (a cis trial's
+    // camera pass costs ~5 pt samples on every pixel; with two on 4,096 pixels the pilot cost
+    // 16 pt samples of the 64 x 64 Cornell box's 64: bench/results/2026-12-04-auto4)
+    static constexpr int kMinTrackedTrials = 512;
     static constexpr double kCandidateCost = 0.36;  // one candidate evaluation, in rays
     static constexpr int64_t kMaxWatched = 4096;    // iterations watched after the pilot
     static constexpr double kSwitchMargin = 1.3;    // a checkpoint switches past 1.3x or 1/1.3
     static constexpr double kMissedShare = 0.01;    // light pt cannot sample: past 1 %, cis
 
     // pixels: the film's; pt_only: the scene has what only pt renders (pt_only_reason);
-    // watch: choose again at checkpoints (the CPU; the GPU chooses once, after its pilot).
-    Allocation(int64_t pixels, bool pt_only, int candidates, bool watch);
+    // watch: choose again at checkpoints (the CPU; the GPU chooses once, after its pilot);
+    // trials: the pilot is of trials, never in the image (the CPU), else of whole iterations
+    // kept in it (the GPU, auto_keep_pilot). width: the film's (0: unknown).
+    Allocation(int64_t pixels, bool pt_only, int candidates, bool watch, bool trials = true,
+               int64_t width = 0);
     int64_t pilot_index() const { return seen_[0] + seen_[1]; }  // the pilot's so far
 
     // The integrator of the next iteration: "pt" or "cis".
@@ -67,6 +83,8 @@ public:
     // The tracked pixels (indices into the film, row-major), in order; every pilot trial
     // renders these only.
     const std::vector<int32_t>& tracked() const { return tracked_; }
+    // The Owen scramble of the next trial (1, 2, ...): pt's i-th and cis's i-th trials share one
+    int64_t trial_stream() const;
     // After an iteration of integrator `integ` (what next() said): its sum (3 doubles a
     // pixel, spp_it samples each, every pixel's) or null, the pixels its camera pass covered,
     // and the stats before and after it. Trials are of one sample a pixel, on the tracked
@@ -95,6 +113,9 @@ private:
     int candidates_;
     int64_t pixels_;  // the film's
     int64_t stride_ = 1;
+    int pilot_pt_ = 4;   // the pilot's pt iterations (trials: 2, or 3 near a tie)
+    int pilot_cis_ = 2;  // ... cis's (trials: 3 near a tie)
+    bool trials_ = false;
     std::vector<int32_t> tracked_;
     std::vector<double> sum_pt_, sum2_pt_, sum_cis_, sum2_cis_;  // per tracked pixel (luma)
     // ... of cis's moment trials: pt's second moment, light pt misses, cis's values

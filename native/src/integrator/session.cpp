@@ -142,7 +142,8 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
     if (integ == "auto") {
         const std::string why = pt_only_reason(scene);
         alloc_ = std::make_unique<Allocation>(int64_t(scene.width) * scene.height, !why.empty(),
-                                              settings_.candidates, !gpu_);
+                                              settings_.candidates, !gpu_,
+                                              !gpu_ && !settings_.auto_keep_pilot, scene.width);
         stats_.auto_choice = alloc_->choice();
         if (!why.empty())
             warnings_.push_back("integrator 'auto' renders this scene with path tracing: it has " +
@@ -279,7 +280,11 @@ SessionSettings Session::iteration_settings() const {
     // against each other, and their spread would read low)
     run.auto_moments = false;  // (a test's moment_channels: lvc, cis and bdpt alone)
     if (alloc_->piloting() || trial_next()) {
-        const uint64_t k = uint64_t(alloc_->pt_iterations() + alloc_->cis_iterations() + 1);
+        // trials: pt's i-th and cis's i-th of one scramble (common random numbers,
+        // allocation.h); whole iterations (kept in the image): each of its own
+        const uint64_t k = trial_next() ? uint64_t(alloc_->trial_stream())
+                                        : uint64_t(alloc_->pt_iterations() +
+                                                   alloc_->cis_iterations() + 1);
         run.seed = settings_.seed ^ (0x9e3779b97f4a7c15ull * k);
         if (trial_next()) run.spp_per_iteration = 1;  // a trial: one sample a pixel
         // a cis trial also estimates pt's second moment (allocation.h): its sum holds moment
@@ -304,6 +309,9 @@ void Session::observe(const SessionSettings& run, const double* sum, const Sessi
     stats_.auto_pt_tail = alloc_->pt_tail();
     stats_.auto_pt_iterations = alloc_->pt_iterations();
     stats_.auto_cis_iterations = alloc_->cis_iterations();
+    if (run.integrator == "cis")
+        stats_.auto_cis_vertices += (stats_.rays_camera - before.rays_camera) +
+                                    (stats_.rays_indirect - before.rays_indirect);
 }
 
 void Session::publish() {

@@ -98,6 +98,9 @@ struct SessionStats {
     // (allocation.cpp; 0: not estimated)
     double auto_pt_tail = 0.0;
     int64_t auto_pt_iterations = 0, auto_cis_iterations = 0;
+    // camera vertices (camera and indirect rays) of auto's cis iterations, trials included:
+    // each paid for M candidate evaluations (bench/auto_efficiency.py's work count)
+    int64_t auto_cis_vertices = 0;
     int64_t accel_bottom_builds = 0;  // CPU: bottom-level structures built (flat: 1)
     int64_t instance_moves = 0;       // move_instance() calls served
 };

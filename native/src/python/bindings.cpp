@@ -544,6 +544,7 @@ NB_MODULE(_core, m) {
                 d["auto_pt_tail"] = st.auto_pt_tail;
                 d["auto_pt_iterations"] = st.auto_pt_iterations;
                 d["auto_cis_iterations"] = st.auto_cis_iterations;
+                d["auto_cis_vertices"] = st.auto_cis_vertices;
             }
             d["cache_vertices"] = st.cache_vertices;
             d["sorted_bounces"] = st.sorted_bounces;
