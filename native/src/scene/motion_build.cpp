@@ -3,6 +3,7 @@
 // interpolates them), checked (a singular or non-finite step, a moving emitter: a warning and
 // the mesh stays where it was exported), and bounded over the shutter for the top-level BVH.
 #include "scene/motion_build.h"
+#include "scene/subsurface_input.h"
 
 #include <algorithm>
 #include <cmath>
@@ -148,6 +149,11 @@ void HostScene::build_motion(const SceneInput& in) {
     if (!media_.empty()) {
         warnings_.push_back("motion blur is not rendered in a scene with volumes (participating "
                             "media): every object and the camera at the frame's instant");
+        return;
+    }
+    if (!subsurface_reason(in).empty()) {  // the walk's rays carry no time yet (pt_sss.h)
+        warnings_.push_back("motion blur is not rendered in a scene with subsurface scattering: "
+                            "every object and the camera at the frame's instant");
         return;
     }
     // steps of one matrix list; false (with a warning naming `who`) where one is unusable
