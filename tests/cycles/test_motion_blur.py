@@ -22,13 +22,11 @@ import time
 import numpy as np
 import pytest
 
-bpy = pytest.importorskip("bpy")
-lantern = pytest.importorskip("lantern")
-if not lantern.native_available():
-    pytest.skip(f"native core unavailable: {lantern.native_error()}", allow_module_level=True)
+import bpy  # noqa: E402 (conftest.py skips this folder without bpy or the core)
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(ROOT, "tools"))
+import bpy_stage  # noqa: E402
 import render_compare as rc  # noqa: E402
 from lantern import metrics  # noqa: E402
 
@@ -40,19 +38,11 @@ SE_FLOOR = 1e-6
 
 
 def _reset(position="CENTER", blur=True):
-    bpy.ops.wm.read_factory_settings(use_empty=True)
     bpy.context.preferences.edit.keyframe_new_interpolation_type = "LINEAR"
-    scene = bpy.context.scene
-    scene.render.resolution_x = scene.render.resolution_y = SIZE
-    scene.render.resolution_percentage = 100
-    scene.render.threads_mode, scene.render.threads = "FIXED", 2
+    scene = bpy_stage.reset(SIZE, world=(0.2, 0.2, 0.2))
     scene.render.use_motion_blur = blur
     scene.render.motion_blur_shutter = 0.5
     scene.render.motion_blur_position = position
-    world = bpy.data.worlds.new("World")
-    scene.world = world
-    world.use_nodes = True
-    world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.2, 0.2, 0.2, 1)
     return scene
 
 

@@ -22,14 +22,13 @@ import time
 import numpy as np
 import pytest
 
-bpy = pytest.importorskip("bpy")
-lantern = pytest.importorskip("lantern")
-if not lantern.native_available():
-    pytest.skip(f"native core unavailable: {lantern.native_error()}", allow_module_level=True)
+import bpy  # noqa: E402 (conftest.py skips this folder without bpy or the core)
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(ROOT, "tools"))
+import bpy_stage  # noqa: E402
 import render_compare as rc  # noqa: E402
+from bpy_stage import camera as _camera, cube as _cube, light as _light  # noqa: E402
 from lantern import metrics  # noqa: E402
 
 K = 8
@@ -46,17 +45,9 @@ SPP = {"fog_spot": (256, 256), "world_fog": (256, 256), "glow": (512, 512),
 CONTROLS = {"fog_spot": (0.03, 0.15), "glow": (0.01, 0.10), "fire": (0.01, 0.10)}
 
 
+
 def _reset():
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    scene = bpy.context.scene
-    scene.render.resolution_x = scene.render.resolution_y = SIZE
-    scene.render.resolution_percentage = 100
-    scene.render.threads_mode, scene.render.threads = "FIXED", 2
-    world = bpy.data.worlds.new("World")
-    scene.world = world
-    world.use_nodes = True
-    world.node_tree.nodes["Background"].inputs["Color"].default_value = (0, 0, 0, 1)
-    return scene
+    return bpy_stage.reset(SIZE)
 
 
 def _material(name, color=(0.8, 0.8, 0.8)):
@@ -86,33 +77,7 @@ def _volume_material(name, density, color=(0.8, 0.8, 0.8), anisotropy=0.0,
     return m
 
 
-def _cube(name, location, size, material, scale=(1, 1, 1)):
-    bpy.ops.mesh.primitive_cube_add(size=size, location=location, scale=scale)
-    obj = bpy.context.active_object
-    obj.name = name
-    obj.data.materials.append(material)
-    return obj
 
-
-def _camera(scene, location, rotation, lens=35.0):
-    cam = bpy.data.cameras.new("Camera")
-    cam.lens = lens
-    obj = bpy.data.objects.new("Camera", cam)
-    scene.collection.objects.link(obj)
-    obj.location = location
-    obj.rotation_euler = [math.radians(a) for a in rotation]
-    scene.camera = obj
-
-
-def _light(scene, kind, location, energy, rotation=(0, 0, 0), **kw):
-    data = bpy.data.lights.new(kind, kind)
-    data.energy = energy
-    for k, v in kw.items():
-        setattr(data, k, v)
-    obj = bpy.data.objects.new(kind, data)
-    scene.collection.objects.link(obj)
-    obj.location = location
-    obj.rotation_euler = [math.radians(a) for a in rotation]
 
 
 def fog_spot():

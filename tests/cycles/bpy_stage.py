@@ -1,0 +1,53 @@
+"""Scene parts the feature tests of tests/cycles build in bpy (test_volumes.py,
+test_subsurface.py, test_motion_blur.py): a factory-empty scene of a size with a constant world,
+and cubes, cameras and lights placed by location and rotation in degrees."""
+import math
+
+import bpy
+
+
+def reset(size, world=(0.0, 0.0, 0.0)):
+    """A factory-empty scene rendered at size x size (Cycles on 2 threads), its world a constant
+    colour; returns the scene."""
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    scene = bpy.context.scene
+    scene.render.resolution_x = scene.render.resolution_y = size
+    scene.render.resolution_percentage = 100
+    scene.render.threads_mode, scene.render.threads = "FIXED", 2
+    w = bpy.data.worlds.new("World")
+    scene.world = w
+    w.use_nodes = True
+    w.node_tree.nodes["Background"].inputs["Color"].default_value = (*world, 1)
+    return scene
+
+
+def cube(name, location, size, material, scale=(1, 1, 1)):
+    bpy.ops.mesh.primitive_cube_add(size=size, location=location, scale=scale)
+    obj = bpy.context.active_object
+    obj.name = name
+    obj.data.materials.append(material)
+    return obj
+
+
+def camera(scene, location, rotation, lens=35.0):
+    cam = bpy.data.cameras.new("Camera")
+    cam.lens = lens
+    obj = bpy.data.objects.new("Camera", cam)
+    scene.collection.objects.link(obj)
+    obj.location = location
+    obj.rotation_euler = [math.radians(a) for a in rotation]
+    scene.camera = obj
+    return obj
+
+
+def light(scene, kind, location, energy, rotation=(0, 0, 0), **kw):
+    """A light of `kind` (POINT, SPOT, AREA, SUN) with its data's attributes set from kw."""
+    data = bpy.data.lights.new(kind, kind)
+    data.energy = energy
+    for k, v in kw.items():
+        setattr(data, k, v)
+    obj = bpy.data.objects.new(kind, data)
+    scene.collection.objects.link(obj)
+    obj.location = location
+    obj.rotation_euler = [math.radians(a) for a in rotation]
+    return obj
