@@ -1049,8 +1049,8 @@ def test_generated_through_final_render(stack, tmp_path, monkeypatch):
     export = importlib.import_module("lantern_blender.export")
     captured = []
 
-    def capture(depsgraph):
-        captured.append((depsgraph.mode, *export_scene(depsgraph)))
+    def capture(depsgraph, **kw):   # kw: the engine's frame_set (motion blur's steps)
+        captured.append((depsgraph.mode, *export_scene(depsgraph, **kw)))
         return captured[-1][1:]
 
     export_scene = export.export_scene

@@ -1,6 +1,7 @@
 """First-step CPU time of auto against pt on blend_scenes/ scenes (the pilot's cost)."""
+import os
 import sys, time
-sys.path.insert(0, "/work/wt/auto4/bench")
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # bench/
 import rmse_cycles
 from rmse import import_lantern
 lantern = import_lantern()

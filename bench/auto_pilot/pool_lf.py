@@ -1,6 +1,7 @@
+import os
 import sys, time
 import numpy as np
-sys.path.insert(0, "/work/wt/auto4/bench")
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # bench/
 import lantern
 from lantern import scenes
 from auto_efficiency import SCENES

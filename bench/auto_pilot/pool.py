@@ -1,7 +1,8 @@
 """Pools of 1-spp pt images and cis moment images per scene (64x64), for offline pilot study."""
+import os
 import sys, json, time
 import numpy as np
-sys.path.insert(0, "/work/wt/auto4/bench")
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # bench/
 import lantern
 from lantern import scenes
 from auto_efficiency import SCENES
