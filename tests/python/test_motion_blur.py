@@ -197,8 +197,8 @@ def _emitting(sc):
 
 def _subsurface(sc):
     sc.materials[sc.material_id("red")].update(
-        type="principled", subsurface={"weight": 1.0, "radius": [0.1, 0.1, 0.1],
-                                       "method": "random_walk"})
+        type="principled", subsurface_weight=1.0, subsurface_radius=[0.1, 0.1, 0.1],
+        subsurface_ior=1.4, subsurface_anisotropy=0.0, subsurface_method="random_walk")
 
 
 def _singular_base(sc):
