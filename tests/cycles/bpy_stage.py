@@ -51,3 +51,34 @@ def light(scene, kind, location, energy, rotation=(0, 0, 0), **kw):
     obj.location = location
     obj.rotation_euler = [math.radians(a) for a in rotation]
     return obj
+
+
+def compare_with_cycles(name, build, spp, controls, cycles_seed0, k_seeds, se_floor):
+    """The feature tests' comparison: `build()` makes the scene; K seeds of each renderer at
+    spp = (Cycles', Lantern's) (Lantern on 2 threads, seeds 1..), no Lantern warning, Cycles
+    not black, metrics.assert_agreement with the (image, block) negative controls `controls`;
+    the measured line goes to render_compare.REPORT."""
+    import time
+
+    import numpy as np
+
+    import render_compare as rc
+    from lantern import metrics
+    t0 = time.perf_counter()
+    build()
+    cyc = np.stack([rc.render_cycles(seed=cycles_seed0 + k, spp=spp[0])[0]
+                    for k in range(k_seeds)]).astype(np.float64)
+    lan, warnings = [], []
+    for k in range(k_seeds):
+        img, warnings = rc.render_lantern(seed=1 + k, spp=spp[1], threads=2)
+        lan.append(img)
+    lan = np.stack(lan).astype(np.float64)
+    assert not warnings, warnings
+    assert np.isfinite(lan).all()
+    assert cyc.mean() > 1e-3, "the scene is black in Cycles"
+    res = metrics.compare_renders(lan, cyc, block=rc.BLOCK, se_floor=se_floor, name=name)
+    line = f"{res}; mean ratio {lan.mean() / cyc.mean():.4f} ({time.perf_counter() - t0:.1f} s)"
+    print(line)
+    rc.REPORT.append(line)
+    metrics.assert_agreement(name, lan, cyc, block=rc.BLOCK, se_floor=se_floor,
+                             image_bias=controls[0], block_bias=controls[1])

@@ -17,9 +17,7 @@ Longer runs: bench/volumes_vs_cycles.py."""
 import math
 import os
 import sys
-import time
 
-import numpy as np
 import pytest
 
 import bpy  # noqa: E402 (conftest.py skips this folder without bpy or the core)
@@ -27,9 +25,7 @@ import bpy  # noqa: E402 (conftest.py skips this folder without bpy or the core)
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(ROOT, "tools"))
 import bpy_stage  # noqa: E402
-import render_compare as rc  # noqa: E402
 from bpy_stage import camera as _camera, cube as _cube, light as _light  # noqa: E402
-from lantern import metrics  # noqa: E402
 
 K = 8
 SIZE = 32
@@ -154,28 +150,7 @@ SCENES = {"fog_spot": fog_spot, "world_fog": world_fog, "glow": glow, "aniso": a
           "fire": fire}
 
 
-def render_both(name, cycles_spp, lantern_spp):
-    SCENES[name]()
-    cyc = np.stack([rc.render_cycles(seed=700 + k, spp=cycles_spp)[0] for k in range(K)])
-    lan, warnings = [], []
-    for k in range(K):
-        img, warnings = rc.render_lantern(seed=1 + k, spp=lantern_spp, threads=2)
-        lan.append(img)
-    return np.stack(lan).astype(np.float64), cyc.astype(np.float64), warnings
-
-
 @pytest.mark.parametrize("name", list(SCENES))
 def test_volume_matches_cycles(name):
-    t0 = time.perf_counter()
-    lan, cyc, warnings = render_both(name, *SPP[name])
-    assert not warnings, warnings
-    assert np.isfinite(lan).all()
-    assert cyc.mean() > 1e-3, "the scene is black in Cycles"
-    res = metrics.compare_renders(lan, cyc, block=rc.BLOCK, se_floor=SE_FLOOR, name=name)
-    line = (f"{res}; mean ratio {lan.mean() / cyc.mean():.4f} "
-            f"({time.perf_counter() - t0:.1f} s)")
-    print(line)
-    rc.REPORT.append(line)
-    image_bias, block_bias = CONTROLS.get(name, (0.01, 0.05))
-    metrics.assert_agreement(name, lan, cyc, block=rc.BLOCK, se_floor=SE_FLOOR,
-                             image_bias=image_bias, block_bias=block_bias)
+    bpy_stage.compare_with_cycles(name, SCENES[name], SPP[name], CONTROLS.get(name, (0.01, 0.05)),
+                                  cycles_seed0=700, k_seeds=K, se_floor=SE_FLOOR)
