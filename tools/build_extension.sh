@@ -9,7 +9,10 @@
 # Environment: PYTHON (default .venv/bin/python, else the shared venv), LANTERN_CUDA=OFF|ON|AUTO
 # (default OFF: a CPU-only core; ON needs nvcc; the CUDA runtime is linked statically, see
 # docs/extension.md), LANTERN_CUDA_ARCHS (default 90; releases: "75;80;86;89;90-real;90-virtual"),
-# LANTERN_EXT_BUILD (the build folder; default build/ext, build/ext-cuda with CUDA on).
+# LANTERN_EXT_BUILD (the build folder; default build/ext, build/ext-cuda with CUDA on),
+# LANTERN_EXT_REUSE=1 (package the core tools/setup.sh built in build/py, with that tree's own
+# CUDA settings, instead of compiling a second one: the tests use it, so that a clean CI clone
+# compiles the core once; the wheel is the same pip wheel of the same sources).
 # Prints the path of the zip on its last line.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -36,17 +39,25 @@ cuda=${LANTERN_CUDA:-OFF}
 archs=${LANTERN_CUDA_ARCHS:-90}
 build=${LANTERN_EXT_BUILD:-build/ext}
 [ "$cuda" != "OFF" ] && [ -z "${LANTERN_EXT_BUILD:-}" ] && build=build/ext-cuda
+wheel_args=(-C build-dir="$root/$build/cmake" -C cmake.define.LANTERN_BUILD_TESTS=OFF
+            -C cmake.define.LANTERN_CUDA="$cuda" -C cmake.define.CMAKE_CUDA_ARCHITECTURES="$archs")
+if [ "${LANTERN_EXT_REUSE:-0}" = 1 ]; then
+  # setup.sh's tree, configured exactly as it configured it (a define that differed would make
+  # CMake rebuild every object, here and again at the next setup.sh)
+  cache=build/py/CMakeCache.txt
+  [ -f "$cache" ] || { echo "build_extension: LANTERN_EXT_REUSE=1 but no $cache (run tools/setup.sh)" >&2; exit 1; }
+  cache_value() { sed -n "s/^$1:[A-Z]*=//p" "$cache" | head -1; }
+  cuda="$(cache_value LANTERN_CUDA) (build/py)"
+  export CMAKE_ARGS="-DCMAKE_CUDA_ARCHITECTURES=$(cache_value CMAKE_CUDA_ARCHITECTURES) -DLANTERN_CUDA_KEEP_PTX=$(cache_value LANTERN_CUDA_KEEP_PTX)"
+  wheel_args=(-C build-dir="$root/build/py")
+fi
 wheeldir=$build/wheelhouse
 rm -rf "$wheeldir"
 mkdir -p "$wheeldir"
 log=$build/wheel.log
 echo "build_extension: building the lantern wheel (CUDA $cuda; log in $log)"
 export CMAKE_BUILD_PARALLEL_LEVEL=${CMAKE_BUILD_PARALLEL_LEVEL:-$(nproc)}
-if ! "$py" -m pip wheel . --no-build-isolation --no-deps -w "$wheeldir" \
-    -C build-dir="$root/$build/cmake" \
-    -C cmake.define.LANTERN_BUILD_TESTS=OFF \
-    -C cmake.define.LANTERN_CUDA="$cuda" \
-    -C cmake.define.CMAKE_CUDA_ARCHITECTURES="$archs" \
+if ! "$py" -m pip wheel . --no-build-isolation --no-deps -w "$wheeldir" "${wheel_args[@]}" \
     >"$log" 2>&1; then
   echo "build_extension: the wheel build failed; the end of $log:" >&2
   tail -40 "$log" >&2
