@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "accel/curve_hit.h"
 #include "bsdf/hair.h"
 #include "core/sampling.h"
 #include "test_bsdf_helpers.h"
@@ -221,4 +222,34 @@ TEST(BsdfHair, HostileInputsStayFinite) {
                 HairEval e = hair_eval(hp, wo, hair_dir(kPi * (u.x - 0.5f), 2 * kPi * u.y));
                 EXPECT_TRUE(is_finite(e.f_cos) && is_finite(e.pdf_fwd_w));
             }
+}
+
+// The frame on a strand from a real hit (accel/curve_hit.h) on a cylinder along X: a ray aimed at
+// offset b across the fiber of radius r gives |h| = b / r, the view in the frame's XZ plane, the
+// frame orthonormal; and the far silhouettes give |h| near 1.
+TEST(BsdfHair, FrameOffsetFromTheHit) {
+    const Vec3 p0 = vec3(-1.0f, 0.0f, 0.0f), p1 = vec3(1.0f, 0.0f, 0.0f);
+    const float r = 0.2f;
+    for (float b : {0.0f, 0.3f, -0.6f, 0.95f})
+        for (float tilt : {0.0f, 0.5f}) {
+            // from above (+y), tilted along the fiber, offset b r along z
+            const Vec3 o = vec3(0.1f - 2.0f * tilt, 2.0f, b * r);
+            const Vec3 w = normalize(vec3(2.0f * tilt, -2.0f, 0.0f));
+            CurveHit hit;
+            ASSERT_TRUE(curve_hit_segment(o, w, p0, r, p1, r, 0.0f, 10.0f, &hit));
+            const HairFrame f = hair_frame(p1 - p0, hit.n, -w);
+            EXPECT_NEAR(std::fabs(f.h), std::fabs(b), 2e-5f) << "b " << b << " tilt " << tilt;
+            const Vec3 v = f.to_local(-w);
+            EXPECT_NEAR(v.y, 0.0f, 1e-6f);
+            EXPECT_NEAR(dot(f.x, f.y), 0.0f, 1e-6f);
+            EXPECT_NEAR(length(f.z), 1.0f, 1e-6f);
+            const Vec3 back = f.to_world(v);
+            EXPECT_NEAR(back.x, -w.x, 1e-5f);
+            EXPECT_NEAR(back.y, -w.y, 1e-5f);
+        }
+    // a view along the tangent: a frame all the same, h 0
+    const HairFrame f = hair_frame(vec3(1.0f, 0.0f, 0.0f), vec3(0.0f, 1.0f, 0.0f),
+                                   vec3(1.0f, 0.0f, 0.0f));
+    EXPECT_TRUE(is_finite(f.y) && is_finite(f.z));
+    EXPECT_EQ(f.h, 0.0f);
 }

@@ -77,6 +77,34 @@ LANTERN_HD inline HairParams hair_params(Vec3 sigma_a, float roughness, float ra
     return p;
 }
 
+// ---- The shading frame on a strand ----
+// X the strand's tangent, Y perpendicular to X and to the view, Z = X x Y (so the view lies in
+// the XZ plane); h, where the view ray crossed the fiber, is the sine of the angle between the
+// hit's normal ng and Z seen along X: h = (ng x X) . Z, +-1 at the silhouettes, 0 head-on. `view`
+// points from the hit back to the viewer. A view along the tangent has no such frame: Y is then
+// any perpendicular (Frame::from_normal's) and h is 0.
+struct HairFrame {
+    Vec3 x, y, z;
+    float h;
+    LANTERN_HD Vec3 to_local(Vec3 v) const { return vec3(dot(v, x), dot(v, y), dot(v, z)); }
+    LANTERN_HD Vec3 to_world(Vec3 v) const { return x * v.x + y * v.y + z * v.z; }
+};
+
+LANTERN_HD inline HairFrame hair_frame(Vec3 tangent, Vec3 ng, Vec3 view) {
+    HairFrame f;
+    f.x = normalize(tangent);
+    const Vec3 c = cross(f.x, view);
+    const float len = length(c);
+    if (len > 1e-7f) {
+        f.y = c / len;
+    } else {
+        f.y = Frame::from_normal(f.x).s;
+    }
+    f.z = cross(f.x, f.y);
+    f.h = len > 1e-7f ? clampf(dot(cross(ng, f.x), f.z), -1.0f, 1.0f) : 0.0f;
+    return f;
+}
+
 // ---- The lobes' factors ----
 
 // I0, the modified Bessel function of the first kind, by its power series (x <= ~12 here) and
