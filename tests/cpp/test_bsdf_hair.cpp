@@ -168,8 +168,12 @@ TEST(BsdfHair, AbsorptionAndTiltMatchTheLongitudinalMass) {
                     std::printf("offset %g sigma %g theta_o %g: albedo %.5f expected %.5f\n",
                                 offset_deg, sigma, theta_o, a, expected);
                 EXPECT_NEAR(a, expected, 1e-3 * expected);
-                if (sigma == 0.0f && offset_deg == 0.0f) EXPECT_NEAR(expected, 1.0, 1e-4);
-                if (sigma > 0.0f) EXPECT_LT(a, 0.9);
+                if (sigma == 0.0f && offset_deg == 0.0f) {
+                    EXPECT_NEAR(expected, 1.0, 1e-4);
+                }
+                if (sigma > 0.0f) {
+                    EXPECT_LT(a, 0.9);
+                }
             }
 }
 
@@ -217,7 +221,9 @@ TEST(BsdfHair, HostileInputsStayFinite) {
             for (int i = 0; i < 500; ++i) {
                 const Vec3 wo = hair_dir(theta_o, 0.2f);
                 HairSample s = hair_sample(hp, wo, rng.uniform2(), rng.uniform());
-                if (s.valid) EXPECT_TRUE(is_finite(s.weight) && is_finite(s.wi));
+                if (s.valid) {
+                    EXPECT_TRUE(is_finite(s.weight) && is_finite(s.wi));
+                }
                 Vec2 u = rng.uniform2();
                 HairEval e = hair_eval(hp, wo, hair_dir(kPi * (u.x - 0.5f), 2 * kPi * u.y));
                 EXPECT_TRUE(is_finite(e.f_cos) && is_finite(e.pdf_fwd_w));
