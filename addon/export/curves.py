@@ -155,14 +155,19 @@ def particle_hair_strands(obj, psys, matrix_world, report, budget=MAX_STRAND_BYT
         for step in range(steps):
             pts[k] = psys.co_hair(obj, particle_no=p, step=step)
             k += 1
+    # co_hair is in the object's own world placement: back to object space (as Cycles does),
+    # then to this instance's (a collection instance of a furry object sits elsewhere)
+    own = np.array(obj.matrix_world, dtype=np.float64)
+    to_inst = np.array(matrix_world, dtype=np.float64) @ np.linalg.inv(own)
+    pts = pts @ to_inst[:3, :3].T + to_inst[:3, 3]
     offsets = (np.arange(num_strands + 1) * steps).astype(np.int32)
     t = _arc_fraction(pts, offsets)
     half = 0.5 * s.radius_scale
     radius = shape_radius(s.shape, half * s.root_radius, half * s.tip_radius, t)
     if s.use_close_tip:
         radius[offsets[1:] - 1] = 0.0
-    # co_hair is in world space already; the radii follow the object's scale (Cycles keeps the
-    # strands in object space under the object's transform)
+    # the radii follow the instance's scale (Cycles keeps the strands in object space under the
+    # object's transform); t above is read in world space, the same fraction for a similarity
     radius = radius * _mean_scale(matrix_world)
     material = np.full(num_strands, max(int(s.material) - 1, 0), np.int32)
     strands = Strands(pts.astype(np.float32), radius.astype(np.float32), offsets, material)

@@ -167,3 +167,18 @@ def test_memory_budget_checked_first(curves_mod):
     assert curves_mod.particle_hair_strands(ev, psys, ev.matrix_world, report,
                                             budget=need - 1) is None
     assert len(report.messages) == 1 and "100000 strands" in report.messages[0]
+
+
+def test_particle_hair_follows_the_instance(curves_mod):
+    """co_hair is in the object's own placement; an instance elsewhere moves and scales it."""
+    from mathutils import Matrix
+    scene = empty_scene()
+    obj = _hair_sphere(scene, count=5, close_tip=False)
+    ev = _evaluated(obj)
+    psys = ev.particle_systems[0]
+    own = curves_mod.particle_hair_strands(ev, psys, ev.matrix_world, Report())
+    inst = Matrix.Translation((3.0, 0.0, 0.0)) @ Matrix.Scale(2.0, 4) @ ev.matrix_world.inverted()
+    moved = curves_mod.particle_hair_strands(ev, psys, inst @ ev.matrix_world, Report())
+    expect = (own.points - np.array(ev.matrix_world.translation)) * 2.0 + [3.0, 0.0, 0.0]
+    np.testing.assert_allclose(moved.points, expect, atol=1e-5)
+    np.testing.assert_allclose(moved.radius, own.radius * 2.0, rtol=1e-6)
