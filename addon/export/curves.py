@@ -98,6 +98,38 @@ def _over_budget(report, what, num_strands, num_points, budget):
     return True
 
 
+# ---- Cycles' smooth strands as round linear pieces ----
+def catmull_rom_pieces(strands, pieces):
+    """Each key interval of every strand cut into `pieces` linear pieces along the uniform
+    Catmull-Rom spline through the keys (Cycles' thick hair: its keys are Catmull-Rom control
+    points, the end keys repeated), radius interpolated by the same spline and kept >= 0. The
+    strand still passes through its keys; pieces = 1 gives the keys back."""
+    if pieces <= 1:
+        return strands
+    pts, rad, off = strands.points.astype(np.float64), strands.radius.astype(np.float64), \
+        strands.offsets
+    u = np.arange(pieces, dtype=np.float64) / pieces
+    # basis of the uniform Catmull-Rom segment from P1 to P2 (rows: P0..P3) at each u
+    b = 0.5 * np.stack([-u + 2 * u**2 - u**3, 2 - 5 * u**2 + 3 * u**3,
+                        u + 4 * u**2 - 3 * u**3, -u**2 + u**3], axis=1)
+    out_p, out_r, counts = [], [], []
+    for s in range(len(off) - 1):
+        p4 = np.concatenate([pts[off[s]:off[s + 1]], rad[off[s]:off[s + 1], None]], axis=1)
+        n = len(p4)
+        if n < 2:
+            continue
+        ext = np.concatenate([p4[:1], p4, p4[-1:]])          # repeat the end keys
+        rows = [b @ ext[i:i + 4] for i in range(n - 1)]      # (pieces, 4) per interval
+        rows.append(p4[-1:])
+        q = np.concatenate(rows)
+        out_p.append(q[:, :3])
+        out_r.append(np.maximum(q[:, 3], 0.0))
+        counts.append(len(q))
+    offsets = np.concatenate([[0], np.cumsum(counts)]).astype(np.int32)
+    return Strands(np.concatenate(out_p).astype(np.float32),
+                   np.concatenate(out_r).astype(np.float32), offsets, strands.material.copy())
+
+
 # ---- Curves objects ----
 def curves_object_strands(obj, matrix_world, report, budget=MAX_STRAND_BYTES):
     """The strands of an evaluated Curves object (obj.type == 'CURVES'), or None."""

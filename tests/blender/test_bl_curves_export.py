@@ -182,3 +182,28 @@ def test_particle_hair_follows_the_instance(curves_mod):
     expect = (own.points - np.array(ev.matrix_world.translation)) * 2.0 + [3.0, 0.0, 0.0]
     np.testing.assert_allclose(moved.points, expect, atol=1e-5)
     np.testing.assert_allclose(moved.radius, own.radius * 2.0, rtol=1e-6)
+
+
+def test_catmull_rom_pieces(curves_mod):
+    """Through the keys; straight evenly spaced keys stay straight and evenly spaced; keys on a
+    circle give pieces on it within the spline's own error (here < 1e-3 of the radius); the
+    negative control, linear pieces between the same keys, is off the circle by far more."""
+    S = curves_mod.Strands
+    line = np.stack([np.zeros(5), np.zeros(5), np.arange(5.0)], axis=1)
+    st = S(line.astype(np.float32), np.linspace(0.1, 0.02, 5).astype(np.float32),
+           np.array([0, 5], np.int32), np.zeros(1, np.int32))
+    out = curves_mod.catmull_rom_pieces(st, 4)
+    assert out.offsets.tolist() == [0, 17]
+    np.testing.assert_allclose(out.points[::4], line, atol=1e-6)            # through the keys
+    np.testing.assert_allclose(out.points[4:13, 2], np.arange(4, 13) / 4.0, atol=1e-6)
+    np.testing.assert_allclose(out.radius[::4], st.radius, atol=1e-7)
+    a = np.linspace(0.0, np.pi, 13)
+    arc = np.stack([np.cos(a), np.sin(a), np.zeros_like(a)], axis=1)
+    st = S(arc.astype(np.float32), np.full(13, 0.01, np.float32), np.array([0, 13], np.int32),
+           np.zeros(1, np.int32))
+    out = curves_mod.catmull_rom_pieces(st, 8)
+    inner = out.points[8:-8].astype(np.float64)   # away from the repeated end keys
+    err = np.abs(np.linalg.norm(inner, axis=1) - 1.0).max()
+    assert err < 1e-3
+    mids = 0.5 * (arc[1:] + arc[:-1])
+    assert np.abs(np.linalg.norm(mids, axis=1) - 1.0).max() > 10 * err
