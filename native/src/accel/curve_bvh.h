@@ -1,0 +1,92 @@
+// The built-in BVH over round linear curve segments (accel/curve_hit.h), beside the triangle BVH:
+// flat nodes in depth-first order (an inner node's first child follows it, `second` names the
+// other), leaves that index a segment array in leaf order; host+device closest-hit and any-hit
+// traversal with a fixed stack. Hits follow the triangle BVH: tmin < t <= tmax. The builder
+// (host only) is accel/curve_bvh_build.h.
+#pragma once
+
+#include <cstdint>
+
+#include "accel/curve_hit.h"
+
+namespace lantern {
+
+// One segment: its end points and radii, and its index in the scene's order.
+struct CurveSeg {
+    Vec3 p0;
+    float r0;
+    Vec3 p1;
+    float r1;
+    int32_t index;
+};
+
+struct CurveBvhNode {
+    Vec3 lo;
+    int32_t second;  // inner: the second child's node; leaf: the first segment
+    Vec3 hi;
+    int32_t count;   // 0: inner node; else the leaf's segment count
+};
+
+struct CurveBvhView {
+    const CurveBvhNode* nodes = nullptr;
+    const CurveSeg* segs = nullptr;
+    int32_t num_nodes = 0;
+};
+
+struct CurveBvhHit {
+    float t;
+    float u;
+    Vec3 n;
+    int32_t seg;  // CurveSeg::index, -1 for none
+};
+
+constexpr int kCurveBvhStack = 64;
+
+// Slab test of o + t w against [lo, hi], with inv = 1 / w; the entry distance or kInf.
+LANTERN_HD inline float curve_bvh_box(Vec3 o, Vec3 inv, Vec3 lo, Vec3 hi, float tmin, float tmax) {
+    const float tx0 = (lo.x - o.x) * inv.x, tx1 = (hi.x - o.x) * inv.x;
+    const float ty0 = (lo.y - o.y) * inv.y, ty1 = (hi.y - o.y) * inv.y;
+    const float tz0 = (lo.z - o.z) * inv.z, tz1 = (hi.z - o.z) * inv.z;
+    const float t0 = fmaxf(fmaxf(fminf(tx0, tx1), fminf(ty0, ty1)), fmaxf(fminf(tz0, tz1), tmin));
+    const float t1 = fminf(fminf(fmaxf(tx0, tx1), fmaxf(ty0, ty1)), fminf(fmaxf(tz0, tz1), tmax));
+    return t0 <= t1 ? t0 : kInf;
+}
+
+LANTERN_HD inline float curve_bvh_rcp(float v) {
+    return fabsf(v) > 1e-30f ? 1.0f / v : copysignf(1e30f, v);
+}
+
+// Closest hit (any_hit false) or the first hit found (any_hit true: shadow rays).
+LANTERN_HD inline CurveBvhHit curve_bvh_intersect(const CurveBvhView& bvh, Vec3 o, Vec3 w,
+                                                  float tmin, float tmax, bool any_hit = false) {
+    CurveBvhHit best{tmax, 0.0f, vec3(0.0f), -1};
+    if (bvh.num_nodes == 0) return best;
+    const Vec3 inv = vec3(curve_bvh_rcp(w.x), curve_bvh_rcp(w.y), curve_bvh_rcp(w.z));
+    int32_t stack[kCurveBvhStack];
+    int sp = 0;
+    int32_t node = 0;
+    for (;;) {
+        const CurveBvhNode& n = bvh.nodes[node];
+        if (curve_bvh_box(o, inv, n.lo, n.hi, tmin, best.t) < kInf) {
+            if (n.count > 0) {
+                for (int32_t k = 0; k < n.count; ++k) {
+                    const CurveSeg& s = bvh.segs[n.second + k];
+                    CurveHit h;
+                    if (curve_hit_segment(o, w, s.p0, s.r0, s.p1, s.r1, tmin, best.t, &h)) {
+                        best = CurveBvhHit{h.t, h.u, h.n, s.index};
+                        if (any_hit) return best;
+                    }
+                }
+            } else {  // median splits bound the depth by 32 (curve_bvh_build.h): no overflow
+                stack[sp++] = n.second;
+                node = node + 1;
+                continue;
+            }
+        }
+        if (sp == 0) break;
+        node = stack[--sp];
+    }
+    return best;
+}
+
+}  // namespace lantern

@@ -1,0 +1,97 @@
+// Host-only builder of the curve BVH (accel/curve_bvh.h): segments from strands (points, a radius
+// per point, strand offsets), then median splits on the longest axis of the centroids' bounds
+// down to leaves of at most kCurveLeaf segments, so the depth stays below 32 for any int32 count.
+// Segments whose radii are not finite and >= 0 (or both 0) are left out (they have no surface).
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+#include <vector>
+
+#include "accel/curve_bvh.h"
+
+namespace lantern {
+
+constexpr int kCurveLeaf = 4;
+
+struct CurveBvh {
+    std::vector<CurveBvhNode> nodes;
+    std::vector<CurveSeg> segs;
+    CurveBvhView view() const {
+        return CurveBvhView{nodes.data(), segs.data(), int32_t(nodes.size())};
+    }
+};
+
+inline std::vector<CurveSeg> curve_segments(const float* points, const float* radius,
+                                            const int32_t* offsets, int num_strands) {
+    std::vector<CurveSeg> out;
+    for (int s = 0; s < num_strands; ++s)
+        for (int32_t i = offsets[s]; i + 1 < offsets[s + 1]; ++i) {
+            CurveSeg g;
+            g.p0 = vec3(points[3 * i], points[3 * i + 1], points[3 * i + 2]);
+            g.p1 = vec3(points[3 * i + 3], points[3 * i + 4], points[3 * i + 5]);
+            g.r0 = radius[i];
+            g.r1 = radius[i + 1];
+            g.index = i;  // the segment's first point
+            if (!(g.r0 >= 0.0f && g.r1 >= 0.0f && g.r0 + g.r1 > 0.0f && is_finite(g.r0 + g.r1)) ||
+                !is_finite(g.p0) || !is_finite(g.p1))
+                continue;
+            out.push_back(g);
+        }
+    return out;
+}
+
+inline void curve_seg_bounds(const CurveSeg& g, Vec3* lo, Vec3* hi) {
+    *lo = vec3(fminf(g.p0.x - g.r0, g.p1.x - g.r1), fminf(g.p0.y - g.r0, g.p1.y - g.r1),
+               fminf(g.p0.z - g.r0, g.p1.z - g.r1));
+    *hi = vec3(fmaxf(g.p0.x + g.r0, g.p1.x + g.r1), fmaxf(g.p0.y + g.r0, g.p1.y + g.r1),
+               fmaxf(g.p0.z + g.r0, g.p1.z + g.r1));
+}
+
+namespace detail {
+inline void curve_bvh_node(CurveBvh& bvh, int32_t begin, int32_t end) {
+    const int32_t me = int32_t(bvh.nodes.size());
+    bvh.nodes.push_back(CurveBvhNode{});
+    Vec3 lo = vec3(kInf), hi = vec3(-kInf), clo = vec3(kInf), chi = vec3(-kInf);
+    for (int32_t i = begin; i < end; ++i) {
+        Vec3 a, b;
+        curve_seg_bounds(bvh.segs[i], &a, &b);
+        lo = vec3(fminf(lo.x, a.x), fminf(lo.y, a.y), fminf(lo.z, a.z));
+        hi = vec3(fmaxf(hi.x, b.x), fmaxf(hi.y, b.y), fmaxf(hi.z, b.z));
+        const Vec3 c = (a + b) * 0.5f;
+        clo = vec3(fminf(clo.x, c.x), fminf(clo.y, c.y), fminf(clo.z, c.z));
+        chi = vec3(fmaxf(chi.x, c.x), fmaxf(chi.y, c.y), fmaxf(chi.z, c.z));
+    }
+    bvh.nodes[me].lo = lo;
+    bvh.nodes[me].hi = hi;
+    if (end - begin <= kCurveLeaf) {
+        bvh.nodes[me].second = begin;
+        bvh.nodes[me].count = end - begin;
+        return;
+    }
+    const Vec3 ext = chi - clo;
+    const int axis = ext.x >= ext.y && ext.x >= ext.z ? 0 : (ext.y >= ext.z ? 1 : 2);
+    const int32_t mid = begin + (end - begin) / 2;
+    auto centre = [axis](const CurveSeg& g) {
+        return g.p0[axis] + g.p1[axis];
+    };
+    std::nth_element(bvh.segs.begin() + begin, bvh.segs.begin() + mid, bvh.segs.begin() + end,
+                     [&](const CurveSeg& a, const CurveSeg& b) { return centre(a) < centre(b); });
+    curve_bvh_node(bvh, begin, mid);
+    const int32_t second = int32_t(bvh.nodes.size());
+    curve_bvh_node(bvh, mid, end);
+    bvh.nodes[me].second = second;
+    bvh.nodes[me].count = 0;
+}
+}  // namespace detail
+
+inline CurveBvh build_curve_bvh(std::vector<CurveSeg> segs) {
+    CurveBvh bvh;
+    bvh.segs = std::move(segs);
+    if (bvh.segs.empty()) return bvh;
+    bvh.nodes.reserve(2 * (bvh.segs.size() / kCurveLeaf + 1));
+    detail::curve_bvh_node(bvh, 0, int32_t(bvh.segs.size()));
+    return bvh;
+}
+
+}  // namespace lantern

@@ -1,0 +1,20 @@
+// Curve segments (accel/curve_bvh.h's CurveSeg) as Embree's ROUND_LINEAR_CURVE geometry: each
+// segment its own two float4 vertices (x, y, z, radius), so the shape is the swept sphere of
+// accel/curve_hit.h (the cone and both end spheres). primID = the segment's place in `segs`.
+#pragma once
+
+#include <cstddef>
+
+#include "accel/curve_bvh.h"
+#include "backend/cpu/embree_loader.h"
+
+namespace lantern {
+
+#if LANTERN_HAVE_EMBREE
+// Builds, commits and attaches the geometry to `scene`; returns its geomID. The scene still needs
+// its own commit. Segments must have passed curve_segments' radius checks.
+unsigned embree_attach_curves(const EmbreeApi& e, RTCDevice device, RTCScene scene,
+                              const CurveSeg* segs, size_t count);
+#endif
+
+}  // namespace lantern
