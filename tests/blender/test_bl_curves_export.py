@@ -70,6 +70,7 @@ def test_curves_default_radius(curves_mod):
     ev = _evaluated(obj)
     if ev.data.attributes.get("radius") is not None:
         ev.data.attributes.remove(ev.data.attributes["radius"])
+    assert ev.data.attributes.get("radius") is None  # the case under test: no radius at all
     st = curves_mod.curves_object_strands(ev, ev.matrix_world, Report())
     np.testing.assert_allclose(st.radius, [0.005, 0.005])
 
