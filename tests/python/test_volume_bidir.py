@@ -103,16 +103,20 @@ def scattering_box():
 
 SCENES = {"fog_spot": fog_spot, "world_fog": world_fog, "absorbing_box": absorbing_box,
           "scattering_box": scattering_box}
-# the levels the negative controls inject (whole image, one block): what these seeds resolve
-CONTROLS = {"fog_spot": (0.03, 0.1), "world_fog": (0.03, 0.1), "absorbing_box": (0.03, 0.1),
-            "scattering_box": (0.03, 0.1)}
+# the levels the negative controls inject (whole image, one block): what these seeds resolve,
+# measured (the printed "detects ... >="): at 12 x 256 spp a side fog_spot 3.19 %, world_fog
+# 2.99 % (the fog's noise, pt's and lt's alike); the mesh media 0.54-0.59 % there, so they run
+# half the samples (0.68-0.77 %) at the usual 1 % / 5 %
+CONTROLS = {"fog_spot": (0.03, 0.1), "world_fog": (0.03, 0.1), "absorbing_box": (0.01, 0.05),
+            "scattering_box": (0.01, 0.05)}
+SPP_SCENE = {"absorbing_box": 128, "scattering_box": 128}
 
 
 @pytest.mark.parametrize("name", list(SCENES))
 def test_light_tracing_agrees_with_pt_in_media(core, name):
     scene = SCENES[name]()
-    pt = renders(scene, "pt", SPP_PT, 1000)
-    lt = renders(scene, "lt", SPP_LT, 3000)
+    pt = renders(scene, "pt", SPP_SCENE.get(name, SPP_PT), 1000)
+    lt = renders(scene, "lt", SPP_SCENE.get(name, SPP_LT), 3000)
     metrics.assert_agreement(f"{name} lt vs pt", lt, pt, block=8,
                              image_bias=CONTROLS[name][0], block_bias=CONTROLS[name][1])
 
@@ -121,10 +125,10 @@ def test_light_tracing_without_media_in_its_paths_is_caught(core):
     """Negative control of the scene's own kind: lt with the fog's scattering taken out of the
     light paths (the same scene, the medium absorbing only) must disagree with pt in fog."""
     scene = world_fog()
-    pt = renders(scene, "pt", SPP_PT, 1000, k_seeds=6)
+    pt = renders(scene, "pt", 64, 1000, k_seeds=6)  # 60-85 % apart: few samples see it
     clear = world_fog()
     clear.world["volume"] = {"sigma_a": [0.25, 0.3, 0.35]}
-    lt = renders(clear, "lt", SPP_LT, 3000, k_seeds=6)
+    lt = renders(clear, "lt", 64, 3000, k_seeds=6)
     res = metrics.compare_renders(lt, pt, block=8, name="world fog: lt without scattering")
     print(res)
     assert not res.passed
