@@ -170,6 +170,12 @@ LANTERN_HD inline void lt_queue_splat(const PathState& ps, const LightPathState&
     lp.splat_xy[i] = {cc.raster_x, cc.raster_y};
 }
 
+}  // namespace lantern
+
+#include "integrator/lt_medium.h"  // media: uses lt_queue_splat
+
+namespace lantern {
+
 // ---- Generate: pick a light by power, sample its emission, connect it to the camera ----
 LANTERN_HD inline void lt_generate(const SceneView& s, const PathState& ps,
                                    const LightPathState& lp, const PtSettings& st, int i,
@@ -190,6 +196,12 @@ LANTERN_HD inline void lt_generate(const SceneView& s, const PathState& ps,
     if (!es.valid || !(l.pick_pdf > 0.0f)) return;
     lp.power[i] = emission_weight(es) / l.pick_pdf;
     ps.rng[i] = rng;
+    if (s.num_media > 0) {  // the medium it emits into (lt_medium.h)
+        Vec3 f;
+        ps.medium[i] = lt_start_medium(s, li, es, &f);
+        ps.shadow_medium[i] = ps.medium[i];
+        lp.power[i] = lp.power[i] * f;
+    }
 
     // the emitter itself seen by the camera (one segment): finite, non-delta surfaces
     bool visible = l.type == kLightTriangle
@@ -226,7 +238,13 @@ LANTERN_HD inline void lt_shade(const SceneView& s, const PathState& ps, const L
     ps.shadow_valid[i] = 0;
     ps.alive[i] = 0;
     int tri = ps.hit_prim[i];
+    // in a medium: a free flight, and where it scatters a medium vertex (lt_medium.h)
+    if (s.num_media > 0 && ps.medium[i] >= 0 && lt_medium_segment(s, ps, lp, st, i)) return;
     if (tri < 0) return;
+    if (s.num_media > 0 && (s.tri_flags[tri] & kVolumeBoundary)) {  // no surface: go on
+        pt_cross_boundary(s, ps, i, tri);
+        return;
+    }
     Vec3 d = ps.ray_d[i];
     SurfaceHit h = pt_surface(s, tri, ps.hit_uv[i], d);
     MaterialScratch scratch;
@@ -251,6 +269,10 @@ LANTERN_HD inline void lt_shade(const SceneView& s, const PathState& ps, const L
             // f * |cos_ns(wc)| with the adjoint shading-normal factor
             // |wo.ns| |wc.ng| / (|wo.ng| |wc.ns|)  [Veach thesis (5.19)]
             float cos_y = cos_o_ns * fabsf(dot(cc.wc, h.ng)) / cos_o_ng;
+            if (s.num_media > 0)  // through the surface: the medium beyond it
+                ps.shadow_medium[i] = dot(cc.wc, h.ng) < 0.0f
+                                          ? medium_across(s, tri, h.front, ps.medium[i])
+                                          : ps.medium[i];
             lt_queue_splat(ps, lp, i, h.p, h.ng, cc, beta * e.f * (cos_y * cc.importance), s.offset_scale);
         }
     }
@@ -270,6 +292,8 @@ LANTERN_HD inline void lt_shade(const SceneView& s, const PathState& ps, const L
             ps.throughput[i] = t;
             set_next_ray(ps, i, h.p, h.ng, wi, bs.pdf_fwd_w,
                          s.offset_scale);
+            if (s.num_media > 0 && dot(wi, h.ng) < 0.0f)  // through the surface
+                ps.medium[i] = medium_across(s, tri, h.front, ps.medium[i]);
         }
     }
     ps.rng[i] = rng;

@@ -9,6 +9,37 @@
 namespace lantern {
 namespace wf {
 
+// Light tracing's camera segments in a scene with media (lt_medium.h): each carries the
+// transmittance of the media it crosses from its vertex's medium (PathState::shadow_medium),
+// multiplied into its contribution; blocked by any surface but a volume boundary.
+template <class Exec>
+int64_t camera_segments_medium(Exec& ex, Wavefront<Exec>& w, const SceneView& s, int n,
+                               SessionStats& stats) {
+    const PathState ps = w.ps;
+    const int32_t* q = w.queue.data();
+    uint8_t* vis = w.visible.data();
+    const auto rays = ex.rays();
+    int64_t tested = 0;
+    ex.timed(stats.time_shadow, [&] {
+        tested = ex.count(n, LANTERN_KERNEL(int k) { return ps.shadow_valid[q[k]] != 0; });
+        ex.each(n, LANTERN_KERNEL(int k) {
+            const int i = q[k];
+            uint8_t v = 0;
+            if (ps.shadow_valid[i]) {
+                const Vec3 tr = pt_shadow_transmittance(s, rays, RayKind::kCamera, ps.shadow_o[i],
+                                                        ps.shadow_d[i], ps.shadow_tmax[i],
+                                                        ps.shadow_medium[i]);
+                if (!is_black(tr)) {
+                    ps.shadow_contrib[i] = ps.shadow_contrib[i] * tr;
+                    v = 1;
+                }
+            }
+            vis[i] = v;
+        });
+    });
+    return tested;
+}
+
 template <class Exec>
 void lt_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep& st,
               int64_t first_path, int n) {
@@ -26,7 +57,8 @@ void lt_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep& st
     });
     int active = n;
     while (!st.cancelled()) {
-        stats.rays_shadow += camera_segments(ex, w, active, stats);
+        stats.rays_shadow += s.num_media > 0 ? camera_segments_medium(ex, w, s, active, stats)
+                                             : camera_segments(ex, w, active, stats);
         ex.timed(stats.time_film, [&] { splat(ex, w, s, st, active); });
         active = compact(ex, w, active);
         if (active == 0) break;

@@ -75,11 +75,12 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
     // media: only pt has medium vertices yet (docs/volumes.md); the others hand over to it
     std::string media_note;
     if (integ != "pt" && integ != "auto") {
-        const std::string why = media_reason(scene);
+        // lt has medium vertices (integrator/lt_medium.h) but starts no paths in emissive media
+        const std::string why = integ == "lt" ? emissive_media_reason(scene) : media_reason(scene);
         if (!why.empty()) {
             media_note = "integrator '" + integ + "' does not render participating media (the " +
                          "scene has " + why + "; " +
-                         (integ == "lt" ? std::string("light tracing would ignore it")
+                         (integ == "lt" ? std::string("light tracing starts no paths in it")
                                         : std::string("no medium vertices in its paths")) +
                          "): rendering with pt";
             settings_.integrator = "pt";

@@ -73,6 +73,18 @@ std::string media_reason(const SceneInput& in) {
     return "";
 }
 
+std::string emissive_media_reason(const SceneInput& in) {
+    auto emits = [&](int k) {
+        if (k < 0 || k >= int(in.media.size())) return false;
+        const Vec3 e = in.media[size_t(k)].emission;
+        return e.x > 0.0f || e.y > 0.0f || e.z > 0.0f;  // NaN and negative: cleaned to 0
+    };
+    if (emits(in.world_medium)) return "an emissive world volume";
+    for (const MaterialInput& m : in.materials)
+        if (emits(m.medium)) return "an emissive volume (material '" + m.name + "')";
+    return "";
+}
+
 void HostScene::build_media(const SceneInput& in) {
     bool any = in.world_medium >= 0;
     for (const MaterialInput& mi : in.materials) any = any || mi.medium >= 0 || mi.volume_only;
@@ -118,6 +130,22 @@ void HostScene::build_media(const SceneInput& in) {
     view_.material_medium = material_medium_.data();
     view_.world_medium = has_world ? 0 : -1;
     view_.camera_medium = camera_medium_at(view_.camera.to_world.origin());
+    // where each light's paths start (lt): the medium at its centre; distant lights the world's
+    light_medium_.assign(lights_.size(), view_.world_medium);
+    for (size_t k = 0; k < lights_.size(); ++k) {
+        const Light& l = lights_[k];
+        if (l.type == kLightPoint || l.type == kLightSpot) {
+            light_medium_[k] = camera_medium_at(l.position);
+        } else if (l.type == kLightArea) {
+            light_medium_[k] = camera_medium_at(l.frame.origin());
+        } else if (l.type == kLightTriangle) {
+            const Vec3 a = positions_[indices_[3 * size_t(l.triangle)]],
+                       b = positions_[indices_[3 * size_t(l.triangle) + 1]],
+                       c = positions_[indices_[3 * size_t(l.triangle) + 2]];
+            light_medium_[k] = camera_medium_at((a + b + c) * (1.0f / 3.0f));
+        }
+    }
+    view_.light_medium = light_medium_.empty() ? nullptr : light_medium_.data();
 }
 
 // The medium at p: the nearest medium boundary along a fixed ray from p, left through its back

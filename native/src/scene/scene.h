@@ -228,6 +228,7 @@ private:
     std::vector<float> program_consts_, attributes_;
     std::vector<Medium> media_;               // SceneView::media
     std::vector<int32_t> material_medium_;    // SceneView::material_medium (empty: no media)
+    std::vector<int32_t> light_medium_;       // SceneView::light_medium (empty: no media)
     int num_attribute_channels_ = 0;
     std::shared_ptr<const EnvMapStorage> env_ = std::make_shared<EnvMapStorage>();  // cached
     bool has_emitters_ = false;

@@ -350,6 +350,9 @@ struct SceneView {
     int32_t has_subsurface = 0;
     int32_t world_medium = -1;   // outside every mesh medium, -1: vacuum
     int32_t camera_medium = -1;  // where camera rays start
+    // per light (lights): the medium its light paths start in (lt, integrator/lt_medium.h);
+    // null without media
+    const int32_t* light_medium = nullptr;
     // motion blur (scene/motion.h): moving meshes and the camera's steps; any() false: none
     MotionView motion;
 };

@@ -1,0 +1,92 @@
+// The light tracer's stages in homogeneous media (integrator "lt", docs/volumes.md): light
+// paths start in the medium their light sits in (SceneView::light_medium), sample a free-flight
+// distance on every segment in a medium (scene/medium.h, the same one-sample MIS over RGB that pt
+// uses), and where it falls inside the segment make a medium vertex: connected to the camera with
+// the Henyey-Greenstein phase function (no cosine at a medium point), then continued with a
+// phase sample (weight 1). Volume boundaries are passed through; the camera segments carry the
+// transmittance of every medium they cross. Run only where SceneView::num_media > 0.
+// Emissive media send no light paths: the session hands such scenes to pt (session.cpp).
+// Included by lt.h after lt_queue_splat, which it uses.
+#pragma once
+
+#include "integrator/pt_volume.h"
+
+namespace lantern {
+
+// The medium light l's paths start in, and the throughput factor of their way there: distant
+// lights (sun, world) come from infinity through the world's medium, which lets none of its
+// extinguished channels through (pt's rays escaping through world fog carry no light either).
+LANTERN_HD inline int32_t lt_start_medium(const SceneView& s, int li, const EmissionSample& es,
+                                          Vec3* factor) {
+    *factor = vec3(1.0f);
+    if (!es.finite) {
+        if (s.world_medium >= 0) *factor = medium_transmittance(s.media[s.world_medium], kInf);
+        return s.world_medium;
+    }
+    return s.light_medium ? s.light_medium[li] : s.world_medium;
+}
+
+// ---- A medium vertex at p reached along d (the light's direction of travel): its connection
+// to the camera, phase x importance (no cosine at p), through the medium it is in ----
+LANTERN_HD inline void lt_medium_connect(const SceneView& s, const PathState& ps,
+                                         const LightPathState& lp, int i, Vec3 p, Vec3 d,
+                                         const Medium& m) {
+    const CameraConnection cc = connect_camera(s.camera, p, filter_radius(s.camera),
+                                               lens_sample(s.camera, ps, i));
+    if (!cc.valid) return;
+    const float phase = hg_phase(m.g, dot(d, cc.wc));
+    ps.shadow_medium[i] = ps.medium[i];
+    lt_queue_splat(ps, lp, i, p, vec3(0.0f), cc,
+                   lp.power[i] * ps.throughput[i] * (phase * cc.importance), s.offset_scale);
+}
+
+// ---- The traced segment in the slot's medium: a free-flight distance; true when the path
+// scattered inside the segment (this stage made the medium vertex, its camera connection and
+// its continuation; the hit is not shaded). Otherwise the throughput carries the segment's
+// transmittance (over the probability of passing it) and the caller shades the hit. ----
+#ifndef __CUDA_ARCH__
+__attribute__((noinline))  // out of line on the host: lt_shade stays as small as without media
+#endif
+LANTERN_HD inline bool lt_medium_segment(const SceneView& s, const PathState& ps,
+                                         const LightPathState& lp, const PtSettings& st, int i) {
+    const Medium& m = s.media[ps.medium[i]];
+    const Vec3 o = ps.ray_o[i], d = ps.ray_d[i];
+    const float tmin = ps.ray_tmin[i];
+    const float t_end = ps.hit_prim[i] >= 0 ? ps.hit_t[i] : ps.ray_tmax[i];
+    const Vec3 beta = ps.throughput[i];
+    Rng rng = ps.rng[i];
+    const Vec3 pmf = medium_channel_pmf(lp.power[i] * beta);
+    float u_channel = 0.0f, u_dist = 0.0f;
+    if (m.scatters) {  // a medium that only absorbs spends no numbers
+        u_channel = rng.uniform();
+        u_dist = rng.uniform();
+    }
+    ps.rng[i] = rng;
+    const MediumStep step = medium_sample_distance(m, t_end - tmin, pmf, u_channel, u_dist);
+    ps.throughput[i] = beta * step.weight;
+    if (!step.scattered) return false;
+
+    const int depth = ps.depth[i] + 1;  // segments from the light to this vertex
+    ps.depth[i] = depth;
+    const Vec3 p = o + d * (tmin + step.t);
+    lt_medium_connect(s, ps, lp, i, p, d, m);  // t = 1: depth + 1 segments
+    if (depth + 2 > st.max_depth) return true;  // the next vertex's connection would be too long
+    rng = ps.rng[i];
+    float pdf_w = 0.0f;
+    const Vec3 wi = hg_sample(m.g, d, rng.uniform2(), &pdf_w);  // weight phase / pdf = 1
+    Vec3 t = ps.throughput[i];
+    if (pdf_w > 0.0f && russian_roulette(t, depth + 1, st.rr_depth, rng) &&
+        max_component(t) > 0.0f && is_finite(t)) {
+        ps.throughput[i] = t;
+        ps.ray_o[i] = p;
+        ps.ray_d[i] = wi;
+        ps.ray_tmin[i] = 0.0f;
+        ps.ray_tmax[i] = kInf;
+        ps.prev_pdf_w[i] = pdf_w;
+        ps.alive[i] = 1;
+    }
+    ps.rng[i] = rng;
+    return true;
+}
+
+}  // namespace lantern
