@@ -151,6 +151,11 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
     }
     width_ = scene.width;
     height_ = scene.height;
+    {
+        const std::string why = connection_map_error(settings_.connection_map, width_, height_,
+                                                     scene.panoramic);
+        if (!why.empty()) throw std::invalid_argument(why);
+    }
     accum_.assign(size_t(width_) * height_ * 3, 0.0);
     film_.configure(settings_.adaptive_threshold, settings_.adaptive_min_samples,
                     settings_.adaptive_step);
@@ -290,6 +295,7 @@ SessionSettings Session::iteration_settings() const {
         // a cis trial also estimates pt's second moment (allocation.h): its sum holds moment
         // channels, not RGB (never added to the image)
         if (trial_next() && run.integrator == "cis") run.auto_moments = true;
+        if (trial_next()) run.connection_map.clear();  // (trials: the counts the pilot weighs)
     }
     return run;
 }

@@ -64,7 +64,15 @@ struct SessionSettings {
     // (internal) a cis trial of "auto": each pixel's sum holds the moment channels of
     // BdptSettings::moments (bdpt.h) instead of RGB; never set on a rendered iteration
     bool auto_moments = false;
+    // lvc, cis: per pixel (N, M), 2 bytes, row-major (integrator/pixel_conn.h); empty: N and
+    // M above everywhere. N in [0, 64], M in [1, 64] where N > 0; not on panoramic cameras.
+    std::vector<uint8_t> connection_map;
+    bool naive_map = false;  // test only: the map's counts under uniform-N weights (biased)
 };
+
+// Why `map` cannot be a connection map of a width x height film (empty: it can).
+std::string connection_map_error(const std::vector<uint8_t>& map, int width, int height,
+                                 bool panoramic);
 
 // The settings of one pass of a bidirectional iteration: mode (BdptMode), MIS count r
 // (bdpt_session.cpp; the schedule's, integrator/schedule_bdpt.h, for every backend).
@@ -101,6 +109,8 @@ struct SessionStats {
     // camera vertices (camera and indirect rays) of auto's cis iterations, trials included:
     // each paid for M candidate evaluations (bench/auto_efficiency.py's work count)
     int64_t auto_cis_vertices = 0;
+    // cis: candidates paid for, M of each camera vertex's pixel (a connection map's; else M)
+    int64_t cis_candidates = 0;
     int64_t accel_bottom_builds = 0;  // CPU: bottom-level structures built (flat: 1)
     int64_t instance_moves = 0;       // move_instance() calls served
 };
@@ -133,6 +143,10 @@ public:
     // rebuilt (no bottom level), sampling restarted. False, nothing changed, without
     // settings.instancing, on the GPU, or where HostScene::move_mesh refuses: a new Session.
     bool move_instance(int k, const Transform& to_world);
+    // The connection map (SessionSettings::connection_map) of the next iterations, the image
+    // kept (each iteration's map fixed, chosen before it: unbiased); throws
+    // std::invalid_argument where connection_map_error says why not. False on the GPU.
+    bool set_connection_map(const std::vector<uint8_t>& map);
     // Mean radiance, top row first, 3 floats per pixel (each pixel over its own samples).
     std::vector<float> image() const;
     // The iterations' samples per pixel: what a pixel that never converged has.

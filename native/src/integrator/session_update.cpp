@@ -37,7 +37,18 @@ bool Session::update_camera(const SceneInput& in) {
     std::lock_guard<std::mutex> serial(step_mutex_);  // after a running step returns
     if (gpu_) return false;
     scene_->set_camera(in);
+    settings_.connection_map.clear();  // (its film's)
     restart();
+    return true;
+}
+
+bool Session::set_connection_map(const std::vector<uint8_t>& map) {
+    std::lock_guard<std::mutex> serial(step_mutex_);  // between iterations, never within one
+    if (gpu_) return false;
+    const std::string why =
+        connection_map_error(map, width_, height_, scene_->view().camera.panoramic != 0);
+    if (!why.empty()) throw std::invalid_argument(why);
+    settings_.connection_map = map;
     return true;
 }
 
