@@ -121,3 +121,30 @@ def test_map_checked():
         s.set_connection_map(np.zeros((8, 16), int))
     with pytest.raises(ValueError):
         s.set_connection_map(np.full((16, 16), 65))
+
+
+# ---- connection_allocation: the map from the render's own iterations (pixel_alloc.h) ----
+
+def test_allocation_unbiased(cornell):
+    """Four pilot iterations of two checkerboards (N = 0 / 5), then the map chosen per 8 x 8
+    tile from them, within each render: against pt."""
+    scene, ref = cornell
+    imgs, stats = _renders(scene, "cis", 32, 2100, connection_allocation=True)
+    means = [st["mean_connections"] for st in stats]
+    print("mean connections per pixel after the pilot:", means)
+    assert all(0.0 <= m <= 5.0 for m in means)
+    metrics.assert_agreement("cis, connection_allocation, vs pt", imgs, ref)
+
+
+def test_allocation_same_bits():
+    scene = scenes.fixture_box(16, 16)
+
+    def render(seed):
+        s = lantern.Session(scene, integrator="cis", seed=seed, backend="cpu", max_depth=DEPTH,
+                            threads=1, connection_allocation=True)
+        for _ in range(6):
+            s.step()
+        return s.image(), s.stats["mean_connections"]
+
+    (a, na), (b, nb) = render(4), render(4)
+    assert np.array_equal(a, b) and na == nb

@@ -14,6 +14,7 @@
 
 #include "integrator/adaptive.h"
 #include "integrator/allocation.h"
+#include "integrator/pixel_alloc.h"
 #include "integrator/bdpt.h"
 #include "scene/scene.h"
 
@@ -68,6 +69,9 @@ struct SessionSettings {
     // M above everywhere. N in [0, 64], M in [1, 64] where N > 0; not on panoramic cameras.
     std::vector<uint8_t> connection_map;
     bool naive_map = false;  // test only: the map's counts under uniform-N weights (biased)
+    // lvc, cis: choose the connection map from the render's own iterations
+    // (integrator/pixel_alloc.h); CPU, without adaptive sampling
+    bool connection_allocation = false;
 };
 
 // Why `map` cannot be a connection map of a width x height film (empty: it can).
@@ -111,6 +115,7 @@ struct SessionStats {
     int64_t auto_cis_vertices = 0;
     // cis: candidates paid for, M of each camera vertex's pixel (a connection map's; else M)
     int64_t cis_candidates = 0;
+    double mean_connections = -1.0;  // connection_allocation: mean N of the last map (-1: off)
     int64_t accel_bottom_builds = 0;  // CPU: bottom-level structures built (flat: 1)
     int64_t instance_moves = 0;       // move_instance() calls served
 };
@@ -192,6 +197,7 @@ private:
     std::unique_ptr<Wavefront<CpuExec>> wave_;  // the schedule's state (integrator/wavefront.h)
     std::unique_ptr<CudaRenderer> gpu_;
     std::unique_ptr<Allocation> alloc_;  // integrator "auto" only
+    std::unique_ptr<ConnectionAllocation> conn_alloc_;  // connection_allocation only
     uint64_t auto_iteration_[2] = {0, 0};  // its trials' streams and its kept iterations'
     std::string backend_name_ = "cpu", device_name_ = "cpu";
     std::vector<std::string> warnings_;

@@ -29,6 +29,10 @@ void Session::restart() {
         alloc_ = std::make_unique<Allocation>(int64_t(width_) * height_, false,
                                               settings_.candidates, !gpu_);
     if (wave_) wave_->vertices_per_path = -1.0;  // the light vertex cache estimate is per view
+    if (conn_alloc_)  // a new pilot for the new view
+        conn_alloc_ = std::make_unique<ConnectionAllocation>(
+            width_, height_, settings_.connections, settings_.candidates,
+            ConnectionAllocation::zero_allowed(scene_->view()));
     cancel_.store(false);       // a cancel of the old view's step is served
     publish();
 }
@@ -49,6 +53,7 @@ bool Session::set_connection_map(const std::vector<uint8_t>& map) {
         connection_map_error(map, width_, height_, scene_->view().camera.panoramic != 0);
     if (!why.empty()) throw std::invalid_argument(why);
     settings_.connection_map = map;
+    conn_alloc_.reset();  // a map set by hand replaces the allocation's
     return true;
 }
 
