@@ -27,6 +27,7 @@ VARIANTS = {  # name -> (integrator, settings)
     "cis": ("cis", {}),
     "cis_alloc": ("cis", {"connection_allocation": True}),
     "auto": ("auto", {}),
+    "auto_alloc": ("auto", {"connection_allocation": True}),
 }
 
 

@@ -136,19 +136,26 @@ def test_allocation_unbiased(cornell):
     metrics.assert_agreement("cis, connection_allocation, vs pt", imgs, ref)
 
 
-def test_allocation_fixture_unbiased():
+@pytest.fixture(scope="module")
+def fixture_cis():
+    scene = scenes.fixture_box(SIZE, SIZE)
+    return scene, _renders(scene, "cis", 32, 2500)[0]
+
+
+@pytest.mark.parametrize("integrator", ["cis", "auto"])
+def test_allocation_fixture_unbiased(fixture_cis, integrator):
     """The fixture (light through a shade, where connections carry much of the image): tiles
     that drop to N = 0 must keep every path (light tracing, next-event estimation, emission
-    take the connections' share): against cis with N = 5 everywhere."""
-    scene = scenes.fixture_box(SIZE, SIZE)
-    ref, _ = _renders(scene, "cis", 32, 2500)
-    imgs, stats = _renders(scene, "cis", 32, 2300, connection_allocation=True)
+    take the connections' share): against cis with N = 5 everywhere. auto: its kept cis
+    iterations under the allocation."""
+    scene, ref = fixture_cis
+    imgs, stats = _renders(scene, integrator, 32, 2300, connection_allocation=True)
     means = [st["mean_connections"] for st in stats]
     print("mean connections per pixel after the pilot:", means)
     assert min(means) < 5.0  # some tiles dropped their connections
     # 16 x 32 a side resolve ~4 % of the image here (tests/README.md): losing the paths that
     # only connections sample would take much more (the naive weights took 5.4 % on the box)
-    metrics.assert_agreement("cis, connection_allocation, vs cis, fixture", imgs, ref,
+    metrics.assert_agreement(f"{integrator}, connection_allocation, vs cis, fixture", imgs, ref,
                              image_bias=0.04, block_bias=0.15)
 
 

@@ -152,7 +152,7 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
     width_ = scene.width;
     height_ = scene.height;
     if (settings_.connection_allocation && !gpu_ && settings_.adaptive_threshold <= 0.0f &&
-        (integ == "lvc" || integ == "cis") && settings_.connection_map.empty() &&
+        (integ == "lvc" || integ == "cis" || integ == "auto") && settings_.connection_map.empty() &&
         !scene.panoramic)
         conn_alloc_ = std::make_unique<ConnectionAllocation>(
             width_, height_, settings_.connections, settings_.candidates,

@@ -69,8 +69,8 @@ struct SessionSettings {
     // M above everywhere. N in [0, 64], M in [1, 64] where N > 0; not on panoramic cameras.
     std::vector<uint8_t> connection_map;
     bool naive_map = false;  // test only: the map's counts under uniform-N weights (biased)
-    // lvc, cis: choose the connection map from the render's own iterations
-    // (integrator/pixel_alloc.h); CPU, without adaptive sampling
+    // lvc, cis (and auto's kept cis iterations): choose the connection map from the render's
+    // own iterations (integrator/pixel_alloc.h); CPU, without adaptive sampling
     bool connection_allocation = false;
 };
 
