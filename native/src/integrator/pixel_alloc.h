@@ -1,7 +1,8 @@
 // Per-pixel connection counts chosen from the render's own iterations (issue 27, item 2;
-// SessionSettings::connection_allocation, lvc and cis): host code a session of any backend
-// shares; what it chooses is a map of (N, M) per pixel (integrator/pixel_conn.h) that the
-// stages read.
+// SessionSettings::connection_allocation: lvc, cis, auto's kept cis iterations): host code a
+// session of any backend shares; what it chooses is a map of (N, M) per pixel
+// (integrator/pixel_conn.h) that the stages read. (The CPU session drives it; the GPU's does
+// not take a map yet.)
 //
 // - Pilot: the first kPilot iterations are kept in the image and alternate two pixel
 //   checkerboards of "low" and "full" counts (full: the session's N, M; low: N = 0, or N = 1,
