@@ -42,6 +42,8 @@ DEFAULT_SETTINGS = {
                                  # light tracing or connections: path tracing; bdpt: 1 only)
     "cis_target": "contribution",  # or "bsdf": the paper's BSDF-product target
     "naive_ris": False,       # tests only: the biased uniform weight for resampled picks
+    "naive_map": False,       # tests only: a connection map's counts under uniform-N weights
+    "connection_allocation": False,  # lvc, cis: per-pixel N, M from the render (pixel_alloc.h)
     "cache_budget_mb": 0,     # light vertex cache memory per pass (0: min(4 GiB, RAM / 4));
                               # a larger iteration runs as several passes
     "light_candidates": 1,    # pt: resampled next-event estimation over M light samples (1: off)
@@ -231,7 +233,8 @@ def resolve_settings(settings):
     if not isinstance(out["naive_ris"], (bool, np.bool_)):
         raise TypeError(f"setting 'naive_ris' must be a bool, got {out['naive_ris']!r}")
     out["naive_ris"] = bool(out["naive_ris"])
-    for key in ("instancing", "auto_keep_pilot", "moment_channels"):
+    for key in ("instancing", "auto_keep_pilot", "moment_channels", "naive_map",
+                "connection_allocation"):
         if not isinstance(out[key], (bool, np.bool_)):
             raise TypeError(f"setting '{key}' must be a bool, got {out[key]!r}")
         out[key] = bool(out[key])
@@ -393,6 +396,28 @@ class Session:
         view.film, view.camera = dict(film), dict(camera)
         native = view.to_native()  # the same checks as a new scene's
         return bool(update({"film": native["film"], "camera": native["camera"]}))
+
+    def set_connection_map(self, n, m=None):
+        """lvc, cis: the connections N (and cis's candidates M) of each pixel for the next
+        iterations, (H, W) integer arrays (N in 0..64; M in 1..64, default the session's
+        `candidates`), the image kept: each iteration's counts are fixed before it, so the
+        image stays unbiased (integrator/pixel_conn.h). None: the session's N and M everywhere.
+        False where the backend cannot (the GPU)."""
+        setter = getattr(self._native, "set_connection_map", None)
+        if setter is None:
+            return False
+        if n is None:
+            return bool(setter(b""))
+        n = np.asarray(n)
+        if m is None:
+            m = np.full(n.shape, int(self.settings.get("candidates", 10)))
+        m = np.asarray(m)
+        if n.ndim != 2 or m.shape != n.shape:
+            raise ValueError("set_connection_map: N and M must be (height, width) arrays")
+        if n.min() < 0 or n.max() > 64 or m.min() < 0 or m.max() > 64:
+            raise ValueError("set_connection_map: N must be in [0, 64], M in [1, 64]")
+        both = np.stack([n, np.where(n > 0, m, 0)], axis=-1).astype(np.uint8)
+        return bool(setter(np.ascontiguousarray(both).tobytes()))
 
     def update_materials(self, materials, textures=()):
         """New materials and textures (lists as in Scene.materials / Scene.textures, the same

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "integrator/bdpt_common.h"
+#include "integrator/pixel_conn.h"
 
 namespace lantern {
 
@@ -26,8 +27,10 @@ LANTERN_HD inline float camera_pdf(const CameraView& c, Vec3 d) {
 }
 
 LANTERN_HD inline void bdpt_camera_generate(const SceneView& s, const PathState& ps,
-                                            const BdptState& bs, const BdptSettings& st, int i,
-                                            int64_t path) {
+                                            const BdptState& bs, const BdptSettings& st_all,
+                                            int i, int64_t path) {
+    // the pixel's counts (pixel_conn.h: r, N, M; st_all itself without a map)
+    const BdptSettings st = camera_settings(st_all, pixel_conn_of_path(s, st_all, path));
     // the same camera sample as pt's (same random stream), plus the MIS quantities
     const PtSettings pst{st.max_depth, st.rr_depth, st.spp_per_iteration, st.seed, st.iteration};
     pt_generate(s, ps, pst, i, path);
@@ -181,7 +184,8 @@ LANTERN_HD inline void bdpt_camera_nee(const SceneView& s, const PathState& ps,
     }
     float w_light = ls.delta ? 0.0f : mis(e.pdf_fwd_w / pdf_light_w);
     // (the first vertex: z.dvcm is light tracing's term alone, BdptSettings::lt_direct)
-    const float dvcm_z = z.depth == 1 ? z.dvcm * bdpt_direct_lt(st) : z.dvcm;
+    const float dvcm_z = z.depth == 1 ? z.dvcm * bdpt_direct_lt(st)
+                                      : camera_conn_dvcm(st, z.dvcm, z.depth);
     float w_camera = mis(st.r * pdf_lp / pdf_nee) * (dvcm_z + z.dvc * mis(e.pdf_rev_w));
     float w = 1.0f / (w_light + 1.0f + w_camera);
     float cos_i = fabsf(dot(ls.wi, z.h.ns));
@@ -260,7 +264,9 @@ LANTERN_HD inline Connection bdpt_connect_in(const SceneView& s, const BdptSetti
     const float inv_d2 = 1.0f / d2;
     float pdf_cam_a = ez.pdf_fwd_w * cos_y_ng * inv_d2;   // camera BSDF samples y
     float pdf_light_a = ey.pdf_fwd_w * cos_z_ng * inv_d2; // light BSDF samples z
-    float w_light = mis(pdf_cam_a) * (y.dvcm + y.dvc * mis(ey.pdf_rev_w));
+    float y_dvcm, y_dvc;  // (for this pixel's count: pixel_conn.h)
+    light_vertex_mis(st, y, &y_dvcm, &y_dvc);
+    float w_light = mis(pdf_cam_a) * (y_dvcm + y_dvc * mis(ey.pdf_rev_w));
     float w_camera = mis(pdf_light_a) * (z.dvcm + z.dvc * mis(ez.pdf_rev_w));
     float w = 1.0f / (w_light + 1.0f + w_camera);
     r.c = z.beta * ez.f * y.beta * ey.f * (cos_z_ns * cos_y * inv_d2 * w);
@@ -318,8 +324,9 @@ LANTERN_HD inline void bdpt_camera_connect(const SceneView& s, const BdptState& 
                                            const BdptSettings& st, const LightCache& cache,
                                            const CameraVertex& z, int i, int64_t path) {
     bs.conn_n[i] = 0;
-    // every cache vertex is at least one segment from its light: past max_depth from here
-    if (cache.size <= 0 || z.depth + 2 > st.max_depth) return;
+    // every cache vertex is at least one segment from its light: past max_depth from here;
+    // a pixel of N = 0 pays for no candidates (pixel_conn.h)
+    if (cache.size <= 0 || z.depth + 2 > st.max_depth || st.connections <= 0) return;
     if (st.mode == kBdptOwnPath) {
         for (int k = cache.path_offset[path]; k < cache.path_offset[path + 1]; ++k) {
             const LightVertex& y = cache.v[cache.path_vertex[k]];
@@ -430,8 +437,9 @@ LANTERN_HD inline void bdpt_camera_connect(const SceneView& s, const BdptState& 
 // Camera-path shading: emission (s = 0), then at a surface NEE (s = 1), connections (s >= 2) and
 // the next direction. The three parts are separate functions so a GPU can launch them apart.
 LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps,
-                                         const BdptState& bs, const BdptSettings& st,
+                                         const BdptState& bs, const BdptSettings& st_all,
                                          const LightCache& cache, int i, int64_t path) {
+    const BdptSettings st = camera_settings(st_all, pixel_conn_of_path(s, st_all, path));
     ps.shadow_valid[i] = 0;
     ps.alive[i] = 0;
     bs.conn_n[i] = 0;
@@ -505,6 +513,7 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
         Vec3 beta = z.beta * b.weight;
         if (russian_roulette(beta, z.depth, st.rr_depth, rng) && max_component(beta) > 0.0f &&
             is_finite(beta)) {
+            dvcm = camera_conn_dvcm(st, dvcm, z.depth);  // (N = 0: no connection's term)
             bdpt_scatter_update(dvcm, dvc, b, fabsf(dot(wi, z.h.ng)));
             ps.throughput[i] = beta;
             ps.depth[i] = z.depth + 1;

@@ -100,6 +100,11 @@ struct BdptSettings {
     float inv_light_paths;  // 1 / L
     float lt_direct;     // light tracing's count for direct light, relative to n_lt (see below)
     int32_t moments;     // integrator "auto"'s cis trials: moment channels (bdpt_moment)
+    // lvc, cis: per pixel (N, M), 2 bytes, row-major, or null: N and M above everywhere
+    // (integrator/pixel_conn.h); conn_q: a camera path's N / connections (camera_settings)
+    const uint8_t* conn_map;
+    float conn_q;
+    int32_t naive_map;  // test only: the map's counts with the uniform weights (biased)
 };
 
 // Integrator "auto" (allocation.h) estimates path tracing's second moment from cis's samples

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "integrator/bdpt_common.h"
+#include "integrator/pixel_conn.h"
 
 namespace lantern {
 
@@ -37,7 +38,7 @@ LANTERN_HD inline void bdpt_light_generate(const SceneView& s, const PathState& 
                     ? 0.0f
                     : mis((es.finite ? es.cos_light : 1.0f) / pdf_emit) * inv_r;
     bs.light[i] = li;
-    if (st.moments) {  // path tracing's techniques: all camera-sampled (dVC's), next-event
+    if (st.moments || st.conn_map) {  // pt's techniques: all camera-sampled (dVC's), next-event
         bs.dpt0[i] = bs.dvc[i];
         bs.dpt1[i] = 0.0f;
     }
@@ -101,8 +102,9 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
     dvc /= mis(cos_o_ng);
     // (moments) the parts of dvc that are pt's techniques: dpt0 all camera-sampled, dpt1 the
     // camera sampling all but y0, which next-event estimation samples (at k = 1: dvcm itself)
+    // (a connection map too: they are the parts a pixel's count scales, pixel_conn.h)
     float dpt0 = 0.0f, dpt1 = 0.0f;
-    if (st.moments) {
+    if (st.moments || st.conn_map) {
         dpt0 = bs.dpt0[i] / mis(cos_o_ng);
         dpt1 = bs.dpt1[i] / mis(cos_o_ng);
     }
@@ -148,8 +150,14 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
                 float cos_wc_ng = fabsf(dot(cc.wc, h.ng));
                 // f |wc.ns| times the adjoint shading-normal factor [Veach thesis (5.19)]
                 float cos_y = cos_o_ns * cos_wc_ng / cos_o_ng;
-                float w = bdpt_light_tracing_weight(st, dvcm, dvc, cc.importance * cos_wc_ng,
-                                                    e.pdf_rev_w, k);
+                float w = st.conn_map
+                              ? lt_weight_mapped(st, pixel_conn_at(st, s.camera, cc.raster_x,
+                                                                   cc.raster_y).q,
+                                                 dvcm, dvc, dpt0, dpt1,
+                                                 cc.importance * cos_wc_ng, e.pdf_rev_w, k)
+                              : bdpt_light_tracing_weight(st, dvcm, dvc,
+                                                          cc.importance * cos_wc_ng,
+                                                          e.pdf_rev_w, k);
                 LightPathState lp{nullptr, bs.splat_xy};
                 Vec3 c = beta * e.f * (cos_y * cc.importance * w);
                 if (st.moments) {
@@ -180,7 +188,7 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
         Vec3 t = ps.throughput[i] * b.weight * adj;
         if (russian_roulette(t, k + 1, st.rr_depth, rng) && max_component(t) > 0.0f &&
             is_finite(t)) {
-            if (st.moments) {  // dvc's recursion, each part on its own (dvcm: k = 1 only)
+            if (st.moments || st.conn_map) {  // dvc's recursion, each part on its own
                 const float ratio = b.pdf_fwd_w > 0.0f ? b.pdf_rev_w / b.pdf_fwd_w : 1.0f;
                 const float fwd = b.delta ? 1.0f : mis(cos_i_ng / b.pdf_fwd_w);
                 const float rev = b.delta ? mis(cos_i_ng * ratio) : mis(b.pdf_rev_w);

@@ -38,7 +38,24 @@ BdptSettings make_bdpt_settings(const SessionSettings& s, int width, int height,
     // bdpt and lvc keep the textbook counts
     st.lt_direct = mode == kCisResampled ? 0.25f : 1.0f;
     st.moments = s.auto_moments ? 1 : 0;
+    st.conn_map = nullptr;  // the schedule's copy in the executor's memory (bdpt_settings)
+    st.conn_q = 1.0f;
+    st.naive_map = s.naive_map ? 1 : 0;
     return st;
+}
+
+std::string connection_map_error(const std::vector<uint8_t>& map, int width, int height,
+                                 bool panoramic) {
+    if (map.empty()) return "";
+    if (map.size() != size_t(width) * size_t(height) * 2)
+        return "connection_map must hold (N, M) for each of the film's " +
+               std::to_string(width) + " x " + std::to_string(height) + " pixels";
+    if (panoramic) return "connection_map is not available with a panoramic camera";
+    for (size_t k = 0; k < map.size(); k += 2) {
+        if (map[k] > 64 || map[k + 1] > 64 || (map[k] > 0 && map[k + 1] < 1))
+            return "connection_map: N must be in [0, 64], M in [1, 64] where N > 0";
+    }
+    return "";
 }
 
 // The bidirectional iteration on the CPU executor (integrator/schedule_bdpt.h).

@@ -98,11 +98,16 @@ LANTERN_HD inline Ray camera_ray(const CameraView& c, float x, float y, Vec2 len
     return r;
 }
 
-LANTERN_HD inline Ray generate_camera_ray(const CameraView& c, int pixel, Rng& rng) {
+// A camera sample's raster position: the pixel's centre and its filter offset (u: the sample's
+// first two numbers; integrator/pixel_conn.h reads it again).
+LANTERN_HD inline Vec2 camera_raster_sample(const CameraView& c, int pixel, Vec2 u) {
     int px = pixel % c.width, py = pixel / c.width;
-    Vec2 u = rng.uniform2();
-    float x = float(px) + 0.5f + filter_offset(c, u.x);
-    float y = float(py) + 0.5f + filter_offset(c, u.y);
+    return Vec2{float(px) + 0.5f + filter_offset(c, u.x), float(py) + 0.5f + filter_offset(c, u.y)};
+}
+
+LANTERN_HD inline Ray generate_camera_ray(const CameraView& c, int pixel, Rng& rng) {
+    const Vec2 r = camera_raster_sample(c, pixel, rng.uniform2());
+    const float x = r.x, y = r.y;
     Vec2 lens = c.lens_radius > 0.0f ? sample_aperture(c, rng.uniform2()) : Vec2{};  // (pinhole
                                                                                     // when panoramic)
     return camera_ray(c, x, y, lens);

@@ -19,7 +19,9 @@ namespace wf {
 
 template <class Exec>
 BdptSettings bdpt_settings(const Wavefront<Exec>& w, const WavefrontStep& st) {
-    return make_bdpt_settings(st.set, st.width, st.height, st.iteration, w.mode, w.mis_r);
+    BdptSettings b = make_bdpt_settings(st.set, st.width, st.height, st.iteration, w.mode, w.mis_r);
+    if (w.conn_map_on) b.conn_map = w.conn_map.data();  // (integrator/pixel_conn.h)
+    return b;
 }
 
 // Samples per light pass so that the cache fits the budget (integrator/wavefront_cache.h).
@@ -167,6 +169,12 @@ void camera_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep
                 ex.count(active, LANTERN_KERNEL(int k) { return ps.shadow_valid[q[k]] != 0; });
             stats.rays_connection +=
                 ex.sum_of(active, LANTERN_KERNEL(int k) { return bs.conn_n[q[k]]; });
+            if (w.mode == kCisResampled) {  // M of each camera vertex's pixel (pixel_conn.h)
+                stats.cis_candidates += bst.conn_map ? ex.sum_of(active, LANTERN_KERNEL(int k) {
+                    const int64_t path = camera_path(list, spp, first_path + q[k]);
+                    return camera_settings(bst, pixel_conn_of_path(s, bst, path)).candidates;
+                }) : int64_t(active) * bst.candidates;
+            }
             if constexpr (!Exec::kGpu) {  // one item per slot, in a fixed order
                 ex.each(active, LANTERN_KERNEL(int k) {
                     const int i = q[k];
@@ -250,6 +258,16 @@ bool bdpt_pass(Exec& ex, Wavefront<Exec>& w, const SceneView& s, WavefrontStep& 
         w.mis_r = 1.0f;
     else
         w.mis_r = float(st.set.connections / w.vertices_per_path);
+    // a connection map (pixel_conn.h) of lvc / cis: in the executor's memory, for this pass
+    const std::vector<uint8_t>& map = st.set.connection_map;
+    w.conn_map_on = !map.empty() && w.mode != kBdptOwnPath && w.mis_r > 0.0f;
+    int n_max = st.set.connections;
+    if (w.conn_map_on) {
+        w.conn_map.grow(map.size());
+        w.conn_map.upload(map.data(), map.size());
+        n_max = 1;
+        for (size_t k = 0; k < map.size(); k += 2) n_max = std::max(n_max, int(map[k]));
+    }
     // the cache starts at the capacity the measured rate predicts (wavefront_cache.h)
     w.pass_light_paths = light_paths;
     w.release_index();  // the last pass's
@@ -272,7 +290,7 @@ bool bdpt_pass(Exec& ex, Wavefront<Exec>& w, const SceneView& s, WavefrontStep& 
     stats.cache_memory_peak = w.cache_meter.peak;
     stats.time_cache += seconds_since(t);
     t = Clock::now();
-    w.conn_cap = w.mode == kBdptOwnPath ? std::max(1, st.set.max_depth - 1) : st.set.connections;
+    w.conn_cap = w.mode == kBdptOwnPath ? std::max(1, st.set.max_depth - 1) : n_max;
     const int64_t pixels = st.camera_pixels();
     const int chunk = std::max(spp_it, std::min(st.chunk_paths, st.shadow_budget / w.conn_cap));
     const int64_t chunk_pixels = std::max<int64_t>(1, chunk / spp_it);

@@ -152,6 +152,17 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
     }
     width_ = scene.width;
     height_ = scene.height;
+    if (settings_.connection_allocation && !gpu_ && settings_.adaptive_threshold <= 0.0f &&
+        (integ == "lvc" || integ == "cis" || integ == "auto") && settings_.connection_map.empty() &&
+        !scene.panoramic)
+        conn_alloc_ = std::make_unique<ConnectionAllocation>(
+            width_, height_, settings_.connections, settings_.candidates,
+            ConnectionAllocation::zero_allowed(scene_->view()));
+    {
+        const std::string why = connection_map_error(settings_.connection_map, width_, height_,
+                                                     scene.panoramic);
+        if (!why.empty()) throw std::invalid_argument(why);
+    }
     accum_.assign(size_t(width_) * height_ * 3, 0.0);
     film_.configure(settings_.adaptive_threshold, settings_.adaptive_min_samples,
                     settings_.adaptive_step);
@@ -291,6 +302,7 @@ SessionSettings Session::iteration_settings() const {
         // a cis trial also estimates pt's second moment (allocation.h): its sum holds moment
         // channels, not RGB (never added to the image)
         if (trial_next() && run.integrator == "cis") run.auto_moments = true;
+        if (trial_next()) run.connection_map.clear();  // (trials: the counts the pilot weighs)
     }
     return run;
 }
@@ -349,7 +361,9 @@ bool Session::step_locked() {
     while (trial_next() && film_.all_active())
         if (!run_trial()) return false;
     iteration_sum_.assign(accum_.size(), 0.0);
-    const SessionSettings run = iteration_settings();
+    SessionSettings run = iteration_settings();
+    const bool conn_alloc = conn_alloc_ && (run.integrator == "lvc" || run.integrator == "cis");
+    if (conn_alloc) run.connection_map = conn_alloc_->map();  // (pixel_alloc.h)
     const SessionStats before = stats_;
     uint64_t& counter = iteration_counter();
     WavefrontStep st(run, width_, height_, counter, iteration_sum_.data(), &stats_, &cancel_,
@@ -367,6 +381,10 @@ bool Session::step_locked() {
     if (alloc_)
         observe(run, film_.all_active() ? iteration_sum_.data() : nullptr, before,
                 st.camera_pixels());
+    if (conn_alloc) {
+        conn_alloc_->observe(iteration_sum_.data(), run.spp_per_iteration, before, stats_);
+        stats_.mean_connections = conn_alloc_->mean_connections();
+    }
     {
         std::lock_guard<std::mutex> lock(result_mutex_);
         // the active pixels only: a converged pixel's splats of this iteration are dropped

@@ -14,6 +14,7 @@
 
 #include "integrator/adaptive.h"
 #include "integrator/allocation.h"
+#include "integrator/pixel_alloc.h"
 #include "integrator/bdpt.h"
 #include "scene/scene.h"
 
@@ -64,7 +65,18 @@ struct SessionSettings {
     // (internal) a cis trial of "auto": each pixel's sum holds the moment channels of
     // BdptSettings::moments (bdpt.h) instead of RGB; never set on a rendered iteration
     bool auto_moments = false;
+    // lvc, cis: per pixel (N, M), 2 bytes, row-major (integrator/pixel_conn.h); empty: N and
+    // M above everywhere. N in [0, 64], M in [1, 64] where N > 0; not on panoramic cameras.
+    std::vector<uint8_t> connection_map;
+    bool naive_map = false;  // test only: the map's counts under uniform-N weights (biased)
+    // lvc, cis (and auto's kept cis iterations): choose the connection map from the render's
+    // own iterations (integrator/pixel_alloc.h); CPU, without adaptive sampling
+    bool connection_allocation = false;
 };
+
+// Why `map` cannot be a connection map of a width x height film (empty: it can).
+std::string connection_map_error(const std::vector<uint8_t>& map, int width, int height,
+                                 bool panoramic);
 
 // The settings of one pass of a bidirectional iteration: mode (BdptMode), MIS count r
 // (bdpt_session.cpp; the schedule's, integrator/schedule_bdpt.h, for every backend).
@@ -101,6 +113,9 @@ struct SessionStats {
     // camera vertices (camera and indirect rays) of auto's cis iterations, trials included:
     // each paid for M candidate evaluations (bench/auto_efficiency.py's work count)
     int64_t auto_cis_vertices = 0;
+    // cis: candidates paid for, M of each camera vertex's pixel (a connection map's; else M)
+    int64_t cis_candidates = 0;
+    double mean_connections = -1.0;  // connection_allocation: mean N of the last map (-1: off)
     int64_t accel_bottom_builds = 0;  // CPU: bottom-level structures built (flat: 1)
     int64_t instance_moves = 0;       // move_instance() calls served
 };
@@ -133,6 +148,10 @@ public:
     // rebuilt (no bottom level), sampling restarted. False, nothing changed, without
     // settings.instancing, on the GPU, or where HostScene::move_mesh refuses: a new Session.
     bool move_instance(int k, const Transform& to_world);
+    // The connection map (SessionSettings::connection_map) of the next iterations, the image
+    // kept (each iteration's map fixed, chosen before it: unbiased); throws
+    // std::invalid_argument where connection_map_error says why not. False on the GPU.
+    bool set_connection_map(const std::vector<uint8_t>& map);
     // Mean radiance, top row first, 3 floats per pixel (each pixel over its own samples).
     std::vector<float> image() const;
     // The iterations' samples per pixel: what a pixel that never converged has.
@@ -178,6 +197,7 @@ private:
     std::unique_ptr<Wavefront<CpuExec>> wave_;  // the schedule's state (integrator/wavefront.h)
     std::unique_ptr<CudaRenderer> gpu_;
     std::unique_ptr<Allocation> alloc_;  // integrator "auto" only
+    std::unique_ptr<ConnectionAllocation> conn_alloc_;  // connection_allocation only
     uint64_t auto_iteration_[2] = {0, 0};  // its trials' streams and its kept iterations'
     std::string backend_name_ = "cpu", device_name_ = "cpu";
     std::vector<std::string> warnings_;

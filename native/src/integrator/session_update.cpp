@@ -29,6 +29,10 @@ void Session::restart() {
         alloc_ = std::make_unique<Allocation>(int64_t(width_) * height_, false,
                                               settings_.candidates, !gpu_);
     if (wave_) wave_->vertices_per_path = -1.0;  // the light vertex cache estimate is per view
+    if (conn_alloc_)  // a new pilot for the new view
+        conn_alloc_ = std::make_unique<ConnectionAllocation>(
+            width_, height_, settings_.connections, settings_.candidates,
+            ConnectionAllocation::zero_allowed(scene_->view()));
     cancel_.store(false);       // a cancel of the old view's step is served
     publish();
 }
@@ -37,7 +41,19 @@ bool Session::update_camera(const SceneInput& in) {
     std::lock_guard<std::mutex> serial(step_mutex_);  // after a running step returns
     if (gpu_) return false;
     scene_->set_camera(in);
+    settings_.connection_map.clear();  // (its film's)
     restart();
+    return true;
+}
+
+bool Session::set_connection_map(const std::vector<uint8_t>& map) {
+    std::lock_guard<std::mutex> serial(step_mutex_);  // between iterations, never within one
+    if (gpu_) return false;
+    const std::string why =
+        connection_map_error(map, width_, height_, scene_->view().camera.panoramic != 0);
+    if (!why.empty()) throw std::invalid_argument(why);
+    settings_.connection_map = map;
+    conn_alloc_.reset();  // a map set by hand replaces the allocation's
     return true;
 }
 

@@ -108,6 +108,8 @@ struct Wavefront {
     bool split_warned = false, restart_warned = false;
     int mode = 0, conn_cap = 0;
     float mis_r = 1.0f;
+    Array<uint8_t> conn_map;  // SessionSettings::connection_map of the pass (conn_map_on)
+    bool conn_map_on = false;
     double vertices_per_path = -1.0;  // cache vertices per light path (< 0: not measured)
     int64_t pilot_count = 0, pass_light_paths = 0;
     CacheCosts cache_costs{};

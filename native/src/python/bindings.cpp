@@ -348,6 +348,8 @@ SessionSettings to_settings(const nb::dict& d) {
     s.light_path_fraction = get<float>(d, "light_path_fraction", s.light_path_fraction);
     s.cis_target = get<std::string>(d, "cis_target", s.cis_target);
     s.naive_ris = get<bool>(d, "naive_ris", s.naive_ris);
+    s.naive_map = get<bool>(d, "naive_map", s.naive_map);
+    s.connection_allocation = get<bool>(d, "connection_allocation", s.connection_allocation);
     s.cache_budget_mb = get<int>(d, "cache_budget_mb", s.cache_budget_mb);
     s.light_candidates = get<int>(d, "light_candidates", s.light_candidates);
     s.adaptive_threshold = get<float>(d, "adaptive_threshold", s.adaptive_threshold);
@@ -475,6 +477,13 @@ NB_MODULE(_core, m) {
             nb::gil_scoped_release release;  // waits for a running step
             return s.update_camera(in);
         }, nb::arg("view"))
+        .def("set_connection_map", [](Session& s, const nb::bytes& map) {
+            // (N, M) per pixel, row-major (integrator/pixel_conn.h); empty: none
+            const auto* p = static_cast<const uint8_t*>(map.data());
+            std::vector<uint8_t> v(p, p + map.size());
+            nb::gil_scoped_release release;  // waits for a running step
+            return s.set_connection_map(v);
+        }, nb::arg("map"))
         .def("update_materials", [](Session& s, const nb::dict& materials) {
             SceneInput in = to_input(materials);  // its materials and textures
             nb::gil_scoped_release release;
@@ -535,6 +544,8 @@ NB_MODULE(_core, m) {
             d["rays_light"] = st.rays_light;
             d["rays_connection"] = st.rays_connection;
             d["rays_light_tracing"] = st.rays_light_tracing;
+            d["cis_candidates"] = st.cis_candidates;
+            if (st.mean_connections >= 0.0) d["mean_connections"] = st.mean_connections;
             d["rays_total"] = st.rays_camera + st.rays_indirect + st.rays_shadow + st.rays_light +
                               st.rays_connection + st.rays_light_tracing;
             if (st.auto_choice >= 0) {  // integrator "auto" (integrator/allocation.h)
