@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "scene/scene.h"
@@ -94,10 +95,30 @@ void HostScene::build_media(const SceneInput& in) {
     }
     std::vector<int32_t> of_input(size_t(n_in), -1);  // input medium -> media_ index
     material_medium_.assign(materials_.size(), -1);
+    std::vector<std::pair<int32_t, size_t>> hetero;  // (medium, material)
     for (size_t k = 0; k < in.materials.size(); ++k) {
         const MaterialInput& mi = in.materials[k];
         check(mi.medium, "material '" + mi.name + "'");
         if (mi.medium < 0) continue;
+        if (const int32_t prog = density_program(k); prog >= 0) {
+            // a heterogeneous medium: the material's own (its density program and mesh)
+            const MediumInput& src = in.media[size_t(mi.medium)];
+            Medium m = to_medium(src, warnings_);
+            m.hetero = 1;
+            m.density_prog = prog;
+            if (has_world) {
+                m.sigma_a0 = world.sigma_a;
+                m.sigma_s0 = world.sigma_s;
+                m.emission = m.emission + world.emission;
+                m.g = combined(m, world, src.name, warnings_).g;
+            }
+            finish(m);
+            m.scatters = max_component(m.sigma_s + m.sigma_s0) > 0.0f ? 1u : 0u;
+            material_medium_[k] = int32_t(media_.size());
+            media_.push_back(m);
+            hetero.push_back({material_medium_[k], k});
+            continue;
+        }
         int32_t& at = of_input[size_t(mi.medium)];
         if (at < 0) {
             const MediumInput& src = in.media[size_t(mi.medium)];
@@ -117,6 +138,8 @@ void HostScene::build_media(const SceneInput& in) {
     view_.num_media = int32_t(media_.size());
     view_.material_medium = material_medium_.data();
     view_.world_medium = has_world ? 0 : -1;
+    for (const auto& h : hetero) build_hetero(h.first, h.second, in.materials[h.second].name);
+    if (!hetero.empty()) view_.media = media_.data();
     view_.camera_medium = camera_medium_at(view_.camera.to_world.origin());
 }
 

@@ -306,6 +306,7 @@ SceneView HostScene::copied_view(
     v.env.conditional = put(view_.env.conditional, env_->conditional.size());
     v.media = put(view_.media, media_.size());
     v.material_medium = put(view_.material_medium, material_medium_.size());
+    v.medium_maps = put(view_.medium_maps, medium_maps_.size());
     v.motion.steps = put(view_.motion.steps, motion_steps_.size());
     v.motion.objects = put(view_.motion.objects, motion_objects_.size());
     return v;
