@@ -13,12 +13,13 @@
 namespace lantern {
 
 // The medium on the far side of triangle tri for a ray crossing it (front: entering it from the
-// side its normal faces): a material with a medium is entered and left for the world's; one
-// without keeps the medium the ray is in (Cycles' stack ignores objects without a volume).
+// side its normal faces): a material with a medium is entered and left for the medium around
+// its mesh (Medium::outside: an enclosing mesh medium's, or the world's); one without keeps the
+// medium the ray is in (Cycles' stack ignores objects without a volume).
 LANTERN_HD inline int32_t medium_across(const SceneView& s, int tri, bool front, int32_t now) {
     const int32_t inside = s.material_medium[s.tri_material[tri]];
     if (inside < 0) return now;
-    return front ? inside : s.world_medium;
+    return front ? inside : s.media[inside].outside;
 }
 
 // ---- Lights along the segment, each seen through the medium up to where it lies ----

@@ -25,6 +25,8 @@ struct Medium {
     Vec3 sigma_s0;
     float majorant;        // >= the extinction's largest channel wherever the medium is (1/m)
     float density_max;     // the bound on the density the majorant was built from
+    int32_t outside;       // the medium around this one's mesh (a path leaving it enters it):
+                           // the enclosing mesh medium's, or the world's (-1: vacuum)
 };
 
 // ---- Henyey-Greenstein: cos_theta between the direction travelled and the scattered one ----
