@@ -166,3 +166,44 @@ TEST(MediumHeteroPt, AbsorbingBoxOfARampDensityIsBeerLambert) {
         EXPECT_GT(std::fabs(mean - std::exp(-s[c] * 2.5 * 1.02)), 5.0 * se) << "channel " << c;
     }
 }
+
+TEST(MediumHeteroPt, EmissionWhereTheDensityIsZeroIsTheChordTimesTheEmission) {
+    // density 0 everywhere (an attribute channel of zeros), emission (1, 2, 3) per metre: the
+    // majorant is kept above 0 so that the emission is still estimated; 1 m chord
+    if (!embree_available()) GTEST_SKIP() << "Embree not loadable: " << embree_version();
+    SceneInput in = base_scene();
+    in.world_color = vec3(0.0f);
+    MediumInput med;
+    med.name = "glow";
+    med.sigma_a = vec3(1.0f);
+    med.emission = vec3(1.0f, 2.0f, 3.0f);
+    in.media.push_back(med);
+    MaterialInput mat = volume_material(0, "glow");
+    mat.program_first = 0;
+    mat.program_count = 1;
+    in.materials.push_back(mat);
+    in.num_attribute_channels = 1;
+    MeshInput m = box({-1, -1, -3}, {1, 1, -2}, 0, "glow");
+    m.attributes.assign(m.positions.size(), 0.0f);
+    in.meshes.push_back(m);
+    in.program_code = {uint32_t(kOpInput) | (4u << 8) | (3u << 24), 0u, 0u, 0u};
+    in.programs = {0u, 1u, 0u, 0u, uint32_t(kTargetDensity), 0u};
+    const int k_seeds = 8;
+    double sum[3] = {}, sum2[3] = {};
+    for (int k = 0; k < k_seeds; ++k) {
+        const Vec3 got = render_mean(in, 1024, uint64_t(11 + k));
+        const double g[3] = {got.x, got.y, got.z};
+        for (int c = 0; c < 3; ++c) {
+            sum[c] += g[c];
+            sum2[c] += g[c] * g[c];
+        }
+    }
+    for (int c = 0; c < 3; ++c) {
+        const double mean = sum[c] / k_seeds, want = double(c + 1);
+        const double se = std::sqrt(std::max(sum2[c] / k_seeds - mean * mean, 0.0) /
+                                    (k_seeds - 1)) + 1e-6 * want;
+        std::printf("emission channel %d: %.5f want %.5f se %.2g\n", c, mean, want, se);
+        EXPECT_LT(std::fabs(mean - want), 5.0 * se) << "channel " << c;
+        EXPECT_GT(std::fabs(mean - 1.03 * want), 5.0 * se) << "channel " << c;  // control
+    }
+}

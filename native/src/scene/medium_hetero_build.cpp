@@ -137,6 +137,10 @@ void HostScene::build_hetero(int32_t med, size_t material, const std::string& na
     }
     m.density_max = std::min(dmax * 1.5f, 1e9f);
     m.majorant = max_component(m.sigma_a0 + m.sigma_s0 + (m.sigma_a + m.sigma_s) * m.density_max);
+    // an emitting medium needs tentative collisions even where nothing extinguishes: its
+    // emission is estimated at them (one per bounding-box diagonal on average)
+    if (m.emits && !(m.majorant > 0.0f) && !verts.empty())
+        m.majorant = 1.0f / std::max(length(hi - lo), 1e-6f);
 }
 
 }  // namespace lantern
