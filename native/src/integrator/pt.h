@@ -84,6 +84,19 @@ LANTERN_HD inline float pt_emission_weight(const SceneView& s, const PathState& 
     return power_heuristic(ps.prev_pdf_w[i], pick * light_pdf_w);
 }
 
+// light_pdf_w of light l for a hit at o + d t, as next-event estimation at the path's last
+// vertex would have drawn it. In a scene with media the ray may have been restarted at the
+// volume boundaries it crossed (pt_cross_boundary: not a vertex), so o is not the vertex and
+// t not its distance: both are taken from the vertex itself (PathState::prev_p); else o, t.
+LANTERN_HD inline float pt_hit_light_pdf(const SceneView& s, const PathState& ps, int i,
+                                         const Light& l, Vec3 o, Vec3 d, float t, Vec3 n) {
+    if (s.num_media > 0 && ps.depth[i] > 1) {
+        const Vec3 v = ps.prev_p[i];
+        return light_pdf_w(l, v, d, length(o + d * t - v), n);
+    }
+    return light_pdf_w(l, o, d, t, n);
+}
+
 // ---- Lights along the segment: lights are not opaque; a ray collects every light it crosses ----
 LANTERN_HD inline void pt_collect_lights(const SceneView& s, const PathState& ps, int i, Vec3 o,
                                          Vec3 d, float tmin, float tmax) {
@@ -93,7 +106,7 @@ LANTERN_HD inline void pt_collect_lights(const SceneView& s, const PathState& ps
         if (camera && !l.visible_camera) continue;
         LightHit h = intersect_light(l, o, d, tmin, tmax);
         if (!h.hit || is_black(h.le)) continue;
-        float pdf = light_pdf_w(l, o, d, h.t, h.n);
+        float pdf = pt_hit_light_pdf(s, ps, i, l, o, d, h.t, h.n);
         add_radiance(ps, i, ps.throughput[i] * h.le *
                                 pt_emission_weight(s, ps, i, s.hittable_lights[k], pdf));
     }
@@ -434,7 +447,7 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
         int li = s.tri_light ? s.tri_light[tri] : -1;
         if (li >= 0) {
             const Light& l = s.lights[li];
-            w = pt_emission_weight(s, ps, i, li, light_pdf_w(l, o, d, t_hit, h.ng));
+            w = pt_emission_weight(s, ps, i, li, pt_hit_light_pdf(s, ps, i, l, o, d, t_hit, h.ng));
         }
         // the camera's direct view of a Principled emitter: under its coat and sheen
         // (principled_emission_through; light it casts stays undimmed)
@@ -536,7 +549,7 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
                          s.offset_scale);
             if (s.num_media > 0 && dot(wi, h.ng) < 0.0f)  // through the surface
                 ps.medium[i] = medium_across(s, tri, h.front, ps.medium[i]);
-            if (s.light_tree_on) {
+            if (s.light_tree_on || s.num_media > 0) {  // media: pt_hit_light_pdf
                 ps.prev_p[i] = h.p;
                 ps.prev_n[i] = n_pick;
             }

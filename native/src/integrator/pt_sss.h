@@ -195,7 +195,7 @@ LANTERN_HD inline void pt_sss_exit(const SceneView& s, const PathState& ps, cons
     if (s.world_rays != kWorldRaysAll && ps.world_hidden)
         ps.world_hidden[i] = (s.world_rays & kWorldDiffuse) ? 0 : 1;
     set_next_ray(ps, i, p, ng, wi, pdf_w, s.offset_scale);
-    if (s.light_tree_on) {
+    if (s.light_tree_on || s.num_media > 0) {  // media: pt_hit_light_pdf
         ps.prev_p[i] = p;
         ps.prev_n[i] = n_pick;
     }

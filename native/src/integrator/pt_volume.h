@@ -32,7 +32,7 @@ LANTERN_HD inline void pt_collect_lights_medium(const SceneView& s, const PathSt
         if (camera && !l.visible_camera) continue;
         const LightHit h = intersect_light(l, o, d, tmin, tmax);
         if (!h.hit || is_black(h.le)) continue;
-        const float pdf = light_pdf_w(l, o, d, h.t, h.n);
+        const float pdf = pt_hit_light_pdf(s, ps, i, l, o, d, h.t, h.n);
         const Vec3 tr = medium_pass_weight(m, pmf, h.t - tmin);
         add_radiance(ps, i, ps.throughput[i] * tr * h.le *
                                 pt_emission_weight(s, ps, i, s.hittable_lights[k], pdf));
@@ -112,7 +112,7 @@ LANTERN_HD inline void pt_medium_vertex(const SceneView& s, const PathState& ps,
     ps.prev_pdf_w[i] = pdf_w;
     ps.alive[i] = 1;
     if (ps.world_hidden) ps.world_hidden[i] = 0;  // the world is seen from a medium (its own flag)
-    if (s.light_tree_on) {
+    if (s.light_tree_on || s.num_media > 0) {  // media: pt_hit_light_pdf
         ps.prev_p[i] = p;
         ps.prev_n[i] = n_pick;
     }

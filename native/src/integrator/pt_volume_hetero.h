@@ -44,7 +44,7 @@ LANTERN_HD inline bool pt_hetero_segment(const SceneView& s, const PathState& ps
                 if (camera && !l.visible_camera) continue;
                 const LightHit h = intersect_light(l, o0, d, a, b);
                 if (!h.hit || is_black(h.le)) continue;
-                const float pdf = light_pdf_w(l, o0, d, h.t, h.n);
+                const float pdf = pt_hit_light_pdf(s, ps, i, l, o0, d, h.t, h.n);
                 add_radiance(ps, i, beta * w * h.le *
                                         pt_emission_weight(s, ps, i, s.hittable_lights[k], pdf));
             }
