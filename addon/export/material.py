@@ -44,8 +44,10 @@ def convert_material(material, report, textures=None, add_leaf=None):
     """The Lantern material of a Blender material. A Mix / Add Shader tree becomes a "mix" of
     leaf materials, which add_leaf(dict) -> id appends to the scene (MaterialTable does). The
     Volume output: export/volume.py."""
+    textures = textures if textures is not None else TextureTable(report)
     out = _convert_surface(material, report, textures, add_leaf)
-    return attach_material_volume(material, out, report)
+    return attach_material_volume(material, out, report,
+                                  GraphCompiler(material, report, textures, textures.attributes))
 
 
 def _convert_surface(material, report, textures=None, add_leaf=None):

@@ -10,7 +10,7 @@ from .node_eval import NODE_HANDLERS, NodeContext
 from .program_builder import REGS, Builder, Unsupported, Val  # noqa: F401 (imported from here)
 
 TARGETS = ("base_color", "roughness", "metallic", "emission", "alpha", "mix_factor", "bump",
-           "displacement", "normal_map", "normal_map_world", "tangent")
+           "displacement", "normal_map", "normal_map_world", "tangent", "density")
 
 
 class GraphCompiler:

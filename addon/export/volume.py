@@ -6,8 +6,11 @@ Add and Mix Shader nodes of constant factors, with constant inputs, convert as C
 their closures (kernel/svm/closure.h): scattering Color x Density; Principled absorption
 max(1 - Color, 0) x max(1 - sqrt(Absorption Color), 0) x Density; Volume Absorption
 max(1 - Color, 0) x Density; emission Strength x Color, and Principled Volume's Blackbody
-(blackbody_emission). What is not constant (a texture on Density: a heterogeneous medium),
-other phase functions: a warning by name."""
+(blackbody_emission). A node graph on the Density of the one scattering or absorbing shader of
+a material's volume makes it heterogeneous: the coefficients above are per unit of density and
+the graph becomes the material's "density" program (native/src/scene/medium_hetero.h). Other
+graphs (on Color, on the world's volume, on two shaders' densities), other phase functions: a
+warning by name, and the socket's own value."""
 
 import math
 
@@ -31,13 +34,13 @@ def _source(socket):
     return None
 
 
-def _value(node, name, where, report):
+def _value(node, name, where, report, quiet=False):
     """A constant input: its own value; a linked one is named in a warning (its own value is
-    used: heterogeneous media are not rendered yet)."""
+    used), unless quiet (a heterogeneous Density: its graph is compiled instead)."""
     sock = node.inputs.get(name)
     if sock is None:
         return None
-    if sock.is_linked and _source(sock) is not None:
+    if sock.is_linked and _source(sock) is not None and not quiet:
         report.warn(f"{where}: the input '{name}' of '{node.name}' is linked; heterogeneous "
                     "(textured) volumes are not rendered yet, the socket's own value is used")
     v = sock.default_value
@@ -93,24 +96,51 @@ def _leaves(socket, weight, where, report, depth=0):
     return [(node, weight)]
 
 
-def convert_volume(socket, where, report):
-    """The medium dict of the shaders under a Volume socket, or None (nothing renders)."""
+def _hetero_leaf(leaves, where, report, compiler):
+    """The one scattering or absorbing leaf whose Density a node graph drives, compiled into a
+    "density" program: (node, program), or (None, None) when there is none or it cannot be
+    rendered (then a warning names it and the socket's own value is used)."""
+    if compiler is None:
+        return None, None
+    media = [n for n, _ in leaves if n.type in _SHADERS and n.type != "EMISSION"]
+    driven = [n for n in media if n.inputs.get("Density") is not None and
+              n.inputs["Density"].is_linked and _source(n.inputs["Density"]) is not None]
+    if not driven:
+        return None, None
+    if len(media) > 1:
+        report.warn(f"{where}: a node graph on Density with other volume shaders beside it is "
+                    "not rendered (one shader's density only); the socket's own value is used")
+        return None, None
+    prog = compiler.program(driven[0].inputs["Density"], "density", 1)
+    return (driven[0], prog) if prog is not None else (None, None)
+
+
+def convert_volume(socket, where, report, compiler=None, programs=None):
+    """The medium dict of the shaders under a Volume socket, or None (nothing renders). With a
+    GraphCompiler, a graph on the Density of the volume's one shader appends its "density"
+    program to `programs` (the material's) and the coefficients are per unit of density."""
     sigma_a, sigma_s, emission = [0.0] * 3, [0.0] * 3, [0.0] * 3
     lobes = []  # (scattering luminance, g)
-    for node, w in _leaves(socket, 1.0, where, report):
+    leaves = _leaves(socket, 1.0, where, report)
+    hetero, prog = _hetero_leaf(leaves, where, report, compiler)
+    if prog is not None and programs is not None:
+        programs.append(prog)
+    for node, w in leaves:
         if node.type not in _SHADERS:
             report.warn(f"{where}: '{node.name}' ({node.type}) in the Volume output is not "
                         "rendered")
             continue
         for sock in node.inputs:
-            if sock.name not in _IGNORED and sock.is_linked and _source(sock) is not None:
+            if sock.name not in _IGNORED and sock.is_linked and _source(sock) is not None and \
+                    not (node is hetero and sock.name == "Density"):
                 _value(node, sock.name, where, report)  # names it
         color = _value(node, "Color", where, report) or [1.0, 1.0, 1.0]
         if node.type == "EMISSION":
             s = _value(node, "Strength", where, report)
             emission = [e + w * s * c for e, c in zip(emission, color)]
             continue
-        density = w * max(_value(node, "Density", where, report), 0.0)
+        density = w * (1.0 if node is hetero else
+                       max(_value(node, "Density", where, report, quiet=True), 0.0))
         if node.type == "VOLUME_ABSORPTION":
             sigma_a = [a + density * max(1.0 - c, 0.0) for a, c in zip(sigma_a, color)]
             continue
@@ -150,18 +180,22 @@ def _output(tree, kind):
         (outs[0] if outs else None)
 
 
-def attach_material_volume(material, out, report):
+def attach_material_volume(material, out, report, compiler=None):
     """out (a converted material dict) with the material's Volume output: "volume" and, without
-    a Surface, "volume_only". Returns out."""
+    a Surface, "volume_only"; a graph on Density (with a GraphCompiler, material_compile): its
+    "density" program in out["programs"]. Returns out."""
     tree = getattr(material, "node_tree", None)
     output = _output(tree, "OUTPUT_MATERIAL") if tree is not None else None
     if output is None or output.inputs.get("Volume") is None or \
             _source(output.inputs["Volume"]) is None:
         return out
     where = f"Material '{material.name}'"
-    medium = convert_volume(output.inputs["Volume"], where, report)
+    programs = []
+    medium = convert_volume(output.inputs["Volume"], where, report, compiler, programs)
     if medium is not None:
         out["volume"] = medium
+        if programs:
+            out.setdefault("programs", []).extend(programs)
     if _source(output.inputs["Surface"]) is None:
         out["volume_only"] = True  # no surface: rays pass its boundary (Cycles)
     return out

@@ -16,7 +16,7 @@ MESH_ARRAYS = ("positions", "indices", "normals", "uvs", "tangents", "material_i
                "attributes")
 # node-graph programs (docs/scene_format.md "Node programs"; native/src/scene/material_program.h)
 PROGRAM_TARGETS = ("base_color", "roughness", "metallic", "emission", "alpha", "mix_factor",
-                   "bump", "displacement", "normal_map", "normal_map_world", "tangent")
+                   "bump", "displacement", "normal_map", "normal_map_world", "tangent", "density")
 PROGRAM_REGS = 192
 TEXTURE_COLORSPACES = ("srgb", "linear")
 TEXTURE_WRAPS = ("repeat", "extend", "clip", "mirror")

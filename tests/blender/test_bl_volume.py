@@ -120,3 +120,40 @@ def test_principled_volume_blackbody(empty, addon):
     np.testing.assert_allclose(_by_name(scene, "Cold")["volume"]["emission"], [0.5] * 3,
                                rtol=1e-6)
     assert not [m for m in report.messages if "Blackbody" in m], report.messages
+
+
+def test_density_graph_becomes_a_density_program(empty, addon):
+    """A Noise Texture on a Principled Volume's Density: a "density" program on the material,
+    the coefficients per unit of density, no warning; a graph on Color still warns by name (its
+    own value is used), and so does a Density graph with a second volume shader beside it."""
+    add_camera(empty)
+    mat, nt, out = _volume_only("Smoke")
+    v = nt.nodes.new("ShaderNodeVolumePrincipled")
+    v.inputs["Density"].default_value = 7.0   # not used: the graph drives it
+    v.inputs["Color"].default_value = (0.5, 0.6, 0.7, 1)
+    noise = nt.nodes.new("ShaderNodeTexNoise")
+    nt.links.new(noise.outputs["Fac"], v.inputs["Density"])
+    nt.links.new(v.outputs[0], out.inputs["Volume"])
+    add_plane(empty, material=mat, name="Box")
+    scene, report = export(addon)
+    m = _by_name(scene, "Smoke")
+    assert [p["target"] for p in m.get("programs", [])] == ["density"]
+    np.testing.assert_allclose(m["volume"]["sigma_s"], [0.5, 0.6, 0.7], rtol=1e-6)
+    assert not [w for w in report.messages if "Smoke" in w], report.messages
+    # negative: a graph on Color is not rendered (a warning names it)
+    nt.links.new(noise.outputs["Color"], v.inputs["Color"])
+    scene, report = export(addon)
+    assert any("'Color'" in w and "Smoke" in w for w in report.messages), report.messages
+    # two shaders, one with a Density graph: the socket's value, a warning
+    nt.links.remove(v.inputs["Color"].links[0])
+    ab = nt.nodes.new("ShaderNodeVolumeAbsorption")
+    add = nt.nodes.new("ShaderNodeAddShader")
+    nt.links.new(v.outputs[0], add.inputs[0])
+    nt.links.new(ab.outputs[0], add.inputs[1])
+    nt.links.new(add.outputs[0], out.inputs["Volume"])
+    scene, report = export(addon)
+    m = _by_name(scene, "Smoke")
+    assert "density" not in [p["target"] for p in m.get("programs", [])]
+    assert any("Density" in w and "Smoke" in w for w in report.messages), report.messages
+    np.testing.assert_allclose(m["volume"]["sigma_s"], 7.0 * np.array([0.5, 0.6, 0.7]),
+                               rtol=1e-6)

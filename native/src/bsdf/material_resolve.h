@@ -111,7 +111,8 @@ LANTERN_HD inline void material_apply_programs(const SceneView& s, const Materia
         // alpha.h reads the alpha where rays are traced, pt_surface_frames the bump
         if (p.target == kTargetAlpha || p.target == kTargetBump ||
             p.target == kTargetDisplacement || p.target == kTargetNormalMap ||
-            p.target == kTargetNormalMapWorld || p.target == kTargetTangent)
+            p.target == kTargetNormalMapWorld || p.target == kTargetTangent ||
+            p.target == kTargetDensity)
             continue;
         const Vec3 v = program_run(s, p, sp);
         switch (p.target) {

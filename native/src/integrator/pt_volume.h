@@ -13,12 +13,13 @@
 namespace lantern {
 
 // The medium on the far side of triangle tri for a ray crossing it (front: entering it from the
-// side its normal faces): a material with a medium is entered and left for the world's; one
-// without keeps the medium the ray is in (Cycles' stack ignores objects without a volume).
+// side its normal faces): a material with a medium is entered and left for the medium around
+// its mesh (Medium::outside: an enclosing mesh medium's, or the world's); one without keeps the
+// medium the ray is in (Cycles' stack ignores objects without a volume).
 LANTERN_HD inline int32_t medium_across(const SceneView& s, int tri, bool front, int32_t now) {
     const int32_t inside = s.material_medium[s.tri_material[tri]];
     if (inside < 0) return now;
-    return front ? inside : s.world_medium;
+    return front ? inside : s.media[inside].outside;
 }
 
 // ---- Lights along the segment, each seen through the medium up to where it lies ----
@@ -117,6 +118,12 @@ LANTERN_HD inline void pt_medium_vertex(const SceneView& s, const PathState& ps,
     }
 }
 
+}  // namespace lantern
+
+#include "integrator/pt_volume_hetero.h"  // heterogeneous media: uses pt_medium_vertex
+
+namespace lantern {
+
 // ---- Equiangular sampling's set-up for a segment from o along d over [0, len]: a light
 // picked (light tree at o, n = 0) and a point on it drawn for the whole segment, independent
 // of the distances then sampled; none (ok false) for distant lights or no light ----
@@ -157,6 +164,7 @@ __attribute__((noinline))  // out of line on the host: pt_shade stays as small a
 LANTERN_HD inline bool pt_medium_segment(const SceneView& s, const PathState& ps,
                                          const PtSettings& st, int i, bool catcher_camera) {
     const Medium& m = s.media[ps.medium[i]];
+    if (m.hetero) return pt_hetero_segment(s, ps, st, i, catcher_camera);
     const Vec3 o = ps.ray_o[i], d = ps.ray_d[i];
     const float tmin = ps.ray_tmin[i];
     const float t_end = ps.hit_prim[i] >= 0 ? ps.hit_t[i] : ps.ray_tmax[i];
@@ -225,15 +233,25 @@ LANTERN_HD inline void pt_cross_boundary(const SceneView& s, const PathState& ps
 
 // ---- Shadow ray through media: the transmittance of every medium it crosses (zero when it is
 // blocked by any surface but a volume boundary), from o along d up to tmax, starting in medium
-// med. Rays is the executor's ray query (closest(r, kind)), kind its shadow rays' RayKind. ----
+// med. Rays is the executor's ray query (closest(r, kind)), kind its shadow rays' RayKind.
+// A heterogeneous medium's transmittance is estimated by ratio tracking, with numbers from
+// path_rng's tracking block `slot` (medium_tracking_rng; a fixed stream without path_rng). ----
 template <class Rays, class Kind>
 LANTERN_HD inline Vec3 pt_shadow_transmittance(const SceneView& s, const Rays& rays, Kind kind,
-                                               Vec3 o, Vec3 d, float tmax, int32_t med) {
+                                               Vec3 o, Vec3 d, float tmax, int32_t med,
+                                               const Rng* path_rng = nullptr,
+                                               uint32_t slot = 1) {
     Vec3 tr = vec3(1.0f);
+    Rng track = medium_tracking_rng(path_rng ? *path_rng : Rng{}, slot);
     for (int k = 0; k < 256; ++k) {  // boundaries crossed (a bound: never an endless loop)
         const auto h = rays.closest(Ray{o, d, 0.0f, tmax}, kind);
         const bool hit = h.prim >= 0 && h.t < tmax;
-        if (med >= 0) tr = tr * medium_transmittance(s.media[med], hit ? h.t : tmax);
+        if (med >= 0) {
+            const Medium& m = s.media[med];
+            const float t = hit ? h.t : tmax;
+            tr = tr * (m.hetero ? medium_ratio_tracking(s, m, med, o, d, t, track)
+                                : medium_transmittance(m, t));
+        }
         if (!hit) return tr;
         if (!(s.tri_flags[h.prim] & kVolumeBoundary) || is_black(tr)) return vec3(0.0f);
         const Vec3 a = triangle_vertex(s, h.prim, 0), b = triangle_vertex(s, h.prim, 1),
@@ -255,12 +273,14 @@ LANTERN_HD inline void pt_shadow_medium(const SceneView& s, const Rays& rays, Ki
                                         const PathState& ps, int i) {
     if (ps.shadow_valid[i]) {
         const Vec3 tr = pt_shadow_transmittance(s, rays, kind, ps.shadow_o[i], ps.shadow_d[i],
-                                                ps.shadow_tmax[i], ps.shadow_medium[i]);
+                                                ps.shadow_tmax[i], ps.shadow_medium[i],
+                                                &ps.rng[i], 1u);
         if (!is_black(tr)) add_radiance(ps, i, ps.shadow_contrib[i] * tr);
     }
     if (ps.vshadow_valid[i]) {
         const Vec3 tr = pt_shadow_transmittance(s, rays, kind, ps.vshadow_o[i], ps.vshadow_d[i],
-                                                ps.vshadow_tmax[i], ps.vshadow_medium[i]);
+                                                ps.vshadow_tmax[i], ps.vshadow_medium[i],
+                                                &ps.rng[i], 2u);
         if (!is_black(tr)) add_radiance(ps, i, ps.vshadow_contrib[i] * tr);
         ps.vshadow_valid[i] = 0;
     }

@@ -80,7 +80,7 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
         if (!why.empty()) {
             media_note = "integrator '" + integ + "' does not render participating media (the " +
                          "scene has " + why + "; " +
-                         (integ == "lt" ? std::string("light tracing starts no paths in it")
+                         (integ == "lt" ? std::string("light tracing renders homogeneous, non-emissive media only")
                                         : std::string("no medium vertices in its paths")) +
                          "): rendering with pt";
             settings_.integrator = "pt";

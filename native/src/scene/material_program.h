@@ -18,8 +18,11 @@ namespace lantern {
 enum ProgramTarget : uint32_t {
     kTargetBaseColor = 0, kTargetRoughness = 1, kTargetMetallic = 2, kTargetEmission = 3,
     kTargetAlpha = 4, kTargetMixFactor = 5, kTargetBump = 6, kTargetDisplacement = 7,
-    kTargetNormalMap = 8, kTargetNormalMapWorld = 9, kTargetTangent = 10, kTargetCount = 11,
+    kTargetNormalMap = 8, kTargetNormalMapWorld = 9, kTargetTangent = 10, kTargetDensity = 11,
+    kTargetCount = 12,
 };
+// kTargetDensity: the Density of a material's volume shader (a heterogeneous medium,
+// scene/medium_hetero.h), run at points inside the medium, never at a surface hit.
 // kTargetTangent: the anisotropy tangent, a world direction (an unlinked Tangent input's
 // default, Cycles' radial tangent about the object's Z axis, or a Tangent node in Radial
 // mode), read by pt.h anisotropy_angle in place of the uv or triangle tangent.

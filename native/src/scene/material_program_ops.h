@@ -17,13 +17,19 @@ struct ShadePoint {
     Vec3 ng;       // geometric normal, same side
     Vec3 wo;       // unit direction towards the viewer (Cycles' I)
     Vec2 st;       // the mesh's uv map
-    int32_t tri;   // triangle, -1 when unknown (attributes then read 0)
+    int32_t tri;   // triangle, -1 when unknown (attributes then read 0), -2 - k: a point
+                   // inside heterogeneous medium k (scene/medium_hetero.h)
     Vec2 bary;     // barycentrics of vertices 1 and 2
     bool backfacing;
 };
 
 // Per-vertex attribute channel c (3 floats) of the hit's triangle, interpolated.
 LANTERN_HD inline Vec3 shade_attribute(const SceneView& s, const ShadePoint& sp, int c) {
+    if (sp.tri <= -2) {  // a point inside heterogeneous medium -2 - tri: the channel's map
+        if (!s.medium_maps || c < 0 || c >= s.num_attribute_channels) return Vec3{};
+        return s.medium_maps[size_t(-2 - sp.tri) * size_t(s.num_attribute_channels) + size_t(c)]
+            .point(sp.p);
+    }
     if (sp.tri < 0 || !s.attributes || c < 0 || c >= s.num_attribute_channels) return Vec3{};
     const uint32_t* idx = s.indices + 3 * sp.tri;
     const float w[3] = {1.0f - sp.bary.x - sp.bary.y, sp.bary.x, sp.bary.y};

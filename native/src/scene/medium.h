@@ -17,7 +17,16 @@ struct Medium {
     float g;         // Henyey-Greenstein anisotropy, |g| <= 0.999 (the host clamps it)
     uint32_t scatters;  // 1: some channel's sigma_s > 0 (else transmittance is deterministic)
     uint32_t emits;     // 1: emission > 0 in some channel
-    uint32_t pad;
+    uint32_t hetero;    // 1: heterogeneous (scene/medium_hetero.h): the coefficients above are
+                        // per unit of density, the density a node program's (density_prog)
+    // ---- heterogeneous media only (hetero 1) ----
+    int32_t density_prog;  // index into SceneView::programs (kTargetDensity)
+    Vec3 sigma_a0;         // a constant part added to density x sigma_a (the world's volume)
+    Vec3 sigma_s0;
+    float majorant;        // >= the extinction's largest channel wherever the medium is (1/m)
+    float density_max;     // the bound on the density the majorant was built from
+    int32_t outside;       // the medium around this one's mesh (a path leaving it enters it):
+                           // the enclosing mesh medium's, or the world's (-1: vacuum)
 };
 
 // ---- Henyey-Greenstein: cos_theta between the direction travelled and the scattered one ----

@@ -1,12 +1,15 @@
 // The scene's media (docs/volumes.md): SceneInput::media sanitised into SceneView::media, the
 // medium inside each material, the volume boundaries' triangle flags and the camera's medium.
 // A mesh medium in a world volume holds both (Cycles sums the volumes it is inside).
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "scene/scene.h"
+#include "scene/material_program.h"
 
 namespace lantern {
 
@@ -82,6 +85,11 @@ std::string emissive_media_reason(const SceneInput& in) {
     if (emits(in.world_medium)) return "an emissive world volume";
     for (const MaterialInput& m : in.materials)
         if (emits(m.medium)) return "an emissive volume (material '" + m.name + "')";
+    // lt's medium vertices sample homogeneous media only (integrator/lt_medium.h): a density
+    // from a node graph (scene/medium_hetero.h) is pt's alone yet
+    for (size_t k = 4; k < in.programs.size(); k += 6)
+        if (in.programs[k] == uint32_t(kTargetDensity))
+            return "a heterogeneous volume (a Density driven by a node graph)";
     return "";
 }
 
@@ -106,10 +114,30 @@ void HostScene::build_media(const SceneInput& in) {
     }
     std::vector<int32_t> of_input(size_t(n_in), -1);  // input medium -> media_ index
     material_medium_.assign(materials_.size(), -1);
+    std::vector<std::pair<int32_t, size_t>> hetero;  // (medium, material)
     for (size_t k = 0; k < in.materials.size(); ++k) {
         const MaterialInput& mi = in.materials[k];
         check(mi.medium, "material '" + mi.name + "'");
         if (mi.medium < 0) continue;
+        if (const int32_t prog = density_program(k); prog >= 0) {
+            // a heterogeneous medium: the material's own (its density program and mesh)
+            const MediumInput& src = in.media[size_t(mi.medium)];
+            Medium m = to_medium(src, warnings_);
+            m.hetero = 1;
+            m.density_prog = prog;
+            if (has_world) {
+                m.sigma_a0 = world.sigma_a;
+                m.sigma_s0 = world.sigma_s;
+                m.emission = m.emission + world.emission;
+                m.g = combined(m, world, src.name, warnings_).g;
+            }
+            finish(m);
+            m.scatters = max_component(m.sigma_s + m.sigma_s0) > 0.0f ? 1u : 0u;
+            material_medium_[k] = int32_t(media_.size());
+            media_.push_back(m);
+            hetero.push_back({material_medium_[k], k});
+            continue;
+        }
         int32_t& at = of_input[size_t(mi.medium)];
         if (at < 0) {
             const MediumInput& src = in.media[size_t(mi.medium)];
@@ -129,6 +157,12 @@ void HostScene::build_media(const SceneInput& in) {
     view_.num_media = int32_t(media_.size());
     view_.material_medium = material_medium_.data();
     view_.world_medium = has_world ? 0 : -1;
+    for (Medium& m : media_) m.outside = view_.world_medium;
+    if (has_world) media_[0].outside = -1;
+    nest_media(in, has_world ? &world : nullptr);
+    for (const auto& h : hetero) build_hetero(h.first, h.second, in.materials[h.second].name);
+    view_.media = media_.data();  // nesting may have added media
+    view_.num_media = int32_t(media_.size());
     view_.camera_medium = camera_medium_at(view_.camera.to_world.origin());
     // where each light's paths start (lt): the medium at its centre; distant lights the world's
     light_medium_.assign(lights_.size(), view_.world_medium);
@@ -148,9 +182,127 @@ void HostScene::build_media(const SceneInput& in) {
     view_.light_medium = light_medium_.empty() ? nullptr : light_medium_.data();
 }
 
+// ---- Nesting: the medium around each medium mesh (Medium::outside). A mesh medium whose mesh
+// lies inside another's holds both, as Cycles sums the volumes of its stack: its coefficients
+// are the enclosing medium's plus its own (computed outer first); a path leaving it is back in
+// the enclosing one. The enclosing mesh: of the other medium meshes that hold a point just
+// outside one of its faces (an odd number of crossings along a ray), the one of the smallest
+// bounding box. Heterogeneous media nest (outside) but are not summed (a warning). ----
+void HostScene::nest_media(const SceneInput& in, const Medium* world) {
+    struct Mesh {
+        size_t material;
+        Vec3 lo, hi, q;  // bounds; a point just outside its first face
+        bool ok = false;
+        double volume = 0.0;
+        int parent = -1;  // index into meshes
+    };
+    std::vector<Mesh> meshes;
+    for (size_t k = 0; k < material_medium_.size(); ++k)
+        if (material_medium_[k] >= 0) meshes.push_back(Mesh{k, vec3(kInf), vec3(-kInf), {}});
+    if (meshes.size() < 2) return;
+    std::vector<int> of_material(material_medium_.size(), -1);
+    for (size_t j = 0; j < meshes.size(); ++j) of_material[meshes[j].material] = int(j);
+    auto tri_p = [&](size_t t, int v) { return positions_[indices_[3 * t + size_t(v)]]; };
+    for (size_t t = 0; t < tri_material_.size(); ++t) {
+        if (tri_material_[t] >= of_material.size() || of_material[tri_material_[t]] < 0)
+            continue;
+        Mesh& m = meshes[size_t(of_material[tri_material_[t]])];
+        for (int v = 0; v < 3; ++v) {
+            const Vec3 p = tri_p(t, v);
+            m.lo = Vec3{std::fmin(m.lo.x, p.x), std::fmin(m.lo.y, p.y), std::fmin(m.lo.z, p.z)};
+            m.hi = Vec3{std::fmax(m.hi.x, p.x), std::fmax(m.hi.y, p.y), std::fmax(m.hi.z, p.z)};
+        }
+        const Vec3 n = cross(tri_p(t, 1) - tri_p(t, 0), tri_p(t, 2) - tri_p(t, 0));
+        if (!m.ok && length(n) > 0.0f) {
+            m.q = (tri_p(t, 0) + tri_p(t, 1) + tri_p(t, 2)) / 3.0f;
+            m.ok = true;
+            m.parent = int(t);  // the face, for now
+        }
+    }
+    for (Mesh& m : meshes) {
+        if (!m.ok) continue;
+        const Vec3 e = m.hi - m.lo;
+        m.volume = double(e.x) * e.y * e.z;
+        const size_t t = size_t(m.parent);
+        const Vec3 n = normalize(cross(tri_p(t, 1) - tri_p(t, 0), tri_p(t, 2) - tri_p(t, 0)));
+        m.q = m.q + n * (1e-4f * std::fmax(length(e), 1e-3f));
+        m.parent = -1;
+    }
+    const Vec3 d = normalize(Vec3{0.5773f, 0.5801f, 0.5749f});
+    std::vector<int> crossings(meshes.size());
+    for (size_t j = 0; j < meshes.size(); ++j) {
+        Mesh& m = meshes[j];
+        if (!m.ok) continue;
+        std::fill(crossings.begin(), crossings.end(), 0);
+        for (size_t t = 0; t < tri_material_.size(); ++t) {
+            if (tri_material_[t] >= of_material.size()) continue;
+            const int o = of_material[tri_material_[t]];
+            if (o < 0 || size_t(o) == j) continue;
+            const Vec3 a = tri_p(t, 0), e1 = tri_p(t, 1) - a, e2 = tri_p(t, 2) - a;
+            const Vec3 pv = cross(d, e2);
+            const float det = dot(e1, pv);
+            if (std::fabs(det) < 1e-20f) continue;
+            const Vec3 sv = m.q - a;
+            const float u = dot(sv, pv) / det;
+            const Vec3 qv = cross(sv, e1);
+            const float v = dot(d, qv) / det;
+            if (u < 0.0f || v < 0.0f || u + v > 1.0f || !(dot(e2, qv) / det > 0.0f)) continue;
+            ++crossings[size_t(o)];
+        }
+        for (size_t o = 0; o < meshes.size(); ++o)
+            if ((crossings[o] & 1) &&
+                (m.parent < 0 || meshes[o].volume < meshes[size_t(m.parent)].volume))
+                m.parent = int(o);
+    }
+    std::vector<size_t> order(meshes.size());
+    for (size_t j = 0; j < order.size(); ++j) order[j] = j;
+    std::sort(order.begin(), order.end(),
+              [&](size_t a, size_t b) { return meshes[a].volume > meshes[b].volume; });
+    for (size_t j : order) {
+        const Mesh& m = meshes[j];
+        if (m.parent < 0) continue;
+        const int32_t outer = material_medium_[meshes[size_t(m.parent)].material];
+        const int32_t inner = material_medium_[m.material];
+        const std::string& name = in.materials[m.material].name;
+        if (media_[size_t(inner)].hetero || media_[size_t(outer)].hetero) {
+            media_[size_t(inner)].outside = outer;
+            warnings_.push_back("medium '" + name + "' lies inside another medium's mesh and "
+                                "one of them is heterogeneous: inside it only its own medium "
+                                "(and the world's) is rendered, not their sum");
+            continue;
+        }
+        const Medium& a = media_[size_t(inner)];
+        const Medium& b = media_[size_t(outer)];
+        const Medium w = world ? *world : Medium{};
+        Medium m2 = a;  // a + b - the world's (both hold it)
+        m2.sigma_a = a.sigma_a + b.sigma_a - w.sigma_a;
+        m2.sigma_s = a.sigma_s + b.sigma_s - w.sigma_s;
+        m2.emission = a.emission + b.emission - w.emission;
+        const float la = luminance(a.sigma_s), lb = luminance(b.sigma_s),
+                    lw = luminance(w.sigma_s);
+        if (la + lb - lw > 0.0f) m2.g = (a.g * la + b.g * lb - w.g * lw) / (la + lb - lw);
+        if (la - lw > 0.0f && lb - lw > 0.0f && a.g != b.g)
+            warnings_.push_back("medium '" + name + "' inside another medium: their "
+                                "anisotropies differ; one lobe of their mean stands for both");
+        m2.sigma_a = Vec3{std::fmax(m2.sigma_a.x, 0.0f), std::fmax(m2.sigma_a.y, 0.0f),
+                          std::fmax(m2.sigma_a.z, 0.0f)};
+        m2.sigma_s = Vec3{std::fmax(m2.sigma_s.x, 0.0f), std::fmax(m2.sigma_s.y, 0.0f),
+                          std::fmax(m2.sigma_s.z, 0.0f)};
+        m2.emission = Vec3{std::fmax(m2.emission.x, 0.0f), std::fmax(m2.emission.y, 0.0f),
+                           std::fmax(m2.emission.z, 0.0f)};
+        m2.sigma_t = m2.sigma_a + m2.sigma_s;
+        m2.scatters = max_component(m2.sigma_s) > 0.0f ? 1u : 0u;
+        m2.emits = max_component(m2.emission) > 0.0f ? 1u : 0u;
+        m2.outside = outer;
+        material_medium_[m.material] = int32_t(media_.size());  // its own: nesting is per mesh
+        media_.push_back(m2);
+    }
+}
+
 // The medium at p: the nearest medium boundary along a fixed ray from p, left through its back
-// (p is inside that material's medium) or entered through its front (p is outside: the
-// world's). Closed, non-overlapping meshes with outward normals, as pt's tracking assumes.
+// (p is inside that material's medium) or entered through its front (p is outside: the medium
+// around it, Medium::outside). Closed meshes with outward normals, nested or apart, as pt's
+// tracking assumes.
 int32_t HostScene::camera_medium_at(Vec3 p) const {
     const Vec3 d = normalize(Vec3{0.5773f, 0.5801f, 0.5749f});  // off every axis and diagonal
     float best = kInf;
@@ -170,7 +322,8 @@ int32_t HostScene::camera_medium_at(Vec3 p) const {
         const float th = dot(e2, r) / det;
         if (u < 0.0f || v < 0.0f || u + v > 1.0f || !(th > 0.0f) || th >= best) continue;
         best = th;
-        medium = dot(cross(e1, e2), d) > 0.0f ? material_medium_[mat] : view_.world_medium;
+        medium = dot(cross(e1, e2), d) > 0.0f ? material_medium_[mat]
+                                               : media_[size_t(material_medium_[mat])].outside;
     }
     return medium;
 }

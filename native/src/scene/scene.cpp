@@ -307,6 +307,7 @@ SceneView HostScene::copied_view(
     v.media = put(view_.media, media_.size());
     v.material_medium = put(view_.material_medium, material_medium_.size());
     v.light_medium = put(view_.light_medium, light_medium_.size());
+    v.medium_maps = put(view_.medium_maps, medium_maps_.size());
     v.motion.steps = put(view_.motion.steps, motion_steps_.size());
     v.motion.objects = put(view_.motion.objects, motion_objects_.size());
     return v;

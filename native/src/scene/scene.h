@@ -205,6 +205,9 @@ private:
     void add_programs(const SceneInput& in);  // scene/material_program.cpp
     void fill_lobe_tables();
     void build_media(const SceneInput& in);  // scene/medium_build.cpp
+    int32_t density_program(size_t material) const;  // scene/medium_hetero_build.cpp
+    void build_hetero(int32_t med, size_t material, const std::string& name);
+    void nest_media(const SceneInput& in, const Medium* world);  // scene/medium_build.cpp
     int32_t camera_medium_at(Vec3 p) const;
     void build_motion(const SceneInput& in);  // scene/motion_build.cpp
 
@@ -229,6 +232,7 @@ private:
     std::vector<Medium> media_;               // SceneView::media
     std::vector<int32_t> material_medium_;    // SceneView::material_medium (empty: no media)
     std::vector<int32_t> light_medium_;       // SceneView::light_medium (empty: no media)
+    std::vector<Transform> medium_maps_;      // SceneView::medium_maps (empty: none heterogeneous)
     int num_attribute_channels_ = 0;
     std::shared_ptr<const EnvMapStorage> env_ = std::make_shared<EnvMapStorage>();  // cached
     bool has_emitters_ = false;

@@ -345,6 +345,10 @@ struct SceneView {
     // reads further. A mesh medium holds the world's coefficients too (as Cycles' stack sums).
     const Medium* media = nullptr;
     const int32_t* material_medium = nullptr;  // per material: the medium inside, -1: none
+    // per medium x attribute channel (num_attribute_channels): the channel as an affine map of
+    // the world position inside a heterogeneous medium (Generated, Object coordinates of its
+    // mesh; zero for channels that are not affine); null when no medium is heterogeneous
+    const Transform* medium_maps = nullptr;
     int32_t num_media = 0;
     // 1: some material scatters under its surface (pt's walk stage runs: integrator/pt_sss.h)
     int32_t has_subsurface = 0;

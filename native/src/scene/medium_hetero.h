@@ -1,0 +1,141 @@
+// Heterogeneous media (docs/volumes.md): a medium's coefficients per unit of density times a
+// density that a node program gives at each point inside (kTargetDensity; Generated and Object
+// coordinates read as affine maps of the world position, SceneView::medium_maps), plus a
+// constant part (the world's volume). Sampled by null-collision tracking against a constant
+// majorant: distances by spectral tracking, transmittance by ratio tracking; both unbiased for
+// any majorant > 0 (where the density exceeds it the null weights turn negative). Host+device,
+// no state; the random numbers come from a hashed stream (medium_tracking_rng).
+#pragma once
+
+#include "core/rng.h"
+#include "scene/material_program.h"
+#include "scene/medium.h"
+
+namespace lantern {
+
+// Tentative collisions per tracked segment at most: a segment that needs more (an enormous
+// density over a long way) ends there with weight 0, where its transmittance is about 0 anyway.
+constexpr int kMaxTrackingSteps = 4096;
+
+// The stream a tracking draws from: the path's stream hashed, in a block of its own for each
+// (dimension the path's stream is at, slot): slot 0 the segment's distance, 1 and 2 its shadow
+// rays (pt_volume.h), so no two trackings of a path share numbers.
+LANTERN_HD inline Rng medium_tracking_rng(const Rng& path, uint32_t slot) {
+    Rng r = path;
+    r.dim = kQmcDims + ((path.dim * 4u + slot) << 14);
+    return r;
+}
+
+// The point p inside medium med as a program sees it: no triangle (tri -2 - med, so that
+// attributes read the medium's maps), no normal, the viewer back along d.
+LANTERN_HD inline ShadePoint medium_shade_point(int32_t med, Vec3 p, Vec3 d) {
+    ShadePoint sp;
+    sp.p = p;
+    sp.n = vec3(0.0f);
+    sp.ng = vec3(0.0f);
+    sp.wo = -d;
+    sp.st = Vec2{};
+    sp.tri = -2 - med;
+    sp.bary = Vec2{};
+    sp.backfacing = false;
+    return sp;
+}
+
+// The density at p (>= 0: Cycles takes a negative density as none; NaN is 0 in program_run;
+// at most 1e9, as homogeneous coefficients are clamped).
+LANTERN_HD inline float medium_density(const SceneView& s, const Medium& m, int32_t med, Vec3 p,
+                                       Vec3 d) {
+    const float v = program_run(s, s.programs[m.density_prog], medium_shade_point(med, p, d)).x;
+    return v > 0.0f ? fminf(v, 1e9f) : 0.0f;
+}
+
+struct MediumCoeffs {
+    Vec3 sigma_a, sigma_s;
+};
+LANTERN_HD inline MediumCoeffs medium_coeffs_at(const SceneView& s, const Medium& m, int32_t med,
+                                                Vec3 p, Vec3 d) {
+    const float den = medium_density(s, m, med, p, d);
+    return MediumCoeffs{m.sigma_a0 + m.sigma_a * den, m.sigma_s0 + m.sigma_s * den};
+}
+
+LANTERN_HD inline float mean_abs(Vec3 v) { return (fabsf(v.x) + fabsf(v.y) + fabsf(v.z)) / 3.0f; }
+
+// ---- Ratio tracking [Novak, Selle, Jarosz 2014]: an unbiased estimate of the transmittance
+// over [0, t] from o along d, the product over tentative collisions (rate mu) of
+// 1 - sigma_t(x) / mu; Russian roulette once it is small ----
+LANTERN_HD inline Vec3 medium_ratio_tracking(const SceneView& s, const Medium& m, int32_t med,
+                                             Vec3 o, Vec3 d, float t, Rng& rng) {
+    Vec3 tr = vec3(1.0f);
+    const float mu = m.majorant;
+    if (!(mu > 0.0f)) return tr;
+    float x = 0.0f;
+    for (int k = 0; k < kMaxTrackingSteps; ++k) {
+        x += -log1pf(-rng.uniform()) / mu;
+        if (!(x < t)) return tr;
+        const MediumCoeffs c = medium_coeffs_at(s, m, med, o + d * x, d);
+        tr = tr * (vec3(1.0f) - (c.sigma_a + c.sigma_s) / mu);
+        const float a = fmaxf(fabsf(tr.x), fmaxf(fabsf(tr.y), fabsf(tr.z)));
+        if (a < 0.1f) {  // roulette: survive with probability 1/2, twice the weight
+            if (!(a > 0.0f) || rng.uniform() >= 0.5f) return vec3(0.0f);
+            tr = tr * 2.0f;
+        }
+    }
+    return vec3(0.0f);
+}
+
+// ---- Spectral tracking [Kutz, Habel, Li, Novak 2017]: the distance to a real scattering event
+// over [0, t_end] from o along d, for a path of throughput beta. At each tentative collision
+// (rate mu) the path scatters with probability P_s or goes on (null) with P_n, proportional to
+// the mean over channels of |beta W sigma_s| and |beta W sigma_n| (W the weight so far,
+// sigma_n = mu - sigma_t); the weight takes sigma_s / (mu P_s) or sigma_n / (mu P_n). Absorption
+// is in the weight (sigma_s + sigma_n = mu - sigma_a), not an event. on_collision(t, W) is called
+// at each tentative collision before its event (for the emission, whose estimate is W e / mu),
+// on_interval(a, b, W) for each stretch [a, b) the path passes with weight W (lights crossed
+// there). ----
+struct HeteroStep {
+    float t;         // where it scatters, or t_end
+    bool scattered;
+    Vec3 weight;     // the throughput factor W (the pass weight when not scattered)
+};
+
+template <class OnCollision, class OnInterval>
+LANTERN_HD inline HeteroStep medium_track(const SceneView& s, const Medium& m, int32_t med,
+                                          Vec3 o, Vec3 d, float t_end, Vec3 beta, Rng& rng,
+                                          OnCollision on_collision, OnInterval on_interval) {
+    HeteroStep r{t_end, false, vec3(1.0f)};
+    const float mu = m.majorant;
+    float x = 0.0f;
+    if (!(mu > 0.0f)) {
+        on_interval(0.0f, t_end, r.weight);
+        return r;
+    }
+    for (int k = 0; k < kMaxTrackingSteps; ++k) {
+        const float xn = x - log1pf(-rng.uniform()) / mu;
+        if (!(xn < t_end)) {
+            on_interval(x, t_end, r.weight);
+            return r;
+        }
+        on_interval(x, xn, r.weight);
+        x = xn;
+        on_collision(x, r.weight);
+        const MediumCoeffs c = medium_coeffs_at(s, m, med, o + d * x, d);
+        const Vec3 sigma_n = vec3(mu) - c.sigma_a - c.sigma_s;
+        const Vec3 h = beta * r.weight;
+        const float ws = mean_abs(h * c.sigma_s), wn = mean_abs(h * sigma_n);
+        if (!(ws + wn > 0.0f)) break;  // all absorbed (or a zero throughput): nothing goes on
+        const float ps = ws / (ws + wn);
+        if (rng.uniform() < ps) {
+            r.weight = r.weight * c.sigma_s / (mu * ps);
+            r.t = x;
+            r.scattered = true;
+            return r;
+        }
+        r.weight = r.weight * sigma_n / (mu * (1.0f - ps));
+    }
+    r.t = t_end;
+    r.scattered = false;
+    r.weight = vec3(0.0f);
+    return r;
+}
+
+}  // namespace lantern

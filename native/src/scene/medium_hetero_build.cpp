@@ -1,0 +1,146 @@
+// Heterogeneous media at scene load (scene/medium_hetero.h, docs/volumes.md): the medium of a
+// material whose volume Density is driven by a node program (kTargetDensity), its attribute
+// channels as affine maps of the world position (fitted to the vertices of the material's
+// triangles: Generated and Object coordinates are affine in position for an undeformed mesh)
+// and its majorant (the density's largest value on a lattice over the triangles' bounds, with
+// a margin; the tracking stays unbiased where the density exceeds it, with negative weights).
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "scene/medium_hetero.h"
+#include "scene/scene.h"
+
+namespace lantern {
+
+namespace {
+
+// Solves the 4x4 system a x = b (Gaussian elimination, partial pivoting); false if singular.
+bool solve4(double a[4][4], double b[4]) {
+    for (int c = 0; c < 4; ++c) {
+        int piv = c;
+        for (int r = c + 1; r < 4; ++r)
+            if (std::fabs(a[r][c]) > std::fabs(a[piv][c])) piv = r;
+        if (!(std::fabs(a[piv][c]) > 1e-30)) return false;
+        std::swap(a[c], a[piv]);
+        std::swap(b[c], b[piv]);
+        for (int r = c + 1; r < 4; ++r) {
+            const double f = a[r][c] / a[c][c];
+            for (int k = c; k < 4; ++k) a[r][k] -= f * a[c][k];
+            b[r] -= f * b[c];
+        }
+    }
+    for (int c = 3; c >= 0; --c) {
+        for (int k = c + 1; k < 4; ++k) b[c] -= a[c][k] * b[k];
+        b[c] /= a[c][c];
+    }
+    return true;
+}
+
+}  // namespace
+
+int32_t HostScene::density_program(size_t material) const {
+    const Material& m = materials_[material];
+    if (!(m.tex_flags & kTexProgram)) return -1;
+    for (int i = 0; i < m.prog_count; ++i)
+        if (programs_[size_t(m.prog_first + i)].target == kTargetDensity) return m.prog_first + i;
+    return -1;
+}
+
+// The maps of medium `med` (media_ index) from the vertices of material `material`'s
+// triangles, and its majorant. Warns (by the medium's name) when a channel its program reads
+// is not affine in position (a deformed mesh, or two objects of different texture spaces
+// sharing the material): that channel then reads its best affine fit.
+void HostScene::build_hetero(int32_t med, size_t material, const std::string& name) {
+    Medium& m = media_[size_t(med)];
+    const int nch = num_attribute_channels_;
+    std::vector<uint32_t> verts;
+    Vec3 lo = vec3(kInf), hi = vec3(-kInf);
+    for (size_t t = 0; t < tri_material_.size(); ++t) {
+        if (tri_material_[t] != material) continue;
+        for (int k = 0; k < 3; ++k) {
+            const uint32_t v = indices_[3 * t + size_t(k)];
+            verts.push_back(v);
+            const Vec3 q = positions_[v];
+            lo = Vec3{std::min(lo.x, q.x), std::min(lo.y, q.y), std::min(lo.z, q.z)};
+            hi = Vec3{std::max(hi.x, q.x), std::max(hi.y, q.y), std::max(hi.z, q.z)};
+        }
+    }
+    std::sort(verts.begin(), verts.end());
+    verts.erase(std::unique(verts.begin(), verts.end()), verts.end());
+    if (nch > 0) {
+        if (medium_maps_.empty()) medium_maps_.assign(media_.size() * size_t(nch), Transform{});
+        // the channels the density program reads (kOpInput, mode 4: an attribute)
+        std::vector<bool> read(size_t(nch), false);
+        const MaterialProgram& p = programs_[size_t(m.density_prog)];
+        for (int k = 0; k < p.num_instr; ++k) {
+            const NodeInstr& n = program_code_[size_t(p.first_instr + k)];
+            if (n.op == kOpInput && n.mode == 4 && n.aux >= 0 && n.aux < nch)
+                read[size_t(n.aux)] = true;
+        }
+        // least squares per channel over the vertices: attr = M (p, 1)
+        double ata[4][4] = {};
+        for (uint32_t v : verts) {
+            const double x[4] = {positions_[v].x, positions_[v].y, positions_[v].z, 1.0};
+            for (int r = 0; r < 4; ++r)
+                for (int c = 0; c < 4; ++c) ata[r][c] += x[r] * x[c];
+        }
+        for (int c = 0; c < nch; ++c) {
+            Transform tf{};
+            double worst = 0.0, scale = 0.0;
+            bool ok = true;
+            for (int j = 0; j < 3 && ok; ++j) {
+                double atb[4] = {}, a[4][4];
+                for (uint32_t v : verts) {
+                    const double x[4] = {positions_[v].x, positions_[v].y, positions_[v].z, 1.0};
+                    const double y = attributes_[size_t(v) * 3 * size_t(nch) + 3 * size_t(c) +
+                                                 size_t(j)];
+                    for (int r = 0; r < 4; ++r) atb[r] += x[r] * y;
+                }
+                std::copy(&ata[0][0], &ata[0][0] + 16, &a[0][0]);
+                ok = solve4(a, atb);
+                for (int r = 0; r < 4 && ok; ++r) tf.m[j][r] = float(atb[r]);
+            }
+            if (!ok) continue;  // flat or degenerate: the channel reads 0
+            for (uint32_t v : verts) {
+                const Vec3 f = tf.point(positions_[v]);
+                const float* y = &attributes_[size_t(v) * 3 * size_t(nch) + 3 * size_t(c)];
+                worst = std::max({worst, std::fabs(double(f.x) - y[0]),
+                                  std::fabs(double(f.y) - y[1]), std::fabs(double(f.z) - y[2])});
+                scale = std::max({scale, std::fabs(double(y[0])), std::fabs(double(y[1])),
+                                  std::fabs(double(y[2]))});
+            }
+            if (read[size_t(c)] && worst > 1e-3 * std::max(scale, 1.0))
+                warnings_.push_back("medium '" + name + "': attribute channel " +
+                                    std::to_string(c) + " that its density reads is not an "
+                                    "affine function of position over the mesh (deformed, or "
+                                    "the material on objects of different texture spaces); "
+                                    "inside the volume it reads its affine fit");
+            medium_maps_[size_t(med) * size_t(nch) + size_t(c)] = tf;
+        }
+        view_.medium_maps = medium_maps_.data();
+    }
+    // the majorant: the density's largest value on a lattice over the bounds, times 1.5
+    SceneView host = view_;
+    host.media = media_.data();
+    constexpr int kLattice = 24;
+    float dmax = 0.0f;
+    if (!verts.empty()) {
+        for (int z = 0; z <= kLattice; ++z)
+            for (int y = 0; y <= kLattice; ++y)
+                for (int x = 0; x <= kLattice; ++x) {
+                    const Vec3 f{float(x) / kLattice, float(y) / kLattice, float(z) / kLattice};
+                    const Vec3 p = lo + (hi - lo) * f;
+                    dmax = std::max(dmax, medium_density(host, m, med, p, Vec3{0, 0, 1}));
+                }
+    }
+    m.density_max = std::min(dmax * 1.5f, 1e9f);
+    m.majorant = max_component(m.sigma_a0 + m.sigma_s0 + (m.sigma_a + m.sigma_s) * m.density_max);
+    // an emitting medium needs tentative collisions even where nothing extinguishes: its
+    // emission is estimated at them (one per bounding-box diagonal on average)
+    if (m.emits && !(m.majorant > 0.0f) && !verts.empty())
+        m.majorant = 1.0f / std::max(length(hi - lo), 1e-6f);
+}
+
+}  // namespace lantern

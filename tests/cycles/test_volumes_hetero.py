@@ -1,0 +1,97 @@
+"""Heterogeneous volumes against Cycles through the add-on (docs/volumes.md): a smoke cube whose
+Principled Volume Density is a Noise Texture (Generated coordinates, through Math nodes that
+leave empty pockets), on a floor, lit by a sun from the side (its shadow rays cross the smoke:
+ratio tracking) and a dim world. K seeds of each renderer (tools/render_compare.py's settings),
+lantern.metrics.assert_agreement with its negative controls, and one more control of the
+density's pattern: Lantern rendering the noise at Scale 3.5 instead of 3 (the same statistics,
+another pattern) must be told apart from Cycles."""
+
+import os
+import sys
+
+import numpy as np
+
+import bpy  # noqa: E402 (conftest.py skips this folder without bpy or the core)
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+sys.path.insert(0, os.path.join(ROOT, "tools"))
+import bpy_stage  # noqa: E402
+import render_compare as rc  # noqa: E402
+from bpy_stage import camera as _camera, cube as _cube, light as _light  # noqa: E402
+
+K = 8
+SIZE = 32
+SPP = (256, 256)   # Cycles', Lantern's per seed
+SE_FLOOR = 1e-6
+
+
+def _material(name, color):
+    m = bpy.data.materials.new(name)
+    m.use_nodes = True
+    m.node_tree.nodes["Principled BSDF"].inputs["Base Color"].default_value = (*color, 1.0)
+    m.node_tree.nodes["Principled BSDF"].inputs["Roughness"].default_value = 1.0
+    return m
+
+
+def _smoke_material():
+    """Principled Volume (no Surface) of Density 8 x clamp(Noise Fac - 0.45, 0, 1)."""
+    m = bpy.data.materials.new("smoke")
+    m.use_nodes = True
+    nt = m.node_tree
+    nt.nodes.remove(nt.nodes["Principled BSDF"])
+    v = nt.nodes.new("ShaderNodeVolumePrincipled")
+    v.inputs["Color"].default_value = (0.85, 0.8, 0.7, 1.0)
+    v.inputs["Absorption Color"].default_value = (0.3, 0.3, 0.3, 1.0)
+    noise = nt.nodes.new("ShaderNodeTexNoise")
+    noise.name = "noise"
+    noise.inputs["Scale"].default_value = 3.0
+    noise.inputs["Detail"].default_value = 2.0
+    sub = nt.nodes.new("ShaderNodeMath")
+    sub.operation, sub.use_clamp = "SUBTRACT", True
+    sub.inputs[1].default_value = 0.45
+    mul = nt.nodes.new("ShaderNodeMath")
+    mul.operation = "MULTIPLY"
+    mul.inputs[1].default_value = 8.0
+    nt.links.new(noise.outputs["Fac"], sub.inputs[0])
+    nt.links.new(sub.outputs[0], mul.inputs[0])
+    nt.links.new(mul.outputs[0], v.inputs["Density"])
+    nt.links.new(v.outputs[0], nt.nodes["Material Output"].inputs["Volume"])
+    return m
+
+
+def smoke():
+    scene = bpy_stage.reset(SIZE, world=(0.05, 0.06, 0.08))
+    _cube("floor", (0, 0, -0.05), 1.0, _material("floor", (0.7, 0.7, 0.7)), scale=(6, 6, 0.1))
+    _cube("smoke", (0, 0, 0.75), 1.3, _smoke_material())  # apart from the floor
+    _light(scene, "SUN", (0, 0, 3), 3.0, rotation=(50, 0, 40), angle=0.05)
+    _camera(scene, (0, -3.5, 1.8), (70, 0, 0), lens=30.0)
+
+
+def _lantern(k_seeds, spp):
+    lan, warnings = [], []
+    for k in range(k_seeds):
+        img, warnings = rc.render_lantern(seed=1 + k, spp=spp, threads=2)
+        lan.append(img)
+    return np.stack(lan).astype(np.float64), warnings
+
+
+def test_noise_smoke_matches_cycles():
+    from lantern import metrics
+    smoke()
+    cyc = np.stack([rc.render_cycles(seed=900 + k, spp=SPP[0])[0]
+                    for k in range(K)]).astype(np.float64)
+    assert cyc.mean() > 1e-3, "the scene is black in Cycles"
+    lan, warnings = _lantern(K, SPP[1])
+    assert not warnings, warnings
+    assert np.isfinite(lan).all()
+    res = metrics.compare_renders(lan, cyc, block=rc.BLOCK, se_floor=SE_FLOOR, name="smoke")
+    print(f"{res}; mean ratio {lan.mean() / cyc.mean():.4f}")
+    metrics.assert_agreement("smoke", lan, cyc, block=rc.BLOCK, se_floor=SE_FLOOR,
+                             image_bias=0.01, block_bias=0.05)
+    # the density's pattern matters: another noise scale is told apart
+    bpy.data.materials["smoke"].node_tree.nodes["noise"].inputs["Scale"].default_value = 3.5
+    other, _ = _lantern(K, SPP[1])
+    ctl = metrics.compare_renders(other, cyc, block=rc.BLOCK, se_floor=SE_FLOOR,
+                                  name="smoke, noise scale 3.5")
+    print(f"control: {ctl}; mean ratio {other.mean() / cyc.mean():.4f}")
+    assert not ctl.passed, f"a noise of another scale passed against Cycles: {ctl}"
