@@ -241,7 +241,7 @@ TEST(MediumHeteroPt, LightTracingHandsAHeterogeneousMediumToPt) {
     // negative control: the same scene without its density program keeps lt
     in.programs.clear();
     in.program_code.clear();
-    in.materials[0].program_first = -1;
+    in.materials[0].program_first = 0;
     in.materials[0].program_count = 0;
     Session h(in, st);
     for (const std::string& w : h.warnings())
