@@ -8,6 +8,7 @@ from .material import MaterialTable
 from .mesh import MeshExporter
 from .motion import MotionRecorder
 from .unsupported import UnsupportedFeatures
+from .visibility import mixed_kind_warning
 from .world import export_world, mixed_lobe_warning
 
 __all__ = ["export_scene", "ExportReport"]
@@ -77,7 +78,9 @@ def export_scene(depsgraph, region_view=None, report=None, texture_cache=None, f
     scene.attribute_channels = materials.attributes.finish(scene.meshes)
     scene.materials = materials.materials
     scene.textures = materials.textures
-    mixed_lobe_warning(bscene.world, scene.world, _used_materials(scene), report)  # world.py
+    used = _used_materials(scene)
+    mixed_lobe_warning(bscene.world, scene.world, used, report)  # world.py
+    mixed_kind_warning(scene.meshes, used, report)  # visibility.py
     return scene, report
 
 

@@ -13,7 +13,7 @@ import numpy as np
 
 from .scene_file import ARRAY_SPECS, SceneArchive, SceneError, entries, member_name, read_mesh
 from .scene_schema import (
-    MATERIAL_TEXTURES, MESH_ARRAYS, _int, default_camera, default_film, default_world,
+    MATERIAL_TEXTURES, MESH_ARRAYS, RAY_VISIBILITY, _int, default_camera, default_film, default_world,
     flatten_programs, look_at, screen_for_fov, validate_camera, validate_film, validate_light, validate_material,
     validate_mesh, validate_texture, validate_world)
 
@@ -141,9 +141,14 @@ class Scene:
 
     def add_mesh(self, positions, indices, material=0, normals=None, uvs=None,
                  material_ids=None, name=None, visible_camera=True, cast_shadow=True,
-                 tangents=None):
+                 tangents=None, **ray_visibility):
         """Append a triangle mesh; `material` (id or name) applies to every triangle unless
-        `material_ids` gives one per triangle. Returns the mesh index."""
+        `material_ids` gives one per triangle. `ray_visibility`: visible_diffuse,
+        visible_glossy, visible_transmission, visible_volume_scatter (bools, default True;
+        Cycles' object ray visibility, rendered by pt). Returns the mesh index."""
+        unknown = set(ray_visibility) - set(RAY_VISIBILITY)
+        if unknown:
+            raise TypeError(f"add_mesh: unexpected keyword(s) {sorted(unknown)}")
         if name is None:
             name = f"mesh_{len(self.meshes)}"
         indices = np.asarray(indices)
@@ -160,6 +165,7 @@ class Scene:
             "material_ids": material_ids,
             "visible_camera": visible_camera,
             "cast_shadow": cast_shadow,
+            **ray_visibility,
         }
         validate_mesh(mesh, len(self.meshes))
         self.meshes.append(mesh)

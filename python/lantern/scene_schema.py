@@ -13,7 +13,7 @@ import numpy as np
 from .medium_schema import validate_world_volume
 from .scene_fields import (  # noqa: F401 (imported from here: scene.py, scene_file.py)
     AREA_SHAPES, CAMERA_TYPES, LIGHT_TYPES, MATERIAL_TEXTURES, MATERIAL_TYPES, MESH_ARRAYS,
-    MIX_LEAVES, PROGRAM_REGS, PROGRAM_TARGETS, TEXTURE_COLORSPACES, TEXTURE_INTERPOLATIONS,
+    MIX_LEAVES, PROGRAM_REGS, RAY_VISIBILITY, PROGRAM_TARGETS, TEXTURE_COLORSPACES, TEXTURE_INTERPOLATIONS,
     TEXTURE_OUTPUTS, TEXTURE_WRAPS, _bool, _finite_float, _float_array, _index_array, _int,
     _matrix, _rgb, _vec, identity4)
 from .scene_schema_objects import (  # noqa: F401

@@ -8,8 +8,8 @@ import numpy as np
 
 from .medium_schema import validate_material_volume
 from .scene_fields import (AREA_SHAPES, LIGHT_TYPES, MATERIAL_TEXTURES, MATERIAL_TYPES,
-                           MIX_LEAVES, PROGRAM_REGS, PROGRAM_TARGETS, _bool, _finite_float,
-                           _float_array, _index_array, _int, _matrix, _rgb, _vec, identity4)
+                           MIX_LEAVES, PROGRAM_REGS, PROGRAM_TARGETS, RAY_VISIBILITY, _bool,
+                           _finite_float, _float_array, _index_array, _int, _matrix, _rgb, _vec, identity4)
 
 
 def validate_material(material, index, num_textures=0):
@@ -234,6 +234,9 @@ def validate_mesh(mesh, index, num_materials=None):
     mesh["visible_camera"] = _bool(mesh.get("visible_camera", True),
                                    f"{what} visible_camera")
     mesh["cast_shadow"] = _bool(mesh.get("cast_shadow", True), f"{what} cast_shadow")
+    for key in RAY_VISIBILITY:  # object ray visibility (pt); absent: visible
+        if key in mesh:
+            mesh[key] = _bool(mesh[key], f"{what} {key}")
     if "shadow_catcher" in mesh:  # a shadow catcher (pt; lantern/film.py)
         mesh["shadow_catcher"] = _bool(mesh["shadow_catcher"], f"{what} shadow_catcher")
     if mesh.get("motion") is not None:  # motion blur (docs/motion_blur.md)

@@ -236,11 +236,20 @@ void Allocation::release() {
     std::vector<int32_t>().swap(tracked_);
 }
 
+std::string ray_visibility_reason(const SceneInput& in) {
+    for (const MeshInput& m : in.meshes)  // integrator/pt_ray_visibility.h
+        if ((m.rays & kRayKindsAll) != kRayKindsAll)
+            return "an object hidden from diffuse, glossy, transmission or volume rays (mesh '" +
+                   m.name + "')";
+    return "";
+}
+
 std::string pt_only_reason(const SceneInput& in) {
     for (const MaterialInput& m : in.materials)
         if (m.holdout) return "a holdout (material '" + m.name + "')";
     for (const MeshInput& m : in.meshes)
         if (m.shadow_catcher) return "a shadow catcher (mesh '" + m.name + "')";
+    if (std::string v = ray_visibility_reason(in); !v.empty()) return v;
     if (in.catcher_mode != 0) return "a shadow catcher pass";
     if (in.world_rays != 7) return "the world hidden from some rays";
     if (std::string v = media_reason(in); !v.empty()) return v;  // media: pt only (volumes.md)

@@ -51,6 +51,9 @@ struct PathState {
     Vec3* vshadow_contrib = nullptr;
     int32_t* vshadow_medium = nullptr;
     uint8_t* vshadow_valid = nullptr;
+    // the RayKinds of the scattering that made the current ray (pt, integrator/
+    // pt_ray_visibility.h); written only where SceneView::tri_rays is set, may be null
+    uint8_t* ray_kind = nullptr;
 };
 
 struct PtSettings {

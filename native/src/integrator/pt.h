@@ -8,6 +8,7 @@
 #include "integrator/camera.h"
 #include "integrator/nee_resample.h"
 #include "integrator/path_state.h"
+#include "integrator/pt_ray_visibility.h"
 #include "scene/light_tree.h"
 #include "scene/lights.h"
 
@@ -417,6 +418,13 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
         pt_cross_boundary(s, ps, i, tri);
         return;
     }
+    if (s.tri_rays && pt_hidden_from_ray(s, ps, i, tri)) {  // ray visibility: go on
+        const SurfaceHit hh = s.motion.num_objects
+                                  ? pt_surface_moved(s, tri, ps.hit_uv[i], d, ps.rng[i])
+                                  : pt_surface(s, tri, ps.hit_uv[i], d);
+        pt_pass_hidden(s, ps, i, hh.p, hh.ng);
+        return;
+    }
     // a holdout seen by the camera: no colour (its alpha 0 is lantern/film.py's coverage)
     if (ps.depth[i] <= 1 && (s.tri_flags[tri] & kHoldout)) return;
     if ((s.catcher_mode != kCatcherMatte || (s.tri_flags[tri] & kShadowCatcher)) &&
@@ -483,6 +491,9 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
     if (pick.pmf > 0.0f && (pick.light == s.world_light || s.lights[pick.light].of_world) &&
         s.world_rays != kWorldRaysAll && !pt_world_sees(s, m, ls.wi, h.ng))
         ls.valid = false;  // the world hidden from this kind of scattering lights nothing here
+    if (s.tri_rays && pick.pmf > 0.0f && ls.valid &&
+        pt_light_hidden(s, pick.light, pt_scatter_kind(m, ls.wi, h.ng)))
+        ls.valid = false;  // an emitter hidden from this kind of scattering (ray visibility)
     if (pick.pmf > 0.0f) {
         if (ls.valid && !delta_material && light_side_agrees(m, ls.wi, h.ng, h.ns) &&
             !is_black(ls.le)) {
@@ -532,6 +543,7 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
             ps.depth[i] = depth + 1;
             if (s.world_rays != kWorldRaysAll && ps.world_hidden)
                 ps.world_hidden[i] = pt_world_sees(s, m, wi, h.ng) ? 0 : 1;
+            pt_set_ray_kind(s, ps, i, pt_scatter_kind(m, wi, h.ng));
             set_next_ray(ps, i, h.p, h.ng, wi, bs.delta ? 0.0f : bs.pdf_fwd_w,
                          s.offset_scale);
             if (s.num_media > 0 && dot(wi, h.ng) < 0.0f)  // through the surface

@@ -157,6 +157,7 @@ LANTERN_HD inline void pt_sss_exit(const SceneView& s, const PathState& ps, cons
         if ((pick.light == s.world_light || s.lights[pick.light].of_world) &&
             !(s.world_rays & kWorldDiffuse))
             ls.valid = false;  // the world hidden from diffuse rays lights nothing here
+        if (pt_light_hidden(s, pick.light, kRayKindSubsurface)) ls.valid = false;
         const float cos_i = dot(ls.wi, ns);
         const float pdf_light = pick.pmf * ls.pdf_w;
         if (ls.valid && !is_black(ls.le) && cos_i > 0.0f && dot(ls.wi, ng) > 0.0f &&
@@ -194,6 +195,7 @@ LANTERN_HD inline void pt_sss_exit(const SceneView& s, const PathState& ps, cons
     ps.depth[i] = depth + 1;
     if (s.world_rays != kWorldRaysAll && ps.world_hidden)
         ps.world_hidden[i] = (s.world_rays & kWorldDiffuse) ? 0 : 1;
+    pt_set_ray_kind(s, ps, i, kRayKindSubsurface);
     set_next_ray(ps, i, p, ng, wi, pdf_w, s.offset_scale);
     if (s.light_tree_on) {
         ps.prev_p[i] = p;

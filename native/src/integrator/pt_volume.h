@@ -53,6 +53,7 @@ LANTERN_HD inline void pt_medium_nee(const SceneView& s, const PathState& ps, in
     const LightSample ls = sample_light(s, s.lights[pick.light], p, u_light);
     const float pdf_light = pick.pmf * ls.pdf_w;
     if (!ls.valid || is_black(ls.le) || !(pdf_light > 0.0f)) return;
+    if (pt_light_hidden(s, pick.light, kRayKindVolume)) return;  // ray visibility
     const float phase = hg_phase(m.g, dot(d, ls.wi));
     const float w = ls.delta ? 1.0f : power_heuristic(pdf_light, phase);
     Vec3 sd = ls.wi;
@@ -111,6 +112,7 @@ LANTERN_HD inline void pt_medium_vertex(const SceneView& s, const PathState& ps,
     ps.prev_pdf_w[i] = pdf_w;
     ps.alive[i] = 1;
     if (ps.world_hidden) ps.world_hidden[i] = 0;  // the world is seen from a medium (its own flag)
+    pt_set_ray_kind(s, ps, i, kRayKindVolume);
     if (s.light_tree_on) {
         ps.prev_p[i] = p;
         ps.prev_n[i] = n_pick;

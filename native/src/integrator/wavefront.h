@@ -80,7 +80,7 @@ struct Wavefront {
     Array<int32_t> depth, hit_prim, queue, next_queue, flag, scan, light_id, conn_n;
     Array<int32_t> medium, shadow_medium;  // PathState::medium / shadow_medium (pt in media)
     Array<Vec2> hit_uv, splat_xy;
-    Array<uint8_t> alive, dropped, shadow_valid, visible, store, world_hidden;
+    Array<uint8_t> alive, dropped, shadow_valid, visible, store, world_hidden, ray_kind;
     Array<uint32_t> keys;
     // PathState::vshadow_* (pt's equiangular shadow rays in media): grown only when `media`
     Array<Vec3> vshadow_o, vshadow_d, vshadow_c;
@@ -122,7 +122,7 @@ struct Wavefront {
                         &shadow_medium})
             f(*a);
         for (auto* a : {&hit_uv, &splat_xy}) f(*a);
-        for (auto* a : {&alive, &dropped, &shadow_valid, &visible, &world_hidden}) f(*a);
+        for (auto* a : {&alive, &dropped, &shadow_valid, &visible, &world_hidden, &ray_kind}) f(*a);
         f(rng);
         f(keys);
     }
@@ -195,6 +195,7 @@ struct Wavefront {
                        shadow_tmax.data(), shadow_c.data(), shadow_valid.data(),
                        prev_p.data(),     prev_n.data(),    world_hidden.data(),
                        medium.data(),     shadow_medium.data()};
+        ps.ray_kind = ray_kind.data();
         if (media) {
             ps.vshadow_o = vshadow_o.data();
             ps.vshadow_d = vshadow_d.data();

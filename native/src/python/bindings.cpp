@@ -297,6 +297,10 @@ SceneInput to_input(const nb::dict& scene) {
             mi.visible_camera = get<bool>(m, "visible_camera", true);
             mi.cast_shadow = get<bool>(m, "cast_shadow", true);
             mi.shadow_catcher = get<bool>(m, "shadow_catcher", false);
+            mi.rays = uint8_t((get<bool>(m, "visible_diffuse", true) ? kRayDiffuse : 0) |
+                              (get<bool>(m, "visible_glossy", true) ? kRayGlossy : 0) |
+                              (get<bool>(m, "visible_transmission", true) ? kRayTransmission : 0) |
+                              (get<bool>(m, "visible_volume_scatter", true) ? kRayVolumeScatter : 0));
             // motion blur: (S, 16) object-to-world matrices at the shutter's steps
             mi.motion = get_array<float>(m, "motion", 16, "mesh '" + mi.name + "'");
             get_matrix(m, "motion_base", mi.motion_base);

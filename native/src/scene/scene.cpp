@@ -281,6 +281,7 @@ SceneView HostScene::copied_view(
     v.indices = put(view_.indices, indices_.size());
     v.tri_material = put(view_.tri_material, tri_material_.size());
     v.tri_flags = put(view_.tri_flags, tri_flags_.size());
+    v.tri_rays = put(view_.tri_rays, tri_rays_.size());
     v.tri_light = put(view_.tri_light, tri_light_.size());
     // the materials point at their tables: the copies point at the copied tables
     v.material_tables = put(view_.material_tables, material_tables_.size());
@@ -324,6 +325,7 @@ void HostScene::finish_view(const SceneInput& in) {
     v.indices = indices_.data();
     v.tri_material = tri_material_.data();
     v.tri_flags = tri_flags_.data();
+    v.tri_rays = tri_rays_.empty() ? nullptr : tri_rays_.data();
     v.tri_light = tri_light_.data();
     v.num_triangles = int32_t(tri_material_.size());
     v.materials = materials_.data();

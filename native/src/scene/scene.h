@@ -29,6 +29,7 @@ struct MeshInput {
     bool visible_camera = true;
     bool cast_shadow = true;
     bool shadow_catcher = false;       // TriangleFlags kShadowCatcher (pt)
+    uint8_t rays = kRayKindsAll;       // RayKinds that see it (SceneView::tri_rays, pt)
     // motion blur (scene/motion_build.cpp): object-to-world at the shutter's steps, 16 floats
     // (row-major 4x4) each, and motion_base, the one positions were exported with; empty: still
     std::vector<float> motion;
@@ -218,6 +219,7 @@ private:
     std::vector<float> srgb_lut_;
     std::vector<uint32_t> indices_, tri_material_;
     std::vector<uint8_t> tri_flags_;
+    std::vector<uint8_t> tri_rays_;  // SceneView::tri_rays: empty where every mesh is seen by all
     std::vector<int32_t> tri_light_, hittable_lights_, miss_lights_;
     std::vector<Material> materials_;
     std::vector<MaterialTables> material_tables_;  // materials_[k].tables: the k-th
