@@ -14,7 +14,7 @@ import numpy as np
 from .scene_file import ARRAY_SPECS, SceneArchive, SceneError, entries, member_name, read_mesh
 from .scene_schema import (
     MATERIAL_TEXTURES, MESH_ARRAYS, RAY_VISIBILITY, _int, default_camera, default_film, default_world,
-    flatten_programs, look_at, screen_for_fov, validate_camera, validate_film, validate_light, validate_material,
+    flatten_programs, look_at, receiver_mask, screen_for_fov, validate_camera, validate_film, validate_light, validate_material,
     validate_mesh, validate_texture, validate_world)
 
 FORMAT_NAME = "lantern-scene"
@@ -244,6 +244,8 @@ class Scene:
             light = dict(light)
             if "to_world" in light:
                 light["to_world"] = mat(light["to_world"])
+            if "receivers" in light:  # light linking: a list of sets or the mask
+                light["receivers"] = receiver_mask(light["receivers"], "light receivers")
             lights.append(light)
         if self.world.get("sun") is not None:   # the sky's sun disc joins the lights, as the
             # world's own: the camera sees it where it sees the world, and the world's ray
@@ -251,6 +253,8 @@ class Scene:
             lights.append(dict(self.world["sun"], of_world=True))
         meshes = [dict(m) for m in self.meshes]
         for m in meshes:
+            if "receivers" in m:
+                m["receivers"] = receiver_mask(m["receivers"], "mesh receivers")
             if m.get("motion") is not None:
                 m["motion"] = steps(m["motion"])
                 m["motion_base"] = mat(m["motion_base"])

@@ -237,6 +237,12 @@ def validate_mesh(mesh, index, num_materials=None):
     for key in RAY_VISIBILITY:  # object ray visibility (pt); absent: visible
         if key in mesh:
             mesh[key] = _bool(mesh[key], f"{what} {key}")
+    if "light_set" in mesh:  # light linking (pt): its receiver set
+        mesh["light_set"] = _int(mesh["light_set"], f"{what} light_set", minimum=0)
+        if mesh["light_set"] > 63:
+            raise ValueError(f"{what} light_set: must be in [0, 63], got {mesh['light_set']}")
+    if "receivers" in mesh:  # light linking: the receiver sets its emission lights
+        mesh["receivers"] = receiver_mask(mesh["receivers"], f"{what} receivers")
     if "shadow_catcher" in mesh:  # a shadow catcher (pt; lantern/film.py)
         mesh["shadow_catcher"] = _bool(mesh["shadow_catcher"], f"{what} shadow_catcher")
     if mesh.get("motion") is not None:  # motion blur (docs/motion_blur.md)
@@ -260,6 +266,23 @@ def motion_steps(steps, what):
     return a.tolist()
 
 
+def receiver_mask(value, what):
+    """Light linking: the receiver sets an emitter lights, a 64-bit mask (bit s: set s; the
+    meshes' light_set) given as an int or a list of set numbers."""
+    if isinstance(value, (list, tuple)):
+        mask = 0
+        for s in value:
+            s = _int(s, what, minimum=0)
+            if s > 63:
+                raise ValueError(f"{what}: receiver set {s} is not in [0, 63]")
+            mask |= 1 << s
+        return mask
+    mask = _int(value, what, minimum=0)
+    if mask >= 1 << 64:
+        raise ValueError(f"{what}: a 64-bit mask, got {value!r}")
+    return mask
+
+
 def validate_light(light, index):
     if not isinstance(light, dict):
         raise ValueError(f"light {index}: expected a dict")
@@ -278,6 +301,8 @@ def validate_light(light, index):
     if ltype != "sun":
         out["visible_camera"] = _bool(light.get("visible_camera", False),
                                       f"{what} visible_camera")
+    if "receivers" in light:  # light linking (pt)
+        out["receivers"] = receiver_mask(light["receivers"], f"{what} receivers")
     if ltype in ("point", "spot"):
         radius = _finite_float(light.get("radius", 0.0), f"{what} radius")
         if radius < 0:

@@ -54,6 +54,9 @@ struct PathState {
     // the RayKinds of the scattering that made the current ray (pt, integrator/
     // pt_ray_visibility.h); written only where SceneView::tri_rays is set, may be null
     uint8_t* ray_kind = nullptr;
+    // light linking: the receiver set of the vertex the current ray left (pt, integrator/
+    // pt_light_linking.h); written only where SceneView::light_receivers is set, may be null
+    uint8_t* recv_set = nullptr;
 };
 
 struct PtSettings {

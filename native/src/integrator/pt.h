@@ -8,6 +8,7 @@
 #include "integrator/camera.h"
 #include "integrator/nee_resample.h"
 #include "integrator/path_state.h"
+#include "integrator/pt_light_linking.h"
 #include "integrator/pt_ray_visibility.h"
 #include "scene/light_tree.h"
 #include "scene/lights.h"
@@ -92,6 +93,7 @@ LANTERN_HD inline void pt_collect_lights(const SceneView& s, const PathState& ps
     for (int k = 0; k < s.num_hittable_lights; ++k) {
         const Light& l = s.lights[s.hittable_lights[k]];
         if (camera && !l.visible_camera) continue;
+        if (!pt_emission_linked(s, ps, i, s.hittable_lights[k])) continue;  // light linking
         LightHit h = intersect_light(l, o, d, tmin, tmax);
         if (!h.hit || is_black(h.le)) continue;
         float pdf = light_pdf_w(l, o, d, h.t, h.n);
@@ -123,6 +125,7 @@ LANTERN_HD inline void pt_shade_miss(const SceneView& s, const PathState& ps, in
                        : (l.of_world && ps.world_hidden && ps.world_hidden[i]))
                 continue;
             if (dot(d, -l.direction) < l.cos_sun) continue;
+            if (!pt_emission_linked(s, ps, i, s.miss_lights[k])) continue;  // light linking
             float pdf = light_pdf_w(l, vec3(0.0f), d, kInf, vec3(0.0f));
             add_radiance(ps, i, ps.throughput[i] * l.radiance *
                                     pt_emission_weight(s, ps, i, s.miss_lights[k], pdf));
@@ -440,7 +443,8 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
     if (!is_black(m.emission)) {
         float w = 1.0f;
         int li = s.tri_light ? s.tri_light[tri] : -1;
-        if (li >= 0) {
+        if (li >= 0 && !pt_emission_linked(s, ps, i, li)) w = 0.0f;  // light linking
+        else if (li >= 0) {
             const Light& l = s.lights[li];
             w = pt_emission_weight(s, ps, i, li, light_pdf_w(l, o, d, t_hit, h.ng));
         }
@@ -494,6 +498,9 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
     if (s.tri_rays && pick.pmf > 0.0f && ls.valid &&
         pt_light_hidden(s, pick.light, pt_scatter_kind(m, ls.wi, h.ng)))
         ls.valid = false;  // an emitter hidden from this kind of scattering (ray visibility)
+    if (s.light_receivers && pick.pmf > 0.0f &&
+        !pt_light_links(s, pick.light, pt_receiver_set(s, tri)))
+        ls.valid = false;  // light linking: this light does not light this surface
     if (pick.pmf > 0.0f) {
         if (ls.valid && !delta_material && light_side_agrees(m, ls.wi, h.ng, h.ns) &&
             !is_black(ls.le)) {
@@ -544,6 +551,7 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
             if (s.world_rays != kWorldRaysAll && ps.world_hidden)
                 ps.world_hidden[i] = pt_world_sees(s, m, wi, h.ng) ? 0 : 1;
             pt_set_ray_kind(s, ps, i, pt_scatter_kind(m, wi, h.ng));
+            pt_set_receiver(s, ps, i, tri);
             set_next_ray(ps, i, h.p, h.ng, wi, bs.delta ? 0.0f : bs.pdf_fwd_w,
                          s.offset_scale);
             if (s.num_media > 0 && dot(wi, h.ng) < 0.0f)  // through the surface

@@ -158,6 +158,7 @@ LANTERN_HD inline void pt_sss_exit(const SceneView& s, const PathState& ps, cons
             !(s.world_rays & kWorldDiffuse))
             ls.valid = false;  // the world hidden from diffuse rays lights nothing here
         if (pt_light_hidden(s, pick.light, kRayKindSubsurface)) ls.valid = false;
+        if (!pt_light_links(s, pick.light, pt_receiver_set(s, tri))) ls.valid = false;
         const float cos_i = dot(ls.wi, ns);
         const float pdf_light = pick.pmf * ls.pdf_w;
         if (ls.valid && !is_black(ls.le) && cos_i > 0.0f && dot(ls.wi, ng) > 0.0f &&
@@ -196,6 +197,7 @@ LANTERN_HD inline void pt_sss_exit(const SceneView& s, const PathState& ps, cons
     if (s.world_rays != kWorldRaysAll && ps.world_hidden)
         ps.world_hidden[i] = (s.world_rays & kWorldDiffuse) ? 0 : 1;
     pt_set_ray_kind(s, ps, i, kRayKindSubsurface);
+    pt_set_receiver(s, ps, i, tri);
     set_next_ray(ps, i, p, ng, wi, pdf_w, s.offset_scale);
     if (s.light_tree_on) {
         ps.prev_p[i] = p;

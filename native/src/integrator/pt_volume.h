@@ -54,6 +54,9 @@ LANTERN_HD inline void pt_medium_nee(const SceneView& s, const PathState& ps, in
     const float pdf_light = pick.pmf * ls.pdf_w;
     if (!ls.valid || is_black(ls.le) || !(pdf_light > 0.0f)) return;
     if (pt_light_hidden(s, pick.light, kRayKindVolume)) return;  // ray visibility
+    // light linking: a medium point receives as the surface its path last left
+    if (s.light_receivers && ps.recv_set && !pt_light_links(s, pick.light, ps.recv_set[i]))
+        return;
     const float phase = hg_phase(m.g, dot(d, ls.wi));
     const float w = ls.delta ? 1.0f : power_heuristic(pdf_light, phase);
     Vec3 sd = ls.wi;

@@ -104,8 +104,8 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
     if (media_note.empty() && integ != "pt" && integ != "auto") {
         const std::string why = ray_visibility_reason(scene);
         if (!why.empty()) {
-            media_note = "integrator '" + integ + "' does not honour object ray visibility (the " +
-                         "scene has " + why + "): rendering with pt";
+            media_note = "integrator '" + integ + "' does not honour object ray visibility " +
+                         "or light linking (the scene has " + why + "): rendering with pt";
             settings_.integrator = "pt";
         }
     }

@@ -81,6 +81,7 @@ struct Wavefront {
     Array<int32_t> medium, shadow_medium;  // PathState::medium / shadow_medium (pt in media)
     Array<Vec2> hit_uv, splat_xy;
     Array<uint8_t> alive, dropped, shadow_valid, visible, store, world_hidden, ray_kind;
+    Array<uint8_t> recv_set;  // PathState::recv_set (pt, light linking)
     Array<uint32_t> keys;
     // PathState::vshadow_* (pt's equiangular shadow rays in media): grown only when `media`
     Array<Vec3> vshadow_o, vshadow_d, vshadow_c;
@@ -122,7 +123,9 @@ struct Wavefront {
                         &shadow_medium})
             f(*a);
         for (auto* a : {&hit_uv, &splat_xy}) f(*a);
-        for (auto* a : {&alive, &dropped, &shadow_valid, &visible, &world_hidden, &ray_kind}) f(*a);
+        for (auto* a : {&alive, &dropped, &shadow_valid, &visible, &world_hidden, &ray_kind,
+                        &recv_set})
+            f(*a);
         f(rng);
         f(keys);
     }
@@ -196,6 +199,7 @@ struct Wavefront {
                        prev_p.data(),     prev_n.data(),    world_hidden.data(),
                        medium.data(),     shadow_medium.data()};
         ps.ray_kind = ray_kind.data();
+        ps.recv_set = recv_set.data();
         if (media) {
             ps.vshadow_o = vshadow_o.data();
             ps.vshadow_d = vshadow_d.data();
