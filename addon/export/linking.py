@@ -1,10 +1,11 @@
-"""Cycles' light linking (Object > Shading > Light Linking > Receiver Collection) as Lantern's
-receiver sets (native/src/integrator/pt_light_linking.h, pt; the bidirectional integrators hand
-such a scene to pt with a warning). As Blender's depsgraph decides: an emitter whose collection
-includes some objects lights only those; one that only excludes lights every object but those
-(a child collection's state applies to every object in it). Meshes with the same answer for
-every linked emitter share a set (at most 64, as in Cycles); each linked emitter (a lamp or an
-emissive mesh) carries the mask of the sets it lights. Shadow linking: unsupported.py warns."""
+"""Cycles' light and shadow linking (Object > Shading > Light Linking: Receiver and Blocker
+Collections) as Lantern's receiver and blocker sets (native/src/integrator/pt_light_linking.h,
+pt; the bidirectional integrators hand such a scene to pt with a warning). As Blender's
+depsgraph decides: an emitter whose collection includes some objects lights (is shadowed by)
+only those; one that only excludes, every object but those (a child collection's state applies
+to every object in it). Meshes with the same answer for every linked emitter share a set (at
+most 64, as in Cycles); each linked emitter (a lamp or an emissive mesh) carries the mask of
+the sets it lights (receivers) or that shadow it (blockers)."""
 
 
 def _states(coll, out, state=None, seen=None):
@@ -21,33 +22,43 @@ def _states(coll, out, state=None, seen=None):
     return out
 
 
-def _receiver_collection(obj):
+def _collection(obj, attr):
     ll = getattr(obj, "light_linking", None)
-    return getattr(ll, "receiver_collection", None) if ll is not None else None
+    return getattr(ll, attr, None) if ll is not None else None
 
 
 class LightLinking:
     """Collects the exported meshes and lights of one export (by object name), then numbers
-    the receiver sets in finish()."""
+    the sets in finish(): receiver sets (mesh "light_set", emitter "receivers") and blocker sets
+    (mesh "shadow_set", emitter "blockers")."""
+
+    KINDS = (("receiver_collection", "light_set", "receivers", "light linking"),
+             ("blocker_collection", "shadow_set", "blockers", "shadow linking"))
 
     def __init__(self, report):
         self.report = report
         self.meshes = []    # (object name, mesh dict)
-        self.emitters = []  # (states of its receiver collection, the dict to carry the mask)
+        self.emitters = {k[0]: [] for k in self.KINDS}  # (collection states, emitter dict)
+
+    def _emitter(self, obj, target):
+        for attr, *_ in self.KINDS:
+            coll = _collection(obj, attr)
+            if coll is not None:
+                self.emitters[attr].append((_states(coll, {}), target))
 
     def mesh(self, obj, mesh):
         self.meshes.append((obj.name, mesh))
-        coll = _receiver_collection(obj)
-        if coll is not None:
-            self.emitters.append((_states(coll, {}), mesh))
+        self._emitter(obj, mesh)
 
     def light(self, obj, light):
-        coll = _receiver_collection(obj)
-        if coll is not None:
-            self.emitters.append((_states(coll, {}), light))
+        self._emitter(obj, light)
 
     def finish(self):
-        if not self.emitters:
+        for attr, set_field, mask_field, what in self.KINDS:
+            self._number(self.emitters[attr], set_field, mask_field, what)
+
+    def _number(self, emitters, set_field, mask_field, what):
+        if not emitters:
             return
 
         def lights(states, name):
@@ -55,17 +66,17 @@ class LightLinking:
             state = states.get(name)
             return state == "INCLUDE" if include else state != "EXCLUDE"
 
-        sets = {tuple(True for _ in self.emitters): 0}  # set 0: lit by every linked emitter
+        sets = {tuple(True for _ in emitters): 0}  # set 0: linked to every linked emitter
         for name, mesh in self.meshes:
-            key = tuple(lights(states, name) for states, _ in self.emitters)
+            key = tuple(lights(states, name) for states, _ in emitters)
             if key not in sets:
                 if len(sets) == 64:
-                    self.report.warn(f"Object '{name}': more than 64 light linking receiver "
-                                     "sets; it is lit as the objects of set 0")
+                    self.report.warn(f"Object '{name}': more than 64 {what} sets; it is "
+                                     "linked as the objects of set 0")
                     key = next(iter(sets))
                 else:
                     sets[key] = len(sets)
             if sets[key]:
-                mesh["light_set"] = sets[key]
-        for e, (_, target) in enumerate(self.emitters):
-            target["receivers"] = sum(1 << s for key, s in sets.items() if key[e])
+                mesh[set_field] = sets[key]
+        for e, (_, target) in enumerate(emitters):
+            target[mask_field] = sum(1 << s for key, s in sets.items() if key[e])

@@ -98,10 +98,7 @@ class UnsupportedFeatures:
             warn(f"Light '{obj.name}': ray visibility off for {', '.join(off)} rays is not "
                  "honoured on lamps (it lights every kind; only Camera is)")
         # shadow catchers: export/holdout.py
-        ll = getattr(obj, "light_linking", None)  # light linking: export/linking.py
-        if ll is not None and ll.blocker_collection is not None:
-            warn(f"Object '{obj.name}': shadow linking is not rendered (every object shadows "
-                 "its light)")
+        # light and shadow linking: export/linking.py
         for psys in getattr(obj, "particle_systems", ()):
             s = psys.settings
             if s.type == "HAIR" and s.render_type == "PATH":

@@ -244,8 +244,9 @@ class Scene:
             light = dict(light)
             if "to_world" in light:
                 light["to_world"] = mat(light["to_world"])
-            if "receivers" in light:  # light linking: a list of sets or the mask
-                light["receivers"] = receiver_mask(light["receivers"], "light receivers")
+            for key in ("receivers", "blockers"):  # light / shadow linking: sets or a mask
+                if key in light:
+                    light[key] = receiver_mask(light[key], f"light {key}")
             lights.append(light)
         if self.world.get("sun") is not None:   # the sky's sun disc joins the lights, as the
             # world's own: the camera sees it where it sees the world, and the world's ray
@@ -253,8 +254,9 @@ class Scene:
             lights.append(dict(self.world["sun"], of_world=True))
         meshes = [dict(m) for m in self.meshes]
         for m in meshes:
-            if "receivers" in m:
-                m["receivers"] = receiver_mask(m["receivers"], "mesh receivers")
+            for key in ("receivers", "blockers"):
+                if key in m:
+                    m[key] = receiver_mask(m[key], f"mesh {key}")
             if m.get("motion") is not None:
                 m["motion"] = steps(m["motion"])
                 m["motion_base"] = mat(m["motion_base"])

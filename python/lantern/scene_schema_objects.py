@@ -237,12 +237,14 @@ def validate_mesh(mesh, index, num_materials=None):
     for key in RAY_VISIBILITY:  # object ray visibility (pt); absent: visible
         if key in mesh:
             mesh[key] = _bool(mesh[key], f"{what} {key}")
-    if "light_set" in mesh:  # light linking (pt): its receiver set
-        mesh["light_set"] = _int(mesh["light_set"], f"{what} light_set", minimum=0)
-        if mesh["light_set"] > 63:
-            raise ValueError(f"{what} light_set: must be in [0, 63], got {mesh['light_set']}")
-    if "receivers" in mesh:  # light linking: the receiver sets its emission lights
-        mesh["receivers"] = receiver_mask(mesh["receivers"], f"{what} receivers")
+    for key in ("light_set", "shadow_set"):  # light / shadow linking (pt): its set
+        if key in mesh:
+            mesh[key] = _int(mesh[key], f"{what} {key}", minimum=0)
+            if mesh[key] > 63:
+                raise ValueError(f"{what} {key}: must be in [0, 63], got {mesh[key]}")
+    for key in ("receivers", "blockers"):  # the sets its emission lights / is shadowed by
+        if key in mesh:
+            mesh[key] = receiver_mask(mesh[key], f"{what} {key}")
     if "shadow_catcher" in mesh:  # a shadow catcher (pt; lantern/film.py)
         mesh["shadow_catcher"] = _bool(mesh["shadow_catcher"], f"{what} shadow_catcher")
     if mesh.get("motion") is not None:  # motion blur (docs/motion_blur.md)
@@ -301,8 +303,9 @@ def validate_light(light, index):
     if ltype != "sun":
         out["visible_camera"] = _bool(light.get("visible_camera", False),
                                       f"{what} visible_camera")
-    if "receivers" in light:  # light linking (pt)
-        out["receivers"] = receiver_mask(light["receivers"], f"{what} receivers")
+    for key in ("receivers", "blockers"):  # light and shadow linking (pt)
+        if key in light:
+            out[key] = receiver_mask(light[key], f"{what} {key}")
     if ltype in ("point", "spot"):
         radius = _finite_float(light.get("radius", 0.0), f"{what} radius")
         if radius < 0:

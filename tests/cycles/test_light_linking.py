@@ -5,7 +5,9 @@ a diffuse floor and two cubes under a key area light and a dim world,
 - include: the key's collection includes cube A only (the floor and cube B get only the world
   and the light bounced off A);
 - exclude: the key's collection excludes the floor (the cubes are lit, the floor is not);
-- emitter: the key replaced by a glowing panel (Emission) whose collection includes cube B.
+- emitter: the key replaced by a glowing panel (Emission) whose collection includes cube B;
+- blocker: shadow linking, the key's Blocker collection excludes cube A (A casts the key no
+  shadow; Lantern: next-event estimation alone for the key, Cycles: its dedicated light rays).
 
 Each is compared with Cycles (K seeds, lantern.metrics.assert_agreement and its negative
 controls), with a negative control of its own: Lantern with the link removed must not agree
@@ -68,12 +70,18 @@ def stage(case, linked=True):
         elif case == "exclude":
             coll.objects.link(floor)
             coll.collection_objects[0].light_linking.link_state = "EXCLUDE"
-        else:
+        elif case == "emitter":
             coll.objects.link(b)
-        key.light_linking.receiver_collection = coll
+        else:
+            coll.objects.link(a)
+            coll.collection_objects[0].light_linking.link_state = "EXCLUDE"
+        if case == "blocker":
+            key.light_linking.blocker_collection = coll
+        else:
+            key.light_linking.receiver_collection = coll
 
 
-CASES = ("include", "exclude", "emitter")
+CASES = ("include", "exclude", "emitter", "blocker")
 
 
 @pytest.fixture(autouse=True)

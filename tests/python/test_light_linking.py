@@ -107,3 +107,42 @@ def test_schema(core, tmp_path):
         bad.meshes[0]["light_set"] = 64
         bad.save(tmp_path / "bad.lantern")
         lantern.load_scene(tmp_path / "bad.lantern")
+
+
+def shadow_scene(linked, size=16):
+    """A white floor under a point light, a ball between them casting its shadow onto the
+    middle of the image; linked: the light's blockers are set 1, where the ball is not."""
+    scene = lantern.Scene()
+    scene.film.update(width=size, height=size)
+    scene.look_at((0.0, 0.0, 4.0), (0.0, 0.0, 0.0), up=(0.0, 1.0, 0.0), fov=30.0)
+    m = scene.add_material("white", type="diffuse", base_color=(0.8, 0.8, 0.8))
+    quad = np.array([[-1, -1, 0], [1, -1, 0], [1, 1, 0], [-1, 1, 0]], np.float32) * 4
+    scene.add_mesh(quad, np.array([[0, 1, 2], [0, 2, 3]], np.uint32), material=m, name="floor")
+    pos, idx = scenes.icosphere(2, 0.3, center=(0.0, 0.0, 1.0))
+    scene.add_mesh(pos, idx, material=m, name="ball", visible_camera=False)
+    scene.add_light("point", position=[0.0, 0.0, 3.0], power=[100.0] * 3)
+    if linked:
+        scene.lights[0]["blockers"] = [1]
+    scene.world = {"color": [0.0] * 3}
+    return scene
+
+
+def no_ball(size=16):
+    scene = shadow_scene(False, size)
+    scene.meshes.pop(1)
+    return scene
+
+
+MID = (slice(6, 10), slice(6, 10))
+
+
+def test_shadow_linked_light_is_not_shadowed_by_others(core):
+    """Direct light only: the ball casts the light no shadow, so the floor renders as without
+    the ball (bit for bit: next-event estimation of a point light, the only strategy); the
+    control, unlinked, has the shadow."""
+    for seed in (1, 2):
+        linked, _ = render(shadow_scene(True), seed)
+        free, _ = render(no_ball(), seed)
+        np.testing.assert_array_equal(linked, free)
+    shadowed, _ = render(shadow_scene(False), 1)
+    assert shadowed[MID].max() == 0.0 and free[MID].min() > 0.01

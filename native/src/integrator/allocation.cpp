@@ -242,10 +242,12 @@ std::string ray_visibility_reason(const SceneInput& in) {
             return "an object hidden from diffuse, glossy, transmission or volume rays (mesh '" +
                    m.name + "')";
     for (const MeshInput& m : in.meshes)  // light linking: integrator/pt_light_linking.h
-        if (m.light_set != 0 || m.emitter_receivers != kAllReceivers)
-            return "light linking (mesh '" + m.name + "')";
+        if (m.light_set != 0 || m.emitter_receivers != kAllReceivers || m.shadow_set != 0 ||
+            m.emitter_blockers != kAllReceivers)
+            return "light or shadow linking (mesh '" + m.name + "')";
     for (const LightInput& l : in.lights)
-        if (l.receivers != kAllReceivers) return "light linking (light '" + l.name + "')";
+        if (l.receivers != kAllReceivers || l.blockers != kAllReceivers)
+            return "light or shadow linking (light '" + l.name + "')";
     return "";
 }
 

@@ -57,6 +57,9 @@ struct PathState {
     // light linking: the receiver set of the vertex the current ray left (pt, integrator/
     // pt_light_linking.h); written only where SceneView::light_receivers is set, may be null
     uint8_t* recv_set = nullptr;
+    // shadow linking: the light of the slot's next-event shadow ray (pt_light_linking.h);
+    // written only where SceneView::light_blockers is set, may be null
+    int32_t* shadow_light = nullptr;
 };
 
 struct PtSettings {

@@ -164,7 +164,9 @@ LANTERN_HD inline void pt_sss_exit(const SceneView& s, const PathState& ps, cons
         if (ls.valid && !is_black(ls.le) && cos_i > 0.0f && dot(ls.wi, ng) > 0.0f &&
             pdf_light > 0.0f) {
             const float pdf_bsdf = cos_i * kInvPi;
-            const float w = ls.delta ? 1.0f : power_heuristic(pdf_light, pdf_bsdf);
+            const float w = ls.delta || pt_shadow_linked(s, pick.light)
+                                ? 1.0f
+                                : power_heuristic(pdf_light, pdf_bsdf);
             const Vec3 so = offset_ray_origin(p, ng, ls.wi, s.offset_scale);
             Vec3 sd = ls.wi;
             float tmax = kInf;
@@ -182,6 +184,7 @@ LANTERN_HD inline void pt_sss_exit(const SceneView& s, const PathState& ps, cons
             ps.shadow_tmax[i] = tmax;
             ps.shadow_contrib[i] = beta * ls.le * (kInvPi * cos_i * w / pdf_light);
             ps.shadow_valid[i] = 1;
+            if (s.light_blockers && ps.shadow_light) ps.shadow_light[i] = pick.light;
             if (s.num_media > 0) ps.shadow_medium[i] = ps.medium[i];
         }
     }

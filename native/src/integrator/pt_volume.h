@@ -58,7 +58,9 @@ LANTERN_HD inline void pt_medium_nee(const SceneView& s, const PathState& ps, in
     if (s.light_receivers && ps.recv_set && !pt_light_links(s, pick.light, ps.recv_set[i]))
         return;
     const float phase = hg_phase(m.g, dot(d, ls.wi));
-    const float w = ls.delta ? 1.0f : power_heuristic(pdf_light, phase);
+    // shadow linking: next-event estimation alone (media's shadow rays: every surface blocks)
+    const float w = ls.delta || pt_shadow_linked(s, pick.light) ? 1.0f
+                                                                : power_heuristic(pdf_light, phase);
     Vec3 sd = ls.wi;
     float tmax = kInf;
     if (ls.dist < kInf) {  // aimed at the offset point on the light, shortened there

@@ -299,6 +299,8 @@ SceneInput to_input(const nb::dict& scene) {
             mi.shadow_catcher = get<bool>(m, "shadow_catcher", false);
             mi.light_set = get<int>(m, "light_set", 0);
             mi.emitter_receivers = get<uint64_t>(m, "receivers", kAllReceivers);
+            mi.shadow_set = get<int>(m, "shadow_set", 0);
+            mi.emitter_blockers = get<uint64_t>(m, "blockers", kAllReceivers);
             mi.rays = uint8_t((get<bool>(m, "visible_diffuse", true) ? kRayDiffuse : 0) |
                               (get<bool>(m, "visible_glossy", true) ? kRayGlossy : 0) |
                               (get<bool>(m, "visible_transmission", true) ? kRayTransmission : 0) |
@@ -333,6 +335,7 @@ SceneInput to_input(const nb::dict& scene) {
             li.soft_falloff = get<bool>(l, "soft_falloff", true);
             li.visible_camera = get<bool>(l, "visible_camera", false);
             li.receivers = get<uint64_t>(l, "receivers", kAllReceivers);  // light linking
+            li.blockers = get<uint64_t>(l, "blockers", kAllReceivers);    // shadow linking
             li.of_world = get<bool>(l, "of_world", false);
             in.lights.push_back(li);
         }

@@ -285,6 +285,8 @@ SceneView HostScene::copied_view(
     v.tri_rays = put(view_.tri_rays, tri_rays_.size());
     v.tri_light_set = put(view_.tri_light_set, tri_light_set_.size());
     v.light_receivers = put(view_.light_receivers, light_receivers_.size());
+    v.tri_shadow_set = put(view_.tri_shadow_set, tri_shadow_set_.size());
+    v.light_blockers = put(view_.light_blockers, light_blockers_.size());
     v.tri_light = put(view_.tri_light, tri_light_.size());
     // the materials point at their tables: the copies point at the copied tables
     v.material_tables = put(view_.material_tables, material_tables_.size());
@@ -331,6 +333,8 @@ void HostScene::finish_view(const SceneInput& in) {
     v.tri_rays = tri_rays_.empty() ? nullptr : tri_rays_.data();
     v.tri_light_set = tri_light_set_.empty() ? nullptr : tri_light_set_.data();
     v.light_receivers = light_receivers_.empty() ? nullptr : light_receivers_.data();
+    v.tri_shadow_set = tri_shadow_set_.empty() ? nullptr : tri_shadow_set_.data();
+    v.light_blockers = light_blockers_.empty() ? nullptr : light_blockers_.data();
     v.tri_light = tri_light_.data();
     v.num_triangles = int32_t(tri_material_.size());
     v.materials = materials_.data();

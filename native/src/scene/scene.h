@@ -34,6 +34,9 @@ struct MeshInput {
     // sets its emission lights (bit s: set s)
     int32_t light_set = 0;
     uint64_t emitter_receivers = kAllReceivers;
+    // shadow linking: its blocker set, and the blocker sets that shadow its emission
+    int32_t shadow_set = 0;
+    uint64_t emitter_blockers = kAllReceivers;
     // motion blur (scene/motion_build.cpp): object-to-world at the shutter's steps, 16 floats
     // (row-major 4x4) each, and motion_base, the one positions were exported with; empty: still
     std::vector<float> motion;
@@ -134,6 +137,7 @@ struct LightInput {
     // from the scatterings the world is hidden from (world_rays, pt)
     bool of_world = false;
     uint64_t receivers = kAllReceivers;  // light linking: the receiver sets it lights (pt)
+    uint64_t blockers = kAllReceivers;   // shadow linking: the blocker sets that shadow it (pt)
 };
 
 struct SceneInput {
@@ -230,6 +234,8 @@ private:
     std::vector<int32_t> lamp_input_;       // per light: its SceneInput::lights index, or -1
     std::vector<uint8_t> tri_light_set_;    // SceneView::tri_light_set (empty: no linking)
     std::vector<uint64_t> light_receivers_; // SceneView::light_receivers (empty: no linking)
+    std::vector<uint8_t> tri_shadow_set_;   // SceneView::tri_shadow_set (empty: none)
+    std::vector<uint64_t> light_blockers_;  // SceneView::light_blockers (empty: none)
     std::vector<Material> materials_;
     std::vector<MaterialTables> material_tables_;  // materials_[k].tables: the k-th
     std::vector<Light> lights_;

@@ -291,6 +291,10 @@ struct SceneView {
     // per light the sets it lights (bit s); both null where nothing is linked
     const uint8_t* tri_light_set = nullptr;
     const uint64_t* light_receivers = nullptr;
+    // shadow linking (pt_light_linking.h): a triangle's blocker set (0..63) and per light the
+    // blocker sets that cast its shadows; both null where nothing is shadow-linked
+    const uint8_t* tri_shadow_set = nullptr;
+    const uint64_t* light_blockers = nullptr;
     int32_t num_triangles = 0;
 
     const Material* materials = nullptr;
