@@ -80,6 +80,8 @@ LANTERN_HD inline bool pt_world_sees(const SceneView& s, const Material& m, Vec3
 // cannot find that light) take it all.
 LANTERN_HD inline float pt_emission_weight(const SceneView& s, const PathState& ps, int i, int li,
                                            float light_pdf_w) {
+    // light linking: no light from a light that does not light the vertex the ray left
+    if (s.light_receivers && !pt_emission_linked(s, ps, i, li)) return 0.0f;
     if (ps.depth[i] <= 1 || !(ps.prev_pdf_w[i] > 0.0f)) return 1.0f;
     if (s.light_blockers && pt_shadow_linked(s, li)) return 0.0f;  // next-event only
     const float pick = s.light_tree_on ? light_pick_pmf(s, li, ps.prev_p[i], ps.prev_n[i])
@@ -91,11 +93,9 @@ LANTERN_HD inline float pt_emission_weight(const SceneView& s, const PathState& 
 LANTERN_HD inline void pt_collect_lights(const SceneView& s, const PathState& ps, int i, Vec3 o,
                                          Vec3 d, float tmin, float tmax) {
     bool camera = ps.depth[i] <= 1;
-    const bool linked = s.light_receivers != nullptr;  // light linking (pt_light_linking.h)
     for (int k = 0; k < s.num_hittable_lights; ++k) {
         const Light& l = s.lights[s.hittable_lights[k]];
         if (camera && !l.visible_camera) continue;
-        if (linked && !pt_emission_linked(s, ps, i, s.hittable_lights[k])) continue;
         LightHit h = intersect_light(l, o, d, tmin, tmax);
         if (!h.hit || is_black(h.le)) continue;
         float pdf = light_pdf_w(l, o, d, h.t, h.n);
@@ -127,7 +127,6 @@ LANTERN_HD inline void pt_shade_miss(const SceneView& s, const PathState& ps, in
                        : (l.of_world && ps.world_hidden && ps.world_hidden[i]))
                 continue;
             if (dot(d, -l.direction) < l.cos_sun) continue;
-            if (!pt_emission_linked(s, ps, i, s.miss_lights[k])) continue;  // light linking
             float pdf = light_pdf_w(l, vec3(0.0f), d, kInf, vec3(0.0f));
             add_radiance(ps, i, ps.throughput[i] * l.radiance *
                                     pt_emission_weight(s, ps, i, s.miss_lights[k], pdf));
@@ -387,6 +386,26 @@ LANTERN_HD inline void pt_pass_hidden_at(const SceneView& s, const PathState& ps
     pt_pass_hidden(s, ps, i, h.p, h.ng);
 }
 
+// pt_shade's ray visibility and light linking, out of line on the host (the usual path tests
+// one flag): whether next-event estimation of light li towards wi may light surface tri of
+// material m, and the kind and receiver set of the bounce ray leaving it towards wi.
+#ifndef __CUDA_ARCH__
+__attribute__((noinline))
+#endif
+LANTERN_HD inline bool pt_nee_allowed(const SceneView& s, const Material& m, int tri, Vec3 ng,
+                                      int li, Vec3 wi) {
+    if (s.tri_rays && pt_light_hidden(s, li, pt_scatter_kind(m, wi, ng))) return false;
+    return pt_light_links(s, li, pt_receiver_set(s, tri));
+}
+#ifndef __CUDA_ARCH__
+__attribute__((noinline))
+#endif
+LANTERN_HD inline void pt_mark_next_ray(const SceneView& s, const PathState& ps, int i,
+                                        const Material& m, Vec3 wi, Vec3 ng, int tri) {
+    pt_set_ray_kind(s, ps, i, pt_scatter_kind(m, wi, ng));
+    pt_set_receiver(s, ps, i, tri);
+}
+
 // material_eval and material_sample for pt_shade, out of line on the device: inlined there
 // (nee_resample's target is), the lobes' local arrays joined the shade kernel's own local
 // memory, which every call below it adds to. The host calls them as before.
@@ -457,8 +476,7 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
     if (!is_black(m.emission)) {
         float w = 1.0f;
         int li = s.tri_light ? s.tri_light[tri] : -1;
-        if (li >= 0 && extras && !pt_emission_linked(s, ps, i, li)) w = 0.0f;  // light linking
-        else if (li >= 0) {
+        if (li >= 0) {
             const Light& l = s.lights[li];
             w = pt_emission_weight(s, ps, i, li, light_pdf_w(l, o, d, t_hit, h.ng));
         }
@@ -509,12 +527,8 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
     if (pick.pmf > 0.0f && (pick.light == s.world_light || s.lights[pick.light].of_world) &&
         s.world_rays != kWorldRaysAll && !pt_world_sees(s, m, ls.wi, h.ng))
         ls.valid = false;  // the world hidden from this kind of scattering lights nothing here
-    if (extras && pick.pmf > 0.0f && ls.valid) {
-        if (s.tri_rays && pt_light_hidden(s, pick.light, pt_scatter_kind(m, ls.wi, h.ng)))
-            ls.valid = false;  // an emitter hidden from this kind of scattering (ray visibility)
-        if (!pt_light_links(s, pick.light, pt_receiver_set(s, tri)))
-            ls.valid = false;  // light linking: this light does not light this surface
-    }
+    if (extras && pick.pmf > 0.0f && ls.valid)  // ray visibility, light linking
+        ls.valid = pt_nee_allowed(s, m, tri, h.ng, pick.light, ls.wi);
     if (pick.pmf > 0.0f) {
         if (ls.valid && !delta_material && light_side_agrees(m, ls.wi, h.ng, h.ns) &&
             !is_black(ls.le)) {
@@ -568,10 +582,7 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
             ps.depth[i] = depth + 1;
             if (s.world_rays != kWorldRaysAll && ps.world_hidden)
                 ps.world_hidden[i] = pt_world_sees(s, m, wi, h.ng) ? 0 : 1;
-            if (extras) {
-                pt_set_ray_kind(s, ps, i, pt_scatter_kind(m, wi, h.ng));
-                pt_set_receiver(s, ps, i, tri);
-            }
+            if (extras) pt_mark_next_ray(s, ps, i, m, wi, h.ng, tri);
             set_next_ray(ps, i, h.p, h.ng, wi, bs.delta ? 0.0f : bs.pdf_fwd_w,
                          s.offset_scale);
             if (s.num_media > 0 && dot(wi, h.ng) < 0.0f)  // through the surface

@@ -16,7 +16,9 @@ LANTERN_HD inline void pt_shadow_at_time(const SceneView& s, const Rays& rays, c
     if (!ps.shadow_valid[i]) return;
     Ray r{ps.shadow_o[i], ps.shadow_d[i], 0.0f, ps.shadow_tmax[i]};
     r.time = motion_time(ps.rng[i]);
-    pt_shadow_result(ps, i, pt_occluded_linked(s, rays, RayKind::kShadow, ps, i, r));
+    pt_shadow_result(ps, i, s.light_blockers  // shadow linking: pt_light_linking.h
+                                    ? pt_occluded_linked(s, rays, RayKind::kShadow, ps, i, r)
+                                    : rays.occluded(r, RayKind::kShadow));
 }
 
 template <class Exec>
@@ -68,7 +70,9 @@ void pt_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep& st
                 }
                 if (!ps.shadow_valid[i]) return;
                 const Ray r{ps.shadow_o[i], ps.shadow_d[i], 0.0f, ps.shadow_tmax[i]};
-                pt_shadow_result(ps, i, pt_occluded_linked(s, rays, RayKind::kShadow, ps, i, r));
+                pt_shadow_result(ps, i, s.light_blockers  // shadow linking: pt_light_linking.h
+                                    ? pt_occluded_linked(s, rays, RayKind::kShadow, ps, i, r)
+                                    : rays.occluded(r, RayKind::kShadow));
             });
         });
         active = compact(ex, w, active);
