@@ -4,10 +4,12 @@ returns holds only numpy arrays and plain values, safe to hand to a render threa
 from .camera import camera_to_world, export_camera, export_film, film_unsupported
 from .holdout import Holdouts
 from .light import export_light
+from .linking import LightLinking
 from .material import MaterialTable
 from .mesh import MeshExporter
 from .motion import MotionRecorder
 from .unsupported import UnsupportedFeatures
+from .visibility import mixed_kind_warning
 from .world import export_world, mixed_lobe_warning
 
 __all__ = ["export_scene", "ExportReport"]
@@ -54,6 +56,7 @@ def export_scene(depsgraph, region_view=None, report=None, texture_cache=None, f
                         None if region_view else bool(scene.film.get("transparent", False)))
     features.scene(depsgraph)
     motion = MotionRecorder(depsgraph, report, frame_set, final=region_view is None)
+    linking = LightLinking(report)
     for inst in depsgraph.object_instances:
         obj = inst.object
         if not inst.show_self:  # an instancer hidden for render (show_instancer_for_render)
@@ -62,22 +65,27 @@ def export_scene(depsgraph, region_view=None, report=None, texture_cache=None, f
         if obj.type == "LIGHT":
             light = export_light(obj, inst.matrix_world, report)
             if light is not None:
+                linking.light(obj, light)  # export/linking.py
                 scene.lights.append(light)
         elif obj.type in {"MESH", "CURVE", "SURFACE", "META", "FONT", "CURVES"}:
             mesh = meshes.export(inst)
             if mesh is not None:
                 holdouts.mesh(obj, mesh)  # export/holdout.py
                 motion.mesh(inst, mesh)
+                linking.mesh(obj, mesh)
                 scene.meshes.append(mesh)
             else:
                 features.hair_curves_without_mesh(obj)
     meshes.clear()
+    linking.finish()
     if region_view is None and bscene.camera is not None:
         motion.finish(scene, bscene.camera, camera_to_world)
     scene.attribute_channels = materials.attributes.finish(scene.meshes)
     scene.materials = materials.materials
     scene.textures = materials.textures
-    mixed_lobe_warning(bscene.world, scene.world, _used_materials(scene), report)  # world.py
+    used = _used_materials(scene)
+    mixed_lobe_warning(bscene.world, scene.world, used, report)  # world.py
+    mixed_kind_warning(scene.meshes, used, report)  # visibility.py
     return scene, report
 
 

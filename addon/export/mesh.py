@@ -5,6 +5,8 @@ an object are extracted once and reused for each of its instances (only the tran
 
 import numpy as np
 
+from .visibility import mesh_ray_visibility
+
 
 def _attribute(mesh, name, domain, size, dtype, prop, width=1):
     """An attribute's values through foreach_get (the fast, raw-array path), or None."""
@@ -184,7 +186,8 @@ class MeshExporter:
                 "normals": None if normals is None else np.ascontiguousarray(normals, np.float32),
                 "uvs": local["uvs"], "tangents": tangents, "material_ids": material_ids,
                 "visible_camera": bool(getattr(obj, "visible_camera", True)),
-                "cast_shadow": bool(getattr(obj, "visible_shadow", True))}
+                "cast_shadow": bool(getattr(obj, "visible_shadow", True)),
+                **mesh_ray_visibility(obj)}  # export/visibility.py
 
     def clear(self):
         self._cache.clear()

@@ -3,7 +3,7 @@ world, view layer or render setting, and the feature), never dropped silently. S
 material.py's, the world's surface and the camera world.py's / camera.py's; this file covers
 the rest. Every check reads settings only (cheap), once per datablock per export."""
 
-# ray-visibility switches Lantern does not honour (Camera and Shadow it does)
+# ray-visibility switches Lantern does not honour on lamps (a mesh's: export/visibility.py)
 _RAY_VISIBILITY = (("visible_diffuse", "Diffuse"), ("visible_glossy", "Glossy"),
                    ("visible_transmission", "Transmission"),
                    ("visible_volume_scatter", "Volume Scatter"))
@@ -94,18 +94,11 @@ class UnsupportedFeatures:
         if what:
             warn(f"Object '{obj.name}': {what}")
         off = [label for attr, label in _RAY_VISIBILITY if not getattr(obj, attr, True)]
-        if off:
-            warn(f"Object '{obj.name}': ray visibility off for {', '.join(off)} rays is not "
-                 "honoured (only Camera and Shadow are)")
+        if off and obj.type == "LIGHT":
+            warn(f"Light '{obj.name}': ray visibility off for {', '.join(off)} rays is not "
+                 "honoured on lamps (it lights every kind; only Camera is)")
         # shadow catchers: export/holdout.py
-        ll = getattr(obj, "light_linking", None)
-        if ll is not None and (ll.receiver_collection is not None or
-                               ll.blocker_collection is not None):
-            kind = "light linking" if ll.receiver_collection is not None else "shadow linking"
-            if ll.receiver_collection is not None and ll.blocker_collection is not None:
-                kind = "light and shadow linking"
-            warn(f"Object '{obj.name}': {kind} is not rendered (it lights and shadows "
-                 "everything)")
+        # light and shadow linking: export/linking.py
         for psys in getattr(obj, "particle_systems", ()):
             s = psys.settings
             if s.type == "HAIR" and s.render_type == "PATH":

@@ -13,8 +13,8 @@ import numpy as np
 
 from .scene_file import ARRAY_SPECS, SceneArchive, SceneError, entries, member_name, read_mesh
 from .scene_schema import (
-    MATERIAL_TEXTURES, MESH_ARRAYS, _int, default_camera, default_film, default_world,
-    flatten_programs, look_at, screen_for_fov, validate_camera, validate_film, validate_light, validate_material,
+    MATERIAL_TEXTURES, MESH_ARRAYS, RAY_VISIBILITY, _int, default_camera, default_film, default_world,
+    flatten_programs, look_at, receiver_mask, screen_for_fov, validate_camera, validate_film, validate_light, validate_material,
     validate_mesh, validate_texture, validate_world)
 
 FORMAT_NAME = "lantern-scene"
@@ -141,9 +141,14 @@ class Scene:
 
     def add_mesh(self, positions, indices, material=0, normals=None, uvs=None,
                  material_ids=None, name=None, visible_camera=True, cast_shadow=True,
-                 tangents=None):
+                 tangents=None, **ray_visibility):
         """Append a triangle mesh; `material` (id or name) applies to every triangle unless
-        `material_ids` gives one per triangle. Returns the mesh index."""
+        `material_ids` gives one per triangle. `ray_visibility`: visible_diffuse,
+        visible_glossy, visible_transmission, visible_volume_scatter (bools, default True;
+        Cycles' object ray visibility, rendered by pt). Returns the mesh index."""
+        unknown = set(ray_visibility) - set(RAY_VISIBILITY)
+        if unknown:
+            raise TypeError(f"add_mesh: unexpected keyword(s) {sorted(unknown)}")
         if name is None:
             name = f"mesh_{len(self.meshes)}"
         indices = np.asarray(indices)
@@ -160,6 +165,7 @@ class Scene:
             "material_ids": material_ids,
             "visible_camera": visible_camera,
             "cast_shadow": cast_shadow,
+            **ray_visibility,
         }
         validate_mesh(mesh, len(self.meshes))
         self.meshes.append(mesh)
@@ -238,6 +244,9 @@ class Scene:
             light = dict(light)
             if "to_world" in light:
                 light["to_world"] = mat(light["to_world"])
+            for key in ("receivers", "blockers"):  # light / shadow linking: sets or a mask
+                if key in light:
+                    light[key] = receiver_mask(light[key], f"light {key}")
             lights.append(light)
         if self.world.get("sun") is not None:   # the sky's sun disc joins the lights, as the
             # world's own: the camera sees it where it sees the world, and the world's ray
@@ -245,6 +254,9 @@ class Scene:
             lights.append(dict(self.world["sun"], of_world=True))
         meshes = [dict(m) for m in self.meshes]
         for m in meshes:
+            for key in ("receivers", "blockers"):
+                if key in m:
+                    m[key] = receiver_mask(m[key], f"mesh {key}")
             if m.get("motion") is not None:
                 m["motion"] = steps(m["motion"])
                 m["motion_base"] = mat(m["motion_base"])

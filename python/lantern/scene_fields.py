@@ -12,6 +12,10 @@ MATERIAL_TYPES = ("diffuse", "conductor", "dielectric", "principled", "mix", "tr
 MIX_LEAVES = 4
 LIGHT_TYPES = ("point", "spot", "area", "sun")
 AREA_SHAPES = ("square", "rectangle", "disk", "ellipse")
+# a mesh's object ray visibility (Cycles' Object > Visibility; pt: native/src/integrator/
+# pt_ray_visibility.h), each a bool, True when absent
+RAY_VISIBILITY = ("visible_diffuse", "visible_glossy", "visible_transmission",
+                  "visible_volume_scatter")
 MESH_ARRAYS = ("positions", "indices", "normals", "uvs", "tangents", "material_ids",
                "attributes")
 # node-graph programs (docs/scene_format.md "Node programs"; native/src/scene/material_program.h)

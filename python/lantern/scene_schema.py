@@ -13,11 +13,11 @@ import numpy as np
 from .medium_schema import validate_world_volume
 from .scene_fields import (  # noqa: F401 (imported from here: scene.py, scene_file.py)
     AREA_SHAPES, CAMERA_TYPES, LIGHT_TYPES, MATERIAL_TEXTURES, MATERIAL_TYPES, MESH_ARRAYS,
-    MIX_LEAVES, PROGRAM_REGS, PROGRAM_TARGETS, TEXTURE_COLORSPACES, TEXTURE_INTERPOLATIONS,
+    MIX_LEAVES, PROGRAM_REGS, RAY_VISIBILITY, PROGRAM_TARGETS, TEXTURE_COLORSPACES, TEXTURE_INTERPOLATIONS,
     TEXTURE_OUTPUTS, TEXTURE_WRAPS, _bool, _finite_float, _float_array, _index_array, _int,
     _matrix, _rgb, _vec, identity4)
 from .scene_schema_objects import (  # noqa: F401
-    LIGHT_KEYS, LIGHT_KEYS_OF, flatten_programs, validate_light, validate_material,
+    LIGHT_KEYS, LIGHT_KEYS_OF, flatten_programs, receiver_mask, validate_light, validate_material,
     validate_mesh, validate_program)
 
 # Blender's default camera: 50 mm lens on a 36 mm sensor.

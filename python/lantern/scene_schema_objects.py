@@ -8,8 +8,8 @@ import numpy as np
 
 from .medium_schema import validate_material_volume
 from .scene_fields import (AREA_SHAPES, LIGHT_TYPES, MATERIAL_TEXTURES, MATERIAL_TYPES,
-                           MIX_LEAVES, PROGRAM_REGS, PROGRAM_TARGETS, _bool, _finite_float,
-                           _float_array, _index_array, _int, _matrix, _rgb, _vec, identity4)
+                           MIX_LEAVES, PROGRAM_REGS, PROGRAM_TARGETS, RAY_VISIBILITY, _bool,
+                           _finite_float, _float_array, _index_array, _int, _matrix, _rgb, _vec, identity4)
 
 
 def validate_material(material, index, num_textures=0):
@@ -234,6 +234,17 @@ def validate_mesh(mesh, index, num_materials=None):
     mesh["visible_camera"] = _bool(mesh.get("visible_camera", True),
                                    f"{what} visible_camera")
     mesh["cast_shadow"] = _bool(mesh.get("cast_shadow", True), f"{what} cast_shadow")
+    for key in RAY_VISIBILITY:  # object ray visibility (pt); absent: visible
+        if key in mesh:
+            mesh[key] = _bool(mesh[key], f"{what} {key}")
+    for key in ("light_set", "shadow_set"):  # light / shadow linking (pt): its set
+        if key in mesh:
+            mesh[key] = _int(mesh[key], f"{what} {key}", minimum=0)
+            if mesh[key] > 63:
+                raise ValueError(f"{what} {key}: must be in [0, 63], got {mesh[key]}")
+    for key in ("receivers", "blockers"):  # the sets its emission lights / is shadowed by
+        if key in mesh:
+            mesh[key] = receiver_mask(mesh[key], f"{what} {key}")
     if "shadow_catcher" in mesh:  # a shadow catcher (pt; lantern/film.py)
         mesh["shadow_catcher"] = _bool(mesh["shadow_catcher"], f"{what} shadow_catcher")
     if mesh.get("motion") is not None:  # motion blur (docs/motion_blur.md)
@@ -257,6 +268,23 @@ def motion_steps(steps, what):
     return a.tolist()
 
 
+def receiver_mask(value, what):
+    """Light linking: the receiver sets an emitter lights, a 64-bit mask (bit s: set s; the
+    meshes' light_set) given as an int or a list of set numbers."""
+    if isinstance(value, (list, tuple)):
+        mask = 0
+        for s in value:
+            s = _int(s, what, minimum=0)
+            if s > 63:
+                raise ValueError(f"{what}: receiver set {s} is not in [0, 63]")
+            mask |= 1 << s
+        return mask
+    mask = _int(value, what, minimum=0)
+    if mask >= 1 << 64:
+        raise ValueError(f"{what}: a 64-bit mask, got {value!r}")
+    return mask
+
+
 def validate_light(light, index):
     if not isinstance(light, dict):
         raise ValueError(f"light {index}: expected a dict")
@@ -275,6 +303,9 @@ def validate_light(light, index):
     if ltype != "sun":
         out["visible_camera"] = _bool(light.get("visible_camera", False),
                                       f"{what} visible_camera")
+    for key in ("receivers", "blockers"):  # light and shadow linking (pt)
+        if key in light:
+            out[key] = receiver_mask(light[key], f"{what} {key}")
     if ltype in ("point", "spot"):
         radius = _finite_float(light.get("radius", 0.0), f"{what} radius")
         if radius < 0:

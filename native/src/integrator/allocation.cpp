@@ -236,11 +236,27 @@ void Allocation::release() {
     std::vector<int32_t>().swap(tracked_);
 }
 
+std::string ray_visibility_reason(const SceneInput& in) {
+    for (const MeshInput& m : in.meshes)  // integrator/pt_ray_visibility.h
+        if ((m.rays & kRayKindsAll) != kRayKindsAll)
+            return "an object hidden from diffuse, glossy, transmission or volume rays (mesh '" +
+                   m.name + "')";
+    for (const MeshInput& m : in.meshes)  // light linking: integrator/pt_light_linking.h
+        if (m.light_set != 0 || m.emitter_receivers != kAllReceivers || m.shadow_set != 0 ||
+            m.emitter_blockers != kAllReceivers)
+            return "light or shadow linking (mesh '" + m.name + "')";
+    for (const LightInput& l : in.lights)
+        if (l.receivers != kAllReceivers || l.blockers != kAllReceivers)
+            return "light or shadow linking (light '" + l.name + "')";
+    return "";
+}
+
 std::string pt_only_reason(const SceneInput& in) {
     for (const MaterialInput& m : in.materials)
         if (m.holdout) return "a holdout (material '" + m.name + "')";
     for (const MeshInput& m : in.meshes)
         if (m.shadow_catcher) return "a shadow catcher (mesh '" + m.name + "')";
+    if (std::string v = ray_visibility_reason(in); !v.empty()) return v;
     if (in.catcher_mode != 0) return "a shadow catcher pass";
     if (in.world_rays != 7) return "the world hidden from some rays";
     if (std::string v = media_reason(in); !v.empty()) return v;  // media: pt only (volumes.md)

@@ -51,6 +51,15 @@ struct PathState {
     Vec3* vshadow_contrib = nullptr;
     int32_t* vshadow_medium = nullptr;
     uint8_t* vshadow_valid = nullptr;
+    // the RayKinds of the scattering that made the current ray (pt, integrator/
+    // pt_ray_visibility.h); written only where SceneView::tri_rays is set, may be null
+    uint8_t* ray_kind = nullptr;
+    // light linking: the receiver set of the vertex the current ray left (pt, integrator/
+    // pt_light_linking.h); written only where SceneView::light_receivers is set, may be null
+    uint8_t* recv_set = nullptr;
+    // shadow linking: the light of the slot's next-event shadow ray (pt_light_linking.h);
+    // written only where SceneView::light_blockers is set, may be null
+    int32_t* shadow_light = nullptr;
 };
 
 struct PtSettings {

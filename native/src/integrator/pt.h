@@ -8,6 +8,8 @@
 #include "integrator/camera.h"
 #include "integrator/nee_resample.h"
 #include "integrator/path_state.h"
+#include "integrator/pt_light_linking.h"
+#include "integrator/pt_ray_visibility.h"
 #include "scene/light_tree.h"
 #include "scene/lights.h"
 
@@ -78,7 +80,10 @@ LANTERN_HD inline bool pt_world_sees(const SceneView& s, const Material& m, Vec3
 // cannot find that light) take it all.
 LANTERN_HD inline float pt_emission_weight(const SceneView& s, const PathState& ps, int i, int li,
                                            float light_pdf_w) {
+    // light linking: no light from a light that does not light the vertex the ray left
+    if (s.light_receivers && !pt_emission_linked(s, ps, i, li)) return 0.0f;
     if (ps.depth[i] <= 1 || !(ps.prev_pdf_w[i] > 0.0f)) return 1.0f;
+    if (s.light_blockers && pt_shadow_linked(s, li)) return 0.0f;  // next-event only
     const float pick = s.light_tree_on ? light_pick_pmf(s, li, ps.prev_p[i], ps.prev_n[i])
                                        : s.lights[li].nee_pdf;
     return power_heuristic(ps.prev_pdf_w[i], pick * light_pdf_w);
@@ -382,6 +387,38 @@ LANTERN_HD inline bool pt_catcher_skips(const SceneView& s, const PathState& ps,
     return true;
 }
 
+// A bounce ray passing a surface hidden from its kind (pt_ray_visibility.h) goes on from the
+// hit; out of line on the host, so that pt_shade's usual path stays as it was.
+#ifndef __CUDA_ARCH__
+__attribute__((noinline))
+#endif
+LANTERN_HD inline void pt_pass_hidden_at(const SceneView& s, const PathState& ps, int i, int tri) {
+    const Vec3 d = ps.ray_d[i];
+    const SurfaceHit h = s.motion.num_objects ? pt_surface_moved(s, tri, ps.hit_uv[i], d, ps.rng[i])
+                                               : pt_surface(s, tri, ps.hit_uv[i], d);
+    pt_pass_hidden(s, ps, i, h.p, h.ng);
+}
+
+// pt_shade's ray visibility and light linking, out of line on the host (the usual path tests
+// one flag): whether next-event estimation of light li towards wi may light surface tri of
+// material m, and the kind and receiver set of the bounce ray leaving it towards wi.
+#ifndef __CUDA_ARCH__
+__attribute__((noinline))
+#endif
+LANTERN_HD inline bool pt_nee_allowed(const SceneView& s, const Material& m, int tri, Vec3 ng,
+                                      int li, Vec3 wi) {
+    if (s.tri_rays && pt_light_hidden(s, li, pt_scatter_kind(m, wi, ng))) return false;
+    return pt_light_links(s, li, pt_receiver_set(s, tri));
+}
+#ifndef __CUDA_ARCH__
+__attribute__((noinline))
+#endif
+LANTERN_HD inline void pt_mark_next_ray(const SceneView& s, const PathState& ps, int i,
+                                        const Material& m, Vec3 wi, Vec3 ng, int tri) {
+    pt_set_ray_kind(s, ps, i, pt_scatter_kind(m, wi, ng));
+    pt_set_receiver(s, ps, i, tri);
+}
+
 // material_eval and material_sample for pt_shade, out of line on the device: inlined there
 // (nee_resample's target is), the lobes' local arrays joined the shade kernel's own local
 // memory, which every call below it adds to. The host calls them as before.
@@ -415,6 +452,9 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
     int tri = ps.hit_prim[i];
     ps.shadow_valid[i] = 0;
     ps.alive[i] = 0;
+    // ray visibility, light or shadow linking in the scene (pt_ray_visibility.h,
+    // pt_light_linking.h): read once, so that a scene without them tests one register
+    const bool extras = s.tri_rays || s.light_receivers || s.light_blockers;
     // the catcher renders (kCatcherObject, kCatcherPass) keep only camera rays reaching one
     const bool catcher_camera = s.catcher_mode != kCatcherMatte && ps.depth[i] <= 1;
     // in a medium: its segment (emission, lights crossed, a scattering inside: pt_volume.h)
@@ -428,6 +468,10 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
     }
     if (s.num_media > 0 && (s.tri_flags[tri] & kVolumeBoundary)) {  // no surface: go on
         pt_cross_boundary(s, ps, i, tri);
+        return;
+    }
+    if (extras && pt_hidden_from_ray(s, ps, i, tri)) {  // ray visibility: go on
+        pt_pass_hidden_at(s, ps, i, tri);
         return;
     }
     // a holdout seen by the camera: no colour (its alpha 0 is lantern/film.py's coverage)
@@ -496,13 +540,18 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
     if (pick.pmf > 0.0f && (pick.light == s.world_light || s.lights[pick.light].of_world) &&
         s.world_rays != kWorldRaysAll && !pt_world_sees(s, m, ls.wi, h.ng))
         ls.valid = false;  // the world hidden from this kind of scattering lights nothing here
+    if (extras && pick.pmf > 0.0f && ls.valid)  // ray visibility, light linking
+        ls.valid = pt_nee_allowed(s, m, tri, h.ng, pick.light, ls.wi);
     if (pick.pmf > 0.0f) {
         if (ls.valid && !delta_material && light_side_agrees(m, ls.wi, h.ng, h.ns) &&
             !is_black(ls.le)) {
             BsdfEval e = pt_eval(m, h.front, wo, frame.to_local(ls.wi), h.coat_n, ng_l);
             float pdf_light = pick.pmf * ls.pdf_w;
             if (e.pdf_fwd_w > 0.0f && pdf_light > 0.0f) {
-                float w = ls.delta ? 1.0f : power_heuristic(pdf_light, e.pdf_fwd_w);
+                // shadow linking: next-event estimation alone (pt_light_linking.h)
+                float w = ls.delta || (extras && pt_shadow_linked(s, pick.light))
+                              ? 1.0f
+                              : power_heuristic(pdf_light, e.pdf_fwd_w);
                 float cos_i = fabsf(dot(ls.wi, h.ns));
                 Vec3 c = ps.throughput[i] * e.f * ls.le * (cos_i * w * ris / pdf_light);
                 // Shortened at both ends: from the offset origin to the offset point on the
@@ -524,6 +573,7 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
                 ps.shadow_tmax[i] = tmax;
                 ps.shadow_contrib[i] = c;
                 ps.shadow_valid[i] = 1;
+                if (extras && s.light_blockers && ps.shadow_light) ps.shadow_light[i] = pick.light;
                 if (s.num_media > 0)  // through the surface: the medium beyond it
                     ps.shadow_medium[i] = dot(ls.wi, h.ng) < 0.0f
                                               ? medium_across(s, tri, h.front, ps.medium[i])
@@ -545,6 +595,7 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
             ps.depth[i] = depth + 1;
             if (s.world_rays != kWorldRaysAll && ps.world_hidden)
                 ps.world_hidden[i] = pt_world_sees(s, m, wi, h.ng) ? 0 : 1;
+            if (extras) pt_mark_next_ray(s, ps, i, m, wi, h.ng, tri);
             set_next_ray(ps, i, h.p, h.ng, wi, bs.delta ? 0.0f : bs.pdf_fwd_w,
                          s.offset_scale);
             if (s.num_media > 0 && dot(wi, h.ng) < 0.0f)  // through the surface

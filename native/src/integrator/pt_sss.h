@@ -157,12 +157,16 @@ LANTERN_HD inline void pt_sss_exit(const SceneView& s, const PathState& ps, cons
         if ((pick.light == s.world_light || s.lights[pick.light].of_world) &&
             !(s.world_rays & kWorldDiffuse))
             ls.valid = false;  // the world hidden from diffuse rays lights nothing here
+        if (pt_light_hidden(s, pick.light, kRayKindSubsurface)) ls.valid = false;
+        if (!pt_light_links(s, pick.light, pt_receiver_set(s, tri))) ls.valid = false;
         const float cos_i = dot(ls.wi, ns);
         const float pdf_light = pick.pmf * ls.pdf_w;
         if (ls.valid && !is_black(ls.le) && cos_i > 0.0f && dot(ls.wi, ng) > 0.0f &&
             pdf_light > 0.0f) {
             const float pdf_bsdf = cos_i * kInvPi;
-            const float w = ls.delta ? 1.0f : power_heuristic(pdf_light, pdf_bsdf);
+            const float w = ls.delta || pt_shadow_linked(s, pick.light)
+                                ? 1.0f
+                                : power_heuristic(pdf_light, pdf_bsdf);
             const Vec3 so = offset_ray_origin(p, ng, ls.wi, s.offset_scale);
             Vec3 sd = ls.wi;
             float tmax = kInf;
@@ -180,6 +184,7 @@ LANTERN_HD inline void pt_sss_exit(const SceneView& s, const PathState& ps, cons
             ps.shadow_tmax[i] = tmax;
             ps.shadow_contrib[i] = beta * ls.le * (kInvPi * cos_i * w / pdf_light);
             ps.shadow_valid[i] = 1;
+            if (s.light_blockers && ps.shadow_light) ps.shadow_light[i] = pick.light;
             if (s.num_media > 0) ps.shadow_medium[i] = ps.medium[i];
         }
     }
@@ -194,6 +199,8 @@ LANTERN_HD inline void pt_sss_exit(const SceneView& s, const PathState& ps, cons
     ps.depth[i] = depth + 1;
     if (s.world_rays != kWorldRaysAll && ps.world_hidden)
         ps.world_hidden[i] = (s.world_rays & kWorldDiffuse) ? 0 : 1;
+    pt_set_ray_kind(s, ps, i, kRayKindSubsurface);
+    pt_set_receiver(s, ps, i, tri);
     set_next_ray(ps, i, p, ng, wi, pdf_w, s.offset_scale);
     if (s.light_tree_on || s.num_media > 0) {  // (media: pt_light_pdf_w)
         ps.prev_p[i] = p;

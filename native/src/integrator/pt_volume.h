@@ -54,8 +54,14 @@ LANTERN_HD inline void pt_medium_nee(const SceneView& s, const PathState& ps, in
     const LightSample ls = sample_light(s, s.lights[pick.light], p, u_light);
     const float pdf_light = pick.pmf * ls.pdf_w;
     if (!ls.valid || is_black(ls.le) || !(pdf_light > 0.0f)) return;
+    if (pt_light_hidden(s, pick.light, kRayKindVolume)) return;  // ray visibility
+    // light linking: a medium point receives as the surface its path last left
+    if (s.light_receivers && ps.recv_set && !pt_light_links(s, pick.light, ps.recv_set[i]))
+        return;
     const float phase = hg_phase(m.g, dot(d, ls.wi));
-    const float w = ls.delta ? 1.0f : power_heuristic(pdf_light, phase);
+    // shadow linking: next-event estimation alone (media's shadow rays: every surface blocks)
+    const float w = ls.delta || pt_shadow_linked(s, pick.light) ? 1.0f
+                                                                : power_heuristic(pdf_light, phase);
     Vec3 sd = ls.wi;
     float tmax = kInf;
     if (ls.dist < kInf) {  // aimed at the offset point on the light, shortened there
@@ -112,6 +118,7 @@ LANTERN_HD inline void pt_medium_vertex(const SceneView& s, const PathState& ps,
     ps.prev_pdf_w[i] = pdf_w;
     ps.alive[i] = 1;
     if (ps.world_hidden) ps.world_hidden[i] = 0;  // the world is seen from a medium (its own flag)
+    pt_set_ray_kind(s, ps, i, kRayKindVolume);
     if (s.light_tree_on || s.num_media > 0) {  // (media: pt_light_pdf_w)
         ps.prev_p[i] = p;
         ps.prev_n[i] = n_pick;

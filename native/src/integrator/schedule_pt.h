@@ -11,11 +11,14 @@ namespace wf {
 // A next-event shadow ray at its path's time (motion blur, scene/motion.h; scenes with media
 // render without motion).
 template <class Rays>
-LANTERN_HD inline void pt_shadow_at_time(const Rays& rays, const PathState& ps, int i) {
+LANTERN_HD inline void pt_shadow_at_time(const SceneView& s, const Rays& rays, const PathState& ps,
+                                         int i) {
     if (!ps.shadow_valid[i]) return;
     Ray r{ps.shadow_o[i], ps.shadow_d[i], 0.0f, ps.shadow_tmax[i]};
     r.time = motion_time(ps.rng[i]);
-    pt_shadow_result(ps, i, rays.occluded(r, RayKind::kShadow));
+    pt_shadow_result(ps, i, s.light_blockers  // shadow linking: pt_light_linking.h
+                                    ? pt_occluded_linked(s, rays, RayKind::kShadow, ps, i, r)
+                                    : rays.occluded(r, RayKind::kShadow));
 }
 
 template <class Exec>
@@ -56,7 +59,7 @@ void pt_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep& st
                 stats.rays_shadow += ex.count(
                     active, LANTERN_KERNEL(int k) { return ps.vshadow_valid[q[k]] != 0; });
             if (s.motion.num_objects > 0) {  // motion blur: each at its path's time (no media)
-                ex.each(active, LANTERN_KERNEL(int k) { pt_shadow_at_time(rays, ps, q[k]); });
+                ex.each(active, LANTERN_KERNEL(int k) { pt_shadow_at_time(s, rays, ps, q[k]); });
                 return;
             }
             ex.each(active, LANTERN_KERNEL(int k) {
@@ -67,7 +70,9 @@ void pt_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep& st
                 }
                 if (!ps.shadow_valid[i]) return;
                 const Ray r{ps.shadow_o[i], ps.shadow_d[i], 0.0f, ps.shadow_tmax[i]};
-                pt_shadow_result(ps, i, rays.occluded(r, RayKind::kShadow));
+                pt_shadow_result(ps, i, s.light_blockers  // shadow linking: pt_light_linking.h
+                                    ? pt_occluded_linked(s, rays, RayKind::kShadow, ps, i, r)
+                                    : rays.occluded(r, RayKind::kShadow));
             });
         });
         active = compact(ex, w, active);

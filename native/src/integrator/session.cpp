@@ -101,6 +101,15 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
             settings_.integrator = "pt";
         }
     }
+    // object ray visibility: only pt tells a bounce's kind so far (pt_ray_visibility.h)
+    if (media_note.empty() && integ != "pt" && integ != "auto") {
+        const std::string why = ray_visibility_reason(scene);
+        if (!why.empty()) {
+            media_note = "integrator '" + integ + "' does not honour object ray visibility " +
+                         "or light linking (the scene has " + why + "): rendering with pt";
+            settings_.integrator = "pt";
+        }
+    }
     auto t0 = Clock::now();
     scene_ = std::make_unique<HostScene>(scene);
     if (settings_.integrator == "lt") check_light_tracing(scene);

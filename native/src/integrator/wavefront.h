@@ -78,9 +78,11 @@ struct Wavefront {
     Array<float> ray_tmin, ray_tmax, prev_pdf, hit_t, shadow_tmax, dvcm, dvc, dpt0, dpt1;
     Array<Rng> rng;
     Array<int32_t> depth, hit_prim, queue, next_queue, flag, scan, light_id, conn_n;
-    Array<int32_t> medium, shadow_medium;  // PathState::medium / shadow_medium (pt in media)
+    Array<int32_t> medium, shadow_medium;
+    Array<int32_t> shadow_light;  // PathState::shadow_light (pt, shadow linking)  // PathState::medium / shadow_medium (pt in media)
     Array<Vec2> hit_uv, splat_xy;
-    Array<uint8_t> alive, dropped, shadow_valid, visible, store, world_hidden;
+    Array<uint8_t> alive, dropped, shadow_valid, visible, store, world_hidden, ray_kind;
+    Array<uint8_t> recv_set;  // PathState::recv_set (pt, light linking)
     Array<uint32_t> keys;
     // PathState::vshadow_* (pt's equiangular shadow rays in media): grown only when `media`
     Array<Vec3> vshadow_o, vshadow_d, vshadow_c;
@@ -121,10 +123,12 @@ struct Wavefront {
             f(*a);
         for (auto* a : {&ray_tmin, &ray_tmax, &prev_pdf, &hit_t, &shadow_tmax}) f(*a);
         for (auto* a : {&depth, &hit_prim, &queue, &next_queue, &flag, &scan, &medium,
-                        &shadow_medium})
+                        &shadow_medium, &shadow_light})
             f(*a);
         for (auto* a : {&hit_uv, &splat_xy}) f(*a);
-        for (auto* a : {&alive, &dropped, &shadow_valid, &visible, &world_hidden}) f(*a);
+        for (auto* a : {&alive, &dropped, &shadow_valid, &visible, &world_hidden, &ray_kind,
+                        &recv_set})
+            f(*a);
         f(rng);
         f(keys);
     }
@@ -197,6 +201,9 @@ struct Wavefront {
                        shadow_tmax.data(), shadow_c.data(), shadow_valid.data(),
                        prev_p.data(),     prev_n.data(),    world_hidden.data(),
                        medium.data(),     shadow_medium.data()};
+        ps.ray_kind = ray_kind.data();
+        ps.recv_set = recv_set.data();
+        ps.shadow_light = shadow_light.data();
         if (media) {
             ps.vshadow_o = vshadow_o.data();
             ps.vshadow_d = vshadow_d.data();

@@ -297,6 +297,14 @@ SceneInput to_input(const nb::dict& scene) {
             mi.visible_camera = get<bool>(m, "visible_camera", true);
             mi.cast_shadow = get<bool>(m, "cast_shadow", true);
             mi.shadow_catcher = get<bool>(m, "shadow_catcher", false);
+            mi.light_set = get<int>(m, "light_set", 0);
+            mi.emitter_receivers = get<uint64_t>(m, "receivers", kAllReceivers);
+            mi.shadow_set = get<int>(m, "shadow_set", 0);
+            mi.emitter_blockers = get<uint64_t>(m, "blockers", kAllReceivers);
+            mi.rays = uint8_t((get<bool>(m, "visible_diffuse", true) ? kRayDiffuse : 0) |
+                              (get<bool>(m, "visible_glossy", true) ? kRayGlossy : 0) |
+                              (get<bool>(m, "visible_transmission", true) ? kRayTransmission : 0) |
+                              (get<bool>(m, "visible_volume_scatter", true) ? kRayVolumeScatter : 0));
             // motion blur: (S, 16) object-to-world matrices at the shutter's steps
             mi.motion = get_array<float>(m, "motion", 16, "mesh '" + mi.name + "'");
             get_matrix(m, "motion_base", mi.motion_base);
@@ -326,6 +334,8 @@ SceneInput to_input(const nb::dict& scene) {
             li.angle = get<float>(l, "angle", 0.0f);
             li.soft_falloff = get<bool>(l, "soft_falloff", true);
             li.visible_camera = get<bool>(l, "visible_camera", false);
+            li.receivers = get<uint64_t>(l, "receivers", kAllReceivers);  // light linking
+            li.blockers = get<uint64_t>(l, "blockers", kAllReceivers);    // shadow linking
             li.of_world = get<bool>(l, "of_world", false);
             in.lights.push_back(li);
         }

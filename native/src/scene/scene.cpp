@@ -234,6 +234,7 @@ HostScene::HostScene(const SceneInput& in) {
     fill_lobe_tables();
     add_meshes(in);
     add_lights(in);
+    build_light_linking(in);
     build_filter(in.filter_width);
     finish_view(in);
     build_media(in);
@@ -281,6 +282,11 @@ SceneView HostScene::copied_view(
     v.indices = put(view_.indices, indices_.size());
     v.tri_material = put(view_.tri_material, tri_material_.size());
     v.tri_flags = put(view_.tri_flags, tri_flags_.size());
+    v.tri_rays = put(view_.tri_rays, tri_rays_.size());
+    v.tri_light_set = put(view_.tri_light_set, tri_light_set_.size());
+    v.light_receivers = put(view_.light_receivers, light_receivers_.size());
+    v.tri_shadow_set = put(view_.tri_shadow_set, tri_shadow_set_.size());
+    v.light_blockers = put(view_.light_blockers, light_blockers_.size());
     v.tri_light = put(view_.tri_light, tri_light_.size());
     // the materials point at their tables: the copies point at the copied tables
     v.material_tables = put(view_.material_tables, material_tables_.size());
@@ -326,6 +332,11 @@ void HostScene::finish_view(const SceneInput& in) {
     v.indices = indices_.data();
     v.tri_material = tri_material_.data();
     v.tri_flags = tri_flags_.data();
+    v.tri_rays = tri_rays_.empty() ? nullptr : tri_rays_.data();
+    v.tri_light_set = tri_light_set_.empty() ? nullptr : tri_light_set_.data();
+    v.light_receivers = light_receivers_.empty() ? nullptr : light_receivers_.data();
+    v.tri_shadow_set = tri_shadow_set_.empty() ? nullptr : tri_shadow_set_.data();
+    v.light_blockers = light_blockers_.empty() ? nullptr : light_blockers_.data();
     v.tri_light = tri_light_.data();
     v.num_triangles = int32_t(tri_material_.size());
     v.materials = materials_.data();

@@ -29,6 +29,14 @@ struct MeshInput {
     bool visible_camera = true;
     bool cast_shadow = true;
     bool shadow_catcher = false;       // TriangleFlags kShadowCatcher (pt)
+    uint8_t rays = kRayKindsAll;       // RayKinds that see it (SceneView::tri_rays, pt)
+    // light linking (pt; scene/light_linking_build.cpp): its receiver set, and the receiver
+    // sets its emission lights (bit s: set s)
+    int32_t light_set = 0;
+    uint64_t emitter_receivers = kAllReceivers;
+    // shadow linking: its blocker set, and the blocker sets that shadow its emission
+    int32_t shadow_set = 0;
+    uint64_t emitter_blockers = kAllReceivers;
     // motion blur (scene/motion_build.cpp): object-to-world at the shutter's steps, 16 floats
     // (row-major 4x4) each, and motion_base, the one positions were exported with; empty: still
     std::vector<float> motion;
@@ -128,6 +136,8 @@ struct LightInput {
     // camera as the world is (world_visible_camera, not through transparent film), hidden
     // from the scatterings the world is hidden from (world_rays, pt)
     bool of_world = false;
+    uint64_t receivers = kAllReceivers;  // light linking: the receiver sets it lights (pt)
+    uint64_t blockers = kAllReceivers;   // shadow linking: the blocker sets that shadow it (pt)
 };
 
 struct SceneInput {
@@ -200,6 +210,7 @@ private:
     void finish_emission_textures();
     void add_meshes(const SceneInput& in);
     void add_lights(const SceneInput& in);
+    void build_light_linking(const SceneInput& in);  // light_linking_build.cpp
     void build_filter(float width);
     void finish_view(const SceneInput& in);
     void add_programs(const SceneInput& in);  // scene/material_program.cpp
@@ -221,7 +232,13 @@ private:
     std::vector<float> srgb_lut_;
     std::vector<uint32_t> indices_, tri_material_;
     std::vector<uint8_t> tri_flags_;
+    std::vector<uint8_t> tri_rays_;  // SceneView::tri_rays: empty where every mesh is seen by all
     std::vector<int32_t> tri_light_, hittable_lights_, miss_lights_;
+    std::vector<int32_t> lamp_input_;       // per light: its SceneInput::lights index, or -1
+    std::vector<uint8_t> tri_light_set_;    // SceneView::tri_light_set (empty: no linking)
+    std::vector<uint64_t> light_receivers_; // SceneView::light_receivers (empty: no linking)
+    std::vector<uint8_t> tri_shadow_set_;   // SceneView::tri_shadow_set (empty: none)
+    std::vector<uint64_t> light_blockers_;  // SceneView::light_blockers (empty: none)
     std::vector<Material> materials_;
     std::vector<MaterialTables> material_tables_;  // materials_[k].tables: the k-th
     std::vector<Light> lights_;

@@ -122,6 +122,8 @@ void HostScene::add_lights(const SceneInput& in) {
             power.pop_back();
             continue;
         }
+        lamp_input_.resize(lights_.size(), -1);
+        lamp_input_.push_back(int32_t(k));
         lights_.push_back(l);
     }
     // emissive triangles

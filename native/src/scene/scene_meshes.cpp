@@ -13,7 +13,9 @@ namespace lantern {
 
 void HostScene::add_meshes(const SceneInput& in) {
     bool any_normals = false, any_uvs = false, any_tangents = false;
+    bool any_rays_hidden = false;  // some mesh hidden from some kind of ray: tri_rays_
     for (const MeshInput& m : in.meshes) {
+        any_rays_hidden |= (m.rays & kRayKindsAll) != kRayKindsAll;
         any_normals |= !m.normals.empty();
         any_uvs |= !m.uvs.empty();
         any_tangents |= !m.tangents.empty();
@@ -97,6 +99,7 @@ void HostScene::add_meshes(const SceneInput& in) {
                                program_has_target(programs_.data(), mm, kTargetAlpha);
             tri_flags_.push_back(uint8_t(flags | (alpha ? kAlphaTested : 0) |
                                          (mm.holdout ? kHoldout : 0)));
+            if (any_rays_hidden) tri_rays_.push_back(uint8_t(m.rays & kRayKindsAll));
         }
         range.tri_count = int32_t(tri_material_.size()) - range.tri_begin;
         mesh_ranges_.push_back(range);

@@ -232,6 +232,14 @@ enum CatcherMode : int32_t { kCatcherMatte = 0, kCatcherObject = 1, kCatcherPass
 // SceneView::world_rays: the scatterings whose rays see the world (Cycles' world ray
 // visibility; camera rays: the world light's visible_camera). Transmission is any scattering
 // through the surface; diffuse and glossy are reflections (integrator/pt.h pt_world_sees).
+// SceneView::tri_rays: the scatterings whose rays see a triangle's object (Cycles' object ray
+// visibility Diffuse, Glossy, Transmission, Volume Scatter; pt: integrator/pt_ray_visibility.h)
+enum RayKinds : uint8_t { kRayDiffuse = 1, kRayGlossy = 2, kRayTransmission = 4,
+                          kRayVolumeScatter = 8, kRayKindsAll = 15 };
+
+// Light linking: every receiver set (SceneView::light_receivers' bits)
+constexpr uint64_t kAllReceivers = ~uint64_t(0);
+
 enum WorldRays : uint32_t { kWorldDiffuse = 1, kWorldGlossy = 2, kWorldTransmission = 4,
                             kWorldRaysAll = 7 };
 
@@ -278,6 +286,15 @@ struct SceneView {
     const uint32_t* tri_material = nullptr;
     const uint8_t* tri_flags = nullptr;
     const int32_t* tri_light = nullptr;  // light index of an emissive triangle, else -1
+    const uint8_t* tri_rays = nullptr;   // RayKinds that see the triangle; null: all see all
+    // light linking (pt: integrator/pt_light_linking.h): a triangle's receiver set (0..63) and
+    // per light the sets it lights (bit s); both null where nothing is linked
+    const uint8_t* tri_light_set = nullptr;
+    const uint64_t* light_receivers = nullptr;
+    // shadow linking (pt_light_linking.h): a triangle's blocker set (0..63) and per light the
+    // blocker sets that cast its shadows; both null where nothing is shadow-linked
+    const uint8_t* tri_shadow_set = nullptr;
+    const uint64_t* light_blockers = nullptr;
     int32_t num_triangles = 0;
 
     const Material* materials = nullptr;

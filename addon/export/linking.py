@@ -1,0 +1,82 @@
+"""Cycles' light and shadow linking (Object > Shading > Light Linking: Receiver and Blocker
+Collections) as Lantern's receiver and blocker sets (native/src/integrator/pt_light_linking.h,
+pt; the bidirectional integrators hand such a scene to pt with a warning). As Blender's
+depsgraph decides: an emitter whose collection includes some objects lights (is shadowed by)
+only those; one that only excludes, every object but those (a child collection's state applies
+to every object in it). Meshes with the same answer for every linked emitter share a set (at
+most 64, as in Cycles); each linked emitter (a lamp or an emissive mesh) carries the mask of
+the sets it lights (receivers) or that shadow it (blockers)."""
+
+
+def _states(coll, out, state=None, seen=None):
+    """Object name -> 'INCLUDE' / 'EXCLUDE' for every object in coll and its children (a child
+    collection's state over its objects'; the first entry of an object wins)."""
+    seen = seen if seen is not None else set()
+    if coll is None or coll.name in seen:
+        return out
+    seen.add(coll.name)
+    for obj, entry in zip(coll.objects, coll.collection_objects):
+        out.setdefault(obj.name, state or entry.light_linking.link_state)
+    for child, entry in zip(coll.children, coll.collection_children):
+        _states(child, out, state or entry.light_linking.link_state, seen)
+    return out
+
+
+def _collection(obj, attr):
+    ll = getattr(obj, "light_linking", None)
+    return getattr(ll, attr, None) if ll is not None else None
+
+
+class LightLinking:
+    """Collects the exported meshes and lights of one export (by object name), then numbers
+    the sets in finish(): receiver sets (mesh "light_set", emitter "receivers") and blocker sets
+    (mesh "shadow_set", emitter "blockers")."""
+
+    KINDS = (("receiver_collection", "light_set", "receivers", "light linking"),
+             ("blocker_collection", "shadow_set", "blockers", "shadow linking"))
+
+    def __init__(self, report):
+        self.report = report
+        self.meshes = []    # (object name, mesh dict)
+        self.emitters = {k[0]: [] for k in self.KINDS}  # (collection states, emitter dict)
+
+    def _emitter(self, obj, target):
+        for attr, *_ in self.KINDS:
+            coll = _collection(obj, attr)
+            if coll is not None:
+                self.emitters[attr].append((_states(coll, {}), target))
+
+    def mesh(self, obj, mesh):
+        self.meshes.append((obj.name, mesh))
+        self._emitter(obj, mesh)
+
+    def light(self, obj, light):
+        self._emitter(obj, light)
+
+    def finish(self):
+        for attr, set_field, mask_field, what in self.KINDS:
+            self._number(self.emitters[attr], set_field, mask_field, what)
+
+    def _number(self, emitters, set_field, mask_field, what):
+        if not emitters:
+            return
+
+        def lights(states, name):
+            include = any(s == "INCLUDE" for s in states.values())
+            state = states.get(name)
+            return state == "INCLUDE" if include else state != "EXCLUDE"
+
+        sets = {tuple(True for _ in emitters): 0}  # set 0: linked to every linked emitter
+        for name, mesh in self.meshes:
+            key = tuple(lights(states, name) for states, _ in emitters)
+            if key not in sets:
+                if len(sets) == 64:
+                    self.report.warn(f"Object '{name}': more than 64 {what} sets; it is "
+                                     "linked as the objects of set 0")
+                    key = next(iter(sets))
+                else:
+                    sets[key] = len(sets)
+            if sets[key]:
+                mesh[set_field] = sets[key]
+        for e, (_, target) in enumerate(emitters):
+            target[mask_field] = sum(1 << s for key, s in sets.items() if key[e])

@@ -1,0 +1,31 @@
+"""Cycles' object ray visibility (Object > Visibility > Ray Visibility): Camera and Shadow are
+the mesh's visible_camera / cast_shadow (every integrator); Diffuse, Glossy, Transmission and
+Volume Scatter are exported here, as mesh fields present only when off, and rendered by pt
+(native/src/integrator/pt_ray_visibility.h; the bidirectional integrators hand the scene to pt
+with a warning). Lamps' and the world's flags: unsupported.py and world.py."""
+
+# (object property, scene field, label)
+RAY_KINDS = (("visible_diffuse", "visible_diffuse", "Diffuse"),
+             ("visible_glossy", "visible_glossy", "Glossy"),
+             ("visible_transmission", "visible_transmission", "Transmission"),
+             ("visible_volume_scatter", "visible_volume_scatter", "Volume Scatter"))
+
+
+def mesh_ray_visibility(obj):
+    """The mesh fields of obj's ray visibility that are off (an empty dict when all are on, so
+    that a scene without them exports as before)."""
+    return {field: False for prop, field, _ in RAY_KINDS if not getattr(obj, prop, True)}
+
+
+def mixed_kind_warning(meshes, materials, report):
+    """Principled and mixed materials scatter diffuse and glossy rays as one mixture in
+    Lantern (pt_scatter_kind): an object hidden from one of the two kinds only stays visible
+    in their reflections, where Cycles hides it from the lobe of that kind. Named, once."""
+    one_kind = [m.get("name", "?") for m in meshes
+                if m.get("visible_diffuse", True) != m.get("visible_glossy", True)]
+    mixed = [m.get("name", "?") for m in materials if m.get("type") in ("principled", "mix")]
+    if one_kind and mixed:
+        report.warn(f"Object '{one_kind[0]}'{' and others' if len(one_kind) > 1 else ''}: "
+                    "hidden from diffuse or glossy rays only; Principled and mixed materials "
+                    f"({', '.join(mixed[:3])}{', ...' if len(mixed) > 3 else ''}) see it in "
+                    "every reflection")

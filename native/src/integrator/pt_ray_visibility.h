@@ -1,0 +1,68 @@
+// Object ray visibility in pt (Cycles' Object > Visibility > Ray Visibility: Diffuse, Glossy,
+// Transmission, Volume Scatter; Camera and Shadow are the ray queries' own, accel/bvh.h). A
+// bounce ray passes through the surfaces hidden from the kind of scattering that made it, and
+// next-event estimation skips their emission for that kind, so both MIS strategies see the
+// same scene. Only read where SceneView::tri_rays is set (some object hides from some kind).
+#pragma once
+
+#include "bsdf/material.h"
+#include "core/offset.h"
+#include "integrator/path_state.h"
+#include "scene/scene_view.h"
+
+namespace lantern {
+
+// The kind of a scattering towards wi off material m (ng: the geometric normal facing the
+// arriving ray), as Cycles' ray visibility reads it: through the surface a transmission (its
+// diffuse or glossy label dropped); a reflection off the diffuse materials diffuse, off
+// conductors and glass glossy (a sharp mirror too: Cycles labels singular rays glossy); off
+// Principled and mixes, which Lantern samples as one mixture, both (an object is hidden from
+// such a reflection only when it is hidden from both kinds: addon/export/visibility.py warns).
+LANTERN_HD inline uint8_t pt_scatter_kind(const Material& m, Vec3 wi, Vec3 ng) {
+    if (dot(wi, ng) < 0.0f) return kRayTransmission;
+    switch (m.type) {
+    case kMaterialConductor:
+    case kMaterialDielectric: return kRayGlossy;
+    case kMaterialPrincipled:
+    case kMaterialMix: return kRayDiffuse | kRayGlossy;
+    default: return kRayDiffuse;
+    }
+}
+
+// A scattering in a medium: Cycles' volume-scatter rays also count as diffuse for visibility.
+constexpr uint8_t kRayKindVolume = kRayVolumeScatter | kRayDiffuse;
+// A subsurface walk's exit: a diffuse reflection (its cosine lobe).
+constexpr uint8_t kRayKindSubsurface = kRayDiffuse;
+
+// Whether light li, an emissive triangle, is hidden from scatterings of `kind` (next-event
+// estimation then finds nothing there). Lamps carry no object flags here.
+LANTERN_HD inline bool pt_light_hidden(const SceneView& s, int li, uint8_t kind) {
+    if (!s.tri_rays || li < 0) return false;
+    const Light& l = s.lights[li];
+    return l.type == kLightTriangle && !(s.tri_rays[l.triangle] & kind);
+}
+
+// Records the kind of the scattering that made slot i's next ray.
+LANTERN_HD inline void pt_set_ray_kind(const SceneView& s, const PathState& ps, int i,
+                                       uint8_t kind) {
+    if (s.tri_rays && ps.ray_kind) ps.ray_kind[i] = kind;
+}
+
+// True when slot i's bounce ray hit a triangle hidden from its kind: the ray goes on from the
+// hit point, the same segment (depth, throughput and the MIS state of the last real vertex
+// stay), as if the triangle were not in the ray query. Camera rays: the query's own flags.
+LANTERN_HD inline bool pt_hidden_from_ray(const SceneView& s, const PathState& ps, int i, int tri) {
+    return s.tri_rays && ps.ray_kind && ps.depth[i] > 1 && !(s.tri_rays[tri] & ps.ray_kind[i]);
+}
+
+LANTERN_HD inline void pt_pass_hidden(const SceneView& s, const PathState& ps, int i, Vec3 p,
+                                      Vec3 ng) {
+    const Vec3 d = ps.ray_d[i];
+    ps.ray_o[i] = offset_ray_origin(p, ng, d, s.offset_scale);
+    ps.ray_tmin[i] = 0.0f;
+    const float tmax = ps.ray_tmax[i];
+    ps.ray_tmax[i] = tmax < kInf ? fmaxf(tmax - ps.hit_t[i], 0.0f) : kInf;
+    ps.alive[i] = 1;
+}
+
+}  // namespace lantern
