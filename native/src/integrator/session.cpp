@@ -80,8 +80,10 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
         if (!why.empty()) {
             media_note = "integrator '" + integ + "' does not render participating media (the " +
                          "scene has " + why + "; " +
-                         (integ == "lt" ? std::string("light tracing renders homogeneous, non-emissive media only")
-                                        : std::string("no medium vertices in its paths")) +
+                         (integ == "lt"
+                              ? std::string("light tracing renders homogeneous, non-emissive "
+                                            "media only")
+                              : std::string("no medium vertices in its paths")) +
                          "): rendering with pt";
             settings_.integrator = "pt";
         } else if (const std::string ss = subsurface_reason(scene); !ss.empty()) {
