@@ -86,13 +86,13 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
     float dvcm = bs.dvcm[i], dvc = bs.dvc[i];
     const Light& l = s.lights[bs.light[i]];
     const bool infinite = l.type == kLightSun || l.type == kLightWorld;
-    if (k == 1 && (l.type == kLightPoint || l.type == kLightSpot) && l.radius > 0.0f) {
-        // next-event estimation samples a sphere light's visible cap: its area density at y0
-        // depends on the receiver y1 (here), not 1 / area as assumed at generation
-        Vec3 y0 = ps.ray_o[i];
-        Vec3 n0 = normalize(y0 - l.position);
-        float pdf_a = light_pdf_w(l, h.p, wo_w, dist, n0) * fabsf(dot(d, n0)) / (dist * dist);
-        dvcm *= mis(pdf_a * (4.0f * kPi * l.radius * l.radius));
+    if (k == 1 && !infinite) {
+        // next-event estimation samples a sphere light's visible cap, a rectangle's solid
+        // angle: its area density at y0 depends on the receiver y1 (here), not 1 / area as
+        // assumed at generation
+        const Vec3 n0 = l.type == kLightArea ? -l.frame.axis(2)
+                                             : normalize(ps.ray_o[i] - l.position);
+        dvcm *= mis(direct_pdf_receiver_ratio(l, h.p, wo_w, dist, n0));
     }
     if (k == 1) {  // next-event estimation from here picks this light with this probability
         dvcm *= mis(light_pick_pmf(s, bs.light[i], h.p, light_pick_normal(s, tri, h.ng)));

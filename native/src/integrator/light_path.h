@@ -95,6 +95,8 @@ LANTERN_HD inline EmissionSample sample_emission(const SceneView& s, const Light
         es.d = f.to_world(sample_cosine_hemisphere(u_dir, &pdf_dir));
         es.cos_light = dot(es.d, n);
         es.le = l.radiance;
+        // (a rectangle's next-event density follows its solid angle from the receiver:
+        // 1/area is the receiver-free stand-in, as for spheres; direct_pdf_receiver_ratio)
         es.pdf_direct = 1.0f / l.area;
         es.pdf_emit = es.pdf_direct * pdf_dir;
         break;
@@ -155,6 +157,20 @@ LANTERN_HD inline EmissionSample sample_emission(const SceneView& s, const Light
 // sun and world, the power through the scene's bounding disk).
 LANTERN_HD inline Vec3 emission_weight(const EmissionSample& es) {
     return es.le * (es.cos_light / es.pdf_emit);
+}
+
+// Where next-event estimation's area density of a light point depends on the receiver (a
+// sphere light's visible cap, a rectangle sampled by solid angle: lights.h spherical_rect),
+// EmissionSample::pdf_direct holds the receiver-free 1/area. This is the factor that makes it
+// the density with which next-event estimation from receiver p samples light point y0 (normal
+// n0) along unit direction wi at distance dist: 1 where it samples by area (or not by position).
+LANTERN_HD inline float direct_pdf_receiver_ratio(const Light& l, Vec3 p, Vec3 wi, float dist,
+                                                  Vec3 n0) {
+    const bool sphere = (l.type == kLightPoint || l.type == kLightSpot) && l.radius > 0.0f;
+    SphericalRect sr;
+    if (!sphere && !spherical_rect(l, p, &sr)) return 1.0f;
+    const float pdf_a = light_pdf_w(l, p, wi, dist, n0) * fabsf(dot(wi, n0)) / (dist * dist);
+    return pdf_a * (sphere ? 4.0f * kPi * l.radius * l.radius : l.area);
 }
 
 // ---- Emission pdfs of a given emitted ray (what BDPT needs when a camera path hits a light) ----

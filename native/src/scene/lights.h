@@ -110,6 +110,75 @@ LANTERN_HD inline Vec3 area_point(const Light& l, Vec2 u) {
     return l.frame.origin() + l.frame.axis(0) * (q.x * l.half_x) + l.frame.axis(1) * (q.y * l.half_y);
 }
 
+// ---- Solid-angle sampling of a rectangular area light (Urena, Fajardo & King 2013, "An
+// area-preserving parametrization for spherical rectangles"): the rectangle as seen from p is a
+// spherical rectangle of solid angle S, sampled uniformly (pdf 1/S), so that next-event
+// estimation's pdf follows the light's solid angle instead of its area (Cycles does the same).
+// Where S is tiny the two differ little and S's float cancellation (about 1e-6 sr) would
+// matter, and next to the light's plane the parametrization degenerates: there, and behind the
+// emitting side, the light keeps area sampling. The choice is a function of (l, p) alone, so
+// sample_light and light_pdf_w make the same one.
+struct SphericalRect {
+    Vec3 o, x, y, z;            // reference point; the rectangle's axes and emitting normal
+    float x0, x1, y0, y1, z0;   // the rectangle in that frame: [x0, x1] x [y0, y1] at z = z0 < 0
+    float b0, b1, k, solid_angle;
+};
+
+constexpr float kRectMinSolidAngle = 1e-2f;  // sr; below it, area sampling
+constexpr float kRectMinPlaneDist = 1e-3f;   // of the light's larger half extent
+
+// The spherical rectangle of rectangular light l seen from p; false where l is not a rectangle
+// or area sampling is kept (see above).
+LANTERN_HD inline bool spherical_rect(const Light& l, Vec3 p, SphericalRect* r) {
+    if (l.type != kLightArea || l.shape != kShapeRectangle) return false;
+    const Vec3 ex = l.frame.axis(0), ey = l.frame.axis(1), n = -l.frame.axis(2);
+    const Vec3 corner = l.frame.origin() - ex * l.half_x - ey * l.half_y;
+    const Vec3 d = corner - p;
+    const float h = -dot(d, n);  // height of p above the emitting side
+    if (!(h > kRectMinPlaneDist * fmaxf(l.half_x, l.half_y))) return false;
+    r->o = p;
+    r->x = ex;
+    r->y = ey;
+    r->z = n;  // from the light towards p; the light lies at z0 = -h
+    r->x0 = dot(d, ex);
+    r->y0 = dot(d, ey);
+    r->z0 = -h;
+    r->x1 = r->x0 + 2.0f * l.half_x;
+    r->y1 = r->y0 + 2.0f * l.half_y;
+    const float z0 = r->z0;
+    // normals of the planes through p and each edge (in the local frame), then the angles
+    // between neighbouring ones: the spherical rectangle's interior angles
+    const Vec3 n0 = normalize(vec3(0.0f, z0, -r->y0));
+    const Vec3 n1 = normalize(vec3(-z0, 0.0f, r->x1));
+    const Vec3 n2 = normalize(vec3(0.0f, -z0, r->y1));
+    const Vec3 n3 = normalize(vec3(z0, 0.0f, -r->x0));
+    const float g0 = acosf(clampf(-dot(n0, n1), -1.0f, 1.0f));
+    const float g1 = acosf(clampf(-dot(n1, n2), -1.0f, 1.0f));
+    const float g2 = acosf(clampf(-dot(n2, n3), -1.0f, 1.0f));
+    const float g3 = acosf(clampf(-dot(n3, n0), -1.0f, 1.0f));
+    r->b0 = n0.z;
+    r->b1 = n2.z;
+    r->k = 2.0f * kPi - g2 - g3;
+    r->solid_angle = g0 + g1 - r->k;
+    return r->solid_angle >= kRectMinSolidAngle && r->solid_angle < 2.0f * kPi;
+}
+
+// The point of the spherical rectangle for u in [0, 1)^2 (uniform in solid angle).
+LANTERN_HD inline Vec3 spherical_rect_point(const SphericalRect& r, Vec2 u) {
+    const float au = u.x * r.solid_angle + r.k;
+    const float fu = (cosf(au) * r.b0 - r.b1) / sinf(au);
+    float cu = copysignf(1.0f, fu) / sqrtf(fu * fu + r.b0 * r.b0);
+    cu = clampf(cu, -1.0f, 1.0f);
+    float xu = -(cu * r.z0) / safe_sqrt(1.0f - cu * cu);
+    xu = clampf(xu, r.x0, r.x1);
+    const float dd = sqrtf(xu * xu + r.z0 * r.z0);
+    const float h0 = r.y0 / sqrtf(dd * dd + r.y0 * r.y0);
+    const float h1 = r.y1 / sqrtf(dd * dd + r.y1 * r.y1);
+    const float hv = h0 + u.y * (h1 - h0), hv2 = hv * hv;
+    const float yv = hv2 < 1.0f - 1e-6f ? hv * dd / sqrtf(1.0f - hv2) : r.y1;
+    return r.o + r.x * xu + r.y * clampf(yv, r.y0, r.y1) + r.z * r.z0;
+}
+
 LANTERN_HD inline LightSample sample_light(const SceneView& s, const Light& l, Vec3 p, Vec2 u) {
     LightSample ls{};
     ls.valid = false;
@@ -174,7 +243,9 @@ LANTERN_HD inline LightSample sample_light(const SceneView& s, const Light& l, V
         return ls;
     }
     case kLightArea: {
-        Vec3 q = area_point(l, u);
+        SphericalRect sr;
+        const bool by_solid_angle = spherical_rect(l, p, &sr);
+        Vec3 q = by_solid_angle ? spherical_rect_point(sr, u) : area_point(l, u);
         Vec3 to = q - p;
         float d2 = length_sq(to);
         if (!(d2 > 0.0f)) return ls;
@@ -186,7 +257,7 @@ LANTERN_HD inline LightSample sample_light(const SceneView& s, const Light& l, V
         ls.wi = wi;
         ls.dist = d;
         ls.le = l.radiance;
-        ls.pdf_w = pdf_a_to_w(1.0f / l.area, d2, cos_l);
+        ls.pdf_w = by_solid_angle ? 1.0f / sr.solid_angle : pdf_a_to_w(1.0f / l.area, d2, cos_l);
         ls.p_light = q;
         ls.n_light = n;
         ls.valid = true;
@@ -257,7 +328,11 @@ LANTERN_HD inline float light_pdf_w(const Light& l, Vec3 p, Vec3 wi, float t, Ve
         if (d2 <= l.radius * l.radius) return 1.0f / (4.0f * kPi);  // inside: uniform
         return pdf_uniform_cone(safe_sqrt(1.0f - l.radius * l.radius / d2));
     }
-    case kLightArea:
+    case kLightArea: {
+        SphericalRect sr;
+        if (spherical_rect(l, p, &sr)) return 1.0f / sr.solid_angle;
+        return pdf_a_to_w(1.0f / l.area, t * t, fabsf(dot(wi, n)));
+    }
     case kLightTriangle:
         return pdf_a_to_w(1.0f / l.area, t * t, fabsf(dot(wi, n)));
     case kLightSun:
