@@ -38,9 +38,12 @@ done
 for f in tests/python/test_*.py; do
   [[ " ${units[*]} " == *" $f "* ]] || units+=("$f")
 done
+# tests marked `long` (long statistical runs: bench/long_tests.sh) only with LANTERN_TEST_LONG=1
+long=(-m "not long")
+[ "${LANTERN_TEST_LONG:-0}" = 1 ] && long=()
 run_unit() {  # $1: the unit's index; its log and exit status land in $logs
   local unit=${units[$1]}
-  .venv/bin/python -m pytest -q -rs "${@:2}" "$unit" > "$logs/$1.log" 2>&1
+  .venv/bin/python -m pytest -q -rs "${long[@]}" "${@:2}" "$unit" > "$logs/$1.log" 2>&1
   local rc=$?
   # a file whose tests a -k in "$@" deselects entirely collects nothing (5): not a failure
   [[ $rc -eq 5 && $unit == *.py ]] && rc=0
