@@ -53,11 +53,25 @@ def light(scene, kind, location, energy, rotation=(0, 0, 0), **kw):
     return obj
 
 
+def lantern_renders(k_seeds, spp):
+    """The staged scene rendered by Lantern through the add-on, seeds 1..k_seeds at `spp` on 2
+    threads: (the stack as float64, the last render's warnings)."""
+    import numpy as np
+
+    import render_compare as rc
+    lan, warnings = [], []
+    for k in range(k_seeds):
+        img, warnings = rc.render_lantern(seed=1 + k, spp=spp, threads=2)
+        lan.append(img)
+    return np.stack(lan).astype(np.float64), warnings
+
+
 def compare_with_cycles(name, build, spp, controls, cycles_seed0, k_seeds, se_floor):
     """The feature tests' comparison: `build()` makes the scene; K seeds of each renderer at
     spp = (Cycles', Lantern's) (Lantern on 2 threads, seeds 1..), no Lantern warning, Cycles
     not black, metrics.assert_agreement with the (image, block) negative controls `controls`;
-    the measured line goes to render_compare.REPORT."""
+    the measured line goes to render_compare.REPORT. Returns Cycles' renders (for
+    control_differs)."""
     import time
 
     import numpy as np
@@ -68,11 +82,7 @@ def compare_with_cycles(name, build, spp, controls, cycles_seed0, k_seeds, se_fl
     build()
     cyc = np.stack([rc.render_cycles(seed=cycles_seed0 + k, spp=spp[0])[0]
                     for k in range(k_seeds)]).astype(np.float64)
-    lan, warnings = [], []
-    for k in range(k_seeds):
-        img, warnings = rc.render_lantern(seed=1 + k, spp=spp[1], threads=2)
-        lan.append(img)
-    lan = np.stack(lan).astype(np.float64)
+    lan, warnings = lantern_renders(k_seeds, spp[1])
     assert not warnings, warnings
     assert np.isfinite(lan).all()
     assert cyc.mean() > 1e-3, "the scene is black in Cycles"
@@ -82,3 +92,16 @@ def compare_with_cycles(name, build, spp, controls, cycles_seed0, k_seeds, se_fl
     rc.REPORT.append(line)
     metrics.assert_agreement(name, lan, cyc, block=rc.BLOCK, se_floor=se_floor,
                              image_bias=controls[0], block_bias=controls[1])
+    return cyc
+
+
+def control_differs(name, cyc, k_seeds, spp, se_floor):
+    """A negative control of the scene's own kind: the caller has changed the staged scene
+    (the feature taken out or altered); Lantern's renders of it must not pass against Cycles'
+    renders `cyc` of the scene as it was."""
+    import render_compare as rc
+    from lantern import metrics
+    other, _ = lantern_renders(k_seeds, spp)
+    ctl = metrics.compare_renders(other, cyc, block=rc.BLOCK, se_floor=se_floor, name=name)
+    print(f"control: {ctl}; mean ratio {other.mean() / cyc.mean():.4f}")
+    assert not ctl.passed, f"{name} passed against Cycles: {ctl}"

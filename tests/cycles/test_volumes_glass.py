@@ -9,14 +9,12 @@ rendering the water clear (no volume) must be told apart from Cycles."""
 import os
 import sys
 
-import numpy as np
 
 import bpy  # noqa: E402 (conftest.py skips this folder without bpy or the core)
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(ROOT, "tools"))
 import bpy_stage  # noqa: E402
-import render_compare as rc  # noqa: E402
 from bpy_stage import camera as _camera, cube as _cube, light as _light  # noqa: E402
 
 K = 8
@@ -67,32 +65,10 @@ def glass_of_water():
     _camera(scene, (0, -3.2, 1.2), (80, 0, 0), lens=35.0)
 
 
-def _lantern(k_seeds, spp):
-    lan, warnings = [], []
-    for k in range(k_seeds):
-        img, warnings = rc.render_lantern(seed=1 + k, spp=spp, threads=2)
-        lan.append(img)
-    return np.stack(lan).astype(np.float64), warnings
-
-
 def test_glass_of_murky_water_matches_cycles():
-    from lantern import metrics
-    glass_of_water()
-    cyc = np.stack([rc.render_cycles(seed=950 + k, spp=SPP[0])[0]
-                    for k in range(K)]).astype(np.float64)
-    assert cyc.mean() > 1e-3, "the scene is black in Cycles"
-    lan, warnings = _lantern(K, SPP[1])
-    assert not warnings, warnings
-    assert np.isfinite(lan).all()
-    res = metrics.compare_renders(lan, cyc, block=rc.BLOCK, se_floor=SE_FLOOR, name="glass")
-    print(f"{res}; mean ratio {lan.mean() / cyc.mean():.4f}")
-    metrics.assert_agreement("glass of murky water", lan, cyc, block=rc.BLOCK,
-                             se_floor=SE_FLOOR, image_bias=0.02, block_bias=0.10)
+    cyc = bpy_stage.compare_with_cycles("glass of murky water", glass_of_water, SPP, (0.02, 0.10), cycles_seed0=950,
+                                        k_seeds=K, se_floor=SE_FLOOR)
     # the medium matters: clear water is told apart
     nt = bpy.data.materials["water"].node_tree
     nt.links.remove(nt.nodes["Material Output"].inputs["Volume"].links[0])
-    clear, _ = _lantern(K, SPP[1])
-    ctl = metrics.compare_renders(clear, cyc, block=rc.BLOCK, se_floor=SE_FLOOR,
-                                  name="glass, clear water")
-    print(f"control: {ctl}; mean ratio {clear.mean() / cyc.mean():.4f}")
-    assert not ctl.passed, f"clear water passed against Cycles: {ctl}"
+    bpy_stage.control_differs("glass, clear water", cyc, K, SPP[1], SE_FLOOR)

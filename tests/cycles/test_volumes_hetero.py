@@ -9,14 +9,12 @@ another pattern) must be told apart from Cycles."""
 import os
 import sys
 
-import numpy as np
 
 import bpy  # noqa: E402 (conftest.py skips this folder without bpy or the core)
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(ROOT, "tools"))
 import bpy_stage  # noqa: E402
-import render_compare as rc  # noqa: E402
 from bpy_stage import camera as _camera, cube as _cube, light as _light  # noqa: E402
 
 K = 8
@@ -67,31 +65,9 @@ def smoke():
     _camera(scene, (0, -3.5, 1.8), (70, 0, 0), lens=30.0)
 
 
-def _lantern(k_seeds, spp):
-    lan, warnings = [], []
-    for k in range(k_seeds):
-        img, warnings = rc.render_lantern(seed=1 + k, spp=spp, threads=2)
-        lan.append(img)
-    return np.stack(lan).astype(np.float64), warnings
-
-
 def test_noise_smoke_matches_cycles():
-    from lantern import metrics
-    smoke()
-    cyc = np.stack([rc.render_cycles(seed=900 + k, spp=SPP[0])[0]
-                    for k in range(K)]).astype(np.float64)
-    assert cyc.mean() > 1e-3, "the scene is black in Cycles"
-    lan, warnings = _lantern(K, SPP[1])
-    assert not warnings, warnings
-    assert np.isfinite(lan).all()
-    res = metrics.compare_renders(lan, cyc, block=rc.BLOCK, se_floor=SE_FLOOR, name="smoke")
-    print(f"{res}; mean ratio {lan.mean() / cyc.mean():.4f}")
-    metrics.assert_agreement("smoke", lan, cyc, block=rc.BLOCK, se_floor=SE_FLOOR,
-                             image_bias=0.01, block_bias=0.05)
+    cyc = bpy_stage.compare_with_cycles("smoke", smoke, SPP, (0.01, 0.05), cycles_seed0=900,
+                                        k_seeds=K, se_floor=SE_FLOOR)
     # the density's pattern matters: another noise scale is told apart
     bpy.data.materials["smoke"].node_tree.nodes["noise"].inputs["Scale"].default_value = 3.5
-    other, _ = _lantern(K, SPP[1])
-    ctl = metrics.compare_renders(other, cyc, block=rc.BLOCK, se_floor=SE_FLOOR,
-                                  name="smoke, noise scale 3.5")
-    print(f"control: {ctl}; mean ratio {other.mean() / cyc.mean():.4f}")
-    assert not ctl.passed, f"a noise of another scale passed against Cycles: {ctl}"
+    bpy_stage.control_differs("smoke, noise scale 3.5", cyc, K, SPP[1], SE_FLOOR)

@@ -10,14 +10,12 @@ it once more (the sum counted twice) must be told apart."""
 import os
 import sys
 
-import numpy as np
 
 import bpy  # noqa: E402 (conftest.py skips this folder without bpy or the core)
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(ROOT, "tools"))
 import bpy_stage  # noqa: E402
-import render_compare as rc  # noqa: E402
 from bpy_stage import camera as _camera, cube as _cube, light as _light  # noqa: E402
 
 K = 8
@@ -66,32 +64,10 @@ def nested():
     _camera(scene, (0, -4.5, 1.4), (85, 0, 0), lens=30.0)
 
 
-def _lantern(k_seeds, spp):
-    lan, warnings = [], []
-    for k in range(k_seeds):
-        img, warnings = rc.render_lantern(seed=1 + k, spp=spp, threads=2)
-        lan.append(img)
-    return np.stack(lan).astype(np.float64), warnings
-
-
 def test_nested_media_match_cycles():
-    from lantern import metrics
-    nested()
-    cyc = np.stack([rc.render_cycles(seed=980 + k, spp=SPP[0])[0]
-                    for k in range(K)]).astype(np.float64)
-    assert cyc.mean() > 1e-3, "the scene is black in Cycles"
-    lan, warnings = _lantern(K, SPP[1])
-    assert not warnings, warnings
-    assert np.isfinite(lan).all()
-    res = metrics.compare_renders(lan, cyc, block=rc.BLOCK, se_floor=SE_FLOOR, name="nested")
-    print(f"{res}; mean ratio {lan.mean() / cyc.mean():.4f}")
-    metrics.assert_agreement("nested media", lan, cyc, block=rc.BLOCK, se_floor=SE_FLOOR,
-                             image_bias=0.02, block_bias=0.10)
+    cyc = bpy_stage.compare_with_cycles("nested media", nested, SPP, (0.02, 0.10), cycles_seed0=980,
+                                        k_seeds=K, se_floor=SE_FLOOR)
     # the rule matters: the outer fog counted twice inside the inner cube is told apart
     v = bpy.data.materials["inner"].node_tree.nodes["volume"]
     v.inputs["Density"].default_value = INNER + FOG
-    twice, _ = _lantern(K, SPP[1])
-    ctl = metrics.compare_renders(twice, cyc, block=rc.BLOCK, se_floor=SE_FLOOR,
-                                  name="nested, fog counted twice")
-    print(f"control: {ctl}; mean ratio {twice.mean() / cyc.mean():.4f}")
-    assert not ctl.passed, f"the fog counted twice passed against Cycles: {ctl}"
+    bpy_stage.control_differs("nested, fog counted twice", cyc, K, SPP[1], SE_FLOOR)
