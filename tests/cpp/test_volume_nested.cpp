@@ -100,6 +100,23 @@ SceneInput nested_scene(float outer_z0, float outer_z1, float inner_z0, float in
     return in;
 }
 
+// A box (z -3..-2, in front of the camera) holding medium `med` whose density is the node
+// program "attribute channel 0" (kTargetDensity): the caller fills the box's attributes
+SceneInput density_program_box(const MediumInput& med) {
+    SceneInput in = base_scene();
+    in.media.push_back(med);
+    MaterialInput mat = volume_material(0, med.name.c_str());
+    mat.program_first = 0;
+    mat.program_count = 1;
+    in.materials.push_back(mat);
+    in.num_attribute_channels = 1;
+    in.meshes.push_back(box({-1, -1, -3}, {1, 1, -2}, 0, med.name.c_str()));
+    // one instruction: kOpInput mode 4 (attribute) channel 0 into register 0, the result
+    in.program_code = {uint32_t(kOpInput) | (4u << 8) | (3u << 24), 0u, 0u, 0u};
+    in.programs = {0u, 1u, 0u, 0u, uint32_t(kTargetDensity), 0u};
+    return in;
+}
+
 }  // namespace
 
 TEST(MediumNested, InnerBoxAddsToTheOuterAndTheOuterResumes) {
@@ -123,23 +140,13 @@ TEST(MediumNested, InnerBoxAddsToTheOuterAndTheOuterResumes) {
 
 TEST(MediumHeteroPt, AbsorbingBoxOfARampDensityIsBeerLambert) {
     if (!embree_available()) GTEST_SKIP() << "Embree not loadable: " << embree_version();
-    SceneInput in = base_scene();
     MediumInput med;
     med.name = "ramp";
     med.sigma_a = vec3(0.2f, 0.5f, 1.0f);  // per unit density
-    in.media.push_back(med);
-    MaterialInput mat = volume_material(0, "ramp");
-    mat.program_first = 0;
-    mat.program_count = 1;
-    in.materials.push_back(mat);
-    in.num_attribute_channels = 1;
-    MeshInput m = box({-1, -1, -3}, {1, 1, -2}, 0, "ramp");
+    SceneInput in = density_program_box(med);
+    MeshInput& m = in.meshes[0];
     for (size_t v = 0; v < m.positions.size() / 3; ++v)  // channel 0: (-z, 0, 0)
         m.attributes.insert(m.attributes.end(), {-m.positions[3 * v + 2], 0.0f, 0.0f});
-    in.meshes.push_back(m);
-    // one instruction: kOpInput mode 4 (attribute) channel 0 into register 0, the result
-    in.program_code = {uint32_t(kOpInput) | (4u << 8) | (3u << 24), 0u, 0u, 0u};
-    in.programs = {0u, 1u, 0u, 0u, uint32_t(kTargetDensity), 0u};
     // K seeds: the mean and its standard error over them (ratio tracking is the noise)
     const int k_seeds = 8;
     double sum[3] = {}, sum2[3] = {};
@@ -171,23 +178,13 @@ TEST(MediumHeteroPt, EmissionWhereTheDensityIsZeroIsTheChordTimesTheEmission) {
     // density 0 everywhere (an attribute channel of zeros), emission (1, 2, 3) per metre: the
     // majorant is kept above 0 so that the emission is still estimated; 1 m chord
     if (!embree_available()) GTEST_SKIP() << "Embree not loadable: " << embree_version();
-    SceneInput in = base_scene();
-    in.world_color = vec3(0.0f);
     MediumInput med;
     med.name = "glow";
     med.sigma_a = vec3(1.0f);
     med.emission = vec3(1.0f, 2.0f, 3.0f);
-    in.media.push_back(med);
-    MaterialInput mat = volume_material(0, "glow");
-    mat.program_first = 0;
-    mat.program_count = 1;
-    in.materials.push_back(mat);
-    in.num_attribute_channels = 1;
-    MeshInput m = box({-1, -1, -3}, {1, 1, -2}, 0, "glow");
-    m.attributes.assign(m.positions.size(), 0.0f);
-    in.meshes.push_back(m);
-    in.program_code = {uint32_t(kOpInput) | (4u << 8) | (3u << 24), 0u, 0u, 0u};
-    in.programs = {0u, 1u, 0u, 0u, uint32_t(kTargetDensity), 0u};
+    SceneInput in = density_program_box(med);
+    in.world_color = vec3(0.0f);
+    in.meshes[0].attributes.assign(in.meshes[0].positions.size(), 0.0f);
     const int k_seeds = 8;
     double sum[3] = {}, sum2[3] = {};
     for (int k = 0; k < k_seeds; ++k) {
@@ -212,21 +209,11 @@ TEST(MediumHeteroPt, LightTracingHandsAHeterogeneousMediumToPt) {
     // lt's medium vertices (integrator/lt_medium.h) sample homogeneous media only: a density
     // program must make it render with pt and say so, never sample the per-unit coefficients
     // as if they were the medium's
-    SceneInput in = base_scene();
     MediumInput med;
     med.name = "ramp";
     med.sigma_a = vec3(0.2f, 0.5f, 1.0f);
-    in.media.push_back(med);
-    MaterialInput mat = volume_material(0, "ramp");
-    mat.program_first = 0;
-    mat.program_count = 1;
-    in.materials.push_back(mat);
-    in.num_attribute_channels = 1;
-    MeshInput m = box({-1, -1, -3}, {1, 1, -2}, 0, "ramp");
-    m.attributes.assign(m.positions.size(), 1.0f);
-    in.meshes.push_back(m);
-    in.program_code = {uint32_t(kOpInput) | (4u << 8) | (3u << 24), 0u, 0u, 0u};
-    in.programs = {0u, 1u, 0u, 0u, uint32_t(kTargetDensity), 0u};
+    SceneInput in = density_program_box(med);
+    in.meshes[0].attributes.assign(in.meshes[0].positions.size(), 1.0f);
     SessionSettings st;
     st.integrator = "lt";
     st.spp_per_iteration = 1;
