@@ -164,6 +164,7 @@ void HostScene::build_media(const SceneInput& in) {
     view_.media = media_.data();  // nesting may have added media
     view_.num_media = int32_t(media_.size());
     view_.camera_medium = camera_medium_at(view_.camera.to_world.origin());
+    inset_volume_boundaries();  // after the fits and the camera's medium, which read the mesh as given
     // where each light's paths start (lt): the medium at its centre; distant lights the world's
     light_medium_.assign(lights_.size(), view_.world_medium);
     for (size_t k = 0; k < lights_.size(); ++k) {

@@ -219,6 +219,7 @@ private:
     int32_t density_program(size_t material) const;  // scene/medium_hetero_build.cpp
     void build_hetero(int32_t med, size_t material, const std::string& name);
     void nest_media(const SceneInput& in, const Medium* world);  // scene/medium_build.cpp
+    void inset_volume_boundaries();  // scene/medium_inset.cpp
     int32_t camera_medium_at(Vec3 p) const;
     void build_motion(const SceneInput& in);  // scene/motion_build.cpp
 
