@@ -139,7 +139,11 @@ class VolumeObjects:
         if voxels.size == 0:
             warn(f"Object '{obj.name}': grid '{grid}' of '{path}' is empty; nothing renders")
             return False
+        # voxel centres at the grid's integer indices, as OpenVDB (measured against Cycles:
+        # an absorbing grid of random voxels seen from above matched at this placement and
+        # differed 5x more with the voxels moved half a voxel either way)
         to_world = np.array(inst.matrix_world, np.float64) @ np.asarray(index_to_object)
+        medium = _object_space(medium, vol, inst.matrix_world)
         gi = scene.add_grid(voxels, to_world, name=f"{obj.name}:{grid}")
         nz, ny, nx = voxels.shape
         positions, indices = _box(to_world, (nx, ny, nz))
@@ -150,6 +154,25 @@ class VolumeObjects:
         scene.meshes.append({"name": obj.name, "positions": positions, "indices": indices,
                              "material_ids": np.full(len(indices), slot, np.uint32)})
         return True
+
+
+def _object_space(medium, vol, matrix_world):
+    """The medium as Cycles scales it for the Volume's Render Space "Object" (Blender's
+    default: the opacity stays when the object is scaled): absorption and scattering divided by
+    the length of the object's matrix applied to the unit diagonal (Cycles'
+    object_volume_density, measured: without it a volume scaled (1.3, 1.1, 1.2) rendered 7 %
+    darker than Cycles); emission is not scaled (Cycles scales the density only)."""
+    render = getattr(vol, "render", None)
+    if getattr(render, "space", "OBJECT") != "OBJECT":
+        return medium
+    m = np.array(matrix_world, np.float64)[:3, :3]
+    k = float(np.linalg.norm(m @ (np.ones(3) / np.sqrt(3.0))))
+    if not k > 0.0:
+        return medium
+    out = dict(medium)
+    for key in ("sigma_a", "sigma_s"):
+        out[key] = [v / k for v in medium[key]]
+    return out
 
 
 def _leaves_of(output):

@@ -3,8 +3,10 @@ written by the core's OpenVDB writer (lantern._core.vdb_write) into the test's t
 in Blender as a Volume object (rotated, scaled, moved: the grid's transform times the object's
 matrix), Principled Volume reading its "density" grid, on a floor under a sun (its shadow rays
 cross the smoke) and a dim world. K seeds of each renderer (tools/render_compare.py's settings),
-lantern.metrics.assert_agreement with its negative controls, and a control of the transform:
-Lantern rendering the object turned 90 degrees about z must be told apart from Cycles."""
+lantern.metrics.assert_agreement with its negative controls, and two of the scene's own:
+Lantern rendering the object turned 90 degrees about z, and with its density in world units
+(Render Space "World" for Lantern only: Cycles' object-space scaling off), must each be told
+apart from Cycles."""
 
 import math
 import os
@@ -25,6 +27,8 @@ K = 8
 SIZE = 32
 SPP = (256, 256)   # Cycles', Lantern's per seed
 SE_FLOOR = 1e-6
+ROT = (math.radians(10), 0.0, math.radians(25))
+SCALE = (1.3, 1.1, 1.2)
 
 pytestmark = pytest.mark.skipif(not lantern.vdb_available(),
                                 reason="Lantern built without OpenVDB")
@@ -82,8 +86,8 @@ def stage(vdb_path):
         obj = bpy.data.objects.new("smoke", vol)
         scene.collection.objects.link(obj)
         obj.location = (0.1, 0.0, 0.8)
-        obj.rotation_euler = (math.radians(10), 0.0, math.radians(25))
-        obj.scale = (1.3, 1.1, 1.2)
+        obj.rotation_euler = ROT
+        obj.scale = SCALE
         vol.materials.append(_smoke_material())
         _light(scene, "SUN", (0, 0, 3), 3.0, rotation=(50, 0, 40), angle=0.05)
         _camera(scene, (0, -3.5, 1.8), (70, 0, 0), lens=30.0)
@@ -96,5 +100,11 @@ def test_vdb_smoke_matches_cycles(tmp_path):
     cyc = bpy_stage.compare_with_cycles("vdb smoke", stage(path), SPP, (0.01, 0.05),
                                         cycles_seed0=950, k_seeds=K, se_floor=SE_FLOOR)
     # the grid's placement matters: the object turned 90 degrees about z is told apart
-    bpy.data.objects["smoke"].rotation_euler[2] += math.radians(90)
+    smoke = bpy.data.objects["smoke"]
+    smoke.rotation_euler[2] += math.radians(90)
     bpy_stage.control_differs("vdb smoke, turned 90 degrees", cyc, K, SPP[1], SE_FLOOR)
+    # and Cycles' object-space density (Volume > Render > Space "Object", the default: divided
+    # by the scale along the diagonal) is what matches: the density in world units is told apart
+    smoke.rotation_euler[2] -= math.radians(90)
+    smoke.data.render.space = "WORLD"
+    bpy_stage.control_differs("vdb smoke, density in world space", cyc, K, SPP[1], SE_FLOOR)
