@@ -49,7 +49,8 @@ LANTERN_HD inline float medium_density(const SceneView& s, const Medium& m, int3
     float v = 1.0f;
     if (m.density_prog >= 0)
         v = program_run(s, s.programs[m.density_prog], medium_shade_point(med, p, d)).x;
-    if (m.density_grid >= 0) v *= grid_lookup(s.grids[m.density_grid], s.grid_voxels, p);
+    if (m.density_grid >= 0 && m.density_grid < s.num_grids)  // (a zero Medium{} has none)
+        v *= grid_lookup(s.grids[m.density_grid], s.grid_voxels, p);
     return v > 0.0f ? fminf(v, 1e9f) : 0.0f;
 }
 
