@@ -166,6 +166,18 @@ def volume_object_file(s):   # a Volume object of a file: renders (pt)
     _object(s, "Cloud", vol)
 
 
+def volume_object_huge(s):   # two voxels 2^20 apart: refused from the file's metadata
+    import tempfile
+
+    import lantern._core as core
+    path = os.path.join(tempfile.mkdtemp(), "huge.vdb")
+    core.vdb_write_sparse(path, "density", np.array([[0, 0, 0], [1 << 20] * 3], np.int32),
+                          np.array([1.0, 2.0], np.float32), np.eye(4))
+    vol = bpy.data.volumes.new("Cloud")
+    vol.filepath = path
+    _object(s, "Cloud", vol)
+
+
 def volume_object_missing(s):   # a Volume object whose file is gone: named, not rendered
     vol = bpy.data.volumes.new("Cloud")
     vol.filepath = "/nonexistent/cloud.vdb"
@@ -236,6 +248,7 @@ CASES = [  # builder, the name the warning must carry, a word of the feature
     (shadow_catcher, "Object 'Subject'", "shadow catcher"),
     (volume_object, "Object 'Cloud'", "without a file"),
     (volume_object_missing, "Object 'Cloud'", "cannot be read"),
+    (volume_object_huge, "Object 'Cloud'", "above the limit"),
     (point_cloud, "Object 'Points'", "point clouds"),
     (hair_curves, "Object 'Strands'", "hair curves"),
     (material_override, "View layer 'ViewLayer'", "material override"),

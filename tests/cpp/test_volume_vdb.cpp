@@ -230,6 +230,17 @@ TEST(VdbFile, BadInputSaysWhat) {
     const std::string big = message([&] { vdb_read_dense(path, "density", 63); });
     EXPECT_NE(big.find("above the limit of 63"), std::string::npos) << big;
     EXPECT_EQ(vdb_read_dense(path, "density", 64).voxels.size(), 64u);  // control: at the limit
+    // two voxels 2^20 apart: 2^60 voxels as a dense block, refused from the metadata alone
+    const int32_t far[6] = {0, 0, 0, 1 << 20, 1 << 20, 1 << 20};
+    const float two[2] = {1.0f, 2.0f};
+    vdb_write_sparse(path, "density", far, two, 2, m);
+    const std::vector<VdbGridMeta> meta = vdb_grids(path);
+    ASSERT_EQ(meta.size(), 1u);
+    EXPECT_EQ(meta[0].active_voxels, 2u);
+    EXPECT_EQ(meta[0].dense_voxels(), uint64_t(1 << 20 | 1) * uint64_t(1 << 20 | 1) *
+                                          uint64_t(1 << 20 | 1));
+    const std::string huge = message([&] { vdb_read_dense(path, "density", kMaxGridVoxels); });
+    EXPECT_NE(huge.find("above the limit"), std::string::npos) << huge;
     // an empty grid (every voxel the background): no block
     std::vector<float> zeros(64, 0.0f);
     vdb_write_dense(path, "density", zeros.data(), dims, m);

@@ -118,6 +118,13 @@ def test_bad_vdb_input_says_what(tmp_path):
         lantern.read_vdb(path, "flame")
     with pytest.raises(RuntimeError, match="above the limit of 1000 voxels"):
         lantern.read_vdb(path, "density", max_voxels=1000)
+    # billions of voxels: two voxels 2^20 apart, refused from the metadata (no allocation)
+    huge = tmp_path / "huge.vdb"
+    lantern._core.vdb_write_sparse(str(huge), "density",
+                                   np.array([[0, 0, 0], [1 << 20] * 3], np.int32),
+                                   np.array([1.0, 2.0], np.float32), np.eye(4))
+    with pytest.raises(RuntimeError, match="above the limit"):
+        lantern.read_vdb(huge, "density")
     s = smoke_scene(np.ones((2, 2, 2), np.float32), np.eye(4))
     s.materials[0]["density_grid"] = 3
     with pytest.raises(ValueError, match="density_grid: grid 3 out of range"):

@@ -96,6 +96,19 @@ void bind_vdb(nb::module_& m) {
         for (int k = 0; k < 16; ++k) m4[k / 4][k % 4] = mat.data()[k];
         vdb_write_dense(path, name, v.data(), dims, m4);
     });
+    m.def("vdb_write_sparse", [](const std::string& path, const std::string& name,
+                                 nb::ndarray<const int32_t, nb::ndim<2>, nb::c_contig,
+                                             nb::device::cpu> coords,
+                                 nb::ndarray<const float, nb::ndim<1>, nb::c_contig,
+                                             nb::device::cpu> values,
+                                 nb::ndarray<const double, nb::shape<4, 4>, nb::c_contig,
+                                             nb::device::cpu> mat) {
+        if (coords.shape(1) != 3 || coords.shape(0) != values.shape(0))
+            throw std::invalid_argument("vdb_write_sparse: coords (N, 3) and values (N,)");
+        double m4[4][4];
+        for (int k = 0; k < 16; ++k) m4[k / 4][k % 4] = mat.data()[k];
+        vdb_write_sparse(path, name, coords.data(), values.data(), values.shape(0), m4);
+    });
 }
 
 }  // namespace lantern

@@ -3,6 +3,7 @@
 // by OpenVDB with every grid) before its voxels are read.
 #include "scene/vdb_io.h"
 
+#include <cstdint>
 #include <stdexcept>
 
 #ifdef LANTERN_HAVE_OPENVDB
@@ -17,7 +18,9 @@ uint64_t VdbGridMeta::dense_voxels() const {
     uint64_t n = 1;
     for (int k = 0; k < 3; ++k) {
         if (bbox_max[k] < bbox_min[k]) return 0;
-        n *= uint64_t(int64_t(bbox_max[k]) - int64_t(bbox_min[k]) + 1);
+        const uint64_t d = uint64_t(int64_t(bbox_max[k]) - int64_t(bbox_min[k]) + 1);
+        if (n > UINT64_MAX / d) return UINT64_MAX;  // saturates: int32 bounds span up to 2^96
+        n *= d;
     }
     return n;
 }
@@ -36,6 +39,10 @@ std::vector<VdbGridMeta> vdb_grids(const std::string& path) { missing(path); }
 VdbDense vdb_read_dense(const std::string& path, const std::string&, uint64_t) { missing(path); }
 void vdb_write_dense(const std::string& path, const std::string&, const float*, const int32_t[3],
                      const double[4][4]) {
+    missing(path);
+}
+void vdb_write_sparse(const std::string& path, const std::string&, const int32_t*, const float*,
+                      size_t, const double[4][4]) {
     missing(path);
 }
 
@@ -116,7 +123,7 @@ VdbDense vdb_read_dense(const std::string& path, const std::string& name, uint64
     auto too_big = [&](uint64_t n) {
         return std::runtime_error(
             "'" + path + "': grid '" + name + "' spans " + std::to_string(n) +
-            " voxels over its active bounds (" + std::to_string(n * 4 / (1u << 20)) +
+            " voxels over its active bounds (" + std::to_string(n / (1u << 18)) +
             " MiB as a dense block), above the limit of " + std::to_string(max_voxels) +
             " voxels; it is not loaded");
     };
@@ -151,8 +158,8 @@ VdbDense vdb_read_dense(const std::string& path, const std::string& name, uint64
     return out;
 }
 
-void vdb_write_dense(const std::string& path, const std::string& name, const float* voxels,
-                     const int32_t dims[3], const double index_to_object[4][4]) {
+namespace {
+openvdb::FloatGrid::Ptr new_grid(const std::string& name, const double index_to_object[4][4]) {
     init();
     openvdb::FloatGrid::Ptr grid = openvdb::FloatGrid::create(0.0f);
     grid->setName(name);
@@ -161,15 +168,36 @@ void vdb_write_dense(const std::string& path, const std::string& name, const flo
     for (int r = 0; r < 4; ++r)
         for (int c = 0; c < 4; ++c) m(c, r) = index_to_object[r][c];
     grid->setTransform(openvdb::math::Transform::createLinearTransform(m));
+    return grid;
+}
+
+void write_grid(const std::string& path, const openvdb::FloatGrid::Ptr& grid) {
+    openvdb::io::File f(path);
+    f.write({grid});
+    f.close();
+}
+}  // namespace
+
+void vdb_write_sparse(const std::string& path, const std::string& name, const int32_t* coords,
+                      const float* values, size_t n, const double index_to_object[4][4]) {
+    openvdb::FloatGrid::Ptr grid = new_grid(name, index_to_object);
+    openvdb::FloatGrid::Accessor acc = grid->getAccessor();
+    for (size_t k = 0; k < n; ++k)
+        acc.setValue(openvdb::Coord(coords[3 * k], coords[3 * k + 1], coords[3 * k + 2]),
+                     values[k]);
+    write_grid(path, grid);
+}
+
+void vdb_write_dense(const std::string& path, const std::string& name, const float* voxels,
+                     const int32_t dims[3], const double index_to_object[4][4]) {
+    openvdb::FloatGrid::Ptr grid = new_grid(name, index_to_object);
     if (dims[0] > 0 && dims[1] > 0 && dims[2] > 0) {
         const openvdb::CoordBBox bb(openvdb::Coord(0, 0, 0),
                                     openvdb::Coord(dims[0] - 1, dims[1] - 1, dims[2] - 1));
         openvdb::tools::Dense<float, openvdb::tools::LayoutXYZ> dense(bb, const_cast<float*>(voxels));
         openvdb::tools::copyFromDense(dense, *grid, 0.0f);
     }
-    openvdb::io::File f(path);
-    f.write({grid});
-    f.close();
+    write_grid(path, grid);
 }
 
 #endif
