@@ -148,7 +148,8 @@ TEST(DensityGrid, SceneMapsTheWorldToTheIndexAndCleansVoxels) {
     std::mt19937 rng(3);
     std::uniform_real_distribution<float> u(0.0f, 1.0f);
     for (int n = 0; n < 200; ++n) {
-        const float i = 1 + u(rng) * (kNx - 2), j = 1 + u(rng) * (kNy - 2), k = 1 + u(rng) * (kNz - 2);
+        const float i = 1 + u(rng) * (kNx - 2), j = 1 + u(rng) * (kNy - 2),
+                    k = 1 + u(rng) * (kNz - 2);
         const Vec3 w{1 - 0.1f * j, 2 + 0.1f * i, 3 + 0.1f * k};
         ASSERT_NEAR(grid_lookup(s.grids[0], s.grid_voxels, w), field(i, j, k), 2e-4)
             << i << " " << j << " " << k;

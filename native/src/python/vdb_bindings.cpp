@@ -73,7 +73,8 @@ void bind_vdb(nb::module_& m) {
             d = vdb_read_dense(path, grid, max_voxels);
         }
         auto* vox = new std::vector<float>(std::move(d.voxels));
-        nb::capsule owner(vox, [](void* p) noexcept { delete static_cast<std::vector<float>*>(p); });
+        nb::capsule owner(vox,
+                          [](void* p) noexcept { delete static_cast<std::vector<float>*>(p); });
         const size_t shape[3] = {size_t(d.dims[2]), size_t(d.dims[1]), size_t(d.dims[0])};
         nb::ndarray<nb::numpy, float, nb::ndim<3>> arr(vox->data(), 3, shape, owner);
         // the block's voxel (i, j, k) is the grid's origin + (i, j, k)

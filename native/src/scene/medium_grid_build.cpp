@@ -53,7 +53,8 @@ void HostScene::build_grids(const SceneInput& in) {
             n *= uint64_t(g.dims[k]);
         }
         if (n != g.voxels.size())
-            throw std::invalid_argument("grid '" + g.name + "': " + std::to_string(g.voxels.size()) +
+            throw std::invalid_argument("grid '" + g.name + "': " +
+                                        std::to_string(g.voxels.size()) +
                                         " voxels for dimensions " + std::to_string(g.dims[0]) +
                                         " x " + std::to_string(g.dims[1]) + " x " +
                                         std::to_string(g.dims[2]));
@@ -113,7 +114,8 @@ void HostScene::build_grid_medium(int32_t med) {
     if (m.emits && !(m.majorant > 0.0f)) {
         // emission is estimated at tentative collisions: about one per grid diagonal
         const Vec3 e = g.world_to_index.vector(Vec3{1.0f, 1.0f, 1.0f});
-        const float voxels = std::sqrt(float(g.nx) * g.nx + float(g.ny) * g.ny + float(g.nz) * g.nz);
+        const float voxels =
+            std::sqrt(float(g.nx) * g.nx + float(g.ny) * g.ny + float(g.nz) * g.nz);
         m.majorant = std::fmax(length(e), 1e-6f) / std::fmax(voxels, 1.0f);
     }
 }

@@ -194,7 +194,8 @@ void vdb_write_dense(const std::string& path, const std::string& name, const flo
     if (dims[0] > 0 && dims[1] > 0 && dims[2] > 0) {
         const openvdb::CoordBBox bb(openvdb::Coord(0, 0, 0),
                                     openvdb::Coord(dims[0] - 1, dims[1] - 1, dims[2] - 1));
-        openvdb::tools::Dense<float, openvdb::tools::LayoutXYZ> dense(bb, const_cast<float*>(voxels));
+        float* data = const_cast<float*>(voxels);  // read only: copyFromDense
+        openvdb::tools::Dense<float, openvdb::tools::LayoutXYZ> dense(bb, data);
         openvdb::tools::copyFromDense(dense, *grid, 0.0f);
     }
     write_grid(path, grid);
