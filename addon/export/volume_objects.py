@@ -33,7 +33,7 @@ class _GridProbe:
         node = _source(socket)
         if node is not None and node.type == "ATTRIBUTE" and \
                 getattr(node, "attribute_type", "GEOMETRY") == "GEOMETRY" and \
-                socket.links[0].from_socket.name in ("Fac", "Color"):
+                socket.links[0].from_socket.identifier in ("Fac", "Color"):
             self.grid = node.attribute_name
             return {"grid": self.grid}
         return None
