@@ -58,7 +58,7 @@ def export_scene(depsgraph, region_view=None, report=None, texture_cache=None, f
     features.scene(depsgraph)
     motion = MotionRecorder(depsgraph, report, frame_set, final=region_view is None)
     linking = LightLinking(report)
-    volumes = VolumeObjects(materials, report, lantern)  # export/volume_objects.py
+    volumes = VolumeObjects(report, lantern)  # export/volume_objects.py
     for inst in depsgraph.object_instances:
         obj = inst.object
         if not inst.show_self:  # an instancer hidden for render (show_instancer_for_render)
@@ -79,7 +79,7 @@ def export_scene(depsgraph, region_view=None, report=None, texture_cache=None, f
             else:
                 features.hair_curves_without_mesh(obj)
         elif obj.type == "VOLUME":
-            volumes.export(inst, scene)
+            volumes.export(inst, scene, materials.materials)
     meshes.clear()
     linking.finish()
     if region_view is None and bscene.camera is not None:

@@ -58,11 +58,12 @@ def _box(index_to_world, dims):
 
 
 class VolumeObjects:
-    """Exports the Volume objects of one export: scene.grids, their box meshes and materials
-    (appended to the MaterialTable's list). Grids read once per (file, grid) per export."""
+    """Converts Volume objects: convert() gives an object's (grid, box mesh, material) dicts,
+    export() appends them to a scene (final renders: export/__init__.py; the viewport keeps
+    them per instance, export/sync.py). Grids are read once per (file, grid) per instance of
+    this class."""
 
-    def __init__(self, materials, report, lantern):
-        self.materials = materials
+    def __init__(self, report, lantern):
         self.report = report
         self.lantern = lantern
         self._read = {}
@@ -103,24 +104,38 @@ class VolumeObjects:
                                      "not rendered yet (the socket's own value is used)")
         return medium, grid, mat.name
 
-    def export(self, inst, scene):
-        """Appends the object's grid, box mesh and material to scene; False when not
-        rendered (warned by name)."""
+    def export(self, inst, scene, materials):
+        """Appends the object's grid, box mesh and material to scene (the material to the
+        list `materials`, which becomes scene.materials); False when not rendered (warned)."""
+        got = self.convert(inst)
+        if got is None:
+            return False
+        grid, mesh, mat = got
+        mat["density_grid"] = scene.add_grid(grid["voxels"], grid["index_to_world"],
+                                              name=grid["name"])
+        materials.append(mat)
+        mesh["material_ids"] = np.full(len(mesh["indices"]), len(materials) - 1, np.uint32)
+        scene.meshes.append(mesh)
+        return True
+
+    def convert(self, inst):
+        """(grid, mesh, material) dicts of the Volume object instance `inst` (the material's
+        density_grid and the mesh's material ids left for the caller), or None (warned)."""
         obj = inst.object
         vol = obj.data
         warn = self.report.warn
         if not self.lantern.vdb_available():
             warn(f"Object '{obj.name}': Volume objects are not rendered (Lantern was built "
                  "without OpenVDB)")
-            return False
+            return None
         path = _file_path(vol)
         if not path:
             warn(f"Object '{obj.name}': a Volume without a file (generated grids) is not "
                  "rendered")
-            return False
+            return None
         got = self._medium(obj)
         if got is None:
-            return False
+            return None
         medium, grid, mat_name = got
         key = (path, grid)
         if key not in self._read:
@@ -131,29 +146,25 @@ class VolumeObjects:
         got = self._read[key]
         if isinstance(got, Exception):
             warn(f"Object '{obj.name}': its volume is not rendered: {got}")
-            return False
+            return None
         voxels, index_to_object, background = got
         if background != 0.0:
             warn(f"Object '{obj.name}': grid '{grid}' has background {background:g}; Lantern "
                  "reads 0 outside its active voxels")
         if voxels.size == 0:
             warn(f"Object '{obj.name}': grid '{grid}' of '{path}' is empty; nothing renders")
-            return False
+            return None
         # voxel centres at the grid's integer indices, as OpenVDB (measured against Cycles:
         # an absorbing grid of random voxels seen from above matched at this placement and
         # differed 5x more with the voxels moved half a voxel either way)
         to_world = np.array(inst.matrix_world, np.float64) @ np.asarray(index_to_object)
         medium = _object_space(medium, vol, inst.matrix_world)
-        gi = scene.add_grid(voxels, to_world, name=f"{obj.name}:{grid}")
         nz, ny, nx = voxels.shape
         positions, indices = _box(to_world, (nx, ny, nz))
+        g = {"name": f"{obj.name}:{grid}", "voxels": voxels, "index_to_world": to_world}
         m = {"name": f"{mat_name} ({obj.name})", "type": "diffuse", "volume": medium,
-             "volume_only": True, "density_grid": gi}
-        self.materials.materials.append(m)
-        slot = len(self.materials.materials) - 1
-        scene.meshes.append({"name": obj.name, "positions": positions, "indices": indices,
-                             "material_ids": np.full(len(indices), slot, np.uint32)})
-        return True
+             "volume_only": True}
+        return g, {"name": obj.name, "positions": positions, "indices": indices}, m
 
 
 def _object_space(medium, vol, matrix_world):
