@@ -346,3 +346,41 @@ TEST(MediumGridScene, MovingAVolumeObjectsBoxAsksForANewScene) {
     EXPECT_FALSE(scene.move_mesh(0, shift));
     EXPECT_TRUE(scene.move_mesh(1, shift));
 }
+
+TEST(MediumGridScene, LightTracingHandsAGridMediumToPt) {
+    // lt's medium vertices sample homogeneous media only: a grid density renders with pt and
+    // says so; the same scene without its grid keeps lt (control)
+    SceneInput in;
+    GridInput gi;
+    gi.name = "density";
+    gi.dims[0] = gi.dims[1] = gi.dims[2] = 2;
+    gi.voxels.assign(8, 1.0f);
+    in.grids.push_back(gi);
+    MediumInput med;
+    med.name = "smoke";
+    med.sigma_s = vec3(1.0f);
+    in.media.push_back(med);
+    MaterialInput smoke;
+    smoke.name = "smoke";
+    smoke.medium = 0;
+    smoke.volume_only = true;
+    smoke.density_grid = 0;
+    in.materials = {smoke};
+    in.meshes.push_back(box({-1, -1, -3}, {2, 2, -2}, 0));
+    SessionSettings st;
+    st.integrator = "lt";
+    st.spp_per_iteration = 1;
+    st.max_depth = 2;
+    st.threads = 1;
+    auto handed = [&](const SceneInput& scene) {
+        Session s(scene, st);
+        for (const std::string& w : s.warnings())
+            if (w.find("grid") != std::string::npos &&
+                w.find("rendering with pt") != std::string::npos)
+                return true;
+        return false;
+    };
+    EXPECT_TRUE(handed(in));
+    in.materials[0].density_grid = -1;
+    EXPECT_FALSE(handed(in));
+}
