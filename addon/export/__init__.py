@@ -10,6 +10,7 @@ from .mesh import MeshExporter
 from .motion import MotionRecorder
 from .unsupported import UnsupportedFeatures
 from .visibility import mixed_kind_warning
+from .volume_objects import VolumeObjects
 from .world import export_world, mixed_lobe_warning
 
 __all__ = ["export_scene", "ExportReport"]
@@ -57,6 +58,7 @@ def export_scene(depsgraph, region_view=None, report=None, texture_cache=None, f
     features.scene(depsgraph)
     motion = MotionRecorder(depsgraph, report, frame_set, final=region_view is None)
     linking = LightLinking(report)
+    volumes = VolumeObjects(report, lantern)  # export/volume_objects.py
     for inst in depsgraph.object_instances:
         obj = inst.object
         if not inst.show_self:  # an instancer hidden for render (show_instancer_for_render)
@@ -76,6 +78,8 @@ def export_scene(depsgraph, region_view=None, report=None, texture_cache=None, f
                 scene.meshes.append(mesh)
             else:
                 features.hair_curves_without_mesh(obj)
+        elif obj.type == "VOLUME":
+            volumes.export(inst, scene, materials.materials)
     meshes.clear()
     linking.finish()
     if region_view is None and bscene.camera is not None:
