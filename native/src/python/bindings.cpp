@@ -555,7 +555,10 @@ NB_MODULE(_core, m) {
             d["rays_connection"] = st.rays_connection;
             d["rays_light_tracing"] = st.rays_light_tracing;
             d["cis_candidates"] = st.cis_candidates;
-            if (st.mean_connections >= 0.0) d["mean_connections"] = st.mean_connections;
+            if (st.mean_connections >= 0.0) {
+                d["mean_connections"] = st.mean_connections;
+                d["connection_choices"] = st.connection_choices;
+            }
             d["rays_total"] = st.rays_camera + st.rays_indirect + st.rays_shadow + st.rays_light +
                               st.rays_connection + st.rays_light_tracing;
             if (st.auto_choice >= 0) {  // integrator "auto" (integrator/allocation.h)
