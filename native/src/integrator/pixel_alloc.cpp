@@ -4,7 +4,6 @@
 
 #include <algorithm>
 
-#include "integrator/allocation.h"
 #include "integrator/session.h"
 #include "scene/scene_view.h"
 
@@ -31,7 +30,7 @@ ConnectionAllocation::ConnectionAllocation(int width, int height, int connection
     for (size_t k = 0; k < set_n_.size(); ++k)
         if (set_n_[k] == n) full_ = int(k);
     const size_t px = size_t(w_) * h_, nk = set_n_.size();
-    pilot_ = 2 * int(nk);
+    pilot_ = kPilot;
     map_.assign(px * 2, 0);
     setting_.assign(px, 0);
     tile_choice_.assign(size_t(tiles_x_) * tiles_y_, -1);
@@ -56,7 +55,7 @@ void ConnectionAllocation::pilot_map() {
     for (int y = 0; y < h_; ++y)
         for (int x = 0; x < w_; ++x) {
             const size_t p = size_t(y) * w_ + x;
-            const int k = (x + 2 * y + seen_ / 2) % nk;
+            const int k = (x + 2 * y + seen_ / 2) % nk;  // (two iterations, the same k)
             setting_[p] = uint8_t(k);
             map_[2 * p] = uint8_t(set_n_[k]);
             map_[2 * p + 1] = uint8_t(set_m_[k]);
@@ -101,10 +100,11 @@ void ConnectionAllocation::observe(const double* sum, int spp, const SessionStat
         return double(s.rays_camera + s.rays_indirect + s.rays_shadow + s.rays_light +
                       s.rays_connection + s.rays_light_tracing);
     };
-    const double cand =
-        Allocation::kCandidateCost * double(after.cis_candidates - before.cis_candidates);
-    work_ += rays(after) - rays(before) + cand;
-    conn_work_ += double(after.rays_connection - before.rays_connection);
+    const double conn = kConnectionRayCost * double(after.rays_connection - before.rays_connection);
+    const double cand = kCandidateCost * double(after.cis_candidates - before.cis_candidates);
+    work_ += rays(after) - rays(before) - double(after.rays_connection - before.rays_connection) +
+             conn + cand;
+    conn_work_ += conn;
     cand_work_ += cand;
     samples_ += double(w_) * h_ * spp;
     sum_n_ += sn * spp;
@@ -112,8 +112,8 @@ void ConnectionAllocation::observe(const double* sum, int spp, const SessionStat
     ++seen_;
     if (piloting())
         pilot_map();
-    else if (seen_ == pilot_ || (seen_ >= 16 && (seen_ & (seen_ - 1)) == 0))
-        decide();  // at the pilot's end, then at iterations 16, 32, 64, ...
+    else if (seen_ == pilot_ || (seen_ >= 2 * pilot_ && (seen_ & (seen_ - 1)) == 0))
+        decide();  // at the pilot's end, then at iterations 8, 16, 32, ...
 }
 
 void ConnectionAllocation::decide() {

@@ -6,19 +6,19 @@
 // - Settings: a small range of (N, M) from the session's (N, M): low (N = 0; N = 1, M = 2
 //   where the scene has a delta light, whose paths through a specular vertex only connections
 //   may sample), half (N/2, M/2), full (N, M), double (2N, 2M, at most 64), duplicates dropped.
-// - Pilot: the first 2K iterations (K settings) are kept in the image; pixel (x, y) renders
-//   setting (x + 2y + i/2) mod K in iteration i, so that every pixel renders every setting in
-//   two consecutive iterations and every 8 x 8 tile every setting on a quarter of its pixels.
+// - Pilot: the first four iterations are kept in the image; pixel (x, y) renders setting
+//   (x + 2y + i/2) mod K (K settings) in iteration i: two settings, each in two consecutive
+//   iterations (a pair), and an 8 x 8 tile 32 pairs of each setting of four.
 // - Variance per tile and setting: the mean over its pairs (two consecutive iterations of one
 //   pixel in one setting) of (v1 - v2)^2 / 2, v the iteration's luminance; every iteration
 //   adds pairs (after the pilot, the tile's chosen setting's). Cost per pixel sample and
-//   setting from the counters (counts, never clocks): rays, 0.36 of a ray per cis candidate
-//   (Allocation::kCandidateCost), as base + N x (connection rays per unit of N) + M x
-//   (candidate work per unit of M).
+//   setting from the counters (counts, never clocks): rays, half a ray per connection ray,
+//   0.15 of a ray per cis candidate (kConnectionRayCost, kCandidateCost: fitted to CPU time),
+//   as base + N x (connection work per unit of N) + M x (candidate work per unit of M).
 // - Choice: the map that minimises (sum of the tiles' variances) x (sum of their costs), the
 //   image's error at a given time: each tile takes argmin V + lambda C with lambda = V / C of
-//   the map, iterated to a fixed point. Made at the pilot's end and again at iterations 16, 32,
-//   64, ... from every iteration before. Each map is fixed before its iteration and chosen
+//   the map, iterated to a fixed point. Made at the pilot's end and again at iterations 8, 16,
+//   32, ... from every iteration before. Each map is fixed before its iteration and chosen
 //   from earlier iterations only, each iteration an unbiased estimate weighted equally: the
 //   image stays unbiased. Same seed, same bits.
 #pragma once
@@ -34,6 +34,14 @@ struct SceneView;
 class ConnectionAllocation {
 public:
     static constexpr int kTile = 8;
+    static constexpr int kPilot = 4;  // iterations (a power of two)
+    // Cost of a connection ray and of a cis candidate in rays of the rest of the iteration
+    // (whose rays carry the shading, the sort and the light pass): a fit to CPU time on the
+    // 2-core box, 64 x 64, uniform maps N 0..10, M 1..20 (Cornell box 0.50 and 0.13-0.15,
+    // room_area_point 0.43 and 0.145; bench/results/2026-12-04-auto6). Allocation's 0.36 of a
+    // ray per candidate (auto's choice between pt and cis) counts a connection ray as a ray.
+    static constexpr double kConnectionRayCost = 0.5;
+    static constexpr double kCandidateCost = 0.15;
 
     ConnectionAllocation(int width, int height, int connections, int candidates, bool allow_zero);
     // Whether a scene's paths stay sampled without connections (no delta light).
