@@ -202,3 +202,24 @@ def test_allocation_same_bits():
     (a, na, ca), (b, nb, cb) = render(4), render(4)
     assert ca == 3  # at 4, 8 and 16
     assert np.array_equal(a, b) and na == nb
+
+
+def test_allocation_default_auto_only():
+    """The default (None): auto's kept cis iterations take the allocation, cis and lvc
+    themselves do not (bench/results/2026-12-04-auto6); False turns it off for auto too, True
+    on for cis."""
+    scene = scenes.fixture_box(16, 16)
+
+    def stats(integrator, **kw):
+        s = lantern.Session(scene, integrator=integrator, seed=2, backend="cpu",
+                            max_depth=DEPTH, threads=1, **kw)
+        for _ in range(6):
+            s.step()
+        return s.stats
+
+    auto = stats("auto")
+    assert auto["auto_choice"] == "cis" and auto["connection_choices"] >= 1
+    assert "mean_connections" not in stats("auto", connection_allocation=False)
+    assert "mean_connections" not in stats("cis")
+    assert "mean_connections" not in stats("lvc")
+    assert stats("cis", connection_allocation=True)["connection_choices"] >= 1

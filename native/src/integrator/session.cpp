@@ -163,7 +163,9 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
     }
     width_ = scene.width;
     height_ = scene.height;
-    if (settings_.connection_allocation && settings_.adaptive_threshold <= 0.0f &&
+    const bool conn_alloc_on = settings_.connection_allocation > 0 ||
+                               (settings_.connection_allocation < 0 && integ == "auto");
+    if (conn_alloc_on && settings_.adaptive_threshold <= 0.0f &&
         (integ == "lvc" || integ == "cis" || integ == "auto") && settings_.connection_map.empty() &&
         !scene.panoramic)
         conn_alloc_ = std::make_unique<ConnectionAllocation>(

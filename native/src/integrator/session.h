@@ -69,9 +69,12 @@ struct SessionSettings {
     // M above everywhere. N in [0, 64], M in [1, 64] where N > 0; not on panoramic cameras.
     std::vector<uint8_t> connection_map;
     bool naive_map = false;  // test only: the map's counts under uniform-N weights (biased)
-    // lvc, cis (and auto's kept cis iterations): choose the connection map from the render's
-    // own iterations (integrator/pixel_alloc.h); CPU and GPU, without adaptive sampling
-    bool connection_allocation = false;
+    // choose the connection map from the render's own iterations (integrator/pixel_alloc.h;
+    // CPU and GPU, without adaptive sampling): 1 for lvc, cis and auto's kept cis iterations,
+    // 0 off, -1 (the default) auto's kept cis iterations only (measured at least as efficient
+    // there on every scene of bench/auto_efficiency.py; for cis and lvc themselves it was not:
+    // bench/results/2026-12-04-auto6)
+    int connection_allocation = -1;
 };
 
 // Why `map` cannot be a connection map of a width x height film (empty: it can).
