@@ -408,7 +408,8 @@ class Session:
         iterations, (H, W) integer arrays (N in 0..64; M in 1..64, default the session's
         `candidates`), the image kept: each iteration's counts are fixed before it, so the
         image stays unbiased (integrator/pixel_conn.h). None: the session's N and M everywhere.
-        False where the backend cannot (the GPU)."""
+        CPU and GPU (the GPU's path compiled, not yet run on a device); False where the native
+        core has no such call."""
         setter = getattr(self._native, "set_connection_map", None)
         if setter is None:
             return False
