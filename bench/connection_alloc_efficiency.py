@@ -24,9 +24,11 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 VARIANTS = {  # name -> (integrator, settings)
     "pt": ("pt", {}),
-    "cis": ("cis", {}),
+    "cis": ("cis", {"connection_allocation": False}),
     "cis_alloc": ("cis", {"connection_allocation": True}),
-    "auto": ("auto", {}),
+    "lvc": ("lvc", {"connection_allocation": False}),
+    "lvc_alloc": ("lvc", {"connection_allocation": True}),
+    "auto": ("auto", {"connection_allocation": False}),
     "auto_alloc": ("auto", {"connection_allocation": True}),
 }
 
@@ -48,7 +50,7 @@ def summarise(scene_name, variant, runs):
     work, conn = [], []
     for _, _, st in runs:
         cand = st.get("cis_candidates", 0)
-        if variant == "auto":  # its cis iterations' candidates (the counter counts them too)
+        if variant.startswith("auto"):  # its cis iterations' candidates (the counter counts them)
             cand = st.get("cis_candidates", 10 * st.get("auto_cis_vertices", 0))
         work.append(st["rays_total"] + 0.36 * cand)
         conn.append(st.get("mean_connections", -1.0))
@@ -65,7 +67,7 @@ def summarise(scene_name, variant, runs):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--scenes", default="fixture,cornell,room_area_point,glass_lantern")
+    ap.add_argument("--scenes", default="all")
     ap.add_argument("--variants", default="pt,cis,cis_alloc,auto")
     ap.add_argument("--res", default="64x64")
     ap.add_argument("--spp", type=int, default=64)
@@ -78,6 +80,9 @@ def main():
     variants = args.variants.split(",")
     info = {"before": machine()}
     rows = []
+    if args.scenes == "all":  # every scene of bench/auto_efficiency.py
+        from auto_efficiency import SCENES
+        args.scenes = ",".join(SCENES)
     for name in args.scenes.split(","):
         scene = build_scene(name, args)
         runs = {v: [] for v in variants}
@@ -92,7 +97,8 @@ def main():
     info["settings"] = vars(args)
     head = ("| scene | " + " | ".join(f"{v} noise, time (s), work" for v in variants) + " | " +
             " | ".join(f"{v} / pt (time, work)" for v in variants if v != "pt") +
-            " | cis_alloc / cis (time, work) | cis_alloc mean N |")
+            " | " + " | ".join(f"{v}_alloc / {v} (time, work)" for v in variants
+                               if v + "_alloc" in variants) + " | cis_alloc mean N |")
     lines = [head, "|---" * (head.count("|") - 1) + "|"]
     for name in args.scenes.split(","):
         by = {r["variant"]: r for r in rows if r["scene"] == name}
@@ -101,10 +107,9 @@ def main():
         rel = [f"{by[v]['efficiency'] / by['pt']['efficiency']:.2f}, "
                f"{by[v]['efficiency_work'] / by['pt']['efficiency_work']:.2f}"
                for v in variants if v != "pt"]
-        ac = "-"
-        if "cis_alloc" in by and "cis" in by:
-            ac = (f"{by['cis_alloc']['efficiency'] / by['cis']['efficiency']:.2f}, "
-                  f"{by['cis_alloc']['efficiency_work'] / by['cis']['efficiency_work']:.2f}")
+        ac = " | ".join(f"{by[v + '_alloc']['efficiency'] / by[v]['efficiency']:.2f}, "
+                        f"{by[v + '_alloc']['efficiency_work'] / by[v]['efficiency_work']:.2f}"
+                        for v in variants if v + "_alloc" in variants)
         n = by.get("cis_alloc", {}).get("mean_connections", [])
         lines.append(f"| {name} | " + " | ".join(cells) + " | " + " | ".join(rel) +
                      f" | {ac} | {', '.join(f'{x:.2f}' for x in n)} |")

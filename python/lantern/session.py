@@ -43,7 +43,8 @@ DEFAULT_SETTINGS = {
     "cis_target": "contribution",  # or "bsdf": the paper's BSDF-product target
     "naive_ris": False,       # tests only: the biased uniform weight for resampled picks
     "naive_map": False,       # tests only: a connection map's counts under uniform-N weights
-    "connection_allocation": False,  # lvc, cis: per-pixel N, M from the render (pixel_alloc.h)
+    "connection_allocation": None,  # per-pixel N, M from the render (pixel_alloc.h): True for
+                                    # lvc, cis and auto; None: auto's cis iterations only
     "cache_budget_mb": 0,     # light vertex cache memory per pass (0: min(4 GiB, RAM / 4));
                               # a larger iteration runs as several passes
     "light_candidates": 1,    # pt: resampled next-event estimation over M light samples (1: off)
@@ -233,8 +234,13 @@ def resolve_settings(settings):
     if not isinstance(out["naive_ris"], (bool, np.bool_)):
         raise TypeError(f"setting 'naive_ris' must be a bool, got {out['naive_ris']!r}")
     out["naive_ris"] = bool(out["naive_ris"])
-    for key in ("instancing", "auto_keep_pilot", "moment_channels", "naive_map",
-                "connection_allocation"):
+    if out["connection_allocation"] is not None and not isinstance(
+            out["connection_allocation"], (bool, np.bool_)):
+        raise TypeError("setting 'connection_allocation' must be True, False or None, got "
+                        f"{out['connection_allocation']!r}")
+    if out["connection_allocation"] is not None:
+        out["connection_allocation"] = bool(out["connection_allocation"])
+    for key in ("instancing", "auto_keep_pilot", "moment_channels", "naive_map"):
         if not isinstance(out[key], (bool, np.bool_)):
             raise TypeError(f"setting '{key}' must be a bool, got {out[key]!r}")
         out[key] = bool(out[key])
@@ -402,7 +408,8 @@ class Session:
         iterations, (H, W) integer arrays (N in 0..64; M in 1..64, default the session's
         `candidates`), the image kept: each iteration's counts are fixed before it, so the
         image stays unbiased (integrator/pixel_conn.h). None: the session's N and M everywhere.
-        False where the backend cannot (the GPU)."""
+        CPU and GPU (the GPU's path compiled, not yet run on a device); False where the native
+        core has no such call."""
         setter = getattr(self._native, "set_connection_map", None)
         if setter is None:
             return False

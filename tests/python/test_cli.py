@@ -108,7 +108,7 @@ def test_render_through_stand_in_core(scene_file, tmp_path, fake, capsys):
                           "max_depth": 5, "seed": 3, "threads": 2, "rr_depth": 4,
                           "sort": None, "connections": 5, "candidates": 10,
                           "cis_target": "contribution", "naive_ris": False, "naive_map": False,
-                          "connection_allocation": False,
+                          "connection_allocation": None,
                           "cache_budget_mb": 0, "light_candidates": 1,
                           "adaptive_threshold": 0.0, "adaptive_min_samples": 0,
                           "adaptive_step": 4, "instancing": False,

@@ -124,22 +124,51 @@ def test_map_checked():
 
 
 # ---- connection_allocation: the map from the render's own iterations (pixel_alloc.h) ----
+# A range of (N, M) per 8 x 8 tile, {0, N/2, N, 2N} with M alike: a pilot of 4 iterations
+# (kept in the image) renders each on a quarter of every tile's pixels, then the map is chosen
+# at the pilot's end and again at iterations 8, 16 and 32: within each render of 40 steps the
+# counts change four times.
+STEPS = 40
+
 
 def test_allocation_unbiased(cornell):
-    """Four pilot iterations of two checkerboards (N = 0 / 5), then the map chosen per 8 x 8
-    tile from them, within each render: against pt."""
     scene, ref = cornell
-    imgs, stats = _renders(scene, "cis", 32, 2100, connection_allocation=True)
+    imgs, stats = _renders(scene, "cis", STEPS, 2100, connection_allocation=True)
     means = [st["mean_connections"] for st in stats]
-    print("mean connections per pixel after the pilot:", means)
-    assert all(0.0 <= m <= 5.0 for m in means)
+    print("mean connections per pixel of the last map:", means)
+    assert all(0.0 <= m <= 10.0 for m in means)
+    assert all(st["connection_choices"] == 4 for st in stats)  # at 4, 8, 16 and 32
     metrics.assert_agreement("cis, connection_allocation, vs pt", imgs, ref)
+
+
+@pytest.mark.parametrize("integrator", ["cis", "lvc"])
+def test_allocation_range_unbiased(cornell, integrator):
+    """Another range (N = 2, M = 4: {0, 1, 2, 4} connections, {1, 2, 4, 8} candidates)."""
+    scene, ref = cornell
+    imgs, stats = _renders(scene, integrator, STEPS, 2700, connection_allocation=True,
+                           connections=2, candidates=4)
+    means = [st["mean_connections"] for st in stats]
+    print("mean connections per pixel of the last map:", means)
+    assert all(0.0 <= m <= 4.0 for m in means)
+    metrics.assert_agreement(f"{integrator}, connection_allocation N = 2, M = 4, vs pt", imgs,
+                             ref)
+
+
+def test_allocation_naive_weights_are_biased(cornell):
+    """Negative control: the allocation's maps under the uniform-N weights (naive_map) must
+    fail the comparison that the allocation passes."""
+    scene, ref = cornell
+    imgs, _ = _renders(scene, "cis", STEPS, 2100, connection_allocation=True, naive_map=True)
+    res = metrics.compare_renders(imgs, ref, 8)
+    ratio = np.stack(imgs).mean() / np.stack(ref).mean()
+    print(res, f"image mean ratio {ratio:.3f}")
+    assert not res.passed
 
 
 @pytest.fixture(scope="module")
 def fixture_cis():
     scene = scenes.fixture_box(SIZE, SIZE)
-    return scene, _renders(scene, "cis", 32, 2500)[0]
+    return scene, _renders(scene, "cis", 32, 2500, connection_allocation=False)[0]
 
 
 @pytest.mark.parametrize("integrator", ["cis", "auto"])
@@ -149,9 +178,9 @@ def test_allocation_fixture_unbiased(fixture_cis, integrator):
     take the connections' share): against cis with N = 5 everywhere. auto: its kept cis
     iterations under the allocation."""
     scene, ref = fixture_cis
-    imgs, stats = _renders(scene, integrator, 32, 2300, connection_allocation=True)
+    imgs, stats = _renders(scene, integrator, STEPS, 2300, connection_allocation=True)
     means = [st["mean_connections"] for st in stats]
-    print("mean connections per pixel after the pilot:", means)
+    print("mean connections per pixel of the last map:", means)
     assert min(means) < 5.0  # some tiles dropped their connections
     # 16 x 32 a side resolve ~4 % of the image here (tests/README.md): losing the paths that
     # only connections sample would take much more (the naive weights took 5.4 % on the box)
@@ -160,14 +189,37 @@ def test_allocation_fixture_unbiased(fixture_cis, integrator):
 
 
 def test_allocation_same_bits():
+    """Same seed, same bits, across the pilot and two choices (counts, never clocks)."""
     scene = scenes.fixture_box(16, 16)
 
     def render(seed):
         s = lantern.Session(scene, integrator="cis", seed=seed, backend="cpu", max_depth=DEPTH,
                             threads=1, connection_allocation=True)
+        for _ in range(17):
+            s.step()
+        return s.image(), s.stats["mean_connections"], s.stats["connection_choices"]
+
+    (a, na, ca), (b, nb, cb) = render(4), render(4)
+    assert ca == 3  # at 4, 8 and 16
+    assert np.array_equal(a, b) and na == nb
+
+
+def test_allocation_default_auto_only():
+    """The default (None): auto's kept cis iterations take the allocation, cis and lvc
+    themselves do not (bench/results/2026-12-04-auto6); False turns it off for auto too, True
+    on for cis."""
+    scene = scenes.fixture_box(16, 16)
+
+    def stats(integrator, **kw):
+        s = lantern.Session(scene, integrator=integrator, seed=2, backend="cpu",
+                            max_depth=DEPTH, threads=1, **kw)
         for _ in range(6):
             s.step()
-        return s.image(), s.stats["mean_connections"]
+        return s.stats
 
-    (a, na), (b, nb) = render(4), render(4)
-    assert np.array_equal(a, b) and na == nb
+    auto = stats("auto")
+    assert auto["auto_choice"] == "cis" and auto["connection_choices"] >= 1
+    assert "mean_connections" not in stats("auto", connection_allocation=False)
+    assert "mean_connections" not in stats("cis")
+    assert "mean_connections" not in stats("lvc")
+    assert stats("cis", connection_allocation=True)["connection_choices"] >= 1

@@ -15,7 +15,7 @@ def test_defaults(monkeypatch):
                         "max_depth": 16, "seed": 0, "threads": 0, "rr_depth": 4,
                         "sort": None, "connections": 5, "candidates": 10,
                         "light_path_fraction": 1.0, "cis_target": "contribution", "naive_ris": False,
-                        "naive_map": False, "connection_allocation": False,
+                        "naive_map": False, "connection_allocation": None,
                         "cache_budget_mb": 0, "light_candidates": 1,
                         "adaptive_threshold": 0.0, "adaptive_min_samples": 0,
                         "adaptive_step": 4, "instancing": False, "auto_keep_pilot": False,

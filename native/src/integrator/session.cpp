@@ -163,7 +163,9 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
     }
     width_ = scene.width;
     height_ = scene.height;
-    if (settings_.connection_allocation && !gpu_ && settings_.adaptive_threshold <= 0.0f &&
+    const bool conn_alloc_on = settings_.connection_allocation > 0 ||
+                               (settings_.connection_allocation < 0 && integ == "auto");
+    if (conn_alloc_on && settings_.adaptive_threshold <= 0.0f &&
         (integ == "lvc" || integ == "cis" || integ == "auto") && settings_.connection_map.empty() &&
         !scene.panoramic)
         conn_alloc_ = std::make_unique<ConnectionAllocation>(
@@ -205,21 +207,30 @@ void Session::start_cpu_backend() {
 // stay where they can be read back, the GPU is let go and this and later steps render on the
 // CPU. A sticky CUDA error loses the GPU's samples: the render restarts on the CPU.
 bool Session::step_cuda(Clock::time_point t0) {
-    const SessionSettings run = iteration_settings();
+    SessionSettings run = iteration_settings();
+    // the connection allocation's map (pixel_alloc.h, the CPU's host code): the schedule uploads
+    // it into the device's memory as on the CPU
+    const bool conn_alloc = conn_alloc_ && (run.integrator == "lvc" || run.integrator == "cis");
+    if (conn_alloc) run.connection_map = conn_alloc_->map();
     const SessionStats before = stats_;
-    std::vector<double> prev;  // the running sum before the step, where "auto" wants the image
-    int64_t prev_samples = 0;
+    std::vector<double> prev;  // the running sum before the step, where "auto" or the
+    int64_t prev_samples = 0;  // connection allocation wants the iteration's image
     try {
-        if (alloc_ && alloc_->wants_image()) prev = gpu_->accum(&prev_samples);
+        if ((alloc_ && alloc_->wants_image()) || conn_alloc) prev = gpu_->accum(&prev_samples);
         if (!gpu_->step(run, iteration_counter(), stats_, cancel_, warnings_)) return false;
-        if (alloc_) {
-            std::vector<double> sum;
-            if (!prev.empty()) {
-                int64_t samples = 0;
-                sum = gpu_->accum(&samples);
-                for (size_t k = 0; k < sum.size() && k < prev.size(); ++k) sum[k] -= prev[k];
-            }
-            observe(run, sum.empty() ? nullptr : sum.data(), before, int64_t(width_) * height_);
+        std::vector<double> sum;
+        if (!prev.empty()) {
+            int64_t samples = 0;
+            sum = gpu_->accum(&samples);
+            for (size_t k = 0; k < sum.size() && k < prev.size(); ++k) sum[k] -= prev[k];
+        }
+        if (alloc_)
+            observe(run, sum.empty() || !alloc_->wants_image() ? nullptr : sum.data(), before,
+                    int64_t(width_) * height_);
+        if (conn_alloc && sum.size() == accum_.size()) {
+            conn_alloc_->observe(sum.data(), run.spp_per_iteration, before, stats_);
+            stats_.mean_connections = conn_alloc_->mean_connections();
+            stats_.connection_choices = conn_alloc_->choices();
         }
     } catch (const std::runtime_error& e) {  // out of memory, or a CUDA error: never a crash
         std::vector<double> sum;
@@ -395,6 +406,7 @@ bool Session::step_locked() {
     if (conn_alloc) {
         conn_alloc_->observe(iteration_sum_.data(), run.spp_per_iteration, before, stats_);
         stats_.mean_connections = conn_alloc_->mean_connections();
+        stats_.connection_choices = conn_alloc_->choices();
     }
     {
         std::lock_guard<std::mutex> lock(result_mutex_);

@@ -69,9 +69,12 @@ struct SessionSettings {
     // M above everywhere. N in [0, 64], M in [1, 64] where N > 0; not on panoramic cameras.
     std::vector<uint8_t> connection_map;
     bool naive_map = false;  // test only: the map's counts under uniform-N weights (biased)
-    // lvc, cis (and auto's kept cis iterations): choose the connection map from the render's
-    // own iterations (integrator/pixel_alloc.h); CPU, without adaptive sampling
-    bool connection_allocation = false;
+    // choose the connection map from the render's own iterations (integrator/pixel_alloc.h;
+    // CPU and GPU, without adaptive sampling): 1 for lvc, cis and auto's kept cis iterations,
+    // 0 off, -1 (the default) auto's kept cis iterations only (measured at least as efficient
+    // there on every scene of bench/auto_efficiency.py; for cis and lvc themselves it was not:
+    // bench/results/2026-12-04-auto6)
+    int connection_allocation = -1;
 };
 
 // Why `map` cannot be a connection map of a width x height film (empty: it can).
@@ -116,6 +119,7 @@ struct SessionStats {
     // cis: candidates paid for, M of each camera vertex's pixel (a connection map's; else M)
     int64_t cis_candidates = 0;
     double mean_connections = -1.0;  // connection_allocation: mean N of the last map (-1: off)
+    int connection_choices = 0;      // ... maps it has chosen (0: piloting)
     int64_t accel_bottom_builds = 0;  // CPU: bottom-level structures built (flat: 1)
     int64_t instance_moves = 0;       // move_instance() calls served
 };
@@ -150,7 +154,7 @@ public:
     bool move_instance(int k, const Transform& to_world);
     // The connection map (SessionSettings::connection_map) of the next iterations, the image
     // kept (each iteration's map fixed, chosen before it: unbiased); throws
-    // std::invalid_argument where connection_map_error says why not. False on the GPU.
+    // std::invalid_argument where connection_map_error says why not (CPU and GPU).
     bool set_connection_map(const std::vector<uint8_t>& map);
     // Mean radiance, top row first, 3 floats per pixel (each pixel over its own samples).
     std::vector<float> image() const;

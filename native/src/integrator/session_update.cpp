@@ -48,7 +48,6 @@ bool Session::update_camera(const SceneInput& in) {
 
 bool Session::set_connection_map(const std::vector<uint8_t>& map) {
     std::lock_guard<std::mutex> serial(step_mutex_);  // between iterations, never within one
-    if (gpu_) return false;
     const std::string why =
         connection_map_error(map, width_, height_, scene_->view().camera.panoramic != 0);
     if (!why.empty()) throw std::invalid_argument(why);

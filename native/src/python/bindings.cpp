@@ -363,7 +363,8 @@ SessionSettings to_settings(const nb::dict& d) {
     s.cis_target = get<std::string>(d, "cis_target", s.cis_target);
     s.naive_ris = get<bool>(d, "naive_ris", s.naive_ris);
     s.naive_map = get<bool>(d, "naive_map", s.naive_map);
-    s.connection_allocation = get<bool>(d, "connection_allocation", s.connection_allocation);
+    if (d.contains("connection_allocation") && !d["connection_allocation"].is_none())
+        s.connection_allocation = nb::cast<bool>(d["connection_allocation"]) ? 1 : 0;
     s.cache_budget_mb = get<int>(d, "cache_budget_mb", s.cache_budget_mb);
     s.light_candidates = get<int>(d, "light_candidates", s.light_candidates);
     s.adaptive_threshold = get<float>(d, "adaptive_threshold", s.adaptive_threshold);
@@ -560,7 +561,10 @@ NB_MODULE(_core, m) {
             d["rays_connection"] = st.rays_connection;
             d["rays_light_tracing"] = st.rays_light_tracing;
             d["cis_candidates"] = st.cis_candidates;
-            if (st.mean_connections >= 0.0) d["mean_connections"] = st.mean_connections;
+            if (st.mean_connections >= 0.0) {
+                d["mean_connections"] = st.mean_connections;
+                d["connection_choices"] = st.connection_choices;
+            }
             d["rays_total"] = st.rays_camera + st.rays_indirect + st.rays_shadow + st.rays_light +
                               st.rays_connection + st.rays_light_tracing;
             if (st.auto_choice >= 0) {  // integrator "auto" (integrator/allocation.h)
