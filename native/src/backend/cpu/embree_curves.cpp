@@ -6,7 +6,7 @@ namespace lantern {
 
 #if LANTERN_HAVE_EMBREE
 unsigned embree_attach_curves(const EmbreeApi& e, RTCDevice device, RTCScene scene,
-                              const CurveSeg* segs, size_t count) {
+                              const CurveSeg* segs, size_t count, RTCFilterFunctionN filter) {
     RTCGeometry g = e.newGeometry(device, RTC_GEOMETRY_TYPE_ROUND_LINEAR_CURVE);
     auto* v = static_cast<float*>(e.setNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0,
                                                          RTC_FORMAT_FLOAT4, 4 * sizeof(float),
@@ -18,6 +18,10 @@ unsigned embree_attach_curves(const EmbreeApi& e, RTCDevice device, RTCScene sce
         const float a[8] = {s.p0.x, s.p0.y, s.p0.z, s.r0, s.p1.x, s.p1.y, s.p1.z, s.r1};
         for (int k = 0; k < 8; ++k) v[8 * i + k] = a[k];
         idx[i] = uint32_t(2 * i);
+    }
+    if (filter) {
+        e.setGeometryIntersectFilterFunction(g, filter);
+        e.setGeometryOccludedFilterFunction(g, filter);
     }
     e.commitGeometry(g);
     const unsigned id = e.attachGeometry(scene, g);

@@ -12,9 +12,11 @@ namespace lantern {
 
 #if LANTERN_HAVE_EMBREE
 // Builds, commits and attaches the geometry to `scene`; returns its geomID. The scene still needs
-// its own commit. Segments must have passed curve_segments' radius checks.
+// its own commit. Segments must have passed curve_segments' radius checks. filter: Embree's
+// intersect and occluded filter (curve_accel.cpp keeps entries only), null for none.
 unsigned embree_attach_curves(const EmbreeApi& e, RTCDevice device, RTCScene scene,
-                              const CurveSeg* segs, size_t count);
+                              const CurveSeg* segs, size_t count,
+                              RTCFilterFunctionN filter = nullptr);
 #endif
 
 }  // namespace lantern
