@@ -1,6 +1,8 @@
-// Curve segments (accel/curve_bvh.h's CurveSeg) as Embree's ROUND_LINEAR_CURVE geometry: each
-// segment its own two float4 vertices (x, y, z, radius), so the shape is the swept sphere of
-// accel/curve_hit.h (the cone and both end spheres). primID = the segment's place in `segs`.
+// Curve segments (accel/curve_bvh.h's CurveSeg) as Embree's ROUND_LINEAR_CURVE geometry: float4
+// vertices (x, y, z, radius), joined segments (CurveSeg::flags) sharing their joint's vertex and
+// marked with RTC_CURVE_FLAG_NEIGHBOR_* (no sphere at a joint, as accel/curve_hit.h leaves out),
+// the others their own two, so the shape is accel/curve_hit.h's swept sphere. primID = the
+// segment's place in `segs`.
 #pragma once
 
 #include <cstddef>
