@@ -124,3 +124,36 @@ def test_scene_file_keeps_strands_and_hair(core, tmp_path):
     a, _ = render(scene, 3, 2, max_depth=4)
     b, _ = render(back, 3, 2, max_depth=4)
     np.testing.assert_array_equal(a, b)
+
+
+def test_strand_memory_checked_from_the_counts(core):
+    """Under a 1.5 GiB address-space limit, 8 million segments (about 1.3 GiB once built) are
+    refused from their counts with what they need, before anything is built; the points
+    themselves (100 MB) fit."""
+    import json
+    import subprocess
+    import sys
+    import textwrap
+    code = textwrap.dedent("""
+        import json, resource, numpy as np, lantern
+        from lantern.scenes_hair import fur_ball
+        s = fur_ball(8, 8, num_strands=4)
+        n = 8_000_000
+        s.curves[0].update(points=np.zeros((n + 1, 3), np.float32),
+                           radius=np.full(n + 1, 0.01, np.float32),
+                           offsets=np.array([0, n + 1], np.uint32),
+                           material_ids=np.zeros(1, np.uint32))
+        vm = [int(l.split()[1]) * 1024 for l in open("/proc/self/status")
+              if l.startswith("VmSize")][0]
+        soft, hard = resource.getrlimit(resource.RLIMIT_AS)
+        resource.setrlimit(resource.RLIMIT_AS, (vm + (1536 << 20), hard))
+        try:
+            lantern.Session(s, backend="cpu", threads=1, integrator="pt")
+            print(json.dumps("built"))
+        except ValueError as e:
+            print(json.dumps(str(e)))
+    """)
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, r.stderr[-2000:]
+    msg = json.loads(r.stdout.strip().splitlines()[-1])
+    assert "strands (8000000 segments) need" in msg, msg

@@ -31,7 +31,24 @@ bool curve_layout_ok(const CurveInput& c, std::string* why) {
 
 }  // namespace
 
+// Bytes the strands take once built, per segment: the scene's CurveSeg and per-primitive
+// entries (material, flags, light and sets), a ray-query structure's copy of the segments and its
+// nodes or Embree's vertices, and per kind of ray where the kinds differ (curve_accel.cpp): a
+// generous 4 x 40 + 16 B.
+constexpr double kCurveBytesPerSegment = 176.0;
+
 void HostScene::add_curves(const SceneInput& in) {
+    // memory first, from the counts (docs/curves.md "Bad input"): millions of strands are fine,
+    // more than half the machine's memory is refused before anything is built
+    double segments = 0.0;
+    for (const CurveInput& c : in.curves)
+        segments += double(c.points.size() / 3) - double(c.offsets.empty() ? 0 : c.offsets.size() - 1);
+    if (segments * kCurveBytesPerSegment > 0.5 * memory_limit_bytes())
+        throw std::invalid_argument("the scene's strands (" + std::to_string(int64_t(segments)) +
+                                    " segments) need " +
+                                    format_bytes(segments * kCurveBytesPerSegment) +
+                                    ", more than half of the " + format_bytes(memory_limit_bytes()) +
+                                    " this render may use; reduce the hair's count or steps");
     for (size_t k = 0; k < in.curves.size(); ++k) {
         const CurveInput& c = in.curves[k];
         const std::string who = "curves " + std::to_string(k) + " ('" + c.name + "')";
