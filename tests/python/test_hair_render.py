@@ -157,3 +157,17 @@ def test_strand_memory_checked_from_the_counts(core):
     assert r.returncode == 0, r.stderr[-2000:]
     msg = json.loads(r.stdout.strip().splitlines()[-1])
     assert "strands (8000000 segments) need" in msg, msg
+
+
+def test_passes_see_strands(core):
+    """The passes (integrator/aov.cpp) shade strand hits: the fur's Depth lies in front of the
+    bare ball's where strands cover it, every pass stays finite."""
+    from lantern.aov import render_aovs
+    furry = render_aovs(fur_ball(16, 16), spp=4, threads=1)
+    bare_scene = fur_ball(16, 16)
+    bare_scene.curves = []
+    bare = render_aovs(bare_scene, spp=4, threads=1)
+    for name, img in furry.items():
+        assert np.isfinite(img).all(), name
+    depth_key = next(k for k in furry if "depth" in k.lower())
+    assert (furry[depth_key] < bare[depth_key] - 1e-3).mean() > 0.05

@@ -43,13 +43,14 @@ public:
         return m;
     }
     HitRecord intersect(const Ray& r, RayKind kind) const {
+        if (!curves_) return embree_ ? embree_->intersect(r, kind) : bvh_->intersect(r, kind);
         HitRecord h = embree_ ? embree_->intersect(r, kind) : bvh_->intersect(r, kind);
-        if (curves_) curves_->closer(r, kind, &h);  // strands: the nearer hit wins
+        curves_->closer(r, kind, &h);  // strands (curve_accel.h): the nearer hit wins
         return h;
     }
     bool occluded(const Ray& r) const {
-        if (embree_ ? embree_->occluded(r) : bvh_->occluded(r)) return true;
-        return curves_ && curves_->occluded(r);
+        if (!curves_) return embree_ ? embree_->occluded(r) : bvh_->occluded(r);
+        return (embree_ ? embree_->occluded(r) : bvh_->occluded(r)) || curves_->occluded(r);
     }
     const char* accel() const { return embree_ ? "embree" : "bvh"; }
     // Mesh k placed by to_world (relative to its exported positions); false, nothing changed,

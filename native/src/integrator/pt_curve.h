@@ -28,10 +28,18 @@ LANTERN_HD inline SurfaceHit pt_surface_curve(const SceneView& s, int prim, Vec2
     return h;
 }
 
+// The surface of a still hit (prim, uv, t) of the ray o + t d, a triangle's or a strand's: the
+// passes (integrator/aov.cpp) and the light probe read it.
+LANTERN_HD inline SurfaceHit surface_of_hit(const SceneView& s, int prim, Vec2 uv, Vec3 o, Vec3 d,
+                                            float t) {
+    return prim >= s.num_triangles ? pt_surface_curve(s, prim, uv, o, d, t)
+                                   : pt_surface(s, prim, uv, d);
+}
+
 // The surface at slot i's hit, a triangle's or a strand's.
 LANTERN_HD inline SurfaceHit pt_surface_at(const SceneView& s, const PathState& ps, int i, int prim,
                                            Vec3 d) {
-    if (prim >= s.num_triangles)
+    if (__builtin_expect(prim >= s.num_triangles, 0))  // a strand: off the usual path
         return pt_surface_curve(s, prim, ps.hit_uv[i], ps.ray_o[i], d, ps.hit_t[i]);
     return s.motion.num_objects ? pt_surface_moved(s, prim, ps.hit_uv[i], d, ps.rng[i])
                                 : pt_surface(s, prim, ps.hit_uv[i], d);
