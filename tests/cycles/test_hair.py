@@ -23,7 +23,7 @@ from bpy_stage import camera as _camera, light as _light  # noqa: E402
 
 K = 8
 SIZE = 32
-SPP = (64, 64)
+SPP = (256, 256)  # each comparison resolves a whole-image bias of about 1.5 % (fur), 0.6 % (long)
 SE_FLOOR = 1e-6
 
 
@@ -103,7 +103,7 @@ def test_fur_with_principled_hair_matches_cycles():
 
 def test_long_hair_with_principled_bsdf_matches_cycles():
     cyc = bpy_stage.compare_with_cycles("long hair, Principled BSDF", long_hair, SPP,
-                                        (0.02, 0.10), cycles_seed0=1300, k_seeds=K,
+                                        (0.01, 0.05), cycles_seed0=1300, k_seeds=K,
                                         se_floor=SE_FLOOR)
     rad = bpy.data.hair_curves["Hair"].attributes["radius"]
     rad.data.foreach_set("value", np.full(len(rad.data), 0.024, np.float32))
