@@ -90,6 +90,10 @@ def test_other_integrators_and_auto_hand_hair_to_pt(core):
         assert any("does not render hair" in x and "rendering with pt" in x for x in w), w
     s = lantern.Session(scene, integrator="auto", backend="cpu", seed=1)
     assert any("path tracing" in x and "strands" in x for x in s.warnings), s.warnings
+    # the CUDA backend leaves strands to the CPU (docs/curves.md), with or without a GPU
+    s = lantern.Session(scene, integrator="pt", backend="cuda", seed=1)
+    assert any("does not trace strands" in x for x in s.warnings), s.warnings
+    assert s.backend == "cpu"
 
 
 def test_bad_strands(core):
