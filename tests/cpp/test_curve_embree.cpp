@@ -87,7 +87,8 @@ Tally compare(const std::vector<CurveSeg>& segs, float radius_scale, int rays) {
         const bool eh = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
         const CurveBvhHit mh = curve_bvh_intersect(bvh.view(), o, w, 0.0f, 10.0f);
         const bool lh = mh.seg >= 0;
-        if ((eh && near_joint(segs, o + w * rh.ray.tfar)) || (lh && near_joint(segs, o + w * mh.t))) {
+        if ((eh && near_joint(segs, o + w * rh.ray.tfar)) ||
+            (lh && near_joint(segs, o + w * mh.t))) {
             ++t.at_joint;
             continue;
         }

@@ -42,12 +42,14 @@ void HostScene::add_curves(const SceneInput& in) {
     // more than half the machine's memory is refused before anything is built
     double segments = 0.0;
     for (const CurveInput& c : in.curves)
-        segments += double(c.points.size() / 3) - double(c.offsets.empty() ? 0 : c.offsets.size() - 1);
+        segments += double(c.points.size() / 3) -
+                    double(c.offsets.empty() ? 0 : c.offsets.size() - 1);
     if (segments * kCurveBytesPerSegment > 0.5 * memory_limit_bytes())
         throw std::invalid_argument("the scene's strands (" + std::to_string(int64_t(segments)) +
                                     " segments) need " +
                                     format_bytes(segments * kCurveBytesPerSegment) +
-                                    ", more than half of the " + format_bytes(memory_limit_bytes()) +
+                                    ", more than half of the " +
+                                    format_bytes(memory_limit_bytes()) +
                                     " this render may use; reduce the hair's count or steps");
     for (size_t k = 0; k < in.curves.size(); ++k) {
         const CurveInput& c = in.curves[k];

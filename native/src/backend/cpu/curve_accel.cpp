@@ -12,10 +12,11 @@ namespace {
 void curve_front_filter(const RTCFilterFunctionNArguments* args) {
     for (unsigned k = 0; k < args->N; ++k) {
         if (args->valid[k] != -1) continue;
-        const float nx = RTCHitN_Ng_x(args->hit, args->N, k), ny = RTCHitN_Ng_y(args->hit, args->N, k),
-                    nz = RTCHitN_Ng_z(args->hit, args->N, k);
-        const float dx = RTCRayN_dir_x(args->ray, args->N, k), dy = RTCRayN_dir_y(args->ray, args->N, k),
-                    dz = RTCRayN_dir_z(args->ray, args->N, k);
+        const unsigned n = args->N;
+        const float nx = RTCHitN_Ng_x(args->hit, n, k), ny = RTCHitN_Ng_y(args->hit, n, k),
+                    nz = RTCHitN_Ng_z(args->hit, n, k);
+        const float dx = RTCRayN_dir_x(args->ray, n, k), dy = RTCRayN_dir_y(args->ray, n, k),
+                    dz = RTCRayN_dir_z(args->ray, n, k);
         if (nx * dx + ny * dy + nz * dz >= 0.0f) args->valid[k] = 0;
     }
 }
