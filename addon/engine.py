@@ -435,6 +435,7 @@ def _snapshot(scene, lantern):
     copy.film, copy.camera, copy.world = dict(scene.film), dict(scene.camera), dict(scene.world)
     copy.materials, copy.textures = list(scene.materials), list(scene.textures)
     copy.meshes, copy.lights = list(scene.meshes), list(scene.lights)
+    copy.grids = list(getattr(scene, "grids", []))   # Volume objects (export/volume_objects.py)
     return copy
 
 

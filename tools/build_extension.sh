@@ -39,8 +39,11 @@ cuda=${LANTERN_CUDA:-OFF}
 archs=${LANTERN_CUDA_ARCHS:-90}
 build=${LANTERN_EXT_BUILD:-build/ext}
 [ "$cuda" != "OFF" ] && [ -z "${LANTERN_EXT_BUILD:-}" ] && build=build/ext-cuda
+# OpenVDB (Volume objects) is a shared library the extension cannot carry yet: off unless
+# LANTERN_EXT_OPENVDB=ON (a machine whose Blender finds libopenvdb; docs/volumes.md)
 wheel_args=(-C build-dir="$root/$build/cmake" -C cmake.define.LANTERN_BUILD_TESTS=OFF
-            -C cmake.define.LANTERN_CUDA="$cuda" -C cmake.define.CMAKE_CUDA_ARCHITECTURES="$archs")
+            -C cmake.define.LANTERN_CUDA="$cuda" -C cmake.define.CMAKE_CUDA_ARCHITECTURES="$archs"
+            -C cmake.define.LANTERN_OPENVDB="${LANTERN_EXT_OPENVDB:-OFF}")
 if [ "${LANTERN_EXT_REUSE:-0}" = 1 ]; then
   # setup.sh's tree, configured exactly as it configured it (a define that differed would make
   # CMake rebuild every object, here and again at the next setup.sh)
@@ -74,6 +77,10 @@ names = zipfile.ZipFile(sys.argv[1]).namelist()
 cores = [n for n in names if n.startswith("lantern/_core") and n.endswith(".so")]
 if len(cores) != 1:
     sys.exit(f"build_extension: the wheel holds {cores or 'no'} native core(s), want one")
+if b"libopenvdb.so" in zipfile.ZipFile(sys.argv[1]).read(cores[0]):
+    print("build_extension: note: this core links libopenvdb (LANTERN_EXT_OPENVDB=ON or a "
+          "reused setup.sh tree): it loads only where libopenvdb and its libraries are "
+          "installed", file=sys.stderr)
 EOF
 
 # the platform the wheel was built for, in Blender's words (linux_x86_64 -> linux-x64)

@@ -8,7 +8,9 @@ cd "$root"
 
 # ---- Debian packages ----
 need=()
-for pkg in build-essential cmake git zlib1g-dev libembree-dev libgtest-dev; do
+# libopenvdb-dev and Boost's headers (OpenVDB's need them): Volume objects (optional at build)
+for pkg in build-essential cmake git zlib1g-dev libembree-dev libgtest-dev libopenvdb-dev \
+    libboost-dev libboost-iostreams-dev python3-openvdb; do
   dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null | grep -q "install ok installed" || need+=("$pkg")
 done
 py=$(command -v python3.11 || true)

@@ -11,6 +11,7 @@ from .strands import StrandExporter
 from .motion import MotionRecorder
 from .unsupported import UnsupportedFeatures
 from .visibility import mixed_kind_warning
+from .volume_objects import VolumeObjects
 from .world import export_world, mixed_lobe_warning
 
 __all__ = ["export_scene", "ExportReport"]
@@ -59,6 +60,7 @@ def export_scene(depsgraph, region_view=None, report=None, texture_cache=None, f
     motion = MotionRecorder(depsgraph, report, frame_set, final=region_view is None)
     linking = LightLinking(report)
     strands = StrandExporter(bscene, materials, report, final=region_view is None)
+    volumes = VolumeObjects(report, lantern)  # export/volume_objects.py
     for inst in depsgraph.object_instances:
         obj = inst.object
         if obj.type in {"MESH", "CURVES"}:  # hair: even on an emitter not rendered itself
@@ -78,6 +80,8 @@ def export_scene(depsgraph, region_view=None, report=None, texture_cache=None, f
                 motion.mesh(inst, mesh)
                 linking.mesh(obj, mesh)
                 scene.meshes.append(mesh)
+        elif obj.type == "VOLUME":
+            volumes.export(inst, scene, materials.materials)
     scene.curves = strands.sets
     meshes.clear()
     linking.finish()

@@ -23,6 +23,7 @@ from . import changes as ch
 from .light import export_light
 from .material import MaterialTable
 from .mesh import MeshExporter, _needs_tangents
+from .volume_objects import VolumeObjects
 from .world import export_world
 
 GEOMETRY_TYPES = {"MESH", "CURVE", "SURFACE", "META", "FONT", "CURVES"}
@@ -70,6 +71,9 @@ class ViewportSync:
         self._placed = {}         # instance key -> (matrix bytes, exported mesh dict)
         self._order = []          # instance keys of scene.meshes, in order
         self.base = None          # session_base() of the running session's scene
+        self._volumes = None      # Volume objects (export/volume_objects.py): the converter,
+        self._vol_cache = {}      # instance key -> (matrix bytes, (grid, mesh, material))
+        self._vol_slots = {}      # instance key -> its material's slot in the table's list
 
     def note(self, changes):
         """Changes from a view_update, applied at the next sync."""
@@ -91,12 +95,16 @@ class ViewportSync:
                        "world": 0, "lights": 0}
         if self.scene is None or todo.has(ch.IMAGES) or todo.all_materials:
             todo.flags |= ch.FULL
+        if todo.has(ch.MATERIALS) and self._vol_slots:
+            todo.flags |= ch.FULL   # a Volume object's material is converted with its grid
         if todo.has(ch.FULL):
             self._materials = MaterialTable(report, self.texture_cache)
             self._meshes = MeshExporter(self._materials, report)
             self._placed = {}
             self.scene = None
-        self._materials.report = self._meshes.report = report
+            self._volumes = VolumeObjects(report, lantern)
+            self._vol_cache, self._vol_slots = {}, {}
+        self._materials.report = self._meshes.report = self._volumes.report = report
         known = _converted(self._materials)
         if todo.has(ch.MATERIALS) and not todo.has(ch.FULL):
             for name in sorted(todo.materials):
@@ -108,6 +116,9 @@ class ViewportSync:
         for name in todo.geometry:
             for key in [k for k in self._meshes._cache if k[0] == name]:
                 del self._meshes._cache[key]
+            for key in [k for k in self._vol_cache if k[0] == name]:
+                del self._vol_cache[key]   # its file, frame or grids: read again
+                self._volumes._read.clear()
         scene = self.scene if self.scene is not None else lantern.Scene()
         scene.film, scene.camera = view.film(), view.camera()
         if todo.flags & (ch.FULL | ch.WORLD | ch.SETTINGS):
@@ -153,12 +164,21 @@ class ViewportSync:
 
     def _walk_instances(self, depsgraph, scene, report):
         meshes, lights, placed, order = [], [], {}, []
+        scene.grids = []
         for inst in depsgraph.object_instances:
             obj = inst.object
             if obj.type == "LIGHT":
                 light = export_light(obj, inst.matrix_world, report)
                 if light is not None:
                     lights.append(light)
+                continue
+            if obj.type == "VOLUME":
+                mesh = self._volume(inst, scene)
+                if mesh is not None:
+                    key = _instance_key(inst)
+                    placed[key] = (np.array(inst.matrix_world, np.float64).tobytes(), mesh)
+                    meshes.append(mesh)
+                    order.append(key)
                 continue
             if obj.type not in GEOMETRY_TYPES:
                 continue
@@ -179,6 +199,28 @@ class ViewportSync:
         self._placed, self._order = placed, order
         self.counts["lights"] = len(lights)
         scene.meshes, scene.lights = meshes, lights
+
+    def _volume(self, inst, scene):
+        """The box mesh of Volume object instance `inst`, its grid appended to scene.grids and
+        its material in the slot kept for it (converted again when its matrix changed: the
+        grid's placement and the object-space density follow it); None when not rendered."""
+        key = _instance_key(inst)
+        matrix = np.array(inst.matrix_world, np.float64).tobytes()
+        old = self._vol_cache.get(key)
+        if old is None or old[0] != matrix:
+            old = (matrix, self._volumes.convert(inst))
+            self._vol_cache[key] = old
+        if old[1] is None:
+            return None
+        grid, mesh, mat = old[1]
+        table = self._materials.materials
+        if key not in self._vol_slots:
+            table.append(None)
+            self._vol_slots[key] = len(table) - 1
+        slot = self._vol_slots[key]
+        table[slot] = dict(mat, density_grid=scene.add_grid(
+            grid["voxels"], grid["index_to_world"], name=grid["name"]))
+        return dict(mesh, material_ids=np.full(len(mesh["indices"]), slot, np.uint32))
 
 
 def _converted(table):

@@ -11,8 +11,8 @@ _RAY_VISIBILITY = (("visible_diffuse", "Diffuse"), ("visible_glossy", "Glossy"),
 from .volume import volume_settings
 
 # object types that have no surface Lantern renders
-_NO_SURFACE = {"VOLUME": "volume objects (OpenVDB) are not rendered",
-               "POINTCLOUD": "point clouds are not rendered",
+# (Volume objects: export/volume_objects.py, which warns where one is not rendered)
+_NO_SURFACE = {"POINTCLOUD": "point clouds are not rendered",
                "GREASEPENCIL": "Grease Pencil strokes are not rendered",
                "GPENCIL": "Grease Pencil strokes are not rendered"}
 

@@ -6,6 +6,7 @@ module; `Session` and `render` need `lantern._core`, built from the repository r
 
 from .scene import Scene, load_scene
 from .scene_file import SceneError
+from .grid_schema import read_vdb, vdb_available
 from .session import Session, render, native_available, native_error, cuda_info
 
 __version__ = "0.1.0"
@@ -14,6 +15,8 @@ __all__ = [
     "Scene",
     "load_scene",
     "SceneError",
+    "read_vdb",
+    "vdb_available",
     "Session",
     "render",
     "native_available",

@@ -11,6 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .grid_schema import MAX_GRID_VOXELS, validate_density_grid, validate_grid
 from .scene_file import ARRAY_SPECS, SceneArchive, SceneError, entries, member_name, read_mesh
 from .scene_schema import (
     MATERIAL_TEXTURES, MESH_ARRAYS, RAY_VISIBILITY, _int, default_camera, default_film, default_world,
@@ -36,6 +37,17 @@ class Scene:
         self.textures = []
         self.attribute_channels = []   # names of the meshes' per-vertex attribute channels
         self.curves = []               # strand sets (add_curves; docs/curves.md)
+        self.grids = []   # Volume objects' density grids (grid_schema.py, docs/volumes.md)
+
+    def add_grid(self, voxels, index_to_world=None, name=None):
+        """Append a density grid: voxels (nz, ny, nx), voxel (i, j, k) centred at index
+        (i, j, k), mapped to the world by index_to_world (4x4, default identity). Returns its
+        index for a material's "density_grid"."""
+        grid = {"name": name if name is not None else f"grid_{len(self.grids)}",
+                "voxels": voxels,
+                "index_to_world": np.eye(4) if index_to_world is None else index_to_world}
+        self.grids.append(validate_grid(grid, len(self.grids)))
+        return len(self.grids) - 1
 
     # ---- Building ----
 
@@ -232,9 +244,13 @@ class Scene:
         self.textures = [validate_texture(t, i) for i, t in enumerate(self.textures)]
         if not isinstance(self.materials, list):
             self.materials = list(self.materials)
+        self.grids = [validate_grid(g, i) for i, g in enumerate(getattr(self, "grids", []))]
+        if sum(g["voxels"].size for g in self.grids) > MAX_GRID_VOXELS:
+            raise ValueError(f"grids: more than {MAX_GRID_VOXELS} voxels together")
         self.materials = [validate_material(m, i, len(self.textures))
                           for i, m in enumerate(self.materials)]
         for i, m in enumerate(self.materials):
+            validate_density_grid(m, m, f"material {i} ({m['name']!r})", len(self.grids))
             for leaf, _ in m.get("mix", ()):
                 if leaf >= len(self.materials) or self.materials[leaf]["type"] == "mix":
                     raise ValueError(f"material {i} ({m['name']!r}) mix: leaf {leaf} is not a "
@@ -317,6 +333,8 @@ class Scene:
                 m["attributes"] = np.zeros((nv, 3 * channels), np.float32)
         if self.curves:  # strands (docs/curves.md): only scenes with them carry the key
             extra["curves"] = [dict(c) for c in self.curves]
+        if self.grids:   # Volume objects (docs/volumes.md)
+            extra["grids"] = [dict(g) for g in self.grids]
         return {
             **extra,
             "film": dict(self.film),
@@ -355,6 +373,13 @@ class Scene:
         if self.world.get("map") is not None:
             doc["world"]["map"] = "world/map.npy"
             arrays["world/map.npy"] = self.world["map"]
+        if self.grids:
+            doc["grids"] = []
+            for i, g in enumerate(self.grids):
+                member = f"grids/{i}/voxels.npy"
+                arrays[member] = g["voxels"]
+                doc["grids"].append({"name": g["name"], "voxels": member,
+                                     "index_to_world": g["index_to_world"].tolist()})
         for i, tex in enumerate(self.textures):
             member = f"textures/{i}/pixels.npy"
             arrays[member] = tex["pixels"]
@@ -506,6 +531,17 @@ def load_scene(path, max_bytes=None):
             except ValueError as e:
                 raise archive.error(member if "pixels" in str(e) else "scene.json",
                                     str(e)) from None
+        scene.grids = []
+        for i, entry in enumerate(entries(archive, doc, "grids")):
+            if not isinstance(entry, dict):
+                raise archive.error("scene.json", f"grid {i}: expected an object")
+            what = f"grid {i} voxels"
+            member = member_name(archive, entry, "voxels", what)
+            vox = archive.read_array(member, what, "f", 3, None)
+            try:
+                scene.grids.append(validate_grid(dict(entry, voxels=vox), i))
+            except ValueError as e:
+                raise archive.error(member, str(e)) from None
         scene.meshes = []
         for i, entry in enumerate(meshes):
             if not isinstance(entry, dict):

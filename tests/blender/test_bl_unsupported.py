@@ -2,6 +2,8 @@
 exactly one warning naming the datablock and the feature; an instancer hidden for render does
 not render; a warning is printed once per render, also with two view layers."""
 
+import os
+
 import bpy
 import numpy as np
 import pytest
@@ -141,8 +143,46 @@ def _object(s, name, data):
     s.collection.objects.link(obj)
 
 
-def volume_object(s):
+def volume_object(s):   # a Volume without a file (generated grids): not rendered
     _object(s, "Cloud", bpy.data.volumes.new("Cloud"))
+
+
+def _vdb_file():
+    """A small smoke grid written by the core's OpenVDB writer (docs/volumes.md)."""
+    import tempfile
+
+    import lantern._core as core
+    path = os.path.join(tempfile.mkdtemp(), "cloud.vdb")
+    c = np.linspace(-1, 1, 8)
+    z, y, x = np.meshgrid(c, c, c, indexing="ij")
+    vox = np.ascontiguousarray(np.clip(1 - (x * x + y * y + z * z), 0, None).astype(np.float32))
+    core.vdb_write(path, "density", vox, np.diag([0.1, 0.1, 0.1, 1.0]))
+    return path
+
+
+def volume_object_file(s):   # a Volume object of a file: renders (pt)
+    vol = bpy.data.volumes.new("Cloud")
+    vol.filepath = _vdb_file()
+    vol.materials.append(_material("Smoke", "Volume", "ShaderNodeVolumePrincipled"))
+    _object(s, "Cloud", vol)
+
+
+def volume_object_huge(s):   # two voxels 2^20 apart: refused from the file's metadata
+    import tempfile
+
+    import lantern._core as core
+    path = os.path.join(tempfile.mkdtemp(), "huge.vdb")
+    core.vdb_write_sparse(path, "density", np.array([[0, 0, 0], [1 << 20] * 3], np.int32),
+                          np.array([1.0, 2.0], np.float32), np.eye(4))
+    vol = bpy.data.volumes.new("Cloud")
+    vol.filepath = path
+    _object(s, "Cloud", vol)
+
+
+def volume_object_missing(s):   # a Volume object whose file is gone: named, not rendered
+    vol = bpy.data.volumes.new("Cloud")
+    vol.filepath = "/nonexistent/cloud.vdb"
+    _object(s, "Cloud", vol)
 
 
 def point_cloud(s):
@@ -212,7 +252,6 @@ CASES = [  # builder, the name the warning must carry, a word of the feature
     (no_shadow, "Light 'Lamp'", "Cast Shadow"),
     (holdout, "Object 'Subject'", "pt integrator only"),
     (shadow_catcher, "Object 'Subject'", "shadow catcher"),
-    (volume_object, "Object 'Cloud'", "volume objects"),
     (point_cloud, "Object 'Points'", "point clouds"),
     (material_override, "View layer 'ViewLayer'", "material override"),
     (holdout_collection, "Object 'Subject'", "lvc renders it as an ordinary surface"),
@@ -224,13 +263,23 @@ CASES = [  # builder, the name the warning must carry, a word of the feature
 ]
 
 
+# Volume objects (export/volume_objects.py): without OpenVDB each says so instead
+if lantern.vdb_available():
+    CASES += [(volume_object, "Object 'Cloud'", "without a file"),
+              (volume_object_missing, "Object 'Cloud'", "cannot be read"),
+              (volume_object_huge, "Object 'Cloud'", "above the limit")]
+else:
+    CASES += [(volume_object_missing, "Object 'Cloud'", "built without OpenVDB")]
+
+
 # What these builders set up renders now (heterogeneous media: docs/volumes.md; ray visibility,
 # light and shadow linking: pt, docs/scene_format.md; particle hair and Curves objects:
 # docs/curves.md): no warning may call it unsupported; the
 # only notes left are that the automatic integrator renders it with pt (the bidirectional ones
 # do not honour it yet) and Cycles' Volume Bounces
 RENDERED = [volume_material, light_linking, shadow_linking, glossy_visibility,
-            diffuse_visibility, particle_hair, hair_curves]
+            diffuse_visibility, particle_hair, hair_curves] + (
+                [volume_object_file] if lantern.vdb_available() else [])
 HANDED_TO_PT = "renders this scene with path tracing"
 
 

@@ -21,6 +21,8 @@ using namespace lantern;
 namespace lantern {
 void bind_aovs(nb::module_& m, SceneInput (*to_input)(const nb::dict&));  // aov_bindings.cpp
 void bind_programs(nb::module_& m);  // program_bindings.cpp
+void bind_vdb(nb::module_& m);       // vdb_bindings.cpp
+void get_grids(const nb::dict& scene, SceneInput& in);  // vdb_bindings.cpp
 void bind_light_probe(nb::module_& m, SceneInput (*to_input)(const nb::dict&));  // light_probe_bindings.cpp
 }
 
@@ -223,6 +225,7 @@ SceneInput to_input(const nb::dict& scene) {
             mi.holdout = get<bool>(m, "holdout", false);
             if (has(m, "volume")) mi.medium = get_medium(m["volume"], mi.name, in);
             mi.volume_only = get<bool>(m, "volume_only", false);
+            mi.density_grid = get<int>(m, "density_grid", -1);
             if (has(m, "mix")) {  // [[leaf, weight], ...]
                 for (nb::handle e : nb::cast<nb::list>(m["mix"])) {
                     auto pair = nb::cast<std::vector<float>>(e);
@@ -283,6 +286,7 @@ SceneInput to_input(const nb::dict& scene) {
             in.textures.push_back(std::move(ti));
         }
     }
+    get_grids(scene, in);  // Volume objects (vdb_bindings.cpp)
     if (has(scene, "node_programs")) {  // compiled node graphs (docs/scene_format.md)
         nb::dict np = nb::cast<nb::dict>(scene["node_programs"]);
         in.programs = get_array<uint32_t>(np, "programs", 6, "node_programs");
@@ -483,6 +487,7 @@ NB_MODULE(_core, m) {
     m.doc() = "Lantern's native core (CPU and CUDA backends).";
     bind_aovs(m, &to_input);
     bind_programs(m);
+    bind_vdb(m);
     bind_light_probe(m, &to_input);
     m.def("embree_available", &embree_available);
     m.def("embree_version", &embree_version);

@@ -20,7 +20,9 @@ struct Medium {
     uint32_t hetero;    // 1: heterogeneous (scene/medium_hetero.h): the coefficients above are
                         // per unit of density, the density a node program's (density_prog)
     // ---- heterogeneous media only (hetero 1) ----
-    int32_t density_prog;  // index into SceneView::programs (kTargetDensity)
+    int32_t density_prog;  // index into SceneView::programs (kTargetDensity), -1: none (1)
+    int32_t density_grid;  // a Volume object's: index into SceneView::grids, -1: none (1); the
+                           // density is the program's value times the grid's
     Vec3 sigma_a0;         // a constant part added to density x sigma_a (the world's volume)
     Vec3 sigma_s0;
     float majorant;        // >= the extinction's largest channel wherever the medium is (1/m)

@@ -42,6 +42,8 @@ Medium to_medium(const MediumInput& in, std::vector<std::string>& warnings) {
     m.emission = clean(in.emission, who + " emission", warnings);
     // Cycles keeps |g| below 1 too: a delta lobe would need a phase sampler of its own
     m.g = std::isfinite(in.g) ? std::fmin(std::fmax(in.g, -0.999f), 0.999f) : 0.0f;
+    m.density_prog = -1;
+    m.density_grid = -1;
     return m;
 }
 
@@ -87,6 +89,9 @@ std::string emissive_media_reason(const SceneInput& in) {
         if (emits(m.medium)) return "an emissive volume (material '" + m.name + "')";
     // lt's medium vertices sample homogeneous media only (integrator/lt_medium.h): a density
     // from a node graph (scene/medium_hetero.h) is pt's alone yet
+    for (const MaterialInput& m : in.materials)
+        if (m.medium >= 0 && m.density_grid >= 0)
+            return "a Volume object's grid (material '" + m.name + "')";
     for (size_t k = 4; k < in.programs.size(); k += 6)
         if (in.programs[k] == uint32_t(kTargetDensity))
             return "a heterogeneous volume (a Density driven by a node graph)";
@@ -98,6 +103,7 @@ void HostScene::build_media(const SceneInput& in) {
     for (const MaterialInput& mi : in.materials) any = any || mi.medium >= 0 || mi.volume_only;
     if (!any) return;
     const int n_in = int(in.media.size());
+    build_grids(in);  // Volume objects' density grids (scene/medium_grid_build.cpp)
     auto check = [&](int k, const std::string& who) {
         if (k < -1 || k >= n_in)
             throw std::invalid_argument(who + ": medium " + std::to_string(k) +
@@ -119,12 +125,18 @@ void HostScene::build_media(const SceneInput& in) {
         const MaterialInput& mi = in.materials[k];
         check(mi.medium, "material '" + mi.name + "'");
         if (mi.medium < 0) continue;
-        if (const int32_t prog = density_program(k); prog >= 0) {
-            // a heterogeneous medium: the material's own (its density program and mesh)
+        if (mi.density_grid >= int32_t(grids_.size()))
+            throw std::invalid_argument("material '" + mi.name + "': density grid " +
+                                        std::to_string(mi.density_grid) + " out of range (the "
+                                        "scene has " + std::to_string(grids_.size()) + ")");
+        const int32_t prog = mi.density_grid >= 0 ? -1 : density_program(k);
+        if (mi.density_grid >= 0 || prog >= 0) {
+            // a heterogeneous medium: the material's own (its density program or grid, its mesh)
             const MediumInput& src = in.media[size_t(mi.medium)];
             Medium m = to_medium(src, warnings_);
             m.hetero = 1;
             m.density_prog = prog;
+            m.density_grid = mi.density_grid;
             if (has_world) {
                 m.sigma_a0 = world.sigma_a;
                 m.sigma_s0 = world.sigma_s;
@@ -160,10 +172,16 @@ void HostScene::build_media(const SceneInput& in) {
     for (Medium& m : media_) m.outside = view_.world_medium;
     if (has_world) media_[0].outside = -1;
     nest_media(in, has_world ? &world : nullptr);
-    for (const auto& h : hetero) build_hetero(h.first, h.second, in.materials[h.second].name);
+    for (const auto& h : hetero) {
+        if (media_[size_t(h.first)].density_grid >= 0)
+            build_grid_medium(h.first);
+        else
+            build_hetero(h.first, h.second, in.materials[h.second].name);
+    }
     view_.media = media_.data();  // nesting may have added media
     view_.num_media = int32_t(media_.size());
     view_.camera_medium = camera_medium_at(view_.camera.to_world.origin());
+    inset_volume_boundaries();  // after the fits and the camera's medium, which read the mesh as given
     // where each light's paths start (lt): the medium at its centre; distant lights the world's
     light_medium_.assign(lights_.size(), view_.world_medium);
     for (size_t k = 0; k < lights_.size(); ++k) {

@@ -3,7 +3,9 @@
 // their mesh) and to the world (the medium everywhere else).
 #pragma once
 
+#include <cstdint>
 #include <string>
+#include <vector>
 
 #include "core/math.h"
 
@@ -15,6 +17,15 @@ struct MediumInput {
     Vec3 sigma_s{0.0f, 0.0f, 0.0f};  // scattering, 1/m
     Vec3 emission{0.0f, 0.0f, 0.0f}; // radiance added per metre (Cycles' volume emission)
     float g = 0.0f;                  // Henyey-Greenstein anisotropy
+};
+
+// A Volume object's density grid (docs/volumes.md, scene/medium_grid.h): a dense block of
+// voxels, x fastest, and the map from its index space (voxel centres at integers) to the world.
+struct GridInput {
+    std::string name;
+    int32_t dims[3] = {0, 0, 0};
+    float index_to_world[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};  // rows
+    std::vector<float> voxels;
 };
 
 struct SceneInput;

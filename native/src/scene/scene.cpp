@@ -318,6 +318,8 @@ SceneView HostScene::copied_view(
     v.material_medium = put(view_.material_medium, material_medium_.size());
     v.light_medium = put(view_.light_medium, light_medium_.size());
     v.medium_maps = put(view_.medium_maps, medium_maps_.size());
+    v.grids = put(view_.grids, grids_.size());
+    v.grid_voxels = put(view_.grid_voxels, grid_voxels_.size());
     v.motion.steps = put(view_.motion.steps, motion_steps_.size());
     v.motion.objects = put(view_.motion.objects, motion_objects_.size());
     v.curves.segs = put(view_.curves.segs, curve_segs_.size());

@@ -121,6 +121,9 @@ struct MaterialInput {
     Vec3 hair_tint{1.0f, 1.0f, 1.0f};
     Vec3 absorption{0.245531f, 0.52f, 1.365f};
     float radial_roughness = 0.3f, hair_coat = 0.0f, hair_offset = 0.034906585f;
+    // a Volume object's: SceneInput::grids index of the density its medium's coefficients are
+    // per unit of (scene/medium_grid.h), -1 none
+    int density_grid = -1;
 };
 
 // An image texture with its sampling settings. Texels: width x height x 4 (RGBA), rows bottom
@@ -193,6 +196,7 @@ struct SceneInput {
     std::vector<float> program_consts;
     int num_attribute_channels = 0;  // per-vertex attribute channels of every mesh
     std::vector<MediumInput> media;  // homogeneous media (scene/medium_build.cpp)
+    std::vector<GridInput> grids;    // Volume objects' density grids (scene/medium_grid_build.cpp)
     int world_medium = -1;           // the world's Volume: an index into media, -1 none
     std::vector<float> camera_motion;  // camera_to_world at the shutter's steps (16 each), or empty
 };
@@ -240,7 +244,10 @@ private:
     void build_media(const SceneInput& in);  // scene/medium_build.cpp
     int32_t density_program(size_t material) const;  // scene/medium_hetero_build.cpp
     void build_hetero(int32_t med, size_t material, const std::string& name);
+    void build_grids(const SceneInput& in);   // scene/medium_grid_build.cpp
+    void build_grid_medium(int32_t med);      // scene/medium_grid_build.cpp
     void nest_media(const SceneInput& in, const Medium* world);  // scene/medium_build.cpp
+    void inset_volume_boundaries();  // scene/medium_inset.cpp
     int32_t camera_medium_at(Vec3 p) const;
     void build_motion(const SceneInput& in);  // scene/motion_build.cpp
     void add_curves(const SceneInput& in);     // scene/scene_curves.cpp: segments, bounds
@@ -274,6 +281,8 @@ private:
     std::vector<int32_t> material_medium_;    // SceneView::material_medium (empty: no media)
     std::vector<int32_t> light_medium_;       // SceneView::light_medium (empty: no media)
     std::vector<Transform> medium_maps_;      // SceneView::medium_maps (empty: none heterogeneous)
+    std::vector<DensityGrid> grids_;          // SceneView::grids (empty: no Volume objects)
+    std::vector<float> grid_voxels_;          // SceneView::grid_voxels
     int num_attribute_channels_ = 0;
     std::shared_ptr<const EnvMapStorage> env_ = std::make_shared<EnvMapStorage>();  // cached
     bool has_emitters_ = false;

@@ -23,6 +23,11 @@ bool HostScene::move_mesh(int k, const Transform& m) {
     const MeshRange& r = mesh_ranges_[k];
     for (int t = r.tri_begin; t < r.tri_begin + r.tri_count; ++t) {
         if (tri_light_[t] >= 0) return false;  // an emitter: the light tree would change
+        // a Volume object's box: its grid's world-to-index map would stay behind
+        const uint32_t mat = tri_material_[size_t(t)];
+        if (mat < material_medium_.size() && material_medium_[mat] >= 0 &&
+            media_[size_t(material_medium_[mat])].density_grid >= 0)
+            return false;
     }
     Transform inv;
     if (!invert_affine(m, &inv)) return false;

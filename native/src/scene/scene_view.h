@@ -6,6 +6,7 @@
 #include "scene/curves.h"
 #include "scene/envmap.h"
 #include "scene/medium.h"
+#include "scene/medium_grid.h"
 #include "scene/motion.h"
 #include "scene/texture.h"
 
@@ -369,6 +370,10 @@ struct SceneView {
     // mesh; zero for channels that are not affine); null when no medium is heterogeneous
     const Transform* medium_maps = nullptr;
     int32_t num_media = 0;
+    // Volume objects' density grids (scene/medium_grid.h) and their voxels; none: null, 0
+    const DensityGrid* grids = nullptr;
+    const float* grid_voxels = nullptr;
+    int32_t num_grids = 0;
     // 1: some material scatters under its surface (pt's walk stage runs: integrator/pt_sss.h)
     int32_t has_subsurface = 0;
     int32_t world_medium = -1;   // outside every mesh medium, -1: vacuum

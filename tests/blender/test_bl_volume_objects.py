@@ -1,0 +1,123 @@
+"""Export of Volume objects (addon/export/volume_objects.py, docs/volumes.md): the grid read from
+the object's file and placed by the grid's transform times the object's matrix, the box over its
+trilinear support, the material's coefficients per unit of the grid (Principled Volume's Density
+times its Density Attribute grid; Volume Scatter whose Density is an Attribute node), Cycles'
+object-space density (Render Space "Object" divides by the scale along the diagonal, "World"
+does not), and a material reading a grid the file lacks (a warning by name, not rendered)."""
+
+import math
+import os
+
+import bpy
+import numpy as np
+import pytest
+
+import lantern
+
+pytestmark = pytest.mark.skipif(not lantern.vdb_available(), reason="built without OpenVDB")
+
+VOXEL = 0.1
+
+
+def export(addon):
+    from lantern_blender.export import export_scene
+    return export_scene(bpy.context.evaluated_depsgraph_get())
+
+
+def _vdb(tmp_path):
+    import lantern._core as core
+    path = os.path.join(str(tmp_path), "smoke.vdb")
+    vox = np.zeros((4, 5, 6), np.float32)   # nz, ny, nx
+    vox[1:3, 1:4, 1:5] = np.arange(24, dtype=np.float32).reshape(2, 3, 4) + 1.0
+    m = np.array([[VOXEL, 0, 0, 1.0], [0, VOXEL, 0, 0], [0, 0, VOXEL, 0], [0, 0, 0, 1]])
+    core.vdb_write(path, "density", vox, m)
+    return path, vox[1:3, 1:4, 1:5]
+
+
+def _volume_object(empty, path, material=None, scale=(1, 1, 1), rot_z=0.0):
+    vol = bpy.data.volumes.new("Smoke")
+    vol.filepath = path
+    if material is not None:
+        vol.materials.append(material)
+    obj = bpy.data.objects.new("Smoke", vol)
+    empty.collection.objects.link(obj)
+    obj.location = (0.5, -0.25, 2.0)
+    obj.scale = scale
+    obj.rotation_euler = (0, 0, rot_z)
+    return obj
+
+
+def _material(kind):
+    mat = bpy.data.materials.new(kind)
+    nt = mat.node_tree
+    nt.nodes.remove(nt.nodes["Principled BSDF"])
+    out = nt.nodes["Material Output"]
+    if kind == "principled":
+        v = nt.nodes.new("ShaderNodeVolumePrincipled")
+        v.inputs["Density"].default_value = 3.0
+        v.inputs["Color"].default_value = (0.5, 0.6, 0.7, 1)
+    else:
+        v = nt.nodes.new("ShaderNodeVolumeScatter")
+        v.inputs["Color"].default_value = (0.2, 0.4, 0.8, 1)
+        v.inputs["Density"].default_value = 7.0   # linked: the socket's value is not used
+        a = nt.nodes.new("ShaderNodeAttribute")
+        a.attribute_name = "density"
+        nt.links.new(a.outputs["Fac"], v.inputs["Density"])
+    nt.links.new(v.outputs[0], out.inputs["Volume"])
+    return mat, v
+
+
+def _smoke(scene):
+    mat = next(m for m in scene.materials if m.get("density_grid") is not None)
+    mesh = next(m for m in scene.meshes if m["name"] == "Smoke")
+    return mat, mesh, scene.grids[mat["density_grid"]]
+
+
+def test_grid_is_placed_by_its_transform_and_the_objects(empty, addon, tmp_path):
+    path, block = _vdb(tmp_path)
+    mat, _ = _material("principled")
+    obj = _volume_object(empty, path, mat, scale=(1.5, 1.5, 1.5), rot_z=math.radians(30))
+    scene, report = export(addon)
+    assert not [m for m in report.messages if "Smoke" in m], report.messages
+    m, mesh, grid = _smoke(scene)
+    assert np.array_equal(grid["voxels"], block)
+    # block voxel (0, 0, 0) is the grid's index (1, 1, 1): object (1.1, 0.1, 0.1)
+    want = np.array(obj.matrix_world) @ [1.0 + VOXEL, VOXEL, VOXEL, 1.0]
+    assert np.allclose(grid["index_to_world"] @ [0, 0, 0, 1], want, atol=1e-5)
+    want = np.array(obj.matrix_world) @ [1.0 + 3 * VOXEL, 2 * VOXEL, 3 * VOXEL, 1.0]
+    assert np.allclose(grid["index_to_world"] @ [2, 1, 2, 1], want, atol=1e-5)
+    # the box: the block's support [-1, n] per axis in the world, 12 triangles
+    corners = np.linalg.inv(grid["index_to_world"].astype(np.float64)) @ \
+        np.c_[mesh["positions"], np.ones(8)].T
+    assert np.allclose(corners[:3].min(axis=1), [-1, -1, -1], atol=1e-4)
+    assert np.allclose(corners[:3].max(axis=1), [4, 3, 2], atol=1e-4)
+    assert len(mesh["indices"]) == 12 and m["volume_only"]
+    # Principled Volume: scattering Color x Density per unit of the grid, divided by the
+    # object-space factor |R S (1, 1, 1) / sqrt 3| = 1.5
+    assert np.allclose(m["volume"]["sigma_s"], np.array([0.5, 0.6, 0.7]) * 3.0 / 1.5)
+
+
+def test_attribute_node_on_density_and_render_space(empty, addon, tmp_path):
+    path, _ = _vdb(tmp_path)
+    mat, _ = _material("scatter")
+    obj = _volume_object(empty, path, mat, scale=(2.0, 1.0, 0.5))
+    scene, report = export(addon)
+    assert not [m for m in report.messages if "Smoke" in m], report.messages
+    m, _, _ = _smoke(scene)
+    k = math.sqrt((4.0 + 1.0 + 0.25) / 3.0)   # the scale along the unit diagonal
+    assert np.allclose(m["volume"]["sigma_s"], np.array([0.2, 0.4, 0.8]) / k)
+    obj.data.render.space = "WORLD"   # the grid's values as they are (control)
+    scene, _ = export(addon)
+    m, _, _ = _smoke(scene)
+    assert np.allclose(m["volume"]["sigma_s"], [0.2, 0.4, 0.8])
+
+
+def test_a_grid_the_file_lacks_is_named(empty, addon, tmp_path):
+    path, _ = _vdb(tmp_path)
+    mat, v = _material("principled")
+    v.inputs["Density Attribute"].default_value = "smoke"
+    _volume_object(empty, path, mat)
+    scene, report = export(addon)
+    assert not scene.grids and not [m for m in scene.meshes if m["name"] == "Smoke"]
+    hits = [m for m in report.messages if "Smoke" in m and "no grid named 'smoke'" in m]
+    assert len(hits) == 1, report.messages

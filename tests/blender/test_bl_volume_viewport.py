@@ -1,0 +1,79 @@
+"""Volume objects in the viewport's incremental export (export/sync.py, docs/volumes.md): the
+first sync holds the object's grid and box as a fresh export does; a move places the grid again
+(the core refuses to move the box alone: a new session, from the synced scene), and a material
+edit converts the volume again; after each, the synced scene's grid, box and coefficients are
+those of a fresh export of the edited scene, and differ from before the edit (control)."""
+
+import os
+
+import bpy
+import numpy as np
+import pytest
+
+import lantern
+from test_bl_viewport_sync import _apply, _fresh, _refined, _start, stage  # noqa: F401
+
+pytestmark = [
+    pytest.mark.skipif(not lantern.session.native_available(), reason="native core not built"),
+    pytest.mark.skipif(not lantern.vdb_available(), reason="built without OpenVDB")]
+
+
+def _smoke(stage, tmp_path):
+    import lantern._core as core
+    path = os.path.join(str(tmp_path), "smoke.vdb")
+    c = np.linspace(-1, 1, 10)
+    z, y, x = np.meshgrid(c, c, c, indexing="ij")
+    vox = np.ascontiguousarray(np.clip(1 - (x * x + y * y + z * z), 0, None).astype(np.float32))
+    core.vdb_write(path, "density", vox, np.diag([0.1, 0.1, 0.1, 1.0]))
+    mat = bpy.data.materials.new("SmokeMat")
+    nt = mat.node_tree
+    nt.nodes.remove(nt.nodes["Principled BSDF"])
+    v = nt.nodes.new("ShaderNodeVolumePrincipled")
+    v.inputs["Density"].default_value = 4.0
+    nt.links.new(v.outputs[0], nt.nodes["Material Output"].inputs["Volume"])
+    vol = bpy.data.volumes.new("Smoke")
+    vol.filepath = path
+    vol.materials.append(mat)
+    obj = bpy.data.objects.new("Smoke", vol)
+    stage.collection.objects.link(obj)
+    obj.location = (-0.5, 0.0, 0.3)
+    bpy.context.view_layer.update()
+    return obj, v
+
+
+def _volume(scene):
+    mat = next(m for m in scene.materials if m is not None and m.get("density_grid") is not None)
+    mesh = next(m for m in scene.meshes if m["name"] == "Smoke")
+    return mat, mesh, scene.grids[mat["density_grid"]]
+
+
+def _same(synced, fresh):
+    a, b = _volume(synced), _volume(fresh)
+    assert a[0]["volume"] == b[0]["volume"]
+    np.testing.assert_allclose(a[1]["positions"], b[1]["positions"], atol=1e-6)
+    np.testing.assert_array_equal(a[2]["voxels"], b[2]["voxels"])
+    np.testing.assert_allclose(a[2]["index_to_world"], b[2]["index_to_world"], atol=1e-6)
+    assert len(synced.grids) == len(fresh.grids) == 1
+
+
+def test_volume_object_follows_viewport_edits(addon, stage, tmp_path):
+    obj, principled = _smoke(stage, tmp_path)
+    engine, ctx = _start(addon, stage)
+    state = engine._lantern
+    _refined(engine, addon, ctx)
+    _same(state.sync.scene, _fresh(stage, ctx, stage.lantern))
+    before = _fresh(stage, ctx, stage.lantern)
+    session = state.session
+    image = _apply(addon, engine, ctx, lambda: setattr(obj, "location", (0.4, 0.2, 0.5)))
+    assert np.isfinite(image).all()
+    assert state.session is not session  # the box does not move alone: a new session
+    fresh = _fresh(stage, ctx, stage.lantern)
+    _same(state.sync.scene, fresh)
+    assert not np.allclose(_volume(before)[2]["index_to_world"],
+                           _volume(fresh)[2]["index_to_world"])   # control: it moved
+    image = _apply(addon, engine, ctx,
+                   lambda: setattr(principled.inputs["Density"], "default_value", 9.0))
+    fresh = _fresh(stage, ctx, stage.lantern)
+    _same(state.sync.scene, fresh)
+    assert _volume(fresh)[0]["volume"]["sigma_s"][0] == pytest.approx(0.5 * 9.0)
+    state.free()
