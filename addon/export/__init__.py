@@ -7,6 +7,7 @@ from .light import export_light
 from .linking import LightLinking
 from .material import MaterialTable
 from .mesh import MeshExporter
+from .strands import StrandExporter
 from .motion import MotionRecorder
 from .unsupported import UnsupportedFeatures
 from .visibility import mixed_kind_warning
@@ -58,9 +59,12 @@ def export_scene(depsgraph, region_view=None, report=None, texture_cache=None, f
     features.scene(depsgraph)
     motion = MotionRecorder(depsgraph, report, frame_set, final=region_view is None)
     linking = LightLinking(report)
+    strands = StrandExporter(bscene, materials, report, final=region_view is None)
     volumes = VolumeObjects(report, lantern)  # export/volume_objects.py
     for inst in depsgraph.object_instances:
         obj = inst.object
+        if obj.type in {"MESH", "CURVES"}:  # hair: even on an emitter not rendered itself
+            strands.export(inst)  # export/strands.py
         if not inst.show_self:  # an instancer hidden for render (show_instancer_for_render)
             continue
         features.object(obj)
@@ -69,17 +73,16 @@ def export_scene(depsgraph, region_view=None, report=None, texture_cache=None, f
             if light is not None:
                 linking.light(obj, light)  # export/linking.py
                 scene.lights.append(light)
-        elif obj.type in {"MESH", "CURVE", "SURFACE", "META", "FONT", "CURVES"}:
+        elif obj.type in {"MESH", "CURVE", "SURFACE", "META", "FONT"}:  # CURVES: strands
             mesh = meshes.export(inst)
             if mesh is not None:
                 holdouts.mesh(obj, mesh)  # export/holdout.py
                 motion.mesh(inst, mesh)
                 linking.mesh(obj, mesh)
                 scene.meshes.append(mesh)
-            else:
-                features.hair_curves_without_mesh(obj)
         elif obj.type == "VOLUME":
             volumes.export(inst, scene, materials.materials)
+    scene.curves = strands.sets
     meshes.clear()
     linking.finish()
     if region_view is None and bscene.camera is not None:
@@ -98,7 +101,7 @@ def _used_materials(scene):
     a Principled for objects without one, is always exported and often unused)."""
     import numpy as np
     used, todo = set(), []
-    for mesh in scene.meshes:
+    for mesh in list(scene.meshes) + list(scene.curves):
         ids = mesh.get("material_ids")
         if ids is not None:
             todo += [int(i) for i in np.unique(np.asarray(ids)).tolist()]

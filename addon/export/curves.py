@@ -9,7 +9,7 @@ times radius_scale / 2, 0 at the tip with Close Tip. Curves objects: the "radius
 attribute (Cycles' 0.005 where there is none), "material_index" per curve. Radii are scaled
 by the object's mean scale (cube root of |det|). The memory a system needs is checked before any
 point is read; strands with a NaN or negative radius or a non-finite point are dropped, with a
-message. Lantern's core does not intersect strands yet: the exporter's caller warns so."""
+message. export/strands.py hands the strands to the scene (docs/curves.md)."""
 
 import numpy as np
 

@@ -137,6 +137,9 @@ def _convert_shader(node, material, report, textures):
         if node.type == "BSDF_REFRACTION":
             report.warn(f"Material '{name}': Refraction BSDF rendered as glass (its Fresnel "
                         f"reflection included)")
+    elif node.type == "BSDF_HAIR_PRINCIPLED":  # export/hair_material.py
+        from .hair_material import principled_hair
+        principled_hair(node, out, inputs, report)
     else:
         report.warn(f"Material '{name}': shader node '{node.name}' ({node.type}) is not "
                     "supported yet; rendering grey diffuse instead")

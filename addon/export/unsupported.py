@@ -99,19 +99,12 @@ class UnsupportedFeatures:
                  "honoured on lamps (it lights every kind; only Camera is)")
         # shadow catchers: export/holdout.py
         # light and shadow linking: export/linking.py
-        for psys in getattr(obj, "particle_systems", ()):
-            s = psys.settings
-            if s.type == "HAIR" and s.render_type == "PATH":
-                warn(f"Object '{obj.name}': particle hair ('{psys.name}') is not rendered")
+        # particle hair and Curves objects: export/strands.py
         if obj.type == "LIGHT":
             self._light(obj)
         for slot in getattr(obj, "material_slots", ()):
             if slot.material is not None:
                 self.material(slot.material)
-
-    def hair_curves_without_mesh(self, obj):
-        if obj.type == "CURVES" and self._once(("curves", obj.name)):
-            self.report.warn(f"Object '{obj.name}': hair curves are not rendered")
 
     def _light(self, obj):
         light, warn = obj.data, self.report.warn

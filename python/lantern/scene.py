@@ -36,6 +36,7 @@ class Scene:
         self.lights = []
         self.textures = []
         self.attribute_channels = []   # names of the meshes' per-vertex attribute channels
+        self.curves = []               # strand sets (add_curves; docs/curves.md)
         self.grids = []   # Volume objects' density grids (grid_schema.py, docs/volumes.md)
 
     def add_grid(self, voxels, index_to_world=None, name=None):
@@ -80,7 +81,7 @@ class Scene:
                      alpha=1.0, normal_strength=1.0, coat_normal_strength=1.0, mix=None,
                      diffuse_roughness=0.0,
                      anisotropy=0.0, anisotropic_rotation=0.0, tangent="triangle",
-                     subsurface=None, **textures):
+                     subsurface=None, hair=None, **textures):
         """Append a material; returns its id (index into `materials`).
 
         `type`: "diffuse" (Lambert, albedo `base_color`; `diffuse_roughness` > 0: Blender's
@@ -131,6 +132,14 @@ class Scene:
             if unknown:
                 raise TypeError(f"add_material() subsurface: unknown keys {sorted(unknown)}")
             material.update({"subsurface_" + k: v for k, v in subsurface.items()})
+        if hair is not None:  # type "hair": Principled Hair (docs/curves.md); keys
+            # parametrization ("melanin", "color": base_color, "absorption"), melanin,
+            # melanin_redness, tint, absorption, radial_roughness, coat, offset (radians)
+            from .curves_schema import HAIR_KEYS
+            unknown = set(hair) - set(HAIR_KEYS)
+            if unknown:
+                raise TypeError(f"add_material() hair: unknown keys {sorted(unknown)}")
+            material.update({HAIR_KEYS[k]: v for k, v in hair.items()})
         for key, value in textures.items():
             if key not in MATERIAL_TEXTURES:
                 raise TypeError(f"add_material() got an unexpected keyword argument {key!r}")
@@ -183,6 +192,25 @@ class Scene:
         self.meshes.append(mesh)
         return len(self.meshes) - 1
 
+    def add_curves(self, points, radius, offsets, material=0, material_ids=None, name=None,
+                   visible_camera=True, cast_shadow=True):
+        """Append a set of strands rendered as round linear segments (docs/curves.md): points
+        (P, 3) world space, radius (P,) per point, offsets (S + 1,): strand s is points
+        offsets[s] .. offsets[s + 1] - 1; `material` (id or name) for every strand unless
+        `material_ids` gives one per strand. Returns the set's index."""
+        from .curves_schema import validate_curves
+        if name is None:
+            name = f"curves_{len(self.curves)}"
+        offsets = np.asarray(offsets)
+        if material_ids is None:
+            material_ids = np.full(max(len(offsets) - 1, 0), self.material_id(material),
+                                   dtype=np.uint32)
+        c = {"name": str(name), "points": points, "radius": radius, "offsets": offsets,
+             "material_ids": material_ids, "visible_camera": visible_camera,
+             "cast_shadow": cast_shadow}
+        self.curves.append(validate_curves(c, len(self.curves), len(self.materials)))
+        return len(self.curves) - 1
+
     def add_light(self, type, **params):
         """Append a light of `type` (point, spot, area, sun) with the fields of
         docs/scene_format.md; missing optional fields get defaults. Returns the light index."""
@@ -234,6 +262,9 @@ class Scene:
         if not isinstance(self.lights, list):
             self.lights = list(self.lights)
         self.lights = [validate_light(light, i) for i, light in enumerate(self.lights)]
+        from .curves_schema import validate_curves
+        self.curves = [validate_curves(c, i, len(self.materials))
+                       for i, c in enumerate(self.curves)]
         return self
 
 
@@ -300,6 +331,8 @@ class Scene:
             elif m.get("attributes") is None or m["attributes"].shape[1] != 3 * channels:
                 nv = len(m["positions"])
                 m["attributes"] = np.zeros((nv, 3 * channels), np.float32)
+        if self.curves:  # strands (docs/curves.md): only scenes with them carry the key
+            extra["curves"] = [dict(c) for c in self.curves]
         if self.grids:   # Volume objects (docs/volumes.md)
             extra["grids"] = [dict(g) for g in self.grids]
         return {
@@ -334,6 +367,9 @@ class Scene:
             "attribute_channels": list(self.attribute_channels),
         }
         arrays = {}
+        if self.curves:
+            from .curves_schema import save_curves
+            doc["curves"] = save_curves(self.curves, arrays)
         if self.world.get("map") is not None:
             doc["world"]["map"] = "world/map.npy"
             arrays["world/map.npy"] = self.world["map"]
@@ -512,6 +548,9 @@ def load_scene(path, max_bytes=None):
                 raise archive.error("scene.json", f"mesh {i}: expected an object, got "
                                     f"{type(entry).__name__}")
             scene.meshes.append(read_mesh(archive, entry, i, len(scene.materials)))
+        from .curves_schema import read_curves
+        scene.curves = [read_curves(archive, entry, i, len(scene.materials), member_name)
+                        for i, entry in enumerate(entries(archive, doc, "curves"))]
         try:
             return scene.validate()
         except ValueError as e:  # what crosses elements: mix leaves

@@ -8,7 +8,8 @@ import math
 import numpy as np
 
 CAMERA_TYPES = ("perspective", "orthographic", "equirectangular")
-MATERIAL_TYPES = ("diffuse", "conductor", "dielectric", "principled", "mix", "translucent")
+MATERIAL_TYPES = ("diffuse", "conductor", "dielectric", "principled", "mix", "translucent",
+                  "hair")
 MIX_LEAVES = 4
 LIGHT_TYPES = ("point", "spot", "area", "sun")
 AREA_SHAPES = ("square", "rectangle", "disk", "ellipse")

@@ -74,6 +74,9 @@ def validate_material(material, index, num_textures=0):
         raise ValueError(f"{what}: the Beckmann distribution applies to conductors only")
     out["distribution"] = dist
     _validate_subsurface(material, out, what, mtype)
+    if mtype == "hair":  # Principled Hair (docs/curves.md)
+        from .curves_schema import validate_hair
+        validate_hair(material, out, what)
     ms = material.get("multiscatter", True)
     if not isinstance(ms, (bool, np.bool_)):
         raise ValueError(f"{what} multiscatter: expected True or False, got {ms!r}")

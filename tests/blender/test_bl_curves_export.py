@@ -2,7 +2,7 @@
 radius attribute or Cycles' 0.005, material_index, the object transform), particle hair
 (co_hair keys, 2^render_step + 1 per strand, radii from root/tip/shape/Close Tip computed here
 from the exported points' arc length, children replacing parents), bad radii and the memory
-budget. The core does not render strands yet; this checks what it will be given."""
+budget: what export/strands.py hands to the scene (the render: tests/cycles/test_hair.py)."""
 
 import bpy
 import numpy as np

@@ -80,12 +80,13 @@ def world_volume(s):
     s.world = world
 
 
-def particle_hair(s):
+def particle_hair(s):  # renders since hairwire (docs/curves.md), as Cycles' Linear 3D Curves
     obj = _base(s)
     mod = obj.modifiers.new("Hair", "PARTICLE_SYSTEM")
     mod.particle_system.settings.type = "HAIR"
     mod.particle_system.settings.count = 10
     mod.particle_system.name = "Fur"
+    s.cycles_curves.shape = "THICK_LINEAR"
 
 
 def light_linking(s):
@@ -188,8 +189,14 @@ def point_cloud(s):
     _object(s, "Points", bpy.data.pointclouds.new("Points"))
 
 
-def hair_curves(s):
-    _object(s, "Strands", bpy.data.hair_curves.new("Strands"))
+def hair_curves(s):  # renders since hairwire (docs/curves.md)
+    _base(s)
+    data = bpy.data.hair_curves.new("Strands")
+    data.add_curves([3, 3])
+    data.attributes["position"].data.foreach_set(
+        "vector", np.array([0, 0, 0, 0, 0, 0.5, 0, 0, 1, 1, 0, 0, 1, 0, 0.5, 1, 0, 1], np.float32))
+    _object(s, "Strands", data)
+    s.cycles_curves.shape = "THICK_LINEAR"
 
 
 def material_override(s):
@@ -240,14 +247,12 @@ CASES = [  # builder, the name the warning must carry, a word of the feature
     (volume_bounces, "Render settings", "Volume Bounces"),
     (displacement, "Material 'Bumpy'", "true displacement"),
     (world_volume, "World 'Hazy'", "phase function 'RAYLEIGH'"),
-    (particle_hair, "Object 'Subject'", "particle hair ('Fur')"),
     (light_nodes, "Light 'Lamp'", "varies over the light"),
     (ies, "Light 'Lamp'", "IES"),
     (no_shadow, "Light 'Lamp'", "Cast Shadow"),
     (holdout, "Object 'Subject'", "pt integrator only"),
     (shadow_catcher, "Object 'Subject'", "shadow catcher"),
     (point_cloud, "Object 'Points'", "point clouds"),
-    (hair_curves, "Object 'Strands'", "hair curves"),
     (material_override, "View layer 'ViewLayer'", "material override"),
     (holdout_collection, "Object 'Subject'", "lvc renders it as an ordinary surface"),
     (indirect_only, "collection 'Bounce'", "Indirect Only"),
@@ -268,11 +273,13 @@ else:
 
 
 # What these builders set up renders now (heterogeneous media: docs/volumes.md; ray visibility,
-# light and shadow linking: pt, docs/scene_format.md): no warning may call it unsupported; the
+# light and shadow linking: pt, docs/scene_format.md; particle hair and Curves objects:
+# docs/curves.md): no warning may call it unsupported; the
 # only notes left are that the automatic integrator renders it with pt (the bidirectional ones
 # do not honour it yet) and Cycles' Volume Bounces
 RENDERED = [volume_material, light_linking, shadow_linking, glossy_visibility,
-            diffuse_visibility] + ([volume_object_file] if lantern.vdb_available() else [])
+            diffuse_visibility, particle_hair, hair_curves] + (
+                [volume_object_file] if lantern.vdb_available() else [])
 HANDED_TO_PT = "renders this scene with path tracing"
 
 

@@ -44,7 +44,7 @@ CurveBvhHit brute(const std::vector<CurveSeg>& segs, Vec3 o, Vec3 w, float tmax)
     CurveBvhHit best{tmax, 0.0f, vec3(0.0f), -1};
     for (const CurveSeg& s : segs) {
         CurveHit h;
-        if (curve_hit_segment(o, w, s.p0, s.r0, s.p1, s.r1, 0.0f, best.t, &h))
+        if (curve_hit_segment(o, w, s.p0, s.r0, s.p1, s.r1, 0.0f, best.t, &h, s.flags))
             best = CurveBvhHit{h.t, h.u, h.n, s.index};
     }
     return best;

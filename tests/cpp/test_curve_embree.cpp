@@ -2,7 +2,11 @@
 // ROUND_LINEAR_CURVE geometry (backend/cpu/embree_curves.h), an implementation written by
 // others: fur on a sphere, random rays; hit or miss must agree but for grazing rays, t within
 // 1e-5 relative, the normals within 0.5 degrees. Radii 1 % larger on Lantern's side are the
-// negative control. Skipped where Embree is not loadable.
+// negative control. Skipped where Embree is not loadable. At a joint of two segments of a strand
+// neither draws the joint's sphere whole (RTC_CURVE_FLAG_NEIGHBOR_*): Embree keeps the part of
+// it that fills the outer wedge of a bend (clipped by the neighbour's cone), Lantern leaves it
+// out (accel/curve_hit.h), so rays whose hit on either side lies within one joint radius of a
+// joint are counted apart (printed), not compared.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -37,8 +41,15 @@ std::vector<CurveSeg> fur(int strands, int keys, uint64_t seed) {
     return curve_segments(pts.data(), rad.data(), off.data(), strands);
 }
 
+// Whether x lies within the radius of a joint (a joined end) of some segment.
+bool near_joint(const std::vector<CurveSeg>& segs, Vec3 x) {
+    for (const CurveSeg& g : segs)
+        if ((g.flags & kCurveJoinEnd) && length(x - g.p1) <= 1.001f * g.r1) return true;
+    return false;
+}
+
 struct Tally {
-    int hits = 0, mismatch = 0, far_t = 0, bad_n = 0;
+    int hits = 0, mismatch = 0, far_t = 0, bad_n = 0, at_joint = 0;
     double max_dt = 0.0;  // largest |t - t_embree| / t_embree
 };
 
@@ -76,6 +87,11 @@ Tally compare(const std::vector<CurveSeg>& segs, float radius_scale, int rays) {
         const bool eh = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
         const CurveBvhHit mh = curve_bvh_intersect(bvh.view(), o, w, 0.0f, 10.0f);
         const bool lh = mh.seg >= 0;
+        if ((eh && near_joint(segs, o + w * rh.ray.tfar)) ||
+            (lh && near_joint(segs, o + w * mh.t))) {
+            ++t.at_joint;
+            continue;
+        }
         if (eh) ++t.hits;
         if (eh != lh) {
             // grazing: the hit normal (either side's) nearly perpendicular to the ray
@@ -103,8 +119,9 @@ TEST(CurveEmbree, AgreesWithEmbreeRoundLinearCurves) {
     if (!embree_available()) GTEST_SKIP() << "Embree: " << embree_version();
     const std::vector<CurveSeg> segs = fur(800, 6, 2);
     const Tally t = compare(segs, 1.0f, 4000);
-    std::printf("hits %d of 4000: mismatched %d, t off %d (max %.2g relative), normals off %d\n",
-                t.hits, t.mismatch, t.far_t, t.max_dt, t.bad_n);
+    std::printf("hits %d of 4000 (%d at joints, not compared): mismatched %d, t off %d (max %.2g "
+                "relative), normals off %d\n", t.hits, t.at_joint, t.mismatch, t.far_t, t.max_dt,
+                t.bad_n);
     EXPECT_GT(t.hits, 800);
     EXPECT_EQ(t.mismatch, 0);
     EXPECT_EQ(t.far_t, 0);

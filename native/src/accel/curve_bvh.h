@@ -11,13 +11,17 @@
 
 namespace lantern {
 
-// One segment: its end points and radii, and its index in the scene's order.
+// One segment: its end points and radii, and its index in the scene's order. flags: which ends
+// join a neighbouring segment of the same strand (kCurveJoinStart, kCurveJoinEnd); a joined end
+// has no sphere of its own (as Embree's RTC_CURVE_FLAG_NEIGHBOR_*, which Cycles sets), so a ray
+// leaving a strand through its side does not enter the next segment's end sphere at the joint.
 struct CurveSeg {
     Vec3 p0;
     float r0;
     Vec3 p1;
     float r1;
     int32_t index;
+    int32_t flags = 0;
 };
 
 struct CurveBvhNode {
@@ -72,7 +76,8 @@ LANTERN_HD inline CurveBvhHit curve_bvh_intersect(const CurveBvhView& bvh, Vec3 
                 for (int32_t k = 0; k < n.count; ++k) {
                     const CurveSeg& s = bvh.segs[n.second + k];
                     CurveHit h;
-                    if (curve_hit_segment(o, w, s.p0, s.r0, s.p1, s.r1, tmin, best.t, &h)) {
+                    if (curve_hit_segment(o, w, s.p0, s.r0, s.p1, s.r1, tmin, best.t, &h,
+                                          s.flags)) {
                         best = CurveBvhHit{h.t, h.u, h.n, s.index};
                         if (any_hit) return best;
                     }

@@ -36,6 +36,11 @@ inline std::vector<CurveSeg> curve_segments(const float* points, const float* ra
             if (!(g.r0 >= 0.0f && g.r1 >= 0.0f && g.r0 + g.r1 > 0.0f && is_finite(g.r0 + g.r1)) ||
                 !is_finite(g.p0) || !is_finite(g.p1))
                 continue;
+            // joined to the previous segment of the strand (kept, consecutive points)
+            if (!out.empty() && out.back().index == i - 1 && i > offsets[s]) {
+                g.flags |= kCurveJoinStart;
+                out.back().flags |= kCurveJoinEnd;
+            }
             out.push_back(g);
         }
     return out;

@@ -9,6 +9,9 @@
 
 namespace lantern {
 
+// Ends of a segment that join the next segment of a strand (CurveSeg::flags): no end sphere.
+constexpr int kCurveJoinStart = 1, kCurveJoinEnd = 2;
+
 struct CurveHit {
     float t;
     float u;   // along the segment: the axis point whose sphere the hit lies on
@@ -31,8 +34,9 @@ LANTERN_HD inline bool curve_hit_sphere(Vec3 o, Vec3 w, Vec3 c, float r, float t
     return true;
 }
 
+// joins: kCurveJoinStart / kCurveJoinEnd, the ends whose sphere is left out (a joint)
 LANTERN_HD inline bool curve_hit_segment(Vec3 o, Vec3 w, Vec3 p0, float r0, Vec3 p1, float r1,
-                                         float tmin, float tmax, CurveHit* hit) {
+                                         float tmin, float tmax, CurveHit* hit, int joins = 0) {
     // radii: at least 0 and not both 0 (a tip of radius 0 is a cone to a point); else no surface
     if (!(r0 >= 0.0f && r1 >= 0.0f && r0 + r1 > 0.0f)) return false;
     // ---- Solve from the ray's point nearest the segment's middle ----
@@ -47,13 +51,13 @@ LANTERN_HD inline bool curve_hit_segment(Vec3 o, Vec3 w, Vec3 p0, float r0, Vec3
     bool found = false;
     float best = tmax, t;
     // ---- End spheres ----
-    if (r0 > 0.0f && curve_hit_sphere(o, w, p0, r0, tmin, best, &t)) {
+    if (r0 > 0.0f && !(joins & kCurveJoinStart) && curve_hit_sphere(o, w, p0, r0, tmin, best, &t)) {
         best = t;
         hit->u = 0.0f;
         hit->n = (o + w * t - p0) / r0;
         found = true;
     }
-    if (r1 > 0.0f && curve_hit_sphere(o, w, p1, r1, tmin, best, &t)) {
+    if (r1 > 0.0f && !(joins & kCurveJoinEnd) && curve_hit_sphere(o, w, p1, r1, tmin, best, &t)) {
         best = t;
         hit->u = 1.0f;
         hit->n = (o + w * t - p1) / r1;

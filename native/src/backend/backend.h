@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "backend/cpu/bvh_accel.h"
+#include "backend/cpu/curve_accel.h"
 #include "backend/cpu/embree_accel.h"
 #include "backend/cpu/thread_pool.h"
 
@@ -42,10 +43,14 @@ public:
         return m;
     }
     HitRecord intersect(const Ray& r, RayKind kind) const {
-        return embree_ ? embree_->intersect(r, kind) : bvh_->intersect(r, kind);
+        if (!curves_) return embree_ ? embree_->intersect(r, kind) : bvh_->intersect(r, kind);
+        HitRecord h = embree_ ? embree_->intersect(r, kind) : bvh_->intersect(r, kind);
+        curves_->closer(r, kind, &h);  // strands (curve_accel.h): the nearer hit wins
+        return h;
     }
     bool occluded(const Ray& r) const {
-        return embree_ ? embree_->occluded(r) : bvh_->occluded(r);
+        if (!curves_) return embree_ ? embree_->occluded(r) : bvh_->occluded(r);
+        return (embree_ ? embree_->occluded(r) : bvh_->occluded(r)) || curves_->occluded(r);
     }
     const char* accel() const { return embree_ ? "embree" : "bvh"; }
     // Mesh k placed by to_world (relative to its exported positions); false, nothing changed,
@@ -63,6 +68,7 @@ public:
 private:
     std::unique_ptr<EmbreeAccel> embree_;  // exactly one of these two is set
     std::unique_ptr<BvhAccel> bvh_;
+    std::unique_ptr<CurveAccel> curves_;  // strands (scene/curves.h), null without
     std::unique_ptr<ThreadPool> pool_;
     std::vector<Vec3> mesh_box_;  // Embree with instances: each mesh's exported bounds
 };

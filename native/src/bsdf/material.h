@@ -7,6 +7,7 @@
 // materials with kCoatNormal, and by a bumped Lambert as its unbent normal.
 #pragma once
 
+#include "bsdf/hair_lobe.h"
 #include "bsdf/material_resolve.h"
 #include "bsdf/shading_normal.h"
 
@@ -30,7 +31,7 @@ LANTERN_HD inline bool material_is_delta_leaf(const Material& m) {
 
 LANTERN_HD inline bool material_transmits_leaf(const Material& m) {
     return m.type == kMaterialDielectric || m.type == kMaterialTranslucent ||
-           (m.type == kMaterialPrincipled && m.transmission > 0.0f);
+           m.type == kMaterialHair || (m.type == kMaterialPrincipled && m.transmission > 0.0f);
 }
 
 // Translucent BSDF: Lambertian transmission (to the other side), albedo base_color.
@@ -65,6 +66,8 @@ LANTERN_HD inline BsdfEval material_eval_leaf(const Material& m, bool front, Vec
         return principled_eval(m, front, wo, wi, mode, coat_n);
     case kMaterialTranslucent:
         return translucent_eval(m.base_color, wo, wi);
+    case kMaterialHair:
+        return hair_lobe_eval(m, wo, wi);
     default:
         return diffuse_base_eval(m, wo, wi);
     }
@@ -92,6 +95,8 @@ LANTERN_HD inline BsdfSample material_sample_leaf(const Material& m, bool front,
         return principled_sample(m, front, wo, u, mode, coat_n);
     case kMaterialTranslucent:
         return translucent_sample(m.base_color, wo, Vec2{u.x, u.y});
+    case kMaterialHair:
+        return hair_lobe_sample(m, wo, u);
     default:
         return diffuse_base_sample(m, wo, Vec2{u.x, u.y});
     }

@@ -251,6 +251,14 @@ std::string ray_visibility_reason(const SceneInput& in) {
     return "";
 }
 
+std::string curves_reason(const SceneInput& in) {
+    for (const CurveInput& c : in.curves)
+        if (c.offsets.size() > 1) return "strands (curves '" + c.name + "')";
+    for (const MaterialInput& m : in.materials)
+        if (m.type == "hair") return "a hair material ('" + m.name + "')";
+    return "";
+}
+
 std::string pt_only_reason(const SceneInput& in) {
     for (const MaterialInput& m : in.materials)
         if (m.holdout) return "a holdout (material '" + m.name + "')";
@@ -262,6 +270,7 @@ std::string pt_only_reason(const SceneInput& in) {
     if (std::string v = media_reason(in); !v.empty()) return v;  // media: pt only (volumes.md)
     if (std::string v = motion_reason(in); !v.empty()) return v;  // motion blur: pt only
     if (std::string v = subsurface_reason(in); !v.empty()) return v;  // docs/subsurface.md
+    if (std::string v = curves_reason(in); !v.empty()) return v;  // docs/curves.md
     return "";
 }
 

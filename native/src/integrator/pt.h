@@ -67,6 +67,7 @@ LANTERN_HD inline bool pt_world_sees(const SceneView& s, const Material& m, Vec3
     if (dot(wi, ng) < 0.0f) return (r & kWorldTransmission) != 0;
     switch (m.type) {
     case kMaterialConductor:
+    case kMaterialHair:  // Cycles labels hair reflection glossy
     case kMaterialDielectric: return (r & kWorldGlossy) != 0;
     case kMaterialPrincipled:
     case kMaterialMix: return (r & (kWorldDiffuse | kWorldGlossy)) != 0;
@@ -150,6 +151,7 @@ LANTERN_HD inline void pt_shade_miss(const SceneView& s, const PathState& ps, in
 }  // namespace lantern
 
 #include "integrator/pt_surface.h"
+#include "integrator/pt_curve.h"  // strands: pt_surface_at
 
 namespace lantern {
 
@@ -162,8 +164,7 @@ LANTERN_HD inline bool pt_catcher_skips(const SceneView& s, const PathState& ps,
     if (ps.depth[i] <= 1) return s.catcher_mode == kCatcherMatte ? catcher : !catcher;
     if (s.catcher_mode != kCatcherPass || catcher) return false;
     const Vec3 d = ps.ray_d[i];
-    const SurfaceHit h = s.motion.num_objects ? pt_surface_moved(s, tri, ps.hit_uv[i], d, ps.rng[i])
-                                               : pt_surface(s, tri, ps.hit_uv[i], d);
+    const SurfaceHit h = pt_surface_at(s, ps, i, tri, d);
     ps.ray_o[i] = offset_ray_origin(h.p, h.ng, d, s.offset_scale);
     ps.ray_tmin[i] = 0.0f;
     ps.ray_tmax[i] = kInf;
@@ -179,8 +180,7 @@ __attribute__((noinline))
 #endif
 LANTERN_HD inline void pt_pass_hidden_at(const SceneView& s, const PathState& ps, int i, int tri) {
     const Vec3 d = ps.ray_d[i];
-    const SurfaceHit h = s.motion.num_objects ? pt_surface_moved(s, tri, ps.hit_uv[i], d, ps.rng[i])
-                                               : pt_surface(s, tri, ps.hit_uv[i], d);
+    const SurfaceHit h = pt_surface_at(s, ps, i, tri, d);
     pt_pass_hidden(s, ps, i, h.p, h.ng);
 }
 
@@ -264,13 +264,16 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
     if ((s.catcher_mode != kCatcherMatte || (s.tri_flags[tri] & kShadowCatcher)) &&
         pt_catcher_skips(s, ps, i, tri))
         return;
-    SurfaceHit h = s.motion.num_objects ? pt_surface_moved(s, tri, ps.hit_uv[i], d, ps.rng[i])
-                                        : pt_surface(s, tri, ps.hit_uv[i], d);
+    SurfaceHit h = pt_surface_at(s, ps, i, tri, d);  // a triangle's or a strand's (pt_curve.h)
     MaterialScratch scratch;
     const Material& m = material_at_point(
         s, s.tri_material[tri],
         // by value: what it captures by reference the device keeps in local memory throughout
-        [h, tri, uv = ps.hit_uv[i], wo = -d] { return shade_point(h, tri, uv, wo); }, scratch);
+        // (a strand's point has no triangle: tri -1 for the programs)
+        [h, tri = tri < s.num_triangles ? tri : -1, uv = ps.hit_uv[i], wo = -d] {
+            return shade_point(h, tri, uv, wo);
+        },
+        scratch);
     if (!is_black(m.emission)) {
         float w = 1.0f;
         int li = s.tri_light ? s.tri_light[tri] : -1;
@@ -292,7 +295,8 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
     const Vec3 ng_l = frame.to_local(h.ng);
     Rng rng = ps.rng[i];
     // under the surface: the walk stage takes the path (integrator/pt_sss.h)
-    if (s.has_subsurface && m.subsurface > 0.0f && pt_sss_choose(ps, i, m, wo, ng_l, rng)) {
+    if (s.has_subsurface && m.subsurface > 0.0f && tri < s.num_triangles &&
+        pt_sss_choose(ps, i, m, wo, ng_l, rng)) {
         ps.rng[i] = rng;
         return;
     }

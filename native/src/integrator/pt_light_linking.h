@@ -63,10 +63,13 @@ LANTERN_HD inline bool pt_occluded_linked(const SceneView& s, const Rays& rays, 
         if (h.prim < 0 || !(h.t < r.tmax)) return false;
         const int set = s.tri_shadow_set ? int(s.tri_shadow_set[h.prim]) : 0;
         if ((mask >> set) & 1u) return true;
-        const Vec3 a = triangle_vertex(s, h.prim, 0), b = triangle_vertex(s, h.prim, 1),
-                   c = triangle_vertex(s, h.prim, 2);
-        const Vec3 next = offset_ray_origin(r.o + r.d * h.t, normalize(cross(b - a, c - a)),
-                                            r.d, s.offset_scale);
+        Vec3 ng = r.d;  // a strand (pt_curve.h): passed along the ray
+        if (h.prim < s.num_triangles) {
+            const Vec3 a = triangle_vertex(s, h.prim, 0), b = triangle_vertex(s, h.prim, 1),
+                       c = triangle_vertex(s, h.prim, 2);
+            ng = normalize(cross(b - a, c - a));
+        }
+        const Vec3 next = offset_ray_origin(r.o + r.d * h.t, ng, r.d, s.offset_scale);
         if (r.tmax < kInf) r.tmax = fmaxf(r.tmax - dot(next - r.o, r.d), 0.0f);
         r.o = next;
         r.tmin = 0.0f;

@@ -22,6 +22,7 @@ LANTERN_HD inline uint8_t pt_scatter_kind(const Material& m, Vec3 wi, Vec3 ng) {
     if (dot(wi, ng) < 0.0f) return kRayTransmission;
     switch (m.type) {
     case kMaterialConductor:
+    case kMaterialHair:  // Cycles labels hair reflection glossy
     case kMaterialDielectric: return kRayGlossy;
     case kMaterialPrincipled:
     case kMaterialMix: return kRayDiffuse | kRayGlossy;

@@ -294,6 +294,7 @@ LANTERN_HD inline void pt_sss_walk(const SceneView& s, const Rays& rays, Kind ki
         beta = beta * (out ? tr : ss_b * tr) * (1.0f / denom);
         if (!is_finite(beta)) break;
         if (out) {
+            if (hit.prim >= s.num_triangles) break;  // a strand inside the mesh: the walk ends
             const SurfaceHit x = pt_surface(s, hit.prim, hit.uv, dir);  // normals face inside
             pt_sss_exit(s, ps, st, i, hit.prim, x.p, -x.ng, -x.ns, beta, ps.depth[i] + 1, rng);
             break;

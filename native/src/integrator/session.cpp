@@ -112,6 +112,14 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
             settings_.integrator = "pt";
         }
     }
+    // strands and hair: only pt shades them so far (docs/curves.md)
+    const std::string curves_why = curves_reason(scene);
+    if (media_note.empty() && integ != "pt" && integ != "auto" && !curves_why.empty()) {
+        media_note = "integrator '" + integ + "' does not render hair yet (the scene has " +
+                     curves_why + "; its vertices on strands need the hair lobe's reverse "
+                     "pdf): rendering with pt";
+        settings_.integrator = "pt";
+    }
     auto t0 = Clock::now();
     scene_ = std::make_unique<HostScene>(scene);
     if (settings_.integrator == "lt") check_light_tracing(scene);
@@ -131,6 +139,10 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
         gpu_ = std::move(test_gpu);
         backend_name_ = "cuda";
         device_name_ = gpu_->device_name();
+    } else if ((want == "cuda" || want == "auto") && !curves_why.empty()) {
+        if (want == "cuda" || cuda_info().available)
+            warnings_.push_back("the CUDA backend does not trace strands yet (the scene has " +
+                                curves_why + "); rendering on the CPU");
     } else if (want == "cuda" || want == "auto") {
         const CudaInfo info = cuda_info();
         if (info.available && scene_->view().motion.any()) {

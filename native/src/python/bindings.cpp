@@ -237,6 +237,16 @@ SceneInput to_input(const nb::dict& scene) {
                 }
             }
             mi.tex_mix = get<int>(m, "mix_texture", -1);
+            // Principled Hair (type "hair": scene/hair_build.cpp)
+            mi.hair_parametrization =
+                get<std::string>(m, "hair_parametrization", mi.hair_parametrization);
+            mi.melanin = get<float>(m, "melanin", mi.melanin);
+            mi.melanin_redness = get<float>(m, "melanin_redness", mi.melanin_redness);
+            mi.hair_tint = get_vec3(m, "hair_tint", mi.hair_tint);
+            mi.absorption = get_vec3(m, "absorption", mi.absorption);
+            mi.radial_roughness = get<float>(m, "radial_roughness", mi.radial_roughness);
+            mi.hair_coat = get<float>(m, "hair_coat", mi.hair_coat);
+            mi.hair_offset = get<float>(m, "hair_offset", mi.hair_offset);
             mi.program_first = get<int>(m, "program_first", 0);
             mi.program_count = get<int>(m, "program_count", 0);
             in.materials.push_back(mi);
@@ -313,6 +323,25 @@ SceneInput to_input(const nb::dict& scene) {
             mi.motion = get_array<float>(m, "motion", 16, "mesh '" + mi.name + "'");
             get_matrix(m, "motion_base", mi.motion_base);
             in.meshes.push_back(std::move(mi));
+        }
+    }
+    if (has(scene, "curves")) {  // strands (docs/scene_format.md "curves")
+        for (nb::handle h : nb::cast<nb::list>(scene["curves"])) {
+            nb::dict c = nb::cast<nb::dict>(h);
+            CurveInput ci;
+            ci.name = get<std::string>(c, "name", "curves");
+            const std::string who = "curves '" + ci.name + "'";
+            ci.points = get_array<float>(c, "points", 3, who);
+            ci.radius = get_array<float>(c, "radius", 1, who);
+            for (uint32_t o : get_array<uint32_t>(c, "offsets", 1, who)) {
+                if (o > uint32_t(INT32_MAX))
+                    throw std::invalid_argument(who + ": offsets beyond 2^31 points");
+                ci.offsets.push_back(int32_t(o));
+            }
+            ci.material_ids = get_array<uint32_t>(c, "material_ids", 1, who);
+            ci.visible_camera = get<bool>(c, "visible_camera", true);
+            ci.cast_shadow = get<bool>(c, "cast_shadow", true);
+            in.curves.push_back(std::move(ci));
         }
     }
     if (has(scene, "lights")) {

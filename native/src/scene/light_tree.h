@@ -243,6 +243,7 @@ LANTERN_HD inline Vec3 light_pick_normal(const SceneView& s, int tri, Vec3 ng) {
     const Material& m = s.materials[s.tri_material[tri]];
     auto transmits = [](const Material& x) {
         return x.type == kMaterialDielectric || x.type == kMaterialTranslucent ||
+               x.type == kMaterialHair ||
                (x.type == kMaterialPrincipled && x.transmission > 0.0f) ||
                (x.tex_flags & kTexProgram) != 0;
     };

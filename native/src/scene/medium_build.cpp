@@ -161,7 +161,7 @@ void HostScene::build_media(const SceneInput& in) {
         }
         material_medium_[k] = at;
     }
-    for (size_t t = 0; t < tri_material_.size(); ++t)
+    for (size_t t = 0; t < indices_.size() / 3; ++t)
         if (tri_material_[t] < in.materials.size() && in.materials[tri_material_[t]].volume_only)
             tri_flags_[t] |= kVolumeBoundary;
     view_.tri_flags = tri_flags_.data();
@@ -221,7 +221,7 @@ void HostScene::nest_media(const SceneInput& in, const Medium* world) {
     std::vector<int> of_material(material_medium_.size(), -1);
     for (size_t j = 0; j < meshes.size(); ++j) of_material[meshes[j].material] = int(j);
     auto tri_p = [&](size_t t, int v) { return positions_[indices_[3 * t + size_t(v)]]; };
-    for (size_t t = 0; t < tri_material_.size(); ++t) {
+    for (size_t t = 0; t < indices_.size() / 3; ++t) {
         if (tri_material_[t] >= of_material.size() || of_material[tri_material_[t]] < 0)
             continue;
         Mesh& m = meshes[size_t(of_material[tri_material_[t]])];
@@ -252,7 +252,7 @@ void HostScene::nest_media(const SceneInput& in, const Medium* world) {
         Mesh& m = meshes[j];
         if (!m.ok) continue;
         std::fill(crossings.begin(), crossings.end(), 0);
-        for (size_t t = 0; t < tri_material_.size(); ++t) {
+        for (size_t t = 0; t < indices_.size() / 3; ++t) {
             if (tri_material_[t] >= of_material.size()) continue;
             const int o = of_material[tri_material_[t]];
             if (o < 0 || size_t(o) == j) continue;
@@ -325,7 +325,7 @@ int32_t HostScene::camera_medium_at(Vec3 p) const {
     const Vec3 d = normalize(Vec3{0.5773f, 0.5801f, 0.5749f});  // off every axis and diagonal
     float best = kInf;
     int32_t medium = view_.world_medium;
-    for (size_t t = 0; t < tri_material_.size(); ++t) {
+    for (size_t t = 0; t < indices_.size() / 3; ++t) {
         const uint32_t mat = tri_material_[t];
         if (mat >= material_medium_.size() || material_medium_[mat] < 0) continue;
         const Vec3 a = positions_[indices_[3 * t]], b = positions_[indices_[3 * t + 1]],

@@ -57,7 +57,7 @@ void HostScene::build_hetero(int32_t med, size_t material, const std::string& na
     const int nch = num_attribute_channels_;
     std::vector<uint32_t> verts;
     Vec3 lo = vec3(kInf), hi = vec3(-kInf);
-    for (size_t t = 0; t < tri_material_.size(); ++t) {
+    for (size_t t = 0; t < indices_.size() / 3; ++t) {
         if (tri_material_[t] != material) continue;
         for (int k = 0; k < 3; ++k) {
             const uint32_t v = indices_[3 * t + size_t(k)];

@@ -52,7 +52,7 @@ void HostScene::inset_volume_boundaries() {
     const size_t nv = positions_.size();
     // 1: used by a boundary triangle, 2: used by another
     std::vector<uint8_t> use(nv, 0);
-    for (size_t t = 0; t < tri_flags_.size(); ++t) {
+    for (size_t t = 0; t < indices_.size() / 3; ++t) {  // triangles (not strands)
         const uint8_t bit = (tri_flags_[t] & kVolumeBoundary) ? 1 : 2;
         for (int k = 0; k < 3; ++k) use[indices_[3 * t + size_t(k)]] |= bit;
     }
@@ -61,7 +61,7 @@ void HostScene::inset_volume_boundaries() {
     if (!any) return;
     // angle-weighted outward normals of the moved vertices, and each face's unit normal
     std::vector<Vec3> n(nv, vec3(0.0f));
-    for (size_t t = 0; t < tri_flags_.size(); ++t) {
+    for (size_t t = 0; t < indices_.size() / 3; ++t) {  // triangles (not strands)
         if (!(tri_flags_[t] & kVolumeBoundary)) continue;
         const uint32_t i[3] = {indices_[3 * t], indices_[3 * t + 1], indices_[3 * t + 2]};
         const Vec3 p[3] = {positions_[i[0]], positions_[i[1]], positions_[i[2]]};
@@ -79,7 +79,7 @@ void HostScene::inset_volume_boundaries() {
     // per vertex the smallest cosine between its direction and an adjacent face's normal: a
     // move of d along the direction takes that face's plane in by d x cosine
     std::vector<float> cos_min(nv, 1.0f);
-    for (size_t t = 0; t < tri_flags_.size(); ++t) {
+    for (size_t t = 0; t < indices_.size() / 3; ++t) {  // triangles (not strands)
         if (!(tri_flags_[t] & kVolumeBoundary)) continue;
         const uint32_t* i = &indices_[3 * t];
         const Vec3 ng = cross(positions_[i[1]] - positions_[i[0]], positions_[i[2]] - positions_[i[0]]);

@@ -178,6 +178,8 @@ HostScene::HostScene(const SceneInput& in) {
             m.type = kMaterialTranslucent;
         } else if (mi.type == "mix") {
             m.type = kMaterialMix;  // leaves checked below, once every material exists
+        } else if (mi.type == "hair") {
+            set_hair_material(m, mi);
         } else if (mi.type == "principled") {
             m.type = kMaterialPrincipled;
             auto unit = [](float v, float fallback) { return finite_in(v, 0.0f, 1.0f, fallback); };
@@ -203,7 +205,7 @@ HostScene::HostScene(const SceneInput& in) {
         } else {
             throw std::invalid_argument("material " + std::to_string(k) + " ('" + mi.name +
                                         "'): unknown type '" + mi.type +
-                                        "' (diffuse, conductor, dielectric, principled, mix, translucent)");
+                                        "' (diffuse, conductor, dielectric, principled, mix, translucent, hair)");
         }
         // GGX multiple-scattering compensation (the compensation tables are GGX's: a Beckmann
         // conductor goes without, as Mitsuba); its tables are made once the node programs
@@ -233,8 +235,10 @@ HostScene::HostScene(const SceneInput& in) {
     add_programs(in);
     fill_lobe_tables();
     add_meshes(in);
+    add_curves(in);
     add_lights(in);
     build_light_linking(in);
+    add_curve_prims();
     build_filter(in.filter_width);
     finish_view(in);
     build_media(in);
@@ -318,6 +322,7 @@ SceneView HostScene::copied_view(
     v.grid_voxels = put(view_.grid_voxels, grid_voxels_.size());
     v.motion.steps = put(view_.motion.steps, motion_steps_.size());
     v.motion.objects = put(view_.motion.objects, motion_objects_.size());
+    v.curves.segs = put(view_.curves.segs, curve_segs_.size());
     return v;
 }
 
@@ -340,7 +345,9 @@ void HostScene::finish_view(const SceneInput& in) {
     v.tri_shadow_set = tri_shadow_set_.empty() ? nullptr : tri_shadow_set_.data();
     v.light_blockers = light_blockers_.empty() ? nullptr : light_blockers_.data();
     v.tri_light = tri_light_.data();
-    v.num_triangles = int32_t(tri_material_.size());
+    v.num_triangles = int32_t(indices_.size() / 3);  // tri_material_ holds the strands' too
+    v.curves.segs = curve_segs_.empty() ? nullptr : curve_segs_.data();
+    v.curves.num_segs = int32_t(curve_segs_.size());
     v.materials = materials_.data();
     v.material_tables = material_tables_.data();
     v.num_materials = int32_t(materials_.size());

@@ -43,6 +43,18 @@ struct MeshInput {
     float motion_base[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
 };
 
+// Strands (docs/curves.md, addon/export/curves.py): points, a radius per point, strand s is
+// points offsets[s] .. offsets[s + 1] - 1, a material per strand; round linear segments.
+struct CurveInput {
+    std::string name;
+    std::vector<float> points;        // 3 per point, world space
+    std::vector<float> radius;        // 1 per point
+    std::vector<int32_t> offsets;     // strands + 1, from 0, increasing
+    std::vector<uint32_t> material_ids;  // 1 per strand
+    bool visible_camera = true;
+    bool cast_shadow = true;
+};
+
 struct MaterialInput {
     std::string name;
     std::string type = "diffuse";  // diffuse, conductor, dielectric, principled, mix, translucent
@@ -100,6 +112,15 @@ struct MaterialInput {
     // volume_only: no surface (a volume boundary that pt passes through)
     int medium = -1;
     bool volume_only = false;
+    // hair (type "hair", Principled Hair, bsdf/hair.h; scene/hair_build.cpp): the absorption
+    // by parametrisation "melanin" (melanin, melanin_redness, hair_tint), "color" (base_color,
+    // Direct Coloring) or "absorption" (absorption); roughness, radial roughness, coat, ior,
+    // offset (radians)
+    std::string hair_parametrization = "color";
+    float melanin = 0.8f, melanin_redness = 1.0f;
+    Vec3 hair_tint{1.0f, 1.0f, 1.0f};
+    Vec3 absorption{0.245531f, 0.52f, 1.365f};
+    float radial_roughness = 0.3f, hair_coat = 0.0f, hair_offset = 0.034906585f;
     // a Volume object's: SceneInput::grids index of the density its medium's coefficients are
     // per unit of (scene/medium_grid.h), -1 none
     int density_grid = -1;
@@ -166,6 +187,7 @@ struct SceneInput {
     std::vector<TextureInput> textures;
     std::vector<MeshInput> meshes;
     std::vector<LightInput> lights;
+    std::vector<CurveInput> curves;  // strands (scene/scene_curves.cpp)
     // compiled node graphs (scene/material_program.h, docs/scene_format.md "node programs"):
     // programs 6 uint32 each (first_instr, num_instr, first_const, num_const, target, result),
     // program_code 4 uint32 per instruction (op | mode << 8 | flags << 16 | dim << 24,
@@ -202,7 +224,7 @@ public:
     // lights would change), a singular, mirroring or non-finite transform, or a vertex leaving
     // the scene's bounding sphere (distant lights' disk) or the ray queries' range.
     bool move_mesh(int k, const Transform& to_world);
-    int num_triangles() const { return int(tri_material_.size()); }
+    int num_triangles() const { return int(indices_.size() / 3); }
     // view() with every array it points into copied elsewhere (a GPU's memory): copy(host,
     // bytes) receives each array (host null or bytes 0 when empty) and returns the copy's address.
     SceneView copied_view(const std::function<const void*(const void*, size_t)>& copy) const;
@@ -228,6 +250,8 @@ private:
     void inset_volume_boundaries();  // scene/medium_inset.cpp
     int32_t camera_medium_at(Vec3 p) const;
     void build_motion(const SceneInput& in);  // scene/motion_build.cpp
+    void add_curves(const SceneInput& in);     // scene/scene_curves.cpp: segments, bounds
+    void add_curve_prims();                    // ... and their per-primitive entries
 
     std::vector<Vec3> positions_, normals_;
     std::vector<Vec2> uvs_;
@@ -275,7 +299,13 @@ private:
     std::vector<std::unique_ptr<MeshCopy>> mesh_given_;  // per mesh, null until it moves
     std::vector<MotionStep> motion_steps_;      // SceneView::motion (motion blur)
     std::vector<ObjectMotion> motion_objects_;
+    std::vector<CurveSeg> curve_segs_;          // SceneView::curves (strands)
+    std::vector<uint32_t> curve_material_;      // per segment
+    std::vector<uint8_t> curve_flags_;          // per segment: kVisibleCamera, kCastShadow
 };
+
+// scene/hair_build.cpp: a "hair" MaterialInput into m (type kMaterialHair)
+void set_hair_material(Material& m, const MaterialInput& mi);
 
 Transform transform_from_rows(const float m[16]);
 

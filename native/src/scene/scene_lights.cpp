@@ -9,6 +9,7 @@
 #include "bsdf/material.h"
 #include "integrator/light_path.h"
 #include "scene/light_tree_build.h"
+#include "accel/curve_bvh_build.h"
 #include "scene/scene.h"
 #include "scene/scene_checks.h"
 #include "scene/scene_limits.h"
@@ -45,6 +46,12 @@ void HostScene::add_lights(const SceneInput& in) {
         lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
         hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
     }
+    for (const CurveSeg& g : curve_segs_) {  // strands (scene_curves.cpp): their boxes
+        Vec3 a, b;
+        curve_seg_bounds(g, &a, &b);
+        lo = {std::min(lo.x, a.x), std::min(lo.y, a.y), std::min(lo.z, a.z)};
+        hi = {std::max(hi.x, b.x), std::max(hi.y, b.y), std::max(hi.z, b.z)};
+    }
     float radius = lo.x <= hi.x ? 0.5f * length(hi - lo) : 1.0f;
     view_.scene_center = lo.x <= hi.x ? (lo + hi) * 0.5f : vec3(0.0f);
     view_.scene_radius = std::max(radius, 1e-3f);
@@ -56,6 +63,9 @@ void HostScene::add_lights(const SceneInput& in) {
     for (const Vec3& p : positions_) {
         if (within_limit(p)) reach = std::max(reach, length(p - view_.scene_center));
     }
+    for (const CurveSeg& g : curve_segs_)
+        reach = std::max(reach, std::max(length(g.p0 - view_.scene_center) + g.r0,
+                                         length(g.p1 - view_.scene_center) + g.r1));
     view_.emit_radius = lo.x <= hi.x ? std::max(std::min(view_.scene_radius,
                                                          reach * (1.0f + 1e-5f)), 1e-3f)
                                      : view_.scene_radius;  // no geometry: as the box's

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "core/math.h"
+#include "scene/curves.h"
 #include "scene/envmap.h"
 #include "scene/medium.h"
 #include "scene/medium_grid.h"
@@ -21,7 +22,8 @@ enum MaterialType : uint32_t {
     kMaterialPrincipled = 3,  // Blender's Principled BSDF as layers: bsdf/principled.h
     kMaterialMix = 4,         // Mix / Add Shader: weighted leaves (bsdf/material.h)
     kMaterialTranslucent = 5, // Translucent BSDF: Lambertian transmission, colour base_color
-    kMaterialTypeCount = 6,
+    kMaterialHair = 6,        // Principled Hair (Chiang): bsdf/hair_lobe.h reads its fields
+    kMaterialTypeCount = 7,
 };
 
 constexpr int kMixLeaves = 4;  // leaves of one mix material (nested mixes are flattened)
@@ -381,6 +383,8 @@ struct SceneView {
     const int32_t* light_medium = nullptr;
     // motion blur (scene/motion.h): moving meshes and the camera's steps; any() false: none
     MotionView motion;
+    // strands (scene/curves.h): prims num_triangles .. + curves.num_segs; num_segs 0: none
+    CurveView curves;
 };
 
 // Texture coordinates of triangle tri at barycentrics (weights of vertices 1 and 2); 0 without uvs.

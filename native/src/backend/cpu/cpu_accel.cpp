@@ -30,14 +30,18 @@ CpuBackend::CpuBackend(const SceneView& s, int threads, std::vector<std::string>
         try {
             embree_ = std::make_unique<EmbreeAccel>(s, warnings, instances);
             if (instances) mesh_boxes(s, *instances, mesh_box_);
+            if (s.curves.num_segs > 0) curves_ = std::make_unique<CurveAccel>(s, true, warnings);
             return;
         } catch (const std::runtime_error& e) {
+            embree_.reset();  // the strands' Embree geometry may be what failed
+            curves_.reset();
             if (want == "embree") throw;
             why = std::string("Embree failed: ") + e.what();
         }
     }
     warnings.push_back("CPU ray queries use the built-in BVH (" + why + ")");
     bvh_ = std::make_unique<BvhAccel>(s, pool_->size(), warnings, instances);
+    if (s.curves.num_segs > 0) curves_ = std::make_unique<CurveAccel>(s, false, warnings);
 }
 
 bool CpuBackend::move_instance(int k, const Transform& to_world) {

@@ -1,23 +1,53 @@
 #include "backend/cpu/embree_curves.h"
 
+#include <algorithm>
 #include <cstdint>
+#include <vector>
 
 namespace lantern {
 
 #if LANTERN_HAVE_EMBREE
 unsigned embree_attach_curves(const EmbreeApi& e, RTCDevice device, RTCScene scene,
-                              const CurveSeg* segs, size_t count) {
+                              const CurveSeg* segs, size_t count, RTCFilterFunctionN filter) {
+    // joined segments share their joint's vertex, so that Embree finds each one's neighbours
+    // at index - 1 and index + 2 (RTC_CURVE_FLAG_NEIGHBOR_*: no sphere at the joint)
+    std::vector<float> verts;
+    std::vector<uint32_t> first(count);
+    std::vector<uint8_t> flags(count, 0);
+    verts.reserve(8 * count);
+    auto push = [&](Vec3 p, float r) {
+        verts.insert(verts.end(), {p.x, p.y, p.z, r});
+    };
+    for (size_t i = 0; i < count; ++i) {
+        const CurveSeg& s = segs[i];
+        const bool joined = (s.flags & kCurveJoinStart) && i > 0 &&
+                            (segs[i - 1].flags & kCurveJoinEnd) && segs[i - 1].p1.x == s.p0.x &&
+                            segs[i - 1].p1.y == s.p0.y && segs[i - 1].p1.z == s.p0.z &&
+                            segs[i - 1].r1 == s.r0;
+        if (joined) {
+            flags[i] |= RTC_CURVE_FLAG_NEIGHBOR_LEFT;
+            flags[i - 1] |= RTC_CURVE_FLAG_NEIGHBOR_RIGHT;
+        } else {
+            push(s.p0, s.r0);
+        }
+        first[i] = uint32_t(verts.size() / 4 - 1);
+        push(s.p1, s.r1);
+    }
     RTCGeometry g = e.newGeometry(device, RTC_GEOMETRY_TYPE_ROUND_LINEAR_CURVE);
     auto* v = static_cast<float*>(e.setNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0,
                                                          RTC_FORMAT_FLOAT4, 4 * sizeof(float),
-                                                         2 * count));
+                                                         verts.size() / 4));
     auto* idx = static_cast<uint32_t*>(e.setNewGeometryBuffer(
         g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT, sizeof(uint32_t), count));
-    for (size_t i = 0; i < count; ++i) {
-        const CurveSeg& s = segs[i];
-        const float a[8] = {s.p0.x, s.p0.y, s.p0.z, s.r0, s.p1.x, s.p1.y, s.p1.z, s.r1};
-        for (int k = 0; k < 8; ++k) v[8 * i + k] = a[k];
-        idx[i] = uint32_t(2 * i);
+    auto* fl = static_cast<uint8_t*>(e.setNewGeometryBuffer(g, RTC_BUFFER_TYPE_FLAGS, 0,
+                                                           RTC_FORMAT_UCHAR, sizeof(uint8_t),
+                                                           count));
+    std::copy(verts.begin(), verts.end(), v);
+    std::copy(first.begin(), first.end(), idx);
+    std::copy(flags.begin(), flags.end(), fl);
+    if (filter) {
+        e.setGeometryIntersectFilterFunction(g, filter);
+        e.setGeometryOccludedFilterFunction(g, filter);
     }
     e.commitGeometry(g);
     const unsigned id = e.attachGeometry(scene, g);

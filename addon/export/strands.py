@@ -1,0 +1,53 @@
+"""An object instance's hair (Curves data, particle hair of render type Path) as Lantern strand
+sets (lantern.Scene.add_curves' dicts; docs/curves.md), through export/curves.py. Cycles' curve
+shape (scene.cycles_curves.shape): Thick Linear is exactly Lantern's round linear segments;
+3D Curves (THICK) are Catmull-Rom splines, cut into CATMULL_ROM_PIECES linear pieces per key
+interval (curves.catmull_rom_pieces); Ribbons (flat strips facing the ray) render as round
+tubes, with a warning."""
+
+import numpy as np
+
+from . import curves
+
+CATMULL_ROM_PIECES = 4
+
+
+def curve_shape(bscene, report):
+    """Cycles' curve shape of the scene ('THICK_LINEAR', 'THICK' or 'RIBBONS'), warned once
+    where Lantern renders it otherwise."""
+    settings = getattr(bscene, "cycles_curves", None)
+    shape = str(getattr(settings, "shape", "THICK_LINEAR"))
+    return shape
+
+
+class StrandExporter:
+    def __init__(self, bscene, materials, report, final=True):
+        self.materials, self.report, self.final = materials, report, final
+        self.shape = curve_shape(bscene, report)
+        self.sets = []
+
+    def export(self, inst):
+        """The instance's strand sets, appended to self.sets; returns how many."""
+        obj = inst.object
+        found = curves.object_strands(obj, inst.matrix_world, self.report, final=self.final)
+        if not found:
+            return 0
+        if self.shape == "RIBBONS":
+            self.report.warn("Hair: Cycles' curve shape 'Ribbons' (Render Properties > Curves) "
+                             "renders as round tubes in Lantern ('3D Curves' or 'Linear 3D "
+                             "Curves' match)")
+        slots = [self.materials.index(s.material) for s in obj.material_slots] or [0]
+        lut = np.array(slots, dtype=np.uint32)
+        for k, st in enumerate(found):
+            if self.shape == "THICK":
+                st = curves.catmull_rom_pieces(st, CATMULL_ROM_PIECES)
+            self.sets.append({
+                "name": f"{obj.name}/{k}",
+                "points": np.ascontiguousarray(st.points, np.float32),
+                "radius": np.ascontiguousarray(st.radius, np.float32),
+                "offsets": np.ascontiguousarray(st.offsets, np.uint32),
+                "material_ids": lut[np.clip(st.material, 0, len(lut) - 1)],
+                "visible_camera": bool(getattr(obj, "visible_camera", True)),
+                "cast_shadow": bool(getattr(obj, "visible_shadow", True)),
+            })
+        return len(found)

@@ -1,0 +1,41 @@
+// Ray queries against the scene's strands (scene/curves.h) beside the triangles' structure:
+// Embree's ROUND_LINEAR_CURVE geometry (backend/cpu/embree_curves.h) where the triangles use
+// Embree, else the built-in curve BVH (accel/curve_bvh.h). CpuBackend asks it after the
+// triangles with the ray cut at their hit, so the nearer wins; hits are entries only (a ray
+// leaving a strand does not see it: Embree's back-facing hits are filtered out). Camera rays
+// skip strands hidden from the camera, shadow rays those that cast no shadow.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "accel/curve_bvh_build.h"
+#include "backend/cpu/embree_accel.h"
+
+namespace lantern {
+
+class CurveAccel {
+public:
+    // use_embree: Embree's geometry (throws std::runtime_error when Embree fails), else the BVH
+    CurveAccel(const SceneView& s, bool use_embree, std::vector<std::string>& warnings);
+    ~CurveAccel();
+    CurveAccel(const CurveAccel&) = delete;
+    CurveAccel& operator=(const CurveAccel&) = delete;
+
+    // *h replaced by the nearest strand hit closer than h->t (a miss: h->prim < 0, t = tmax)
+    void closer(const Ray& r, RayKind kind, HitRecord* h) const;
+    bool occluded(const Ray& r) const;
+    const char* name() const { return embree_ ? "embree" : "bvh"; }
+
+private:
+    struct Embree;
+    int kind_index(RayKind kind) const;
+    int32_t first_prim_ = 0;  // SceneView::num_triangles
+    std::vector<CurveSeg> by_kind_[3];  // only where the kinds differ: camera, indirect, shadow
+    CurveBvh bvh_[3];
+    int distinct_ = 1;  // 1: every kind sees every strand (bvh_[0] alone)
+    std::unique_ptr<Embree> embree_;
+};
+
+}  // namespace lantern

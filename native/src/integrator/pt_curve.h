@@ -1,0 +1,48 @@
+// A path's hit on a strand (docs/curves.md; scene/curves.h): prim >= num_triangles. The surface
+// is the round segment's at o + t d: the cross-section normal as both geometric and shading
+// normal (facing the ray: only entries are reported), the frame turned so that its X is the
+// strand's tangent (the hair lobe's frame, bsdf/hair_lobe.h), texture coordinates (u, 0).
+#pragma once
+
+#include "integrator/pt_surface.h"
+
+namespace lantern {
+
+#ifndef __CUDA_ARCH__
+__attribute__((noinline))  // off pt_shade's usual path
+#endif
+LANTERN_HD inline SurfaceHit pt_surface_curve(const SceneView& s, int prim, Vec2 uv, Vec3 o,
+                                              Vec3 d, float t) {
+    const CurveSeg& g = s.curves.segs[prim - s.num_triangles];
+    SurfaceHit h;
+    h.p = o + d * t;
+    Vec3 tangent;
+    Vec3 n = curve_normal_at(g, h.p, &tangent);
+    if (dot(n, d) > 0.0f) n = -n;  // a grazing entry rounded to the far side
+    h.ng = h.ns = n;
+    h.front = true;
+    h.st = Vec2{uv.x, 0.0f};
+    const Frame f = Frame::from_normal(n);
+    const Vec3 tp = tangent - n * dot(tangent, n);
+    h.tangent_angle = length_sq(tp) > 1e-12f ? atan2f(dot(tp, f.t), dot(tp, f.s)) : 0.0f;
+    return h;
+}
+
+// The surface of a still hit (prim, uv, t) of the ray o + t d, a triangle's or a strand's: the
+// passes (integrator/aov.cpp) and the light probe read it.
+LANTERN_HD inline SurfaceHit surface_of_hit(const SceneView& s, int prim, Vec2 uv, Vec3 o, Vec3 d,
+                                            float t) {
+    return prim >= s.num_triangles ? pt_surface_curve(s, prim, uv, o, d, t)
+                                   : pt_surface(s, prim, uv, d);
+}
+
+// The surface at slot i's hit, a triangle's or a strand's.
+LANTERN_HD inline SurfaceHit pt_surface_at(const SceneView& s, const PathState& ps, int i, int prim,
+                                           Vec3 d) {
+    if (__builtin_expect(prim >= s.num_triangles, 0))  // a strand: off the usual path
+        return pt_surface_curve(s, prim, ps.hit_uv[i], ps.ray_o[i], d, ps.hit_t[i]);
+    return s.motion.num_objects ? pt_surface_moved(s, prim, ps.hit_uv[i], d, ps.rng[i])
+                                : pt_surface(s, prim, ps.hit_uv[i], d);
+}
+
+}  // namespace lantern
