@@ -143,6 +143,30 @@ void HostScene::build_motion(const SceneInput& in) {
     motion_steps_.clear();
     motion_objects_.clear();
     view_.motion = MotionView{};
+    for (const MeshInput& m : in.meshes) {  // deformation blur: checked, not rendered yet
+        if (m.deform.empty()) continue;
+        const std::string who = "mesh '" + m.name + "'";
+        const size_t per = m.positions.size();
+        if (per == 0 || m.deform.size() % per != 0 || m.deform.size() / per < 2) {
+            warnings_.push_back(who + ": its deformation steps do not match its " +
+                                std::to_string(per / 3) + " vertices (got " +
+                                std::to_string(m.deform.size() / 3) + " positions); rendered "
+                                "without deformation motion blur");
+            continue;
+        }
+        size_t bad = m.deform.size();
+        for (size_t k = 0; k < m.deform.size() && bad == m.deform.size(); ++k)
+            if (!std::isfinite(m.deform[k])) bad = k;
+        if (bad < m.deform.size()) {
+            warnings_.push_back(who + ": a position at deformation step " +
+                                std::to_string(bad / per) + " is not finite; rendered without "
+                                "deformation motion blur");
+            continue;
+        }
+        warnings_.push_back(who + " deforms over the shutter: deformation motion blur is not "
+                            "rendered yet (its vertices stay as at the frame; its transform is "
+                            "blurred)");
+    }
     bool any = !in.camera_motion.empty();
     for (const MeshInput& m : in.meshes) any |= !m.motion.empty();
     if (!any) return;

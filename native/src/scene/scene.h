@@ -41,6 +41,9 @@ struct MeshInput {
     // (row-major 4x4) each, and motion_base, the one positions were exported with; empty: still
     std::vector<float> motion;
     float motion_base[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+    // deformation blur: the positions at the shutter's steps (S x positions.size()), placed as
+    // the positions are; read and checked, not rendered yet (a warning: docs/motion_blur.md)
+    std::vector<float> deform;
 };
 
 struct MaterialInput {
