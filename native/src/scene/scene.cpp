@@ -316,6 +316,8 @@ SceneView HostScene::copied_view(
     v.medium_maps = put(view_.medium_maps, medium_maps_.size());
     v.motion.steps = put(view_.motion.steps, motion_steps_.size());
     v.motion.objects = put(view_.motion.objects, motion_objects_.size());
+    v.motion.deforms = put(view_.motion.deforms, motion_deforms_.size());
+    v.motion.deform_corners = put(view_.motion.deform_corners, motion_corners_.size());
     return v;
 }
 

@@ -42,7 +42,7 @@ struct MeshInput {
     std::vector<float> motion;
     float motion_base[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
     // deformation blur: the positions at the shutter's steps (S x positions.size()), placed as
-    // the positions are; read and checked, not rendered yet (a warning: docs/motion_blur.md)
+    // the positions are (scene/deform_build.cpp, docs/motion_blur.md)
     std::vector<float> deform;
 };
 
@@ -269,6 +269,8 @@ private:
     std::vector<std::unique_ptr<MeshCopy>> mesh_given_;  // per mesh, null until it moves
     std::vector<MotionStep> motion_steps_;      // SceneView::motion (motion blur)
     std::vector<ObjectMotion> motion_objects_;
+    std::vector<DeformMesh> motion_deforms_;   // deformation blur (scene/deform_build.cpp)
+    std::vector<Vec3> motion_corners_;
 };
 
 Transform transform_from_rows(const float m[16]);
