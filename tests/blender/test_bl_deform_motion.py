@@ -151,3 +151,34 @@ def test_changing_vertex_count_renders_still_with_a_warning(empty, addon):
     empty.render.use_motion_blur = False
     _, report = export(addon)
     assert not [m for m in report.messages if "vertex count" in m]
+
+
+def test_changing_vertex_count_f12_is_finite(empty, tmp_path, errors):
+    """Through F12: the growing grid renders (a finite image) with the warning, once."""
+    from blender_helpers import render_exr
+    _growing_grid(empty)
+    empty.render.resolution_x, empty.render.resolution_y = 8, 8
+    empty.lantern.samples = 1
+    px = render_exr(empty, tmp_path)
+    assert np.isfinite(px).all()
+    hits = [m for kind, m in errors if kind == "WARNING" and "vertex count changes" in m]
+    assert len(hits) == 1 and "Object 'Grower'" in hits[0], errors
+
+
+def test_f12_renders_a_deforming_plane(empty, tmp_path, errors):
+    """Through F12 (the engine's own frame_set): the shape-keyed plane renders deformed (the
+    image differs from Deformation off) with no warning but auto's pt note."""
+    from blender_helpers import render_exr
+    plane = _shape_keyed(empty)
+    sun = bpy.data.lights.new("Sun", "SUN")
+    empty.collection.objects.link(bpy.data.objects.new("Sun", sun))
+    empty.render.resolution_x, empty.render.resolution_y = 16, 16
+    empty.lantern.samples = 16
+    blurred = render_exr(empty, tmp_path, "deform.exr")
+    plane.cycles.use_deform_motion = False
+    plane.update_tag()
+    still = render_exr(empty, tmp_path, "still.exr")
+    assert np.isfinite(blurred).all()
+    assert not np.array_equal(blurred, still)
+    assert all("renders this scene with path tracing" in m or "which only pt renders" in m
+               for kind, m in errors if kind == "WARNING"), errors
