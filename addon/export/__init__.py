@@ -77,7 +77,7 @@ def export_scene(depsgraph, region_view=None, report=None, texture_cache=None, f
             mesh = meshes.export(inst)
             if mesh is not None:
                 holdouts.mesh(obj, mesh)  # export/holdout.py
-                motion.mesh(inst, mesh)
+                motion.mesh(inst, mesh, meshes.corners(obj))
                 linking.mesh(obj, mesh)
                 scene.meshes.append(mesh)
         elif obj.type == "VOLUME":

@@ -71,7 +71,7 @@ def _corner_arrays(mesh):
         uvs = uvs.reshape(nl, 2)
     return {"positions": co[corner_vert], "normals": normals.reshape(nl, 3),
             "uvs": uvs, "indices": tri.reshape(nt, 3).astype(np.uint32), "slots": mat,
-            "corner_vert": corner_vert}
+            "corner_vert": corner_vert, "num_verts": nv}
 
 
 def _needs_tangents(m):
@@ -109,7 +109,7 @@ class MeshExporter:
                     arrays["tangents"] = _corner_tangents(mesh, self.report, obj.name)
                 if arrays is not None:   # what node-graph materials read (node_attributes)
                     arrays["attr_local"] = self.materials.attributes.local(
-                        obj, mesh, arrays, arrays.pop("corner_vert"))
+                        obj, mesh, arrays, arrays["corner_vert"])
             finally:
                 obj.to_mesh_clear()
         if arrays is not None:
@@ -188,6 +188,15 @@ class MeshExporter:
                 "visible_camera": bool(getattr(obj, "visible_camera", True)),
                 "cast_shadow": bool(getattr(obj, "visible_shadow", True)),
                 **mesh_ray_visibility(obj)}  # export/visibility.py
+
+    def corners(self, obj):
+        """(the vertex of each exported corner of obj, its vertex count), or None: deformation
+        blur reads the vertices' positions at the shutter's steps through them (motion.py)."""
+        data = getattr(obj, "data", None)
+        local = self._cache.get((obj.name_full, data.name_full if data is not None else None))
+        if local is None or "corner_vert" not in local:
+            return None
+        return local["corner_vert"], local["num_verts"]
 
     def clear(self):
         self._cache.clear()

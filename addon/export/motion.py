@@ -6,7 +6,11 @@ Motion Blur) takes 2^(Steps - 1) x 2 + 1 evenly spread steps, the camera too. Th
 read by setting the scene to each step's subframe (`frame_set`: the render engine's own during a
 render), then back to the frame. Meshes keep their positions as exported at the frame with the
 matrix they were exported with (`motion_base`); the core interpolates the steps per ray.
-Deformation (armatures, shape keys, modifiers that move vertices) is not blurred: a warning."""
+Deformation (armatures, shape keys, modifiers that move vertices), as Cycles' deformation blur
+(Object Properties > Motion Blur > Deformation): an object whose evaluated mesh keeps its vertex
+count at every step and whose vertices move carries its corners' positions at the steps,
+placed by the matrix it was exported with (`mesh["deform"]`); a vertex count that changes leaves
+it still, with a warning naming it (as Cycles)."""
 
 import math
 
@@ -77,8 +81,11 @@ class MotionRecorder:
         self.on = final and motion_enabled(self.bscene)
         self.frame_set = frame_set or depsgraph.scene.frame_set
         self._meshes = {}  # key -> (mesh dict, steps)
+        self._deform = {}  # key -> (object, mesh dict, steps, corners, matrix at the frame)
 
-    def mesh(self, inst, mesh):
+    def mesh(self, inst, mesh, corners=None):
+        """A mesh exported from inst; corners: (the vertex of each exported corner, the
+        evaluated mesh's vertex count) for deformation blur (mesh.py MeshExporter.corners)."""
         if not self.on:
             return
         obj = inst.object
@@ -88,12 +95,18 @@ class MotionRecorder:
         key = instance_key(inst)
         if key in self._meshes:  # the same key twice: leave both still
             self._meshes[key] = (None, 0)
+            self._deform.pop(key, None)
             return
         mesh["motion_base"] = np.array(inst.matrix_world, dtype=np.float64).tolist()
         self._meshes[key] = (mesh, n)
         if _deforms(obj):
-            self.report.warn(f"Object '{obj.name}': deformation motion blur is not rendered "
-                             "(its transform is blurred, its vertices stay as at the frame)")
+            if inst.is_instance or corners is None:
+                self.report.warn(f"Object '{obj.name}': deformation motion blur of instances is "
+                                 "not rendered (its transform is blurred, its vertices stay as "
+                                 "at the frame)")
+            else:
+                self._deform[key] = (obj.original, mesh, n, corners,
+                                     np.array(inst.matrix_world, dtype=np.float64))
 
     def finish(self, scene, camera_obj, camera_matrix):
         """Reads the steps and writes mesh["motion"] and scene.camera["motion"];
@@ -123,6 +136,8 @@ class MotionRecorder:
                 if cam_n >= 2:
                     cam_eval = camera_obj.evaluated_get(self.depsgraph)
                     mats["camera"] = np.asarray(camera_matrix(cam_eval), dtype=np.float64)
+                for key, (obj, _, _, corners, _) in self._deform.items():
+                    mats[("deform",) + key] = self._vertices(obj, corners[1])
                 at[off] = mats
         finally:
             self.frame_set(int(frame), subframe=sub0)
@@ -136,6 +151,9 @@ class MotionRecorder:
                 mesh.pop("motion_base", None)
                 continue
             mesh["motion"] = [s.tolist() for s in steps]
+        for key, deform in self._deform.items():
+            self._write_deform(deform, [at[round(o, 9)].get(("deform",) + key)
+                                        for o in step_offsets(bscene, deform[2])])
         if cam_n >= 2:
             steps = [at[round(o, 9)]["camera"] for o in step_offsets(bscene, cam_n)]
             if not all(np.array_equal(steps[0], s) for s in steps[1:]):
@@ -143,3 +161,43 @@ class MotionRecorder:
         for mesh, _ in self._meshes.values():
             if mesh is not None and "motion" not in mesh:
                 mesh.pop("motion_base", None)
+
+    def _vertices(self, obj, count):
+        """obj's evaluated vertex positions now (object space, float32 (V, 3)), or the vertex
+        count where it is not `count` (a changed topology), or None (no geometry)."""
+        ob = obj.evaluated_get(self.depsgraph)
+        try:
+            mesh = ob.to_mesh()
+        except RuntimeError:
+            return None
+        try:
+            if mesh is None:
+                return None
+            nv = len(mesh.vertices)
+            if nv != count:
+                return nv
+            co = np.empty(nv * 3, np.float32)
+            mesh.vertices.foreach_get("co", co)
+            return co.reshape(nv, 3)
+        finally:
+            ob.to_mesh_clear()
+
+    def _write_deform(self, deform, steps):
+        """mesh["deform"]: the corners' positions at each step, placed as exported (the same
+        float32 arithmetic as mesh.py), where the vertex count holds and some vertex moves."""
+        obj, mesh, _, (corner_vert, count), m = deform
+        if any(s is None for s in steps):
+            return
+        changed = [s for s in steps if isinstance(s, int)]
+        if changed:
+            self.report.warn(f"Object '{obj.name}': its vertex count changes over the shutter "
+                             f"({count} at the frame, {changed[0]} at a motion step); rendered "
+                             "without deformation motion blur")
+            return
+        if all(np.array_equal(steps[0], s) for s in steps[1:]):
+            return
+        lin, t = m[:3, :3].T.astype(np.float32), m[:3, 3].astype(np.float32)
+        if len(mesh["positions"]) != len(corner_vert):
+            return  # not the corners exported (cannot happen: mesh.py keeps every corner)
+        mesh["deform"] = np.ascontiguousarray(
+            np.stack([s[corner_vert] @ lin + t for s in steps]), np.float32)

@@ -50,7 +50,7 @@ class UnsupportedFeatures:
         self._scene = scene
         r = scene.render
         warn = self.report.warn
-        # motion blur: export/motion.py (transform motion; deformation warns there)
+        # motion blur: export/motion.py (transform and deformation motion; what it cannot, it warns)
         if getattr(r, "use_multiview", False):
             warn("Render settings: stereoscopy / multi-view is not rendered (one view)")
         if getattr(r, "use_freestyle", False) and getattr(layer, "use_freestyle", True):

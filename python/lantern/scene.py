@@ -304,6 +304,11 @@ class Scene:
             for key in ("receivers", "blockers"):
                 if key in m:
                     m[key] = receiver_mask(m[key], f"mesh {key}")
+            if m.get("deform") is not None:  # deformation blur: (S, N, 3) -> (S * N, 3)
+                m["deform"] = np.ascontiguousarray(np.asarray(m["deform"], np.float32)
+                                                   .reshape(-1, 3))
+            else:
+                m.pop("deform", None)
             if m.get("motion") is not None:
                 m["motion"] = steps(m["motion"])
                 m["motion_base"] = mat(m["motion_base"])

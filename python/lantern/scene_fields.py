@@ -18,7 +18,7 @@ AREA_SHAPES = ("square", "rectangle", "disk", "ellipse")
 RAY_VISIBILITY = ("visible_diffuse", "visible_glossy", "visible_transmission",
                   "visible_volume_scatter")
 MESH_ARRAYS = ("positions", "indices", "normals", "uvs", "tangents", "material_ids",
-               "attributes")
+               "attributes", "deform")
 # node-graph programs (docs/scene_format.md "Node programs"; native/src/scene/material_program.h)
 PROGRAM_TARGETS = ("base_color", "roughness", "metallic", "emission", "alpha", "mix_factor",
                    "bump", "displacement", "normal_map", "normal_map_world", "tangent", "density")

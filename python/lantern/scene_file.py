@@ -308,6 +308,7 @@ class SceneArchive:
 ARRAY_SPECS = {"positions": ("f", 2, (3,)), "normals": ("f", 2, (3,)), "uvs": ("f", 2, (2,)),
                "tangents": ("f", 2, (4,)), "indices": ("iu", 2, (3,)),
                "material_ids": ("iu", 1, None), "attributes": ("f", 2, None),
+               "deform": ("f", 3, (3,)),
                "pixels": ("fiu", 3, (3, 4)), "map": ("f", 3, (3, 4))}
 
 
@@ -340,7 +341,8 @@ def read_mesh(archive, entry, i, num_materials):
             if key in ("positions", "indices"):
                 raise archive.error("scene.json", f"{what}: missing {key} (expected a .npy "
                                     "member name)")
-            mesh[key] = None
+            if key in entry or key != "deform":  # deform (optional, newer) stays absent
+                mesh[key] = None
             continue
         members[key] = member_name(archive, entry, key, f"mesh {i} {key}")
         kinds, ndim, last = ARRAY_SPECS[key]

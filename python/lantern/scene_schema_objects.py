@@ -250,12 +250,30 @@ def validate_mesh(mesh, index, num_materials=None):
             mesh[key] = receiver_mask(mesh[key], f"{what} {key}")
     if "shadow_catcher" in mesh:  # a shadow catcher (pt; lantern/film.py)
         mesh["shadow_catcher"] = _bool(mesh["shadow_catcher"], f"{what} shadow_catcher")
+    if mesh.get("deform") is not None:  # deformation blur (docs/motion_blur.md)
+        mesh["deform"] = deform_steps(mesh["deform"], vcount, f"{what} deform")
     if mesh.get("motion") is not None:  # motion blur (docs/motion_blur.md)
         mesh["motion"] = motion_steps(mesh["motion"], f"{what} motion")
         base = mesh.get("motion_base")
         mesh["motion_base"] = motion_steps([base if base is not None else np.eye(4)] * 2,
                                            f"{what} motion_base")[0]
     return mesh
+
+
+def deform_steps(steps, vcount, what):
+    """Deformation blur's positions at the shutter's steps: float32 (S, N, 3), S >= 2, N the
+    mesh's vertex count. Values are not judged here: a non-finite step gets the core's warning
+    (the mesh then renders without deformation blur)."""
+    try:
+        a = np.asarray(steps)
+    except (TypeError, ValueError):
+        raise ValueError(f"{what}: expected a numeric array of shape (S, N, 3)") from None
+    if a.dtype.kind not in "fiu":
+        raise ValueError(f"{what}: expected a numeric array, got dtype {a.dtype}")
+    if a.ndim != 3 or a.shape[0] < 2 or a.shape[1:] != (vcount, 3):
+        raise ValueError(f"{what}: expected shape (S >= 2, {vcount}, 3) (the positions at each "
+                         f"step), got {a.shape}")
+    return np.ascontiguousarray(a, dtype=np.float32)
 
 
 def motion_steps(steps, what):

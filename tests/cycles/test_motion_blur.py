@@ -1,4 +1,4 @@
-"""Transform motion blur against Cycles through the add-on (docs/motion_blur.md), CI-sized:
+"""Transform and deformation motion blur against Cycles through the add-on (docs/motion_blur.md), CI-sized:
 small scenes built here in bpy, each rendered with K seeds by Cycles (CPU) and by Lantern (pt)
 with tools/render_compare.py's settings, compared by lantern.metrics.assert_agreement (Welch t
 per 8x8 block and channel, image and block-weighted means within the bias cap plus noise, and
@@ -11,7 +11,10 @@ the negative controls that must fail):
 - parented: a cube on an arc, its parent turning 120 degrees over the shutter, 5 steps;
 - slide_start, slide_end: the slide with the shutter's Position Start and End (each against
   Cycles' own, and the two must differ from each other);
-- a negative control: Lantern with motion blur off must not agree with Cycles' blurred slide.
+- shape_key: deformation, a shape key shearing the cube (its top 1 m along x over the shutter);
+  shape_key_slide: the same while the cube slides 1 m along y (deformation and transform);
+- negative controls: Lantern with motion blur off must not agree with Cycles' blurred slide,
+  nor with the cube's Deformation off against Cycles' sheared one.
 Bad input (a singular or NaN matrix at a step) is tests/python/test_motion_blur.py's."""
 
 import math
@@ -121,8 +124,36 @@ def parented():
     scene.frame_set(1)
 
 
+def sheared(moves=False, deform=True):
+    """Deformation: a shape key that shears the cube, its top face 4 m along x at value 1,
+    keyed 0 -> 1 over frames 0 -> 2 (linear): the top slides 1 m over the shutter while the
+    bottom stays; `moves`: the cube also slides 2 m along y a frame (combined motion);
+    `deform` False: the object's Deformation blur off (the negative control)."""
+    scene = _reset()
+    cube, _ = _stage(scene)
+    cube.shape_key_add(name="Basis")
+    key = cube.shape_key_add(name="Shear")
+    for v in key.data:
+        if v.co.z > 0.0:
+            v.co.x += 4.0
+    for frame, value in ((0, 0.0), (2, 1.0)):
+        key.value = value
+        key.keyframe_insert("value", frame=frame)
+    from bpy_extras import anim_utils  # linear: shape keys' keys ignore the preference
+    ad = cube.data.shape_keys.animation_data
+    for fc in anim_utils.action_get_channelbag_for_slot(ad.action, ad.action_slot).fcurves:
+        for kp in fc.keyframe_points:
+            kp.interpolation = "LINEAR"
+    if moves:
+        _keys(cube, "location", 1, (-2.0, 2.0))
+    cube.cycles.use_deform_motion = deform
+    cube.update_tag()
+    scene.frame_set(1)
+
+
 SCENES = {"slide": slide, "spin": spin, "camera": camera, "parented": parented,
-          "slide_start": lambda: slide("START"), "slide_end": lambda: slide("END")}
+          "slide_start": lambda: slide("START"), "slide_end": lambda: slide("END"),
+          "shape_key": sheared, "shape_key_slide": lambda: sheared(moves=True)}
 
 
 @pytest.fixture(autouse=True)
@@ -187,3 +218,14 @@ def test_motion_blur_off_differs():
     res = metrics.compare_renders(start, end, block=rc.BLOCK, se_floor=SE_FLOOR, name="start/end")
     print(res)
     assert not res.passed, f"shutter Start and End render alike: {res}"
+
+
+def test_deformation_blur_off_differs():
+    """Negative control: with the object's Deformation off the sheared cube is the frame's
+    shape, which the comparison must tell from Cycles' deforming one."""
+    cyc = _cycles_of("shape_key")
+    sheared(deform=False)
+    still, _ = _lantern()
+    res = metrics.compare_renders(still, cyc, block=rc.BLOCK, se_floor=SE_FLOOR, name="still")
+    print(res)
+    assert not res.passed, f"deformation blur off agrees with Cycles' deforming cube: {res}"

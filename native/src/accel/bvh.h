@@ -192,10 +192,16 @@ LANTERN_HD inline bool bvh_child_wanted(uint32_t meta, uint32_t need) {
 struct BvhAcceptAll {
     LANTERN_HD bool operator()(int32_t, float, float) const { return true; }
 };
+// The triangle a leaf's entry stands for: itself (a deforming mesh's is placed at the ray's
+// time instead: tlas.h).
+struct BvhTriAsStored {
+    LANTERN_HD const BvhTri& operator()(const BvhTri& t) const { return t; }
+};
 
-template <bool kAnyHit, typename Accept = BvhAcceptAll>
+template <bool kAnyHit, typename Accept = BvhAcceptAll, typename TriAt = BvhTriAsStored>
 LANTERN_HD inline BvhHit bvh_traverse(const BvhView& bvh, const Ray& ray, uint32_t need,
-                                      const Accept& accept = Accept()) {
+                                      const Accept& accept = Accept(),
+                                      const TriAt& tri_at = TriAt()) {
     BvhHit hit{ray.tmax, -1, {0.0f, 0.0f}};
     if (bvh.num_nodes == 0) return hit;
     const BvhRay r = bvh_ray(ray);
@@ -229,7 +235,7 @@ LANTERN_HD inline BvhHit bvh_traverse(const BvhView& bvh, const Ray& ray, uint32
             }
             int32_t begin = n.child[c];
             for (int32_t i = begin; i < begin + int32_t(count); ++i) {
-                const BvhTri& tri = bvh.tris[i];
+                const BvhTri& tri = tri_at(bvh.tris[i]);
                 if ((tri.flags & need) != need) continue;
                 float t, u, v;
                 if (!bvh_hit_triangle(r, tri, tmax, &t, &u, &v)) continue;

@@ -61,6 +61,22 @@ LANTERN_HD inline Ray tlas_object_ray(const BvhInstance& in, const Ray& r, float
     return o;
 }
 
+// A deforming mesh's triangle at the ray's time (deformation blur, scene/motion.h).
+struct BvhTriDeformed {
+    const MotionView& mv;
+    const DeformMesh& dm;
+    float time;
+    LANTERN_HD BvhTri operator()(const BvhTri& t) const {
+        BvhTri o = t;
+        Vec3 p[3];
+        deform_triangle(mv, dm, t.prim, time, p);
+        o.v0 = p[0];
+        o.v1 = p[1];
+        o.v2 = p[2];
+        return o;
+    }
+};
+
 // The top level's stack: its builder (median splits) stops at depth kTlasStackSize - 2, so 2^30
 // leaves fit; half the bottom level's, so a thread's two stacks take 768 bytes, not 1,024 (the
 // alpha-tested two-level traversal was 2,144 bytes of stack frame with 64).
@@ -110,7 +126,12 @@ LANTERN_HD inline BvhHit tlas_traverse(const TlasView& tl, const Ray& ray, uint3
                 if (!bvh_child_wanted(in.mask << 24, need)) continue;
                 const Ray o = tlas_object_ray(in, ray, tmax, tl.motion);
                 if (!(o.tmax >= o.tmin)) continue;
-                const BvhHit h = bvh_traverse<kAnyHit>(tl.blas[in.blas], o, need, accept);
+                const DeformMesh* dm =
+                    in.motion >= 0 ? deform_of(tl.motion, tl.motion.objects[in.motion]) : nullptr;
+                const BvhHit h =
+                    dm ? bvh_traverse<kAnyHit>(tl.blas[in.blas], o, need, accept,
+                                               BvhTriDeformed{tl.motion, *dm, ray.time})
+                       : bvh_traverse<kAnyHit>(tl.blas[in.blas], o, need, accept);
                 if (h.prim < 0) continue;
                 hit = h;
                 if (kAnyHit) return hit;

@@ -259,6 +259,12 @@ void build_tlas_scene(Tlas& tl, const SceneView& s, const std::vector<MeshRange>
         if (mesh < 0 || size_t(mesh) >= n) continue;
         tl.instances[mesh].motion = j;
         tl.instances[mesh].identity = 0;
+        if (const DeformMesh* dm = deform_of(s.motion, s.motion.objects[j])) {
+            // deformation blur: its boxes hold its triangles at every step (deform_build.cpp)
+            deform_refit(tl.blas[mesh].nodes, tl.blas[mesh].tris, s.motion, *dm,
+                         &tl.blas_box[2 * mesh]);
+            tl.blas_views[mesh] = tl.blas[mesh].view();
+        }
     }
     if (nonfinite) {
         warnings.push_back(std::to_string(nonfinite) +

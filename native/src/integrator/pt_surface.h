@@ -213,8 +213,12 @@ __attribute__((noinline))
 #endif
 LANTERN_HD inline SurfaceHit pt_surface_moved(const SceneView& s, int tri, Vec2 uv, Vec3 d,
                                               const Rng& rng) {
-    return motion_surface<SurfaceHit>(s.motion, tri, d, motion_time(rng),
-                                      [&](Vec3 dx) { return pt_surface(s, tri, uv, dx); });
+    return motion_surface<SurfaceHit>(
+        s.motion, tri, uv, d, motion_time(rng),
+        [&](Vec3 dx) { return pt_surface(s, tri, uv, dx); },
+        [&](Vec3 e[3]) {
+            for (int j = 0; j < 3; ++j) e[j] = s.positions[s.indices[3 * tri + j]];
+        });
 }
 
 // What node-graph programs read at the hit (scene/material_program.h); wo: towards the viewer.

@@ -322,6 +322,7 @@ SceneInput to_input(const nb::dict& scene) {
             // motion blur: (S, 16) object-to-world matrices at the shutter's steps
             mi.motion = get_array<float>(m, "motion", 16, "mesh '" + mi.name + "'");
             get_matrix(m, "motion_base", mi.motion_base);
+            mi.deform = get_array<float>(m, "deform", 3, "mesh '" + mi.name + "'");
             in.meshes.push_back(std::move(mi));
         }
     }

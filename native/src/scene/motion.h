@@ -27,14 +27,27 @@ struct ObjectMotion {
     int32_t tri_begin, tri_count;
     int32_t first_step, num_steps;
     int32_t mesh;  // its index among the scene's meshes (the two-level BVH's instance)
-    int32_t pad;
+    int32_t deform;  // its index in MotionView::deforms (deformation blur), -1: rigid (or none
+                     // when MotionView::deforms is null)
     Transform base_inv;
     Transform base;  // the exported object-to-world matrix itself
+};
+
+// A deforming mesh (deformation blur): its triangles' corners at each of num_steps steps,
+// placed as the exported positions are, from MotionView::deform_corners[first]: step k,
+// triangle tri_begin + i, corner j at first + 3 * (k * tri_count + i) + j. A deforming mesh is
+// also an ObjectMotion (identity steps where only its vertices move), so every path that places
+// a moving mesh places it; the corners are lerped at the ray's time in its exported frame.
+struct DeformMesh {
+    int32_t tri_begin, tri_count;
+    int32_t first, num_steps;
 };
 
 struct MotionView {
     const MotionStep* steps = nullptr;
     const ObjectMotion* objects = nullptr;  // ordered by tri_begin, ranges disjoint
+    const DeformMesh* deforms = nullptr;
+    const Vec3* deform_corners = nullptr;
     int32_t num_objects = 0;
     int32_t camera_first = 0, camera_steps = 0;  // camera: steps of its to_world (< 2: still)
     LANTERN_HD bool any() const { return num_objects > 0 || camera_steps > 1; }
@@ -177,6 +190,54 @@ LANTERN_HD inline const ObjectMotion* object_motion_of(const MotionView& mv, int
     return nullptr;
 }
 
+// Triangle tri of deforming mesh dm at `time` (its exported frame): corners lerped between steps.
+LANTERN_HD inline void deform_triangle(const MotionView& mv, const DeformMesh& dm, int tri,
+                                       float time, Vec3 p[3]) {
+    const int n = dm.num_steps;
+    const float x = fminf(fmaxf(time, 0.0f), 1.0f) * float(n - 1);
+    const int k = x >= float(n - 1) ? n - 2 : int(x);
+    const float f = x - float(k);
+    const Vec3* a = mv.deform_corners + dm.first + 3 * (k * dm.tri_count + (tri - dm.tri_begin));
+    const Vec3* b = a + 3 * dm.tri_count;
+    for (int j = 0; j < 3; ++j) p[j] = a[j] * (1.0f - f) + b[j] * f;
+}
+
+// A rotation taking unit vector a to unit vector b, applied to v (Rodrigues; a = -b: v as is).
+LANTERN_HD inline Vec3 rotate_between(Vec3 a, Vec3 b, Vec3 v) {
+    const Vec3 k = cross(a, b);
+    const float c = dot(a, b);
+    if (!(c > -0.9999f)) return v;
+    return v * c + cross(k, v) + k * (dot(k, v) / (1.0f + c));
+}
+
+// The hit h on exported triangle tri (barycentrics uv: weights of corners 1 and 2; corners
+// e[3] as exported), moved onto the deformed triangle at `time`, all in the exported frame: the
+// point from the deformed corners, both normals turned as the triangle's normal turns, then
+// made to face the ray d (the deformed triangle's side decides).
+template <class Hit>
+LANTERN_HD inline void deform_hit(const MotionView& mv, const DeformMesh& dm, int tri, Vec2 uv,
+                                  const Vec3 e[3], Vec3 d, float time, Hit* h) {
+    Vec3 p[3];
+    deform_triangle(mv, dm, tri, time, p);
+    const Vec3 ne = cross(e[1] - e[0], e[2] - e[0]), nd = cross(p[1] - p[0], p[2] - p[0]);
+    const float le = length(ne), ld = length(nd);
+    h->p = p[0] * (1.0f - uv.x - uv.y) + p[1] * uv.x + p[2] * uv.y;
+    if (!(le > 0.0f) || !(ld > 0.0f)) return;
+    const Vec3 a = ne * (1.0f / le), b = nd * (1.0f / ld);
+    h->ng = normalize(rotate_between(a, b, h->ng));
+    h->ns = normalize(rotate_between(a, b, h->ns));
+    if (dot(h->ng, d) > 0.0f) {  // the deformed triangle turned its other side to the ray
+        h->ng = -h->ng;
+        h->ns = -h->ns;
+        h->front = !h->front;
+    }
+}
+
+// The deforming mesh of moving object o, or null.
+LANTERN_HD inline const DeformMesh* deform_of(const MotionView& mv, const ObjectMotion& o) {
+    return mv.deforms && o.deform >= 0 ? &mv.deforms[o.deform] : nullptr;
+}
+
 // A normal under m: (m^-1)^T n through the cofactors (scale does not matter: normalised later).
 LANTERN_HD inline Vec3 motion_normal(const Transform& a, Vec3 n) {
     const float(*m)[4] = a.m;
@@ -194,15 +255,23 @@ LANTERN_HD inline Vec3 motion_normal(const Transform& a, Vec3 n) {
 // A hit on a moving mesh at `time`: surface(dx) shades the exported triangle for the ray's
 // direction dx brought there; its point and normals are then moved to `time` (normals by the
 // cofactors, as the moved triangle's own; a mirroring step keeps them facing the ray).
-template <class Hit, class Surface>
-LANTERN_HD inline Hit motion_surface(const MotionView& mv, int tri, Vec3 d, float time,
-                                     const Surface& surface) {
+// A deforming mesh's hit is first moved onto its triangle at `time` (deform_hit; corners: the
+// exported triangle's, for its normal's turn).
+template <class Hit, class Surface, class Corners>
+LANTERN_HD inline Hit motion_surface(const MotionView& mv, int tri, Vec2 uv, Vec3 d, float time,
+                                     const Surface& surface, const Corners& corners) {
     const ObjectMotion* o = object_motion_of(mv, tri);
     if (!o) return surface(d);
     const Transform m = object_motion_to_world(mv, *o, time);
     Transform inv;
     if (!transform_inverse(m, &inv)) return surface(d);
-    Hit h = surface(inv.vector(d));
+    const Vec3 dx = inv.vector(d);
+    Hit h = surface(dx);
+    if (const DeformMesh* dm = deform_of(mv, *o)) {
+        Vec3 e[3];
+        corners(e);
+        deform_hit(mv, *dm, tri, uv, e, dx, time, &h);
+    }
     const float det = m.m[0][0] * (m.m[1][1] * m.m[2][2] - m.m[1][2] * m.m[2][1]) -
                       m.m[0][1] * (m.m[1][0] * m.m[2][2] - m.m[1][2] * m.m[2][0]) +
                       m.m[0][2] * (m.m[1][0] * m.m[2][1] - m.m[1][1] * m.m[2][0]);

@@ -135,6 +135,12 @@ std::string motion_reason(const SceneInput& in) {
     };
     for (const MeshInput& m : in.meshes)
         if (moves(m.motion)) return "motion blur (mesh '" + m.name + "' moves)";
+    for (const MeshInput& m : in.meshes) {  // deformation blur
+        const size_t per = m.positions.size();
+        for (size_t k = per; per > 0 && k < m.deform.size(); ++k)
+            if (m.deform[k] != m.deform[k % per])
+                return "motion blur (mesh '" + m.name + "' deforms)";
+    }
     if (moves(in.camera_motion)) return "motion blur (the camera moves)";
     return "";
 }
@@ -143,8 +149,10 @@ void HostScene::build_motion(const SceneInput& in) {
     motion_steps_.clear();
     motion_objects_.clear();
     view_.motion = MotionView{};
+    motion_deforms_.clear();
+    motion_corners_.clear();
     bool any = !in.camera_motion.empty();
-    for (const MeshInput& m : in.meshes) any |= !m.motion.empty();
+    for (const MeshInput& m : in.meshes) any |= !m.motion.empty() || !m.deform.empty();
     if (!any) return;
     if (!media_.empty()) {
         warnings_.push_back("motion blur is not rendered in a scene with volumes (participating "
@@ -196,35 +204,67 @@ void HostScene::build_motion(const SceneInput& in) {
     };
     for (size_t k = 0; k < in.meshes.size() && k < mesh_ranges_.size(); ++k) {
         const MeshInput& m = in.meshes[k];
-        if (m.motion.empty()) continue;
+        if (m.motion.empty() && m.deform.empty()) continue;
         const std::string who = "mesh '" + m.name + "'";
         const MeshRange& r = mesh_ranges_[k];
         if (r.tri_count == 0) continue;
         bool emits = false;
         for (int t = r.tri_begin; t < r.tri_begin + r.tri_count && !emits; ++t)
             emits = tri_light_[t] >= 0;
+        DeformMesh dm{};
+        bool deforms = false;
+        if (!m.deform.empty()) {  // deformation blur (scene/deform_build.cpp)
+            std::string warning;
+            const size_t corners = motion_corners_.size();
+            deforms = build_deform(m, r, indices_, motion_corners_, &dm, &warning);
+            if (!warning.empty()) warnings_.push_back(warning);
+            if (deforms && emits) {
+                motion_corners_.resize(corners);
+                deforms = false;
+                warnings_.push_back(who + " emits light: deforming emitters are not "
+                                    "motion-blurred (rendered as at the frame)");
+            }
+        }
         Transform base = transform_from_rows(m.motion_base), base_inv;
-        if (!transform_inverse(base, &base_inv)) {
-            warnings_.push_back(who + ": the matrix it was exported with is singular or not "
-                                "finite; rendered without motion blur");
-            continue;
-        }
         const size_t first = motion_steps_.size();
-        const int n = add_steps(m.motion, who, false);
-        if (n <= 0) continue;
-        if (emits) {  // the light tree holds its triangles where they were exported
-            motion_steps_.resize(first);
-            warnings_.push_back(who + " emits light: moving emitters are not motion-blurred "
-                                "(rendered where it is at the frame)");
-            continue;
+        int n = 0;
+        if (!m.motion.empty()) {
+            if (!transform_inverse(base, &base_inv)) {
+                warnings_.push_back(who + ": the matrix it was exported with is singular or "
+                                    "not finite; rendered without motion blur");
+                n = -1;
+            } else {
+                n = add_steps(m.motion, who, false);
+            }
+            if (n > 0 && emits) {  // the light tree holds its triangles where they were exported
+                motion_steps_.resize(first);
+                warnings_.push_back(who + " emits light: moving emitters are not motion-blurred "
+                                    "(rendered where it is at the frame)");
+                n = -1;
+            }
         }
+        if (n < 0 && deforms) {  // its transform unusable: its deformation is not blurred either
+            motion_corners_.resize(size_t(dm.first));
+            deforms = false;
+        }
+        if (n <= 0 && deforms) {  // it only deforms: identity steps place it
+            base = Transform{};
+            for (int a = 0; a < 3; ++a) base.m[a][a] = 1.0f;
+            base_inv = base;
+            MotionStep id{{0.0f, 0.0f, 0.0f, 1.0f}, {0.0f, 0.0f, 0.0f}, {1, 0, 0, 1, 0, 1}};
+            motion_steps_.push_back(id);
+            motion_steps_.push_back(id);
+            n = 2;
+        }
+        if (n <= 0) continue;
+        if (deforms) motion_deforms_.push_back(dm);
         ObjectMotion o{};
         o.tri_begin = r.tri_begin;
         o.tri_count = r.tri_count;
         o.first_step = int32_t(first);
         o.num_steps = n;
         o.mesh = int32_t(k);
-        o.pad = 0;
+        o.deform = deforms ? int32_t(motion_deforms_.size()) - 1 : -1;
         o.base = base;
         o.base_inv = base_inv;
         motion_objects_.push_back(o);
@@ -238,6 +278,8 @@ void HostScene::build_motion(const SceneInput& in) {
     view_.motion.steps = motion_steps_.data();
     view_.motion.objects = motion_objects_.empty() ? nullptr : motion_objects_.data();
     view_.motion.num_objects = int32_t(motion_objects_.size());
+    view_.motion.deforms = motion_deforms_.empty() ? nullptr : motion_deforms_.data();
+    view_.motion.deform_corners = motion_corners_.empty() ? nullptr : motion_corners_.data();
     view_.motion.camera_first = camera_first;
     view_.motion.camera_steps = camera_steps;
 }

@@ -323,6 +323,8 @@ SceneView HostScene::copied_view(
     v.motion.steps = put(view_.motion.steps, motion_steps_.size());
     v.motion.objects = put(view_.motion.objects, motion_objects_.size());
     v.curves.segs = put(view_.curves.segs, curve_segs_.size());
+    v.motion.deforms = put(view_.motion.deforms, motion_deforms_.size());
+    v.motion.deform_corners = put(view_.motion.deform_corners, motion_corners_.size());
     return v;
 }
 

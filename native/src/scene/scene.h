@@ -41,6 +41,9 @@ struct MeshInput {
     // (row-major 4x4) each, and motion_base, the one positions were exported with; empty: still
     std::vector<float> motion;
     float motion_base[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+    // deformation blur: the positions at the shutter's steps (S x positions.size()), placed as
+    // the positions are (scene/deform_build.cpp, docs/motion_blur.md)
+    std::vector<float> deform;
 };
 
 // Strands (docs/curves.md, addon/export/curves.py): points, a radius per point, strand s is
@@ -302,6 +305,8 @@ private:
     std::vector<CurveSeg> curve_segs_;          // SceneView::curves (strands)
     std::vector<uint32_t> curve_material_;      // per segment
     std::vector<uint8_t> curve_flags_;          // per segment: kVisibleCamera, kCastShadow
+    std::vector<DeformMesh> motion_deforms_;   // deformation blur (scene/deform_build.cpp)
+    std::vector<Vec3> motion_corners_;
 };
 
 // scene/hair_build.cpp: a "hair" MaterialInput into m (type kMaterialHair)

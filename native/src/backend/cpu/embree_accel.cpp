@@ -188,6 +188,36 @@ RTCGeometry make_geometry(const EmbreeApi& e, RTCDevice dev, const SceneView& s,
     return g;
 }
 
+// Deformation blur: a deforming mesh's child geometry (instanced: its triangles all of one mesh,
+// in its object space) takes one vertex buffer per step, Embree lerping them at the ray's time
+// as the core does (scene/motion.h deform_triangle); its instance places it.
+void set_deform_steps(const EmbreeApi& e, RTCGeometry g, const SceneView& s, const int32_t* tris,
+                      size_t n) {
+    if (n == 0 || s.motion.num_objects == 0) return;
+    const ObjectMotion* o = object_motion_of(s.motion, tris[0]);
+    const DeformMesh* dm = o ? deform_of(s.motion, *o) : nullptr;
+    if (!dm) return;
+    e.setGeometryTimeStepCount(g, unsigned(dm->num_steps));
+    for (int k = 0; k < dm->num_steps; ++k) {
+        auto* v = static_cast<float*>(e.setNewGeometryBuffer(
+            g, RTC_BUFFER_TYPE_VERTEX, unsigned(k), RTC_FORMAT_FLOAT3, 3 * sizeof(float), 3 * n));
+        if (!v) {
+            e.releaseGeometry(g);
+            throw std::runtime_error("Embree: out of memory building the scene");
+        }
+        for (size_t i = 0; i < n; ++i) {
+            const Vec3* c = s.motion.deform_corners + dm->first +
+                            3 * (k * dm->tri_count + (tris[i] - dm->tri_begin));
+            for (int j = 0; j < 3; ++j) {
+                const Vec3 p = o->base_inv.point(c[j]);
+                v[9 * i + 3 * j + 0] = p.x;
+                v[9 * i + 3 * j + 1] = p.y;
+                v[9 * i + 3 * j + 2] = p.z;
+            }
+        }
+    }
+}
+
 // Intersect and occluded filter of alpha-tested geometry: rejects the hits that alpha passes.
 void alpha_filter(const RTCFilterFunctionNArguments* args) {
     const auto* f = static_cast<const EmbreeAccel::AlphaFilter*>(args->geometryUserPtr);
@@ -231,6 +261,7 @@ EmbreeAccel::Built EmbreeAccel::build(const SceneView& s, uint8_t need_flag, int
     const size_t n = b.prim_to_tri.size();
     if (n > 0) {
         RTCGeometry g = make_geometry(e, dev, s, b.prim_to_tri.data(), n);
+        if (instanced) set_deform_steps(e, g, s, b.prim_to_tri.data(), n);
         e.commitGeometry(g);
         e.attachGeometry(scene, g);
         e.releaseGeometry(g);
@@ -240,6 +271,7 @@ EmbreeAccel::Built EmbreeAccel::build(const SceneView& s, uint8_t need_flag, int
         b.prim_to_tri.insert(b.prim_to_tri.end(), alpha.begin(), alpha.end());
         b.filter.reset(new AlphaFilter{s, b.prim_to_tri.data() + n, instanced});
         RTCGeometry g = make_geometry(e, dev, s, alpha.data(), alpha.size());
+        if (instanced) set_deform_steps(e, g, s, alpha.data(), alpha.size());
         e.setGeometryUserData(g, b.filter.get());
         e.setGeometryIntersectFilterFunction(g, alpha_filter);
         e.setGeometryOccludedFilterFunction(g, alpha_filter);
