@@ -52,6 +52,7 @@ def export_scene(depsgraph, region_view=None, report=None, texture_cache=None, f
     scene.world = export_world(bscene.world, report, texture_cache, _integrator(bscene))
     materials = MaterialTable(report, texture_cache)
     meshes = MeshExporter(materials, report)
+    meshes.view_layer = depsgraph.view_layer  # Indirect Only (visibility.camera_visible)
     features = UnsupportedFeatures(report)
     holdouts = Holdouts(materials, report, _integrator(bscene), depsgraph.view_layer,
                         None if region_view else bool(scene.film.get("transparent", False)))

@@ -62,18 +62,8 @@ class UnsupportedFeatures:
             if not getattr(layer, attr, True):
                 warn(f"View layer '{layer.name}': the filter '{what}' switched off is not "
                      f"honoured ({what.lower()} render)")
-        self._layer_collections(layer, layer.layer_collection)
+        # Indirect Only collections render: export/visibility.py (camera_visible)
         self.world(scene.world)
-
-    def _layer_collections(self, layer, lc):
-        for child in lc.children:
-            if child.exclude:
-                continue
-            if child.indirect_only:
-                self.report.warn(f"View layer '{layer.name}': collection '{child.name}' is "
-                                 "Indirect Only, which Lantern does not render (it renders "
-                                 "normally)")
-            self._layer_collections(layer, child)
 
     def world(self, world):
         if world is not None and self._once(("world", world.name)) and \

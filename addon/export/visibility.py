@@ -2,13 +2,41 @@
 the mesh's visible_camera / cast_shadow (every integrator); Diffuse, Glossy, Transmission and
 Volume Scatter are exported here, as mesh fields present only when off, and rendered by pt
 (native/src/integrator/pt_ray_visibility.h; the bidirectional integrators hand the scene to pt
-with a warning). Lamps' and the world's flags: unsupported.py and world.py."""
+with a warning). Indirect Only collections: camera_visible below. Lamps' and the world's flags:
+unsupported.py and world.py."""
 
 # (object property, scene field, label)
 RAY_KINDS = (("visible_diffuse", "visible_diffuse", "Diffuse"),
              ("visible_glossy", "visible_glossy", "Glossy"),
              ("visible_transmission", "visible_transmission", "Transmission"),
              ("visible_volume_scatter", "visible_volume_scatter", "Volume Scatter"))
+
+
+def _layer_flag(obj, getter, view_layer):
+    """obj's view-layer flag `getter` (holdout_get, indirect_only_get), read on the original
+    object (the evaluated copy has no view-layer base and reads False); False without a layer."""
+    original = getattr(obj, "original", obj)
+    if view_layer is None or not hasattr(original, getter):
+        return False
+    try:
+        return bool(getattr(original, getter)(view_layer=view_layer))
+    except (TypeError, RuntimeError, ReferenceError):
+        return False
+
+
+def camera_visible(inst, view_layer):
+    """The Camera ray visibility of depsgraph instance inst, as Cycles' object sync sets it:
+    the object's visible_camera, cleared when its instancer (the object itself when it is no
+    instance) is Indirect Only in the view layer (a collection's Indirect Only flag) and not a
+    holdout (a holdout keeps its camera rays). Only the camera loses it: diffuse, glossy,
+    transmission, volume scatter and shadow rays see the object as before."""
+    obj = inst.object
+    if not getattr(obj, "visible_camera", True):
+        return False
+    parent = inst.parent if getattr(inst, "is_instance", False) and inst.parent else obj
+    if getattr(parent, "is_holdout", False) or _layer_flag(parent, "holdout_get", view_layer):
+        return True
+    return not _layer_flag(parent, "indirect_only_get", view_layer)
 
 
 def mesh_ray_visibility(obj):

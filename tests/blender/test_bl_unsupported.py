@@ -211,8 +211,13 @@ def holdout_collection(s):  # its objects are holdouts (export/holdout.py), pt o
     s.lantern.integrator = "lvc"
 
 
-def indirect_only(s):
+def indirect_only(s):  # renders in every integrator (export/visibility.py camera_visible)
     _child_collection(s, "Bounce").indirect_only = True
+
+
+def indirect_only_lvc(s):
+    indirect_only(s)
+    s.lantern.integrator = "lvc"
 
 
 def multiview(s):
@@ -250,7 +255,6 @@ CASES = [  # builder, the name the warning must carry, a word of the feature
     (hair_curves, "Object 'Strands'", "hair curves"),
     (material_override, "View layer 'ViewLayer'", "material override"),
     (holdout_collection, "Object 'Subject'", "lvc renders it as an ordinary surface"),
-    (indirect_only, "collection 'Bounce'", "Indirect Only"),
     (multiview, "Render settings", "multi-view"),
     (freestyle, "View layer 'ViewLayer'", "Freestyle"),
     (mist_pass, "View layer 'ViewLayer'", "Mist pass"),
@@ -338,3 +342,17 @@ def test_each_warning_printed_once_with_two_view_layers(empty, tmp_path, errors,
     printed = (out.out + out.err).count("motion blur is not rendered")
     assert printed == 1, out.out + out.err
     assert sum("motion blur" in m for kind, m in errors if kind == "WARNING") == 1
+
+
+# Indirect Only collections render in every integrator (the camera's own ray query skips their
+# triangles, as for Camera ray visibility): no warning at all
+EVERYWHERE = [indirect_only, indirect_only_lvc]
+
+
+@pytest.mark.parametrize("build", EVERYWHERE, ids=[b.__name__ for b in EVERYWHERE])
+def test_rendered_everywhere_without_warning(empty, tmp_path, errors, build):
+    empty.render.resolution_x, empty.render.resolution_y = 8, 8
+    empty.lantern.samples = 1
+    build(empty)
+    assert bpy.ops.render.render() == {"FINISHED"}
+    assert not errors, errors
