@@ -9,7 +9,7 @@ from .material import MaterialTable
 from .mesh import MeshExporter
 from .motion import MotionRecorder
 from .unsupported import UnsupportedFeatures
-from .visibility import mixed_kind_warning
+from .visibility import mixed_kind_lamp_warning, mixed_kind_warning
 from .volume_objects import VolumeObjects
 from .world import export_world, mixed_lobe_warning
 
@@ -91,6 +91,7 @@ def export_scene(depsgraph, region_view=None, report=None, texture_cache=None, f
     used = _used_materials(scene)
     mixed_lobe_warning(bscene.world, scene.world, used, report)  # world.py
     mixed_kind_warning(scene.meshes, used, report)  # visibility.py
+    mixed_kind_lamp_warning(scene.lights, used, report)
     return scene, report
 
 

@@ -2,8 +2,8 @@
 the mesh's visible_camera / cast_shadow (every integrator); Diffuse, Glossy, Transmission and
 Volume Scatter are exported here, as mesh fields present only when off, and rendered by pt
 (native/src/integrator/pt_ray_visibility.h; the bidirectional integrators hand the scene to pt
-with a warning). Indirect Only collections: camera_visible below. Lamps' and the world's flags:
-unsupported.py and world.py."""
+with a warning). Indirect Only collections: camera_visible below. A lamp's own flags are the
+same fields on its light (export/light.py; pt: pt_ray_visibility.h); the world's: world.py."""
 
 # (object property, scene field, label)
 RAY_KINDS = (("visible_diffuse", "visible_diffuse", "Diffuse"),
@@ -57,3 +57,18 @@ def mixed_kind_warning(meshes, materials, report):
                     "hidden from diffuse or glossy rays only; Principled and mixed materials "
                     f"({', '.join(mixed[:3])}{', ...' if len(mixed) > 3 else ''}) see it in "
                     "every reflection")
+
+
+def mixed_kind_lamp_warning(lights, materials, report):
+    """A lamp hidden from diffuse or glossy rays only gives a Principled or mixed surface, which
+    Lantern samples as one mixture of both kinds, none of its light (pt_light_hidden: any kind
+    of the scattering's off), where Cycles hides it from the lobe of that kind only. Named,
+    once."""
+    one_kind = [li.get("name", "?") for li in lights
+                if li.get("visible_diffuse", True) != li.get("visible_glossy", True)]
+    mixed = [m.get("name", "?") for m in materials if m.get("type") in ("principled", "mix")]
+    if one_kind and mixed:
+        report.warn(f"Light '{one_kind[0]}'{' and others' if len(one_kind) > 1 else ''}: "
+                    "hidden from diffuse or glossy rays only; Principled and mixed materials "
+                    f"({', '.join(mixed[:3])}{', ...' if len(mixed) > 3 else ''}) get none of "
+                    "its light")

@@ -106,6 +106,11 @@ def diffuse_visibility(s):
     _base(s).visible_diffuse = False
 
 
+def lamp_visibility(s):  # a lamp's own ray visibility (pt: pt_ray_visibility.h)
+    _base(s)
+    _light(s).visible_glossy = False
+
+
 def light_nodes(s):   # a texture on a light (constant trees render: test_bl_nodes.py)
     _base(s)
     lamp = _light(s).data
@@ -276,7 +281,8 @@ else:
 # only notes left are that the automatic integrator renders it with pt (the bidirectional ones
 # do not honour it yet) and Cycles' Volume Bounces
 RENDERED = [volume_material, light_linking, shadow_linking, glossy_visibility,
-            diffuse_visibility] + ([volume_object_file] if lantern.vdb_available() else [])
+            diffuse_visibility, lamp_visibility] + \
+    ([volume_object_file] if lantern.vdb_available() else [])
 HANDED_TO_PT = "renders this scene with path tracing"
 
 
