@@ -102,3 +102,21 @@ def test_schema_round_trip(core, tmp_path):
     assert back.lights[0]["visible_diffuse"] is False
     assert back.lights[0]["visible_volume_scatter"] is False
     assert "visible_glossy" not in back.lights[0]
+
+
+def fog_scene(lamp, size=16):
+    """World fog (scattering only) and no surface, lit only by the area lamp (its ray
+    visibility `lamp`); the camera sees the fog, not the lamp."""
+    scene = floor_scene("diffuse", lamp, size=size)
+    scene.meshes.clear()
+    scene.world = {"color": [0.0] * 3, "volume": {"sigma_s": [0.5] * 3, "sigma_a": [0.0] * 3}}
+    return scene
+
+
+def test_volume_scattering_reads_its_own_kind(core):
+    """Cycles' volume-scatter rays carry no diffuse flag: a lamp hidden from diffuse rays still
+    lights fog; hidden from volume scatter, it lights none of it (both strategies)."""
+    lit, _ = render(fog_scene(hidden("diffuse")))
+    assert lit.mean() > 1e-3
+    dark, _ = render(fog_scene(hidden("volume_scatter")))
+    assert dark.max() == 0.0
