@@ -10,7 +10,7 @@ from .mesh import MeshExporter
 from .strands import StrandExporter
 from .motion import MotionRecorder
 from .unsupported import UnsupportedFeatures
-from .visibility import mixed_kind_warning
+from .visibility import mixed_kind_lamp_warning, mixed_kind_warning
 from .volume_objects import VolumeObjects
 from .world import export_world, mixed_lobe_warning
 
@@ -53,6 +53,7 @@ def export_scene(depsgraph, region_view=None, report=None, texture_cache=None, f
     scene.world = export_world(bscene.world, report, texture_cache, _integrator(bscene))
     materials = MaterialTable(report, texture_cache)
     meshes = MeshExporter(materials, report)
+    meshes.view_layer = depsgraph.view_layer  # Indirect Only (visibility.camera_visible)
     features = UnsupportedFeatures(report)
     holdouts = Holdouts(materials, report, _integrator(bscene), depsgraph.view_layer,
                         None if region_view else bool(scene.film.get("transparent", False)))
@@ -93,6 +94,7 @@ def export_scene(depsgraph, region_view=None, report=None, texture_cache=None, f
     used = _used_materials(scene)
     mixed_lobe_warning(bscene.world, scene.world, used, report)  # world.py
     mixed_kind_warning(scene.meshes, used, report)  # visibility.py
+    mixed_kind_lamp_warning(scene.lights, used, report)
     return scene, report
 
 

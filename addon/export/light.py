@@ -5,6 +5,7 @@ import math
 import numpy as np
 
 from .node_light import light_factor
+from .visibility import mesh_ray_visibility
 
 
 def _color(light):
@@ -29,6 +30,16 @@ def _rigid(m):
 
 
 def export_light(obj, matrix_world, report):
+    """The light's scene dict (None: not rendered), with its own ray visibility's fields that
+    are off (Diffuse, Glossy, Transmission, Volume Scatter: export/visibility.py; pt renders
+    them, integrator/pt_ray_visibility.h)."""
+    out = _export_light(obj, matrix_world, report)
+    if out is not None:
+        out.update(mesh_ray_visibility(obj))
+    return out
+
+
+def _export_light(obj, matrix_world, report):
     light = obj.data
     m = np.array(matrix_world, dtype=np.float64)
     power = _color(light)

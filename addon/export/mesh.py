@@ -5,7 +5,7 @@ an object are extracted once and reused for each of its instances (only the tran
 
 import numpy as np
 
-from .visibility import mesh_ray_visibility
+from .visibility import camera_visible, mesh_ray_visibility
 
 
 def _attribute(mesh, name, domain, size, dtype, prop, width=1):
@@ -84,6 +84,7 @@ class MeshExporter:
         self.materials = materials
         self.report = report
         self._cache = {}
+        self.view_layer = None  # for Indirect Only collections (visibility.camera_visible)
 
     def _local(self, obj):
         # geometry-nodes instances come as temporary objects named after the instancer but
@@ -185,7 +186,7 @@ class MeshExporter:
                 "indices": np.ascontiguousarray(indices, np.uint32),
                 "normals": None if normals is None else np.ascontiguousarray(normals, np.float32),
                 "uvs": local["uvs"], "tangents": tangents, "material_ids": material_ids,
-                "visible_camera": bool(getattr(obj, "visible_camera", True)),
+                "visible_camera": camera_visible(inst, self.view_layer),
                 "cast_shadow": bool(getattr(obj, "visible_shadow", True)),
                 **mesh_ray_visibility(obj)}  # export/visibility.py
 

@@ -100,6 +100,7 @@ class ViewportSync:
         if todo.has(ch.FULL):
             self._materials = MaterialTable(report, self.texture_cache)
             self._meshes = MeshExporter(self._materials, report)
+            self._meshes.view_layer = depsgraph.view_layer  # Indirect Only
             self._placed = {}
             self.scene = None
             self._volumes = VolumeObjects(report, lantern)

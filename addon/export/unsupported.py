@@ -3,11 +3,6 @@ world, view layer or render setting, and the feature), never dropped silently. S
 material.py's, the world's surface and the camera world.py's / camera.py's; this file covers
 the rest. Every check reads settings only (cheap), once per datablock per export."""
 
-# ray-visibility switches Lantern does not honour on lamps (a mesh's: export/visibility.py)
-_RAY_VISIBILITY = (("visible_diffuse", "Diffuse"), ("visible_glossy", "Glossy"),
-                   ("visible_transmission", "Transmission"),
-                   ("visible_volume_scatter", "Volume Scatter"))
-
 from .volume import volume_settings
 
 # object types that have no surface Lantern renders
@@ -62,18 +57,8 @@ class UnsupportedFeatures:
             if not getattr(layer, attr, True):
                 warn(f"View layer '{layer.name}': the filter '{what}' switched off is not "
                      f"honoured ({what.lower()} render)")
-        self._layer_collections(layer, layer.layer_collection)
+        # Indirect Only collections render: export/visibility.py (camera_visible)
         self.world(scene.world)
-
-    def _layer_collections(self, layer, lc):
-        for child in lc.children:
-            if child.exclude:
-                continue
-            if child.indirect_only:
-                self.report.warn(f"View layer '{layer.name}': collection '{child.name}' is "
-                                 "Indirect Only, which Lantern does not render (it renders "
-                                 "normally)")
-            self._layer_collections(layer, child)
 
     def world(self, world):
         if world is not None and self._once(("world", world.name)) and \
@@ -93,10 +78,7 @@ class UnsupportedFeatures:
         what = _NO_SURFACE.get(obj.type)
         if what:
             warn(f"Object '{obj.name}': {what}")
-        off = [label for attr, label in _RAY_VISIBILITY if not getattr(obj, attr, True)]
-        if off and obj.type == "LIGHT":
-            warn(f"Light '{obj.name}': ray visibility off for {', '.join(off)} rays is not "
-                 "honoured on lamps (it lights every kind; only Camera is)")
+        # a lamp's own ray visibility: export/light.py (pt renders it)
         # shadow catchers: export/holdout.py
         # light and shadow linking: export/linking.py
         # particle hair and Curves objects: export/strands.py

@@ -2,13 +2,41 @@
 the mesh's visible_camera / cast_shadow (every integrator); Diffuse, Glossy, Transmission and
 Volume Scatter are exported here, as mesh fields present only when off, and rendered by pt
 (native/src/integrator/pt_ray_visibility.h; the bidirectional integrators hand the scene to pt
-with a warning). Lamps' and the world's flags: unsupported.py and world.py."""
+with a warning). Indirect Only collections: camera_visible below. A lamp's own flags are the
+same fields on its light (export/light.py; pt: pt_ray_visibility.h); the world's: world.py."""
 
 # (object property, scene field, label)
 RAY_KINDS = (("visible_diffuse", "visible_diffuse", "Diffuse"),
              ("visible_glossy", "visible_glossy", "Glossy"),
              ("visible_transmission", "visible_transmission", "Transmission"),
              ("visible_volume_scatter", "visible_volume_scatter", "Volume Scatter"))
+
+
+def _layer_flag(obj, getter, view_layer):
+    """obj's view-layer flag `getter` (holdout_get, indirect_only_get), read on the original
+    object (the evaluated copy has no view-layer base and reads False); False without a layer."""
+    original = getattr(obj, "original", obj)
+    if view_layer is None or not hasattr(original, getter):
+        return False
+    try:
+        return bool(getattr(original, getter)(view_layer=view_layer))
+    except (TypeError, RuntimeError, ReferenceError):
+        return False
+
+
+def camera_visible(inst, view_layer):
+    """The Camera ray visibility of depsgraph instance inst, as Cycles' object sync sets it:
+    the object's visible_camera, cleared when its instancer (the object itself when it is no
+    instance) is Indirect Only in the view layer (a collection's Indirect Only flag) and not a
+    holdout (a holdout keeps its camera rays). Only the camera loses it: diffuse, glossy,
+    transmission, volume scatter and shadow rays see the object as before."""
+    obj = inst.object
+    if not getattr(obj, "visible_camera", True):
+        return False
+    parent = inst.parent if getattr(inst, "is_instance", False) and inst.parent else obj
+    if getattr(parent, "is_holdout", False) or _layer_flag(parent, "holdout_get", view_layer):
+        return True
+    return not _layer_flag(parent, "indirect_only_get", view_layer)
 
 
 def mesh_ray_visibility(obj):
@@ -29,3 +57,18 @@ def mixed_kind_warning(meshes, materials, report):
                     "hidden from diffuse or glossy rays only; Principled and mixed materials "
                     f"({', '.join(mixed[:3])}{', ...' if len(mixed) > 3 else ''}) see it in "
                     "every reflection")
+
+
+def mixed_kind_lamp_warning(lights, materials, report):
+    """A lamp hidden from diffuse or glossy rays only gives a Principled or mixed surface, which
+    Lantern samples as one mixture of both kinds, none of its light (pt_light_hidden: any kind
+    of the scattering's off), where Cycles hides it from the lobe of that kind only. Named,
+    once."""
+    one_kind = [li.get("name", "?") for li in lights
+                if li.get("visible_diffuse", True) != li.get("visible_glossy", True)]
+    mixed = [m.get("name", "?") for m in materials if m.get("type") in ("principled", "mix")]
+    if one_kind and mixed:
+        report.warn(f"Light '{one_kind[0]}'{' and others' if len(one_kind) > 1 else ''}: "
+                    "hidden from diffuse or glossy rays only; Principled and mixed materials "
+                    f"({', '.join(mixed[:3])}{', ...' if len(mixed) > 3 else ''}) get none of "
+                    "its light")

@@ -327,6 +327,9 @@ def validate_light(light, index):
     for key in ("receivers", "blockers"):  # light and shadow linking (pt)
         if key in light:
             out[key] = receiver_mask(light[key], f"{what} {key}")
+    for key in RAY_VISIBILITY:  # a lamp's own ray visibility (pt); absent: visible
+        if key in light:
+            out[key] = _bool(light[key], f"{what} {key}")
     if ltype in ("point", "spot"):
         radius = _finite_float(light.get("radius", 0.0), f"{what} radius")
         if radius < 0:

@@ -115,6 +115,11 @@ def diffuse_visibility(s):
     _base(s).visible_diffuse = False
 
 
+def lamp_visibility(s):  # a lamp's own ray visibility (pt: pt_ray_visibility.h)
+    _base(s)
+    _light(s).visible_glossy = False
+
+
 def light_nodes(s):   # a texture on a light (constant trees render: test_bl_nodes.py)
     _base(s)
     lamp = _light(s).data
@@ -226,8 +231,13 @@ def holdout_collection(s):  # its objects are holdouts (export/holdout.py), pt o
     s.lantern.integrator = "lvc"
 
 
-def indirect_only(s):
+def indirect_only(s):  # renders in every integrator (export/visibility.py camera_visible)
     _child_collection(s, "Bounce").indirect_only = True
+
+
+def indirect_only_lvc(s):
+    indirect_only(s)
+    s.lantern.integrator = "lvc"
 
 
 def multiview(s):
@@ -262,7 +272,6 @@ CASES = [  # builder, the name the warning must carry, a word of the feature
     (point_cloud, "Object 'Points'", "point clouds"),
     (material_override, "View layer 'ViewLayer'", "material override"),
     (holdout_collection, "Object 'Subject'", "lvc renders it as an ordinary surface"),
-    (indirect_only, "collection 'Bounce'", "Indirect Only"),
     (multiview, "Render settings", "multi-view"),
     (freestyle, "View layer 'ViewLayer'", "Freestyle"),
     (mist_pass, "View layer 'ViewLayer'", "Mist pass"),
@@ -285,7 +294,7 @@ else:
 # only notes left are that the automatic integrator renders it with pt (the bidirectional ones
 # do not honour it yet) and Cycles' Volume Bounces
 RENDERED = [volume_material, light_linking, shadow_linking, glossy_visibility,
-            diffuse_visibility, particle_hair, hair_curves, motion_blur] + (
+            diffuse_visibility, particle_hair, hair_curves, motion_blur, lamp_visibility] + (
                 [volume_object_file] if lantern.vdb_available() else [])
 HANDED_TO_PT = "renders this scene with path tracing"
 
@@ -352,3 +361,17 @@ def test_each_warning_printed_once_with_two_view_layers(empty, tmp_path, errors,
     printed = (out.out + out.err).count("reads no IES profiles")
     assert printed == 1, out.out + out.err
     assert sum("IES" in m for kind, m in errors if kind == "WARNING") == 1
+
+
+# Indirect Only collections render in every integrator (the camera's own ray query skips their
+# triangles, as for Camera ray visibility): no warning at all
+EVERYWHERE = [indirect_only, indirect_only_lvc]
+
+
+@pytest.mark.parametrize("build", EVERYWHERE, ids=[b.__name__ for b in EVERYWHERE])
+def test_rendered_everywhere_without_warning(empty, tmp_path, errors, build):
+    empty.render.resolution_x, empty.render.resolution_y = 8, 8
+    empty.lantern.samples = 1
+    build(empty)
+    assert bpy.ops.render.render() == {"FINISHED"}
+    assert not errors, errors

@@ -245,6 +245,10 @@ std::string ray_visibility_reason(const SceneInput& in) {
         if (m.light_set != 0 || m.emitter_receivers != kAllReceivers || m.shadow_set != 0 ||
             m.emitter_blockers != kAllReceivers)
             return "light or shadow linking (mesh '" + m.name + "')";
+    for (const LightInput& l : in.lights)  // a lamp's own ray visibility
+        if ((l.rays & kRayKindsAll) != kRayKindsAll)
+            return "a light hidden from diffuse, glossy, transmission or volume rays (light '" +
+                   l.name + "')";
     for (const LightInput& l : in.lights)
         if (l.receivers != kAllReceivers || l.blockers != kAllReceivers)
             return "light or shadow linking (light '" + l.name + "')";

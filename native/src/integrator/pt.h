@@ -110,6 +110,7 @@ LANTERN_HD inline void pt_collect_lights(const SceneView& s, const PathState& ps
     for (int k = 0; k < s.num_hittable_lights; ++k) {
         const Light& l = s.lights[s.hittable_lights[k]];
         if (camera && !l.visible_camera) continue;
+        if (pt_lamp_unseen(s, ps, i, s.hittable_lights[k])) continue;  // its ray visibility
         LightHit h = intersect_light(l, o, d, tmin, tmax);
         if (!h.hit || is_black(h.le)) continue;
         float pdf = pt_light_pdf_w(s, ps, i, l, o, d, h.t, h.n);
@@ -140,6 +141,7 @@ LANTERN_HD inline void pt_shade_miss(const SceneView& s, const PathState& ps, in
             if (camera ? !l.visible_camera
                        : (l.of_world && ps.world_hidden && ps.world_hidden[i]))
                 continue;
+            if (pt_lamp_unseen(s, ps, i, s.miss_lights[k])) continue;  // its ray visibility
             if (dot(d, -l.direction) < l.cos_sun) continue;
             float pdf = light_pdf_w(l, vec3(0.0f), d, kInf, vec3(0.0f));
             add_radiance(ps, i, ps.throughput[i] * l.radiance *
@@ -192,7 +194,8 @@ __attribute__((noinline))
 #endif
 LANTERN_HD inline bool pt_nee_allowed(const SceneView& s, const Material& m, int tri, Vec3 ng,
                                       int li, Vec3 wi) {
-    if (s.tri_rays && pt_light_hidden(s, li, pt_scatter_kind(m, wi, ng))) return false;
+    if ((s.tri_rays || s.light_rays) && pt_light_hidden(s, li, pt_scatter_kind(m, wi, ng)))
+        return false;
     return pt_light_links(s, li, pt_receiver_set(s, tri));
 }
 #ifndef __CUDA_ARCH__
@@ -239,7 +242,7 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
     ps.alive[i] = 0;
     // ray visibility, light or shadow linking in the scene (pt_ray_visibility.h,
     // pt_light_linking.h): read once, so that a scene without them tests one register
-    const bool extras = s.tri_rays || s.light_receivers || s.light_blockers;
+    const bool extras = s.tri_rays || s.light_rays || s.light_receivers || s.light_blockers;
     // the catcher renders (kCatcherObject, kCatcherPass) keep only camera rays reaching one
     const bool catcher_camera = s.catcher_mode != kCatcherMatte && ps.depth[i] <= 1;
     // in a medium: its segment (emission, lights crossed, a scattering inside: pt_volume.h)

@@ -35,18 +35,38 @@ constexpr uint8_t kRayKindVolume = kRayVolumeScatter | kRayDiffuse;
 // A subsurface walk's exit: a diffuse reflection (its cosine lobe).
 constexpr uint8_t kRayKindSubsurface = kRayDiffuse;
 
-// Whether light li, an emissive triangle, is hidden from scatterings of `kind` (next-event
-// estimation then finds nothing there). Lamps carry no object flags here.
+// The kinds a lamp's exclusion reads (Cycles' path flags): a volume scattering is of its own
+// kind only (kRayKindVolume's diffuse bit is the objects' rule, not the lights').
+LANTERN_HD inline uint8_t pt_lamp_kind(uint8_t kind) {
+    return (kind & kRayVolumeScatter) ? uint8_t(kRayVolumeScatter) : kind;
+}
+
+// Whether light li is hidden from scatterings of `kind` (next-event estimation then finds
+// nothing there): an emissive triangle by its object's flags (tri_rays: seen by any kind of
+// the scattering's), a lamp by its own (light_rays: Blender's ray visibility on a light object;
+// as Cycles excludes a light's shader, hidden when any kind of the scattering's is off).
 LANTERN_HD inline bool pt_light_hidden(const SceneView& s, int li, uint8_t kind) {
-    if (!s.tri_rays || li < 0) return false;
+    if ((!s.tri_rays && !s.light_rays) || li < 0) return false;
     const Light& l = s.lights[li];
-    return l.type == kLightTriangle && !(s.tri_rays[l.triangle] & kind);
+    if (l.type == kLightTriangle) return s.tri_rays && !(s.tri_rays[l.triangle] & kind);
+    const uint8_t k = pt_lamp_kind(kind);
+    return s.light_rays && (s.light_rays[li] & k) != k;
 }
 
 // Records the kind of the scattering that made slot i's next ray.
 LANTERN_HD inline void pt_set_ray_kind(const SceneView& s, const PathState& ps, int i,
                                        uint8_t kind) {
-    if (s.tri_rays && ps.ray_kind) ps.ray_kind[i] = kind;
+    if ((s.tri_rays || s.light_rays) && ps.ray_kind) ps.ray_kind[i] = kind;
+}
+
+// Whether lamp li, which slot i's bounce ray found, is hidden from the ray's kind: its emission
+// does not count (next-event estimation skips it for that kind too: pt_light_hidden, so the
+// two strategies estimate the same integral and their MIS weights still sum to one). Camera
+// rays: the lamp's visible_camera.
+LANTERN_HD inline bool pt_lamp_unseen(const SceneView& s, const PathState& ps, int i, int li) {
+    if (!s.light_rays || !ps.ray_kind || ps.depth[i] <= 1) return false;
+    const uint8_t k = pt_lamp_kind(ps.ray_kind[i]);
+    return (s.light_rays[li] & k) != k;
 }
 
 // True when slot i's bounce ray hit a triangle hidden from its kind: the ray goes on from the

@@ -30,6 +30,7 @@ LANTERN_HD inline void pt_collect_lights_medium(const SceneView& s, const PathSt
     for (int k = 0; k < s.num_hittable_lights; ++k) {
         const Light& l = s.lights[s.hittable_lights[k]];
         if (camera && !l.visible_camera) continue;
+        if (pt_lamp_unseen(s, ps, i, s.hittable_lights[k])) continue;  // its ray visibility
         const LightHit h = intersect_light(l, o, d, tmin, tmax);
         if (!h.hit || is_black(h.le)) continue;
         const float pdf = pt_light_pdf_w(s, ps, i, l, o, d, h.t, h.n);

@@ -42,6 +42,7 @@ LANTERN_HD inline bool pt_hetero_segment(const SceneView& s, const PathState& ps
             for (int k = 0; k < s.num_hittable_lights; ++k) {
                 const Light& l = s.lights[s.hittable_lights[k]];
                 if (camera && !l.visible_camera) continue;
+                if (pt_lamp_unseen(s, ps, i, s.hittable_lights[k])) continue;
                 const LightHit h = intersect_light(l, o0, d, a, b);
                 if (!h.hit || is_black(h.le)) continue;
                 const float pdf = pt_light_pdf_w(s, ps, i, l, o0, d, h.t, h.n);

@@ -368,6 +368,10 @@ SceneInput to_input(const nb::dict& scene) {
             li.angle = get<float>(l, "angle", 0.0f);
             li.soft_falloff = get<bool>(l, "soft_falloff", true);
             li.visible_camera = get<bool>(l, "visible_camera", false);
+            li.rays = uint8_t((get<bool>(l, "visible_diffuse", true) ? kRayDiffuse : 0) |
+                              (get<bool>(l, "visible_glossy", true) ? kRayGlossy : 0) |
+                              (get<bool>(l, "visible_transmission", true) ? kRayTransmission : 0) |
+                              (get<bool>(l, "visible_volume_scatter", true) ? kRayVolumeScatter : 0));
             li.receivers = get<uint64_t>(l, "receivers", kAllReceivers);  // light linking
             li.blockers = get<uint64_t>(l, "blockers", kAllReceivers);    // shadow linking
             li.of_world = get<bool>(l, "of_world", false);

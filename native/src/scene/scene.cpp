@@ -239,6 +239,7 @@ HostScene::HostScene(const SceneInput& in) {
     add_lights(in);
     build_light_linking(in);
     add_curve_prims();
+    build_lamp_rays(in);
     build_filter(in.filter_width);
     finish_view(in);
     build_media(in);
@@ -289,6 +290,7 @@ SceneView HostScene::copied_view(
     v.tri_rays = put(view_.tri_rays, tri_rays_.size());
     v.tri_light_set = put(view_.tri_light_set, tri_light_set_.size());
     v.light_receivers = put(view_.light_receivers, light_receivers_.size());
+    v.light_rays = put(view_.light_rays, light_rays_.size());
     v.tri_shadow_set = put(view_.tri_shadow_set, tri_shadow_set_.size());
     v.light_blockers = put(view_.light_blockers, light_blockers_.size());
     v.tri_light = put(view_.tri_light, tri_light_.size());
@@ -344,6 +346,7 @@ void HostScene::finish_view(const SceneInput& in) {
     v.tri_rays = tri_rays_.empty() ? nullptr : tri_rays_.data();
     v.tri_light_set = tri_light_set_.empty() ? nullptr : tri_light_set_.data();
     v.light_receivers = light_receivers_.empty() ? nullptr : light_receivers_.data();
+    v.light_rays = light_rays_.empty() ? nullptr : light_rays_.data();
     v.tri_shadow_set = tri_shadow_set_.empty() ? nullptr : tri_shadow_set_.data();
     v.light_blockers = light_blockers_.empty() ? nullptr : light_blockers_.data();
     v.tri_light = tri_light_.data();

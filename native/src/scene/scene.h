@@ -159,6 +159,7 @@ struct LightInput {
     float angle = 0.0f;
     bool soft_falloff = true;
     bool visible_camera = false;
+    uint8_t rays = kRayKindsAll;  // RayKinds that see the lamp (Diffuse, Glossy, ...: pt)
     // sun: the world's own (the Sky Texture's disc, lantern/scene.py to_native): seen by the
     // camera as the world is (world_visible_camera, not through transparent film), hidden
     // from the scatterings the world is hidden from (world_rays, pt)
@@ -240,6 +241,7 @@ private:
     void add_meshes(const SceneInput& in);
     void add_lights(const SceneInput& in);
     void build_light_linking(const SceneInput& in);  // light_linking_build.cpp
+    void build_lamp_rays(const SceneInput& in);      // lamp_rays_build.cpp
     void build_filter(float width);
     void finish_view(const SceneInput& in);
     void add_programs(const SceneInput& in);  // scene/material_program.cpp
@@ -271,6 +273,7 @@ private:
     std::vector<int32_t> lamp_input_;       // per light: its SceneInput::lights index, or -1
     std::vector<uint8_t> tri_light_set_;    // SceneView::tri_light_set (empty: no linking)
     std::vector<uint64_t> light_receivers_; // SceneView::light_receivers (empty: no linking)
+    std::vector<uint8_t> light_rays_;       // SceneView::light_rays (empty: all see all)
     std::vector<uint8_t> tri_shadow_set_;   // SceneView::tri_shadow_set (empty: none)
     std::vector<uint64_t> light_blockers_;  // SceneView::light_blockers (empty: none)
     std::vector<Material> materials_;

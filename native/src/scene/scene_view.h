@@ -290,6 +290,9 @@ struct SceneView {
     const uint8_t* tri_flags = nullptr;
     const int32_t* tri_light = nullptr;  // light index of an emissive triangle, else -1
     const uint8_t* tri_rays = nullptr;   // RayKinds that see the triangle; null: all see all
+    // RayKinds that see light l (a lamp's own ray visibility; emissive triangles and the
+    // world: all); null where every lamp is seen by every kind (pt_ray_visibility.h)
+    const uint8_t* light_rays = nullptr;
     // light linking (pt: integrator/pt_light_linking.h): a triangle's receiver set (0..63) and
     // per light the sets it lights (bit s); both null where nothing is linked
     const uint8_t* tri_light_set = nullptr;
