@@ -248,8 +248,9 @@ LAST_AUTO = {"text": ""}  # what "auto" chose in the last render, for the Lanter
 def auto_status(stats):
     """' | Auto: ...' for the status bar while integrator "auto" renders (native/src/integrator/
     allocation.h): measuring, or which integrator it chose and its estimate of cis's efficiency
-    against pt's (light paths per iteration: one per pixel sample under cis, none under pt).
-    Empty for the other integrators."""
+    against pt's (light paths per iteration: one per pixel sample under cis, none under pt), and
+    under cis the mean connections per pixel its allocation chose. Empty for the other
+    integrators."""
     choice = stats.get("auto_choice")
     if choice is None:
         return ""
@@ -257,7 +258,15 @@ def auto_status(stats):
     if choice == "pilot":
         text = "Auto: measuring path tracing and CIS-LBDPT"
     elif choice == "cis":
-        text = f"Auto: CIS-LBDPT (estimated {ratio:.3g}x path tracing's efficiency)"
+        text = f"Auto: CIS-LBDPT (estimated {ratio:.3g}x path tracing's efficiency"
+        # what its allocation chose (integrator/pixel_alloc.h): a light path per pixel sample,
+        # and the connections per camera vertex over the image (measuring: still its pilot)
+        mean = stats.get("mean_connections")
+        if mean is not None:
+            text += ("; a light path per sample, " + (
+                f"{float(mean):.2g} connections a pixel on average"
+                if int(stats.get("connection_choices", 0)) > 0 else "measuring connections"))
+        text += ")"
     elif ratio > 0.0:
         text = f"Auto: path tracing (CIS-LBDPT estimated at {ratio:.2g}x its efficiency)"
     else:

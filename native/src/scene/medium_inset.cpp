@@ -11,10 +11,13 @@
 // restarted from it, and the medium ends a fraction of a millimetre short of the floor (what a
 // scene with the box lifted by that much renders, in Cycles as here).
 //
-// Moved: the vertices that only volume-boundary triangles use (a mesh mixing surface and
-// boundary faces keeps its shared vertices), along their angle-weighted normal, by a distance
-// that takes every adjacent face plane inwards by at least kInset offsets (the largest offset at
-// any of the mesh's moved vertices), and never more than 1e-3 of the mesh's extent.
+// Moved: only a mesh with a boundary face that lies on another mesh's face (every vertex of a
+// non-boundary triangle within kNear offsets of a boundary triangle's plane, their boxes
+// overlapping), so media in the open keep their exact geometry (the analytic slab tests); of it
+// the vertices that only volume-boundary triangles use (a mesh mixing surface and boundary faces
+// keeps its shared vertices), along their angle-weighted normal, by a distance that takes every
+// adjacent face plane inwards by at least kInset offsets (the largest offset at any of the
+// mesh's moved vertices), and never more than 1e-3 of the mesh's extent.
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -26,6 +29,10 @@ namespace lantern {
 namespace {
 
 constexpr float kInset = 4.0f;  // offsets (core/offset.h) a boundary plane moves inwards
+constexpr float kNear = 8.0f;   // offsets within which another face counts as on the boundary
+// beyond this many (boundary x other) triangle pairs in one mesh's box the test is skipped and
+// the mesh moved: the move is harmless, the test only keeps the geometry exact where it can
+constexpr double kMaxPairs = 2e7;
 
 // The largest distance offset_ray_origin moves a point at p along a unit normal, per component.
 float offset_at(Vec3 p, float scale) {
@@ -46,6 +53,55 @@ float angle_at(Vec3 a, Vec3 b, Vec3 c) {  // the triangle's angle at a
 }
 
 }  // namespace
+
+bool HostScene::boundary_meets_a_face(const MeshRange& r, Vec3 lo, Vec3 hi, float eps,
+                                      size_t ntri) const {
+    auto tri_box = [&](size_t t, Vec3& a, Vec3& b) {
+        a = vec3(kInf);
+        b = vec3(-kInf);
+        for (int k = 0; k < 3; ++k) {
+            const Vec3 p = positions_[indices_[3 * t + size_t(k)]];
+            a = {std::min(a.x, p.x), std::min(a.y, p.y), std::min(a.z, p.z)};
+            b = {std::max(b.x, p.x), std::max(b.y, p.y), std::max(b.z, p.z)};
+        }
+    };
+    auto overlaps = [&](Vec3 a0, Vec3 a1, Vec3 b0, Vec3 b1) {
+        return a0.x <= b1.x + eps && b0.x <= a1.x + eps && a0.y <= b1.y + eps &&
+               b0.y <= a1.y + eps && a0.z <= b1.z + eps && b0.z <= a1.z + eps;
+    };
+    // the other triangles (not this mesh's, not boundaries) near the mesh's box
+    std::vector<size_t> near;
+    for (size_t t = 0; t < ntri; ++t) {
+        if (tri_flags_[t] & kVolumeBoundary) continue;
+        if (int(t) >= r.tri_begin && int(t) < r.tri_begin + r.tri_count) continue;
+        Vec3 a, b;
+        tri_box(t, a, b);
+        if (overlaps(a, b, lo, hi)) near.push_back(t);
+    }
+    if (near.empty()) return false;
+    if (double(near.size()) * double(r.tri_count) > kMaxPairs) return true;
+    for (int bt = r.tri_begin; bt < r.tri_begin + r.tri_count; ++bt) {
+        const size_t t = size_t(bt);
+        if (!(tri_flags_[t] & kVolumeBoundary)) continue;
+        const Vec3 p0 = positions_[indices_[3 * t]];
+        Vec3 n = cross(positions_[indices_[3 * t + 1]] - p0, positions_[indices_[3 * t + 2]] - p0);
+        const float l = length(n);
+        if (!(l > 0.0f) || !std::isfinite(l)) continue;
+        n = n * (1.0f / l);
+        Vec3 a0, a1;
+        tri_box(t, a0, a1);
+        for (size_t o : near) {
+            Vec3 b0, b1;
+            tri_box(o, b0, b1);
+            if (!overlaps(a0, a1, b0, b1)) continue;
+            bool on = true;
+            for (int k = 0; k < 3 && on; ++k)
+                on = std::fabs(dot(positions_[indices_[3 * o + size_t(k)]] - p0, n)) <= eps;
+            if (on) return true;
+        }
+    }
+    return false;
+}
 
 void HostScene::inset_volume_boundaries() {
     if (media_.empty() || tri_flags_.empty()) return;
@@ -88,6 +144,7 @@ void HostScene::inset_volume_boundaries() {
         for (int k = 0; k < 3; ++k)
             if (use[i[k]] == 1) cos_min[i[k]] = std::min(cos_min[i[k]], dot(n[i[k]], ng * (1.0f / l)));
     }
+    const size_t ntri = indices_.size() / 3;
     for (const MeshRange& r : mesh_ranges_) {
         Vec3 lo = vec3(kInf), hi = vec3(-kInf);
         float off = 0.0f;
@@ -100,7 +157,7 @@ void HostScene::inset_volume_boundaries() {
             hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
             off = std::max(off, offset_at(p, view_.offset_scale));
         }
-        if (!moves) continue;
+        if (!moves || !boundary_meets_a_face(r, lo, hi, kNear * off, ntri)) continue;
         const float d = std::min(kInset * off, 1e-3f * length(hi - lo));
         for (int v = r.vert_begin; v < r.vert_begin + r.vert_count; ++v) {
             const size_t k = size_t(v);

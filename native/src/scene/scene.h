@@ -253,6 +253,8 @@ private:
     void build_grid_medium(int32_t med);      // scene/medium_grid_build.cpp
     void nest_media(const SceneInput& in, const Medium* world);  // scene/medium_build.cpp
     void inset_volume_boundaries();  // scene/medium_inset.cpp
+    bool boundary_meets_a_face(const MeshRange& r, Vec3 lo, Vec3 hi, float eps,
+                               size_t ntri) const;
     int32_t camera_medium_at(Vec3 p) const;
     void build_motion(const SceneInput& in);  // scene/motion_build.cpp
     void add_curves(const SceneInput& in);     // scene/scene_curves.cpp: segments, bounds
