@@ -30,6 +30,7 @@
 #pragma once
 
 #include "integrator/bdpt_common.h"
+#include "integrator/pt_volume.h"
 #include "scene/medium.h"
 
 namespace lantern {
@@ -146,6 +147,44 @@ LANTERN_HD inline LightVertex lv_make_medium(Vec3 p, Vec3 wo, Vec3 beta, float d
 // sub-path) and wi (unit, towards the next): f, and the pdfs of either direction given the other.
 LANTERN_HD inline float bdpt_medium_phase(const Medium& m, Vec3 wo, Vec3 wi) {
     return hg_phase(m.g, -dot(wo, wi));
+}
+
+
+// ---- A connecting segment through media (next-event estimation, connections, light tracing's
+// camera segments): its transmittance and both ends' distance factors, known only once the
+// segment has been traced piece by piece through the volume boundaries it crosses. From o along
+// d up to tmax, starting in medium med (-1: vacuum); start_medium / end_medium: the near / far
+// end is a medium vertex. Zero transmittance when any surface but a volume boundary blocks it.
+// Homogeneous media only (scenes with heterogeneous media render with pt). ----
+struct MediumShadow {
+    Vec3 tr;
+    MediumSegmentPdf seg;
+};
+
+template <class Rays, class Kind>
+LANTERN_HD inline MediumShadow bdpt_medium_shadow(const SceneView& s, const Rays& rays, Kind kind,
+                                                  Vec3 o, Vec3 d, float tmax, int32_t med,
+                                                  bool start_medium, bool end_medium) {
+    MediumShadow r{vec3(1.0f), medium_segment_begin(start_medium)};
+    for (int k = 0; k < 256; ++k) {  // boundaries crossed (a bound: never an endless loop)
+        const auto h = rays.closest(Ray{o, d, 0.0f, tmax}, kind);
+        const bool hit = h.prim >= 0 && h.t < tmax;
+        const float t = hit ? h.t : tmax;
+        const Medium* m = med >= 0 ? &s.media[med] : nullptr;
+        if (m) r.tr = r.tr * medium_transmittance(*m, t);
+        medium_segment_piece(r.seg, m, t, !hit && end_medium);
+        if (!hit) return r;
+        if (!(s.tri_flags[h.prim] & kVolumeBoundary) || is_black(r.tr)) break;
+        const Vec3 a = triangle_vertex(s, h.prim, 0), b = triangle_vertex(s, h.prim, 1),
+                   c = triangle_vertex(s, h.prim, 2);
+        const Vec3 ng = cross(b - a, c - a);
+        med = medium_across(s, h.prim, dot(ng, d) <= 0.0f, med);
+        const Vec3 next = offset_ray_origin(o + d * h.t, normalize(ng), d, s.offset_scale);
+        if (tmax < kInf) tmax = fmaxf(tmax - dot(next - o, d), 0.0f);
+        o = next;
+    }
+    r.tr = vec3(0.0f);
+    return r;
 }
 
 }  // namespace lantern
