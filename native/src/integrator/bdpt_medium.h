@@ -114,6 +114,18 @@ LANTERN_HD inline void bdpt_medium_scatter_update(float& dvcm, float& dvc, float
     dvcm = mis(1.0f / pdf_w);
 }
 
+// ---- The slot's segment state (BdptState::seg_*) and the ends of a queued connection ----
+enum ConnKind : int32_t { kConnNearMedium = 1, kConnFarMedium = 2 };
+
+LANTERN_HD inline MediumSegmentPdf bdpt_seg_load(const BdptState& bs, int i) {
+    return MediumSegmentPdf{bs.seg_fwd[i], bs.seg_rev[i], bs.seg_flags[i]};
+}
+LANTERN_HD inline void bdpt_seg_store(const BdptState& bs, int i, const MediumSegmentPdf& g) {
+    bs.seg_fwd[i] = g.fwd;
+    bs.seg_rev[i] = g.rev;
+    bs.seg_flags[i] = g.flags;
+}
+
 // ---- Medium vertices in the cache ----
 constexpr uint32_t kMediumVertexMaterial = 0xFFFFFFFFu;
 
