@@ -519,7 +519,8 @@ TEST(BdptMedium, ShadowSegmentThroughNestedMedia) {
         in.materials = {mo, mi, wall};
         in.meshes.push_back(box_mesh({-2, -2, -5}, {2, 2, -1}, 0, "outer"));
         in.meshes.push_back(box_mesh({-1, -1, -3.5f}, {1, 1, -2.5f}, 1, "inner"));
-        if (blocker) in.meshes.push_back(box_mesh({-0.5f, -0.5f, -2.2f}, {0.5f, 0.5f, -2.1f}, 2, "wall"));
+        if (blocker)
+            in.meshes.push_back(box_mesh({-0.5f, -0.5f, -2.2f}, {0.5f, 0.5f, -2.1f}, 2, "wall"));
         return in;
     };
     // the pieces' coefficients, from the inputs: outer; outer + inner (summed)
