@@ -85,7 +85,10 @@ def test_absorbing_slab_is_beer_lambert():
 
 @pytest.mark.parametrize("integ", ["bdpt", "lvc", "cis"])  # lt: test_volume_bidir.py
 def test_other_integrators_hand_over_to_pt(integ):
-    scene = slab_scene(volume={"sigma_s": [1.0, 1.0, 1.0], "sigma_a": [0.1, 0.2, 0.3]})
+    """Emissive media: the bidirectional integrators start light paths on lights only (their
+    medium vertices in other homogeneous media: test_volume_bdpt.py)."""
+    scene = slab_scene(volume={"sigma_s": [1.0, 1.0, 1.0], "sigma_a": [0.1, 0.2, 0.3],
+                               "emission": [0.2, 0.2, 0.2]})
     ref = lantern.Session(scene, integrator="pt", seed=3, spp_per_iteration=2, max_depth=8,
                           threads=1)
     ref.step()

@@ -20,3 +20,4 @@
 #include "integrator/bdpt_camera.h"
 #include "integrator/bdpt_common.h"
 #include "integrator/bdpt_light.h"
+#include "integrator/bdpt_medium_stages.h"  // scenes with media: the hooks' definitions

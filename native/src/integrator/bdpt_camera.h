@@ -4,6 +4,7 @@
 #pragma once
 
 #include "integrator/bdpt_common.h"
+#include "integrator/bdpt_medium.h"
 #include "integrator/pixel_conn.h"
 
 namespace lantern {
@@ -26,6 +27,13 @@ LANTERN_HD inline float camera_pdf(const CameraView& c, Vec3 d) {
     return 1.0f / (a_pix * cos_c * cos_c * cos_c);
 }
 
+// scenes with media (bdpt_medium_stages.h)
+LANTERN_HD inline void bdpt_camera_generate_medium(const PathState& ps, const BdptState& bs,
+                                                   int i);
+LANTERN_HD inline bool bdpt_camera_medium_segment(const SceneView& s, const PathState& ps,
+                                                  const BdptState& bs, const BdptSettings& st,
+                                                  const LightCache& cache, int i, int64_t path);
+
 LANTERN_HD inline void bdpt_camera_generate(const SceneView& s, const PathState& ps,
                                             const BdptState& bs, const BdptSettings& st_all,
                                             int i, int64_t path) {
@@ -40,6 +48,7 @@ LANTERN_HD inline void bdpt_camera_generate(const SceneView& s, const PathState&
     bs.dvcm[i] = st.n_lt > 0.0f ? mis(st.n_lt / (st.r * camera_pdf(s.camera, ps.ray_d[i])))
                                 : 0.0f;
     bs.dvc[i] = 0.0f;
+    if (s.num_media > 0) bdpt_camera_generate_medium(ps, bs, i);
 }
 
 // Weight of emission le found by the camera path at distance t_light along its ray, on light l
@@ -131,6 +140,10 @@ struct CameraVertex {
     int tri;
     Vec2 uv;
     Vec3 wo_w;
+    // scenes with media (bdpt_medium_stages.h): the medium of a medium vertex (-1: a surface),
+    // and the medium the slot's ray arrived in
+    int32_t medium_vertex = -1;
+    int32_t slot_medium = -1;
 };
 
 // The camera vertex's material, resolved (again) into its scratch: shade_point as the shade
@@ -155,8 +168,8 @@ LANTERN_HD inline void shadow_segment(Vec3 p, Vec3 n, Vec3 q, Vec3 nq, Vec3 dir,
 
 // s = 1: one light sample; the shadow ray waits in the slot's shadow fields.
 LANTERN_HD inline void bdpt_camera_nee(const SceneView& s, const PathState& ps,
-                                       const BdptSettings& st, const CameraVertex& z, int i,
-                                       Rng& rng) {
+                                       const BdptState& bs, const BdptSettings& st,
+                                       const CameraVertex& z, int i, Rng& rng) {
     Vec2 u_pick = rng.uniform2();
     Vec2 u_light = rng.uniform2();
     const LightPick pick = light_pick(s, z.h.p, z.n_pick, u_pick.x);
@@ -206,6 +219,14 @@ LANTERN_HD inline void bdpt_camera_nee(const SceneView& s, const PathState& ps,
     }
     ps.shadow_contrib[i] = c;
     ps.shadow_valid[i] = 1;
+    if (s.num_media > 0) {  // its weight finished at the shadow test (bdpt_medium_stages.h)
+        bs.shadow_wn[i] = w_camera;
+        bs.shadow_wf[i] = w_light;
+        bs.shadow_kind[i] = 0;
+        ps.shadow_medium[i] = dot(ls.wi, z.h.ng) < 0.0f
+                                  ? medium_across(s, z.tri, z.h.front, z.slot_medium)
+                                  : z.slot_medium;
+    }
 }
 
 // s >= 2: the unshadowed, MIS-weighted contribution of connecting z to cache vertex y (per unit
@@ -216,7 +237,15 @@ struct Connection {
     float dist;
     float bsdf_target;
     float pt_factor;  // BdptSettings::moments: bdpt_pt_factor
+    // scenes with media (bdpt_connect_medium): the weight's parts for the near (z) and far (y)
+    // end's distance factors, the medium the segment starts in, ConnKind
+    float wn = 0.0f, wf = 0.0f;
+    int32_t medium = -1, kind = 0;
 };
+
+LANTERN_HD inline Connection bdpt_connect_medium(const SceneView& s, const BdptSettings& st,
+                                                 const CameraVertex& z, const LightVertex& y,
+                                                 bool* clobbered);  // bdpt_medium_stages.h
 
 LANTERN_HD inline Connection bdpt_connect_in(const SceneView& s, const BdptSettings& st,
                                              const CameraVertex& z, const LightVertex& y,
@@ -285,8 +314,9 @@ LANTERN_HD inline Connection bdpt_connect_in(const SceneView& s, const BdptSetti
 LANTERN_HD inline Connection bdpt_connect(const SceneView& s, const BdptSettings& st,
                                           const CameraVertex& z, const LightVertex& y) {
     bool clobbered = false;  // the cache vertex's material took z's scratch (kOneScratch)
-    const Connection r = bdpt_connect_in(s, st, z, y, &clobbered);
-    if (kOneScratch && clobbered && z.m == &z.scratch->m) camera_vertex_material(s, z);
+    const Connection r = s.num_media > 0 ? bdpt_connect_medium(s, st, z, y, &clobbered)
+                                         : bdpt_connect_in(s, st, z, y, &clobbered);
+    if (kOneScratch && clobbered && z.m && z.m == &z.scratch->m) camera_vertex_material(s, z);
     return r;
 }
 
@@ -300,11 +330,19 @@ LANTERN_HD inline void bdpt_queue_connection(const BdptState& bs, int i, const C
                    &bs.conn_tmax[e]);
     bs.conn_c[e] = contrib;
     bs.conn_n[i] = j + 1;
+    if (bs.conn_wn) {  // scenes with media (bdpt_medium_stages.h)
+        bs.conn_wn[e] = c.wn;
+        bs.conn_wf[e] = c.wf;
+        bs.conn_kind[e] = c.kind;
+        bs.conn_medium[e] = c.medium;
+    }
 }
 
 // A candidate the CPU keeps for its picks: what bdpt_queue_connection reads of its Connection.
 struct KeptCandidate {
     float cx, cy, cz, dx, dy, dz, pt_factor;
+    float wn, wf;          // scenes with media (Connection)
+    int32_t medium, kind;
 };
 
 // cis's candidates per camera vertex at most (BdptSettings::candidates); SceneView's
@@ -385,7 +423,8 @@ LANTERN_HD inline void bdpt_camera_connect(const SceneView& s, const BdptState& 
         const int index = pick(rng.next());
         const Connection c = bdpt_connect(s, st, z, cache.v[index]);
         if constexpr (kKept > 1) {
-            cand[j] = KeptCandidate{c.c.x, c.c.y, c.c.z, c.dir.x, c.dir.y, c.dir.z, c.pt_factor};
+            cand[j] = KeptCandidate{c.c.x, c.c.y, c.c.z, c.dir.x, c.dir.y, c.dir.z, c.pt_factor,
+                                    c.wn, c.wf, c.medium, c.kind};
             idx[j] = index;
         }
         float p_hat = st.target == kTargetBsdf ? (is_black(c.c) ? 0.0f : c.bsdf_target)
@@ -421,6 +460,10 @@ LANTERN_HD inline void bdpt_camera_connect(const SceneView& s, const BdptState& 
             c.c = vec3(cand[j].cx, cand[j].cy, cand[j].cz);
             c.dir = vec3(cand[j].dx, cand[j].dy, cand[j].dz);
             c.pt_factor = cand[j].pt_factor;
+            c.wn = cand[j].wn;
+            c.wf = cand[j].wf;
+            c.medium = cand[j].medium;
+            c.kind = cand[j].kind;
         } else {
             c = bdpt_connect(s, st, z, y);
         }
@@ -445,8 +488,13 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
     bs.conn_n[i] = 0;
     const int tri = ps.hit_prim[i];
     const Vec3 d = ps.ray_d[i];
-    const float t_hit = ps.hit_t[i];
-    bdpt_camera_emission(s, ps, bs, st, i, tri >= 0 ? t_hit : ps.ray_tmax[i], tri < 0);
+    float t_hit = ps.hit_t[i];
+    const bool media = s.num_media > 0;
+    if (media) {  // the piece's flight, lights crossed, a medium vertex, a boundary passed
+        if (bdpt_camera_medium_segment(s, ps, bs, st, cache, i, path)) return;
+    } else {
+        bdpt_camera_emission(s, ps, bs, st, i, tri >= 0 ? t_hit : ps.ray_tmax[i], tri < 0);
+    }
     if (tri < 0) return;
     CameraVertex z;
     MaterialScratch scratch;  // z.m points here when the material is resolved
@@ -457,13 +505,22 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
     z.wo_w = -d;
     z.m = &camera_vertex_material(s, z);
     z.depth = ps.depth[i];
+    if (media) z.slot_medium = ps.medium[i];
     const float cos_in = fabsf(dot(d, z.h.ng));
     if (!(cos_in > 0.0f) || !(t_hit > 0.0f)) return;
     // MIS update for the new vertex (an orthographic camera's first vertex has no distance term)
     float dvcm = bs.dvcm[i], dvc = bs.dvc[i];
-    if (!(z.depth == 1 && s.camera.orthographic)) dvcm *= mis(t_hit * t_hit);
-    dvcm /= mis(cos_in);
-    dvc /= mis(cos_in);
+    Vec3 o_prev = ps.ray_o[i];
+    if (media) {  // the segment from the last vertex, through its pieces (bdpt_medium.h)
+        o_prev = ps.prev_p[i];
+        t_hit = length(z.h.p - o_prev);
+        bdpt_medium_hit_update(dvcm, dvc, t_hit, cos_in, bdpt_seg_load(bs, i),
+                               !(z.depth == 1 && s.camera.orthographic));
+    } else {
+        if (!(z.depth == 1 && s.camera.orthographic)) dvcm *= mis(t_hit * t_hit);
+        dvcm /= mis(cos_in);
+        dvc /= mis(cos_in);
+    }
     // emission of a mesh light at the hit
     const Material& m = *z.m;
     if (!is_black(m.emission)) {
@@ -473,7 +530,7 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
             const Light& l = s.lights[li];
             const float pick = s.light_tree_on ? light_pick_pmf(s, li, ps.prev_p[i], ps.prev_n[i])
                                                : l.nee_pdf;  // at the previous vertex
-            float pdf_direct = pick * light_pdf_w(l, ps.ray_o[i], d, t_hit, z.h.ng) *
+            float pdf_direct = pick * light_pdf_w(l, o_prev, d, t_hit, z.h.ng) *
                                cos_in / (t_hit * t_hit);
             float pdf_emit = l.emit_pick_pdf * emission_pdf(s, l, z.h.ng, -d).pdf_emit;
             const float dvc_e = z.depth == 2 ? dvc * bdpt_direct_lt(st) : dvc;  // (lt_direct)
@@ -498,7 +555,7 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
     z.n_pick = light_pick_normal(s, tri, z.h.ng);
     Rng rng = ps.rng[i];
     if (!material_is_delta(m)) {
-        bdpt_camera_nee(s, ps, st, z, i, rng);
+        bdpt_camera_nee(s, ps, bs, st, z, i, rng);
         bdpt_camera_connect(s, bs, st, cache, z, i, path);
     } else {
         rng.uniform2();
@@ -521,9 +578,14 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
             bs.dvc[i] = dvc;
             set_next_ray(ps, i, z.h.p, z.h.ng, wi, b.delta ? 0.0f : b.pdf_fwd_w,
                          s.offset_scale);
-            if (s.light_tree_on) {
+            if (s.light_tree_on || media) {
                 ps.prev_p[i] = z.h.p;
                 ps.prev_n[i] = z.n_pick;
+            }
+            if (media) {
+                if (dot(wi, z.h.ng) < 0.0f)  // through the surface
+                    ps.medium[i] = medium_across(s, tri, z.h.front, ps.medium[i]);
+                bdpt_seg_store(bs, i, medium_segment_begin(false));
             }
         }
     }

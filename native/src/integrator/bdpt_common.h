@@ -165,6 +165,17 @@ struct BdptState {
     Vec3* conn_c;
     float* dpt0;  // BdptSettings::moments, light pass: dvc's parts that are pt's techniques
     float* dpt1;
+    // ---- scenes with media only (bdpt_medium.h; null otherwise) ----
+    float* seg_fwd = nullptr;     // the traced segment's distance factors so far (MediumSegmentPdf)
+    float* seg_rev = nullptr;
+    int32_t* seg_flags = nullptr;
+    float* shadow_wn = nullptr;   // the slot's shadow ray (next event; the light pass: its camera
+    float* shadow_wf = nullptr;   // segment): its weight's parts for the near / far end's factor
+    int32_t* shadow_kind = nullptr;  // kConnNearMedium | kConnFarMedium
+    float* conn_wn = nullptr;     // per connection: the same
+    float* conn_wf = nullptr;
+    int32_t* conn_kind = nullptr;
+    int32_t* conn_medium = nullptr;  // the medium the connection starts in
 };
 
 // What the camera pass reads of the cache.

@@ -3,9 +3,18 @@
 #pragma once
 
 #include "integrator/bdpt_common.h"
+#include "integrator/bdpt_medium.h"
 #include "integrator/pixel_conn.h"
 
 namespace lantern {
+
+// scenes with media (bdpt_medium_stages.h)
+LANTERN_HD inline void bdpt_light_generate_medium(const SceneView& s, const PathState& ps,
+                                                  const BdptState& bs, int li,
+                                                  const EmissionSample& es, int i);
+LANTERN_HD inline bool bdpt_light_medium_segment(const SceneView& s, const PathState& ps,
+                                                 const BdptState& bs, const BdptSettings& st,
+                                                 int i, int64_t path);
 
 LANTERN_HD inline void bdpt_light_generate(const SceneView& s, const PathState& ps,
                                            const BdptState& bs, const BdptSettings& st, int i,
@@ -49,6 +58,7 @@ LANTERN_HD inline void bdpt_light_generate(const SceneView& s, const PathState& 
     ps.ray_tmax[i] = kInf;
     ps.prev_pdf_w[i] = pdf_emit;
     ps.alive[i] = 1;
+    if (s.num_media > 0) bdpt_light_generate_medium(s, ps, bs, li, es, i);
 }
 
 // Weight of the light tracing splat (t = 1) of a light vertex: camera_pdf_a is the camera's
@@ -69,10 +79,16 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
     ps.alive[i] = 0;
     bs.store[i] = 0;
     int tri = ps.hit_prim[i];
+    const bool media = s.num_media > 0;
+    // media: the piece's flight, a medium vertex, a boundary passed (bdpt_medium_stages.h)
+    if (media && bdpt_light_medium_segment(s, ps, bs, st, i, path)) return;
     if (tri < 0) return;
     const Vec3 d = ps.ray_d[i];
-    const float dist = ps.hit_t[i];
+    // (media: the segment from the last vertex, through its pieces)
+    const Vec3 o_prev = media ? ps.prev_p[i] : ps.ray_o[i];
+    float dist = ps.hit_t[i];
     SurfaceHit h = pt_surface(s, tri, ps.hit_uv[i], d);
+    if (media) dist = length(h.p - o_prev);
     MaterialScratch scratch;
     const Material& m = material_at_point(
         s, s.tri_material[tri], [&] { return shade_point(h, tri, ps.hit_uv[i], -d); }, scratch);
@@ -91,15 +107,20 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
         // angle: its area density at y0 depends on the receiver y1 (here), not 1 / area as
         // assumed at generation
         const Vec3 n0 = l.type == kLightArea ? -l.frame.axis(2)
-                                             : normalize(ps.ray_o[i] - l.position);
+                                             : normalize(o_prev - l.position);
         dvcm *= mis(direct_pdf_receiver_ratio(l, h.p, wo_w, dist, n0));
     }
     if (k == 1) {  // next-event estimation from here picks this light with this probability
         dvcm *= mis(light_pick_pmf(s, bs.light[i], h.p, light_pick_normal(s, tri, h.ng)));
     }
-    if (k > 1 || !infinite) dvcm *= mis(dist * dist);
-    dvcm /= mis(cos_o_ng);
-    dvc /= mis(cos_o_ng);
+    if (media) {
+        bdpt_medium_hit_update(dvcm, dvc, dist, cos_o_ng, bdpt_seg_load(bs, i),
+                               k > 1 || !infinite);
+    } else {
+        if (k > 1 || !infinite) dvcm *= mis(dist * dist);
+        dvcm /= mis(cos_o_ng);
+        dvc /= mis(cos_o_ng);
+    }
     // (moments) the parts of dvc that are pt's techniques: dpt0 all camera-sampled, dpt1 the
     // camera sampling all but y0, which next-event estimation samples (at k = 1: dvcm itself)
     // (a connection map too: they are the parts a pixel's count scales, pixel_conn.h)
@@ -160,6 +181,16 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
                                                           e.pdf_rev_w, k);
                 LightPathState lp{nullptr, bs.splat_xy};
                 Vec3 c = beta * e.f * (cos_y * cc.importance * w);
+                if (media) {  // the weight finished with the camera segment's factors
+                    const float n_lt = k == 1 ? st.n_lt * st.lt_direct : st.n_lt;
+                    bs.shadow_wn[i] = mis(cc.importance * cos_wc_ng * st.r / n_lt) *
+                                      (dvcm + dvc * mis(e.pdf_rev_w));
+                    bs.shadow_wf[i] = 0.0f;
+                    bs.shadow_kind[i] = 0;
+                    ps.shadow_medium[i] = dot(cc.wc, h.ng) < 0.0f
+                                              ? medium_across(s, tri, h.front, ps.medium[i])
+                                              : ps.medium[i];
+                }
                 if (st.moments) {
                     const float n_lt = k == 1 ? st.n_lt * st.lt_direct : st.n_lt;
                     const float x = mis(cc.importance * cos_wc_ng * st.r / n_lt);
@@ -201,6 +232,12 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
             bs.dvc[i] = dvc;
             set_next_ray(ps, i, h.p, h.ng, wi, b.delta ? 0.0f : b.pdf_fwd_w,
                          s.offset_scale);
+            if (media) {
+                if (dot(wi, h.ng) < 0.0f)  // through the surface
+                    ps.medium[i] = medium_across(s, tri, h.front, ps.medium[i]);
+                ps.prev_p[i] = h.p;
+                bdpt_seg_store(bs, i, medium_segment_begin(false));
+            }
         }
     }
     ps.rng[i] = rng;

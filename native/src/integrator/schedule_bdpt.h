@@ -33,9 +33,69 @@ int bdpt_samples_per_pass(Wavefront<Exec>& w, WavefrontStep& st, int spp_it) {
                                   &w.split_warned, *st.warnings);
 }
 
+// Scenes with media (bdpt_medium_stages.h): the light pass's camera segments traced through
+// the media and volume boundaries they cross, each splat's weight finished with the segment's
+// factor at its vertex and multiplied by the transmittance.
+template <class Exec>
+int64_t bdpt_camera_segments_medium(Exec& ex, Wavefront<Exec>& w, const SceneView& s, int n,
+                                    SessionStats& stats) {
+    const PathState ps = w.ps;
+    const BdptState bs = w.bs;
+    const int32_t* q = w.queue.data();
+    uint8_t* vis = w.visible.data();
+    const auto rays = ex.rays();
+    int64_t tested = 0;
+    ex.timed(stats.time_shadow, [&] {
+        tested = ex.count(n, LANTERN_KERNEL(int k) { return ps.shadow_valid[q[k]] != 0; });
+        ex.each(n, LANTERN_KERNEL(int k) {
+            const int i = q[k];
+            uint8_t v = 0;
+            if (ps.shadow_valid[i]) {
+                const MediumShadow sh = bdpt_medium_shadow(
+                    s, rays, RayKind::kCamera, ps.shadow_o[i], ps.shadow_d[i], ps.shadow_tmax[i],
+                    ps.shadow_medium[i], (bs.shadow_kind[i] & kConnNearMedium) != 0, false);
+                if (!is_black(sh.tr)) {
+                    ps.shadow_contrib[i] = ps.shadow_contrib[i] * sh.tr *
+                                           bdpt_medium_finish(bs.shadow_wn[i], 0.0f, sh.seg);
+                    v = 1;
+                }
+            }
+            vis[i] = v;
+        });
+    });
+    return tested;
+}
+
+// Scenes with media: a camera vertex's next-event and connection shadow rays, each through the
+// media it crosses, its weight finished (bdpt_medium_stages.h); one item per slot.
+template <class Rays>
+LANTERN_HD inline void bdpt_shadow_medium(const SceneView& s, const Rays& rays,
+                                          const PathState& ps, const BdptState& bs, int i) {
+    if (ps.shadow_valid[i]) {
+        const int32_t kind = bs.shadow_kind[i];
+        const MediumShadow sh = bdpt_medium_shadow(
+            s, rays, RayKind::kShadow, ps.shadow_o[i], ps.shadow_d[i], ps.shadow_tmax[i],
+            ps.shadow_medium[i], (kind & kConnNearMedium) != 0, false);
+        if (!is_black(sh.tr))
+            add_radiance(ps, i, ps.shadow_contrib[i] * sh.tr *
+                                    bdpt_medium_finish(bs.shadow_wn[i], bs.shadow_wf[i], sh.seg));
+    }
+    for (int j = 0; j < bs.conn_n[i]; ++j) {
+        const size_t e = size_t(i) * bs.conn_cap + j;
+        const int32_t kind = bs.conn_kind[e];
+        const MediumShadow sh = bdpt_medium_shadow(
+            s, rays, RayKind::kShadow, bs.conn_o[e], bs.conn_d[e], bs.conn_tmax[e],
+            bs.conn_medium[e], (kind & kConnNearMedium) != 0, (kind & kConnFarMedium) != 0);
+        if (!is_black(sh.tr))
+            add_radiance(ps, i, bs.conn_c[e] * sh.tr *
+                                    bdpt_medium_finish(bs.conn_wn[e], bs.conn_wf[e], sh.seg));
+    }
+}
+
 template <class Exec>
 void light_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep& st,
                  int64_t first_path, int n) {
+    w.media = s.num_media > 0;
     w.resize(n, 0, Exec::kGpu);  // the light pass queues no connections
     SessionStats& stats = *st.stats;
     BdptSettings bst = bdpt_settings(w, st);
@@ -90,7 +150,9 @@ void light_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep&
         ex.sync();
         stats.time_cache += seconds_since(t);
         // light tracing: camera segments against what the camera sees, then the splats
-        stats.rays_light_tracing += camera_segments(ex, w, active, stats);
+        stats.rays_light_tracing += s.num_media > 0
+                                        ? bdpt_camera_segments_medium(ex, w, s, active, stats)
+                                        : camera_segments(ex, w, active, stats);
         ex.timed(stats.time_splat, [&] { splat(ex, w, s, st, active); });
         active = compact(ex, w, active);
     }
@@ -130,6 +192,7 @@ void index_cache_by_path(Exec& ex, Wavefront<Exec>& w, int64_t light_paths) {
 template <class Exec>
 void camera_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep& st,
                   int64_t first_path, int n) {
+    w.media = s.num_media > 0;
     w.resize(n, w.conn_cap, Exec::kGpu);
     SessionStats& stats = *st.stats;
     const BdptSettings bst = bdpt_settings(w, st);
@@ -175,7 +238,11 @@ void camera_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep
                     return camera_settings(bst, pixel_conn_of_path(s, bst, path)).candidates;
                 }) : int64_t(active) * bst.candidates;
             }
-            if constexpr (!Exec::kGpu) {  // one item per slot, in a fixed order
+            if (s.num_media > 0) {  // through media, weights finished (bdpt_medium_stages.h)
+                ex.each(active, LANTERN_KERNEL(int k) {
+                    bdpt_shadow_medium(s, rays, ps, bs, q[k]);
+                }, 64);
+            } else if constexpr (!Exec::kGpu) {  // one item per slot, in a fixed order
                 ex.each(active, LANTERN_KERNEL(int k) {
                     const int i = q[k];
                     if (ps.shadow_valid[i]) {

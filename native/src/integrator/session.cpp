@@ -72,18 +72,18 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
         throw std::invalid_argument("adaptive sampling: the threshold must be >= 0, the min "
                                     "samples >= 0 and the step >= 1");
     }
-    // media: only pt has medium vertices yet (docs/volumes.md); the others hand over to it
+    // media: lt, bdpt, lvc and cis have medium vertices in homogeneous media (lt_medium.h,
+    // bdpt_medium_stages.h) but start no light paths in emissive media; the rest hands over
     std::string media_note;
     if (integ != "pt" && integ != "auto") {
-        // lt has medium vertices (integrator/lt_medium.h) but starts no paths in emissive media
-        const std::string why = integ == "lt" ? emissive_media_reason(scene) : media_reason(scene);
+        const bool vertices = integ == "lt" || integ == "bdpt" || integ == "lvc" || integ == "cis";
+        const std::string why = vertices ? emissive_media_reason(scene) : media_reason(scene);
         if (!why.empty()) {
             media_note = "integrator '" + integ + "' does not render participating media (the " +
                          "scene has " + why + "; " +
-                         (integ == "lt"
-                              ? std::string("light tracing renders homogeneous, non-emissive "
-                                            "media only")
-                              : std::string("no medium vertices in its paths")) +
+                         (vertices ? std::string("its paths scatter in homogeneous, "
+                                                 "non-emissive media only")
+                                   : std::string("no medium vertices in its paths")) +
                          "): rendering with pt";
             settings_.integrator = "pt";
         } else if (const std::string ss = subsurface_reason(scene); !ss.empty()) {

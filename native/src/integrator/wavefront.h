@@ -90,6 +90,11 @@ struct Wavefront {
     Array<int32_t> vshadow_medium;
     Array<uint8_t> vshadow_valid;
     bool media = false;  // set by the schedule before resize: the scene has media
+    // BdptState's media fields (bdpt_medium.h): grown only when `media` and bidirectional
+    Array<float> seg_fwd, seg_rev, shadow_wn, shadow_wf;
+    Array<int32_t> seg_flags, shadow_kind;
+    Array<float> conn_wn, conn_wf;  // n x conn_cap, as conn_c
+    Array<int32_t> conn_kind, conn_medium;
     Array<LightVertex> vertex;
     Array<Vec3> conn_o, conn_d, conn_c;  // n x conn_cap connection slots
     Array<float> conn_tmax;
@@ -147,10 +152,18 @@ struct Wavefront {
         f(vertex);
     }
     template <typename F>
+    void for_bdpt_media(F&& f) {  // the bidirectional integrators' in media (per slot)
+        for (auto* a : {&seg_fwd, &seg_rev, &shadow_wn, &shadow_wf}) f(*a);
+        for (auto* a : {&seg_flags, &shadow_kind}) f(*a);
+    }
+    template <typename F>
     void for_state(F&& f) {
         for_slots(f);
         for_media(f);
         for_bdpt(f);
+        for_bdpt_media(f);
+        for (auto* a : {&conn_wn, &conn_wf}) f(*a);
+        for (auto* a : {&conn_kind, &conn_medium}) f(*a);
         for (auto* a : {&conn_o, &conn_d, &conn_c}) f(*a);
         f(conn_tmax);
         f(conn_vis);
@@ -185,6 +198,7 @@ struct Wavefront {
         for_slots([&](auto& a) { a.grow(m); });
         if (bidirectional) for_bdpt([&](auto& a) { a.grow(m); });
         if (media) for_media([&](auto& a) { a.grow(m); });
+        if (media && bidirectional) for_bdpt_media([&](auto& a) { a.grow(m); });
         cap = std::max(cap, n);
         const size_t nc = size_t(n) * size_t(std::max(conn_slots, 1));
         if (bidirectional && conn_slots > 0) {
@@ -193,6 +207,12 @@ struct Wavefront {
             conn_c.grow(nc);
             conn_tmax.grow(nc);
             if (gpu) conn_vis.grow(size_t(n) * (size_t(conn_slots) + 1));
+            if (media) {
+                conn_wn.grow(nc);
+                conn_wf.grow(nc);
+                conn_kind.grow(nc);
+                conn_medium.grow(nc);
+            }
         }
         ps = PathState{ray_o.data(),      ray_d.data(),     ray_tmin.data(),   ray_tmax.data(),
                        throughput.data(), radiance.data(),  rng.data(),        depth.data(),
@@ -216,6 +236,18 @@ struct Wavefront {
                        vertex.data(),   splat_xy.data(), power.data(),      std::max(conn_slots, 1),
                        conn_n.data(),   conn_o.data(),   conn_d.data(),     conn_tmax.data(),
                        conn_c.data(),   dpt0.data(),     dpt1.data()};
+        if (media && bidirectional) {
+            bs.seg_fwd = seg_fwd.data();
+            bs.seg_rev = seg_rev.data();
+            bs.seg_flags = seg_flags.data();
+            bs.shadow_wn = shadow_wn.data();
+            bs.shadow_wf = shadow_wf.data();
+            bs.shadow_kind = shadow_kind.data();
+            bs.conn_wn = conn_wn.data();
+            bs.conn_wf = conn_wf.data();
+            bs.conn_kind = conn_kind.data();
+            bs.conn_medium = conn_medium.data();
+        }
     }
 
 };

@@ -1,0 +1,472 @@
+// The bidirectional stages in homogeneous media (docs/volumes.md "Medium vertices in the
+// bidirectional integrators"; the pieces and the MIS rules: bdpt_medium.h). Run only where
+// SceneView::num_media > 0; the hooks in bdpt_light.h / bdpt_camera.h are one line each.
+//
+// - Every traced piece (between vertices and volume boundaries) in a medium draws a flight by
+//   the throughput-free channel rule; the slot's MediumSegmentPdf (BdptState::seg_*) collects
+//   the segment's distance factors; volume boundaries are passed (not vertices).
+// - A flight that scatters makes a medium vertex: in the light pass stored in the cache
+//   (lv_make_medium) and splatted to the camera; in the camera pass next-event estimation,
+//   connections (bdpt, lvc, cis) and the lights crossed before it; both continue with a
+//   Henyey-Greenstein sample.
+// - Next-event estimation, connections and light tracing splats are queued with the weight
+//   their factors 1 would give, and the two parts of its denominator that the segment's end
+//   factors multiply (BdptState::shadow_wn / wf, conn_wn / wf); the shadow stage traces the
+//   segment (bdpt_medium_shadow) and finishes the weight (bdpt_medium_finish) with the
+//   transmittance.
+#pragma once
+
+#include "integrator/bdpt_medium.h"
+
+namespace lantern {
+
+// A queued contribution carries the weight 1 / (1 + wn + wf) (factors 1); with the traced
+// segment's factors it is 1 / (1 + wn F_near^2 + wf F_far^2): the ratio.
+LANTERN_HD inline float bdpt_medium_finish(float wn, float wf, const MediumSegmentPdf& seg) {
+    const float den = 1.0f + wn * mis(seg.rev) + wf * mis(seg.fwd);
+    return den > 0.0f ? (1.0f + wn + wf) / den : 0.0f;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Light pass
+// ---------------------------------------------------------------------------------------------
+
+// After generation: the medium the path starts in (lt's rule), its factor, the segment state.
+LANTERN_HD inline void bdpt_light_generate_medium(const SceneView& s, const PathState& ps,
+                                                  const BdptState& bs, int li,
+                                                  const EmissionSample& es, int i) {
+    Vec3 f;
+    ps.medium[i] = lt_start_medium(s, li, es, &f);
+    bs.power[i] = bs.power[i] * f;
+    ps.prev_p[i] = es.p;
+    bdpt_seg_store(bs, i, medium_segment_begin(false));
+}
+
+LANTERN_HD inline void bdpt_light_medium_vertex(const SceneView& s, const PathState& ps,
+                                                const BdptState& bs, const BdptSettings& st,
+                                                int i, int64_t path, Vec3 p, Vec3 d,
+                                                int32_t med, const MediumSegmentPdf& seg) {
+    const Medium& m = s.media[med];
+    const int k = ps.depth[i] + 1;
+    ps.depth[i] = k;
+    float dvcm = bs.dvcm[i], dvc = bs.dvc[i];
+    const Light& l = s.lights[bs.light[i]];
+    const bool infinite = l.type == kLightSun || l.type == kLightWorld;
+    const float dist = length(p - ps.prev_p[i]);
+    if (!(dist > 0.0f)) return;
+    if (k == 1 && !infinite) {  // (bdpt_light_shade)
+        const Vec3 n0 = l.type == kLightArea ? -l.frame.axis(2)
+                                             : normalize(ps.prev_p[i] - l.position);
+        dvcm *= mis(direct_pdf_receiver_ratio(l, p, -d, dist, n0));
+    }
+    if (k == 1) dvcm *= mis(light_pick_pmf(s, bs.light[i], p, vec3(0.0f)));
+    bdpt_medium_hit_update(dvcm, dvc, dist, 1.0f, seg, k > 1 || !infinite);
+    const Vec3 beta = bs.power[i] * ps.throughput[i];
+    bs.vertex[i] = lv_make_medium(p, -d, beta, dvcm, dvc, med, int32_t(path), k);
+    bs.store[i] = is_finite(beta) && is_finite(dvcm) && is_finite(dvc) ? 1 : 0;
+    // t = 1: no cosine at the vertex; the camera's density of it times its factor (near end)
+    if (k + 1 <= st.max_depth) {
+        const CameraConnection cc = connect_camera(s.camera, p, filter_radius(s.camera),
+                                                   lens_sample(s.camera, ps, i));
+        if (cc.valid) {
+            const float phase = hg_phase(m.g, dot(d, cc.wc));
+            const float n_lt = k == 1 ? st.n_lt * st.lt_direct : st.n_lt;
+            const float wn = mis(cc.importance * st.r / n_lt) * (dvcm + dvc * mis(phase));
+            bs.shadow_wn[i] = wn;
+            bs.shadow_wf[i] = 0.0f;
+            bs.shadow_kind[i] = kConnNearMedium;
+            ps.shadow_medium[i] = med;
+            LightPathState lp{nullptr, bs.splat_xy};
+            lt_queue_splat(ps, lp, i, p, vec3(0.0f), cc,
+                           beta * (phase * cc.importance / (1.0f + wn)), s.offset_scale);
+        }
+    }
+    if (k + 2 > st.max_depth) return;
+    Rng rng = ps.rng[i];
+    float pdf_w = 0.0f;
+    const Vec3 wi = hg_sample(m.g, d, rng.uniform2(), &pdf_w);  // weight 1
+    Vec3 t = ps.throughput[i];
+    if (pdf_w > 0.0f && russian_roulette(t, k + 1, st.rr_depth, rng) &&
+        max_component(t) > 0.0f && is_finite(t)) {
+        bdpt_medium_scatter_update(dvcm, dvc, pdf_w);
+        ps.throughput[i] = t;
+        bs.dvcm[i] = dvcm;
+        bs.dvc[i] = dvc;
+        ps.ray_o[i] = p;
+        ps.ray_d[i] = wi;
+        ps.ray_tmin[i] = 0.0f;
+        ps.ray_tmax[i] = kInf;
+        ps.prev_pdf_w[i] = pdf_w;
+        ps.alive[i] = 1;
+        ps.prev_p[i] = p;
+        bdpt_seg_store(bs, i, medium_segment_begin(true));
+    }
+    ps.rng[i] = rng;
+}
+
+// The traced piece: true when this stage handled the slot (a medium vertex, a volume boundary
+// passed, the path lost); false at a surface, whose shading (bdpt_light_shade) reads the
+// segment's factors from the slot.
+LANTERN_HD inline bool bdpt_light_medium_segment(const SceneView& s, const PathState& ps,
+                                                 const BdptState& bs, const BdptSettings& st,
+                                                 int i, int64_t path) {
+    const int tri = ps.hit_prim[i];
+    MediumSegmentPdf seg = bdpt_seg_load(bs, i);
+    const Vec3 o = ps.ray_o[i], d = ps.ray_d[i];
+    const float tmin = ps.ray_tmin[i];
+    const float t_end = tri >= 0 ? ps.hit_t[i] : ps.ray_tmax[i];
+    const int32_t med = ps.medium[i];
+    if (med >= 0) {
+        const Medium& m = s.media[med];
+        Rng rng = ps.rng[i];
+        float uc = 0.0f, ud = 0.0f;
+        if (m.scatters) {
+            uc = rng.uniform();
+            ud = rng.uniform();
+        }
+        ps.rng[i] = rng;
+        const MediumStep step = bdpt_medium_flight(m, t_end - tmin, uc, ud);
+        ps.throughput[i] = ps.throughput[i] * step.weight;
+        medium_segment_piece(seg, &m, step.t, step.scattered);
+        if (step.scattered) {
+            bdpt_light_medium_vertex(s, ps, bs, st, i, path, o + d * (tmin + step.t), d, med,
+                                     seg);
+            return true;
+        }
+    } else {
+        medium_segment_piece(seg, nullptr, t_end - tmin, false);
+    }
+    bdpt_seg_store(bs, i, seg);
+    if (tri < 0 || is_black(ps.throughput[i])) return true;
+    if (s.tri_flags[tri] & kVolumeBoundary) {
+        pt_cross_boundary(s, ps, i, tri);
+        return true;
+    }
+    return false;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Camera pass
+// ---------------------------------------------------------------------------------------------
+
+LANTERN_HD inline void bdpt_camera_generate_medium(const PathState& ps, const BdptState& bs,
+                                                   int i) {
+    ps.prev_p[i] = ps.ray_o[i];
+    bdpt_seg_store(bs, i, medium_segment_begin(false));
+}
+
+// The weight of light l's emission reached at p_light (normal n; distant lights: kInf) by the
+// camera path, seg the segment's factors up to it (bdpt_emission_weight with them).
+LANTERN_HD inline float bdpt_emission_weight_medium(const SceneView& s, const PathState& ps,
+                                                    const BdptState& bs, const BdptSettings& st,
+                                                    int i, const Light& l, Vec3 p_light,
+                                                    bool infinite, Vec3 n,
+                                                    const MediumSegmentPdf& seg) {
+    if (ps.depth[i] <= 1) return 1.0f;
+    if (!(seg.fwd > 0.0f)) return 0.0f;
+    const Vec3 d = ps.ray_d[i], prev = ps.prev_p[i];
+    float dvcm = bs.dvcm[i], dvc = bs.dvc[i];
+    const int li = int(&l - s.lights);
+    const float pick = s.light_tree_on ? light_pick_pmf(s, li, prev, ps.prev_n[i]) : l.nee_pdf;
+    float pdf_direct;
+    if (infinite) {
+        pdf_direct = pick * (l.type == kLightWorld ? world_pdf_w(s, d)
+                                                   : light_pdf_w(l, prev, d, kInf, n));
+        dvcm /= mis(seg.fwd);
+        dvc *= mis(seg.rev) / mis(seg.fwd);
+    } else {
+        const float dist = length(p_light - prev);
+        const float cos_l = fabsf(dot(d, n));
+        if (!(cos_l > 0.0f) || !(dist > 0.0f)) return 0.0f;
+        pdf_direct = pick * light_pdf_w(l, prev, d, dist, n) * cos_l / (dist * dist);
+        bdpt_medium_hit_update(dvcm, dvc, dist, cos_l, seg, true);
+    }
+    const float pdf_emit = l.emit_pick_pdf * emission_pdf(s, l, n, -d).pdf_emit;
+    if (ps.depth[i] == 2) dvc *= bdpt_direct_lt(st);
+    return 1.0f / (1.0f + mis(pdf_direct) * dvcm + mis(st.r * pdf_emit) * dvc);
+}
+
+// Lights crossed by the piece [tmin, t_stop] in medium m (null: vacuum), each through the
+// flight's pass weight up to it; the background on a miss that passed the whole piece.
+LANTERN_HD inline void bdpt_camera_emission_medium(const SceneView& s, const PathState& ps,
+                                                   const BdptState& bs, const BdptSettings& st,
+                                                   int i, float t_stop, bool miss,
+                                                   const Medium* m,
+                                                   const MediumSegmentPdf& seg0, Vec3 beta) {
+    const Vec3 o = ps.ray_o[i], d = ps.ray_d[i];
+    const float tmin = ps.ray_tmin[i];
+    const bool camera = ps.depth[i] <= 1;
+    for (int k = 0; k < s.num_hittable_lights; ++k) {
+        const Light& l = s.lights[s.hittable_lights[k]];
+        if (camera && !l.visible_camera) continue;
+        LightHit h = intersect_light(l, o, d, tmin, t_stop);
+        if (!h.hit || is_black(h.le)) continue;
+        MediumSegmentPdf seg = seg0;
+        medium_segment_piece(seg, m, h.t - tmin, false);
+        const Vec3 tr = m ? medium_pass_weight(*m, bdpt_medium_pmf(), h.t - tmin) : vec3(1.0f);
+        const float w = bdpt_emission_weight_medium(s, ps, bs, st, i, l, o + d * h.t, false,
+                                                    h.n, seg);
+        add_radiance(ps, i, beta * tr * h.le * w);
+    }
+    if (!miss) return;
+    MediumSegmentPdf seg = seg0;
+    medium_segment_piece(seg, m, kInf, false);
+    const Vec3 tr = m ? medium_pass_weight(*m, bdpt_medium_pmf(), kInf) : vec3(1.0f);
+    if (is_black(tr)) return;
+    for (int k = 0; k < s.num_miss_lights; ++k) {
+        const Light& l = s.lights[s.miss_lights[k]];
+        if (l.type == kLightSun && (l.cos_sun >= 1.0f || (camera && !l.visible_camera) ||
+                                    dot(d, -l.direction) < l.cos_sun))
+            continue;
+        if (l.type == kLightWorld && camera && !l.visible_camera) continue;
+        const float w = bdpt_emission_weight_medium(s, ps, bs, st, i, l, vec3(0.0f), true,
+                                                    vec3(0.0f), seg);
+        const Vec3 le = l.type == kLightWorld ? world_radiance(s, l, d) : l.radiance;
+        add_radiance(ps, i, beta * tr * le * w);
+    }
+}
+
+// s = 1 from a medium vertex: a light from the light tree (omnidirectional receiver), the
+// phase function in place of the BSDF, no cosine at z.
+LANTERN_HD inline void bdpt_camera_medium_nee(const SceneView& s, const PathState& ps,
+                                              const BdptState& bs, const BdptSettings& st,
+                                              const CameraVertex& z, int i, Rng& rng) {
+    const Vec2 u_pick = rng.uniform2();
+    const Vec2 u_light = rng.uniform2();
+    const LightPick pick = light_pick(s, z.h.p, vec3(0.0f), u_pick.x);
+    if (!(pick.pmf > 0.0f)) return;
+    const Light& l = s.lights[pick.light];
+    const LightSample ls = sample_light(s, l, z.h.p, u_light);
+    if (!ls.valid || is_black(ls.le)) return;
+    const float ph = hg_phase(s.media[z.medium_vertex].g, dot(-z.wo_w, ls.wi));
+    const float pdf_light_w = pick.pmf * ls.pdf_w;
+    if (!(ph > 0.0f) || !(pdf_light_w > 0.0f)) return;
+    const bool infinite = !(ls.dist < kInf);
+    const float cos_l = is_black(ls.n_light) ? 1.0f : fabsf(dot(ls.wi, ls.n_light));
+    const float pdf_emit = l.emit_pick_pdf * emission_pdf(s, l, ls.n_light, -ls.wi).pdf_emit;
+    float pdf_nee, pdf_lp;
+    if (infinite) {
+        pdf_nee = pdf_light_w;
+        pdf_lp = pdf_emit;
+    } else {
+        const float d2 = ls.dist * ls.dist;
+        pdf_nee = ls.delta ? pick.pmf : pdf_light_w * cos_l / d2;
+        pdf_lp = pdf_emit / d2;
+    }
+    const float w_light = ls.delta ? 0.0f : mis(ph / pdf_light_w);
+    const float dvcm_z = z.depth == 1 ? z.dvcm * bdpt_direct_lt(st)
+                                      : camera_conn_dvcm(st, z.dvcm, z.depth);
+    const float w_camera = mis(st.r * pdf_lp / pdf_nee) * (dvcm_z + z.dvc * mis(ph));
+    const float w = 1.0f / (w_light + 1.0f + w_camera);
+    const Vec3 c = z.beta * ls.le * (ph * w / pdf_light_w);
+    if (!is_finite(c)) {
+        ps.dropped[i] = 1;
+        return;
+    }
+    if (!infinite) {
+        shadow_segment(z.h.p, vec3(0.0f), ls.p_light, ls.n_light, ls.wi, s.offset_scale,
+                       &ps.shadow_o[i], &ps.shadow_d[i], &ps.shadow_tmax[i]);
+    } else {
+        ps.shadow_o[i] = z.h.p;
+        ps.shadow_d[i] = ls.wi;
+        ps.shadow_tmax[i] = kInf;
+    }
+    ps.shadow_contrib[i] = c;
+    ps.shadow_valid[i] = 1;
+    ps.shadow_medium[i] = z.medium_vertex;
+    bs.shadow_wn[i] = w_camera;
+    bs.shadow_wf[i] = w_light;
+    bs.shadow_kind[i] = kConnNearMedium;
+}
+
+// s >= 2 in a scene with media: z (surface or medium vertex) to cache vertex y (surface or
+// medium vertex); the weight of factors 1, its two parts, the medium the segment starts in.
+LANTERN_HD inline Connection bdpt_connect_medium(const SceneView& s, const BdptSettings& st,
+                                                 const CameraVertex& z, const LightVertex& y,
+                                                 bool* clobbered) {
+    Connection r{vec3(0.0f), vec3(0.0f), 0.0f, 0.0f, 0.0f};
+    if (z.depth + 1 + y.length > st.max_depth) return r;
+    Vec3 dir = y.p - z.h.p;
+    const float d2 = length_sq(dir);
+    if (!(d2 > 0.0f) || !is_finite(d2)) return r;
+    const float dist = sqrtf(d2);
+    dir = dir / dist;
+    const bool zm = z.medium_vertex >= 0, ym = lv_is_medium(y);
+    // the camera vertex's side
+    Vec3 fz;
+    float pz_fwd, pz_rev, cos_z_ng = 1.0f, cos_z_ns = 1.0f;
+    int32_t start = z.medium_vertex;
+    if (zm) {
+        const float ph = hg_phase(s.media[z.medium_vertex].g, dot(-z.wo_w, dir));
+        fz = vec3(ph);
+        pz_fwd = pz_rev = ph;
+    } else {
+        const Vec3 wi_z = z.frame.to_local(dir);
+        const float dz_ng = dot(dir, z.h.ng);
+        if (!(material_corrects_view(*z.m) ? dz_ng > 0.0f : dz_ng * wi_z.z > 0.0f)) return r;
+        const BsdfEval ez = bdpt_eval(*z.m, z.h.front, z.wo, wi_z, Transport::Radiance,
+                                      z.h.coat_n, z.frame, z.h.ng);
+        fz = ez.f;
+        pz_fwd = ez.pdf_fwd_w;
+        pz_rev = ez.pdf_rev_w;
+        cos_z_ng = fabsf(dz_ng);
+        cos_z_ns = fabsf(wi_z.z);
+        start = dz_ng < 0.0f ? medium_across(s, z.tri, z.h.front, z.slot_medium)
+                             : z.slot_medium;
+    }
+    if (is_black(fz)) return r;
+    // the cache vertex's side
+    Vec3 fy;
+    float py_fwd, py_rev, cos_y_ng = 1.0f, cos_y = 1.0f;
+    if (ym) {
+        const float ph = hg_phase(s.media[lv_medium(y)].g, dot(y.wo, dir));
+        fy = vec3(ph);
+        py_fwd = py_rev = ph;
+    } else {
+        const float dy_ng = dot(-dir, y.ng), dy_ns = dot(-dir, y.ns);
+        const bool y_geometric = material_view_geometric(s.materials[y.material]);
+        if (!(y_geometric ? dy_ng > 0.0f : dy_ng * dy_ns > 0.0f)) return r;
+#ifdef __CUDA_ARCH__
+        MaterialScratch& scratch = *z.scratch;
+#else
+        MaterialScratch scratch;
+#endif
+        const Material& my = material_at_point(
+            s, y.material, [&] { return shade_point_lv(s, y, -dir); }, scratch);
+        *clobbered = &my == &scratch.m;
+        const Frame fyf = Frame::from_normal_angle(y.ns, y.tangent_angle);
+        const Vec3 coat_y = (my.tex_flags & kCoatNormal) || material_keeps_unbent_normal(my)
+                                ? oct_decode(y.coat_n)
+                                : vec3(0.0f, 0.0f, 1.0f);
+        const Vec3 wo_y = fyf.to_local(y.wo);
+        const Vec3 wi_y = Vec3{dot(-dir, fyf.s), dot(-dir, fyf.t), dy_ns};
+        const BsdfEval ey = bdpt_eval(my, y.front != 0, wo_y, wi_y, Transport::Importance,
+                                      coat_y, fyf, y.ng);
+        const float cos_yo_ng = fabsf(dot(y.wo, y.ng));
+        if (!(cos_yo_ng > 0.0f)) return r;
+        fy = ey.f;
+        py_fwd = ey.pdf_fwd_w;
+        py_rev = ey.pdf_rev_w;
+        cos_y_ng = fabsf(dy_ng);
+        cos_y = fabsf(wo_y.z) * cos_y_ng / cos_yo_ng;
+    }
+    if (is_black(fy)) return r;
+    const float inv_d2 = 1.0f / d2;
+    float y_dvcm, y_dvc;
+    light_vertex_mis(st, y, &y_dvcm, &y_dvc);
+    const float wf = mis(pz_fwd * cos_y_ng * inv_d2) * (y_dvcm + y_dvc * mis(py_rev));
+    const float wn = mis(py_fwd * cos_z_ng * inv_d2) * (z.dvcm + z.dvc * mis(pz_rev));
+    const float w = 1.0f / (wf + 1.0f + wn);
+    r.c = z.beta * fz * y.beta * fy * (cos_z_ns * cos_y * inv_d2 * w);
+    if (!is_finite(r.c)) r.c = vec3(0.0f);
+    r.dir = dir;
+    r.dist = dist;
+    r.bsdf_target = luminance(fz) * luminance(fy);
+    r.wn = wn;
+    r.wf = wf;
+    r.medium = start;
+    r.kind = (zm ? kConnNearMedium : 0) | (ym ? kConnFarMedium : 0);
+    return r;
+}
+
+// A medium camera vertex at p reached along d in medium med: its next event, connections and
+// continuation (the camera pass's medium vertex).
+LANTERN_HD inline void bdpt_camera_medium_vertex(const SceneView& s, const PathState& ps,
+                                                 const BdptState& bs, const BdptSettings& st,
+                                                 const LightCache& cache, int i, int64_t path,
+                                                 Vec3 p, Vec3 d, int32_t med,
+                                                 const MediumSegmentPdf& seg) {
+    const Medium& m = s.media[med];
+    float dvcm = bs.dvcm[i], dvc = bs.dvc[i];
+    const int depth = ps.depth[i];
+    const float dist = length(p - ps.prev_p[i]);
+    if (!(dist > 0.0f)) return;
+    bdpt_medium_hit_update(dvcm, dvc, dist, 1.0f, seg, !(depth == 1 && s.camera.orthographic));
+    if (depth >= st.max_depth) return;
+    CameraVertex z;
+    MaterialScratch scratch;
+    z.h.p = p;
+    z.h.ng = vec3(0.0f);
+    z.h.ns = vec3(0.0f);
+    z.scratch = &scratch;
+    z.tri = -1;
+    z.wo_w = -d;
+    z.m = nullptr;
+    z.depth = depth;
+    z.beta = ps.throughput[i];
+    z.dvcm = dvcm;
+    z.dvc = dvc;
+    z.n_pick = vec3(0.0f);
+    z.medium_vertex = med;
+    z.slot_medium = med;
+    Rng rng = ps.rng[i];
+    bdpt_camera_medium_nee(s, ps, bs, st, z, i, rng);
+    bdpt_camera_connect(s, bs, st, cache, z, i, path);
+    float pdf_w = 0.0f;
+    const Vec3 wi = hg_sample(m.g, d, rng.uniform2(), &pdf_w);  // weight 1
+    Vec3 beta = z.beta;
+    if (pdf_w > 0.0f && russian_roulette(beta, depth, st.rr_depth, rng) &&
+        max_component(beta) > 0.0f && is_finite(beta)) {
+        dvcm = camera_conn_dvcm(st, dvcm, depth);
+        bdpt_medium_scatter_update(dvcm, dvc, pdf_w);
+        ps.throughput[i] = beta;
+        ps.depth[i] = depth + 1;
+        bs.dvcm[i] = dvcm;
+        bs.dvc[i] = dvc;
+        ps.ray_o[i] = p;
+        ps.ray_d[i] = wi;
+        ps.ray_tmin[i] = 0.0f;
+        ps.ray_tmax[i] = kInf;
+        ps.prev_pdf_w[i] = pdf_w;
+        ps.alive[i] = 1;
+        ps.prev_p[i] = p;
+        ps.prev_n[i] = vec3(0.0f);
+        bdpt_seg_store(bs, i, medium_segment_begin(true));
+    }
+    ps.rng[i] = rng;
+}
+
+// The camera path's traced piece: its flight, the lights it crosses, a medium vertex, a
+// volume boundary passed; false at a surface (bdpt_camera_shade goes on, its emission done).
+LANTERN_HD inline bool bdpt_camera_medium_segment(const SceneView& s, const PathState& ps,
+                                                  const BdptState& bs, const BdptSettings& st,
+                                                  const LightCache& cache, int i,
+                                                  int64_t path) {
+    const int tri = ps.hit_prim[i];
+    MediumSegmentPdf seg = bdpt_seg_load(bs, i);
+    const Vec3 o = ps.ray_o[i], d = ps.ray_d[i];
+    const float tmin = ps.ray_tmin[i];
+    const float t_end = tri >= 0 ? ps.hit_t[i] : ps.ray_tmax[i];
+    const int32_t med = ps.medium[i];
+    const Medium* m = med >= 0 ? &s.media[med] : nullptr;
+    const Vec3 beta = ps.throughput[i];
+    MediumStep step{t_end - tmin, false, vec3(1.0f)};
+    if (m) {
+        Rng rng = ps.rng[i];
+        float uc = 0.0f, ud = 0.0f;
+        if (m->scatters) {
+            uc = rng.uniform();
+            ud = rng.uniform();
+        }
+        ps.rng[i] = rng;
+        step = bdpt_medium_flight(*m, t_end - tmin, uc, ud);
+    }
+    bdpt_camera_emission_medium(s, ps, bs, st, i, tmin + step.t, tri < 0 && !step.scattered, m,
+                                seg, beta);
+    ps.throughput[i] = beta * step.weight;
+    medium_segment_piece(seg, m, step.t, step.scattered);
+    if (step.scattered) {
+        bdpt_camera_medium_vertex(s, ps, bs, st, cache, i, path, o + d * (tmin + step.t), d, med,
+                                  seg);
+        return true;
+    }
+    bdpt_seg_store(bs, i, seg);
+    if (tri < 0 || is_black(ps.throughput[i])) return true;
+    if (s.tri_flags[tri] & kVolumeBoundary) {
+        pt_cross_boundary(s, ps, i, tri);
+        return true;
+    }
+    return false;
+}
+
+}  // namespace lantern
