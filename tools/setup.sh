@@ -8,22 +8,33 @@ cd "$root"
 
 # ---- Debian packages ----
 need=()
-# libopenvdb-dev and Boost's headers (OpenVDB's need them): Volume objects (optional at build)
-for pkg in build-essential cmake git zlib1g-dev libembree-dev libgtest-dev libopenvdb-dev \
-    libboost-dev libboost-iostreams-dev python3-openvdb; do
+for pkg in build-essential cmake git zlib1g-dev libembree-dev libgtest-dev; do
   dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null | grep -q "install ok installed" || need+=("$pkg")
+done
+# optional: OpenVDB and Boost's headers (OpenVDB's need them) for Volume objects; without them
+# the core builds and Volume objects warn "built without OpenVDB"
+want_opt=()
+for pkg in libopenvdb-dev libboost-dev libboost-iostreams-dev python3-openvdb; do
+  dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null | grep -q "install ok installed" || want_opt+=("$pkg")
 done
 py=$(command -v python3.11 || true)
 if [ -z "$py" ]; then
   need+=(python3.11 python3.11-venv python3.11-dev)
 fi
+sudo_cmd=""
+[ "$(id -u)" -ne 0 ] && sudo_cmd="sudo"
+if [ ${#need[@]} -gt 0 ] || [ ${#want_opt[@]} -gt 0 ]; then
+  $sudo_cmd apt-get update -qq || echo "setup: apt-get update failed"
+fi
 if [ ${#need[@]} -gt 0 ]; then
   echo "setup: installing Debian packages: ${need[*]}"
-  sudo_cmd=""
-  [ "$(id -u)" -ne 0 ] && sudo_cmd="sudo"
-  $sudo_cmd apt-get update -qq
   DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq "${need[@]}" >/dev/null
   py=$(command -v python3.11)
+fi
+if [ ${#want_opt[@]} -gt 0 ]; then
+  echo "setup: installing optional Debian packages: ${want_opt[*]}"
+  DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq "${want_opt[@]}" >/dev/null ||
+    echo "setup: could not install ${want_opt[*]}: Lantern builds without OpenVDB (Volume objects warn)"
 fi
 
 # ---- Python venv with pinned requirements ----
