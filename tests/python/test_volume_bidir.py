@@ -112,7 +112,9 @@ CONTROLS = {"fog_spot": (0.03, 0.1), "world_fog": (0.03, 0.1), "absorbing_box": 
 SPP_SCENE = {"absorbing_box": 128, "scattering_box": 128}
 
 
-@pytest.mark.parametrize("name", list(SCENES))
+# world_fog is `long` (bench/long_tests.sh): fog_spot is world fog too, and CI's time is short
+@pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.long) if n == "world_fog"
+                                  else n for n in SCENES])
 def test_light_tracing_agrees_with_pt_in_media(core, name):
     scene = SCENES[name]()
     pt = renders(scene, "pt", SPP_SCENE.get(name, SPP_PT), 1000)
