@@ -69,14 +69,18 @@ bool HostScene::boundary_meets_a_face(const MeshRange& r, Vec3 lo, Vec3 hi, floa
         return a0.x <= b1.x + eps && b0.x <= a1.x + eps && a0.y <= b1.y + eps &&
                b0.y <= a1.y + eps && a0.z <= b1.z + eps && b0.z <= a1.z + eps;
     };
-    // the other triangles (not this mesh's, not boundaries) near the mesh's box
-    std::vector<size_t> near;
+    // the other triangles (not this mesh's, not boundaries) near the mesh's box, with their boxes
+    struct Near {
+        size_t t;
+        Vec3 lo, hi;
+    };
+    std::vector<Near> near;
     for (size_t t = 0; t < ntri; ++t) {
         if (tri_flags_[t] & kVolumeBoundary) continue;
         if (int(t) >= r.tri_begin && int(t) < r.tri_begin + r.tri_count) continue;
         Vec3 a, b;
         tri_box(t, a, b);
-        if (overlaps(a, b, lo, hi)) near.push_back(t);
+        if (overlaps(a, b, lo, hi)) near.push_back({t, a, b});
     }
     if (near.empty()) return false;
     if (double(near.size()) * double(r.tri_count) > kMaxPairs) return true;
@@ -90,13 +94,11 @@ bool HostScene::boundary_meets_a_face(const MeshRange& r, Vec3 lo, Vec3 hi, floa
         n = n * (1.0f / l);
         Vec3 a0, a1;
         tri_box(t, a0, a1);
-        for (size_t o : near) {
-            Vec3 b0, b1;
-            tri_box(o, b0, b1);
-            if (!overlaps(a0, a1, b0, b1)) continue;
+        for (const Near& o : near) {
+            if (!overlaps(a0, a1, o.lo, o.hi)) continue;
             bool on = true;
             for (int k = 0; k < 3 && on; ++k)
-                on = std::fabs(dot(positions_[indices_[3 * o + size_t(k)]] - p0, n)) <= eps;
+                on = std::fabs(dot(positions_[indices_[3 * o.t + size_t(k)]] - p0, n)) <= eps;
             if (on) return true;
         }
     }
