@@ -12,34 +12,19 @@ every pixel 1)."""
 import numpy as np
 import pytest
 
-import lantern
 from lantern import metrics, scenes
 
-from test_volume_bidir import SCENES, SIZE, furnace_slab, FURNACE_DEPTH
+from test_volume_bidir import SCENES, SIZE, furnace_slab, FURNACE_DEPTH, core  # noqa: F401
+from test_volume_bidir import renders as bidir_renders
 
 K = 12         # seeds a side
 DEPTH = 8
 SPP_PT, SPP = 256, 64  # pt is the noisier side in these scenes
 
 
-@pytest.fixture(scope="module")
-def core():
-    if not lantern.native_available():
-        pytest.skip(f"lantern._core is not built ({lantern.native_error()})")
-    from lantern import _core
-    return _core
-
-
 def renders(scene, integrator, spp, seed0, k_seeds=K, max_depth=DEPTH):
-    out = []
-    for k in range(k_seeds):
-        s = lantern.Session(scene, integrator=integrator, seed=seed0 + k, backend="cpu",
-                            max_depth=max_depth, spp_per_iteration=spp // 2, threads=1)
-        for _ in range(2):
-            s.step()
-        assert not any("rendering with pt" in w for w in s.warnings), s.warnings
-        out.append(np.asarray(s.image())[..., :3])
-    return out
+    """test_volume_bidir's renders, in two iterations."""
+    return bidir_renders(scene, integrator, spp, seed0, k_seeds, max_depth, steps=2)
 
 
 def lamp_shade():

@@ -31,12 +31,13 @@ def core():
     return _core
 
 
-def renders(scene, integrator, spp, seed0, k_seeds=K, max_depth=DEPTH):
+def renders(scene, integrator, spp, seed0, k_seeds=K, max_depth=DEPTH, steps=4):
+    """k_seeds renders of spp samples in `steps` iterations (test_volume_bdpt.py uses it too)."""
     out = []
     for k in range(k_seeds):
         s = lantern.Session(scene, integrator=integrator, seed=seed0 + k, backend="cpu",
-                            max_depth=max_depth, spp_per_iteration=spp // 4, threads=1)
-        for _ in range(4):
+                            max_depth=max_depth, spp_per_iteration=spp // steps, threads=1)
+        for _ in range(steps):
             s.step()
         assert not any("rendering with pt" in w for w in s.warnings), s.warnings
         out.append(np.asarray(s.image())[..., :3])
