@@ -74,6 +74,7 @@ class ViewportSync:
         self._volumes = None      # Volume objects (export/volume_objects.py): the converter,
         self._vol_cache = {}      # instance key -> (matrix bytes, (grid, mesh, material))
         self._vol_slots = {}      # instance key -> its material's slot in the table's list
+        self._channels = 0        # attribute channels the placed meshes were finished with
 
     def note(self, changes):
         """Changes from a view_update, applied at the next sync."""
@@ -128,6 +129,14 @@ class ViewportSync:
         if todo.flags & ~(ch.VIEW | ch.WORLD | ch.MATERIALS):
             self._walk_instances(depsgraph, scene, report)
         self.counts["materials"] += _converted(self._materials) - known
+        attrs = self._materials.attributes
+        if not todo.has(ch.FULL) and len(attrs.names) != self._channels:
+            # an edited material reads a mesh attribute (Generated, a colour attribute, ...)
+            # that the meshes placed earlier were not exported with: export everything
+            self.pending = ch.Changes(ch.FULL)
+            return self.sync(depsgraph, view, report)
+        scene.attribute_channels = attrs.finish(scene.meshes)  # as export_scene does
+        self._channels = len(attrs.names)
         scene.materials = self._materials.materials
         scene.textures = self._materials.textures
         self.scene = scene
