@@ -445,6 +445,8 @@ def _snapshot(scene, lantern):
     copy.materials, copy.textures = list(scene.materials), list(scene.textures)
     copy.meshes, copy.lights = list(scene.meshes), list(scene.lights)
     copy.grids = list(getattr(scene, "grids", []))   # Volume objects (export/volume_objects.py)
+    copy.curves = list(getattr(scene, "curves", []))  # hair (export/strands.py)
+    copy.attribute_channels = list(getattr(scene, "attribute_channels", []))  # node_attributes
     return copy
 
 
