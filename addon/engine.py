@@ -492,6 +492,14 @@ def _sync_viewport(engine, context, depsgraph, view, key):
         _report_warnings(engine, report.messages)
         moved = key != state.view_key
         state.view_key, state.error = key, None
+        if not todo.flags & ~VIEW and session is not None:
+            # an object tagged for shading only whose settings the scene does not read (its
+            # material's edit is MATERIALS): the same scene, the running session goes on
+            if not moved or _update_camera(session, state.sync.scene.film,
+                                           state.sync.scene.camera):
+                state.start_session(session, settings.preview_samples,
+                                    _coarse(view) if moved else None)
+                return
         patch = session if todo.flags & ~VIEW == MATERIALS else None
         if todo.flags & ~VIEW == TRANSFORM and _move_instances(state, session, view, moved,
                                                             settings.preview_samples):

@@ -27,7 +27,7 @@ from .material import MaterialTable
 from .mesh import MeshExporter, _needs_tangents
 from .strands import StrandExporter
 from .volume_objects import VolumeObjects
-from .walk import Walk, integrator, scene_warnings
+from .walk import Walk, integrator, object_settings, scene_warnings
 from .world import export_world
 
 
@@ -80,6 +80,7 @@ class ViewportSync:
         self._holdouts = None     # export/holdout.py: its material copies kept across syncs
         self._strands = None      # export/strands.py, and its sets by instance key:
         self._strand_cache = {}   # instance key -> (matrix bytes, [strand set dicts])
+        self._settings = {}       # object name -> walk.object_settings as the last walk read
         self._next = None         # the caches the running walk fills
 
     def note(self, changes):
@@ -89,7 +90,8 @@ class ViewportSync:
         self.pending |= changes
 
     def needs_sync(self):
-        return self.scene is None or bool(self.pending.flags & ~ch.VIEW)
+        return self.scene is None or bool(self.pending.flags & ~ch.VIEW) or \
+            bool(self.pending.objects)
 
     def sync(self, depsgraph, view, report):
         """Bring self.scene up to date with the pending changes; returns the Changes applied.
@@ -127,6 +129,8 @@ class ViewportSync:
                     return self.sync(depsgraph, view, report)
                 self.counts["materials"] += 1
         self._holdouts.refresh()  # holdout copies of the materials converted again
+        if todo.objects and not todo.has(ch.FULL):
+            self._objects_changed(depsgraph, todo)
         for name in todo.geometry:
             for key in [k for k in self._meshes._cache if k[0] == name]:
                 del self._meshes._cache[key]
@@ -162,6 +166,28 @@ class ViewportSync:
         self.scene = scene
         return todo
 
+    def _objects_changed(self, depsgraph, todo):
+        """OBJECTS where an object tagged for shading only (changes.py) now reads otherwise
+        than the last walk read it; its placed meshes are placed again where the per-object
+        values they carry changed. A material edit tags its objects the same way: unchanged
+        settings keep it a material edit (the running session takes it in place)."""
+        import bpy
+        from .node_attributes import INSTANCE
+        carried = any(n in INSTANCE for n in self._materials.attributes.names)
+        for name in todo.objects:
+            old = self._settings.get(name)
+            if old is None:
+                continue  # no mesh or strands of it in the scene (a light: LIGHTS; a camera)
+            obj = bpy.data.objects.get(name)
+            now = object_settings(obj.evaluated_get(depsgraph)) if obj is not None else None
+            placement = now is None or (carried and now[1] != old[1])
+            if now is not None and now[0] == old[0] and not placement:
+                continue
+            todo.flags |= ch.OBJECTS
+            if placement:
+                for key in [k for k in self._placed if k[0] == name]:
+                    del self._placed[key]
+
     def session_base(self):
         """The instances' placements in the current scene; set `base` to it when a new
         session of this scene starts: later moves are relative to it."""
@@ -194,12 +220,13 @@ class ViewportSync:
 
     def _walk_instances(self, depsgraph, scene, report):
         """export_scene's walk (export/walk.py) over the instances, this object its source."""
-        self._next = ({}, [], {})   # placed, order, strands of this walk
+        self._next = ({}, [], {}, {})   # placed, order, strands, settings of this walk
         scene.grids = []
         walk = Walk(depsgraph, scene, self._materials, self._holdouts, report)
         for inst in depsgraph.object_instances:
             walk.instance(inst, self)
-        (self._placed, self._order, self._strand_cache), self._next = self._next, None
+        (self._placed, self._order, self._strand_cache, self._settings), self._next = \
+            self._next, None
         self.counts["lights"] = len(scene.lights)
         return walk
 
@@ -208,7 +235,8 @@ class ViewportSync:
         """The instance's placed mesh: the one placed before where its matrix is the same
         (a dict the walk copies, never changes), else placed again (extracted again only
         where its object's geometry changed)."""
-        placed, order, _ = self._next
+        placed, order, _, settings = self._next
+        settings[inst.object.name_full] = object_settings(inst.object)
         key = _instance_key(inst)
         matrix = np.array(inst.matrix_world, dtype=np.float64).tobytes()
         old = self._placed.get(key)
@@ -236,12 +264,14 @@ class ViewportSync:
             old = (matrix, self._strands.sets_of(inst))
             self.counts["strands"] += len(old[1])
         self._next[2][key] = old
+        if old[1]:
+            self._next[3][inst.object.name_full] = object_settings(inst.object)
         return old[1]
 
     def volume(self, inst, scene):
         mesh = self._volume(inst, scene)
         if mesh is not None:
-            placed, order, _ = self._next
+            placed, order = self._next[:2]
             key = _instance_key(inst)
             placed[key] = (np.array(inst.matrix_world, np.float64).tobytes(), mesh)
             scene.meshes.append(mesh)

@@ -31,6 +31,19 @@ def mesh_flags(inst, view_layer):
             **mesh_ray_visibility(obj)}
 
 
+def object_settings(obj):
+    """What a walk reads from an object's own settings rather than its geometry, as (the
+    fields set on each walk's copies, the per-object values placed meshes carry: Object Info
+    colour and pass index, export/node_attributes.py). Blender tags an edit of any of them as a
+    shading update of the object alone, as it tags the objects of an edited material: the sync
+    compares them to tell the two apart (export/changes.py)."""
+    flags = tuple(bool(getattr(obj, p, True)) for p in (
+        "visible_camera", "visible_shadow", "visible_diffuse", "visible_glossy",
+        "visible_transmission", "visible_volume_scatter", "is_holdout", "is_shadow_catcher"))
+    return flags, (int(getattr(obj, "pass_index", 0)),
+                   tuple(float(c) for c in getattr(obj, "color", ())))
+
+
 class Walk:
     """The collectors of one walk over depsgraph.object_instances into `scene` (its meshes,
     lights and curves start empty); instance() per instance, then finish()."""

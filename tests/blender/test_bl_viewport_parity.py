@@ -225,3 +225,47 @@ def test_hidden_instancer_in_the_viewport(addon, stage):
     assert "Ball" in [m["name"] for m in state.sync.scene.meshes]
     _agrees(state, stage, ctx)
     state.free()
+
+
+# ---- an object's own settings ----
+def test_object_settings_in_the_viewport(addon, stage):
+    """Ray visibility (and holdout, shadow catcher, Object Info colour and pass index): Blender
+    tags an edit of these as a shading update of the object alone, as it tags the objects of
+    an edited material (measured with bpy 5.0.1); the sync compares what the last walk read
+    (walk.object_settings). Before, such an edit was not synced at all."""
+    card = bpy.data.objects["Card"]
+    nt = bpy.data.materials["CardMat"].node_tree
+    info = nt.nodes.new("ShaderNodeObjectInfo")  # a per-object value the placed mesh carries
+    nt.links.new(info.outputs["Color"], nt.nodes["Principled BSDF"].inputs["Base Color"])
+    card.color = (0.9, 0.2, 0.1, 1)
+    bpy.context.view_layer.update()
+    engine, ctx = _start(addon, stage)
+    state = engine._lantern
+    _refined(engine, addon, ctx)
+    before = _renders(_fresh(stage, ctx, stage.lantern), range(21, 26))
+    from lantern_blender.export import changes as ch
+    c = _changes(lambda: setattr(card, "color", (0.1, 0.3, 0.9, 1)))
+    assert c.flags == 0 and c.objects == {"Card"}
+    card.color = (0.9, 0.2, 0.1, 1)
+    bpy.context.view_layer.update()
+    _apply(addon, engine, ctx, lambda: setattr(card, "color", (0.1, 0.3, 0.9, 1)))
+    counts = state.sync.counts  # placed again (its colour), not extracted
+    assert counts["meshes_placed"] == 1 and counts["meshes_extracted"] == 0
+    want = _agrees(state, stage, ctx)
+    assert _told_apart(before, want)
+    _apply(addon, engine, ctx, lambda: setattr(card, "visible_camera", False))
+    counts = state.sync.counts  # walked: the flags of each walk's copies
+    assert counts["meshes_placed"] == 0 and counts["meshes_extracted"] == 0
+    assert _told_apart(want, _agrees(state, stage, ctx))
+    # a setting no export reads (tagged the same way): the running session goes on
+    session, syncs = state.session, state.sync.syncs
+    _apply(addon, engine, ctx, lambda: setattr(card, "show_in_front", True))
+    assert state.sync.syncs == syncs + 1 and state.session is session
+    # and a material edit stays one (a node-graph material's: a new session, Session.
+    # update_materials; before, the viewport failed on it)
+    _apply(addon, engine, ctx, lambda: setattr(
+        nt.nodes["Principled BSDF"].inputs["Roughness"], "default_value", 0.2))
+    counts = state.sync.counts
+    assert counts["materials"] == 1 and counts["meshes_placed"] == 0
+    _agrees(state, stage, ctx)
+    state.free()
