@@ -308,6 +308,7 @@ class EngineState:
         self.error = None
         self.failed = False        # the last export failed: wait for a change before retrying
         self.reported = set()      # session warnings already shown (a CUDA fallback: once)
+        self.export_reported = set()  # export warnings shown since the last full export
         self.camera_updates = 0    # view moves served without a new session
         self.material_updates = 0  # material edits served without a new session
         self.instance_moves = 0    # transform edits served by moving instances (no new session)
@@ -484,12 +485,17 @@ def _sync_viewport(engine, context, depsgraph, view, key):
     settings = context.scene.lantern
     lantern = import_lantern()
     if state.sync.needs_sync() or state.session is None:
-        from .export.changes import MATERIALS, TRANSFORM, VIEW
+        from .export.changes import FULL, MATERIALS, TRANSFORM, VIEW
         session = state.session
         state.pause()  # the old image shows meanwhile
         report = ExportReport()
         todo = state.sync.sync(depsgraph, view, report)
-        _report_warnings(engine, report.messages)
+        # each walk warns again (a move walks every instance): shown once until a full export
+        if todo.flags & FULL:
+            state.export_reported.clear()
+        fresh = [m for m in report.messages if m not in state.export_reported]
+        state.export_reported.update(fresh)
+        _report_warnings(engine, fresh)
         moved = key != state.view_key
         state.view_key, state.error = key, None
         if not todo.flags & ~VIEW and session is not None:

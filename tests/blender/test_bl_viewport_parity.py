@@ -269,3 +269,27 @@ def test_object_settings_in_the_viewport(addon, stage):
     assert counts["materials"] == 1 and counts["meshes_placed"] == 0
     _agrees(state, stage, ctx)
     state.free()
+
+
+# ---- warnings ----
+def test_unsupported_warnings_in_the_viewport(addon, stage):
+    """The viewport warns as F12 does (export/unsupported.py), once: a move walks every
+    instance again, which does not repeat them."""
+    cloud = bpy.data.objects.new("Cloud", bpy.data.pointclouds.new("Cloud"))
+    stage.collection.objects.link(cloud)
+    bpy.context.view_layer.update()
+    engine, ctx = _start(addon, stage)
+    state = engine._lantern
+    _refined(engine, addon, ctx)
+    from lantern_blender.export import export_scene
+    from lantern_blender.export.camera import ViewportView
+    _, report = export_scene(bpy.context.evaluated_depsgraph_get(), region_view=ViewportView(ctx))
+    cloud_warning = "Object 'Cloud': point clouds are not rendered"
+    assert cloud_warning in report.messages
+    shown = [m for _, m in engine.reports]
+    assert shown == [f"Lantern: {m}" for m in report.messages]
+    card = bpy.data.objects["Card"]
+    _apply(addon, engine, ctx, lambda: setattr(card, "location", (0.4, 0, 0.5)))
+    assert state.sync.counts["meshes_placed"] == 1
+    assert [m for _, m in engine.reports] == shown  # not again
+    state.free()
