@@ -199,8 +199,8 @@ class ViewportSync:
         moving instances alone (each instance whose placement differs from what the session
         has now, a move back included), or None when more than transforms differ. The
         session's placements count as updated: call it only to apply the moves."""
-        if self.base is None or self.base[0] != self._order:
-            return None
+        if self.base is None or self.base[0] != self._order or self.counts.get("strands"):
+            return None  # (strands read again: the session moves meshes only)
         out = []
         for k, key in enumerate(self._order):
             given, applied, now = self.base[1][key], self.base[2][key], self._placed[key][0]

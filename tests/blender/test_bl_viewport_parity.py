@@ -94,13 +94,28 @@ def _hair_ball(scene):
     return obj, mod
 
 
+def _curves(scene):
+    """A Curves object (Blender's hair data): two strands of four points."""
+    data = bpy.data.hair_curves.new("Hair")
+    data.add_curves([4, 4])
+    pos = [(0.6, 0.5, 0.0), (0.6, 0.5, 0.3), (0.7, 0.5, 0.6), (0.8, 0.5, 0.9),
+           (0.9, 0.4, 0.0), (0.9, 0.4, 0.3), (1.0, 0.4, 0.6), (1.1, 0.4, 0.9)]
+    data.attributes["position"].data.foreach_set("vector", np.ravel(pos).astype(np.float32))
+    attr = data.attributes.get("radius") or data.attributes.new("radius", "FLOAT", "POINT")
+    attr.data.foreach_set("value", np.full(8, 0.06, np.float32))
+    obj = bpy.data.objects.new("Hair", data)
+    scene.collection.objects.link(obj)
+    return obj
+
+
 def test_hair_in_the_viewport(addon, stage):
     ball, mod = _hair_ball(stage)
+    hair = _curves(stage)
     bpy.context.view_layer.update()
     engine, ctx = _start(addon, stage)
     state = engine._lantern
     image = _refined(engine, addon, ctx)
-    assert len(state.sync.scene.curves) == 1 and state.sync.counts["strands"] == 1
+    assert len(state.sync.scene.curves) == 2 and state.sync.counts["strands"] == 2
     want = _agrees(state, stage, ctx, image)
     assert _told_apart(_without(stage, ctx, lambda: setattr(mod, "show_viewport", False)), want)
     mod.show_viewport = True
@@ -119,6 +134,15 @@ def test_hair_in_the_viewport(addon, stage):
     counts = state.sync.counts
     assert counts["strands"] == 0 and counts["meshes_extracted"] == 0
     _same_contents(state.sync.scene, _fresh(stage, ctx, stage.lantern))
+    # a Curves object moved (a transform edit): its strands read again, and the running
+    # session, which moves meshes only, is replaced (the image: bit for bit a fresh render's)
+    assert _changes(lambda: setattr(hair, "location", (-0.5, 0, 0))).flags == ch.TRANSFORM
+    hair.location = (0, 0, 0)
+    bpy.context.view_layer.update()
+    session = state.session
+    image = _apply(addon, engine, ctx, lambda: setattr(hair, "location", (-0.5, 0, 0)))
+    assert state.sync.counts["strands"] == 1 and state.session is not session
+    _agrees(state, stage, ctx, image)
     state.free()
 
 
