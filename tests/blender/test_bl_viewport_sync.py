@@ -354,9 +354,12 @@ def test_textures_read_their_coordinates_in_the_viewport(addon, stage):
     bpy.context.view_layer.update()
     engine, ctx = _start(addon, stage)
     state = engine._lantern
-    _refined(engine, addon, ctx)
+    image = _refined(engine, addon, ctx)
     fresh = _fresh(stage, ctx, stage.lantern)
     assert state.sync.scene.attribute_channels == fresh.attribute_channels == ["generated"]
+    # the viewport's session (built from a copy of the synced scene) renders them too
+    np.testing.assert_array_equal(image, lantern.render(fresh, spp=SPP,
+                                                        **stage.lantern.session_settings()))
     _paired("Generated checker: synced scene vs fresh export",
             _renders(state.sync.scene, SEEDS), _renders(fresh, SEEDS))
     before = fresh
