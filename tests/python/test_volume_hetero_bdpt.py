@@ -142,9 +142,11 @@ def reference_renders(name):
     return _REF[name]
 
 
-# CI: cis on every scene, bdpt on the noise smoke, lvc on the grid; the rest `long`
-IN_CI = {("noise_smoke", "bdpt"), ("grid_smoke", "lvc")}
-CASES = [pytest.param(n, i, marks=() if i == "cis" or (n, i) in IN_CI else pytest.mark.long)
+# CI: cis on the grid and the emissive box, bdpt on the noise smoke (a node program's density
+# costs 5-8x pt's time in the bidirectional integrators here); the rest `long`
+# (bench/long_tests.sh)
+IN_CI = {("grid_smoke", "cis"), ("emissive_box", "cis"), ("noise_smoke", "bdpt")}
+CASES = [pytest.param(n, i, marks=() if (n, i) in IN_CI else pytest.mark.long)
          for n in SCENES for i in ("bdpt", "lvc", "cis")]
 
 
@@ -156,7 +158,7 @@ def test_bidirectional_agrees_with_pt_in_hetero_and_emissive_media(core, name, i
                              block=8, image_bias=image_bias, block_bias=block_bias)
 
 
-@pytest.mark.parametrize("name", [pytest.param(n, marks=() if n in ("noise_smoke",) else
+@pytest.mark.parametrize("name", [pytest.param(n, marks=() if n == "grid_smoke" else
                                                pytest.mark.long) for n in SCENES])
 def test_three_percent_off_is_caught(core, name):
     """The density (smokes) or emission (glowing media) 3 % off in cis's render must be told
