@@ -16,9 +16,9 @@ each scene with a negative control of its own kind that must be caught, in the C
 - emissive_box: a homogeneous scattering box that glows;
 - glowing_smoke: noise_smoke with a constant emission (Cycles does not scale Emission by
   density).
-The controls: the density 3 % off in the bidirectional render (noise_smoke: the program's
-factor 8 -> 8.24; grid_smoke: the voxels x 1.03) and the emission 3 % off (emissive_box,
-glowing_smoke). lt renders the two smokes (against pt); emissive media it hands to pt
+The controls, in cis's render: the density 15 % off (noise_smoke: the program's factor
+8 -> 9.2; grid_smoke: the voxels x 1.15; 3 % moved these images by less than the seeds
+resolve), the emission 3 % off (emissive_box) and 10 % off (glowing_smoke). lt renders the two smokes (against pt); emissive media it hands to pt
 (test_volumes.py)."""
 import numpy as np
 import pytest
@@ -120,11 +120,15 @@ def glowing_smoke(emission_scale=1.0):
 
 SCENES = {"noise_smoke": noise_smoke, "grid_smoke": grid_smoke, "emissive_box": emissive_box,
           "glowing_smoke": glowing_smoke}
-# each scene's negative control: the bidirectional render's density or emission 3 % off
-CONTROL_SCENES = {"noise_smoke": lambda: noise_smoke(8.0 * 1.03),
-                  "grid_smoke": lambda: grid_smoke(1.03),
+# each scene's negative control: the bidirectional render's density or emission off by what
+# these seeds resolve. Measured with 3 % everywhere: only the emissive box was caught (block
+# |z| 6.9); the smokes' 3 % density moved the image mean by < 0.1 % (light scattered out of one
+# pixel lands in another; worst block |z| 4.7, threshold 9.2) and the glowing smoke's 3 %
+# emission by 0.6 % (|z| 5.8); so 15 % density and 10 % emission there
+CONTROL_SCENES = {"noise_smoke": lambda: noise_smoke(8.0 * 1.15),
+                  "grid_smoke": lambda: grid_smoke(1.15),
                   "emissive_box": lambda: emissive_box(1.03),
-                  "glowing_smoke": lambda: glowing_smoke(1.03)}
+                  "glowing_smoke": lambda: glowing_smoke(1.10)}
 # the levels (whole image, one block) the agreement test must resolve, from its printed
 # "detects ... >=" on these seeds
 CONTROLS = {"noise_smoke": (0.02, 0.1), "grid_smoke": (0.02, 0.1),
@@ -161,11 +165,11 @@ def test_bidirectional_agrees_with_pt_in_hetero_and_emissive_media(core, name, i
 @pytest.mark.parametrize("name", [pytest.param(n, marks=() if n == "grid_smoke" else
                                                pytest.mark.long) for n in SCENES])
 def test_three_percent_off_is_caught(core, name):
-    """The density (smokes) or emission (glowing media) 3 % off in cis's render must be told
-    apart from pt's: the comparison above can fail."""
+    """The density (smokes) or emission (glowing media) off in cis's render (CONTROL_SCENES)
+    must be told apart from pt's: the comparison above can fail."""
     res = metrics.compare_renders(renders(CONTROL_SCENES[name](), "cis", SPP, 7000),
                                   reference_renders(name), block=8,
-                                  name=f"{name}: cis with 3 % off")
+                                  name=f"{name}: cis, density or emission off")
     print(res)
     assert not res.passed
 
