@@ -15,7 +15,8 @@
 //   a scatter at its far end x: mean_c sigma_t,c(x) exp(-tau_c) (the homogeneous formula with
 //   the collision density at x). The midpoint nodes of the reversed piece are the same points,
 //   so the reverse factor of a vertex is the forward factor of the reversed segment (to float
-//   rounding: tests/cpp/test_bdpt_medium_hetero.cpp).
+//   rounding: tests/cpp/test_bdpt_medium_hetero.cpp); density programs are evaluated with one
+//   fixed direction (hetero_standin_dir), so one that reads the incoming direction keeps it so.
 // - Homogeneous media keep their exact pdfs (medium_segment_piece): medium_segment_piece_at
 //   dispatches on Medium::hetero, so scenes without heterogeneous media keep their bits.
 #pragma once
@@ -24,20 +25,24 @@ namespace lantern {
 
 constexpr int kHeteroQuadrature = 8;  // midpoint nodes of the stand-in's optical depth
 
+// The direction the stand-in evaluates density programs with (a program may read the incoming
+// direction): one fixed direction, so that a piece and its reverse read the same values.
+LANTERN_HD inline Vec3 hetero_standin_dir() { return Vec3{0.0f, 0.0f, 1.0f}; }
+
 // The stand-in's optical depth per channel over [0, t] from o along d (t finite).
 LANTERN_HD inline Vec3 hetero_optical_depth(const SceneView& s, const Medium& m, int32_t med,
                                             Vec3 o, Vec3 d, float t) {
     float den = 0.0f;
     const float h = t * (1.0f / float(kHeteroQuadrature));
     for (int k = 0; k < kHeteroQuadrature; ++k)
-        den += medium_density(s, m, med, o + d * (h * (float(k) + 0.5f)), d);
+        den += medium_density(s, m, med, o + d * (h * (float(k) + 0.5f)), hetero_standin_dir());
     return (m.sigma_a0 + m.sigma_s0) * t + (m.sigma_a + m.sigma_s) * (den * h);
 }
 
 // The stand-in's collision density per unit length at x, given the optical depth to it.
 LANTERN_HD inline float hetero_scatter_q(const SceneView& s, const Medium& m, int32_t med,
-                                         Vec3 x, Vec3 d, Vec3 tr) {
-    const MediumCoeffs c = medium_coeffs_at(s, m, med, x, d);
+                                         Vec3 x, Vec3 tr) {
+    const MediumCoeffs c = medium_coeffs_at(s, m, med, x, hetero_standin_dir());
     const Vec3 st = c.sigma_a + c.sigma_s;
     return (st.x * tr.x + st.y * tr.y + st.z * tr.z) * (1.0f / 3.0f);
 }
@@ -64,8 +69,8 @@ LANTERN_HD inline void medium_segment_piece_hetero(MediumSegmentPdf& seg, const 
     const Vec3 tau = hetero_optical_depth(s, m, med, o, d, t);
     const Vec3 tr{expf(-tau.x), expf(-tau.y), expf(-tau.z)};
     const float pass = (tr.x + tr.y + tr.z) * (1.0f / 3.0f);
-    seg.fwd *= scatter ? hetero_scatter_q(s, m, med, o + d * t, d, tr) : pass;
-    seg.rev *= start_medium ? hetero_scatter_q(s, m, med, o, d, tr) : pass;
+    seg.fwd *= scatter ? hetero_scatter_q(s, m, med, o + d * t, tr) : pass;
+    seg.rev *= start_medium ? hetero_scatter_q(s, m, med, o, tr) : pass;
 }
 
 // A piece of the slot's segment in medium med (-1: vacuum) from o along d, of length t:
