@@ -18,8 +18,10 @@ void check_light_tracing(const SceneInput& in) {
             throw std::invalid_argument(
                 "integrator 'lt' cannot trace light from scene.lights[" + std::to_string(k) +
                 "] (" + l.type + ", radius " + std::to_string(l.radius) +
-                " m, soft_falloff on): its disk faces each shaded point, so it has no emission "
-                "distribution; set soft_falloff off (a sphere light) or radius 0");
+                " m, soft_falloff on): its disk faces each shaded point, and light paths from "
+                "its centre never reach the points that see the disk but not the centre "
+                "(penumbrae; bdpt, lvc and cis render those from the camera side, "
+                "docs/lvc_notes.md); set soft_falloff off (a sphere light) or radius 0");
         }
     }
 }
