@@ -135,3 +135,40 @@ TEST(SoftLightPath, FirstHitMatchesDiskIrradiance) {
         EXPECT_FALSE(soft_light_first_hit(v, shut, l, x, ng, {0.5f, 0.5f}).valid);
     }
 }
+
+// lt's lines through the ball (sample_soft_line, soft_line_hit_valid): the flux that lands on
+// a small patch of a plane at distance d below the light, facing it, over the patch's area is
+// the disk's on-axis irradiance pi L r^2 / (d^2 + r^2); every line carries L pi r^2 / p(w).
+TEST(SoftLightPath, LinesThroughTheBallGiveTheDiskIrradiance) {
+    HostScene hs(scene_with(soft_point(0.1f)));
+    const Light& l = hs.view().lights[0];
+    const Vec3 c = l.position;
+    for (float d : {0.3f, 1.0f}) {
+        const float rho = 0.05f * d, area = kPi * rho * rho;
+        Rng rng = Rng::for_path(13, 0, 0);
+        const int n = 2000000;
+        double acc = 0.0, acc2 = 0.0;
+        int valid = 0, landed = 0;
+        for (int k = 0; k < n; ++k) {
+            const Vec2 u_pos = rng.uniform2(), u_dir = rng.uniform2();
+            const EmissionSample es = sample_soft_line(l, u_pos, u_dir);
+            ASSERT_TRUE(es.valid);
+            if (!(es.d.z < 0.0f)) continue;
+            const float t = (c.z - d - es.p.z) / es.d.z;
+            const Vec3 x = es.p + es.d * t;
+            if (!(t > 0.0f) || length_sq(vec3(x.x - c.x, x.y - c.y, 0.0f)) > rho * rho) continue;
+            ++landed;
+            if (!soft_line_hit_valid(l, es.p, es.d, t)) continue;
+            ++valid;
+            const double f = double(emission_weight(es).x) / area;
+            acc += f;
+            acc2 += f * f;
+        }
+        const double mean = acc / n, se = std::sqrt((acc2 / n - mean * mean) / n);
+        const double r2 = double(l.radius) * l.radius;
+        const double expect = kPi * double(l.radiance.x) * r2 / (double(d) * d + r2);
+        EXPECT_GT(valid, 1000);
+        EXPECT_LT(valid, landed);  // some lines' y0 fall outside the disk facing the patch
+        EXPECT_NEAR(mean, expect, 5.0 * se + 0.005 * expect) << "d = " << d;
+    }
+}

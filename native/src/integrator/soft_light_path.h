@@ -138,4 +138,41 @@ LANTERN_HD inline SoftFirstHit soft_light_first_hit(const SceneView& s, const SR
     return r;
 }
 
+
+// ---- lt: lines through the light's ball (docs/lvc_notes.md, "the line route") ----
+// Light tracing has no other technique to cover the x1 that c does not see, so its paths
+// sample a line instead: w as above, then the footprint q uniform on the disk of radius r
+// perpendicular to w through c, traced from where it enters the ball B(c, r). Its first hit
+// x1 takes y0 = the line's crossing of D(x1)'s plane, valid when it lies in the disk and before
+// x1: the pair (y0, x1) has density pick p(w) / (pi r^2) cos_y0 |cos_x1| / |y0 - x1|^2 (the line
+// measure), so each path carries the constant flux L atten(w) pi r^2 / (pick p(w)), and the
+// segment y0 -> x1 is free by construction. Exact where no geometry lies inside B(c, r)
+// (a hit there could hide a later valid x1 of the same line): check_light_tracing refuses that.
+LANTERN_HD inline EmissionSample sample_soft_line(const Light& l, Vec2 u_pos, Vec2 u_dir) {
+    EmissionSample es = sample_soft_emission(l, u_dir);  // w, pdf_emit = p(w) / (pi r^2)
+    if (!es.valid) return es;
+    const Frame f = Frame::from_normal(es.d);
+    const Vec2 q = sample_concentric_disk(u_pos);
+    const Vec3 off = (f.s * q.x + f.t * q.y) * l.radius;
+    const float h = safe_sqrt(l.radius * l.radius - length_sq(off));
+    es.p = l.position + off - es.d * h;  // where the line enters the ball
+    if (l.type == kLightSpot) es.le = es.le * spot_attenuation(l, es.d);  // along w: y0 -> x1
+    es.valid = !is_black(es.le);
+    return es;
+}
+
+// Whether the first hit x1 = o + t w of a line from sample_soft_line (o: its entry point) has
+// its y0 on D(x1) before x1.
+LANTERN_HD inline bool soft_line_hit_valid(const Light& l, Vec3 o, Vec3 w, float t) {
+    Vec3 n0 = o + w * t - l.position;
+    const float dc = length(n0);
+    if (!(dc > 0.0f)) return false;
+    n0 = n0 / dc;
+    const float cos_y0 = dot(w, n0);
+    if (!(cos_y0 > 0.0f)) return false;
+    const float s0 = dot(l.position - o, n0) / cos_y0;  // y0 = o + s0 w
+    if (!(s0 >= 0.0f && s0 < t)) return false;
+    return length_sq(o + w * s0 - l.position) <= l.radius * l.radius;
+}
+
 }  // namespace lantern
