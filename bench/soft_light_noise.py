@@ -42,8 +42,9 @@ def main(argv=None):
     ap.add_argument("--json", default=None)
     args = ap.parse_args(argv)
     import lantern
-    print(f"# lantern from {os.path.dirname(lantern.__file__)}; {platform.processor() or platform.machine()}, "
-          f"{os.cpu_count()} cores, load {os.getloadavg()[0]:.1f}")
+    cpu = platform.processor() or platform.machine()
+    print(f"# lantern from {os.path.dirname(lantern.__file__)}; {cpu}, {os.cpu_count()} cores, "
+          f"load {os.getloadavg()[0]:.1f}")
     rows = []
     for scene_name in args.scenes.split(","):
         scene = make_scene(scene_name, args.res)
