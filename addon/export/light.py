@@ -56,7 +56,8 @@ def _export_light(obj, matrix_world, report):
                "radius": radius,
                "power": power.tolist(), "to_world": _rigid(m), "visible_camera": visible,
                # off: a sphere light, which light paths (bdpt, lvc, cis, lt) can start on; on
-               # (Blender's default): a disk facing each receiver, camera-side only
+               # (Blender's default): a disk facing each receiver, whose light paths (bdpt,
+               # lvc, cis) leave its centre; camera-side only in scenes with media, lt refuses
                "soft_falloff": bool(getattr(light, "use_soft_falloff", True))}
         if light.type == "SPOT":
             out["spot_size"] = float(light.spot_size)

@@ -43,6 +43,8 @@ DEFAULT_SETTINGS = {
     "cis_target": "contribution",  # or "bsdf": the paper's BSDF-product target
     "naive_ris": False,       # tests only: the biased uniform weight for resampled picks
     "naive_map": False,       # tests only: a connection map's counts under uniform-N weights
+    "soft_visibility": True,  # tests only: False leaves V(c, x) out of soft-falloff lights'
+                              # light-path densities (biased; integrator/soft_light_path.h)
     "connection_allocation": None,  # per-pixel N, M from the render (pixel_alloc.h): True for
                                     # lvc, cis and auto; None: auto's cis iterations only
     "cache_budget_mb": 0,     # light vertex cache memory per pass (0: min(4 GiB, RAM / 4));
@@ -234,6 +236,9 @@ def resolve_settings(settings):
     if not isinstance(out["naive_ris"], (bool, np.bool_)):
         raise TypeError(f"setting 'naive_ris' must be a bool, got {out['naive_ris']!r}")
     out["naive_ris"] = bool(out["naive_ris"])
+    if not isinstance(out["soft_visibility"], (bool, np.bool_)):
+        raise TypeError(f"setting 'soft_visibility' must be a bool, got {out['soft_visibility']!r}")
+    out["soft_visibility"] = bool(out["soft_visibility"])
     if out["connection_allocation"] is not None and not isinstance(
             out["connection_allocation"], (bool, np.bool_)):
         raise TypeError("setting 'connection_allocation' must be True, False or None, got "
@@ -291,21 +296,32 @@ def _value(attr):
     return attr() if callable(attr) else attr
 
 
+def _has_media(scene):
+    """Whether the scene has participating media (a world volume, a material's volume or a
+    volume-only material): what the core's HostScene::build_media tests."""
+    world = getattr(scene, "world", None) or {}
+    if isinstance(world, dict) and world.get("volume") is not None:
+        return True
+    return any(isinstance(m, dict) and (m.get("volume") is not None or m.get("volume_only"))
+               for m in getattr(scene, "materials", []))
+
+
 def camera_side_light_warnings(scene, integrator):
     """Point and spot lights with a radius and soft falloff on (Blender's default) are a disk
-    facing each receiver: no light path can start on them (docs/lvc_notes.md), so bdpt, lvc and
+    facing each receiver. Light paths start at their centre and take the point on the disk that
+    faces their first hit (docs/lvc_notes.md), except in scenes with media: there bdpt, lvc and
     cis light them from the camera side only, as pt does. Say so where it costs the integrator
     what it was chosen for."""
-    if integrator not in ("bdpt", "lvc", "cis"):
+    if integrator not in ("bdpt", "lvc", "cis") or not _has_media(scene):
         return []
     out = []
     for k, light in enumerate(getattr(scene, "lights", [])):
         if (light.get("type") in ("point", "spot") and float(light.get("radius", 0.0)) > 0.0
                 and light.get("soft_falloff", True)):
             name = light.get("name") or f"lights[{k}]"
-            out.append(f"light '{name}': soft falloff is on, so {integrator}'s light paths "
-                       "cannot start on it (it is lit from the camera side only, as in pt); "
-                       "switch its Soft Falloff off for a sphere light")
+            out.append(f"light '{name}': soft falloff is on in a scene with media, so "
+                       f"{integrator}'s light paths cannot start on it (it is lit from the camera "
+                       "side only, as in pt); switch its Soft Falloff off for a sphere light")
     return out
 
 

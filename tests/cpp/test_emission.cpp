@@ -1,7 +1,7 @@
 // Emission sampling for light tracing (integrator/light_path.h): for every light type the
 // returned pdfs equal emission_pdf() of the same ray, the direction pdf integrates to one, and
 // the mean flux le * cos / pdf_emit equals the light's power. Also: connect_camera (lt.h) is
-// the inverse of camera.h's camera_ray, and integrator "lt" refuses soft-falloff lights.
+// the inverse of camera.h's camera_ray, and where integrator "lt" refuses soft-falloff lights.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -182,7 +182,10 @@ TEST(Emission, DirectionPdfIntegratesToOne) {
     }
 }
 
-TEST(Emission, SoftFalloffIsRefused) {
+// Soft-falloff lights have no emission sample of their own (soft_light_path.h builds their
+// paths); lt traces them unless a triangle lies within their radius (its lines would miss light
+// there) or the scene has media. The triangle lies 0.186 m from the origin.
+TEST(Emission, SoftFalloffIsRefusedWhereLtCannotTraceIt) {
     LightInput p;
     p.type = "point";
     p.power = {1, 1, 1};
@@ -192,11 +195,14 @@ TEST(Emission, SoftFalloffIsRefused) {
     EmissionSample es =
         sample_emission(hs.view(), the_light(hs.view()), {0.5f, 0.5f}, {0.5f, 0.5f});
     EXPECT_FALSE(es.valid);
+    EXPECT_NO_THROW(check_light_tracing(scene_with(&p)));
+    p.radius = 0.2f;  // the triangle inside the light's ball
     try {
         check_light_tracing(scene_with(&p));
         FAIL() << "expected std::invalid_argument";
     } catch (const std::invalid_argument& e) {
         EXPECT_NE(std::string(e.what()).find("scene.lights[0]"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("mesh 'tri'"), std::string::npos) << e.what();
     }
     p.radius = 0.0f;  // a true point: fine
     EXPECT_NO_THROW(check_light_tracing(scene_with(&p)));

@@ -283,9 +283,10 @@ def soft_falloff_scene():
     return scene
 
 
-def test_soft_falloff_lights_stay_camera_side(core, backend):
-    """Blender's default soft-falloff point light has no emission distribution: bidirectional
-    integrators render it by the camera-side techniques only, and still agree with pt."""
+def test_soft_falloff_lights_agree(core, backend):
+    """Blender's default soft-falloff point light: light paths leave its centre and take y0 on
+    the disk facing their first hit (integrator/soft_light_path.h); cis agrees with pt (more
+    scenes, and the negative control of V(c, x): test_soft_light_paths.py)."""
     scene = soft_falloff_scene()
     pt = renders(scene, "pt", SPP_REF["pt"], 1000, backend=backend)
     check_agreement("soft falloff cis", renders(scene, "cis", 64, 4000, backend=backend), pt,

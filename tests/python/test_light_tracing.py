@@ -107,12 +107,16 @@ def test_lt_same_bits_any_thread_count(core):
     assert not np.array_equal(a, c)
 
 
-def test_lt_refuses_soft_falloff_lights(core, backend):
+def test_lt_refuses_soft_falloff_lights_around_geometry(core, backend):
+    """lt traces a soft-falloff light by lines through its ball (soft_light_path.h; against pt:
+    test_soft_light_paths.py), but refuses one whose ball holds geometry (here the ceiling)."""
     scene = scenes.cornell_box(8, 8)
-    scene.add_light("point", position=[0.0, 0.0, 1.0], power=[10.0] * 3, radius=0.1,
+    scene.add_light("point", position=[0.0, 0.0, 1.95], power=[10.0] * 3, radius=0.1,
                     soft_falloff=True)
-    with pytest.raises(ValueError, match=r"lights\[1\].*soft_falloff"):
+    with pytest.raises(ValueError, match=r"lights\[1\].*soft_falloff.*mesh 'ceiling'"):
         lantern.Session(scene, integrator="lt", backend="cpu")
     # the same light as a sphere (soft_falloff off) or a point (radius 0) renders
     scene.lights[1]["soft_falloff"] = False
+    assert lantern.render(scene, spp=1, integrator="lt", backend="cpu").mean() > 0
+    scene.lights[1].update(soft_falloff=True, position=[0.4, 0.3, 1.5])  # clear of geometry
     assert lantern.render(scene, spp=1, integrator="lt", backend="cpu").mean() > 0

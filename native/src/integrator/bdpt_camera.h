@@ -6,6 +6,7 @@
 #include "integrator/bdpt_common.h"
 #include "integrator/bdpt_medium.h"
 #include "integrator/pixel_conn.h"
+#include "integrator/soft_light_path.h"
 
 namespace lantern {
 
@@ -53,10 +54,11 @@ LANTERN_HD inline void bdpt_camera_generate(const SceneView& s, const PathState&
 
 // Weight of emission le found by the camera path at distance t_light along its ray, on light l
 // with geometric normal n there. dvcm, dvc are the slot's values before this segment.
+// soft_emit >= 0: a soft-falloff light's stand-in for pdf_emit (bdpt_soft_hit_emit).
 LANTERN_HD inline float bdpt_emission_weight(const SceneView& s, const PathState& ps,
                                              const BdptState& bs, const BdptSettings& st, int i,
                                              const Light& l, float t_light, Vec3 n,
-                                             float* nee_ratio = nullptr) {
+                                             float* nee_ratio = nullptr, float soft_emit = -1.0f) {
     if (ps.depth[i] <= 1) return 1.0f;  // seen directly: no other technique renders it
     const Vec3 o = ps.ray_o[i], d = ps.ray_d[i];
     const bool infinite = l.type == kLightSun || l.type == kLightWorld;
@@ -73,7 +75,8 @@ LANTERN_HD inline float bdpt_emission_weight(const SceneView& s, const PathState
         dvc /= mis(cos_l);
         pdf_direct *= cos_l / (t_light * t_light);  // area
     }
-    float pdf_emit = l.emit_pick_pdf * emission_pdf(s, l, n, -d).pdf_emit;
+    float pdf_emit = soft_emit >= 0.0f ? soft_emit
+                                       : l.emit_pick_pdf * emission_pdf(s, l, n, -d).pdf_emit;
     // (the second vertex: dvc is light tracing's term alone, BdptSettings::lt_direct)
     if (ps.depth[i] == 2) dvc *= bdpt_direct_lt(st);
     float w_camera = mis(pdf_direct) * dvcm + mis(st.r * pdf_emit) * dvc;
@@ -81,10 +84,29 @@ LANTERN_HD inline float bdpt_emission_weight(const SceneView& s, const PathState
     return 1.0f / (1.0f + w_camera);
 }
 
+// A camera path from vertex x (the slot's prev_p, geometric normal bs.prev_ng) hits the disk
+// of soft-falloff light l at y0 = o + t d. The light path makes x with area density
+// emit_pick p(w) / (pi r^2) |cos_x,c| / |x - c|^2 V(c, x) where the usual light's would be
+// pdf_emit |cos_x,d| / t^2: the stand-in for pdf_emit that makes bdpt_emission_weight's
+// (which divides by |cos_x,d| / t^2 through dVC) that density (soft_light_path.h).
+template <class SR>
+LANTERN_HD inline float bdpt_soft_hit_emit(const SceneView& s, const PathState& ps,
+                                           const BdptState& bs, const SR& sr, int i,
+                                           const Light& l, float t) {
+    const Vec3 x = ps.prev_p[i], ng = bs.prev_ng[i], d = ps.ray_d[i];
+    const float pdf_a = soft_light_path_pdf_a(s, sr, l, x, ng);
+    if (!(pdf_a > 0.0f)) return 0.0f;
+    const Vec3 y0 = ps.ray_o[i] + d * t;
+    const float cos_d = fabsf(dot(d, ng));
+    const float r = pdf_a * length_sq(y0 - x) / cos_d;
+    return cos_d > 0.0f && is_finite(r) ? r : 0.0f;
+}
+
 // Lights crossed by the segment, and the background on a miss (s = 0).
+template <class SR>
 LANTERN_HD inline void bdpt_camera_emission(const SceneView& s, const PathState& ps,
                                             const BdptState& bs, const BdptSettings& st, int i,
-                                            float t_end, bool miss) {
+                                            float t_end, bool miss, const SR& sr) {
     const Vec3 o = ps.ray_o[i], d = ps.ray_d[i];
     const bool camera = ps.depth[i] <= 1;
     for (int k = 0; k < s.num_hittable_lights; ++k) {
@@ -93,7 +115,10 @@ LANTERN_HD inline void bdpt_camera_emission(const SceneView& s, const PathState&
         LightHit h = intersect_light(l, o, d, ps.ray_tmin[i], t_end);
         if (!h.hit || is_black(h.le)) continue;
         float nee = 0.0f;
-        float w = bdpt_emission_weight(s, ps, bs, st, i, l, h.t, h.n, &nee);
+        float soft = -1.0f;  // (a soft-falloff light's stand-in for pdf_emit; r = 0: no ray)
+        if (!camera && light_receiver_dependent(l))
+            soft = st.r > 0.0f ? bdpt_soft_hit_emit(s, ps, bs, sr, i, l, h.t) : 0.0f;
+        float w = bdpt_emission_weight(s, ps, bs, st, i, l, h.t, h.n, &nee, soft);
         Vec3 c = ps.throughput[i] * h.le * w;
         if (st.moments) c = bdpt_moment(c, c, bdpt_pt_factor(1.0f / w, 1.0f, nee));
         add_radiance(ps, i, c);
@@ -167,9 +192,10 @@ LANTERN_HD inline void shadow_segment(Vec3 p, Vec3 n, Vec3 q, Vec3 nq, Vec3 dir,
 }
 
 // s = 1: one light sample; the shadow ray waits in the slot's shadow fields.
+template <class SR>
 LANTERN_HD inline void bdpt_camera_nee(const SceneView& s, const PathState& ps,
                                        const BdptState& bs, const BdptSettings& st,
-                                       const CameraVertex& z, int i, Rng& rng) {
+                                       const CameraVertex& z, int i, Rng& rng, const SR& sr) {
     Vec2 u_pick = rng.uniform2();
     Vec2 u_light = rng.uniform2();
     const LightPick pick = light_pick(s, z.h.p, z.n_pick, u_pick.x);
@@ -195,6 +221,10 @@ LANTERN_HD inline void bdpt_camera_nee(const SceneView& s, const PathState& ps,
         pdf_nee = ls.delta ? pick.pmf : pdf_light_w * cos_l / d2;
         pdf_lp = pdf_emit * cos_z / d2;
     }
+    // a soft-falloff light's path makes z from its centre, when it sees z (soft_light_path.h;
+    // r = 0, no light-path technique here: no ray)
+    if (light_receiver_dependent(l))
+        pdf_lp = st.r > 0.0f ? soft_light_path_pdf_a(s, sr, l, z.h.p, z.h.ng) : 0.0f;
     float w_light = ls.delta ? 0.0f : mis(e.pdf_fwd_w / pdf_light_w);
     // (the first vertex: z.dvcm is light tracing's term alone, BdptSettings::lt_direct)
     const float dvcm_z = z.depth == 1 ? z.dvcm * bdpt_direct_lt(st)
@@ -479,9 +509,12 @@ LANTERN_HD inline void bdpt_camera_connect(const SceneView& s, const BdptState& 
 
 // Camera-path shading: emission (s = 0), then at a surface NEE (s = 1), connections (s >= 2) and
 // the next direction. The three parts are separate functions so a GPU can launch them apart.
+// sr: the stage's own ray queries (V(c, x) of soft-falloff lights, soft_light_path.h).
+template <class SR>
 LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps,
                                          const BdptState& bs, const BdptSettings& st_all,
-                                         const LightCache& cache, int i, int64_t path) {
+                                         const LightCache& cache, int i, int64_t path,
+                                         const SR& sr) {
     const BdptSettings st = camera_settings(st_all, pixel_conn_of_path(s, st_all, path));
     ps.shadow_valid[i] = 0;
     ps.alive[i] = 0;
@@ -493,7 +526,7 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
     if (media) {  // the piece's flight, lights crossed, a medium vertex, a boundary passed
         if (bdpt_camera_medium_segment(s, ps, bs, st, cache, i, path)) return;
     } else {
-        bdpt_camera_emission(s, ps, bs, st, i, tri >= 0 ? t_hit : ps.ray_tmax[i], tri < 0);
+        bdpt_camera_emission(s, ps, bs, st, i, tri >= 0 ? t_hit : ps.ray_tmax[i], tri < 0, sr);
     }
     if (tri < 0) return;
     CameraVertex z;
@@ -555,7 +588,7 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
     z.n_pick = light_pick_normal(s, tri, z.h.ng);
     Rng rng = ps.rng[i];
     if (!material_is_delta(m)) {
-        bdpt_camera_nee(s, ps, bs, st, z, i, rng);
+        bdpt_camera_nee(s, ps, bs, st, z, i, rng, sr);
         bdpt_camera_connect(s, bs, st, cache, z, i, path);
     } else {
         rng.uniform2();
@@ -578,10 +611,9 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
             bs.dvc[i] = dvc;
             set_next_ray(ps, i, z.h.p, z.h.ng, wi, b.delta ? 0.0f : b.pdf_fwd_w,
                          s.offset_scale);
-            if (s.light_tree_on || media) {
-                ps.prev_p[i] = z.h.p;
-                ps.prev_n[i] = z.n_pick;
-            }
+            ps.prev_p[i] = z.h.p;  // (and for a soft-falloff light's weight: its normal)
+            bs.prev_ng[i] = z.h.ng;
+            if (s.light_tree_on || media) ps.prev_n[i] = z.n_pick;
             if (media) {
                 if (dot(wi, z.h.ng) < 0.0f)  // through the surface
                     ps.medium[i] = medium_across(s, tri, z.h.front, ps.medium[i]);

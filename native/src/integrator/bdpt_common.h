@@ -176,6 +176,9 @@ struct BdptState {
     float* conn_wf = nullptr;
     int32_t* conn_kind = nullptr;
     int32_t* conn_medium = nullptr;  // the medium the connection starts in
+    // camera pass: the last vertex's geometric normal (soft-falloff lights' weights,
+    // soft_light_path.h); the light pass's power slots, which the camera pass does not use
+    Vec3* prev_ng = nullptr;
 };
 
 // What the camera pass reads of the cache.

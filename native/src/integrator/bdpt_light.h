@@ -5,6 +5,7 @@
 #include "integrator/bdpt_common.h"
 #include "integrator/bdpt_medium.h"
 #include "integrator/pixel_conn.h"
+#include "integrator/soft_light_path.h"
 
 namespace lantern {
 
@@ -34,7 +35,9 @@ LANTERN_HD inline void bdpt_light_generate(const SceneView& s, const PathState& 
     int li = sample_cdf(s.emit_cdf, s.num_lights, u_pick);
     const Light& l = s.lights[li];
     if (!(l.emit_pick_pdf > 0.0f)) return;
-    EmissionSample es = sample_emission(s, l, u_pos, u_dir);
+    // (a soft-falloff light: from its centre; its first hit picks y0, soft_light_path.h)
+    EmissionSample es = light_receiver_dependent(l) ? sample_soft_emission(l, u_dir)
+                                                    : sample_emission(s, l, u_pos, u_dir);
     if (!es.valid) return;
     const float pdf_emit = es.pdf_emit * l.emit_pick_pdf;
     bs.power[i] = es.le * (es.cos_light / pdf_emit);
@@ -72,9 +75,11 @@ LANTERN_HD inline float bdpt_light_tracing_weight(const BdptSettings& st, float 
 }
 
 // At a light path's hit: MIS update, the vertex to store, the camera splat, the next direction.
+// sr: the stage's own ray queries (a soft-falloff light's first hit tests y0 -> x1).
+template <class SR>
 LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
                                         const BdptState& bs, const BdptSettings& st, int i,
-                                        int64_t path) {
+                                        int64_t path, const SR& sr) {
     ps.shadow_valid[i] = 0;
     ps.alive[i] = 0;
     bs.store[i] = 0;
@@ -87,22 +92,44 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
     // (media: the segment from the last vertex, through its pieces)
     const Vec3 o_prev = media ? ps.prev_p[i] : ps.ray_o[i];
     float dist = ps.hit_t[i];
-    SurfaceHit h = pt_surface(s, tri, ps.hit_uv[i], d);
+    const Light& l = s.lights[bs.light[i]];
+    // a soft-falloff light's first hit x1: the light arrives from y0 on the disk facing x1, not
+    // from the centre the path left (soft_light_path.h); d_in is its direction
+    Vec3 d_in = d;
+    float soft_cos = 0.0f;  // the cosine at x1 towards the centre (the density of x1)
+    if (ps.depth[i] == 0 && light_receiver_dependent(l)) {
+        const SurfaceHit hc = pt_surface(s, tri, ps.hit_uv[i], d);
+        Rng r = ps.rng[i];
+        const Vec2 u = r.uniform2();
+        ps.rng[i] = r;
+        const SoftFirstHit sf = soft_light_first_hit(s, sr, l, hc.p, hc.ng, u);
+        soft_cos = fabsf(dot(d, hc.ng));
+        if (!sf.valid || !(soft_cos > 0.0f)) return;
+        d_in = sf.wi;
+        bs.power[i] = bs.power[i] * (sf.atten * sf.cos_light);
+        bs.dvc[i] *= mis(sf.cos_light);
+        if (st.moments || st.conn_map) bs.dpt0[i] *= mis(sf.cos_light);
+    }
+    SurfaceHit h = pt_surface(s, tri, ps.hit_uv[i], d_in);
     if (media) dist = length(h.p - o_prev);
     MaterialScratch scratch;
     const Material& m = material_at_point(
-        s, s.tri_material[tri], [&] { return shade_point(h, tri, ps.hit_uv[i], -d); }, scratch);
+        s, s.tri_material[tri], [&] { return shade_point(h, tri, ps.hit_uv[i], -d_in); },
+        scratch);
     const int k = ps.depth[i] + 1;  // segments from the light to this vertex
     ps.depth[i] = k;
-    const Vec3 wo_w = -d;
+    const Vec3 wo_w = -d_in;
     const float cos_o_ns = fabsf(dot(wo_w, h.ns)), cos_o_ng = fabsf(dot(wo_w, h.ng));
     if (!(cos_o_ng > 0.0f) || !(dist > 0.0f)) return;
+    // the geometric cosine of the density of this vertex: along the traced segment
+    const float cos_a = soft_cos > 0.0f ? soft_cos : cos_o_ng;
+    // (soft: the flux's cos_x1 is y0's, its density's the centre's)
+    if (soft_cos > 0.0f) bs.power[i] = bs.power[i] * (cos_o_ng / soft_cos);
 
     // ---- MIS quantities at this vertex ----
     float dvcm = bs.dvcm[i], dvc = bs.dvc[i];
-    const Light& l = s.lights[bs.light[i]];
     const bool infinite = l.type == kLightSun || l.type == kLightWorld;
-    if (k == 1 && !infinite) {
+    if (k == 1 && !infinite && !light_receiver_dependent(l)) {  // (a soft disk's is 1/(pi r^2))
         // next-event estimation samples a sphere light's visible cap, a rectangle's solid
         // angle: its area density at y0 depends on the receiver y1 (here), not 1 / area as
         // assumed at generation
@@ -118,16 +145,16 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
                                k > 1 || !infinite);
     } else {
         if (k > 1 || !infinite) dvcm *= mis(dist * dist);
-        dvcm /= mis(cos_o_ng);
-        dvc /= mis(cos_o_ng);
+        dvcm /= mis(cos_a);
+        dvc /= mis(cos_a);
     }
     // (moments) the parts of dvc that are pt's techniques: dpt0 all camera-sampled, dpt1 the
     // camera sampling all but y0, which next-event estimation samples (at k = 1: dvcm itself)
     // (a connection map too: they are the parts a pixel's count scales, pixel_conn.h)
     float dpt0 = 0.0f, dpt1 = 0.0f;
     if (st.moments || st.conn_map) {
-        dpt0 = bs.dpt0[i] / mis(cos_o_ng);
-        dpt1 = bs.dpt1[i] / mis(cos_o_ng);
+        dpt0 = bs.dpt0[i] / mis(cos_a);
+        dpt1 = bs.dpt1[i] / mis(cos_a);
     }
 
     Frame frame = h.frame();

@@ -26,7 +26,8 @@ struct EmissionSample {
 };
 
 // Soft-falloff point/spot lights of radius > 0 (Blender's default) are a disk that faces the
-// shaded point: they have no emission distribution of their own (docs/lvc_notes.md).
+// shaded point: sample_emission and emission_pdf leave them out (invalid, 0); their light paths
+// leave the centre and take y0 at the first hit (soft_light_path.h, docs/lvc_notes.md).
 LANTERN_HD inline bool light_receiver_dependent(const Light& l) {
     return (l.type == kLightPoint || l.type == kLightSpot) && l.radius > 0.0f && l.soft_falloff;
 }
@@ -166,6 +167,7 @@ LANTERN_HD inline Vec3 emission_weight(const EmissionSample& es) {
 // n0) along unit direction wi at distance dist: 1 where it samples by area (or not by position).
 LANTERN_HD inline float direct_pdf_receiver_ratio(const Light& l, Vec3 p, Vec3 wi, float dist,
                                                   Vec3 n0) {
+    if (light_receiver_dependent(l)) return 1.0f;  // the disk facing p, sampled by area
     const bool sphere = (l.type == kLightPoint || l.type == kLightSpot) && l.radius > 0.0f;
     SphericalRect sr;
     if (!sphere && !spherical_rect(l, p, &sr)) return 1.0f;

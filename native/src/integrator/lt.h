@@ -9,6 +9,7 @@
 #include "integrator/light_path.h"
 #include "integrator/path_state.h"
 #include "integrator/pt.h"
+#include "integrator/soft_light_path.h"
 
 namespace lantern {
 
@@ -16,6 +17,7 @@ namespace lantern {
 struct LightPathState {
     Vec3* power;      // emission flux / pick probability, constant along the path
     Vec2* splat_xy;   // raster position of this bounce's camera connection (shadow_contrib)
+    int32_t* light = nullptr;  // lt: the light the path started on (soft_light_path.h's lines)
 };
 
 // ---- Pixel filter: the density camera.h importance-samples, normalised over [-w, w] ----
@@ -192,9 +194,13 @@ LANTERN_HD inline void lt_generate(const SceneView& s, const PathState& ps,
     if (s.num_lights == 0) return;
     int li = sample_cdf(s.light_cdf, s.num_lights, u_pick);
     const Light& l = s.lights[li];
-    EmissionSample es = sample_emission(s, l, u_pos, u_dir, kTightDisk);  // no MIS here
+    // (a soft-falloff light: a line through its ball, soft_light_path.h)
+    const bool soft = light_receiver_dependent(l);
+    EmissionSample es = soft ? sample_soft_line(l, u_pos, u_dir)
+                             : sample_emission(s, l, u_pos, u_dir, kTightDisk);  // no MIS here
     if (!es.valid || !(l.pick_pdf > 0.0f)) return;
     lp.power[i] = emission_weight(es) / l.pick_pdf;
+    if (lp.light) lp.light[i] = li;
     ps.rng[i] = rng;
     if (s.num_media > 0) {  // the medium it emits into (lt_medium.h)
         Vec3 f;
@@ -208,7 +214,7 @@ LANTERN_HD inline void lt_generate(const SceneView& s, const PathState& ps,
                        ? (s.tri_flags[l.triangle] & kVisibleCamera) != 0
                        : (l.visible_camera != 0 && (l.type == kLightArea || l.type == kLightPoint ||
                                                     l.type == kLightSpot));
-    if (visible && es.finite && !es.delta_pos) {
+    if (visible && es.finite && !es.delta_pos && !soft) {  // (a soft disk faces the camera)
         float w = filter_radius(s.camera);
         CameraConnection cc = connect_camera(s.camera, es.p, w, lens_sample(s.camera, ps, i));
         float cos_c = cc.valid ? dot(cc.wc, es.n) : 0.0f;
@@ -246,6 +252,10 @@ LANTERN_HD inline void lt_shade(const SceneView& s, const PathState& ps, const L
         return;
     }
     Vec3 d = ps.ray_d[i];
+    // a soft-falloff light's line: its first hit needs its y0 on the disk facing it
+    if (ps.depth[i] == 0 && lp.light && light_receiver_dependent(s.lights[lp.light[i]]) &&
+        !soft_line_hit_valid(s.lights[lp.light[i]], ps.ray_o[i], d, ps.hit_t[i]))
+        return;
     SurfaceHit h = pt_surface(s, tri, ps.hit_uv[i], d);
     MaterialScratch scratch;
     const Material& m = material_at_point(

@@ -110,6 +110,7 @@ void light_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep&
     }
     const PathState ps = w.ps;
     const BdptState bs = w.bs;
+    const auto sr = stage_rays(ex.rays(), RayKind::kIndirect, RayKind::kShadow);
     int32_t* q0 = w.queue.data();
     ex.timed(stats.time_generate, [&] {
         ex.each(n, LANTERN_KERNEL(int i) {
@@ -126,7 +127,7 @@ void light_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep&
         ex.timed(stats.time_shade, [&] {
             ex.each(active, LANTERN_KERNEL(int k) {
                 const int i = q[k];
-                bdpt_light_shade(s, ps, bs, bst, i, first_path + i);
+                bdpt_light_shade(s, ps, bs, bst, i, first_path + i, sr);
             });
         });
         // store vertices in queue order: places by an exclusive scan of the store flags
@@ -208,6 +209,7 @@ void camera_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep
                            own ? w.path_offset.data() : nullptr,
                            own ? w.path_vertex.data() : nullptr};
     const auto rays = ex.rays();
+    const auto sr = stage_rays(rays, RayKind::kIndirect, RayKind::kShadow, !st.set.soft_visibility);
     int32_t* q0 = w.queue.data();
     const int32_t* list = st.pixel_list;  // adaptive sampling's pixels, or null: all
     const int spp = st.set.spp_per_iteration;
@@ -228,7 +230,7 @@ void camera_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep
             ex.each(active, LANTERN_KERNEL(int k) {
                 const int i = q[k];
                 const int64_t path = camera_path(list, spp, first_path + i);
-                bdpt_camera_shade(s, ps, bs, bst, cache, i, path);
+                bdpt_camera_shade(s, ps, bs, bst, cache, i, path, sr);
             }, 64);
         });
         // every shadow ray of the bounce: next event and connections

@@ -47,7 +47,8 @@ void lt_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep& st
     SessionStats& stats = *st.stats;
     const PathState ps = w.ps;
     const PtSettings pt = st.pt_settings();
-    const LightPathState lp{w.power.data(), w.splat_xy.data()};
+    w.light_id.grow(size_t(n));  // (LightPathState::light)
+    const LightPathState lp{w.power.data(), w.splat_xy.data(), w.light_id.data()};
     int32_t* q0 = w.queue.data();
     ex.timed(stats.time_generate, [&] {
         ex.each(n, LANTERN_KERNEL(int i) {

@@ -236,6 +236,7 @@ struct Wavefront {
                        vertex.data(),   splat_xy.data(), power.data(),      std::max(conn_slots, 1),
                        conn_n.data(),   conn_o.data(),   conn_d.data(),     conn_tmax.data(),
                        conn_c.data(),   dpt0.data(),     dpt1.data()};
+        bs.prev_ng = power.data();  // (the camera pass's use of the light pass's slots)
         if (media && bidirectional) {
             bs.seg_fwd = seg_fwd.data();
             bs.seg_rev = seg_rev.data();

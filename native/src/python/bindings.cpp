@@ -269,6 +269,7 @@ SessionSettings to_settings(const nb::dict& d) {
     s.light_path_fraction = get<float>(d, "light_path_fraction", s.light_path_fraction);
     s.cis_target = get<std::string>(d, "cis_target", s.cis_target);
     s.naive_ris = get<bool>(d, "naive_ris", s.naive_ris);
+    s.soft_visibility = get<bool>(d, "soft_visibility", s.soft_visibility);
     s.naive_map = get<bool>(d, "naive_map", s.naive_map);
     if (d.contains("connection_allocation") && !d["connection_allocation"].is_none())
         s.connection_allocation = nb::cast<bool>(d["connection_allocation"]) ? 1 : 0;

@@ -190,10 +190,13 @@ void HostScene::add_lights(const SceneInput& in) {
         weight[k] = lights_[k].type == kLightWorld && !world_map ? 0.0 : double(power[k]);
     has_nee_lights_ = build_pick_cdf(weight, nee_cdf_,
                                      [&](size_t k, float pdf) { lights_[k].nee_pdf = pdf; });
-    // Light sub-paths (bdpt, lvc, cis) start by power too, but never on a receiver-dependent
-    // light (soft-falloff point/spot): it has no emission distribution (docs/lvc_notes.md).
+    // Light sub-paths (bdpt, lvc, cis) start by power too. A soft-falloff point/spot's leave
+    // its centre and take y0 on the disk facing their first hit (integrator/soft_light_path.h);
+    // in scenes with media (build_media's test) they start none (docs/lvc_notes.md).
+    bool media = in.world_medium >= 0;
+    for (const MaterialInput& mi : in.materials) media = media || mi.medium >= 0 || mi.volume_only;
     for (size_t k = 0; k < lights_.size(); ++k)
-        weight[k] = light_receiver_dependent(lights_[k]) ? 0.0 : double(power[k]);
+        weight[k] = media && light_receiver_dependent(lights_[k]) ? 0.0 : double(power[k]);
     has_emitters_ = build_pick_cdf(weight, emit_cdf_,
                                    [&](size_t k, float pdf) { lights_[k].emit_pick_pdf = pdf; });
     // Next-event estimation picks by the light tree where there is a choice (a scene with one

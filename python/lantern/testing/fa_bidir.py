@@ -13,7 +13,7 @@ changes the noise, not the null distribution:
   (pt reference) and glass (bdpt reference), all six bidirectional variants against the one
   reference of the trial; cheaper: the reference 16 x REF_SPP, the others 16 x SPP;
 - bidir_lights: test_delta_lights_agree (point over metal, sharp sun; bdpt, cis),
-  test_world_light_agrees (bdpt, cis), test_soft_falloff_lights_stay_camera_side (cis),
+  test_world_light_agrees (bdpt, cis), test_soft_falloff_lights_agree (cis),
   test_sun_caustic_on_metal_matches_light_tracing (cis vs lt), all cheaper by LIGHTS_CUT;
   test_cache_budget_splits_the_iteration (16 x 16 spp a side where the test takes 64) and
   test_scale_invariance's 1e4 (paired, the test's settings);
