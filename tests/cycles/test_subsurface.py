@@ -12,8 +12,9 @@ negative controls that must fail):
 - head: Suzanne (open at the eyes, the eyeballs separate parts) with a Subdivision Surface
   modifier, Random Walk (Skin), under a point light; its negative control is the same head with
   the radius 20 % longer, which must fail against Cycles' renders of the head.
-test_coarse_head_diffuse records why the unsubdivided Suzanne does not agree (docs/subsurface.md):
-with no subsurface at all, a plain diffuse Principled on it renders 4 % dark against Cycles.
+Strict expected failures record what is left (docs/subsurface.md): the head with its eyeballs
+(1 % dark), its simplest form (a sphere crossed by a smaller sphere of the same mesh, 2 % dark),
+and the unsubdivided Suzanne, 4 % dark against Cycles with no subsurface at all.
 Before subsurface scattering, Lantern rendered these as the diffuse base (a warning), which
 fails each comparison by far more than the noise."""
 
@@ -203,3 +204,31 @@ def test_coarse_head_diffuse():
     bpy_stage.compare_with_cycles("coarse head, diffuse", lambda: _suzanne(diffuse, 0), (128, 128),
                                   CONTROLS["head"], cycles_seed0=900, k_seeds=K,
                                   se_floor=SE_FLOOR)
+
+
+@pytest.mark.xfail(strict=True, reason="docs/subsurface.md: a closed part crossing the surface of "
+                   "another in the same mesh renders dark against Cycles")
+def test_intersecting_parts():
+    """The eyeballs' difference in its simplest form: a sphere and a smaller sphere crossing its
+    surface (half in, half out), one mesh, Skin with Radius x Scale 25 cm red, under the head's
+    point light: 2 % dark against Cycles (red 3.3-3.6 %), where the big sphere alone agrees
+    (docs/subsurface.md has the neighbouring cases); strict, so it reports when fixed."""
+    import bmesh
+
+    def build():
+        scene = _reset()
+        bpy.ops.mesh.primitive_uv_sphere_add(radius=0.7, segments=32, ring_count=16)
+        obj = bpy.context.active_object
+        bm = bmesh.new()
+        bm.from_mesh(obj.data)
+        small = bmesh.ops.create_uvsphere(bm, u_segments=16, v_segments=8, radius=0.25)
+        bmesh.ops.translate(bm, vec=(0.25, -0.62, 0.15), verts=small["verts"])
+        bm.to_mesh(obj.data)
+        bm.free()
+        bpy.ops.object.shade_smooth()
+        obj.data.materials.append(_skin_material(0.25))
+        _light(scene, "POINT", (1.0, -2.0, 1.5), 300.0, shadow_soft_size=0.2)
+        _camera(scene, (0, -3.5, 0.2), (88, 0, 0), lens=45.0)
+
+    bpy_stage.compare_with_cycles("intersecting parts", build, SPP["head"], CONTROLS["head"],
+                                  cycles_seed0=900, k_seeds=K, se_floor=SE_FLOOR)
