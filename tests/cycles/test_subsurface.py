@@ -8,7 +8,13 @@ negative controls that must fail):
   floor under an area light;
 - skin: a smooth torus with Random Walk (Skin), a reddish radius, lit by a point light;
 - slab: a thin slab lit from behind by an area light, seen from the front (only light that
-  walked through the slab reaches the camera: an ear against the light).
+  walked through the slab reaches the camera: an ear against the light);
+- head: Suzanne (open at the eyes, the eyeballs separate parts) with a Subdivision Surface
+  modifier, Random Walk (Skin), under a point light; its negative control is the same head with
+  the radius 20 % longer, which must fail against Cycles' renders of the head.
+Strict expected failures record what is left (docs/subsurface.md): the head with its eyeballs
+(1 % dark), its simplest form (a sphere crossed by a smaller sphere of the same mesh, 2 % dark),
+and the unsubdivided Suzanne, 4 % dark against Cycles with no subsurface at all.
 Before subsurface scattering, Lantern rendered these as the diffuse base (a warning), which
 fails each comparison by far more than the noise."""
 
@@ -27,9 +33,10 @@ from bpy_stage import camera as _camera, cube as _cube, light as _light  # noqa:
 K = 6
 SIZE = 32
 SE_FLOOR = 1e-6
-SPP = {"marble": (128, 128), "skin": (128, 128), "slab": (128, 128)}
+SPP = {"marble": (128, 128), "skin": (128, 128), "slab": (128, 128), "head": (128, 128)}
 # negative controls (image, block) the noise affords at these sample counts
-CONTROLS = {"marble": (0.02, 0.10), "skin": (0.02, 0.10), "slab": (0.02, 0.10)}
+CONTROLS = {"marble": (0.02, 0.10), "skin": (0.02, 0.10), "slab": (0.02, 0.10),
+            "head": (0.02, 0.10)}
 
 
 
@@ -71,8 +78,8 @@ def marble():
 
 
 def skin():
-    # a smooth torus: closed and concave (light leaves one part and enters another). Suzanne,
-    # open at the eyes with separate eyeballs, renders 5 % dark here (docs/subsurface.md)
+    # a smooth torus: closed and concave (light leaves one part and enters another); the head
+    # below is the open mesh with separate parts
     scene = _reset()
     bpy.ops.mesh.primitive_torus_add(major_radius=0.6, minor_radius=0.25, rotation=(1.2, 0, 0))
     obj = bpy.context.active_object
@@ -95,10 +102,133 @@ def slab():
     _camera(scene, (0, -2.0, 0), (90, 0, 0), lens=50.0)
 
 
+def _skin_material(scale=0.08):
+    return _material("skin", (0.8, 0.55, 0.45), roughness=0.5, sss=1.0, radius=(1.0, 0.35, 0.2),
+                     scale=scale, method="RANDOM_WALK_SKIN")
+
+
+def _suzanne(material, levels, eyeballs=True):
+    """Suzanne under a point light; material() makes its material (after the reset); without
+    eyeballs: its two smaller loose parts deleted (the head alone, open at the eyes)."""
+    scene = _reset()
+    bpy.ops.mesh.primitive_monkey_add()
+    obj = bpy.context.active_object
+    if not eyeballs:
+        import bmesh
+        bm = bmesh.new()
+        bm.from_mesh(obj.data)
+        parts, seen = [], set()
+        for f in bm.faces:
+            if f in seen:
+                continue
+            part, stack = [], [f]
+            seen.add(f)
+            while stack:
+                g = stack.pop()
+                part.append(g)
+                for e in g.edges:
+                    for h in e.link_faces:
+                        if h not in seen:
+                            seen.add(h)
+                            stack.append(h)
+            parts.append(part)
+        parts.sort(key=len)
+        assert [len(p) for p in parts] == [32, 32, 436], [len(p) for p in parts]
+        bmesh.ops.delete(bm, geom=parts[0] + parts[1], context="FACES")
+        bm.to_mesh(obj.data)
+        bm.free()
+    bpy.ops.object.shade_smooth()
+    if levels:
+        sub = obj.modifiers.new("subdivision", "SUBSURF")
+        sub.levels = sub.render_levels = levels
+    obj.data.materials.append(material())
+    _light(scene, "POINT", (1.0, -2.0, 1.5), 300.0, shadow_soft_size=0.2)
+    _camera(scene, (0, -3.5, 0.2), (88, 0, 0), lens=45.0)
+    return obj
+
+
+def head(eyeballs=False):
+    # Suzanne: open at the eyes, thin ears; its eyeballs (separate parts of the same mesh) only
+    # in test_head_eyeballs. Subdivided twice (the unsubdivided mesh: test_coarse_head_diffuse).
+    # Radius x Scale 25 cm red: the torus's 8 cm is under a pixel here and renders as its
+    # diffuse base within noise
+    _suzanne(lambda: _skin_material(0.25), 2, eyeballs)
+
+
 SCENES = {"marble": marble, "skin": skin, "slab": slab}
 
 
 @pytest.mark.parametrize("name", list(SCENES))
 def test_subsurface_matches_cycles(name):
     bpy_stage.compare_with_cycles(name, SCENES[name], SPP[name], CONTROLS[name],
+                                  cycles_seed0=900, k_seeds=K, se_floor=SE_FLOOR)
+
+
+def test_head_matches_cycles():
+    """The head (open at the eyes, no eyeballs) against Cycles, then its negative controls, which
+    must not pass against Cycles' renders of the head as it was: the same head with Radius x
+    Scale twice as long, and with Subsurface Weight 0 (the diffuse base). (A radius 20 % longer
+    passes at this size: docs/subsurface.md.)"""
+    name = "head"
+    cyc = bpy_stage.compare_with_cycles(name, head, SPP[name], CONTROLS[name],
+                                        cycles_seed0=900, k_seeds=K, se_floor=SE_FLOOR)
+    p = bpy.data.materials["skin"].node_tree.nodes["Principled BSDF"]
+    p.inputs["Subsurface Scale"].default_value *= 2.0
+    bpy_stage.control_differs("head, radius x2", cyc, K, SPP[name][1], SE_FLOOR)
+    p.inputs["Subsurface Weight"].default_value = 0.0
+    bpy_stage.control_differs("head, weight 0", cyc, K, SPP[name][1], SE_FLOOR)
+
+
+@pytest.mark.xfail(strict=True, reason="docs/subsurface.md: Suzanne with its eyeballs renders "
+                   "1 % dark against Cycles (without them it agrees)")
+def test_head_eyeballs():
+    """The head with its eyeballs, separate parts of the same mesh sitting in the open eye
+    sockets: 1 % dark against Cycles, where the same head without them agrees; strict, so it
+    reports when that difference is found and fixed."""
+    bpy_stage.compare_with_cycles("head with eyeballs", lambda: head(eyeballs=True), SPP["head"],
+                                  CONTROLS["head"], cycles_seed0=900, k_seeds=K,
+                                  se_floor=SE_FLOOR)
+
+
+@pytest.mark.xfail(strict=True, reason="docs/subsurface.md: the unsubdivided Suzanne, smooth "
+                   "shaded, renders 4 % dark against Cycles with no subsurface at all")
+def test_coarse_head_diffuse():
+    """The diagnostic that placed the coarse Suzanne's gap outside the walk: the head without
+    subdivision, smooth shaded, with a plain diffuse Principled (roughness 1, Specular IOR Level
+    0, no subsurface), disagrees with Cycles as much as with Random Walk (Skin); strict, so it
+    reports when that difference is found and fixed."""
+    def diffuse():
+        m = _material("diffuse", (0.8, 0.55, 0.45), roughness=1.0)
+        m.node_tree.nodes["Principled BSDF"].inputs["Specular IOR Level"].default_value = 0.0
+        return m
+    bpy_stage.compare_with_cycles("coarse head, diffuse", lambda: _suzanne(diffuse, 0), (128, 128),
+                                  CONTROLS["head"], cycles_seed0=900, k_seeds=K,
+                                  se_floor=SE_FLOOR)
+
+
+@pytest.mark.xfail(strict=True, reason="docs/subsurface.md: a closed part crossing the surface of "
+                   "another in the same mesh renders dark against Cycles")
+def test_intersecting_parts():
+    """The eyeballs' difference in its simplest form: a sphere and a smaller sphere crossing its
+    surface (half in, half out), one mesh, Skin with Radius x Scale 25 cm red, under the head's
+    point light: 2 % dark against Cycles (red 3.3-3.6 %), where the big sphere alone agrees
+    (docs/subsurface.md has the neighbouring cases); strict, so it reports when fixed."""
+    import bmesh
+
+    def build():
+        scene = _reset()
+        bpy.ops.mesh.primitive_uv_sphere_add(radius=0.7, segments=32, ring_count=16)
+        obj = bpy.context.active_object
+        bm = bmesh.new()
+        bm.from_mesh(obj.data)
+        small = bmesh.ops.create_uvsphere(bm, u_segments=16, v_segments=8, radius=0.25)
+        bmesh.ops.translate(bm, vec=(0.25, -0.62, 0.15), verts=small["verts"])
+        bm.to_mesh(obj.data)
+        bm.free()
+        bpy.ops.object.shade_smooth()
+        obj.data.materials.append(_skin_material(0.25))
+        _light(scene, "POINT", (1.0, -2.0, 1.5), 300.0, shadow_soft_size=0.2)
+        _camera(scene, (0, -3.5, 0.2), (88, 0, 0), lens=45.0)
+
+    bpy_stage.compare_with_cycles("intersecting parts", build, SPP["head"], CONTROLS["head"],
                                   cycles_seed0=900, k_seeds=K, se_floor=SE_FLOOR)
