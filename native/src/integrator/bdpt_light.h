@@ -3,6 +3,7 @@
 #pragma once
 
 #include "integrator/bdpt_common.h"
+#include "integrator/bdpt_curve.h"
 #include "integrator/bdpt_medium.h"
 #include "integrator/pixel_conn.h"
 
@@ -87,15 +88,20 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
     // (media: the segment from the last vertex, through its pieces)
     const Vec3 o_prev = media ? ps.prev_p[i] : ps.ray_o[i];
     float dist = ps.hit_t[i];
-    SurfaceHit h = pt_surface(s, tri, ps.hit_uv[i], d);
+    // a triangle's or a strand's surface (pt_curve.h; strands: the fiber measure, bdpt_curve.h)
+    const bool strand = prim_is_strand(s, tri);
+    SurfaceHit h = surface_of_hit(s, tri, ps.hit_uv[i], ps.ray_o[i], d, ps.hit_t[i]);
     if (media) dist = length(h.p - o_prev);
     MaterialScratch scratch;
     const Material& m = material_at_point(
-        s, s.tri_material[tri], [&] { return shade_point(h, tri, ps.hit_uv[i], -d); }, scratch);
+        s, s.tri_material[tri],
+        [&] { return shade_point(h, strand ? -1 : tri, ps.hit_uv[i], -d); }, scratch);
     const int k = ps.depth[i] + 1;  // segments from the light to this vertex
     ps.depth[i] = k;
     const Vec3 wo_w = -d;
-    const float cos_o_ns = fabsf(dot(wo_w, h.ns)), cos_o_ng = fabsf(dot(wo_w, h.ng));
+    Frame frame = h.frame();
+    float cos_o_ns = fabsf(dot(wo_w, h.ns)), cos_o_ng = fabsf(dot(wo_w, h.ng));
+    if (strand) cos_o_ns = cos_o_ng = vertex_cos(true, frame, h.ng, wo_w);
     if (!(cos_o_ng > 0.0f) || !(dist > 0.0f)) return;
 
     // ---- MIS quantities at this vertex ----
@@ -130,7 +136,6 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
         dpt1 = bs.dpt1[i] / mis(cos_o_ng);
     }
 
-    Frame frame = h.frame();
     const Vec3 wo = frame.to_local(wo_w);
     const Vec3 beta = bs.power[i] * ps.throughput[i];
     const bool delta = material_is_delta(m);
@@ -168,7 +173,7 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
             BsdfEval e = bdpt_eval(m, h.front, wo, frame.to_local(cc.wc), Transport::Importance,
                                    h.coat_n, frame, h.ng);
             if (!is_black(e.f)) {
-                float cos_wc_ng = fabsf(dot(cc.wc, h.ng));
+                float cos_wc_ng = vertex_cos(strand, frame, h.ng, cc.wc);
                 // f |wc.ns| times the adjoint shading-normal factor [Veach thesis (5.19)]
                 float cos_y = cos_o_ns * cos_wc_ng / cos_o_ng;
                 float w = st.conn_map
@@ -214,8 +219,9 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
                                    Transport::Importance, h.coat_n, frame.to_local(h.ng));
     Vec3 wi = frame.to_world(b.wi);
     if (b.valid && view_side_agrees(m, wi, h.ng, h.ns) && (b.delta || b.pdf_fwd_w > 0.0f)) {
-        float cos_i_ng = fabsf(dot(wi, h.ng));
-        float adj = cos_o_ns * cos_i_ng / (cos_o_ng * fabsf(b.wi.z));
+        float cos_i_ng = vertex_cos(strand, frame, h.ng, wi);
+        // (a strand: the lobe's Importance weight is the fiber measure's whole throughput)
+        float adj = strand ? 1.0f : cos_o_ns * cos_i_ng / (cos_o_ng * fabsf(b.wi.z));
         Vec3 t = ps.throughput[i] * b.weight * adj;
         if (russian_roulette(t, k + 1, st.rr_depth, rng) && max_component(t) > 0.0f &&
             is_finite(t)) {
