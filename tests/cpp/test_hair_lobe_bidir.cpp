@@ -28,6 +28,7 @@ Material hair_material(Vec3 sigma, float roughness, float radial, float offset_r
     m.coat_weight = 0.0f;
     m.aniso_rotation = offset_rad;
     m.ior = 1.55f;
+    m.tex_flags = kHairReverse;  // as a session with light paths sets it (HostScene)
     return m;
 }
 
@@ -82,6 +83,15 @@ TEST(HairLobeBidir, ReversePdfIsTheSwappedForwardPdf) {
     }
     // not symmetric: a reverse pdf copied from the forward one is wrong on most pairs
     EXPECT_GT(differ, n / 2) << differ << " of " << n;
+    // pt's materials (no kHairReverse) pay for no reverse pdf: 0, the rest the same bits
+    Material pt_m = kHairs[1];
+    pt_m.tex_flags = 0;
+    const Vec3 wo = normalize(view_dir(0.3f, 1.0f)), wi = normalize(vec3(0.2f, -0.5f, -0.8f));
+    const BsdfEval a = hair_lobe_eval(pt_m, wo, wi), b = hair_lobe_eval(kHairs[1], wo, wi);
+    EXPECT_EQ(a.pdf_rev_w, 0.0f);
+    EXPECT_GT(b.pdf_rev_w, 0.0f);
+    EXPECT_EQ(a.f.x, b.f.x);
+    EXPECT_EQ(a.pdf_fwd_w, b.pdf_fwd_w);
 }
 
 // The reverse pdf at a vertex of offset h is the density of sampling wo from wi at -h: as a

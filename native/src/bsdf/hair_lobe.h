@@ -34,6 +34,7 @@ LANTERN_HD inline HairParams hair_reversed(HairParams p) {
     return p;
 }
 
+// (pdf_rev_w in Radiance only with kHairReverse: pt, which never reads it, does not pay for it.)
 // h is read from wo, the direction that found the vertex (the camera's side in Radiance, the
 // light's in Importance), and the other sub-path reads the vertex at -h (hair_reversed). With
 // P = the parameters at h: pdf_fwd_w is hair_sample(P, wo)'s density of wi and pdf_rev_w the
@@ -49,13 +50,17 @@ LANTERN_HD inline BsdfEval hair_lobe_eval(const Material& m, Vec3 wo, Vec3 wi,
     const float c = fabsf(wi.z);
     if (!(c > 1e-7f)) return e;
     const HairParams p = hair_lobe_params(m, wo);
-    const HairEval fwd = hair_eval(p, wo, wi);
-    const HairEval rev = hair_eval(hair_reversed(p), wi, wo);
-    e.pdf_fwd_w = fwd.pdf_fwd_w;
-    e.pdf_rev_w = rev.pdf_fwd_w;
     if (mode == Transport::Radiance) {
+        const HairEval fwd = hair_eval(p, wo, wi);
         e.f = fwd.f_cos / c;
+        e.pdf_fwd_w = fwd.pdf_fwd_w;
+        // (pt reads no reverse pdf: only where a light-path integrator may render, kHairReverse)
+        if (m.tex_flags & kHairReverse)
+            e.pdf_rev_w = hair_eval(hair_reversed(p), wi, wo).pdf_fwd_w;
     } else {
+        const HairEval rev = hair_eval(hair_reversed(p), wi, wo);
+        e.pdf_fwd_w = hair_eval(p, wo, wi).pdf_fwd_w;
+        e.pdf_rev_w = rev.pdf_fwd_w;
         const float co = hair_cos_theta(wo);
         e.f = co > 1e-7f ? rev.f_cos / co : vec3(0.0f);
     }
@@ -73,6 +78,10 @@ LANTERN_HD inline BsdfSample hair_lobe_sample(const Material& m, Vec3 wo, Vec3 u
     s.wi = h.wi;
     s.weight = h.weight;  // f_cos / pdf = f |wi.z| / pdf
     s.pdf_fwd_w = h.pdf_fwd_w;
+    if (mode == Transport::Radiance && !(m.tex_flags & kHairReverse)) {  // pt: no reverse pdf
+        s.valid = is_finite(s.weight);
+        return s;
+    }
     const HairEval rev = hair_eval(hair_reversed(p), h.wi, wo);
     s.pdf_rev_w = rev.pdf_fwd_w;
     if (mode == Transport::Importance) {

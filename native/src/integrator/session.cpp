@@ -123,6 +123,7 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
     }
     auto t0 = Clock::now();
     scene_ = std::make_unique<HostScene>(scene);
+    scene_->set_hair_reverse(settings_.integrator != "pt");  // (bsdf/hair_lobe.h)
     if (settings_.integrator == "lt") check_light_tracing(scene);
     warnings_ = scene_->warnings();
     if (!media_note.empty()) warnings_.push_back(media_note);
