@@ -9,6 +9,7 @@
 #pragma once
 
 #include "bsdf/cosine_lobe.h"
+#include "bsdf/dielectric.h"  // Transport
 #include "bsdf/hair.h"
 #include "scene/scene_view.h"
 
@@ -21,26 +22,74 @@ LANTERN_HD inline HairParams hair_lobe_params(const Material& m, Vec3 wo) {
                        m.aniso_rotation, m.ior, h);
 }
 
-// f = f_cos / |wi.z| (0 where wi lies in the tangent plane: a set of measure zero)
-LANTERN_HD inline BsdfEval hair_lobe_eval(const Material& m, Vec3 wo, Vec3 wi) {
+// cos theta of w, the cosine to the fiber's normal plane (X is the tangent): a strand vertex's
+// geometric cosine in the bidirectional integrators' fiber measure (integrator/bdpt_curve.h).
+LANTERN_HD inline float hair_cos_theta(Vec3 w) { return sqrtf(fmaxf(w.y * w.y + w.z * w.z, 0.0f)); }
+
+// The same material at the offset -h: what the reverse of a path through the fiber sees (a ray
+// entering at offset h leaves, seen along its way out, at -h: Chiang's azimuthal shifts are odd
+// in h, so the reversed path's lobes lie where the forward one's do).
+LANTERN_HD inline HairParams hair_reversed(HairParams p) {
+    p.h = -p.h;
+    return p;
+}
+
+// (pdf_rev_w in Radiance only with kHairReverse: pt, which never reads it, does not pay for it.)
+// h is read from wo, the direction that found the vertex (the camera's side in Radiance, the
+// light's in Importance), and the other sub-path reads the vertex at -h (hair_reversed). With
+// P = the parameters at h: pdf_fwd_w is hair_sample(P, wo)'s density of wi and pdf_rev_w the
+// same routine's density of wo from wi with the directions swapped, at -h: a light sub-path
+// samples from its own wo at its own offset, which is -h of the camera's and the reverse.
+// Radiance (wo camera side): f = f_cos_h(wo, wi) / |wi.z|, the integrators multiply by |wi.z|.
+// Importance (wo light side, wi camera side): f = f_cos_{-h}(wi, wo) / cos_theta(wo), the fiber
+// measure's BSDF (docs/curves.md "Bidirectional"): the integrators multiply by cos_theta(wi) at
+// a strand vertex. 0 where wi lies in the tangent plane (a set of measure zero).
+LANTERN_HD inline BsdfEval hair_lobe_eval(const Material& m, Vec3 wo, Vec3 wi,
+                                          Transport mode = Transport::Radiance) {
     BsdfEval e{vec3(0.0f), 0.0f, 0.0f};
     const float c = fabsf(wi.z);
     if (!(c > 1e-7f)) return e;
-    const HairEval h = hair_eval(hair_lobe_params(m, wo), wo, wi);
-    e.f = h.f_cos / c;
-    e.pdf_fwd_w = h.pdf_fwd_w;
-    e.pdf_rev_w = 0.0f;  // pt only (allocation.cpp hands curve scenes to pt)
+    const HairParams p = hair_lobe_params(m, wo);
+    if (mode == Transport::Radiance) {
+        const HairEval fwd = hair_eval(p, wo, wi);
+        e.f = fwd.f_cos / c;
+        e.pdf_fwd_w = fwd.pdf_fwd_w;
+        // (pt reads no reverse pdf: only where a light-path integrator may render, kHairReverse)
+        if (m.tex_flags & kHairReverse)
+            e.pdf_rev_w = hair_eval(hair_reversed(p), wi, wo).pdf_fwd_w;
+    } else {
+        const HairEval rev = hair_eval(hair_reversed(p), wi, wo);
+        e.pdf_fwd_w = hair_eval(p, wo, wi).pdf_fwd_w;
+        e.pdf_rev_w = rev.pdf_fwd_w;
+        const float co = hair_cos_theta(wo);
+        e.f = co > 1e-7f ? rev.f_cos / co : vec3(0.0f);
+    }
     return e;
 }
 
-LANTERN_HD inline BsdfSample hair_lobe_sample(const Material& m, Vec3 wo, Vec3 u) {
+// weight: f_cos / pdf (Radiance); f_cos_{-h}(wi, wo) cos_theta(wi) / (cos_theta(wo) pdf)
+// (Importance, the fiber measure's adjoint throughput: integrator/bdpt_curve.h).
+LANTERN_HD inline BsdfSample hair_lobe_sample(const Material& m, Vec3 wo, Vec3 u,
+                                              Transport mode = Transport::Radiance) {
     BsdfSample s{vec3(0.0f), vec3(0.0f), 0.0f, false};
-    const HairSample h = hair_sample(hair_lobe_params(m, wo), wo, Vec2{u.x, u.y}, u.z);
+    const HairParams p = hair_lobe_params(m, wo);
+    const HairSample h = hair_sample(p, wo, Vec2{u.x, u.y}, u.z);
     if (!h.valid || !(fabsf(h.wi.z) > 1e-7f)) return s;
     s.wi = h.wi;
     s.weight = h.weight;  // f_cos / pdf = f |wi.z| / pdf
     s.pdf_fwd_w = h.pdf_fwd_w;
-    s.valid = true;
+    if (mode == Transport::Radiance && !(m.tex_flags & kHairReverse)) {  // pt: no reverse pdf
+        s.valid = is_finite(s.weight);
+        return s;
+    }
+    const HairEval rev = hair_eval(hair_reversed(p), h.wi, wo);
+    s.pdf_rev_w = rev.pdf_fwd_w;
+    if (mode == Transport::Importance) {
+        const float co = hair_cos_theta(wo);
+        s.weight = co > 1e-7f ? rev.f_cos * (hair_cos_theta(h.wi) / (co * h.pdf_fwd_w))
+                              : vec3(0.0f);
+    }
+    s.valid = is_finite(s.weight);
     return s;
 }
 

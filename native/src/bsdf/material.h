@@ -67,7 +67,7 @@ LANTERN_HD inline BsdfEval material_eval_leaf(const Material& m, bool front, Vec
     case kMaterialTranslucent:
         return translucent_eval(m.base_color, wo, wi);
     case kMaterialHair:
-        return hair_lobe_eval(m, wo, wi);
+        return hair_lobe_eval(m, wo, wi, mode);
     default:
         return diffuse_base_eval(m, wo, wi);
     }
@@ -96,7 +96,7 @@ LANTERN_HD inline BsdfSample material_sample_leaf(const Material& m, bool front,
     case kMaterialTranslucent:
         return translucent_sample(m.base_color, wo, Vec2{u.x, u.y});
     case kMaterialHair:
-        return hair_lobe_sample(m, wo, u);
+        return hair_lobe_sample(m, wo, u, mode);
     default:
         return diffuse_base_sample(m, wo, Vec2{u.x, u.y});
     }

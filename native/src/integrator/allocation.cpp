@@ -263,6 +263,30 @@ std::string curves_reason(const SceneInput& in) {
     return "";
 }
 
+std::string curves_bidir_reason(const SceneInput& in) {
+    bool strands = false;
+    auto hair_leaf = [&](uint32_t k) {  // the hair lobe itself, without a node program
+        if (k >= in.materials.size()) return true;  // (the scene's own fallback)
+        const MaterialInput& m = in.materials[k];
+        return m.type == "hair" && m.program_count == 0;
+    };
+    for (const CurveInput& c : in.curves) {
+        if (c.offsets.size() <= 1) continue;
+        strands = true;
+        for (uint32_t k : c.material_ids)
+            if (!hair_leaf(k))
+                return "strands shaded by a material other than Principled Hair (curves '" +
+                       c.name + "', material '" +
+                       (k < in.materials.size() ? in.materials[k].name : std::string("?")) + "')";
+    }
+    for (const MeshInput& m : in.meshes)
+        for (uint32_t k : m.material_ids)
+            if (k < in.materials.size() && in.materials[k].type == "hair")
+                return "a hair material on a mesh (mesh '" + m.name + "')";
+    if (strands && !media_reason(in).empty()) return "strands in a scene with volumes";
+    return "";
+}
+
 std::string pt_only_reason(const SceneInput& in) {
     for (const MaterialInput& m : in.materials)
         if (m.holdout) return "a holdout (material '" + m.name + "')";
@@ -274,7 +298,7 @@ std::string pt_only_reason(const SceneInput& in) {
     if (std::string v = media_reason(in); !v.empty()) return v;  // media: pt only (volumes.md)
     if (std::string v = motion_reason(in); !v.empty()) return v;  // motion blur: pt only
     if (std::string v = subsurface_reason(in); !v.empty()) return v;  // docs/subsurface.md
-    if (std::string v = curves_reason(in); !v.empty()) return v;  // docs/curves.md
+    if (std::string v = curves_bidir_reason(in); !v.empty()) return v;  // docs/curves.md
     return "";
 }
 

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "integrator/bdpt_common.h"
+#include "integrator/bdpt_curve.h"
 #include "integrator/bdpt_medium.h"
 #include "integrator/pixel_conn.h"
 #include "integrator/soft_light_path.h"
@@ -169,6 +170,7 @@ struct CameraVertex {
     // and the medium the slot's ray arrived in
     int32_t medium_vertex = -1;
     int32_t slot_medium = -1;
+    bool strand = false;  // on a strand: the fiber measure's cosines (bdpt_curve.h)
 };
 
 // The camera vertex's material, resolved (again) into its scratch: shade_point as the shade
@@ -176,8 +178,8 @@ struct CameraVertex {
 LANTERN_HD inline const Material& camera_vertex_material(const SceneView& s,
                                                          const CameraVertex& z) {
     return material_at_point(
-        s, s.tri_material[z.tri], [&] { return shade_point(z.h, z.tri, z.uv, z.wo_w); },
-        *z.scratch);
+        s, s.tri_material[z.tri],
+        [&] { return shade_point(z.h, z.strand ? -1 : z.tri, z.uv, z.wo_w); }, *z.scratch);
 }
 
 // Shadow segment from p (normal n) to q (normal nq; zero: no offset), shortened at both ends.
@@ -208,7 +210,7 @@ LANTERN_HD inline void bdpt_camera_nee(const SceneView& s, const PathState& ps,
     float pdf_light_w = pick.pmf * ls.pdf_w;
     if (is_black(e.f) || !(pdf_light_w > 0.0f)) return;
     const bool infinite = !(ls.dist < kInf);
-    const float cos_z = fabsf(dot(ls.wi, z.h.ng));
+    const float cos_z = vertex_cos(z.strand, z.frame, z.h.ng, ls.wi);
     // densities of the light point: by next-event estimation, by the light sub-path (s = 2)
     float cos_l = is_black(ls.n_light) ? 1.0f : fabsf(dot(ls.wi, ls.n_light));
     float pdf_nee, pdf_lp;
@@ -271,6 +273,7 @@ struct Connection {
     // end's distance factors, the medium the segment starts in, ConnKind
     float wn = 0.0f, wf = 0.0f;
     int32_t medium = -1, kind = 0;
+    float y_strand_cut = 0.0f;  // bdpt_curve.h strand_end_shorten
 };
 
 LANTERN_HD inline Connection bdpt_connect_medium(const SceneView& s, const BdptSettings& st,
@@ -314,10 +317,15 @@ LANTERN_HD inline Connection bdpt_connect_in(const SceneView& s, const BdptSetti
     const Vec3 wi_y = Vec3{dot(-dir, fy.s), dot(-dir, fy.t), dy_ns};
     BsdfEval ey = bdpt_eval(my, y.front != 0, wo_y, wi_y, Transport::Importance, coat_y, fy, y.ng);
     if (is_black(ey.f)) return r;
-    const float cos_z_ng = fabsf(dz_ng), cos_y_ng = fabsf(dy_ng);
+    // (strands: the fiber measure's cosines, bdpt_curve.h; the lobe's Importance f is the
+    // fiber measure's, so y's adjoint factor is 1)
+    const bool y_strand = prim_is_strand(s, y.tri);
+    const float cos_z_ng = vertex_cos(z.strand, z.frame, z.h.ng, dir);
+    const float cos_y_ng = vertex_cos(y_strand, fy, y.ng, dir);
     const float cos_z_ns = fabsf(wi_z.z);
-    const float cos_yo_ns = fabsf(wo_y.z), cos_yo_ng = fabsf(dot(y.wo, y.ng));
+    float cos_yo_ns = fabsf(wo_y.z), cos_yo_ng = fabsf(dot(y.wo, y.ng));
     if (!(cos_yo_ng > 0.0f)) return r;
+    if (y_strand) cos_yo_ns = cos_yo_ng;
     // light side: f |dir.ns| with the adjoint shading-normal factor
     const float cos_y = cos_yo_ns * cos_y_ng / cos_yo_ng;
     const float inv_d2 = 1.0f / d2;
@@ -332,6 +340,7 @@ LANTERN_HD inline Connection bdpt_connect_in(const SceneView& s, const BdptSetti
     if (!is_finite(r.c)) r.c = vec3(0.0f);
     r.dir = dir;
     r.dist = dist;
+    if (y_strand) r.y_strand_cut = strand_end_shorten(s, y.tri, y.ng, dir, fy);
     r.bsdf_target = luminance(ez.f) * luminance(ey.f);
     if (st.moments) {  // pt's techniques: dpt0, dpt1 as dvc's parts (dvcm itself for y1)
         const float rev = mis(ey.pdf_rev_w), x = mis(pdf_cam_a);
@@ -358,6 +367,8 @@ LANTERN_HD inline void bdpt_queue_connection(const BdptState& bs, int i, const C
     int e = i * bs.conn_cap + j;
     shadow_segment(z.h.p, z.h.ng, y.p, y.ng, c.dir, offset_scale, &bs.conn_o[e], &bs.conn_d[e],
                    &bs.conn_tmax[e]);
+    if (c.y_strand_cut > 0.0f)  // y on a strand, seen from its fiber's far side (bdpt_curve.h)
+        bs.conn_tmax[e] = fmaxf(bs.conn_tmax[e] - c.y_strand_cut, 0.0f);
     bs.conn_c[e] = contrib;
     bs.conn_n[i] = j + 1;
     if (bs.conn_wn) {  // scenes with media (bdpt_medium_stages.h)
@@ -373,6 +384,7 @@ struct KeptCandidate {
     float cx, cy, cz, dx, dy, dz, pt_factor;
     float wn, wf;          // scenes with media (Connection)
     int32_t medium, kind;
+    float y_strand_cut;    // Connection
 };
 
 // cis's candidates per camera vertex at most (BdptSettings::candidates); SceneView's
@@ -454,7 +466,7 @@ LANTERN_HD inline void bdpt_camera_connect(const SceneView& s, const BdptState& 
         const Connection c = bdpt_connect(s, st, z, cache.v[index]);
         if constexpr (kKept > 1) {
             cand[j] = KeptCandidate{c.c.x, c.c.y, c.c.z, c.dir.x, c.dir.y, c.dir.z, c.pt_factor,
-                                    c.wn, c.wf, c.medium, c.kind};
+                                    c.wn, c.wf, c.medium, c.kind, c.y_strand_cut};
             idx[j] = index;
         }
         float p_hat = st.target == kTargetBsdf ? (is_black(c.c) ? 0.0f : c.bsdf_target)
@@ -494,6 +506,7 @@ LANTERN_HD inline void bdpt_camera_connect(const SceneView& s, const BdptState& 
             c.wf = cand[j].wf;
             c.medium = cand[j].medium;
             c.kind = cand[j].kind;
+            c.y_strand_cut = cand[j].y_strand_cut;
         } else {
             c = bdpt_connect(s, st, z, y);
         }
@@ -531,7 +544,8 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
     if (tri < 0) return;
     CameraVertex z;
     MaterialScratch scratch;  // z.m points here when the material is resolved
-    z.h = pt_surface(s, tri, ps.hit_uv[i], d);
+    z.strand = prim_is_strand(s, tri);  // a triangle's or a strand's surface (pt_curve.h)
+    z.h = surface_of_hit(s, tri, ps.hit_uv[i], ps.ray_o[i], d, ps.hit_t[i]);
     z.scratch = &scratch;
     z.tri = tri;
     z.uv = ps.hit_uv[i];
@@ -539,7 +553,8 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
     z.m = &camera_vertex_material(s, z);
     z.depth = ps.depth[i];
     if (media) z.slot_medium = ps.medium[i];
-    const float cos_in = fabsf(dot(d, z.h.ng));
+    z.frame = z.h.frame();
+    const float cos_in = vertex_cos(z.strand, z.frame, z.h.ng, d);
     if (!(cos_in > 0.0f) || !(t_hit > 0.0f)) return;
     // MIS update for the new vertex (an orthographic camera's first vertex has no distance term)
     float dvcm = bs.dvcm[i], dvc = bs.dvc[i];
@@ -579,7 +594,6 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
         add_radiance(ps, i, c);
     }
     if (z.depth >= st.max_depth) return;
-    z.frame = z.h.frame();
     z.wo = z.frame.to_local(-d);
     z.ng_l = z.frame.to_local(z.h.ng);
     z.beta = ps.throughput[i];
@@ -604,7 +618,7 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
         if (russian_roulette(beta, z.depth, st.rr_depth, rng) && max_component(beta) > 0.0f &&
             is_finite(beta)) {
             dvcm = camera_conn_dvcm(st, dvcm, z.depth);  // (N = 0: no connection's term)
-            bdpt_scatter_update(dvcm, dvc, b, fabsf(dot(wi, z.h.ng)));
+            bdpt_scatter_update(dvcm, dvc, b, vertex_cos(z.strand, z.frame, z.h.ng, wi));
             ps.throughput[i] = beta;
             ps.depth[i] = z.depth + 1;
             bs.dvcm[i] = dvcm;

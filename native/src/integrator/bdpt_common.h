@@ -42,8 +42,13 @@ struct LightVertex {
     Vec3 beta;      // light sub-path throughput, emitted flux / pick probability included
     float dvcm, dvc;
     uint32_t material;
-    int32_t tri;    // the triangle and (bary16) its barycentrics, 2 x 16-bit unorm: textured
-    uint32_t bary16;  // and node-graph materials are resolved at connection (shade_point_lv)
+    // the triangle and (bary16) its barycentrics, 2 x 16-bit unorm: textured and node-graph
+    // materials are resolved at connection (shade_point_lv). A strand vertex (docs/curves.md):
+    // tri the segment's primitive (>= num_triangles), bary16 its u, ng = ns the cross-section
+    // normal, tangent_angle the turn that makes the frame's X the strand's tangent, and h, the
+    // offset of the ray that found it, is read again from wo in that frame (hair_lobe_params).
+    int32_t tri;
+    uint32_t bary16;
     float tangent_angle;  // anisotropic materials: the frame's turn about ns (SurfaceHit)
     int32_t path;   // light path index (bdpt pairs camera path i with light path i)
     int16_t length; // segments from the light to this vertex (y1 has 1; max_depth <= 1024)
@@ -69,9 +74,10 @@ LANTERN_HD inline ShadePoint shade_point_lv(const SceneView& s, const LightVerte
     sp.n = y.ns;
     sp.ng = y.ng;
     sp.wo = wo;
-    sp.tri = y.tri;
     sp.bary = bary16_decode(y.bary16);
-    sp.st = triangle_uv(s, y.tri, sp.bary);
+    const bool strand = y.tri >= s.num_triangles;  // a strand's point: no triangle (pt_curve.h)
+    sp.tri = strand ? -1 : y.tri;
+    sp.st = strand ? Vec2{sp.bary.x, 0.0f} : triangle_uv(s, y.tri, sp.bary);
     sp.backfacing = y.front == 0;
     return sp;
 }

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "integrator/bdpt_common.h"
+#include "integrator/bdpt_curve.h"
 #include "integrator/bdpt_medium.h"
 #include "integrator/pixel_conn.h"
 #include "integrator/soft_light_path.h"
@@ -93,8 +94,11 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
     const Vec3 o_prev = media ? ps.prev_p[i] : ps.ray_o[i];
     float dist = ps.hit_t[i];
     const Light& l = s.lights[bs.light[i]];
+    // a triangle's or a strand's surface (pt_curve.h; strands: the fiber measure, bdpt_curve.h)
+    const bool strand = prim_is_strand(s, tri);
     // a soft-falloff light's first hit x1: the light arrives from y0 on the disk facing x1, not
-    // from the centre the path left (soft_light_path.h); d_in is its direction
+    // from the centre the path left (soft_light_path.h); d_in is its direction (scenes with
+    // strands start no light paths on these lights: scene_lights.cpp)
     Vec3 d_in = d;
     float soft_cos = 0.0f;  // the cosine at x1 towards the centre (the density of x1)
     if (ps.depth[i] == 0 && light_receiver_dependent(l)) {
@@ -110,16 +114,19 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
         bs.dvc[i] *= mis(sf.cos_light);
         if (st.moments || st.conn_map) bs.dpt0[i] *= mis(sf.cos_light);
     }
-    SurfaceHit h = pt_surface(s, tri, ps.hit_uv[i], d_in);
+    SurfaceHit h = strand ? surface_of_hit(s, tri, ps.hit_uv[i], ps.ray_o[i], d, ps.hit_t[i])
+                          : pt_surface(s, tri, ps.hit_uv[i], d_in);
     if (media) dist = length(h.p - o_prev);
     MaterialScratch scratch;
     const Material& m = material_at_point(
-        s, s.tri_material[tri], [&] { return shade_point(h, tri, ps.hit_uv[i], -d_in); },
-        scratch);
+        s, s.tri_material[tri],
+        [&] { return shade_point(h, strand ? -1 : tri, ps.hit_uv[i], -d_in); }, scratch);
     const int k = ps.depth[i] + 1;  // segments from the light to this vertex
     ps.depth[i] = k;
     const Vec3 wo_w = -d_in;
-    const float cos_o_ns = fabsf(dot(wo_w, h.ns)), cos_o_ng = fabsf(dot(wo_w, h.ng));
+    Frame frame = h.frame();
+    float cos_o_ns = fabsf(dot(wo_w, h.ns)), cos_o_ng = fabsf(dot(wo_w, h.ng));
+    if (strand) cos_o_ns = cos_o_ng = vertex_cos(true, frame, h.ng, wo_w);
     if (!(cos_o_ng > 0.0f) || !(dist > 0.0f)) return;
     // the geometric cosine of the density of this vertex: along the traced segment
     const float cos_a = soft_cos > 0.0f ? soft_cos : cos_o_ng;
@@ -157,7 +164,6 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
         dpt1 = bs.dpt1[i] / mis(cos_a);
     }
 
-    Frame frame = h.frame();
     const Vec3 wo = frame.to_local(wo_w);
     const Vec3 beta = bs.power[i] * ps.throughput[i];
     const bool delta = material_is_delta(m);
@@ -195,7 +201,7 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
             BsdfEval e = bdpt_eval(m, h.front, wo, frame.to_local(cc.wc), Transport::Importance,
                                    h.coat_n, frame, h.ng);
             if (!is_black(e.f)) {
-                float cos_wc_ng = fabsf(dot(cc.wc, h.ng));
+                float cos_wc_ng = vertex_cos(strand, frame, h.ng, cc.wc);
                 // f |wc.ns| times the adjoint shading-normal factor [Veach thesis (5.19)]
                 float cos_y = cos_o_ns * cos_wc_ng / cos_o_ng;
                 float w = st.conn_map
@@ -241,8 +247,9 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
                                    Transport::Importance, h.coat_n, frame.to_local(h.ng));
     Vec3 wi = frame.to_world(b.wi);
     if (b.valid && view_side_agrees(m, wi, h.ng, h.ns) && (b.delta || b.pdf_fwd_w > 0.0f)) {
-        float cos_i_ng = fabsf(dot(wi, h.ng));
-        float adj = cos_o_ns * cos_i_ng / (cos_o_ng * fabsf(b.wi.z));
+        float cos_i_ng = vertex_cos(strand, frame, h.ng, wi);
+        // (a strand: the lobe's Importance weight is the fiber measure's whole throughput)
+        float adj = strand ? 1.0f : cos_o_ns * cos_i_ng / (cos_o_ng * fabsf(b.wi.z));
         Vec3 t = ps.throughput[i] * b.weight * adj;
         if (russian_roulette(t, k + 1, st.rr_depth, rng) && max_component(t) > 0.0f &&
             is_finite(t)) {

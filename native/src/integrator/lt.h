@@ -8,6 +8,7 @@
 #include "integrator/camera.h"
 #include "integrator/light_path.h"
 #include "integrator/path_state.h"
+#include "integrator/bdpt_curve.h"
 #include "integrator/pt.h"
 #include "integrator/soft_light_path.h"
 
@@ -256,16 +257,20 @@ LANTERN_HD inline void lt_shade(const SceneView& s, const PathState& ps, const L
     if (ps.depth[i] == 0 && lp.light && light_receiver_dependent(s.lights[lp.light[i]]) &&
         !soft_line_hit_valid(s.lights[lp.light[i]], ps.ray_o[i], d, ps.hit_t[i]))
         return;
-    SurfaceHit h = pt_surface(s, tri, ps.hit_uv[i], d);
+    // a triangle's or a strand's surface (pt_curve.h); strands: the fiber measure (bdpt_curve.h)
+    const bool strand = prim_is_strand(s, tri);
+    SurfaceHit h = surface_of_hit(s, tri, ps.hit_uv[i], ps.ray_o[i], d, ps.hit_t[i]);
     MaterialScratch scratch;
     const Material& m = material_at_point(
-        s, s.tri_material[tri], [&] { return shade_point(h, tri, ps.hit_uv[i], -d); }, scratch);
+        s, s.tri_material[tri],
+        [&] { return shade_point(h, strand ? -1 : tri, ps.hit_uv[i], -d); }, scratch);
     int depth = ps.depth[i] + 1;  // segments from the light to this vertex
     ps.depth[i] = depth;
     Vec3 wo_w = -d;  // towards the light
     float cos_o_ns = fabsf(dot(wo_w, h.ns)), cos_o_ng = fabsf(dot(wo_w, h.ng));
     if (!(cos_o_ng > 0.0f)) return;
     Frame frame = h.frame();
+    if (strand) cos_o_ns = cos_o_ng = vertex_cos(true, frame, h.ng, wo_w);
     Vec3 wo = frame.to_local(wo_w);
     Vec3 beta = lp.power[i] * ps.throughput[i];
 
@@ -278,7 +283,7 @@ LANTERN_HD inline void lt_shade(const SceneView& s, const PathState& ps, const L
                                        Transport::Importance, h.coat_n, frame.to_local(h.ng));
             // f * |cos_ns(wc)| with the adjoint shading-normal factor
             // |wo.ns| |wc.ng| / (|wo.ng| |wc.ns|)  [Veach thesis (5.19)]
-            float cos_y = cos_o_ns * fabsf(dot(cc.wc, h.ng)) / cos_o_ng;
+            float cos_y = cos_o_ns * vertex_cos(strand, frame, h.ng, cc.wc) / cos_o_ng;
             if (s.num_media > 0)  // through the surface: the medium beyond it
                 ps.shadow_medium[i] = dot(cc.wc, h.ng) < 0.0f
                                           ? medium_across(s, tri, h.front, ps.medium[i])
@@ -295,7 +300,9 @@ LANTERN_HD inline void lt_shade(const SceneView& s, const PathState& ps, const L
                                     Transport::Importance, h.coat_n, frame.to_local(h.ng));
     Vec3 wi = frame.to_world(bs.wi);
     if (bs.valid && view_side_agrees(m, wi, h.ng, h.ns)) {
-        float adj = cos_o_ns * fabsf(dot(wi, h.ng)) / (cos_o_ng * fabsf(bs.wi.z));
+        // (a strand: the lobe's Importance weight is the fiber measure's whole throughput)
+        float adj = strand ? 1.0f
+                           : cos_o_ns * fabsf(dot(wi, h.ng)) / (cos_o_ng * fabsf(bs.wi.z));
         Vec3 t = ps.throughput[i] * bs.weight * adj;
         if (russian_roulette(t, depth + 1, st.rr_depth, rng) && max_component(t) > 0.0f &&
             is_finite(t)) {

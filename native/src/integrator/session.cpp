@@ -117,16 +117,18 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
             settings_.integrator = "pt";
         }
     }
-    // strands and hair: only pt shades them so far (docs/curves.md)
+    // strands: lt, bdpt, lvc and cis have strand vertices with the hair lobe (bdpt_curve.h);
+    // the rest of what strands may carry only pt shades so far (docs/curves.md)
     const std::string curves_why = curves_reason(scene);
-    if (media_note.empty() && integ != "pt" && integ != "auto" && !curves_why.empty()) {
-        media_note = "integrator '" + integ + "' does not render hair yet (the scene has " +
-                     curves_why + "; its vertices on strands need the hair lobe's reverse "
-                     "pdf): rendering with pt";
+    const std::string curves_bidir_why = curves_bidir_reason(scene);
+    if (media_note.empty() && integ != "pt" && integ != "auto" && !curves_bidir_why.empty()) {
+        media_note = "integrator '" + integ + "' does not render this hair yet (the scene has " +
+                     curves_bidir_why + "): rendering with pt";
         settings_.integrator = "pt";
     }
     auto t0 = Clock::now();
     scene_ = std::make_unique<HostScene>(scene);
+    scene_->set_hair_reverse(settings_.integrator != "pt");  // (bsdf/hair_lobe.h)
     if (settings_.integrator == "lt") check_light_tracing(scene);
     warnings_ = scene_->warnings();
     if (!media_note.empty()) warnings_.push_back(media_note);

@@ -220,6 +220,9 @@ public:
     // textures, the number of materials): build a new scene then.
     bool update_materials(const SceneInput& in);
     const std::vector<std::string>& warnings() const { return warnings_; }
+    // kHairReverse on every hair material (kept through update_materials): the session sets
+    // it for the integrators that read the hair lobe's reverse pdf (not pt: it costs pt 18 %)
+    void set_hair_reverse(bool on);
     // Where each of in.meshes lies in the scene's arrays (the instances of two-level accels).
     const std::vector<MeshRange>& mesh_ranges() const { return mesh_ranges_; }
     // scene_instance.cpp: mesh k placed by to_world relative to the positions it was given
@@ -279,6 +282,7 @@ private:
     std::vector<uint8_t> tri_shadow_set_;   // SceneView::tri_shadow_set (empty: none)
     std::vector<uint64_t> light_blockers_;  // SceneView::light_blockers (empty: none)
     std::vector<Material> materials_;
+    bool hair_reverse_ = false;  // set_hair_reverse
     std::vector<MaterialTables> material_tables_;  // materials_[k].tables: the k-th
     std::vector<Light> lights_;
     std::vector<float> light_cdf_, nee_cdf_, emit_cdf_, filter_cdf_;

@@ -314,10 +314,21 @@ bool HostScene::update_materials(const SceneInput& in) {
         if (!same_use(materials_[k], next.materials_[k])) return false;
     }
     std::copy(next.materials_.begin(), next.materials_.end(), materials_.begin());
+    set_hair_reverse(hair_reverse_);
     std::copy(next.material_tables_.begin(), next.material_tables_.end(),
               material_tables_.begin());
     point_material_tables();  // the copies point at next's tables
     return true;
+}
+
+
+
+void HostScene::set_hair_reverse(bool on) {
+    hair_reverse_ = on;
+    for (Material& m : materials_)
+        if (m.type == kMaterialHair)
+            m.tex_flags = on ? (m.tex_flags | kHairReverse)
+                             : (m.tex_flags & ~uint32_t(kHairReverse));
 }
 
 }  // namespace lantern

@@ -143,6 +143,8 @@ enum MaterialTextureBits : uint32_t {
     kTexBump = 1024u,    // a bump program bends the shading normal (program_bump; not resolved)
     kAlbedoBase = 2048u, // base_color is an albedo alone (no metal or glass reads it): above 1 kept
     kTintReflection = 4096u,  // dielectric: base_color tints reflection too (not resolved)
+    kHairReverse = 8192u,     // hair: its lobe computes the reverse pdf (bsdf/hair_lobe.h): set
+                              // where an integrator with light paths may render (HostScene)
     kTexShading = kTexBaseColor | kTexRoughness | kTexMetallic | kTexEmission |
                   kTexProgram,                                   // resolved per hit
     kMaterialResolve = kTexShading | kTexMix | kMixResolve,      // material_at copies

@@ -1,0 +1,38 @@
+// Strand vertices in the light-path integrators (bdpt, lvc, cis and lt; docs/curves.md
+// "Bidirectional"): the fiber measure. A strand vertex is (s, h), the place along the strand and
+// the offset across it of the ray that found it, whichever sub-path that was; its area element
+// is r dh ds, so its geometric cosine towards w is cos theta(w), the cosine to the fiber's
+// normal plane (the hair lobe's frame: X the tangent), from either side: a light path reaches
+// every (s, h) a camera path does and the reverse. The hair lobe's BSDF in that measure is
+// bsdf/hair_lobe.h's (Importance: f_cos(wi, wo) / cos theta(wo)).
+#pragma once
+
+#include "bsdf/hair_lobe.h"
+#include "scene/scene_view.h"
+
+namespace lantern {
+
+LANTERN_HD inline bool prim_is_strand(const SceneView& s, int prim) {
+    return prim >= s.num_triangles;
+}
+
+// The geometric cosine at a vertex towards unit w: |ng.w| on a surface, cos theta on a strand
+// (f: the strand hit's frame, X its tangent).
+LANTERN_HD inline float vertex_cos(bool strand, const Frame& f, Vec3 ng, Vec3 w) {
+    if (!strand) return fabsf(dot(w, ng));
+    const float c = dot(w, f.s);
+    return sqrtf(fmaxf(1.0f - c * c, 0.0f));
+}
+
+// A shadow segment ending at strand vertex y (prim, normal ng) from the far side of its fiber
+// (dir: unit, towards y) would enter the fiber before it reaches y: it ends a chord earlier
+// (2 r / cos theta at most), so that the fiber does not hide its own vertex.
+LANTERN_HD inline float strand_end_shorten(const SceneView& s, int prim, Vec3 ng, Vec3 dir,
+                                           const Frame& f) {
+    if (!(dot(dir, ng) > 0.0f)) return 0.0f;  // arriving on y's own side
+    const CurveSeg& g = s.curves.segs[prim - s.num_triangles];
+    const float r = fmaxf(g.r0, g.r1);
+    return 2.02f * r / fmaxf(vertex_cos(true, f, ng, dir), 0.05f);
+}
+
+}  // namespace lantern
