@@ -27,6 +27,7 @@ change; PYTHONHASHSEED=0 keeps the interpreter's part the same from run to run."
 import argparse
 import math
 import os
+import shutil
 import statistics
 import subprocess
 import sys
@@ -72,10 +73,11 @@ def run(pkg, integ, scene, size, threads, steps=3):
     return float(cpu), float(wall)
 
 
-def instructions(pkg, integ, scene, size, steps):
+def instructions(pkg, integ, scene, size, steps, keep=None):
     """Instructions of `steps` render steps after the warm-up, one thread, under callgrind: the
     part of the process between the child's two getsid() calls (the module is stripped, so no
-    toggle by function name; a libc call as marker instead)."""
+    toggle by function name; a libc call as marker instead). keep: a path to copy that part's
+    callgrind file to (callgrind_annotate per function, with an unstripped build)."""
     with tempfile.TemporaryDirectory() as tmp:
         out = os.path.join(tmp, "cg.out")
         subprocess.run(["valgrind", "--tool=callgrind", f"--callgrind-out-file={out}",
@@ -86,6 +88,8 @@ def instructions(pkg, integ, scene, size, steps):
         parts = sorted(f for f in os.listdir(tmp) if f.startswith("cg.out"))
         if parts != ["cg.out", "cg.out.1", "cg.out.2"]:
             raise RuntimeError(f"expected 3 callgrind parts (start-up, steps, exit): {parts}")
+        if keep:
+            shutil.copyfile(os.path.join(tmp, "cg.out.2"), keep)
         for line in open(os.path.join(tmp, "cg.out.2")):
             if line.startswith("summary:") or line.startswith("totals:"):
                 return int(line.split()[1])

@@ -8,6 +8,7 @@
 #include "integrator/camera.h"
 #include "integrator/nee_resample.h"
 #include "integrator/path_state.h"
+#include "integrator/pt_features.h"
 #include "integrator/pt_light_linking.h"
 #include "integrator/pt_ray_visibility.h"
 #include "scene/light_tree.h"
@@ -33,11 +34,13 @@ LANTERN_HD inline void pt_camera_ray_moved(const SceneView& s, const Rng& rng, R
 }
 
 // ---- Generate: slot i starts path `path` of the iteration, in pixel path / spp_per_iteration ----
+// (F: the features the scene may use, pt_features.h; so for every stage below)
+template <uint32_t F = kPtAll>
 LANTERN_HD inline void pt_generate(const SceneView& s, const PathState& ps, const PtSettings& st,
                                    int i, int64_t path) {
     Rng rng = Rng::for_camera(st.seed, st.iteration, st.spp_per_iteration, path);
     Ray r = generate_camera_ray(s.camera, int(path / st.spp_per_iteration), rng);
-    if (s.motion.camera_steps > 1) pt_camera_ray_moved(s, rng, r);  // motion blur
+    if ((F & kPtMotion) && s.motion.camera_steps > 1) pt_camera_ray_moved(s, rng, r);  // blur
     ps.ray_o[i] = r.o;
     ps.ray_d[i] = r.d;
     ps.ray_tmin[i] = r.tmin;
@@ -79,12 +82,14 @@ LANTERN_HD inline bool pt_world_sees(const SceneView& s, const Material& m, Vec3
 // light's own solid-angle pdf; next-event estimation picked it at the previous vertex with
 // light_pick_pmf. Camera rays and rays from a delta lobe (prev_pdf_w 0: next-event estimation
 // cannot find that light) take it all.
+template <uint32_t F = kPtAll>
 LANTERN_HD inline float pt_emission_weight(const SceneView& s, const PathState& ps, int i, int li,
                                            float light_pdf_w) {
     // light linking: no light from a light that does not light the vertex the ray left
-    if (s.light_receivers && !pt_emission_linked(s, ps, i, li)) return 0.0f;
+    if ((F & kPtLinks) && s.light_receivers && !pt_emission_linked(s, ps, i, li)) return 0.0f;
     if (ps.depth[i] <= 1 || !(ps.prev_pdf_w[i] > 0.0f)) return 1.0f;
-    if (s.light_blockers && pt_shadow_linked(s, li)) return 0.0f;  // next-event only
+    if ((F & kPtLinks) && s.light_blockers && pt_shadow_linked(s, li))
+        return 0.0f;  // next-event only
     const float pick = s.light_tree_on ? light_pick_pmf(s, li, ps.prev_p[i], ps.prev_n[i])
                                        : s.lights[li].nee_pdf;
     return power_heuristic(ps.prev_pdf_w[i], pick * light_pdf_w);
@@ -104,18 +109,20 @@ LANTERN_HD inline float pt_light_pdf_w(const SceneView& s, const PathState& ps, 
 }
 
 // ---- Lights along the segment: lights are not opaque; a ray collects every light it crosses ----
+template <uint32_t F = kPtAll>
 LANTERN_HD inline void pt_collect_lights(const SceneView& s, const PathState& ps, int i, Vec3 o,
                                          Vec3 d, float tmin, float tmax) {
     bool camera = ps.depth[i] <= 1;
     for (int k = 0; k < s.num_hittable_lights; ++k) {
         const Light& l = s.lights[s.hittable_lights[k]];
         if (camera && !l.visible_camera) continue;
-        if (pt_lamp_unseen(s, ps, i, s.hittable_lights[k])) continue;  // its ray visibility
+        if ((F & kPtLinks) && pt_lamp_unseen(s, ps, i, s.hittable_lights[k]))
+            continue;  // its ray visibility
         LightHit h = intersect_light(l, o, d, tmin, tmax);
         if (!h.hit || is_black(h.le)) continue;
         float pdf = pt_light_pdf_w(s, ps, i, l, o, d, h.t, h.n);
         add_radiance(ps, i, ps.throughput[i] * h.le *
-                                pt_emission_weight(s, ps, i, s.hittable_lights[k], pdf));
+                                pt_emission_weight<F>(s, ps, i, s.hittable_lights[k], pdf));
     }
 }
 
@@ -126,6 +133,7 @@ LANTERN_HD inline void pt_collect_lights(const SceneView& s, const PathState& ps
 namespace lantern {
 
 // ---- Miss: world background and the sun's disk ----
+template <uint32_t F = kPtAll>
 LANTERN_HD inline void pt_shade_miss(const SceneView& s, const PathState& ps, int i, Vec3 d) {
     bool camera = ps.depth[i] <= 1;
     for (int k = 0; k < s.num_miss_lights; ++k) {
@@ -135,17 +143,18 @@ LANTERN_HD inline void pt_shade_miss(const SceneView& s, const PathState& ps, in
             if (!camera && ps.world_hidden && ps.world_hidden[i]) continue;  // world_rays
             float pdf = world_pdf_w(s, d);
             add_radiance(ps, i, ps.throughput[i] * world_radiance(s, l, d) *
-                                    pt_emission_weight(s, ps, i, s.miss_lights[k], pdf));
+                                    pt_emission_weight<F>(s, ps, i, s.miss_lights[k], pdf));
         } else if (l.type == kLightSun && l.cos_sun < 1.0f) {
             // a sun lamp is hidden from the camera (as in Cycles); the world's disc is not
             if (camera ? !l.visible_camera
                        : (l.of_world && ps.world_hidden && ps.world_hidden[i]))
                 continue;
-            if (pt_lamp_unseen(s, ps, i, s.miss_lights[k])) continue;  // its ray visibility
+            if ((F & kPtLinks) && pt_lamp_unseen(s, ps, i, s.miss_lights[k]))
+                continue;  // its ray visibility
             if (dot(d, -l.direction) < l.cos_sun) continue;
             float pdf = light_pdf_w(l, vec3(0.0f), d, kInf, vec3(0.0f));
             add_radiance(ps, i, ps.throughput[i] * l.radiance *
-                                    pt_emission_weight(s, ps, i, s.miss_lights[k], pdf));
+                                    pt_emission_weight<F>(s, ps, i, s.miss_lights[k], pdf));
         }
     }
 }
@@ -233,6 +242,7 @@ LANTERN_HD inline BsdfSample pt_sample(const Material& m, bool front, Vec3 wo, V
 namespace lantern {
 
 // ---- Shade: emission, next-event estimation (a shadow ray), BSDF sampling, roulette ----
+template <uint32_t F = kPtAll>
 LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const PtSettings& st,
                                 int i) {
     Vec3 o = ps.ray_o[i], d = ps.ray_d[i];
@@ -242,16 +252,17 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
     ps.alive[i] = 0;
     // ray visibility, light or shadow linking in the scene (pt_ray_visibility.h,
     // pt_light_linking.h): read once, so that a scene without them tests one register
-    const bool extras = s.tri_rays || s.light_rays || s.light_receivers || s.light_blockers;
+    const bool extras =
+        (F & kPtLinks) && (s.tri_rays || s.light_rays || s.light_receivers || s.light_blockers);
     // the catcher renders (kCatcherObject, kCatcherPass) keep only camera rays reaching one
     const bool catcher_camera = s.catcher_mode != kCatcherMatte && ps.depth[i] <= 1;
     // in a medium: its segment (emission, lights crossed, a scattering inside: pt_volume.h)
     const bool in_medium = s.num_media > 0 && ps.medium[i] >= 0;
     if (in_medium && pt_medium_segment(s, ps, st, i, catcher_camera)) return;
     if (!catcher_camera && !in_medium)
-        pt_collect_lights(s, ps, i, o, d, ps.ray_tmin[i], tri >= 0 ? t_hit : ps.ray_tmax[i]);
+        pt_collect_lights<F>(s, ps, i, o, d, ps.ray_tmin[i], tri >= 0 ? t_hit : ps.ray_tmax[i]);
     if (tri < 0) {  // past the far clip plane too: the background shows, as in Cycles
-        if (!catcher_camera) pt_shade_miss(s, ps, i, d);
+        if (!catcher_camera) pt_shade_miss<F>(s, ps, i, d);
         return;
     }
     if (s.num_media > 0 && (s.tri_flags[tri] & kVolumeBoundary)) {  // no surface: go on
@@ -267,7 +278,7 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
     if ((s.catcher_mode != kCatcherMatte || (s.tri_flags[tri] & kShadowCatcher)) &&
         pt_catcher_skips(s, ps, i, tri))
         return;
-    SurfaceHit h = pt_surface_at(s, ps, i, tri, d);  // a triangle's or a strand's (pt_curve.h)
+    SurfaceHit h = pt_surface_at<F>(s, ps, i, tri, d);  // a triangle's or a strand's (pt_curve.h)
     MaterialScratch scratch;
     const Material& m = material_at_point(
         s, s.tri_material[tri],
@@ -282,7 +293,8 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
         int li = s.tri_light ? s.tri_light[tri] : -1;
         if (li >= 0) {
             const Light& l = s.lights[li];
-            w = pt_emission_weight(s, ps, i, li, pt_light_pdf_w(s, ps, i, l, o, d, t_hit, h.ng));
+            w = pt_emission_weight<F>(s, ps, i, li,
+                                      pt_light_pdf_w(s, ps, i, l, o, d, t_hit, h.ng));
         }
         // the camera's direct view of a Principled emitter: under its coat and sheen
         // (principled_emission_through; light it casts stays undimmed)
@@ -298,7 +310,7 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
     const Vec3 ng_l = frame.to_local(h.ng);
     Rng rng = ps.rng[i];
     // under the surface: the walk stage takes the path (integrator/pt_sss.h)
-    if (s.has_subsurface && m.subsurface > 0.0f && tri < s.num_triangles &&
+    if ((F & kPtSubsurface) && s.has_subsurface && m.subsurface > 0.0f && tri < s.num_triangles &&
         pt_sss_choose(ps, i, m, wo, ng_l, rng)) {
         ps.rng[i] = rng;
         return;

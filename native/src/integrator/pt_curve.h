@@ -4,6 +4,7 @@
 // strand's tangent (the hair lobe's frame, bsdf/hair_lobe.h), texture coordinates (u, 0).
 #pragma once
 
+#include "integrator/pt_features.h"
 #include "integrator/pt_surface.h"
 
 namespace lantern {
@@ -36,13 +37,15 @@ LANTERN_HD inline SurfaceHit surface_of_hit(const SceneView& s, int prim, Vec2 u
                                    : pt_surface(s, prim, uv, d);
 }
 
-// The surface at slot i's hit, a triangle's or a strand's.
+// The surface at slot i's hit, a triangle's or a strand's (F: pt_features.h).
+template <uint32_t F = kPtAll>
 LANTERN_HD inline SurfaceHit pt_surface_at(const SceneView& s, const PathState& ps, int i, int prim,
                                            Vec3 d) {
-    if (__builtin_expect(prim >= s.num_triangles, 0))  // a strand: off the usual path
+    if ((F & kPtStrands) && __builtin_expect(prim >= s.num_triangles, 0))  // off the usual path
         return pt_surface_curve(s, prim, ps.hit_uv[i], ps.ray_o[i], d, ps.hit_t[i]);
-    return s.motion.num_objects ? pt_surface_moved(s, prim, ps.hit_uv[i], d, ps.rng[i])
-                                : pt_surface(s, prim, ps.hit_uv[i], d);
+    return (F & kPtMotion) && s.motion.num_objects
+               ? pt_surface_moved(s, prim, ps.hit_uv[i], d, ps.rng[i])
+               : pt_surface(s, prim, ps.hit_uv[i], d);
 }
 
 }  // namespace lantern

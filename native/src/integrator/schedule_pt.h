@@ -21,9 +21,10 @@ LANTERN_HD inline void pt_shadow_at_time(const SceneView& s, const Rays& rays, c
                                     : rays.occluded(r, RayKind::kShadow));
 }
 
-template <class Exec>
-void pt_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep& st,
-              int64_t first_path, int n) {
+// The chunk's stages as variant F (pt_features.h): the features the scene may use.
+template <uint32_t F, class Exec>
+void pt_chunk_variant(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep& st,
+                      int64_t first_path, int n) {
     w.media = s.num_media > 0;
     w.resize(n, 0, Exec::kGpu);
     SessionStats& stats = *st.stats;
@@ -36,7 +37,7 @@ void pt_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep& st
     // slots are chunk-local; the path's global index drives its random stream and pixel
     ex.timed(stats.time_generate, [&] {
         ex.each(n, LANTERN_KERNEL(int i) {
-            pt_generate(s, ps, pt, i, camera_path(list, spp, first_path + i));
+            pt_generate<F>(s, ps, pt, i, camera_path(list, spp, first_path + i));
             q0[i] = i;
         });
     });
@@ -44,11 +45,14 @@ void pt_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep& st
     stats.rays_camera += n;
     bool first = true;
     while (active > 0 && !st.cancelled()) {
-        trace(ex, w, active, first, stats, s.motion.num_objects > 0);
+        const bool motion = (F & kPtMotion) && s.motion.num_objects > 0;
+        trace(ex, w, active, first, stats, motion);
         const int32_t* q = w.queue.data();
-        ex.timed(stats.time_shade,
-                 [&] { ex.each(active, LANTERN_KERNEL(int k) { pt_shade(s, ps, pt, q[k]); }); });
-        if (s.has_subsurface)  // the walks of the paths that went under a surface (pt_sss.h)
+        ex.timed(stats.time_shade, [&] {
+            ex.each(active, LANTERN_KERNEL(int k) { pt_shade<F>(s, ps, pt, q[k]); });
+        });
+        // the walks of the paths that went under a surface (pt_sss.h)
+        if ((F & kPtSubsurface) && s.has_subsurface)
             ex.timed(stats.time_shade, [&] {
                 ex.each(active, LANTERN_KERNEL(int k) { pt_sss_walk(s, rays, RayKind::kIndirect, ps, pt, q[k]); });
             });
@@ -58,7 +62,7 @@ void pt_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep& st
             if (s.num_media > 0)  // media's equiangular shadow rays (pt_volume.h)
                 stats.rays_shadow += ex.count(
                     active, LANTERN_KERNEL(int k) { return ps.vshadow_valid[q[k]] != 0; });
-            if (s.motion.num_objects > 0) {  // motion blur: each at its path's time (no media)
+            if (motion) {  // motion blur: each at its path's time (no media)
                 ex.each(active, LANTERN_KERNEL(int k) { pt_shadow_at_time(s, rays, ps, q[k]); });
                 return;
             }
@@ -70,7 +74,7 @@ void pt_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep& st
                 }
                 if (!ps.shadow_valid[i]) return;
                 const Ray r{ps.shadow_o[i], ps.shadow_d[i], 0.0f, ps.shadow_tmax[i]};
-                pt_shadow_result(ps, i, s.light_blockers  // shadow linking: pt_light_linking.h
+                pt_shadow_result(ps, i, (F & kPtLinks) && s.light_blockers  // shadow linking
                                     ? pt_occluded_linked(s, rays, RayKind::kShadow, ps, i, r)
                                     : rays.occluded(r, RayKind::kShadow));
             });
@@ -81,6 +85,17 @@ void pt_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep& st
     }
     if (st.cancelled()) return;
     film(ex, w, st, first_path, n);
+}
+
+// A scene without any of the features runs the stages compiled without their tests; the GPU
+// builds the general variant only (one set of kernels).
+template <class Exec>
+void pt_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep& st,
+              int64_t first_path, int n) {
+    if constexpr (!Exec::kGpu) {
+        if (pt_features(s) == 0) return pt_chunk_variant<0>(ex, w, s, st, first_path, n);
+    }
+    pt_chunk_variant<kPtAll>(ex, w, s, st, first_path, n);
 }
 
 }  // namespace wf

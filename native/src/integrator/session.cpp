@@ -9,7 +9,6 @@
 #include "backend/backend.h"
 #include "backend/cpu/cpu_exec.h"
 #include "backend/cuda/cuda_renderer.h"
-#include "integrator/schedule_pt.h"
 #include "integrator/wavefront.h"
 
 namespace lantern {
