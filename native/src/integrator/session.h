@@ -202,6 +202,9 @@ private:
     std::unique_ptr<CudaRenderer> gpu_;
     std::unique_ptr<Allocation> alloc_;  // integrator "auto" only
     std::unique_ptr<ConnectionAllocation> conn_alloc_;  // connection_allocation only
+    // the scene has participating media: "auto"'s cis trials carry no moment channels and no
+    // connection map is chosen (docs/auto_integrator.md, "Media")
+    bool media_ = false;
     uint64_t auto_iteration_[2] = {0, 0};  // its trials' streams and its kept iterations'
     std::string backend_name_ = "cpu", device_name_ = "cpu";
     std::vector<std::string> warnings_;
