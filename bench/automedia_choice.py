@@ -2,10 +2,10 @@
 media scenes (the lamp in a shade in fog, the open fog stage under a sun, the fog room with a
 spot; 32x32, max_depth 8), K seeds each, one thread. Efficiency = 1 / (mean pixel variance over
 seeds x process CPU seconds per seed), relative to pt's, and by auto's own measure (the mean
-pixel's standard deviation of the luminance, squared, in place of the mean variance); auto's choices and its own estimate of
-cis over pt per seed. Run:
+pixel's standard deviation of the luminance, squared, in place of the mean variance); auto's
+choices and its own estimate of cis over pt per seed. Run:
 
-    nice python bench/automedia_choice.py --spp 64 --seeds 8 \\
+    nice python bench/automedia_choice.py --spp 64 --seeds 8 --spp-per-iteration 1 \\
         --out bench/results/2026-12-04-automedia/choice.txt"""
 import argparse
 import os

@@ -19,7 +19,6 @@ its own estimate of cis over pt. Run inside bpy's Python:
     nice python bench/automedia_cycles.py --scenes fog_spot lamp_shade lamp_shade_soft \\
         --spp 256 --seeds 8 --out bench/results/2026-12-04-automedia/cycles.txt"""
 import argparse
-import math
 import os
 import platform
 import sys
