@@ -51,14 +51,16 @@ def main():
             imgs, secs, chose = [], [], []
             for k in range(args.seeds):
                 c0 = time.process_time()
-                s = lantern.Session(SCENES[name](), integrator=integ, backend="cpu", seed=1 + k,
+                # "auto_media": integrator auto with its choice in media on (off by default)
+                s = lantern.Session(SCENES[name](), integrator=integ.split("_")[0],
+                                    auto_media=integ == "auto_media", backend="cpu", seed=1 + k,
                                     max_depth=args.depth,
                                     spp_per_iteration=args.spp_per_iteration, threads=1)
                 while s.spp < args.spp:
                     s.step()
                 secs.append(time.process_time() - c0)
                 imgs.append(np.asarray(s.image(), dtype=np.float64)[..., :3])
-                if integ == "auto":
+                if integ.startswith("auto"):
                     chose.append(f"{s.stats['auto_choice']}({s.stats['auto_cis_over_pt']:.2f})")
             imgs = np.stack(imgs)
             var = float(imgs.var(axis=0, ddof=1).mean())

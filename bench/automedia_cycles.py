@@ -14,7 +14,8 @@ K seeds per renderer, one thread each, the tests' Cycles settings (render_compar
 denoising, adaptive sampling, clamping or light threshold, Filter Glossy 0, max_bounces 16;
 Lantern max_depth 18). Efficiency = 1 / (mean pixel variance over seeds x process CPU seconds
 per seed); the ratio to Cycles' efficiency is reported per integrator, with auto's choices and
-its own estimate of cis over pt. Run inside bpy's Python:
+its own estimate of cis over pt ("auto_media" in --integrators: auto with the setting
+auto_media, its choice in media, on; by default auto is pt in media). Run inside bpy's Python:
 
     nice python bench/automedia_cycles.py --scenes fog_spot lamp_shade lamp_shade_soft \\
         --spp 256 --seeds 8 --out bench/results/2026-12-04-automedia/cycles.txt"""
@@ -123,7 +124,9 @@ def main():
             imgs, secs, chose = [], [], []
             for k in range(args.seeds):
                 c0 = time.process_time()
-                s = lantern.Session(scene, integrator=integ, backend="cpu",
+                # "auto_media": integrator auto with its choice in media on (off by default)
+                s = lantern.Session(scene, integrator=integ.split("_")[0], backend="cpu",
+                                    auto_media=integ == "auto_media",
                                     max_depth=rc.lantern_depth(rc.BOUNCES), seed=1 + k,
                                     spp_per_iteration=args.spp_per_iteration, threads=1)
                 while s.spp < args.spp:
@@ -131,7 +134,7 @@ def main():
                 imgs.append(np.asarray(s.image(), dtype=np.float64)[..., :3])
                 secs.append(time.process_time() - c0)
                 st = s.stats
-                if integ == "auto":
+                if integ.startswith("auto"):
                     chose.append(f"{st['auto_choice']}({st['auto_cis_over_pt']:.2f};"
                                  f"{st['auto_pt_iterations']}/{st['auto_cis_iterations']})")
             r = res[integ] = _stats(imgs, secs)

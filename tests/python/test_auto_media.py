@@ -1,11 +1,15 @@
 """Integrator "auto" in scenes with homogeneous media (native/src/integrator/allocation.h,
-docs/auto_integrator.md "Media"; docs/volumes.md): its pt and cis trials choose between the two
-there too (no moment channels, no connection map: the medium stages finish a contribution's
-weight at its shadow ray).
+docs/auto_integrator.md "Media"; docs/volumes.md): by default auto is pt in any medium (its
+choice there fell below pt's efficiency on the fog room, bench/results/2026-12-04-automedia);
+with the setting `auto_media` its pt and cis trials choose between the two there too (no moment
+channels, no connection map: the medium stages finish a contribution's weight at its shadow ray).
 
-- Unbiased: auto against pt on the fog room with a spot (test_volume_bidir.fog_spot, where it
+- Default: auto renders the fog room as pt does, bit for bit, with a warning naming the
+  setting; control: with auto_media on, the same seed runs cis trials and its image differs.
+
+- Unbiased (auto_media on): auto against pt on the fog room with a spot (test_volume_bidir.fog_spot, where it
   renders cis) by lantern.metrics.assert_agreement with its negative controls.
-- Its choice (deterministic per seed) against the efficiencies measured in bench/ (bench/
+- Its choice with auto_media on (deterministic per seed) against the efficiencies measured in bench/ (bench/
   results/2026-12-04-automedia): cis on the lamp in a shade in fog (test_volume_bdpt.lamp_shade;
   cis many times pt's efficiency), pt on an open fog scene lit by a sun (open_fog below, where
   pt is the more efficient). Negative control: the same lamp scene with the sphere light's
@@ -60,7 +64,7 @@ def _choices(scene, seeds, steps=1, spp=1):
     out = []
     for seed in seeds:
         s = lantern.Session(scene, integrator="auto", seed=seed, backend="cpu", max_depth=DEPTH,
-                            spp_per_iteration=spp, threads=1)
+                            spp_per_iteration=spp, threads=1, auto_media=True)
         for _ in range(steps):
             s.step()
         assert not any("path tracing" in w for w in s.warnings), s.warnings
@@ -68,9 +72,42 @@ def _choices(scene, seeds, steps=1, spp=1):
     return out
 
 
+def _auto_media_renders(scene, spp, seed0, k_seeds, steps=4):
+    """renders() of test_volume_bidir for integrator auto with auto_media on."""
+    out = []
+    for k in range(k_seeds):
+        s = lantern.Session(scene, integrator="auto", seed=seed0 + k, backend="cpu",
+                            max_depth=DEPTH, spp_per_iteration=spp // steps, threads=1,
+                            auto_media=True)
+        for _ in range(steps):
+            s.step()
+        assert not any("path tracing" in w for w in s.warnings), s.warnings
+        out.append(np.asarray(s.image())[..., :3])
+    return out
+
+
+def test_auto_is_pt_in_media_by_default():
+    scene = fog_spot()
+    images = {}
+    for name, settings in (("auto", {"integrator": "auto"}), ("pt", {"integrator": "pt"}),
+                           ("auto_media", {"integrator": "auto", "auto_media": True})):
+        s = lantern.Session(scene, seed=7, backend="cpu", max_depth=DEPTH, spp_per_iteration=1,
+                            threads=1, **settings)
+        for _ in range(4):
+            s.step()
+        images[name] = np.asarray(s.image())
+        if name == "auto":
+            assert any("auto_media" in w for w in s.warnings), s.warnings
+            assert s.stats["auto_choice"] == "pt" and s.stats["auto_cis_iterations"] == 0
+        if name == "auto_media":  # control: its pilot's cis trials ran
+            assert s.stats["auto_cis_iterations"] >= 2, s.stats
+    assert np.array_equal(images["auto"], images["pt"])
+    assert not np.array_equal(images["auto_media"], images["pt"])
+
+
 def test_auto_agrees_with_pt_in_fog():
     scene = fog_spot()
-    auto = renders(scene, "auto", 64, 5000, k_seeds=12, max_depth=DEPTH, steps=4)
+    auto = _auto_media_renders(scene, 64, 5000, k_seeds=12)
     pt = renders(scene, "pt", 256, 1000, k_seeds=12, max_depth=DEPTH, steps=4)
     metrics.assert_agreement("fog_spot auto vs pt", auto, pt, block=8, image_bias=0.04,
                              block_bias=0.1)
@@ -102,7 +139,7 @@ def test_emissive_medium_stays_pt_and_connection_allocation_is_off():
     scene = fog_spot()
     scene.world["volume"]["emission"] = [0.1, 0.1, 0.1]
     s = lantern.Session(scene, integrator="auto", seed=1, backend="cpu", max_depth=DEPTH,
-                        threads=1)
+                        threads=1, auto_media=True)
     s.step()
     assert s.stats["auto_choice"] == "pt" and s.stats["auto_cis_iterations"] == 0
     assert any("emissive" in w and "auto" in w for w in s.warnings), s.warnings

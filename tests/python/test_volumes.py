@@ -1,7 +1,7 @@
 """Media through the Python scene (docs/volumes.md): the schema's checks, the scene file's round
 trip, an absorbing slab rendered through the bindings against Beer-Lambert, and the integrators
 without medium vertices handing media scenes to pt with a warning (auto: pt for emissive media,
-with the reason)."""
+with the reason, and for any medium unless `auto_media` is set)."""
 import math
 
 import numpy as np
@@ -110,9 +110,15 @@ def test_auto_renders_emissive_media_with_pt():
     s.step()
     assert any("only pt renders" in w and "emissive volume" in w for w in s.warnings)
     assert s.stats["auto_choice"] == "pt" and s.stats["auto_cis_iterations"] == 0
-    # control: the absorbing slab is left to the pilot's trials (cis's among them)
+    # control: with auto_media the absorbing slab is left to the pilot's trials (cis's among
+    # them); by default auto is pt in any medium (docs/auto_integrator.md, "Media")
+    s = lantern.Session(slab_scene(), integrator="auto", seed=3, spp_per_iteration=2,
+                        max_depth=1, threads=1, auto_media=True)
+    s.step()
+    assert not any("path tracing" in w for w in s.warnings), s.warnings
+    assert s.stats["auto_cis_iterations"] >= 2
     s = lantern.Session(slab_scene(), integrator="auto", seed=3, spp_per_iteration=2,
                         max_depth=1, threads=1)
     s.step()
-    assert not any("only pt renders" in w for w in s.warnings)
-    assert s.stats["auto_cis_iterations"] >= 2
+    assert any("auto_media" in w for w in s.warnings), s.warnings
+    assert s.stats["auto_choice"] == "pt" and s.stats["auto_cis_iterations"] == 0

@@ -168,13 +168,19 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
         std::string why = pt_only_reason(scene);
         // the bidirectional medium stages have not run on a GPU yet (docs/volumes.md)
         if (why.empty() && gpu_ && media_) why = "participating media on the GPU";
-        alloc_ = std::make_unique<Allocation>(int64_t(scene.width) * scene.height, !why.empty(),
+        // off by default: its choice in media fell below pt's efficiency (docs/auto_integrator.md)
+        const bool media_off = why.empty() && media_ && !settings_.auto_media;
+        alloc_ = std::make_unique<Allocation>(int64_t(scene.width) * scene.height,
+                                              !why.empty() || media_off,
                                               settings_.candidates, !gpu_,
                                               !gpu_ && !settings_.auto_keep_pilot, scene.width);
         stats_.auto_choice = alloc_->choice();
         if (!why.empty())
             warnings_.push_back("integrator 'auto' renders this scene with path tracing: it has " +
                                 why + ", which only pt renders");
+        else if (media_off)
+            warnings_.push_back("integrator 'auto' renders this scene with path tracing: its "
+                                "choice in participating media is off (setting auto_media)");
     }
     width_ = scene.width;
     height_ = scene.height;
