@@ -6,12 +6,12 @@ channels, no connection map: the medium stages finish a contribution's weight at
 
 - Default: auto renders the fog room as pt does, bit for bit, with a warning naming the
   setting; control: with auto_media on, the same seed runs cis trials and its image differs.
-
-- Unbiased (auto_media on): auto against pt on the fog room with a spot (test_volume_bidir.fog_spot, where it
-  renders cis) by lantern.metrics.assert_agreement with its negative controls.
-- Its choice with auto_media on (deterministic per seed) against the efficiencies measured in bench/ (bench/
-  results/2026-12-04-automedia): cis on the lamp in a shade in fog (test_volume_bdpt.lamp_shade;
-  cis many times pt's efficiency), pt on an open fog scene lit by a sun (open_fog below, where
+- Unbiased (auto_media on): auto against pt on the fog room with a spot
+  (test_volume_bidir.fog_spot, where it renders cis) by lantern.metrics.assert_agreement with
+  its negative controls.
+- Its choice with auto_media on (deterministic per seed) against the efficiencies measured in
+  bench/ (bench/results/2026-12-04-automedia): cis on the lamp in a shade in fog
+  (test_volume_bdpt.lamp_shade; cis many times pt's efficiency), pt on an open fog scene lit by a sun (open_fog below, where
   pt is the more efficient). Negative control: the same lamp scene with the sphere light's
   Soft Falloff on (cis starts no light paths on such a light) goes to pt.
 - Emissive media stay pt's alone (a warning says so); a media scene's explicit
