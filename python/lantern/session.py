@@ -58,6 +58,9 @@ DEFAULT_SETTINGS = {
     "adaptive_step": 4,
     "instancing": False,      # a bottom-level BVH per mesh, so move_instance() builds none
     "auto_keep_pilot": False,  # integrator auto: the pilot in the image, as on the GPU (tests)
+    # integrator auto in homogeneous, non-emissive media: its trials choose pt or cis there
+    # (off: pt in media; its choice there fell below pt's efficiency, docs/auto_integrator.md)
+    "auto_media": False,
     # tests only (lvc, cis, bdpt): each pixel holds integrator auto's moment channels, not RGB
     # (luminance, path tracing's second moment by the MIS identity, light pt cannot sample)
     "moment_channels": False,
@@ -245,7 +248,8 @@ def resolve_settings(settings):
                         f"{out['connection_allocation']!r}")
     if out["connection_allocation"] is not None:
         out["connection_allocation"] = bool(out["connection_allocation"])
-    for key in ("instancing", "auto_keep_pilot", "moment_channels", "naive_map"):
+    for key in ("instancing", "auto_keep_pilot", "auto_media", "moment_channels",
+                "naive_map"):
         if not isinstance(out[key], (bool, np.bool_)):
             raise TypeError(f"setting '{key}' must be a bool, got {out[key]!r}")
         out[key] = bool(out[key])

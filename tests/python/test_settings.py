@@ -19,7 +19,7 @@ def test_defaults(monkeypatch):
                         "cache_budget_mb": 0, "light_candidates": 1,
                         "adaptive_threshold": 0.0, "adaptive_min_samples": 0,
                         "adaptive_step": 4, "instancing": False, "auto_keep_pilot": False,
-                        "moment_channels": False}
+                        "auto_media": False, "moment_channels": False}
     assert warnings == []
 
 

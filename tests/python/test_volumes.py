@@ -1,6 +1,7 @@
 """Media through the Python scene (docs/volumes.md): the schema's checks, the scene file's round
 trip, an absorbing slab rendered through the bindings against Beer-Lambert, and the integrators
-without medium vertices handing media scenes to pt with a warning (auto: pt, with the reason)."""
+without medium vertices handing media scenes to pt with a warning (auto: pt for emissive media,
+with the reason, and for any medium unless `auto_media` is set)."""
 import math
 
 import numpy as np
@@ -102,8 +103,25 @@ def test_emissive_media_hand_over_from_lt_only(integ):
     assert np.array_equal(np.asarray(s.image()), np.asarray(ref.image())) == (integ == "lt")
 
 
-def test_auto_renders_media_with_pt():
+def test_auto_renders_emissive_media_with_pt():
+    """auto chooses between pt and cis with homogeneous media (test_auto_media.py); emissive
+    ones are pt's alone, and it says so."""
+    emissive = slab_scene(volume={"sigma_s": [1.0, 1.0, 1.0], "sigma_a": [0.1, 0.2, 0.3],
+                                  "emission": [0.2, 0.2, 0.2]})
+    s = lantern.Session(emissive, integrator="auto", seed=3, spp_per_iteration=2,
+                        max_depth=1, threads=1)
+    s.step()
+    assert any("only pt renders" in w and "emissive volume" in w for w in s.warnings)
+    assert s.stats["auto_choice"] == "pt" and s.stats["auto_cis_iterations"] == 0
+    # control: with auto_media the absorbing slab is left to the pilot's trials (cis's among
+    # them); by default auto is pt in any medium (docs/auto_integrator.md, "Media")
+    s = lantern.Session(slab_scene(), integrator="auto", seed=3, spp_per_iteration=2,
+                        max_depth=1, threads=1, auto_media=True)
+    s.step()
+    assert not any("path tracing" in w for w in s.warnings), s.warnings
+    assert s.stats["auto_cis_iterations"] >= 2
     s = lantern.Session(slab_scene(), integrator="auto", seed=3, spp_per_iteration=2,
                         max_depth=1, threads=1)
     s.step()
-    assert any("only pt renders" in w and "volume" in w for w in s.warnings)
+    assert any("auto_media" in w for w in s.warnings), s.warnings
+    assert s.stats["auto_choice"] == "pt" and s.stats["auto_cis_iterations"] == 0

@@ -295,7 +295,9 @@ std::string pt_only_reason(const SceneInput& in) {
     if (std::string v = ray_visibility_reason(in); !v.empty()) return v;
     if (in.catcher_mode != 0) return "a shadow catcher pass";
     if (in.world_rays != 7) return "the world hidden from some rays";
-    if (std::string v = media_reason(in); !v.empty()) return v;  // media: pt only (volumes.md)
+    // media: homogeneous, non-emissive ones have medium vertices in cis (bdpt_medium_stages.h);
+    // emissive and heterogeneous ones (and Volume objects' grids) are pt's alone (volumes.md)
+    if (std::string v = emissive_media_reason(in); !v.empty()) return v;
     if (std::string v = motion_reason(in); !v.empty()) return v;  // motion blur: pt only
     if (std::string v = subsurface_reason(in); !v.empty()) return v;  // docs/subsurface.md
     if (std::string v = curves_bidir_reason(in); !v.empty()) return v;  // docs/curves.md

@@ -169,21 +169,36 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
         }
     }
     if (!gpu_) start_cpu_backend();
+    media_ = !media_reason(scene).empty();
     if (integ == "auto") {
-        const std::string why = pt_only_reason(scene);
-        alloc_ = std::make_unique<Allocation>(int64_t(scene.width) * scene.height, !why.empty(),
+        std::string why = pt_only_reason(scene);
+        // the bidirectional medium stages have not run on a GPU yet (docs/volumes.md)
+        if (why.empty() && gpu_ && media_) why = "participating media on the GPU";
+        // off by default: its choice in media fell below pt's efficiency (docs/auto_integrator.md)
+        const bool media_off = why.empty() && media_ && !settings_.auto_media;
+        alloc_ = std::make_unique<Allocation>(int64_t(scene.width) * scene.height,
+                                              !why.empty() || media_off,
                                               settings_.candidates, !gpu_,
                                               !gpu_ && !settings_.auto_keep_pilot, scene.width);
         stats_.auto_choice = alloc_->choice();
         if (!why.empty())
             warnings_.push_back("integrator 'auto' renders this scene with path tracing: it has " +
                                 why + ", which only pt renders");
+        else if (media_off)
+            warnings_.push_back("integrator 'auto' renders this scene with path tracing: its "
+                                "choice in participating media is off (setting auto_media)");
     }
     width_ = scene.width;
     height_ = scene.height;
     const bool conn_alloc_on = settings_.connection_allocation > 0 ||
                                (settings_.connection_allocation < 0 && integ == "auto");
-    if (conn_alloc_on && settings_.adaptive_threshold <= 0.0f &&
+    // media: the medium stages (bdpt_medium_stages.h) neither scale a cache vertex's parts
+    // that end on the light (dpt0, dpt1) nor normalise the camera side to a pixel's count, so
+    // a per-pixel map's weights there are not the partition of unity pixel_conn.h proves
+    if (conn_alloc_on && media_ && settings_.connection_allocation > 0)
+        warnings_.push_back("connection_allocation is off in scenes with participating media: "
+                            "the medium vertices' weights do not take a per-pixel count yet");
+    if (conn_alloc_on && !media_ && settings_.adaptive_threshold <= 0.0f &&
         (integ == "lvc" || integ == "cis" || integ == "auto") && settings_.connection_map.empty() &&
         !scene.panoramic)
         conn_alloc_ = std::make_unique<ConnectionAllocation>(
@@ -341,7 +356,10 @@ SessionSettings Session::iteration_settings() const {
         if (trial_next()) run.spp_per_iteration = 1;  // a trial: one sample a pixel
         // a cis trial also estimates pt's second moment (allocation.h): its sum holds moment
         // channels, not RGB (never added to the image)
-        if (trial_next() && run.integrator == "cis") run.auto_moments = true;
+        // (media: the medium stages finish a contribution's weight and transmittance at its
+        // shadow ray, after bdpt_moment would have turned it into channels: no moments there,
+        // pt's variance from its own trials and iterations; docs/auto_integrator.md)
+        if (trial_next() && run.integrator == "cis" && !media_) run.auto_moments = true;
         if (trial_next()) run.connection_map.clear();  // (trials: the counts the pilot weighs)
     }
     return run;

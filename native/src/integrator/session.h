@@ -63,6 +63,11 @@ struct SessionSettings {
     bool instancing = false;
     // integrator "auto": keep the pilot's iterations in the image, as the GPU does (tests)
     bool auto_keep_pilot = false;
+    // integrator "auto" in homogeneous, non-emissive media: let its pt and cis trials choose
+    // there. Off by default (auto = pt in media): without moment channels in the medium stages
+    // its estimates of cis over pt read far low and at one sample an iteration it switched
+    // back and forth, below pt's efficiency (docs/auto_integrator.md, "Media")
+    bool auto_media = false;
     // (internal) a cis trial of "auto": each pixel's sum holds the moment channels of
     // BdptSettings::moments (bdpt.h) instead of RGB; never set on a rendered iteration
     bool auto_moments = false;
@@ -203,6 +208,9 @@ private:
     std::unique_ptr<CudaRenderer> gpu_;
     std::unique_ptr<Allocation> alloc_;  // integrator "auto" only
     std::unique_ptr<ConnectionAllocation> conn_alloc_;  // connection_allocation only
+    // the scene has participating media: "auto"'s cis trials carry no moment channels and no
+    // connection map is chosen (docs/auto_integrator.md, "Media")
+    bool media_ = false;
     uint64_t auto_iteration_[2] = {0, 0};  // its trials' streams and its kept iterations'
     std::string backend_name_ = "cpu", device_name_ = "cpu";
     std::vector<std::string> warnings_;

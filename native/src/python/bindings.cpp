@@ -280,6 +280,7 @@ SessionSettings to_settings(const nb::dict& d) {
     s.adaptive_step = get<int>(d, "adaptive_step", s.adaptive_step);
     s.instancing = get<bool>(d, "instancing", s.instancing);
     s.auto_keep_pilot = get<bool>(d, "auto_keep_pilot", s.auto_keep_pilot);
+    s.auto_media = get<bool>(d, "auto_media", s.auto_media);
     s.auto_moments = get<bool>(d, "moment_channels", s.auto_moments);  // (tests)
     if (s.threads < 0 || s.threads > kMaxThreads) {
         throw std::invalid_argument("threads must be in [0, " + std::to_string(kMaxThreads) +
