@@ -295,8 +295,9 @@ std::string pt_only_reason(const SceneInput& in) {
     if (std::string v = ray_visibility_reason(in); !v.empty()) return v;
     if (in.catcher_mode != 0) return "a shadow catcher pass";
     if (in.world_rays != 7) return "the world hidden from some rays";
-    // media: homogeneous, non-emissive ones have medium vertices in cis (bdpt_medium_stages.h);
-    // emissive and heterogeneous ones (and Volume objects' grids) are pt's alone (volumes.md)
+    // media (with auto_media on; session.cpp): cis has medium vertices in homogeneous and
+    // heterogeneous media (bdpt_medium_stages.h, bdpt_medium_hetero.h); emissive ones stay pt's
+    // here (emissive_media_reason), as auto's trials carry no moment channels in media at all
     if (std::string v = emissive_media_reason(in); !v.empty()) return v;
     if (std::string v = motion_reason(in); !v.empty()) return v;  // motion blur: pt only
     if (std::string v = subsurface_reason(in); !v.empty()) return v;  // docs/subsurface.md
