@@ -1,0 +1,64 @@
+// Fire in Volume objects (docs/volumes.md): a medium's emission per point from its temperature
+// grid (Principled Volume's blackbody, as Cycles: T = the Temperature socket x the grid's value,
+// Blackbody Tint x sigma x mix(1, T^4, Blackbody Intensity) x the blackbody colour of T) and its
+// flame grid (flame_emission x flame: an Attribute node on Emission Strength), added to the
+// constant emission. Host+device; the blackbody colours are a table in the view.
+#pragma once
+
+#include "scene/medium.h"
+#include "scene/medium_grid.h"
+#include "scene/scene_view.h"
+
+namespace lantern {
+
+// Stefan-Boltzmann per steradian with Cycles' 1e-6 scale (docs/volumes.md), and its cutoff
+constexpr float kBlackbodySigma = 5.670373e-8f * 1e-6f / kPi;
+constexpr float kBlackbodyCutoff = 1e-5f;
+// The blackbody colour table (scene/blackbody_table.cpp): kBlackbodyKnots RGB rows of luminance
+// 1, uniform in 1/T from kBlackbodyTMin to kBlackbodyTMax (clamped outside), not clamped at 0
+constexpr int kBlackbodyKnots = 256;
+constexpr float kBlackbodyTMin = 800.0f, kBlackbodyTMax = 12000.0f;
+// Host: the table's rows (3 floats each), for SceneView::blackbody_table.
+const float* blackbody_table_host();
+
+// The blackbody colour of T (linear Rec.709, luminance 1, each channel >= 0), as the Blackbody
+// node evaluates it (addon/export/node_spectral.py's table, linear between knots).
+LANTERN_HD inline Vec3 blackbody_color(const float* table, float t) {
+    const float a = 1.0f / kBlackbodyTMin, b = 1.0f / kBlackbodyTMax;
+    const float inv = 1.0f / fmaxf(t, 1.0f);
+    float u = (inv - a) / (b - a) * float(kBlackbodyKnots - 1);
+    u = fminf(fmaxf(u, 0.0f), float(kBlackbodyKnots - 1));
+    const int i = u >= float(kBlackbodyKnots - 1) ? kBlackbodyKnots - 2 : int(u);
+    const float f = u - float(i);
+    const float* r0 = table + 3 * i;
+    const float* r1 = r0 + 3;
+    return Vec3{fmaxf(r0[0] + (r1[0] - r0[0]) * f, 0.0f), fmaxf(r0[1] + (r1[1] - r0[1]) * f, 0.0f),
+                fmaxf(r0[2] + (r1[2] - r0[2]) * f, 0.0f)};
+}
+
+// The blackbody radiance per metre at temperature t (kelvin) for Blackbody Intensity bb; t is
+// taken within [0, 1e6] K (NaN: 0), where T^4 stays finite in floats.
+constexpr float kBlackbodyTMaxClamp = 1e6f;
+LANTERN_HD inline Vec3 blackbody_emission(const float* table, float bb, Vec3 tint, float t) {
+    t = t > 0.0f ? fminf(t, kBlackbodyTMaxClamp) : 0.0f;
+    const float t2 = t * t;
+    const float intensity = kBlackbodySigma * ((1.0f - bb) + bb * t2 * t2);
+    if (!(intensity > kBlackbodyCutoff)) return vec3(0.0f);
+    return tint * blackbody_color(table, t) * intensity;
+}
+
+// The medium's emission at p (radiance per metre): the constant part and its grids' parts.
+LANTERN_HD inline Vec3 medium_emission_at(const SceneView& s, const Medium& m, Vec3 p) {
+    Vec3 e = m.emission;
+    if (!m.hetero) return e;
+    if (m.flame_grid >= 0 && m.flame_grid < s.num_grids)
+        e = e + m.flame_emission * grid_lookup(s.grids[m.flame_grid], s.grid_voxels, p);
+    if (m.temperature_grid >= 0 && m.temperature_grid < s.num_grids && s.blackbody_table) {
+        const float t =
+            m.bb_temperature * grid_lookup(s.grids[m.temperature_grid], s.grid_voxels, p);
+        e = e + blackbody_emission(s.blackbody_table, m.bb_intensity, m.bb_tint, t);
+    }
+    return e;
+}
+
+}  // namespace lantern
