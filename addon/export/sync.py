@@ -23,7 +23,7 @@ from . import changes as ch
 from .light import export_light
 from .material import MaterialTable
 from .mesh import MeshExporter, _needs_tangents
-from .volume_objects import VolumeObjects
+from .volume_objects import VolumeObjects, add_grids
 from .world import export_world
 
 GEOMETRY_TYPES = {"MESH", "CURVE", "SURFACE", "META", "FONT", "CURVES"}
@@ -219,8 +219,7 @@ class ViewportSync:
             table.append(None)
             self._vol_slots[key] = len(table) - 1
         slot = self._vol_slots[key]
-        table[slot] = dict(mat, density_grid=scene.add_grid(
-            grid["voxels"], grid["index_to_world"], name=grid["name"]))
+        table[slot] = add_grids(scene, mat, grid)  # density, temperature, flame
         return dict(mesh, material_ids=np.full(len(mesh["indices"]), slot, np.uint32))
 
 
