@@ -324,25 +324,34 @@ TEST(MediumFire, EmissionAtCollisionsIsTheEmissionIntegral) {
     const float h = 0.1f, L = 3.8f;
     const Vec3 o{-1.0f + h * q0.x, 0.5f + h * q0.y, 2.0f + h * q0.z}, d{1, 0, 0};
     // the integral of T(x) e(x) by quadrature (T from the trapezoids of the density, exact at
-    // the knots; e from the grids by the formulas of docs/volumes.md, independently written)
+    // the knots; e from the grids by the formulas of docs/volumes.md, independently written:
+    // the blackbody of each voxel's temperature, a grid per channel, read trilinearly)
     const int steps = 20000;
     const double sa[3] = {0.15, 0.3, 0.5}, ss[3] = {0.25, 0.2, 0.1};
     double want[3] = {}, depth = 0.0;
     const double sigma = 5.670373e-8 * 1e-6 / 3.14159265358979;
+    const double tint[3] = {1.0, 0.9, 0.8};
+    std::vector<float> bbv[3];
+    for (float tv : in.grids[1].voxels) {
+        const double temp = 2000.0 * tv;
+        const Vec3 col = blackbody_color(s.blackbody_table, float(temp));
+        const double cv[3] = {col.x, col.y, col.z};
+        for (int c = 0; c < 3; ++c)
+            bbv[c].push_back(float(tint[c] * sigma * (0.2 + 0.8 * temp * temp * temp * temp) * cv[c]));
+    }
+    DensityGrid bbg = s.grids[1];
+    bbg.offset = 0;
     for (int k = 0; k < steps; ++k) {
         const float x = (float(k) + 0.5f) * L / float(steps);
         const Vec3 p = o + d * x;
         const double den = grid_lookup(s.grids[0], s.grid_voxels, p);
-        const double temp = 2000.0 * grid_lookup(s.grids[1], s.grid_voxels, p);
         const double flame = grid_lookup(s.grids[2], s.grid_voxels, p);
-        const double inten = sigma * (0.2 + 0.8 * temp * temp * temp * temp);
-        const Vec3 col = blackbody_color(s.blackbody_table, float(temp));
-        const double cv[3] = {col.x, col.y, col.z}, tint[3] = {1.0, 0.9, 0.8},
-                     fl[3] = {0.4, 0.2, 0.1}, e0[3] = {0.01, 0.02, 0.03};
+        const double fl[3] = {0.4, 0.2, 0.1}, e0[3] = {0.01, 0.02, 0.03};
         const double dd = den * L / steps;
         for (int c = 0; c < 3; ++c) {
+            const double bb = grid_lookup(bbg, bbv[c].data(), p);
             const double tr = std::exp(-(sa[c] + ss[c]) * (depth + 0.5 * dd));
-            want[c] += tr * (e0[c] + fl[c] * flame + tint[c] * inten * cv[c]) * L / steps;
+            want[c] += tr * (e0[c] + fl[c] * flame + bb) * L / steps;
         }
         depth += dd;
     }

@@ -1,6 +1,7 @@
 // Fire in Volume objects (docs/volumes.md): a medium's emission per point from its temperature
-// grid (Principled Volume's blackbody, as Cycles: T = the Temperature socket x the grid's value,
-// Blackbody Tint x sigma x mix(1, T^4, Blackbody Intensity) x the blackbody colour of T) and its
+// grid (Principled Volume's blackbody, as Cycles: T = the Temperature socket x a voxel's value,
+// Blackbody Tint x sigma x mix(1, T^4, Blackbody Intensity) x the blackbody colour of T,
+// interpolated between voxels) and its
 // flame grid (flame_emission x flame: an Attribute node on Emission Strength), added to the
 // constant emission. Host+device; the blackbody colours are a table in the view.
 #pragma once
@@ -47,17 +48,38 @@ LANTERN_HD inline Vec3 blackbody_emission(const float* table, float bb, Vec3 tin
     return tint * blackbody_color(table, t) * intensity;
 }
 
+// The blackbody of the temperature grid at p: the blackbody of each of the 8 voxels around p,
+// interpolated trilinearly (the expectation of Cycles' stochastic lookup, which draws one voxel
+// with the trilinear weights; interpolating T first gives less where T varies, T^4 being
+// convex: measured 10 % darker than Cycles on a fire whose temperature steps at its edge).
+LANTERN_HD inline Vec3 grid_blackbody(const SceneView& s, const Medium& m, Vec3 p) {
+    const DensityGrid& g = s.grids[m.temperature_grid];
+    const Vec3 q = g.world_to_index.point(p);
+    if (!(q.x > -1.0f && q.y > -1.0f && q.z > -1.0f && q.x < float(g.nx) &&
+          q.y < float(g.ny) && q.z < float(g.nz)))
+        return blackbody_emission(s.blackbody_table, m.bb_intensity, m.bb_tint, 0.0f);
+    const float fx = floorf(q.x), fy = floorf(q.y), fz = floorf(q.z);
+    const int i = int(fx), j = int(fy), k = int(fz);
+    const float tx = q.x - fx, ty = q.y - fy, tz = q.z - fz;
+    Vec3 e = vec3(0.0f);
+    for (int c = 0; c < 8; ++c) {
+        const int di = c & 1, dj = (c >> 1) & 1, dk = c >> 2;
+        const float w = (di ? tx : 1.0f - tx) * (dj ? ty : 1.0f - ty) * (dk ? tz : 1.0f - tz);
+        if (!(w > 0.0f)) continue;
+        const float t = m.bb_temperature * grid_voxel(g, s.grid_voxels, i + di, j + dj, k + dk);
+        e = e + blackbody_emission(s.blackbody_table, m.bb_intensity, m.bb_tint, t) * w;
+    }
+    return e;
+}
+
 // The medium's emission at p (radiance per metre): the constant part and its grids' parts.
 LANTERN_HD inline Vec3 medium_emission_at(const SceneView& s, const Medium& m, Vec3 p) {
     Vec3 e = m.emission;
     if (!m.hetero) return e;
     if (m.flame_grid >= 0 && m.flame_grid < s.num_grids)
         e = e + m.flame_emission * grid_lookup(s.grids[m.flame_grid], s.grid_voxels, p);
-    if (m.temperature_grid >= 0 && m.temperature_grid < s.num_grids && s.blackbody_table) {
-        const float t =
-            m.bb_temperature * grid_lookup(s.grids[m.temperature_grid], s.grid_voxels, p);
-        e = e + blackbody_emission(s.blackbody_table, m.bb_intensity, m.bb_tint, t);
-    }
+    if (m.temperature_grid >= 0 && m.temperature_grid < s.num_grids && s.blackbody_table)
+        e = e + grid_blackbody(s, m, p);
     return e;
 }
 
