@@ -190,3 +190,20 @@ def test_fire_grids_the_file_lacks_are_named(empty, addon, tmp_path):
     assert "'flame' on its emission strength is not in the object's file" in said, said
     # as Cycles: the socket's temperature everywhere, no flame emission
     assert max(m["volume"]["emission"]) > 0.0
+
+
+def test_fire_emission_follows_the_object_space_density(empty, addon, tmp_path):
+    """Render Space "Object": Cycles divides the emission (blackbody, flame) by the scale along
+    the diagonal as it does the density; "World" keeps it (control)."""
+    path = _fire_vdb(tmp_path)
+    mat, _ = _fire_material()
+    obj = _volume_object(empty, path, mat, scale=(1.0, 1.0, 1.3))
+    k = math.sqrt((1.0 + 1.0 + 1.69) / 3.0)
+    scene, _ = export(addon)
+    vol = _smoke(scene)[0]["volume"]
+    assert np.allclose(vol["flame_emission"], np.array([3.0, 1.2, 0.3]) / k)
+    assert np.allclose(vol["blackbody_tint"], np.array([1.0, 0.5, 0.25]) / k)
+    obj.data.render.space = "WORLD"
+    scene, _ = export(addon)
+    vol = _smoke(scene)[0]["volume"]
+    assert np.allclose(vol["flame_emission"], [3.0, 1.2, 0.3])
