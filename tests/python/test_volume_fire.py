@@ -80,7 +80,7 @@ def emission_integral(temperature=T_SOCKET, flame=True, steps=4000):
     linear between voxel centres (Cycles' stochastic lookup's expectation)."""
     sp = _spectral()
     knots = [temperature * (1.0 + 0.1 * k) for k in range(N[0])]
-    bb = [TINT * SIGMA_BB * t ** 4 * np.maximum(sp.blackbody_rgb(t), 0.0) for t in knots]
+    bb = [TINT * SIGMA_BB * t ** 4 * np.array(sp.blackbody_rgb(t)) for t in knots]  # unclamped
     a, b = -2.999, -2.001
     ds = (b - a) / steps
     total = np.zeros(3)

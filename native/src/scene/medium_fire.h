@@ -22,8 +22,11 @@ constexpr float kBlackbodyTMin = 800.0f, kBlackbodyTMax = 12000.0f;
 // Host: the table's rows (3 floats each), for SceneView::blackbody_table.
 const float* blackbody_table_host();
 
-// The blackbody colour of T (linear Rec.709, luminance 1, each channel >= 0), as the Blackbody
-// node evaluates it (addon/export/node_spectral.py's table, linear between knots).
+// The blackbody colour of T (linear Rec.709, luminance 1), addon/export/node_spectral.py's
+// table, linear between knots, not clamped: Principled Volume's blackbody in Cycles is not
+// (blue is negative below about 1900 K, and that emission takes blue away; the Blackbody node
+// clamps at 0). Measured: clamped, a fire at 1800-3600 K read 1.3 % brighter in blue than
+// Cycles in a block of its cool edge.
 LANTERN_HD inline Vec3 blackbody_color(const float* table, float t) {
     const float a = 1.0f / kBlackbodyTMin, b = 1.0f / kBlackbodyTMax;
     const float inv = 1.0f / fmaxf(t, 1.0f);
@@ -33,8 +36,8 @@ LANTERN_HD inline Vec3 blackbody_color(const float* table, float t) {
     const float f = u - float(i);
     const float* r0 = table + 3 * i;
     const float* r1 = r0 + 3;
-    return Vec3{fmaxf(r0[0] + (r1[0] - r0[0]) * f, 0.0f), fmaxf(r0[1] + (r1[1] - r0[1]) * f, 0.0f),
-                fmaxf(r0[2] + (r1[2] - r0[2]) * f, 0.0f)};
+    return Vec3{r0[0] + (r1[0] - r0[0]) * f, r0[1] + (r1[1] - r0[1]) * f,
+                r0[2] + (r1[2] - r0[2]) * f};
 }
 
 // The blackbody radiance per metre at temperature t (kelvin) for Blackbody Intensity bb; t is
