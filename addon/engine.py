@@ -308,6 +308,7 @@ class EngineState:
         self.error = None
         self.failed = False        # the last export failed: wait for a change before retrying
         self.reported = set()      # session warnings already shown (a CUDA fallback: once)
+        self.export_reported = set()  # export warnings shown since the last full export
         self.camera_updates = 0    # view moves served without a new session
         self.material_updates = 0  # material edits served without a new session
         self.instance_moves = 0    # transform edits served by moving instances (no new session)
@@ -445,6 +446,8 @@ def _snapshot(scene, lantern):
     copy.materials, copy.textures = list(scene.materials), list(scene.textures)
     copy.meshes, copy.lights = list(scene.meshes), list(scene.lights)
     copy.grids = list(getattr(scene, "grids", []))   # Volume objects (export/volume_objects.py)
+    copy.curves = list(getattr(scene, "curves", []))  # hair (export/strands.py)
+    copy.attribute_channels = list(getattr(scene, "attribute_channels", []))  # node_attributes
     return copy
 
 
@@ -482,14 +485,27 @@ def _sync_viewport(engine, context, depsgraph, view, key):
     settings = context.scene.lantern
     lantern = import_lantern()
     if state.sync.needs_sync() or state.session is None:
-        from .export.changes import MATERIALS, TRANSFORM, VIEW
+        from .export.changes import FULL, MATERIALS, TRANSFORM, VIEW
         session = state.session
         state.pause()  # the old image shows meanwhile
         report = ExportReport()
         todo = state.sync.sync(depsgraph, view, report)
-        _report_warnings(engine, report.messages)
+        # each walk warns again (a move walks every instance): shown once until a full export
+        if todo.flags & FULL:
+            state.export_reported.clear()
+        fresh = [m for m in report.messages if m not in state.export_reported]
+        state.export_reported.update(fresh)
+        _report_warnings(engine, fresh)
         moved = key != state.view_key
         state.view_key, state.error = key, None
+        if not todo.flags & ~VIEW and session is not None:
+            # an object tagged for shading only whose settings the scene does not read (its
+            # material's edit is MATERIALS): the same scene, the running session goes on
+            if not moved or _update_camera(session, state.sync.scene.film,
+                                           state.sync.scene.camera):
+                state.start_session(session, settings.preview_samples,
+                                    _coarse(view) if moved else None)
+                return
         patch = session if todo.flags & ~VIEW == MATERIALS else None
         if todo.flags & ~VIEW == TRANSFORM and _move_instances(state, session, view, moved,
                                                             settings.preview_samples):

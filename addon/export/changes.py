@@ -5,7 +5,10 @@
 - a material's node value: the Material, and the Objects and Meshes using it (shading only);
 - a world's node value: the World; a light's energy: the Light data and its Object;
 - a mesh edit or a new material in a slot: the Object (geometry);
-- hiding, adding, deleting objects, render settings: the Scene (and Collections).
+- hiding, adding, deleting objects, render settings: the Scene (and Collections);
+- an object's own settings (ray visibility, shadow catcher, Object Info colour, pass index):
+  the Object alone (shading only), as a material edit tags its objects: `objects` names them
+  and the sync compares what it read from them (export/sync.py, OBJECTS).
 
 Anything else (an ID type not listed here, or an update without any ID) is FULL: export all."""
 
@@ -18,10 +21,11 @@ GEOMETRY = 1 << 5   # .geometry: objects whose meshes are extracted again
 TRANSFORM = 1 << 6  # instances moved: placed again from their cached arrays
 IMAGES = 1 << 7     # .images: their pixels are read again
 FULL = 1 << 8       # everything is exported again
+OBJECTS = 1 << 9    # objects' own settings changed (set by the sync): walked, none extracted
 
 NAMES = {VIEW: "view", SETTINGS: "settings", WORLD: "world", MATERIALS: "materials",
          LIGHTS: "lights", GEOMETRY: "geometry", TRANSFORM: "transform", IMAGES: "images",
-         FULL: "full"}
+         FULL: "full", OBJECTS: "objects"}
 
 _GEOMETRY_DATA = {"Mesh", "Curve", "SurfaceCurve", "TextCurve", "MetaBall", "Curves",
                   "PointCloud", "Volume", "Lattice", "Key", "GreasePencilv3", "GreasePencil"}
@@ -38,6 +42,7 @@ class Changes:
     def __init__(self, flags=0):
         self.flags = flags
         self.materials, self.geometry, self.images = set(), set(), set()
+        self.objects = set()  # objects tagged for shading only (their settings, or a material)
         self.all_materials = False
 
     def __ior__(self, other):
@@ -45,6 +50,7 @@ class Changes:
         self.materials |= other.materials
         self.geometry |= other.geometry
         self.images |= other.images
+        self.objects |= other.objects
         self.all_materials |= other.all_materials
         return self
 
@@ -101,7 +107,8 @@ def classify(updates):
                 ch.geometry.add(_name(uid))
             elif getattr(u, "is_updated_transform", False):
                 ch.flags |= TRANSFORM
-            # shading only: its material is tagged itself
+            else:  # shading only: a material of it (tagged itself) or its own settings
+                ch.objects.add(_name(uid))
         elif kind == "Material":
             ch.flags |= MATERIALS
             ch.materials.add(_name(uid))

@@ -25,6 +25,10 @@ def holdout_material(material):
             "holdout": True}
 
 
+def _holdout_copy(m):
+    return dict(m, holdout=True, name=f"{m.get('name', 'material')} (holdout)")
+
+
 class Holdouts:
     """Holdout objects' meshes pointed at holdout copies of their materials (one copy per
     material), and the warning for integrators that do not render holdouts."""
@@ -40,11 +44,16 @@ class Holdouts:
     def _copy(self, index):
         if index not in self._copies:
             table = self.materials.materials
-            m = dict(table[index], holdout=True)
-            m["name"] = f"{m.get('name', 'material')} (holdout)"
-            table.append(m)
+            table.append(_holdout_copy(table[index]))
             self._copies[index] = len(table) - 1
         return self._copies[index]
+
+    def refresh(self):
+        """The copies made again from their materials (the viewport's sync keeps this object
+        and its copies across syncs, and converts an edited material again in its slot)."""
+        table = self.materials.materials
+        for index, copy in self._copies.items():
+            table[copy] = _holdout_copy(table[index])
 
     def mesh(self, obj, mesh):
         """Called for every exported mesh of object `obj` (export/__init__.py)."""

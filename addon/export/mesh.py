@@ -5,8 +5,6 @@ an object are extracted once and reused for each of its instances (only the tran
 
 import numpy as np
 
-from .visibility import camera_visible, mesh_ray_visibility
-
 
 def _attribute(mesh, name, domain, size, dtype, prop, width=1):
     """An attribute's values through foreach_get (the fast, raw-array path), or None."""
@@ -84,7 +82,6 @@ class MeshExporter:
         self.materials = materials
         self.report = report
         self._cache = {}
-        self.view_layer = None  # for Indirect Only collections (visibility.camera_visible)
 
     def _local(self, obj):
         # geometry-nodes instances come as temporary objects named after the instancer but
@@ -179,16 +176,13 @@ class MeshExporter:
         if inst.is_instance:
             source = getattr(obj.data, "name", obj.name)
             name = f"{inst.parent.name if inst.parent else obj.name}: {source} (instance)"
-        attrs = self.materials.attributes
+        attrs = self.materials.attributes  # ray visibility, holdouts, linking: export/walk.py
         extra = {"_attributes": attrs.instance(inst, local.get("attr_local", {}), len(positions))}\
             if attrs.names else {}
         return {**extra, "name": name, "positions": np.ascontiguousarray(positions, np.float32),
                 "indices": np.ascontiguousarray(indices, np.uint32),
                 "normals": None if normals is None else np.ascontiguousarray(normals, np.float32),
-                "uvs": local["uvs"], "tangents": tangents, "material_ids": material_ids,
-                "visible_camera": camera_visible(inst, self.view_layer),
-                "cast_shadow": bool(getattr(obj, "visible_shadow", True)),
-                **mesh_ray_visibility(obj)}  # export/visibility.py
+                "uvs": local["uvs"], "tangents": tangents, "material_ids": material_ids}
 
     def corners(self, obj):
         """(the vertex of each exported corner of obj, its vertex count), or None: deformation

@@ -171,9 +171,13 @@ class AttributeTable:
         return out
 
     def finish(self, meshes):
-        """Replaces each mesh's channel dict with one (V, 3 C) array; returns the names."""
+        """Replaces each mesh's channel dict with one (V, 3 C) array; returns the names. A mesh
+        that already holds an array of C channels and no dict is left as it is."""
         c = len(self.names)
         for mesh in meshes:
+            if "_attributes" not in mesh and mesh.get("attributes") is not None \
+                    and mesh["attributes"].shape[1] == 3 * c:
+                continue  # finished by an earlier sync (export/sync.py reuses placed meshes)
             got = mesh.pop("_attributes", None) or {}
             if c == 0:
                 continue

@@ -28,26 +28,31 @@ class StrandExporter:
 
     def export(self, inst):
         """The instance's strand sets, appended to self.sets; returns how many."""
+        found = self.sets_of(inst)
+        self.sets.extend(found)
+        return len(found)
+
+    def sets_of(self, inst):
+        """The instance's strand sets (their ray visibility: export/walk.py)."""
         obj = inst.object
         found = curves.object_strands(obj, inst.matrix_world, self.report, final=self.final)
         if not found:
-            return 0
+            return []
         if self.shape == "RIBBONS":
             self.report.warn("Hair: Cycles' curve shape 'Ribbons' (Render Properties > Curves) "
                              "renders as round tubes in Lantern ('3D Curves' or 'Linear 3D "
                              "Curves' match)")
         slots = [self.materials.index(s.material) for s in obj.material_slots] or [0]
         lut = np.array(slots, dtype=np.uint32)
+        out = []
         for k, st in enumerate(found):
             if self.shape == "THICK":
                 st = curves.catmull_rom_pieces(st, CATMULL_ROM_PIECES)
-            self.sets.append({
+            out.append({
                 "name": f"{obj.name}/{k}",
                 "points": np.ascontiguousarray(st.points, np.float32),
                 "radius": np.ascontiguousarray(st.radius, np.float32),
                 "offsets": np.ascontiguousarray(st.offsets, np.uint32),
                 "material_ids": lut[np.clip(st.material, 0, len(lut) - 1)],
-                "visible_camera": bool(getattr(obj, "visible_camera", True)),
-                "cast_shadow": bool(getattr(obj, "visible_shadow", True)),
             })
-        return len(found)
+        return out

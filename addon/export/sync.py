@@ -14,19 +14,21 @@ changed (changes.py), on Blender's main thread.
   calls (two-level instancing in the core: no mesh sent, no bottom-level BVH built), each
   matrix relative to the instance's placement in that session's scene (session_base()).
 
-`counts` says what the last sync exported (the tests check it). The loop mirrors
-export_scene (export/__init__.py), which final renders use: keep the two in step."""
+`counts` says what the last sync exported (the tests check it). The walk is export_scene's
+own (export/walk.py: hair, hidden instancers, warnings, holdouts, linking, ray visibility),
+with this class as its source of geometry: placed meshes and strands come from the caches
+above, decorated afresh by each walk. Motion blur stays off in the viewport (as Cycles')."""
 
 import numpy as np
 
 from . import changes as ch
-from .light import export_light
+from .holdout import Holdouts
 from .material import MaterialTable
 from .mesh import MeshExporter, _needs_tangents
+from .strands import StrandExporter
 from .volume_objects import VolumeObjects, add_grids
+from .walk import Walk, integrator, object_settings, scene_warnings
 from .world import export_world
-
-GEOMETRY_TYPES = {"MESH", "CURVE", "SURFACE", "META", "FONT", "CURVES"}
 
 
 def _local_key(obj):
@@ -74,6 +76,12 @@ class ViewportSync:
         self._volumes = None      # Volume objects (export/volume_objects.py): the converter,
         self._vol_cache = {}      # instance key -> (matrix bytes, (grid, mesh, material))
         self._vol_slots = {}      # instance key -> its material's slot in the table's list
+        self._channels = 0        # attribute channels the placed meshes were finished with
+        self._holdouts = None     # export/holdout.py: its material copies kept across syncs
+        self._strands = None      # export/strands.py, and its sets by instance key:
+        self._strand_cache = {}   # instance key -> (matrix bytes, [strand set dicts])
+        self._settings = {}       # object name -> walk.object_settings as the last walk read
+        self._next = None         # the caches the running walk fills
 
     def note(self, changes):
         """Changes from a view_update, applied at the next sync."""
@@ -82,7 +90,8 @@ class ViewportSync:
         self.pending |= changes
 
     def needs_sync(self):
-        return self.scene is None or bool(self.pending.flags & ~ch.VIEW)
+        return self.scene is None or bool(self.pending.flags & ~ch.VIEW) or \
+            bool(self.pending.objects)
 
     def sync(self, depsgraph, view, report):
         """Bring self.scene up to date with the pending changes; returns the Changes applied.
@@ -92,7 +101,7 @@ class ViewportSync:
         todo, self.pending = self.pending, ch.Changes()
         self.syncs += 1
         self.counts = {"meshes_extracted": 0, "meshes_placed": 0, "materials": 0,
-                       "world": 0, "lights": 0}
+                       "world": 0, "lights": 0, "strands": 0}
         if self.scene is None or todo.has(ch.IMAGES) or todo.all_materials:
             todo.flags |= ch.FULL
         if todo.has(ch.MATERIALS) and self._vol_slots:
@@ -100,12 +109,17 @@ class ViewportSync:
         if todo.has(ch.FULL):
             self._materials = MaterialTable(report, self.texture_cache)
             self._meshes = MeshExporter(self._materials, report)
-            self._meshes.view_layer = depsgraph.view_layer  # Indirect Only
-            self._placed = {}
+            bscene = depsgraph.scene_eval
+            self._holdouts = Holdouts(self._materials, report, integrator(bscene),
+                                      depsgraph.view_layer, None)  # None: the viewport's film
+            self._strands = StrandExporter(bscene, self._materials, report, final=False)
+            self._placed, self._strand_cache = {}, {}
             self.scene = None
             self._volumes = VolumeObjects(report, lantern)
             self._vol_cache, self._vol_slots = {}, {}
         self._materials.report = self._meshes.report = self._volumes.report = report
+        self._holdouts.report = self._strands.report = report
+        self._holdouts.integrator = integrator(depsgraph.scene_eval)
         known = _converted(self._materials)
         if todo.has(ch.MATERIALS) and not todo.has(ch.FULL):
             for name in sorted(todo.materials):
@@ -114,24 +128,65 @@ class ViewportSync:
                     self.pending = ch.Changes(ch.FULL)  # cannot patch it: export everything
                     return self.sync(depsgraph, view, report)
                 self.counts["materials"] += 1
+        self._holdouts.refresh()  # holdout copies of the materials converted again
+        if todo.objects and not todo.has(ch.FULL):
+            self._objects_changed(depsgraph, todo)
         for name in todo.geometry:
             for key in [k for k in self._meshes._cache if k[0] == name]:
                 del self._meshes._cache[key]
             for key in [k for k in self._vol_cache if k[0] == name]:
                 del self._vol_cache[key]   # its file, frame or grids: read again
                 self._volumes._read.clear()
+            for key in [k for k in self._strand_cache if k[0] == name]:
+                del self._strand_cache[key]  # an emitter moved or its particles edited
         scene = self.scene if self.scene is not None else lantern.Scene()
         scene.film, scene.camera = view.film(), view.camera()
+        bscene = depsgraph.scene_eval
         if todo.flags & (ch.FULL | ch.WORLD | ch.SETTINGS):
-            scene.world = export_world(depsgraph.scene_eval.world, report, self.texture_cache)
+            scene.world = export_world(bscene.world, report, self.texture_cache,
+                                       integrator(bscene))
             self.counts["world"] = 1
+        walk = None
         if todo.flags & ~(ch.VIEW | ch.WORLD | ch.MATERIALS):
-            self._walk_instances(depsgraph, scene, report)
+            walk = self._walk_instances(depsgraph, scene, report)
         self.counts["materials"] += _converted(self._materials) - known
-        scene.materials = self._materials.materials
-        scene.textures = self._materials.textures
+        attrs = self._materials.attributes
+        if not todo.has(ch.FULL) and len(attrs.names) != self._channels:
+            # an edited material reads a mesh attribute (Generated, a colour attribute, ...)
+            # that the meshes placed earlier were not exported with: export everything
+            self.pending = ch.Changes(ch.FULL)
+            return self.sync(depsgraph, view, report)
+        if walk is not None:
+            walk.finish()  # attribute channels, materials, warnings: as export_scene
+        else:  # the meshes as the last walk finished them; the materials patched
+            scene.materials = self._materials.materials
+            scene.textures = self._materials.textures
+            scene_warnings(bscene, scene, report)
+        self._channels = len(attrs.names)
         self.scene = scene
         return todo
+
+    def _objects_changed(self, depsgraph, todo):
+        """OBJECTS where an object tagged for shading only (changes.py) now reads otherwise
+        than the last walk read it; its placed meshes are placed again where the per-object
+        values they carry changed. A material edit tags its objects the same way: unchanged
+        settings keep it a material edit (the running session takes it in place)."""
+        import bpy
+        from .node_attributes import INSTANCE
+        carried = any(n in INSTANCE for n in self._materials.attributes.names)
+        for name in todo.objects:
+            old = self._settings.get(name)
+            if old is None:
+                continue  # no mesh or strands of it in the scene (a light: LIGHTS; a camera)
+            obj = bpy.data.objects.get(name)
+            now = object_settings(obj.evaluated_get(depsgraph)) if obj is not None else None
+            placement = now is None or (carried and now[1] != old[1])
+            if now is not None and now[0] == old[0] and not placement:
+                continue
+            todo.flags |= ch.OBJECTS
+            if placement:
+                for key in [k for k in self._placed if k[0] == name]:
+                    del self._placed[key]
 
     def session_base(self):
         """The instances' placements in the current scene; set `base` to it when a new
@@ -144,8 +199,8 @@ class ViewportSync:
         moving instances alone (each instance whose placement differs from what the session
         has now, a move back included), or None when more than transforms differ. The
         session's placements count as updated: call it only to apply the moves."""
-        if self.base is None or self.base[0] != self._order:
-            return None
+        if self.base is None or self.base[0] != self._order or self.counts.get("strands"):
+            return None  # (strands read again: the session moves meshes only)
         out = []
         for k, key in enumerate(self._order):
             given, applied, now = self.base[1][key], self.base[2][key], self._placed[key][0]
@@ -164,42 +219,63 @@ class ViewportSync:
         return out
 
     def _walk_instances(self, depsgraph, scene, report):
-        meshes, lights, placed, order = [], [], {}, []
+        """export_scene's walk (export/walk.py) over the instances, this object its source."""
+        self._next = ({}, [], {}, {})   # placed, order, strands, settings of this walk
         scene.grids = []
+        walk = Walk(depsgraph, scene, self._materials, self._holdouts, report)
         for inst in depsgraph.object_instances:
-            obj = inst.object
-            if obj.type == "LIGHT":
-                light = export_light(obj, inst.matrix_world, report)
-                if light is not None:
-                    lights.append(light)
-                continue
-            if obj.type == "VOLUME":
-                mesh = self._volume(inst, scene)
-                if mesh is not None:
-                    key = _instance_key(inst)
-                    placed[key] = (np.array(inst.matrix_world, np.float64).tobytes(), mesh)
-                    meshes.append(mesh)
-                    order.append(key)
-                continue
-            if obj.type not in GEOMETRY_TYPES:
-                continue
+            walk.instance(inst, self)
+        (self._placed, self._order, self._strand_cache, self._settings), self._next = \
+            self._next, None
+        self.counts["lights"] = len(scene.lights)
+        return walk
+
+    # ---- the walk's source (export/walk.py): geometry from the caches ----
+    def mesh(self, inst):
+        """The instance's placed mesh: the one placed before where its matrix is the same
+        (a dict the walk copies, never changes), else placed again (extracted again only
+        where its object's geometry changed)."""
+        placed, order, _, settings = self._next
+        settings[inst.object.name_full] = object_settings(inst.object)
+        key = _instance_key(inst)
+        matrix = np.array(inst.matrix_world, dtype=np.float64).tobytes()
+        old = self._placed.get(key)
+        if old is not None and old[0] == matrix:
+            mesh = old[1]
+        else:
+            if _local_key(inst.object) not in self._meshes._cache:
+                self.counts["meshes_extracted"] += 1
+            mesh = self._meshes.export(inst)
+            self.counts["meshes_placed"] += 1
+        placed[key] = (matrix, mesh)
+        if mesh is not None:
+            order.append(key)
+        return mesh
+
+    def corners(self, obj):
+        return None  # no motion blur in the viewport
+
+    def strands(self, inst):
+        """The instance's strand sets, read again where its matrix or geometry changed."""
+        key = _instance_key(inst)
+        matrix = np.array(inst.matrix_world, dtype=np.float64).tobytes()
+        old = self._strand_cache.get(key)
+        if old is None or old[0] != matrix:
+            old = (matrix, self._strands.sets_of(inst))
+            self.counts["strands"] += len(old[1])
+        self._next[2][key] = old
+        if old[1]:
+            self._next[3][inst.object.name_full] = object_settings(inst.object)
+        return old[1]
+
+    def volume(self, inst, scene):
+        mesh = self._volume(inst, scene)
+        if mesh is not None:
+            placed, order = self._next[:2]
             key = _instance_key(inst)
-            matrix = np.array(inst.matrix_world, dtype=np.float64).tobytes()
-            old = self._placed.get(key)
-            if old is not None and old[0] == matrix:
-                mesh = old[1]
-            else:
-                if _local_key(obj) not in self._meshes._cache:
-                    self.counts["meshes_extracted"] += 1
-                mesh = self._meshes.export(inst)
-                self.counts["meshes_placed"] += 1
-            placed[key] = (matrix, mesh)
-            if mesh is not None:
-                meshes.append(mesh)
-                order.append(key)
-        self._placed, self._order = placed, order
-        self.counts["lights"] = len(lights)
-        scene.meshes, scene.lights = meshes, lights
+            placed[key] = (np.array(inst.matrix_world, np.float64).tobytes(), mesh)
+            scene.meshes.append(mesh)
+            order.append(key)
 
     def _volume(self, inst, scene):
         """The box mesh of Volume object instance `inst`, its grid appended to scene.grids and

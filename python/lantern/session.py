@@ -439,6 +439,8 @@ class Session:
         edit = Scene()
         edit.materials, edit.textures = list(materials), list(textures)
         native = edit.to_native()
+        if "node_programs" in native:  # the core's in-place edit converts no node-graph
+            return False               # programs (HostScene::update_materials): a new Session
         return bool(update({"materials": native["materials"], "textures": native["textures"]}))
 
     def move_instance(self, index, matrix):

@@ -329,3 +329,47 @@ def test_auto_keeps_its_choice_across_a_camera_move(addon, stage):
     # (a second pilot would add four)
     assert st["auto_pt_iterations"] + st["auto_cis_iterations"] <= 2 + 2 + 1 + 2
     state.free()
+
+
+def _texture(material, coords):
+    """A Checker texture of 4 m squares on `material`'s Base Color, read in `coords` (an output
+    of a Texture Coordinate node: Generated, Object, ...), which mesh export carries per vertex."""
+    nt = material.node_tree
+    checker = nt.nodes.new("ShaderNodeTexChecker")
+    checker.inputs["Scale"].default_value = 4.0
+    checker.inputs["Color1"].default_value = (0.9, 0.9, 0.9, 1)
+    checker.inputs["Color2"].default_value = (0.05, 0.05, 0.05, 1)
+    tc = nt.nodes.new("ShaderNodeTexCoord")
+    nt.links.new(tc.outputs[coords], checker.inputs["Vector"])
+    nt.links.new(checker.outputs["Color"], nt.nodes["Principled BSDF"].inputs["Base Color"])
+
+
+def test_textures_read_their_coordinates_in_the_viewport(addon, stage):
+    """A texture in Generated or Object coordinates reads per-vertex channels that export
+    finishes once all materials are known (node_attributes.AttributeTable.finish); the viewport's
+    sync must finish them too, also when an edit makes a material read a channel the placed
+    meshes were exported without (then it exports everything again). Found by reading the code:
+    the sync's scene had no channels and rendered every such texture at coordinate 0."""
+    _texture(bpy.data.materials["CardMat"], "Generated")
+    bpy.context.view_layer.update()
+    engine, ctx = _start(addon, stage)
+    state = engine._lantern
+    image = _refined(engine, addon, ctx)
+    fresh = _fresh(stage, ctx, stage.lantern)
+    assert state.sync.scene.attribute_channels == fresh.attribute_channels == ["generated"]
+    # the viewport's session (built from a copy of the synced scene) renders them too
+    np.testing.assert_array_equal(image, lantern.render(fresh, spp=SPP,
+                                                        **stage.lantern.session_settings()))
+    _paired("Generated checker: synced scene vs fresh export",
+            _renders(state.sync.scene, SEEDS), _renders(fresh, SEEDS))
+    before = fresh
+    floor = bpy.data.objects["Floor"].data.materials[0]
+    _apply(addon, engine, ctx, lambda: _texture(floor, "Object"))
+    fresh = _fresh(stage, ctx, stage.lantern)
+    assert state.sync.scene.attribute_channels == fresh.attribute_channels
+    assert "object" in fresh.attribute_channels
+    want = _renders(fresh, SEEDS)
+    _paired("Object checker added: synced scene vs fresh export",
+            _renders(state.sync.scene, SEEDS), want)
+    assert _told_apart(_renders(before, range(21, 26)), want)  # the edit shows
+    state.free()

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "core/rng.h"
+#include "integrator/session.h"
 #include "scene/medium_hetero.h"
 #include "scene/scene.h"
 
@@ -408,4 +409,25 @@ TEST(MediumFire, BadTemperaturesAreCleanedAndNamed) {
     SceneInput bad = fire_scene(kAxis, true);
     bad.materials[0].flame_grid = 9;
     EXPECT_THROW(HostScene{bad}, std::invalid_argument);
+}
+
+TEST(MediumFire, LightTracingHandsAFireToPt) {
+    // lt gathers no emission on camera paths: a fire's grids must make it render with pt and
+    // say so; the same smoke without its fire keeps lt (control)
+    for (bool fire : {true, false}) {
+        SceneInput in = fire_scene(kAxis, fire);
+        in.media[0].emission = vec3(0.0f);  // only the grids emit
+        in.width = in.height = 4;
+        SessionSettings st;
+        st.integrator = "lt";
+        st.spp_per_iteration = 1;
+        st.max_depth = 2;
+        st.threads = 1;
+        Session s(in, st);
+        bool said = false;
+        for (const std::string& w : s.warnings())
+            said = said || (w.find("temperature or flame grid") != std::string::npos &&
+                            w.find("pt") != std::string::npos);
+        EXPECT_EQ(said, fire);
+    }
 }

@@ -4,6 +4,7 @@ and cubes, cameras and lights placed by location and rotation in degrees."""
 import math
 
 import bpy
+import pytest
 
 
 def reset(size, world=(0.0, 0.0, 0.0)):
@@ -19,6 +20,36 @@ def reset(size, world=(0.0, 0.0, 0.0)):
     w.use_nodes = True
     w.node_tree.nodes["Background"].inputs["Color"].default_value = (*world, 1)
     return scene
+
+
+def bsdf_material(name, node_type, color, roughness=None):
+    """A material of one BSDF node of `node_type` (ShaderNodeBsdfDiffuse, ...Glossy) of `color`
+    (and `roughness` when given) on the Surface, nothing else."""
+    mat = bpy.data.materials.new(name)
+    mat.use_nodes = True
+    nodes, links = mat.node_tree.nodes, mat.node_tree.links
+    for n in list(nodes):
+        if n.type != "OUTPUT_MATERIAL":
+            nodes.remove(n)
+    bsdf = nodes.new(node_type)
+    bsdf.inputs["Color"].default_value = (*color, 1)
+    if roughness is not None:
+        bsdf.inputs["Roughness"].default_value = roughness
+    links.new(bsdf.outputs[0], nodes["Material Output"].inputs["Surface"])
+    return mat
+
+
+def bounces(n):
+    """An autouse fixture for a test module: render_compare.BOUNCES is `n` (Cycles' max bounces;
+    Lantern's max_depth n + 2) during each of its tests. `_bounces = bpy_stage.bounces(4)`."""
+    @pytest.fixture(autouse=True)
+    def _bounces():
+        import render_compare as rc
+        old = rc.BOUNCES
+        rc.BOUNCES = n
+        yield
+        rc.BOUNCES = old
+    return _bounces
 
 
 def cube(name, location, size, material, scale=(1, 1, 1)):

@@ -13,14 +13,11 @@ import math
 import os
 import sys
 
-import pytest
-
 import bpy  # noqa: E402 (conftest.py skips this folder without bpy or the core)
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(ROOT, "tools"))
 import bpy_stage  # noqa: E402
-import render_compare as rc  # noqa: E402
 
 K = 16           # seeds: Welch dof >= 15 (tests/README.md)
 SIZE = 32
@@ -30,27 +27,12 @@ SE_FLOOR = 1e-6
 CONTROLS = (0.03, 0.08)  # negative controls (image, block), as test_ray_visibility.py's stage
 
 
-def _material(name, node_type, color, roughness=None):
-    mat = bpy.data.materials.new(name)
-    mat.use_nodes = True
-    nodes, links = mat.node_tree.nodes, mat.node_tree.links
-    for n in list(nodes):
-        if n.type != "OUTPUT_MATERIAL":
-            nodes.remove(n)
-    bsdf = nodes.new(node_type)
-    bsdf.inputs["Color"].default_value = (*color, 1)
-    if roughness is not None:
-        bsdf.inputs["Roughness"].default_value = roughness
-    links.new(bsdf.outputs[0], nodes["Material Output"].inputs["Surface"])
-    return mat
-
-
 def stage(indirect=True):
     """The stage, its collection 'Bounce' Indirect Only when `indirect`."""
     scene = bpy_stage.reset(SIZE, world=(0.05, 0.05, 0.05))
-    floor = _material("floor", "ShaderNodeBsdfDiffuse", (0.8, 0.8, 0.8), 0.0)
-    mirror = _material("mirror", "ShaderNodeBsdfGlossy", (0.9, 0.9, 0.9), 0.0)
-    red = _material("red", "ShaderNodeBsdfDiffuse", (0.8, 0.1, 0.05), 0.0)
+    floor = bpy_stage.bsdf_material("floor", "ShaderNodeBsdfDiffuse", (0.8, 0.8, 0.8), 0.0)
+    mirror = bpy_stage.bsdf_material("mirror", "ShaderNodeBsdfGlossy", (0.9, 0.9, 0.9), 0.0)
+    red = bpy_stage.bsdf_material("red", "ShaderNodeBsdfDiffuse", (0.8, 0.1, 0.05), 0.0)
     glow = bpy.data.materials.new("glow")
     glow.use_nodes = True
     nodes = glow.node_tree.nodes
@@ -75,12 +57,7 @@ def stage(indirect=True):
     bpy_stage.camera(scene, (0, -4.0, 1.4), (78, 0, 0), lens=32.0)
 
 
-@pytest.fixture(autouse=True)
-def _bounces():
-    old = rc.BOUNCES
-    rc.BOUNCES = BOUNCES
-    yield
-    rc.BOUNCES = old
+_bounces = bpy_stage.bounces(BOUNCES)
 
 
 def test_indirect_only_matches_cycles():

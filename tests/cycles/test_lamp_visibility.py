@@ -22,7 +22,6 @@ import bpy  # noqa: E402 (conftest.py skips this folder without bpy or the core)
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(ROOT, "tools"))
 import bpy_stage  # noqa: E402
-import render_compare as rc  # noqa: E402
 
 K = 16           # seeds: Welch dof >= 15 (tests/README.md)
 SIZE = 32
@@ -36,26 +35,12 @@ CONTROLS = {"diffuse": (0.03, 0.12), "glossy": (0.03, 0.08)}
 FLAGS = {"diffuse": "visible_diffuse", "glossy": "visible_glossy"}
 
 
-def _material(name, node_type, color, roughness):
-    mat = bpy.data.materials.new(name)
-    mat.use_nodes = True
-    nodes, links = mat.node_tree.nodes, mat.node_tree.links
-    for n in list(nodes):
-        if n.type != "OUTPUT_MATERIAL":
-            nodes.remove(n)
-    bsdf = nodes.new(node_type)
-    bsdf.inputs["Color"].default_value = (*color, 1)
-    bsdf.inputs["Roughness"].default_value = roughness
-    links.new(bsdf.outputs[0], nodes["Material Output"].inputs["Surface"])
-    return mat
-
-
 def stage(off=None):
     """The stage with the area lamp's switch `off` (a FLAGS key) turned off, or none."""
     scene = bpy_stage.reset(SIZE, world=(0.02, 0.02, 0.02))
-    floor = _material("floor", "ShaderNodeBsdfDiffuse", (0.8, 0.8, 0.8), 0.0)
-    red = _material("red", "ShaderNodeBsdfDiffuse", (0.8, 0.1, 0.05), 0.0)
-    panel = _material("panel", "ShaderNodeBsdfGlossy", (0.9, 0.9, 0.9), 0.15)
+    floor = bpy_stage.bsdf_material("floor", "ShaderNodeBsdfDiffuse", (0.8, 0.8, 0.8), 0.0)
+    red = bpy_stage.bsdf_material("red", "ShaderNodeBsdfDiffuse", (0.8, 0.1, 0.05), 0.0)
+    panel = bpy_stage.bsdf_material("panel", "ShaderNodeBsdfGlossy", (0.9, 0.9, 0.9), 0.15)
     bpy_stage.cube("floor", (0, 0, -0.05), 1.0, floor, scale=(6, 6, 0.1))
     bpy_stage.cube("panel", (0, 1.2, 1.0), 1.0, panel, scale=(3.0, 0.1, 2.0))
     box = bpy_stage.cube("box", (0.4, -0.1, 0.4), 0.8, red)
@@ -69,12 +54,7 @@ def stage(off=None):
     bpy_stage.camera(scene, (0, -4.0, 1.4), (78, 0, 0), lens=32.0)
 
 
-@pytest.fixture(autouse=True)
-def _bounces():
-    old = rc.BOUNCES
-    rc.BOUNCES = BOUNCES
-    yield
-    rc.BOUNCES = old
+_bounces = bpy_stage.bounces(BOUNCES)
 
 
 @pytest.mark.parametrize("off", list(FLAGS))

@@ -84,12 +84,7 @@ def stage(case, linked=True):
 CASES = ("include", "exclude", "emitter", "blocker")
 
 
-@pytest.fixture(autouse=True)
-def _bounces():
-    old = rc.BOUNCES
-    rc.BOUNCES = BOUNCES
-    yield
-    rc.BOUNCES = old
+_bounces = bpy_stage.bounces(BOUNCES)
 
 
 def _lantern(case, linked=True):

@@ -156,12 +156,7 @@ SCENES = {"slide": slide, "spin": spin, "camera": camera, "parented": parented,
           "shape_key": sheared, "shape_key_slide": lambda: sheared(moves=True)}
 
 
-@pytest.fixture(autouse=True)
-def _bounces():
-    old = rc.BOUNCES
-    rc.BOUNCES = BOUNCES
-    yield
-    rc.BOUNCES = old
+_bounces = bpy_stage.bounces(BOUNCES)
 
 
 def _lantern():

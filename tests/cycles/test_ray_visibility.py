@@ -40,26 +40,11 @@ FLAGS = {"glossy": "visible_glossy", "diffuse": "visible_diffuse", "shadow": "vi
          "camera": "visible_camera"}
 
 
-def _material(name, node_type, color, roughness=None):
-    mat = bpy.data.materials.new(name)
-    mat.use_nodes = True
-    nodes, links = mat.node_tree.nodes, mat.node_tree.links
-    for n in list(nodes):
-        if n.type != "OUTPUT_MATERIAL":
-            nodes.remove(n)
-    bsdf = nodes.new(node_type)
-    bsdf.inputs["Color"].default_value = (*color, 1)
-    if roughness is not None:
-        bsdf.inputs["Roughness"].default_value = roughness
-    links.new(bsdf.outputs[0], nodes["Material Output"].inputs["Surface"])
-    return mat
-
-
 def stage(off=None):
     """The stage with the cube's switch `off` (a FLAGS key) turned off, or none."""
     scene = bpy_stage.reset(SIZE, world=(0.05, 0.05, 0.05))
-    diffuse = _material("floor", "ShaderNodeBsdfDiffuse", (0.8, 0.8, 0.8), 0.0)
-    mirror = _material("mirror", "ShaderNodeBsdfGlossy", (0.9, 0.9, 0.9), 0.0)
+    diffuse = bpy_stage.bsdf_material("floor", "ShaderNodeBsdfDiffuse", (0.8, 0.8, 0.8), 0.0)
+    mirror = bpy_stage.bsdf_material("mirror", "ShaderNodeBsdfGlossy", (0.9, 0.9, 0.9), 0.0)
     glow = bpy.data.materials.new("glow")
     glow.use_nodes = True
     bsdf = glow.node_tree.nodes["Principled BSDF"]
@@ -77,12 +62,7 @@ def stage(off=None):
     bpy_stage.camera(scene, (0, -4.0, 1.4), (78, 0, 0), lens=32.0)
 
 
-@pytest.fixture(autouse=True)
-def _bounces():
-    old = rc.BOUNCES
-    rc.BOUNCES = BOUNCES
-    yield
-    rc.BOUNCES = old
+_bounces = bpy_stage.bounces(BOUNCES)
 
 
 _CYCLES = {}

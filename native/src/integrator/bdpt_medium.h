@@ -94,6 +94,12 @@ LANTERN_HD inline void medium_segment_piece(MediumSegmentPdf& seg, const Medium*
     seg.rev *= (first && (seg.flags & kSegStartMedium)) ? dens : pass;
 }
 
+}  // namespace lantern
+
+#include "integrator/bdpt_medium_hetero.h"  // heterogeneous media: uses medium_segment_piece
+
+namespace lantern {
+
 // ---- The recursive MIS quantities ----
 // At the vertex a traced segment of length dist reached: cos_in its |cos| with the incoming
 // direction (1 at a medium vertex), seg the segment's factors. dist_sq_applies false where the
@@ -167,7 +173,8 @@ LANTERN_HD inline float bdpt_medium_phase(const Medium& m, Vec3 wo, Vec3 wi) {
 // segment has been traced piece by piece through the volume boundaries it crosses. From o along
 // d up to tmax, starting in medium med (-1: vacuum); start_medium / end_medium: the near / far
 // end is a medium vertex. Zero transmittance when any surface but a volume boundary blocks it.
-// Homogeneous media only (scenes with heterogeneous media render with pt). ----
+// Heterogeneous media: ratio tracking with numbers from *track (null: a fixed stream), the
+// factors by the stand-in (bdpt_medium_hetero.h). ----
 struct MediumShadow {
     Vec3 tr;
     MediumSegmentPdf seg;
@@ -176,15 +183,22 @@ struct MediumShadow {
 template <class Rays, class Kind>
 LANTERN_HD inline MediumShadow bdpt_medium_shadow(const SceneView& s, const Rays& rays, Kind kind,
                                                   Vec3 o, Vec3 d, float tmax, int32_t med,
-                                                  bool start_medium, bool end_medium) {
+                                                  bool start_medium, bool end_medium,
+                                                  Rng* track = nullptr) {
     MediumShadow r{vec3(1.0f), medium_segment_begin(start_medium)};
+    Rng fixed = medium_tracking_rng(Rng{}, 1);
     for (int k = 0; k < 256; ++k) {  // boundaries crossed (a bound: never an endless loop)
         const auto h = rays.closest(Ray{o, d, 0.0f, tmax}, kind);
         const bool hit = h.prim >= 0 && h.t < tmax;
         const float t = hit ? h.t : tmax;
         const Medium* m = med >= 0 ? &s.media[med] : nullptr;
-        if (m) r.tr = r.tr * medium_transmittance(*m, t);
-        medium_segment_piece(r.seg, m, t, !hit && end_medium);
+        if (m && m->hetero) {
+            r.tr = r.tr * medium_piece_transmittance(s, med, o, d, t, track ? *track : fixed);
+            medium_segment_piece_hetero(r.seg, s, med, o, d, t, !hit && end_medium);
+        } else {
+            if (m) r.tr = r.tr * medium_transmittance(*m, t);
+            medium_segment_piece(r.seg, m, t, !hit && end_medium);
+        }
         if (!hit) return r;
         if (!(s.tri_flags[h.prim] & kVolumeBoundary) || is_black(r.tr)) break;
         const Vec3 a = triangle_vertex(s, h.prim, 0), b = triangle_vertex(s, h.prim, 1),

@@ -1,5 +1,6 @@
 // The bidirectional stages in homogeneous media (docs/volumes.md "Medium vertices in the
-// bidirectional integrators"; the pieces and the MIS rules: bdpt_medium.h). Run only where
+// bidirectional integrators"; the pieces and the MIS rules: bdpt_medium.h; heterogeneous media:
+// bdpt_medium_hetero.h and bdpt_camera_hetero_segment below). Run only where
 // SceneView::num_media > 0; the hooks in bdpt_light.h / bdpt_camera.h are one line each.
 //
 // - Every traced piece (between vertices and volume boundaries) in a medium draws a flight by
@@ -119,15 +120,21 @@ LANTERN_HD inline bool bdpt_light_medium_segment(const SceneView& s, const PathS
     if (med >= 0) {
         const Medium& m = s.media[med];
         Rng rng = ps.rng[i];
-        float uc = 0.0f, ud = 0.0f;
-        if (m.scatters) {
-            uc = rng.uniform();
-            ud = rng.uniform();
+        MediumStep step;
+        if (m.hetero) {  // tracking; the stand-in's factors (bdpt_medium_hetero.h)
+            step = bdpt_hetero_flight(s, med, o + d * tmin, d, t_end - tmin,
+                                      bs.power[i] * ps.throughput[i], rng);
+        } else {
+            float uc = 0.0f, ud = 0.0f;
+            if (m.scatters) {
+                uc = rng.uniform();
+                ud = rng.uniform();
+            }
+            step = bdpt_medium_flight(m, t_end - tmin, uc, ud);
         }
         ps.rng[i] = rng;
-        const MediumStep step = bdpt_medium_flight(m, t_end - tmin, uc, ud);
         ps.throughput[i] = ps.throughput[i] * step.weight;
-        medium_segment_piece(seg, &m, step.t, step.scattered);
+        medium_segment_piece_at(seg, s, med, o + d * tmin, d, step.t, step.scattered);
         if (step.scattered) {
             bdpt_light_medium_vertex(s, ps, bs, st, i, path, o + d * (tmin + step.t), d, med,
                                      seg);
@@ -426,6 +433,75 @@ LANTERN_HD inline void bdpt_camera_medium_vertex(const SceneView& s, const PathS
     ps.rng[i] = rng;
 }
 
+// Lights crossed by the stretch [a, b) of a piece of heterogeneous medium med from o0 along d,
+// seen with the tracking's weight there (bw: the throughput times it) and the stand-in's factor
+// up to each.
+LANTERN_HD inline void bdpt_camera_lights_hetero(const SceneView& s, const PathState& ps,
+                                                 const BdptState& bs, const BdptSettings& st,
+                                                 int i, int32_t med, Vec3 o0, float a, float b,
+                                                 const MediumSegmentPdf& seg0, Vec3 bw) {
+    if (is_black(bw)) return;
+    const Vec3 d = ps.ray_d[i];
+    const bool camera = ps.depth[i] <= 1;
+    for (int k = 0; k < s.num_hittable_lights; ++k) {
+        const Light& l = s.lights[s.hittable_lights[k]];
+        if (camera && !l.visible_camera) continue;
+        const LightHit h = intersect_light(l, o0, d, a, b);
+        if (!h.hit || is_black(h.le)) continue;
+        MediumSegmentPdf seg = seg0;
+        medium_segment_piece_hetero(seg, s, med, o0, d, h.t, false);
+        const float w = bdpt_emission_weight_medium(s, ps, bs, st, i, l, o0 + d * h.t, false,
+                                                    h.n, seg);
+        add_radiance(ps, i, bw * h.le * w);
+    }
+}
+
+// The camera path's traced piece in a heterogeneous medium (bdpt_camera_medium_segment's
+// contract): a tracking to the next real scattering event, the emission at its tentative
+// collisions (weight 1, as in homogeneous media) and the lights it passes, each with the
+// tracking's weight; the piece's factors by the stand-in (bdpt_medium_hetero.h). A ray that
+// leaves the medium to infinity (an open mesh) sees no distant light.
+LANTERN_HD inline bool bdpt_camera_hetero_segment(const SceneView& s, const PathState& ps,
+                                                  const BdptState& bs, const BdptSettings& st,
+                                                  const LightCache& cache, int i,
+                                                  int64_t path) {
+    const int tri = ps.hit_prim[i];
+    MediumSegmentPdf seg = bdpt_seg_load(bs, i);
+    const Vec3 d = ps.ray_d[i];
+    const float tmin = ps.ray_tmin[i];
+    const Vec3 o0 = ps.ray_o[i] + d * tmin;
+    const float len = (tri >= 0 ? ps.hit_t[i] : ps.ray_tmax[i]) - tmin;
+    const int32_t med = ps.medium[i];
+    const Medium& m = s.media[med];
+    const Vec3 beta = ps.throughput[i];
+    Rng rng = ps.rng[i];
+    Rng tr = medium_tracking_rng(rng, 0);
+    rng.uniform();  // the next segment's tracking starts a block of its own
+    ps.rng[i] = rng;
+    const bool lights = s.num_hittable_lights > 0;
+    const HeteroStep h = medium_track(
+        s, m, med, o0, d, len, beta, tr,
+        [&](float t, Vec3 w, float mu) {  // mu: the majorant where the collision fell
+            if (m.emits) add_radiance(ps, i, beta * w * medium_emission_at(s, m, o0 + d * t) / mu);
+        },
+        [&](float a, float b, Vec3 w) {
+            if (lights) bdpt_camera_lights_hetero(s, ps, bs, st, i, med, o0, a, b, seg, beta * w);
+        });
+    ps.throughput[i] = beta * h.weight;
+    medium_segment_piece_hetero(seg, s, med, o0, d, h.t, h.scattered);
+    if (h.scattered) {
+        bdpt_camera_medium_vertex(s, ps, bs, st, cache, i, path, o0 + d * h.t, d, med, seg);
+        return true;
+    }
+    bdpt_seg_store(bs, i, seg);
+    if (tri < 0 || is_black(ps.throughput[i])) return true;
+    if (s.tri_flags[tri] & kVolumeBoundary) {
+        pt_cross_boundary(s, ps, i, tri);
+        return true;
+    }
+    return false;
+}
+
 // The camera path's traced piece: its flight, the lights it crosses, a medium vertex, a
 // volume boundary passed; false at a surface (bdpt_camera_shade goes on, its emission done).
 LANTERN_HD inline bool bdpt_camera_medium_segment(const SceneView& s, const PathState& ps,
@@ -439,7 +515,11 @@ LANTERN_HD inline bool bdpt_camera_medium_segment(const SceneView& s, const Path
     const float t_end = tri >= 0 ? ps.hit_t[i] : ps.ray_tmax[i];
     const int32_t med = ps.medium[i];
     const Medium* m = med >= 0 ? &s.media[med] : nullptr;
+    if (m && m->hetero) return bdpt_camera_hetero_segment(s, ps, bs, st, cache, i, path);
     const Vec3 beta = ps.throughput[i];
+    // an emitting medium's emission along the piece, weight 1: no light path starts in a
+    // medium, so only the camera path samples it (docs/volumes.md)
+    if (m && m->emits) add_radiance(ps, i, beta * medium_emission_integral(*m, t_end - tmin));
     MediumStep step{t_end - tmin, false, vec3(1.0f)};
     if (m) {
         Rng rng = ps.rng[i];

@@ -5,7 +5,9 @@
 // the Henyey-Greenstein phase function (no cosine at a medium point), then continued with a
 // phase sample (weight 1). Volume boundaries are passed through; the camera segments carry the
 // transmittance of every medium they cross. Run only where SceneView::num_media > 0.
-// Emissive media send no light paths: the session hands such scenes to pt (session.cpp).
+// Heterogeneous media: spectral tracking (scene/medium_hetero.h) on the segments, ratio tracking
+// on the camera segments. Emissive media send no light paths: the session hands such scenes to
+// pt (session.cpp).
 // Included by lt.h after lt_queue_splat, which it uses.
 #pragma once
 
@@ -55,14 +57,24 @@ LANTERN_HD inline bool lt_medium_segment(const SceneView& s, const PathState& ps
     const float t_end = ps.hit_prim[i] >= 0 ? ps.hit_t[i] : ps.ray_tmax[i];
     const Vec3 beta = ps.throughput[i];
     Rng rng = ps.rng[i];
-    const Vec3 pmf = medium_channel_pmf(lp.power[i] * beta);
-    float u_channel = 0.0f, u_dist = 0.0f;
-    if (m.scatters) {  // a medium that only absorbs spends no numbers
-        u_channel = rng.uniform();
-        u_dist = rng.uniform();
+    MediumStep step;
+    if (m.hetero) {  // spectral tracking (scene/medium_hetero.h), channels by the path's flux
+        Rng tr = medium_tracking_rng(rng, 0);
+        rng.uniform();  // the next segment's tracking starts a block of its own
+        const HeteroStep h = medium_track(s, m, ps.medium[i], o + d * tmin, d, t_end - tmin,
+                                          lp.power[i] * beta, tr, [](float, Vec3, float) {},
+                                          [](float, float, Vec3) {});
+        step = MediumStep{h.t, h.scattered, h.weight};
+    } else {
+        const Vec3 pmf = medium_channel_pmf(lp.power[i] * beta);
+        float u_channel = 0.0f, u_dist = 0.0f;
+        if (m.scatters) {  // a medium that only absorbs spends no numbers
+            u_channel = rng.uniform();
+            u_dist = rng.uniform();
+        }
+        step = medium_sample_distance(m, t_end - tmin, pmf, u_channel, u_dist);
     }
     ps.rng[i] = rng;
-    const MediumStep step = medium_sample_distance(m, t_end - tmin, pmf, u_channel, u_dist);
     ps.throughput[i] = beta * step.weight;
     if (!step.scattered) return false;
 

@@ -51,9 +51,11 @@ int64_t bdpt_camera_segments_medium(Exec& ex, Wavefront<Exec>& w, const SceneVie
             const int i = q[k];
             uint8_t v = 0;
             if (ps.shadow_valid[i]) {
+                Rng track = medium_tracking_rng(ps.rng[i], 1);  // (heterogeneous media)
                 const MediumShadow sh = bdpt_medium_shadow(
                     s, rays, RayKind::kCamera, ps.shadow_o[i], ps.shadow_d[i], ps.shadow_tmax[i],
-                    ps.shadow_medium[i], (bs.shadow_kind[i] & kConnNearMedium) != 0, false);
+                    ps.shadow_medium[i], (bs.shadow_kind[i] & kConnNearMedium) != 0, false,
+                    &track);
                 if (!is_black(sh.tr)) {
                     ps.shadow_contrib[i] = ps.shadow_contrib[i] * sh.tr *
                                            bdpt_medium_finish(bs.shadow_wn[i], 0.0f, sh.seg);
@@ -73,9 +75,10 @@ LANTERN_HD inline void bdpt_shadow_medium(const SceneView& s, const Rays& rays,
                                           const PathState& ps, const BdptState& bs, int i) {
     if (ps.shadow_valid[i]) {
         const int32_t kind = bs.shadow_kind[i];
+        Rng track = medium_tracking_rng(ps.rng[i], 1);  // (heterogeneous media)
         const MediumShadow sh = bdpt_medium_shadow(
             s, rays, RayKind::kShadow, ps.shadow_o[i], ps.shadow_d[i], ps.shadow_tmax[i],
-            ps.shadow_medium[i], (kind & kConnNearMedium) != 0, false);
+            ps.shadow_medium[i], (kind & kConnNearMedium) != 0, false, &track);
         if (!is_black(sh.tr))
             add_radiance(ps, i, ps.shadow_contrib[i] * sh.tr *
                                     bdpt_medium_finish(bs.shadow_wn[i], bs.shadow_wf[i], sh.seg));
@@ -83,9 +86,11 @@ LANTERN_HD inline void bdpt_shadow_medium(const SceneView& s, const Rays& rays,
     for (int j = 0; j < bs.conn_n[i]; ++j) {
         const size_t e = size_t(i) * bs.conn_cap + j;
         const int32_t kind = bs.conn_kind[e];
+        Rng track = bdpt_conn_tracking_rng(ps.rng[i], j);  // (heterogeneous media)
         const MediumShadow sh = bdpt_medium_shadow(
             s, rays, RayKind::kShadow, bs.conn_o[e], bs.conn_d[e], bs.conn_tmax[e],
-            bs.conn_medium[e], (kind & kConnNearMedium) != 0, (kind & kConnFarMedium) != 0);
+            bs.conn_medium[e], (kind & kConnNearMedium) != 0, (kind & kConnFarMedium) != 0,
+            &track);
         if (!is_black(sh.tr))
             add_radiance(ps, i, bs.conn_c[e] * sh.tr *
                                     bdpt_medium_finish(bs.conn_wn[e], bs.conn_wf[e], sh.seg));

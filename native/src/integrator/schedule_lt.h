@@ -28,7 +28,7 @@ int64_t camera_segments_medium(Exec& ex, Wavefront<Exec>& w, const SceneView& s,
             if (ps.shadow_valid[i]) {
                 const Vec3 tr = pt_shadow_transmittance(s, rays, RayKind::kCamera, ps.shadow_o[i],
                                                         ps.shadow_d[i], ps.shadow_tmax[i],
-                                                        ps.shadow_medium[i]);
+                                                        ps.shadow_medium[i], &ps.rng[i], 1u);
                 if (!is_black(tr)) {
                     ps.shadow_contrib[i] = ps.shadow_contrib[i] * tr;
                     v = 1;

@@ -72,18 +72,23 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
         throw std::invalid_argument("adaptive sampling: the threshold must be >= 0, the min "
                                     "samples >= 0 and the step >= 1");
     }
-    // media: lt, bdpt, lvc and cis have medium vertices in homogeneous media (lt_medium.h,
-    // bdpt_medium_stages.h) but start no light paths in emissive media; the rest hands over
+    // media: lt, bdpt, lvc and cis have medium vertices in homogeneous and heterogeneous media
+    // (lt_medium.h, bdpt_medium_stages.h, bdpt_medium_hetero.h); bdpt, lvc and cis gather
+    // emissive media on their camera paths, lt (no camera gather) hands them over; the rest
+    // hands every medium over
     std::string media_note;
     if (integ != "pt" && integ != "auto") {
-        const bool vertices = integ == "lt" || integ == "bdpt" || integ == "lvc" || integ == "cis";
-        const std::string why = vertices ? emissive_media_reason(scene) : media_reason(scene);
+        const bool bidir = integ == "bdpt" || integ == "lvc" || integ == "cis";
+        const bool lt = integ == "lt";
+        const std::string why = bidir ? std::string()
+                                : lt  ? emissive_media_reason(scene)
+                                      : media_reason(scene);
         if (!why.empty()) {
             media_note = "integrator '" + integ + "' does not render participating media (the " +
                          "scene has " + why + "; " +
-                         (vertices ? std::string("its paths scatter in homogeneous, "
-                                                 "non-emissive media only")
-                                   : std::string("no medium vertices in its paths")) +
+                         (lt ? std::string("its light paths start on lights only, not in "
+                                           "emitting media")
+                             : std::string("no medium vertices in its paths")) +
                          "): rendering with pt";
             settings_.integrator = "pt";
         } else if (const std::string ss = subsurface_reason(scene); !ss.empty()) {

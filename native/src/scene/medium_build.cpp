@@ -85,17 +85,16 @@ std::string emissive_media_reason(const SceneInput& in) {
         const Vec3 e = in.media[size_t(k)].emission;
         return e.x > 0.0f || e.y > 0.0f || e.z > 0.0f;  // NaN and negative: cleaned to 0
     };
+    // lt has no camera gather: an emitting medium would need light paths that start in it
+    // (bdpt, lvc and cis gather it on their camera paths; heterogeneous media render in all four)
     if (emits(in.world_medium)) return "an emissive world volume";
     for (const MaterialInput& m : in.materials)
         if (emits(m.medium)) return "an emissive volume (material '" + m.name + "')";
-    // lt's medium vertices sample homogeneous media only (integrator/lt_medium.h): a density
-    // from a node graph (scene/medium_hetero.h) is pt's alone yet
+    // a Volume object's fire (scene/medium_fire.h): emission from its grids
     for (const MaterialInput& m : in.materials)
-        if (m.medium >= 0 && m.density_grid >= 0)
-            return "a Volume object's grid (material '" + m.name + "')";
-    for (size_t k = 4; k < in.programs.size(); k += 6)
-        if (in.programs[k] == uint32_t(kTargetDensity))
-            return "a heterogeneous volume (a Density driven by a node graph)";
+        if (m.medium >= 0 && m.density_grid >= 0 && (m.temperature_grid >= 0 || m.flame_grid >= 0))
+            return "an emissive volume (the temperature or flame grid of material '" + m.name +
+                   "')";
     return "";
 }
 

@@ -39,8 +39,8 @@ struct SceneInput;
 // What in the scene is a participating medium, in words ("the world's volume", "a volume
 // (material 'fog')"); empty: none. Integrators other than pt name it when they hand over.
 std::string media_reason(const SceneInput& in);
-// What lt cannot render of the media: an emissive one (it starts no light paths in media) or a
-// heterogeneous one (its vertices sample homogeneous media only); empty: none.
+// What lt cannot render of the media: an emissive one (it starts no light paths in media; bdpt,
+// lvc and cis gather the emission on their camera paths); empty: none.
 std::string emissive_media_reason(const SceneInput& in);
 
 }  // namespace lantern
