@@ -26,7 +26,7 @@ from .holdout import Holdouts
 from .material import MaterialTable
 from .mesh import MeshExporter, _needs_tangents
 from .strands import StrandExporter
-from .volume_objects import VolumeObjects
+from .volume_objects import VolumeObjects, add_grids
 from .walk import Walk, integrator, object_settings, scene_warnings
 from .world import export_world
 
@@ -295,8 +295,7 @@ class ViewportSync:
             table.append(None)
             self._vol_slots[key] = len(table) - 1
         slot = self._vol_slots[key]
-        table[slot] = dict(mat, density_grid=scene.add_grid(
-            grid["voxels"], grid["index_to_world"], name=grid["name"]))
+        table[slot] = add_grids(scene, mat, grid)  # density, temperature, flame
         return dict(mesh, material_ids=np.full(len(mesh["indices"]), slot, np.uint32))
 
 

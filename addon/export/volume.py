@@ -130,13 +130,18 @@ def convert_volume(socket, where, report, compiler=None, programs=None):
             report.warn(f"{where}: '{node.name}' ({node.type}) in the Volume output is not "
                         "rendered")
             continue
+        # a Volume object's grid on an emission strength (volume_objects._GridProbe): the
+        # probe keeps it (a flame grid) and the constant strength is 0
+        by_grid = getattr(compiler, "grid_strength", None)
+        gridded = {sock.name for sock in node.inputs
+                   if by_grid is not None and by_grid(node, sock, w)}
         for sock in node.inputs:
             if sock.name not in _IGNORED and sock.is_linked and _source(sock) is not None and \
-                    not (node is hetero and sock.name == "Density"):
+                    not (node is hetero and sock.name == "Density") and sock.name not in gridded:
                 _value(node, sock.name, where, report)  # names it
         color = _value(node, "Color", where, report) or [1.0, 1.0, 1.0]
         if node.type == "EMISSION":
-            s = _value(node, "Strength", where, report)
+            s = 0.0 if "Strength" in gridded else _value(node, "Strength", where, report)
             emission = [e + w * s * c for e, c in zip(emission, color)]
             continue
         density = w * (1.0 if node is hetero else
@@ -158,7 +163,8 @@ def convert_volume(socket, where, report, compiler=None, programs=None):
         absorb = _value(node, "Absorption Color", where, report)
         sigma_a = [a + density * max(1.0 - c, 0.0) * max(1.0 - math.sqrt(max(k, 0.0)), 0.0)
                    for a, c, k in zip(sigma_a, color, absorb)]
-        strength = _value(node, "Emission Strength", where, report)
+        strength = 0.0 if "Emission Strength" in gridded else \
+            _value(node, "Emission Strength", where, report)
         ecolor = _value(node, "Emission Color", where, report)
         emission = [e + w * strength * c for e, c in zip(emission, ecolor)]
         bb = blackbody_emission(node, where, report)
@@ -218,6 +224,15 @@ def volume_settings(scene, report):
     c = getattr(scene, "cycles", None)
     if c is None:
         return
+    # Volume Step (Step Rate, Max Steps, a Volume's Step Size) steers only Cycles' biased ray
+    # marching; its default (null scattering) and Lantern's tracking are unbiased and take no
+    # steps, so they are not honoured: named only when Cycles would march (docs/volumes.md)
+    if getattr(c, "volume_biased", False):
+        report.warn(f"Render settings: Cycles' biased volume ray marching (Step Rate "
+                    f"{getattr(c, 'volume_step_rate', 1.0):g}, Max Steps "
+                    f"{getattr(c, 'volume_max_steps', 0)}) is not what Lantern renders; its "
+                    "volume tracking is unbiased (Cycles' default, null scattering) and takes no "
+                    "steps")
     vb, mb = getattr(c, "volume_bounces", None), getattr(c, "max_bounces", None)
     if vb is not None and mb is not None and vb < mb:
         report.warn(f"Render settings: Volume Bounces ({vb}) is not honoured; Lantern scatters "

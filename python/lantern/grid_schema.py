@@ -41,6 +41,9 @@ def validate_density_grid(material, out, what, num_grids):
     g = material.get("density_grid")
     if g is None:
         out.pop("density_grid", None)
+        if material.get("temperature_grid") is not None or \
+                material.get("flame_grid") is not None:
+            raise ValueError(f"{what}: temperature_grid and flame_grid need a density_grid")
         return
     if isinstance(g, bool) or not isinstance(g, (int, np.integer)) or g < 0:
         raise ValueError(f"{what} density_grid: expected a grid index >= 0, got {g!r}")
@@ -50,6 +53,16 @@ def validate_density_grid(material, out, what, num_grids):
     if material.get("volume") is None:
         raise ValueError(f"{what} density_grid: the material has no volume to scale")
     out["density_grid"] = int(g)
+    # a fire's grids (scene/medium_fire.h): read with the volume's blackbody and flame values
+    for key in ("temperature_grid", "flame_grid"):
+        k = material.get(key)
+        if k is None:
+            out.pop(key, None)
+            continue
+        if isinstance(k, bool) or not isinstance(k, (int, np.integer)) or k < 0 or \
+                (num_grids is not None and k >= num_grids):
+            raise ValueError(f"{what} {key}: expected a grid index of the scene, got {k!r}")
+        out[key] = int(k)
 
 
 def read_vdb(path, grid="density", max_voxels=MAX_GRID_VOXELS):

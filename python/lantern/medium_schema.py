@@ -4,10 +4,15 @@ boundary that pt passes through), and the world's ``"volume"`` (the medium every
 
 A medium is ``{"sigma_a": rgb, "sigma_s": rgb, "emission": rgb, "g": float}``: absorption and
 scattering coefficients per metre, emitted radiance per metre and the Henyey-Greenstein
-anisotropy in (-1, 1), all in Blender's units (addon/export/volume.py converts the nodes)."""
+anisotropy in (-1, 1), all in Blender's units (addon/export/volume.py converts the nodes).
+A Volume object's medium may add its fire, read with the material's ``"temperature_grid"`` and
+``"flame_grid"`` (grid_schema.py): ``"blackbody_intensity"`` (float >= 0), ``"temperature"``
+(kelvin per unit of the temperature grid), ``"blackbody_tint"`` (rgb) and ``"flame_emission"``
+(rgb radiance per metre per unit of the flame grid)."""
 import math
 
 MEDIUM_KEYS = ("sigma_a", "sigma_s", "emission", "g")
+FIRE_KEYS = ("blackbody_intensity", "temperature", "blackbody_tint", "flame_emission")
 
 
 def _rgb(value, what):
@@ -26,16 +31,25 @@ def validate_medium(medium, what):
     """The medium dict, checked: unknown keys and out-of-range values are errors."""
     if not isinstance(medium, dict):
         raise ValueError(f"{what} volume: expected a dict")
-    unknown = set(medium) - set(MEDIUM_KEYS)
+    unknown = set(medium) - set(MEDIUM_KEYS) - set(FIRE_KEYS)
     if unknown:
         raise ValueError(f"{what} volume: unknown keys {sorted(unknown)} "
-                         f"(expected {', '.join(MEDIUM_KEYS)})")
+                         f"(expected {', '.join(MEDIUM_KEYS + FIRE_KEYS)})")
     out = {k: _rgb(medium.get(k, [0.0, 0.0, 0.0]), f"{what} volume {k}")
            for k in ("sigma_a", "sigma_s", "emission")}
     g = float(medium.get("g", 0.0))
     if not (math.isfinite(g) and -1.0 < g < 1.0):
         raise ValueError(f"{what} volume g: expected a value in (-1, 1), got {g}")
     out["g"] = g
+    for k in ("blackbody_tint", "flame_emission"):
+        if k in medium:
+            out[k] = _rgb(medium[k], f"{what} volume {k}")
+    for k in ("blackbody_intensity", "temperature"):
+        if k in medium:
+            v = float(medium[k])
+            if not (math.isfinite(v) and v >= 0.0):
+                raise ValueError(f"{what} volume {k}: expected a finite value >= 0, got {v}")
+            out[k] = v
     return out
 
 

@@ -72,6 +72,11 @@ def volume_bounces(s):   # a homogeneous medium renders; Cycles' Volume Bounces 
     _with_material(s, _material("Fog", "Volume", "ShaderNodeVolumePrincipled"))
 
 
+def volume_biased(s):   # Cycles' biased ray marching (its Step Rate): Lantern tracks unbiased
+    _with_material(s, _material("Fog", "Volume", "ShaderNodeVolumePrincipled"))
+    s.cycles.volume_biased = True
+
+
 def displacement(s):   # true displacement; the Bump Only method renders (test_bl_nodes.py)
     mat = _material("Bumpy", "Displacement", "ShaderNodeDisplacement")
     mat.displacement_method = "DISPLACEMENT"
@@ -262,6 +267,7 @@ def surfaces_filter(s):
 
 CASES = [  # builder, the name the warning must carry, a word of the feature
     (volume_bounces, "Render settings", "Volume Bounces"),
+    (volume_biased, "Render settings", "biased volume ray marching"),
     (displacement, "Material 'Bumpy'", "true displacement"),
     (world_volume, "World 'Hazy'", "phase function 'RAYLEIGH'"),
     (light_nodes, "Light 'Lamp'", "varies over the light"),

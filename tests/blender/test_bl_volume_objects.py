@@ -121,3 +121,89 @@ def test_a_grid_the_file_lacks_is_named(empty, addon, tmp_path):
     assert not scene.grids and not [m for m in scene.meshes if m["name"] == "Smoke"]
     hits = [m for m in report.messages if "Smoke" in m and "no grid named 'smoke'" in m]
     assert len(hits) == 1, report.messages
+
+
+def _fire_vdb(tmp_path, names=("density", "temperature", "flame")):
+    import lantern._core as core
+    path = os.path.join(str(tmp_path), "fire.vdb")
+    vox = np.zeros((4, 5, 6), np.float32)
+    vox[1:3, 1:4, 1:5] = 1.0
+    grids = [(n, np.ascontiguousarray(vox * (k + 1))) for k, n in enumerate(names)]
+    m = np.array([[VOXEL, 0, 0, 1.0], [0, VOXEL, 0, 0], [0, 0, VOXEL, 0], [0, 0, 0, 1]])
+    core.vdb_write_grids(path, grids, m)
+    return path
+
+
+def _fire_material():
+    """Principled Volume with Blackbody (Temperature 1200 x the "temperature" grid) and an
+    Attribute "flame" x 3 on Emission Strength (Blender's fire setup)."""
+    mat, v = _material("principled")
+    nt = mat.node_tree
+    v.inputs["Blackbody Intensity"].default_value = 0.8
+    v.inputs["Temperature"].default_value = 1200.0
+    v.inputs["Blackbody Tint"].default_value = (1.0, 0.5, 0.25, 1)
+    v.inputs["Emission Color"].default_value = (1.0, 0.4, 0.1, 1)
+    a = nt.nodes.new("ShaderNodeAttribute")
+    a.attribute_name = "flame"
+    mul = nt.nodes.new("ShaderNodeMath")
+    mul.operation = "MULTIPLY"
+    mul.inputs[1].default_value = 3.0
+    nt.links.new(a.outputs["Fac"], mul.inputs[0])
+    nt.links.new(mul.outputs[0], v.inputs["Emission Strength"])
+    return mat, v
+
+
+def test_fire_grids_are_exported_with_their_parameters(empty, addon, tmp_path):
+    path = _fire_vdb(tmp_path)
+    mat, _ = _fire_material()
+    _volume_object(empty, path, mat)
+    scene, report = export(addon)
+    assert not [m for m in report.messages if "Smoke" in m], report.messages
+    m, _, grid = _smoke(scene)
+    t, f = scene.grids[m["temperature_grid"]], scene.grids[m["flame_grid"]]
+    assert t["name"].endswith(":temperature") and f["name"].endswith(":flame")
+    assert np.allclose(t["voxels"], 2.0) and np.allclose(f["voxels"], 3.0)
+    assert np.allclose(t["index_to_world"], grid["index_to_world"])
+    vol = m["volume"]
+    assert vol["blackbody_intensity"] == pytest.approx(0.8)
+    assert vol["temperature"] == pytest.approx(1200.0)
+    assert np.allclose(vol["blackbody_tint"], [1.0, 0.5, 0.25])
+    assert np.allclose(vol["flame_emission"], [3.0, 1.2, 0.3])
+    # the blackbody is per point now: no constant blackbody or socket strength in "emission"
+    assert np.allclose(vol["emission"], 0.0)
+    # control: without the temperature grid named, the constant blackbody of the socket's T
+    mat.node_tree.nodes["Principled Volume"].inputs["Temperature Attribute"].default_value = ""
+    scene, _ = export(addon)
+    m, _, _ = _smoke(scene)
+    assert m.get("temperature_grid") is None and max(m["volume"]["emission"]) > 0.0
+
+
+def test_fire_grids_the_file_lacks_are_named(empty, addon, tmp_path):
+    path = _fire_vdb(tmp_path, names=("density",))
+    mat, _ = _fire_material()
+    _volume_object(empty, path, mat)
+    scene, report = export(addon)
+    m, _, _ = _smoke(scene)
+    assert m.get("temperature_grid") is None and m.get("flame_grid") is None
+    said = " ".join(report.messages)
+    assert "'temperature' (Temperature Attribute) is not in the object's file" in said, said
+    assert "'flame' on its emission strength is not in the object's file" in said, said
+    # as Cycles: the socket's temperature everywhere, no flame emission
+    assert max(m["volume"]["emission"]) > 0.0
+
+
+def test_fire_emission_follows_the_object_space_density(empty, addon, tmp_path):
+    """Render Space "Object": Cycles divides the emission (blackbody, flame) by the scale along
+    the diagonal as it does the density; "World" keeps it (control)."""
+    path = _fire_vdb(tmp_path)
+    mat, _ = _fire_material()
+    obj = _volume_object(empty, path, mat, scale=(1.0, 1.0, 1.3))
+    k = math.sqrt((1.0 + 1.0 + 1.69) / 3.0)
+    scene, _ = export(addon)
+    vol = _smoke(scene)[0]["volume"]
+    assert np.allclose(vol["flame_emission"], np.array([3.0, 1.2, 0.3]) / k)
+    assert np.allclose(vol["blackbody_tint"], np.array([1.0, 0.5, 0.25]) / k)
+    obj.data.render.space = "WORLD"
+    scene, _ = export(addon)
+    vol = _smoke(scene)[0]["volume"]
+    assert np.allclose(vol["flame_emission"], [3.0, 1.2, 0.3])

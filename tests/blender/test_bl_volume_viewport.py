@@ -77,3 +77,38 @@ def test_volume_object_follows_viewport_edits(addon, stage, tmp_path):
     _same(state.sync.scene, fresh)
     assert _volume(fresh)[0]["volume"]["sigma_s"][0] == pytest.approx(0.5 * 9.0)
     state.free()
+
+
+def test_fire_grids_follow_viewport_edits(addon, stage, tmp_path):
+    """A fire's temperature grid is synced as a fresh export holds it, and a Temperature edit
+    reaches the synced medium (the value before the edit as control)."""
+    import lantern._core as core
+    obj, principled = _smoke(stage, tmp_path)
+    path = os.path.join(str(tmp_path), "fire.vdb")
+    c = np.linspace(-1, 1, 10)
+    z, y, x = np.meshgrid(c, c, c, indexing="ij")
+    dens = np.ascontiguousarray(np.clip(1 - (x * x + y * y + z * z), 0, None).astype(np.float32))
+    temp = np.ascontiguousarray((dens * 2.0 + 0.5 * (dens > 0)).astype(np.float32))
+    core.vdb_write_grids(path, [("density", dens), ("temperature", temp)],
+                         np.diag([0.1, 0.1, 0.1, 1.0]))
+    obj.data.filepath = path
+    principled.inputs["Blackbody Intensity"].default_value = 1.0
+    principled.inputs["Temperature"].default_value = 1500.0
+    bpy.context.view_layer.update()
+    engine, ctx = _start(addon, stage)
+    state = engine._lantern
+    _refined(engine, addon, ctx)
+    synced, fresh = state.sync.scene, _fresh(stage, ctx, stage.lantern)
+    for sc in (synced, fresh):
+        mat = _volume(sc)[0]
+        assert sc.grids[mat["temperature_grid"]]["name"].endswith(":temperature")
+    a, b = _volume(synced)[0], _volume(fresh)[0]
+    assert a["volume"] == b["volume"] and a["volume"]["temperature"] == pytest.approx(1500.0)
+    np.testing.assert_array_equal(synced.grids[a["temperature_grid"]]["voxels"],
+                                  fresh.grids[b["temperature_grid"]]["voxels"])
+    image = _apply(addon, engine, ctx,
+                   lambda: setattr(principled.inputs["Temperature"], "default_value", 2500.0))
+    assert np.isfinite(image).all()
+    a, b = _volume(state.sync.scene)[0], _volume(_fresh(stage, ctx, stage.lantern))[0]
+    assert a["volume"] == b["volume"] and a["volume"]["temperature"] == pytest.approx(2500.0)
+    state.free()

@@ -66,7 +66,7 @@ Chi spectral_chi(const RampScene& sc, float L, int bins, int n, double scale) {
         Rng path = Rng::for_path(17, 0, uint64_t(k));
         Rng r = medium_tracking_rng(path, 0);
         const HeteroStep st = medium_track(
-            sc.view, sc.medium, 0, kO, kD, L, beta, r, [](float, Vec3) {},
+            sc.view, sc.medium, 0, kO, kD, L, beta, r, [](float, Vec3, float) {},
             [](float, float, Vec3) {});
         int b = bins;
         if (st.scattered) b = std::min(int(st.t / L * float(bins)), bins - 1);
@@ -154,7 +154,7 @@ TEST(MediumHetero, ZeroMajorantPassesUnweighted) {
     Rng path = Rng::for_path(1, 0, 0);
     Rng r = medium_tracking_rng(path, 0);
     const HeteroStep st = medium_track(sc.view, sc.medium, 0, kO, kD, 2.0f, vec3(1.0f), r,
-                                       [](float, Vec3) {}, [](float, float, Vec3) {});
+                                       [](float, Vec3, float) {}, [](float, float, Vec3) {});
     EXPECT_FALSE(st.scattered);
     EXPECT_EQ(st.weight.x, 1.0f);
 }

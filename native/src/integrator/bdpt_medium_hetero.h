@@ -93,7 +93,7 @@ LANTERN_HD inline MediumStep bdpt_hetero_flight(const SceneView& s, int32_t med,
     Rng tr = medium_tracking_rng(rng, 0);
     rng.uniform();  // the next segment's tracking starts a block of its own
     const HeteroStep h = medium_track(
-        s, s.media[med], med, o, d, t_end, beta, tr, [](float, Vec3) {},
+        s, s.media[med], med, o, d, t_end, beta, tr, [](float, Vec3, float) {},
         [](float, float, Vec3) {});
     return MediumStep{h.t, h.scattered, h.weight};
 }

@@ -62,7 +62,7 @@ LANTERN_HD inline bool lt_medium_segment(const SceneView& s, const PathState& ps
         Rng tr = medium_tracking_rng(rng, 0);
         rng.uniform();  // the next segment's tracking starts a block of its own
         const HeteroStep h = medium_track(s, m, ps.medium[i], o + d * tmin, d, t_end - tmin,
-                                          lp.power[i] * beta, tr, [](float, Vec3) {},
+                                          lp.power[i] * beta, tr, [](float, Vec3, float) {},
                                           [](float, float, Vec3) {});
         step = MediumStep{h.t, h.scattered, h.weight};
     } else {

@@ -28,14 +28,13 @@ LANTERN_HD inline bool pt_hetero_segment(const SceneView& s, const PathState& ps
     Rng rng = ps.rng[i];
     Rng tr = medium_tracking_rng(rng, 0);
     rng.uniform();  // the next segment's tracking starts a block of its own
-    const float mu = m.majorant;
     const bool emits = m.emits && !catcher_camera;
     const bool camera = ps.depth[i] <= 1;
     const bool lights = !catcher_camera && s.num_hittable_lights > 0;
     const HeteroStep step = medium_track(
         s, m, med, o0, d, len, beta, tr,
-        [&](float, Vec3 w) {
-            if (emits) add_radiance(ps, i, beta * w * m.emission / mu);
+        [&](float t, Vec3 w, float mu) {
+            if (emits) add_radiance(ps, i, beta * w * medium_emission_at(s, m, o0 + d * t) / mu);
         },
         [&](float a, float b, Vec3 w) {
             if (!lights || is_black(w)) return;

@@ -36,6 +36,10 @@ int get_medium(const nb::handle& h, const std::string& name, SceneInput& in) {
     mi.sigma_s = get_vec3(v, "sigma_s", mi.sigma_s);
     mi.emission = get_vec3(v, "emission", mi.emission);
     mi.g = get<float>(v, "g", mi.g);
+    mi.blackbody_intensity = get<float>(v, "blackbody_intensity", mi.blackbody_intensity);
+    mi.temperature = get<float>(v, "temperature", mi.temperature);
+    mi.blackbody_tint = get_vec3(v, "blackbody_tint", mi.blackbody_tint);
+    mi.flame_emission = get_vec3(v, "flame_emission", mi.flame_emission);
     in.media.push_back(mi);
     return int(in.media.size()) - 1;
 }

@@ -61,6 +61,8 @@ if (has(scene, "materials")) {
         if (has(m, "volume")) mi.medium = get_medium(m["volume"], mi.name, in);
         mi.volume_only = get<bool>(m, "volume_only", false);
         mi.density_grid = get<int>(m, "density_grid", -1);
+        mi.temperature_grid = get<int>(m, "temperature_grid", -1);
+        mi.flame_grid = get<int>(m, "flame_grid", -1);
         if (has(m, "mix")) {  // [[leaf, weight], ...]
             for (nb::handle e : nb::cast<nb::list>(m["mix"])) {
                 auto pair = nb::cast<std::vector<float>>(e);

@@ -97,6 +97,29 @@ void bind_vdb(nb::module_& m) {
         for (int k = 0; k < 16; ++k) m4[k / 4][k % 4] = mat.data()[k];
         vdb_write_dense(path, name, v.data(), dims, m4);
     });
+    // several grids of one shape and transform in one file (tests: a fire's density,
+    // temperature and flame): grids is a list of (name, float32 (nz, ny, nx)) pairs
+    m.def("vdb_write_grids", [](const std::string& path, const nb::list& grids,
+                                nb::ndarray<const double, nb::shape<4, 4>, nb::c_contig,
+                                            nb::device::cpu> mat) {
+        std::vector<std::string> names;
+        std::vector<const float*> data;
+        int32_t dims[3] = {0, 0, 0};
+        for (nb::handle h : grids) {
+            auto pair = nb::cast<nb::tuple>(h);
+            auto v = nb::cast<nb::ndarray<const float, nb::ndim<3>, nb::c_contig,
+                                          nb::device::cpu>>(pair[1]);
+            const int32_t d[3] = {int32_t(v.shape(2)), int32_t(v.shape(1)), int32_t(v.shape(0))};
+            if (!names.empty() && (d[0] != dims[0] || d[1] != dims[1] || d[2] != dims[2]))
+                throw std::invalid_argument("vdb_write_grids: the grids' shapes differ");
+            std::copy(d, d + 3, dims);
+            names.push_back(nb::cast<std::string>(pair[0]));
+            data.push_back(v.data());
+        }
+        double m4[4][4];
+        for (int k = 0; k < 16; ++k) m4[k / 4][k % 4] = mat.data()[k];
+        vdb_write_dense_grids(path, names, data, dims, m4);
+    });
     m.def("vdb_write_sparse", [](const std::string& path, const std::string& name,
                                  nb::ndarray<const int32_t, nb::ndim<2>, nb::c_contig,
                                              nb::device::cpu> coords,

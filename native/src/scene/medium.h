@@ -29,6 +29,15 @@ struct Medium {
     float density_max;     // the bound on the density the majorant was built from
     int32_t outside;       // the medium around this one's mesh (a path leaving it enters it):
                            // the enclosing mesh medium's, or the world's (-1: vacuum)
+    // ---- Volume objects' fire (scene/medium_fire.h); each -1: none ----
+    int32_t majorant_grid;     // index into SceneView::majorant_grids; -1: the constant majorant
+    int32_t temperature_grid;  // SceneView::grids: blackbody emission per point
+    int32_t flame_grid;        // SceneView::grids: emission flame_emission x flame per point
+    float bb_intensity;        // Principled Volume's Blackbody Intensity (with a temperature grid)
+    float bb_temperature;      // its Temperature socket: T = socket x the grid's value
+    float pad_fire;
+    Vec3 bb_tint;              // Blackbody Tint x the shader's mix weight
+    Vec3 flame_emission;       // radiance per metre per unit of the flame grid
 };
 
 // ---- Henyey-Greenstein: cos_theta between the direction travelled and the scattered one ----

@@ -44,6 +44,7 @@ Medium to_medium(const MediumInput& in, std::vector<std::string>& warnings) {
     m.g = std::isfinite(in.g) ? std::fmin(std::fmax(in.g, -0.999f), 0.999f) : 0.0f;
     m.density_prog = -1;
     m.density_grid = -1;
+    m.majorant_grid = m.temperature_grid = m.flame_grid = -1;
     return m;
 }
 
@@ -89,6 +90,11 @@ std::string emissive_media_reason(const SceneInput& in) {
     if (emits(in.world_medium)) return "an emissive world volume";
     for (const MaterialInput& m : in.materials)
         if (emits(m.medium)) return "an emissive volume (material '" + m.name + "')";
+    // a Volume object's fire (scene/medium_fire.h): emission from its grids
+    for (const MaterialInput& m : in.materials)
+        if (m.medium >= 0 && m.density_grid >= 0 && (m.temperature_grid >= 0 || m.flame_grid >= 0))
+            return "an emissive volume (the temperature or flame grid of material '" + m.name +
+                   "')";
     return "";
 }
 
@@ -139,6 +145,7 @@ void HostScene::build_media(const SceneInput& in) {
             }
             finish(m);
             m.scatters = max_component(m.sigma_s + m.sigma_s0) > 0.0f ? 1u : 0u;
+            if (mi.density_grid >= 0) grid_fire(m, mi, src);  // scene/medium_grid_build.cpp
             material_medium_[k] = int32_t(media_.size());
             media_.push_back(m);
             hetero.push_back({material_medium_[k], k});

@@ -4,9 +4,11 @@
 // the majorant of a medium whose density is a grid (exact: a trilinear value never exceeds the
 // largest of its voxels).
 #include <cmath>
+#include <cstdlib>
 #include <stdexcept>
 #include <string>
 
+#include "scene/medium_fire.h"
 #include "scene/scene.h"
 
 namespace lantern {
@@ -65,6 +67,8 @@ void HostScene::build_grids(const SceneInput& in) {
                                     " voxels, above the limit of " +
                                     std::to_string(kMaxGridVoxels));
     grids_.clear();
+    majorant_grids_.clear();
+    majorant_values_.clear();
     grid_voxels_.clear();
     grid_voxels_.reserve(size_t(total));
     for (const GridInput& g : in.grids) {
@@ -105,7 +109,44 @@ void HostScene::build_grids(const SceneInput& in) {
     view_.num_grids = int32_t(grids_.size());
 }
 
-// The majorant of heterogeneous medium med whose density is grid density_grid.
+// A Volume object's fire (scene/medium_fire.h): the material's temperature and flame grids and
+// the medium's blackbody and flame parameters, checked (a grid index out of range is an error;
+// a parameter that is not finite or negative is 0, with a warning).
+void HostScene::grid_fire(Medium& m, const MaterialInput& mi, const MediumInput& src) {
+    auto check = [&](int k, const char* what) {
+        if (k < -1 || k >= int32_t(grids_.size()))
+            throw std::invalid_argument("material '" + mi.name + "': " + what + " grid " +
+                                        std::to_string(k) + " out of range (the scene has " +
+                                        std::to_string(grids_.size()) + ")");
+        return int32_t(k);
+    };
+    auto clean = [&](float v, const char* what) {
+        if (std::isfinite(v) && v >= 0.0f) return v;
+        warnings_.push_back("medium '" + src.name + "': " + what + " " + std::to_string(v) +
+                            " is taken as 0");
+        return 0.0f;
+    };
+    auto clean3 = [&](Vec3 v, const char* what) {
+        return Vec3{clean(v.x, what), clean(v.y, what), clean(v.z, what)};
+    };
+    m.temperature_grid = check(mi.temperature_grid, "temperature");
+    m.flame_grid = check(mi.flame_grid, "flame");
+    m.bb_intensity = std::fmin(clean(src.blackbody_intensity, "Blackbody Intensity"), 1e9f);
+    m.bb_temperature = std::fmin(clean(src.temperature, "Temperature"), 1e6f);
+    m.bb_tint = clean3(src.blackbody_tint, "Blackbody Tint");
+    m.flame_emission = clean3(src.flame_emission, "flame emission");
+    if (m.flame_grid >= 0 && max_component(m.flame_emission) > 0.0f) m.emits = 1u;
+    if (m.temperature_grid >= 0 && max_component(m.bb_tint) > 0.0f &&
+        (m.bb_intensity > 0.0f)) {
+        m.emits = 1u;
+        view_.blackbody_table = blackbody_table_host();
+    } else {
+        m.temperature_grid = -1;  // emits nothing
+    }
+    if (m.flame_grid >= 0 && !(max_component(m.flame_emission) > 0.0f)) m.flame_grid = -1;
+}
+
+// The majorant of heterogeneous medium med whose density is grid density_grid, and its bricks.
 void HostScene::build_grid_medium(int32_t med) {
     Medium& m = media_[size_t(med)];
     const DensityGrid& g = grids_[size_t(m.density_grid)];
@@ -118,6 +159,10 @@ void HostScene::build_grid_medium(int32_t med) {
             std::sqrt(float(g.nx) * g.nx + float(g.ny) * g.ny + float(g.nz) * g.nz);
         m.majorant = std::fmax(length(e), 1e-6f) / std::fmax(voxels, 1.0f);
     }
+    // the bricks (scene/medium_majorant_build.cpp); LANTERN_MAJORANT_BRICKS=0 keeps the one
+    // majorant (benchmarks: bench/fire_majorant.py measures both)
+    const char* bricks = std::getenv("LANTERN_MAJORANT_BRICKS");
+    if (!(bricks && std::string(bricks) == "0")) build_majorant_grid(med);
 }
 
 }  // namespace lantern

@@ -1,8 +1,9 @@
 // Heterogeneous media (docs/volumes.md): a medium's coefficients per unit of density times a
 // density that a node program gives at each point inside (kTargetDensity; Generated and Object
 // coordinates read as affine maps of the world position, SceneView::medium_maps), plus a
-// constant part (the world's volume). Sampled by null-collision tracking against a constant
-// majorant: distances by spectral tracking, transmittance by ratio tracking; both unbiased for
+// constant part (the world's volume). Sampled by null-collision tracking against majorants
+// constant along pieces of the ray (scene/medium_majorant.h: a Volume object's bricks, else one
+// per medium): distances by spectral tracking, transmittance by ratio tracking; both unbiased for
 // any majorant > 0 (where the density exceeds it the null weights turn negative). Host+device,
 // no state; the random numbers come from a hashed stream (medium_tracking_rng).
 #pragma once
@@ -10,6 +11,8 @@
 #include "core/rng.h"
 #include "scene/material_program.h"
 #include "scene/medium.h"
+#include "scene/medium_fire.h"
+#include "scene/medium_majorant.h"
 
 namespace lantern {
 
@@ -65,25 +68,50 @@ LANTERN_HD inline MediumCoeffs medium_coeffs_at(const SceneView& s, const Medium
 
 LANTERN_HD inline float mean_abs(Vec3 v) { return (fabsf(v.x) + fabsf(v.y) + fabsf(v.z)) / 3.0f; }
 
+// The walk of pieces of constant majorant along o + d t, t in [0, t_end], that the trackings
+// below follow: the medium's bricks (scene/medium_majorant.h) or its one majorant.
+LANTERN_HD inline MajorantWalk medium_majorant_walk(const SceneView& s, const Medium& m, Vec3 o,
+                                                    Vec3 d, float t_end) {
+    if (m.majorant_grid >= 0 && m.majorant_grid < s.num_majorant_grids)
+        return majorant_walk_grid(s.majorant_grids[m.majorant_grid], s.majorant_values, o, d,
+                                  t_end);
+    return majorant_walk_constant(m.majorant, t_end);
+}
+
 // ---- Ratio tracking [Novak, Selle, Jarosz 2014]: an unbiased estimate of the transmittance
-// over [0, t] from o along d, the product over tentative collisions (rate mu) of
-// 1 - sigma_t(x) / mu; Russian roulette once it is small ----
+// over [0, t] from o along d, the product over tentative collisions (rate mu, the piece's
+// majorant) of 1 - sigma_t(x) / mu; Russian roulette once it is small ----
 LANTERN_HD inline Vec3 medium_ratio_tracking(const SceneView& s, const Medium& m, int32_t med,
                                              Vec3 o, Vec3 d, float t, Rng& rng) {
     Vec3 tr = vec3(1.0f);
-    const float mu = m.majorant;
-    if (!(mu > 0.0f)) return tr;
-    float x = 0.0f;
-    for (int k = 0; k < kMaxTrackingSteps; ++k) {
-        x += -log1pf(-rng.uniform()) / mu;
-        if (!(x < t)) return tr;
+    MajorantWalk walk = medium_majorant_walk(s, m, o, d, t);
+    MajorantSeg seg;
+    if (!majorant_next(walk, &seg)) return tr;
+    float x = 0.0f, tau = -1.0f;  // tau: the exponential left to spend (< 0: draw one)
+    for (int k = 0; k < kMaxTrackingSteps;) {
+        if (!(seg.mu > 0.0f)) {  // nothing collides here
+            x = seg.t1;
+            if (!majorant_next(walk, &seg)) return tr;
+            continue;
+        }
+        if (tau < 0.0f) tau = -log1pf(-rng.uniform());
+        const float xn = x + tau / seg.mu;
+        if (!(xn < seg.t1)) {  // past this piece: spend its share, go on in the next
+            tau = fmaxf(tau - (seg.t1 - x) * seg.mu, 0.0f);
+            x = seg.t1;
+            if (!majorant_next(walk, &seg)) return tr;
+            continue;
+        }
+        tau = -1.0f;
+        x = xn;
         const MediumCoeffs c = medium_coeffs_at(s, m, med, o + d * x, d);
-        tr = tr * (vec3(1.0f) - (c.sigma_a + c.sigma_s) / mu);
+        tr = tr * (vec3(1.0f) - (c.sigma_a + c.sigma_s) / seg.mu);
         const float a = fmaxf(fabsf(tr.x), fmaxf(fabsf(tr.y), fabsf(tr.z)));
         if (a < 0.1f) {  // roulette: survive with probability 1/2, twice the weight
             if (!(a > 0.0f) || rng.uniform() >= 0.5f) return vec3(0.0f);
             tr = tr * 2.0f;
         }
+        ++k;
     }
     return vec3(0.0f);
 }
@@ -92,9 +120,10 @@ LANTERN_HD inline Vec3 medium_ratio_tracking(const SceneView& s, const Medium& m
 // over [0, t_end] from o along d, for a path of throughput beta. At each tentative collision
 // (rate mu) the path scatters with probability P_s or goes on (null) with P_n, proportional to
 // the mean over channels of |beta W sigma_s| and |beta W sigma_n| (W the weight so far,
-// sigma_n = mu - sigma_t); the weight takes sigma_s / (mu P_s) or sigma_n / (mu P_n). Absorption
-// is in the weight (sigma_s + sigma_n = mu - sigma_a), not an event. on_collision(t, W) is called
-// at each tentative collision before its event (for the emission, whose estimate is W e / mu),
+// sigma_n = mu - sigma_t, mu the majorant of the piece the collision falls in); the weight takes
+// sigma_s / (mu P_s) or sigma_n / (mu P_n). Absorption is in the weight (sigma_s + sigma_n =
+// mu - sigma_a), not an event. on_collision(t, W, mu) is called at each tentative collision
+// before its event (for the emission, whose estimate is W e / mu),
 // on_interval(a, b, W) for each stretch [a, b) the path passes with weight W (lights crossed
 // there). ----
 struct HeteroStep {
@@ -108,21 +137,31 @@ LANTERN_HD inline HeteroStep medium_track(const SceneView& s, const Medium& m, i
                                           Vec3 o, Vec3 d, float t_end, Vec3 beta, Rng& rng,
                                           OnCollision on_collision, OnInterval on_interval) {
     HeteroStep r{t_end, false, vec3(1.0f)};
-    const float mu = m.majorant;
-    float x = 0.0f;
-    if (!(mu > 0.0f)) {
-        on_interval(0.0f, t_end, r.weight);
-        return r;
-    }
-    for (int k = 0; k < kMaxTrackingSteps; ++k) {
-        const float xn = x - log1pf(-rng.uniform()) / mu;
-        if (!(xn < t_end)) {
-            on_interval(x, t_end, r.weight);
-            return r;
+    MajorantWalk walk = medium_majorant_walk(s, m, o, d, t_end);
+    MajorantSeg seg;
+    if (!majorant_next(walk, &seg)) return r;
+    float x = 0.0f, tau = -1.0f;  // tau: the exponential left to spend (< 0: draw one)
+    for (int k = 0; k < kMaxTrackingSteps;) {
+        if (!(seg.mu > 0.0f)) {  // nothing collides here: passed with the weight so far
+            on_interval(x, seg.t1, r.weight);
+            x = seg.t1;
+            if (!majorant_next(walk, &seg)) return r;
+            continue;
         }
+        if (tau < 0.0f) tau = -log1pf(-rng.uniform());
+        const float mu = seg.mu;
+        const float xn = x + tau / mu;
+        if (!(xn < seg.t1)) {  // past this piece: spend its share, go on in the next
+            tau = fmaxf(tau - (seg.t1 - x) * mu, 0.0f);
+            on_interval(x, seg.t1, r.weight);
+            x = seg.t1;
+            if (!majorant_next(walk, &seg)) return r;
+            continue;
+        }
+        tau = -1.0f;
         on_interval(x, xn, r.weight);
         x = xn;
-        on_collision(x, r.weight);
+        on_collision(x, r.weight, mu);
         const MediumCoeffs c = medium_coeffs_at(s, m, med, o + d * x, d);
         const Vec3 sigma_n = vec3(mu) - c.sigma_a - c.sigma_s;
         const Vec3 h = beta * r.weight;
@@ -136,6 +175,7 @@ LANTERN_HD inline HeteroStep medium_track(const SceneView& s, const Medium& m, i
             return r;
         }
         r.weight = r.weight * sigma_n / (mu * (1.0f - ps));
+        ++k;
     }
     r.t = t_end;
     r.scattered = false;

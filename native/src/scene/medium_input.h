@@ -17,6 +17,13 @@ struct MediumInput {
     Vec3 sigma_s{0.0f, 0.0f, 0.0f};  // scattering, 1/m
     Vec3 emission{0.0f, 0.0f, 0.0f}; // radiance added per metre (Cycles' volume emission)
     float g = 0.0f;                  // Henyey-Greenstein anisotropy
+    // a Volume object's fire (scene/medium_fire.h), read with the material's temperature and
+    // flame grids: Principled Volume's Blackbody Intensity, Temperature socket and Blackbody
+    // Tint (times the shader's weight); the emission per unit of the flame grid
+    float blackbody_intensity = 0.0f;
+    float temperature = 0.0f;
+    Vec3 blackbody_tint{1.0f, 1.0f, 1.0f};
+    Vec3 flame_emission{0.0f, 0.0f, 0.0f};
 };
 
 // A Volume object's density grid (docs/volumes.md, scene/medium_grid.h): a dense block of

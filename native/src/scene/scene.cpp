@@ -12,6 +12,7 @@
 
 #include "integrator/camera.h"
 #include "bsdf/material.h"
+#include "scene/medium_fire.h"
 #include "scene/scene_checks.h"
 #include "scene/scene_limits.h"
 #include "scene/subsurface_input.h"
@@ -322,6 +323,9 @@ SceneView HostScene::copied_view(
     v.medium_maps = put(view_.medium_maps, medium_maps_.size());
     v.grids = put(view_.grids, grids_.size());
     v.grid_voxels = put(view_.grid_voxels, grid_voxels_.size());
+    v.majorant_grids = put(view_.majorant_grids, majorant_grids_.size());
+    v.majorant_values = put(view_.majorant_values, majorant_values_.size());
+    v.blackbody_table = put(view_.blackbody_table, view_.blackbody_table ? 3 * kBlackbodyKnots : 0);
     v.motion.steps = put(view_.motion.steps, motion_steps_.size());
     v.motion.objects = put(view_.motion.objects, motion_objects_.size());
     v.curves.segs = put(view_.curves.segs, curve_segs_.size());

@@ -127,6 +127,9 @@ struct MaterialInput {
     // a Volume object's: SceneInput::grids index of the density its medium's coefficients are
     // per unit of (scene/medium_grid.h), -1 none
     int density_grid = -1;
+    // its fire (scene/medium_fire.h): SceneInput::grids indices of the temperature (blackbody per
+    // point) and flame (emission per point) grids, -1 none
+    int temperature_grid = -1, flame_grid = -1;
 };
 
 // An image texture with its sampling settings. Texels: width x height x 4 (RGBA), rows bottom
@@ -254,6 +257,8 @@ private:
     void build_hetero(int32_t med, size_t material, const std::string& name);
     void build_grids(const SceneInput& in);   // scene/medium_grid_build.cpp
     void build_grid_medium(int32_t med);      // scene/medium_grid_build.cpp
+    void grid_fire(Medium& m, const MaterialInput& mi, const MediumInput& src);  // the same
+    void build_majorant_grid(int32_t med);    // scene/medium_majorant_build.cpp
     void nest_media(const SceneInput& in, const Medium* world);  // scene/medium_build.cpp
     void inset_volume_boundaries();  // scene/medium_inset.cpp
     bool boundary_meets_a_face(const MeshRange& r, Vec3 lo, Vec3 hi, float eps,
@@ -295,6 +300,8 @@ private:
     std::vector<Transform> medium_maps_;      // SceneView::medium_maps (empty: none heterogeneous)
     std::vector<DensityGrid> grids_;          // SceneView::grids (empty: no Volume objects)
     std::vector<float> grid_voxels_;          // SceneView::grid_voxels
+    std::vector<MajorantGrid> majorant_grids_;  // SceneView::majorant_grids (media's bricks)
+    std::vector<float> majorant_values_;        // SceneView::majorant_values
     int num_attribute_channels_ = 0;
     std::shared_ptr<const EnvMapStorage> env_ = std::make_shared<EnvMapStorage>();  // cached
     bool has_emitters_ = false;

@@ -7,6 +7,7 @@
 #include "scene/envmap.h"
 #include "scene/medium.h"
 #include "scene/medium_grid.h"
+#include "scene/medium_majorant.h"
 #include "scene/motion.h"
 #include "scene/texture.h"
 
@@ -379,6 +380,12 @@ struct SceneView {
     const DensityGrid* grids = nullptr;
     const float* grid_voxels = nullptr;
     int32_t num_grids = 0;
+    // the media's majorant bricks (scene/medium_majorant.h) and their values; none: null, 0
+    const MajorantGrid* majorant_grids = nullptr;
+    const float* majorant_values = nullptr;
+    int32_t num_majorant_grids = 0;
+    // blackbody colours (scene/medium_fire.h) when a medium has a temperature grid, else null
+    const float* blackbody_table = nullptr;
     // 1: some material scatters under its surface (pt's walk stage runs: integrator/pt_sss.h)
     int32_t has_subsurface = 0;
     int32_t world_medium = -1;   // outside every mesh medium, -1: vacuum

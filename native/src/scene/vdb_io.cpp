@@ -45,6 +45,11 @@ void vdb_write_sparse(const std::string& path, const std::string&, const int32_t
                       size_t, const double[4][4]) {
     missing(path);
 }
+void vdb_write_dense_grids(const std::string& path, const std::vector<std::string>&,
+                           const std::vector<const float*>&, const int32_t[3],
+                           const double[4][4]) {
+    missing(path);
+}
 
 #else
 
@@ -176,7 +181,31 @@ void write_grid(const std::string& path, const openvdb::FloatGrid::Ptr& grid) {
     f.write({grid});
     f.close();
 }
+
+openvdb::FloatGrid::Ptr dense_grid(const std::string& name, const float* voxels,
+                                   const int32_t dims[3], const double index_to_object[4][4]) {
+    openvdb::FloatGrid::Ptr grid = new_grid(name, index_to_object);
+    if (dims[0] > 0 && dims[1] > 0 && dims[2] > 0) {
+        const openvdb::CoordBBox bb(openvdb::Coord(0, 0, 0),
+                                    openvdb::Coord(dims[0] - 1, dims[1] - 1, dims[2] - 1));
+        float* data = const_cast<float*>(voxels);  // read only: copyFromDense
+        openvdb::tools::Dense<float, openvdb::tools::LayoutXYZ> dense(bb, data);
+        openvdb::tools::copyFromDense(dense, *grid, 0.0f);
+    }
+    return grid;
+}
 }  // namespace
+
+void vdb_write_dense_grids(const std::string& path, const std::vector<std::string>& names,
+                           const std::vector<const float*>& voxels, const int32_t dims[3],
+                           const double index_to_object[4][4]) {
+    openvdb::GridPtrVec grids;
+    for (size_t k = 0; k < names.size(); ++k)
+        grids.push_back(dense_grid(names[k], voxels[k], dims, index_to_object));
+    openvdb::io::File f(path);
+    f.write(grids);
+    f.close();
+}
 
 void vdb_write_sparse(const std::string& path, const std::string& name, const int32_t* coords,
                       const float* values, size_t n, const double index_to_object[4][4]) {
@@ -190,15 +219,7 @@ void vdb_write_sparse(const std::string& path, const std::string& name, const in
 
 void vdb_write_dense(const std::string& path, const std::string& name, const float* voxels,
                      const int32_t dims[3], const double index_to_object[4][4]) {
-    openvdb::FloatGrid::Ptr grid = new_grid(name, index_to_object);
-    if (dims[0] > 0 && dims[1] > 0 && dims[2] > 0) {
-        const openvdb::CoordBBox bb(openvdb::Coord(0, 0, 0),
-                                    openvdb::Coord(dims[0] - 1, dims[1] - 1, dims[2] - 1));
-        float* data = const_cast<float*>(voxels);  // read only: copyFromDense
-        openvdb::tools::Dense<float, openvdb::tools::LayoutXYZ> dense(bb, data);
-        openvdb::tools::copyFromDense(dense, *grid, 0.0f);
-    }
-    write_grid(path, grid);
+    write_grid(path, dense_grid(name, voxels, dims, index_to_object));
 }
 
 #endif

@@ -43,6 +43,11 @@ VdbDense vdb_read_dense(const std::string& path, const std::string& grid, uint64
 // voxels that differ from 0 active, with the affine index_to_object (rows, column vectors).
 void vdb_write_dense(const std::string& path, const std::string& name, const float* voxels,
                      const int32_t dims[3], const double index_to_object[4][4]);
+// Writes several float grids of the same dims and transform into one file (a fire: density,
+// temperature, flame), each as vdb_write_dense does.
+void vdb_write_dense_grids(const std::string& path, const std::vector<std::string>& names,
+                           const std::vector<const float*>& voxels, const int32_t dims[3],
+                           const double index_to_object[4][4]);
 // Writes a sparse float grid: voxel coords[3 k .. 3 k + 2] (index space) active with value
 // values[k], k < n (tests: a grid of two voxels far apart spans billions as a dense block).
 void vdb_write_sparse(const std::string& path, const std::string& name, const int32_t* coords,
