@@ -119,12 +119,16 @@ NO_NVCC = subprocess.run("command -v nvcc && command -v ptxas", shell=True,
 
 # Kernels for tools/cuda_kernel_check.py: one bounded, one without a bound, one whose 4 KB local
 # array is over the 2 KB stack limit (the negative control), one whose inline assembly closes
-# a brace at the start of a PTX line (CUB's do: a body must not end there), and a device
-# function out of line (a kernel's own module must carry its callees).
+# a brace at the start of a PTX line (CUB's do: a body must not end there), and device
+# functions out of line (a kernel's own module must carry its callees, each defined before
+# its callers: nvcc writes no prototype for them).
 FIXTURE = r"""
 __device__ __noinline__ float callee(float x) { return x * x + 1.0f; }
 __global__ void unbounded(float* a) { a[threadIdx.x] = callee(a[threadIdx.x]); }
 __global__ void __launch_bounds__(256, 2) bounded(float* a) { a[threadIdx.x] = 2.0f; }
+__device__ __noinline__ float bb(float x) { return x * 3.0f; }
+__device__ __noinline__ float aa(float x) { return bb(x) + 1.0f; }
+__global__ void calls_two(float* a) { a[threadIdx.x] = aa(a[0]) + bb(a[1]); }
 __global__ void over_stack(float* a, int i, int j) {
     float buf[1024];
     for (int k = 0; k < 1024; ++k) buf[k] = a[k] * float(k);
@@ -163,12 +167,13 @@ def test_kernel_check_measures_every_kernel_and_fails_one_over_the_stack_limit(k
     p = run(sys.executable, ROOT / "tools" / "cuda_kernel_check.py", kernel_ptx, "-j", "2",
             timeout=300)
     assert p.returncode == 1, p.stdout + p.stderr
-    assert "8 kernels, 4 distinct: 1 failing, 4 measured" in p.stdout, p.stdout
+    assert "10 kernels, 5 distinct: 1 failing, 5 measured" in p.stdout, p.stdout
     rows = kernel_rows(p.stdout)
     over = rows["over_stack(float*, int, int)"]
     assert "**FAIL: over 128 registers or 2048 B of stack**" in over
     assert int(over.split("|")[6]) >= 4096, over
-    for name in ("unbounded(float*)", "bounded(float*)", "with_asm(unsigned int*)"):
+    for name in ("unbounded(float*)", "bounded(float*)", "with_asm(unsigned int*)",
+                 "calls_two(float*)"):
         assert "FAIL" not in rows[name] and "(also 1 more)" in rows[name], rows[name]
 
 
@@ -181,7 +186,7 @@ def test_kernel_module_is_what_ptxas_compiles_in_the_whole_file(kernel_ptx, tmp_
     from ptx_parse import split_module
     whole = kernel_ptx / "a.ptx"
     module, defs = split_module(whole.read_text())
-    for k in ("_Z9unboundedPf", "_Z8with_asmPj", "_Z10over_stackPfii"):
+    for k in ("_Z9unboundedPf", "_Z8with_asmPj", "_Z10over_stackPfii", "_Z9calls_twoPf"):
         tail = [line.strip() for line in defs[k][1] if line.strip()][-2:]
         assert tail == ["ret;", "}"], tail
         (tmp_path / "k.ptx").write_text(own_module(module, defs, k))
@@ -205,13 +210,13 @@ def test_kernel_check_names_a_kernel_missing_from_its_record(kernel_ptx, tmp_pat
     tool = tools / "cuda_kernel_check.py"
     p = run(sys.executable, tool, kernel_ptx, "--max-lines", "1", timeout=300)
     assert p.returncode == 1, p.stdout + p.stderr
-    assert "8 kernels, 4 distinct: 4 failing, 0 measured" in p.stdout, p.stdout
+    assert "10 kernels, 5 distinct: 5 failing, 0 measured" in p.stdout, p.stdout
     assert "not measured: larger than --max-lines and its code is not in the record" in p.stdout
     assert f"`python3 tools/cuda_kernel_check.py {kernel_ptx} --update`" in p.stdout
     p = run(sys.executable, tool, kernel_ptx, "--update", timeout=300)
     assert (tools / "cuda_kernel_resources.json").exists(), p.stdout + p.stderr
     p = run(sys.executable, tool, kernel_ptx, "--max-lines", "1", timeout=300)
-    assert "4 distinct: 1 failing, 4 measured" in p.stdout, p.stdout  # over_stack, recorded
+    assert "5 distinct: 1 failing, 5 measured" in p.stdout, p.stdout  # over_stack, recorded
     # a changed kernel: its code's digest is not in the record
     changed = tmp_path / "changed"
     changed.mkdir()
