@@ -133,6 +133,11 @@ def main():
     ap.add_argument("--arch", default="sm_90")
     ap.add_argument("--timeout", type=int, default=1800, help="seconds per kernel")
     ap.add_argument("-j", type=int, default=2, help="ptxas processes at once")
+    ap.add_argument("--one-at-a-time", type=int, default=300000, metavar="LINES",
+                    help="kernels of more PTX lines run one after another in one lane, "
+                         "never beside each other (ptxas passed 7 and 8.7 GB on the pt and camera "
+                         "shade kernels, 414,000 and 443,000 lines, and the OOM killer took it at "
+                         "23.7 GB on main's 753,000-line pt shade)")
     a = ap.parse_args()
     if not os.path.isdir(a.ptx_dir) or not any(f.endswith(".ptx") for f in os.listdir(a.ptx_dir)):
         print(f"cuda_kernel_check: no PTX in {a.ptx_dir} (a build without CUDA?): nothing to check")
@@ -146,13 +151,17 @@ def main():
     todo.sort(key=lambda r: -r["lines"])  # the largest first: the pool's lanes end together
     with tempfile.TemporaryDirectory() as tmp, \
             concurrent.futures.ThreadPoolExecutor(max_workers=a.j) as pool:
-        futs = {pool.submit(ptxas, r, tmp, a.arch, a.timeout): r for r in todo}
-        for fut in concurrent.futures.as_completed(futs):
-            r = futs[fut]
-            r.update(fut.result(), source="ptxas here")
-            print(f"cuda_kernel_check: {r['name']} ({r['lines']:,} lines): {r.get('regs')} "
-                  f"registers, {r.get('stack')} B stack, {r['seconds']:.0f} s", file=sys.stderr,
-                  flush=True)
+        def measure(rs):  # one after another
+            for r in rs:
+                r.update(ptxas(r, tmp, a.arch, a.timeout), source="ptxas here")
+                print(f"cuda_kernel_check: {r['name']} ({r['lines']:,} lines): {r.get('regs')} "
+                      f"registers, {r.get('stack')} B stack, {r['seconds']:.0f} s",
+                      file=sys.stderr, flush=True)
+        # the largest kernels in one lane, one after another, the rest in the others
+        big = [r for r in todo if r["lines"] > a.one_at_a_time]
+        jobs = ([big] if big else []) + [[r] for r in todo if r not in big]
+        for fut in [pool.submit(measure, rs) for rs in jobs]:
+            fut.result()
     cpu = resource.getrusage(resource.RUSAGE_CHILDREN)
     failed = 0
     refresh = f"python3 tools/cuda_kernel_check.py {a.ptx_dir} --update"
