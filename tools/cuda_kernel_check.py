@@ -130,6 +130,10 @@ def main():
                          "from the record); default: every kernel")
     ap.add_argument("--update", action="store_true",
                     help="measure every kernel and write the record")
+    ap.add_argument("--bounded-unmeasured-ok", action="store_true",
+                    help="a kernel not measured (over --max-lines, not in the record) passes when "
+                         "a launch bound holds it to 128 registers (listed as bound only: its "
+                         "stack is unchecked)")
     ap.add_argument("--arch", default="sm_90")
     ap.add_argument("--timeout", type=int, default=1800, help="seconds per kernel")
     ap.add_argument("-j", type=int, default=2, help="ptxas processes at once")
@@ -176,6 +180,8 @@ def main():
         why = []
         if "error" in r:
             why.append(r["error"])
+        elif "regs" not in r and a.bounded_unmeasured_ok and (r["bound"] or 999) <= MAX_REGS:
+            r["source"] = "NOT MEASURED: launch bound only (--bounded-unmeasured-ok)"
         elif "regs" not in r:
             why.append(f"not measured: larger than --max-lines and its code is not in the "
                        f"record (stale after a change): refresh it with `{refresh}`")

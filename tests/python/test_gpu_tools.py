@@ -213,6 +213,11 @@ def test_kernel_check_names_a_kernel_missing_from_its_record(kernel_ptx, tmp_pat
     assert "10 kernels, 5 distinct: 5 failing, 0 measured" in p.stdout, p.stdout
     assert "not measured: larger than --max-lines and its code is not in the record" in p.stdout
     assert f"`python3 tools/cuda_kernel_check.py {kernel_ptx} --update`" in p.stdout
+    p = run(sys.executable, tool, kernel_ptx, "--max-lines", "1", "--bounded-unmeasured-ok",
+            timeout=300)
+    rows = kernel_rows(p.stdout)
+    assert "launch bound only" in rows["bounded(float*)"] and "FAIL" not in rows["bounded(float*)"]
+    assert "FAIL: not measured" in rows["unbounded(float*)"], p.stdout
     p = run(sys.executable, tool, kernel_ptx, "--update", timeout=300)
     assert (tools / "cuda_kernel_resources.json").exists(), p.stdout + p.stderr
     p = run(sys.executable, tool, kernel_ptx, "--max-lines", "1", timeout=300)
