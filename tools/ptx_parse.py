@@ -1,8 +1,10 @@
 """PTX read as text, for the CUDA resource tools (cuda_kernel_check.py, cuda_kernel_resources.py,
 ptx_local_chains.py): each .entry / .func with its body and the functions it calls
-(definitions, closure), each entry's local depot (depots), and each function's depot with the
+(definitions, closure), one kernel's own PTX module (kernel_ptx) and a digest of its code
+(code_digest), each entry's local depot (depots), and each function's depot with the
 parameter bytes of every call it makes (call_graph). No nvcc or ptxas needed."""
 
+import hashlib
 import re
 
 HEAD = re.compile(r"^(?:\.visible |\.weak |\.extern )*\.(entry|func)\s+(?:\([^)]*\)\s*)?([\w$]+)")
@@ -15,30 +17,39 @@ PARAM = re.compile(r"\.param .*\.b8 \w+\[(\d+)\]")
 CALLEE = re.compile(r"call(?:\.uni)?\s*(?:\([^)]*\),\s*)?(_Z[\w$]+)")
 
 
+def split_module(text):
+    """(module, defs): the module's lines outside every definition, each as (name, line) with
+    the name of the prototype it belongs to (else None): header, globals, prototypes, debug
+    sections; and {name: (kind, body lines)} of every .entry and .func defined. A body ends
+    where its braces balance: inline assembly (CUB's) opens and closes braces of its own, some
+    at the start of a line."""
+    module, defs, cur, kind, lines, depth = [], {}, None, None, [], 0
+    for line in text.splitlines():
+        if cur is None:
+            m = HEAD.match(line)
+            if m and not line.rstrip().endswith(";"):
+                kind, cur, lines, depth = m.group(1), m.group(2), [line], 0
+                continue
+            module.append((m.group(2) if m else None, line))
+            continue
+        lines.append(line)
+        code = line.split("//")[0]
+        if depth == 0 and "{" not in code:
+            if code.rstrip().endswith(";"):  # a prototype (a declaration without a body)
+                module.extend((cur, x) for x in lines)
+                cur = None
+            continue
+        depth += code.count("{") - code.count("}")
+        if depth == 0:
+            defs[cur] = (kind, lines)
+            cur = None
+    return module, defs
+
+
 def definitions(text):
     """{name: (kind, body lines)} of every .entry and .func defined in a PTX file (a
     declaration, ended by ";" before its "{", is skipped)."""
-    out, cur, kind, lines, body = {}, None, None, [], False
-    for line in text.splitlines():
-        m = HEAD.match(line)
-        if m and cur is None:
-            kind, cur, lines, body = m.group(1), m.group(2), [line], False
-            if line.rstrip().endswith(";"):
-                cur = None
-            continue
-        if cur is None:
-            continue
-        lines.append(line)
-        if not body:
-            if line.strip() == "{":
-                body = True
-            elif line.rstrip().endswith(";"):
-                cur = None  # a prototype
-            continue
-        if line == "}":
-            out[cur] = (kind, lines)
-            cur = None
-    return out
+    return split_module(text)[1]
 
 
 def closure(name, defs):
@@ -51,6 +62,41 @@ def closure(name, defs):
         seen.append(n)
         todo.extend(sorted(set(CALL.findall("\n".join(defs[n][1])))))
     return seen
+
+
+def kernel_ptx(module, defs, entry):
+    """A PTX module of one kernel alone: the module's header, globals and debug sections, the
+    prototypes of the functions it calls, and its closure's definitions (in the file's order). ptxas
+    reads it in a fraction of the time it takes to read a whole translation unit's PTX (38 MB:
+    5 s of CPU and 1 GB for every --entry run) and compiles the same code."""
+    parts = closure(entry, defs)
+    keep = set(parts)
+    out = [line for name, line in module if name is None or name in keep or name not in defs]
+    for name, (_, body) in defs.items():  # in the file's order: a callee without a prototype
+        if name in keep:                  # is defined before its callers
+            out.extend(body)
+    return "\n".join(out) + "\n"
+
+
+# What differs between two compilations of the same kernel code (in another translation unit,
+# or another lambda with the same body): the entry's own (mangled) name, the numbering of
+# labels, local depots, strings and debug info, comments and source line directives.
+_NUMBERED = re.compile(r"(__local_depot|\$L__BB|\$L__info_string|\$L__tmp|\$L__func_begin|"
+                       r"\$L__func_end|\$str\$?|__unnamed_)\d+")
+
+
+def code_digest(entry, defs):
+    """A digest of what ptxas compiles for this kernel, with its name, numbering, comments and
+    .loc lines taken out: kernels with equal digests are the same code (ptxas gives them the
+    same registers and stack; tests/python/test_gpu_tools.py checks it on a pair)."""
+    h = hashlib.sha256()
+    for p in closure(entry, defs):
+        for line in defs[p][1]:
+            code = line.split("//")[0].rstrip()
+            if not code or code.lstrip().startswith(".loc"):
+                continue
+            h.update(_NUMBERED.sub(r"\1#", code.replace(entry, "ENTRY")).encode() + b"\n")
+    return h.hexdigest()[:24]
 
 
 def depots(ptx_text):

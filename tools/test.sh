@@ -8,10 +8,14 @@ echo "== C++ tests (ctest)"
 ctest=.venv/bin/ctest; [ -x "$ctest" ] || ctest=ctest
 "$ctest" --test-dir build/py --output-on-failure -j "$(nproc)"
 cpp=$?
-# Every CUDA kernel of every CUDA object: bounded to 128 registers, and measured by ptxas where
-# that is quick (tools/cuda_kernel_check.py, on the PTX the build kept in build/ptx)
+# Every CUDA kernel of every CUDA object measured by ptxas (registers, stack, spills; each distinct
+# kernel once, from a PTX module of its own: tools/cuda_kernel_check.py, on the PTX the build kept
+# in build/ptx) but the pt and camera shade kernels (over 300,000 PTX lines: over 10 CPU-minutes
+# and 13 GB of ptxas each, bench/results/2026-12-04-kernels), which only their launch bound
+# holds for now; the table in build/cuda_kernels.md, the time on its last line
 echo "== CUDA kernels (tools/cuda_kernel_check.py)"
-.venv/bin/python tools/cuda_kernel_check.py build/ptx --max-lines 6000 -j 2 > build/cuda_kernels.md
+.venv/bin/python tools/cuda_kernel_check.py build/ptx -j 2 --max-lines 300000 \
+  --bounded-unmeasured-ok > build/cuda_kernels.md
 kern=$?
 tail -1 build/cuda_kernels.md
 [ $kern -ne 0 ] && grep FAIL build/cuda_kernels.md && cpp=$kern

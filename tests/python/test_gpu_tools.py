@@ -114,24 +114,123 @@ def test_gpu_check_refuses_a_stale_or_missing_prebuilt(tmp_path, layout):
     assert ("is stale" if layout == "stale" else "gpu_prebuild.sh") in p.stdout
 
 
-@pytest.mark.skipif(subprocess.run("command -v nvcc", shell=True).returncode != 0,
-                    reason="no nvcc")
-def test_kernel_check_fails_an_unbounded_kernel_it_cannot_measure(tmp_path):
-    """tools/cuda_kernel_check.py (CI's check of every kernel): a kernel without a launch bound
-    passes when ptxas measures it here, fails when it is too large to measure here (the
-    negative control), and a bounded one passes either way."""
-    src = tmp_path / "k.cu"
-    src.write_text("__global__ void unbounded(float* a) { a[threadIdx.x] = 1.0f; }\n"
-                   "__global__ void __launch_bounds__(256, 2) bounded(float* a) "
-                   "{ a[threadIdx.x] = 2.0f; }\n")
-    (tmp_path / "ptx").mkdir()
-    subprocess.run(["nvcc", "-ptx", "-arch=compute_90", str(src), "-o",
-                    str(tmp_path / "ptx" / "k.ptx")], check=True, timeout=120)
-    tool = ROOT / "tools" / "cuda_kernel_check.py"
-    p = run(sys.executable, tool, tmp_path / "ptx", "-j", "1")
-    assert p.returncode == 0, p.stdout + p.stderr
-    assert "2 kernels: 0 failing, 2 measured" in p.stdout
-    p = run(sys.executable, tool, tmp_path / "ptx", "--max-lines", "0")
+NO_NVCC = subprocess.run("command -v nvcc && command -v ptxas", shell=True,
+                         capture_output=True).returncode != 0
+
+# Kernels for tools/cuda_kernel_check.py: one bounded, one without a bound, one whose 4 KB local
+# array is over the 2 KB stack limit (the negative control), one whose inline assembly closes
+# a brace at the start of a PTX line (CUB's do: a body must not end there), and device
+# functions out of line (a kernel's own module must carry its callees, each defined before
+# its callers: nvcc writes no prototype for them).
+FIXTURE = r"""
+__device__ __noinline__ float callee(float x) { return x * x + 1.0f; }
+__global__ void unbounded(float* a) { a[threadIdx.x] = callee(a[threadIdx.x]); }
+__global__ void __launch_bounds__(256, 2) bounded(float* a) { a[threadIdx.x] = 2.0f; }
+__device__ __noinline__ float bb(float x) { return x * 3.0f; }
+__device__ __noinline__ float aa(float x) { return bb(x) + 1.0f; }
+__global__ void calls_two(float* a) { a[threadIdx.x] = aa(a[0]) + bb(a[1]); }
+__global__ void over_stack(float* a, int i, int j) {
+    float buf[1024];
+    for (int k = 0; k < 1024; ++k) buf[k] = a[k] * float(k);
+    a[j] = buf[i & 1023];
+}
+__global__ void with_asm(unsigned* a) {
+    unsigned x;
+    asm volatile("{\n\t.reg .pred p;\n\tsetp.ne.u32 p, %1, 0;\n\tselp.u32 %0, 1, 0, p;\n}"
+                 : "=r"(x) : "r"(a[threadIdx.x]));
+    a[threadIdx.x + 1] = x + 7u;
+}
+"""
+
+
+@pytest.fixture(scope="module")
+def kernel_ptx(tmp_path_factory):
+    """The fixture's PTX twice (two translation units with the same kernels) in ptx/."""
+    tmp = tmp_path_factory.mktemp("kernels")
+    (tmp / "k.cu").write_text(FIXTURE)
+    (tmp / "ptx").mkdir()
+    subprocess.run(["nvcc", "-ptx", "-arch=compute_90", str(tmp / "k.cu"), "-o",
+                    str(tmp / "ptx" / "a.ptx")], check=True, timeout=300)
+    (tmp / "ptx" / "b.ptx").write_text((tmp / "ptx" / "a.ptx").read_text())
+    return tmp / "ptx"
+
+
+def kernel_rows(stdout):
+    return {line.split("`")[1]: line for line in stdout.splitlines() if line.startswith("| `")}
+
+
+@pytest.mark.skipif(NO_NVCC, reason="no nvcc / ptxas")
+def test_kernel_check_measures_every_kernel_and_fails_one_over_the_stack_limit(kernel_ptx):
+    """tools/cuda_kernel_check.py (CI's check of every kernel) measures each kernel's code once
+    (the two files' copies are one row each), passes the ones within 128 registers and 2 KB,
+    and fails the kernel with a 4 KB frame (the negative control), naming it."""
+    p = run(sys.executable, ROOT / "tools" / "cuda_kernel_check.py", kernel_ptx, "-j", "2",
+            timeout=300)
     assert p.returncode == 1, p.stdout + p.stderr
-    assert "`unbounded(float*)` **FAIL: not measured here and no launch bound" in p.stdout
-    assert "2 kernels: 1 failing, 0 measured" in p.stdout
+    assert "10 kernels, 5 distinct: 1 failing, 5 measured" in p.stdout, p.stdout
+    rows = kernel_rows(p.stdout)
+    over = rows["over_stack(float*, int, int)"]
+    assert "**FAIL: over 128 registers or 2048 B of stack**" in over
+    assert int(over.split("|")[6]) >= 4096, over
+    for name in ("unbounded(float*)", "bounded(float*)", "with_asm(unsigned int*)",
+                 "calls_two(float*)"):
+        assert "FAIL" not in rows[name] and "(also 1 more)" in rows[name], rows[name]
+
+
+@pytest.mark.skipif(NO_NVCC, reason="no nvcc / ptxas")
+def test_kernel_module_is_what_ptxas_compiles_in_the_whole_file(kernel_ptx, tmp_path):
+    """A kernel's own module (ptx_parse.kernel_ptx) holds its whole body (inline assembly's
+    braces included) and its callee, and ptxas measures it as in the whole file."""
+    sys.path.insert(0, str(ROOT / "tools"))
+    from ptx_parse import kernel_ptx as own_module
+    from ptx_parse import split_module
+    whole = kernel_ptx / "a.ptx"
+    module, defs = split_module(whole.read_text())
+    for k in ("_Z9unboundedPf", "_Z8with_asmPj", "_Z10over_stackPfii", "_Z9calls_twoPf"):
+        tail = [line.strip() for line in defs[k][1] if line.strip()][-2:]
+        assert tail == ["ret;", "}"], tail
+        (tmp_path / "k.ptx").write_text(own_module(module, defs, k))
+        got = [subprocess.run(["ptxas", "-arch=sm_90", "-v", f"--entry={k}", str(f), "-o",
+                               os.devnull], capture_output=True, text=True, timeout=120)
+               for f in (whole, tmp_path / "k.ptx")]
+        assert got[1].returncode == 0, got[1].stderr
+        used = [[line for line in g.stderr.splitlines() if "Used" in line or "stack frame" in line]
+                for g in got]
+        assert used[0] == used[1] and used[0], used
+
+
+@pytest.mark.skipif(NO_NVCC, reason="no nvcc / ptxas")
+def test_kernel_check_names_a_kernel_missing_from_its_record(kernel_ptx, tmp_path):
+    """With --max-lines, kernels over it come from the record (--update writes it); a kernel
+    whose code is not in it (changed since) fails, named, with the command that refreshes it."""
+    import shutil
+    sys.path.insert(0, str(ROOT / "tools"))
+    tools = tmp_path / "tools"
+    shutil.copytree(ROOT / "tools", tools, ignore=shutil.ignore_patterns("*.json", "__pycache__"))
+    tool = tools / "cuda_kernel_check.py"
+    p = run(sys.executable, tool, kernel_ptx, "--max-lines", "1", timeout=300)
+    assert p.returncode == 1, p.stdout + p.stderr
+    assert "10 kernels, 5 distinct: 5 failing, 0 measured" in p.stdout, p.stdout
+    assert "not measured: larger than --max-lines and its code is not in the record" in p.stdout
+    assert f"`python3 tools/cuda_kernel_check.py {kernel_ptx} --update`" in p.stdout
+    p = run(sys.executable, tool, kernel_ptx, "--max-lines", "1", "--bounded-unmeasured-ok",
+            timeout=300)
+    rows = kernel_rows(p.stdout)
+    assert "launch bound only" in rows["bounded(float*)"] and "FAIL" not in rows["bounded(float*)"]
+    assert "FAIL: not measured" in rows["unbounded(float*)"], p.stdout
+    p = run(sys.executable, tool, kernel_ptx, "--update", timeout=300)
+    assert (tools / "cuda_kernel_resources.json").exists(), p.stdout + p.stderr
+    p = run(sys.executable, tool, kernel_ptx, "--max-lines", "1", timeout=300)
+    assert "5 distinct: 1 failing, 5 measured" in p.stdout, p.stdout  # over_stack, recorded
+    # a changed kernel: its code's digest is not in the record
+    changed = tmp_path / "changed"
+    changed.mkdir()
+    text = (kernel_ptx / "a.ptx").read_text()
+    from ptx_parse import definitions
+    body = "\n".join(definitions(text)["_Z8with_asmPj"][1])
+    assert ", 7;" in body  # a[threadIdx.x + 1] = x + 7u, now + 8u
+    (changed / "a.ptx").write_text(text.replace(body, body.replace(", 7;", ", 8;")))
+    p = run(sys.executable, tool, changed, "--max-lines", "1", timeout=300)
+    rows = kernel_rows(p.stdout)
+    assert p.returncode == 1 and "not measured" in rows["with_asm(unsigned int*)"], p.stdout
+    assert "not measured" not in rows["bounded(float*)"], p.stdout

@@ -7,6 +7,9 @@
 // At most 128 registers a thread, as the backend's kernels (each_kernel's bound): the alpha-tested
 // traversals took 178-222 without it.
 #define LANTERN_TRAVERSAL_BOUNDS __launch_bounds__(256, 2)
+// The scene stays in kernel-parameter memory (__grid_constant__), as each_kernel's functor: the
+// alpha test takes it by reference, and a by-value parameter was copied to the stack for it (568
+// B: tlas_intersect_alpha_kernel measured 2,176 B of stack, over the 2 KB line).
 
 namespace lantern {
 
@@ -22,13 +25,13 @@ __global__ void LANTERN_TRAVERSAL_BOUNDS bvh_occluded_kernel(BvhView bvh, const 
 }
 
 // With the scene's stochastic alpha test (scene/alpha.h), as the backend will call it.
-__global__ void LANTERN_TRAVERSAL_BOUNDS bvh_intersect_alpha_kernel(BvhView bvh, SceneView scene, const Ray* rays,
+__global__ void LANTERN_TRAVERSAL_BOUNDS bvh_intersect_alpha_kernel(BvhView bvh, const __grid_constant__ SceneView scene, const Ray* rays,
                                            BvhHit* hits, int n, uint32_t need) {
     int i = blockIdx.x * blockDim.x + threadIdx.x;
     if (i < n) hits[i] = bvh_intersect(bvh, rays[i], need, BvhAlphaTest{scene, rays[i]});
 }
 
-__global__ void LANTERN_TRAVERSAL_BOUNDS bvh_occluded_alpha_kernel(BvhView bvh, SceneView scene, const Ray* rays,
+__global__ void LANTERN_TRAVERSAL_BOUNDS bvh_occluded_alpha_kernel(BvhView bvh, const __grid_constant__ SceneView scene, const Ray* rays,
                                           uint8_t* occluded, int n) {
     int i = blockIdx.x * blockDim.x + threadIdx.x;
     if (i < n)
@@ -36,7 +39,7 @@ __global__ void LANTERN_TRAVERSAL_BOUNDS bvh_occluded_alpha_kernel(BvhView bvh, 
 }
 
 // The two-level traversal (accel/tlas.h): instances over per-mesh bottom levels.
-__global__ void LANTERN_TRAVERSAL_BOUNDS tlas_intersect_alpha_kernel(TlasView tl, SceneView scene, const Ray* rays,
+__global__ void LANTERN_TRAVERSAL_BOUNDS tlas_intersect_alpha_kernel(TlasView tl, const __grid_constant__ SceneView scene, const Ray* rays,
                                             BvhHit* hits, int n, uint32_t need) {
     int i = blockIdx.x * blockDim.x + threadIdx.x;
     if (i < n) hits[i] = tlas_intersect(tl, rays[i], need, BvhAlphaTest{scene, rays[i]});

@@ -44,6 +44,11 @@ LANTERN_HD inline Complex c_sqrt(Complex a) {  // principal root
 }
 
 // Reflectance of a conductor with complex index eta + i k (relative to the outside medium).
+// Out of line on the device: its complex square root (atan2f, cosf, sinf) was inlined three
+// times per call of the RGB version below, at every call site (docs/cuda_backend.md, "Build time").
+#ifdef __CUDA_ARCH__
+__noinline__
+#endif
 LANTERN_HD inline float fresnel_conductor(float cos_i, float eta, float k) {
     cos_i = clampf(cos_i, 0.0f, 1.0f);
     Complex n{fmaxf(eta, 1e-4f), fmaxf(k, 0.0f)};

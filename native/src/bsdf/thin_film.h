@@ -84,6 +84,12 @@ LANTERN_HD inline Vec3 film_xyz_to_rgb(Vec3 xyz) {
 
 // Reflectance (linear Rec.709, each channel in [0, 1]) of the film eta_film, d nm thick, on a
 // substrate of relative index eta_sub, seen at cosine cos_i from the outside (index 1).
+// Out of line on the device (as the conductor's below): one copy per kernel for ptxas to compile
+// instead of one per call site, a fifth of each shade kernel's PTX (docs/cuda_backend.md, "Build
+// time"); only materials with a film call it.
+#ifdef __CUDA_ARCH__
+__noinline__
+#endif
 LANTERN_HD inline Vec3 thin_film_reflectance(float cos_i, float eta_film, float eta_sub,
                                              float thickness) {
     cos_i = clampf(fabsf(cos_i), 0.0f, 1.0f);
@@ -104,6 +110,9 @@ LANTERN_HD inline Vec3 thin_film_reflectance(float cos_i, float eta_film, float 
 // The same film on a metal of complex index n + i k per channel (relative to the outside): the
 // bottom interface's amplitudes are complex, so each channel has its own R23 and phase; each
 // channel's Airy sums are integrated and converted, and that channel of the result kept.
+#ifdef __CUDA_ARCH__
+__noinline__
+#endif
 LANTERN_HD inline Vec3 thin_film_reflectance_conductor(float cos_i, float eta_film, Vec3 n,
                                                        Vec3 k, float thickness) {
     cos_i = clampf(fabsf(cos_i), 0.0f, 1.0f);

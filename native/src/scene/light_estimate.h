@@ -14,6 +14,11 @@ namespace lantern {
 // Irradiance (per unit radiance) at the origin from the planar polygon v[0..count) (relative to
 // the point, count <= 4), clipped to the half-space dot(n, x) >= 0: (1/2) sum_j angle_j (n . g_j)
 // with g_j the unit normal of the plane through the origin and edge j [Lambert; Arvo 1995].
+// Out of line on the device: its unrolled atan2f loop was inlined at every light tree estimate
+// (a sixth of pt's shade kernel for ptxas; docs/cuda_backend.md, "Build time").
+#ifdef __CUDA_ARCH__
+__noinline__
+#endif
 LANTERN_HD inline float polygon_irradiance(const Vec3* v, int count, Vec3 n) {
     Vec3 c[8];
     int m = 0;

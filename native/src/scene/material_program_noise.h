@@ -222,6 +222,12 @@ LANTERN_HD inline float perlin4(float x, float y, float z, float q) {
 }
 // Signed noise in about [-1, 1] at a point of 1-4 dimensions (p[0..dim)); coordinates past 1e6
 // wrap at 1e5 with a half-cell shift, as Blender keeps float precision.
+// Out of line on the device: noise_fractal's nine call sites held nine copies of the four Perlin
+// noises, compiled by ptxas in every kernel that runs node programs (docs/cuda_backend.md,
+// "Build time").
+#ifdef __CUDA_ARCH__
+__noinline__
+#endif
 LANTERN_HD inline float snoise(const float* p, int dim) {
     float q[4];
     for (int i = 0; i < dim; ++i) {

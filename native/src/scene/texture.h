@@ -86,6 +86,11 @@ LANTERN_HD inline Vec4 texture_texel(const Texture& t, const uint8_t* pool, cons
 }
 
 // The filtered value at texture coordinates st (before the texture's own uv transform).
+// Out of line on the device: one copy per kernel for ptxas instead of one per texture read
+// (docs/cuda_backend.md, "Build time").
+#ifdef __CUDA_ARCH__
+__noinline__
+#endif
 LANTERN_HD inline Vec4 texture_lookup(const Texture& t, const uint8_t* pool, const float* srgb_lut,
                                       Vec2 st) {
     float u = t.uv[0] * st.x + t.uv[1] * st.y + t.uv[2];
