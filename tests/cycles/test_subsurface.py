@@ -179,6 +179,7 @@ def test_head_matches_cycles():
     bpy_stage.control_differs("head, weight 0", cyc, K, SPP[name][1], SE_FLOOR)
 
 
+@pytest.mark.long  # 8 s of CI for a known gap (docs/subsurface.md)
 @pytest.mark.xfail(strict=True, reason="docs/subsurface.md: Suzanne with its eyeballs renders "
                    "1 % dark against Cycles (without them it agrees)")
 def test_head_eyeballs():

@@ -105,6 +105,7 @@ def test_auto_is_pt_in_media_by_default():
     assert not np.array_equal(images["auto_media"], images["pt"])
 
 
+@pytest.mark.long  # 21 s; auto_media is off by default (test_auto_is_pt_in_media_by_default)
 def test_auto_agrees_with_pt_in_fog():
     scene = fog_spot()
     auto = _auto_media_renders(scene, 64, 5000, k_seeds=12)
