@@ -102,6 +102,11 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
     Vec3 d_in = d;
     float soft_cos = 0.0f;  // the cosine at x1 towards the centre (the density of x1)
     if (ps.depth[i] == 0 && light_receiver_dependent(l)) {
+#ifdef __CUDA_ARCH__
+        // not on the GPU (its kernel's stack): no light path starts there on these lights
+        // (HostScene's soft_light_paths is off for a GPU session, so their pick pdf is 0)
+        return;
+#else
         const SurfaceHit hc = pt_surface(s, tri, ps.hit_uv[i], d);
         Rng r = ps.rng[i];
         const Vec2 u = r.uniform2();
@@ -113,6 +118,7 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
         bs.power[i] = bs.power[i] * (sf.atten * sf.cos_light);
         bs.dvc[i] *= mis(sf.cos_light);
         if (st.moments || st.conn_map) bs.dpt0[i] *= mis(sf.cos_light);
+#endif
     }
     SurfaceHit h = strand ? surface_of_hit(s, tri, ps.hit_uv[i], ps.ray_o[i], d, ps.hit_t[i])
                           : pt_surface(s, tri, ps.hit_uv[i], d_in);

@@ -126,7 +126,12 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
         settings_.integrator = "pt";
     }
     auto t0 = Clock::now();
-    scene_ = std::make_unique<HostScene>(scene);
+    // a scene meant for the GPU starts no light paths on soft-falloff lights (bdpt_light.h);
+    // should the GPU then refuse it, the CPU renders those lights camera-side, as the GPU would
+    const bool gpu_meant = test_gpu != nullptr ||
+                           ((want == "cuda" || want == "auto") && curves_why.empty() &&
+                            cuda_info().available);
+    scene_ = std::make_unique<HostScene>(scene, !gpu_meant);
     scene_->set_hair_reverse(settings_.integrator != "pt");  // (bsdf/hair_lobe.h)
     if (settings_.integrator == "lt") check_light_tracing(scene);
     warnings_ = scene_->warnings();

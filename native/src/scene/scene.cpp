@@ -104,7 +104,8 @@ void set_lens(const SceneInput& in, CameraView& c, std::vector<std::string>& war
 
 }  // namespace
 
-HostScene::HostScene(const SceneInput& in) {
+HostScene::HostScene(const SceneInput& in, bool soft_light_paths)
+    : soft_light_paths_(soft_light_paths) {
     textures_in_count_ = in.textures.size();
     if (in.width <= 0 || in.height <= 0 || in.width > 65536 || in.height > 65536) {
         throw std::invalid_argument("film size must be between 1 and 65536 pixels, got " +

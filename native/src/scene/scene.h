@@ -211,7 +211,11 @@ struct SceneInput {
 class HostScene {
 public:
     // Throws std::invalid_argument with a clear message for input that cannot be rendered.
-    explicit HostScene(const SceneInput& in);
+    // soft_light_paths: light paths start on soft-falloff point/spot lights
+    // (integrator/soft_light_path.h); false for a GPU session, whose light shade kernel leaves
+    // that route out (its shadow ray's traversal took the kernel's stack over 2 KB), so such
+    // lights are camera-side there
+    explicit HostScene(const SceneInput& in, bool soft_light_paths = true);
     // not copyable: each material points at its tables in this scene (point_material_tables)
     HostScene(const HostScene&) = delete;
     HostScene& operator=(const HostScene&) = delete;
@@ -288,6 +292,7 @@ private:
     std::vector<uint64_t> light_blockers_;  // SceneView::light_blockers (empty: none)
     std::vector<Material> materials_;
     bool hair_reverse_ = false;  // set_hair_reverse
+    bool soft_light_paths_ = true;  // the constructor's
     std::vector<MaterialTables> material_tables_;  // materials_[k].tables: the k-th
     std::vector<Light> lights_;
     std::vector<float> light_cdf_, nee_cdf_, emit_cdf_, filter_cdf_;

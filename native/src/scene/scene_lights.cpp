@@ -195,8 +195,9 @@ void HostScene::add_lights(const SceneInput& in) {
     // in scenes with media (build_media's test) they start none (docs/lvc_notes.md).
     bool media = in.world_medium >= 0;
     for (const MaterialInput& mi : in.materials) media = media || mi.medium >= 0 || mi.volume_only;
-    // strands too: the soft route's first hit is a triangle's (bdpt_light.h; no fiber measure)
-    media = media || !in.curves.empty();
+    // strands too: the soft route's first hit is a triangle's (bdpt_light.h; no fiber measure);
+    // and a scene meant for the GPU (HostScene's soft_light_paths)
+    media = media || !in.curves.empty() || !soft_light_paths_;
     for (size_t k = 0; k < lights_.size(); ++k)
         weight[k] = media && light_receiver_dependent(lights_[k]) ? 0.0 : double(power[k]);
     has_emitters_ = build_pick_cdf(weight, emit_cdf_,
