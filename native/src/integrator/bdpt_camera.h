@@ -3,6 +3,7 @@
 // uniform (lvc) or resampled (cis). MIS quantities: bdpt_common.h.
 #pragma once
 
+#include "integrator/bdpt_camera_emission.h"  // generation, emission (s = 0)
 #include "integrator/bdpt_common.h"
 #include "integrator/bdpt_curve.h"
 #include "integrator/bdpt_medium.h"
@@ -10,135 +11,6 @@
 #include "integrator/soft_light_path.h"
 
 namespace lantern {
-
-// Solid-angle density of a pinhole camera ray along d for a raster density of one per pixel
-// (orthographic: the area density on the lens plane).
-LANTERN_HD inline float camera_pdf(const CameraView& c, Vec3 d) {
-    if (c.panoramic) {  // one sample per pixel's solid angle
-        float pixel_w;
-        Vec3 dl = {dot(d, c.to_world.axis(0)), dot(d, c.to_world.axis(1)),
-                   dot(d, c.to_world.axis(2))};
-        pano_raster(c, dl, &pixel_w);
-        return pixel_w > 0.0f ? 1.0f / pixel_w : 0.0f;
-    }
-    float sw = c.screen[1] - c.screen[0], sh = c.screen[3] - c.screen[2];
-    float a_pix = sw * sh / (float(c.width) * float(c.height));
-    if (c.orthographic) return 1.0f / a_pix;
-    float cos_c = -dot(d, c.to_world.axis(2));
-    if (!(cos_c > 0.0f)) return 0.0f;
-    return 1.0f / (a_pix * cos_c * cos_c * cos_c);
-}
-
-// scenes with media (bdpt_medium_stages.h)
-LANTERN_HD inline void bdpt_camera_generate_medium(const PathState& ps, const BdptState& bs,
-                                                   int i);
-LANTERN_HD inline bool bdpt_camera_medium_segment(const SceneView& s, const PathState& ps,
-                                                  const BdptState& bs, const BdptSettings& st,
-                                                  const LightCache& cache, int i, int64_t path);
-
-LANTERN_HD inline void bdpt_camera_generate(const SceneView& s, const PathState& ps,
-                                            const BdptState& bs, const BdptSettings& st_all,
-                                            int i, int64_t path) {
-    // the pixel's counts (pixel_conn.h: r, N, M; st_all itself without a map)
-    const BdptSettings st = camera_settings(st_all, pixel_conn_of_path(s, st_all, path));
-    // the same camera sample as pt's (same random stream), plus the MIS quantities
-    const PtSettings pst{st.max_depth, st.rr_depth, st.spp_per_iteration, st.seed, st.iteration};
-    pt_generate(s, ps, pst, i, path);
-    bs.conn_n[i] = 0;
-    // the light tracing technique relative to a connection (count r); none without light paths
-    // (then r = 0 too: every weight of the camera pass is path tracing's)
-    bs.dvcm[i] = st.n_lt > 0.0f ? mis(st.n_lt / (st.r * camera_pdf(s.camera, ps.ray_d[i])))
-                                : 0.0f;
-    bs.dvc[i] = 0.0f;
-    if (s.num_media > 0) bdpt_camera_generate_medium(ps, bs, i);
-}
-
-// Weight of emission le found by the camera path at distance t_light along its ray, on light l
-// with geometric normal n there. dvcm, dvc are the slot's values before this segment.
-// soft_emit >= 0: a soft-falloff light's stand-in for pdf_emit (bdpt_soft_hit_emit).
-LANTERN_HD inline float bdpt_emission_weight(const SceneView& s, const PathState& ps,
-                                             const BdptState& bs, const BdptSettings& st, int i,
-                                             const Light& l, float t_light, Vec3 n,
-                                             float* nee_ratio = nullptr, float soft_emit = -1.0f) {
-    if (ps.depth[i] <= 1) return 1.0f;  // seen directly: no other technique renders it
-    const Vec3 o = ps.ray_o[i], d = ps.ray_d[i];
-    const bool infinite = l.type == kLightSun || l.type == kLightWorld;
-    float dvcm = bs.dvcm[i], dvc = bs.dvc[i];
-    const int li = int(&l - s.lights);
-    const float pick = s.light_tree_on ? light_pick_pmf(s, li, ps.prev_p[i], ps.prev_n[i])
-                                       : l.nee_pdf;  // at the previous vertex
-    float pdf_direct = pick * (l.type == kLightWorld ? world_pdf_w(s, d)
-                                                     : light_pdf_w(l, o, d, t_light, n));
-    if (!infinite) {
-        float cos_l = fabsf(dot(d, n));
-        if (!(cos_l > 0.0f)) return 0.0f;
-        dvcm *= mis(t_light * t_light) / mis(cos_l);
-        dvc /= mis(cos_l);
-        pdf_direct *= cos_l / (t_light * t_light);  // area
-    }
-    float pdf_emit = soft_emit >= 0.0f ? soft_emit
-                                       : l.emit_pick_pdf * emission_pdf(s, l, n, -d).pdf_emit;
-    // (the second vertex: dvc is light tracing's term alone, BdptSettings::lt_direct)
-    if (ps.depth[i] == 2) dvc *= bdpt_direct_lt(st);
-    float w_camera = mis(pdf_direct) * dvcm + mis(st.r * pdf_emit) * dvc;
-    if (nee_ratio) *nee_ratio = mis(pdf_direct) * dvcm;  // next-event estimation's (moments)
-    return 1.0f / (1.0f + w_camera);
-}
-
-// A camera path from vertex x (the slot's prev_p, geometric normal bs.prev_ng) hits the disk
-// of soft-falloff light l at y0 = o + t d. The light path makes x with area density
-// emit_pick p(w) / (pi r^2) |cos_x,c| / |x - c|^2 V(c, x) where the usual light's would be
-// pdf_emit |cos_x,d| / t^2: the stand-in for pdf_emit that makes bdpt_emission_weight's
-// (which divides by |cos_x,d| / t^2 through dVC) that density (soft_light_path.h).
-template <class SR>
-LANTERN_HD inline float bdpt_soft_hit_emit(const SceneView& s, const PathState& ps,
-                                           const BdptState& bs, const SR& sr, int i,
-                                           const Light& l, float t) {
-    const Vec3 x = ps.prev_p[i], ng = bs.prev_ng[i], d = ps.ray_d[i];
-    const float pdf_a = soft_light_path_pdf_a(s, sr, l, x, ng);
-    if (!(pdf_a > 0.0f)) return 0.0f;
-    const Vec3 y0 = ps.ray_o[i] + d * t;
-    const float cos_d = fabsf(dot(d, ng));
-    const float r = pdf_a * length_sq(y0 - x) / cos_d;
-    return cos_d > 0.0f && is_finite(r) ? r : 0.0f;
-}
-
-// Lights crossed by the segment, and the background on a miss (s = 0).
-template <class SR>
-LANTERN_HD inline void bdpt_camera_emission(const SceneView& s, const PathState& ps,
-                                            const BdptState& bs, const BdptSettings& st, int i,
-                                            float t_end, bool miss, const SR& sr) {
-    const Vec3 o = ps.ray_o[i], d = ps.ray_d[i];
-    const bool camera = ps.depth[i] <= 1;
-    for (int k = 0; k < s.num_hittable_lights; ++k) {
-        const Light& l = s.lights[s.hittable_lights[k]];
-        if (camera && !l.visible_camera) continue;
-        LightHit h = intersect_light(l, o, d, ps.ray_tmin[i], t_end);
-        if (!h.hit || is_black(h.le)) continue;
-        float nee = 0.0f;
-        float soft = -1.0f;  // (a soft-falloff light's stand-in for pdf_emit; r = 0: no ray)
-        if (!camera && light_receiver_dependent(l))
-            soft = st.r > 0.0f ? bdpt_soft_hit_emit(s, ps, bs, sr, i, l, h.t) : 0.0f;
-        float w = bdpt_emission_weight(s, ps, bs, st, i, l, h.t, h.n, &nee, soft);
-        Vec3 c = ps.throughput[i] * h.le * w;
-        if (st.moments) c = bdpt_moment(c, c, bdpt_pt_factor(1.0f / w, 1.0f, nee));
-        add_radiance(ps, i, c);
-    }
-    if (!miss) return;
-    for (int k = 0; k < s.num_miss_lights; ++k) {
-        const Light& l = s.lights[s.miss_lights[k]];
-        if (l.type == kLightSun && (l.cos_sun >= 1.0f || (camera && !l.visible_camera) ||
-                                    dot(d, -l.direction) < l.cos_sun))
-            continue;  // a sun lamp is hidden from the camera; the world's disc (of_world) not
-        if (l.type == kLightWorld && camera && !l.visible_camera) continue;
-        float nee = 0.0f;
-        float w = bdpt_emission_weight(s, ps, bs, st, i, l, kInf, vec3(0.0f), &nee);
-        Vec3 le = l.type == kLightWorld ? world_radiance(s, l, d) : l.radiance;
-        Vec3 c = ps.throughput[i] * le * w;
-        if (st.moments) c = bdpt_moment(c, c, bdpt_pt_factor(1.0f / w, 1.0f, nee));
-        add_radiance(ps, i, c);
-    }
-}
 
 // On a GPU thread a connection resolves the cache vertex's material into the camera vertex's
 // scratch (one MaterialScratch on the shade kernel's stack, not two: 600 B of its frame) and

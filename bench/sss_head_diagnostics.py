@@ -1,12 +1,12 @@
 """The head's diagnostics (docs/subsurface.md, "A head"): one scene against Cycles, 32x32, two
 seeds of each renderer; prints Lantern / Cycles means. Usage, from the repository root:
-  python bench/results/2026-12-04-subsurface/head_diagnostics.py NAME SPP [OPTIONS...]
+  python bench/sss_head_diagnostics.py NAME SPP [OPTIONS...]
 NAME: suz, suz_noeyes, suz_sub, suz_flipcheck, sphere, sphere_hole, sphere_hole_back,
 sphere_inner, sphere_eye, sphere_flip; OPTIONS: nosss, flat, diffuse, sun, nocorr (Cycles'
 Bump Map Correction off), nogeo, s25 (Radius x Scale 25 cm red), sub2 (subdivided twice).
 Images go to /tmp/ssshead."""
 import os, sys, time, numpy as np
-R = os.path.dirname(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))))
+R = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, R + '/tests/cycles'); sys.path.insert(0, R + '/tools'); sys.path.insert(0, R + '/python')
 os.makedirs('/tmp/ssshead', exist_ok=True)
 import bpy, bmesh

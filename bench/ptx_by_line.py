@@ -1,6 +1,6 @@
 # instructions of a kernel's closure by source line (innermost .loc), with the line's text
 import sys, re, collections, glob, os
-sys.path.insert(0, "/work/wt/kernels/tools")
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "tools"))
 from ptx_parse import definitions, closure
 text = open(sys.argv[1]).read()
 files = dict((int(m.group(1)), m.group(2)) for m in re.finditer(r'^\s*\.file\s+(\d+)\s+"([^"]+)"', text, re.M))
