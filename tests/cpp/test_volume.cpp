@@ -16,8 +16,10 @@
 #include "scene/medium.h"
 #include "scene/medium_equiangular.h"
 #include "test_bsdf_helpers.h"
+#include "test_scene_helpers.h"
 
 using namespace lantern;
+using lantern::test::box_mesh;
 using lantern::test::chi2_sphere;
 using lantern::test::MeanSe;
 using lantern::test::mean_matches;
@@ -237,32 +239,6 @@ TEST(Medium, SpotConeIntervalIsWhereTheConeIs) {
 // ---- pt end to end ----
 namespace {
 
-// An axis-aligned box with outward-facing (counter-clockwise) triangles, material mat.
-MeshInput box(Vec3 lo, Vec3 hi, uint32_t mat, const char* name = "box") {
-    MeshInput m;
-    m.name = name;
-    const Vec3 c = (lo + hi) * 0.5f;
-    auto quad = [&](Vec3 a, Vec3 b, Vec3 cc, Vec3 d) {
-        const uint32_t base = uint32_t(m.positions.size() / 3);
-        for (Vec3 p : {a, b, cc, d}) m.positions.insert(m.positions.end(), {p.x, p.y, p.z});
-        const Vec3 n = cross(b - a, cc - a), out = (a + cc) * 0.5f - c;
-        if (dot(n, out) >= 0.0f) {
-            m.indices.insert(m.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
-        } else {
-            m.indices.insert(m.indices.end(), {base, base + 2, base + 1, base, base + 3, base + 2});
-        }
-        m.material_ids.insert(m.material_ids.end(), {mat, mat});
-    };
-    const float x0 = lo.x, y0 = lo.y, z0 = lo.z, x1 = hi.x, y1 = hi.y, z1 = hi.z;
-    quad({x0, y0, z0}, {x1, y0, z0}, {x1, y1, z0}, {x0, y1, z0});
-    quad({x0, y0, z1}, {x1, y0, z1}, {x1, y1, z1}, {x0, y1, z1});
-    quad({x0, y0, z0}, {x1, y0, z0}, {x1, y0, z1}, {x0, y0, z1});
-    quad({x0, y1, z0}, {x1, y1, z0}, {x1, y1, z1}, {x0, y1, z1});
-    quad({x0, y0, z0}, {x0, y1, z0}, {x0, y1, z1}, {x0, y0, z1});
-    quad({x1, y0, z0}, {x1, y1, z0}, {x1, y1, z1}, {x1, y0, z1});
-    return m;
-}
-
 MaterialInput volume_material(int medium) {
     MaterialInput m;
     m.name = "volume";
@@ -317,7 +293,7 @@ TEST(MediumPt, AbsorbingSlabIsBeerLambert) {
     med.sigma_a = vec3(0.2f, 0.5f, 1.0f);
     in.media.push_back(med);
     in.materials.push_back(volume_material(0));
-    in.meshes.push_back(box({-1, -1, -3}, {1, 1, -2}, 0));  // 1 m thick across the view
+    in.meshes.push_back(box_mesh({-1, -1, -3}, {1, 1, -2}, 0));  // 1 m thick across the view
     const Vec3 got = mean_rgb(render(in, 1, 4, 1));
     const float want[3] = {std::exp(-0.2f), std::exp(-0.5f), std::exp(-1.0f)};
     const float g[3] = {got.x, got.y, got.z};
@@ -333,7 +309,7 @@ TEST(MediumPt, EmittingAbsorbingBoxIsTheEmissionIntegral) {
     med.emission = vec3(1.0f, 2.0f, 3.0f);
     in.media.push_back(med);
     in.materials.push_back(volume_material(0));
-    in.meshes.push_back(box({-1, -1, -4}, {1, 1, -2}, 0));  // a chord of 2 m
+    in.meshes.push_back(box_mesh({-1, -1, -4}, {1, 1, -2}, 0));  // a chord of 2 m
     const Vec3 got = mean_rgb(render(in, 1, 4, 1));
     const float s[3] = {0.5f, 1.0f, 2.0f}, e[3] = {1.0f, 2.0f, 3.0f}, g[3] = {got.x, got.y, got.z};
     for (int c = 0; c < 3; ++c) {
@@ -354,7 +330,7 @@ TEST(MediumPt, PointLightThroughWorldFog) {
     MaterialInput floor;
     floor.base_color = vec3(0.5f);
     in.materials.push_back(floor);
-    in.meshes.push_back(box({-5, -5, -1}, {5, 5, 0}, 0, "floor"));
+    in.meshes.push_back(box_mesh({-5, -5, -1}, {5, 5, 0}, 0, "floor"));
     LightInput l;
     l.type = "point";
     l.position = vec3(0.0f, 0.0f, 2.0f);
@@ -391,7 +367,7 @@ TEST(MediumPt, SingleScatteringFromAPointLightIsTheLineIntegral) {
     MaterialInput black;
     black.base_color = vec3(0.0f);
     in.materials.push_back(black);
-    in.meshes.push_back(box({40, 40, -1}, {41, 41, 0}, 0, "aside"));  // out of every path's way
+    in.meshes.push_back(box_mesh({40, 40, -1}, {41, 41, 0}, 0, "aside"));  // out of every path's way
     LightInput l;
     l.type = "point";
     l.position = vec3(0.25f, 0.0f, -2.0f);
@@ -448,7 +424,7 @@ TEST(MediumPt, SingleScatteringFromASpotIsTheLineIntegral) {
     MaterialInput black;
     black.base_color = vec3(0.0f);
     in.materials.push_back(black);
-    in.meshes.push_back(box({40, 40, -1}, {41, 41, 0}, 0, "aside"));
+    in.meshes.push_back(box_mesh({40, 40, -1}, {41, 41, 0}, 0, "aside"));
     LightInput l;
     l.type = "spot";
     // local -Z (the spot's axis) to world -X; local X, Y to world Y, Z; at (0.5, 0, -2)
@@ -516,7 +492,7 @@ TEST(MediumPt, EnormousAndNonFiniteDensitiesGiveAFiniteImage) {
         MaterialInput floor;
         floor.base_color = vec3(0.5f);
         in.materials.push_back(floor);
-        in.meshes.push_back(box({-5, -5, -6}, {5, 5, -5}, 0, "floor"));
+        in.meshes.push_back(box_mesh({-5, -5, -6}, {5, 5, -5}, 0, "floor"));
         LightInput l;
         l.type = "point";
         l.position = vec3(0.2f, 0.0f, -2.0f);
@@ -536,7 +512,7 @@ TEST(MediumPt, EnormousAndNonFiniteDensitiesGiveAFiniteImage) {
             in.world_medium = 0;
         } else {
             in.materials.push_back(volume_material(0));
-            in.meshes.push_back(box({-1, -1, -4}, {1, 1, -1.5f}, 1, "cloud"));
+            in.meshes.push_back(box_mesh({-1, -1, -4}, {1, 1, -1.5f}, 1, "cloud"));
         }
         std::vector<std::string> warnings;
         const std::vector<float> img = render(in, 6, 8, 7, "pt", &warnings);
@@ -568,8 +544,8 @@ TEST(MediumPt, ScatteringFurnaceStaysAtTheWorld) {
         med.g = 0.6f;
         in.media.push_back(med);
         in.materials.push_back(volume_material(0));
-        in.meshes.push_back(inside ? box({-1, -1, -1}, {1, 1, 1}, 0)
-                                   : box({-1, -1, -4}, {1, 1, -2}, 0));
+        in.meshes.push_back(inside ? box_mesh({-1, -1, -1}, {1, 1, 1}, 0)
+                                   : box_mesh({-1, -1, -4}, {1, 1, -2}, 0));
         MeanSe m;
         for (int k = 0; k < 16; ++k) {
             const Vec3 c = mean_rgb(render(in, 256, 32, 100 + k));
@@ -596,7 +572,7 @@ TEST(MediumPt, LightTracerHandsEmissiveMediaToPt) {
     med.emission = vec3(0.2f);
     in.media.push_back(med);
     in.materials.push_back(volume_material(0));
-    in.meshes.push_back(box({-1, -1, -4}, {1, 1, -2}, 0));
+    in.meshes.push_back(box_mesh({-1, -1, -4}, {1, 1, -2}, 0));
     const std::vector<float> pt = render(in, 16, 2, 5);
     for (const char* integ : {"bdpt", "lvc", "cis", "lt"}) {
         std::vector<std::string> w;

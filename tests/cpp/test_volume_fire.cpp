@@ -18,8 +18,10 @@
 #include "integrator/session.h"
 #include "scene/medium_hetero.h"
 #include "scene/scene.h"
+#include "test_scene_helpers.h"
 
 using namespace lantern;
+using lantern::test::box_mesh;
 
 namespace {
 
@@ -38,30 +40,6 @@ std::vector<float> sparse_voxels(uint32_t seed) {
                 if (a || b) v[(size_t(k) * kNy + size_t(j)) * kNx + size_t(i)] = (a ? 8.0f : 3.0f) * u(rng);
             }
     return v;
-}
-
-MeshInput box(Vec3 lo, Vec3 hi, uint32_t mat) {
-    MeshInput m;
-    m.name = "box";
-    const Vec3 c = (lo + hi) * 0.5f;
-    auto quad = [&](Vec3 a, Vec3 b, Vec3 cc, Vec3 d) {
-        const uint32_t base = uint32_t(m.positions.size() / 3);
-        for (Vec3 p : {a, b, cc, d}) m.positions.insert(m.positions.end(), {p.x, p.y, p.z});
-        const Vec3 n = cross(b - a, cc - a), out = (a + cc) * 0.5f - c;
-        if (dot(n, out) >= 0.0f)
-            m.indices.insert(m.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
-        else
-            m.indices.insert(m.indices.end(), {base, base + 2, base + 1, base, base + 3, base + 2});
-        m.material_ids.insert(m.material_ids.end(), {mat, mat});
-    };
-    const float x0 = lo.x, y0 = lo.y, z0 = lo.z, x1 = hi.x, y1 = hi.y, z1 = hi.z;
-    quad({x0, y0, z0}, {x1, y0, z0}, {x1, y1, z0}, {x0, y1, z0});
-    quad({x0, y0, z1}, {x1, y0, z1}, {x1, y1, z1}, {x0, y1, z1});
-    quad({x0, y0, z0}, {x1, y0, z0}, {x1, y0, z1}, {x0, y0, z1});
-    quad({x0, y1, z0}, {x1, y1, z0}, {x1, y1, z1}, {x0, y1, z1});
-    quad({x0, y0, z0}, {x0, y1, z0}, {x0, y1, z1}, {x0, y0, z1});
-    quad({x1, y0, z0}, {x1, y1, z0}, {x1, y1, z1}, {x1, y0, z1});
-    return m;
 }
 
 // index -> world: `scale` metres per voxel, translated; rotated 90 degrees about z when `rotate`
@@ -118,7 +96,7 @@ SceneInput fire_scene(const float* m16, bool fire) {
         lo = Vec3{std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
         hi = Vec3{std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
     }
-    in.meshes.push_back(box(lo, hi, 0));
+    in.meshes.push_back(box_mesh(lo, hi, 0));
     return in;
 }
 

@@ -16,35 +16,12 @@
 #include "backend/cpu/embree_loader.h"
 #include "integrator/session.h"
 #include "scene/material_program.h"
+#include "test_scene_helpers.h"
 
 using namespace lantern;
+using lantern::test::box_mesh;
 
 namespace {
-
-// An axis-aligned box with outward-facing triangles, material mat.
-MeshInput box(Vec3 lo, Vec3 hi, uint32_t mat, const char* name) {
-    MeshInput m;
-    m.name = name;
-    const Vec3 c = (lo + hi) * 0.5f;
-    auto quad = [&](Vec3 a, Vec3 b, Vec3 cc, Vec3 d) {
-        const uint32_t base = uint32_t(m.positions.size() / 3);
-        for (Vec3 p : {a, b, cc, d}) m.positions.insert(m.positions.end(), {p.x, p.y, p.z});
-        const Vec3 n = cross(b - a, cc - a), out = (a + cc) * 0.5f - c;
-        if (dot(n, out) >= 0.0f)
-            m.indices.insert(m.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
-        else
-            m.indices.insert(m.indices.end(), {base, base + 2, base + 1, base, base + 3, base + 2});
-        m.material_ids.insert(m.material_ids.end(), {mat, mat});
-    };
-    const float x0 = lo.x, y0 = lo.y, z0 = lo.z, x1 = hi.x, y1 = hi.y, z1 = hi.z;
-    quad({x0, y0, z0}, {x1, y0, z0}, {x1, y1, z0}, {x0, y1, z0});
-    quad({x0, y0, z1}, {x1, y0, z1}, {x1, y1, z1}, {x0, y1, z1});
-    quad({x0, y0, z0}, {x1, y0, z0}, {x1, y0, z1}, {x0, y0, z1});
-    quad({x0, y1, z0}, {x1, y1, z0}, {x1, y1, z1}, {x0, y1, z1});
-    quad({x0, y0, z0}, {x0, y1, z0}, {x0, y1, z1}, {x0, y0, z1});
-    quad({x1, y0, z0}, {x1, y1, z0}, {x1, y1, z1}, {x1, y0, z1});
-    return m;
-}
 
 MaterialInput volume_material(int medium, const char* name) {
     MaterialInput m;
@@ -95,8 +72,8 @@ SceneInput nested_scene(float outer_z0, float outer_z1, float inner_z0, float in
     inner.sigma_a = vec3(kInner[0], kInner[1], kInner[2]);
     in.media = {outer, inner};
     in.materials = {volume_material(0, "outer"), volume_material(1, "inner")};
-    in.meshes.push_back(box({-2, -2, outer_z0}, {2, 2, outer_z1}, 0, "outer"));
-    in.meshes.push_back(box({-1, -1, inner_z0}, {1, 1, inner_z1}, 1, "inner"));
+    in.meshes.push_back(box_mesh({-2, -2, outer_z0}, {2, 2, outer_z1}, 0, "outer"));
+    in.meshes.push_back(box_mesh({-1, -1, inner_z0}, {1, 1, inner_z1}, 1, "inner"));
     return in;
 }
 
@@ -110,7 +87,7 @@ SceneInput density_program_box(const MediumInput& med) {
     mat.program_count = 1;
     in.materials.push_back(mat);
     in.num_attribute_channels = 1;
-    in.meshes.push_back(box({-1, -1, -3}, {1, 1, -2}, 0, med.name.c_str()));
+    in.meshes.push_back(box_mesh({-1, -1, -3}, {1, 1, -2}, 0, med.name.c_str()));
     // one instruction: kOpInput mode 4 (attribute) channel 0 into register 0, the result
     in.program_code = {uint32_t(kOpInput) | (4u << 8) | (3u << 24), 0u, 0u, 0u};
     in.programs = {0u, 1u, 0u, 0u, uint32_t(kTargetDensity), 0u};

@@ -20,8 +20,10 @@
 #include "scene/medium_grid.h"
 #include "scene/scene.h"
 #include "scene/vdb_io.h"
+#include "test_scene_helpers.h"
 
 using namespace lantern;
+using lantern::test::box_mesh;
 
 namespace {
 
@@ -52,31 +54,6 @@ DensityGrid identity_grid() {
 std::string tmp_path(const char* name) {
     const char* d = std::getenv("TMPDIR");
     return std::string(d ? d : "/tmp") + "/lantern_vdb_" + std::to_string(::getpid()) + "_" + name;
-}
-
-// A box of material mat (outward triangles)
-MeshInput box(Vec3 lo, Vec3 hi, uint32_t mat) {
-    MeshInput m;
-    m.name = "box";
-    const Vec3 c = (lo + hi) * 0.5f;
-    auto quad = [&](Vec3 a, Vec3 b, Vec3 cc, Vec3 d) {
-        const uint32_t base = uint32_t(m.positions.size() / 3);
-        for (Vec3 p : {a, b, cc, d}) m.positions.insert(m.positions.end(), {p.x, p.y, p.z});
-        const Vec3 n = cross(b - a, cc - a), out = (a + cc) * 0.5f - c;
-        if (dot(n, out) >= 0.0f)
-            m.indices.insert(m.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
-        else
-            m.indices.insert(m.indices.end(), {base, base + 2, base + 1, base, base + 3, base + 2});
-        m.material_ids.insert(m.material_ids.end(), {mat, mat});
-    };
-    const float x0 = lo.x, y0 = lo.y, z0 = lo.z, x1 = hi.x, y1 = hi.y, z1 = hi.z;
-    quad({x0, y0, z0}, {x1, y0, z0}, {x1, y1, z0}, {x0, y1, z0});
-    quad({x0, y0, z1}, {x1, y0, z1}, {x1, y1, z1}, {x0, y1, z1});
-    quad({x0, y0, z0}, {x1, y0, z0}, {x1, y0, z1}, {x0, y0, z1});
-    quad({x0, y1, z0}, {x1, y1, z0}, {x1, y1, z1}, {x0, y1, z1});
-    quad({x0, y0, z0}, {x0, y1, z0}, {x0, y1, z1}, {x0, y0, z1});
-    quad({x1, y0, z0}, {x1, y1, z0}, {x1, y1, z1}, {x1, y0, z1});
-    return m;
 }
 
 }  // namespace
@@ -141,7 +118,7 @@ TEST(DensityGrid, SceneMapsTheWorldToTheIndexAndCleansVoxels) {
     mat.volume_only = true;
     mat.density_grid = 0;
     in.materials.push_back(mat);
-    in.meshes.push_back(box({0.5f, 2, 3}, {1, 2.5f, 3.5f}, 0));
+    in.meshes.push_back(box_mesh({0.5f, 2, 3}, {1, 2.5f, 3.5f}, 0));
     HostScene scene(in);
     const SceneView& s = scene.view();
     ASSERT_EQ(s.num_grids, 1);
@@ -282,7 +259,7 @@ TEST(MediumGridPt, AbsorbingGridOfARampIsBeerLambert) {
     mat.volume_only = true;
     mat.density_grid = 0;
     in.materials.push_back(mat);
-    in.meshes.push_back(box({-0.95f, -0.95f, -2.999f}, {0.95f, 0.95f, -2.001f}, 0));
+    in.meshes.push_back(box_mesh({-0.95f, -0.95f, -2.999f}, {0.95f, 0.95f, -2.001f}, 0));
     const int k_seeds = 8;
     double sum[3] = {}, sum2[3] = {};
     for (int k = 0; k < k_seeds; ++k) {
@@ -339,8 +316,8 @@ TEST(MediumGridScene, MovingAVolumeObjectsBoxAsksForANewScene) {
     MaterialInput wall;
     wall.name = "wall";
     in.materials = {smoke, wall};
-    in.meshes.push_back(box({-1, -1, -1}, {2, 2, 2}, 0));
-    in.meshes.push_back(box({3, 3, 3}, {4, 4, 4}, 1));
+    in.meshes.push_back(box_mesh({-1, -1, -1}, {2, 2, 2}, 0));
+    in.meshes.push_back(box_mesh({3, 3, 3}, {4, 4, 4}, 1));
     HostScene scene(in);
     const Transform shift{{{1, 0, 0, -0.1f}, {0, 1, 0, 0}, {0, 0, 1, 0}}};  // inwards
     EXPECT_FALSE(scene.move_mesh(0, shift));
@@ -367,7 +344,7 @@ TEST(MediumGridScene, LightTracingKeepsAGridMedium) {
     smoke.volume_only = true;
     smoke.density_grid = 0;
     in.materials = {smoke};
-    in.meshes.push_back(box({-1, -1, -3}, {2, 2, -2}, 0));
+    in.meshes.push_back(box_mesh({-1, -1, -3}, {2, 2, -2}, 0));
     SessionSettings st;
     st.integrator = "lt";
     st.spp_per_iteration = 1;
