@@ -21,3 +21,4 @@
 #include "integrator/bdpt_common.h"
 #include "integrator/bdpt_light.h"
 #include "integrator/bdpt_medium_stages.h"  // scenes with media: the hooks' definitions
+#include "integrator/bdpt_sss.h"            // subsurface: the camera paths' walks

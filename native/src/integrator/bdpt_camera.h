@@ -392,6 +392,9 @@ LANTERN_HD inline void bdpt_camera_connect(const SceneView& s, const BdptState& 
     }
 }
 
+LANTERN_HD inline bool bdpt_sss_choose(const SceneView& s, const PathState& ps, CameraVertex& z,
+                                       int i, Rng& rng);  // subsurface: bdpt_sss.h
+
 // Camera-path shading: emission (s = 0), then at a surface NEE (s = 1), connections (s >= 2) and
 // the next direction. The three parts are separate functions so a GPU can launch them apart.
 // sr: the stage's own ray queries (V(c, x) of soft-falloff lights, soft_light_path.h).
@@ -473,6 +476,7 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
     z.dvc = dvc;
     z.n_pick = light_pick_normal(s, tri, z.h.ng);
     Rng rng = ps.rng[i];
+    if (s.has_subsurface && bdpt_sss_choose(s, ps, z, i, rng)) return;  // under the surface
     if (!material_is_delta(m)) {
         bdpt_camera_nee(s, ps, bs, st, z, i, rng, sr);
         bdpt_camera_connect(s, bs, st, cache, z, i, path);

@@ -208,17 +208,18 @@ LANTERN_HD inline void pt_sss_exit(const SceneView& s, const PathState& ps, cons
     }
 }
 
-// ---- The walk stage, after pt_shade on the same queue: for a path with alive == kAliveSss,
-// the entry at its hit (the hit and the ray are still those pt_shade shaded), the walk, the
-// exit. Rays: the executor's ray query (closest(r, kind)), kind its indirect rays' RayKind. ----
-template <class Rays, class Kind>
-LANTERN_HD inline void pt_sss_walk(const SceneView& s, const Rays& rays, Kind kind,
-                                   const PathState& ps, const PtSettings& st, int i) {
-    if (ps.alive[i] != kAliveSss) return;
-    ps.alive[i] = 0;
-    const int tri = ps.hit_prim[i];
-    const Vec3 d = ps.ray_d[i];
-    const Vec2 uv = ps.hit_uv[i];
+// ---- The walk from a hit: the entry at triangle tri (barycentrics uv, reached along d), the
+// walk, and at its end exit(tri, uv, dir, flip, p, ng, ns, beta, depth): the exit's triangle,
+// barycentrics, the direction that found it, whether its normals (as pt_surface orients them
+// against dir) are negated to face out, the exit point, its outward normals, the throughput
+// and the exit vertex's depth. After a non-delta bounce (prev_pdf_w > 0 at depth > 1) the exit
+// is the hit itself (Cycles' Lambert lobe of the same weight). beta_in: the path's throughput
+// with the walk's probability divided out. Shared by pt and the bidirectional camera paths
+// (bdpt_sss.h). Rays: the executor's ray query (closest(r, kind)). ----
+template <class Rays, class Kind, class Exit>
+LANTERN_HD inline void sss_walk_path(const SceneView& s, const Rays& rays, Kind kind, int tri,
+                                     Vec2 uv, Vec3 d, Vec3 beta_in, int depth, float prev_pdf_w,
+                                     Rng& rng, const Exit& exit) {
     const SurfaceHit h = pt_surface(s, tri, uv, d);
     MaterialScratch scratch;
     const Material& m = material_at_point(
@@ -229,30 +230,25 @@ LANTERN_HD inline void pt_sss_walk(const SceneView& s, const Rays& rays, Kind ki
     const Frame shading = h.frame();
     const Frame frame = shading.to_local(-d).z > 0.0f ? shading : Frame::from_normal(h.ng);
     const Vec3 wo = frame.to_local(-d);
-    Rng rng = ps.rng[i];
     // the base's weight under the layers above it, W of it; the albedo (the base colour within
-    // [0, 1], as Cycles) the walk puts in. pt_sss_choose has divided by the walk's probability.
+    // [0, 1], as Cycles) the walk puts in. The caller has divided by the walk's probability.
     const PrincipledWeights pw = principled_weights(m);
     const Vec3 below = principled_below_coat(m, wo.z, coat_cos(m, h.coat_n, wo));
     const float base = pw.spec * (1.0f - principled_spec_albedo(m, wo.z)) * m.subsurface;
     float albedo[3];
     for (int c = 0; c < 3; ++c) albedo[c] = clampf(m.base_color[c], 0.0f, 1.0f);
-    const Vec3 beta0 = ps.throughput[i] * below * base;
+    const Vec3 beta0 = beta_in * below * base;
     // after a scattering that was not a delta (Cycles: after a diffuse ancestor), subsurface is
     // a Lambert lobe of the same weight at the hit (Cycles' bssrdf_setup)
-    if (ps.depth[i] > 1 && ps.prev_pdf_w[i] > 0.0f) {
-        pt_sss_exit(s, ps, st, i, tri, h.p, h.ng, h.ns,
-                    beta0 * Vec3{albedo[0], albedo[1], albedo[2]}, ps.depth[i], rng);
-        ps.rng[i] = rng;
+    if (depth > 1 && prev_pdf_w > 0.0f) {
+        exit(tri, uv, d, false, h.p, h.ng, h.ns, beta0 * Vec3{albedo[0], albedo[1], albedo[2]},
+             depth);
         return;
     }
     Vec3 wi_l;
     const bool entered = sss_entry(m, wo, rng.uniform2(), &wi_l);
     Vec3 dir = frame.to_world(wi_l);
-    if (!entered || !(dot(dir, h.ng) < 0.0f) || is_black(beta0)) {
-        ps.rng[i] = rng;
-        return;
-    }
+    if (!entered || !(dot(dir, h.ng) < 0.0f) || is_black(beta0)) return;
     // ---- Coefficients ----
     const float g = m.ss_anisotropy;
     float st3[3], al3[3], low[3];
@@ -296,12 +292,28 @@ LANTERN_HD inline void pt_sss_walk(const SceneView& s, const Rays& rays, Kind ki
         if (out) {
             if (hit.prim >= s.num_triangles) break;  // a strand inside the mesh: the walk ends
             const SurfaceHit x = pt_surface(s, hit.prim, hit.uv, dir);  // normals face inside
-            pt_sss_exit(s, ps, st, i, hit.prim, x.p, -x.ng, -x.ns, beta, ps.depth[i] + 1, rng);
+            exit(int(hit.prim), hit.uv, dir, true, x.p, -x.ng, -x.ns, beta, depth + 1);
             break;
         }
         o = o + dir * t;
         if (!(max_component(beta) > 1e-7f)) break;
     }
+}
+
+// ---- The walk stage, after pt_shade on the same queue: for a path with alive == kAliveSss,
+// the entry at its hit (the hit and the ray are still those pt_shade shaded), the walk, the
+// exit. Rays: the executor's ray query (closest(r, kind)), kind its indirect rays' RayKind. ----
+template <class Rays, class Kind>
+LANTERN_HD inline void pt_sss_walk(const SceneView& s, const Rays& rays, Kind kind,
+                                   const PathState& ps, const PtSettings& st, int i) {
+    if (ps.alive[i] != kAliveSss) return;
+    ps.alive[i] = 0;
+    Rng rng = ps.rng[i];
+    sss_walk_path(s, rays, kind, ps.hit_prim[i], ps.hit_uv[i], ps.ray_d[i], ps.throughput[i],
+                  ps.depth[i], ps.prev_pdf_w[i], rng,
+                  [&](int tri, Vec2, Vec3, bool, Vec3 p, Vec3 ng, Vec3 ns, Vec3 beta, int depth) {
+                      pt_sss_exit(s, ps, st, i, tri, p, ng, ns, beta, depth, rng);
+                  });
     ps.rng[i] = rng;
 }
 

@@ -195,6 +195,26 @@ void index_cache_by_path(Exec& ex, Wavefront<Exec>& w, int64_t light_paths) {
     ex.sync();
 }
 
+// Subsurface (bdpt_sss.h): the walks of the camera paths that went under a surface this bounce,
+// then their exits' next events, connections and continuations (their shadow rays join the
+// bounce's).
+template <class Exec, class SR>
+void bdpt_sss_stages(Exec& ex, Wavefront<Exec>& w, const SceneView& s, const BdptSettings& bst,
+                     const LightCache& cache, int active, const int32_t* list, int spp,
+                     int64_t first_path, const SR& sr, SessionStats& stats) {
+    const PathState ps = w.ps;
+    const BdptState bs = w.bs;
+    const int32_t* q = w.queue.data();
+    const auto rays = ex.rays();
+    ex.timed(stats.time_shade, [&] {
+        ex.each(active, LANTERN_KERNEL(int k) { bdpt_sss_walk(s, rays, RayKind::kIndirect, ps, q[k]); });
+        ex.each(active, LANTERN_KERNEL(int k) {
+            const int i = q[k];
+            bdpt_sss_exit(s, ps, bs, bst, cache, i, camera_path(list, spp, first_path + i), sr);
+        }, 64);
+    });
+}
+
 template <class Exec>
 void camera_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep& st,
                   int64_t first_path, int n) {
@@ -233,6 +253,8 @@ void camera_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep
                 bdpt_camera_shade(s, ps, bs, bst, cache, i, path, sr);
             }, 64);
         });
+        if (s.has_subsurface)  // the walks of this bounce's subsurface paths (bdpt_sss.h)
+            bdpt_sss_stages(ex, w, s, bst, cache, active, list, spp, first_path, sr, stats);
         // every shadow ray of the bounce: next event and connections
         ex.timed(stats.time_shadow, [&] {
             stats.rays_shadow +=

@@ -90,10 +90,14 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
                              : std::string("no medium vertices in its paths")) +
                          "): rendering with pt";
             settings_.integrator = "pt";
-        } else if (const std::string ss = subsurface_reason(scene); !ss.empty()) {
-            // subsurface: only pt walks yet (docs/subsurface.md)
-            media_note = "integrator '" + integ + "' does not render subsurface scattering (the " +
-                         "scene has " + ss + "; no walk in its paths): rendering with pt";
+        } else if (const std::string ss = subsurface_reason(scene);
+                   !ss.empty() && (lt || !media_reason(scene).empty())) {
+            // subsurface: pt, and the camera paths of bdpt, lvc and cis, walk (bdpt_sss.h);
+            // lt has no camera paths, and the bidirectional walk has no media around it yet
+            media_note = "integrator '" + integ + "' does not render subsurface scattering " +
+                         (lt ? "(the scene has " + ss + "; only camera paths walk)"
+                             : "in a scene with volumes (it has " + ss + ")") +
+                         ": rendering with pt";
             settings_.integrator = "pt";
         }
     }

@@ -1,0 +1,121 @@
+// Random-walk subsurface scattering on the bidirectional integrators' camera paths (bdpt, lvc,
+// cis; docs/subsurface.md, "Bidirectional integrators"). pt's model and walk (pt_sss.h): at a
+// hit a camera path goes under the surface with probability P (bdpt_sss_choose, in the camera
+// shade stage), the walk stage walks it to an exit (sss_walk_path), and the exit stage shades
+// the exit as a camera vertex with a white Lambert lobe about the outward normal: next-event
+// estimation, connections to the cache and a cosine continuation.
+//
+// MIS. The walk is sampled, never evaluated, and only camera paths walk (light paths shade the
+// surface's other lobes: the Principled's base already carries 1 - W there), so a path with a
+// walk (or with the Lambert lobe a walk becomes after a non-delta bounce) can be made only by
+// the techniques whose camera sub-path holds its exit: the exit vertex starts its MIS
+// quantities afresh, dVCM = dVC = 0 (no light sub-path reaches it or anything before it),
+// like a camera. Every technique of such a path computes its weight over that same set, so the
+// weights sum to 1. The surface branch's probability 1 - P is left out of every technique's
+// density (a stand-in of 1 on both sides: the weights stay a partition of unity).
+#pragma once
+
+#include "integrator/bdpt_camera.h"
+
+namespace lantern {
+
+constexpr uint8_t kAliveSssExit = 3;     // PathState::alive: the exit stage has this slot
+constexpr uint8_t kAliveSssExitOut = 4;  // the same, the exit's normals negated (a walk's exit)
+
+// At a camera vertex (after emission, before next-event estimation): true when the path goes
+// under the surface (the walk stage takes it); else z.beta and the slot's throughput carry
+// 1 / (1 - P) and shading goes on.
+LANTERN_HD inline bool bdpt_sss_choose(const SceneView& s, const PathState& ps, CameraVertex& z,
+                                       int i, Rng& rng) {
+    if (z.strand || !(z.m->subsurface > 0.0f) || z.tri >= s.num_triangles) return false;
+    if (pt_sss_choose(ps, i, *z.m, z.wo, z.ng_l, rng)) {
+        ps.rng[i] = rng;
+        return true;
+    }
+    z.beta = ps.throughput[i];
+    return false;
+}
+
+// The walk stage: a slot with alive == kAliveSss walks from its hit; where the walk leaves,
+// the slot keeps the exit (triangle, barycentrics, the direction that found it, throughput,
+// depth) for the exit stage, alive kAliveSssExit(Out); otherwise it ends. kind: the RayKind
+// of its rays.
+template <class Rays, class Kind>
+LANTERN_HD inline void bdpt_sss_walk(const SceneView& s, const Rays& rays, Kind kind,
+                                     const PathState& ps, int i) {
+    if (ps.alive[i] != kAliveSss) return;
+    ps.alive[i] = 0;
+    Rng rng = ps.rng[i];
+    sss_walk_path(s, rays, kind, ps.hit_prim[i], ps.hit_uv[i], ps.ray_d[i],
+                  ps.throughput[i], ps.depth[i], ps.prev_pdf_w[i], rng,
+                  [&](int tri, Vec2 uv, Vec3 dir, bool flip, Vec3, Vec3, Vec3, Vec3 beta,
+                      int depth) {
+                      ps.hit_prim[i] = tri;
+                      ps.hit_uv[i] = uv;
+                      ps.ray_d[i] = dir;
+                      ps.throughput[i] = beta;
+                      ps.depth[i] = depth;
+                      ps.alive[i] = flip ? kAliveSssExitOut : kAliveSssExit;
+                  });
+    ps.rng[i] = rng;
+}
+
+// The exit stage: the exit as a camera vertex with a white Lambert lobe (pt_sss_exit's), its
+// MIS quantities 0 (above); next-event estimation, connections, a cosine continuation.
+template <class SR>
+LANTERN_HD inline void bdpt_sss_exit(const SceneView& s, const PathState& ps, const BdptState& bs,
+                                     const BdptSettings& st_all, const LightCache& cache, int i,
+                                     int64_t path, const SR& sr) {
+    const uint8_t a = ps.alive[i];
+    if (a != kAliveSssExit && a != kAliveSssExitOut) return;
+    ps.alive[i] = 0;
+    const BdptSettings st = camera_settings(st_all, pixel_conn_of_path(s, st_all, path));
+    CameraVertex z;
+    MaterialScratch scratch;  // the cache vertices' materials (kOneScratch)
+    Material white{};
+    white.type = kMaterialDiffuse;
+    white.base_color = vec3(1.0f);
+    z.tri = ps.hit_prim[i];
+    z.uv = ps.hit_uv[i];
+    z.h = pt_surface(s, z.tri, z.uv, ps.ray_d[i]);
+    if (a == kAliveSssExitOut) {  // a walk's exit: pt_surface's normals face inside
+        z.h.ng = -z.h.ng;
+        z.h.ns = -z.h.ns;
+        z.h.front = !z.h.front;
+    }
+    z.h.tangent_angle = 0.0f;
+    z.h.coat_n = Vec3{0.0f, 0.0f, 1.0f};
+    z.frame = Frame::from_normal(z.h.ns);
+    z.wo = Vec3{0.0f, 0.0f, 1.0f};  // (a Lambert's reverse pdf; dVC = 0 leaves it unread)
+    z.wo_w = z.h.ns;
+    z.ng_l = z.frame.to_local(z.h.ng);
+    z.m = &white;
+    z.scratch = &scratch;
+    z.depth = ps.depth[i];
+    z.beta = ps.throughput[i];
+    z.dvcm = 0.0f;
+    z.dvc = 0.0f;
+    z.n_pick = light_pick_normal(s, z.tri, z.h.ng);
+    if (z.depth >= st.max_depth) return;
+    Rng rng = ps.rng[i];
+    bdpt_camera_nee(s, ps, bs, st, z, i, rng, sr);
+    bdpt_camera_connect(s, bs, st, cache, z, i, path);
+    float pdf_w = 0.0f;
+    const Vec3 wi = z.frame.to_world(sample_cosine_hemisphere(rng.uniform2(), &pdf_w));
+    Vec3 beta = z.beta;
+    if (pdf_w > 0.0f && dot(wi, z.h.ng) > 0.0f &&
+        russian_roulette(beta, z.depth, st.rr_depth, rng) && max_component(beta) > 0.0f &&
+        is_finite(beta)) {
+        ps.throughput[i] = beta;
+        ps.depth[i] = z.depth + 1;
+        bs.dvcm[i] = mis(1.0f / pdf_w);  // bdpt_scatter_update with dVCM = dVC = 0
+        bs.dvc[i] = 0.0f;
+        set_next_ray(ps, i, z.h.p, z.h.ng, wi, pdf_w, s.offset_scale);
+        ps.prev_p[i] = z.h.p;
+        bs.prev_ng[i] = z.h.ng;
+        if (s.light_tree_on) ps.prev_n[i] = z.n_pick;
+    }
+    ps.rng[i] = rng;
+}
+
+}  // namespace lantern
