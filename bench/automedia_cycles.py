@@ -35,11 +35,11 @@ import render_compare as rc  # noqa: E402
 import test_volumes as tv  # noqa: E402
 
 
-def lamp_shade(soft_falloff=False, size=32, density=0.15):
+def lamp_shade(soft_falloff=False, size=32, density=0.15, radius=0.05):
     """A pendant lamp in a foggy room: the room a 4 m cube seen from inside (grey walls, a warm
     floor), a side table, a 0.05 m point light of 60 W inside a cone shade (0.32 m across at its
     open bottom, 0.12 m at its open top, 0.35 m tall, white inside) on a cord from the ceiling,
-    the room filled with a Principled Volume of density `density`."""
+    the room filled with a Principled Volume of density `density`; `radius` the bulb's."""
     import bpy
     import bmesh
     from bpy_stage import camera, cube, light, reset
@@ -71,21 +71,25 @@ def lamp_shade(soft_falloff=False, size=32, density=0.15):
     bm.free()
     cube("cord", (0.0, 0.2, 3.39), 1.0, tv._material("cord", (0.05, 0.05, 0.05)),
          scale=(0.01, 0.01, 1.22))
-    lamp = light(scene, "POINT", (0.0, 0.2, 2.65), 60.0, shadow_soft_size=0.05)
+    lamp = light(scene, "POINT", (0.0, 0.2, 2.65), 60.0, shadow_soft_size=radius)
     lamp.data.use_soft_falloff = soft_falloff
     tv._cube("fog", (0, 0, 2.0), 3.98, tv._volume_material("fog", density, (0.9, 0.9, 0.9)))
     camera(scene, (-1.2, -1.85, 1.3), (82, 0, -22), lens=18.0)
 
 
 SCENES = {"fog_spot": tv.fog_spot, "lamp_shade": lambda: lamp_shade(False),
-          "lamp_shade_soft": lambda: lamp_shade(True)}
+          "lamp_shade_soft": lambda: lamp_shade(True),
+          # Blender's default point light: radius 0.1 m, Soft Falloff on
+          "lamp_shade_soft10": lambda: lamp_shade(True, radius=0.1)}
 
 
 def _stats(imgs, secs):
     imgs = np.stack(imgs).astype(np.float64)
     var = float(imgs.var(axis=0, ddof=1).mean())
     t = float(np.median(secs))
-    return {"mean": float(imgs.mean()), "var": var, "cpu": t, "eff": 1.0 / (var * t)}
+    seed_means = imgs.mean(axis=(1, 2, 3))  # the image mean's noise, from the seeds
+    se = float(seed_means.std(ddof=1) / np.sqrt(len(seed_means)))
+    return {"mean": float(imgs.mean()), "se": se, "var": var, "cpu": t, "eff": 1.0 / (var * t)}
 
 
 def main():
@@ -140,7 +144,8 @@ def main():
             r = res[integ] = _stats(imgs, secs)
             extra = f"; auto chose (cis/pt est.; pt/cis iterations) {' '.join(chose)}" \
                 if chose else ""
-            emit(f"{name} lantern {integ}: image mean {r['mean']:.5f}; mean pixel variance "
+            emit(f"{name} lantern {integ}: image mean {r['mean']:.5f} +- {r['se']:.5f}; "
+                 f"mean pixel variance "
                  f"{r['var']:.4e}; {r['cpu']:.2f} CPU s per seed; efficiency {r['eff']:.4g}"
                  f"{extra}; warnings {sorted(set(s.warnings))}")
         if args.no_cycles:
@@ -154,10 +159,12 @@ def main():
                                    dtype=np.float64)[..., :3])
             secs.append(time.process_time() - c0)
         c = _stats(imgs, secs)
-        emit(f"{name} cycles: image mean {c['mean']:.5f}; mean pixel variance {c['var']:.4e}; "
+        emit(f"{name} cycles: image mean {c['mean']:.5f} +- {c['se']:.5f}; mean pixel variance "
+             f"{c['var']:.4e}; "
              f"{c['cpu']:.2f} CPU s per seed; efficiency {c['eff']:.4g}")
         emit(f"{name} efficiency / Cycles': " + ", ".join(
-            f"{i} {res[i]['eff'] / c['eff']:.2f}x (mean {res[i]['mean'] / c['mean']:.4f})"
+            f"{i} {res[i]['eff'] / c['eff']:.2f}x (mean {res[i]['mean'] / c['mean']:.4f}, "
+            f"z {(res[i]['mean'] - c['mean']) / np.hypot(res[i]['se'], c['se']):+.2f})"
             for i in res))
 
 

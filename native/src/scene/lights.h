@@ -179,7 +179,23 @@ LANTERN_HD inline Vec3 spherical_rect_point(const SphericalRect& r, Vec2 u) {
     return r.o + r.x * xu + r.y * clampf(yv, r.y0, r.y1) + r.z * r.z0;
 }
 
-LANTERN_HD inline LightSample sample_light(const SceneView& s, const Light& l, Vec3 p, Vec2 u) {
+// A soft-falloff disk (radius r, centre at distance d) seen from p: p lies on its axis, so it
+// fills the cone of half-angle atan(r / d) about the direction to the centre; 1 - cos of that
+// angle, r^2 / (h (h + d)) with h = sqrt(d^2 + r^2), without the cancellation of 1 - d / h.
+LANTERN_HD inline float soft_disk_one_minus_cos(float d2, float r2) {
+    const float h = sqrtf(d2 + r2);
+    return r2 / (h * (h + sqrtf(d2)));
+}
+
+// sample_light's soft_cone (pt's next-event estimation; the bidirectional integrators keep the
+// area density their light paths' weights assume, soft_light_path.h): a soft-falloff disk's
+// point drawn uniformly in the solid angle it subtends, not uniformly over its area. Its
+// radiance is constant, so the estimate of its light (phase function or BSDF times cosine
+// aside) is exact; by area the estimate at a point d << r from the centre weighs the disk's
+// middle by r^2 / d^2 (relative second moment ~ r^2 / (8 d^2)), whose integral along a ray
+// through the bulb diverges: the fireflies in fog around a lamp (docs/volumes.md).
+LANTERN_HD inline LightSample sample_light(const SceneView& s, const Light& l, Vec3 p, Vec2 u,
+                                          bool soft_cone = false) {
     LightSample ls{};
     ls.valid = false;
     ls.delta = false;
@@ -200,6 +216,23 @@ LANTERN_HD inline LightSample sample_light(const SceneView& s, const Light& l, V
             ls.pdf_w = 1.0f;
             ls.delta = true;
             ls.p_light = l.position;
+        } else if (l.soft_falloff && soft_cone) {
+            // the disk facing p, uniform in the cone it subtends (cos from 1 - a, a in [0, omc])
+            const float omc = soft_disk_one_minus_cos(d2, l.radius * l.radius);
+            const float a = u.x * omc;
+            const float cos_t = 1.0f - a, sin_t = safe_sqrt(a * (2.0f - a));
+            const float phi = 2.0f * kPi * u.y;
+            Frame f = Frame::from_normal(dir);
+            const Vec3 w = f.to_world(Vec3{sin_t * cosf(phi), sin_t * sinf(phi), cos_t});
+            const float t = d / cos_t;  // to the disk's plane through the centre
+            if (!(t > 0.0f) || !(t < kInf)) return ls;
+            ls.wi = w;
+            ls.dist = t;
+            ls.pdf_w = 1.0f / (2.0f * kPi * omc);
+            if (!(ls.pdf_w > 0.0f) || !(ls.pdf_w < kInf)) return ls;
+            ls.p_light = p + w * t;
+            ls.n_light = -dir;
+            ls.le = l.radiance * (l.type == kLightSpot ? spot_attenuation(l, -w) : 1.0f);
         } else if (l.soft_falloff) {
             // a disk of radius r through the centre, facing p: irradiance I / (d^2 + r^2)
             Frame f = Frame::from_normal(-dir);
@@ -314,12 +347,18 @@ LANTERN_HD inline LightSample sample_light(const SceneView& s, const Light& l, V
 
 // Solid-angle pdf with which sample_light would produce direction wi from p, for a light hit at
 // distance t with surface normal n (area, sphere and triangle lights; the sun ignores t; the
-// world's is world_pdf_w).
-LANTERN_HD inline float light_pdf_w(const Light& l, Vec3 p, Vec3 wi, float t, Vec3 n) {
+// world's is world_pdf_w). soft_cone: as sample_light's (a soft-falloff disk by solid angle).
+LANTERN_HD inline float light_pdf_w(const Light& l, Vec3 p, Vec3 wi, float t, Vec3 n,
+                                    bool soft_cone = false) {
     switch (l.type) {
     case kLightPoint:
     case kLightSpot: {
         if (l.radius <= 0.0f) return 0.0f;
+        if (l.soft_falloff && soft_cone) {
+            const float d2 = length_sq(l.position - p);
+            if (!(d2 > 0.0f)) return 0.0f;
+            return 1.0f / (2.0f * kPi * soft_disk_one_minus_cos(d2, l.radius * l.radius));
+        }
         if (l.soft_falloff) {
             Vec3 n = normalize(p - l.position);
             return pdf_a_to_w(1.0f / (kPi * l.radius * l.radius), t * t, fabsf(dot(wi, n)));
