@@ -179,6 +179,8 @@ LANTERN_HD inline Vec3 spherical_rect_point(const SphericalRect& r, Vec2 u) {
     return r.o + r.x * xu + r.y * clampf(yv, r.y0, r.y1) + r.z * r.z0;
 }
 
+// Out of line on the device (LANTERN_DEVICE_NOINLINE): pt_shade called it at three sites.
+LANTERN_DEVICE_NOINLINE
 LANTERN_HD inline LightSample sample_light(const SceneView& s, const Light& l, Vec3 p, Vec2 u) {
     LightSample ls{};
     ls.valid = false;
