@@ -250,6 +250,9 @@ LANTERN_HD inline HairEval hair_eval_view(const HairParams& hp, const HairView& 
     return e;
 }
 
+// hair_eval and hair_sample: out of line on the device (LANTERN_DEVICE_NOINLINE; four eval
+// sites in hair_lobe_eval)
+LANTERN_DEVICE_NOINLINE
 LANTERN_HD inline HairEval hair_eval(const HairParams& hp, Vec3 wo, Vec3 wi) {
     return hair_eval_view(hp, hair_view(hp, wo), wi);
 }
@@ -264,6 +267,7 @@ struct HairSample {
 // Pick a lobe by its attenuation's luminance (uc, rescaled, then reused for M_p); M_p about the
 // mirror of theta_o (d'Eon's inversion), then un-tilted; N_p by the trimmed logistic about the
 // lobe's shift (TRRT+: uniform). u.x: N_p, u.y: M_p's azimuth about the mirror direction.
+LANTERN_DEVICE_NOINLINE
 LANTERN_HD inline HairSample hair_sample(const HairParams& hp, Vec3 wo, Vec2 u, float uc) {
     HairSample s{vec3(0.0f), vec3(0.0f), 0.0f, false};
     const HairView w = hair_view(hp, wo);

@@ -46,6 +46,9 @@ LANTERN_HD inline BsdfSample translucent_sample(Vec3 color, Vec3 wo, Vec2 u) {
     return s;
 }
 
+// The leaves' eval and sample are out of line on the device (LANTERN_DEVICE_NOINLINE): each is
+// called at up to three sites (corrected_*, mix_*, material_*) and was copied at each.
+LANTERN_DEVICE_NOINLINE
 LANTERN_HD inline BsdfEval material_eval_leaf(const Material& m, bool front, Vec3 wo, Vec3 wi,
                                               Transport mode, Vec3 coat_n) {
     switch (m.type) {
@@ -74,6 +77,7 @@ LANTERN_HD inline BsdfEval material_eval_leaf(const Material& m, bool front, Vec
 }
 
 // u.x, u.y choose the direction, u.z the lobe event (dielectric reflection or transmission).
+LANTERN_DEVICE_NOINLINE
 LANTERN_HD inline BsdfSample material_sample_leaf(const Material& m, bool front, Vec3 wo, Vec3 u,
                                                   Transport mode, Vec3 coat_n) {
     switch (m.type) {
@@ -246,6 +250,9 @@ LANTERN_HD inline bool corrected_base_shadowed(const Material& m, Vec3 coat_n) {
     return material_keeps_unbent_normal(m) && m.type == kMaterialPrincipled && coat_n.z < 1.0f;
 }
 
+// corrected_eval and corrected_sample: out of line on the device (LANTERN_DEVICE_NOINLINE),
+// with valid_reflection_normal's trigonometry inside them once
+LANTERN_DEVICE_NOINLINE
 LANTERN_HD inline BsdfEval corrected_eval(const Material& m, bool front, Vec3 wo, Vec3 wi,
                                           Transport mode, Vec3 coat_n, Vec3 ng_l) {
     const bool radiance = mode == Transport::Radiance;
@@ -284,6 +291,7 @@ LANTERN_HD inline BsdfEval corrected_eval(const Material& m, bool front, Vec3 wo
     return e;
 }
 
+LANTERN_DEVICE_NOINLINE
 LANTERN_HD inline BsdfSample corrected_sample(const Material& m, bool front, Vec3 wo, Vec3 u,
                                               Transport mode, Vec3 coat_n, Vec3 ng_l) {
     BsdfSample s{vec3(0.0f), vec3(0.0f), 0.0f, false};

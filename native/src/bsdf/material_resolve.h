@@ -160,7 +160,9 @@ LANTERN_HD inline void material_rough_fms(const Material& m, MaterialInputs& out
 
 // The inputs of material m (not a mix, with kTexShading) at shading point sp: `out` starts as
 // m's own and takes the texture and program values (NaN -> 0, clamped to their ranges). Where
-// the roughness is per hit, the tables are read at it (rough_rows; material_rough_fms).
+// the roughness is per hit, the tables are read at it (rough_rows; material_rough_fms). Out of
+// line on the device (LANTERN_DEVICE_NOINLINE): the camera shade kernel resolved at five sites.
+LANTERN_DEVICE_NOINLINE
 LANTERN_HD inline void material_resolve_inputs(const SceneView& s, const Material& m,
                                                const ShadePoint& sp, MaterialInputs& out) {
     out = material_inputs(m);

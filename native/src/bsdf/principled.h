@@ -219,7 +219,9 @@ LANTERN_HD inline float principled_below_sheen(const Material& m, float mu) {
 
 // What reaches the layers under the coat, seen at camera-side cosines mu (base normal: the
 // sheen) and mu_c (coat normal): the coat's transmitted share and its tint along the refracted
-// path (Beer, tint per unit thickness at normal incidence, as Cycles).
+// path (Beer, tint per unit thickness at normal incidence, as Cycles). Out of line on the device
+// (LANTERN_DEVICE_NOINLINE: its three powf were copied at every eval site of a shade kernel).
+LANTERN_DEVICE_NOINLINE
 LANTERN_HD inline Vec3 principled_below_coat(const Material& m, float mu, float mu_c) {
     const float cw = m.coat_weight;
     const float sheen_pass = principled_below_sheen(m, mu);

@@ -22,6 +22,16 @@
 #define LANTERN_HOST_INLINE
 #endif
 
+// Out of line on the device only: ptxas then compiles a large function once per kernel instead
+// of once per call site inlined into the shade kernels (their time and memory in ptxas grow
+// faster than their size: docs/cuda_backend.md, "Build time"). The host's code and bits are
+// unchanged (the macro is empty there).
+#ifdef __CUDA_ARCH__
+#define LANTERN_DEVICE_NOINLINE __noinline__
+#else
+#define LANTERN_DEVICE_NOINLINE
+#endif
+
 namespace lantern {
 
 constexpr float kPi = 3.14159265358979323846f;
@@ -99,12 +109,13 @@ struct Frame {
     }
     // from_normal(n) turned about n by `angle` (radians): anisotropic lobes' local X follows
     // a surface tangent stored as that angle
-    // (the turn is its own function, so that the common angle 0 stays inlined and small)
+    // (the turn is its own function, so that the common angle 0 stays inlined and small; out of
+    // line on the device, where its sincos was inlined at every frame of a shade kernel)
     LANTERN_HD static Frame from_normal_angle(Vec3 n, float angle) {
         const Frame f = from_normal(n);
         return angle == 0.0f ? f : f.turned(angle);
     }
-    LANTERN_HD Frame turned(float angle) const {
+    LANTERN_DEVICE_NOINLINE LANTERN_HD Frame turned(float angle) const {
         const float c = cosf(angle), sn = sinf(angle);
         Frame f = *this;
         f.s = s * c + t * sn;

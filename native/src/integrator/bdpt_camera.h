@@ -65,8 +65,10 @@ LANTERN_HD inline void shadow_segment(Vec3 p, Vec3 n, Vec3 q, Vec3 nq, Vec3 dir,
     *tmax = len * (1.0f - 1e-4f);
 }
 
-// s = 1: one light sample; the shadow ray waits in the slot's shadow fields.
+// s = 1: one light sample; the shadow ray waits in the slot's shadow fields. Out of line on the
+// device: ptxas compiles the camera shade kernel in pieces (LANTERN_DEVICE_NOINLINE).
 template <class SR>
+LANTERN_DEVICE_NOINLINE
 LANTERN_HD inline void bdpt_camera_nee(const SceneView& s, const PathState& ps,
                                        const BdptState& bs, const BdptSettings& st,
                                        const CameraVertex& z, int i, Rng& rng, const SR& sr) {

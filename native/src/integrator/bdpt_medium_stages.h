@@ -461,6 +461,7 @@ LANTERN_HD inline void bdpt_camera_lights_hetero(const SceneView& s, const PathS
 // collisions (weight 1, as in homogeneous media) and the lights it passes, each with the
 // tracking's weight; the piece's factors by the stand-in (bdpt_medium_hetero.h). A ray that
 // leaves the medium to infinity (an open mesh) sees no distant light.
+LANTERN_DEVICE_NOINLINE
 LANTERN_HD inline bool bdpt_camera_hetero_segment(const SceneView& s, const PathState& ps,
                                                   const BdptState& bs, const BdptSettings& st,
                                                   const LightCache& cache, int i,
@@ -504,6 +505,8 @@ LANTERN_HD inline bool bdpt_camera_hetero_segment(const SceneView& s, const Path
 
 // The camera path's traced piece: its flight, the lights it crosses, a medium vertex, a
 // volume boundary passed; false at a surface (bdpt_camera_shade goes on, its emission done).
+// Out of line on the device (LANTERN_DEVICE_NOINLINE: ptxas compiles camera shade in pieces).
+LANTERN_DEVICE_NOINLINE
 LANTERN_HD inline bool bdpt_camera_medium_segment(const SceneView& s, const PathState& ps,
                                                   const BdptState& bs, const BdptSettings& st,
                                                   const LightCache& cache, int i,

@@ -151,10 +151,12 @@ LANTERN_HD inline float anisotropy_angle(const SceneView& s, const Material& m, 
 
 // The material-dependent part of the shading frame (kSceneFrames scenes only, so that the
 // common path stays small): a normal map on the front-side normal n, the anisotropy tangent and
-// the coat's own normal; node-graph bumps. Never inlined on the host (pt_surface stays small).
+// the coat's own normal; node-graph bumps. Never inlined on the host (pt_surface stays small),
+// nor on the device (LANTERN_DEVICE_NOINLINE: one copy per shade kernel for ptxas).
 #ifndef __CUDA_ARCH__
 __attribute__((noinline))
 #endif
+LANTERN_DEVICE_NOINLINE
 LANTERN_HD inline void pt_surface_frames(const SceneView& s, SurfaceHit& h, int tri, Vec2 uv,
                                          Vec3 n, Vec3 ng_front) {
     const Material& m = s.materials[s.tri_material[tri]];
@@ -207,10 +209,11 @@ LANTERN_HD inline SurfaceHit pt_surface(const SceneView& s, int tri, Vec2 uv, Ve
 }
 
 // The hit at the path's time where meshes move (motion blur, scene/motion.h); out of line on
-// the host, so that pt_shade's still path stays as it was.
+// the host, so that pt_shade's still path stays as it was, and on the device (ptxas).
 #ifndef __CUDA_ARCH__
 __attribute__((noinline))
 #endif
+LANTERN_DEVICE_NOINLINE
 LANTERN_HD inline SurfaceHit pt_surface_moved(const SceneView& s, int tri, Vec2 uv, Vec3 d,
                                               const Rng& rng) {
     return motion_surface<SurfaceHit>(

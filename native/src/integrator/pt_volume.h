@@ -166,9 +166,12 @@ LANTERN_HD inline Equiangular pt_equiangular_setup(const SceneView& s, Vec3 o, V
 // this stage shaded the medium vertex and the hit is not shaded). Otherwise the throughput
 // carries the segment's transmittance and the caller shades the hit or the miss; the lights
 // the segment crosses are collected here either way. ----
+// Out of line on both: the host's pt_shade stays as small as without media, and the device's
+// is compiled by ptxas without it (LANTERN_DEVICE_NOINLINE).
 #ifndef __CUDA_ARCH__
-__attribute__((noinline))  // out of line on the host: pt_shade stays as small as without media
+__attribute__((noinline))
 #endif
+LANTERN_DEVICE_NOINLINE
 LANTERN_HD inline bool pt_medium_segment(const SceneView& s, const PathState& ps,
                                          const PtSettings& st, int i, bool catcher_camera) {
     const Medium& m = s.media[ps.medium[i]];

@@ -116,6 +116,9 @@ LANTERN_HD inline float env_map_jacobian(const EnvMap& e, Vec3 d) {
 }
 
 // Radiance from world direction d and the solid-angle pdf with which env_sample produces it.
+// env_eval, env_pdf_w and env_sample are out of line on the device (LANTERN_DEVICE_NOINLINE: their
+// trigonometry was copied at every world light site of a shade kernel).
+LANTERN_DEVICE_NOINLINE
 LANTERN_HD inline Vec3 env_eval(const EnvMap& e, Vec3 d, float* pdf_w) {
     *pdf_w = 0.0f;
     Vec3 m = mat3_mul(e.to_map, d);
@@ -136,6 +139,7 @@ LANTERN_HD inline Vec3 env_eval(const EnvMap& e, Vec3 d, float* pdf_w) {
 }
 
 // Solid-angle pdf with which env_sample produces world direction d.
+LANTERN_DEVICE_NOINLINE
 LANTERN_HD inline float env_pdf_w(const EnvMap& e, Vec3 d) {
     float pdf;
     env_eval(e, d, &pdf);
@@ -144,6 +148,7 @@ LANTERN_HD inline float env_pdf_w(const EnvMap& e, Vec3 d) {
 
 // A world direction from u: a cell by the distribution, a uniform point in it; its pdf_w and
 // radiance. Returns false (pdf 0) when the sample maps to no direction.
+LANTERN_DEVICE_NOINLINE
 LANTERN_HD inline bool env_sample(const EnvMap& e, Vec2 u, Vec3* d_out, float* pdf_w,
                                   Vec3* le) {
     *pdf_w = 0.0f;

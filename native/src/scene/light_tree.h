@@ -164,6 +164,9 @@ LANTERN_HD inline bool light_split(const SceneView& s, int node, Vec3 p, Vec3 n,
 }
 
 // One light for next-event estimation at p (normal n, zero for both sides), from u in [0, 1).
+// Out of line on the device, as light_pick_pmf (LANTERN_DEVICE_NOINLINE: a copy per call site
+// in every shade kernel before).
+LANTERN_DEVICE_NOINLINE
 LANTERN_HD inline LightPick light_pick(const SceneView& s, Vec3 p, Vec3 n, float u) {
     LightPick r{-1, 0.0f};
     if (s.num_lights <= 0) return r;
@@ -211,6 +214,7 @@ LANTERN_HD inline LightPick light_pick(const SceneView& s, Vec3 p, Vec3 n, float
 
 // The probability that light_pick at (p, n) chooses light li: the same products in the same
 // order (subtrees are contiguous in depth-first order, so the leaf's index says the way down).
+LANTERN_DEVICE_NOINLINE
 LANTERN_HD inline float light_pick_pmf(const SceneView& s, int li, Vec3 p, Vec3 n) {
     const Light& l = s.lights[li];
     if (!s.light_tree_on) return l.nee_pdf;

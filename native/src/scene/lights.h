@@ -194,6 +194,8 @@ LANTERN_HD inline float soft_disk_one_minus_cos(float d2, float r2) {
 // aside) is exact; by area the estimate at a point d << r from the centre weighs the disk's
 // middle by r^2 / d^2 (relative second moment ~ r^2 / (8 d^2)), whose integral along a ray
 // through the bulb diverges: the fireflies in fog around a lamp (docs/volumes.md).
+// Out of line on the device (LANTERN_DEVICE_NOINLINE): pt_shade called it at three sites.
+LANTERN_DEVICE_NOINLINE
 LANTERN_HD inline LightSample sample_light(const SceneView& s, const Light& l, Vec3 p, Vec2 u,
                                           bool soft_cone = false) {
     LightSample ls{};
