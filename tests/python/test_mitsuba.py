@@ -675,6 +675,8 @@ VEACH_MITSUBA_INDIRECT_SIXTHS = [2.44, 2.93, 5.16, 19.85, 19.78, 17.99]
 VEACH_SEEDS, VEACH_INDIRECT_SEEDS = 16, 4
 
 
+# long (2026-12-05): 193 s of one thread, CI's largest single Python test; bench/long_tests.sh
+@pytest.mark.long
 @pytest.mark.skipif(not VEACH_REF, reason="no veach-mis reference in ../shared/scenes")
 def test_veach_mis_plates_match_tungsten():
     """The four rough plates' highlights (reference pixels above 1): Beckmann conductors of
