@@ -478,7 +478,9 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
     z.dvc = dvc;
     z.n_pick = light_pick_normal(s, tri, z.h.ng);
     Rng rng = ps.rng[i];
+#ifndef __CUDACC__  // the device build has no walk stage (schedule_bdpt.h): CPU sessions only
     if (s.has_subsurface && bdpt_sss_choose(s, ps, z, i, rng)) return;  // under the surface
+#endif
     if (!material_is_delta(m)) {
         bdpt_camera_nee(s, ps, bs, st, z, i, rng, sr);
         bdpt_camera_connect(s, bs, st, cache, z, i, path);

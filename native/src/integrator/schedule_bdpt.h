@@ -253,8 +253,10 @@ void camera_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep
                 bdpt_camera_shade(s, ps, bs, bst, cache, i, path, sr);
             }, 64);
         });
+#ifndef __CUDACC__  // the walk stage measured 2,816 B of stack on the device: CPU only (session.cpp)
         if (s.has_subsurface)  // the walks of this bounce's subsurface paths (bdpt_sss.h)
             bdpt_sss_stages(ex, w, s, bst, cache, active, list, spp, first_path, sr, stats);
+#endif
         // every shadow ray of the bounce: next event and connections
         ex.timed(stats.time_shadow, [&] {
             stats.rays_shadow +=

@@ -160,9 +160,15 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
                                 curves_why + "); rendering on the CPU");
     } else if (want == "cuda" || want == "auto") {
         const CudaInfo info = cuda_info();
+        const std::string& integ = settings_.integrator;
         if (info.available && scene_->view().motion.any()) {
             warnings_.push_back("the CUDA backend does not render motion blur yet; rendering "
                                 "on the CPU");
+        } else if (info.available && scene_->view().has_subsurface &&
+                   (integ == "bdpt" || integ == "lvc" || integ == "cis")) {
+            // the camera paths' walk stage is CPU-only (schedule_bdpt.h: its kernel's stack)
+            warnings_.push_back("the CUDA backend does not render subsurface scattering with "
+                                "integrator '" + integ + "' yet; rendering on the CPU");
         } else if (info.available) {
             try {
                 gpu_ = make_cuda_renderer(*scene_, settings_, warnings_);
