@@ -9,11 +9,14 @@ import zlib
 
 import numpy as np
 
+from lantern.scene import fixed_time_member
+
+
 def zip_bytes(members, method=zipfile.ZIP_DEFLATED):
     buf = io.BytesIO()
     with zipfile.ZipFile(buf, "w", compression=method) as zf:
         for name, data in members.items():
-            zf.writestr(name, data)
+            zf.writestr(fixed_time_member(name, method), data)
     return buf.getvalue()
 
 
@@ -81,8 +84,8 @@ def mutate_zip(seed, rng):
         buf = io.BytesIO()
         with zipfile.ZipFile(buf, "w", zipfile.ZIP_DEFLATED) as zf:
             for n, b in members.items():
-                zf.writestr(n, b)
-            zf.writestr(victim, members[rng.choice(names)])
+                zf.writestr(fixed_time_member(n), b)
+            zf.writestr(fixed_time_member(victim), members[rng.choice(names)])
         return buf.getvalue(), op
     elif op == "rename":
         members[victim + rng.choice(["x", "/", " ", "\u00e9"])] = members.pop(victim)

@@ -21,6 +21,15 @@ from .scene_schema import (
 FORMAT_NAME = "lantern-scene"
 FORMAT_VERSION = 1
 
+
+def fixed_time_member(name, compress_type=zipfile.ZIP_DEFLATED):
+    """A zip member stamped 1980-01-01: the same scene saves to the same bytes (writestr with a
+    bare name stamps the current time, two seconds apart from a save a moment later)."""
+    info = zipfile.ZipInfo(name, date_time=(1980, 1, 1, 0, 0, 0))
+    info.compress_type = compress_type
+    info.external_attr = 0o644 << 16
+    return info
+
 class Scene:
     """Film, camera, world, materials, meshes and lights, as in docs/scene_format.md.
 
@@ -405,11 +414,11 @@ class Scene:
         path = Path(path)
         tmp = path.with_name(path.name + ".tmp")
         with zipfile.ZipFile(tmp, "w", compression=zipfile.ZIP_DEFLATED) as zf:
-            zf.writestr("scene.json", json.dumps(doc, indent=1, allow_nan=False))
+            zf.writestr(fixed_time_member("scene.json"), json.dumps(doc, indent=1, allow_nan=False))
             for member, arr in arrays.items():
                 buf = io.BytesIO()
                 np.save(buf, arr, allow_pickle=False)
-                zf.writestr(member, buf.getvalue())
+                zf.writestr(fixed_time_member(member), buf.getvalue())
         tmp.replace(path)
 
     def summary(self):
