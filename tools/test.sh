@@ -4,7 +4,8 @@ set -uo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
 bash tools/setup.sh || exit 1
-echo "== C++ tests (ctest)"
+# each stage's header carries the seconds since this script began (CI's budget is 35 minutes)
+echo "== C++ tests (ctest) [set-up ended at ${SECONDS} s]"
 ctest=.venv/bin/ctest; [ -x "$ctest" ] || ctest=ctest
 "$ctest" --test-dir build/py --output-on-failure -j "$(nproc)"
 cpp=$?
@@ -15,7 +16,7 @@ cpp=$?
 # camera shade kernel (231k lines) is held by its launch bound alone: measured locally at 3,536 B
 # of stack, over 2 KB (bench/results/2026-12-05-kernels2); drop --max-lines and
 # --bounded-unmeasured-ok once it fits. The table in build/cuda_kernels.md, the time on its last line
-echo "== CUDA kernels (tools/cuda_kernel_check.py)"
+echo "== CUDA kernels (tools/cuda_kernel_check.py) [${SECONDS} s]"
 .venv/bin/python tools/cuda_kernel_check.py build/ptx -j 2 --max-lines 200000 \
   --bounded-unmeasured-ok > build/cuda_kernels.md
 kern=$?
@@ -48,14 +49,15 @@ done
 long=(-m "not long")
 [ "${LANTERN_TEST_LONG:-0}" = 1 ] && long=()
 run_unit() {  # $1: the unit's index; its log and exit status land in $logs
-  local unit=${units[$1]}
+  local unit=${units[$1]} t0=$SECONDS
   .venv/bin/python -m pytest -q -rs "${long[@]}" "${@:2}" "$unit" > "$logs/$1.log" 2>&1
   local rc=$?
   # a file whose tests a -k in "$@" deselects entirely collects nothing (5): not a failure
   [[ $rc -eq 5 && $unit == *.py ]] && rc=0
   echo $rc > "$logs/$1.rc"
+  echo "(unit wall $((SECONDS - t0)) s, ended at ${SECONDS} s)" >> "$logs/$1.log"
 }
-echo "== pytest: ${#units[@]} units, $lanes side by side"
+echo "== pytest: ${#units[@]} units, $lanes side by side [${SECONDS} s]"
 running=0
 for i in "${!units[@]}"; do
   if [ $running -ge "$lanes" ]; then wait -n; running=$((running - 1)); fi
@@ -70,5 +72,5 @@ for i in "${!units[@]}"; do
   rc=$(cat "$logs/$i.rc" 2>/dev/null || echo 1)
   [ "$rc" -ne 0 ] && py=$rc
 done
-echo "ctest exit $cpp, pytest exit $py"
+echo "ctest exit $cpp, pytest exit $py [${SECONDS} s]"
 [ $cpp -eq 0 ] && [ $py -eq 0 ]
