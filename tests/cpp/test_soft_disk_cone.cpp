@@ -1,9 +1,10 @@
-// pt's sampling of a soft-falloff point or spot light (Blender's default: a disk of radius r
-// through the centre, facing the receiver) by the solid angle the disk subtends
-// (sample_light's soft_cone, scene/lights.h), against the area sampler the bidirectional
-// integrators keep: samples on the facing disk with the pdf light_pdf_w gives their hits, the
-// same estimates (the analytic irradiance I / (d^2 + r^2), the area sampler's mean for a spot's
-// cone), and the variance near the bulb that made fireflies in fog (docs/volumes.md).
+// Next-event estimation's sampling of a soft-falloff point or spot light (Blender's default: a
+// disk of radius r through the centre, facing the receiver) by the solid angle the disk
+// subtends (sample_light, scene/lights.h), against an area sampler of the same disk written
+// here: samples on the facing disk with the pdf light_pdf_w gives their hits and the area
+// density soft_cone_area_pdf gives the bidirectional weights, the same estimates (the analytic
+// irradiance I / (d^2 + r^2), the area sampler's mean for a spot's cone), and the variance near
+// the bulb that made fireflies in fog (docs/volumes.md).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -42,13 +43,33 @@ struct Estimate {
     double mean, se;
 };
 
-// The mean of f(sample) over n samples of light l from p, cone (soft_cone) or area sampler.
+// The reference: the disk facing p sampled uniformly by area (pdf 1 / (pi r^2) converted to
+// solid angle), the spot's cone applied along the sampled ray.
+LightSample area_sample(const Light& l, Vec3 p, Vec2 u) {
+    LightSample ls{};
+    const Vec3 dir = normalize(l.position - p);
+    const Frame f = Frame::from_normal(-dir);
+    const Vec2 q = sample_concentric_disk(u);
+    const Vec3 y = l.position + (f.s * q.x + f.t * q.y) * l.radius;
+    const float dy2 = length_sq(y - p);
+    ls.wi = (y - p) / std::sqrt(dy2);
+    ls.dist = std::sqrt(dy2);
+    ls.pdf_w = pdf_a_to_w(1.0f / (kPi * l.radius * l.radius), dy2, dot(ls.wi, dir));
+    ls.p_light = y;
+    ls.n_light = -dir;
+    ls.le = l.radiance * (l.type == kLightSpot ? spot_attenuation(l, -ls.wi) : 1.0f);
+    ls.valid = ls.pdf_w > 0.0f;
+    return ls;
+}
+
+// The mean of f(sample) over n samples of light l from p, cone (sample_light) or area sampler.
 template <class F>
 Estimate estimate(const SceneView& v, const Light& l, Vec3 p, bool cone, F f, int n = 20000) {
     Pcg32 rng = Pcg32::for_path(cone ? 17 : 18, 0, 0);
     double sum = 0.0, sum2 = 0.0;
     for (int i = 0; i < n; ++i) {
-        const LightSample ls = sample_light(v, l, p, rng.uniform2(), cone);
+        const LightSample ls = cone ? sample_light(v, l, p, rng.uniform2())
+                                    : area_sample(l, p, rng.uniform2());
         const double x = ls.valid && ls.pdf_w > 0.0f ? f(ls) : 0.0;
         sum += x;
         sum2 += x * x;
@@ -65,8 +86,9 @@ Vec3 receiver(const Light& l, float d) {
 }  // namespace
 
 // Every sample lies on the disk through c facing p, its pdf is what light_pdf_w returns for
-// the hit there, and a ray along it hits that disk at its distance (the MIS weights of pt's
-// light hits use the same density).
+// the hit there (the MIS weights of light hits use it), its area density what
+// soft_cone_area_pdf returns (the bidirectional weights where a light path made the point),
+// and a ray along it hits that disk at its distance.
 TEST(SoftDiskCone, SamplesOnTheFacingDiskWithTheHitsPdf) {
     for (const char* type : {"point", "spot"}) {
         HostScene s = soft_scene(type);
@@ -76,14 +98,17 @@ TEST(SoftDiskCone, SamplesOnTheFacingDiskWithTheHitsPdf) {
             const Vec3 p = receiver(l, d), axis = normalize(p - l.position);
             Pcg32 rng = Pcg32::for_path(3, 0, 0);
             for (int i = 0; i < 500; ++i) {
-                const LightSample ls = sample_light(v, l, p, rng.uniform2(), true);
+                const LightSample ls = sample_light(v, l, p, rng.uniform2());
                 ASSERT_TRUE(ls.valid) << type << " d " << d;
                 const Vec3 q = ls.p_light - l.position;
                 EXPECT_LE(length(q), kR * (1.0f + 1e-3f)) << type << " d " << d;
                 EXPECT_NEAR(dot(q, axis), 0.0f, 1e-5f * (1.0f + d)) << type << " d " << d;
                 EXPECT_NEAR(length(ls.p_light - p), ls.dist, 1e-4f * ls.dist);
-                const float pdf = light_pdf_w(l, p, ls.wi, ls.dist, ls.n_light, true);
+                const float pdf = light_pdf_w(l, p, ls.wi, ls.dist, ls.n_light);
                 EXPECT_NEAR(pdf, ls.pdf_w, 1e-5f * ls.pdf_w) << type << " d " << d;
+                const float pdf_a = ls.pdf_w * fabsf(dot(ls.wi, ls.n_light)) / (ls.dist * ls.dist);
+                EXPECT_NEAR(soft_cone_area_pdf(l, p, ls.wi), pdf_a, 1e-4f * pdf_a)
+                    << type << " d " << d;
                 const LightHit h = intersect_light(l, p, ls.wi, 0.0f, kInf);
                 ASSERT_TRUE(h.hit || length(q) > kR * 0.999f) << type << " d " << d;
                 if (h.hit) {

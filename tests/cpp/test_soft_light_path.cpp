@@ -59,9 +59,13 @@ TEST(SoftLightPath, LightPathsStartOnSoftLights) {
     EXPECT_FLOAT_EQ(es.pdf_direct, 1.0f / (kPi * 0.01f));
     EXPECT_FLOAT_EQ(es.pdf_emit, es.pdf_direct * 0.25f * kInvPi);
     EXPECT_EQ(es.p.x, l.position.x);
-    // next-event estimation's density of y0 is 1 / (pi r^2) for any receiver
-    EXPECT_EQ(direct_pdf_receiver_ratio(l, vec3(1, 1, 1), vec3(0, 0, 1), 1.0f, vec3(0, 0, -1)),
-              1.0f);
+    // next-event estimation samples D(x) by its cone: the ratio to 1 / (pi r^2) is the cone's
+    // area density there, zero for a direction away from the disk
+    const Vec3 x = l.position + vec3(0.0f, 0.0f, -2.0f);
+    EXPECT_NEAR(direct_pdf_receiver_ratio(l, x, vec3(0, 0, 1), 2.0f, vec3(0, 0, -1)),
+                soft_cone_area_pdf(l, x, vec3(0, 0, 1)) * kPi * 0.01f, 1e-6f);
+    EXPECT_GT(direct_pdf_receiver_ratio(l, x, vec3(0, 0, 1), 2.0f, vec3(0, 0, -1)), 0.0f);
+    EXPECT_EQ(direct_pdf_receiver_ratio(l, x, vec3(0, 0, -1), 2.0f, vec3(0, 0, -1)), 0.0f);
 }
 
 TEST(SoftLightPath, FirstVertexDensityAndVisibility) {

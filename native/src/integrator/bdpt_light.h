@@ -142,12 +142,13 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
     // ---- MIS quantities at this vertex ----
     float dvcm = bs.dvcm[i], dvc = bs.dvc[i];
     const bool infinite = l.type == kLightSun || l.type == kLightWorld;
-    if (k == 1 && !infinite && !light_receiver_dependent(l)) {  // (a soft disk's is 1/(pi r^2))
+    if (k == 1 && !infinite) {
         // next-event estimation samples a sphere light's visible cap, a rectangle's solid
-        // angle: its area density at y0 depends on the receiver y1 (here), not 1 / area as
-        // assumed at generation
-        const Vec3 n0 = l.type == kLightArea ? -l.frame.axis(2)
-                                             : normalize(o_prev - l.position);
+        // angle, a soft disk's cone: its area density at y0 depends on the receiver y1 (here),
+        // not 1 / area as assumed at generation (a soft disk's path left its centre: no n0)
+        const Vec3 n0 = l.type == kLightArea        ? -l.frame.axis(2)
+                        : light_receiver_dependent(l) ? vec3(0.0f)
+                                                      : normalize(o_prev - l.position);
         dvcm *= mis(direct_pdf_receiver_ratio(l, h.p, wo_w, dist, n0));
     }
     if (k == 1) {  // next-event estimation from here picks this light with this probability

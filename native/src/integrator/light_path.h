@@ -161,13 +161,16 @@ LANTERN_HD inline Vec3 emission_weight(const EmissionSample& es) {
 }
 
 // Where next-event estimation's area density of a light point depends on the receiver (a
-// sphere light's visible cap, a rectangle sampled by solid angle: lights.h spherical_rect),
-// EmissionSample::pdf_direct holds the receiver-free 1/area. This is the factor that makes it
-// the density with which next-event estimation from receiver p samples light point y0 (normal
-// n0) along unit direction wi at distance dist: 1 where it samples by area (or not by position).
+// sphere light's visible cap, a rectangle sampled by solid angle: lights.h spherical_rect, a
+// soft-falloff disk by the cone it subtends), EmissionSample::pdf_direct holds the
+// receiver-free 1/area (a soft disk's: 1 / (pi r^2)). This is the factor that makes it the
+// density with which next-event estimation from receiver p samples light point y0 (normal n0)
+// along unit direction wi at distance dist: 1 where it samples by area (or not by position).
+// (A soft disk's needs wi alone: its plane through the centre faces p.)
 LANTERN_HD inline float direct_pdf_receiver_ratio(const Light& l, Vec3 p, Vec3 wi, float dist,
                                                   Vec3 n0) {
-    if (light_receiver_dependent(l)) return 1.0f;  // the disk facing p, sampled by area
+    if (light_receiver_dependent(l))
+        return soft_cone_area_pdf(l, p, wi) * (kPi * l.radius * l.radius);
     const bool sphere = (l.type == kLightPoint || l.type == kLightSpot) && l.radius > 0.0f;
     SphericalRect sr;
     if (!sphere && !spherical_rect(l, p, &sr)) return 1.0f;

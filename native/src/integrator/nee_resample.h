@@ -3,8 +3,8 @@
 // unshadowed contribution, one chosen with probability proportional to w_j = p-hat(x_j) /
 // p_src(x_j), one shadow ray. The chosen sample y carries W = (1 / p-hat(y)) (1/M) sum_j w_j
 // (DESIGN.md, resampled connections); the MIS weights stay those of the plain strategy (pick
-// pmf times the light's pdf), never the random W. pt's alone: light samples with soft_cone
-// (lights.h: soft-falloff disks by solid angle, as pt_light_pdf_w).
+// pmf times the light's pdf), never the random W. (Soft-falloff disks are
+// sampled by solid angle, lights.h, as pt_light_pdf_w's pdf assumes.)
 #pragma once
 
 #include "core/rng.h"
@@ -63,7 +63,7 @@ LANTERN_DEVICE_INLINE LANTERN_HD inline float nee_resample(const SceneView& s, V
         const Vec3 u = j == 0 ? u0 : Vec3{r.uniform(), r.uniform(), r.uniform()};
         const LightPick cp = light_pick(s, p, n_pick, u.x);
         if (!(cp.pmf > 0.0f)) continue;
-        const LightSample cs = sample_light(s, s.lights[cp.light], p, Vec2{u.y, u.z}, true);
+        const LightSample cs = sample_light(s, s.lights[cp.light], p, Vec2{u.y, u.z});
         if (!cs.valid) continue;
         const float src = cp.pmf * cs.pdf_w;  // a delta light's pdf_w is 1: its pmf
         const float ph = target(cs);
@@ -89,7 +89,7 @@ LANTERN_DEVICE_INLINE LANTERN_HD inline float nee_resample(const SceneView& s, V
         u = Vec3{r.uniform(), r.uniform(), r.uniform()};
     }
     *pick = light_pick(s, p, n_pick, u.x);
-    *ls = sample_light(s, s.lights[pick->light], p, Vec2{u.y, u.z}, true);
+    *ls = sample_light(s, s.lights[pick->light], p, Vec2{u.y, u.z});
     return sum / (float(m) * w[c]);
 }
 

@@ -98,15 +98,15 @@ LANTERN_HD inline float pt_emission_weight(const SceneView& s, const PathState& 
 // The solid-angle pdf next-event estimation has for the light point at distance t along d from
 // o, as pt_emission_weight needs it. In a scene with media a ray that crossed volume boundaries
 // since its last vertex starts beyond them: the pdf is the last vertex's (PathState::prev_p,
-// kept in scenes with media), at its own distance. pt samples soft-falloff disks by solid angle
-// (soft_cone in every one of its sample_light calls).
+// kept in scenes with media), at its own distance. (Soft-falloff disks: by solid
+// angle, as every integrator's next-event estimation samples them.)
 LANTERN_HD inline float pt_light_pdf_w(const SceneView& s, const PathState& ps, int i,
                                        const Light& l, Vec3 o, Vec3 d, float t, Vec3 n) {
     if (s.num_media > 0 && ps.depth[i] > 1) {
         const Vec3 q = ps.prev_p[i];
-        return light_pdf_w(l, q, d, length(o + d * t - q), n, true);
+        return light_pdf_w(l, q, d, length(o + d * t - q), n);
     }
-    return light_pdf_w(l, o, d, t, n, true);
+    return light_pdf_w(l, o, d, t, n);
 }
 
 // ---- Lights along the segment: lights are not opaque; a ray collects every light it crosses ----
@@ -340,7 +340,7 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
                                rest, u_pick.y, target, &pick, &ls);
     } else if (!delta_material) {
         pick = light_pick(s, h.p, n_pick, u_pick.x);
-        if (pick.pmf > 0.0f) ls = sample_light(s, s.lights[pick.light], h.p, u_light, true);
+        if (pick.pmf > 0.0f) ls = sample_light(s, s.lights[pick.light], h.p, u_light);
     }
     if (pick.pmf > 0.0f && (pick.light == s.world_light || s.lights[pick.light].of_world) &&
         s.world_rays != kWorldRaysAll && !pt_world_sees(s, m, ls.wi, h.ng))

@@ -153,7 +153,7 @@ LANTERN_HD inline void pt_sss_exit(const SceneView& s, const PathState& ps, cons
     const Vec2 u_light = rng.uniform2();
     const LightPick pick = light_pick(s, p, n_pick, u_pick.x);
     if (pick.pmf > 0.0f) {
-        LightSample ls = sample_light(s, s.lights[pick.light], p, u_light, true);
+        LightSample ls = sample_light(s, s.lights[pick.light], p, u_light);
         if ((pick.light == s.world_light || s.lights[pick.light].of_world) &&
             !(s.world_rays & kWorldDiffuse))
             ls.valid = false;  // the world hidden from diffuse rays lights nothing here

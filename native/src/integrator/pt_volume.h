@@ -52,7 +52,7 @@ LANTERN_HD inline void pt_medium_nee(const SceneView& s, const PathState& ps, in
     const Vec2 u_light = rng.uniform2();
     const LightPick pick = light_pick(s, p, vec3(0.0f), u_pick.x);
     if (!(pick.pmf > 0.0f) || is_black(factor)) return;
-    const LightSample ls = sample_light(s, s.lights[pick.light], p, u_light, true);
+    const LightSample ls = sample_light(s, s.lights[pick.light], p, u_light);
     const float pdf_light = pick.pmf * ls.pdf_w;
     if (!ls.valid || is_black(ls.le) || !(pdf_light > 0.0f)) return;
     if (pt_light_hidden(s, pick.light, kRayKindVolume)) return;  // ray visibility

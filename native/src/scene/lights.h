@@ -187,17 +187,29 @@ LANTERN_HD inline float soft_disk_one_minus_cos(float d2, float r2) {
     return r2 / (h * (h + sqrtf(d2)));
 }
 
-// sample_light's soft_cone (pt's next-event estimation; the bidirectional integrators keep the
-// area density their light paths' weights assume, soft_light_path.h): a soft-falloff disk's
-// point drawn uniformly in the solid angle it subtends, not uniformly over its area. Its
-// radiance is constant, so the estimate of its light (phase function or BSDF times cosine
-// aside) is exact; by area the estimate at a point d << r from the centre weighs the disk's
-// middle by r^2 / d^2 (relative second moment ~ r^2 / (8 d^2)), whose integral along a ray
-// through the bulb diverges: the fireflies in fog around a lamp (docs/volumes.md).
-// Out of line on the device (LANTERN_DEVICE_NOINLINE): pt_shade called it at three sites.
+// The area density on the disk facing p (a soft-falloff light's, centre c) of the point that
+// next-event estimation from p reaches along unit wi: the cone's 1 / (2 pi (1 - cos)) times
+// cos_y / |p - y|^2, with cos_y = dot(wi, (c - p) / d) and |p - y| = d / cos_y. What the
+// bidirectional weights need where a light path made that point (light_path.h).
+LANTERN_HD inline float soft_cone_area_pdf(const Light& l, Vec3 p, Vec3 wi) {
+    const Vec3 to_c = l.position - p;
+    const float d2 = length_sq(to_c);
+    if (!(d2 > 0.0f)) return 0.0f;
+    const float cos_y = dot(wi, to_c) / sqrtf(d2);
+    if (!(cos_y > 0.0f)) return 0.0f;
+    return cos_y * cos_y * cos_y / (2.0f * kPi * soft_disk_one_minus_cos(d2, l.radius * l.radius) *
+                                    d2);
+}
+
+// Next-event estimation of a soft-falloff disk (every integrator's): its point is drawn
+// uniformly in the solid angle the disk subtends, not uniformly over its area. Its radiance is
+// constant, so the estimate of its light (phase function or BSDF times cosine aside) is exact;
+// by area the estimate at a point d << r from the centre would weigh the disk's middle by
+// r^2 / d^2 (relative second moment ~ r^2 / (8 d^2)), whose integral along a ray through the
+// bulb diverges: the fireflies in fog around a lamp (docs/volumes.md). Light paths that start
+// on such a disk take y0 by area (soft_light_path.h); their weights use soft_cone_area_pdf.
 LANTERN_DEVICE_NOINLINE
-LANTERN_HD inline LightSample sample_light(const SceneView& s, const Light& l, Vec3 p, Vec2 u,
-                                          bool soft_cone = false) {
+LANTERN_HD inline LightSample sample_light(const SceneView& s, const Light& l, Vec3 p, Vec2 u) {
     LightSample ls{};
     ls.valid = false;
     ls.delta = false;
@@ -218,7 +230,7 @@ LANTERN_HD inline LightSample sample_light(const SceneView& s, const Light& l, V
             ls.pdf_w = 1.0f;
             ls.delta = true;
             ls.p_light = l.position;
-        } else if (l.soft_falloff && soft_cone) {
+        } else if (l.soft_falloff) {
             // the disk facing p, uniform in the cone it subtends (cos from 1 - a, a in [0, omc])
             const float omc = soft_disk_one_minus_cos(d2, l.radius * l.radius);
             const float a = u.x * omc;
@@ -235,22 +247,6 @@ LANTERN_HD inline LightSample sample_light(const SceneView& s, const Light& l, V
             ls.p_light = p + w * t;
             ls.n_light = -dir;
             ls.le = l.radiance * (l.type == kLightSpot ? spot_attenuation(l, -w) : 1.0f);
-        } else if (l.soft_falloff) {
-            // a disk of radius r through the centre, facing p: irradiance I / (d^2 + r^2)
-            Frame f = Frame::from_normal(-dir);
-            Vec2 q = sample_concentric_disk(u);
-            Vec3 y = l.position + (f.s * q.x + f.t * q.y) * l.radius;
-            Vec3 to = y - p;
-            float dy2 = length_sq(to);
-            float dy = sqrtf(dy2);
-            ls.wi = to / dy;
-            ls.dist = dy;
-            ls.pdf_w = pdf_a_to_w(1.0f / (kPi * l.radius * l.radius), dy2, dot(ls.wi, dir));
-            if (!(ls.pdf_w > 0.0f)) return ls;
-            ls.p_light = y;
-            ls.n_light = -dir;
-            // the cone applies along the sampled ray, as when a ray hits the disk
-            ls.le = l.radiance * (l.type == kLightSpot ? spot_attenuation(l, -ls.wi) : 1.0f);
         } else if (d2 <= l.radius * l.radius) {
             // inside the sphere light: its far side, uniform over directions; no spot cone
             // (Cycles: a receiver inside a sphere light sees its whole inner surface, unshaped)
@@ -349,21 +345,16 @@ LANTERN_HD inline LightSample sample_light(const SceneView& s, const Light& l, V
 
 // Solid-angle pdf with which sample_light would produce direction wi from p, for a light hit at
 // distance t with surface normal n (area, sphere and triangle lights; the sun ignores t; the
-// world's is world_pdf_w). soft_cone: as sample_light's (a soft-falloff disk by solid angle).
-LANTERN_HD inline float light_pdf_w(const Light& l, Vec3 p, Vec3 wi, float t, Vec3 n,
-                                    bool soft_cone = false) {
+// world's is world_pdf_w; a soft-falloff disk's: its cone, the same for every point on it).
+LANTERN_HD inline float light_pdf_w(const Light& l, Vec3 p, Vec3 wi, float t, Vec3 n) {
     switch (l.type) {
     case kLightPoint:
     case kLightSpot: {
         if (l.radius <= 0.0f) return 0.0f;
-        if (l.soft_falloff && soft_cone) {
+        if (l.soft_falloff) {
             const float d2 = length_sq(l.position - p);
             if (!(d2 > 0.0f)) return 0.0f;
             return 1.0f / (2.0f * kPi * soft_disk_one_minus_cos(d2, l.radius * l.radius));
-        }
-        if (l.soft_falloff) {
-            Vec3 n = normalize(p - l.position);
-            return pdf_a_to_w(1.0f / (kPi * l.radius * l.radius), t * t, fabsf(dot(wi, n)));
         }
         float d2 = length_sq(l.position - p);
         if (d2 <= l.radius * l.radius) return 1.0f / (4.0f * kPi);  // inside: uniform
