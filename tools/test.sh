@@ -13,11 +13,12 @@ cpp=$?
 # kernel once, from a PTX module of its own: tools/cuda_kernel_check.py, on the PTX the build kept
 # in build/ptx), pt shade too since its large device functions are out of line on the device
 # (LANTERN_DEVICE_NOINLINE: 430k -> 148k PTX lines, ptxas 98 s of CPU and 2.1 GB). Only the
-# camera shade kernel (231k lines) is held by its launch bound alone: measured locally at 3,536 B
-# of stack, over 2 KB (bench/results/2026-12-05-kernels2); drop --max-lines and
-# --bounded-unmeasured-ok once it fits. The table in build/cuda_kernels.md, the time on its last line
+# camera shade kernel (162k lines) is held by its launch bound alone: measured locally at 3,072 B
+# of stack, over 2 KB (ptxas 119 s of CPU, 2.7 GB; bench/results/2026-12-05-kernels3), so the cap
+# sits between pt shade and it; drop --max-lines and --bounded-unmeasured-ok once it fits (CI
+# would then fail on it, and spend those 2 minutes). The table in build/cuda_kernels.md, the time on its last line
 echo "== CUDA kernels (tools/cuda_kernel_check.py) [${SECONDS} s]"
-.venv/bin/python tools/cuda_kernel_check.py build/ptx -j 2 --max-lines 200000 \
+.venv/bin/python tools/cuda_kernel_check.py build/ptx -j 2 --max-lines 155000 \
   --bounded-unmeasured-ok > build/cuda_kernels.md
 kern=$?
 tail -1 build/cuda_kernels.md

@@ -224,6 +224,9 @@ LANTERN_HD inline Connection bdpt_connect_in(const SceneView& s, const BdptSetti
     return r;
 }
 
+// Out of line on the device (LANTERN_DEVICE_NOINLINE): bdpt_camera_connect connects at four
+// sites (own path, lvc, cis's candidates and its picks), each a copy in the camera shade kernel.
+LANTERN_DEVICE_NOINLINE
 LANTERN_HD inline Connection bdpt_connect(const SceneView& s, const BdptSettings& st,
                                           const CameraVertex& z, const LightVertex& y) {
     bool clobbered = false;  // the cache vertex's material took z's scratch (kOneScratch)
@@ -273,7 +276,9 @@ LANTERN_HD inline int32_t cache_pick(uint32_t bits, int32_t size) {
 }
 
 // Connections of camera vertex z to the cache: bdpt (own light path), lvc (uniform) or cis
-// (resampled). Each queued shadow ray carries its estimator weight.
+// (resampled). Each queued shadow ray carries its estimator weight. Out of line on the device
+// (LANTERN_DEVICE_NOINLINE): one copy for the surface and the medium vertex.
+LANTERN_DEVICE_NOINLINE
 LANTERN_HD inline void bdpt_camera_connect(const SceneView& s, const BdptState& bs,
                                            const BdptSettings& st, const LightCache& cache,
                                            const CameraVertex& z, int i, int64_t path) {

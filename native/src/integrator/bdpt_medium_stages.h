@@ -377,7 +377,9 @@ LANTERN_HD inline Connection bdpt_connect_medium(const SceneView& s, const BdptS
 }
 
 // A medium camera vertex at p reached along d in medium med: its next event, connections and
-// continuation (the camera pass's medium vertex).
+// continuation (the camera pass's medium vertex). Out of line on the device
+// (LANTERN_DEVICE_NOINLINE): one copy, not one in each of the two segment stages above it.
+LANTERN_DEVICE_NOINLINE
 LANTERN_HD inline void bdpt_camera_medium_vertex(const SceneView& s, const PathState& ps,
                                                  const BdptState& bs, const BdptSettings& st,
                                                  const LightCache& cache, int i, int64_t path,
