@@ -20,18 +20,10 @@ import numpy as np
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, "python"))
 import lantern  # noqa: E402
+from lantern.scenes import aabb_mesh  # noqa: E402
 
 B = 8   # kMajorantBrick
 HALF = 0.3   # the camera's half window at unit distance
-
-
-def box(lo, hi):
-    x0, y0, z0 = lo
-    x1, y1, z1 = hi
-    p = np.array([[x, y, z] for z in (z0, z1) for y in (y0, y1) for x in (x0, x1)], np.float32)
-    quads = [(0, 2, 3, 1), (4, 5, 7, 6), (0, 1, 5, 4), (2, 6, 7, 3), (0, 4, 6, 2), (1, 3, 7, 5)]
-    idx = [[a, b, c] for a, b, c, d in quads] + [[a, c, d] for a, b, c, d in quads]
-    return p, np.array(idx, np.uint32)
 
 
 def sparse_voxels(n):
@@ -60,7 +52,7 @@ def scene(n, size):
     s.materials[mat].update(volume={"sigma_a": [0.2, 0.2, 0.2], "sigma_s": [0.8, 0.8, 0.8]},
                             volume_only=True, density_grid=g)
     lo, hi = -1 - voxel / 2, 1 + voxel / 2   # the grid's trilinear support
-    p, idx = box((lo, lo, lo), (hi, hi, hi))
+    p, idx = aabb_mesh((lo, lo, lo), (hi, hi, hi))
     s.add_mesh(p, idx, material=mat)
     s.lights.append({"type": "sun", "direction": [-0.3, 0.4, -0.87], "strength": [3.0] * 3,
                      "angle": 0.05})

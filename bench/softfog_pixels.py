@@ -14,10 +14,8 @@ import time
 import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-sys.path.insert(0, os.path.join(ROOT, "python"))
 sys.path.insert(0, os.path.join(ROOT, "bench"))
-sys.path.insert(0, os.path.join(ROOT, "tests", "cycles"))
-sys.path.insert(0, os.path.join(ROOT, "tools"))
+import volumes_vs_cycles as vs_cycles  # noqa: E402  (adds tests/cycles, tools)
 import automedia_cycles as ac  # noqa: E402
 import render_compare as rc  # noqa: E402
 
@@ -35,18 +33,11 @@ def main():
     rc.lantern_bpy.load_addon()
     from lantern_blender.export import export_scene
 
-    def emit(line):
-        print(line, flush=True)
-        with open(args.out, "a") as f:
-            f.write(line + "\n")
-
+    emit = vs_cycles.emitter(args.out)
     emit(f"# {' '.join(sys.argv)}")
-    emit(f"# load {os.getloadavg()[0]:.1f}; {args.scene}, {args.spp} spp x {args.seeds} seeds, "
-         f"1 thread")
-    ac.SCENES[args.scene]()
+    emit(f"# {vs_cycles.machine()}; {args.scene}, {args.spp} spp x {args.seeds} seeds, 1 thread")
+    vs_cycles.build_scene(ac.SCENES[args.scene], threads=1)
     scene, _ = export_scene(bpy.context.evaluated_depsgraph_get())
-    bpy.context.scene.render.threads_mode = "FIXED"
-    bpy.context.scene.render.threads = 1
     for b in args.bounces:
         rc.BOUNCES = b
         lan, cyc, tl, tc = [], [], [], []

@@ -21,6 +21,30 @@ import test_volumes as tv  # noqa: E402
 from lantern import metrics  # noqa: E402
 
 
+def machine():
+    """The machine and its load, for a results line."""
+    return (f"{platform.node()} {platform.processor() or platform.machine()}, "
+            f"{os.cpu_count()} cores, load {os.getloadavg()[0]:.1f}")
+
+
+def emitter(out):
+    """A function printing a line and appending it to the results file `out`."""
+    def emit(line):
+        print(line, flush=True)
+        with open(out, "a") as f:
+            f.write(line + "\n")
+    return emit
+
+
+def build_scene(build, threads=1):
+    """Build a volume scene in bpy with `build` (a tests/cycles scene builder) and fix Cycles'
+    thread count to `threads`; returns the bpy scene."""
+    build()
+    bpy_scene = __import__("bpy").context.scene
+    bpy_scene.render.threads_mode, bpy_scene.render.threads = "FIXED", threads
+    return bpy_scene
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--scenes", nargs="+", default=list(tv.SCENES))
@@ -29,12 +53,10 @@ def main():
     ap.add_argument("--threads", type=int, default=1)
     ap.add_argument("--out", required=True)
     args = ap.parse_args()
-    machine = f"{platform.node()} {platform.processor() or platform.machine()}, " \
-              f"{os.cpu_count()} cores, load {os.getloadavg()[0]:.1f}"
+    where = machine()
+    emit = emitter(args.out)
     for name in args.scenes:
-        tv.SCENES[name]()
-        bpy_scene = __import__("bpy").context.scene
-        bpy_scene.render.threads_mode, bpy_scene.render.threads = "FIXED", args.threads
+        build_scene(tv.SCENES[name], args.threads)
         t0 = time.perf_counter()
         cyc = np.stack([rc.render_cycles(seed=900 + k, spp=args.spp)[0]
                         for k in range(args.seeds)]).astype(np.float64)
@@ -46,10 +68,8 @@ def main():
         res = metrics.compare_renders(lan, cyc, block=rc.BLOCK, se_floor=tv.SE_FLOOR, name=name)
         line = (f"{name}: {args.seeds} seeds x {args.spp} spp a side, {args.threads} thread(s); "
                 f"mean ratio Lantern/Cycles {lan.mean() / cyc.mean():.4f}; {res}; wall per seed "
-                f"Lantern {t_lan:.1f} s, Cycles {t_cyc:.1f} s (incl. export/setup); {machine}")
-        print(line, flush=True)
-        with open(args.out, "a") as f:
-            f.write(line + "\n")
+                f"Lantern {t_lan:.1f} s, Cycles {t_cyc:.1f} s (incl. export/setup); {where}")
+        emit(line)
 
 
 if __name__ == "__main__":

@@ -35,8 +35,9 @@ lanes=${LANTERN_TEST_LANES:-$(nproc)}
 logs=build/test-logs
 rm -rf "$logs"; mkdir -p "$logs"
 # the longest units first (measured at load 3-6 on 2 cores: test_bidirectional 30 min, tests/cycles
-# 11, tests/render 9, test_mitsuba 7), so that the lanes end close together
-units=(tests/python/test_bidirectional.py tests/python/test_mitsuba.py)
+# 11, tests/render 9, test_mitsuba 7: now its Tungsten half, test_mitsuba_tungsten), so that the
+# lanes end close together
+units=(tests/python/test_bidirectional.py tests/python/test_mitsuba_tungsten.py)
 for dir in tests/cycles/ tests/blender/ tests/render/ tests/*/; do
   [ "$dir" = "tests/cpp/" ] || [ "$dir" = "tests/python/" ] && continue
   ls "$dir"test_*.py >/dev/null 2>&1 || continue

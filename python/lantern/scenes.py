@@ -44,6 +44,18 @@ def icosphere(subdivisions=3, radius=1.0, center=(0.0, 0.0, 0.0)):
     return pos.astype(np.float32), np.array(faces, dtype=np.uint32)
 
 
+def aabb_mesh(lo, hi):
+    """Axis-aligned box from corner `lo` to corner `hi`: positions float32 (8, 3), indices
+    uint32 (12, 3), wound counter-clockwise seen from outside (outward normals). The one box
+    builder the tests and benches share (reverse the index columns for a cavity's walls)."""
+    x0, y0, z0 = lo
+    x1, y1, z1 = hi
+    p = np.array([[x, y, z] for z in (z0, z1) for y in (y0, y1) for x in (x0, x1)], np.float32)
+    quads = [(0, 2, 3, 1), (4, 5, 7, 6), (0, 1, 5, 4), (2, 6, 7, 3), (0, 4, 6, 2), (1, 3, 7, 5)]
+    idx = [[a, b, c] for a, b, c, d in quads] + [[a, c, d] for a, b, c, d in quads]
+    return p, np.array(idx, np.uint32)
+
+
 def furnace_expected(emission, albedo, max_depth):
     """Radiance every pixel converges to in `furnace_sphere`: Le * sum_{k=0}^{D-1} a^k."""
     a = np.asarray(albedo, dtype=np.float64) * np.ones(3)

@@ -39,6 +39,16 @@ def bsdf_material(name, node_type, color, roughness=None):
     return mat
 
 
+def rough_material(name, color):
+    """The default Principled BSDF material with Base Color `color` and Roughness 1 (the walls
+    and floors of the volume scenes)."""
+    m = bpy.data.materials.new(name)
+    m.use_nodes = True
+    m.node_tree.nodes["Principled BSDF"].inputs["Base Color"].default_value = (*color, 1.0)
+    m.node_tree.nodes["Principled BSDF"].inputs["Roughness"].default_value = 1.0
+    return m
+
+
 def bounces(n):
     """An autouse fixture for a test module: render_compare.BOUNCES is `n` (Cycles' max bounces;
     Lantern's max_depth n + 2) during each of its tests. `_bounces = bpy_stage.bounces(4)`."""

@@ -17,6 +17,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 sys.path.insert(0, os.path.join(ROOT, "tools"))
 import bpy_stage  # noqa: E402
 from bpy_stage import camera as _camera, cube as _cube, light as _light  # noqa: E402
+from bpy_stage import rough_material as _material  # noqa: E402
 
 K = 8
 SIZE = 32
@@ -24,14 +25,6 @@ SPP = (256, 256)
 SE_FLOOR = 1e-6
 FOG = 0.8      # the outer fog's density
 INNER = 1.0    # the inner cube's
-
-
-def _material(name, color):
-    m = bpy.data.materials.new(name)
-    m.use_nodes = True
-    m.node_tree.nodes["Principled BSDF"].inputs["Base Color"].default_value = (*color, 1.0)
-    m.node_tree.nodes["Principled BSDF"].inputs["Roughness"].default_value = 1.0
-    return m
 
 
 def _volume(name, density, color, surface=None):

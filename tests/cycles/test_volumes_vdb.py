@@ -22,6 +22,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 sys.path.insert(0, os.path.join(ROOT, "tools"))
 import bpy_stage  # noqa: E402
 from bpy_stage import camera as _camera, cube as _cube, light as _light  # noqa: E402
+from bpy_stage import rough_material as _material  # noqa: E402
 
 K = 8
 SIZE = 32
@@ -51,14 +52,6 @@ def write_vdb(path):
     m = np.array([[voxel, 0, 0, -0.5 + voxel / 2], [0, voxel, 0, -0.5 + voxel / 2],
                   [0, 0, voxel, -0.5 + voxel / 2], [0, 0, 0, 1]], np.float64)
     lantern._core.vdb_write(str(path), "density", smoke_voxels(n), m)
-
-
-def _material(name, color):
-    m = bpy.data.materials.new(name)
-    m.use_nodes = True
-    m.node_tree.nodes["Principled BSDF"].inputs["Base Color"].default_value = (*color, 1.0)
-    m.node_tree.nodes["Principled BSDF"].inputs["Roughness"].default_value = 1.0
-    return m
 
 
 def _smoke_material():

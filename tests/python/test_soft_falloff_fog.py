@@ -6,11 +6,11 @@ estimate the same light by different densities, in the medium (equiangular and f
 next-event estimation, phase-sampled hits on the disk and their MIS weights) and on surfaces.
 pt against bdpt, independent seeds (lantern.agreement, with its negative controls); and a
 wrong bulb (radius 0.13 m instead of 0.1 m) told apart."""
-import numpy as np
 import pytest
 
 import lantern
 from lantern import metrics, scenes
+from lantern.scenes import aabb_mesh
 
 SIZE = 16
 K = 16
@@ -23,16 +23,6 @@ def core():
         pytest.skip(f"lantern._core is not built ({lantern.native_error()})")
     from lantern import _core
     return _core
-
-
-def _box(lo, hi):
-    """Positions and outward triangles of an axis-aligned box."""
-    x0, y0, z0 = lo
-    x1, y1, z1 = hi
-    p = np.array([[x, y, z] for z in (z0, z1) for y in (y0, y1) for x in (x0, x1)], np.float32)
-    quads = [(0, 2, 3, 1), (4, 5, 7, 6), (0, 1, 5, 4), (2, 6, 7, 3), (0, 4, 6, 2), (1, 3, 7, 5)]
-    idx = [[a, b, c] for a, b, c, d in quads] + [[a, c, d] for a, b, c, d in quads]
-    return p, np.array(idx, np.uint32)
 
 
 def lamp_over_fog(radius=0.1, top=1.25):
@@ -49,7 +39,7 @@ def lamp_over_fog(radius=0.1, top=1.25):
     m = scene.add_material("fog")
     scene.materials[m]["volume"] = {"sigma_s": [0.8] * 3, "sigma_a": [0.02, 0.05, 0.1]}
     scene.materials[m]["volume_only"] = True
-    p, idx = _box((-0.9, -0.9, 0.05), (0.9, 0.9, top))
+    p, idx = aabb_mesh((-0.9, -0.9, 0.05), (0.9, 0.9, top))
     scene.add_mesh(p, idx, material=m)
     return scene
 

@@ -11,6 +11,7 @@ import pytest
 
 import lantern
 from lantern import metrics, scenes
+from lantern.scenes import aabb_mesh
 
 pytestmark = pytest.mark.skipif(not lantern.native_available(), reason="native core unavailable")
 
@@ -75,13 +76,8 @@ def slab_scene(weight, subsurface=True):
     sss = {"weight": weight, "radius": [0.2, 0.1, 0.05]} if subsurface else None
     m = s.add_material("slab", type="principled", base_color=(0.9, 0.8, 0.7), roughness=0.5,
                        subsurface=sss)
-    lo, hi = (-1.0, -1.0, -2.1), (1.0, 1.0, -2.0)
-    x0, y0, z0 = lo
-    x1, y1, z1 = hi
-    p = np.array([[x, y, z] for z in (z0, z1) for y in (y0, y1) for x in (x0, x1)], np.float32)
-    quads = [(0, 2, 3, 1), (4, 5, 7, 6), (0, 1, 5, 4), (2, 6, 7, 3), (0, 4, 6, 2), (1, 3, 7, 5)]
-    idx = [[a, b, c] for a, b, c, d in quads] + [[a, c, d] for a, b, c, d in quads]
-    s.add_mesh(p, np.array(idx, np.uint32), material=m)
+    p, idx = aabb_mesh((-1.0, -1.0, -2.1), (1.0, 1.0, -2.0))
+    s.add_mesh(p, idx, material=m)
     e = s.add_material("lamp", base_color=0.0, emission=2.0)
     q = np.array([[-2, -2, -3], [2, -2, -3], [2, 2, -3], [-2, 2, -3]], np.float32)
     s.add_mesh(q, np.array([[0, 1, 2], [0, 2, 3]], np.uint32), material=e)

@@ -16,6 +16,7 @@ import pytest
 
 import lantern
 from lantern import metrics, scenes
+from lantern.scenes import aabb_mesh
 
 SIZE = 32
 K = 12            # seeds a side
@@ -44,21 +45,11 @@ def renders(scene, integrator, spp, seed0, k_seeds=K, max_depth=DEPTH, steps=4):
     return out
 
 
-def _box(lo, hi):
-    """Positions and outward (counter-clockwise) triangles of an axis-aligned box."""
-    x0, y0, z0 = lo
-    x1, y1, z1 = hi
-    p = np.array([[x, y, z] for z in (z0, z1) for y in (y0, y1) for x in (x0, x1)], np.float32)
-    quads = [(0, 2, 3, 1), (4, 5, 7, 6), (0, 1, 5, 4), (2, 6, 7, 3), (0, 4, 6, 2), (1, 3, 7, 5)]
-    idx = [[a, b, c] for a, b, c, d in quads] + [[a, c, d] for a, b, c, d in quads]
-    return p, np.array(idx, np.uint32)
-
-
 def _volume_box(scene, name, volume, lo, hi):
     m = scene.add_material(name)
     scene.materials[m]["volume"] = volume
     scene.materials[m]["volume_only"] = True
-    p, idx = _box(lo, hi)
+    p, idx = aabb_mesh(lo, hi)
     scene.add_mesh(p, idx, material=m, name=name)
 
 

@@ -10,6 +10,7 @@ import pytest
 
 import lantern
 from lantern import metrics, scenes
+from lantern.scenes import aabb_mesh
 
 SIZE = 32
 K = 8
@@ -22,15 +23,6 @@ def core():
         pytest.skip(f"lantern._core is not built ({lantern.native_error()})")
 
 
-def _box(lo, hi):
-    x0, y0, z0 = lo
-    x1, y1, z1 = hi
-    p = np.array([[x, y, z] for z in (z0, z1) for y in (y0, y1) for x in (x0, x1)], np.float32)
-    quads = [(0, 2, 3, 1), (4, 5, 7, 6), (0, 1, 5, 4), (2, 6, 7, 3), (0, 4, 6, 2), (1, 3, 7, 5)]
-    idx = [[a, b, c] for a, b, c, d in quads] + [[a, c, d] for a, b, c, d in quads]
-    return p, np.array(idx, np.uint32)
-
-
 def fog_on_floor(bottom):
     """The Cornell box (no inner boxes) with a scattering fog box whose bottom is at z = bottom
     (the floor's plane is z = 0)."""
@@ -38,7 +30,7 @@ def fog_on_floor(bottom):
     m = scene.add_material("fog")
     scene.materials[m]["volume"] = {"sigma_s": [0.8, 0.8, 0.8], "sigma_a": [0.05, 0.1, 0.2]}
     scene.materials[m]["volume_only"] = True
-    p, idx = _box((-0.8, -0.8, bottom), (0.8, 0.8, 1.2))
+    p, idx = aabb_mesh((-0.8, -0.8, bottom), (0.8, 0.8, 1.2))
     scene.add_mesh(p, idx, material=m, name="fog")
     return scene
 

@@ -17,6 +17,7 @@ import numpy as np
 import pytest
 
 import lantern
+from lantern.scenes import aabb_mesh
 
 pytestmark = pytest.mark.skipif(not lantern.native_available(), reason="native core unavailable")
 
@@ -40,15 +41,6 @@ def _spectral():
     return importlib.import_module("export.node_spectral")
 
 
-def _box(lo, hi):
-    x0, y0, z0 = lo
-    x1, y1, z1 = hi
-    p = np.array([[x, y, z] for z in (z0, z1) for y in (y0, y1) for x in (x0, x1)], np.float32)
-    quads = [(0, 2, 3, 1), (4, 5, 7, 6), (0, 1, 5, 4), (2, 6, 7, 3), (0, 4, 6, 2), (1, 3, 7, 5)]
-    idx = [[a, b, c] for a, b, c, d in quads] + [[a, c, d] for a, b, c, d in quads]
-    return p, np.array(idx, np.uint32)
-
-
 def fire_scene(temperature=T_SOCKET, flame=True, temps=None):
     nz, ny, nx = N
     m = np.array([[0.1, 0, 0, -1], [0, 0.1, 0, -1], [0, 0, 0.1, -3], [0, 0, 0, 1]], np.float64)
@@ -69,7 +61,7 @@ def fire_scene(temperature=T_SOCKET, flame=True, temps=None):
     s.materials[mat].update(volume=vol, volume_only=True, density_grid=g, temperature_grid=t)
     if flame:
         s.materials[mat]["flame_grid"] = f
-    p, idx = _box((-0.95, -0.95, -2.999), (0.95, 0.95, -2.001))
+    p, idx = aabb_mesh((-0.95, -0.95, -2.999), (0.95, 0.95, -2.001))
     s.add_mesh(p, idx, material=mat)
     return s
 

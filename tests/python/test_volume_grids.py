@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 import lantern
+from lantern.scenes import aabb_mesh
 
 pytestmark = [
     pytest.mark.skipif(not lantern.native_available(), reason="native core unavailable"),
@@ -18,15 +19,6 @@ pytestmark = [
 SIGMA_A = [0.2, 0.5, 1.0]
 N = (11, 21, 21)   # nz, ny, nx
 VOXEL = 0.1
-
-
-def _box(lo, hi):
-    x0, y0, z0 = lo
-    x1, y1, z1 = hi
-    p = np.array([[x, y, z] for z in (z0, z1) for y in (y0, y1) for x in (x0, x1)], np.float32)
-    quads = [(0, 2, 3, 1), (4, 5, 7, 6), (0, 1, 5, 4), (2, 6, 7, 3), (0, 4, 6, 2), (1, 3, 7, 5)]
-    idx = [[a, b, c] for a, b, c, d in quads] + [[a, c, d] for a, b, c, d in quads]
-    return p, np.array(idx, np.uint32)
 
 
 def ramp_vdb(path):
@@ -50,7 +42,7 @@ def smoke_scene(voxels, index_to_world):
     g = s.add_grid(voxels, index_to_world, name="smoke:density")
     m = s.add_material("smoke")
     s.materials[m].update(volume={"sigma_a": SIGMA_A}, volume_only=True, density_grid=g)
-    p, idx = _box((-0.95, -0.95, -2.999), (0.95, 0.95, -2.001))
+    p, idx = aabb_mesh((-0.95, -0.95, -2.999), (0.95, 0.95, -2.001))
     s.add_mesh(p, idx, material=m)
     return s
 

@@ -24,8 +24,9 @@ import numpy as np
 import pytest
 
 from lantern import metrics, scenes
+from lantern.scenes import aabb_mesh
 
-from test_volume_bidir import _box, core  # noqa: F401
+from test_volume_bidir import core  # noqa: F401
 from test_volume_bidir import renders as bidir_renders
 
 SIZE = 24
@@ -64,7 +65,7 @@ SMOKE = {"sigma_s": [0.85, 0.8, 0.7], "sigma_a": [0.065, 0.091, 0.135], "g": 0.2
 
 
 def _volume_mesh(scene, name, material, lo, hi):
-    p, idx = _box(lo, hi)
+    p, idx = aabb_mesh(lo, hi)
     scene.add_mesh(p, idx, material=material, name=name)
 
 

@@ -8,20 +8,11 @@ import numpy as np
 import pytest
 
 import lantern
+from lantern.scenes import aabb_mesh
 
 pytestmark = pytest.mark.skipif(not lantern.native_available(), reason="native core unavailable")
 
 SIGMA_A = [0.2, 0.5, 1.0]
-
-
-def _box(lo, hi):
-    """Positions and outward (counter-clockwise) triangles of an axis-aligned box."""
-    x0, y0, z0 = lo
-    x1, y1, z1 = hi
-    p = np.array([[x, y, z] for z in (z0, z1) for y in (y0, y1) for x in (x0, x1)], np.float32)
-    quads = [(0, 2, 3, 1), (4, 5, 7, 6), (0, 1, 5, 4), (2, 6, 7, 3), (0, 4, 6, 2), (1, 3, 7, 5)]
-    idx = [[a, b, c] for a, b, c, d in quads] + [[a, c, d] for a, b, c, d in quads]
-    return p, np.array(idx, np.uint32)
 
 
 def slab_scene(volume=None, world_volume=None):
@@ -34,13 +25,13 @@ def slab_scene(volume=None, world_volume=None):
     m = s.add_material("slab")
     s.materials[m]["volume"] = volume or {"sigma_a": SIGMA_A}
     s.materials[m]["volume_only"] = True
-    p, idx = _box((-1, -1, -3), (1, 1, -2))
+    p, idx = aabb_mesh((-1, -1, -3), (1, 1, -2))
     s.add_mesh(p, idx, material=m)
     return s
 
 
 def test_box_faces_outwards():
-    p, idx = _box((-1, -1, -3), (1, 1, -2))
+    p, idx = aabb_mesh((-1, -1, -3), (1, 1, -2))
     c = p.mean(axis=0)
     for t in idx:
         a, b, cc = p[t]
