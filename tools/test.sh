@@ -24,29 +24,30 @@ kern=$?
 tail -1 build/cuda_kernels.md
 [ $kern -ne 0 ] && grep FAIL build/cuda_kernels.md && cpp=$kern
 # pytest, one process per unit: bpy brings its own OpenImageIO and Embree into the process, and
-# same-named test modules in different folders must not meet in one session. A unit is a folder
-# (tests/blender shares session fixtures; tests/cycles and tests/render are short) or one file of
-# tests/python (no shared fixtures; the longest folder). Units run side by side,
-# LANTERN_TEST_LANES at a time (default: the cores, at most 4), longest first; each unit's output
-# is printed whole, in order, once all have ended.
+# same-named test modules in different folders must not meet in one session. A unit is one test
+# file, except tests/blender (its files share session fixtures): tests/cycles as one unit was
+# CI's critical path (1,237 s of CPU, 2,095 s of wall measured alone, while 4 lanes had room).
+# Units run side by side, LANTERN_TEST_LANES at a time (default: the cores, at most 4), longest
+# first; each unit's output is printed whole, in order, once all have ended, then the slowest.
 lanes=${LANTERN_TEST_LANES:-$(nproc)}
 [ "$lanes" -gt 4 ] && lanes=4
 [ "$lanes" -lt 1 ] && lanes=1
 logs=build/test-logs
 rm -rf "$logs"; mkdir -p "$logs"
-# the longest units first (measured at load 3-6 on 2 cores: test_bidirectional 30 min, tests/cycles
-# 11, tests/render 9, test_mitsuba 7: now its Tungsten half, test_mitsuba_tungsten), so that the
-# lanes end close together
-units=(tests/python/test_bidirectional.py tests/python/test_mitsuba_tungsten.py)
-for dir in tests/cycles/ tests/blender/ tests/render/ tests/*/; do
-  [ "$dir" = "tests/cpp/" ] || [ "$dir" = "tests/python/" ] && continue
-  ls "$dir"test_*.py >/dev/null 2>&1 || continue
-  [[ " ${units[*]} " == *" $dir "* ]] && continue
-  units+=("$dir")
+# the longest units first (CPU seconds per unit, bench/results/2026-12-05-ci-time), so that the
+# lanes end close together; every other unit after them
+units=(tests/python/test_bidirectional.py tests/python/test_volume_bdpt.py
+       tests/python/test_light_tracing.py tests/python/test_mitsuba_tungsten.py
+       tests/python/test_light_tree.py tests/cycles/test_volumes.py
+       tests/render/test_cycles_compare.py tests/cycles/test_volumes_hetero.py
+       tests/cycles/test_volumes_fire.py tests/render/test_world_cycles.py tests/blender/)
+add_unit() { [[ " ${units[*]} " == *" $1 "* ]] || units+=("$1"); }
+for f in tests/cycles/test_*.py tests/render/test_*.py; do add_unit "$f"; done
+for dir in tests/*/; do
+  case "$dir" in tests/cpp/|tests/python/|tests/cycles/|tests/render/) continue ;; esac
+  ls "$dir"test_*.py >/dev/null 2>&1 && add_unit "$dir"
 done
-for f in tests/python/test_*.py; do
-  [[ " ${units[*]} " == *" $f "* ]] || units+=("$f")
-done
+for f in tests/python/test_*.py; do add_unit "$f"; done
 # tests marked `long` (long statistical runs: bench/long_tests.sh) only with LANTERN_TEST_LONG=1
 long=(-m "not long")
 [ "${LANTERN_TEST_LONG:-0}" = 1 ] && long=()
@@ -74,5 +75,10 @@ for i in "${!units[@]}"; do
   rc=$(cat "$logs/$i.rc" 2>/dev/null || echo 1)
   [ "$rc" -ne 0 ] && py=$rc
 done
+echo "== the slowest pytest units (wall seconds; lanes ran side by side)"
+for i in "${!units[@]}"; do
+  w=$(sed -n 's/^(unit wall \([0-9]*\) s.*/\1/p' "$logs/$i.log" 2>/dev/null | tail -1)
+  echo "${w:-0} ${units[$i]}"
+done | sort -rn | head -12
 echo "ctest exit $cpp, pytest exit $py [${SECONDS} s]"
 [ $cpp -eq 0 ] && [ $py -eq 0 ]
