@@ -6,12 +6,15 @@ a time, each from a PTX module of its own (ptx_parse.kernel_ptx: reading a whole
 unit's 38 MB of PTX cost ptxas 5 s of CPU per kernel), the same code once (ptx_parse.
 code_digest: the trace kernel is compiled in six places), the largest first, -j at a time.
 
-    python3 tools/cuda_kernel_check.py build/ptx [-j 2] [--max-lines N] [--update]
+    python3 tools/cuda_kernel_check.py build/ptx [-j 2] [--max-lines N] [--record] [--update]
 
 --max-lines N leaves kernels of more PTX lines to the record tools/cuda_kernel_resources.json
 (keyed by the code digest, written by --update); a kernel neither measured nor in the record
-fails, named, with the command that refreshes the record. Without it (CI) every kernel is
-measured here. A kernel's launch bound (`.maxnreg`, `.maxntid` x `.minnctapersm`) is listed.
+fails, named, with the command that refreshes the record. --record takes every kernel whose code
+digest is in the record from it (ptxas measured that same code when the record was written) and
+measures only the others here: CI's check then costs ptxas only for kernels changed since the
+last --update. --update measures every kernel (up to --max-lines when given) and rewrites the
+record. A kernel's launch bound (`.maxnreg`, `.maxntid` x `.minnctapersm`) is listed.
 
 Exit 1 when a kernel measures over the limits or could not be measured."""
 
@@ -129,7 +132,10 @@ def main():
                     help="measure only kernels of at most this many PTX lines (the larger ones "
                          "from the record); default: every kernel")
     ap.add_argument("--update", action="store_true",
-                    help="measure every kernel and write the record")
+                    help="measure every kernel (up to --max-lines when given) and write the record")
+    ap.add_argument("--record", action="store_true",
+                    help="take every kernel whose code digest is in the record from it; "
+                         "measure only the others")
     ap.add_argument("--bounded-unmeasured-ok", action="store_true",
                     help="a kernel not measured (over --max-lines, not in the record) passes when "
                          "a launch bound holds it to 128 registers (listed as bound only: its "
@@ -151,7 +157,9 @@ def main():
     record = {}
     if os.path.exists(RECORD) and not a.update:
         record = json.load(open(RECORD)).get("kernels", {})
-    todo = [r for r in rows if a.update or a.max_lines is None or r["lines"] <= a.max_lines]
+    todo = [r for r in rows if a.max_lines is None or r["lines"] <= a.max_lines]
+    if a.record:  # the same code was measured when the record was written
+        todo = [r for r in todo if r["digest"] not in record]
     todo.sort(key=lambda r: -r["lines"])  # the largest first: the pool's lanes end together
     with tempfile.TemporaryDirectory() as tmp, \
             concurrent.futures.ThreadPoolExecutor(max_workers=a.j) as pool:
@@ -168,7 +176,8 @@ def main():
             fut.result()
     cpu = resource.getrusage(resource.RUSAGE_CHILDREN)
     failed = 0
-    refresh = f"python3 tools/cuda_kernel_check.py {a.ptx_dir} --update"
+    refresh = f"python3 tools/cuda_kernel_check.py {a.ptx_dir} --update" + (
+        f" --max-lines {a.max_lines}" if a.max_lines is not None else "")
     print("| kernel | files | PTX lines | bound | registers | stack (B) | spill stores / loads (B) "
           "| ptxas (s) | from |")
     print("|---|---|---:|---:|---:|---:|---:|---:|---|")

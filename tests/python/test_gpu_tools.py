@@ -212,7 +212,7 @@ def test_kernel_check_names_a_kernel_missing_from_its_record(kernel_ptx, tmp_pat
     assert p.returncode == 1, p.stdout + p.stderr
     assert "10 kernels, 5 distinct: 5 failing, 0 measured" in p.stdout, p.stdout
     assert "not measured: larger than --max-lines and its code is not in the record" in p.stdout
-    assert f"`python3 tools/cuda_kernel_check.py {kernel_ptx} --update`" in p.stdout
+    assert f"`python3 tools/cuda_kernel_check.py {kernel_ptx} --update --max-lines 1`" in p.stdout
     p = run(sys.executable, tool, kernel_ptx, "--max-lines", "1", "--bounded-unmeasured-ok",
             timeout=300)
     rows = kernel_rows(p.stdout)
@@ -234,3 +234,10 @@ def test_kernel_check_names_a_kernel_missing_from_its_record(kernel_ptx, tmp_pat
     rows = kernel_rows(p.stdout)
     assert p.returncode == 1 and "not measured" in rows["with_asm(unsigned int*)"], p.stdout
     assert "not measured" not in rows["bounded(float*)"], p.stdout
+    # --record (CI): kernels in the record come from it, only the changed one is measured here,
+    # and the recorded kernel over the stack limit still fails
+    p = run(sys.executable, tool, changed, "--record", timeout=300)
+    rows = kernel_rows(p.stdout)
+    assert rows["with_asm(unsigned int*)"].endswith("| ptxas here |"), p.stdout
+    assert rows["bounded(float*)"].endswith("| record |"), p.stdout
+    assert "5 distinct: 1 failing, 5 measured" in p.stdout, p.stdout
