@@ -44,7 +44,7 @@ units=(tests/python/test_bidirectional.py tests/python/test_volume_bdpt.py
        tests/python/test_light_tracing.py tests/python/test_mitsuba_tungsten.py
        tests/python/test_light_tree.py tests/cycles/test_volumes.py
        tests/render/test_cycles_compare.py tests/cycles/test_volumes_hetero.py
-       tests/cycles/test_volumes_fire.py tests/render/test_world_cycles.py tests/blender/)
+       tests/cycles/test_volumes_vdb.py tests/blender/)
 add_unit() { [[ " ${units[*]} " == *" $1 "* ]] || units+=("$1"); }
 for f in tests/cycles/test_*.py tests/render/test_*.py; do add_unit "$f"; done
 for dir in tests/*/; do

@@ -99,6 +99,15 @@ def stage(vdb_path):
     return build
 
 
+# `long` (bench/long_tests.sh): 115-120 s of CPU, 96 % of it in Cycles' renders (14 s of CPU
+# each, mostly a fixed set-up: test_volumes_hetero's smoke costs 13.5 s at 1 spp and 14.9 s at
+# 128, measured; so fewer samples would save little). CI covers its parts: the grids' binding (Temperature Attribute, the Attribute
+# "flame" on Emission Strength, Render Space) by tests/blender/test_bl_volume_objects.py, the
+# fire's emission integral from the grids by tests/python/test_volume_fire.py (against Planck's
+# law, with its temperature and flame controls), Principled Volume's blackbody against Cycles by
+# tests/cycles/test_volumes.py::test_volume_matches_cycles[fire], a VDB's density against Cycles
+# by tests/cycles/test_volumes_vdb.py.
+@pytest.mark.long
 def test_vdb_fire_matches_cycles(tmp_path):
     path = tmp_path / "fire.vdb"
     write_vdb(path)

@@ -41,6 +41,16 @@ LANTERN_SPP = int(os.environ.get("LANTERN_TEST_SPP", "32"))
 #   spp; at 256 z 10.2-11.7 against 6.8-7.6 (a new Cycles reference would not have helped)
 RUNS = {"world_visibility": (8, 64), "principled_emission_mesh": (16, 128),
         "cornell_box": (16, 64), "light_spot": (16, 256)}
+# `long` (bench/long_tests.sh), each covered in CI by cheaper comparisons against Cycles:
+# - principled_emission_mesh (70 s of CPU): a mesh emitter's light by emissive_mesh here, the
+#   Principled BSDF's emission exported and lighting a scene by
+#   tests/cycles/test_ray_visibility.py and test_light_linking.py[emitter] (and under a coat by
+#   test_lobes.py);
+# - light_spot (54 s): the spot's cone, blend and power by
+#   tests/cycles/test_light_units.py::test_light_matches_cycles[SPOT], a spot exported by the
+#   add-on by tests/cycles/test_volumes.py::test_volume_matches_cycles[fog_spot], the stage's
+#   indirect light by the other light_* scenes here.
+LONG = {"principled_emission_mesh", "light_spot"}
 # warnings a scene is known to give (the rest fail the test)
 EXPECTED_WARNINGS = {}
 
@@ -54,7 +64,8 @@ def addon():
 
 
 @pytest.mark.skipif(not REFS, reason="no Cycles references in tests/render/refs")
-@pytest.mark.parametrize("name", REFS)
+@pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.long) if n in LONG else n
+                                  for n in REFS])
 def test_matches_cycles(name, addon):
     ref = dict(np.load(os.path.join(rc.REF_DIR, name + ".npz")))
     with open(os.path.join(rc.REF_DIR, name + ".json")) as f:
