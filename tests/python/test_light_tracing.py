@@ -86,8 +86,21 @@ def renders(scene, integrator, spp, seed0, backend="cpu"):
                            backend=backend, max_depth=8) for k in range(K)]
 
 
-@pytest.mark.parametrize("make", [cornell_area, cornell_point, cornell_mesh_light, cornell_spot,
-                                  cornell_sphere, cornell_sun])
+# lt's own part (the light vertex connected to the camera, splatted) is the same for every light;
+# what differs per light is the emission sampling, which bdpt, lvc and cis share with lt (their
+# light sub-paths). CI keeps the visible rectangle (an emitter the camera sees), the delta point
+# and the sphere (no other CI test compares a sphere light's light paths); the rest is `long`
+# (bench/long_tests.sh), their emission sampled in CI by light sub-paths elsewhere:
+# the spot and the 2-degree sun by test_light_tree.py's room (bdpt, lvc and cis vs pt), the
+# emissive quad by its many-lights stage (panel=True: triangle lights), the sun also by
+# test_bidirectional.py's sharp sun (test_delta_lights_agree). 169 s CPU of CI (2026-12-05).
+LONG = {cornell_spot, cornell_mesh_light, cornell_sun}
+
+
+@pytest.mark.parametrize("make", [
+    pytest.param(m, marks=pytest.mark.long) if m in LONG else m
+    for m in (cornell_area, cornell_point, cornell_mesh_light, cornell_spot, cornell_sphere,
+              cornell_sun)])
 def test_lt_matches_pt(core, make, backend):
     scene = make()
     t0 = time.perf_counter()
