@@ -62,7 +62,10 @@ run_unit() {  # $1: the unit's index; its log and exit status land in $logs
   # a file whose tests a -k in "$@" deselects entirely collects nothing (5): not a failure
   [[ $rc -eq 5 && $unit == *.py ]] && rc=0
   echo $rc > "$logs/$1.rc"
-  echo "(unit wall $((SECONDS - t0)) s, ended at ${SECONDS} s)" >> "$logs/$1.log"
+  # this subshell's children's user and system CPU (bash's `times`, its second line): pytest's
+  times > "$logs/$1.times"
+  local cpu; cpu=$(tail -1 "$logs/$1.times")
+  echo "(unit wall $((SECONDS - t0)) s, cpu ${cpu/ /+}, ended at ${SECONDS} s)" >> "$logs/$1.log"
 }
 echo "== pytest: ${#units[@]} units, $lanes side by side [${SECONDS} s]"
 running=0

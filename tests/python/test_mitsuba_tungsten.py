@@ -93,6 +93,10 @@ def cornell_comparison(seeds=None, spp=None, size=128, seed0=7):
 CORNELL_SEEDS, CORNELL_SPP, CORNELL_CAP = 14, 1, 0.003
 
 
+# `long` (bench/long_tests.sh; 124 s of CI's CPU, 2026-12-05): the Cornell box's light against
+# an independent renderer stays in CI through tests/render/test_cycles_compare.py's cornell_box
+# (Cycles, through the add-on), and Tungsten's references through the veach-mis tests below
+@pytest.mark.long
 @pytest.mark.skipif(not (SCENES / "cornell-box" / "TungstenRender.exr").exists(),
                     reason="shared scenes not present")
 def test_cornell_box_matches_tungsten():
