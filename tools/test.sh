@@ -36,6 +36,10 @@ tail -1 build/cuda_kernels.md
 lanes=${LANTERN_TEST_LANES:-$(nproc)}
 [ "$lanes" -gt 4 ] && lanes=4
 [ "$lanes" -lt 1 ] && lanes=1
+# each unit's renders on one thread (lantern.session: LANTERN_THREADS sets `threads` 0) where the
+# lanes fill the cores: two threads per render beside another lane's took 4-9 % more CPU for the
+# same samples (cornell 32x32, pt / cis / bdpt, 2026-12-05)
+[ "$lanes" -ge "$(nproc)" ] && export LANTERN_THREADS=${LANTERN_THREADS:-1}
 logs=build/test-logs
 rm -rf "$logs"; mkdir -p "$logs"
 # the longest units first (CPU seconds per unit, bench/results/2026-12-05-ci-time), so that the

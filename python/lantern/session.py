@@ -12,6 +12,7 @@ driver and build, in a child process); else it renders on the CPU and says why i
 
 import importlib
 import logging
+import os
 import threading
 import time
 
@@ -180,6 +181,24 @@ def _check_int(name, value, lo, hi):
     return value
 
 
+def _threads_from_env(warnings):
+    """`threads` 0 (every core) becomes the environment's LANTERN_THREADS where it is set, as
+    OMP_NUM_THREADS sets OpenMP's: a render farm node or a test runner that runs several renders
+    side by side gives each its share of the cores (tools/test.sh: one per lane)."""
+    raw = os.environ.get("LANTERN_THREADS", "").strip()
+    if not raw:
+        return 0
+    try:
+        n = int(raw)
+    except ValueError:
+        n = -1
+    if not 0 <= n <= 4096:
+        warnings.append(f"LANTERN_THREADS={raw!r} is not a thread count in [0, 4096]: "
+                        "rendering on every core")
+        return 0
+    return n
+
+
 def resolve_settings(settings):
     """Full settings dict for the core plus warnings about fallbacks.
     Unknown names -> TypeError; wrong values -> ValueError; reserved integrators ->
@@ -212,6 +231,8 @@ def resolve_settings(settings):
     out["max_depth"] = _check_int("max_depth", out["max_depth"], 1, 1024)
     out["seed"] = _check_int("seed", out["seed"], 0, 2**64 - 1)
     out["threads"] = _check_int("threads", out["threads"], 0, 4096)
+    if out["threads"] == 0:
+        out["threads"] = _threads_from_env(warnings)
     out["rr_depth"] = _check_int("rr_depth", out["rr_depth"], 0, 1024)
     out["connections"] = _check_int("connections", out["connections"], 1, 64)
     out["candidates"] = _check_int("candidates", out["candidates"], 1, 64)

@@ -10,6 +10,7 @@ from lantern import scenes, session
 
 def test_defaults(monkeypatch):
     monkeypatch.setattr(session, "_native_has_cuda", lambda: False)  # a CPU-only core
+    monkeypatch.delenv("LANTERN_THREADS", raising=False)  # tools/test.sh sets it
     settings, warnings = session.resolve_settings({})
     assert settings == {"integrator": "auto", "backend": "cpu", "spp_per_iteration": 1,
                         "max_depth": 16, "seed": 0, "threads": 0, "rr_depth": 4,
@@ -22,6 +23,21 @@ def test_defaults(monkeypatch):
                         "auto_media": False, "moment_channels": False,
                         "soft_visibility": True}
     assert warnings == []
+
+
+def test_threads_from_the_environment(monkeypatch):
+    """LANTERN_THREADS caps `threads` 0 (every core); an explicit count wins; a value that is
+    not a count is named in a warning and ignored."""
+    monkeypatch.setenv("LANTERN_THREADS", "1")
+    assert session.resolve_settings({})[0]["threads"] == 1
+    assert session.resolve_settings({"threads": 3})[0]["threads"] == 3
+    for bad in ("two", "-1", "5000"):
+        monkeypatch.setenv("LANTERN_THREADS", bad)
+        settings, warnings = session.resolve_settings({})
+        assert settings["threads"] == 0
+        assert any("LANTERN_THREADS" in w and bad in w for w in warnings), warnings
+    monkeypatch.setenv("LANTERN_THREADS", " ")
+    assert session.resolve_settings({})[0]["threads"] == 0
 
 
 def test_unknown_setting_lists_valid_ones():
