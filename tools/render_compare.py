@@ -96,6 +96,42 @@ def render_cycles(seed, spp):
     return img, settings
 
 
+def export_current():
+    """The current scene as the add-on exports it (a lantern.Scene)."""
+    import bpy
+    lantern_bpy.load_addon()
+    from lantern_blender.export import export_scene
+    return export_scene(bpy.context.evaluated_depsgraph_get())[0]
+
+
+def _file_digest(path):
+    import hashlib
+    with open(path, "rb") as f:
+        return hashlib.sha256(f.read()).hexdigest()
+
+
+CYCLES_REFS = os.path.join(ROOT, "tests", "refs", "cycles")
+
+
+def stored_cycles(path, spp, seed0, k_seeds, sources):
+    """Cycles' k_seeds renders of the current scene (seeds seed0..) as per-seed block means,
+    stored at `path` (lantern.testing.refs, tests/README.md "Stored references") and rendered
+    again only when their key changes: the scene as the add-on exports it (every array Lantern
+    receives), the Cycles settings cycles_settings writes (the seed aside), the samples and
+    seeds, the bpy version, and the files in `sources` (what stages the scene, Cycles-only
+    properties included: the test module and its staging helpers; an edit to one of them
+    renders their references again)."""
+    import bpy
+    from lantern.testing import refs
+    settings = cycles_settings(bpy.context.scene, seed0, spp)
+    settings.pop("seed")
+    key = dict(scene=export_current(), cycles=settings, spp=spp, seed0=seed0, k_seeds=k_seeds,
+               bpy=bpy.app.version_string, sources=[_file_digest(p) for p in sources])
+    return refs.reference_blocks(
+        path, lambda: [render_cycles(seed=seed0 + k, spp=spp)[0] for k in range(k_seeds)], key,
+        block=BLOCK)
+
+
 def render_lantern(seed, spp, threads=0, integrator="pt"):
     """Export the current scene with the add-on and render it with lantern.Session."""
     import bpy

@@ -91,5 +91,11 @@ for i in "${!units[@]}"; do
   w=$(sed -n 's/^(unit wall \([0-9]*\) s.*/\1/p' "$logs/$i.log" 2>/dev/null | tail -1)
   echo "${w:-0} ${units[$i]}"
 done | sort -rn | head -12
+# stored references (tests/refs) whose key no longer matched: rendered live, correct but slow
+stale=$(grep -ho "stored reference [^ ]* is [a-z]*" "$logs"/*.log 2>/dev/null | sort -u)
+if [ -n "$stale" ]; then
+  echo "== stored references rendered live: store them again (tests/README.md, LANTERN_STORE_REFS=1)"
+  echo "$stale"
+fi
 echo "ctest exit $cpp, pytest exit $py [${SECONDS} s]"
 [ $cpp -eq 0 ] && [ $py -eq 0 ]

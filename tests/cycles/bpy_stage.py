@@ -2,6 +2,7 @@
 test_subsurface.py, test_motion_blur.py): a factory-empty scene of a size with a constant world,
 and cubes, cameras and lights placed by location and rotation in degrees."""
 import math
+import os
 
 import bpy
 import pytest
@@ -95,24 +96,39 @@ def light(scene, kind, location, energy, rotation=(0, 0, 0), **kw):
 
 
 def lantern_renders(k_seeds, spp):
-    """The staged scene rendered by Lantern through the add-on, seeds 1..k_seeds at `spp` on 2
-    threads: (the stack as float64, the last render's warnings)."""
+    """The staged scene rendered by Lantern through the add-on, seeds 1..k_seeds at `spp` on
+    every core (or LANTERN_THREADS; the same bits on any count): (the stack as float64, the
+    last render's warnings)."""
     import numpy as np
 
     import render_compare as rc
     lan, warnings = [], []
     for k in range(k_seeds):
-        img, warnings = rc.render_lantern(seed=1 + k, spp=spp, threads=2)
+        img, warnings = rc.render_lantern(seed=1 + k, spp=spp)
         lan.append(img)
     return np.stack(lan).astype(np.float64), warnings
 
 
+def cycles_reference(name, build, spp, cycles_seed0, k_seeds):
+    """Cycles' k_seeds renders of the staged scene as stored per-seed block means
+    (render_compare.stored_cycles), in tests/refs/cycles/<test module>/; the test module and
+    this one are in their key."""
+    import sys
+
+    import render_compare as rc
+    module = sys.modules[build.__module__]
+    stem = os.path.splitext(os.path.basename(module.__file__))[0]
+    safe = "".join(c if c.isalnum() else "_" for c in name)
+    return rc.stored_cycles(os.path.join(rc.CYCLES_REFS, stem, f"{safe}_{cycles_seed0}.npz"),
+                            spp, cycles_seed0, k_seeds, [module.__file__, __file__])
+
+
 def compare_with_cycles(name, build, spp, controls, cycles_seed0, k_seeds, se_floor):
     """The feature tests' comparison: `build()` makes the scene; K seeds of each renderer at
-    spp = (Cycles', Lantern's) (Lantern on 2 threads, seeds 1..), no Lantern warning, Cycles
-    not black, metrics.assert_agreement with the (image, block) negative controls `controls`;
-    the measured line goes to render_compare.REPORT. Returns Cycles' renders (for
-    control_differs)."""
+    spp = (Cycles', Lantern's) (Cycles' as stored block means: cycles_reference; Lantern's
+    seeds 1..), no Lantern warning, Cycles not black, metrics.assert_agreement with the (image,
+    block) negative controls `controls`; the measured line goes to render_compare.REPORT.
+    Returns Cycles' reference (for control_differs)."""
     import time
 
     import numpy as np
@@ -121,14 +137,14 @@ def compare_with_cycles(name, build, spp, controls, cycles_seed0, k_seeds, se_fl
     from lantern import metrics
     t0 = time.perf_counter()
     build()
-    cyc = np.stack([rc.render_cycles(seed=cycles_seed0 + k, spp=spp[0])[0]
-                    for k in range(k_seeds)]).astype(np.float64)
+    cyc = cycles_reference(name, build, spp[0], cycles_seed0, k_seeds)
     lan, warnings = lantern_renders(k_seeds, spp[1])
     assert not warnings, warnings
     assert np.isfinite(lan).all()
-    assert cyc.mean() > 1e-3, "the scene is black in Cycles"
+    assert cyc.blocks.mean() > 1e-3, "the scene is black in Cycles"
     res = metrics.compare_renders(lan, cyc, block=rc.BLOCK, se_floor=se_floor, name=name)
-    line = f"{res}; mean ratio {lan.mean() / cyc.mean():.4f} ({time.perf_counter() - t0:.1f} s)"
+    line = (f"{res}; mean ratio {lan.mean() / cyc.blocks.mean():.4f} "
+            f"({time.perf_counter() - t0:.1f} s)")
     print(line)
     rc.REPORT.append(line)
     metrics.assert_agreement(name, lan, cyc, block=rc.BLOCK, se_floor=se_floor,
@@ -144,5 +160,5 @@ def control_differs(name, cyc, k_seeds, spp, se_floor):
     from lantern import metrics
     other, _ = lantern_renders(k_seeds, spp)
     ctl = metrics.compare_renders(other, cyc, block=rc.BLOCK, se_floor=se_floor, name=name)
-    print(f"control: {ctl}; mean ratio {other.mean() / cyc.mean():.4f}")
+    print(f"control: {ctl}; mean ratio {other.mean() / cyc.blocks.mean():.4f}")
     assert not ctl.passed, f"{name} passed against Cycles: {ctl}"

@@ -69,14 +69,26 @@ def lantern_seeds(integrator, k_seeds, spp, base=200):
     return imgs
 
 
+def _stored_cycles(name, k_seeds, spp):
+    """Cycles' seeds 100.. as stored per-seed block means (render_compare.stored_cycles), in
+    tests/refs/cycles/<test module>/: the calling test module and this one are in the key."""
+    import inspect
+    caller = next(f.filename for f in inspect.stack()
+                  if os.path.basename(f.filename).startswith("test_"))
+    stem = os.path.splitext(os.path.basename(caller))[0]
+    safe = "".join(c if c.isalnum() else "_" for c in name)
+    return rc.stored_cycles(os.path.join(rc.CYCLES_REFS, stem, f"{safe}_100.npz"), spp, 100,
+                            k_seeds, [caller, __file__])
+
+
 def compare(report, name, integrators, k_seeds, spp, block_bias=0.05):
     """Cycles' seeds 100.., Lantern's 200.. of each integrator; `report` prefixes the line each
     comparison adds to render_compare.REPORT."""
-    cyc = [rc.render_cycles(seed=100 + k, spp=spp)[0] for k in range(k_seeds)]
-    assert np.mean(cyc) > 0.0, "Cycles rendered the scene black"
+    cyc = _stored_cycles(name, k_seeds, spp)
+    assert cyc.blocks.mean() > 0.0, "Cycles rendered the scene black"
     for integrator in integrators:
         lan = lantern_seeds(integrator, k_seeds, spp)
-        ratio = np.mean(lan) / np.mean(cyc)
+        ratio = np.mean(lan) / cyc.blocks.mean()
         label = f"{name} ({integrator})"
         print(f"{label}: Lantern / Cycles image mean {ratio:.4f}")
         rc.REPORT.append(f"{report} {label}: Lantern / Cycles image mean {ratio:.4f}")

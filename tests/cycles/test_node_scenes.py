@@ -22,6 +22,7 @@ import lantern  # noqa: E402
 
 import node_stage as st  # noqa: E402
 from lantern import metrics  # noqa: E402
+from lantern.testing import refs  # noqa: E402
 
 sys.path.insert(0, os.path.join(st.ROOT, "blend_scenes"))
 import nodes as node_scenes  # noqa: E402
@@ -38,6 +39,12 @@ K, SPP, ALPHA = 16, 12, 1e-3   # 16 seeds of 12 spp a side: the samples of the 6
 CROSS_K, CROSS_SPP_PT, CROSS_SPP = 16, 8, 6
 
 
+def _digest(path):
+    import hashlib
+    with open(path, "rb") as f:
+        return hashlib.sha256(f.read()).hexdigest()
+
+
 @pytest.fixture(scope="module", autouse=True)
 def _addon():
     st.addon()
@@ -51,8 +58,15 @@ def test_node_scene_matches_cycles(name, tmp_path):
     assert report.messages == []
     lan = [np.asarray(lantern.render(scene, spp=SPP, integrator="pt", max_depth=8,
                                      seed=11 + k), np.float64) for k in range(K)]
-    cyc = [st.render_cycles(sc, tmp_path / f"c{k}.exr", spp=SPP, bounces=8, seed=300 + k)
-           for k in range(K)]
+    # Cycles' per-seed block means, stored in tests/refs/cycles (lantern.testing.refs; tests/
+    # README.md): the export, the samples, seeds, bounces, bpy's version and the sources that
+    # stage the scene and set Cycles up are the key
+    cyc = refs.reference_blocks(
+        os.path.join(st.ROOT, "tests", "refs", "cycles", "test_node_scenes", f"{name}.npz"),
+        lambda: [st.render_cycles(sc, tmp_path / f"c{k}.exr", spp=SPP, bounces=8, seed=300 + k)
+                 for k in range(K)],
+        dict(scene=scene, spp=SPP, bounces=8, seed0=300, k_seeds=K, bpy=bpy.app.version_string,
+             sources=[_digest(f) for f in (__file__, st.__file__, node_scenes.__file__)]))
     # blocks and the image mean within the noise plus the default cap, with its controls
     metrics.assert_agreement(f"{name} vs Cycles", lan, cyc, block=8, alpha=ALPHA)
 

@@ -15,11 +15,14 @@ render's own estimates of each one's efficiency.
   renders (a holdout), saying so.
 - The moment channels (that identity, bdpt.h bdpt_moment) equal pt's own second moment where
   it has no covariance to miss (direct light)."""
+from pathlib import Path
+
 import numpy as np
 import pytest
 
 import lantern
 from lantern import metrics, scenes
+from lantern.testing import refs
 
 K = 16
 SIZE = 32
@@ -47,7 +50,13 @@ def _renders(scene, integrator, spp, seed0, k=K, depth=8, **settings):
 @pytest.fixture(scope="module")
 def cornell_pt():
     scene = scenes.cornell_box(SIZE, SIZE)
-    return scene, _renders(scene, "pt", 96, 900)[0]
+    # pt's per-seed block means, stored in tests/refs (lantern.testing.refs: rendered again
+    # only when the scene changed)
+    return scene, refs.reference_blocks(
+        Path(__file__).resolve().parent.parent / "refs" / "auto_integrator" / "cornell_pt.npz",
+        lambda: _renders(scene, "pt", 96, 900)[0],
+        dict(scene=scene, integrator="pt", spp=96, seed0=900, k_seeds=K, max_depth=8,
+             steps=96))
 
 
 def test_cornell_renders_pt_unbiased(cornell_pt):

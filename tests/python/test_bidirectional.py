@@ -7,12 +7,14 @@ lantern.metrics.assert_agreement (tests/README.md): Welch t per 8x8 block and ch
 bias cap plus their noise, and negative controls (a whole-image bias, one block's bias, two
 channels swapped) that must fail, at the levels CONTROLS states (1 % / 5 % where reached)."""
 import time
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 import lantern
 from lantern import metrics, scenes
+from lantern.testing import refs
 
 K = 16         # seeds per set: Welch dof >= 15 (Bonferroni threshold ~6 over 48 blocks, not 10)
 SIZE = 32
@@ -46,6 +48,20 @@ def renders(scene, integrator, spp, seed0, k_seeds=K, backend="cpu", **settings)
             s.step()
         out.append(s.image())
     return out
+
+
+REFS = Path(__file__).resolve().parent.parent / "refs" / "bidirectional"
+
+
+def reference(name, scene, integrator, spp, seed0, k_seeds=K, backend="cpu", **settings):
+    """renders()'s per-seed block means for a reference side, stored in tests/refs
+    (lantern.testing.refs: rendered only when the scene or a setting changed). The backend is
+    not in the key: the CUDA backend is compared with the CPU's stored reference."""
+    key = dict(scene=scene, integrator=integrator, spp=spp, seed0=seed0, k_seeds=k_seeds,
+               max_depth=8, steps=4, settings=settings)
+    return refs.reference_blocks(
+        REFS / f"{name}.npz",
+        lambda: renders(scene, integrator, spp, seed0, k_seeds, backend, **settings), key)
 
 
 def check_agreement(name, renders_a, renders_pt, controls=(0.01, 0.05)):
@@ -177,8 +193,8 @@ def test_integrators_agree(core, scene_name, backend):
         print(f"{scene_name}: {time.perf_counter() - t0:.1f} s")
         return
     ref_name = REFERENCE.get(scene_name, "pt")
-    ref = renders(scene, ref_name, REF_SPP_SCENE.get(scene_name, SPP_REF[ref_name]), 1000,
-                  backend=backend)
+    ref = reference(f"{scene_name}_{ref_name}", scene, ref_name,
+                    REF_SPP_SCENE.get(scene_name, SPP_REF[ref_name]), 1000, backend=backend)
     for integrator, settings in ONLY.get(scene_name, BIDIRECTIONAL):
         if integrator == ref_name and not settings:
             continue
@@ -198,7 +214,7 @@ def test_view_corrected_normals_agree(core, backend):
     3.2-3.4 % of the image (controls 4 % / 10 %; at 192 / 48 spp 5.1-5.2 %); measured 2026-12-04:
     bdpt and cis vs pt -0.2 %, worst |z| 3.1 against 8.1; 28 s on two shared, loaded cores."""
     scene = scenes.smooth_glossy_box(16, 16)
-    ref = renders(scene, "pt", 256, 1000, k_seeds=8, backend=backend)
+    ref = reference("view_corrected_pt", scene, "pt", 256, 1000, k_seeds=8, backend=backend)
     for integrator in ("bdpt", "cis"):
         r = renders(scene, integrator, 64, 2000, k_seeds=8, backend=backend)
         check_agreement(f"smooth glossy {integrator} vs pt", r, ref, (0.04, 0.1))
@@ -217,7 +233,8 @@ def test_delta_lights_agree(core, backend):
     """A point light (delta position) over glossy metal, and a sharp sun (delta direction) in the
     diffuse box: every technique that cannot reach a delta light must get weight zero."""
     for name, scene in delta_light_scenes().items():
-        pt = renders(scene, "pt", SPP_REF["pt"], 1000, backend=backend)
+        pt = reference(f"delta_{name.replace(' ', '_')}_pt", scene, "pt", SPP_REF["pt"], 1000,
+                       backend=backend)
         for integrator, settings in [("bdpt", {}), ("cis", {})]:
             check_agreement(f"{name} {integrator}",
                             renders(scene, integrator, 64, 3000, backend=backend, **settings),
@@ -235,7 +252,7 @@ def test_world_light_agrees(core, backend):
     """A constant world (an infinite light: light paths start on the scene's bounding disk)
     seen through the box's open front, with the glass lantern unlit inside."""
     scene = world_light_scene()
-    pt = renders(scene, "pt", SPP_REF["pt"], 1000, backend=backend)
+    pt = reference("world_light_pt", scene, "pt", SPP_REF["pt"], 1000, backend=backend)
     for integrator in ("bdpt", "cis"):
         check_agreement(f"world {integrator}",
                         renders(scene, integrator, 64, 3000, backend=backend), pt,
@@ -257,7 +274,7 @@ def test_sun_caustic_on_metal_matches_light_tracing(core, backend):
     # lt is cheap per sample (16 x 256 spp: 5 s CPU) and the noisier side (alone it resolves
     # 1.18 % there, cis at 128 spp 0.69 %): the samples go to lt. 16 x 1024 lt and 16 x 128 cis
     # resolve ~0.9 %; 64 spp a side resolved 2.0 % (a block 7.1 %)
-    lt = renders(scene, "lt", 1024, 1000, k_seeds=16, backend=backend)
+    lt = reference("sun_caustic_lt", scene, "lt", 1024, 1000, k_seeds=16, backend=backend)
     check_agreement("sun caustic cis vs lt",
                     renders(scene, "cis", 128, 3000, k_seeds=16, backend=backend), lt,
                     ONE_PERCENT)
@@ -284,7 +301,7 @@ def test_rect_light_near_wall_agrees(core, backend):
     scene = rect_light_near_wall_scene()
     # 16 x 256 pt and 16 x 64 a side resolved 0.50-0.52 % (161 s); half the samples keep the
     # 1 % / 5 % controls (CI time)
-    pt = renders(scene, "pt", 128, 1000, backend=backend)
+    pt = reference("rect_light_pt", scene, "pt", 128, 1000, backend=backend)
     for integrator in ("bdpt", "cis"):
         check_agreement(f"rect light near wall {integrator}",
                         renders(scene, integrator, 32, 3000, backend=backend), pt,
@@ -306,7 +323,7 @@ def test_soft_falloff_lights_agree(core, backend):
     the disk facing their first hit (integrator/soft_light_path.h); cis agrees with pt (more
     scenes, and the negative control of V(c, x): test_soft_light_paths.py)."""
     scene = soft_falloff_scene()
-    pt = renders(scene, "pt", SPP_REF["pt"], 1000, backend=backend)
+    pt = reference("soft_falloff_pt", scene, "pt", SPP_REF["pt"], 1000, backend=backend)
     check_agreement("soft falloff cis", renders(scene, "cis", 64, 4000, backend=backend), pt,
                     ONE_PERCENT)  # resolves 0.79 %
 

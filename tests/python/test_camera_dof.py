@@ -9,12 +9,14 @@
 - f-stop 0 or huge and focus distance 0: finite images.
 """
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 import lantern
 from lantern import metrics, scenes, student_t
+from lantern.testing import refs
 
 K = 8
 
@@ -154,8 +156,14 @@ def test_light_paths_through_the_lens_agree_with_pt(core, integrator, pt_dof_box
 
 @pytest.fixture(scope="module")
 def pt_dof_box(core):
-    """pt's reference, shared by the three comparisons."""
-    return renders(dof_box(), "pt", 256, 1000, k_seeds=16)
+    """pt's reference, shared by the three comparisons: its per-seed block means, stored in
+    tests/refs (lantern.testing.refs: rendered again only when the scene changed)."""
+    scene = dof_box()
+    return refs.reference_blocks(
+        Path(__file__).resolve().parent.parent / "refs" / "camera_dof" / "dof_box_pt.npz",
+        lambda: renders(scene, "pt", 256, 1000, k_seeds=16),
+        dict(scene=scene, integrator="pt", spp=256, seed0=1000, k_seeds=16, max_depth=6,
+             steps=4))
 
 
 @pytest.mark.parametrize("dof", [{"radius": 0.05 / (2 * 1e-5), "focus_distance": 1.0},

@@ -10,11 +10,14 @@ light tracing everywhere). Negative control, measured when the test was written:
 factor left out of the emission weight only (the other two weights kept), cis read 9.5 % low
 here (z 82), while the Cornell, glossy and principled agreement tests of test_bidirectional.py
 still passed."""
+from pathlib import Path
+
 import numpy as np
 import pytest
 
 import lantern
 from lantern import metrics, scenes
+from lantern.testing import refs
 from seed_renders import render_seeds
 
 K = 16
@@ -53,7 +56,13 @@ def renders(scene, integrator, spp, seed0, backend):
 @pytest.mark.parametrize("integrator", ["cis", "lvc"])
 def test_direct_light_weights_sum_to_one(core, integrator, backend):
     scene = light_over_metal()
-    pt = renders(scene, "pt", 256, 1000, backend)
+    # pt's per-seed block means, stored in tests/refs (lantern.testing.refs; the backend is
+    # not in the key)
+    pt = refs.reference_blocks(
+        Path(__file__).resolve().parent.parent / "refs" / "cis_direct_light" / "pt.npz",
+        lambda: renders(scene, "pt", 256, 1000, backend),
+        dict(scene=scene, integrator="pt", spp=256, seed0=1000, k_seeds=K, max_depth=2,
+             steps=1))
     r = renders(scene, integrator, 64, 2000, backend)
     assert all(np.isfinite(x).all() for x in r)
     metrics.assert_agreement(f"direct light, {integrator} vs pt", r, pt, block=8,

@@ -9,15 +9,19 @@ the path's pixel's N for every technique (a light-tracing splat's too).
   comparison sees it: the agreement tests can fail.
 - Same seed, same map: the same bits; a map of N = 0 everywhere traces no connection and
   evaluates no candidate."""
+from pathlib import Path
+
 import numpy as np
 import pytest
 
 import lantern
 from lantern import metrics, scenes
+from lantern.testing import refs
 
 K = 16
 SIZE = 32
 DEPTH = 6
+REFS = Path(__file__).resolve().parent.parent / "refs" / "connection_map"
 
 
 @pytest.fixture(scope="module", autouse=True)
@@ -50,7 +54,21 @@ def _renders(scene, integrator, spp, seed0, maps=(), k=K, **settings):
 @pytest.fixture(scope="module")
 def cornell():
     scene = scenes.cornell_box(SIZE, SIZE)
-    return scene, _renders(scene, "pt", 96, 900)[0]
+    return scene, _stored("cornell_pt", scene, "pt", 96, 900)
+
+
+def _stored(name, scene, integrator, spp, seed0, **settings):
+    """_renders()'s images as per-seed block means, stored in tests/refs (lantern.testing.refs:
+    rendered again only when the scene or a setting changed)."""
+    return refs.reference_blocks(
+        REFS / f"{name}.npz", lambda: _renders(scene, integrator, spp, seed0, **settings)[0],
+        dict(scene=scene, integrator=integrator, spp=spp, seed0=seed0, k_seeds=K,
+             max_depth=DEPTH, steps=spp, settings=settings))
+
+
+def _image_mean(ref):
+    """The mean of a reference set (stored block means: whole blocks, so the image mean)."""
+    return ref.blocks.mean()
 
 
 @pytest.mark.parametrize("integrator", ["cis", "lvc"])
@@ -78,7 +96,7 @@ def test_naive_map_weights_are_biased(cornell):
     scene, ref = cornell
     imgs, _ = _renders(scene, "cis", 32, 1300, maps=[(0, checker(), None)], naive_map=True)
     res = metrics.compare_renders(imgs, ref, 8)
-    ratio = np.stack(imgs).mean() / np.stack(ref).mean()
+    ratio = np.stack(imgs).mean() / _image_mean(ref)
     print(res, f"image mean ratio {ratio:.3f}")
     assert not res.passed
     assert ratio < 0.97
@@ -160,7 +178,7 @@ def test_allocation_naive_weights_are_biased(cornell):
     scene, ref = cornell
     imgs, _ = _renders(scene, "cis", STEPS, 2100, connection_allocation=True, naive_map=True)
     res = metrics.compare_renders(imgs, ref, 8)
-    ratio = np.stack(imgs).mean() / np.stack(ref).mean()
+    ratio = np.stack(imgs).mean() / _image_mean(ref)
     print(res, f"image mean ratio {ratio:.3f}")
     assert not res.passed
 
@@ -168,7 +186,7 @@ def test_allocation_naive_weights_are_biased(cornell):
 @pytest.fixture(scope="module")
 def fixture_cis():
     scene = scenes.fixture_box(SIZE, SIZE)
-    return scene, _renders(scene, "cis", 32, 2500, connection_allocation=False)[0]
+    return scene, _stored("fixture_cis", scene, "cis", 32, 2500, connection_allocation=False)
 
 
 @pytest.mark.parametrize("integrator", ["cis", "auto"])

@@ -7,11 +7,14 @@ at emission * (1 - F) through smooth glass, where Lantern used to give 1/1.5^2 o
 - Rough glass over a diffuse floor: the integrators whose light paths leave the glass (bdpt,
   cis, lt: the adjoint factor 1/eta'^2 of importance transport) against pt, seeds apart.
 Both by lantern.agreement with its negative controls (tests/README.md)."""
+from pathlib import Path
+
 import numpy as np
 import pytest
 
 import lantern
 from lantern import metrics, scenes
+from lantern.testing import refs
 
 K = 16
 SIZE = 24
@@ -46,7 +49,12 @@ def test_smooth_glass_shows_the_emitter_less_fresnel(integrator):
 @pytest.fixture(scope="module")
 def rough_pt():
     scene = scenes.emitter_in_glass(SIZE, SIZE, roughness=0.25, floor=True, fov=40.0)
-    return scene, _renders(scene, "pt", 256, 200)
+    # pt's per-seed block means, stored in tests/refs (lantern.testing.refs: rendered again
+    # only when the scene changed)
+    return scene, refs.reference_blocks(
+        Path(__file__).resolve().parent.parent / "refs" / "glass_emitter" / "rough_pt.npz",
+        lambda: _renders(scene, "pt", 256, 200),
+        dict(scene=scene, integrator="pt", spp=256, seed0=200, k_seeds=K, max_depth=8, steps=1))
 
 
 # lt carries all of the image through light paths: far noisier, so its controls are wider

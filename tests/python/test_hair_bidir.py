@@ -9,11 +9,14 @@ and from them, lt's camera splats from strands, all with the Principled Hair lob
   on bdpt, lvc and cis (lt does not draw the world for the camera: there the strands' pixels
   against pt's render of the same furnace with the world hidden from the camera).
 - Strands shaded by an ordinary BSDF still go to pt (with a message): left to do."""
+from pathlib import Path
+
 import numpy as np
 import pytest
 
 import lantern
 from lantern import metrics
+from lantern.testing import refs
 from lantern.scenes_hair import fur_ball, hair_furnace
 
 K = 12         # seeds a side
@@ -53,9 +56,17 @@ def fur(melanin=0.4):
 _REF = {}
 
 
+REFS = Path(__file__).resolve().parent.parent / "refs" / "hair_bidir"
+
+
 def pt_reference():
+    """pt's per-seed block means on the fur ball, stored in tests/refs (lantern.testing.refs:
+    rendered again only when the scene changed)."""
     if "fur" not in _REF:
-        _REF["fur"] = renders(fur(), "pt", 256, 1000)
+        scene = fur()
+        _REF["fur"] = refs.reference_blocks(
+            REFS / "fur_pt.npz", lambda: renders(scene, "pt", 256, 1000),
+            dict(scene=scene, integrator="pt", spp=256, seed0=1000, k_seeds=K, max_depth=DEPTH))
     return _REF["fur"]
 
 

@@ -6,12 +6,14 @@ blocks, and z-tests of the image mean and of the block-weighted mean with a 0.2 
 negative controls (+-1 % on the whole image, +-5 % on one block, two channels swapped) must
 fail on the same renders."""
 import time
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 import lantern
 from lantern import metrics, scenes
+from lantern.testing import refs
 
 K = 16         # independent renders per integrator: Welch dof >= 15 puts the Bonferroni
 SIZE = 32      # threshold over 4x4 blocks x 3 channels near 6 (it was 10 with 8 seeds of
@@ -81,6 +83,9 @@ SPP = {"cornell_area": (512, 256), "cornell_spot": (768, 384), "cornell_sphere":
        "cornell_sun": (384, 512)}
 
 
+REFS = Path(__file__).resolve().parent.parent / "refs" / "light_tracing"
+
+
 def renders(scene, integrator, spp, seed0, backend="cpu"):
     return [lantern.render(scene, spp=spp, seed=seed0 + k, integrator=integrator,
                            backend=backend, max_depth=8) for k in range(K)]
@@ -105,7 +110,11 @@ def test_lt_matches_pt(core, make, backend):
     scene = make()
     t0 = time.perf_counter()
     spp_pt, spp_lt = SPP.get(make.__name__, (256, 128))
-    pt = renders(scene, "pt", spp_pt, 1000, backend=backend)
+    # pt's per-seed block means stored in tests/refs (lantern.testing.refs; the backend is not
+    # in the key: the CUDA backend's lt is compared with the CPU's stored pt)
+    pt = refs.reference_blocks(
+        REFS / f"{make.__name__}_pt.npz", lambda: renders(scene, "pt", spp_pt, 1000),
+        dict(scene=scene, integrator="pt", spp=spp_pt, seed0=1000, k_seeds=K, max_depth=8))
     lt = renders(scene, "lt", spp_lt, 2000, backend=backend)
     metrics.assert_agreement(f"{make.__name__} lt vs pt", lt, pt, block=8)
     print(f"{make.__name__}: {time.perf_counter() - t0:.1f} s")

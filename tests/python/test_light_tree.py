@@ -3,10 +3,13 @@ pt, bdpt, lvc and cis still converge to the same image (an MIS weight with the w
 probability, forward or reverse, biases them apart), and pt with the tree agrees with pt on the
 global power CDF (LANTERN_LIGHT_TREE=0). Statistics as in test_bidirectional.py (K seeds,
 lantern.metrics.assert_agreement with its negative controls)."""
+from pathlib import Path
+
 import pytest
 
 import lantern
 from lantern import metrics, scenes
+from lantern.testing import refs
 
 from test_bidirectional import K, SIZE, SPP, check_agreement, renders
 
@@ -41,14 +44,21 @@ def global_cdf(monkeypatch):
 
 
 _REF = {}
+REFS = Path(__file__).resolve().parent.parent / "refs" / "light_tree"
 
 
-def reference(scene_name, backend):
-    """pt with the tree on `scene_name`, rendered once for the three tests that compare
-    against it."""
-    key = (scene_name, backend)
+def reference(scene_name, backend, images=False):
+    """pt with the tree on `scene_name`, once for the tests that compare against it: its
+    per-seed block means stored in tests/refs (lantern.testing.refs), or with `images` (the
+    paired comparison with the global CDF needs the seeds' images) rendered."""
+    key = (scene_name, backend, images)
     if key not in _REF:
-        _REF[key] = renders(SCENES[scene_name](), "pt", PT_REF, 1000, backend=backend)
+        scene = SCENES[scene_name]()
+        render = lambda: renders(scene, "pt", PT_REF, 1000, backend=backend)  # noqa: E731
+        _REF[key] = render() if images else refs.reference_blocks(
+            REFS / f"{scene_name}_pt.npz", render,
+            dict(scene=scene, integrator="pt", spp=PT_REF, seed0=1000, k_seeds=K, max_depth=8,
+                 steps=4))
     return _REF[key]
 
 
@@ -78,7 +88,7 @@ def test_tree_agrees_with_the_global_cdf(core, backend, monkeypatch):
     """Paired seeds: the global CDF renders the reference's seeds, so both sides share their
     camera paths and BSDF samples and differ where the light pick does; the comparison sees
     the spread of the per-seed differences (tests/README.md)."""
-    tree = reference("many", backend)
+    tree = reference("many", backend, images=True)
     global_cdf(monkeypatch)
     flat = renders(SCENES["many"](), "pt", PT_REF, 1000, backend=backend)  # the same seeds
     assert not (tree[0] == flat[0]).all(), "LANTERN_LIGHT_TREE=0 changed nothing"

@@ -7,11 +7,14 @@ the weights without V(c, x) (soft_visibility=False, biased) caught on the shelf 
 most of the floor sees part of the disk but not its centre. lt, which has no other technique
 for those penumbrae, traces lines through the light's ball instead (exact where no geometry
 lies within the radius, which it refuses): against pt too."""
+from pathlib import Path
+
 import numpy as np
 import pytest
 
 import lantern
 from lantern import metrics, scenes
+from lantern.testing import refs
 
 K = 16
 SIZE = 32
@@ -84,10 +87,22 @@ CONTROLS = {"shelf": (0.01, 0.05), "soft_spot": (0.01, 0.05), "open_shade": (0.0
 _PT = {}
 
 
+REFS = Path(__file__).resolve().parent.parent / "refs" / "soft_light_paths"
+
+
+def stored_pt(name, scene, backend):
+    """pt's per-seed block means on `scene`, stored in tests/refs (lantern.testing.refs:
+    rendered again only when the scene changed; the backend is not in the key)."""
+    return refs.reference_blocks(
+        REFS / f"{name}_pt.npz", lambda: renders(scene, "pt", PT_SPP, 1000, backend=backend),
+        dict(scene=scene, integrator="pt", spp=PT_SPP, seed0=1000, k_seeds=K, max_depth=6,
+             steps=2))
+
+
 def pt_renders(name, backend):
     """pt's reference set per scene and backend, shared by the tests of this module."""
     if (name, backend) not in _PT:
-        _PT[name, backend] = renders(SCENES[name](), "pt", PT_SPP, 1000, backend=backend)
+        _PT[name, backend] = stored_pt(name, SCENES[name](), backend)
     return _PT[name, backend]
 
 
@@ -124,8 +139,7 @@ def test_lt_lines_agree_with_pt(core, backend, name):
     floor). Light paths from the centre alone were 12 % dark on the shelf, 5.6 % on the open
     shade."""
     scene = shelf(0.12) if name == "shelf_lt" else SCENES[name]()
-    pt = (renders(scene, "pt", PT_SPP, 1000, backend=backend) if name == "shelf_lt"
-          else pt_renders(name, backend))
+    pt = stored_pt(name, scene, backend) if name == "shelf_lt" else pt_renders(name, backend)
     # (resolved at these settings: the whole image 2.7 % on the open shade, 1.0 % and 0.9 % on
     # the others; measured 2026-12-04)
     metrics.assert_agreement(f"{name} lt", renders(scene, "lt", SPP, 5000, backend=backend),
@@ -154,7 +168,7 @@ def test_centre_visibility_matters(core, backend, integrator):
     res = metrics.compare_renders(wrong, pt, block=8)
     print(res)
     assert not res.passed, f"{integrator} without V(c, x) passed: {res}"
-    assert np.mean(wrong) < np.mean(pt)  # the penumbra's share goes missing
+    assert np.mean(wrong) < pt.blocks.mean()  # the penumbra's share goes missing
 
 
 def test_soft_lights_in_media_stay_camera_side(core):

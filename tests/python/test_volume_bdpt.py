@@ -9,10 +9,13 @@ beam, world fog with the area light, an absorbing and a scattering box) and a la
 shade in fog; a control of the scene's own kind (the fog's scattering 3 % off in the
 bidirectional render must be caught); and the scattering furnace (albedo 1 in a white world:
 every pixel 1)."""
+from pathlib import Path
+
 import numpy as np
 import pytest
 
 from lantern import metrics, scenes
+from lantern.testing import refs
 
 from test_volume_bidir import SCENES, SIZE, furnace_slab, FURNACE_DEPTH, core  # noqa: F401
 from test_volume_bidir import renders as bidir_renders
@@ -52,10 +55,19 @@ CONTROLS = {"fog_spot": (0.04, 0.1), "world_fog": (0.03, 0.1), "absorbing_box": 
 _REF = {}
 
 
+REFS = Path(__file__).resolve().parent.parent / "refs" / "volume_bdpt"
+
+
 def reference_renders(name):
+    """The reference side's per-seed block means, stored in tests/refs (lantern.testing.refs:
+    rendered again only when the scene or a setting changed)."""
     if name not in _REF:
-        _REF[name] = renders(ALL[name](), REFERENCE.get(name, "pt"), SPP_REF.get(name, SPP_PT),
-                             1000)
+        scene, integrator = ALL[name](), REFERENCE.get(name, "pt")
+        spp = SPP_REF.get(name, SPP_PT)
+        _REF[name] = refs.reference_blocks(
+            REFS / f"{name}_{integrator}.npz", lambda: renders(scene, integrator, spp, 1000),
+            dict(scene=scene, integrator=integrator, spp=spp, seed0=1000, k_seeds=K,
+                 max_depth=DEPTH, steps=2))
     return _REF[name]
 
 

@@ -10,6 +10,7 @@ inside closed meshes. And an analytic furnace: a slab of albedo 1 in a white wor
 pixel converges to 1, of which light tracing sees everything but the directly transmitted part,
 1 - exp(-sigma_t L)."""
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -17,11 +18,13 @@ import pytest
 import lantern
 from lantern import metrics, scenes
 from lantern.scenes import aabb_mesh
+from lantern.testing import refs
 
 SIZE = 32
 K = 12            # seeds a side
 DEPTH = 8
 SPP_PT, SPP_LT = 256, 256
+REFS = Path(__file__).resolve().parent.parent / "refs" / "volume_bidir"
 
 
 @pytest.fixture(scope="module")
@@ -109,7 +112,11 @@ SPP_SCENE = {"absorbing_box": 128, "scattering_box": 128}
                                   else n for n in SCENES])
 def test_light_tracing_agrees_with_pt_in_media(core, name):
     scene = SCENES[name]()
-    pt = renders(scene, "pt", SPP_SCENE.get(name, SPP_PT), 1000)
+    spp = SPP_SCENE.get(name, SPP_PT)
+    # pt's per-seed block means, stored in tests/refs (lantern.testing.refs)
+    pt = refs.reference_blocks(REFS / f"{name}_pt.npz", lambda: renders(scene, "pt", spp, 1000),
+                               dict(scene=scene, integrator="pt", spp=spp, seed0=1000, k_seeds=K,
+                                    max_depth=DEPTH, steps=4))
     lt = renders(scene, "lt", SPP_SCENE.get(name, SPP_LT), 3000)
     metrics.assert_agreement(f"{name} lt vs pt", lt, pt, block=8,
                              image_bias=CONTROLS[name][0], block_bias=CONTROLS[name][1])

@@ -20,11 +20,14 @@ The controls, in cis's render: the density 15 % off (noise_smoke: the program's 
 8 -> 9.2; grid_smoke: the voxels x 1.15; 3 % moved these images by less than the seeds
 resolve), the emission 3 % off (emissive_box) and 10 % off (glowing_smoke). lt renders the two smokes (against pt); emissive media it hands to pt
 (test_volumes.py)."""
+from pathlib import Path
+
 import numpy as np
 import pytest
 
 from lantern import metrics, scenes
 from lantern.scenes import aabb_mesh
+from lantern.testing import refs
 
 from test_volume_bidir import core  # noqa: F401
 from test_volume_bidir import renders as bidir_renders
@@ -141,9 +144,18 @@ def renders(scene, integrator, spp, seed0, k_seeds=K):
     return bidir_renders(scene, integrator, spp, seed0, k_seeds, DEPTH, steps=2)
 
 
+REFS = Path(__file__).resolve().parent.parent / "refs" / "volume_hetero_bdpt"
+
+
 def reference_renders(name):
+    """pt's per-seed block means, stored in tests/refs (lantern.testing.refs: rendered again
+    only when the scene or a setting changed)."""
     if name not in _REF:
-        _REF[name] = renders(SCENES[name](), "pt", SPP_PT, 1000)
+        scene = SCENES[name]()
+        _REF[name] = refs.reference_blocks(
+            REFS / f"{name}_pt.npz", lambda: renders(scene, "pt", SPP_PT, 1000),
+            dict(scene=scene, integrator="pt", spp=SPP_PT, seed0=1000, k_seeds=K,
+                 max_depth=DEPTH, steps=2))
     return _REF[name]
 
 
