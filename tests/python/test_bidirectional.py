@@ -547,13 +547,15 @@ def test_stats_by_stage(core, backend):
     assert st["time_light_pass"] > 0 and st["time_camera_pass"] > 0
 
 
-def cache_split_renders(seed_split, seed_whole, spp=64):
+def cache_split_renders(seed_split, seed_whole, spp=64, stored=False):
     """The Cornell box in cis with the light vertex cache split into passes (K seeds of `spp`
-    in one step each) and whole (renders()); every split session must say it split."""
+    in one step each) and whole (renders(); `stored`: its block means from tests/refs); every
+    split session must say it split."""
     scene = scenes.cornell_box(SIZE, SIZE)
     split = [lantern.Session(scene, integrator="cis", seed=seed_split + k, spp_per_iteration=spp,
                              max_depth=8, cache_budget_mb=1, backend="cpu") for k in range(K)]
-    whole = renders(scene, "cis", spp, seed_whole, backend="cpu")
+    whole = (reference(f"cache_whole_cis_{spp}_{seed_whole}", scene, "cis", spp, seed_whole)
+             if stored else renders(scene, "cis", spp, seed_whole, backend="cpu"))
     imgs = []
     for sess in split:
         sess.step()
@@ -574,5 +576,5 @@ def test_cache_budget_splits_the_iteration(core):
     # the statistics on the Cornell box: the split is the same mechanism in any scene, and there
     # cis at 64 spp a side resolves 0.73 % (a block 1.8 %), where the fixture resolved 3.0 %
     # (7-9 %) at the same cost
-    imgs, whole = cache_split_renders(100, 200)
+    imgs, whole = cache_split_renders(100, 200, stored=True)
     check_agreement("cache split into passes", imgs, whole, ONE_PERCENT)
