@@ -89,3 +89,13 @@ def test_non_finite_references_are_refused(tmp_path, monkeypatch):
     with pytest.raises(ValueError, match="non-finite"):
         refs.reference_blocks(tmp_path / "r.npz", nan_render, {"name": "nan"})
     assert not (tmp_path / "r.npz").exists()
+
+
+def test_an_unreadable_file_is_rendered_live(tmp_path, monkeypatch):
+    monkeypatch.delenv("LANTERN_STORE_REFS", raising=False)
+    path = tmp_path / "r.npz"
+    path.write_bytes(b"not a zip file")
+    render = Counter()
+    with pytest.warns(refs.StaleReferenceWarning, match="unreadable"):
+        refs.reference_blocks(path, render, {"name": "x"})
+    assert render.calls == 1

@@ -25,6 +25,7 @@ import json
 import os
 import time
 import warnings
+import zipfile
 from pathlib import Path
 
 import numpy as np
@@ -89,11 +90,14 @@ def reference_blocks(path, render, key, block=8):
     parameter of render() that the expected image or the set's statistics depend on."""
     path = Path(path)
     digest = key_digest(dict(key, block=block))
-    stored = None
+    stored, unreadable = None, None
     if path.exists():
-        with np.load(path, allow_pickle=False) as f:
-            if str(f["key"]) == digest:
-                stored = np.asarray(f["blocks"], np.float64)
+        try:
+            with np.load(path, allow_pickle=False) as f:
+                if str(f["key"]) == digest:
+                    stored = np.asarray(f["blocks"], np.float64)
+        except (OSError, ValueError, KeyError, zipfile.BadZipFile) as e:
+            unreadable = f"unreadable ({type(e).__name__}: {e})"
     if stored is not None and not _mode("LANTERN_STORE_REFS"):
         if _mode("LANTERN_VERIFY_REFS"):
             _verify(path, stored, render(), block)
@@ -110,7 +114,7 @@ def reference_blocks(path, render, key, block=8):
         np.savez_compressed(path, key=np.array(digest), blocks=blocks,
                             meta=np.array(json.dumps(meta, sort_keys=True)))
     else:
-        why = "missing" if not path.exists() else "stale (its key differs)"
+        why = unreadable or ("missing" if not path.exists() else "stale (its key differs)")
         warnings.warn(f"stored reference {path} is {why}: rendered live ({seconds:.1f} s); "
                       f"LANTERN_STORE_REFS=1 with this test stores it", StaleReferenceWarning,
                       stacklevel=2)
