@@ -101,8 +101,8 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
             settings_.integrator = "pt";
         }
     }
-    // motion blur: only pt draws one time per path so far (docs/motion_blur.md)
-    if (media_note.empty() && integ != "pt" && integ != "auto") {
+    // motion blur: pt, bdpt, lvc and cis draw a time per path (docs/motion_blur.md); lt not yet
+    if (media_note.empty() && integ == "lt") {
         const std::string why = motion_reason(scene);
         if (!why.empty()) {
             media_note = "integrator '" + integ + "' does not render motion blur (the scene " +

@@ -1,0 +1,73 @@
+"""Motion blur in the bidirectional integrators (docs/motion_blur.md, issue 32): bdpt, lvc and
+cis against pt on test_motion_blur.py's sliding box, spinning box and moving camera, and on
+test_deform_motion.py's deforming pyramid (pt's own motion blur is checked there against an
+independent average of still renders). lantern.metrics.assert_agreement with its negative
+controls; and each motion render must differ from pt's still frame. bdpt draws a time per path
+pair (pt's), lvc and cis one per pass: they render 1 sample per iteration here, so that a seed's
+image averages 16 stratified times."""
+import numpy as np
+import pytest
+
+import lantern
+from lantern import metrics, session
+
+import test_deform_motion as deform
+import test_motion_blur as mb
+
+pytestmark = pytest.mark.skipif(not session.native_available(),
+                                reason=f"lantern._core not built ({session.native_error()})")
+
+K, SPP = 8, 16
+
+
+def _render(scene, integrator, seed):
+    """SPP samples a pixel: one step for pt and bdpt, SPP passes of one sample for lvc, cis."""
+    per_pass = integrator in ("lvc", "cis")
+    s = lantern.Session(scene, integrator=integrator, seed=seed, threads=1, max_depth=3,
+                        spp_per_iteration=1 if per_pass else SPP)
+    for _ in range(SPP if per_pass else 1):
+        s.step()
+    return np.asarray(s.image(), np.float64), list(s.warnings)
+
+
+def _renders(scene, integrator, seed0):
+    out = []
+    for k in range(K):
+        img, warnings = _render(scene, integrator, seed0 + k)
+        assert not warnings, warnings
+        out.append(img)
+    return np.stack(out)
+
+
+_PT = {}
+
+
+def _pt(key, scene):  # pt's motion renders and still frame, once per scene (other seeds)
+    if key not in _PT:
+        _PT[key] = _renders(scene, "pt", 1001)
+    return _PT[key]
+
+
+@pytest.mark.parametrize("integrator", ["bdpt", "lvc", "cis"])
+@pytest.mark.parametrize("name", ["slide", "spin", "camera"])
+def test_bidirectional_motion_matches_pt(name, integrator):
+    scene = mb._moving(name)
+    lan = _renders(scene, integrator, 1)
+    assert np.isfinite(lan).all()
+    metrics.assert_agreement(f"{name} {integrator}", lan, _pt(name, scene), block=8,
+                             se_floor=1e-6)
+    # and it is blurred: pt's still frame differs
+    still = _pt(name + " still", mb._static_at(name, 0.5))
+    res = metrics.compare_renders(lan, still, block=8, se_floor=1e-6)
+    assert not res.passed, f"{name} {integrator}: agrees with the still frame: {res}"
+
+
+@pytest.mark.parametrize("integrator", ["bdpt", "cis"])
+def test_bidirectional_deformation_matches_pt(integrator):
+    scene = deform._deforming(moves=True)
+    lan = _renders(scene, integrator, 1)
+    metrics.assert_agreement(f"deform+slide {integrator}", lan, _pt("deform", scene), block=8,
+                             se_floor=1e-6)
+    still = _pt("deform still", deform._scene(0.5, True))
+    res = metrics.compare_renders(lan, still, block=8, se_floor=1e-6)
+    assert not res.passed, f"deform {integrator}: agrees with the still frame: {res}"
