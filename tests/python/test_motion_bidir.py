@@ -4,7 +4,8 @@ test_deform_motion.py's deforming pyramid (pt's own motion blur is checked there
 independent average of still renders). lantern.metrics.assert_agreement with its negative
 controls; and each motion render must differ from pt's still frame. bdpt draws a time per path
 pair (pt's), lvc and cis one per pass: they render 1 sample per iteration here, so that a seed's
-image averages 16 stratified times."""
+image averages 16 stratified times. lt (its own time per light path) cannot see the world, so it
+renders the same motions lit by a point light under a camera looking down at the floor."""
 import numpy as np
 import pytest
 
@@ -21,10 +22,11 @@ K, SPP = 8, 16
 
 
 def _render(scene, integrator, seed):
-    """SPP samples a pixel: one step for pt and bdpt, SPP passes of one sample for lvc, cis."""
+    """SPP samples a pixel: one step for pt and bdpt, SPP passes of one sample for lvc, cis;
+    lt 16 SPP in one step."""
     per_pass = integrator in ("lvc", "cis")
     s = lantern.Session(scene, integrator=integrator, seed=seed, threads=1, max_depth=3,
-                        spp_per_iteration=1 if per_pass else SPP)
+                        spp_per_iteration=1 if per_pass else SPP * (16 if integrator == "lt" else 1))
     for _ in range(SPP if per_pass else 1):
         s.step()
     return np.asarray(s.image(), np.float64), list(s.warnings)
@@ -60,6 +62,39 @@ def test_bidirectional_motion_matches_pt(name, integrator):
     still = _pt(name + " still", mb._static_at(name, 0.5))
     res = metrics.compare_renders(lan, still, block=8, se_floor=1e-6)
     assert not res.passed, f"{name} {integrator}: agrees with the still frame: {res}"
+
+
+EYE, AT = (0.0, -2.0, 7.0), (0.0, 0.0, 0.5)
+
+
+def _lit(sc, dx=0.0):
+    """A scene of test_motion_blur.py lit by a point light instead of the world, the camera
+    (moved by dx along x) looking down so that it sees only the floor and the box."""
+    sc.world["color"] = (0.0, 0.0, 0.0)
+    sc.add_light("point", position=[1.0, -1.5, 3.0], power=[400.0] * 3, radius=0.0)
+    sc.look_at((EYE[0] + dx, EYE[1], EYE[2]), (AT[0] + dx, AT[1], AT[2]), up=(0, 0, 1), fov=24)
+    return sc
+
+
+def _lit_moving(name):
+    sc = _lit(mb._moving(name))
+    if name == "camera":
+        sc.camera["motion"] = [np.array(_lit(mb._scene(), mb.CAMERA_SLIDE * (2 * t - 1))
+                                        .camera["to_world"]) for t in np.linspace(0, 1, 3)]
+    return sc
+
+
+@pytest.mark.parametrize("name", ["slide", "spin", "camera"])
+def test_light_tracing_motion_matches_pt(name):
+    scene = _lit_moving(name)
+    lan = _renders(scene, "lt", 1)
+    assert np.isfinite(lan).all()
+    # (lt's noise at 8 x 64 spp resolves X on the image: controls 5 %, 15 %)
+    metrics.assert_agreement(f"{name} lt", lan, _pt(name + " lit", scene), block=8,
+                             se_floor=1e-6, image_bias=0.02, block_bias=0.10)
+    still = _pt(name + " lit still", _lit(mb._static_at(name, 0.5)))
+    res = metrics.compare_renders(lan, still, block=8, se_floor=1e-6)
+    assert not res.passed, f"{name} lt: agrees with the still frame: {res}"
 
 
 @pytest.mark.parametrize("integrator", ["bdpt", "cis"])

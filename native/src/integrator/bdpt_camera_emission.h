@@ -48,7 +48,7 @@ LANTERN_HD inline void bdpt_camera_generate(const SceneView& s, const PathState&
     // (a moving camera: at the path's time, bdpt_motion.h, its density in that camera)
     pt_generate<kPtAll & ~kPtMotion>(s, ps, pst, i, path);
     const bool moving = s.motion.camera_steps > 1;
-    if (moving) bdpt_camera_ray_moved(s, bdpt_time(st, path), ps.ray_o[i], ps.ray_d[i]);
+    if (moving) camera_ray_moved_at(s, bdpt_time(st, path), ps.ray_o[i], ps.ray_d[i]);
     bs.conn_n[i] = 0;
     // the light tracing technique relative to a connection (count r); none without light paths
     // (then r = 0 too: every weight of the camera pass is path tracing's)

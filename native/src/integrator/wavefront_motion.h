@@ -22,6 +22,12 @@ struct BdptTimeOf {
     }
 };
 
+// lt's slot: its light path's own time, motion_time of its stream (trace's `motion` too).
+struct LtTimeOf {
+    PathState ps;
+    LANTERN_HD float operator()(int i) const { return motion_time(ps.rng[i]); }
+};
+
 // wavefront.h's trace with each ray at time_of(slot).
 template <class Exec, class TimeOf>
 void trace_timed(Exec& ex, Wavefront<Exec>& w, int n, bool camera, SessionStats& stats,
