@@ -67,17 +67,19 @@ def test_bidirectional_motion_matches_pt(name, integrator):
 EYE, AT = (0.0, -2.0, 7.0), (0.0, 0.0, 0.5)
 
 
-def _lit(sc, dx=0.0):
-    """A scene of test_motion_blur.py lit by a point light instead of the world, the camera
-    (moved by dx along x) looking down so that it sees only the floor and the box."""
+def _lit(sc, dx=0.0, soft=False):
+    """A scene of test_motion_blur.py lit by a point light instead of the world (soft: a
+    soft-falloff ball of radius 0.4), the camera (moved by dx along x) looking down so that it
+    sees only the floor and the box."""
     sc.world["color"] = (0.0, 0.0, 0.0)
-    sc.add_light("point", position=[1.0, -1.5, 3.0], power=[400.0] * 3, radius=0.0)
+    sc.add_light("point", position=[1.0, -1.5, 3.0], power=[400.0] * 3,
+                 radius=0.4 if soft else 0.0, soft_falloff=soft)
     sc.look_at((EYE[0] + dx, EYE[1], EYE[2]), (AT[0] + dx, AT[1], AT[2]), up=(0, 0, 1), fov=24)
     return sc
 
 
-def _lit_moving(name):
-    sc = _lit(mb._moving(name))
+def _lit_moving(name, soft=False):
+    sc = _lit(mb._moving(name), soft=soft)
     if name == "camera":
         sc.camera["motion"] = [np.array(_lit(mb._scene(), mb.CAMERA_SLIDE * (2 * t - 1))
                                         .camera["to_world"]) for t in np.linspace(0, 1, 3)]
@@ -106,3 +108,15 @@ def test_bidirectional_deformation_matches_pt(integrator):
     still = _pt("deform still", deform._scene(0.5, True))
     res = metrics.compare_renders(lan, still, block=8, se_floor=1e-6)
     assert not res.passed, f"deform {integrator}: agrees with the still frame: {res}"
+
+
+def test_bdpt_motion_soft_falloff_matches_pt():
+    """A soft-falloff light's own visibility rays (V(c, x), soft_light_path.h) at the path's
+    time too: the box's shadow slides under a ball light."""
+    scene = _lit_moving("slide", soft=True)
+    lan = _renders(scene, "bdpt", 1)
+    metrics.assert_agreement("slide soft bdpt", lan, _pt("slide soft", scene), block=8,
+                             se_floor=1e-6)
+    still = _pt("slide soft still", _lit(mb._static_at("slide", 0.5), soft=True))
+    res = metrics.compare_renders(lan, still, block=8, se_floor=1e-6)
+    assert not res.passed, f"slide soft bdpt: agrees with the still frame: {res}"

@@ -132,7 +132,8 @@ void light_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep&
         ex.timed(stats.time_shade, [&] {
             ex.each(active, LANTERN_KERNEL(int k) {
                 const int i = q[k];
-                bdpt_light_shade(s, ps, bs, bst, i, first_path + i, sr);
+                bdpt_light_shade(s, ps, bs, bst, i, first_path + i,  // (motion: at its time)
+                                 motion ? sr.at(bdpt_time(bst, first_path + i)) : sr);
             });
         });
         // store vertices in queue order: places by an exclusive scan of the store flags
@@ -263,7 +264,8 @@ void camera_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep
             ex.each(active, LANTERN_KERNEL(int k) {
                 const int i = q[k];
                 const int64_t path = camera_path(list, spp, first_path + i);
-                bdpt_camera_shade(s, ps, bs, bst, cache, i, path, sr);
+                bdpt_camera_shade(s, ps, bs, bst, cache, i, path,  // (motion: at its time)
+                                  motion ? sr.at(bdpt_time(bst, path)) : sr);
             }, 64);
         });
 #ifndef __CUDACC__  // the walk stage measured 2,816 B of stack on the device: CPU only (session.cpp)
