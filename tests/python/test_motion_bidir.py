@@ -25,8 +25,9 @@ def _render(scene, integrator, seed):
     """SPP samples a pixel: one step for pt and bdpt, SPP passes of one sample for lvc, cis;
     lt 16 SPP in one step."""
     per_pass = integrator in ("lvc", "cis")
+    spp = 1 if per_pass else SPP * (16 if integrator == "lt" else 1)
     s = lantern.Session(scene, integrator=integrator, seed=seed, threads=1, max_depth=3,
-                        spp_per_iteration=1 if per_pass else SPP * (16 if integrator == "lt" else 1))
+                        spp_per_iteration=spp)
     for _ in range(SPP if per_pass else 1):
         s.step()
     return np.asarray(s.image(), np.float64), list(s.warnings)

@@ -124,7 +124,8 @@ void light_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep&
     while (active > 0 && !st.cancelled()) {
         stats.rays_light += active;
         if (motion)  // each ray at its path's time (wavefront_motion.h)
-            trace_timed(ex, w, active, false, stats, BdptTimeOf{bst, nullptr, 1, first_path, false});
+            trace_timed(ex, w, active, false, stats,
+                        BdptTimeOf{bst, nullptr, 1, first_path, false});
         else
             trace(ex, w, active, false, stats);
         sort_queue(ex, w, s, active, stats);
