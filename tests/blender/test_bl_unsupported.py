@@ -45,7 +45,7 @@ def _light(scene, name="Lamp"):
     return obj
 
 
-def motion_blur(s):  # transform and deformation motion render (docs/motion_blur.md): pt
+def motion_blur(s):  # transform and deformation motion render (docs/motion_blur.md): all
     obj = _base(s)     # (lit, not emitting: a deforming emitter stays still, with a warning)
     obj.data.materials.clear()
     obj.data.materials.append(bpy.data.materials.new("Matte"))

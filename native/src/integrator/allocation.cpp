@@ -299,7 +299,7 @@ std::string pt_only_reason(const SceneInput& in) {
     // heterogeneous media (bdpt_medium_stages.h, bdpt_medium_hetero.h); emissive ones stay pt's
     // here (emissive_media_reason), as auto's trials carry no moment channels in media at all
     if (std::string v = emissive_media_reason(in); !v.empty()) return v;
-    if (std::string v = motion_reason(in); !v.empty()) return v;  // motion blur: pt only
+    if (std::string v = motion_reason(in); !v.empty()) return v;  // motion: docs/motion_blur.md
     if (std::string v = subsurface_reason(in); !v.empty()) return v;  // docs/subsurface.md
     if (std::string v = curves_bidir_reason(in); !v.empty()) return v;  // docs/curves.md
     return "";

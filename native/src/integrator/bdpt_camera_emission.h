@@ -7,6 +7,7 @@
 #include "integrator/bdpt_common.h"
 #include "integrator/bdpt_curve.h"
 #include "integrator/bdpt_medium.h"
+#include "integrator/bdpt_motion.h"
 #include "integrator/pixel_conn.h"
 #include "integrator/soft_light_path.h"
 
@@ -44,11 +45,16 @@ LANTERN_HD inline void bdpt_camera_generate(const SceneView& s, const PathState&
     const BdptSettings st = camera_settings(st_all, pixel_conn_of_path(s, st_all, path));
     // the same camera sample as pt's (same random stream), plus the MIS quantities
     const PtSettings pst{st.max_depth, st.rr_depth, st.spp_per_iteration, st.seed, st.iteration};
-    pt_generate(s, ps, pst, i, path);
+    // (a moving camera: at the path's time, bdpt_motion.h, its density in that camera)
+    pt_generate<kPtAll & ~kPtMotion>(s, ps, pst, i, path);
+    const bool moving = s.motion.camera_steps > 1;
+    if (moving) camera_ray_moved_at(s, bdpt_time(st, path), ps.ray_o[i], ps.ray_d[i]);
     bs.conn_n[i] = 0;
     // the light tracing technique relative to a connection (count r); none without light paths
     // (then r = 0 too: every weight of the camera pass is path tracing's)
-    bs.dvcm[i] = st.n_lt > 0.0f ? mis(st.n_lt / (st.r * camera_pdf(s.camera, ps.ray_d[i])))
+    bs.dvcm[i] = st.n_lt > 0.0f ? mis(st.n_lt / (st.r * camera_pdf(moving
+                                                            ? bdpt_camera_moved(s, st, path)
+                                                            : s.camera, ps.ray_d[i])))
                                 : 0.0f;
     bs.dvc[i] = 0.0f;
     if (s.num_media > 0) bdpt_camera_generate_medium(ps, bs, i);

@@ -5,6 +5,7 @@
 #include "integrator/bdpt_common.h"
 #include "integrator/bdpt_curve.h"
 #include "integrator/bdpt_medium.h"
+#include "integrator/bdpt_motion.h"
 #include "integrator/pixel_conn.h"
 #include "integrator/soft_light_path.h"
 
@@ -107,7 +108,7 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
         // (HostScene's soft_light_paths is off for a GPU session, so their pick pdf is 0)
         return;
 #else
-        const SurfaceHit hc = pt_surface(s, tri, ps.hit_uv[i], d);
+        const SurfaceHit hc = bdpt_surface(s, st, path, tri, ps.hit_uv[i], d);
         Rng r = ps.rng[i];
         const Vec2 u = r.uniform2();
         ps.rng[i] = r;
@@ -121,7 +122,7 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
 #endif
     }
     SurfaceHit h = strand ? surface_of_hit(s, tri, ps.hit_uv[i], ps.ray_o[i], d, ps.hit_t[i])
-                          : pt_surface(s, tri, ps.hit_uv[i], d_in);
+                          : bdpt_surface(s, st, path, tri, ps.hit_uv[i], d_in);  // (motion)
     if (media) dist = length(h.p - o_prev);
     MaterialScratch scratch;
     const Material& m = material_at_point(
@@ -202,8 +203,11 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
 
     // ---- t = 1: connect to the camera (k + 1 segments) ----
     if (!delta && k + 1 <= st.max_depth && (s.tri_flags[tri] & kVisibleCamera) != 0) {
-        CameraConnection cc = connect_camera(s.camera, h.p, filter_radius(s.camera),
-                                             lens_sample(s.camera, ps, i));
+        // (a moving camera: at the path's time, bdpt_motion.h)
+        const CameraView cam = s.motion.camera_steps > 1 ? bdpt_camera_moved(s, st, path)
+                                                         : s.camera;
+        CameraConnection cc = connect_camera(cam, h.p, filter_radius(cam),
+                                             lens_sample(cam, ps, i));
         if (cc.valid && view_side_agrees(m, cc.wc, h.ng, h.ns)) {
             BsdfEval e = bdpt_eval(m, h.front, wo, frame.to_local(cc.wc), Transport::Importance,
                                    h.coat_n, frame, h.ng);

@@ -7,6 +7,7 @@
 #include "core/offset.h"
 #include "integrator/camera.h"
 #include "integrator/light_path.h"
+#include "integrator/motion_stage.h"
 #include "integrator/path_state.h"
 #include "integrator/bdpt_curve.h"
 #include "integrator/pt.h"
@@ -216,8 +217,11 @@ LANTERN_HD inline void lt_generate(const SceneView& s, const PathState& ps,
                        : (l.visible_camera != 0 && (l.type == kLightArea || l.type == kLightPoint ||
                                                     l.type == kLightSpot));
     if (visible && es.finite && !es.delta_pos && !soft) {  // (a soft disk faces the camera)
-        float w = filter_radius(s.camera);
-        CameraConnection cc = connect_camera(s.camera, es.p, w, lens_sample(s.camera, ps, i));
+        // (a moving camera: at the path's time, its own: motion_time of its stream)
+        const CameraView cam = s.motion.camera_steps > 1 ? camera_moved_at(s, motion_time(rng))
+                                                         : s.camera;
+        float w = filter_radius(cam);
+        CameraConnection cc = connect_camera(cam, es.p, w, lens_sample(cam, ps, i));
         float cos_c = cc.valid ? dot(cc.wc, es.n) : 0.0f;
         if (l.type == kLightTriangle) cos_c = fabsf(cos_c);
         if (cos_c > 0.0f) {
@@ -259,7 +263,10 @@ LANTERN_HD inline void lt_shade(const SceneView& s, const PathState& ps, const L
         return;
     // a triangle's or a strand's surface (pt_curve.h); strands: the fiber measure (bdpt_curve.h)
     const bool strand = prim_is_strand(s, tri);
-    SurfaceHit h = surface_of_hit(s, tri, ps.hit_uv[i], ps.ray_o[i], d, ps.hit_t[i]);
+    // (motion blur: the path's time is motion_time of its stream, motion_stage.h)
+    SurfaceHit h = s.motion.num_objects > 0 && !strand
+                       ? surface_moved_at(s, tri, ps.hit_uv[i], d, motion_time(ps.rng[i]))
+                       : surface_of_hit(s, tri, ps.hit_uv[i], ps.ray_o[i], d, ps.hit_t[i]);
     MaterialScratch scratch;
     const Material& m = material_at_point(
         s, s.tri_material[tri],
@@ -276,8 +283,11 @@ LANTERN_HD inline void lt_shade(const SceneView& s, const PathState& ps, const L
 
     // ---- Connect to the camera (t = 1): depth + 1 segments ----
     if ((s.tri_flags[tri] & kVisibleCamera) != 0) {
-        CameraConnection cc = connect_camera(s.camera, h.p, filter_radius(s.camera),
-                                             lens_sample(s.camera, ps, i));
+        const CameraView cam = s.motion.camera_steps > 1
+                                   ? camera_moved_at(s, motion_time(ps.rng[i]))
+                                   : s.camera;
+        CameraConnection cc = connect_camera(cam, h.p, filter_radius(cam),
+                                             lens_sample(cam, ps, i));
         if (cc.valid && !material_is_delta(m) && view_side_agrees(m, cc.wc, h.ng, h.ns)) {
             BsdfEval e = material_eval(m, h.front, wo, frame.to_local(cc.wc),
                                        Transport::Importance, h.coat_n, frame.to_local(h.ng));

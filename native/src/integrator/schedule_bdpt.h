@@ -13,6 +13,7 @@
 
 #include "integrator/bdpt.h"
 #include "integrator/wavefront.h"
+#include "integrator/wavefront_motion.h"
 
 namespace lantern {
 namespace wf {
@@ -119,15 +120,21 @@ void light_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep&
         });
     });
     int active = compact(ex, w, n);
+    const bool motion = s.motion.num_objects > 0;  // moving meshes (docs/motion_blur.md)
     while (active > 0 && !st.cancelled()) {
         stats.rays_light += active;
-        trace(ex, w, active, false, stats);
+        if (motion)  // each ray at its path's time (wavefront_motion.h)
+            trace_timed(ex, w, active, false, stats,
+                        BdptTimeOf{bst, nullptr, 1, first_path, false});
+        else
+            trace(ex, w, active, false, stats);
         sort_queue(ex, w, s, active, stats);
         const int32_t* q = w.queue.data();
         ex.timed(stats.time_shade, [&] {
             ex.each(active, LANTERN_KERNEL(int k) {
                 const int i = q[k];
-                bdpt_light_shade(s, ps, bs, bst, i, first_path + i, sr);
+                bdpt_light_shade(s, ps, bs, bst, i, first_path + i,  // (motion: at its time)
+                                 motion ? sr.at(bdpt_time(bst, first_path + i)) : sr);
             });
         });
         // store vertices in queue order: places by an exclusive scan of the store flags
@@ -156,9 +163,11 @@ void light_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep&
         ex.sync();
         stats.time_cache += seconds_since(t);
         // light tracing: camera segments against what the camera sees, then the splats
-        stats.rays_light_tracing += s.num_media > 0
-                                        ? bdpt_camera_segments_medium(ex, w, s, active, stats)
-                                        : camera_segments(ex, w, active, stats);
+        stats.rays_light_tracing +=
+            s.num_media > 0 ? bdpt_camera_segments_medium(ex, w, s, active, stats)
+            : motion ? camera_segments_timed(ex, w, active, stats,
+                                             BdptTimeOf{bst, nullptr, 1, first_path, false})
+                     : camera_segments(ex, w, active, stats);
         ex.timed(stats.time_splat, [&] { splat(ex, w, s, st, active); });
         active = compact(ex, w, active);
     }
@@ -242,15 +251,22 @@ void camera_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep
     int active = n;
     stats.rays_camera += n;
     bool first = true;
+    // moving meshes: every ray of the pass at its path's time (wavefront_motion.h)
+    const bool motion = s.motion.num_objects > 0;
+    const BdptTimeOf time_of{bst, list, spp, first_path, true};
     while (active > 0 && !st.cancelled()) {
-        trace(ex, w, active, first, stats);
+        if (motion)
+            trace_timed(ex, w, active, first, stats, time_of);
+        else
+            trace(ex, w, active, first, stats);
         sort_queue(ex, w, s, active, stats);
         const int32_t* q = w.queue.data();
         ex.timed(stats.time_shade, [&] {
             ex.each(active, LANTERN_KERNEL(int k) {
                 const int i = q[k];
                 const int64_t path = camera_path(list, spp, first_path + i);
-                bdpt_camera_shade(s, ps, bs, bst, cache, i, path, sr);
+                bdpt_camera_shade(s, ps, bs, bst, cache, i, path,  // (motion: at its time)
+                                  motion ? sr.at(bdpt_time(bst, path)) : sr);
             }, 64);
         });
 #ifndef __CUDACC__  // the walk stage measured 2,816 B of stack on the device: CPU only (session.cpp)
@@ -276,14 +292,17 @@ void camera_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep
             } else if constexpr (!Exec::kGpu) {  // one item per slot, in a fixed order
                 ex.each(active, LANTERN_KERNEL(int k) {
                     const int i = q[k];
+                    const float time = motion ? time_of(i) : 0.0f;  // (Ray's default)
                     if (ps.shadow_valid[i]) {
-                        const Ray r{ps.shadow_o[i], ps.shadow_d[i], 0.0f, ps.shadow_tmax[i]};
+                        Ray r{ps.shadow_o[i], ps.shadow_d[i], 0.0f, ps.shadow_tmax[i]};
+                        r.time = time;
                         if (!rays.occluded(r, RayKind::kShadow))
                             add_radiance(ps, i, ps.shadow_contrib[i]);
                     }
                     for (int j = 0; j < bs.conn_n[i]; ++j) {
                         const size_t e = size_t(i) * bs.conn_cap + j;
-                        const Ray r{bs.conn_o[e], bs.conn_d[e], 0.0f, bs.conn_tmax[e]};
+                        Ray r{bs.conn_o[e], bs.conn_d[e], 0.0f, bs.conn_tmax[e]};
+                        r.time = time;
                         if (!rays.occluded(r, RayKind::kShadow)) add_radiance(ps, i, bs.conn_c[e]);
                     }
                 }, 64);
@@ -294,14 +313,17 @@ void camera_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep
                     const int k = e / per, j = e - k * per;
                     const int i = q[k];
                     uint8_t v = 0;
+                    const float time = motion ? time_of(i) : 0.0f;  // (Ray's default)
                     if (j == 0) {
                         if (ps.shadow_valid[i]) {
-                            const Ray r{ps.shadow_o[i], ps.shadow_d[i], 0.0f, ps.shadow_tmax[i]};
+                            Ray r{ps.shadow_o[i], ps.shadow_d[i], 0.0f, ps.shadow_tmax[i]};
+                            r.time = time;
                             v = rays.occluded(r, RayKind::kShadow) ? 0 : 1;
                         }
                     } else if (j - 1 < bs.conn_n[i]) {
                         const size_t c = size_t(i) * bs.conn_cap + (j - 1);
-                        const Ray r{bs.conn_o[c], bs.conn_d[c], 0.0f, bs.conn_tmax[c]};
+                        Ray r{bs.conn_o[c], bs.conn_d[c], 0.0f, bs.conn_tmax[c]};
+                        r.time = time;
                         v = rays.occluded(r, RayKind::kShadow) ? 0 : 1;
                     }
                     vis[e] = v;

@@ -5,6 +5,7 @@
 
 #include "integrator/lt.h"
 #include "integrator/wavefront.h"
+#include "integrator/wavefront_motion.h"
 
 namespace lantern {
 namespace wf {
@@ -57,14 +58,16 @@ void lt_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep& st
         });
     });
     int active = n;
+    const bool motion = s.motion.num_objects > 0;  // each ray at its path's time (motion blur)
     while (!st.cancelled()) {
         stats.rays_shadow += s.num_media > 0 ? camera_segments_medium(ex, w, s, active, stats)
-                                             : camera_segments(ex, w, active, stats);
+                             : motion ? camera_segments_timed(ex, w, active, stats, LtTimeOf{ps})
+                                      : camera_segments(ex, w, active, stats);
         ex.timed(stats.time_film, [&] { splat(ex, w, s, st, active); });
         active = compact(ex, w, active);
         if (active == 0) break;
         stats.rays_indirect += active;  // light rays
-        trace(ex, w, active, false, stats);
+        trace(ex, w, active, false, stats, motion);  // (its time: motion_time of its stream)
         const int32_t* q = w.queue.data();
         ex.timed(stats.time_shade, [&] {
             ex.each(active, LANTERN_KERNEL(int k) { lt_shade(s, ps, lp, pt, q[k]); });

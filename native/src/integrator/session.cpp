@@ -101,16 +101,7 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
             settings_.integrator = "pt";
         }
     }
-    // motion blur: only pt draws one time per path so far (docs/motion_blur.md)
-    if (media_note.empty() && integ != "pt" && integ != "auto") {
-        const std::string why = motion_reason(scene);
-        if (!why.empty()) {
-            media_note = "integrator '" + integ + "' does not render motion blur (the scene " +
-                         "has " + why + "; its light paths would need the camera path's "
-                         "time): rendering with pt";
-            settings_.integrator = "pt";
-        }
-    }
+    // motion blur: pt, lt, bdpt, lvc and cis give each path a time (docs/motion_blur.md)
     // object ray visibility: only pt tells a bounce's kind so far (pt_ray_visibility.h)
     if (media_note.empty() && integ != "pt" && integ != "auto") {
         const std::string why = ray_visibility_reason(scene);

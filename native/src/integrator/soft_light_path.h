@@ -20,8 +20,16 @@ struct StageRays {
     Rays rays;
     Kind indirect, shadow;
     bool no_centre_test;
+    float time = 0.0f;  // motion blur: the path's shutter time, every query's (motion_blur.md)
     LANTERN_HD bool blocked(const Ray& r, bool shadow_ray) const {
-        return rays.occluded(r, shadow_ray ? shadow : indirect);
+        Ray q = r;
+        q.time = time;
+        return rays.occluded(q, shadow_ray ? shadow : indirect);
+    }
+    LANTERN_HD StageRays at(float t) const {  // the same queries at time t
+        StageRays c = *this;
+        c.time = t;
+        return c;
     }
 };
 template <class Rays, class Kind>

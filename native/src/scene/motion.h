@@ -66,6 +66,19 @@ LANTERN_HD inline float motion_time(const Rng& rng) {
 #endif
 }
 
+// lvc, cis (their light-vertex cache is shared by every path of a pass): one time per pass, the
+// same 1D sequence over the pass's index (BdptSettings::iteration) under a scramble of the
+// session's seed, so that the passes' times are stratified (docs/motion_blur.md)
+constexpr uint64_t kMotionPassSalt = 0x5041535354494D45ull;  // "PASSTIME"
+LANTERN_HD inline float motion_pass_time(uint64_t seed, uint64_t pass) {
+#ifdef LANTERN_RNG_PCG
+    return bits_to_unit(uint32_t(mix64(mix64(seed ^ kMotionPassSalt) ^ pass)));
+#else
+    const uint32_t sd = uint32_t(mix64(seed ^ kMotionPassSalt));
+    return bits_to_unit(sobol_owen(sobol_shuffled(reverse_bits32(uint32_t(pass)), sd, 0), sd, 0));
+#endif
+}
+
 // ---- Interpolation ----
 LANTERN_HD inline Transform motion_compose(const float q[4], const float t[3], const float u[6]) {
     const float x = q[0], y = q[1], z = q[2], w = q[3];
