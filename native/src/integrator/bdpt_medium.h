@@ -122,6 +122,13 @@ LANTERN_HD inline void bdpt_medium_scatter_update(float& dvcm, float& dvc, float
 
 // ---- The slot's segment state (BdptState::seg_*) and the ends of a queued connection ----
 enum ConnKind : int32_t { kConnNearMedium = 1, kConnFarMedium = 2 };
+// BdptSettings::moments: the queued contribution becomes moment channels at its finish
+// (bdpt_medium_finish_c); pt's squared ratios a, b (BdptState::shadow_mom / conn_mom) scale with
+// the near end's factor (kMomNear) or the far end's (kMomFar); kMomOwnB: b is the
+// contribution's own technique (1, no factor: next-event estimation); kMomG: the queue holds
+// g = bdpt_pt_factor(1, a, b) instead (a connection's Connection::pt_factor), which a common
+// factor f of a and b scales by 1 / sqrt(f) (bdpt_pt_factor is of degree -1/2 in them).
+enum MomentKind : int32_t { kMomOn = 4, kMomNear = 8, kMomFar = 16, kMomOwnB = 32, kMomG = 64 };
 
 LANTERN_HD inline MediumSegmentPdf bdpt_seg_load(const BdptState& bs, int i) {
     return MediumSegmentPdf{bs.seg_fwd[i], bs.seg_rev[i], bs.seg_flags[i]};

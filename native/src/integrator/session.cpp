@@ -371,10 +371,9 @@ SessionSettings Session::iteration_settings() const {
         if (trial_next()) run.spp_per_iteration = 1;  // a trial: one sample a pixel
         // a cis trial also estimates pt's second moment (allocation.h): its sum holds moment
         // channels, not RGB (never added to the image)
-        // (media: the medium stages finish a contribution's weight and transmittance at its
-        // shadow ray, after bdpt_moment would have turned it into channels: no moments there,
-        // pt's variance from its own trials and iterations; docs/auto_integrator.md)
-        if (trial_next() && run.integrator == "cis" && !media_) run.auto_moments = true;
+        // (media: the medium stages make the channels at the shadow ray, where a queued
+        // contribution's weight and transmittance are finished: bdpt_medium_finish_c)
+        if (trial_next() && run.integrator == "cis") run.auto_moments = true;
         if (trial_next()) run.connection_map.clear();  // (trials: the counts the pilot weighs)
     }
     return run;
