@@ -189,7 +189,7 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
         std::string why = pt_only_reason(scene);
         // the bidirectional medium stages have not run on a GPU yet (docs/volumes.md)
         if (why.empty() && gpu_ && media_) why = "participating media on the GPU";
-        // off by default: its choice in media fell below pt's efficiency (docs/auto_integrator.md)
+        // (auto_media off: pt in media, docs/auto_integrator.md "Media")
         const bool media_off = why.empty() && media_ && !settings_.auto_media;
         alloc_ = std::make_unique<Allocation>(int64_t(scene.width) * scene.height,
                                               !why.empty() || media_off,
