@@ -60,8 +60,8 @@ DEFAULT_SETTINGS = {
     "instancing": False,      # a bottom-level BVH per mesh, so move_instance() builds none
     "auto_keep_pilot": False,  # integrator auto: the pilot in the image, as on the GPU (tests)
     # integrator auto in homogeneous, non-emissive media: its trials choose pt or cis there
-    # (off: pt in media; its choice there fell below pt's efficiency, docs/auto_integrator.md)
-    "auto_media": False,
+    # (off: pt in media, with a warning; docs/auto_integrator.md, "Media")
+    "auto_media": True,
     # tests only (lvc, cis, bdpt): each pixel holds integrator auto's moment channels, not RGB
     # (luminance, path tracing's second moment by the MIS identity, light pt cannot sample)
     "moment_channels": False,

@@ -112,7 +112,7 @@ def test_render_through_stand_in_core(scene_file, tmp_path, fake, capsys):
                           "cache_budget_mb": 0, "light_candidates": 1,
                           "adaptive_threshold": 0.0, "adaptive_min_samples": 0,
                           "adaptive_step": 4, "instancing": False,
-                          "auto_keep_pilot": False, "auto_media": False,
+                          "auto_keep_pilot": False, "auto_media": True,
                           "light_path_fraction": 1.0,
                           "moment_channels": False, "soft_visibility": True}
     assert s.spp == 6 and s.stats()["iterations"] == 3

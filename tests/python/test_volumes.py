@@ -104,15 +104,15 @@ def test_auto_renders_emissive_media_with_pt():
     s.step()
     assert any("only pt renders" in w and "emissive volume" in w for w in s.warnings)
     assert s.stats["auto_choice"] == "pt" and s.stats["auto_cis_iterations"] == 0
-    # control: with auto_media the absorbing slab is left to the pilot's trials (cis's among
-    # them); by default auto is pt in any medium (docs/auto_integrator.md, "Media")
+    # control: by default the absorbing slab is left to the pilot's trials (cis's among
+    # them); with auto_media off auto is pt in any medium (docs/auto_integrator.md, "Media")
     s = lantern.Session(slab_scene(), integrator="auto", seed=3, spp_per_iteration=2,
-                        max_depth=1, threads=1, auto_media=True)
+                        max_depth=1, threads=1)
     s.step()
     assert not any("path tracing" in w for w in s.warnings), s.warnings
     assert s.stats["auto_cis_iterations"] >= 2
     s = lantern.Session(slab_scene(), integrator="auto", seed=3, spp_per_iteration=2,
-                        max_depth=1, threads=1)
+                        max_depth=1, threads=1, auto_media=False)
     s.step()
     assert any("auto_media" in w for w in s.warnings), s.warnings
     assert s.stats["auto_choice"] == "pt" and s.stats["auto_cis_iterations"] == 0

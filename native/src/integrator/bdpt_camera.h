@@ -109,7 +109,8 @@ LANTERN_HD inline void bdpt_camera_nee(const SceneView& s, const PathState& ps,
     float w = 1.0f / (w_light + 1.0f + w_camera);
     float cos_i = fabsf(dot(ls.wi, z.h.ns));
     Vec3 c = z.beta * e.f * ls.le * (cos_i * w / pdf_light_w);
-    if (st.moments) c = bdpt_moment(c, c, bdpt_pt_factor(w_light + 1.0f + w_camera, w_light, 1.0f));
+    if (st.moments && s.num_media == 0)  // (media: at the shadow ray, bdpt_medium_finish_c)
+        c = bdpt_moment(c, c, bdpt_pt_factor(w_light + 1.0f + w_camera, w_light, 1.0f));
     if (!is_finite(c)) {
         ps.dropped[i] = 1;
         return;
@@ -128,7 +129,8 @@ LANTERN_HD inline void bdpt_camera_nee(const SceneView& s, const PathState& ps,
     if (s.num_media > 0) {  // its weight finished at the shadow test (bdpt_medium_stages.h)
         bs.shadow_wn[i] = w_camera;
         bs.shadow_wf[i] = w_light;
-        bs.shadow_kind[i] = 0;
+        bs.shadow_kind[i] = st.moments ? kMomOn | kMomFar | kMomOwnB : 0;
+        if (st.moments) bs.shadow_mom[i] = Vec3{w_light, 1.0f, 1.0f};
         ps.shadow_medium[i] = dot(ls.wi, z.h.ng) < 0.0f
                                   ? medium_across(s, z.tri, z.h.front, z.slot_medium)
                                   : z.slot_medium;
@@ -236,9 +238,12 @@ LANTERN_HD inline Connection bdpt_connect(const SceneView& s, const BdptSettings
     return r;
 }
 
+// mom_u >= 0 (moments in media): contrib stays RGB and becomes channels at its shadow ray, its
+// unit contribution mom_u times it (bdpt_medium_finish_c)
 LANTERN_HD inline void bdpt_queue_connection(const BdptState& bs, int i, const CameraVertex& z,
                                              const LightVertex& y, const Connection& c,
-                                             Vec3 contrib, float offset_scale) {
+                                             Vec3 contrib, float offset_scale,
+                                             float mom_u = -1.0f) {
     int j = bs.conn_n[i];
     if (j >= bs.conn_cap || is_black(contrib) || !is_finite(contrib)) return;
     int e = i * bs.conn_cap + j;
@@ -251,7 +256,8 @@ LANTERN_HD inline void bdpt_queue_connection(const BdptState& bs, int i, const C
     if (bs.conn_wn) {  // scenes with media (bdpt_medium_stages.h)
         bs.conn_wn[e] = c.wn;
         bs.conn_wf[e] = c.wf;
-        bs.conn_kind[e] = c.kind;
+        bs.conn_kind[e] = c.kind | (mom_u >= 0.0f ? kMomOn | kMomFar | kMomG : 0);
+        bs.conn_mom[e] = Vec3{c.pt_factor, 0.0f, mom_u};
         bs.conn_medium[e] = c.medium;
     }
 }
@@ -286,12 +292,15 @@ LANTERN_HD inline void bdpt_camera_connect(const SceneView& s, const BdptState& 
     // every cache vertex is at least one segment from its light: past max_depth from here;
     // a pixel of N = 0 pays for no candidates (pixel_conn.h)
     if (cache.size <= 0 || z.depth + 2 > st.max_depth || st.connections <= 0) return;
+    // moments in media: channels made at the shadow ray (bdpt_medium_finish_c)
+    const bool media = s.num_media > 0;
+    auto mom_u = [&](float u) { return st.moments && media ? u : -1.0f; };
     if (st.mode == kBdptOwnPath) {
         for (int k = cache.path_offset[path]; k < cache.path_offset[path + 1]; ++k) {
             const LightVertex& y = cache.v[cache.path_vertex[k]];
             Connection c = bdpt_connect(s, st, z, y);
-            const Vec3 contrib = st.moments ? bdpt_moment(c.c, c.c, c.pt_factor) : c.c;
-            bdpt_queue_connection(bs, i, z, y, c, contrib, s.offset_scale);
+            const Vec3 contrib = st.moments && !media ? bdpt_moment(c.c, c.c, c.pt_factor) : c.c;
+            bdpt_queue_connection(bs, i, z, y, c, contrib, s.offset_scale, mom_u(1.0f));
         }
         return;
     }
@@ -306,8 +315,8 @@ LANTERN_HD inline void bdpt_camera_connect(const SceneView& s, const BdptState& 
             const LightVertex& y = cache.v[pick(rng.next())];
             Connection c = bdpt_connect(s, st, z, y);
             Vec3 contrib = c.c * weight;
-            if (st.moments) contrib = bdpt_moment(contrib, contrib, c.pt_factor);
-            bdpt_queue_connection(bs, i, z, y, c, contrib, s.offset_scale);
+            if (st.moments && !media) contrib = bdpt_moment(contrib, contrib, c.pt_factor);
+            bdpt_queue_connection(bs, i, z, y, c, contrib, s.offset_scale, mom_u(1.0f));
         }
         return;
     }
@@ -391,11 +400,10 @@ LANTERN_HD inline void bdpt_camera_connect(const SceneView& s, const BdptState& 
         }
         Vec3 contrib = c.c * weight;
         // (moments: the unit contribution is the uniform pick's, size / (N L))
-        if (st.moments) {
-            const float uniform = size / float(st.connections) * st.inv_light_paths;
-            contrib = bdpt_moment(contrib, c.c * uniform, c.pt_factor);
-        }
-        bdpt_queue_connection(bs, i, z, y, c, contrib, s.offset_scale);
+        const float uniform = size / float(st.connections) * st.inv_light_paths;
+        if (st.moments && !media) contrib = bdpt_moment(contrib, c.c * uniform, c.pt_factor);
+        bdpt_queue_connection(bs, i, z, y, c, contrib, s.offset_scale,
+                              mom_u(weight > 0.0f ? uniform / weight : 0.0f));
     }
 }
 

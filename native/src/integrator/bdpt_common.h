@@ -182,6 +182,8 @@ struct BdptState {
     float* conn_wf = nullptr;
     int32_t* conn_kind = nullptr;
     int32_t* conn_medium = nullptr;  // the medium the connection starts in
+    Vec3* shadow_mom = nullptr;   // BdptSettings::moments: pt's squared ratios (a, b, u) of the
+    Vec3* conn_mom = nullptr;     // shadow ray / connection (bdpt_medium_finish_c)
     // camera pass: the last vertex's geometric normal (soft-falloff lights' weights,
     // soft_light_path.h); the light pass's power slots, which the camera pass does not use
     Vec3* prev_ng = nullptr;

@@ -170,6 +170,11 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
     if (st.moments || st.conn_map) {
         dpt0 = bs.dpt0[i] / mis(cos_a);
         dpt1 = bs.dpt1[i] / mis(cos_a);
+        if (media) {  // the segment's factors, as dvc's (bdpt_medium_hit_update)
+            const MediumSegmentPdf sg = bdpt_seg_load(bs, i);
+            dpt0 *= mis(sg.rev) / mis(sg.fwd);
+            dpt1 *= mis(sg.rev) / mis(sg.fwd);
+        }
     }
 
     const Vec3 wo = frame.to_local(wo_w);
@@ -230,7 +235,7 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
                     bs.shadow_wn[i] = mis(cc.importance * cos_wc_ng * st.r / n_lt) *
                                       (dvcm + dvc * mis(e.pdf_rev_w));
                     bs.shadow_wf[i] = 0.0f;
-                    bs.shadow_kind[i] = 0;
+                    bs.shadow_kind[i] = st.moments ? kMomOn | kMomNear : 0;
                     ps.shadow_medium[i] = dot(cc.wc, h.ng) < 0.0f
                                               ? medium_across(s, tri, h.front, ps.medium[i])
                                               : ps.medium[i];
@@ -243,7 +248,10 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
                     // f / q of the contribution the sum receives, c / st.n_lt (the splat's
                     // scale, wavefront.h's splat()), is that times st.n_lt / n_lt (the count its
                     // weight assumes: lt_direct): c / n_lt
-                    c = bdpt_moment(c, c * (1.0f / n_lt), bdpt_pt_factor(1.0f / w, a, b));
+                    if (media)  // channels at the camera segment (bdpt_medium_finish_c)
+                        bs.shadow_mom[i] = Vec3{a, b, 1.0f / n_lt};
+                    else
+                        c = bdpt_moment(c, c * (1.0f / n_lt), bdpt_pt_factor(1.0f / w, a, b));
                 }
                 lt_queue_splat(ps, lp, i, h.p, h.ng, cc, c, s.offset_scale);
             }

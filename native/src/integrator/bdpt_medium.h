@@ -122,6 +122,33 @@ LANTERN_HD inline void bdpt_medium_scatter_update(float& dvcm, float& dvc, float
 
 // ---- The slot's segment state (BdptState::seg_*) and the ends of a queued connection ----
 enum ConnKind : int32_t { kConnNearMedium = 1, kConnFarMedium = 2 };
+// BdptSettings::moments: the queued contribution becomes moment channels at its finish
+// (bdpt_medium_finish_c); pt's squared ratios a, b (BdptState::shadow_mom / conn_mom) scale with
+// the near end's factor (kMomNear) or the far end's (kMomFar); kMomOwnB: b is the
+// contribution's own technique (1, no factor: next-event estimation); kMomG: the queue holds
+// g = bdpt_pt_factor(1, a, b) instead (a connection's Connection::pt_factor), which a common
+// factor f of a and b scales by 1 / sqrt(f) (bdpt_pt_factor is of degree -1/2 in them).
+enum MomentKind : int32_t { kMomOn = 4, kMomNear = 8, kMomFar = 16, kMomOwnB = 32, kMomG = 64 };
+
+// A queued contribution carries the weight 1 / (1 + wn + wf) (factors 1); with the traced
+// segment's factors it is 1 / (1 + wn F_near^2 + wf F_far^2): the ratio (bdpt_medium_stages.h).
+// The queued contribution c through transmittance tr, its weight finished; with kMomOn in kind
+// the moment channels of it (bdpt_moment), from pt's squared ratios mom = (a, b, u) with the
+// segment's factors (u: the unit contribution over c, a cis pick's, bdpt_camera_connect).
+LANTERN_HD inline Vec3 bdpt_medium_finish_c(Vec3 c, Vec3 tr, float wn, float wf, int32_t kind,
+                                            const Vec3* mom, const MediumSegmentPdf& seg) {
+    const float fn = mis(seg.rev), ff = mis(seg.fwd);
+    const float den = 1.0f + wn * fn + wf * ff;
+    if (!(den > 0.0f)) return vec3(0.0f);
+    const Vec3 cf = c * tr * ((1.0f + wn + wf) / den);
+    if (!(kind & kMomOn) || !mom) return cf;
+    const float f = (kind & kMomNear) ? fn : (kind & kMomFar) ? ff : 1.0f;
+    if (kind & kMomG)  // (a cis pick's: pt's factor of its connection without the segment's)
+        return bdpt_moment(cf, cf * mom->z,
+                           mom->x < 0.0f ? -1.0f : f > 0.0f ? den * mom->x / sqrtf(f) : 0.0f);
+    const float a = mom->x * f, b = (kind & kMomOwnB) ? 1.0f : mom->y * f;
+    return bdpt_moment(cf, cf * mom->z, bdpt_pt_factor(den, a, b));
+}
 
 LANTERN_HD inline MediumSegmentPdf bdpt_seg_load(const BdptState& bs, int i) {
     return MediumSegmentPdf{bs.seg_fwd[i], bs.seg_rev[i], bs.seg_flags[i]};

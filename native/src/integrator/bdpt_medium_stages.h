@@ -13,20 +13,13 @@
 // - Next-event estimation, connections and light tracing splats are queued with the weight
 //   their factors 1 would give, and the two parts of its denominator that the segment's end
 //   factors multiply (BdptState::shadow_wn / wf, conn_wn / wf); the shadow stage traces the
-//   segment (bdpt_medium_shadow) and finishes the weight (bdpt_medium_finish) with the
+//   segment (bdpt_medium_shadow) and finishes the weight (bdpt_medium_finish_c) with the
 //   transmittance.
 #pragma once
 
 #include "integrator/bdpt_medium.h"
 
 namespace lantern {
-
-// A queued contribution carries the weight 1 / (1 + wn + wf) (factors 1); with the traced
-// segment's factors it is 1 / (1 + wn F_near^2 + wf F_far^2): the ratio.
-LANTERN_HD inline float bdpt_medium_finish(float wn, float wf, const MediumSegmentPdf& seg) {
-    const float den = 1.0f + wn * mis(seg.rev) + wf * mis(seg.fwd);
-    return den > 0.0f ? (1.0f + wn + wf) / den : 0.0f;
-}
 
 // ---------------------------------------------------------------------------------------------
 // Light pass
@@ -61,9 +54,15 @@ LANTERN_HD inline void bdpt_light_medium_vertex(const SceneView& s, const PathSt
         dvcm *= mis(direct_pdf_receiver_ratio(l, p, -d, dist, n0));
     }
     if (k == 1) dvcm *= mis(light_pick_pmf(s, bs.light[i], p, vec3(0.0f)));
+    // (moments, a map: dvc's parts that are pt's techniques, bdpt_light_shade, with the factors)
+    const bool dpt = st.moments || st.conn_map;
+    const float dpt0 = dpt ? bs.dpt0[i] * mis(seg.rev) / mis(seg.fwd) : 0.0f;
+    const float dpt1 = dpt ? bs.dpt1[i] * mis(seg.rev) / mis(seg.fwd) : 0.0f;
     bdpt_medium_hit_update(dvcm, dvc, dist, 1.0f, seg, k > 1 || !infinite);
     const Vec3 beta = bs.power[i] * ps.throughput[i];
     bs.vertex[i] = lv_make_medium(p, -d, beta, dvcm, dvc, med, int32_t(path), k);
+    bs.vertex[i].dpt0 = dpt0;
+    bs.vertex[i].dpt1 = dpt1;
     bs.store[i] = is_finite(beta) && is_finite(dvcm) && is_finite(dvc) ? 1 : 0;
     // t = 1: no cosine at the vertex; the camera's density of it times its factor (near end)
     if (k + 1 <= st.max_depth) {
@@ -75,7 +74,12 @@ LANTERN_HD inline void bdpt_light_medium_vertex(const SceneView& s, const PathSt
             const float wn = mis(cc.importance * st.r / n_lt) * (dvcm + dvc * mis(phase));
             bs.shadow_wn[i] = wn;
             bs.shadow_wf[i] = 0.0f;
-            bs.shadow_kind[i] = kConnNearMedium;
+            bs.shadow_kind[i] = kConnNearMedium | (st.moments ? kMomOn | kMomNear : 0);
+            if (st.moments) {  // pt's techniques (bdpt_light_shade), both near-end
+                const float x = mis(cc.importance * st.r / n_lt);
+                bs.shadow_mom[i] = Vec3{x * dpt0 * mis(phase),
+                                        x * (k == 1 ? dvcm : dpt1 * mis(phase)), 1.0f / n_lt};
+            }
             ps.shadow_medium[i] = med;
             LightPathState lp{nullptr, bs.splat_xy};
             lt_queue_splat(ps, lp, i, p, vec3(0.0f), cc,
@@ -89,6 +93,10 @@ LANTERN_HD inline void bdpt_light_medium_vertex(const SceneView& s, const PathSt
     Vec3 t = ps.throughput[i];
     if (pdf_w > 0.0f && russian_roulette(t, k + 1, st.rr_depth, rng) &&
         max_component(t) > 0.0f && is_finite(t)) {
+        if (dpt) {  // dvc's recursion, each part on its own (the phase's pdfs are equal)
+            bs.dpt0[i] = dpt0;
+            bs.dpt1[i] = dpt1 + (k == 1 ? mis(1.0f / pdf_w) * dvcm : 0.0f);
+        }
         bdpt_medium_scatter_update(dvcm, dvc, pdf_w);
         ps.throughput[i] = t;
         bs.dvcm[i] = dvcm;
@@ -168,7 +176,8 @@ LANTERN_HD inline float bdpt_emission_weight_medium(const SceneView& s, const Pa
                                                     const BdptState& bs, const BdptSettings& st,
                                                     int i, const Light& l, Vec3 p_light,
                                                     bool infinite, Vec3 n,
-                                                    const MediumSegmentPdf& seg) {
+                                                    const MediumSegmentPdf& seg,
+                                                    float* nee_ratio = nullptr) {
     if (ps.depth[i] <= 1) return 1.0f;
     if (!(seg.fwd > 0.0f)) return 0.0f;
     const Vec3 d = ps.ray_d[i], prev = ps.prev_p[i];
@@ -190,6 +199,7 @@ LANTERN_HD inline float bdpt_emission_weight_medium(const SceneView& s, const Pa
     }
     const float pdf_emit = l.emit_pick_pdf * emission_pdf(s, l, n, -d).pdf_emit;
     if (ps.depth[i] == 2) dvc *= bdpt_direct_lt(st);
+    if (nee_ratio) *nee_ratio = mis(pdf_direct) * dvcm;  // next-event estimation's (moments)
     return 1.0f / (1.0f + mis(pdf_direct) * dvcm + mis(st.r * pdf_emit) * dvc);
 }
 
@@ -211,9 +221,12 @@ LANTERN_HD inline void bdpt_camera_emission_medium(const SceneView& s, const Pat
         MediumSegmentPdf seg = seg0;
         medium_segment_piece(seg, m, h.t - tmin, false);
         const Vec3 tr = m ? medium_pass_weight(*m, bdpt_medium_pmf(), h.t - tmin) : vec3(1.0f);
+        float nee = 0.0f;
         const float w = bdpt_emission_weight_medium(s, ps, bs, st, i, l, o + d * h.t, false,
-                                                    h.n, seg);
-        add_radiance(ps, i, beta * tr * h.le * w);
+                                                    h.n, seg, &nee);
+        Vec3 c = beta * tr * h.le * w;
+        if (st.moments) c = bdpt_moment(c, c, bdpt_pt_factor(1.0f / w, 1.0f, nee));
+        add_radiance(ps, i, c);
     }
     if (!miss) return;
     MediumSegmentPdf seg = seg0;
@@ -226,10 +239,13 @@ LANTERN_HD inline void bdpt_camera_emission_medium(const SceneView& s, const Pat
                                     dot(d, -l.direction) < l.cos_sun))
             continue;
         if (l.type == kLightWorld && camera && !l.visible_camera) continue;
+        float nee = 0.0f;
         const float w = bdpt_emission_weight_medium(s, ps, bs, st, i, l, vec3(0.0f), true,
-                                                    vec3(0.0f), seg);
+                                                    vec3(0.0f), seg, &nee);
         const Vec3 le = l.type == kLightWorld ? world_radiance(s, l, d) : l.radiance;
-        add_radiance(ps, i, beta * tr * le * w);
+        Vec3 c = beta * tr * le * w;
+        if (st.moments) c = bdpt_moment(c, c, bdpt_pt_factor(1.0f / w, 1.0f, nee));
+        add_radiance(ps, i, c);
     }
 }
 
@@ -283,7 +299,8 @@ LANTERN_HD inline void bdpt_camera_medium_nee(const SceneView& s, const PathStat
     ps.shadow_medium[i] = z.medium_vertex;
     bs.shadow_wn[i] = w_camera;
     bs.shadow_wf[i] = w_light;
-    bs.shadow_kind[i] = kConnNearMedium;
+    bs.shadow_kind[i] = kConnNearMedium | (st.moments ? kMomOn | kMomFar | kMomOwnB : 0);
+    if (st.moments) bs.shadow_mom[i] = Vec3{w_light, 1.0f, 1.0f};
 }
 
 // s >= 2 in a scene with media: z (surface or medium vertex) to cache vertex y (surface or
@@ -371,6 +388,11 @@ LANTERN_HD inline Connection bdpt_connect_medium(const SceneView& s, const BdptS
     r.bsdf_target = luminance(fz) * luminance(fy);
     r.wn = wn;
     r.wf = wf;
+    if (st.moments) {  // pt's techniques (bdpt_connect_in), both far-end: kMomG at the finish
+        const float x = mis(pz_fwd * cos_y_ng * inv_d2), rev = mis(py_rev);
+        r.pt_factor = bdpt_pt_factor(1.0f, x * y.dpt0 * rev,
+                                     x * (y.length == 1 ? y.dvcm : y.dpt1 * rev));
+    }
     r.medium = start;
     r.kind = (zm ? kConnNearMedium : 0) | (ym ? kConnFarMedium : 0);
     return r;

@@ -58,8 +58,9 @@ int64_t bdpt_camera_segments_medium(Exec& ex, Wavefront<Exec>& w, const SceneVie
                     ps.shadow_medium[i], (bs.shadow_kind[i] & kConnNearMedium) != 0, false,
                     &track);
                 if (!is_black(sh.tr)) {
-                    ps.shadow_contrib[i] = ps.shadow_contrib[i] * sh.tr *
-                                           bdpt_medium_finish(bs.shadow_wn[i], 0.0f, sh.seg);
+                    ps.shadow_contrib[i] = bdpt_medium_finish_c(
+                        ps.shadow_contrib[i], sh.tr, bs.shadow_wn[i], 0.0f, bs.shadow_kind[i],
+                        bs.shadow_mom + i, sh.seg);
                     v = 1;
                 }
             }
@@ -81,8 +82,9 @@ LANTERN_HD inline void bdpt_shadow_medium(const SceneView& s, const Rays& rays,
             s, rays, RayKind::kShadow, ps.shadow_o[i], ps.shadow_d[i], ps.shadow_tmax[i],
             ps.shadow_medium[i], (kind & kConnNearMedium) != 0, false, &track);
         if (!is_black(sh.tr))
-            add_radiance(ps, i, ps.shadow_contrib[i] * sh.tr *
-                                    bdpt_medium_finish(bs.shadow_wn[i], bs.shadow_wf[i], sh.seg));
+            add_radiance(ps, i, bdpt_medium_finish_c(ps.shadow_contrib[i], sh.tr, bs.shadow_wn[i],
+                                                     bs.shadow_wf[i], kind, bs.shadow_mom + i,
+                                                     sh.seg));
     }
     for (int j = 0; j < bs.conn_n[i]; ++j) {
         const size_t e = size_t(i) * bs.conn_cap + j;
@@ -93,8 +95,9 @@ LANTERN_HD inline void bdpt_shadow_medium(const SceneView& s, const Rays& rays,
             bs.conn_medium[e], (kind & kConnNearMedium) != 0, (kind & kConnFarMedium) != 0,
             &track);
         if (!is_black(sh.tr))
-            add_radiance(ps, i, bs.conn_c[e] * sh.tr *
-                                    bdpt_medium_finish(bs.conn_wn[e], bs.conn_wf[e], sh.seg));
+            add_radiance(ps, i, bdpt_medium_finish_c(bs.conn_c[e], sh.tr, bs.conn_wn[e],
+                                                     bs.conn_wf[e], kind, bs.conn_mom + e,
+                                                     sh.seg));
     }
 }
 

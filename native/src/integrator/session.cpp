@@ -180,7 +180,7 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
         std::string why = pt_only_reason(scene);
         // the bidirectional medium stages have not run on a GPU yet (docs/volumes.md)
         if (why.empty() && gpu_ && media_) why = "participating media on the GPU";
-        // off by default: its choice in media fell below pt's efficiency (docs/auto_integrator.md)
+        // (auto_media off: pt in media, docs/auto_integrator.md "Media")
         const bool media_off = why.empty() && media_ && !settings_.auto_media;
         alloc_ = std::make_unique<Allocation>(int64_t(scene.width) * scene.height,
                                               !why.empty() || media_off,
@@ -362,10 +362,9 @@ SessionSettings Session::iteration_settings() const {
         if (trial_next()) run.spp_per_iteration = 1;  // a trial: one sample a pixel
         // a cis trial also estimates pt's second moment (allocation.h): its sum holds moment
         // channels, not RGB (never added to the image)
-        // (media: the medium stages finish a contribution's weight and transmittance at its
-        // shadow ray, after bdpt_moment would have turned it into channels: no moments there,
-        // pt's variance from its own trials and iterations; docs/auto_integrator.md)
-        if (trial_next() && run.integrator == "cis" && !media_) run.auto_moments = true;
+        // (media: the medium stages make the channels at the shadow ray, where a queued
+        // contribution's weight and transmittance are finished: bdpt_medium_finish_c)
+        if (trial_next() && run.integrator == "cis") run.auto_moments = true;
         if (trial_next()) run.connection_map.clear();  // (trials: the counts the pilot weighs)
     }
     return run;

@@ -64,10 +64,9 @@ struct SessionSettings {
     // integrator "auto": keep the pilot's iterations in the image, as the GPU does (tests)
     bool auto_keep_pilot = false;
     // integrator "auto" in homogeneous, non-emissive media: let its pt and cis trials choose
-    // there. Off by default (auto = pt in media): without moment channels in the medium stages
-    // its estimates of cis over pt read far low and at one sample an iteration it switched
-    // back and forth, below pt's efficiency (docs/auto_integrator.md, "Media")
-    bool auto_media = false;
+    // there (on by default since the medium stages make moment channels; off: auto = pt in
+    // media, with a warning; docs/auto_integrator.md, "Media")
+    bool auto_media = true;
     // (internal) a cis trial of "auto": each pixel's sum holds the moment channels of
     // BdptSettings::moments (bdpt.h) instead of RGB; never set on a rendered iteration
     bool auto_moments = false;

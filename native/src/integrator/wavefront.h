@@ -95,6 +95,7 @@ struct Wavefront {
     Array<int32_t> seg_flags, shadow_kind;
     Array<float> conn_wn, conn_wf;  // n x conn_cap, as conn_c
     Array<int32_t> conn_kind, conn_medium;
+    Array<Vec3> shadow_mom, conn_mom;  // (moments in media: bdpt_medium_finish_c)
     Array<LightVertex> vertex;
     Array<Vec3> conn_o, conn_d, conn_c;  // n x conn_cap connection slots
     Array<float> conn_tmax;
@@ -155,6 +156,7 @@ struct Wavefront {
     void for_bdpt_media(F&& f) {  // the bidirectional integrators' in media (per slot)
         for (auto* a : {&seg_fwd, &seg_rev, &shadow_wn, &shadow_wf}) f(*a);
         for (auto* a : {&seg_flags, &shadow_kind}) f(*a);
+        f(shadow_mom);
     }
     template <typename F>
     void for_state(F&& f) {
@@ -164,7 +166,7 @@ struct Wavefront {
         for_bdpt_media(f);
         for (auto* a : {&conn_wn, &conn_wf}) f(*a);
         for (auto* a : {&conn_kind, &conn_medium}) f(*a);
-        for (auto* a : {&conn_o, &conn_d, &conn_c}) f(*a);
+        for (auto* a : {&conn_o, &conn_d, &conn_c, &conn_mom}) f(*a);
         f(conn_tmax);
         f(conn_vis);
     }
@@ -212,6 +214,7 @@ struct Wavefront {
                 conn_wf.grow(nc);
                 conn_kind.grow(nc);
                 conn_medium.grow(nc);
+                conn_mom.grow(nc);
             }
         }
         ps = PathState{ray_o.data(),      ray_d.data(),     ray_tmin.data(),   ray_tmax.data(),
@@ -248,6 +251,8 @@ struct Wavefront {
             bs.conn_wf = conn_wf.data();
             bs.conn_kind = conn_kind.data();
             bs.conn_medium = conn_medium.data();
+            bs.shadow_mom = shadow_mom.data();
+            bs.conn_mom = conn_mom.data();
         }
     }
 
