@@ -20,7 +20,7 @@ def test_defaults(monkeypatch):
                         "cache_budget_mb": 0, "light_candidates": 1,
                         "adaptive_threshold": 0.0, "adaptive_min_samples": 0,
                         "adaptive_step": 4, "instancing": False, "auto_keep_pilot": False,
-                        "auto_media": False, "moment_channels": False,
+                        "auto_media": True, "moment_channels": False,
                         "soft_visibility": True}
     assert warnings == []
 
