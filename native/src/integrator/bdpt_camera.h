@@ -426,19 +426,21 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
     const Vec3 d = ps.ray_d[i];
     float t_hit = ps.hit_t[i];
     const bool media = s.num_media > 0;
-    if (media) {  // the piece's flight, lights crossed, a medium vertex, a boundary passed
-        if (bdpt_camera_medium_segment(s, ps, bs, st, cache, i, path)) return;
-    } else {
+    if (!media)
         bdpt_camera_emission(s, ps, bs, st, i, tri >= 0 ? t_hit : ps.ray_tmax[i], tri < 0, sr);
-    }
-    if (tri < 0) return;
+    // one camera vertex and one scratch for the whole call, the medium vertex's too (passed
+    // down): on a GPU thread each is a frame under every call chain of the shade kernel.
+    // Declared after the emission, whose locals then share their stack slots.
     CameraVertex z;
     MaterialScratch scratch;  // z.m points here when the material is resolved
+    z.scratch = &scratch;
+    // the piece's flight, lights crossed, a medium vertex, a boundary passed
+    if (media && bdpt_camera_medium_segment(s, ps, bs, st, cache, i, path, z)) return;
+    if (tri < 0) return;
     z.strand = prim_is_strand(s, tri);  // a triangle's or a strand's surface (pt_curve.h)
     z.h = s.motion.num_objects > 0 && tri < s.num_triangles  // motion blur: bdpt_motion.h
               ? surface_moved_at(s, tri, ps.hit_uv[i], d, bdpt_time(st, path))
               : surface_of_hit(s, tri, ps.hit_uv[i], ps.ray_o[i], d, ps.hit_t[i]);
-    z.scratch = &scratch;
     z.tri = tri;
     z.uv = ps.hit_uv[i];
     z.wo_w = -d;

@@ -34,9 +34,11 @@ LANTERN_HD inline float camera_pdf(const CameraView& c, Vec3 d) {
 // scenes with media (bdpt_medium_stages.h)
 LANTERN_HD inline void bdpt_camera_generate_medium(const PathState& ps, const BdptState& bs,
                                                    int i);
+struct CameraVertex;
 LANTERN_HD inline bool bdpt_camera_medium_segment(const SceneView& s, const PathState& ps,
                                                   const BdptState& bs, const BdptSettings& st,
-                                                  const LightCache& cache, int i, int64_t path);
+                                                  const LightCache& cache, int i, int64_t path,
+                                                  CameraVertex& z);
 
 LANTERN_HD inline void bdpt_camera_generate(const SceneView& s, const PathState& ps,
                                             const BdptState& bs, const BdptSettings& st_all,

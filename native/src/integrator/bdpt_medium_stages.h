@@ -401,12 +401,14 @@ LANTERN_HD inline Connection bdpt_connect_medium(const SceneView& s, const BdptS
 // A medium camera vertex at p reached along d in medium med: its next event, connections and
 // continuation (the camera pass's medium vertex). Out of line on the device
 // (LANTERN_DEVICE_NOINLINE): one copy, not one in each of the two segment stages above it.
+// z: bdpt_camera_shade's camera vertex, not yet set (the call ends here), with its scratch:
+// a GPU thread holds one CameraVertex and one MaterialScratch for the whole shade call.
 LANTERN_DEVICE_NOINLINE
 LANTERN_HD inline void bdpt_camera_medium_vertex(const SceneView& s, const PathState& ps,
                                                  const BdptState& bs, const BdptSettings& st,
                                                  const LightCache& cache, int i, int64_t path,
                                                  Vec3 p, Vec3 d, int32_t med,
-                                                 const MediumSegmentPdf& seg) {
+                                                 const MediumSegmentPdf& seg, CameraVertex& z) {
     const Medium& m = s.media[med];
     float dvcm = bs.dvcm[i], dvc = bs.dvc[i];
     const int depth = ps.depth[i];
@@ -414,12 +416,9 @@ LANTERN_HD inline void bdpt_camera_medium_vertex(const SceneView& s, const PathS
     if (!(dist > 0.0f)) return;
     bdpt_medium_hit_update(dvcm, dvc, dist, 1.0f, seg, !(depth == 1 && s.camera.orthographic));
     if (depth >= st.max_depth) return;
-    CameraVertex z;
-    MaterialScratch scratch;
     z.h.p = p;
     z.h.ng = vec3(0.0f);
     z.h.ns = vec3(0.0f);
-    z.scratch = &scratch;
     z.tri = -1;
     z.wo_w = -d;
     z.m = nullptr;
@@ -430,6 +429,7 @@ LANTERN_HD inline void bdpt_camera_medium_vertex(const SceneView& s, const PathS
     z.n_pick = vec3(0.0f);
     z.medium_vertex = med;
     z.slot_medium = med;
+    z.strand = false;
     Rng rng = ps.rng[i];
     bdpt_camera_medium_nee(s, ps, bs, st, z, i, rng);
     bdpt_camera_connect(s, bs, st, cache, z, i, path);
@@ -488,8 +488,8 @@ LANTERN_HD inline void bdpt_camera_lights_hetero(const SceneView& s, const PathS
 LANTERN_DEVICE_NOINLINE
 LANTERN_HD inline bool bdpt_camera_hetero_segment(const SceneView& s, const PathState& ps,
                                                   const BdptState& bs, const BdptSettings& st,
-                                                  const LightCache& cache, int i,
-                                                  int64_t path) {
+                                                  const LightCache& cache, int i, int64_t path,
+                                                  CameraVertex& z) {
     const int tri = ps.hit_prim[i];
     MediumSegmentPdf seg = bdpt_seg_load(bs, i);
     const Vec3 d = ps.ray_d[i];
@@ -515,7 +515,7 @@ LANTERN_HD inline bool bdpt_camera_hetero_segment(const SceneView& s, const Path
     ps.throughput[i] = beta * h.weight;
     medium_segment_piece_hetero(seg, s, med, o0, d, h.t, h.scattered);
     if (h.scattered) {
-        bdpt_camera_medium_vertex(s, ps, bs, st, cache, i, path, o0 + d * h.t, d, med, seg);
+        bdpt_camera_medium_vertex(s, ps, bs, st, cache, i, path, o0 + d * h.t, d, med, seg, z);
         return true;
     }
     bdpt_seg_store(bs, i, seg);
@@ -533,8 +533,8 @@ LANTERN_HD inline bool bdpt_camera_hetero_segment(const SceneView& s, const Path
 LANTERN_DEVICE_NOINLINE
 LANTERN_HD inline bool bdpt_camera_medium_segment(const SceneView& s, const PathState& ps,
                                                   const BdptState& bs, const BdptSettings& st,
-                                                  const LightCache& cache, int i,
-                                                  int64_t path) {
+                                                  const LightCache& cache, int i, int64_t path,
+                                                  CameraVertex& z) {
     const int tri = ps.hit_prim[i];
     MediumSegmentPdf seg = bdpt_seg_load(bs, i);
     const Vec3 o = ps.ray_o[i], d = ps.ray_d[i];
@@ -542,7 +542,7 @@ LANTERN_HD inline bool bdpt_camera_medium_segment(const SceneView& s, const Path
     const float t_end = tri >= 0 ? ps.hit_t[i] : ps.ray_tmax[i];
     const int32_t med = ps.medium[i];
     const Medium* m = med >= 0 ? &s.media[med] : nullptr;
-    if (m && m->hetero) return bdpt_camera_hetero_segment(s, ps, bs, st, cache, i, path);
+    if (m && m->hetero) return bdpt_camera_hetero_segment(s, ps, bs, st, cache, i, path, z);
     const Vec3 beta = ps.throughput[i];
     // an emitting medium's emission along the piece, weight 1: no light path starts in a
     // medium, so only the camera path samples it (docs/volumes.md)
@@ -564,7 +564,7 @@ LANTERN_HD inline bool bdpt_camera_medium_segment(const SceneView& s, const Path
     medium_segment_piece(seg, m, step.t, step.scattered);
     if (step.scattered) {
         bdpt_camera_medium_vertex(s, ps, bs, st, cache, i, path, o + d * (tmin + step.t), d, med,
-                                  seg);
+                                  seg, z);
         return true;
     }
     bdpt_seg_store(bs, i, seg);

@@ -70,8 +70,11 @@ LANTERN_HD inline EmissionSample sample_soft_emission(const Light& l, Vec2 u_dir
 }
 
 // V(c, x): does a ray from the centre reach x (geometric normal ng) unblocked, as the light
-// pass's rays see the scene?
+// pass's rays see the scene? Out of line on the device (LANTERN_DEVICE_NOINLINE): the BVH
+// traversal's stack is then a frame of its own, not in the camera NEE's and shade kernel's
+// frames under every other call they make.
 template <class SR>
+LANTERN_DEVICE_NOINLINE
 LANTERN_HD inline bool soft_light_sees(const SceneView& s, const SR& sr, const Light& l, Vec3 x,
                                        Vec3 ng) {
     Vec3 to_c = l.position - x;
