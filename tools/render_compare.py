@@ -104,12 +104,6 @@ def export_current():
     return export_scene(bpy.context.evaluated_depsgraph_get())[0]
 
 
-def _file_digest(path):
-    import hashlib
-    with open(path, "rb") as f:
-        return hashlib.sha256(f.read()).hexdigest()
-
-
 CYCLES_REFS = os.path.join(ROOT, "tests", "refs", "cycles")
 
 
@@ -117,16 +111,17 @@ def stored_cycles(path, spp, seed0, k_seeds, sources):
     """Cycles' k_seeds renders of the current scene (seeds seed0..) as per-seed block means,
     stored at `path` (lantern.testing.refs, tests/README.md "Stored references") and rendered
     again only when their key changes: the scene as the add-on exports it (every array Lantern
-    receives), the Cycles settings cycles_settings writes (the seed aside), the samples and
-    seeds, the bpy version, and the files in `sources` (what stages the scene, Cycles-only
-    properties included: the test module and its staging helpers; an edit to one of them
-    renders their references again)."""
+    receives, in an order-free form: refs.order_free), the Cycles settings cycles_settings
+    writes (the seed aside), the samples and seeds, the bpy version, and the files in
+    `sources` (what stages the scene, Cycles-only properties included: the test module and its
+    staging helpers; an edit to one of them renders their references again)."""
     import bpy
     from lantern.testing import refs
     settings = cycles_settings(bpy.context.scene, seed0, spp)
     settings.pop("seed")
-    key = dict(scene=export_current(), cycles=settings, spp=spp, seed0=seed0, k_seeds=k_seeds,
-               bpy=bpy.app.version_string, sources=[_file_digest(p) for p in sources])
+    key = dict(scene=refs.order_free(export_current()), cycles=settings, spp=spp, seed0=seed0,
+               k_seeds=k_seeds, bpy=bpy.app.version_string,
+               sources=[refs.file_digest(p) for p in sources])
     return refs.reference_blocks(
         path, lambda: [render_cycles(seed=seed0 + k, spp=spp)[0] for k in range(k_seeds)], key,
         block=BLOCK)

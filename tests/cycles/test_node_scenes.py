@@ -39,12 +39,6 @@ K, SPP, ALPHA = 16, 12, 1e-3   # 16 seeds of 12 spp a side: the samples of the 6
 CROSS_K, CROSS_SPP_PT, CROSS_SPP = 16, 8, 6
 
 
-def _digest(path):
-    import hashlib
-    with open(path, "rb") as f:
-        return hashlib.sha256(f.read()).hexdigest()
-
-
 @pytest.fixture(scope="module", autouse=True)
 def _addon():
     st.addon()
@@ -65,8 +59,9 @@ def test_node_scene_matches_cycles(name, tmp_path):
         os.path.join(st.ROOT, "tests", "refs", "cycles", "test_node_scenes", f"{name}.npz"),
         lambda: [st.render_cycles(sc, tmp_path / f"c{k}.exr", spp=SPP, bounces=8, seed=300 + k)
                  for k in range(K)],
-        dict(scene=scene, spp=SPP, bounces=8, seed0=300, k_seeds=K, bpy=bpy.app.version_string,
-             sources=[_digest(f) for f in (__file__, st.__file__, node_scenes.__file__)]))
+        dict(scene=refs.order_free(scene), spp=SPP, bounces=8, seed0=300, k_seeds=K,
+             bpy=bpy.app.version_string,
+             sources=[refs.file_digest(f) for f in (__file__, st.__file__, node_scenes.__file__)]))
     # blocks and the image mean within the noise plus the default cap, with its controls
     metrics.assert_agreement(f"{name} vs Cycles", lan, cyc, block=8, alpha=ALPHA)
 

@@ -99,3 +99,58 @@ def test_an_unreadable_file_is_rendered_live(tmp_path, monkeypatch):
     with pytest.warns(refs.StaleReferenceWarning, match="unreadable"):
         refs.reference_blocks(path, render, {"name": "x"})
     assert render.calls == 1
+
+
+def _digest_of(scene):
+    return refs.key_digest({"scene": refs.order_free(scene)})
+
+
+def test_order_free_keys_see_geometry_not_its_order():
+    """Blender hands a mesh's corners over in an order that changes between runs of the same
+    file (measured: a UV sphere, 2026-12-05), so Cycles' references key on refs.order_free:
+    the same triangles listed in any vertex or triangle order, each from any corner, give the
+    same key; a moved vertex, a flipped triangle or another material does not."""
+    base = scenes.cornell_box(8, 8)
+    ref = _digest_of(base)
+    rng = np.random.default_rng(5)
+    shuffled = scenes.cornell_box(8, 8)
+    for m in shuffled.meshes:
+        n, t = len(m["positions"]), len(m["indices"])
+        perm = rng.permutation(n)                       # vertex order
+        inv = np.empty(n, np.int64)
+        inv[perm] = np.arange(n)
+        for k in ("positions", "normals", "uvs"):
+            if m.get(k) is not None:
+                m[k] = np.asarray(m[k])[perm]
+        tri = inv[np.asarray(m["indices"], np.int64)]
+        order = rng.permutation(t)                      # triangle order
+        tri = tri[order]
+        tri = np.roll(tri, 1, axis=1)                   # each triangle from another corner
+        m["indices"] = tri.astype(np.uint32)
+        m["material_ids"] = np.asarray(m["material_ids"])[order]
+    assert refs.key_digest({"scene": shuffled}) != refs.key_digest({"scene": base})
+    assert _digest_of(shuffled) == ref
+    moved = scenes.cornell_box(8, 8)
+    moved.meshes[0]["positions"] = np.array(moved.meshes[0]["positions"], np.float32)
+    moved.meshes[0]["positions"][0, 0] += 1e-3
+    assert _digest_of(moved) != ref
+    flipped = scenes.cornell_box(8, 8)
+    flipped.meshes[0]["indices"] = np.array(flipped.meshes[0]["indices"])[:, ::-1].copy()
+    assert _digest_of(flipped) != ref
+    other = scenes.cornell_box(8, 8)
+    other.meshes[0]["material_ids"] = (np.asarray(other.meshes[0]["material_ids"]) + 1) % len(
+        other.materials)
+    assert _digest_of(other) != ref
+
+
+def test_order_free_keys_of_strands():
+    def fur(order, shift=0.0):
+        sc = scenes.cornell_box(8, 8)
+        strands = [np.array([[0, 0, 0], [0, 0, 0.1], [0.01, 0, 0.2]], np.float32) + [i * 0.1, 0, 0]
+                   for i in range(4)]
+        strands[2] = strands[2] + np.float32(shift)
+        pts = np.concatenate([strands[i] for i in order])
+        sc.add_curves(pts, np.full(len(pts), 0.005, np.float32), np.arange(0, 13, 3))
+        return sc
+    assert _digest_of(fur([0, 1, 2, 3])) == _digest_of(fur([3, 1, 0, 2]))
+    assert _digest_of(fur([0, 1, 2, 3])) != _digest_of(fur([0, 1, 2, 3], shift=1e-3))

@@ -72,6 +72,88 @@ def _feed(h, x):
         raise TypeError(f"cannot key a reference on a {type(x).__name__}")
 
 
+def _quantized(a):
+    """Floats rounded to 1e-5 (metres, normals, uvs) as int64, so that the last bits a
+    different summation order leaves do not change a key; integers as they are."""
+    a = np.asarray(a)
+    if a.dtype.kind == "f":
+        return np.round(a.astype(np.float64) * 1e5).astype(np.int64)
+    return a.astype(np.int64)
+
+
+def _order_free_mesh(m):
+    """A mesh's triangles as a sorted table of rows (each corner's attributes, each corner
+    first in turn, the smallest rotation kept so the winding stays; then the triangle's own),
+    in place of its arrays: the same surface listed in another vertex or triangle order (Blender
+    evaluates a mesh on several threads, and hands its corners over in an order that changes
+    from run to run) gives the same rows."""
+    pos = np.asarray(m["positions"])
+    tri = np.asarray(m["indices"], np.int64).reshape(-1, 3)
+    n, t = len(pos), len(tri)
+    corner, per_tri, rest = [], [], {}
+    for k in sorted(m, key=str):
+        v = m[k]
+        if k == "indices" or not isinstance(v, np.ndarray) or v.ndim == 0:
+            if k != "indices":
+                rest[k] = v
+            continue
+        if k == "deform":  # (S * N, 3), step-major: each corner's steps side by side
+            corner.append(_quantized(v).reshape(-1, n, 3).transpose(1, 0, 2).reshape(n, -1))
+        elif len(v) == n and n != t:
+            corner.append(_quantized(v).reshape(n, -1))
+        elif len(v) == t:
+            per_tri.append(_quantized(v).reshape(t, -1))
+        else:
+            rest[k] = v
+    if not corner or t == 0:
+        return m
+    c = np.concatenate(corner, axis=1)
+    rows = np.stack([np.concatenate([c[tri[:, (i + r) % 3]] for i in range(3)], axis=1)
+                     for r in range(3)])                        # (3 rotations, T, 3 * width)
+    best = np.zeros(t, np.int64)
+    for r in (1, 2):  # the lexicographically smallest rotation of each triangle
+        diff = rows[r] != rows[best, np.arange(t)]
+        first = np.argmax(diff, axis=1)
+        smaller = diff.any(axis=1) & (rows[r][np.arange(t), first] <
+                                      rows[best, np.arange(t)][np.arange(t), first])
+        best[smaller] = r
+    table = np.concatenate([rows[best, np.arange(t)]] + per_tri, axis=1)
+    table = table[np.lexsort(table.T[::-1])]
+    return dict(rest, triangles=np.ascontiguousarray(table))
+
+
+def _order_free_curves(c):
+    """A strand set as its strands sorted by their points, radii and material."""
+    off = np.asarray(c["offsets"], np.int64)
+    pts, rad = _quantized(c["points"]).reshape(-1, 3), _quantized(c["radius"]).reshape(-1)
+    mats = np.asarray(c.get("material_ids", np.zeros(max(len(off) - 1, 0))), np.int64)
+    strands = sorted(np.concatenate([[mats[s], off[s + 1] - off[s]],
+                                     pts[off[s]:off[s + 1]].reshape(-1),
+                                     rad[off[s]:off[s + 1]]]).tobytes()
+                     for s in range(len(off) - 1))
+    rest = {k: v for k, v in c.items() if k not in ("offsets", "points", "radius",
+                                                      "material_ids")}
+    return dict(rest, strands=b"".join(strands).hex() if strands else "")
+
+
+def order_free(scene):
+    """`scene` (a lantern.Scene) as the dict its key is made from, with each mesh's and strand
+    set's arrays replaced by an order-free table of its triangles / strands (floats rounded to
+    1e-5): for keys of scenes that Blender exports (Cycles' references), whose vertex order
+    varies between runs of the same file. Everything else as Scene.to_native() gives it."""
+    native = dict(scene.to_native())
+    native["meshes"] = [_order_free_mesh(m) for m in native.get("meshes") or []]
+    if native.get("curves"):
+        native["curves"] = [_order_free_curves(c) for c in native["curves"]]
+    return native
+
+
+def file_digest(path):
+    """The hex digest of a file's bytes (a source that stages a reference's scene)."""
+    with open(path, "rb") as f:
+        return hashlib.sha256(f.read()).hexdigest()
+
+
 def key_digest(key):
     """The hex digest of `key` (a dict of the scene and the render's parameters)."""
     h = hashlib.sha256(f"lantern stored reference {FORMAT}".encode())
