@@ -14,7 +14,10 @@ fails, named, with the command that refreshes the record. --record takes every k
 digest is in the record from it (ptxas measured that same code when the record was written) and
 measures only the others here: CI's check then costs ptxas only for kernels changed since the
 last --update. --update measures every kernel (up to --max-lines when given) and rewrites the
-record. A kernel's launch bound (`.maxnreg`, `.maxntid` x `.minnctapersm`) is listed.
+record; with --record as well it measures only the kernels the record lacks and rewrites it with
+the current kernels (recorded or measured; digests no longer built are dropped): the refresh
+after a merge costs the changed kernels' ptxas, not all of it. A kernel's launch bound
+(`.maxnreg`, `.maxntid` x `.minnctapersm`) is listed.
 
 Exit 1 when a kernel measures over the limits or could not be measured."""
 
@@ -132,7 +135,8 @@ def main():
                     help="measure only kernels of at most this many PTX lines (the larger ones "
                          "from the record); default: every kernel")
     ap.add_argument("--update", action="store_true",
-                    help="measure every kernel (up to --max-lines when given) and write the record")
+                    help="measure every kernel (up to --max-lines when given; with --record only "
+                         "those the record lacks) and write the record")
     ap.add_argument("--record", action="store_true",
                     help="take every kernel whose code digest is in the record from it; "
                          "measure only the others")
@@ -155,7 +159,7 @@ def main():
     t0 = time.monotonic()
     rows = kernels(a.ptx_dir)
     record = {}
-    if os.path.exists(RECORD) and not a.update:
+    if os.path.exists(RECORD) and (a.record or not a.update):
         record = json.load(open(RECORD)).get("kernels", {})
     todo = [r for r in rows if a.max_lines is None or r["lines"] <= a.max_lines]
     if a.record:  # the same code was measured when the record was written
@@ -212,7 +216,7 @@ def main():
     if a.update:
         keep = {r["digest"]: {"name": r["name"], "regs": r["regs"], "stack": r["stack"],
                               "spill_st": r["spill_st"], "spill_ld": r["spill_ld"]}
-                for r in rows if r.get("source") == "ptxas here" and "regs" in r}
+                for r in rows if r.get("source") in ("ptxas here", "record") and "regs" in r}
         with open(RECORD, "w") as f:
             json.dump({"arch": a.arch, "kernels": keep}, f, indent=1, sort_keys=True)
             f.write("\n")

@@ -241,3 +241,15 @@ def test_kernel_check_names_a_kernel_missing_from_its_record(kernel_ptx, tmp_pat
     assert rows["with_asm(unsigned int*)"].endswith("| ptxas here |"), p.stdout
     assert rows["bounded(float*)"].endswith("| record |"), p.stdout
     assert "5 distinct: 1 failing, 5 measured" in p.stdout, p.stdout
+    # --update --record (the refresh after a merge): only the changed kernel is measured, and
+    # the record holds the current five (the old with_asm's digest dropped)
+    import json
+    before = json.loads((tools / "cuda_kernel_resources.json").read_text())["kernels"]
+    p = run(sys.executable, tool, changed, "--update", "--record", timeout=300)
+    rows = kernel_rows(p.stdout)
+    assert rows["with_asm(unsigned int*)"].endswith("| ptxas here |"), p.stdout
+    assert rows["bounded(float*)"].endswith("| record |"), p.stdout
+    after = json.loads((tools / "cuda_kernel_resources.json").read_text())["kernels"]
+    assert len(after) == 5 and len(set(after) & set(before)) == 4, (before, after)
+    p = run(sys.executable, tool, changed, "--max-lines", "1", timeout=300)
+    assert "5 distinct: 1 failing, 5 measured" in p.stdout, p.stdout
