@@ -73,11 +73,11 @@ def _feed(h, x):
 
 
 def _quantized(a):
-    """Floats rounded to 1e-5 (metres, normals, uvs) as int64, so that the last bits a
+    """Floats rounded to 1e-4 (0.1 mm, normals, uvs) as int64, so that the last bits a
     different summation order leaves do not change a key; integers as they are."""
     a = np.asarray(a)
     if a.dtype.kind == "f":
-        return np.round(a.astype(np.float64) * 1e5).astype(np.int64)
+        return np.round(a.astype(np.float64) * 1e4).astype(np.int64)
     return a.astype(np.int64)
 
 
@@ -139,7 +139,7 @@ def _order_free_curves(c):
 def order_free(scene):
     """`scene` (a lantern.Scene) as the dict its key is made from, with each mesh's and strand
     set's arrays replaced by an order-free table of its triangles / strands (floats rounded to
-    1e-5): for keys of scenes that Blender exports (Cycles' references), whose vertex order
+    1e-4): for keys of scenes that Blender exports (Cycles' references), whose vertex order
     varies between runs of the same file. Everything else as Scene.to_native() gives it."""
     native = dict(scene.to_native())
     native["meshes"] = [_order_free_mesh(m) for m in native.get("meshes") or []]
