@@ -10,7 +10,9 @@ strands"; integrator/bdpt_curve.h: tube vertices, pt's points on the tube in the
   |z| 9.4: measured, docs/curves.md.)
 - lt on the same fur with the Diffuse part alone: lt cannot reach pt's transmission through a
   strand and hands strands that transmit to pt (with a message), as it does Principled Hair in a
-  mix (bdpt too)."""
+  mix (bdpt too).
+- Principled Hair whose absorption a node program gives (the fiber measure's vertex with the
+  resolved lobe), bdpt and cis against pt (long); the control: cis without the program."""
 from pathlib import Path
 
 import numpy as np
@@ -98,6 +100,35 @@ def test_tube_vertices_lt(core):
     # (resolves a whole-image bias of 2.5 %: the control's level is 4 %)
     metrics.assert_agreement("fur (Diffuse) lt vs pt", imgs, pt_reference(False), block=8,
                              image_bias=0.04, block_bias=0.1)
+
+
+def textured_hair(program=True):
+    """The fur ball with Principled Hair (melanin 0.4) whose absorption a node program gives
+    (the Noise colour of the position, as Base Color: the lobe's absorption field)."""
+    scene = fur_ball(SIZE, SIZE, num_strands=150, world=0.0,
+                     hair={"parametrization": "melanin", "melanin": 0.4})
+    if program:
+        scene.materials[-1]["programs"] = [noise_colour_program()]
+    return scene
+
+
+@pytest.mark.long  # 9 s
+@pytest.mark.parametrize("integrator", ["bdpt", "cis"])
+def test_hair_with_a_node_program_agrees_with_pt(core, integrator):
+    """Principled Hair with a node program: the fiber measure's vertex, the resolved lobe."""
+    if "hair" not in _REF:
+        scene = textured_hair()
+        _REF["hair"] = refs.reference_blocks(
+            REFS / "hair_program_pt.npz", lambda: renders(scene, "pt", 256, 1000),
+            dict(scene=scene, integrator="pt", spp=256, seed0=1000, k_seeds=K, max_depth=DEPTH))
+    imgs = renders(textured_hair(), integrator, 64, 5000)
+    metrics.assert_agreement(f"fur (Principled Hair, program) {integrator} vs pt", imgs,
+                             _REF["hair"], block=8, image_bias=0.04, block_bias=0.1)
+    if integrator == "cis":  # negative control: the program left out of cis's render
+        res = metrics.compare_renders(renders(textured_hair(False), "cis", 64, 7000),
+                                      _REF["hair"], block=8, name="fur: hair without program")
+        print(res)
+        assert not res.passed
 
 
 def test_what_still_goes_to_pt(core):

@@ -287,13 +287,12 @@ std::string curves_bidir_reason(const SceneInput& in) {
             return "(curves '" + c.name + "', material '" +
                    (k < in.materials.size() ? in.materials[k].name : std::string("?")) + "')";
         };
-        // the hair lobe in the fiber measure, any other BSDF as pt's point on the tube
-        // (integrator/bdpt_curve.h): a mix of the two would be neither
+        // the hair lobe in the fiber measure (node programs too: the lobe reads the resolved
+        // fields), any other BSDF as pt's point on the tube (integrator/bdpt_curve.h): a mix of
+        // the two would be neither
         for (uint32_t k : c.material_ids) {
             if (k >= in.materials.size()) continue;
             const MaterialInput& m = in.materials[k];
-            if (m.type == "hair" && m.program_count != 0)
-                return "strands shaded by Principled Hair with a node program " + name(k);
             if (m.type == "mix" &&
                 any_strand_leaf(in, k, [](const MaterialInput& x) { return x.type == "hair"; }))
                 return "strands shaded by a mix of Principled Hair and another BSDF " + name(k);
