@@ -6,8 +6,8 @@ strands"; integrator/bdpt_curve.h: tube vertices, pt's points on the tube in the
   the case of the rule that a camera vertex whose light side is inside its fiber has light-path
   density 0), no world light; pt's per-seed block means stored (lantern.testing.refs),
   independent seeds a side, lantern.metrics. Negative control: the mix's weights 5 % higher in
-  cis's render must be caught. (Without that density rule cis read 1.6 % dark here, worst block
-  |z| 9.4: measured, docs/curves.md.)
+  cis's render must be caught. (Built without that density rule, cis read 1.6 % dark here and
+  this test failed, worst block |z| 8.9: measured, docs/curves.md.)
 - lt on the same fur with the Diffuse part alone: lt cannot reach pt's transmission through a
   strand and hands strands that transmit to pt (with a message), as it does Principled Hair in a
   mix (bdpt too).
