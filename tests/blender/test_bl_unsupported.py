@@ -304,8 +304,9 @@ RENDERED = [volume_material, light_linking, shadow_linking, glossy_visibility,
                 [volume_object_file] if lantern.vdb_available() else [])
 HANDED_TO_PT = "renders this scene with path tracing"
 # media: the automatic integrator chooses between pt and cis itself since auto_media is on
-# (docs/auto_integrator.md, "Media"), so it hands nothing over and says nothing
-AUTO_CHOOSES = {volume_material, volume_object_file}
+# (docs/auto_integrator.md, "Media"), so it hands nothing over and says nothing; so do strands
+# with ordinary BSDFs (the default material here) since cis has vertices on them (docs/curves.md)
+AUTO_CHOOSES = {volume_material, volume_object_file, particle_hair, hair_curves}
 
 
 @pytest.mark.parametrize("build", RENDERED, ids=[b.__name__ for b in RENDERED])

@@ -8,7 +8,7 @@ and from them, lt's camera splats from strands, all with the Principled Hair lob
 - Hair furnace (white strands that absorb nothing in a uniform white world): every pixel is 1,
   on bdpt, lvc and cis (lt does not draw the world for the camera: there the strands' pixels
   against pt's render of the same furnace with the world hidden from the camera).
-- Strands shaded by an ordinary BSDF still go to pt (with a message): left to do."""
+- Strands shaded by an ordinary BSDF: tests/python/test_strand_tube_bidir.py."""
 from pathlib import Path
 
 import numpy as np
@@ -113,12 +113,3 @@ def test_hair_furnace_lt(core):
     imgs = renders(scene, "lt", 1024, 200, k=8, max_depth=8)
     metrics.assert_agreement("hair furnace (lt vs pt)", imgs, ref, block=8, image_bias=0.1,
                              block_bias=0.3)
-
-
-def test_strands_with_an_ordinary_bsdf_still_go_to_pt(core):
-    scene = fur_ball(8, 8, num_strands=20, material_type="principled")
-    for integ in ("bdpt", "lt"):
-        _, w = render(scene, integ, 1, 1, max_depth=4)
-        assert any("does not render this hair" in x and "rendering with pt" in x for x in w), w
-    s = lantern.Session(scene, integrator="auto", backend="cpu", seed=1)
-    assert any("path tracing" in x and "Principled Hair" in x for x in s.warnings), s.warnings

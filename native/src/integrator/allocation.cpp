@@ -263,27 +263,61 @@ std::string curves_reason(const SceneInput& in) {
     return "";
 }
 
+namespace {
+// A strand material's leaves: itself, or a mix's children (leaves, not mixes: scene.h).
+template <class F>
+bool any_strand_leaf(const SceneInput& in, uint32_t k, F&& f) {
+    if (k >= in.materials.size()) return false;  // (the scene's own fallback: a diffuse)
+    const MaterialInput& m = in.materials[k];
+    if (f(m)) return true;
+    if (m.type == "mix")
+        for (int c : m.mix_children)
+            if (c >= 0 && size_t(c) < in.materials.size() && f(in.materials[size_t(c)]))
+                return true;
+    return false;
+}
+}  // namespace
+
 std::string curves_bidir_reason(const SceneInput& in) {
     bool strands = false;
-    auto hair_leaf = [&](uint32_t k) {  // the hair lobe itself, without a node program
-        if (k >= in.materials.size()) return true;  // (the scene's own fallback)
-        const MaterialInput& m = in.materials[k];
-        return m.type == "hair" && m.program_count == 0;
-    };
     for (const CurveInput& c : in.curves) {
         if (c.offsets.size() <= 1) continue;
         strands = true;
-        for (uint32_t k : c.material_ids)
-            if (!hair_leaf(k))
-                return "strands shaded by a material other than Principled Hair (curves '" +
-                       c.name + "', material '" +
-                       (k < in.materials.size() ? in.materials[k].name : std::string("?")) + "')";
+        auto name = [&](uint32_t k) {
+            return "(curves '" + c.name + "', material '" +
+                   (k < in.materials.size() ? in.materials[k].name : std::string("?")) + "')";
+        };
+        // the hair lobe in the fiber measure (node programs too: the lobe reads the resolved
+        // fields), any other BSDF as pt's point on the tube (integrator/bdpt_curve.h): a mix of
+        // the two would be neither
+        for (uint32_t k : c.material_ids) {
+            if (k >= in.materials.size()) continue;
+            const MaterialInput& m = in.materials[k];
+            if (m.type == "mix" &&
+                any_strand_leaf(in, k, [](const MaterialInput& x) { return x.type == "hair"; }))
+                return "strands shaded by a mix of Principled Hair and another BSDF " + name(k);
+        }
     }
     for (const MeshInput& m : in.meshes)
         for (uint32_t k : m.material_ids)
             if (k < in.materials.size() && in.materials[k].type == "hair")
                 return "a hair material on a mesh (mesh '" + m.name + "')";
     if (strands && !media_reason(in).empty()) return "strands in a scene with volumes";
+    return "";
+}
+
+std::string curves_lt_reason(const SceneInput& in) {
+    auto transmits = [](const MaterialInput& m) {  // (material_transmits_leaf, but hair's)
+        return m.type == "dielectric" || m.type == "translucent" ||
+               (m.type == "principled" && m.transmission > 0.0f);
+    };
+    for (const CurveInput& c : in.curves) {
+        if (c.offsets.size() <= 1) continue;
+        for (uint32_t k : c.material_ids)
+            if (any_strand_leaf(in, k, transmits))
+                return "strands shaded by a BSDF that transmits (curves '" + c.name +
+                       "', material '" + in.materials[k].name + "')";
+    }
     return "";
 }
 

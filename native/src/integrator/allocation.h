@@ -137,9 +137,12 @@ private:
 std::string pt_only_reason(const SceneInput& in);
 // Strands or a hair material (docs/curves.md): on the CPU only; "" when none.
 std::string curves_reason(const SceneInput& in);
-// What of strands and hair only pt renders (docs/curves.md): strands shaded by anything but the
-// Principled Hair lobe, a hair material on a mesh, strands beside volumes; "" when none.
+// What of strands and hair only pt renders (docs/curves.md): Principled Hair in a mix on
+// strands, a hair material on a mesh, strands beside volumes; "" when none.
 std::string curves_bidir_reason(const SceneInput& in);
+// What of strands lt cannot render besides (docs/curves.md): strands whose BSDF transmits (pt
+// transmits through a strand from the side the camera sees, which no light path reaches).
+std::string curves_lt_reason(const SceneInput& in);
 // Object ray visibility (Diffuse, Glossy, Transmission, Volume Scatter off) and light linking:
 // only pt tells a bounce's kind and receiver so far; "" when the scene uses neither.
 std::string ray_visibility_reason(const SceneInput& in);

@@ -43,6 +43,7 @@ struct CameraVertex {
     int32_t medium_vertex = -1;
     int32_t slot_medium = -1;
     bool strand = false;  // on a strand: the fiber measure's cosines (bdpt_curve.h)
+    bool tube = false;    // on a strand, not the hair lobe: pt's surface point (bdpt_curve.h)
 };
 
 // The camera vertex's material, resolved (again) into its scratch: shade_point as the shade
@@ -84,7 +85,7 @@ LANTERN_HD inline void bdpt_camera_nee(const SceneView& s, const PathState& ps,
     float pdf_light_w = pick.pmf * ls.pdf_w;
     if (is_black(e.f) || !(pdf_light_w > 0.0f)) return;
     const bool infinite = !(ls.dist < kInf);
-    const float cos_z = vertex_cos(z.strand, z.frame, z.h.ng, ls.wi);
+    const float cos_z = light_arrival_cos(z.strand && !z.tube, z.tube, z.frame, z.h.ng, ls.wi);
     // densities of the light point: by next-event estimation, by the light sub-path (s = 2)
     float cos_l = is_black(ls.n_light) ? 1.0f : fabsf(dot(ls.wi, ls.n_light));
     float pdf_nee, pdf_lp;
@@ -174,6 +175,9 @@ LANTERN_HD inline Connection bdpt_connect_in(const SceneView& s, const BdptSetti
     const float dy_ns = dot(-dir, y.ns);
     const bool y_geometric = material_view_geometric(s.materials[y.material]);
     if (!(y_geometric ? dy_ng > 0.0f : dy_ng * dy_ns > 0.0f)) return r;
+    // y on a strand: the hair lobe's fiber measure, or a tube vertex, which faces z (bdpt_curve.h)
+    const bool y_fiber = prim_is_strand(s, y.tri) && strand_fiber(s.materials[y.material]);
+    if (prim_is_strand(s, y.tri) && !y_fiber && !(dy_ng > 0.0f)) return r;
     BsdfEval ez = bdpt_eval(*z.m, z.h.front, z.wo, wi_z, Transport::Radiance, z.h.coat_n,
                             z.frame, z.h.ng);
     if (is_black(ez.f)) return r;
@@ -195,13 +199,12 @@ LANTERN_HD inline Connection bdpt_connect_in(const SceneView& s, const BdptSetti
     if (is_black(ey.f)) return r;
     // (strands: the fiber measure's cosines, bdpt_curve.h; the lobe's Importance f is the
     // fiber measure's, so y's adjoint factor is 1)
-    const bool y_strand = prim_is_strand(s, y.tri);
-    const float cos_z_ng = vertex_cos(z.strand, z.frame, z.h.ng, dir);
-    const float cos_y_ng = vertex_cos(y_strand, fy, y.ng, dir);
+    const float cos_z_ng = light_arrival_cos(z.strand && !z.tube, z.tube, z.frame, z.h.ng, dir);
+    const float cos_y_ng = vertex_cos(y_fiber, fy, y.ng, dir);
     const float cos_z_ns = fabsf(wi_z.z);
     float cos_yo_ns = fabsf(wo_y.z), cos_yo_ng = fabsf(dot(y.wo, y.ng));
     if (!(cos_yo_ng > 0.0f)) return r;
-    if (y_strand) cos_yo_ns = cos_yo_ng;
+    if (y_fiber) cos_yo_ns = cos_yo_ng;
     // light side: f |dir.ns| with the adjoint shading-normal factor
     const float cos_y = cos_yo_ns * cos_y_ng / cos_yo_ng;
     const float inv_d2 = 1.0f / d2;
@@ -216,7 +219,7 @@ LANTERN_HD inline Connection bdpt_connect_in(const SceneView& s, const BdptSetti
     if (!is_finite(r.c)) r.c = vec3(0.0f);
     r.dir = dir;
     r.dist = dist;
-    if (y_strand) r.y_strand_cut = strand_end_shorten(s, y.tri, y.ng, dir, fy);
+    if (y_fiber) r.y_strand_cut = strand_end_shorten(s, y.tri, y.ng, dir, fy);
     r.bsdf_target = luminance(ez.f) * luminance(ey.f);
     if (st.moments) {  // pt's techniques: dpt0, dpt1 as dvc's parts (dvcm itself for y1)
         const float rev = mis(ey.pdf_rev_w), x = mis(pdf_cam_a);
@@ -445,10 +448,11 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
     z.uv = ps.hit_uv[i];
     z.wo_w = -d;
     z.m = &camera_vertex_material(s, z);
+    z.tube = z.strand && !strand_fiber(*z.m);  // (bdpt_curve.h)
     z.depth = ps.depth[i];
     if (media) z.slot_medium = ps.medium[i];
     z.frame = z.h.frame();
-    const float cos_in = vertex_cos(z.strand, z.frame, z.h.ng, d);
+    const float cos_in = vertex_cos(z.strand && !z.tube, z.frame, z.h.ng, d);
     if (!(cos_in > 0.0f) || !(t_hit > 0.0f)) return;
     // MIS update for the new vertex (an orthographic camera's first vertex has no distance term)
     float dvcm = bs.dvcm[i], dvc = bs.dvc[i];
@@ -515,7 +519,8 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
         if (russian_roulette(beta, z.depth, st.rr_depth, rng) && max_component(beta) > 0.0f &&
             is_finite(beta)) {
             dvcm = camera_conn_dvcm(st, dvcm, z.depth);  // (N = 0: no connection's term)
-            bdpt_scatter_update(dvcm, dvc, b, vertex_cos(z.strand, z.frame, z.h.ng, wi));
+            bdpt_scatter_update(dvcm, dvc, b,
+                                light_arrival_cos(z.strand && !z.tube, z.tube, z.frame, z.h.ng, wi));
             ps.throughput[i] = beta;
             ps.depth[i] = z.depth + 1;
             bs.dvcm[i] = dvcm;

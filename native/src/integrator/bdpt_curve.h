@@ -5,6 +5,9 @@
 // normal plane (the hair lobe's frame: X the tangent), from either side: a light path reaches
 // every (s, h) a camera path does and the reverse. The hair lobe's BSDF in that measure is
 // bsdf/hair_lobe.h's (Importance: f_cos(wi, wo) / cos theta(wo)).
+// A strand shaded by any other BSDF (Principled, Diffuse, a mix, node programs) is not in the
+// fiber measure: its vertex is pt's, the point on the tube's surface with the tube's outward
+// normal, in the surface measure ("tube" vertices: docs/curves.md "Ordinary BSDFs on strands").
 #pragma once
 
 #include "bsdf/hair_lobe.h"
@@ -22,6 +25,22 @@ LANTERN_HD inline float vertex_cos(bool strand, const Frame& f, Vec3 ng, Vec3 w)
     if (!strand) return fabsf(dot(w, ng));
     const float c = dot(w, f.s);
     return sqrtf(fmaxf(1.0f - c * c, 0.0f));
+}
+
+// On a strand (prim_is_strand), the fiber measure is the hair lobe's only; any other resolved
+// material (programs keep the type) makes a tube vertex.
+LANTERN_HD inline bool strand_fiber(const Material& m) { return m.type == kMaterialHair; }
+
+// The light sub-path's geometric cosine at a camera sub-path's vertex towards its light side w
+// (the light path's area density of the vertex): vertex_cos, but 0 at a tube vertex whose light
+// side is inside its fiber. pt reaches a tube point from outside only and lets a ray leave it
+// through the fiber (only entries are reported), so a tube vertex faces its camera-side
+// neighbour; a light path towards it through the fiber meets the fiber's near side first:
+// that light technique has density 0 and the camera's techniques take the whole weight.
+LANTERN_HD inline float light_arrival_cos(bool fiber, bool tube, const Frame& f, Vec3 ng,
+                                          Vec3 w) {
+    if (tube && !(dot(w, ng) > 0.0f)) return 0.0f;
+    return vertex_cos(fiber, f, ng, w);
 }
 
 // A shadow segment ending at strand vertex y (prim, normal ng) from the far side of its fiber

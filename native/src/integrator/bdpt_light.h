@@ -132,8 +132,11 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
     ps.depth[i] = k;
     const Vec3 wo_w = -d_in;
     Frame frame = h.frame();
+    // on a strand: the hair lobe's fiber measure, or a tube vertex (pt's surface point), which
+    // must face both its neighbours (bdpt_curve.h)
+    const bool fiber = strand && strand_fiber(m), tube = strand && !fiber;
     float cos_o_ns = fabsf(dot(wo_w, h.ns)), cos_o_ng = fabsf(dot(wo_w, h.ng));
-    if (strand) cos_o_ns = cos_o_ng = vertex_cos(true, frame, h.ng, wo_w);
+    if (fiber) cos_o_ns = cos_o_ng = vertex_cos(true, frame, h.ng, wo_w);
     if (!(cos_o_ng > 0.0f) || !(dist > 0.0f)) return;
     // the geometric cosine of the density of this vertex: along the traced segment
     const float cos_a = soft_cos > 0.0f ? soft_cos : cos_o_ng;
@@ -213,11 +216,12 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
                                                          : s.camera;
         CameraConnection cc = connect_camera(cam, h.p, filter_radius(cam),
                                              lens_sample(cam, ps, i));
-        if (cc.valid && view_side_agrees(m, cc.wc, h.ng, h.ns)) {
+        if (cc.valid && view_side_agrees(m, cc.wc, h.ng, h.ns) &&
+            !(tube && !(dot(cc.wc, h.ng) > 0.0f))) {
             BsdfEval e = bdpt_eval(m, h.front, wo, frame.to_local(cc.wc), Transport::Importance,
                                    h.coat_n, frame, h.ng);
             if (!is_black(e.f)) {
-                float cos_wc_ng = vertex_cos(strand, frame, h.ng, cc.wc);
+                float cos_wc_ng = vertex_cos(fiber, frame, h.ng, cc.wc);
                 // f |wc.ns| times the adjoint shading-normal factor [Veach thesis (5.19)]
                 float cos_y = cos_o_ns * cos_wc_ng / cos_o_ng;
                 float w = st.conn_map
@@ -265,10 +269,13 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
     BsdfSample b = material_sample(m, h.front, wo, Vec3{u_dir.x, u_dir.y, rng.uniform()},
                                    Transport::Importance, h.coat_n, frame.to_local(h.ng));
     Vec3 wi = frame.to_world(b.wi);
-    if (b.valid && view_side_agrees(m, wi, h.ng, h.ns) && (b.delta || b.pdf_fwd_w > 0.0f)) {
-        float cos_i_ng = vertex_cos(strand, frame, h.ng, wi);
+    // (a tube vertex left through its fiber: no camera path reaches it from there, pt's path
+    // space ends here)
+    if (b.valid && view_side_agrees(m, wi, h.ng, h.ns) && (b.delta || b.pdf_fwd_w > 0.0f) &&
+        !(tube && !(dot(wi, h.ng) > 0.0f))) {
+        float cos_i_ng = vertex_cos(fiber, frame, h.ng, wi);
         // (a strand: the lobe's Importance weight is the fiber measure's whole throughput)
-        float adj = strand ? 1.0f : cos_o_ns * cos_i_ng / (cos_o_ng * fabsf(b.wi.z));
+        float adj = fiber ? 1.0f : cos_o_ns * cos_i_ng / (cos_o_ng * fabsf(b.wi.z));
         Vec3 t = ps.throughput[i] * b.weight * adj;
         if (russian_roulette(t, k + 1, st.rr_depth, rng) && max_component(t) > 0.0f &&
             is_finite(t)) {

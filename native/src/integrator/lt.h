@@ -277,7 +277,10 @@ LANTERN_HD inline void lt_shade(const SceneView& s, const PathState& ps, const L
     float cos_o_ns = fabsf(dot(wo_w, h.ns)), cos_o_ng = fabsf(dot(wo_w, h.ng));
     if (!(cos_o_ng > 0.0f)) return;
     Frame frame = h.frame();
-    if (strand) cos_o_ns = cos_o_ng = vertex_cos(true, frame, h.ng, wo_w);
+    // on a strand: the hair lobe's fiber measure, or a tube vertex (pt's surface point), which
+    // must face both its neighbours (bdpt_curve.h)
+    const bool fiber = strand && strand_fiber(m), tube = strand && !fiber;
+    if (fiber) cos_o_ns = cos_o_ng = vertex_cos(true, frame, h.ng, wo_w);
     Vec3 wo = frame.to_local(wo_w);
     Vec3 beta = lp.power[i] * ps.throughput[i];
 
@@ -288,12 +291,13 @@ LANTERN_HD inline void lt_shade(const SceneView& s, const PathState& ps, const L
                                    : s.camera;
         CameraConnection cc = connect_camera(cam, h.p, filter_radius(cam),
                                              lens_sample(cam, ps, i));
-        if (cc.valid && !material_is_delta(m) && view_side_agrees(m, cc.wc, h.ng, h.ns)) {
+        if (cc.valid && !material_is_delta(m) && view_side_agrees(m, cc.wc, h.ng, h.ns) &&
+            !(tube && !(dot(cc.wc, h.ng) > 0.0f))) {
             BsdfEval e = material_eval(m, h.front, wo, frame.to_local(cc.wc),
                                        Transport::Importance, h.coat_n, frame.to_local(h.ng));
             // f * |cos_ns(wc)| with the adjoint shading-normal factor
             // |wo.ns| |wc.ng| / (|wo.ng| |wc.ns|)  [Veach thesis (5.19)]
-            float cos_y = cos_o_ns * vertex_cos(strand, frame, h.ng, cc.wc) / cos_o_ng;
+            float cos_y = cos_o_ns * vertex_cos(fiber, frame, h.ng, cc.wc) / cos_o_ng;
             if (s.num_media > 0)  // through the surface: the medium beyond it
                 ps.shadow_medium[i] = dot(cc.wc, h.ng) < 0.0f
                                           ? medium_across(s, tri, h.front, ps.medium[i])
@@ -309,9 +313,10 @@ LANTERN_HD inline void lt_shade(const SceneView& s, const PathState& ps, const L
     BsdfSample bs = material_sample(m, h.front, wo, Vec3{u_dir.x, u_dir.y, rng.uniform()},
                                     Transport::Importance, h.coat_n, frame.to_local(h.ng));
     Vec3 wi = frame.to_world(bs.wi);
-    if (bs.valid && view_side_agrees(m, wi, h.ng, h.ns)) {
+    // (a tube vertex left through its fiber: outside pt's path space, bdpt_curve.h)
+    if (bs.valid && view_side_agrees(m, wi, h.ng, h.ns) && !(tube && !(dot(wi, h.ng) > 0.0f))) {
         // (a strand: the lobe's Importance weight is the fiber measure's whole throughput)
-        float adj = strand ? 1.0f
+        float adj = fiber ? 1.0f
                            : cos_o_ns * fabsf(dot(wi, h.ng)) / (cos_o_ng * fabsf(bs.wi.z));
         Vec3 t = ps.throughput[i] * bs.weight * adj;
         if (russian_roulette(t, depth + 1, st.rr_depth, rng) && max_component(t) > 0.0f &&

@@ -111,10 +111,11 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
             settings_.integrator = "pt";
         }
     }
-    // strands: lt, bdpt, lvc and cis have strand vertices with the hair lobe (bdpt_curve.h);
-    // the rest of what strands may carry only pt shades so far (docs/curves.md)
+    // strands: lt, bdpt, lvc and cis have strand vertices, the hair lobe's and pt's points on
+    // the tube for other BSDFs (bdpt_curve.h); the rest only pt shades so far (docs/curves.md)
     const std::string curves_why = curves_reason(scene);
-    const std::string curves_bidir_why = curves_bidir_reason(scene);
+    std::string curves_bidir_why = curves_bidir_reason(scene);
+    if (curves_bidir_why.empty() && integ == "lt") curves_bidir_why = curves_lt_reason(scene);
     if (media_note.empty() && integ != "pt" && integ != "auto" && !curves_bidir_why.empty()) {
         media_note = "integrator '" + integ + "' does not render this hair yet (the scene has " +
                      curves_bidir_why + "): rendering with pt";
