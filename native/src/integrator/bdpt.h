@@ -18,6 +18,7 @@
 #pragma once
 
 #include "integrator/bdpt_camera.h"
+#include "integrator/bdpt_camera_events.h"  // the stages around the camera shade
 #include "integrator/bdpt_common.h"
 #include "integrator/bdpt_light.h"
 #include "integrator/bdpt_medium_stages.h"  // scenes with media: the hooks' definitions

@@ -47,7 +47,9 @@ struct CameraVertex {
 };
 
 // The camera vertex's material, resolved (again) into its scratch: shade_point as the shade
-// stage built it.
+// stage built it. Out of line on the device (LANTERN_DEVICE_NOINLINE): the resolution's locals
+// stay out of the frames of the kernels that call it (the shade, the events stage).
+LANTERN_DEVICE_NOINLINE
 LANTERN_HD inline const Material& camera_vertex_material(const SceneView& s,
                                                          const CameraVertex& z) {
     return material_at_point(
@@ -413,27 +415,36 @@ LANTERN_HD inline void bdpt_camera_connect(const SceneView& s, const BdptState& 
 LANTERN_HD inline bool bdpt_sss_choose(const SceneView& s, const PathState& ps, CameraVertex& z,
                                        int i, Rng& rng);  // subsurface: bdpt_sss.h
 
-// Camera-path shading: emission (s = 0), then at a surface NEE (s = 1), connections (s >= 2) and
-// the next direction. The three parts are separate functions so a GPU can launch them apart.
-// sr: the stage's own ray queries (V(c, x) of soft-falloff lights, soft_light_path.h).
-template <class SR>
+// A camera vertex's next event (s = 1) and connections (s >= 2), queued: z and the slot's
+// stream for the events stage (bdpt_camera_events.h), which makes them after this stage. Its
+// next event draws two uniform2 (the light pick's, the light sample's) whatever it finds: the
+// caller's stream skips them.
+LANTERN_HD inline void bdpt_queue_camera_events(const BdptState& bs, int i, const CameraVertex& z,
+                                                const Rng& rng) {
+    bs.cam_z[i] = z;
+    bs.cam_rng[i] = rng;
+    bs.cam_on[i] = 1;
+}
+
+// Camera-path shading after the segment's emission (bdpt_camera_emission, a stage before this
+// one in scenes without media): the segment's media, then at a surface its emission, the next
+// event and connections queued for the events stage (bdpt_camera_events.h), and the next
+// direction. No ray and no connection here: on a GPU the stages are kernels of their own
+// (each with its own stack: issue 30).
 LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps,
                                          const BdptState& bs, const BdptSettings& st_all,
-                                         const LightCache& cache, int i, int64_t path,
-                                         const SR& sr) {
+                                         const LightCache& cache, int i, int64_t path) {
     const BdptSettings st = camera_settings(st_all, pixel_conn_of_path(s, st_all, path));
     ps.shadow_valid[i] = 0;
     ps.alive[i] = 0;
     bs.conn_n[i] = 0;
+    bs.cam_on[i] = 0;
     const int tri = ps.hit_prim[i];
     const Vec3 d = ps.ray_d[i];
     float t_hit = ps.hit_t[i];
     const bool media = s.num_media > 0;
-    if (!media)
-        bdpt_camera_emission(s, ps, bs, st, i, tri >= 0 ? t_hit : ps.ray_tmax[i], tri < 0, sr);
     // one camera vertex and one scratch for the whole call, the medium vertex's too (passed
     // down): on a GPU thread each is a frame under every call chain of the shade kernel.
-    // Declared after the emission, whose locals then share their stack slots.
     CameraVertex z;
     MaterialScratch scratch;  // z.m points here when the material is resolved
     z.scratch = &scratch;
@@ -502,13 +513,11 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
 #ifndef __CUDACC__  // the device build has no walk stage (schedule_bdpt.h): CPU sessions only
     if (s.has_subsurface && bdpt_sss_choose(s, ps, z, i, rng)) return;  // under the surface
 #endif
-    if (!material_is_delta(m)) {
-        bdpt_camera_nee(s, ps, bs, st, z, i, rng, sr);
-        bdpt_camera_connect(s, bs, st, cache, z, i, path);
-    } else {
-        rng.uniform2();
-        rng.uniform2();
-    }
+    // next event and connections: the events stage's (bdpt_camera_events.h), from z and this
+    // stream; here their draws are skipped
+    if (!material_is_delta(m)) bdpt_queue_camera_events(bs, i, z, rng);
+    rng.uniform2();
+    rng.uniform2();
     // continue
     Vec2 u_dir = rng.uniform2();
     BsdfSample b = material_sample(m, z.h.front, z.wo, Vec3{u_dir.x, u_dir.y, rng.uniform()},

@@ -152,6 +152,8 @@ LANTERN_HD inline Vec3 bdpt_moment(Vec3 c, Vec3 c_unit, float pt_factor) {
 // light tracing term is the whole of z.dvcm, respectively dvc). Longer paths keep n_lt.
 LANTERN_HD inline float bdpt_direct_lt(const BdptSettings& st) { return mis(st.lt_direct); }
 
+struct CameraVertex;  // bdpt_camera.h
+
 // Slots beyond PathState. Light pass: the light a path started on, the vertex it may store and
 // its splat position. Camera pass: up to conn_cap connection shadow rays per slot.
 struct BdptState {
@@ -187,6 +189,11 @@ struct BdptState {
     // camera pass: the last vertex's geometric normal (soft-falloff lights' weights,
     // soft_light_path.h); the light pass's power slots, which the camera pass does not use
     Vec3* prev_ng = nullptr;
+    // camera pass: the vertex whose next event and connections the events stage makes
+    // (bdpt_camera_events.h), its random stream there, and whether it has one this bounce
+    CameraVertex* cam_z = nullptr;
+    Rng* cam_rng = nullptr;
+    uint8_t* cam_on = nullptr;
 };
 
 // What the camera pass reads of the cache.

@@ -250,7 +250,9 @@ LANTERN_HD inline void bdpt_camera_emission_medium(const SceneView& s, const Pat
 }
 
 // s = 1 from a medium vertex: a light from the light tree (omnidirectional receiver), the
-// phase function in place of the BSDF, no cosine at z.
+// phase function in place of the BSDF, no cosine at z. Out of line on the device
+// (LANTERN_DEVICE_NOINLINE): its light sample stays out of the events kernel's own frame.
+LANTERN_DEVICE_NOINLINE
 LANTERN_HD inline void bdpt_camera_medium_nee(const SceneView& s, const PathState& ps,
                                               const BdptState& bs, const BdptSettings& st,
                                               const CameraVertex& z, int i, Rng& rng) {
@@ -398,11 +400,11 @@ LANTERN_HD inline Connection bdpt_connect_medium(const SceneView& s, const BdptS
     return r;
 }
 
-// A medium camera vertex at p reached along d in medium med: its next event, connections and
-// continuation (the camera pass's medium vertex). Out of line on the device
-// (LANTERN_DEVICE_NOINLINE): one copy, not one in each of the two segment stages above it.
-// z: bdpt_camera_shade's camera vertex, not yet set (the call ends here), with its scratch:
-// a GPU thread holds one CameraVertex and one MaterialScratch for the whole shade call.
+// A medium camera vertex at p reached along d in medium med: its next event and connections
+// queued for the events stage (bdpt_camera_events.h), and its continuation (the camera pass's
+// medium vertex). Out of line on the device (LANTERN_DEVICE_NOINLINE): one copy, not one in
+// each of the two segment stages above it. z: bdpt_camera_shade's camera vertex, not yet set
+// (the call ends here): a GPU thread holds one CameraVertex for the whole shade call.
 LANTERN_DEVICE_NOINLINE
 LANTERN_HD inline void bdpt_camera_medium_vertex(const SceneView& s, const PathState& ps,
                                                  const BdptState& bs, const BdptSettings& st,
@@ -431,8 +433,11 @@ LANTERN_HD inline void bdpt_camera_medium_vertex(const SceneView& s, const PathS
     z.slot_medium = med;
     z.strand = false;
     Rng rng = ps.rng[i];
-    bdpt_camera_medium_nee(s, ps, bs, st, z, i, rng);
-    bdpt_camera_connect(s, bs, st, cache, z, i, path);
+    // next event (bdpt_camera_medium_nee) and connections: the events stage's
+    // (bdpt_camera_events.h); here their draws are skipped
+    bdpt_queue_camera_events(bs, i, z, rng);
+    rng.uniform2();
+    rng.uniform2();
     float pdf_w = 0.0f;
     const Vec3 wi = hg_sample(m.g, d, rng.uniform2(), &pdf_w);  // weight 1
     Vec3 beta = z.beta;

@@ -2,8 +2,9 @@
 // every executor. One iteration = passes within the cache budget; a pass = a light pass over
 // L = width x height x spp light paths (trace, sort, shade, store vertices into the cache in
 // queue order by an exclusive scan, splat to the camera), the bdpt per-path index (a stable sort
-// of cache indices by path), then a camera pass in chunks (trace, sort, shade = emission + next
-// event + connections + next bounce, the bounce's shadow rays, compact). The CPU tests a slot's
+// of cache indices by path), then a camera pass in chunks (trace, sort, the segment's emission,
+// shade = the vertex and its next bounce, events = its next event + connections
+// (bdpt_camera_events.h), the bounce's shadow rays, compact). The CPU tests a slot's
 // shadow rays in one fused item (faster there); the GPU tests them as one batch, a thread per
 // ray, then adds the unoccluded ones per slot in a fixed order.
 #pragma once
@@ -264,12 +265,28 @@ void camera_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep
             trace(ex, w, active, first, stats);
         sort_queue(ex, w, s, active, stats);
         const int32_t* q = w.queue.data();
+        // the segment's emission (without media), the shade, the queued vertices' next events
+        // and connections: three stages, each a kernel with its own stack on a GPU
+        // (bdpt_camera_events.h)
         ex.timed(stats.time_shade, [&] {
+            if (s.num_media == 0) {
+                ex.each(active, LANTERN_KERNEL(int k) {
+                    const int i = q[k];
+                    const int64_t path = camera_path(list, spp, first_path + i);
+                    bdpt_camera_emission_stage(  // (motion: at its time; else sr's, 0)
+                        s, ps, bs, bst, i, path,
+                        stage_rays_at(sr, motion ? bdpt_time(bst, path) : sr.time));
+                }, 64);
+            }
+            ex.each(active, LANTERN_KERNEL(int k) {
+                const int i = q[k];
+                bdpt_camera_shade(s, ps, bs, bst, cache, i, camera_path(list, spp, first_path + i));
+            }, 64);
             ex.each(active, LANTERN_KERNEL(int k) {
                 const int i = q[k];
                 const int64_t path = camera_path(list, spp, first_path + i);
-                bdpt_camera_shade(s, ps, bs, bst, cache, i, path,  // (motion: at its time)
-                                  motion ? sr.at(bdpt_time(bst, path)) : sr);
+                bdpt_camera_events(s, ps, bs, bst, cache, i, path,  // (motion: at its time)
+                                   stage_rays_at(sr, motion ? bdpt_time(bst, path) : sr.time));
             }, 64);
         });
 #ifndef __CUDACC__  // the walk stage measured 2,816 B of stack on the device: CPU only (session.cpp)

@@ -100,6 +100,10 @@ struct Wavefront {
     Array<Vec3> conn_o, conn_d, conn_c;  // n x conn_cap connection slots
     Array<float> conn_tmax;
     Array<uint8_t> conn_vis;             // GPU: n x (conn_cap + 1) shadow results
+    // camera pass: each slot's vertex for the events stage (BdptState::cam_z, cam_rng, cam_on)
+    Array<CameraVertex> cam_z;
+    Array<Rng> cam_rng;
+    Array<uint8_t> cam_on;
     int cap = 0;
     PathState ps{};
     BdptState bs{};
@@ -169,6 +173,9 @@ struct Wavefront {
         for (auto* a : {&conn_o, &conn_d, &conn_c, &conn_mom}) f(*a);
         f(conn_tmax);
         f(conn_vis);
+        f(cam_z);
+        f(cam_rng);
+        f(cam_on);
     }
     // Arrays on the executor's meter; the cache's meter reports to it too.
     void bind(MemoryMeter* m) {
@@ -209,6 +216,9 @@ struct Wavefront {
             conn_c.grow(nc);
             conn_tmax.grow(nc);
             if (gpu) conn_vis.grow(size_t(n) * (size_t(conn_slots) + 1));
+            cam_z.grow(m);
+            cam_rng.grow(m);
+            cam_on.grow(m);
             if (media) {
                 conn_wn.grow(nc);
                 conn_wf.grow(nc);
@@ -240,6 +250,9 @@ struct Wavefront {
                        conn_n.data(),   conn_o.data(),   conn_d.data(),     conn_tmax.data(),
                        conn_c.data(),   dpt0.data(),     dpt1.data()};
         bs.prev_ng = power.data();  // (the camera pass's use of the light pass's slots)
+        bs.cam_z = cam_z.data();
+        bs.cam_rng = cam_rng.data();
+        bs.cam_on = cam_on.data();
         if (media && bidirectional) {
             bs.seg_fwd = seg_fwd.data();
             bs.seg_rev = seg_rev.data();
