@@ -30,12 +30,15 @@ namespace lantern {
 // F(c -> x): the distance factor at x of the light path's segment from the centre of l to x
 // (ng: x's geometric normal; zero: x is a medium vertex), traced from c through the volume
 // boundaries as the light pass's rays see the scene; 0 where anything else blocks it.
+// sr.no_centre_test (tests only, soft_visibility off): 1, F and V(c, x) both left out (the
+// biased negative control of the weights in media).
 template <class SR>
 LANTERN_HD inline float soft_route_factor(const SceneView& s, const SR& sr, const Light& l,
                                           Vec3 x, Vec3 ng) {
 #ifdef __CUDA_ARCH__
     return 0.0f;
 #else
+    if (sr.no_centre_test) return 1.0f;
     const bool at_medium = is_black(ng);
     Vec3 to_c = l.position - x;
     const float dc = length(to_c);
