@@ -36,7 +36,8 @@ LANTERN_HD inline float camera_pdf(const CameraView& c, Vec3 d) {
 LANTERN_HD inline void bdpt_camera_generate_medium(const PathState& ps, const BdptState& bs,
                                                    int i);
 struct CameraVertex;
-template <class SR>
+template <class SR>  // (the attribute here: a template's redeclaration cannot add it)
+LANTERN_DEVICE_NOINLINE
 LANTERN_HD inline bool bdpt_camera_medium_segment(const SceneView& s, const PathState& ps,
                                                   const BdptState& bs, const BdptSettings& st,
                                                   const LightCache& cache, int i, int64_t path,
