@@ -44,8 +44,9 @@ DEFAULT_SETTINGS = {
     "cis_target": "contribution",  # or "bsdf": the paper's BSDF-product target
     "naive_ris": False,       # tests only: the biased uniform weight for resampled picks
     "naive_map": False,       # tests only: a connection map's counts under uniform-N weights
-    "soft_visibility": True,  # tests only: False leaves V(c, x) out of soft-falloff lights'
-                              # light-path densities (biased; integrator/soft_light_path.h)
+    "soft_visibility": True,  # tests only: False leaves V(c, x) (in media also the flights'
+                              # factor F(c -> x)) out of soft-falloff lights' light-path
+                              # densities (biased; soft_light_path.h, soft_light_medium.h)
     "connection_allocation": None,  # per-pixel N, M from the render (pixel_alloc.h): True for
                                     # lvc, cis and auto; None: auto's cis iterations only
     "cache_budget_mb": 0,     # light vertex cache memory per pass (0: min(4 GiB, RAM / 4));
