@@ -34,6 +34,7 @@ struct FakeStageRays {
     int indirect = 0, shadow = 1;
     bool no_centre_test = false;
     float time = 0.0f;
+    Hit closest_indirect(const Ray& r) const { return rays.closest(r, indirect); }
 };
 
 const Vec3 kSigmaS{0.5f, 0.6f, 0.7f}, kSigmaA{0.1f, 0.2f, 0.3f};

@@ -55,9 +55,7 @@ LANTERN_HD inline float soft_route_factor(const SceneView& s, const SR& sr, cons
     int32_t med = s.light_medium ? s.light_medium[li] : s.world_medium;
     MediumSegmentPdf seg = medium_segment_begin(false);
     for (int k = 0; k < 256; ++k) {  // boundaries crossed (bdpt_medium_shadow's bound)
-        Ray r{o, d, 0.0f, tmax};
-        r.time = sr.time;
-        const auto h = sr.rays.closest(r, sr.indirect);
+        const auto h = sr.closest_indirect(Ray{o, d, 0.0f, tmax});
         const bool hit = h.prim >= 0 && h.t < tmax;
         medium_segment_piece_at(seg, s, med, o, d, hit ? h.t : tmax, !hit && at_medium);
         if (!hit) return seg.fwd;
