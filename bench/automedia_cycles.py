@@ -7,15 +7,17 @@ scenes built in bpy (issue 29's efficiency line; docs/volumes.md, docs/auto_inte
   ceiling of one flipped cube), a side table, a point light inside a cone shade open at the
   bottom and (narrowly) at the top, hung on a thin cord, the room filled with a Principled
   Volume fog box; `lamp_shade` with Soft Falloff off (a sphere light: light paths start on it),
-  `lamp_shade_soft` with Blender's default Soft Falloff on (cis/lvc start no light paths there,
-  `light_receiver_dependent`: auto should keep pt).
+  `lamp_shade_soft` with Blender's default Soft Falloff on (light paths from the bulb's centre
+  through the fog since branch softmedia: docs/lvc_notes.md; before, none started there).
 
 K seeds per renderer, one thread each, the tests' Cycles settings (render_compare: no
 denoising, adaptive sampling, clamping or light threshold, Filter Glossy 0, max_bounces 16;
 Lantern max_depth 18). Efficiency = 1 / (mean pixel variance over seeds x process CPU seconds
 per seed); the ratio to Cycles' efficiency is reported per integrator, with auto's choices and
-its own estimate of cis over pt ("auto_media" in --integrators: auto with the setting
-auto_media, its choice in media, on; by default auto is pt in media). Run inside bpy's Python:
+its own estimate of cis over pt ("auto" in --integrators: Lantern's default settings, whose
+auto_media, auto's choice in media, is on since branch automoments; "auto_media" names it on,
+"auto_nomedia" off: pt in any medium. Until 2026-12-05 "auto" here passed auto_media off).
+Run inside bpy's Python:
 
     nice python bench/automedia_cycles.py --scenes fog_spot lamp_shade lamp_shade_soft \\
         --spp 256 --seeds 8 --out bench/results/2026-12-04-automedia/cycles.txt"""
@@ -128,9 +130,12 @@ def main():
             imgs, secs, chose = [], [], []
             for k in range(args.seeds):
                 c0 = time.process_time()
-                # "auto_media": integrator auto with its choice in media on (off by default)
+                # "auto": Lantern's default settings (auto_media on since branch automoments);
+                # "auto_media" names the setting on; "auto_nomedia": off (pt in any medium)
+                media = {"auto_media": {"auto_media": True},
+                         "auto_nomedia": {"auto_media": False}}.get(integ, {})
                 s = lantern.Session(scene, integrator=integ.split("_")[0], backend="cpu",
-                                    auto_media=integ == "auto_media",
+                                    **media,
                                     max_depth=rc.lantern_depth(rc.BOUNCES), seed=1 + k,
                                     spp_per_iteration=args.spp_per_iteration, threads=1)
                 while s.spp < args.spp:

@@ -44,8 +44,9 @@ DEFAULT_SETTINGS = {
     "cis_target": "contribution",  # or "bsdf": the paper's BSDF-product target
     "naive_ris": False,       # tests only: the biased uniform weight for resampled picks
     "naive_map": False,       # tests only: a connection map's counts under uniform-N weights
-    "soft_visibility": True,  # tests only: False leaves V(c, x) out of soft-falloff lights'
-                              # light-path densities (biased; integrator/soft_light_path.h)
+    "soft_visibility": True,  # tests only: False leaves V(c, x) (in media also the flights'
+                              # factor F(c -> x)) out of soft-falloff lights' light-path
+                              # densities (biased; soft_light_path.h, soft_light_medium.h)
     "connection_allocation": None,  # per-pixel N, M from the render (pixel_alloc.h): True for
                                     # lvc, cis and auto; None: auto's cis iterations only
     "cache_budget_mb": 0,     # light vertex cache memory per pass (0: min(4 GiB, RAM / 4));
@@ -321,32 +322,32 @@ def _value(attr):
     return attr() if callable(attr) else attr
 
 
-def _has_media(scene):
-    """Whether the scene has participating media (a world volume, a material's volume or a
-    volume-only material): what the core's HostScene::build_media tests."""
-    world = getattr(scene, "world", None) or {}
-    if isinstance(world, dict) and world.get("volume") is not None:
-        return True
-    return any(isinstance(m, dict) and (m.get("volume") is not None or m.get("volume_only"))
+def _has_hetero_media(scene):
+    """Whether a material's volume is heterogeneous (a density grid or a density program):
+    what the core's HostScene::add_lights tests before it starts soft lights' paths."""
+    return any(isinstance(m, dict) and m.get("volume") is not None
+               and (m.get("density_grid") is not None
+                    or any(p.get("target") == "density" for p in (m.get("programs") or [])))
                for m in getattr(scene, "materials", []))
 
 
 def camera_side_light_warnings(scene, integrator):
     """Point and spot lights with a radius and soft falloff on (Blender's default) are a disk
     facing each receiver. Light paths start at their centre and take the point on the disk that
-    faces their first hit (docs/lvc_notes.md), except in scenes with media: there bdpt, lvc and
-    cis light them from the camera side only, as pt does. Say so where it costs the integrator
-    what it was chosen for."""
-    if integrator not in ("bdpt", "lvc", "cis") or not _has_media(scene):
+    faces their first hit (docs/lvc_notes.md), through homogeneous media too, except in scenes
+    with a heterogeneous medium: there bdpt, lvc and cis light them from the camera side only,
+    as pt does. Say so where it costs the integrator what it was chosen for."""
+    if integrator not in ("bdpt", "lvc", "cis") or not _has_hetero_media(scene):
         return []
     out = []
     for k, light in enumerate(getattr(scene, "lights", [])):
         if (light.get("type") in ("point", "spot") and float(light.get("radius", 0.0)) > 0.0
                 and light.get("soft_falloff", True)):
             name = light.get("name") or f"lights[{k}]"
-            out.append(f"light '{name}': soft falloff is on in a scene with media, so "
-                       f"{integrator}'s light paths cannot start on it (it is lit from the camera "
-                       "side only, as in pt); switch its Soft Falloff off for a sphere light")
+            out.append(f"light '{name}': soft falloff is on in a scene with a heterogeneous "
+                       f"medium, so {integrator}'s light paths cannot start on it (it is lit from "
+                       "the camera side only, as in pt); switch its Soft Falloff off for a "
+                       "sphere light")
     return out
 
 

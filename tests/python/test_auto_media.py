@@ -61,11 +61,11 @@ def open_fog(size=32):
     return scene
 
 
-def _choices(scene, seeds, steps=1, spp=1):
+def _choices(scene, seeds, steps=1, spp=1, **settings):
     out = []
     for seed in seeds:
         s = lantern.Session(scene, integrator="auto", seed=seed, backend="cpu", max_depth=DEPTH,
-                            spp_per_iteration=spp, threads=1, auto_media=True)
+                            spp_per_iteration=spp, threads=1, auto_media=True, **settings)
         for _ in range(steps):
             s.step()
         assert not any("path tracing" in w for w in s.warnings), s.warnings
@@ -130,12 +130,16 @@ def test_auto_chooses_cis_in_the_lamp_shade_and_pt_in_open_fog():
     assert [c for c, _ in lamp].count("cis") >= 7, lamp
     fog = _choices(open_fog(), seeds, steps=17)
     assert [c for c, _ in fog].count("pt") == len(seeds), fog
-    # negative control: Soft Falloff on, cis starts no light paths from the lamp (it renders
-    # camera paths alone, at its higher cost): pt on most seeds
+    # Soft Falloff on (Blender's default bulb): its light paths start in the fog too since
+    # branch softmedia (soft_light_medium.h), so cis again
     soft = lamp_shade()
     for light in soft.lights:
         light["soft_falloff"] = True
-    control = _choices(soft, seeds, steps=17)
+    soft_choice = _choices(soft, seeds, steps=17)
+    assert [c for c, _ in soft_choice].count("cis") >= 7, soft_choice
+    # negative control: no light paths at all (light_path_fraction 0: cis renders camera paths
+    # alone, at its higher cost; before softmedia the soft bulb was this case): pt on most seeds
+    control = _choices(soft, seeds, steps=17, light_path_fraction=0.0)
     assert [c for c, _ in control].count("pt") >= 5, control
 
 

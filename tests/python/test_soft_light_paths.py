@@ -171,15 +171,15 @@ def test_centre_visibility_matters(core, backend, integrator):
     assert np.mean(wrong) < pt.blocks.mean()  # the penumbra's share goes missing
 
 
-def test_soft_lights_in_media_stay_camera_side(core):
-    """In a scene with media no light path starts on a soft-falloff light (a medium vertex as
-    x1 is not built): bdpt, lvc and cis say so."""
+def test_soft_lights_in_media_start_light_paths(core):
+    """In a scene with homogeneous media light paths start on a soft-falloff light too (x1 may
+    be a medium vertex: soft_light_medium.h, test_soft_light_media.py) and nothing is said; lt
+    refuses soft lights in media (its lines are not built there)."""
     scene = open_shade()
     scene.world["volume"] = {"sigma_s": [0.01] * 3, "sigma_a": [0.0] * 3}
     s = lantern.Session(scene, integrator="cis", spp_per_iteration=1, threads=1, backend="cpu")
     s.step()
-    assert s.stats["rays_light"] == 0
-    said = [w for w in s.warnings if "soft falloff" in w]
-    assert len(said) == 1 and "media" in said[0] and "lights[0]" in said[0]
+    assert s.stats["rays_light"] > 0
+    assert not any("soft falloff" in w for w in s.warnings)
     with pytest.raises(ValueError, match=r"lights\[0\].*media"):
         lantern.Session(scene, integrator="lt", backend="cpu")

@@ -102,8 +102,12 @@ LANTERN_HD inline void bdpt_camera_nee(const SceneView& s, const PathState& ps,
     }
     // a soft-falloff light's path makes z from its centre, when it sees z (soft_light_path.h;
     // r = 0, no light-path technique here: no ray)
-    if (light_receiver_dependent(l))
-        pdf_lp = st.r > 0.0f ? soft_light_path_pdf_a(s, sr, l, z.h.p, z.h.ng) : 0.0f;
+    // (media: through them, the flights' factor in the density, soft_light_medium.h)
+    const bool soft = light_receiver_dependent(l);
+    if (soft)
+        pdf_lp = !(st.r > 0.0f) ? 0.0f
+                 : s.num_media > 0 ? soft_light_path_pdf_a_medium(s, sr, l, z.h.p, z.h.ng)
+                                   : soft_light_path_pdf_a(s, sr, l, z.h.p, z.h.ng);
     float w_light = ls.delta ? 0.0f : mis(e.pdf_fwd_w / pdf_light_w);
     // (the first vertex: z.dvcm is light tracing's term alone, BdptSettings::lt_direct)
     const float dvcm_z = z.depth == 1 ? z.dvcm * bdpt_direct_lt(st)
@@ -132,7 +136,8 @@ LANTERN_HD inline void bdpt_camera_nee(const SceneView& s, const PathState& ps,
     if (s.num_media > 0) {  // its weight finished at the shadow test (bdpt_medium_stages.h)
         bs.shadow_wn[i] = w_camera;
         bs.shadow_wf[i] = w_light;
-        bs.shadow_kind[i] = st.moments ? kMomOn | kMomFar | kMomOwnB : 0;
+        bs.shadow_kind[i] = (st.moments ? kMomOn | kMomFar | kMomOwnB : 0) |
+                            (soft ? kConnNearFixed : 0);  // (F(c -> z) is in pdf_lp)
         if (st.moments) bs.shadow_mom[i] = Vec3{w_light, 1.0f, 1.0f};
         ps.shadow_medium[i] = dot(ls.wi, z.h.ng) < 0.0f
                                   ? medium_across(s, z.tri, z.h.front, z.slot_medium)
@@ -430,10 +435,14 @@ LANTERN_HD inline void bdpt_queue_camera_events(const BdptState& bs, int i, cons
 // one in scenes without media): the segment's media, then at a surface its emission, the next
 // event and connections queued for the events stage (bdpt_camera_events.h), and the next
 // direction. No ray and no connection here: on a GPU the stages are kernels of their own
-// (each with its own stack: issue 30).
+// (each with its own stack: issue 30); sr (a StageRaysRef) serves only the weight of a
+// soft-falloff disk hit inside a medium segment (soft_light_medium.h: the route's flights
+// from the centre, which the GPU does not start, so there it traces nothing).
+template <class SR>
 LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps,
                                          const BdptState& bs, const BdptSettings& st_all,
-                                         const LightCache& cache, int i, int64_t path) {
+                                         const LightCache& cache, int i, int64_t path,
+                                         const SR& sr) {
     const BdptSettings st = camera_settings(st_all, pixel_conn_of_path(s, st_all, path));
     ps.shadow_valid[i] = 0;
     ps.alive[i] = 0;
@@ -449,7 +458,7 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
     MaterialScratch scratch;  // z.m points here when the material is resolved
     z.scratch = &scratch;
     // the piece's flight, lights crossed, a medium vertex, a boundary passed
-    if (media && bdpt_camera_medium_segment(s, ps, bs, st, cache, i, path, z)) return;
+    if (media && bdpt_camera_medium_segment(s, ps, bs, st, cache, i, path, z, sr)) return;
     if (tri < 0) return;
     z.strand = prim_is_strand(s, tri);  // a triangle's or a strand's surface (pt_curve.h)
     z.h = s.motion.num_objects > 0 && tri < s.num_triangles  // motion blur: bdpt_motion.h

@@ -9,6 +9,7 @@
 #include "integrator/bdpt_medium.h"
 #include "integrator/bdpt_motion.h"
 #include "integrator/pixel_conn.h"
+#include "integrator/soft_light_medium.h"
 #include "integrator/soft_light_path.h"
 
 namespace lantern {
@@ -35,10 +36,12 @@ LANTERN_HD inline float camera_pdf(const CameraView& c, Vec3 d) {
 LANTERN_HD inline void bdpt_camera_generate_medium(const PathState& ps, const BdptState& bs,
                                                    int i);
 struct CameraVertex;
+template <class SR>  // (the attribute here: a template's redeclaration cannot add it)
+LANTERN_DEVICE_NOINLINE
 LANTERN_HD inline bool bdpt_camera_medium_segment(const SceneView& s, const PathState& ps,
                                                   const BdptState& bs, const BdptSettings& st,
                                                   const LightCache& cache, int i, int64_t path,
-                                                  CameraVertex& z);
+                                                  CameraVertex& z, const SR& sr);
 
 LANTERN_HD inline void bdpt_camera_generate(const SceneView& s, const PathState& ps,
                                             const BdptState& bs, const BdptSettings& st_all,

@@ -34,6 +34,11 @@ struct StageRaysRef {
         q.time = time;
         return sr->rays.occluded(q, shadow_ray ? sr->shadow : sr->indirect);
     }
+    LANTERN_HD auto closest_indirect(const Ray& r) const {  // (soft_light_medium.h)
+        Ray q = r;
+        q.time = time;
+        return sr->rays.closest(q, sr->indirect);
+    }
 };
 template <class SR>
 LANTERN_HD inline StageRaysRef<SR> stage_rays_at(const SR& sr, float time) {
@@ -67,7 +72,7 @@ LANTERN_HD inline void bdpt_camera_events(const SceneView& s, const PathState& p
     z.scratch = &scratch;
     Rng rng = bs.cam_rng[i];
     if (z.medium_vertex >= 0) {
-        bdpt_camera_medium_nee(s, ps, bs, st, z, i, rng);
+        bdpt_camera_medium_nee(s, ps, bs, st, z, i, rng, sr);
     } else {
         z.m = &camera_vertex_material(s, z);
         bdpt_camera_nee(s, ps, bs, st, z, i, rng, sr);

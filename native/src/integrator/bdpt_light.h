@@ -7,6 +7,7 @@
 #include "integrator/bdpt_medium.h"
 #include "integrator/bdpt_motion.h"
 #include "integrator/pixel_conn.h"
+#include "integrator/soft_light_medium.h"
 #include "integrator/soft_light_path.h"
 
 namespace lantern {
@@ -15,9 +16,10 @@ namespace lantern {
 LANTERN_HD inline void bdpt_light_generate_medium(const SceneView& s, const PathState& ps,
                                                   const BdptState& bs, int li,
                                                   const EmissionSample& es, int i);
+template <class SR>
 LANTERN_HD inline bool bdpt_light_medium_segment(const SceneView& s, const PathState& ps,
                                                  const BdptState& bs, const BdptSettings& st,
-                                                 int i, int64_t path);
+                                                 int i, int64_t path, const SR& sr);
 
 LANTERN_HD inline void bdpt_light_generate(const SceneView& s, const PathState& ps,
                                            const BdptState& bs, const BdptSettings& st, int i,
@@ -88,7 +90,7 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
     int tri = ps.hit_prim[i];
     const bool media = s.num_media > 0;
     // media: the piece's flight, a medium vertex, a boundary passed (bdpt_medium_stages.h)
-    if (media && bdpt_light_medium_segment(s, ps, bs, st, i, path)) return;
+    if (media && bdpt_light_medium_segment(s, ps, bs, st, i, path, sr)) return;
     if (tri < 0) return;
     const Vec3 d = ps.ray_d[i];
     // (media: the segment from the last vertex, through its pieces)
@@ -99,9 +101,11 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
     const bool strand = prim_is_strand(s, tri);
     // a soft-falloff light's first hit x1: the light arrives from y0 on the disk facing x1, not
     // from the centre the path left (soft_light_path.h); d_in is its direction (scenes with
-    // strands start no light paths on these lights: scene_lights.cpp)
+    // strands start no light paths on these lights: scene_lights.cpp; media: y0 -> x1 through
+    // them, soft_light_medium.h)
     Vec3 d_in = d;
     float soft_cos = 0.0f;  // the cosine at x1 towards the centre (the density of x1)
+    float soft_pass = 1.0f;  // media: the s = 0 technique's factor over x1 -> y0
     if (ps.depth[i] == 0 && light_receiver_dependent(l)) {
 #ifdef __CUDA_ARCH__
         // not on the GPU (its kernel's stack): no light path starts there on these lights
@@ -112,7 +116,20 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
         Rng r = ps.rng[i];
         const Vec2 u = r.uniform2();
         ps.rng[i] = r;
-        const SoftFirstHit sf = soft_light_first_hit(s, sr, l, hc.p, hc.ng, u);
+        SoftFirstHit sf;
+        if (media) {  // the flights' throughput becomes T(y0 -> x1) / F(c -> x1)
+            const SoftFirstHitMedium sm = soft_light_first_hit_medium(
+                s, sr, l, hc.p, hc.ng, ps.medium[i],
+                medium_across(s, tri, hc.front, ps.medium[i]), u);
+            sf = sm.hit;
+            const float fwd = bs.seg_fwd[i];
+            if (!sf.valid || !(fwd > 0.0f)) return;
+            ps.throughput[i] = sm.tr * (1.0f / fwd);
+            ps.medium[i] = sm.medium;  // the light arrives from y0's side
+            soft_pass = sm.pass;
+        } else {
+            sf = soft_light_first_hit(s, sr, l, hc.p, hc.ng, u);
+        }
         soft_cos = fabsf(dot(d, hc.ng));
         if (!sf.valid || !(soft_cos > 0.0f)) return;
         d_in = sf.wi;
@@ -158,9 +175,12 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
     if (k == 1) {  // next-event estimation from here picks this light with this probability
         dvcm *= mis(light_pick_pmf(s, bs.light[i], h.p, light_pick_normal(s, tri, h.ng)));
     }
+    // (media: a soft light's s = 0 technique flies x1 -> y0, not x1 -> c: its factor in dVC)
+    MediumSegmentPdf sg = medium_segment_begin(false);
     if (media) {
-        bdpt_medium_hit_update(dvcm, dvc, dist, cos_o_ng, bdpt_seg_load(bs, i),
-                               k > 1 || !infinite);
+        sg = bdpt_seg_load(bs, i);
+        if (soft_cos > 0.0f) sg.rev = soft_pass;
+        bdpt_medium_hit_update(dvcm, dvc, dist, cos_a, sg, k > 1 || !infinite);
     } else {
         if (k > 1 || !infinite) dvcm *= mis(dist * dist);
         dvcm /= mis(cos_a);
@@ -174,7 +194,6 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
         dpt0 = bs.dpt0[i] / mis(cos_a);
         dpt1 = bs.dpt1[i] / mis(cos_a);
         if (media) {  // the segment's factors, as dvc's (bdpt_medium_hit_update)
-            const MediumSegmentPdf sg = bdpt_seg_load(bs, i);
             dpt0 *= mis(sg.rev) / mis(sg.fwd);
             dpt1 *= mis(sg.rev) / mis(sg.fwd);
         }

@@ -121,7 +121,10 @@ LANTERN_HD inline void bdpt_medium_scatter_update(float& dvcm, float& dvc, float
 }
 
 // ---- The slot's segment state (BdptState::seg_*) and the ends of a queued connection ----
-enum ConnKind : int32_t { kConnNearMedium = 1, kConnFarMedium = 2 };
+// kConnNearFixed: the near end's part wn already holds its factor (a soft-falloff light's
+// light-path density of a camera vertex, whose flights leave the light's centre, not the
+// segment's far end: soft_light_medium.h); the segment's near factor does not scale it.
+enum ConnKind : int32_t { kConnNearMedium = 1, kConnFarMedium = 2, kConnNearFixed = 128 };
 // BdptSettings::moments: the queued contribution becomes moment channels at its finish
 // (bdpt_medium_finish_c); pt's squared ratios a, b (BdptState::shadow_mom / conn_mom) scale with
 // the near end's factor (kMomNear) or the far end's (kMomFar); kMomOwnB: b is the
@@ -137,7 +140,7 @@ enum MomentKind : int32_t { kMomOn = 4, kMomNear = 8, kMomFar = 16, kMomOwnB = 3
 // segment's factors (u: the unit contribution over c, a cis pick's, bdpt_camera_connect).
 LANTERN_HD inline Vec3 bdpt_medium_finish_c(Vec3 c, Vec3 tr, float wn, float wf, int32_t kind,
                                             const Vec3* mom, const MediumSegmentPdf& seg) {
-    const float fn = mis(seg.rev), ff = mis(seg.fwd);
+    const float fn = (kind & kConnNearFixed) ? 1.0f : mis(seg.rev), ff = mis(seg.fwd);
     const float den = 1.0f + wn * fn + wf * ff;
     if (!(den > 0.0f)) return vec3(0.0f);
     const Vec3 cf = c * tr * ((1.0f + wn + wf) / den);

@@ -18,147 +18,9 @@
 #pragma once
 
 #include "integrator/bdpt_medium.h"
+#include "integrator/bdpt_medium_light.h"  // the light pass
 
 namespace lantern {
-
-// ---------------------------------------------------------------------------------------------
-// Light pass
-// ---------------------------------------------------------------------------------------------
-
-// After generation: the medium the path starts in (lt's rule), its factor, the segment state.
-LANTERN_HD inline void bdpt_light_generate_medium(const SceneView& s, const PathState& ps,
-                                                  const BdptState& bs, int li,
-                                                  const EmissionSample& es, int i) {
-    Vec3 f;
-    ps.medium[i] = lt_start_medium(s, li, es, &f);
-    bs.power[i] = bs.power[i] * f;
-    ps.prev_p[i] = es.p;
-    bdpt_seg_store(bs, i, medium_segment_begin(false));
-}
-
-LANTERN_HD inline void bdpt_light_medium_vertex(const SceneView& s, const PathState& ps,
-                                                const BdptState& bs, const BdptSettings& st,
-                                                int i, int64_t path, Vec3 p, Vec3 d,
-                                                int32_t med, const MediumSegmentPdf& seg) {
-    const Medium& m = s.media[med];
-    const int k = ps.depth[i] + 1;
-    ps.depth[i] = k;
-    float dvcm = bs.dvcm[i], dvc = bs.dvc[i];
-    const Light& l = s.lights[bs.light[i]];
-    const bool infinite = l.type == kLightSun || l.type == kLightWorld;
-    const float dist = length(p - ps.prev_p[i]);
-    if (!(dist > 0.0f)) return;
-    if (k == 1 && !infinite) {  // (bdpt_light_shade)
-        const Vec3 n0 = l.type == kLightArea ? -l.frame.axis(2)
-                                             : normalize(ps.prev_p[i] - l.position);
-        dvcm *= mis(direct_pdf_receiver_ratio(l, p, -d, dist, n0));
-    }
-    if (k == 1) dvcm *= mis(light_pick_pmf(s, bs.light[i], p, vec3(0.0f)));
-    // (moments, a map: dvc's parts that are pt's techniques, bdpt_light_shade, with the factors)
-    const bool dpt = st.moments || st.conn_map;
-    const float dpt0 = dpt ? bs.dpt0[i] * mis(seg.rev) / mis(seg.fwd) : 0.0f;
-    const float dpt1 = dpt ? bs.dpt1[i] * mis(seg.rev) / mis(seg.fwd) : 0.0f;
-    bdpt_medium_hit_update(dvcm, dvc, dist, 1.0f, seg, k > 1 || !infinite);
-    const Vec3 beta = bs.power[i] * ps.throughput[i];
-    bs.vertex[i] = lv_make_medium(p, -d, beta, dvcm, dvc, med, int32_t(path), k);
-    bs.vertex[i].dpt0 = dpt0;
-    bs.vertex[i].dpt1 = dpt1;
-    bs.store[i] = is_finite(beta) && is_finite(dvcm) && is_finite(dvc) ? 1 : 0;
-    // t = 1: no cosine at the vertex; the camera's density of it times its factor (near end)
-    if (k + 1 <= st.max_depth) {
-        const CameraConnection cc = connect_camera(s.camera, p, filter_radius(s.camera),
-                                                   lens_sample(s.camera, ps, i));
-        if (cc.valid) {
-            const float phase = hg_phase(m.g, dot(d, cc.wc));
-            const float n_lt = k == 1 ? st.n_lt * st.lt_direct : st.n_lt;
-            const float wn = mis(cc.importance * st.r / n_lt) * (dvcm + dvc * mis(phase));
-            bs.shadow_wn[i] = wn;
-            bs.shadow_wf[i] = 0.0f;
-            bs.shadow_kind[i] = kConnNearMedium | (st.moments ? kMomOn | kMomNear : 0);
-            if (st.moments) {  // pt's techniques (bdpt_light_shade), both near-end
-                const float x = mis(cc.importance * st.r / n_lt);
-                bs.shadow_mom[i] = Vec3{x * dpt0 * mis(phase),
-                                        x * (k == 1 ? dvcm : dpt1 * mis(phase)), 1.0f / n_lt};
-            }
-            ps.shadow_medium[i] = med;
-            LightPathState lp{nullptr, bs.splat_xy};
-            lt_queue_splat(ps, lp, i, p, vec3(0.0f), cc,
-                           beta * (phase * cc.importance / (1.0f + wn)), s.offset_scale);
-        }
-    }
-    if (k + 2 > st.max_depth) return;
-    Rng rng = ps.rng[i];
-    float pdf_w = 0.0f;
-    const Vec3 wi = hg_sample(m.g, d, rng.uniform2(), &pdf_w);  // weight 1
-    Vec3 t = ps.throughput[i];
-    if (pdf_w > 0.0f && russian_roulette(t, k + 1, st.rr_depth, rng) &&
-        max_component(t) > 0.0f && is_finite(t)) {
-        if (dpt) {  // dvc's recursion, each part on its own (the phase's pdfs are equal)
-            bs.dpt0[i] = dpt0;
-            bs.dpt1[i] = dpt1 + (k == 1 ? mis(1.0f / pdf_w) * dvcm : 0.0f);
-        }
-        bdpt_medium_scatter_update(dvcm, dvc, pdf_w);
-        ps.throughput[i] = t;
-        bs.dvcm[i] = dvcm;
-        bs.dvc[i] = dvc;
-        ps.ray_o[i] = p;
-        ps.ray_d[i] = wi;
-        ps.ray_tmin[i] = 0.0f;
-        ps.ray_tmax[i] = kInf;
-        ps.prev_pdf_w[i] = pdf_w;
-        ps.alive[i] = 1;
-        ps.prev_p[i] = p;
-        bdpt_seg_store(bs, i, medium_segment_begin(true));
-    }
-    ps.rng[i] = rng;
-}
-
-// The traced piece: true when this stage handled the slot (a medium vertex, a volume boundary
-// passed, the path lost); false at a surface, whose shading (bdpt_light_shade) reads the
-// segment's factors from the slot.
-LANTERN_HD inline bool bdpt_light_medium_segment(const SceneView& s, const PathState& ps,
-                                                 const BdptState& bs, const BdptSettings& st,
-                                                 int i, int64_t path) {
-    const int tri = ps.hit_prim[i];
-    MediumSegmentPdf seg = bdpt_seg_load(bs, i);
-    const Vec3 o = ps.ray_o[i], d = ps.ray_d[i];
-    const float tmin = ps.ray_tmin[i];
-    const float t_end = tri >= 0 ? ps.hit_t[i] : ps.ray_tmax[i];
-    const int32_t med = ps.medium[i];
-    if (med >= 0) {
-        const Medium& m = s.media[med];
-        Rng rng = ps.rng[i];
-        MediumStep step;
-        if (m.hetero) {  // tracking; the stand-in's factors (bdpt_medium_hetero.h)
-            step = bdpt_hetero_flight(s, med, o + d * tmin, d, t_end - tmin,
-                                      bs.power[i] * ps.throughput[i], rng);
-        } else {
-            float uc = 0.0f, ud = 0.0f;
-            if (m.scatters) {
-                uc = rng.uniform();
-                ud = rng.uniform();
-            }
-            step = bdpt_medium_flight(m, t_end - tmin, uc, ud);
-        }
-        ps.rng[i] = rng;
-        ps.throughput[i] = ps.throughput[i] * step.weight;
-        medium_segment_piece_at(seg, s, med, o + d * tmin, d, step.t, step.scattered);
-        if (step.scattered) {
-            bdpt_light_medium_vertex(s, ps, bs, st, i, path, o + d * (tmin + step.t), d, med,
-                                     seg);
-            return true;
-        }
-    } else {
-        medium_segment_piece(seg, nullptr, t_end - tmin, false);
-    }
-    bdpt_seg_store(bs, i, seg);
-    if (tri < 0 || is_black(ps.throughput[i])) return true;
-    if (s.tri_flags[tri] & kVolumeBoundary) {
-        pt_cross_boundary(s, ps, i, tri);
-        return true;
-    }
-    return false;
-}
 
 // ---------------------------------------------------------------------------------------------
 // Camera pass
@@ -177,7 +39,8 @@ LANTERN_HD inline float bdpt_emission_weight_medium(const SceneView& s, const Pa
                                                     int i, const Light& l, Vec3 p_light,
                                                     bool infinite, Vec3 n,
                                                     const MediumSegmentPdf& seg,
-                                                    float* nee_ratio = nullptr) {
+                                                    float* nee_ratio = nullptr,
+                                                    float soft_emit = -1.0f) {
     if (ps.depth[i] <= 1) return 1.0f;
     if (!(seg.fwd > 0.0f)) return 0.0f;
     const Vec3 d = ps.ray_d[i], prev = ps.prev_p[i];
@@ -197,19 +60,43 @@ LANTERN_HD inline float bdpt_emission_weight_medium(const SceneView& s, const Pa
         pdf_direct = pick * light_pdf_w(l, prev, d, dist, n) * cos_l / (dist * dist);
         bdpt_medium_hit_update(dvcm, dvc, dist, cos_l, seg, true);
     }
-    const float pdf_emit = l.emit_pick_pdf * emission_pdf(s, l, n, -d).pdf_emit;
+    const float pdf_emit = soft_emit >= 0.0f
+                               ? soft_emit
+                               : l.emit_pick_pdf * emission_pdf(s, l, n, -d).pdf_emit;
     if (ps.depth[i] == 2) dvc *= bdpt_direct_lt(st);
     if (nee_ratio) *nee_ratio = mis(pdf_direct) * dvcm;  // next-event estimation's (moments)
     return 1.0f / (1.0f + mis(pdf_direct) * dvcm + mis(st.r * pdf_emit) * dvc);
 }
 
+// A camera path from vertex x (the slot's prev_p; a medium vertex where the segment started in
+// one, else a surface of normal bs.prev_ng) hits the disk of soft-falloff light l at y0, seg the
+// segment's factors up to it: the stand-in for pdf_emit that makes bdpt_emission_weight_medium's
+// (which divides by cos_out F_rev / |y0 - x|^2 through dVC) the light path's density of x,
+// soft_light_path_pdf_a_medium (bdpt_soft_hit_emit without media).
+template <class SR>
+LANTERN_HD inline float bdpt_soft_hit_emit_medium(const SceneView& s, const PathState& ps,
+                                                  const BdptState& bs, const SR& sr, int i,
+                                                  const Light& l, Vec3 y0,
+                                                  const MediumSegmentPdf& seg) {
+    const Vec3 x = ps.prev_p[i], d = ps.ray_d[i];
+    const Vec3 ng = (seg.flags & kSegStartMedium) ? vec3(0.0f) : bs.prev_ng[i];
+    const float cos_out = is_black(ng) ? 1.0f : fabsf(dot(d, ng));
+    if (!(cos_out > 0.0f) || !(seg.rev > 0.0f)) return 0.0f;
+    const float pdf_a = soft_light_path_pdf_a_medium(s, sr, l, x, ng);
+    if (!(pdf_a > 0.0f)) return 0.0f;
+    const float r = pdf_a * length_sq(y0 - x) / (cos_out * seg.rev);
+    return is_finite(r) ? r : 0.0f;
+}
+
 // Lights crossed by the piece [tmin, t_stop] in medium m (null: vacuum), each through the
 // flight's pass weight up to it; the background on a miss that passed the whole piece.
+template <class SR>
 LANTERN_HD inline void bdpt_camera_emission_medium(const SceneView& s, const PathState& ps,
                                                    const BdptState& bs, const BdptSettings& st,
                                                    int i, float t_stop, bool miss,
                                                    const Medium* m,
-                                                   const MediumSegmentPdf& seg0, Vec3 beta) {
+                                                   const MediumSegmentPdf& seg0, Vec3 beta,
+                                                   const SR& sr) {
     const Vec3 o = ps.ray_o[i], d = ps.ray_d[i];
     const float tmin = ps.ray_tmin[i];
     const bool camera = ps.depth[i] <= 1;
@@ -222,8 +109,13 @@ LANTERN_HD inline void bdpt_camera_emission_medium(const SceneView& s, const Pat
         medium_segment_piece(seg, m, h.t - tmin, false);
         const Vec3 tr = m ? medium_pass_weight(*m, bdpt_medium_pmf(), h.t - tmin) : vec3(1.0f);
         float nee = 0.0f;
+        float soft = -1.0f;  // (a soft-falloff light's stand-in for pdf_emit; r = 0: no ray)
+        if (!camera && light_receiver_dependent(l))
+            soft = st.r > 0.0f
+                       ? bdpt_soft_hit_emit_medium(s, ps, bs, sr, i, l, o + d * h.t, seg)
+                       : 0.0f;
         const float w = bdpt_emission_weight_medium(s, ps, bs, st, i, l, o + d * h.t, false,
-                                                    h.n, seg, &nee);
+                                                    h.n, seg, &nee, soft);
         Vec3 c = beta * tr * h.le * w;
         if (st.moments) c = bdpt_moment(c, c, bdpt_pt_factor(1.0f / w, 1.0f, nee));
         add_radiance(ps, i, c);
@@ -252,10 +144,12 @@ LANTERN_HD inline void bdpt_camera_emission_medium(const SceneView& s, const Pat
 // s = 1 from a medium vertex: a light from the light tree (omnidirectional receiver), the
 // phase function in place of the BSDF, no cosine at z. Out of line on the device
 // (LANTERN_DEVICE_NOINLINE): its light sample stays out of the events kernel's own frame.
+template <class SR>
 LANTERN_DEVICE_NOINLINE
 LANTERN_HD inline void bdpt_camera_medium_nee(const SceneView& s, const PathState& ps,
                                               const BdptState& bs, const BdptSettings& st,
-                                              const CameraVertex& z, int i, Rng& rng) {
+                                              const CameraVertex& z, int i, Rng& rng,
+                                              const SR& sr) {
     const Vec2 u_pick = rng.uniform2();
     const Vec2 u_light = rng.uniform2();
     const LightPick pick = light_pick(s, z.h.p, vec3(0.0f), u_pick.x);
@@ -278,6 +172,10 @@ LANTERN_HD inline void bdpt_camera_medium_nee(const SceneView& s, const PathStat
         pdf_nee = ls.delta ? pick.pmf : pdf_light_w * cos_l / d2;
         pdf_lp = pdf_emit / d2;
     }
+    // a soft-falloff light's path makes z from its centre (soft_light_medium.h)
+    const bool soft = light_receiver_dependent(l);
+    if (soft)
+        pdf_lp = st.r > 0.0f ? soft_light_path_pdf_a_medium(s, sr, l, z.h.p, vec3(0.0f)) : 0.0f;
     const float w_light = ls.delta ? 0.0f : mis(ph / pdf_light_w);
     const float dvcm_z = z.depth == 1 ? z.dvcm * bdpt_direct_lt(st)
                                       : camera_conn_dvcm(st, z.dvcm, z.depth);
@@ -301,7 +199,8 @@ LANTERN_HD inline void bdpt_camera_medium_nee(const SceneView& s, const PathStat
     ps.shadow_medium[i] = z.medium_vertex;
     bs.shadow_wn[i] = w_camera;
     bs.shadow_wf[i] = w_light;
-    bs.shadow_kind[i] = kConnNearMedium | (st.moments ? kMomOn | kMomFar | kMomOwnB : 0);
+    bs.shadow_kind[i] = kConnNearMedium | (st.moments ? kMomOn | kMomFar | kMomOwnB : 0) |
+                        (soft ? kConnNearFixed : 0);  // (F(c -> z) is in pdf_lp)
     if (st.moments) bs.shadow_mom[i] = Vec3{w_light, 1.0f, 1.0f};
 }
 
@@ -490,11 +389,12 @@ LANTERN_HD inline void bdpt_camera_lights_hetero(const SceneView& s, const PathS
 // collisions (weight 1, as in homogeneous media) and the lights it passes, each with the
 // tracking's weight; the piece's factors by the stand-in (bdpt_medium_hetero.h). A ray that
 // leaves the medium to infinity (an open mesh) sees no distant light.
+template <class SR>
 LANTERN_DEVICE_NOINLINE
 LANTERN_HD inline bool bdpt_camera_hetero_segment(const SceneView& s, const PathState& ps,
                                                   const BdptState& bs, const BdptSettings& st,
                                                   const LightCache& cache, int i, int64_t path,
-                                                  CameraVertex& z) {
+                                                  CameraVertex& z, const SR& sr) {
     const int tri = ps.hit_prim[i];
     MediumSegmentPdf seg = bdpt_seg_load(bs, i);
     const Vec3 d = ps.ray_d[i];
@@ -535,11 +435,12 @@ LANTERN_HD inline bool bdpt_camera_hetero_segment(const SceneView& s, const Path
 // The camera path's traced piece: its flight, the lights it crosses, a medium vertex, a
 // volume boundary passed; false at a surface (bdpt_camera_shade goes on, its emission done).
 // Out of line on the device (LANTERN_DEVICE_NOINLINE: ptxas compiles camera shade in pieces).
+template <class SR>
 LANTERN_DEVICE_NOINLINE
 LANTERN_HD inline bool bdpt_camera_medium_segment(const SceneView& s, const PathState& ps,
                                                   const BdptState& bs, const BdptSettings& st,
                                                   const LightCache& cache, int i, int64_t path,
-                                                  CameraVertex& z) {
+                                                  CameraVertex& z, const SR& sr) {
     const int tri = ps.hit_prim[i];
     MediumSegmentPdf seg = bdpt_seg_load(bs, i);
     const Vec3 o = ps.ray_o[i], d = ps.ray_d[i];
@@ -547,7 +448,7 @@ LANTERN_HD inline bool bdpt_camera_medium_segment(const SceneView& s, const Path
     const float t_end = tri >= 0 ? ps.hit_t[i] : ps.ray_tmax[i];
     const int32_t med = ps.medium[i];
     const Medium* m = med >= 0 ? &s.media[med] : nullptr;
-    if (m && m->hetero) return bdpt_camera_hetero_segment(s, ps, bs, st, cache, i, path, z);
+    if (m && m->hetero) return bdpt_camera_hetero_segment(s, ps, bs, st, cache, i, path, z, sr);
     const Vec3 beta = ps.throughput[i];
     // an emitting medium's emission along the piece, weight 1: no light path starts in a
     // medium, so only the camera path samples it (docs/volumes.md)
@@ -564,7 +465,7 @@ LANTERN_HD inline bool bdpt_camera_medium_segment(const SceneView& s, const Path
         step = bdpt_medium_flight(*m, t_end - tmin, uc, ud);
     }
     bdpt_camera_emission_medium(s, ps, bs, st, i, tmin + step.t, tri < 0 && !step.scattered, m,
-                                seg, beta);
+                                seg, beta, sr);
     ps.throughput[i] = beta * step.weight;
     medium_segment_piece(seg, m, step.t, step.scattered);
     if (step.scattered) {

@@ -54,7 +54,9 @@ std::string mesh_inside_ball(const SceneInput& in, Vec3 c, float r) {
 
 // Soft-falloff point/spot lights: lt's paths are lines through the light's ball
 // (soft_light_path.h), exact unless a triangle lies inside the ball; in scenes with media (the
-// test of HostScene::build_media) no soft light's path is built. lt refuses both cases.
+// test of HostScene::build_media) the lines are not built (bdpt, lvc and cis start their route
+// from the centre there, soft_light_medium.h; lt has no camera-side technique to pair with it).
+// lt refuses both cases.
 void check_light_tracing(const SceneInput& in) {
     bool media = in.world_medium >= 0;
     for (const MaterialInput& mi : in.materials) media = media || mi.medium >= 0 || mi.volume_only;

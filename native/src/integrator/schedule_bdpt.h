@@ -280,7 +280,9 @@ void camera_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep
             }
             ex.each(active, LANTERN_KERNEL(int k) {
                 const int i = q[k];
-                bdpt_camera_shade(s, ps, bs, bst, cache, i, camera_path(list, spp, first_path + i));
+                const int64_t path = camera_path(list, spp, first_path + i);
+                bdpt_camera_shade(s, ps, bs, bst, cache, i, path,  // (motion: at its time)
+                                  stage_rays_at(sr, motion ? bdpt_time(bst, path) : sr.time));
             }, 64);
             ex.each(active, LANTERN_KERNEL(int k) {
                 const int i = q[k];

@@ -49,7 +49,8 @@ struct SessionSettings {
     float light_path_fraction = 1.0f;
     std::string cis_target = "contribution";  // or "bsdf" (the paper's BSDF product)
     bool naive_ris = false; // test only: weight resampled picks like uniform ones (biased)
-    bool soft_visibility = true;  // test only: false drops V(c, x) of soft lights (biased)
+    bool soft_visibility = true;  // test only: false drops V(c, x) of soft lights (in media
+                                  // F(c -> x) too; biased)
     int cache_budget_mb = 0;  // light vertex cache per pass; 0: min(4 GiB, RAM / 4)
     int light_candidates = 1;  // pt: resampled next-event estimation over M candidates (1: off)
     // per-pixel adaptive sampling (integrator/adaptive.h; CPU backend): Cycles' noise

@@ -26,6 +26,13 @@ struct StageRays {
         q.time = time;
         return rays.occluded(q, shadow_ray ? shadow : indirect);
     }
+    // the closest hit of a ray of the light pass's kind at the path's time (the route from a
+    // soft light's centre through media, soft_light_medium.h)
+    LANTERN_HD auto closest_indirect(const Ray& r) const {
+        Ray q = r;
+        q.time = time;
+        return rays.closest(q, indirect);
+    }
     LANTERN_HD StageRays at(float t) const {  // the same queries at time t
         StageRays c = *this;
         c.time = t;

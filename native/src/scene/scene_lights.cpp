@@ -191,15 +191,20 @@ void HostScene::add_lights(const SceneInput& in) {
     has_nee_lights_ = build_pick_cdf(weight, nee_cdf_,
                                      [&](size_t k, float pdf) { lights_[k].nee_pdf = pdf; });
     // Light sub-paths (bdpt, lvc, cis) start by power too. A soft-falloff point/spot's leave
-    // its centre and take y0 on the disk facing their first hit (integrator/soft_light_path.h);
-    // in scenes with media (build_media's test) they start none (docs/lvc_notes.md).
-    bool media = in.world_medium >= 0;
-    for (const MaterialInput& mi : in.materials) media = media || mi.medium >= 0 || mi.volume_only;
-    // strands too: the soft route's first hit is a triangle's (bdpt_light.h; no fiber measure);
-    // and a scene meant for the GPU (HostScene's soft_light_paths)
-    media = media || !in.curves.empty() || !soft_light_paths_;
+    // its centre and take y0 on the disk facing their first hit (integrator/soft_light_path.h;
+    // through homogeneous media: soft_light_medium.h). None start on them in scenes with a
+    // heterogeneous medium (a density grid or program, build_media's test: the tracking's
+    // weight cannot be turned into the y0 -> x1 transmittance's), nor with strands (the soft
+    // route's first hit is a triangle's: bdpt_light.h, no fiber measure), nor in a scene meant
+    // for the GPU (HostScene's soft_light_paths). docs/lvc_notes.md.
+    bool camera_side = !in.curves.empty() || !soft_light_paths_;
+    for (size_t k = 0; k < in.materials.size(); ++k) {
+        const MaterialInput& mi = in.materials[k];
+        if (mi.medium >= 0 && (mi.density_grid >= 0 || density_program(k) >= 0))
+            camera_side = true;
+    }
     for (size_t k = 0; k < lights_.size(); ++k)
-        weight[k] = media && light_receiver_dependent(lights_[k]) ? 0.0 : double(power[k]);
+        weight[k] = camera_side && light_receiver_dependent(lights_[k]) ? 0.0 : double(power[k]);
     has_emitters_ = build_pick_cdf(weight, emit_cdf_,
                                    [&](size_t k, float pdf) { lights_[k].emit_pick_pdf = pdf; });
     // Next-event estimation picks by the light tree where there is a choice (a scene with one
