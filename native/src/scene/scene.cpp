@@ -5,7 +5,10 @@
 #include "scene/scene.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <map>
+#include <mutex>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -100,6 +103,30 @@ void set_lens(const SceneInput& in, CameraView& c, std::vector<std::string>& war
                            " camera is not supported; rendered sharp");
         c.lens_radius = 0.0f;
     }
+}
+
+// principled_coat_table, kept per process: the coat's albedo is a function of its roughness
+// and IOR alone (a quadrature per cosine, ~20 ms a material), which a scene's coats mostly
+// share and every new session of the same scene repeats.
+void cached_coat_table(const Material& m, MaterialTables& tab) {
+    using Row = std::array<float, kPrincipledAlbedoN>;
+    static std::mutex lock;
+    static std::map<std::pair<float, float>, Row> rows;
+    const std::pair<float, float> key(m.coat_roughness, m.coat_ior);
+    {
+        std::lock_guard<std::mutex> hold(lock);
+        auto it = rows.find(key);
+        if (it != rows.end()) {
+            std::copy(it->second.begin(), it->second.end(), tab.coat_albedo);
+            return;
+        }
+    }
+    principled_coat_table(m, tab);
+    Row row;
+    std::copy(tab.coat_albedo, tab.coat_albedo + kPrincipledAlbedoN, row.begin());
+    std::lock_guard<std::mutex> hold(lock);
+    if (rows.size() >= 4096) rows.clear();  // a bound for sessions that sweep the coat
+    rows.emplace(key, row);
 }
 
 }  // namespace
@@ -198,7 +225,7 @@ HostScene::HostScene(const SceneInput& in, bool soft_light_paths)
             m.coat_roughness = unit(mi.coat_roughness, 0.03f);
             m.coat_ior = finite_in(mi.coat_ior, 1.0f, 100.0f, 1.5f);
             m.coat_tint = sanitize_color(mi.coat_tint, 1.0f);
-            if (m.coat_weight > 0.0f) principled_coat_table(m, tab);
+            if (m.coat_weight > 0.0f) cached_coat_table(m, tab);
             m.sheen_weight = finite_in(mi.sheen_weight, 0.0f, kInf, 0.0f);
             m.sheen_roughness = unit(mi.sheen_roughness, 0.5f);
             m.sheen_tint = sanitize_color(mi.sheen_tint, 1.0f);

@@ -6,9 +6,13 @@
 #include <cstring>
 #include <initializer_list>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
+#include <unordered_map>
+#include <vector>
 
 #include "bsdf/material.h"
 #include "scene/scene.h"
@@ -86,6 +90,109 @@ bool same_use(const Material& a, const Material& b) {
            a.tex_coat_normal == b.tex_coat_normal && a.tex_mix == b.tex_mix;
 }
 
+
+// What fill_lobe_tables computes for one material: the fields of its tables (multiple-
+// scattering compensation, the principled layer's albedo) and of the material that they set,
+// and with a roughness per hit its kRoughRows roughness rows.
+struct LobeTables {
+    MaterialTables tab;
+    Vec3 fms_metal, fms_spec, metal_favg0, metal_favg1;
+    float e_avg = 0.0f;
+    std::vector<MaterialTables> rows;
+};
+
+LobeTables compute_lobe_tables(const Material& in, const MaterialTables& tab_in, bool with_rows) {
+    LobeTables out;
+    out.tab = tab_in;
+    MaterialTables& tab = out.tab;
+    Material m = in;
+    m.tables = &tab;
+    const float e_avg = ms_fill_table(m, tab);
+    Material mc = m;
+    auto metal_fresnel = [&](float mu) {
+        return conductor_fresnel(material_conductor(mc), mu) * material_conductor_scale(mc);
+    };
+    m.fms_metal = ms_fresnel(metal_fresnel, e_avg);
+    // F_avg is affine in F0 (F82-tint and the scaled complex Fresnel alike): its ends
+    // give fms_metal for a textured base colour (material_at)
+    m.e_avg = e_avg;
+    mc.base_color = vec3(0.0f);
+    m.metal_favg0 = ms_average_fresnel(metal_fresnel);
+    mc.base_color = vec3(1.0f);
+    m.metal_favg1 = ms_average_fresnel(metal_fresnel);
+    mc = m;
+    if (m.type == kMaterialPrincipled) {
+        tab.spec_favg =
+            ms_average_fresnel([&](float mu) { return principled_spec_fresnel(mc, mu); });
+        m.fms_spec = ms_fresnel_from_average(tab.spec_favg, e_avg);
+        principled_albedo_table(m, tab);
+    }
+    out.fms_metal = m.fms_metal;
+    out.fms_spec = m.fms_spec;
+    out.metal_favg0 = m.metal_favg0;
+    out.metal_favg1 = m.metal_favg1;
+    out.e_avg = m.e_avg;
+    if (!with_rows) return out;
+    const MaterialTables* white = white_ggx_rows();
+    // the layer's albedo from the shared basis of its IOR, or (a film, anisotropy) its own
+    const bool shared = !(m.film_thickness > 0.0f) && !(m.anisotropy > 0.0f);
+    const SpecBasis* basis =
+        m.type == kMaterialPrincipled && shared ? spec_basis_rows(m.spec_eta) : nullptr;
+    for (int j = 0; j < kRoughRows; ++j) {
+        MaterialTables row = white[j];
+        if (m.type == kMaterialPrincipled) {
+            Material mr = m;
+            mr.roughness = float(j) / (kRoughRows - 1);
+            mr.tables = &row;  // a row: rough_rows 0, its own tables
+            mr.fms_spec = ms_fresnel_from_average(tab.spec_favg, row.e_avg);
+            if (basis)
+                principled_albedo_from_basis(mr, basis[j], row);
+            else
+                principled_albedo_table(mr, row);
+        }
+        out.rows.push_back(row);
+    }
+    return out;
+}
+
+// compute_lobe_tables, kept per process: a pure function of the material's fields and of its
+// tables' fields set before (the sheen's fit), which sessions repeat for the same scene (every
+// re-export of the viewport, every seed of a test, a farm's frames): a principled material's
+// tables took 30-40 ms each (quadratures), a conductor's ~13. Keyed on those bytes (the tables
+// pointer left out; padding that differs costs a miss, never a wrong table); forgotten whole
+// past kLobeMemoBytes.
+constexpr size_t kLobeMemoBytes = size_t(64) << 20;
+
+std::shared_ptr<const LobeTables> cached_lobe_tables(const Material& m, const MaterialTables& tab,
+                                                     bool with_rows) {
+    static_assert(std::is_trivially_copyable_v<Material> &&
+                      std::is_trivially_copyable_v<MaterialTables>,
+                  "the lobe tables' key is the material's bytes");
+    Material keyed = m;
+    keyed.tables = nullptr;
+    std::string key(sizeof(Material) + sizeof(MaterialTables) + 1, '\0');
+    std::memcpy(key.data(), &keyed, sizeof(Material));
+    std::memcpy(key.data() + sizeof(Material), &tab, sizeof(MaterialTables));
+    key.back() = with_rows ? 1 : 0;
+    static std::mutex lock;
+    static std::unordered_map<std::string, std::shared_ptr<const LobeTables>> memo;
+    static size_t bytes = 0;
+    {
+        std::lock_guard<std::mutex> hold(lock);
+        auto it = memo.find(key);
+        if (it != memo.end()) return it->second;
+    }
+    auto made = std::make_shared<const LobeTables>(compute_lobe_tables(m, tab, with_rows));
+    const size_t size = key.size() + sizeof(LobeTables) + made->rows.size() * sizeof(MaterialTables);
+    std::lock_guard<std::mutex> hold(lock);
+    if (bytes + size > kLobeMemoBytes) {
+        memo.clear();
+        bytes = 0;
+    }
+    if (memo.emplace(std::move(key), made).second) bytes += size;
+    return made;
+}
+
 }  // namespace
 
 // The multiple-scattering compensation and the principled layer's albedo (with it), at the
@@ -99,50 +206,18 @@ void HostScene::fill_lobe_tables() {
         Material& m = materials_[k];
         if (m.type != kMaterialConductor && m.type != kMaterialPrincipled) continue;
         MaterialTables& tab = material_tables_[k];
-        m.tables = &tab;
-        const float e_avg = ms_fill_table(m, tab);
-        Material mc = m;
-        auto metal_fresnel = [&](float mu) {
-            return conductor_fresnel(material_conductor(mc), mu) * material_conductor_scale(mc);
-        };
-        m.fms_metal = ms_fresnel(metal_fresnel, e_avg);
-        // F_avg is affine in F0 (F82-tint and the scaled complex Fresnel alike): its ends
-        // give fms_metal for a textured base colour (material_at)
-        m.e_avg = e_avg;
-        mc.base_color = vec3(0.0f);
-        m.metal_favg0 = ms_average_fresnel(metal_fresnel);
-        mc.base_color = vec3(1.0f);
-        m.metal_favg1 = ms_average_fresnel(metal_fresnel);
-        mc = m;
-        if (m.type == kMaterialPrincipled) {
-            tab.spec_favg =
-                ms_average_fresnel([&](float mu) { return principled_spec_fresnel(mc, mu); });
-            m.fms_spec = ms_fresnel_from_average(tab.spec_favg, e_avg);
-            principled_albedo_table(m, tab);
-        }
-        tab.rough_rows = 0;
         const bool rows_read = m.multiscatter || m.type == kMaterialPrincipled;
-        if (!rows_read || !roughness_per_hit(m, programs_)) continue;
-        tab.rough_rows = int32_t(own + rows.size() - k);
-        const MaterialTables* white = white_ggx_rows();
-        // the layer's albedo from the shared basis of its IOR, or (a film, anisotropy) its own
-        const bool shared = !(m.film_thickness > 0.0f) && !(m.anisotropy > 0.0f);
-        const SpecBasis* basis =
-            m.type == kMaterialPrincipled && shared ? spec_basis_rows(m.spec_eta) : nullptr;
-        for (int j = 0; j < kRoughRows; ++j) {
-            MaterialTables row = white[j];
-            if (m.type == kMaterialPrincipled) {
-                Material mr = m;
-                mr.roughness = float(j) / (kRoughRows - 1);
-                mr.tables = &row;  // a row: rough_rows 0, its own tables
-                mr.fms_spec = ms_fresnel_from_average(tab.spec_favg, row.e_avg);
-                if (basis)
-                    principled_albedo_from_basis(mr, basis[j], row);
-                else
-                    principled_albedo_table(mr, row);
-            }
-            rows.push_back(row);
-        }
+        const bool with_rows = rows_read && roughness_per_hit(m, programs_);
+        const std::shared_ptr<const LobeTables> made = cached_lobe_tables(m, tab, with_rows);
+        tab = made->tab;
+        m.tables = &tab;
+        m.fms_metal = made->fms_metal;
+        m.fms_spec = made->fms_spec;
+        m.metal_favg0 = made->metal_favg0;
+        m.metal_favg1 = made->metal_favg1;
+        m.e_avg = made->e_avg;
+        tab.rough_rows = with_rows ? int32_t(own + rows.size() - k) : 0;
+        rows.insert(rows.end(), made->rows.begin(), made->rows.end());
     }
     material_tables_.insert(material_tables_.end(), rows.begin(), rows.end());
     point_material_tables();
