@@ -114,6 +114,25 @@ def render_cycles(bounces, seeds, spp, threads):
     return out
 
 
+def stored_cycles(path, case, scene, bounces, seeds, spp, threads):
+    """Cycles' renders of the current scene as per-seed block means (lantern.blocks.SeedBlocks),
+    stored at `path` (lantern.testing.refs; tests/README.md, "Stored references") and rendered
+    again only when their key changes: the case, the scene as the add-on exports it (order-free,
+    refs.order_free), the bounces, seeds and samples, the bpy version and the files that build
+    the scene and set Cycles up (difftest_build.py, difftest_scene.py, this file,
+    render_compare.py). The tests' CI slice renders only Lantern's side live."""
+    import bpy
+    from lantern.testing import refs
+    key = dict(case=json.dumps(case, sort_keys=True), scene=refs.order_free(scene),
+               bounces=bounces, seeds=list(seeds), spp=spp, threads=threads,
+               bpy=bpy.app.version_string,
+               sources=[refs.file_digest(os.path.join(TOOLS, f)) for f in (
+                   "difftest_build.py", "difftest_scene.py", "difftest.py",
+                   "render_compare.py")])
+    return refs.reference_blocks(path, lambda: render_cycles(bounces, seeds, spp, threads), key,
+                                 block=BLOCK)
+
+
 def export_lantern():
     """(lantern.Scene, export warnings) of the current bpy scene, through the add-on."""
     import bpy
@@ -171,9 +190,11 @@ def compare(lan, cyc, alpha=ALPHA, controls=True):
     from lantern import metrics as agreement   # compare_renders lives there (agreement.py)
     if not all(np.isfinite(x).all() for x in lan):
         return Result("nonfinite", text="non-finite pixels in Lantern's image")
-    if not all(np.isfinite(x).all() for x in cyc):
+    from lantern.blocks import SeedBlocks
+    cyc_values = cyc.blocks if isinstance(cyc, SeedBlocks) else cyc  # stored: block means
+    if not all(np.isfinite(x).all() for x in cyc_values):
         return Result("nonfinite", text="non-finite pixels in Cycles' image")
-    ml, mc = float(np.mean(lan)), float(np.mean(cyc))
+    ml, mc = float(np.mean(lan)), float(np.mean(cyc_values))
     if abs(ml) < BLACK and abs(mc) < BLACK:
         return Result("black")
     a = agreement.compare_renders(lan, cyc, block=BLOCK, alpha=alpha)
@@ -196,22 +217,27 @@ def compare(lan, cyc, alpha=ALPHA, controls=True):
     return res
 
 
-def run_case(case, st, base=0, spp_factor=1, mutate=None, controls=True, built=False):
+def run_case(case, st, base=0, spp_factor=1, mutate=None, controls=True, built=False,
+             cycles_store=None):
     """Build (unless `built`), export and render `case` on both sides; a Result. Seeds
     base + 1 .. base + K; `mutate(lantern_scene)` changes Lantern's side (negative controls
-    of the tester itself)."""
+    of the tester itself). `cycles_store`: a .npz path where Cycles' side is kept
+    (stored_cycles), else Cycles renders live."""
     t0 = time.perf_counter()
     if not built:
         db.build(case)
     scene, warnings = export_lantern()
     if warnings:
         return Result("unsupported", warnings=warnings, seconds=time.perf_counter() - t0)
+    seeds = [base + 1 + k for k in range(st.seeds)]
+    cycles_spp = st.cycles_spp * spp_factor
+    cyc = (stored_cycles(cycles_store, case, scene, case["bounces"], seeds, cycles_spp,
+                         st.threads) if cycles_store
+           else render_cycles(case["bounces"], seeds, cycles_spp, st.threads))
     if mutate is not None:
         mutate(scene)
-    seeds = [base + 1 + k for k in range(st.seeds)]
     lan = render_lantern(scene, case["bounces"], seeds, st.spp * spp_factor, st.integrator,
                          st.threads)
-    cyc = render_cycles(case["bounces"], seeds, st.cycles_spp * spp_factor, st.threads)
     res = compare(lan, cyc, st.alpha, controls)
     res.warnings = warnings
     res.seconds = time.perf_counter() - t0

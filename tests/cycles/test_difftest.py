@@ -1,7 +1,9 @@
 """The differential tester's CI slice (tools/difftest.py, docs/difftest.md): random scenes of
 the "ci" profile (tools/difftest_scene.py), each rendered by Lantern (pt, through the add-on's
 export) and by Cycles at matched settings, K seeds a side, compared by
-lantern.metrics.compare_renders (8x8 blocks and the image mean, Bonferroni at 1e-3).
+lantern.metrics.compare_renders (8x8 blocks and the image mean, Bonferroni at 1e-3). Cycles'
+side is stored (tests/refs/cycles/difftest, difftest.stored_cycles): rendered again when a
+case, its export, the settings, bpy or the tester's files change.
 
 - Every scene must agree, export without a warning, and not be black; and Lantern's image
   5 % brighter or darker must fail the same comparison (a negative control per scene: the
@@ -44,6 +46,20 @@ ST = dt.Settings(seeds=12, spp=8, cycles_spp=8)
 CASES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "difftest_cases")
 # the expected failures CI replays (about 1 s each here); the others under LANTERN_DIFFTEST_ALL=1
 CI_REPLAYS = {"d11_graph_on_roughness", "d13_colour_above_one", "d20_spot_light_cuts_floor"}
+# Cycles' side of the CI slice, stored (difftest.stored_cycles: keyed on the case, the exported
+# scene, the settings, bpy's version and the files that build the scene; LANTERN_STORE_REFS=1
+# stores them again): only Lantern renders live
+STORE = os.path.join(ROOT, "tests", "refs", "cycles", "difftest")
+
+
+def stored(name):
+    return os.path.join(STORE, name + ".npz")
+
+
+def case_name(case):
+    """A short stable name of a case (the shrinker's candidates)."""
+    import hashlib
+    return hashlib.sha256(json.dumps(case, sort_keys=True).encode()).hexdigest()[:12]
 REPLAY_ALL = os.environ.get("LANTERN_DIFFTEST_ALL", "") not in ("", "0")
 
 
@@ -62,7 +78,7 @@ def test_generator_is_deterministic(profile):
 def test_random_scene_matches_cycles(seed):
     case = ds.generate(seed, "ci")
     assert not dk.tags(case), dk.tags(case)
-    res = dt.run_case(case, ST)
+    res = dt.run_case(case, ST, cycles_store=stored(f"ci_{seed}"))
     print(f"ci {seed}: {ds.describe(case)}\n  {res.line()}")
     assert res.status != "unsupported", f"the generator made an unsupported scene: {res.warnings}"
     assert res.status != "black", "the generator made a black scene"
@@ -70,7 +86,8 @@ def test_random_scene_matches_cycles(seed):
         f"ci case {seed} differs: {res.text}\n  reproduce and shrink: tools/difftest.py "
         f"--profile ci --seed {seed} --cases 1 --seeds {ST.seeds} --spp {ST.spp}")
     if not res.gain_flagged:   # a noisier scene: four times the samples, once
-        res = dt.run_case(case, ST, base=100, spp_factor=4)
+        res = dt.run_case(case, ST, base=100, spp_factor=4,
+                          cycles_store=stored(f"ci_{seed}_x4"))
         print(f"  at 4x spp: {res.line()}")
         assert res.status == "agree", f"ci case {seed} differs at 4x spp: {res.text}"
     assert res.gain_flagged, (f"ci case {seed}: Lantern x 1.05 / x 0.95 passed the comparison, "
@@ -110,17 +127,19 @@ def test_injected_bug_is_found_and_shrunk():
     """Negative control of the whole tester: the point light 30 % too bright on Lantern's side
     only is flagged, and shrinking keeps that light and drops the two others."""
     st = dt.Settings(seeds=8, spp=8, cycles_spp=8)
-    assert dt.run_case(INJECTED, st).status == "agree"   # the scene itself agrees
-    res = dt.run_case(INJECTED, st, mutate=_boost_point_lights)
+    store = stored("injected")
+    assert dt.run_case(INJECTED, st, cycles_store=store).status == "agree"   # it agrees
+    res = dt.run_case(INJECTED, st, mutate=_boost_point_lights, cycles_store=store)
     assert res.status == "differ", res.text
     strict = dt.Settings(**dict(vars(st), alpha=dt.SHRINK_ALPHA))
     small, kept = difftest_shrink.shrink(
-        INJECTED, lambda c: dt.run_case(c, strict, base=2000, mutate=_boost_point_lights,
-                                        controls=False).status == "differ", max_evals=12)
+        INJECTED, lambda c: dt.run_case(
+            c, strict, base=2000, mutate=_boost_point_lights, controls=False,
+            cycles_store=stored(f"shrink_{case_name(c)}")).status == "differ", max_evals=12)
     print("kept:", kept)
     assert [lt["type"] for lt in small["lights"]] == ["POINT"], small["lights"]
-    assert dt.run_case(small, st, base=3000, mutate=_boost_point_lights,
-                       controls=False).status == "differ"
+    assert dt.run_case(small, st, base=3000, mutate=_boost_point_lights, controls=False,
+                       cycles_store=stored("injected_small")).status == "differ"
 
 
 def _found():
@@ -141,7 +160,7 @@ def test_found_disagreement_replays(name):
     if known and not REPLAY_ALL and name not in CI_REPLAYS:
         pytest.skip("an expected failure CI does not replay (LANTERN_DIFFTEST_ALL=1 does)")
     st = dt.Settings(**doc["settings"])
-    res = dt.run_case(doc["case"], st, controls=False)
+    res = dt.run_case(doc["case"], st, controls=False, cycles_store=stored(f"case_{name}"))
     print(f"{name}: {res.line()}")
     if doc.get("fixed") == "black":   # fixed where Cycles renders nothing: both images black
         assert res.status == "black", f"{name} (fixed, black on both sides) differs: {res.line()}"
