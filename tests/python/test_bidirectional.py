@@ -39,14 +39,26 @@ def core():
     return _core  # without Embree the CPU backend uses its built-in BVH
 
 
+# Each seed's image of a (scene, integrator, settings, samples), kept for the module: a test
+# that needs a set another test rendered (the fixture's lvc seeds, test_resampled_and_uniform_
+# picks_agree) takes it instead of rendering it again. A render depends on nothing else, so a
+# kept image is the one a new render would give, bit for bit.
+_RENDERED = {}
+
+
 def renders(scene, integrator, spp, seed0, k_seeds=K, backend="cpu", **settings):
+    what = refs.key_digest(dict(scene=scene, integrator=integrator, spp=spp, backend=backend,
+                                settings=settings))
     out = []
     for k in range(k_seeds):
-        s = lantern.Session(scene, integrator=integrator, seed=seed0 + k, backend=backend,
-                            max_depth=8, spp_per_iteration=spp // 4, **settings)
-        for _ in range(4):
-            s.step()
-        out.append(s.image())
+        img = _RENDERED.get((what, seed0 + k))
+        if img is None:
+            s = lantern.Session(scene, integrator=integrator, seed=seed0 + k, backend=backend,
+                                max_depth=8, spp_per_iteration=spp // 4, **settings)
+            for _ in range(4):
+                s.step()
+            img = _RENDERED[(what, seed0 + k)] = s.image()
+        out.append(img)
     return out
 
 
@@ -335,12 +347,15 @@ def test_resampled_and_uniform_picks_agree(core, backend):
     only a rough approximation of the contribution; resampled and uniform picks still converge
     to the same image (the fixture: most candidates are blocked by the shade)."""
     scene = scenes.fixture_box(SIZE, SIZE)
-    uniform = renders(scene, "lvc", 64, 5000, backend=backend)
+    # lvc's seeds are the fixture chain's (test_integrators_agree[fixture]: kept, not rendered
+    # again when both run in one session)
+    uniform = renders(scene, "lvc", FIXTURE_SPP, 2000, backend=backend)
     # the same seeds: cis draws the camera and light sub-paths lvc draws (their block means
     # correlate ~0.78), so paired: 16 x 64 spp a side resolve 0.83 % (a block 2.1 %), where
     # independent seeds resolved 2.86 % (7.0 %) and stated 3 % / 7.5 %
-    check_paired("cis(bsdf target) vs lvc", renders(scene, "cis", 64, 5000, cis_target="bsdf",
-                                                    backend=backend), uniform)
+    check_paired("cis(bsdf target) vs lvc",
+                 renders(scene, "cis", FIXTURE_SPP, 2000, cis_target="bsdf", backend=backend),
+                 uniform)
 
 
 def test_naive_resampling_weight_is_biased(core, backend):
