@@ -14,11 +14,13 @@ namespace lantern {
 
 #if LANTERN_HAVE_EMBREE
 // Builds, commits and attaches the geometry to `scene`; returns its geomID. The scene still needs
-// its own commit. Segments must have passed curve_segments' radius checks. filter: Embree's
-// intersect and occluded filter (curve_accel.cpp keeps entries only), null for none.
+// its own commit. Segments must have passed curve_segs' radius checks. filter: Embree's
+// intersect and occluded filter (curve_accel.cpp keeps entries only), null for none. keys:
+// where some segment moves (kCurveMoves), the geometry takes keys.num_steps time steps, a vertex
+// buffer each (Embree lerps them at the ray's time, as accel/curve_bvh.h's curve_seg_at).
 unsigned embree_attach_curves(const EmbreeApi& e, RTCDevice device, RTCScene scene,
                               const CurveSeg* segs, size_t count,
-                              RTCFilterFunctionN filter = nullptr);
+                              RTCFilterFunctionN filter = nullptr, CurveKeys keys = {});
 #endif
 
 }  // namespace lantern
