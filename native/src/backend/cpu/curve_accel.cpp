@@ -38,6 +38,7 @@ struct CurveAccel::Embree {};
 
 CurveAccel::CurveAccel(const SceneView& s, bool use_embree, std::vector<std::string>& warnings) {
     first_prim_ = s.num_triangles;
+    steps_ = s.curves.keys.num_steps;
     const int n = s.curves.num_segs;
     // which strands each kind of ray sees (scene/scene_curves.cpp's flags)
     bool all = true;
@@ -99,7 +100,7 @@ void CurveAccel::closer(const Ray& r, RayKind kind, HitRecord* h) const {
         rh.ray.tnear = r.tmin;
         rh.ray.tfar = fminf(tmax, 1.8e18f);
         rh.ray.mask = 0xFFFFFFFFu;
-        rh.ray.time = r.time;  // moving strands (motion blur); still geometry ignores it
+        rh.ray.time = embree_curve_time(r.time, steps_);  // moving strands (motion blur)
         rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
         embree_->e.intersect1(embree_->scene[ki], &ctx, &rh);
         if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return;
@@ -126,7 +127,7 @@ bool CurveAccel::occluded(const Ray& r) const {
         ray.tnear = r.tmin;
         ray.tfar = fminf(r.tmax, 1.8e18f);
         ray.mask = 0xFFFFFFFFu;
-        ray.time = r.time;
+        ray.time = embree_curve_time(r.time, steps_);
         embree_->e.occluded1(embree_->scene[ki], &ctx, &ray);
         return ray.tfar < 0.0f;  // Embree marks an occluded ray with tfar = -inf
     }
