@@ -192,3 +192,22 @@ def test_bidirectional_agrees_with_pt_on_moving_fur(integrator):
     other = np.stack([_bidir_render(integrator, 500 + k, 16) for k in range(8)])
     metrics.assert_agreement(f"strand motion {integrator} vs pt", other, pt, block=5,
                              se_floor=1e-6, image_bias=0.02, block_bias=0.10)
+
+
+def test_sets_of_different_step_counts_share_the_largest():
+    """A set of 3 steps beside one of 5 is sampled at the 5 shared steps (scene/curve_motion.cpp):
+    the V-shaped slide's corner is a step of both, so the fur renders as its own 5 steps do, up
+    to the lerp's rounding (a far-away 5-step set, out of view, sets the count)."""
+    def with_far_set(steps):
+        sc = _scene(steps=steps)
+        sc.meshes[0].pop("motion")  # the fur alone moves
+        pts = np.array([[50, 50, 50], [50, 50, 51]], np.float32)
+        sc.add_curves(pts, np.full(2, 0.01, np.float32), [0, 2], name="far",
+                      deform=np.stack([pts + [0.1 * k, 0, 0] for k in range(5)]))
+        return sc
+    a, wa = _render(with_far_set(3), 4, 8)
+    b, wb = _render(with_far_set(5), 4, 8)
+    assert not wa and not wb, (wa, wb)
+    differ = np.abs(a - b) > 1e-4 * np.maximum(np.abs(b), 1e-3)
+    assert differ.mean() <= 0.01, f"{differ.mean():.2%} of channels differ"
+    assert not np.array_equal(a, _render(_scene(0.5), 4, 8)[0])
