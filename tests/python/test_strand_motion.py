@@ -1,7 +1,7 @@
 """Strands under motion blur (docs/motion_blur.md "Strands"): a furry ball sliding over the
 shutter (the ball by its matrices, the fur by its points at 3 steps, curves["deform"]) rendered
 by pt against an independent estimate of the same shutter integral: each seed's reference
-averages J still renders with the ball and fur placed here at the times (j + u) / J (u uniform
+averages J still renders (4 in CI, 8 long) with the ball and fur placed here at the times (j + u) / J (u uniform
 per seed), the core's motion code not involved; by lantern.metrics with negative controls (the
 still frame must differ); Embree's time-step curves against the built-in BVH's; the
 bidirectional integrators against pt (long); bad steps (NaN, a count that does not match the
@@ -16,8 +16,8 @@ from lantern.scenes_hair import fur_ball
 pytestmark = pytest.mark.skipif(not session.native_available(),
                                 reason=f"lantern._core not built ({session.native_error()})")
 
-K, SPP, J, SIZE, STRANDS = 8, 16, 8, 20, 120
-LONG_K, LONG_SPP = 16, 64
+K, SPP, J, SIZE, STRANDS = 8, 16, 4, 20, 120
+LONG_K, LONG_SPP, LONG_J = 16, 64, 8
 
 
 def _slide(t):
@@ -59,13 +59,13 @@ def _render(scene, seed=3, spp=4, integrator="pt"):
     return np.asarray(s.image(), np.float64), list(s.warnings)
 
 
-def _reference(seed, spp, radius_steps=False):
+def _reference(seed, spp, j_times, radius_steps=False):
     u = np.random.default_rng(3000 + seed).random()
-    return np.mean([_render(_scene((j + u) / J, radius_steps=radius_steps), 100 * seed + j,
-                            spp // J)[0] for j in range(J)], axis=0)
+    return np.mean([_render(_scene((j + u) / j_times, radius_steps=radius_steps), 100 * seed + j,
+                            spp // j_times)[0] for j in range(j_times)], axis=0)
 
 
-def _compare(k, spp, radius_steps, block, **bias):
+def _compare(k, spp, j_times, radius_steps, block, **bias):
     scene = _scene(steps=3, radius_steps=radius_steps)
     lan = []
     for s in range(k):
@@ -74,7 +74,7 @@ def _compare(k, spp, radius_steps, block, **bias):
         lan.append(img)
     lan = np.stack(lan)
     assert np.isfinite(lan).all()
-    ref = np.stack([_reference(s, spp, radius_steps) for s in range(k)])
+    ref = np.stack([_reference(s, spp, j_times, radius_steps) for s in range(k)])
     name = "strand motion" + (" + radii" if radius_steps else "")
     metrics.assert_agreement(name, lan, ref, block=block, se_floor=1e-6, **bias)
     # negative control: the fur left still at the frame (the ball still slides)
@@ -89,15 +89,16 @@ def _compare(k, spp, radius_steps, block, **bias):
 
 def test_sliding_fur_matches_static_average():
     """CI's: 8 seeds x 16 spp resolve a few per cent (controls at 3 % and 10 % a block)."""
-    _compare(K, SPP, False, 10, image_bias=0.03, block_bias=0.10)
+    _compare(K, SPP, J, False, 10, image_bias=0.03, block_bias=0.10)
 
 
 @pytest.mark.long
 @pytest.mark.parametrize("radius_steps", [False, True], ids=["slide", "slide+thicken"])
 def test_sliding_fur_matches_static_average_long(radius_steps):
-    _compare(LONG_K, LONG_SPP, radius_steps, 5)
+    _compare(LONG_K, LONG_SPP, LONG_J, radius_steps, 5)
 
 
+@pytest.mark.long  # (CI: tests/cpp/test_curve_motion.cpp checks Embree's time steps ray by ray)
 def test_embree_and_builtin_bvh_agree_on_moving_fur(monkeypatch):
     if not session.require_core().embree_available():
         pytest.skip("Embree is not available")
