@@ -10,7 +10,10 @@ Deformation (armatures, shape keys, modifiers that move vertices), as Cycles' de
 (Object Properties > Motion Blur > Deformation): an object whose evaluated mesh keeps its vertex
 count at every step and whose vertices move carries its corners' positions at the steps,
 placed by the matrix it was exported with (`mesh["deform"]`); a vertex count that changes leaves
-it still, with a warning naming it (as Cycles)."""
+it still, with a warning naming it (as Cycles). Hair (Curves objects, particle hair) of an
+object with Motion Blur on is exported again at each step: its world-space points (and radii)
+at the steps (`curves["deform"]`, `["deform_radius"]`) where they move, transform and
+deformation alike (the core lerps them: a turn is its chords between steps)."""
 
 import math
 
@@ -82,6 +85,7 @@ class MotionRecorder:
         self.frame_set = frame_set or depsgraph.scene.frame_set
         self._meshes = {}  # key -> (mesh dict, steps)
         self._deform = {}  # key -> (object, mesh dict, steps, corners, matrix at the frame)
+        self._strands = {}  # key -> (object name, strand set dicts, steps, their exporter)
 
     def mesh(self, inst, mesh, corners=None):
         """A mesh exported from inst; corners: (the vertex of each exported corner, the
@@ -108,6 +112,22 @@ class MotionRecorder:
                 self._deform[key] = (obj.original, mesh, n, corners,
                                      np.array(inst.matrix_world, dtype=np.float64))
 
+    def strands(self, inst, sets, export):
+        """Strand sets exported from inst (export/strands.py); export(inst) exports them again
+        at each step (docs/motion_blur.md "Strands"): points and radii at the steps, in world
+        space, where the object moves or its hair deforms."""
+        if not self.on:
+            return
+        obj = inst.object
+        n = object_steps(obj, inst.parent if inst.is_instance else None)
+        if n < 2:
+            return
+        key = instance_key(inst)
+        if key in self._strands:  # the same key twice: leave both still
+            self._strands[key] = (obj.name, None, 0, None)
+            return
+        self._strands[key] = (obj.name, sets, n, export)
+
     def finish(self, scene, camera_obj, camera_matrix):
         """Reads the steps and writes mesh["motion"] and scene.camera["motion"];
         camera_matrix(obj) is the exported camera's to_world of obj now."""
@@ -115,6 +135,7 @@ class MotionRecorder:
             return
         cam_n = object_steps(camera_obj) if camera_obj is not None else 0
         counts = {n for _, n in self._meshes.values() if n >= 2}
+        counts |= {v[2] for v in self._strands.values() if v[2] >= 2}
         if cam_n >= 2:
             counts.add(cam_n)
         if not counts:
@@ -133,6 +154,8 @@ class MotionRecorder:
                     key = instance_key(inst)
                     if key in self._meshes:
                         mats[key] = np.array(inst.matrix_world, dtype=np.float64)
+                    if self._strands.get(key, (0, None))[1] is not None:
+                        mats[("strands",) + key] = self._strands[key][3](inst)
                 if cam_n >= 2:
                     cam_eval = camera_obj.evaluated_get(self.depsgraph)
                     mats["camera"] = np.asarray(camera_matrix(cam_eval), dtype=np.float64)
@@ -154,6 +177,10 @@ class MotionRecorder:
         for key, deform in self._deform.items():
             self._write_deform(deform, [at[round(o, 9)].get(("deform",) + key)
                                         for o in step_offsets(bscene, deform[2])])
+        for key, (name, sets, n, _) in self._strands.items():
+            if sets is not None:
+                write_strand_steps(name, sets, [at[round(o, 9)].get(("strands",) + key)
+                                                for o in step_offsets(bscene, n)], self.report)
         if cam_n >= 2:
             steps = [at[round(o, 9)]["camera"] for o in step_offsets(bscene, cam_n)]
             if not all(np.array_equal(steps[0], s) for s in steps[1:]):
@@ -201,3 +228,29 @@ class MotionRecorder:
             return  # not the corners exported (cannot happen: mesh.py keeps every corner)
         mesh["deform"] = np.ascontiguousarray(
             np.stack([s[corner_vert] @ lin + t for s in steps]), np.float32)
+
+
+def write_strand_steps(name, sets, steps, report):
+    """set["deform"] (S, P, 3) and, where the radii change, set["deform_radius"] (S, P): each
+    set's points at the steps (steps[k]: the sets exported again at step k, or None where the
+    object is gone), where every step has the frame's strands and keys (offsets) and something
+    moves; a count that changes leaves the strands still with a warning naming the object, as
+    Cycles turns its deformation blur off."""
+    if any(s is None for s in steps):
+        return
+    for j, st in enumerate(sets):
+        at = [s[j] if j < len(s) else None for s in steps]
+        if any(a is None or not np.array_equal(a["offsets"], st["offsets"]) for a in at):
+            got = next((len(a["points"]) for a in at if a is not None), 0)
+            report.warn(f"Object '{name}': its hair's strand or key count changes over the "
+                        f"shutter ({len(st['points'])} points at the frame, {got} at a motion "
+                        "step); its strands rendered without motion blur")
+            continue
+        pts = np.stack([a["points"] for a in at]).astype(np.float32)
+        rad = np.stack([a["radius"] for a in at]).astype(np.float32)
+        if not all(np.array_equal(pts[0], p) for p in pts[1:]):
+            st["deform"] = np.ascontiguousarray(pts)
+        # radii: read again from the points' arc fractions, which rounding moves by an ulp
+        if np.abs(rad[1:] - rad[0]).max(initial=0.0) > 1e-5 * np.abs(rad[0]).max(initial=0.0):
+            st["deform_radius"] = np.ascontiguousarray(rad)
+            st.setdefault("deform", np.ascontiguousarray(pts))

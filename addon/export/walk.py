@@ -62,10 +62,12 @@ class Walk:
     def instance(self, inst, source):
         obj = inst.object
         if obj.type in STRAND_TYPES:
-            for st in source.strands(inst):
-                self.scene.curves.append(dict(
-                    st, visible_camera=bool(getattr(obj, "visible_camera", True)),
-                    cast_shadow=bool(getattr(obj, "visible_shadow", True))))
+            sets = [dict(st, visible_camera=bool(getattr(obj, "visible_camera", True)),
+                         cast_shadow=bool(getattr(obj, "visible_shadow", True)))
+                    for st in source.strands(inst)]
+            self.scene.curves.extend(sets)
+            if self.motion is not None and sets:  # motion blur of the strands (motion.py)
+                self.motion.strands(inst, sets, source.strands)
         if not inst.show_self:  # an instancer hidden (show_instancer_for_render / _viewport)
             return
         self.features.object(obj)

@@ -8,9 +8,12 @@ import numpy as np
 from .scene_fields import _bool, _finite_float, _rgb
 
 CURVE_ARRAYS = ("points", "radius", "offsets", "material_ids")
+# motion blur (docs/motion_blur.md "Strands"): optional, at the shutter's steps
+CURVE_MOTION_ARRAYS = ("deform", "deform_radius")
 # field -> (numpy dtype kinds, dimensions, allowed last dimension) of its .npy member
 CURVE_ARRAY_SPECS = {"points": ("f", 2, (3,)), "radius": ("f", 1, None),
-                     "offsets": ("iu", 1, None), "material_ids": ("iu", 1, None)}
+                     "offsets": ("iu", 1, None), "material_ids": ("iu", 1, None),
+                     "deform": ("f", 3, (3,)), "deform_radius": ("f", 2, None)}
 HAIR_PARAMETRIZATIONS = ("melanin", "color", "absorption")
 # Principled Hair (Chiang) fields with the node's defaults (bpy 5.0.1) and ranges
 HAIR_FLOATS = (("melanin", 0.8, 0.0, 1.0), ("melanin_redness", 1.0, 0.0, 1.0),
@@ -77,6 +80,25 @@ def validate_curves(curves, index, num_materials=None):
     curves["material_ids"] = np.ascontiguousarray(mats, dtype=np.uint32)
     for key in ("visible_camera", "cast_shadow"):
         curves[key] = _bool(curves.get(key, True), f"{what} {key}")
+    # motion blur: points (S, P, 3) and radii (S, P) at S >= 2 steps over the shutter; values
+    # are the core's to judge (a non-finite step: a message, the strands still)
+    for key, tail in (("deform", (len(pts), 3)), ("deform_radius", (len(pts),))):
+        if curves.get(key) is None:
+            curves.pop(key, None)
+            continue
+        a = np.asarray(curves[key])
+        if a.dtype.kind not in "fiu" or a.ndim != 1 + len(tail) or a.shape[0] < 2 or \
+                a.shape[1:] != tail:
+            raise ValueError(f"{what} {key}: expected shape (S >= 2, {', '.join(map(str, tail))})"
+                             f" (the {'points' if key == 'deform' else 'radii'} at each motion "
+                             f"step), got {getattr(a, 'shape', None)}")
+        curves[key] = np.ascontiguousarray(a, dtype=np.float32)
+    if "deform_radius" in curves and "deform" not in curves:
+        raise ValueError(f"{what} deform_radius: needs deform (the points at the same steps)")
+    if "deform" in curves and "deform_radius" in curves and \
+            curves["deform"].shape[0] != curves["deform_radius"].shape[0]:
+        raise ValueError(f"{what} deform_radius: {curves['deform_radius'].shape[0]} steps, "
+                         f"deform has {curves['deform'].shape[0]}")
     return curves
 
 
@@ -86,7 +108,7 @@ def save_curves(curves_list, arrays):
     for i, c in enumerate(curves_list):
         entry = {}
         for key, value in c.items():
-            if key in CURVE_ARRAYS:
+            if key in CURVE_ARRAYS + CURVE_MOTION_ARRAYS:
                 member = f"curves/{i}/{key}.npy"
                 arrays[member] = value
                 entry[key] = member
@@ -101,7 +123,10 @@ def read_curves(archive, entry, i, num_materials, member_name):
     if not isinstance(entry, dict):
         raise archive.error("scene.json", f"curves {i}: expected an object")
     c = dict(entry)
-    for key in CURVE_ARRAYS:
+    for key in CURVE_ARRAYS + CURVE_MOTION_ARRAYS:
+        if key in CURVE_MOTION_ARRAYS and entry.get(key) is None:
+            c.pop(key, None)  # optional (motion blur)
+            continue
         member = member_name(archive, entry, key, f"curves {i} {key}")
         kinds, ndim, last = CURVE_ARRAY_SPECS[key]
         c[key] = archive.read_array(member, f"curves {i} {key}", kinds, ndim, last)

@@ -202,11 +202,13 @@ class Scene:
         return len(self.meshes) - 1
 
     def add_curves(self, points, radius, offsets, material=0, material_ids=None, name=None,
-                   visible_camera=True, cast_shadow=True):
+                   visible_camera=True, cast_shadow=True, deform=None, deform_radius=None):
         """Append a set of strands rendered as round linear segments (docs/curves.md): points
         (P, 3) world space, radius (P,) per point, offsets (S + 1,): strand s is points
         offsets[s] .. offsets[s + 1] - 1; `material` (id or name) for every strand unless
-        `material_ids` gives one per strand. Returns the set's index."""
+        `material_ids` gives one per strand. Motion blur (docs/motion_blur.md "Strands"):
+        `deform` (S, P, 3) the points and `deform_radius` (S, P) the radii at S >= 2 steps evenly
+        spread over the shutter. Returns the set's index."""
         from .curves_schema import validate_curves
         if name is None:
             name = f"curves_{len(self.curves)}"
@@ -216,7 +218,7 @@ class Scene:
                                    dtype=np.uint32)
         c = {"name": str(name), "points": points, "radius": radius, "offsets": offsets,
              "material_ids": material_ids, "visible_camera": visible_camera,
-             "cast_shadow": cast_shadow}
+             "cast_shadow": cast_shadow, "deform": deform, "deform_radius": deform_radius}
         self.curves.append(validate_curves(c, len(self.curves), len(self.materials)))
         return len(self.curves) - 1
 
@@ -347,6 +349,11 @@ class Scene:
                 m["attributes"] = np.zeros((nv, 3 * channels), np.float32)
         if self.curves:  # strands (docs/curves.md): only scenes with them carry the key
             extra["curves"] = [dict(c) for c in self.curves]
+            for c in extra["curves"]:  # motion steps: (S, P, 3) -> (S * P, 3), (S, P) -> (S * P,)
+                if c.get("deform") is not None:
+                    c["deform"] = np.ascontiguousarray(c["deform"].reshape(-1, 3))
+                if c.get("deform_radius") is not None:
+                    c["deform_radius"] = np.ascontiguousarray(c["deform_radius"].reshape(-1))
         if self.grids:   # Volume objects (docs/volumes.md)
             extra["grids"] = [dict(g) for g in self.grids]
         return {

@@ -154,3 +154,24 @@ def test_order_free_keys_of_strands():
         return sc
     assert _digest_of(fur([0, 1, 2, 3])) == _digest_of(fur([3, 1, 0, 2]))
     assert _digest_of(fur([0, 1, 2, 3])) != _digest_of(fur([0, 1, 2, 3], shift=1e-3))
+
+
+def test_order_free_keys_of_moving_strands():
+    """Motion blur's steps (curves deform, deform_radius) go with their strand in the key."""
+    def fur(order, shift=0.0, radius_shift=0.0):
+        sc = scenes.cornell_box(8, 8)
+        strands = [np.array([[0, 0, 0], [0, 0, 0.1], [0.01, 0, 0.2]], np.float32) + [i * 0.1, 0, 0]
+                   for i in range(4)]
+        pts = np.concatenate([strands[i] for i in order])
+        steps = np.stack([pts + [0.1 * k, 0.01 * k * (pts[:, 0] > 0.15).any(), 0]
+                          for k in range(3)]).astype(np.float32)
+        steps[2, 4] += np.float32(shift)
+        rad = np.stack([np.full(len(pts), 0.005 + radius_shift * k, np.float32)
+                        for k in range(3)])
+        sc.add_curves(pts, np.full(len(pts), 0.005, np.float32), np.arange(0, 13, 3),
+                      deform=steps, deform_radius=rad)
+        return sc
+    ref = _digest_of(fur([0, 1, 2, 3]))
+    assert ref == _digest_of(fur([3, 1, 0, 2]))
+    assert ref != _digest_of(fur([0, 1, 2, 3], shift=1e-3))
+    assert ref != _digest_of(fur([0, 1, 2, 3], radius_shift=1e-3))

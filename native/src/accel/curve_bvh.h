@@ -31,10 +31,39 @@ struct CurveBvhNode {
     int32_t count;   // 0: inner node; else the leaf's segment count
 };
 
+// Motion blur (docs/motion_blur.md "Strands"): the segments' keys at num_steps steps evenly
+// spread over the shutter, step k of segment i (CurveSeg::index) at keys[k * num_segs + i]; a
+// segment flagged kCurveMoves is the lerp of the two steps around the ray's time, the others
+// are their CurveSeg as it is. num_steps < 2: nothing moves.
+struct CurveKeys {
+    const CurveSeg* keys = nullptr;
+    int32_t num_steps = 0;
+    int32_t num_segs = 0;
+};
+
+// Segment g (CurveSeg::index into the keys) at `time` in [0, 1]: its keys lerped (radii too),
+// its index and flags kept; g itself where it does not move.
+LANTERN_HD inline CurveSeg curve_seg_at(const CurveSeg& g, const CurveKeys& k, float time) {
+    if (!(g.flags & kCurveMoves) || k.num_steps < 2) return g;
+    const int n = k.num_steps;
+    const float x = fminf(fmaxf(time, 0.0f), 1.0f) * float(n - 1);
+    const int s = x >= float(n - 1) ? n - 2 : int(x);
+    const float f = x - float(s), e = 1.0f - f;
+    const CurveSeg& a = k.keys[size_t(s) * size_t(k.num_segs) + size_t(g.index)];
+    const CurveSeg& b = k.keys[size_t(s + 1) * size_t(k.num_segs) + size_t(g.index)];
+    CurveSeg out = g;
+    out.p0 = a.p0 * e + b.p0 * f;
+    out.p1 = a.p1 * e + b.p1 * f;
+    out.r0 = a.r0 * e + b.r0 * f;
+    out.r1 = a.r1 * e + b.r1 * f;
+    return out;
+}
+
 struct CurveBvhView {
     const CurveBvhNode* nodes = nullptr;
     const CurveSeg* segs = nullptr;
     int32_t num_nodes = 0;
+    CurveKeys keys;  // moving segments' steps (motion blur); num_steps 0: none
 };
 
 struct CurveBvhHit {
@@ -60,9 +89,11 @@ LANTERN_HD inline float curve_bvh_rcp(float v) {
     return fabsf(v) > 1e-30f ? 1.0f / v : copysignf(1e30f, v);
 }
 
-// Closest hit (any_hit false) or the first hit found (any_hit true: shadow rays).
+// Closest hit (any_hit false) or the first hit found (any_hit true: shadow rays); a moving
+// segment (kCurveMoves) is met as it is at `time` (the nodes bound it over every step).
 LANTERN_HD inline CurveBvhHit curve_bvh_intersect(const CurveBvhView& bvh, Vec3 o, Vec3 w,
-                                                  float tmin, float tmax, bool any_hit = false) {
+                                                  float tmin, float tmax, bool any_hit = false,
+                                                  float time = 0.0f) {
     CurveBvhHit best{tmax, 0.0f, vec3(0.0f), -1};
     if (bvh.num_nodes == 0) return best;
     const Vec3 inv = vec3(curve_bvh_rcp(w.x), curve_bvh_rcp(w.y), curve_bvh_rcp(w.z));
@@ -74,7 +105,9 @@ LANTERN_HD inline CurveBvhHit curve_bvh_intersect(const CurveBvhView& bvh, Vec3 
         if (curve_bvh_box(o, inv, n.lo, n.hi, tmin, best.t) < kInf) {
             if (n.count > 0) {
                 for (int32_t k = 0; k < n.count; ++k) {
-                    const CurveSeg& s = bvh.segs[n.second + k];
+                    const CurveSeg& g = bvh.segs[n.second + k];
+                    const CurveSeg s = (g.flags & kCurveMoves) ? curve_seg_at(g, bvh.keys, time)
+                                                               : g;
                     CurveHit h;
                     if (curve_hit_segment(o, w, s.p0, s.r0, s.p1, s.r1, tmin, best.t, &h,
                                           s.flags)) {

@@ -17,8 +17,9 @@ constexpr int kCurveLeaf = 4;
 struct CurveBvh {
     std::vector<CurveBvhNode> nodes;
     std::vector<CurveSeg> segs;
+    CurveKeys keys;  // the scene's (not owned): moving segments' steps
     CurveBvhView view() const {
-        return CurveBvhView{nodes.data(), segs.data(), int32_t(nodes.size())};
+        return CurveBvhView{nodes.data(), segs.data(), int32_t(nodes.size()), keys};
     }
 };
 
@@ -53,6 +54,19 @@ inline void curve_seg_bounds(const CurveSeg& g, Vec3* lo, Vec3* hi) {
                fmaxf(g.p0.z + g.r0, g.p1.z + g.r1));
 }
 
+// A segment's box over the shutter: the union of its boxes at every step where it moves (a
+// lerped segment's end spheres stay within the hull of the two steps' spheres: exact bounds).
+inline void curve_seg_bounds(const CurveSeg& g, const CurveKeys& k, Vec3* lo, Vec3* hi) {
+    curve_seg_bounds(g, lo, hi);
+    if (!(g.flags & kCurveMoves) || k.num_steps < 2) return;
+    for (int s = 0; s < k.num_steps; ++s) {
+        Vec3 a, b;
+        curve_seg_bounds(k.keys[size_t(s) * size_t(k.num_segs) + size_t(g.index)], &a, &b);
+        *lo = vec3(fminf(lo->x, a.x), fminf(lo->y, a.y), fminf(lo->z, a.z));
+        *hi = vec3(fmaxf(hi->x, b.x), fmaxf(hi->y, b.y), fmaxf(hi->z, b.z));
+    }
+}
+
 namespace detail {
 inline void curve_bvh_node(CurveBvh& bvh, int32_t begin, int32_t end) {
     const int32_t me = int32_t(bvh.nodes.size());
@@ -60,7 +74,7 @@ inline void curve_bvh_node(CurveBvh& bvh, int32_t begin, int32_t end) {
     Vec3 lo = vec3(kInf), hi = vec3(-kInf), clo = vec3(kInf), chi = vec3(-kInf);
     for (int32_t i = begin; i < end; ++i) {
         Vec3 a, b;
-        curve_seg_bounds(bvh.segs[i], &a, &b);
+        curve_seg_bounds(bvh.segs[i], bvh.keys, &a, &b);
         lo = vec3(fminf(lo.x, a.x), fminf(lo.y, a.y), fminf(lo.z, a.z));
         hi = vec3(fmaxf(hi.x, b.x), fmaxf(hi.y, b.y), fmaxf(hi.z, b.z));
         const Vec3 c = (a + b) * 0.5f;
@@ -90,9 +104,11 @@ inline void curve_bvh_node(CurveBvh& bvh, int32_t begin, int32_t end) {
 }
 }  // namespace detail
 
-inline CurveBvh build_curve_bvh(std::vector<CurveSeg> segs) {
+// keys: the scene's steps of the moving segments (their CurveSeg::index), bounded over all.
+inline CurveBvh build_curve_bvh(std::vector<CurveSeg> segs, CurveKeys keys = {}) {
     CurveBvh bvh;
     bvh.segs = std::move(segs);
+    bvh.keys = keys;
     if (bvh.segs.empty()) return bvh;
     bvh.nodes.reserve(2 * (bvh.segs.size() / kCurveLeaf + 1));
     detail::curve_bvh_node(bvh, 0, int32_t(bvh.segs.size()));

@@ -11,6 +11,9 @@ namespace lantern {
 
 // Ends of a segment that join the next segment of a strand (CurveSeg::flags): no end sphere.
 constexpr int kCurveJoinStart = 1, kCurveJoinEnd = 2;
+// A segment that moves over the shutter (CurveSeg::flags; docs/motion_blur.md "Strands"): its
+// keys at the steps are in CurveKeys, and a ray meets it lerped at the ray's time.
+constexpr int kCurveMoves = 4;
 
 struct CurveHit {
     float t;

@@ -78,7 +78,7 @@ void sample_pixel(const SceneView& s, const CpuBackend& accel, const CameraAxes&
         sum.add(sum.alb, world);
         return;
     }
-    SurfaceHit h = surface_of_hit(s, hit.prim, hit.uv, ray.o, ray.d, hit.t);  // strands too
+    SurfaceHit h = surface_of_hit(s, hit.prim, hit.uv, ray.o, ray.d, hit.t, ray.time);  // strands too
     MaterialScratch scratch;
     const Material* m = &material_at(s, s.tri_material[hit.prim], h.st, scratch);
     const float mu = fmaxf(dot(-ray.d, h.ns), 0.0f);
@@ -109,7 +109,7 @@ void sample_pixel(const SceneView& s, const CpuBackend& accel, const CameraAxes&
             sum.add(sum.alb, tp * world);
             return;
         }
-        h = surface_of_hit(s, hit.prim, hit.uv, ray.o, ray.d, hit.t);
+        h = surface_of_hit(s, hit.prim, hit.uv, ray.o, ray.d, hit.t, ray.time);
         m = &material_at(s, s.tri_material[hit.prim], h.st, scratch);
     }
 }

@@ -463,7 +463,8 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
     z.strand = prim_is_strand(s, tri);  // a triangle's or a strand's surface (pt_curve.h)
     z.h = s.motion.num_objects > 0 && tri < s.num_triangles  // motion blur: bdpt_motion.h
               ? surface_moved_at(s, tri, ps.hit_uv[i], d, bdpt_time(st, path))
-              : surface_of_hit(s, tri, ps.hit_uv[i], ps.ray_o[i], d, ps.hit_t[i]);
+              : surface_of_hit(s, tri, ps.hit_uv[i], ps.ray_o[i], d, ps.hit_t[i],
+                               s.motion.curves ? bdpt_time(st, path) : 0.0f);
     z.tri = tri;
     z.uv = ps.hit_uv[i];
     z.wo_w = -d;

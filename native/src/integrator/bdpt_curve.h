@@ -50,7 +50,13 @@ LANTERN_HD inline float strand_end_shorten(const SceneView& s, int prim, Vec3 ng
                                            const Frame& f) {
     if (!(dot(dir, ng) > 0.0f)) return 0.0f;  // arriving on y's own side
     const CurveSeg& g = s.curves.segs[prim - s.num_triangles];
-    const float r = fmaxf(g.r0, g.r1);
+    float r = fmaxf(g.r0, g.r1);
+    if (g.flags & kCurveMoves)  // motion blur: the largest radius over the steps (no time here)
+        for (int k = 0; k < s.curves.keys.num_steps; ++k) {
+            const CurveSeg& a = s.curves.keys.keys[size_t(k) * size_t(s.curves.keys.num_segs) +
+                                                   size_t(g.index)];
+            r = fmaxf(r, fmaxf(a.r0, a.r1));
+        }
     return 2.02f * r / fmaxf(vertex_cos(true, f, ng, dir), 0.05f);
 }
 

@@ -138,7 +138,8 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
         if (st.moments || st.conn_map) bs.dpt0[i] *= mis(sf.cos_light);
 #endif
     }
-    SurfaceHit h = strand ? surface_of_hit(s, tri, ps.hit_uv[i], ps.ray_o[i], d, ps.hit_t[i])
+    SurfaceHit h = strand ? surface_of_hit(s, tri, ps.hit_uv[i], ps.ray_o[i], d, ps.hit_t[i],
+                                           s.motion.curves ? bdpt_time(st, path) : 0.0f)
                           : bdpt_surface(s, st, path, tri, ps.hit_uv[i], d_in);  // (motion)
     if (media) dist = length(h.p - o_prev);
     MaterialScratch scratch;

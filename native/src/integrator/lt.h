@@ -266,7 +266,8 @@ LANTERN_HD inline void lt_shade(const SceneView& s, const PathState& ps, const L
     // (motion blur: the path's time is motion_time of its stream, motion_stage.h)
     SurfaceHit h = s.motion.num_objects > 0 && !strand
                        ? surface_moved_at(s, tri, ps.hit_uv[i], d, motion_time(ps.rng[i]))
-                       : surface_of_hit(s, tri, ps.hit_uv[i], ps.ray_o[i], d, ps.hit_t[i]);
+                       : surface_of_hit(s, tri, ps.hit_uv[i], ps.ray_o[i], d, ps.hit_t[i],
+                                        s.motion.curves ? motion_time(ps.rng[i]) : 0.0f);
     MaterialScratch scratch;
     const Material& m = material_at_point(
         s, s.tri_material[tri],

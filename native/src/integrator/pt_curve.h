@@ -13,8 +13,9 @@ namespace lantern {
 __attribute__((noinline))  // off pt_shade's usual path
 #endif
 LANTERN_HD inline SurfaceHit pt_surface_curve(const SceneView& s, int prim, Vec2 uv, Vec3 o,
-                                              Vec3 d, float t) {
-    const CurveSeg& g = s.curves.segs[prim - s.num_triangles];
+                                              Vec3 d, float t, float time = 0.0f) {
+    // a moving strand (motion blur): the segment as the ray met it, at the path's time
+    const CurveSeg g = curve_seg_of(s.curves, prim - s.num_triangles, time);
     SurfaceHit h;
     h.p = o + d * t;
     Vec3 tangent;
@@ -29,11 +30,12 @@ LANTERN_HD inline SurfaceHit pt_surface_curve(const SceneView& s, int prim, Vec2
     return h;
 }
 
-// The surface of a still hit (prim, uv, t) of the ray o + t d, a triangle's or a strand's: the
-// passes (integrator/aov.cpp) and the light probe read it.
+// The surface of a hit (prim, uv, t) of the ray o + t d, a triangle's as exported or a strand's
+// at the ray's `time` (a moving strand: motion blur): the passes (integrator/aov.cpp), the light
+// probe and the light-path stages' strand vertices read it.
 LANTERN_HD inline SurfaceHit surface_of_hit(const SceneView& s, int prim, Vec2 uv, Vec3 o, Vec3 d,
-                                            float t) {
-    return prim >= s.num_triangles ? pt_surface_curve(s, prim, uv, o, d, t)
+                                            float t, float time = 0.0f) {
+    return prim >= s.num_triangles ? pt_surface_curve(s, prim, uv, o, d, t, time)
                                    : pt_surface(s, prim, uv, d);
 }
 
@@ -42,7 +44,9 @@ template <uint32_t F = kPtAll>
 LANTERN_HD inline SurfaceHit pt_surface_at(const SceneView& s, const PathState& ps, int i, int prim,
                                            Vec3 d) {
     if ((F & kPtStrands) && __builtin_expect(prim >= s.num_triangles, 0))  // off the usual path
-        return pt_surface_curve(s, prim, ps.hit_uv[i], ps.ray_o[i], d, ps.hit_t[i]);
+        return pt_surface_curve(s, prim, ps.hit_uv[i], ps.ray_o[i], d, ps.hit_t[i],
+                                (F & kPtMotion) && s.motion.curves ? motion_time(ps.rng[i])
+                                                                   : 0.0f);
     return (F & kPtMotion) && s.motion.num_objects
                ? pt_surface_moved(s, prim, ps.hit_uv[i], d, ps.rng[i])
                : pt_surface(s, prim, ps.hit_uv[i], d);

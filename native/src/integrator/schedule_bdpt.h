@@ -124,7 +124,7 @@ void light_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep&
         });
     });
     int active = compact(ex, w, n);
-    const bool motion = s.motion.num_objects > 0;  // moving meshes (docs/motion_blur.md)
+    const bool motion = s.motion.rays_timed();  // moving meshes or strands (docs/motion_blur.md)
     while (active > 0 && !st.cancelled()) {
         stats.rays_light += active;
         if (motion)  // each ray at its path's time (wavefront_motion.h)
@@ -256,7 +256,7 @@ void camera_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep
     stats.rays_camera += n;
     bool first = true;
     // moving meshes: every ray of the pass at its path's time (wavefront_motion.h)
-    const bool motion = s.motion.num_objects > 0;
+    const bool motion = s.motion.rays_timed();
     const BdptTimeOf time_of{bst, list, spp, first_path, true};
     while (active > 0 && !st.cancelled()) {
         if (motion)

@@ -58,7 +58,7 @@ void lt_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep& st
         });
     });
     int active = n;
-    const bool motion = s.motion.num_objects > 0;  // each ray at its path's time (motion blur)
+    const bool motion = s.motion.rays_timed();  // each ray at its path's time (motion blur)
     while (!st.cancelled()) {
         stats.rays_shadow += s.num_media > 0 ? camera_segments_medium(ex, w, s, active, stats)
                              : motion ? camera_segments_timed(ex, w, active, stats, LtTimeOf{ps})

@@ -45,7 +45,7 @@ void pt_chunk_variant(Exec& ex, Wavefront<Exec>& w, const SceneView s, Wavefront
     stats.rays_camera += n;
     bool first = true;
     while (active > 0 && !st.cancelled()) {
-        const bool motion = (F & kPtMotion) && s.motion.num_objects > 0;
+        const bool motion = (F & kPtMotion) && s.motion.rays_timed();
         trace(ex, w, active, first, stats, motion);
         const int32_t* q = w.queue.data();
         ex.timed(stats.time_shade, [&] {

@@ -217,6 +217,9 @@ SceneInput to_input(const nb::dict& scene) {
                 ci.offsets.push_back(int32_t(o));
             }
             ci.material_ids = get_array<uint32_t>(c, "material_ids", 1, who);
+            // motion blur: (S * P, 3) points and (S * P,) radii at the shutter's steps
+            ci.deform = get_array<float>(c, "deform", 3, who);
+            ci.deform_radius = get_array<float>(c, "deform_radius", 1, who);
             ci.visible_camera = get<bool>(c, "visible_camera", true);
             ci.cast_shadow = get<bool>(c, "cast_shadow", true);
             in.curves.push_back(std::move(ci));

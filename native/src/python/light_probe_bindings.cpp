@@ -50,7 +50,8 @@ Probe run_probe(const SceneInput& in, int samples, uint64_t seed, int threads) {
                                    float(px / out.width) + 0.5f, Vec2{});
         const HitRecord hit = accel.intersect(ray, RayKind::kCamera);
         if (hit.prim < 0) return;
-        const SurfaceHit h = surface_of_hit(s, hit.prim, hit.uv, ray.o, ray.d, hit.t);
+        const SurfaceHit h = surface_of_hit(s, hit.prim, hit.uv, ray.o, ray.d, hit.t,
+                                               ray.time);
         const Vec3 n_pick = light_pick_normal(s, hit.prim, h.ng);
         for (int c = 0; c < 3; ++c) {
             out.position[3 * px + c] = (&h.p.x)[c];

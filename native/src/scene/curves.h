@@ -11,7 +11,13 @@ namespace lantern {
 struct CurveView {
     const CurveSeg* segs = nullptr;  // in primitive order: segs[k] is prim num_triangles + k
     int32_t num_segs = 0;
+    CurveKeys keys;  // motion blur: the moving segments' steps (CurveSeg::flags kCurveMoves)
 };
+
+// Segment prim - num_triangles as a ray at `time` meets it (its keys lerped where it moves).
+LANTERN_HD inline CurveSeg curve_seg_of(const CurveView& c, int seg, float time) {
+    return curve_seg_at(c.segs[seg], c.keys, time);
+}
 
 // The surface of segment g at the point x on it: the outward normal of the sphere whose centre
 // lies where the normal line meets the axis (accel/curve_hit.h's parametrisation), found from

@@ -50,7 +50,11 @@ struct MotionView {
     const Vec3* deform_corners = nullptr;
     int32_t num_objects = 0;
     int32_t camera_first = 0, camera_steps = 0;  // camera: steps of its to_world (< 2: still)
-    LANTERN_HD bool any() const { return num_objects > 0 || camera_steps > 1; }
+    int32_t curves = 0;  // 1: strands move (CurveView::keys; docs/motion_blur.md "Strands")
+    LANTERN_HD bool any() const { return num_objects > 0 || camera_steps > 1 || curves; }
+    // the paths' rays must carry their time: a mesh or a strand moves (a moving camera alone
+    // needs only its camera rays')
+    LANTERN_HD bool rays_timed() const { return num_objects > 0 || curves; }
 };
 
 // ---- Time: one number per camera path, outside the path's own dimensions (sample_dims.h,

@@ -142,6 +142,13 @@ std::string motion_reason(const SceneInput& in) {
                 return "motion blur (mesh '" + m.name + "' deforms)";
     }
     if (moves(in.camera_motion)) return "motion blur (the camera moves)";
+    for (const CurveInput& c : in.curves) {  // strands (scene/curve_motion.cpp)
+        const size_t per = c.points.size();
+        for (size_t k = per; per > 0 && k < c.deform.size(); ++k)
+            if (c.deform[k] != c.deform[k % per])
+                return "motion blur (strands '" + c.name + "' move)";
+        if (!c.deform_radius.empty()) return "motion blur (strands '" + c.name + "' move)";
+    }
     return "";
 }
 
@@ -151,9 +158,11 @@ void HostScene::build_motion(const SceneInput& in) {
     view_.motion = MotionView{};
     motion_deforms_.clear();
     motion_corners_.clear();
-    bool any = !in.camera_motion.empty();
+    bool any = !in.camera_motion.empty() || !curve_keys_.empty();
     for (const MeshInput& m : in.meshes) any |= !m.motion.empty() || !m.deform.empty();
     if (!any) return;
+    if (!media_.empty() || !subsurface_reason(in).empty())
+        drop_curve_motion();  // moving strands render where they were exported, as meshes
     if (!media_.empty()) {
         warnings_.push_back("motion blur is not rendered in a scene with volumes (participating "
                             "media): every object and the camera at the frame's instant");
@@ -274,7 +283,8 @@ void HostScene::build_motion(const SceneInput& in) {
         camera_first = int(motion_steps_.size());
         camera_steps = std::max(0, add_steps(in.camera_motion, "the camera", true));
     }
-    if (motion_objects_.empty() && camera_steps < 2) return;
+    const bool curves = !curve_keys_.empty();  // moving strands (scene/curve_motion.cpp)
+    if (motion_objects_.empty() && camera_steps < 2 && !curves) return;
     view_.motion.steps = motion_steps_.data();
     view_.motion.objects = motion_objects_.empty() ? nullptr : motion_objects_.data();
     view_.motion.num_objects = int32_t(motion_objects_.size());
@@ -282,6 +292,7 @@ void HostScene::build_motion(const SceneInput& in) {
     view_.motion.deform_corners = motion_corners_.empty() ? nullptr : motion_corners_.data();
     view_.motion.camera_first = camera_first;
     view_.motion.camera_steps = camera_steps;
+    view_.motion.curves = curves ? 1 : 0;
 }
 
 }  // namespace lantern

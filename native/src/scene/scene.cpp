@@ -357,6 +357,7 @@ SceneView HostScene::copied_view(
     v.motion.steps = put(view_.motion.steps, motion_steps_.size());
     v.motion.objects = put(view_.motion.objects, motion_objects_.size());
     v.curves.segs = put(view_.curves.segs, curve_segs_.size());
+    v.curves.keys.keys = put(view_.curves.keys.keys, curve_keys_.size());
     v.motion.deforms = put(view_.motion.deforms, motion_deforms_.size());
     v.motion.deform_corners = put(view_.motion.deform_corners, motion_corners_.size());
     return v;
@@ -385,6 +386,8 @@ void HostScene::finish_view(const SceneInput& in) {
     v.num_triangles = int32_t(indices_.size() / 3);  // tri_material_ holds the strands' too
     v.curves.segs = curve_segs_.empty() ? nullptr : curve_segs_.data();
     v.curves.num_segs = int32_t(curve_segs_.size());
+    v.curves.keys = CurveKeys{curve_keys_.empty() ? nullptr : curve_keys_.data(),
+                              curve_keys_.empty() ? 0 : curve_steps_, v.curves.num_segs};
     v.materials = materials_.data();
     v.material_tables = material_tables_.data();
     v.num_materials = int32_t(materials_.size());

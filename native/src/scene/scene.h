@@ -54,6 +54,10 @@ struct CurveInput {
     std::vector<float> radius;        // 1 per point
     std::vector<int32_t> offsets;     // strands + 1, from 0, increasing
     std::vector<uint32_t> material_ids;  // 1 per strand
+    // motion blur (docs/motion_blur.md "Strands"): the points (S x points.size()) and optionally
+    // the radii (S x radius.size()) at the shutter's S >= 2 steps, in world space; empty: still
+    std::vector<float> deform;
+    std::vector<float> deform_radius;
     bool visible_camera = true;
     bool cast_shadow = true;
 };
@@ -271,6 +275,9 @@ private:
     void build_motion(const SceneInput& in);  // scene/motion_build.cpp
     void add_curves(const SceneInput& in);     // scene/scene_curves.cpp: segments, bounds
     void add_curve_prims();                    // ... and their per-primitive entries
+    // scene/curve_motion.cpp: curves k's steps (0: still; a warning where they are unusable)
+    int curve_input_steps(const CurveInput& c, const std::string& who);
+    void drop_curve_motion();                  // still strands (motion blur not rendered)
 
     std::vector<Vec3> positions_, normals_;
     std::vector<Vec2> uvs_;
@@ -326,9 +333,15 @@ private:
     std::vector<CurveSeg> curve_segs_;          // SceneView::curves (strands)
     std::vector<uint32_t> curve_material_;      // per segment
     std::vector<uint8_t> curve_flags_;          // per segment: kVisibleCamera, kCastShadow
+    std::vector<CurveSeg> curve_keys_;  // moving strands' steps (CurveKeys; scene/curve_motion.cpp)
+    int32_t curve_steps_ = 0;
     std::vector<DeformMesh> motion_deforms_;   // deformation blur (scene/deform_build.cpp)
     std::vector<Vec3> motion_corners_;
 };
+
+// scene/curve_motion.cpp: the segment from points i, i + 1 of c (steps: its motion steps) at
+// step k of `shared` steps evenly spread over the shutter
+CurveSeg curve_key(const CurveInput& c, int steps, int32_t i, int k, int shared);
 
 // scene/hair_build.cpp: a "hair" MaterialInput into m (type kMaterialHair)
 void set_hair_material(Material& m, const MaterialInput& mi);

@@ -2,6 +2,7 @@
 // (accel/curve_bvh_build.h's curve_segments drops those without a surface), primitive ids after
 // the triangles'. Bad input gets a message and no segments: offsets that do not index the
 // points, a material out of range (the first material then), non-finite points or radii.
+#include <algorithm>
 #include <stdexcept>
 #include <string>
 
@@ -44,13 +45,25 @@ void HostScene::add_curves(const SceneInput& in) {
     for (const CurveInput& c : in.curves)
         segments += double(c.points.size() / 3) -
                     double(c.offsets.empty() ? 0 : c.offsets.size() - 1);
-    if (segments * kCurveBytesPerSegment > 0.5 * memory_limit_bytes())
+    // motion blur's steps (scene/curve_motion.cpp): every moving set shares the largest count,
+    // a CurveSeg per segment and step (and as much again while they are laid out)
+    std::vector<int> steps(in.curves.size(), 0);
+    int shared = 0;
+    for (size_t k = 0; k < in.curves.size(); ++k) {
+        steps[k] = curve_input_steps(in.curves[k], "curves " + std::to_string(k) + " ('" +
+                                                       in.curves[k].name + "')");
+        shared = std::max(shared, steps[k]);
+    }
+    const double per_segment = kCurveBytesPerSegment + 2.0 * sizeof(CurveSeg) * shared;
+    if (segments * per_segment > 0.5 * memory_limit_bytes())
         throw std::invalid_argument("the scene's strands (" + std::to_string(int64_t(segments)) +
                                     " segments) need " +
-                                    format_bytes(segments * kCurveBytesPerSegment) +
+                                    format_bytes(segments * per_segment) +
                                     ", more than half of the " +
                                     format_bytes(memory_limit_bytes()) +
                                     " this render may use; reduce the hair's count or steps");
+    std::vector<CurveSeg> keys;  // per segment, its `shared` steps (laid out step-major below)
+    bool moves = false;
     for (size_t k = 0; k < in.curves.size(); ++k) {
         const CurveInput& c = in.curves[k];
         const std::string who = "curves " + std::to_string(k) + " ('" + c.name + "')";
@@ -96,6 +109,23 @@ void HostScene::add_curves(const SceneInput& in) {
                                     " uses material 0");
                 mat = 0;
             }
+            if (shared > 1) {  // motion blur: its keys (the frame's where the set is still)
+                const size_t first = keys.size();
+                bool its = false;
+                for (int st = 0; st < shared; ++st) {
+                    CurveSeg key = steps[k] > 1 ? curve_key(c, steps[k], g.index, st, shared) : g;
+                    its |= key.p0.x != g.p0.x || key.p0.y != g.p0.y || key.p0.z != g.p0.z ||
+                           key.p1.x != g.p1.x || key.p1.y != g.p1.y || key.p1.z != g.p1.z ||
+                           key.r0 != g.r0 || key.r1 != g.r1;
+                    keys.push_back(key);
+                }
+                if (its) g.flags |= kCurveMoves;  // else it renders as still, bit for bit
+                moves |= its;
+                for (size_t j = first; j < keys.size(); ++j) {
+                    keys[j].index = int32_t(curve_segs_.size());
+                    keys[j].flags = g.flags;
+                }
+            }
             g.index = int32_t(curve_segs_.size());
             curve_segs_.push_back(g);
             curve_material_.push_back(mat);
@@ -105,6 +135,14 @@ void HostScene::add_curves(const SceneInput& in) {
             warnings_.push_back(who + ": " + std::to_string(far) + " segments lie beyond the " +
                                 format_metres(kMaxCoordinate) + " m the ray queries can take;"
                                 " they are left out");
+    }
+    if (moves) {  // step-major: step k of segment i at k * segments + i (CurveKeys)
+        const size_t n = curve_segs_.size();
+        curve_keys_.resize(size_t(shared) * n);
+        for (size_t i = 0; i < n; ++i)
+            for (int st = 0; st < shared; ++st)
+                curve_keys_[size_t(st) * n + i] = keys[i * size_t(shared) + size_t(st)];
+        curve_steps_ = shared;
     }
     if (size_t(num_triangles()) + curve_segs_.size() > size_t(INT32_MAX))
         throw std::invalid_argument("the scene has more triangles and strand segments than "

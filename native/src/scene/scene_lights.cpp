@@ -46,9 +46,11 @@ void HostScene::add_lights(const SceneInput& in) {
         lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
         hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
     }
-    for (const CurveSeg& g : curve_segs_) {  // strands (scene_curves.cpp): their boxes
+    // strands (scene_curves.cpp): their boxes, a moving one's at every step (curve_motion.cpp)
+    const CurveKeys keys{curve_keys_.data(), curve_steps_, int32_t(curve_segs_.size())};
+    for (const CurveSeg& g : curve_segs_) {
         Vec3 a, b;
-        curve_seg_bounds(g, &a, &b);
+        curve_seg_bounds(g, keys, &a, &b);
         lo = {std::min(lo.x, a.x), std::min(lo.y, a.y), std::min(lo.z, a.z)};
         hi = {std::max(hi.x, b.x), std::max(hi.y, b.y), std::max(hi.z, b.z)};
     }
@@ -63,9 +65,10 @@ void HostScene::add_lights(const SceneInput& in) {
     for (const Vec3& p : positions_) {
         if (within_limit(p)) reach = std::max(reach, length(p - view_.scene_center));
     }
-    for (const CurveSeg& g : curve_segs_)
-        reach = std::max(reach, std::max(length(g.p0 - view_.scene_center) + g.r0,
-                                         length(g.p1 - view_.scene_center) + g.r1));
+    for (const std::vector<CurveSeg>* v : {&curve_segs_, &curve_keys_})
+        for (const CurveSeg& g : *v)
+            reach = std::max(reach, std::max(length(g.p0 - view_.scene_center) + g.r0,
+                                             length(g.p1 - view_.scene_center) + g.r1));
     view_.emit_radius = lo.x <= hi.x ? std::max(std::min(view_.scene_radius,
                                                          reach * (1.0f + 1e-5f)), 1e-3f)
                                      : view_.scene_radius;  // no geometry: as the box's

@@ -127,12 +127,20 @@ def _order_free_curves(c):
     off = np.asarray(c["offsets"], np.int64)
     pts, rad = _quantized(c["points"]).reshape(-1, 3), _quantized(c["radius"]).reshape(-1)
     mats = np.asarray(c.get("material_ids", np.zeros(max(len(off) - 1, 0))), np.int64)
+    # motion blur's steps (docs/motion_blur.md "Strands"): each strand's points and radii at
+    # every step go with it, (S * P, 3) and (S * P,) as to_native gives them
+    np_ = len(rad)
+    steps = [_quantized(c[k]).reshape(-1, np_, *((3,) if k == "deform" else ()))
+             for k in ("deform", "deform_radius") if c.get(k) is not None and np_]
     strands = sorted(np.concatenate([[mats[s], off[s + 1] - off[s]],
                                      pts[off[s]:off[s + 1]].reshape(-1),
-                                     rad[off[s]:off[s + 1]]]).tobytes()
+                                     rad[off[s]:off[s + 1]]] +
+                                    [a[:, off[s]:off[s + 1]].reshape(-1) for a in steps]
+                                    ).tobytes()
                      for s in range(len(off) - 1))
     rest = {k: v for k, v in c.items() if k not in ("offsets", "points", "radius",
-                                                      "material_ids")}
+                                                      "material_ids", "deform",
+                                                      "deform_radius")}
     return dict(rest, strands=b"".join(strands).hex() if strands else "")
 
 

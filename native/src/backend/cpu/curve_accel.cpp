@@ -38,6 +38,7 @@ struct CurveAccel::Embree {};
 
 CurveAccel::CurveAccel(const SceneView& s, bool use_embree, std::vector<std::string>& warnings) {
     first_prim_ = s.num_triangles;
+    steps_ = s.curves.keys.num_steps;
     const int n = s.curves.num_segs;
     // which strands each kind of ray sees (scene/scene_curves.cpp's flags)
     bool all = true;
@@ -65,7 +66,7 @@ CurveAccel::CurveAccel(const SceneView& s, bool use_embree, std::vector<std::str
             embree_->scene[kind] = sc;
             if (!by_kind_[kind].empty())
                 embree_attach_curves(embree_->e, embree_->device, sc, by_kind_[kind].data(),
-                                     by_kind_[kind].size(), curve_front_filter);
+                                     by_kind_[kind].size(), curve_front_filter, s.curves.keys);
             embree_->e.commitScene(sc);
         }
         return;
@@ -73,7 +74,8 @@ CurveAccel::CurveAccel(const SceneView& s, bool use_embree, std::vector<std::str
         throw std::runtime_error("Embree is not built in");
 #endif
     }
-    for (int kind = 0; kind < distinct_; ++kind) bvh_[kind] = build_curve_bvh(by_kind_[kind]);
+    for (int kind = 0; kind < distinct_; ++kind)
+        bvh_[kind] = build_curve_bvh(by_kind_[kind], s.curves.keys);  // (moving: all steps)
     (void)warnings;
 }
 
@@ -98,6 +100,7 @@ void CurveAccel::closer(const Ray& r, RayKind kind, HitRecord* h) const {
         rh.ray.tnear = r.tmin;
         rh.ray.tfar = fminf(tmax, 1.8e18f);
         rh.ray.mask = 0xFFFFFFFFu;
+        rh.ray.time = embree_curve_time(r.time, steps_);  // moving strands (motion blur)
         rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
         embree_->e.intersect1(embree_->scene[ki], &ctx, &rh);
         if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return;
@@ -106,7 +109,8 @@ void CurveAccel::closer(const Ray& r, RayKind kind, HitRecord* h) const {
         return;
     }
 #endif
-    const CurveBvhHit c = curve_bvh_intersect(bvh_[ki].view(), r.o, r.d, r.tmin, tmax);
+    const CurveBvhHit c = curve_bvh_intersect(bvh_[ki].view(), r.o, r.d, r.tmin, tmax, false,
+                                              r.time);
     if (c.seg < 0) return;
     *h = HitRecord{c.t, first_prim_ + c.seg, {c.u, 0.0f}};
 }
@@ -123,11 +127,12 @@ bool CurveAccel::occluded(const Ray& r) const {
         ray.tnear = r.tmin;
         ray.tfar = fminf(r.tmax, 1.8e18f);
         ray.mask = 0xFFFFFFFFu;
+        ray.time = embree_curve_time(r.time, steps_);
         embree_->e.occluded1(embree_->scene[ki], &ctx, &ray);
         return ray.tfar < 0.0f;  // Embree marks an occluded ray with tfar = -inf
     }
 #endif
-    return curve_bvh_intersect(bvh_[ki].view(), r.o, r.d, r.tmin, r.tmax, true).seg >= 0;
+    return curve_bvh_intersect(bvh_[ki].view(), r.o, r.d, r.tmin, r.tmax, true, r.time).seg >= 0;
 }
 
 }  // namespace lantern

@@ -34,6 +34,7 @@ private:
     int32_t first_prim_ = 0;  // SceneView::num_triangles
     std::vector<CurveSeg> by_kind_[3];  // only where the kinds differ: camera, indirect, shadow
     CurveBvh bvh_[3];
+    int steps_ = 0;  // moving strands' steps (motion blur), else 0
     int distinct_ = 1;  // 1: every kind sees every strand (bvh_[0] alone)
     std::unique_ptr<Embree> embree_;
 };

@@ -8,7 +8,8 @@ namespace lantern {
 
 #if LANTERN_HAVE_EMBREE
 unsigned embree_attach_curves(const EmbreeApi& e, RTCDevice device, RTCScene scene,
-                              const CurveSeg* segs, size_t count, RTCFilterFunctionN filter) {
+                              const CurveSeg* segs, size_t count, RTCFilterFunctionN filter,
+                              CurveKeys keys) {
     // joined segments share their joint's vertex, so that Embree finds each one's neighbours
     // at index - 1 and index + 2 (RTC_CURVE_FLAG_NEIGHBOR_*: no sphere at the joint)
     std::vector<float> verts;
@@ -34,6 +35,40 @@ unsigned embree_attach_curves(const EmbreeApi& e, RTCDevice device, RTCScene sce
         push(s.p1, s.r1);
     }
     RTCGeometry g = e.newGeometry(device, RTC_GEOMETRY_TYPE_ROUND_LINEAR_CURVE);
+    bool moves = false;
+    for (size_t i = 0; i < count && keys.num_steps > 1 && !moves; ++i)
+        moves = (segs[i].flags & kCurveMoves) != 0;
+    const unsigned steps = moves ? unsigned(keys.num_steps) : 1u;
+    if (moves) e.setGeometryTimeStepCount(g, steps);
+    for (unsigned st = 1; st < steps; ++st) {  // the same layout at every step (slot st)
+        std::vector<float> at;
+        at.reserve(verts.size());
+        for (size_t i = 0; i < count; ++i) {
+            const CurveSeg k = (segs[i].flags & kCurveMoves)
+                                   ? keys.keys[size_t(st) * size_t(keys.num_segs) +
+                                               size_t(segs[i].index)]
+                                   : segs[i];
+            if (!(flags[i] & RTC_CURVE_FLAG_NEIGHBOR_LEFT))
+                at.insert(at.end(), {k.p0.x, k.p0.y, k.p0.z, k.r0});
+            at.insert(at.end(), {k.p1.x, k.p1.y, k.p1.z, k.r1});
+        }
+        auto* v = static_cast<float*>(e.setNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, st,
+                                                             RTC_FORMAT_FLOAT4, 4 * sizeof(float),
+                                                             at.size() / 4));
+        std::copy(at.begin(), at.end(), v);
+    }
+    if (moves) {  // step 0: the keys' first step (the frame's segments are some other step)
+        size_t w = 0;
+        for (size_t i = 0; i < count; ++i) {
+            const CurveSeg k = (segs[i].flags & kCurveMoves)
+                                   ? keys.keys[size_t(segs[i].index)]
+                                   : segs[i];
+            if (!(flags[i] & RTC_CURVE_FLAG_NEIGHBOR_LEFT)) {
+                verts[w++] = k.p0.x, verts[w++] = k.p0.y, verts[w++] = k.p0.z, verts[w++] = k.r0;
+            }
+            verts[w++] = k.p1.x, verts[w++] = k.p1.y, verts[w++] = k.p1.z, verts[w++] = k.r1;
+        }
+    }
     auto* v = static_cast<float*>(e.setNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0,
                                                          RTC_FORMAT_FLOAT4, 4 * sizeof(float),
                                                          verts.size() / 4));
