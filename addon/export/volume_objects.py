@@ -12,7 +12,8 @@ Fire (native/src/scene/medium_fire.h): Principled Volume's Temperature Attribute
 temperature grid (blackbody per point, T = the Temperature socket x the grid, as Cycles), and
 an Attribute node naming a grid on Emission Strength (Principled Volume) or Strength (Emission),
 alone or times a constant through a Math Multiply node, a flame grid (emission per point); each
-read as a grid of its own. What is not rendered (the colour grid, velocity, generated grids
+read as a grid of its own; Principled Volume's Color Attribute names a colour grid (a vec3
+grid: Color x its colour per point, as Cycles). What is not rendered (velocity, generated grids
 without a file) warns by name; a grid the material names that the file lacks warns and the
 socket's value stands for it, as in Cycles."""
 
@@ -136,12 +137,9 @@ class VolumeObjects:
                              "Attribute, no Attribute node on Density); not rendered")
             return None
         fire = _fire(output, medium, probe, obj, where, self.report)
-        for node, _ in _leaves_of(output):
-            sock = node.inputs.get("Color Attribute")
-            if sock is not None and str(sock.default_value) and \
-                    str(sock.default_value) in _grid_names(obj):
-                self.report.warn(f"{where}: the grid '{sock.default_value}' (Color Attribute) "
-                                 "is not rendered yet (the socket's own value is used)")
+        color = _color(output, medium, obj, where, self.report)
+        if color is not None:
+            fire["color"] = color
         return medium, grid, mat.name, fire
 
     def _grid(self, path, name):
@@ -191,6 +189,10 @@ class VolumeObjects:
             warn(f"Object '{obj.name}': its volume is not rendered: {got}")
             return None
         voxels, index_to_object, background = got
+        if voxels.ndim == 4:
+            warn(f"Object '{obj.name}': grid '{grid}' is a vec3 (colour) grid; a density needs a "
+                 "float grid; its volume is not rendered")
+            return None
         if background != 0.0:
             warn(f"Object '{obj.name}': grid '{grid}' has background {background:g}; Lantern "
                  "reads 0 outside its active voxels")
@@ -206,13 +208,26 @@ class VolumeObjects:
         positions, indices = _box(to_world, (nx, ny, nz))
         g = {"name": f"{obj.name}:{grid}", "voxels": voxels, "index_to_world": to_world,
              "fire": {}}
-        for role, name in fire.items():  # the temperature and flame grids, each its own block
+        # the temperature, flame and colour grids, each its own block
+        for role, name in fire.items():
             got = self._grid(path, name)
+            if not isinstance(got, Exception) and (got[0].ndim == 4) != (role == "color"):
+                if role == "color":  # a float grid as a colour: grey (Cycles reads it so)
+                    got = (np.repeat(got[0][..., None], 3, axis=3), got[1], got[2])
+                else:
+                    got = ValueError(f"grid '{name}' is a vec3 (colour) grid; a {role} needs "
+                                     "a float grid")
             if isinstance(got, Exception):
                 warn(f"Object '{obj.name}': its {role} grid is not rendered: {got}")
-                medium.pop("flame_emission" if role == "flame" else "blackbody_intensity", None)
+                if role == "color":
+                    _color_dropped(medium)
+                else:
+                    medium.pop("flame_emission" if role == "flame" else
+                               "blackbody_intensity", None)
                 continue
             if got[0].size == 0:
+                if role == "color":  # no colour anywhere: reads 0 (Cycles' background)
+                    _color_dropped(medium, 0.0)
                 continue
             g["fire"][role] = {"name": f"{obj.name}:{name}", "voxels": got[0],
                                "index_to_world": np.array(inst.matrix_world, np.float64) @
@@ -277,6 +292,57 @@ def _fire(output, medium, probe, obj, where, report):
     return fire
 
 
+def _color(output, medium, obj, where, report):
+    """The grid that a Principled Volume's Color Attribute names (Cycles multiplies its Color
+    by it), with medium changed to match: that shader's scattering Color x Density taken out of
+    "sigma_s" into "color_scatter", its absorption max(1 - Color, 0) x max(1 - sqrt(Absorption
+    Color), 0) x Density out of "sigma_a" into "color_absorb" / max(1 - Color, 0) and the Color
+    into "color_base" (the core scales them per point: scene/medium_hetero.h); None without."""
+    from .volume import _leaves, _value
+
+    class _Quiet:
+        def warn(self, message):
+            pass
+    quiet, names, found = _Quiet(), _grid_names(obj), None
+    for node, w in _leaves(output.inputs["Volume"], 1.0, where, quiet):
+        sock = node.inputs.get("Color Attribute")
+        if node.type != "PRINCIPLED_VOLUME" or sock is None or not str(sock.default_value):
+            continue
+        name = str(sock.default_value)
+        if name not in names:
+            continue  # Cycles: a missing attribute leaves the Color as it is (smoke caches
+            # without colour are common; nothing to say)
+        if found is not None:
+            report.warn(f"{where}: a second Principled Volume's colour grid '{name}' is not "
+                        "rendered (its Color socket's value is used)")
+            continue
+        dens = node.inputs.get("Density")
+        d = w * (1.0 if dens is not None and dens.is_linked else
+                 max(float(_value(node, "Density", where, quiet, quiet=True) or 0.0), 0.0))
+        color = [max(float(c), 0.0) for c in (_value(node, "Color", where, quiet) or [1.0] * 3)]
+        absorb = _value(node, "Absorption Color", where, quiet) or [0.0] * 3
+        a = [max(1.0 - max(float(k), 0.0) ** 0.5, 0.0) for k in absorb]
+        medium["sigma_s"] = [max(x - d * c, 0.0) for x, c in zip(medium["sigma_s"], color)]
+        medium["sigma_a"] = [max(x - d * max(1.0 - c, 0.0) * k, 0.0)
+                             for x, c, k in zip(medium["sigma_a"], color, a)]
+        medium["color_scatter"] = [d * c for c in color]
+        medium["color_absorb"] = [d * k for k in a]
+        medium["color_base"] = color
+        found = name
+    return found
+
+
+def _color_dropped(medium, c=1.0):
+    """medium without its colour grid: the colour c everywhere folded back into sigma_a and
+    sigma_s (1: the Color socket alone, as Cycles without the attribute)."""
+    scat = medium.pop("color_scatter", [0.0] * 3)
+    absorb = medium.pop("color_absorb", [0.0] * 3)
+    base = medium.pop("color_base", [1.0] * 3)
+    medium["sigma_s"] = [x + s * c for x, s in zip(medium["sigma_s"], scat)]
+    medium["sigma_a"] = [x + a * max(1.0 - b * c, 0.0)
+                         for x, a, b in zip(medium["sigma_a"], absorb, base)]
+
+
 def _object_space(medium, vol, matrix_world):
     """The medium as Cycles scales it for the Volume's Render Space "Object" (Blender's
     default: the opacity stays when the object is scaled): absorption and scattering divided by
@@ -293,7 +359,8 @@ def _object_space(medium, vol, matrix_world):
     if not k > 0.0:
         return medium
     out = dict(medium)
-    for key in ("sigma_a", "sigma_s", "emission", "blackbody_tint", "flame_emission"):
+    for key in ("sigma_a", "sigma_s", "emission", "blackbody_tint", "flame_emission",
+                "color_scatter", "color_absorb"):
         if key in medium:
             out[key] = [v / k for v in medium[key]]
     return out
