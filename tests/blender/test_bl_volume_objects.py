@@ -207,3 +207,66 @@ def test_fire_emission_follows_the_object_space_density(empty, addon, tmp_path):
     scene, _ = export(addon)
     vol = _smoke(scene)[0]["volume"]
     assert np.allclose(vol["flame_emission"], [3.0, 1.2, 0.3])
+
+
+def _colour_vdb(tmp_path, colour_as_float=False):
+    """density and a vec3 "color" grid (a float one with colour_as_float) of one transform."""
+    import lantern._core as core
+    path = os.path.join(str(tmp_path), "colour.vdb")
+    m = np.array([[VOXEL, 0, 0, 1.0], [0, VOXEL, 0, 0], [0, 0, VOXEL, 0], [0, 0, 0, 1]])
+    den = np.ones((3, 3, 3), np.float32)
+    col = np.zeros((3, 3, 3, 3), np.float32)
+    col[..., 0], col[..., 1], col[..., 2] = 0.25, 0.5, 1.0
+    core.vdb_write_list(path, [
+        {"name": "density", "voxels": den, "index_to_object": m},
+        {"name": "color", "voxels": col[..., 1].copy() if colour_as_float else col,
+         "index_to_object": m}])
+    return path
+
+
+def test_colour_attribute_exports_the_colour_grid(empty, addon, tmp_path):
+    """Principled Volume's Color Attribute naming a vec3 grid: the grid is exported and the
+    shader's part of the coefficients moves to color_scatter / color_absorb / color_base
+    (Cycles: scattering Color c Density, absorption max(1 - Color c, 0) x max(1 - sqrt(Absorption
+    Color), 0) x Density)."""
+    mat, v = _material("principled")   # Density 3, Color (0.5, 0.6, 0.7)
+    v.inputs["Absorption Color"].default_value = (0.25, 0.25, 0.25, 1)
+    v.inputs["Color Attribute"].default_value = "color"
+    _volume_object(empty, _colour_vdb(tmp_path), mat)
+    scene, report = export(addon)
+    assert not [m for m in report.messages if "Smoke" in m], report.messages
+    m, _, _ = _smoke(scene)
+    g = scene.grids[m["color_grid"]]
+    assert g["name"].endswith(":color") and g["voxels"].shape == (3, 3, 3, 3)
+    assert np.allclose(g["voxels"][1, 1, 1], [0.25, 0.5, 1.0])
+    vol = m["volume"]
+    assert np.allclose(vol["color_scatter"], [1.5, 1.8, 2.1])   # Color x Density
+    assert np.allclose(vol["color_absorb"], [1.5, 1.5, 1.5])    # (1 - sqrt(0.25)) x Density
+    assert np.allclose(vol["color_base"], [0.5, 0.6, 0.7])
+    assert np.allclose(vol["sigma_s"], 0.0, atol=1e-6) and np.allclose(vol["sigma_a"], 0.0,
+                                                                       atol=1e-6)
+    # control: the attribute cleared, the socket's own coefficients and no colour grid
+    v.inputs["Color Attribute"].default_value = ""
+    scene, _ = export(addon)
+    m, _, _ = _smoke(scene)
+    assert m.get("color_grid") is None and np.allclose(m["volume"]["sigma_s"], [1.5, 1.8, 2.1])
+
+
+def test_colour_grid_kinds(empty, addon, tmp_path):
+    """A float grid as the Color Attribute reads grey (its value in 3 channels, as Cycles); a
+    vec3 grid as the density says so by name and the object does not render."""
+    mat, v = _material("principled")
+    v.inputs["Color Attribute"].default_value = "color"
+    _volume_object(empty, _colour_vdb(tmp_path, colour_as_float=True), mat)
+    scene, report = export(addon)
+    m, _, _ = _smoke(scene)
+    assert np.allclose(scene.grids[m["color_grid"]]["voxels"][0, 0, 0], [0.5, 0.5, 0.5])
+    v.inputs["Color Attribute"].default_value = ""
+    v.inputs["Density Attribute"].default_value = "color"
+    bpy.data.objects["Smoke"].data.filepath = _colour_vdb(tmp_path / "b" if
+                                                          os.makedirs(tmp_path / "b") is None
+                                                          else tmp_path)
+    scene, report = export(addon)
+    said = " ".join(report.messages)
+    assert "grid 'color' is a vec3 (colour) grid" in said, said
+    assert not [m for m in scene.materials if m.get("density_grid") is not None]
