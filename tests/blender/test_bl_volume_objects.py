@@ -3,7 +3,9 @@ the object's file and placed by the grid's transform times the object's matrix, 
 trilinear support, the material's coefficients per unit of the grid (Principled Volume's Density
 times its Density Attribute grid; Volume Scatter whose Density is an Attribute node), Cycles'
 object-space density (Render Space "Object" divides by the scale along the diagonal, "World"
-does not), and a material reading a grid the file lacks (a warning by name, not rendered)."""
+does not), a material reading a grid the file lacks (a warning by name, not rendered), and
+Principled Volume's Color Attribute (the colour grid and its coefficients; a float grid as the
+colour, a vec3 grid as the density)."""
 
 import math
 import os
@@ -263,9 +265,8 @@ def test_colour_grid_kinds(empty, addon, tmp_path):
     assert np.allclose(scene.grids[m["color_grid"]]["voxels"][0, 0, 0], [0.5, 0.5, 0.5])
     v.inputs["Color Attribute"].default_value = ""
     v.inputs["Density Attribute"].default_value = "color"
-    bpy.data.objects["Smoke"].data.filepath = _colour_vdb(tmp_path / "b" if
-                                                          os.makedirs(tmp_path / "b") is None
-                                                          else tmp_path)
+    (tmp_path / "vec3").mkdir()
+    bpy.data.objects["Smoke"].data.filepath = _colour_vdb(tmp_path / "vec3")
     scene, report = export(addon)
     said = " ".join(report.messages)
     assert "grid 'color' is a vec3 (colour) grid" in said, said
