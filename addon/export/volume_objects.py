@@ -50,6 +50,8 @@ class _GridProbe:
         """True when `sock` is an emission strength that a grid drives (an Attribute node, or
         one times a constant by a Math Multiply node): kept as the flame grid."""
         from .volume import _source, _value
+        if _color_attribute(node) is not None and sock.name == "Color":
+            return True  # a colour grid on the Color (volume_objects._color converts it)
         names = {"PRINCIPLED_VOLUME": ("Emission Strength", "Emission Color"),
                  "EMISSION": ("Strength", "Color")}.get(node.type)
         if names is None or sock.name != names[0] or not sock.is_linked:
@@ -306,30 +308,62 @@ def _color(output, medium, obj, where, report):
     quiet, names, found = _Quiet(), _grid_names(obj), None
     for node, w in _leaves(output.inputs["Volume"], 1.0, where, quiet):
         sock = node.inputs.get("Color Attribute")
-        if node.type != "PRINCIPLED_VOLUME" or sock is None or not str(sock.default_value):
-            continue
-        name = str(sock.default_value)
-        if name not in names:
-            continue  # Cycles: a missing attribute leaves the Color as it is (smoke caches
+        own = str(sock.default_value) if node.type == "PRINCIPLED_VOLUME" and sock is not None \
+            else ""
+        linked = _color_attribute(node)   # an Attribute node on the Color socket
+        if own and own not in names:
+            own = ""  # Cycles: a missing attribute leaves the Color as it is (smoke caches
             # without colour are common; nothing to say)
-        if found is not None:
-            report.warn(f"{where}: a second Principled Volume's colour grid '{name}' is not "
-                        "rendered (its Color socket's value is used)")
+        if not own and linked is None:
             continue
+        name = own or linked
+        if found is not None or (own and linked is not None):
+            report.warn(f"{where}: a second colour grid '{linked if own else name}' of "
+                        f"'{node.name}' is not rendered (only one colour grid per volume)")
+            if found is not None:
+                continue
         dens = node.inputs.get("Density")
         d = w * (1.0 if dens is not None and dens.is_linked else
                  max(float(_value(node, "Density", where, quiet, quiet=True) or 0.0), 0.0))
         color = [max(float(c), 0.0) for c in (_value(node, "Color", where, quiet) or [1.0] * 3)]
         absorb = _value(node, "Absorption Color", where, quiet) or [0.0] * 3
-        a = [max(1.0 - max(float(k), 0.0) ** 0.5, 0.0) for k in absorb]
-        medium["sigma_s"] = [max(x - d * c, 0.0) for x, c in zip(medium["sigma_s"], color)]
-        medium["sigma_a"] = [max(x - d * max(1.0 - c, 0.0) * k, 0.0)
+        a = [max(1.0 - max(float(k), 0.0) ** 0.5, 0.0) for k in absorb] \
+            if node.type == "PRINCIPLED_VOLUME" else [1.0] * 3
+        scat = 0.0 if node.type == "VOLUME_ABSORPTION" else 1.0
+        ab = 0.0 if node.type == "VOLUME_SCATTER" else 1.0
+        # the shader's coefficients with the socket's own Color, as convert_volume added them
+        medium["sigma_s"] = [max(x - scat * d * c, 0.0) for x, c in zip(medium["sigma_s"], color)]
+        medium["sigma_a"] = [max(x - ab * d * max(1.0 - c, 0.0) * k, 0.0)
                              for x, c, k in zip(medium["sigma_a"], color, a)]
-        medium["color_scatter"] = [d * c for c in color]
-        medium["color_absorb"] = [d * k for k in a]
-        medium["color_base"] = color
+        # the grid's colour c stands for the Color (an Attribute node) or multiplies it
+        base = color if own else [1.0] * 3
+        medium["color_scatter"] = [scat * d * c for c in base]
+        medium["color_absorb"] = [ab * d * k for k in a]
+        medium["color_base"] = base
         found = name
+        if not own and name not in names:
+            report.warn(f"{where}: the grid '{name}' on the Color of '{node.name}' is not in "
+                        "the object's file; it reads 0 there (black), as in Cycles")
+            _color_dropped(medium, 0.0)
+            found = None
     return found
+
+
+def _color_attribute(node):
+    """The grid name of an Attribute node (Geometry, its Color output) on the Color of a
+    Principled Volume, Volume Scatter or Volume Absorption, or None."""
+    from .volume import _source
+    if node.type not in ("PRINCIPLED_VOLUME", "VOLUME_SCATTER", "VOLUME_ABSORPTION"):
+        return None
+    sock = node.inputs.get("Color")
+    src = _source(sock) if sock is not None else None
+    if src is None or src.type != "ATTRIBUTE" or \
+            getattr(src, "attribute_type", "GEOMETRY") != "GEOMETRY":
+        return None
+    link = sock.links[0]
+    if link.from_node.type != "ATTRIBUTE" or link.from_socket.identifier != "Color":
+        return None
+    return str(src.attribute_name)
 
 
 def _color_dropped(medium, c=1.0):

@@ -271,3 +271,49 @@ def test_colour_grid_kinds(empty, addon, tmp_path):
     said = " ".join(report.messages)
     assert "grid 'color' is a vec3 (colour) grid" in said, said
     assert not [m for m in scene.materials if m.get("density_grid") is not None]
+
+
+@pytest.mark.parametrize("kind", ["VOLUME_SCATTER", "VOLUME_ABSORPTION", "PRINCIPLED_VOLUME"])
+def test_attribute_node_on_color_reads_the_colour_grid(empty, addon, tmp_path, kind):
+    """An Attribute node's Color on a volume shader's Color: the grid's colour stands for the
+    Color (color_base 1), no warning; Volume Scatter scatters c D, Volume Absorption absorbs
+    max(1 - c, 0) D, Principled Volume both (Cycles' closures with Color = c). A grid the file
+    lacks reads 0: Volume Scatter then scatters nothing, the others absorb D (x A)."""
+    mat = bpy.data.materials.new(kind)
+    nt = mat.node_tree
+    nt.nodes.remove(nt.nodes["Principled BSDF"])
+    v = nt.nodes.new({"VOLUME_SCATTER": "ShaderNodeVolumeScatter",
+                      "VOLUME_ABSORPTION": "ShaderNodeVolumeAbsorption",
+                      "PRINCIPLED_VOLUME": "ShaderNodeVolumePrincipled"}[kind])
+    v.inputs["Density"].default_value = 2.0
+    v.inputs["Color"].default_value = (0.3, 0.3, 0.3, 1)   # linked: not used
+    a = nt.nodes.new("ShaderNodeAttribute")
+    a.attribute_name = "color"
+    nt.links.new(a.outputs["Color"], v.inputs["Color"])
+    nt.links.new(v.outputs[0], nt.nodes["Material Output"].inputs["Volume"])
+    if kind == "PRINCIPLED_VOLUME":
+        v.inputs["Absorption Color"].default_value = (0.25, 0.25, 0.25, 1)
+    else:   # their density: an Attribute node (per unit of the grid: Density's value unused)
+        d = nt.nodes.new("ShaderNodeAttribute")
+        d.attribute_name = "density"
+        nt.links.new(d.outputs["Fac"], v.inputs["Density"])
+    _volume_object(empty, _colour_vdb(tmp_path), mat)
+    scene, report = export(addon)
+    assert not [m for m in report.messages if "Smoke" in m or "linked" in m], report.messages
+    m, _, _ = _smoke(scene)
+    assert scene.grids[m["color_grid"]]["voxels"].shape == (3, 3, 3, 3)
+    vol = m["volume"]
+    want_s = {"VOLUME_SCATTER": 1.0, "VOLUME_ABSORPTION": 0.0, "PRINCIPLED_VOLUME": 2.0}[kind]
+    want_a = {"VOLUME_SCATTER": 0.0, "VOLUME_ABSORPTION": 1.0, "PRINCIPLED_VOLUME": 1.0}[kind]
+    assert np.allclose(vol["color_scatter"], want_s) and np.allclose(vol["color_absorb"], want_a)
+    assert np.allclose(vol["color_base"], 1.0)
+    assert np.allclose(vol["sigma_s"], 0.0, atol=1e-6) and np.allclose(vol["sigma_a"], 0.0,
+                                                                       atol=1e-6)
+    # control: a grid the file lacks reads 0 (Cycles' missing attribute), named in a warning
+    a.attribute_name = "nothing"
+    scene, report = export(addon)
+    assert any("'nothing' on the Color" in msg for msg in report.messages), report.messages
+    m, _, _ = _smoke(scene)
+    assert m.get("color_grid") is None
+    assert np.allclose(m["volume"]["sigma_s"], 0.0, atol=1e-6)
+    assert np.allclose(m["volume"]["sigma_a"], want_a)

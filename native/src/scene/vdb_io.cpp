@@ -178,7 +178,8 @@ VdbDense vdb_read_dense(const std::string& path, const std::string& name, uint64
             "'" + path + "': grid '" + name + "' spans " + std::to_string(n) +
             " voxels over its active bounds (" + std::to_string(n * channels / (1u << 18)) +
             " MiB as a dense block" + (vec3 ? " of 3 floats each" : "") +
-            "), above the limit of " + std::to_string(max_voxels) + " floats; it is not loaded");
+            "), above the limit of " + std::to_string(max_voxels) +
+            (vec3 ? " floats" : " voxels") + "; it is not loaded");
     };
     if (meta->has_bbox && meta->dense_voxels() > max_voxels / channels)
         throw too_big(meta->dense_voxels());
