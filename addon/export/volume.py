@@ -139,7 +139,7 @@ def convert_volume(socket, where, report, compiler=None, programs=None):
             if sock.name not in _IGNORED and sock.is_linked and _source(sock) is not None and \
                     not (node is hetero and sock.name == "Density") and sock.name not in gridded:
                 _value(node, sock.name, where, report)  # names it
-        color = _value(node, "Color", where, report) or [1.0, 1.0, 1.0]
+        color = _value(node, "Color", where, report, quiet="Color" in gridded) or [1.0, 1.0, 1.0]
         if node.type == "EMISSION":
             s = 0.0 if "Strength" in gridded else _value(node, "Strength", where, report)
             emission = [e + w * s * c for e, c in zip(emission, color)]

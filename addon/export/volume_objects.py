@@ -12,7 +12,8 @@ Fire (native/src/scene/medium_fire.h): Principled Volume's Temperature Attribute
 temperature grid (blackbody per point, T = the Temperature socket x the grid, as Cycles), and
 an Attribute node naming a grid on Emission Strength (Principled Volume) or Strength (Emission),
 alone or times a constant through a Math Multiply node, a flame grid (emission per point); each
-read as a grid of its own. What is not rendered (the colour grid, velocity, generated grids
+read as a grid of its own; Principled Volume's Color Attribute names a colour grid (a vec3
+grid: Color x its colour per point, as Cycles). What is not rendered (velocity, generated grids
 without a file) warns by name; a grid the material names that the file lacks warns and the
 socket's value stands for it, as in Cycles."""
 
@@ -49,6 +50,8 @@ class _GridProbe:
         """True when `sock` is an emission strength that a grid drives (an Attribute node, or
         one times a constant by a Math Multiply node): kept as the flame grid."""
         from .volume import _source, _value
+        if _color_attribute(node) is not None and sock.name == "Color":
+            return True  # a colour grid on the Color (volume_objects._color converts it)
         names = {"PRINCIPLED_VOLUME": ("Emission Strength", "Emission Color"),
                  "EMISSION": ("Strength", "Color")}.get(node.type)
         if names is None or sock.name != names[0] or not sock.is_linked:
@@ -136,12 +139,9 @@ class VolumeObjects:
                              "Attribute, no Attribute node on Density); not rendered")
             return None
         fire = _fire(output, medium, probe, obj, where, self.report)
-        for node, _ in _leaves_of(output):
-            sock = node.inputs.get("Color Attribute")
-            if sock is not None and str(sock.default_value) and \
-                    str(sock.default_value) in _grid_names(obj):
-                self.report.warn(f"{where}: the grid '{sock.default_value}' (Color Attribute) "
-                                 "is not rendered yet (the socket's own value is used)")
+        color = _color(output, medium, obj, where, self.report)
+        if color is not None:
+            fire["color"] = color
         return medium, grid, mat.name, fire
 
     def _grid(self, path, name):
@@ -191,6 +191,10 @@ class VolumeObjects:
             warn(f"Object '{obj.name}': its volume is not rendered: {got}")
             return None
         voxels, index_to_object, background = got
+        if voxels.ndim == 4:
+            warn(f"Object '{obj.name}': grid '{grid}' is a vec3 (colour) grid; a density needs a "
+                 "float grid; its volume is not rendered")
+            return None
         if background != 0.0:
             warn(f"Object '{obj.name}': grid '{grid}' has background {background:g}; Lantern "
                  "reads 0 outside its active voxels")
@@ -206,13 +210,26 @@ class VolumeObjects:
         positions, indices = _box(to_world, (nx, ny, nz))
         g = {"name": f"{obj.name}:{grid}", "voxels": voxels, "index_to_world": to_world,
              "fire": {}}
-        for role, name in fire.items():  # the temperature and flame grids, each its own block
+        # the temperature, flame and colour grids, each its own block
+        for role, name in fire.items():
             got = self._grid(path, name)
+            if not isinstance(got, Exception) and (got[0].ndim == 4) != (role == "color"):
+                if role == "color":  # a float grid as a colour: grey (Cycles reads it so)
+                    got = (np.repeat(got[0][..., None], 3, axis=3), got[1], got[2])
+                else:
+                    got = ValueError(f"grid '{name}' is a vec3 (colour) grid; a {role} needs "
+                                     "a float grid")
             if isinstance(got, Exception):
                 warn(f"Object '{obj.name}': its {role} grid is not rendered: {got}")
-                medium.pop("flame_emission" if role == "flame" else "blackbody_intensity", None)
+                if role == "color":
+                    _color_dropped(medium)
+                else:
+                    medium.pop("flame_emission" if role == "flame" else
+                               "blackbody_intensity", None)
                 continue
             if got[0].size == 0:
+                if role == "color":  # no colour anywhere: reads 0 (Cycles' background)
+                    _color_dropped(medium, 0.0)
                 continue
             g["fire"][role] = {"name": f"{obj.name}:{name}", "voxels": got[0],
                                "index_to_world": np.array(inst.matrix_world, np.float64) @
@@ -277,6 +294,89 @@ def _fire(output, medium, probe, obj, where, report):
     return fire
 
 
+def _color(output, medium, obj, where, report):
+    """The grid that a Principled Volume's Color Attribute names (Cycles multiplies its Color
+    by it), with medium changed to match: that shader's scattering Color x Density taken out of
+    "sigma_s" into "color_scatter", its absorption max(1 - Color, 0) x max(1 - sqrt(Absorption
+    Color), 0) x Density out of "sigma_a" into "color_absorb" / max(1 - Color, 0) and the Color
+    into "color_base" (the core scales them per point: scene/medium_hetero.h); None without."""
+    from .volume import _leaves, _value
+
+    class _Quiet:
+        def warn(self, message):
+            pass
+    quiet, names, found = _Quiet(), _grid_names(obj), None
+    for node, w in _leaves(output.inputs["Volume"], 1.0, where, quiet):
+        sock = node.inputs.get("Color Attribute")
+        own = str(sock.default_value) if node.type == "PRINCIPLED_VOLUME" and sock is not None \
+            else ""
+        linked = _color_attribute(node)   # an Attribute node on the Color socket
+        if own and own not in names:
+            own = ""  # Cycles: a missing attribute leaves the Color as it is (smoke caches
+            # without colour are common; nothing to say)
+        if not own and linked is None:
+            continue
+        name = own or linked
+        if found is not None or (own and linked is not None):
+            report.warn(f"{where}: a second colour grid '{linked if own else name}' of "
+                        f"'{node.name}' is not rendered (only one colour grid per volume)")
+            if found is not None:
+                continue
+        dens = node.inputs.get("Density")
+        d = w * (1.0 if dens is not None and dens.is_linked else
+                 max(float(_value(node, "Density", where, quiet, quiet=True) or 0.0), 0.0))
+        color = [max(float(c), 0.0) for c in (_value(node, "Color", where, quiet) or [1.0] * 3)]
+        absorb = _value(node, "Absorption Color", where, quiet) or [0.0] * 3
+        a = [max(1.0 - max(float(k), 0.0) ** 0.5, 0.0) for k in absorb] \
+            if node.type == "PRINCIPLED_VOLUME" else [1.0] * 3
+        scat = 0.0 if node.type == "VOLUME_ABSORPTION" else 1.0
+        ab = 0.0 if node.type == "VOLUME_SCATTER" else 1.0
+        # the shader's coefficients with the socket's own Color, as convert_volume added them
+        medium["sigma_s"] = [max(x - scat * d * c, 0.0) for x, c in zip(medium["sigma_s"], color)]
+        medium["sigma_a"] = [max(x - ab * d * max(1.0 - c, 0.0) * k, 0.0)
+                             for x, c, k in zip(medium["sigma_a"], color, a)]
+        # the grid's colour c stands for the Color (an Attribute node) or multiplies it
+        base = color if own else [1.0] * 3
+        medium["color_scatter"] = [scat * d * c for c in base]
+        medium["color_absorb"] = [ab * d * k for k in a]
+        medium["color_base"] = base
+        found = name
+        if not own and name not in names:
+            report.warn(f"{where}: the grid '{name}' on the Color of '{node.name}' is not in "
+                        "the object's file; it reads 0 there (black), as in Cycles")
+            _color_dropped(medium, 0.0)
+            found = None
+    return found
+
+
+def _color_attribute(node):
+    """The grid name of an Attribute node (Geometry, its Color output) on the Color of a
+    Principled Volume, Volume Scatter or Volume Absorption, or None."""
+    from .volume import _source
+    if node.type not in ("PRINCIPLED_VOLUME", "VOLUME_SCATTER", "VOLUME_ABSORPTION"):
+        return None
+    sock = node.inputs.get("Color")
+    src = _source(sock) if sock is not None else None
+    if src is None or src.type != "ATTRIBUTE" or \
+            getattr(src, "attribute_type", "GEOMETRY") != "GEOMETRY":
+        return None
+    link = sock.links[0]
+    if link.from_node.type != "ATTRIBUTE" or link.from_socket.identifier != "Color":
+        return None
+    return str(src.attribute_name)
+
+
+def _color_dropped(medium, c=1.0):
+    """medium without its colour grid: the colour c everywhere folded back into sigma_a and
+    sigma_s (1: the Color socket alone, as Cycles without the attribute)."""
+    scat = medium.pop("color_scatter", [0.0] * 3)
+    absorb = medium.pop("color_absorb", [0.0] * 3)
+    base = medium.pop("color_base", [1.0] * 3)
+    medium["sigma_s"] = [x + s * c for x, s in zip(medium["sigma_s"], scat)]
+    medium["sigma_a"] = [x + a * max(1.0 - b * c, 0.0)
+                         for x, a, b in zip(medium["sigma_a"], absorb, base)]
+
+
 def _object_space(medium, vol, matrix_world):
     """The medium as Cycles scales it for the Volume's Render Space "Object" (Blender's
     default: the opacity stays when the object is scaled): absorption and scattering divided by
@@ -293,7 +393,8 @@ def _object_space(medium, vol, matrix_world):
     if not k > 0.0:
         return medium
     out = dict(medium)
-    for key in ("sigma_a", "sigma_s", "emission", "blackbody_tint", "flame_emission"):
+    for key in ("sigma_a", "sigma_s", "emission", "blackbody_tint", "flame_emission",
+                "color_scatter", "color_absorb"):
         if key in medium:
             out[key] = [v / k for v in medium[key]]
     return out

@@ -3,7 +3,10 @@
 voxels (voxel (i, j, k) is ``voxels[k, j, i]``, its centre at index (i, j, k)) and the affine map
 from that index space to the world. A material's volume reads one as its density through
 ``"density_grid"`` (an index into ``scene.grids``): its coefficients are then per unit of the
-grid's value. ``read_vdb`` loads a grid of an OpenVDB file with the core (lantern._core)."""
+grid's value. A colour grid (Principled Volume's Color Attribute) has voxels (nz, ny, nx, 3),
+read through the material's ``"color_grid"`` with the volume's ``color_scatter``,
+``color_absorb`` and ``color_base`` (medium_schema.py). ``read_vdb`` loads a float or vec3 grid
+of an OpenVDB file with the core (lantern._core)."""
 import math
 
 import numpy as np
@@ -23,8 +26,9 @@ def validate_grid(grid, index):
     if vox is None:
         raise ValueError(f"{what}: missing voxels (a float32 (nz, ny, nx) array)")
     vox = np.ascontiguousarray(np.asarray(vox, dtype=np.float32))
-    if vox.ndim != 3:
-        raise ValueError(f"{what} voxels: expected 3 dimensions (nz, ny, nx), got {vox.shape}")
+    if not (vox.ndim == 3 or (vox.ndim == 4 and vox.shape[3] == 3)):
+        raise ValueError(f"{what} voxels: expected 3 dimensions (nz, ny, nx), or (nz, ny, nx, 3) "
+                         f"for a colour grid, got {vox.shape}")
     if vox.size > MAX_GRID_VOXELS:
         raise ValueError(f"{what}: {vox.size} voxels, above the limit of {MAX_GRID_VOXELS}")
     m = np.asarray(grid.get("index_to_world", np.eye(4)), dtype=np.float64)
@@ -41,9 +45,10 @@ def validate_density_grid(material, out, what, num_grids):
     g = material.get("density_grid")
     if g is None:
         out.pop("density_grid", None)
-        if material.get("temperature_grid") is not None or \
-                material.get("flame_grid") is not None:
-            raise ValueError(f"{what}: temperature_grid and flame_grid need a density_grid")
+        if any(material.get(k) is not None for k in ("temperature_grid", "flame_grid",
+                                                      "color_grid")):
+            raise ValueError(f"{what}: temperature_grid, flame_grid and color_grid need a "
+                             "density_grid")
         return
     if isinstance(g, bool) or not isinstance(g, (int, np.integer)) or g < 0:
         raise ValueError(f"{what} density_grid: expected a grid index >= 0, got {g!r}")
@@ -54,7 +59,8 @@ def validate_density_grid(material, out, what, num_grids):
         raise ValueError(f"{what} density_grid: the material has no volume to scale")
     out["density_grid"] = int(g)
     # a fire's grids (scene/medium_fire.h): read with the volume's blackbody and flame values
-    for key in ("temperature_grid", "flame_grid"):
+    # and its colour grid (scene/medium_grid.h: grid_color), read with its colour coefficients
+    for key in ("temperature_grid", "flame_grid", "color_grid"):
         k = material.get(key)
         if k is None:
             out.pop(key, None)
@@ -67,7 +73,8 @@ def validate_density_grid(material, out, what, num_grids):
 
 def read_vdb(path, grid="density", max_voxels=MAX_GRID_VOXELS):
     """(voxels float32 (nz, ny, nx), index_to_object float64 (4, 4), background) of the float
-    grid named `grid` in the OpenVDB file at `path`, read by the core; the index map is the
+    grid named `grid` in the OpenVDB file at `path`, read by the core (a vec3 grid: voxels
+    (nz, ny, nx, 3), `max_voxels` counting floats, 3 per voxel); the index map is the
     block's (its voxel (0, 0, 0) is the first active voxel's corner of the grid's bounds).
     Raises RuntimeError with the reason (built without OpenVDB, no such file or grid, a grid
     over `max_voxels` as a dense block, checked from the file's metadata first)."""

@@ -8,11 +8,16 @@ anisotropy in (-1, 1), all in Blender's units (addon/export/volume.py converts t
 A Volume object's medium may add its fire, read with the material's ``"temperature_grid"`` and
 ``"flame_grid"`` (grid_schema.py): ``"blackbody_intensity"`` (float >= 0), ``"temperature"``
 (kelvin per unit of the temperature grid), ``"blackbody_tint"`` (rgb) and ``"flame_emission"``
-(rgb radiance per metre per unit of the flame grid)."""
+(rgb radiance per metre per unit of the flame grid). With the material's ``"color_grid"``:
+``"color_scatter"`` (rgb: Color x Density, the scattering that the grid's colour c multiplies),
+``"color_absorb"`` (rgb: max(1 - sqrt(Absorption Color), 0) x Density, the absorption that
+max(1 - color_base c, 0) multiplies) and ``"color_base"`` (rgb: the Color socket), per unit of
+the density grid, beside sigma_a and sigma_s (the parts the colour does not touch)."""
 import math
 
 MEDIUM_KEYS = ("sigma_a", "sigma_s", "emission", "g")
-FIRE_KEYS = ("blackbody_intensity", "temperature", "blackbody_tint", "flame_emission")
+FIRE_KEYS = ("blackbody_intensity", "temperature", "blackbody_tint", "flame_emission",
+             "color_scatter", "color_absorb", "color_base")
 
 
 def _rgb(value, what):
@@ -41,7 +46,7 @@ def validate_medium(medium, what):
     if not (math.isfinite(g) and -1.0 < g < 1.0):
         raise ValueError(f"{what} volume g: expected a value in (-1, 1), got {g}")
     out["g"] = g
-    for k in ("blackbody_tint", "flame_emission"):
+    for k in ("blackbody_tint", "flame_emission", "color_scatter", "color_absorb", "color_base"):
         if k in medium:
             out[k] = _rgb(medium[k], f"{what} volume {k}")
     for k in ("blackbody_intensity", "temperature"):

@@ -50,8 +50,9 @@ class Scene:
 
     def add_grid(self, voxels, index_to_world=None, name=None):
         """Append a density grid: voxels (nz, ny, nx), voxel (i, j, k) centred at index
-        (i, j, k), mapped to the world by index_to_world (4x4, default identity). Returns its
-        index for a material's "density_grid"."""
+        (i, j, k), mapped to the world by index_to_world (4x4, default identity); or a colour
+        grid, voxels (nz, ny, nx, 3). Returns its index for a material's "density_grid" (or
+        "temperature_grid", "flame_grid", "color_grid")."""
         grid = {"name": name if name is not None else f"grid_{len(self.grids)}",
                 "voxels": voxels,
                 "index_to_world": np.eye(4) if index_to_world is None else index_to_world}
@@ -399,8 +400,11 @@ class Scene:
             for i, g in enumerate(self.grids):
                 member = f"grids/{i}/voxels.npy"
                 arrays[member] = g["voxels"]
-                doc["grids"].append({"name": g["name"], "voxels": member,
-                                     "index_to_world": g["index_to_world"].tolist()})
+                entry = {"name": g["name"], "voxels": member,
+                         "index_to_world": g["index_to_world"].tolist()}
+                if g["voxels"].ndim == 4:  # a colour grid (nz, ny, nx, 3)
+                    entry["channels"] = 3
+                doc["grids"].append(entry)
         for i, tex in enumerate(self.textures):
             member = f"textures/{i}/pixels.npy"
             arrays[member] = tex["pixels"]
@@ -558,9 +562,12 @@ def load_scene(path, max_bytes=None):
                 raise archive.error("scene.json", f"grid {i}: expected an object")
             what = f"grid {i} voxels"
             member = member_name(archive, entry, "voxels", what)
-            vox = archive.read_array(member, what, "f", 3, None)
+            color = entry.get("channels", 1) == 3
+            vox = archive.read_array(member, what, "f", 4 if color else 3,
+                                     (3,) if color else None)
             try:
-                scene.grids.append(validate_grid(dict(entry, voxels=vox), i))
+                scene.grids.append(validate_grid(
+                    {k: v for k, v in dict(entry, voxels=vox).items() if k != "channels"}, i))
             except ValueError as e:
                 raise archive.error(member, str(e)) from None
         scene.meshes = []

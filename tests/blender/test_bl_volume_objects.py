@@ -3,7 +3,9 @@ the object's file and placed by the grid's transform times the object's matrix, 
 trilinear support, the material's coefficients per unit of the grid (Principled Volume's Density
 times its Density Attribute grid; Volume Scatter whose Density is an Attribute node), Cycles'
 object-space density (Render Space "Object" divides by the scale along the diagonal, "World"
-does not), and a material reading a grid the file lacks (a warning by name, not rendered)."""
+does not), a material reading a grid the file lacks (a warning by name, not rendered), and
+Principled Volume's Color Attribute (the colour grid and its coefficients; a float grid as the
+colour, a vec3 grid as the density)."""
 
 import math
 import os
@@ -207,3 +209,111 @@ def test_fire_emission_follows_the_object_space_density(empty, addon, tmp_path):
     scene, _ = export(addon)
     vol = _smoke(scene)[0]["volume"]
     assert np.allclose(vol["flame_emission"], [3.0, 1.2, 0.3])
+
+
+def _colour_vdb(tmp_path, colour_as_float=False):
+    """density and a vec3 "color" grid (a float one with colour_as_float) of one transform."""
+    import lantern._core as core
+    path = os.path.join(str(tmp_path), "colour.vdb")
+    m = np.array([[VOXEL, 0, 0, 1.0], [0, VOXEL, 0, 0], [0, 0, VOXEL, 0], [0, 0, 0, 1]])
+    den = np.ones((3, 3, 3), np.float32)
+    col = np.zeros((3, 3, 3, 3), np.float32)
+    col[..., 0], col[..., 1], col[..., 2] = 0.25, 0.5, 1.0
+    core.vdb_write_list(path, [
+        {"name": "density", "voxels": den, "index_to_object": m},
+        {"name": "color", "voxels": col[..., 1].copy() if colour_as_float else col,
+         "index_to_object": m}])
+    return path
+
+
+def test_colour_attribute_exports_the_colour_grid(empty, addon, tmp_path):
+    """Principled Volume's Color Attribute naming a vec3 grid: the grid is exported and the
+    shader's part of the coefficients moves to color_scatter / color_absorb / color_base
+    (Cycles: scattering Color c Density, absorption max(1 - Color c, 0) x max(1 - sqrt(Absorption
+    Color), 0) x Density)."""
+    mat, v = _material("principled")   # Density 3, Color (0.5, 0.6, 0.7)
+    v.inputs["Absorption Color"].default_value = (0.25, 0.25, 0.25, 1)
+    v.inputs["Color Attribute"].default_value = "color"
+    _volume_object(empty, _colour_vdb(tmp_path), mat)
+    scene, report = export(addon)
+    assert not [m for m in report.messages if "Smoke" in m], report.messages
+    m, _, _ = _smoke(scene)
+    g = scene.grids[m["color_grid"]]
+    assert g["name"].endswith(":color") and g["voxels"].shape == (3, 3, 3, 3)
+    assert np.allclose(g["voxels"][1, 1, 1], [0.25, 0.5, 1.0])
+    vol = m["volume"]
+    assert np.allclose(vol["color_scatter"], [1.5, 1.8, 2.1])   # Color x Density
+    assert np.allclose(vol["color_absorb"], [1.5, 1.5, 1.5])    # (1 - sqrt(0.25)) x Density
+    assert np.allclose(vol["color_base"], [0.5, 0.6, 0.7])
+    assert np.allclose(vol["sigma_s"], 0.0, atol=1e-6) and np.allclose(vol["sigma_a"], 0.0,
+                                                                       atol=1e-6)
+    # control: the attribute cleared, the socket's own coefficients and no colour grid
+    v.inputs["Color Attribute"].default_value = ""
+    scene, _ = export(addon)
+    m, _, _ = _smoke(scene)
+    assert m.get("color_grid") is None and np.allclose(m["volume"]["sigma_s"], [1.5, 1.8, 2.1])
+
+
+def test_colour_grid_kinds(empty, addon, tmp_path):
+    """A float grid as the Color Attribute reads grey (its value in 3 channels, as Cycles); a
+    vec3 grid as the density says so by name and the object does not render."""
+    mat, v = _material("principled")
+    v.inputs["Color Attribute"].default_value = "color"
+    _volume_object(empty, _colour_vdb(tmp_path, colour_as_float=True), mat)
+    scene, report = export(addon)
+    m, _, _ = _smoke(scene)
+    assert np.allclose(scene.grids[m["color_grid"]]["voxels"][0, 0, 0], [0.5, 0.5, 0.5])
+    v.inputs["Color Attribute"].default_value = ""
+    v.inputs["Density Attribute"].default_value = "color"
+    (tmp_path / "vec3").mkdir()
+    bpy.data.objects["Smoke"].data.filepath = _colour_vdb(tmp_path / "vec3")
+    scene, report = export(addon)
+    said = " ".join(report.messages)
+    assert "grid 'color' is a vec3 (colour) grid" in said, said
+    assert not [m for m in scene.materials if m.get("density_grid") is not None]
+
+
+@pytest.mark.parametrize("kind", ["VOLUME_SCATTER", "VOLUME_ABSORPTION", "PRINCIPLED_VOLUME"])
+def test_attribute_node_on_color_reads_the_colour_grid(empty, addon, tmp_path, kind):
+    """An Attribute node's Color on a volume shader's Color: the grid's colour stands for the
+    Color (color_base 1), no warning; Volume Scatter scatters c D, Volume Absorption absorbs
+    max(1 - c, 0) D, Principled Volume both (Cycles' closures with Color = c). A grid the file
+    lacks reads 0: Volume Scatter then scatters nothing, the others absorb D (x A)."""
+    mat = bpy.data.materials.new(kind)
+    nt = mat.node_tree
+    nt.nodes.remove(nt.nodes["Principled BSDF"])
+    v = nt.nodes.new({"VOLUME_SCATTER": "ShaderNodeVolumeScatter",
+                      "VOLUME_ABSORPTION": "ShaderNodeVolumeAbsorption",
+                      "PRINCIPLED_VOLUME": "ShaderNodeVolumePrincipled"}[kind])
+    v.inputs["Density"].default_value = 2.0
+    v.inputs["Color"].default_value = (0.3, 0.3, 0.3, 1)   # linked: not used
+    a = nt.nodes.new("ShaderNodeAttribute")
+    a.attribute_name = "color"
+    nt.links.new(a.outputs["Color"], v.inputs["Color"])
+    nt.links.new(v.outputs[0], nt.nodes["Material Output"].inputs["Volume"])
+    if kind == "PRINCIPLED_VOLUME":
+        v.inputs["Absorption Color"].default_value = (0.25, 0.25, 0.25, 1)
+    else:   # their density: an Attribute node (per unit of the grid: Density's value unused)
+        d = nt.nodes.new("ShaderNodeAttribute")
+        d.attribute_name = "density"
+        nt.links.new(d.outputs["Fac"], v.inputs["Density"])
+    _volume_object(empty, _colour_vdb(tmp_path), mat)
+    scene, report = export(addon)
+    assert not [m for m in report.messages if "Smoke" in m or "linked" in m], report.messages
+    m, _, _ = _smoke(scene)
+    assert scene.grids[m["color_grid"]]["voxels"].shape == (3, 3, 3, 3)
+    vol = m["volume"]
+    want_s = {"VOLUME_SCATTER": 1.0, "VOLUME_ABSORPTION": 0.0, "PRINCIPLED_VOLUME": 2.0}[kind]
+    want_a = {"VOLUME_SCATTER": 0.0, "VOLUME_ABSORPTION": 1.0, "PRINCIPLED_VOLUME": 1.0}[kind]
+    assert np.allclose(vol["color_scatter"], want_s) and np.allclose(vol["color_absorb"], want_a)
+    assert np.allclose(vol["color_base"], 1.0)
+    assert np.allclose(vol["sigma_s"], 0.0, atol=1e-6) and np.allclose(vol["sigma_a"], 0.0,
+                                                                       atol=1e-6)
+    # control: a grid the file lacks reads 0 (Cycles' missing attribute), named in a warning
+    a.attribute_name = "nothing"
+    scene, report = export(addon)
+    assert any("'nothing' on the Color" in msg for msg in report.messages), report.messages
+    m, _, _ = _smoke(scene)
+    assert m.get("color_grid") is None
+    assert np.allclose(m["volume"]["sigma_s"], 0.0, atol=1e-6)
+    assert np.allclose(m["volume"]["sigma_a"], want_a)

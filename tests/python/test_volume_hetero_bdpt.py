@@ -13,6 +13,8 @@ each scene with a negative control of its own kind that must be caught, in the C
   add-on), a node program built here;
 - grid_smoke: a Volume object's dense grid (test_volume_grids.py's way: scene.add_grid), two
   Gaussian blobs;
+- color_smoke: grid_smoke with a colour grid (Principled Volume's Color Attribute) ramping red
+  to blue, its own transform (all its cases `long`; control: the colour ignored);
 - emissive_box: a homogeneous scattering box that glows;
 - glowing_smoke: noise_smoke with a constant emission (Cycles does not scale Emission by
   density).
@@ -104,6 +106,33 @@ def grid_smoke(scale=1.0):
     return scene
 
 
+def color_smoke(with_colour=True):
+    """grid_smoke with a colour grid (Principled Volume's Color Attribute: issue 29) of 12^3
+    voxels over the box, its own transform, ramping red to blue along x; the smoke's
+    coefficients moved to the colour's (Color 0.9, Absorption Color 0.2, as SMOKE's scale)."""
+    scene = grid_smoke()
+    n = 12
+    lo, hi = np.array(SMOKE_BOX[0]), np.array(SMOKE_BOX[1])
+    h = (hi - lo) / (n - 1)
+    u = np.arange(n, dtype=np.float32) / (n - 1)
+    col = np.zeros((n, n, n, 3), np.float32)
+    col[..., 0], col[..., 1], col[..., 2] = u, 0.4, 1.0 - u
+    m4 = np.eye(4)
+    m4[:3, :3] = np.diag(h)
+    m4[:3, 3] = lo
+    mat = scene.materials[-1]
+    mat["volume"] = {"sigma_a": [0.0] * 3, "sigma_s": [0.0] * 3, "g": SMOKE.get("g", 0.0),
+                     "color_scatter": [0.9] * 3, "color_absorb": [1.0 - 0.2 ** 0.5] * 3,
+                     "color_base": [0.9] * 3}
+    if with_colour:
+        mat["color_grid"] = scene.add_grid(col, m4, name="blobs:color")
+    else:   # the control: the colour ignored (the Color socket's coefficients alone)
+        mat["volume"].update(sigma_s=[0.9] * 3, sigma_a=[0.1 * (1.0 - 0.2 ** 0.5)] * 3)
+        for k in ("color_scatter", "color_absorb", "color_base"):
+            mat["volume"].pop(k)
+    return scene
+
+
 EMISSION = [0.6, 0.3, 0.12]
 
 
@@ -123,7 +152,7 @@ def glowing_smoke(emission_scale=1.0):
 
 
 SCENES = {"noise_smoke": noise_smoke, "grid_smoke": grid_smoke, "emissive_box": emissive_box,
-          "glowing_smoke": glowing_smoke}
+          "glowing_smoke": glowing_smoke, "color_smoke": color_smoke}
 # each scene's negative control: the bidirectional render's density or emission off by what
 # these seeds resolve. Measured with 3 % everywhere: only the emissive box was caught (block
 # |z| 6.9); the smokes' 3 % density moved the image mean by < 0.1 % (light scattered out of one
@@ -132,11 +161,13 @@ SCENES = {"noise_smoke": noise_smoke, "grid_smoke": grid_smoke, "emissive_box": 
 CONTROL_SCENES = {"noise_smoke": lambda: noise_smoke(8.0 * 1.15),
                   "grid_smoke": lambda: grid_smoke(1.15),
                   "emissive_box": lambda: emissive_box(1.03),
-                  "glowing_smoke": lambda: glowing_smoke(1.10)}
+                  "glowing_smoke": lambda: glowing_smoke(1.10),
+                  "color_smoke": lambda: color_smoke(False)}
 # the levels (whole image, one block) the agreement test must resolve, from its printed
 # "detects ... >=" on these seeds
 CONTROLS = {"noise_smoke": (0.02, 0.1), "grid_smoke": (0.02, 0.1),
-            "emissive_box": (0.02, 0.1), "glowing_smoke": (0.02, 0.1)}
+            "emissive_box": (0.02, 0.1), "glowing_smoke": (0.02, 0.1),
+            "color_smoke": (0.02, 0.1)}
 _REF = {}
 
 

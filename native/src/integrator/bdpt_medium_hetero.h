@@ -34,6 +34,15 @@ LANTERN_HD inline Vec3 hetero_optical_depth(const SceneView& s, const Medium& m,
                                             Vec3 o, Vec3 d, float t) {
     float den = 0.0f;
     const float h = t * (1.0f / float(kHeteroQuadrature));
+    if (medium_has_color(s, m)) {  // a colour grid: the coefficients' own channels at the nodes
+        Vec3 tau = vec3(0.0f);
+        for (int k = 0; k < kHeteroQuadrature; ++k) {
+            const MediumCoeffs c = medium_coeffs_at(s, m, med, o + d * (h * (float(k) + 0.5f)),
+                                                    hetero_standin_dir());
+            tau = tau + (c.sigma_a + c.sigma_s) * h;
+        }
+        return tau;
+    }
     for (int k = 0; k < kHeteroQuadrature; ++k)
         den += medium_density(s, m, med, o + d * (h * (float(k) + 0.5f)), hetero_standin_dir());
     return (m.sigma_a0 + m.sigma_s0) * t + (m.sigma_a + m.sigma_s) * (den * h);

@@ -40,6 +40,9 @@ int get_medium(const nb::handle& h, const std::string& name, SceneInput& in) {
     mi.temperature = get<float>(v, "temperature", mi.temperature);
     mi.blackbody_tint = get_vec3(v, "blackbody_tint", mi.blackbody_tint);
     mi.flame_emission = get_vec3(v, "flame_emission", mi.flame_emission);
+    mi.color_scatter = get_vec3(v, "color_scatter", mi.color_scatter);
+    mi.color_absorb = get_vec3(v, "color_absorb", mi.color_absorb);
+    mi.color_base = get_vec3(v, "color_base", mi.color_base);
     in.media.push_back(mi);
     return int(in.media.size()) - 1;
 }

@@ -63,6 +63,7 @@ if (has(scene, "materials")) {
         mi.density_grid = get<int>(m, "density_grid", -1);
         mi.temperature_grid = get<int>(m, "temperature_grid", -1);
         mi.flame_grid = get<int>(m, "flame_grid", -1);
+        mi.color_grid = get<int>(m, "color_grid", -1);
         if (has(m, "mix")) {  // [[leaf, weight], ...]
             for (nb::handle e : nb::cast<nb::list>(m["mix"])) {
                 auto pair = nb::cast<std::vector<float>>(e);

@@ -24,13 +24,16 @@ void get_grids(const nb::dict& scene, SceneInput& in) {
         nb::dict g = nb::cast<nb::dict>(h);
         GridInput gi;
         gi.name = g.contains("name") ? nb::cast<std::string>(g["name"]) : "grid";
-        nb::ndarray<const float, nb::ndim<3>, nb::c_contig, nb::device::cpu> v;
-        if (!g.contains("voxels") || !nb::try_cast(g["voxels"], v, false))
+        nb::ndarray<const float, nb::c_contig, nb::device::cpu> v;
+        if (!g.contains("voxels") || !nb::try_cast(g["voxels"], v, false) ||
+            !(v.ndim() == 3 || (v.ndim() == 4 && v.shape(3) == 3)))
             throw std::invalid_argument("grid '" + gi.name + "': 'voxels' must be a "
-                                        "C-contiguous float32 array (nz, ny, nx)");
+                                        "C-contiguous float32 array (nz, ny, nx), or (nz, ny, "
+                                        "nx, 3) for a colour grid");
         gi.dims[0] = int32_t(v.shape(2));
         gi.dims[1] = int32_t(v.shape(1));
         gi.dims[2] = int32_t(v.shape(0));
+        gi.channels = v.ndim() == 4 ? 3 : 1;
         if (v.size() > kMaxGridVoxels)
             throw std::invalid_argument("grid '" + gi.name + "': " + std::to_string(v.size()) +
                                         " voxels, above the limit of " +
@@ -75,8 +78,9 @@ void bind_vdb(nb::module_& m) {
         auto* vox = new std::vector<float>(std::move(d.voxels));
         nb::capsule owner(vox,
                           [](void* p) noexcept { delete static_cast<std::vector<float>*>(p); });
-        const size_t shape[3] = {size_t(d.dims[2]), size_t(d.dims[1]), size_t(d.dims[0])};
-        nb::ndarray<nb::numpy, float, nb::ndim<3>> arr(vox->data(), 3, shape, owner);
+        // a vec3 grid: (nz, ny, nx, 3)
+        const size_t shape[4] = {size_t(d.dims[2]), size_t(d.dims[1]), size_t(d.dims[0]), 3};
+        nb::ndarray<nb::numpy, float> arr(vox->data(), d.channels == 3 ? 4 : 3, shape, owner);
         // the block's voxel (i, j, k) is the grid's origin + (i, j, k)
         auto* mat = new double[16];
         for (int r = 0; r < 4; ++r)
@@ -119,6 +123,32 @@ void bind_vdb(nb::module_& m) {
         double m4[4][4];
         for (int k = 0; k < 16; ++k) m4[k / 4][k % 4] = mat.data()[k];
         vdb_write_dense_grids(path, names, data, dims, m4);
+    });
+    // grids of their own shapes and transforms in one file (tests: a smoke's density and
+    // colour): a list of dicts {"name", "voxels": float32 (nz, ny, nx) or (nz, ny, nx, 3),
+    // "index_to_object": float64 (4, 4), "double": bool (a vec3 grid written as Vec3D)}
+    m.def("vdb_write_list", [](const std::string& path, const nb::list& grids) {
+        std::vector<VdbWriteGrid> list;
+        std::vector<nb::ndarray<const float, nb::c_contig, nb::device::cpu>> keep;
+        for (nb::handle h : grids) {
+            nb::dict g = nb::cast<nb::dict>(h);
+            VdbWriteGrid w;
+            w.name = nb::cast<std::string>(g["name"]);
+            auto v = nb::cast<nb::ndarray<const float, nb::c_contig, nb::device::cpu>>(
+                g["voxels"]);
+            if (!(v.ndim() == 3 || (v.ndim() == 4 && v.shape(3) == 3)))
+                throw std::invalid_argument("vdb_write_list: voxels (nz, ny, nx) or (.., 3)");
+            w.channels = v.ndim() == 4 ? 3 : 1;
+            for (int k = 0; k < 3; ++k) w.dims[k] = int32_t(v.shape(2 - k));
+            w.voxels = v.data();
+            auto mat = nb::cast<nb::ndarray<const double, nb::shape<4, 4>, nb::c_contig,
+                                            nb::device::cpu>>(g["index_to_object"]);
+            for (int k = 0; k < 16; ++k) w.index_to_object[k / 4][k % 4] = mat.data()[k];
+            w.as_double = g.contains("double") && nb::cast<bool>(g["double"]);
+            keep.push_back(v);
+            list.push_back(w);
+        }
+        vdb_write_list(path, list);
     });
     m.def("vdb_write_sparse", [](const std::string& path, const std::string& name,
                                  nb::ndarray<const int32_t, nb::ndim<2>, nb::c_contig,

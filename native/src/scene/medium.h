@@ -35,9 +35,16 @@ struct Medium {
     int32_t flame_grid;        // SceneView::grids: emission flame_emission x flame per point
     float bb_intensity;        // Principled Volume's Blackbody Intensity (with a temperature grid)
     float bb_temperature;      // its Temperature socket: T = socket x the grid's value
-    float pad_fire;
+    // ---- a Volume object's colour grid (Principled Volume's Color Attribute; -1: none): per
+    // unit of density, scattering sigma_s + color_scatter c and absorption
+    // sigma_a + color_absorb max(1 - color_base c, 0), c the grid's colour at the point
+    // (scene/medium_hetero.h: medium_coeffs_at) ----
+    int32_t color_grid;
     Vec3 bb_tint;              // Blackbody Tint x the shader's mix weight
     Vec3 flame_emission;       // radiance per metre per unit of the flame grid
+    Vec3 color_scatter;        // Principled Volume's Color x Density (x weight, object scale)
+    Vec3 color_absorb;         // max(1 - sqrt(Absorption Color), 0) x Density (the same)
+    Vec3 color_base;           // the Color socket (the colour grid multiplies it)
 };
 
 // ---- Henyey-Greenstein: cos_theta between the direction travelled and the scattered one ----

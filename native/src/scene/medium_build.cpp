@@ -44,7 +44,7 @@ Medium to_medium(const MediumInput& in, std::vector<std::string>& warnings) {
     m.g = std::isfinite(in.g) ? std::fmin(std::fmax(in.g, -0.999f), 0.999f) : 0.0f;
     m.density_prog = -1;
     m.density_grid = -1;
-    m.majorant_grid = m.temperature_grid = m.flame_grid = -1;
+    m.majorant_grid = m.temperature_grid = m.flame_grid = m.color_grid = -1;
     return m;
 }
 

@@ -48,7 +48,10 @@ bool invert_affine(const float m[16], Transform* out) {
 void HostScene::build_grids(const SceneInput& in) {
     uint64_t total = 0;
     for (const GridInput& g : in.grids) {
-        uint64_t n = 1;
+        if (g.channels != 1 && g.channels != 3)
+            throw std::invalid_argument("grid '" + g.name + "': " + std::to_string(g.channels) +
+                                        " channels (1: a float grid, 3: a colour grid)");
+        uint64_t n = uint64_t(g.channels);
         for (int k = 0; k < 3; ++k) {
             if (g.dims[k] < 0)
                 throw std::invalid_argument("grid '" + g.name + "': negative dimensions");
@@ -57,16 +60,18 @@ void HostScene::build_grids(const SceneInput& in) {
         if (n != g.voxels.size())
             throw std::invalid_argument("grid '" + g.name + "': " +
                                         std::to_string(g.voxels.size()) +
-                                        " voxels for dimensions " + std::to_string(g.dims[0]) +
+                                        " floats for dimensions " + std::to_string(g.dims[0]) +
                                         " x " + std::to_string(g.dims[1]) + " x " +
                                         std::to_string(g.dims[2]));
         total += n;
     }
     if (total > kMaxGridVoxels)
-        throw std::invalid_argument("the scene's density grids hold " + std::to_string(total) +
-                                    " voxels, above the limit of " +
+        throw std::invalid_argument("the scene's grids hold " + std::to_string(total) +
+                                    " floats, above the limit of " +
                                     std::to_string(kMaxGridVoxels));
     grids_.clear();
+    grid_names_.clear();
+    grid_index_to_world_.clear();
     majorant_grids_.clear();
     majorant_values_.clear();
     grid_voxels_.clear();
@@ -76,17 +81,19 @@ void HostScene::build_grids(const SceneInput& in) {
         d.nx = g.dims[0];
         d.ny = g.dims[1];
         d.nz = g.dims[2];
+        d.channels = g.channels;
         d.offset = grid_voxels_.size();
         if (!invert_affine(g.index_to_world, &d.world_to_index)) {
             warnings_.push_back("grid '" + g.name + "': its transform is singular or not "
                                 "finite; the volume renders empty");
             d.nx = d.ny = d.nz = 0;
         }
-        size_t bad = 0, huge = 0;
+        size_t bad = 0, huge = 0, negative = 0;
         float mx = 0.0f;
         for (float v : g.voxels) {
             if (std::isnan(v) || v < 0.0f) {
                 bad += std::isnan(v) ? 1 : 0;
+                negative += v < 0.0f ? 1 : 0;
                 v = 0.0f;
             } else if (v > 1e9f) {
                 ++huge;
@@ -97,12 +104,21 @@ void HostScene::build_grids(const SceneInput& in) {
         }
         if (bad)
             warnings_.push_back("grid '" + g.name + "': " + std::to_string(bad) +
-                                " NaN voxels are taken as 0");
+                                (g.channels == 3 ? " NaN colour components" : " NaN voxels") +
+                                " are taken as 0");
+        // a negative density is none (Cycles, silently); Cycles keeps a negative colour (it
+        // would scatter negatively), Lantern takes it as 0 and says so
+        if (negative && g.channels == 3)
+            warnings_.push_back("grid '" + g.name + "': " + std::to_string(negative) +
+                                " negative colour components are taken as 0");
         if (huge)
             warnings_.push_back("grid '" + g.name + "': " + std::to_string(huge) +
                                 " voxels above 1e9 (or infinite) are taken as 1e9");
         d.max_value = d.nx > 0 ? mx : 0.0f;
         grids_.push_back(d);
+        grid_names_.push_back(g.name);
+        grid_index_to_world_.insert(grid_index_to_world_.end(), g.index_to_world,
+                                    g.index_to_world + 16);
     }
     view_.grids = grids_.empty() ? nullptr : grids_.data();
     view_.grid_voxels = grid_voxels_.empty() ? nullptr : grid_voxels_.data();
@@ -131,6 +147,23 @@ void HostScene::grid_fire(Medium& m, const MaterialInput& mi, const MediumInput&
     };
     m.temperature_grid = check(mi.temperature_grid, "temperature");
     m.flame_grid = check(mi.flame_grid, "flame");
+    for (int32_t k : {m.density_grid, m.temperature_grid, m.flame_grid})
+        if (k >= 0 && grids_[size_t(k)].channels != 1)
+            throw std::invalid_argument("material '" + mi.name + "': grid '" +
+                                        grid_names_[size_t(k)] + "' is a colour (vec3) grid; a "
+                                        "density, temperature or flame needs a float grid");
+    // the colour grid (Principled Volume's Color Attribute)
+    m.color_grid = check(mi.color_grid, "colour");
+    if (m.color_grid >= 0 && grids_[size_t(m.color_grid)].channels != 3)
+        throw std::invalid_argument("material '" + mi.name + "': colour grid '" +
+                                    grid_names_[size_t(m.color_grid)] + "' is a float grid; "
+                                    "a colour needs a vec3 grid (3 channels)");
+    m.color_scatter = clean3(src.color_scatter, "colour scattering");
+    m.color_absorb = clean3(src.color_absorb, "colour absorption");
+    m.color_base = clean3(src.color_base, "Color");
+    if (m.color_grid >= 0 && max_component(m.color_scatter) > 0.0f) m.scatters = 1u;
+    if (m.color_grid >= 0 && !(max_component(m.color_scatter + m.color_absorb) > 0.0f))
+        m.color_grid = -1;  // the colour changes nothing
     m.bb_intensity = std::fmin(clean(src.blackbody_intensity, "Blackbody Intensity"), 1e9f);
     m.bb_temperature = std::fmin(clean(src.temperature, "Temperature"), 1e6f);
     m.bb_tint = clean3(src.blackbody_tint, "Blackbody Tint");
@@ -146,12 +179,69 @@ void HostScene::grid_fire(Medium& m, const MaterialInput& mi, const MediumInput&
     if (m.flame_grid >= 0 && !(max_component(m.flame_emission) > 0.0f)) m.flame_grid = -1;
 }
 
+// The largest extinction per unit density of m's colour part over the points whose index in
+// density grid g lies in the box [lo, hi] (per channel: color_scatter x the largest colour
+// component + color_absorb x max(1 - base x the smallest, 0), over the colour voxels that a
+// trilinear lookup at those points can read, one more each way; a lookup reaching outside the
+// colour block reads 0 there). The colour grid may have a transform of its own.
+Vec3 HostScene::color_bound(const Medium& m, const DensityGrid& g, const float lo[3],
+                            const float hi[3]) const {
+    const DensityGrid& c = grids_[size_t(m.color_grid)];
+    const float* to_world = grid_index_to_world_.data() + 16 * size_t(&g - grids_.data());
+    float qmin[3] = {1e30f, 1e30f, 1e30f}, qmax[3] = {-1e30f, -1e30f, -1e30f};
+    for (int k = 0; k < 8; ++k) {
+        const float p[3] = {k & 1 ? hi[0] : lo[0], k & 2 ? hi[1] : lo[1], k & 4 ? hi[2] : lo[2]};
+        Vec3 w;
+        float* wp[3] = {&w.x, &w.y, &w.z};
+        for (int r = 0; r < 3; ++r)
+            *wp[r] = to_world[4 * r] * p[0] + to_world[4 * r + 1] * p[1] +
+                     to_world[4 * r + 2] * p[2] + to_world[4 * r + 3];
+        const Vec3 q = c.world_to_index.point(w);
+        const float qa[3] = {q.x, q.y, q.z};
+        for (int a = 0; a < 3; ++a) {
+            qmin[a] = std::fmin(qmin[a], qa[a]);
+            qmax[a] = std::fmax(qmax[a], qa[a]);
+        }
+    }
+    const int n[3] = {c.nx, c.ny, c.nz};
+    int a0[3], a1[3];
+    bool outside = false;
+    for (int a = 0; a < 3; ++a) {
+        const float f0 = std::floor(qmin[a]) - 1.0f, f1 = std::floor(qmax[a]) + 2.0f;
+        if (!(f1 >= 0.0f && f0 <= float(n[a] - 1))) return m.color_absorb;  // all outside: c = 0
+        outside = outside || f0 < 0.0f || f1 > float(n[a] - 1);
+        a0[a] = int(std::fmax(f0, 0.0f));
+        a1[a] = int(std::fmin(f1, float(n[a] - 1)));
+    }
+    Vec3 cmax = vec3(0.0f), cmin = outside ? vec3(0.0f) : vec3(1e30f);
+    const float* vox = grid_voxels_.data() + c.offset;
+    for (int k = a0[2]; k <= a1[2]; ++k)
+        for (int j = a0[1]; j <= a1[1]; ++j)
+            for (int i = a0[0]; i <= a1[0]; ++i) {
+                const float* x = vox + 3 * ((size_t(k) * size_t(c.ny) + size_t(j)) * c.nx + i);
+                cmax = Vec3{std::fmax(cmax.x, x[0]), std::fmax(cmax.y, x[1]),
+                            std::fmax(cmax.z, x[2])};
+                cmin = Vec3{std::fmin(cmin.x, x[0]), std::fmin(cmin.y, x[1]),
+                            std::fmin(cmin.z, x[2])};
+            }
+    const Vec3 ab = vec3(1.0f) - m.color_base * cmin;
+    return m.color_scatter * cmax +
+           m.color_absorb * Vec3{std::fmax(ab.x, 0.0f), std::fmax(ab.y, 0.0f),
+                                 std::fmax(ab.z, 0.0f)};
+}
+
 // The majorant of heterogeneous medium med whose density is grid density_grid, and its bricks.
 void HostScene::build_grid_medium(int32_t med) {
     Medium& m = media_[size_t(med)];
     const DensityGrid& g = grids_[size_t(m.density_grid)];
     m.density_max = std::fmin(g.max_value, 1e9f);
-    m.majorant = max_component(m.sigma_a0 + m.sigma_s0 + (m.sigma_a + m.sigma_s) * m.density_max);
+    // the extinction per unit density at most: with a colour grid, its largest component scales
+    // the scattering and the absorption's factor max(1 - base c, 0) is at most 1
+    const Vec3 unit = m.color_grid >= 0
+                          ? m.sigma_a + m.sigma_s + m.color_absorb +
+                                m.color_scatter * grids_[size_t(m.color_grid)].max_value
+                          : m.sigma_a + m.sigma_s;
+    m.majorant = max_component(m.sigma_a0 + m.sigma_s0 + unit * m.density_max);
     if (m.emits && !(m.majorant > 0.0f)) {
         // emission is estimated at tentative collisions: about one per grid diagonal
         const Vec3 e = g.world_to_index.vector(Vec3{1.0f, 1.0f, 1.0f});

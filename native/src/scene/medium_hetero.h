@@ -57,12 +57,24 @@ LANTERN_HD inline float medium_density(const SceneView& s, const Medium& m, int3
     return v > 0.0f ? fminf(v, 1e9f) : 0.0f;
 }
 
+// A colour grid scales m's coefficients (a zero Medium{} has none: its grid 0 is not a colour).
+LANTERN_HD inline bool medium_has_color(const SceneView& s, const Medium& m) {
+    return m.color_grid >= 0 && m.color_grid < s.num_grids && s.grids[m.color_grid].channels == 3;
+}
+
 struct MediumCoeffs {
     Vec3 sigma_a, sigma_s;
 };
 LANTERN_HD inline MediumCoeffs medium_coeffs_at(const SceneView& s, const Medium& m, int32_t med,
                                                 Vec3 p, Vec3 d) {
     const float den = medium_density(s, m, med, p, d);
+    if (medium_has_color(s, m)) {
+        // the colour grid (Cycles' Principled Volume: Color x the attribute's colour scatters,
+        // max(1 - that, 0) x (1 - sqrt(Absorption Color)) absorbs)
+        const GridColor c = grid_color(s.grids[m.color_grid], s.grid_voxels, m.color_base, p);
+        return MediumCoeffs{m.sigma_a0 + (m.sigma_a + m.color_absorb * c.absorb) * den,
+                            m.sigma_s0 + (m.sigma_s + m.color_scatter * c.color) * den};
+    }
     return MediumCoeffs{m.sigma_a0 + m.sigma_a * den, m.sigma_s0 + m.sigma_s * den};
 }
 

@@ -24,6 +24,13 @@ struct MediumInput {
     float temperature = 0.0f;
     Vec3 blackbody_tint{1.0f, 1.0f, 1.0f};
     Vec3 flame_emission{0.0f, 0.0f, 0.0f};
+    // a Volume object's colour grid (Principled Volume's Color Attribute; scene/medium_hetero.h),
+    // read with the material's color_grid: the scattering Color x Density that the grid's colour
+    // c multiplies, the absorption max(1 - sqrt(Absorption Color), 0) x Density that
+    // max(1 - color_base c, 0) multiplies, and the Color socket (the parts not in sigma_a / _s)
+    Vec3 color_scatter{0.0f, 0.0f, 0.0f};
+    Vec3 color_absorb{0.0f, 0.0f, 0.0f};
+    Vec3 color_base{1.0f, 1.0f, 1.0f};
 };
 
 // A Volume object's density grid (docs/volumes.md, scene/medium_grid.h): a dense block of
@@ -32,6 +39,7 @@ struct GridInput {
     std::string name;
     int32_t dims[3] = {0, 0, 0};
     float index_to_world[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};  // rows
+    int32_t channels = 1;  // 3: a colour grid (3 floats per voxel)
     std::vector<float> voxels;
 };
 

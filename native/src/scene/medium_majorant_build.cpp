@@ -58,7 +58,14 @@ void HostScene::build_majorant_grid(int32_t med) {
                 for (int k = lo[2]; k <= hi[2]; ++k)
                     for (int j = lo[1]; j <= hi[1]; ++j)
                         for (int i = lo[0]; i <= hi[0]; ++i) dmax = std::fmax(dmax, voxel(i, j, k));
-                const float mu = max_component(base + unit * std::fmin(dmax, 1e9f));
+                Vec3 u = unit;
+                if (m.color_grid >= 0) {  // the colour's part, per channel over the brick
+                    const float qlo[3] = {float(bi * B - 2), float(bj * B - 2), float(bk * B - 2)};
+                    const float qhi[3] = {float((bi + 1) * B), float((bj + 1) * B),
+                                          float((bk + 1) * B)};
+                    u = u + color_bound(m, g, qlo, qhi);
+                }
+                const float mu = max_component(base + u * std::fmin(dmax, 1e9f));
                 out[(size_t(bk) * size_t(nb[1]) + size_t(bj)) * size_t(nb[0]) + size_t(bi)] =
                     std::fmax(mu, floor_mu);
             }

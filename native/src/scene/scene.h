@@ -134,6 +134,8 @@ struct MaterialInput {
     // its fire (scene/medium_fire.h): SceneInput::grids indices of the temperature (blackbody per
     // point) and flame (emission per point) grids, -1 none
     int temperature_grid = -1, flame_grid = -1;
+    // its colour grid (Principled Volume's Color Attribute, 3 channels), -1 none
+    int color_grid = -1;
 };
 
 // An image texture with its sampling settings. Texels: width x height x 4 (RGBA), rows bottom
@@ -267,6 +269,9 @@ private:
     void build_grid_medium(int32_t med);      // scene/medium_grid_build.cpp
     void grid_fire(Medium& m, const MaterialInput& mi, const MediumInput& src);  // the same
     void build_majorant_grid(int32_t med);    // scene/medium_majorant_build.cpp
+    // a colour grid's bound on m's extinction per unit density over a box of g's index space
+    Vec3 color_bound(const Medium& m, const DensityGrid& g, const float lo[3],
+                     const float hi[3]) const;  // scene/medium_grid_build.cpp
     void nest_media(const SceneInput& in, const Medium* world);  // scene/medium_build.cpp
     void inset_volume_boundaries();  // scene/medium_inset.cpp
     bool boundary_meets_a_face(const MeshRange& r, Vec3 lo, Vec3 hi, float eps,
@@ -312,6 +317,8 @@ private:
     std::vector<Transform> medium_maps_;      // SceneView::medium_maps (empty: none heterogeneous)
     std::vector<DensityGrid> grids_;          // SceneView::grids (empty: no Volume objects)
     std::vector<float> grid_voxels_;          // SceneView::grid_voxels
+    std::vector<std::string> grid_names_;       // the grids' names (messages)
+    std::vector<float> grid_index_to_world_;  // the grids' index-to-world maps (16 floats each)
     std::vector<MajorantGrid> majorant_grids_;  // SceneView::majorant_grids (media's bricks)
     std::vector<float> majorant_values_;        // SceneView::majorant_values
     int num_attribute_channels_ = 0;
