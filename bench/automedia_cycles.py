@@ -148,9 +148,9 @@ def main():
                     chose.append(f"{st['auto_choice']}({st['auto_cis_over_pt']:.2f};"
                                  f"{st['auto_pt_iterations']}/{st['auto_cis_iterations']})")
                 warnings = sorted(set(s.warnings))
-                # no Session may outlive its seed: with one alive Cycles' process CPU time
-                # doubled on the 2-core VM (9.6 against 4.4 s for 256 spp; not the whole cause
-                # of its swings here: bench/results/2026-12-05-ptfog2/)
+                # no Session outlives its seed: with one alive Cycles' process CPU time read
+                # 9.6 against 4.4 s for 256 spp once (its CPU time swings for more reasons
+                # than that: bench/results/2026-12-05-ptfog2/)
                 del s
                 gc.collect()
             r = res[integ] = _stats(imgs, secs)
