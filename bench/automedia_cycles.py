@@ -22,6 +22,7 @@ Run inside bpy's Python:
     nice python bench/automedia_cycles.py --scenes fog_spot lamp_shade lamp_shade_soft \\
         --spp 256 --seeds 8 --out bench/results/2026-12-04-automedia/cycles.txt"""
 import argparse
+import gc
 import os
 import platform
 import sys
@@ -146,13 +147,19 @@ def main():
                 if integ.startswith("auto"):
                     chose.append(f"{st['auto_choice']}({st['auto_cis_over_pt']:.2f};"
                                  f"{st['auto_pt_iterations']}/{st['auto_cis_iterations']})")
+                warnings = sorted(set(s.warnings))
+                # no Session outlives its seed: with one alive Cycles' process CPU time read
+                # 9.6 against 4.4 s for 256 spp once (its CPU time swings for more reasons
+                # than that: bench/results/2026-12-05-ptfog2/)
+                del s
+                gc.collect()
             r = res[integ] = _stats(imgs, secs)
             extra = f"; auto chose (cis/pt est.; pt/cis iterations) {' '.join(chose)}" \
                 if chose else ""
             emit(f"{name} lantern {integ}: image mean {r['mean']:.5f} +- {r['se']:.5f}; "
                  f"mean pixel variance "
                  f"{r['var']:.4e}; {r['cpu']:.2f} CPU s per seed; efficiency {r['eff']:.4g}"
-                 f"{extra}; warnings {sorted(set(s.warnings))}")
+                 f"{extra}; warnings {warnings}")
         if args.no_cycles:
             continue
         bpy.context.scene.render.threads_mode = "FIXED"
