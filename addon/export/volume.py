@@ -203,7 +203,15 @@ def attach_material_volume(material, out, report, compiler=None):
         if programs:
             out.setdefault("programs", []).extend(programs)
     if _source(output.inputs["Surface"]) is None:
-        out["volume_only"] = True  # no surface: rays pass its boundary (Cycles)
+        if medium is None:
+            # no surface and nothing inside (a Volume of Density 0: fog switched off): Cycles'
+            # rays and shadow rays pass the mesh and meet nothing, as if it were not there;
+            # Lantern passes it as a fully transparent surface (alpha 0), which needs no medium
+            # (a volume boundary is crossed only where the scene has media)
+            out["alpha"] = 0.0
+            out.pop("alpha_texture", None)
+        else:
+            out["volume_only"] = True  # no surface: rays pass its boundary (Cycles)
     return out
 
 
