@@ -19,11 +19,12 @@ auto_media, auto's choice in media, is on since branch automoments; "auto_media"
 "auto_nomedia" off: pt in any medium. Until 2026-12-05 "auto" here passed auto_media off).
 
 Each renderer (a Lantern integrator, or Cycles) renders all its seeds in a child process of its
-own (since branch benchproc), timed per seed by that process's CPU time around the render
-alone, and the CPU / wall ratio is printed (about 1: one busy thread). Before, both rendered
-in one process, and a worker thread of the libtbb.so.12 that Lantern's Embree and Blender's
-Cycles share at times spun in sched_yield all through a one-thread Cycles render, doubling
-its CPU time (bench/results/2026-12-05-benchproc/). Run inside bpy's Python:
+own confined to one CPU (bench/side_process.py; since branch benchproc), timed per seed by that
+process's CPU time around the render alone; the per-seed times and the CPU / wall ratio are
+printed. Before, Cycles' process CPU time counted an idle TBB worker thread of bpy's that spins
+in sched_yield all through a one-thread Cycles render (with or without Lantern in the process):
+1.0-2.0x the render's own, by the machine's load (bench/results/2026-12-05-benchproc/). Run
+inside bpy's Python:
 
     nice python bench/automedia_cycles.py --scenes fog_spot lamp_shade lamp_shade_soft \\
         --spp 256 --seeds 8 --out bench/results/2026-12-04-automedia/cycles.txt"""
@@ -40,6 +41,10 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, "python"))  # this checkout's lantern
 sys.path.insert(0, os.path.join(ROOT, "tests", "cycles"))
 sys.path.insert(0, os.path.join(ROOT, "tools"))
+sys.path.insert(0, os.path.join(ROOT, "bench"))
+if "--worker" in sys.argv:  # a child rendering one side: on one CPU before bpy loads TBB
+    import side_process  # noqa: E402
+    side_process.one_cpu()
 import render_compare as rc  # noqa: E402
 import test_volumes as tv  # noqa: E402
 
@@ -103,11 +108,9 @@ def _stats(imgs, secs):
 
 def _render_worker(args):
     """One side of the comparison (a Lantern integrator, or "cycles") for all seeds of one
-    scene, in this fresh process; writes the images and each seed's process CPU and wall
-    seconds to args.worker_out. Cycles' process never imports lantern: in one process with
-    Lantern's Sessions a worker thread of the libtbb.so.12 both load spun in sched_yield all
-    through a one-thread Cycles render, doubling its CPU time, at random
-    (bench/results/2026-12-05-benchproc/)."""
+    scene, in this fresh process (on one CPU: no TBB worker to spin); writes the images and
+    each seed's process CPU and wall seconds to args.worker_out. Cycles' process never imports
+    lantern."""
     import json
     import bpy
     tv.SIZE = args.size

@@ -21,6 +21,8 @@ import sys
 import threading
 import time
 
+if "--pin" in sys.argv:  # before bpy loads TBB: its worker count follows the affinity mask
+    os.sched_setaffinity(0, {min(os.sched_getaffinity(0))})
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, "bench"))
 import automedia_cycles as ac  # noqa: E402  (adds python/, tests/cycles, tools; no lantern)
@@ -65,6 +67,8 @@ def main():
     ap.add_argument("--spp", type=int, default=256)
     ap.add_argument("--lantern-spp", type=int, default=64)
     ap.add_argument("--sessions", type=int, default=1, help="pt Sessions rendered in turn")
+    ap.add_argument("--renders", type=int, default=1, help="Cycles renders in turn")
+    ap.add_argument("--pin", action="store_true", help="this process on one CPU from the start")
     ap.add_argument("--stacks", help="file for gdb's backtraces of all threads, taken once "
                     "when a thread that was there before the Cycles render is busy in it")
     ap.add_argument("--out", required=True)
@@ -102,39 +106,41 @@ def main():
             del s
             gc.collect()
     emit(f"lantern imported: {'lantern' in sys.modules}; tbb mapped: {tbb_maps()}")
-    tag("before Cycles")
-    before = threads()
-    after, done = dict(before), threading.Event()
+    emit(f"affinity {sorted(os.sched_getaffinity(0))}")
+    for r in range(args.renders):
+        tag("before Cycles")
+        before = threads()
+        after, done = dict(before), threading.Event()
 
-    def poll():  # threads that end during the render: their last reading every 0.1 s
-        t0, dumped = time.perf_counter(), not args.stacks
-        while not done.wait(0.1):
-            after.update(threads())
-            busy = [tid for tid in before if after[tid][1] - before[tid][1] > 0.5]
-            if not dumped and busy and time.perf_counter() - t0 > 2.0:
-                dumped = True  # a thread that was there before the render is busy in it
-                bt = subprocess.run(["gdb", "-p", str(os.getpid()), "-batch", "-ex",
-                                     "thread apply all bt 12"], capture_output=True, text=True)
-                with open(args.stacks, "w") as f:
-                    f.write(f"busy threads (LWP) {busy}\n" + bt.stdout)
-    poller = threading.Thread(target=poll, name="probe-poll")
-    poller.start()
-    c0, w0 = time.process_time(), time.perf_counter()
-    rc.render_cycles(seed=900, spp=args.spp)
-    cpu, wall = time.process_time() - c0, time.perf_counter() - w0
-    done.set()
-    poller.join()
-    after.update(threads())
-    emit(f"cycles {args.spp} spp: process CPU {cpu:.2f} s, wall {wall:.2f} s, "
-         f"CPU/wall {cpu / wall:.2f}; threads before {len(before)}, after {len(after)}")
-    seen = 0.0
-    for tid, (name, t) in sorted(after.items()):
-        d = t - before.get(tid, (name, 0.0))[1]
-        seen += d
-        if d >= 0.05:
-            emit(f"  thread {tid} {name!r}{' ' + born.get(tid, 'new in the render')}: {d:.2f} CPU s")
-    emit(f"  unaccounted (the last 0.1 s of ended threads): {cpu - seen:.2f} CPU s; "
-         f"tbb mapped: {tbb_maps()}; live Session {live is not None}")
+        def poll():  # threads that end during the render: their last reading every 0.1 s
+            t0, dumped = time.perf_counter(), not args.stacks
+            while not done.wait(0.1):
+                after.update(threads())
+                busy = [tid for tid in before if after[tid][1] - before[tid][1] > 0.5]
+                if not dumped and busy and time.perf_counter() - t0 > 2.0:
+                    dumped = True  # a thread that was there before the render is busy in it
+                    bt = subprocess.run(["gdb", "-p", str(os.getpid()), "-batch", "-ex",
+                                         "thread apply all bt 12"], capture_output=True, text=True)
+                    with open(args.stacks, "w") as f:
+                        f.write(f"busy threads (LWP) {busy}\n" + bt.stdout)
+        poller = threading.Thread(target=poll, name="probe-poll")
+        poller.start()
+        c0, w0 = time.process_time(), time.perf_counter()
+        rc.render_cycles(seed=900 + r, spp=args.spp)
+        cpu, wall = time.process_time() - c0, time.perf_counter() - w0
+        done.set()
+        poller.join()
+        after.update(threads())
+        emit(f"cycles {args.spp} spp: process CPU {cpu:.2f} s, wall {wall:.2f} s, "
+             f"CPU/wall {cpu / wall:.2f}; threads before {len(before)}, after {len(after)}")
+        seen = 0.0
+        for tid, (name, t) in sorted(after.items()):
+            d = t - before.get(tid, (name, 0.0))[1]
+            seen += d
+            if d >= 0.05:
+                emit(f"  thread {tid} {name!r}{' ' + born.get(tid, 'new in the render')}: {d:.2f} CPU s")
+        emit(f"  unaccounted (the last 0.1 s of ended threads): {cpu - seen:.2f} CPU s; "
+             f"tbb mapped: {tbb_maps()}; live Session {live is not None}")
 
 
 if __name__ == "__main__":
