@@ -2,13 +2,15 @@
 in the same process (benchproc; bench/results/2026-12-05-ptfog2/ found Cycles' process CPU
 time at twice its wall time after Lantern's renders in bench/automedia_cycles.py).
 
-One fresh bpy process per call: build `--scene` (bench/automedia_cycles.py's SCENES), then,
-by --mode, nothing else (alone: `lantern` never imported), `import lantern` and the add-on
-(import), or that and one pt Session of --lantern-spp rendered and deleted (session; --keep
-keeps it alive), then one Cycles render (render_compare.render_cycles, threads FIXED 1). Each
-thread's user+system CPU seconds (/proc/self/task/*/stat) before and after the render are
-(threads that end during the render read every 0.1 s) printed by thread name, with the process CPU and wall seconds of the render and the libtbb
-files mapped. Run inside bpy's Python:
+One fresh bpy process per call (--pin: on one CPU from the start): build `--scene`
+(bench/automedia_cycles.py's SCENES), then, by --mode, nothing else (alone: `lantern` never
+imported), `import lantern` and the add-on (import), or that and --sessions pt Sessions of
+--lantern-spp rendered and deleted (session; --keep keeps the last alive), then --renders
+Cycles renders (render_compare.render_cycles, threads FIXED 1). Each thread's user+system CPU
+seconds (/proc/self/task/*/stat; threads that end during the render read every 0.1 s) over
+each render are printed with where the thread first appeared, the process CPU and wall
+seconds of the render and the libtbb files mapped; --stacks takes gdb's backtraces once a
+thread that was there before the render is busy in it. Run inside bpy's Python:
 
     nice -n 10 python bench/cycles_thread_probe.py --mode session --scene lamp_shade_soft \\
         --spp 256 --out bench/results/2026-12-05-benchproc/probe.txt"""
@@ -138,7 +140,8 @@ def main():
             d = t - before.get(tid, (name, 0.0))[1]
             seen += d
             if d >= 0.05:
-                emit(f"  thread {tid} {name!r}{' ' + born.get(tid, 'new in the render')}: {d:.2f} CPU s")
+                emit(f"  thread {tid} {name!r} {born.get(tid, 'new in the render')}: "
+                     f"{d:.2f} CPU s")
         emit(f"  unaccounted (the last 0.1 s of ended threads): {cpu - seen:.2f} CPU s; "
              f"tbb mapped: {tbb_maps()}; live Session {live is not None}")
 
