@@ -1,7 +1,10 @@
 """Lantern against Cycles: efficiency = 1 / (noise^2 x time), one thread each, the same run
 (issue 14's measure). Per scene, K independent seeds of each renderer at the same spp, rendered
 interleaved (seed k of Cycles, then seed k of each Lantern integrator) so that a change in the
-machine's load falls on all of them alike.
+machine's load falls on all of them alike; Cycles and Lantern each in a child process of its own
+on one CPU (bench/side_process.py, since branch benchproc: otherwise an idle TBB worker of
+bpy's spins all through Cycles' one-thread render, and takes CPU time, and with a busy machine
+wall time, from it).
 
     .venv/bin/python bench/efficiency_cycles.py                         # the default scene list
     .venv/bin/python bench/efficiency_cycles.py --scenes cornell_box,room_area_point \\
@@ -36,6 +39,9 @@ import numpy as np
 BENCH = Path(__file__).resolve().parent
 ROOT = BENCH.parent
 sys.path.insert(0, str(BENCH))
+if "--serve" in sys.argv:  # a child rendering one side: on one CPU before bpy loads TBB
+    import side_process  # noqa: E402
+    side_process.one_cpu()
 
 DEFAULT_SCENES = ("cornell_box,light_point,light_point_sphere,light_spot,light_area_square,light_area_disk,"
                   "light_sun,emissive_mesh,world_color,world_hdri,room_area_point,"
@@ -52,36 +58,75 @@ def _noise(stack):
     return math.sqrt(float(var.mean())) / mean, math.sqrt(med) / mean, mean
 
 
-def run_scene(name, args, lantern, rmse_cycles):
-    import bpy
-    lscene = rmse_cycles.build_blend(name, args.res, args.res)
-    bscene = bpy.context.scene
-    depth = rmse_cycles.BOUNCES + 2
-    rmse_cycles.render(1, 1, threads=1)  # warm-up: synchronise the scene once (persistent data)
+def _serve(args):
+    """A child process (side_process.serve): builds the scene and renders one side's seeds on
+    request. "cycles": never imports lantern (build_blend without the export; a warm-up render
+    synchronises the scene once); "lantern": the scene exported, one Session per request."""
+    import tempfile
+    import side_process
+    import rmse_cycles
+    state = {}
+
+    def setup():
+        if args.serve == "cycles":
+            rmse_cycles.build_blend(args.scenes, args.res, args.res, export=False)
+            rmse_cycles.render(1, 1, threads=1)  # warm-up: synchronise the scene once
+        else:
+            from rmse import import_lantern
+            state["lantern"] = import_lantern()
+            state["scene"] = rmse_cycles.build_blend(args.scenes, args.res, args.res)
+        return {"pid": os.getpid()}
+
+    def handle(req):
+        out = os.path.join(tempfile.gettempdir(), f"efficiency_side_{os.getpid()}.npy")
+        if args.serve == "cycles":
+            c0 = time.process_time()
+            img, s = rmse_cycles.render(req["seed"], args.spp, threads=1)
+            cpu = time.process_time() - c0
+            assert "lantern" not in sys.modules, "the Cycles process imported lantern"
+        else:
+            name_, _, rr = req["integ"].partition(":rr=")  # "pt:rr=3": roulette from depth 3
+            extra = {"rr_depth": int(rr)} if rr else {}
+            steps = req["steps"]
+            sess = state["lantern"].Session(
+                state["scene"], integrator=name_, seed=req["seed"], threads=1,
+                spp_per_iteration=args.spp // steps, max_depth=rmse_cycles.BOUNCES + 2,
+                backend="cpu", **extra)
+            c0, t0 = time.process_time(), time.perf_counter()
+            for _ in range(steps):
+                sess.step()
+            cpu, s = time.process_time() - c0, time.perf_counter() - t0
+            img = sess.image()
+            del sess
+        np.save(out, np.asarray(img, np.float64)[..., :3])
+        return {"npy": out, "wall": s, "cpu": cpu}
+
+    side_process.serve(args.reply_fd, setup, handle)
+
+
+def run_scene(name, args):
+    """Cycles and the Lantern integrators on scene `name`, each side in a child process of its
+    own on one CPU (bench/side_process.py), the seeds still interleaved between them."""
+    import side_process
     integrators = args.integrators.split(",")
     images = {k: [] for k in ["cycles"] + integrators}
     times = {k: [] for k in images}
-    for seed in range(args.seeds):
-        c0 = time.process_time()
-        img, s = rmse_cycles.render(101 + seed, args.spp, threads=1)
-        images["cycles"].append(img.astype(np.float64))
-        times["cycles"].append(time.process_time() - c0 if args.cpu_time else s)
-        for integ in integrators:
-            name_, _, rr = integ.partition(":rr=")  # "pt:rr=3": pt with roulette from depth 3
-            extra = {"rr_depth": int(rr)} if rr else {}
-            # auto as the add-on runs it: iterations of one sample, its pilot inside the time;
-            # with auto in the run, every Lantern integrator so (auto / pt is then the choice and
-            # the pilot, not the cost of 64 steps against one)
-            steps = args.spp if name_ == "auto" or "auto" in integrators else 1
-            sess = lantern.Session(lscene, integrator=name_, seed=1 + seed, threads=1,
-                                   spp_per_iteration=args.spp // steps, max_depth=depth,
-                                   backend="cpu", **extra)
-            clock = time.process_time if args.cpu_time else time.perf_counter
-            t0 = clock()
-            for _ in range(steps):
-                sess.step()
-            times[integ].append(clock() - t0)
-            images[integ].append(np.asarray(sess.image(), np.float64)[..., :3])
+    common = [str(Path(__file__).resolve()), "--scenes", name, "--res", str(args.res),
+              "--spp", str(args.spp)]
+    with side_process.Side(common + ["--serve", "cycles"]) as cyc, \
+            side_process.Side(common + ["--serve", "lantern"]) as lan:
+        for seed in range(args.seeds):
+            sides = [("cycles", cyc, {"seed": 101 + seed})]
+            for integ in integrators:
+                # auto as the add-on runs it: iterations of one sample, its pilot inside the
+                # time; with auto in the run, every Lantern integrator so (auto / pt is then the
+                # choice and the pilot, not the cost of 64 steps against one)
+                steps = args.spp if integ == "auto" or "auto" in integrators else 1
+                sides.append((integ, lan, {"seed": 1 + seed, "integ": integ, "steps": steps}))
+            for key, side, req in sides:
+                r = side.call(**req)
+                images[key].append(np.load(r["npy"]))
+                times[key].append(r["cpu"] if args.cpu_time else r["wall"])
     rows = []
     c_rms, c_med, c_mean = _noise(np.stack(images["cycles"]))
     c_t = float(np.mean(times["cycles"]))
@@ -101,7 +146,6 @@ def run_scene(name, args, lantern, rmse_cycles):
             "eff_rms_vs_cycles": eff_rms * (c_rms * c_rms * c_t),
             "eff_median_vs_cycles": eff_med * (c_med * c_med * c_t),
             "load_avg": os.getloadavg()[0]})
-    bscene.render.use_persistent_data = False
     return rows
 
 
@@ -184,21 +228,21 @@ def main(argv=None):
     ap.add_argument("--out", default=None, help="folder for results.json, table.md, plot.png")
     ap.add_argument("--cpu-time", action="store_true",
                     help="the process's CPU time instead of wall time (a loaded machine; Cycles "
-                         "with one thread in this process, its EXR written and read included)")
+                         "with one thread in its process, its EXR written and read included)")
+    ap.add_argument("--serve", choices=["cycles", "lantern"], help=argparse.SUPPRESS)
+    ap.add_argument("--reply-fd", type=int, help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
+    if args.serve:
+        return _serve(args)
     if args.seeds < 2:
         ap.error("--seeds must be at least 2 (noise is the spread between seeds)")
-    import rmse_cycles
     from light_tree_noise import machine
-    from rmse import import_lantern
-    lantern = import_lantern()  # this checkout's package (and its native module when built)
-    print(f"lantern from {lantern.__file__}")
     rows = []
     names = all_scenes() if args.scenes == "all" else args.scenes
     for name in names.split(","):
         t0 = time.perf_counter()
         try:
-            rows += run_scene(name, args, lantern, rmse_cycles)
+            rows += run_scene(name, args)
         except Exception as e:  # noqa: BLE001 -- one scene's failure is a row, not the end
             rows.append({"scene": name, "error": f"{type(e).__name__}: {e}"[:160]})
         print(table([r for r in rows if r["scene"] == name]).split("\n", 2)[2])

@@ -33,6 +33,11 @@ import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tools"))
+# one CPU before bpy loads TBB: no idle TBB worker to spin through Cycles' one-thread renders
+# and bill them (bench/side_process.py, bench/results/2026-12-05-benchproc/)
+sys.path.insert(0, str(ROOT / "bench"))
+import side_process  # noqa: E402
+side_process.one_cpu()
 import difftest as dt  # noqa: E402  (puts the checkout's lantern first, as the tester does)
 import difftest_scene as ds  # noqa: E402
 

@@ -19,6 +19,8 @@ import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, "bench"))
+import side_process  # noqa: E402
+side_process.one_cpu()  # before bpy loads TBB (bench/side_process.py)
 import volumes_vs_cycles as vs_cycles  # noqa: E402  (adds tests/cycles, tools)
 import automedia_cycles as ac  # noqa: E402
 import render_compare as rc  # noqa: E402

@@ -51,9 +51,10 @@ def _blend_builders():
     return builders
 
 
-def build_blend(name, width, height):
+def build_blend(name, width, height, export=True):
     """Build blend scene `name` into the current bpy data at width x height and export it
-    through the add-on. Returns the lantern.Scene."""
+    through the add-on. Returns the lantern.Scene (None with export False: lantern is then
+    not imported, for a process that renders only Cycles: bench/side_process.py)."""
     import bpy
     sys.path.insert(0, str(ROOT / "tools"))
     import lantern_bpy
@@ -65,6 +66,8 @@ def build_blend(name, width, height):
     scene = bpy.context.scene
     scene.render.resolution_x, scene.render.resolution_y = int(width), int(height)
     scene.render.resolution_percentage = 100
+    if not export:
+        return None
     lantern_bpy.load_addon()
     from lantern_blender.export import export_scene
     lscene, report = export_scene(bpy.context.evaluated_depsgraph_get())

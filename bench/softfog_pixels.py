@@ -23,6 +23,12 @@ import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, "bench"))
+if __name__ == "__main__":
+    # one CPU before bpy loads TBB: no idle TBB worker to spin through Cycles' one-thread
+    # renders and bill them (bench/side_process.py, bench/results/2026-12-05-benchproc/)
+    sys.path.insert(0, os.path.join(ROOT, "bench"))
+    import side_process  # noqa: E402
+    side_process.one_cpu()
 import volumes_vs_cycles as vs_cycles  # noqa: E402  (adds tests/cycles, tools)
 import automedia_cycles as ac  # noqa: E402
 import render_compare as rc  # noqa: E402

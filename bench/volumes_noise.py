@@ -5,7 +5,8 @@ relative standard error of the image mean over one seed, the mean per-pixel rela
 deviation (over pixels whose mean is > 1 % of the image mean), the process CPU time per seed
 (and the wall time; the shared machine's load moves wall time by tens of percent) and the
 efficiency 1 / (mean pixel variance x CPU time); with --cycles the same for Cycles (CPU, the tests'
-settings) and the ratio of the two efficiencies. Run inside bpy's Python:
+settings; in a child process of its own since branch benchproc) and the ratio of the two
+efficiencies. Run inside bpy's Python:
 
     nice python bench/volumes_noise.py --scenes fog_spot --spp 64 --seeds 8 \\
         --out bench/results/2026-12-04-volumes2/noise.txt"""
@@ -23,6 +24,11 @@ if "--root" in sys.argv:  # another checkout's lantern and scenes (a "before" me
 sys.path.insert(0, os.path.join(ROOT, "python"))  # this checkout's lantern
 sys.path.insert(0, os.path.join(ROOT, "tests", "cycles"))
 sys.path.insert(0, os.path.join(ROOT, "tools"))
+if "--cycles-worker" in sys.argv and sys.argv[sys.argv.index("--threads") + 1] == "1":
+    # Cycles' child rendering with one thread: on one CPU before bpy loads TBB
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    import side_process  # noqa: E402
+    side_process.one_cpu()
 import render_compare as rc  # noqa: E402
 import test_volumes as tv  # noqa: E402
 
@@ -39,7 +45,10 @@ def main():
                     help="also Cycles (CPU, the tests' settings, the same threads), for the "
                          "efficiency ratio; its time per seed includes writing and reading an EXR")
     ap.add_argument("--out", required=True)
+    ap.add_argument("--cycles-worker", help=argparse.SUPPRESS)  # a child: Cycles' seeds
     args = ap.parse_args()
+    if args.cycles_worker:
+        return _cycles_worker(args)
     import bpy
     import lantern
     rc.lantern_bpy.load_addon()
@@ -61,15 +70,8 @@ def main():
             secs.append((time.perf_counter() - t0, time.process_time() - c0))
         line = _stats(name, f"Lantern pt {args.label}", np.stack(imgs), secs, args, machine)
         if args.cycles:
-            bpy.context.scene.render.threads_mode = "FIXED"
-            bpy.context.scene.render.threads = args.threads
-            cimgs, csecs = [], []
-            for k in range(args.seeds):
-                t0, c0 = time.perf_counter(), time.process_time()
-                cimgs.append(np.asarray(rc.render_cycles(seed=900 + k, spp=args.spp)[0],
-                                        dtype=np.float64)[..., :3])
-                csecs.append((time.perf_counter() - t0, time.process_time() - c0))
-            cline = _stats(name, "Cycles", np.stack(cimgs), csecs, args, machine)
+            cimgs, csecs = _cycles_side(name, args)
+            cline = _stats(name, "Cycles", cimgs, csecs, args, machine)
             lv, lt = line[1], line[2]
             cv, ct = cline[1], cline[2]
             ratio = (cv * ct) / (lv * lt)
@@ -80,6 +82,39 @@ def main():
             print(text, flush=True)
             with open(args.out, "a") as f:
                 f.write(text + "\n")
+
+
+def _cycles_side(name, args):
+    """Cycles' seeds of scene `name` in a child process on one CPU that never imports lantern
+    (otherwise an idle TBB worker of bpy's spins through a one-thread Cycles render and adds
+    up to its CPU time again: bench/results/2026-12-05-benchproc/)."""
+    import subprocess
+    import tempfile
+    with tempfile.TemporaryDirectory() as tmp:
+        out = os.path.join(tmp, "cycles.npz")
+        r = subprocess.run([sys.executable, os.path.abspath(__file__), "--cycles-worker", out,
+                            "--scenes", name, "--spp", str(args.spp), "--seeds",
+                            str(args.seeds), "--threads", str(args.threads), "--root", ROOT,
+                            "--out", os.devnull], capture_output=True, text=True)
+        if r.returncode != 0:
+            raise RuntimeError(f"Cycles on {name} failed:\n{r.stderr[-4000:]}")
+        with np.load(out) as z:
+            return z["imgs"], [tuple(x) for x in z["secs"]]
+
+
+def _cycles_worker(args):
+    import bpy
+    tv.SCENES[args.scenes[0]]()
+    bpy.context.scene.render.threads_mode = "FIXED"
+    bpy.context.scene.render.threads = args.threads
+    cimgs, csecs = [], []
+    for k in range(args.seeds):
+        t0, c0 = time.perf_counter(), time.process_time()
+        cimgs.append(np.asarray(rc.render_cycles(seed=900 + k, spp=args.spp)[0],
+                                dtype=np.float64)[..., :3])
+        csecs.append((time.perf_counter() - t0, time.process_time() - c0))
+    assert "lantern" not in sys.modules, "the Cycles process imported lantern"
+    np.savez(args.cycles_worker, imgs=np.stack(cimgs), secs=np.array(csecs))
 
 
 def _stats(name, who, imgs, secs, args, machine):

@@ -16,6 +16,14 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, "python"))  # this checkout's lantern, as the tests' conftest
 sys.path.insert(0, os.path.join(ROOT, "tests", "cycles"))
 sys.path.insert(0, os.path.join(ROOT, "tools"))
+_ARGV = sys.argv
+if __name__ == "__main__" and ("--threads" not in _ARGV
+                               or _ARGV[_ARGV.index("--threads") + 1] == "1"):
+    # one CPU before bpy loads TBB: no idle TBB worker to spin through Cycles' one-thread renders
+    # and bill them (bench/side_process.py, bench/results/2026-12-05-benchproc/)
+    sys.path.insert(0, os.path.join(ROOT, "bench"))
+    import side_process  # noqa: E402
+    side_process.one_cpu()
 import render_compare as rc  # noqa: E402
 import test_volumes as tv  # noqa: E402
 from lantern import metrics  # noqa: E402
