@@ -6,6 +6,7 @@ lantern.metrics.assert_agreement (tests/README.md): Welch t per 8x8 block and ch
 (Bonferroni, alpha 1e-3), the image mean and the precision-weighted block mean within the 0.2 %
 bias cap plus their noise, and negative controls (a whole-image bias, one block's bias, two
 channels swapped) that must fail, at the levels CONTROLS states (1 % / 5 % where reached)."""
+import os
 import time
 from pathlib import Path
 
@@ -41,14 +42,16 @@ def core():
 
 # Each seed's image of a (scene, integrator, settings, samples), kept for the module: a test
 # that needs a set another test rendered (the fixture's lvc seeds, test_resampled_and_uniform_
-# picks_agree) takes it instead of rendering it again. A render depends on nothing else, so a
-# kept image is the one a new render would give, bit for bit.
+# picks_agree) takes it instead of rendering it again. A render depends on nothing else but the
+# core's LANTERN_* environment (test_light_tree's global CDF: LANTERN_LIGHT_TREE=0), which is in
+# the key, so a kept image is the one a new render would give, bit for bit.
 _RENDERED = {}
 
 
 def renders(scene, integrator, spp, seed0, k_seeds=K, backend="cpu", **settings):
+    env = {k: v for k, v in os.environ.items() if k.startswith("LANTERN_")}
     what = refs.key_digest(dict(scene=scene, integrator=integrator, spp=spp, backend=backend,
-                                settings=settings))
+                                settings=settings, env=env))
     out = []
     for k in range(k_seeds):
         img = _RENDERED.get((what, seed0 + k))
