@@ -9,7 +9,6 @@ Checked against Lantern's own render of the room with the cube deleted (what Cyc
 K seeds a side, lantern.metrics.assert_agreement with its negative controls; the control of the
 scene: the cube at Density 0.25 is told apart."""
 
-import math
 import os
 import sys
 
@@ -19,33 +18,25 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 sys.path.insert(0, os.path.join(ROOT, "tools"))
 import bpy_stage  # noqa: E402
 import render_compare as rc  # noqa: E402
+import test_volumes  # noqa: E402 (its fog_spot scene)
 from lantern import metrics  # noqa: E402
 
 K, SPP, SIZE = 8, 8, 24
 
 
 def room(density, fog=True):
-    """The closed room (normals in), an occluder under a spot light, and (with `fog`) a cube of
-    Principled Volume of `density` and no Surface around them."""
-    scene = bpy_stage.reset(SIZE)
-    bpy.ops.mesh.primitive_cube_add(size=4.0, location=(0, 0, 1.5))
-    walls = bpy.context.active_object
-    walls.data.materials.append(bpy_stage.rough_material("wall", (0.7, 0.7, 0.7)))
-    walls.data.flip_normals()
+    """test_volumes.fog_spot (a closed room, an occluder under a spot light, a cube of Principled
+    Volume and no Surface around them) at SIZE pixels, its fog at `density`, or without the fog
+    cube."""
+    test_volumes.fog_spot()
+    scene = bpy.context.scene
+    scene.render.resolution_x = scene.render.resolution_y = SIZE
+    fog_cube = bpy.data.objects["fog"]
     if fog:
-        m = bpy.data.materials.new("fog")
-        m.use_nodes = True
-        nt = m.node_tree
-        nt.nodes.remove(nt.nodes["Principled BSDF"])
-        v = nt.nodes.new("ShaderNodeVolumePrincipled")
-        v.inputs["Density"].default_value = density
-        nt.links.new(v.outputs[0], nt.nodes["Material Output"].inputs["Volume"])
-        bpy_stage.cube("fog", (0, 0, 1.5), 3.9, m)
-    bpy_stage.cube("occluder", (0.0, 0.0, 2.2), 0.4,
-                   bpy_stage.rough_material("occluder", (0.2, 0.2, 0.2)), scale=(1, 1, 0.1))
-    bpy_stage.light(scene, "SPOT", (0, 0, 3.3), 400.0, spot_size=math.radians(40),
-                    spot_blend=0.2, shadow_soft_size=0.0)
-    bpy_stage.camera(scene, (0, -1.8, 1.0), (85, 0, 0), lens=20.0)
+        volume = fog_cube.active_material.node_tree.nodes["Principled Volume"]
+        volume.inputs["Density"].default_value = density
+    else:
+        bpy.data.objects.remove(fog_cube)
     rc.cycles_settings(scene, 1, SPP)  # the comparisons' settings (bounces, film filter)
     return scene
 
@@ -62,7 +53,7 @@ def test_zero_density_volume_is_not_there():
     # -100 %): controls 6 % / 60 %
     metrics.assert_agreement("density 0 vs no cube", off, none, block=rc.BLOCK,
                              image_bias=0.06, block_bias=0.6)
-    room(0.25)
+    room(0.25)  # fog_spot's own density
     fog, _ = bpy_stage.lantern_renders(K, SPP)
     res = metrics.compare_renders(fog, none, block=rc.BLOCK)
     print(f"density 0.25 vs no cube: {res}")
