@@ -87,16 +87,22 @@ class MotionRecorder:
         self._deform = {}  # key -> (object, mesh dict, steps, corners, matrix at the frame)
         self._strands = {}  # key -> (object name, strand set dicts, steps, their exporter)
 
+    def _moving(self, inst):
+        """(steps, key) of an instance that motion blur exports at its shutter steps, or None
+        (blur off, or the object does not move)."""
+        if not self.on:
+            return None
+        n = object_steps(inst.object, inst.parent if inst.is_instance else None)
+        return (n, instance_key(inst)) if n >= 2 else None
+
     def mesh(self, inst, mesh, corners=None):
         """A mesh exported from inst; corners: (the vertex of each exported corner, the
         evaluated mesh's vertex count) for deformation blur (mesh.py MeshExporter.corners)."""
-        if not self.on:
+        moving = self._moving(inst)
+        if moving is None:
             return
+        n, key = moving
         obj = inst.object
-        n = object_steps(obj, inst.parent if inst.is_instance else None)
-        if n < 2:
-            return
-        key = instance_key(inst)
         if key in self._meshes:  # the same key twice: leave both still
             self._meshes[key] = (None, 0)
             self._deform.pop(key, None)
@@ -116,13 +122,11 @@ class MotionRecorder:
         """Strand sets exported from inst (export/strands.py); export(inst) exports them again
         at each step (docs/motion_blur.md "Strands"): points and radii at the steps, in world
         space, where the object moves or its hair deforms."""
-        if not self.on:
+        moving = self._moving(inst)
+        if moving is None:
             return
+        n, key = moving
         obj = inst.object
-        n = object_steps(obj, inst.parent if inst.is_instance else None)
-        if n < 2:
-            return
-        key = instance_key(inst)
         if key in self._strands:  # the same key twice: leave both still
             self._strands[key] = (obj.name, None, 0, None)
             return
