@@ -50,13 +50,13 @@ CurveBvhHit brute(const std::vector<CurveSeg>& segs, Vec3 o, Vec3 w, float tmax)
     return best;
 }
 
-struct Tally {
+struct BvhTally {
     int hits = 0, wrong = 0, any_wrong = 0, ties = 0;
 };
 
-Tally compare(const CurveBvh& bvh, const std::vector<CurveSeg>& segs, int rays, uint64_t seed) {
+BvhTally compare(const CurveBvh& bvh, const std::vector<CurveSeg>& segs, int rays, uint64_t seed) {
     Pcg32 rng = Pcg32::for_path(seed, 1, 0);
-    Tally t;
+    BvhTally t;
     for (int i = 0; i < rays; ++i) {
         const float z = 1.0f - 2.0f * rng.uniform(), phi = 2.0f * kPi * rng.uniform();
         const float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
@@ -86,7 +86,7 @@ TEST(CurveBvh, MatchesBruteForce) {
         curve_segments(f.points.data(), f.radius.data(), f.offsets.data(), 1500);
     ASSERT_EQ(segs.size(), 1500u * 6u);
     CurveBvh bvh = build_curve_bvh(segs);
-    const Tally t = compare(bvh, segs, 3000, 9);
+    const BvhTally t = compare(bvh, segs, 3000, 9);
     std::printf("hits %d of 3000 rays (%d ties at joints), %zu nodes\n", t.hits, t.ties,
                 bvh.nodes.size());
     EXPECT_LT(t.ties, t.hits / 50);
@@ -99,7 +99,7 @@ TEST(CurveBvh, MatchesBruteForce) {
         n.lo = n.lo + vec3(0.01f);
         n.hi = n.hi - vec3(0.01f);
     }
-    const Tally c = compare(shrunk, segs, 3000, 9);
+    const BvhTally c = compare(shrunk, segs, 3000, 9);
     EXPECT_GT(c.wrong, t.hits / 20) << "control: " << c.wrong << " wrong";
 }
 

@@ -48,12 +48,12 @@ bool near_joint(const std::vector<CurveSeg>& segs, Vec3 x) {
     return false;
 }
 
-struct Tally {
+struct EmbreeTally {
     int hits = 0, mismatch = 0, far_t = 0, bad_n = 0, at_joint = 0;
     double max_dt = 0.0;  // largest |t - t_embree| / t_embree
 };
 
-Tally compare(const std::vector<CurveSeg>& segs, float radius_scale, int rays) {
+EmbreeTally compare(const std::vector<CurveSeg>& segs, float radius_scale, int rays) {
     const EmbreeApi& e = embree_api();
     RTCDevice dev = e.newDevice(nullptr);
     RTCScene scene = e.newScene(dev);
@@ -66,7 +66,7 @@ Tally compare(const std::vector<CurveSeg>& segs, float radius_scale, int rays) {
     }
     CurveBvh bvh = build_curve_bvh(mine);
     Pcg32 rng = Pcg32::for_path(4, 1, 0);
-    Tally t;
+    EmbreeTally t;
     for (int i = 0; i < rays; ++i) {
         const float z = 1.0f - 2.0f * rng.uniform(), phi = 2.0f * kPi * rng.uniform();
         const float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
@@ -118,7 +118,7 @@ TEST(CurveEmbree, AgreesWithEmbreeRoundLinearCurves) {
 #if LANTERN_HAVE_EMBREE
     if (!embree_available()) GTEST_SKIP() << "Embree: " << embree_version();
     const std::vector<CurveSeg> segs = fur(800, 6, 2);
-    const Tally t = compare(segs, 1.0f, 4000);
+    const EmbreeTally t = compare(segs, 1.0f, 4000);
     std::printf("hits %d of 4000 (%d at joints, not compared): mismatched %d, t off %d (max %.2g "
                 "relative), normals off %d\n", t.hits, t.at_joint, t.mismatch, t.far_t, t.max_dt,
                 t.bad_n);
@@ -126,7 +126,7 @@ TEST(CurveEmbree, AgreesWithEmbreeRoundLinearCurves) {
     EXPECT_EQ(t.mismatch, 0);
     EXPECT_EQ(t.far_t, 0);
     EXPECT_EQ(t.bad_n, 0);
-    const Tally c = compare(segs, 1.01f, 4000);
+    const EmbreeTally c = compare(segs, 1.01f, 4000);
     EXPECT_GT(c.far_t + c.mismatch, c.hits / 2) << "control: radii 1 % larger passed";
 #else
     GTEST_SKIP() << "built without Embree";

@@ -111,13 +111,13 @@ std::vector<Ray3> rays(int count, uint64_t seed) {
     return out;
 }
 
-struct Tally {
+struct MotionTally {
     int hits = 0, hit_diff = 0, seg_diff = 0, far_t = 0;
 };
 
 // The moving BVH at `time` against the still BVH `ref`; exact: bit for bit, else t to 1e-5.
-Tally compare(const CurveBvh& moving, const CurveBvh& ref, float time, bool exact) {
-    Tally t;
+MotionTally compare(const CurveBvh& moving, const CurveBvh& ref, float time, bool exact) {
+    MotionTally t;
     for (const Ray3& r : rays(4000, 7)) {
         const CurveBvhHit a = curve_bvh_intersect(moving.view(), r.o, r.w, 0.0f, 10.0f, false, time);
         const CurveBvhHit b = curve_bvh_intersect(ref.view(), r.o, r.w, 0.0f, 10.0f);
@@ -144,25 +144,25 @@ TEST(CurveMotion, MovingBvhIsTheStillBvhOfTheKeysAtTheRaysTime) {
     const CurveKeys keys{f.keys.data(), kSteps, int32_t(f.frame.size())};
     const CurveBvh moving = build_curve_bvh(f.frame, keys);
     for (float time : {0.0f, 0.5f, 1.0f}) {
-        const Tally t = compare(moving, build_curve_bvh(still_at(f, time)), time, true);
+        const MotionTally t = compare(moving, build_curve_bvh(still_at(f, time)), time, true);
         std::printf("time %.2f: %d hits, differ %d/%d\n", time, t.hits, t.hit_diff, t.far_t);
         EXPECT_GT(t.hits, 400);
         EXPECT_EQ(t.hit_diff, 0) << "time " << time;
         EXPECT_EQ(t.far_t, 0) << "time " << time;
     }
     for (float time : {0.13f, 0.37f, 0.81f}) {  // between steps: lerped keys
-        const Tally t = compare(moving, build_curve_bvh(still_at(f, time)), time, false);
+        const MotionTally t = compare(moving, build_curve_bvh(still_at(f, time)), time, false);
         std::printf("time %.2f: %d hits, differ %d/%d\n", time, t.hits, t.hit_diff, t.far_t);
         EXPECT_GT(t.hits, 400);
         EXPECT_EQ(t.hit_diff, 0) << "time " << time;
         EXPECT_EQ(t.far_t, 0) << "time " << time;
     }
     // controls: the wrong time; boxes of the frame's segments only (no union over the steps)
-    const Tally wrong = compare(moving, build_curve_bvh(still_at(f, 1.0f)), 0.0f, true);
+    const MotionTally wrong = compare(moving, build_curve_bvh(still_at(f, 1.0f)), 0.0f, true);
     EXPECT_GT(wrong.hit_diff + wrong.far_t, wrong.hits / 2);
     CurveBvh narrow = build_curve_bvh(f.frame);
     narrow.keys = keys;  // segments lerped at the time, boxes of the frame's
-    const Tally lost = compare(narrow, build_curve_bvh(still_at(f, 0.0f)), 0.0f, true);
+    const MotionTally lost = compare(narrow, build_curve_bvh(still_at(f, 0.0f)), 0.0f, true);
     std::printf("frame-only boxes at time 0: %d of %d hits lost\n", lost.hit_diff, lost.hits);
     EXPECT_GT(lost.hit_diff, lost.hits / 20);
     // any-hit (shadow rays) at the time agrees on hit or miss
@@ -178,7 +178,7 @@ TEST(CurveMotion, StillSegmentsIgnoreTheKeys) {
     MovingFur f = make_moving_fur(100, 4, 5);
     for (CurveSeg& g : f.frame) g.flags &= ~kCurveMoves;  // none moves: the frame at any time
     const CurveKeys keys{f.keys.data(), kSteps, int32_t(f.frame.size())};
-    const Tally t = compare(build_curve_bvh(f.frame, keys), build_curve_bvh(f.frame), 0.0f, true);
+    const MotionTally t = compare(build_curve_bvh(f.frame, keys), build_curve_bvh(f.frame), 0.0f, true);
     EXPECT_EQ(t.hit_diff + t.far_t, 0);
 }
 

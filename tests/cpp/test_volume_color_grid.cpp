@@ -25,7 +25,7 @@ using lantern::test::box_mesh;
 
 namespace {
 
-constexpr int kNx = 5, kNy = 4, kNz = 3;
+constexpr int kColorNx = 5, kColorNy = 4, kColorNz = 3;
 
 // channel c's colour at index (i, j, k): multilinear, so trilinear interpolation is exact
 double colour(int c, double i, double j, double k) {
@@ -34,9 +34,9 @@ double colour(int c, double i, double j, double k) {
 
 std::vector<float> colour_voxels() {
     std::vector<float> v;
-    for (int k = 0; k < kNz; ++k)
-        for (int j = 0; j < kNy; ++j)
-            for (int i = 0; i < kNx; ++i)
+    for (int k = 0; k < kColorNz; ++k)
+        for (int j = 0; j < kColorNy; ++j)
+            for (int i = 0; i < kColorNx; ++i)
                 for (int c = 0; c < 3; ++c) v.push_back(float(colour(c, i, j, k)));
     return v;
 }
@@ -44,9 +44,9 @@ std::vector<float> colour_voxels() {
 DensityGrid identity_colour_grid() {
     DensityGrid g{};
     g.world_to_index = Transform{{{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}}};
-    g.nx = kNx;
-    g.ny = kNy;
-    g.nz = kNz;
+    g.nx = kColorNx;
+    g.ny = kColorNy;
+    g.nz = kColorNz;
     g.channels = 3;
     return g;
 }
@@ -61,7 +61,7 @@ TEST(ColourGrid, TrilinearColourAndAbsorptionFactor) {
     std::uniform_real_distribution<float> u(0.0f, 1.0f);
     int straddles = 0;
     for (int n = 0; n < 300; ++n) {
-        const float x = u(rng) * (kNx - 1), y = u(rng) * (kNy - 1), z = u(rng) * (kNz - 1);
+        const float x = u(rng) * (kColorNx - 1), y = u(rng) * (kColorNy - 1), z = u(rng) * (kColorNz - 1);
         const GridColor r = grid_color(g, v.data(), base, Vec3{x, y, z});
         const float cs[3] = {r.color.x, r.color.y, r.color.z};
         const float as[3] = {r.absorb.x, r.absorb.y, r.absorb.z};
@@ -69,8 +69,8 @@ TEST(ColourGrid, TrilinearColourAndAbsorptionFactor) {
         for (int c = 0; c < 3; ++c) {
             ASSERT_NEAR(cs[c], colour(c, x, y, z), 1e-5) << x << " " << y << " " << z;
             // the factor: the voxels' max(1 - base c, 0), trilinearly weighted
-            const int i = std::min(int(x), kNx - 2), j = std::min(int(y), kNy - 2),
-                      k = std::min(int(z), kNz - 2);
+            const int i = std::min(int(x), kColorNx - 2), j = std::min(int(y), kColorNy - 2),
+                      k = std::min(int(z), kColorNz - 2);
             double want = 0.0;
             for (int q = 0; q < 8; ++q) {
                 const int di = q & 1, dj = (q >> 1) & 1, dk = q >> 2;

@@ -25,19 +25,19 @@ using lantern::test::box_mesh;
 
 namespace {
 
-constexpr int kNx = 37, kNy = 29, kNz = 23;  // not multiples of the brick
+constexpr int kFireNx = 37, kFireNy = 29, kFireNz = 23;  // not multiples of the brick
 
 // A sparse grid: two blobs of random voxels in a large block, zero elsewhere.
 std::vector<float> sparse_voxels(uint32_t seed) {
     std::mt19937 rng(seed);
     std::uniform_real_distribution<float> u(0.0f, 1.0f);
-    std::vector<float> v(size_t(kNx) * kNy * kNz, 0.0f);
-    for (int k = 0; k < kNz; ++k)
-        for (int j = 0; j < kNy; ++j)
-            for (int i = 0; i < kNx; ++i) {
+    std::vector<float> v(size_t(kFireNx) * kFireNy * kFireNz, 0.0f);
+    for (int k = 0; k < kFireNz; ++k)
+        for (int j = 0; j < kFireNy; ++j)
+            for (int i = 0; i < kFireNx; ++i) {
                 const bool a = i >= 4 && i < 13 && j >= 6 && j < 15 && k >= 3 && k < 12;
                 const bool b = i >= 24 && i < 30 && j >= 17 && j < 26 && k >= 14 && k < 20;
-                if (a || b) v[(size_t(k) * kNy + size_t(j)) * kNx + size_t(i)] = (a ? 8.0f : 3.0f) * u(rng);
+                if (a || b) v[(size_t(k) * kFireNy + size_t(j)) * kFireNx + size_t(i)] = (a ? 8.0f : 3.0f) * u(rng);
             }
     return v;
 }
@@ -47,9 +47,9 @@ SceneInput fire_scene(const float* m16, bool fire) {
     SceneInput in;
     GridInput gi;
     gi.name = "density";
-    gi.dims[0] = kNx;
-    gi.dims[1] = kNy;
-    gi.dims[2] = kNz;
+    gi.dims[0] = kFireNx;
+    gi.dims[1] = kFireNy;
+    gi.dims[2] = kFireNz;
     std::copy(m16, m16 + 16, gi.index_to_world);
     gi.voxels = sparse_voxels(7);
     in.grids.push_back(gi);
@@ -67,11 +67,11 @@ SceneInput fire_scene(const float* m16, bool fire) {
         GridInput t = gi, f = gi;
         t.name = "temperature";
         f.name = "flame";
-        for (int k = 0; k < kNz; ++k)
-            for (int j = 0; j < kNy; ++j)
-                for (int i = 0; i < kNx; ++i) {
-                    const size_t n = (size_t(k) * kNy + size_t(j)) * kNx + size_t(i);
-                    t.voxels[n] = 0.2f + 1.4f * float(i) / float(kNx - 1);
+        for (int k = 0; k < kFireNz; ++k)
+            for (int j = 0; j < kFireNy; ++j)
+                for (int i = 0; i < kFireNx; ++i) {
+                    const size_t n = (size_t(k) * kFireNy + size_t(j)) * kFireNx + size_t(i);
+                    t.voxels[n] = 0.2f + 1.4f * float(i) / float(kFireNx - 1);
                     f.voxels[n] = 0.5f + 0.5f * std::sin(0.3f * float(i + j));
                 }
         in.grids.push_back(t);
@@ -91,8 +91,8 @@ SceneInput fire_scene(const float* m16, bool fire) {
                         {m16[8], m16[9], m16[10], m16[11]}}};
     Vec3 lo = vec3(kInf), hi = vec3(-kInf);
     for (int c = 0; c < 8; ++c) {
-        const Vec3 p = tf.point(Vec3{c & 1 ? float(kNx) : -1.0f, c & 2 ? float(kNy) : -1.0f,
-                                     c & 4 ? float(kNz) : -1.0f});
+        const Vec3 p = tf.point(Vec3{c & 1 ? float(kFireNx) : -1.0f, c & 2 ? float(kFireNy) : -1.0f,
+                                     c & 4 ? float(kFireNz) : -1.0f});
         lo = Vec3{std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
         hi = Vec3{std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
     }
@@ -119,9 +119,9 @@ TEST(MajorantGrid, EveryBrickBoundsTheVoxelsItsLookupsRead) {
     ASSERT_GE(m.majorant_grid, 0);
     const MajorantGrid& g = s.majorant_grids[m.majorant_grid];
     const int B = kMajorantBrick;
-    EXPECT_EQ(g.nx, (kNx + B) / B);
-    EXPECT_EQ(g.ny, (kNy + B) / B);
-    EXPECT_EQ(g.nz, (kNz + B) / B);
+    EXPECT_EQ(g.nx, (kFireNx + B) / B);
+    EXPECT_EQ(g.ny, (kFireNy + B) / B);
+    EXPECT_EQ(g.nz, (kFireNz + B) / B);
     const Vec3 unit = m.sigma_a + m.sigma_s;
     const std::vector<float>& v = in.grids[0].voxels;
     int naive_low = 0;
@@ -134,9 +134,9 @@ TEST(MajorantGrid, EveryBrickBoundsTheVoxelsItsLookupsRead) {
                 for (int k = bk * B - 1; k <= (bk + 1) * B - 1; ++k)
                     for (int j = bj * B - 1; j <= (bj + 1) * B - 1; ++j)
                         for (int i = bi * B - 1; i <= (bi + 1) * B - 1; ++i) {
-                            if (i < 0 || j < 0 || k < 0 || i >= kNx || j >= kNy || k >= kNz)
+                            if (i < 0 || j < 0 || k < 0 || i >= kFireNx || j >= kFireNy || k >= kFireNz)
                                 continue;
-                            const float x = v[(size_t(k) * kNy + size_t(j)) * kNx + size_t(i)];
+                            const float x = v[(size_t(k) * kFireNy + size_t(j)) * kFireNx + size_t(i)];
                             need = std::max(need, x);
                             // the control: the brick's own B^3 voxels, without the neighbours
                             if (i >= bi * B && j >= bj * B && k >= bk * B && i < (bi + 1) * B - 1 &&
@@ -167,8 +167,8 @@ TEST(MajorantGrid, PiecesTileTheRayAndBoundTheExtinction) {
         int checked = 0, pieces_max = 0;
         for (int r = 0; r < 400; ++r) {
             // from a point around the block (index space -4 .. n + 4) in a random direction
-            const Vec3 q{-4.0f + u(rng) * (kNx + 8), -4.0f + u(rng) * (kNy + 8),
-                         -4.0f + u(rng) * (kNz + 8)};
+            const Vec3 q{-4.0f + u(rng) * (kFireNx + 8), -4.0f + u(rng) * (kFireNy + 8),
+                         -4.0f + u(rng) * (kFireNz + 8)};
             const Vec3 o = i2w.point(q);
             const float ct = 1.0f - 2.0f * u(rng), ph = 2.0f * kPi * u(rng);
             const float st = std::sqrt(std::max(0.0f, 1.0f - ct * ct));
@@ -209,9 +209,9 @@ namespace {
 double exact_depth(const std::vector<float>& v, Vec3 q0, float h, float L) {
     auto lookup = [&](double x) {
         DensityGrid g{};
-        g.nx = kNx;
-        g.ny = kNy;
-        g.nz = kNz;
+        g.nx = kFireNx;
+        g.ny = kFireNy;
+        g.nz = kFireNz;
         return double(grid_lookup_index(g, v.data(), Vec3{float(x), q0.y, q0.z}));
     };
     // knots: the ends and every integer x between
