@@ -7,9 +7,10 @@ bidirectional integrators and auto hand the scene to pt.
 A floor (z = 0) under a black blocker hidden from the camera (a 1.2 m square at z = 0.5; black,
 it reflects nothing, so the floor is all the image) and a lamp above it:
 
-- a point lamp of radius 0 (next-event estimation alone finds it, its weight 1): with Cast
-  Shadow off the floor is lit as if the blocker were not there (statistically, against the
-  scene without it; the control, Cast Shadow on, has the blocker's shadow and must fail);
+- a point lamp of radius 0, or a sun of angle 0 (next-event estimation alone finds it, its
+  weight 1): with Cast Shadow off the floor is lit as if the blocker were not there
+  (statistically, against the scene without it; the control, Cast Shadow on, has the blocker's
+  shadow and must fail);
 - a 1 m area lamp at z = 1 (a bounce ray finds it too): in the blocker's umbra only
   next-event estimation's share of its light arrives, Cycles' non-physical answer (about 95 %
   here, against its power-heuristic weight integrated over the lamp);
@@ -54,6 +55,9 @@ def scene_of(lamp="point", cast_shadow=False, blocker=True, medium=None, size=16
     if lamp == "point":
         scene.add_light("point", position=[0.0, 0.0, LAMP_Z], radius=0.0, power=[40.0] * 3,
                         name="lamp", **shadow)
+    elif lamp == "sun":  # angle 0: as delta as the point lamp, straight down at a slant
+        scene.add_light("sun", direction=[0.3, 0.2, -1.0], angle=0.0, strength=[3.0] * 3,
+                        name="lamp", **shadow)
     else:
         to_world = [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 1.0], [0, 0, 0, 1]]
         scene.add_light("area", to_world=to_world, shape="square", size=[1.0, 1.0],
@@ -75,11 +79,13 @@ def stack(scene, k=12, spp=16, seed0=1):
     return np.stack([render(scene, seed=seed0 + j, spp=spp)[0] for j in range(k)])
 
 
-def test_point_lamp_without_shadow_is_the_scene_without_blocker(core):
-    off = stack(scene_of("point", cast_shadow=False))
-    free = stack(scene_of("point", cast_shadow=True, blocker=False), seed0=101)
-    metrics.assert_agreement("Cast Shadow off vs no blocker", off, free, block=4, se_floor=1e-6)
-    shadowed = stack(scene_of("point", cast_shadow=True))  # the flag ignored
+@pytest.mark.parametrize("lamp", ["point", "sun"])
+def test_delta_lamp_without_shadow_is_the_scene_without_blocker(core, lamp):
+    off = stack(scene_of(lamp, cast_shadow=False))
+    free = stack(scene_of(lamp, cast_shadow=True, blocker=False), seed0=101)
+    metrics.assert_agreement(f"{lamp}: Cast Shadow off vs no blocker", off, free, block=4,
+                             se_floor=1e-6)
+    shadowed = stack(scene_of(lamp, cast_shadow=True))  # the flag ignored
     res = metrics.compare_renders(shadowed, free, block=4, se_floor=1e-6, name="Cast Shadow on")
     assert not res.passed, res
 
