@@ -145,6 +145,8 @@ class LANTERN_PT_object_visibility(bpy.types.Panel):
         col.prop(context.object, "visible_camera", text="Camera")
         if context.object.type != "LIGHT":
             col.prop(context.object, "visible_shadow", text="Shadow")
+        elif context.object.data is not None:  # a light's own Cast Shadow, as Cycles reads it
+            col.prop(context.object.data, "use_shadow", text="Cast Shadow")
 
 
 _patched = []

@@ -31,11 +31,16 @@ def _rigid(m):
 
 def export_light(obj, matrix_world, report):
     """The light's scene dict (None: not rendered), with its own ray visibility's fields that
-    are off (Diffuse, Glossy, Transmission, Volume Scatter: export/visibility.py; pt renders
-    them, integrator/pt_ray_visibility.h)."""
+    are off (Diffuse, Glossy, Transmission, Volume Scatter: export/visibility.py) and its Cast
+    Shadow when off (pt renders them, integrator/pt_ray_visibility.h)."""
     out = _export_light(obj, matrix_world, report)
     if out is not None:
         out.update(mesh_ray_visibility(obj))
+        # the light's Cast Shadow (Cycles reads the light's use_shadow, not the object's
+        # visible_shadow, which its panel hides on lights); only when off, so that scenes with
+        # shadow-casting lamps export as before (pt: integrator/pt_ray_visibility.h)
+        if not getattr(obj.data, "use_shadow", True):
+            out["cast_shadow"] = False
     return out
 
 

@@ -89,9 +89,8 @@ class UnsupportedFeatures:
                 self.material(slot.material)
 
     def _light(self, obj):
+        # Cast Shadow off: export/light.py (pt renders it)
         light, warn = obj.data, self.report.warn
-        if not getattr(light, "use_shadow", True):
-            warn(f"Light '{obj.name}': 'Cast Shadow' off is not honoured (it casts shadows)")
         tree = getattr(light, "node_tree", None)
         if getattr(light, "use_nodes", False) and tree is not None:   # the rest: node_light.py
             for n in tree.nodes:

@@ -330,6 +330,8 @@ def validate_light(light, index):
     for key in RAY_VISIBILITY:  # a lamp's own ray visibility (pt); absent: visible
         if key in light:
             out[key] = _bool(light[key], f"{what} {key}")
+    if "cast_shadow" in light:  # Blender's Cast Shadow (pt; absent: it casts shadows)
+        out["cast_shadow"] = _bool(light["cast_shadow"], f"{what} cast_shadow")
     if ltype in ("point", "spot"):
         radius = _finite_float(light.get("radius", 0.0), f"{what} radius")
         if radius < 0:

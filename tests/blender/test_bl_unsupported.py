@@ -141,7 +141,7 @@ def ies(s):
     lamp.data.node_tree.nodes.new("ShaderNodeTexIES")
 
 
-def no_shadow(s):
+def no_shadow(s):  # rendered by pt (export/light.py); auto hands it to pt
     _base(s)
     _light(s).data.use_shadow = False
 
@@ -272,7 +272,6 @@ CASES = [  # builder, the name the warning must carry, a word of the feature
     (world_volume, "World 'Hazy'", "phase function 'RAYLEIGH'"),
     (light_nodes, "Light 'Lamp'", "varies over the light"),
     (ies, "Light 'Lamp'", "IES"),
-    (no_shadow, "Light 'Lamp'", "Cast Shadow"),
     (holdout, "Object 'Subject'", "pt integrator only"),
     (shadow_catcher, "Object 'Subject'", "shadow catcher"),
     (point_cloud, "Object 'Points'", "point clouds"),
@@ -300,7 +299,8 @@ else:
 # only notes left are that the automatic integrator renders it with pt (the bidirectional ones
 # do not honour it yet) and Cycles' Volume Bounces
 RENDERED = [volume_material, light_linking, shadow_linking, glossy_visibility,
-            diffuse_visibility, particle_hair, hair_curves, motion_blur, lamp_visibility] + (
+            diffuse_visibility, particle_hair, hair_curves, motion_blur, lamp_visibility,
+            no_shadow] + (
                 [volume_object_file] if lantern.vdb_available() else [])
 HANDED_TO_PT = "renders this scene with path tracing"
 # media: the automatic integrator chooses between pt and cis itself since auto_media is on

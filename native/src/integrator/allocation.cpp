@@ -252,6 +252,8 @@ std::string ray_visibility_reason(const SceneInput& in) {
     for (const LightInput& l : in.lights)
         if (l.receivers != kAllReceivers || l.blockers != kAllReceivers)
             return "light or shadow linking (light '" + l.name + "')";
+    for (const LightInput& l : in.lights)  // Cast Shadow off: pt_ray_visibility.h
+        if (!l.cast_shadow) return "a light that casts no shadow (light '" + l.name + "')";
     return "";
 }
 

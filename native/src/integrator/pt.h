@@ -383,6 +383,10 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
                     ps.shadow_medium[i] = dot(ls.wi, h.ng) < 0.0f
                                               ? medium_across(s, tri, h.front, ps.medium[i])
                                               : ps.medium[i];
+                if (extras && pt_lamp_unshadowed(s, pick.light)) {  // Cast Shadow off: no ray
+                    add_radiance(ps, i, c);
+                    ps.shadow_valid[i] = 0;
+                }
             }
         }
     }

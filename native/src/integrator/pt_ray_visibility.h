@@ -53,6 +53,17 @@ LANTERN_HD inline bool pt_light_hidden(const SceneView& s, int li, uint8_t kind)
     return s.light_rays && (s.light_rays[li] & k) != k;
 }
 
+// Whether lamp li casts no shadow (Blender's Cast Shadow off on a light: kLampNoShadow). As
+// Cycles does (shadow_ray_setup: a light without SHADER_CAST_SHADOW gets a zero-length shadow
+// ray), next-event estimation adds its contribution unoccluded and unattenuated by media, with
+// the usual MIS weight, while a bounce ray still finds the lamp only where nothing blocks it:
+// the two strategies no longer estimate one integral, and their weighted sum is Cycles'
+// (non-physical) image, a blocker's shadow lit by the weight next-event estimation has there.
+// The bidirectional integrators hand such a scene to pt (allocation.cpp ray_visibility_reason).
+LANTERN_HD inline bool pt_lamp_unshadowed(const SceneView& s, int li) {
+    return s.light_rays && li >= 0 && (s.light_rays[li] & kLampNoShadow) != 0;
+}
+
 // Records the kind of the scattering that made slot i's next ray.
 LANTERN_HD inline void pt_set_ray_kind(const SceneView& s, const PathState& ps, int i,
                                        uint8_t kind) {

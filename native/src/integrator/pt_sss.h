@@ -186,6 +186,10 @@ LANTERN_HD inline void pt_sss_exit(const SceneView& s, const PathState& ps, cons
             ps.shadow_valid[i] = 1;
             if (s.light_blockers && ps.shadow_light) ps.shadow_light[i] = pick.light;
             if (s.num_media > 0) ps.shadow_medium[i] = ps.medium[i];
+            if (pt_lamp_unshadowed(s, pick.light)) {  // Cast Shadow off: no shadow ray
+                add_radiance(ps, i, ps.shadow_contrib[i]);
+                ps.shadow_valid[i] = 0;
+            }
         }
     }
     float pdf_w = 0.0f;

@@ -75,6 +75,10 @@ LANTERN_HD inline void pt_medium_nee(const SceneView& s, const PathState& ps, in
         tmax = len * (1.0f - 1e-4f);
     }
     const Vec3 c = factor * ls.le * (phase * w / pdf_light);
+    if (pt_lamp_unshadowed(s, pick.light)) {  // Cast Shadow off: no shadow ray, no medium on it
+        add_radiance(ps, i, c);
+        return;
+    }
     if (second) {
         ps.vshadow_o[i] = p;
         ps.vshadow_d[i] = sd;

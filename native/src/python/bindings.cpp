@@ -255,6 +255,7 @@ SceneInput to_input(const nb::dict& scene) {
                               (get<bool>(l, "visible_glossy", true) ? kRayGlossy : 0) |
                               (get<bool>(l, "visible_transmission", true) ? kRayTransmission : 0) |
                               (get<bool>(l, "visible_volume_scatter", true) ? kRayVolumeScatter : 0));
+            li.cast_shadow = get<bool>(l, "cast_shadow", true);
             li.receivers = get<uint64_t>(l, "receivers", kAllReceivers);  // light linking
             li.blockers = get<uint64_t>(l, "blockers", kAllReceivers);    // shadow linking
             li.of_world = get<bool>(l, "of_world", false);

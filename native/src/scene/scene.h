@@ -169,6 +169,7 @@ struct LightInput {
     bool soft_falloff = true;
     bool visible_camera = false;
     uint8_t rays = kRayKindsAll;  // RayKinds that see the lamp (Diffuse, Glossy, ...: pt)
+    bool cast_shadow = true;      // false: Blender's Cast Shadow off (pt: kLampNoShadow)
     // sun: the world's own (the Sky Texture's disc, lantern/scene.py to_native): seen by the
     // camera as the world is (world_visible_camera, not through transparent film), hidden
     // from the scatterings the world is hidden from (world_rays, pt)

@@ -242,6 +242,10 @@ enum CatcherMode : int32_t { kCatcherMatte = 0, kCatcherObject = 1, kCatcherPass
 // visibility Diffuse, Glossy, Transmission, Volume Scatter; pt: integrator/pt_ray_visibility.h)
 enum RayKinds : uint8_t { kRayDiffuse = 1, kRayGlossy = 2, kRayTransmission = 4,
                           kRayVolumeScatter = 8, kRayKindsAll = 15 };
+// SceneView::light_rays' bit beside the RayKinds: the lamp casts no shadow (Blender's light
+// Cast Shadow off, Cycles' SHADER_CAST_SHADOW cleared): pt's next-event estimation of it traces
+// no shadow ray (integrator/pt_ray_visibility.h pt_lamp_unshadowed)
+constexpr uint8_t kLampNoShadow = 16;
 
 // Light linking: every receiver set (SceneView::light_receivers' bits)
 constexpr uint64_t kAllReceivers = ~uint64_t(0);
@@ -294,7 +298,8 @@ struct SceneView {
     const int32_t* tri_light = nullptr;  // light index of an emissive triangle, else -1
     const uint8_t* tri_rays = nullptr;   // RayKinds that see the triangle; null: all see all
     // RayKinds that see light l (a lamp's own ray visibility; emissive triangles and the
-    // world: all); null where every lamp is seen by every kind (pt_ray_visibility.h)
+    // world: all), and kLampNoShadow where the lamp casts no shadow; null where every lamp is
+    // seen by every kind and casts shadows (pt_ray_visibility.h)
     const uint8_t* light_rays = nullptr;
     // light linking (pt: integrator/pt_light_linking.h): a triangle's receiver set (0..63) and
     // per light the sets it lights (bit s); both null where nothing is linked
