@@ -107,14 +107,15 @@ def export_current():
 CYCLES_REFS = os.path.join(ROOT, "tests", "refs", "cycles")
 
 
-def stored_cycles(path, spp, seed0, k_seeds, sources):
+def stored_cycles(path, spp, seed0, k_seeds, sources, block=BLOCK):
     """Cycles' k_seeds renders of the current scene (seeds seed0..) as per-seed block means,
     stored at `path` (lantern.testing.refs, tests/README.md "Stored references") and rendered
     again only when their key changes: the scene as the add-on exports it (every array Lantern
     receives, in an order-free form: refs.order_free), the Cycles settings cycles_settings
     writes (the seed aside), the samples and seeds, the bpy version, and the files in
     `sources` (what stages the scene, Cycles-only properties included: the test module and its
-    staging helpers; an edit to one of them renders their references again)."""
+    staging helpers; an edit to one of them renders their references again). `block` 1 keeps
+    the pixels (K, H, W, C) for tests that need more than block means."""
     import bpy
     from lantern.testing import refs
     settings = cycles_settings(bpy.context.scene, seed0, spp)
@@ -124,7 +125,7 @@ def stored_cycles(path, spp, seed0, k_seeds, sources):
                sources=[refs.file_digest(p) for p in sources])
     return refs.reference_blocks(
         path, lambda: [render_cycles(seed=seed0 + k, spp=spp)[0] for k in range(k_seeds)], key,
-        block=BLOCK)
+        block=block)
 
 
 def render_lantern(seed, spp, threads=0, integrator="pt"):

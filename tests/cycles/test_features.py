@@ -117,7 +117,10 @@ def disc_z(lan, cyc, spheres, name):
 def test_feature_matches_cycles(name):
     t0 = time.perf_counter()
     spheres = build(name)
-    cyc = np.stack([rc.render_cycles(seed=500 + k, spp=CYCLES_SPP)[0] for k in range(K)])
+    # Cycles' seeds stored as pixels (the disc statistics need them, not only block means)
+    cyc = rc.stored_cycles(os.path.join(rc.CYCLES_REFS, "test_features", f"{name}_500.npz"),
+                           CYCLES_SPP, 500, K, [__file__, features.__file__],
+                           block=1).blocks
     lan, warnings = [], []
     for k in range(K):
         img, warnings = rc.render_lantern(seed=1 + k, spp=LANTERN_SPP, threads=2)

@@ -201,7 +201,10 @@ def reference_blocks(path, render, key, block=8):
         path.parent.mkdir(parents=True, exist_ok=True)
         meta = {k: v for k, v in key.items() if isinstance(v, (str, int, float, bool))}
         meta.update(seconds=round(seconds, 1), stored=time.strftime("%Y-%m-%d"))
-        np.savez_compressed(path, key=np.array(digest), blocks=blocks,
+        # per-pixel sets (block 1: a test that needs the pixels, e.g. region means) as float32,
+        # a quarter of the file that float64 noise would take; block means keep float64
+        np.savez_compressed(path, key=np.array(digest),
+                            blocks=blocks.astype(np.float32) if block == 1 else blocks,
                             meta=np.array(json.dumps(meta, sort_keys=True)))
     else:
         why = unreadable or ("missing" if not path.exists() else "stale (its key differs)")
