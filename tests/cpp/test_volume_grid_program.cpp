@@ -4,7 +4,8 @@
 // box shrunk to its middle tenth as the control, which those samples must catch); every
 // majorant brick of such a medium bounds the extinction along random rays; ratio and
 // spectral tracking through it against Beer-Lambert of the density integrated by quadrature
-// (a 3 % control); a program without a bound (a Noise node) warns and keeps a finite majorant.
+// (a 3 % control); a program without a bound (a Noise node; exp(exp(.)) overflowing) warns
+// and keeps a finite majorant and density.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -48,13 +49,14 @@ void instr(std::vector<uint32_t>& code, int op, int mode, int flags, int dim, in
                              uint32_t(in | (out << 16)), uint32_t(aux), uint32_t(aux2)});
 }
 
-enum class Prog { kMapTimesFlame, kTwiceDensity, kNoise };
+enum class Prog { kMapTimesFlame, kTwiceDensity, kNoise, kOverflow };
 
 // A Volume object's scene: grid 0 "density" (two blobs), grid 1 "flame" (a smooth field on a
 // transform of its own); the material's density a program of them.
 //   kMapTimesFlame: Map Range (0..4 -> 0.5..3, clamped) of the density x the flame's Fac;
 //   kTwiceDensity:  2 x the density (Math Multiply), scale the factor;
-//   kNoise:         the density x a Noise texture's Fac (no interval rule: unbounded).
+//   kNoise:         the density x a Noise texture's Fac (no interval rule: unbounded);
+//   kOverflow:      exp(exp(100 x the density)) (infinite where the density is > 0.06).
 SceneInput grid_program_scene(const float* m16, Prog prog, float scale = 2.0f) {
     SceneInput in;
     GridInput gi;
@@ -104,6 +106,16 @@ SceneInput grid_program_scene(const float* m16, Prog prog, float scale = 2.0f) {
         instr(code, kOpCopy, 0, 0, 1, 5, 32);
         instr(code, kOpCopy, 0, 0, 1, 7, 33);
         instr(code, kOpMath, 2, 0, 0, 31, 34);
+    } else if (prog == Prog::kOverflow) {
+        c[6] = 100.0f;
+        instr(code, kOpGrid, 0, 0, 0, 0, 16, 0);
+        instr(code, kOpCopy, 0, 0, 1, 19, 31);
+        instr(code, kOpCopy, 0, 0, 1, 6, 32);
+        instr(code, kOpCopy, 0, 0, 1, 7, 33);
+        instr(code, kOpMath, 2, 0, 0, 31, 35);         // multiply
+        instr(code, kOpCopy, 0, 0, 1, 35, 36);
+        instr(code, kOpMath, 10, 0, 0, 36, 37);        // exponent
+        instr(code, kOpMath, 10, 0, 0, 37, 34);        // exponent
     } else {
         // noise: vector(3) w scale detail roughness lacunarity offset gain distortion
         instr(code, kOpInput, 0, 0, 0, 0, 40);         // position 40..42
@@ -307,16 +319,27 @@ TEST(GridProgram, TrackingIsBeerLambertOfTheProgramsDensity) {
 }
 
 TEST(GridProgram, UnboundedProgramWarnsAndKeepsAFiniteMajorant) {
-    HostScene scene(grid_program_scene(kAxis, Prog::kNoise));
-    const SceneView& s = scene.view();
-    const Medium& m = s.media[s.material_medium[0]];
-    bool warned = false;
-    for (const std::string& w : scene.warnings())
-        warned = warned || (w.find("smoke") != std::string::npos &&
-                            w.find("no bound") != std::string::npos);
-    EXPECT_TRUE(warned);
-    EXPECT_TRUE(std::isfinite(m.majorant));
-    EXPECT_GT(m.majorant, 0.0f);
+    for (Prog prog : {Prog::kNoise, Prog::kOverflow}) {
+        HostScene scene(grid_program_scene(kAxis, prog));
+        const SceneView& s = scene.view();
+        const int32_t med = s.material_medium[0];
+        const Medium& m = s.media[med];
+        bool warned = false;
+        for (const std::string& w : scene.warnings())
+            warned = warned || (w.find("smoke") != std::string::npos &&
+                                w.find("no bound") != std::string::npos);
+        EXPECT_TRUE(warned);
+        EXPECT_TRUE(std::isfinite(m.majorant));
+        EXPECT_GT(m.majorant, 0.0f);
+        // every brick finite; the density finite everywhere (infinities are 0, as NaN)
+        const MajorantGrid& g = s.majorant_grids[m.majorant_grid];
+        for (size_t k = 0; k < size_t(g.nx) * g.ny * g.nz; ++k)
+            ASSERT_TRUE(std::isfinite(s.majorant_values[g.offset + k]));
+        for (int k = 0; k < 1000; ++k) {
+            const Vec3 p{-1.0f + 3.7f * float(k) / 1000.0f, 1.5f, 3.0f};
+            ASSERT_TRUE(std::isfinite(density_at(s, m, med, p)));
+        }
+    }
     // the bounded program of the same grids warns nothing of the kind
     HostScene ok(grid_program_scene(kAxis, Prog::kMapTimesFlame));
     for (const std::string& w : ok.warnings()) EXPECT_EQ(w.find("no bound"), std::string::npos) << w;
