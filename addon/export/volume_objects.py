@@ -36,6 +36,8 @@ class _GridProbe:
         self.flame = None     # (grid name, rgb radiance per metre per unit of it)
         self.where, self.report, self.material = where, report, material
         self.grids = None     # a graph's grids (_GridTable), with its "density" program
+        self.table = _GridTable()   # the grids every program of this material reads
+        self.emission_program = None  # a graph on Emission Strength ("volume_emission")
 
     def program(self, socket, target, dim):
         from .volume import _source
@@ -49,7 +51,7 @@ class _GridProbe:
             return None
         # any other graph: a program reading the object's grids (kOpGrid), times Principled
         # Volume's Density Attribute grid where the shader has one (Cycles multiplies by it)
-        comp = _GridCompiler(self.material, self.report)
+        comp = _GridCompiler(self.material, self.report, self.table)
         shader = socket.node
         attr = shader.inputs.get("Density Attribute") \
             if shader.type == "PRINCIPLED_VOLUME" else None
@@ -70,7 +72,6 @@ class _GridProbe:
             self.report.warn(f"{self.where}: the node graph on '{socket.name}' reads no grid of "
                              "the object; not rendered")
             return None
-        prog["grid_names"] = list(comp.grids.names)
         return prog
 
     def grid_strength(self, node, sock, weight):
@@ -93,7 +94,7 @@ class _GridProbe:
             scale, src = float(other.default_value), _source(attr)
         if src is None or src.type != "ATTRIBUTE" or \
                 getattr(src, "attribute_type", "GEOMETRY") != "GEOMETRY":
-            return False
+            return self._strength_program(node, sock, weight, names[1])
         name = src.attribute_name
         if self.flame is not None and self.flame[0] != name:
             self.report.warn(f"{self.where}: a second emission grid '{name}' is not rendered "
@@ -132,11 +133,36 @@ class _NoChannels:
         raise Unsupported("textures are not read inside a Volume object yet")
 
 
-def _GridCompiler(material, report):
+def _GridCompiler(material, report, table):
     from .material_compile import GraphCompiler
     comp = GraphCompiler(material, report, _NoChannels(), _NoChannels())
-    comp.grids = _GridTable()
+    comp.grids = table
     return comp
+
+
+def _strength_program(self, node, sock, weight, color_name):
+    """A graph of the object's grids on an emission strength (Map Range, Math, ColorRamp, ...
+    between Attribute nodes and the socket): a "volume_emission" program, its colour factor
+    weight x the Emission Color kept as the flame's (a flame grid's place); False where it
+    cannot be compiled (warned) or another emission graph or grid is there already."""
+    from .volume import _value
+    if self.material is None:
+        return False
+    if self.flame is not None or self.emission_program is not None:
+        self.report.warn(f"{self.where}: a second emission graph on '{node.name}' is not "
+                         "rendered (one emission grid or graph per volume)")
+        return True
+    comp = _GridCompiler(self.material, self.report, self.table)
+    prog = comp.program(sock, "volume_emission", 1)
+    if prog is None:
+        return False
+    color = _value(node, color_name, self.where, self.report) or [1.0, 1.0, 1.0]
+    self.emission_program = prog
+    self.flame = (None, [weight * max(c, 0.0) for c in color])
+    return True
+
+
+_GridProbe._strength_program = _strength_program
 
 
 def _box(index_to_world, dims):
@@ -202,8 +228,12 @@ class VolumeObjects:
         color = _color(output, medium, obj, where, self.report)
         if color is not None:
             fire["color"] = color
-        # a graph on Density: its program (kOpGrid's aux the place of its grid_names)
-        program = programs[0] if probe.grids is not None and programs else None
+        # graphs on Density and Emission Strength: their programs (kOpGrid's aux the place of
+        # a grid in grid_names)
+        progs = [programs[0]] if probe.grids is not None and programs else []
+        if probe.emission_program is not None:
+            progs.append(probe.emission_program)
+        program = {"programs": progs, "grid_names": list(probe.table.names)} if progs else None
         return medium, grid, mat.name, fire, program
 
     def _grid(self, path, name):
@@ -319,7 +349,8 @@ class VolumeObjects:
         if program is not None:
             g["layout"] = grid
             g["program_grids"] = self._program_grids(obj, path, grid, program, inst)
-            m["programs"] = [{k: v for k, v in program.items() if k != "grid_names"}]
+            m["programs"] = [{k: v for k, v in p.items() if k != "grid_names"}
+                             for p in program["programs"]]
             m["grid_names"] = list(program["grid_names"])
         return g, {"name": obj.name, "positions": positions, "indices": indices}, m
 
@@ -392,7 +423,9 @@ def _fire(output, medium, probe, obj, where, report):
         fire["temperature"] = name
     if probe.flame is not None:
         name, rgb = probe.flame
-        if name not in names:
+        if name is None:   # a graph's program (probe.emission_program) scales it per point
+            medium["flame_emission"] = rgb
+        elif name not in names:
             report.warn(f"{where}: the grid '{name}' on its emission strength is not in the "
                         "object's file; it reads 0 there (no emission), as in Cycles")
         else:

@@ -3,7 +3,9 @@ docs/volumes.md "Node graphs on volume inputs"): a "density" program whose grid 
 name the scene's grids (the object's file's, each added once), a grid the file lacks reading
 -1 (0, Cycles' missing attribute) with a warning by name; Volume Scatter's layout grid is the
 first grid the graph reads, Principled Volume's its Density Attribute grid, which the program
-multiplies by; a lone Attribute node keeps the older path (no program)."""
+multiplies by; a lone Attribute node keeps the older path (no program); a graph on Emission
+Strength a "volume_emission" program, its colour factor the flame's (a lone Attribute the flame
+grid, as before)."""
 
 import bpy
 import numpy as np
@@ -92,3 +94,29 @@ def test_lone_attribute_keeps_the_grid_path(empty, addon, tmp_path):
     scene, report = export(addon)
     m, _, layout = _smoke(scene)
     assert not m.get("programs") and layout["name"].endswith(":density")
+
+
+def test_emission_strength_graph_is_a_program(empty, addon, tmp_path):
+    path = _fire_vdb(tmp_path)
+    mat, v = _material("principled")
+    v.inputs["Emission Color"].default_value = (1.0, 0.5, 0.25, 1)
+    nt = mat.node_tree
+    a = nt.nodes.new("ShaderNodeAttribute")
+    a.attribute_name = "flame"
+    mr = nt.nodes.new("ShaderNodeMapRange")
+    nt.links.new(a.outputs["Fac"], mr.inputs["Value"])
+    nt.links.new(mr.outputs["Result"], v.inputs["Emission Strength"])
+    _volume_object(empty, path, mat)
+    scene, report = export(addon)
+    assert not [x for x in report.messages if "Smoke" in x], report.messages
+    m, _, layout = _smoke(scene)
+    progs = {p["target"]: p for p in m["programs"]}
+    assert list(progs) == ["volume_emission"] and layout["name"].endswith(":density")
+    assert _grid_reads(progs["volume_emission"], scene) == ["flame"]
+    assert m.get("flame_grid") is None
+    assert np.allclose(m["volume"]["flame_emission"], [1.0, 0.5, 0.25])
+    # control: the lone Attribute node keeps the flame grid (no program)
+    nt.links.new(a.outputs["Fac"], v.inputs["Emission Strength"])
+    scene, _ = export(addon)
+    m, _, _ = _smoke(scene)
+    assert not m.get("programs") and m.get("flame_grid") is not None

@@ -255,7 +255,8 @@ void HostScene::add_programs(const SceneInput& in) {
             MaterialProgram p = programs_[size_t(mi.program_first) + size_t(i)];
             fold_program(p, program_code_, program_consts_, host);
             host.program_consts = program_consts_.data();
-            if (p.target == kTargetTangent || p.target == kTargetDensity) {
+            if (p.target == kTargetTangent || p.target == kTargetDensity ||
+                p.target == kTargetVolumeEmission) {
                 // kept: anisotropy_angle runs the tangent, medium_hetero.h the density
                 kept.push_back(p);
                 continue;

@@ -45,6 +45,7 @@ Medium to_medium(const MediumInput& in, std::vector<std::string>& warnings) {
     m.density_prog = -1;
     m.density_grid = -1;
     m.majorant_grid = m.temperature_grid = m.flame_grid = m.color_grid = -1;
+    m.emission_prog = -1;
     return m;
 }
 
@@ -147,7 +148,15 @@ void HostScene::build_media(const SceneInput& in) {
             }
             finish(m);
             m.scatters = max_component(m.sigma_s + m.sigma_s0) > 0.0f ? 1u : 0u;
-            if (mi.density_grid >= 0) grid_fire(m, mi, src);  // scene/medium_grid_build.cpp
+            if (mi.density_grid >= 0) {
+                grid_fire(m, mi, src);  // scene/medium_grid_build.cpp
+                // a graph on Emission Strength reading the grids: flame_emission x its value
+                m.emission_prog = program_of(k, kTargetVolumeEmission);
+                if (m.emission_prog >= 0 && max_component(m.flame_emission) > 0.0f)
+                    m.emits = 1u;
+                else
+                    m.emission_prog = -1;
+            }
             material_medium_[k] = int32_t(media_.size());
             media_.push_back(m);
             hetero.push_back({material_medium_[k], k});

@@ -264,6 +264,7 @@ private:
     void fill_lobe_tables();
     void build_media(const SceneInput& in);  // scene/medium_build.cpp
     int32_t density_program(size_t material) const;  // scene/medium_hetero_build.cpp
+    int32_t program_of(size_t material, int32_t target) const;  // (the same)
     void build_hetero(int32_t med, size_t material, const std::string& name);
     void build_grids(const SceneInput& in);   // scene/medium_grid_build.cpp
     void build_grid_medium(int32_t med, const std::string& name);      // scene/medium_grid_build.cpp
