@@ -10,7 +10,8 @@ from .node_eval import NODE_HANDLERS, NodeContext
 from .program_builder import REGS, Builder, Unsupported, Val  # noqa: F401 (imported from here)
 
 TARGETS = ("base_color", "roughness", "metallic", "emission", "alpha", "mix_factor", "bump",
-           "displacement", "normal_map", "normal_map_world", "tangent", "density")
+           "displacement", "normal_map", "normal_map_world", "tangent", "density",
+           "volume_emission")
 
 
 class GraphCompiler:

@@ -144,11 +144,31 @@ def h_color_attribute(ctx, node, out, path):
     return ctx.reg(ctx.attribute(f"color:{name}").reg, 3, "RGBA")
 
 
+def grid_register(ctx, name):
+    """The first of the 4 registers (colour, Fac) of grid `name` at the point (kOpGrid), for a
+    compiler with a `grids` table (volume_objects: the object's grids; its aux is the grid's
+    place in that table until the export puts the scene's index there)."""
+    key = ("grid", name)
+    if key not in ctx.memo:
+        out = ctx.b.alloc(4)
+        ctx.b.emit(OP["grid"], out=out, aux=ctx.c.grids.index_of(name))
+        ctx.memo[key] = out
+    return ctx.memo[key]
+
+
 def h_attribute(ctx, node, out, path):
     kind = getattr(node, "attribute_type", "GEOMETRY")
     if kind != "GEOMETRY":
         ctx.c.warn(f"Attribute '{node.name}' of type {kind} is not supported; 0 is used")
         return ctx.fallback(out)
+    if getattr(ctx.c, "grids", None) is not None:
+        # a Volume object's material: the attribute is a grid of its file (kOpGrid)
+        r = grid_register(ctx, node.attribute_name)
+        if out.identifier == "Fac":
+            return ctx.reg(r + 3, 1, "VALUE")
+        if out.identifier == "Alpha":
+            return ctx.const((1.0,), "VALUE")
+        return ctx.reg(r, 3, "RGBA" if out.identifier == "Color" else "VECTOR")
     a = ctx.attribute(f"attr:{node.attribute_name}")
     if out.identifier == "Fac":
         return ctx.convert(ctx.reg(a.reg, 3, "RGBA"), "VALUE")

@@ -8,7 +8,7 @@ OP = {name: i for i, name in enumerate((
     "copy", "input", "math", "vector_math", "mix", "map_range", "clamp", "invert", "gamma",
     "bright_contrast", "hsv", "separate", "combine", "rgb_to_bw", "checker", "gradient",
     "noise", "white_noise", "voronoi", "wave", "magic", "ramp", "curves", "fresnel",
-    "layer_weight", "image", "mapping", "normalize", "brick"))}
+    "layer_weight", "image", "mapping", "normalize", "brick", "grid"))}
 
 MATH_OPS = ("ADD", "SUBTRACT", "MULTIPLY", "DIVIDE", "MULTIPLY_ADD", "POWER", "LOGARITHM",
             "SQRT", "INVERSE_SQRT", "ABSOLUTE", "EXPONENT", "MINIMUM", "MAXIMUM", "LESS_THAN",

@@ -31,10 +31,13 @@ class _GridProbe:
     Attribute node names a grid (the coefficients are then per unit of it); any other graph
     returns None (convert_volume then warns by name and uses the socket's value)."""
 
-    def __init__(self, where, report):
+    def __init__(self, where, report, material=None):
         self.grid = None
         self.flame = None     # (grid name, rgb radiance per metre per unit of it)
-        self.where, self.report = where, report
+        self.where, self.report, self.material = where, report, material
+        self.grids = None     # a graph's grids (_GridTable), with its "density" program
+        self.table = _GridTable()   # the grids every program of this material reads
+        self.emission_program = None  # a graph on Emission Strength ("volume_emission")
 
     def program(self, socket, target, dim):
         from .volume import _source
@@ -44,7 +47,32 @@ class _GridProbe:
                 socket.links[0].from_socket.identifier in ("Fac", "Color"):
             self.grid = node.attribute_name
             return {"grid": self.grid}
-        return None
+        if self.material is None or target != "density":
+            return None
+        # any other graph: a program reading the object's grids (kOpGrid), times Principled
+        # Volume's Density Attribute grid where the shader has one (Cycles multiplies by it)
+        comp = _GridCompiler(self.material, self.report, self.table)
+        shader = socket.node
+        attr = shader.inputs.get("Density Attribute") \
+            if shader.type == "PRINCIPLED_VOLUME" else None
+        attr = str(attr.default_value) if attr is not None else ""
+        post = None
+        if attr:
+            def post(ctx, v):
+                from .node_handlers import grid_register
+                g = ctx.reg(grid_register(ctx, attr) + 3, 1, "VALUE")
+                r, _ = ctx.emit_node("math", [v, g, ctx.const((0.0,), "VALUE")], 1, mode=2)
+                return ctx.reg(r, 1, "VALUE")
+        prog = comp.program(socket, target, dim, post=post)
+        if prog is None:
+            return None
+        self.grids = comp.grids
+        self.grid = attr or (comp.grids.names[0] if comp.grids.names else None)
+        if self.grid is None:
+            self.report.warn(f"{self.where}: the node graph on '{socket.name}' reads no grid of "
+                             "the object; not rendered")
+            return None
+        return prog
 
     def grid_strength(self, node, sock, weight):
         """True when `sock` is an emission strength that a grid drives (an Attribute node, or
@@ -66,7 +94,7 @@ class _GridProbe:
             scale, src = float(other.default_value), _source(attr)
         if src is None or src.type != "ATTRIBUTE" or \
                 getattr(src, "attribute_type", "GEOMETRY") != "GEOMETRY":
-            return False
+            return self._strength_program(node, sock, weight, names[1])
         name = src.attribute_name
         if self.flame is not None and self.flame[0] != name:
             self.report.warn(f"{self.where}: a second emission grid '{name}' is not rendered "
@@ -77,6 +105,64 @@ class _GridProbe:
         old = self.flame[1] if self.flame is not None else [0.0, 0.0, 0.0]
         self.flame = (name, [x + y for x, y in zip(old, add)])
         return True
+
+
+class _GridTable:
+    """The grids a Volume object's graph reads, in order (kOpGrid's aux until export)."""
+
+    def __init__(self):
+        self.names = []
+
+    def index_of(self, name):
+        name = str(name)
+        if name not in self.names:
+            self.names.append(name)
+        return self.names.index(name)
+
+
+class _NoChannels:
+    """A Volume object has no mesh attributes (Generated, Object coordinates, colour
+    attributes): a graph reading them is not rendered (warned by GraphCompiler.program)."""
+
+    def channel(self, name):
+        from .material_compile import Unsupported
+        raise Unsupported(f"'{name}' is not read inside a Volume object yet")
+
+    def __getattr__(self, name):
+        from .material_compile import Unsupported
+        raise Unsupported("textures are not read inside a Volume object yet")
+
+
+def _GridCompiler(material, report, table):
+    from .material_compile import GraphCompiler
+    comp = GraphCompiler(material, report, _NoChannels(), _NoChannels())
+    comp.grids = table
+    return comp
+
+
+def _strength_program(self, node, sock, weight, color_name):
+    """A graph of the object's grids on an emission strength (Map Range, Math, ColorRamp, ...
+    between Attribute nodes and the socket): a "volume_emission" program, its colour factor
+    weight x the Emission Color kept as the flame's (a flame grid's place); False where it
+    cannot be compiled (warned) or another emission graph or grid is there already."""
+    from .volume import _value
+    if self.material is None:
+        return False
+    if self.flame is not None or self.emission_program is not None:
+        self.report.warn(f"{self.where}: a second emission graph on '{node.name}' is not "
+                         "rendered (one emission grid or graph per volume)")
+        return True
+    comp = _GridCompiler(self.material, self.report, self.table)
+    prog = comp.program(sock, "volume_emission", 1)
+    if prog is None:
+        return False
+    color = _value(node, color_name, self.where, self.report) or [1.0, 1.0, 1.0]
+    self.emission_program = prog
+    self.flame = (None, [weight * max(c, 0.0) for c in color])
+    return True
+
+
+_GridProbe._strength_program = _strength_program
 
 
 def _box(index_to_world, dims):
@@ -112,13 +198,13 @@ class VolumeObjects:
         """(medium dict per unit of the grid, grid name, material name) or None (warned)."""
         mat = obj.material_slots[0].material if len(obj.material_slots) else None
         if mat is None:
-            return dict(_DEFAULT_MEDIUM), "density", "Principled Volume (default)", {}
+            return dict(_DEFAULT_MEDIUM), "density", "Principled Volume (default)", {}, None
         where = f"Object '{obj.name}' (material '{mat.name}')"
         tree = getattr(mat, "node_tree", None)
         output = _output(tree, "OUTPUT_MATERIAL") if tree is not None else None
         if output is None or output.inputs.get("Volume") is None:
             return None
-        probe, programs = _GridProbe(where, self.report), []
+        probe, programs = _GridProbe(where, self.report, mat), []
         medium = convert_volume(output.inputs["Volume"], where, self.report, probe, programs)
         if medium is None and probe.flame is None:
             return None
@@ -142,7 +228,13 @@ class VolumeObjects:
         color = _color(output, medium, obj, where, self.report)
         if color is not None:
             fire["color"] = color
-        return medium, grid, mat.name, fire
+        # graphs on Density and Emission Strength: their programs (kOpGrid's aux the place of
+        # a grid in grid_names)
+        progs = [programs[0]] if probe.grids is not None and programs else []
+        if probe.emission_program is not None:
+            progs.append(probe.emission_program)
+        program = {"programs": progs, "grid_names": list(probe.table.names)} if progs else None
+        return medium, grid, mat.name, fire, program
 
     def _grid(self, path, name):
         """(voxels, index_to_object, background) of grid `name` of `path`, or the exception
@@ -154,6 +246,24 @@ class VolumeObjects:
             except (RuntimeError, ValueError, OSError) as e:
                 self._read[key] = e
         return self._read[key]
+
+    def _program_grids(self, obj, path, layout, program, inst):
+        """{name: grid dict} of the grids a density program reads other than the layout
+        (density) grid; a grid the file lacks warns by name and reads 0 (Cycles' missing
+        attribute)."""
+        out = {}
+        for name in program["grid_names"]:
+            if name == layout:
+                continue
+            got = self._grid(path, name)
+            if isinstance(got, Exception):
+                self.report.warn(f"Object '{obj.name}': the grid '{name}' its density's node "
+                                 f"graph reads is not rendered ({got}); it reads 0 there")
+                continue
+            out[name] = {"name": f"{obj.name}:{name}", "voxels": got[0],
+                         "index_to_world": np.array(inst.matrix_world, np.float64) @
+                         np.asarray(got[1])}
+        return out
 
     def export(self, inst, scene, materials):
         """Appends the object's grid, box mesh and material to scene (the material to the
@@ -185,7 +295,7 @@ class VolumeObjects:
         got = self._medium(obj)
         if got is None:
             return None
-        medium, grid, mat_name, fire = got
+        medium, grid, mat_name, fire, program = got
         got = self._grid(path, grid)
         if isinstance(got, Exception):
             warn(f"Object '{obj.name}': its volume is not rendered: {got}")
@@ -236,6 +346,12 @@ class VolumeObjects:
                                np.asarray(got[1])}
         m = {"name": f"{mat_name} ({obj.name})", "type": "diffuse", "volume": medium,
              "volume_only": True}
+        if program is not None:
+            g["layout"] = grid
+            g["program_grids"] = self._program_grids(obj, path, grid, program, inst)
+            m["programs"] = [{k: v for k, v in p.items() if k != "grid_names"}
+                             for p in program["programs"]]
+            m["grid_names"] = list(program["grid_names"])
         return g, {"name": obj.name, "positions": positions, "indices": indices}, m
 
 
@@ -246,6 +362,28 @@ def add_grids(scene, mat, grid):
                                                 name=grid["name"]))
     for role, g in grid.get("fire", {}).items():
         out[f"{role}_grid"] = scene.add_grid(g["voxels"], g["index_to_world"], name=g["name"])
+    names = out.pop("grid_names", None)
+    if names is not None and out.get("programs"):
+        # the density program's grids: kOpGrid's aux from its place in names to the scene's
+        layout = grid.get("layout")
+        index = []
+        for name in names:
+            if name == layout:
+                index.append(out["density_grid"])
+            elif name in grid.get("program_grids", {}):
+                g = grid["program_grids"][name]
+                index.append(scene.add_grid(g["voxels"], g["index_to_world"], name=g["name"]))
+            else:
+                index.append(-1)   # missing: reads 0
+        from .node_ops import OP
+        progs = []
+        for p in out["programs"]:
+            code = [list(w) for w in p["code"]]
+            for w in code:
+                if w[0] & 0xFF == OP["grid"]:
+                    w[2] = index[w[2]] & 0xFFFFFFFF
+            progs.append(dict(p, code=code))
+        out["programs"] = progs
     return out
 
 
@@ -285,7 +423,9 @@ def _fire(output, medium, probe, obj, where, report):
         fire["temperature"] = name
     if probe.flame is not None:
         name, rgb = probe.flame
-        if name not in names:
+        if name is None:   # a graph's program (probe.emission_program) scales it per point
+            medium["flame_emission"] = rgb
+        elif name not in names:
             report.warn(f"{where}: the grid '{name}' on its emission strength is not in the "
                         "object's file; it reads 0 there (no emission), as in Cycles")
         else:

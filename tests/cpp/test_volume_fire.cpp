@@ -347,7 +347,9 @@ TEST(MediumFire, EmissionAtCollisionsIsTheEmissionIntegral) {
         Vec3 e = vec3(0.0f);
         medium_track(
             s, ab, med, o, d, L, vec3(1.0f), r,
-            [&](float t, Vec3 w, float mu) { e = e + w * medium_emission_at(s, ab, o + d * t) / mu; },
+            [&](float t, Vec3 w, float mu) {
+                e = e + w * medium_emission_at(s, ab, med, o + d * t) / mu;
+            },
             [](float, float, Vec3) {});
         const double ev[3] = {e.x, e.y, e.z};
         for (int c = 0; c < 3; ++c) {
@@ -381,7 +383,8 @@ TEST(MediumFire, BadTemperaturesAreCleanedAndNamed) {
     // a temperature of 0 emits only the (1 - intensity) part: finite everywhere
     const Medium& m = s.media[s.material_medium[0]];
     for (int k = 0; k < 50; ++k) {
-        const Vec3 e = medium_emission_at(s, m, Vec3{-1.0f + 0.07f * k, 1.5f, 2.8f});
+        const Vec3 e =
+            medium_emission_at(s, m, s.material_medium[0], Vec3{-1.0f + 0.07f * k, 1.5f, 2.8f});
         EXPECT_TRUE(std::isfinite(e.x) && std::isfinite(e.y) && std::isfinite(e.z));
     }
     SceneInput bad = fire_scene(kAxis, true);

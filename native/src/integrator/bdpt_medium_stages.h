@@ -412,7 +412,8 @@ LANTERN_HD inline bool bdpt_camera_hetero_segment(const SceneView& s, const Path
     const HeteroStep h = medium_track(
         s, m, med, o0, d, len, beta, tr,
         [&](float t, Vec3 w, float mu) {  // mu: the majorant where the collision fell
-            if (m.emits) add_radiance(ps, i, beta * w * medium_emission_at(s, m, o0 + d * t) / mu);
+            if (m.emits)
+                add_radiance(ps, i, beta * w * medium_emission_at(s, m, med, o0 + d * t) / mu);
         },
         [&](float a, float b, Vec3 w) {
             if (lights) bdpt_camera_lights_hetero(s, ps, bs, st, i, med, o0, a, b, seg, beta * w);

@@ -34,7 +34,8 @@ LANTERN_HD inline bool pt_hetero_segment(const SceneView& s, const PathState& ps
     const HeteroStep step = medium_track(
         s, m, med, o0, d, len, beta, tr,
         [&](float t, Vec3 w, float mu) {
-            if (emits) add_radiance(ps, i, beta * w * medium_emission_at(s, m, o0 + d * t) / mu);
+            if (emits)
+                add_radiance(ps, i, beta * w * medium_emission_at(s, m, med, o0 + d * t) / mu);
         },
         [&](float a, float b, Vec3 w) {
             if (!lights || is_black(w)) return;

@@ -48,6 +48,7 @@ OpSpan op_span(int op, int dim, int mode) {
     case kOpMapping: return {12, 3};
     case kOpNormalize: return {3, 3};
     case kOpBrick: return {20, 4};
+    case kOpGrid: return {0, 4};
     default: return {-1, -1};
     }
 }
@@ -129,7 +130,8 @@ namespace {
 
 // Ops whose value depends on the shading point (or an image): never folded.
 bool op_reads_hit(int op) {
-    return op == kOpInput || op == kOpImage || op == kOpFresnel || op == kOpLayerWeight;
+    return op == kOpInput || op == kOpImage || op == kOpFresnel || op == kOpLayerWeight ||
+           op == kOpGrid;
 }
 
 // Constant folding: every instruction whose inputs are all known (and whose outputs nothing
@@ -253,7 +255,8 @@ void HostScene::add_programs(const SceneInput& in) {
             MaterialProgram p = programs_[size_t(mi.program_first) + size_t(i)];
             fold_program(p, program_code_, program_consts_, host);
             host.program_consts = program_consts_.data();
-            if (p.target == kTargetTangent || p.target == kTargetDensity) {
+            if (p.target == kTargetTangent || p.target == kTargetDensity ||
+                p.target == kTargetVolumeEmission) {
                 // kept: anisotropy_angle runs the tangent, medium_hetero.h the density
                 kept.push_back(p);
                 continue;

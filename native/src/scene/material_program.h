@@ -19,8 +19,10 @@ enum ProgramTarget : uint32_t {
     kTargetBaseColor = 0, kTargetRoughness = 1, kTargetMetallic = 2, kTargetEmission = 3,
     kTargetAlpha = 4, kTargetMixFactor = 5, kTargetBump = 6, kTargetDisplacement = 7,
     kTargetNormalMap = 8, kTargetNormalMapWorld = 9, kTargetTangent = 10, kTargetDensity = 11,
-    kTargetCount = 12,
+    kTargetVolumeEmission = 12, kTargetCount = 13,
 };
+// kTargetVolumeEmission: the Emission Strength of a Volume object's volume shader driven by a
+// graph of its grids (scene/medium_fire.h medium_emission_at), run at points inside the medium.
 // kTargetDensity: the Density of a material's volume shader (a heterogeneous medium,
 // scene/medium_hetero.h), run at points inside the medium, never at a surface hit.
 // kTargetTangent: the anisotropy tangent, a world direction (an unlinked Tangent input's

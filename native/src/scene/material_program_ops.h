@@ -115,6 +115,10 @@ enum NodeOp : uint8_t {
     kOpBrick,          // in: vector(3) color1(3) color2(3) mortar(3) scale mortar_size
                        // mortar_smooth bias brick_width row_height offset squash;
                        // aux offset frequency, aux2 squash frequency; out: color(3) fac
+    kOpGrid,           // no inputs (reads the point); aux: SceneView::grids index (-1 or out
+                       // of range: 0, a missing attribute); out: color(3) fac: a Volume
+                       // object's grid at the point, as an Attribute node reads it (a float
+                       // grid's value in all three, a colour grid's colour and its mean)
 };
 
 // NodeInstr::flags bit set by the core's constant folding (material_program.cpp) on an
@@ -381,6 +385,17 @@ LANTERN_HD inline void program_step(const SceneView& s, const ShadePoint& sp, co
         if (f != 1.0f) c1 = c1 * (1.0f - tint) + reg3(a, 6) * tint;
         set3(o, 0, mix3(c1, reg3(a, 9), f));
         o[3] = f;
+        break;
+    }
+    case kOpGrid: {
+        Vec3 c{};
+        if (n.aux >= 0 && n.aux < s.num_grids) {
+            const DensityGrid& g = s.grids[n.aux];
+            c = g.channels == 3 ? grid_color(g, s.grid_voxels, vec3(0.0f), sp.p).color
+                                : vec3(grid_lookup(g, s.grid_voxels, sp.p));
+        }
+        set3(o, 0, c);
+        o[3] = (c.x + c.y + c.z) * (1.0f / 3.0f);
         break;
     }
     default: break;

@@ -40,6 +40,8 @@ struct Medium {
     // sigma_a + color_absorb max(1 - color_base c, 0), c the grid's colour at the point
     // (scene/medium_hetero.h: medium_coeffs_at) ----
     int32_t color_grid;
+    int32_t emission_prog;     // SceneView::programs (kTargetVolumeEmission): emission
+                               // flame_emission x max(program, 0) per point; -1: none
     Vec3 bb_tint;              // Blackbody Tint x the shader's mix weight
     Vec3 flame_emission;       // radiance per metre per unit of the flame grid
     Vec3 color_scatter;        // Principled Volume's Color x Density (x weight, object scale)

@@ -45,6 +45,7 @@ Medium to_medium(const MediumInput& in, std::vector<std::string>& warnings) {
     m.density_prog = -1;
     m.density_grid = -1;
     m.majorant_grid = m.temperature_grid = m.flame_grid = m.color_grid = -1;
+    m.emission_prog = -1;
     return m;
 }
 
@@ -129,7 +130,9 @@ void HostScene::build_media(const SceneInput& in) {
             throw std::invalid_argument("material '" + mi.name + "': density grid " +
                                         std::to_string(mi.density_grid) + " out of range (the "
                                         "scene has " + std::to_string(grids_.size()) + ")");
-        const int32_t prog = mi.density_grid >= 0 ? -1 : density_program(k);
+        // a Volume object's density program (a graph on its Density reading its grids) stands
+        // for its density grid, which then only places its box and bricks
+        const int32_t prog = density_program(k);
         if (mi.density_grid >= 0 || prog >= 0) {
             // a heterogeneous medium: the material's own (its density program or grid, its mesh)
             const MediumInput& src = in.media[size_t(mi.medium)];
@@ -145,7 +148,15 @@ void HostScene::build_media(const SceneInput& in) {
             }
             finish(m);
             m.scatters = max_component(m.sigma_s + m.sigma_s0) > 0.0f ? 1u : 0u;
-            if (mi.density_grid >= 0) grid_fire(m, mi, src);  // scene/medium_grid_build.cpp
+            if (mi.density_grid >= 0) {
+                grid_fire(m, mi, src);  // scene/medium_grid_build.cpp
+                // a graph on Emission Strength reading the grids: flame_emission x its value
+                m.emission_prog = program_of(k, kTargetVolumeEmission);
+                if (m.emission_prog >= 0 && max_component(m.flame_emission) > 0.0f)
+                    m.emits = 1u;
+                else
+                    m.emission_prog = -1;
+            }
             material_medium_[k] = int32_t(media_.size());
             media_.push_back(m);
             hetero.push_back({material_medium_[k], k});
@@ -174,9 +185,13 @@ void HostScene::build_media(const SceneInput& in) {
     if (has_world) media_[0].outside = -1;
     nest_media(in, has_world ? &world : nullptr);
     for (const auto& h : hetero) {
-        if (media_[size_t(h.first)].density_grid >= 0)
-            build_grid_medium(h.first);
-        else
+        if (media_[size_t(h.first)].density_grid >= 0) {
+            // a density program on a grid: its attribute maps (the box's) and its lattice
+            // majorant first (the fallback where the program has no bound), then the bricks
+            if (media_[size_t(h.first)].density_prog >= 0)
+                build_hetero(h.first, h.second, in.materials[h.second].name);
+            build_grid_medium(h.first, in.materials[h.second].name);
+        } else
             build_hetero(h.first, h.second, in.materials[h.second].name);
     }
     view_.media = media_.data();  // nesting may have added media

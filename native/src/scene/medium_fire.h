@@ -6,6 +6,7 @@
 // constant emission. Host+device; the blackbody colours are a table in the view.
 #pragma once
 
+#include "scene/material_program.h"
 #include "scene/medium.h"
 #include "scene/medium_grid.h"
 #include "scene/scene_view.h"
@@ -75,12 +76,25 @@ LANTERN_HD inline Vec3 grid_blackbody(const SceneView& s, const Medium& m, Vec3 
     return e;
 }
 
-// The medium's emission at p (radiance per metre): the constant part and its grids' parts.
-LANTERN_HD inline Vec3 medium_emission_at(const SceneView& s, const Medium& m, Vec3 p) {
+// The medium's emission at p (radiance per metre): the constant part and its grids' parts
+// (the flame grid's, or a graph's on Emission Strength: flame_emission x max(its value, 0);
+// med the medium's index, for the program's shading point).
+LANTERN_HD inline Vec3 medium_emission_at(const SceneView& s, const Medium& m, int32_t med,
+                                          Vec3 p) {
     Vec3 e = m.emission;
     if (!m.hetero) return e;
     if (m.flame_grid >= 0 && m.flame_grid < s.num_grids)
         e = e + m.flame_emission * grid_lookup(s.grids[m.flame_grid], s.grid_voxels, p);
+    if (m.emission_prog >= 0) {
+        ShadePoint sp;
+        sp.p = p;
+        sp.n = sp.ng = sp.wo = vec3(0.0f);
+        sp.st = sp.bary = Vec2{};
+        sp.tri = -2 - med;
+        sp.backfacing = false;
+        e = e + m.flame_emission *
+                    fminf(fmaxf(program_run(s, s.programs[m.emission_prog], sp).x, 0.0f), 1e9f);
+    }
     if (m.temperature_grid >= 0 && m.temperature_grid < s.num_grids && s.blackbody_table)
         e = e + grid_blackbody(s, m, p);
     return e;

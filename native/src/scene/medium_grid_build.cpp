@@ -9,6 +9,7 @@
 #include <string>
 
 #include "scene/medium_fire.h"
+#include "scene/program_bound.h"
 #include "scene/scene.h"
 
 namespace lantern {
@@ -179,6 +180,30 @@ void HostScene::grid_fire(Medium& m, const MaterialInput& mi, const MediumInput&
     if (m.flame_grid >= 0 && !(max_component(m.flame_emission) > 0.0f)) m.flame_grid = -1;
 }
 
+// The bound of medium med's density program over the points of index box [lo, hi] of grid g
+// (scene/program_bound.h: a true bound, clamped to [0, 1e9] as medium_density clamps), or -1
+// where the program has none.
+float HostScene::program_density_bound(int32_t med, const DensityGrid& g, float lx, float ly,
+                                       float lz, float hx, float hy, float hz) const {
+    const Medium& m = media_[size_t(med)];
+    const float* to_world = grid_index_to_world_.data() + 16 * size_t(&g - grids_.data());
+    Vec3 wlo = vec3(kInf), whi = vec3(-kInf);
+    for (int k = 0; k < 8; ++k) {
+        const float q[3] = {k & 1 ? hx : lx, k & 2 ? hy : ly, k & 4 ? hz : lz};
+        float w[3];
+        for (int r = 0; r < 3; ++r)
+            w[r] = to_world[4 * r] * q[0] + to_world[4 * r + 1] * q[1] +
+                   to_world[4 * r + 2] * q[2] + to_world[4 * r + 3];
+        wlo = Vec3{std::fmin(wlo.x, w[0]), std::fmin(wlo.y, w[1]), std::fmin(wlo.z, w[2])};
+        whi = Vec3{std::fmax(whi.x, w[0]), std::fmax(whi.y, w[1]), std::fmax(whi.z, w[2])};
+    }
+    SceneView host = view_;
+    host.media = media_.data();
+    Interval b[3];
+    if (!program_bound(host, programs_[size_t(m.density_prog)], med, wlo, whi, b)) return -1.0f;
+    return std::fmin(std::fmax(b[0].hi, 0.0f), 1e9f);
+}
+
 // The largest extinction per unit density of m's colour part over the points whose index in
 // density grid g lies in the box [lo, hi] (per channel: color_scatter x the largest colour
 // component + color_absorb x max(1 - base x the smallest, 0), over the colour voxels that a
@@ -231,10 +256,24 @@ Vec3 HostScene::color_bound(const Medium& m, const DensityGrid& g, const float l
 }
 
 // The majorant of heterogeneous medium med whose density is grid density_grid, and its bricks.
-void HostScene::build_grid_medium(int32_t med) {
+void HostScene::build_grid_medium(int32_t med, const std::string& name) {
     Medium& m = media_[size_t(med)];
     const DensityGrid& g = grids_[size_t(m.density_grid)];
-    m.density_max = std::fmin(g.max_value, 1e9f);
+    if (m.density_prog >= 0) {
+        // a density program (a node graph reading grids): its interval bound over the grid's
+        // support; without one, build_hetero's lattice maximum x 1.5 stays (not a true bound)
+        const float b = program_density_bound(med, g, -1.0f, -1.0f, -1.0f, float(g.nx),
+                                              float(g.ny), float(g.nz));
+        if (b >= 0.0f)
+            m.density_max = b;
+        else
+            warnings_.push_back("medium '" + name + "': its density's node graph has no bound "
+                                "Lantern can compute (a node without an interval rule, or an "
+                                "unbounded value); its majorant is the largest density on a "
+                                "lattice x 1.5, which may miss peaks (biased there)");
+    } else {
+        m.density_max = std::fmin(g.max_value, 1e9f);
+    }
     // the extinction per unit density at most: with a colour grid, its largest component scales
     // the scattering and the absorption's factor max(1 - base c, 0) is at most 1
     const Vec3 unit = m.color_grid >= 0

@@ -44,16 +44,19 @@ LANTERN_HD inline ShadePoint medium_shade_point(int32_t med, Vec3 p, Vec3 d) {
     return sp;
 }
 
-// The density at p: the density program's value times the Volume object's grid (each 1 where
-// the medium has none) (>= 0: Cycles takes a negative density as none; NaN is 0 in program_run;
-// at most 1e9, as homogeneous coefficients are clamped).
+// The density at p: the density program's value, else the Volume object's density grid's (1
+// where the medium has neither). A Volume object's medium with a program (a node graph on its
+// Density, which reads the object's grids by kOpGrid) keeps its density grid for its box and
+// bricks only: the program alone is the density (it multiplies by the Density Attribute's grid
+// itself where Cycles does). (>= 0: Cycles takes a negative density as none; NaN is 0 in
+// program_run; at most 1e9, as homogeneous coefficients are clamped.)
 LANTERN_HD inline float medium_density(const SceneView& s, const Medium& m, int32_t med, Vec3 p,
                                        Vec3 d) {
     float v = 1.0f;
     if (m.density_prog >= 0)
         v = program_run(s, s.programs[m.density_prog], medium_shade_point(med, p, d)).x;
-    if (m.density_grid >= 0 && m.density_grid < s.num_grids)  // (a zero Medium{} has none)
-        v *= grid_lookup(s.grids[m.density_grid], s.grid_voxels, p);
+    else if (m.density_grid >= 0 && m.density_grid < s.num_grids)  // (a zero Medium{}: none)
+        v = grid_lookup(s.grids[m.density_grid], s.grid_voxels, p);
     return v > 0.0f ? fminf(v, 1e9f) : 0.0f;
 }
 

@@ -41,10 +41,14 @@ bool solve4(double a[4][4], double b[4]) {
 }  // namespace
 
 int32_t HostScene::density_program(size_t material) const {
+    return program_of(material, kTargetDensity);
+}
+
+int32_t HostScene::program_of(size_t material, int32_t target) const {
     const Material& m = materials_[material];
     if (!(m.tex_flags & kTexProgram)) return -1;
     for (int i = 0; i < m.prog_count; ++i)
-        if (programs_[size_t(m.prog_first + i)].target == kTargetDensity) return m.prog_first + i;
+        if (programs_[size_t(m.prog_first + i)].target == target) return m.prog_first + i;
     return -1;
 }
 

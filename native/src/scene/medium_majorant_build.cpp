@@ -55,9 +55,19 @@ void HostScene::build_majorant_grid(int32_t med) {
                                    std::min((bj + 1) * B, n[1] - 1),
                                    std::min((bk + 1) * B, n[2] - 1)};
                 float dmax = 0.0f;
-                for (int k = lo[2]; k <= hi[2]; ++k)
-                    for (int j = lo[1]; j <= hi[1]; ++j)
-                        for (int i = lo[0]; i <= hi[0]; ++i) dmax = std::fmax(dmax, voxel(i, j, k));
+                if (m.density_prog >= 0) {
+                    // a density program: its bound over the brick's lookups (one voxel of
+                    // margin each way, as the voxels'), else the medium's (build_grid_medium)
+                    dmax = program_density_bound(med, g, float(bi * B - 2), float(bj * B - 2),
+                                                 float(bk * B - 2), float((bi + 1) * B),
+                                                 float((bj + 1) * B), float((bk + 1) * B));
+                    if (!(dmax >= 0.0f)) dmax = m.density_max;
+                } else {
+                    for (int k = lo[2]; k <= hi[2]; ++k)
+                        for (int j = lo[1]; j <= hi[1]; ++j)
+                            for (int i = lo[0]; i <= hi[0]; ++i)
+                                dmax = std::fmax(dmax, voxel(i, j, k));
+                }
                 Vec3 u = unit;
                 if (m.color_grid >= 0) {  // the colour's part, per channel over the brick
                     const float qlo[3] = {float(bi * B - 2), float(bj * B - 2), float(bk * B - 2)};

@@ -265,12 +265,15 @@ private:
     void fill_lobe_tables();
     void build_media(const SceneInput& in);  // scene/medium_build.cpp
     int32_t density_program(size_t material) const;  // scene/medium_hetero_build.cpp
+    int32_t program_of(size_t material, int32_t target) const;  // (the same)
     void build_hetero(int32_t med, size_t material, const std::string& name);
     void build_grids(const SceneInput& in);   // scene/medium_grid_build.cpp
-    void build_grid_medium(int32_t med);      // scene/medium_grid_build.cpp
+    void build_grid_medium(int32_t med, const std::string& name);      // scene/medium_grid_build.cpp
     void grid_fire(Medium& m, const MaterialInput& mi, const MediumInput& src);  // the same
     void build_majorant_grid(int32_t med);    // scene/medium_majorant_build.cpp
     // a colour grid's bound on m's extinction per unit density over a box of g's index space
+    float program_density_bound(int32_t med, const DensityGrid& g, float lx, float ly, float lz,
+                                float hx, float hy, float hz) const;  // medium_grid_build.cpp
     Vec3 color_bound(const Medium& m, const DensityGrid& g, const float lo[3],
                      const float hi[3]) const;  // scene/medium_grid_build.cpp
     void nest_media(const SceneInput& in, const Medium* world);  // scene/medium_build.cpp

@@ -1,0 +1,311 @@
+// Interval bounds of node programs over boxes (scene/program_bound.h): one interval per
+// register, pushed through the instructions in order. The rules keep every value an op can
+// give for inputs inside its input intervals (monotone ops at the interval's ends, products
+// at the four corners, tables over the rows the input reaches); an op without a rule, or a
+// register read before it is written, makes the bound fail.
+#include "scene/program_bound.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace lantern {
+
+namespace {
+
+constexpr float kInfBound = std::numeric_limits<float>::infinity();
+
+struct Reg {
+    float lo, hi;
+    bool known;
+};
+
+Reg point(float v) { return Reg{v, v, true}; }
+Reg unknown() { return Reg{-kInfBound, kInfBound, false}; }
+Reg make(float a, float b) {
+    if (!(std::isfinite(a) && std::isfinite(b))) return unknown();
+    return Reg{std::min(a, b), std::max(a, b), true};
+}
+Reg add(Reg a, Reg b) { return make(a.lo + b.lo, a.hi + b.hi); }
+Reg sub(Reg a, Reg b) { return make(a.lo - b.hi, a.hi - b.lo); }
+Reg mul(Reg a, Reg b) {
+    const float c[4] = {a.lo * b.lo, a.lo * b.hi, a.hi * b.lo, a.hi * b.hi};
+    for (float v : c)
+        if (!std::isfinite(v)) return unknown();
+    return Reg{*std::min_element(c, c + 4), *std::max_element(c, c + 4), true};
+}
+// a function non-decreasing in its argument
+template <class F>
+Reg monotone(Reg a, F f) {
+    return make(f(a.lo), f(a.hi));
+}
+Reg clamp01(Reg a) {
+    return Reg{std::fmin(std::fmax(a.lo, 0.0f), 1.0f), std::fmin(std::fmax(a.hi, 0.0f), 1.0f),
+               true};
+}
+bool constant(Reg a) { return a.known && a.lo == a.hi; }
+
+// Math node operation `op` (node_math) over intervals; unknown where no rule is written.
+Reg math_bound(int op, Reg a, Reg b, Reg c) {
+    switch (op) {
+    case 0: return add(a, b);
+    case 1: return sub(a, b);
+    case 2: return mul(a, b);
+    case 3:  // safe_div: b's interval must not hold 0 (there safe_div jumps to 0)
+        if (b.lo > 0.0f || b.hi < 0.0f) return mul(a, make(1.0f / b.lo, 1.0f / b.hi));
+        return unknown();
+    case 4: return add(mul(a, b), c);
+    case 5:  // safe_pow with a constant exponent and a base >= 0
+        if (!constant(b) || a.lo < 0.0f) return unknown();
+        if (b.lo == 0.0f) return point(1.0f);
+        if (b.lo > 0.0f)
+            return monotone(a, [&](float x) { return powf(x, b.lo); });
+        if (a.lo > 0.0f)  // decreasing in the base
+            return make(powf(a.hi, b.lo), powf(a.lo, b.lo));
+        return unknown();
+    case 7: return monotone(a, [](float x) { return x > 0.0f ? sqrtf(x) : 0.0f; });
+    case 9:
+        if (a.lo >= 0.0f) return a;
+        if (a.hi <= 0.0f) return make(-a.hi, -a.lo);
+        return make(0.0f, std::max(-a.lo, a.hi));
+    case 10: return monotone(a, [](float x) { return expf(x); });
+    case 11: return make(std::fmin(a.lo, b.lo), std::fmin(a.hi, b.hi));
+    case 12: return make(std::fmax(a.lo, b.lo), std::fmax(a.hi, b.hi));
+    case 13: case 14: case 16: return make(0.0f, 1.0f);
+    case 15: return monotone(a, [](float x) { return x > 0.0f ? 1.0f : x < 0.0f ? -1.0f : 0.0f; });
+    case 19: return monotone(a, [](float x) { return floorf(x + 0.5f); });
+    case 20: return monotone(a, [](float x) { return floorf(x); });
+    case 21: return monotone(a, [](float x) { return ceilf(x); });
+    case 23: return make(0.0f, 1.0f);
+    case 29: case 30: return make(-1.0f, 1.0f);
+    case 34: return monotone(a, [](float x) { return atanf(x); });
+    case 38: return monotone(a, [](float x) { return tanhf(x); });
+    case 39: return mul(a, point(kPi / 180.0f));
+    case 40: return mul(a, point(180.0f / kPi));
+    default: return unknown();
+    }
+}
+
+// The interval of an affine map's value over a box (per output component).
+void affine_range(const Transform& t, Vec3 lo, Vec3 hi, Reg out[3]) {
+    const Vec3 c = (lo + hi) * 0.5f, h = (hi - lo) * 0.5f;
+    const Vec3 m = t.point(c);
+    const float mc[3] = {m.x, m.y, m.z};
+    for (int r = 0; r < 3; ++r) {
+        const float e = std::fabs(t.m[r][0]) * h.x + std::fabs(t.m[r][1]) * h.y +
+                        std::fabs(t.m[r][2]) * h.z;
+        out[r] = make(mc[r] - e, mc[r] + e);
+    }
+}
+
+// Registers op n writes (material_program.cpp op_span's output widths).
+int out_width(const NodeInstr& n) {
+    switch (n.op) {
+    case kOpCopy: case kOpMapRange: return n.dim;
+    case kOpMath: case kOpClamp: case kOpRgbToBw: case kOpFresnel: return 1;
+    case kOpLayerWeight: return 2;
+    case kOpInput: case kOpMix: case kOpInvert: case kOpGamma: case kOpBrightContrast:
+    case kOpHsv: case kOpSeparate: case kOpCombine: case kOpCurves: case kOpMapping:
+    case kOpNormalize:
+        return 3;
+    case kOpVoronoi: return 8;
+    default: return 4;
+    }
+}
+
+}  // namespace
+
+void grid_range(const SceneView& s, const DensityGrid& g, Vec3 lo, Vec3 hi, Interval out[3]) {
+    Reg q[3];
+    affine_range(g.world_to_index, lo, hi, q);
+    const int n[3] = {g.nx, g.ny, g.nz};
+    int a0[3], a1[3];
+    bool outside = false;
+    for (int a = 0; a < 3; ++a) {
+        if (!q[a].known) {  // a box beyond floats: every voxel, and the outside's 0
+            a0[a] = 0;
+            a1[a] = n[a] - 1;
+            outside = true;
+            continue;
+        }
+        // a lookup at q reads voxels floor(q) and floor(q) + 1; one more each way as margin
+        const float f0 = std::floor(q[a].lo) - 1.0f, f1 = std::floor(q[a].hi) + 2.0f;
+        if (!(f1 >= 0.0f && f0 <= float(n[a] - 1)) || n[a] <= 0) {
+            for (int c = 0; c < 3; ++c) out[c] = Interval{0.0f, 0.0f};  // all outside: 0
+            return;
+        }
+        outside = outside || f0 < 0.0f || f1 > float(n[a] - 1);
+        a0[a] = int(std::fmax(f0, 0.0f));
+        a1[a] = int(std::fmin(f1, float(n[a] - 1)));
+    }
+    const int ch = g.channels == 3 ? 3 : 1;
+    float vmin[3] = {kInfBound, kInfBound, kInfBound}, vmax[3] = {-kInfBound, -kInfBound,
+                                                                  -kInfBound};
+    if (outside)
+        for (int c = 0; c < 3; ++c) vmin[c] = vmax[c] = 0.0f;
+    const float* vox = s.grid_voxels + g.offset;
+    for (int k = a0[2]; k <= a1[2]; ++k)
+        for (int j = a0[1]; j <= a1[1]; ++j)
+            for (int i = a0[0]; i <= a1[0]; ++i) {
+                const float* x =
+                    vox + size_t(ch) * ((size_t(k) * size_t(g.ny) + size_t(j)) * size_t(g.nx) +
+                                        size_t(i));
+                for (int c = 0; c < ch; ++c) {
+                    vmin[c] = std::fmin(vmin[c], x[c]);
+                    vmax[c] = std::fmax(vmax[c], x[c]);
+                }
+            }
+    for (int c = 0; c < 3; ++c) {
+        const int cc = ch == 3 ? c : 0;
+        out[c] = Interval{vmin[cc], vmax[cc]};
+    }
+}
+
+bool program_bound(const SceneView& s, const MaterialProgram& p, int32_t med, Vec3 lo, Vec3 hi,
+                   Interval out[3]) {
+    for (int c = 0; c < 3; ++c) out[c] = Interval{-kInfBound, kInfBound};
+    Reg r[kProgramRegs];
+    for (Reg& x : r) x = unknown();
+    const int nc = std::min(p.num_const, kProgramRegs);
+    for (int i = 0; i < nc; ++i) r[i] = point(s.program_consts[p.first_const + i]);
+    for (int i = 0; i < p.num_instr; ++i) {
+        const NodeInstr& n = s.program_code[p.first_instr + i];
+        const Reg* a = r + n.in;
+        Reg* o = r + n.out;
+        Reg t[4];
+        for (Reg& x : t) x = unknown();
+        switch (n.op) {
+        case kOpCopy:
+            for (int k = 0; k < n.dim && k < 4; ++k) t[k] = a[k];
+            break;
+        case kOpInput:
+            if (n.mode == 0) {
+                t[0] = make(lo.x, hi.x);
+                t[1] = make(lo.y, hi.y);
+                t[2] = make(lo.z, hi.z);
+            } else if (n.mode == 4) {
+                if (med >= 0 && s.medium_maps && n.aux >= 0 && n.aux < s.num_attribute_channels)
+                    affine_range(s.medium_maps[size_t(med) * size_t(s.num_attribute_channels) +
+                                               size_t(n.aux)],
+                                 lo, hi, t);
+                else
+                    t[0] = t[1] = t[2] = point(0.0f);
+            } else if (n.mode == 1 || n.mode == 2 || n.mode == 8 || n.mode == 9) {
+                t[0] = t[1] = t[2] = point(0.0f);  // no normal, uv or back side in a medium
+            } else if (n.mode == 3) {
+                t[0] = t[1] = t[2] = make(-1.0f, 1.0f);  // the direction back along the ray
+            }
+            break;
+        case kOpGrid: {
+            Interval g[3] = {{0, 0}, {0, 0}, {0, 0}};
+            if (n.aux >= 0 && n.aux < s.num_grids) grid_range(s, s.grids[n.aux], lo, hi, g);
+            for (int k = 0; k < 3; ++k) t[k] = make(g[k].lo, g[k].hi);
+            t[3] = make((g[0].lo + g[1].lo + g[2].lo) / 3.0f, (g[0].hi + g[1].hi + g[2].hi) / 3.0f);
+            break;
+        }
+        case kOpMath:
+            t[0] = math_bound(n.mode, a[0], a[1], a[2]);
+            if (n.flags & 1) t[0] = t[0].known ? clamp01(t[0]) : make(0.0f, 1.0f);
+            break;
+        case kOpMapRange: {
+            // monotone in the value for constant ranges (linear, stepped, smooth steps), as
+            // node_map_range computes it
+            bool ok = true;
+            for (int k = 0; k < n.dim && ok; ++k)
+                for (int j = 1; j < 6; ++j) ok = ok && constant(a[j * n.dim + k]);
+            if (!ok) break;
+            for (int k = 0; k < n.dim && k < 3; ++k) {
+                const Reg v = a[k];
+                if (!v.known) continue;
+                auto f = [&](float x) {
+                    return node_map_range(n.mode, n.flags & 1, x, a[n.dim + k].lo,
+                                          a[2 * n.dim + k].lo, a[3 * n.dim + k].lo,
+                                          a[4 * n.dim + k].lo, a[5 * n.dim + k].lo);
+                };
+                t[k] = make(f(v.lo), f(v.hi));
+            }
+            break;
+        }
+        case kOpClamp:
+            if (n.mode == 0 && a[0].known && a[1].known && a[2].known)
+                t[0] = make(node_clamp(0, a[0].lo, a[1].lo, a[2].lo),
+                            node_clamp(0, a[0].hi, a[1].hi, a[2].hi));
+            else if (constant(a[1]) && constant(a[2]) && a[0].known)
+                t[0] = make(node_clamp(n.mode, a[0].lo, a[1].lo, a[2].lo),
+                            node_clamp(n.mode, a[0].hi, a[1].lo, a[2].lo));
+            break;
+        case kOpRamp: {
+            // the rows the clamped input reaches; linear interpolation stays between them
+            const float* tab = s.program_consts + n.aux;
+            const int rows = n.aux2;
+            float f0 = 0.0f, f1 = 1.0f;
+            if (a[0].known) {
+                f0 = std::fmin(std::fmax(a[0].lo, 0.0f), 1.0f);
+                f1 = std::fmin(std::fmax(a[0].hi, 0.0f), 1.0f);
+            }
+            const int i0 = std::max(int(f0 * float(rows - 1)), 0);
+            const int i1 = std::min(int(std::ceil(f1 * float(rows - 1))) + 1, rows - 1);
+            for (int c = 0; c < 4; ++c) {
+                float mn = kInfBound, mx = -kInfBound;
+                for (int k = i0; k <= i1; ++k) {
+                    mn = std::fmin(mn, tab[4 * k + c]);
+                    mx = std::fmax(mx, tab[4 * k + c]);
+                }
+                t[c] = make(mn, mx);
+            }
+            break;
+        }
+        case kOpMix: {
+            if (!(n.mode == 255 || n.mode == 0 || (n.flags & 4))) break;
+            for (int k = 0; k < 3; ++k) {
+                Reg f = (n.flags & 4) ? a[k] : a[0];
+                if (n.flags & 1) f = f.known ? clamp01(f) : make(0.0f, 1.0f);
+                t[k] = add(mul(a[3 + k], sub(point(1.0f), f)), mul(a[6 + k], f));
+                if (n.flags & 2) t[k] = t[k].known ? clamp01(t[k]) : make(0.0f, 1.0f);
+            }
+            break;
+        }
+        case kOpSeparate:
+        case kOpCombine:
+            if (n.mode == 0)
+                for (int k = 0; k < 3; ++k) t[k] = a[k];
+            break;
+        case kOpRgbToBw:
+            if (a[0].known && a[1].known && a[2].known)
+                t[0] = make(luminance(Vec3{a[0].lo, a[1].lo, a[2].lo}),
+                            luminance(Vec3{a[0].hi, a[1].hi, a[2].hi}));
+            break;
+        case kOpInvert:  // mix(color, 1 - color, fac)
+            for (int k = 0; k < 3; ++k)
+                t[k] = add(mul(a[1 + k], sub(point(1.0f), a[0])),
+                           mul(sub(point(1.0f), a[1 + k]), a[0]));
+            break;
+        default: break;  // no rule: its outputs are unknown
+        }
+        // the op's outputs (unknown ones too: a later read then fails the bound)
+        const int width = out_width(n);
+        for (int k = 0; k < width && int(n.out) + k < kProgramRegs; ++k)
+            o[k] = k < 4 ? t[k] : unknown();
+    }
+    if (p.result < 0 || p.result + 3 > kProgramRegs) {
+        for (int c = 0; c < 3; ++c) out[c] = Interval{0.0f, 0.0f};
+        return true;
+    }
+    bool ok = true;
+    for (int c = 0; c < 3; ++c) {
+        const Reg v = r[p.result + c];
+        if (!v.known || !std::isfinite(v.lo) || !std::isfinite(v.hi)) {
+            ok = false;
+            continue;
+        }
+        // program_run turns NaN and infinities into 0: keep 0 inside the interval then? A
+        // finite interval came from finite inputs, so the value is finite: no
+        const float m = 1e-5f * std::max(std::fabs(v.lo), std::fabs(v.hi)) + 1e-30f;
+        out[c] = Interval{v.lo - m, v.hi + m};
+    }
+    if (!ok)
+        for (int c = 0; c < 3; ++c) out[c] = Interval{-kInfBound, kInfBound};
+    return ok;
+}
+
+}  // namespace lantern

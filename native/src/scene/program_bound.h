@@ -1,0 +1,33 @@
+// Bounds of a node program over a box of points (host only; docs/volumes.md "Node graphs on
+// volume inputs"): interval arithmetic through the program's instructions, from the ranges of
+// what it reads over the box (the position, the medium's affine attribute maps, the Volume
+// object grids' voxels that a trilinear lookup inside the box can read) to its result. Each op
+// with a rule gives an interval that holds every value the op can give for inputs in its
+// input intervals, so the result's interval holds every value the program gives at a point of
+// the box: a true bound, which the majorant bricks of a density program need (the trackings
+// are exact only where the majorant bounds the extinction). An op without a rule (a texture,
+// vector math, ...) makes the result unbounded; the caller then falls back (and says so).
+#pragma once
+
+#include "scene/material_program.h"
+
+namespace lantern {
+
+struct Interval {
+    float lo, hi;
+};
+
+// The interval of each channel of program p's result over the points of the world box
+// [lo, hi] inside heterogeneous medium med (its attribute maps, SceneView::medium_maps; -1:
+// none). False when some op on the way has no rule, or a bound is not finite; out is then
+// (-inf, inf). The result is what program_run returns (NaN and infinities are 0 there: a
+// finite bound holds them), widened by a relative 1e-5 against float rounding in the lookups.
+bool program_bound(const SceneView& s, const MaterialProgram& p, int32_t med, Vec3 lo, Vec3 hi,
+                   Interval out[3]);
+
+// The range of grid g's trilinear lookups over the world box [lo, hi] (each channel; a float
+// grid's in all three): the smallest and largest voxel a lookup inside the box can read, one
+// voxel of margin each way, 0 where a lookup can reach outside the block.
+void grid_range(const SceneView& s, const DensityGrid& g, Vec3 lo, Vec3 hi, Interval out[3]);
+
+}  // namespace lantern
