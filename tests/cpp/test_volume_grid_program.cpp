@@ -164,8 +164,8 @@ SceneInput grid_program_scene(const float* m16, Prog prog, float scale = 2.0f) {
     return in;
 }
 
-const float kAxis[16] = {0.1f, 0, 0, -1, 0, 0.1f, 0, 0.5f, 0, 0, 0.1f, 2, 0, 0, 0, 1};
-const float kRotated[16] = {0, -0.07f, 0, 1, 0.05f, 0, 0, 2, 0, 0, 0.09f, -3, 0, 0, 0, 1};
+const float kGridAxis[16] = {0.1f, 0, 0, -1, 0, 0.1f, 0, 0.5f, 0, 0, 0.1f, 2, 0, 0, 0, 1};
+const float kGridRotated[16] = {0, -0.07f, 0, 1, 0.05f, 0, 0, 2, 0, 0, 0.09f, -3, 0, 0, 0, 1};
 
 float density_at(const SceneView& s, const Medium& m, int32_t med, Vec3 p) {
     return medium_density(s, m, med, p, Vec3{1, 0, 0});
@@ -174,7 +174,7 @@ float density_at(const SceneView& s, const Medium& m, int32_t med, Vec3 p) {
 }  // namespace
 
 TEST(GridProgram, IntervalBoundHoldsInsideRandomBoxes) {
-    HostScene scene(grid_program_scene(kRotated, Prog::kMapTimesFlame));
+    HostScene scene(grid_program_scene(kGridRotated, Prog::kMapTimesFlame));
     const SceneView& s = scene.view();
     const int32_t med = s.material_medium[0];
     const Medium& m = s.media[med];
@@ -182,9 +182,9 @@ TEST(GridProgram, IntervalBoundHoldsInsideRandomBoxes) {
     const MaterialProgram& p = s.programs[m.density_prog];
     std::mt19937 rng(5);
     std::uniform_real_distribution<float> u(0.0f, 1.0f);
-    const Transform i2w{{{kRotated[0], kRotated[1], kRotated[2], kRotated[3]},
-                         {kRotated[4], kRotated[5], kRotated[6], kRotated[7]},
-                         {kRotated[8], kRotated[9], kRotated[10], kRotated[11]}}};
+    const Transform i2w{{{kGridRotated[0], kGridRotated[1], kGridRotated[2], kGridRotated[3]},
+                         {kGridRotated[4], kGridRotated[5], kGridRotated[6], kGridRotated[7]},
+                         {kGridRotated[8], kGridRotated[9], kGridRotated[10], kGridRotated[11]}}};
     int samples = 0, caught = 0, tight = 0;
     for (int b = 0; b < 300; ++b) {
         const Vec3 c = i2w.point(Vec3{-3.0f + u(rng) * (kNx + 6), -3.0f + u(rng) * (kNy + 6),
@@ -218,7 +218,7 @@ TEST(GridProgram, IntervalBoundHoldsInsideRandomBoxes) {
 }
 
 TEST(GridProgram, EveryBrickBoundsTheExtinctionAlongRays) {
-    for (const float* tf : {kAxis, kRotated}) {
+    for (const float* tf : {kGridAxis, kGridRotated}) {
         HostScene scene(grid_program_scene(tf, Prog::kMapTimesFlame));
         const SceneView& s = scene.view();
         const int32_t med = s.material_medium[0];
@@ -265,7 +265,7 @@ TEST(GridProgram, EveryBrickBoundsTheExtinctionAlongRays) {
 }
 
 TEST(GridProgram, TrackingIsBeerLambertOfTheProgramsDensity) {
-    HostScene scene(grid_program_scene(kAxis, Prog::kTwiceDensity));
+    HostScene scene(grid_program_scene(kGridAxis, Prog::kTwiceDensity));
     const SceneView& s = scene.view();
     const int32_t med = s.material_medium[0];
     const Medium& m = s.media[med];
@@ -320,7 +320,7 @@ TEST(GridProgram, TrackingIsBeerLambertOfTheProgramsDensity) {
 
 TEST(GridProgram, UnboundedProgramWarnsAndKeepsAFiniteMajorant) {
     for (Prog prog : {Prog::kNoise, Prog::kOverflow}) {
-        HostScene scene(grid_program_scene(kAxis, prog));
+        HostScene scene(grid_program_scene(kGridAxis, prog));
         const SceneView& s = scene.view();
         const int32_t med = s.material_medium[0];
         const Medium& m = s.media[med];
@@ -341,6 +341,6 @@ TEST(GridProgram, UnboundedProgramWarnsAndKeepsAFiniteMajorant) {
         }
     }
     // the bounded program of the same grids warns nothing of the kind
-    HostScene ok(grid_program_scene(kAxis, Prog::kMapTimesFlame));
+    HostScene ok(grid_program_scene(kGridAxis, Prog::kMapTimesFlame));
     for (const std::string& w : ok.warnings()) EXPECT_EQ(w.find("no bound"), std::string::npos) << w;
 }
