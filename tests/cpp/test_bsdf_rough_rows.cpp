@@ -69,12 +69,12 @@ void expect_near(const Read& a, const Read& b, float tol, const std::string& wha
                  bool ms = true) {
     for (int k = 0; k < kPrincipledAlbedoN; ++k) {
         EXPECT_NEAR(a.e[k], b.e[k], tol * b.e[k]) << what << " E at " << k;
-        EXPECT_NEAR(a.spec[k], b.spec[k], tol * fmaxf(b.spec[k], 0.05f)) << what << " E_s at " << k;
+        EXPECT_NEAR(a.spec[k], b.spec[k], tol * ::fmaxf(b.spec[k], 0.05f)) << what << " E_s at " << k;
     }
     if (!ms) return;  // the Fresnels of the compensation are read only with it
     for (int c = 0; c < 3; ++c) {
         EXPECT_NEAR(a.fms_metal[c], b.fms_metal[c], tol * b.fms_metal[c]) << what << " fms_metal";
-        EXPECT_NEAR(a.fms_spec[c], b.fms_spec[c], tol * fmaxf(b.fms_spec[c], 0.05f))
+        EXPECT_NEAR(a.fms_spec[c], b.fms_spec[c], tol * ::fmaxf(b.fms_spec[c], 0.05f))
             << what << " fms_spec";
     }
 }
@@ -107,7 +107,7 @@ TEST(BsdfRoughRows, TexturedRoughnessReadsTheTablesOfTheHit) {
                 const Read h = read(hidden_as_constant, 1), r = read(real, 1);
                 float worst = 0.0f;
                 for (int k = 0; k < kPrincipledAlbedoN; ++k)
-                    worst = fmaxf(worst, fabsf(h.e[k] - r.e[k]) / r.e[k]);
+                    worst = ::fmaxf(worst, fabsf(h.e[k] - r.e[k]) / r.e[k]);
                 EXPECT_GT(worst, 0.02f) << what;
             }
         }

@@ -151,8 +151,8 @@ TEST(MaterialProgram, NoiseIsSmoothBoundedAndDeterministic) {
     for (int i = 0; i < 2000; ++i) {
         const float p[3] = {0.37f * float(i), 0.11f * float(i % 17), 1.3f};
         const float v = noise_fractal(p, 3, n);
-        lo = fminf(lo, v);
-        hi = fmaxf(hi, v);
+        lo = ::fminf(lo, v);
+        hi = ::fmaxf(hi, v);
         EXPECT_EQ(v, noise_fractal(p, 3, n));
     }
     EXPECT_GE(lo, 0.0f);
@@ -452,9 +452,9 @@ TEST(MaterialProgram, BoxProjectionWeightsPartitionAndBlendWithoutSeams) {
             const float t = float(i) / 4000.0f * 6.2831853f;
             const Vec3 n{cosf(t) * cosf(0.4f * t), sinf(t) * cosf(0.4f * t), sinf(0.4f * t)};
             const Vec3 w = image_box_weights(n, blend);
-            EXPECT_GE(fminf(w.x, fminf(w.y, w.z)), 0.0f);
+            EXPECT_GE(::fminf(w.x, ::fminf(w.y, w.z)), 0.0f);
             EXPECT_NEAR(w.x + w.y + w.z, 1.0f, 1e-5f);
-            if (blend == 0.0f) EXPECT_EQ(fmaxf(w.x, fmaxf(w.y, w.z)), 1.0f);
+            if (blend == 0.0f) EXPECT_EQ(::fmaxf(w.x, ::fmaxf(w.y, w.z)), 1.0f);
             if (blend > 0.0f && i > 0) {  // steps of 1.6e-3 rad move a weight by far less than 0.05
                 EXPECT_LT(fabsf(w.x - prev.x) + fabsf(w.y - prev.y) + fabsf(w.z - prev.z),
                           0.05f)

@@ -38,6 +38,27 @@ constexpr float kPi = 3.14159265358979323846f;
 constexpr float kInvPi = 0.31830988618379067154f;
 constexpr float kInf = 3.402823466e+38f;
 
+// fmaxf and fminf inline on the host: without -ffinite-math-only GCC calls libm's (about a
+// thousand call sites in pt's unit; each call also makes the caller keep its SSE registers in
+// memory across it: bench/results/2026-12-06-ptcost). The same bits as glibc's x86-64 fmaxf /
+// fminf: ordered arguments as its maxss / minss (x > y ? x : y, so fmaxf(-0, +0) is +0 there
+// too), a NaN argument gives the other one. The device keeps CUDA's. Code outside namespace
+// lantern with `using namespace lantern` must name ::fmaxf (the two would be ambiguous).
+LANTERN_HD inline float fmaxf(float a, float b) {
+#ifdef __CUDA_ARCH__
+    return ::fmaxf(a, b);
+#else
+    return b != b ? a : (a > b ? a : b);
+#endif
+}
+LANTERN_HD inline float fminf(float a, float b) {
+#ifdef __CUDA_ARCH__
+    return ::fminf(a, b);
+#else
+    return b != b ? a : (a < b ? a : b);
+#endif
+}
+
 struct Vec2 {
     float x = 0, y = 0;
 };
