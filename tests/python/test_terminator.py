@@ -2,9 +2,9 @@
 integrator/terminator.h): a mesh's terminator_offset (Cycles' Shadow Terminator Geometry Offset)
 lets next-event estimation light a smooth triangle from under its face, with the shadow ray
 lifted toward the curved surface its vertex normals describe. On a coarse sphere (20 triangles,
-radial normals, a Lambert) under a point light at its side: the offset brightens the lit side's
+radial normals, a Lambert) under a sphere light at its side: the offset brightens the lit side's
 edge (about 10 %) (the control: offset 0, which must not pass against it), and the bidirectional
-integrators, which take it at their next-event rays and connections, agree with pt. (Against
+integrators, which take it at their camera vertices' next-event rays, agree with pt. (Against
 Cycles: tests/cycles/test_subsurface.py::test_coarse_head_diffuse.)"""
 import numpy as np
 import pytest

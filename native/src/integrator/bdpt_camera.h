@@ -167,7 +167,6 @@ struct Connection {
     float wn = 0.0f, wf = 0.0f;
     int32_t medium = -1, kind = 0;
     float y_strand_cut = 0.0f;  // bdpt_curve.h strand_end_shorten
-    Vec3 z_lift = vec3(0.0f);   // the shadow segment's lift at z (integrator/terminator.h)
 };
 
 LANTERN_HD inline Connection bdpt_connect_medium(const SceneView& s, const BdptSettings& st,
@@ -188,10 +187,9 @@ LANTERN_HD inline Connection bdpt_connect_in(const SceneView& s, const BdptSetti
     // directions' z are dir.ns): light_side_agrees of (dir, z), view_side_agrees of (-dir, y)
     const Vec3 wi_z = z.frame.to_local(dir);
     const float dz_ng = dot(dir, z.h.ng), dy_ng = dot(-dir, y.ng);
-    // geo_side false: under a smooth mesh's face (integrator/terminator.h), this connection's
-    // alone (bdpt_camera_nee): weight 1
-    const bool geo_side = material_corrects_view(*z.m) ? dz_ng > 0.0f : dz_ng * wi_z.z > 0.0f;
-    if (!geo_side && !(dz_ng * wi_z.z < 0.0f && terminator_cutoff(s, z.tri) > 0.0f)) return r;
+    // (no terminator here: integrator/terminator.h lifts next-event rays to lights alone; pt
+    // gathers the light of other vertices by BSDF sampling, on the facet's side, unlifted)
+    if (!(material_corrects_view(*z.m) ? dz_ng > 0.0f : dz_ng * wi_z.z > 0.0f)) return r;
     const float dy_ns = dot(-dir, y.ns);
     const bool y_geometric = material_view_geometric(s.materials[y.material]);
     if (!(y_geometric ? dy_ng > 0.0f : dy_ng * dy_ns > 0.0f)) return r;
@@ -234,10 +232,8 @@ LANTERN_HD inline Connection bdpt_connect_in(const SceneView& s, const BdptSetti
     light_vertex_mis(st, y, &y_dvcm, &y_dvc);
     float w_light = mis(pdf_cam_a) * (y_dvcm + y_dvc * mis(ey.pdf_rev_w));
     float w_camera = mis(pdf_light_a) * (z.dvcm + z.dvc * mis(ez.pdf_rev_w));
-    if (!geo_side) w_light = w_camera = 0.0f;
     float w = 1.0f / (w_light + 1.0f + w_camera);
     r.c = z.beta * ez.f * y.beta * ey.f * (cos_z_ns * cos_y * inv_d2 * w);
-    r.z_lift = terminator_origin(s, z.tri, z.h.p, z.h.ng, z.h.ns, dir) - z.h.p;
     if (!is_finite(r.c)) r.c = vec3(0.0f);
     r.dir = dir;
     r.dist = dist;
@@ -245,9 +241,8 @@ LANTERN_HD inline Connection bdpt_connect_in(const SceneView& s, const BdptSetti
     r.bsdf_target = luminance(ez.f) * luminance(ey.f);
     if (st.moments) {  // pt's techniques: dpt0, dpt1 as dvc's parts (dvcm itself for y1)
         const float rev = mis(ey.pdf_rev_w), x = mis(pdf_cam_a);
-        r.pt_factor = geo_side ? bdpt_pt_factor(w_light + 1.0f + w_camera, x * y.dpt0 * rev,
-                                                x * (y.length == 1 ? y.dvcm : y.dpt1 * rev))
-                               : -1.0f;  // (pt cannot sample it)
+        r.pt_factor = bdpt_pt_factor(w_light + 1.0f + w_camera, x * y.dpt0 * rev,
+                                     x * (y.length == 1 ? y.dvcm : y.dpt1 * rev));
     }
     return r;
 }
@@ -273,8 +268,7 @@ LANTERN_HD inline void bdpt_queue_connection(const BdptState& bs, int i, const C
     int j = bs.conn_n[i];
     if (j >= bs.conn_cap || is_black(contrib) || !is_finite(contrib)) return;
     int e = i * bs.conn_cap + j;
-    shadow_segment(z.h.p + c.z_lift, z.h.ng, y.p, y.ng, c.dir, offset_scale, &bs.conn_o[e],
-                   &bs.conn_d[e],
+    shadow_segment(z.h.p, z.h.ng, y.p, y.ng, c.dir, offset_scale, &bs.conn_o[e], &bs.conn_d[e],
                    &bs.conn_tmax[e]);
     if (c.y_strand_cut > 0.0f)  // y on a strand, seen from its fiber's far side (bdpt_curve.h)
         bs.conn_tmax[e] = fmaxf(bs.conn_tmax[e] - c.y_strand_cut, 0.0f);

@@ -9,7 +9,9 @@
 // lifted toward the curved surface the vertex normals describe (Hanika 2021, "Hacking the
 // Shadow Terminator": a parabola through the corners, bounded by the corners' tangent planes),
 // by an amount that fades in as the light nears the terminator. Forward sampling still keeps
-// to the geometric side, so such light is next-event estimation's alone (MIS weight 1).
+// to the geometric side, so such light is next-event estimation's alone (MIS weight 1). Only
+// next-event rays to lights (pt, pt's subsurface exits, the bidirectional camera vertices'):
+// connections to light sub-path vertices stay unlifted, as pt's BSDF-sampled indirect light.
 #pragma once
 
 #include "core/math.h"
