@@ -3,7 +3,8 @@ seeds of each renderer; prints Lantern / Cycles means. Usage, from the repositor
   python bench/sss_head_diagnostics.py NAME SPP [OPTIONS...]
 NAME: suz, suz_noeyes, suz_sub, suz_flipcheck, sphere, sphere_hole, sphere_hole_back,
 sphere_inner, sphere_eye, sphere_flip; OPTIONS: nosss, flat, diffuse, sun, nocorr (Cycles'
-Bump Map Correction off), nogeo, s25 (Radius x Scale 25 cm red), sub2 (subdivided twice).
+Bump Map Correction off), nogeo (Shadow Terminator Geometry Offset 0 in both), lan0 (0 in
+Lantern's export alone), s25 (Radius x Scale 25 cm red), sub2 (subdivided twice).
 Images go to /tmp/ssshead."""
 import os, sys, time, numpy as np
 R = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -102,10 +103,17 @@ if 'sun' in sys.argv[3:]:
     t._light(bpy.context.scene, "SUN", (1.0, -2.0, 1.5), 3.0, rotation=(50, 0, 30))
 if 'nogeo' in sys.argv[3:]:
     for o in bpy.data.objects:
-        if o.type == 'MESH': o.cycles.shadow_terminator_geometry_offset = 0.0
+        if o.type == 'MESH': o.shadow_terminator_geometry_offset = 0.0  # (o.cycles': unused)
 if 'geoinfo' in sys.argv[3:]:
     for o in bpy.data.objects:
-        if o.type == 'MESH': print('geo offset', o.cycles.shadow_terminator_geometry_offset, o.cycles.shadow_terminator_offset)
+        if o.type == 'MESH': print('geo offset', o.shadow_terminator_geometry_offset, o.shadow_terminator_shading_offset)
+if 'lan0' in sys.argv[3:]:  # Lantern alone without the terminator offset (Cycles keeps it)
+    _render = rc.render_lantern
+    def lan0(**kw):
+        for o in bpy.data.objects:
+            if o.type == 'MESH': o.shadow_terminator_geometry_offset = 0.0
+        return _render(**kw)
+    rc.render_lantern = lan0
 t0=time.time()
 cyc = np.mean([rc.render_cycles(seed=900+k, spp=spp)[0] for k in range(2)], axis=0)
 t1=time.time()

@@ -67,9 +67,12 @@ def _corner_arrays(mesh):
         uvs = np.empty(nl * 2, np.float32)
         mesh.uv_layers.active.uv.foreach_get("vector", uvs)
         uvs = uvs.reshape(nl, 2)
+    # flat shaded throughout (Face normals): Cycles shades each triangle by its own normal, where
+    # the corner normals are the face's (a non-planar quad's differ from its triangles')
+    flat = getattr(mesh, "normals_domain", "") == "FACE"
     return {"positions": co[corner_vert], "normals": normals.reshape(nl, 3),
             "uvs": uvs, "indices": tri.reshape(nt, 3).astype(np.uint32), "slots": mat,
-            "corner_vert": corner_vert, "num_verts": nv}
+            "corner_vert": corner_vert, "num_verts": nv, "flat": flat}
 
 
 def _needs_tangents(m):
@@ -182,7 +185,8 @@ class MeshExporter:
         return {**extra, "name": name, "positions": np.ascontiguousarray(positions, np.float32),
                 "indices": np.ascontiguousarray(indices, np.uint32),
                 "normals": None if normals is None else np.ascontiguousarray(normals, np.float32),
-                "uvs": local["uvs"], "tangents": tangents, "material_ids": material_ids}
+                "uvs": local["uvs"], "tangents": tangents, "material_ids": material_ids,
+                **({"flat_shading": True} if local.get("flat") else {})}
 
     def corners(self, obj):
         """(the vertex of each exported corner of obj, its vertex count), or None: deformation

@@ -84,6 +84,9 @@ class UnsupportedFeatures:
         # particle hair and Curves objects: export/strands.py
         if obj.type == "LIGHT":
             self._light(obj)
+        if float(getattr(obj, "shadow_terminator_shading_offset", 0.0)) > 0.0:
+            warn(f"Object '{obj.name}': Shadow Terminator Shading Offset is not rendered (the "
+                 "Geometry Offset is: docs/materials.md \"Shadow terminator\")")
         for slot in getattr(obj, "material_slots", ()):
             if slot.material is not None:
                 self.material(slot.material)

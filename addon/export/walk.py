@@ -28,7 +28,16 @@ def mesh_flags(inst, view_layer):
     obj = inst.object
     return {"visible_camera": camera_visible(inst, view_layer),
             "cast_shadow": bool(getattr(obj, "visible_shadow", True)),
+            "terminator_offset": terminator_offset(obj),
             **mesh_ray_visibility(obj)}
+
+
+def terminator_offset(obj):
+    """Object > Shading > Shadow Terminator > Geometry Offset (Blender's default 0.1), which
+    lifts smooth-shaded triangles' shadow rays as Cycles does (docs/materials.md "Shadow
+    terminator"); non-mesh objects (text, curves) carry it too."""
+    t = float(getattr(obj, "shadow_terminator_geometry_offset", 0.1))
+    return min(max(t, 0.0), 1.0)
 
 
 def object_settings(obj):
@@ -40,6 +49,7 @@ def object_settings(obj):
     flags = tuple(bool(getattr(obj, p, True)) for p in (
         "visible_camera", "visible_shadow", "visible_diffuse", "visible_glossy",
         "visible_transmission", "visible_volume_scatter", "is_holdout", "is_shadow_catcher"))
+    flags += (terminator_offset(obj),)
     return flags, (int(getattr(obj, "pass_index", 0)),
                    tuple(float(c) for c in getattr(obj, "color", ())))
 

@@ -248,6 +248,13 @@ def validate_mesh(mesh, index, num_materials=None):
     for key in ("receivers", "blockers"):  # the sets its emission lights / is shadowed by
         if key in mesh:
             mesh[key] = receiver_mask(mesh[key], f"{what} {key}")
+    if "flat_shading" in mesh:  # each triangle shaded by its own normal, the normals unread
+        mesh["flat_shading"] = _bool(mesh["flat_shading"], f"{what} flat_shading")
+    if "terminator_offset" in mesh:  # Cycles' Shadow Terminator Geometry Offset (pt)
+        t = _finite_float(mesh["terminator_offset"], f"{what} terminator_offset")
+        if not 0.0 <= t <= 1.0:
+            raise ValueError(f"{what} terminator_offset: must be in [0, 1], got {t}")
+        mesh["terminator_offset"] = t
     if "shadow_catcher" in mesh:  # a shadow catcher (pt; lantern/film.py)
         mesh["shadow_catcher"] = _bool(mesh["shadow_catcher"], f"{what} shadow_catcher")
     if mesh.get("deform") is not None:  # deformation blur (docs/motion_blur.md)

@@ -9,6 +9,7 @@
 #include "integrator/bdpt_medium.h"
 #include "integrator/pixel_conn.h"
 #include "integrator/soft_light_path.h"
+#include "integrator/terminator.h"
 
 namespace lantern {
 
@@ -81,7 +82,13 @@ LANTERN_HD inline void bdpt_camera_nee(const SceneView& s, const PathState& ps,
     if (!(pick.pmf > 0.0f)) return;
     const Light& l = s.lights[pick.light];
     LightSample ls = sample_light(s, l, z.h.p, u_light);
-    if (!ls.valid || is_black(ls.le) || !light_side_agrees(*z.m, ls.wi, z.h.ng, z.h.ns)) return;
+    // geo_side false: a smooth mesh's light from under its face (integrator/terminator.h),
+    // which no other technique samples (z's BSDF keeps to the face's side; a light path reaching
+    // z from there would meet the face's back): weight 1
+    const bool geo_side = light_side_agrees(*z.m, ls.wi, z.h.ng, z.h.ns);
+    if (!ls.valid || is_black(ls.le) ||
+        !(geo_side || terminator_passes(s, z.tri, ls.wi, z.h.ng, z.h.ns)))
+        return;
     BsdfEval e = material_eval(*z.m, z.h.front, z.wo, z.frame.to_local(ls.wi), Transport::Radiance,
                                z.h.coat_n, z.ng_l);
     float pdf_light_w = pick.pmf * ls.pdf_w;
@@ -108,11 +115,12 @@ LANTERN_HD inline void bdpt_camera_nee(const SceneView& s, const PathState& ps,
         pdf_lp = !(st.r > 0.0f) ? 0.0f
                  : s.num_media > 0 ? soft_light_path_pdf_a_medium(s, sr, l, z.h.p, z.h.ng)
                                    : soft_light_path_pdf_a(s, sr, l, z.h.p, z.h.ng);
-    float w_light = ls.delta ? 0.0f : mis(e.pdf_fwd_w / pdf_light_w);
+    float w_light = ls.delta || !geo_side ? 0.0f : mis(e.pdf_fwd_w / pdf_light_w);
     // (the first vertex: z.dvcm is light tracing's term alone, BdptSettings::lt_direct)
     const float dvcm_z = z.depth == 1 ? z.dvcm * bdpt_direct_lt(st)
                                       : camera_conn_dvcm(st, z.dvcm, z.depth);
-    float w_camera = mis(st.r * pdf_lp / pdf_nee) * (dvcm_z + z.dvc * mis(e.pdf_rev_w));
+    float w_camera =
+        geo_side ? mis(st.r * pdf_lp / pdf_nee) * (dvcm_z + z.dvc * mis(e.pdf_rev_w)) : 0.0f;
     float w = 1.0f / (w_light + 1.0f + w_camera);
     float cos_i = fabsf(dot(ls.wi, z.h.ns));
     Vec3 c = z.beta * e.f * ls.le * (cos_i * w / pdf_light_w);
@@ -123,11 +131,12 @@ LANTERN_HD inline void bdpt_camera_nee(const SceneView& s, const PathState& ps,
         return;
     }
     Vec3 target_n = ls.dist < kInf ? ls.n_light : vec3(0.0f);
+    const Vec3 zp = terminator_origin(s, z.tri, z.h.p, z.h.ng, z.h.ns, ls.wi);
     if (ls.dist < kInf) {
-        shadow_segment(z.h.p, z.h.ng, ls.p_light, target_n, ls.wi, s.offset_scale, &ps.shadow_o[i],
+        shadow_segment(zp, z.h.ng, ls.p_light, target_n, ls.wi, s.offset_scale, &ps.shadow_o[i],
                        &ps.shadow_d[i], &ps.shadow_tmax[i]);
     } else {
-        ps.shadow_o[i] = offset_ray_origin(z.h.p, z.h.ng, ls.wi, s.offset_scale);
+        ps.shadow_o[i] = offset_ray_origin(zp, z.h.ng, ls.wi, s.offset_scale);
         ps.shadow_d[i] = ls.wi;
         ps.shadow_tmax[i] = kInf;
     }
@@ -139,7 +148,7 @@ LANTERN_HD inline void bdpt_camera_nee(const SceneView& s, const PathState& ps,
         bs.shadow_kind[i] = (st.moments ? kMomOn | kMomFar | kMomOwnB : 0) |
                             (soft ? kConnNearFixed : 0);  // (F(c -> z) is in pdf_lp)
         if (st.moments) bs.shadow_mom[i] = Vec3{w_light, 1.0f, 1.0f};
-        ps.shadow_medium[i] = dot(ls.wi, z.h.ng) < 0.0f
+        ps.shadow_medium[i] = dot(ls.wi, geo_side ? z.h.ng : z.h.ns) < 0.0f
                                   ? medium_across(s, z.tri, z.h.front, z.slot_medium)
                                   : z.slot_medium;
     }
@@ -178,6 +187,8 @@ LANTERN_HD inline Connection bdpt_connect_in(const SceneView& s, const BdptSetti
     // directions' z are dir.ns): light_side_agrees of (dir, z), view_side_agrees of (-dir, y)
     const Vec3 wi_z = z.frame.to_local(dir);
     const float dz_ng = dot(dir, z.h.ng), dy_ng = dot(-dir, y.ng);
+    // (no terminator here: integrator/terminator.h lifts next-event rays to lights alone; pt
+    // gathers the light of other vertices by BSDF sampling, on the facet's side, unlifted)
     if (!(material_corrects_view(*z.m) ? dz_ng > 0.0f : dz_ng * wi_z.z > 0.0f)) return r;
     const float dy_ns = dot(-dir, y.ns);
     const bool y_geometric = material_view_geometric(s.materials[y.material]);
@@ -518,7 +529,9 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
     z.beta = ps.throughput[i];
     z.dvcm = dvcm;
     z.dvc = dvc;
-    z.n_pick = light_pick_normal(s, tri, z.h.ng);
+    z.n_pick = terminator_cutoff(s, tri) > 0.0f && dot(z.h.ns, z.h.ng) < 0.99999f
+                   ? vec3(0.0f)  // (light from under the face too: integrator/terminator.h)
+                   : light_pick_normal(s, tri, z.h.ng);
     Rng rng = ps.rng[i];
 #ifndef __CUDACC__  // the device build has no walk stage (schedule_bdpt.h): CPU sessions only
     if (s.has_subsurface && bdpt_sss_choose(s, ps, z, i, rng)) return;  // under the surface

@@ -95,7 +95,9 @@ LANTERN_HD inline void bdpt_sss_exit(const SceneView& s, const PathState& ps, co
     z.beta = ps.throughput[i];
     z.dvcm = 0.0f;
     z.dvc = 0.0f;
-    z.n_pick = light_pick_normal(s, z.tri, z.h.ng);
+    z.n_pick = terminator_cutoff(s, z.tri) > 0.0f && dot(z.h.ns, z.h.ng) < 0.99999f
+                   ? vec3(0.0f)  // (light from under the face too: integrator/terminator.h)
+                   : light_pick_normal(s, z.tri, z.h.ng);
     if (z.depth >= st.max_depth) return;
     Rng rng = ps.rng[i];
     bdpt_camera_nee(s, ps, bs, st, z, i, rng, sr);

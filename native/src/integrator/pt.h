@@ -11,6 +11,7 @@
 #include "integrator/pt_features.h"
 #include "integrator/pt_light_linking.h"
 #include "integrator/pt_ray_visibility.h"
+#include "integrator/terminator.h"
 #include "scene/light_tree.h"
 #include "scene/lights.h"
 
@@ -321,7 +322,10 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
     const bool delta_material = material_is_delta(m);
     Vec2 u_pick = rng.uniform2();
     Vec2 u_light = rng.uniform2();
-    const Vec3 n_pick = light_pick_normal(s, tri, h.ng);
+    // a smooth mesh's terminator takes light from under its face too: no side to cull by
+    const Vec3 n_pick = terminator_cutoff(s, tri) > 0.0f && dot(h.ns, h.ng) < 0.99999f
+                            ? vec3(0.0f)
+                            : light_pick_normal(s, tri, h.ng);
     LightPick pick{-1, 0.0f};
     LightSample ls{};
     float ris = 1.0f;  // resampled (light_candidates M > 1): W p_src(y), nee_resample.h
@@ -331,7 +335,10 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
         nee_resample_skip(rng, nee_resample_extra_draws(mc));
         // luminance of the unshadowed contribution
         auto target = [&](const LightSample& c) LANTERN_DEVICE_INLINE {
-            if (!light_side_agrees(m, c.wi, h.ng, h.ns) || is_black(c.le)) return 0.0f;
+            if (!(light_side_agrees(m, c.wi, h.ng, h.ns) ||
+                  terminator_passes(s, tri, c.wi, h.ng, h.ns)) ||
+                is_black(c.le))
+                return 0.0f;
             BsdfEval e = pt_eval(m, h.front, wo, frame.to_local(c.wi), h.coat_n, ng_l);
             return luminance(e.f * c.le) * fabsf(dot(c.wi, h.ns));
         };
@@ -348,13 +355,16 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
     if (extras && pick.pmf > 0.0f && ls.valid)  // ray visibility, light linking
         ls.valid = pt_nee_allowed(s, m, tri, h.ng, pick.light, ls.wi);
     if (pick.pmf > 0.0f) {
-        if (ls.valid && !delta_material && light_side_agrees(m, ls.wi, h.ng, h.ns) &&
-            !is_black(ls.le)) {
+        // geo_side false: a smooth mesh's light from under its face (integrator/terminator.h),
+        // which BSDF sampling never takes: next-event estimation's alone
+        const bool geo_side = light_side_agrees(m, ls.wi, h.ng, h.ns);
+        if (ls.valid && !delta_material &&
+            (geo_side || terminator_passes(s, tri, ls.wi, h.ng, h.ns)) && !is_black(ls.le)) {
             BsdfEval e = pt_eval(m, h.front, wo, frame.to_local(ls.wi), h.coat_n, ng_l);
             float pdf_light = pick.pmf * ls.pdf_w;
             if (e.pdf_fwd_w > 0.0f && pdf_light > 0.0f) {
                 // shadow linking: next-event estimation alone (pt_light_linking.h)
-                float w = ls.delta || (extras && pt_shadow_linked(s, pick.light))
+                float w = ls.delta || !geo_side || (extras && pt_shadow_linked(s, pick.light))
                               ? 1.0f
                               : power_heuristic(pdf_light, e.pdf_fwd_w);
                 float cos_i = fabsf(dot(ls.wi, h.ns));
@@ -362,7 +372,8 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
                 // Shortened at both ends: from the offset origin to the offset point on the
                 // light, aimed between the two offset points (aiming along wi from the un-offset
                 // point ends behind a light seen at a grazing angle, and the ray hits the light).
-                Vec3 so = offset_ray_origin(h.p, h.ng, ls.wi, s.offset_scale);
+                Vec3 so = offset_ray_origin(terminator_origin(s, tri, h.p, h.ng, h.ns, ls.wi),
+                                            h.ng, ls.wi, s.offset_scale);
                 Vec3 sd = ls.wi;
                 float tmax = kInf;
                 if (ls.dist < kInf) {
@@ -380,7 +391,7 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
                 ps.shadow_valid[i] = 1;
                 if (extras && s.light_blockers && ps.shadow_light) ps.shadow_light[i] = pick.light;
                 if (s.num_media > 0)  // through the surface: the medium beyond it
-                    ps.shadow_medium[i] = dot(ls.wi, h.ng) < 0.0f
+                    ps.shadow_medium[i] = dot(ls.wi, geo_side ? h.ng : h.ns) < 0.0f
                                               ? medium_across(s, tri, h.front, ps.medium[i])
                                               : ps.medium[i];
                 if (extras && pt_lamp_unshadowed(s, pick.light)) {  // Cast Shadow off: no ray

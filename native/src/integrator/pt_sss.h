@@ -9,6 +9,7 @@
 // Run only where SceneView::has_subsurface; a path waiting for its walk has alive == 2.
 #pragma once
 
+#include "integrator/terminator.h"
 #include "scene/medium.h"
 
 namespace lantern {
@@ -148,7 +149,10 @@ LANTERN_HD inline void pt_sss_exit(const SceneView& s, const PathState& ps, cons
                                    int i, int tri, Vec3 p, Vec3 ng, Vec3 ns, Vec3 beta, int depth,
                                    Rng& rng) {
     if (depth >= st.max_depth) return;
-    const Vec3 n_pick = light_pick_normal(s, tri, ng);
+    // the terminator (integrator/terminator.h) as at pt_shade's surfaces
+    const Vec3 n_pick = terminator_cutoff(s, tri) > 0.0f && dot(ns, ng) < 0.99999f
+                            ? vec3(0.0f)
+                            : light_pick_normal(s, tri, ng);
     const Vec2 u_pick = rng.uniform2();
     const Vec2 u_light = rng.uniform2();
     const LightPick pick = light_pick(s, p, n_pick, u_pick.x);
@@ -161,13 +165,15 @@ LANTERN_HD inline void pt_sss_exit(const SceneView& s, const PathState& ps, cons
         if (!pt_light_links(s, pick.light, pt_receiver_set(s, tri))) ls.valid = false;
         const float cos_i = dot(ls.wi, ns);
         const float pdf_light = pick.pmf * ls.pdf_w;
-        if (ls.valid && !is_black(ls.le) && cos_i > 0.0f && dot(ls.wi, ng) > 0.0f &&
-            pdf_light > 0.0f) {
+        const bool geo_side = dot(ls.wi, ng) > 0.0f;  // else the terminator's alone
+        if (ls.valid && !is_black(ls.le) && cos_i > 0.0f &&
+            (geo_side || terminator_cutoff(s, tri) > 0.0f) && pdf_light > 0.0f) {
             const float pdf_bsdf = cos_i * kInvPi;
-            const float w = ls.delta || pt_shadow_linked(s, pick.light)
+            const float w = ls.delta || !geo_side || pt_shadow_linked(s, pick.light)
                                 ? 1.0f
                                 : power_heuristic(pdf_light, pdf_bsdf);
-            const Vec3 so = offset_ray_origin(p, ng, ls.wi, s.offset_scale);
+            const Vec3 so = offset_ray_origin(terminator_origin(s, tri, p, ng, ns, ls.wi), ng,
+                                              ls.wi, s.offset_scale);
             Vec3 sd = ls.wi;
             float tmax = kInf;
             if (ls.dist < kInf) {  // shortened at both ends, as pt_shade's

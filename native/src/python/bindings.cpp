@@ -191,6 +191,8 @@ SceneInput to_input(const nb::dict& scene) {
             mi.visible_camera = get<bool>(m, "visible_camera", true);
             mi.cast_shadow = get<bool>(m, "cast_shadow", true);
             mi.shadow_catcher = get<bool>(m, "shadow_catcher", false);
+            mi.terminator = get<float>(m, "terminator_offset", 0.0f);
+            mi.flat = get<bool>(m, "flat_shading", false);
             mi.light_set = get<int>(m, "light_set", 0);
             mi.emitter_receivers = get<uint64_t>(m, "receivers", kAllReceivers);
             mi.shadow_set = get<int>(m, "shadow_set", 0);

@@ -321,6 +321,7 @@ SceneView HostScene::copied_view(
     v.light_receivers = put(view_.light_receivers, light_receivers_.size());
     v.light_rays = put(view_.light_rays, light_rays_.size());
     v.tri_shadow_set = put(view_.tri_shadow_set, tri_shadow_set_.size());
+    v.tri_terminator = put(view_.tri_terminator, tri_terminator_.size());
     v.light_blockers = put(view_.light_blockers, light_blockers_.size());
     v.tri_light = put(view_.tri_light, tri_light_.size());
     // the materials point at their tables: the copies point at the copied tables
@@ -381,6 +382,7 @@ void HostScene::finish_view(const SceneInput& in) {
     v.light_receivers = light_receivers_.empty() ? nullptr : light_receivers_.data();
     v.light_rays = light_rays_.empty() ? nullptr : light_rays_.data();
     v.tri_shadow_set = tri_shadow_set_.empty() ? nullptr : tri_shadow_set_.data();
+    v.tri_terminator = tri_terminator_.empty() ? nullptr : tri_terminator_.data();
     v.light_blockers = light_blockers_.empty() ? nullptr : light_blockers_.data();
     v.tri_light = tri_light_.data();
     v.num_triangles = int32_t(indices_.size() / 3);  // tri_material_ holds the strands' too

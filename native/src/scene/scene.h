@@ -30,6 +30,11 @@ struct MeshInput {
     bool cast_shadow = true;
     bool shadow_catcher = false;       // TriangleFlags kShadowCatcher (pt)
     uint8_t rays = kRayKindsAll;       // RayKinds that see it (SceneView::tri_rays, pt)
+    // Cycles' Shadow Terminator Geometry Offset (SceneView::tri_terminator), 0..1; 0: off
+    float terminator = 0.0f;
+    // flat shaded (Blender's Face normals domain): each triangle by its own normal, as Cycles
+    // shades a face without smooth shading; the normals (the face's) are not read
+    bool flat = false;
     // light linking (pt; scene/light_linking_build.cpp): its receiver set, and the receiver
     // sets its emission lights (bit s: set s)
     int32_t light_set = 0;
@@ -298,6 +303,7 @@ private:
     std::vector<float> srgb_lut_;
     std::vector<uint32_t> indices_, tri_material_;
     std::vector<uint8_t> tri_flags_;
+    std::vector<float> tri_terminator_;  // per triangle; empty: no mesh has a terminator offset
     std::vector<uint8_t> tri_rays_;  // SceneView::tri_rays: empty where every mesh is seen by all
     std::vector<int32_t> tri_light_, hittable_lights_, miss_lights_;
     std::vector<int32_t> lamp_input_;       // per light: its SceneInput::lights index, or -1

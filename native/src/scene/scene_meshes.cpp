@@ -14,9 +14,15 @@ namespace lantern {
 void HostScene::add_meshes(const SceneInput& in) {
     bool any_normals = false, any_uvs = false, any_tangents = false;
     bool any_rays_hidden = false;  // some mesh hidden from some kind of ray: tri_rays_
+    bool any_terminator = false;   // some smooth-shaded mesh with a terminator offset
     for (const MeshInput& m : in.meshes) {
+        if (!(m.terminator >= 0.0f && m.terminator <= 1.0f)) {
+            throw std::invalid_argument("mesh '" + m.name + "': terminator offset must be in "
+                                        "[0, 1], got " + std::to_string(m.terminator));
+        }
+        any_terminator |= m.terminator > 0.0f && !m.normals.empty() && !m.flat;
         any_rays_hidden |= (m.rays & kRayKindsAll) != kRayKindsAll;
-        any_normals |= !m.normals.empty();
+        any_normals |= !m.normals.empty() && !m.flat;  // (flat: the triangles' own)
         any_uvs |= !m.uvs.empty();
         any_tangents |= !m.tangents.empty();
     }
@@ -43,7 +49,7 @@ void HostScene::add_meshes(const SceneInput& in) {
         for (size_t v = 0; v < nv; ++v) {
             positions_.push_back({m.positions[3 * v], m.positions[3 * v + 1], m.positions[3 * v + 2]});
             if (any_normals) {
-                normals_.push_back(m.normals.empty() ? Vec3{0, 0, 0}
+                normals_.push_back(m.normals.empty() || m.flat ? Vec3{0, 0, 0}
                                                      : Vec3{m.normals[3 * v], m.normals[3 * v + 1],
                                                             m.normals[3 * v + 2]});
             }
@@ -100,6 +106,12 @@ void HostScene::add_meshes(const SceneInput& in) {
             tri_flags_.push_back(uint8_t(flags | (alpha ? kAlphaTested : 0) |
                                          (mm.holdout ? kHoldout : 0)));
             if (any_rays_hidden) tri_rays_.push_back(uint8_t(m.rays & kRayKindsAll));
+            // the lift reads the still vertex positions: none for moving meshes
+            if (any_terminator)
+                tri_terminator_.push_back(m.normals.empty() || m.flat || !m.motion.empty() ||
+                                                  !m.deform.empty()
+                                              ? 0.0f
+                                              : m.terminator);
         }
         range.tri_count = int32_t(tri_material_.size()) - range.tri_begin;
         mesh_ranges_.push_back(range);

@@ -309,6 +309,9 @@ struct SceneView {
     // blocker sets that cast its shadows; both null where nothing is shadow-linked
     const uint8_t* tri_shadow_set = nullptr;
     const uint64_t* light_blockers = nullptr;
+    // Cycles' Shadow Terminator Geometry Offset of each triangle's mesh (integrator/terminator.h,
+    // docs/materials.md "Shadow terminator"); null where no smooth-shaded mesh has one above 0
+    const float* tri_terminator = nullptr;
     int32_t num_triangles = 0;
 
     const Material* materials = nullptr;

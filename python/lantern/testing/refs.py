@@ -150,10 +150,25 @@ def order_free(scene):
     1e-4): for keys of scenes that Blender exports (Cycles' references), whose vertex order
     varies between runs of the same file. Everything else as Scene.to_native() gives it."""
     native = dict(scene.to_native())
-    native["meshes"] = [_order_free_mesh(m) for m in native.get("meshes") or []]
+    native["meshes"] = [_order_free_mesh(_without_defaults(m)) for m in native.get("meshes") or []]
     if native.get("curves"):
         native["curves"] = [_order_free_curves(c) for c in native["curves"]]
     return native
+
+
+# Mesh fields that the add-on exports at Blender's default, left out of the key where they have
+# it: the references stored before the field was exported keep their keys (their Cycles renders
+# had the same default); any other value enters the key.
+_KEY_DEFAULTS = {"terminator_offset": 0.1}  # Shadow Terminator Geometry Offset (float32 0.1)
+# Mesh fields the key's other content already holds: flat_shading (Blender's Face normals
+# domain) is what the normals array, one normal per face, says.
+_KEY_DERIVED = ("flat_shading",)
+
+
+def _without_defaults(m):
+    drop = [k for k, d in _KEY_DEFAULTS.items()
+            if k in m and abs(float(m[k]) - d) < 1e-6] + [k for k in _KEY_DERIVED if k in m]
+    return {k: v for k, v in m.items() if k not in drop} if drop else m
 
 
 def file_digest(path):
