@@ -53,7 +53,7 @@ TEST(Terminator, LiftReachesTheSmoothSurface) {
     float cos_half = 1.0f;
     for (int a = 0; a < 3; ++a)
         for (int b = a + 1; b < 3; ++b)
-            cos_half = fminf(cos_half, sqrtf(0.5f * (1.0f + dot(t.n[a], t.n[b]))));
+            cos_half = ::fminf(cos_half, sqrtf(0.5f * (1.0f + dot(t.n[a], t.n[b]))));
     Pcg32 rng = Pcg32::for_path(7, 1, 2);
     double gap = 0.0, short_of_sphere = 0.0;
     for (int i = 0; i < 2000; ++i) {
@@ -64,7 +64,7 @@ TEST(Terminator, LiftReachesTheSmoothSurface) {
         EXPECT_GE(dot(q - p, ng), -1e-6f);
         EXPECT_LE(length(q), r / cos_half * (1.0f + 1e-4f));
         gap += r - length(p);
-        short_of_sphere += fmaxf(r - length(q), 0.0f);
+        short_of_sphere += ::fmaxf(r - length(q), 0.0f);
         // seen from the back (the mesh's inside): lifted inward, never outward
         const Vec3 q2 = p + terminator_lift(s, 0, p, -ng);
         EXPECT_LE(dot(q2 - p, ng), 1e-6f);
