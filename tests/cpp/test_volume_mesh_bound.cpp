@@ -13,11 +13,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <random>
 #include <string>
 #include <vector>
 
 #include "core/rng.h"
 #include "scene/medium_hetero.h"
+#include "scene/program_bound.h"
 #include "scene/scene.h"
 #include "test_scene_helpers.h"
 
@@ -88,6 +90,37 @@ SceneInput slab_scene(bool noise, float base_density = kSlabBase) {
     mat.program_count = 1;
     in.materials.push_back(mat);
     in.meshes.push_back(box_mesh(vec3(0.0f), vec3(1.0f), 0));
+    return in;
+}
+
+// A procedural texture's rule (scene/program_bound.cpp): a cube of volume-only material whose
+// density program is texture `op` of the position (its other inputs the constants `in`), the
+// result (output 0, output 1, output 3): a Fac and colour channels.
+struct TexCase {
+    const char* name;
+    int op, mode, flags, dim, aux, aux2;
+    std::vector<float> in;
+};
+SceneInput texture_scene(const TexCase& t) {
+    SceneInput in = slab_scene(false);
+    std::vector<float> c = {0, 0, 0, 0, 0, 0, 0, 0};
+    c.insert(c.end(), t.in.begin(), t.in.end());  // from 8
+    std::vector<uint32_t> code;
+    slab_instr(code, kOpInput, 0, 0, 0, 16);
+    slab_instr(code, kOpCopy, 0, 3, 16, 30);
+    for (size_t k = 0; k < t.in.size(); k += 3)
+        slab_instr(code, kOpCopy, 0, int(std::min<size_t>(3, t.in.size() - k)), 8 + int(k),
+                   33 + int(k));
+    code.insert(code.end(), {uint32_t(t.op | (t.mode << 8) | (t.flags << 16) | (t.dim << 24)),
+                             uint32_t(30 | (50 << 16)), uint32_t(t.aux), uint32_t(t.aux2)});
+    slab_instr(code, kOpCopy, 0, 1, 50, 60);
+    slab_instr(code, kOpCopy, 0, 1, 51, 61);
+    slab_instr(code, kOpCopy, 0, 1, 53, 62);
+    in.program_code = code;
+    in.program_consts = c;
+    in.programs = {0u, uint32_t(code.size() / 4), 0u, uint32_t(c.size()), uint32_t(kTargetDensity),
+                   60u};
+    in.meshes[0] = box_mesh(vec3(-2.3f), vec3(3.1f), 0);
     return in;
 }
 
@@ -192,4 +225,61 @@ TEST(MeshDensityBound, ProgramWithoutRuleKeepsTheLatticeAndWarns) {
     EXPECT_TRUE(std::isfinite(m.majorant));
     EXPECT_GT(m.majorant, 0.0f);
     EXPECT_LT(m.density_max, 3.0f);  // the lattice x 1.5 of a base <= 0.2: the slab missed
+}
+
+TEST(MeshDensityBound, TextureRulesHoldInsideRandomBoxes) {
+    // noise inputs: w scale detail roughness lacunarity offset gain distortion
+    const TexCase cases[] = {
+        {"gradient linear", kOpGradient, 0, 0, 0, 0, 0, {}},
+        {"gradient spherical", kOpGradient, 6, 0, 0, 0, 0, {}},
+        {"wave sine, distorted", kOpWave, 0, 0, 0, 3, 0, {2.0f, 3.0f, 2.0f, 1.0f, 0.5f, 0.3f}},
+        {"wave rings saw", kOpWave, 1, 0, 0, 3, 1, {1.5f, 0.0f, 2.0f, 1.0f, 0.5f, 0.0f}},
+        {"wave triangle", kOpWave, 0, 0, 0, 1, 2, {1.5f, 1.0f, 2.0f, 1.0f, 0.5f, 0.0f}},
+        {"white noise", kOpWhiteNoise, 0, 0, 3, 0, 0, {0.7f}},
+        {"checker", kOpChecker, 0, 0, 0, 0, 0, {0.2f, 0.9f, 0.4f, 1.5f, -0.3f, 0.6f, 2.0f}},
+        {"noise fBm 3D normalised", kOpNoise, 3, 1, 3, 0, 0,
+         {0.0f, 2.0f, 5.5f, 0.7f, 2.0f, 0.0f, 1.0f, 0.4f}},
+        {"noise fBm 1D normalised", kOpNoise, 3, 1, 1, 0, 0,
+         {0.3f, 2.0f, 3.0f, 0.5f, 2.0f, 0.0f, 1.0f, 0.0f}},
+        {"noise fBm 2D raw", kOpNoise, 3, 0, 2, 0, 0,
+         {0.0f, 1.5f, 2.5f, 0.6f, 2.0f, 0.0f, 1.0f, 0.0f}},
+        {"noise fBm 4D raw", kOpNoise, 3, 0, 4, 0, 0,
+         {0.4f, 1.5f, 1.0f, 0.9f, 2.5f, 0.0f, 1.0f, 0.0f}},
+    };
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    for (const TexCase& t : cases) {
+        HostScene scene(texture_scene(t));
+        const SceneView& s = scene.view();
+        const int32_t med = s.material_medium[0];
+        const Medium& m = s.media[med];
+        ASSERT_GE(m.density_prog, 0) << t.name;
+        for (const std::string& w : scene.warnings())
+            EXPECT_EQ(w.find("no bound"), std::string::npos) << t.name << ": " << w;
+        const MaterialProgram& p = s.programs[m.density_prog];
+        float reach[3] = {-kInf, -kInf, -kInf}, whole[3] = {0, 0, 0};
+        Interval all[3];
+        ASSERT_TRUE(program_bound(s, p, med, vec3(-2.3f), vec3(3.1f), all)) << t.name;
+        for (int b = 0; b < 60; ++b) {
+            const Vec3 c{-2.0f + 5.0f * u(rng), -2.0f + 5.0f * u(rng), -2.0f + 5.0f * u(rng)};
+            const Vec3 h{0.02f + 0.3f * u(rng), 0.02f + 0.3f * u(rng), 0.02f + 0.3f * u(rng)};
+            Interval iv[3];
+            ASSERT_TRUE(program_bound(s, p, med, c - h, c + h, iv)) << t.name;
+            for (int k = 0; k < 400; ++k) {
+                const Vec3 q = c - h + 2.0f * h * Vec3{u(rng), u(rng), u(rng)};
+                const Vec3 v = program_run(s, p, medium_shade_point(med, q, Vec3{1, 0, 0}));
+                const float vv[3] = {v.x, v.y, v.z};
+                for (int ch = 0; ch < 3; ++ch) {
+                    ASSERT_GE(vv[ch], iv[ch].lo) << t.name << " channel " << ch;
+                    ASSERT_LE(vv[ch], iv[ch].hi) << t.name << " channel " << ch;
+                    reach[ch] = std::max(reach[ch], vv[ch]);
+                    whole[ch] = all[ch].hi;
+                }
+            }
+        }
+        std::printf("%s: largest sample %.3f %.3f %.3f, bound over the cube %.3f %.3f %.3f; "
+                    "majorant's density %.3f\n", t.name, reach[0], reach[1], reach[2], whole[0],
+                    whole[1], whole[2], m.density_max);
+        EXPECT_GE(m.density_max, reach[0]) << t.name;
+    }
 }

@@ -57,10 +57,12 @@ float mesh_density_bound(const SceneView& s, const MaterialProgram& p, int32_t m
                              y + 1 == kSplit ? hi.y : a.y + step.y,
                              z + 1 == kSplit ? hi.z : a.z + step.z};
                 Interval r[3];
-                if (!program_bound(s, p, med, a, c, r)) return -1.0f;
+                if (!program_bound(s, p, med, a, c, r, 1)) return -1.0f;
                 b = std::fmax(b, r[0].hi);
             }
-    return std::fmin(b, 1e9f);
+    // a density of 0 everywhere: program_bound's widening (1e-30) is not a majorant to keep
+    // (an emitting medium then takes its floor of collisions, below)
+    return b <= 2e-30f ? 0.0f : std::fmin(b, 1e9f);
 }
 
 }  // namespace
