@@ -200,7 +200,7 @@ float HostScene::program_density_bound(int32_t med, const DensityGrid& g, float 
     SceneView host = view_;
     host.media = media_.data();
     Interval b[3];
-    if (!program_bound(host, programs_[size_t(m.density_prog)], med, wlo, whi, b)) return -1.0f;
+    if (!program_bound(host, programs_[size_t(m.density_prog)], med, wlo, whi, b, 1)) return -1.0f;
     return std::fmin(std::fmax(b[0].hi, 0.0f), 1e9f);
 }
 

@@ -2,14 +2,16 @@
 // material whose volume Density is driven by a node program (kTargetDensity), its attribute
 // channels as affine maps of the world position (fitted to the vertices of the material's
 // triangles: Generated and Object coordinates are affine in position for an undeformed mesh)
-// and its majorant (the density's largest value on a lattice over the triangles' bounds, with
-// a margin; the tracking stays unbiased where the density exceeds it, with negative weights).
+// and its majorant (the program's interval bound over the triangles' bounds, scene/
+// program_bound.h; where an op has no rule, the density's largest value on a lattice with a
+// margin, which a peak between lattice points exceeds: a bias there, with a warning).
 #include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
 
 #include "scene/medium_hetero.h"
+#include "scene/program_bound.h"
 #include "scene/scene.h"
 
 namespace lantern {
@@ -36,6 +38,31 @@ bool solve4(double a[4][4], double b[4]) {
         b[c] /= a[c][c];
     }
     return true;
+}
+
+// The largest density (program_run's x, as medium_density reads it, in [0, 1e9]) of program
+// p over the world box [lo, hi]: the largest interval bound over kSplit^3 sub-boxes (an
+// interval bound over the whole box overestimates where the program's value varies), or -1
+// where some op has no rule.
+float mesh_density_bound(const SceneView& s, const MaterialProgram& p, int32_t med, Vec3 lo,
+                         Vec3 hi) {
+    constexpr int kSplit = 16;
+    const Vec3 step = (hi - lo) * (1.0f / kSplit);
+    float b = 0.0f;
+    for (int z = 0; z < kSplit; ++z)
+        for (int y = 0; y < kSplit; ++y)
+            for (int x = 0; x < kSplit; ++x) {
+                const Vec3 a = lo + step * Vec3{float(x), float(y), float(z)};
+                const Vec3 c{x + 1 == kSplit ? hi.x : a.x + step.x,
+                             y + 1 == kSplit ? hi.y : a.y + step.y,
+                             z + 1 == kSplit ? hi.z : a.z + step.z};
+                Interval r[3];
+                if (!program_bound(s, p, med, a, c, r, 1)) return -1.0f;
+                b = std::fmax(b, r[0].hi);
+            }
+    // a density of 0 everywhere: program_bound's widening (1e-30) is not a majorant to keep
+    // (an emitting medium then takes its floor of collisions, below)
+    return b <= 2e-30f ? 0.0f : std::fmin(b, 1e9f);
 }
 
 }  // namespace
@@ -140,6 +167,19 @@ void HostScene::build_hetero(int32_t med, size_t material, const std::string& na
                 }
     }
     m.density_max = std::min(dmax * 1.5f, 1e9f);
+    if (m.density_grid < 0 && !verts.empty()) {
+        // a mesh volume's program: its interval bound (scene/program_bound.h), a true bound,
+        // where every op it runs has a rule; else the lattice x 1.5 above, which a peak
+        // between lattice points exceeds (biased there), with a warning
+        const float b = mesh_density_bound(host, programs_[size_t(m.density_prog)], med, lo, hi);
+        if (b >= 0.0f)
+            m.density_max = b;
+        else
+            warnings_.push_back("medium '" + name + "': its density's node graph has no bound "
+                                "Lantern can compute (a node without an interval rule, or an "
+                                "unbounded value); its majorant is the largest density on a "
+                                "lattice x 1.5, which may miss peaks (biased there)");
+    }
     m.majorant = max_component(m.sigma_a0 + m.sigma_s0 + (m.sigma_a + m.sigma_s) * m.density_max);
     // an emitting medium needs tentative collisions even where nothing extinguishes: its
     // emission is estimated at them (one per bounding-box diagonal on average)

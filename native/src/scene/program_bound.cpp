@@ -2,7 +2,10 @@
 // register, pushed through the instructions in order. The rules keep every value an op can
 // give for inputs inside its input intervals (monotone ops at the interval's ends, products
 // at the four corners, tables over the rows the input reaches); an op without a rule, or a
-// register read before it is written, makes the bound fail.
+// register read before it is written, makes the bound fail. Procedural textures: Gradient,
+// Wave, White Noise, Checker and the Noise Texture's fBm have rules from their formulas
+// (material_program_tex.h, material_program_noise.h); Voronoi, Magic, Brick and the other
+// Noise types none yet.
 #include "scene/program_bound.h"
 
 #include <algorithm>
@@ -98,6 +101,31 @@ void affine_range(const Transform& t, Vec3 lo, Vec3 hi, Reg out[3]) {
     }
 }
 
+// The Noise Texture's fBm (material_program_noise.h) over any point: snoise is Perlin's noise
+// (nested lerps by quintic fades in [0, 1] of gradient dot products, each at most 8 |x| (1D),
+// |u| + 2 |v| (2D), |u| + |v| (3D), |u| + |v| + |s| (4D) with offsets in [-1, 1]) times
+// Blender's scale per dimension (0.25, 0.6616, 0.9820, 0.8344), 0 where not finite: |snoise|
+// <= S below (a proven bound, not the noise's true range, which is about 1). fBm sums octaves
+// of amplitude roughness^i (roughness clamped >= 0 by kOpNoise): normalised, sum / maxamp
+// lies in [-S, S] and the Fac in 0.5 +- 0.5 S (Cycles and Lantern do not clamp it); not
+// normalised, |sum| <= S x the amplitudes' sum over detail + 1 octaves (detail <= 15). The
+// other fractal types have no rule.
+Reg noise_fbm_bound(const NodeInstr& n, const Reg* a) {
+    if (n.mode != 3 || n.dim < 1 || n.dim > 4) return unknown();
+    const float kGradScale[4] = {0.25f * 8.0f, 0.6616f * 3.0f, 0.9820f * 2.0f, 0.8344f * 3.0f};
+    const float S = kGradScale[n.dim - 1] * 1.001f;  // lerps' float rounding
+    if (n.flags & 1) return make(0.5f - 0.5f * S, 0.5f + 0.5f * S);
+    if (!a[5].known || !a[6].known) return unknown();
+    const int octaves = int(std::fmin(std::fmax(a[5].hi, 0.0f), 15.0f));
+    const float r = std::fmax(a[6].hi, 0.0f);
+    float amp = 1.0f, sum = 0.0f;
+    for (int i = 0; i <= octaves + 1; ++i) {  // + 1: the fractional detail's octave
+        sum += amp;
+        amp *= r;
+    }
+    return make(-S * sum * 1.001f, S * sum * 1.001f);
+}
+
 // Registers op n writes (material_program.cpp op_span's output widths).
 int out_width(const NodeInstr& n) {
     switch (n.op) {
@@ -162,7 +190,7 @@ void grid_range(const SceneView& s, const DensityGrid& g, Vec3 lo, Vec3 hi, Inte
 }
 
 bool program_bound(const SceneView& s, const MaterialProgram& p, int32_t med, Vec3 lo, Vec3 hi,
-                   Interval out[3]) {
+                   Interval out[3], int channels) {
     for (int c = 0; c < 3; ++c) out[c] = Interval{-kInfBound, kInfBound};
     Reg r[kProgramRegs];
     for (Reg& x : r) x = unknown();
@@ -280,6 +308,30 @@ bool program_bound(const SceneView& s, const MaterialProgram& p, int32_t med, Ve
                 t[k] = add(mul(a[1 + k], sub(point(1.0f), a[0])),
                            mul(sub(point(1.0f), a[1 + k]), a[0]));
             break;
+        case kOpGradient: {
+            // node_gradient clamps to [0, 1]; Linear (type 0) is monotone in x
+            Reg f = make(0.0f, 1.0f);
+            if (n.mode == 0 && a[0].known) f = clamp01(a[0]);
+            for (int k = 0; k < 4; ++k) t[k] = f;
+            break;
+        }
+        case kOpWave:  // every profile of node_wave lies in [0, 1] (0.5 + 0.5 sin, fract, tri)
+        case kOpWhiteNoise:  // hash_to_unit: [0, 1]
+            for (int k = 0; k < 4; ++k) t[k] = make(0.0f, 1.0f);
+            break;
+        case kOpChecker:  // one of the two colours; the factor 0 or 1
+            for (int k = 0; k < 3; ++k)
+                if (a[3 + k].known && a[6 + k].known)
+                    t[k] = make(std::fmin(a[3 + k].lo, a[6 + k].lo),
+                                std::fmax(a[3 + k].hi, a[6 + k].hi));
+            t[3] = make(0.0f, 1.0f);
+            break;
+        case kOpNoise: {
+            const Reg f = noise_fbm_bound(n, a);
+            t[0] = f;
+            for (int k = 1; k < 4; ++k) t[k] = (n.flags & 2) ? point(0.0f) : f;
+            break;
+        }
         default: break;  // no rule: its outputs are unknown
         }
         // the op's outputs (unknown ones too: a later read then fails the bound)
@@ -293,6 +345,10 @@ bool program_bound(const SceneView& s, const MaterialProgram& p, int32_t med, Ve
     }
     bool ok = true;
     for (int c = 0; c < 3; ++c) {
+        if (c >= channels) {
+            out[c] = Interval{-kInfBound, kInfBound};
+            continue;
+        }
         const Reg v = r[p.result + c];
         if (!v.known || !std::isfinite(v.lo) || !std::isfinite(v.hi)) {
             ok = false;

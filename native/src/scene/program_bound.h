@@ -6,7 +6,8 @@
 // input intervals, so the result's interval holds every value the program gives at a point of
 // the box: a true bound, which the majorant bricks of a density program need (the trackings
 // are exact only where the majorant bounds the extinction). An op without a rule (a texture,
-// vector math, ...) makes the result unbounded; the caller then falls back (and says so).
+// Voronoi, Magic, vector math, ...) makes the result unbounded; the caller then falls back
+// (and says so).
 #pragma once
 
 #include "scene/material_program.h"
@@ -22,8 +23,10 @@ struct Interval {
 // none). False when some op on the way has no rule, or a bound is not finite; out is then
 // (-inf, inf). The result is what program_run returns (NaN and infinities are 0 there: a
 // finite bound holds them), widened by a relative 1e-5 against float rounding in the lookups.
+// channels: how many of the result's channels the caller reads (a density reads x alone, and
+// a scalar program leaves y, z unwritten); the others are (-inf, inf) and do not fail it.
 bool program_bound(const SceneView& s, const MaterialProgram& p, int32_t med, Vec3 lo, Vec3 hi,
-                   Interval out[3]);
+                   Interval out[3], int channels = 3);
 
 // The range of grid g's trilinear lookups over the world box [lo, hi] (each channel; a float
 // grid's in all three): the smallest and largest voxel a lookup inside the box can read, one
