@@ -74,6 +74,27 @@ def test_generator_is_deterministic(profile):
     assert ds.generate(1, profile) != ds.generate(2, profile)
 
 
+def test_features_full_only_and_exported():
+    """difftest_features (issues 29 and 32): the "ci" profile draws none (its cases, stored
+    above, are unchanged); the "full" profile draws every FEATURES tag within 300 seeds, a case
+    of each builds and exports without a warning (nothing drawn that the add-on does not
+    render), and --avoid leaves a feature out."""
+    import difftest_build as db
+    import difftest_features as df
+    assert not any(df.features(ds.generate(s, "ci")) for s in CI_SEEDS)
+    first = {}
+    for seed in range(2000, 2300):
+        for tag in df.features(ds.generate(seed, "full")):
+            first.setdefault(tag, seed)
+    assert set(first) == set(df.FEATURES), set(df.FEATURES) - set(first)
+    for tag, seed in sorted(first.items()):
+        case = ds.generate(seed, "full")
+        db.build(case)
+        _, warned = dt.export_lantern()
+        assert not warned, (tag, seed, warned)
+        assert tag not in df.features(ds.generate(seed, "full", avoid={tag}))
+
+
 @pytest.mark.parametrize("seed", CI_SEEDS)
 def test_random_scene_matches_cycles(seed):
     case = ds.generate(seed, "ci")
