@@ -318,5 +318,5 @@ def shrink_edits(case):
                                                       c["objects"][i].pop(key))
     if "motion" in case["camera"]:
         yield "camera: no motion", edited(lambda c: c["camera"].pop("motion"))
-    if case.get("shutter", 1.0) != 0.5:
+    if case.get("shutter") and case["shutter"] != 0.5:
         yield "shutter 0.5", edited(lambda c: c.update(shutter=0.5))
