@@ -82,8 +82,9 @@ def candidates(case):
             used = {x.get("material") for x in c["objects"]} | {
                 x["hair"]["material"] for x in c["objects"] if "hair" in x}
             c["materials"] = {k: v for k, v in c["materials"].items() if k in used}
-            c["volumes"] = {k: v for k, v in c.get("volumes", {}).items()
-                            if any(x.get("volume") == k for x in c["objects"])}
+            if "volumes" in c:
+                c["volumes"] = {k: v for k, v in c["volumes"].items()
+                                if any(x.get("volume") == k for x in c["objects"])}
         yield f"remove object {i} ({o['kind']})", edited(rm)
     if case.get("world") is not None:
         yield "no world (black)", edited(lambda c: c.update(world=None))
