@@ -45,6 +45,7 @@ _SRC = os.path.join(ROOT, "python")   # the checkout's lantern when it has its o
 if glob.glob(os.path.join(_SRC, "lantern", "_core*")) and _SRC not in sys.path:
     sys.path.insert(0, _SRC)          # (as tests/cycles/conftest.py does)
 import difftest_build as db  # noqa: E402
+import difftest_features as df  # noqa: E402
 import difftest_known as dk  # noqa: E402
 import difftest_scene as ds  # noqa: E402
 import difftest_shrink  # noqa: E402
@@ -143,6 +144,16 @@ def export_lantern():
     return scene, list(report.messages)
 
 
+def session_warnings(scene, bounces, integrator):
+    """What a Lantern session of the scene warns of (the core's own unsupported features, e.g.
+    a moving emitter left still: native/src/scene/motion_build.cpp), which the add-on's export
+    does not see; a case with any is unsupported, as one the export warns of."""
+    import lantern
+    from render_compare import lantern_depth
+    return list(lantern.Session(scene, integrator=integrator, backend="cpu",
+                                max_depth=lantern_depth(bounces), seed=1, threads=1).warnings)
+
+
 def render_lantern(scene, bounces, seeds, spp, integrator, threads):
     import lantern
     from render_compare import lantern_depth
@@ -227,6 +238,7 @@ def run_case(case, st, base=0, spp_factor=1, mutate=None, controls=True, built=F
     if not built:
         db.build(case)
     scene, warnings = export_lantern()
+    warnings = warnings or session_warnings(scene, case["bounces"], st.integrator)
     if warnings:
         return Result("unsupported", warnings=warnings, seconds=time.perf_counter() - t0)
     seeds = [base + 1 + k for k in range(st.seeds)]
@@ -302,7 +314,8 @@ def parse(argv):
     ap.add_argument("--shrink-spp-factor", type=int, default=SHRINK_SPP_FACTOR,
                     help="samples of a shrink step, times --spp (default %(default)s)")
     ap.add_argument("--avoid", action="append", default=[], metavar="TAG",
-                    help="draw no case with this known tag (difftest_known.KNOWN)")
+                    help="draw no case with this known tag (difftest_known.KNOWN) or feature "
+                         "(difftest_features.FEATURES)")
     ap.add_argument("--avoid-known", action="store_true", help="avoid every known tag")
     ap.add_argument("--allow", action="append", default=[], metavar="TAG",
                     help="with --avoid-known: draw cases with this tag all the same")
@@ -435,7 +448,8 @@ def main(argv=None):
         print(f"[{seed}] {ds.describe(case)}\n  {res.line()}", flush=True)
         entry = {"seed": seed, "profile": args.profile, "settings": asdict(st),
                  "avoid": sorted(avoid), "describe": ds.describe(case),
-                 "result": asdict(res), "tags": known_tags(case)}
+                 "result": asdict(res), "tags": known_tags(case),
+                 "features": sorted(df.features(case))}
         if args.recheck_blind and res.status == "agree" and res.gain_flagged is False:
             # too noisy to see a 5 % gain: once more at 4x the samples (as the CI slice does)
             res = run_case(case, st, base=100, spp_factor=4)
@@ -516,7 +530,12 @@ def write_summary(out_dir, run):
     # agreeing cases whose noise would not show Lantern's image x 1.05 / x 0.95 (weak)
     blind = [e["seed"] for e in log if e.get("recheck", e["result"])["status"] == "agree" and
              e.get("recheck", e["result"]).get("gain_flagged") is False]
-    summary = {"run": run, "cases": len(log), "counts": counts,
+    by_feature = {}   # difftest_features.FEATURES: cases drawn with each, by class
+    for e in log:
+        for t in e.get("features", []):
+            d = by_feature.setdefault(t, {})
+            d[classify(e)] = d.get(classify(e), 0) + 1
+    summary = {"run": run, "cases": len(log), "counts": counts, "features": by_feature,
                "agree_but_blind_to_5_percent": {"count": len(blind), "seeds": blind},
                "seeds": [min((e["seed"] for e in log), default=None),
                          max((e["seed"] for e in log), default=None)],

@@ -2,6 +2,8 @@
 factory-empty scene rebuilt from the description alone, so a saved case.json rebuilds the same
 scene."""
 
+import difftest_features as df
+
 def _mesh(kind, name):
     import bmesh
     import bpy
@@ -58,11 +60,20 @@ def _env_image(spec, name):
     return im
 
 
-def _build_graph(tree, graph, output_type, out_socket):
+def _build_graph(tree, graph, output_type, out_socket, volume=None):
+    """`graph` into the node tree, on the output's `out_socket` (none when None); `volume`: a
+    second graph (its node names apart from `graph`'s) on the output's Volume."""
     nodes = tree.nodes
     for n in list(nodes):
         nodes.remove(n)
     out = nodes.new(output_type)
+    for g, sock in ((graph, out_socket), (volume, "Volume")):
+        if g is not None:
+            _add_graph(tree, g, out.inputs[sock])
+
+
+def _add_graph(tree, graph, out_input):
+    nodes = tree.nodes
     made = {}
     for name, spec in graph["nodes"].items():
         node = nodes.new(spec["type"])
@@ -99,7 +110,7 @@ def _build_graph(tree, graph, output_type, out_socket):
     for a, ao, b, bi in graph["links"]:
         tree.links.new(_socket(made[a].outputs, ao), _socket(made[b].inputs, bi))
     src, so = graph["out"]
-    tree.links.new(_socket(made[src].outputs, so), out.inputs[out_socket])
+    tree.links.new(_socket(made[src].outputs, so), out_input)
 
 
 def build(case):
@@ -114,15 +125,25 @@ def build(case):
         m = bpy.data.materials.new(name)
         _build_graph(m.node_tree, graph, "ShaderNodeOutputMaterial", "Surface")
         mats[name] = m
+    made = []
     for i, o in enumerate(case["objects"]):
+        if o["kind"] == "curves":   # a Curves object (difftest_features)
+            made.append(df.build_object(sc, o, mats, None))
+            continue
         me = _mesh(o["kind"], f"{o['kind']}{i}")
-        if o.get("material") in mats:
+        if o.get("volume") in case.get("volumes", {}):   # a Volume (and Surface) material
+            m = bpy.data.materials.new(f"{o.get('material')}+{o['volume']}")
+            _build_graph(m.node_tree, case["materials"].get(o.get("material")),
+                         "ShaderNodeOutputMaterial", "Surface", case["volumes"][o["volume"]])
+            me.materials.append(m)
+        elif o.get("material") in mats:
             me.materials.append(mats[o["material"]])
         ob = bpy.data.objects.new(f"{o['kind']}{i}", me)
         ob.location = o["location"]
         ob.rotation_euler = o.get("rotation", [0.0, 0.0, 0.0])
         ob.scale = o["scale"]
         sc.collection.objects.link(ob)
+        made.append(df.build_object(sc, o, mats, ob))
     for i, spec in enumerate(case["lights"]):
         light = bpy.data.lights.new(f"{spec['type'].lower()}{i}", spec["type"])
         light.energy = spec["energy"]
@@ -138,9 +159,10 @@ def build(case):
         ob.location, ob.rotation_euler = spec["location"], spec["rotation"]
         ob.visible_camera = bool(spec.get("visible_camera", False))
         sc.collection.objects.link(ob)
-    if case.get("world") is not None:
+    if case.get("world") is not None or case.get("world_volume"):
         w = bpy.data.worlds.new("World")
-        _build_graph(w.node_tree, case["world"], "ShaderNodeOutputWorld", "Surface")
+        _build_graph(w.node_tree, case.get("world"), "ShaderNodeOutputWorld", "Surface",
+                     case.get("world_volume"))
         # Cycles' importance map of the world (automatic: 1.8-2.5 s a render at one thread
         # for these worlds, 0.1-0.2 s so); its resolution changes the noise, not the image
         w.cycles.sampling_method = "MANUAL"
@@ -155,6 +177,7 @@ def build(case):
     co.location, co.rotation_euler = c["location"], c["rotation"]
     sc.collection.objects.link(co)
     sc.camera = co
+    df.build_scene(sc, case, co, made)
     sc.view_settings.view_transform = "Standard"
     return sc
 

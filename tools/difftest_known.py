@@ -295,7 +295,7 @@ def tags(case):
                 lt.get("visible_camera"):
             found.add("visible sphere light")
     for o in case["objects"]:
-        if o.get("material") is None:
+        if o.get("material") is None and not o.get("volume"):   # a volume: no Surface
             found.add("no material")
         if o["kind"] == "sphere":
             found.add("smooth sphere")

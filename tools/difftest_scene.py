@@ -135,12 +135,13 @@ def generate(seed, profile="full", size=None, avoid=()):
     """A random case (module docstring). profile "ci" leaves out what issue 28 lists as
     known to disagree while it is being fixed (each exclusion below names it); `avoid`: tags
     (tags()) the case must not have, drawn again (another sub-seed) until it has none."""
+    from difftest_features import features
     from difftest_known import KNOWN, tags
     avoid = set(avoid) | (set(KNOWN) if profile == "ci" else set())
     for attempt in range(500):
         case = _draw(f"difftest:{profile}:{seed}" + (f":{attempt}" if attempt else ""),
                      seed, profile, size, avoid)
-        if not tags(case) & avoid:
+        if not (tags(case) | features(case)) & avoid:
             return case
     raise RuntimeError(f"no case of seed {seed} without {sorted(avoid)}")
 
@@ -233,6 +234,9 @@ def _draw(key, seed, profile, size, avoid):
             _clear(case["lights"][-1], case["objects"])
     # an emitter alone may hide behind its glass: the CI profile keeps a world then
     case["world"] = _world(r, avoid, bool(case["lights"]) or (emitters and profile != "ci"))
+    if profile == "full":   # issues 29 and 32, from their own stream (difftest_features.py)
+        import difftest_features
+        difftest_features.draw(key, case, avoid, lambda rr: _material(rr, avoid))
     return case
 
 
@@ -247,5 +251,8 @@ def describe(case):
         world = "env" if "ShaderNodeTexEnvironment" in types else \
             "procedural" if len(types) > 1 else "colour"
     nodes = sum(len(m["nodes"]) for m in case["materials"].values())
+    from difftest_features import features
+    feats = sorted(features(case))
     return (f"objects {objs}; lights {lights}; world {world}; {len(case['materials'])} "
-            f"materials, {nodes} nodes; bounces {case['bounces']}")
+            f"materials, {nodes} nodes; bounces {case['bounces']}" +
+            (f"; {', '.join(feats)}" if feats else ""))

@@ -8,6 +8,8 @@ default."""
 import copy
 import time
 
+import difftest_features
+
 # optional light keys: dropped, the light takes Blender's default (bpy.data.lights.new)
 LIGHT_OPTIONAL = ("color", "radius", "soft_falloff", "spot_size", "spot_blend", "size_y",
                   "shape", "size", "angle", "visible_camera")
@@ -77,8 +79,12 @@ def candidates(case):
     for i, o in enumerate(case["objects"]):
         def rm(c, i=i):
             c["objects"].pop(i)
-            used = {x.get("material") for x in c["objects"]}
+            used = {x.get("material") for x in c["objects"]} | {
+                x["hair"]["material"] for x in c["objects"] if "hair" in x}
             c["materials"] = {k: v for k, v in c["materials"].items() if k in used}
+            if "volumes" in c:
+                c["volumes"] = {k: v for k, v in c["volumes"].items()
+                                if any(x.get("volume") == k for x in c["objects"])}
         yield f"remove object {i} ({o['kind']})", edited(rm)
     if case.get("world") is not None:
         yield "no world (black)", edited(lambda c: c.update(world=None))
@@ -90,15 +96,20 @@ def candidates(case):
                 name = f"plain{i}"
                 c["objects"][i]["material"] = name
                 c["materials"][name] = copy.deepcopy(PLAIN)
-                used = {x.get("material") for x in c["objects"]}
+                used = {x.get("material") for x in c["objects"]} | {
+                x["hair"]["material"] for x in c["objects"] if "hair" in x}
                 c["materials"] = {k: v for k, v in c["materials"].items() if k in used}
             yield f"object {i}: plain diffuse material", edited(plain)
+    yield from difftest_features.shrink_edits(case)
     if case["bounces"] > 0:
         yield f"bounces {case['bounces']} -> {case['bounces'] // 2}", \
             edited(lambda c: c.update(bounces=c["bounces"] // 2))
     graphs = [(f"material {k}", ("materials", k)) for k in case["materials"]]
     if case.get("world") is not None:
         graphs.append(("world", ("world",)))
+    graphs += [(f"volume {k}", ("volumes", k)) for k in case.get("volumes", {})]
+    if case.get("world_volume"):
+        graphs.append(("world volume", ("world_volume",)))
     for where, path in graphs:
         graph = case[path[0]] if len(path) == 1 else case[path[0]][path[1]]
         for label, fn in _graph_edits(graph, where):
@@ -124,7 +135,8 @@ def candidates(case):
 def size(case):
     """How big a case is (what shrinking lowers)."""
     n = len(case["lights"]) + len(case["objects"]) + (case.get("world") is not None)
-    for g in list(case["materials"].values()) + ([case["world"]] if case.get("world") else []):
+    for g in list(case["materials"].values()) + list(case.get("volumes", {}).values()) + \
+            [case[k] for k in ("world", "world_volume") if case.get(k)]:
         n += len(g["nodes"]) + len(g["links"])
         n += sum(len(x.get("inputs", {})) + len(x.get("props", {})) for x in g["nodes"].values())
     n += sum(len(lt) for lt in case["lights"])

@@ -20,6 +20,14 @@ def curve_shape(bscene, report):
     return shape
 
 
+def see_through(material):
+    """Whether a converted material covers less than all (Alpha below 1, a Transparent BSDF in
+    a mix, an alpha texture or node graph): strands render opaque in Lantern (the stochastic
+    alpha test, native/src/scene/alpha.h, is the triangles'), Cycles lets rays through them."""
+    return material.get("alpha", 1.0) < 1.0 or "alpha_texture" in material or any(
+        p.get("target") == "alpha" for p in material.get("programs", []))
+
+
 class StrandExporter:
     def __init__(self, bscene, materials, report, final=True):
         self.materials, self.report, self.final = materials, report, final
@@ -43,6 +51,13 @@ class StrandExporter:
                              "renders as round tubes in Lantern ('3D Curves' or 'Linear 3D "
                              "Curves' match)")
         slots = [self.materials.index(s.material) for s in obj.material_slots] or [0]
+        for slot in sorted(set(slots)):
+            mat = self.materials.materials[slot]
+            if see_through(mat):
+                self.report.warn(f"Hair: the material '{mat.get('name', slot)}' of "
+                                 f"'{obj.name}' is partly transparent (Alpha, a Transparent "
+                                 "BSDF): strands render opaque in Lantern, its emission and "
+                                 "shading at full coverage (Cycles lets rays through them)")
         lut = np.array(slots, dtype=np.uint32)
         out = []
         for k, st in enumerate(found):

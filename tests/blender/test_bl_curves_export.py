@@ -208,3 +208,37 @@ def test_catmull_rom_pieces(curves_mod):
     assert err < 1e-3
     mids = 0.5 * (arc[1:] + arc[:-1])
     assert np.abs(np.linalg.norm(mids, axis=1) - 1.0).max() > 10 * err
+
+
+def test_see_through_strands_warned(addon):
+    """Strands are opaque in Lantern (the alpha test is the triangles'): a hair material with
+    a Transparent BSDF in a mix, or Alpha below 1, is named (difftest D39: a Mix of Emission
+    and Transparent rendered 1.89x Cycles); an opaque one and a mesh with the same material
+    are not."""
+    from lantern_blender.export import export_scene
+    scene = empty_scene()
+    obj = _curves_object(scene, [3], [[0, 0, 0], [0, 0, 0.5], [0, 0, 1]], radius=[0.01] * 3)
+    mat = bpy.data.materials.new("veil")
+    nt = mat.node_tree
+    for n in list(nt.nodes):
+        nt.nodes.remove(n)
+    out = nt.nodes.new("ShaderNodeOutputMaterial")
+    mix = nt.nodes.new("ShaderNodeMixShader")
+    nt.links.new(nt.nodes.new("ShaderNodeEmission").outputs[0], mix.inputs[1])
+    transparent = nt.nodes.new("ShaderNodeBsdfTransparent")
+    nt.links.new(transparent.outputs[0], mix.inputs[2])
+    nt.links.new(mix.outputs[0], out.inputs["Surface"])
+    obj.data.materials.append(mat)
+
+    def warned():
+        _, report = export_scene(bpy.context.evaluated_depsgraph_get())
+        return [m for m in report.messages if "partly transparent" in m]
+    assert len(warned()) == 1 and "'veil'" in warned()[0]
+    nt.links.remove(transparent.outputs[0].links[0])
+    nt.links.new(nt.nodes.new("ShaderNodeBsdfDiffuse").outputs[0], mix.inputs[2])
+    assert warned() == []
+    bpy.data.objects.remove(obj)
+    bpy.ops.mesh.primitive_plane_add()
+    bpy.context.object.data.materials.append(mat)
+    nt.links.new(transparent.outputs[0], mix.inputs[2])
+    assert warned() == []

@@ -14,7 +14,8 @@ case, its export, the settings, bpy or the tester's files change.
   tests/cycles/difftest_cases/: each must build, export without a warning and render (hard
   asserts), then is an expected failure while its .json has a "why"; one that agrees by chance
   or by a fix passes with a warning. A case without "why" (or with "fixed": true) is a
-  regression test that must agree; "fixed": "black", one that both render black. CI replays the expected failures in CI_REPLAYS only (three
+  regression test that must agree; "fixed": "black", one that both render black; "fixed":
+  "warned", one the export now names (its "warned" text among the export's warnings). CI replays the expected failures in CI_REPLAYS only (three
   cheap ones, so that the replay path is exercised); LANTERN_DIFFTEST_ALL=1 replays them all.
 - The generator is deterministic: the same seed gives the same case.
 
@@ -72,6 +73,28 @@ def test_generator_is_deterministic(profile):
         assert json.dumps(a, sort_keys=True) == json.dumps(b, sort_keys=True)
         assert json.loads(json.dumps(a)) == a
     assert ds.generate(1, profile) != ds.generate(2, profile)
+
+
+def test_features_full_only_and_exported():
+    """difftest_features (issues 29 and 32): the "ci" profile draws none (its cases, stored
+    above, are unchanged); the "full" profile draws every FEATURES tag within 300 seeds, a case
+    of each builds and exports without a warning (nothing drawn that the add-on does not
+    render), and --avoid leaves a feature out."""
+    import difftest_build as db
+    import difftest_features as df
+    assert not any(df.features(ds.generate(s, "ci")) for s in CI_SEEDS)
+    first = {}
+    for seed in range(2000, 2300):
+        for tag in df.features(ds.generate(seed, "full")):
+            first.setdefault(tag, seed)
+    assert set(first) == set(df.FEATURES), set(df.FEATURES) - set(first)
+    for tag, seed in sorted(first.items()):
+        case = ds.generate(seed, "full")
+        db.build(case)
+        scene, warned = dt.export_lantern()
+        warned += dt.session_warnings(scene, case["bounces"], "pt")
+        assert not warned, (tag, seed, warned)
+        assert tag not in df.features(ds.generate(seed, "full", avoid={tag}))
 
 
 @pytest.mark.parametrize("seed", CI_SEEDS)
@@ -162,6 +185,10 @@ def test_found_disagreement_replays(name):
     st = dt.Settings(**doc["settings"])
     res = dt.run_case(doc["case"], st, controls=False, cycles_store=stored(f"case_{name}"))
     print(f"{name}: {res.line()}")
+    if doc.get("fixed") == "warned":   # now named by the export (an unsupported feature)
+        assert res.status == "unsupported" and any(doc["warned"] in w for w in res.warnings), (
+            f"{name} (fixed: the export warns '{doc['warned']}') no longer warns: {res.line()}")
+        return
     if doc.get("fixed") == "black":   # fixed where Cycles renders nothing: both images black
         assert res.status == "black", f"{name} (fixed, black on both sides) differs: {res.line()}"
         return
