@@ -222,7 +222,9 @@ LANTERN_HD inline void pt_sss_exit(const SceneView& s, const PathState& ps, cons
 // walk, and at its end exit(tri, uv, dir, flip, p, ng, ns, beta, depth): the exit's triangle,
 // barycentrics, the direction that found it, whether its normals (as pt_surface orients them
 // against dir) are negated to face out, the exit point, its outward normals, the throughput
-// and the exit vertex's depth. After a non-delta bounce (prev_pdf_w > 0 at depth > 1) the exit
+// and the exit vertex's depth, the entry's (Cycles' subsurface_bounce and subsurface_scatter
+// advance no bounce: the exit shades at the entry's, so Max Bounces 0 keeps it lit; D41).
+// After a non-delta bounce (prev_pdf_w > 0 at depth > 1) the exit
 // is the hit itself (Cycles' Lambert lobe of the same weight). beta_in: the path's throughput
 // with the walk's probability divided out. Shared by pt and the bidirectional camera paths
 // (bdpt_sss.h). Rays: the executor's ray query (closest(r, kind)). ----
@@ -302,7 +304,7 @@ LANTERN_HD inline void sss_walk_path(const SceneView& s, const Rays& rays, Kind 
         if (out) {
             if (hit.prim >= s.num_triangles) break;  // a strand inside the mesh: the walk ends
             const SurfaceHit x = pt_surface(s, hit.prim, hit.uv, dir);  // normals face inside
-            exit(int(hit.prim), hit.uv, dir, true, x.p, -x.ng, -x.ns, beta, depth + 1);
+            exit(int(hit.prim), hit.uv, dir, true, x.p, -x.ng, -x.ns, beta, depth);
             break;
         }
         o = o + dir * t;
