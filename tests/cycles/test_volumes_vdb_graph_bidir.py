@@ -1,4 +1,4 @@
-"""The Volume object fire driven by node graphs of its grids (test_volumes_vdb_fire_graph's
+"""The Volume object fire driven by node graphs of its grids (test_volumes_vdb_graph's fire
 scene: a density program and an Emission Strength program reading the grids) rendered by cis
 and bdpt against pt through the add-on (docs/volumes.md "Node graphs on volume inputs"): K
 seeds each, lantern.metrics.assert_agreement with its negative controls; cis with the flame's
@@ -18,7 +18,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 sys.path.insert(0, os.path.join(ROOT, "tools"))
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import render_compare as rc  # noqa: E402
-import test_volumes_vdb_fire_graph as fire  # noqa: E402
+import test_volumes_vdb_graph as graphs  # noqa: E402
 
 K = 6
 SPP = 64
@@ -40,8 +40,8 @@ def _renders(integrator):
 def test_fire_graphs_bidirectional_agree_with_pt(tmp_path):
     from lantern import metrics
     path = tmp_path / "fire.vdb"
-    fire.write_vdb(path)
-    fire.stage(path)()
+    graphs.write_fire_vdb(path)
+    graphs.fire_stage(path)()
     pt = _renders("pt")
     for integ in ("cis", "bdpt"):
         other = _renders(integ)
