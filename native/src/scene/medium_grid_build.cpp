@@ -267,10 +267,7 @@ void HostScene::build_grid_medium(int32_t med, const std::string& name) {
         if (b >= 0.0f)
             m.density_max = b;
         else
-            warnings_.push_back("medium '" + name + "': its density's node graph has no bound "
-                                "Lantern can compute (a node without an interval rule, or an "
-                                "unbounded value); its majorant is the largest density on a "
-                                "lattice x 1.5, which may miss peaks (biased there)");
+            warnings_.push_back(unbounded_density_warning(name));
     } else {
         m.density_max = std::fmin(g.max_value, 1e9f);
     }

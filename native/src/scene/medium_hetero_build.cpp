@@ -152,33 +152,34 @@ void HostScene::build_hetero(int32_t med, size_t material, const std::string& na
         }
         view_.medium_maps = medium_maps_.data();
     }
-    // the majorant: the density's largest value on a lattice over the bounds, times 1.5
+    // the majorant. A mesh volume's program: its interval bound (scene/program_bound.h), a
+    // true bound, where every op it runs has a rule. Else (and for a Volume object's program,
+    // which build_grid_medium bounds over its grid, this being its fallback) the density's
+    // largest value on a lattice over the bounds, times 1.5, which a peak between lattice
+    // points exceeds (biased there): for a mesh volume with a warning
     SceneView host = view_;
     host.media = media_.data();
-    constexpr int kLattice = 24;
-    float dmax = 0.0f;
-    if (!verts.empty()) {
-        for (int z = 0; z <= kLattice; ++z)
-            for (int y = 0; y <= kLattice; ++y)
-                for (int x = 0; x <= kLattice; ++x) {
-                    const Vec3 f{float(x) / kLattice, float(y) / kLattice, float(z) / kLattice};
-                    const Vec3 p = lo + (hi - lo) * f;
-                    dmax = std::max(dmax, medium_density(host, m, med, p, Vec3{0, 0, 1}));
-                }
-    }
-    m.density_max = std::min(dmax * 1.5f, 1e9f);
-    if (m.density_grid < 0 && !verts.empty()) {
-        // a mesh volume's program: its interval bound (scene/program_bound.h), a true bound,
-        // where every op it runs has a rule; else the lattice x 1.5 above, which a peak
-        // between lattice points exceeds (biased there), with a warning
-        const float b = mesh_density_bound(host, programs_[size_t(m.density_prog)], med, lo, hi);
-        if (b >= 0.0f)
-            m.density_max = b;
-        else
-            warnings_.push_back("medium '" + name + "': its density's node graph has no bound "
-                                "Lantern can compute (a node without an interval rule, or an "
-                                "unbounded value); its majorant is the largest density on a "
-                                "lattice x 1.5, which may miss peaks (biased there)");
+    const bool mesh_program = m.density_grid < 0 && !verts.empty();
+    const float bound =
+        mesh_program ? mesh_density_bound(host, programs_[size_t(m.density_prog)], med, lo, hi)
+                     : -1.0f;
+    if (bound >= 0.0f) {
+        m.density_max = bound;
+    } else {
+        constexpr int kLattice = 24;
+        float dmax = 0.0f;
+        if (!verts.empty()) {
+            for (int z = 0; z <= kLattice; ++z)
+                for (int y = 0; y <= kLattice; ++y)
+                    for (int x = 0; x <= kLattice; ++x) {
+                        const Vec3 f{float(x) / kLattice, float(y) / kLattice,
+                                     float(z) / kLattice};
+                        const Vec3 p = lo + (hi - lo) * f;
+                        dmax = std::max(dmax, medium_density(host, m, med, p, Vec3{0, 0, 1}));
+                    }
+        }
+        m.density_max = std::min(dmax * 1.5f, 1e9f);
+        if (mesh_program) warnings_.push_back(unbounded_density_warning(name));
     }
     m.majorant = max_component(m.sigma_a0 + m.sigma_s0 + (m.sigma_a + m.sigma_s) * m.density_max);
     // an emitting medium needs tentative collisions even where nothing extinguishes: its

@@ -364,4 +364,10 @@ bool program_bound(const SceneView& s, const MaterialProgram& p, int32_t med, Ve
     return ok;
 }
 
+std::string unbounded_density_warning(const std::string& medium) {
+    return "medium '" + medium + "': its density's node graph has no bound Lantern can compute "
+           "(a node without an interval rule, or an unbounded value); its majorant is the "
+           "largest density on a lattice x 1.5, which may miss peaks (biased there)";
+}
+
 }  // namespace lantern

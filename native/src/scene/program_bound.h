@@ -10,6 +10,8 @@
 // (and says so).
 #pragma once
 
+#include <string>
+
 #include "scene/material_program.h"
 
 namespace lantern {
@@ -27,6 +29,10 @@ struct Interval {
 // a scalar program leaves y, z unwritten); the others are (-inf, inf) and do not fail it.
 bool program_bound(const SceneView& s, const MaterialProgram& p, int32_t med, Vec3 lo, Vec3 hi,
                    Interval out[3], int channels = 3);
+
+// The warning of a medium whose density program has no interval bound (its majorant falls
+// back to the largest density on a lattice x 1.5): one text for mesh volumes and Volume objects.
+std::string unbounded_density_warning(const std::string& medium);
 
 // The range of grid g's trilinear lookups over the world box [lo, hi] (each channel; a float
 // grid's in all three): the smallest and largest voxel a lookup inside the box can read, one
