@@ -51,11 +51,18 @@ def _cube_map(n, lo=-0.5, size=1.0):
                      [0, 0, v, lo + v / 2], [0, 0, 0, 1]], np.float64)
 
 
-def write_vdb(path):
-    n = 20
+def _blob(n=20):
+    """The density blob both tests' VDBs hold (n^3 voxels over the unit cube) and its voxel
+    centres' z."""
     c = (np.arange(n) + 0.5) / n - 0.5
     z, y, x = np.meshgrid(c, c, c, indexing="ij")
     d = np.clip(np.exp(-(x ** 2 + (y - 0.05) ** 2 + z ** 2) / (2 * 0.2 ** 2)) - 0.08, 0, None)
+    return d, z
+
+
+def write_vdb(path):
+    n = 20
+    d, _ = _blob(n)
     m = 10
     cc = (np.arange(m) + 0.5) / m
     heat = np.broadcast_to(cc[None, None, :], (m, m, m)).astype(np.float32)
@@ -94,22 +101,29 @@ def _graph_material():
     return m
 
 
-def stage(vdb_path):
+def _stage(vdb_path, name, material, world, location, rotation_deg, scale, sun):
+    """The scene both tests render: a floor, the Volume object `name` reading vdb_path at the
+    given placement with `material()`, a sun of strength `sun` and the camera."""
     def build():
-        scene = bpy_stage.reset(SIZE, world=(0.05, 0.06, 0.08))
+        scene = bpy_stage.reset(SIZE, world=world)
         _cube("floor", (0, 0, -0.05), 1.0, _material("floor", (0.7, 0.7, 0.7)),
               scale=(6, 6, 0.1))
-        vol = bpy.data.volumes.new("smoke")
+        vol = bpy.data.volumes.new(name)
         vol.filepath = str(vdb_path)
-        obj = bpy.data.objects.new("smoke", vol)
+        obj = bpy.data.objects.new(name, vol)
         scene.collection.objects.link(obj)
-        obj.location = (0.1, 0.0, 0.8)
-        obj.rotation_euler = (math.radians(10), 0.0, math.radians(20))
-        obj.scale = (1.4, 1.1, 1.2)
-        vol.materials.append(_graph_material())
-        _light(scene, "SUN", (0, 0, 3), 3.0, rotation=(50, 0, 40), angle=0.05)
+        obj.location = location
+        obj.rotation_euler = tuple(math.radians(a) for a in rotation_deg)
+        obj.scale = scale
+        vol.materials.append(material())
+        _light(scene, "SUN", (0, 0, 3), sun, rotation=(50, 0, 40), angle=0.05)
         _camera(scene, (0, -3.5, 1.8), (70, 0, 0), lens=30.0)
     return build
+
+
+def stage(vdb_path):
+    return _stage(vdb_path, "smoke", _graph_material, (0.05, 0.06, 0.08), (0.1, 0.0, 0.8),
+                  (10, 0, 20), (1.4, 1.1, 1.2), 3.0)
 
 
 def test_vdb_density_graph_matches_cycles(tmp_path):
@@ -131,9 +145,7 @@ def test_vdb_density_graph_matches_cycles(tmp_path):
 
 def write_fire_vdb(path):
     n = 20
-    c = (np.arange(n) + 0.5) / n - 0.5
-    z, y, x = np.meshgrid(c, c, c, indexing="ij")
-    d = np.clip(np.exp(-(x ** 2 + (y - 0.05) ** 2 + z ** 2) / (2 * 0.2 ** 2)) - 0.08, 0, None)
+    d, z = _blob(n)
     flame = np.clip(2.0 * z + 0.3, 0.0, 1.0) * (d > 0.2)
     lantern._core.vdb_write_list(str(path), [
         {"name": "density", "voxels": np.ascontiguousarray(d.astype(np.float32)),
@@ -175,21 +187,8 @@ def _fire_material():
 
 
 def fire_stage(vdb_path):
-    def build():
-        scene = bpy_stage.reset(SIZE, world=(0.02, 0.02, 0.03))
-        _cube("floor", (0, 0, -0.05), 1.0, _material("floor", (0.7, 0.7, 0.7)),
-              scale=(6, 6, 0.1))
-        vol = bpy.data.volumes.new("fire")
-        vol.filepath = str(vdb_path)
-        obj = bpy.data.objects.new("fire", vol)
-        scene.collection.objects.link(obj)
-        obj.location = (0.0, 0.0, 0.8)
-        obj.rotation_euler = (math.radians(8), 0.0, math.radians(-25))
-        obj.scale = (1.2, 1.0, 1.3)
-        vol.materials.append(_fire_material())
-        _light(scene, "SUN", (0, 0, 3), 1.0, rotation=(50, 0, 40), angle=0.05)
-        _camera(scene, (0, -3.5, 1.8), (70, 0, 0), lens=30.0)
-    return build
+    return _stage(vdb_path, "fire", _fire_material, (0.02, 0.02, 0.03), (0.0, 0.0, 0.8),
+                  (8, 0, -25), (1.2, 1.0, 1.3), 1.0)
 
 
 def test_vdb_fire_graphs_match_cycles(tmp_path):
