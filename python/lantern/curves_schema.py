@@ -5,7 +5,7 @@ raises ValueError naming the element."""
 
 import numpy as np
 
-from .scene_fields import _bool, _finite_float, _rgb
+from .scene_fields import _bool, _finite_float, _rgb, motion_steps
 
 CURVE_ARRAYS = ("points", "radius", "offsets", "material_ids")
 # motion blur (docs/motion_blur.md "Strands"): optional, at the shutter's steps
@@ -99,6 +99,16 @@ def validate_curves(curves, index, num_materials=None):
             curves["deform"].shape[0] != curves["deform_radius"].shape[0]:
         raise ValueError(f"{what} deform_radius: {curves['deform_radius'].shape[0]} steps, "
                          f"deform has {curves['deform'].shape[0]}")
+    # its object's motion (docs/motion_blur.md "Strands of a turning object"): as a mesh's,
+    # object-to-world at the steps and the matrix the points (and deform) were exported with
+    if curves.get("motion") is not None:
+        curves["motion"] = motion_steps(curves["motion"], f"{what} motion")
+        base = curves.get("motion_base")
+        curves["motion_base"] = motion_steps([base if base is not None else np.eye(4)] * 2,
+                                             f"{what} motion_base")[0]
+    else:
+        curves.pop("motion", None)
+        curves.pop("motion_base", None)
     return curves
 
 

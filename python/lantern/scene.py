@@ -203,13 +203,17 @@ class Scene:
         return len(self.meshes) - 1
 
     def add_curves(self, points, radius, offsets, material=0, material_ids=None, name=None,
-                   visible_camera=True, cast_shadow=True, deform=None, deform_radius=None):
+                   visible_camera=True, cast_shadow=True, deform=None, deform_radius=None,
+                   motion=None, motion_base=None):
         """Append a set of strands rendered as round linear segments (docs/curves.md): points
         (P, 3) world space, radius (P,) per point, offsets (S + 1,): strand s is points
         offsets[s] .. offsets[s + 1] - 1; `material` (id or name) for every strand unless
         `material_ids` gives one per strand. Motion blur (docs/motion_blur.md "Strands"):
         `deform` (S, P, 3) the points and `deform_radius` (S, P) the radii at S >= 2 steps evenly
-        spread over the shutter. Returns the set's index."""
+        spread over the shutter, placed as `points`; `motion` (S, 4, 4) the object-to-world
+        matrices of the object the strands move with and `motion_base` the one `points` were
+        exported with ("Strands of a turning object": turned along their arcs). Returns the
+        set's index."""
         from .curves_schema import validate_curves
         if name is None:
             name = f"curves_{len(self.curves)}"
@@ -219,7 +223,8 @@ class Scene:
                                    dtype=np.uint32)
         c = {"name": str(name), "points": points, "radius": radius, "offsets": offsets,
              "material_ids": material_ids, "visible_camera": visible_camera,
-             "cast_shadow": cast_shadow, "deform": deform, "deform_radius": deform_radius}
+             "cast_shadow": cast_shadow, "deform": deform, "deform_radius": deform_radius,
+             "motion": motion, "motion_base": motion_base}
         self.curves.append(validate_curves(c, len(self.curves), len(self.materials)))
         return len(self.curves) - 1
 
@@ -355,6 +360,9 @@ class Scene:
                     c["deform"] = np.ascontiguousarray(c["deform"].reshape(-1, 3))
                 if c.get("deform_radius") is not None:
                     c["deform_radius"] = np.ascontiguousarray(c["deform_radius"].reshape(-1))
+                if c.get("motion") is not None:  # its object's steps: (S, 4, 4) -> (S, 16)
+                    c["motion"] = steps(c["motion"])
+                    c["motion_base"] = mat(c["motion_base"])
         if self.grids:   # Volume objects (docs/volumes.md)
             extra["grids"] = [dict(g) for g in self.grids]
         return {

@@ -141,3 +141,16 @@ def _index_array(value, shape_desc, ndim, cols, what):
     if arr.size and int(arr.max()) > 0xFFFFFFFF:
         raise ValueError(f"{what}: index {int(arr.max())} does not fit in uint32")
     return np.ascontiguousarray(arr, dtype=np.uint32)
+
+
+def motion_steps(steps, what):
+    """Motion blur's matrices at the shutter's steps as nested lists (S, 4, 4), S >= 2. Values
+    are not judged here: a singular or non-finite step gets the core's warning (the object then
+    renders without motion blur)."""
+    try:
+        a = np.asarray(steps, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ValueError(f"{what}: expected a list of 4x4 matrices") from None
+    if a.ndim != 3 or a.shape[1:] != (4, 4) or a.shape[0] < 2:
+        raise ValueError(f"{what}: expected at least 2 matrices of 4x4, got shape {a.shape}")
+    return a.tolist()

@@ -9,7 +9,8 @@ import numpy as np
 from .medium_schema import validate_material_volume
 from .scene_fields import (AREA_SHAPES, LIGHT_TYPES, MATERIAL_TEXTURES, MATERIAL_TYPES,
                            MIX_LEAVES, PROGRAM_REGS, PROGRAM_TARGETS, RAY_VISIBILITY, _bool,
-                           _finite_float, _float_array, _index_array, _int, _matrix, _rgb, _vec, identity4)
+                           _finite_float, _float_array, _index_array, _int, _matrix, _rgb, _vec, identity4,
+                           motion_steps)
 
 
 def validate_material(material, index, num_textures=0):
@@ -281,19 +282,6 @@ def deform_steps(steps, vcount, what):
         raise ValueError(f"{what}: expected shape (S >= 2, {vcount}, 3) (the positions at each "
                          f"step), got {a.shape}")
     return np.ascontiguousarray(a, dtype=np.float32)
-
-
-def motion_steps(steps, what):
-    """Motion blur's matrices at the shutter's steps as nested lists (S, 4, 4), S >= 2. Values
-    are not judged here: a singular or non-finite step gets the core's warning (the object then
-    renders without motion blur)."""
-    try:
-        a = np.asarray(steps, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise ValueError(f"{what}: expected a list of 4x4 matrices") from None
-    if a.ndim != 3 or a.shape[1:] != (4, 4) or a.shape[0] < 2:
-        raise ValueError(f"{what}: expected at least 2 matrices of 4x4, got shape {a.shape}")
-    return a.tolist()
 
 
 def receiver_mask(value, what):

@@ -37,9 +37,9 @@ std::vector<float> turn(double a, const double s[3], const double t[3]) {
 
 Transform composed(const MotionStep& st) { return motion_compose(st.q, st.t, st.u); }
 
-struct EnvGuard {
-    explicit EnvGuard(const char* v) { setenv("LANTERN_ACCEL", v, 1); }
-    ~EnvGuard() { unsetenv("LANTERN_ACCEL"); }
+struct MotionEnvGuard {
+    explicit MotionEnvGuard(const char* v) { setenv("LANTERN_ACCEL", v, 1); }
+    ~MotionEnvGuard() { unsetenv("LANTERN_ACCEL"); }
 };
 
 }  // namespace
@@ -80,7 +80,7 @@ TEST(Motion, SlerpIsTheIntermediateTurn) {
 namespace {
 
 void check_motion_hits(const char* accel) {
-    EnvGuard g(accel);
+    MotionEnvGuard g(accel);
     if (std::string(accel) == "embree" && !embree_available()) GTEST_SKIP() << "no Embree";
     // two meshes of random triangles: mesh 0 still, mesh 1 turning and sliding over 3 steps
     Pcg32 rng = Pcg32::for_path(9, 0, 0);

@@ -57,6 +57,9 @@ LANTERN_HD inline float strand_end_shorten(const SceneView& s, int prim, Vec3 ng
                                                    size_t(g.index)];
             r = fmaxf(r, fmaxf(a.r0, a.r1));
         }
+    if (s.curves.num_sets > 0)  // a set moving with its object: the most its steps scale it
+        if (const CurveSetMotion* cs = curve_set_of(s.curves, prim - s.num_triangles))
+            r *= cs->radius_scale;
     return 2.02f * r / fmaxf(vertex_cos(true, f, ng, dir), 0.05f);
 }
 

@@ -15,11 +15,27 @@ __attribute__((noinline))  // off pt_shade's usual path
 LANTERN_HD inline SurfaceHit pt_surface_curve(const SceneView& s, int prim, Vec2 uv, Vec3 o,
                                               Vec3 d, float t, float time = 0.0f) {
     // a moving strand (motion blur): the segment as the ray met it, at the path's time
-    const CurveSeg g = curve_seg_of(s.curves, prim - s.num_triangles, time);
+    const int seg = prim - s.num_triangles;
+    const CurveSeg g = curve_seg_of(s.curves, seg, time);
     SurfaceHit h;
     h.p = o + d * t;
     Vec3 tangent;
-    Vec3 n = curve_normal_at(g, h.p, &tangent);
+    Vec3 n;
+    const CurveSetMotion* cs = s.curves.num_sets > 0 ? curve_set_of(s.curves, seg) : nullptr;
+    Transform m, inv;
+    if (cs && (m = object_motion_to_world(s.motion, cs->o, time), transform_inverse(m, &inv))) {
+        // a set moving with its object: the segment in its exported frame, the hit brought
+        // there, the normal and tangent back by the matrix at the path's time (a mirror's
+        // cofactors turn the normal inside: the sign of the determinant)
+        n = curve_normal_at(g, inv.point(h.p), &tangent);
+        const float det = m.m[0][0] * (m.m[1][1] * m.m[2][2] - m.m[1][2] * m.m[2][1]) -
+                          m.m[0][1] * (m.m[1][0] * m.m[2][2] - m.m[1][2] * m.m[2][0]) +
+                          m.m[0][2] * (m.m[1][0] * m.m[2][1] - m.m[1][1] * m.m[2][0]);
+        n = normalize(motion_normal(m, n)) * (det < 0.0f ? -1.0f : 1.0f);
+        tangent = normalize(m.vector(tangent));
+    } else {
+        n = curve_normal_at(g, h.p, &tangent);
+    }
     if (dot(n, d) > 0.0f) n = -n;  // a grazing entry rounded to the far side
     h.ng = h.ns = n;
     h.front = true;

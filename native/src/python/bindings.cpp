@@ -225,6 +225,9 @@ SceneInput to_input(const nb::dict& scene) {
             // motion blur: (S * P, 3) points and (S * P,) radii at the shutter's steps
             ci.deform = get_array<float>(c, "deform", 3, who);
             ci.deform_radius = get_array<float>(c, "deform_radius", 1, who);
+            // its object's motion: (S, 16) object-to-world at the steps, the exported matrix
+            ci.motion = get_array<float>(c, "motion", 16, who);
+            get_matrix(c, "motion_base", ci.motion_base);
             ci.visible_camera = get<bool>(c, "visible_camera", true);
             ci.cast_shadow = get<bool>(c, "cast_shadow", true);
             in.curves.push_back(std::move(ci));

@@ -79,6 +79,9 @@ void HostScene::drop_curve_motion() {
     curve_keys_.shrink_to_fit();
     curve_steps_ = 0;
     view_.curves.keys = CurveKeys{};
+    curve_sets_.clear();
+    view_.curves.sets = nullptr;
+    view_.curves.num_sets = 0;
 }
 
 }  // namespace lantern

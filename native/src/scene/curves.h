@@ -5,14 +5,46 @@
 #pragma once
 
 #include "accel/curve_bvh.h"
+#include "scene/motion.h"
 
 namespace lantern {
+
+// A strand set that moves with its object (motion blur; docs/motion_blur.md "Strands of a
+// turning object"): its segments stay where they were exported (their keys too, where the
+// points also deform: lerped in that same exported frame) and the object's matrix at the
+// shutter's steps carries them, as a moving mesh (scene/motion.h's ObjectMotion): at `time` the
+// exported frame goes to world by motion_at(time) * base_inv, the rotation slerped. o.tri_begin
+// and o.tri_count are the set's segment range in CurveView::segs (not triangles); o.mesh and
+// o.deform are -1.
+struct CurveSetMotion {
+    ObjectMotion o;
+    float radius_scale;  // the most the steps scale a length of the exported frame (>= 1)
+};
 
 struct CurveView {
     const CurveSeg* segs = nullptr;  // in primitive order: segs[k] is prim num_triangles + k
     int32_t num_segs = 0;
     CurveKeys keys;  // motion blur: the moving segments' steps (CurveSeg::flags kCurveMoves)
+    const CurveSetMotion* sets = nullptr;  // moving sets, ordered by segment range, disjoint
+    int32_t num_sets = 0;
 };
+
+// The moving set that holds segment seg, or null (a binary search over the few movers).
+LANTERN_HD inline const CurveSetMotion* curve_set_of(const CurveView& c, int seg) {
+    int lo = 0, hi = c.num_sets - 1;
+    while (lo <= hi) {
+        const int mid = (lo + hi) >> 1;
+        const ObjectMotion& o = c.sets[mid].o;
+        if (seg < o.tri_begin) {
+            hi = mid - 1;
+        } else if (seg >= o.tri_begin + o.tri_count) {
+            lo = mid + 1;
+        } else {
+            return &c.sets[mid];
+        }
+    }
+    return nullptr;
+}
 
 // Segment prim - num_triangles as a ray at `time` meets it (its keys lerped where it moves).
 LANTERN_HD inline CurveSeg curve_seg_of(const CurveView& c, int seg, float time) {

@@ -148,6 +148,7 @@ std::string motion_reason(const SceneInput& in) {
             if (c.deform[k] != c.deform[k % per])
                 return "motion blur (strands '" + c.name + "' move)";
         if (!c.deform_radius.empty()) return "motion blur (strands '" + c.name + "' move)";
+        if (moves(c.motion)) return "motion blur (strands '" + c.name + "' move)";
     }
     return "";
 }
@@ -160,6 +161,7 @@ void HostScene::build_motion(const SceneInput& in) {
     motion_corners_.clear();
     bool any = !in.camera_motion.empty() || !curve_keys_.empty();
     for (const MeshInput& m : in.meshes) any |= !m.motion.empty() || !m.deform.empty();
+    for (const CurveInput& c : in.curves) any |= !c.motion.empty();
     if (!any) return;
     if (!media_.empty() || !subsurface_reason(in).empty())
         drop_curve_motion();  // moving strands render where they were exported, as meshes
@@ -283,7 +285,52 @@ void HostScene::build_motion(const SceneInput& in) {
         camera_first = int(motion_steps_.size());
         camera_steps = std::max(0, add_steps(in.camera_motion, "the camera", true));
     }
-    const bool curves = !curve_keys_.empty();  // moving strands (scene/curve_motion.cpp)
+    // strand sets moving with their objects (docs/motion_blur.md "Strands of a turning object"):
+    // their steps as a mesh's, the segments left where they were exported
+    curve_sets_.clear();
+    for (size_t k = 0; k < in.curves.size() && k < curve_ranges_.size(); ++k) {
+        const CurveInput& c = in.curves[k];
+        if (c.motion.empty() || curve_ranges_[k].second == 0) continue;
+        const std::string who = "curves " + std::to_string(k) + " ('" + c.name + "')";
+        CurveSetMotion cs{};
+        cs.o.base = transform_from_rows(c.motion_base);
+        if (!transform_inverse(cs.o.base, &cs.o.base_inv)) {
+            warnings_.push_back(who + ": the matrix it was exported with is singular or not "
+                                "finite; rendered without its object's motion");
+            continue;
+        }
+        const size_t first = motion_steps_.size();
+        const int n = add_steps(c.motion, who, false);
+        if (n <= 0) continue;
+        cs.o.tri_begin = curve_ranges_[k].first;
+        cs.o.tri_count = curve_ranges_[k].second;
+        cs.o.first_step = int32_t(first);
+        cs.o.num_steps = n;
+        cs.o.mesh = cs.o.deform = -1;
+        cs.radius_scale = 1.0f;
+        for (int st = 0; st < n; ++st) {  // the largest stretch of a step (power iteration)
+            const Transform m = transform_mul(
+                motion_compose(motion_steps_[first + st].q, motion_steps_[first + st].t,
+                               motion_steps_[first + st].u), cs.o.base_inv);
+            Vec3 v = normalize(vec3(1.0f, 0.7f, 0.3f));
+            float stretch = 0.0f;
+            for (int it = 0; it < 32; ++it) {
+                const Vec3 a = m.vector(v);
+                stretch = length(a);
+                const Vec3 b = vec3(m.m[0][0] * a.x + m.m[1][0] * a.y + m.m[2][0] * a.z,
+                                    m.m[0][1] * a.x + m.m[1][1] * a.y + m.m[2][1] * a.z,
+                                    m.m[0][2] * a.x + m.m[1][2] * a.y + m.m[2][2] * a.z);
+                if (!(length(b) > 0.0f)) break;
+                v = normalize(b);
+            }
+            cs.radius_scale = std::max(cs.radius_scale, stretch * 1.001f);
+        }
+        curve_sets_.push_back(cs);
+    }
+    view_.curves.sets = curve_sets_.empty() ? nullptr : curve_sets_.data();
+    view_.curves.num_sets = int32_t(curve_sets_.size());
+    // moving strands (scene/curve_motion.cpp's keys, or sets moving with their objects)
+    const bool curves = !curve_keys_.empty() || !curve_sets_.empty();
     if (motion_objects_.empty() && camera_steps < 2 && !curves) return;
     view_.motion.steps = motion_steps_.data();
     view_.motion.objects = motion_objects_.empty() ? nullptr : motion_objects_.data();

@@ -359,6 +359,7 @@ SceneView HostScene::copied_view(
     v.motion.objects = put(view_.motion.objects, motion_objects_.size());
     v.curves.segs = put(view_.curves.segs, curve_segs_.size());
     v.curves.keys.keys = put(view_.curves.keys.keys, curve_keys_.size());
+    v.curves.sets = put(view_.curves.sets, curve_sets_.size());
     v.motion.deforms = put(view_.motion.deforms, motion_deforms_.size());
     v.motion.deform_corners = put(view_.motion.deform_corners, motion_corners_.size());
     return v;

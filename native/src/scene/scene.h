@@ -6,6 +6,7 @@
 
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "accel/tlas_build.h"
@@ -60,9 +61,15 @@ struct CurveInput {
     std::vector<int32_t> offsets;     // strands + 1, from 0, increasing
     std::vector<uint32_t> material_ids;  // 1 per strand
     // motion blur (docs/motion_blur.md "Strands"): the points (S x points.size()) and optionally
-    // the radii (S x radius.size()) at the shutter's S >= 2 steps, in world space; empty: still
+    // the radii (S x radius.size()) at the shutter's S >= 2 steps, placed as `points` are (world
+    // space where the set has no `motion`); empty: still
     std::vector<float> deform;
     std::vector<float> deform_radius;
+    // its object's motion ("Strands of a turning object", scene/motion_build.cpp): as a mesh's,
+    // object-to-world at the steps (16 floats each) and motion_base, the matrix the points (and
+    // deform) were exported with; empty: the points do not move with an object's matrix
+    std::vector<float> motion;
+    float motion_base[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
     bool visible_camera = true;
     bool cast_shadow = true;
 };
@@ -352,6 +359,8 @@ private:
     std::vector<uint8_t> curve_flags_;          // per segment: kVisibleCamera, kCastShadow
     std::vector<CurveSeg> curve_keys_;  // moving strands' steps (CurveKeys; scene/curve_motion.cpp)
     int32_t curve_steps_ = 0;
+    std::vector<std::pair<int32_t, int32_t>> curve_ranges_;  // per CurveInput: first segment, count
+    std::vector<CurveSetMotion> curve_sets_;  // CurveView::sets (moving with their objects)
     std::vector<DeformMesh> motion_deforms_;   // deformation blur (scene/deform_build.cpp)
     std::vector<Vec3> motion_corners_;
 };

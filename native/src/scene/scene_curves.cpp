@@ -39,6 +39,7 @@ bool curve_layout_ok(const CurveInput& c, std::string* why) {
 constexpr double kCurveBytesPerSegment = 176.0;
 
 void HostScene::add_curves(const SceneInput& in) {
+    curve_ranges_.clear();
     // memory first, from the counts (docs/curves.md "Bad input"): millions of strands are fine,
     // more than half the machine's memory is refused before anything is built
     double segments = 0.0;
@@ -70,6 +71,7 @@ void HostScene::add_curves(const SceneInput& in) {
         std::string why;
         if (!curve_layout_ok(c, &why)) throw std::invalid_argument(who + ": " + why);
         const int ns = int(c.offsets.size()) - 1;
+        curve_ranges_.emplace_back(int32_t(curve_segs_.size()), 0);
         std::vector<CurveSeg> segs = curve_segments(c.points.data(), c.radius.data(),
                                                     c.offsets.data(), ns);
         size_t expected = 0;
@@ -131,6 +133,7 @@ void HostScene::add_curves(const SceneInput& in) {
             curve_material_.push_back(mat);
             curve_flags_.push_back(flags);
         }
+        curve_ranges_.back().second = int32_t(curve_segs_.size()) - curve_ranges_.back().first;
         if (far)
             warnings_.push_back(who + ": " + std::to_string(far) + " segments lie beyond the " +
                                 format_metres(kMaxCoordinate) + " m the ray queries can take;"

@@ -1,14 +1,17 @@
 #include "backend/cpu/curve_accel.h"
 
+#include <cmath>
 #include <stdexcept>
 
 #include "backend/cpu/embree_curves.h"
+#include "scene/motion_build.h"
 
 namespace lantern {
 
 #if LANTERN_HAVE_EMBREE
 namespace {
-// Entries only, as accel/curve_hit.h: a hit whose normal does not face the ray is dropped.
+// Entries only, as accel/curve_hit.h: a hit whose normal does not face the ray is dropped (in an
+// instance both are in its object space: the sign of n . d survives an affine map).
 void curve_front_filter(const RTCFilterFunctionNArguments* args) {
     for (unsigned k = 0; k < args->N; ++k) {
         if (args->valid[k] != -1) continue;
@@ -20,15 +23,32 @@ void curve_front_filter(const RTCFilterFunctionNArguments* args) {
         if (nx * dx + ny * dy + nz * dz >= 0.0f) args->valid[k] = 0;
     }
 }
+
+// Segment g (exported frame) in its object's space: points by base_inv, radii by its scale
+// (uniform: the cube root of the determinant, as Cycles keeps a hair's radius under a uniform
+// scale)
+CurveSeg curve_in_object(const CurveSeg& g, const Transform& base_inv, float scale) {
+    CurveSeg o = g;
+    o.p0 = base_inv.point(g.p0);
+    o.p1 = base_inv.point(g.p1);
+    o.r0 = g.r0 * scale;
+    o.r1 = g.r1 * scale;
+    return o;
+}
 }  // namespace
 
 struct CurveAccel::Embree {
     const EmbreeApi& e = embree_api();
     RTCDevice device = nullptr;
     RTCScene scene[3] = {nullptr, nullptr, nullptr};
+    std::vector<RTCScene> children;  // the moving sets' object-space scenes
+    // per kind, per geometry of its scene: the segments its primIDs index (the still strands'
+    // or a moving set's, whose instance's geomID it is)
+    std::vector<const std::vector<CurveSeg>*> geoms[3];
     ~Embree() {
         for (RTCScene sc : scene)
             if (sc) e.releaseScene(sc);
+        for (RTCScene sc : children) e.releaseScene(sc);
         if (device) e.releaseDevice(device);
     }
 };
@@ -39,6 +59,7 @@ struct CurveAccel::Embree {};
 CurveAccel::CurveAccel(const SceneView& s, bool use_embree, std::vector<std::string>& warnings) {
     first_prim_ = s.num_triangles;
     steps_ = s.curves.keys.num_steps;
+    motion_ = s.motion;
     const int n = s.curves.num_segs;
     // which strands each kind of ray sees (scene/scene_curves.cpp's flags)
     bool all = true;
@@ -47,28 +68,99 @@ CurveAccel::CurveAccel(const SceneView& s, bool use_embree, std::vector<std::str
         all = (f & kVisibleCamera) && (f & kCastShadow);
     }
     distinct_ = all ? 1 : 3;
+    // the moving sets' segments go to their own structures (scene/curves.h's CurveSetMotion)
+    std::vector<int32_t> set_of(size_t(n), -1);
+    moving_.resize(size_t(s.curves.num_sets));
+    for (int j = 0; j < s.curves.num_sets; ++j) {
+        const ObjectMotion& o = s.curves.sets[j].o;
+        moving_[j].set = &s.curves.sets[j];
+        for (int k = o.tri_begin; k < o.tri_begin + o.tri_count && k < n; ++k) set_of[k] = j;
+    }
     for (int kind = 0; kind < distinct_; ++kind) {
-        std::vector<CurveSeg>& v = by_kind_[kind];
         for (int k = 0; k < n; ++k) {
             const uint8_t f = s.tri_flags[first_prim_ + k];
             if (kind == 0 && distinct_ == 3 && !(f & kVisibleCamera)) continue;
             if (kind == 2 && !(f & kCastShadow)) continue;
-            v.push_back(s.curves.segs[k]);  // index: the segment's place in the scene
+            // index: the segment's place in the scene
+            (set_of[k] < 0 ? by_kind_[kind] : moving_[set_of[k]].segs[kind])
+                .push_back(s.curves.segs[k]);
         }
     }
     if (use_embree) {
 #if LANTERN_HAVE_EMBREE
         embree_ = std::make_unique<Embree>();
-        embree_->device = embree_->e.newDevice(nullptr);
+        const EmbreeApi& e = embree_->e;
+        embree_->device = e.newDevice(nullptr);
         if (!embree_->device) throw std::runtime_error("Embree: no device for the strands");
+        auto note = [&](int kind, unsigned id, const std::vector<CurveSeg>* segs) {
+            if (embree_->geoms[kind].size() <= id) embree_->geoms[kind].resize(id + 1, nullptr);
+            embree_->geoms[kind][id] = segs;
+        };
         for (int kind = 0; kind < distinct_; ++kind) {
-            RTCScene sc = embree_->e.newScene(embree_->device);
+            RTCScene sc = e.newScene(embree_->device);
             embree_->scene[kind] = sc;
             if (!by_kind_[kind].empty())
-                embree_attach_curves(embree_->e, embree_->device, sc, by_kind_[kind].data(),
-                                     by_kind_[kind].size(), curve_front_filter, s.curves.keys);
-            embree_->e.commitScene(sc);
+                note(kind,
+                     embree_attach_curves(e, embree_->device, sc, by_kind_[kind].data(),
+                                          by_kind_[kind].size(), curve_front_filter,
+                                          s.curves.keys),
+                     &by_kind_[kind]);
+            for (const Moving& m : moving_) {
+                const std::vector<CurveSeg>& segs = m.segs[kind];
+                if (segs.empty()) continue;
+                // the set in object space, its keys (where it also deforms) likewise
+                const ObjectMotion& o = m.set->o;
+                const float* b = &o.base_inv.m[0][0];
+                const float det = b[0] * (b[5] * b[10] - b[6] * b[9]) -
+                                  b[1] * (b[4] * b[10] - b[6] * b[8]) +
+                                  b[2] * (b[4] * b[9] - b[5] * b[8]);
+                const float scale = std::cbrt(std::fabs(det));
+                std::vector<CurveSeg> local(segs.size()), keys;
+                const CurveKeys& ks = s.curves.keys;
+                const int steps = ks.num_steps > 1 ? ks.num_steps : 0;
+                if (steps) keys.resize(size_t(steps) * segs.size());
+                for (size_t i = 0; i < segs.size(); ++i) {
+                    local[i] = curve_in_object(segs[i], o.base_inv, scale);
+                    local[i].index = int32_t(i);
+                    for (int st = 0; st < steps; ++st) {
+                        CurveSeg& k = keys[size_t(st) * segs.size() + i];
+                        k = (segs[i].flags & kCurveMoves)
+                                ? curve_in_object(ks.keys[size_t(st) * size_t(ks.num_segs) +
+                                                          size_t(segs[i].index)],
+                                                  o.base_inv, scale)
+                                : local[i];
+                        k.index = int32_t(i);
+                        k.flags = segs[i].flags;
+                    }
+                }
+                RTCScene child = e.newScene(embree_->device);
+                embree_->children.push_back(child);
+                embree_attach_curves(e, embree_->device, child, local.data(), local.size(),
+                                     curve_front_filter,
+                                     CurveKeys{keys.empty() ? nullptr : keys.data(), steps,
+                                               int32_t(segs.size())});
+                e.commitScene(child);
+                RTCGeometry g = e.newGeometry(embree_->device, RTC_GEOMETRY_TYPE_INSTANCE);
+                e.setGeometryInstancedScene(g, child);
+                e.setGeometryTimeStepCount(g, unsigned(o.num_steps));
+                for (int i = 0; i < o.num_steps; ++i) {  // as embree_instances.cpp's meshes
+                    const MotionStep& st = s.motion.steps[o.first_step + i];
+                    RTCQuaternionDecomposition qd;
+                    rtcInitQuaternionDecomposition(&qd);
+                    rtcQuaternionDecompositionSetQuaternion(&qd, st.q[3], st.q[0], st.q[1],
+                                                            st.q[2]);
+                    rtcQuaternionDecompositionSetScale(&qd, st.u[0], st.u[3], st.u[5]);
+                    rtcQuaternionDecompositionSetSkew(&qd, st.u[1], st.u[2], st.u[4]);
+                    rtcQuaternionDecompositionSetTranslation(&qd, st.t[0], st.t[1], st.t[2]);
+                    e.setGeometryTransformQuaternion(g, unsigned(i), &qd);
+                }
+                e.commitGeometry(g);
+                note(kind, e.attachGeometry(sc, g), &segs);
+                e.releaseGeometry(g);
+            }
+            e.commitScene(sc);
         }
+        (void)warnings;
         return;
 #else
         throw std::runtime_error("Embree is not built in");
@@ -76,6 +168,19 @@ CurveAccel::CurveAccel(const SceneView& s, bool use_embree, std::vector<std::str
     }
     for (int kind = 0; kind < distinct_; ++kind)
         bvh_[kind] = build_curve_bvh(by_kind_[kind], s.curves.keys);  // (moving: all steps)
+    for (Moving& m : moving_) {
+        Vec3 box[2] = {vec3(kInf), vec3(-kInf)};
+        for (int kind = 0; kind < distinct_; ++kind) {
+            for (const CurveSeg& g : m.segs[kind]) {
+                Vec3 a, b;
+                curve_seg_bounds(g, s.curves.keys, &a, &b);
+                box[0] = vec3(fminf(box[0].x, a.x), fminf(box[0].y, a.y), fminf(box[0].z, a.z));
+                box[1] = vec3(fmaxf(box[1].x, b.x), fmaxf(box[1].y, b.y), fmaxf(box[1].z, b.z));
+            }
+            m.bvh[kind] = build_curve_bvh(m.segs[kind], s.curves.keys);
+        }
+        motion_world_box(motion_, m.set->o, box, m.box);
+    }
     (void)warnings;
 }
 
@@ -84,6 +189,26 @@ CurveAccel::~CurveAccel() = default;
 int CurveAccel::kind_index(RayKind kind) const {
     if (distinct_ == 1) return 0;
     return kind == RayKind::kCamera ? 0 : (kind == RayKind::kShadow ? 2 : 1);
+}
+
+CurveBvhHit CurveAccel::moving_hit(const Ray& r, int ki, float tmax, bool any_hit) const {
+    CurveBvhHit best{tmax, 0.0f, vec3(0.0f), -1};
+    if (moving_.empty()) return best;
+    const Vec3 inv = vec3(curve_bvh_rcp(r.d.x), curve_bvh_rcp(r.d.y), curve_bvh_rcp(r.d.z));
+    for (const Moving& m : moving_) {
+        if (m.bvh[ki].nodes.empty() ||
+            !(curve_bvh_box(r.o, inv, m.box[0], m.box[1], r.tmin, best.t) < kInf))
+            continue;
+        // the ray in the set's exported frame at its time (the same t: an affine map)
+        Transform x;
+        if (!object_motion_to_exported(motion_, m.set->o, r.time, &x)) continue;
+        const CurveBvhHit h = curve_bvh_intersect(m.bvh[ki].view(), x.point(r.o),
+                                                  x.vector(r.d), r.tmin, best.t, any_hit, r.time);
+        if (h.seg < 0) continue;
+        best = h;
+        if (any_hit) break;
+    }
+    return best;
 }
 
 void CurveAccel::closer(const Ray& r, RayKind kind, HitRecord* h) const {
@@ -102,15 +227,21 @@ void CurveAccel::closer(const Ray& r, RayKind kind, HitRecord* h) const {
         rh.ray.mask = 0xFFFFFFFFu;
         rh.ray.time = embree_curve_time(r.time, steps_);  // moving strands (motion blur)
         rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+        rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
         embree_->e.intersect1(embree_->scene[ki], &ctx, &rh);
         if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return;
-        *h = HitRecord{rh.ray.tfar, first_prim_ + by_kind_[ki][rh.hit.primID].index,
+        // a moving set's hit: its instance is the top scene's geometry
+        const unsigned top =
+            rh.hit.instID[0] != RTC_INVALID_GEOMETRY_ID ? rh.hit.instID[0] : rh.hit.geomID;
+        if (top >= embree_->geoms[ki].size() || !embree_->geoms[ki][top]) return;
+        *h = HitRecord{rh.ray.tfar, first_prim_ + (*embree_->geoms[ki][top])[rh.hit.primID].index,
                        {rh.hit.u, 0.0f}};
         return;
     }
 #endif
-    const CurveBvhHit c = curve_bvh_intersect(bvh_[ki].view(), r.o, r.d, r.tmin, tmax, false,
-                                              r.time);
+    CurveBvhHit c = curve_bvh_intersect(bvh_[ki].view(), r.o, r.d, r.tmin, tmax, false, r.time);
+    const CurveBvhHit m = moving_hit(r, ki, c.seg >= 0 ? c.t : tmax, false);
+    if (m.seg >= 0) c = m;
     if (c.seg < 0) return;
     *h = HitRecord{c.t, first_prim_ + c.seg, {c.u, 0.0f}};
 }
@@ -132,7 +263,8 @@ bool CurveAccel::occluded(const Ray& r) const {
         return ray.tfar < 0.0f;  // Embree marks an occluded ray with tfar = -inf
     }
 #endif
-    return curve_bvh_intersect(bvh_[ki].view(), r.o, r.d, r.tmin, r.tmax, true, r.time).seg >= 0;
+    return curve_bvh_intersect(bvh_[ki].view(), r.o, r.d, r.tmin, r.tmax, true, r.time).seg >= 0 ||
+           moving_hit(r, ki, r.tmax, true).seg >= 0;
 }
 
 }  // namespace lantern
