@@ -13,7 +13,12 @@ placed by the matrix it was exported with (`mesh["deform"]`); a vertex count tha
 it still, with a warning naming it (as Cycles). Hair (Curves objects, particle hair) of an
 object with Motion Blur on is exported again at each step: its world-space points (and radii)
 at the steps (`curves["deform"]`, `["deform_radius"]`) where they move, transform and
-deformation alike (the core lerps them: a turn is its chords between steps)."""
+deformation alike (the core lerps them), except where the object's matrix turns or scales
+(docs/motion_blur.md "Strands of a turning object"): then, as Cycles keeps a moving object's
+curves in object space, the strands keep their points as exported with the object's matrices
+(`curves["motion"]`, `["motion_base"]`, slerped by the core as a mesh's) and carry `deform`
+only where the points also move in that frame. An object that only translates keeps world
+points at the steps (a lerp of the points is then the matrix's own: the same bits as before)."""
 
 import math
 
@@ -86,6 +91,7 @@ class MotionRecorder:
         self._meshes = {}  # key -> (mesh dict, steps)
         self._deform = {}  # key -> (object, mesh dict, steps, corners, matrix at the frame)
         self._strands = {}  # key -> (object name, strand set dicts, steps, their exporter)
+        self._strand_base = {}  # key -> the instance's matrix the sets were exported with
 
     def _moving(self, inst):
         """(steps, key) of an instance that motion blur exports at its shutter steps, or None
@@ -131,6 +137,7 @@ class MotionRecorder:
             self._strands[key] = (obj.name, None, 0, None)
             return
         self._strands[key] = (obj.name, sets, n, export)
+        self._strand_base[key] = np.array(inst.matrix_world, dtype=np.float64)
 
     def finish(self, scene, camera_obj, camera_matrix):
         """Reads the steps and writes mesh["motion"] and scene.camera["motion"];
@@ -160,6 +167,8 @@ class MotionRecorder:
                         mats[key] = np.array(inst.matrix_world, dtype=np.float64)
                     if self._strands.get(key, (0, None))[1] is not None:
                         mats[("strands",) + key] = self._strands[key][3](inst)
+                        mats[("strand matrix",) + key] = np.array(inst.matrix_world,
+                                                                  dtype=np.float64)
                 if cam_n >= 2:
                     cam_eval = camera_obj.evaluated_get(self.depsgraph)
                     mats["camera"] = np.asarray(camera_matrix(cam_eval), dtype=np.float64)
@@ -183,8 +192,11 @@ class MotionRecorder:
                                         for o in step_offsets(bscene, deform[2])])
         for key, (name, sets, n, _) in self._strands.items():
             if sets is not None:
-                write_strand_steps(name, sets, [at[round(o, 9)].get(("strands",) + key)
-                                                for o in step_offsets(bscene, n)], self.report)
+                offs = [round(o, 9) for o in step_offsets(bscene, n)]
+                write_strand_steps(name, sets, [at[o].get(("strands",) + key) for o in offs],
+                                   self.report,
+                                   [at[o].get(("strand matrix",) + key) for o in offs],
+                                   self._strand_base.get(key))
         if cam_n >= 2:
             steps = [at[round(o, 9)]["camera"] for o in step_offsets(bscene, cam_n)]
             if not all(np.array_equal(steps[0], s) for s in steps[1:]):
@@ -234,14 +246,28 @@ class MotionRecorder:
             np.stack([s[corner_vert] @ lin + t for s in steps]), np.float32)
 
 
-def write_strand_steps(name, sets, steps, report):
+def _turns(matrices, base):
+    """Whether the object's matrices at the steps turn or scale it (their 3x3 parts differ)."""
+    if base is None or not matrices or any(m is None for m in matrices):
+        return False
+    return any(not np.array_equal(m[:3, :3], matrices[0][:3, :3]) for m in matrices[1:])
+
+
+def write_strand_steps(name, sets, steps, report, matrices=None, base=None):
     """set["deform"] (S, P, 3) and, where the radii change, set["deform_radius"] (S, P): each
     set's points at the steps (steps[k]: the sets exported again at step k, or None where the
     object is gone), where every step has the frame's strands and keys (offsets) and something
     moves; a count that changes leaves the strands still with a warning naming the object, as
-    Cycles turns its deformation blur off."""
+    Cycles turns its deformation blur off. matrices: the object's world matrices at the steps,
+    base: the one the sets were exported with; where they turn or scale it, set["motion"] and
+    set["motion_base"], and deform (placed as exported) only where the points move in the
+    object's frame (docs/motion_blur.md "Strands of a turning object")."""
     if any(s is None for s in steps):
         return
+    turning = _turns(matrices, base)
+    if turning:  # world at step k -> as exported (base M_k^-1), and its scale for the radii
+        frame = [base @ np.linalg.inv(m) for m in matrices]
+        scale = [abs(np.linalg.det(f[:3, :3])) ** (1.0 / 3.0) for f in frame]
     for j, st in enumerate(sets):
         at = [s[j] if j < len(s) else None for s in steps]
         if any(a is None or not np.array_equal(a["offsets"], st["offsets"]) for a in at):
@@ -249,6 +275,9 @@ def write_strand_steps(name, sets, steps, report):
             report.warn(f"Object '{name}': its hair's strand or key count changes over the "
                         f"shutter ({len(st['points'])} points at the frame, {got} at a motion "
                         "step); its strands rendered without motion blur")
+            continue
+        if turning:
+            _write_turning_steps(st, at, matrices, base, frame, scale)
             continue
         pts = np.stack([a["points"] for a in at]).astype(np.float32)
         rad = np.stack([a["radius"] for a in at]).astype(np.float32)
@@ -258,3 +287,21 @@ def write_strand_steps(name, sets, steps, report):
         if np.abs(rad[1:] - rad[0]).max(initial=0.0) > 1e-5 * np.abs(rad[0]).max(initial=0.0):
             st["deform_radius"] = np.ascontiguousarray(rad)
             st.setdefault("deform", np.ascontiguousarray(pts))
+
+
+def _write_turning_steps(st, at, matrices, base, frame, scale):
+    """A turning object's set st: its matrices, and its points (radii) at the steps brought to
+    where they were exported, kept as deform only where they move there beyond float rounding."""
+    st["motion"] = [np.asarray(m, np.float64).tolist() for m in matrices]
+    st["motion_base"] = np.asarray(base, np.float64).tolist()
+    pts = np.stack([np.asarray(a["points"], np.float64) @ f[:3, :3].T + f[:3, 3]
+                    for a, f in zip(at, frame)])
+    rad = np.stack([np.asarray(a["radius"], np.float64) * s for a, s in zip(at, scale)])
+    p0 = np.asarray(st["points"], np.float64)
+    r0 = np.asarray(st["radius"], np.float64)
+    tol = 1e-5 * (1.0 + np.abs(p0).max(initial=0.0))
+    if np.abs(pts - p0).max(initial=0.0) > tol:
+        st["deform"] = np.ascontiguousarray(pts, np.float32)
+    if np.abs(rad - r0).max(initial=0.0) > 1e-5 * np.abs(r0).max(initial=0.0):
+        st["deform_radius"] = np.ascontiguousarray(rad, np.float32)
+        st.setdefault("deform", np.ascontiguousarray(pts, np.float32))

@@ -4,7 +4,8 @@ curves["deform"], their points at the shutter's steps (3 with Motion Steps 1, 5 
 step the frame's points moved by the object's translation at that step, computed here from the
 keys; no steps with Render > Motion Blur or the object's Motion Blur off, or when it does not
 move; a strand or key count that changes over the shutter leaves the strands still with a
-warning naming the object (write_strand_steps)."""
+warning naming the object (write_strand_steps). The same objects turning export the object's
+matrices at the steps instead ("Strands of a turning object"), their points as at the frame."""
 
 import bpy
 import numpy as np
@@ -68,6 +69,7 @@ def test_sliding_hair_exports_its_steps(empty, kind, steps):
     n = 2 * steps + 1 if steps < 2 else 5
     assert c["deform"].shape == (n,) + c["points"].shape and c["deform"].dtype == np.float32
     assert "deform_radius" not in c  # a slide keeps the radii
+    assert "motion" not in c  # a slide keeps its world points (exact: the same bits as before)
     for k, off in enumerate(np.linspace(-0.25, 0.25, n)):  # 1 m a frame x 0.5 frame
         moved = c["deform"][k] - c["points"]
         np.testing.assert_allclose(moved[:, 0], off, atol=2e-5)
@@ -79,6 +81,40 @@ def test_sliding_hair_exports_its_steps(empty, kind, steps):
     obj.cycles.use_motion_blur = False
     obj.update_tag()  # (an add-on's property group set from Python tags nothing)
     assert "deform" not in _export()[0].curves[0]
+
+
+def _turn(obj):
+    for frame, a in ((0, -np.pi), (2, np.pi)):  # half a turn a frame about z
+        obj.rotation_euler[2] = a
+        obj.keyframe_insert("rotation_euler", index=2, frame=frame)
+    _linear(obj)
+
+
+@pytest.mark.parametrize("kind", ["particles", "curves"])
+def test_turning_hair_exports_its_matrices(empty, kind):
+    """docs/motion_blur.md "Strands of a turning object": the object's matrices at the steps
+    (a quarter turn over the shutter, computed here from the keys), the points as exported at
+    the frame, no deform (a rigid turn)."""
+    scene = empty
+    add_camera(scene)
+    scene.render.use_motion_blur = True
+    scene.render.motion_blur_shutter = 0.5
+    obj = _furry_ball(scene) if kind == "particles" else _hair_curves(scene)
+    _turn(obj)
+    scene.frame_set(1)
+    sc, report = _export()
+    assert len(sc.curves) == 1, report.messages
+    c = sc.curves[0]
+    assert "deform" not in c and "deform_radius" not in c
+    motion = np.asarray(c["motion"])
+    assert motion.shape == (3, 4, 4)
+    for m, a in zip(motion, np.linspace(-0.25, 0.25, 3) * np.pi):
+        want = np.eye(4)
+        want[:2, :2] = [[np.cos(a), -np.sin(a)], [np.sin(a), np.cos(a)]]
+        np.testing.assert_allclose(m, want, atol=1e-5)
+    np.testing.assert_allclose(np.asarray(c["motion_base"]), np.eye(4), atol=1e-5)
+    scene.render.use_motion_blur = False  # (the test can fail: no steps without motion blur)
+    assert "motion" not in _export()[0].curves[0]
 
 
 def test_still_hair_has_no_steps(empty):

@@ -6,7 +6,8 @@
 // what the same backend's still structure over the points turned exactly there hits (segment
 // or its neighbour at a joint, t to 1e-4 relative, the same shadow answer), through
 // HostScene (the scene's CurveSetMotion) and CurveAccel; pt's strand surface there has its
-// normal and tangent from the turned segment. Control: the same strands exported as world
+// normal and tangent from the turned segment; likewise where the strands also grow in the
+// object's frame (`deform` placed as exported, lerped there under the turn). Control: the same strands exported as world
 // points at the steps (`deform`, lerped: the behaviour before) miss that arc.
 #include <gtest/gtest.h>
 
@@ -63,9 +64,14 @@ SpinFur make_spin_fur(int strands, int keys) {
     return f;
 }
 
+// How far the strands reach at shutter time t where they also grow (linear in t, so that the
+// lerp of the steps is exact): their object-space points scaled about the ball's centre.
+float spin_grow(float t, bool grow) { return grow ? 1.0f + 0.4f * (t - 0.5f) : 1.0f; }
+
 // The fur ball as the add-on exports it: points at the frame (shutter time 0.5) with the
-// object's matrices (`motion`), or (lerped: true) as world points at the steps (`deform`)
-SceneInput spin_scene(const SpinFur& f, bool lerped) {
+// object's matrices (`motion`; where they grow, `deform` placed as exported), or (lerped: true)
+// as world points at the steps (`deform`)
+SceneInput spin_scene(const SpinFur& f, bool lerped, bool grow = false) {
     SceneInput in;
     in.materials.push_back(MaterialInput{});
     CurveInput c;
@@ -79,13 +85,19 @@ SceneInput spin_scene(const SpinFur& f, bool lerped) {
     c.offsets = f.offsets;
     for (int k = 0; k < 3; ++k) {
         const std::vector<float> m = spin_world_at(0.5 * k);
+        const float g = spin_grow(0.5f * float(k), grow);
         if (lerped) {
             for (const Vec3& p : f.local) {
-                const Vec3 w = spin_apply(m, p);
+                const Vec3 w = spin_apply(m, p * g);
                 c.deform.insert(c.deform.end(), {w.x, w.y, w.z});
             }
         } else {
             c.motion.insert(c.motion.end(), m.begin(), m.end());
+            for (const Vec3& p : f.local) {
+                if (!grow) break;
+                const Vec3 w = spin_apply(base, p * g);
+                c.deform.insert(c.deform.end(), {w.x, w.y, w.z});
+            }
         }
     }
     if (!lerped) std::copy(base.begin(), base.end(), c.motion_base);
@@ -95,8 +107,9 @@ SceneInput spin_scene(const SpinFur& f, bool lerped) {
 
 // Hits of the spinning fur (HostScene, CurveAccel) against a still BVH over the points turned
 // exactly at `time`: returns the rays whose hit (segment or t) or shadow answer differ.
-int spin_mismatches(const SpinFur& f, bool lerped, bool embree, float time, int* hits) {
-    HostScene scene(spin_scene(f, lerped));
+int spin_mismatches(const SpinFur& f, bool lerped, bool embree, float time, int* hits,
+                    bool grow = false) {
+    HostScene scene(spin_scene(f, lerped, grow));
     const SceneView& v = scene.view();
     EXPECT_EQ(v.curves.num_sets, lerped ? 0 : 1);
     EXPECT_EQ(v.motion.curves, 1);
@@ -105,7 +118,7 @@ int spin_mismatches(const SpinFur& f, bool lerped, bool embree, float time, int*
     const std::vector<float> m = spin_world_at(time);
     std::vector<float> pts;
     for (const Vec3& p : f.local) {
-        const Vec3 q = spin_apply(m, p);
+        const Vec3 q = spin_apply(m, p * spin_grow(time, grow));
         pts.insert(pts.end(), {q.x, q.y, q.z});
     }
     std::vector<CurveSeg> exact = curve_segments(pts.data(), f.radius.data(), f.offsets.data(),
@@ -118,6 +131,7 @@ int spin_mismatches(const SpinFur& f, bool lerped, bool embree, float time, int*
     // last ulp: tests/cpp/test_curve_embree.cpp) are on both sides
     SceneInput turned = spin_scene(f, false);
     turned.curves[0].motion.clear();
+    turned.curves[0].deform.clear();
     turned.curves[0].points = pts;
     HostScene still_scene(turned);
     CurveAccel still(still_scene.view(), embree, w);
@@ -169,6 +183,15 @@ void check_spin(bool embree) {
                hits, bad);
         EXPECT_GT(hits, 1500) << time;
         EXPECT_LE(bad, 6) << (embree ? "embree" : "bvh") << " at time " << time;  // grazing
+    }
+    // the strands also growing in the object's frame (deform there, lerped, under the turn)
+    for (float time : {0.25f, 0.7f}) {
+        int hits = 0;
+        const int bad = spin_mismatches(f, false, embree, time, &hits, true);
+        printf("%s, growing too, time %.2f: %d of 2000 rays hit, %d differ\n",
+               embree ? "embree" : "bvh", time, hits, bad);
+        EXPECT_GT(hits, 1500) << time;
+        EXPECT_LE(bad, 6) << (embree ? "embree" : "bvh") << " growing at time " << time;
     }
     // control: the lerped world points (the behaviour before) are off the arc mid-interval
     int hits = 0;
