@@ -1,0 +1,118 @@
+"""Strands of a turning object against Cycles through the add-on (docs/motion_blur.md "Strands
+of a turning object"): a sphere with particle hair (300 strands, 9 keys, Principled Hair,
+Cycles' Linear 3D Curves shape) turning a full turn a frame about the view axis (linear keys)
+under a 0.5-frame shutter centred on the frame, 3 steps (90 degrees a step interval): the
+add-on exports the fur's points at the frame with the object's matrices (curves["motion"]), the
+core slerps them per ray as Cycles does (its curves stay in object space under the object's
+motion). K seeds of each renderer (Cycles' stored as per-seed block means, tools/render_compare.py
+stored_cycles), lantern.metrics.assert_agreement with its negative controls (2 % on the image,
+10 % on a block), and controls of its own kind: the same steps as world points lerped per ray
+(curves["deform"], the behaviour before: strands on the chords, 0.29 x their reach inside the
+arc mid-interval) and Render > Motion Blur off must not agree with Cycles' blurred fur. Long
+(bench/long_tests.sh): about a minute of Lantern renders; Cycles' are stored."""
+
+import math
+import os
+import sys
+
+import bpy  # noqa: E402 (conftest.py skips this folder without bpy or the core)
+import pytest
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+sys.path.insert(0, os.path.join(ROOT, "tools"))
+import bpy_stage  # noqa: E402
+from bpy_stage import camera as _camera, light as _light  # noqa: E402
+
+K = 8
+SIZE = 32
+SPP = (256, 256)  # (Cycles', Lantern's) per seed
+SE_FLOOR = 1e-6
+
+
+def _principled(name, color, roughness=0.5):
+    m = bpy.data.materials.new(name)
+    m.use_nodes = True
+    p = m.node_tree.nodes["Principled BSDF"]
+    p.inputs["Base Color"].default_value = (*color, 1.0)
+    p.inputs["Roughness"].default_value = roughness
+    return m
+
+
+def _hair_material(name, melanin):
+    m = bpy.data.materials.new(name)
+    m.use_nodes = True
+    nt = m.node_tree
+    nt.nodes.remove(nt.nodes["Principled BSDF"])
+    h = nt.nodes.new("ShaderNodeBsdfHairPrincipled")
+    h.parametrization = "MELANIN"
+    h.inputs["Melanin"].default_value = melanin
+    nt.links.new(h.outputs[0], nt.nodes["Material Output"].inputs["Surface"])
+    return m
+
+
+def spinning_fur():
+    scene = bpy_stage.reset(SIZE, world=(0.1, 0.1, 0.12))
+    scene.cycles_curves.shape = "THICK_LINEAR"
+    scene.render.use_motion_blur = True
+    scene.render.motion_blur_shutter = 0.5
+    scene.render.motion_blur_position = "CENTER"
+    bpy.ops.mesh.primitive_uv_sphere_add(radius=0.5, location=(0, 0, 0), segments=32,
+                                         ring_count=16)
+    ball = bpy.context.active_object
+    ball.data.materials.append(_principled("skin", (0.6, 0.6, 0.6)))
+    ball.data.materials.append(_hair_material("fur", 0.3))
+    mod = ball.modifiers.new("Fur", "PARTICLE_SYSTEM")
+    ps = mod.particle_system.settings
+    ps.type = "HAIR"
+    ps.count = 300
+    ps.hair_length = 0.35
+    ps.render_step = ps.display_step = 3  # 9 keys (the export reads the evaluated cache)
+    ps.material = 2
+    ps.root_radius, ps.tip_radius, ps.radius_scale = 1.0, 0.3, 0.02
+    ps.child_type = "NONE"
+    for frame, a in ((0, -2.0 * math.pi), (2, 2.0 * math.pi)):  # a turn a frame about y
+        ball.rotation_euler[1] = a
+        ball.keyframe_insert("rotation_euler", index=1, frame=frame)
+    from bpy_extras import anim_utils  # linear keys (the preference is not read here)
+    ad = ball.animation_data
+    for fc in anim_utils.action_get_channelbag_for_slot(ad.action, ad.action_slot).fcurves:
+        for kp in fc.keyframe_points:
+            kp.interpolation = "LINEAR"
+    _light(scene, "AREA", (1.5, -1.5, 2.0), 300.0, rotation=(45, 0, 45), size=1.0)
+    _camera(scene, (0, -3.0, 0.3), (84, 0, 0), lens=40.0)
+    scene.frame_set(1)
+
+
+@pytest.mark.long
+def test_spinning_fur_matches_cycles():
+    cyc = bpy_stage.compare_with_cycles("spinning fur, motion blur", spinning_fur, SPP,
+                                        (0.02, 0.10), cycles_seed0=1500, k_seeds=K,
+                                        se_floor=SE_FLOOR)
+    import lantern
+    import numpy as np
+    import render_compare as rc
+    from lantern import metrics
+    scene = rc.export_current()
+    fur = scene.curves[0]
+    assert fur.get("motion") is not None and fur.get("deform") is None
+    # the chords: the same steps as world points, lerped per ray (the export before)
+    base_inv = np.linalg.inv(np.asarray(fur["motion_base"], np.float64))
+    p = np.asarray(fur["points"], np.float64)
+    fur["deform"] = np.stack([p @ (np.asarray(m) @ base_inv)[:3, :3].T +
+                              (np.asarray(m) @ base_inv)[:3, 3] for m in fur["motion"]]
+                             ).astype(np.float32)
+    fur.pop("motion")
+    fur.pop("motion_base")
+    lerped = []
+    for k in range(K):
+        s = lantern.Session(scene, integrator="pt", backend="cpu",
+                            max_depth=rc.lantern_depth(rc.BOUNCES), seed=1 + k,
+                            spp_per_iteration=SPP[1])
+        s.step()
+        lerped.append(np.asarray(s.image(), np.float64)[..., :3])
+    ctl = metrics.compare_renders(np.stack(lerped), cyc, block=rc.BLOCK, se_floor=SE_FLOOR,
+                                  name="fur on the chords")
+    print(f"control: spinning fur, its steps lerped as world points: {ctl}")
+    assert not ctl.passed, f"the lerped fur passed against Cycles' spinning fur: {ctl}"
+    bpy.context.scene.render.use_motion_blur = False
+    bpy_stage.control_differs("spinning fur, motion blur off", cyc, K, SPP[1], SE_FLOOR)
