@@ -4,7 +4,8 @@ seeds of each renderer; prints Lantern / Cycles means. Usage, from the repositor
 NAME: suz, suz_noeyes, suz_sub, suz_flipcheck, sphere, sphere_hole, sphere_hole_back,
 sphere_inner, sphere_eye, sphere_flip; OPTIONS: nosss, flat, diffuse, sun, nocorr (Cycles'
 Bump Map Correction off), nogeo (Shadow Terminator Geometry Offset 0 in both), lan0 (0 in
-Lantern's export alone), s25 (Radius x Scale 25 cm red), sub2 (subdivided twice).
+Lantern's export alone), sNN (Radius x Scale NN cm red, as s25), sub2 (subdivided twice),
+k=N (N seeds a side instead of 2).
 Images go to /tmp/ssshead."""
 import os, sys, time, numpy as np
 R = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -88,8 +89,9 @@ elif name == 'suz_flipcheck':
 if 'nosss' in sys.argv[3:]:
     bpy.data.materials['skin'].node_tree.nodes['Principled BSDF'].inputs['Subsurface Weight'].default_value = 0.0
 if 'flat' in sys.argv[3:]: bpy.ops.object.shade_flat()
-if 's25' in sys.argv[3:]:
-    bpy.data.materials['skin'].node_tree.nodes['Principled BSDF'].inputs['Subsurface Scale'].default_value = 0.25
+for a in sys.argv[3:]:  # sNN: Radius x Scale NN cm red
+    if a[:1] == 's' and a[1:].isdigit():
+        bpy.data.materials['skin'].node_tree.nodes['Principled BSDF'].inputs['Subsurface Scale'].default_value = int(a[1:]) / 100
 if 'sub2' in sys.argv[3:]:
     m = bpy.context.active_object.modifiers.new('s','SUBSURF'); m.levels = m.render_levels = 2
 if 'nocorr' in sys.argv[3:]:
@@ -115,10 +117,11 @@ if 'lan0' in sys.argv[3:]:  # Lantern alone without the terminator offset (Cycle
         return _render(**kw)
     rc.render_lantern = lan0
 t0=time.time()
-cyc = np.mean([rc.render_cycles(seed=900+k, spp=spp)[0] for k in range(2)], axis=0)
+K = next((int(a[2:]) for a in sys.argv[3:] if a.startswith('k=')), 2)  # seeds a side
+cyc = np.mean([rc.render_cycles(seed=900+k, spp=spp)[0] for k in range(K)], axis=0)
 t1=time.time()
-lan = np.mean([rc.render_lantern(seed=1+k, spp=spp, threads=1)[0] for k in range(2)], axis=0)
+lan = np.mean([rc.render_lantern(seed=1+k, spp=spp, threads=1)[0] for k in range(K)], axis=0)
 t2=time.time()
-tag = '_'.join([name]+sys.argv[3:])
+tag = '_'.join([name]+sys.argv[3:]).replace('=', '')
 np.save(f'/tmp/ssshead/{tag}_cyc.npy', cyc); np.save(f'/tmp/ssshead/{tag}_lan.npy', lan)
 print(tag, 'ratio %.4f' % (lan.mean()/cyc.mean()), 'ch', [round(float(lan[...,k].mean()/cyc[...,k].mean()),4) for k in range(3)], 'times %.0f %.0f' % (t1-t0, t2-t1), flush=True)

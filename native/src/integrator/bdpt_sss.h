@@ -7,20 +7,19 @@
 //
 // MIS. The walk is sampled, never evaluated, and only camera paths walk (light paths shade the
 // surface's other lobes: the Principled's base already carries 1 - W there), so a path with a
-// walk (or with the Lambert lobe a walk becomes after a non-delta bounce) can be made only by
-// the techniques whose camera sub-path holds its exit: the exit vertex starts its MIS
-// quantities afresh, dVCM = dVC = 0 (no light sub-path reaches it or anything before it),
-// like a camera. Every technique of such a path computes its weight over that same set, so the
-// weights sum to 1. The surface branch's probability 1 - P is left out of every technique's
-// density (a stand-in of 1 on both sides: the weights stay a partition of unity).
+// walk can be made only by the techniques whose camera sub-path holds its exit: the exit
+// vertex starts its MIS quantities afresh, dVCM = dVC = 0 (no light sub-path reaches it or
+// anything before it), like a camera (camera vertices walk at every depth, as pt's). Every
+// technique of such a path computes its weight over that same set, so the weights sum to 1.
+// The surface branch's probability 1 - P is left out of every technique's density (a
+// stand-in of 1 on both sides: the weights stay a partition of unity).
 #pragma once
 
 #include "integrator/bdpt_camera.h"
 
 namespace lantern {
 
-constexpr uint8_t kAliveSssExit = 3;     // PathState::alive: the exit stage has this slot
-constexpr uint8_t kAliveSssExitOut = 4;  // the same, the exit's normals negated (a walk's exit)
+constexpr uint8_t kAliveSssExit = 3;  // PathState::alive: the exit stage has this slot
 
 // At a camera vertex (after emission, before next-event estimation): true when the path goes
 // under the surface (the walk stage takes it); else z.beta and the slot's throughput carry
@@ -38,7 +37,7 @@ LANTERN_HD inline bool bdpt_sss_choose(const SceneView& s, const PathState& ps, 
 
 // The walk stage: a slot with alive == kAliveSss walks from its hit; where the walk leaves,
 // the slot keeps the exit (triangle, barycentrics, the direction that found it, throughput,
-// depth) for the exit stage, alive kAliveSssExit(Out); otherwise it ends. kind: the RayKind
+// depth) for the exit stage, alive kAliveSssExit; otherwise it ends. kind: the RayKind
 // of its rays.
 template <class Rays, class Kind>
 LANTERN_HD inline void bdpt_sss_walk(const SceneView& s, const Rays& rays, Kind kind,
@@ -47,15 +46,14 @@ LANTERN_HD inline void bdpt_sss_walk(const SceneView& s, const Rays& rays, Kind 
     ps.alive[i] = 0;
     Rng rng = ps.rng[i];
     sss_walk_path(s, rays, kind, ps.hit_prim[i], ps.hit_uv[i], ps.ray_d[i],
-                  ps.throughput[i], ps.depth[i], ps.prev_pdf_w[i], rng,
-                  [&](int tri, Vec2 uv, Vec3 dir, bool flip, Vec3, Vec3, Vec3, Vec3 beta,
-                      int depth) {
+                  ps.throughput[i], ps.depth[i], rng,
+                  [&](int tri, Vec2 uv, Vec3 dir, Vec3, Vec3, Vec3, Vec3 beta, int depth) {
                       ps.hit_prim[i] = tri;
                       ps.hit_uv[i] = uv;
                       ps.ray_d[i] = dir;
                       ps.throughput[i] = beta;
                       ps.depth[i] = depth;
-                      ps.alive[i] = flip ? kAliveSssExitOut : kAliveSssExit;
+                      ps.alive[i] = kAliveSssExit;
                   });
     ps.rng[i] = rng;
 }
@@ -66,8 +64,7 @@ template <class SR>
 LANTERN_HD inline void bdpt_sss_exit(const SceneView& s, const PathState& ps, const BdptState& bs,
                                      const BdptSettings& st_all, const LightCache& cache, int i,
                                      int64_t path, const SR& sr) {
-    const uint8_t a = ps.alive[i];
-    if (a != kAliveSssExit && a != kAliveSssExitOut) return;
+    if (ps.alive[i] != kAliveSssExit) return;
     ps.alive[i] = 0;
     const BdptSettings st = camera_settings(st_all, pixel_conn_of_path(s, st_all, path));
     CameraVertex z;
@@ -78,11 +75,9 @@ LANTERN_HD inline void bdpt_sss_exit(const SceneView& s, const PathState& ps, co
     z.tri = ps.hit_prim[i];
     z.uv = ps.hit_uv[i];
     z.h = pt_surface(s, z.tri, z.uv, ps.ray_d[i]);
-    if (a == kAliveSssExitOut) {  // a walk's exit: pt_surface's normals face inside
-        z.h.ng = -z.h.ng;
-        z.h.ns = -z.h.ns;
-        z.h.front = !z.h.front;
-    }
+    z.h.ng = -z.h.ng;  // pt_surface's normals face back along the walk: out is along it
+    z.h.ns = -z.h.ns;
+    z.h.front = !z.h.front;
     z.h.tangent_angle = 0.0f;
     z.h.coat_n = Vec3{0.0f, 0.0f, 1.0f};
     z.frame = Frame::from_normal(z.h.ns);

@@ -219,19 +219,21 @@ LANTERN_HD inline void pt_sss_exit(const SceneView& s, const PathState& ps, cons
 }
 
 // ---- The walk from a hit: the entry at triangle tri (barycentrics uv, reached along d), the
-// walk, and at its end exit(tri, uv, dir, flip, p, ng, ns, beta, depth): the exit's triangle,
-// barycentrics, the direction that found it, whether its normals (as pt_surface orients them
-// against dir) are negated to face out, the exit point, its outward normals, the throughput
-// and the exit vertex's depth, the entry's (Cycles' subsurface_bounce and subsurface_scatter
-// advance no bounce: the exit shades at the entry's, so Max Bounces 0 keeps it lit; D41).
-// After a non-delta bounce (prev_pdf_w > 0 at depth > 1) the exit
-// is the hit itself (Cycles' Lambert lobe of the same weight). beta_in: the path's throughput
-// with the walk's probability divided out. Shared by pt and the bidirectional camera paths
-// (bdpt_sss.h). Rays: the executor's ray query (closest(r, kind)). ----
+// walk, and at its end exit(tri, uv, dir, p, ng, ns, beta, depth): the exit's triangle,
+// barycentrics, the direction that found it (pt_surface orients the normals against it, so the
+// exit's are negated: they face along dir, out of the walk), the exit point, its outward
+// normals, the throughput and the exit vertex's depth, the entry's (Cycles' subsurface_bounce
+// and subsurface_scatter advance no bounce: the exit shades at the entry's, so Max Bounces 0
+// keeps it lit; D41). Every hit walks, after any bounce, as Cycles 5.0's Random Walk does
+// (only its Christensen-Burley turns into a Lambert lobe after a diffuse ancestor; a Lambert
+// lobe here trapped light in closed parts inside the medium: docs/subsurface.md). beta_in: the
+// path's throughput with the walk's probability divided out. Shared by pt and the
+// bidirectional camera paths (bdpt_sss.h). Rays: the executor's ray query
+// (closest(r, kind)). ----
 template <class Rays, class Kind, class Exit>
 LANTERN_HD inline void sss_walk_path(const SceneView& s, const Rays& rays, Kind kind, int tri,
-                                     Vec2 uv, Vec3 d, Vec3 beta_in, int depth, float prev_pdf_w,
-                                     Rng& rng, const Exit& exit) {
+                                     Vec2 uv, Vec3 d, Vec3 beta_in, int depth, Rng& rng,
+                                     const Exit& exit) {
     const SurfaceHit h = pt_surface(s, tri, uv, d);
     MaterialScratch scratch;
     const Material& m = material_at_point(
@@ -250,13 +252,6 @@ LANTERN_HD inline void sss_walk_path(const SceneView& s, const Rays& rays, Kind 
     float albedo[3];
     for (int c = 0; c < 3; ++c) albedo[c] = clampf(m.base_color[c], 0.0f, 1.0f);
     const Vec3 beta0 = beta_in * below * base;
-    // after a scattering that was not a delta (Cycles: after a diffuse ancestor), subsurface is
-    // a Lambert lobe of the same weight at the hit (Cycles' bssrdf_setup)
-    if (depth > 1 && prev_pdf_w > 0.0f) {
-        exit(tri, uv, d, false, h.p, h.ng, h.ns, beta0 * Vec3{albedo[0], albedo[1], albedo[2]},
-             depth);
-        return;
-    }
     Vec3 wi_l;
     const bool entered = sss_entry(m, wo, rng.uniform2(), &wi_l);
     Vec3 dir = frame.to_world(wi_l);
@@ -304,7 +299,7 @@ LANTERN_HD inline void sss_walk_path(const SceneView& s, const Rays& rays, Kind 
         if (out) {
             if (hit.prim >= s.num_triangles) break;  // a strand inside the mesh: the walk ends
             const SurfaceHit x = pt_surface(s, hit.prim, hit.uv, dir);  // normals face inside
-            exit(int(hit.prim), hit.uv, dir, true, x.p, -x.ng, -x.ns, beta, depth);
+            exit(int(hit.prim), hit.uv, dir, x.p, -x.ng, -x.ns, beta, depth);
             break;
         }
         o = o + dir * t;
@@ -322,8 +317,8 @@ LANTERN_HD inline void pt_sss_walk(const SceneView& s, const Rays& rays, Kind ki
     ps.alive[i] = 0;
     Rng rng = ps.rng[i];
     sss_walk_path(s, rays, kind, ps.hit_prim[i], ps.hit_uv[i], ps.ray_d[i], ps.throughput[i],
-                  ps.depth[i], ps.prev_pdf_w[i], rng,
-                  [&](int tri, Vec2, Vec3, bool, Vec3 p, Vec3 ng, Vec3 ns, Vec3 beta, int depth) {
+                  ps.depth[i], rng,
+                  [&](int tri, Vec2, Vec3, Vec3 p, Vec3 ng, Vec3 ns, Vec3 beta, int depth) {
                       pt_sss_exit(s, ps, st, i, tri, p, ng, ns, beta, depth, rng);
                   });
     ps.rng[i] = rng;
