@@ -3,7 +3,6 @@
 // interpolates them), checked (a singular or non-finite step, a moving emitter: a warning and
 // the mesh stays where it was exported), and bounded over the shutter for the top-level BVH.
 #include "scene/motion_build.h"
-#include "scene/subsurface_input.h"
 
 #include <algorithm>
 #include <cmath>
@@ -161,16 +160,12 @@ void HostScene::build_motion(const SceneInput& in) {
     bool any = !in.camera_motion.empty() || !curve_keys_.empty();
     for (const MeshInput& m : in.meshes) any |= !m.motion.empty() || !m.deform.empty();
     if (!any) return;
-    if (!media_.empty() || !subsurface_reason(in).empty())
-        drop_curve_motion();  // moving strands render where they were exported, as meshes
+    // subsurface: the walk's rays carry the path's time, its entry and exit are where the mesh
+    // is then (pt_sss.h, bdpt_sss.h)
     if (!media_.empty()) {
+        drop_curve_motion();  // moving strands render where they were exported, as meshes
         warnings_.push_back("motion blur is not rendered in a scene with volumes (participating "
                             "media): every object and the camera at the frame's instant");
-        return;
-    }
-    if (!subsurface_reason(in).empty()) {  // the walk's rays carry no time yet (pt_sss.h)
-        warnings_.push_back("motion blur is not rendered in a scene with subsurface scattering: "
-                            "every object and the camera at the frame's instant");
         return;
     }
     // steps of one matrix list; false (with a warning naming `who`) where one is unusable
