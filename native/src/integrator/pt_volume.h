@@ -250,16 +250,18 @@ LANTERN_HD inline void pt_cross_boundary(const SceneView& s, const PathState& ps
 // blocked by any surface but a volume boundary), from o along d up to tmax, starting in medium
 // med. Rays is the executor's ray query (closest(r, kind)), kind its shadow rays' RayKind.
 // A heterogeneous medium's transmittance is estimated by ratio tracking, with numbers from
-// path_rng's tracking block `slot` (medium_tracking_rng; a fixed stream without path_rng). ----
+// path_rng's tracking block `slot` (medium_tracking_rng; a fixed stream without path_rng).
+// time: the path's shutter time (motion blur: what moves is where it is then; the volumes'
+// boundaries do not move, scene/motion_build.cpp). ----
 template <class Rays, class Kind>
 LANTERN_HD inline Vec3 pt_shadow_transmittance(const SceneView& s, const Rays& rays, Kind kind,
                                                Vec3 o, Vec3 d, float tmax, int32_t med,
                                                const Rng* path_rng = nullptr,
-                                               uint32_t slot = 1) {
+                                               uint32_t slot = 1, float time = 0.0f) {
     Vec3 tr = vec3(1.0f);
     Rng track = medium_tracking_rng(path_rng ? *path_rng : Rng{}, slot);
     for (int k = 0; k < 256; ++k) {  // boundaries crossed (a bound: never an endless loop)
-        const auto h = rays.closest(Ray{o, d, 0.0f, tmax}, kind);
+        const auto h = rays.closest(Ray{o, d, 0.0f, tmax, time}, kind);
         const bool hit = h.prim >= 0 && h.t < tmax;
         if (med >= 0) {
             const Medium& m = s.media[med];
@@ -286,16 +288,17 @@ LANTERN_HD inline Vec3 pt_shadow_transmittance(const SceneView& s, const Rays& r
 template <class Rays, class Kind>
 LANTERN_HD inline void pt_shadow_medium(const SceneView& s, const Rays& rays, Kind kind,
                                         const PathState& ps, int i) {
+    const float time = s.motion.rays_timed() ? motion_time(ps.rng[i]) : 0.0f;  // (the path's)
     if (ps.shadow_valid[i]) {
         const Vec3 tr = pt_shadow_transmittance(s, rays, kind, ps.shadow_o[i], ps.shadow_d[i],
                                                 ps.shadow_tmax[i], ps.shadow_medium[i],
-                                                &ps.rng[i], 1u);
+                                                &ps.rng[i], 1u, time);
         if (!is_black(tr)) add_radiance(ps, i, ps.shadow_contrib[i] * tr);
     }
     if (ps.vshadow_valid[i]) {
         const Vec3 tr = pt_shadow_transmittance(s, rays, kind, ps.vshadow_o[i], ps.vshadow_d[i],
                                                 ps.vshadow_tmax[i], ps.vshadow_medium[i],
-                                                &ps.rng[i], 2u);
+                                                &ps.rng[i], 2u, time);
         if (!is_black(tr)) add_radiance(ps, i, ps.vshadow_contrib[i] * tr);
         ps.vshadow_valid[i] = 0;
     }

@@ -126,12 +126,24 @@ void motion_world_box(const MotionView& mv, const ObjectMotion& o, const Vec3 bo
     out[1] = out[1] + vec3(pad);
 }
 
+namespace {
+
+bool matrices_move(const std::vector<float>& m) {
+    for (size_t k = 16; k + 16 <= m.size(); k += 16)
+        if (!same_matrix(&m[0], &m[k])) return true;
+    return false;
+}
+
+}  // namespace
+
 std::string motion_reason(const SceneInput& in) {
-    auto moves = [](const std::vector<float>& m) {
-        for (size_t k = 16; k + 16 <= m.size(); k += 16)
-            if (!same_matrix(&m[0], &m[k])) return true;
-        return false;
-    };
+    std::string why = motion_geometry_reason(in);
+    if (why.empty() && matrices_move(in.camera_motion)) why = "motion blur (the camera moves)";
+    return why;
+}
+
+std::string motion_geometry_reason(const SceneInput& in) {
+    const auto moves = matrices_move;
     for (const MeshInput& m : in.meshes)
         if (moves(m.motion)) return "motion blur (mesh '" + m.name + "' moves)";
     for (const MeshInput& m : in.meshes) {  // deformation blur
@@ -140,7 +152,6 @@ std::string motion_reason(const SceneInput& in) {
             if (m.deform[k] != m.deform[k % per])
                 return "motion blur (mesh '" + m.name + "' deforms)";
     }
-    if (moves(in.camera_motion)) return "motion blur (the camera moves)";
     for (const CurveInput& c : in.curves) {  // strands (scene/curve_motion.cpp)
         const size_t per = c.points.size();
         for (size_t k = per; per > 0 && k < c.deform.size(); ++k)
@@ -161,13 +172,21 @@ void HostScene::build_motion(const SceneInput& in) {
     for (const MeshInput& m : in.meshes) any |= !m.motion.empty() || !m.deform.empty();
     if (!any) return;
     // subsurface: the walk's rays carry the path's time, its entry and exit are where the mesh
-    // is then (pt_sss.h, bdpt_sss.h)
-    if (!media_.empty()) {
-        drop_curve_motion();  // moving strands render where they were exported, as meshes
-        warnings_.push_back("motion blur is not rendered in a scene with volumes (participating "
-                            "media): every object and the camera at the frame's instant");
-        return;
+    // is then (pt_sss.h, bdpt_sss.h). Volumes: every ray of a path through media carries its
+    // time (pt_volume.h); a mesh that bounds a volume (its material has one) stays where it was
+    // exported, as the media's boundaries, fits and the camera's medium are the frame's.
+    if (!media_.empty() && !curve_keys_.empty()) {  // (moving strands in media: not tested yet)
+        drop_curve_motion();
+        warnings_.push_back("strands are not motion-blurred in a scene with volumes (rendered "
+                            "where they were exported)");
     }
+    auto bounds_volume = [&](const MeshRange& r) {
+        for (int t = r.tri_begin; t < r.tri_begin + r.tri_count; ++t) {
+            const uint32_t mat = tri_material_[size_t(t)];
+            if (mat < material_medium_.size() && material_medium_[mat] >= 0) return true;
+        }
+        return false;
+    };
     // steps of one matrix list; false (with a warning naming `who`) where one is unusable
     auto add_steps = [&](const std::vector<float>& mats, const std::string& who,
                          bool rigid) -> int {
@@ -215,6 +234,9 @@ void HostScene::build_motion(const SceneInput& in) {
         bool emits = false;
         for (int t = r.tri_begin; t < r.tri_begin + r.tri_count && !emits; ++t)
             emits = tri_light_[t] >= 0;
+        const bool volume = !media_.empty() && bounds_volume(r);
+        const std::string still_volume = who + " bounds a volume: moving volumes are not "
+                                               "motion-blurred (rendered where it is at the frame)";
         DeformMesh dm{};
         bool deforms = false;
         if (!m.deform.empty()) {  // deformation blur (scene/deform_build.cpp)
@@ -222,11 +244,12 @@ void HostScene::build_motion(const SceneInput& in) {
             const size_t corners = motion_corners_.size();
             deforms = build_deform(m, r, indices_, motion_corners_, &dm, &warning);
             if (!warning.empty()) warnings_.push_back(warning);
-            if (deforms && emits) {
+            if (deforms && (emits || volume)) {
                 motion_corners_.resize(corners);
                 deforms = false;
-                warnings_.push_back(who + " emits light: deforming emitters are not "
-                                    "motion-blurred (rendered as at the frame)");
+                warnings_.push_back(emits ? who + " emits light: deforming emitters are not "
+                                                  "motion-blurred (rendered as at the frame)"
+                                          : still_volume);
             }
         }
         Transform base = transform_from_rows(m.motion_base), base_inv;
@@ -244,6 +267,10 @@ void HostScene::build_motion(const SceneInput& in) {
                 motion_steps_.resize(first);
                 warnings_.push_back(who + " emits light: moving emitters are not motion-blurred "
                                     "(rendered where it is at the frame)");
+                n = -1;
+            } else if (n > 0 && volume) {
+                motion_steps_.resize(first);
+                warnings_.push_back(still_volume);
                 n = -1;
             }
         }
@@ -277,6 +304,16 @@ void HostScene::build_motion(const SceneInput& in) {
     if (!in.camera_motion.empty()) {
         camera_first = int(motion_steps_.size());
         camera_steps = std::max(0, add_steps(in.camera_motion, "the camera", true));
+        // camera rays start in the medium where the camera is at the frame (medium_build.cpp)
+        for (int k = 0; k < camera_steps && !media_.empty(); ++k) {
+            const float time = float(k) / float(camera_steps - 1);
+            const Transform c = motion_at(motion_steps_.data(), camera_first, camera_steps, time);
+            if (camera_medium_at(c.origin()) != view_.camera_medium) {
+                warnings_.push_back("the camera crosses a volume's boundary over the shutter: "
+                                    "its rays start in the medium it is in at the frame");
+                break;
+            }
+        }
     }
     const bool curves = !curve_keys_.empty();  // moving strands (scene/curve_motion.cpp)
     if (motion_objects_.empty() && camera_steps < 2 && !curves) return;
