@@ -7,6 +7,7 @@
 // Included by pt.h after pt_emission_weight, which it uses.
 #pragma once
 
+#include "integrator/motion_stage.h"  // a moving volume's boundary at the path's time
 #include "scene/medium.h"
 #include "scene/medium_equiangular.h"
 
@@ -232,14 +233,26 @@ __attribute__((noinline))  // out of line on the host: pt_shade stays as small a
 LANTERN_HD inline void pt_cross_boundary(const SceneView& s, const PathState& ps, int i,
                                          int tri) {
     const Vec3 d = ps.ray_d[i];
-    const Vec3 a = triangle_vertex(s, tri, 0), b = triangle_vertex(s, tri, 1),
-               c = triangle_vertex(s, tri, 2);
-    const Vec3 ng = cross(b - a, c - a);
-    const bool front = dot(ng, d) <= 0.0f;
     const Vec2 uv = ps.hit_uv[i];
-    const Vec3 p = a * (1.0f - uv.x - uv.y) + b * uv.x + c * uv.y;
+    Vec3 p, ng;
+    bool front;
+    if (s.motion.num_objects > 0 && object_motion_of(s.motion, tri)) {
+        // a moving volume (pt only: the other integrators hand motion with media to pt): its
+        // boundary where it is at the path's time
+        const SurfaceHit h = surface_moved_at(s, tri, uv, d, motion_time(ps.rng[i]));
+        p = h.p;
+        ng = h.ng;
+        front = h.front;
+    } else {
+        const Vec3 a = triangle_vertex(s, tri, 0), b = triangle_vertex(s, tri, 1),
+                   c = triangle_vertex(s, tri, 2);
+        const Vec3 n = cross(b - a, c - a);
+        front = dot(n, d) <= 0.0f;
+        ng = normalize(n);
+        p = a * (1.0f - uv.x - uv.y) + b * uv.x + c * uv.y;
+    }
     ps.medium[i] = medium_across(s, tri, front, ps.medium[i]);
-    ps.ray_o[i] = offset_ray_origin(p, normalize(ng), d, s.offset_scale);
+    ps.ray_o[i] = offset_ray_origin(p, ng, d, s.offset_scale);
     ps.ray_tmin[i] = 0.0f;
     const float tmax = ps.ray_tmax[i];
     ps.ray_tmax[i] = tmax < kInf ? fmaxf(tmax - ps.hit_t[i], 0.0f) : kInf;
@@ -251,8 +264,8 @@ LANTERN_HD inline void pt_cross_boundary(const SceneView& s, const PathState& ps
 // med. Rays is the executor's ray query (closest(r, kind)), kind its shadow rays' RayKind.
 // A heterogeneous medium's transmittance is estimated by ratio tracking, with numbers from
 // path_rng's tracking block `slot` (medium_tracking_rng; a fixed stream without path_rng).
-// time: the path's shutter time (motion blur: what moves is where it is then; the volumes'
-// boundaries do not move, scene/motion_build.cpp). ----
+// time: the path's shutter time (motion blur: what moves is where it is then, a moving
+// homogeneous volume's boundary too). ----
 template <class Rays, class Kind>
 LANTERN_HD inline Vec3 pt_shadow_transmittance(const SceneView& s, const Rays& rays, Kind kind,
                                                Vec3 o, Vec3 d, float tmax, int32_t med,
@@ -271,12 +284,22 @@ LANTERN_HD inline Vec3 pt_shadow_transmittance(const SceneView& s, const Rays& r
         }
         if (!hit) return tr;
         if (!(s.tri_flags[h.prim] & kVolumeBoundary) || is_black(tr)) return vec3(0.0f);
-        const Vec3 a = triangle_vertex(s, h.prim, 0), b = triangle_vertex(s, h.prim, 1),
-                   c = triangle_vertex(s, h.prim, 2);
-        const Vec3 ng = cross(b - a, c - a);
-        med = medium_across(s, h.prim, dot(ng, d) <= 0.0f, med);
+        Vec3 ng;
+        bool front;
+        if (s.motion.num_objects > 0 && object_motion_of(s.motion, int(h.prim))) {
+            const SurfaceHit x = surface_moved_at(s, int(h.prim), h.uv, d, time);  // (moving)
+            ng = x.ng;
+            front = x.front;
+        } else {
+            const Vec3 a = triangle_vertex(s, h.prim, 0), b = triangle_vertex(s, h.prim, 1),
+                       c = triangle_vertex(s, h.prim, 2);
+            const Vec3 n = cross(b - a, c - a);
+            front = dot(n, d) <= 0.0f;
+            ng = normalize(n);
+        }
+        med = medium_across(s, h.prim, front, med);
         const Vec3 p = o + d * h.t;
-        const Vec3 next = offset_ray_origin(p, normalize(ng), d, s.offset_scale);
+        const Vec3 next = offset_ray_origin(p, ng, d, s.offset_scale);
         if (tmax < kInf) tmax = fmaxf(tmax - dot(next - o, d), 0.0f);
         o = next;
     }

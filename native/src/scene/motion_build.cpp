@@ -173,20 +173,25 @@ void HostScene::build_motion(const SceneInput& in) {
     if (!any) return;
     // subsurface: the walk's rays carry the path's time, its entry and exit are where the mesh
     // is then (pt_sss.h, bdpt_sss.h). Volumes: every ray of a path through media carries its
-    // time (pt_volume.h); a mesh that bounds a volume (its material has one) stays where it was
-    // exported, as the media's boundaries, fits and the camera's medium are the frame's.
+    // time (pt_volume.h), and a rigidly moving mesh whose media are homogeneous crosses into
+    // them where it is then (pt_cross_boundary); one with a heterogeneous medium (its fits and
+    // density are the frame's) or that deforms stays where it was exported.
     if (!media_.empty() && !curve_keys_.empty()) {  // (moving strands in media: not tested yet)
         drop_curve_motion();
         warnings_.push_back("strands are not motion-blurred in a scene with volumes (rendered "
                             "where they were exported)");
     }
+    // 0: no medium; 1: homogeneous media only; 2: a heterogeneous one
     auto bounds_volume = [&](const MeshRange& r) {
+        int kind = 0;
         for (int t = r.tri_begin; t < r.tri_begin + r.tri_count; ++t) {
             const uint32_t mat = tri_material_[size_t(t)];
-            if (mat < material_medium_.size() && material_medium_[mat] >= 0) return true;
+            if (mat >= material_medium_.size() || material_medium_[mat] < 0) continue;
+            kind = std::max(kind, media_[size_t(material_medium_[mat])].hetero ? 2 : 1);
         }
-        return false;
+        return kind;
     };
+    std::vector<int32_t> volumes;  // the moving volumes' meshes (the camera's check below)
     // steps of one matrix list; false (with a warning naming `who`) where one is unusable
     auto add_steps = [&](const std::vector<float>& mats, const std::string& who,
                          bool rigid) -> int {
@@ -234,9 +239,10 @@ void HostScene::build_motion(const SceneInput& in) {
         bool emits = false;
         for (int t = r.tri_begin; t < r.tri_begin + r.tri_count && !emits; ++t)
             emits = tri_light_[t] >= 0;
-        const bool volume = !media_.empty() && bounds_volume(r);
-        const std::string still_volume = who + " bounds a volume: moving volumes are not "
-                                               "motion-blurred (rendered where it is at the frame)";
+        const int volume = media_.empty() ? 0 : bounds_volume(r);
+        const std::string still_volume = who + " bounds a heterogeneous volume: moving ones "
+                                               "are not motion-blurred (rendered where it is at "
+                                               "the frame)";
         DeformMesh dm{};
         bool deforms = false;
         if (!m.deform.empty()) {  // deformation blur (scene/deform_build.cpp)
@@ -249,7 +255,8 @@ void HostScene::build_motion(const SceneInput& in) {
                 deforms = false;
                 warnings_.push_back(emits ? who + " emits light: deforming emitters are not "
                                                   "motion-blurred (rendered as at the frame)"
-                                          : still_volume);
+                                          : who + " bounds a volume: its deformation is not "
+                                                  "motion-blurred (rendered as at the frame)");
             }
         }
         Transform base = transform_from_rows(m.motion_base), base_inv;
@@ -268,7 +275,7 @@ void HostScene::build_motion(const SceneInput& in) {
                 warnings_.push_back(who + " emits light: moving emitters are not motion-blurred "
                                     "(rendered where it is at the frame)");
                 n = -1;
-            } else if (n > 0 && volume) {
+            } else if (n > 0 && volume == 2) {
                 motion_steps_.resize(first);
                 warnings_.push_back(still_volume);
                 n = -1;
@@ -288,6 +295,7 @@ void HostScene::build_motion(const SceneInput& in) {
             n = 2;
         }
         if (n <= 0) continue;
+        if (volume) volumes.push_back(int32_t(k));
         if (deforms) motion_deforms_.push_back(dm);
         ObjectMotion o{};
         o.tri_begin = r.tri_begin;
@@ -325,6 +333,27 @@ void HostScene::build_motion(const SceneInput& in) {
     view_.motion.camera_first = camera_first;
     view_.motion.camera_steps = camera_steps;
     view_.motion.curves = curves ? 1 : 0;
+    // camera rays start in the frame's medium: a moving volume that may reach the camera says so
+    for (const ObjectMotion& o : motion_objects_) {
+        if (std::find(volumes.begin(), volumes.end(), o.mesh) == volumes.end()) continue;
+        Vec3 box[2] = {vec3(kInf), vec3(-kInf)}, swept[2];
+        for (int t = o.tri_begin; t < o.tri_begin + o.tri_count; ++t)
+            for (int j = 0; j < 3; ++j) {
+                const Vec3 p = positions_[indices_[3 * size_t(t) + size_t(j)]];
+                box[0] = {std::min(box[0].x, p.x), std::min(box[0].y, p.y),
+                          std::min(box[0].z, p.z)};
+                box[1] = {std::max(box[1].x, p.x), std::max(box[1].y, p.y),
+                          std::max(box[1].z, p.z)};
+            }
+        motion_world_box(view_.motion, o, box, swept);
+        const Vec3 c = view_.camera.to_world.origin();
+        if (c.x >= swept[0].x && c.y >= swept[0].y && c.z >= swept[0].z && c.x <= swept[1].x &&
+            c.y <= swept[1].y && c.z <= swept[1].z) {
+            warnings_.push_back("mesh '" + in.meshes[size_t(o.mesh)].name + "' bounds a moving "
+                                "volume that may reach the camera: its rays start in the medium "
+                                "it is in at the frame");
+        }
+    }
 }
 
 }  // namespace lantern
