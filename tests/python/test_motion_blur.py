@@ -196,12 +196,6 @@ def _emitting(sc):
     sc.materials[sc.material_id("red")]["emission"] = [1.0, 0.5, 0.5]
 
 
-def _subsurface(sc):
-    sc.materials[sc.material_id("red")].update(
-        type="principled", subsurface_weight=1.0, subsurface_radius=[0.1, 0.1, 0.1],
-        subsurface_ior=1.4, subsurface_anisotropy=0.0, subsurface_method="random_walk")
-
-
 def _singular_base(sc):
     sc.meshes[CUBE]["motion_base"] = np.diag([1.0, 1.0, 0.0, 1.0])
 
@@ -216,7 +210,6 @@ def _camera_nan(sc):
     (_emitting, "emits light: moving emitters are not motion-blurred"),
     (_singular_base, "the matrix it was exported with is singular or not finite"),
     (_camera_nan, "the camera: its matrix at motion step 2 is singular or not finite"),
-    (_subsurface, "motion blur is not rendered in a scene with subsurface scattering"),
 ])
 def test_what_does_not_move_says_so(case, words):
     """Each limit is a warning, a finite image, and the object (or camera) where it was

@@ -16,6 +16,7 @@
 #pragma once
 
 #include "integrator/bdpt_camera.h"
+#include "integrator/bdpt_motion.h"
 
 namespace lantern {
 
@@ -38,15 +39,15 @@ LANTERN_HD inline bool bdpt_sss_choose(const SceneView& s, const PathState& ps, 
 // The walk stage: a slot with alive == kAliveSss walks from its hit; where the walk leaves,
 // the slot keeps the exit (triangle, barycentrics, the direction that found it, throughput,
 // depth) for the exit stage, alive kAliveSssExit; otherwise it ends. kind: the RayKind
-// of its rays.
+// of its rays; time: its camera path's shutter time (bdpt_time; 0 where nothing moves).
 template <class Rays, class Kind>
 LANTERN_HD inline void bdpt_sss_walk(const SceneView& s, const Rays& rays, Kind kind,
-                                     const PathState& ps, int i) {
+                                     const PathState& ps, int i, float time) {
     if (ps.alive[i] != kAliveSss) return;
     ps.alive[i] = 0;
     Rng rng = ps.rng[i];
     sss_walk_path(s, rays, kind, ps.hit_prim[i], ps.hit_uv[i], ps.ray_d[i],
-                  ps.throughput[i], ps.depth[i], rng,
+                  ps.throughput[i], ps.depth[i], rng, time,
                   [&](int tri, Vec2 uv, Vec3 dir, Vec3, Vec3, Vec3, Vec3 beta, int depth) {
                       ps.hit_prim[i] = tri;
                       ps.hit_uv[i] = uv;
@@ -74,8 +75,8 @@ LANTERN_HD inline void bdpt_sss_exit(const SceneView& s, const PathState& ps, co
     white.base_color = vec3(1.0f);
     z.tri = ps.hit_prim[i];
     z.uv = ps.hit_uv[i];
-    z.h = pt_surface(s, z.tri, z.uv, ps.ray_d[i]);
-    z.h.ng = -z.h.ng;  // pt_surface's normals face back along the walk: out is along it
+    z.h = bdpt_surface(s, st_all, path, z.tri, z.uv, ps.ray_d[i]);  // (at its time: motion)
+    z.h.ng = -z.h.ng;  // the surface's normals face back along the walk: out is along it
     z.h.ns = -z.h.ns;
     z.h.front = !z.h.front;
     z.h.tangent_angle = 0.0f;

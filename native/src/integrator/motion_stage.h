@@ -23,6 +23,14 @@ LANTERN_HD inline SurfaceHit surface_moved_at(const SceneView& s, int tri, Vec2 
         });
 }
 
+// A triangle's hit at `time`: moved there where meshes move, else pt_surface's own (the walk
+// under a surface, pt_sss.h: its entry and exit where the mesh is at the path's time).
+LANTERN_HD inline SurfaceHit surface_at_time(const SceneView& s, int tri, Vec2 uv, Vec3 d,
+                                             float time) {
+    if (s.motion.num_objects > 0) return surface_moved_at(s, tri, uv, d, time);
+    return pt_surface(s, tri, uv, d);
+}
+
 // The camera at `time` (a moving camera's interpolated to_world).
 #ifndef __CUDA_ARCH__
 __attribute__((noinline))

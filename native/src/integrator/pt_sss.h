@@ -9,6 +9,7 @@
 // Run only where SceneView::has_subsurface; a path waiting for its walk has alive == 2.
 #pragma once
 
+#include "integrator/motion_stage.h"  // the walk at the path's time (motion blur)
 #include "integrator/terminator.h"
 #include "scene/medium.h"
 
@@ -229,12 +230,13 @@ LANTERN_HD inline void pt_sss_exit(const SceneView& s, const PathState& ps, cons
 // lobe here trapped light in closed parts inside the medium: docs/subsurface.md). beta_in: the
 // path's throughput with the walk's probability divided out. Shared by pt and the
 // bidirectional camera paths (bdpt_sss.h). Rays: the executor's ray query
-// (closest(r, kind)). ----
+// (closest(r, kind)). time: the path's shutter time (motion blur: the entry, every ray of the
+// walk and the exit see the meshes there). ----
 template <class Rays, class Kind, class Exit>
 LANTERN_HD inline void sss_walk_path(const SceneView& s, const Rays& rays, Kind kind, int tri,
                                      Vec2 uv, Vec3 d, Vec3 beta_in, int depth, Rng& rng,
-                                     const Exit& exit) {
-    const SurfaceHit h = pt_surface(s, tri, uv, d);
+                                     float time, const Exit& exit) {
+    const SurfaceHit h = surface_at_time(s, tri, uv, d, time);
     MaterialScratch scratch;
     const Material& m = material_at_point(
         s, s.tri_material[tri], [h, tri, uv, wo = -d] { return shade_point(h, tri, uv, wo); },
@@ -287,7 +289,7 @@ LANTERN_HD inline void sss_walk_path(const SceneView& s, const Rays& rays, Kind 
         const float u_c = rng.uniform();
         const int c = u_c < pmf.x ? 0 : (u_c < pmf.x + pmf.y ? 1 : 2);
         const float t_s = -log1pf(-fminf(rng.uniform(), 0.99999994f)) / st_b[c];
-        const auto hit = rays.closest(Ray{o, dir, 0.0f, t_s}, kind);
+        const auto hit = rays.closest(Ray{o, dir, 0.0f, t_s, time}, kind);
         const bool out = hit.prim >= 0 && hit.t < t_s;
         const float t = out ? hit.t : t_s;
         const Vec3 tr{expf(-st_b.x * t), expf(-st_b.y * t), expf(-st_b.z * t)};
@@ -298,7 +300,7 @@ LANTERN_HD inline void sss_walk_path(const SceneView& s, const Rays& rays, Kind 
         if (!is_finite(beta)) break;
         if (out) {
             if (hit.prim >= s.num_triangles) break;  // a strand inside the mesh: the walk ends
-            const SurfaceHit x = pt_surface(s, hit.prim, hit.uv, dir);  // normals face inside
+            const SurfaceHit x = surface_at_time(s, hit.prim, hit.uv, dir, time);  // faces inside
             exit(int(hit.prim), hit.uv, dir, x.p, -x.ng, -x.ns, beta, depth);
             break;
         }
@@ -316,8 +318,9 @@ LANTERN_HD inline void pt_sss_walk(const SceneView& s, const Rays& rays, Kind ki
     if (ps.alive[i] != kAliveSss) return;
     ps.alive[i] = 0;
     Rng rng = ps.rng[i];
+    const float time = s.motion.rays_timed() ? motion_time(rng) : 0.0f;  // (the path's)
     sss_walk_path(s, rays, kind, ps.hit_prim[i], ps.hit_uv[i], ps.ray_d[i], ps.throughput[i],
-                  ps.depth[i], rng,
+                  ps.depth[i], rng, time,
                   [&](int tri, Vec2, Vec3, Vec3 p, Vec3 ng, Vec3 ns, Vec3 beta, int depth) {
                       pt_sss_exit(s, ps, st, i, tri, p, ng, ns, beta, depth, rng);
                   });

@@ -7,6 +7,7 @@
 // Included by pt.h after pt_emission_weight, which it uses.
 #pragma once
 
+#include "integrator/motion_stage.h"  // a moving volume's boundary at the path's time
 #include "scene/medium.h"
 #include "scene/medium_equiangular.h"
 
@@ -232,14 +233,26 @@ __attribute__((noinline))  // out of line on the host: pt_shade stays as small a
 LANTERN_HD inline void pt_cross_boundary(const SceneView& s, const PathState& ps, int i,
                                          int tri) {
     const Vec3 d = ps.ray_d[i];
-    const Vec3 a = triangle_vertex(s, tri, 0), b = triangle_vertex(s, tri, 1),
-               c = triangle_vertex(s, tri, 2);
-    const Vec3 ng = cross(b - a, c - a);
-    const bool front = dot(ng, d) <= 0.0f;
     const Vec2 uv = ps.hit_uv[i];
-    const Vec3 p = a * (1.0f - uv.x - uv.y) + b * uv.x + c * uv.y;
+    Vec3 p, ng;
+    bool front;
+    if (s.motion.num_objects > 0 && object_motion_of(s.motion, tri)) {
+        // a moving volume (pt only: the other integrators hand motion with media to pt): its
+        // boundary where it is at the path's time
+        const SurfaceHit h = surface_moved_at(s, tri, uv, d, motion_time(ps.rng[i]));
+        p = h.p;
+        ng = h.ng;
+        front = h.front;
+    } else {
+        const Vec3 a = triangle_vertex(s, tri, 0), b = triangle_vertex(s, tri, 1),
+                   c = triangle_vertex(s, tri, 2);
+        const Vec3 n = cross(b - a, c - a);
+        front = dot(n, d) <= 0.0f;
+        ng = normalize(n);
+        p = a * (1.0f - uv.x - uv.y) + b * uv.x + c * uv.y;
+    }
     ps.medium[i] = medium_across(s, tri, front, ps.medium[i]);
-    ps.ray_o[i] = offset_ray_origin(p, normalize(ng), d, s.offset_scale);
+    ps.ray_o[i] = offset_ray_origin(p, ng, d, s.offset_scale);
     ps.ray_tmin[i] = 0.0f;
     const float tmax = ps.ray_tmax[i];
     ps.ray_tmax[i] = tmax < kInf ? fmaxf(tmax - ps.hit_t[i], 0.0f) : kInf;
@@ -250,16 +263,18 @@ LANTERN_HD inline void pt_cross_boundary(const SceneView& s, const PathState& ps
 // blocked by any surface but a volume boundary), from o along d up to tmax, starting in medium
 // med. Rays is the executor's ray query (closest(r, kind)), kind its shadow rays' RayKind.
 // A heterogeneous medium's transmittance is estimated by ratio tracking, with numbers from
-// path_rng's tracking block `slot` (medium_tracking_rng; a fixed stream without path_rng). ----
+// path_rng's tracking block `slot` (medium_tracking_rng; a fixed stream without path_rng).
+// time: the path's shutter time (motion blur: what moves is where it is then, a moving
+// homogeneous volume's boundary too). ----
 template <class Rays, class Kind>
 LANTERN_HD inline Vec3 pt_shadow_transmittance(const SceneView& s, const Rays& rays, Kind kind,
                                                Vec3 o, Vec3 d, float tmax, int32_t med,
                                                const Rng* path_rng = nullptr,
-                                               uint32_t slot = 1) {
+                                               uint32_t slot = 1, float time = 0.0f) {
     Vec3 tr = vec3(1.0f);
     Rng track = medium_tracking_rng(path_rng ? *path_rng : Rng{}, slot);
     for (int k = 0; k < 256; ++k) {  // boundaries crossed (a bound: never an endless loop)
-        const auto h = rays.closest(Ray{o, d, 0.0f, tmax}, kind);
+        const auto h = rays.closest(Ray{o, d, 0.0f, tmax, time}, kind);
         const bool hit = h.prim >= 0 && h.t < tmax;
         if (med >= 0) {
             const Medium& m = s.media[med];
@@ -269,12 +284,22 @@ LANTERN_HD inline Vec3 pt_shadow_transmittance(const SceneView& s, const Rays& r
         }
         if (!hit) return tr;
         if (!(s.tri_flags[h.prim] & kVolumeBoundary) || is_black(tr)) return vec3(0.0f);
-        const Vec3 a = triangle_vertex(s, h.prim, 0), b = triangle_vertex(s, h.prim, 1),
-                   c = triangle_vertex(s, h.prim, 2);
-        const Vec3 ng = cross(b - a, c - a);
-        med = medium_across(s, h.prim, dot(ng, d) <= 0.0f, med);
+        Vec3 ng;
+        bool front;
+        if (s.motion.num_objects > 0 && object_motion_of(s.motion, int(h.prim))) {
+            const SurfaceHit x = surface_moved_at(s, int(h.prim), h.uv, d, time);  // (moving)
+            ng = x.ng;
+            front = x.front;
+        } else {
+            const Vec3 a = triangle_vertex(s, h.prim, 0), b = triangle_vertex(s, h.prim, 1),
+                       c = triangle_vertex(s, h.prim, 2);
+            const Vec3 n = cross(b - a, c - a);
+            front = dot(n, d) <= 0.0f;
+            ng = normalize(n);
+        }
+        med = medium_across(s, h.prim, front, med);
         const Vec3 p = o + d * h.t;
-        const Vec3 next = offset_ray_origin(p, normalize(ng), d, s.offset_scale);
+        const Vec3 next = offset_ray_origin(p, ng, d, s.offset_scale);
         if (tmax < kInf) tmax = fmaxf(tmax - dot(next - o, d), 0.0f);
         o = next;
     }
@@ -286,16 +311,17 @@ LANTERN_HD inline Vec3 pt_shadow_transmittance(const SceneView& s, const Rays& r
 template <class Rays, class Kind>
 LANTERN_HD inline void pt_shadow_medium(const SceneView& s, const Rays& rays, Kind kind,
                                         const PathState& ps, int i) {
+    const float time = s.motion.rays_timed() ? motion_time(ps.rng[i]) : 0.0f;  // (the path's)
     if (ps.shadow_valid[i]) {
         const Vec3 tr = pt_shadow_transmittance(s, rays, kind, ps.shadow_o[i], ps.shadow_d[i],
                                                 ps.shadow_tmax[i], ps.shadow_medium[i],
-                                                &ps.rng[i], 1u);
+                                                &ps.rng[i], 1u, time);
         if (!is_black(tr)) add_radiance(ps, i, ps.shadow_contrib[i] * tr);
     }
     if (ps.vshadow_valid[i]) {
         const Vec3 tr = pt_shadow_transmittance(s, rays, kind, ps.vshadow_o[i], ps.vshadow_d[i],
                                                 ps.vshadow_tmax[i], ps.vshadow_medium[i],
-                                                &ps.rng[i], 2u);
+                                                &ps.rng[i], 2u, time);
         if (!is_black(tr)) add_radiance(ps, i, ps.vshadow_contrib[i] * tr);
         ps.vshadow_valid[i] = 0;
     }

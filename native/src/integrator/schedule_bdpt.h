@@ -220,7 +220,13 @@ void bdpt_sss_stages(Exec& ex, Wavefront<Exec>& w, const SceneView& s, const Bdp
     const int32_t* q = w.queue.data();
     const auto rays = ex.rays();
     ex.timed(stats.time_shade, [&] {
-        ex.each(active, LANTERN_KERNEL(int k) { bdpt_sss_walk(s, rays, RayKind::kIndirect, ps, q[k]); });
+        ex.each(active, LANTERN_KERNEL(int k) {
+            const int i = q[k];  // (motion blur: the walk at its camera path's time)
+            const float time = s.motion.rays_timed()
+                                   ? bdpt_time(bst, camera_path(list, spp, first_path + i))
+                                   : 0.0f;
+            bdpt_sss_walk(s, rays, RayKind::kIndirect, ps, i, time);
+        });
         ex.each(active, LANTERN_KERNEL(int k) {
             const int i = q[k];
             bdpt_sss_exit(s, ps, bs, bst, cache, i, camera_path(list, spp, first_path + i), sr);

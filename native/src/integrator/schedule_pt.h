@@ -8,8 +8,8 @@
 namespace lantern {
 namespace wf {
 
-// A next-event shadow ray at its path's time (motion blur, scene/motion.h; scenes with media
-// render without motion).
+// A next-event shadow ray at its path's time (motion blur, scene/motion.h; in a scene with
+// media pt_shadow_medium's, which takes the path's time itself).
 template <class Rays>
 LANTERN_HD inline void pt_shadow_at_time(const SceneView& s, const Rays& rays, const PathState& ps,
                                          int i) {
@@ -62,8 +62,13 @@ void pt_chunk_variant(Exec& ex, Wavefront<Exec>& w, const SceneView s, Wavefront
             if (s.num_media > 0)  // media's equiangular shadow rays (pt_volume.h)
                 stats.rays_shadow += ex.count(
                     active, LANTERN_KERNEL(int k) { return ps.vshadow_valid[q[k]] != 0; });
-            if (motion) {  // motion blur: each at its path's time (no media)
-                ex.each(active, LANTERN_KERNEL(int k) { pt_shadow_at_time(s, rays, ps, q[k]); });
+            if (motion) {  // motion blur: each at its path's time
+                ex.each(active, LANTERN_KERNEL(int k) {
+                    if (s.num_media > 0)
+                        pt_shadow_medium(s, rays, RayKind::kShadow, ps, q[k]);
+                    else
+                        pt_shadow_at_time(s, rays, ps, q[k]);
+                });
                 return;
             }
             ex.each(active, LANTERN_KERNEL(int k) {

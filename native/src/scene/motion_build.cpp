@@ -3,7 +3,6 @@
 // interpolates them), checked (a singular or non-finite step, a moving emitter: a warning and
 // the mesh stays where it was exported), and bounded over the shutter for the top-level BVH.
 #include "scene/motion_build.h"
-#include "scene/subsurface_input.h"
 
 #include <algorithm>
 #include <cmath>
@@ -127,12 +126,24 @@ void motion_world_box(const MotionView& mv, const ObjectMotion& o, const Vec3 bo
     out[1] = out[1] + vec3(pad);
 }
 
+namespace {
+
+bool matrices_move(const std::vector<float>& m) {
+    for (size_t k = 16; k + 16 <= m.size(); k += 16)
+        if (!same_matrix(&m[0], &m[k])) return true;
+    return false;
+}
+
+}  // namespace
+
 std::string motion_reason(const SceneInput& in) {
-    auto moves = [](const std::vector<float>& m) {
-        for (size_t k = 16; k + 16 <= m.size(); k += 16)
-            if (!same_matrix(&m[0], &m[k])) return true;
-        return false;
-    };
+    std::string why = motion_geometry_reason(in);
+    if (why.empty() && matrices_move(in.camera_motion)) why = "motion blur (the camera moves)";
+    return why;
+}
+
+std::string motion_geometry_reason(const SceneInput& in) {
+    const auto moves = matrices_move;
     for (const MeshInput& m : in.meshes)
         if (moves(m.motion)) return "motion blur (mesh '" + m.name + "' moves)";
     for (const MeshInput& m : in.meshes) {  // deformation blur
@@ -141,7 +152,6 @@ std::string motion_reason(const SceneInput& in) {
             if (m.deform[k] != m.deform[k % per])
                 return "motion blur (mesh '" + m.name + "' deforms)";
     }
-    if (moves(in.camera_motion)) return "motion blur (the camera moves)";
     for (const CurveInput& c : in.curves) {  // strands (scene/curve_motion.cpp)
         const size_t per = c.points.size();
         for (size_t k = per; per > 0 && k < c.deform.size(); ++k)
@@ -163,18 +173,27 @@ void HostScene::build_motion(const SceneInput& in) {
     for (const MeshInput& m : in.meshes) any |= !m.motion.empty() || !m.deform.empty();
     for (const CurveInput& c : in.curves) any |= !c.motion.empty();
     if (!any) return;
-    if (!media_.empty() || !subsurface_reason(in).empty())
-        drop_curve_motion();  // moving strands render where they were exported, as meshes
-    if (!media_.empty()) {
-        warnings_.push_back("motion blur is not rendered in a scene with volumes (participating "
-                            "media): every object and the camera at the frame's instant");
-        return;
+    // subsurface: the walk's rays carry the path's time, its entry and exit are where the mesh
+    // is then (pt_sss.h, bdpt_sss.h). Volumes: every ray of a path through media carries its
+    // time (pt_volume.h), and a rigidly moving mesh whose media are homogeneous crosses into
+    // them where it is then (pt_cross_boundary); one with a heterogeneous medium (its fits and
+    // density are the frame's) or that deforms stays where it was exported.
+    if (!media_.empty() && !curve_keys_.empty()) {  // (moving strands in media: not tested yet)
+        drop_curve_motion();
+        warnings_.push_back("strands are not motion-blurred in a scene with volumes (rendered "
+                            "where they were exported)");
     }
-    if (!subsurface_reason(in).empty()) {  // the walk's rays carry no time yet (pt_sss.h)
-        warnings_.push_back("motion blur is not rendered in a scene with subsurface scattering: "
-                            "every object and the camera at the frame's instant");
-        return;
-    }
+    // 0: no medium; 1: homogeneous media only; 2: a heterogeneous one
+    auto bounds_volume = [&](const MeshRange& r) {
+        int kind = 0;
+        for (int t = r.tri_begin; t < r.tri_begin + r.tri_count; ++t) {
+            const uint32_t mat = tri_material_[size_t(t)];
+            if (mat >= material_medium_.size() || material_medium_[mat] < 0) continue;
+            kind = std::max(kind, media_[size_t(material_medium_[mat])].hetero ? 2 : 1);
+        }
+        return kind;
+    };
+    std::vector<int32_t> volumes;  // the moving volumes' meshes (the camera's check below)
     // steps of one matrix list; false (with a warning naming `who`) where one is unusable
     auto add_steps = [&](const std::vector<float>& mats, const std::string& who,
                          bool rigid) -> int {
@@ -222,6 +241,10 @@ void HostScene::build_motion(const SceneInput& in) {
         bool emits = false;
         for (int t = r.tri_begin; t < r.tri_begin + r.tri_count && !emits; ++t)
             emits = tri_light_[t] >= 0;
+        const int volume = media_.empty() ? 0 : bounds_volume(r);
+        const std::string still_volume = who + " bounds a heterogeneous volume: moving ones "
+                                               "are not motion-blurred (rendered where it is at "
+                                               "the frame)";
         DeformMesh dm{};
         bool deforms = false;
         if (!m.deform.empty()) {  // deformation blur (scene/deform_build.cpp)
@@ -229,11 +252,13 @@ void HostScene::build_motion(const SceneInput& in) {
             const size_t corners = motion_corners_.size();
             deforms = build_deform(m, r, indices_, motion_corners_, &dm, &warning);
             if (!warning.empty()) warnings_.push_back(warning);
-            if (deforms && emits) {
+            if (deforms && (emits || volume)) {
                 motion_corners_.resize(corners);
                 deforms = false;
-                warnings_.push_back(who + " emits light: deforming emitters are not "
-                                    "motion-blurred (rendered as at the frame)");
+                warnings_.push_back(emits ? who + " emits light: deforming emitters are not "
+                                                  "motion-blurred (rendered as at the frame)"
+                                          : who + " bounds a volume: its deformation is not "
+                                                  "motion-blurred (rendered as at the frame)");
             }
         }
         Transform base = transform_from_rows(m.motion_base), base_inv;
@@ -252,6 +277,10 @@ void HostScene::build_motion(const SceneInput& in) {
                 warnings_.push_back(who + " emits light: moving emitters are not motion-blurred "
                                     "(rendered where it is at the frame)");
                 n = -1;
+            } else if (n > 0 && volume == 2) {
+                motion_steps_.resize(first);
+                warnings_.push_back(still_volume);
+                n = -1;
             }
         }
         if (n < 0 && deforms) {  // its transform unusable: its deformation is not blurred either
@@ -268,6 +297,7 @@ void HostScene::build_motion(const SceneInput& in) {
             n = 2;
         }
         if (n <= 0) continue;
+        if (volume) volumes.push_back(int32_t(k));
         if (deforms) motion_deforms_.push_back(dm);
         ObjectMotion o{};
         o.tri_begin = r.tri_begin;
@@ -284,6 +314,16 @@ void HostScene::build_motion(const SceneInput& in) {
     if (!in.camera_motion.empty()) {
         camera_first = int(motion_steps_.size());
         camera_steps = std::max(0, add_steps(in.camera_motion, "the camera", true));
+        // camera rays start in the medium where the camera is at the frame (medium_build.cpp)
+        for (int k = 0; k < camera_steps && !media_.empty(); ++k) {
+            const float time = float(k) / float(camera_steps - 1);
+            const Transform c = motion_at(motion_steps_.data(), camera_first, camera_steps, time);
+            if (camera_medium_at(c.origin()) != view_.camera_medium) {
+                warnings_.push_back("the camera crosses a volume's boundary over the shutter: "
+                                    "its rays start in the medium it is in at the frame");
+                break;
+            }
+        }
     }
     // strand sets moving with their objects (docs/motion_blur.md "Strands of a turning object"):
     // their steps as a mesh's, the segments left where they were exported
@@ -340,6 +380,27 @@ void HostScene::build_motion(const SceneInput& in) {
     view_.motion.camera_first = camera_first;
     view_.motion.camera_steps = camera_steps;
     view_.motion.curves = curves ? 1 : 0;
+    // camera rays start in the frame's medium: a moving volume that may reach the camera says so
+    for (const ObjectMotion& o : motion_objects_) {
+        if (std::find(volumes.begin(), volumes.end(), o.mesh) == volumes.end()) continue;
+        Vec3 box[2] = {vec3(kInf), vec3(-kInf)}, swept[2];
+        for (int t = o.tri_begin; t < o.tri_begin + o.tri_count; ++t)
+            for (int j = 0; j < 3; ++j) {
+                const Vec3 p = positions_[indices_[3 * size_t(t) + size_t(j)]];
+                box[0] = {std::min(box[0].x, p.x), std::min(box[0].y, p.y),
+                          std::min(box[0].z, p.z)};
+                box[1] = {std::max(box[1].x, p.x), std::max(box[1].y, p.y),
+                          std::max(box[1].z, p.z)};
+            }
+        motion_world_box(view_.motion, o, box, swept);
+        const Vec3 c = view_.camera.to_world.origin();
+        if (c.x >= swept[0].x && c.y >= swept[0].y && c.z >= swept[0].z && c.x <= swept[1].x &&
+            c.y <= swept[1].y && c.z <= swept[1].z) {
+            warnings_.push_back("mesh '" + in.meshes[size_t(o.mesh)].name + "' bounds a moving "
+                                "volume that may reach the camera: its rays start in the medium "
+                                "it is in at the frame");
+        }
+    }
 }
 
 }  // namespace lantern

@@ -33,5 +33,7 @@ void deform_refit(std::vector<BvhNode>& nodes, const std::vector<BvhTri>& tris,
 // What moves, for the integrators that hand a motion scene to pt ("" when nothing does):
 // "motion blur (mesh 'x' moves)" or "motion blur (the camera moves)".
 std::string motion_reason(const SceneInput& in);
+// The same for meshes and strands only (a moving camera aside): what needs every ray timed.
+std::string motion_geometry_reason(const SceneInput& in);
 
 }  // namespace lantern
