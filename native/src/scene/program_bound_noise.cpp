@@ -45,62 +45,53 @@ namespace {
 constexpr float kSnoiseSup[4] = {1.0005f, 1.0003f, 1.0184f, 1.2843f};
 constexpr float kSnoiseCurv[4] = {20.77f, 24.21f, 26.28f, 31.87f};
 constexpr float kSnoiseEval = 5e-5f;
-// lattice points per noise cell (the error then at most 0.1 in 3D) and per box at most (a box
-// larger than the budget allows at that spacing takes a coarser lattice, and the global bound
-// where that is no tighter). The lattice is the bound's cost: a mesh volume's majorant bounds
-// its program over 16^3 boxes (issue 29's smoke: about 1.2 M noise values, 30-50 ms)
-constexpr float kPerCell = 10.0f;
-constexpr int kLatticeBudget = 216;
+// lattice points per noise cell (the error then at most 0.04 in 3D) and per box at most (a
+// box larger than the budget allows at that spacing takes a coarser lattice, and the global
+// bound where that is no tighter). The lattice is the bound's cost: a mesh volume's majorant
+// bounds its program over 16^3 boxes (issue 29's smoke: 3.5 M noise values, 20 ms of CPU)
+constexpr float kPerCell = 16.0f;
+constexpr int kLatticeBudget = 729;
 constexpr int kCornerCache = 256;
 
-// snoise at p (|p| < 1e5, so its fmodf changes nothing) from the gradients of the lattice's
-// cells' corners (corner v at index sum_j (v_j - c0_j) prod_{i<j} span_i, grad1..4 of its
-// hash as a vector: no branch per corner), Perlin's lerps in perlin1..4's order, times
-// Blender's scale.
-template <int D>
-float perlin_cached(const float* p, const int* c0, const int* span, const float* grads) {
-    float f[D], u[D];
-    int base = 0, stride[D], step = 1;
-    for (int j = 0; j < D; ++j) {
-        const int X = floor_frac(p[j], &f[j]);
-        u[j] = fade5(f[j]);
-        stride[j] = step;
-        base += (X - c0[j]) * step;
-        step *= span[j];
-    }
-    float g[1 << D];
-    for (int c = 0; c < (1 << D); ++c) {
-        int at = base;
-        float d[4] = {0.0f, 0.0f, 0.0f, 0.0f};
-        for (int j = 0; j < D; ++j) {
-            const int bit = (c >> j) & 1;
-            at += bit * stride[j];
-            d[j] = f[j] - float(bit);
-        }
-        const float* gv = grads + 4 * at;
-        float dot = 0.0f;
-        for (int j = 0; j < D; ++j) dot += gv[j] * d[j];
-        g[c] = dot;
-    }
-    // lerp along x, then y, z, w: pairs (c, c + 1) differ in the lowest remaining axis
-    for (int j = 0, m = 1 << D; j < D; ++j, m >>= 1)
-        for (int c = 0; c < m / 2; ++c) g[c] = lerpf(g[2 * c], g[2 * c + 1], u[j]);
-    constexpr float k[4] = {0.2500f, 0.6616f, 0.9820f, 0.8344f};
-    return k[D - 1] * g[0];
-}
-
-// The smallest and largest snoise over the lattice x[j][0..n_j] (j < D).
+// The smallest and largest snoise over the lattice x[j][0..n_j] (j < D), |x| < 1e5 (snoise's
+// fmodf changes nothing there). By rows along axis 0: within one cell, for fixed other
+// coordinates, Perlin's noise is (1 - u(f)) A(f) + u(f) B(f) with A, B linear in the fraction
+// f (the lerps over the other axes of the gradients' products), so a row's segment in a cell
+// costs two line fits and then a few products per point. The corners' gradients (grad1..4 of
+// their hashes, as vectors) are computed once per box. The same real function as snoise, its
+// float rounding in another order (within kSnoiseEval).
 template <int D>
 void lattice_range(const float (*x)[kLatticeBudget], const int* n, float* vmin, float* vmax) {
-    int c0[D], span[D], corners = 1;
+    int cell[D][kLatticeBudget];
+    float fr[D][kLatticeBudget], fu[D][kLatticeBudget];
+    int c0[D], span[D], stride[D], corners = 1;
     for (int j = 0; j < D; ++j) {
-        c0[j] = int(std::floor(x[j][0]));
-        span[j] = int(std::floor(x[j][n[j]])) - c0[j] + 2;
+        for (int k = 0; k <= n[j]; ++k) {
+            cell[j][k] = floor_frac(x[j][k], &fr[j][k]);
+            fu[j][k] = fade5(fr[j][k]);
+        }
+        c0[j] = cell[j][0];
+        span[j] = cell[j][n[j]] - c0[j] + 2;
+        stride[j] = corners;
         corners *= span[j];
     }
+    int idx[D] = {};
+    if (corners > kCornerCache) {  // a box over many cells: snoise point by point
+        for (;;) {
+            float p[D];
+            for (int j = 0; j < D; ++j) p[j] = x[j][idx[j]];
+            const float v = snoise(p, D);
+            *vmin = std::min(*vmin, v);
+            *vmax = std::max(*vmax, v);
+            int j = 0;
+            while (j < D && idx[j] == n[j]) idx[j++] = 0;
+            if (j == D) break;
+            ++idx[j];
+        }
+        return;
+    }
     float grads[4 * kCornerCache];
-    const bool cached = corners <= kCornerCache;
-    for (int k = 0; cached && k < corners; ++k) {
+    for (int k = 0; k < corners; ++k) {
         int v[4] = {0, 0, 0, 0}, rest = k;
         for (int j = 0; j < D; ++j) {
             v[j] = c0[j] + rest % span[j];
@@ -119,14 +110,37 @@ void lattice_range(const float (*x)[kLatticeBudget], const int* n, float* vmin, 
                                         : grad4(h, e[0], e[1], e[2], e[3]);
         }
     }
-    int idx[D] = {};
-    for (;;) {
-        float p[D];
-        for (int j = 0; j < D; ++j) p[j] = x[j][idx[j]];
-        const float v = cached ? perlin_cached<D>(p, c0, span, grads) : snoise(p, D);
-        *vmin = std::min(*vmin, v);
-        *vmax = std::max(*vmax, v);
-        int j = 0;
+    constexpr float K[4] = {0.2500f, 0.6616f, 0.9820f, 0.8344f};
+    for (;;) {  // rows: idx[1..D)
+        int base = 0;
+        for (int j = 1; j < D; ++j) base += (cell[j][idx[j]] - c0[j]) * stride[j];
+        for (int k = 0; k <= n[0];) {
+            const int X = cell[0][k];
+            float slope[2] = {0.0f, 0.0f}, icpt[2] = {0.0f, 0.0f};
+            for (int b0 = 0; b0 < 2; ++b0)
+                for (int r = 0; r < (1 << (D - 1)); ++r) {
+                    float W = 1.0f, rest = 0.0f;
+                    int at = base + (X - c0[0] + b0) * stride[0];
+                    for (int j = 1; j < D; ++j) {
+                        const int bit = (r >> (j - 1)) & 1;
+                        const float u = fu[j][idx[j]];
+                        W *= bit ? u : 1.0f - u;
+                        at += bit * stride[j];
+                    }
+                    for (int j = 1; j < D; ++j)
+                        rest += grads[4 * at + j] * (fr[j][idx[j]] - float((r >> (j - 1)) & 1));
+                    slope[b0] += W * grads[4 * at];
+                    icpt[b0] += W * rest;
+                }
+            for (; k <= n[0] && cell[0][k] == X; ++k) {
+                const float f = fr[0][k], u = fu[0][k];
+                const float A = slope[0] * f + icpt[0], B = slope[1] * (f - 1.0f) + icpt[1];
+                const float v = K[D - 1] * ((1.0f - u) * A + u * B);
+                *vmin = std::min(*vmin, v);
+                *vmax = std::max(*vmax, v);
+            }
+        }
+        int j = 1;
         while (j < D && idx[j] == n[j]) idx[j++] = 0;
         if (j == D) break;
         ++idx[j];
