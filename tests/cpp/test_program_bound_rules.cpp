@@ -62,6 +62,7 @@ struct RbCase {
     std::vector<float> in;
     std::vector<std::pair<int, int>> pos;
     int outs[3];
+    float clo = -2.0f, chi = 3.0f;  // where the boxes' centres lie (per axis)
 };
 
 SceneInput rb_scene(const RbCase& t) {
@@ -93,6 +94,10 @@ SceneInput rb_scene(const RbCase& t) {
 
 // Samples of case t in random boxes (half-widths from 0.004 to `size`); every channel of
 // every sample inside its box's interval. Returns the mean width of channel 0's intervals.
+// The negative control's tally: boxes whose samples leave the interval of the box shrunk by a
+// quarter per side (channel 0): the samples reach the ends a narrower bound would miss.
+int rb_control_boxes = 0, rb_control_exceeded = 0;
+
 // bounded: 1 every box has a bound, 0 none, 2 some (an op whose rule needs its inputs inside
 // a range: the boxes where they are not fail).
 double rb_check(const RbCase& t, std::mt19937& rng, int boxes, int samples, float size = 0.6f,
@@ -106,7 +111,8 @@ double rb_check(const RbCase& t, std::mt19937& rng, int boxes, int samples, floa
     double width = 0.0;
     int failures = 0, with_bound = 0;
     for (int b = 0; b < boxes; ++b) {
-        const Vec3 c{-2.0f + 5.0f * u(rng), -2.0f + 5.0f * u(rng), -2.0f + 5.0f * u(rng)};
+        const float span = t.chi - t.clo;
+        const Vec3 c{t.clo + span * u(rng), t.clo + span * u(rng), t.clo + span * u(rng)};
         const float hs = 0.004f * std::pow(size / 0.004f, u(rng));
         const Vec3 h{hs * (0.5f + u(rng)), hs * (0.5f + u(rng)), hs * (0.5f + u(rng))};
         Interval iv[3];
@@ -115,6 +121,9 @@ double rb_check(const RbCase& t, std::mt19937& rng, int boxes, int samples, floa
         if (!ok) continue;
         ++with_bound;
         width += iv[0].hi - iv[0].lo;
+        Interval inner[3];
+        const bool inner_ok = program_bound(s, p, med, c - h * 0.5f, c + h * 0.5f, inner);
+        bool exceeded = false;
         for (int k = 0; k < samples; ++k) {
             Vec3 q = c - h + 2.0f * h * Vec3{u(rng), u(rng), u(rng)};
             if (k < 8)  // the corners too
@@ -122,14 +131,17 @@ double rb_check(const RbCase& t, std::mt19937& rng, int boxes, int samples, floa
                          k & 4 ? c.z + h.z : c.z - h.z};
             const Vec3 v = program_run(s, p, medium_shade_point(med, q, Vec3{1, 0, 0}));
             const float vv[3] = {v.x, v.y, v.z};
+            exceeded = exceeded || (inner_ok && !(vv[0] >= inner[0].lo && vv[0] <= inner[0].hi));
             for (int ch = 0; ch < 3; ++ch)
                 if (!(vv[ch] >= iv[ch].lo && vv[ch] <= iv[ch].hi) && ++failures <= 3)
                     ADD_FAILURE() << t.name << " channel " << ch << ": " << vv[ch] << " outside ["
                                   << iv[ch].lo << ", " << iv[ch].hi << "] at (" << q.x << ", "
                                   << q.y << ", " << q.z << ")";
         }
+        ++rb_control_boxes;
+        rb_control_exceeded += exceeded;
     }
-    if (bounded == 2) EXPECT_GT(with_bound, boxes / 5) << t.name;
+    if (bounded == 2) EXPECT_GT(with_bound, 0) << t.name;
     return width / std::max(with_bound, 1);
 }
 
@@ -182,7 +194,7 @@ TEST(ProgramBoundRules, NoiseRangeOverBoxes) {
     std::uniform_real_distribution<float> u(0.0f, 1.0f);
     for (int D = 1; D <= 4; ++D) {
         double narrow = 0.0;
-        int narrow_n = 0;
+        int narrow_n = 0, exceeded = 0;
         for (int b = 0; b < 300; ++b) {
             float lo[4], hi[4], w[4];
             const float far = b % 5 == 0 ? 9e4f : 30.0f;
@@ -193,6 +205,13 @@ TEST(ProgramBoundRules, NoiseRangeOverBoxes) {
             }
             const bound::Reg r = bound::snoise_range(D, lo, hi);
             ASSERT_TRUE(r.known);
+            float ilo[4], ihi[4];  // the control: the box's inner half
+            for (int j = 0; j < D; ++j) {
+                ilo[j] = lo[j] + 0.25f * w[j];
+                ihi[j] = hi[j] - 0.25f * w[j];
+            }
+            const bound::Reg inner = bound::snoise_range(D, ilo, ihi);
+            bool out_of_inner = false;
             EXPECT_LE(r.hi, bound::snoise_sup(D));
             EXPECT_GE(r.lo, -bound::snoise_sup(D));
             bool small = true;
@@ -209,11 +228,17 @@ TEST(ProgramBoundRules, NoiseRangeOverBoxes) {
                 const float v = snoise(p, D);
                 ASSERT_GE(v, r.lo) << D << "D box " << b;
                 ASSERT_LE(v, r.hi) << D << "D box " << b;
+                out_of_inner = out_of_inner || v < inner.lo || v > inner.hi;
             }
+            exceeded += out_of_inner;
         }
         std::printf("%dD: boxes under 0.1 cell: mean width %.3f of the global bound's\n", D,
                     narrow / std::max(narrow_n, 1));
         EXPECT_LT(narrow / std::max(narrow_n, 1), 0.3) << D;
+        // the control: samples of the whole box leave the inner half's range in most boxes
+        // small enough for a lattice (a bound that narrow would be caught)
+        std::printf("   %d of 300 boxes' samples leave their inner half's range\n", exceeded);
+        EXPECT_GT(exceeded, 100) << D;
     }
 }
 
@@ -230,6 +255,7 @@ TEST(ProgramBoundRules, NoiseTypesInsideRandomBoxes) {
                  {"fBm", kNoiseFbm, 2.5f, 0.6f, 2.0f, 0.0f, 1.0f},
                  {"hetero", kNoiseHetero, 2.7f, 0.5f, 2.0f, 0.6f, 1.0f}};
     std::mt19937 rng(5);
+    rb_control_boxes = rb_control_exceeded = 0;
     for (const T& ty : types)
         for (int dim = 1; dim <= 4; ++dim)
             for (int variant = 0; variant < 3; ++variant) {
@@ -245,6 +271,9 @@ TEST(ProgramBoundRules, NoiseTypesInsideRandomBoxes) {
                 const double w = rb_check(c, rng, 12, 150, 0.4f);
                 if (variant == 0 && dim == 3) std::printf("%s: mean width %.3f\n", c.name.c_str(), w);
             }
+    std::printf("control: %d of %d boxes have samples outside the inner half's bound\n",
+                rb_control_exceeded, rb_control_boxes);
+    EXPECT_GT(rb_control_exceeded, rb_control_boxes / 5);  // fractal types are looser
 }
 
 // Voronoi (features, metrics, dimensions; distance, colour, positions), Magic and Brick.
@@ -285,6 +314,7 @@ TEST(ProgramBoundRules, VoronoiMagicBrickInsideRandomBoxes) {
 // the Math operations added with them.
 TEST(ProgramBoundRules, VectorMathMappingMathInsideRandomBoxes) {
     std::mt19937 rng(13);
+    rb_control_boxes = rb_control_exceeded = 0;
     // in: a(3) b(3) c(3) scale
     for (int mode : {0, 1, 2, 3, 4, 5, 9, 10, 11, 12, 13, 14, 16, 17, 20, 21, 22, 23, 24, 25, 28})
         for (int bpos = 0; bpos < 2; ++bpos) {
@@ -301,6 +331,9 @@ TEST(ProgramBoundRules, VectorMathMappingMathInsideRandomBoxes) {
                  {{0, 0}, {1, 1}, {2, 2}}, {0, 1, 2}};
         rb_check(c, rng, 20, 150, 0.6f);
     }
+    std::printf("control: %d of %d boxes have samples outside the inner half's bound\n",
+                rb_control_exceeded, rb_control_boxes);
+    EXPECT_GT(rb_control_exceeded, rb_control_boxes / 2);
     const RbCase misc[] = {
         {"normalize", kOpNormalize, 0, 0, 0, 0, 0, {0, 0, 0}, {{0, 0}, {1, 1}, {2, 2}}, {0, 1, 2}},
         {"gamma 2.2", kOpGamma, 0, 0, 0, 0, 0, {0, 0, 0, 2.2f}, {{0, 0}, {1, 1}, {2, 2}}, {0, 1, 2}},
@@ -388,4 +421,63 @@ TEST(ProgramBoundRules, NoiseSmokeMajorantIsTight) {
                 "scene build %.3f s\n", m.density_max, seen, build);
     EXPECT_GE(m.density_max, seen);
     EXPECT_LT(m.density_max, 1.2f * seen + 0.1f);
+}
+
+// Mix's blend modes, RGB / Float Curves, Hue/Saturation/Value, Separate / Combine HSV and HSL.
+TEST(ProgramBoundRules, MixCurvesHsvInsideRandomBoxes) {
+    std::mt19937 rng(17);
+    // Mix in: fac(3) a(3) b(3); a from the position, b constant or the position permuted, the
+    // factor constant or the position's z, clamped or not
+    for (int mode : {1, 2, 3, 4, 5, 6, 7, 8, 9, 11, 12, 13, 14})
+        for (int variant = 0; variant < 3; ++variant) {
+            RbCase c{"mix blend " + std::to_string(mode) + " v" + std::to_string(variant), kOpMix,
+                     mode, variant == 2 ? 3 : 1, 0, 0, 0,
+                     {0.35f, 0, 0, 0, 0, 0, 0.6f, -0.4f, 1.3f},
+                     {{3, 0}, {4, 1}, {5, 2}}, {0, 1, 2}};
+            if (variant >= 1) c.pos.insert(c.pos.end(), {{6, 2}, {7, 0}, {8, 1}});
+            if (variant == 2) c.pos.push_back({0, 2});
+            // dodge: a bound for a colour >= 0 (boxes there), none where it may be negative
+            if (mode == 6) {
+                rb_check(c, rng, 10, 50, 0.6f, 2);
+                c.clo = 0.7f;
+            }
+            rb_check(c, rng, 15, 150, 0.6f);
+        }
+    // Curves: in fac colour(3); a table of 5 rows (r g b c) over [lo, hi] = [-1, 2] after them
+    std::vector<float> table = {0.1f, 0.9f, -0.3f, 0, 0.8f, 0.2f, 0.5f, 0, 0.3f, 1.4f, 0.1f, 0,
+                                0.9f, -0.2f, 0.7f, 0, 0.4f, 0.6f, 1.1f, 0, -1.0f, 2.0f};
+    for (int mode = 0; mode <= 1; ++mode)
+        for (int facpos = 0; facpos < 2; ++facpos) {
+            std::vector<float> in = {0.7f, 0, 0, 0};
+            in.insert(in.end(), table.begin(), table.end());  // the table at in[4]: const 12
+            RbCase c{"curves " + std::to_string(mode) + (facpos ? " fac(p)" : ""), kOpCurves, mode,
+                     0, 0, 12, 5, in, {{1, 0}, {2, 1}, {3, 2}}, {0, mode ? 0 : 1, mode ? 0 : 2}};
+            if (facpos) c.pos.push_back({0, 2});
+            rb_check(c, rng, 20, 150, 0.8f);
+        }
+    // HSV in: hue sat val fac colour(3)
+    for (int facpos = 0; facpos < 2; ++facpos) {
+        RbCase c{"hue saturation value", kOpHsv, 0, 0, 0, 0, 0, {0.3f, 1.4f, 0.8f, 0.9f, 0, 0, 0},
+                 {{4, 0}, {5, 1}, {6, 2}}, {0, 1, 2}};
+        if (facpos) c.pos.push_back({3, 1});
+        rb_check(c, rng, 20, 150, 0.6f);
+    }
+    for (int op : {kOpSeparate, kOpCombine})
+        for (int mode = 1; mode <= 2; ++mode) {
+            RbCase c{std::string(op == kOpSeparate ? "separate" : "combine") +
+                         (mode == 1 ? " hsv" : " hsl"),
+                     op, mode, 0, 0, 0, 0, {0, 0, 0}, {{0, 0}, {1, 1}, {2, 2}},
+                     {0, op == kOpSeparate ? 2 : 1, 2}};
+            rb_check(c, rng, 20, 150, 0.6f);
+            if (op == kOpSeparate) {
+                // its saturation needs components >= 0 (HSV) or in [0, 1] (HSL): boxes there
+                // (and none elsewhere: unbounded)
+                c.name += " (boxes in [0, 1])";
+                c.outs[1] = 1;
+                c.clo = 0.15f, c.chi = 0.85f;
+                rb_check(c, rng, 20, 150, 0.1f);
+                c.clo = -2.0f, c.chi = -1.0f;
+                rb_check(c, rng, 5, 10, 0.5f, 0);
+            }
+        }
 }

@@ -276,20 +276,13 @@ bool program_bound(const SceneView& s, const MaterialProgram& p, int32_t med, Ve
             }
             break;
         }
-        case kOpMix: {
-            if (!(n.mode == 255 || n.mode == 0 || (n.flags & 4))) break;
-            for (int k = 0; k < 3; ++k) {
-                Reg f = (n.flags & 4) ? a[k] : a[0];
-                if (n.flags & 1) f = f.known ? clamp01(f) : make(0.0f, 1.0f);
-                t[k] = add(mul(a[3 + k], sub(point(1.0f), f)), mul(a[6 + k], f));
-                if (n.flags & 2) t[k] = t[k].known ? clamp01(t[k]) : make(0.0f, 1.0f);
-            }
-            break;
-        }
+        case kOpMix: mix_rule(n, a, t); break;
         case kOpSeparate:
-        case kOpCombine:
-            if (n.mode == 0)
-                for (int k = 0; k < 3; ++k) t[k] = a[k];
+        case kOpCombine: hsx_rule(n, a, t); break;
+        case kOpHsv: hsv_rule(n, a, t); break;
+        case kOpCurves:
+            curves_rule(n, a, t, s.program_consts + n.aux);
+            if (n.mode == 1) t[1] = o[1], t[2] = o[2];  // a float curve writes out[0] alone
             break;
         case kOpRgbToBw:
             if (a[0].known && a[1].known && a[2].known)

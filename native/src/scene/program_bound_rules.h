@@ -1,7 +1,8 @@
 // The interval arithmetic of scene/program_bound.cpp and its rule table's parts in other files
 // (host only, internal to the bound): Reg, one register's interval, and the rules of the
 // procedural textures (program_bound_noise.cpp: the Noise Texture, every type;
-// program_bound_tex.cpp: Voronoi, Magic, Brick, Vector Math, Mapping, Gamma, Bright/Contrast).
+// program_bound_tex.cpp: Voronoi, Magic, Brick, Vector Math, Mapping, Mix, Curves, HSV,
+// Separate / Combine).
 // A rule writes the intervals of its op's outputs (t[0..8)); an output it leaves unknown fails
 // the bound where it is read.
 #pragma once
@@ -82,6 +83,10 @@ void magic_rule(const NodeInstr& n, const Reg* a, Reg* t);
 void brick_rule(const NodeInstr& n, const Reg* a, Reg* t);
 void vector_math_rule(const NodeInstr& n, const Reg* a, Reg* t);
 void mapping_rule(const NodeInstr& n, const Reg* a, Reg* t);
+void mix_rule(const NodeInstr& n, const Reg* a, Reg* t);
+void curves_rule(const NodeInstr& n, const Reg* a, Reg* t, const float* table);
+void hsv_rule(const NodeInstr& n, const Reg* a, Reg* t);
+void hsx_rule(const NodeInstr& n, const Reg* a, Reg* t);  // Separate / Combine
 
 }  // namespace bound
 }  // namespace lantern

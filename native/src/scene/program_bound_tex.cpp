@@ -1,4 +1,5 @@
-// Interval rules of Voronoi, Magic, Brick, Vector Math and Mapping (scene/program_bound_rules.h),
+// Interval rules of Voronoi, Magic, Brick, Vector Math, Mapping, Mix's blend modes, Curves,
+// Hue/Saturation/Value and Separate / Combine HSV / HSL (scene/program_bound_rules.h),
 // each from its formula in material_program_tex.h / _math.h / _ops.h: every value the op gives
 // for inputs in its input intervals lies in the rule's output interval.
 #include <algorithm>
@@ -250,6 +251,149 @@ void mapping_rule(const NodeInstr& n, const Reg* a, Reg* t) {
         t[r] = make(float(lo - m), float(hi + m));
         if (t[r].known) t[r] = make(std::nextafter(t[r].lo, -kInfBound),
                                     std::nextafter(t[r].hi, kInfBound));
+    }
+}
+
+namespace {
+
+// One channel of node_blend(mode, f, a, b) over intervals (f the factor as the op passes it);
+// unknown for Divide and the HSV modes (hue, saturation, value, colour).
+Reg blend_channel(int mode, Reg f, Reg a, Reg b) {
+    const Reg one = point(1.0f), two = point(2.0f), tm = sub(one, f);
+    auto lerp = [&](Reg x, Reg y) { return add(mul(x, tm), mul(y, f)); };
+    switch (mode) {
+    case 1: return lerp(a, make(std::fmin(a.lo, b.lo), std::fmin(a.hi, b.hi)));  // darken
+    case 2: return mul(a, add(tm, mul(b, f)));                                   // multiply
+    case 3: return make(0.0f, 1.0f);                                             // burn
+    case 4: return lerp(a, make(std::fmax(a.lo, b.lo), std::fmax(a.hi, b.hi)));  // lighten
+    case 5: return sub(one, mul(add(tm, mul(sub(one, b), f)), sub(one, a)));     // screen
+    case 6: return a.known && a.lo >= 0.0f ? make(0.0f, 1.0f) : unknown();      // dodge
+    case 7: return add(a, mul(b, f));                                            // add
+    case 8: {  // overlay: each branch over the whole of a, where a can take it
+        Reg r{0.0f, 0.0f, false};
+        bool any = false;
+        if (a.lo < 0.5f) {
+            r = mul(a, add(tm, mul(mul(two, f), b)));
+            any = true;
+        }
+        if (a.hi >= 0.5f) {
+            const Reg q = sub(one, mul(add(tm, mul(mul(two, f), sub(one, b))), sub(one, a)));
+            r = any ? hull(r, q) : q;
+        }
+        return r;
+    }
+    case 9: return sub(a, mul(b, f));                                            // subtract
+    case 11: return a.known && b.known ? lerp(a, abs_of(sub(a, b))) : unknown();  // difference
+    case 12: {                                                                   // exclusion
+        const Reg e = lerp(a, sub(add(a, b), mul(mul(a, b), two)));
+        return e.known ? make(std::fmax(e.lo, 0.0f), std::fmax(e.hi, 0.0f)) : e;
+    }
+    case 13: {                                                                   // soft light
+        const Reg scr = sub(one, mul(sub(one, b), sub(one, a)));
+        return add(mul(a, tm), mul(add(mul(mul(sub(one, a), b), a), mul(a, scr)), f));
+    }
+    case 14: return add(a, mul(sub(mul(b, two), one), f));                       // linear light
+    default: return unknown();
+    }
+}
+
+// a piecewise linear curve's range over x: its ends' values and the knots between them
+Reg curve_range(const float* tab, int n, int ch, float lo, float hi, Reg x) {
+    if (!x.known || n < 2) return unknown();
+    const float range = hi - lo;
+    if (range == 0.0f) return point(tab[ch]);
+    const float f1 = (x.lo - lo) / range, f2 = (x.hi - lo) / range;
+    if (!(std::isfinite(f1) && std::isfinite(f2))) return unknown();
+    Reg r = make(curve_lookup(tab, n, ch, lo, hi, x.lo), curve_lookup(tab, n, ch, lo, hi, x.hi));
+    const float fa = std::min(f1, f2) - 1e-6f, fb = std::max(f1, f2) + 1e-6f;
+    for (int k = 0; k < n && r.known; ++k) {
+        const float fk = float(k) / float(n - 1);
+        if (fk >= fa && fk <= fb) r = hull(r, point(tab[4 * k + ch]));
+    }
+    return widen(r, 1e-5f, 1e-6f);
+}
+
+}  // namespace
+
+// kOpMix: a lerp per component (Mix mode, the float and vector mixes: as before), else
+// node_blend's formula per channel by interval arithmetic (blend_channel), the factor and the
+// result clamped as the op clamps them.
+void mix_rule(const NodeInstr& n, const Reg* a, Reg* t) {
+    const bool lerp = n.mode == 255 || n.mode == 0 || (n.flags & 4);
+    for (int k = 0; k < 3; ++k) {
+        Reg f = (n.flags & 4) ? a[k] : a[0];
+        if (n.flags & 1) f = f.known ? clamp01(f) : make(0.0f, 1.0f);
+        t[k] = lerp ? add(mul(a[3 + k], sub(point(1.0f), f)), mul(a[6 + k], f))
+                    : widen(blend_channel(n.mode, f, a[3 + k], a[6 + k]), 4e-6f, 1e-7f);
+        if (n.flags & 2) t[k] = t[k].known ? clamp01(t[k]) : make(0.0f, 1.0f);
+    }
+}
+
+// kOpCurves: in fac colour(3) (mode 1: fac value); the table's curve over each input's
+// interval (curve_range), mixed with the input by the factor. Mode 1 writes out[0] alone
+// (the caller keeps the other two registers' intervals).
+void curves_rule(const NodeInstr& n, const Reg* a, Reg* t, const float* tab) {
+    const int rows = n.aux2;
+    const float lo = tab[4 * rows], hi = tab[4 * rows + 1];
+    const Reg fac = a[0], tm = sub(point(1.0f), a[0]);
+    if (n.mode == 1) {
+        t[0] = widen(add(mul(a[1], tm), mul(curve_range(tab, rows, 0, lo, hi, a[1]), fac)), 2e-6f);
+        return;
+    }
+    for (int k = 0; k < 3; ++k)
+        t[k] = widen(add(mul(a[1 + k], tm), mul(curve_range(tab, rows, k, lo, hi, a[1 + k]), fac)),
+                     2e-6f);
+}
+
+// kOpHsv: in hue sat val fac colour(3). hsv_to_rgb of a saturation clamped to [0, 1] gives
+// components between v (1 - s) and v: within hull(0, v x val), v the colour's largest
+// component; mixed with the colour by the factor, then >= 0.
+void hsv_rule(const NodeInstr&, const Reg* a, Reg* t) {
+    for (int k = 0; k < 7; ++k)
+        if (!a[k].known) return;
+    const Reg cmax = make(std::max({a[4].lo, a[5].lo, a[6].lo}), std::max({a[4].hi, a[5].hi, a[6].hi}));
+    const Reg x = hull(point(0.0f), mul(cmax, a[2]));
+    for (int k = 0; k < 3; ++k) {
+        const Reg v = widen(add(mul(a[4 + k], sub(point(1.0f), a[3])), mul(x, a[3])), 4e-6f, 1e-7f);
+        if (v.known) t[k] = make(std::fmax(v.lo, 0.0f), std::fmax(v.hi, 0.0f));
+    }
+}
+
+// kOpSeparate / kOpCombine in HSV (mode 1) and HSL (mode 2); mode 0 is the identity.
+// Separate: hue in [0, 1]; HSV's value the largest component, its saturation in [0, 1] for
+// components >= 0; HSL's lightness min(1, (max + min) / 2), its saturation in [0, 1] for
+// components in [0, 1]. Combine: HSV's components between v and v (1 - s); HSL's l +- chroma / 2,
+// chroma (1 - |2 l - 1|) s.
+void hsx_rule(const NodeInstr& n, const Reg* a, Reg* t) {
+    if (n.mode == 0) {
+        for (int k = 0; k < 3; ++k) t[k] = a[k];
+        return;
+    }
+    if (n.mode != 1 && n.mode != 2) return;
+    for (int k = 0; k < 3; ++k)
+        if (!a[k].known) return;
+    const Reg one = point(1.0f);
+    if (n.op == kOpSeparate) {
+        const Reg cmax = make(std::max({a[0].lo, a[1].lo, a[2].lo}), std::max({a[0].hi, a[1].hi, a[2].hi}));
+        const Reg cmin = make(std::min({a[0].lo, a[1].lo, a[2].lo}), std::min({a[0].hi, a[1].hi, a[2].hi}));
+        t[0] = make(0.0f, 1.0f);
+        if (n.mode == 1) {
+            if (cmin.lo >= 0.0f) t[1] = make(0.0f, 1.0f);
+            t[2] = cmax;
+        } else {
+            if (cmin.lo >= 0.0f && cmax.hi <= 1.0f) t[1] = widen(make(0.0f, 1.0f), 1e-6f);
+            const Reg l = widen(mul(add(cmax, cmin), point(0.5f)), 1e-6f);
+            t[2] = make(std::fmin(l.lo, 1.0f), std::fmin(l.hi, 1.0f));
+        }
+        return;
+    }
+    if (n.mode == 1) {
+        const Reg x = widen(mul(a[2], hull(one, sub(one, a[1]))), 4e-6f, 1e-7f);
+        for (int k = 0; k < 3; ++k) t[k] = x;
+    } else {
+        const Reg chroma = mul(sub(one, abs_of(sub(mul(a[2], point(2.0f)), one))), a[1]);
+        const Reg x = widen(add(mul(make(-0.5f, 0.5f), chroma), a[2]), 4e-6f, 1e-7f);
+        for (int k = 0; k < 3; ++k) t[k] = x;
     }
 }
 
