@@ -6,8 +6,8 @@
 // input intervals, so the result's interval holds every value the program gives at a point of
 // the box: a true bound, which the majorant bricks of a density program need (the trackings
 // are exact only where the majorant bounds the extinction). An op without a rule (an Image
-// Texture, Curves, Hue/Saturation/Value, a Mix blend mode, ...: docs/volumes.md) makes the
-// result unbounded; the caller then falls back (and says so).
+// Texture, Fresnel, Mix's Divide, ...: docs/volumes.md) makes the result unbounded; the
+// caller then falls back (and says so).
 #pragma once
 
 #include <string>

@@ -52,6 +52,10 @@ constexpr float kSnoiseEval = 5e-5f;
 constexpr float kPerCell = 16.0f;
 constexpr int kLatticeBudget = 729;
 constexpr int kCornerCache = 256;
+// lattice points per Noise op per bound (its octaves and colours in order; those past it take
+// the global bound): a Volume object's program is bounded per brick (a 512^3 grid: 262,144
+// bricks), so one op's cost per box stays about that of issue 29's smoke (854 points)
+constexpr int kNoiseBudget = 1024;
 
 // The smallest and largest snoise over the lattice x[j][0..n_j] (j < D), |x| < 1e5 (snoise's
 // fmodf changes nothing there). By rows along axis 0: within one cell, for fixed other
@@ -151,7 +155,7 @@ void lattice_range(const float (*x)[kLatticeBudget], const int* n, float* vmin, 
 
 float snoise_sup(int dim) { return kSnoiseSup[std::min(std::max(dim, 1), 4) - 1]; }
 
-Reg snoise_range(int dim, const float* lo, const float* hi) {
+Reg snoise_range(int dim, const float* lo, const float* hi, int* budget) {
     const float S = snoise_sup(dim);
     const Reg global = make(-S, S);
     float l[4], h[4];
@@ -173,6 +177,12 @@ Reg snoise_range(int dim, const float* lo, const float* hi) {
             total = std::min(total, kLatticeBudget + 1);
         }
         if (total <= kLatticeBudget) break;
+    }
+    if (budget) {  // the noise op's share of lattice points in this bound
+        int total = 1;
+        for (int j = 0; j < dim; ++j) total *= n[j] + 1;
+        if (total > *budget) return global;
+        *budget -= total;
     }
     // the lattice's coordinates, the ends exact; the error from its largest float gap
     float x[4][kLatticeBudget];
@@ -203,7 +213,8 @@ namespace {
 // coordinates; box false: any point), parameters np: the octaves' intervals from
 // snoise_range at the octave's scale, combined as each type combines them (the same float
 // steps for the octaves' scales and powers). Unknown where a type has no rule here.
-Reg fractal_bound(int dim, bool box, const float* lo, const float* hi, const NoiseParams& np) {
+Reg fractal_bound(int dim, bool box, const float* lo, const float* hi, const NoiseParams& np,
+                  int* budget) {
     const float S = snoise_sup(dim);
     const int octaves = int(np.detail);
     const float rmd = np.detail - std::floor(np.detail);
@@ -217,7 +228,7 @@ Reg fractal_bound(int dim, bool box, const float* lo, const float* hi, const Noi
             a[j] = lo[j] * scales[i];
             b[j] = hi[j] * scales[i];
         }
-        return snoise_range(dim, a, b);
+        return snoise_range(dim, a, b, budget);
     };
     const float r = np.roughness, off = np.offset;
     Reg v = unknown();
@@ -376,7 +387,8 @@ void noise_rule(const NodeInstr& n, const Reg* a, Reg* t) {
         lo[j] = c.lo - d;
         hi[j] = c.hi + d;
     }
-    t[0] = fractal_bound(dim, box, lo, hi, np);
+    int budget = kNoiseBudget;  // the value's octaves first, then the colour's
+    t[0] = fractal_bound(dim, box, lo, hi, np, &budget);
     for (int k = 1; k < 4; ++k) t[k] = point(0.0f);
     if (n.flags & 2) return;
     // green and blue: seeds dim and dim + 1 (1D: 1 and 2), offsets 100 + 100 h
@@ -389,7 +401,7 @@ void noise_rule(const NodeInstr& n, const Reg* a, Reg* t) {
             ol[j] = lo[j] + o;
             oh[j] = hi[j] + o;
         }
-        t[c + 1] = fractal_bound(dim, box, ol, oh, np);
+        t[c + 1] = fractal_bound(dim, box, ol, oh, np, &budget);
     }
     t[1] = t[0];
 }

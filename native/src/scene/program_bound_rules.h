@@ -73,8 +73,10 @@ inline Reg widen(Reg a, float rel, float abs_margin = 0.0f) {
 float snoise_sup(int dim);
 // The interval of snoise(., dim) over the box [lo, hi] of noise space (dim coordinates): the
 // values on a lattice of the box widened by a proven bound of the interpolation's error, or
-// [-snoise_sup, snoise_sup] where the box is too large for the lattice (program_bound_noise.cpp).
-Reg snoise_range(int dim, const float* lo, const float* hi);
+// [-snoise_sup, snoise_sup] where the box is too large for the lattice or the lattice would
+// take more than *budget points (budget: the points left, decreased by those used; null: no
+// limit) (program_bound_noise.cpp).
+Reg snoise_range(int dim, const float* lo, const float* hi, int* budget = nullptr);
 
 // The rules (t: the op's outputs; a: its inputs; both by register, as NodeOp lays them out).
 void noise_rule(const NodeInstr& n, const Reg* a, Reg* t);
