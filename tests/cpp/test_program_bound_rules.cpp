@@ -316,14 +316,20 @@ TEST(ProgramBoundRules, VectorMathMappingMathInsideRandomBoxes) {
     std::mt19937 rng(13);
     rb_control_boxes = rb_control_exceeded = 0;
     // in: a(3) b(3) c(3) scale
-    for (int mode : {0, 1, 2, 3, 4, 5, 9, 10, 11, 12, 13, 14, 16, 17, 20, 21, 22, 23, 24, 25, 28})
+    for (int mode : {0, 1, 2, 3, 4, 5, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20, 21, 22, 23,
+                     24, 25, 26, 27, 28, 29})
         for (int bpos = 0; bpos < 2; ++bpos) {
             RbCase c{"vector math " + std::to_string(mode) + (bpos ? " b(p)" : ""), kOpVectorMath,
                      mode, 0, 0, 0, 0, {0, 0, 0, 0.7f, -1.3f, 2.1f, 0.4f, 0.2f, -0.9f, -1.7f},
                      {{0, 0}, {1, 1}, {2, 2}}, {0, 1, 3}};
             if (bpos) c.pos.insert(c.pos.end(), {{3, 2}, {4, 0}, {5, 1}});
-            // divide by a b that reaches 0: no bound there
-            rb_check(c, rng, 15, 150, 0.6f, mode == 3 && bpos ? 2 : 1);
+            // divide by a b that reaches 0, snap to a varying increment, a tangent across a
+            // pole, a power of a base that reaches below 0: no bound there
+            // (snap and power need b constant: none where it is the position)
+            const bool some = (mode == 3 && bpos) || mode == 26;
+            const bool none = (mode == 15 || mode == 27) && bpos;
+            if (mode == 27) c.clo = 1.5f;  // power: a base > 0 (the position), b constant
+            rb_check(c, rng, 15, 150, 0.6f, none ? 0 : some ? 2 : 1);
         }
     for (int mode = 0; mode <= 3; ++mode) {
         RbCase c{"mapping " + std::to_string(mode), kOpMapping, mode, 0, 0, 0, 0,
@@ -360,7 +366,7 @@ TEST(ProgramBoundRules, VectorMathMappingMathInsideRandomBoxes) {
                  {26, 0, 2.0f, true, 1},   {27, 0.3f, 0, false, 1}, {27, -0.45f, 0, false, 1},
                  {28, 0.6f, 0, false, 1},  {28, 0, 0, true, 1},     {32, 0, 0, false, 1},
                  {33, 0, 0, false, 1},     {35, 0, 0, true, 1},     {36, 0, 0, false, 1},
-                 {37, 0, 0, false, 1}};
+                 {37, 0, 0, false, 1},     {31, 0, 0, false, 2}};
     for (const M& mm : maths) {
         RbCase c{"math " + std::to_string(mm.mode) + (mm.bpos ? " b(p)" : ""), kOpMath, mm.mode, 0,
                  0, 0, 0, {0, mm.b, mm.c}, {{0, 0}}, {0, 0, 0}};

@@ -90,6 +90,14 @@ Reg math_bound(int op, Reg a, Reg b, Reg c) {
         if (b.lo == 0.0f) return point(0.0f);
         return monotone(a, [&](float x) { return floorf(safe_div(x, b.lo)) * b.lo; });
     case 29: case 30: return make(-1.0f, 1.0f);
+    case 31: {  // tangent: increasing between two poles, the interval kept off them
+        if (!a.known) return unknown();
+        const double h = 0.5 * double(kPi), k = std::floor((double(a.lo) + h) / double(kPi));
+        const double m = 1e-5 * (1.0 + std::max(std::fabs(a.lo), std::fabs(a.hi)));
+        if (!(double(a.lo) + h > k * kPi + m && double(a.hi) + h < (k + 1.0) * kPi - m))
+            return unknown();
+        return widen(make(tanf(a.lo), tanf(a.hi)), 1e-5f);
+    }
     case 32: return monotone(a, [](float x) { return asinf(clampf(x, -1.0f, 1.0f)); });
     case 33: return make(acosf(clampf(a.hi, -1.0f, 1.0f)), acosf(clampf(a.lo, -1.0f, 1.0f)));
     case 34: return monotone(a, [](float x) { return atanf(x); });
@@ -316,7 +324,23 @@ bool program_bound(const SceneView& s, const MaterialProgram& p, int32_t med, Ve
         case kOpVoronoi: voronoi_rule(n, a, t); break;
         case kOpMagic: magic_rule(n, a, t); break;
         case kOpBrick: brick_rule(n, a, t); break;
-        case kOpVectorMath: vector_math_rule(n, a, t); break;
+        case kOpVectorMath: {
+            vector_math_rule(n, a, t);
+            // per component as the Math node's snap, modulo, wrap, tangent, power, floored
+            // modulo (node_vector_math computes them so)
+            const int math_op = n.mode == 15   ? 27
+                                : n.mode == 18 ? 24
+                                : n.mode == 19 ? 26
+                                : n.mode == 26 ? 31
+                                : n.mode == 27 ? 5
+                                : n.mode == 29 ? 25
+                                               : -1;
+            if (math_op >= 0 && !(n.flags & kInstrConstant)) {
+                for (int k = 0; k < 3; ++k) t[k] = math_bound(math_op, a[k], a[3 + k], a[6 + k]);
+                t[3] = point(0.0f);
+            }
+            break;
+        }
         case kOpMapping: mapping_rule(n, a, t); break;
         case kOpNormalize:  // a unit vector or 0 (of a finite vector)
             if (a[0].known && a[1].known && a[2].known)
