@@ -115,7 +115,7 @@ class ViewportSync:
             self._strands = StrandExporter(bscene, self._materials, report, final=False)
             self._placed, self._strand_cache = {}, {}
             self.scene = None
-            self._volumes = VolumeObjects(report, lantern)
+            self._volumes = VolumeObjects(report, lantern, self._materials.attributes)
             self._vol_cache, self._vol_slots = {}, {}
         self._materials.report = self._meshes.report = self._volumes.report = report
         self._holdouts.report = self._strands.report = report

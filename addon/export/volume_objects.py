@@ -31,8 +31,8 @@ class _GridProbe:
     Attribute node names a grid (the coefficients are then per unit of it); any other graph
     returns None (convert_volume then warns by name and uses the socket's value)."""
 
-    def __init__(self, where, report, material=None):
-        self.grid = None
+    def __init__(self, where, report, material=None, attributes=None):
+        self.grid, self.attributes = None, attributes  # the scene's table (Generated, Object)
         self.flame = None     # (grid name, rgb radiance per metre per unit of it)
         self.where, self.report, self.material = where, report, material
         self.grids = None     # a graph's grids (_GridTable), with its "density" program
@@ -51,7 +51,7 @@ class _GridProbe:
             return None
         # any other graph: a program reading the object's grids (kOpGrid), times Principled
         # Volume's Density Attribute grid where the shader has one (Cycles multiplies by it)
-        comp = _GridCompiler(self.material, self.report, self.table)
+        comp = _GridCompiler(self.material, self.report, self.table, self.attributes)
         shader = socket.node
         attr = shader.inputs.get("Density Attribute") \
             if shader.type == "PRINCIPLED_VOLUME" else None
@@ -121,8 +121,8 @@ class _GridTable:
 
 
 class _NoChannels:
-    """A Volume object has no mesh attributes (Generated, Object coordinates, colour
-    attributes): a graph reading them is not rendered (warned by GraphCompiler.program)."""
+    """A Volume object has no mesh attributes (colour and generic attributes) and no image
+    textures: a graph reading them is not rendered (warned by GraphCompiler.program)."""
 
     def channel(self, name):
         from .material_compile import Unsupported
@@ -133,11 +133,34 @@ class _NoChannels:
         raise Unsupported("textures are not read inside a Volume object yet")
 
 
-def _GridCompiler(material, report, table):
+class _VolumeChannels(_NoChannels):
+    """Generated and Object coordinates: channels of the scene's attribute table, given per
+    vertex of the object's box (_texture_space; the core fits the medium's affine maps)."""
+
+    def __init__(self, attributes):
+        self._attributes = attributes
+
+    def channel(self, name):
+        if name in ("generated", "object") and self._attributes is not None:
+            return self._attributes.channel(name)
+        return _NoChannels.channel(self, name)
+
+
+def _GridCompiler(material, report, table, attributes=None):
     from .material_compile import GraphCompiler
-    comp = GraphCompiler(material, report, _NoChannels(), _NoChannels())
+    comp = GraphCompiler(material, report, _NoChannels(), _VolumeChannels(attributes))
     comp.grids = table
     return comp
+
+
+def _texture_space(matrix_world, positions):
+    """{"generated", "object"} per vertex of the box (world positions): on a Volume object
+    Cycles (bpy 5.0.1) gives both as the object-space position (measured: Generated normalised
+    to the Volume's bounds, as sync_volume_object's generated transform reads, differed by
+    z 180; tests/cycles/test_volumes_vdb_texcoord.py)."""
+    p = np.c_[np.asarray(positions, np.float64), np.ones(len(positions))]
+    local = (p @ np.linalg.inv(np.array(matrix_world, np.float64)).T)[:, :3].astype(np.float32)
+    return {"generated": local, "object": local.copy()}
 
 
 def _strength_program(self, node, sock, weight, color_name):
@@ -152,7 +175,7 @@ def _strength_program(self, node, sock, weight, color_name):
         self.report.warn(f"{self.where}: a second emission graph on '{node.name}' is not "
                          "rendered (one emission grid or graph per volume)")
         return True
-    comp = _GridCompiler(self.material, self.report, self.table)
+    comp = _GridCompiler(self.material, self.report, self.table, self.attributes)
     prog = comp.program(sock, "volume_emission", 1)
     if prog is None:
         return False
@@ -189,9 +212,10 @@ class VolumeObjects:
     them per instance, export/sync.py). Grids are read once per (file, grid) per instance of
     this class."""
 
-    def __init__(self, report, lantern):
+    def __init__(self, report, lantern, attributes=None):
         self.report = report
         self.lantern = lantern
+        self.attributes = attributes  # the scene's attribute table: Generated, Object
         self._read = {}
 
     def _medium(self, obj):
@@ -204,7 +228,7 @@ class VolumeObjects:
         output = _output(tree, "OUTPUT_MATERIAL") if tree is not None else None
         if output is None or output.inputs.get("Volume") is None:
             return None
-        probe, programs = _GridProbe(where, self.report, mat), []
+        probe, programs = _GridProbe(where, self.report, mat, self.attributes), []
         medium = convert_volume(output.inputs["Volume"], where, self.report, probe, programs)
         if medium is None and probe.flame is None:
             return None
@@ -352,7 +376,10 @@ class VolumeObjects:
             m["programs"] = [{k: v for k, v in p.items() if k != "grid_names"}
                              for p in program["programs"]]
             m["grid_names"] = list(program["grid_names"])
-        return g, {"name": obj.name, "positions": positions, "indices": indices}, m
+        mesh = {"name": obj.name, "positions": positions, "indices": indices}
+        if self.attributes is not None and self.attributes.names:
+            mesh["_attributes"] = _texture_space(inst.matrix_world, positions)
+        return g, mesh, m
 
 
 def add_grids(scene, mat, grid):

@@ -112,3 +112,35 @@ def test_fire_grids_follow_viewport_edits(addon, stage, tmp_path):
     a, b = _volume(state.sync.scene)[0], _volume(_fresh(stage, ctx, stage.lantern))[0]
     assert a["volume"] == b["volume"] and a["volume"]["temperature"] == pytest.approx(2500.0)
     state.free()
+
+
+def test_volume_texture_coordinates_follow_the_viewport(addon, stage, tmp_path):
+    """Object coordinates in a Volume object's density graph (volrules): the synced box carries
+    the channel a fresh export gives it, the object-space position of each vertex (the world
+    positions as control: they differ, the object is moved)."""
+    obj, principled = _smoke(stage, tmp_path)
+    nt = principled.id_data
+    tc = nt.nodes.new("ShaderNodeTexCoord")
+    sep = nt.nodes.new("ShaderNodeSeparateXYZ")
+    add = nt.nodes.new("ShaderNodeMath")
+    add.operation = "ADD"
+    add.inputs[1].default_value = 1.0
+    nt.links.new(tc.outputs["Object"], sep.inputs["Vector"])
+    nt.links.new(sep.outputs["X"], add.inputs[0])
+    nt.links.new(add.outputs[0], principled.inputs["Density"])
+    bpy.context.view_layer.update()
+    engine, ctx = _start(addon, stage)
+    state = engine._lantern
+    _refined(engine, addon, ctx)
+    fresh = _fresh(stage, ctx, stage.lantern)
+    synced = state.sync.scene
+    a = next(m for m in synced.meshes if m["name"] == "Smoke")
+    b = next(m for m in fresh.meshes if m["name"] == "Smoke")
+    k = 3 * fresh.attribute_channels.index("object")
+    np.testing.assert_allclose(a["attributes"], b["attributes"], atol=1e-6)
+    world = np.asarray(b["positions"], np.float64)
+    m = np.array(obj.matrix_world, np.float64)
+    local = (np.c_[world, np.ones(len(world))] @ np.linalg.inv(m).T)[:, :3]
+    np.testing.assert_allclose(b["attributes"][:, k:k + 3], local, atol=1e-5)
+    assert not np.allclose(b["attributes"][:, k:k + 3], world, atol=1e-3)
+    state.free()

@@ -55,7 +55,8 @@ enum class Prog { kMapTimesFlame, kTwiceDensity, kNoise, kOverflow };
 // transform of its own); the material's density a program of them.
 //   kMapTimesFlame: Map Range (0..4 -> 0.5..3, clamped) of the density x the flame's Fac;
 //   kTwiceDensity:  2 x the density (Math Multiply), scale the factor;
-//   kNoise:         the density x a Noise texture's Fac (no interval rule: unbounded);
+//   kNoise:         the density x a Noise texture's Fac (Multifractal of a Detail that
+//                   varies: no interval rule, unbounded);
 //   kOverflow:      exp(exp(100 x the density)) (infinite where the density is > 0.06).
 SceneInput grid_program_scene(const float* m16, Prog prog, float scale = 2.0f) {
     SceneInput in;
@@ -123,7 +124,8 @@ SceneInput grid_program_scene(const float* m16, Prog prog, float scale = 2.0f) {
         instr(code, kOpCopy, 0, 0, 3, 8, 43);
         instr(code, kOpCopy, 0, 0, 3, 11, 46);
         instr(code, kOpCopy, 0, 0, 2, 14, 49);
-        instr(code, kOpNoise, 0, 1, 3, 40, 52);        // fBm, normalised, 3D: fac at 52
+        instr(code, kOpCopy, 0, 0, 1, 40, 45);         // detail = x: not constant
+        instr(code, kOpNoise, 0, 1, 3, 40, 52);        // multifractal, 3D: fac at 52
         instr(code, kOpGrid, 0, 0, 0, 0, 16, 0);
         instr(code, kOpCopy, 0, 0, 1, 19, 31);
         instr(code, kOpCopy, 0, 0, 1, 52, 32);

@@ -7,7 +7,8 @@
 // negative null weights stay unbiased but their standard errors grow 10-20x; with no base the
 // lattice reads 0, the old majorant is 0 and the slab vanished (transmittance 1: biased, the
 // test's negative control). A program through a Noise node of a type without a rule keeps the
-// lattice and warns by name (mode 0 of kOpNoise: Multifractal).
+// lattice and warns by name (mode 0 of kOpNoise, Multifractal, whose rule needs a constant
+// Detail: here the position's x).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -47,7 +48,7 @@ int slab_math(std::vector<uint32_t>& code, int mode, int a, int b, int at) {
 }
 
 // A unit cube of volume-only material whose density is the slab along x; with `noise`, the
-// slab's base is a Noise texture's Fac x 0.2 (an op without an interval rule).
+// slab's base is a Noise texture's Fac x 0.2 (Multifractal of a Detail that varies: no rule).
 SceneInput slab_scene(bool noise, float base_density = kSlabBase) {
     SceneInput in;
     std::vector<float> c = {kSlabC, kSlabW, 1.0f, 0.0f, kSlabPeak, base_density, 0.0f, 0.0f};
@@ -67,6 +68,7 @@ SceneInput slab_scene(bool noise, float base_density = kSlabBase) {
         slab_instr(code, kOpCopy, 0, 3, 8, 73);
         slab_instr(code, kOpCopy, 0, 3, 11, 76);
         slab_instr(code, kOpCopy, 0, 2, 14, 79);
+        slab_instr(code, kOpCopy, 0, 1, 16, 75);  // detail = x: not constant
         code.insert(code.end(), {uint32_t(kOpNoise | (0 << 8) | (1 << 16) | (3 << 24)),
                                  uint32_t(70 | (82 << 16)), 0u, 0u});  // fBm, normalised: 82
         base = slab_math(code, 2, 82, 5, 90);

@@ -3,10 +3,11 @@
 // give for inputs inside its input intervals (monotone ops at the interval's ends, products
 // at the four corners, tables over the rows the input reaches); an op without a rule, or a
 // register read before it is written, makes the bound fail. Procedural textures: Gradient,
-// Wave, White Noise, Checker and the Noise Texture's fBm have rules from their formulas
-// (material_program_tex.h, material_program_noise.h); Voronoi, Magic, Brick and the other
-// Noise types none yet.
+// Wave, White Noise, Checker, Noise (every type), Voronoi, Magic and Brick have rules from
+// their formulas (material_program_tex.h, material_program_noise.h; the textures' rules in
+// program_bound_noise.cpp and program_bound_tex.cpp, scene/program_bound_rules.h).
 #include "scene/program_bound.h"
+#include "scene/program_bound_rules.h"
 
 #include <algorithm>
 #include <cmath>
@@ -16,37 +17,7 @@ namespace lantern {
 
 namespace {
 
-constexpr float kInfBound = std::numeric_limits<float>::infinity();
-
-struct Reg {
-    float lo, hi;
-    bool known;
-};
-
-Reg point(float v) { return Reg{v, v, true}; }
-Reg unknown() { return Reg{-kInfBound, kInfBound, false}; }
-Reg make(float a, float b) {
-    if (!(std::isfinite(a) && std::isfinite(b))) return unknown();
-    return Reg{std::min(a, b), std::max(a, b), true};
-}
-Reg add(Reg a, Reg b) { return make(a.lo + b.lo, a.hi + b.hi); }
-Reg sub(Reg a, Reg b) { return make(a.lo - b.hi, a.hi - b.lo); }
-Reg mul(Reg a, Reg b) {
-    const float c[4] = {a.lo * b.lo, a.lo * b.hi, a.hi * b.lo, a.hi * b.hi};
-    for (float v : c)
-        if (!std::isfinite(v)) return unknown();
-    return Reg{*std::min_element(c, c + 4), *std::max_element(c, c + 4), true};
-}
-// a function non-decreasing in its argument
-template <class F>
-Reg monotone(Reg a, F f) {
-    return make(f(a.lo), f(a.hi));
-}
-Reg clamp01(Reg a) {
-    return Reg{std::fmin(std::fmax(a.lo, 0.0f), 1.0f), std::fmin(std::fmax(a.hi, 0.0f), 1.0f),
-               true};
-}
-bool constant(Reg a) { return a.known && a.lo == a.hi; }
+using namespace bound;
 
 // Math node operation `op` (node_math) over intervals; unknown where no rule is written.
 Reg math_bound(int op, Reg a, Reg b, Reg c) {
@@ -66,7 +37,16 @@ Reg math_bound(int op, Reg a, Reg b, Reg c) {
         if (a.lo > 0.0f)  // decreasing in the base
             return make(powf(a.hi, b.lo), powf(a.lo, b.lo));
         return unknown();
+    case 6:  // safe_log: log a / log b for a, b > 0 (b constant), else 0
+        if (!a.known || !constant(b)) return unknown();
+        if (a.hi <= 0.0f || !(b.lo > 0.0f) || b.lo == 1.0f) return point(0.0f);
+        if (a.lo > 0.0f) return monotone(a, [&](float x) { return safe_log(x, b.lo); });
+        return unknown();  // a reaches 0: log is unbounded there
     case 7: return monotone(a, [](float x) { return x > 0.0f ? sqrtf(x) : 0.0f; });
+    case 8:  // 1 / sqrt a for a > 0, else 0
+        if (a.known && a.hi <= 0.0f) return point(0.0f);
+        if (a.lo > 0.0f) return make(1.0f / sqrtf(a.hi), 1.0f / sqrtf(a.lo));
+        return unknown();
     case 9:
         if (a.lo >= 0.0f) return a;
         if (a.hi <= 0.0f) return make(-a.hi, -a.lo);
@@ -76,12 +56,58 @@ Reg math_bound(int op, Reg a, Reg b, Reg c) {
     case 12: return make(std::fmax(a.lo, b.lo), std::fmax(a.hi, b.hi));
     case 13: case 14: case 16: return make(0.0f, 1.0f);
     case 15: return monotone(a, [](float x) { return x > 0.0f ? 1.0f : x < 0.0f ? -1.0f : 0.0f; });
+    case 17: case 18: {  // smooth min (max): min (max) less (plus) h^3 c / 6, h in [0, 1]
+        if (!constant(c)) return unknown();
+        const float d = c.lo > 0.0f ? c.lo / 6.0f : 0.0f;
+        if (op == 17) return widen(make(std::fmin(a.lo, b.lo) - d, std::fmin(a.hi, b.hi)), 1e-6f);
+        return widen(make(std::fmax(a.lo, b.lo), std::fmax(a.hi, b.hi) + d), 1e-6f);
+    }
     case 19: return monotone(a, [](float x) { return floorf(x + 0.5f); });
     case 20: return monotone(a, [](float x) { return floorf(x); });
     case 21: return monotone(a, [](float x) { return ceilf(x); });
+    case 22: return monotone(a, [](float x) { return truncf(x); });
     case 23: return make(0.0f, 1.0f);
+    case 24: {  // fmodf: |result| <= |a| and < |b|, the sign of a (0 where b is 0)
+        if (!a.known || !b.known) return unknown();
+        const float m = std::max(std::fabs(b.lo), std::fabs(b.hi));
+        return make(a.lo < 0.0f ? std::max(a.lo, -m) : 0.0f, a.hi > 0.0f ? std::min(a.hi, m) : 0.0f);
+    }
+    case 25: case 28: {  // floored modulo within [0, b) or (b, 0]; ping-pong within [0, |b|]
+        if (!a.known || !b.known) return unknown();
+        const Reg r = op == 28 ? make(0.0f, std::max(std::fabs(b.lo), std::fabs(b.hi)))
+                               : make(std::fmin(b.lo, 0.0f), std::fmax(b.hi, 0.0f));
+        const float m = std::max(std::fabs(a.lo), std::fabs(a.hi)) + r.hi - r.lo;
+        return widen(r, 0.0f, 1e-6f * m);  // a - floor(a / b) b rounds by ulps of a
+    }
+    case 26: {  // wrap(a, max b, min c): within [c, b) (or (b, c]); c where b = c
+        if (!a.known || !b.known || !c.known) return unknown();
+        const float m = std::max(std::fabs(a.lo), std::fabs(a.hi)) +
+                        std::max({std::fabs(b.lo), std::fabs(b.hi), std::fabs(c.lo), std::fabs(c.hi)});
+        return widen(hull(b, c), 0.0f, 4e-6f * m);
+    }
+    case 27:  // snap: floor(a / b) b, non-decreasing in a for a constant b of either sign
+        if (!constant(b)) return unknown();
+        if (b.lo == 0.0f) return point(0.0f);
+        return monotone(a, [&](float x) { return floorf(safe_div(x, b.lo)) * b.lo; });
     case 29: case 30: return make(-1.0f, 1.0f);
+    case 31: {  // tangent: increasing between two poles, the interval kept off them
+        if (!a.known) return unknown();
+        const double h = 0.5 * double(kPi), k = std::floor((double(a.lo) + h) / double(kPi));
+        const double m = 1e-5 * (1.0 + std::max(std::fabs(a.lo), std::fabs(a.hi)));
+        if (!(double(a.lo) + h > k * kPi + m && double(a.hi) + h < (k + 1.0) * kPi - m))
+            return unknown();
+        return widen(make(tanf(a.lo), tanf(a.hi)), 1e-5f);
+    }
+    case 32: return monotone(a, [](float x) { return asinf(clampf(x, -1.0f, 1.0f)); });
+    case 33: return make(acosf(clampf(a.hi, -1.0f, 1.0f)), acosf(clampf(a.lo, -1.0f, 1.0f)));
     case 34: return monotone(a, [](float x) { return atanf(x); });
+    case 35: return a.known && b.known ? make(-kPi * 1.000001f, kPi * 1.000001f) : unknown();
+    case 36: return monotone(a, [](float x) { return sinhf(x); });
+    case 37: {
+        if (!a.known) return unknown();
+        const Reg m = abs_of(a);
+        return make(coshf(m.lo), coshf(m.hi));
+    }
     case 38: return monotone(a, [](float x) { return tanhf(x); });
     case 39: return mul(a, point(kPi / 180.0f));
     case 40: return mul(a, point(180.0f / kPi));
@@ -99,31 +125,6 @@ void affine_range(const Transform& t, Vec3 lo, Vec3 hi, Reg out[3]) {
                         std::fabs(t.m[r][2]) * h.z;
         out[r] = make(mc[r] - e, mc[r] + e);
     }
-}
-
-// The Noise Texture's fBm (material_program_noise.h) over any point: snoise is Perlin's noise
-// (nested lerps by quintic fades in [0, 1] of gradient dot products, each at most 8 |x| (1D),
-// |u| + 2 |v| (2D), |u| + |v| (3D), |u| + |v| + |s| (4D) with offsets in [-1, 1]) times
-// Blender's scale per dimension (0.25, 0.6616, 0.9820, 0.8344), 0 where not finite: |snoise|
-// <= S below (a proven bound, not the noise's true range, which is about 1). fBm sums octaves
-// of amplitude roughness^i (roughness clamped >= 0 by kOpNoise): normalised, sum / maxamp
-// lies in [-S, S] and the Fac in 0.5 +- 0.5 S (Cycles and Lantern do not clamp it); not
-// normalised, |sum| <= S x the amplitudes' sum over detail + 1 octaves (detail <= 15). The
-// other fractal types have no rule.
-Reg noise_fbm_bound(const NodeInstr& n, const Reg* a) {
-    if (n.mode != 3 || n.dim < 1 || n.dim > 4) return unknown();
-    const float kGradScale[4] = {0.25f * 8.0f, 0.6616f * 3.0f, 0.9820f * 2.0f, 0.8344f * 3.0f};
-    const float S = kGradScale[n.dim - 1] * 1.001f;  // lerps' float rounding
-    if (n.flags & 1) return make(0.5f - 0.5f * S, 0.5f + 0.5f * S);
-    if (!a[5].known || !a[6].known) return unknown();
-    const int octaves = int(std::fmin(std::fmax(a[5].hi, 0.0f), 15.0f));
-    const float r = std::fmax(a[6].hi, 0.0f);
-    float amp = 1.0f, sum = 0.0f;
-    for (int i = 0; i <= octaves + 1; ++i) {  // + 1: the fractional detail's octave
-        sum += amp;
-        amp *= r;
-    }
-    return make(-S * sum * 1.001f, S * sum * 1.001f);
 }
 
 // Registers op n writes (material_program.cpp op_span's output widths).
@@ -200,7 +201,7 @@ bool program_bound(const SceneView& s, const MaterialProgram& p, int32_t med, Ve
         const NodeInstr& n = s.program_code[p.first_instr + i];
         const Reg* a = r + n.in;
         Reg* o = r + n.out;
-        Reg t[4];
+        Reg t[8];
         for (Reg& x : t) x = unknown();
         switch (n.op) {
         case kOpCopy:
@@ -283,20 +284,13 @@ bool program_bound(const SceneView& s, const MaterialProgram& p, int32_t med, Ve
             }
             break;
         }
-        case kOpMix: {
-            if (!(n.mode == 255 || n.mode == 0 || (n.flags & 4))) break;
-            for (int k = 0; k < 3; ++k) {
-                Reg f = (n.flags & 4) ? a[k] : a[0];
-                if (n.flags & 1) f = f.known ? clamp01(f) : make(0.0f, 1.0f);
-                t[k] = add(mul(a[3 + k], sub(point(1.0f), f)), mul(a[6 + k], f));
-                if (n.flags & 2) t[k] = t[k].known ? clamp01(t[k]) : make(0.0f, 1.0f);
-            }
-            break;
-        }
+        case kOpMix: mix_rule(n, a, t); break;
         case kOpSeparate:
-        case kOpCombine:
-            if (n.mode == 0)
-                for (int k = 0; k < 3; ++k) t[k] = a[k];
+        case kOpCombine: hsx_rule(n, a, t); break;
+        case kOpHsv: hsv_rule(n, a, t); break;
+        case kOpCurves:
+            curves_rule(n, a, t, s.program_consts + n.aux);
+            if (n.mode == 1) t[1] = o[1], t[2] = o[2];  // a float curve writes out[0] alone
             break;
         case kOpRgbToBw:
             if (a[0].known && a[1].known && a[2].known)
@@ -326,10 +320,58 @@ bool program_bound(const SceneView& s, const MaterialProgram& p, int32_t med, Ve
                                 std::fmax(a[3 + k].hi, a[6 + k].hi));
             t[3] = make(0.0f, 1.0f);
             break;
-        case kOpNoise: {
-            const Reg f = noise_fbm_bound(n, a);
-            t[0] = f;
-            for (int k = 1; k < 4; ++k) t[k] = (n.flags & 2) ? point(0.0f) : f;
+        case kOpNoise: noise_rule(n, a, t); break;
+        case kOpVoronoi: voronoi_rule(n, a, t); break;
+        case kOpMagic: magic_rule(n, a, t); break;
+        case kOpBrick: brick_rule(n, a, t); break;
+        case kOpVectorMath: {
+            vector_math_rule(n, a, t);
+            // per component as the Math node's snap, modulo, wrap, tangent, power, floored
+            // modulo (node_vector_math computes them so)
+            const int math_op = n.mode == 15   ? 27
+                                : n.mode == 18 ? 24
+                                : n.mode == 19 ? 26
+                                : n.mode == 26 ? 31
+                                : n.mode == 27 ? 5
+                                : n.mode == 29 ? 25
+                                               : -1;
+            if (math_op >= 0 && !(n.flags & kInstrConstant)) {
+                for (int k = 0; k < 3; ++k) t[k] = math_bound(math_op, a[k], a[3 + k], a[6 + k]);
+                t[3] = point(0.0f);
+            }
+            break;
+        }
+        case kOpMapping: mapping_rule(n, a, t); break;
+        case kOpNormalize:  // a unit vector or 0 (of a finite vector)
+            if (a[0].known && a[1].known && a[2].known)
+                for (int k = 0; k < 3; ++k) t[k] = make(-1.0000011f, 1.0000011f);
+            break;
+        case kOpGamma:  // a > 0: a^gamma (gamma constant); else a unchanged
+            if (!constant(a[3])) break;
+            for (int k = 0; k < 3; ++k) {
+                const Reg x = a[k];
+                const float g = a[3].lo;
+                if (!x.known) continue;
+                Reg v{0.0f, 0.0f, false};
+                if (x.lo <= 0.0f) v = make(x.lo, std::fmin(x.hi, 0.0f));
+                if (x.hi > 0.0f) {
+                    const float l = std::fmax(x.lo, 0.0f);
+                    Reg q = g == 0.0f ? point(1.0f)
+                            : g > 0.0f ? make(powf(l, g), powf(x.hi, g))
+                            : l > 0.0f ? make(powf(x.hi, g), powf(l, g))
+                                       : unknown();
+                    q = widen(q, 1e-6f);
+                    v = v.known ? hull(v, q) : q;
+                }
+                t[k] = v;
+            }
+            break;
+        case kOpBrightContrast: {  // max((1 + contrast) a + bright - contrast / 2, 0)
+            const Reg ca = add(point(1.0f), a[4]), cb = sub(a[3], mul(a[4], point(0.5f)));
+            for (int k = 0; k < 3; ++k) {
+                const Reg v = widen(add(mul(ca, a[k]), cb), 1e-6f);
+                if (v.known) t[k] = make(std::fmax(v.lo, 0.0f), std::fmax(v.hi, 0.0f));
+            }
             break;
         }
         default: break;  // no rule: its outputs are unknown
@@ -337,7 +379,7 @@ bool program_bound(const SceneView& s, const MaterialProgram& p, int32_t med, Ve
         // the op's outputs (unknown ones too: a later read then fails the bound)
         const int width = out_width(n);
         for (int k = 0; k < width && int(n.out) + k < kProgramRegs; ++k)
-            o[k] = k < 4 ? t[k] : unknown();
+            o[k] = k < 8 ? t[k] : unknown();
     }
     if (p.result < 0 || p.result + 3 > kProgramRegs) {
         for (int c = 0; c < 3; ++c) out[c] = Interval{0.0f, 0.0f};

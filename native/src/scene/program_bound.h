@@ -5,9 +5,9 @@
 // with a rule gives an interval that holds every value the op can give for inputs in its
 // input intervals, so the result's interval holds every value the program gives at a point of
 // the box: a true bound, which the majorant bricks of a density program need (the trackings
-// are exact only where the majorant bounds the extinction). An op without a rule (a texture,
-// Voronoi, Magic, vector math, ...) makes the result unbounded; the caller then falls back
-// (and says so).
+// are exact only where the majorant bounds the extinction). An op without a rule (an Image
+// Texture, Fresnel, Mix's Divide, ...: docs/volumes.md) makes the result unbounded; the
+// caller then falls back (and says so).
 #pragma once
 
 #include <string>
