@@ -26,18 +26,18 @@ using lantern::test::box_mesh;
 
 namespace {
 
-constexpr int kNx = 37, kNy = 29, kNz = 23;
+constexpr int kProgNx = 37, kProgNy = 29, kProgNz = 23;
 
 std::vector<float> blob_voxels(uint32_t seed) {
     std::mt19937 rng(seed);
     std::uniform_real_distribution<float> u(0.0f, 1.0f);
-    std::vector<float> v(size_t(kNx) * kNy * kNz, 0.0f);
-    for (int k = 0; k < kNz; ++k)
-        for (int j = 0; j < kNy; ++j)
-            for (int i = 0; i < kNx; ++i) {
+    std::vector<float> v(size_t(kProgNx) * kProgNy * kProgNz, 0.0f);
+    for (int k = 0; k < kProgNz; ++k)
+        for (int j = 0; j < kProgNy; ++j)
+            for (int i = 0; i < kProgNx; ++i) {
                 const bool a = i >= 4 && i < 13 && j >= 6 && j < 15 && k >= 3 && k < 12;
                 const bool b = i >= 24 && i < 30 && j >= 17 && j < 26 && k >= 14 && k < 20;
-                if (a || b) v[(size_t(k) * kNy + size_t(j)) * kNx + size_t(i)] = (a ? 5.0f : 2.0f) * u(rng);
+                if (a || b) v[(size_t(k) * kProgNy + size_t(j)) * kProgNx + size_t(i)] = (a ? 5.0f : 2.0f) * u(rng);
             }
     return v;
 }
@@ -62,9 +62,9 @@ SceneInput grid_program_scene(const float* m16, Prog prog, float scale = 2.0f) {
     SceneInput in;
     GridInput gi;
     gi.name = "density";
-    gi.dims[0] = kNx;
-    gi.dims[1] = kNy;
-    gi.dims[2] = kNz;
+    gi.dims[0] = kProgNx;
+    gi.dims[1] = kProgNy;
+    gi.dims[2] = kProgNz;
     std::copy(m16, m16 + 16, gi.index_to_world);
     gi.voxels = blob_voxels(7);
     in.grids.push_back(gi);
@@ -157,8 +157,8 @@ SceneInput grid_program_scene(const float* m16, Prog prog, float scale = 2.0f) {
                         {m16[8], m16[9], m16[10], m16[11]}}};
     Vec3 lo = vec3(kInf), hi = vec3(-kInf);
     for (int k = 0; k < 8; ++k) {
-        const Vec3 p = tf.point(Vec3{k & 1 ? float(kNx) : -1.0f, k & 2 ? float(kNy) : -1.0f,
-                                     k & 4 ? float(kNz) : -1.0f});
+        const Vec3 p = tf.point(Vec3{k & 1 ? float(kProgNx) : -1.0f, k & 2 ? float(kProgNy) : -1.0f,
+                                     k & 4 ? float(kProgNz) : -1.0f});
         lo = Vec3{std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
         hi = Vec3{std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
     }
@@ -189,8 +189,8 @@ TEST(GridProgram, IntervalBoundHoldsInsideRandomBoxes) {
                          {kGridRotated[8], kGridRotated[9], kGridRotated[10], kGridRotated[11]}}};
     int samples = 0, caught = 0, tight = 0;
     for (int b = 0; b < 300; ++b) {
-        const Vec3 c = i2w.point(Vec3{-3.0f + u(rng) * (kNx + 6), -3.0f + u(rng) * (kNy + 6),
-                                      -3.0f + u(rng) * (kNz + 6)});
+        const Vec3 c = i2w.point(Vec3{-3.0f + u(rng) * (kProgNx + 6), -3.0f + u(rng) * (kProgNy + 6),
+                                      -3.0f + u(rng) * (kProgNz + 6)});
         const Vec3 h{0.05f + 0.4f * u(rng), 0.05f + 0.4f * u(rng), 0.05f + 0.4f * u(rng)};
         const Vec3 lo = c - h, hi = c + h;
         Interval iv[3], shrunk[3];
@@ -234,8 +234,8 @@ TEST(GridProgram, EveryBrickBoundsTheExtinctionAlongRays) {
         int checked = 0;
         float mu_min = kInf;
         for (int r = 0; r < 400; ++r) {
-            const Vec3 o = i2w.point(Vec3{-4.0f + u(rng) * (kNx + 8), -4.0f + u(rng) * (kNy + 8),
-                                          -4.0f + u(rng) * (kNz + 8)});
+            const Vec3 o = i2w.point(Vec3{-4.0f + u(rng) * (kProgNx + 8), -4.0f + u(rng) * (kProgNy + 8),
+                                          -4.0f + u(rng) * (kProgNz + 8)});
             const float ct = 1.0f - 2.0f * u(rng), ph = 2.0f * kPi * u(rng);
             const float st = std::sqrt(std::max(0.0f, 1.0f - ct * ct));
             Vec3 d{st * std::cos(ph), st * std::sin(ph), ct};
@@ -248,8 +248,8 @@ TEST(GridProgram, EveryBrickBoundsTheExtinctionAlongRays) {
                     const float x = seg.t0 + (seg.t1 - seg.t0) * (float(k) + 0.5f) / 17.0f;
                     // the medium is inside its box (the block's support) only
                     const Vec3 q = s.grids[0].world_to_index.point(o + d * x);
-                    if (!(q.x > -1.0f && q.y > -1.0f && q.z > -1.0f && q.x < float(kNx) &&
-                          q.y < float(kNy) && q.z < float(kNz)))
+                    if (!(q.x > -1.0f && q.y > -1.0f && q.z > -1.0f && q.x < float(kProgNx) &&
+                          q.y < float(kProgNy) && q.z < float(kProgNz)))
                         continue;
                     const MediumCoeffs c = medium_coeffs_at(s, m, med, o + d * x, d);
                     ASSERT_LE(max_component(c.sigma_a + c.sigma_s), seg.mu * (1.0f + 1e-5f) + 1e-6f)
