@@ -124,8 +124,9 @@ def test_principled_volume_blackbody(empty, addon):
 
 def test_density_graph_becomes_a_density_program(empty, addon):
     """A Noise Texture on a Principled Volume's Density: a "density" program on the material,
-    the coefficients per unit of density, no warning; a graph on Color still warns by name (its
-    own value is used), and so does a Density graph with a second volume shader beside it."""
+    the coefficients per unit of density, no warning; a graph on Color a "volume_color" program
+    beside it; a graph on Anisotropy still warns by name (its own value is used), and so does a
+    Density graph with a second volume shader beside it."""
     add_camera(empty)
     mat, nt, out = _volume_only("Smoke")
     v = nt.nodes.new("ShaderNodeVolumePrincipled")
@@ -140,10 +141,23 @@ def test_density_graph_becomes_a_density_program(empty, addon):
     assert [p["target"] for p in m.get("programs", [])] == ["density"]
     np.testing.assert_allclose(m["volume"]["sigma_s"], [0.5, 0.6, 0.7], rtol=1e-6)
     assert not [w for w in report.messages if "Smoke" in w], report.messages
-    # negative: a graph on Color is not rendered (a warning names it)
+    # a graph on Color: a "volume_color" program, the colour's part per unit of density out
+    # of sigma_a and sigma_s into color_scatter and color_absorb (docs/volumes.md), no warning
     nt.links.new(noise.outputs["Color"], v.inputs["Color"])
     scene, report = export(addon)
-    assert any("'Color'" in w and "Smoke" in w for w in report.messages), report.messages
+    m = _by_name(scene, "Smoke")
+    assert [p["target"] for p in m.get("programs", [])] == ["density", "volume_color"]
+    np.testing.assert_allclose(m["volume"]["sigma_s"], [0.0] * 3, atol=1e-9)
+    np.testing.assert_allclose(m["volume"]["sigma_a"], [0.0] * 3, atol=1e-9)
+    np.testing.assert_allclose(m["volume"]["color_scatter"], [1.0] * 3, rtol=1e-6)
+    # (Absorption Color 0 by default: max(1 - sqrt(0), 0) = 1)
+    np.testing.assert_allclose(m["volume"]["color_absorb"], [1.0] * 3, rtol=1e-6)
+    assert not [w for w in report.messages if "Smoke" in w], report.messages
+    # negative: a graph on Anisotropy is not rendered (a warning names it)
+    nt.links.new(noise.outputs["Fac"], v.inputs["Anisotropy"])
+    scene, report = export(addon)
+    assert any("'Anisotropy'" in w and "Smoke" in w for w in report.messages), report.messages
+    nt.links.remove(v.inputs["Anisotropy"].links[0])
     # two shaders, one with a Density graph: the socket's value, a warning
     nt.links.remove(v.inputs["Color"].links[0])
     ab = nt.nodes.new("ShaderNodeVolumeAbsorption")
