@@ -80,7 +80,8 @@ SceneInput cp_scene(bool grid, bool colored, CpRamp ramp = CpRamp::kPlain) {
         for (int k = 0; k < 9; ++k)
             for (int j = 0; j < 10; ++j)
                 for (int i = 0; i < 12; ++i)
-                    h.voxels.push_back(0.5f + 0.5f * std::sin(0.7f * float(i) - 0.4f * float(j + k)));
+                    h.voxels.push_back(0.5f +
+                                       0.5f * std::sin(0.7f * float(i) - 0.4f * float(j + k)));
         in.grids.push_back(h);
     }
     std::vector<float> c = cp_consts(ramp);
