@@ -11,7 +11,8 @@ from .program_builder import REGS, Builder, Unsupported, Val  # noqa: F401 (impo
 
 TARGETS = ("base_color", "roughness", "metallic", "emission", "alpha", "mix_factor", "bump",
            "displacement", "normal_map", "normal_map_world", "tangent", "density",
-           "volume_emission")
+           "volume_emission", "volume_color", "volume_emission_color",
+           "volume_absorption_color")
 
 
 class GraphCompiler:

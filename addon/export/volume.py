@@ -14,6 +14,8 @@ warning by name, and the socket's own value."""
 
 import math
 
+import numpy as np
+
 from .node_spectral import blackbody_rgb
 
 _SHADERS = ("PRINCIPLED_VOLUME", "VOLUME_SCATTER", "VOLUME_ABSORPTION", "EMISSION")
@@ -115,6 +117,73 @@ def _hetero_leaf(leaves, where, report, compiler):
     return (driven[0], prog) if prog is not None else (None, None)
 
 
+def _linked(node, name):
+    sock = node.inputs.get(name)
+    return sock is not None and sock.is_linked and _source(sock) is not None
+
+
+def _check_color(report, where, node, name, prog):
+    """Warn where a colour program gives negative values at a probe point (negative_emission's
+    probe: the unit cube's points, where mesh volumes' Generated coordinates lie): Lantern takes
+    them as 0 (medium_color_at), where Cycles uses them as they are (a negative colour scatters
+    or emits negatively). Non-finite values are 0 in both the probe and the render
+    (program_run); a Volume object's grids read 0 in the probe (nothing to say there)."""
+    from .negative_emission import _NORMALS, _POINTS, _probe_program
+    from .node_light import evaluate
+    try:
+        vals = evaluate(_probe_program(prog), _POINTS, _NORMALS)
+    except (ValueError, RuntimeError, TypeError):
+        return
+    if vals is None:
+        return
+    neg = vals < -max(0.05 * float(np.abs(vals).max()), 1e-4)
+    if neg.any():
+        frac = float(neg.any(axis=1).mean())
+        report.warn(f"{where}: the node graph on '{name}' of '{node.name}' gives negative "
+                    f"values (at {100.0 * frac:.0f} % of probe points, down to "
+                    f"{float(vals.min()):.4g}); Lantern takes them as 0 there, Cycles uses them "
+                    "as they are (negative scattering or light)")
+
+
+def _color_leaves(leaves, where, report, compiler, gridded):
+    """(node, "volume_color" program) of the one scattering or absorbing leaf whose Color a
+    node graph drives, (node, "volume_absorption_color" program) of the one Principled Volume
+    whose Absorption Color a graph drives and (node, "volume_emission_color" program) of the one
+    leaf whose Emission Color (Principled Volume) or Color (Emission) a graph drives; (None,
+    None) each where there is none or it cannot be rendered (a warning names it; the socket's
+    value). The Color's and the Absorption Color's graphs must be one shader's (one colour per
+    medium): else the Absorption Color's is not rendered (warned)."""
+    out = []
+    for target, kinds, name_of in (
+            ("volume_color", ("PRINCIPLED_VOLUME", "VOLUME_SCATTER", "VOLUME_ABSORPTION"),
+             lambda n: "Color"),
+            ("volume_absorption_color", ("PRINCIPLED_VOLUME",), lambda n: "Absorption Color"),
+            ("volume_emission_color", ("PRINCIPLED_VOLUME", "EMISSION"),
+             lambda n: "Emission Color" if n.type == "PRINCIPLED_VOLUME" else "Color")):
+        found = None, None
+        if compiler is not None:
+            for node, w in leaves:
+                name = name_of(node) if node.type in kinds else None
+                if name is None or not _linked(node, name) or (node, name) in gridded:
+                    continue
+                if found[0] is not None:
+                    report.warn(f"{where}: a second node graph on '{name}' of '{node.name}' is "
+                                "not rendered (one per volume); the socket's own value is used")
+                    continue
+                prog = compiler.program(node.inputs[name], target, 3)
+                if prog is not None:
+                    found = node, prog
+                    _check_color(report, where, node, name, prog)
+        out.append(found)
+    (cnode, _), (anode, aprog) = out[0], out[1]
+    if anode is not None and cnode is not None and anode is not cnode:
+        report.warn(f"{where}: the node graph on 'Absorption Color' of '{anode.name}' beside a "
+                    f"graph on the Color of '{cnode.name}' is not rendered (one shader's "
+                    "colours per volume); the socket's own value is used")
+        out[1] = None, None
+    return out
+
+
 def convert_volume(socket, where, report, compiler=None, programs=None):
     """The medium dict of the shaders under a Volume socket, or None (nothing renders). With a
     GraphCompiler, a graph on the Density of the volume's one shader appends its "density"
@@ -125,48 +194,90 @@ def convert_volume(socket, where, report, compiler=None, programs=None):
     hetero, prog = _hetero_leaf(leaves, where, report, compiler)
     if prog is not None and programs is not None:
         programs.append(prog)
+    # a Volume object's grid on an emission strength or colour (volume_objects._GridProbe):
+    # the probe keeps it (a flame or colour grid) and the constant strength is 0
+    by_grid = getattr(compiler, "grid_strength", None)
+    gridded = {(node, sock.name) for node, w in leaves if node.type in _SHADERS
+               for sock in node.inputs if by_grid is not None and by_grid(node, sock, w)}
+    (cnode, cprog), (anode, aprog), (enode, eprog) = _color_leaves(leaves, where, report,
+                                                                   compiler, gridded)
+    color_scatter, color_absorb, flame = [0.0] * 3, [0.0] * 3, [0.0] * 3
+    color_base = [1.0] * 3   # the colour where no program gives it (an Absorption Color's)
+    for prog in (cprog, aprog, eprog):
+        if prog is not None and programs is not None:
+            programs.append(prog)
     for node, w in leaves:
         if node.type not in _SHADERS:
             report.warn(f"{where}: '{node.name}' ({node.type}) in the Volume output is not "
                         "rendered")
             continue
-        # a Volume object's grid on an emission strength (volume_objects._GridProbe): the
-        # probe keeps it (a flame grid) and the constant strength is 0
-        by_grid = getattr(compiler, "grid_strength", None)
-        gridded = {sock.name for sock in node.inputs
-                   if by_grid is not None and by_grid(node, sock, w)}
+        by_prog = set()   # the inputs a colour program drives
+        if node is cnode:
+            by_prog.add("Color")
+        if node is anode:
+            by_prog.add("Absorption Color")
+        if node is enode:
+            by_prog.add("Emission Color" if node.type == "PRINCIPLED_VOLUME" else "Color")
+        own = {name for n, name in gridded if n is node} | by_prog
         for sock in node.inputs:
             if sock.name not in _IGNORED and sock.is_linked and _source(sock) is not None and \
-                    not (node is hetero and sock.name == "Density") and sock.name not in gridded:
+                    not (node is hetero and sock.name == "Density") and sock.name not in own:
                 _value(node, sock.name, where, report)  # names it
-        color = _value(node, "Color", where, report, quiet="Color" in gridded) or [1.0, 1.0, 1.0]
+        color = _value(node, "Color", where, report, quiet="Color" in own) or [1.0, 1.0, 1.0]
         if node.type == "EMISSION":
-            s = 0.0 if "Strength" in gridded else _value(node, "Strength", where, report)
+            s = 0.0 if "Strength" in own else _value(node, "Strength", where, report)
+            if node is enode:   # the program's colour per point x the weight x the strength
+                # (a Volume object's strength graph or flame grid: the probe's factor, _fire)
+                flame = [f + w * (1.0 if "Strength" in own else s) for f in flame]
+                continue
             emission = [e + w * s * c for e, c in zip(emission, color)]
             continue
         density = w * (1.0 if node is hetero else
                        max(_value(node, "Density", where, report, quiet=True), 0.0))
+        if node is cnode:
+            # the colour program's c per point (the core: scattering color_scatter x c,
+            # absorption color_absorb x max(1 - c, 0), as Cycles sets up the closures)
+            color = [0.0, 0.0, 0.0]   # nothing of the socket's colour in sigma_a, sigma_s
+            if node.type != "VOLUME_ABSORPTION":
+                color_scatter = [x + density for x in color_scatter]
+            if node.type == "VOLUME_ABSORPTION":
+                color_absorb = [x + density for x in color_absorb]
         if node.type == "VOLUME_ABSORPTION":
-            sigma_a = [a + density * max(1.0 - c, 0.0) for a, c in zip(sigma_a, color)]
+            sigma_a = [a + density * max(1.0 - c, 0.0) * (0.0 if node is cnode else 1.0)
+                       for a, c in zip(sigma_a, color)]
             continue
         g = _value(node, "Anisotropy", where, report)
         g = 0.0 if g is None else g  # a phase function without one (Volume Scatter's Rayleigh)
         scatter = [density * max(c, 0.0) for c in color]
         sigma_s = [a + b for a, b in zip(sigma_s, scatter)]
-        lobes.append((0.2126 * scatter[0] + 0.7152 * scatter[1] + 0.0722 * scatter[2], g))
+        lobes.append((density if node is cnode else
+                      0.2126 * scatter[0] + 0.7152 * scatter[1] + 0.0722 * scatter[2], g))
         if node.type == "VOLUME_SCATTER":
             phase = getattr(node, "phase", "HENYEY_GREENSTEIN")
             if phase != "HENYEY_GREENSTEIN":
                 report.warn(f"{where}: the phase function '{phase}' of '{node.name}' is not "
                             "rendered; Henyey-Greenstein of its Anisotropy stands for it")
             continue
-        absorb = _value(node, "Absorption Color", where, report)
-        sigma_a = [a + density * max(1.0 - c, 0.0) * max(1.0 - math.sqrt(max(k, 0.0)), 0.0)
-                   for a, c, k in zip(sigma_a, color, absorb)]
-        strength = 0.0 if "Emission Strength" in gridded else \
+        absorb = _value(node, "Absorption Color", where, report, quiet=node is anode)
+        kabs = [max(1.0 - math.sqrt(max(k, 0.0)), 0.0) for k in absorb]
+        if node is anode:   # the program's max(1 - sqrt(a), 0) per point stands for kabs
+            kabs = [1.0, 1.0, 1.0]
+            if node is not cnode:   # the constant Color, as the colour of its absorption
+                color_base = [max(c, 0.0) for c in color]
+        if node is cnode or node is anode:
+            color_absorb = [x + density * k for x, k in zip(color_absorb, kabs)]
+        else:
+            sigma_a = [a + density * max(1.0 - c, 0.0) * k
+                       for a, c, k in zip(sigma_a, color, kabs)]
+        strength = 0.0 if "Emission Strength" in own else \
             _value(node, "Emission Strength", where, report)
-        ecolor = _value(node, "Emission Color", where, report)
-        emission = [e + w * strength * c for e, c in zip(emission, ecolor)]
+        if node is enode:
+            # a Volume object's strength graph or flame grid keeps its own factor (the probe's)
+            s = w if "Emission Strength" in own else w * strength
+            flame = [f + s for f in flame]
+        else:
+            ecolor = _value(node, "Emission Color", where, report, quiet="Emission Color" in own)
+            emission = [e + w * strength * c for e, c in zip(emission, ecolor)]
         bb = blackbody_emission(node, where, report)
         emission = [e + w * b for e, b in zip(emission, bb)]
     total = sum(s for s, _ in lobes)
@@ -174,10 +285,23 @@ def convert_volume(socket, where, report, compiler=None, programs=None):
     if len({round(gg, 6) for s, gg in lobes if s > 0.0}) > 1:
         report.warn(f"{where}: volume scatterers of different Anisotropy are mixed; one lobe of "
                     f"their mean anisotropy {g:.3g} stands for them")
-    if max(sigma_a + sigma_s + emission) <= 0.0:
+    out = {"sigma_a": sigma_a, "sigma_s": sigma_s, "emission": emission,
+           "g": min(max(g, -0.999), 0.999)}
+    if (cprog is not None or aprog is not None) and max(color_scatter + color_absorb) > 0.0:
+        out["color_scatter"], out["color_absorb"] = color_scatter, color_absorb
+        out["color_base"] = color_base
+    elif programs is not None:   # the colour changes nothing (a density of 0)
+        for prog in (cprog, aprog):
+            if prog is not None:
+                programs.remove(prog)
+    if eprog is not None and max(flame) > 0.0:
+        out["flame_emission"] = flame
+    elif eprog is not None and programs is not None:
+        programs.remove(eprog)
+    if max(sigma_a + sigma_s + emission + out.get("color_scatter", [0.0]) +
+           out.get("color_absorb", [0.0]) + out.get("flame_emission", [0.0])) <= 0.0:
         return None
-    return {"sigma_a": sigma_a, "sigma_s": sigma_s, "emission": emission,
-            "g": min(max(g, -0.999), 0.999)}
+    return out
 
 
 def _output(tree, kind):

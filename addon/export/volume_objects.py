@@ -42,13 +42,20 @@ class _GridProbe:
     def program(self, socket, target, dim):
         from .volume import _source
         node = _source(socket)
-        if node is not None and node.type == "ATTRIBUTE" and \
+        if target == "density" and node is not None and node.type == "ATTRIBUTE" and \
                 getattr(node, "attribute_type", "GEOMETRY") == "GEOMETRY" and \
                 socket.links[0].from_socket.identifier in ("Fac", "Color"):
             self.grid = node.attribute_name
             return {"grid": self.grid}
-        if self.material is None or target != "density":
+        if self.material is None or \
+                target not in ("density", "volume_color", "volume_emission_color",
+                                   "volume_absorption_color"):
             return None
+        if target != "density":
+            # a graph on a Color or Emission Color: a program of the object's grids; the
+            # shader's Color Attribute grid is not multiplied in (warned by _color)
+            return _GridCompiler(self.material, self.report, self.table).program(
+                socket, target, dim)
         # any other graph: a program reading the object's grids (kOpGrid), times Principled
         # Volume's Density Attribute grid where the shader has one (Cycles multiplies by it)
         comp = _GridCompiler(self.material, self.report, self.table, self.attributes)
@@ -100,11 +107,14 @@ class _GridProbe:
             self.report.warn(f"{self.where}: a second emission grid '{name}' is not rendered "
                              f"(only '{self.flame[0]}')")
             return True
-        color = _value(node, names[1], self.where, self.report) or [1.0, 1.0, 1.0]
+        color = _flame_color(node, names[1], self.where, self.report)
         add = [weight * scale * max(c, 0.0) for c in color]
         old = self.flame[1] if self.flame is not None else [0.0, 0.0, 0.0]
         self.flame = (name, [x + y for x, y in zip(old, add)])
         return True
+
+
+_COLOR_TARGETS = ("volume_color", "volume_emission_color", "volume_absorption_color")
 
 
 class _GridTable:
@@ -179,13 +189,22 @@ def _strength_program(self, node, sock, weight, color_name):
     prog = comp.program(sock, "volume_emission", 1)
     if prog is None:
         return False
-    color = _value(node, color_name, self.where, self.report) or [1.0, 1.0, 1.0]
+    color = _flame_color(node, color_name, self.where, self.report)
     self.emission_program = prog
     self.flame = (None, [weight * max(c, 0.0) for c in color])
     return True
 
 
 _GridProbe._strength_program = _strength_program
+
+
+def _flame_color(node, name, where, report):
+    """The colour factor of a flame grid or strength graph: the socket's colour, or 1 where a
+    node graph drives it (its "volume_emission_color" program multiplies per point)."""
+    from .volume import _linked, _value
+    if _linked(node, name):
+        return [1.0, 1.0, 1.0]
+    return _value(node, name, where, report) or [1.0, 1.0, 1.0]
 
 
 def _box(index_to_world, dims):
@@ -257,6 +276,9 @@ class VolumeObjects:
         progs = [programs[0]] if probe.grids is not None and programs else []
         if probe.emission_program is not None:
             progs.append(probe.emission_program)
+        # graphs on Color and Emission Color (convert_volume's "volume_color",
+        # "volume_emission_color", "volume_absorption_color")
+        progs += [p for p in programs if p.get("target") in _COLOR_TARGETS]
         program = {"programs": progs, "grid_names": list(probe.table.names)} if progs else None
         return medium, grid, mat.name, fire, program
 
@@ -455,6 +477,7 @@ def _fire(output, medium, probe, obj, where, report):
         elif name not in names:
             report.warn(f"{where}: the grid '{name}' on its emission strength is not in the "
                         "object's file; it reads 0 there (no emission), as in Cycles")
+            medium.pop("flame_emission", None)   # (an Emission Color graph's factor too)
         else:
             medium["flame_emission"] = rgb
             fire["flame"] = name
@@ -467,7 +490,7 @@ def _color(output, medium, obj, where, report):
     "sigma_s" into "color_scatter", its absorption max(1 - Color, 0) x max(1 - sqrt(Absorption
     Color), 0) x Density out of "sigma_a" into "color_absorb" / max(1 - Color, 0) and the Color
     into "color_base" (the core scales them per point: scene/medium_hetero.h); None without."""
-    from .volume import _leaves, _value
+    from .volume import _leaves, _linked, _value
 
     class _Quiet:
         def warn(self, message):
@@ -481,6 +504,11 @@ def _color(output, medium, obj, where, report):
         if own and own not in names:
             own = ""  # Cycles: a missing attribute leaves the Color as it is (smoke caches
             # without colour are common; nothing to say)
+        if own and linked is None and _linked(node, "Color"):
+            report.warn(f"{where}: the Color Attribute grid '{own}' of '{node.name}' with a node "
+                        "graph on its Color is not rendered (Cycles multiplies the two); the "
+                        "graph's colour alone is")
+            continue
         if not own and linked is None:
             continue
         name = own or linked

@@ -22,7 +22,8 @@ MESH_ARRAYS = ("positions", "indices", "normals", "uvs", "tangents", "material_i
 # node-graph programs (docs/scene_format.md "Node programs"; native/src/scene/material_program.h)
 PROGRAM_TARGETS = ("base_color", "roughness", "metallic", "emission", "alpha", "mix_factor",
                    "bump", "displacement", "normal_map", "normal_map_world", "tangent", "density",
-                   "volume_emission")
+                   "volume_emission", "volume_color", "volume_emission_color",
+                   "volume_absorption_color")
 PROGRAM_REGS = 192
 TEXTURE_COLORSPACES = ("srgb", "linear")
 TEXTURE_WRAPS = ("repeat", "extend", "clip", "mirror")

@@ -327,7 +327,9 @@ def _has_hetero_media(scene):
     what the core's HostScene::add_lights tests before it starts soft lights' paths."""
     return any(isinstance(m, dict) and m.get("volume") is not None
                and (m.get("density_grid") is not None
-                    or any(p.get("target") == "density" for p in (m.get("programs") or [])))
+                    or any(p.get("target") in ("density", "volume_color", "volume_emission_color",
+                                             "volume_absorption_color")
+                        for p in (m.get("programs") or [])))
                for m in getattr(scene, "materials", []))
 
 

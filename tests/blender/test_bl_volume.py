@@ -124,8 +124,9 @@ def test_principled_volume_blackbody(empty, addon):
 
 def test_density_graph_becomes_a_density_program(empty, addon):
     """A Noise Texture on a Principled Volume's Density: a "density" program on the material,
-    the coefficients per unit of density, no warning; a graph on Color still warns by name (its
-    own value is used), and so does a Density graph with a second volume shader beside it."""
+    the coefficients per unit of density, no warning; a graph on Color a "volume_color" program
+    beside it; a graph on Anisotropy still warns by name (its own value is used), and so does a
+    Density graph with a second volume shader beside it."""
     add_camera(empty)
     mat, nt, out = _volume_only("Smoke")
     v = nt.nodes.new("ShaderNodeVolumePrincipled")
@@ -140,10 +141,23 @@ def test_density_graph_becomes_a_density_program(empty, addon):
     assert [p["target"] for p in m.get("programs", [])] == ["density"]
     np.testing.assert_allclose(m["volume"]["sigma_s"], [0.5, 0.6, 0.7], rtol=1e-6)
     assert not [w for w in report.messages if "Smoke" in w], report.messages
-    # negative: a graph on Color is not rendered (a warning names it)
+    # a graph on Color: a "volume_color" program, the colour's part per unit of density out
+    # of sigma_a and sigma_s into color_scatter and color_absorb (docs/volumes.md), no warning
     nt.links.new(noise.outputs["Color"], v.inputs["Color"])
     scene, report = export(addon)
-    assert any("'Color'" in w and "Smoke" in w for w in report.messages), report.messages
+    m = _by_name(scene, "Smoke")
+    assert [p["target"] for p in m.get("programs", [])] == ["density", "volume_color"]
+    np.testing.assert_allclose(m["volume"]["sigma_s"], [0.0] * 3, atol=1e-9)
+    np.testing.assert_allclose(m["volume"]["sigma_a"], [0.0] * 3, atol=1e-9)
+    np.testing.assert_allclose(m["volume"]["color_scatter"], [1.0] * 3, rtol=1e-6)
+    # (Absorption Color 0 by default: max(1 - sqrt(0), 0) = 1)
+    np.testing.assert_allclose(m["volume"]["color_absorb"], [1.0] * 3, rtol=1e-6)
+    assert not [w for w in report.messages if "Smoke" in w], report.messages
+    # negative: a graph on Anisotropy is not rendered (a warning names it)
+    nt.links.new(noise.outputs["Fac"], v.inputs["Anisotropy"])
+    scene, report = export(addon)
+    assert any("'Anisotropy'" in w and "Smoke" in w for w in report.messages), report.messages
+    nt.links.remove(v.inputs["Anisotropy"].links[0])
     # two shaders, one with a Density graph: the socket's value, a warning
     nt.links.remove(v.inputs["Color"].links[0])
     ab = nt.nodes.new("ShaderNodeVolumeAbsorption")
@@ -157,3 +171,53 @@ def test_density_graph_becomes_a_density_program(empty, addon):
     assert any("Density" in w and "Smoke" in w for w in report.messages), report.messages
     np.testing.assert_allclose(m["volume"]["sigma_s"], 7.0 * np.array([0.5, 0.6, 0.7]),
                                rtol=1e-6)
+
+
+def test_emission_and_absorption_color_graphs(empty, addon):
+    """A graph on a Principled Volume's Emission Color: a "volume_emission_color" program, its
+    factor (weight x Emission Strength) the volume's flame_emission and nothing of it in the
+    constant emission; a graph on its Absorption Color: a "volume_absorption_color" program,
+    the Color (constant) as color_base, the scattering left in sigma_s. An Emission shader's
+    Color the same; an Emission Strength of 0 drops the program (it emits nothing)."""
+    add_camera(empty)
+    mat, nt, out = _volume_only("Glow")
+    v = nt.nodes.new("ShaderNodeVolumePrincipled")
+    v.inputs["Density"].default_value = 2.0
+    v.inputs["Color"].default_value = (0.5, 0.6, 0.7, 1)
+    v.inputs["Emission Strength"].default_value = 3.0
+    noise = nt.nodes.new("ShaderNodeTexNoise")
+    nt.links.new(noise.outputs["Color"], v.inputs["Emission Color"])
+    nt.links.new(noise.outputs["Color"], v.inputs["Absorption Color"])
+    nt.links.new(v.outputs[0], out.inputs["Volume"])
+    add_plane(empty, material=mat, name="Box")
+    scene, report = export(addon)
+    m = _by_name(scene, "Glow")
+    assert sorted(p["target"] for p in m["programs"]) == ["volume_absorption_color",
+                                                          "volume_emission_color"]
+    vol = m["volume"]
+    np.testing.assert_allclose(vol["flame_emission"], [3.0] * 3, rtol=1e-6)
+    np.testing.assert_allclose(vol["emission"], [0.0] * 3, atol=1e-9)
+    np.testing.assert_allclose(vol["sigma_s"], 2.0 * np.array([0.5, 0.6, 0.7]), rtol=1e-6)
+    np.testing.assert_allclose(vol["sigma_a"], [0.0] * 3, atol=1e-9)
+    np.testing.assert_allclose(vol["color_absorb"], [2.0] * 3, rtol=1e-6)
+    np.testing.assert_allclose(vol["color_scatter"], [0.0] * 3, atol=1e-9)
+    np.testing.assert_allclose(vol["color_base"], [0.5, 0.6, 0.7], rtol=1e-6)
+    assert not [w for w in report.messages if "Glow" in w], report.messages
+    # negative: Emission Strength 0 emits nothing, and the program is dropped
+    v.inputs["Emission Strength"].default_value = 0.0
+    scene, report = export(addon)
+    m = _by_name(scene, "Glow")
+    assert [p["target"] for p in m["programs"]] == ["volume_absorption_color"]
+    assert "flame_emission" not in m["volume"]
+    # an Emission shader's Color: the same program, its factor the Strength
+    mat2, nt2, out2 = _volume_only("Glow2")
+    e = nt2.nodes.new("ShaderNodeEmission")
+    e.inputs["Strength"].default_value = 5.0
+    nt2.links.new(nt2.nodes.new("ShaderNodeTexGradient").outputs["Color"], e.inputs["Color"])
+    nt2.links.new(e.outputs[0], out2.inputs["Volume"])
+    add_plane(empty, material=mat2, name="Box2")
+    scene, report = export(addon)
+    m = _by_name(scene, "Glow2")
+    assert [p["target"] for p in m["programs"]] == ["volume_emission_color"]
+    np.testing.assert_allclose(m["volume"]["flame_emission"], [5.0] * 3, rtol=1e-6)
+    assert not [w for w in report.messages if "Glow2" in w], report.messages

@@ -112,8 +112,8 @@ LANTERN_HD inline void material_apply_programs(const SceneView& s, const Materia
         if (p.target == kTargetAlpha || p.target == kTargetBump ||
             p.target == kTargetDisplacement || p.target == kTargetNormalMap ||
             p.target == kTargetNormalMapWorld || p.target == kTargetTangent ||
-            p.target == kTargetDensity)
-            continue;
+            p.target == kTargetDensity || p.target >= int32_t(kTargetVolumeEmission))
+            continue;  // (the volume targets run inside media: medium_hetero.h, medium_fire.h)
         const Vec3 v = program_run(s, p, sp);
         switch (p.target) {
         case kTargetBaseColor: {

@@ -256,7 +256,9 @@ void HostScene::add_programs(const SceneInput& in) {
             fold_program(p, program_code_, program_consts_, host);
             host.program_consts = program_consts_.data();
             if (p.target == kTargetTangent || p.target == kTargetDensity ||
-                p.target == kTargetVolumeEmission) {
+                p.target == kTargetVolumeEmission || p.target == kTargetVolumeColor ||
+                p.target == kTargetVolumeEmissionColor ||
+                p.target == kTargetVolumeAbsorptionColor) {
                 // kept: anisotropy_angle runs the tangent, medium_hetero.h the density
                 kept.push_back(p);
                 continue;

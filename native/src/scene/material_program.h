@@ -19,8 +19,16 @@ enum ProgramTarget : uint32_t {
     kTargetBaseColor = 0, kTargetRoughness = 1, kTargetMetallic = 2, kTargetEmission = 3,
     kTargetAlpha = 4, kTargetMixFactor = 5, kTargetBump = 6, kTargetDisplacement = 7,
     kTargetNormalMap = 8, kTargetNormalMapWorld = 9, kTargetTangent = 10, kTargetDensity = 11,
-    kTargetVolumeEmission = 12, kTargetCount = 13,
+    kTargetVolumeEmission = 12, kTargetVolumeColor = 13, kTargetVolumeEmissionColor = 14,
+    kTargetVolumeAbsorptionColor = 15, kTargetCount = 16,
 };
+// kTargetVolumeColor: the Color of a volume's scattering or absorbing shader driven by a graph
+// (scene/medium_hetero.h medium_coeffs_at: scattering color_scatter x c, absorption
+// color_absorb x max(1 - c, 0)); kTargetVolumeEmissionColor: its Emission Color (Principled
+// Volume) or an Emission shader's Color (scene/medium_fire.h medium_emission_at). Both run at
+// points inside the medium, of a mesh volume or a Volume object. kTargetVolumeAbsorptionColor:
+// Principled Volume's Absorption Color a (absorption color_absorb x max(1 - c, 0) x
+// max(1 - sqrt(a), 0), c the colour program's or color_base).
 // kTargetVolumeEmission: the Emission Strength of a Volume object's volume shader driven by a
 // graph of its grids (scene/medium_fire.h medium_emission_at), run at points inside the medium.
 // kTargetDensity: the Density of a material's volume shader (a heterogeneous medium,

@@ -47,6 +47,14 @@ struct Medium {
     Vec3 color_scatter;        // Principled Volume's Color x Density (x weight, object scale)
     Vec3 color_absorb;         // max(1 - sqrt(Absorption Color), 0) x Density (the same)
     Vec3 color_base;           // the Color socket (the colour grid multiplies it)
+    // ---- colour programs (-1: none; scene/medium_hetero.h, scene/medium_fire.h) ----
+    int32_t color_prog;           // SceneView::programs (kTargetVolumeColor): the colour c per
+                                  // point, as the colour grid's, in its place (-1 with an
+                                  // absorption program: c is color_base)
+    int32_t absorb_prog;          // kTargetVolumeAbsorptionColor: Principled Volume's
+                                  // Absorption Color a per point (factor max(1 - sqrt(a), 0))
+    int32_t emission_color_prog;  // kTargetVolumeEmissionColor: emission flame_emission x
+                                  // max(c, 0) (x the flame grid's or the strength program's value)
 };
 
 // ---- Henyey-Greenstein: cos_theta between the direction travelled and the scattered one ----

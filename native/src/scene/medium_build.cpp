@@ -46,6 +46,7 @@ Medium to_medium(const MediumInput& in, std::vector<std::string>& warnings) {
     m.density_grid = -1;
     m.majorant_grid = m.temperature_grid = m.flame_grid = m.color_grid = -1;
     m.emission_prog = -1;
+    m.color_prog = m.emission_color_prog = m.absorb_prog = -1;
     return m;
 }
 
@@ -91,6 +92,21 @@ std::string emissive_media_reason(const SceneInput& in) {
     if (emits(in.world_medium)) return "an emissive world volume";
     for (const MaterialInput& m : in.materials)
         if (emits(m.medium)) return "an emissive volume (material '" + m.name + "')";
+    // a graph on a volume's Emission Color or a Volume object's Emission Strength: emission
+    // flame_emission x its value per point
+    for (const MaterialInput& m : in.materials) {
+        if (m.medium < 0 || m.medium >= int(in.media.size()) || m.program_count <= 0) continue;
+        const Vec3 f = in.media[size_t(m.medium)].flame_emission;
+        if (!(f.x > 0.0f || f.y > 0.0f || f.z > 0.0f)) continue;
+        for (int i = 0; i < m.program_count; ++i) {
+            const size_t w = 6 * size_t(m.program_first + i) + 4;
+            if (w < in.programs.size() &&
+                (in.programs[w] == uint32_t(kTargetVolumeEmissionColor) ||
+                 in.programs[w] == uint32_t(kTargetVolumeEmission)))
+                return "an emissive volume (a node graph on the emission of material '" +
+                       m.name + "')";
+        }
+    }
     // a Volume object's fire (scene/medium_fire.h): emission from its grids
     for (const MaterialInput& m : in.materials)
         if (m.medium >= 0 && m.density_grid >= 0 && (m.temperature_grid >= 0 || m.flame_grid >= 0))
@@ -133,7 +149,12 @@ void HostScene::build_media(const SceneInput& in) {
         // a Volume object's density program (a graph on its Density reading its grids) stands
         // for its density grid, which then only places its box and bricks
         const int32_t prog = density_program(k);
-        if (mi.density_grid >= 0 || prog >= 0) {
+        // graphs on the Color or Emission Color make a medium heterogeneous too (its density
+        // 1 without a density program or grid)
+        const bool colored = program_of(k, kTargetVolumeColor) >= 0 ||
+                             program_of(k, kTargetVolumeEmissionColor) >= 0 ||
+                             program_of(k, kTargetVolumeAbsorptionColor) >= 0;
+        if (mi.density_grid >= 0 || prog >= 0 || colored) {
             // a heterogeneous medium: the material's own (its density program or grid, its mesh)
             const MediumInput& src = in.media[size_t(mi.medium)];
             Medium m = to_medium(src, warnings_);
@@ -157,6 +178,7 @@ void HostScene::build_media(const SceneInput& in) {
                 else
                     m.emission_prog = -1;
             }
+            if (colored) volume_color_programs(m, src, k);  // scene/medium_color_build.cpp
             material_medium_[k] = int32_t(media_.size());
             media_.push_back(m);
             hetero.push_back({material_medium_[k], k});

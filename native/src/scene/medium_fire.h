@@ -76,6 +76,15 @@ LANTERN_HD inline Vec3 grid_blackbody(const SceneView& s, const Medium& m, Vec3 
     return e;
 }
 
+// A colour program's value at shading point sp inside a medium (kTargetVolumeColor,
+// kTargetVolumeEmissionColor), each channel within [0, 1e9] (NaN is 0 in program_run; a
+// negative colour is 0, where Cycles would scatter or emit negatively).
+LANTERN_HD inline Vec3 medium_color_at(const SceneView& s, int32_t prog, const ShadePoint& sp) {
+    const Vec3 c = program_run(s, s.programs[prog], sp);
+    return Vec3{fminf(fmaxf(c.x, 0.0f), 1e9f), fminf(fmaxf(c.y, 0.0f), 1e9f),
+                fminf(fmaxf(c.z, 0.0f), 1e9f)};
+}
+
 // The medium's emission at p (radiance per metre): the constant part and its grids' parts
 // (the flame grid's, or a graph's on Emission Strength: flame_emission x max(its value, 0);
 // med the medium's index, for the program's shading point).
@@ -83,17 +92,29 @@ LANTERN_HD inline Vec3 medium_emission_at(const SceneView& s, const Medium& m, i
                                           Vec3 p) {
     Vec3 e = m.emission;
     if (!m.hetero) return e;
-    if (m.flame_grid >= 0 && m.flame_grid < s.num_grids)
-        e = e + m.flame_emission * grid_lookup(s.grids[m.flame_grid], s.grid_voxels, p);
-    if (m.emission_prog >= 0) {
-        ShadePoint sp;
-        sp.p = p;
-        sp.n = sp.ng = sp.wo = vec3(0.0f);
-        sp.st = sp.bary = Vec2{};
-        sp.tri = -2 - med;
-        sp.backfacing = false;
-        e = e + m.flame_emission *
-                    fminf(fmaxf(program_run(s, s.programs[m.emission_prog], sp).x, 0.0f), 1e9f);
+    ShadePoint sp;
+    sp.p = p;
+    sp.n = sp.ng = sp.wo = vec3(0.0f);
+    sp.st = sp.bary = Vec2{};
+    sp.tri = -2 - med;
+    sp.backfacing = false;
+    if (m.emission_color_prog >= 0) {
+        // a graph on the Emission Color: flame_emission (the weight x the strength) x its
+        // colour, x the flame grid's or the strength program's value where there is one
+        float k = 1.0f;
+        if (m.flame_grid >= 0 && m.flame_grid < s.num_grids)
+            k = grid_lookup(s.grids[m.flame_grid], s.grid_voxels, p);
+        else if (m.emission_prog >= 0)
+            k = fminf(fmaxf(program_run(s, s.programs[m.emission_prog], sp).x, 0.0f), 1e9f);
+        if (k > 0.0f)
+            e = e + m.flame_emission * medium_color_at(s, m.emission_color_prog, sp) * k;
+    } else {
+        if (m.flame_grid >= 0 && m.flame_grid < s.num_grids)
+            e = e + m.flame_emission * grid_lookup(s.grids[m.flame_grid], s.grid_voxels, p);
+        if (m.emission_prog >= 0)
+            e = e + m.flame_emission *
+                        fminf(fmaxf(program_run(s, s.programs[m.emission_prog], sp).x, 0.0f),
+                              1e9f);
     }
     if (m.temperature_grid >= 0 && m.temperature_grid < s.num_grids && s.blackbody_table)
         e = e + grid_blackbody(s, m, p);

@@ -273,10 +273,23 @@ void HostScene::build_grid_medium(int32_t med, const std::string& name) {
     }
     // the extinction per unit density at most: with a colour grid, its largest component scales
     // the scattering and the absorption's factor max(1 - base c, 0) is at most 1
-    const Vec3 unit = m.color_grid >= 0
-                          ? m.sigma_a + m.sigma_s + m.color_absorb +
-                                m.color_scatter * grids_[size_t(m.color_grid)].max_value
-                          : m.sigma_a + m.sigma_s;
+    Vec3 unit = m.color_grid >= 0
+                    ? m.sigma_a + m.sigma_s + m.color_absorb +
+                          m.color_scatter * grids_[size_t(m.color_grid)].max_value
+                    : m.sigma_a + m.sigma_s;
+    if (m.color_prog >= 0 || m.absorb_prog >= 0) {
+        // a colour program (scene/medium_color_build.cpp): its bound over the grid's support,
+        // else its lattice maximum x 1.5 (warned)
+        const float qlo[3] = {-1.0f, -1.0f, -1.0f};
+        const float qhi[3] = {float(g.nx), float(g.ny), float(g.nz)};
+        Vec3 wlo, whi;
+        grid_box_world(g, qlo, qhi, &wlo, &whi);
+        bool ok = false;
+        Vec3 c = color_prog_unit(med, wlo, whi, &ok);
+        if (!ok) c = color_prog_fallback(med, wlo, whi, name);
+        color_prog_whole_ = c;
+        unit = unit + c;
+    }
     m.majorant = max_component(m.sigma_a0 + m.sigma_s0 + unit * m.density_max);
     if (m.emits && !(m.majorant > 0.0f)) {
         // emission is estimated at tentative collisions: about one per grid diagonal

@@ -71,6 +71,23 @@ struct MediumCoeffs {
 LANTERN_HD inline MediumCoeffs medium_coeffs_at(const SceneView& s, const Medium& m, int32_t med,
                                                 Vec3 p, Vec3 d) {
     const float den = medium_density(s, m, med, p, d);
+    if ((m.color_prog >= 0 || m.absorb_prog >= 0) && den > 0.0f) {
+        // graphs on the Color (kTargetVolumeColor: c per point, else color_base) and on
+        // Principled Volume's Absorption Color (kTargetVolumeAbsorptionColor: a per point),
+        // as Cycles sets up the closures: c scatters, max(1 - c, 0) x max(1 - sqrt(a), 0)
+        // absorbs (c, a < 0 are 0: Cycles would scatter negatively; NaN is 0 in program_run;
+        // at most 1e9)
+        const ShadePoint sp = medium_shade_point(med, p, d);
+        const Vec3 c = m.color_prog >= 0 ? medium_color_at(s, m.color_prog, sp) : m.color_base;
+        Vec3 ab = Vec3{fmaxf(1.0f - c.x, 0.0f), fmaxf(1.0f - c.y, 0.0f), fmaxf(1.0f - c.z, 0.0f)};
+        if (m.absorb_prog >= 0) {
+            const Vec3 a = medium_color_at(s, m.absorb_prog, sp);
+            ab = ab * Vec3{fmaxf(1.0f - sqrtf(a.x), 0.0f), fmaxf(1.0f - sqrtf(a.y), 0.0f),
+                           fmaxf(1.0f - sqrtf(a.z), 0.0f)};
+        }
+        return MediumCoeffs{m.sigma_a0 + (m.sigma_a + m.color_absorb * ab) * den,
+                            m.sigma_s0 + (m.sigma_s + m.color_scatter * c) * den};
+    }
     if (medium_has_color(s, m)) {
         // the colour grid (Cycles' Principled Volume: Color x the attribute's colour scatters,
         // max(1 - that, 0) x (1 - sqrt(Absorption Color)) absorbs)

@@ -102,13 +102,16 @@ void HostScene::build_hetero(int32_t med, size_t material, const std::string& na
     verts.erase(std::unique(verts.begin(), verts.end()), verts.end());
     if (nch > 0) {
         if (medium_maps_.empty()) medium_maps_.assign(media_.size() * size_t(nch), Transform{});
-        // the channels the density program reads (kOpInput, mode 4: an attribute)
+        // the channels the medium's programs read (kOpInput, mode 4: an attribute)
         std::vector<bool> read(size_t(nch), false);
-        const MaterialProgram& p = programs_[size_t(m.density_prog)];
-        for (int k = 0; k < p.num_instr; ++k) {
-            const NodeInstr& n = program_code_[size_t(p.first_instr + k)];
-            if (n.op == kOpInput && n.mode == 4 && n.aux >= 0 && n.aux < nch)
-                read[size_t(n.aux)] = true;
+        for (int32_t prog : {m.density_prog, m.color_prog, m.emission_color_prog, m.absorb_prog}) {
+            if (prog < 0) continue;
+            const MaterialProgram& p = programs_[size_t(prog)];
+            for (int k = 0; k < p.num_instr; ++k) {
+                const NodeInstr& n = program_code_[size_t(p.first_instr + k)];
+                if (n.op == kOpInput && n.mode == 4 && n.aux >= 0 && n.aux < nch)
+                    read[size_t(n.aux)] = true;
+            }
         }
         // least squares per channel over the vertices: attr = M (p, 1)
         double ata[4][4] = {};
@@ -144,7 +147,7 @@ void HostScene::build_hetero(int32_t med, size_t material, const std::string& na
             }
             if (read[size_t(c)] && worst > 1e-3 * std::max(scale, 1.0))
                 warnings_.push_back("medium '" + name + "': attribute channel " +
-                                    std::to_string(c) + " that its density reads is not an "
+                                    std::to_string(c) + " that its node graphs read is not an "
                                     "affine function of position over the mesh (deformed, or "
                                     "the material on objects of different texture spaces); "
                                     "inside the volume it reads its affine fit");
@@ -159,10 +162,11 @@ void HostScene::build_hetero(int32_t med, size_t material, const std::string& na
     // points exceeds (biased there): for a mesh volume with a warning
     SceneView host = view_;
     host.media = media_.data();
-    const bool mesh_program = m.density_grid < 0 && !verts.empty();
+    const bool mesh_program = m.density_grid < 0 && !verts.empty() && m.density_prog >= 0;
     const float bound =
         mesh_program ? mesh_density_bound(host, programs_[size_t(m.density_prog)], med, lo, hi)
-                     : -1.0f;
+        : m.density_prog < 0 ? 1.0f  // colour programs alone: the density is 1
+                             : -1.0f;
     if (bound >= 0.0f) {
         m.density_max = bound;
     } else {
@@ -182,6 +186,9 @@ void HostScene::build_hetero(int32_t med, size_t material, const std::string& na
         if (mesh_program) warnings_.push_back(unbounded_density_warning(name));
     }
     m.majorant = max_component(m.sigma_a0 + m.sigma_s0 + (m.sigma_a + m.sigma_s) * m.density_max);
+    // a colour program's part (scene/medium_color_build.cpp), over the mesh's sub-boxes
+    if ((m.color_prog >= 0 || m.absorb_prog >= 0) && m.density_grid < 0 && !verts.empty())
+        m.majorant = mesh_color_majorant(med, lo, hi, name);
     // an emitting medium needs tentative collisions even where nothing extinguishes: its
     // emission is estimated at them (one per bounding-box diagonal on average)
     if (m.emits && !(m.majorant > 0.0f) && !verts.empty())

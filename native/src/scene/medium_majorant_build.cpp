@@ -74,6 +74,15 @@ void HostScene::build_majorant_grid(int32_t med) {
                     const float qhi[3] = {float((bi + 1) * B), float((bj + 1) * B),
                                           float((bk + 1) * B)};
                     u = u + color_bound(m, g, qlo, qhi);
+                } else if (m.color_prog >= 0 || m.absorb_prog >= 0) {  // colour programs' bound
+                    const float qlo[3] = {float(bi * B - 2), float(bj * B - 2), float(bk * B - 2)};
+                    const float qhi[3] = {float((bi + 1) * B), float((bj + 1) * B),
+                                          float((bk + 1) * B)};
+                    Vec3 wlo, whi;
+                    grid_box_world(g, qlo, qhi, &wlo, &whi);
+                    bool ok = false;
+                    const Vec3 c = color_prog_unit(med, wlo, whi, &ok);
+                    u = u + (ok ? c : color_prog_whole_);  // else the medium's (build_grid_medium)
                 }
                 const float mu = max_component(base + u * std::fmin(dmax, 1e9f));
                 out[(size_t(bk) * size_t(nb[1]) + size_t(bj)) * size_t(nb[0]) + size_t(bi)] =

@@ -288,6 +288,15 @@ private:
                                 float hx, float hy, float hz) const;  // medium_grid_build.cpp
     Vec3 color_bound(const Medium& m, const DensityGrid& g, const float lo[3],
                      const float hi[3]) const;  // scene/medium_grid_build.cpp
+    // scene/medium_color_build.cpp: colour programs (kTargetVolumeColor, ...EmissionColor)
+    void volume_color_programs(Medium& m, const MediumInput& src, size_t material);
+    // the colour program's extinction per unit density over a world box (ok: it has a bound)
+    Vec3 color_prog_unit(int32_t med, Vec3 lo, Vec3 hi, bool* ok) const;
+    Vec3 color_prog_fallback(int32_t med, Vec3 lo, Vec3 hi, const std::string& name);
+    float mesh_color_majorant(int32_t med, Vec3 lo, Vec3 hi, const std::string& name);
+    void grid_box_world(const DensityGrid& g, const float lo[3], const float hi[3], Vec3* wlo,
+                        Vec3* whi) const;
+    Vec3 color_prog_whole_{};  // the colour program's part over the whole grid (a fallback)
     void nest_media(const SceneInput& in, const Medium* world);  // scene/medium_build.cpp
     void inset_volume_boundaries();  // scene/medium_inset.cpp
     bool boundary_meets_a_face(const MeshRange& r, Vec3 lo, Vec3 hi, float eps,
