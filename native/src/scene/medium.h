@@ -85,7 +85,13 @@ LANTERN_HD inline Vec3 hg_sample(float g, Vec3 d, Vec2 u, float* pdf_w) {
 LANTERN_HD inline float medium_channel_tr(float sigma, float t) {
     return sigma > 0.0f ? expf(-sigma * t) : 1.0f;
 }
+// Whether the medium's extinction is the same in the three channels (a grey fog): its
+// transmittance is then one exponential, not three of the same value (the same bits).
+LANTERN_HD inline bool medium_grey(const Medium& m) {
+    return m.sigma_t.x == m.sigma_t.y && m.sigma_t.x == m.sigma_t.z;
+}
 LANTERN_HD inline Vec3 medium_transmittance(const Medium& m, float t) {
+    if (medium_grey(m)) return vec3(medium_channel_tr(m.sigma_t.x, t));
     return Vec3{medium_channel_tr(m.sigma_t.x, t), medium_channel_tr(m.sigma_t.y, t),
                 medium_channel_tr(m.sigma_t.z, t)};
 }
@@ -117,16 +123,19 @@ struct MediumStep {
 
 // The probability that a flight passes t (the pass weight's denominator), for light found
 // along the segment before its end.
+// (tr: the medium's transmittance over t, medium_transmittance)
+LANTERN_HD inline float medium_pass_pdf(Vec3 pmf, Vec3 tr) {
+    return pmf.x * tr.x + pmf.y * tr.y + pmf.z * tr.z;
+}
 LANTERN_HD inline float medium_pass_pdf(const Medium& m, Vec3 pmf, float t) {
-    return pmf.x * medium_channel_tr(m.sigma_t.x, t) + pmf.y * medium_channel_tr(m.sigma_t.y, t) +
-           pmf.z * medium_channel_tr(m.sigma_t.z, t);
+    return medium_pass_pdf(pmf, medium_transmittance(m, t));
 }
 // The throughput factor of a flight that passes t: T(t) / P(passes t); T(t) alone in a medium
 // that does not scatter (no distance is sampled there).
 LANTERN_HD inline Vec3 medium_pass_weight(const Medium& m, Vec3 pmf, float t) {
     const Vec3 tr = medium_transmittance(m, t);
     if (!m.scatters) return tr;
-    const float p = medium_pass_pdf(m, pmf, t);
+    const float p = medium_pass_pdf(pmf, tr);
     return p > 0.0f ? tr / p : vec3(0.0f);
 }
 

@@ -111,9 +111,8 @@ LANTERN_HD inline bool spot_cone_interval(Vec3 apex, Vec3 axis, float cos_half, 
 // The density of the free-flight distance s under medium_sample_distance (one-sample MIS over
 // the channels with probabilities pmf): the distance strategy's pdf in the MIS weights.
 LANTERN_HD inline float medium_distance_pdf(const Medium& m, Vec3 pmf, float s) {
-    return pmf.x * m.sigma_t.x * medium_channel_tr(m.sigma_t.x, s) +
-           pmf.y * m.sigma_t.y * medium_channel_tr(m.sigma_t.y, s) +
-           pmf.z * m.sigma_t.z * medium_channel_tr(m.sigma_t.z, s);
+    const Vec3 tr = medium_transmittance(m, s);
+    return pmf.x * m.sigma_t.x * tr.x + pmf.y * m.sigma_t.y * tr.y + pmf.z * m.sigma_t.z * tr.z;
 }
 
 }  // namespace lantern
