@@ -77,6 +77,9 @@ KNOWN = {
     "power of zero": "D35: Math / Vector Math Power of a zero base and a negative exponent: "
                      "Cycles gives 0 at render time, Lantern +inf (fixed, parity4: the tag "
                      "stays until a long run has drawn such graphs again)",
+    "translucent on low-poly smooth": "D43: a Translucent BSDF on a smooth-shaded low-poly "
+                                      "mesh, lit through its interior, reads darker in "
+                                      "Lantern (difftest_features2's low-poly meshes)",
 }
 # what keeps an emission graph's value at or above 0 (the generator puts one in front)
 NON_NEGATIVE = {("ShaderNodeMath", "MAXIMUM"), ("ShaderNodeMix", True)}
@@ -299,4 +302,8 @@ def tags(case):
             found.add("no material")
         if o["kind"] == "sphere":
             found.add("smooth sphere")
+        if o.get("lowpoly", {}).get("smooth") and o.get("material") in mats and any(
+                n["type"] == "ShaderNodeBsdfTranslucent"
+                for n in mats[o["material"]]["nodes"].values()):
+            found.add("translucent on low-poly smooth")
     return found
