@@ -14,6 +14,7 @@ modest optical depth, the case's own (low) bounces."""
 import copy
 import random
 
+import difftest_features2 as f2
 from difftest_graph import _rgb, _u
 
 FEATURES = {
@@ -30,6 +31,7 @@ FEATURES = {
     "motion blur": "an object moving over the shutter (location or rotation keys)",
     "moving camera": "the camera moving over the shutter",
 }
+FEATURES.update(f2.FEATURES)   # the second batch (difftest2): Volume objects, Cast Shadow, ...
 
 P_VOLUME, P_WORLD_VOLUME, P_SUBSURFACE, P_HAIR, P_MOTION = 0.15, 0.06, 0.12, 0.10, 0.12
 
@@ -158,7 +160,7 @@ def draw(key, case, avoid, material):
                                                      _u(r, -0.2, 0.2)]}
         else:
             case.pop("shutter")
-    return case
+    return f2.draw(key, case, avoid)   # from a stream of its own: cases without them unchanged
 
 
 def _hair_material(r, avoid, material):
@@ -199,6 +201,8 @@ def build_object(sc, o, mats, made):
     which this makes); returns the object."""
     import bpy
     import numpy as np
+    if made is not None:   # a Volume object, a low-poly mesh, a shape key
+        made = f2.build_object(sc, o, made)
     if o["kind"] == "curves":
         st = o["strands"]
         n, keys = st["count"], st["keys"]
@@ -237,12 +241,14 @@ def build_object(sc, o, mats, made):
         ps.root_radius, ps.tip_radius, ps.radius_scale = 1.0, 0.5, h["radius"]
         ps.child_type = "NONE"
         sc.cycles_curves.shape = "THICK_LINEAR"
+        f2.hair_children(o, made)
     return made
 
 
 def build_scene(sc, case, camera, made):
     """The case's motion (after every object is made): keys and the render's motion blur."""
     import bpy
+    f2.build_scene(sc, case)
     if case.get("volumes") or case.get("world_volume"):
         # Cycles' factory Volume Bounces (0) is below its Max Bounces, which the export warns
         # of; the tester sets both to the case's bounces at render time (difftest.py)
@@ -265,9 +271,10 @@ def build_scene(sc, case, camera, made):
 def features(case):
     """The FEATURES tags of a case, read off its description."""
     found = set()
-    vols = list(case.get("volumes", {}).values())
+    vols = [case["volumes"][o["volume"]] for o in case["objects"]
+            if o.get("volume") in case.get("volumes", {}) and o["kind"] != "vdb"]
     for o in case["objects"]:
-        if o.get("volume") in case.get("volumes", {}):
+        if o.get("volume") in case.get("volumes", {}) and o["kind"] != "vdb":
             found.add("volume")
             if o.get("material"):
                 found.add("volume with surface")
@@ -282,7 +289,10 @@ def features(case):
         vols.append(case["world_volume"])
     for g in vols:
         types = [n["type"] for n in g["nodes"].values()]
-        if "ShaderNodeTexNoise" in types:
+        # (a Noise on the world's or on a Color: difftest_features2's tags)
+        if "ShaderNodeTexNoise" in types and g is not case.get("world_volume") and any(
+                lk[3] == "Density" and g["nodes"][lk[0]]["type"] == "ShaderNodeMath"
+                for lk in g["links"]):
             found.add("volume noise density")
         if "ShaderNodeEmission" in types or any(
                 n.get("inputs", {}).get("Emission Strength", 0.0) > 0
@@ -300,7 +310,7 @@ def features(case):
                 found.add("principled hair")
     if "motion" in case["camera"] and case.get("shutter"):
         found.add("moving camera")
-    return found
+    return found | f2.features(case)
 
 
 def shrink_edits(case):
@@ -320,3 +330,4 @@ def shrink_edits(case):
         yield "camera: no motion", edited(lambda c: c["camera"].pop("motion"))
     if case.get("shutter") and case["shutter"] != 0.5:
         yield "shutter 0.5", edited(lambda c: c.update(shutter=0.5))
+    yield from f2.shrink_edits(case)

@@ -28,6 +28,22 @@ def see_through(material):
         p.get("target") == "alpha" for p in material.get("programs", []))
 
 
+def attributes_read(material, names):
+    """The attribute channels (`names`: the AttributeTable's) that a converted material's node
+    programs read: Generated and Object coordinates, colour and named attributes are the
+    triangles' vertex data, which strands do not carry (the core reads 0 there); Cycles gives a
+    strand its own (difftest D44: a ridged Noise of the implicit Generated read black)."""
+    from .node_ops import IN_ATTRIBUTE, OP
+    found = []
+    for p in material.get("programs", []):
+        for w in p.get("code", []):
+            if (w[0] & 0xFF) == OP["input"] and ((w[0] >> 8) & 0xFF) == IN_ATTRIBUTE:
+                name = names[w[3]] if 0 <= w[3] < len(names) else f"channel {w[3]}"
+                if name not in found:
+                    found.append(name)
+    return found
+
+
 class StrandExporter:
     def __init__(self, bscene, materials, report, final=True):
         self.materials, self.report, self.final = materials, report, final
@@ -58,6 +74,14 @@ class StrandExporter:
                                  f"'{obj.name}' is partly transparent (Alpha, a Transparent "
                                  "BSDF): strands render opaque in Lantern, its emission and "
                                  "shading at full coverage (Cycles lets rays through them)")
+            read = attributes_read(mat, list(getattr(getattr(
+                self.materials, "attributes", None), "names", [])))
+            if read:
+                self.report.warn(f"Hair: the material '{mat.get('name', slot)}' of "
+                                 f"'{obj.name}' reads {', '.join(repr(n) for n in read)} "
+                                 "(texture coordinates or attributes, an unlinked texture "
+                                 "vector's Generated too), which strands do not carry in "
+                                 "Lantern: read as 0 there (Cycles gives each strand its own)")
         lut = np.array(slots, dtype=np.uint32)
         out = []
         for k, st in enumerate(found):

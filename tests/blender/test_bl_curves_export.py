@@ -242,3 +242,37 @@ def test_see_through_strands_warned(addon):
     bpy.context.object.data.materials.append(mat)
     nt.links.new(transparent.outputs[0], mix.inputs[2])
     assert warned() == []
+
+
+def test_strand_attributes_warned(addon):
+    """Strands carry no vertex attributes (Generated, Object coordinates, colours): a hair
+    material whose graph reads one, here a Noise's implicit Generated vector, is named (difftest
+    D44: a ridged Noise on a Curves object read black in Lantern); the Noise at the Geometry
+    Position and a mesh with the same material are not."""
+    from lantern_blender.export import export_scene
+    scene = empty_scene()
+    obj = _curves_object(scene, [3], [[0, 0, 0], [0, 0, 0.5], [0, 0, 1]], radius=[0.01] * 3)
+    mat = bpy.data.materials.new("speckle")
+    nt = mat.node_tree
+    for n in list(nt.nodes):
+        nt.nodes.remove(n)
+    out = nt.nodes.new("ShaderNodeOutputMaterial")
+    em = nt.nodes.new("ShaderNodeEmission")
+    noise = nt.nodes.new("ShaderNodeTexNoise")
+    nt.links.new(noise.outputs["Fac"], em.inputs["Strength"])
+    nt.links.new(em.outputs[0], out.inputs["Surface"])
+    obj.data.materials.append(mat)
+
+    def warned():
+        _, report = export_scene(bpy.context.evaluated_depsgraph_get())
+        return [m for m in report.messages if "strands do not carry" in m]
+    got = warned()
+    assert len(got) == 1 and "'speckle'" in got[0] and "'generated'" in got[0], got
+    pos = nt.nodes.new("ShaderNodeNewGeometry")
+    nt.links.new(pos.outputs["Position"], noise.inputs["Vector"])
+    assert warned() == []
+    nt.links.remove(noise.inputs["Vector"].links[0])
+    bpy.data.objects.remove(obj)
+    bpy.ops.mesh.primitive_plane_add()
+    bpy.context.object.data.materials.append(mat)
+    assert warned() == []
