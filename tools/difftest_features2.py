@@ -37,9 +37,9 @@ FEATURES = {
     "hair children": "particle hair with Simple or Interpolated children",
     "deformation blur": "a mesh deforming over the shutter (a shape key keyed 0 -> 1)",
 }
-# what the add-on names as not rendered (docs/volumes.md): graphs on the world's volume and on
-# Color, phase functions other than Henyey-Greenstein
-WARNED = {"world volume noise", "volume colour noise", "volume phase"}
+# what the add-on names as not rendered (docs/volumes.md): graphs on the world's volume, phase
+# functions other than Henyey-Greenstein (graphs on a volume's Color render since volcolor)
+WARNED = {"world volume noise", "volume phase"}
 
 P_VDB, P_NO_SHADOW, P_LOWPOLY, P_DEFORM = 0.15, 0.2, 0.2, 0.1
 P_WORLD_NOISE, P_COLOUR_NOISE, P_PHASE, P_CHILDREN = 0.3, 0.15, 0.15, 0.8

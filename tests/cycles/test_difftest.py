@@ -92,8 +92,7 @@ def test_features_full_only_and_exported():
             seeds.setdefault(tag, []).append(seed)
     assert set(seeds) == set(df.FEATURES), set(df.FEATURES) - set(seeds)
     # what names each WARNED tag in the add-on's warnings
-    named = {"world volume noise": "'Density'", "volume colour noise": "'Color'",
-             "volume phase": "phase function"}
+    named = {"world volume noise": "'Density'", "volume phase": "phase function"}
     assert set(named) == f2.WARNED
     exported = {}
 
