@@ -20,6 +20,7 @@ socket's value stands for it, as in Cycles."""
 import numpy as np
 
 from .volume import _output, convert_volume
+from .volume_blocks import _box, _cover, _texture_space
 
 # Principled Volume's defaults (bpy 5.0.1), for a Volume object without a material
 _DEFAULT_MEDIUM = {"sigma_a": [0.0, 0.0, 0.0], "sigma_s": [0.5, 0.5, 0.5],
@@ -163,16 +164,6 @@ def _GridCompiler(material, report, table, attributes=None):
     return comp
 
 
-def _texture_space(matrix_world, positions):
-    """{"generated", "object"} per vertex of the box (world positions): on a Volume object
-    Cycles (bpy 5.0.1) gives both as the object-space position (measured: Generated normalised
-    to the Volume's bounds, as sync_volume_object's generated transform reads, differed by
-    z 180; tests/cycles/test_volumes_vdb_texcoord.py)."""
-    p = np.c_[np.asarray(positions, np.float64), np.ones(len(positions))]
-    local = (p @ np.linalg.inv(np.array(matrix_world, np.float64)).T)[:, :3].astype(np.float32)
-    return {"generated": local, "object": local.copy()}
-
-
 def _strength_program(self, node, sock, weight, color_name):
     """A graph of the object's grids on an emission strength (Map Range, Math, ColorRamp, ...
     between Attribute nodes and the socket): a "volume_emission" program, its colour factor
@@ -205,24 +196,6 @@ def _flame_color(node, name, where, report):
     if _linked(node, name):
         return [1.0, 1.0, 1.0]
     return _value(node, name, where, report) or [1.0, 1.0, 1.0]
-
-
-def _box(index_to_world, dims):
-    """positions (8, 3) and indices (12, 3) of the block's trilinear support [-1, n] per axis
-    mapped to the world, faces outward (also under a mirroring matrix)."""
-    nx, ny, nz = dims
-    lo, hi = [-1.0, -1.0, -1.0], [float(nx), float(ny), float(nz)]
-    corners = np.array([[hi[0] if c & 1 else lo[0], hi[1] if c & 2 else lo[1],
-                         hi[2] if c & 4 else lo[2], 1.0] for c in range(8)])
-    pos = (corners @ np.asarray(index_to_world, np.float64).T)[:, :3]
-    quads = [(0, 2, 3, 1), (4, 5, 7, 6), (0, 1, 5, 4), (2, 6, 7, 3), (0, 4, 6, 2), (1, 3, 7, 5)]
-    tris = []
-    for a, b, c, d in quads:
-        tris += [(a, b, c), (a, c, d)]
-    tris = np.array(tris, np.uint32)
-    if np.linalg.det(np.asarray(index_to_world, np.float64)[:3, :3]) < 0.0:
-        tris = tris[:, ::-1].copy()
-    return pos.astype(np.float32), np.ascontiguousarray(tris)
 
 
 class VolumeObjects:
@@ -362,8 +335,6 @@ class VolumeObjects:
         # differed 5x more with the voxels moved half a voxel either way)
         to_world = np.array(inst.matrix_world, np.float64) @ np.asarray(index_to_object)
         medium = _object_space(medium, vol, inst.matrix_world)
-        nz, ny, nx = voxels.shape
-        positions, indices = _box(to_world, (nx, ny, nz))
         g = {"name": f"{obj.name}:{grid}", "voxels": voxels, "index_to_world": to_world,
              "fire": {}}
         # the temperature, flame and colour grids, each its own block
@@ -395,9 +366,14 @@ class VolumeObjects:
         if program is not None:
             g["layout"] = grid
             g["program_grids"] = self._program_grids(obj, path, grid, program, inst)
+            # the medium spans every grid its programs read (Cycles' volume mesh covers the
+            # active voxels of each grid the shader reads): the layout block grows, with zeros
+            g["voxels"], g["index_to_world"] = _cover(voxels, to_world, g["program_grids"].values(),
+                                                      lambda t: warn(f"Object '{obj.name}': {t}"))
             m["programs"] = [{k: v for k, v in p.items() if k != "grid_names"}
                              for p in program["programs"]]
             m["grid_names"] = list(program["grid_names"])
+        positions, indices = _box(g["index_to_world"], g["voxels"].shape[::-1])
         mesh = {"name": obj.name, "positions": positions, "indices": indices}
         if self.attributes is not None and self.attributes.names:
             mesh["_attributes"] = _texture_space(inst.matrix_world, positions)

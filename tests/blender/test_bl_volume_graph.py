@@ -7,6 +7,8 @@ multiplies by; a lone Attribute node keeps the older path (no program); a graph 
 Strength a "volume_emission" program, its colour factor the flame's (a lone Attribute the flame
 grid, as before)."""
 
+import os
+
 import bpy
 import numpy as np
 import pytest
@@ -120,3 +122,52 @@ def test_emission_strength_graph_is_a_program(empty, addon, tmp_path):
     scene, _ = export(addon)
     m, _, _ = _smoke(scene)
     assert not m.get("programs") and m.get("flame_grid") is not None
+
+
+def _two_extents_vdb(tmp_path):
+    """density: a 4 x 3 x 2 block of 0.1 m voxels; heat: 3^3 voxels of 0.5 m about it."""
+    import lantern._core as core
+    path = os.path.join(str(tmp_path), "extents.vdb")
+    dens = np.arange(24, dtype=np.float32).reshape(2, 3, 4) + 1.0   # nz, ny, nx
+
+    def cube(v, lo):
+        return np.array([[v, 0, 0, lo], [0, v, 0, lo], [0, 0, v, lo], [0, 0, 0, 1]], np.float64)
+    core.vdb_write_list(path, [
+        {"name": "density", "voxels": dens, "index_to_object": cube(0.1, 0.0)},
+        {"name": "heat", "voxels": np.ones((3, 3, 3), np.float32),
+         "index_to_object": cube(0.5, -0.6)}])
+    return path, dens
+
+
+def test_medium_spans_every_grid_its_graph_reads(empty, addon, tmp_path):
+    """D45 (docs/difftest.md): Principled Volume, Density Attribute cleared, density + heat on
+    Density: the box and the layout block cover heat's support too (Cycles' volume mesh covers
+    the active voxels of each grid the shader reads); the density voxels keep their places.
+    Control: density alone keeps its own block."""
+    path, dens = _two_extents_vdb(tmp_path)
+    mat, v = _material("principled")
+    v.inputs["Density Attribute"].default_value = ""
+    _graph(v, ["density", "heat"])
+    obj = _volume_object(empty, path, mat)
+    scene, report = export(addon)
+    assert not [x for x in report.messages if "Smoke" in x], report.messages
+    m, mesh, layout = _smoke(scene)
+    assert layout["name"].endswith(":density")
+    world = np.array(obj.matrix_world, np.float64)
+    heat_lo = world @ np.array([-0.6 - 0.5, -0.6 - 0.5, -0.6 - 0.5, 1.0])
+    heat_hi = world @ np.array([-0.6 + 3 * 0.5] * 3 + [1.0])
+    pos = np.asarray(mesh["positions"], np.float64)
+    assert (pos.min(axis=0) <= heat_lo[:3] + 1e-5).all(), (pos.min(axis=0), heat_lo)
+    assert (pos.max(axis=0) >= heat_hi[:3] - 1e-5).all(), (pos.max(axis=0), heat_hi)
+    vox = np.asarray(layout["voxels"])
+    assert vox.size > dens.size and np.isclose(vox.sum(), dens.sum())
+    # voxel (i, j, k) of the grown block sits where the density grid's index says
+    to_world = np.asarray(layout["index_to_world"], np.float64)
+    k, j, i = np.argwhere(vox == dens.max())[0]
+    assert np.allclose(to_world @ [i, j, k, 1.0], world @ [0.3, 0.2, 0.1, 1.0], atol=1e-6)
+    # control: the density alone, no block grows
+    nt = mat.node_tree
+    nt.links.new(nt.nodes["Attribute"].outputs["Fac"], v.inputs["Density"])
+    scene, _ = export(addon)
+    _, mesh, layout = _smoke(scene)
+    assert np.array_equal(np.asarray(layout["voxels"]), dens)
