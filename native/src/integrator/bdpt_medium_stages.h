@@ -446,7 +446,8 @@ LANTERN_HD inline bool bdpt_camera_medium_segment(const SceneView& s, const Path
     MediumSegmentPdf seg = bdpt_seg_load(bs, i);
     const Vec3 o = ps.ray_o[i], d = ps.ray_d[i];
     const float tmin = ps.ray_tmin[i];
-    const float t_end = tri >= 0 ? ps.hit_t[i] : ps.ray_tmax[i];
+    // a miss: to infinity, past the camera's clip end too (pt_medium_segment, D46)
+    const float t_end = tri >= 0 ? ps.hit_t[i] : kInf;
     const int32_t med = ps.medium[i];
     const Medium* m = med >= 0 ? &s.media[med] : nullptr;
     if (m && m->hetero) return bdpt_camera_hetero_segment(s, ps, bs, st, cache, i, path, z, sr);
@@ -465,8 +466,8 @@ LANTERN_HD inline bool bdpt_camera_medium_segment(const SceneView& s, const Path
         ps.rng[i] = rng;
         step = bdpt_medium_flight(*m, t_end - tmin, uc, ud);
     }
-    bdpt_camera_emission_medium(s, ps, bs, st, i, tmin + step.t, tri < 0 && !step.scattered, m,
-                                seg, beta, sr);
+    bdpt_camera_emission_medium(s, ps, bs, st, i, fminf(tmin + step.t, ps.ray_tmax[i]),
+                                tri < 0 && !step.scattered, m, seg, beta, sr);
     ps.throughput[i] = beta * step.weight;
     medium_segment_piece(seg, m, step.t, step.scattered);
     if (step.scattered) {

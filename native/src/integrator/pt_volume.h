@@ -212,7 +212,10 @@ LANTERN_HD inline bool pt_medium_segment(const SceneView& s, const PathState& ps
     if (m.hetero) return pt_hetero_segment(s, ps, st, i, catcher_camera);
     const Vec3 o = ps.ray_o[i], d = ps.ray_d[i];
     const float tmin = ps.ray_tmin[i];
-    const float t_end = ps.hit_prim[i] >= 0 ? ps.hit_t[i] : ps.ray_tmax[i];
+    // a miss goes on to infinity in the medium, also for a camera ray cut at the clip end
+    // (Cycles' shade_volume: the segment of a miss is FLT_MAX): light through world fog beyond
+    // the clip end carries nothing (D46: docs/difftest.md)
+    const float t_end = ps.hit_prim[i] >= 0 ? ps.hit_t[i] : kInf;
     const float len = t_end - tmin;
     const Vec3 beta = ps.throughput[i];
     ps.vshadow_valid[i] = 0;
@@ -226,8 +229,9 @@ LANTERN_HD inline bool pt_medium_segment(const SceneView& s, const PathState& ps
     }
     const MediumStep step = medium_sample_distance(m, len, pmf, u_channel, u_dist);
     if (!catcher_camera)
-        pt_collect_lights_medium(s, ps, i, o, d, tmin, step.scattered ? tmin + step.t : t_end, m,
-                                 pmf);
+        pt_collect_lights_medium(  // the lights the ray meets: within its clip end
+            s, ps, i, o, d, tmin, fminf(step.scattered ? tmin + step.t : t_end, ps.ray_tmax[i]),
+            m, pmf);
     // next-event estimation along the segment by two strategies for the distance, combined by
     // the power heuristic: the free flight's scattering (below) and equiangular sampling
     // towards a light point chosen for the segment (its own shadow ray, PathState::vshadow_*)
