@@ -322,8 +322,11 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
     const bool delta_material = material_is_delta(m);
     Vec2 u_pick = rng.uniform2();
     Vec2 u_light = rng.uniform2();
-    // a smooth mesh's terminator takes light from under its face too: no side to cull by
-    const Vec3 n_pick = terminator_cutoff(s, tri) > 0.0f && dot(h.ns, h.ng) < 0.99999f
+    // a smooth mesh's terminator takes light from under its face too, and so does a lamp
+    // without shadows (below; s.light_rays: a scene with such lamps may have one): no side to
+    // cull by
+    const Vec3 n_pick = (terminator_cutoff(s, tri) > 0.0f || (extras && s.light_rays)) &&
+                                dot(h.ns, h.ng) < 0.99999f
                             ? vec3(0.0f)
                             : light_pick_normal(s, tri, h.ng);
     LightPick pick{-1, 0.0f};
@@ -336,7 +339,8 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
         // luminance of the unshadowed contribution
         auto target = [&](const LightSample& c) LANTERN_DEVICE_INLINE {
             if (!(light_side_agrees(m, c.wi, h.ng, h.ns) ||
-                  terminator_passes(s, tri, c.wi, h.ng, h.ns)) ||
+                  terminator_passes(s, tri, c.wi, h.ng, h.ns) ||
+                  (extras && s.light_rays && !sides_agree(c.wi, h.ng, h.ns))) ||
                 is_black(c.le))
                 return 0.0f;
             BsdfEval e = pt_eval(m, h.front, wo, frame.to_local(c.wi), h.coat_n, ng_l);
@@ -356,15 +360,23 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
         ls.valid = pt_nee_allowed(s, m, tri, h.ng, pick.light, ls.wi);
     if (pick.pmf > 0.0f) {
         // geo_side false: a smooth mesh's light from under its face (integrator/terminator.h),
-        // which BSDF sampling never takes: next-event estimation's alone
+        // which BSDF sampling never takes: next-event estimation's alone. A lamp without
+        // shadows lights it at any offset (D47): Cycles' BSDFs read the shading normal alone
+        // and no shadow ray meets the mesh; its BSDF sampling drops those directions too
+        // (bsdf_diffuse_sample: below Ng) but its next-event estimation keeps the usual MIS
+        // weight there, and so does this one (its sum is Cycles' image, pt_lamp_unshadowed)
+        const bool unshadowed = extras && pt_lamp_unshadowed(s, pick.light);
         const bool geo_side = light_side_agrees(m, ls.wi, h.ng, h.ns);
         if (ls.valid && !delta_material &&
-            (geo_side || terminator_passes(s, tri, ls.wi, h.ng, h.ns)) && !is_black(ls.le)) {
+            (geo_side || terminator_passes(s, tri, ls.wi, h.ng, h.ns) ||
+             (unshadowed && !sides_agree(ls.wi, h.ng, h.ns))) &&
+            !is_black(ls.le)) {
             BsdfEval e = pt_eval(m, h.front, wo, frame.to_local(ls.wi), h.coat_n, ng_l);
             float pdf_light = pick.pmf * ls.pdf_w;
             if (e.pdf_fwd_w > 0.0f && pdf_light > 0.0f) {
                 // shadow linking: next-event estimation alone (pt_light_linking.h)
-                float w = ls.delta || !geo_side || (extras && pt_shadow_linked(s, pick.light))
+                float w = ls.delta || (!geo_side && !unshadowed) ||
+                                  (extras && pt_shadow_linked(s, pick.light))
                               ? 1.0f
                               : power_heuristic(pdf_light, e.pdf_fwd_w);
                 float cos_i = fabsf(dot(ls.wi, h.ns));
@@ -394,7 +406,7 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
                     ps.shadow_medium[i] = dot(ls.wi, geo_side ? h.ng : h.ns) < 0.0f
                                               ? medium_across(s, tri, h.front, ps.medium[i])
                                               : ps.medium[i];
-                if (extras && pt_lamp_unshadowed(s, pick.light)) {  // Cast Shadow off: no ray
+                if (unshadowed) {  // Cast Shadow off: no ray
                     add_radiance(ps, i, c);
                     ps.shadow_valid[i] = 0;
                 }

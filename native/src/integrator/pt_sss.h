@@ -150,8 +150,10 @@ LANTERN_HD inline void pt_sss_exit(const SceneView& s, const PathState& ps, cons
                                    int i, int tri, Vec3 p, Vec3 ng, Vec3 ns, Vec3 beta, int depth,
                                    Rng& rng) {
     if (depth >= st.max_depth) return;
-    // the terminator (integrator/terminator.h) as at pt_shade's surfaces
-    const Vec3 n_pick = terminator_cutoff(s, tri) > 0.0f && dot(ns, ng) < 0.99999f
+    // the terminator (integrator/terminator.h) and lamps without shadows as at pt_shade's
+    // surfaces
+    const Vec3 n_pick = (terminator_cutoff(s, tri) > 0.0f || s.light_rays) &&
+                                dot(ns, ng) < 0.99999f
                             ? vec3(0.0f)
                             : light_pick_normal(s, tri, ng);
     const Vec2 u_pick = rng.uniform2();
@@ -167,10 +169,12 @@ LANTERN_HD inline void pt_sss_exit(const SceneView& s, const PathState& ps, cons
         const float cos_i = dot(ls.wi, ns);
         const float pdf_light = pick.pmf * ls.pdf_w;
         const bool geo_side = dot(ls.wi, ng) > 0.0f;  // else the terminator's alone
+        const bool unshadowed = pt_lamp_unshadowed(s, pick.light);  // any side, MIS (pt.h)
         if (ls.valid && !is_black(ls.le) && cos_i > 0.0f &&
-            (geo_side || terminator_cutoff(s, tri) > 0.0f) && pdf_light > 0.0f) {
+            (geo_side || terminator_cutoff(s, tri) > 0.0f || unshadowed) && pdf_light > 0.0f) {
             const float pdf_bsdf = cos_i * kInvPi;
-            const float w = ls.delta || !geo_side || pt_shadow_linked(s, pick.light)
+            const float w = ls.delta || (!geo_side && !unshadowed) ||
+                                    pt_shadow_linked(s, pick.light)
                                 ? 1.0f
                                 : power_heuristic(pdf_light, pdf_bsdf);
             const Vec3 so = offset_ray_origin(terminator_origin(s, tri, p, ng, ns, ls.wi), ng,
@@ -193,7 +197,7 @@ LANTERN_HD inline void pt_sss_exit(const SceneView& s, const PathState& ps, cons
             ps.shadow_valid[i] = 1;
             if (s.light_blockers && ps.shadow_light) ps.shadow_light[i] = pick.light;
             if (s.num_media > 0) ps.shadow_medium[i] = ps.medium[i];
-            if (pt_lamp_unshadowed(s, pick.light)) {  // Cast Shadow off: no shadow ray
+            if (unshadowed) {  // Cast Shadow off: no shadow ray
                 add_radiance(ps, i, ps.shadow_contrib[i]);
                 ps.shadow_valid[i] = 0;
             }
