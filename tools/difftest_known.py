@@ -83,11 +83,6 @@ KNOWN = {
     "sharp specular on low-poly smooth": "D48: a sharp glass or specular layer (Glass BSDF, "
                                          "Principled Roughness 0) on a smooth-shaded low-poly "
                                          "mesh: Cycles corrects the bent normals at the rims",
-    "unshadowed lamp on low-poly smooth": "D47: a lamp with Cast Shadow off lighting a smooth "
-                                          "low-poly mesh of Geometry Offset 0: Lantern drops "
-                                          "its light from under the facets",
-    "world absorption only": "D46: a world Volume that only absorbs: Cycles lets no light "
-                             "through its infinite extent, Lantern some",
 }
 # what keeps an emission graph's value at or above 0 (the generator puts one in front)
 NON_NEGATIVE = {("ShaderNodeMath", "MAXIMUM"), ("ShaderNodeMix", True)}
@@ -321,12 +316,4 @@ def tags(case):
                                         else 0.0) < 0.03
                 for n in mats[o["material"]]["nodes"].values()):
             found.add("sharp specular on low-poly smooth")
-    if any(lt.get("cast_shadow") is False for lt in case["lights"]) and any(
-            o.get("lowpoly", {}).get("smooth") and o["lowpoly"].get("offset") == 0.0
-            for o in case["objects"]):
-        found.add("unshadowed lamp on low-poly smooth")
-    wv = case.get("world_volume")
-    if wv and not any(n["type"] in ("ShaderNodeVolumeScatter", "ShaderNodeVolumePrincipled")
-                      for n in wv["nodes"].values()):
-        found.add("world absorption only")
     return found
