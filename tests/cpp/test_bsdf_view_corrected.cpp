@@ -88,19 +88,25 @@ TEST(ViewCorrected, GrazingViewBelowTheNormalIsLit) {
     EXPECT_FALSE(material_corrects_view(principled(vec3(0.8f), 0.0f, 1.0f, 0.0f)));
 }
 
-// D48 (docs/difftest.md): a Principled of Roughness 0 corrects its normal as Cycles does for
-// every microfacet closure, alpha 0 too: on camera sub-paths the delta pick is the mirror about
-// n'(v), above the facet, where the mirror about n falls under it (that light was lost); the
-// other picks agree with eval as for a rough one
+// D48 (docs/difftest.md): a Principled of Roughness 0 and a sharp conductor correct their normal
+// as Cycles does for every microfacet closure, alpha 0 too: on camera sub-paths the delta pick
+// is the mirror about n'(v), above the facet, where the mirror about n falls under it (that
+// light was lost); the other picks agree with eval as for a rough one
 TEST(ViewCorrected, SharpSpecularMirrorsAboutN2) {
     const Grazing g;
     const Vec3 n2 = valid_reflection_normal(g.ng, g.v);
     ASSERT_LT(n2.z, 1.0f);
     ASSERT_LT(dot(mirror(g.v, vec3(0.0f, 0.0f, 1.0f)), g.ng), 0.0f);  // the uncorrected mirror
-    for (float metallic : {0.0f, 1.0f}) {
-        const Material m = principled(vec3(0.8f, 0.5f, 0.3f), metallic, 0.0f, 0.0f);
+    // a sharp Glossy BSDF (a conductor; a Principled of Metallic 1 resolves to one too)
+    Material mirror_m = principled(vec3(0.9f, 0.6f, 0.3f), 1.0f, 0.0f, 0.0f);
+    mirror_m.type = kMaterialConductor;
+    ASSERT_TRUE(conductor_is_delta(material_conductor(mirror_m)));
+    for (float metallic : {0.0f, 1.0f, 2.0f}) {  // 2: the conductor
+        const Material m = metallic > 1.0f ? mirror_m
+                                           : principled(vec3(0.8f, 0.5f, 0.3f), metallic, 0.0f,
+                                                        0.0f);
         ASSERT_TRUE(material_corrects_view(m));
-        ASSERT_TRUE(principled_spec_is_delta(m));
+        ASSERT_TRUE(m.type == kMaterialConductor || principled_spec_is_delta(m));
         Pcg32 rng = Pcg32::for_path(11, 0, 0);
         int deltas = 0, others = 0;
         for (int i = 0; i < 2000; ++i) {

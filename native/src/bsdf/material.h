@@ -191,15 +191,15 @@ LANTERN_HD inline bool material_reads_light_side(const Material& m) {
 }
 
 // A glossy material whose lobes take the view-corrected normal (bsdf/shading_normal.h, Cycles'
-// Bump Map Correction): reflection only. docs/materials.md, "Shading normals". A sharp
-// Principled (its specular and metal lobes a delta) is corrected too, as Cycles corrects every
-// microfacet closure's normal, alpha 0 included (D48: otherwise the mirror about a smooth normal
-// that leans far from the facet falls under it at a low-poly mesh's rims, and that light is
-// lost). Its delta pick is a mirror about n'(v) on camera sub-paths but about n on light
-// sub-paths (no light sub-path can solve for v), so bdpt and lt read a slightly different BSDF
-// there, only where n' turns; a sharp Glossy BSDF and a sharp coat are still left out.
+// Bump Map Correction): reflection only. docs/materials.md, "Shading normals". Sharp ones (a
+// mirror conductor, a Principled whose specular and metal lobes are a delta) are corrected too,
+// as Cycles corrects every microfacet closure's normal, alpha 0 included (D48: otherwise the
+// mirror about a smooth normal that leans far from the facet falls under it at a low-poly
+// mesh's rims, and that light is lost). A delta pick is a mirror about n'(v) on camera
+// sub-paths but about n on light sub-paths (no light sub-path can solve for v), so bdpt and lt
+// read a slightly different BSDF there, only where n' turns; a sharp coat is still left out.
 LANTERN_HD inline bool material_corrects_view(const Material& m) {
-    if (m.type == kMaterialConductor) return !conductor_is_delta(material_conductor(m));
+    if (m.type == kMaterialConductor) return true;
     if (m.type != kMaterialPrincipled) return false;
     return !(m.transmission > 0.0f) &&
            !(m.coat_weight > 0.0f && principled_coat_ggx(m).effectively_smooth());
