@@ -83,9 +83,59 @@ TEST(ViewCorrected, GrazingViewBelowTheNormalIsLit) {
         const BsdfEval b = material_eval(*x, true, g.v, l, Transport::Radiance);
         EXPECT_TRUE(is_black(b.f));
     }
-    // a delta lobe is never corrected (camera and light sub-paths would sample two BSDFs)
-    EXPECT_FALSE(material_corrects_view(principled(vec3(0.8f), 0.0f, 0.0f, 0.0f)));
+    // transmission is never corrected (a sharp Principled is: SharpSpecularMirrorsAboutN2)
     EXPECT_FALSE(material_corrects_view(principled(vec3(0.8f), 0.0f, 1.0f, 0.3f)));
+    EXPECT_FALSE(material_corrects_view(principled(vec3(0.8f), 0.0f, 1.0f, 0.0f)));
+}
+
+// D48 (docs/difftest.md): a Principled of Roughness 0 and a sharp conductor correct their normal
+// as Cycles does for every microfacet closure, alpha 0 too: on camera sub-paths the delta pick
+// is the mirror about n'(v), above the facet, where the mirror about n falls under it (that
+// light was lost); the other picks agree with eval as for a rough one
+TEST(ViewCorrected, SharpSpecularMirrorsAboutN2) {
+    const Grazing g;
+    const Vec3 n2 = valid_reflection_normal(g.ng, g.v);
+    ASSERT_LT(n2.z, 1.0f);
+    ASSERT_LT(dot(mirror(g.v, vec3(0.0f, 0.0f, 1.0f)), g.ng), 0.0f);  // the uncorrected mirror
+    // a sharp Glossy BSDF (a conductor; a Principled of Metallic 1 resolves to one too)
+    Material mirror_m = principled(vec3(0.9f, 0.6f, 0.3f), 1.0f, 0.0f, 0.0f);
+    mirror_m.type = kMaterialConductor;
+    ASSERT_TRUE(conductor_is_delta(material_conductor(mirror_m)));
+    for (float metallic : {0.0f, 1.0f, 2.0f}) {  // 2: the conductor
+        const Material m = metallic > 1.0f ? mirror_m
+                                           : principled(vec3(0.8f, 0.5f, 0.3f), metallic, 0.0f,
+                                                        0.0f);
+        ASSERT_TRUE(material_corrects_view(m));
+        ASSERT_TRUE(m.type == kMaterialConductor || principled_spec_is_delta(m));
+        Pcg32 rng = Pcg32::for_path(11, 0, 0);
+        int deltas = 0, others = 0;
+        for (int i = 0; i < 2000; ++i) {
+            const Vec2 u = rng.uniform2();
+            const Vec3 uu = vec3(u.x, u.y, rng.uniform());
+            const BsdfSample s = material_sample(m, true, g.v, uu, Transport::Radiance,
+                                                 vec3(0.0f, 0.0f, 1.0f), g.ng);
+            if (!s.valid) continue;
+            if (s.delta) {
+                ++deltas;
+                const Vec3 r = mirror(g.v, n2);
+                EXPECT_NEAR(s.wi.x, r.x, 1e-4f);
+                EXPECT_NEAR(s.wi.y, r.y, 1e-4f);
+                EXPECT_NEAR(s.wi.z, r.z, 1e-4f);
+                EXPECT_GT(dot(s.wi, g.ng), 0.0f);
+                EXPECT_GT(luminance(s.weight), 0.0f);
+                EXPECT_TRUE(is_finite(s.weight));
+            } else {
+                ++others;
+                const BsdfEval e = material_eval(m, true, g.v, s.wi, Transport::Radiance,
+                                                 vec3(0.0f, 0.0f, 1.0f), g.ng);
+                EXPECT_NEAR(e.pdf_fwd_w, s.pdf_fwd_w, 1e-4f * (1.0f + s.pdf_fwd_w));
+            }
+            // without the geometric normal (ng = n) the view below n reflects nothing, as before
+            EXPECT_FALSE(material_sample(m, true, g.v, uu, Transport::Radiance).valid);
+        }
+        EXPECT_GT(deltas, 100) << metallic;
+        if (metallic == 0.0f) EXPECT_GT(others, 100);
+    }
 }
 
 // A bumped Principled: coat_n carries the unbent normal (here ng, a flat surface), and its

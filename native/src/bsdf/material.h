@@ -191,12 +191,17 @@ LANTERN_HD inline bool material_reads_light_side(const Material& m) {
 }
 
 // A glossy material whose lobes take the view-corrected normal (bsdf/shading_normal.h, Cycles'
-// Bump Map Correction): reflection only, no delta lobe (sampled about n' on camera sub-paths but
-// about n on light sub-paths, one would be two BSDFs). docs/materials.md, "Shading normals".
+// Bump Map Correction): reflection only. docs/materials.md, "Shading normals". Sharp ones (a
+// mirror conductor, a Principled whose specular and metal lobes are a delta) are corrected too,
+// as Cycles corrects every microfacet closure's normal, alpha 0 included (D48: otherwise the
+// mirror about a smooth normal that leans far from the facet falls under it at a low-poly
+// mesh's rims, and that light is lost). A delta pick is a mirror about n'(v) on camera
+// sub-paths but about n on light sub-paths (no light sub-path can solve for v), so bdpt and lt
+// read a slightly different BSDF there, only where n' turns; a sharp coat is still left out.
 LANTERN_HD inline bool material_corrects_view(const Material& m) {
-    if (m.type == kMaterialConductor) return !conductor_is_delta(material_conductor(m));
+    if (m.type == kMaterialConductor) return true;
     if (m.type != kMaterialPrincipled) return false;
-    return !(m.transmission > 0.0f) && !principled_spec_is_delta(m) &&
+    return !(m.transmission > 0.0f) &&
            !(m.coat_weight > 0.0f && principled_coat_ggx(m).effectively_smooth());
 }
 
@@ -311,7 +316,8 @@ LANTERN_HD inline BsdfSample corrected_sample(const Material& m, bool front, Vec
         s = material_sample_leaf(m, front, wo, u, mode, coat_n);
         turned = s.valid && valid_reflection_normal(ng_l, s.wi).z < 1.0f;
     }
-    // (no delta lobe here: material_corrects_view)
+    // a delta pick (a sharp Principled's specular or metal lobe): about n' on camera
+    // sub-paths, about n on light sub-paths (material_corrects_view)
     if (!s.valid || s.delta || !(turned || corrected_base_shadowed(m, coat_n))) return s;
     const Vec3 wi = s.wi;
     return mixture_sample(wi, corrected_eval(m, front, wo, wi, mode, coat_n, ng_l));
