@@ -199,7 +199,9 @@ LANTERN_HD inline void lt_generate(const SceneView& s, const PathState& ps,
     // (a soft-falloff light: a line through its ball, soft_light_path.h)
     const bool soft = light_receiver_dependent(l);
     EmissionSample es = soft ? sample_soft_line(l, u_pos, u_dir)
-                             : sample_emission(s, l, u_pos, u_dir, kTightDisk);  // no MIS here
+                             : sample_emission(s, l, u_pos, u_dir,  // (a moving emitter: at
+                                               s.motion.num_objects > 0 ? motion_time(rng) : 0.0f,
+                                               kTightDisk);  // the path's time) no MIS here
     if (!es.valid || !(l.pick_pdf > 0.0f)) return;
     lp.power[i] = emission_weight(es) / l.pick_pdf;
     if (lp.light) lp.light[i] = li;
