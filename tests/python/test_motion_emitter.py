@@ -7,8 +7,9 @@ time, and the light paths of lt, bdpt, lvc and cis start on it at theirs.
 - pt against an independent estimate of the same shutter integral: each seed's reference
   averages 2 J still renders of the scene with the quad placed here at the times (j + u) / J
   and (j + 1 - u) / J (u uniform per seed; exact matrices), by lantern.metrics.assert_agreement with its negative
-  controls. Cases: a slide (2.4 m over the shutter) and a grow-and-turn (scale 0.5 -> 1.5 and
-  90 degrees: the area changes, so the densities must be the area at the time).
+  controls. Cases: a slide (2.4 m over the shutter), a grow-and-turn (scale 0.5 -> 1.5 and
+  90 degrees: the area changes, so the densities must be the area at the time) and a stretch
+  (deformation blur, mesh["deform"]: one edge pulled out, the area 4-fold).
 - Negative control: the quad kept still where it is at the frame (what the core did before,
   with a warning) must not agree with the reference.
 - bdpt, lvc, cis (one sample a pass: one time a pass) and lt against pt on both cases.
@@ -48,9 +49,22 @@ MOTIONS = {
 }
 
 
-def _scene(local_to_world):
-    """A 12 m floor, a 0.8 x 0.4 m emissive quad 1.4 m above it placed by local_to_world, a
-    camera looking down at the floor below the quad's height (the quad out of view), no world."""
+QUAD = np.array([[-0.4, -0.2, 0, 1], [0.4, -0.2, 0, 1], [0.4, 0.2, 0, 1], [-0.4, 0.2, 0, 1]])
+STRETCH_AT = _tr(0.1, 0.3, 1.4)  # the deforming quad's (still) matrix
+
+
+def _stretched(t):
+    """The deforming quad's corners at shutter time t (world): its +x edge pulled from x = 0 to
+    x = 1.2 (the quad 0.4 -> 1.6 m long: its area 4-fold over the shutter)."""
+    q = QUAD.copy()
+    q[1:3, 0] = 1.2 * t
+    return (q @ STRETCH_AT.T)[:, :3]
+
+
+def _scene(local_to_world, corners=None):
+    """A 12 m floor, a 0.8 x 0.4 m emissive quad 1.4 m above it placed by local_to_world (or
+    its world `corners`), a camera looking down at the floor below the quad's height (the quad
+    out of view), no world."""
     sc = lantern.Scene()
     sc.film["width"] = sc.film["height"] = SIZE
     sc.look_at((0.0, -3.0, 0.8), (0.0, 0.5, 0.0), up=(0, 0, 1), fov=40)
@@ -58,15 +72,28 @@ def _scene(local_to_world):
     lamp = sc.add_material("lamp", base_color=(0.0, 0.0, 0.0), emission=(6.0, 5.0, 4.0))
     sc.add_mesh(np.array([[-6, -6, 0], [6, -6, 0], [6, 6, 0], [-6, 6, 0]], np.float32),
                 np.array([[0, 1, 2], [0, 2, 3]], np.uint32), material=floor)
-    q = np.array([[-0.4, -0.2, 0, 1], [0.4, -0.2, 0, 1], [0.4, 0.2, 0, 1], [-0.4, 0.2, 0, 1]])
-    sc.add_mesh((q @ np.asarray(local_to_world).T)[:, :3].astype(np.float32),
-                np.array([[0, 1, 2], [0, 2, 3]], np.uint32), material=lamp, name="lamp")
+    if corners is None:
+        corners = (QUAD @ np.asarray(local_to_world).T)[:, :3]
+    sc.add_mesh(np.asarray(corners, np.float32), np.array([[0, 1, 2], [0, 2, 3]], np.uint32),
+                material=lamp, name="lamp")
     sc.world["color"] = (0.0, 0.0, 0.0)
     return sc
 
 
+def _static_at(name, t):
+    if name == "stretch":
+        return _scene(None, _stretched(t))
+    return _scene(MOTIONS[name](t))
+
+
 def _moving(name, steps=3):
-    """Exported at the shutter's middle, `steps` matrices over it."""
+    """Exported at the shutter's middle, `steps` matrices over it (stretch: its corners at the
+    steps, mesh["deform"])."""
+    if name == "stretch":
+        sc = _scene(None, _stretched(0.5))
+        sc.meshes[LAMP]["deform"] = np.stack(
+            [_stretched(t) for t in np.linspace(0.0, 1.0, steps)]).astype(np.float32)
+        return sc
     f = MOTIONS[name]
     sc = _scene(f(0.5))
     sc.meshes[LAMP]["motion"] = [f(t) for t in np.linspace(0.0, 1.0, steps)]
@@ -99,7 +126,7 @@ def _reference(name, seed):
     no first-order stratification noise."""
     u = np.random.default_rng(1000 + seed).random()
     times = [(j + v) / J for j in range(J) for v in (u, 1.0 - u)]
-    imgs = [_render(_scene(MOTIONS[name](t)), 100 * seed + j, SPP // len(times))[0]
+    imgs = [_render(_static_at(name, t), 100 * seed + j, SPP // len(times))[0]
             for j, t in enumerate(times)]
     return np.mean(imgs, axis=0)
 
@@ -113,21 +140,21 @@ def _pt(name):  # pt's motion renders, once per case
     return _PT[name]
 
 
-@pytest.mark.parametrize("name", ["slide", "grow"])
+@pytest.mark.parametrize("name", ["slide", "grow", "stretch"])
 def test_moving_emitter_matches_static_average(name):
     lan = _pt(name)
     assert np.isfinite(lan).all() and lan.mean() > 0.0
     ref = np.stack([_reference(name, k) for k in range(K)])
     metrics.assert_agreement(f"{name} emitter", lan, ref, block=8, se_floor=1e-6)
     # negative control: the quad kept where it is at the frame (the core's behaviour before)
-    still = _renders(_scene(MOTIONS[name](0.5)), 1)
+    still = _renders(_static_at(name, 0.5), 1)
     res = metrics.compare_renders(still, ref, block=8, se_floor=1e-6)
     assert not res.passed, f"{name}: the still emitter agrees with the moving one's: {res}"
 
 
 @pytest.mark.parametrize("integrator", ["bdpt", pytest.param("lvc", marks=pytest.mark.long),
                                         "cis", "lt"])
-@pytest.mark.parametrize("name", ["slide", "grow"])
+@pytest.mark.parametrize("name", ["slide", "grow", "stretch"])
 def test_moving_emitter_bidirectional_matches_pt(name, integrator):
     """Light paths start on the quad at their time; their densities at that time. (lt resolves
     1.4-1.7 % here: its controls at 2 % and 10 %, as test_motion_bidir.py's; lvc shares cis's
