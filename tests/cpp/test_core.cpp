@@ -139,7 +139,7 @@ TEST(Lights, PointIrradianceFallsOffWithDistanceSquared) {
     HostScene s(in);
     const SceneView& v = s.view();
     Pcg32 rng = Pcg32::for_path(0, 0, 0);
-    LightSample ls = sample_light(v, v.lights[0], vec3(0, 0, 1), rng.uniform2());
+    LightSample ls = sample_light(v, v.lights[0], vec3(0, 0, 1), rng.uniform2(), 0.0f);
     ASSERT_TRUE(ls.valid);
     EXPECT_TRUE(ls.delta);
     EXPECT_NEAR(ls.le.x, 100.0f / (4.0f * kPi * 4.0f), 1e-5f);  // P / (4 pi d^2)
@@ -160,7 +160,7 @@ TEST(Lights, SphereLightMatchesPointLightFarAway) {
     double e = 0.0;
     const int n = 20000;
     for (int i = 0; i < n; ++i) {
-        LightSample ls = sample_light(v, v.lights[0], vec3(0, 0, 0), rng.uniform2());
+        LightSample ls = sample_light(v, v.lights[0], vec3(0, 0, 0), rng.uniform2(), 0.0f);
         ASSERT_TRUE(ls.valid);
         e += ls.le.x * ls.wi.z / ls.pdf_w;
     }

@@ -130,12 +130,12 @@ TEST(Emission, PdfsMatchEvaluationAndFluxIsPower) {
         int checked = 0;
         for (int k = 0; k < n; ++k) {
             Vec2 up = rng.uniform2(), ud = rng.uniform2();
-            EmissionSample es = sample_emission(v, l, up, ud);
+            EmissionSample es = sample_emission(v, l, up, ud, 0.0f);
             double f = 0.0;
             if (es.valid) {
                 f = emission_weight(es).x;
                 if (k % 97 == 0) {
-                    EmissionPdf p = emission_pdf(v, l, es.n, es.d);
+                    EmissionPdf p = emission_pdf(v, l, es.n, es.d, 0.0f);
                     EXPECT_NEAR(p.pdf_emit / es.pdf_emit, 1.0, 1e-4) << c.name;
                     EXPECT_NEAR(p.pdf_direct / es.pdf_direct, 1.0, 1e-4) << c.name;
                     ++checked;
@@ -163,13 +163,13 @@ TEST(Emission, DirectionPdfIntegratesToOne) {
         Pcg32 rng = Pcg32::for_path(5, 0, 0);
         EmissionSample ref{};
         for (int k = 0; k < 1000 && !ref.valid; ++k)  // a surface normal to evaluate at
-            ref = sample_emission(v, l, rng.uniform2(), rng.uniform2());
+            ref = sample_emission(v, l, rng.uniform2(), rng.uniform2(), 0.0f);
         ASSERT_TRUE(ref.valid) << c.name;
         const int n = 400000;
         double acc = 0.0, acc2 = 0.0;
         for (int k = 0; k < n; ++k) {
             Vec3 d = sample_uniform_sphere(rng.uniform2(), nullptr);
-            EmissionPdf p = emission_pdf(v, l, ref.n, d);
+            EmissionPdf p = emission_pdf(v, l, ref.n, d, 0.0f);
             // the direction's pdf: pdf_emit over the point's (finite) or the disk's density
             double pdf_dir = ref.finite ? (p.pdf_direct > 0 ? p.pdf_emit / p.pdf_direct : 0.0)
                                         : p.pdf_emit * kPi * v.scene_radius * v.scene_radius;
@@ -193,7 +193,7 @@ TEST(Emission, SoftFalloffIsRefusedWhereLtCannotTraceIt) {
     p.soft_falloff = true;
     HostScene hs(scene_with(&p));
     EmissionSample es =
-        sample_emission(hs.view(), the_light(hs.view()), {0.5f, 0.5f}, {0.5f, 0.5f});
+        sample_emission(hs.view(), the_light(hs.view()), {0.5f, 0.5f}, {0.5f, 0.5f}, 0.0f);
     EXPECT_FALSE(es.valid);
     EXPECT_NO_THROW(check_light_tracing(scene_with(&p)));
     p.radius = 0.2f;  // the triangle inside the light's ball

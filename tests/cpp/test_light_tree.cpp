@@ -106,7 +106,7 @@ Shading random_point(Rng& rng, bool two_sided) {
 
 // Irradiance contribution (luminance of le cos / pdf) of one light sample at a point.
 double sample_contribution(const SceneView& v, const Light& l, const Shading& x, Vec2 u) {
-    LightSample ls = sample_light(v, l, x.p, u);
+    LightSample ls = sample_light(v, l, x.p, u, 0.0f);
     if (!ls.valid) return 0.0;
     const bool two = x.n.x == 0.0f && x.n.y == 0.0f && x.n.z == 0.0f;
     const float c = two ? 1.0f : dot(ls.wi, x.n);
@@ -315,7 +315,7 @@ TEST(LightTree, ResampledEstimateAgreesAndThePlainWeightIsBiased) {
             LightPick pk;
             LightSample ls;
             const float ris =
-                nee_resample(v, x.p, x.n, m, u0, rest, rng.uniform(), target, &pk, &ls);
+                nee_resample(v, x.p, x.n, m, u0, rest, rng.uniform(), target, &pk, &ls, 0.0f);
             double c = 0.0, naive = 0.0;
             if (pk.pmf > 0.0f) {
                 naive = double(target(ls)) / (double(pk.pmf) * ls.pdf_w);

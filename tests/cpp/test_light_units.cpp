@@ -18,7 +18,7 @@ double irradiance(const SceneView& v, Vec3 p, int n = 40000) {
     Pcg32 rng = Pcg32::for_path(3, 1, 4);
     double e = 0.0;
     for (int i = 0; i < n; ++i) {
-        LightSample ls = sample_light(v, v.lights[0], p, rng.uniform2());
+        LightSample ls = sample_light(v, v.lights[0], p, rng.uniform2(), 0.0f);
         if (!ls.valid || ls.wi.z <= 0.0f) continue;
         e += ls.le.x * ls.wi.z / ls.pdf_w;
     }
@@ -46,7 +46,7 @@ TEST(LightUnits, SpotConeIsCyclesSmoothstep) {
     EXPECT_NEAR(spot_attenuation(light, dir_at(cos_half + t * smooth)), expect, 1e-3f);
     // a delta spot on the axis: intensity P / (4 pi) over d^2
     Pcg32 rng = Pcg32::for_path(0, 0, 0);
-    LightSample ls = sample_light(s.view(), light, vec3(0, 0, -2), rng.uniform2());
+    LightSample ls = sample_light(s.view(), light, vec3(0, 0, -2), rng.uniform2(), 0.0f);
     ASSERT_TRUE(ls.valid);
     EXPECT_NEAR(ls.le.x, 10.0f / (4.0f * kPi * 4.0f), 1e-5f);
 }

@@ -72,7 +72,7 @@ RectChi2 chi2_rect(const Light& l, const SceneView& v, Vec3 p, bool area_samples
         if (area_samples) {
             q = area_point(l, u);
         } else {
-            LightSample ls = sample_light(v, l, p, u);
+            LightSample ls = sample_light(v, l, p, u, 0.0f);
             if (!ls.valid) continue;
             q = ls.p_light;
         }
@@ -194,7 +194,7 @@ TEST(RectLight, IrradianceUnderTheCentreAndLowerVariance) {
                 Vec3 wi = to / sqrtf(d2);
                 x = L * wi.z / pdf_a_to_w(1.0f / l.area, d2, wi.z);
             } else {
-                LightSample ls = sample_light(v, l, p, u);
+                LightSample ls = sample_light(v, l, p, u, 0.0f);
                 if (ls.valid && ls.wi.z > 0.0f) x = ls.le.x * ls.wi.z / ls.pdf_w;
             }
             sum += x;
@@ -230,7 +230,7 @@ TEST(RectLight, AreaFallbackNearThePlaneAndFarAway) {
     const Vec3 p = c + z * 20.0f;
     Pcg32 rng = Pcg32::for_path(5, 0, 0);
     for (int i = 0; i < 100; ++i) {
-        LightSample ls = sample_light(v, l, p, rng.uniform2());
+        LightSample ls = sample_light(v, l, p, rng.uniform2(), 0.0f);
         ASSERT_TRUE(ls.valid);
         const float cos_l = fabsf(dot(ls.wi, ls.n_light));
         const float expect = pdf_a_to_w(1.0f / l.area, ls.dist * ls.dist, cos_l);
@@ -238,7 +238,7 @@ TEST(RectLight, AreaFallbackNearThePlaneAndFarAway) {
         EXPECT_FLOAT_EQ(light_pdf_w(l, p, ls.wi, ls.dist, ls.n_light), expect);
     }
     // behind: no sample
-    EXPECT_FALSE(sample_light(v, l, c - z * 0.5f, Vec2{0.3f, 0.6f}).valid);
+    EXPECT_FALSE(sample_light(v, l, c - z * 0.5f, Vec2{0.3f, 0.6f}, 0.0f).valid);
 }
 
 // Every sampled point lies on the rectangle, and the bidirectional integrators' correction
@@ -251,7 +251,7 @@ TEST(RectLight, SampledPointsOnTheLightAndReceiverRatio) {
     const Vec3 p = l.frame.origin() + front * 0.05f + l.frame.axis(0) * 0.8f;
     Pcg32 rng = Pcg32::for_path(9, 0, 0);
     for (int i = 0; i < 2000; ++i) {
-        LightSample ls = sample_light(v, l, p, rng.uniform2());
+        LightSample ls = sample_light(v, l, p, rng.uniform2(), 0.0f);
         ASSERT_TRUE(ls.valid);
         const Vec3 q = ls.p_light - l.frame.origin();
         EXPECT_LE(fabsf(dot(q, l.frame.axis(0))), l.half_x * (1.0f + 1e-4f));

@@ -68,7 +68,7 @@ Estimate estimate(const SceneView& v, const Light& l, Vec3 p, bool cone, F f, in
     Pcg32 rng = Pcg32::for_path(cone ? 17 : 18, 0, 0);
     double sum = 0.0, sum2 = 0.0;
     for (int i = 0; i < n; ++i) {
-        const LightSample ls = cone ? sample_light(v, l, p, rng.uniform2())
+        const LightSample ls = cone ? sample_light(v, l, p, rng.uniform2(), 0.0f)
                                     : area_sample(l, p, rng.uniform2());
         const double x = ls.valid && ls.pdf_w > 0.0f ? f(ls) : 0.0;
         sum += x;
@@ -98,7 +98,7 @@ TEST(SoftDiskCone, SamplesOnTheFacingDiskWithTheHitsPdf) {
             const Vec3 p = receiver(l, d), axis = normalize(p - l.position);
             Pcg32 rng = Pcg32::for_path(3, 0, 0);
             for (int i = 0; i < 500; ++i) {
-                const LightSample ls = sample_light(v, l, p, rng.uniform2());
+                const LightSample ls = sample_light(v, l, p, rng.uniform2(), 0.0f);
                 ASSERT_TRUE(ls.valid) << type << " d " << d;
                 const Vec3 q = ls.p_light - l.position;
                 EXPECT_LE(length(q), kR * (1.0f + 1e-3f)) << type << " d " << d;

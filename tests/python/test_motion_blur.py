@@ -192,10 +192,6 @@ def test_motion_survives_the_scene_file(tmp_path):
     assert not np.array_equal(a, _render(_scene(), 4, 2)[0])
 
 
-def _emitting(sc):
-    sc.materials[sc.material_id("red")]["emission"] = [1.0, 0.5, 0.5]
-
-
 def _singular_base(sc):
     sc.meshes[CUBE]["motion_base"] = np.diag([1.0, 1.0, 0.0, 1.0])
 
@@ -207,7 +203,6 @@ def _camera_nan(sc):
 
 
 @pytest.mark.parametrize("case, words", [
-    (_emitting, "emits light: moving emitters are not motion-blurred"),
     (_singular_base, "the matrix it was exported with is singular or not finite"),
     (_camera_nan, "the camera: its matrix at motion step 2 is singular or not finite"),
 ])

@@ -75,13 +75,16 @@ template <class SR>
 LANTERN_DEVICE_NOINLINE
 LANTERN_HD inline void bdpt_camera_nee(const SceneView& s, const PathState& ps,
                                        const BdptState& bs, const BdptSettings& st,
-                                       const CameraVertex& z, int i, Rng& rng, const SR& sr) {
+                                       const CameraVertex& z, int i, Rng& rng, const SR& sr,
+                                       int64_t path) {
     Vec2 u_pick = rng.uniform2();
     Vec2 u_light = rng.uniform2();
     const LightPick pick = light_pick(s, z.h.p, z.n_pick, u_pick.x);
     if (!(pick.pmf > 0.0f)) return;
     const Light& l = s.lights[pick.light];
-    LightSample ls = sample_light(s, l, z.h.p, u_light);
+    // (a moving emitter: where it is at the path's time, its densities then)
+    const float time = s.motion.num_objects > 0 ? bdpt_time(st, path) : 0.0f;
+    LightSample ls = sample_light(s, l, z.h.p, u_light, time);
     // geo_side false: a smooth mesh's light from under its face (integrator/terminator.h),
     // which no other technique samples (z's BSDF keeps to the face's side; a light path reaching
     // z from there would meet the face's back): weight 1
@@ -98,7 +101,7 @@ LANTERN_HD inline void bdpt_camera_nee(const SceneView& s, const PathState& ps,
     // densities of the light point: by next-event estimation, by the light sub-path (s = 2)
     float cos_l = is_black(ls.n_light) ? 1.0f : fabsf(dot(ls.wi, ls.n_light));
     float pdf_nee, pdf_lp;
-    float pdf_emit = l.emit_pick_pdf * emission_pdf(s, l, ls.n_light, -ls.wi).pdf_emit;
+    float pdf_emit = l.emit_pick_pdf * emission_pdf(s, l, ls.n_light, -ls.wi, time).pdf_emit;
     if (infinite) {
         pdf_nee = pdf_light_w;
         pdf_lp = pdf_emit * cos_z;
@@ -508,9 +511,11 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
             const Light& l = s.lights[li];
             const float pick = s.light_tree_on ? light_pick_pmf(s, li, ps.prev_p[i], ps.prev_n[i])
                                                : l.nee_pdf;  // at the previous vertex
-            float pdf_direct = pick * light_pdf_w(l, o_prev, d, t_hit, z.h.ng) *
+            // (a moving emitter: its densities at the path's time, where it was hit)
+            const float time = s.motion.num_objects > 0 ? bdpt_time(st, path) : 0.0f;
+            float pdf_direct = pick * light_pdf_w_at(s, l, o_prev, d, t_hit, z.h.ng, time) *
                                cos_in / (t_hit * t_hit);
-            float pdf_emit = l.emit_pick_pdf * emission_pdf(s, l, z.h.ng, -d).pdf_emit;
+            float pdf_emit = l.emit_pick_pdf * emission_pdf(s, l, z.h.ng, -d, time).pdf_emit;
             const float dvc_e = z.depth == 2 ? dvc * bdpt_direct_lt(st) : dvc;  // (lt_direct)
             w = 1.0f / (1.0f + mis(pdf_direct) * dvcm + mis(st.r * pdf_emit) * dvc_e);
             nee = mis(pdf_direct) * dvcm;

@@ -89,7 +89,7 @@ LANTERN_HD inline float bdpt_emission_weight(const SceneView& s, const PathState
         pdf_direct *= cos_l / (t_light * t_light);  // area
     }
     float pdf_emit = soft_emit >= 0.0f ? soft_emit
-                                       : l.emit_pick_pdf * emission_pdf(s, l, n, -d).pdf_emit;
+                                       : l.emit_pick_pdf * emission_pdf(s, l, n, -d, 0.0f).pdf_emit;
     // (the second vertex: dvc is light tracing's term alone, BdptSettings::lt_direct)
     if (ps.depth[i] == 2) dvc *= bdpt_direct_lt(st);
     float w_camera = mis(pdf_direct) * dvcm + mis(st.r * pdf_emit) * dvc;

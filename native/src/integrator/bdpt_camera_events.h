@@ -75,7 +75,7 @@ LANTERN_HD inline void bdpt_camera_events(const SceneView& s, const PathState& p
         bdpt_camera_medium_nee(s, ps, bs, st, z, i, rng, sr);
     } else {
         z.m = &camera_vertex_material(s, z);
-        bdpt_camera_nee(s, ps, bs, st, z, i, rng, sr);
+        bdpt_camera_nee(s, ps, bs, st, z, i, rng, sr, path);
     }
     bdpt_camera_connect(s, bs, st, cache, z, i, path);
 }

@@ -41,7 +41,10 @@ LANTERN_HD inline void bdpt_light_generate(const SceneView& s, const PathState& 
     if (!(l.emit_pick_pdf > 0.0f)) return;
     // (a soft-falloff light: from its centre; its first hit picks y0, soft_light_path.h)
     EmissionSample es = light_receiver_dependent(l) ? sample_soft_emission(l, u_dir)
-                                                    : sample_emission(s, l, u_pos, u_dir);
+                                                    : sample_emission(s, l, u_pos, u_dir,
+                                                                      s.motion.num_objects > 0
+                                                                          ? bdpt_time(st, path)
+                                                                          : 0.0f);
     if (!es.valid) return;
     const float pdf_emit = es.pdf_emit * l.emit_pick_pdf;
     bs.power[i] = es.le * (es.cos_light / pdf_emit);

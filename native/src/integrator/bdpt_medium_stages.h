@@ -62,7 +62,7 @@ LANTERN_HD inline float bdpt_emission_weight_medium(const SceneView& s, const Pa
     }
     const float pdf_emit = soft_emit >= 0.0f
                                ? soft_emit
-                               : l.emit_pick_pdf * emission_pdf(s, l, n, -d).pdf_emit;
+                               : l.emit_pick_pdf * emission_pdf(s, l, n, -d, 0.0f).pdf_emit;
     if (ps.depth[i] == 2) dvc *= bdpt_direct_lt(st);
     if (nee_ratio) *nee_ratio = mis(pdf_direct) * dvcm;  // next-event estimation's (moments)
     return 1.0f / (1.0f + mis(pdf_direct) * dvcm + mis(st.r * pdf_emit) * dvc);
@@ -155,14 +155,16 @@ LANTERN_HD inline void bdpt_camera_medium_nee(const SceneView& s, const PathStat
     const LightPick pick = light_pick(s, z.h.p, vec3(0.0f), u_pick.x);
     if (!(pick.pmf > 0.0f)) return;
     const Light& l = s.lights[pick.light];
-    const LightSample ls = sample_light(s, l, z.h.p, u_light);
+    // (time 0: bdpt hands a scene with volumes and moving meshes to pt, docs/motion_blur.md)
+    const LightSample ls = sample_light(s, l, z.h.p, u_light, 0.0f);
     if (!ls.valid || is_black(ls.le)) return;
     const float ph = hg_phase(s.media[z.medium_vertex].g, dot(-z.wo_w, ls.wi));
     const float pdf_light_w = pick.pmf * ls.pdf_w;
     if (!(ph > 0.0f) || !(pdf_light_w > 0.0f)) return;
     const bool infinite = !(ls.dist < kInf);
     const float cos_l = is_black(ls.n_light) ? 1.0f : fabsf(dot(ls.wi, ls.n_light));
-    const float pdf_emit = l.emit_pick_pdf * emission_pdf(s, l, ls.n_light, -ls.wi).pdf_emit;
+    const float pdf_emit =
+        l.emit_pick_pdf * emission_pdf(s, l, ls.n_light, -ls.wi, 0.0f).pdf_emit;
     float pdf_nee, pdf_lp;
     if (infinite) {
         pdf_nee = pdf_light_w;

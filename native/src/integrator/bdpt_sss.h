@@ -96,7 +96,7 @@ LANTERN_HD inline void bdpt_sss_exit(const SceneView& s, const PathState& ps, co
                    : light_pick_normal(s, z.tri, z.h.ng);
     if (z.depth >= st.max_depth) return;
     Rng rng = ps.rng[i];
-    bdpt_camera_nee(s, ps, bs, st, z, i, rng, sr);
+    bdpt_camera_nee(s, ps, bs, st, z, i, rng, sr, path);
     bdpt_camera_connect(s, bs, st, cache, z, i, path);
     float pdf_w = 0.0f;
     const Vec3 wi = z.frame.to_world(sample_cosine_hemisphere(rng.uniform2(), &pdf_w));

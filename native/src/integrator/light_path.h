@@ -48,9 +48,11 @@ LANTERN_HD inline Vec3 distant_disk_point(const SceneView& s, Vec3 d, Vec2 u, fl
 // favours light paths, whose pdf_emit grew: tried and reverted, tests/README.md "Noticed").
 enum DistantDisk : int { kBoundingDisk = 0, kTightDisk = 1 };
 
-// Emission sample of light l from two 2D numbers: u_pos chooses the point, u_dir the direction.
+// Emission sample of light l from two 2D numbers: u_pos chooses the point, u_dir the direction;
+// `time`: the light path's shutter time (a moving emissive triangle's point and normal then).
 LANTERN_HD inline EmissionSample sample_emission(const SceneView& s, const Light& l, Vec2 u_pos,
-                                                 Vec2 u_dir, DistantDisk disk = kBoundingDisk) {
+                                                 Vec2 u_dir, float time,
+                                                 DistantDisk disk = kBoundingDisk) {
     EmissionSample es{};
     es.valid = false;
     es.finite = true;
@@ -105,6 +107,14 @@ LANTERN_HD inline EmissionSample sample_emission(const SceneView& s, const Light
     case kLightTriangle: {  // both sides: the side is the first bit of u_dir.x
         Vec3 a = triangle_vertex(s, l.triangle, 0), b = triangle_vertex(s, l.triangle, 1),
              c = triangle_vertex(s, l.triangle, 2);
+        float area = l.area;
+        if (s.motion.num_objects > 0) {  // a moving mesh's: where it is at the path's time
+            const MovedTriangle mt = light_triangle_at(s, l, time);
+            a = mt.v[0];
+            b = mt.v[1];
+            c = mt.v[2];
+            area = mt.area;
+        }
         Vec2 bc = sample_triangle(u_pos);
         Vec3 n = normalize(cross(b - a, c - a));
         Vec2 ud = u_dir;
@@ -120,7 +130,7 @@ LANTERN_HD inline EmissionSample sample_emission(const SceneView& s, const Light
         es.d = f.to_world(sample_cosine_hemisphere(ud, &pdf_dir));
         es.cos_light = dot(es.d, n);
         es.le = triangle_emission(s, l, bc);
-        es.pdf_direct = 1.0f / l.area;
+        es.pdf_direct = 1.0f / area;
         es.pdf_emit = es.pdf_direct * 0.5f * pdf_dir;
         break;
     }
@@ -185,8 +195,10 @@ struct EmissionPdf {
 };
 
 // Pdfs with which sample_emission (kBoundingDisk) would produce a ray leaving light l along d,
-// from a point with geometric normal n (finite surface lights; ignored for points, sun, world).
-LANTERN_HD inline EmissionPdf emission_pdf(const SceneView& s, const Light& l, Vec3 n, Vec3 d) {
+// from a point with geometric normal n (finite surface lights; ignored for points, sun, world),
+// at shutter time `time` (a moving emissive triangle's area then: light_area_at).
+LANTERN_HD inline EmissionPdf emission_pdf(const SceneView& s, const Light& l, Vec3 n, Vec3 d,
+                                           float time) {
     EmissionPdf r{0.0f, 0.0f};
     const float inv_disk = 1.0f / (kPi * s.scene_radius * s.scene_radius);
     switch (l.type) {
@@ -210,7 +222,7 @@ LANTERN_HD inline EmissionPdf emission_pdf(const SceneView& s, const Light& l, V
         r.pdf_emit = r.pdf_direct * pdf_cosine_hemisphere(dot(d, -l.frame.axis(2)));
         return r;
     case kLightTriangle:
-        r.pdf_direct = 1.0f / l.area;
+        r.pdf_direct = 1.0f / light_area_at(s, l, time);
         r.pdf_emit = r.pdf_direct * 0.5f * pdf_cosine_hemisphere(fabsf(dot(d, n)));
         return r;
     case kLightSun:

@@ -198,8 +198,10 @@ LANTERN_HD inline void lt_generate(const SceneView& s, const PathState& ps,
     const Light& l = s.lights[li];
     // (a soft-falloff light: a line through its ball, soft_light_path.h)
     const bool soft = light_receiver_dependent(l);
+    // (a moving emitter: where it is at the path's time, motion_time of its stream)
+    const float time = s.motion.num_objects > 0 ? motion_time(rng) : 0.0f;
     EmissionSample es = soft ? sample_soft_line(l, u_pos, u_dir)
-                             : sample_emission(s, l, u_pos, u_dir, kTightDisk);  // no MIS here
+                             : sample_emission(s, l, u_pos, u_dir, time, kTightDisk);  // no MIS
     if (!es.valid || !(l.pick_pdf > 0.0f)) return;
     lp.power[i] = emission_weight(es) / l.pick_pdf;
     if (lp.light) lp.light[i] = li;

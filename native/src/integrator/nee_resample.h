@@ -53,7 +53,8 @@ template <class Target>
 LANTERN_DEVICE_INLINE LANTERN_HD inline float nee_resample(const SceneView& s, Vec3 p,
                                                            Vec3 n_pick, int m, Vec3 u0, Rng rest,
                                                            float u_choose, Target target,
-                                                           LightPick* pick, LightSample* ls) {
+                                                           LightPick* pick, LightSample* ls,
+                                                           float time) {
     float w[kMaxLightCandidates];
     float sum = 0.0f;
     m = m < kMaxLightCandidates ? m : kMaxLightCandidates;
@@ -63,7 +64,7 @@ LANTERN_DEVICE_INLINE LANTERN_HD inline float nee_resample(const SceneView& s, V
         const Vec3 u = j == 0 ? u0 : Vec3{r.uniform(), r.uniform(), r.uniform()};
         const LightPick cp = light_pick(s, p, n_pick, u.x);
         if (!(cp.pmf > 0.0f)) continue;
-        const LightSample cs = sample_light(s, s.lights[cp.light], p, Vec2{u.y, u.z});
+        const LightSample cs = sample_light(s, s.lights[cp.light], p, Vec2{u.y, u.z}, time);
         if (!cs.valid) continue;
         const float src = cp.pmf * cs.pdf_w;  // a delta light's pdf_w is 1: its pmf
         const float ph = target(cs);
@@ -89,7 +90,7 @@ LANTERN_DEVICE_INLINE LANTERN_HD inline float nee_resample(const SceneView& s, V
         u = Vec3{r.uniform(), r.uniform(), r.uniform()};
     }
     *pick = light_pick(s, p, n_pick, u.x);
-    *ls = sample_light(s, s.lights[pick->light], p, Vec2{u.y, u.z});
+    *ls = sample_light(s, s.lights[pick->light], p, Vec2{u.y, u.z}, time);
     return sum / (float(m) * w[c]);
 }
 

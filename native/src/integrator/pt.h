@@ -105,8 +105,11 @@ LANTERN_HD inline float pt_light_pdf_w(const SceneView& s, const PathState& ps, 
                                        const Light& l, Vec3 o, Vec3 d, float t, Vec3 n) {
     if (s.num_media > 0 && ps.depth[i] > 1) {
         const Vec3 q = ps.prev_p[i];
-        return light_pdf_w(l, q, d, length(o + d * t - q), n);
+        t = length(o + d * t - q);
+        o = q;
     }
+    if (l.type == kLightTriangle && s.motion.num_objects > 0)  // a moving emitter: at the path's
+        return light_pdf_w_at(s, l, o, d, t, n, motion_time(ps.rng[i]));  // time (its area then)
     return light_pdf_w(l, o, d, t, n);
 }
 
@@ -331,6 +334,8 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
                             : light_pick_normal(s, tri, h.ng);
     LightPick pick{-1, 0.0f};
     LightSample ls{};
+    // the path's shutter time: a moving emitter is sampled where it is then
+    const float time = s.motion.num_objects > 0 ? motion_time(rng) : 0.0f;
     float ris = 1.0f;  // resampled (light_candidates M > 1): W p_src(y), nee_resample.h
     if (st.light_candidates > 1) {
         const int mc = min_int(st.light_candidates, kMaxLightCandidates);
@@ -348,10 +353,10 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
         };
         if (!delta_material)
             ris = nee_resample(s, h.p, n_pick, mc, Vec3{u_pick.x, u_light.x, u_light.y},
-                               rest, u_pick.y, target, &pick, &ls);
+                               rest, u_pick.y, target, &pick, &ls, time);
     } else if (!delta_material) {
         pick = light_pick(s, h.p, n_pick, u_pick.x);
-        if (pick.pmf > 0.0f) ls = sample_light(s, s.lights[pick.light], h.p, u_light);
+        if (pick.pmf > 0.0f) ls = sample_light(s, s.lights[pick.light], h.p, u_light, time);
     }
     if (pick.pmf > 0.0f && (pick.light == s.world_light || s.lights[pick.light].of_world) &&
         s.world_rays != kWorldRaysAll && !pt_world_sees(s, m, ls.wi, h.ng))

@@ -160,7 +160,8 @@ LANTERN_HD inline void pt_sss_exit(const SceneView& s, const PathState& ps, cons
     const Vec2 u_light = rng.uniform2();
     const LightPick pick = light_pick(s, p, n_pick, u_pick.x);
     if (pick.pmf > 0.0f) {
-        LightSample ls = sample_light(s, s.lights[pick.light], p, u_light);
+        LightSample ls = sample_light(s, s.lights[pick.light], p, u_light,  // (the path's time)
+                                      s.motion.num_objects > 0 ? motion_time(rng) : 0.0f);
         if ((pick.light == s.world_light || s.lights[pick.light].of_world) &&
             !(s.world_rays & kWorldDiffuse))
             ls.valid = false;  // the world hidden from diffuse rays lights nothing here

@@ -53,7 +53,8 @@ LANTERN_HD inline void pt_medium_nee(const SceneView& s, const PathState& ps, in
     const Vec2 u_light = rng.uniform2();
     const LightPick pick = light_pick(s, p, vec3(0.0f), u_pick.x);
     if (!(pick.pmf > 0.0f) || is_black(factor)) return;
-    const LightSample ls = sample_light(s, s.lights[pick.light], p, u_light);
+    const LightSample ls = sample_light(s, s.lights[pick.light], p, u_light,  // (path's time)
+                                        s.motion.num_objects > 0 ? motion_time(rng) : 0.0f);
     const float pdf_light = pick.pmf * ls.pdf_w;
     if (!ls.valid || is_black(ls.le) || !(pdf_light > 0.0f)) return;
     if (pt_light_hidden(s, pick.light, kRayKindVolume)) return;  // ray visibility
@@ -189,7 +190,8 @@ LANTERN_HD inline Equiangular pt_equiangular_setup(const SceneView& s, Vec3 o, V
     } else if (l.type == kLightSun || l.type == kLightWorld) {
         return none;
     } else {
-        const LightSample ls = sample_light(s, l, o, u_light);
+        const LightSample ls = sample_light(s, l, o, u_light,  // (the path's time)
+                                            s.motion.num_objects > 0 ? motion_time(rng) : 0.0f);
         if (!ls.valid || !(ls.dist < kInf)) return none;
         x = ls.p_light;
     }

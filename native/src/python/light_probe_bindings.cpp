@@ -63,7 +63,7 @@ Probe run_probe(const SceneInput& in, int samples, uint64_t seed, int threads) {
             Rng rng = Rng::for_pixel(seed, uint64_t(px), uint64_t(k));
             double free_sum = 0.0, seen_sum = 0.0;
             for (int j = 0; j < samples; ++j) {
-                const LightSample ls = sample_light(s, s.lights[k], h.p, rng.uniform2());
+                const LightSample ls = sample_light(s, s.lights[k], h.p, rng.uniform2(), ray.time);
                 if (!ls.valid || !(ls.pdf_w > 0.0f)) continue;
                 const float cos_i = dot(ls.wi, h.ns);
                 if (!(cos_i > 0.0f) || !sides_agree(ls.wi, h.ng, h.ns)) continue;

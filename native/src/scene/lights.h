@@ -86,6 +86,46 @@ LANTERN_HD inline Vec3 triangle_vertex(const SceneView& s, int tri, int k) {
     return s.positions[s.indices[3 * tri + k]];
 }
 
+// ---- A moving emitter (motion blur, docs/motion_blur.md "A moving emitter") ----
+// An emissive triangle where its mesh is at shutter time `time`: its corners (a deforming
+// mesh's lerped in its exported frame, then the object's matrix at that time, as the ray
+// queries and motion_surface place it) and its area there; `moved` false (corners as exported,
+// area l.area) where its mesh does not move. Sampling (sample_light, sample_emission) and the
+// densities (light_area_at) take the area from this one function, so that they agree bit for
+// bit. Out of line: a moving light's corners stay out of its callers' frames (pt's chunk kernel
+// is near the device's stack cap); scenes without moving meshes never call it.
+struct MovedTriangle {
+    Vec3 v[3];
+    float area;
+    bool moved;
+};
+#ifndef __CUDA_ARCH__
+__attribute__((noinline))
+#endif
+LANTERN_DEVICE_NOINLINE
+LANTERN_HD inline MovedTriangle light_triangle_at(const SceneView& s, const Light& l, float time) {
+    MovedTriangle r;
+    for (int j = 0; j < 3; ++j) r.v[j] = triangle_vertex(s, l.triangle, j);
+    r.area = l.area;
+    r.moved = false;
+    const ObjectMotion* o = object_motion_of(s.motion, l.triangle);
+    if (!o) return r;
+    if (const DeformMesh* dm = deform_of(s.motion, *o))
+        deform_triangle(s.motion, *dm, l.triangle, time, r.v);
+    const Transform m = object_motion_to_world(s.motion, *o, time);
+    for (int j = 0; j < 3; ++j) r.v[j] = m.point(r.v[j]);
+    r.area = 0.5f * length(cross(r.v[1] - r.v[0], r.v[2] - r.v[0]));
+    r.moved = true;
+    return r;
+}
+
+// The area of light l at shutter time `time` (a moving emissive triangle's there; else l.area),
+// for the densities of what sample_light and sample_emission drew at that time.
+LANTERN_HD inline float light_area_at(const SceneView& s, const Light& l, float time) {
+    if (l.type != kLightTriangle || s.motion.num_objects == 0) return l.area;
+    return light_triangle_at(s, l, time).area;
+}
+
 // Ray / sphere: nearest t in (tmin, tmax) or -1.
 LANTERN_HD inline float intersect_sphere(Vec3 o, Vec3 d, Vec3 c, float r, float tmin, float tmax) {
     Vec3 oc = o - c;
@@ -208,8 +248,11 @@ LANTERN_HD inline float soft_cone_area_pdf(const Light& l, Vec3 p, Vec3 wi) {
 // r^2 / d^2 (relative second moment ~ r^2 / (8 d^2)), whose integral along a ray through the
 // bulb diverges: the fireflies in fog around a lamp (docs/volumes.md). Light paths that start
 // on such a disk take y0 by area (soft_light_path.h); their weights use soft_cone_area_pdf.
+// `time`: the path's shutter time (motion blur: a moving emissive triangle is sampled where it
+// is then; read only in scenes whose meshes move).
 LANTERN_DEVICE_NOINLINE
-LANTERN_HD inline LightSample sample_light(const SceneView& s, const Light& l, Vec3 p, Vec2 u) {
+LANTERN_HD inline LightSample sample_light(const SceneView& s, const Light& l, Vec3 p, Vec2 u,
+                                           float time) {
     LightSample ls{};
     ls.valid = false;
     ls.delta = false;
@@ -297,6 +340,14 @@ LANTERN_HD inline LightSample sample_light(const SceneView& s, const Light& l, V
     case kLightTriangle: {
         Vec3 a = triangle_vertex(s, l.triangle, 0), b = triangle_vertex(s, l.triangle, 1),
              c = triangle_vertex(s, l.triangle, 2);
+        float area = l.area;
+        if (s.motion.num_objects > 0) {  // a moving mesh's: where it is at the path's time
+            const MovedTriangle mt = light_triangle_at(s, l, time);
+            a = mt.v[0];
+            b = mt.v[1];
+            c = mt.v[2];
+            area = mt.area;
+        }
         Vec2 bc = sample_triangle(u);
         Vec3 q = a * (1.0f - bc.x - bc.y) + b * bc.x + c * bc.y;
         Vec3 to = q - p;
@@ -310,7 +361,7 @@ LANTERN_HD inline LightSample sample_light(const SceneView& s, const Light& l, V
         ls.wi = wi;
         ls.dist = d;
         ls.le = triangle_emission(s, l, bc);
-        ls.pdf_w = pdf_a_to_w(1.0f / l.area, d2, cos_l);
+        ls.pdf_w = pdf_a_to_w(1.0f / area, d2, cos_l);
         ls.p_light = q;
         ls.n_light = dot(wi, n) < 0.0f ? n : -n;  // facing the reference point
         ls.valid = true;
@@ -373,6 +424,15 @@ LANTERN_HD inline float light_pdf_w(const Light& l, Vec3 p, Vec3 wi, float t, Ve
     default:  // the world: world_pdf_w, which reads the scene's environment map
         return 0.0f;
     }
+}
+
+// light_pdf_w for a light point found at the path's shutter time `time` (a moving emissive
+// triangle's density from its area then: light_area_at).
+LANTERN_HD inline float light_pdf_w_at(const SceneView& s, const Light& l, Vec3 p, Vec3 wi,
+                                       float t, Vec3 n, float time) {
+    if (l.type == kLightTriangle && s.motion.num_objects > 0)
+        return pdf_a_to_w(1.0f / light_area_at(s, l, time), t * t, fabsf(dot(wi, n)));
+    return light_pdf_w(l, p, wi, t, n);
 }
 
 // Radiance a ray along d sees when it hits a non-mesh light at distance t (< tmax), else zero.

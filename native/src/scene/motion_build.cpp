@@ -238,9 +238,6 @@ void HostScene::build_motion(const SceneInput& in) {
         const std::string who = "mesh '" + m.name + "'";
         const MeshRange& r = mesh_ranges_[k];
         if (r.tri_count == 0) continue;
-        bool emits = false;
-        for (int t = r.tri_begin; t < r.tri_begin + r.tri_count && !emits; ++t)
-            emits = tri_light_[t] >= 0;
         const int volume = media_.empty() ? 0 : bounds_volume(r);
         const std::string still_volume = who + " bounds a heterogeneous volume: moving ones "
                                                "are not motion-blurred (rendered where it is at "
@@ -252,13 +249,13 @@ void HostScene::build_motion(const SceneInput& in) {
             const size_t corners = motion_corners_.size();
             deforms = build_deform(m, r, indices_, motion_corners_, &dm, &warning);
             if (!warning.empty()) warnings_.push_back(warning);
-            if (deforms && (emits || volume)) {
+            // (an emitter deforms: its light is sampled where it is at the path's time,
+            // scene/lights.h light_triangle_at)
+            if (deforms && volume) {
                 motion_corners_.resize(corners);
                 deforms = false;
-                warnings_.push_back(emits ? who + " emits light: deforming emitters are not "
-                                                  "motion-blurred (rendered as at the frame)"
-                                          : who + " bounds a volume: its deformation is not "
-                                                  "motion-blurred (rendered as at the frame)");
+                warnings_.push_back(who + " bounds a volume: its deformation is not "
+                                          "motion-blurred (rendered as at the frame)");
             }
         }
         Transform base = transform_from_rows(m.motion_base), base_inv;
@@ -272,12 +269,9 @@ void HostScene::build_motion(const SceneInput& in) {
             } else {
                 n = add_steps(m.motion, who, false);
             }
-            if (n > 0 && emits) {  // the light tree holds its triangles where they were exported
-                motion_steps_.resize(first);
-                warnings_.push_back(who + " emits light: moving emitters are not motion-blurred "
-                                    "(rendered where it is at the frame)");
-                n = -1;
-            } else if (n > 0 && volume == 2) {
+            // (an emitter moves: its light is sampled where it is at the path's time, the
+            // light tree's bounds stay the frame's: scene/lights.h light_triangle_at)
+            if (n > 0 && volume == 2) {
                 motion_steps_.resize(first);
                 warnings_.push_back(still_volume);
                 n = -1;
