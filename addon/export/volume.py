@@ -184,6 +184,32 @@ def _color_leaves(leaves, where, report, compiler, gridded):
     return out
 
 
+def _strength_leaf(leaves, where, report, compiler, gridded, enode):
+    """(node, "volume_emission" program) of the one leaf whose Emission Strength (Principled
+    Volume) or Strength (Emission) a node graph drives in a mesh volume (a Volume object's are
+    in `gridded`: volume_objects._GridProbe), or (None, None). The core emits flame_emission x
+    max(its value, 0) per point (scene/medium_fire.h), times the Emission Color graph's colour
+    where that is the same shader's; a strength graph beside another shader's Emission Color
+    graph, or a second one, warns by name (the socket's value)."""
+    found = None, None
+    if compiler is None:
+        return found
+    for node, w in leaves:
+        name = {"PRINCIPLED_VOLUME": "Emission Strength", "EMISSION": "Strength"}.get(node.type)
+        if name is None or not _linked(node, name) or (node, name) in gridded:
+            continue
+        if found[0] is not None or (enode is not None and enode is not node):
+            report.warn(f"{where}: the node graph on '{name}' of '{node.name}' is not rendered "
+                        "beside another shader's emission graph (one emission graph per volume); "
+                        "the socket's own value is used")
+            continue
+        prog = compiler.program(node.inputs[name], "volume_emission", 1)
+        if prog is not None:
+            found = node, prog
+            _check_color(report, where, node, name, prog)
+    return found
+
+
 def convert_volume(socket, where, report, compiler=None, programs=None):
     """The medium dict of the shaders under a Volume socket, or None (nothing renders). With a
     GraphCompiler, a graph on the Density of the volume's one shader appends its "density"
@@ -201,9 +227,10 @@ def convert_volume(socket, where, report, compiler=None, programs=None):
                for sock in node.inputs if by_grid is not None and by_grid(node, sock, w)}
     (cnode, cprog), (anode, aprog), (enode, eprog) = _color_leaves(leaves, where, report,
                                                                    compiler, gridded)
+    snode, sprog = _strength_leaf(leaves, where, report, compiler, gridded, enode)
     color_scatter, color_absorb, flame = [0.0] * 3, [0.0] * 3, [0.0] * 3
     color_base = [1.0] * 3   # the colour where no program gives it (an Absorption Color's)
-    for prog in (cprog, aprog, eprog):
+    for prog in (cprog, aprog, eprog, sprog):
         if prog is not None and programs is not None:
             programs.append(prog)
     for node, w in leaves:
@@ -218,6 +245,8 @@ def convert_volume(socket, where, report, compiler=None, programs=None):
             by_prog.add("Absorption Color")
         if node is enode:
             by_prog.add("Emission Color" if node.type == "PRINCIPLED_VOLUME" else "Color")
+        if node is snode:
+            by_prog.add("Emission Strength" if node.type == "PRINCIPLED_VOLUME" else "Strength")
         own = {name for n, name in gridded if n is node} | by_prog
         for sock in node.inputs:
             if sock.name not in _IGNORED and sock.is_linked and _source(sock) is not None and \
@@ -229,6 +258,9 @@ def convert_volume(socket, where, report, compiler=None, programs=None):
             if node is enode:   # the program's colour per point x the weight x the strength
                 # (a Volume object's strength graph or flame grid: the probe's factor, _fire)
                 flame = [f + w * (1.0 if "Strength" in own else s) for f in flame]
+                continue
+            if node is snode:   # a mesh volume's strength graph x the weight x the colour
+                flame = [f + w * max(c, 0.0) for f, c in zip(flame, color)]
                 continue
             emission = [e + w * s * c for e, c in zip(emission, color)]
             continue
@@ -277,7 +309,10 @@ def convert_volume(socket, where, report, compiler=None, programs=None):
             flame = [f + s for f in flame]
         else:
             ecolor = _value(node, "Emission Color", where, report, quiet="Emission Color" in own)
-            emission = [e + w * strength * c for e, c in zip(emission, ecolor)]
+            if node is snode:   # a mesh volume's strength graph x the weight x the colour
+                flame = [f + w * max(c, 0.0) for f, c in zip(flame, ecolor)]
+            else:
+                emission = [e + w * strength * c for e, c in zip(emission, ecolor)]
         bb = blackbody_emission(node, where, report)
         emission = [e + w * b for e, b in zip(emission, bb)]
     total = sum(s for s, _ in lobes)
@@ -294,10 +329,12 @@ def convert_volume(socket, where, report, compiler=None, programs=None):
         for prog in (cprog, aprog):
             if prog is not None:
                 programs.remove(prog)
-    if eprog is not None and max(flame) > 0.0:
+    if (eprog is not None or sprog is not None) and max(flame) > 0.0:
         out["flame_emission"] = flame
-    elif eprog is not None and programs is not None:
-        programs.remove(eprog)
+    elif programs is not None:
+        for prog in (eprog, sprog):
+            if prog is not None:
+                programs.remove(prog)
     if max(sigma_a + sigma_s + emission + out.get("color_scatter", [0.0]) +
            out.get("color_absorb", [0.0]) + out.get("flame_emission", [0.0])) <= 0.0:
         return None

@@ -221,3 +221,64 @@ def test_emission_and_absorption_color_graphs(empty, addon):
     assert [p["target"] for p in m["programs"]] == ["volume_emission_color"]
     np.testing.assert_allclose(m["volume"]["flame_emission"], [5.0] * 3, rtol=1e-6)
     assert not [w for w in report.messages if "Glow2" in w], report.messages
+
+
+def test_mesh_emission_strength_graph(empty, addon):
+    """A graph on a mesh volume's Emission Strength (issue 29): a "volume_emission" program,
+    its factor (weight x the constant Emission Color) the volume's flame_emission and nothing
+    of it in the constant emission, no warning; with an Emission Color graph on the same shader
+    both programs and the factor the weight alone; an Emission shader's Strength the same with
+    its Color. lt hands the scene to pt and auto leaves it to pt (an emissive volume). Control:
+    the link removed, the socket's value is constant emission and no program is exported."""
+    import lantern
+    add_camera(empty)
+    mat, nt, out = _volume_only("Flame")
+    mix = nt.nodes.new("ShaderNodeMixShader")
+    mix.inputs["Fac"].default_value = 0.25
+    v = nt.nodes.new("ShaderNodeVolumePrincipled")
+    v.inputs["Density"].default_value = 2.0
+    v.inputs["Emission Strength"].default_value = 7.0   # the graph drives it
+    v.inputs["Emission Color"].default_value = (1.0, 0.5, 0.25, 1)
+    grad = nt.nodes.new("ShaderNodeTexGradient")
+    nt.links.new(grad.outputs["Fac"], v.inputs["Emission Strength"])
+    nt.links.new(v.outputs[0], mix.inputs[2])
+    nt.links.new(nt.nodes.new("ShaderNodeVolumeScatter").outputs[0], mix.inputs[1])
+    nt.links.new(mix.outputs[0], out.inputs["Volume"])
+    add_plane(empty, material=mat, name="Box")
+    scene, report = export(addon)
+    m = _by_name(scene, "Flame")
+    assert [p["target"] for p in m["programs"]] == ["volume_emission"]
+    np.testing.assert_allclose(m["volume"]["flame_emission"], [0.25, 0.125, 0.0625], rtol=1e-6)
+    np.testing.assert_allclose(m["volume"]["emission"], [0.0] * 3, atol=1e-9)
+    assert not [w for w in report.messages if "Flame" in w], report.messages
+    for integ, says in (("lt", "rendering with pt"), ("auto", "only pt renders")):
+        s = lantern.Session(scene, integrator=integ, seed=1, spp_per_iteration=1, max_depth=2,
+                            threads=1)
+        s.step()
+        assert any(says in w and "Flame" in w for w in s.warnings), (integ, s.warnings)
+    # with an Emission Color graph: both programs, the factor the weight
+    nt.links.new(nt.nodes.new("ShaderNodeTexNoise").outputs["Color"], v.inputs["Emission Color"])
+    scene, report = export(addon)
+    m = _by_name(scene, "Flame")
+    assert sorted(p["target"] for p in m["programs"]) == ["volume_emission",
+                                                          "volume_emission_color"]
+    np.testing.assert_allclose(m["volume"]["flame_emission"], [0.25] * 3, rtol=1e-6)
+    assert not [w for w in report.messages if "Flame" in w], report.messages
+    # an Emission shader's Strength: its Color the factor
+    mat2, nt2, out2 = _volume_only("Flame2")
+    e = nt2.nodes.new("ShaderNodeEmission")
+    e.inputs["Color"].default_value = (0.2, 0.4, 0.8, 1)
+    nt2.links.new(nt2.nodes.new("ShaderNodeTexGradient").outputs["Fac"], e.inputs["Strength"])
+    nt2.links.new(e.outputs[0], out2.inputs["Volume"])
+    add_plane(empty, material=mat2, name="Box2")
+    scene, report = export(addon)
+    m2 = _by_name(scene, "Flame2")
+    assert [p["target"] for p in m2["programs"]] == ["volume_emission"]
+    np.testing.assert_allclose(m2["volume"]["flame_emission"], [0.2, 0.4, 0.8], rtol=1e-6)
+    # control: no link, the socket's value (7) is constant emission
+    nt.links.remove(v.inputs["Emission Strength"].links[0])
+    nt.links.remove(v.inputs["Emission Color"].links[0])
+    scene, report = export(addon)
+    m = _by_name(scene, "Flame")
+    assert not m.get("programs") and "flame_emission" not in m["volume"]
+    np.testing.assert_allclose(m["volume"]["emission"], [1.75, 0.875, 0.4375], rtol=1e-6)

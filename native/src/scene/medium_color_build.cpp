@@ -54,6 +54,17 @@ void HostScene::volume_color_programs(Medium& m, const MediumInput& src, size_t 
             m.emits = 1u;
         }
     }
+    // a mesh volume's Emission Strength graph: flame_emission (the weight x the constant
+    // Emission Color, or the weight where a colour graph gives it) x max(its value, 0) per
+    // point (scene/medium_fire.h; a Volume object's: build_media, beside its grids)
+    const int32_t sprog = program_of(material, kTargetVolumeEmission);
+    if (sprog >= 0 && m.density_grid < 0) {
+        m.flame_emission = clean_rgb(src.flame_emission);
+        if (max_component(m.flame_emission) > 0.0f) {
+            m.emission_prog = sprog;
+            m.emits = 1u;
+        }
+    }
 }
 
 Vec3 HostScene::color_prog_unit(int32_t med, Vec3 lo, Vec3 hi, bool* ok) const {
