@@ -151,8 +151,8 @@ def _color_leaves(leaves, where, report, compiler, gridded):
     whose Absorption Color a graph drives and (node, "volume_emission_color" program) of the one
     leaf whose Emission Color (Principled Volume) or Color (Emission) a graph drives; (None,
     None) each where there is none or it cannot be rendered (a warning names it; the socket's
-    value). The Color's and the Absorption Color's graphs must be one shader's (one colour per
-    medium): else the Absorption Color's is not rendered (warned)."""
+    value). The Color's and the Absorption Color's graphs may be two shaders' (the Absorption
+    Color's shader's absorption is then "absorb_alone": convert_volume)."""
     out = []
     for target, kinds, name_of in (
             ("volume_color", ("PRINCIPLED_VOLUME", "VOLUME_SCATTER", "VOLUME_ABSORPTION"),
@@ -175,12 +175,6 @@ def _color_leaves(leaves, where, report, compiler, gridded):
                     found = node, prog
                     _check_color(report, where, node, name, prog)
         out.append(found)
-    (cnode, _), (anode, aprog) = out[0], out[1]
-    if anode is not None and cnode is not None and anode is not cnode:
-        report.warn(f"{where}: the node graph on 'Absorption Color' of '{anode.name}' beside a "
-                    f"graph on the Color of '{cnode.name}' is not rendered (one shader's "
-                    "colours per volume); the socket's own value is used")
-        out[1] = None, None
     return out
 
 
@@ -229,6 +223,7 @@ def convert_volume(socket, where, report, compiler=None, programs=None):
                                                                    compiler, gridded)
     snode, sprog = _strength_leaf(leaves, where, report, compiler, gridded, enode)
     color_scatter, color_absorb, flame = [0.0] * 3, [0.0] * 3, [0.0] * 3
+    absorb_alone = [0.0] * 3   # an Absorption Color graph's shader beside another's Color graph
     color_base = [1.0] * 3   # the colour where no program gives it (an Absorption Color's)
     for prog in (cprog, aprog, eprog, sprog):
         if prog is not None and programs is not None:
@@ -294,9 +289,16 @@ def convert_volume(socket, where, report, compiler=None, programs=None):
         kabs = [max(1.0 - math.sqrt(max(k, 0.0)), 0.0) for k in absorb]
         if node is anode:   # the program's max(1 - sqrt(a), 0) per point stands for kabs
             kabs = [1.0, 1.0, 1.0]
-            if node is not cnode:   # the constant Color, as the colour of its absorption
+            if cnode is not None and node is not cnode:
+                # the Color graph is another shader's: this one's absorption max(1 - Color, 0)
+                # x Density is the absorption factor's alone (the core: absorb_alone)
+                absorb_alone = [x + density * max(1.0 - c, 0.0)
+                                for x, c in zip(absorb_alone, color)]
+            elif node is not cnode:   # the constant Color, as the colour of its absorption
                 color_base = [max(c, 0.0) for c in color]
-        if node is cnode or node is anode:
+        if node is anode and cnode is not None and node is not cnode:
+            pass
+        elif node is cnode or node is anode:
             color_absorb = [x + density * k for x, k in zip(color_absorb, kabs)]
         else:
             sigma_a = [a + density * max(1.0 - c, 0.0) * k
@@ -322,9 +324,12 @@ def convert_volume(socket, where, report, compiler=None, programs=None):
                     f"their mean anisotropy {g:.3g} stands for them")
     out = {"sigma_a": sigma_a, "sigma_s": sigma_s, "emission": emission,
            "g": min(max(g, -0.999), 0.999)}
-    if (cprog is not None or aprog is not None) and max(color_scatter + color_absorb) > 0.0:
+    if (cprog is not None or aprog is not None) and \
+            max(color_scatter + color_absorb + absorb_alone) > 0.0:
         out["color_scatter"], out["color_absorb"] = color_scatter, color_absorb
         out["color_base"] = color_base
+        if max(absorb_alone) > 0.0:
+            out["absorb_alone"] = absorb_alone
     elif programs is not None:   # the colour changes nothing (a density of 0)
         for prog in (cprog, aprog):
             if prog is not None:

@@ -548,7 +548,7 @@ def _object_space(medium, vol, matrix_world):
         return medium
     out = dict(medium)
     for key in ("sigma_a", "sigma_s", "emission", "blackbody_tint", "flame_emission",
-                "color_scatter", "color_absorb"):
+                "color_scatter", "color_absorb", "absorb_alone"):
         if key in medium:
             out[key] = [v / k for v in medium[key]]
     return out

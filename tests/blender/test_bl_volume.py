@@ -282,3 +282,42 @@ def test_mesh_emission_strength_graph(empty, addon):
     m = _by_name(scene, "Flame")
     assert not m.get("programs") and "flame_emission" not in m["volume"]
     np.testing.assert_allclose(m["volume"]["emission"], [1.75, 0.875, 0.4375], rtol=1e-6)
+
+
+def test_colour_graphs_on_two_shaders(empty, addon):
+    """A Color graph on a Volume Scatter added to a Principled Volume whose Absorption Color is
+    a graph (issue 29): both programs, the scatterer's colour part in color_scatter, the
+    Principled Volume's absorption max(1 - Color, 0) x Density in absorb_alone (its factor's
+    alone) and its scattering constant, no warning. Control: the Color graph removed, the
+    Absorption Color's shader is the colour shader again (color_base, color_absorb)."""
+    add_camera(empty)
+    mat, nt, out = _volume_only("Two")
+    s = nt.nodes.new("ShaderNodeVolumeScatter")
+    s.inputs["Density"].default_value = 3.0
+    nt.links.new(nt.nodes.new("ShaderNodeTexGradient").outputs["Color"], s.inputs["Color"])
+    v = nt.nodes.new("ShaderNodeVolumePrincipled")
+    v.inputs["Density"].default_value = 2.0
+    v.inputs["Color"].default_value = (0.5, 0.6, 0.7, 1)
+    nt.links.new(nt.nodes.new("ShaderNodeTexNoise").outputs["Color"], v.inputs["Absorption Color"])
+    add = nt.nodes.new("ShaderNodeAddShader")
+    nt.links.new(s.outputs[0], add.inputs[0])
+    nt.links.new(v.outputs[0], add.inputs[1])
+    nt.links.new(add.outputs[0], out.inputs["Volume"])
+    add_plane(empty, material=mat, name="Box")
+    scene, report = export(addon)
+    m = _by_name(scene, "Two")
+    assert sorted(p["target"] for p in m["programs"]) == ["volume_absorption_color",
+                                                          "volume_color"]
+    vol = m["volume"]
+    np.testing.assert_allclose(vol["color_scatter"], [3.0] * 3, rtol=1e-6)
+    np.testing.assert_allclose(vol["color_absorb"], [0.0] * 3, atol=1e-9)
+    np.testing.assert_allclose(vol["absorb_alone"], [1.0, 0.8, 0.6], rtol=1e-5)
+    np.testing.assert_allclose(vol["sigma_s"], [1.0, 1.2, 1.4], rtol=1e-6)
+    np.testing.assert_allclose(vol["sigma_a"], [0.0] * 3, atol=1e-9)
+    assert not [w for w in report.messages if "Two" in w], report.messages
+    nt.links.remove(s.inputs["Color"].links[0])
+    scene, report = export(addon)
+    vol = _by_name(scene, "Two")["volume"]
+    assert "absorb_alone" not in vol
+    np.testing.assert_allclose(vol["color_absorb"], [2.0] * 3, rtol=1e-6)
+    np.testing.assert_allclose(vol["color_base"], [0.5, 0.6, 0.7], rtol=1e-6)
