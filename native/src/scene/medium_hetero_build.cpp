@@ -68,8 +68,8 @@ float mesh_density_bound(const SceneView& s, const MaterialProgram& p, int32_t m
 // The largest emission of a mesh volume's emission programs over the world box [lo, hi]
 // (scene/medium_fire.h medium_emission_at): flame_emission x c x k, c the Emission Color
 // program's colour, k the Emission Strength program's value (each 1 without its program, both
-// clamped as there), over kSplit^3 sub-boxes: the largest channel's top; -1 where an op has no
-// rule.
+// clamped as there), over kSplit^3 sub-boxes: the largest channel's top (0: no point emits
+// more than 1e-5 of the programs' range above 0); -1 where an op has no rule.
 float mesh_emission_bound(const SceneView& host, const std::vector<MaterialProgram>& programs,
                           const Medium& m, int32_t med, Vec3 lo, Vec3 hi) {
     constexpr int kSplit = 12;
@@ -90,12 +90,16 @@ float mesh_emission_bound(const SceneView& host, const std::vector<MaterialProgr
                 if (m.emission_prog >= 0 &&
                     !program_bound(host, programs[size_t(m.emission_prog)], med, a, b, k, 1))
                     return -1.0f;
-                auto top = [](float v) { return std::fmin(std::fmax(v, 0.0f), 1e9f); };
-                const Vec3 ch{top(c[0].hi), top(c[1].hi), top(c[2].hi)};
-                e = std::fmax(e, max_component(m.flame_emission * ch) * top(k[0].hi));
+                // program_bound widens by 1e-5 of the interval's size: a top within that of 0
+                // is a value <= 0 (a strength Lantern takes as 0)
+                auto top = [](Interval v) {
+                    const float m = 1.1e-5f * std::fmax(std::fabs(v.lo), std::fabs(v.hi)) + 1e-29f;
+                    return v.hi <= m ? 0.0f : std::fmin(v.hi, 1e9f);
+                };
+                const Vec3 ch{top(c[0]), top(c[1]), top(c[2])};
+                e = std::fmax(e, max_component(m.flame_emission * ch) * top(k[0]));
             }
-    // program_bound widens by 1e-30 even where a program is 0 everywhere
-    return e <= 1e-20f * std::fmax(max_component(m.flame_emission), 1.0f) ? 0.0f : e;
+    return e;
 }
 
 }  // namespace
