@@ -324,6 +324,13 @@ def convert_volume(socket, where, report, compiler=None, programs=None):
                     f"their mean anisotropy {g:.3g} stands for them")
     out = {"sigma_a": sigma_a, "sigma_s": sigma_s, "emission": emission,
            "g": min(max(g, -0.999), 0.999)}
+    if aprog is not None and cnode is not None and anode is not cnode and \
+            not max(absorb_alone) > 0.0:
+        # the Absorption Color's shader absorbs nothing (its Color white): its graph changes
+        # nothing (kept, the core would take it for the Color's shader's factor)
+        if programs is not None:
+            programs.remove(aprog)
+        aprog = None
     if (cprog is not None or aprog is not None) and \
             max(color_scatter + color_absorb + absorb_alone) > 0.0:
         out["color_scatter"], out["color_absorb"] = color_scatter, color_absorb

@@ -321,3 +321,11 @@ def test_colour_graphs_on_two_shaders(empty, addon):
     assert "absorb_alone" not in vol
     np.testing.assert_allclose(vol["color_absorb"], [2.0] * 3, rtol=1e-6)
     np.testing.assert_allclose(vol["color_base"], [0.5, 0.6, 0.7], rtol=1e-6)
+    # the Absorption Color's shader white (it absorbs nothing): its graph is dropped, else the
+    # core would apply its factor to the Color's shader's absorption
+    nt.links.new(nt.nodes.new("ShaderNodeTexGradient").outputs["Color"], s.inputs["Color"])
+    v.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1)
+    scene, report = export(addon)
+    m = _by_name(scene, "Two")
+    assert [p["target"] for p in m["programs"]] == ["volume_color"]
+    assert "absorb_alone" not in m["volume"]
