@@ -151,8 +151,8 @@ def _color_leaves(leaves, where, report, compiler, gridded):
     whose Absorption Color a graph drives and (node, "volume_emission_color" program) of the one
     leaf whose Emission Color (Principled Volume) or Color (Emission) a graph drives; (None,
     None) each where there is none or it cannot be rendered (a warning names it; the socket's
-    value). The Color's and the Absorption Color's graphs must be one shader's (one colour per
-    medium): else the Absorption Color's is not rendered (warned)."""
+    value). The Color's and the Absorption Color's graphs may be two shaders' (the Absorption
+    Color's shader's absorption is then "absorb_alone": convert_volume)."""
     out = []
     for target, kinds, name_of in (
             ("volume_color", ("PRINCIPLED_VOLUME", "VOLUME_SCATTER", "VOLUME_ABSORPTION"),
@@ -175,13 +175,33 @@ def _color_leaves(leaves, where, report, compiler, gridded):
                     found = node, prog
                     _check_color(report, where, node, name, prog)
         out.append(found)
-    (cnode, _), (anode, aprog) = out[0], out[1]
-    if anode is not None and cnode is not None and anode is not cnode:
-        report.warn(f"{where}: the node graph on 'Absorption Color' of '{anode.name}' beside a "
-                    f"graph on the Color of '{cnode.name}' is not rendered (one shader's "
-                    "colours per volume); the socket's own value is used")
-        out[1] = None, None
     return out
+
+
+def _strength_leaf(leaves, where, report, compiler, gridded, enode):
+    """(node, "volume_emission" program) of the one leaf whose Emission Strength (Principled
+    Volume) or Strength (Emission) a node graph drives in a mesh volume (a Volume object's are
+    in `gridded`: volume_objects._GridProbe), or (None, None). The core emits flame_emission x
+    max(its value, 0) per point (scene/medium_fire.h), times the Emission Color graph's colour
+    where that is the same shader's; a strength graph beside another shader's Emission Color
+    graph, or a second one, warns by name (the socket's value)."""
+    found = None, None
+    if compiler is None:
+        return found
+    for node, w in leaves:
+        name = {"PRINCIPLED_VOLUME": "Emission Strength", "EMISSION": "Strength"}.get(node.type)
+        if name is None or not _linked(node, name) or (node, name) in gridded:
+            continue
+        if found[0] is not None or (enode is not None and enode is not node):
+            report.warn(f"{where}: the node graph on '{name}' of '{node.name}' is not rendered "
+                        "beside another shader's emission graph (one emission graph per volume); "
+                        "the socket's own value is used")
+            continue
+        prog = compiler.program(node.inputs[name], "volume_emission", 1)
+        if prog is not None:
+            found = node, prog
+            _check_color(report, where, node, name, prog)
+    return found
 
 
 def convert_volume(socket, where, report, compiler=None, programs=None):
@@ -201,9 +221,11 @@ def convert_volume(socket, where, report, compiler=None, programs=None):
                for sock in node.inputs if by_grid is not None and by_grid(node, sock, w)}
     (cnode, cprog), (anode, aprog), (enode, eprog) = _color_leaves(leaves, where, report,
                                                                    compiler, gridded)
+    snode, sprog = _strength_leaf(leaves, where, report, compiler, gridded, enode)
     color_scatter, color_absorb, flame = [0.0] * 3, [0.0] * 3, [0.0] * 3
+    absorb_alone = [0.0] * 3   # an Absorption Color graph's shader beside another's Color graph
     color_base = [1.0] * 3   # the colour where no program gives it (an Absorption Color's)
-    for prog in (cprog, aprog, eprog):
+    for prog in (cprog, aprog, eprog, sprog):
         if prog is not None and programs is not None:
             programs.append(prog)
     for node, w in leaves:
@@ -218,6 +240,8 @@ def convert_volume(socket, where, report, compiler=None, programs=None):
             by_prog.add("Absorption Color")
         if node is enode:
             by_prog.add("Emission Color" if node.type == "PRINCIPLED_VOLUME" else "Color")
+        if node is snode:
+            by_prog.add("Emission Strength" if node.type == "PRINCIPLED_VOLUME" else "Strength")
         own = {name for n, name in gridded if n is node} | by_prog
         for sock in node.inputs:
             if sock.name not in _IGNORED and sock.is_linked and _source(sock) is not None and \
@@ -229,6 +253,9 @@ def convert_volume(socket, where, report, compiler=None, programs=None):
             if node is enode:   # the program's colour per point x the weight x the strength
                 # (a Volume object's strength graph or flame grid: the probe's factor, _fire)
                 flame = [f + w * (1.0 if "Strength" in own else s) for f in flame]
+                continue
+            if node is snode:   # a mesh volume's strength graph x the weight x the colour
+                flame = [f + w * max(c, 0.0) for f, c in zip(flame, color)]
                 continue
             emission = [e + w * s * c for e, c in zip(emission, color)]
             continue
@@ -262,9 +289,16 @@ def convert_volume(socket, where, report, compiler=None, programs=None):
         kabs = [max(1.0 - math.sqrt(max(k, 0.0)), 0.0) for k in absorb]
         if node is anode:   # the program's max(1 - sqrt(a), 0) per point stands for kabs
             kabs = [1.0, 1.0, 1.0]
-            if node is not cnode:   # the constant Color, as the colour of its absorption
+            if cnode is not None and node is not cnode:
+                # the Color graph is another shader's: this one's absorption max(1 - Color, 0)
+                # x Density is the absorption factor's alone (the core: absorb_alone)
+                absorb_alone = [x + density * max(1.0 - c, 0.0)
+                                for x, c in zip(absorb_alone, color)]
+            elif node is not cnode:   # the constant Color, as the colour of its absorption
                 color_base = [max(c, 0.0) for c in color]
-        if node is cnode or node is anode:
+        if node is anode and cnode is not None and node is not cnode:
+            pass
+        elif node is cnode or node is anode:
             color_absorb = [x + density * k for x, k in zip(color_absorb, kabs)]
         else:
             sigma_a = [a + density * max(1.0 - c, 0.0) * k
@@ -277,7 +311,10 @@ def convert_volume(socket, where, report, compiler=None, programs=None):
             flame = [f + s for f in flame]
         else:
             ecolor = _value(node, "Emission Color", where, report, quiet="Emission Color" in own)
-            emission = [e + w * strength * c for e, c in zip(emission, ecolor)]
+            if node is snode:   # a mesh volume's strength graph x the weight x the colour
+                flame = [f + w * max(c, 0.0) for f, c in zip(flame, ecolor)]
+            else:
+                emission = [e + w * strength * c for e, c in zip(emission, ecolor)]
         bb = blackbody_emission(node, where, report)
         emission = [e + w * b for e, b in zip(emission, bb)]
     total = sum(s for s, _ in lobes)
@@ -287,17 +324,29 @@ def convert_volume(socket, where, report, compiler=None, programs=None):
                     f"their mean anisotropy {g:.3g} stands for them")
     out = {"sigma_a": sigma_a, "sigma_s": sigma_s, "emission": emission,
            "g": min(max(g, -0.999), 0.999)}
-    if (cprog is not None or aprog is not None) and max(color_scatter + color_absorb) > 0.0:
+    if aprog is not None and cnode is not None and anode is not cnode and \
+            not max(absorb_alone) > 0.0:
+        # the Absorption Color's shader absorbs nothing (its Color white): its graph changes
+        # nothing (kept, the core would take it for the Color's shader's factor)
+        if programs is not None:
+            programs.remove(aprog)
+        aprog = None
+    if (cprog is not None or aprog is not None) and \
+            max(color_scatter + color_absorb + absorb_alone) > 0.0:
         out["color_scatter"], out["color_absorb"] = color_scatter, color_absorb
         out["color_base"] = color_base
+        if max(absorb_alone) > 0.0:
+            out["absorb_alone"] = absorb_alone
     elif programs is not None:   # the colour changes nothing (a density of 0)
         for prog in (cprog, aprog):
             if prog is not None:
                 programs.remove(prog)
-    if eprog is not None and max(flame) > 0.0:
+    if (eprog is not None or sprog is not None) and max(flame) > 0.0:
         out["flame_emission"] = flame
-    elif eprog is not None and programs is not None:
-        programs.remove(eprog)
+    elif programs is not None:
+        for prog in (eprog, sprog):
+            if prog is not None:
+                programs.remove(prog)
     if max(sigma_a + sigma_s + emission + out.get("color_scatter", [0.0]) +
            out.get("color_absorb", [0.0]) + out.get("flame_emission", [0.0])) <= 0.0:
         return None

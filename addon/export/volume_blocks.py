@@ -1,6 +1,6 @@
 """A Volume object's blocks (export/volume_objects.py): the box mesh over a block's trilinear
 support, the layout block grown to cover the other grids its programs read, the box's texture
-space."""
+space; its colour grids (Principled Volume's Color Attribute, an Attribute node on a Color)."""
 
 import numpy as np
 
@@ -68,3 +68,52 @@ def _texture_space(matrix_world, positions):
     p = np.c_[np.asarray(positions, np.float64), np.ones(len(positions))]
     local = (p @ np.linalg.inv(np.array(matrix_world, np.float64)).T)[:, :3].astype(np.float32)
     return {"generated": local, "object": local.copy()}
+
+
+def _color_attribute_grid(node, file_grids):
+    """The grid that a Principled Volume's Color Attribute names, where the object's file has
+    it (Cycles multiplies the Color by it; a missing one leaves the Color as it is), or None."""
+    sock = node.inputs.get("Color Attribute") if node.type == "PRINCIPLED_VOLUME" else None
+    name = str(sock.default_value) if sock is not None else ""
+    return name if name and name in file_grids else None
+
+
+def _times_grid(name):
+    """A GraphCompiler post-step: the program's colour times grid `name`'s colour (kOpGrid; a
+    float grid's value in all three channels), per channel."""
+    def post(ctx, v):
+        from .node_handlers import grid_register
+        g = ctx.reg(grid_register(ctx, name), 3, "RGBA")
+        r, _ = ctx.emit_node("vector_math", [ctx.convert(v, "VECTOR"), ctx.convert(g, "VECTOR"),
+                                             ctx.const((0, 0, 0), "VECTOR"),
+                                             ctx.const((0,), "VALUE")], 4, mode=2)
+        return ctx.reg(r, 3, "RGBA")
+    return post
+
+
+def _color_attribute(node):
+    """The grid name of an Attribute node (Geometry, its Color output) on the Color of a
+    Principled Volume, Volume Scatter or Volume Absorption, or None."""
+    from .volume import _source
+    if node.type not in ("PRINCIPLED_VOLUME", "VOLUME_SCATTER", "VOLUME_ABSORPTION"):
+        return None
+    sock = node.inputs.get("Color")
+    src = _source(sock) if sock is not None else None
+    if src is None or src.type != "ATTRIBUTE" or \
+            getattr(src, "attribute_type", "GEOMETRY") != "GEOMETRY":
+        return None
+    link = sock.links[0]
+    if link.from_node.type != "ATTRIBUTE" or link.from_socket.identifier != "Color":
+        return None
+    return str(src.attribute_name)
+
+
+def _color_dropped(medium, c=1.0):
+    """medium without its colour grid: the colour c everywhere folded back into sigma_a and
+    sigma_s (1: the Color socket alone, as Cycles without the attribute)."""
+    scat = medium.pop("color_scatter", [0.0] * 3)
+    absorb = medium.pop("color_absorb", [0.0] * 3)
+    base = medium.pop("color_base", [1.0] * 3)
+    medium["sigma_s"] = [x + s * c for x, s in zip(medium["sigma_s"], scat)]
+    medium["sigma_a"] = [x + a * max(1.0 - b * c, 0.0)
+                         for x, a, b in zip(medium["sigma_a"], absorb, base)]

@@ -20,7 +20,8 @@ socket's value stands for it, as in Cycles."""
 import numpy as np
 
 from .volume import _output, convert_volume
-from .volume_blocks import _box, _cover, _texture_space
+from .volume_blocks import (_box, _color_attribute, _color_attribute_grid, _color_dropped,
+                            _cover, _texture_space, _times_grid)
 
 # Principled Volume's defaults (bpy 5.0.1), for a Volume object without a material
 _DEFAULT_MEDIUM = {"sigma_a": [0.0, 0.0, 0.0], "sigma_s": [0.5, 0.5, 0.5],
@@ -39,6 +40,7 @@ class _GridProbe:
         self.grids = None     # a graph's grids (_GridTable), with its "density" program
         self.table = _GridTable()   # the grids every program of this material reads
         self.emission_program = None  # a graph on Emission Strength ("volume_emission")
+        self.file_grids, self.color_times = set(), None   # a Color graph x its grid's node
 
     def program(self, socket, target, dim):
         from .volume import _source
@@ -53,10 +55,16 @@ class _GridProbe:
                                    "volume_absorption_color"):
             return None
         if target != "density":
-            # a graph on a Color or Emission Color: a program of the object's grids; the
-            # shader's Color Attribute grid is not multiplied in (warned by _color)
-            return _GridCompiler(self.material, self.report, self.table).program(
-                socket, target, dim)
+            # a graph on a Color or Emission Color: a program of the object's grids, a
+            # Principled Volume's Color times its Color Attribute grid (kOpGrid's colour) where
+            # the file has it, as Cycles multiplies them (_color then leaves the grid alone)
+            own = _color_attribute_grid(socket.node, self.file_grids) \
+                if target == "volume_color" else None
+            prog = _GridCompiler(self.material, self.report, self.table).program(
+                socket, target, dim, post=_times_grid(own) if own else None)
+            if prog is not None and own:
+                self.color_times = socket.node
+            return prog
         # any other graph: a program reading the object's grids (kOpGrid), times Principled
         # Volume's Density Attribute grid where the shader has one (Cycles multiplies by it)
         comp = _GridCompiler(self.material, self.report, self.table, self.attributes)
@@ -221,6 +229,7 @@ class VolumeObjects:
         if output is None or output.inputs.get("Volume") is None:
             return None
         probe, programs = _GridProbe(where, self.report, mat, self.attributes), []
+        probe.file_grids = _grid_names(obj)
         medium = convert_volume(output.inputs["Volume"], where, self.report, probe, programs)
         if medium is None and probe.flame is None:
             return None
@@ -241,7 +250,7 @@ class VolumeObjects:
                              "Attribute, no Attribute node on Density); not rendered")
             return None
         fire = _fire(output, medium, probe, obj, where, self.report)
-        color = _color(output, medium, obj, where, self.report)
+        color = _color(output, medium, obj, where, self.report, probe.color_times)
         if color is not None:
             fire["color"] = color
         # graphs on Density and Emission Strength: their programs (kOpGrid's aux the place of
@@ -460,7 +469,7 @@ def _fire(output, medium, probe, obj, where, report):
     return fire
 
 
-def _color(output, medium, obj, where, report):
+def _color(output, medium, obj, where, report, times=None):
     """The grid that a Principled Volume's Color Attribute names (Cycles multiplies its Color
     by it), with medium changed to match: that shader's scattering Color x Density taken out of
     "sigma_s" into "color_scatter", its absorption max(1 - Color, 0) x max(1 - sqrt(Absorption
@@ -481,6 +490,8 @@ def _color(output, medium, obj, where, report):
             own = ""  # Cycles: a missing attribute leaves the Color as it is (smoke caches
             # without colour are common; nothing to say)
         if own and linked is None and _linked(node, "Color"):
+            if node == times:   # the Color graph's program multiplies by the grid
+                continue
             report.warn(f"{where}: the Color Attribute grid '{own}' of '{node.name}' with a node "
                         "graph on its Color is not rendered (Cycles multiplies the two); the "
                         "graph's colour alone is")
@@ -520,34 +531,6 @@ def _color(output, medium, obj, where, report):
     return found
 
 
-def _color_attribute(node):
-    """The grid name of an Attribute node (Geometry, its Color output) on the Color of a
-    Principled Volume, Volume Scatter or Volume Absorption, or None."""
-    from .volume import _source
-    if node.type not in ("PRINCIPLED_VOLUME", "VOLUME_SCATTER", "VOLUME_ABSORPTION"):
-        return None
-    sock = node.inputs.get("Color")
-    src = _source(sock) if sock is not None else None
-    if src is None or src.type != "ATTRIBUTE" or \
-            getattr(src, "attribute_type", "GEOMETRY") != "GEOMETRY":
-        return None
-    link = sock.links[0]
-    if link.from_node.type != "ATTRIBUTE" or link.from_socket.identifier != "Color":
-        return None
-    return str(src.attribute_name)
-
-
-def _color_dropped(medium, c=1.0):
-    """medium without its colour grid: the colour c everywhere folded back into sigma_a and
-    sigma_s (1: the Color socket alone, as Cycles without the attribute)."""
-    scat = medium.pop("color_scatter", [0.0] * 3)
-    absorb = medium.pop("color_absorb", [0.0] * 3)
-    base = medium.pop("color_base", [1.0] * 3)
-    medium["sigma_s"] = [x + s * c for x, s in zip(medium["sigma_s"], scat)]
-    medium["sigma_a"] = [x + a * max(1.0 - b * c, 0.0)
-                         for x, a, b in zip(medium["sigma_a"], absorb, base)]
-
-
 def _object_space(medium, vol, matrix_world):
     """The medium as Cycles scales it for the Volume's Render Space "Object" (Blender's
     default: the opacity stays when the object is scaled): absorption and scattering divided by
@@ -565,7 +548,7 @@ def _object_space(medium, vol, matrix_world):
         return medium
     out = dict(medium)
     for key in ("sigma_a", "sigma_s", "emission", "blackbody_tint", "flame_emission",
-                "color_scatter", "color_absorb"):
+                "color_scatter", "color_absorb", "absorb_alone"):
         if key in medium:
             out[key] = [v / k for v in medium[key]]
     return out

@@ -12,12 +12,14 @@ A Volume object's medium may add its fire, read with the material's ``"temperatu
 ``"color_scatter"`` (rgb: Color x Density, the scattering that the grid's colour c multiplies),
 ``"color_absorb"`` (rgb: max(1 - sqrt(Absorption Color), 0) x Density, the absorption that
 max(1 - color_base c, 0) multiplies) and ``"color_base"`` (rgb: the Color socket), per unit of
-the density grid, beside sigma_a and sigma_s (the parts the colour does not touch)."""
+the density grid, beside sigma_a and sigma_s (the parts the colour does not touch); with colour
+programs ``"absorb_alone"`` (rgb: the absorption that an Absorption Color graph's factor
+multiplies alone, where a Color graph is another shader's)."""
 import math
 
 MEDIUM_KEYS = ("sigma_a", "sigma_s", "emission", "g")
 FIRE_KEYS = ("blackbody_intensity", "temperature", "blackbody_tint", "flame_emission",
-             "color_scatter", "color_absorb", "color_base")
+             "color_scatter", "color_absorb", "color_base", "absorb_alone")
 
 
 def _rgb(value, what):
@@ -46,7 +48,8 @@ def validate_medium(medium, what):
     if not (math.isfinite(g) and -1.0 < g < 1.0):
         raise ValueError(f"{what} volume g: expected a value in (-1, 1), got {g}")
     out["g"] = g
-    for k in ("blackbody_tint", "flame_emission", "color_scatter", "color_absorb", "color_base"):
+    for k in ("blackbody_tint", "flame_emission", "color_scatter", "color_absorb", "color_base",
+              "absorb_alone"):
         if k in medium:
             out[k] = _rgb(medium[k], f"{what} volume {k}")
     for k in ("blackbody_intensity", "temperature"):

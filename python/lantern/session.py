@@ -328,7 +328,7 @@ def _has_hetero_media(scene):
     return any(isinstance(m, dict) and m.get("volume") is not None
                and (m.get("density_grid") is not None
                     or any(p.get("target") in ("density", "volume_color", "volume_emission_color",
-                                             "volume_absorption_color")
+                                             "volume_absorption_color", "volume_emission")
                         for p in (m.get("programs") or [])))
                for m in getattr(scene, "materials", []))
 

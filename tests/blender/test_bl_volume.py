@@ -221,3 +221,111 @@ def test_emission_and_absorption_color_graphs(empty, addon):
     assert [p["target"] for p in m["programs"]] == ["volume_emission_color"]
     np.testing.assert_allclose(m["volume"]["flame_emission"], [5.0] * 3, rtol=1e-6)
     assert not [w for w in report.messages if "Glow2" in w], report.messages
+
+
+def test_mesh_emission_strength_graph(empty, addon):
+    """A graph on a mesh volume's Emission Strength (issue 29): a "volume_emission" program,
+    its factor (weight x the constant Emission Color) the volume's flame_emission and nothing
+    of it in the constant emission, no warning; with an Emission Color graph on the same shader
+    both programs and the factor the weight alone; an Emission shader's Strength the same with
+    its Color. lt hands the scene to pt and auto leaves it to pt (an emissive volume). Control:
+    the link removed, the socket's value is constant emission and no program is exported."""
+    import lantern
+    add_camera(empty)
+    mat, nt, out = _volume_only("Flame")
+    mix = nt.nodes.new("ShaderNodeMixShader")
+    mix.inputs["Fac"].default_value = 0.25
+    v = nt.nodes.new("ShaderNodeVolumePrincipled")
+    v.inputs["Density"].default_value = 2.0
+    v.inputs["Emission Strength"].default_value = 7.0   # the graph drives it
+    v.inputs["Emission Color"].default_value = (1.0, 0.5, 0.25, 1)
+    grad = nt.nodes.new("ShaderNodeTexGradient")
+    nt.links.new(grad.outputs["Fac"], v.inputs["Emission Strength"])
+    nt.links.new(v.outputs[0], mix.inputs[2])
+    nt.links.new(nt.nodes.new("ShaderNodeVolumeScatter").outputs[0], mix.inputs[1])
+    nt.links.new(mix.outputs[0], out.inputs["Volume"])
+    add_plane(empty, material=mat, name="Box")
+    scene, report = export(addon)
+    m = _by_name(scene, "Flame")
+    assert [p["target"] for p in m["programs"]] == ["volume_emission"]
+    np.testing.assert_allclose(m["volume"]["flame_emission"], [0.25, 0.125, 0.0625], rtol=1e-6)
+    np.testing.assert_allclose(m["volume"]["emission"], [0.0] * 3, atol=1e-9)
+    assert not [w for w in report.messages if "Flame" in w], report.messages
+    for integ, says in (("lt", "rendering with pt"), ("auto", "only pt renders")):
+        s = lantern.Session(scene, integrator=integ, seed=1, spp_per_iteration=1, max_depth=2,
+                            threads=1)
+        s.step()
+        assert any(says in w and "Flame" in w for w in s.warnings), (integ, s.warnings)
+    # with an Emission Color graph: both programs, the factor the weight
+    nt.links.new(nt.nodes.new("ShaderNodeTexNoise").outputs["Color"], v.inputs["Emission Color"])
+    scene, report = export(addon)
+    m = _by_name(scene, "Flame")
+    assert sorted(p["target"] for p in m["programs"]) == ["volume_emission",
+                                                          "volume_emission_color"]
+    np.testing.assert_allclose(m["volume"]["flame_emission"], [0.25] * 3, rtol=1e-6)
+    assert not [w for w in report.messages if "Flame" in w], report.messages
+    # an Emission shader's Strength: its Color the factor
+    mat2, nt2, out2 = _volume_only("Flame2")
+    e = nt2.nodes.new("ShaderNodeEmission")
+    e.inputs["Color"].default_value = (0.2, 0.4, 0.8, 1)
+    nt2.links.new(nt2.nodes.new("ShaderNodeTexGradient").outputs["Fac"], e.inputs["Strength"])
+    nt2.links.new(e.outputs[0], out2.inputs["Volume"])
+    add_plane(empty, material=mat2, name="Box2")
+    scene, report = export(addon)
+    m2 = _by_name(scene, "Flame2")
+    assert [p["target"] for p in m2["programs"]] == ["volume_emission"]
+    np.testing.assert_allclose(m2["volume"]["flame_emission"], [0.2, 0.4, 0.8], rtol=1e-6)
+    # control: no link, the socket's value (7) is constant emission
+    nt.links.remove(v.inputs["Emission Strength"].links[0])
+    nt.links.remove(v.inputs["Emission Color"].links[0])
+    scene, report = export(addon)
+    m = _by_name(scene, "Flame")
+    assert not m.get("programs") and "flame_emission" not in m["volume"]
+    np.testing.assert_allclose(m["volume"]["emission"], [1.75, 0.875, 0.4375], rtol=1e-6)
+
+
+def test_colour_graphs_on_two_shaders(empty, addon):
+    """A Color graph on a Volume Scatter added to a Principled Volume whose Absorption Color is
+    a graph (issue 29): both programs, the scatterer's colour part in color_scatter, the
+    Principled Volume's absorption max(1 - Color, 0) x Density in absorb_alone (its factor's
+    alone) and its scattering constant, no warning. Control: the Color graph removed, the
+    Absorption Color's shader is the colour shader again (color_base, color_absorb)."""
+    add_camera(empty)
+    mat, nt, out = _volume_only("Two")
+    s = nt.nodes.new("ShaderNodeVolumeScatter")
+    s.inputs["Density"].default_value = 3.0
+    nt.links.new(nt.nodes.new("ShaderNodeTexGradient").outputs["Color"], s.inputs["Color"])
+    v = nt.nodes.new("ShaderNodeVolumePrincipled")
+    v.inputs["Density"].default_value = 2.0
+    v.inputs["Color"].default_value = (0.5, 0.6, 0.7, 1)
+    nt.links.new(nt.nodes.new("ShaderNodeTexNoise").outputs["Color"], v.inputs["Absorption Color"])
+    add = nt.nodes.new("ShaderNodeAddShader")
+    nt.links.new(s.outputs[0], add.inputs[0])
+    nt.links.new(v.outputs[0], add.inputs[1])
+    nt.links.new(add.outputs[0], out.inputs["Volume"])
+    add_plane(empty, material=mat, name="Box")
+    scene, report = export(addon)
+    m = _by_name(scene, "Two")
+    assert sorted(p["target"] for p in m["programs"]) == ["volume_absorption_color",
+                                                          "volume_color"]
+    vol = m["volume"]
+    np.testing.assert_allclose(vol["color_scatter"], [3.0] * 3, rtol=1e-6)
+    np.testing.assert_allclose(vol["color_absorb"], [0.0] * 3, atol=1e-9)
+    np.testing.assert_allclose(vol["absorb_alone"], [1.0, 0.8, 0.6], rtol=1e-5)
+    np.testing.assert_allclose(vol["sigma_s"], [1.0, 1.2, 1.4], rtol=1e-6)
+    np.testing.assert_allclose(vol["sigma_a"], [0.0] * 3, atol=1e-9)
+    assert not [w for w in report.messages if "Two" in w], report.messages
+    nt.links.remove(s.inputs["Color"].links[0])
+    scene, report = export(addon)
+    vol = _by_name(scene, "Two")["volume"]
+    assert "absorb_alone" not in vol
+    np.testing.assert_allclose(vol["color_absorb"], [2.0] * 3, rtol=1e-6)
+    np.testing.assert_allclose(vol["color_base"], [0.5, 0.6, 0.7], rtol=1e-6)
+    # the Absorption Color's shader white (it absorbs nothing): its graph is dropped, else the
+    # core would apply its factor to the Color's shader's absorption
+    nt.links.new(nt.nodes.new("ShaderNodeTexGradient").outputs["Color"], s.inputs["Color"])
+    v.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1)
+    scene, report = export(addon)
+    m = _by_name(scene, "Two")
+    assert [p["target"] for p in m["programs"]] == ["volume_color"]
+    assert "absorb_alone" not in m["volume"]

@@ -317,3 +317,35 @@ def test_attribute_node_on_color_reads_the_colour_grid(empty, addon, tmp_path, k
     assert m.get("color_grid") is None
     assert np.allclose(m["volume"]["sigma_s"], 0.0, atol=1e-6)
     assert np.allclose(m["volume"]["sigma_a"], want_a)
+
+
+def test_colour_attribute_times_a_colour_graph(empty, addon, tmp_path):
+    """Principled Volume's Color Attribute beside a graph on its Color (issue 29): Cycles
+    multiplies the two, so the "volume_color" program ends in the graph's colour times the
+    colour grid's (kOpGrid of "color"), no colour grid of the material's own and no warning.
+    Control: the Color Attribute naming a grid the file lacks leaves the graph alone (Cycles
+    leaves the Color as it is), no kOpGrid of it."""
+    from lantern_blender.export.node_ops import OP
+    mat, v = _material("principled")
+    v.inputs["Color Attribute"].default_value = "color"
+    nt = mat.node_tree
+    a, ramp = nt.nodes.new("ShaderNodeAttribute"), nt.nodes.new("ShaderNodeValToRGB")
+    a.attribute_name = "density"
+    nt.links.new(a.outputs["Fac"], ramp.inputs["Fac"])
+    nt.links.new(ramp.outputs["Color"], v.inputs["Color"])
+    _volume_object(empty, _colour_vdb(tmp_path), mat)
+    scene, report = export(addon)
+    assert not [m for m in report.messages if "Smoke" in m], report.messages
+    m, _, _ = _smoke(scene)
+    assert m.get("color_grid") is None
+    prog = next(p for p in m["programs"] if p["target"] == "volume_color")
+    grids = [w[2] for w in prog["code"] if w[0] & 0xFF == OP["grid"]]
+    assert sorted(scene.grids[g]["name"].split(":")[-1] for g in grids) == ["color", "density"]
+    assert np.allclose(m["volume"]["color_scatter"], [3.0] * 3)   # Density x the weight
+    v.inputs["Color Attribute"].default_value = "missing"
+    scene, report = export(addon)
+    m, _, _ = _smoke(scene)
+    prog = next(p for p in m["programs"] if p["target"] == "volume_color")
+    grids = [w[2] for w in prog["code"] if w[0] & 0xFF == OP["grid"]]
+    assert [scene.grids[g]["name"].split(":")[-1] for g in grids] == ["density"]
+    assert m.get("color_grid") is None

@@ -43,6 +43,7 @@ int get_medium(const nb::handle& h, const std::string& name, SceneInput& in) {
     mi.color_scatter = get_vec3(v, "color_scatter", mi.color_scatter);
     mi.color_absorb = get_vec3(v, "color_absorb", mi.color_absorb);
     mi.color_base = get_vec3(v, "color_base", mi.color_base);
+    mi.absorb_alone = get_vec3(v, "absorb_alone", mi.absorb_alone);
     in.media.push_back(mi);
     return int(in.media.size()) - 1;
 }

@@ -55,6 +55,10 @@ struct Medium {
                                   // Absorption Color a per point (factor max(1 - sqrt(a), 0))
     int32_t emission_color_prog;  // kTargetVolumeEmissionColor: emission flame_emission x
                                   // max(c, 0) (x the flame grid's or the strength program's value)
+    Vec3 absorb_alone;  // absorption per unit density that the absorption program's factor
+                        // max(1 - sqrt(a), 0) multiplies alone (a Principled Volume's beside
+                        // another shader's Color graph: its max(1 - Color, 0) x Density); not 0:
+                        // color_absorb then takes max(1 - c, 0) alone
 };
 
 // ---- Henyey-Greenstein: cos_theta between the direction travelled and the scattered one ----

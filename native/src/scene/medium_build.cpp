@@ -149,11 +149,12 @@ void HostScene::build_media(const SceneInput& in) {
         // a Volume object's density program (a graph on its Density reading its grids) stands
         // for its density grid, which then only places its box and bricks
         const int32_t prog = density_program(k);
-        // graphs on the Color or Emission Color make a medium heterogeneous too (its density
-        // 1 without a density program or grid)
+        // graphs on the Color, Emission Color or (a mesh volume's) Emission Strength make a
+        // medium heterogeneous too (its density 1 without a density program or grid)
         const bool colored = program_of(k, kTargetVolumeColor) >= 0 ||
                              program_of(k, kTargetVolumeEmissionColor) >= 0 ||
-                             program_of(k, kTargetVolumeAbsorptionColor) >= 0;
+                             program_of(k, kTargetVolumeAbsorptionColor) >= 0 ||
+                             program_of(k, kTargetVolumeEmission) >= 0;
         if (mi.density_grid >= 0 || prog >= 0 || colored) {
             // a heterogeneous medium: the material's own (its density program or grid, its mesh)
             const MediumInput& src = in.media[size_t(mi.medium)];

@@ -37,13 +37,16 @@ void HostScene::volume_color_programs(Medium& m, const MediumInput& src, size_t 
         m.color_scatter = clean_rgb(src.color_scatter);
         m.color_absorb = clean_rgb(src.color_absorb);
         m.color_base = cprog >= 0 ? vec3(1.0f) : clean_rgb(src.color_base);
-        if (max_component(m.color_scatter + m.color_absorb) > 0.0f) {
+        // an Absorption Color graph beside another shader's Color graph: its own absorption
+        m.absorb_alone = cprog >= 0 && aprog >= 0 ? clean_rgb(src.absorb_alone) : vec3(0.0f);
+        if (max_component(m.color_scatter + m.color_absorb + m.absorb_alone) > 0.0f) {
             if (m.color_grid >= 0)
                 warnings_.push_back("medium '" + src.name + "': a colour grid and a graph on "
                                     "the Color or Absorption Color: the grid is not rendered");
             m.color_grid = -1;
             m.color_prog = cprog;
-            m.absorb_prog = max_component(m.color_absorb) > 0.0f ? aprog : -1;
+            m.absorb_prog =
+                max_component(m.color_absorb + m.absorb_alone) > 0.0f ? aprog : -1;
             if (max_component(m.color_scatter) > 0.0f) m.scatters = 1u;
         }
     }
@@ -51,6 +54,17 @@ void HostScene::volume_color_programs(Medium& m, const MediumInput& src, size_t 
         m.flame_emission = clean_rgb(src.flame_emission);
         if (max_component(m.flame_emission) > 0.0f) {
             m.emission_color_prog = eprog;
+            m.emits = 1u;
+        }
+    }
+    // a mesh volume's Emission Strength graph: flame_emission (the weight x the constant
+    // Emission Color, or the weight where a colour graph gives it) x max(its value, 0) per
+    // point (scene/medium_fire.h; a Volume object's: build_media, beside its grids)
+    const int32_t sprog = program_of(material, kTargetVolumeEmission);
+    if (sprog >= 0 && m.density_grid < 0) {
+        m.flame_emission = clean_rgb(src.flame_emission);
+        if (max_component(m.flame_emission) > 0.0f) {
+            m.emission_prog = sprog;
             m.emits = 1u;
         }
     }
@@ -79,12 +93,16 @@ Vec3 HostScene::color_prog_unit(int32_t med, Vec3 lo, Vec3 hi, bool* ok) const {
         }
     }
     if (!*ok) return vec3(0.0f);
+    // (absorb_alone: the absorption factor multiplies it alone, color_absorb max(1 - c, 0))
+    const bool alone = max_component(m.absorb_alone) > 0.0f;
     float sc[3], ab[3];
     for (int k = 0; k < 3; ++k) {
         sc[k] = std::fmin(std::fmax(c[k].hi, 0.0f), 1e9f);
-        ab[k] = std::fmax(1.0f - std::fmin(std::fmax(c[k].lo, 0.0f), 1e9f), 0.0f) * ka[k];
+        ab[k] = std::fmax(1.0f - std::fmin(std::fmax(c[k].lo, 0.0f), 1e9f), 0.0f) *
+                (alone ? 1.0f : ka[k]);
     }
-    return m.color_scatter * Vec3{sc[0], sc[1], sc[2]} + m.color_absorb * Vec3{ab[0], ab[1], ab[2]};
+    return m.color_scatter * Vec3{sc[0], sc[1], sc[2]} + m.color_absorb * Vec3{ab[0], ab[1], ab[2]} +
+           m.absorb_alone * Vec3{ka[0], ka[1], ka[2]};
 }
 
 Vec3 HostScene::color_prog_fallback(int32_t med, Vec3 lo, Vec3 hi,
@@ -92,8 +110,9 @@ Vec3 HostScene::color_prog_fallback(int32_t med, Vec3 lo, Vec3 hi,
     const Medium& m = media_[size_t(med)];
     // the absorption's factors are at most 1 (a true bound); the scattering's the colour's
     // largest value on a lattice x 1.5 (color_base without a Color program: exact)
-    if (m.color_prog < 0) return m.color_scatter * m.color_base + m.color_absorb;
-    if (!(max_component(m.color_scatter) > 0.0f)) return m.color_absorb;  // absorbing only
+    if (m.color_prog < 0) return m.color_scatter * m.color_base + m.color_absorb + m.absorb_alone;
+    if (!(max_component(m.color_scatter) > 0.0f))  // absorbing only
+        return m.color_absorb + m.absorb_alone;
     SceneView host = view_;
     host.media = media_.data();
     constexpr int kLattice = 24;
@@ -112,7 +131,7 @@ Vec3 HostScene::color_prog_fallback(int32_t med, Vec3 lo, Vec3 hi,
                         "can compute (a node without an interval rule, or an unbounded value); "
                         "its majorant takes the largest colour on a lattice x 1.5, which may "
                         "miss peaks (biased there)");
-    return m.color_scatter * (cmax * 1.5f) + m.color_absorb;
+    return m.color_scatter * (cmax * 1.5f) + m.color_absorb + m.absorb_alone;
 }
 
 float HostScene::mesh_color_majorant(int32_t med, Vec3 lo, Vec3 hi, const std::string& name) {

@@ -80,12 +80,17 @@ LANTERN_HD inline MediumCoeffs medium_coeffs_at(const SceneView& s, const Medium
         const ShadePoint sp = medium_shade_point(med, p, d);
         const Vec3 c = m.color_prog >= 0 ? medium_color_at(s, m.color_prog, sp) : m.color_base;
         Vec3 ab = Vec3{fmaxf(1.0f - c.x, 0.0f), fmaxf(1.0f - c.y, 0.0f), fmaxf(1.0f - c.z, 0.0f)};
+        Vec3 alone = vec3(0.0f);
         if (m.absorb_prog >= 0) {
+            // the Absorption Color's factor: of the same shader's colour, or (absorb_alone, a
+            // Color graph on another shader) of its own constant colour's absorption
             const Vec3 a = medium_color_at(s, m.absorb_prog, sp);
-            ab = ab * Vec3{fmaxf(1.0f - sqrtf(a.x), 0.0f), fmaxf(1.0f - sqrtf(a.y), 0.0f),
-                           fmaxf(1.0f - sqrtf(a.z), 0.0f)};
+            const Vec3 ka{fmaxf(1.0f - sqrtf(a.x), 0.0f), fmaxf(1.0f - sqrtf(a.y), 0.0f),
+                          fmaxf(1.0f - sqrtf(a.z), 0.0f)};
+            alone = m.absorb_alone * ka;
+            if (!(max_component(m.absorb_alone) > 0.0f)) ab = ab * ka;
         }
-        return MediumCoeffs{m.sigma_a0 + (m.sigma_a + m.color_absorb * ab) * den,
+        return MediumCoeffs{m.sigma_a0 + (m.sigma_a + m.color_absorb * ab + alone) * den,
                             m.sigma_s0 + (m.sigma_s + m.color_scatter * c) * den};
     }
     if (medium_has_color(s, m)) {

@@ -65,6 +65,43 @@ float mesh_density_bound(const SceneView& s, const MaterialProgram& p, int32_t m
     return b <= 2e-30f ? 0.0f : std::fmin(b, 1e9f);
 }
 
+// The largest emission of a mesh volume's emission programs over the world box [lo, hi]
+// (scene/medium_fire.h medium_emission_at): flame_emission x c x k, c the Emission Color
+// program's colour, k the Emission Strength program's value (each 1 without its program, both
+// clamped as there), over kSplit^3 sub-boxes: the largest channel's top (0: no point emits
+// more than 1e-5 of the programs' range above 0); -1 where an op has no rule.
+float mesh_emission_bound(const SceneView& host, const std::vector<MaterialProgram>& programs,
+                          const Medium& m, int32_t med, Vec3 lo, Vec3 hi) {
+    constexpr int kSplit = 12;
+    const Vec3 step = (hi - lo) * (1.0f / kSplit);
+    float e = 0.0f;
+    for (int z = 0; z < kSplit; ++z)
+        for (int y = 0; y < kSplit; ++y)
+            for (int x = 0; x < kSplit; ++x) {
+                const Vec3 a = lo + step * Vec3{float(x), float(y), float(z)};
+                const Vec3 b{x + 1 == kSplit ? hi.x : a.x + step.x,
+                             y + 1 == kSplit ? hi.y : a.y + step.y,
+                             z + 1 == kSplit ? hi.z : a.z + step.z};
+                Interval c[3] = {{1.0f, 1.0f}, {1.0f, 1.0f}, {1.0f, 1.0f}}, k[3] = {{1.0f, 1.0f}};
+                if (m.emission_color_prog >= 0 &&
+                    !program_bound(host, programs[size_t(m.emission_color_prog)], med, a, b, c,
+                                   3))
+                    return -1.0f;
+                if (m.emission_prog >= 0 &&
+                    !program_bound(host, programs[size_t(m.emission_prog)], med, a, b, k, 1))
+                    return -1.0f;
+                // program_bound widens by 1e-5 of the interval's size: a top within that of 0
+                // is a value <= 0 (a strength Lantern takes as 0)
+                auto top = [](Interval v) {
+                    const float m = 1.1e-5f * std::fmax(std::fabs(v.lo), std::fabs(v.hi)) + 1e-29f;
+                    return v.hi <= m ? 0.0f : std::fmin(v.hi, 1e9f);
+                };
+                const Vec3 ch{top(c[0]), top(c[1]), top(c[2])};
+                e = std::fmax(e, max_component(m.flame_emission * ch) * top(k[0]));
+            }
+    return e;
+}
+
 }  // namespace
 
 int32_t HostScene::density_program(size_t material) const {
@@ -104,7 +141,8 @@ void HostScene::build_hetero(int32_t med, size_t material, const std::string& na
         if (medium_maps_.empty()) medium_maps_.assign(media_.size() * size_t(nch), Transform{});
         // the channels the medium's programs read (kOpInput, mode 4: an attribute)
         std::vector<bool> read(size_t(nch), false);
-        for (int32_t prog : {m.density_prog, m.color_prog, m.emission_color_prog, m.absorb_prog}) {
+        for (int32_t prog : {m.density_prog, m.color_prog, m.emission_color_prog, m.absorb_prog,
+                             m.emission_prog}) {
             if (prog < 0) continue;
             const MaterialProgram& p = programs_[size_t(prog)];
             for (int k = 0; k < p.num_instr; ++k) {
@@ -189,6 +227,13 @@ void HostScene::build_hetero(int32_t med, size_t material, const std::string& na
     // a colour program's part (scene/medium_color_build.cpp), over the mesh's sub-boxes
     if ((m.color_prog >= 0 || m.absorb_prog >= 0) && m.density_grid < 0 && !verts.empty())
         m.majorant = mesh_color_majorant(med, lo, hi, name);
+    // a mesh volume's emission graphs whose bound is 0 everywhere (a strength of 0 or less:
+    // Lantern emits none there) leave the medium's emission to its constant part
+    if ((m.emission_prog >= 0 || m.emission_color_prog >= 0) && m.density_grid < 0 &&
+        !verts.empty() && mesh_emission_bound(host, programs_, m, med, lo, hi) == 0.0f) {
+        m.emission_prog = m.emission_color_prog = -1;
+        m.emits = max_component(m.emission) > 0.0f ? 1u : 0u;
+    }
     // an emitting medium needs tentative collisions even where nothing extinguishes: its
     // emission is estimated at them (one per bounding-box diagonal on average)
     if (m.emits && !(m.majorant > 0.0f) && !verts.empty())

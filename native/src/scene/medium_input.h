@@ -31,6 +31,9 @@ struct MediumInput {
     Vec3 color_scatter{0.0f, 0.0f, 0.0f};
     Vec3 color_absorb{0.0f, 0.0f, 0.0f};
     Vec3 color_base{1.0f, 1.0f, 1.0f};
+    // an Absorption Color graph on one shader beside a Color graph on another (scene/medium.h
+    // Medium::absorb_alone): the absorption its factor multiplies alone
+    Vec3 absorb_alone{0.0f, 0.0f, 0.0f};
 };
 
 // A Volume object's density grid (docs/volumes.md, scene/medium_grid.h): a dense block of

@@ -320,6 +320,18 @@ bool program_bound(const SceneView& s, const MaterialProgram& p, int32_t med, Ve
                                 std::fmax(a[3 + k].hi, a[6 + k].hi));
             t[3] = make(0.0f, 1.0f);
             break;
+        case kOpFresnel:
+        case kOpLayerWeight: {
+            // fresnel_dielectric_cos of c = |dot(wo, n)| (wo a unit vector) is a reflectance
+            // in [0, 1] for c in [0, 1], any eta > 0; Layer Weight's facing 1 - c^b (b >= 0)
+            // too: where the normal's length is at most 1 (in a medium it is 0)
+            float nn = 0.0f;
+            for (int k = 1; k < 4; ++k)
+                nn = a[k].known ? nn + square(a[k]).hi : kInfBound;
+            if (nn <= 1.0f + 1e-5f && a[0].known)
+                t[0] = t[1] = make(-1e-6f, 1.0f + 1e-6f);
+            break;
+        }
         case kOpNoise: noise_rule(n, a, t); break;
         case kOpVoronoi: voronoi_rule(n, a, t); break;
         case kOpMagic: magic_rule(n, a, t); break;

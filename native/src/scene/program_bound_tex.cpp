@@ -163,6 +163,37 @@ void vector_math_rule(const NodeInstr& n, const Reg* a, Reg* t) {
         });
         break;
     case 9: each([&](int k) { return hull(A[k], make(-A[k].hi, -A[k].lo)); }); break;
+    case 6:    // project: |b (a.b) / (b.b)| <= |a| per component (0 where b = 0)
+    case 7:    // reflect about normalize(b) (0: a): |a| per component
+    case 8: {  // refract: |s a - n (s d + sqrt k)| <= 2 |s| |a| + sqrt(max(1, 1 + s^2 (|a|^2 - 1)))
+        Reg len2 = zero;
+        for (int k = 0; k < 3; ++k) len2 = A[k].known ? add(len2, square(A[k])) : unknown();
+        if (!len2.known) return;
+        float m = std::sqrt(len2.hi);
+        if (n.mode == 8) {
+            if (!a[9].known) return;
+            const float sm = std::max(std::fabs(a[9].lo), std::fabs(a[9].hi));
+            m = 2.0f * sm * m + std::sqrt(std::max(1.0f, 1.0f + sm * sm * (len2.hi - 1.0f)));
+        }
+        m = m * (1.0f + 1e-5f) + 1e-7f;
+        each([&](int) { return make(-m, m); });
+        if (n.mode == 6 && B[0].known && B[1].known && B[2].known && constant(B[0]) &&
+            constant(B[1]) && constant(B[2])) {
+            // a constant b: linear in a, b (b . a) / (b . b) by interval arithmetic too
+            const float bb = B[0].lo * B[0].lo + B[1].lo * B[1].lo + B[2].lo * B[2].lo;
+            if (!(bb > 0.0f)) {
+                each([&](int) { return zero; });
+                break;
+            }
+            Reg d = zero;
+            for (int k = 0; k < 3; ++k) d = add(d, mul(A[k], B[k]));
+            for (int k = 0; k < 3; ++k) {
+                const Reg q = widen(mul(d, point(B[k].lo / bb)), 1e-5f, 1e-7f);
+                if (q.known) t[k] = make(std::max(q.lo, t[k].lo), std::min(q.hi, t[k].hi));
+            }
+        }
+        break;
+    }
     case 10:
     case 11:
     case 12: {
@@ -293,6 +324,10 @@ Reg blend_channel(int mode, Reg f, Reg a, Reg b) {
         return add(mul(a, tm), mul(add(mul(mul(sub(one, a), b), a), mul(a, scr)), f));
     }
     case 14: return add(a, mul(sub(mul(b, two), one), f));                       // linear light
+    case 10:                                                                     // divide
+        if (constant(b) && b.lo == 0.0f) return a;   // b = 0: a unchanged
+        if (!(b.lo > 0.0f || b.hi < 0.0f)) return unknown();
+        return lerp(a, mul(a, make(1.0f / b.lo, 1.0f / b.hi)));
     default: return unknown();
     }
 }
@@ -313,6 +348,38 @@ Reg curve_range(const float* tab, int n, int ch, float lo, float hi, Reg x) {
     return widen(r, 1e-5f, 1e-6f);
 }
 
+// Mix's hue, saturation, value and colour blends (node_blend, modes 15-18): hsv_to_rgb(h, s, v)
+// has every component between v and v (1 - s) (v (1 - s f) for f in [0, 1]), whatever h; the
+// value v the largest component, the saturation in [0, 1] for components >= 0 (a's; b's where
+// its saturation is read). Hue and colour mix the result with a by the factor, saturation and
+// value take it as it is (or a where a has no saturation).
+void hsv_blend_rule(const NodeInstr& n, const Reg* a, Reg* t) {
+    for (int k = 0; k < 9; ++k)
+        if (!a[k].known) return;
+    const Reg* A = a + 3;
+    const Reg* B = a + 6;
+    auto vmax = [](const Reg* c) {
+        return make(std::max({c[0].lo, c[1].lo, c[2].lo}), std::max({c[0].hi, c[1].hi, c[2].hi}));
+    };
+    auto nonneg = [](const Reg* c) { return c[0].lo >= 0.0f && c[1].lo >= 0.0f && c[2].lo >= 0.0f; };
+    if (!nonneg(A) || ((n.mode == 16 || n.mode == 18) && !nonneg(B))) return;
+    const Reg one = point(1.0f), unit = make(0.0f, 1.0f);
+    Reg f = a[0];
+    if (n.flags & 1) f = clamp01(f);
+    const Reg tm = sub(one, f);
+    Reg v = vmax(A), sat = unit;
+    if (n.mode == 16) sat = add(mul(tm, unit), mul(f, unit));   // mix of two saturations
+    if (n.mode == 17) v = add(mul(tm, v), mul(f, vmax(B)));      // mix of two values
+    const Reg x = hull(v, mul(v, sub(one, sat)));
+    for (int k = 0; k < 3; ++k) {
+        Reg r = n.mode == 15 || n.mode == 18 ? add(mul(A[k], tm), mul(x, f)) : x;
+        r = hull(r, A[k]);   // a itself where the saturation read is 0
+        r = widen(r, 4e-6f, 1e-7f);
+        if (n.flags & 2) r = r.known ? clamp01(r) : make(0.0f, 1.0f);
+        t[k] = r;
+    }
+}
+
 }  // namespace
 
 // kOpMix: a lerp per component (Mix mode, the float and vector mixes: as before), else
@@ -320,6 +387,10 @@ Reg curve_range(const float* tab, int n, int ch, float lo, float hi, Reg x) {
 // result clamped as the op clamps them.
 void mix_rule(const NodeInstr& n, const Reg* a, Reg* t) {
     const bool lerp = n.mode == 255 || n.mode == 0 || (n.flags & 4);
+    if (!lerp && n.mode >= 15 && n.mode <= 18) {
+        hsv_blend_rule(n, a, t);
+        return;
+    }
     for (int k = 0; k < 3; ++k) {
         Reg f = (n.flags & 4) ? a[k] : a[0];
         if (n.flags & 1) f = f.known ? clamp01(f) : make(0.0f, 1.0f);
