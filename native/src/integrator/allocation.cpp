@@ -281,15 +281,13 @@ bool any_strand_leaf(const SceneInput& in, uint32_t k, F&& f) {
 }  // namespace
 
 std::string curves_bidir_reason(const SceneInput& in) {
-    // (Principled Hair in a mix: a tube vertex, its lobe in the surface measure, bdpt_curve.h)
-    bool strands = false;
-    for (const CurveInput& c : in.curves)
-        if (c.offsets.size() > 1) strands = true;
+    // (Principled Hair in a mix: a tube vertex, its lobe in the surface measure, bdpt_curve.h;
+    // strands beside volumes: a strand is no volume boundary, the medium connections read its
+    // cosines as the others do, bdpt_medium_stages.h)
     for (const MeshInput& m : in.meshes)
         for (uint32_t k : m.material_ids)
             if (k < in.materials.size() && in.materials[k].type == "hair")
                 return "a hair material on a mesh (mesh '" + m.name + "')";
-    if (strands && !media_reason(in).empty()) return "strands in a scene with volumes";
     return "";
 }
 

@@ -137,8 +137,8 @@ private:
 std::string pt_only_reason(const SceneInput& in);
 // Strands or a hair material (docs/curves.md): on the CPU only; "" when none.
 std::string curves_reason(const SceneInput& in);
-// What of strands and hair only pt renders (docs/curves.md): a hair material on a mesh, strands
-// beside volumes; "" when none.
+// What of strands and hair only pt renders (docs/curves.md): a hair material on a mesh; ""
+// when none.
 std::string curves_bidir_reason(const SceneInput& in);
 // What of strands lt cannot render besides (docs/curves.md): strands whose BSDF transmits (pt
 // transmits through a strand from the side the camera sees, which no light path reaches),
