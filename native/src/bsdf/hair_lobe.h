@@ -34,6 +34,19 @@ LANTERN_HD inline HairParams hair_reversed(HairParams p) {
     return p;
 }
 
+// The other sub-path's parameters at a vertex whose wo gave P: in the fiber measure the same
+// fiber at -h (hair_reversed); at a tube vertex (kHairTube: the lobe as a mix's leaf, on pt's
+// point on the tube, integrator/bdpt_curve.h) the offset at which w itself meets that point.
+LANTERN_HD inline HairParams hair_other_side(const Material& m, const HairParams& p, Vec3 w) {
+    return (m.tex_flags & kHairTube) ? hair_lobe_params(m, w) : hair_reversed(p);
+}
+
+// The geometric cosine that the Importance form divides by: cos theta (the fiber measure) or
+// |w.z| (the tube's surface measure: Z is the point's outward normal).
+LANTERN_HD inline float hair_vertex_cos(const Material& m, Vec3 w) {
+    return (m.tex_flags & kHairTube) ? fabsf(w.z) : hair_cos_theta(w);
+}
+
 // (pdf_rev_w in Radiance only with kHairReverse: pt, which never reads it, does not pay for it.)
 // h is read from wo, the direction that found the vertex (the camera's side in Radiance, the
 // light's in Importance), and the other sub-path reads the vertex at -h (hair_reversed). With
@@ -44,6 +57,11 @@ LANTERN_HD inline HairParams hair_reversed(HairParams p) {
 // Importance (wo light side, wi camera side): f = f_cos_{-h}(wi, wo) / cos_theta(wo), the fiber
 // measure's BSDF (docs/curves.md "Bidirectional"): the integrators multiply by cos_theta(wi) at
 // a strand vertex. 0 where wi lies in the tangent plane (a set of measure zero).
+// kHairTube (a mix's leaf; docs/curves.md "Principled Hair in a mix"): the vertex is a point on
+// the tube with normal Z, and the offset is a function of the point and the direction that meets
+// it, h(w) = -w.y / |w_yz|: Radiance as above (pt's f), pdf_rev_w the density of wo from wi at
+// h(wi); Importance f = f_cos_{h(wi)}(wi, wo) / |wo.z| (pt's f with the sides swapped), pdf_fwd_w
+// the density of wi from wo at h(wo), pdf_rev_w that of wo from wi at h(wi).
 LANTERN_HD inline BsdfEval hair_lobe_eval(const Material& m, Vec3 wo, Vec3 wi,
                                           Transport mode = Transport::Radiance) {
     BsdfEval e{vec3(0.0f), 0.0f, 0.0f};
@@ -56,19 +74,20 @@ LANTERN_HD inline BsdfEval hair_lobe_eval(const Material& m, Vec3 wo, Vec3 wi,
         e.pdf_fwd_w = fwd.pdf_fwd_w;
         // (pt reads no reverse pdf: only where a light-path integrator may render, kHairReverse)
         if (m.tex_flags & kHairReverse)
-            e.pdf_rev_w = hair_eval(hair_reversed(p), wi, wo).pdf_fwd_w;
+            e.pdf_rev_w = hair_eval(hair_other_side(m, p, wi), wi, wo).pdf_fwd_w;
     } else {
-        const HairEval rev = hair_eval(hair_reversed(p), wi, wo);
+        const HairEval rev = hair_eval(hair_other_side(m, p, wi), wi, wo);
         e.pdf_fwd_w = hair_eval(p, wo, wi).pdf_fwd_w;
         e.pdf_rev_w = rev.pdf_fwd_w;
-        const float co = hair_cos_theta(wo);
+        const float co = hair_vertex_cos(m, wo);
         e.f = co > 1e-7f ? rev.f_cos / co : vec3(0.0f);
     }
     return e;
 }
 
 // weight: f_cos / pdf (Radiance); f_cos_{-h}(wi, wo) cos_theta(wi) / (cos_theta(wo) pdf)
-// (Importance, the fiber measure's adjoint throughput: integrator/bdpt_curve.h).
+// (Importance, the fiber measure's adjoint throughput: integrator/bdpt_curve.h); kHairTube:
+// f_cos_{h(wi)}(wi, wo) |wi.z| / (|wo.z| pdf).
 LANTERN_HD inline BsdfSample hair_lobe_sample(const Material& m, Vec3 wo, Vec3 u,
                                               Transport mode = Transport::Radiance) {
     BsdfSample s{vec3(0.0f), vec3(0.0f), 0.0f, false};
@@ -82,11 +101,11 @@ LANTERN_HD inline BsdfSample hair_lobe_sample(const Material& m, Vec3 wo, Vec3 u
         s.valid = is_finite(s.weight);
         return s;
     }
-    const HairEval rev = hair_eval(hair_reversed(p), h.wi, wo);
+    const HairEval rev = hair_eval(hair_other_side(m, p, h.wi), h.wi, wo);
     s.pdf_rev_w = rev.pdf_fwd_w;
     if (mode == Transport::Importance) {
-        const float co = hair_cos_theta(wo);
-        s.weight = co > 1e-7f ? rev.f_cos * (hair_cos_theta(h.wi) / (co * h.pdf_fwd_w))
+        const float co = hair_vertex_cos(m, wo);
+        s.weight = co > 1e-7f ? rev.f_cos * (hair_vertex_cos(m, h.wi) / (co * h.pdf_fwd_w))
                               : vec3(0.0f);
     }
     s.valid = is_finite(s.weight);

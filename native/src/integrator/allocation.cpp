@@ -281,37 +281,28 @@ bool any_strand_leaf(const SceneInput& in, uint32_t k, F&& f) {
 }  // namespace
 
 std::string curves_bidir_reason(const SceneInput& in) {
-    bool strands = false;
-    for (const CurveInput& c : in.curves) {
-        if (c.offsets.size() <= 1) continue;
-        strands = true;
-        auto name = [&](uint32_t k) {
-            return "(curves '" + c.name + "', material '" +
-                   (k < in.materials.size() ? in.materials[k].name : std::string("?")) + "')";
-        };
-        // the hair lobe in the fiber measure (node programs too: the lobe reads the resolved
-        // fields), any other BSDF as pt's point on the tube (integrator/bdpt_curve.h): a mix of
-        // the two would be neither
-        for (uint32_t k : c.material_ids) {
-            if (k >= in.materials.size()) continue;
-            const MaterialInput& m = in.materials[k];
-            if (m.type == "mix" &&
-                any_strand_leaf(in, k, [](const MaterialInput& x) { return x.type == "hair"; }))
-                return "strands shaded by a mix of Principled Hair and another BSDF " + name(k);
-        }
-    }
+    // (Principled Hair in a mix: a tube vertex, its lobe in the surface measure, bdpt_curve.h;
+    // strands beside volumes: a strand is no volume boundary, the medium connections read its
+    // cosines as the others do, bdpt_medium_stages.h)
     for (const MeshInput& m : in.meshes)
         for (uint32_t k : m.material_ids)
             if (k < in.materials.size() && in.materials[k].type == "hair")
                 return "a hair material on a mesh (mesh '" + m.name + "')";
-    if (strands && !media_reason(in).empty()) return "strands in a scene with volumes";
     return "";
 }
 
 std::string curves_lt_reason(const SceneInput& in) {
-    auto transmits = [](const MaterialInput& m) {  // (material_transmits_leaf, but hair's)
+    // Principled Hair as a mix's leaf is a tube vertex (bdpt_curve.h), whose transmission lt
+    // cannot reach either (the fiber measure's it does): a mix holding it, or that hair alone
+    std::vector<bool> leaf(in.materials.size(), false);
+    for (const MaterialInput& m : in.materials)
+        if (m.type == "mix")
+            for (int c : m.mix_children)
+                if (c >= 0 && size_t(c) < in.materials.size()) leaf[size_t(c)] = true;
+    auto transmits = [&](const MaterialInput& m) {  // (material_transmits_leaf, but hair's)
         return m.type == "dielectric" || m.type == "translucent" ||
-               (m.type == "principled" && m.transmission > 0.0f);
+               (m.type == "principled" && m.transmission > 0.0f) ||
+               (m.type == "hair" && leaf[size_t(&m - in.materials.data())]);
     };
     for (const CurveInput& c : in.curves) {
         if (c.offsets.size() <= 1) continue;

@@ -28,8 +28,12 @@ LANTERN_HD inline float vertex_cos(bool strand, const Frame& f, Vec3 ng, Vec3 w)
 }
 
 // On a strand (prim_is_strand), the fiber measure is the hair lobe's only; any other resolved
-// material (programs keep the type) makes a tube vertex.
-LANTERN_HD inline bool strand_fiber(const Material& m) { return m.type == kMaterialHair; }
+// material (programs keep the type) makes a tube vertex, and so does the hair lobe where it is
+// also a mix's leaf (kHairTube: its lobe in the surface measure, bsdf/hair_lobe.h; a mix of the
+// two measures would be neither: docs/curves.md "Principled Hair in a mix").
+LANTERN_HD inline bool strand_fiber(const Material& m) {
+    return m.type == kMaterialHair && !(m.tex_flags & kHairTube);
+}
 
 // The light sub-path's geometric cosine at a camera sub-path's vertex towards its light side w
 // (the light path's area density of the vertex): vertex_cos, but 0 at a tube vertex whose light

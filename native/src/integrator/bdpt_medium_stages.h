@@ -17,6 +17,7 @@
 //   transmittance.
 #pragma once
 
+#include "integrator/bdpt_curve.h"  // strand vertices (the connection's cosines)
 #include "integrator/bdpt_medium.h"
 #include "integrator/bdpt_medium_light.h"  // the light pass
 
@@ -236,7 +237,8 @@ LANTERN_HD inline Connection bdpt_connect_medium(const SceneView& s, const BdptS
         fz = ez.f;
         pz_fwd = ez.pdf_fwd_w;
         pz_rev = ez.pdf_rev_w;
-        cos_z_ng = fabsf(dz_ng);
+        // (a strand: the fiber measure's cosine, 0 where a tube faces away: bdpt_curve.h)
+        cos_z_ng = light_arrival_cos(z.strand && !z.tube, z.tube, z.frame, z.h.ng, dir);
         cos_z_ns = fabsf(wi_z.z);
         start = dz_ng < 0.0f ? medium_across(s, z.tri, z.h.front, z.slot_medium)
                              : z.slot_medium;
@@ -245,6 +247,8 @@ LANTERN_HD inline Connection bdpt_connect_medium(const SceneView& s, const BdptS
     // the cache vertex's side
     Vec3 fy;
     float py_fwd, py_rev, cos_y_ng = 1.0f, cos_y = 1.0f;
+    bool y_fiber = false;
+    Frame fyf;
     if (ym) {
         const float ph = hg_phase(s.media[lv_medium(y)].g, dot(y.wo, dir));
         fy = vec3(ph);
@@ -253,6 +257,9 @@ LANTERN_HD inline Connection bdpt_connect_medium(const SceneView& s, const BdptS
         const float dy_ng = dot(-dir, y.ng), dy_ns = dot(-dir, y.ns);
         const bool y_geometric = material_view_geometric(s.materials[y.material]);
         if (!(y_geometric ? dy_ng > 0.0f : dy_ng * dy_ns > 0.0f)) return r;
+        // y on a strand: the hair lobe's fiber measure, or a tube vertex facing z (bdpt_curve.h)
+        y_fiber = prim_is_strand(s, y.tri) && strand_fiber(s.materials[y.material]);
+        if (prim_is_strand(s, y.tri) && !y_fiber && !(dy_ng > 0.0f)) return r;
 #ifdef __CUDA_ARCH__
         MaterialScratch& scratch = *z.scratch;
 #else
@@ -261,7 +268,7 @@ LANTERN_HD inline Connection bdpt_connect_medium(const SceneView& s, const BdptS
         const Material& my = material_at_point(
             s, y.material, [&] { return shade_point_lv(s, y, -dir); }, scratch);
         *clobbered = &my == &scratch.m;
-        const Frame fyf = Frame::from_normal_angle(y.ns, y.tangent_angle);
+        fyf = Frame::from_normal_angle(y.ns, y.tangent_angle);
         const Vec3 coat_y = (my.tex_flags & kCoatNormal) || material_keeps_unbent_normal(my)
                                 ? oct_decode(y.coat_n)
                                 : vec3(0.0f, 0.0f, 1.0f);
@@ -274,8 +281,9 @@ LANTERN_HD inline Connection bdpt_connect_medium(const SceneView& s, const BdptS
         fy = ey.f;
         py_fwd = ey.pdf_fwd_w;
         py_rev = ey.pdf_rev_w;
-        cos_y_ng = fabsf(dy_ng);
-        cos_y = fabsf(wo_y.z) * cos_y_ng / cos_yo_ng;
+        cos_y_ng = vertex_cos(y_fiber, fyf, y.ng, dir);
+        // (the lobe's Importance f is the fiber measure's: y's adjoint factor is 1)
+        cos_y = y_fiber ? cos_y_ng : fabsf(wo_y.z) * cos_y_ng / cos_yo_ng;
     }
     if (is_black(fy)) return r;
     const float inv_d2 = 1.0f / d2;
@@ -298,6 +306,7 @@ LANTERN_HD inline Connection bdpt_connect_medium(const SceneView& s, const BdptS
     }
     r.medium = start;
     r.kind = (zm ? kConnNearMedium : 0) | (ym ? kConnFarMedium : 0);
+    if (y_fiber) r.y_strand_cut = strand_end_shorten(s, y.tri, y.ng, dir, fyf);
     return r;
 }
 

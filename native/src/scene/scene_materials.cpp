@@ -253,6 +253,9 @@ void HostScene::set_mix_leaves(const SceneInput& in) {
             m.mix_child[i] = c;
             m.mix_weight[i] = finite_in(w, 0.0f, kInf, 0.0f);
             m.emission += materials_[c].emission * m.mix_weight[i];
+            // a strand whose mix holds the hair lobe is a tube vertex: the lobe in the surface
+            // measure (bsdf/hair_lobe.h; a hair material also used alone stays pt's: allocation)
+            if (materials_[c].type == kMaterialHair) materials_[c].tex_flags |= kHairTube;
             if (materials_[c].subsurface > 0.0f) {  // pt's walk starts at a top-level material
                 materials_[c].subsurface = 0.0f;
                 warnings_.push_back(who + ": subsurface scattering of a mix leaf is rendered as "

@@ -146,6 +146,8 @@ enum MaterialTextureBits : uint32_t {
     kTintReflection = 4096u,  // dielectric: base_color tints reflection too (not resolved)
     kHairReverse = 8192u,     // hair: its lobe computes the reverse pdf (bsdf/hair_lobe.h): set
                               // where an integrator with light paths may render (HostScene)
+    kHairTube = 16384u,       // hair as a mix's leaf: the tube's surface measure, not the fiber's
+                              // (bsdf/hair_lobe.h, integrator/bdpt_curve.h; set_mix_leaves)
     kTexShading = kTexBaseColor | kTexRoughness | kTexMetallic | kTexEmission |
                   kTexProgram,                                   // resolved per hit
     kMaterialResolve = kTexShading | kTexMix | kMixResolve,      // material_at copies
