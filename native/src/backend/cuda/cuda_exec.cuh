@@ -1,7 +1,9 @@
 // The CUDA executor: backend/cpu/cpu_exec.h's interface on a GPU (device arrays on the shared
 // meter, each() as a kernel, CUB's stable select / scan / radix sort, integer reductions with one
 // atomic per warp, ray queries against the device BVH, splats with double atomics, readback,
-// timing with a stream synchronisation, the out-of-memory policy). Every call selects the device
+// timing with a stream synchronisation, the out-of-memory policy). Ray queries are
+// accel/scene_query.h's: the one-level BVH, or with a SceneQueryView on the device (moving
+// meshes: the two-level BVH; strands: accel/curve_query.h) what CpuBackend's built-in BVH does. Every call selects the device
 // first: steps run on another thread than the one that made it. tests/cuda/exec_conformance.cu
 // checks it against tests/cpp/exec_conformance.h's references.
 #pragma once
@@ -20,6 +22,7 @@
 #include <utility>
 
 #include "accel/bvh.h"
+#include "accel/scene_query.h"
 #include "backend/cpu/embree_accel.h"  // RayKind (plain enum)
 #include "backend/cuda/cuda_renderer.h"
 #include "integrator/lt.h"
@@ -181,6 +184,8 @@ public:
         bvh_ = bvh;
         scene_ = s;
     }
+    // The two-level BVH and the strands (a device SceneQueryView; null: the BVH alone).
+    void set_query(const SceneQueryView* query) { query_ = query; }
     template <typename T>
     Array<T> array() {
         return Array<T>(&meter_);
@@ -282,11 +287,13 @@ public:
     template <typename RayOf, typename Out>
     void closest(int n, RayKind kind, RayOf ray_of, Out hit) {
         const uint32_t need = Rays::need(kind);
+        const int ck = Rays::curve_kind(kind);
         const BvhView b = bvh_;
+        const SceneQueryView* x = query_;
         const SceneView s = scene_;
         each(n, [=] __device__(int k) {
             const Ray r = ray_of(k);
-            const BvhHit h = bvh_intersect(b, r, need, BvhAlphaTest{s, r});
+            const BvhHit h = scene_query_closest(b, x, r, ck, need, BvhAlphaTest{s, r});
             hit(k, h.t, h.prim, h.uv);
         });
     }
@@ -294,30 +301,37 @@ public:
     void occluded(int n, RayOf ray_of, Out blocked) {  // shadow rays
         const uint32_t need = kBvhNeedShadow;
         const BvhView b = bvh_;
+        const SceneQueryView* x = query_;
         const SceneView s = scene_;
         each(n, [=] __device__(int k) {
             const Ray r = ray_of(k);
-            blocked(k, bvh_occluded(b, r, need, BvhAlphaTest{s, r}));
+            blocked(k, scene_query_occluded(b, x, r, 2, need, BvhAlphaTest{s, r}));
         });
     }
 
     // A ray query one thread of an each() makes: value-captured by the schedule's kernels.
     struct Rays {
         BvhView bvh;
+        const SceneQueryView* x;  // device memory (set_query); null: bvh alone
         SceneView s;
         __host__ __device__ static uint32_t need(RayKind kind) {
             return kind == RayKind::kCamera   ? kBvhNeedCamera
                    : kind == RayKind::kShadow ? kBvhNeedShadow
                                               : kBvhNeedIndirect;
         }
+        __host__ __device__ static int curve_kind(RayKind kind) {  // accel/curve_query.h's
+            return kind == RayKind::kCamera ? 0 : (kind == RayKind::kShadow ? 2 : 1);
+        }
         __device__ bool occluded(const Ray& r, RayKind kind) const {
-            return bvh_occluded(bvh, r, need(kind), BvhAlphaTest{s, r});
+            return scene_query_occluded(bvh, x, r, curve_kind(kind), need(kind),
+                                        BvhAlphaTest{s, r});
         }
         __device__ BvhHit closest(const Ray& r, RayKind kind) const {  // pt_shadow_medium
-            return bvh_intersect(bvh, r, need(kind), BvhAlphaTest{s, r});
+            return scene_query_closest(bvh, x, r, curve_kind(kind), need(kind),
+                                       BvhAlphaTest{s, r});
         }
     };
-    Rays rays() const { return Rays{bvh_, scene_}; }
+    Rays rays() const { return Rays{bvh_, query_, scene_}; }
 
     // ---- light-tracing splats (double atomics); with `slots`, item k is slot slots[k] ----
     void splat(int n, const uint8_t* valid, const Vec2* xy, const Vec3* value,
@@ -388,6 +402,7 @@ public:
     Array<int32_t> scratch_values_;
     unsigned long long* host_ = nullptr;
     BvhView bvh_{};
+    const SceneQueryView* query_ = nullptr;  // device memory, the renderer's
     SceneView scene_{};
 };
 
