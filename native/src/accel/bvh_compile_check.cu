@@ -2,7 +2,6 @@
 // and indirect rays and occlusion for shadow rays. The CUDA backend's real kernels are a later
 // issue; this only keeps bvh.h device-clean.
 #include "accel/bvh.h"
-#include "accel/scene_query.h"
 #include "accel/tlas.h"
 
 // At most 128 registers a thread, as the backend's kernels (each_kernel's bound): the alpha-tested
@@ -49,20 +48,6 @@ __global__ void LANTERN_TRAVERSAL_BOUNDS tlas_intersect_alpha_kernel(TlasView tl
 __global__ void LANTERN_TRAVERSAL_BOUNDS tlas_occluded_kernel(TlasView tl, const Ray* rays, uint8_t* occluded, int n) {
     int i = blockIdx.x * blockDim.x + threadIdx.x;
     if (i < n) occluded[i] = tlas_occluded(tl, rays[i], kBvhNeedShadow) ? 1 : 0;
-}
-
-// The CUDA executor's query (accel/scene_query.h): triangles (one or two levels), then the
-// strands (accel/curve_query.h: the curve BVH per kind, moving sets through their matrices).
-__global__ void LANTERN_TRAVERSAL_BOUNDS scene_query_kernel(BvhView bvh, const SceneQueryView* x,
-                                                            const __grid_constant__ SceneView scene,
-                                                            const Ray* rays, BvhHit* hits,
-                                                            uint8_t* occluded, int n, int kind,
-                                                            uint32_t need) {
-    int i = blockIdx.x * blockDim.x + threadIdx.x;
-    if (i >= n) return;
-    hits[i] = scene_query_closest(bvh, x, rays[i], kind, need, BvhAlphaTest{scene, rays[i]});
-    occluded[i] =
-        scene_query_occluded(bvh, x, rays[i], kind, need, BvhAlphaTest{scene, rays[i]}) ? 1 : 0;
 }
 
 }  // namespace lantern

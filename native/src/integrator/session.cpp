@@ -125,6 +125,7 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
     }
     // strands: lt, bdpt, lvc and cis have strand vertices, the hair lobe's and pt's points on
     // the tube for other BSDFs (bdpt_curve.h); the rest only pt shades so far (docs/curves.md)
+    const std::string curves_why = curves_reason(scene);
     std::string curves_bidir_why = curves_bidir_reason(scene);
     if (curves_bidir_why.empty() && integ == "lt") curves_bidir_why = curves_lt_reason(scene);
     if (media_note.empty() && integ != "pt" && integ != "auto" && !curves_bidir_why.empty()) {
@@ -136,7 +137,8 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
     // a scene meant for the GPU starts no light paths on soft-falloff lights (bdpt_light.h);
     // should the GPU then refuse it, the CPU renders those lights camera-side, as the GPU would
     const bool gpu_meant = test_gpu != nullptr ||
-                           ((want == "cuda" || want == "auto") && cuda_info().available);
+                           ((want == "cuda" || want == "auto") && curves_why.empty() &&
+                            cuda_info().available);
     scene_ = std::make_unique<HostScene>(scene, !gpu_meant);
     scene_->set_hair_reverse(settings_.integrator != "pt");  // (bsdf/hair_lobe.h)
     if (settings_.integrator == "lt") check_light_tracing(scene);
@@ -156,11 +158,17 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
         gpu_ = std::move(test_gpu);
         backend_name_ = "cuda";
         device_name_ = gpu_->device_name();
+    } else if ((want == "cuda" || want == "auto") && !curves_why.empty()) {
+        if (want == "cuda" || cuda_info().available)
+            warnings_.push_back("the CUDA backend does not trace strands yet (the scene has " +
+                                curves_why + "); rendering on the CPU");
     } else if (want == "cuda" || want == "auto") {
         const CudaInfo info = cuda_info();
         const std::string& integ = settings_.integrator;
-        // strands and motion blur: the built-in BVH's queries (accel/scene_query.h)
-        if (info.available && scene_->view().has_subsurface &&
+        if (info.available && scene_->view().motion.any()) {
+            warnings_.push_back("the CUDA backend does not render motion blur yet; rendering "
+                                "on the CPU");
+        } else if (info.available && scene_->view().has_subsurface &&
                    (integ == "bdpt" || integ == "lvc" || integ == "cis")) {
             // the camera paths' walk stage is CPU-only (schedule_bdpt.h: its kernel's stack)
             warnings_.push_back("the CUDA backend does not render subsurface scattering with "

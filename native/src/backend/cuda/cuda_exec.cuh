@@ -1,9 +1,7 @@
 // The CUDA executor: backend/cpu/cpu_exec.h's interface on a GPU (device arrays on the shared
 // meter, each() as a kernel, CUB's stable select / scan / radix sort, integer reductions with one
 // atomic per warp, ray queries against the device BVH, splats with double atomics, readback,
-// timing with a stream synchronisation, the out-of-memory policy). Ray queries are
-// accel/scene_query.h's: the one-level BVH, or with a SceneQueryView on the device (moving
-// meshes: the two-level BVH; strands: accel/curve_query.h) what CpuBackend's built-in BVH does. Every call selects the device
+// timing with a stream synchronisation, the out-of-memory policy). Every call selects the device
 // first: steps run on another thread than the one that made it. tests/cuda/exec_conformance.cu
 // checks it against tests/cpp/exec_conformance.h's references.
 #pragma once
@@ -22,7 +20,6 @@
 #include <utility>
 
 #include "accel/bvh.h"
-#include "accel/scene_query.h"
 #include "backend/cpu/embree_accel.h"  // RayKind (plain enum)
 #include "backend/cuda/cuda_renderer.h"
 #include "integrator/lt.h"
@@ -146,57 +143,6 @@ __device__ inline void warp_or(unsigned* mask, unsigned bits) {
     if (g.thread_rank() == 0) atomicOr(mask, all);
 }
 
-// Ray queries as calls: each part of accel/scene_query.h (the one- and two-level BVH with the
-// alpha test, the strands) a function of its own, so that a stage's kernel holds one
-// traversal's stack at a time (the largest callee's in its cumulative stack), not one per query
-// site and kind of structure: inlined, pt's subsurface walk kernel (pt_chunk_variant #4.3)
-// measured 4,464 B of stack, 1,296 B before the two-level BVH and the strands joined it.
-static __device__ __noinline__ BvhHit query_flat(const BvhView b, const SceneView& s, const Ray r,
-                                                 uint32_t need) {
-    return bvh_intersect(b, r, need, BvhAlphaTest{s, r});
-}
-static __device__ __noinline__ bool query_flat_any(const BvhView b, const SceneView& s,
-                                                   const Ray r, uint32_t need) {
-    return bvh_occluded(b, r, need, BvhAlphaTest{s, r});
-}
-static __device__ __noinline__ BvhHit query_tlas(const TlasView& tl, const SceneView& s,
-                                                 const Ray r, uint32_t need) {
-    return tlas_intersect(tl, r, need, BvhAlphaTest{s, r});
-}
-static __device__ __noinline__ bool query_tlas_any(const TlasView& tl, const SceneView& s,
-                                                   const Ray r, uint32_t need) {
-    return tlas_occluded(tl, r, need, BvhAlphaTest{s, r});
-}
-static __device__ __noinline__ CurveBvhHit query_curve(const CurveQueryView& q, const Ray r,
-                                                       int kind, float tmax) {
-    return curve_query_closest(q, r, kind, tmax);
-}
-static __device__ __noinline__ bool query_curve_any(const CurveQueryView& q, const Ray r,
-                                                    int kind) {
-    return curve_query_occluded(q, r, kind);
-}
-// accel/scene_query.h's parts as those calls
-struct QueryCalls {
-    const BvhView& bvh;
-    const SceneView& s;
-    __device__ BvhHit flat(const Ray& r, uint32_t need) const { return query_flat(bvh, s, r, need); }
-    __device__ bool flat_any(const Ray& r, uint32_t need) const {
-        return query_flat_any(bvh, s, r, need);
-    }
-    __device__ BvhHit tlas(const TlasView& tl, const Ray& r, uint32_t need) const {
-        return query_tlas(tl, s, r, need);
-    }
-    __device__ bool tlas_any(const TlasView& tl, const Ray& r, uint32_t need) const {
-        return query_tlas_any(tl, s, r, need);
-    }
-    __device__ CurveBvhHit curve(const CurveQueryView& q, const Ray& r, int kind, float tmax) const {
-        return query_curve(q, r, kind, tmax);
-    }
-    __device__ bool curve_any(const CurveQueryView& q, const Ray& r, int kind) const {
-        return query_curve_any(q, r, kind);
-    }
-};
-
 }  // namespace cuda_detail
 
 // Public members throughout: nvcc's extended lambdas must not sit in private member functions.
@@ -235,8 +181,6 @@ public:
         bvh_ = bvh;
         scene_ = s;
     }
-    // The two-level BVH and the strands (a device SceneQueryView; null: the BVH alone).
-    void set_query(const SceneQueryView* query) { query_ = query; }
     template <typename T>
     Array<T> array() {
         return Array<T>(&meter_);
@@ -337,44 +281,43 @@ public:
     // ---- ray queries over [0, n): ray_of(k) -> Ray; hit(k, t, prim, uv) / blocked(k, bool) ----
     template <typename RayOf, typename Out>
     void closest(int n, RayKind kind, RayOf ray_of, Out hit) {
-        const Rays q = rays();
+        const uint32_t need = Rays::need(kind);
+        const BvhView b = bvh_;
+        const SceneView s = scene_;
         each(n, [=] __device__(int k) {
-            const BvhHit h = q.closest(ray_of(k), kind);
+            const Ray r = ray_of(k);
+            const BvhHit h = bvh_intersect(b, r, need, BvhAlphaTest{s, r});
             hit(k, h.t, h.prim, h.uv);
         });
     }
     template <typename RayOf, typename Out>
     void occluded(int n, RayOf ray_of, Out blocked) {  // shadow rays
-        const Rays q = rays();
-        each(n, [=] __device__(int k) { blocked(k, q.occluded(ray_of(k), RayKind::kShadow)); });
+        const uint32_t need = kBvhNeedShadow;
+        const BvhView b = bvh_;
+        const SceneView s = scene_;
+        each(n, [=] __device__(int k) {
+            const Ray r = ray_of(k);
+            blocked(k, bvh_occluded(b, r, need, BvhAlphaTest{s, r}));
+        });
     }
 
     // A ray query one thread of an each() makes: value-captured by the schedule's kernels.
     struct Rays {
         BvhView bvh;
-        const SceneQueryView* x;  // device memory (set_query); null: bvh alone
         SceneView s;
         __host__ __device__ static uint32_t need(RayKind kind) {
             return kind == RayKind::kCamera   ? kBvhNeedCamera
                    : kind == RayKind::kShadow ? kBvhNeedShadow
                                               : kBvhNeedIndirect;
         }
-        __host__ __device__ static int curve_kind(RayKind kind) {  // accel/curve_query.h's
-            return kind == RayKind::kCamera ? 0 : (kind == RayKind::kShadow ? 2 : 1);
-        }
-        // accel/scene_query.h through cuda_detail's calls (x null: the one-level BVH alone)
         __device__ bool occluded(const Ray& r, RayKind kind) const {
-            if (!x) return cuda_detail::query_flat_any(bvh, s, r, need(kind));
-            return scene_query_occluded_parts(*x, r, curve_kind(kind), need(kind),
-                                              cuda_detail::QueryCalls{bvh, s});
+            return bvh_occluded(bvh, r, need(kind), BvhAlphaTest{s, r});
         }
         __device__ BvhHit closest(const Ray& r, RayKind kind) const {  // pt_shadow_medium
-            if (!x) return cuda_detail::query_flat(bvh, s, r, need(kind));
-            return scene_query_closest_parts(*x, r, curve_kind(kind), need(kind),
-                                             cuda_detail::QueryCalls{bvh, s});
+            return bvh_intersect(bvh, r, need(kind), BvhAlphaTest{s, r});
         }
     };
-    Rays rays() const { return Rays{bvh_, query_, scene_}; }
+    Rays rays() const { return Rays{bvh_, scene_}; }
 
     // ---- light-tracing splats (double atomics); with `slots`, item k is slot slots[k] ----
     void splat(int n, const uint8_t* valid, const Vec2* xy, const Vec3* value,
@@ -445,7 +388,6 @@ public:
     Array<int32_t> scratch_values_;
     unsigned long long* host_ = nullptr;
     BvhView bvh_{};
-    const SceneQueryView* query_ = nullptr;  // device memory, the renderer's
     SceneView scene_{};
 };
 
