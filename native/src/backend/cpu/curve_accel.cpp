@@ -4,7 +4,6 @@
 #include <stdexcept>
 
 #include "backend/cpu/embree_curves.h"
-#include "scene/motion_build.h"
 
 namespace lantern {
 
@@ -57,37 +56,13 @@ struct CurveAccel::Embree {};
 #endif
 
 CurveAccel::CurveAccel(const SceneView& s, bool use_embree, std::vector<std::string>& warnings) {
-    first_prim_ = s.num_triangles;
     steps_ = s.curves.keys.num_steps;
-    motion_ = s.motion;
-    const int n = s.curves.num_segs;
-    // which strands each kind of ray sees (scene/scene_curves.cpp's flags)
-    bool all = true;
-    for (int k = 0; k < n && all; ++k) {
-        const uint8_t f = s.tri_flags[first_prim_ + k];
-        all = (f & kVisibleCamera) && (f & kCastShadow);
-    }
-    distinct_ = all ? 1 : 3;
-    // the moving sets' segments go to their own structures (scene/curves.h's CurveSetMotion)
-    std::vector<int32_t> set_of(size_t(n), -1);
-    moving_.resize(size_t(s.curves.num_sets));
-    for (int j = 0; j < s.curves.num_sets; ++j) {
-        const ObjectMotion& o = s.curves.sets[j].o;
-        moving_[j].set = &s.curves.sets[j];
-        for (int k = o.tri_begin; k < o.tri_begin + o.tri_count && k < n; ++k) set_of[k] = j;
-    }
-    for (int kind = 0; kind < distinct_; ++kind) {
-        for (int k = 0; k < n; ++k) {
-            const uint8_t f = s.tri_flags[first_prim_ + k];
-            if (kind == 0 && distinct_ == 3 && !(f & kVisibleCamera)) continue;
-            if (kind == 2 && !(f & kCastShadow)) continue;
-            // index: the segment's place in the scene
-            (set_of[k] < 0 ? by_kind_[kind] : moving_[set_of[k]].segs[kind])
-                .push_back(s.curves.segs[k]);
-        }
-    }
     if (use_embree) {
 #if LANTERN_HAVE_EMBREE
+        curve_query_split(q_, s);
+        const int distinct_ = q_.distinct;
+        std::vector<CurveSeg>* by_kind_ = q_.still;
+        const std::vector<CurveQuery::Moving>& moving_ = q_.moving;
         embree_ = std::make_unique<Embree>();
         const EmbreeApi& e = embree_->e;
         embree_->device = e.newDevice(nullptr);
@@ -105,7 +80,7 @@ CurveAccel::CurveAccel(const SceneView& s, bool use_embree, std::vector<std::str
                                           by_kind_[kind].size(), curve_front_filter,
                                           s.curves.keys),
                      &by_kind_[kind]);
-            for (const Moving& m : moving_) {
+            for (const CurveQuery::Moving& m : moving_) {
                 const std::vector<CurveSeg>& segs = m.segs[kind];
                 if (segs.empty()) continue;
                 // the set in object space, its keys (where it also deforms) likewise
@@ -166,49 +141,16 @@ CurveAccel::CurveAccel(const SceneView& s, bool use_embree, std::vector<std::str
         throw std::runtime_error("Embree is not built in");
 #endif
     }
-    for (int kind = 0; kind < distinct_; ++kind)
-        bvh_[kind] = build_curve_bvh(by_kind_[kind], s.curves.keys);  // (moving: all steps)
-    for (Moving& m : moving_) {
-        Vec3 box[2] = {vec3(kInf), vec3(-kInf)};
-        for (int kind = 0; kind < distinct_; ++kind) {
-            for (const CurveSeg& g : m.segs[kind]) {
-                Vec3 a, b;
-                curve_seg_bounds(g, s.curves.keys, &a, &b);
-                box[0] = vec3(fminf(box[0].x, a.x), fminf(box[0].y, a.y), fminf(box[0].z, a.z));
-                box[1] = vec3(fmaxf(box[1].x, b.x), fmaxf(box[1].y, b.y), fmaxf(box[1].z, b.z));
-            }
-            m.bvh[kind] = build_curve_bvh(m.segs[kind], s.curves.keys);
-        }
-        motion_world_box(motion_, m.set->o, box, m.box);
-    }
+    curve_query_build(q_, s);  // the built-in BVH: the host+device query's arrays
+    view_ = q_.view();
     (void)warnings;
 }
 
 CurveAccel::~CurveAccel() = default;
 
 int CurveAccel::kind_index(RayKind kind) const {
-    if (distinct_ == 1) return 0;
+    if (q_.distinct == 1) return 0;
     return kind == RayKind::kCamera ? 0 : (kind == RayKind::kShadow ? 2 : 1);
-}
-
-CurveBvhHit CurveAccel::moving_hit(const Ray& r, int ki, float tmax, bool any_hit) const {
-    CurveBvhHit best{tmax, 0.0f, vec3(0.0f), -1};
-    if (moving_.empty()) return best;
-    const Vec3 inv = vec3(curve_bvh_rcp(r.d.x), curve_bvh_rcp(r.d.y), curve_bvh_rcp(r.d.z));
-    for (const Moving& m : moving_) {
-        if (m.bvh[ki].nodes.empty() ||
-            !(curve_bvh_box(r.o, inv, m.box[0], m.box[1], r.tmin, best.t) < kInf))
-            continue;
-        // the ray in the set's exported frame at its time (the same t: an affine map)
-        Transform x;
-        if (!object_motion_to_exported(motion_, m.set->o, r.time, &x)) continue;
-        const CurveBvhHit h = curve_bvh_intersect(m.bvh[ki].view(), x.point(r.o),
-                                                  x.vector(r.d), r.tmin, best.t, any_hit, r.time);
-        if (h.seg < 0) continue;
-        best = h;
-        if (any_hit) break;
-    }
-    return best;
 }
 
 void CurveAccel::closer(const Ray& r, RayKind kind, HitRecord* h) const {
@@ -234,16 +176,14 @@ void CurveAccel::closer(const Ray& r, RayKind kind, HitRecord* h) const {
         const unsigned top =
             rh.hit.instID[0] != RTC_INVALID_GEOMETRY_ID ? rh.hit.instID[0] : rh.hit.geomID;
         if (top >= embree_->geoms[ki].size() || !embree_->geoms[ki][top]) return;
-        *h = HitRecord{rh.ray.tfar, first_prim_ + (*embree_->geoms[ki][top])[rh.hit.primID].index,
+        *h = HitRecord{rh.ray.tfar, q_.first_prim + (*embree_->geoms[ki][top])[rh.hit.primID].index,
                        {rh.hit.u, 0.0f}};
         return;
     }
 #endif
-    CurveBvhHit c = curve_bvh_intersect(bvh_[ki].view(), r.o, r.d, r.tmin, tmax, false, r.time);
-    const CurveBvhHit m = moving_hit(r, ki, c.seg >= 0 ? c.t : tmax, false);
-    if (m.seg >= 0) c = m;
+    const CurveBvhHit c = curve_query_closest(view_, r, ki, tmax);
     if (c.seg < 0) return;
-    *h = HitRecord{c.t, first_prim_ + c.seg, {c.u, 0.0f}};
+    *h = HitRecord{c.t, view_.first_prim + c.seg, {c.u, 0.0f}};
 }
 
 bool CurveAccel::occluded(const Ray& r) const {
@@ -263,8 +203,7 @@ bool CurveAccel::occluded(const Ray& r) const {
         return ray.tfar < 0.0f;  // Embree marks an occluded ray with tfar = -inf
     }
 #endif
-    return curve_bvh_intersect(bvh_[ki].view(), r.o, r.d, r.tmin, r.tmax, true, r.time).seg >= 0 ||
-           moving_hit(r, ki, r.tmax, true).seg >= 0;
+    return curve_query_occluded(view_, r, ki);
 }
 
 }  // namespace lantern

@@ -7,7 +7,8 @@
 // A strand set moving with its object (motion blur, scene/curves.h's CurveSetMotion) has its own
 // structure in its exported frame, entered through its matrix at the ray's time: the built-in
 // BVH's own curve BVH behind a box over the shutter (16 times per step interval, as the mesh
-// top level pads its instances), or an Embree instance with the object's quaternion steps over
+// top level pads its instances; the host+device query of accel/curve_query.h, written for the
+// CUDA backend too), or an Embree instance with the object's quaternion steps over
 // a child scene holding the set in object space (as backend/cpu/embree_instances.cpp's meshes).
 #pragma once
 
@@ -15,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "accel/curve_bvh_build.h"
+#include "accel/curve_query_build.h"
 #include "backend/cpu/embree_accel.h"
 
 namespace lantern {
@@ -35,23 +36,10 @@ public:
 
 private:
     struct Embree;
-    // a set moving with its object: its segments per kind of ray and their BVHs (exported frame)
-    struct Moving {
-        const CurveSetMotion* set = nullptr;
-        Vec3 box[2];  // world bounds over the shutter
-        std::vector<CurveSeg> segs[3];
-        CurveBvh bvh[3];
-    };
     int kind_index(RayKind kind) const;
-    // the nearest hit of r on the moving sets closer than *best (built-in BVH)
-    CurveBvhHit moving_hit(const Ray& r, int ki, float tmax, bool any_hit) const;
-    int32_t first_prim_ = 0;  // SceneView::num_triangles
-    std::vector<CurveSeg> by_kind_[3];  // only where the kinds differ: camera, indirect, shadow
-    CurveBvh bvh_[3];
     int steps_ = 0;  // moving strands' steps (motion blur), else 0
-    int distinct_ = 1;  // 1: every kind sees every strand (bvh_[0] alone)
-    MotionView motion_;            // the scene's steps (the moving sets' matrices)
-    std::vector<Moving> moving_;   // one per CurveView::sets entry
+    CurveQuery q_;   // the segments per kind (both paths); the BVHs (built-in path only)
+    CurveQueryView view_;
     std::unique_ptr<Embree> embree_;
 };
 
