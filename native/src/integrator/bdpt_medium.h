@@ -250,7 +250,7 @@ LANTERN_HD inline MediumShadow bdpt_medium_shadow(const SceneView& s, const Rays
 // path `path`'s time (bdpt_time) where meshes move (medium_motion.h), else pt's own.
 LANTERN_HD inline void bdpt_cross_boundary(const SceneView& s, const BdptSettings& st,
                                            const PathState& ps, int i, int64_t path, int tri) {
-    if (s.motion.num_objects > 0)
+    if (medium_rays_timed(s) && s.motion.num_objects > 0)
         cross_boundary_at(s, ps, i, tri, medium_ray_time(s, bdpt_time(st, path)));
     else
         pt_cross_boundary(s, ps, i, tri);

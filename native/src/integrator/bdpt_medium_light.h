@@ -76,8 +76,12 @@ LANTERN_HD inline void bdpt_light_medium_vertex(const SceneView& s, const PathSt
     bs.store[i] = is_finite(beta) && is_finite(dvcm) && is_finite(dvc) ? 1 : 0;
     // t = 1: no cosine at the vertex; the camera's density of it times its factor (near end)
     if (k + 1 <= st.max_depth) {
+#ifdef __CUDA_ARCH__  // (motion blur renders on the CPU only: medium_rays_timed)
+        const CameraView& cam = s.camera;
+#else
         const CameraView cam = s.motion.camera_steps > 1 ? bdpt_camera_moved(s, st, path)
                                                          : s.camera;  // (bdpt_light_shade's)
+#endif
         const CameraConnection cc = connect_camera(cam, p, filter_radius(cam),
                                                    lens_sample(cam, ps, i));
         if (cc.valid) {

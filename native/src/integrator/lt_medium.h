@@ -35,8 +35,12 @@ LANTERN_HD inline int32_t lt_start_medium(const SceneView& s, int li, const Emis
 LANTERN_HD inline void lt_medium_connect(const SceneView& s, const PathState& ps,
                                          const LightPathState& lp, int i, Vec3 p, Vec3 d,
                                          const Medium& m) {
+#ifdef __CUDA_ARCH__  // (motion blur renders on the CPU only: medium_rays_timed)
+    const CameraView& cam = s.camera;
+#else
     const CameraView cam = s.motion.camera_steps > 1 ? camera_moved_at(s, motion_time(ps.rng[i]))
                                                      : s.camera;
+#endif
     const CameraConnection cc = connect_camera(cam, p, filter_radius(cam),
                                                lens_sample(cam, ps, i));
     if (!cc.valid) return;

@@ -14,11 +14,25 @@ LANTERN_HD inline float medium_ray_time(const SceneView& s, float time) {
     return s.motion.media_untimed ? 0.0f : time;
 }
 
+// Whether a path's medium rays need its time: meshes or strands move. Never on the device:
+// a scene with motion renders on the CPU (session.cpp), and the device build leaves these
+// branches out so that its kernels' stacks stay as they were (docs/cuda_backend.md).
+LANTERN_HD inline bool medium_rays_timed(const SceneView& s) {
+#ifdef __CUDA_ARCH__
+    (void)s;
+    return false;
+#else
+    return s.motion.rays_timed();
+#endif
+}
+
 // A ray (o, d) through medium med at `time`, as its density sees it: a moving heterogeneous
 // volume's brought to its mesh's exported frame (scene/motion.h), any other unchanged.
 LANTERN_HD inline void medium_frame_ray(const SceneView& s, int32_t med, float time, Vec3* o,
                                         Vec3* d) {
+#ifndef __CUDA_ARCH__  // (medium_rays_timed)
     if (s.motion.medium_objects) medium_ray_exported(s.motion, med, time, o, d);
+#endif
 }
 
 // The side a ray along d meets volume boundary tri from (front: against its winding's normal)
@@ -29,10 +43,12 @@ struct BoundarySide {
 };
 LANTERN_HD inline BoundarySide boundary_side_at(const SceneView& s, int tri, Vec2 uv, Vec3 d,
                                                 float time) {
+#ifndef __CUDA_ARCH__  // (medium_rays_timed)
     if (s.motion.num_objects > 0 && object_motion_of(s.motion, tri)) {
         const SurfaceHit h = surface_moved_at(s, tri, uv, d, time);
         return BoundarySide{h.ng, h.front};
     }
+#endif
     const Vec3 a = triangle_vertex(s, tri, 0), b = triangle_vertex(s, tri, 1),
                c = triangle_vertex(s, tri, 2);
     const Vec3 n = cross(b - a, c - a);
@@ -43,7 +59,12 @@ LANTERN_HD inline BoundarySide boundary_side_at(const SceneView& s, int tri, Vec
 // moving volume's boundary where it is then, else pt's own.
 LANTERN_HD inline void cross_boundary_at(const SceneView& s, const PathState& ps, int i, int tri,
                                          float time) {
-    if (!(s.motion.num_objects > 0 && object_motion_of(s.motion, tri))) {
+#ifdef __CUDA_ARCH__  // (medium_rays_timed)
+    const bool moves = false;
+#else
+    const bool moves = s.motion.num_objects > 0 && object_motion_of(s.motion, tri);
+#endif
+    if (!moves) {
         pt_cross_boundary(s, ps, i, tri);
         return;
     }

@@ -319,7 +319,9 @@ LANTERN_HD inline Vec3 pt_shadow_transmittance(const SceneView& s, const Rays& r
             const float t = hit ? h.t : tmax;
             if (m.hetero) {  // (a moving volume's density in its exported frame: motion.h)
                 Vec3 fo = o, fd = d;
+#ifndef __CUDA_ARCH__  // (motion blur renders on the CPU only, session.cpp)
                 if (s.motion.medium_objects) medium_ray_exported(s.motion, med, time, &fo, &fd);
+#endif
                 tr = tr * medium_ratio_tracking(s, m, med, fo, fd, t, track);
             } else {
                 tr = tr * medium_transmittance(m, t);

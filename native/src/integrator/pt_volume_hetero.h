@@ -32,8 +32,10 @@ LANTERN_HD inline bool pt_hetero_segment(const SceneView& s, const PathState& ps
     const bool camera = ps.depth[i] <= 1;
     const bool lights = !catcher_camera && s.num_hittable_lights > 0;
     Vec3 fo = o0, fd = d;  // where the density is: a moving volume's exported frame (motion.h)
+#ifndef __CUDA_ARCH__  // (motion blur renders on the CPU only, session.cpp: the kernel's stack)
     if (s.motion.medium_objects)
         medium_ray_exported(s.motion, med, motion_time(ps.rng[i]), &fo, &fd);
+#endif
     const HeteroStep step = medium_track(
         s, m, med, fo, fd, len, beta, tr,
         [&](float t, Vec3 w, float mu) {

@@ -56,7 +56,7 @@ int64_t bdpt_camera_segments_medium(Exec& ex, Wavefront<Exec>& w, const SceneVie
             if (ps.shadow_valid[i]) {
                 Rng track = medium_tracking_rng(ps.rng[i], 1);  // (heterogeneous media)
                 const float time =
-                    s.motion.rays_timed() ? medium_ray_time(s, time_of(i)) : 0.0f;
+                    medium_rays_timed(s) ? medium_ray_time(s, time_of(i)) : 0.0f;
                 const MediumShadow sh = bdpt_medium_shadow(
                     s, rays, RayKind::kCamera, ps.shadow_o[i], ps.shadow_d[i], ps.shadow_tmax[i],
                     ps.shadow_medium[i], (bs.shadow_kind[i] & kConnNearMedium) != 0, false,
@@ -324,7 +324,8 @@ void camera_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep
                 ex.each(active, LANTERN_KERNEL(int k) {
                     const int i = q[k];  // (motion: at its camera path's time)
                     bdpt_shadow_medium(s, rays, ps, bs, i,
-                                       motion ? medium_ray_time(s, time_of(i)) : 0.0f);
+                                       medium_rays_timed(s) ? medium_ray_time(s, time_of(i))
+                                                            : 0.0f);
                 }, 64);
             } else if constexpr (!Exec::kGpu) {  // one item per slot, in a fixed order
                 ex.each(active, LANTERN_KERNEL(int k) {

@@ -28,7 +28,7 @@ int64_t camera_segments_medium(Exec& ex, Wavefront<Exec>& w, const SceneView& s,
             const int i = q[k];
             uint8_t v = 0;
             if (ps.shadow_valid[i]) {
-                const float time = s.motion.rays_timed()  // (its light path's: LtTimeOf)
+                const float time = medium_rays_timed(s)  // (its light path's: LtTimeOf)
                                        ? medium_ray_time(s, motion_time(ps.rng[i]))
                                        : 0.0f;
                 const Vec3 tr = pt_shadow_transmittance(s, rays, RayKind::kCamera, ps.shadow_o[i],
