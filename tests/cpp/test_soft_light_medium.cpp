@@ -19,6 +19,7 @@ namespace {
 struct Hit {
     int prim;
     float t;
+    Vec2 uv{};  // (a moving boundary's hit point: medium_motion.h's boundary_side_at)
 };
 // Every query a miss, or a hit on triangle 0 (not a volume boundary) halfway.
 struct FakeClosest {

@@ -7,9 +7,8 @@ seed, J static renders with the mesh placed exactly at the times (j + u) / J, u 
 seed; the core's motion code not involved), by lantern.metrics.assert_agreement with its
 negative controls; each must differ from the still frame. A moving heterogeneous volume and a
 deforming one warn and stay where they were exported (the same bits as without their motion);
-bdpt, lvc, cis and lt hand a scene with volumes and moving meshes to pt, with a warning; a
-camera that crosses a volume's boundary over the shutter, or that a moving volume may reach,
-warns."""
+a camera that crosses a volume's boundary over the shutter, or that a moving volume may reach,
+warns. bdpt, lvc, cis and lt render these scenes themselves: test_motion_media_bidir.py."""
 import numpy as np
 import pytest
 
@@ -138,7 +137,7 @@ def _deforming(sc):
 
 
 @pytest.mark.parametrize("case, words", [
-    (_heterogeneous, "bounds a heterogeneous volume: moving ones are not motion-blurred"),
+    (_heterogeneous, "bounds a heterogeneous volume that cannot follow it (a density grid"),
     (_deforming, "bounds a volume: its deformation is not motion-blurred"),
 ])
 def test_volume_that_stays_warns(case, words):
@@ -153,14 +152,6 @@ def test_volume_that_stays_warns(case, words):
     case(still)
     still.meshes[FOG].pop("deform", None)
     assert np.array_equal(img, _render(still, 4, 4)[0])
-
-
-@pytest.mark.parametrize("integrator", ["bdpt", "lt"])
-def test_other_integrators_hand_media_motion_to_pt(integrator):
-    img, warnings = _render(_moving("mesh"), 5, 4, integrator)
-    assert any(f"integrator '{integrator}' does not render motion blur" in w and
-               "in a scene with volumes: rendering with pt" in w for w in warnings), warnings
-    assert np.array_equal(img, _render(_moving("mesh"), 5, 4)[0])
 
 
 def test_moving_volume_reaching_the_camera_warns():

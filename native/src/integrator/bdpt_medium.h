@@ -30,6 +30,8 @@
 #pragma once
 
 #include "integrator/bdpt_common.h"
+#include "integrator/bdpt_motion.h"
+#include "integrator/medium_motion.h"
 #include "integrator/pt_volume.h"
 #include "scene/medium.h"
 
@@ -204,7 +206,8 @@ LANTERN_HD inline float bdpt_medium_phase(const Medium& m, Vec3 wo, Vec3 wi) {
 // d up to tmax, starting in medium med (-1: vacuum); start_medium / end_medium: the near / far
 // end is a medium vertex. Zero transmittance when any surface but a volume boundary blocks it.
 // Heterogeneous media: ratio tracking with numbers from *track (null: a fixed stream), the
-// factors by the stand-in (bdpt_medium_hetero.h). ----
+// factors by the stand-in (bdpt_medium_hetero.h). time: the path's shutter time (motion blur:
+// the segment's rays, and the volume boundaries it crosses, where they are then). ----
 struct MediumShadow {
     Vec3 tr;
     MediumSegmentPdf seg;
@@ -214,33 +217,43 @@ template <class Rays, class Kind>
 LANTERN_HD inline MediumShadow bdpt_medium_shadow(const SceneView& s, const Rays& rays, Kind kind,
                                                   Vec3 o, Vec3 d, float tmax, int32_t med,
                                                   bool start_medium, bool end_medium,
-                                                  Rng* track = nullptr) {
+                                                  Rng* track = nullptr, float time = 0.0f) {
     MediumShadow r{vec3(1.0f), medium_segment_begin(start_medium)};
     Rng fixed = medium_tracking_rng(Rng{}, 1);
     for (int k = 0; k < 256; ++k) {  // boundaries crossed (a bound: never an endless loop)
-        const auto h = rays.closest(Ray{o, d, 0.0f, tmax}, kind);
+        const auto h = rays.closest(Ray{o, d, 0.0f, tmax, time}, kind);
         const bool hit = h.prim >= 0 && h.t < tmax;
         const float t = hit ? h.t : tmax;
         const Medium* m = med >= 0 ? &s.media[med] : nullptr;
         if (m && m->hetero) {
-            r.tr = r.tr * medium_piece_transmittance(s, med, o, d, t, track ? *track : fixed);
-            medium_segment_piece_hetero(r.seg, s, med, o, d, t, !hit && end_medium);
+            Vec3 fo = o, fd = d;  // (a moving volume's density: its exported frame)
+            medium_frame_ray(s, med, time, &fo, &fd);
+            r.tr = r.tr * medium_piece_transmittance(s, med, fo, fd, t, track ? *track : fixed);
+            medium_segment_piece_hetero(r.seg, s, med, fo, fd, t, !hit && end_medium);
         } else {
             if (m) r.tr = r.tr * medium_transmittance(*m, t);
             medium_segment_piece(r.seg, m, t, !hit && end_medium);
         }
         if (!hit) return r;
         if (!(s.tri_flags[h.prim] & kVolumeBoundary) || is_black(r.tr)) break;
-        const Vec3 a = triangle_vertex(s, h.prim, 0), b = triangle_vertex(s, h.prim, 1),
-                   c = triangle_vertex(s, h.prim, 2);
-        const Vec3 ng = cross(b - a, c - a);
-        med = medium_across(s, h.prim, dot(ng, d) <= 0.0f, med);
-        const Vec3 next = offset_ray_origin(o + d * h.t, normalize(ng), d, s.offset_scale);
+        const BoundarySide b = boundary_side_at(s, int(h.prim), h.uv, d, time);  // (moving)
+        med = medium_across(s, h.prim, b.front, med);
+        const Vec3 next = offset_ray_origin(o + d * h.t, b.ng, d, s.offset_scale);
         if (tmax < kInf) tmax = fmaxf(tmax - dot(next - o, d), 0.0f);
         o = next;
     }
     r.tr = vec3(0.0f);
     return r;
+}
+
+// The bidirectional sub-paths' crossing of volume boundary tri (the traced ray reached it): at
+// path `path`'s time (bdpt_time) where meshes move (medium_motion.h), else pt's own.
+LANTERN_HD inline void bdpt_cross_boundary(const SceneView& s, const BdptSettings& st,
+                                           const PathState& ps, int i, int64_t path, int tri) {
+    if (medium_rays_timed(s) && s.motion.num_objects > 0)
+        cross_boundary_at(s, ps, i, tri, medium_ray_time(s, bdpt_time(st, path)));
+    else
+        pt_cross_boundary(s, ps, i, tri);
 }
 
 }  // namespace lantern

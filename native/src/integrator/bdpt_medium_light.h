@@ -76,8 +76,14 @@ LANTERN_HD inline void bdpt_light_medium_vertex(const SceneView& s, const PathSt
     bs.store[i] = is_finite(beta) && is_finite(dvcm) && is_finite(dvc) ? 1 : 0;
     // t = 1: no cosine at the vertex; the camera's density of it times its factor (near end)
     if (k + 1 <= st.max_depth) {
-        const CameraConnection cc = connect_camera(s.camera, p, filter_radius(s.camera),
-                                                   lens_sample(s.camera, ps, i));
+#ifdef __CUDA_ARCH__  // (motion blur renders on the CPU only: medium_rays_timed)
+        const CameraView& cam = s.camera;
+#else
+        const CameraView cam = s.motion.camera_steps > 1 ? bdpt_camera_moved(s, st, path)
+                                                         : s.camera;  // (bdpt_light_shade's)
+#endif
+        const CameraConnection cc = connect_camera(cam, p, filter_radius(cam),
+                                                   lens_sample(cam, ps, i));
         if (cc.valid) {
             const float phase = hg_phase(m.g, dot(d, cc.wc));
             const float n_lt = k == 1 ? st.n_lt * st.lt_direct : st.n_lt;
@@ -140,8 +146,11 @@ LANTERN_HD inline bool bdpt_light_medium_segment(const SceneView& s, const PathS
         const Medium& m = s.media[med];
         Rng rng = ps.rng[i];
         MediumStep step;
+        Vec3 fo = o + d * tmin, fd = d;  // (a moving volume's density: its exported frame)
+        if (m.hetero && s.motion.medium_objects)
+            medium_frame_ray(s, med, bdpt_time(st, path), &fo, &fd);
         if (m.hetero) {  // tracking; the stand-in's factors (bdpt_medium_hetero.h)
-            step = bdpt_hetero_flight(s, med, o + d * tmin, d, t_end - tmin,
+            step = bdpt_hetero_flight(s, med, fo, fd, t_end - tmin,
                                       bs.power[i] * ps.throughput[i], rng);
         } else {
             float uc = 0.0f, ud = 0.0f;
@@ -153,7 +162,7 @@ LANTERN_HD inline bool bdpt_light_medium_segment(const SceneView& s, const PathS
         }
         ps.rng[i] = rng;
         ps.throughput[i] = ps.throughput[i] * step.weight;
-        medium_segment_piece_at(seg, s, med, o + d * tmin, d, step.t, step.scattered);
+        medium_segment_piece_at(seg, s, med, fo, fd, step.t, step.scattered);
         if (step.scattered) {
             bdpt_light_medium_vertex(s, ps, bs, st, i, path, o + d * (tmin + step.t), d, med,
                                      seg, sr);
@@ -165,7 +174,7 @@ LANTERN_HD inline bool bdpt_light_medium_segment(const SceneView& s, const PathS
     bdpt_seg_store(bs, i, seg);
     if (tri < 0 || is_black(ps.throughput[i])) return true;
     if (s.tri_flags[tri] & kVolumeBoundary) {
-        pt_cross_boundary(s, ps, i, tri);
+        bdpt_cross_boundary(s, st, ps, i, path, tri);  // (motion: at its time)
         return true;
     }
     return false;

@@ -374,11 +374,12 @@ LANTERN_HD inline void bdpt_camera_medium_vertex(const SceneView& s, const PathS
 
 // Lights crossed by the stretch [a, b) of a piece of heterogeneous medium med from o0 along d,
 // seen with the tracking's weight there (bw: the throughput times it) and the stand-in's factor
-// up to each.
+// up to each (fo, fd: the piece as the density sees it, medium_frame_ray).
 LANTERN_HD inline void bdpt_camera_lights_hetero(const SceneView& s, const PathState& ps,
                                                  const BdptState& bs, const BdptSettings& st,
-                                                 int i, int32_t med, Vec3 o0, float a, float b,
-                                                 const MediumSegmentPdf& seg0, Vec3 bw) {
+                                                 int i, int32_t med, Vec3 o0, Vec3 fo, Vec3 fd,
+                                                 float a, float b, const MediumSegmentPdf& seg0,
+                                                 Vec3 bw) {
     if (is_black(bw)) return;
     const Vec3 d = ps.ray_d[i];
     const bool camera = ps.depth[i] <= 1;
@@ -388,7 +389,7 @@ LANTERN_HD inline void bdpt_camera_lights_hetero(const SceneView& s, const PathS
         const LightHit h = intersect_light(l, o0, d, a, b);
         if (!h.hit || is_black(h.le)) continue;
         MediumSegmentPdf seg = seg0;
-        medium_segment_piece_hetero(seg, s, med, o0, d, h.t, false);
+        medium_segment_piece_hetero(seg, s, med, fo, fd, h.t, false);
         const float w = bdpt_emission_weight_medium(s, ps, bs, st, i, l, o0 + d * h.t, false,
                                                     h.n, seg);
         add_radiance(ps, i, bw * h.le * w);
@@ -420,17 +421,20 @@ LANTERN_HD inline bool bdpt_camera_hetero_segment(const SceneView& s, const Path
     rng.uniform();  // the next segment's tracking starts a block of its own
     ps.rng[i] = rng;
     const bool lights = s.num_hittable_lights > 0;
+    Vec3 fo = o0, fd = d;  // (a moving volume's density: its exported frame at the path's time)
+    if (s.motion.medium_objects) medium_frame_ray(s, med, bdpt_time(st, path), &fo, &fd);
     const HeteroStep h = medium_track(
-        s, m, med, o0, d, len, beta, tr,
+        s, m, med, fo, fd, len, beta, tr,
         [&](float t, Vec3 w, float mu) {  // mu: the majorant where the collision fell
             if (m.emits)
-                add_radiance(ps, i, beta * w * medium_emission_at(s, m, med, o0 + d * t) / mu);
+                add_radiance(ps, i, beta * w * medium_emission_at(s, m, med, fo + fd * t) / mu);
         },
         [&](float a, float b, Vec3 w) {
-            if (lights) bdpt_camera_lights_hetero(s, ps, bs, st, i, med, o0, a, b, seg, beta * w);
+            if (lights)
+                bdpt_camera_lights_hetero(s, ps, bs, st, i, med, o0, fo, fd, a, b, seg, beta * w);
         });
     ps.throughput[i] = beta * h.weight;
-    medium_segment_piece_hetero(seg, s, med, o0, d, h.t, h.scattered);
+    medium_segment_piece_hetero(seg, s, med, fo, fd, h.t, h.scattered);
     if (h.scattered) {
         bdpt_camera_medium_vertex(s, ps, bs, st, cache, i, path, o0 + d * h.t, d, med, seg, z);
         return true;
@@ -438,7 +442,7 @@ LANTERN_HD inline bool bdpt_camera_hetero_segment(const SceneView& s, const Path
     bdpt_seg_store(bs, i, seg);
     if (tri < 0 || is_black(ps.throughput[i])) return true;
     if (s.tri_flags[tri] & kVolumeBoundary) {
-        pt_cross_boundary(s, ps, i, tri);
+        bdpt_cross_boundary(s, st, ps, i, path, tri);  // (motion: at its time)
         return true;
     }
     return false;
@@ -489,7 +493,7 @@ LANTERN_HD inline bool bdpt_camera_medium_segment(const SceneView& s, const Path
     bdpt_seg_store(bs, i, seg);
     if (tri < 0 || is_black(ps.throughput[i])) return true;
     if (s.tri_flags[tri] & kVolumeBoundary) {
-        pt_cross_boundary(s, ps, i, tri);
+        bdpt_cross_boundary(s, st, ps, i, path, tri);  // (motion: at its time)
         return true;
     }
     return false;

@@ -11,6 +11,7 @@
 // Included by lt.h after lt_queue_splat, which it uses.
 #pragma once
 
+#include "integrator/medium_motion.h"
 #include "integrator/pt_volume.h"
 
 namespace lantern {
@@ -29,12 +30,19 @@ LANTERN_HD inline int32_t lt_start_medium(const SceneView& s, int li, const Emis
 }
 
 // ---- A medium vertex at p reached along d (the light's direction of travel): its connection
-// to the camera, phase x importance (no cosine at p), through the medium it is in ----
+// to the camera, phase x importance (no cosine at p), through the medium it is in; a moving
+// camera where it is at the path's time (lt_shade's) ----
 LANTERN_HD inline void lt_medium_connect(const SceneView& s, const PathState& ps,
                                          const LightPathState& lp, int i, Vec3 p, Vec3 d,
                                          const Medium& m) {
-    const CameraConnection cc = connect_camera(s.camera, p, filter_radius(s.camera),
-                                               lens_sample(s.camera, ps, i));
+#ifdef __CUDA_ARCH__  // (motion blur renders on the CPU only: medium_rays_timed)
+    const CameraView& cam = s.camera;
+#else
+    const CameraView cam = s.motion.camera_steps > 1 ? camera_moved_at(s, motion_time(ps.rng[i]))
+                                                     : s.camera;
+#endif
+    const CameraConnection cc = connect_camera(cam, p, filter_radius(cam),
+                                               lens_sample(cam, ps, i));
     if (!cc.valid) return;
     const float phase = hg_phase(m.g, dot(d, cc.wc));
     ps.shadow_medium[i] = ps.medium[i];
@@ -61,7 +69,10 @@ LANTERN_HD inline bool lt_medium_segment(const SceneView& s, const PathState& ps
     if (m.hetero) {  // spectral tracking (scene/medium_hetero.h), channels by the path's flux
         Rng tr = medium_tracking_rng(rng, 0);
         rng.uniform();  // the next segment's tracking starts a block of its own
-        const HeteroStep h = medium_track(s, m, ps.medium[i], o + d * tmin, d, t_end - tmin,
+        Vec3 fo = o + d * tmin, fd = d;  // (a moving volume's density: its exported frame)
+        if (s.motion.medium_objects)
+            medium_frame_ray(s, ps.medium[i], motion_time(ps.rng[i]), &fo, &fd);
+        const HeteroStep h = medium_track(s, m, ps.medium[i], fo, fd, t_end - tmin,
                                           lp.power[i] * beta, tr, [](float, Vec3, float) {},
                                           [](float, float, Vec3) {});
         step = MediumStep{h.t, h.scattered, h.weight};

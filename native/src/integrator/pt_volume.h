@@ -319,8 +319,15 @@ LANTERN_HD inline Vec3 pt_shadow_transmittance(const SceneView& s, const Rays& r
         if (med >= 0) {
             const Medium& m = s.media[med];
             const float t = hit ? h.t : tmax;
-            tr = tr * (m.hetero ? medium_ratio_tracking(s, m, med, o, d, t, track)
-                                : medium_transmittance(m, t));
+            if (m.hetero) {  // (a moving volume's density in its exported frame: motion.h)
+                Vec3 fo = o, fd = d;
+#ifndef __CUDA_ARCH__  // (motion blur renders on the CPU only, session.cpp)
+                if (s.motion.medium_objects) medium_ray_exported(s.motion, med, time, &fo, &fd);
+#endif
+                tr = tr * medium_ratio_tracking(s, m, med, fo, fd, t, track);
+            } else {
+                tr = tr * medium_transmittance(m, t);
+            }
         }
         if (!hit) return tr;
         if (!(s.tri_flags[h.prim] & kVolumeBoundary) || is_black(tr)) return vec3(0.0f);

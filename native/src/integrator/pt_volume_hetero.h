@@ -31,11 +31,16 @@ LANTERN_HD inline bool pt_hetero_segment(const SceneView& s, const PathState& ps
     const bool emits = m.emits && !catcher_camera;
     const bool camera = ps.depth[i] <= 1;
     const bool lights = !catcher_camera && s.num_hittable_lights > 0;
+    Vec3 fo = o0, fd = d;  // where the density is: a moving volume's exported frame (motion.h)
+#ifndef __CUDA_ARCH__  // (motion blur renders on the CPU only, session.cpp: the kernel's stack)
+    if (s.motion.medium_objects)
+        medium_ray_exported(s.motion, med, motion_time(ps.rng[i]), &fo, &fd);
+#endif
     const HeteroStep step = medium_track(
-        s, m, med, o0, d, len, beta, tr,
+        s, m, med, fo, fd, len, beta, tr,
         [&](float t, Vec3 w, float mu) {
             if (emits)
-                add_radiance(ps, i, beta * w * medium_emission_at(s, m, med, o0 + d * t) / mu);
+                add_radiance(ps, i, beta * w * medium_emission_at(s, m, med, fo + fd * t) / mu);
         },
         [&](float a, float b, Vec3 w) {
             if (!lights || is_black(w)) return;

@@ -37,10 +37,11 @@ int bdpt_samples_per_pass(Wavefront<Exec>& w, WavefrontStep& st, int spp_it) {
 
 // Scenes with media (bdpt_medium_stages.h): the light pass's camera segments traced through
 // the media and volume boundaries they cross, each splat's weight finished with the segment's
-// factor at its vertex and multiplied by the transmittance.
+// factor at its vertex and multiplied by the transmittance; each at its light path's time
+// (motion blur: time_of, BdptTimeOf; bdpt_medium_shadow).
 template <class Exec>
 int64_t bdpt_camera_segments_medium(Exec& ex, Wavefront<Exec>& w, const SceneView& s, int n,
-                                    SessionStats& stats) {
+                                    SessionStats& stats, const BdptTimeOf time_of) {
     const PathState ps = w.ps;
     const BdptState bs = w.bs;
     const int32_t* q = w.queue.data();
@@ -54,10 +55,12 @@ int64_t bdpt_camera_segments_medium(Exec& ex, Wavefront<Exec>& w, const SceneVie
             uint8_t v = 0;
             if (ps.shadow_valid[i]) {
                 Rng track = medium_tracking_rng(ps.rng[i], 1);  // (heterogeneous media)
+                const float time =
+                    medium_rays_timed(s) ? medium_ray_time(s, time_of(i)) : 0.0f;
                 const MediumShadow sh = bdpt_medium_shadow(
                     s, rays, RayKind::kCamera, ps.shadow_o[i], ps.shadow_d[i], ps.shadow_tmax[i],
                     ps.shadow_medium[i], (bs.shadow_kind[i] & kConnNearMedium) != 0, false,
-                    &track);
+                    &track, time);
                 if (!is_black(sh.tr)) {
                     ps.shadow_contrib[i] = bdpt_medium_finish_c(
                         ps.shadow_contrib[i], sh.tr, bs.shadow_wn[i], 0.0f, bs.shadow_kind[i],
@@ -72,16 +75,18 @@ int64_t bdpt_camera_segments_medium(Exec& ex, Wavefront<Exec>& w, const SceneVie
 }
 
 // Scenes with media: a camera vertex's next-event and connection shadow rays, each through the
-// media it crosses, its weight finished (bdpt_medium_stages.h); one item per slot.
+// media it crosses, its weight finished (bdpt_medium_stages.h); one item per slot. time: its
+// camera path's (motion blur; 0 in still scenes).
 template <class Rays>
 LANTERN_HD inline void bdpt_shadow_medium(const SceneView& s, const Rays& rays,
-                                          const PathState& ps, const BdptState& bs, int i) {
+                                          const PathState& ps, const BdptState& bs, int i,
+                                          float time) {
     if (ps.shadow_valid[i]) {
         const int32_t kind = bs.shadow_kind[i];
         Rng track = medium_tracking_rng(ps.rng[i], 1);  // (heterogeneous media)
         const MediumShadow sh = bdpt_medium_shadow(
             s, rays, RayKind::kShadow, ps.shadow_o[i], ps.shadow_d[i], ps.shadow_tmax[i],
-            ps.shadow_medium[i], (kind & kConnNearMedium) != 0, false, &track);
+            ps.shadow_medium[i], (kind & kConnNearMedium) != 0, false, &track, time);
         if (!is_black(sh.tr))
             add_radiance(ps, i, bdpt_medium_finish_c(ps.shadow_contrib[i], sh.tr, bs.shadow_wn[i],
                                                      bs.shadow_wf[i], kind, bs.shadow_mom + i,
@@ -94,7 +99,7 @@ LANTERN_HD inline void bdpt_shadow_medium(const SceneView& s, const Rays& rays,
         const MediumShadow sh = bdpt_medium_shadow(
             s, rays, RayKind::kShadow, bs.conn_o[e], bs.conn_d[e], bs.conn_tmax[e],
             bs.conn_medium[e], (kind & kConnNearMedium) != 0, (kind & kConnFarMedium) != 0,
-            &track);
+            &track, time);
         if (!is_black(sh.tr))
             add_radiance(ps, i, bdpt_medium_finish_c(bs.conn_c[e], sh.tr, bs.conn_wn[e],
                                                      bs.conn_wf[e], kind, bs.conn_mom + e,
@@ -168,7 +173,9 @@ void light_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep&
         stats.time_cache += seconds_since(t);
         // light tracing: camera segments against what the camera sees, then the splats
         stats.rays_light_tracing +=
-            s.num_media > 0 ? bdpt_camera_segments_medium(ex, w, s, active, stats)
+            s.num_media > 0 ? bdpt_camera_segments_medium(ex, w, s, active, stats,
+                                                          BdptTimeOf{bst, nullptr, 1, first_path,
+                                                                     false})
             : motion ? camera_segments_timed(ex, w, active, stats,
                                              BdptTimeOf{bst, nullptr, 1, first_path, false})
                      : camera_segments(ex, w, active, stats);
@@ -315,7 +322,10 @@ void camera_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep
             }
             if (s.num_media > 0) {  // through media, weights finished (bdpt_medium_stages.h)
                 ex.each(active, LANTERN_KERNEL(int k) {
-                    bdpt_shadow_medium(s, rays, ps, bs, q[k]);
+                    const int i = q[k];  // (motion: at its camera path's time)
+                    bdpt_shadow_medium(s, rays, ps, bs, i,
+                                       medium_rays_timed(s) ? medium_ray_time(s, time_of(i))
+                                                            : 0.0f);
                 }, 64);
             } else if constexpr (!Exec::kGpu) {  // one item per slot, in a fixed order
                 ex.each(active, LANTERN_KERNEL(int k) {

@@ -12,7 +12,8 @@ namespace wf {
 
 // Light tracing's camera segments in a scene with media (lt_medium.h): each carries the
 // transmittance of the media it crosses from its vertex's medium (PathState::shadow_medium),
-// multiplied into its contribution; blocked by any surface but a volume boundary.
+// multiplied into its contribution; blocked by any surface but a volume boundary; at its light
+// path's time (motion blur).
 template <class Exec>
 int64_t camera_segments_medium(Exec& ex, Wavefront<Exec>& w, const SceneView& s, int n,
                                SessionStats& stats) {
@@ -27,9 +28,13 @@ int64_t camera_segments_medium(Exec& ex, Wavefront<Exec>& w, const SceneView& s,
             const int i = q[k];
             uint8_t v = 0;
             if (ps.shadow_valid[i]) {
+                const float time = medium_rays_timed(s)  // (its light path's: LtTimeOf)
+                                       ? medium_ray_time(s, motion_time(ps.rng[i]))
+                                       : 0.0f;
                 const Vec3 tr = pt_shadow_transmittance(s, rays, RayKind::kCamera, ps.shadow_o[i],
                                                         ps.shadow_d[i], ps.shadow_tmax[i],
-                                                        ps.shadow_medium[i], &ps.rng[i], 1u);
+                                                        ps.shadow_medium[i], &ps.rng[i], 1u,
+                                                        time);
                 if (!is_black(tr)) {
                     ps.shadow_contrib[i] = ps.shadow_contrib[i] * tr;
                     v = 1;

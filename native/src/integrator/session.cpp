@@ -114,15 +114,8 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
             settings_.integrator = "pt";
         }
     }
-    // motion blur with volumes: pt's rays through media carry their path's time (pt_volume.h);
-    // the medium rays of lt, bdpt, lvc and cis (lt_medium.h, bdpt_medium.h) not yet
-    if (media_note.empty() && integ != "pt" && integ != "auto" && !media_reason(scene).empty()) {
-        if (const std::string why = motion_geometry_reason(scene); !why.empty()) {
-            media_note = "integrator '" + integ + "' does not render " + why +
-                         " in a scene with volumes: rendering with pt";
-            settings_.integrator = "pt";
-        }
-    }
+    // motion blur with volumes: every integrator's rays through media carry their path's time
+    // (pt_volume.h; lt_medium.h, bdpt_medium.h, medium_motion.h)
     // strands: lt, bdpt, lvc and cis have strand vertices, the hair lobe's and pt's points on
     // the tube for other BSDFs (bdpt_curve.h); the rest only pt shades so far (docs/curves.md)
     const std::string curves_why = curves_reason(scene);

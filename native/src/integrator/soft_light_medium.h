@@ -29,7 +29,8 @@ namespace lantern {
 
 // F(c -> x): the distance factor at x of the light path's segment from the centre of l to x
 // (ng: x's geometric normal; zero: x is a medium vertex), traced from c through the volume
-// boundaries as the light pass's rays see the scene; 0 where anything else blocks it.
+// boundaries as the light pass's rays see the scene (at the path's time, sr.time: motion blur);
+// 0 where anything else blocks it.
 // sr.no_centre_test (tests only, soft_visibility off): 1, F and V(c, x) both left out (the
 // biased negative control of the weights in media).
 template <class SR>
@@ -57,14 +58,14 @@ LANTERN_HD inline float soft_route_factor(const SceneView& s, const SR& sr, cons
     for (int k = 0; k < 256; ++k) {  // boundaries crossed (bdpt_medium_shadow's bound)
         const auto h = sr.closest_indirect(Ray{o, d, 0.0f, tmax});
         const bool hit = h.prim >= 0 && h.t < tmax;
-        medium_segment_piece_at(seg, s, med, o, d, hit ? h.t : tmax, !hit && at_medium);
+        Vec3 fo = o, fd = d;  // (a moving volume's density: its exported frame)
+        medium_frame_ray(s, med, sr.time, &fo, &fd);
+        medium_segment_piece_at(seg, s, med, fo, fd, hit ? h.t : tmax, !hit && at_medium);
         if (!hit) return seg.fwd;
         if (!(s.tri_flags[h.prim] & kVolumeBoundary)) return 0.0f;
-        const Vec3 a = triangle_vertex(s, h.prim, 0), b = triangle_vertex(s, h.prim, 1),
-                   c = triangle_vertex(s, h.prim, 2);
-        const Vec3 n = cross(b - a, c - a);
-        med = medium_across(s, h.prim, dot(n, d) <= 0.0f, med);
-        const Vec3 next = offset_ray_origin(o + d * h.t, normalize(n), d, s.offset_scale);
+        const BoundarySide b = boundary_side_at(s, int(h.prim), h.uv, d, sr.time);  // (moving)
+        med = medium_across(s, h.prim, b.front, med);
+        const Vec3 next = offset_ray_origin(o + d * h.t, b.ng, d, s.offset_scale);
         tmax = fmaxf(tmax - dot(next - o, d), 0.0f);
         o = next;
     }
@@ -132,7 +133,8 @@ LANTERN_HD inline SoftFirstHitMedium soft_light_first_hit_medium(const SceneView
     const float len = length(seg);
     const MediumShadow sh = bdpt_medium_shadow(s, sr.rays, sr.shadow, o,
                                                len > 0.0f ? seg / len : -wi,
-                                               len * (1.0f - 1e-4f), r.medium, at_medium, false);
+                                               len * (1.0f - 1e-4f), r.medium, at_medium, false,
+                                               nullptr, medium_ray_time(s, sr.time));
     if (is_black(sh.tr) || !(sh.seg.fwd > 0.0f)) return r;
     r.tr = sh.tr;
     r.pass = sh.seg.fwd;

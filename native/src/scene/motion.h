@@ -51,6 +51,13 @@ struct MotionView {
     int32_t num_objects = 0;
     int32_t camera_first = 0, camera_steps = 0;  // camera: steps of its to_world (< 2: still)
     int32_t curves = 0;  // 1: strands move (CurveView::keys; docs/motion_blur.md "Strands")
+    // test only (LANTERN_TEST_UNTIMED_MEDIA=1, the negative control of tests/python/
+    // test_motion_media_bidir.py): the medium rays of lt, bdpt, lvc and cis at time 0
+    int32_t media_untimed = 0;
+    // per medium: the index in `objects` of the moving mesh that bounds it where it is
+    // heterogeneous and moves (its density in that mesh's exported frame: medium_ray_exported),
+    // else -1; null where no such volume moves
+    const int32_t* medium_objects = nullptr;
     LANTERN_HD bool any() const { return num_objects > 0 || camera_steps > 1 || curves; }
     // the paths' rays must carry their time: a mesh or a strand moves (a moving camera alone
     // needs only its camera rays')
@@ -188,6 +195,23 @@ LANTERN_HD inline bool object_motion_to_exported(const MotionView& mv, const Obj
         return false;
     *out = transform_mul(o.base, inv);
     return true;
+}
+
+// A moving heterogeneous volume (MotionView::medium_objects): a ray (o, d) in world at `time`
+// brought to its mesh's exported frame, where the density program, its attribute fits and its
+// majorant are; the ray's parameter stays the world distance (an affine map: d need not stay
+// unit). Unchanged where medium med does not move. Out of line: still media never call it.
+#ifndef __CUDA_ARCH__
+__attribute__((noinline))
+#endif
+LANTERN_DEVICE_NOINLINE
+LANTERN_HD inline void medium_ray_exported(const MotionView& mv, int32_t med, float time, Vec3* o,
+                                           Vec3* d) {
+    const int32_t k = mv.medium_objects && med >= 0 ? mv.medium_objects[med] : -1;
+    Transform a;
+    if (k < 0 || !object_motion_to_exported(mv, mv.objects[k], time, &a)) return;
+    *o = a.point(*o);
+    *d = a.vector(*d);
 }
 
 // The moving object that holds triangle tri, or null (a binary search over the few movers).

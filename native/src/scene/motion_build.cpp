@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <string>
 
 #include "scene/scene.h"
@@ -193,6 +194,31 @@ void HostScene::build_motion(const SceneInput& in) {
         }
         return kind;
     };
+    // a moving heterogeneous volume moves where its density can follow it: every medium of the
+    // mesh's triangles that is heterogeneous is a density program's (a Volume object's grid is
+    // not moved: Cycles moves its voxels only by velocity grids) and bounded by this mesh alone
+    // (its density then read through this mesh's matrix at the ray's time, medium_ray_exported)
+    auto hetero_movable = [&](const MeshRange& r) {
+        std::vector<int32_t> mine;
+        for (int t = r.tri_begin; t < r.tri_begin + r.tri_count; ++t) {
+            const uint32_t mat = tri_material_[t];
+            if (mat >= material_medium_.size() || material_medium_[mat] < 0) continue;
+            const int32_t med = material_medium_[mat];
+            const Medium& md = media_[size_t(med)];
+            if (!md.hetero) continue;
+            if (md.density_grid >= 0 || md.density_prog < 0) return false;
+            if (std::find(mine.begin(), mine.end(), med) == mine.end()) mine.push_back(med);
+        }
+        for (size_t t = 0; t < tri_material_.size(); ++t) {
+            if (int(t) >= r.tri_begin && int(t) < r.tri_begin + r.tri_count) continue;
+            const uint32_t mat = tri_material_[t];
+            if (mat < material_medium_.size() && material_medium_[mat] >= 0 &&
+                std::find(mine.begin(), mine.end(), material_medium_[mat]) != mine.end())
+                return false;  // another mesh bounds it too
+        }
+        return true;
+    };
+    motion_media_.clear();
     std::vector<int32_t> volumes;  // the moving volumes' meshes (the camera's check below)
     // steps of one matrix list; false (with a warning naming `who`) where one is unusable
     auto add_steps = [&](const std::vector<float>& mats, const std::string& who,
@@ -239,9 +265,10 @@ void HostScene::build_motion(const SceneInput& in) {
         const MeshRange& r = mesh_ranges_[k];
         if (r.tri_count == 0) continue;
         const int volume = media_.empty() ? 0 : bounds_volume(r);
-        const std::string still_volume = who + " bounds a heterogeneous volume: moving ones "
-                                               "are not motion-blurred (rendered where it is at "
-                                               "the frame)";
+        const std::string still_volume = who + " bounds a heterogeneous volume that cannot "
+                                               "follow it (a density grid, or other meshes bound "
+                                               "it too): not motion-blurred (rendered where it "
+                                               "is at the frame)";
         DeformMesh dm{};
         bool deforms = false;
         if (!m.deform.empty()) {  // deformation blur (scene/deform_build.cpp)
@@ -271,7 +298,7 @@ void HostScene::build_motion(const SceneInput& in) {
             }
             // (an emitter moves: its light is sampled where it is at the path's time, the
             // light tree's bounds stay the frame's: scene/lights.h light_triangle_at)
-            if (n > 0 && volume == 2) {
+            if (n > 0 && volume == 2 && !hetero_movable(r)) {
                 motion_steps_.resize(first);
                 warnings_.push_back(still_volume);
                 n = -1;
@@ -292,6 +319,16 @@ void HostScene::build_motion(const SceneInput& in) {
         }
         if (n <= 0) continue;
         if (volume) volumes.push_back(int32_t(k));
+        if (volume == 2) {  // its heterogeneous media follow it (hetero_movable)
+            if (motion_media_.empty()) motion_media_.assign(media_.size(), -1);
+            for (int t = r.tri_begin; t < r.tri_begin + r.tri_count; ++t) {
+                const uint32_t mat = tri_material_[t];
+                if (mat < material_medium_.size() && material_medium_[mat] >= 0 &&
+                    media_[size_t(material_medium_[mat])].hetero)
+                    motion_media_[size_t(material_medium_[mat])] =
+                        int32_t(motion_objects_.size());
+            }
+        }
         if (deforms) motion_deforms_.push_back(dm);
         ObjectMotion o{};
         o.tri_begin = r.tri_begin;
@@ -374,6 +411,9 @@ void HostScene::build_motion(const SceneInput& in) {
     view_.motion.camera_first = camera_first;
     view_.motion.camera_steps = camera_steps;
     view_.motion.curves = curves ? 1 : 0;
+    view_.motion.medium_objects = motion_media_.empty() ? nullptr : motion_media_.data();
+    const char* untimed = std::getenv("LANTERN_TEST_UNTIMED_MEDIA");  // (MotionView)
+    view_.motion.media_untimed = untimed && std::string(untimed) == "1" ? 1 : 0;
     // camera rays start in the frame's medium: a moving volume that may reach the camera says so
     for (const ObjectMotion& o : motion_objects_) {
         if (std::find(volumes.begin(), volumes.end(), o.mesh) == volumes.end()) continue;

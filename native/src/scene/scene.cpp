@@ -357,6 +357,7 @@ SceneView HostScene::copied_view(
     v.blackbody_table = put(view_.blackbody_table, view_.blackbody_table ? 3 * kBlackbodyKnots : 0);
     v.motion.steps = put(view_.motion.steps, motion_steps_.size());
     v.motion.objects = put(view_.motion.objects, motion_objects_.size());
+    v.motion.medium_objects = put(view_.motion.medium_objects, motion_media_.size());
     v.curves.segs = put(view_.curves.segs, curve_segs_.size());
     v.curves.keys.keys = put(view_.curves.keys.keys, curve_keys_.size());
     v.curves.sets = put(view_.curves.sets, curve_sets_.size());

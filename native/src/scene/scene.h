@@ -363,6 +363,7 @@ private:
     std::vector<std::unique_ptr<MeshCopy>> mesh_given_;  // per mesh, null until it moves
     std::vector<MotionStep> motion_steps_;      // SceneView::motion (motion blur)
     std::vector<ObjectMotion> motion_objects_;
+    std::vector<int32_t> motion_media_;  // MotionView::medium_objects (empty: none moves)
     std::vector<CurveSeg> curve_segs_;          // SceneView::curves (strands)
     std::vector<uint32_t> curve_material_;      // per segment
     std::vector<uint8_t> curve_flags_;          // per segment: kVisibleCamera, kCastShadow
