@@ -72,7 +72,7 @@ LANTERN_HD inline void bdpt_camera_events(const SceneView& s, const PathState& p
     z.scratch = &scratch;
     Rng rng = bs.cam_rng[i];
     if (z.medium_vertex >= 0) {
-        bdpt_camera_medium_nee(s, ps, bs, st, z, i, rng, sr);
+        bdpt_camera_medium_nee(s, ps, bs, st, z, i, rng, sr, path);
     } else {
         z.m = &camera_vertex_material(s, z);
         bdpt_camera_nee(s, ps, bs, st, z, i, rng, sr, path);

@@ -150,14 +150,15 @@ LANTERN_DEVICE_NOINLINE
 LANTERN_HD inline void bdpt_camera_medium_nee(const SceneView& s, const PathState& ps,
                                               const BdptState& bs, const BdptSettings& st,
                                               const CameraVertex& z, int i, Rng& rng,
-                                              const SR& sr) {
+                                              const SR& sr, int64_t path) {
     const Vec2 u_pick = rng.uniform2();
     const Vec2 u_light = rng.uniform2();
     const LightPick pick = light_pick(s, z.h.p, vec3(0.0f), u_pick.x);
     if (!(pick.pmf > 0.0f)) return;
     const Light& l = s.lights[pick.light];
-    // (time 0: bdpt hands a scene with volumes and moving meshes to pt, docs/motion_blur.md)
-    const LightSample ls = sample_light(s, l, z.h.p, u_light, 0.0f);
+    // a moving emitter where it is at the camera path's time (its shadow ray's time too)
+    const float time = s.motion.num_objects > 0 ? bdpt_time(st, path) : 0.0f;
+    const LightSample ls = sample_light(s, l, z.h.p, u_light, time);
     if (!ls.valid || is_black(ls.le)) return;
     const float ph = hg_phase(s.media[z.medium_vertex].g, dot(-z.wo_w, ls.wi));
     const float pdf_light_w = pick.pmf * ls.pdf_w;
@@ -165,7 +166,7 @@ LANTERN_HD inline void bdpt_camera_medium_nee(const SceneView& s, const PathStat
     const bool infinite = !(ls.dist < kInf);
     const float cos_l = is_black(ls.n_light) ? 1.0f : fabsf(dot(ls.wi, ls.n_light));
     const float pdf_emit =
-        l.emit_pick_pdf * emission_pdf(s, l, ls.n_light, -ls.wi, 0.0f).pdf_emit;
+        l.emit_pick_pdf * emission_pdf(s, l, ls.n_light, -ls.wi, time).pdf_emit;
     float pdf_nee, pdf_lp;
     if (infinite) {
         pdf_nee = pdf_light_w;
