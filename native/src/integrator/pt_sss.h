@@ -144,15 +144,16 @@ LANTERN_HD inline bool sss_entry(const Material& m, Vec3 wo, Vec2 u, Vec3* wi) {
     return is_finite(*wi);
 }
 
-// ---- The entry's density q(wi | wo) of the direction sss_entry samples (solid angle, wo above,
-// wi below): the refraction about a GGX visible normal (Walter et al. 2007's Jacobian; Skin: half
-// that of roughness 1 and half a cosine lobe). The adjoint walk (lt_sss.h) evaluates it at its
-// exit, with wi the reverse of the walk's last direction ----
+// ---- The entry's density q(wi | wo) of the direction sss_entry samples (solid angle, wo above):
+// the refraction about a GGX visible normal (Walter et al. 2007's Jacobian; Skin: half that of
+// roughness 1 and half a cosine lobe). A rough refraction may leave above the frame's plane: the
+// caller's geometric test decides (sss_walk_path: below the geometric normal). The adjoint walk
+// (lt_sss.h) evaluates it at its exit, with wi the reverse of the walk's last direction ----
 LANTERN_HD inline float sss_entry_pdf(const Material& m, Vec3 wo, Vec3 wi) {
-    if (!(wo.z > 0.0f) || !(wi.z < 0.0f)) return 0.0f;
+    if (!(wo.z > 0.0f)) return 0.0f;
     float alpha = m.roughness * m.roughness, share = 1.0f, pdf = 0.0f;
     if (m.ss_skin) {
-        pdf = 0.5f * (-wi.z) * kInvPi;
+        pdf = wi.z < 0.0f ? 0.5f * (-wi.z) * kInvPi : 0.0f;
         share = 0.5f;
         alpha = 1.0f;
     }
