@@ -100,6 +100,9 @@ def main():
     ap.add_argument("--integrators", nargs="+", default=["pt", "lt"])
     ap.add_argument("--out", required=True)
     args = ap.parse_args()
+    # lt hands Random Walk (not Skin) to pt (session.cpp, docs/subsurface.md): the switch keeps
+    # its adjoint walk, which this bench measures (the shade scene)
+    os.environ.setdefault("LANTERN_SSS_ADJOINT", "walk")
     machine = (f"{platform.node()} {platform.processor() or platform.machine()}, "
                f"{os.cpu_count()} cores, load {os.getloadavg()[0]:.1f}")
     lines = [f"subsurface, lt's adjoint walk against pt: {args.size}x{args.size}, max_depth "

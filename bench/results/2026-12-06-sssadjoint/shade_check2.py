@@ -1,5 +1,6 @@
 import sys, numpy as np
 sys.path.insert(0, "bench"); sys.path.insert(0, "tests/python")
+import os; os.environ.setdefault("LANTERN_SSS_ADJOINT", "walk")
 import lantern
 from sss_lt_efficiency import shade
 rough = float(sys.argv[1]); k = int(sys.argv[2]); spp = int(sys.argv[3]); floor = sys.argv[4] == "floor"

@@ -1,5 +1,6 @@
 import sys, numpy as np
 sys.path.insert(0, "bench")
+import os; os.environ.setdefault("LANTERN_SSS_ADJOINT", "walk")
 import lantern
 from lantern import agreement
 from sss_lt_efficiency import shade

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <stdexcept>
 
 #include "backend/backend.h"
@@ -96,6 +97,15 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
             // paths (the adjoint walk, lt_sss.h) walk; neither walk has media around it yet
             media_note = "integrator '" + integ + "' does not render subsurface scattering " +
                          "in a scene with volumes (it has " + ss + "): rendering with pt";
+            settings_.integrator = "pt";
+        } else if (const std::string rw = subsurface_random_walk_reason(scene);
+                   lt && !rw.empty() && !std::getenv("LANTERN_SSS_ADJOINT")) {
+            // lt's adjoint walk is shown right with Skin only: with Random Walk its estimates
+            // have tails too heavy to converge in a hollow lit from inside (subsurface_input.h;
+            // LANTERN_SSS_ADJOINT, tests' and bench's switch, keeps lt walking)
+            media_note = "integrator 'lt' does not render " + rw +
+                         " yet (its light paths' walk converges too slowly there; Random Walk "
+                         "(Skin) it renders): rendering with pt";
             settings_.integrator = "pt";
         }
     }

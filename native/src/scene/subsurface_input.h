@@ -76,4 +76,21 @@ inline std::string subsurface_reason(const SceneInput& in) {
     return "";
 }
 
+// The reason lt hands a scene to pt (session.cpp): a material walking by Random Walk (not Skin),
+// or "". lt's adjoint walk (integrator/lt_sss.h) leaves through the entry's rough refraction
+// lobe, whose cosine continuations multiply heavy-tailed weights in closed hollows: lt's image
+// mean there reads 20-30 % low at any sample count we could afford (docs/subsurface.md, "The
+// adjoint walk"); Skin's half-cosine entry keeps the weights tame.
+inline std::string subsurface_random_walk_reason(const SceneInput& in) {
+    for (const MaterialInput& m : in.materials) {
+        if (m.type != "principled" || !(m.subsurface_weight > 0.0f) ||
+            m.subsurface_method == "random_walk_skin")
+            continue;
+        const Vec3 r = m.subsurface_radius;
+        if (std::max(std::max(r.x, r.y), r.z) >= kSubsurfaceMinRadius)
+            return "Random Walk subsurface (material '" + m.name + "')";
+    }
+    return "";
+}
+
 }  // namespace lantern
