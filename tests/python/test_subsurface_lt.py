@@ -52,8 +52,8 @@ def _session(scene, integrator):
 
 
 def test_lt_hands_random_walk_to_pt(monkeypatch):
-    # lt's walk is shown right with Skin only (the hollow lit from inside reads 20-30 % low with
-    # Random Walk: docs/subsurface.md): a Random Walk material goes to pt with a warning naming
+    # lt's walk renders Skin only (with Random Walk a hollow lit from inside has tails so heavy
+    # that short renders read 15-30 % low: docs/subsurface.md): a Random Walk material goes to pt with a warning naming
     # it, the same image as pt's; Skin stays with lt
     monkeypatch.delenv("LANTERN_SSS_ADJOINT")
     scene = sphere_scene(level=0.5, size=8)

@@ -15,7 +15,7 @@
 // the 1 / |cos| turning the walk's arrival density at x_i into area measure. The exit connects
 // to the camera (the splat) and continues by half a cosine, half the refraction out
 // (lt_sss_exit_sample), weight f_adj |cos| / pdf. lt renders Skin only: session.cpp hands Random
-// Walk to pt (a bias with short walks, not found yet: docs/subsurface.md). Neither the walk
+// Walk to pt (heavy tails: short renders read low; docs/subsurface.md). Neither the walk
 // nor its exit counts a segment (as the camera side: D41).
 // CPU only for now (the device build has no walk stage, as bdpt's camera walk: session.cpp).
 #pragma once

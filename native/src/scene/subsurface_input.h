@@ -78,9 +78,9 @@ inline std::string subsurface_reason(const SceneInput& in) {
 
 // The reason lt hands a scene to pt (session.cpp): a material walking by Random Walk (not Skin),
 // or "". lt's adjoint walk (integrator/lt_sss.h) leaves through the entry's rough refraction
-// lobe, whose cosine continuations multiply heavy-tailed weights in closed hollows: lt's image
-// mean there reads 20-30 % low at any sample count we could afford (docs/subsurface.md, "The
-// adjoint walk"); Skin's half-cosine entry keeps the weights tame.
+// lobe: with short walks in a hollow lit from inside its estimates have tails so heavy that
+// renders of 16 k samples a pixel read 15-30 % low (it agrees with pt only at about 10 x that:
+// docs/subsurface.md, "The adjoint walk"); Skin's half-cosine entry keeps the weights tame.
 inline std::string subsurface_random_walk_reason(const SceneInput& in) {
     for (const MaterialInput& m : in.materials) {
         if (m.type != "principled" || !(m.subsurface_weight > 0.0f) ||
