@@ -2,10 +2,10 @@
 white principled sphere, subsurface albedo 1, under a uniform white world renders 1 everywhere:
 the walk loses nothing and adds nothing) with a grey walk as its negative control; weight 0
 against 1 on a slab lit from behind (must differ) and weight 0 equal to no subsurface, bit for
-bit; bad input (radius 0, an enormous radius, an open mesh: a message and a finite image); lt
-(no camera paths) and the bidirectional integrators with volumes around handing subsurface
-scenes to pt with a warning. The bidirectional integrators' furnace and their agreement with pt:
-test_subsurface_bidir.py."""
+bit; bad input (radius 0, an enormous radius, an open mesh: a message and a finite image); the
+bidirectional integrators and lt with volumes around handing subsurface scenes to pt with a
+warning. The bidirectional integrators' furnace and their agreement with pt:
+test_subsurface_bidir.py; lt's adjoint walk: test_subsurface_lt.py."""
 import numpy as np
 import pytest
 
@@ -143,16 +143,7 @@ def test_schema_checks_subsurface():
         lantern.Scene().add_material("x", type="principled", subsurface={"wieght": 1.0})
 
 
-def test_lt_hands_over_to_pt():
-    # lt has no camera paths, and only camera paths walk (bdpt_sss.h)
-    scene = sphere_scene(level=0.5, size=8)
-    ref = _session(scene)
-    s = _session(scene, integrator="lt")
-    assert any("rendering with pt" in w and "subsurface" in w for w in s.warnings), s.warnings
-    assert np.array_equal(np.asarray(s.image()), np.asarray(ref.image()))
-
-
-@pytest.mark.parametrize("integ", ["bdpt", "cis"])
+@pytest.mark.parametrize("integ", ["bdpt", "cis", "lt"])
 def test_bidirectional_with_a_volume_hands_over_to_pt(integ):
     # the bidirectional walk has no media around it yet: subsurface beside a volume goes to pt
     scene = sphere_scene(level=0.5, size=8)

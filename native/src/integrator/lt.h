@@ -177,6 +177,7 @@ LANTERN_HD inline void lt_queue_splat(const PathState& ps, const LightPathState&
 }  // namespace lantern
 
 #include "integrator/lt_medium.h"  // media: uses lt_queue_splat
+#include "integrator/lt_sss.h"  // subsurface: the adjoint walk, uses lt_queue_splat
 
 namespace lantern {
 
@@ -308,6 +309,12 @@ LANTERN_HD inline void lt_shade(const SceneView& s, const PathState& ps, const L
             lt_queue_splat(ps, lp, i, h.p, h.ng, cc, beta * e.f * (cos_y * cc.importance), s.offset_scale);
         }
     }
+#ifndef __CUDACC__  // the device build has no walk stage (schedule_lt.h): CPU sessions only
+    // under the surface: the walk stage takes the path (integrator/lt_sss.h)
+    if (s.has_subsurface && !strand &&
+        lt_sss_choose(s, ps, st, i, m, h, wo_w, cos_o_ns, cos_o_ng, depth))
+        return;
+#endif
     if (depth + 2 > st.max_depth) return;  // the next vertex's connection would be too long
 
     // ---- Continue: cosine sampling, adjoint weight, roulette ----

@@ -144,6 +144,113 @@ LANTERN_HD inline bool sss_entry(const Material& m, Vec3 wo, Vec2 u, Vec3* wi) {
     return is_finite(*wi);
 }
 
+// ---- The entry's density q(wi | wo) of the direction sss_entry samples (solid angle, wo above):
+// the refraction about a GGX visible normal (Walter et al. 2007's Jacobian; Skin: half that of
+// roughness 1 and half a cosine lobe). A rough refraction may leave above the frame's plane: the
+// caller's geometric test decides (sss_walk_path: below the geometric normal). The adjoint walk
+// (lt_sss.h) evaluates it at its exit, with wi the reverse of the walk's last direction ----
+LANTERN_HD inline float sss_entry_pdf(const Material& m, Vec3 wo, Vec3 wi) {
+    if (!(wo.z > 0.0f)) return 0.0f;
+    float alpha = m.roughness * m.roughness, share = 1.0f, pdf = 0.0f;
+    if (m.ss_skin) {
+        pdf = wi.z < 0.0f ? 0.5f * (-wi.z) * kInvPi : 0.0f;
+        share = 0.5f;
+        alpha = 1.0f;
+    }
+    const float eta = m.ss_ior;
+    Vec3 h = wo + wi * eta;  // wo + eta wi lies along -h for a refraction into the medium
+    if (!(length_sq(h) > 1e-20f)) return pdf;
+    h = normalize(h);
+    if (h.z < 0.0f) h = -h;
+    const float wo_h = dot(wo, h), wi_h = dot(wi, h);
+    if (!(wo_h > 0.0f) || !(wi_h < 0.0f)) return pdf;
+    const float denom = sqr(wi_h + wo_h / eta);
+    const float q = Ggx::isotropic(alpha).pdf_visible(wo, h) * (-wi_h) / denom;
+    return is_finite(q) ? pdf + share * q : pdf;
+}
+
+// ---- beta times the walk's weight at the entry for the view wo (local, above): the base's
+// weight under the layers above it (coat, sheen), the specular layer's 1 - E_s(mu_o) and W; the
+// base colour enters through the medium's albedo (sss_medium). coat_n: the hit's coat normal ----
+LANTERN_HD inline Vec3 sss_entry_weight(const Material& m, Vec3 coat_n, Vec3 wo, Vec3 beta) {
+    const PrincipledWeights pw = principled_weights(m);
+    const Vec3 below = principled_below_coat(m, wo.z, coat_cos(m, coat_n, wo));
+    const float base = pw.spec * (1.0f - principled_spec_albedo(m, wo.z)) * m.subsurface;
+    return beta * below * base;
+}
+
+// ---- The walk's medium: the single-scattering albedo per channel inverted from the base colour
+// (clamped to [0, 1], as Cycles), sigma_t from the mean free path; a channel whose albedo falls
+// below 0.2 walks at 0.2 with its throughput scaled by low (as Cycles); after
+// kSssSimilarityBounce scatterings the reduced coefficients (similarity theory, isotropic) ----
+struct SssMedium {
+    Vec3 sigma_t, sigma_s, sigma_t_sim, sigma_s_sim, alpha, low;
+    float g;
+};
+
+LANTERN_HD inline SssMedium sss_medium(const Material& m) {
+    SssMedium md;
+    md.g = m.ss_anisotropy;
+    float st3[3], al3[3], low[3];
+    for (int c = 0; c < 3; ++c) {
+        const float albedo = clampf(m.base_color[c], 0.0f, 1.0f);
+        sss_remap(albedo, sss_mean_free_path(m, m.ss_radius[c], albedo), md.g, &st3[c], &al3[c]);
+        low[c] = 1.0f;
+        if (al3[c] < 0.2f) {  // a low albedo walks as 0.2 with the throughput scaled (as Cycles)
+            low[c] = al3[c] / 0.2f;
+            al3[c] = 0.2f;
+        }
+    }
+    md.low = Vec3{low[0], low[1], low[2]};
+    md.sigma_t = Vec3{st3[0], st3[1], st3[2]};
+    md.alpha = Vec3{al3[0], al3[1], al3[2]};
+    md.sigma_s = md.sigma_t * md.alpha;
+    md.sigma_s_sim = md.sigma_s * (1.0f - md.g);
+    md.sigma_t_sim = md.sigma_t - md.sigma_s + md.sigma_s_sim;
+    return md;
+}
+
+// ---- The walk in medium md from o along dir (the first direction, already sampled) with
+// throughput beta (low included): distances from one channel chosen by throughput x albedo,
+// weighted by the pmf-weighted mean of the channels' pdfs (one-sample MIS), Henyey-Greenstein
+// directions, at most kSssMaxBounces scatterings. Where it reaches a surface:
+// exit(prim, uv, dir, beta) with the direction that found it; a strand, a lost walk: nothing.
+// Shared by the camera side's walk (sss_walk_path) and the adjoint walk (lt_sss.h). ----
+template <class Rays, class Kind, class Exit>
+LANTERN_HD inline void sss_walk_medium(const SceneView& s, const Rays& rays, Kind kind,
+                                       const SssMedium& md, Vec3 o, Vec3 dir, Vec3 beta,
+                                       Rng& rng, float time, const Exit& exit) {
+    for (int b = 0; b < kSssMaxBounces; ++b) {
+        const bool sim = b > kSssSimilarityBounce;
+        const Vec3 st_b = sim ? md.sigma_t_sim : md.sigma_t;
+        const Vec3 ss_b = sim ? md.sigma_s_sim : md.sigma_s;
+        if (b > 0) {
+            float pdf_w = 0.0f;  // the phase function's own sample: weight 1
+            dir = hg_sample(sim ? 0.0f : md.g, dir, rng.uniform2(), &pdf_w);
+        }
+        const Vec3 pmf = medium_channel_pmf(beta * md.alpha);
+        const float u_c = rng.uniform();
+        const int c = u_c < pmf.x ? 0 : (u_c < pmf.x + pmf.y ? 1 : 2);
+        const float t_s = -log1pf(-fminf(rng.uniform(), 0.99999994f)) / st_b[c];
+        const auto hit = rays.closest(Ray{o, dir, 0.0f, t_s, time}, kind);
+        const bool out = hit.prim >= 0 && hit.t < t_s;
+        const float t = out ? hit.t : t_s;
+        const Vec3 tr{expf(-st_b.x * t), expf(-st_b.y * t), expf(-st_b.z * t)};
+        const Vec3 pdf = out ? tr : st_b * tr;
+        const float denom = dot(pmf, pdf);
+        if (!(denom > 0.0f)) break;
+        beta = beta * (out ? tr : ss_b * tr) * (1.0f / denom);
+        if (!is_finite(beta)) break;
+        if (out) {
+            if (hit.prim >= s.num_triangles) break;  // a strand inside the mesh: the walk ends
+            exit(int(hit.prim), hit.uv, dir, beta);
+            break;
+        }
+        o = o + dir * t;
+        if (!(max_component(beta) > 1e-7f)) break;
+    }
+}
+
 // ---- The exit at p (normals ng, ns outward): next-event estimation with a white Lambert lobe,
 // then a cosine continuation; beta is the walk's throughput, depth the exit vertex's ----
 LANTERN_HD inline void pt_sss_exit(const SceneView& s, const PathState& ps, const PtSettings& st,
@@ -251,67 +358,21 @@ LANTERN_HD inline void sss_walk_path(const SceneView& s, const Rays& rays, Kind 
     const Frame shading = h.frame();
     const Frame frame = shading.to_local(-d).z > 0.0f ? shading : Frame::from_normal(h.ng);
     const Vec3 wo = frame.to_local(-d);
-    // the base's weight under the layers above it, W of it; the albedo (the base colour within
-    // [0, 1], as Cycles) the walk puts in. The caller has divided by the walk's probability.
-    const PrincipledWeights pw = principled_weights(m);
-    const Vec3 below = principled_below_coat(m, wo.z, coat_cos(m, h.coat_n, wo));
-    const float base = pw.spec * (1.0f - principled_spec_albedo(m, wo.z)) * m.subsurface;
-    float albedo[3];
-    for (int c = 0; c < 3; ++c) albedo[c] = clampf(m.base_color[c], 0.0f, 1.0f);
-    const Vec3 beta0 = beta_in * below * base;
+    // the walk's weight at the entry (sss_entry_weight); the caller has divided by the walk's
+    // probability
+    const Vec3 beta0 = sss_entry_weight(m, h.coat_n, wo, beta_in);
     Vec3 wi_l;
     const bool entered = sss_entry(m, wo, rng.uniform2(), &wi_l);
-    Vec3 dir = frame.to_world(wi_l);
+    const Vec3 dir = frame.to_world(wi_l);
     if (!entered || !(dot(dir, h.ng) < 0.0f) || is_black(beta0)) return;
-    // ---- Coefficients ----
-    const float g = m.ss_anisotropy;
-    float st3[3], al3[3], low[3];
-    for (int c = 0; c < 3; ++c) {
-        sss_remap(albedo[c], sss_mean_free_path(m, m.ss_radius[c], albedo[c]), g, &st3[c],
-                  &al3[c]);
-        low[c] = 1.0f;
-        if (al3[c] < 0.2f) {  // a low albedo walks as 0.2 with the throughput scaled (as Cycles)
-            low[c] = al3[c] / 0.2f;
-            al3[c] = 0.2f;
-        }
-    }
-    Vec3 beta = beta0 * Vec3{low[0], low[1], low[2]};
-    const Vec3 sigma_t{st3[0], st3[1], st3[2]}, alpha{al3[0], al3[1], al3[2]};
-    const Vec3 sigma_s = sigma_t * alpha;
-    const Vec3 sigma_s_sim = sigma_s * (1.0f - g);
-    const Vec3 sigma_t_sim = sigma_t - sigma_s + sigma_s_sim;
-    // ---- Walk ----
-    Vec3 o = offset_ray_origin(h.p, h.ng, dir, s.offset_scale);
-    for (int b = 0; b < kSssMaxBounces; ++b) {
-        const bool sim = b > kSssSimilarityBounce;
-        const Vec3 st_b = sim ? sigma_t_sim : sigma_t;
-        const Vec3 ss_b = sim ? sigma_s_sim : sigma_s;
-        if (b > 0) {
-            float pdf_w = 0.0f;  // the phase function's own sample: weight 1
-            dir = hg_sample(sim ? 0.0f : g, dir, rng.uniform2(), &pdf_w);
-        }
-        const Vec3 pmf = medium_channel_pmf(beta * alpha);
-        const float u_c = rng.uniform();
-        const int c = u_c < pmf.x ? 0 : (u_c < pmf.x + pmf.y ? 1 : 2);
-        const float t_s = -log1pf(-fminf(rng.uniform(), 0.99999994f)) / st_b[c];
-        const auto hit = rays.closest(Ray{o, dir, 0.0f, t_s, time}, kind);
-        const bool out = hit.prim >= 0 && hit.t < t_s;
-        const float t = out ? hit.t : t_s;
-        const Vec3 tr{expf(-st_b.x * t), expf(-st_b.y * t), expf(-st_b.z * t)};
-        const Vec3 pdf = out ? tr : st_b * tr;
-        const float denom = dot(pmf, pdf);
-        if (!(denom > 0.0f)) break;
-        beta = beta * (out ? tr : ss_b * tr) * (1.0f / denom);
-        if (!is_finite(beta)) break;
-        if (out) {
-            if (hit.prim >= s.num_triangles) break;  // a strand inside the mesh: the walk ends
-            const SurfaceHit x = surface_at_time(s, hit.prim, hit.uv, dir, time);  // faces inside
-            exit(int(hit.prim), hit.uv, dir, x.p, -x.ng, -x.ns, beta, depth);
-            break;
-        }
-        o = o + dir * t;
-        if (!(max_component(beta) > 1e-7f)) break;
-    }
+    const SssMedium md = sss_medium(m);
+    const Vec3 o = offset_ray_origin(h.p, h.ng, dir, s.offset_scale);
+    sss_walk_medium(s, rays, kind, md, o, dir, beta0 * md.low, rng, time,
+                    [&](int prim, Vec2 huv, Vec3 last, Vec3 beta) {
+                        // (faces inside: negated)
+                        const SurfaceHit x = surface_at_time(s, prim, huv, last, time);
+                        exit(prim, huv, last, x.p, -x.ng, -x.ns, beta, depth);
+                    });
 }
 
 // ---- The walk stage, after pt_shade on the same queue: for a path with alive == kAliveSss,

@@ -65,10 +65,26 @@ void lt_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep& st
     int active = n;
     const bool motion = s.motion.rays_timed();  // each ray at its path's time (motion blur)
     while (!st.cancelled()) {
-        stats.rays_shadow += s.num_media > 0 ? camera_segments_medium(ex, w, s, active, stats)
-                             : motion ? camera_segments_timed(ex, w, active, stats, LtTimeOf{ps})
-                                      : camera_segments(ex, w, active, stats);
-        ex.timed(stats.time_film, [&] { splat(ex, w, s, st, active); });
+        const auto segments_and_splat = [&] {
+            stats.rays_shadow +=
+                s.num_media > 0 ? camera_segments_medium(ex, w, s, active, stats)
+                : motion        ? camera_segments_timed(ex, w, active, stats, LtTimeOf{ps})
+                                : camera_segments(ex, w, active, stats);
+            ex.timed(stats.time_film, [&] { splat(ex, w, s, st, active); });
+        };
+        segments_and_splat();
+        if constexpr (!Exec::kGpu) {
+            if (s.has_subsurface) {  // the adjoint walks (lt_sss.h), then their exits' splats
+                const int32_t* q = w.queue.data();
+                const auto rays = ex.rays();
+                ex.timed(stats.time_shade, [&] {
+                    ex.each(active, LANTERN_KERNEL(int k) {
+                        lt_sss_walk(s, rays, RayKind::kIndirect, ps, lp, pt, q[k]);
+                    });
+                });
+                segments_and_splat();
+            }
+        }
         active = compact(ex, w, active);
         if (active == 0) break;
         stats.rays_indirect += active;  // light rays

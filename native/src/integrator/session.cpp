@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <stdexcept>
 
 #include "backend/backend.h"
@@ -91,13 +92,20 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
                          "): rendering with pt";
             settings_.integrator = "pt";
         } else if (const std::string ss = subsurface_reason(scene);
-                   !ss.empty() && (lt || !media_reason(scene).empty())) {
-            // subsurface: pt, and the camera paths of bdpt, lvc and cis, walk (bdpt_sss.h);
-            // lt has no camera paths, and the bidirectional walk has no media around it yet
+                   !ss.empty() && !media_reason(scene).empty()) {
+            // subsurface: pt, the camera paths of bdpt, lvc and cis (bdpt_sss.h) and lt's light
+            // paths (the adjoint walk, lt_sss.h) walk; neither walk has media around it yet
             media_note = "integrator '" + integ + "' does not render subsurface scattering " +
-                         (lt ? "(the scene has " + ss + "; only camera paths walk)"
-                             : "in a scene with volumes (it has " + ss + ")") +
-                         ": rendering with pt";
+                         "in a scene with volumes (it has " + ss + "): rendering with pt";
+            settings_.integrator = "pt";
+        } else if (const std::string rw = subsurface_random_walk_reason(scene);
+                   lt && !rw.empty() && !std::getenv("LANTERN_SSS_ADJOINT")) {
+            // lt's adjoint walk is shown right with Skin only: with Random Walk its estimates
+            // have tails too heavy to converge in a hollow lit from inside (subsurface_input.h;
+            // LANTERN_SSS_ADJOINT, tests' and bench's switch, keeps lt walking)
+            media_note = "integrator 'lt' does not render " + rw +
+                         " yet (its light paths' walk converges too slowly there; Random Walk "
+                         "(Skin) it renders): rendering with pt";
             settings_.integrator = "pt";
         }
     }
@@ -162,8 +170,9 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
             warnings_.push_back("the CUDA backend does not render motion blur yet; rendering "
                                 "on the CPU");
         } else if (info.available && scene_->view().has_subsurface &&
-                   (integ == "bdpt" || integ == "lvc" || integ == "cis")) {
-            // the camera paths' walk stage is CPU-only (schedule_bdpt.h: its kernel's stack)
+                   (integ == "bdpt" || integ == "lvc" || integ == "cis" || integ == "lt")) {
+            // the camera paths' walk stage is CPU-only (schedule_bdpt.h: its kernel's stack),
+            // and so is lt's adjoint walk (schedule_lt.h)
             warnings_.push_back("the CUDA backend does not render subsurface scattering with "
                                 "integrator '" + integ + "' yet; rendering on the CPU");
         } else if (info.available) {
