@@ -35,13 +35,25 @@ LANTERN_HD inline bool material_transmits_leaf(const Material& m) {
 }
 
 // Translucent BSDF: Lambertian transmission (to the other side), albedo base_color.
-LANTERN_HD inline BsdfEval translucent_eval(Vec3 color, Vec3 wo, Vec3 wi) {
-    BsdfEval e = lambert_eval(color, wo, Vec3{wi.x, wi.y, -wi.z});
-    return e;
+// Cycles' Translucent (bsdf_translucent.h) reads the light's side of N alone: its eval takes
+// any view, and so does its sampler (which then drops a direction on the view's side of Ng,
+// as pt's side test does here). Where a smooth low-poly mesh's normal leans far from the facet
+// (the inner walls of a capped cylinder seen from inside, D43) the view can fall below N; a
+// view-sided Lambert went black there. Camera sub-paths (radiance: wi is the light) take
+// Cycles' convention; light sub-paths keep the symmetric one (no view below N), so bdpt and lt
+// read a slightly different BSDF only where the view lies below N.
+LANTERN_HD inline BsdfEval translucent_eval(Vec3 color, Vec3 wo, Vec3 wi, bool radiance) {
+    if (radiance && wo.z <= 0.0f && wi.z < 0.0f) {
+        BsdfEval e{color * kInvPi, pdf_cosine_hemisphere(-wi.z), pdf_cosine_hemisphere(-wo.z)};
+        return e;
+    }
+    return lambert_eval(color, wo, Vec3{wi.x, wi.y, -wi.z});
 }
 
-LANTERN_HD inline BsdfSample translucent_sample(Vec3 color, Vec3 wo, Vec2 u) {
-    BsdfSample s = lambert_sample(color, wo, u);
+LANTERN_HD inline BsdfSample translucent_sample(Vec3 color, Vec3 wo, Vec2 u, bool radiance) {
+    // the view below N (radiance): sampled as from above, the same cosine about -N
+    const Vec3 wv = radiance && wo.z <= 0.0f ? Vec3{wo.x, wo.y, fmaxf(-wo.z, 1e-7f)} : wo;
+    BsdfSample s = lambert_sample(color, wv, u);
     s.wi.z = -s.wi.z;
     return s;
 }
@@ -68,7 +80,7 @@ LANTERN_HD inline BsdfEval material_eval_leaf(const Material& m, bool front, Vec
     case kMaterialPrincipled:
         return principled_eval(m, front, wo, wi, mode, coat_n);
     case kMaterialTranslucent:
-        return translucent_eval(m.base_color, wo, wi);
+        return translucent_eval(m.base_color, wo, wi, mode == Transport::Radiance);
     case kMaterialHair:
         return hair_lobe_eval(m, wo, wi, mode);
     default:
@@ -98,7 +110,7 @@ LANTERN_HD inline BsdfSample material_sample_leaf(const Material& m, bool front,
     case kMaterialPrincipled:
         return principled_sample(m, front, wo, u, mode, coat_n);
     case kMaterialTranslucent:
-        return translucent_sample(m.base_color, wo, Vec2{u.x, u.y});
+        return translucent_sample(m.base_color, wo, Vec2{u.x, u.y}, mode == Transport::Radiance);
     case kMaterialHair:
         return hair_lobe_sample(m, wo, u, mode);
     default:
