@@ -5,7 +5,8 @@ each Blender process: Blender 5.0.1's UV sphere primitive gives the same vertice
 face order and other loop starts per process, and the particle system places its hairs over the
 faces in their order, so the sphere's arrays and the strands themselves changed (a farm job of
 the scene got another lantern.merge.scene_identity per chunk; the stored Cycles reference was
-stale on every run). test_hair now rebuilds the sphere in a canonical face order.
+stale on every run). test_hair now rebuilds the sphere in a canonical face order
+(tests/cycles/mesh_canon.py).
 
 Two fresh processes export the fur; every mesh and curve array must be byte-identical. Control:
 the digest sees the face order (the primitive's own order against the canonical one)."""
@@ -34,7 +35,7 @@ import test_hair as th
 import render_compare as rc
 from lantern.merge import scene_identity
 if sys.argv[1] == "raw":
-    th._canonical = lambda obj: None
+    th.canonical_faces = lambda obj: None
 th.fur()
 sc = rc.export_current()
 n = sc.to_native()

@@ -20,6 +20,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 sys.path.insert(0, os.path.join(ROOT, "tools"))
 import bpy_stage  # noqa: E402
 from bpy_stage import camera as _camera, light as _light  # noqa: E402
+from mesh_canon import canonical_faces  # noqa: E402
 
 K = 8
 SIZE = 32
@@ -49,53 +50,13 @@ def _hair_material(name, melanin):
     return m
 
 
-def _canonical(obj):
-    """Rebuild obj's mesh with its faces in a canonical order, each starting at its lowest vertex.
-
-    Blender's UV sphere primitive (5.0.1) gives the same vertices but another face order and
-    other loop starts in each process, and the particle system distributes its hair over the
-    faces in their order, so the fur (and the key of the stored Cycles reference) would differ
-    per process. Vertices, UVs and smooth shading are kept."""
-    me = obj.data
-    nv, nl, nf = len(me.vertices), len(me.loops), len(me.polygons)
-    co = np.empty(nv * 3, np.float32)
-    me.vertices.foreach_get("co", co)
-    cv = np.empty(nl, np.int32)
-    me.loops.foreach_get("vertex_index", cv)
-    uv = np.empty(nl * 2, np.float32)
-    me.uv_layers.active.uv.foreach_get("vector", uv)
-    uv = uv.reshape(nl, 2)
-    starts = np.empty(nf, np.int32)
-    me.polygons.foreach_get("loop_start", starts)
-    sizes = np.empty(nf, np.int32)
-    me.polygons.foreach_get("loop_total", sizes)
-    smooth = np.empty(nf, bool)
-    me.polygons.foreach_get("use_smooth", smooth)
-    faces = []
-    for f in range(nf):
-        loops = list(range(starts[f], starts[f] + sizes[f]))
-        r = int(np.argmin(cv[loops]))
-        loops = loops[r:] + loops[:r]
-        faces.append((tuple(int(v) for v in cv[loops]), loops, bool(smooth[f])))
-    faces.sort(key=lambda t: t[0])
-    new = bpy.data.meshes.new(me.name)
-    new.from_pydata(co.reshape(nv, 3).tolist(), [], [t[0] for t in faces])
-    layer = new.uv_layers.new(name=me.uv_layers.active.name)
-    order = np.array([i for t in faces for i in t[1]], np.int64)
-    layer.uv.foreach_set("vector", uv[order].ravel())
-    new.polygons.foreach_set("use_smooth", np.array([t[2] for t in faces], bool))
-    new.update()
-    obj.data = new
-    bpy.data.meshes.remove(me)
-
-
 def fur():
     scene = bpy_stage.reset(SIZE, world=(0.1, 0.1, 0.12))
     scene.cycles_curves.shape = "THICK_LINEAR"
     bpy.ops.mesh.primitive_uv_sphere_add(radius=0.5, location=(0, 0, 0), segments=32,
                                          ring_count=16)
     ball = bpy.context.active_object
-    _canonical(ball)
+    canonical_faces(ball)
     ball.data.materials.append(_principled("skin", (0.6, 0.6, 0.6)))
     ball.data.materials.append(_hair_material("fur", 0.3))
     mod = ball.modifiers.new("Fur", "PARTICLE_SYSTEM")
