@@ -20,6 +20,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 sys.path.insert(0, os.path.join(ROOT, "tools"))
 import bpy_stage  # noqa: E402
 from bpy_stage import camera as _camera, light as _light  # noqa: E402
+from mesh_canon import canonical_faces  # noqa: E402
 
 K = 8
 SIZE = 32
@@ -57,6 +58,7 @@ def sliding_fur():
     bpy.ops.mesh.primitive_uv_sphere_add(radius=0.5, location=(0, 0, 0), segments=32,
                                          ring_count=16)
     ball = bpy.context.active_object
+    canonical_faces(ball)  # the same fur in every process (mesh_canon.py)
     ball.data.materials.append(_principled("skin", (0.6, 0.6, 0.6)))
     ball.data.materials.append(_hair_material("fur", 0.3))
     mod = ball.modifiers.new("Fur", "PARTICLE_SYSTEM")
