@@ -66,13 +66,19 @@ def _feed(h, value):
 
 
 def scene_identity(scene, max_depth=None):
-    """A hex digest of the scene's film, camera, world, materials, textures, meshes and lights
-    (and the path depth, which changes what a render converges to): equal for the same scene
+    """A hex digest of the scene's film, camera, world, materials, textures, meshes, lights,
+    strands, grids and attribute channels (and the path depth, which changes what a render converges to): equal for the same scene
     however it was loaded, different after any edit."""
     h = hashlib.blake2b(digest_size=16)
     for part in ("film", "camera", "world", "materials", "textures", "meshes", "lights"):
         h.update(part.encode())
         _feed(h, getattr(scene, part))
+    # strands, Volume objects' grids and the attribute channels' names: fed only where the scene
+    # has them, so the identity of a scene without them is what it was before they were added
+    for part in ("curves", "grids", "attribute_channels"):
+        if getattr(scene, part, None):
+            h.update(part.encode())
+            _feed(h, getattr(scene, part))
     _feed(h, {"max_depth": max_depth})
     return h.hexdigest()
 

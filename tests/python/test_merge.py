@@ -111,6 +111,32 @@ def test_scene_identity():
     assert merge.scene_identity(a, 8) != merge.scene_identity(a, 16)
 
 
+def test_scene_identity_sees_strands_and_grids():
+    """Two chunks of scenes whose hair or Volume object differs must not merge; a scene without
+    either keeps the identity it had before strands and grids were hashed (the earlier code's
+    digest, recomputed here), so chunks rendered then still merge."""
+    import numpy as np
+    import hashlib
+    a, b = scenes.cornell_box(width=16, height=16), scenes.cornell_box(width=16, height=16)
+    old = hashlib.blake2b(digest_size=16)  # the identity as it was computed before
+    for part in ("film", "camera", "world", "materials", "textures", "meshes", "lights"):
+        old.update(part.encode())
+        merge._feed(old, getattr(a, part))
+    merge._feed(old, {"max_depth": None})
+    before = merge.scene_identity(a)
+    assert before == old.hexdigest()
+    pts = np.array([[0.0, 0.0, 0.0], [0.0, 0.0, 0.1], [0.0, 0.0, 0.2]], np.float32)
+    for sc in (a, b):
+        sc.add_curves(pts, np.full(3, 0.01, np.float32), np.array([0, 3], np.int32))
+    assert merge.scene_identity(a) == merge.scene_identity(b) != before
+    b.curves[0]["points"] = pts + np.float32(0.01)
+    assert merge.scene_identity(a) != merge.scene_identity(b)
+    c, d = scenes.cornell_box(width=16, height=16), scenes.cornell_box(width=16, height=16)
+    c.add_grid(np.ones((2, 2, 2), np.float32))
+    d.add_grid(np.full((2, 2, 2), 2.0, np.float32))
+    assert merge.scene_identity(c) != merge.scene_identity(d)
+
+
 needs_core = pytest.mark.skipif(not session.native_available(),
                                 reason=f"lantern._core not built ({session.native_error()})")
 
