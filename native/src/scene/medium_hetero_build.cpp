@@ -121,6 +121,7 @@ int32_t HostScene::program_of(size_t material, int32_t target) const {
 // is not affine in position (a deformed mesh, or two objects of different texture spaces
 // sharing the material): that channel then reads its best affine fit.
 void HostScene::build_hetero(int32_t med, size_t material, const std::string& name) {
+    const ProgramBoundScope bound_scope;  // the bounds below scan each image texture once
     Medium& m = media_[size_t(med)];
     const int nch = num_attribute_channels_;
     std::vector<uint32_t> verts;
