@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "program_bound_cases.h"
 #include "scene/medium_hetero.h"
 #include "scene/program_bound.h"
 #include "scene/program_bound_rules.h"
@@ -47,103 +48,6 @@ double rb_sup_integrand(int D, const double* x) {
 }
 
 constexpr double kRbScale[4] = {0.25, 0.6616, 0.9820, 0.8344};
-
-void rb_instr(std::vector<uint32_t>& code, int op, int mode, int flags, int dim, int in, int out,
-              int aux = 0, int aux2 = 0) {
-    code.insert(code.end(), {uint32_t(op | (mode << 8) | (flags << 16) | (dim << 24)),
-                             uint32_t(in | (out << 16)), uint32_t(aux), uint32_t(aux2)});
-}
-
-// One op under test: its inputs the constants `in`, except the slots fed by the position's
-// components (slot, component); its outputs outs[0..3) the program's result.
-struct RbCase {
-    std::string name;
-    int op, mode, flags, dim, aux, aux2;
-    std::vector<float> in;
-    std::vector<std::pair<int, int>> pos;
-    int outs[3];
-    float clo = -2.0f, chi = 3.0f;  // where the boxes' centres lie (per axis)
-};
-
-SceneInput rb_scene(const RbCase& t) {
-    SceneInput in;
-    std::vector<float> c = {0, 0, 0, 0, 0, 0, 0, 0};
-    c.insert(c.end(), t.in.begin(), t.in.end());  // from 8
-    std::vector<uint32_t> code;
-    rb_instr(code, kOpInput, 0, 0, 0, 0, 40);  // position 40..42
-    for (size_t k = 0; k < t.in.size(); k += 3)
-        rb_instr(code, kOpCopy, 0, 0, int(std::min<size_t>(3, t.in.size() - k)), 8 + int(k),
-                 50 + int(k));
-    for (const auto& [slot, comp] : t.pos) rb_instr(code, kOpCopy, 0, 0, 1, 40 + comp, 50 + slot);
-    rb_instr(code, t.op, t.mode, t.flags, t.dim, 50, 80, t.aux, t.aux2);
-    for (int k = 0; k < 3; ++k) rb_instr(code, kOpCopy, 0, 0, 1, 80 + t.outs[k], 90 + k);
-    in.program_code = code;
-    in.program_consts = c;
-    // a surface's base colour (a density would bound itself at the build: slower, and
-    // program_bound needs no medium for a program of the position alone)
-    in.programs = {0u, uint32_t(code.size() / 4), 0u, uint32_t(c.size()),
-                   uint32_t(kTargetBaseColor), 90u};
-    MaterialInput mat;
-    mat.name = "rules";
-    mat.program_first = 0;
-    mat.program_count = 1;
-    in.materials.push_back(mat);
-    in.meshes.push_back(lantern::test::box_mesh(vec3(0.0f), vec3(1.0f), 0));
-    return in;
-}
-
-// Samples of case t in random boxes (half-widths from 0.004 to `size`); every channel of
-// every sample inside its box's interval. Returns the mean width of channel 0's intervals.
-// The negative control's tally: boxes whose samples leave the interval of the box shrunk by a
-// quarter per side (channel 0): the samples reach the ends a narrower bound would miss.
-int rb_control_boxes = 0, rb_control_exceeded = 0;
-
-// bounded: 1 every box has a bound, 0 none, 2 some (an op whose rule needs its inputs inside
-// a range: the boxes where they are not fail).
-double rb_check(const RbCase& t, std::mt19937& rng, int boxes, int samples, float size = 0.6f,
-                int bounded = 1) {
-    HostScene scene(rb_scene(t));
-    const SceneView& s = scene.view();
-    const int32_t med = -1;
-    EXPECT_NE(s.programs, nullptr) << t.name;
-    const MaterialProgram& p = s.programs[0];
-    std::uniform_real_distribution<float> u(0.0f, 1.0f);
-    double width = 0.0;
-    int failures = 0, with_bound = 0;
-    for (int b = 0; b < boxes; ++b) {
-        const float span = t.chi - t.clo;
-        const Vec3 c{t.clo + span * u(rng), t.clo + span * u(rng), t.clo + span * u(rng)};
-        const float hs = 0.004f * std::pow(size / 0.004f, u(rng));
-        const Vec3 h{hs * (0.5f + u(rng)), hs * (0.5f + u(rng)), hs * (0.5f + u(rng))};
-        Interval iv[3];
-        const bool ok = program_bound(s, p, med, c - h, c + h, iv);
-        if (bounded != 2) EXPECT_EQ(ok, bounded == 1) << t.name;
-        if (!ok) continue;
-        ++with_bound;
-        width += iv[0].hi - iv[0].lo;
-        Interval inner[3];
-        const bool inner_ok = program_bound(s, p, med, c - h * 0.5f, c + h * 0.5f, inner);
-        bool exceeded = false;
-        for (int k = 0; k < samples; ++k) {
-            Vec3 q = c - h + 2.0f * h * Vec3{u(rng), u(rng), u(rng)};
-            if (k < 8)  // the corners too
-                q = Vec3{k & 1 ? c.x + h.x : c.x - h.x, k & 2 ? c.y + h.y : c.y - h.y,
-                         k & 4 ? c.z + h.z : c.z - h.z};
-            const Vec3 v = program_run(s, p, medium_shade_point(med, q, Vec3{1, 0, 0}));
-            const float vv[3] = {v.x, v.y, v.z};
-            exceeded = exceeded || (inner_ok && !(vv[0] >= inner[0].lo && vv[0] <= inner[0].hi));
-            for (int ch = 0; ch < 3; ++ch)
-                if (!(vv[ch] >= iv[ch].lo && vv[ch] <= iv[ch].hi) && ++failures <= 3)
-                    ADD_FAILURE() << t.name << " channel " << ch << ": " << vv[ch] << " outside ["
-                                  << iv[ch].lo << ", " << iv[ch].hi << "] at (" << q.x << ", "
-                                  << q.y << ", " << q.z << ")";
-        }
-        ++rb_control_boxes;
-        rb_control_exceeded += exceeded;
-    }
-    if (bounded == 2) EXPECT_GT(with_bound, 0) << t.name;
-    return width / std::max(with_bound, 1);
-}
 
 }  // namespace
 
@@ -255,25 +159,25 @@ TEST(ProgramBoundRules, NoiseTypesInsideRandomBoxes) {
                  {"fBm", kNoiseFbm, 2.5f, 0.6f, 2.0f, 0.0f, 1.0f},
                  {"hetero", kNoiseHetero, 2.7f, 0.5f, 2.0f, 0.6f, 1.0f}};
     std::mt19937 rng(5);
-    rb_control_boxes = rb_control_exceeded = 0;
+    pbc::Tally tally;
     for (const T& ty : types)
         for (int dim = 1; dim <= 4; ++dim)
             for (int variant = 0; variant < 3; ++variant) {
                 // 0: normalised, colour; 1: raw, distorted; 2: a hybrid's offset 0.3, ridged's 0.5
                 const float dist = variant == 1 ? 0.4f : 0.0f;
                 const float off = variant == 2 ? (ty.type == kNoiseRidged ? 0.5f : 0.3f) : ty.offset;
-                RbCase c{std::string(ty.name) + " " + std::to_string(dim) + "D v" +
+                pbc::Case c{std::string(ty.name) + " " + std::to_string(dim) + "D v" +
                              std::to_string(variant),
                          kOpNoise, ty.type, variant == 1 ? 0 : 1, dim, 0, 0,
                          {0, 0, 0, 0, 1.5f, ty.detail, ty.roughness, ty.lacunarity, off, ty.gain,
                           dist},
                          {{0, 0}, {1, 1}, {2, 2}, {3, 0}}, {0, 2, 3}};
-                const double w = rb_check(c, rng, 12, 150, 0.4f);
+                const double w = pbc::check(c, rng, 12, 150, 0.4f, 1, &tally);
                 if (variant == 0 && dim == 3) std::printf("%s: mean width %.3f\n", c.name.c_str(), w);
             }
     std::printf("control: %d of %d boxes have samples outside the inner half's bound\n",
-                rb_control_exceeded, rb_control_boxes);
-    EXPECT_GT(rb_control_exceeded, rb_control_boxes / 5);  // fractal types are looser
+                tally.exceeded, tally.boxes);
+    EXPECT_GT(tally.exceeded, tally.boxes / 5);  // fractal types are looser
 }
 
 // Voronoi (features, metrics, dimensions; distance, colour, positions), Magic and Brick.
@@ -284,15 +188,15 @@ TEST(ProgramBoundRules, VoronoiMagicBrickInsideRandomBoxes) {
             for (int dim = 1; dim <= 4; ++dim)
                 for (int outs = 0; outs < 2; ++outs) {
                     // in: vector(3) w scale smoothness exponent randomness
-                    RbCase c{"voronoi f" + std::to_string(feature) + " m" + std::to_string(metric) +
+                    pbc::Case c{"voronoi f" + std::to_string(feature) + " m" + std::to_string(metric) +
                                  " " + std::to_string(dim) + "D o" + std::to_string(outs),
                              kOpVoronoi, feature, 0, dim, metric, 0,
                              {0, 0, 0, 0, 2.0f, 0.8f, 1.5f, outs ? 0.7f : 1.0f},
                              {{0, 0}, {1, 1}, {2, 2}, {3, 1}},
                              {outs ? 4 : 0, outs ? 5 : 1, outs ? 7 : 3}};
-                    rb_check(c, rng, 6, 120, 0.5f);
+                    pbc::check(c, rng, 6, 120, 0.5f);
                 }
-    const RbCase others[] = {
+    const pbc::Case others[] = {
         {"magic depth 0", kOpMagic, 0, 0, 0, 0, 0, {0, 0, 0, 1.7f, 1.3f}, {{0, 0}, {1, 1}, {2, 2}}, {0, 1, 3}},
         {"magic depth 0, no distortion", kOpMagic, 0, 0, 0, 0, 0, {0, 0, 0, 1.7f, 0.0f},
          {{0, 0}, {1, 1}, {2, 2}}, {0, 1, 3}},
@@ -307,19 +211,20 @@ TEST(ProgramBoundRules, VoronoiMagicBrickInsideRandomBoxes) {
           0.4f, 0.2f, 0.3f, 0.7f},
          {{0, 0}, {1, 1}, {2, 2}, {9, 0}, {10, 1}, {11, 2}}, {0, 1, 2}},
     };
-    for (const RbCase& c : others) rb_check(c, rng, 25, 200, 0.6f);
+    for (const pbc::Case& c : others) pbc::check(c, rng, 25, 200, 0.6f);
 }
 
 // Vector Math (the operations with a rule), Mapping, Normalize, Gamma, Bright/Contrast and
 // the Math operations added with them.
 TEST(ProgramBoundRules, VectorMathMappingMathInsideRandomBoxes) {
     std::mt19937 rng(13);
-    rb_control_boxes = rb_control_exceeded = 0;
+    pbc::Tally tally;
     // in: a(3) b(3) c(3) scale
     for (int mode : {0, 1, 2, 3, 4, 5, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20, 21, 22, 23,
                      24, 25, 26, 27, 28, 29})
         for (int bpos = 0; bpos < 2; ++bpos) {
-            RbCase c{"vector math " + std::to_string(mode) + (bpos ? " b(p)" : ""), kOpVectorMath,
+            pbc::Case c{"vector math " + std::to_string(mode) + (bpos ? " b(p)" : ""),
+                        kOpVectorMath,
                      mode, 0, 0, 0, 0, {0, 0, 0, 0.7f, -1.3f, 2.1f, 0.4f, 0.2f, -0.9f, -1.7f},
                      {{0, 0}, {1, 1}, {2, 2}}, {0, 1, 3}};
             if (bpos) c.pos.insert(c.pos.end(), {{3, 2}, {4, 0}, {5, 1}});
@@ -329,18 +234,18 @@ TEST(ProgramBoundRules, VectorMathMappingMathInsideRandomBoxes) {
             const bool some = (mode == 3 && bpos) || mode == 26;
             const bool none = (mode == 15 || mode == 27) && bpos;
             if (mode == 27) c.clo = 1.5f;  // power: a base > 0 (the position), b constant
-            rb_check(c, rng, 15, 150, 0.6f, none ? 0 : some ? 2 : 1);
+            pbc::check(c, rng, 15, 150, 0.6f, none ? 0 : some ? 2 : 1, &tally);
         }
     for (int mode = 0; mode <= 3; ++mode) {
-        RbCase c{"mapping " + std::to_string(mode), kOpMapping, mode, 0, 0, 0, 0,
+        pbc::Case c{"mapping " + std::to_string(mode), kOpMapping, mode, 0, 0, 0, 0,
                  {0, 0, 0, 0.3f, -1.2f, 2.0f, 0.4f, -1.1f, 2.6f, 1.5f, -0.6f, 2.2f},
                  {{0, 0}, {1, 1}, {2, 2}}, {0, 1, 2}};
-        rb_check(c, rng, 20, 150, 0.6f);
+        pbc::check(c, rng, 20, 150, 0.6f, 1, &tally);
     }
     std::printf("control: %d of %d boxes have samples outside the inner half's bound\n",
-                rb_control_exceeded, rb_control_boxes);
-    EXPECT_GT(rb_control_exceeded, rb_control_boxes / 2);
-    const RbCase misc[] = {
+                tally.exceeded, tally.boxes);
+    EXPECT_GT(tally.exceeded, tally.boxes / 2);
+    const pbc::Case misc[] = {
         {"normalize", kOpNormalize, 0, 0, 0, 0, 0, {0, 0, 0}, {{0, 0}, {1, 1}, {2, 2}}, {0, 1, 2}},
         {"gamma 2.2", kOpGamma, 0, 0, 0, 0, 0, {0, 0, 0, 2.2f}, {{0, 0}, {1, 1}, {2, 2}}, {0, 1, 2}},
         {"gamma 0", kOpGamma, 0, 0, 0, 0, 0, {0, 0, 0, 0.0f}, {{0, 0}, {1, 1}, {2, 2}}, {0, 1, 2}},
@@ -349,10 +254,10 @@ TEST(ProgramBoundRules, VectorMathMappingMathInsideRandomBoxes) {
         {"bright contrast from p", kOpBrightContrast, 0, 0, 0, 0, 0, {0, 0, 0, -0.1f, -0.4f},
          {{0, 0}, {1, 1}, {2, 2}, {4, 1}}, {0, 1, 2}},
     };
-    for (const RbCase& c : misc) rb_check(c, rng, 20, 150, 0.6f);
+    for (const pbc::Case& c : misc) pbc::check(c, rng, 20, 150, 0.6f, 1, &tally);
     // gamma < 0 over a colour reaching 0: no bound there
-    rb_check({"gamma -1.5", kOpGamma, 0, 0, 0, 0, 0, {0, 0, 0, -1.5f}, {{0, 0}, {1, 1}, {2, 2}},
-              {0, 1, 2}}, rng, 30, 100, 0.6f, 2);
+    pbc::check({"gamma -1.5", kOpGamma, 0, 0, 0, 0, 0, {0, 0, 0, -1.5f}, {{0, 0}, {1, 1}, {2, 2}},
+              {0, 1, 2}}, rng, 30, 100, 0.6f, 2, &tally);
     // Math: a the position's x, b a constant or the position's y, c a constant
     struct M {
         int mode;
@@ -368,10 +273,11 @@ TEST(ProgramBoundRules, VectorMathMappingMathInsideRandomBoxes) {
                  {33, 0, 0, false, 1},     {35, 0, 0, true, 1},     {36, 0, 0, false, 1},
                  {37, 0, 0, false, 1},     {31, 0, 0, false, 2}};
     for (const M& mm : maths) {
-        RbCase c{"math " + std::to_string(mm.mode) + (mm.bpos ? " b(p)" : ""), kOpMath, mm.mode, 0,
+        pbc::Case c{"math " + std::to_string(mm.mode) + (mm.bpos ? " b(p)" : ""), kOpMath,
+                    mm.mode, 0,
                  0, 0, 0, {0, mm.b, mm.c}, {{0, 0}}, {0, 0, 0}};
         if (mm.bpos) c.pos.push_back({1, 1});
-        rb_check(c, rng, 30, 150, 0.6f, mm.bounded);
+        pbc::check(c, rng, 30, 150, 0.6f, mm.bounded, &tally);
     }
 }
 
@@ -387,11 +293,11 @@ TEST(ProgramBoundRules, NoiseSmokeMajorantIsTight) {
     c[31] = 0.45f;
     c[41] = 8.0f;
     std::vector<uint32_t> code;
-    rb_instr(code, kOpInput, 0, 0, 3, 0, 0);
-    rb_instr(code, kOpNoise, kNoiseFbm, 1 | 2, 3, 0, 20);
-    rb_instr(code, kOpCopy, 0, 0, 1, 20, 30);
-    rb_instr(code, kOpMath, 1, 1, 0, 30, 40);
-    rb_instr(code, kOpMath, 2, 0, 0, 40, 42);
+    pbc::instr(code, kOpInput, 0, 0, 3, 0, 0);
+    pbc::instr(code, kOpNoise, kNoiseFbm, 1 | 2, 3, 0, 20);
+    pbc::instr(code, kOpCopy, 0, 0, 1, 20, 30);
+    pbc::instr(code, kOpMath, 1, 1, 0, 30, 40);
+    pbc::instr(code, kOpMath, 2, 0, 0, 40, 42);
     in.program_code = code;
     in.program_consts = c;
     in.programs = {0u, uint32_t(code.size() / 4), 0u, 42u, uint32_t(kTargetDensity), 42u};
@@ -436,7 +342,8 @@ TEST(ProgramBoundRules, MixCurvesHsvInsideRandomBoxes) {
     // factor constant or the position's z, clamped or not
     for (int mode : {1, 2, 3, 4, 5, 6, 7, 8, 9, 11, 12, 13, 14})
         for (int variant = 0; variant < 3; ++variant) {
-            RbCase c{"mix blend " + std::to_string(mode) + " v" + std::to_string(variant), kOpMix,
+            pbc::Case c{"mix blend " + std::to_string(mode) + " v" + std::to_string(variant),
+                        kOpMix,
                      mode, variant == 2 ? 3 : 1, 0, 0, 0,
                      {0.35f, 0, 0, 0, 0, 0, 0.6f, -0.4f, 1.3f},
                      {{3, 0}, {4, 1}, {5, 2}}, {0, 1, 2}};
@@ -444,10 +351,10 @@ TEST(ProgramBoundRules, MixCurvesHsvInsideRandomBoxes) {
             if (variant == 2) c.pos.push_back({0, 2});
             // dodge: a bound for a colour >= 0 (boxes there), none where it may be negative
             if (mode == 6) {
-                rb_check(c, rng, 10, 50, 0.6f, 2);
+                pbc::check(c, rng, 10, 50, 0.6f, 2);
                 c.clo = 0.7f;
             }
-            rb_check(c, rng, 15, 150, 0.6f);
+            pbc::check(c, rng, 15, 150, 0.6f);
         }
     // Curves: in fac colour(3); a table of 5 rows (r g b c) over [lo, hi] = [-1, 2] after them
     std::vector<float> table = {0.1f, 0.9f, -0.3f, 0, 0.8f, 0.2f, 0.5f, 0, 0.3f, 1.4f, 0.1f, 0,
@@ -456,34 +363,35 @@ TEST(ProgramBoundRules, MixCurvesHsvInsideRandomBoxes) {
         for (int facpos = 0; facpos < 2; ++facpos) {
             std::vector<float> in = {0.7f, 0, 0, 0};
             in.insert(in.end(), table.begin(), table.end());  // the table at in[4]: const 12
-            RbCase c{"curves " + std::to_string(mode) + (facpos ? " fac(p)" : ""), kOpCurves, mode,
+            pbc::Case c{"curves " + std::to_string(mode) + (facpos ? " fac(p)" : ""), kOpCurves,
+                        mode,
                      0, 0, 12, 5, in, {{1, 0}, {2, 1}, {3, 2}}, {0, mode ? 0 : 1, mode ? 0 : 2}};
             if (facpos) c.pos.push_back({0, 2});
-            rb_check(c, rng, 20, 150, 0.8f);
+            pbc::check(c, rng, 20, 150, 0.8f);
         }
     // HSV in: hue sat val fac colour(3)
     for (int facpos = 0; facpos < 2; ++facpos) {
-        RbCase c{"hue saturation value", kOpHsv, 0, 0, 0, 0, 0, {0.3f, 1.4f, 0.8f, 0.9f, 0, 0, 0},
-                 {{4, 0}, {5, 1}, {6, 2}}, {0, 1, 2}};
+        pbc::Case c{"hue saturation value", kOpHsv, 0, 0, 0, 0, 0,
+                    {0.3f, 1.4f, 0.8f, 0.9f, 0, 0, 0}, {{4, 0}, {5, 1}, {6, 2}}, {0, 1, 2}};
         if (facpos) c.pos.push_back({3, 1});
-        rb_check(c, rng, 20, 150, 0.6f);
+        pbc::check(c, rng, 20, 150, 0.6f);
     }
     for (int op : {kOpSeparate, kOpCombine})
         for (int mode = 1; mode <= 2; ++mode) {
-            RbCase c{std::string(op == kOpSeparate ? "separate" : "combine") +
+            pbc::Case c{std::string(op == kOpSeparate ? "separate" : "combine") +
                          (mode == 1 ? " hsv" : " hsl"),
                      op, mode, 0, 0, 0, 0, {0, 0, 0}, {{0, 0}, {1, 1}, {2, 2}},
                      {0, op == kOpSeparate ? 2 : 1, 2}};
-            rb_check(c, rng, 20, 150, 0.6f);
+            pbc::check(c, rng, 20, 150, 0.6f);
             if (op == kOpSeparate) {
                 // its saturation needs components >= 0 (HSV) or in [0, 1] (HSL): boxes there
                 // (and none elsewhere: unbounded)
                 c.name += " (boxes in [0, 1])";
                 c.outs[1] = 1;
                 c.clo = 0.15f, c.chi = 0.85f;
-                rb_check(c, rng, 20, 150, 0.1f);
+                pbc::check(c, rng, 20, 150, 0.1f);
                 c.clo = -2.0f, c.chi = -1.0f;
-                rb_check(c, rng, 5, 10, 0.5f, 0);
+                pbc::check(c, rng, 5, 10, 0.5f, 0);
             }
         }
 }

@@ -257,6 +257,7 @@ Vec3 HostScene::color_bound(const Medium& m, const DensityGrid& g, const float l
 
 // The majorant of heterogeneous medium med whose density is grid density_grid, and its bricks.
 void HostScene::build_grid_medium(int32_t med, const std::string& name) {
+    const ProgramBoundScope bound_scope;  // the bounds below (and the bricks') share it
     Medium& m = media_[size_t(med)];
     const DensityGrid& g = grids_[size_t(m.density_grid)];
     if (m.density_prog >= 0) {

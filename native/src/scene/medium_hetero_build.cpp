@@ -7,6 +7,7 @@
 // margin, which a peak between lattice points exceeds: a bias there, with a warning).
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <string>
 #include <vector>
 
@@ -102,6 +103,35 @@ float mesh_emission_bound(const SceneView& host, const std::vector<MaterialProgr
     return e;
 }
 
+// The majorant bricks of a mesh volume's density program (volleft; scene/medium_majorant.h):
+// kMeshBricks^3 bricks over the world box [lo, hi], each the program's interval bound over
+// the brick's box widened by 2 % of a brick each way (the walk's brick and the point's may
+// differ by rounding at a face), in [0, 1e9] as medium_density clamps. False where a brick
+// has no bound or the box is flat.
+constexpr int kMeshBricks = 16;
+
+bool mesh_brick_densities(const SceneView& s, const MaterialProgram& p, int32_t med, Vec3 lo,
+                          Vec3 hi, std::vector<float>& out) {
+    const int n = kMeshBricks;
+    const Vec3 step = (hi - lo) * (1.0f / float(n));
+    if (!(step.x > 0.0f && step.y > 0.0f && step.z > 0.0f)) return false;
+    const float scale = std::fmax(std::fmax(std::fabs(lo.x), std::fabs(lo.y)),
+                                  std::fmax(std::fmax(std::fabs(lo.z), std::fabs(hi.x)),
+                                            std::fmax(std::fabs(hi.y), std::fabs(hi.z))));
+    const Vec3 margin = step * 0.02f + vec3(1e-5f * scale);
+    out.assign(size_t(n) * n * n, 0.0f);
+    for (int z = 0; z < n; ++z)
+        for (int y = 0; y < n; ++y)
+            for (int x = 0; x < n; ++x) {
+                const Vec3 a = lo + step * Vec3{float(x), float(y), float(z)};
+                Interval r[3];
+                if (!program_bound(s, p, med, a - margin, a + step + margin, r, 1)) return false;
+                const float d = r[0].hi <= 2e-30f ? 0.0f : std::fmin(r[0].hi, 1e9f);
+                out[(size_t(z) * n + size_t(y)) * n + size_t(x)] = d;
+            }
+    return true;
+}
+
 }  // namespace
 
 int32_t HostScene::density_program(size_t material) const {
@@ -121,6 +151,7 @@ int32_t HostScene::program_of(size_t material, int32_t target) const {
 // is not affine in position (a deformed mesh, or two objects of different texture spaces
 // sharing the material): that channel then reads its best affine fit.
 void HostScene::build_hetero(int32_t med, size_t material, const std::string& name) {
+    const ProgramBoundScope bound_scope;  // the bounds below scan each image texture once
     Medium& m = media_[size_t(med)];
     const int nch = num_attribute_channels_;
     std::vector<uint32_t> verts;
@@ -238,6 +269,33 @@ void HostScene::build_hetero(int32_t med, size_t material, const std::string& na
     // emission is estimated at them (one per bounding-box diagonal on average)
     if (m.emits && !(m.majorant > 0.0f) && !verts.empty())
         m.majorant = 1.0f / std::max(length(hi - lo), 1e-6f);
+    // majorant bricks over the mesh's box (a density program with a bound; not where a colour
+    // program or emission takes part: they keep the one majorant), as a Volume object's grid
+    // has (LANTERN_MAJORANT_BRICKS=0: none, the one majorant)
+    const char* bricks = std::getenv("LANTERN_MAJORANT_BRICKS");
+    std::vector<float> dens;
+    if (mesh_program && bound >= 0.0f && m.majorant > 0.0f && !m.emits && m.color_prog < 0 &&
+        m.absorb_prog < 0 && !(bricks && std::string(bricks) == "0") &&
+        mesh_brick_densities(host, programs_[size_t(m.density_prog)], med, lo, hi, dens)) {
+        const float step[3] = {(hi.x - lo.x) / kMeshBricks, (hi.y - lo.y) / kMeshBricks,
+                               (hi.z - lo.z) / kMeshBricks};
+        const float o[3] = {lo.x, lo.y, lo.z};
+        MajorantGrid mg{};
+        for (int r = 0; r < 3; ++r) {
+            mg.world_to_brick.m[r][r] = 1.0f / step[r];
+            mg.world_to_brick.m[r][3] = -o[r] / step[r];
+        }
+        mg.nx = mg.ny = mg.nz = kMeshBricks;
+        mg.offset = majorant_values_.size();
+        mg.outside = m.majorant;  // past the box (rounding at its faces): the medium's bound
+        const Vec3 unit = m.sigma_a + m.sigma_s, base = m.sigma_a0 + m.sigma_s0;
+        for (float d : dens) majorant_values_.push_back(max_component(base + unit * d));
+        m.majorant_grid = int32_t(majorant_grids_.size());
+        majorant_grids_.push_back(mg);
+        view_.majorant_grids = majorant_grids_.data();
+        view_.majorant_values = majorant_values_.data();
+        view_.num_majorant_grids = int32_t(majorant_grids_.size());
+    }
 }
 
 }  // namespace lantern

@@ -4,8 +4,9 @@
 // at the four corners, tables over the rows the input reaches); an op without a rule, or a
 // register read before it is written, makes the bound fail. Procedural textures: Gradient,
 // Wave, White Noise, Checker, Noise (every type), Voronoi, Magic and Brick have rules from
-// their formulas (material_program_tex.h, material_program_noise.h; the textures' rules in
-// program_bound_noise.cpp and program_bound_tex.cpp, scene/program_bound_rules.h).
+// their formulas (material_program_tex.h, material_program_noise.h), the Image Texture from
+// its texels' range; the textures' rules in program_bound_noise.cpp, program_bound_tex.cpp
+// and program_bound_image.cpp (scene/program_bound_rules.h).
 #include "scene/program_bound.h"
 #include "scene/program_bound_rules.h"
 
@@ -142,7 +143,12 @@ int out_width(const NodeInstr& n) {
     }
 }
 
+thread_local ProgramBoundCache* t_scope_cache = nullptr;
+
 }  // namespace
+
+ProgramBoundScope::ProgramBoundScope() : outer_(t_scope_cache) { t_scope_cache = &cache; }
+ProgramBoundScope::~ProgramBoundScope() { t_scope_cache = outer_; }
 
 void grid_range(const SceneView& s, const DensityGrid& g, Vec3 lo, Vec3 hi, Interval out[3]) {
     Reg q[3];
@@ -191,7 +197,9 @@ void grid_range(const SceneView& s, const DensityGrid& g, Vec3 lo, Vec3 hi, Inte
 }
 
 bool program_bound(const SceneView& s, const MaterialProgram& p, int32_t med, Vec3 lo, Vec3 hi,
-                   Interval out[3], int channels) {
+                   Interval out[3], int channels, ProgramBoundCache* cache) {
+    ProgramBoundCache own;
+    if (!cache) cache = t_scope_cache ? t_scope_cache : &own;
     for (int c = 0; c < 3; ++c) out[c] = Interval{-kInfBound, kInfBound};
     Reg r[kProgramRegs];
     for (Reg& x : r) x = unknown();
@@ -354,6 +362,7 @@ bool program_bound(const SceneView& s, const MaterialProgram& p, int32_t med, Ve
             break;
         }
         case kOpMapping: mapping_rule(n, a, t); break;
+        case kOpImage: image_rule(s, n, a, t, *cache); break;
         case kOpNormalize:  // a unit vector or 0 (of a finite vector)
             if (a[0].known && a[1].known && a[2].known)
                 for (int k = 0; k < 3; ++k) t[k] = make(-1.0000011f, 1.0000011f);

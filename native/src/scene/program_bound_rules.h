@@ -2,7 +2,7 @@
 // (host only, internal to the bound): Reg, one register's interval, and the rules of the
 // procedural textures (program_bound_noise.cpp: the Noise Texture, every type;
 // program_bound_tex.cpp: Voronoi, Magic, Brick, Vector Math, Mapping, Mix, Curves, HSV,
-// Separate / Combine).
+// Separate / Combine; program_bound_image.cpp: the Image Texture).
 // A rule writes the intervals of its op's outputs (t[0..8)); an output it leaves unknown fails
 // the bound where it is read.
 #pragma once
@@ -12,6 +12,7 @@
 #include <limits>
 
 #include "scene/material_program.h"
+#include "scene/program_bound.h"
 
 namespace lantern {
 namespace bound {
@@ -89,6 +90,9 @@ void mix_rule(const NodeInstr& n, const Reg* a, Reg* t);
 void curves_rule(const NodeInstr& n, const Reg* a, Reg* t, const float* table);
 void hsv_rule(const NodeInstr& n, const Reg* a, Reg* t);
 void hsx_rule(const NodeInstr& n, const Reg* a, Reg* t);  // Separate / Combine
+// the Image Texture (program_bound_image.cpp): its texels' range over the coordinates' box
+void image_rule(const SceneView& s, const NodeInstr& n, const Reg* a, Reg* t,
+                ProgramBoundCache& cache);
 
 }  // namespace bound
 }  // namespace lantern
