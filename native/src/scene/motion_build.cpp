@@ -178,12 +178,9 @@ void HostScene::build_motion(const SceneInput& in) {
     // is then (pt_sss.h, bdpt_sss.h). Volumes: every ray of a path through media carries its
     // time (pt_volume.h), and a rigidly moving mesh whose media are homogeneous crosses into
     // them where it is then (pt_cross_boundary); one with a heterogeneous medium (its fits and
-    // density are the frame's) or that deforms stays where it was exported.
-    if (!media_.empty() && !curve_keys_.empty()) {  // (moving strands in media: not tested yet)
-        drop_curve_motion();
-        warnings_.push_back("strands are not motion-blurred in a scene with volumes (rendered "
-                            "where they were exported)");
-    }
+    // density are the frame's) or that deforms stays where it was exported. Moving strands in
+    // media: every medium ray, shadow segment and connection carries the path's time
+    // (MotionView::rays_timed), so the curve queries place them there (test_motion_media_strands.py).
     // 0: no medium; 1: homogeneous media only; 2: a heterogeneous one
     auto bounds_volume = [&](const MeshRange& r) {
         int kind = 0;
