@@ -411,6 +411,19 @@ void HostScene::build_motion(const SceneInput& in) {
     view_.motion.medium_objects = motion_media_.empty() ? nullptr : motion_media_.data();
     const char* untimed = std::getenv("LANTERN_TEST_UNTIMED_MEDIA");  // (MotionView)
     view_.motion.media_untimed = untimed && std::string(untimed) == "1" ? 1 : 0;
+    // the light tree's bounds take in where moving emitters go over the shutter (as the
+    // frame's bounds alone sampled a light that moves far from them with a poor importance);
+    // LANTERN_LIGHT_TREE_SHUTTER=0 keeps the frame's, for benchmarks (bench/light_tree_motion.py)
+    const char* shutter_env = std::getenv("LANTERN_LIGHT_TREE_SHUTTER");
+    std::vector<Vec3> shutter;
+    if (light_tree_on_ && !(shutter_env && std::string(shutter_env) == "0") &&
+        light_shutter_boxes(view_, lights_, shutter)) {
+        build_light_tree(lights_, positions_, indices_, light_tree_, &shutter);
+        view_.light_tree = light_tree_.nodes.data();
+        view_.num_tree_nodes = int32_t(light_tree_.nodes.size());
+        view_.distant_lights = light_tree_.distant.empty() ? nullptr : light_tree_.distant.data();
+        view_.num_distant_lights = int32_t(light_tree_.distant.size());
+    }
     // camera rays start in the frame's medium: a moving volume that may reach the camera says so
     for (const ObjectMotion& o : motion_objects_) {
         if (std::find(volumes.begin(), volumes.end(), o.mesh) == volumes.end()) continue;
