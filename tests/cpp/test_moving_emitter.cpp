@@ -140,3 +140,65 @@ TEST(MovingEmitter, StillEmitterIgnoresTheTime) {
     EXPECT_EQ(a.p_light.y, b.p_light.y);
     EXPECT_EQ(a.p_light.z, b.p_light.z);
 }
+
+// The light tree's bounds over the shutter (docs/motion_blur.md "A moving emitter"): beside a
+// still point light (so that the tree is built), the moving lamp's leaf holds its triangle at
+// every time, not only where it was exported; the still lamp's leaf is its frame's box.
+TEST(MovingEmitter, LightTreeLeafHoldsTheShutter) {
+    for (bool moves : {true, false}) {
+        SceneInput in = moving_lamp_scene(moves);
+        LightInput pl;
+        pl.type = "point";
+        pl.position = vec3(3.0f, 3.0f, 4.0f);
+        pl.power = vec3(10.0f);
+        in.lights.push_back(pl);
+        HostScene hs(in);
+        const SceneView& v = hs.view();
+        ASSERT_TRUE(v.light_tree_on);
+        const Light& l = moving_lamp_light(v);
+        ASSERT_GE(l.tree_leaf, 0);
+        const LightTreeNode& leaf = v.light_tree[l.tree_leaf];
+        int outside = 0;
+        for (int k = 0; k <= 40; ++k) {
+            const double t = k / 40.0;
+            for (int j = 0; j < 3; ++j) {
+                const Vec3 c = moving_lamp_corner(moves ? t : 0.5, j);
+                const float e = 1e-4f;
+                outside += c.x < leaf.lo.x - e || c.y < leaf.lo.y - e || c.z < leaf.lo.z - e ||
+                           c.x > leaf.hi.x + e || c.y > leaf.hi.y + e || c.z > leaf.hi.z + e;
+            }
+        }
+        EXPECT_EQ(outside, 0) << (moves ? "moving" : "still");
+        // the root holds the leaf, and the still lamp's box is its triangle's own
+        EXPECT_LE(v.light_tree[0].lo.x, leaf.lo.x);
+        EXPECT_GE(v.light_tree[0].hi.x, leaf.hi.x);
+        float lo_x = 1e30f, hi_x = -1e30f;  // the frame's triangle
+        for (int j = 0; j < 3; ++j) {
+            lo_x = ::fminf(lo_x, moving_lamp_corner(0.5, j).x);
+            hi_x = ::fmaxf(hi_x, moving_lamp_corner(0.5, j).x);
+        }
+        if (!moves) {
+            EXPECT_NEAR(leaf.lo.x, lo_x, 1e-5f);
+            EXPECT_NEAR(leaf.hi.x, hi_x, 1e-5f);
+        } else {  // control: the frame's triangle alone is far narrower than the slide's box
+            EXPECT_GT(leaf.hi.x - leaf.lo.x, (hi_x - lo_x) + 1.5f);
+        }
+    }
+}
+
+// Under -DLANTERN_RNG_PCG (bench/qmc_noise.py) Rng is Pcg32: the path's time must not change as
+// its stages draw numbers (they recompute it: nothing is stored per slot), and paths differ.
+TEST(MovingEmitter, PcgStreamTimeSurvivesDraws) {
+    Pcg32 a = Pcg32::for_path(7, 3, 11);
+    const float t = motion_time(a);
+    const uint64_t start = a.state;
+    for (int k = 0; k < 37; ++k) a.uniform();
+    EXPECT_EQ(motion_time(a), t);
+    EXPECT_NE(a.state, start);  // (the state the time was once hashed from has moved on)
+    EXPECT_EQ(motion_time(Pcg32::for_path(7, 3, 11)), t);
+    int same = 0;
+    for (uint64_t p = 0; p < 64; ++p) same += motion_time(Pcg32::for_path(7, 3, p)) == t;
+    EXPECT_EQ(same, 1);  // only path 11's
+    EXPECT_GE(t, 0.0f);
+    EXPECT_LT(t, 1.0f);
+}

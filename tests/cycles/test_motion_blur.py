@@ -4,22 +4,29 @@ with tools/render_compare.py's settings, compared by lantern.metrics.assert_agre
 per 8x8 block and channel, image and block-weighted means within the bias cap plus noise, and
 the negative controls that must fail):
 
-- slide: a cube sliding across the frame (linear keys), 2.5 m over the shutter (about three
-  8x8 blocks: the blocks see a blur that stays within one block only as its mean);
-- spin: a 2.4 x 0.4 m box spinning about its vertical axis, 90 degrees over the shutter;
-- camera: the camera sliding sideways over the static stage, 2 m over the shutter;
-- parented: a cube on an arc, its parent turning 120 degrees over the shutter, 5 steps;
+- slide: a cube sliding across the frame, 3.7 m over the shutter (about four 8x8 blocks: the
+  blocks see a blur that stays within one block only as its mean);
+- spin: a 2.4 x 0.4 m box spinning about its vertical axis, 132 degrees over the shutter;
+- camera: the camera sliding sideways over the static stage, 2.9 m over the shutter;
+- parented: a cube on an arc, its parent turning 176 degrees over the shutter, 5 steps;
 - slide_start, slide_end: the slide with the shutter's Position Start and End (each against
   Cycles' own, and the two must differ from each other);
 - shape_key: deformation, a shape key shearing the cube (its top 1 m along x over the shutter);
-  shape_key_slide: the same while the cube slides 1 m along y (deformation and transform);
+  shape_key_slide: the same while the cube slides 1.5 m along y (deformation and transform);
 - negative controls: Lantern with motion blur off must not agree with Cycles' blurred slide,
   nor with the cube's Deformation off against Cycles' sheared one;
 - the bidirectional integrators (issue 32): cis on the slide against the same Cycles renders
   (lvc and cis as SPP passes of one sample: they draw one shutter time per pass) in CI; bdpt on
   the sheared, sliding cube, lvc on the camera and cis on the spin marked long (measured
   2026-12-05: all four agree, detecting 0.42-0.51 %, every control caught).
-Bad input (a singular or NaN matrix at a step) is tests/python/test_motion_blur.py's."""
+Bad input (a singular or NaN matrix at a step) is tests/python/test_motion_blur.py's.
+
+The transform keys (_keys) are Bezier: bpy 5.0.1's keyframe_insert leaves them Bezier whatever
+keyframe_new_interpolation_type says (checked: a key pair -5 -> 5 over frames 0 -> 2 puts the
+cube at -1.836 at frame 0.75, not a linear key's -2.5), so each motion eases in and out, and
+over the 0.5-frame shutter around frame 1 it covers 0.367 of its keys' range, not 0.25 (the
+distances above). Both renderers read the same evaluated matrices, so the comparison holds; the
+shape key's own keys are set linear (sheared)."""
 
 import math
 import os
@@ -84,7 +91,7 @@ def _stage(scene):
 
 
 def _keys(obj, path, index, values):
-    """Linear keys at frames 0 and 2 (the render is at frame 1, mid-motion)."""
+    """Keys at frames 0 and 2 (the render is at frame 1, mid-motion); Bezier (module docstring)."""
     for frame, v in zip((0, 2), values):
         getattr(obj, path)[index] = v
         obj.keyframe_insert(path, index=index, frame=frame)
@@ -93,7 +100,7 @@ def _keys(obj, path, index, values):
 def slide(position="CENTER", blur=True):
     scene = _reset(position, blur)
     cube, _ = _stage(scene)
-    _keys(cube, "location", 0, (-5.0, 5.0))   # 5 m a frame: 2.5 m (~3 blocks) over the shutter
+    _keys(cube, "location", 0, (-5.0, 5.0))   # Bezier: 3.7 m (~4 blocks) over the shutter
     scene.frame_set(1)
 
 
@@ -101,19 +108,19 @@ def spin():
     scene = _reset()
     cube, _ = _stage(scene)
     cube.scale = (2.4, 0.4, 1.0)
-    _keys(cube, "rotation_euler", 2, (0.0, 2.0 * math.pi))  # 90 degrees over the shutter
+    _keys(cube, "rotation_euler", 2, (0.0, 2.0 * math.pi))  # 132 degrees over the shutter
     scene.frame_set(1)
 
 
 def camera():
     scene = _reset()
     _, cam = _stage(scene)
-    _keys(cam, "location", 0, (-4.0, 4.0))  # 2 m over the shutter
+    _keys(cam, "location", 0, (-4.0, 4.0))  # 2.9 m over the shutter
     scene.frame_set(1)
 
 
 def parented():
-    """A cube parented to an empty that turns 120 degrees over the shutter, 1.5 m off its axis
+    """A cube parented to an empty that turns 176 degrees over the shutter, 1.5 m off its axis
     (an arc: Cycles interpolates the child's world matrix, translation along the chords), with
     Motion Steps 2 (5 steps)."""
     scene = _reset()
@@ -131,7 +138,7 @@ def parented():
 def sheared(moves=False, deform=True):
     """Deformation: a shape key that shears the cube, its top face 4 m along x at value 1,
     keyed 0 -> 1 over frames 0 -> 2 (linear): the top slides 1 m over the shutter while the
-    bottom stays; `moves`: the cube also slides 2 m along y a frame (combined motion);
+    bottom stays; `moves`: the cube also slides 1.5 m along y over the shutter (Bezier keys);
     `deform` False: the object's Deformation blur off (the negative control)."""
     scene = _reset()
     cube, _ = _stage(scene)

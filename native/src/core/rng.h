@@ -14,12 +14,14 @@ namespace lantern {
 struct Pcg32 {
     uint64_t state = 0;
     uint64_t inc = 1;
+    uint64_t key = 0;  // the stream's starting state, never changed by draws (motion_time's)
 
     LANTERN_HD static Pcg32 for_path(uint64_t seed, uint64_t iteration, uint64_t path) {
         Pcg32 r;
         r.inc = (mix64(seed * 0x632BE59BD9B4E019ull + iteration) << 1u) | 1u;
         r.state = mix64(mix64(seed ^ 0xA0761D6478BD642Full) + iteration * 0xE7037ED1A0B428DBull
                         + path);
+        r.key = r.state;
         r.next();
         return r;
     }

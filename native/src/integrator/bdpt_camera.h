@@ -7,6 +7,7 @@
 #include "integrator/bdpt_common.h"
 #include "integrator/bdpt_curve.h"
 #include "integrator/bdpt_medium.h"
+#include "integrator/bdpt_motion.h"  // bdpt_emitter_time
 #include "integrator/pixel_conn.h"
 #include "integrator/soft_light_path.h"
 #include "integrator/terminator.h"
@@ -83,7 +84,7 @@ LANTERN_HD inline void bdpt_camera_nee(const SceneView& s, const PathState& ps,
     if (!(pick.pmf > 0.0f)) return;
     const Light& l = s.lights[pick.light];
     // (a moving emitter: where it is at the path's time, its densities then)
-    const float time = s.motion.num_objects > 0 ? bdpt_time(st, path) : 0.0f;
+    const float time = bdpt_emitter_time(s, st, path);
     LightSample ls = sample_light(s, l, z.h.p, u_light, time);
     // geo_side false: a smooth mesh's light from under its face (integrator/terminator.h),
     // which no other technique samples (z's BSDF keeps to the face's side; a light path reaching
@@ -512,7 +513,7 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
             const float pick = s.light_tree_on ? light_pick_pmf(s, li, ps.prev_p[i], ps.prev_n[i])
                                                : l.nee_pdf;  // at the previous vertex
             // (a moving emitter: its densities at the path's time, where it was hit)
-            const float time = s.motion.num_objects > 0 ? bdpt_time(st, path) : 0.0f;
+            const float time = bdpt_emitter_time(s, st, path);
             float pdf_direct = pick * light_pdf_w_at(s, l, o_prev, d, t_hit, z.h.ng, time) *
                                cos_in / (t_hit * t_hit);
             float pdf_emit = l.emit_pick_pdf * emission_pdf(s, l, z.h.ng, -d, time).pdf_emit;

@@ -20,6 +20,7 @@
 #include "integrator/bdpt_curve.h"  // strand vertices (the connection's cosines)
 #include "integrator/bdpt_medium.h"
 #include "integrator/bdpt_medium_light.h"  // the light pass
+#include "integrator/bdpt_motion.h"        // bdpt_emitter_time
 
 namespace lantern {
 
@@ -157,7 +158,7 @@ LANTERN_HD inline void bdpt_camera_medium_nee(const SceneView& s, const PathStat
     if (!(pick.pmf > 0.0f)) return;
     const Light& l = s.lights[pick.light];
     // a moving emitter where it is at the camera path's time (its shadow ray's time too)
-    const float time = s.motion.num_objects > 0 ? bdpt_time(st, path) : 0.0f;
+    const float time = bdpt_emitter_time(s, st, path);
     const LightSample ls = sample_light(s, l, z.h.p, u_light, time);
     if (!ls.valid || is_black(ls.le)) return;
     const float ph = hg_phase(s.media[z.medium_vertex].g, dot(-z.wo_w, ls.wi));

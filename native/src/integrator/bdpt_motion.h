@@ -19,6 +19,14 @@ LANTERN_HD inline float bdpt_time(const BdptSettings& st, int64_t path) {
                : motion_pass_time(st.seed, st.iteration);
 }
 
+// The time at which path `path` meets a moving emitter (its next event's light sample, an
+// emission hit's densities: scene/lights.h): bdpt_time where meshes move, else 0 (unread:
+// lights do not move, and still scenes skip the time's hashing).
+LANTERN_HD inline float bdpt_emitter_time(const SceneView& s, const BdptSettings& st,
+                                          int64_t path) {
+    return s.motion.num_objects > 0 ? bdpt_time(st, path) : 0.0f;
+}
+
 // A triangle's hit for path `path`: moved to its time where meshes move.
 LANTERN_HD inline SurfaceHit bdpt_surface(const SceneView& s, const BdptSettings& st,
                                           int64_t path, int tri, Vec2 uv, Vec3 d) {

@@ -73,15 +73,4 @@ CurveSeg curve_key(const CurveInput& c, int steps, int32_t i, int k, int shared)
     return g;
 }
 
-void HostScene::drop_curve_motion() {
-    for (CurveSeg& g : curve_segs_) g.flags &= ~kCurveMoves;
-    curve_keys_.clear();
-    curve_keys_.shrink_to_fit();
-    curve_steps_ = 0;
-    view_.curves.keys = CurveKeys{};
-    curve_sets_.clear();
-    view_.curves.sets = nullptr;
-    view_.curves.num_sets = 0;
-}
-
 }  // namespace lantern

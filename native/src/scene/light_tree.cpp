@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "scene/lights.h"  // triangle_vertex
+
 namespace lantern {
 namespace {
 
@@ -229,8 +231,51 @@ private:
 
 }  // namespace
 
+bool light_shutter_boxes(const SceneView& v, const std::vector<Light>& lights,
+                         std::vector<Vec3>& boxes) {
+    boxes.assign(2 * lights.size(), vec3(0.0f));
+    for (size_t k = 0; k < lights.size(); ++k) {
+        boxes[2 * k] = vec3(kInf);
+        boxes[2 * k + 1] = vec3(-kInf);
+    }
+    if (v.motion.num_objects == 0) return false;
+    const MotionView& mv = v.motion;
+    std::vector<std::vector<Transform>> at(size_t(mv.num_objects));  // per object, per time
+    bool any = false;
+    for (size_t k = 0; k < lights.size(); ++k) {
+        const Light& l = lights[k];
+        if (l.type != kLightTriangle) continue;
+        const ObjectMotion* o = object_motion_of(mv, l.triangle);
+        if (!o) continue;
+        const int samples = (std::max(2, o->num_steps) - 1) * 16;
+        std::vector<Transform>& m = at[size_t(o - mv.objects)];
+        if (m.empty())
+            for (int s = 0; s <= samples; ++s)
+                m.push_back(object_motion_to_world(mv, *o, float(s) / float(samples)));
+        const DeformMesh* dm = deform_of(mv, *o);
+        Vec3 lo = vec3(kInf), hi = vec3(-kInf);
+        for (int s = 0; s <= samples; ++s) {
+            Vec3 c[3];
+            for (int j = 0; j < 3; ++j) c[j] = triangle_vertex(v, l.triangle, j);
+            if (dm) deform_triangle(mv, *dm, l.triangle, float(s) / float(samples), c);
+            for (int j = 0; j < 3; ++j) {
+                const Vec3 p = m[size_t(s)].point(c[j]);
+                lo = vmin(lo, p);
+                hi = vmax(hi, p);
+            }
+        }
+        if (!(lo.x <= hi.x && lo.y <= hi.y && lo.z <= hi.z) || !is_finite(lo) || !is_finite(hi))
+            continue;
+        boxes[2 * k] = lo;
+        boxes[2 * k + 1] = hi;
+        any = true;
+    }
+    return any;
+}
+
 void build_light_tree(std::vector<Light>& lights, const std::vector<Vec3>& positions,
-                      const std::vector<uint32_t>& indices, LightTreeStorage& out) {
+                      const std::vector<uint32_t>& indices, LightTreeStorage& out,
+                      const std::vector<Vec3>* shutter) {
     out.nodes.clear();
     out.distant.clear();
     std::vector<Prim> prims;
@@ -247,6 +292,10 @@ void build_light_tree(std::vector<Light>& lights, const std::vector<Vec3>& posit
             out.distant.push_back(int32_t(k));
         } else {
             Prim p{int32_t(k), light_bounds(l, positions, indices), vec3(0.0f)};
+            if (shutter && (*shutter)[2 * k].x <= (*shutter)[2 * k + 1].x) {  // it moves
+                p.b.lo = vmin(p.b.lo, (*shutter)[2 * k]);
+                p.b.hi = vmax(p.b.hi, (*shutter)[2 * k + 1]);
+            }
             p.centroid = (p.b.lo + p.b.hi) * 0.5f;
             l.tree_energy = p.b.energy;
             prims.push_back(p);

@@ -68,14 +68,18 @@ struct MotionView {
 // "motion blur"): the 1D Owen-scrambled Sobol' sequence of the path's sample index under its own
 // scramble, so that a pixel's times are stratified and no existing draw changes ----
 constexpr uint32_t kMotionTimeSalt = 0x54494D45u;  // "TIME"
+// The PCG stream's (-DLANTERN_RNG_PCG, bench/qmc_noise.py's Rng): a hash of its starting state,
+// which no draw changes (its `state` does: stages that recompute the time after drawing would
+// each see another time)
+LANTERN_HD inline float motion_time(const Pcg32& rng) {
+    return bits_to_unit(uint32_t(mix64(rng.key ^ kMotionTimeSalt)));
+}
+#ifndef LANTERN_RNG_PCG
 LANTERN_HD inline float motion_time(const Rng& rng) {
-#ifdef LANTERN_RNG_PCG
-    return bits_to_unit(uint32_t(mix64(rng.state ^ kMotionTimeSalt)));
-#else
     const uint32_t seed = rng.seed ^ kMotionTimeSalt;
     return bits_to_unit(sobol_owen(sobol_shuffled(rng.rindex, seed, 0), seed, 0));
-#endif
 }
+#endif
 
 // lvc, cis (their light-vertex cache is shared by every path of a pass): one time per pass, the
 // same 1D sequence over the pass's index (BdptSettings::iteration) under a scramble of the

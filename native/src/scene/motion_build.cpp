@@ -178,12 +178,9 @@ void HostScene::build_motion(const SceneInput& in) {
     // is then (pt_sss.h, bdpt_sss.h). Volumes: every ray of a path through media carries its
     // time (pt_volume.h), and a rigidly moving mesh whose media are homogeneous crosses into
     // them where it is then (pt_cross_boundary); one with a heterogeneous medium (its fits and
-    // density are the frame's) or that deforms stays where it was exported.
-    if (!media_.empty() && !curve_keys_.empty()) {  // (moving strands in media: not tested yet)
-        drop_curve_motion();
-        warnings_.push_back("strands are not motion-blurred in a scene with volumes (rendered "
-                            "where they were exported)");
-    }
+    // density are the frame's) or that deforms stays where it was exported. Moving strands in
+    // media: every medium ray, shadow segment and connection carries the path's time
+    // (MotionView::rays_timed), so the curve queries place them there (test_motion_media_strands.py).
     // 0: no medium; 1: homogeneous media only; 2: a heterogeneous one
     auto bounds_volume = [&](const MeshRange& r) {
         int kind = 0;
@@ -414,6 +411,19 @@ void HostScene::build_motion(const SceneInput& in) {
     view_.motion.medium_objects = motion_media_.empty() ? nullptr : motion_media_.data();
     const char* untimed = std::getenv("LANTERN_TEST_UNTIMED_MEDIA");  // (MotionView)
     view_.motion.media_untimed = untimed && std::string(untimed) == "1" ? 1 : 0;
+    // the light tree's bounds take in where moving emitters go over the shutter (as the
+    // frame's bounds alone sampled a light that moves far from them with a poor importance);
+    // LANTERN_LIGHT_TREE_SHUTTER=0 keeps the frame's, for benchmarks (bench/light_tree_motion.py)
+    const char* shutter_env = std::getenv("LANTERN_LIGHT_TREE_SHUTTER");
+    std::vector<Vec3> shutter;
+    if (light_tree_on_ && !(shutter_env && std::string(shutter_env) == "0") &&
+        light_shutter_boxes(view_, lights_, shutter)) {
+        build_light_tree(lights_, positions_, indices_, light_tree_, &shutter);
+        view_.light_tree = light_tree_.nodes.data();
+        view_.num_tree_nodes = int32_t(light_tree_.nodes.size());
+        view_.distant_lights = light_tree_.distant.empty() ? nullptr : light_tree_.distant.data();
+        view_.num_distant_lights = int32_t(light_tree_.distant.size());
+    }
     // camera rays start in the frame's medium: a moving volume that may reach the camera says so
     for (const ObjectMotion& o : motion_objects_) {
         if (std::find(volumes.begin(), volumes.end(), o.mesh) == volumes.end()) continue;

@@ -307,7 +307,6 @@ private:
     void add_curve_prims();                    // ... and their per-primitive entries
     // scene/curve_motion.cpp: curves k's steps (0: still; a warning where they are unusable)
     int curve_input_steps(const CurveInput& c, const std::string& who);
-    void drop_curve_motion();                  // still strands (motion blur not rendered)
 
     std::vector<Vec3> positions_, normals_;
     std::vector<Vec2> uvs_;
