@@ -81,6 +81,8 @@ LANTERN_HD inline void bdpt_camera_nee(const SceneView& s, const PathState& ps,
     Vec2 u_light = rng.uniform2();
     const LightPick pick = light_pick(s, z.h.p, z.n_pick, u_pick.x);
     if (!(pick.pmf > 0.0f)) return;
+    // light linking: nothing from a light that does not light z (bidir_linking.h)
+    if (s.light_receivers && !bidir_links(s, pick.light, z.tri)) return;
     const Light& l = s.lights[pick.light];
     // (a moving emitter: where it is at the path's time, its densities then)
     const float time = s.motion.num_objects > 0 ? bdpt_time(st, path) : 0.0f;
@@ -124,6 +126,10 @@ LANTERN_HD inline void bdpt_camera_nee(const SceneView& s, const PathState& ps,
                                       : camera_conn_dvcm(st, z.dvcm, z.depth);
     float w_camera =
         geo_side ? mis(st.r * pdf_lp / pdf_nee) * (dvcm_z + z.dvc * mis(e.pdf_rev_w)) : 0.0f;
+    if (s.light_blockers) {  // shadow linking: the shadow ray's linked query (bidir_linking.h)
+        if (ps.shadow_light) ps.shadow_light[i] = pick.light;
+        if (bidir_nee_only(s, pick.light)) w_light = w_camera = 0.0f;  // the only technique
+    }
     float w = 1.0f / (w_light + 1.0f + w_camera);
     float cos_i = fabsf(dot(ls.wi, z.h.ns));
     Vec3 c = z.beta * e.f * ls.le * (cos_i * w / pdf_light_w);
@@ -504,9 +510,10 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
     }
     // emission of a mesh light at the hit
     const Material& m = *z.m;
-    if (!is_black(m.emission)) {
+    const int li_hit = s.tri_light ? s.tri_light[tri] : -1;
+    if (!is_black(m.emission) && bidir_emission_counts(s, ps, i, li_hit)) {  // (linking)
         float w = 1.0f, nee = 0.0f;
-        int li = s.tri_light ? s.tri_light[tri] : -1;
+        const int li = li_hit;
         if (z.depth > 1 && li >= 0) {
             const Light& l = s.lights[li];
             const float pick = s.light_tree_on ? light_pick_pmf(s, li, ps.prev_p[i], ps.prev_n[i])
@@ -564,6 +571,7 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
             bs.dvc[i] = dvc;
             set_next_ray(ps, i, z.h.p, z.h.ng, wi, b.delta ? 0.0f : b.pdf_fwd_w,
                          s.offset_scale);
+            pt_set_receiver(s, ps, i, tri);  // light linking: this vertex receives (s = 0)
             ps.prev_p[i] = z.h.p;  // (and for a soft-falloff light's weight: its normal)
             bs.prev_ng[i] = z.h.ng;
             if (s.light_tree_on || media) ps.prev_n[i] = z.n_pick;

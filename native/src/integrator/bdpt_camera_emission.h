@@ -6,6 +6,7 @@
 
 #include "integrator/bdpt_common.h"
 #include "integrator/bdpt_curve.h"
+#include "integrator/bidir_linking.h"
 #include "integrator/bdpt_medium.h"
 #include "integrator/bdpt_motion.h"
 #include "integrator/pixel_conn.h"
@@ -125,6 +126,7 @@ LANTERN_HD inline void bdpt_camera_emission(const SceneView& s, const PathState&
     for (int k = 0; k < s.num_hittable_lights; ++k) {
         const Light& l = s.lights[s.hittable_lights[k]];
         if (camera && !l.visible_camera) continue;
+        if (!bidir_emission_counts(s, ps, i, s.hittable_lights[k])) continue;  // (linking)
         LightHit h = intersect_light(l, o, d, ps.ray_tmin[i], t_end);
         if (!h.hit || is_black(h.le)) continue;
         float nee = 0.0f;
@@ -143,6 +145,7 @@ LANTERN_HD inline void bdpt_camera_emission(const SceneView& s, const PathState&
                                     dot(d, -l.direction) < l.cos_sun))
             continue;  // a sun lamp is hidden from the camera; the world's disc (of_world) not
         if (l.type == kLightWorld && camera && !l.visible_camera) continue;
+        if (!bidir_emission_counts(s, ps, i, s.miss_lights[k])) continue;  // (linking)
         float nee = 0.0f;
         float w = bdpt_emission_weight(s, ps, bs, st, i, l, kInf, vec3(0.0f), &nee);
         Vec3 le = l.type == kLightWorld ? world_radiance(s, l, d) : l.radiance;
