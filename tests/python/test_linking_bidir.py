@@ -14,7 +14,10 @@ estimation's; max_depth 4 (indirect light):
   slab (a red square over the floor's left). Next-event estimation is the only technique for
   paths whose vertex next to the light scatters off a non-delta lobe; through the glass (a
   delta lobe) the usual weights stay. bdpt, lvc, cis against pt; lt hands the scene to pt (light
-  tracing alone cannot see the lamp past the slab), with the same bits."""
+  tracing alone cannot see the lamp past the slab), with the same bits.
+- Cast Shadow off on the lamp instead (the slab shadows it as usual): Cycles' mix of next-event
+  estimation, unoccluded, and BSDF sampling, occluded, by pt's weights; bdpt, lvc, cis against
+  pt, the lamp with shadows the control."""
 import numpy as np
 import pytest
 
@@ -86,6 +89,15 @@ def shadow_linked(linked=True):
     return s
 
 
+def no_shadow(linked=True):
+    """The shadow-linking room with the lamp's Cast Shadow off instead (the quad casts its
+    shadows): pt's two weights, next-event estimation unoccluded (bidir_linking.h)."""
+    s = room("glass", slab=True)
+    if linked:
+        s.lights[0]["cast_shadow"] = False
+    return s
+
+
 def render(scene, integrator, seed, spp=SPP):
     s = lantern.Session(scene, integrator=integrator, seed=seed, backend="cpu", max_depth=4,
                         spp_per_iteration=spp, threads=1)
@@ -103,7 +115,8 @@ def renders(build, integrator, seed0, linked=True):
 
 @pytest.fixture(scope="module")
 def pt_refs(core):
-    return {b.__name__: renders(b, "pt", 1000)[0] for b in (light_linked, shadow_linked)}
+    return {b.__name__: renders(b, "pt", 1000)[0] for b in (light_linked, shadow_linked,
+                                                             no_shadow)}
 
 
 @pytest.mark.parametrize("integrator", ["bdpt", "lvc", "cis", "lt"])
@@ -119,14 +132,15 @@ def test_light_linking_matches_pt(pt_refs, integrator):
     assert not metrics.compare_renders(free, pt_refs["light_linked"], block=4).passed
 
 
+@pytest.mark.parametrize("build", [shadow_linked, no_shadow], ids=["linked", "no_shadow"])
 @pytest.mark.parametrize("integrator", ["bdpt", "lvc", "cis"])
-def test_shadow_linking_matches_pt(pt_refs, integrator):
-    imgs, warnings = renders(shadow_linked, integrator, 2000)
+def test_shadow_linking_matches_pt(pt_refs, integrator, build):
+    imgs, warnings = renders(build, integrator, 2000)
     assert not warnings, warnings
-    metrics.assert_agreement(f"shadow linking, {integrator} vs pt", imgs,
-                             pt_refs["shadow_linked"], block=4)
-    free, _ = renders(shadow_linked, integrator, 3000, linked=False)
-    assert not metrics.compare_renders(free, pt_refs["shadow_linked"], block=4).passed
+    metrics.assert_agreement(f"{build.__name__}, {integrator} vs pt", imgs,
+                             pt_refs[build.__name__], block=4)
+    free, _ = renders(build, integrator, 3000, linked=False)
+    assert not metrics.compare_renders(free, pt_refs[build.__name__], block=4).passed
 
 
 def test_lt_hands_shadow_linking_to_pt(core):

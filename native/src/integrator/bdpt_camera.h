@@ -91,8 +91,11 @@ LANTERN_HD inline void bdpt_camera_nee(const SceneView& s, const PathState& ps,
     // which no other technique samples (z's BSDF keeps to the face's side; a light path reaching
     // z from there would meet the face's back): weight 1
     const bool geo_side = light_side_agrees(*z.m, ls.wi, z.h.ng, z.h.ns);
+    // a lamp without shadows: pt's weights and no shadow ray, at any offset (bidir_linking.h)
+    const bool unshadowed = s.light_rays && pt_lamp_unshadowed(s, pick.light);
     if (!ls.valid || is_black(ls.le) ||
-        !(geo_side || terminator_passes(s, z.tri, ls.wi, z.h.ng, z.h.ns)))
+        !(geo_side || terminator_passes(s, z.tri, ls.wi, z.h.ng, z.h.ns) ||
+          (unshadowed && !sides_agree(ls.wi, z.h.ng, z.h.ns))))
         return;
     BsdfEval e = material_eval(*z.m, z.h.front, z.wo, z.frame.to_local(ls.wi), Transport::Radiance,
                                z.h.coat_n, z.ng_l);
@@ -120,7 +123,7 @@ LANTERN_HD inline void bdpt_camera_nee(const SceneView& s, const PathState& ps,
         pdf_lp = !(st.r > 0.0f) ? 0.0f
                  : s.num_media > 0 ? soft_light_path_pdf_a_medium(s, sr, l, z.h.p, z.h.ng)
                                    : soft_light_path_pdf_a(s, sr, l, z.h.p, z.h.ng);
-    float w_light = ls.delta || !geo_side ? 0.0f : mis(e.pdf_fwd_w / pdf_light_w);
+    float w_light = ls.delta || (!geo_side && !unshadowed) ? 0.0f : mis(e.pdf_fwd_w / pdf_light_w);
     // (the first vertex: z.dvcm is light tracing's term alone, BdptSettings::lt_direct)
     const float dvcm_z = z.depth == 1 ? z.dvcm * bdpt_direct_lt(st)
                                       : camera_conn_dvcm(st, z.dvcm, z.depth);
@@ -130,6 +133,7 @@ LANTERN_HD inline void bdpt_camera_nee(const SceneView& s, const PathState& ps,
         if (ps.shadow_light) ps.shadow_light[i] = pick.light;
         if (bidir_nee_only(s, pick.light)) w_light = w_camera = 0.0f;  // the only technique
     }
+    if (unshadowed) w_camera = 0.0f;  // (pt's two techniques)
     float w = 1.0f / (w_light + 1.0f + w_camera);
     float cos_i = fabsf(dot(ls.wi, z.h.ns));
     Vec3 c = z.beta * e.f * ls.le * (cos_i * w / pdf_light_w);
@@ -137,6 +141,10 @@ LANTERN_HD inline void bdpt_camera_nee(const SceneView& s, const PathState& ps,
         c = bdpt_moment(c, c, bdpt_pt_factor(w_light + 1.0f + w_camera, w_light, 1.0f));
     if (!is_finite(c)) {
         ps.dropped[i] = 1;
+        return;
+    }
+    if (unshadowed) {  // Cast Shadow off: no ray
+        add_radiance(ps, i, c);
         return;
     }
     Vec3 target_n = ls.dist < kInf ? ls.n_light : vec3(0.0f);
@@ -541,7 +549,8 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
     z.beta = ps.throughput[i];
     z.dvcm = dvcm;
     z.dvc = dvc;
-    z.n_pick = terminator_cutoff(s, tri) > 0.0f && dot(z.h.ns, z.h.ng) < 0.99999f
+    // (as pt's: a lamp without shadows lights from under the face too, s.light_rays)
+    z.n_pick = (terminator_cutoff(s, tri) > 0.0f || s.light_rays) && dot(z.h.ns, z.h.ng) < 0.99999f
                    ? vec3(0.0f)  // (light from under the face too: integrator/terminator.h)
                    : light_pick_normal(s, tri, z.h.ng);
     Rng rng = ps.rng[i];

@@ -134,6 +134,7 @@ LANTERN_HD inline void bdpt_camera_emission(const SceneView& s, const PathState&
         if (!camera && light_receiver_dependent(l))
             soft = st.r > 0.0f ? bdpt_soft_hit_emit(s, ps, bs, sr, i, l, h.t) : 0.0f;
         float w = bdpt_emission_weight(s, ps, bs, st, i, l, h.t, h.n, &nee, soft);
+        if (w > 0.0f && bidir_pt_weight(s, ps, i, s.hittable_lights[k])) w = 1.0f / (1.0f + nee);
         Vec3 c = ps.throughput[i] * h.le * w;
         if (st.moments) c = bdpt_moment(c, c, bdpt_pt_factor(1.0f / w, 1.0f, nee));
         add_radiance(ps, i, c);
@@ -148,6 +149,7 @@ LANTERN_HD inline void bdpt_camera_emission(const SceneView& s, const PathState&
         if (!bidir_emission_counts(s, ps, i, s.miss_lights[k])) continue;  // (linking)
         float nee = 0.0f;
         float w = bdpt_emission_weight(s, ps, bs, st, i, l, kInf, vec3(0.0f), &nee);
+        if (w > 0.0f && bidir_pt_weight(s, ps, i, s.miss_lights[k])) w = 1.0f / (1.0f + nee);
         Vec3 le = l.type == kLightWorld ? world_radiance(s, l, d) : l.radiance;
         Vec3 c = ps.throughput[i] * le * w;
         if (st.moments) c = bdpt_moment(c, c, bdpt_pt_factor(1.0f / w, 1.0f, nee));

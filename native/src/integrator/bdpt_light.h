@@ -207,9 +207,10 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
     const Vec3 wo = frame.to_local(wo_w);
     const Vec3 beta = bs.power[i] * ps.throughput[i];
     // linking (bidir_linking.h): y1 its light does not light ends the path; y1 of a shadow-linked
-    // light is next-event estimation's alone, unless it scatters through a delta lobe
+    // light or of a lamp without shadows is not the light path's, unless it scatters through a
+    // delta lobe
     if (k == 1 && !bidir_links(s, bs.light[i], tri)) return;
-    const bool only_delta = k == 1 && bidir_nee_only(s, bs.light[i]);
+    const bool only_delta = k == 1 && bidir_light_path_delta_only(s, bs.light[i]);
     const bool delta = material_is_delta(m) || only_delta;
 
     if (!delta) {

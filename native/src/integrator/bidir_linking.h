@@ -21,11 +21,18 @@
 //     there, and so is its term in every other weight), the others keep the usual weights, and
 //     trace x0 x1 with the ordinary query (pt's "seen past no surface").
 // Each class's weights sum to one over the techniques that make it: unbiased where next-event
-// estimation samples l. Cast Shadow off (pt_lamp_unshadowed) mixes two unequal integrals by
-// pt's two-technique weights: those scenes stay pt's (allocation.cpp bidir_visibility_reason).
+// estimation samples l.
+//
+// A lamp's Cast Shadow off (pt_lamp_unshadowed): Cycles' image is next-event estimation,
+// unoccluded, plus the emission BSDF sampling finds, occluded, each with pt's two-technique
+// power-heuristic weight (two unequal integrals: no MIS over more techniques reproduces it).
+// Class A: s = 1 with pt's weight and no shadow ray, s = 0 with pt's weight (the ratio of
+// next-event estimation alone, bdpt_emission_weight's nee), every light-path technique 0 (the
+// light pass as above); class B (x1 delta) as for shadow linking. pt's light pick normal too.
 #pragma once
 
 #include "integrator/pt_light_linking.h"
+#include "integrator/pt_ray_visibility.h"
 
 namespace lantern {
 
@@ -37,6 +44,19 @@ LANTERN_HD inline bool bidir_links(const SceneView& s, int li, int tri) {
 // Whether only next-event estimation makes a path whose x1 scatters off-delta on light li.
 LANTERN_HD inline bool bidir_nee_only(const SceneView& s, int li) {
     return s.light_blockers && pt_shadow_linked(s, li);
+}
+
+// Whether no light path of light li may go on from y1 but through a delta lobe (class A paths
+// are next-event estimation's and s = 0's alone): shadow-linked, or a lamp without shadows.
+LANTERN_HD inline bool bidir_light_path_delta_only(const SceneView& s, int li) {
+    return bidir_nee_only(s, li) || pt_lamp_unshadowed(s, li);
+}
+
+// Whether emission of lamp li that slot i's ray found after a non-delta bounce takes pt's
+// two-technique weight (Cast Shadow off).
+LANTERN_HD inline bool bidir_pt_weight(const SceneView& s, const PathState& ps, int i, int li) {
+    return s.light_rays && ps.depth[i] > 1 && ps.prev_pdf_w[i] > 0.0f &&
+           pt_lamp_unshadowed(s, li);
 }
 
 // The weight factor of emission of light li that slot i's camera ray found (s = 0): 0 where li

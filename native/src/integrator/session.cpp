@@ -112,16 +112,17 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
     // motion blur: pt, lt, bdpt, lvc and cis give each path a time (docs/motion_blur.md)
     // object ray visibility: only pt tells a bounce's kind so far (pt_ray_visibility.h); a
     // lamp's Cast Shadow off: Cycles' answer weighs next-event estimation against BSDF
-    // sampling, two techniques only pt has (pt_lamp_unshadowed); light linking: every
-    // integrator on surfaces, shadow linking all but lt (bidir_linking.h)
+    // sampling (pt_lamp_unshadowed), which bdpt, lvc and cis reproduce, as they do light
+    // linking (lt too) and shadow linking (bidir_linking.h)
     if (media_note.empty() && integ != "pt" && integ != "auto") {
         const std::string why = bidir_visibility_reason(scene, integ == "lt");
         if (!why.empty()) {
-            media_note = "integrator '" + integ + "' does not honour object ray visibility, " +
-                         "a light's Cast Shadow off, " +
-                         (integ == "lt" ? "shadow linking, " : "") +
-                         "or light linking in scenes with volumes or subsurface scattering " +
-                         "(the scene has " + why + "): rendering with pt";
+            media_note = "integrator '" + integ + "' does not honour object or lamp ray " +
+                         "visibility, " +
+                         (integ == "lt" ? "shadow linking, a light's Cast Shadow off, "
+                                        : "") +
+                         "or linking and Cast Shadow off in scenes with volumes or subsurface " +
+                         "scattering (the scene has " + why + "): rendering with pt";
             settings_.integrator = "pt";
         }
     }
