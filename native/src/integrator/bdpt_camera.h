@@ -123,17 +123,14 @@ LANTERN_HD inline void bdpt_camera_nee(const SceneView& s, const PathState& ps,
         pdf_lp = !(st.r > 0.0f) ? 0.0f
                  : s.num_media > 0 ? soft_light_path_pdf_a_medium(s, sr, l, z.h.p, z.h.ng)
                                    : soft_light_path_pdf_a(s, sr, l, z.h.p, z.h.ng);
-    float w_light = ls.delta || (!geo_side && !unshadowed) ? 0.0f : mis(e.pdf_fwd_w / pdf_light_w);
+    float w_light =
+        ls.delta || (!geo_side && !unshadowed) ? 0.0f : mis(e.pdf_fwd_w / pdf_light_w);
     // (the first vertex: z.dvcm is light tracing's term alone, BdptSettings::lt_direct)
     const float dvcm_z = z.depth == 1 ? z.dvcm * bdpt_direct_lt(st)
                                       : camera_conn_dvcm(st, z.dvcm, z.depth);
     float w_camera =
         geo_side ? mis(st.r * pdf_lp / pdf_nee) * (dvcm_z + z.dvc * mis(e.pdf_rev_w)) : 0.0f;
-    if (s.light_blockers) {  // shadow linking: the shadow ray's linked query (bidir_linking.h)
-        if (ps.shadow_light) ps.shadow_light[i] = pick.light;
-        if (bidir_nee_only(s, pick.light)) w_light = w_camera = 0.0f;  // the only technique
-    }
-    if (unshadowed) w_camera = 0.0f;  // (pt's two techniques)
+    bidir_nee_weights(s, ps, i, pick.light, unshadowed, w_light, w_camera);  // (linking)
     float w = 1.0f / (w_light + 1.0f + w_camera);
     float cos_i = fabsf(dot(ls.wi, z.h.ns));
     Vec3 c = z.beta * e.f * ls.le * (cos_i * w / pdf_light_w);
@@ -518,10 +515,9 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
     }
     // emission of a mesh light at the hit
     const Material& m = *z.m;
-    const int li_hit = s.tri_light ? s.tri_light[tri] : -1;
-    if (!is_black(m.emission) && bidir_emission_counts(s, ps, i, li_hit)) {  // (linking)
+    const int li = s.tri_light ? s.tri_light[tri] : -1;
+    if (!is_black(m.emission) && bidir_emission_counts(s, ps, i, li)) {  // (linking)
         float w = 1.0f, nee = 0.0f;
-        const int li = li_hit;
         if (z.depth > 1 && li >= 0) {
             const Light& l = s.lights[li];
             const float pick = s.light_tree_on ? light_pick_pmf(s, li, ps.prev_p[i], ps.prev_n[i])
@@ -549,9 +545,11 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
     z.beta = ps.throughput[i];
     z.dvcm = dvcm;
     z.dvc = dvc;
-    // (as pt's: a lamp without shadows lights from under the face too, s.light_rays)
-    z.n_pick = (terminator_cutoff(s, tri) > 0.0f || s.light_rays) && dot(z.h.ns, z.h.ng) < 0.99999f
-                   ? vec3(0.0f)  // (light from under the face too: integrator/terminator.h)
+    // (light from under the face too: integrator/terminator.h; as pt's, a lamp without
+    // shadows too, bidir_linking.h)
+    z.n_pick = (terminator_cutoff(s, tri) > 0.0f || s.light_rays) &&
+                       dot(z.h.ns, z.h.ng) < 0.99999f
+                   ? vec3(0.0f)
                    : light_pick_normal(s, tri, z.h.ng);
     Rng rng = ps.rng[i];
 #ifndef __CUDACC__  // the device build has no walk stage (schedule_bdpt.h): CPU sessions only

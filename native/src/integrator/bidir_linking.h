@@ -69,6 +69,18 @@ LANTERN_HD inline bool bidir_emission_counts(const SceneView& s, const PathState
     return !(bidir_nee_only(s, li) && ps.prev_pdf_w[i] > 0.0f);
 }
 
+// Next-event estimation (s = 1) of light li at slot i's camera vertex: its shadow ray's light
+// (the linked query), and the other techniques' weights: none for a shadow-linked light, BSDF
+// sampling's alone (pt's) for a lamp without shadows.
+LANTERN_HD inline void bidir_nee_weights(const SceneView& s, const PathState& ps, int i, int li,
+                                         bool unshadowed, float& w_light, float& w_camera) {
+    if (s.light_blockers) {
+        if (ps.shadow_light) ps.shadow_light[i] = li;
+        if (bidir_nee_only(s, li)) w_light = w_camera = 0.0f;  // the only technique
+    }
+    if (unshadowed) w_camera = 0.0f;
+}
+
 // A next-event shadow ray of the camera pass (ps.shadow_light: its light where shadow linking
 // is on), with the linked query where the light is shadow-linked.
 template <class Rays, class Kind>

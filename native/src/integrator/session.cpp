@@ -117,10 +117,9 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
     if (media_note.empty() && integ != "pt" && integ != "auto") {
         const std::string why = bidir_visibility_reason(scene, integ == "lt");
         if (!why.empty()) {
-            media_note = "integrator '" + integ + "' does not honour object or lamp ray " +
-                         "visibility, " +
-                         (integ == "lt" ? "shadow linking, a light's Cast Shadow off, "
-                                        : "") +
+            media_note = "integrator '" + integ + "' does not honour object ray visibility " +
+                         "or a lamp's, " +
+                         (integ == "lt" ? "shadow linking, a light's Cast Shadow off, " : "") +
                          "or linking and Cast Shadow off in scenes with volumes or subsurface " +
                          "scattering (the scene has " + why + "): rendering with pt";
             settings_.integrator = "pt";
