@@ -88,12 +88,19 @@ def test_emissive_mesh_lights_its_receivers_only(core):
     assert lit.mean() > 0.01
 
 
-@pytest.mark.parametrize("integrator", ["bdpt", "cis"])
-def test_bidirectional_hand_over_to_pt(core, integrator):
+@pytest.mark.parametrize("integrator", ["bdpt", "cis", "lt"])
+def test_bidirectional_render_light_linking(core, integrator):
+    """The bidirectional integrators render light linking themselves (bidir_linking.h; against
+    pt: test_linking_bidir.py): ball B, outside the point light's sets, is exactly black there
+    too; in a scene with a volume they still hand it to pt, with the same bits."""
     img, warnings = render(two_balls(True), integrator=integrator)
-    assert any("light linking" in w and "rendering with pt" in w for w in warnings), warnings
-    ref, _ = render(two_balls(True))
-    np.testing.assert_array_equal(img, ref)
+    assert not warnings, warnings
+    assert img[RIGHT].max() == 0.0 and img[LEFT].mean() > 0.01
+    fog = two_balls(True)
+    fog.world["volume"] = {"sigma_s": [0.05] * 3, "sigma_a": [0.0] * 3}
+    img, warnings = render(fog, integrator=integrator)
+    assert any("linking" in w and "rendering with pt" in w for w in warnings), warnings
+    np.testing.assert_array_equal(img, render(fog)[0])
 
 
 def test_schema(core, tmp_path):

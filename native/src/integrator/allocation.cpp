@@ -257,6 +257,29 @@ std::string ray_visibility_reason(const SceneInput& in) {
     return "";
 }
 
+std::string bidir_visibility_reason(const SceneInput& in, bool light_tracer) {
+    const std::string all = ray_visibility_reason(in);
+    if (all.empty()) return all;
+    // integrator/bidir_linking.h: light linking (lt, bdpt, lvc, cis), shadow linking and a
+    // lamp's Cast Shadow off (not lt: light tracing alone cannot see a light past a surface
+    // that casts it no shadow, nor weigh next-event estimation's share), on surfaces only so far
+    // (a medium vertex or a walk's exit receives as the surface before it)
+    bool shadow = false, other = false;
+    for (const MeshInput& m : in.meshes) {
+        if ((m.rays & kRayKindsAll) != kRayKindsAll) other = true;
+        if (m.shadow_set != 0 || m.emitter_blockers != kAllReceivers) shadow = true;
+    }
+    for (const LightInput& l : in.lights) {
+        if ((l.rays & kRayKindsAll) != kRayKindsAll) other = true;
+        if (l.blockers != kAllReceivers || !l.cast_shadow) shadow = true;
+    }
+    if (other || (shadow && light_tracer)) return all;
+    if (std::string v = media_reason(in); !v.empty()) return "linking or no shadows with " + v;
+    if (std::string v = subsurface_reason(in); !v.empty())
+        return "linking or no shadows with " + v;
+    return "";
+}
+
 std::string curves_reason(const SceneInput& in) {
     for (const CurveInput& c : in.curves)
         if (c.offsets.size() > 1) return "strands (curves '" + c.name + "')";

@@ -82,6 +82,8 @@ LANTERN_HD inline void bdpt_camera_nee(const SceneView& s, const PathState& ps,
     Vec2 u_light = rng.uniform2();
     const LightPick pick = light_pick(s, z.h.p, z.n_pick, u_pick.x);
     if (!(pick.pmf > 0.0f)) return;
+    // light linking: nothing from a light that does not light z (bidir_linking.h)
+    if (s.light_receivers && !bidir_links(s, pick.light, z.tri)) return;
     const Light& l = s.lights[pick.light];
     // (a moving emitter: where it is at the path's time, its densities then)
     const float time = bdpt_emitter_time(s, st, path);
@@ -90,8 +92,11 @@ LANTERN_HD inline void bdpt_camera_nee(const SceneView& s, const PathState& ps,
     // which no other technique samples (z's BSDF keeps to the face's side; a light path reaching
     // z from there would meet the face's back): weight 1
     const bool geo_side = light_side_agrees(*z.m, ls.wi, z.h.ng, z.h.ns);
+    // a lamp without shadows: pt's weights and no shadow ray, at any offset (bidir_linking.h)
+    const bool unshadowed = s.light_rays && pt_lamp_unshadowed(s, pick.light);
     if (!ls.valid || is_black(ls.le) ||
-        !(geo_side || terminator_passes(s, z.tri, ls.wi, z.h.ng, z.h.ns)))
+        !(geo_side || terminator_passes(s, z.tri, ls.wi, z.h.ng, z.h.ns) ||
+          (unshadowed && !sides_agree(ls.wi, z.h.ng, z.h.ns))))
         return;
     BsdfEval e = material_eval(*z.m, z.h.front, z.wo, z.frame.to_local(ls.wi), Transport::Radiance,
                                z.h.coat_n, z.ng_l);
@@ -119,12 +124,14 @@ LANTERN_HD inline void bdpt_camera_nee(const SceneView& s, const PathState& ps,
         pdf_lp = !(st.r > 0.0f) ? 0.0f
                  : s.num_media > 0 ? soft_light_path_pdf_a_medium(s, sr, l, z.h.p, z.h.ng)
                                    : soft_light_path_pdf_a(s, sr, l, z.h.p, z.h.ng);
-    float w_light = ls.delta || !geo_side ? 0.0f : mis(e.pdf_fwd_w / pdf_light_w);
+    float w_light =
+        ls.delta || (!geo_side && !unshadowed) ? 0.0f : mis(e.pdf_fwd_w / pdf_light_w);
     // (the first vertex: z.dvcm is light tracing's term alone, BdptSettings::lt_direct)
     const float dvcm_z = z.depth == 1 ? z.dvcm * bdpt_direct_lt(st)
                                       : camera_conn_dvcm(st, z.dvcm, z.depth);
     float w_camera =
         geo_side ? mis(st.r * pdf_lp / pdf_nee) * (dvcm_z + z.dvc * mis(e.pdf_rev_w)) : 0.0f;
+    bidir_nee_weights(s, ps, i, pick.light, unshadowed, w_light, w_camera);  // (linking)
     float w = 1.0f / (w_light + 1.0f + w_camera);
     float cos_i = fabsf(dot(ls.wi, z.h.ns));
     Vec3 c = z.beta * e.f * ls.le * (cos_i * w / pdf_light_w);
@@ -132,6 +139,10 @@ LANTERN_HD inline void bdpt_camera_nee(const SceneView& s, const PathState& ps,
         c = bdpt_moment(c, c, bdpt_pt_factor(w_light + 1.0f + w_camera, w_light, 1.0f));
     if (!is_finite(c)) {
         ps.dropped[i] = 1;
+        return;
+    }
+    if (unshadowed) {  // Cast Shadow off: no ray
+        add_radiance(ps, i, c);
         return;
     }
     Vec3 target_n = ls.dist < kInf ? ls.n_light : vec3(0.0f);
@@ -505,9 +516,9 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
     }
     // emission of a mesh light at the hit
     const Material& m = *z.m;
-    if (!is_black(m.emission)) {
+    const int li = s.tri_light ? s.tri_light[tri] : -1;
+    if (!is_black(m.emission) && bidir_emission_counts(s, ps, i, li)) {  // (linking)
         float w = 1.0f, nee = 0.0f;
-        int li = s.tri_light ? s.tri_light[tri] : -1;
         if (z.depth > 1 && li >= 0) {
             const Light& l = s.lights[li];
             const float pick = s.light_tree_on ? light_pick_pmf(s, li, ps.prev_p[i], ps.prev_n[i])
@@ -535,8 +546,11 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
     z.beta = ps.throughput[i];
     z.dvcm = dvcm;
     z.dvc = dvc;
-    z.n_pick = terminator_cutoff(s, tri) > 0.0f && dot(z.h.ns, z.h.ng) < 0.99999f
-                   ? vec3(0.0f)  // (light from under the face too: integrator/terminator.h)
+    // (light from under the face too: integrator/terminator.h; as pt's, a lamp without
+    // shadows too, bidir_linking.h)
+    z.n_pick = (terminator_cutoff(s, tri) > 0.0f || s.light_rays) &&
+                       dot(z.h.ns, z.h.ng) < 0.99999f
+                   ? vec3(0.0f)
                    : light_pick_normal(s, tri, z.h.ng);
     Rng rng = ps.rng[i];
 #ifndef __CUDACC__  // the device build has no walk stage (schedule_bdpt.h): CPU sessions only
@@ -565,6 +579,7 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
             bs.dvc[i] = dvc;
             set_next_ray(ps, i, z.h.p, z.h.ng, wi, b.delta ? 0.0f : b.pdf_fwd_w,
                          s.offset_scale);
+            pt_set_receiver(s, ps, i, tri);  // light linking: this vertex receives (s = 0)
             ps.prev_p[i] = z.h.p;  // (and for a soft-falloff light's weight: its normal)
             bs.prev_ng[i] = z.h.ng;
             if (s.light_tree_on || media) ps.prev_n[i] = z.n_pick;

@@ -6,6 +6,7 @@
 
 #include "integrator/bdpt_common.h"
 #include "integrator/bdpt_curve.h"
+#include "integrator/bidir_linking.h"
 #include "integrator/bdpt_medium.h"
 #include "integrator/bdpt_motion.h"
 #include "integrator/pixel_conn.h"
@@ -125,6 +126,7 @@ LANTERN_HD inline void bdpt_camera_emission(const SceneView& s, const PathState&
     for (int k = 0; k < s.num_hittable_lights; ++k) {
         const Light& l = s.lights[s.hittable_lights[k]];
         if (camera && !l.visible_camera) continue;
+        if (!bidir_emission_counts(s, ps, i, s.hittable_lights[k])) continue;  // (linking)
         LightHit h = intersect_light(l, o, d, ps.ray_tmin[i], t_end);
         if (!h.hit || is_black(h.le)) continue;
         float nee = 0.0f;
@@ -132,6 +134,7 @@ LANTERN_HD inline void bdpt_camera_emission(const SceneView& s, const PathState&
         if (!camera && light_receiver_dependent(l))
             soft = st.r > 0.0f ? bdpt_soft_hit_emit(s, ps, bs, sr, i, l, h.t) : 0.0f;
         float w = bdpt_emission_weight(s, ps, bs, st, i, l, h.t, h.n, &nee, soft);
+        if (w > 0.0f && bidir_pt_weight(s, ps, i, s.hittable_lights[k])) w = 1.0f / (1.0f + nee);
         Vec3 c = ps.throughput[i] * h.le * w;
         if (st.moments) c = bdpt_moment(c, c, bdpt_pt_factor(1.0f / w, 1.0f, nee));
         add_radiance(ps, i, c);
@@ -143,8 +146,10 @@ LANTERN_HD inline void bdpt_camera_emission(const SceneView& s, const PathState&
                                     dot(d, -l.direction) < l.cos_sun))
             continue;  // a sun lamp is hidden from the camera; the world's disc (of_world) not
         if (l.type == kLightWorld && camera && !l.visible_camera) continue;
+        if (!bidir_emission_counts(s, ps, i, s.miss_lights[k])) continue;  // (linking)
         float nee = 0.0f;
         float w = bdpt_emission_weight(s, ps, bs, st, i, l, kInf, vec3(0.0f), &nee);
+        if (w > 0.0f && bidir_pt_weight(s, ps, i, s.miss_lights[k])) w = 1.0f / (1.0f + nee);
         Vec3 le = l.type == kLightWorld ? world_radiance(s, l, d) : l.radiance;
         Vec3 c = ps.throughput[i] * le * w;
         if (st.moments) c = bdpt_moment(c, c, bdpt_pt_factor(1.0f / w, 1.0f, nee));

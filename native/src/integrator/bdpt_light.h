@@ -4,6 +4,7 @@
 
 #include "integrator/bdpt_common.h"
 #include "integrator/bdpt_curve.h"
+#include "integrator/bidir_linking.h"
 #include "integrator/bdpt_medium.h"
 #include "integrator/bdpt_motion.h"
 #include "integrator/pixel_conn.h"
@@ -205,7 +206,12 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
 
     const Vec3 wo = frame.to_local(wo_w);
     const Vec3 beta = bs.power[i] * ps.throughput[i];
-    const bool delta = material_is_delta(m);
+    // linking (bidir_linking.h): y1 its light does not light ends the path; y1 of a shadow-linked
+    // light or of a lamp without shadows is not the light path's, unless it scatters through a
+    // delta lobe
+    if (k == 1 && !bidir_links(s, bs.light[i], tri)) return;
+    const bool only_delta = k == 1 && bidir_light_path_delta_only(s, bs.light[i]);
+    const bool delta = material_is_delta(m) || only_delta;
 
     if (!delta) {
         LightVertex v;
@@ -294,8 +300,8 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
     Vec3 wi = frame.to_world(b.wi);
     // (a tube vertex left through its fiber: no camera path reaches it from there, pt's path
     // space ends here)
-    if (b.valid && view_side_agrees(m, wi, h.ng, h.ns) && (b.delta || b.pdf_fwd_w > 0.0f) &&
-        !(tube && !(dot(wi, h.ng) > 0.0f))) {
+    if (b.valid && view_side_agrees(m, wi, h.ng, h.ns) &&
+        (b.delta || (b.pdf_fwd_w > 0.0f && !only_delta)) && !(tube && !(dot(wi, h.ng) > 0.0f))) {
         float cos_i_ng = vertex_cos(fiber, frame, h.ng, wi);
         // (a strand: the lobe's Importance weight is the fiber measure's whole throughput)
         float adj = fiber ? 1.0f : cos_o_ns * cos_i_ng / (cos_o_ng * fabsf(b.wi.z));

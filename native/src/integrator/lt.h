@@ -264,6 +264,10 @@ LANTERN_HD inline void lt_shade(const SceneView& s, const PathState& ps, const L
     if (ps.depth[i] == 0 && lp.light && light_receiver_dependent(s.lights[lp.light[i]]) &&
         !soft_line_hit_valid(s.lights[lp.light[i]], ps.ray_o[i], d, ps.hit_t[i]))
         return;
+    // light linking: a first hit its light does not light ends the path (bidir_linking.h)
+    if (ps.depth[i] == 0 && s.light_receivers && lp.light &&
+        !pt_light_links(s, lp.light[i], pt_receiver_set(s, tri)))
+        return;
     // a triangle's or a strand's surface (pt_curve.h); strands: the fiber measure (bdpt_curve.h)
     const bool strand = prim_is_strand(s, tri);
     // (motion blur: the path's time is motion_time of its stream, motion_stage.h)

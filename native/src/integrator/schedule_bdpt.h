@@ -334,7 +334,7 @@ void camera_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep
                     if (ps.shadow_valid[i]) {
                         Ray r{ps.shadow_o[i], ps.shadow_d[i], 0.0f, ps.shadow_tmax[i]};
                         r.time = time;
-                        if (!rays.occluded(r, RayKind::kShadow))
+                        if (!bidir_nee_occluded(s, rays, RayKind::kShadow, ps, i, r))
                             add_radiance(ps, i, ps.shadow_contrib[i]);
                     }
                     for (int j = 0; j < bs.conn_n[i]; ++j) {
@@ -356,7 +356,7 @@ void camera_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep
                         if (ps.shadow_valid[i]) {
                             Ray r{ps.shadow_o[i], ps.shadow_d[i], 0.0f, ps.shadow_tmax[i]};
                             r.time = time;
-                            v = rays.occluded(r, RayKind::kShadow) ? 0 : 1;
+                            v = bidir_nee_occluded(s, rays, RayKind::kShadow, ps, i, r) ? 0 : 1;
                         }
                     } else if (j - 1 < bs.conn_n[i]) {
                         const size_t c = size_t(i) * bs.conn_cap + (j - 1);

@@ -1,0 +1,93 @@
+// Light and shadow linking in the bidirectional integrators (bdpt, lvc, cis; lt: light linking
+// only), as pt has them (pt_light_linking.h). x0 is the path's vertex on light l, x1 the vertex
+// next to it (the receiver).
+//
+// Light linking is a property of the path: its measurement is 0 where l does not light x1's
+// receiver set (camera rays see every emitter: x1 is the camera). Every technique that makes
+// the path applies the same zero and no density changes, so the MIS weights stay a partition of
+// unity: s = 0 (the camera path's last surface vertex, PathState::recv_set, as pt), s = 1 (the
+// camera vertex), and every technique that uses a light sub-path through x1 = y1 (connections
+// s >= 2, light tracing t = 1): the light pass ends a sub-path whose y1 l does not light, so no
+// vertex of it is stored or splatted.
+//
+// Shadow linking (l's shadows cast only by its blocker set) changes the visibility of the
+// segment x0 x1 alone. Next-event estimation (s = 1) tests it with the linked query; a ray that
+// a BSDF or an emission sample traces from x1 or x0 stops at a surface that casts l no shadow.
+// The techniques are therefore split by the scattering at x1:
+//   - class A, x1 scatters through a non-delta lobe: s = 1 is the only technique, weight 1; the
+//     others weigh 0 (s = 0 after a non-delta bounce, PathState::prev_pdf_w > 0; the light pass
+//     neither stores nor splats y1 and continues it only through a delta lobe);
+//   - class B, x1 scatters through a delta lobe: s = 1 cannot make the path (its density is 0
+//     there, and so is its term in every other weight), the others keep the usual weights, and
+//     trace x0 x1 with the ordinary query (pt's "seen past no surface").
+// Each class's weights sum to one over the techniques that make it: unbiased where next-event
+// estimation samples l.
+//
+// A lamp's Cast Shadow off (pt_lamp_unshadowed): Cycles' image is next-event estimation,
+// unoccluded, plus the emission BSDF sampling finds, occluded, each with pt's two-technique
+// power-heuristic weight (two unequal integrals: no MIS over more techniques reproduces it).
+// Class A: s = 1 with pt's weight and no shadow ray, s = 0 with pt's weight (the ratio of
+// next-event estimation alone, bdpt_emission_weight's nee), every light-path technique 0 (the
+// light pass as above); class B (x1 delta) as for shadow linking. pt's light pick normal too.
+#pragma once
+
+#include "integrator/pt_light_linking.h"
+#include "integrator/pt_ray_visibility.h"
+
+namespace lantern {
+
+// Whether light li lights receiver triangle (or strand) tri: the light pass's y1.
+LANTERN_HD inline bool bidir_links(const SceneView& s, int li, int tri) {
+    return !s.light_receivers || pt_light_links(s, li, pt_receiver_set(s, tri));
+}
+
+// Whether only next-event estimation makes a path whose x1 scatters off-delta on light li.
+LANTERN_HD inline bool bidir_nee_only(const SceneView& s, int li) {
+    return s.light_blockers && pt_shadow_linked(s, li);
+}
+
+// Whether no light path of light li may go on from y1 but through a delta lobe (class A paths
+// are next-event estimation's and s = 0's alone): shadow-linked, or a lamp without shadows.
+LANTERN_HD inline bool bidir_light_path_delta_only(const SceneView& s, int li) {
+    return bidir_nee_only(s, li) || pt_lamp_unshadowed(s, li);
+}
+
+// Whether emission of lamp li that slot i's ray found after a non-delta bounce takes pt's
+// two-technique weight (Cast Shadow off).
+LANTERN_HD inline bool bidir_pt_weight(const SceneView& s, const PathState& ps, int i, int li) {
+    return s.light_rays && ps.depth[i] > 1 && ps.prev_pdf_w[i] > 0.0f &&
+           pt_lamp_unshadowed(s, li);
+}
+
+// The weight factor of emission of light li that slot i's camera ray found (s = 0): 0 where li
+// does not light the last vertex's receiver set, or li is shadow-linked and the last bounce was
+// not a delta lobe's; 1 otherwise (the usual weight then applies).
+LANTERN_HD inline bool bidir_emission_counts(const SceneView& s, const PathState& ps, int i,
+                                             int li) {
+    if (ps.depth[i] <= 1 || li < 0) return true;  // the camera's rays: every emitter
+    if (s.light_receivers && !pt_emission_linked(s, ps, i, li)) return false;
+    return !(bidir_nee_only(s, li) && ps.prev_pdf_w[i] > 0.0f);
+}
+
+// Next-event estimation (s = 1) of light li at slot i's camera vertex: its shadow ray's light
+// (the linked query), and the other techniques' weights: none for a shadow-linked light, BSDF
+// sampling's alone (pt's) for a lamp without shadows.
+LANTERN_HD inline void bidir_nee_weights(const SceneView& s, const PathState& ps, int i, int li,
+                                         bool unshadowed, float& w_light, float& w_camera) {
+    if (s.light_blockers) {
+        if (ps.shadow_light) ps.shadow_light[i] = li;
+        if (bidir_nee_only(s, li)) w_light = w_camera = 0.0f;  // the only technique
+    }
+    if (unshadowed) w_camera = 0.0f;
+}
+
+// A next-event shadow ray of the camera pass (ps.shadow_light: its light where shadow linking
+// is on), with the linked query where the light is shadow-linked.
+template <class Rays, class Kind>
+LANTERN_HD inline bool bidir_nee_occluded(const SceneView& s, const Rays& rays, Kind kind,
+                                          const PathState& ps, int i, const Ray& r) {
+    return s.light_blockers ? pt_occluded_linked(s, rays, kind, ps, i, r)
+                            : rays.occluded(r, kind);
+}
+
+}  // namespace lantern
