@@ -7,6 +7,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "accel/curve_bvh_build.h"
@@ -115,4 +117,27 @@ TEST(CurveBvh, BadRadiiAndEmpty) {
     const CurveBvhHit h = curve_bvh_intersect(empty.view(), vec3(0.0f), vec3(1.0f, 0.0f, 0.0f),
                                               0.0f, 10.0f);
     EXPECT_EQ(h.seg, -1);
+}
+
+// The traversal's fixed stack (kCurveBvhStack entries, 32: 128 B of a GPU thread's stack) must
+// hold every tree the builder makes: each built tree's depth is the bound the static_assert
+// checks for 2^31 segments (median splits), and a deeper one is refused at the build, by name.
+TEST(CurveBvh, DepthWithinTheStack) {
+    for (int strands : {1, 3, 250, 1500}) {
+        Fur f = make_fur(strands, 7, 11);
+        std::vector<CurveSeg> segs =
+            curve_segments(f.points.data(), f.radius.data(), f.offsets.data(), strands);
+        const CurveBvh bvh = build_curve_bvh(segs);
+        EXPECT_EQ(bvh.depth, curve_bvh_depth_bound(int64_t(segs.size()))) << segs.size();
+    }
+    EXPECT_EQ(curve_bvh_depth_bound(4), 1);
+    EXPECT_EQ(curve_bvh_depth_bound(9), 3);  // 9 -> 5 -> 3
+    EXPECT_EQ(curve_bvh_depth_bound(INT32_MAX), 30);
+    EXPECT_NO_THROW(curve_bvh_check_depth(kCurveBvhStack + 1));
+    try {  // control: one level more than the stack holds
+        curve_bvh_check_depth(kCurveBvhStack + 2);
+        ADD_FAILURE() << "a tree deeper than the stack was accepted";
+    } catch (const std::length_error& e) {
+        EXPECT_NE(std::string(e.what()).find("kCurveBvhStack"), std::string::npos) << e.what();
+    }
 }

@@ -1,7 +1,8 @@
 // Compiles the BVH traversal (accel/bvh.h) with nvcc: one thread per ray, closest hit for camera
-// and indirect rays and occlusion for shadow rays. The CUDA backend's real kernels are a later
-// issue; this only keeps bvh.h device-clean.
+// and indirect rays and occlusion for shadow rays, the two-level BVH and the composed query of
+// accel/scene_query.h; this only keeps those headers device-clean.
 #include "accel/bvh.h"
+#include "accel/scene_query.h"
 #include "accel/tlas.h"
 
 // At most 128 registers a thread, as the backend's kernels (each_kernel's bound): the alpha-tested
@@ -48,6 +49,27 @@ __global__ void LANTERN_TRAVERSAL_BOUNDS tlas_intersect_alpha_kernel(TlasView tl
 __global__ void LANTERN_TRAVERSAL_BOUNDS tlas_occluded_kernel(TlasView tl, const Ray* rays, uint8_t* occluded, int n) {
     int i = blockIdx.x * blockDim.x + threadIdx.x;
     if (i < n) occluded[i] = tlas_occluded(tl, rays[i], kBvhNeedShadow) ? 1 : 0;
+}
+
+// The built-in query of accel/scene_query.h (written for the CUDA executor, which does not call
+// it yet: docs/cuda_backend.md "Strands and motion blur"): triangles (one or two levels), then
+// the strands (accel/curve_query.h: the curve BVH per kind, moving sets through their
+// matrices). Closest hit and occlusion in kernels of their own: inlined, each traversal keeps
+// its own stack in the kernel's frame.
+__global__ void LANTERN_TRAVERSAL_BOUNDS scene_query_closest_kernel(
+    BvhView bvh, const SceneQueryView* x, const __grid_constant__ SceneView scene, const Ray* rays,
+    BvhHit* hits, int n, int kind, uint32_t need) {
+    int i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i < n) hits[i] = scene_query_closest(bvh, x, rays[i], kind, need, BvhAlphaTest{scene, rays[i]});
+}
+
+__global__ void LANTERN_TRAVERSAL_BOUNDS scene_query_occluded_kernel(
+    BvhView bvh, const SceneQueryView* x, const __grid_constant__ SceneView scene, const Ray* rays,
+    uint8_t* occluded, int n, int kind, uint32_t need) {
+    int i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i < n)
+        occluded[i] =
+            scene_query_occluded(bvh, x, rays[i], kind, need, BvhAlphaTest{scene, rays[i]}) ? 1 : 0;
 }
 
 }  // namespace lantern

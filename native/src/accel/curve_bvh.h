@@ -73,7 +73,11 @@ struct CurveBvhHit {
     int32_t seg;  // CurveSeg::index, -1 for none
 };
 
-constexpr int kCurveBvhStack = 64;
+// The traversal's stack: at most a tree's depth - 1 entries. The builder's median splits to
+// leaves of 4 give depth 30 for 2^31 segments (curve_bvh_build.h: curve_bvh_depth_bound, checked
+// there with a static_assert, and each built tree's depth against it with a clear error), so
+// 32 entries hold any tree; 128 B of a GPU thread's stack, 64 was twice what a tree needs.
+constexpr int kCurveBvhStack = 32;
 
 // Slab test of o + t w against [lo, hi], with inv = 1 / w; the entry distance or kInf.
 LANTERN_HD inline float curve_bvh_box(Vec3 o, Vec3 inv, Vec3 lo, Vec3 hi, float tmin, float tmax) {
@@ -115,7 +119,7 @@ LANTERN_HD inline CurveBvhHit curve_bvh_intersect(const CurveBvhView& bvh, Vec3 
                         if (any_hit) return best;
                     }
                 }
-            } else {  // median splits bound the depth by 32 (curve_bvh_build.h): no overflow
+            } else {  // the builder keeps the depth within the stack (curve_bvh_build.h)
                 stack[sp++] = n.second;
                 node = node + 1;
                 continue;

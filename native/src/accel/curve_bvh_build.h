@@ -1,11 +1,15 @@
 // Host-only builder of the curve BVH (accel/curve_bvh.h): segments from strands (points, a radius
 // per point, strand offsets), then median splits on the longest axis of the centroids' bounds
-// down to leaves of at most kCurveLeaf segments, so the depth stays below 32 for any int32 count.
+// down to leaves of at most kCurveLeaf segments, so the depth stays at 30 or less for any int32
+// count (curve_bvh_depth_bound), within the traversal's stack (kCurveBvhStack); a tree deeper
+// than that would be a builder fault, refused at the build with a clear error.
 // Segments whose radii are not finite and >= 0 (or both 0) are left out (they have no surface).
 #pragma once
 
 #include <algorithm>
 #include <cstdint>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "accel/curve_bvh.h"
@@ -14,10 +18,20 @@ namespace lantern {
 
 constexpr int kCurveLeaf = 4;
 
+// The depth (in nodes, the root 1) of the median-split tree over n segments: halves (the larger
+// one, ceil) down to a leaf of kCurveLeaf.
+constexpr int curve_bvh_depth_bound(int64_t n) {
+    return n <= kCurveLeaf ? 1 : 1 + curve_bvh_depth_bound(n - n / 2);
+}
+// a traversal's stack holds at most depth - 1 entries (one per inner ancestor)
+static_assert(curve_bvh_depth_bound(INT32_MAX) - 1 <= kCurveBvhStack,
+              "the curve BVH's traversal stack must hold the deepest tree the builder makes");
+
 struct CurveBvh {
     std::vector<CurveBvhNode> nodes;
     std::vector<CurveSeg> segs;
     CurveKeys keys;  // the scene's (not owned): moving segments' steps
+    int depth = 0;   // in nodes (the root 1; 0: empty)
     CurveBvhView view() const {
         return CurveBvhView{nodes.data(), segs.data(), int32_t(nodes.size()), keys};
     }
@@ -68,7 +82,8 @@ inline void curve_seg_bounds(const CurveSeg& g, const CurveKeys& k, Vec3* lo, Ve
 }
 
 namespace detail {
-inline void curve_bvh_node(CurveBvh& bvh, int32_t begin, int32_t end) {
+inline void curve_bvh_node(CurveBvh& bvh, int32_t begin, int32_t end, int depth) {
+    bvh.depth = std::max(bvh.depth, depth);
     const int32_t me = int32_t(bvh.nodes.size());
     bvh.nodes.push_back(CurveBvhNode{});
     Vec3 lo = vec3(kInf), hi = vec3(-kInf), clo = vec3(kInf), chi = vec3(-kInf);
@@ -96,13 +111,22 @@ inline void curve_bvh_node(CurveBvh& bvh, int32_t begin, int32_t end) {
     };
     std::nth_element(bvh.segs.begin() + begin, bvh.segs.begin() + mid, bvh.segs.begin() + end,
                      [&](const CurveSeg& a, const CurveSeg& b) { return centre(a) < centre(b); });
-    curve_bvh_node(bvh, begin, mid);
+    curve_bvh_node(bvh, begin, mid, depth + 1);
     const int32_t second = int32_t(bvh.nodes.size());
-    curve_bvh_node(bvh, mid, end);
+    curve_bvh_node(bvh, mid, end, depth + 1);
     bvh.nodes[me].second = second;
     bvh.nodes[me].count = 0;
 }
 }  // namespace detail
+
+// A tree the traversal's fixed stack cannot walk (depth - 1 > kCurveBvhStack) is an error at
+// the build, never an overflow at a query.
+inline void curve_bvh_check_depth(int depth) {
+    if (depth - 1 > kCurveBvhStack)
+        throw std::length_error("curve BVH of depth " + std::to_string(depth) +
+                                " is deeper than its traversal stack holds (kCurveBvhStack " +
+                                std::to_string(kCurveBvhStack) + " entries)");
+}
 
 // keys: the scene's steps of the moving segments (their CurveSeg::index), bounded over all.
 inline CurveBvh build_curve_bvh(std::vector<CurveSeg> segs, CurveKeys keys = {}) {
@@ -111,7 +135,8 @@ inline CurveBvh build_curve_bvh(std::vector<CurveSeg> segs, CurveKeys keys = {})
     bvh.keys = keys;
     if (bvh.segs.empty()) return bvh;
     bvh.nodes.reserve(2 * (bvh.segs.size() / kCurveLeaf + 1));
-    detail::curve_bvh_node(bvh, 0, int32_t(bvh.segs.size()));
+    detail::curve_bvh_node(bvh, 0, int32_t(bvh.segs.size()), 1);
+    curve_bvh_check_depth(bvh.depth);
     return bvh;
 }
 

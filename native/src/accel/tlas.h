@@ -77,10 +77,12 @@ struct BvhTriDeformed {
     }
 };
 
-// The top level's stack: its builder (median splits) stops at depth kTlasStackSize - 2, so 2^30
-// leaves fit; half the bottom level's, so a thread's two stacks take 768 bytes, not 1,024 (the
-// alpha-tested two-level traversal was 2,144 bytes of stack frame with 64).
-constexpr int kTlasStackSize = 32;
+// The top level's stack: its builder (median splits) stops at depth kTlasStackSize - 2, so 2^14
+// leaves of kTlasLeaf (2) instances fit, and a scene of more than 32,768 instances has leaves
+// of several (scanned in turn); a quarter of the bottom level's, so a thread's two stacks take
+// 640 bytes, not 1,024 (the alpha-tested two-level traversal was 2,144 bytes of stack frame
+// with 64; 32 took 768: the CUDA backend's query, docs/cuda_backend.md "Strands and motion blur").
+constexpr int kTlasStackSize = 16;
 
 // ---- Traversal ----
 // The top level as bvh_traverse walks a BVH (nearer child first, a fixed stack); at a leaf each
