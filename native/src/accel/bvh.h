@@ -197,11 +197,20 @@ struct BvhAcceptAll {
 struct BvhTriAsStored {
     LANTERN_HD const BvhTri& operator()(const BvhTri& t) const { return t; }
 };
+// What a traversal does with an accepted triangle before it counts as a hit: nothing (every
+// query but one); accel/boundary_hits.h's collector passes over volume boundaries (pass()
+// true: recorded, the traversal goes on).
+struct BvhNoCollect {
+    static constexpr bool kOn = false;
+    LANTERN_HD bool pass(uint32_t, int32_t, float, float, float) const { return false; }
+};
 
-template <bool kAnyHit, typename Accept = BvhAcceptAll, typename TriAt = BvhTriAsStored>
+template <bool kAnyHit, typename Accept = BvhAcceptAll, typename TriAt = BvhTriAsStored,
+          typename Collect = BvhNoCollect>
 LANTERN_HD inline BvhHit bvh_traverse(const BvhView& bvh, const Ray& ray, uint32_t need,
                                       const Accept& accept = Accept(),
-                                      const TriAt& tri_at = TriAt()) {
+                                      const TriAt& tri_at = TriAt(),
+                                      const Collect& collect = Collect()) {
     BvhHit hit{ray.tmax, -1, {0.0f, 0.0f}};
     if (bvh.num_nodes == 0) return hit;
     const BvhRay r = bvh_ray(ray);
@@ -240,6 +249,7 @@ LANTERN_HD inline BvhHit bvh_traverse(const BvhView& bvh, const Ray& ray, uint32
                 float t, u, v;
                 if (!bvh_hit_triangle(r, tri, tmax, &t, &u, &v)) continue;
                 if ((tri.flags & kAlphaTested) && !accept(tri.prim, u, v)) continue;
+                if (Collect::kOn && collect.pass(tri.flags, tri.prim, t, u, v)) continue;
                 hit = {t, tri.prim, {u, v}};
                 if (kAnyHit) return hit;
                 tmax = t;

@@ -52,6 +52,15 @@ public:
         if (!curves_) return embree_ ? embree_->occluded(r) : bvh_->occluded(r);
         return (embree_ ? embree_->occluded(r) : bvh_->occluded(r)) || curves_->occluded(r);
     }
+    // A shadow ray through media in one query (accel/boundary_hits.h): whether anything but a
+    // volume boundary blocks r (strands always do); if not, the boundaries on it in *out.
+    // out->n -1: no answer (the caller's closest-hit loop).
+    bool occluded_collect(const Ray& r, BoundaryHits* out) const {
+        const bool blocked =
+            embree_ ? embree_->occluded_collect(r, out) : bvh_->occluded_collect(r, out);
+        if (blocked || out->n < 0 || !curves_) return blocked;
+        return curves_->occluded(r);
+    }
     const char* accel() const { return embree_ ? "embree" : "bvh"; }
     // Mesh k placed by to_world (relative to its exported positions); false, nothing changed,
     // without two levels or for a singular transform (cpu_accel.cpp).

@@ -7,6 +7,7 @@
 // Included by pt.h after pt_emission_weight, which it uses.
 #pragma once
 
+#include "accel/boundary_hits.h"
 #include "integrator/motion_stage.h"  // a moving volume's boundary at the path's time
 #include "scene/medium.h"
 #include "scene/medium_equiangular.h"
@@ -301,49 +302,60 @@ LANTERN_HD inline void pt_cross_boundary(const SceneView& s, const PathState& ps
 
 // ---- Shadow ray through media: the transmittance of every medium it crosses (zero when it is
 // blocked by any surface but a volume boundary), from o along d up to tmax, starting in medium
-// med. Rays is the executor's ray query (closest(r, kind)), kind its shadow rays' RayKind.
+// med. Rays is the executor's ray query (closest(r, kind), occluded_collect), kind its shadow
+// rays' RayKind.
 // A heterogeneous medium's transmittance is estimated by ratio tracking, with numbers from
 // path_rng's tracking block `slot` (medium_tracking_rng; a fixed stream without path_rng).
 // time: the path's shutter time (motion blur: what moves is where it is then, a moving
 // homogeneous volume's boundary too). ----
+
+// The transmittance of medium med (-1: none) over [0, t] of the ray from o along d.
+LANTERN_HD inline Vec3 pt_shadow_segment(const SceneView& s, int32_t med, Vec3 o, Vec3 d, float t,
+                                         float time, Rng& track) {
+    if (med < 0) return vec3(1.0f);
+    const Medium& m = s.media[med];
+    if (!m.hetero) return medium_transmittance(m, t);
+    Vec3 fo = o, fd = d;  // (a moving volume's density in its exported frame: motion.h)
+#ifndef __CUDA_ARCH__  // (motion blur renders on the CPU only, session.cpp)
+    if (s.motion.medium_objects) medium_ray_exported(s.motion, med, time, &fo, &fd);
+#endif
+    return medium_ratio_tracking(s, m, med, fo, fd, t, track);
+}
+
+// Boundary triangle prim hit at uv by a ray along d: its geometric normal and whether the ray
+// meets its front.
+LANTERN_HD inline void pt_boundary_side(const SceneView& s, int32_t prim, Vec2 uv, Vec3 d,
+                                        float time, Vec3* ng, bool* front) {
+    if (s.motion.num_objects > 0 && object_motion_of(s.motion, int(prim))) {
+        const SurfaceHit x = surface_moved_at(s, int(prim), uv, d, time);  // (moving)
+        *ng = x.ng;
+        *front = x.front;
+    } else {
+        const Vec3 a = triangle_vertex(s, prim, 0), b = triangle_vertex(s, prim, 1),
+                   c = triangle_vertex(s, prim, 2);
+        const Vec3 n = cross(b - a, c - a);
+        *front = dot(n, d) <= 0.0f;
+        *ng = normalize(n);
+    }
+}
+
+// Closest hits among the shadow casters, re-traced from past each volume boundary: what every
+// shadow ray through media took before occluded_collect, and still takes where that gives no
+// answer (more crossings than it holds, two-level structures, boundaries closer together than
+// pt_shadow_crossings trusts) and for lt's camera connections (kind kCamera).
 template <class Rays, class Kind>
-LANTERN_HD inline Vec3 pt_shadow_transmittance(const SceneView& s, const Rays& rays, Kind kind,
-                                               Vec3 o, Vec3 d, float tmax, int32_t med,
-                                               const Rng* path_rng = nullptr,
-                                               uint32_t slot = 1, float time = 0.0f) {
+LANTERN_HD inline Vec3 pt_shadow_loop(const SceneView& s, const Rays& rays, Kind kind, Vec3 o,
+                                      Vec3 d, float tmax, int32_t med, Rng track, float time) {
     Vec3 tr = vec3(1.0f);
-    Rng track = medium_tracking_rng(path_rng ? *path_rng : Rng{}, slot);
     for (int k = 0; k < 256; ++k) {  // boundaries crossed (a bound: never an endless loop)
         const auto h = rays.closest(Ray{o, d, 0.0f, tmax, time}, kind);
         const bool hit = h.prim >= 0 && h.t < tmax;
-        if (med >= 0) {
-            const Medium& m = s.media[med];
-            const float t = hit ? h.t : tmax;
-            if (m.hetero) {  // (a moving volume's density in its exported frame: motion.h)
-                Vec3 fo = o, fd = d;
-#ifndef __CUDA_ARCH__  // (motion blur renders on the CPU only, session.cpp)
-                if (s.motion.medium_objects) medium_ray_exported(s.motion, med, time, &fo, &fd);
-#endif
-                tr = tr * medium_ratio_tracking(s, m, med, fo, fd, t, track);
-            } else {
-                tr = tr * medium_transmittance(m, t);
-            }
-        }
+        tr = tr * pt_shadow_segment(s, med, o, d, hit ? h.t : tmax, time, track);
         if (!hit) return tr;
         if (!(s.tri_flags[h.prim] & kVolumeBoundary) || is_black(tr)) return vec3(0.0f);
         Vec3 ng;
         bool front;
-        if (s.motion.num_objects > 0 && object_motion_of(s.motion, int(h.prim))) {
-            const SurfaceHit x = surface_moved_at(s, int(h.prim), h.uv, d, time);  // (moving)
-            ng = x.ng;
-            front = x.front;
-        } else {
-            const Vec3 a = triangle_vertex(s, h.prim, 0), b = triangle_vertex(s, h.prim, 1),
-                       c = triangle_vertex(s, h.prim, 2);
-            const Vec3 n = cross(b - a, c - a);
-            front = dot(n, d) <= 0.0f;
-            ng = normalize(n);
-        }
+        pt_boundary_side(s, h.prim, h.uv, d, time, &ng, &front);
         med = medium_across(s, h.prim, front, med);
         const Vec3 p = o + d * h.t;
         const Vec3 next = offset_ray_origin(p, ng, d, s.offset_scale);
@@ -351,6 +363,77 @@ LANTERN_HD inline Vec3 pt_shadow_transmittance(const SceneView& s, const Rays& r
         o = next;
     }
     return vec3(0.0f);
+}
+
+// The transmittance of an unblocked shadow ray from the boundary crossings one query gathered
+// (x, unordered): sorted by distance, the media between them as pt_shadow_loop takes them
+// (its segments from the crossings themselves instead of re-offset origins: the same up to the
+// offset's few ulps). False (nothing computed): two crossings closer together than a few
+// hundred times the origin offset (coplanar or touching boundaries, a ray through a shared
+// edge), where the loop's re-offset origin steps over the second: the caller takes the loop.
+LANTERN_HD inline bool pt_shadow_crossings(const SceneView& s, BoundaryHits& x, Vec3 o, Vec3 d,
+                                           float tmax, int32_t med, Rng track, float time,
+                                           Vec3* out) {
+    int n = 0;
+    for (int k = 0; k < x.n; ++k) {  // insertion sort by t, crossings at or past tmax dropped
+        if (!(x.t[k] < tmax)) continue;
+        const float t = x.t[k];
+        const int32_t prim = x.prim[k];
+        const Vec2 uv = x.uv[k];
+        int j = n++;
+        for (; j > 0 && x.t[j - 1] > t; --j) {
+            x.t[j] = x.t[j - 1];
+            x.prim[j] = x.prim[j - 1];
+            x.uv[j] = x.uv[j - 1];
+        }
+        x.t[j] = t;
+        x.prim[j] = prim;
+        x.uv[j] = uv;
+    }
+    for (int k = 1; k < n; ++k) {
+        const Vec3 p = o + d * x.t[k];
+        const float near = fmaxf(fmaxf(fabsf(p.x), fmaxf(fabsf(p.y), fabsf(p.z))),
+                                 s.offset_scale * (1.0f / 32.0f));
+        if (!(x.t[k] - x.t[k - 1] > 2e-3f * near)) return false;
+    }
+    Vec3 tr = vec3(1.0f);
+    float t0 = 0.0f;
+    for (int k = 0; k < n; ++k) {
+        tr = tr * pt_shadow_segment(s, med, o + d * t0, d, x.t[k] - t0, time, track);
+        if (is_black(tr)) {
+            *out = vec3(0.0f);
+            return true;
+        }
+        Vec3 ng;
+        bool front;
+        pt_boundary_side(s, x.prim[k], x.uv[k], d, time, &ng, &front);
+        med = medium_across(s, x.prim[k], front, med);
+        t0 = x.t[k];
+    }
+    *out = tr * pt_shadow_segment(s, med, o + d * t0, d, tmax < kInf ? tmax - t0 : kInf, time,
+                                  track);
+    return true;
+}
+
+// A shadow ray (kShadow): one query that stops at the first caster but a volume boundary and
+// gathers the boundaries before it (occluded_collect, accel/boundary_hits.h), where the loop
+// took a closest-hit trace per boundary crossed and one to the end or to the blocker.
+template <class Rays, class Kind>
+LANTERN_HD inline Vec3 pt_shadow_transmittance(const SceneView& s, const Rays& rays, Kind kind,
+                                               Vec3 o, Vec3 d, float tmax, int32_t med,
+                                               const Rng* path_rng = nullptr,
+                                               uint32_t slot = 1, float time = 0.0f) {
+    const Rng track = medium_tracking_rng(path_rng ? *path_rng : Rng{}, slot);
+    if (kind == Kind::kShadow) {  // (Kind: RayKind, backend/cpu/embree_accel.h)
+        BoundaryHits x;
+        const bool blocked = rays.occluded_collect(Ray{o, d, 0.0f, tmax, time}, &x);
+        if (x.n >= 0) {
+            if (blocked) return vec3(0.0f);
+            Vec3 tr;
+            if (pt_shadow_crossings(s, x, o, d, tmax, med, track, time, &tr)) return tr;
+        }
+    }
+    return pt_shadow_loop(s, rays, kind, o, d, tmax, med, track, time);
 }
 
 // The slot's shadow rays in a scene with media: the surface's or medium vertex's, and the

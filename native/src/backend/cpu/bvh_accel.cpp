@@ -77,6 +77,23 @@ bool BvhAccel::occluded(const Ray& ray) const {
                       : bvh_occluded(view_, r, kBvhNeedShadow);
 }
 
+bool BvhAccel::occluded_collect(const Ray& ray, BoundaryHits* out) const {
+    out->n = 0;
+    if (two_level_) {  // (no gathering traversal of two levels: the caller's loop)
+        out->n = -1;
+        return false;
+    }
+    Ray r;
+    float shift = 0.0f;
+    if (!guard(ray, &r, &shift))
+        return !is_finite(ray.o) || !is_finite(ray.d) || !(ray.tmax >= 0.0f);
+    const bool blocked = any_alpha_ ? bvh_occluded_collect(view_, r, out, BvhAlphaTest{s_, r})
+                                    : bvh_occluded_collect(view_, r, out);
+    if (!blocked && shift > 0.0f)
+        for (int k = 0; k < out->n; ++k) out->t[k] = float(double(out->t[k]) + shift);
+    return blocked;
+}
+
 bool BvhAccel::move(int k, const Transform& to_world) {
     if (!two_level_ || !set_instance_transform(tl_, k, to_world)) return false;
     build_tlas(tl_);

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "accel/boundary_hits.h"
 #include "accel/bvh_builder.h"
 #include "accel/tlas_build.h"
 #include "backend/cpu/embree_accel.h"
@@ -24,6 +25,10 @@ public:
 
     HitRecord intersect(const Ray& r, RayKind kind) const;
     bool occluded(const Ray& r) const;
+    // A shadow ray through media in one query (accel/boundary_hits.h): whether a caster but a
+    // volume boundary blocks r; if not, the boundaries on it in *out. out->n -1 (two levels,
+    // or too many): no answer.
+    bool occluded_collect(const Ray& r, BoundaryHits* out) const;
     const BvhStats& stats() const { return bvh_.stats; }
     // Two levels only: mesh k placed by to_world (relative to its exported positions), the top
     // level rebuilt; false, nothing changed, without two levels or for a singular transform.

@@ -234,6 +234,10 @@ public:
         bool occluded(const Ray& r, RayKind kind) const {
             return kind == RayKind::kShadow ? b->occluded(r) : b->intersect(r, kind).prim >= 0;
         }
+        // a shadow ray through media: blocked, or the volume boundaries it crosses (pt_volume.h)
+        bool occluded_collect(const Ray& r, BoundaryHits* out) const {
+            return b->occluded_collect(r, out);
+        }
     };
     Rays rays() const { return Rays{rays_}; }
 

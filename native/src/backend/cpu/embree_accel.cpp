@@ -146,10 +146,12 @@ EmbreeAccel::EmbreeAccel(const SceneView& s, std::vector<std::string>& warnings,
         warnings.push_back(std::to_string(degenerate) +
                            " degenerate (zero-area) triangle(s) were left out");
     }
-    bool any_hidden = false, any_no_shadow = false;
+    bool any_hidden = false, any_no_shadow = false, any_bound = false;
     for (int t = 0; t < s.num_triangles; ++t) {
         any_hidden |= !(s.tri_flags[t] & kVisibleCamera);
         any_no_shadow |= !(s.tri_flags[t] & kCastShadow);
+        any_bound |= (s.tri_flags[t] & (kCastShadow | kVolumeBoundary)) ==
+                     (kCastShadow | kVolumeBoundary);
     }
     if (meshes) {
         build_instanced(s, *meshes);
@@ -159,6 +161,7 @@ EmbreeAccel::EmbreeAccel(const SceneView& s, std::vector<std::string>& warnings,
     bottom_builds_ = 1;
     if (any_hidden) { camera_ = build(s, kVisibleCamera); has_camera_ = true; }
     if (any_no_shadow) { shadow_ = build(s, kCastShadow); has_shadow_ = true; }
+    if (any_bound) { collect_ = build(s, kCastShadow, 0, -1, false, true); has_collect_ = true; }
 }
 
 namespace {
@@ -239,10 +242,37 @@ void alpha_filter(const RTCFilterFunctionNArguments* args) {
     }
 }
 
+// Occluded filter of occluded_collect's volume-boundary geometries (flat scenes): a hit (past
+// the alpha test, for the alpha-tested one) is recorded and rejected, so the query goes on;
+// out of room, accepted (the query stops, out->n is -1).
+template <bool kAlpha>
+void collect_filter(const RTCFilterFunctionNArguments* args) {
+    const auto* f = static_cast<const EmbreeAccel::AlphaFilter*>(args->geometryUserPtr);
+    BoundaryHits* out = reinterpret_cast<const EmbreeCollectContext*>(args->context)->out;
+    const unsigned n = args->N;
+    for (unsigned i = 0; i < n; ++i) {
+        if (args->valid[i] != -1) continue;
+        const int32_t tri = f->prim_to_tri[RTCHitN_primID(args->hit, n, i)];
+        const Vec2 bary{RTCHitN_u(args->hit, n, i), RTCHitN_v(args->hit, n, i)};
+        if (kAlpha) {
+            const Vec3 o{RTCRayN_org_x(args->ray, n, i), RTCRayN_org_y(args->ray, n, i),
+                         RTCRayN_org_z(args->ray, n, i)};
+            const Vec3 d{RTCRayN_dir_x(args->ray, n, i), RTCRayN_dir_y(args->ray, n, i),
+                         RTCRayN_dir_z(args->ray, n, i)};
+            if (!alpha_stops(f->s, tri, bary, o, d)) {
+                args->valid[i] = 0;
+                continue;
+            }
+        }
+        // (the candidate's distance is in the ray's tfar while its filter runs)
+        if (out && out->add(tri, RTCRayN_tfar(args->ray, n, i), bary)) args->valid[i] = 0;
+    }
+}
+
 }  // namespace
 
 EmbreeAccel::Built EmbreeAccel::build(const SceneView& s, uint8_t need_flag, int begin,
-                                      int end, bool instanced) {
+                                      int end, bool instanced, bool split_bounds) {
     const EmbreeApi& e = embree_api();
     auto dev = static_cast<RTCDevice>(device_);
     Built b;
@@ -250,11 +280,15 @@ EmbreeAccel::Built EmbreeAccel::build(const SceneView& s, uint8_t need_flag, int
     b.scene = scene;
     e.setSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);
     e.setSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
-    std::vector<int32_t> alpha;
+    std::vector<int32_t> alpha, bound_alpha;
     if (end < 0) end = s.num_triangles;
     for (int t = begin; t < end; ++t) {
         if (need_flag && !(s.tri_flags[t] & need_flag)) continue;
         if (!usable_triangle(s, t)) continue;
+        if (split_bounds && (s.tri_flags[t] & kVolumeBoundary)) {
+            (s.tri_flags[t] & kAlphaTested ? bound_alpha : b.bound_tris).push_back(t);
+            continue;
+        }
         if (s.tri_flags[t] & kAlphaTested) alpha.push_back(t);
         else b.prim_to_tri.push_back(t);
     }
@@ -279,6 +313,21 @@ EmbreeAccel::Built EmbreeAccel::build(const SceneView& s, uint8_t need_flag, int
         b.alpha_geom = e.attachGeometry(scene, g);
         e.releaseGeometry(g);
     }
+    // split_bounds: the boundaries, opaque then alpha-tested, each a geometry whose occluded
+    // filter records them (collect_filter)
+    const size_t nb = b.bound_tris.size();
+    b.bound_tris.insert(b.bound_tris.end(), bound_alpha.begin(), bound_alpha.end());
+    for (int a = 0; a < 2; ++a) {
+        const size_t first = a ? nb : 0, count = a ? b.bound_tris.size() - nb : nb;
+        if (count == 0) continue;
+        b.bound_filter[a].reset(new AlphaFilter{s, b.bound_tris.data() + first, false});
+        RTCGeometry g = make_geometry(e, dev, s, b.bound_tris.data() + first, count);
+        e.setGeometryUserData(g, b.bound_filter[a].get());
+        e.setGeometryOccludedFilterFunction(g, a ? collect_filter<true> : collect_filter<false>);
+        e.commitGeometry(g);
+        e.attachGeometry(scene, g);
+        e.releaseGeometry(g);
+    }
     e.commitScene(scene);
     return b;
 }
@@ -287,7 +336,7 @@ EmbreeAccel::~EmbreeAccel() {
     if (!embree_available()) return;
     const EmbreeApi& e = embree_api();
     release_instanced();
-    for (Built* b : {&all_, &camera_, &shadow_}) {
+    for (Built* b : {&all_, &camera_, &shadow_, &collect_}) {
         if (b->scene) e.releaseScene(static_cast<RTCScene>(b->scene));
     }
     if (device_) e.releaseDevice(static_cast<RTCDevice>(device_));
@@ -345,6 +394,34 @@ bool EmbreeAccel::occluded(const Ray& r) const {
     embree_api().occluded1(static_cast<RTCScene>(b.scene), &ctx, &ray);
     return ray.tfar < 0.0f;  // Embree sets tfar = -inf on a hit
 }
+
+bool EmbreeAccel::occluded_collect(const Ray& r, BoundaryHits* out) const {
+    out->n = 0;
+    if (two_level_ || !has_collect_) {  // (two levels: the caller's loop; no boundary: none)
+        if (two_level_) out->n = -1;
+        return two_level_ ? false : occluded(r);
+    }
+    float o[3], tnear, tfar, shift;
+    if (!prepare(r, box_, o, &tnear, &tfar, &shift))
+        return !is_finite(r.o) || !is_finite(r.d) || !(r.tmax >= 0.0f);
+    EmbreeCollectContext cc;
+    rtcInitIntersectContext(&cc.ctx);
+    cc.out = out;
+    RTCRay ray;
+    ray.org_x = o[0]; ray.org_y = o[1]; ray.org_z = o[2];
+    ray.dir_x = r.d.x; ray.dir_y = r.d.y; ray.dir_z = r.d.z;
+    ray.tnear = tnear;
+    ray.tfar = tfar;
+    ray.time = 0.0f;
+    ray.mask = 0xFFFFFFFFu;
+    ray.id = 0;
+    ray.flags = 0;
+    embree_api().occluded1(static_cast<RTCScene>(collect_.scene), &cc.ctx, &ray);
+    if (ray.tfar < 0.0f) return true;  // blocked (or out of room: out->n -1)
+    if (shift > 0.0f)
+        for (int k = 0; k < out->n; ++k) out->t[k] = float(double(out->t[k]) + shift);
+    return false;
+}
 #else
 EmbreeAccel::EmbreeAccel(const SceneView&, std::vector<std::string>&,
                          const std::vector<MeshRange>*) {
@@ -353,6 +430,10 @@ EmbreeAccel::EmbreeAccel(const SceneView&, std::vector<std::string>&,
 EmbreeAccel::~EmbreeAccel() = default;
 HitRecord EmbreeAccel::intersect(const Ray& r, RayKind) const { return {r.tmax, -1, {0, 0}}; }
 bool EmbreeAccel::occluded(const Ray&) const { return false; }
+bool EmbreeAccel::occluded_collect(const Ray&, BoundaryHits* out) const {
+    out->n = -1;
+    return false;
+}
 bool EmbreeAccel::move(int, const float*, const Vec3*) { return false; }
 #endif
 

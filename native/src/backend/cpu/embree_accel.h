@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "accel/boundary_hits.h"
 #include "core/math.h"
 #include "scene/scene_view.h"
 
@@ -44,6 +45,11 @@ public:
 
     HitRecord intersect(const Ray& r, RayKind kind) const;
     bool occluded(const Ray& r) const;
+    // A shadow ray through media in one query (accel/boundary_hits.h): whether a caster but a
+    // volume boundary blocks r; if not, the boundaries on it in *out (out->n -1: no answer,
+    // with two levels or too many crossings). A structure of its own (the casters, the
+    // boundaries in geometries whose filter records them), built where a boundary casts shadows.
+    bool occluded_collect(const Ray& r, BoundaryHits* out) const;
     // The ray as Embree can take it (origin o, range [tnear, tfar], hit distances then + shift),
     // or false when there is nothing to trace (embree_accel.cpp, "Rays Embree can take").
     static bool prepare(const Ray& r, const Vec3 box[2], float o[3], float* tnear, float* tfar,
@@ -70,12 +76,17 @@ private:
         uint32_t alpha_geom = ~0u;           // geomID of the alpha-tested geometry
         size_t alpha_base = 0;               // its first entry in prim_to_tri
         std::unique_ptr<AlphaFilter> filter;
+        // split_bounds builds only: the volume boundaries' geometries (opaque, alpha-tested),
+        // their triangles and filters (never read through tri(): occluded_collect only)
+        std::vector<int32_t> bound_tris;
+        std::unique_ptr<AlphaFilter> bound_filter[2];
         int32_t tri(uint32_t geom, uint32_t prim) const {
             return prim_to_tri[(geom == alpha_geom ? alpha_base : 0) + prim];
         }
     };
+    // split_bounds: the volume boundaries in geometries of their own (occluded_collect's)
     Built build(const SceneView& s, uint8_t need_flag, int begin = 0, int end = -1,
-                bool instanced = false);
+                bool instanced = false, bool split_bounds = false);
     const Built& for_kind(RayKind kind) const;
     // ---- two levels (embree_instances.cpp) ----
     struct Top {
@@ -100,7 +111,8 @@ private:
     Vec3 box_[2];  // far_ray_bounds()
     void* device_ = nullptr;                 // RTCDevice
     Built all_, camera_, shadow_;
-    bool has_camera_ = false, has_shadow_ = false;
+    Built collect_;  // occluded_collect's: the shadow casters, boundaries apart (flat only)
+    bool has_camera_ = false, has_shadow_ = false, has_collect_ = false;
 };
 
 }  // namespace lantern

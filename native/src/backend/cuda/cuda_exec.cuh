@@ -19,6 +19,7 @@
 #include <string>
 #include <utility>
 
+#include "accel/boundary_hits.h"
 #include "accel/bvh.h"
 #include "backend/cpu/embree_accel.h"  // RayKind (plain enum)
 #include "backend/cuda/cuda_renderer.h"
@@ -315,6 +316,10 @@ public:
         }
         __device__ BvhHit closest(const Ray& r, RayKind kind) const {  // pt_shadow_medium
             return bvh_intersect(bvh, r, need(kind), BvhAlphaTest{s, r});
+        }
+        // a shadow ray through media: blocked, or the volume boundaries it crosses (pt_volume.h)
+        __device__ bool occluded_collect(const Ray& r, BoundaryHits* out) const {
+            return bvh_occluded_collect(bvh, r, out, BvhAlphaTest{s, r});
         }
     };
     Rays rays() const { return Rays{bvh_, scene_}; }
