@@ -15,6 +15,7 @@ import copy
 import random
 
 import difftest_features2 as f2
+import difftest_features3 as f3
 from difftest_graph import _rgb, _u
 
 FEATURES = {
@@ -32,6 +33,7 @@ FEATURES = {
     "moving camera": "the camera moving over the shutter",
 }
 FEATURES.update(f2.FEATURES)   # the second batch (difftest2): Volume objects, Cast Shadow, ...
+FEATURES.update(f3.FEATURES)   # the third (difftest3): moving emitters, motion in fog, hair mixes
 
 P_VOLUME, P_WORLD_VOLUME, P_SUBSURFACE, P_HAIR, P_MOTION = 0.15, 0.06, 0.12, 0.10, 0.12
 
@@ -141,14 +143,7 @@ def draw(key, case, avoid, material):
                          "material": "hair"}
             case["materials"]["hair"] = _hair_material(r, avoid, material)
         elif "curves hair" not in avoid:
-            case["objects"].append({
-                "kind": "curves", "location": [_u(r, -1.2, 1.2), _u(r, -1.2, 1.2), 0.0],
-                "rotation": [0.0, 0.0, _u(r, -3, 3)], "scale": [1.0, 1.0, 1.0],
-                "material": "hair",
-                "strands": {"count": r.randint(20, 80), "keys": r.randint(4, 10),
-                            "length": _u(r, 0.4, 1.5), "spread": _u(r, 0.2, 0.8),
-                            "wave": _u(r, 0.0, 0.15), "radius": _u(r, 0.005, 0.03),
-                            "seed": r.randrange(1000)}})
+            case["objects"].append(_curves(r))
             case["materials"]["hair"] = _hair_material(r, avoid, material)
     if r.random() < P_MOTION:
         case["shutter"] = r.choice([0.5, 1.0, _u(r, 0.2, 1.0)])
@@ -160,7 +155,19 @@ def draw(key, case, avoid, material):
                                                      _u(r, -0.2, 0.2)]}
         else:
             case.pop("shutter")
-    return f2.draw(key, case, avoid)   # from a stream of its own: cases without them unchanged
+    # each batch from a stream of its own: cases without them draw unchanged
+    return f3.draw(key, f2.draw(key, case, avoid), avoid, material, _volume_graph, _curves)
+
+
+def _curves(r):
+    """A Curves object's entry (its material "hair")."""
+    return {"kind": "curves", "location": [_u(r, -1.2, 1.2), _u(r, -1.2, 1.2), 0.0],
+            "rotation": [0.0, 0.0, _u(r, -3, 3)], "scale": [1.0, 1.0, 1.0],
+            "material": "hair",
+            "strands": {"count": r.randint(20, 80), "keys": r.randint(4, 10),
+                        "length": _u(r, 0.4, 1.5), "spread": _u(r, 0.2, 0.8),
+                        "wave": _u(r, 0.0, 0.15), "radius": _u(r, 0.005, 0.03),
+                        "seed": r.randrange(1000)}}
 
 
 def _hair_material(r, avoid, material):
@@ -310,7 +317,7 @@ def features(case):
                 found.add("principled hair")
     if "motion" in case["camera"] and case.get("shutter"):
         found.add("moving camera")
-    return found | f2.features(case)
+    return found | f2.features(case) | f3.features(case)
 
 
 def shrink_edits(case):
@@ -331,3 +338,4 @@ def shrink_edits(case):
     if case.get("shutter") and case["shutter"] != 0.5:
         yield "shutter 0.5", edited(lambda c: c.update(shutter=0.5))
     yield from f2.shrink_edits(case)
+    yield from f3.shrink_edits(case)

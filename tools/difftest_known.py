@@ -80,6 +80,8 @@ KNOWN = {
     "translucent on low-poly smooth": "D43: a Translucent BSDF on a smooth-shaded low-poly "
                                       "mesh, lit through its interior, reads darker in "
                                       "Lantern (difftest_features2's low-poly meshes)",
+    "moving low-poly smooth": "D49: a smooth-shaded low-poly mesh turning over the shutter "
+                              "reads darker in Lantern (pt and bdpt)",
     "sharp specular on low-poly smooth": "D48: a sharp glass or specular layer (Glass BSDF, "
                                          "Principled Roughness 0) on a smooth-shaded low-poly "
                                          "mesh: Cycles corrects the bent normals at the rims",
@@ -316,4 +318,7 @@ def tags(case):
                                         else 0.0) < 0.03
                 for n in mats[o["material"]]["nodes"].values()):
             found.add("sharp specular on low-poly smooth")
+        if o.get("lowpoly", {}).get("smooth") and case.get("shutter") and (
+                "motion" in o or o.get("deform")):
+            found.add("moving low-poly smooth")
     return found

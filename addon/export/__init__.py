@@ -53,7 +53,9 @@ def export_scene(depsgraph, region_view=None, report=None, texture_cache=None, f
     holdouts = Holdouts(materials, report, _integrator(bscene), depsgraph.view_layer,
                         None if region_view else bool(scene.film.get("transparent", False)))
     motion = MotionRecorder(depsgraph, report, frame_set, final=region_view is None)
-    source = _Fresh(meshes, StrandExporter(bscene, materials, report, final=region_view is None),
+    source = _Fresh(meshes, StrandExporter(bscene, materials, report, final=region_view is None,
+                                             viewport_cache=getattr(depsgraph, "mode", "RENDER")
+                                             == "VIEWPORT"),
                     VolumeObjects(report, lantern, materials.attributes), materials)
     walk = Walk(depsgraph, scene, materials, holdouts, report, motion)  # export/walk.py
     for inst in depsgraph.object_instances:

@@ -159,26 +159,35 @@ def curves_object_strands(obj, matrix_world, report, budget=MAX_STRAND_BYTES):
 
 
 # ---- Particle hair ----
-def particle_strand_counts(psys, final=True):
-    """(strands, keys per strand, first particle index) as Cycles counts them."""
+def particle_strand_counts(psys, final=True, viewport_cache=False):
+    """(strands, keys per strand, first particle index) as Cycles counts them. The keys are
+    those the evaluated cache holds: a viewport depsgraph's hair has its Viewport Steps even
+    for a final export (co_hair reads (0, 0, 0) past them: every strand ran on to the world's
+    origin, difftest3)."""
     s = psys.settings
     parents, children = len(psys.particles), len(psys.child_particles)
     if not final:
         children = int(children * s.display_percentage / 100.0)
     first = parents if (s.child_type != "NONE" and children > 0) else 0
-    steps = (1 << (s.render_step if final else s.display_step)) + 1
+    steps = (1 << (s.render_step if final and not viewport_cache else s.display_step)) + 1
     if s.kink == "SPIRAL":
         steps += s.kink_extra_steps
     return parents + children - first, steps, first
 
 
-def particle_hair_strands(obj, psys, matrix_world, report, budget=MAX_STRAND_BYTES, final=True):
-    """The strands of one particle system of render type Path on an evaluated object, or None."""
+def particle_hair_strands(obj, psys, matrix_world, report, budget=MAX_STRAND_BYTES, final=True,
+                          viewport_cache=False):
+    """The strands of one particle system of render type Path on an evaluated object, or None.
+    `viewport_cache`: the object was evaluated by a viewport depsgraph (particle_strand_counts)."""
     s = psys.settings
     if s.type != "HAIR" or s.render_type != "PATH":
         return None
     what = f"Object '{obj.name}', particle hair '{psys.name}'"
-    num_strands, steps, first = particle_strand_counts(psys, final)
+    if final and viewport_cache and s.display_step != s.render_step:
+        report.warn(f"{what}: exported from a viewport depsgraph, whose hair has the Viewport "
+                    f"Steps ({s.display_step}), not the Render Steps ({s.render_step}) of a "
+                    "final render: the strands' keys differ from Cycles'")
+    num_strands, steps, first = particle_strand_counts(psys, final, viewport_cache)
     if num_strands == 0 or _over_budget(report, what, num_strands, num_strands * steps, budget):
         return None
     pts = np.empty((num_strands * steps, 3), np.float64)
@@ -206,7 +215,8 @@ def particle_hair_strands(obj, psys, matrix_world, report, budget=MAX_STRAND_BYT
     return _clean(strands, report, what)
 
 
-def object_strands(obj, matrix_world, report, budget=MAX_STRAND_BYTES, final=True):
+def object_strands(obj, matrix_world, report, budget=MAX_STRAND_BYTES, final=True,
+                   viewport_cache=False):
     """Every strand set an evaluated object renders as hair: its Curves data and its particle
     hair systems whose modifier shows for this kind of render."""
     out = []
@@ -218,7 +228,8 @@ def object_strands(obj, matrix_world, report, budget=MAX_STRAND_BYTES, final=Tru
              if m.type == "PARTICLE_SYSTEM" and (m.show_render if final else m.show_viewport)}
     for psys in getattr(obj, "particle_systems", ()):
         if psys.name in shown:
-            st = particle_hair_strands(obj, psys, matrix_world, report, budget, final)
+            st = particle_hair_strands(obj, psys, matrix_world, report, budget, final,
+                                       viewport_cache)
             if st is not None:
                 out.append(st)
     return out

@@ -45,8 +45,9 @@ def attributes_read(material, names):
 
 
 class StrandExporter:
-    def __init__(self, bscene, materials, report, final=True):
+    def __init__(self, bscene, materials, report, final=True, viewport_cache=False):
         self.materials, self.report, self.final = materials, report, final
+        self.viewport_cache = viewport_cache   # a viewport depsgraph (curves.particle_*)
         self.shape = curve_shape(bscene, report)
         self.sets = []
 
@@ -59,7 +60,8 @@ class StrandExporter:
     def sets_of(self, inst):
         """The instance's strand sets (their ray visibility: export/walk.py)."""
         obj = inst.object
-        found = curves.object_strands(obj, inst.matrix_world, self.report, final=self.final)
+        found = curves.object_strands(obj, inst.matrix_world, self.report, final=self.final,
+                                      viewport_cache=self.viewport_cache)
         if not found:
             return []
         if self.shape == "RIBBONS":

@@ -119,11 +119,15 @@ def _hair_sphere(scene, count=10, children=0, close_tip=True, shape=0.0, tip=0.0
 def test_particle_hair_keys_and_radii(curves_mod):
     scene = empty_scene()
     obj = _hair_sphere(scene, count=10, close_tip=False, shape=0.5, tip=0.25)
+    # the viewport depsgraph's cache holds the Viewport Steps' keys (Blender's default 2: its
+    # keys 5-8 read (0, 0, 0), which this test compared equal before difftest3)
+    obj.particle_systems[0].settings.display_step = 3
     ev = _evaluated(obj)
     psys = ev.particle_systems[0]
     report = Report()
     st = curves_mod.particle_hair_strands(ev, psys, ev.matrix_world, report)
     assert report.messages == []
+    assert np.linalg.norm(st.points - [0.0, 0.0, 0.5], axis=1).min() > 0.9   # none at 0
     assert st.num_strands == 10
     np.testing.assert_array_equal(np.diff(st.offsets), 9)  # 2^3 + 1 keys
     for p in (0, 7):
@@ -208,6 +212,31 @@ def test_catmull_rom_pieces(curves_mod):
     assert err < 1e-3
     mids = 0.5 * (arc[1:] + arc[:-1])
     assert np.abs(np.linalg.norm(mids, axis=1) - 1.0).max() > 10 * err
+
+
+def test_viewport_depsgraph_keys(curves_mod, addon):
+    """A viewport depsgraph's hair holds Viewport Steps' keys (2^display_step + 1), not the
+    Render Steps' that a final export counts: the export reads the keys the cache has and names
+    the difference (difftest3's hand-made scene: Blender's defaults, display 2, render 3, ran
+    every strand's last four keys to the world's origin, (0, 0, 0) from co_hair; Lantern 19 %
+    darker than Cycles in the fur's blocks). Equal steps: no warning, 9 keys."""
+    from lantern_blender.export import export_scene
+    scene = empty_scene()
+    obj = _hair_sphere(scene, count=10)
+    s = obj.particle_systems[0].settings
+    s.display_step = 2
+    ev = _evaluated(obj)
+    report = Report()
+    st = curves_mod.particle_hair_strands(ev, ev.particle_systems[0], ev.matrix_world, report,
+                                          viewport_cache=True)
+    np.testing.assert_array_equal(np.diff(st.offsets), 5)   # 2^2 + 1 keys
+    assert np.linalg.norm(st.points - [0.0, 0.0, 0.5], axis=1).min() > 0.9   # none at 0
+    assert len(report.messages) == 1 and "Viewport Steps (2)" in report.messages[0]
+    _, rep = export_scene(bpy.context.evaluated_depsgraph_get())
+    assert any("Viewport Steps (2)" in m for m in rep.messages), rep.messages
+    s.display_step = 3
+    _, rep = export_scene(bpy.context.evaluated_depsgraph_get())
+    assert not any("Viewport Steps" in m for m in rep.messages), rep.messages
 
 
 def test_see_through_strands_warned(addon):

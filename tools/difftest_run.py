@@ -1,0 +1,97 @@
+"""tools/difftest.py with every integrator (auto and lt as well as pt, bdpt, lvc and cis) and
+a choice of features (docs/difftest.md). The same options and log; --integrator's choices
+are wider, and --want TAG (repeatable; "new" for every difftest_features3 tag) runs only the
+seeds whose case has one of the tags (the others are skipped, not logged), one case at a time
+through difftest.main (--resume: each seed once). A wrapper, not an edit of difftest.py,
+whose digest keys the CI slice's stored Cycles side (tests/cycles/test_difftest.py): changing
+it would make every stored reference stale.
+
+    nice .venv/bin/python tools/difftest_run.py --integrator lt --profile full --seed 5000 \
+        --cases 20 --out bench/results/DATE-difftest3/lt
+"""
+
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import difftest  # noqa: E402
+
+INTEGRATORS = ("pt", "bdpt", "lvc", "cis", "lt", "auto")
+_parse = difftest.parse
+
+
+def parse(argv):
+    """difftest.parse, --integrator taking any of INTEGRATORS."""
+    argv = list(sys.argv[1:] if argv is None else argv)
+    chosen = None
+    for i, a in enumerate(argv):
+        if a == "--integrator" and i + 1 < len(argv):
+            chosen, argv[i + 1] = argv[i + 1], "pt"
+        elif a.startswith("--integrator="):
+            chosen, argv[i] = a.split("=", 1)[1], "--integrator=pt"
+    if chosen is not None and chosen not in INTEGRATORS:
+        sys.exit(f"--integrator {chosen}: one of {', '.join(INTEGRATORS)}")
+    args = _parse(argv)
+    if chosen is not None:
+        args.integrator = chosen
+    return args
+
+
+difftest.parse = parse
+
+
+def _take(argv, flag):
+    """(values of every `flag VALUE` in argv, argv without them)."""
+    vals, rest, i = [], [], 0
+    while i < len(argv):
+        if argv[i] == flag and i + 1 < len(argv):
+            vals.append(argv[i + 1])
+            i += 2
+        else:
+            rest.append(argv[i])
+            i += 1
+    return vals, rest
+
+
+def main(argv=None):
+    argv = list(sys.argv[1:] if argv is None else argv)
+    want, argv = _take(argv, "--want")
+    if not want:
+        return difftest.main(argv)
+    import difftest_features as df
+    import difftest_features3 as f3
+    import difftest_scene as ds
+    want = set(f3.FEATURES) if "new" in want else set(want)
+    args = parse(argv)
+    avoid = set(args.avoid) | (set(difftest.dk.KNOWN) - set(args.allow)
+                               if args.avoid_known else set())
+    base, _ = _take(argv, "--seed")
+    _, argv = _take(argv, "--seed")
+    _, argv = _take(argv, "--cases")
+    first = int(base[-1]) if base else 0
+    seed, ran = first - 1, 0
+    while ran < args.cases:
+        seed += 1
+        if seed > first + 20 * args.cases:
+            break
+        if not df.features(ds.generate(seed, args.profile, args.size, avoid)) & want:
+            continue
+        logged = {e["seed"] for e in difftest.read_log(args.out)
+                  if e.get("settings", {}).get("integrator") == args.integrator}
+        ran += 1
+        if seed in logged:
+            continue
+        if args.until:
+            import datetime
+            hh, mm = (int(x) for x in args.until.split(":"))
+            now = datetime.datetime.now(datetime.timezone.utc)
+            if now > now.replace(hour=hh, minute=mm, second=0, microsecond=0):
+                print(f"deadline {args.until} UTC: stopped")
+                break
+        difftest.main(argv + ["--resume", "--seed", str(seed),
+                              "--cases", str(len(difftest.read_log(args.out)) + 1)])
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
