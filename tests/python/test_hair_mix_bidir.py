@@ -1,5 +1,5 @@
-"""Principled Hair in a mix with another BSDF on strands, in bdpt, lvc and cis (docs/curves.md
-"Principled Hair in a mix"; bsdf/hair_lobe.h kHairTube, integrator/bdpt_curve.h): the strand
+"""Principled Hair in a mix with another BSDF on strands, in bdpt, lvc, cis and lt
+(docs/curves.md "Principled Hair in a mix"; bsdf/hair_lobe.h kHairTube, bdpt_curve.h): the strand
 vertex is pt's point on the tube in the surface measure for both leaves, the hair lobe with the
 offset h(w) at which each side's direction meets that point.
 
