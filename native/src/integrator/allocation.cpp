@@ -315,17 +315,11 @@ std::string curves_bidir_reason(const SceneInput& in) {
 }
 
 std::string curves_lt_reason(const SceneInput& in) {
-    // Principled Hair as a mix's leaf is a tube vertex (bdpt_curve.h), whose transmission lt
-    // cannot reach either (the fiber measure's it does): a mix holding it, or that hair alone
-    std::vector<bool> leaf(in.materials.size(), false);
-    for (const MaterialInput& m : in.materials)
-        if (m.type == "mix")
-            for (int c : m.mix_children)
-                if (c >= 0 && size_t(c) < in.materials.size()) leaf[size_t(c)] = true;
+    // Principled Hair as a mix's leaf is a tube vertex (bdpt_curve.h) whose transmission lt
+    // reaches through the strand (lt_strand.h); the other transmitting leaves go to pt still
     auto transmits = [&](const MaterialInput& m) {  // (material_transmits_leaf, but hair's)
         return m.type == "dielectric" || m.type == "translucent" ||
-               (m.type == "principled" && m.transmission > 0.0f) ||
-               (m.type == "hair" && leaf[size_t(&m - in.materials.data())]);
+               (m.type == "principled" && m.transmission > 0.0f);
     };
     for (const CurveInput& c : in.curves) {
         if (c.offsets.size() <= 1) continue;

@@ -140,9 +140,10 @@ std::string curves_reason(const SceneInput& in);
 // What of strands and hair only pt renders (docs/curves.md): a hair material on a mesh; ""
 // when none.
 std::string curves_bidir_reason(const SceneInput& in);
-// What of strands lt cannot render besides (docs/curves.md): strands whose BSDF transmits (pt
-// transmits through a strand from the side the camera sees, which no light path reaches),
-// Principled Hair in a mix among them (a tube vertex's lobe, bdpt_curve.h).
+// What of strands lt cannot render besides (docs/curves.md): strands whose BSDF transmits
+// (Translucent, Glass, Principled with Transmission; pt transmits through a strand from the side
+// the camera sees, which lt reaches through the strand for Principled Hair in a mix only:
+// lt_strand.h).
 std::string curves_lt_reason(const SceneInput& in);
 // Object ray visibility (Diffuse, Glossy, Transmission, Volume Scatter off) and light linking:
 // only pt tells a bounce's kind and receiver so far; "" when the scene uses neither.

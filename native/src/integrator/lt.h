@@ -178,6 +178,7 @@ LANTERN_HD inline void lt_queue_splat(const PathState& ps, const LightPathState&
 
 #include "integrator/lt_medium.h"  // media: uses lt_queue_splat
 #include "integrator/lt_sss.h"  // subsurface: the adjoint walk, uses lt_queue_splat
+#include "integrator/lt_strand.h"  // through a strand
 
 namespace lantern {
 
@@ -276,9 +277,29 @@ LANTERN_HD inline void lt_shade(const SceneView& s, const PathState& ps, const L
                        : surface_of_hit(s, tri, ps.hit_uv[i], ps.ray_o[i], d, ps.hit_t[i],
                                         s.motion.curves ? motion_time(ps.rng[i]) : 0.0f);
     MaterialScratch scratch;
-    const Material& m = material_at_point(
+    const Material* mp = &material_at_point(
         s, s.tri_material[tri],
         [&] { return shade_point(h, strand ? -1 : tri, ps.hit_uv[i], -d); }, scratch);
+#ifndef __CUDACC__  // (strands render on the CPU only: session.cpp)
+    // a tube vertex whose BSDF transmits: with 1/2 the point where the ray leaves the strand,
+    // the light inside its fiber (lt_strand.h)
+    MaterialScratch scratch_exit;
+    if (strand && !strand_fiber(*mp) && material_transmits(*mp) && s.lt_strand_control == 0) {
+        Rng rng = ps.rng[i];
+        const bool inside = rng.uniform() < 0.5f;
+        ps.rng[i] = rng;
+        ps.throughput[i] = ps.throughput[i] * 2.0f;
+        if (inside) {  // its material there
+            if (!lt_strand_exit(s, ps.ray_o[i], d, ps.hit_t[i],
+                                s.motion.curves ? motion_time(ps.rng[i]) : 0.0f, &tri, &h))
+                return;
+            mp = &material_at_point(
+                s, s.tri_material[tri], [&] { return shade_point(h, -1, Vec2{h.st.x, 0.0f}, -d); },
+                scratch_exit);
+        }
+    }
+#endif
+    const Material& m = *mp;
     int depth = ps.depth[i] + 1;  // segments from the light to this vertex
     ps.depth[i] = depth;
     Vec3 wo_w = -d;  // towards the light

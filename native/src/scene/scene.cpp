@@ -400,6 +400,8 @@ void HostScene::finish_view(const SceneInput& in) {
     v.has_subsurface = 0;
     if (const char* c = std::getenv("LANTERN_SSS_ADJOINT"))  // tests' controls (lt_sss.h)
         v.sss_adjoint_control = std::string(c) == "lambert" ? 1 : std::string(c) == "nocos" ? 2 : 0;
+    if (const char* c = std::getenv("LANTERN_LT_STRAND"))  // tests' control (lt_strand.h)
+        v.lt_strand_control = std::string(c) == "nothrough" ? 1 : 0;
     for (const Material& m : materials_) {
         if (m.subsurface > 0.0f) v.has_subsurface = 1;
         if (m.tex_flags & kMaterialResolve) v.material_bits |= kSceneResolve;
