@@ -8,6 +8,7 @@
 #include "integrator/bdpt_curve.h"
 #include "integrator/bdpt_medium.h"
 #include "integrator/bdpt_motion.h"
+#include "integrator/bdpt_sss_light.h"  // subsurface: the split (CPU)
 #include "integrator/pixel_conn.h"
 #include "integrator/soft_light_medium.h"
 #include "integrator/soft_light_path.h"
@@ -62,6 +63,9 @@ LANTERN_HD inline void bdpt_camera_generate(const SceneView& s, const PathState&
                                                             : s.camera, ps.ray_d[i])))
                                 : 0.0f;
     bs.dvc[i] = 0.0f;
+#ifndef __CUDACC__
+    if (bs.sss_n) bs.sss_n[i] = 0;  // (subsurface: bdpt_sss_light.h)
+#endif
     if (s.num_media > 0) bdpt_camera_generate_medium(ps, bs, i);
 }
 
@@ -94,6 +98,9 @@ LANTERN_HD inline float bdpt_emission_weight(const SceneView& s, const PathState
     if (ps.depth[i] == 2) dvc *= bdpt_direct_lt(st);
     float w_camera = mis(pdf_direct) * dvcm + mis(st.r * pdf_emit) * dvc;
     if (nee_ratio) *nee_ratio = mis(pdf_direct) * dvcm;  // next-event estimation's (moments)
+#ifndef __CUDACC__
+    if (bs.sss_n) return bdpt_sss_split(s, bs.sss_n[i]) / (1.0f + w_camera);  // (subsurface)
+#endif
     return 1.0f / (1.0f + w_camera);
 }
 

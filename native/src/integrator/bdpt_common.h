@@ -52,7 +52,7 @@ struct LightVertex {
     float tangent_angle;  // anisotropic materials: the frame's turn about ns (SurfaceHit)
     int32_t path;   // light path index (bdpt pairs camera path i with light path i)
     int16_t length; // segments from the light to this vertex (y1 has 1; max_depth <= 1024)
-    int16_t front;
+    int16_t front;  // bit 0; subsurface (CPU): bit 1 a walk's exit, bits 2.. its split's code
     uint32_t coat_n;  // kCoatNormal, material_keeps_unbent_normal: SurfaceHit::coat_n (oct_encode)
     float dpt0, dpt1; // BdptSettings::moments: path tracing's techniques (BdptState::dpt0)
 };
@@ -78,7 +78,7 @@ LANTERN_HD inline ShadePoint shade_point_lv(const SceneView& s, const LightVerte
     const bool strand = y.tri >= s.num_triangles;  // a strand's point: no triangle (pt_curve.h)
     sp.tri = strand ? -1 : y.tri;
     sp.st = strand ? Vec2{sp.bary.x, 0.0f} : triangle_uv(s, y.tri, sp.bary);
-    sp.backfacing = y.front == 0;
+    sp.backfacing = (y.front & 1) == 0;  // (bit 1, bits 2..: bdpt_sss_light.h)
     return sp;
 }
 
@@ -194,6 +194,10 @@ struct BdptState {
     CameraVertex* cam_z = nullptr;
     Rng* cam_rng = nullptr;
     uint8_t* cam_on = nullptr;
+    // subsurface (CPU only; bdpt_sss_light.h): the split's code of the path so far (the other
+    // technique sets' share relative to its own; the light pass: the light path's, the camera
+    // pass: the camera path's)
+    uint16_t* sss_n = nullptr;
 };
 
 // What the camera pass reads of the cache.
