@@ -181,11 +181,9 @@ LANTERN_HD inline Connection bdpt_connect_medium(const SceneView& s, const BdptS
                                                  const CameraVertex& z, const LightVertex& y,
                                                  bool* clobbered);  // bdpt_medium_stages.h
 
-#ifndef __CUDACC__
 LANTERN_HD inline Connection bdpt_connect_sss_exit(const SceneView& s, const CameraVertex& z,
                                                    const LightVertex& y, Vec3 dir, float dist,
                                                    Vec3 wi_z);  // subsurface: bdpt_sss.h
-#endif
 
 LANTERN_HD inline Connection bdpt_connect_in(const SceneView& s, const BdptSettings& st,
                                              const CameraVertex& z, const LightVertex& y,
@@ -561,7 +559,6 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
                    : light_pick_normal(s, tri, z.h.ng);
     Rng rng = ps.rng[i];
 #ifndef __CUDACC__  // the device build has no walk stage (schedule_bdpt.h): CPU sessions only
-    if (s.has_subsurface && bs.sss_n) z.sss_code = bs.sss_n[i];
     if (s.has_subsurface && bdpt_sss_choose(s, ps, bs, z, i, rng)) return;  // under the surface
 #endif
     // next event and connections: the events stage's (bdpt_camera_events.h), from z and this

@@ -5,14 +5,14 @@
 // the exit as a camera vertex with a white Lambert lobe about the outward normal: next-event
 // estimation, connections to the cache and a cosine continuation.
 //
-// MIS. The walk is sampled, never evaluated, and only camera paths walk (light paths shade the
-// surface's other lobes: the Principled's base already carries 1 - W there), so a path with a
-// walk can be made only by the techniques whose camera sub-path holds its exit: the exit
-// vertex starts its MIS quantities afresh, dVCM = dVC = 0 (no light sub-path reaches it or
-// anything before it), like a camera (camera vertices walk at every depth, as pt's). Every
-// technique of such a path computes its weight over that same set, so the weights sum to 1.
-// The surface branch's probability 1 - P is left out of every technique's density (a
-// stand-in of 1 on both sides: the weights stay a partition of unity).
+// MIS. The walk is sampled, never evaluated. Among the techniques whose camera sub-path holds
+// the walk's exit, the exit vertex starts its MIS quantities afresh, dVCM = dVC = 0 (no light
+// sub-path of this set reaches it or anything before it), like a camera (camera vertices walk
+// at every depth, as pt's), so that set's weights sum to 1. Light paths walk too (Skin:
+// bdpt_sss_light.h), and the techniques whose light sub-path holds the walk form a second set:
+// the two are split by bdpt_sss_split (the exit's code, made in the walk stage). The surface
+// branch's probability 1 - P is left out of every technique's density (a stand-in of 1 on
+// both sides: the weights stay a partition of unity).
 #pragma once
 
 #include "integrator/bdpt_camera.h"
@@ -27,10 +27,11 @@ constexpr uint8_t kAliveSssExit = 3;  // PathState::alive: the exit stage has th
 // 1 / (1 - P) and shading goes on.
 LANTERN_HD inline bool bdpt_sss_choose(const SceneView& s, const PathState& ps,
                                        const BdptState& bs, CameraVertex& z, int i, Rng& rng) {
+    if (bs.sss_n) z.sss_code = bs.sss_n[i];  // the split's (bdpt_sss_light.h)
     if (z.strand || !(z.m->subsurface > 0.0f) || z.tri >= s.num_triangles) return false;
     if (pt_sss_choose(ps, i, *z.m, z.wo, z.ng_l, rng)) {
         ps.rng[i] = rng;
-        bs.dvcm[i] = z.dvcm;  // the segment before the walk: the exit's count (bdpt_sss_count)
+        bs.dvcm[i] = z.dvcm;  // the segment before the walk: the exit's I (bdpt_sss_conn)
         bs.dvc[i] = z.dvc;
         return true;
     }
