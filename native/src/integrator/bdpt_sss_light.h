@@ -38,8 +38,11 @@ namespace lantern {
 
 constexpr int16_t kLvSssExit = 2;  // LightVertex::front: the vertex is a light path's walk exit
 
+// (the material as stored: its walk's weight and probability are not textured; sss_pick_prob
+// at normal view stands in for every view, 0 only where the base has no share: metal, glass)
 LANTERN_HD inline bool bdpt_sss_camera_walks(const SceneView& s, int tri) {
-    return tri >= 0 && tri < s.num_triangles && s.materials[s.tri_material[tri]].subsurface > 0.0f;
+    return tri >= 0 && tri < s.num_triangles &&
+           sss_pick_prob(s.materials[s.tri_material[tri]], 1.0f) > 0.0f;
 }
 LANTERN_HD inline bool bdpt_sss_light_walks(const SceneView& s, int tri) {
     if (!bdpt_sss_camera_walks(s, tri)) return false;
