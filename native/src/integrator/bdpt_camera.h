@@ -46,7 +46,7 @@ struct CameraVertex {
     int32_t slot_medium = -1;
     bool strand = false;  // on a strand: the fiber measure's cosines (bdpt_curve.h)
     bool tube = false;    // on a strand, not the hair lobe: pt's surface point (bdpt_curve.h)
-    uint16_t sss_code = 0;  // subsurface (CPU): BdptState::sss_n of its path (bdpt_sss_light.h)
+    uint16_t sss_code;  // subsurface (CPU; set where made): its path's split code (bdpt_sss_light.h)
 };
 
 // The camera vertex's material, resolved (again) into its scratch: shade_point as the shade
@@ -181,9 +181,6 @@ LANTERN_HD inline Connection bdpt_connect_medium(const SceneView& s, const BdptS
                                                  const CameraVertex& z, const LightVertex& y,
                                                  bool* clobbered);  // bdpt_medium_stages.h
 
-LANTERN_HD inline Connection bdpt_connect_sss_exit(const SceneView& s, const CameraVertex& z,
-                                                   const LightVertex& y, Vec3 dir, float dist,
-                                                   Vec3 wi_z);  // subsurface: bdpt_sss.h
 
 LANTERN_HD inline Connection bdpt_connect_in(const SceneView& s, const BdptSettings& st,
                                              const CameraVertex& z, const LightVertex& y,
@@ -228,7 +225,7 @@ LANTERN_HD inline Connection bdpt_connect_in(const SceneView& s, const BdptSetti
                             : vec3(0.0f, 0.0f, 1.0f);
     const Vec3 wo_y = fy.to_local(y.wo);
     const Vec3 wi_y = Vec3{dot(-dir, fy.s), dot(-dir, fy.t), dy_ns};
-    BsdfEval ey = bdpt_eval(my, (y.front & 1) != 0, wo_y, wi_y, Transport::Importance, coat_y, fy, y.ng);
+    BsdfEval ey = bdpt_eval(my, lv_front(y), wo_y, wi_y, Transport::Importance, coat_y, fy, y.ng);
     if (is_black(ey.f)) return r;
     // (strands: the fiber measure's cosines, bdpt_curve.h; the lobe's Importance f is the
     // fiber measure's, so y's adjoint factor is 1)
@@ -488,6 +485,9 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
     CameraVertex z;
     MaterialScratch scratch;  // z.m points here when the material is resolved
     z.scratch = &scratch;
+#ifndef __CUDACC__
+    z.sss_code = bdpt_sss_split_on(st) ? uint16_t(bdpt_sss_get(bs, i)) : 0;  // (bdpt_sss_light.h)
+#endif
     // the piece's flight, lights crossed, a medium vertex, a boundary passed
     if (media && bdpt_camera_medium_segment(s, ps, bs, st, cache, i, path, z, sr)) return;
     if (tri < 0) return;
@@ -537,7 +537,7 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
             w = 1.0f / (1.0f + mis(pdf_direct) * dvcm + mis(st.r * pdf_emit) * dvc_e);
             nee = mis(pdf_direct) * dvcm;
 #ifndef __CUDACC__
-            if (bs.sss_n) w *= bdpt_sss_split(s, bs.sss_n[i]);  // (bdpt_sss_light.h)
+            if (bdpt_sss_split_on(st)) w *= bdpt_sss_split(s, bdpt_sss_get(bs, i));
 #endif
         }
         // the camera's direct view of a Principled emitter: under its coat and sheen

@@ -59,6 +59,16 @@ struct LightVertex {
 
 static_assert(sizeof(LightVertex) == 104, "update the cache size in docs/lvc_notes.md");
 
+// LightVertex::front's bit 0 (bits 1.., subsurface on the CPU: bdpt_sss_light.h; the device's
+// light paths do not walk, its vertices have no other bit)
+LANTERN_HD inline bool lv_front(const LightVertex& y) {
+#ifdef __CUDACC__
+    return y.front != 0;
+#else
+    return (y.front & 1) != 0;
+#endif
+}
+
 LANTERN_HD inline uint32_t bary16_encode(Vec2 b) {
     auto q = [](float v) { return uint32_t(clampf(v, 0.0f, 1.0f) * 65535.0f + 0.5f); };
     return q(b.x) | (q(b.y) << 16);
@@ -78,7 +88,7 @@ LANTERN_HD inline ShadePoint shade_point_lv(const SceneView& s, const LightVerte
     const bool strand = y.tri >= s.num_triangles;  // a strand's point: no triangle (pt_curve.h)
     sp.tri = strand ? -1 : y.tri;
     sp.st = strand ? Vec2{sp.bary.x, 0.0f} : triangle_uv(s, y.tri, sp.bary);
-    sp.backfacing = (y.front & 1) == 0;  // (bit 1, bits 2..: bdpt_sss_light.h)
+    sp.backfacing = !lv_front(y);
     return sp;
 }
 
@@ -194,10 +204,6 @@ struct BdptState {
     CameraVertex* cam_z = nullptr;
     Rng* cam_rng = nullptr;
     uint8_t* cam_on = nullptr;
-    // subsurface (CPU only; bdpt_sss_light.h): the split's code of the path so far (the other
-    // technique sets' share relative to its own; the light pass: the light path's, the camera
-    // pass: the camera path's)
-    uint16_t* sss_n = nullptr;
 };
 
 // What the camera pass reads of the cache.

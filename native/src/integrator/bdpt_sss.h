@@ -27,7 +27,6 @@ constexpr uint8_t kAliveSssExit = 3;  // PathState::alive: the exit stage has th
 // 1 / (1 - P) and shading goes on.
 LANTERN_HD inline bool bdpt_sss_choose(const SceneView& s, const PathState& ps,
                                        const BdptState& bs, CameraVertex& z, int i, Rng& rng) {
-    if (bs.sss_n) z.sss_code = bs.sss_n[i];  // the split's (bdpt_sss_light.h)
     if (z.strand || !(z.m->subsurface > 0.0f) || z.tri >= s.num_triangles) return false;
     if (pt_sss_choose(ps, i, *z.m, z.wo, z.ng_l, rng)) {
         ps.rng[i] = rng;
@@ -66,22 +65,23 @@ LANTERN_HD inline float bdpt_sss_camera_ratio(const SceneView& s, const PathStat
 
 template <class Rays, class Kind>
 LANTERN_HD inline void bdpt_sss_walk(const SceneView& s, const Rays& rays, Kind kind,
-                                     const PathState& ps, const BdptState& bs, int i,
-                                     float time) {
+                                     const PathState& ps, const BdptState& bs,
+                                     const BdptSettings& st, int i, float time) {
     if (ps.alive[i] != kAliveSss) return;
     ps.alive[i] = 0;
     Rng rng = ps.rng[i];
-    const float r = bs.sss_n ? bdpt_sss_camera_ratio(s, ps, i, time, rng) : 0.0f;
+    const bool split = bdpt_sss_split_on(st);
+    const float r = split ? bdpt_sss_camera_ratio(s, ps, i, time, rng) : 0.0f;
     sss_walk_path(s, rays, kind, ps.hit_prim[i], ps.hit_uv[i], ps.ray_d[i],
                   ps.throughput[i], ps.depth[i], rng, time,
                   [&](int tri, Vec2 uv, Vec3 dir, Vec3, Vec3, Vec3, Vec3 beta, int depth) {
-                      if (bs.sss_n)  // the split's code (bdpt_sss_light.h)
-                          bs.sss_n[i] = bdpt_sss_light_walks(s, tri) && r > 0.0f
-                                            ? bdpt_sss_code((bdpt_sss_value(bs.sss_n[i]) +
-                                                             bdpt_sss_conn(bs.dvcm[i],
-                                                                           bs.dvc[i])) /
-                                                            r)
-                                            : 0;
+                      if (split)  // the split's code (bdpt_sss_light.h)
+                          bdpt_sss_set(bs, i,
+                                       bdpt_sss_light_walks(s, tri) && r > 0.0f
+                                           ? bdpt_sss_code((bdpt_sss_value(bdpt_sss_get(bs, i)) +
+                                                            bdpt_sss_conn(bs.dvcm[i], bs.dvc[i])) /
+                                                           r)
+                                           : 0);
                       ps.hit_prim[i] = tri;
                       ps.hit_uv[i] = uv;
                       ps.ray_d[i] = dir;
@@ -122,7 +122,7 @@ LANTERN_HD inline void bdpt_sss_exit(const SceneView& s, const PathState& ps, co
     z.scratch = &scratch;
     z.depth = ps.depth[i];
     z.beta = ps.throughput[i];
-    if (bs.sss_n) z.sss_code = bs.sss_n[i];  // (the walk stage's: bdpt_sss_light.h)
+    z.sss_code = bdpt_sss_split_on(st) ? uint16_t(bdpt_sss_get(bs, i)) : 0;  // (the walk's)
     z.dvcm = 0.0f;
     z.dvc = 0.0f;
     z.n_pick = terminator_cutoff(s, z.tri) > 0.0f && dot(z.h.ns, z.h.ng) < 0.99999f

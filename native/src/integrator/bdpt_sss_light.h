@@ -22,7 +22,7 @@
 // rest of the sum relative to its own from its sub-paths: the camera side carries
 // S' = lf (S + I) / r over its walks, the light side S' = cf r (S + I) (lf, cf: whether the other
 // side could have walked there), and the weight is 1 / (1 + S_cam + S_light) (bdpt_sss_split).
-// S travels as a 14-bit code (log2 in steps of 1/256, bdpt_sss_code: BdptState::sss_n,
+// S travels as a 14-bit code (log2 in steps of 1/256, bdpt_sss_code: BdptState::dpt1,
 // CameraVertex::sss_code, LightVertex::front >> 2), quantized once where it is made so that
 // every technique reads the same value. A light exit's r depends on the view w of the vertex it
 // meets, so its vertex keeps S + I (times cf) and each use multiplies r in. Which side can walk
@@ -46,7 +46,19 @@ LANTERN_HD inline bool bdpt_sss_camera_walks(const SceneView& s, int tri) {
 }
 LANTERN_HD inline bool bdpt_sss_light_walks(const SceneView& s, int tri) {
     if (!bdpt_sss_camera_walks(s, tri)) return false;
-    return s.materials[s.tri_material[tri]].ss_skin || s.sss_light_random_walk;
+    return s.materials[s.tri_material[tri]].ss_skin || s.sss_adjoint_control != 0;
+}
+// The split's code of the slot's path so far (the light pass: the light path's, the camera
+// pass: the camera path's) lives in BdptState::dpt1 as a float (exact: 14 bits), which only
+// moments and connection maps use: with either on, no light path walks and nothing is split
+// (the camera side's walks alone, as before). (No state of its own: the device's kernels keep
+// their code.)
+LANTERN_HD inline bool bdpt_sss_split_on(const BdptSettings& st) {
+    return !st.moments && !st.conn_map;
+}
+LANTERN_HD inline int bdpt_sss_get(const BdptState& bs, int i) { return int(bs.dpt1[i]); }
+LANTERN_HD inline void bdpt_sss_set(const BdptState& bs, int i, int code) {
+    bs.dpt1[i] = float(code);
 }
 // S >= 0 as a 14-bit code: 0 for 0, else log2 S in [-32, 32) in steps of 1/256 (clamped)
 LANTERN_HD inline uint16_t bdpt_sss_code(float v) {
@@ -81,6 +93,12 @@ LANTERN_HD inline float bdpt_sss_split(const SceneView& s, int code) {
     return bdpt_sss_split(s, bdpt_sss_value(code), 0.0f);
 }
 
+// s >= 2 to a light exit (bdpt_connect_in calls it; defined in bdpt_sss.h)
+struct Connection;  // bdpt_camera.h
+LANTERN_HD inline Connection bdpt_connect_sss_exit(const SceneView& s, const CameraVertex& z,
+                                                   const LightVertex& y, Vec3 dir, float dist,
+                                                   Vec3 wi_z);
+
 // ---- At a light vertex (after its store and splat): lt's choice (lt_sss_choose). On a walk
 // the slot keeps x_o's dVCM, dVC for the exit's count. ----
 LANTERN_HD inline bool bdpt_light_sss_choose(const SceneView& s, const PathState& ps,
@@ -89,7 +107,7 @@ LANTERN_HD inline bool bdpt_light_sss_choose(const SceneView& s, const PathState
                                              float cos_o_ns, float cos_o_ng, int k, float dvcm,
                                              float dvc) {
     const int tri = ps.hit_prim[i];
-    if (!bs.sss_n || k + 1 > st.max_depth || !bdpt_sss_light_walks(s, tri)) return false;
+    if (!bdpt_sss_split_on(st) || k + 1 > st.max_depth || !bdpt_sss_light_walks(s, tri)) return false;
     if (!(sss_pick_prob(m, dot(wo_w, h.ns)) > 0.0f)) return false;  // (lt: 1 at max_depth)
     const PtSettings pst{st.max_depth, st.rr_depth, st.spp_per_iteration, st.seed, st.iteration};
     if (!lt_sss_choose(s, ps, pst, i, m, h, wo_w, cos_o_ns, cos_o_ng, k)) return false;
@@ -114,7 +132,7 @@ LANTERN_HD inline void bdpt_light_sss_exit(const SceneView& s, const PathState& 
     const int k = ps.depth[i];
     // S + I of the sets with more camera walks, times cf; each use multiplies r(w) in
     const uint16_t pre = bdpt_sss_camera_walks(s, tri)
-                             ? bdpt_sss_code(bdpt_sss_value(bs.sss_n[i]) +
+                             ? bdpt_sss_code(bdpt_sss_value(bdpt_sss_get(bs, i)) +
                                              bdpt_sss_conn(bs.dvcm[i], bs.dvc[i]))
                              : 0;
     const float s_pre = bdpt_sss_value(pre);
@@ -174,7 +192,7 @@ LANTERN_HD inline void bdpt_light_sss_exit(const SceneView& s, const PathState& 
         !is_finite(t))
         return;
     ps.throughput[i] = t;
-    bs.sss_n[i] = bdpt_sss_code(s_pre * bdpt_sss_ratio(m, x, d, wo));
+    bdpt_sss_set(bs, i, bdpt_sss_code(s_pre * bdpt_sss_ratio(m, x, d, wo)));
     bs.dvcm[i] = mis(1.0f / pdf_w);  // bdpt_scatter_update with dVCM = dVC = 0
     bs.dvc[i] = 0.0f;
     set_next_ray(ps, i, x.p, x.ng, wo, pdf_w, s.offset_scale);

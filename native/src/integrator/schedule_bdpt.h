@@ -247,7 +247,7 @@ void bdpt_sss_stages(Exec& ex, Wavefront<Exec>& w, const SceneView& s, const Bdp
             const float time = s.motion.rays_timed()
                                    ? bdpt_time(bst, camera_path(list, spp, first_path + i))
                                    : 0.0f;
-            bdpt_sss_walk(s, rays, RayKind::kIndirect, ps, bs, i, time);
+            bdpt_sss_walk(s, rays, RayKind::kIndirect, ps, bs, bst, i, time);
         });
         ex.each(active, LANTERN_KERNEL(int k) {
             const int i = q[k];

@@ -104,7 +104,6 @@ struct Wavefront {
     Array<CameraVertex> cam_z;
     Array<Rng> cam_rng;
     Array<uint8_t> cam_on;
-    Array<uint16_t> sss_n;  // BdptState::sss_n (subsurface, CPU)
     int cap = 0;
     PathState ps{};
     BdptState bs{};
@@ -155,7 +154,6 @@ struct Wavefront {
         for (auto* a : {&dvcm, &dvc, &dpt0, &dpt1}) f(*a);
         for (auto* a : {&light_id, &conn_n}) f(*a);
         f(store);
-        f(sss_n);
         f(vertex);
     }
     template <typename F>
@@ -255,7 +253,6 @@ struct Wavefront {
         bs.cam_z = cam_z.data();
         bs.cam_rng = cam_rng.data();
         bs.cam_on = cam_on.data();
-        if constexpr (!Exec::kGpu) bs.sss_n = sss_n.data();  // (the walks are the CPU's)
         if (media && bidirectional) {
             bs.seg_fwd = seg_fwd.data();
             bs.seg_rev = seg_rev.data();

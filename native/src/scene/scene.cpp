@@ -400,8 +400,7 @@ void HostScene::finish_view(const SceneInput& in) {
     v.has_subsurface = 0;
     if (const char* c = std::getenv("LANTERN_SSS_ADJOINT")) {  // tests' controls (lt_sss.h,
         const std::string k = c;                                  // bdpt_sss_light.h)
-        v.sss_adjoint_control = k == "lambert" ? 1 : k == "nocos" ? 2 : k == "nosplit" ? 3 : 0;
-        v.sss_light_random_walk = 1;
+        v.sss_adjoint_control = k == "lambert" ? 1 : k == "nocos" ? 2 : k == "nosplit" ? 3 : 4;
     }
     for (const Material& m : materials_) {
         if (m.subsurface > 0.0f) v.has_subsurface = 1;

@@ -400,10 +400,9 @@ struct SceneView {
     int32_t has_subsurface = 0;
     // lt's adjoint walk's negative controls for tests (integrator/lt_sss.h; LANTERN_SSS_ADJOINT:
     // 1 "lambert", the exit as the camera side's white Lambert lobe; 2 "nocos", without 1 / |cos|)
+    // (3 "nosplit": bdpt_sss_light.h's split left out; 4: set to anything else. Any non-zero
+    // value lets the light paths of bdpt, lvc and cis walk Random Walk too, not Skin alone)
     int32_t sss_adjoint_control = 0;
-    // 1: the light paths of bdpt, lvc and cis walk Random Walk materials too, not Skin alone
-    // (LANTERN_SSS_ADJOINT set: tests' and bench's switch; integrator/bdpt_sss_light.h)
-    int32_t sss_light_random_walk = 0;
     int32_t world_medium = -1;   // outside every mesh medium, -1: vacuum
     int32_t camera_medium = -1;  // where camera rays start
     // per light (lights): the medium its light paths start in (lt, integrator/lt_medium.h);
