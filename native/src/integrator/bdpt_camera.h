@@ -4,49 +4,17 @@
 #pragma once
 
 #include "integrator/bdpt_camera_emission.h"  // generation, emission (s = 0)
+#include "integrator/bdpt_camera_vertex.h"
 #include "integrator/bdpt_common.h"
 #include "integrator/bdpt_curve.h"
 #include "integrator/bdpt_medium.h"
 #include "integrator/bdpt_motion.h"  // bdpt_emitter_time
+#include "integrator/bdpt_sss_light.h"  // subsurface: the split, light exits (CPU)
 #include "integrator/pixel_conn.h"
 #include "integrator/soft_light_path.h"
 #include "integrator/terminator.h"
 
 namespace lantern {
-
-// On a GPU thread a connection resolves the cache vertex's material into the camera vertex's
-// scratch (one MaterialScratch on the shade kernel's stack, not two: 600 B of its frame) and
-// then the camera vertex's again (the same inputs, so the same material). The CPU keeps both.
-#ifdef __CUDA_ARCH__
-constexpr bool kOneScratch = true;
-#else
-constexpr bool kOneScratch = false;
-#endif
-
-// A camera vertex: what next-event estimation and connections read.
-struct CameraVertex {
-    SurfaceHit h;
-    Frame frame;
-    Vec3 wo;      // local
-    Vec3 beta;
-    float dvcm, dvc;
-    const Material* m;
-    int depth;    // segments from the camera
-    Vec3 n_pick;  // the normal the light tree sees here (light_pick_normal)
-    Vec3 ng_l;    // the geometric normal in frame (what a bumped Lambert reads)
-    // kOneScratch: where m may live, and what resolves it again (the hit's triangle, its
-    // barycentrics and the direction towards the previous vertex)
-    MaterialScratch* scratch;
-    int tri;
-    Vec2 uv;
-    Vec3 wo_w;
-    // scenes with media (bdpt_medium_stages.h): the medium of a medium vertex (-1: a surface),
-    // and the medium the slot's ray arrived in
-    int32_t medium_vertex = -1;
-    int32_t slot_medium = -1;
-    bool strand = false;  // on a strand: the fiber measure's cosines (bdpt_curve.h)
-    bool tube = false;    // on a strand, not the hair lobe: pt's surface point (bdpt_curve.h)
-};
 
 // The camera vertex's material, resolved (again) into its scratch: shade_point as the shade
 // stage built it. Out of line on the device (LANTERN_DEVICE_NOINLINE): the resolution's locals
@@ -133,6 +101,9 @@ LANTERN_HD inline void bdpt_camera_nee(const SceneView& s, const PathState& ps,
         geo_side ? mis(st.r * pdf_lp / pdf_nee) * (dvcm_z + z.dvc * mis(e.pdf_rev_w)) : 0.0f;
     bidir_nee_weights(s, ps, i, pick.light, unshadowed, w_light, w_camera);  // (linking)
     float w = 1.0f / (w_light + 1.0f + w_camera);
+#ifndef __CUDACC__
+    w *= bdpt_sss_split(s, z.sss_code);  // (subsurface: bdpt_sss_light.h)
+#endif
     float cos_i = fabsf(dot(ls.wi, z.h.ns));
     Vec3 c = z.beta * e.f * ls.le * (cos_i * w / pdf_light_w);
     if (st.moments && s.num_media == 0)  // (media: at the shadow ray, bdpt_medium_finish_c)
@@ -188,6 +159,7 @@ LANTERN_HD inline Connection bdpt_connect_medium(const SceneView& s, const BdptS
                                                  const CameraVertex& z, const LightVertex& y,
                                                  bool* clobbered);  // bdpt_medium_stages.h
 
+
 LANTERN_HD inline Connection bdpt_connect_in(const SceneView& s, const BdptSettings& st,
                                              const CameraVertex& z, const LightVertex& y,
                                              bool* clobbered) {
@@ -205,6 +177,9 @@ LANTERN_HD inline Connection bdpt_connect_in(const SceneView& s, const BdptSetti
     // (no terminator here: integrator/terminator.h lifts next-event rays to lights alone; pt
     // gathers the light of other vertices by BSDF sampling, on the facet's side, unlifted)
     if (!(material_corrects_view(*z.m) ? dz_ng > 0.0f : dz_ng * wi_z.z > 0.0f)) return r;
+#ifndef __CUDACC__  // a light path's walk exit: lt's lobe f_adj (bdpt_sss.h)
+    if (y.front & kLvSssExit) return bdpt_connect_sss_exit(s, z, y, dir, dist, wi_z);
+#endif
     const float dy_ns = dot(-dir, y.ns);
     const bool y_geometric = material_view_geometric(s.materials[y.material]);
     if (!(y_geometric ? dy_ng > 0.0f : dy_ng * dy_ns > 0.0f)) return r;
@@ -228,7 +203,7 @@ LANTERN_HD inline Connection bdpt_connect_in(const SceneView& s, const BdptSetti
                             : vec3(0.0f, 0.0f, 1.0f);
     const Vec3 wo_y = fy.to_local(y.wo);
     const Vec3 wi_y = Vec3{dot(-dir, fy.s), dot(-dir, fy.t), dy_ns};
-    BsdfEval ey = bdpt_eval(my, y.front != 0, wo_y, wi_y, Transport::Importance, coat_y, fy, y.ng);
+    BsdfEval ey = bdpt_eval(my, lv_front(y), wo_y, wi_y, Transport::Importance, coat_y, fy, y.ng);
     if (is_black(ey.f)) return r;
     // (strands: the fiber measure's cosines, bdpt_curve.h; the lobe's Importance f is the
     // fiber measure's, so y's adjoint factor is 1)
@@ -248,6 +223,10 @@ LANTERN_HD inline Connection bdpt_connect_in(const SceneView& s, const BdptSetti
     float w_light = mis(pdf_cam_a) * (y_dvcm + y_dvc * mis(ey.pdf_rev_w));
     float w_camera = mis(pdf_light_a) * (z.dvcm + z.dvc * mis(ez.pdf_rev_w));
     float w = 1.0f / (w_light + 1.0f + w_camera);
+#ifndef __CUDACC__
+    w *= bdpt_sss_split(s, bdpt_sss_value(z.sss_code),  // (subsurface: bdpt_sss_light.h)
+                        bdpt_sss_value(bdpt_sss_lv_code(y)));
+#endif
     r.c = z.beta * ez.f * y.beta * ey.f * (cos_z_ns * cos_y * inv_d2 * w);
     if (!is_finite(r.c)) r.c = vec3(0.0f);
     r.dir = dir;
@@ -443,8 +422,9 @@ LANTERN_HD inline void bdpt_camera_connect(const SceneView& s, const BdptState& 
     }
 }
 
-LANTERN_HD inline bool bdpt_sss_choose(const SceneView& s, const PathState& ps, CameraVertex& z,
-                                       int i, Rng& rng);  // subsurface: bdpt_sss.h
+LANTERN_HD inline bool bdpt_sss_choose(const SceneView& s, const PathState& ps,
+                                       const BdptState& bs, CameraVertex& z, int i,
+                                       Rng& rng);  // subsurface: bdpt_sss.h
 
 // A camera vertex's next event (s = 1) and connections (s >= 2), queued: z and the slot's
 // stream for the events stage (bdpt_camera_events.h), which makes them after this stage. Its
@@ -483,6 +463,9 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
     CameraVertex z;
     MaterialScratch scratch;  // z.m points here when the material is resolved
     z.scratch = &scratch;
+#ifndef __CUDACC__
+    z.sss_code = bdpt_sss_split_on(st) ? uint16_t(bdpt_sss_get(bs, i)) : 0;  // (bdpt_sss_light.h)
+#endif
     // the piece's flight, lights crossed, a medium vertex, a boundary passed
     if (media && bdpt_camera_medium_segment(s, ps, bs, st, cache, i, path, z, sr)) return;
     if (tri < 0) return;
@@ -531,6 +514,9 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
             const float dvc_e = z.depth == 2 ? dvc * bdpt_direct_lt(st) : dvc;  // (lt_direct)
             w = 1.0f / (1.0f + mis(pdf_direct) * dvcm + mis(st.r * pdf_emit) * dvc_e);
             nee = mis(pdf_direct) * dvcm;
+#ifndef __CUDACC__
+            if (bdpt_sss_split_on(st)) w *= bdpt_sss_split(s, bdpt_sss_get(bs, i));
+#endif
         }
         // the camera's direct view of a Principled emitter: under its coat and sheen
         // (principled_emission_through; light it casts stays undimmed)
@@ -554,7 +540,7 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
                    : light_pick_normal(s, tri, z.h.ng);
     Rng rng = ps.rng[i];
 #ifndef __CUDACC__  // the device build has no walk stage (schedule_bdpt.h): CPU sessions only
-    if (s.has_subsurface && bdpt_sss_choose(s, ps, z, i, rng)) return;  // under the surface
+    if (s.has_subsurface && bdpt_sss_choose(s, ps, bs, z, i, rng)) return;  // under the surface
 #endif
     // next event and connections: the events stage's (bdpt_camera_events.h), from z and this
     // stream; here their draws are skipped

@@ -52,12 +52,22 @@ struct LightVertex {
     float tangent_angle;  // anisotropic materials: the frame's turn about ns (SurfaceHit)
     int32_t path;   // light path index (bdpt pairs camera path i with light path i)
     int16_t length; // segments from the light to this vertex (y1 has 1; max_depth <= 1024)
-    int16_t front;
+    int16_t front;  // bit 0; subsurface (CPU): bit 1 a walk's exit, bits 2.. its split's code
     uint32_t coat_n;  // kCoatNormal, material_keeps_unbent_normal: SurfaceHit::coat_n (oct_encode)
     float dpt0, dpt1; // BdptSettings::moments: path tracing's techniques (BdptState::dpt0)
 };
 
 static_assert(sizeof(LightVertex) == 104, "update the cache size in docs/lvc_notes.md");
+
+// LightVertex::front's bit 0 (bits 1.., subsurface on the CPU: bdpt_sss_light.h; the device's
+// light paths do not walk, its vertices have no other bit)
+LANTERN_HD inline bool lv_front(const LightVertex& y) {
+#ifdef __CUDACC__
+    return y.front != 0;
+#else
+    return (y.front & 1) != 0;
+#endif
+}
 
 LANTERN_HD inline uint32_t bary16_encode(Vec2 b) {
     auto q = [](float v) { return uint32_t(clampf(v, 0.0f, 1.0f) * 65535.0f + 0.5f); };
@@ -78,7 +88,7 @@ LANTERN_HD inline ShadePoint shade_point_lv(const SceneView& s, const LightVerte
     const bool strand = y.tri >= s.num_triangles;  // a strand's point: no triangle (pt_curve.h)
     sp.tri = strand ? -1 : y.tri;
     sp.st = strand ? Vec2{sp.bary.x, 0.0f} : triangle_uv(s, y.tri, sp.bary);
-    sp.backfacing = y.front == 0;
+    sp.backfacing = !lv_front(y);
     return sp;
 }
 

@@ -7,6 +7,7 @@
 #include "integrator/bidir_linking.h"
 #include "integrator/bdpt_medium.h"
 #include "integrator/bdpt_motion.h"
+#include "integrator/bdpt_sss_light.h"  // subsurface: the light paths' walks (CPU)
 #include "integrator/pixel_conn.h"
 #include "integrator/soft_light_medium.h"
 #include "integrator/soft_light_path.h"
@@ -33,6 +34,9 @@ LANTERN_HD inline void bdpt_light_generate(const SceneView& s, const PathState& 
     ps.throughput[i] = vec3(1.0f);
     bs.power[i] = vec3(0.0f);
     bs.store[i] = 0;
+#ifndef __CUDACC__
+    if (bdpt_sss_split_on(st)) bdpt_sss_set(bs, i, 0);
+#endif
     float u_pick = rng.uniform();
     Vec2 u_pos = rng.uniform2(), u_dir = rng.uniform2();
     ps.rng[i] = rng;
@@ -229,6 +233,10 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
         v.path = int32_t(path);
         v.length = int16_t(k);
         v.front = h.front ? 1 : 0;
+#ifndef __CUDACC__
+        if (bdpt_sss_split_on(st))  // (bdpt_sss_light.h)
+            v.front = int16_t(uint16_t(v.front | (bdpt_sss_get(bs, i) << 2)));
+#endif
         v.coat_n = (m.tex_flags & kCoatNormal) || material_keeps_unbent_normal(m)
                        ? oct_encode(h.coat_n)
                        : 0u;
@@ -262,6 +270,9 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
                                                           cc.importance * cos_wc_ng,
                                                           e.pdf_rev_w, k);
                 LightPathState lp{nullptr, bs.splat_xy};
+#ifndef __CUDACC__
+                if (bdpt_sss_split_on(st)) w *= bdpt_sss_split(s, bdpt_sss_get(bs, i));
+#endif
                 Vec3 c = beta * e.f * (cos_y * cc.importance * w);
                 if (media) {  // the weight finished with the camera segment's factors
                     const float n_lt = k == 1 ? st.n_lt * st.lt_direct : st.n_lt;
@@ -290,6 +301,11 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
             }
         }
     }
+#ifndef __CUDACC__  // subsurface: lt's choice, the walk stage takes it (bdpt_sss_light.h)
+    if (s.has_subsurface && !strand && !delta &&
+        bdpt_light_sss_choose(s, ps, bs, st, i, m, h, wo_w, cos_o_ns, cos_o_ng, k, dvcm, dvc))
+        return;
+#endif
     if (k + 2 > st.max_depth) return;  // the next vertex could not be used by any technique
 
     // ---- continue with the adjoint BSDF ----

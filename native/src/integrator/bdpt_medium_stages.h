@@ -276,7 +276,7 @@ LANTERN_HD inline Connection bdpt_connect_medium(const SceneView& s, const BdptS
                                 : vec3(0.0f, 0.0f, 1.0f);
         const Vec3 wo_y = fyf.to_local(y.wo);
         const Vec3 wi_y = Vec3{dot(-dir, fyf.s), dot(-dir, fyf.t), dy_ns};
-        const BsdfEval ey = bdpt_eval(my, y.front != 0, wo_y, wi_y, Transport::Importance,
+        const BsdfEval ey = bdpt_eval(my, lv_front(y), wo_y, wi_y, Transport::Importance,
                                       coat_y, fyf, y.ng);
         const float cos_yo_ng = fabsf(dot(y.wo, y.ng));
         if (!(cos_yo_ng > 0.0f)) return r;

@@ -5,14 +5,14 @@
 // the exit as a camera vertex with a white Lambert lobe about the outward normal: next-event
 // estimation, connections to the cache and a cosine continuation.
 //
-// MIS. The walk is sampled, never evaluated, and only camera paths walk (light paths shade the
-// surface's other lobes: the Principled's base already carries 1 - W there), so a path with a
-// walk can be made only by the techniques whose camera sub-path holds its exit: the exit
-// vertex starts its MIS quantities afresh, dVCM = dVC = 0 (no light sub-path reaches it or
-// anything before it), like a camera (camera vertices walk at every depth, as pt's). Every
-// technique of such a path computes its weight over that same set, so the weights sum to 1.
-// The surface branch's probability 1 - P is left out of every technique's density (a
-// stand-in of 1 on both sides: the weights stay a partition of unity).
+// MIS. The walk is sampled, never evaluated. Among the techniques whose camera sub-path holds
+// the walk's exit, the exit vertex starts its MIS quantities afresh, dVCM = dVC = 0 (no light
+// sub-path of this set reaches it or anything before it), like a camera (camera vertices walk
+// at every depth, as pt's), so that set's weights sum to 1. Light paths walk too (Skin:
+// bdpt_sss_light.h), and the techniques whose light sub-path holds the walk form a second set:
+// the two are split by bdpt_sss_split (the exit's code, made in the walk stage). The surface
+// branch's probability 1 - P is left out of every technique's density (a stand-in of 1 on
+// both sides: the weights stay a partition of unity).
 #pragma once
 
 #include "integrator/bdpt_camera.h"
@@ -25,11 +25,13 @@ constexpr uint8_t kAliveSssExit = 3;  // PathState::alive: the exit stage has th
 // At a camera vertex (after emission, before next-event estimation): true when the path goes
 // under the surface (the walk stage takes it); else z.beta and the slot's throughput carry
 // 1 / (1 - P) and shading goes on.
-LANTERN_HD inline bool bdpt_sss_choose(const SceneView& s, const PathState& ps, CameraVertex& z,
-                                       int i, Rng& rng) {
+LANTERN_HD inline bool bdpt_sss_choose(const SceneView& s, const PathState& ps,
+                                       const BdptState& bs, CameraVertex& z, int i, Rng& rng) {
     if (z.strand || !(z.m->subsurface > 0.0f) || z.tri >= s.num_triangles) return false;
     if (pt_sss_choose(ps, i, *z.m, z.wo, z.ng_l, rng)) {
         ps.rng[i] = rng;
+        bs.dvcm[i] = z.dvcm;  // the segment before the walk: the exit's I (bdpt_sss_conn)
+        bs.dvc[i] = z.dvc;
         return true;
     }
     z.beta = ps.throughput[i];
@@ -40,15 +42,46 @@ LANTERN_HD inline bool bdpt_sss_choose(const SceneView& s, const PathState& ps, 
 // the slot keeps the exit (triangle, barycentrics, the direction that found it, throughput,
 // depth) for the exit stage, alive kAliveSssExit; otherwise it ends. kind: the RayKind
 // of its rays; time: its camera path's shutter time (bdpt_time; 0 where nothing moves).
+//
+// The split (bdpt_sss_light.h): the exit's code S' = lf (S + I) / r, with r from the entry's view
+// and the walk's first direction, which sss_walk_path draws first from the path's stream: drawn
+// here again from a copy (the same u, so the same direction; pt_sss.h keeps its bits).
+LANTERN_HD inline float bdpt_sss_camera_ratio(const SceneView& s, const PathState& ps, int i,
+                                              float time, Rng rng) {
+    const int tri = ps.hit_prim[i];
+    const Vec2 uv = ps.hit_uv[i];
+    const Vec3 d = ps.ray_d[i];
+    const SurfaceHit h = surface_at_time(s, tri, uv, d, time);  // as sss_walk_path's
+    MaterialScratch scratch;
+    const Material& m = material_at_point(
+        s, s.tri_material[tri], [h, tri, uv, wo = -d] { return shade_point(h, tri, uv, wo); },
+        scratch);
+    const Frame shading = h.frame();
+    const Frame frame = shading.to_local(-d).z > 0.0f ? shading : Frame::from_normal(h.ng);
+    Vec3 wi_l;
+    if (!sss_entry(m, frame.to_local(-d), rng.uniform2(), &wi_l)) return 0.0f;
+    return bdpt_sss_ratio(m, h, -frame.to_world(wi_l), -d);
+}
+
 template <class Rays, class Kind>
 LANTERN_HD inline void bdpt_sss_walk(const SceneView& s, const Rays& rays, Kind kind,
-                                     const PathState& ps, int i, float time) {
+                                     const PathState& ps, const BdptState& bs,
+                                     const BdptSettings& st, int i, float time) {
     if (ps.alive[i] != kAliveSss) return;
     ps.alive[i] = 0;
     Rng rng = ps.rng[i];
+    const bool split = bdpt_sss_split_on(st);
+    const float r = split ? bdpt_sss_camera_ratio(s, ps, i, time, rng) : 0.0f;
     sss_walk_path(s, rays, kind, ps.hit_prim[i], ps.hit_uv[i], ps.ray_d[i],
                   ps.throughput[i], ps.depth[i], rng, time,
                   [&](int tri, Vec2 uv, Vec3 dir, Vec3, Vec3, Vec3, Vec3 beta, int depth) {
+                      if (split)  // the split's code (bdpt_sss_light.h)
+                          bdpt_sss_set(bs, i,
+                                       bdpt_sss_light_walks(s, tri) && r > 0.0f
+                                           ? bdpt_sss_code((bdpt_sss_value(bdpt_sss_get(bs, i)) +
+                                                            bdpt_sss_conn(bs.dvcm[i], bs.dvc[i])) /
+                                                           r)
+                                           : 0);
                       ps.hit_prim[i] = tri;
                       ps.hit_uv[i] = uv;
                       ps.ray_d[i] = dir;
@@ -89,6 +122,7 @@ LANTERN_HD inline void bdpt_sss_exit(const SceneView& s, const PathState& ps, co
     z.scratch = &scratch;
     z.depth = ps.depth[i];
     z.beta = ps.throughput[i];
+    z.sss_code = bdpt_sss_split_on(st) ? uint16_t(bdpt_sss_get(bs, i)) : 0;  // (the walk's)
     z.dvcm = 0.0f;
     z.dvc = 0.0f;
     z.n_pick = terminator_cutoff(s, z.tri) > 0.0f && dot(z.h.ns, z.h.ng) < 0.99999f
@@ -114,6 +148,48 @@ LANTERN_HD inline void bdpt_sss_exit(const SceneView& s, const PathState& ps, co
         if (s.light_tree_on) ps.prev_n[i] = z.n_pick;
     }
     ps.rng[i] = rng;
+}
+
+// s >= 2 to a light path's walk exit y (bdpt_sss_light.h): y's lobe is lt's f_adj (wo holds the
+// walk's last direction d), its density of z the exit's continuation's (lt_sss_exit_pdf); y's
+// dVCM = dVC = 0 (no technique of its set has the camera reach y). Weighed within its set,
+// times the split. z's side checked by bdpt_connect_in.
+LANTERN_HD inline Connection bdpt_connect_sss_exit(const SceneView& s, const CameraVertex& z,
+                                                   const LightVertex& y, Vec3 dir, float dist,
+                                                   Vec3 wi_z) {
+    Connection r{vec3(0.0f), vec3(0.0f), 0.0f, 0.0f, 0.0f};
+    const Vec3 w = -dir;  // at y, towards z
+    const float cos_y = dot(w, y.ng);
+    if (!(cos_y > 0.0f)) return r;
+    const BsdfEval ez = bdpt_eval(*z.m, z.h.front, z.wo, wi_z, Transport::Radiance, z.h.coat_n,
+                                  z.frame, z.h.ng);
+    if (is_black(ez.f)) return r;
+    MaterialScratch scratch;
+    const Material& my = material_at_point(s, y.material, [&] { return shade_point_lv(s, y, w); },
+                                           scratch);
+    SurfaceHit x;
+    x.p = y.p;
+    x.ng = y.ng;
+    x.ns = y.ns;
+    x.front = (y.front & 1) != 0;
+    x.tangent_angle = y.tangent_angle;
+    if ((my.tex_flags & kCoatNormal) || material_keeps_unbent_normal(my))
+        x.coat_n = oct_decode(y.coat_n);
+    const Vec3 f = lt_sss_exit_f(my, x, y.wo, w, s.sss_adjoint_control);
+    if (is_black(f)) return r;
+    const Frame gf = Frame::from_normal(y.ng);
+    const float pdf_y_w = lt_sss_exit_pdf(my, gf.to_local(y.wo), gf.to_local(w));
+    const float cos_z_ng = light_arrival_cos(z.strand && !z.tube, z.tube, z.frame, z.h.ng, dir);
+    const float inv_d2 = 1.0f / (dist * dist);
+    const float w_camera = mis(pdf_y_w * cos_z_ng * inv_d2) * (z.dvcm + z.dvc * mis(ez.pdf_rev_w));
+    const float s_light = bdpt_sss_value(bdpt_sss_lv_code(y)) * bdpt_sss_ratio(my, x, y.wo, w);
+    const float wt = bdpt_sss_split(s, bdpt_sss_value(z.sss_code), s_light) / (1.0f + w_camera);
+    r.c = z.beta * ez.f * y.beta * f * (fabsf(wi_z.z) * cos_y * inv_d2 * wt);
+    if (!is_finite(r.c)) r.c = vec3(0.0f);
+    r.dir = dir;
+    r.dist = dist;
+    r.bsdf_target = luminance(ez.f) * luminance(f);
+    return r;
 }
 
 }  // namespace lantern

@@ -146,40 +146,55 @@ void light_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep&
                                  motion ? sr.at(bdpt_time(bst, first_path + i)) : sr);
             });
         });
-        // store vertices in queue order: places by an exclusive scan of the store flags
-        const auto t = Clock::now();
-        int32_t* f = w.flag.data();
-        int32_t* pos = w.scan.data();
-        const uint8_t* store = bs.store;
-        ex.each(active, LANTERN_KERNEL(int k) { f[k] = store[q[k]]; });
-        const int64_t add = ex.exclusive_scan(f, active, pos);
-        if (w.pilot) {
-            w.pilot_count += add;
-            active = compact(ex, w, active);
-            continue;
-        }
-        if (size_t(w.cache_size + add) > w.cache.capacity())  // exact growth, or CacheOverBudget
-            w.cache.grow_keep(cache_grow_capacity(size_t(w.cache_size + add), w.cache.capacity(),
-                                                  first_path + n, w.pass_light_paths,
-                                                  st.cache_budget, w.cache_costs),
-                              size_t(w.cache_size));
-        LightVertex* dst = w.cache.data() + w.cache_size;
-        const LightVertex* vtx = bs.vertex;
-        ex.each(active, LANTERN_KERNEL(int k) {
-            if (f[k]) dst[pos[k]] = vtx[q[k]];
-        });
-        w.cache_size += add;
-        ex.sync();
-        stats.time_cache += seconds_since(t);
+        // store vertices in queue order (places by an exclusive scan of the store flags), then
         // light tracing: camera segments against what the camera sees, then the splats
-        stats.rays_light_tracing +=
-            s.num_media > 0 ? bdpt_camera_segments_medium(ex, w, s, active, stats,
-                                                          BdptTimeOf{bst, nullptr, 1, first_path,
-                                                                     false})
-            : motion ? camera_segments_timed(ex, w, active, stats,
-                                             BdptTimeOf{bst, nullptr, 1, first_path, false})
-                     : camera_segments(ex, w, active, stats);
-        ex.timed(stats.time_splat, [&] { splat(ex, w, s, st, active); });
+        auto store_and_splat = [&] {
+            const auto t = Clock::now();
+            int32_t* f = w.flag.data();
+            int32_t* pos = w.scan.data();
+            const uint8_t* store = bs.store;
+            ex.each(active, LANTERN_KERNEL(int k) { f[k] = store[q[k]]; });
+            const int64_t add = ex.exclusive_scan(f, active, pos);
+            if (w.pilot) {
+                w.pilot_count += add;
+                return;
+            }
+            if (size_t(w.cache_size + add) > w.cache.capacity())  // exact, or CacheOverBudget
+                w.cache.grow_keep(cache_grow_capacity(size_t(w.cache_size + add),
+                                                      w.cache.capacity(), first_path + n,
+                                                      w.pass_light_paths, st.cache_budget,
+                                                      w.cache_costs),
+                                  size_t(w.cache_size));
+            LightVertex* dst = w.cache.data() + w.cache_size;
+            const LightVertex* vtx = bs.vertex;
+            ex.each(active, LANTERN_KERNEL(int k) {
+                if (f[k]) dst[pos[k]] = vtx[q[k]];
+            });
+            w.cache_size += add;
+            ex.sync();
+            stats.time_cache += seconds_since(t);
+            const BdptTimeOf time_of{bst, nullptr, 1, first_path, false};
+            stats.rays_light_tracing +=
+                s.num_media > 0 ? bdpt_camera_segments_medium(ex, w, s, active, stats, time_of)
+                : motion        ? camera_segments_timed(ex, w, active, stats, time_of)
+                                : camera_segments(ex, w, active, stats);
+            ex.timed(stats.time_splat, [&] { splat(ex, w, s, st, active); });
+        };
+        store_and_splat();
+        if constexpr (!Exec::kGpu) {
+            if (s.has_subsurface) {  // the light paths' walks (bdpt_sss_light.h), then their
+                                     // exits' stores and splats
+                const auto rays = ex.rays();
+                ex.timed(stats.time_shade, [&] {
+                    ex.each(active, LANTERN_KERNEL(int k) {
+                        const int i = q[k];
+                        bdpt_light_sss_walk(s, rays, RayKind::kIndirect, ps, bs, bst, i,
+                                            first_path + i);
+                    });
+                });
+                store_and_splat();
+            }
+        }
         active = compact(ex, w, active);
     }
     count_dropped(ex, w, n, stats);
@@ -232,7 +247,7 @@ void bdpt_sss_stages(Exec& ex, Wavefront<Exec>& w, const SceneView& s, const Bdp
             const float time = s.motion.rays_timed()
                                    ? bdpt_time(bst, camera_path(list, spp, first_path + i))
                                    : 0.0f;
-            bdpt_sss_walk(s, rays, RayKind::kIndirect, ps, i, time);
+            bdpt_sss_walk(s, rays, RayKind::kIndirect, ps, bs, bst, i, time);
         });
         ex.each(active, LANTERN_KERNEL(int k) {
             const int i = q[k];

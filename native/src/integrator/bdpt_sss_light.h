@@ -1,0 +1,238 @@
+// Random-walk subsurface on the light paths of bdpt, lvc and cis (docs/subsurface.md, "Light
+// paths walk"): lt's adjoint walk (lt_sss.h: the choice, the walk, the exit's lobe f_adj and its
+// continuation) with the exit stored as a light vertex (connectable, splatted) and the MIS split
+// between the two sets of techniques that can make a path with a walk. CPU only, as the camera
+// side's walk (bdpt_sss.h; the device build has no walk stage).
+//
+// The split. A path with walks W_1..W_n (in camera order) is made by the techniques whose
+// camera sub-path holds W_1..W_c and whose light sub-path holds the rest, for c = 0..n: n + 1
+// sets. Within a set the techniques weigh each other as now (each side's exit starts its MIS
+// quantities afresh: dVCM = dVC = 0), so a set's weights sum to 1 where the set can make the
+// path at all (F_c = 1), to 0 where it cannot. Set c gets F_c R_c / sum_j F_j R_j: a partition
+// of unity for any R_c > 0 that every technique of the path computes alike. R_c = prod_{m <= c}
+// r_m, r_m = mis(pi q(w_1 | w) / |w_1 . n_g|) at W_m's entry x_i (w the view, w_1 the walk's
+// first direction; q the entry's density, sss_entry_pdf): the ratio of the camera side's density
+// of the walk's two ends to the light side's (the camera samples w_1 by q where the light arrives
+// with area measure's cosine; at x_o the light's cosine entry and the camera's arrival cancel;
+// the interior is reciprocal), so the split is the power heuristic over the two ends, and
+// where f_adj = W_e q / |cos| peaks (lt's tails) the camera side takes the path. Set c can
+// sample the path where the segment between W_c's exit and W_c+1's entry has a connectable
+// pair (I_c: the dVCM / dVC of the side that holds the segment, at its end, are not both 0), the
+// camera can walk W_1..W_c and the light W_c+1..W_n. A technique of set c knows F_c = 1 and the
+// rest of the sum relative to its own from its sub-paths: the camera side carries
+// S' = lf (S + I) / r over its walks, the light side S' = cf r (S + I) (lf, cf: whether the other
+// side could have walked there), and the weight is 1 / (1 + S_cam + S_light) (bdpt_sss_split).
+// S travels as a 14-bit code (log2 in steps of 1/256, bdpt_sss_code: BdptState::dpt1,
+// CameraVertex::sss_code, LightVertex::front >> 2), quantized once where it is made so that
+// every technique reads the same value. A light exit's r depends on the view w of the vertex it
+// meets, so its vertex keeps S + I (times cf) and each use multiplies r in. Which side can walk
+// at W: the camera on any triangle with subsurface, the light on those with Skin (lt's rule: lt
+// hands Random Walk to pt, its tails; LANTERN_SSS_ADJOINT lets light paths walk Random Walk).
+#pragma once
+
+#include "integrator/bdpt_common.h"
+#include "integrator/bdpt_motion.h"
+#include "integrator/lt_sss.h"
+
+namespace lantern {
+
+constexpr int16_t kLvSssExit = 2;  // LightVertex::front: the vertex is a light path's walk exit
+
+// (the material as stored: its walk's weight and probability are not textured; sss_pick_prob
+// at normal view stands in for every view, 0 only where the base has no share: metal, glass)
+LANTERN_HD inline bool bdpt_sss_camera_walks(const SceneView& s, int tri) {
+    return tri >= 0 && tri < s.num_triangles &&
+           sss_pick_prob(s.materials[s.tri_material[tri]], 1.0f) > 0.0f;
+}
+LANTERN_HD inline bool bdpt_sss_light_walks(const SceneView& s, int tri) {
+    if (!bdpt_sss_camera_walks(s, tri)) return false;
+    return s.materials[s.tri_material[tri]].ss_skin || s.sss_adjoint_control != 0;
+}
+// The split's code of the slot's path so far (the light pass: the light path's, the camera
+// pass: the camera path's) lives in BdptState::dpt1 as a float (exact: 14 bits), which only
+// moments and connection maps use: with either on, no light path walks and nothing is split
+// (the camera side's walks alone, as before). (No state of its own: the device's kernels keep
+// their code.)
+LANTERN_HD inline bool bdpt_sss_split_on(const BdptSettings& st) {
+    return !st.moments && !st.conn_map;
+}
+LANTERN_HD inline int bdpt_sss_get(const BdptState& bs, int i) { return int(bs.dpt1[i]); }
+LANTERN_HD inline void bdpt_sss_set(const BdptState& bs, int i, int code) {
+    bs.dpt1[i] = float(code);
+}
+// S >= 0 as a 14-bit code: 0 for 0, else log2 S in [-32, 32) in steps of 1/256 (clamped)
+LANTERN_HD inline uint16_t bdpt_sss_code(float v) {
+    if (!(v > 0.0f)) return 0;
+    return uint16_t(clampf(rintf((log2f(fminf(v, 1e30f)) + 32.0f) * 256.0f), 1.0f, 16383.0f));
+}
+LANTERN_HD inline float bdpt_sss_value(int code) {
+    return code == 0 ? 0.0f : exp2f(float(code) * (1.0f / 256.0f) - 32.0f);
+}
+LANTERN_HD inline int bdpt_sss_lv_code(const LightVertex& y) { return int(uint16_t(y.front)) >> 2; }
+// I: the segment that ends here (dVCM, dVC of its side there) has a connectable pair
+LANTERN_HD inline float bdpt_sss_conn(float dvcm, float dvc) {
+    return dvcm > 0.0f || dvc > 0.0f ? 1.0f : 0.0f;
+}
+// r at a walk's entry x (normals facing the view w): d the walk's direction at x, outward (the
+// light's last, the camera's first reversed); the frame as sss_walk_path's and lt_sss_exit_f's
+LANTERN_HD inline float bdpt_sss_ratio(const Material& m, const SurfaceHit& x, Vec3 d, Vec3 w) {
+    const float cos_d = fabsf(dot(d, x.ng));
+    if (!(cos_d > 0.0f)) return 0.0f;
+    const Frame shading = x.frame();
+    const Frame frame = shading.to_local(w).z > 0.0f ? shading : Frame::from_normal(x.ng);
+    const float r = mis(kPi * sss_entry_pdf(m, frame.to_local(w), frame.to_local(-d)) / cos_d);
+    return is_finite(r) ? r : 0.0f;
+}
+// The share of the technique's set, 1 / (1 + S_cam + S_light) (1 where the path has no walk).
+// Control 3 (tests' negative control, LANTERN_SSS_ADJOINT=nosplit): every set at weight 1.
+LANTERN_HD inline float bdpt_sss_split(const SceneView& s, float s_cam, float s_light) {
+    const float w = 1.0f / (1.0f + s_cam + s_light);
+    return s.sss_adjoint_control == 3 || !(w < 1.0f) ? 1.0f : w;
+}
+LANTERN_HD inline float bdpt_sss_split(const SceneView& s, int code) {
+    return bdpt_sss_split(s, bdpt_sss_value(code), 0.0f);
+}
+
+// s >= 2 to a light exit (bdpt_connect_in calls it; defined in bdpt_sss.h)
+struct Connection;  // bdpt_camera.h
+LANTERN_HD inline Connection bdpt_connect_sss_exit(const SceneView& s, const CameraVertex& z,
+                                                   const LightVertex& y, Vec3 dir, float dist,
+                                                   Vec3 wi_z);
+
+// ---- At a light vertex (after its store and splat): lt's choice (lt_sss_choose). On a walk
+// the slot keeps x_o's dVCM, dVC for the exit's count. ----
+LANTERN_HD inline bool bdpt_light_sss_choose(const SceneView& s, const PathState& ps,
+                                             const BdptState& bs, const BdptSettings& st, int i,
+                                             const Material& m, const SurfaceHit& h, Vec3 wo_w,
+                                             float cos_o_ns, float cos_o_ng, int k, float dvcm,
+                                             float dvc) {
+    const int tri = ps.hit_prim[i];
+    if (!bdpt_sss_split_on(st) || k + 1 > st.max_depth || !bdpt_sss_light_walks(s, tri)) return false;
+    if (!(sss_pick_prob(m, dot(wo_w, h.ns)) > 0.0f)) return false;  // (lt: 1 at max_depth)
+    const PtSettings pst{st.max_depth, st.rr_depth, st.spp_per_iteration, st.seed, st.iteration};
+    if (!lt_sss_choose(s, ps, pst, i, m, h, wo_w, cos_o_ns, cos_o_ng, k)) return false;
+    bs.dvcm[i] = dvcm;
+    bs.dvc[i] = dvc;
+    return true;
+}
+
+// ---- The exit at x_i (triangle tri, barycentrics uv, reached along d with throughput beta,
+// the light's power apart): a light vertex with f_adj for its lobe (wo holds d), stored, splatted
+// (weight 1 in its set, times the split) and continued as lt's exit; its dVCM = dVC = 0 ----
+LANTERN_HD inline void bdpt_light_sss_exit(const SceneView& s, const PathState& ps,
+                                           const BdptState& bs, const BdptSettings& st, int i,
+                                           int64_t path, int tri, Vec2 uv, Vec3 d, Vec3 beta,
+                                           Rng& rng) {
+    if (tri >= s.num_triangles) return;
+    const SurfaceHit x = bdpt_surface(s, st, path, tri, uv, -d);  // faces out, along d
+    MaterialScratch scratch;
+    const Material& m = material_at_point(
+        s, s.tri_material[tri], [x, tri, uv] { return shade_point(x, tri, uv, x.ns); }, scratch);
+    if (!(m.subsurface > 0.0f)) return;  // the camera walks only into subsurface
+    const int k = ps.depth[i];
+    // S + I of the sets with more camera walks, times cf; each use multiplies r(w) in
+    const uint16_t pre = bdpt_sss_camera_walks(s, tri)
+                             ? bdpt_sss_code(bdpt_sss_value(bdpt_sss_get(bs, i)) +
+                                             bdpt_sss_conn(bs.dvcm[i], bs.dvc[i]))
+                             : 0;
+    const float s_pre = bdpt_sss_value(pre);
+    const Vec3 power_beta = bs.power[i] * beta;
+    LightVertex v;
+    v.p = x.p;
+    v.ng = x.ng;
+    v.ns = x.ns;
+    v.wo = d;
+    v.beta = power_beta;
+    v.dvcm = 0.0f;
+    v.dvc = 0.0f;
+    v.material = s.tri_material[tri];
+    v.tri = tri;
+    v.bary16 = bary16_encode(uv);
+    v.tangent_angle = x.tangent_angle;
+    v.path = int32_t(path);
+    v.length = int16_t(k);
+    v.front = int16_t(uint16_t((x.front ? 1 : 0) | kLvSssExit | (int(pre) << 2)));
+    v.coat_n = (m.tex_flags & kCoatNormal) || material_keeps_unbent_normal(m)
+                   ? oct_encode(x.coat_n)
+                   : 0u;
+    v.dpt0 = 0.0f;
+    v.dpt1 = 0.0f;
+    bs.vertex[i] = v;
+    bs.store[i] = is_finite(power_beta) ? 1 : 0;
+    if (k + 1 <= st.max_depth && (s.tri_flags[tri] & kVisibleCamera) != 0) {  // t = 1
+        const CameraView cam = s.motion.camera_steps > 1 ? bdpt_camera_moved(s, st, path)
+                                                         : s.camera;
+        const bool lens = cam.lens_radius > 0.0f && !cam.orthographic && !cam.panoramic;
+        const Vec2 u_lens = lens ? sample_aperture(cam, rng.uniform2()) : Vec2{};
+        const CameraConnection cc = connect_camera(cam, x.p, filter_radius(cam), u_lens);
+        if (cc.valid) {
+            const Vec3 f = lt_sss_exit_f(m, x, d, cc.wc, s.sss_adjoint_control);
+            if (!is_black(f)) {
+                LightPathState lp{nullptr, bs.splat_xy};
+                lt_queue_splat(ps, lp, i, x.p, x.ng, cc,
+                               power_beta * f *
+                                   (dot(cc.wc, x.ng) * cc.importance *
+                                    bdpt_sss_split(s, 0.0f,
+                                                   s_pre * bdpt_sss_ratio(m, x, d, cc.wc))),
+                               s.offset_scale);
+            }
+        }
+    }
+    if (k + 2 > st.max_depth) return;  // the next vertex could not be used by any technique
+    const Frame gf = Frame::from_normal(x.ng);
+    const Vec3 dl = gf.to_local(d);
+    Vec3 c;
+    const Vec2 u2 = rng.uniform2();
+    if (!lt_sss_exit_sample(m, dl, Vec3{u2.x, u2.y, rng.uniform()}, &c)) return;
+    const float pdf_w = lt_sss_exit_pdf(m, dl, c);
+    const Vec3 wo = gf.to_world(c);
+    if (!(pdf_w > 0.0f)) return;
+    Vec3 t = beta * lt_sss_exit_f(m, x, d, wo, s.sss_adjoint_control) * (c.z / pdf_w);
+    if (!russian_roulette(t, k + 1, st.rr_depth, rng) || !(max_component(t) > 0.0f) ||
+        !is_finite(t))
+        return;
+    ps.throughput[i] = t;
+    bdpt_sss_set(bs, i, bdpt_sss_code(s_pre * bdpt_sss_ratio(m, x, d, wo)));
+    bs.dvcm[i] = mis(1.0f / pdf_w);  // bdpt_scatter_update with dVCM = dVC = 0
+    bs.dvc[i] = 0.0f;
+    set_next_ray(ps, i, x.p, x.ng, wo, pdf_w, s.offset_scale);
+}
+
+// ---- The walk stage of the light pass (schedule_bdpt.h, after the bounce's stores and
+// splats): for a slot with alive == kAliveSss, lt's entry at x_o (a cosine about the inward
+// geometric normal), the walk in x_o's medium, the exit. Every other slot's store and splat is
+// done: cleared, so that the exits' go alone through a second round. ----
+template <class Rays, class Kind>
+LANTERN_HD inline void bdpt_light_sss_walk(const SceneView& s, const Rays& rays, Kind kind,
+                                           const PathState& ps, const BdptState& bs,
+                                           const BdptSettings& st, int i, int64_t path) {
+    ps.shadow_valid[i] = 0;
+    bs.store[i] = 0;
+    if (ps.alive[i] != kAliveSss) return;
+    ps.alive[i] = 0;
+    Rng rng = ps.rng[i];
+    const float time = s.motion.rays_timed() ? bdpt_time(st, path) : 0.0f;
+    const int tri = ps.hit_prim[i];
+    const Vec2 uv = ps.hit_uv[i];
+    const Vec3 d = ps.ray_d[i];
+    const SurfaceHit h = bdpt_surface(s, st, path, tri, uv, d);  // faces the light
+    MaterialScratch scratch;
+    const Material& m = material_at_point(
+        s, s.tri_material[tri], [h, tri, uv, wo = -d] { return shade_point(h, tri, uv, wo); },
+        scratch);
+    float pdf_w = 0.0f;
+    const Vec3 dir = Frame::from_normal(-h.ng).to_world(
+        sample_cosine_hemisphere(rng.uniform2(), &pdf_w));
+    if (pdf_w > 0.0f && dot(dir, h.ng) < 0.0f) {
+        const SssMedium md = sss_medium(m);
+        const Vec3 o = offset_ray_origin(h.p, h.ng, dir, s.offset_scale);
+        sss_walk_medium(s, rays, kind, md, o, dir, ps.throughput[i] * md.low, rng, time,
+                        [&](int prim, Vec2 xuv, Vec3 last, Vec3 beta) {
+                            bdpt_light_sss_exit(s, ps, bs, st, i, path, prim, xuv, last, beta,
+                                                rng);
+                        });
+    }
+    ps.rng[i] = rng;
+}
+
+}  // namespace lantern
