@@ -11,6 +11,7 @@ Cycles' image mean, a block -8 %).
   placed at the times (j + u) / J and (j + 1 - u) / J (u uniform per seed; exact matrices), by
   lantern.metrics.assert_agreement with its negative controls (3 % image, 10 % block: what
   16 x 16 pixels, 8 seeds of 64 samples resolve).
+- The same with the sphere's vertices sliding (deformation blur, mesh["deform"]).
 - Negative control: the moving sphere with offset 0 (what the core rendered before) must not
   agree with that reference.
 - bdpt (its camera vertices' next-event rays take the lift too) against pt."""
@@ -64,7 +65,22 @@ def _scene(placed, offset=0.1):
     return s
 
 
-def _moving(offset=0.1, steps=3):
+def _slid(t):
+    """The deforming case's placement at t: the frame's turn, its vertices slid 0.4 m in x (and
+    0.1 m in z) over the shutter (deformation blur: the corners move, the normals do not)."""
+    m = _at(0.5)
+    m[:3, 3] += (0.4 * t - 0.2, 0.0, 0.1 * t - 0.05)
+    return m
+
+
+def _moving(offset=0.1, steps=3, deform=False):
+    if deform:
+        s = _scene(_slid(0.5), offset)
+        pos = np.asarray(scenes.icosphere(0)[0], np.float64)
+        s.meshes[0]["deform"] = np.stack(
+            [pos @ _slid(t)[:3, :3].T + _slid(t)[:3, 3]
+             for t in np.linspace(0.0, 1.0, steps)]).astype(np.float32)
+        return s
     s = _scene(_at(0.5), offset)
     s.meshes[0]["motion"] = [_at(t) for t in np.linspace(0.0, 1.0, steps)]
     s.meshes[0]["motion_base"] = _at(0.5)
@@ -83,10 +99,10 @@ def _renders(scene, seed0, integrator="pt"):
     return np.stack([_render(scene, seed0 + k, SPP, integrator) for k in range(K)])
 
 
-def _reference(seed):
+def _reference(seed, at=_at):
     u = np.random.default_rng(2000 + seed).random()
     times = [(j + v) / J for j in range(J) for v in (u, 1.0 - u)]
-    imgs = [_render(_scene(_at(t)), 100 * seed + j, SPP // len(times))
+    imgs = [_render(_scene(at(t)), 100 * seed + j, SPP // len(times))
             for j, t in enumerate(times)]
     return np.mean(imgs, axis=0)
 
@@ -103,6 +119,15 @@ def test_turning_smooth_mesh_keeps_its_terminator(pt_moving):
     # negative control: offset 0 on the moving sphere (what the core rendered before, D49)
     res = metrics.compare_renders(_renders(_moving(0.0), 1), ref, block=4)
     assert not res.passed, f"the moving sphere without its offset agrees: {res}"
+
+
+def test_deforming_smooth_mesh_keeps_its_terminator():
+    """Deformation blur (mesh["deform"]): the lift on the triangle's corners at the time."""
+    ref = np.stack([_reference(k, _slid) for k in range(K)])
+    metrics.assert_agreement("deforming terminator", _renders(_moving(deform=True), 1), ref,
+                             block=4, **BIAS)
+    res = metrics.compare_renders(_renders(_moving(0.0, deform=True), 1), ref, block=4)
+    assert not res.passed, f"the deforming sphere without its offset agrees: {res}"
 
 
 def test_turning_terminator_bdpt_matches_pt(pt_moving):
