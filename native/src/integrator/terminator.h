@@ -85,10 +85,10 @@ LANTERN_HD inline Vec3 terminator_lift(const SceneView& s, int tri, Vec3 p, Vec3
 }
 
 // The lift on triangle tri of a moving mesh at `time` (D49: p and side are where the hit is
-// then, motion_surface's): p and side brought back to the exported frame, the lift taken there
-// on the triangle as it is at `time` (a deforming mesh's corners then, its vertex normals
-// turned as the triangle's normal turns, as deform_hit turns the hit's) and carried to `time`
-// as a vector under the object's matrix. Out of line: still scenes never call it.
+// then, motion_surface's): the lift taken on the triangle moved to `time`, its corners by the
+// object's matrix and its vertex normals as normals (a deforming mesh's corners at the time
+// first, its vertex normals turned as the triangle's normal turns, as deform_hit turns the
+// hit's). Out of line (the device's stack: one matrix, no inverse): still scenes never call it.
 #ifndef __CUDA_ARCH__
 __attribute__((noinline))
 #endif
@@ -97,9 +97,6 @@ LANTERN_HD inline Vec3 terminator_lift_moved(const SceneView& s, int tri, Vec3 p
                                              float time) {
     const ObjectMotion* o = object_motion_of(s.motion, tri);
     if (!o) return terminator_lift(s, tri, p, side);
-    const Transform m = object_motion_to_world(s.motion, *o, time);
-    Transform inv;
-    if (!transform_inverse(m, &inv)) return vec3(0.0f);
     const uint32_t* idx = s.indices + 3 * tri;
     Vec3 v[3], n[3];
     for (int j = 0; j < 3; ++j) {
@@ -117,12 +114,12 @@ LANTERN_HD inline Vec3 terminator_lift_moved(const SceneView& s, int tri, Vec3 p
                 n[j] = rotate_between(ne * (1.0f / le), nd * (1.0f / ld), n[j]);
         }
     }
-    // side, a normal at `time`, in the exported frame: under inv a normal goes by inv^-T = m^T
-    const Vec3 side_x{m.m[0][0] * side.x + m.m[1][0] * side.y + m.m[2][0] * side.z,
-                      m.m[0][1] * side.x + m.m[1][1] * side.y + m.m[2][1] * side.z,
-                      m.m[0][2] * side.x + m.m[1][2] * side.y + m.m[2][2] * side.z};
-    const Vec3 lift = m.vector(terminator_lift_on(v, n, inv.point(p), side_x));
-    return is_finite(lift) ? lift : vec3(0.0f);
+    const Transform m = object_motion_to_world(s.motion, *o, time);
+    for (int j = 0; j < 3; ++j) {  // (a mirroring matrix flips all three: the lift mirrors back)
+        v[j] = m.point(v[j]);
+        n[j] = normalize(motion_normal(m, n[j]));
+    }
+    return terminator_lift_on(v, n, p, side);
 }
 
 // Next-event estimation's shadow origin toward w from hit point p of triangle tri (before the
