@@ -81,7 +81,9 @@ KNOWN = {
                                       "mesh, lit through its interior, reads darker in "
                                       "Lantern (difftest_features2's low-poly meshes)",
     "moving low-poly smooth": "D49: a smooth-shaded low-poly mesh turning over the shutter "
-                              "reads darker in Lantern (pt and bdpt)",
+                              "read darker in Lantern (pt and bdpt): its terminator offset was "
+                              "dropped (fixed, fixd49: the tag stays until a long run has drawn "
+                              "such meshes again)",
     "sharp specular on low-poly smooth": "D48: a sharp glass or specular layer (Glass BSDF, "
                                          "Principled Roughness 0) on a smooth-shaded low-poly "
                                          "mesh: Cycles corrects the bent normals at the rims",

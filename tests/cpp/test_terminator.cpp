@@ -89,7 +89,7 @@ TEST(Terminator, FlatNormalsAndOffNoLift) {
     const SceneView off = t.view();
     const Vec3 w = normalize(ng * -0.05f + normalize(t.p[1] - t.p[0]));
     EXPECT_FALSE(terminator_passes(off, 0, w, ng, normalize(ng + (t.p[1] - t.p[0]))));
-    EXPECT_EQ(terminator_origin(off, 0, p, ng, ng, w).x, p.x);
+    EXPECT_EQ(terminator_origin(off, 0, p, ng, ng, w, 0.0f).x, p.x);
     // strands and out-of-range prims read no offset
     EXPECT_EQ(terminator_cutoff(s, 1), 0.0f);
     EXPECT_EQ(terminator_cutoff(s, -1), 0.0f);

@@ -117,7 +117,7 @@ LANTERN_HD inline void bdpt_camera_nee(const SceneView& s, const PathState& ps,
         return;
     }
     Vec3 target_n = ls.dist < kInf ? ls.n_light : vec3(0.0f);
-    const Vec3 zp = terminator_origin(s, z.tri, z.h.p, z.h.ng, z.h.ns, ls.wi);
+    const Vec3 zp = terminator_origin(s, z.tri, z.h.p, z.h.ng, z.h.ns, ls.wi, time);
     if (ls.dist < kInf) {
         shadow_segment(zp, z.h.ng, ls.p_light, target_n, ls.wi, s.offset_scale, &ps.shadow_o[i],
                        &ps.shadow_d[i], &ps.shadow_tmax[i]);

@@ -389,7 +389,7 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
                 // Shortened at both ends: from the offset origin to the offset point on the
                 // light, aimed between the two offset points (aiming along wi from the un-offset
                 // point ends behind a light seen at a grazing angle, and the ray hits the light).
-                Vec3 so = offset_ray_origin(terminator_origin(s, tri, h.p, h.ng, h.ns, ls.wi),
+                Vec3 so = offset_ray_origin(terminator_origin(s, tri, h.p, h.ng, h.ns, ls.wi, time),
                                             h.ng, ls.wi, s.offset_scale);
                 Vec3 sd = ls.wi;
                 float tmax = kInf;

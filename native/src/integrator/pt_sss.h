@@ -267,8 +267,8 @@ LANTERN_HD inline void pt_sss_exit(const SceneView& s, const PathState& ps, cons
     const Vec2 u_light = rng.uniform2();
     const LightPick pick = light_pick(s, p, n_pick, u_pick.x);
     if (pick.pmf > 0.0f) {
-        LightSample ls = sample_light(s, s.lights[pick.light], p, u_light,  // (the path's time)
-                                      s.motion.num_objects > 0 ? motion_time(rng) : 0.0f);
+        const float time = s.motion.num_objects > 0 ? motion_time(rng) : 0.0f;  // the path's
+        LightSample ls = sample_light(s, s.lights[pick.light], p, u_light, time);
         if ((pick.light == s.world_light || s.lights[pick.light].of_world) &&
             !(s.world_rays & kWorldDiffuse))
             ls.valid = false;  // the world hidden from diffuse rays lights nothing here
@@ -285,7 +285,7 @@ LANTERN_HD inline void pt_sss_exit(const SceneView& s, const PathState& ps, cons
                                     pt_shadow_linked(s, pick.light)
                                 ? 1.0f
                                 : power_heuristic(pdf_light, pdf_bsdf);
-            const Vec3 so = offset_ray_origin(terminator_origin(s, tri, p, ng, ns, ls.wi), ng,
+            const Vec3 so = offset_ray_origin(terminator_origin(s, tri, p, ng, ns, ls.wi, time), ng,
                                               ls.wi, s.offset_scale);
             Vec3 sd = ls.wi;
             float tmax = kInf;

@@ -36,13 +36,13 @@ LANTERN_HD inline float terminator_amount(float cutoff, Vec3 ng, Vec3 ns, Vec3 w
     return a < 0.0f ? 0.0f : (a > 1.0f ? 1.0f : a);
 }
 
-// The lift of point p on triangle tri toward the smooth surface, on side `side` (the geometric
-// normal facing the light's side of the shading normal): the vertex normals' parabola, at most
-// the corners' tangent planes' envelope and at least half the parabola. Zero where degenerate.
-LANTERN_HD inline Vec3 terminator_lift(const SceneView& s, int tri, Vec3 p, Vec3 side) {
-    const uint32_t* idx = s.indices + 3 * tri;
-    const Vec3 v0 = s.positions[idx[0]], v1 = s.positions[idx[1]], v2 = s.positions[idx[2]];
-    Vec3 n0 = s.normals[idx[0]], n1 = s.normals[idx[1]], n2 = s.normals[idx[2]];
+// The lift of point p on the triangle of corners v and vertex normals n toward the smooth
+// surface, on side `side` (the geometric normal facing the light's side of the shading normal):
+// the vertex normals' parabola, at most the corners' tangent planes' envelope and at least half
+// the parabola. Zero where degenerate.
+LANTERN_HD inline Vec3 terminator_lift_on(const Vec3 v[3], const Vec3 vn[3], Vec3 p, Vec3 side) {
+    const Vec3 v0 = v[0], v1 = v[1], v2 = v[2];
+    Vec3 n0 = vn[0], n1 = vn[1], n2 = vn[2];
     // barycentrics of p (on the triangle, up to rounding)
     const Vec3 e1 = v1 - v0, e2 = v2 - v0, d = p - v0;
     const float d11 = dot(e1, e1), d12 = dot(e1, e2), d22 = dot(e2, e2);
@@ -76,16 +76,65 @@ LANTERN_HD inline Vec3 terminator_lift(const SceneView& s, int tri, Vec3 p, Vec3
     return is_finite(lift) ? lift : vec3(0.0f);
 }
 
+// The same on triangle tri as exported (its still corners and vertex normals).
+LANTERN_HD inline Vec3 terminator_lift(const SceneView& s, int tri, Vec3 p, Vec3 side) {
+    const uint32_t* idx = s.indices + 3 * tri;
+    const Vec3 v[3] = {s.positions[idx[0]], s.positions[idx[1]], s.positions[idx[2]]};
+    const Vec3 n[3] = {s.normals[idx[0]], s.normals[idx[1]], s.normals[idx[2]]};
+    return terminator_lift_on(v, n, p, side);
+}
+
+// The lift on triangle tri of a moving mesh at `time` (D49: p and side are where the hit is
+// then, motion_surface's): the lift taken on the triangle moved to `time`, its corners by the
+// object's matrix and its vertex normals as normals (a deforming mesh's corners at the time
+// first, its vertex normals turned as the triangle's normal turns, as deform_hit turns the
+// hit's). Out of line (the device's stack: one matrix, no inverse): still scenes never call it.
+#ifndef __CUDA_ARCH__
+__attribute__((noinline))
+#endif
+LANTERN_DEVICE_NOINLINE
+LANTERN_HD inline Vec3 terminator_lift_moved(const SceneView& s, int tri, Vec3 p, Vec3 side,
+                                             float time) {
+    const ObjectMotion* o = object_motion_of(s.motion, tri);
+    if (!o) return terminator_lift(s, tri, p, side);
+    const uint32_t* idx = s.indices + 3 * tri;
+    Vec3 v[3], n[3];
+    for (int j = 0; j < 3; ++j) {
+        v[j] = s.positions[idx[j]];
+        n[j] = s.normals[idx[j]];
+    }
+    if (const DeformMesh* dm = deform_of(s.motion, *o)) {
+        Vec3 pd[3];
+        deform_triangle(s.motion, *dm, tri, time, pd);
+        const Vec3 ne = cross(v[1] - v[0], v[2] - v[0]), nd = cross(pd[1] - pd[0], pd[2] - pd[0]);
+        const float le = length(ne), ld = length(nd);
+        for (int j = 0; j < 3; ++j) {
+            v[j] = pd[j];
+            if (le > 0.0f && ld > 0.0f)
+                n[j] = rotate_between(ne * (1.0f / le), nd * (1.0f / ld), n[j]);
+        }
+    }
+    const Transform m = object_motion_to_world(s.motion, *o, time);
+    for (int j = 0; j < 3; ++j) {  // (a mirroring matrix flips all three: the lift mirrors back)
+        v[j] = m.point(v[j]);
+        n[j] = normalize(motion_normal(m, n[j]));
+    }
+    return terminator_lift_on(v, n, p, side);
+}
+
 // Next-event estimation's shadow origin toward w from hit point p of triangle tri (before the
-// self-intersection offset): p lifted where the mesh has a terminator offset.
+// self-intersection offset): p lifted where the mesh has a terminator offset; `time`: the
+// path's shutter time (read only where meshes move).
 LANTERN_HD inline Vec3 terminator_origin(const SceneView& s, int tri, Vec3 p, Vec3 ng, Vec3 ns,
-                                         Vec3 w) {
+                                         Vec3 w, float time) {
     const float cutoff = terminator_cutoff(s, tri);
     if (!(cutoff > 0.0f)) return p;
     const float amount = terminator_amount(cutoff, ng, ns, w);
     if (!(amount > 0.0f)) return p;
     const Vec3 side = dot(ns, w) < 0.0f ? -ng : ng;
-    return p + terminator_lift(s, tri, p, side) * amount;
+    const Vec3 lift = s.motion.num_objects > 0 ? terminator_lift_moved(s, tri, p, side, time)
+                                               : terminator_lift(s, tri, p, side);
+    return p + lift * amount;
 }
 
 // The light's side test of next-event estimation with the terminator: where the mesh has an

@@ -106,12 +106,9 @@ void HostScene::add_meshes(const SceneInput& in) {
             tri_flags_.push_back(uint8_t(flags | (alpha ? kAlphaTested : 0) |
                                          (mm.holdout ? kHoldout : 0)));
             if (any_rays_hidden) tri_rays_.push_back(uint8_t(m.rays & kRayKindsAll));
-            // the lift reads the still vertex positions: none for moving meshes
+            // (a moving mesh's too: its lift is taken where it is at the path's time, D49)
             if (any_terminator)
-                tri_terminator_.push_back(m.normals.empty() || m.flat || !m.motion.empty() ||
-                                                  !m.deform.empty()
-                                              ? 0.0f
-                                              : m.terminator);
+                tri_terminator_.push_back(m.normals.empty() || m.flat ? 0.0f : m.terminator);
         }
         range.tri_count = int32_t(tri_material_.size()) - range.tri_begin;
         mesh_ranges_.push_back(range);
