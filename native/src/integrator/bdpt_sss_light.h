@@ -179,18 +179,9 @@ LANTERN_HD inline void bdpt_light_sss_exit(const SceneView& s, const PathState& 
         }
     }
     if (k + 2 > st.max_depth) return;  // the next vertex could not be used by any technique
-    const Frame gf = Frame::from_normal(x.ng);
-    const Vec3 dl = gf.to_local(d);
-    Vec3 c;
-    const Vec2 u2 = rng.uniform2();
-    if (!lt_sss_exit_sample(m, dl, Vec3{u2.x, u2.y, rng.uniform()}, &c)) return;
-    const float pdf_w = lt_sss_exit_pdf(m, dl, c);
-    const Vec3 wo = gf.to_world(c);
-    if (!(pdf_w > 0.0f)) return;
-    Vec3 t = beta * lt_sss_exit_f(m, x, d, wo, s.sss_adjoint_control) * (c.z / pdf_w);
-    if (!russian_roulette(t, k + 1, st.rr_depth, rng) || !(max_component(t) > 0.0f) ||
-        !is_finite(t))
-        return;
+    Vec3 wo, t;
+    float pdf_w;
+    if (!lt_sss_exit_continue(s, m, x, d, beta, k, st.rr_depth, rng, &wo, &pdf_w, &t)) return;
     ps.throughput[i] = t;
     bdpt_sss_set(bs, i, bdpt_sss_code(s_pre * bdpt_sss_ratio(m, x, d, wo)));
     bs.dvcm[i] = mis(1.0f / pdf_w);  // bdpt_scatter_update with dVCM = dVC = 0

@@ -107,6 +107,27 @@ LANTERN_HD inline bool lt_sss_exit_sample(const Material& m, Vec3 d, Vec3 u, Vec
     return c->z > 0.0f && is_finite(*c);
 }
 
+// The exit's continuation (lt's and the bidirectional light paths', bdpt_sss_light.h): a
+// direction wo from the exit lobe about x's geometric normal, its density pdf_w and the
+// throughput t after it (beta: before; Russian roulette at segment depth + 1). False: the path
+// ends. Draws uniform2, uniform, then the roulette's.
+LANTERN_HD inline bool lt_sss_exit_continue(const SceneView& s, const Material& m,
+                                            const SurfaceHit& x, Vec3 d, Vec3 beta, int depth,
+                                            int rr_depth, Rng& rng, Vec3* wo, float* pdf_w,
+                                            Vec3* t) {
+    const Frame gf = Frame::from_normal(x.ng);
+    const Vec3 dl = gf.to_local(d);
+    Vec3 c;
+    const Vec2 u2 = rng.uniform2();
+    if (!lt_sss_exit_sample(m, dl, Vec3{u2.x, u2.y, rng.uniform()}, &c)) return false;
+    *pdf_w = lt_sss_exit_pdf(m, dl, c);
+    *wo = gf.to_world(c);
+    if (!(*pdf_w > 0.0f)) return false;
+    *t = beta * lt_sss_exit_f(m, x, d, *wo, s.sss_adjoint_control) * (c.z / *pdf_w);
+    return russian_roulette(*t, depth + 1, rr_depth, rng) && max_component(*t) > 0.0f &&
+           is_finite(*t);
+}
+
 // ---- The exit at x_i: triangle tri, barycentrics uv, reached along d with throughput beta
 // (the light's power apart); the splat to the camera, then the continuation ----
 LANTERN_HD inline void lt_sss_exit(const SceneView& s, const PathState& ps,
@@ -132,18 +153,9 @@ LANTERN_HD inline void lt_sss_exit(const SceneView& s, const PathState& ps,
         }
     }
     if (depth + 2 > st.max_depth) return;  // the next vertex's connection would be too long
-    const Frame gf = Frame::from_normal(x.ng);
-    const Vec3 dl = gf.to_local(d);
-    Vec3 c;
-    const Vec2 u2 = rng.uniform2();
-    if (!lt_sss_exit_sample(m, dl, Vec3{u2.x, u2.y, rng.uniform()}, &c)) return;
-    const float pdf_w = lt_sss_exit_pdf(m, dl, c);
-    const Vec3 wo = gf.to_world(c);
-    if (!(pdf_w > 0.0f)) return;
-    Vec3 t = beta * lt_sss_exit_f(m, x, d, wo, s.sss_adjoint_control) * (c.z / pdf_w);
-    if (!russian_roulette(t, depth + 1, st.rr_depth, rng) || !(max_component(t) > 0.0f) ||
-        !is_finite(t))
-        return;
+    Vec3 wo, t;
+    float pdf_w;
+    if (!lt_sss_exit_continue(s, m, x, d, beta, depth, st.rr_depth, rng, &wo, &pdf_w, &t)) return;
     ps.throughput[i] = t;
     set_next_ray(ps, i, x.p, x.ng, wo, pdf_w, s.offset_scale);
 }
