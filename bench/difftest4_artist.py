@@ -21,7 +21,7 @@ Every input left at Blender's default unless said. Render settings as the tester
 (render_compare): no denoising / adaptive sampling / clamping, every bounce limit B.
 
     nice .venv/bin/python bench/difftest4_artist.py --integrator pt --seeds 16 --spp 32 \
-        [--without fog] [--without skin] [--without linking] --json OUT.jsonl
+        [--without fog|skin|keylink|rimblock|boxlink|noshadow ...] --json OUT.jsonl
 """
 
 import argparse
@@ -35,7 +35,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, "tools"))
 sys.path.insert(0, os.path.join(ROOT, "python"))
 
-PARTS = ("skin", "linking", "fog", "noshadow")
+PARTS = ("skin", "keylink", "rimblock", "boxlink", "fog", "noshadow")
 
 
 def _material(name, ob, **inputs):
@@ -111,10 +111,12 @@ def build(parts):
     em.inputs["Strength"].default_value = 6.0
     nt.links.new(em.outputs["Emission"], nt.nodes["Material Output"].inputs["Surface"])
     box.data.materials.append(m)
-    if "linking" in parts:
+    if "keylink" in parts:
         ko.light_linking.receiver_collection = _collection("KeyLit", [monkey, plinth],
                                                            "INCLUDE")
+    if "rimblock" in parts:
         ro.light_linking.blocker_collection = _collection("RimPass", [card], "EXCLUDE")
+    if "boxlink" in parts:
         box.light_linking.receiver_collection = _collection("BoxLit", [card], "EXCLUDE")
     if "noshadow" in parts:
         point.data.use_shadow = False

@@ -67,6 +67,9 @@ def draw(key, case, avoid):
     if case.get("linking") and len(case["lights"]) > 1 and r.random() < P_NO_SHADOW and \
             "no shadow" not in avoid and "linking without shadow" not in avoid:
         r.choice(case["lights"])["cast_shadow"] = False
+    if case.get("linking") and "linking without shadow" in avoid:
+        for lt in case["lights"]:   # (difftest_features2's Cast Shadow off too)
+            lt.pop("cast_shadow", None)
     return case
 
 
