@@ -121,6 +121,13 @@ LANTERN_HD inline void bdpt_sss_exit(const SceneView& s, const PathState& ps, co
     z.m = &white;
     z.scratch = &scratch;
     z.depth = ps.depth[i];
+    // media (pt's rule, pt_sss.h): the walk leaves into the medium its path arrived in at the
+    // entry, the slot's, which it kept; next event, connections and the continuation start there
+    const bool media = s.num_media > 0;
+    if (media) {
+        if (s.sss_adjoint_control == 5) ps.medium[i] = -1;  // (tests' control: into vacuum)
+        z.slot_medium = ps.medium[i];
+    }
     z.beta = ps.throughput[i];
     z.sss_code = bdpt_sss_split_on(st) ? uint16_t(bdpt_sss_get(bs, i)) : 0;  // (the walk's)
     z.dvcm = 0.0f;
@@ -145,7 +152,8 @@ LANTERN_HD inline void bdpt_sss_exit(const SceneView& s, const PathState& ps, co
         set_next_ray(ps, i, z.h.p, z.h.ng, wi, pdf_w, s.offset_scale);
         ps.prev_p[i] = z.h.p;
         bs.prev_ng[i] = z.h.ng;
-        if (s.light_tree_on) ps.prev_n[i] = z.n_pick;
+        if (s.light_tree_on || media) ps.prev_n[i] = z.n_pick;
+        if (media) bdpt_seg_store(bs, i, medium_segment_begin(false));  // (above the surface)
     }
     ps.rng[i] = rng;
 }
