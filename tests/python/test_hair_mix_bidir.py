@@ -67,7 +67,7 @@ def test_hair_mix_agrees_with_pt(core, integrator):
     imgs = renders(mix_fur(), integrator, 64, 5000)
     assert all(np.isfinite(x).all() for x in imgs)
     metrics.assert_agreement(f"fur (Principled Hair + Diffuse) {integrator} vs pt", imgs,
-                             pt_reference(), block=8, image_bias=0.03, block_bias=0.1)
+                             pt_reference(), block=8, image_bias=0.03, block_bias=0.15)
 
 
 def test_hair_mix_melanin_off_is_caught(core):
@@ -118,11 +118,13 @@ def test_hair_mix_lt_agrees_with_pt(core, monkeypatch):
     light inside a tube vertex's fiber) lt must read dark and fail."""
     imgs = renders(mix_fur(), "lt", LT_SPP, 5000)
     assert all(np.isfinite(x).all() for x in imgs)
-    # (the comparison's own controls off: a rare path continued from inside the fiber carries
-    # a large weight (one seed in about 24 here), whose block then cannot resolve +10 %; the
-    # step left out, below, is the control that matters: measured -5.7 % red, worst |z| 12)
+    # Seed 5008 made a firefly (a pixel of 12.9, its image +34 %) before the continuation from
+    # inside the fiber took a mixture with a cosine (lt_strand.h lt_strand_inside_sample); the
+    # comparison then could not resolve +10 % on a block and ran without its controls. Now with
+    # them, at what pt's 12 x 256 blocks resolve (2.9 %): 3 %, and 15 % on a block (+10 % on the
+    # dark block (2, 1) read |z| 5.4). The step left out, below, is the step's own control.
     metrics.assert_agreement("fur (Principled Hair + Diffuse) lt vs pt", imgs, pt_reference(),
-                             block=8, controls=False)
+                             block=8, image_bias=0.03, block_bias=0.15)
     monkeypatch.setenv("LANTERN_LT_STRAND", "nothrough")
     res = metrics.compare_renders(renders(mix_fur(), "lt", LT_SPP // 2, 5000), pt_reference(),
                                   block=8, name="fur mix: lt without the step through")

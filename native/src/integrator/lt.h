@@ -284,11 +284,13 @@ LANTERN_HD inline void lt_shade(const SceneView& s, const PathState& ps, const L
     // a tube vertex whose BSDF transmits: with 1/2 the point where the ray leaves the strand,
     // the light inside its fiber (lt_strand.h)
     MaterialScratch scratch_exit;
+    bool inside_fiber = false;  // (the continuation's proposal: lt_strand_inside_sample)
     if (strand && !strand_fiber(*mp) && material_transmits(*mp) && s.lt_strand_control == 0) {
         Rng rng = ps.rng[i];
         const bool inside = rng.uniform() < 0.5f;
         ps.rng[i] = rng;
         ps.throughput[i] = ps.throughput[i] * 2.0f;
+        inside_fiber = inside;
         if (inside) {  // its material there
             if (!lt_strand_exit(s, ps.ray_o[i], d, ps.hit_t[i],
                                 s.motion.curves ? motion_time(ps.rng[i]) : 0.0f, &tri, &h))
@@ -345,8 +347,17 @@ LANTERN_HD inline void lt_shade(const SceneView& s, const PathState& ps, const L
     // ---- Continue: cosine sampling, adjoint weight, roulette ----
     Rng rng = ps.rng[i];
     Vec2 u_dir = rng.uniform2();
-    BsdfSample bs = material_sample(m, h.front, wo, Vec3{u_dir.x, u_dir.y, rng.uniform()},
-                                    Transport::Importance, h.coat_n, frame.to_local(h.ng));
+    const Vec3 u_bsdf{u_dir.x, u_dir.y, rng.uniform()};
+#ifndef __CUDACC__
+    BsdfSample bs = inside_fiber
+                        ? lt_strand_inside_sample(m, h.front, wo, u_bsdf, rng.uniform(),
+                                                  h.coat_n, frame.to_local(h.ng))
+                        : material_sample(m, h.front, wo, u_bsdf, Transport::Importance,
+                                          h.coat_n, frame.to_local(h.ng));
+#else
+    BsdfSample bs = material_sample(m, h.front, wo, u_bsdf, Transport::Importance, h.coat_n,
+                                    frame.to_local(h.ng));
+#endif
     Vec3 wi = frame.to_world(bs.wi);
     // (a tube vertex left through its fiber: outside pt's path space, bdpt_curve.h)
     if (bs.valid && view_side_agrees(m, wi, h.ng, h.ns) && !(tube && !(dot(wi, h.ng) > 0.0f))) {

@@ -122,4 +122,42 @@ inline bool lt_strand_exit(const SceneView& s, Vec3 o, Vec3 d, float t_in, float
     return dot(h->ng, d) > 0.0f;
 }
 
+// The continuation from the point p where the light left the strand (its direction wo inside
+// the fiber, local to p's frame, Z outward). The BSDF's Importance sampler draws the hair lobe
+// at the offset h(wo) of that inside direction, while the lobe's value is pt's at the offset
+// h(wi) of the camera side's direction: the two offsets are unrelated at a tube vertex, and where
+// f_{h(wi)} has its TT or TRT peak the sampler at h(wo) can have a density 10^-3 of it (the mix
+// fur's firefly: weight 1,756, pdf 5.5e-4; docs/curves.md "lt through a strand"). So: the
+// one-sample mixture of the BSDF's sampler and a cosine about Z, 1/2 each (u_pick), weighted by
+// the mixture's density (the balance heuristic), which bounds the weight by 2 pi f |wi.z| /
+// |wi.z|. A direction into the fiber (wi.z <= 0) cannot continue a tube vertex: invalid.
+inline BsdfSample lt_strand_inside_sample(const Material& m, bool front, Vec3 wo, Vec3 u,
+                                          float u_pick, Vec3 coat_n, Vec3 ng_l) {
+    BsdfSample s{vec3(0.0f), vec3(0.0f), 0.0f, false};
+    Vec3 wi;
+    if (u_pick < 0.5f) {
+        const BsdfSample b = material_sample(m, front, wo, u, Transport::Importance, coat_n, ng_l);
+        if (!b.valid) return s;
+        if (b.delta) {  // (a delta leaf: only this half proposes it)
+            s = b;
+            s.weight = b.weight * 2.0f;
+            s.pdf_fwd_w = b.pdf_fwd_w * 0.5f;
+            return s;
+        }
+        wi = b.wi;
+    } else {
+        float pdf_c = 0.0f;
+        wi = sample_cosine_hemisphere(Vec2{u.x, u.y}, &pdf_c);
+    }
+    if (!(wi.z > 0.0f)) return s;
+    const BsdfEval e = material_eval(m, front, wo, wi, Transport::Importance, coat_n, ng_l);
+    const float pdf = 0.5f * e.pdf_fwd_w + 0.5f * wi.z * kInvPi;
+    if (!(pdf > 0.0f)) return s;
+    s.wi = wi;
+    s.pdf_fwd_w = pdf;
+    s.weight = e.f * (wi.z / pdf);
+    s.valid = is_finite(s.weight);
+    return s;
+}
+
 }  // namespace lantern
