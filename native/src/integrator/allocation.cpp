@@ -257,7 +257,30 @@ std::string ray_visibility_reason(const SceneInput& in) {
     return "";
 }
 
+std::string no_shadow_object_reason(const SceneInput& in) {
+    for (const MeshInput& m : in.meshes)
+        if (!m.cast_shadow) return "an object that casts no shadow (mesh '" + m.name + "')";
+    for (const CurveInput& c : in.curves)
+        if (!c.cast_shadow) return "an object that casts no shadow (curves '" + c.name + "')";
+    return "";
+}
+
 std::string bidir_visibility_reason(const SceneInput& in, bool light_tracer) {
+    // an object's Cast Shadow off: bdpt, lvc and cis on meshes (bidir_no_shadow.h); lt (light
+    // tracing alone cannot see a light past a surface that casts it no shadow), strands,
+    // shadow linking beside it, media and subsurface scattering stay pt's
+    if (const std::string v = no_shadow_object_reason(in); !v.empty()) {
+        bool linked = false;
+        for (const LightInput& l : in.lights) linked |= l.blockers != kAllReceivers;
+        for (const MeshInput& m : in.meshes)
+            linked |= m.shadow_set != 0 || m.emitter_blockers != kAllReceivers;
+        for (const CurveInput& c : in.curves)
+            if (!c.cast_shadow) return v;
+        if (light_tracer) return v;
+        if (linked) return v + " with shadow linking";
+        if (std::string u = media_reason(in); !u.empty()) return v + " with " + u;
+        if (std::string u = subsurface_reason(in); !u.empty()) return v + " with " + u;
+    }
     const std::string all = ray_visibility_reason(in);
     if (all.empty()) return all;
     // integrator/bidir_linking.h: light linking (lt, bdpt, lvc, cis), shadow linking and a
@@ -337,6 +360,8 @@ std::string pt_only_reason(const SceneInput& in) {
     for (const MeshInput& m : in.meshes)
         if (m.shadow_catcher) return "a shadow catcher (mesh '" + m.name + "')";
     if (std::string v = ray_visibility_reason(in); !v.empty()) return v;
+    // (bidir_no_shadow.h: auto's trials carry no moment channels of its ratio)
+    if (std::string v = no_shadow_object_reason(in); !v.empty()) return v;
     if (in.catcher_mode != 0) return "a shadow catcher pass";
     if (in.world_rays != 7) return "the world hidden from some rays";
     // media (with auto_media on; session.cpp): cis has medium vertices in homogeneous and

@@ -148,9 +148,13 @@ std::string curves_lt_reason(const SceneInput& in);
 // Object ray visibility (Diffuse, Glossy, Transmission, Volume Scatter off) and light linking:
 // only pt tells a bounce's kind and receiver so far; "" when the scene uses neither.
 std::string ray_visibility_reason(const SceneInput& in);
-// What of ray_visibility_reason's the bidirectional integrators still hand to pt: object and lamp
-// ray visibility, Cast Shadow off, shadow linking under lt, linking in scenes with media or
-// subsurface scattering (integrator/bidir_linking.h); "" when they render the scene themselves.
+// An object (mesh or strands) whose Cast Shadow is off (bidir_no_shadow.h), or "".
+std::string no_shadow_object_reason(const SceneInput& in);
+// What of ray_visibility_reason's and no_shadow_object_reason's the bidirectional integrators
+// still hand to pt: object and lamp ray visibility, Cast Shadow off (a lamp's, an object's)
+// and shadow linking under lt, an object's Cast Shadow off on strands or beside shadow linking,
+// linking or Cast Shadow off in scenes with media or subsurface scattering
+// (integrator/bidir_linking.h, bidir_no_shadow.h); "" when they render the scene themselves.
 std::string bidir_visibility_reason(const SceneInput& in, bool light_tracer);
 
 }  // namespace lantern

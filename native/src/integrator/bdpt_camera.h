@@ -10,6 +10,7 @@
 #include "integrator/bdpt_medium.h"
 #include "integrator/bdpt_motion.h"  // bdpt_emitter_time
 #include "integrator/bdpt_sss_light.h"  // subsurface: the split, light exits (CPU)
+#include "integrator/bidir_no_shadow.h"
 #include "integrator/pixel_conn.h"
 #include "integrator/soft_light_path.h"
 #include "integrator/terminator.h"
@@ -100,6 +101,7 @@ LANTERN_HD inline void bdpt_camera_nee(const SceneView& s, const PathState& ps,
     float w_camera =
         geo_side ? mis(st.r * pdf_lp / pdf_nee) * (dvcm_z + z.dvc * mis(e.pdf_rev_w)) : 0.0f;
     bidir_nee_weights(s, ps, i, pick.light, unshadowed, w_light, w_camera);  // (linking)
+    bidir_no_shadow_ratio(s, bs, i, w_light, w_camera);  // (objects without shadows)
     float w = 1.0f / (w_light + 1.0f + w_camera);
 #ifndef __CUDACC__
     w *= bdpt_sss_split(s, z.sss_code);  // (subsurface: bdpt_sss_light.h)

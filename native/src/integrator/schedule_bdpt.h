@@ -13,6 +13,7 @@
 #include <stdexcept>
 
 #include "integrator/bdpt.h"
+#include "integrator/bidir_no_shadow.h"
 #include "integrator/wavefront.h"
 #include "integrator/wavefront_motion.h"
 
@@ -260,6 +261,7 @@ template <class Exec>
 void camera_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep& st,
                   int64_t first_path, int n) {
     w.media = s.num_media > 0;
+    w.no_shadow = s.no_shadow_objects != 0;  // (bidir_no_shadow.h)
     w.resize(n, w.conn_cap, Exec::kGpu);
     SessionStats& stats = *st.stats;
     const BdptSettings bst = bdpt_settings(w, st);
@@ -323,7 +325,9 @@ void camera_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep
         if (s.has_subsurface)  // the walks of this bounce's subsurface paths (bdpt_sss.h)
             bdpt_sss_stages(ex, w, s, bst, cache, active, list, spp, first_path, sr, stats);
 #endif
-        // every shadow ray of the bounce: next event and connections
+        // every shadow ray of the bounce: next event and connections (objects without
+        // shadows: bidir_no_shadow.h)
+        const RayKind conn_kind = bidir_conn_kind(s, RayKind::kShadow, RayKind::kIndirect);
         ex.timed(stats.time_shadow, [&] {
             stats.rays_shadow +=
                 ex.count(active, LANTERN_KERNEL(int k) { return ps.shadow_valid[q[k]] != 0; });
@@ -350,13 +354,14 @@ void camera_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep
                         Ray r{ps.shadow_o[i], ps.shadow_d[i], 0.0f, ps.shadow_tmax[i]};
                         r.time = time;
                         if (!bidir_nee_occluded(s, rays, RayKind::kShadow, ps, i, r))
-                            add_radiance(ps, i, ps.shadow_contrib[i]);
+                            add_radiance(ps, i, bidir_nee_value(ps, bs, i, bidir_nee_visible(
+                                                    s, rays, RayKind::kIndirect, r)));
                     }
                     for (int j = 0; j < bs.conn_n[i]; ++j) {
                         const size_t e = size_t(i) * bs.conn_cap + j;
                         Ray r{bs.conn_o[e], bs.conn_d[e], 0.0f, bs.conn_tmax[e]};
                         r.time = time;
-                        if (!rays.occluded(r, RayKind::kShadow)) add_radiance(ps, i, bs.conn_c[e]);
+                        if (!rays.occluded(r, conn_kind)) add_radiance(ps, i, bs.conn_c[e]);
                     }
                 }, 64);
             } else {  // one thread per ray, [next event, connections...] per slot
@@ -371,20 +376,22 @@ void camera_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep
                         if (ps.shadow_valid[i]) {
                             Ray r{ps.shadow_o[i], ps.shadow_d[i], 0.0f, ps.shadow_tmax[i]};
                             r.time = time;
-                            v = bidir_nee_occluded(s, rays, RayKind::kShadow, ps, i, r) ? 0 : 1;
+                            v = bidir_nee_occluded(s, rays, RayKind::kShadow, ps, i, r)
+                                    ? 0
+                                    : bidir_nee_visible(s, rays, RayKind::kIndirect, r);
                         }
                     } else if (j - 1 < bs.conn_n[i]) {
                         const size_t c = size_t(i) * bs.conn_cap + (j - 1);
                         Ray r{bs.conn_o[c], bs.conn_d[c], 0.0f, bs.conn_tmax[c]};
                         r.time = time;
-                        v = rays.occluded(r, RayKind::kShadow) ? 0 : 1;
+                        v = rays.occluded(r, conn_kind) ? 0 : 1;
                     }
                     vis[e] = v;
                 });
                 ex.each(active, LANTERN_KERNEL(int k) {
                     const int i = q[k];
                     const uint8_t* v = vis + size_t(k) * per;
-                    if (v[0]) add_radiance(ps, i, ps.shadow_contrib[i]);
+                    if (v[0]) add_radiance(ps, i, bidir_nee_value(ps, bs, i, v[0]));
                     for (int j = 0; j < bs.conn_n[i]; ++j)
                         if (v[1 + j]) add_radiance(ps, i, bs.conn_c[size_t(i) * bs.conn_cap + j]);
                 });

@@ -90,6 +90,9 @@ struct Wavefront {
     Array<int32_t> vshadow_medium;
     Array<uint8_t> vshadow_valid;
     bool media = false;  // set by the schedule before resize: the scene has media
+    // set by the bidirectional camera pass before resize: an object casts no shadow (without
+    // media; BdptState::shadow_wn then holds next event's ratio, bidir_no_shadow.h)
+    bool no_shadow = false;
     // BdptState's media fields (bdpt_medium.h): grown only when `media` and bidirectional
     Array<float> seg_fwd, seg_rev, shadow_wn, shadow_wf;
     Array<int32_t> seg_flags, shadow_kind;
@@ -208,6 +211,7 @@ struct Wavefront {
         if (bidirectional) for_bdpt([&](auto& a) { a.grow(m); });
         if (media) for_media([&](auto& a) { a.grow(m); });
         if (media && bidirectional) for_bdpt_media([&](auto& a) { a.grow(m); });
+        if (no_shadow && bidirectional && !media) shadow_wn.grow(m);
         cap = std::max(cap, n);
         const size_t nc = size_t(n) * size_t(std::max(conn_slots, 1));
         if (bidirectional && conn_slots > 0) {
@@ -266,6 +270,8 @@ struct Wavefront {
             bs.conn_medium = conn_medium.data();
             bs.shadow_mom = shadow_mom.data();
             bs.conn_mom = conn_mom.data();
+        } else if (no_shadow && bidirectional) {
+            bs.shadow_wn = shadow_wn.data();
         }
     }
 

@@ -412,6 +412,12 @@ void HostScene::finish_view(const SceneInput& in) {
             v.material_bits |= kSceneFrames;
         if (m.tex_flags & kTexProgram) v.material_bits |= kScenePrograms;
     }
+    v.no_shadow_objects = 0;
+    for (uint8_t f : tri_flags_)
+        if (!(f & kCastShadow)) {
+            v.no_shadow_objects = 1;
+            break;
+        }
     v.programs = programs_.empty() ? nullptr : programs_.data();
     v.program_code = program_code_.empty() ? nullptr : program_code_.data();
     v.program_consts = program_consts_.empty() ? nullptr : program_consts_.data();
