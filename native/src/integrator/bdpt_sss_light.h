@@ -111,8 +111,10 @@ LANTERN_HD inline bool bdpt_light_sss_choose(const SceneView& s, const PathState
     if (!(sss_pick_prob(m, dot(wo_w, h.ns)) > 0.0f)) return false;  // (lt: 1 at max_depth)
     const PtSettings pst{st.max_depth, st.rr_depth, st.spp_per_iteration, st.seed, st.iteration};
     if (!lt_sss_choose(s, ps, pst, i, m, h, wo_w, cos_o_ns, cos_o_ng, k)) return false;
-    bs.dvcm[i] = dvcm;
-    bs.dvc[i] = dvc;
+    // D_back: the camera-held set's techniques beyond x_o relative to the light's arrival at
+    // x_o (the camera exit's Lambert lobe samples wo_w by |cos| / pi: dVC's reverse density)
+    bs.dvcm[i] = s.sss_adjoint_control == 3 ? 0.0f : dvcm + dvc * mis(fabsf(cos_o_ns) * kInvPi);
+    bs.dvc[i] = 0.0f;
     return true;
 }
 
@@ -130,12 +132,8 @@ LANTERN_HD inline void bdpt_light_sss_exit(const SceneView& s, const PathState& 
         s, s.tri_material[tri], [x, tri, uv] { return shade_point(x, tri, uv, x.ns); }, scratch);
     if (!(m.subsurface > 0.0f)) return;  // the camera walks only into subsurface
     const int k = ps.depth[i];
-    // S + I of the sets with more camera walks, times cf; each use multiplies r(w) in
-    const uint16_t pre = bdpt_sss_camera_walks(s, tri)
-                             ? bdpt_sss_code(bdpt_sss_value(bdpt_sss_get(bs, i)) +
-                                             bdpt_sss_conn(bs.dvcm[i], bs.dvc[i]))
-                             : 0;
-    const float s_pre = bdpt_sss_value(pre);
+    // the exit's dVCM: D_back times cf (the camera can walk here); each use multiplies r(w) in
+    const float d_back = bdpt_sss_camera_walks(s, tri) ? bs.dvcm[i] : 0.0f;
     const Vec3 power_beta = bs.power[i] * beta;
     LightVertex v;
     v.p = x.p;
@@ -143,7 +141,7 @@ LANTERN_HD inline void bdpt_light_sss_exit(const SceneView& s, const PathState& 
     v.ns = x.ns;
     v.wo = d;
     v.beta = power_beta;
-    v.dvcm = 0.0f;
+    v.dvcm = d_back;  // (times r(w) where used: bdpt_connect_sss_exit)
     v.dvc = 0.0f;
     v.material = s.tri_material[tri];
     v.tri = tri;
@@ -151,7 +149,7 @@ LANTERN_HD inline void bdpt_light_sss_exit(const SceneView& s, const PathState& 
     v.tangent_angle = x.tangent_angle;
     v.path = int32_t(path);
     v.length = int16_t(k);
-    v.front = int16_t(uint16_t((x.front ? 1 : 0) | kLvSssExit | (int(pre) << 2)));
+    v.front = int16_t(uint16_t((x.front ? 1 : 0) | kLvSssExit));
     v.coat_n = (m.tex_flags & kCoatNormal) || material_keeps_unbent_normal(m)
                    ? oct_encode(x.coat_n)
                    : 0u;
@@ -167,13 +165,18 @@ LANTERN_HD inline void bdpt_light_sss_exit(const SceneView& s, const PathState& 
         const CameraConnection cc = connect_camera(cam, x.p, filter_radius(cam), u_lens);
         if (cc.valid) {
             const Vec3 f = lt_sss_exit_f(m, x, d, cc.wc, s.sss_adjoint_control);
+            const float cos_c = dot(cc.wc, x.ng);
+            // bdpt_light_tracing_weight's count, k x_o's: the camera side's techniques count
+            // light tracing as the path's first light vertex were this exit (NEE at a first
+            // camera vertex, emission at a second: BdptSettings::lt_direct)
+            const float n_lt = k == 1 ? st.n_lt * st.lt_direct : st.n_lt;
             if (!is_black(f)) {
                 LightPathState lp{nullptr, bs.splat_xy};
                 lt_queue_splat(ps, lp, i, x.p, x.ng, cc,
                                power_beta * f *
-                                   (dot(cc.wc, x.ng) * cc.importance *
-                                    bdpt_sss_split(s, 0.0f,
-                                                   s_pre * bdpt_sss_ratio(m, x, d, cc.wc))),
+                                   (cos_c * cc.importance *
+                                    (1.0f / (1.0f + mis(cc.importance * cos_c * st.r / n_lt) *
+                                                        d_back * bdpt_sss_ratio(m, x, d, cc.wc)))),
                                s.offset_scale);
             }
         }
@@ -183,9 +186,9 @@ LANTERN_HD inline void bdpt_light_sss_exit(const SceneView& s, const PathState& 
     float pdf_w;
     if (!lt_sss_exit_continue(s, m, x, d, beta, k, st.rr_depth, rng, &wo, &pdf_w, &t)) return;
     ps.throughput[i] = t;
-    bdpt_sss_set(bs, i, bdpt_sss_code(s_pre * bdpt_sss_ratio(m, x, d, wo)));
-    bs.dvcm[i] = mis(1.0f / pdf_w);  // bdpt_scatter_update with dVCM = dVC = 0
-    bs.dvc[i] = 0.0f;
+    // bdpt_scatter_update with the exit's dVCM = D_back r(wo), dVC = 0
+    bs.dvc[i] = mis(fabsf(dot(wo, x.ng)) / pdf_w) * d_back * bdpt_sss_ratio(m, x, d, wo);
+    bs.dvcm[i] = mis(1.0f / pdf_w);
     set_next_ray(ps, i, x.p, x.ng, wo, pdf_w, s.offset_scale);
 }
 
