@@ -6,13 +6,13 @@
 // estimation, connections to the cache and a cosine continuation.
 //
 // MIS. The walk is sampled, never evaluated. Among the techniques whose camera sub-path holds
-// the walk's exit, the exit vertex starts its MIS quantities afresh, dVCM = dVC = 0 (no light
-// sub-path of this set reaches it or anything before it), like a camera (camera vertices walk
-// at every depth, as pt's), so that set's weights sum to 1. Light paths walk too (Skin:
-// bdpt_sss_light.h), and the techniques whose light sub-path holds the walk form a second set:
-// the two are split by bdpt_sss_split (the exit's code, made in the walk stage). The surface
-// branch's probability 1 - P is left out of every technique's density (a stand-in of 1 on
-// both sides: the weights stay a partition of unity).
+// the walk's exit the exit vertex starts its MIS quantities afresh as a camera does (camera
+// vertices walk at every depth, as pt's), so that set's weights sum to 1 within it. Light
+// paths walk too (Skin: bdpt_sss_light.h), and the techniques whose light sub-path holds the
+// walk form a second set, which the exit's dVCM carries (lf D_front / r, made in the walk
+// stage; 0 where light paths do not walk there: the sets are split as in bdpt_sss_light.h).
+// The surface branch's probability 1 - P is left out of every technique's density (a stand-in
+// of 1 on both sides: the weights stay a partition of unity).
 #pragma once
 
 #include "integrator/bdpt_camera.h"
@@ -102,7 +102,8 @@ LANTERN_HD inline void bdpt_sss_walk(const SceneView& s, const Rays& rays, Kind 
 }
 
 // The exit stage: the exit as a camera vertex with a white Lambert lobe (pt_sss_exit's), its
-// MIS quantities 0 (above); next-event estimation, connections, a cosine continuation.
+// dVCM the walk stage's, dVC 0 (above); next-event estimation, connections, a cosine
+// continuation.
 template <class SR>
 LANTERN_HD inline void bdpt_sss_exit(const SceneView& s, const PathState& ps, const BdptState& bs,
                                      const BdptSettings& st_all, const LightCache& cache, int i,
@@ -161,8 +162,8 @@ LANTERN_HD inline void bdpt_sss_exit(const SceneView& s, const PathState& ps, co
 
 // s >= 2 to a light path's walk exit y (bdpt_sss_light.h): y's lobe is lt's f_adj (wo holds the
 // walk's last direction d), its density of z the exit's continuation's (lt_sss_exit_pdf); y's
-// dVCM = dVC = 0 (no technique of its set has the camera reach y). Weighed within its set,
-// times the split. z's side checked by bdpt_connect_in.
+// dVCM is D_back (bdpt_sss_light.h), times r(w) here: the techniques where z samples y and the
+// camera walks; y's dVC 0. z's side checked by bdpt_connect_in.
 LANTERN_HD inline Connection bdpt_connect_sss_exit(const SceneView& s, const CameraVertex& z,
                                                    const LightVertex& y, Vec3 dir, float dist,
                                                    Vec3 wi_z) {
