@@ -169,8 +169,10 @@ LANTERN_HD inline void bdpt_light_sss_exit(const SceneView& s, const PathState& 
             const float cos_c = dot(cc.wc, x.ng);
             // bdpt_light_tracing_weight's count, k x_o's: the camera side's techniques count
             // light tracing as the path's first light vertex were this exit (NEE at a first
-            // camera vertex, emission at a second: BdptSettings::lt_direct)
-            const float n_lt = k == 1 ? st.n_lt * st.lt_direct : st.n_lt;
+            // camera vertex, emission at a second: BdptSettings::lt_direct). Control 6
+            // (LANTERN_SSS_ADJOINT=nodirect, a test's): n_lt alone
+            const float n_lt =
+                k == 1 && s.sss_adjoint_control != 6 ? st.n_lt * st.lt_direct : st.n_lt;
             if (!is_black(f)) {
                 LightPathState lp{nullptr, bs.splat_xy};
                 lt_queue_splat(ps, lp, i, x.p, x.ng, cc,
