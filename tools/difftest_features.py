@@ -16,6 +16,7 @@ import random
 
 import difftest_features2 as f2
 import difftest_features3 as f3
+import difftest_features4 as f4
 from difftest_graph import _rgb, _u
 
 FEATURES = {
@@ -34,6 +35,7 @@ FEATURES = {
 }
 FEATURES.update(f2.FEATURES)   # the second batch (difftest2): Volume objects, Cast Shadow, ...
 FEATURES.update(f3.FEATURES)   # the third (difftest3): moving emitters, motion in fog, hair mixes
+FEATURES.update(f4.FEATURES)   # the fourth (difftest4): light and shadow linking
 
 P_VOLUME, P_WORLD_VOLUME, P_SUBSURFACE, P_HAIR, P_MOTION = 0.15, 0.06, 0.12, 0.10, 0.12
 
@@ -156,7 +158,8 @@ def draw(key, case, avoid, material):
         else:
             case.pop("shutter")
     # each batch from a stream of its own: cases without them draw unchanged
-    return f3.draw(key, f2.draw(key, case, avoid), avoid, material, _volume_graph, _curves)
+    return f4.draw(key, f3.draw(key, f2.draw(key, case, avoid), avoid, material, _volume_graph,
+                                _curves), avoid)
 
 
 def _curves(r):
@@ -256,6 +259,7 @@ def build_scene(sc, case, camera, made):
     """The case's motion (after every object is made): keys and the render's motion blur."""
     import bpy
     f2.build_scene(sc, case)
+    f4.build_scene(sc, case, made)
     if case.get("volumes") or case.get("world_volume"):
         # Cycles' factory Volume Bounces (0) is below its Max Bounces, which the export warns
         # of; the tester sets both to the case's bounces at render time (difftest.py)
@@ -317,7 +321,7 @@ def features(case):
                 found.add("principled hair")
     if "motion" in case["camera"] and case.get("shutter"):
         found.add("moving camera")
-    return found | f2.features(case) | f3.features(case)
+    return found | f2.features(case) | f3.features(case) | f4.features(case)
 
 
 def shrink_edits(case):
@@ -339,3 +343,4 @@ def shrink_edits(case):
         yield "shutter 0.5", edited(lambda c: c.update(shutter=0.5))
     yield from f2.shrink_edits(case)
     yield from f3.shrink_edits(case)
+    yield from f4.shrink_edits(case)

@@ -9,6 +9,7 @@ import copy
 import time
 
 import difftest_features
+import difftest_features4
 
 # optional light keys: dropped, the light takes Blender's default (bpy.data.lights.new)
 LIGHT_OPTIONAL = ("color", "radius", "soft_falloff", "spot_size", "spot_blend", "size_y",
@@ -75,10 +76,12 @@ def candidates(case):
         return c
 
     for i, lt in enumerate(case["lights"]):
-        yield f"remove light {i} ({lt['type']})", edited(lambda c, i=i: c["lights"].pop(i))
+        yield f"remove light {i} ({lt['type']})", edited(
+            lambda c, i=i: (c["lights"].pop(i), difftest_features4.removed(c, "light", i)))
     for i, o in enumerate(case["objects"]):
         def rm(c, i=i):
             c["objects"].pop(i)
+            difftest_features4.removed(c, "object", i)   # linking's indices
             used = {x.get("material") for x in c["objects"]} | {
                 x["hair"]["material"] for x in c["objects"] if "hair" in x}
             c["materials"] = {k: v for k, v in c["materials"].items() if k in used}

@@ -15,27 +15,14 @@
 #include "backend/cpu/embree_loader.h"
 #include "core/rng.h"
 #include "core/sampling.h"
+#include "test_soup.h"
 #include "scene/scene.h"
 
 using namespace lantern;
 
 namespace {
 
-struct Soup {
-    std::vector<Vec3> p;
-    std::vector<uint32_t> idx, tri_mat;
-    std::vector<uint8_t> flags;
-    std::vector<Material> mats;
-    std::vector<MeshRange> meshes;
-    SceneView view() const {
-        SceneView s;
-        s.positions = p.data(), s.indices = idx.data(), s.tri_flags = flags.data();
-        s.num_triangles = int(flags.size());
-        s.materials = mats.data(), s.num_materials = int(mats.size());
-        s.tri_material = tri_mat.data();
-        return s;
-    }
-};
+using Soup = soup_test::TriangleSoup;
 
 // Three meshes of n random triangles each in the unit cube; mixed visibility flags per mesh;
 // every fifth triangle alpha-tested (alpha 0.4).

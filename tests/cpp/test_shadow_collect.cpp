@@ -17,25 +17,13 @@
 #include "backend/cpu/embree_loader.h"
 #include "core/rng.h"
 #include "core/sampling.h"
+#include "test_soup.h"
 
 using namespace lantern;
 
 namespace {
 
-struct CollectSoup {
-    std::vector<Vec3> p;
-    std::vector<uint32_t> idx, tri_mat;
-    std::vector<uint8_t> flags;
-    std::vector<Material> mats;
-    SceneView view() const {
-        SceneView s;
-        s.positions = p.data(), s.indices = idx.data(), s.tri_flags = flags.data();
-        s.num_triangles = int(flags.size());
-        s.materials = mats.data(), s.num_materials = int(mats.size());
-        s.tri_material = tri_mat.data();
-        return s;
-    }
-};
+using CollectSoup = soup_test::TriangleSoup;
 
 // n random triangles in the unit cube; random camera / shadow flags; every second a volume
 // boundary (some casting no shadow), every seventh alpha-tested.

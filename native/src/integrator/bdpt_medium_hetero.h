@@ -120,7 +120,12 @@ LANTERN_HD inline Vec3 medium_piece_transmittance(const SceneView& s, int32_t me
 // (block 1 is its next-event shadow ray's, as in pt), 256 numbers per connection j.
 LANTERN_HD inline Rng bdpt_conn_tracking_rng(const Rng& path, int j) {
     Rng r = medium_tracking_rng(path, 2);
+#ifdef LANTERN_RNG_PCG
+    r.state = mix64(r.state + (uint64_t(j) << 8));  // (the PCG build: a stream per j)
+    r.next();
+#else
     r.dim += uint32_t(j) << 8;
+#endif
     return r;
 }
 

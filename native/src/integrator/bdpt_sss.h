@@ -30,7 +30,7 @@ LANTERN_HD inline bool bdpt_sss_choose(const SceneView& s, const PathState& ps,
     if (z.strand || !(z.m->subsurface > 0.0f) || z.tri >= s.num_triangles) return false;
     if (pt_sss_choose(ps, i, *z.m, z.wo, z.ng_l, rng)) {
         ps.rng[i] = rng;
-        bs.dvcm[i] = z.dvcm;  // the segment before the walk: the exit's I (bdpt_sss_conn)
+        bs.dvcm[i] = z.dvcm;  // the camera path at the entry: D_front (bdpt_sss_walk)
         bs.dvc[i] = z.dvc;
         return true;
     }
@@ -131,6 +131,13 @@ LANTERN_HD inline void bdpt_sss_exit(const SceneView& s, const PathState& ps, co
     z.m = &white;
     z.scratch = &scratch;
     z.depth = ps.depth[i];
+    // media (pt's rule, pt_sss.h): the walk leaves into the medium its path arrived in at the
+    // entry, the slot's, which it kept; next event, connections and the continuation start there
+    const bool media = s.num_media > 0;
+    if (media) {
+        if (s.sss_adjoint_control == 5) ps.medium[i] = -1;  // (tests' control: into vacuum)
+        z.slot_medium = ps.medium[i];
+    }
     z.beta = ps.throughput[i];
     z.sss_code = 0;
     z.dvcm = bs.dvcm[i];  // the light-held set's techniques (bdpt_sss_walk), 0 where none
@@ -155,7 +162,8 @@ LANTERN_HD inline void bdpt_sss_exit(const SceneView& s, const PathState& ps, co
         set_next_ray(ps, i, z.h.p, z.h.ng, wi, pdf_w, s.offset_scale);
         ps.prev_p[i] = z.h.p;
         bs.prev_ng[i] = z.h.ng;
-        if (s.light_tree_on) ps.prev_n[i] = z.n_pick;
+        if (s.light_tree_on || media) ps.prev_n[i] = z.n_pick;
+        if (media) bdpt_seg_store(bs, i, medium_segment_begin(false));  // (above the surface)
     }
     ps.rng[i] = rng;
 }

@@ -44,8 +44,10 @@ LANTERN_HD inline bool bdpt_sss_camera_walks(const SceneView& s, int tri) {
     return tri >= 0 && tri < s.num_triangles &&
            sss_pick_prob(s.materials[s.tri_material[tri]], 1.0f) > 0.0f;
 }
+// (scenes with media: no light path walks, and the camera's walks are not split, as with
+// moments: the light exit's medium and its split in the media stages are not written)
 LANTERN_HD inline bool bdpt_sss_light_walks(const SceneView& s, int tri) {
-    if (!bdpt_sss_camera_walks(s, tri)) return false;
+    if (s.num_media > 0 || !bdpt_sss_camera_walks(s, tri)) return false;
     return s.materials[s.tri_material[tri]].ss_skin || s.sss_adjoint_control != 0;
 }
 // The split's code of the slot's path so far (the light pass: the light path's, the camera

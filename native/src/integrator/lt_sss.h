@@ -129,7 +129,9 @@ LANTERN_HD inline bool lt_sss_exit_continue(const SceneView& s, const Material& 
 }
 
 // ---- The exit at x_i: triangle tri, barycentrics uv, reached along d with throughput beta
-// (the light's power apart); the splat to the camera, then the continuation ----
+// (the light's power apart); the splat to the camera, then the continuation. Media (pt's rule,
+// pt_sss.h): the walk leaves into the medium its path arrived in at x_o, the slot's, which it
+// kept; the splat's segment and the continuation (both above x's geometric normal) start there ----
 LANTERN_HD inline void lt_sss_exit(const SceneView& s, const PathState& ps,
                                    const LightPathState& lp, const PtSettings& st, int i, int tri,
                                    Vec2 uv, Vec3 d, Vec3 beta, int depth, float time, Rng& rng) {
@@ -138,6 +140,7 @@ LANTERN_HD inline void lt_sss_exit(const SceneView& s, const PathState& ps,
     const Material& m = material_at_point(
         s, s.tri_material[tri], [x, tri, uv] { return shade_point(x, tri, uv, x.ns); }, scratch);
     if (!(m.subsurface > 0.0f)) return;  // the camera walks only into subsurface
+    if (s.num_media > 0 && s.sss_adjoint_control == 5) ps.medium[i] = -1;  // (tests' control)
     if ((s.tri_flags[tri] & kVisibleCamera) != 0) {
         const CameraView cam = s.motion.camera_steps > 1 ? camera_moved_at(s, motion_time(rng))
                                                          : s.camera;
@@ -146,6 +149,7 @@ LANTERN_HD inline void lt_sss_exit(const SceneView& s, const PathState& ps,
         const CameraConnection cc = connect_camera(cam, x.p, filter_radius(cam), u_lens);
         if (cc.valid) {
             const Vec3 f = lt_sss_exit_f(m, x, d, cc.wc, s.sss_adjoint_control);
+            if (s.num_media > 0) ps.shadow_medium[i] = ps.medium[i];  // (below)
             if (!is_black(f))
                 lt_queue_splat(ps, lp, i, x.p, x.ng, cc,
                                lp.power[i] * beta * f * (dot(cc.wc, x.ng) * cc.importance),

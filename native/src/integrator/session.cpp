@@ -91,12 +91,12 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
                              : std::string("no medium vertices in its paths")) +
                          "): rendering with pt";
             settings_.integrator = "pt";
-        } else if (const std::string ss = subsurface_reason(scene);
-                   !ss.empty() && !media_reason(scene).empty()) {
+        } else if (const std::string ss = subsurface_volume_reason(scene); !ss.empty()) {
             // subsurface: pt, the camera paths of bdpt, lvc and cis (bdpt_sss.h) and lt's light
-            // paths (the adjoint walk, lt_sss.h) walk; neither walk has media around it yet
-            media_note = "integrator '" + integ + "' does not render subsurface scattering " +
-                         "in a scene with volumes (it has " + ss + "): rendering with pt";
+            // paths (the adjoint walk, lt_sss.h) walk; their exits leave into the medium around
+            // the object (pt's rule), not a volume inside the walking mesh
+            media_note = "integrator '" + integ + "' does not render " + ss +
+                         ": rendering with pt";
             settings_.integrator = "pt";
         } else if (const std::string rw = subsurface_random_walk_reason(scene);
                    lt && !rw.empty() && !std::getenv("LANTERN_SSS_ADJOINT")) {

@@ -25,7 +25,13 @@ constexpr int kMaxTrackingSteps = 4096;
 // rays (pt_volume.h), so no two trackings of a path share numbers.
 LANTERN_HD inline Rng medium_tracking_rng(const Rng& path, uint32_t slot) {
     Rng r = path;
+#ifdef LANTERN_RNG_PCG
+    // (bench/qmc_noise.py's PCG build: a stream of its own from the path's state and the slot)
+    r.state = mix64(path.state ^ (0x545241434Bull + slot));
+    r.next();
+#else
     r.dim = kQmcDims + ((path.dim * 4u + slot) << 14);
+#endif
     return r;
 }
 

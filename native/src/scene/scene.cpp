@@ -403,6 +403,7 @@ void HostScene::finish_view(const SceneInput& in) {
         v.sss_adjoint_control = k == "lambert"    ? 1
                                 : k == "nocos"    ? 2
                                 : k == "nosplit"  ? 3
+                                : k == "nomedium" ? 5
                                 : k == "nodirect" ? 6
                                                   : 4;
     }

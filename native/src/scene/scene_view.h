@@ -400,7 +400,8 @@ struct SceneView {
     int32_t has_subsurface = 0;
     // lt's adjoint walk's negative controls for tests (integrator/lt_sss.h; LANTERN_SSS_ADJOINT:
     // 1 "lambert", the exit as the camera side's white Lambert lobe; 2 "nocos", without 1 / |cos|)
-    // (3 "nosplit": bdpt_sss_light.h's split left out; 4: set to anything else. Any non-zero
+    // (3 "nosplit": bdpt_sss_light.h's split left out; 5 "nomedium": the walks' exits leave
+    // into vacuum in scenes with media, bdpt_sss.h, lt_sss.h; 4: anything else. Any non-zero
     // value lets the light paths of bdpt, lvc and cis walk Random Walk too, not Skin alone)
     int32_t sss_adjoint_control = 0;
     // lt through a strand (integrator/lt_strand.h): 1 leaves it out, the tests' negative control

@@ -76,6 +76,21 @@ inline std::string subsurface_reason(const SceneInput& in) {
     return "";
 }
 
+// The reason lt, bdpt, lvc and cis hand a scene to pt (session.cpp): a material with subsurface
+// scattering and a volume of its own, or "". Their walks leave into the medium their path arrived
+// in (pt's rule: media around the object are exact); a volume inside the walking mesh would be
+// crossed at the entry and its medium kept by the walk, which their exits do not follow.
+inline std::string subsurface_volume_reason(const SceneInput& in) {
+    for (const MaterialInput& m : in.materials) {
+        if (m.type != "principled" || !(m.subsurface_weight > 0.0f) || m.medium < 0) continue;
+        const Vec3 r = m.subsurface_radius;
+        if (std::max(std::max(r.x, r.y), r.z) >= kSubsurfaceMinRadius)
+            return "subsurface scattering in a mesh with a volume inside (material '" + m.name +
+                   "')";
+    }
+    return "";
+}
+
 // The reason lt hands a scene to pt (session.cpp): a material walking by Random Walk (not Skin),
 // or "". lt's adjoint walk (integrator/lt_sss.h) leaves through the entry's rough refraction
 // lobe: with short walks in a hollow lit from inside its estimates have tails so heavy that
