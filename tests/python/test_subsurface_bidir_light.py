@@ -68,6 +68,16 @@ def test_furnace_skin_light_walks(integ, control):
     assert not res.passed, f"{integ}: the split left out not told apart: {res}"
 
 
+def test_furnace_cis_exit_splat_count(control):
+    # a light exit whose walk began at the light path's first vertex splats with light tracing's
+    # count for direct light (cis: n_lt / 4), as the camera side's next event from a first
+    # vertex and emission at a second count it for the same paths; with n_lt alone there
+    # (LANTERN_SSS_ADJOINT=nodirect) the weights no longer sum to 1: about +3 %
+    control("nodirect")
+    res = _furnace_check(_renders(_furnace_scene(), "cis", 8, 16, seed=11))
+    assert not res.passed, f"cis: the exit splat's count not told apart: {res}"
+
+
 SEEDS, SPP = 8, 64
 
 

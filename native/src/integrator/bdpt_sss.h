@@ -6,13 +6,13 @@
 // estimation, connections to the cache and a cosine continuation.
 //
 // MIS. The walk is sampled, never evaluated. Among the techniques whose camera sub-path holds
-// the walk's exit, the exit vertex starts its MIS quantities afresh, dVCM = dVC = 0 (no light
-// sub-path of this set reaches it or anything before it), like a camera (camera vertices walk
-// at every depth, as pt's), so that set's weights sum to 1. Light paths walk too (Skin:
-// bdpt_sss_light.h), and the techniques whose light sub-path holds the walk form a second set:
-// the two are split by bdpt_sss_split (the exit's code, made in the walk stage). The surface
-// branch's probability 1 - P is left out of every technique's density (a stand-in of 1 on
-// both sides: the weights stay a partition of unity).
+// the walk's exit the exit vertex starts its MIS quantities afresh as a camera does (camera
+// vertices walk at every depth, as pt's), so that set's weights sum to 1 within it. Light
+// paths walk too (Skin: bdpt_sss_light.h), and the techniques whose light sub-path holds the
+// walk form a second set, which the exit's dVCM carries (lf D_front / r, made in the walk
+// stage; 0 where light paths do not walk there: the sets are split as in bdpt_sss_light.h).
+// The surface branch's probability 1 - P is left out of every technique's density (a stand-in
+// of 1 on both sides: the weights stay a partition of unity).
 #pragma once
 
 #include "integrator/bdpt_camera.h"
@@ -30,7 +30,7 @@ LANTERN_HD inline bool bdpt_sss_choose(const SceneView& s, const PathState& ps,
     if (z.strand || !(z.m->subsurface > 0.0f) || z.tri >= s.num_triangles) return false;
     if (pt_sss_choose(ps, i, *z.m, z.wo, z.ng_l, rng)) {
         ps.rng[i] = rng;
-        bs.dvcm[i] = z.dvcm;  // the segment before the walk: the exit's I (bdpt_sss_conn)
+        bs.dvcm[i] = z.dvcm;  // the camera path at the entry: D_front (bdpt_sss_walk)
         bs.dvc[i] = z.dvc;
         return true;
     }
@@ -43,11 +43,15 @@ LANTERN_HD inline bool bdpt_sss_choose(const SceneView& s, const PathState& ps,
 // depth) for the exit stage, alive kAliveSssExit; otherwise it ends. kind: the RayKind
 // of its rays; time: its camera path's shutter time (bdpt_time; 0 where nothing moves).
 //
-// The split (bdpt_sss_light.h): the exit's code S' = lf (S + I) / r, with r from the entry's view
-// and the walk's first direction, which sss_walk_path draws first from the path's stream: drawn
-// here again from a copy (the same u, so the same direction; pt_sss.h keeps its bits).
-LANTERN_HD inline float bdpt_sss_camera_ratio(const SceneView& s, const PathState& ps, int i,
-                                              float time, Rng rng) {
+// The split (bdpt_sss_light.h): the exit's dVCM = lf D_front / r, with D_front the camera
+// path's dVCM + dVC pdf_rev at the entry (pdf_rev: the light exit's lobe, lt_sss_exit_pdf, of
+// the view given the walk's last direction) and r from the entry's view and the walk's first
+// direction, which sss_walk_path draws first from the path's stream: drawn here again from a
+// copy (the same u, so the same direction; pt_sss.h keeps its bits). 0: no walk's first
+// direction.
+LANTERN_HD inline float bdpt_sss_camera_exit_dvcm(const SceneView& s, const PathState& ps,
+                                                  const BdptState& bs, const BdptSettings& st,
+                                                  int i, float time, Rng rng) {
     const int tri = ps.hit_prim[i];
     const Vec2 uv = ps.hit_uv[i];
     const Vec3 d = ps.ray_d[i];
@@ -60,7 +64,15 @@ LANTERN_HD inline float bdpt_sss_camera_ratio(const SceneView& s, const PathStat
     const Frame frame = shading.to_local(-d).z > 0.0f ? shading : Frame::from_normal(h.ng);
     Vec3 wi_l;
     if (!sss_entry(m, frame.to_local(-d), rng.uniform2(), &wi_l)) return 0.0f;
-    return bdpt_sss_ratio(m, h, -frame.to_world(wi_l), -d);
+    const Vec3 out = -frame.to_world(wi_l);  // the light's last walk direction, outward
+    const float r = bdpt_sss_ratio(m, h, out, -d);
+    if (!(r > 0.0f)) return 0.0f;
+    const Frame gf = Frame::from_normal(dot(h.ng, d) < 0.0f ? h.ng : -h.ng);  // (faces -d)
+    const float pdf_rev = lt_sss_exit_pdf(m, gf.to_local(out), gf.to_local(-d));
+    const int depth = ps.depth[i];
+    const float dvcm = depth == 1 ? bs.dvcm[i] : camera_conn_dvcm(st, bs.dvcm[i], depth);
+    const float e = (dvcm + bs.dvc[i] * mis(pdf_rev)) / r;
+    return is_finite(e) ? e : 0.0f;
 }
 
 template <class Rays, class Kind>
@@ -70,18 +82,15 @@ LANTERN_HD inline void bdpt_sss_walk(const SceneView& s, const Rays& rays, Kind 
     if (ps.alive[i] != kAliveSss) return;
     ps.alive[i] = 0;
     Rng rng = ps.rng[i];
-    const bool split = bdpt_sss_split_on(st);
-    const float r = split ? bdpt_sss_camera_ratio(s, ps, i, time, rng) : 0.0f;
+    const float e = bdpt_sss_split_on(st) && s.sss_adjoint_control != 3
+                        ? bdpt_sss_camera_exit_dvcm(s, ps, bs, st, i, time, rng)
+                        : 0.0f;
     sss_walk_path(s, rays, kind, ps.hit_prim[i], ps.hit_uv[i], ps.ray_d[i],
                   ps.throughput[i], ps.depth[i], rng, time,
                   [&](int tri, Vec2 uv, Vec3 dir, Vec3, Vec3, Vec3, Vec3 beta, int depth) {
-                      if (split)  // the split's code (bdpt_sss_light.h)
-                          bdpt_sss_set(bs, i,
-                                       bdpt_sss_light_walks(s, tri) && r > 0.0f
-                                           ? bdpt_sss_code((bdpt_sss_value(bdpt_sss_get(bs, i)) +
-                                                            bdpt_sss_conn(bs.dvcm[i], bs.dvc[i])) /
-                                                           r)
-                                           : 0);
+                      // the exit's dVCM (lf: the light can walk here), dVC 0
+                      bs.dvcm[i] = bdpt_sss_light_walks(s, tri) ? e : 0.0f;
+                      bs.dvc[i] = 0.0f;
                       ps.hit_prim[i] = tri;
                       ps.hit_uv[i] = uv;
                       ps.ray_d[i] = dir;
@@ -93,7 +102,8 @@ LANTERN_HD inline void bdpt_sss_walk(const SceneView& s, const Rays& rays, Kind 
 }
 
 // The exit stage: the exit as a camera vertex with a white Lambert lobe (pt_sss_exit's), its
-// MIS quantities 0 (above); next-event estimation, connections, a cosine continuation.
+// dVCM the walk stage's, dVC 0 (above); next-event estimation, connections, a cosine
+// continuation.
 template <class SR>
 LANTERN_HD inline void bdpt_sss_exit(const SceneView& s, const PathState& ps, const BdptState& bs,
                                      const BdptSettings& st_all, const LightCache& cache, int i,
@@ -129,8 +139,8 @@ LANTERN_HD inline void bdpt_sss_exit(const SceneView& s, const PathState& ps, co
         z.slot_medium = ps.medium[i];
     }
     z.beta = ps.throughput[i];
-    z.sss_code = bdpt_sss_split_on(st) ? uint16_t(bdpt_sss_get(bs, i)) : 0;  // (the walk's)
-    z.dvcm = 0.0f;
+    z.sss_code = 0;
+    z.dvcm = bs.dvcm[i];  // the light-held set's techniques (bdpt_sss_walk), 0 where none
     z.dvc = 0.0f;
     z.n_pick = terminator_cutoff(s, z.tri) > 0.0f && dot(z.h.ns, z.h.ng) < 0.99999f
                    ? vec3(0.0f)  // (light from under the face too: integrator/terminator.h)
@@ -147,8 +157,8 @@ LANTERN_HD inline void bdpt_sss_exit(const SceneView& s, const PathState& ps, co
         is_finite(beta)) {
         ps.throughput[i] = beta;
         ps.depth[i] = z.depth + 1;
-        bs.dvcm[i] = mis(1.0f / pdf_w);  // bdpt_scatter_update with dVCM = dVC = 0
-        bs.dvc[i] = 0.0f;
+        bs.dvc[i] = mis(dot(wi, z.h.ng) / pdf_w) * z.dvcm;  // bdpt_scatter_update, dVC = 0
+        bs.dvcm[i] = mis(1.0f / pdf_w);
         set_next_ray(ps, i, z.h.p, z.h.ng, wi, pdf_w, s.offset_scale);
         ps.prev_p[i] = z.h.p;
         bs.prev_ng[i] = z.h.ng;
@@ -160,8 +170,8 @@ LANTERN_HD inline void bdpt_sss_exit(const SceneView& s, const PathState& ps, co
 
 // s >= 2 to a light path's walk exit y (bdpt_sss_light.h): y's lobe is lt's f_adj (wo holds the
 // walk's last direction d), its density of z the exit's continuation's (lt_sss_exit_pdf); y's
-// dVCM = dVC = 0 (no technique of its set has the camera reach y). Weighed within its set,
-// times the split. z's side checked by bdpt_connect_in.
+// dVCM is D_back (bdpt_sss_light.h), times r(w) here: the techniques where z samples y and the
+// camera walks; y's dVC 0. z's side checked by bdpt_connect_in.
 LANTERN_HD inline Connection bdpt_connect_sss_exit(const SceneView& s, const CameraVertex& z,
                                                    const LightVertex& y, Vec3 dir, float dist,
                                                    Vec3 wi_z) {
@@ -190,8 +200,10 @@ LANTERN_HD inline Connection bdpt_connect_sss_exit(const SceneView& s, const Cam
     const float cos_z_ng = light_arrival_cos(z.strand && !z.tube, z.tube, z.frame, z.h.ng, dir);
     const float inv_d2 = 1.0f / (dist * dist);
     const float w_camera = mis(pdf_y_w * cos_z_ng * inv_d2) * (z.dvcm + z.dvc * mis(ez.pdf_rev_w));
-    const float s_light = bdpt_sss_value(bdpt_sss_lv_code(y)) * bdpt_sss_ratio(my, x, y.wo, w);
-    const float wt = bdpt_sss_split(s, bdpt_sss_value(z.sss_code), s_light) / (1.0f + w_camera);
+    // the camera-held set: z samples y, walks (r) and meets the light path beyond (y's dVCM)
+    const float w_light =
+        mis(ez.pdf_fwd_w * cos_y * inv_d2) * bdpt_sss_ratio(my, x, y.wo, w) * y.dvcm;
+    const float wt = 1.0f / (1.0f + w_light + w_camera);
     r.c = z.beta * ez.f * y.beta * f * (fabsf(wi_z.z) * cos_y * inv_d2 * wt);
     if (!is_finite(r.c)) r.c = vec3(0.0f);
     r.dir = dir;

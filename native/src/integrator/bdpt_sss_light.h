@@ -4,30 +4,30 @@
 // between the two sets of techniques that can make a path with a walk. CPU only, as the camera
 // side's walk (bdpt_sss.h; the device build has no walk stage).
 //
-// The split. A path with walks W_1..W_n (in camera order) is made by the techniques whose
-// camera sub-path holds W_1..W_c and whose light sub-path holds the rest, for c = 0..n: n + 1
-// sets. Within a set the techniques weigh each other as now (each side's exit starts its MIS
-// quantities afresh: dVCM = dVC = 0), so a set's weights sum to 1 where the set can make the
-// path at all (F_c = 1), to 0 where it cannot. Set c gets F_c R_c / sum_j F_j R_j: a partition
-// of unity for any R_c > 0 that every technique of the path computes alike. R_c = prod_{m <= c}
-// r_m, r_m = mis(pi q(w_1 | w) / |w_1 . n_g|) at W_m's entry x_i (w the view, w_1 the walk's
-// first direction; q the entry's density, sss_entry_pdf): the ratio of the camera side's density
-// of the walk's two ends to the light side's (the camera samples w_1 by q where the light arrives
-// with area measure's cosine; at x_o the light's cosine entry and the camera's arrival cancel;
-// the interior is reciprocal), so the split is the power heuristic over the two ends, and
-// where f_adj = W_e q / |cos| peaks (lt's tails) the camera side takes the path. Set c can
-// sample the path where the segment between W_c's exit and W_c+1's entry has a connectable
-// pair (I_c: the dVCM / dVC of the side that holds the segment, at its end, are not both 0), the
-// camera can walk W_1..W_c and the light W_c+1..W_n. A technique of set c knows F_c = 1 and the
-// rest of the sum relative to its own from its sub-paths: the camera side carries
-// S' = lf (S + I) / r over its walks, the light side S' = cf r (S + I) (lf, cf: whether the other
-// side could have walked there), and the weight is 1 / (1 + S_cam + S_light) (bdpt_sss_split).
-// S travels as a 14-bit code (log2 in steps of 1/256, bdpt_sss_code: BdptState::dpt1,
-// CameraVertex::sss_code, LightVertex::front >> 2), quantized once where it is made so that
-// every technique reads the same value. A light exit's r depends on the view w of the vertex it
-// meets, so its vertex keeps S + I (times cf) and each use multiplies r in. Which side can walk
-// at W: the camera on any triangle with subsurface, the light on those with Skin (lt's rule: lt
-// hands Random Walk to pt, its tails; LANTERN_SSS_ADJOINT lets light paths walk Random Walk).
+// The split (2026-12-06, ssssplit). A path with a walk W is made by the techniques whose camera
+// sub-path holds W (set C: the camera enters at x_front, exits at x_back) and those whose light
+// sub-path holds it (set L: the light enters at x_back, exits at x_front). The walk is sampled,
+// never evaluated, but its interior is reciprocal: the two sets' densities differ only at W's
+// ends, by r = mis(pi q(w_1 | w) / |w_1 . n_g|) at x_front (w the view, w_1 the camera's first
+// walk direction; q the entry's density, sss_entry_pdf; at x_back the light's cosine entry and
+// the camera's arrival cancel), and by the segments beyond W's ends, which VCM's recursion
+// already weighs. So each side's exit carries the other set as a dVCM: the camera exit
+// dVCM = lf D_front / r (D_front = dVCM + dVC pdf_rev of the camera path at x_front, pdf_rev the
+// light exit's lobe, lt_sss_exit_pdf, of the view), dVC = 0; the light exit
+// dVCM = cf D_back (D_back = dVCM + dVC pdf_rev of the light path at x_back, pdf_rev the camera
+// exit's Lambert lobe of the light's incoming direction), dVC = 0, times r(w) at each use (its
+// r depends on the view w of the vertex that meets it: its connections, its splat, its
+// continuation). lf, cf: whether the other side could have walked there. Every technique then
+// weighs every other of both sets with the power heuristic over the whole path: the camera's
+// pixel density against light tracing's count, the lamp's next-event density against its
+// emission, the connections' densities. The light exit's splat counts lt_direct at x_back's
+// k = 1 as the camera side does at a first vertex (NEE; the second vertex's emission). Several
+// walks compose through the recursion. (The 14-bit split code of sssbidir, which weighed the
+// sets by r alone and 0/1 connectability, is left at 0: bdpt_sss_split reads 1.) Which side can
+// walk at W: the camera on any triangle with subsurface, the light on those with Skin (lt's
+// rule: lt hands Random Walk to pt, its tails; LANTERN_SSS_ADJOINT lets light paths walk Random
+// Walk). Control 3 (LANTERN_SSS_ADJOINT=nosplit, the tests' negative control): both exits'
+// dVCM 0, each set weighed within itself alone, every path both can make counted twice.
 #pragma once
 
 #include "integrator/bdpt_common.h"
@@ -113,14 +113,17 @@ LANTERN_HD inline bool bdpt_light_sss_choose(const SceneView& s, const PathState
     if (!(sss_pick_prob(m, dot(wo_w, h.ns)) > 0.0f)) return false;  // (lt: 1 at max_depth)
     const PtSettings pst{st.max_depth, st.rr_depth, st.spp_per_iteration, st.seed, st.iteration};
     if (!lt_sss_choose(s, ps, pst, i, m, h, wo_w, cos_o_ns, cos_o_ng, k)) return false;
-    bs.dvcm[i] = dvcm;
-    bs.dvc[i] = dvc;
+    // D_back: the camera-held set's techniques beyond x_o relative to the light's arrival at
+    // x_o (the camera exit's Lambert lobe samples wo_w by |cos| / pi: dVC's reverse density)
+    bs.dvcm[i] = s.sss_adjoint_control == 3 ? 0.0f : dvcm + dvc * mis(fabsf(cos_o_ns) * kInvPi);
+    bs.dvc[i] = 0.0f;
     return true;
 }
 
 // ---- The exit at x_i (triangle tri, barycentrics uv, reached along d with throughput beta,
 // the light's power apart): a light vertex with f_adj for its lobe (wo holds d), stored, splatted
-// (weight 1 in its set, times the split) and continued as lt's exit; its dVCM = dVC = 0 ----
+// (weighed against the camera-held set: D_back r(view)) and continued as lt's exit; its
+// dVCM = D_back (times r(w) where used), dVC = 0 ----
 LANTERN_HD inline void bdpt_light_sss_exit(const SceneView& s, const PathState& ps,
                                            const BdptState& bs, const BdptSettings& st, int i,
                                            int64_t path, int tri, Vec2 uv, Vec3 d, Vec3 beta,
@@ -132,12 +135,8 @@ LANTERN_HD inline void bdpt_light_sss_exit(const SceneView& s, const PathState& 
         s, s.tri_material[tri], [x, tri, uv] { return shade_point(x, tri, uv, x.ns); }, scratch);
     if (!(m.subsurface > 0.0f)) return;  // the camera walks only into subsurface
     const int k = ps.depth[i];
-    // S + I of the sets with more camera walks, times cf; each use multiplies r(w) in
-    const uint16_t pre = bdpt_sss_camera_walks(s, tri)
-                             ? bdpt_sss_code(bdpt_sss_value(bdpt_sss_get(bs, i)) +
-                                             bdpt_sss_conn(bs.dvcm[i], bs.dvc[i]))
-                             : 0;
-    const float s_pre = bdpt_sss_value(pre);
+    // the exit's dVCM: D_back times cf (the camera can walk here); each use multiplies r(w) in
+    const float d_back = bdpt_sss_camera_walks(s, tri) ? bs.dvcm[i] : 0.0f;
     const Vec3 power_beta = bs.power[i] * beta;
     LightVertex v;
     v.p = x.p;
@@ -145,7 +144,7 @@ LANTERN_HD inline void bdpt_light_sss_exit(const SceneView& s, const PathState& 
     v.ns = x.ns;
     v.wo = d;
     v.beta = power_beta;
-    v.dvcm = 0.0f;
+    v.dvcm = d_back;  // (times r(w) where used: bdpt_connect_sss_exit)
     v.dvc = 0.0f;
     v.material = s.tri_material[tri];
     v.tri = tri;
@@ -153,7 +152,7 @@ LANTERN_HD inline void bdpt_light_sss_exit(const SceneView& s, const PathState& 
     v.tangent_angle = x.tangent_angle;
     v.path = int32_t(path);
     v.length = int16_t(k);
-    v.front = int16_t(uint16_t((x.front ? 1 : 0) | kLvSssExit | (int(pre) << 2)));
+    v.front = int16_t(uint16_t((x.front ? 1 : 0) | kLvSssExit));
     v.coat_n = (m.tex_flags & kCoatNormal) || material_keeps_unbent_normal(m)
                    ? oct_encode(x.coat_n)
                    : 0u;
@@ -169,13 +168,20 @@ LANTERN_HD inline void bdpt_light_sss_exit(const SceneView& s, const PathState& 
         const CameraConnection cc = connect_camera(cam, x.p, filter_radius(cam), u_lens);
         if (cc.valid) {
             const Vec3 f = lt_sss_exit_f(m, x, d, cc.wc, s.sss_adjoint_control);
+            const float cos_c = dot(cc.wc, x.ng);
+            // bdpt_light_tracing_weight's count, k x_o's: the camera side's techniques count
+            // light tracing as the path's first light vertex were this exit (NEE at a first
+            // camera vertex, emission at a second: BdptSettings::lt_direct). Control 6
+            // (LANTERN_SSS_ADJOINT=nodirect, a test's): n_lt alone
+            const float n_lt =
+                k == 1 && s.sss_adjoint_control != 6 ? st.n_lt * st.lt_direct : st.n_lt;
             if (!is_black(f)) {
                 LightPathState lp{nullptr, bs.splat_xy};
                 lt_queue_splat(ps, lp, i, x.p, x.ng, cc,
                                power_beta * f *
-                                   (dot(cc.wc, x.ng) * cc.importance *
-                                    bdpt_sss_split(s, 0.0f,
-                                                   s_pre * bdpt_sss_ratio(m, x, d, cc.wc))),
+                                   (cos_c * cc.importance *
+                                    (1.0f / (1.0f + mis(cc.importance * cos_c * st.r / n_lt) *
+                                                        d_back * bdpt_sss_ratio(m, x, d, cc.wc)))),
                                s.offset_scale);
             }
         }
@@ -185,9 +191,9 @@ LANTERN_HD inline void bdpt_light_sss_exit(const SceneView& s, const PathState& 
     float pdf_w;
     if (!lt_sss_exit_continue(s, m, x, d, beta, k, st.rr_depth, rng, &wo, &pdf_w, &t)) return;
     ps.throughput[i] = t;
-    bdpt_sss_set(bs, i, bdpt_sss_code(s_pre * bdpt_sss_ratio(m, x, d, wo)));
-    bs.dvcm[i] = mis(1.0f / pdf_w);  // bdpt_scatter_update with dVCM = dVC = 0
-    bs.dvc[i] = 0.0f;
+    // bdpt_scatter_update with the exit's dVCM = D_back r(wo), dVC = 0
+    bs.dvc[i] = mis(fabsf(dot(wo, x.ng)) / pdf_w) * d_back * bdpt_sss_ratio(m, x, d, wo);
+    bs.dvcm[i] = mis(1.0f / pdf_w);
     set_next_ray(ps, i, x.p, x.ng, wo, pdf_w, s.offset_scale);
 }
 

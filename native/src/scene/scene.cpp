@@ -400,8 +400,12 @@ void HostScene::finish_view(const SceneInput& in) {
     v.has_subsurface = 0;
     if (const char* c = std::getenv("LANTERN_SSS_ADJOINT")) {  // tests' controls (lt_sss.h,
         const std::string k = c;                                  // bdpt_sss_light.h)
-        v.sss_adjoint_control = k == "lambert" ? 1 : k == "nocos" ? 2 : k == "nosplit" ? 3
-                                : k == "nomedium" ? 5 : 4;
+        v.sss_adjoint_control = k == "lambert"    ? 1
+                                : k == "nocos"    ? 2
+                                : k == "nosplit"  ? 3
+                                : k == "nomedium" ? 5
+                                : k == "nodirect" ? 6
+                                                  : 4;
     }
     if (const char* c = std::getenv("LANTERN_LT_STRAND"))  // tests' control (lt_strand.h)
         v.lt_strand_control = std::string(c) == "nothrough" ? 1 : 0;
