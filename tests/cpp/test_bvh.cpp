@@ -4,6 +4,7 @@
 // and the comparison harness: test_bvh_helpers.h.
 #include <gtest/gtest.h>
 
+#include "accel/tlas_build.h"
 #include "test_bvh_helpers.h"
 
 using namespace lantern;
@@ -210,4 +211,35 @@ TEST(Bvh, BuildIsDeterministic) {
     EXPECT_EQ(0, std::memcmp(a.nodes.data(), b.nodes.data(), a.nodes.size() * sizeof(BvhNode)));
     EXPECT_EQ(0, std::memcmp(a.tris.data(), b.tris.data(), a.tris.size() * sizeof(BvhTri)));
     EXPECT_EQ(a.stats.leaves, b.stats.leaves);
+}
+
+// The two-level traversal keeps one stack: the top level's entries below, the bottom level's
+// above (tlas.h), so a bottom level may use kBlasStackSize entries. The geometric series above
+// builds deeper than that with SAH (the control); build_tlas_scene builds such a mesh again
+// with object medians from depth 16, and the two levels find every triangle the flat BVH does
+// and what the closest and any-hit queries of the flat BVH find.
+TEST(Tlas, DeepBottomLevelFitsTheSharedStack) {
+    Mesh m;
+    for (int k = 0; k < 3000; ++k) {
+        float x = std::exp2(-k / 150.0f), s = x * 1e-3f;
+        m.tri({x, 0, 0}, {x + s, 0, 0}, {x, s, 0});
+    }
+    std::vector<std::string> w;
+    const Bvh flat = build_bvh(m.view(), {}, w);
+    EXPECT_GT(flat.stats.max_depth - 1, kBlasStackSize);  // the control: SAH alone is too deep
+    Tlas tl;
+    build_tlas_scene(tl, m.view(), {MeshRange{0, m.count(), 0, 3 * m.count()}}, 1, w);
+    ASSERT_EQ(tl.blas.size(), 1u);
+    EXPECT_LE(tl.blas[0].stats.max_depth - 1, kBlasStackSize);
+    EXPECT_EQ(tl.blas[0].stats.triangles, m.count());
+    const TlasView tv = tl.view();
+    for (int k = 0; k < m.count(); k += 7) {
+        Vec3 a = m.p[3 * k], b = m.p[3 * k + 1], c = m.p[3 * k + 2];
+        const Ray r{(a + b + c) * (1.0f / 3.0f) + Vec3{0, 0, 1}, {0, 0, -1}};
+        EXPECT_EQ(tlas_intersect(tv, r, 0).prim, k);
+        EXPECT_TRUE(tlas_occluded(tv, r, 0));
+        const Ray past{r.o + Vec3{2.0f, 0, 0}, {0, 0, -1}};  // beside every triangle
+        EXPECT_FALSE(tlas_occluded(tv, past, 0));
+        EXPECT_FALSE(bvh_occluded(flat.view(), past, 0));
+    }
 }

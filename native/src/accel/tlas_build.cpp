@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 #include "backend/cpu/thread_pool.h"
 
@@ -209,6 +211,19 @@ void build_tlas_scene(Tlas& tl, const SceneView& s, const std::vector<MeshRange>
         BvhBuildOptions opt;
         opt.threads = nthreads;
         tl.blas[k] = build_bvh(sub, opt, notes[k]);
+        // The traversal's bottom level has kBlasStackSize entries above the top level's (tlas.h):
+        // a deeper tree (SAH past depth 48, seldom) is built again with the object median from
+        // depth 16 (depth <= 16 + 31), and one still too deep is an error, not a stack overrun.
+        if (tl.blas[k].stats.max_depth - 1 > kBlasStackSize) {
+            opt.sah_depth = 16;
+            std::vector<std::string> again;
+            tl.blas[k] = build_bvh(sub, opt, again);
+        }
+        if (tl.blas[k].stats.max_depth - 1 > kBlasStackSize)
+            throw std::length_error("two-level BVH: a mesh's bottom level of depth " +
+                                    std::to_string(tl.blas[k].stats.max_depth) +
+                                    " is deeper than its traversal stack holds (kBlasStackSize " +
+                                    std::to_string(kBlasStackSize) + " entries)");
         for (BvhTri& t : tl.blas[k].tris) t.prim += m.tri_begin;
     };
     for (size_t k = 0; k < n; ++k) {

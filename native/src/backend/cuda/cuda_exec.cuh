@@ -216,6 +216,14 @@ static __device__ __noinline__ BvhHit query_closest(const RayQuery* q, const Ray
     if (!q->has_x) return query_flat(q, r, need);
     return scene_query_closest_parts(q->x, r, query_curve_kind(kind), need, QueryCalls{q});
 }
+static __device__ __noinline__ bool query_occluded_collect(const RayQuery* q, const Ray r,
+                                                           BoundaryHits* out) {
+    if (q->has_x) {
+        out->n = -1;
+        return false;
+    }
+    return bvh_occluded_collect(q->bvh, r, out, BvhAlphaTest{q->s, r});
+}
 static __device__ __noinline__ bool query_occluded(const RayQuery* q, const Ray r, int kind) {
     const uint32_t need = query_need(kind);
     if (!q->has_x) return query_flat_any(q, r, need);
@@ -404,9 +412,11 @@ public:
         __device__ BvhHit closest(const Ray& r, RayKind kind) const {  // pt_shadow_medium
             return cuda_detail::query_closest(q, r, int(kind));
         }
-        // a shadow ray through media: blocked, or the volume boundaries it crosses (pt_volume.h)
+        // a shadow ray through media: blocked, or the volume boundaries it crosses (pt_volume.h);
+        // with two levels or strands not gathered (n -1: the caller's loop of closest queries,
+        // as BvhAccel does for two levels)
         __device__ bool occluded_collect(const Ray& r, BoundaryHits* out) const {
-            return bvh_occluded_collect(bvh, r, out, BvhAlphaTest{s, r});
+            return cuda_detail::query_occluded_collect(q, r, out);
         }
     };
     Rays rays() const { return Rays{query_.data()}; }
