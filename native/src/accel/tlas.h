@@ -79,14 +79,13 @@ struct BvhTriDeformed {
 
 // The top level's stack: its builder (median splits) stops at depth kTlasStackSize - 2, so 2^14
 // leaves of kTlasLeaf (2) instances fit, and a scene of more than 32,768 instances has leaves
-// of several (scanned in turn); a quarter of the bottom level's, so a thread's two stacks take
-// 640 bytes, not 1,024 (the alpha-tested two-level traversal was 2,144 bytes of stack frame
-// with 64; 32 took 768: the CUDA backend's query, docs/cuda_backend.md "Strands and motion blur").
+// of several (scanned in turn): the top level leaves at most kTlasStackSize entries pending
+// (the CUDA backend's query, docs/cuda_backend.md "Strands and motion blur").
 constexpr int kTlasStackSize = 16;
 // One stack for both levels: the top level's pending entries below, the bottom level's above
 // them, so a traversal holds kBvhStackSize entries (512 bytes for a closest hit, 256 for an
-// any-hit one), not the two stacks' 640. A bottom level may then use kBlasStackSize entries:
-// its depth at most kBlasStackSize + 1 (build_tlas_scene guards it, tlas_build.cpp).
+// any-hit one), not two stacks' 640. A bottom level may then use kBlasStackSize entries: its
+// depth at most kBlasStackSize + 1 (build_tlas_scene guards it, tlas_build.cpp).
 constexpr int kBlasStackSize = kBvhStackSize - kTlasStackSize;
 
 // ---- Traversal ----
