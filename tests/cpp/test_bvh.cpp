@@ -4,6 +4,7 @@
 // and the comparison harness: test_bvh_helpers.h.
 #include <gtest/gtest.h>
 
+#include "accel/tlas_build.h"
 #include "test_bvh_helpers.h"
 
 using namespace lantern;
@@ -210,4 +211,43 @@ TEST(Bvh, BuildIsDeterministic) {
     EXPECT_EQ(0, std::memcmp(a.nodes.data(), b.nodes.data(), a.nodes.size() * sizeof(BvhNode)));
     EXPECT_EQ(0, std::memcmp(a.tris.data(), b.tris.data(), a.tris.size() * sizeof(BvhTri)));
     EXPECT_EQ(a.stats.leaves, b.stats.leaves);
+}
+
+// The two-level traversal keeps one stack: the top level's entries below, the bottom level's
+// above (tlas.h), so a bottom level may use kBlasStackSize entries; build_blas keeps a bottom
+// level within a bound. The geometric series above builds 20 levels deep with SAH: under a
+// bound of 15 it is built again with object medians (within it, every triangle still found,
+// closest and any-hit), under 5 it is a named error; and the two levels over it find what the
+// flat BVH finds, on the shared stack.
+TEST(Tlas, BottomLevelsStayWithinTheSharedStack) {
+    Mesh m;
+    for (int k = 0; k < 3000; ++k) {
+        float x = std::exp2(-k / 150.0f), s = x * 1e-3f;
+        m.tri({x, 0, 0}, {x + s, 0, 0}, {x, s, 0});
+    }
+    std::vector<std::string> w;
+    const Bvh flat = build_bvh(m.view(), {}, w);
+    ASSERT_GT(flat.stats.max_depth - 1, 15);  // the control: SAH alone is deeper than 15
+    const Bvh kept = build_blas(m.view(), 1, kBlasStackSize, w);
+    EXPECT_EQ(kept.nodes.size(), flat.nodes.size());  // within 48: SAH's, untouched
+    const Bvh low = build_blas(m.view(), 1, 15, w);
+    EXPECT_LE(low.stats.max_depth - 1, 15);
+    EXPECT_EQ(low.stats.triangles, m.count());
+    EXPECT_THROW(build_blas(m.view(), 1, 5, w), std::length_error);
+    Tlas tl;
+    build_tlas_scene(tl, m.view(), {MeshRange{0, m.count(), 0, 3 * m.count()}}, 1, w);
+    ASSERT_EQ(tl.blas.size(), 1u);
+    EXPECT_LE(tl.blas[0].stats.max_depth - 1, kBlasStackSize);
+    const TlasView tv = tl.view();
+    for (int k = 0; k < m.count(); k += 7) {
+        Vec3 a = m.p[3 * k], b = m.p[3 * k + 1], c = m.p[3 * k + 2];
+        const Ray r{(a + b + c) * (1.0f / 3.0f) + Vec3{0, 0, 1}, {0, 0, -1}};
+        EXPECT_EQ(tlas_intersect(tv, r, 0).prim, k);
+        EXPECT_EQ(bvh_intersect(low.view(), r, 0).prim, k);
+        EXPECT_TRUE(tlas_occluded(tv, r, 0));
+        EXPECT_TRUE(bvh_occluded(low.view(), r, 0));
+        const Ray past{r.o + Vec3{2.0f, 0, 0}, {0, 0, -1}};  // beside every triangle
+        EXPECT_FALSE(tlas_occluded(tv, past, 0));
+        EXPECT_FALSE(bvh_occluded(low.view(), past, 0));
+    }
 }

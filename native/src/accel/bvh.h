@@ -205,18 +205,23 @@ struct BvhNoCollect {
     LANTERN_HD bool pass(uint32_t, int32_t, float, float, float) const { return false; }
 };
 
-template <bool kAnyHit, typename Accept = BvhAcceptAll, typename TriAt = BvhTriAsStored,
-          typename Collect = BvhNoCollect>
-LANTERN_HD inline BvhHit bvh_traverse(const BvhView& bvh, const Ray& ray, uint32_t need,
-                                      const Accept& accept = Accept(),
-                                      const TriAt& tri_at = TriAt(),
-                                      const Collect& collect = Collect()) {
+//
+// The stack: stack_node, and for a closest-hit query stack_dist (the pending entries' entry
+// distances, dropped at the pop beyond the closest hit so far). An any-hit query's ray never
+// shortens before it returns, so its entries are culled at the push instead, against the same
+// tmax, and it keeps no distances: the same nodes in the same order, half the stack (the CUDA
+// backend's kernels hold it in their frames, docs/cuda_backend.md "Strands and motion blur").
+// bvh_traverse_on walks on a stack the caller holds (tlas.h: the bottom level continues on the
+// top level's), of at least the tree's depth - 1 entries (stack_dist unused for kAnyHit).
+template <bool kAnyHit, typename Accept, typename TriAt, typename Collect>
+LANTERN_HD inline BvhHit bvh_traverse_on(const BvhView& bvh, const Ray& ray, uint32_t need,
+                                         const Accept& accept, const TriAt& tri_at,
+                                         const Collect& collect, int32_t* stack_node,
+                                         float* stack_dist) {
     BvhHit hit{ray.tmax, -1, {0.0f, 0.0f}};
     if (bvh.num_nodes == 0) return hit;
     const BvhRay r = bvh_ray(ray);
     float tmax = ray.tmax;
-    int32_t stack_node[kBvhStackSize];
-    float stack_dist[kBvhStackSize];
     int sp = 0;
     int32_t cur = 0;
     for (;;) {
@@ -235,6 +240,8 @@ LANTERN_HD inline BvhHit bvh_traverse(const BvhView& bvh, const Ray& ray, uint32
             if (count == 0) {  // inner child: descend into the nearer, push the farther
                 if (next < 0) {
                     next = n.child[c];
+                } else if (kAnyHit) {
+                    if (d[c] <= tmax) stack_node[sp++] = n.child[c];
                 } else {
                     stack_node[sp] = n.child[c];
                     stack_dist[sp] = d[c];
@@ -256,17 +263,34 @@ LANTERN_HD inline BvhHit bvh_traverse(const BvhView& bvh, const Ray& ray, uint32
             }
         }
         if (next < 0) {
-            while (sp > 0) {
-                --sp;
-                if (stack_dist[sp] <= tmax) {
-                    next = stack_node[sp];
-                    break;
+            if (kAnyHit) {
+                if (sp == 0) return hit;
+                next = stack_node[--sp];
+            } else {
+                while (sp > 0) {
+                    --sp;
+                    if (stack_dist[sp] <= tmax) {
+                        next = stack_node[sp];
+                        break;
+                    }
                 }
+                if (next < 0) return hit;
             }
-            if (next < 0) return hit;
         }
         cur = next;
     }
+}
+
+template <bool kAnyHit, typename Accept = BvhAcceptAll, typename TriAt = BvhTriAsStored,
+          typename Collect = BvhNoCollect>
+LANTERN_HD inline BvhHit bvh_traverse(const BvhView& bvh, const Ray& ray, uint32_t need,
+                                      const Accept& accept = Accept(),
+                                      const TriAt& tri_at = TriAt(),
+                                      const Collect& collect = Collect()) {
+    int32_t stack_node[kBvhStackSize];
+    float stack_dist[kAnyHit ? 1 : kBvhStackSize];
+    return bvh_traverse_on<kAnyHit>(bvh, ray, need, accept, tri_at, collect, stack_node,
+                                    stack_dist);
 }
 
 // Closest hit of `ray` in (tmin, tmax] among triangles with all of `need`'s flags.

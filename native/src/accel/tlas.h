@@ -79,15 +79,21 @@ struct BvhTriDeformed {
 
 // The top level's stack: its builder (median splits) stops at depth kTlasStackSize - 2, so 2^14
 // leaves of kTlasLeaf (2) instances fit, and a scene of more than 32,768 instances has leaves
-// of several (scanned in turn); a quarter of the bottom level's, so a thread's two stacks take
-// 640 bytes, not 1,024 (the alpha-tested two-level traversal was 2,144 bytes of stack frame
-// with 64; 32 took 768: the CUDA backend's query, docs/cuda_backend.md "Strands and motion blur").
+// of several (scanned in turn): the top level leaves at most kTlasStackSize entries pending
+// (the CUDA backend's query, docs/cuda_backend.md "Strands and motion blur").
 constexpr int kTlasStackSize = 16;
+// One stack for both levels: the top level's pending entries below, the bottom level's above
+// them, so a traversal holds kBvhStackSize entries (512 bytes for a closest hit, 256 for an
+// any-hit one), not two stacks' 640. A bottom level may then use kBlasStackSize entries: its
+// depth at most kBlasStackSize + 1 (build_tlas_scene guards it, tlas_build.cpp).
+constexpr int kBlasStackSize = kBvhStackSize - kTlasStackSize;
 
 // ---- Traversal ----
-// The top level as bvh_traverse walks a BVH (nearer child first, a fixed stack); at a leaf each
-// instance's bottom level is traversed with the ray shortened to the closest hit so far. The
-// accept functor sees the world-space ray's triangle (its ids are the scene's).
+// The top level as bvh_traverse walks a BVH (nearer child first, a fixed stack; an any-hit
+// query culls at the push and keeps no distances); at a leaf each instance's bottom level is
+// traversed with the ray shortened to the closest hit so far, on the same stack above the top
+// level's entries. The accept functor sees the world-space ray's triangle (its ids are the
+// scene's).
 template <bool kAnyHit, typename Accept = BvhAcceptAll>
 LANTERN_HD inline BvhHit tlas_traverse(const TlasView& tl, const Ray& ray, uint32_t need,
                                        const Accept& accept = Accept()) {
@@ -95,8 +101,8 @@ LANTERN_HD inline BvhHit tlas_traverse(const TlasView& tl, const Ray& ray, uint3
     if (tl.num_nodes == 0) return hit;
     const BvhRay r = bvh_ray(ray);
     float tmax = ray.tmax;
-    int32_t stack_node[kTlasStackSize];
-    float stack_dist[kTlasStackSize];
+    int32_t stack_node[kBvhStackSize];  // [0, sp): the top level's; above: the bottom level's
+    float stack_dist[kAnyHit ? 1 : kBvhStackSize];
     int sp = 0;
     int32_t cur = 0;
     for (;;) {
@@ -115,6 +121,8 @@ LANTERN_HD inline BvhHit tlas_traverse(const TlasView& tl, const Ray& ray, uint3
             if (count == 0) {
                 if (next < 0) {
                     next = n.child[c];
+                } else if (kAnyHit) {
+                    if (d[c] <= tmax) stack_node[sp++] = n.child[c];
                 } else {
                     stack_node[sp] = n.child[c];
                     stack_dist[sp] = d[c];
@@ -130,10 +138,15 @@ LANTERN_HD inline BvhHit tlas_traverse(const TlasView& tl, const Ray& ray, uint3
                 if (!(o.tmax >= o.tmin)) continue;
                 const DeformMesh* dm =
                     in.motion >= 0 ? deform_of(tl.motion, tl.motion.objects[in.motion]) : nullptr;
+                int32_t* above = stack_node + sp;
+                float* above_dist = kAnyHit ? stack_dist : stack_dist + sp;
                 const BvhHit h =
-                    dm ? bvh_traverse<kAnyHit>(tl.blas[in.blas], o, need, accept,
-                                               BvhTriDeformed{tl.motion, *dm, ray.time})
-                       : bvh_traverse<kAnyHit>(tl.blas[in.blas], o, need, accept);
+                    dm ? bvh_traverse_on<kAnyHit>(tl.blas[in.blas], o, need, accept,
+                                                  BvhTriDeformed{tl.motion, *dm, ray.time},
+                                                  BvhNoCollect(), above, above_dist)
+                       : bvh_traverse_on<kAnyHit>(tl.blas[in.blas], o, need, accept,
+                                                  BvhTriAsStored(), BvhNoCollect(), above,
+                                                  above_dist);
                 if (h.prim < 0) continue;
                 hit = h;
                 if (kAnyHit) return hit;
@@ -141,14 +154,19 @@ LANTERN_HD inline BvhHit tlas_traverse(const TlasView& tl, const Ray& ray, uint3
             }
         }
         if (next < 0) {
-            while (sp > 0) {
-                --sp;
-                if (stack_dist[sp] <= tmax) {
-                    next = stack_node[sp];
-                    break;
+            if (kAnyHit) {
+                if (sp == 0) return hit;
+                next = stack_node[--sp];
+            } else {
+                while (sp > 0) {
+                    --sp;
+                    if (stack_dist[sp] <= tmax) {
+                        next = stack_node[sp];
+                        break;
+                    }
                 }
+                if (next < 0) return hit;
             }
-            if (next < 0) return hit;
         }
         cur = next;
     }

@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 #include "backend/cpu/thread_pool.h"
 
@@ -194,6 +196,23 @@ bool set_instance_transform(Tlas& tl, int k, const Transform& to_world) {
     return true;
 }
 
+Bvh build_blas(const SceneView& s, int threads, int max_stack,
+               std::vector<std::string>& warnings) {
+    BvhBuildOptions opt;
+    opt.threads = threads;
+    Bvh b = build_bvh(s, opt, warnings);
+    if (b.stats.max_depth - 1 <= max_stack) return b;
+    opt.sah_depth = std::max(0, max_stack - 32);  // depth <= sah_depth + 31 (bvh_builder.h)
+    std::vector<std::string> again;  // the same notes as the first build's
+    b = build_bvh(s, opt, again);
+    if (b.stats.max_depth - 1 > max_stack)
+        throw std::length_error("two-level BVH: a mesh's bottom level of depth " +
+                                std::to_string(b.stats.max_depth) +
+                                " is deeper than its traversal stack holds (" +
+                                std::to_string(max_stack) + " entries)");
+    return b;
+}
+
 void build_tlas_scene(Tlas& tl, const SceneView& s, const std::vector<MeshRange>& meshes,
                       int threads, std::vector<std::string>& warnings) {
     const size_t n = meshes.size();
@@ -206,9 +225,7 @@ void build_tlas_scene(Tlas& tl, const SceneView& s, const std::vector<MeshRange>
         sub.indices = s.indices + 3 * size_t(m.tri_begin);
         sub.tri_flags = s.tri_flags ? s.tri_flags + m.tri_begin : nullptr;
         sub.num_triangles = m.tri_count;
-        BvhBuildOptions opt;
-        opt.threads = nthreads;
-        tl.blas[k] = build_bvh(sub, opt, notes[k]);
+        tl.blas[k] = build_blas(sub, nthreads, kBlasStackSize, notes[k]);
         for (BvhTri& t : tl.blas[k].tris) t.prim += m.tri_begin;
     };
     for (size_t k = 0; k < n; ++k) {

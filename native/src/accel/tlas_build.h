@@ -35,6 +35,11 @@ struct Tlas {
     }
 };
 
+// One bottom level whose traversal needs at most max_stack entries (depth - 1; tlas.h's
+// kBlasStackSize, above the top level's on one stack): SAH, or where that is deeper (seldom)
+// built again with object medians from depth max_stack - 32; a std::length_error naming the
+// depth when still deeper.
+Bvh build_blas(const SceneView& s, int threads, int max_stack, std::vector<std::string>& warnings);
 // Bottom levels of every mesh (identity instances) and the top level; `warnings` receives
 // what was left out, worded as build_bvh words it.
 void build_tlas_scene(Tlas& tl, const SceneView& s, const std::vector<MeshRange>& meshes,
