@@ -285,8 +285,8 @@ std::string bidir_visibility_reason(const SceneInput& in, bool light_tracer) {
     if (all.empty()) return all;
     // integrator/bidir_linking.h: light linking (lt, bdpt, lvc, cis), shadow linking and a
     // lamp's Cast Shadow off (not lt: light tracing alone cannot see a light past a surface
-    // that casts it no shadow, nor weigh next-event estimation's share), on surfaces only so far
-    // (a medium vertex or a walk's exit receives as the surface before it)
+    // that casts it no shadow, nor weigh next-event estimation's share), on surfaces; light
+    // linking in media too (bdpt, lvc, cis); not yet past a subsurface walk's exit
     bool shadow = false, other = false;
     for (const MeshInput& m : in.meshes) {
         if ((m.rays & kRayKindsAll) != kRayKindsAll) other = true;
@@ -297,7 +297,10 @@ std::string bidir_visibility_reason(const SceneInput& in, bool light_tracer) {
         if (l.blockers != kAllReceivers || !l.cast_shadow) shadow = true;
     }
     if (other || (shadow && light_tracer)) return all;
-    if (std::string v = media_reason(in); !v.empty()) return "linking or no shadows with " + v;
+    // light linking with media: bdpt, lvc, cis (bidir_linking_medium.h); shadow linking and
+    // Cast Shadow off there, and lt's light linking, stay with pt
+    if (std::string v = media_reason(in); !v.empty() && (shadow || light_tracer))
+        return "linking or no shadows with " + v;
     if (std::string v = subsurface_reason(in); !v.empty())
         return "linking or no shadows with " + v;
     return "";

@@ -249,6 +249,11 @@ LANTERN_DEVICE_NOINLINE
 LANTERN_HD inline Connection bdpt_connect(const SceneView& s, const BdptSettings& st,
                                           const CameraVertex& z, const LightVertex& y) {
     bool clobbered = false;  // the cache vertex's material took z's scratch (kOneScratch)
+    if (s.light_receivers && s.num_media > 0) {  // y's set decided by z (bidir_linking_medium.h)
+        const int ly = lv_pending_light(y.bary16, y.tri);
+        if (ly >= 0 && !pt_light_links(s, ly, camera_vertex_set(s, z.tri)))
+            return Connection{vec3(0.0f), vec3(0.0f), 0.0f, 0.0f, 0.0f};
+    }
     const Connection r = s.num_media > 0 ? bdpt_connect_medium(s, st, z, y, &clobbered)
                                          : bdpt_connect_in(s, st, z, y, &clobbered);
     if (kOneScratch && clobbered && z.m && z.m == &z.scratch->m) camera_vertex_material(s, z);

@@ -34,6 +34,7 @@ LANTERN_HD inline void bdpt_light_generate(const SceneView& s, const PathState& 
     ps.throughput[i] = vec3(1.0f);
     bs.power[i] = vec3(0.0f);
     bs.store[i] = 0;
+    if (s.light_receivers && ps.recv_set) ps.recv_set[i] = 1;  // (bidir_linking_medium.h)
 #ifndef __CUDACC__
     if (bdpt_sss_split_on(st)) bdpt_sss_set(bs, i, 0);
 #endif
@@ -213,7 +214,12 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
     // linking (bidir_linking.h): y1 its light does not light ends the path; y1 of a shadow-linked
     // light or of a lamp without shadows is not the light path's, unless it scatters through a
     // delta lobe
-    if (k == 1 && !bidir_links(s, bs.light[i], tri)) return;
+    // (media: the first surface vertex decides where y1.. were medium vertices,
+    // bidir_linking_medium.h)
+    if (s.light_receivers && (k == 1 || (s.num_media > 0 && ps.recv_set && ps.recv_set[i]))) {
+        if (ps.recv_set) ps.recv_set[i] = 0;
+        if (!bidir_links(s, bs.light[i], tri)) return;
+    }
     const bool only_delta = k == 1 && bidir_light_path_delta_only(s, bs.light[i]);
     const bool delta = material_is_delta(m) || only_delta;
 

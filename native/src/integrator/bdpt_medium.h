@@ -30,6 +30,7 @@
 #pragma once
 
 #include "integrator/bdpt_common.h"
+#include "integrator/bidir_linking_medium.h"
 #include "integrator/bdpt_motion.h"
 #include "integrator/medium_motion.h"
 #include "integrator/pt_volume.h"

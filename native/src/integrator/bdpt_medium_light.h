@@ -73,9 +73,12 @@ LANTERN_HD inline void bdpt_light_medium_vertex(const SceneView& s, const PathSt
     bs.vertex[i] = lv_make_medium(p, -d, beta, dvcm, dvc, med, int32_t(path), k);
     bs.vertex[i].dpt0 = dpt0;
     bs.vertex[i].dpt1 = dpt1;
+    // light linking, its set not known yet (bidir_linking_medium.h): the light kept with it
+    const bool pending = s.light_receivers && ps.recv_set && ps.recv_set[i];
+    if (pending) bs.vertex[i].bary16 = uint32_t(bs.light[i] + 1);
     bs.store[i] = is_finite(beta) && is_finite(dvcm) && is_finite(dvc) ? 1 : 0;
     // t = 1: no cosine at the vertex; the camera's density of it times its factor (near end)
-    if (k + 1 <= st.max_depth) {
+    if (k + 1 <= st.max_depth && !(pending && !pt_light_links(s, bs.light[i], 0))) {
 #ifdef __CUDA_ARCH__  // (motion blur renders on the CPU only: medium_rays_timed)
         const CameraView& cam = s.camera;
 #else

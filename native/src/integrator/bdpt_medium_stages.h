@@ -21,6 +21,7 @@
 #include "integrator/bdpt_medium.h"
 #include "integrator/bdpt_medium_light.h"  // the light pass
 #include "integrator/bdpt_motion.h"        // bdpt_emitter_time
+#include "integrator/bidir_linking.h"      // light linking (s = 0)
 
 namespace lantern {
 
@@ -105,6 +106,7 @@ LANTERN_HD inline void bdpt_camera_emission_medium(const SceneView& s, const Pat
     for (int k = 0; k < s.num_hittable_lights; ++k) {
         const Light& l = s.lights[s.hittable_lights[k]];
         if (camera && !l.visible_camera) continue;
+        if (!bidir_emission_counts(s, ps, i, s.hittable_lights[k])) continue;  // (linking)
         LightHit h = intersect_light(l, o, d, tmin, t_stop);
         if (!h.hit || is_black(h.le)) continue;
         MediumSegmentPdf seg = seg0;
@@ -133,6 +135,7 @@ LANTERN_HD inline void bdpt_camera_emission_medium(const SceneView& s, const Pat
                                     dot(d, -l.direction) < l.cos_sun))
             continue;
         if (l.type == kLightWorld && camera && !l.visible_camera) continue;
+        if (!bidir_emission_counts(s, ps, i, s.miss_lights[k])) continue;  // (linking)
         float nee = 0.0f;
         const float w = bdpt_emission_weight_medium(s, ps, bs, st, i, l, vec3(0.0f), true,
                                                     vec3(0.0f), seg, &nee);
@@ -156,6 +159,7 @@ LANTERN_HD inline void bdpt_camera_medium_nee(const SceneView& s, const PathStat
     const Vec2 u_light = rng.uniform2();
     const LightPick pick = light_pick(s, z.h.p, vec3(0.0f), u_pick.x);
     if (!(pick.pmf > 0.0f)) return;
+    if (!camera_medium_links(s, ps, i, pick.light)) return;  // (bidir_linking_medium.h)
     const Light& l = s.lights[pick.light];
     // a moving emitter where it is at the camera path's time (its shadow ray's time too)
     const float time = bdpt_emitter_time(s, st, path);
@@ -333,7 +337,7 @@ LANTERN_HD inline void bdpt_camera_medium_vertex(const SceneView& s, const PathS
     z.h.p = p;
     z.h.ng = vec3(0.0f);
     z.h.ns = vec3(0.0f);
-    z.tri = -1;
+    z.tri = camera_medium_tri(s, ps, i);  // (light linking: its set, bidir_linking_medium.h)
     z.wo_w = -d;
     z.m = nullptr;
     z.depth = depth;
@@ -388,6 +392,7 @@ LANTERN_HD inline void bdpt_camera_lights_hetero(const SceneView& s, const PathS
     for (int k = 0; k < s.num_hittable_lights; ++k) {
         const Light& l = s.lights[s.hittable_lights[k]];
         if (camera && !l.visible_camera) continue;
+        if (!bidir_emission_counts(s, ps, i, s.hittable_lights[k])) continue;  // (linking)
         const LightHit h = intersect_light(l, o0, d, a, b);
         if (!h.hit || is_black(h.le)) continue;
         MediumSegmentPdf seg = seg0;
