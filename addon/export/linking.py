@@ -4,7 +4,8 @@ pt; the bidirectional integrators hand such a scene to pt with a warning). As Bl
 depsgraph decides: an emitter whose collection includes some objects lights (is shadowed by)
 only those; one that only excludes, every object but those (a child collection's state applies
 to every object in it). Meshes with the same answer for every linked emitter share a set (at
-most 64, as in Cycles); each linked emitter (a lamp or an emissive mesh) carries the mask of
+most 64, as in Cycles; set 0 is that of an object in no collection, which pt gives a world
+volume's points too); each linked emitter (a lamp or an emissive mesh) carries the mask of
 the sets it lights (receivers) or that shadow it (blockers)."""
 
 
@@ -66,7 +67,10 @@ class LightLinking:
             state = states.get(name)
             return state == "INCLUDE" if include else state != "EXCLUDE"
 
-        sets = {tuple(True for _ in emitters): 0}  # set 0: linked to every linked emitter
+        # set 0: an object in no emitter's collection (as Cycles' set 0, the set of an object
+        # without linking and of a world volume, OBJECT_NONE): lit by an Exclude-only emitter,
+        # not by one whose collection includes some objects
+        sets = {tuple(lights(states, None) for states, _ in emitters): 0}
         for name, mesh in self.meshes:
             key = tuple(lights(states, name) for states, _ in emitters)
             if key not in sets:

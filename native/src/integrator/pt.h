@@ -55,6 +55,7 @@ LANTERN_HD inline void pt_generate(const SceneView& s, const PathState& ps, cons
     ps.dropped[i] = 0;
     ps.shadow_valid[i] = 0;
     if (ps.world_hidden) ps.world_hidden[i] = 0;
+    if (ps.recv_set) ps.recv_set[i] = 0;  // light linking: no value of the slot's last path
     if (s.num_media > 0) {
         // light linking: a medium vertex before any surface receives as the camera (set 0)
         if (s.light_receivers && ps.recv_set) ps.recv_set[i] = 0;

@@ -33,6 +33,14 @@ LANTERN_HD inline void pt_set_receiver(const SceneView& s, const PathState& ps, 
     if (s.light_receivers && ps.recv_set) ps.recv_set[i] = uint8_t(pt_receiver_set(s, tri));
 }
 
+// The receiver set of slot i's medium point (Cycles: the volume's object; a world volume's
+// OBJECT_NONE reads set 0, an object without linking): 0 in the world's medium; inside a mesh's
+// medium the set of the surface the path last left (not the volume object's own: an
+// approximation where that differs).
+LANTERN_HD inline int pt_medium_receiver(const SceneView& s, const PathState& ps, int i) {
+    return ps.medium[i] == s.world_medium ? 0 : int(ps.recv_set[i]);
+}
+
 }  // namespace lantern
 
 // ---- Shadow linking (Cycles' Blocker collection): light l's shadows are cast only by

@@ -8,6 +8,7 @@
 #pragma once
 
 #include "accel/boundary_hits.h"
+#include "integrator/pt_light_linking.h"  // pt_medium_receiver
 #include "integrator/motion_stage.h"  // a moving volume's boundary at the path's time
 #include "scene/medium.h"
 #include "scene/medium_equiangular.h"
@@ -59,8 +60,9 @@ LANTERN_HD inline void pt_medium_nee(const SceneView& s, const PathState& ps, in
     const float pdf_light = pick.pmf * ls.pdf_w;
     if (!ls.valid || is_black(ls.le) || !(pdf_light > 0.0f)) return;
     if (pt_light_hidden(s, pick.light, kRayKindVolume)) return;  // ray visibility
-    // light linking: a medium point receives as the surface its path last left
-    if (s.light_receivers && ps.recv_set && !pt_light_links(s, pick.light, ps.recv_set[i]))
+    // light linking: a medium point receives as its medium's set (pt_medium_receiver)
+    if (s.light_receivers && ps.recv_set &&
+        !pt_light_links(s, pick.light, pt_medium_receiver(s, ps, i)))
         return;
     const float phase = hg_phase(m.g, dot(d, ls.wi));
     // shadow linking: next-event estimation alone (media's shadow rays: every surface blocks)
@@ -133,6 +135,8 @@ LANTERN_HD inline void pt_medium_vertex(const SceneView& s, const PathState& ps,
         return;
     ps.throughput[i] = b;
     ps.depth[i] = depth + 1;
+    // light linking: emission the phase sample's ray finds counts as the medium's set receives
+    if (s.light_receivers && ps.recv_set) ps.recv_set[i] = uint8_t(pt_medium_receiver(s, ps, i));
     ps.ray_o[i] = p;
     ps.ray_d[i] = wi;
     ps.ray_tmin[i] = 0.0f;

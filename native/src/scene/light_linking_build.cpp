@@ -47,7 +47,10 @@ void HostScene::build_light_linking(const SceneInput& in) {
     build_sets(mesh_ranges_, in, lights_, lamp_input_, tri_material_.size(),
                [](const MeshInput& m) { return m.shadow_set; },
                [](const MeshInput& m) { return m.emitter_blockers; },
-               [](const LightInput& l) { return l.blockers; }, tri_shadow_set_, light_blockers_);
+               // a lamp without Cast Shadow traces no shadow ray in Cycles, so its Blocker
+               // collection changes nothing: it is not shadow-linked (difftest4 9008)
+               [](const LightInput& l) { return l.cast_shadow ? l.blockers : kAllReceivers; },
+               tri_shadow_set_, light_blockers_);
 }
 
 }  // namespace lantern
