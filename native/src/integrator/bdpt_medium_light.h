@@ -37,6 +37,12 @@ LANTERN_HD inline void bdpt_light_medium_vertex(const SceneView& s, const PathSt
     const bool infinite = l.type == kLightSun || l.type == kLightWorld;
     const float dist = length(p - ps.prev_p[i]);
     if (!(dist > 0.0f)) return;
+    // light linking (bidir_linking_medium.h): a vertex in the world's medium receives as set 0,
+    // which decides a pending set; where l does not light it the sub-path ends here
+    if (s.light_receivers && ps.recv_set && ps.recv_set[i] && med == s.world_medium) {
+        ps.recv_set[i] = 0;
+        if (!pt_light_links(s, bs.light[i], 0)) return;
+    }
     const bool soft = k == 1 && light_receiver_dependent(l);
     if (soft) {  // the light arrives from y0 on the disk facing p (soft_light_medium.h)
 #ifdef __CUDA_ARCH__

@@ -337,7 +337,7 @@ LANTERN_HD inline void bdpt_camera_medium_vertex(const SceneView& s, const PathS
     z.h.p = p;
     z.h.ng = vec3(0.0f);
     z.h.ns = vec3(0.0f);
-    z.tri = camera_medium_tri(s, ps, i);  // (light linking: its set, bidir_linking_medium.h)
+    z.tri = camera_medium_tri(s, ps, i, med);  // (light linking: bidir_linking_medium.h)
     z.wo_w = -d;
     z.m = nullptr;
     z.depth = depth;

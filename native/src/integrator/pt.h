@@ -57,8 +57,6 @@ LANTERN_HD inline void pt_generate(const SceneView& s, const PathState& ps, cons
     if (ps.world_hidden) ps.world_hidden[i] = 0;
     if (ps.recv_set) ps.recv_set[i] = 0;  // light linking: no value of the slot's last path
     if (s.num_media > 0) {
-        // light linking: a medium vertex before any surface receives as the camera (set 0)
-        if (s.light_receivers && ps.recv_set) ps.recv_set[i] = 0;
         ps.medium[i] = s.camera_medium;
         if (ps.vshadow_valid) ps.vshadow_valid[i] = 0;
     }
