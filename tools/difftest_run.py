@@ -5,7 +5,8 @@ seeds whose case has one of the tags (the others are skipped, not logged), one c
 through difftest.main (--resume: each seed once). A wrapper, not an edit of difftest.py,
 whose digest keys the CI slice's stored Cycles side (tests/cycles/test_difftest.py): changing
 it would make every stored reference stale. Its verdict adds "inconclusive" (verdict(): a case
-that agrees only because the image mean's margin is over INCONCLUSIVE_MARGIN).
+that agrees only because the image mean's margin is over INCONCLUSIVE_MARGIN), and its Cycles
+side renders without Cycles' Russian roulette (D51; --cycles-roulette keeps it).
 
     nice .venv/bin/python tools/difftest_run.py --integrator lt --profile full --seed 5000 \
         --cases 20 --out bench/results/DATE-difftest3/lt
@@ -68,8 +69,28 @@ def parse(argv):
     return args
 
 
+# Cycles' own Russian roulette drops the light of a lamp or of the world that a bounce ray
+# reaches inside a volume (D51, docs/difftest.md; tests/cycles/test_fog_lamp_roulette.py): in a
+# volume a lamp hit or a miss is tested for roulette before the volume is shaded, a path ended
+# there adds nothing and one that goes on is not divided by its survival probability. Min Light
+# (and Transparent) Bounces at the bounce counts turn that roulette off, which changes nothing
+# else in expectation: the tester's Cycles side renders so unless --cycles-roulette. Live
+# renders only: difftest.stored_cycles' key (the CI slice) does not see it.
+CYCLES_ROULETTE = False
+_cycles_settings = difftest.cycles_settings
+
+
+def cycles_settings(sc, seed, spp, bounces, threads):
+    """difftest.cycles_settings, then (unless CYCLES_ROULETTE) Cycles' roulette off."""
+    _cycles_settings(sc, seed, spp, bounces, threads)
+    if not CYCLES_ROULETTE:
+        sc.cycles.min_light_bounces = bounces
+        sc.cycles.min_transparent_bounces = sc.cycles.transparent_max_bounces
+
+
 difftest.parse = parse
 difftest.compare = compare   # run_case, the confirmation and the shrinker read it from there
+difftest.cycles_settings = cycles_settings   # render_cycles reads it from there
 
 
 def _take(argv, flag):
@@ -86,7 +107,11 @@ def _take(argv, flag):
 
 
 def main(argv=None):
+    global CYCLES_ROULETTE
     argv = list(sys.argv[1:] if argv is None else argv)
+    if "--cycles-roulette" in argv:   # Cycles' default Min Light Bounces (0): D51 shows
+        argv.remove("--cycles-roulette")
+        CYCLES_ROULETTE = True
     want, argv = _take(argv, "--want")
     if not want:
         return difftest.main(argv)

@@ -1,7 +1,8 @@
 """The differential tester's verdict (tools/difftest_run.py, difftest4): a case whose image
 mean passes only within a heavy-tailed margin is "inconclusive", not "agree" (difftest3's seed
 5006 passed at -62 % with 217 % allowed), while an ordinary agreeing case stays "agree" and a
-plain disagreement stays "differ". Synthetic renders, no bpy scene; well under a second."""
+plain disagreement stays "differ". Synthetic renders, no bpy scene; well under a second. And
+its Cycles side's roulette setting (D51), on an empty bpy scene."""
 
 import os
 import sys
@@ -46,3 +47,25 @@ def test_difference_still_differs():
     rng = np.random.default_rng(3)
     lan, cyc = _renders(rng, level=1.1), _renders(rng)
     assert difftest_run.compare(lan, cyc, controls=False).status == "differ"
+
+
+def test_cycles_side_renders_without_roulette():
+    """D51 (docs/difftest.md): the wrapper's Cycles side sets Min Light / Transparent Bounces to
+    the bounce counts (Cycles' roulette in a volume drops lamp hits), and --cycles-roulette
+    keeps Cycles' default; the control is difftest.py's own settings (roulette at 0)."""
+    import pytest
+    bpy = pytest.importorskip("bpy")
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    sc = bpy.context.scene
+    difftest_run._cycles_settings(sc, 1, 4, 3, 1)   # difftest.py's own
+    assert (sc.cycles.min_light_bounces, sc.cycles.min_transparent_bounces) == (0, 0)
+    difftest.cycles_settings(sc, 1, 4, 3, 1)   # what render_cycles calls: the wrapper's
+    assert (sc.cycles.min_light_bounces, sc.cycles.min_transparent_bounces) == (3, 64)
+    old = difftest_run.CYCLES_ROULETTE
+    try:
+        difftest_run.CYCLES_ROULETTE = True
+        sc.cycles.min_light_bounces = sc.cycles.min_transparent_bounces = 0
+        difftest.cycles_settings(sc, 1, 4, 3, 1)
+        assert (sc.cycles.min_light_bounces, sc.cycles.min_transparent_bounces) == (0, 0)
+    finally:
+        difftest_run.CYCLES_ROULETTE = old
