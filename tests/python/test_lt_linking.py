@@ -15,7 +15,7 @@ shadow, each vertex past one weighed by pt's next-event share (lt_linking.h):
   medium receive as set 0 (unlit), those in the box as the surface the path left.
 
 Each against pt; the negative control, the rule off (the scene without it), must fail. And lt
-still hands shadow linking in fog to pt."""
+still hands shadow linking in fog, and a soft-falloff light that would walk, to pt."""
 import numpy as np
 import pytest
 
@@ -129,4 +129,15 @@ def test_lt_hands_shadow_linking_in_fog_to_pt(core):
     scene.lights[0]["blockers"] = [1]
     img, warnings = render(scene, "lt", 7, spp=2)
     assert any("rendering with pt" in w for w in warnings), warnings
+    np.testing.assert_array_equal(img, render(scene, "pt", 7, spp=2)[0])
+
+
+def test_lt_hands_soft_light_walks_to_pt(core):
+    """A soft-falloff light beside a surface that casts no shadow: its lines start off the
+    light (soft_light_path.h), which the walk does not follow yet."""
+    scene = build("object")
+    scene.add_light("point", position=[0.0, 0.5, 1.2], power=[20.0] * 3, radius=0.1,
+                    soft_falloff=True, name="soft")
+    img, warnings = render(scene, "lt", 7, spp=2)
+    assert any("soft-falloff" in w and "rendering with pt" in w for w in warnings), warnings
     np.testing.assert_array_equal(img, render(scene, "pt", 7, spp=2)[0])
