@@ -2,17 +2,19 @@
 linking in media itself (integrator/lt_linking.h), against pt (compare_renders: block means,
 Student t; tests/README.md).
 
-A white floor under a 1 m area lamp, a red slab between them (its shadow in the image's middle),
-a white ball beside it, a point light off to the side; 12 x 12, max_depth 3 (a bounce after
-the direct light). lt's first light segment walks past the surfaces that cast the light no
-shadow, each vertex past one weighed by pt's next-event share (lt_linking.h):
+A white floor under a 1 m area lamp, a black slab between them hidden from the camera (its
+shadow in the image's middle is all it adds), a red ball beside it, a point light off to the
+side; 12 x 12, max_depth 3 (a bounce after the direct light). lt's first light segment walks
+past the surfaces that cast the light no shadow, each vertex past one weighed by pt's
+next-event share (lt_linking.h):
 
 - blockers: the lamp's shadows cast by the ball alone (shadow set 1), not by the slab;
 - lamp: the lamp's Cast Shadow off (pt's two weights: the umbra gets next-event estimation's);
-- object: the slab's Cast Shadow off (its shadow gets next-event estimation's share);
+- object: the slab's Cast Shadow off (its shadow gets next-event estimation's share; the
+  second control, the scene without the slab, is that share at weight 1);
 - fog: world fog and a box of denser fog about the ball (a mesh's volume: its vertices' set is
-  pending till a surface), the lamp lighting the slab (set 1) alone: fog vertices in the world's
-  medium receive as set 0 (unlit), those in the box as the surface the path left.
+  pending till a surface), the lamp lighting the ball (set 1) alone: fog vertices in the
+  world's medium receive as set 0 (unlit), those in the box as the surface the path left.
 
 Each against pt; the negative control, the rule off (the scene without it), must fail. And lt
 still hands shadow linking in fog, and a soft-falloff light that would walk, to pt."""
