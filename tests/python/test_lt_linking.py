@@ -12,9 +12,12 @@ next-event share (lt_linking.h):
 - lamp: the lamp's Cast Shadow off (pt's two weights: the umbra gets next-event estimation's);
 - object: the slab's Cast Shadow off (its shadow gets next-event estimation's share; the
   second control, the scene without the slab, is that share at weight 1);
-- fog: world fog and a box of denser fog about the ball (a mesh's volume: its vertices' set is
-  pending till a surface), the lamp lighting the ball (set 1) alone: fog vertices in the
-  world's medium receive as set 0 (unlit), those in the box as the surface the path left.
+- fog (no slab): world fog and a box of dense fog about the ball, under the lamp (a mesh's
+  volume: its vertices' set is pending till a surface), the lamp lighting the ball (set 1)
+  alone, the point light all but the ball: fog vertices in the world's medium receive as set 0
+  (unlit by the lamp), those in the box as the surface the path left (the ball's light is
+  mostly the box's scattering: with the box's vertices deciding set 0 instead, as the world's,
+  lt read -4.2 % in red, the ball's block z 7.4, and failed).
 
 Each against pt; the negative control, the rule off (the scene without it), must fail. And lt
 still hands shadow linking in fog, and a soft-falloff light that would walk, to pt."""
@@ -53,7 +56,9 @@ def build(kind, on=True, slab=True):
     red = s.add_material("red", type="diffuse", base_color=(0.8, 0.3, 0.2))
     black = s.add_material("black", type="diffuse", base_color=(0.0, 0.0, 0.0))
     s.add_mesh(*quad(0.0, 2.5), material=white, name="floor")
-    pos, idx = scenes.icosphere(2, 0.3, center=(0.75, 0.2, 0.3))
+    # (fog: the ball under the lamp, in its box of fog)
+    pos, idx = scenes.icosphere(2, 0.3, center=(-0.1, 0.0, 0.3) if kind == "fog" else
+                                (0.75, 0.2, 0.3))
     s.add_mesh(pos, idx, material=red, name="ball")
     to_world = [[1, 0, 0, -0.2], [0, 1, 0, 0], [0, 0, 1, 1.5], [0, 0, 0, 1]]
     s.add_light("area", to_world=to_world, shape="square", size=[1.0, 1.0],
@@ -63,11 +68,11 @@ def build(kind, on=True, slab=True):
     if kind == "fog":
         s.world["volume"] = {"sigma_s": [0.15] * 3, "sigma_a": [0.02, 0.03, 0.05], "g": 0.3}
         m = s.add_material("box")
-        s.materials[m]["volume"] = {"sigma_s": [1.2] * 3, "sigma_a": [0.05] * 3, "g": 0.3}
+        s.materials[m]["volume"] = {"sigma_s": [3.0] * 3, "sigma_a": [0.05] * 3, "g": 0.3}
         s.materials[m]["volume_only"] = True
-        p, i = aabb_mesh((0.3, -0.3, 0.0), (1.2, 0.7, 0.9))
+        p, i = aabb_mesh((-0.55, -0.45, 0.0), (0.35, 0.45, 0.65))
         s.add_mesh(p, i, material=m, name="box")
-    if slab:  # black, hidden from the camera: its shadow is all it adds
+    if slab and kind != "fog":  # black, hidden from the camera: its shadow is all it adds
         s.add_mesh(*quad(0.7, 0.35, -0.1, 0.0), material=black, name="slab",
                    visible_camera=False)
     if on:
@@ -81,6 +86,7 @@ def build(kind, on=True, slab=True):
         elif kind == "fog":
             s.meshes[1]["light_set"] = 1
             s.lights[0]["receivers"] = [1]  # the ball alone
+            s.lights[1]["receivers"] = [0]  # all but the ball
     return s
 
 
@@ -111,7 +117,7 @@ def test_lt_matches_pt(core, kind):
     # (what lt's noise resolves here: tests/README.md)
     block = 4 if fog else 3
     metrics.assert_agreement(f"{kind}, lt vs pt", imgs, ref, block=block,
-                             image_bias=0.15 if fog else 0.03, block_bias=0.35 if fog else 0.15)
+                             image_bias=0.15 if fog else 0.03, block_bias=0.5 if fog else 0.15)
     # the control: the rule off (the scene without it) is seen
     free, _ = renders(kind, "lt", 3000, on=False)
     res = metrics.compare_renders(free, ref, block=block, name=f"{kind} off")
