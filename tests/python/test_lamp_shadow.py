@@ -2,8 +2,8 @@
 does, pt's next-event estimation of such a lamp traces no shadow ray (unoccluded, and not
 attenuated by media), each estimate keeping its MIS weight; a bounce ray still finds the lamp
 only where nothing blocks it (integrator/pt_ray_visibility.h pt_lamp_unshadowed). bdpt, lvc
-and cis reproduce those weights (integrator/bidir_linking.h; against pt below); lt and auto
-hand the scene to pt.
+and cis reproduce those weights (integrator/bidir_linking.h; against pt below), lt too
+(integrator/lt_linking.h; against pt: test_lt_linking.py); auto hands the scene to pt.
 
 A floor (z = 0) under a black blocker hidden from the camera (a 1.2 m square at z = 0.5; black,
 it reflects nothing, so the floor is all the image) and a lamp above it:
@@ -146,7 +146,7 @@ def test_no_attenuation_along_missing_shadow_ray(core):
                                rtol=0.02)
 
 
-@pytest.mark.parametrize("integrator", ["lt", "auto"])
+@pytest.mark.parametrize("integrator", ["auto"])
 def test_other_integrators_hand_over_to_pt(core, integrator):
     scene = scene_of("area", cast_shadow=False)
     img, warnings = render(scene, integrator=integrator)

@@ -13,8 +13,8 @@ estimation's; max_depth 4 (indirect light):
 - shadow linking: the lamp's and the quad's shadows are cast by the glass ball alone, not by the
   slab (a red square over the floor's left). Next-event estimation is the only technique for
   paths whose vertex next to the light scatters off a non-delta lobe; through the glass (a
-  delta lobe) the usual weights stay. bdpt, lvc, cis against pt; lt hands the scene to pt (light
-  tracing alone cannot see the lamp past the slab), with the same bits.
+  delta lobe) the usual weights stay. bdpt, lvc, cis against pt (lt: its first segment walks
+  past the slab, integrator/lt_linking.h; against pt: test_lt_linking.py).
 - Cast Shadow off on the lamp instead (the slab shadows it as usual): Cycles' mix of next-event
   estimation, unoccluded, and BSDF sampling, occluded, by pt's weights; bdpt, lvc, cis against
   pt, the lamp with shadows the control."""
@@ -142,8 +142,3 @@ def test_shadow_linking_matches_pt(pt_refs, integrator, build):
     free, _ = renders(build, integrator, 3000, linked=False)
     assert not metrics.compare_renders(free, pt_refs[build.__name__], block=4).passed
 
-
-def test_lt_hands_shadow_linking_to_pt(core):
-    img, warnings = render(shadow_linked(), "lt", 7, spp=4)
-    assert any("shadow linking" in w and "rendering with pt" in w for w in warnings), warnings
-    np.testing.assert_array_equal(img, render(shadow_linked(), "pt", 7, spp=4)[0])

@@ -265,10 +265,26 @@ std::string no_shadow_object_reason(const SceneInput& in) {
     return "";
 }
 
+namespace {
+// lt: a soft-falloff light whose light paths would walk past surfaces that cast it no shadow
+// (lt_linking.h; its lines start off the light, soft_light_path.h): not done
+std::string lt_soft_walk_reason(const SceneInput& in) {
+    const bool no_shadow = !no_shadow_object_reason(in).empty();
+    for (const LightInput& l : in.lights)
+        if ((l.type == "point" || l.type == "spot") && l.soft_falloff && l.radius > 0.0f &&
+            (no_shadow || !l.cast_shadow || l.blockers != kAllReceivers))
+            return "a soft-falloff light with shadow linking or Cast Shadow off (light '" +
+                   l.name + "')";
+    return "";
+}
+}  // namespace
+
 std::string bidir_visibility_reason(const SceneInput& in, bool light_tracer) {
-    // an object's Cast Shadow off: bdpt, lvc and cis on meshes (bidir_no_shadow.h); lt (light
-    // tracing alone cannot see a light past a surface that casts it no shadow), strands,
-    // shadow linking beside it, media and subsurface scattering stay pt's
+    // an object's Cast Shadow off: bdpt, lvc and cis on meshes (bidir_no_shadow.h), lt too
+    // (lt_linking.h, shadow linking beside it there); strands, shadow linking beside it (bdpt,
+    // lvc, cis), media and subsurface scattering stay pt's
+    if (light_tracer)
+        if (std::string v = lt_soft_walk_reason(in); !v.empty()) return v;
     if (const std::string v = no_shadow_object_reason(in); !v.empty()) {
         bool linked = false;
         for (const LightInput& l : in.lights) linked |= l.blockers != kAllReceivers;
@@ -276,17 +292,15 @@ std::string bidir_visibility_reason(const SceneInput& in, bool light_tracer) {
             linked |= m.shadow_set != 0 || m.emitter_blockers != kAllReceivers;
         for (const CurveInput& c : in.curves)
             if (!c.cast_shadow) return v;
-        if (light_tracer) return v;
-        if (linked) return v + " with shadow linking";
+        if (linked && !light_tracer) return v + " with shadow linking";
         if (std::string u = media_reason(in); !u.empty()) return v + " with " + u;
         if (std::string u = subsurface_reason(in); !u.empty()) return v + " with " + u;
     }
     const std::string all = ray_visibility_reason(in);
     if (all.empty()) return all;
-    // integrator/bidir_linking.h: light linking (lt, bdpt, lvc, cis), shadow linking and a
-    // lamp's Cast Shadow off (not lt: light tracing alone cannot see a light past a surface
-    // that casts it no shadow, nor weigh next-event estimation's share), on surfaces; light
-    // linking in media too (bdpt, lvc, cis); not yet past a subsurface walk's exit
+    // integrator/bidir_linking.h: light linking, shadow linking and a lamp's Cast Shadow off
+    // (lt: lt_linking.h), on surfaces; light linking in media too; not yet past a subsurface
+    // walk's exit
     bool shadow = false, other = false;
     for (const MeshInput& m : in.meshes) {
         if ((m.rays & kRayKindsAll) != kRayKindsAll) other = true;
@@ -296,10 +310,10 @@ std::string bidir_visibility_reason(const SceneInput& in, bool light_tracer) {
         if ((l.rays & kRayKindsAll) != kRayKindsAll) other = true;
         if (l.blockers != kAllReceivers || !l.cast_shadow) shadow = true;
     }
-    if (other || (shadow && light_tracer)) return all;
-    // light linking with media: bdpt, lvc, cis (bidir_linking_medium.h); shadow linking and
-    // Cast Shadow off there, and lt's light linking, stay with pt
-    if (std::string v = media_reason(in); !v.empty() && (shadow || light_tracer))
+    if (other) return all;
+    // light linking with media: lt, bdpt, lvc, cis (bidir_linking_medium.h, lt_linking.h);
+    // shadow linking and Cast Shadow off there stay with pt
+    if (std::string v = media_reason(in); !v.empty() && shadow)
         return "linking or no shadows with " + v;
     if (std::string v = subsurface_reason(in); !v.empty())
         return "linking or no shadows with " + v;

@@ -1,5 +1,5 @@
-// Light and shadow linking in the bidirectional integrators (bdpt, lvc, cis; lt: light linking
-// only), as pt has them (pt_light_linking.h). x0 is the path's vertex on light l, x1 the vertex
+// Light and shadow linking in the bidirectional integrators (bdpt, lvc, cis; lt: lt_linking.h),
+// as pt has them (pt_light_linking.h). x0 is the path's vertex on light l, x1 the vertex
 // next to it (the receiver).
 //
 // Light linking is a property of the path: its measurement is 0 where l does not light x1's

@@ -1,4 +1,5 @@
-// Light linking with medium vertices in the bidirectional integrators (bdpt, lvc, cis): pt's
+// Light linking with medium vertices in the bidirectional integrators (bdpt, lvc, cis; lt's
+// light pass the same way: lt_linking.h): pt's
 // rule (pt_light_linking.h pt_medium_receiver; pt_volume.h pt_medium_nee, pt_emission_weight):
 // a vertex in the world's medium receives as set 0 (Cycles' "no object": the world volume's),
 // a vertex in another medium (a mesh's volume) as the surface its path last left on the camera

@@ -176,6 +176,7 @@ LANTERN_HD inline void lt_queue_splat(const PathState& ps, const LightPathState&
 
 }  // namespace lantern
 
+#include "integrator/lt_linking.h"  // shadow linking, Cast Shadow off, linking in media
 #include "integrator/lt_medium.h"  // media: uses lt_queue_splat
 #include "integrator/lt_sss.h"  // subsurface: the adjoint walk, uses lt_queue_splat
 #include "integrator/lt_strand.h"  // through a strand
@@ -208,6 +209,14 @@ LANTERN_HD inline void lt_generate(const SceneView& s, const PathState& ps,
     lp.power[i] = emission_weight(es) / l.pick_pdf;
     if (lp.light) lp.light[i] = li;
     ps.rng[i] = rng;
+    // linking (lt_linking.h): the receiver set pending till the first vertex; the light's point
+    // for the first segment's walk
+    if (s.light_receivers) ps.recv_set[i] = 1;
+    if ((s.light_blockers || s.light_rays || s.no_shadow_objects) && lt_walks(s, li)) {
+        ps.shadow_light[i] = 0;
+        ps.prev_p[i] = es.p;
+        ps.prev_n[i] = es.n;
+    }
     if (s.num_media > 0) {  // the medium it emits into (lt_medium.h)
         Vec3 f;
         ps.medium[i] = lt_start_medium(s, li, es, &f);
@@ -265,10 +274,18 @@ LANTERN_HD inline void lt_shade(const SceneView& s, const PathState& ps, const L
     if (ps.depth[i] == 0 && lp.light && light_receiver_dependent(s.lights[lp.light[i]]) &&
         !soft_line_hit_valid(s.lights[lp.light[i]], ps.ray_o[i], d, ps.hit_t[i]))
         return;
-    // light linking: a first hit its light does not light ends the path (bidir_linking.h)
-    if (ps.depth[i] == 0 && s.light_receivers && lp.light &&
-        !pt_light_links(s, lp.light[i], pt_receiver_set(s, tri)))
-        return;
+    // linking (lt_linking.h): the first segment walks past surfaces that cast its light no
+    // shadow (passed > 0: a vertex only next-event estimation makes); the first surface vertex
+    // decides the receiver set, and a set its light does not light ends the path
+    int passed = 0;
+    if (ps.depth[i] == 0 && (s.light_blockers || s.light_rays || s.no_shadow_objects) &&
+        lp.light && lt_walks(s, lp.light[i])) {
+        passed = ps.shadow_light[i];
+        if (!lt_walk_step(s, ps, i, lp.light[i], tri, ps.ray_o[i] + d * ps.hit_t[i],
+                          bidir_links(s, lp.light[i], tri)))
+            return;
+    }
+    if (!lt_receiver_decides(s, ps, lp, i, tri, false)) return;
     // a triangle's or a strand's surface (pt_curve.h); strands: the fiber measure (bdpt_curve.h)
     const bool strand = prim_is_strand(s, tri);
     // (motion blur: the path's time is motion_time of its stream, motion_stage.h)
@@ -333,7 +350,12 @@ LANTERN_HD inline void lt_shade(const SceneView& s, const PathState& ps, const L
                 ps.shadow_medium[i] = dot(cc.wc, h.ng) < 0.0f
                                           ? medium_across(s, tri, h.front, ps.medium[i])
                                           : ps.medium[i];
-            lt_queue_splat(ps, lp, i, h.p, h.ng, cc, beta * e.f * (cos_y * cc.importance), s.offset_scale);
+            // (past a transparent surface: next-event estimation's share, lt_linking.h)
+            const float w = passed > 0 ? lt_nee_weight(s, ps, i, lp.light[i], tri, m, h, wo_w,
+                                                       cc.wc, e.pdf_rev_w)
+                                       : 1.0f;
+            lt_queue_splat(ps, lp, i, h.p, h.ng, cc, beta * e.f * (cos_y * cc.importance * w),
+                           s.offset_scale);
         }
     }
 #ifndef __CUDACC__  // the device build has no walk stage (schedule_lt.h): CPU sessions only
@@ -360,10 +382,14 @@ LANTERN_HD inline void lt_shade(const SceneView& s, const PathState& ps, const L
 #endif
     Vec3 wi = frame.to_world(bs.wi);
     // (a tube vertex left through its fiber: outside pt's path space, bdpt_curve.h)
-    if (bs.valid && view_side_agrees(m, wi, h.ng, h.ns) && !(tube && !(dot(wi, h.ng) > 0.0f))) {
+    // (past a transparent surface: non-delta lobes only, next-event estimation's share)
+    if (bs.valid && view_side_agrees(m, wi, h.ng, h.ns) && !(tube && !(dot(wi, h.ng) > 0.0f)) &&
+        !(passed > 0 && (bs.delta || !(bs.pdf_fwd_w > 0.0f)))) {
         // (a strand: the lobe's Importance weight is the fiber measure's whole throughput)
         float adj = fiber ? 1.0f
                            : cos_o_ns * fabsf(dot(wi, h.ng)) / (cos_o_ng * fabsf(bs.wi.z));
+        if (passed > 0)
+            adj *= lt_nee_weight(s, ps, i, lp.light[i], tri, m, h, wo_w, wi, bs.pdf_rev_w);
         Vec3 t = ps.throughput[i] * bs.weight * adj;
         if (russian_roulette(t, depth + 1, st.rr_depth, rng) && max_component(t) > 0.0f &&
             is_finite(t)) {

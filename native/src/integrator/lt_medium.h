@@ -8,7 +8,7 @@
 // Heterogeneous media: spectral tracking (scene/medium_hetero.h) on the segments, ratio tracking
 // on the camera segments. Emissive media send no light paths: the session hands such scenes to
 // pt (session.cpp).
-// Included by lt.h after lt_queue_splat, which it uses.
+// Included by lt.h after lt_queue_splat and lt_linking.h, which it uses.
 #pragma once
 
 #include "integrator/medium_motion.h"
@@ -92,7 +92,11 @@ LANTERN_HD inline bool lt_medium_segment(const SceneView& s, const PathState& ps
     const int depth = ps.depth[i] + 1;  // segments from the light to this vertex
     ps.depth[i] = depth;
     const Vec3 p = o + d * (tmin + step.t);
-    lt_medium_connect(s, ps, lp, i, p, d, m);  // t = 1: depth + 1 segments
+    // light linking: a vertex in the world's medium decides the receiver set (0), one in a
+    // mesh's volume keeps it pending, its splat the camera's (lt_linking.h)
+    if (!lt_receiver_decides(s, ps, lp, i, -1, ps.medium[i] == s.world_medium)) return true;
+    if (lt_pending_lit(s, ps, lp, i))
+        lt_medium_connect(s, ps, lp, i, p, d, m);  // t = 1: depth + 1 segments
     if (depth + 2 > st.max_depth) return true;  // the next vertex's connection would be too long
     rng = ps.rng[i];
     float pdf_w = 0.0f;

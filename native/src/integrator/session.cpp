@@ -113,17 +113,14 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
     // object ray visibility: only pt tells a bounce's kind so far (pt_ray_visibility.h); a
     // lamp's Cast Shadow off: Cycles' answer weighs next-event estimation against BSDF
     // sampling (pt_lamp_unshadowed), which bdpt, lvc and cis reproduce, as they do light
-    // linking (lt too) and shadow linking (bidir_linking.h); an object's Cast Shadow off:
-    // bidir_no_shadow.h
+    // linking and shadow linking (bidir_linking.h); an object's Cast Shadow off:
+    // bidir_no_shadow.h; lt all of them by its first segment's walk (lt_linking.h)
     if (media_note.empty() && integ != "pt" && integ != "auto") {
         const std::string why = bidir_visibility_reason(scene, integ == "lt");
         if (!why.empty()) {
             media_note = "integrator '" + integ + "' does not honour object ray visibility " +
-                         "or a lamp's, " +
-                         (integ == "lt" ? "shadow linking, a light's or an object's Cast "
-                                          "Shadow off, " : "") +
-                         "or linking and Cast Shadow off in scenes with volumes or subsurface " +
-                         "scattering (the scene has " + why + "): rendering with pt";
+                         "or a lamp's, or linking and Cast Shadow off in scenes with volumes " +
+                         "or subsurface scattering (the scene has " + why + "): rendering with pt";
             settings_.integrator = "pt";
         }
     }

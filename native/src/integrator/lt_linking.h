@@ -1,0 +1,132 @@
+// Shadow linking, Cast Shadow off (a lamp's, an object's) and light linking in media in the light
+// tracer (integrator "lt"), as pt renders them (bidir_linking.h, bidir_no_shadow.h,
+// bidir_linking_medium.h). A light path y0 (on light l) y1 ... yk is splatted at the camera: in
+// pt's terms x0 = y0, x1 = y1, and only the segment x0 x1 is a next-event shadow ray (the camera
+// segment is a camera ray, the others BSDF rays: the ordinary query, as lt traces them).
+//
+// Next-event estimation sees l from x1 past every surface that does not cast l a shadow
+// ("transparent": a non-caster, a surface outside a shadow-linked l's blocker set, any surface
+// for a lamp without shadows, lt_shadow_passes). pt's image of the paths through x1 is
+//     integral of f (V' w_nee + V w_bsdf)
+// over the scattering at x1, V the ordinary visibility of x0 x1, V' the shadow query's, w_nee
+// and w_bsdf pt's two weights (a shadow-linked light: 1 and 0 after a non-delta lobe; a delta
+// lobe at x1: next-event estimation cannot make it, w_bsdf = 1). Light tracing's first segment
+// therefore walks on: its first hit h1 (V = V' = 1: weight 1 whatever the lobe) and, past
+// transparent surfaces, the hits h2, h3, ... up to the first surface that casts l a shadow
+// (V = 0, V' = 1), each a candidate x1 that only next-event estimation makes: its non-delta
+// lobes only, weighed by pt's w_nee (lt_nee_weight). One slot follows one path: at a transparent
+// hit it stops there (y1 = h_j) or passes on, each with probability 1/2 and weight 2 (passing
+// for sure where l does not light the hit's receiver set). PathState::shadow_light counts the
+// surfaces passed (lt traces no next-event rays of its own), PathState::prev_p / prev_n keep x0
+// and its normal for w_nee.
+//
+// Light linking in media (bidir_linking_medium.h): the path's receiver set is found from x1
+// toward the camera, a surface's own, 0 at the first vertex in the world's medium, else pending
+// through a mesh's volume (PathState::recv_set 1 while pending) and 0 at the camera: the light
+// pass decides it at its first surface or world-medium vertex and ends the path where l does
+// not light it; a pending vertex's splat takes set 0.
+// Included by lt.h.
+#pragma once
+
+#include "integrator/bidir_linking.h"
+#include "integrator/pt_surface.h"
+#include "integrator/terminator.h"
+#include "scene/light_tree.h"
+
+namespace lantern {
+
+// Whether light li's first segment walks past transparent surfaces (lt_shadow_passes).
+LANTERN_HD inline bool lt_walks(const SceneView& s, int li) {
+    return li >= 0 && (bidir_light_path_delta_only(s, li) || s.no_shadow_objects != 0);
+}
+
+// Whether pt's next-event shadow ray toward light li passes surface (or strand) tri: a lamp
+// without shadows traces none, the shadow query skips non-casters (accel/bvh.h), a
+// shadow-linked light's query stops at its blockers only (pt_occluded_linked).
+LANTERN_HD inline bool lt_shadow_passes(const SceneView& s, int li, int tri) {
+    if (pt_lamp_unshadowed(s, li)) return true;
+    if (s.no_shadow_objects && !(s.tri_flags[tri] & kCastShadow)) return true;
+    if (!bidir_nee_only(s, li)) return false;
+    const int set = s.tri_shadow_set ? int(s.tri_shadow_set[tri]) : 0;
+    return ((s.light_blockers[li] >> set) & 1u) == 0u;
+}
+
+// The receiver decision of slot i's vertex on triangle tri (-1: a medium vertex, `world`: in the
+// world's medium): true where the path goes on. Clears the pending set where the vertex
+// decides it (a surface, a world-medium vertex); a mesh volume's vertex keeps it pending.
+LANTERN_HD inline bool lt_receiver_decides(const SceneView& s, const PathState& ps,
+                                           const LightPathState& lp, int i, int tri, bool world) {
+    if (!s.light_receivers || !lp.light || !ps.recv_set[i]) return true;
+    if (tri < 0 && !world) return true;  // pending on
+    ps.recv_set[i] = 0;
+    return tri >= 0 ? bidir_links(s, lp.light[i], tri) : pt_light_links(s, lp.light[i], 0);
+}
+
+// A splat's factor for the receiver set: a pending path's is the camera's, set 0.
+LANTERN_HD inline bool lt_pending_lit(const SceneView& s, const PathState& ps,
+                                      const LightPathState& lp, int i) {
+    return !s.light_receivers || !lp.light || !ps.recv_set[i] || pt_light_links(s, lp.light[i], 0);
+}
+
+// One step of the first segment's walk at slot i's hit on tri (point p): 1 where the hit is
+// the path's y1 (the throughput then carries the choice's weight), 0 where the slot passed on
+// (its ray continues past the hit) or ended. `linked`: whether light li lights the hit.
+LANTERN_HD inline int lt_walk_step(const SceneView& s, const PathState& ps, int i, int li,
+                                   int tri, Vec3 p, bool linked) {
+    if (!lt_shadow_passes(s, li, tri)) return 1;  // it casts l a shadow: the walk's last hit
+    if (ps.shadow_light[i] >= 255) return 0;  // (a bound: never an endless walk)
+    if (linked) {
+        Rng rng = ps.rng[i];
+        const bool stop = rng.uniform() < 0.5f;
+        ps.rng[i] = rng;
+        ps.throughput[i] = ps.throughput[i] * 2.0f;
+        if (stop) return 1;
+    }
+    Vec3 ng = ps.ray_d[i];  // a strand: passed along the ray (pt_occluded_linked)
+    if (tri < s.num_triangles) {
+        const Vec3 a = triangle_vertex(s, tri, 0), b = triangle_vertex(s, tri, 1),
+                   c = triangle_vertex(s, tri, 2);
+        ng = normalize(cross(b - a, c - a));
+    }
+    pt_pass_hidden(s, ps, i, p, ng);
+    ps.shadow_light[i] += 1;
+    return 0;
+}
+
+// pt's next-event weight at a first-segment vertex past a transparent surface (x1 on triangle
+// tri, material m, h's normals facing the light ray): the light at x0 (PathState::prev_p, normal
+// prev_n) along w_l, the path going on along w_c, pdf_rev m's density of sampling w_l from w_c
+// (pt's BSDF sampling). 0 where pt's next-event estimation does not take that side.
+LANTERN_HD inline float lt_nee_weight(const SceneView& s, const PathState& ps, int i, int li,
+                                      int tri, const Material& m, const SurfaceHit& h, Vec3 w_l,
+                                      Vec3 w_c, float pdf_rev) {
+    // pt's shading point faces the camera-side ray
+    const bool flip = dot(w_c, h.ng) < 0.0f;
+    const Vec3 ng = flip ? -h.ng : h.ng, ns = flip ? -h.ns : h.ns;
+    const bool unshadowed = pt_lamp_unshadowed(s, li);
+    const bool geo_side = light_side_agrees(m, w_l, ng, ns);
+    if (!(geo_side || terminator_passes(s, tri, w_l, ng, ns) ||
+          (unshadowed && !sides_agree(w_l, ng, ns))))
+        return 0.0f;
+    if (bidir_nee_only(s, li) || (!geo_side && !unshadowed)) return 1.0f;
+    const Light& l = s.lights[li];
+    float pdf_w;
+    if (li == s.world_light) {
+        pdf_w = world_pdf_w(s, w_l);
+    } else {
+        const Vec3 x0 = ps.prev_p[i];
+        const float t = l.type == kLightSun ? kInf : length(x0 - h.p);
+        pdf_w = light_pdf_w_at(s, l, h.p, w_l, t, ps.prev_n[i],
+                               s.motion.num_objects > 0 ? motion_time(ps.rng[i]) : 0.0f);
+    }
+    if (!(pdf_w > 0.0f)) return 1.0f;  // a delta light: next-event estimation alone
+    // the pick's normal as pt_shade takes it
+    const Vec3 n_pick = (terminator_cutoff(s, tri) > 0.0f || s.light_rays) &&
+                                dot(ns, ng) < 0.99999f
+                            ? vec3(0.0f)
+                            : light_pick_normal(s, tri, ng);
+    const float pick = s.light_tree_on ? light_pick_pmf(s, li, h.p, n_pick) : l.nee_pdf;
+    return power_heuristic(pick * pdf_w, pdf_rev);
+}
+
+}  // namespace lantern
