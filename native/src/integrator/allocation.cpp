@@ -266,9 +266,10 @@ std::string no_shadow_object_reason(const SceneInput& in) {
 }
 
 std::string bidir_visibility_reason(const SceneInput& in, bool light_tracer) {
-    // an object's Cast Shadow off: bdpt, lvc and cis on meshes (bidir_no_shadow.h); lt (light
+    // an object's Cast Shadow off: bdpt, lvc and cis on meshes (bidir_no_shadow.h), with
+    // subsurface scattering too (a walk's exit is a surface vertex, bdpt_sss.h); lt (light
     // tracing alone cannot see a light past a surface that casts it no shadow), strands,
-    // shadow linking beside it, media and subsurface scattering stay pt's
+    // shadow linking beside it and media stay pt's
     if (const std::string v = no_shadow_object_reason(in); !v.empty()) {
         bool linked = false;
         for (const LightInput& l : in.lights) linked |= l.blockers != kAllReceivers;
@@ -279,14 +280,14 @@ std::string bidir_visibility_reason(const SceneInput& in, bool light_tracer) {
         if (light_tracer) return v;
         if (linked) return v + " with shadow linking";
         if (std::string u = media_reason(in); !u.empty()) return v + " with " + u;
-        if (std::string u = subsurface_reason(in); !u.empty()) return v + " with " + u;
     }
     const std::string all = ray_visibility_reason(in);
     if (all.empty()) return all;
     // integrator/bidir_linking.h: light linking (lt, bdpt, lvc, cis), shadow linking and a
     // lamp's Cast Shadow off (not lt: light tracing alone cannot see a light past a surface
     // that casts it no shadow, nor weigh next-event estimation's share), on surfaces; light
-    // linking in media too (bdpt, lvc, cis); not yet past a subsurface walk's exit
+    // linking in media too (bdpt, lvc, cis); past a subsurface walk's exit too (bdpt, lvc, cis:
+    // the exit receives as its own surface, bdpt_sss.h; lt: not yet)
     bool shadow = false, other = false;
     for (const MeshInput& m : in.meshes) {
         if ((m.rays & kRayKindsAll) != kRayKindsAll) other = true;
@@ -301,7 +302,7 @@ std::string bidir_visibility_reason(const SceneInput& in, bool light_tracer) {
     // Cast Shadow off there, and lt's light linking, stay with pt
     if (std::string v = media_reason(in); !v.empty() && (shadow || light_tracer))
         return "linking or no shadows with " + v;
-    if (std::string v = subsurface_reason(in); !v.empty())
+    if (std::string v = subsurface_reason(in); !v.empty() && light_tracer)
         return "linking or no shadows with " + v;
     return "";
 }

@@ -138,8 +138,11 @@ LANTERN_HD inline void bdpt_sss_exit(const SceneView& s, const PathState& ps, co
     z.beta = ps.throughput[i];
     z.dvcm = bs.dvcm[i];  // the light-held set's techniques (bdpt_sss_walk), 0 where none
     z.dvc = 0.0f;
-    z.n_pick = terminator_cutoff(s, z.tri) > 0.0f && dot(z.h.ns, z.h.ng) < 0.99999f
-                   ? vec3(0.0f)  // (light from under the face too: integrator/terminator.h)
+    // (light from under the face too: integrator/terminator.h; a lamp without shadows too, as
+    // pt_sss_exit's and bdpt_camera_shade's)
+    z.n_pick = (terminator_cutoff(s, z.tri) > 0.0f || s.light_rays) &&
+                       dot(z.h.ns, z.h.ng) < 0.99999f
+                   ? vec3(0.0f)
                    : light_pick_normal(s, z.tri, z.h.ng);
     if (z.depth >= st.max_depth) return;
     Rng rng = ps.rng[i];
@@ -156,6 +159,7 @@ LANTERN_HD inline void bdpt_sss_exit(const SceneView& s, const PathState& ps, co
         bs.dvc[i] = mis(dot(wi, z.h.ng) / pdf_w) * z.dvcm;  // bdpt_scatter_update, dVC = 0
         bs.dvcm[i] = mis(1.0f / pdf_w);
         set_next_ray(ps, i, z.h.p, z.h.ng, wi, pdf_w, s.offset_scale);
+        pt_set_receiver(s, ps, i, z.tri);  // light linking: the exit receives (s = 0), as pt's
         ps.prev_p[i] = z.h.p;
         bs.prev_ng[i] = z.h.ng;
         if (s.light_tree_on || media) ps.prev_n[i] = z.n_pick;

@@ -122,8 +122,9 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
                          "or a lamp's, " +
                          (integ == "lt" ? "shadow linking, a light's or an object's Cast "
                                           "Shadow off, " : "") +
-                         "or linking and Cast Shadow off in scenes with volumes or subsurface " +
-                         "scattering (the scene has " + why + "): rendering with pt";
+                         "or linking and Cast Shadow off in scenes with volumes" +
+                         (integ == "lt" ? " or subsurface scattering" : "") +
+                         " (the scene has " + why + "): rendering with pt";
             settings_.integrator = "pt";
         }
     }
