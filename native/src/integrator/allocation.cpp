@@ -280,9 +280,10 @@ std::string lt_soft_walk_reason(const SceneInput& in) {
 }  // namespace
 
 std::string bidir_visibility_reason(const SceneInput& in, bool light_tracer) {
-    // an object's Cast Shadow off: bdpt, lvc and cis on meshes (bidir_no_shadow.h), lt too
-    // (lt_linking.h, shadow linking beside it there); strands, shadow linking beside it (bdpt,
-    // lvc, cis), media and subsurface scattering stay pt's
+    // an object's Cast Shadow off: bdpt, lvc and cis on meshes (bidir_no_shadow.h), with
+    // subsurface scattering too (a walk's exit is a surface vertex, bdpt_sss.h); lt too
+    // (lt_linking.h, shadow linking beside it there, not with subsurface); strands, shadow
+    // linking beside it (bdpt, lvc, cis) and media stay pt's
     if (light_tracer)
         if (std::string v = lt_soft_walk_reason(in); !v.empty()) return v;
     if (const std::string v = no_shadow_object_reason(in); !v.empty()) {
@@ -294,13 +295,14 @@ std::string bidir_visibility_reason(const SceneInput& in, bool light_tracer) {
             if (!c.cast_shadow) return v;
         if (linked && !light_tracer) return v + " with shadow linking";
         if (std::string u = media_reason(in); !u.empty()) return v + " with " + u;
-        if (std::string u = subsurface_reason(in); !u.empty()) return v + " with " + u;
+        if (std::string u = subsurface_reason(in); !u.empty() && light_tracer)
+            return v + " with " + u;
     }
     const std::string all = ray_visibility_reason(in);
     if (all.empty()) return all;
     // integrator/bidir_linking.h: light linking, shadow linking and a lamp's Cast Shadow off
-    // (lt: lt_linking.h), on surfaces; light linking in media too; not yet past a subsurface
-    // walk's exit
+    // (lt: lt_linking.h), on surfaces; light linking in media too; past a subsurface walk's
+    // exit too (bdpt, lvc, cis: the exit receives as its own surface, bdpt_sss.h; lt: not yet)
     bool shadow = false, other = false;
     for (const MeshInput& m : in.meshes) {
         if ((m.rays & kRayKindsAll) != kRayKindsAll) other = true;
@@ -315,7 +317,7 @@ std::string bidir_visibility_reason(const SceneInput& in, bool light_tracer) {
     // shadow linking and Cast Shadow off there stay with pt
     if (std::string v = media_reason(in); !v.empty() && shadow)
         return "linking or no shadows with " + v;
-    if (std::string v = subsurface_reason(in); !v.empty())
+    if (std::string v = subsurface_reason(in); !v.empty() && light_tracer)
         return "linking or no shadows with " + v;
     return "";
 }

@@ -103,9 +103,6 @@ LANTERN_HD inline void bdpt_camera_nee(const SceneView& s, const PathState& ps,
     bidir_nee_weights(s, ps, i, pick.light, unshadowed, w_light, w_camera);  // (linking)
     bidir_no_shadow_ratio(s, bs, i, w_light, w_camera);  // (objects without shadows)
     float w = 1.0f / (w_light + 1.0f + w_camera);
-#ifndef __CUDACC__
-    w *= bdpt_sss_split(s, z.sss_code);  // (subsurface: bdpt_sss_light.h)
-#endif
     float cos_i = fabsf(dot(ls.wi, z.h.ns));
     Vec3 c = z.beta * e.f * ls.le * (cos_i * w / pdf_light_w);
     if (st.moments && s.num_media == 0)  // (media: at the shadow ray, bdpt_medium_finish_c)
@@ -225,10 +222,6 @@ LANTERN_HD inline Connection bdpt_connect_in(const SceneView& s, const BdptSetti
     float w_light = mis(pdf_cam_a) * (y_dvcm + y_dvc * mis(ey.pdf_rev_w));
     float w_camera = mis(pdf_light_a) * (z.dvcm + z.dvc * mis(ez.pdf_rev_w));
     float w = 1.0f / (w_light + 1.0f + w_camera);
-#ifndef __CUDACC__
-    w *= bdpt_sss_split(s, bdpt_sss_value(z.sss_code),  // (subsurface: bdpt_sss_light.h)
-                        bdpt_sss_value(bdpt_sss_lv_code(y)));
-#endif
     r.c = z.beta * ez.f * y.beta * ey.f * (cos_z_ns * cos_y * inv_d2 * w);
     if (!is_finite(r.c)) r.c = vec3(0.0f);
     r.dir = dir;
@@ -470,9 +463,6 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
     CameraVertex z;
     MaterialScratch scratch;  // z.m points here when the material is resolved
     z.scratch = &scratch;
-#ifndef __CUDACC__
-    z.sss_code = bdpt_sss_split_on(st) ? uint16_t(bdpt_sss_get(bs, i)) : 0;  // (bdpt_sss_light.h)
-#endif
     // the piece's flight, lights crossed, a medium vertex, a boundary passed
     if (media && bdpt_camera_medium_segment(s, ps, bs, st, cache, i, path, z, sr)) return;
     if (tri < 0) return;
@@ -521,9 +511,6 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
             const float dvc_e = z.depth == 2 ? dvc * bdpt_direct_lt(st) : dvc;  // (lt_direct)
             w = 1.0f / (1.0f + mis(pdf_direct) * dvcm + mis(st.r * pdf_emit) * dvc_e);
             nee = mis(pdf_direct) * dvcm;
-#ifndef __CUDACC__
-            if (bdpt_sss_split_on(st)) w *= bdpt_sss_split(s, bdpt_sss_get(bs, i));
-#endif
         }
         // the camera's direct view of a Principled emitter: under its coat and sheen
         // (principled_emission_through; light it casts stays undimmed)

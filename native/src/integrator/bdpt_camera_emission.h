@@ -64,9 +64,6 @@ LANTERN_HD inline void bdpt_camera_generate(const SceneView& s, const PathState&
                                                             : s.camera, ps.ray_d[i])))
                                 : 0.0f;
     bs.dvc[i] = 0.0f;
-#ifndef __CUDACC__
-    if (bdpt_sss_split_on(st)) bdpt_sss_set(bs, i, 0);  // (subsurface: bdpt_sss_light.h)
-#endif
     if (s.num_media > 0) bdpt_camera_generate_medium(ps, bs, i);
 }
 
@@ -99,10 +96,6 @@ LANTERN_HD inline float bdpt_emission_weight(const SceneView& s, const PathState
     if (ps.depth[i] == 2) dvc *= bdpt_direct_lt(st);
     float w_camera = mis(pdf_direct) * dvcm + mis(st.r * pdf_emit) * dvc;
     if (nee_ratio) *nee_ratio = mis(pdf_direct) * dvcm;  // next-event estimation's (moments)
-#ifndef __CUDACC__
-    if (bdpt_sss_split_on(st))  // (subsurface)
-        return bdpt_sss_split(s, bdpt_sss_get(bs, i)) / (1.0f + w_camera);
-#endif
     return 1.0f / (1.0f + w_camera);
 }
 

@@ -40,7 +40,6 @@ struct CameraVertex {
     int32_t slot_medium = -1;
     bool strand = false;  // on a strand: the fiber measure's cosines (bdpt_curve.h)
     bool tube = false;    // on a strand, not the hair lobe: pt's surface point (bdpt_curve.h)
-    uint16_t sss_code;  // subsurface (CPU; set where made): its path's split code (bdpt_sss_light.h)
 };
 
 }  // namespace lantern

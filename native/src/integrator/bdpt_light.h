@@ -35,9 +35,6 @@ LANTERN_HD inline void bdpt_light_generate(const SceneView& s, const PathState& 
     bs.power[i] = vec3(0.0f);
     bs.store[i] = 0;
     if (s.light_receivers && ps.recv_set) ps.recv_set[i] = 1;  // (bidir_linking_medium.h)
-#ifndef __CUDACC__
-    if (bdpt_sss_split_on(st)) bdpt_sss_set(bs, i, 0);
-#endif
     float u_pick = rng.uniform();
     Vec2 u_pos = rng.uniform2(), u_dir = rng.uniform2();
     ps.rng[i] = rng;
@@ -239,10 +236,6 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
         v.path = int32_t(path);
         v.length = int16_t(k);
         v.front = h.front ? 1 : 0;
-#ifndef __CUDACC__
-        if (bdpt_sss_split_on(st))  // (bdpt_sss_light.h)
-            v.front = int16_t(uint16_t(v.front | (bdpt_sss_get(bs, i) << 2)));
-#endif
         v.coat_n = (m.tex_flags & kCoatNormal) || material_keeps_unbent_normal(m)
                        ? oct_encode(h.coat_n)
                        : 0u;
@@ -276,9 +269,6 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
                                                           cc.importance * cos_wc_ng,
                                                           e.pdf_rev_w, k);
                 LightPathState lp{nullptr, bs.splat_xy};
-#ifndef __CUDACC__
-                if (bdpt_sss_split_on(st)) w *= bdpt_sss_split(s, bdpt_sss_get(bs, i));
-#endif
                 Vec3 c = beta * e.f * (cos_y * cc.importance * w);
                 if (media) {  // the weight finished with the camera segment's factors
                     const float n_lt = k == 1 ? st.n_lt * st.lt_direct : st.n_lt;

@@ -57,11 +57,8 @@ LANTERN_HD inline float bdpt_sss_camera_exit_dvcm(const SceneView& s, const Path
     const Vec3 d = ps.ray_d[i];
     const SurfaceHit h = surface_at_time(s, tri, uv, d, time);  // as sss_walk_path's
     MaterialScratch scratch;
-    const Material& m = material_at_point(
-        s, s.tri_material[tri], [h, tri, uv, wo = -d] { return shade_point(h, tri, uv, wo); },
-        scratch);
-    const Frame shading = h.frame();
-    const Frame frame = shading.to_local(-d).z > 0.0f ? shading : Frame::from_normal(h.ng);
+    const Material& m = sss_entry_material(s, h, tri, uv, d, scratch);
+    const Frame frame = sss_entry_frame(h, -d);
     Vec3 wi_l;
     if (!sss_entry(m, frame.to_local(-d), rng.uniform2(), &wi_l)) return 0.0f;
     const Vec3 out = -frame.to_world(wi_l);  // the light's last walk direction, outward
@@ -139,11 +136,13 @@ LANTERN_HD inline void bdpt_sss_exit(const SceneView& s, const PathState& ps, co
         z.slot_medium = ps.medium[i];
     }
     z.beta = ps.throughput[i];
-    z.sss_code = 0;
     z.dvcm = bs.dvcm[i];  // the light-held set's techniques (bdpt_sss_walk), 0 where none
     z.dvc = 0.0f;
-    z.n_pick = terminator_cutoff(s, z.tri) > 0.0f && dot(z.h.ns, z.h.ng) < 0.99999f
-                   ? vec3(0.0f)  // (light from under the face too: integrator/terminator.h)
+    // (light from under the face too: integrator/terminator.h; a lamp without shadows too, as
+    // pt_sss_exit's and bdpt_camera_shade's)
+    z.n_pick = (terminator_cutoff(s, z.tri) > 0.0f || s.light_rays) &&
+                       dot(z.h.ns, z.h.ng) < 0.99999f
+                   ? vec3(0.0f)
                    : light_pick_normal(s, z.tri, z.h.ng);
     if (z.depth >= st.max_depth) return;
     Rng rng = ps.rng[i];
@@ -160,6 +159,7 @@ LANTERN_HD inline void bdpt_sss_exit(const SceneView& s, const PathState& ps, co
         bs.dvc[i] = mis(dot(wi, z.h.ng) / pdf_w) * z.dvcm;  // bdpt_scatter_update, dVC = 0
         bs.dvcm[i] = mis(1.0f / pdf_w);
         set_next_ray(ps, i, z.h.p, z.h.ng, wi, pdf_w, s.offset_scale);
+        pt_set_receiver(s, ps, i, z.tri);  // light linking: the exit receives (s = 0), as pt's
         ps.prev_p[i] = z.h.p;
         bs.prev_ng[i] = z.h.ng;
         if (s.light_tree_on || media) ps.prev_n[i] = z.n_pick;

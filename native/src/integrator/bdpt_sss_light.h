@@ -22,9 +22,9 @@
 // pixel density against light tracing's count, the lamp's next-event density against its
 // emission, the connections' densities. The light exit's splat counts lt_direct at x_back's
 // k = 1 as the camera side does at a first vertex (NEE; the second vertex's emission). Several
-// walks compose through the recursion. (The 14-bit split code of sssbidir, which weighed the
-// sets by r alone and 0/1 connectability, is left at 0: bdpt_sss_split reads 1.) Which side can
-// walk at W: the camera on any triangle with subsurface, the light on those with Skin (lt's
+// walks compose through the recursion. (sssbidir's 14-bit split code, which weighed the sets by
+// r alone and 0/1 connectability, was removed after the whole-path split made it inert: every
+// technique read 1 from it; sssbidir2.) Which side can walk at W: the camera on any triangle with subsurface, the light on those with Skin (lt's
 // rule: lt hands Random Walk to pt, its tails; LANTERN_SSS_ADJOINT lets light paths walk Random
 // Walk). Control 3 (LANTERN_SSS_ADJOINT=nosplit, the tests' negative control): both exits'
 // dVCM 0, each set weighed within itself alone, every path both can make counted twice.
@@ -50,51 +50,21 @@ LANTERN_HD inline bool bdpt_sss_light_walks(const SceneView& s, int tri) {
     if (s.num_media > 0 || !bdpt_sss_camera_walks(s, tri)) return false;
     return s.materials[s.tri_material[tri]].ss_skin || s.sss_adjoint_control != 0;
 }
-// The split's code of the slot's path so far (the light pass: the light path's, the camera
-// pass: the camera path's) lives in BdptState::dpt1 as a float (exact: 14 bits), which only
-// moments and connection maps use: with either on, no light path walks and nothing is split
-// (the camera side's walks alone, as before). (No state of its own: the device's kernels keep
-// their code.)
+// Whether light paths walk and the exits carry the split: not where moments or a per-pixel
+// connection map are on (their parts of dVC, pt's techniques, are not carried through a walk):
+// there the camera side walks alone, its exits starting afresh (dVCM 0), as before sssbidir.
 LANTERN_HD inline bool bdpt_sss_split_on(const BdptSettings& st) {
     return !st.moments && !st.conn_map;
-}
-LANTERN_HD inline int bdpt_sss_get(const BdptState& bs, int i) { return int(bs.dpt1[i]); }
-LANTERN_HD inline void bdpt_sss_set(const BdptState& bs, int i, int code) {
-    bs.dpt1[i] = float(code);
-}
-// S >= 0 as a 14-bit code: 0 for 0, else log2 S in [-32, 32) in steps of 1/256 (clamped)
-LANTERN_HD inline uint16_t bdpt_sss_code(float v) {
-    if (!(v > 0.0f)) return 0;
-    return uint16_t(clampf(rintf((log2f(fminf(v, 1e30f)) + 32.0f) * 256.0f), 1.0f, 16383.0f));
-}
-LANTERN_HD inline float bdpt_sss_value(int code) {
-    return code == 0 ? 0.0f : exp2f(float(code) * (1.0f / 256.0f) - 32.0f);
-}
-LANTERN_HD inline int bdpt_sss_lv_code(const LightVertex& y) { return int(uint16_t(y.front)) >> 2; }
-// I: the segment that ends here (dVCM, dVC of its side there) has a connectable pair
-LANTERN_HD inline float bdpt_sss_conn(float dvcm, float dvc) {
-    return dvcm > 0.0f || dvc > 0.0f ? 1.0f : 0.0f;
 }
 // r at a walk's entry x (normals facing the view w): d the walk's direction at x, outward (the
 // light's last, the camera's first reversed); the frame as sss_walk_path's and lt_sss_exit_f's
 LANTERN_HD inline float bdpt_sss_ratio(const Material& m, const SurfaceHit& x, Vec3 d, Vec3 w) {
     const float cos_d = fabsf(dot(d, x.ng));
     if (!(cos_d > 0.0f)) return 0.0f;
-    const Frame shading = x.frame();
-    const Frame frame = shading.to_local(w).z > 0.0f ? shading : Frame::from_normal(x.ng);
+    const Frame frame = sss_entry_frame(x, w);
     const float r = mis(kPi * sss_entry_pdf(m, frame.to_local(w), frame.to_local(-d)) / cos_d);
     return is_finite(r) ? r : 0.0f;
 }
-// The share of the technique's set, 1 / (1 + S_cam + S_light) (1 where the path has no walk).
-// Control 3 (tests' negative control, LANTERN_SSS_ADJOINT=nosplit): every set at weight 1.
-LANTERN_HD inline float bdpt_sss_split(const SceneView& s, float s_cam, float s_light) {
-    const float w = 1.0f / (1.0f + s_cam + s_light);
-    return s.sss_adjoint_control == 3 || !(w < 1.0f) ? 1.0f : w;
-}
-LANTERN_HD inline float bdpt_sss_split(const SceneView& s, int code) {
-    return bdpt_sss_split(s, bdpt_sss_value(code), 0.0f);
-}
-
 // s >= 2 to a light exit (bdpt_connect_in calls it; defined in bdpt_sss.h)
 struct Connection;  // bdpt_camera.h
 LANTERN_HD inline Connection bdpt_connect_sss_exit(const SceneView& s, const CameraVertex& z,
@@ -215,22 +185,10 @@ LANTERN_HD inline void bdpt_light_sss_walk(const SceneView& s, const Rays& rays,
     const Vec2 uv = ps.hit_uv[i];
     const Vec3 d = ps.ray_d[i];
     const SurfaceHit h = bdpt_surface(s, st, path, tri, uv, d);  // faces the light
-    MaterialScratch scratch;
-    const Material& m = material_at_point(
-        s, s.tri_material[tri], [h, tri, uv, wo = -d] { return shade_point(h, tri, uv, wo); },
-        scratch);
-    float pdf_w = 0.0f;
-    const Vec3 dir = Frame::from_normal(-h.ng).to_world(
-        sample_cosine_hemisphere(rng.uniform2(), &pdf_w));
-    if (pdf_w > 0.0f && dot(dir, h.ng) < 0.0f) {
-        const SssMedium md = sss_medium(m);
-        const Vec3 o = offset_ray_origin(h.p, h.ng, dir, s.offset_scale);
-        sss_walk_medium(s, rays, kind, md, o, dir, ps.throughput[i] * md.low, rng, time,
-                        [&](int prim, Vec2 xuv, Vec3 last, Vec3 beta) {
-                            bdpt_light_sss_exit(s, ps, bs, st, i, path, prim, xuv, last, beta,
-                                                rng);
-                        });
-    }
+    lt_sss_entry(s, rays, kind, h, tri, uv, d, ps.throughput[i], rng, time,
+                 [&](int prim, Vec2 xuv, Vec3 last, Vec3 beta) {
+                     bdpt_light_sss_exit(s, ps, bs, st, i, path, prim, xuv, last, beta, rng);
+                 });
     ps.rng[i] = rng;
 }
 

@@ -29,6 +29,12 @@
 // Class A: s = 1 with pt's weight and no shadow ray, s = 0 with pt's weight (the ratio of
 // next-event estimation alone, bdpt_emission_weight's nee), every light-path technique 0 (the
 // light pass as above); class B (x1 delta) as for shadow linking. pt's light pick normal too.
+//
+// Subsurface (pt_sss.h's rule): a walk's exit is a surface vertex of the object it leaves, its
+// receiver set that surface's, the walk's interior receives nothing. The camera side's exit
+// (bdpt_sss.h) is a camera vertex (s = 1 from it, recv_set at its continuation for s = 0); the
+// light side's walk enters at y1 = x_o, checked as any y1, and its walk is a non-delta
+// scattering there (no walk at y1 of a shadow-linked light or a lamp without shadows).
 #pragma once
 
 #include "integrator/pt_light_linking.h"

@@ -21,8 +21,10 @@
 //   - s = 0 and the light pass trace as ever (BSDF rays), t = 1 the camera query (camera rays).
 // The weights of each term sum to one over the techniques that make its paths: exact where
 // next-event estimation samples the light. A lamp's Cast Shadow off adds no shadow ray at all
-// (bidir_linking.h); shadow linking, media, subsurface scattering and non-casting strands stay
-// pt's (allocation.cpp bidir_visibility_reason). lt: lt_linking.h.
+// (bidir_linking.h); shadow linking, media and non-casting strands stay pt's (allocation.cpp
+// bidir_visibility_reason). lt: lt_linking.h. A subsurface walk's exit (bdpt_sss.h) is a camera
+// vertex like any: its s = 1 takes the same ratio (its dVCM, the light-held set's, is part of
+// w_camera).
 #pragma once
 
 #include "integrator/bdpt_common.h"

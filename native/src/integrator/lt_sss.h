@@ -61,8 +61,7 @@ LANTERN_HD inline Vec3 lt_sss_exit_f(const Material& m, const SurfaceHit& x, Vec
     const float cos_d = fabsf(dot(d, x.ng));
     if (!(dot(w, x.ng) > 0.0f) || !(cos_d > 0.0f)) return vec3(0.0f);
     if (control == 1) return vec3(dot(w, x.ns) > 0.0f ? kInvPi : 0.0f);  // the forward exit
-    const Frame shading = x.frame();
-    const Frame frame = shading.to_local(w).z > 0.0f ? shading : Frame::from_normal(x.ng);
+    const Frame frame = sss_entry_frame(x, w);
     const Vec3 wo = frame.to_local(w);
     const float q = sss_entry_pdf(m, wo, frame.to_local(-d));
     if (!(q > 0.0f)) return vec3(0.0f);
@@ -164,6 +163,26 @@ LANTERN_HD inline void lt_sss_exit(const SceneView& s, const PathState& ps,
     set_next_ray(ps, i, x.p, x.ng, wo, pdf_w, s.offset_scale);
 }
 
+// ---- lt's entry at x_o (h: the hit at triangle tri, barycentrics uv, reached along d, facing
+// the light; beta the path's throughput there): a cosine about the inward geometric normal, the
+// walk in the medium of x_o's material, exit(prim, uv, last, beta) where it leaves. lt's walk
+// stage and the bidirectional light paths' (bdpt_sss_light.h) share it. Draws uniform2 (the
+// cosine), then the walk's ----
+template <class Rays, class Kind, class Exit>
+LANTERN_HD inline void lt_sss_entry(const SceneView& s, const Rays& rays, Kind kind,
+                                    const SurfaceHit& h, int tri, Vec2 uv, Vec3 d, Vec3 beta,
+                                    Rng& rng, float time, const Exit& exit) {
+    MaterialScratch scratch;
+    const Material& m = sss_entry_material(s, h, tri, uv, d, scratch);
+    float pdf_w = 0.0f;
+    const Vec3 dir = Frame::from_normal(-h.ng).to_world(
+        sample_cosine_hemisphere(rng.uniform2(), &pdf_w));
+    if (!(pdf_w > 0.0f) || !(dot(dir, h.ng) < 0.0f)) return;
+    const SssMedium md = sss_medium(m);
+    const Vec3 o = offset_ray_origin(h.p, h.ng, dir, s.offset_scale);
+    sss_walk_medium(s, rays, kind, md, o, dir, beta * md.low, rng, time, exit);
+}
+
 // ---- The walk stage, after the bounce's splats (schedule_lt.h): for a path with alive ==
 // kAliveSss, the entry at its hit (x_o: the hit and the ray lt_shade shaded), the walk in the
 // medium of x_o's material, the exit. Every other slot's splat is done: its shadow is cleared
@@ -181,23 +200,11 @@ LANTERN_HD inline void lt_sss_walk(const SceneView& s, const Rays& rays, Kind ki
     const Vec2 uv = ps.hit_uv[i];
     const Vec3 d = ps.ray_d[i];
     const SurfaceHit h = surface_at_time(s, tri, uv, d, time);  // faces the light
-    MaterialScratch scratch;
-    const Material& m = material_at_point(
-        s, s.tri_material[tri], [h, tri, uv, wo = -d] { return shade_point(h, tri, uv, wo); },
-        scratch);
-    float pdf_w = 0.0f;
-    const Vec3 dir = Frame::from_normal(-h.ng).to_world(
-        sample_cosine_hemisphere(rng.uniform2(), &pdf_w));
-    if (pdf_w > 0.0f && dot(dir, h.ng) < 0.0f) {
-        const SssMedium md = sss_medium(m);
-        const Vec3 o = offset_ray_origin(h.p, h.ng, dir, s.offset_scale);
-        const int depth = ps.depth[i];
-        sss_walk_medium(s, rays, kind, md, o, dir, ps.throughput[i] * md.low, rng, time,
-                        [&](int prim, Vec2 xuv, Vec3 last, Vec3 beta) {
-                            lt_sss_exit(s, ps, lp, st, i, prim, xuv, last, beta, depth, time,
-                                        rng);
-                        });
-    }
+    const int depth = ps.depth[i];
+    lt_sss_entry(s, rays, kind, h, tri, uv, d, ps.throughput[i], rng, time,
+                 [&](int prim, Vec2 xuv, Vec3 last, Vec3 beta) {
+                     lt_sss_exit(s, ps, lp, st, i, prim, xuv, last, beta, depth, time, rng);
+                 });
     ps.rng[i] = rng;
 }
 

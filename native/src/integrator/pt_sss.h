@@ -331,6 +331,25 @@ LANTERN_HD inline void pt_sss_exit(const SceneView& s, const PathState& ps, cons
     }
 }
 
+// ---- The entry's frame for the view w (world; h's normals facing it): the shading normal's,
+// or where that turns away from the viewer (smooth normals at a silhouette) the geometric
+// normal's (Cycles bends N there instead). The camera side's walk (sss_walk_path, and the
+// split's r in bdpt_sss.h / bdpt_sss_light.h) and the adjoint exit's lobe (lt_sss_exit_f) ----
+LANTERN_HD inline Frame sss_entry_frame(const SurfaceHit& h, Vec3 w) {
+    const Frame shading = h.frame();
+    return shading.to_local(w).z > 0.0f ? shading : Frame::from_normal(h.ng);
+}
+
+// ---- The material at a walk's entry h (triangle tri, barycentrics uv, reached along d),
+// resolved into scratch as the shade stage's (the camera side's and lt's entries) ----
+LANTERN_HD inline const Material& sss_entry_material(const SceneView& s, const SurfaceHit& h,
+                                                     int tri, Vec2 uv, Vec3 d,
+                                                     MaterialScratch& scratch) {
+    return material_at_point(
+        s, s.tri_material[tri], [h, tri, uv, wo = -d] { return shade_point(h, tri, uv, wo); },
+        scratch);
+}
+
 // ---- The walk from a hit: the entry at triangle tri (barycentrics uv, reached along d), the
 // walk, and at its end exit(tri, uv, dir, p, ng, ns, beta, depth): the exit's triangle,
 // barycentrics, the direction that found it (pt_surface orients the normals against it, so the
@@ -350,13 +369,8 @@ LANTERN_HD inline void sss_walk_path(const SceneView& s, const Rays& rays, Kind 
                                      float time, const Exit& exit) {
     const SurfaceHit h = surface_at_time(s, tri, uv, d, time);
     MaterialScratch scratch;
-    const Material& m = material_at_point(
-        s, s.tri_material[tri], [h, tri, uv, wo = -d] { return shade_point(h, tri, uv, wo); },
-        scratch);
-    // the entry's frame: the shading normal's, or where it turns away from the viewer (smooth
-    // normals at a silhouette) the geometric normal's (Cycles bends N there instead)
-    const Frame shading = h.frame();
-    const Frame frame = shading.to_local(-d).z > 0.0f ? shading : Frame::from_normal(h.ng);
+    const Material& m = sss_entry_material(s, h, tri, uv, d, scratch);
+    const Frame frame = sss_entry_frame(h, -d);
     const Vec3 wo = frame.to_local(-d);
     // the walk's weight at the entry (sss_entry_weight); the caller has divided by the walk's
     // probability

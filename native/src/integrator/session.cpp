@@ -94,7 +94,9 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
         } else if (const std::string ss = subsurface_volume_reason(scene); !ss.empty()) {
             // subsurface: pt, the camera paths of bdpt, lvc and cis (bdpt_sss.h) and lt's light
             // paths (the adjoint walk, lt_sss.h) walk; their exits leave into the medium around
-            // the object (pt's rule), not a volume inside the walking mesh
+            // the object (pt's rule), not a volume inside the walking mesh (a walk entered from
+            // inside that volume would leave into it wherever it lands: docs/subsurface.md,
+            // "Handed to pt")
             media_note = "integrator '" + integ + "' does not render " + ss +
                          ": rendering with pt";
             settings_.integrator = "pt";
@@ -119,8 +121,9 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
         const std::string why = bidir_visibility_reason(scene, integ == "lt");
         if (!why.empty()) {
             media_note = "integrator '" + integ + "' does not honour object ray visibility " +
-                         "or a lamp's, or linking and Cast Shadow off in scenes with volumes " +
-                         "or subsurface scattering (the scene has " + why + "): rendering with pt";
+                         "or a lamp's, or linking and Cast Shadow off in scenes with volumes" +
+                         (integ == "lt" ? " or subsurface scattering" : "") +
+                         " (the scene has " + why + "): rendering with pt";
             settings_.integrator = "pt";
         }
     }
