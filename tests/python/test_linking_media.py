@@ -8,7 +8,8 @@ emissive quad above them) in world fog, the lamp lighting the floor, the wall an
 0 and 1), the quad ball B alone (set 2): fog the camera sees before any surface (set 0) takes
 the lamp's light and not the quad's; fog seen past ball B the quad's alone. bdpt, lvc and cis
 render it themselves (no hand-over) against pt; the control, the scene without the linking,
-must fail. lt, shadow linking and Cast Shadow off in fog still hand over to pt, with pt's bits."""
+must fail. lt's light and shadow linking in fog still hand over to pt, with pt's bits (bdpt,
+lvc and cis render shadow linking in media themselves: test_linking_shadow_media.py)."""
 import numpy as np
 import pytest
 
@@ -74,9 +75,9 @@ def test_light_linking_in_fog_matches_pt(pt_ref, integrator):
     assert not metrics.compare_renders(free, pt_ref, block=4).passed
 
 
-@pytest.mark.parametrize("integrator,shadow", [("lt", False), ("bdpt", True)])
+@pytest.mark.parametrize("integrator,shadow", [("lt", False), ("lt", True)])
 def test_hands_over_in_fog(core, integrator, shadow):
-    """lt's light linking and shadow linking in fog stay with pt (allocation.cpp), same bits."""
+    """lt's light and shadow linking in fog stay with pt (allocation.cpp), same bits."""
     img, warnings = render(foggy(shadow=shadow), integrator, 7, spp=2)
     assert any("rendering with pt" in w for w in warnings), warnings
     np.testing.assert_array_equal(img, render(foggy(shadow=shadow), "pt", 7, spp=2)[0])

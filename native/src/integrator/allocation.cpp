@@ -286,20 +286,21 @@ std::string bidir_visibility_reason(const SceneInput& in, bool light_tracer) {
     // integrator/bidir_linking.h: light linking (lt, bdpt, lvc, cis), shadow linking and a
     // lamp's Cast Shadow off (not lt: light tracing alone cannot see a light past a surface
     // that casts it no shadow, nor weigh next-event estimation's share), on surfaces; light
-    // linking in media too (bdpt, lvc, cis); not yet past a subsurface walk's exit
-    bool shadow = false, other = false;
+    // and shadow linking in media too (bdpt, lvc, cis); not yet past a subsurface walk's exit
+    bool shadow = false, unshadowed = false, other = false;
     for (const MeshInput& m : in.meshes) {
         if ((m.rays & kRayKindsAll) != kRayKindsAll) other = true;
         if (m.shadow_set != 0 || m.emitter_blockers != kAllReceivers) shadow = true;
     }
     for (const LightInput& l : in.lights) {
         if ((l.rays & kRayKindsAll) != kRayKindsAll) other = true;
-        if (l.blockers != kAllReceivers || !l.cast_shadow) shadow = true;
+        if (l.blockers != kAllReceivers) shadow = true;
+        if (!l.cast_shadow) unshadowed = true;
     }
-    if (other || (shadow && light_tracer)) return all;
-    // light linking with media: bdpt, lvc, cis (bidir_linking_medium.h); shadow linking and
+    if (other || ((shadow || unshadowed) && light_tracer)) return all;
+    // light and shadow linking with media: bdpt, lvc, cis (bidir_linking_medium.h); a lamp's
     // Cast Shadow off there, and lt's light linking, stay with pt
-    if (std::string v = media_reason(in); !v.empty() && (shadow || light_tracer))
+    if (std::string v = media_reason(in); !v.empty() && (unshadowed || light_tracer))
         return "linking or no shadows with " + v;
     if (std::string v = subsurface_reason(in); !v.empty())
         return "linking or no shadows with " + v;
