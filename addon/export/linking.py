@@ -3,7 +3,8 @@ Collections) as Lantern's receiver and blocker sets (native/src/integrator/pt_li
 pt; the bidirectional integrators hand such a scene to pt with a warning). As Blender's
 depsgraph decides: an emitter whose collection includes some objects lights (is shadowed by)
 only those; one that only excludes, every object but those (a child collection's state applies
-to every object in it). Meshes with the same answer for every linked emitter share a set (at
+to every object in it). Meshes and strand sets (a Curves object's, a mesh's particle hair: its
+object's) with the same answer for every linked emitter share a set (at
 most 64, as in Cycles; set 0 is that of an object in no collection, which pt gives a world
 volume's points too); each linked emitter (a lamp or an emissive mesh) carries the mask of
 the sets it lights (receivers) or that shadow it (blockers)."""
@@ -53,6 +54,11 @@ class LightLinking:
 
     def light(self, obj, light):
         self._emitter(obj, light)
+
+    def curves(self, obj, sets):
+        """An object's strand sets (a Curves object's, a mesh's particle hair): its object's
+        receiver and blocker sets, as Cycles links a hair's segments through their object."""
+        self.meshes += [(obj.name, st) for st in sets]
 
     def finish(self):
         for attr, set_field, mask_field, what in self.KINDS:

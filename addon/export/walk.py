@@ -76,6 +76,7 @@ class Walk:
                          cast_shadow=bool(getattr(obj, "visible_shadow", True)))
                     for st in source.strands(inst)]
             self.scene.curves.extend(sets)
+            self.linking.curves(obj, sets)  # its object's receiver and blocker sets
             if self.motion is not None and sets:  # motion blur of the strands (motion.py)
                 self.motion.strands(inst, sets, source.strands)
         if not inst.show_self:  # an instancer hidden (show_instancer_for_render / _viewport)

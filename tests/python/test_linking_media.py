@@ -8,8 +8,9 @@ emissive quad above them) in world fog, the lamp lighting the floor, the wall an
 0 and 1), the quad ball B alone (set 2): fog the camera sees before any surface (set 0) takes
 the lamp's light and not the quad's; fog seen past ball B the quad's alone. bdpt, lvc and cis
 render it themselves (no hand-over) against pt; the control, the scene without the linking,
-must fail (lt: test_lt_linking.py). Shadow linking and Cast Shadow off in fog still hand over
-to pt, with pt's bits."""
+must fail (lt: test_lt_linking.py). lt's shadow linking in fog still hands over to pt, with
+pt's bits (bdpt, lvc and cis render shadow linking in media themselves:
+test_linking_shadow_media.py).
 import numpy as np
 import pytest
 
@@ -75,9 +76,9 @@ def test_light_linking_in_fog_matches_pt(pt_ref, integrator):
     assert not metrics.compare_renders(free, pt_ref, block=4).passed
 
 
-@pytest.mark.parametrize("integrator,shadow", [("lt", True), ("bdpt", True)])
+@pytest.mark.parametrize("integrator,shadow", [("lt", True)])
 def test_hands_over_in_fog(core, integrator, shadow):
-    """Shadow linking in fog stays with pt (allocation.cpp), same bits."""
+    """lt's shadow linking in fog stays with pt (allocation.cpp), same bits."""
     img, warnings = render(foggy(shadow=shadow), integrator, 7, spp=2)
     assert any("rendering with pt" in w for w in warnings), warnings
     np.testing.assert_array_equal(img, render(foggy(shadow=shadow), "pt", 7, spp=2)[0])

@@ -301,21 +301,25 @@ std::string bidir_visibility_reason(const SceneInput& in, bool light_tracer) {
     const std::string all = ray_visibility_reason(in);
     if (all.empty()) return all;
     // integrator/bidir_linking.h: light linking, shadow linking and a lamp's Cast Shadow off
-    // (lt: lt_linking.h), on surfaces; light linking in media too; past a subsurface walk's
-    // exit too (bdpt, lvc, cis: the exit receives as its own surface, bdpt_sss.h; lt: not yet)
-    bool shadow = false, other = false;
+    // (lt: lt_linking.h), on surfaces; light and shadow linking in media too (lt: light
+    // linking); past a subsurface walk's exit too (bdpt, lvc, cis: the exit receives as its own
+    // surface, bdpt_sss.h; lt: not yet)
+    bool shadow = false, unshadowed = false, other = false;
     for (const MeshInput& m : in.meshes) {
         if ((m.rays & kRayKindsAll) != kRayKindsAll) other = true;
         if (m.shadow_set != 0 || m.emitter_blockers != kAllReceivers) shadow = true;
     }
     for (const LightInput& l : in.lights) {
         if ((l.rays & kRayKindsAll) != kRayKindsAll) other = true;
-        if (l.blockers != kAllReceivers || !l.cast_shadow) shadow = true;
+        if (l.blockers != kAllReceivers) shadow = true;
+        if (!l.cast_shadow) unshadowed = true;
     }
     if (other) return all;
-    // light linking with media: lt, bdpt, lvc, cis (bidir_linking_medium.h, lt_linking.h);
-    // shadow linking and Cast Shadow off there stay with pt
-    if (std::string v = media_reason(in); !v.empty() && shadow)
+    // light and shadow linking with media: bdpt, lvc, cis (bidir_linking_medium.h); lt's light
+    // linking (lt_linking.h). A lamp's Cast Shadow off there, and lt's shadow linking there,
+    // stay with pt
+    if (std::string v = media_reason(in);
+        !v.empty() && (unshadowed || (shadow && light_tracer)))
         return "linking or no shadows with " + v;
     if (std::string v = subsurface_reason(in); !v.empty() && light_tracer)
         return "linking or no shadows with " + v;

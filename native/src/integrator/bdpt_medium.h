@@ -208,7 +208,10 @@ LANTERN_HD inline float bdpt_medium_phase(const Medium& m, Vec3 wo, Vec3 wi) {
 // end is a medium vertex. Zero transmittance when any surface but a volume boundary blocks it.
 // Heterogeneous media: ratio tracking with numbers from *track (null: a fixed stream), the
 // factors by the stand-in (bdpt_medium_hetero.h). time: the path's shutter time (motion blur:
-// the segment's rays, and the volume boundaries it crosses, where they are then). ----
+// the segment's rays, and the volume boundaries it crosses, where they are then).
+// blockers: a shadow-linked light's blocker sets (next-event estimation's segment, s = 1): a
+// surface or boundary of a set outside them is passed as if absent, the medium unchanged
+// (pt_shadow_loop's rule). ----
 struct MediumShadow {
     Vec3 tr;
     MediumSegmentPdf seg;
@@ -218,7 +221,8 @@ template <class Rays, class Kind>
 LANTERN_HD inline MediumShadow bdpt_medium_shadow(const SceneView& s, const Rays& rays, Kind kind,
                                                   Vec3 o, Vec3 d, float tmax, int32_t med,
                                                   bool start_medium, bool end_medium,
-                                                  Rng* track = nullptr, float time = 0.0f) {
+                                                  Rng* track = nullptr, float time = 0.0f,
+                                                  uint64_t blockers = kAllReceivers) {
     MediumShadow r{vec3(1.0f), medium_segment_begin(start_medium)};
     Rng fixed = medium_tracking_rng(Rng{}, 1);
     for (int k = 0; k < 256; ++k) {  // boundaries crossed (a bound: never an endless loop)
@@ -236,9 +240,12 @@ LANTERN_HD inline MediumShadow bdpt_medium_shadow(const SceneView& s, const Rays
             medium_segment_piece(r.seg, m, t, !hit && end_medium);
         }
         if (!hit) return r;
-        if (!(s.tri_flags[h.prim] & kVolumeBoundary) || is_black(r.tr)) break;
-        const BoundarySide b = boundary_side_at(s, int(h.prim), h.uv, d, time);  // (moving)
-        med = medium_across(s, h.prim, b.front, med);
+        const bool passed = blockers != kAllReceivers && s.tri_shadow_set &&
+                            !((blockers >> s.tri_shadow_set[h.prim]) & 1u);
+        if ((!passed && !(s.tri_flags[h.prim] & kVolumeBoundary)) || is_black(r.tr)) break;
+        BoundarySide b{d, true};  // a strand passed: along the ray (pt_light_linking.h)
+        if (h.prim < s.num_triangles) b = boundary_side_at(s, int(h.prim), h.uv, d, time);
+        if (!passed) med = medium_across(s, h.prim, b.front, med);
         const Vec3 next = offset_ray_origin(o + d * h.t, b.ng, d, s.offset_scale);
         if (tmax < kInf) tmax = fmaxf(tmax - dot(next - o, d), 0.0f);
         o = next;

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "integrator/bdpt_medium.h"
+#include "integrator/bidir_linking.h"  // shadow linking (y1)
 #include "integrator/soft_light_medium.h"
 
 namespace lantern {
@@ -43,6 +44,9 @@ LANTERN_HD inline void bdpt_light_medium_vertex(const SceneView& s, const PathSt
         ps.recv_set[i] = 0;
         if (!pt_light_links(s, bs.light[i], 0)) return;
     }
+    // shadow linking (bidir_linking.h): y1 of a shadow-linked light scattering off the phase
+    // function (no delta lobe) is next-event estimation's alone: not stored, splatted, continued
+    if (k == 1 && bidir_nee_only(s, bs.light[i])) return;
     const bool soft = k == 1 && light_receiver_dependent(l);
     if (soft) {  // the light arrives from y0 on the disk facing p (soft_light_medium.h)
 #ifdef __CUDA_ARCH__

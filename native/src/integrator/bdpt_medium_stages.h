@@ -185,10 +185,13 @@ LANTERN_HD inline void bdpt_camera_medium_nee(const SceneView& s, const PathStat
     const bool soft = light_receiver_dependent(l);
     if (soft)
         pdf_lp = st.r > 0.0f ? soft_light_path_pdf_a_medium(s, sr, l, z.h.p, vec3(0.0f)) : 0.0f;
-    const float w_light = ls.delta ? 0.0f : mis(ph / pdf_light_w);
+    float w_light = ls.delta ? 0.0f : mis(ph / pdf_light_w);
     const float dvcm_z = z.depth == 1 ? z.dvcm * bdpt_direct_lt(st)
                                       : camera_conn_dvcm(st, z.dvcm, z.depth);
-    const float w_camera = mis(st.r * pdf_lp / pdf_nee) * (dvcm_z + z.dvc * mis(ph));
+    float w_camera = mis(st.r * pdf_lp / pdf_nee) * (dvcm_z + z.dvc * mis(ph));
+    // shadow linking: its shadow ray's light, next-event estimation alone (bidir_linking.h;
+    // a phase function is no delta lobe)
+    bidir_nee_weights(s, ps, i, pick.light, false, w_light, w_camera);
     const float w = 1.0f / (w_light + 1.0f + w_camera);
     const Vec3 c = z.beta * ls.le * (ph * w / pdf_light_w);
     if (!is_finite(c)) {

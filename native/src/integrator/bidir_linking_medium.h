@@ -21,9 +21,10 @@
 //   - next-event estimation at a camera medium vertex (s = 1) and emission found past one
 //     (s = 0): PathState::recv_set, as pt (a camera medium vertex writes its receiver there,
 //     as pt's scatter does).
-// Shadow linking and a lamp's Cast Shadow off in media stay with pt (allocation.cpp): pt's
-// shadow rays through media ignore blocker sets (pt_shadow_medium), which no technique here
-// reproduces without its weights.
+// Shadow linking in media follows bidir_linking.h's classes (a medium vertex scatters off no
+// delta lobe): s = 1 alone, its shadow ray through media with the light's blocker sets
+// (bdpt_medium_shadow, as pt_shadow_loop); a light sub-path's y1 in a medium ends there
+// (bdpt_medium_light.h). A lamp's Cast Shadow off in media stays with pt (allocation.cpp).
 #pragma once
 
 #include "integrator/pt_light_linking.h"

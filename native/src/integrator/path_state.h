@@ -51,6 +51,7 @@ struct PathState {
     Vec3* vshadow_contrib = nullptr;
     int32_t* vshadow_medium = nullptr;
     uint8_t* vshadow_valid = nullptr;
+    int32_t* vshadow_light = nullptr;  // its light, as shadow_light (shadow linking)
     // the RayKinds of the scattering that made the current ray (pt, integrator/
     // pt_ray_visibility.h); written only where SceneView::tri_rays is set, may be null
     uint8_t* ray_kind = nullptr;

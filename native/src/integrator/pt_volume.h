@@ -65,7 +65,7 @@ LANTERN_HD inline void pt_medium_nee(const SceneView& s, const PathState& ps, in
         !pt_light_links(s, pick.light, pt_medium_receiver(s, ps, i)))
         return;
     const float phase = hg_phase(m.g, dot(d, ls.wi));
-    // shadow linking: next-event estimation alone (media's shadow rays: every surface blocks)
+    // shadow linking: next-event estimation alone (its shadow ray passes what casts it none)
     const float w = ls.delta || pt_shadow_linked(s, pick.light) ? 1.0f
                                                                 : power_heuristic(pdf_light, phase);
     Vec3 sd = ls.wi;
@@ -84,6 +84,8 @@ LANTERN_HD inline void pt_medium_nee(const SceneView& s, const PathState& ps, in
         add_radiance(ps, i, c);
         return;
     }
+    if (s.light_blockers && ps.shadow_light)  // shadow linking: the light, for its blocker sets
+        (second ? ps.vshadow_light : ps.shadow_light)[i] = pick.light;
     if (second) {
         ps.vshadow_o[i] = p;
         ps.vshadow_d[i] = sd;
@@ -347,20 +349,27 @@ LANTERN_HD inline void pt_boundary_side(const SceneView& s, int32_t prim, Vec2 u
 // shadow ray through media took before occluded_collect, and still takes where that gives no
 // answer (more crossings than it holds, two-level structures, boundaries closer together than
 // pt_shadow_crossings trusts) and for lt's camera connections (kind kCamera).
+// blockers: a shadow-linked light's blocker sets (pt_light_linking.h): a surface or boundary of
+// a set outside it is passed as if it were not there, the medium unchanged (Cycles skips such
+// an object in its shadow rays' queries, so its volume stack never sees it either).
 template <class Rays, class Kind>
 LANTERN_HD inline Vec3 pt_shadow_loop(const SceneView& s, const Rays& rays, Kind kind, Vec3 o,
-                                      Vec3 d, float tmax, int32_t med, Rng track, float time) {
+                                      Vec3 d, float tmax, int32_t med, Rng track, float time,
+                                      uint64_t blockers = kAllReceivers) {
     Vec3 tr = vec3(1.0f);
     for (int k = 0; k < 256; ++k) {  // boundaries crossed (a bound: never an endless loop)
         const auto h = rays.closest(Ray{o, d, 0.0f, tmax, time}, kind);
         const bool hit = h.prim >= 0 && h.t < tmax;
         tr = tr * pt_shadow_segment(s, med, o, d, hit ? h.t : tmax, time, track);
         if (!hit) return tr;
-        if (!(s.tri_flags[h.prim] & kVolumeBoundary) || is_black(tr)) return vec3(0.0f);
-        Vec3 ng;
-        bool front;
-        pt_boundary_side(s, h.prim, h.uv, d, time, &ng, &front);
-        med = medium_across(s, h.prim, front, med);
+        const bool passed = blockers != kAllReceivers && s.tri_shadow_set &&
+                            !((blockers >> s.tri_shadow_set[h.prim]) & 1u);
+        if ((!passed && !(s.tri_flags[h.prim] & kVolumeBoundary)) || is_black(tr))
+            return vec3(0.0f);
+        Vec3 ng = d;  // a strand passed: along the ray (pt_light_linking.h)
+        bool front = true;
+        if (h.prim < s.num_triangles) pt_boundary_side(s, h.prim, h.uv, d, time, &ng, &front);
+        if (!passed) med = medium_across(s, h.prim, front, med);
         const Vec3 p = o + d * h.t;
         const Vec3 next = offset_ray_origin(p, ng, d, s.offset_scale);
         if (tmax < kInf) tmax = fmaxf(tmax - dot(next - o, d), 0.0f);
@@ -442,20 +451,43 @@ LANTERN_HD inline Vec3 pt_shadow_transmittance(const SceneView& s, const Rays& r
 
 // The slot's shadow rays in a scene with media: the surface's or medium vertex's, and the
 // equiangular one (cleared here once tested).
+// A shadow ray towards light li (-1: not recorded) through media: pt_shadow_transmittance, or
+// for a shadow-linked light the loop that passes the surfaces outside its blocker sets (out of
+// line on the device: rare, and pt's chunk is near its stack cap).
+template <class Rays, class Kind>
+LANTERN_DEVICE_NOINLINE LANTERN_HD inline Vec3 pt_shadow_linked_medium(
+    const SceneView& s, const Rays& rays, Kind kind, Vec3 o, Vec3 d, float tmax, int32_t med,
+    const Rng* path_rng, uint32_t slot, float time, int li) {
+    return pt_shadow_loop(s, rays, kind, o, d, tmax, med, medium_tracking_rng(*path_rng, slot),
+                          time, s.light_blockers[li]);
+}
+
+template <class Rays, class Kind>
+LANTERN_HD inline Vec3 pt_shadow_medium_ray(const SceneView& s, const Rays& rays, Kind kind,
+                                            Vec3 o, Vec3 d, float tmax, int32_t med,
+                                            const Rng* path_rng, uint32_t slot, float time,
+                                            int li) {
+    if (pt_shadow_linked(s, li))  // shadow linking (pt_light_linking.h)
+        return pt_shadow_linked_medium(s, rays, kind, o, d, tmax, med, path_rng, slot, time, li);
+    return pt_shadow_transmittance(s, rays, kind, o, d, tmax, med, path_rng, slot, time);
+}
+
 template <class Rays, class Kind>
 LANTERN_HD inline void pt_shadow_medium(const SceneView& s, const Rays& rays, Kind kind,
                                         const PathState& ps, int i) {
     const float time = s.motion.rays_timed() ? motion_time(ps.rng[i]) : 0.0f;  // (the path's)
+    const bool linked = s.light_blockers && ps.shadow_light;  // (vshadow_light with it)
     if (ps.shadow_valid[i]) {
-        const Vec3 tr = pt_shadow_transmittance(s, rays, kind, ps.shadow_o[i], ps.shadow_d[i],
-                                                ps.shadow_tmax[i], ps.shadow_medium[i],
-                                                &ps.rng[i], 1u, time);
+        const Vec3 tr = pt_shadow_medium_ray(s, rays, kind, ps.shadow_o[i], ps.shadow_d[i],
+                                             ps.shadow_tmax[i], ps.shadow_medium[i], &ps.rng[i],
+                                             1u, time, linked ? ps.shadow_light[i] : -1);
         if (!is_black(tr)) add_radiance(ps, i, ps.shadow_contrib[i] * tr);
     }
     if (ps.vshadow_valid[i]) {
-        const Vec3 tr = pt_shadow_transmittance(s, rays, kind, ps.vshadow_o[i], ps.vshadow_d[i],
-                                                ps.vshadow_tmax[i], ps.vshadow_medium[i],
-                                                &ps.rng[i], 2u, time);
+        const Vec3 tr = pt_shadow_medium_ray(s, rays, kind, ps.vshadow_o[i], ps.vshadow_d[i],
+                                             ps.vshadow_tmax[i], ps.vshadow_medium[i],
+                                             &ps.rng[i], 2u, time,
+                                             linked ? ps.vshadow_light[i] : -1);
         if (!is_black(tr)) add_radiance(ps, i, ps.vshadow_contrib[i] * tr);
         ps.vshadow_valid[i] = 0;
     }

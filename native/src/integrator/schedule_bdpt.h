@@ -85,9 +85,12 @@ LANTERN_HD inline void bdpt_shadow_medium(const SceneView& s, const Rays& rays,
     if (ps.shadow_valid[i]) {
         const int32_t kind = bs.shadow_kind[i];
         Rng track = medium_tracking_rng(ps.rng[i], 1);  // (heterogeneous media)
+        // shadow linking: a shadow-linked light's blocker sets (bidir_linking.h)
+        const int li = s.light_blockers && ps.shadow_light ? ps.shadow_light[i] : -1;
         const MediumShadow sh = bdpt_medium_shadow(
             s, rays, RayKind::kShadow, ps.shadow_o[i], ps.shadow_d[i], ps.shadow_tmax[i],
-            ps.shadow_medium[i], (kind & kConnNearMedium) != 0, false, &track, time);
+            ps.shadow_medium[i], (kind & kConnNearMedium) != 0, false, &track, time,
+            pt_shadow_linked(s, li) ? s.light_blockers[li] : kAllReceivers);
         if (!is_black(sh.tr))
             add_radiance(ps, i, bdpt_medium_finish_c(ps.shadow_contrib[i], sh.tr, bs.shadow_wn[i],
                                                      bs.shadow_wf[i], kind, bs.shadow_mom + i,

@@ -87,7 +87,7 @@ struct Wavefront {
     // PathState::vshadow_* (pt's equiangular shadow rays in media): grown only when `media`
     Array<Vec3> vshadow_o, vshadow_d, vshadow_c;
     Array<float> vshadow_tmax;
-    Array<int32_t> vshadow_medium;
+    Array<int32_t> vshadow_medium, vshadow_light;
     Array<uint8_t> vshadow_valid;
     bool media = false;  // set by the schedule before resize: the scene has media
     // set by the bidirectional camera pass before resize: an object casts no shadow (without
@@ -150,6 +150,7 @@ struct Wavefront {
         for (auto* a : {&vshadow_o, &vshadow_d, &vshadow_c}) f(*a);
         f(vshadow_tmax);
         f(vshadow_medium);
+        f(vshadow_light);
         f(vshadow_valid);
     }
     template <typename F>
@@ -248,6 +249,7 @@ struct Wavefront {
             ps.vshadow_contrib = vshadow_c.data();
             ps.vshadow_medium = vshadow_medium.data();
             ps.vshadow_valid = vshadow_valid.data();
+            ps.vshadow_light = vshadow_light.data();
         }
         bs = BdptState{dvcm.data(),     dvc.data(),      light_id.data(),   store.data(),
                        vertex.data(),   splat_xy.data(), power.data(),      std::max(conn_slots, 1),

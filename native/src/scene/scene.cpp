@@ -268,7 +268,7 @@ HostScene::HostScene(const SceneInput& in, bool soft_light_paths)
     add_curves(in);
     add_lights(in);
     build_light_linking(in);
-    add_curve_prims();
+    add_curve_prims(in);
     build_lamp_rays(in);
     build_filter(in.filter_width);
     finish_view(in);

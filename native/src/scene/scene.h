@@ -72,6 +72,9 @@ struct CurveInput {
     float motion_base[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
     bool visible_camera = true;
     bool cast_shadow = true;
+    // light and shadow linking (as MeshInput's): its object's receiver and blocker sets
+    int32_t light_set = 0;
+    int32_t shadow_set = 0;
 };
 
 struct MaterialInput {
@@ -304,7 +307,7 @@ private:
     int32_t camera_medium_at(Vec3 p) const;
     void build_motion(const SceneInput& in);  // scene/motion_build.cpp
     void add_curves(const SceneInput& in);     // scene/scene_curves.cpp: segments, bounds
-    void add_curve_prims();                    // ... and their per-primitive entries
+    void add_curve_prims(const SceneInput& in);  // ... and their per-primitive entries
     // scene/curve_motion.cpp: curves k's steps (0: still; a warning where they are unusable)
     int curve_input_steps(const CurveInput& c, const std::string& who);
 
