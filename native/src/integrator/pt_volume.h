@@ -435,9 +435,11 @@ template <class Rays, class Kind>
 LANTERN_HD inline Vec3 pt_shadow_transmittance(const SceneView& s, const Rays& rays, Kind kind,
                                                Vec3 o, Vec3 d, float tmax, int32_t med,
                                                const Rng* path_rng = nullptr,
-                                               uint32_t slot = 1, float time = 0.0f) {
+                                               uint32_t slot = 1, float time = 0.0f,
+                                               uint64_t blockers = kAllReceivers) {
     const Rng track = medium_tracking_rng(path_rng ? *path_rng : Rng{}, slot);
-    if (kind == Kind::kShadow) {  // (Kind: RayKind, backend/cpu/embree_accel.h)
+    // (a shadow-linked light's blockers: the loop alone passes the surfaces outside them)
+    if (kind == Kind::kShadow && blockers == kAllReceivers) {  // (Kind: backend/cpu/embree_accel.h)
         BoundaryHits x;
         const bool blocked = rays.occluded_collect(Ray{o, d, 0.0f, tmax, time}, &x);
         if (x.n >= 0) {
@@ -446,30 +448,22 @@ LANTERN_HD inline Vec3 pt_shadow_transmittance(const SceneView& s, const Rays& r
             if (pt_shadow_crossings(s, x, o, d, tmax, med, track, time, &tr)) return tr;
         }
     }
-    return pt_shadow_loop(s, rays, kind, o, d, tmax, med, track, time);
+    return pt_shadow_loop(s, rays, kind, o, d, tmax, med, track, time, blockers);
 }
 
 // The slot's shadow rays in a scene with media: the surface's or medium vertex's, and the
 // equiangular one (cleared here once tested).
-// A shadow ray towards light li (-1: not recorded) through media: pt_shadow_transmittance, or
-// for a shadow-linked light the loop that passes the surfaces outside its blocker sets (out of
-// line on the device: rare, and pt's chunk is near its stack cap).
-template <class Rays, class Kind>
-LANTERN_DEVICE_NOINLINE LANTERN_HD inline Vec3 pt_shadow_linked_medium(
-    const SceneView& s, const Rays& rays, Kind kind, Vec3 o, Vec3 d, float tmax, int32_t med,
-    const Rng* path_rng, uint32_t slot, float time, int li) {
-    return pt_shadow_loop(s, rays, kind, o, d, tmax, med, medium_tracking_rng(*path_rng, slot),
-                          time, s.light_blockers[li]);
-}
-
+// A shadow ray towards light li (-1: not recorded) through media: pt_shadow_transmittance, for a
+// shadow-linked light with its blocker mask (one inlined loop: pt's chunk is near its stack cap,
+// and an out-of-line copy's frame added ~560 B to it).
 template <class Rays, class Kind>
 LANTERN_HD inline Vec3 pt_shadow_medium_ray(const SceneView& s, const Rays& rays, Kind kind,
                                             Vec3 o, Vec3 d, float tmax, int32_t med,
                                             const Rng* path_rng, uint32_t slot, float time,
                                             int li) {
-    if (pt_shadow_linked(s, li))  // shadow linking (pt_light_linking.h)
-        return pt_shadow_linked_medium(s, rays, kind, o, d, tmax, med, path_rng, slot, time, li);
-    return pt_shadow_transmittance(s, rays, kind, o, d, tmax, med, path_rng, slot, time);
+    const uint64_t blockers = pt_shadow_linked(s, li) ? s.light_blockers[li] : kAllReceivers;
+    return pt_shadow_transmittance(s, rays, kind, o, d, tmax, med, path_rng, slot, time,
+                                   blockers);
 }
 
 template <class Rays, class Kind>
