@@ -28,7 +28,8 @@ import sys
 import time
 from pathlib import Path
 
-CHECK_VERSION = 1          # a change to the conformance set makes old verdicts stale
+CHECK_VERSION = 2          # a change to the conformance set makes old verdicts stale
+                           # (2: strands and motion blur joined it)
 TIMEOUT_S = 180.0          # the whole check, first CUDA context and module load included
 DOUBLE = None              # tests: the child's stand-in for the GPU (see module docstring)
 CASES = None               # tests: a subset of gpu_selfcheck_run.CASES ("scene/integrator")

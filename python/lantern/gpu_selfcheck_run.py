@@ -9,7 +9,9 @@ status 0 when every case passed, 1 when one failed; anything else is a crash.
 
 The set (32 x 32, max_depth 6, pt and cis each): a diffuse furnace, the features box (a
 textured floor, an alpha card, a normal map, mix shaders, glass), a glass lantern around a
-light, and a glossy ball under an environment map with a sun. Each case renders SEEDS seeds
+light, a glossy ball under an environment map with a sun, a fur ball (strands: the curve BVH
+and the hair lobe) and the fur ball turning and sliding over the shutter (motion blur: the
+two-level BVH's moving instance, a strand set entered through its matrix at the ray's time). Each case renders SEEDS seeds
 of SPP samples on each side and compares them with lantern.metrics.compare_renders (8 x 8
 blocks and the image mean, Bonferroni at 1e-3); a failed comparison is rendered again with
 fresh seeds and counts only when that fails too (a correct GPU then fails the set with
@@ -29,8 +31,9 @@ SIZE = 32
 SEEDS = 8
 SPP = 8
 MAX_DEPTH = 6
-CASES = ("furnace/pt", "features/pt", "envmap/pt", "furnace/cis", "features/cis", "glass/cis",
-         "envmap/cis")   # glass/pt: pt cannot render the lantern in seconds (noise 5-8 %)
+CASES = ("furnace/pt", "features/pt", "envmap/pt", "hair/pt", "motion/pt", "furnace/cis",
+         "features/cis", "glass/cis", "envmap/cis", "hair/cis", "motion/cis")
+# (glass/pt: pt cannot render the lantern in seconds, noise 5-8 %)
 ABSURD = 1e7   # a pixel brighter than this in these scenes is a fault, not light
 
 
@@ -54,6 +57,31 @@ def _envmap_scene(size):
     return scene
 
 
+def _turn_steps(steps=3):
+    """A sixth of a turn about z and a 0.3 m slide along x over the shutter, the identity at its
+    middle (where the scene's positions are exported): (steps, 4, 4)."""
+    out = []
+    for u in np.linspace(0.0, 1.0, steps):
+        a = (u - 0.5) * np.pi / 3.0
+        m = np.eye(4)
+        m[:2, :2] = [[np.cos(a), -np.sin(a)], [np.sin(a), np.cos(a)]]
+        m[0, 3] = 0.3 * (u - 0.5)
+        out.append(m)
+    return out
+
+
+def _hair_scene(size, moving=False):
+    """The fur ball (lantern.scenes_hair); moving: it turns and slides over the shutter, the ball
+    by its matrices and the fur with it (the strands' CurveSetMotion)."""
+    from lantern.scenes_hair import fur_ball
+    scene = fur_ball(size, size, num_strands=150, world=0.3)
+    if moving:
+        for part in (scene.meshes[0], scene.curves[0]):
+            part["motion"] = _turn_steps()
+            part["motion_base"] = np.eye(4)
+    return scene
+
+
 def scene_for(name, size=SIZE):
     from lantern import scenes
     if name == "furnace":  # every path runs to max_depth: the smallest film that has 4 blocks
@@ -64,6 +92,10 @@ def scene_for(name, size=SIZE):
         return scenes.glass_lantern(width=size, height=size)
     if name == "envmap":
         return _envmap_scene(size)
+    if name == "hair":
+        return _hair_scene(size)
+    if name == "motion":
+        return _hair_scene(size, moving=True)
     raise ValueError(f"unknown self-check scene {name!r}")
 
 

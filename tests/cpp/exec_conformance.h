@@ -218,6 +218,17 @@ std::string check_reductions(Exec& ex, int n, std::mt19937& rng) {
 
 // ---- light-tracing splats against a serial splat_pixels; exact where the executor adds in
 // queue order, else within the rounding of a different order of double additions ----
+// The serial reference's adder, host+device as splat_pixels is (a host lambda there: nvcc's
+// warning #20013-D, a host function called from a __host__ __device__ one).
+struct SplatWant {
+    double* want;
+    Vec3 v;
+    LANTERN_HD void operator()(int pixel, double f) const {
+        want[size_t(pixel) * 3 + 0] += f * v.x;
+        want[size_t(pixel) * 3 + 1] += f * v.y;
+        want[size_t(pixel) * 3 + 2] += f * v.z;
+    }
+};
 template <typename Exec>
 std::string check_splat(Exec& ex, int n, std::mt19937& rng) {
     CameraView cam{};
@@ -238,12 +249,7 @@ std::string check_splat(Exec& ex, int n, std::mt19937& rng) {
     const double scale = 1.0 / 851.0;
     for (int k = 0; k < n; ++k) {
         if (!valid[size_t(k)]) continue;
-        const Vec3 v = value[size_t(k)];
-        splat_pixels(cam, xy[size_t(k)], scale, [&](int pixel, double f) {
-            want[size_t(pixel) * 3 + 0] += f * v.x;
-            want[size_t(pixel) * 3 + 1] += f * v.y;
-            want[size_t(pixel) * 3 + 2] += f * v.z;
-        });
+        splat_pixels(cam, xy[size_t(k)], scale, SplatWant{want.data(), value[size_t(k)]});
     }
     auto dv = uploaded(ex, valid);
     auto dxy = uploaded(ex, xy);

@@ -1,6 +1,6 @@
-// The built-in ray query written for the CUDA backend (accel/scene_query.h: triangles through
-// the one- or two-level BVH, then the strands' query of accel/curve_query.h), over copies of
-// its arrays made as a device upload would make them (accel/scene_query_build.h's
+// The built-in ray query the CUDA backend runs (accel/scene_query.h: triangles through the
+// one- or two-level BVH, then the strands' query of accel/curve_query.h), over copies of its
+// arrays made as the CUDA renderer uploads them (accel/scene_query_build.h's
 // scene_query_copied, HostScene::copied_view; here host copies, the originals scribbled over
 // after), must give CpuBackend's answer on its built-in BVH (LANTERN_ACCEL=bvh, two levels as
 // the session asks where meshes move) bit for bit: t, primitive, uv, occlusion, for every kind

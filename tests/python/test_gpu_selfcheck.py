@@ -123,3 +123,43 @@ def test_the_command_line_check(fake_gpu, monkeypatch, capsys):
                                                            reason="no CUDA-capable GPU found"))
     assert cli.main(["gpu-check"]) == cli.EXIT_ERROR
     assert "no CUDA-capable GPU found" in capsys.readouterr().err
+
+
+def test_the_set_has_strands_and_motion_blur():
+    """The strand and motion-blur cases really hold what the GPU must agree on: strands, a mesh
+    and a strand set moving with their object's matrices (the two-level BVH, the strands'
+    moving set); the moving one renders on the CPU."""
+    from lantern import gpu_selfcheck_run as run
+    assert {"hair/pt", "motion/pt", "hair/cis", "motion/cis"} <= set(run.CASES)
+    hair, moving = run.scene_for("hair"), run.scene_for("motion")
+    assert len(hair.curves) == 1 and "motion" not in hair.curves[0]
+    assert len(moving.meshes[0]["motion"]) == 3 and len(moving.curves[0]["motion"]) == 3
+    s = lantern.Session(moving, backend="cpu", threads=1, spp_per_iteration=1, max_depth=3)
+    s.step()
+    assert np.isfinite(s.image()).all() and s.image().mean() > 0
+
+
+@pytest.mark.parametrize("double, ok", [("pass", True), ("fail", False)])
+def test_the_strand_and_motion_cases_judge_the_gpu(fake_gpu, monkeypatch, double, ok):
+    """The doubles on the new cases: a GPU that renders them as the CPU does passes, one 25 %
+    too bright fails, named by the case."""
+    monkeypatch.setattr(gpu_selfcheck, "DOUBLE", double)
+    monkeypatch.setattr(gpu_selfcheck, "CASES", ("motion/pt",) if not ok
+                        else ("hair/pt", "motion/pt"))
+    v = gpu_selfcheck.verdict(dict(FAKE_GPU))
+    assert v["ok"] is ok, v
+    if not ok:
+        assert "'motion/pt'" in v["reason"] and "differs from the CPU's" in v["reason"]
+
+
+def test_cuda_takes_strand_and_motion_scenes():
+    """The CUDA backend traces strands and moving meshes now (accel/scene_query.h): a session
+    asking for it on such a scene no longer hands it to the CPU for them; without a GPU here it
+    says only that none is available (the C++ session's own cuda_info)."""
+    from lantern import gpu_selfcheck_run as run
+    s = lantern.Session(run.scene_for("motion", 8), backend="cuda", threads=1,
+                        spp_per_iteration=1, max_depth=2)
+    report = " ".join(s.warnings)
+    assert "strands yet" not in report and "motion blur yet" not in report, report
+    if not lantern._core.cuda_info()["available"]:
+        assert "CUDA backend is not available" in report, report

@@ -83,19 +83,23 @@ def test_strands_are_seen_and_cast_shadows(core):
     np.testing.assert_allclose(seen, ref, rtol=1e-5, atol=1e-6)
 
 
-def test_other_integrators_keep_hair_and_cuda_hands_it_to_the_cpu(core):
+def test_other_integrators_keep_hair_and_cuda_takes_it(core):
     """lt, bdpt, lvc and cis render strands with Principled Hair themselves (test_hair_bidir.py;
-    strands with another material still go to pt there), and so may auto."""
+    strands with another material still go to pt there), and so may auto; the CUDA backend
+    traces strands too (accel/scene_query.h on the device)."""
     scene = fur_ball(8, 8, num_strands=20)
     for integ in ("bdpt", "lvc", "cis", "lt"):
         _, w = render(scene, 1, 1, max_depth=4, integrator=integ)
         assert not any("rendering with pt" in x for x in w), w
     s = lantern.Session(scene, integrator="auto", backend="cpu", seed=1)
     assert not any("path tracing" in x and "strands" in x for x in s.warnings), s.warnings
-    # the CUDA backend leaves strands to the CPU (docs/curves.md), with or without a GPU
+    # no strand hand-over for the CUDA backend any more; without a GPU here the session says
+    # only that none is available
     s = lantern.Session(scene, integrator="pt", backend="cuda", seed=1)
-    assert any("does not trace strands" in x for x in s.warnings), s.warnings
-    assert s.backend == "cpu"
+    assert not any("does not trace strands" in x for x in s.warnings), s.warnings
+    if not lantern._core.cuda_info()["available"]:
+        assert s.backend == "cpu"
+        assert any("CUDA backend is not available" in x for x in s.warnings), s.warnings
 
 
 def test_bad_strands(core):

@@ -3,8 +3,7 @@
 // each strand set that moves with its object (CurveSetMotion) behind a box over the shutter,
 // entered through its matrix at the ray's time in its exported frame. On the CPU
 // backend/cpu/curve_accel.cpp calls it over host arrays (accel/curve_query_build.h builds
-// them); a device build over the same arrays copied (curve_query_copied; the CUDA backend
-// does not call it yet: docs/cuda_backend.md "Strands and motion blur").
+// them); the CUDA backend over the same arrays copied to the device (curve_query_copied).
 // Hits are entries only (accel/curve_hit.h), tmin < t <= tmax, as the triangle BVH's.
 #pragma once
 

@@ -2,10 +2,8 @@
 // the one-level BVH (accel/bvh.h) or, where meshes move (motion blur), the two-level one
 // (accel/tlas.h: moving instances, deformation), then the strands (accel/curve_query.h) with
 // the ray cut at the triangles' hit, so that the nearer wins: what CpuBackend does with
-// BvhAccel and CurveAccel's built-in path, composed once for the CUDA executor, over copies of
-// these arrays that accel/scene_query_build.h makes. Not called by the CUDA backend yet: its
-// stage kernels went over the 2 KB stack cap with it (docs/cuda_backend.md "Strands and
-// motion blur").
+// BvhAccel and CurveAccel's built-in path, composed once for the CUDA executor
+// (backend/cuda/cuda_exec.cuh), whose copies of these arrays accel/scene_query_build.h makes.
 // tests/cpp/test_scene_query.cpp checks it against CpuBackend (LANTERN_ACCEL=bvh) on the CPU.
 #pragma once
 
@@ -15,8 +13,8 @@
 
 namespace lantern {
 
-// What a scene's rays meet besides the one-level BVH (meant for the device: a ray query holds a
-// pointer to it, null: the one-level BVH alone).
+// What a scene's rays meet besides the one-level BVH (the CUDA executor holds it on the device
+// and its ray queries a pointer to it: null, the one-level BVH alone).
 struct SceneQueryView {
     int32_t two_level = 0;  // 1: the triangles are tlas's (the one-level BVH is empty)
     TlasView tlas;
@@ -24,8 +22,8 @@ struct SceneQueryView {
 };
 
 // The composition over its parts (p: flat / tlas closest and any-hit, the strands' closest and
-// any-hit), so that a device build can make each part a call of its own (inlined at every
-// query site of a stage, the traversals' stacks add up in its frame).
+// any-hit), so that a device build can make each part a call of its own (cuda_exec.cuh: inlined
+// at every query site, the traversals' stacks add up in a stage's frame).
 // kind: 0 camera, 1 indirect, 2 shadow (the strands' split, curve_query.h); need: the
 // triangles' (kBvhNeed*). A strand hit: prim first_prim + segment, uv (u along it, 0).
 template <typename Parts>

@@ -253,6 +253,7 @@ LANTERN_HD inline void sss_walk_medium(const SceneView& s, const Rays& rays, Kin
 
 // ---- The exit at p (normals ng, ns outward): next-event estimation with a white Lambert lobe,
 // then a cosine continuation; beta is the walk's throughput, depth the exit vertex's ----
+LANTERN_DEVICE_NOINLINE
 LANTERN_HD inline void pt_sss_exit(const SceneView& s, const PathState& ps, const PtSettings& st,
                                    int i, int tri, Vec3 p, Vec3 ng, Vec3 ns, Vec3 beta, int depth,
                                    Rng& rng) {
@@ -350,6 +351,32 @@ LANTERN_HD inline const Material& sss_entry_material(const SceneView& s, const S
         scratch);
 }
 
+// The walk's start (sss_walk_path's): the entry's medium, first direction, origin and
+// throughput; false: no walk. Out of line on the device (LANTERN_DEVICE_NOINLINE): the entry's
+// material evaluation keeps its locals out of the walk kernel's frame, which holds the walk's
+// ray query (docs/cuda_backend.md "Strands and motion blur").
+LANTERN_DEVICE_NOINLINE
+LANTERN_HD inline bool sss_walk_start(const SceneView& s, int tri, Vec2 uv, Vec3 d, Vec3 beta_in,
+                                      Rng& rng, float time, SssMedium* md, Vec3* o, Vec3* dir,
+                                      Vec3* beta) {
+    const SurfaceHit h = surface_at_time(s, tri, uv, d, time);
+    MaterialScratch scratch;
+    const Material& m = sss_entry_material(s, h, tri, uv, d, scratch);
+    const Frame frame = sss_entry_frame(h, -d);
+    const Vec3 wo = frame.to_local(-d);
+    // the walk's weight at the entry (sss_entry_weight); the caller has divided by the walk's
+    // probability
+    const Vec3 beta0 = sss_entry_weight(m, h.coat_n, wo, beta_in);
+    Vec3 wi_l;
+    const bool entered = sss_entry(m, wo, rng.uniform2(), &wi_l);
+    *dir = frame.to_world(wi_l);
+    if (!entered || !(dot(*dir, h.ng) < 0.0f) || is_black(beta0)) return false;
+    *md = sss_medium(m);
+    *o = offset_ray_origin(h.p, h.ng, *dir, s.offset_scale);
+    *beta = beta0 * md->low;
+    return true;
+}
+
 // ---- The walk from a hit: the entry at triangle tri (barycentrics uv, reached along d), the
 // walk, and at its end exit(tri, uv, dir, p, ng, ns, beta, depth): the exit's triangle,
 // barycentrics, the direction that found it (pt_surface orients the normals against it, so the
@@ -367,21 +394,10 @@ template <class Rays, class Kind, class Exit>
 LANTERN_HD inline void sss_walk_path(const SceneView& s, const Rays& rays, Kind kind, int tri,
                                      Vec2 uv, Vec3 d, Vec3 beta_in, int depth, Rng& rng,
                                      float time, const Exit& exit) {
-    const SurfaceHit h = surface_at_time(s, tri, uv, d, time);
-    MaterialScratch scratch;
-    const Material& m = sss_entry_material(s, h, tri, uv, d, scratch);
-    const Frame frame = sss_entry_frame(h, -d);
-    const Vec3 wo = frame.to_local(-d);
-    // the walk's weight at the entry (sss_entry_weight); the caller has divided by the walk's
-    // probability
-    const Vec3 beta0 = sss_entry_weight(m, h.coat_n, wo, beta_in);
-    Vec3 wi_l;
-    const bool entered = sss_entry(m, wo, rng.uniform2(), &wi_l);
-    const Vec3 dir = frame.to_world(wi_l);
-    if (!entered || !(dot(dir, h.ng) < 0.0f) || is_black(beta0)) return;
-    const SssMedium md = sss_medium(m);
-    const Vec3 o = offset_ray_origin(h.p, h.ng, dir, s.offset_scale);
-    sss_walk_medium(s, rays, kind, md, o, dir, beta0 * md.low, rng, time,
+    SssMedium md;
+    Vec3 o, dir, beta;
+    if (!sss_walk_start(s, tri, uv, d, beta_in, rng, time, &md, &o, &dir, &beta)) return;
+    sss_walk_medium(s, rays, kind, md, o, dir, beta, rng, time,
                     [&](int prim, Vec2 huv, Vec3 last, Vec3 beta) {
                         // (faces inside: negated)
                         const SurfaceHit x = surface_at_time(s, prim, huv, last, time);

@@ -131,7 +131,6 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
     // (pt_volume.h; lt_medium.h, bdpt_medium.h, medium_motion.h)
     // strands: lt, bdpt, lvc and cis have strand vertices, the hair lobe's and pt's points on
     // the tube for other BSDFs (bdpt_curve.h); the rest only pt shades so far (docs/curves.md)
-    const std::string curves_why = curves_reason(scene);
     std::string curves_bidir_why = curves_bidir_reason(scene);
     if (curves_bidir_why.empty() && integ == "lt") curves_bidir_why = curves_lt_reason(scene);
     if (media_note.empty() && integ != "pt" && integ != "auto" && !curves_bidir_why.empty()) {
@@ -143,8 +142,7 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
     // a scene meant for the GPU starts no light paths on soft-falloff lights (bdpt_light.h);
     // should the GPU then refuse it, the CPU renders those lights camera-side, as the GPU would
     const bool gpu_meant = test_gpu != nullptr ||
-                           ((want == "cuda" || want == "auto") && curves_why.empty() &&
-                            cuda_info().available);
+                           ((want == "cuda" || want == "auto") && cuda_info().available);
     scene_ = std::make_unique<HostScene>(scene, !gpu_meant);
     scene_->set_hair_reverse(settings_.integrator != "pt");  // (bsdf/hair_lobe.h)
     if (settings_.integrator == "lt") check_light_tracing(scene);
@@ -164,18 +162,13 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
         gpu_ = std::move(test_gpu);
         backend_name_ = "cuda";
         device_name_ = gpu_->device_name();
-    } else if ((want == "cuda" || want == "auto") && !curves_why.empty()) {
-        if (want == "cuda" || cuda_info().available)
-            warnings_.push_back("the CUDA backend does not trace strands yet (the scene has " +
-                                curves_why + "); rendering on the CPU");
     } else if (want == "cuda" || want == "auto") {
         const CudaInfo info = cuda_info();
         const std::string& integ = settings_.integrator;
-        if (info.available && scene_->view().motion.any()) {
-            warnings_.push_back("the CUDA backend does not render motion blur yet; rendering "
-                                "on the CPU");
-        } else if (info.available && scene_->view().has_subsurface &&
-                   (integ == "bdpt" || integ == "lvc" || integ == "cis" || integ == "lt")) {
+        // strands and motion blur: the device's ray query is accel/scene_query.h's, as the
+        // built-in BVH's on the CPU (backend/cuda/cuda_exec.cuh)
+        if (info.available && scene_->view().has_subsurface &&
+            (integ == "bdpt" || integ == "lvc" || integ == "cis" || integ == "lt")) {
             // the camera paths' walk stage is CPU-only (schedule_bdpt.h: its kernel's stack),
             // and so is lt's adjoint walk (schedule_lt.h)
             warnings_.push_back("the CUDA backend does not render subsurface scattering with "

@@ -7,8 +7,8 @@
 // A strand set moving with its object (motion blur, scene/curves.h's CurveSetMotion) has its own
 // structure in its exported frame, entered through its matrix at the ray's time: the built-in
 // BVH's own curve BVH behind a box over the shutter (16 times per step interval, as the mesh
-// top level pads its instances; the host+device query of accel/curve_query.h, written for the
-// CUDA backend too), or an Embree instance with the object's quaternion steps over
+// top level pads its instances; the host+device query of accel/curve_query.h, the one the CUDA
+// backend runs), or an Embree instance with the object's quaternion steps over
 // a child scene holding the set in object space (as backend/cpu/embree_instances.cpp's meshes).
 #pragma once
 

@@ -1,7 +1,9 @@
 // The CUDA executor: backend/cpu/cpu_exec.h's interface on a GPU (device arrays on the shared
 // meter, each() as a kernel, CUB's stable select / scan / radix sort, integer reductions with one
 // atomic per warp, ray queries against the device BVH, splats with double atomics, readback,
-// timing with a stream synchronisation, the out-of-memory policy). Every call selects the device
+// timing with a stream synchronisation, the out-of-memory policy). Ray queries are
+// accel/scene_query.h's: the one-level BVH, or with a SceneQueryView on the device (moving
+// meshes: the two-level BVH; strands: accel/curve_query.h) what CpuBackend's built-in BVH does. Every call selects the device
 // first: steps run on another thread than the one that made it. tests/cuda/exec_conformance.cu
 // checks it against tests/cpp/exec_conformance.h's references.
 #pragma once
@@ -21,6 +23,7 @@
 
 #include "accel/boundary_hits.h"
 #include "accel/bvh.h"
+#include "accel/scene_query.h"
 #include "backend/cpu/embree_accel.h"  // RayKind (plain enum)
 #include "backend/cuda/cuda_renderer.h"
 #include "integrator/lt.h"
@@ -144,6 +147,89 @@ __device__ inline void warp_or(unsigned* mask, unsigned bits) {
     if (g.thread_rank() == 0) atomicOr(mask, all);
 }
 
+// What a ray query reads, in device memory (CudaExec::set_rays / set_query copy it there): a
+// kernel holds one pointer to it, and a query is a call with the pointer and the ray, so that
+// no stage copies the 880-byte SceneView into its own frame to pass it by reference (the last
+// try passed SceneView& to __noinline__ parts: camera_chunk #2.3 went from 1,952 B of stack
+// to 2,336-2,512 B; docs/cuda_backend.md "Strands and motion blur").
+struct RayQuery {
+    BvhView bvh;         // the one-level BVH (empty where x.two_level)
+    SceneView s;         // the alpha test's
+    SceneQueryView x;    // moving meshes' two levels, the strands
+    int32_t has_x = 0;   // 0: bvh alone
+};
+
+__device__ inline uint32_t query_need(int kind) {  // kind: RayKind as int
+    return kind == int(RayKind::kCamera)   ? kBvhNeedCamera
+           : kind == int(RayKind::kShadow) ? kBvhNeedShadow
+                                           : kBvhNeedIndirect;
+}
+
+// The parts of accel/scene_query.h, each a call of its own: a query holds the stack of one
+// traversal at a time (flat: 512 B, two levels: 768 B, strands: 256 B), the largest in its
+// cumulative stack, not their sum.
+static __device__ __noinline__ BvhHit query_flat(const RayQuery* q, const Ray r, uint32_t need) {
+    return bvh_intersect(q->bvh, r, need, BvhAlphaTest{q->s, r});
+}
+static __device__ __noinline__ bool query_flat_any(const RayQuery* q, const Ray r, uint32_t need) {
+    return bvh_occluded(q->bvh, r, need, BvhAlphaTest{q->s, r});
+}
+static __device__ __noinline__ BvhHit query_tlas(const RayQuery* q, const Ray r, uint32_t need) {
+    return tlas_intersect(q->x.tlas, r, need, BvhAlphaTest{q->s, r});
+}
+static __device__ __noinline__ bool query_tlas_any(const RayQuery* q, const Ray r, uint32_t need) {
+    return tlas_occluded(q->x.tlas, r, need, BvhAlphaTest{q->s, r});
+}
+static __device__ __noinline__ CurveBvhHit query_curve(const RayQuery* q, const Ray r, int kind,
+                                                       float tmax) {
+    return curve_query_closest(q->x.curves, r, kind, tmax);
+}
+static __device__ __noinline__ bool query_curve_any(const RayQuery* q, const Ray r, int kind) {
+    return curve_query_occluded(q->x.curves, r, kind);
+}
+// accel/scene_query.h's parts as those calls
+struct QueryCalls {
+    const RayQuery* q;
+    __device__ BvhHit flat(const Ray& r, uint32_t need) const { return query_flat(q, r, need); }
+    __device__ bool flat_any(const Ray& r, uint32_t need) const {
+        return query_flat_any(q, r, need);
+    }
+    __device__ BvhHit tlas(const TlasView&, const Ray& r, uint32_t need) const {
+        return query_tlas(q, r, need);
+    }
+    __device__ bool tlas_any(const TlasView&, const Ray& r, uint32_t need) const {
+        return query_tlas_any(q, r, need);
+    }
+    __device__ CurveBvhHit curve(const CurveQueryView&, const Ray& r, int kind, float tmax) const {
+        return query_curve(q, r, kind, tmax);
+    }
+    __device__ bool curve_any(const CurveQueryView&, const Ray& r, int kind) const {
+        return query_curve_any(q, r, kind);
+    }
+};
+__device__ inline int query_curve_kind(int kind) {  // curve_query.h's: 0 camera, 1, 2 shadow
+    return kind == int(RayKind::kCamera) ? 0 : (kind == int(RayKind::kShadow) ? 2 : 1);
+}
+// One call per query, whatever the scene holds (kind: RayKind as int).
+static __device__ __noinline__ BvhHit query_closest(const RayQuery* q, const Ray r, int kind) {
+    const uint32_t need = query_need(kind);
+    if (!q->has_x) return query_flat(q, r, need);
+    return scene_query_closest_parts(q->x, r, query_curve_kind(kind), need, QueryCalls{q});
+}
+static __device__ __noinline__ bool query_occluded_collect(const RayQuery* q, const Ray r,
+                                                           BoundaryHits* out) {
+    if (q->has_x) {
+        out->n = -1;
+        return false;
+    }
+    return bvh_occluded_collect(q->bvh, r, out, BvhAlphaTest{q->s, r});
+}
+static __device__ __noinline__ bool query_occluded(const RayQuery* q, const Ray r, int kind) {
+    const uint32_t need = query_need(kind);
+    if (!q->has_x) return query_flat_any(q, r, need);
+    return scene_query_occluded_parts(q->x, r, query_curve_kind(kind), need, QueryCalls{q});
+}
+
 }  // namespace cuda_detail
 
 // Public members throughout: nvcc's extended lambdas must not sit in private member functions.
@@ -165,6 +251,7 @@ public:
         scratch_keys_.bind(&meter_);
         scratch_values_.bind(&meter_);
         flags_.bind(&meter_);
+        query_.bind(&meter_);
         small_.grow(4);
     }
     ~CudaExec() {
@@ -177,10 +264,31 @@ public:
     CudaExec& operator=(const CudaExec&) = delete;
 
     void use_device() const { cuda_detail::check(cudaSetDevice(device_), "cudaSetDevice"); }
-    // Ray queries against a BVH already on the device, with the scene's alpha test.
+    // Ray queries against a BVH already on the device, with the scene's alpha test (s: the
+    // device copy's view); both go to the device (cuda_detail::RayQuery) before the next kernel.
     void set_rays(const BvhView& bvh, const SceneView& s) {
         bvh_ = bvh;
         scene_ = s;
+        upload_query();
+    }
+    // The two-level BVH and the strands (a SceneQueryView over device arrays, from
+    // accel/scene_query_build.h's scene_query_copied).
+    void set_query(const SceneQueryView& x) {
+        x_ = x;
+        has_x_ = 1;
+        upload_query();
+    }
+    void upload_query() {
+        use_device();
+        cuda_detail::RayQuery h;
+        h.bvh = bvh_;
+        h.s = scene_;
+        h.x = x_;
+        h.has_x = has_x_;
+        query_.grow(1);
+        sync();  // no kernel of the stream reads the previous one any more
+        cuda_detail::check(cudaMemcpy(query_.data(), &h, sizeof h, cudaMemcpyHostToDevice),
+                           "cudaMemcpy (ray query)");
     }
     template <typename T>
     Array<T> array() {
@@ -282,47 +390,36 @@ public:
     // ---- ray queries over [0, n): ray_of(k) -> Ray; hit(k, t, prim, uv) / blocked(k, bool) ----
     template <typename RayOf, typename Out>
     void closest(int n, RayKind kind, RayOf ray_of, Out hit) {
-        const uint32_t need = Rays::need(kind);
-        const BvhView b = bvh_;
-        const SceneView s = scene_;
+        const Rays q = rays();
         each(n, [=] __device__(int k) {
-            const Ray r = ray_of(k);
-            const BvhHit h = bvh_intersect(b, r, need, BvhAlphaTest{s, r});
+            const BvhHit h = q.closest(ray_of(k), kind);
             hit(k, h.t, h.prim, h.uv);
         });
     }
     template <typename RayOf, typename Out>
     void occluded(int n, RayOf ray_of, Out blocked) {  // shadow rays
-        const uint32_t need = kBvhNeedShadow;
-        const BvhView b = bvh_;
-        const SceneView s = scene_;
-        each(n, [=] __device__(int k) {
-            const Ray r = ray_of(k);
-            blocked(k, bvh_occluded(b, r, need, BvhAlphaTest{s, r}));
-        });
+        const Rays q = rays();
+        each(n, [=] __device__(int k) { blocked(k, q.occluded(ray_of(k), RayKind::kShadow)); });
     }
 
-    // A ray query one thread of an each() makes: value-captured by the schedule's kernels.
+    // A ray query one thread of an each() makes: value-captured by the schedule's kernels (one
+    // pointer: cuda_detail::RayQuery in device memory).
     struct Rays {
-        BvhView bvh;
-        SceneView s;
-        __host__ __device__ static uint32_t need(RayKind kind) {
-            return kind == RayKind::kCamera   ? kBvhNeedCamera
-                   : kind == RayKind::kShadow ? kBvhNeedShadow
-                                              : kBvhNeedIndirect;
-        }
+        const cuda_detail::RayQuery* q;
         __device__ bool occluded(const Ray& r, RayKind kind) const {
-            return bvh_occluded(bvh, r, need(kind), BvhAlphaTest{s, r});
+            return cuda_detail::query_occluded(q, r, int(kind));
         }
         __device__ BvhHit closest(const Ray& r, RayKind kind) const {  // pt_shadow_medium
-            return bvh_intersect(bvh, r, need(kind), BvhAlphaTest{s, r});
+            return cuda_detail::query_closest(q, r, int(kind));
         }
-        // a shadow ray through media: blocked, or the volume boundaries it crosses (pt_volume.h)
+        // a shadow ray through media: blocked, or the volume boundaries it crosses (pt_volume.h);
+        // with two levels or strands not gathered (n -1: the caller's loop of closest queries,
+        // as BvhAccel does for two levels)
         __device__ bool occluded_collect(const Ray& r, BoundaryHits* out) const {
-            return bvh_occluded_collect(bvh, r, out, BvhAlphaTest{s, r});
+            return cuda_detail::query_occluded_collect(q, r, out);
         }
     };
-    Rays rays() const { return Rays{bvh_, scene_}; }
+    Rays rays() const { return Rays{query_.data()}; }
 
     // ---- light-tracing splats (double atomics); with `slots`, item k is slot slots[k] ----
     void splat(int n, const uint8_t* valid, const Vec2* xy, const Vec3* value,
@@ -394,6 +491,9 @@ public:
     unsigned long long* host_ = nullptr;
     BvhView bvh_{};
     SceneView scene_{};
+    SceneQueryView x_{};
+    int32_t has_x_ = 0;
+    Array<cuda_detail::RayQuery> query_;  // one, what Rays points at
 };
 
 }  // namespace lantern

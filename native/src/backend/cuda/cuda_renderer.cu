@@ -1,7 +1,8 @@
 // The CUDA backend: the schedule every backend runs (integrator/wavefront.h, schedule_pt.h,
 // schedule_lt.h, schedule_bdpt.h) instantiated on CudaExec (cuda_exec.cuh) in cuda_schedule_*.cu,
 // one translation unit per part so that they compile side by side. What is left here is
-// CUDA-only: the scene and BVH upload, the GPU's cache budget and out-of-memory policy, the
+// CUDA-only: the scene and BVH upload (moving meshes' two levels and the strands' query through
+// accel/scene_query_build.h, host code tested on the CPU), the GPU's cache budget and out-of-memory policy, the
 // film's running sum with its pinned readback on a copy stream (the next iteration's kernels run
 // while it drains; only the final add into the sum waits for it). cuda_info() is in
 // backend/cuda_info.cu.
@@ -9,6 +10,7 @@
 #include <mutex>
 
 #include "accel/bvh_builder.h"
+#include "accel/scene_query_build.h"
 #include "backend/cuda/cuda_exec.cuh"
 #include "integrator/thread_scratch.h"
 #include "integrator/wavefront.h"
@@ -60,11 +62,21 @@ public:
             };
             sv_ = scene.copied_view(upload);
             const bool scratch = scratch_.prepare_scene(scene.view(), sv_, kDeviceThreads);
-            Bvh bvh = build_bvh(scene.view(), BvhBuildOptions{}, warnings);
+            // moving meshes: two levels, as CpuBackend's (Session::start_cpu_backend); strands:
+            // their query beside (accel/scene_query.h), both on the device behind one pointer
+            const SceneView& hv = scene.view();
+            const bool two_level = hv.motion.num_objects > 0;
+            Bvh bvh = two_level ? Bvh{} : build_bvh(hv, BvhBuildOptions{}, warnings);
             BvhView bv = bvh.view();
             bv.nodes = static_cast<const BvhNode*>(upload(bvh.nodes.data(), bvh.nodes.size() * sizeof(BvhNode)));
             bv.tris = static_cast<const BvhTri*>(upload(bvh.tris.data(), bvh.tris.size() * sizeof(BvhTri)));
             ex_->set_rays(bv, sv_);
+            if (scene_query_needed(hv)) {
+                SceneQuery q;
+                scene_query_build(q, hv, two_level ? &scene.mesh_ranges() : nullptr, 0, warnings);
+                ex_->set_query(scene_query_copied(
+                    q, [&](const void* h, size_t b) -> const void* { return upload(h, b); }, sv_));
+            }
             if (scratch) ex_->set_max_threads(kDeviceThreads);
             width_ = scene.view().camera.width;
             height_ = scene.view().camera.height;
