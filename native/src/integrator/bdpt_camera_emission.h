@@ -124,8 +124,9 @@ LANTERN_HD inline float bdpt_soft_hit_emit(const SceneView& s, const PathState& 
     return cos_d > 0.0f && is_finite(r) ? r : 0.0f;
 }
 
-// Lights crossed by the segment, and the background on a miss (s = 0).
-template <class SR>
+// Lights crossed by the segment, and the background on a miss (s = 0). L: linking's tests
+// compiled in (bidir_links_on).
+template <bool L = true, class SR>
 LANTERN_HD inline void bdpt_camera_emission(const SceneView& s, const PathState& ps,
                                             const BdptState& bs, const BdptSettings& st, int i,
                                             float t_end, bool miss, const SR& sr) {
@@ -134,7 +135,7 @@ LANTERN_HD inline void bdpt_camera_emission(const SceneView& s, const PathState&
     for (int k = 0; k < s.num_hittable_lights; ++k) {
         const Light& l = s.lights[s.hittable_lights[k]];
         if (camera && !l.visible_camera) continue;
-        if (!bidir_emission_counts(s, ps, i, s.hittable_lights[k])) continue;  // (linking)
+        if (L && !bidir_emission_counts(s, ps, i, s.hittable_lights[k])) continue;  // (linking)
         LightHit h = intersect_light(l, o, d, ps.ray_tmin[i], t_end);
         if (!h.hit || is_black(h.le)) continue;
         float nee = 0.0f;
@@ -142,7 +143,8 @@ LANTERN_HD inline void bdpt_camera_emission(const SceneView& s, const PathState&
         if (!camera && light_receiver_dependent(l))
             soft = st.r > 0.0f ? bdpt_soft_hit_emit(s, ps, bs, sr, i, l, h.t) : 0.0f;
         float w = bdpt_emission_weight(s, ps, bs, st, i, l, h.t, h.n, &nee, soft);
-        if (w > 0.0f && bidir_pt_weight(s, ps, i, s.hittable_lights[k])) w = 1.0f / (1.0f + nee);
+        if (L && w > 0.0f && bidir_pt_weight(s, ps, i, s.hittable_lights[k]))
+            w = 1.0f / (1.0f + nee);
         Vec3 c = ps.throughput[i] * h.le * w;
         if (st.moments) c = bdpt_moment(c, c, bdpt_pt_factor(1.0f / w, 1.0f, nee));
         add_radiance(ps, i, c);
@@ -154,10 +156,11 @@ LANTERN_HD inline void bdpt_camera_emission(const SceneView& s, const PathState&
                                     dot(d, -l.direction) < l.cos_sun))
             continue;  // a sun lamp is hidden from the camera; the world's disc (of_world) not
         if (l.type == kLightWorld && camera && !l.visible_camera) continue;
-        if (!bidir_emission_counts(s, ps, i, s.miss_lights[k])) continue;  // (linking)
+        if (L && !bidir_emission_counts(s, ps, i, s.miss_lights[k])) continue;  // (linking)
         float nee = 0.0f;
         float w = bdpt_emission_weight(s, ps, bs, st, i, l, kInf, vec3(0.0f), &nee);
-        if (w > 0.0f && bidir_pt_weight(s, ps, i, s.miss_lights[k])) w = 1.0f / (1.0f + nee);
+        if (L && w > 0.0f && bidir_pt_weight(s, ps, i, s.miss_lights[k]))
+            w = 1.0f / (1.0f + nee);
         Vec3 le = l.type == kLightWorld ? world_radiance(s, l, d) : l.radiance;
         Vec3 c = ps.throughput[i] * le * w;
         if (st.moments) c = bdpt_moment(c, c, bdpt_pt_factor(1.0f / w, 1.0f, nee));
