@@ -468,7 +468,7 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
                                          const BdptState& bs, const BdptSettings& st_all,
                                          const LightCache& cache, int i, int64_t path,
                                          const SR& sr) {
-    const BdptSettings st = camera_settings(st_all, pixel_conn_of_path(s, st_all, path));
+    const BdptSettings st = camera_settings(st_all, pixel_conn_of_slot(st_all, bs, i));
     ps.shadow_valid[i] = 0;
     ps.alive[i] = 0;
     bs.conn_n[i] = 0;

@@ -48,8 +48,11 @@ LANTERN_HD inline bool bdpt_camera_medium_segment(const SceneView& s, const Path
 LANTERN_HD inline void bdpt_camera_generate(const SceneView& s, const PathState& ps,
                                             const BdptState& bs, const BdptSettings& st_all,
                                             int i, int64_t path) {
-    // the pixel's counts (pixel_conn.h: r, N, M; st_all itself without a map)
-    const BdptSettings st = camera_settings(st_all, pixel_conn_of_path(s, st_all, path));
+    // the pixel's counts (pixel_conn.h: r, N, M; st_all itself without a map), kept for the
+    // path's later stages (pixel_conn_of_slot)
+    const PixelConn pc = pixel_conn_of_path(s, st_all, path);
+    if (st_all.conn_map) bs.cam_conn[i] = pixel_conn_pack(pc);
+    const BdptSettings st = camera_settings(st_all, pc);
     // the same camera sample as pt's (same random stream), plus the MIS quantities
     const PtSettings pst{st.max_depth, st.rr_depth, st.spp_per_iteration, st.seed, st.iteration};
     // (a moving camera: at the path's time, bdpt_motion.h, its density in that camera)

@@ -53,7 +53,7 @@ LANTERN_HD inline void bdpt_camera_emission_stage(const SceneView& s, const Path
                                                   const BdptState& bs,
                                                   const BdptSettings& st_all, int i,
                                                   int64_t path, const SR& sr) {
-    const BdptSettings st = camera_settings(st_all, pixel_conn_of_path(s, st_all, path));
+    const BdptSettings st = camera_settings(st_all, pixel_conn_of_slot(st_all, bs, i));
     const int tri = ps.hit_prim[i];
     bdpt_camera_emission<L>(s, ps, bs, st, i, tri >= 0 ? ps.hit_t[i] : ps.ray_tmax[i], tri < 0,
                             sr);
@@ -68,7 +68,7 @@ LANTERN_HD inline void bdpt_camera_events(const SceneView& s, const PathState& p
                                           const LightCache& cache, int i, int64_t path,
                                           const SR& sr) {
     if (!bs.cam_on[i]) return;
-    const BdptSettings st = camera_settings(st_all, pixel_conn_of_path(s, st_all, path));
+    const BdptSettings st = camera_settings(st_all, pixel_conn_of_slot(st_all, bs, i));
     CameraVertex& z = bs.cam_z[i];  // read in the slot's memory: no copy on a GPU thread's stack
     MaterialScratch scratch;        // z.m's, and the cache vertices' (kOneScratch)
     z.scratch = &scratch;

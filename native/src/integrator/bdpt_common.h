@@ -204,6 +204,9 @@ struct BdptState {
     CameraVertex* cam_z = nullptr;
     Rng* cam_rng = nullptr;
     uint8_t* cam_on = nullptr;
+    // camera pass with a connection map: the path's pixel counts (pixel_conn_of_slot), in the
+    // light pass's light slots
+    int32_t* cam_conn = nullptr;
 };
 
 // What the camera pass reads of the cache.

@@ -343,8 +343,7 @@ void camera_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep
                 ex.sum_of(active, LANTERN_KERNEL(int k) { return bs.conn_n[q[k]]; });
             if (w.mode == kCisResampled) {  // M of each camera vertex's pixel (pixel_conn.h)
                 stats.cis_candidates += bst.conn_map ? ex.sum_of(active, LANTERN_KERNEL(int k) {
-                    const int64_t path = camera_path(list, spp, first_path + q[k]);
-                    return camera_settings(bst, pixel_conn_of_path(s, bst, path)).candidates;
+                    return camera_settings(bst, pixel_conn_of_slot(bst, bs, q[k])).candidates;
                 }) : int64_t(active) * bst.candidates;
             }
             if (s.num_media > 0) {  // through media, weights finished (bdpt_medium_stages.h)
