@@ -437,22 +437,12 @@ LANTERN_HD inline bool bdpt_sss_choose(const SceneView& s, const PathState& ps,
 // A camera vertex's next event (s = 1) and connections (s >= 2), queued: z and the slot's
 // stream for the events stage (bdpt_camera_events.h), which makes them after this stage. Its
 // next event draws two uniform2 (the light pick's, the light sample's) whatever it finds: the
-// caller's stream skips them (bdpt_skip_camera_events).
+// caller's stream skips them (bdpt_skip_camera_events, bdpt_common.h).
 LANTERN_HD inline void bdpt_queue_camera_events(const BdptState& bs, int i, const CameraVertex& z,
                                                 const Rng& rng) {
     bs.cam_z[i] = z;
     bs.cam_rng[i] = rng;
     bs.cam_on[i] = 1;
-}
-// The stream as the events stage's two uniform2 leave it, without making their numbers (each
-// moves to the next even dimension, then past its pair: core/rng.h).
-LANTERN_HD inline void bdpt_skip_camera_events(Rng& rng) {
-#ifdef LANTERN_RNG_PCG
-    rng.uniform2();
-    rng.uniform2();
-#else
-    rng.dim = rng.dim + (rng.dim & 1u) + 4u;
-#endif
 }
 
 // Camera-path shading after the segment's emission (bdpt_camera_emission, a stage before this

@@ -209,6 +209,18 @@ struct BdptState {
     int32_t* cam_conn = nullptr;
 };
 
+// The camera pass: the stream as the events stage's two uniform2 (its next event's) leave it,
+// without making their numbers (each moves to the next even dimension, then past its pair:
+// core/rng.h), for the shade, which queued a copy of it (bdpt_queue_camera_events).
+LANTERN_HD inline void bdpt_skip_camera_events(Rng& rng) {
+#ifdef LANTERN_RNG_PCG
+    rng.uniform2();
+    rng.uniform2();
+#else
+    rng.dim = rng.dim + (rng.dim & 1u) + 4u;
+#endif
+}
+
 // What the camera pass reads of the cache.
 struct LightCache {
     const LightVertex* v;
