@@ -41,7 +41,8 @@ LANTERN_HD inline void shadow_segment(Vec3 p, Vec3 n, Vec3 q, Vec3 nq, Vec3 dir,
 
 // s = 1: one light sample; the shadow ray waits in the slot's shadow fields. Out of line on the
 // device: ptxas compiles the camera shade kernel in pieces (LANTERN_DEVICE_NOINLINE).
-template <class SR>
+// L: linking's tests compiled in (bidir_links_on; false: a scene without them).
+template <bool L = true, class SR>
 LANTERN_DEVICE_NOINLINE
 LANTERN_HD inline void bdpt_camera_nee(const SceneView& s, const PathState& ps,
                                        const BdptState& bs, const BdptSettings& st,
@@ -52,7 +53,7 @@ LANTERN_HD inline void bdpt_camera_nee(const SceneView& s, const PathState& ps,
     const LightPick pick = light_pick(s, z.h.p, z.n_pick, u_pick.x);
     if (!(pick.pmf > 0.0f)) return;
     // light linking: nothing from a light that does not light z (bidir_linking.h)
-    if (s.light_receivers && !bidir_links(s, pick.light, z.tri)) return;
+    if (L && s.light_receivers && !bidir_links(s, pick.light, z.tri)) return;
     const Light& l = s.lights[pick.light];
     // (a moving emitter: where it is at the path's time, its densities then)
     const float time = bdpt_emitter_time(s, st, path);
@@ -62,7 +63,7 @@ LANTERN_HD inline void bdpt_camera_nee(const SceneView& s, const PathState& ps,
     // z from there would meet the face's back): weight 1
     const bool geo_side = light_side_agrees(*z.m, ls.wi, z.h.ng, z.h.ns);
     // a lamp without shadows: pt's weights and no shadow ray, at any offset (bidir_linking.h)
-    const bool unshadowed = s.light_rays && pt_lamp_unshadowed(s, pick.light);
+    const bool unshadowed = L && s.light_rays && pt_lamp_unshadowed(s, pick.light);
     if (!ls.valid || is_black(ls.le) ||
         !(geo_side || terminator_passes(s, z.tri, ls.wi, z.h.ng, z.h.ns) ||
           (unshadowed && !sides_agree(ls.wi, z.h.ng, z.h.ns))))
@@ -100,7 +101,7 @@ LANTERN_HD inline void bdpt_camera_nee(const SceneView& s, const PathState& ps,
                                       : camera_conn_dvcm(st, z.dvcm, z.depth);
     float w_camera =
         geo_side ? mis(st.r * pdf_lp / pdf_nee) * (dvcm_z + z.dvc * mis(e.pdf_rev_w)) : 0.0f;
-    bidir_nee_weights(s, ps, i, pick.light, unshadowed, w_light, w_camera);  // (linking)
+    if (L) bidir_nee_weights(s, ps, i, pick.light, unshadowed, w_light, w_camera);  // (linking)
     bidir_no_shadow_ratio(s, bs, i, w_light, w_camera);  // (objects without shadows)
     float w = 1.0f / (w_light + 1.0f + w_camera);
     float cos_i = fabsf(dot(ls.wi, z.h.ns));
@@ -242,7 +243,7 @@ LANTERN_DEVICE_NOINLINE
 LANTERN_HD inline Connection bdpt_connect(const SceneView& s, const BdptSettings& st,
                                           const CameraVertex& z, const LightVertex& y) {
     bool clobbered = false;  // the cache vertex's material took z's scratch (kOneScratch)
-    if (s.light_receivers && s.num_media > 0) {  // y's set decided by z (bidir_linking_medium.h)
+    if (s.num_media > 0 && s.light_receivers) {  // y's set decided by z (bidir_linking_medium.h)
         const int ly = lv_pending_light(y.bary16, y.tri);
         if (ly >= 0 && !pt_light_links(s, ly, camera_vertex_set(s, z.tri)))
             return Connection{vec3(0.0f), vec3(0.0f), 0.0f, 0.0f, 0.0f};
@@ -429,7 +430,7 @@ LANTERN_HD inline bool bdpt_sss_choose(const SceneView& s, const PathState& ps,
 // A camera vertex's next event (s = 1) and connections (s >= 2), queued: z and the slot's
 // stream for the events stage (bdpt_camera_events.h), which makes them after this stage. Its
 // next event draws two uniform2 (the light pick's, the light sample's) whatever it finds: the
-// caller's stream skips them.
+// caller's stream skips them (bdpt_skip_camera_events, bdpt_common.h).
 LANTERN_HD inline void bdpt_queue_camera_events(const BdptState& bs, int i, const CameraVertex& z,
                                                 const Rng& rng) {
     bs.cam_z[i] = z;
@@ -443,13 +444,14 @@ LANTERN_HD inline void bdpt_queue_camera_events(const BdptState& bs, int i, cons
 // direction. No ray and no connection here: on a GPU the stages are kernels of their own
 // (each with its own stack: issue 30); sr (a StageRaysRef) serves only the weight of a
 // soft-falloff disk hit inside a medium segment (soft_light_medium.h: the route's flights
-// from the centre, which the GPU does not start, so there it traces nothing).
-template <class SR>
+// from the centre, which the GPU does not start, so there it traces nothing). L: linking's
+// tests compiled in (bidir_links_on).
+template <bool L = true, class SR>
 LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps,
                                          const BdptState& bs, const BdptSettings& st_all,
                                          const LightCache& cache, int i, int64_t path,
                                          const SR& sr) {
-    const BdptSettings st = camera_settings(st_all, pixel_conn_of_path(s, st_all, path));
+    const BdptSettings st = camera_settings(st_all, pixel_conn_of_slot(st_all, bs, i));
     ps.shadow_valid[i] = 0;
     ps.alive[i] = 0;
     bs.conn_n[i] = 0;
@@ -497,7 +499,7 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
     // emission of a mesh light at the hit
     const Material& m = *z.m;
     const int li = s.tri_light ? s.tri_light[tri] : -1;
-    if (!is_black(m.emission) && bidir_emission_counts(s, ps, i, li)) {  // (linking)
+    if (!is_black(m.emission) && (!L || bidir_emission_counts(s, ps, i, li))) {  // (linking)
         float w = 1.0f, nee = 0.0f;
         if (z.depth > 1 && li >= 0) {
             const Light& l = s.lights[li];
@@ -528,7 +530,7 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
     z.dvc = dvc;
     // (light from under the face too: integrator/terminator.h; as pt's, a lamp without
     // shadows too, bidir_linking.h)
-    z.n_pick = (terminator_cutoff(s, tri) > 0.0f || s.light_rays) &&
+    z.n_pick = (terminator_cutoff(s, tri) > 0.0f || (L && s.light_rays)) &&
                        dot(z.h.ns, z.h.ng) < 0.99999f
                    ? vec3(0.0f)
                    : light_pick_normal(s, tri, z.h.ng);
@@ -539,8 +541,7 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
     // next event and connections: the events stage's (bdpt_camera_events.h), from z and this
     // stream; here their draws are skipped
     if (!material_is_delta(m)) bdpt_queue_camera_events(bs, i, z, rng);
-    rng.uniform2();
-    rng.uniform2();
+    bdpt_skip_camera_events(rng);
     // continue
     Vec2 u_dir = rng.uniform2();
     BsdfSample b = material_sample(m, z.h.front, z.wo, Vec3{u_dir.x, u_dir.y, rng.uniform()},
@@ -559,7 +560,7 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
             bs.dvc[i] = dvc;
             set_next_ray(ps, i, z.h.p, z.h.ng, wi, b.delta ? 0.0f : b.pdf_fwd_w,
                          s.offset_scale);
-            pt_set_receiver(s, ps, i, tri);  // light linking: this vertex receives (s = 0)
+            if (L) pt_set_receiver(s, ps, i, tri);  // light linking: this vertex receives (s = 0)
             ps.prev_p[i] = z.h.p;  // (and for a soft-falloff light's weight: its normal)
             bs.prev_ng[i] = z.h.ng;
             if (s.light_tree_on || media) ps.prev_n[i] = z.n_pick;

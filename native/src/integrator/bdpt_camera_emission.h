@@ -48,8 +48,11 @@ LANTERN_HD inline bool bdpt_camera_medium_segment(const SceneView& s, const Path
 LANTERN_HD inline void bdpt_camera_generate(const SceneView& s, const PathState& ps,
                                             const BdptState& bs, const BdptSettings& st_all,
                                             int i, int64_t path) {
-    // the pixel's counts (pixel_conn.h: r, N, M; st_all itself without a map)
-    const BdptSettings st = camera_settings(st_all, pixel_conn_of_path(s, st_all, path));
+    // the pixel's counts (pixel_conn.h: r, N, M; st_all itself without a map), kept for the
+    // path's later stages (pixel_conn_of_slot)
+    const PixelConn pc = pixel_conn_of_path(s, st_all, path);
+    if (st_all.conn_map) bs.cam_conn[i] = pixel_conn_pack(pc);
+    const BdptSettings st = camera_settings(st_all, pc);
     // the same camera sample as pt's (same random stream), plus the MIS quantities
     const PtSettings pst{st.max_depth, st.rr_depth, st.spp_per_iteration, st.seed, st.iteration};
     // (a moving camera: at the path's time, bdpt_motion.h, its density in that camera)
@@ -117,8 +120,9 @@ LANTERN_HD inline float bdpt_soft_hit_emit(const SceneView& s, const PathState& 
     return cos_d > 0.0f && is_finite(r) ? r : 0.0f;
 }
 
-// Lights crossed by the segment, and the background on a miss (s = 0).
-template <class SR>
+// Lights crossed by the segment, and the background on a miss (s = 0). L: linking's tests
+// compiled in (bidir_links_on).
+template <bool L = true, class SR>
 LANTERN_HD inline void bdpt_camera_emission(const SceneView& s, const PathState& ps,
                                             const BdptState& bs, const BdptSettings& st, int i,
                                             float t_end, bool miss, const SR& sr) {
@@ -127,7 +131,7 @@ LANTERN_HD inline void bdpt_camera_emission(const SceneView& s, const PathState&
     for (int k = 0; k < s.num_hittable_lights; ++k) {
         const Light& l = s.lights[s.hittable_lights[k]];
         if (camera && !l.visible_camera) continue;
-        if (!bidir_emission_counts(s, ps, i, s.hittable_lights[k])) continue;  // (linking)
+        if (L && !bidir_emission_counts(s, ps, i, s.hittable_lights[k])) continue;  // (linking)
         LightHit h = intersect_light(l, o, d, ps.ray_tmin[i], t_end);
         if (!h.hit || is_black(h.le)) continue;
         float nee = 0.0f;
@@ -135,7 +139,8 @@ LANTERN_HD inline void bdpt_camera_emission(const SceneView& s, const PathState&
         if (!camera && light_receiver_dependent(l))
             soft = st.r > 0.0f ? bdpt_soft_hit_emit(s, ps, bs, sr, i, l, h.t) : 0.0f;
         float w = bdpt_emission_weight(s, ps, bs, st, i, l, h.t, h.n, &nee, soft);
-        if (w > 0.0f && bidir_pt_weight(s, ps, i, s.hittable_lights[k])) w = 1.0f / (1.0f + nee);
+        if (L && w > 0.0f && bidir_pt_weight(s, ps, i, s.hittable_lights[k]))
+            w = 1.0f / (1.0f + nee);
         Vec3 c = ps.throughput[i] * h.le * w;
         if (st.moments) c = bdpt_moment(c, c, bdpt_pt_factor(1.0f / w, 1.0f, nee));
         add_radiance(ps, i, c);
@@ -147,10 +152,11 @@ LANTERN_HD inline void bdpt_camera_emission(const SceneView& s, const PathState&
                                     dot(d, -l.direction) < l.cos_sun))
             continue;  // a sun lamp is hidden from the camera; the world's disc (of_world) not
         if (l.type == kLightWorld && camera && !l.visible_camera) continue;
-        if (!bidir_emission_counts(s, ps, i, s.miss_lights[k])) continue;  // (linking)
+        if (L && !bidir_emission_counts(s, ps, i, s.miss_lights[k])) continue;  // (linking)
         float nee = 0.0f;
         float w = bdpt_emission_weight(s, ps, bs, st, i, l, kInf, vec3(0.0f), &nee);
-        if (w > 0.0f && bidir_pt_weight(s, ps, i, s.miss_lights[k])) w = 1.0f / (1.0f + nee);
+        if (L && w > 0.0f && bidir_pt_weight(s, ps, i, s.miss_lights[k]))
+            w = 1.0f / (1.0f + nee);
         Vec3 le = l.type == kLightWorld ? world_radiance(s, l, d) : l.radiance;
         Vec3 c = ps.throughput[i] * le * w;
         if (st.moments) c = bdpt_moment(c, c, bdpt_pt_factor(1.0f / w, 1.0f, nee));

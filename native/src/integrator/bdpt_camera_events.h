@@ -46,27 +46,29 @@ LANTERN_HD inline StageRaysRef<SR> stage_rays_at(const SR& sr, float time) {
 }
 
 // The emission stage: s = 0 along the traced segment (scenes without media; in media the shade's
-// segment stage finds the lights it crosses, bdpt_camera_medium_segment).
-template <class SR>
+// segment stage finds the lights it crosses, bdpt_camera_medium_segment). L: linking's tests
+// compiled in (bidir_links_on).
+template <bool L = true, class SR>
 LANTERN_HD inline void bdpt_camera_emission_stage(const SceneView& s, const PathState& ps,
                                                   const BdptState& bs,
                                                   const BdptSettings& st_all, int i,
                                                   int64_t path, const SR& sr) {
-    const BdptSettings st = camera_settings(st_all, pixel_conn_of_path(s, st_all, path));
+    const BdptSettings st = camera_settings(st_all, pixel_conn_of_slot(st_all, bs, i));
     const int tri = ps.hit_prim[i];
-    bdpt_camera_emission(s, ps, bs, st, i, tri >= 0 ? ps.hit_t[i] : ps.ray_tmax[i], tri < 0, sr);
+    bdpt_camera_emission<L>(s, ps, bs, st, i, tri >= 0 ? ps.hit_t[i] : ps.ray_tmax[i], tri < 0,
+                            sr);
 }
 
 // The events stage: the queued camera vertex's next event and connections (none where the shade
 // queued nothing: a delta surface, a path that ended or went under the surface). sr: the
-// stage's own ray queries (V(c, x) of soft-falloff lights).
-template <class SR>
+// stage's own ray queries (V(c, x) of soft-falloff lights). L: linking's tests compiled in.
+template <bool L = true, class SR>
 LANTERN_HD inline void bdpt_camera_events(const SceneView& s, const PathState& ps,
                                           const BdptState& bs, const BdptSettings& st_all,
                                           const LightCache& cache, int i, int64_t path,
                                           const SR& sr) {
     if (!bs.cam_on[i]) return;
-    const BdptSettings st = camera_settings(st_all, pixel_conn_of_path(s, st_all, path));
+    const BdptSettings st = camera_settings(st_all, pixel_conn_of_slot(st_all, bs, i));
     CameraVertex& z = bs.cam_z[i];  // read in the slot's memory: no copy on a GPU thread's stack
     MaterialScratch scratch;        // z.m's, and the cache vertices' (kOneScratch)
     z.scratch = &scratch;
@@ -75,7 +77,7 @@ LANTERN_HD inline void bdpt_camera_events(const SceneView& s, const PathState& p
         bdpt_camera_medium_nee(s, ps, bs, st, z, i, rng, sr, path);
     } else {
         z.m = &camera_vertex_material(s, z);
-        bdpt_camera_nee(s, ps, bs, st, z, i, rng, sr, path);
+        bdpt_camera_nee<L>(s, ps, bs, st, z, i, rng, sr, path);
     }
     bdpt_camera_connect(s, bs, st, cache, z, i, path);
 }

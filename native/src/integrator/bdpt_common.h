@@ -204,7 +204,22 @@ struct BdptState {
     CameraVertex* cam_z = nullptr;
     Rng* cam_rng = nullptr;
     uint8_t* cam_on = nullptr;
+    // camera pass with a connection map: the path's pixel counts (pixel_conn_of_slot), in the
+    // light pass's light slots
+    int32_t* cam_conn = nullptr;
 };
+
+// The camera pass: the stream as the events stage's two uniform2 (its next event's) leave it,
+// without making their numbers (each moves to the next even dimension, then past its pair:
+// core/rng.h), for the shade, which queued a copy of it (bdpt_queue_camera_events).
+LANTERN_HD inline void bdpt_skip_camera_events(Rng& rng) {
+#ifdef LANTERN_RNG_PCG
+    rng.uniform2();
+    rng.uniform2();
+#else
+    rng.dim = rng.dim + (rng.dim & 1u) + 4u;
+#endif
+}
 
 // What the camera pass reads of the cache.
 struct LightCache {

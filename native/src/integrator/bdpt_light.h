@@ -85,8 +85,9 @@ LANTERN_HD inline float bdpt_light_tracing_weight(const BdptSettings& st, float 
 }
 
 // At a light path's hit: MIS update, the vertex to store, the camera splat, the next direction.
-// sr: the stage's own ray queries (a soft-falloff light's first hit tests y0 -> x1).
-template <class SR>
+// sr: the stage's own ray queries (a soft-falloff light's first hit tests y0 -> x1). L:
+// linking's tests compiled in (bidir_links_on; false: a scene without them).
+template <bool L = true, class SR>
 LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
                                         const BdptState& bs, const BdptSettings& st, int i,
                                         int64_t path, const SR& sr) {
@@ -213,11 +214,12 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
     // delta lobe
     // (media: the first surface vertex decides where y1.. were medium vertices,
     // bidir_linking_medium.h)
-    if (s.light_receivers && (k == 1 || (s.num_media > 0 && ps.recv_set && ps.recv_set[i]))) {
+    if (L && s.light_receivers &&
+        (k == 1 || (s.num_media > 0 && ps.recv_set && ps.recv_set[i]))) {
         if (ps.recv_set) ps.recv_set[i] = 0;
         if (!bidir_links(s, bs.light[i], tri)) return;
     }
-    const bool only_delta = k == 1 && bidir_light_path_delta_only(s, bs.light[i]);
+    const bool only_delta = L && k == 1 && bidir_light_path_delta_only(s, bs.light[i]);
     const bool delta = material_is_delta(m) || only_delta;
 
     if (!delta) {

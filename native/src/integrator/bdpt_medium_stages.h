@@ -355,8 +355,7 @@ LANTERN_HD inline void bdpt_camera_medium_vertex(const SceneView& s, const PathS
     // next event (bdpt_camera_medium_nee) and connections: the events stage's
     // (bdpt_camera_events.h); here their draws are skipped
     bdpt_queue_camera_events(bs, i, z, rng);
-    rng.uniform2();
-    rng.uniform2();
+    bdpt_skip_camera_events(rng);
     float pdf_w = 0.0f;
     const Vec3 wi = hg_sample(m.g, d, rng.uniform2(), &pdf_w);  // weight 1
     Vec3 beta = z.beta;

@@ -42,6 +42,14 @@
 
 namespace lantern {
 
+// Whether scene s has any of the tables the tests below read (light and shadow linking, a lamp
+// without shadows): where it has none, the stages run compiled without the tests (their
+// template flag L false, chosen once per chunk: schedule_bdpt.h; the GPU builds L only), the
+// same bits as the tests would give.
+LANTERN_HD inline bool bidir_links_on(const SceneView& s) {
+    return s.light_receivers || s.light_blockers || s.light_rays;
+}
+
 // Whether light li lights receiver triangle (or strand) tri: the light pass's y1.
 LANTERN_HD inline bool bidir_links(const SceneView& s, int li, int tri) {
     return !s.light_receivers || pt_light_links(s, li, pt_receiver_set(s, tri));

@@ -43,6 +43,17 @@ LANTERN_HD inline PixelConn pixel_conn_of_path(const SceneView& s, const BdptSet
     return pixel_conn_at(st, s.camera, r.x, r.y);
 }
 
+// A path's counts in one int (the map's two bytes; q follows from N), kept in its slot by the
+// camera pass's generation (BdptState::cam_conn) for its later stages: the same counts as
+// pixel_conn_of_path's, without drawing the raster sample again.
+LANTERN_HD inline int32_t pixel_conn_pack(const PixelConn& pc) { return pc.n | (pc.m << 8); }
+LANTERN_HD inline PixelConn pixel_conn_of_slot(const BdptSettings& st, const BdptState& bs,
+                                               int i) {
+    if (!st.conn_map) return PixelConn{st.connections, st.candidates, 1.0f};
+    const int32_t n = bs.cam_conn[i] & 0xff, m = bs.cam_conn[i] >> 8;
+    return PixelConn{n, m, float(n) / float(st.connections)};
+}
+
 // The camera pass's settings for a path of counts pc: r, N and M the pixel's (N = 0: r = 1,
 // the camera quantities' count-1 normalisation); st itself where there is no map.
 LANTERN_HD inline BdptSettings camera_settings(const BdptSettings& st, const PixelConn& pc) {

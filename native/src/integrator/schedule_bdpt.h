@@ -111,7 +111,15 @@ LANTERN_HD inline void bdpt_shadow_medium(const SceneView& s, const Rays& rays,
     }
 }
 
+// Whether a chunk runs the stages with linking's tests compiled in (L, bidir_linking.h): where
+// the scene has linking's tables; always on the GPU, which builds those chunks only (one set of
+// kernels). light_chunk<Exec, Exec::kGpu> is the CPU's chunk without them.
 template <class Exec>
+bool bidir_chunk_links(const SceneView& s) {
+    return Exec::kGpu || bidir_links_on(s);
+}
+
+template <class Exec, bool L = true>
 void light_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep& st,
                  int64_t first_path, int n) {
     w.media = s.num_media > 0;
@@ -146,8 +154,8 @@ void light_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep&
         ex.timed(stats.time_shade, [&] {
             ex.each(active, LANTERN_KERNEL(int k) {
                 const int i = q[k];
-                bdpt_light_shade(s, ps, bs, bst, i, first_path + i,  // (motion: at its time)
-                                 motion ? sr.at(bdpt_time(bst, first_path + i)) : sr);
+                bdpt_light_shade<L>(s, ps, bs, bst, i, first_path + i,  // (motion: its time)
+                                    motion ? sr.at(bdpt_time(bst, first_path + i)) : sr);
             });
         });
         // store vertices in queue order (places by an exclusive scan of the store flags), then
@@ -260,7 +268,7 @@ void bdpt_sss_stages(Exec& ex, Wavefront<Exec>& w, const SceneView& s, const Bdp
     });
 }
 
-template <class Exec>
+template <class Exec, bool L = true>  // (L: bidir_chunk_links)
 void camera_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep& st,
                   int64_t first_path, int n) {
     w.media = s.num_media > 0;
@@ -306,7 +314,7 @@ void camera_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep
                 ex.each(active, LANTERN_KERNEL(int k) {
                     const int i = q[k];
                     const int64_t path = camera_path(list, spp, first_path + i);
-                    bdpt_camera_emission_stage(  // (motion: at its time; else sr's, 0)
+                    bdpt_camera_emission_stage<L>(  // (motion: at its time; else sr's, 0)
                         s, ps, bs, bst, i, path,
                         stage_rays_at(sr, motion ? bdpt_time(bst, path) : sr.time));
                 }, 64);
@@ -314,14 +322,14 @@ void camera_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep
             ex.each(active, LANTERN_KERNEL(int k) {
                 const int i = q[k];
                 const int64_t path = camera_path(list, spp, first_path + i);
-                bdpt_camera_shade(s, ps, bs, bst, cache, i, path,  // (motion: at its time)
-                                  stage_rays_at(sr, motion ? bdpt_time(bst, path) : sr.time));
+                bdpt_camera_shade<L>(s, ps, bs, bst, cache, i, path,  // (motion: its time)
+                                     stage_rays_at(sr, motion ? bdpt_time(bst, path) : sr.time));
             }, 64);
             ex.each(active, LANTERN_KERNEL(int k) {
                 const int i = q[k];
                 const int64_t path = camera_path(list, spp, first_path + i);
-                bdpt_camera_events(s, ps, bs, bst, cache, i, path,  // (motion: at its time)
-                                   stage_rays_at(sr, motion ? bdpt_time(bst, path) : sr.time));
+                bdpt_camera_events<L>(s, ps, bs, bst, cache, i, path,  // (motion: its time)
+                                      stage_rays_at(sr, motion ? bdpt_time(bst, path) : sr.time));
             }, 64);
         });
 #ifndef __CUDACC__  // the walk stage measured 2,816 B of stack on the device: CPU only (session.cpp)
@@ -338,8 +346,7 @@ void camera_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep
                 ex.sum_of(active, LANTERN_KERNEL(int k) { return bs.conn_n[q[k]]; });
             if (w.mode == kCisResampled) {  // M of each camera vertex's pixel (pixel_conn.h)
                 stats.cis_candidates += bst.conn_map ? ex.sum_of(active, LANTERN_KERNEL(int k) {
-                    const int64_t path = camera_path(list, spp, first_path + q[k]);
-                    return camera_settings(bst, pixel_conn_of_path(s, bst, path)).candidates;
+                    return camera_settings(bst, pixel_conn_of_slot(bst, bs, q[k])).candidates;
                 }) : int64_t(active) * bst.candidates;
             }
             if (s.num_media > 0) {  // through media, weights finished (bdpt_medium_stages.h)
@@ -356,7 +363,8 @@ void camera_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep
                     if (ps.shadow_valid[i]) {
                         Ray r{ps.shadow_o[i], ps.shadow_d[i], 0.0f, ps.shadow_tmax[i]};
                         r.time = time;
-                        if (!bidir_nee_occluded(s, rays, RayKind::kShadow, ps, i, r))
+                        if (L ? !bidir_nee_occluded(s, rays, RayKind::kShadow, ps, i, r)
+                              : !rays.occluded(r, RayKind::kShadow))
                             add_radiance(ps, i, bidir_nee_value(ps, bs, i, bidir_nee_visible(
                                                     s, rays, RayKind::kIndirect, r)));
                     }
@@ -419,7 +427,10 @@ void measure_cache_rate(Exec& ex, Wavefront<Exec>& w, const SceneView& s, Wavefr
         return;
     }
     w.pilot = true;
-    light_chunk(ex, w, s, st, 0, pilot);
+    if (bidir_chunk_links<Exec>(s))
+        light_chunk<Exec, true>(ex, w, s, st, 0, pilot);
+    else
+        light_chunk<Exec, Exec::kGpu>(ex, w, s, st, 0, pilot);
     w.pilot = false;
     if (!st.cancelled()) w.vertices_per_path = double(w.pilot_count) / pilot;
 }
@@ -462,7 +473,11 @@ bool bdpt_pass(Exec& ex, Wavefront<Exec>& w, const SceneView& s, WavefrontStep& 
         w.cache.release();  // empty: released before the new one, never both at once
     w.cache.grow(want);
     for (int64_t p0 = 0; p0 < light_paths; p0 += st.chunk_paths) {
-        light_chunk(ex, w, s, st, p0, int(std::min<int64_t>(st.chunk_paths, light_paths - p0)));
+        const int n = int(std::min<int64_t>(st.chunk_paths, light_paths - p0));
+        if (bidir_chunk_links<Exec>(s))
+            light_chunk<Exec, true>(ex, w, s, st, p0, n);
+        else
+            light_chunk<Exec, Exec::kGpu>(ex, w, s, st, p0, n);
         if (st.cancelled()) return false;
     }
     stats.cache_vertices = w.cache_size;
@@ -479,7 +494,10 @@ bool bdpt_pass(Exec& ex, Wavefront<Exec>& w, const SceneView& s, WavefrontStep& 
     const int64_t chunk_pixels = std::max<int64_t>(1, chunk / spp_it);
     for (int64_t q0 = 0; q0 < pixels; q0 += chunk_pixels) {
         const int64_t np = std::min(chunk_pixels, pixels - q0);
-        camera_chunk(ex, w, s, st, q0 * spp_it, int(np * spp_it));
+        if (bidir_chunk_links<Exec>(s))
+            camera_chunk<Exec, true>(ex, w, s, st, q0 * spp_it, int(np * spp_it));
+        else
+            camera_chunk<Exec, Exec::kGpu>(ex, w, s, st, q0 * spp_it, int(np * spp_it));
         if (st.cancelled()) return false;
     }
     stats.time_camera_pass += seconds_since(t);

@@ -259,6 +259,7 @@ struct Wavefront {
         bs.cam_z = cam_z.data();
         bs.cam_rng = cam_rng.data();
         bs.cam_on = cam_on.data();
+        bs.cam_conn = light_id.data();  // (the camera pass's use of the light pass's slots)
         if (media && bidirectional) {
             bs.seg_fwd = seg_fwd.data();
             bs.seg_rev = seg_rev.data();
