@@ -17,6 +17,7 @@ import random
 import difftest_features2 as f2
 import difftest_features3 as f3
 import difftest_features4 as f4
+import difftest_features5 as f5
 from difftest_graph import _rgb, _u
 
 FEATURES = {
@@ -36,6 +37,7 @@ FEATURES = {
 FEATURES.update(f2.FEATURES)   # the second batch (difftest2): Volume objects, Cast Shadow, ...
 FEATURES.update(f3.FEATURES)   # the third (difftest3): moving emitters, motion in fog, hair mixes
 FEATURES.update(f4.FEATURES)   # the fourth (difftest4): light and shadow linking
+FEATURES.update(f5.FEATURES)   # the fifth (difftest5): parents, shutter position, steps, ...
 
 P_VOLUME, P_WORLD_VOLUME, P_SUBSURFACE, P_HAIR, P_MOTION = 0.15, 0.06, 0.12, 0.10, 0.12
 
@@ -158,8 +160,9 @@ def draw(key, case, avoid, material):
         else:
             case.pop("shutter")
     # each batch from a stream of its own: cases without them draw unchanged
-    return f4.draw(key, f3.draw(key, f2.draw(key, case, avoid), avoid, material, _volume_graph,
+    case = f4.draw(key, f3.draw(key, f2.draw(key, case, avoid), avoid, material, _volume_graph,
                                 _curves), avoid)
+    return f5.draw(key, case, avoid, _volume_graph, lambda rr: _hair_material(rr, avoid, material))
 
 
 def _curves(r):
@@ -252,7 +255,7 @@ def build_object(sc, o, mats, made):
         ps.child_type = "NONE"
         sc.cycles_curves.shape = "THICK_LINEAR"
         f2.hair_children(o, made)
-    return made
+    return f5.build_object(sc, o, made)
 
 
 def build_scene(sc, case, camera, made):
@@ -269,6 +272,7 @@ def build_scene(sc, case, camera, made):
     bpy.context.preferences.edit.keyframe_new_interpolation_type = "LINEAR"
     movers = [(camera, case["camera"].get("motion"))]
     movers += [(ob, o.get("motion")) for o, ob in zip(case["objects"], made)]
+    movers += list(f5.parents(case, made))
     for ob, m in movers:
         for key, path in (("location", "location"), ("rotation", "rotation_euler")):
             if m and key in m:
@@ -276,6 +280,7 @@ def build_scene(sc, case, camera, made):
     sc.render.use_motion_blur = True
     sc.render.motion_blur_shutter = case["shutter"]
     sc.render.motion_blur_position = "CENTER"
+    f5.build_scene(sc, case, camera)
     sc.frame_set(1)
 
 
@@ -321,7 +326,7 @@ def features(case):
                 found.add("principled hair")
     if "motion" in case["camera"] and case.get("shutter"):
         found.add("moving camera")
-    return found | f2.features(case) | f3.features(case) | f4.features(case)
+    return found | f2.features(case) | f3.features(case) | f4.features(case) | f5.features(case)
 
 
 def shrink_edits(case):
@@ -344,3 +349,4 @@ def shrink_edits(case):
     yield from f2.shrink_edits(case)
     yield from f3.shrink_edits(case)
     yield from f4.shrink_edits(case)
+    yield from f5.shrink_edits(case)

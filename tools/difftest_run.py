@@ -1,6 +1,7 @@
 """tools/difftest.py with every integrator (auto and lt as well as pt, bdpt, lvc and cis) and
 a choice of features (docs/difftest.md). The same options and log; --integrator's choices
-are wider, and --want TAG (repeatable; "new" for every difftest_features3 tag) runs only the
+are wider, and --want TAG (repeatable; "new" for every difftest_features3 tag, "new5" for every
+difftest_features5 tag) runs only the
 seeds whose case has one of the tags (the others are skipped, not logged), one case at a time
 through difftest.main (--resume: each seed once). A wrapper, not an edit of difftest.py,
 whose digest keys the CI slice's stored Cycles side (tests/cycles/test_difftest.py): changing
@@ -118,7 +119,9 @@ def main(argv=None):
     import difftest_features as df
     import difftest_features3 as f3
     import difftest_scene as ds
-    want = set(f3.FEATURES) if "new" in want else set(want)
+    import difftest_features5 as f5
+    groups = {"new": f3.FEATURES, "new5": f5.FEATURES}   # a batch's tags by one word
+    want = set().union(*(set(groups.get(w, {w})) for w in want))
     args = parse(argv)
     avoid = set(args.avoid) | (set(difftest.dk.KNOWN) - set(args.allow)
                                if args.avoid_known else set())
