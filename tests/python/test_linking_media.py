@@ -10,7 +10,7 @@ the lamp's light and not the quad's; fog seen past ball B the quad's alone. bdpt
 render it themselves (no hand-over) against pt; the control, the scene without the linking,
 must fail (lt: test_lt_linking.py). lt's shadow linking in fog still hands over to pt, with
 pt's bits (bdpt, lvc and cis render shadow linking in media themselves:
-test_linking_shadow_media.py).
+test_linking_shadow_media.py)."""
 import numpy as np
 import pytest
 
