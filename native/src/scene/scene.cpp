@@ -269,6 +269,7 @@ HostScene::HostScene(const SceneInput& in, bool soft_light_paths)
     add_lights(in);
     build_light_linking(in);
     add_curve_prims(in);
+    drop_redundant_shadow_links();
     build_lamp_rays(in);
     build_filter(in.filter_width);
     finish_view(in);

@@ -273,6 +273,7 @@ private:
     void add_meshes(const SceneInput& in);
     void add_lights(const SceneInput& in);
     void build_light_linking(const SceneInput& in);  // light_linking_build.cpp
+    void drop_redundant_shadow_links();              // ... after add_curve_prims
     void build_lamp_rays(const SceneInput& in);      // lamp_rays_build.cpp
     void build_filter(float width);
     void finish_view(const SceneInput& in);
