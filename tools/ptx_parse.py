@@ -83,11 +83,26 @@ def kernel_ptx(module, defs, entry):
 # labels, local depots, strings and debug info, comments and source line directives.
 _NUMBERED = re.compile(r"(__local_depot|\$L__BB|\$L__info_string|\$L__tmp|\$L__func_begin|"
                        r"\$L__func_end|\$str\$?|__unnamed_)\d+")
+# An internal-linkage function's mangled name carries hashes of its translation unit's path and
+# build (`_ZN65_INTERNAL_<hex>_28_cuda_schedule_bdpt_camera_cu_<hex>_27243...`, 65 characters):
+# the same code compiled in another clone. The whole length-prefixed component is replaced.
+_INTERNAL = re.compile(r"(\d+)_INTERNAL_")
+
+
+def _internal_names(code):
+    out, i = [], 0
+    for m in _INTERNAL.finditer(code):
+        if m.start() < i:
+            continue
+        n = int(m.group(1))
+        out.append(code[i:m.start()] + "INTERNAL#")
+        i = m.start(1) + len(m.group(1)) + n
+    return "".join(out) + code[i:] if out else code
 
 
 def code_digest(entry, defs):
-    """A digest of what ptxas compiles for this kernel, with its name, numbering, comments and
-    .loc lines taken out: kernels with equal digests are the same code (ptxas gives them the
+    """A digest of what ptxas compiles for this kernel, with its name, numbering, internal names'
+    path hashes, comments and .loc lines taken out: kernels with equal digests are the same code (ptxas gives them the
     same registers and stack; tests/python/test_gpu_tools.py checks it on a pair)."""
     h = hashlib.sha256()
     for p in closure(entry, defs):
@@ -95,7 +110,8 @@ def code_digest(entry, defs):
             code = line.split("//")[0].rstrip()
             if not code or code.lstrip().startswith(".loc"):
                 continue
-            h.update(_NUMBERED.sub(r"\1#", code.replace(entry, "ENTRY")).encode() + b"\n")
+            code = _internal_names(code.replace(entry, "ENTRY"))
+            h.update(_NUMBERED.sub(r"\1#", code).encode() + b"\n")
     return h.hexdigest()[:24]
 
 
