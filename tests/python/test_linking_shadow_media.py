@@ -21,10 +21,10 @@ import lantern
 from lantern import metrics
 
 from test_linking_bidir import shadow_linked
+from test_linking_media import FOG  # the same fog as light linking in media
 from test_volume_bidir import _volume_box
 
 K, SPP = 16, 32  # seeds x samples per pixel (tests/README.md: Welch dof >= 15)
-FOG = {"sigma_s": [0.25, 0.25, 0.25], "sigma_a": [0.02, 0.03, 0.05], "g": 0.3}
 
 
 @pytest.fixture(scope="module")
