@@ -1,6 +1,5 @@
 // Integrator "auto": the pilot, the estimates and the choice (allocation.h).
 #include "integrator/allocation.h"
-#include "scene/motion_build.h"
 
 #include <algorithm>
 #include <cmath>
@@ -391,7 +390,13 @@ std::string pt_only_reason(const SceneInput& in) {
     // heterogeneous media (bdpt_medium_stages.h, bdpt_medium_hetero.h); emissive ones stay pt's
     // here (emissive_media_reason), as auto's trials carry no moment channels in media at all
     if (std::string v = emissive_media_reason(in); !v.empty()) return v;
-    if (std::string v = motion_reason(in); !v.empty()) return v;  // motion: docs/motion_blur.md
+    // motion blur: no longer pt's (branch autowide). cis gives each pass one shutter time and
+    // renders the pass at it (docs/motion_blur.md); its trials' moment channels, each at its
+    // pass's time, are pt's second moment at that time, whose mean over the uniform times is
+    // pt's own (pt draws the time per sample: its density of a (time, path) pair is its
+    // still-frame density at that time), test_auto_wide.py. With more than one sample a pass
+    // cis's passes hold one time for several samples, which one-sample trials do not see: the
+    // session keeps pt there (session.cpp)
     if (std::string v = subsurface_reason(in); !v.empty()) return v;  // docs/subsurface.md
     if (std::string v = curves_bidir_reason(in); !v.empty()) return v;  // docs/curves.md
     return "";
