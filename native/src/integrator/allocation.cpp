@@ -381,9 +381,11 @@ std::string pt_only_reason(const SceneInput& in) {
         if (m.holdout) return "a holdout (material '" + m.name + "')";
     for (const MeshInput& m : in.meshes)
         if (m.shadow_catcher) return "a shadow catcher (mesh '" + m.name + "')";
-    if (std::string v = ray_visibility_reason(in); !v.empty()) return v;
-    // (bidir_no_shadow.h: auto's trials carry no moment channels of its ratio)
-    if (std::string v = no_shadow_object_reason(in); !v.empty()) return v;
+    // light and shadow linking, a lamp's or an object's Cast Shadow off (branch autowide): cis
+    // renders them itself where bidir_visibility_reason says so (bidir_linking.h,
+    // bidir_no_shadow.h); object and lamp ray visibility, and the rest it names, stay pt's
+    if (!ray_visibility_reason(in).empty() || !no_shadow_object_reason(in).empty())
+        if (std::string v = bidir_visibility_reason(in, false); !v.empty()) return v;
     if (in.catcher_mode != 0) return "a shadow catcher pass";
     if (in.world_rays != 7) return "the world hidden from some rays";
     // media (with auto_media on; session.cpp): cis has medium vertices in homogeneous and
