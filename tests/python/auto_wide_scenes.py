@@ -172,6 +172,32 @@ def slab_stage(feature=None, big=False, size=16):
     return s
 
 
+def _skin(scene, name, method="random_walk"):
+    """Mesh `name` in a principled material with Random Walk subsurface (radius 0.2, 0.1, 0.05
+    m), an orange base."""
+    m = scene.add_material("skin", type="principled", base_color=(0.8, 0.55, 0.4),
+                           roughness=0.5, subsurface={"weight": 1.0, "radius": [0.2, 0.1, 0.05],
+                                                      "method": method})
+    mesh = _mesh(scene, name)
+    mesh["material_ids"] = np.full(len(mesh["material_ids"]), m, dtype=np.uint32)
+    return scene
+
+
+def cornell_sss(width, height):
+    """The Cornell box, its tall box of Random Walk subsurface."""
+    return _skin(scenes.cornell_box(width, height), "tall_box")
+
+
+def lantern_sss(width, height):
+    """The glass lantern, the tall box under it of Random Walk subsurface."""
+    return _skin(scenes.glass_lantern(width, height), "tall_box")
+
+
+def glossy_sss(width, height):
+    """The glossy box, its short box of Random Walk subsurface."""
+    return _skin(scenes.glossy_box(width, height), "short_box")
+
+
 SCENES = {
     "cornell_motion": cornell_motion,
     "lantern_motion": lantern_motion,
@@ -181,6 +207,9 @@ SCENES = {
     "glossy_lamp_noshadow": lambda w, h: _glossy(w, h, "lamp"),
     "glossy_object_noshadow": lambda w, h: _glossy(w, h, "object"),
     "cornell_light_link": cornell_light_link,
+    "cornell_sss": cornell_sss,
+    "lantern_sss": lantern_sss,
+    "glossy_sss": glossy_sss,
     "lantern_light_link": lantern_light_link,
     "cornell_shadow_link": cornell_shadow_link,
     "lantern_shadow_link": lantern_shadow_link,

@@ -399,7 +399,10 @@ std::string pt_only_reason(const SceneInput& in) {
     // still-frame density at that time), test_auto_wide.py. With more than one sample a pass
     // cis's passes hold one time for several samples, which one-sample trials do not see: the
     // session keeps pt there (session.cpp)
-    if (std::string v = subsurface_reason(in); !v.empty()) return v;  // docs/subsurface.md
+    // subsurface scattering: no longer pt's (branch autowide) on the CPU, where cis's camera
+    // paths walk as pt's do (bdpt_sss.h; the GPU has no walk stage for cis: session.cpp keeps
+    // pt there). With the moment channels on, light paths do not walk (bdpt_sss_light.h
+    // bdpt_sss_split_on), nor under a connection map (auto's kept cis iterations by default)
     if (std::string v = curves_bidir_reason(in); !v.empty()) return v;  // docs/curves.md
     return "";
 }

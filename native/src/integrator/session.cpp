@@ -196,6 +196,9 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
         if (why.empty() && settings_.spp_per_iteration > 1)
             if (std::string v = motion_reason(scene); !v.empty())
                 why = v + " with more than one sample an iteration";
+        // cis's camera paths walk on the CPU only (schedule_bdpt.h: the walk stage's kernel)
+        if (why.empty() && gpu_ && scene_->view().has_subsurface)
+            if (std::string v = subsurface_reason(scene); !v.empty()) why = v + " on the GPU";
         // the bidirectional medium stages have not run on a GPU yet (docs/volumes.md)
         if (why.empty() && gpu_ && media_) why = "participating media on the GPU";
         // (auto_media off: pt in media, docs/auto_integrator.md "Media")
