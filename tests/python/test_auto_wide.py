@@ -273,3 +273,23 @@ def test_subsurface_cornell_chooses_pt():
         s.step()
         chose.append(s.stats["auto_choice"])
     assert chose.count("pt") >= 7, chose
+
+
+@pytest.mark.parametrize("beside", ["fog", "subsurface"])
+def test_linking_beside_unchecked_features_stays_pt(beside):
+    """Linking beside media or subsurface scattering (cis renders both, bidir_linking_medium.h,
+    bdpt_sss.h): combinations auto was not checked on, so it keeps pt and names them. Control:
+    the same scene without the linking goes to auto's pilot."""
+    for linked in (True, False):
+        scene = aws._glossy(16, 16, "light" if linked else None)
+        if beside == "fog":
+            scene.world["volume"] = {"sigma_s": [0.25] * 3, "sigma_a": [0.02] * 3, "g": 0.3}
+        else:
+            aws._skin(scene, "short_box")
+        s = lantern.Session(scene, integrator="auto", seed=1, backend="cpu", threads=1)
+        s.step()
+        if linked:
+            assert s.stats["auto_choice"] == "pt" and s.stats["auto_cis_iterations"] == 0
+            assert any("linking" in w and "auto" in w for w in s.warnings), s.warnings
+        else:
+            assert s.stats["auto_cis_iterations"] > 0, s.warnings
