@@ -315,11 +315,10 @@ std::string bidir_visibility_reason(const SceneInput& in, bool light_tracer) {
         if (!l.cast_shadow) unshadowed = true;
     }
     if (other) return all;
-    // light and shadow linking with media: bdpt, lvc, cis (bidir_linking_medium.h); lt's light
-    // linking (lt_linking.h). A lamp's Cast Shadow off there, and lt's shadow linking there,
-    // stay with pt
-    if (std::string v = media_reason(in);
-        !v.empty() && (unshadowed || (shadow && light_tracer)))
+    // light and shadow linking and a lamp's Cast Shadow off with media: bdpt, lvc, cis
+    // (bidir_linking_medium.h); lt's light linking (lt_linking.h). lt's shadow linking and
+    // Cast Shadow off there stay with pt
+    if (std::string v = media_reason(in); !v.empty() && (unshadowed || shadow) && light_tracer)
         return "linking or no shadows with " + v;
     if (std::string v = subsurface_reason(in); !v.empty() && light_tracer)
         return "linking or no shadows with " + v;
