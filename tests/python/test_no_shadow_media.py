@@ -22,7 +22,7 @@ import pytest
 import lantern
 from lantern import metrics
 
-from test_linking_bidir import no_shadow
+from test_linking_bidir import no_shadow, room
 from test_linking_media import FOG
 from test_volume_bidir import _volume_box
 
@@ -65,7 +65,29 @@ def renders(build, integrator, seed0, on=True):
     return out, warnings
 
 
-CASES = {"lamp_world": lambda on: lamp("world", on), "lamp_box": lambda on: lamp("box", on)}
+def slab_off(s, on):
+    if on:
+        s.meshes[5]["cast_shadow"] = False  # the slab
+    return s
+
+
+def obj(case, on=True):
+    """The slab's Cast Shadow off (on) in fog `case`; on False: it casts its shadows."""
+    return fogged(slab_off(room("red", slab=True), on), case)
+
+
+def obj_linked(on=True):
+    """No fog: the quad shadow-linked (blockers: set 0, every object but the glass ball, set 1)
+    and the slab (set 0) casting no shadow; the lamp over the slab is not linked."""
+    s = room("glass", slab=True)
+    s.meshes[3]["shadow_set"] = 1
+    s.meshes[4]["blockers"] = [0]
+    return slab_off(s, on)
+
+
+CASES = {"lamp_world": lambda on: lamp("world", on), "lamp_box": lambda on: lamp("box", on),
+         "object_world": lambda on: obj("world", on), "object_box": lambda on: obj("box", on),
+         "object_linked": obj_linked}
 
 
 @pytest.fixture(scope="module")
@@ -90,3 +112,14 @@ def test_matches_pt(pt_refs, integrator, case):
     # the control: the property off (the scene without it) is seen
     free, _ = renders(CASES[case], integrator, 3000, on=False)
     assert not metrics.compare_renders(free, ref, block=4).passed
+
+
+@pytest.mark.parametrize("integrator", ["bdpt", "lt"])
+def test_volume_mesh_without_shadow_hands_over(core, integrator):
+    """A fog box that casts no shadow (its volume would be skipped by the shadow rays alone)
+    stays pt's, as does lt's Cast Shadow off in media (allocation.cpp): same bits."""
+    s = obj("box", on=False)
+    s.meshes[-1]["cast_shadow"] = False  # the fog box
+    img, warnings = render(s, integrator, 7, spp=2)
+    assert any("rendering with pt" in w for w in warnings), warnings
+    np.testing.assert_array_equal(img, render(s, "pt", 7, spp=2)[0])

@@ -281,9 +281,10 @@ std::string lt_soft_walk_reason(const SceneInput& in) {
 
 std::string bidir_visibility_reason(const SceneInput& in, bool light_tracer) {
     // an object's Cast Shadow off: bdpt, lvc and cis on meshes (bidir_no_shadow.h), with
-    // subsurface scattering too (a walk's exit is a surface vertex, bdpt_sss.h); lt too
-    // (lt_linking.h, shadow linking beside it there, not with subsurface); strands, shadow
-    // linking beside it (bdpt, lvc, cis) and media stay pt's
+    // subsurface scattering too (a walk's exit is a surface vertex, bdpt_sss.h), beside shadow
+    // linking, or beside media (not both at once; not where the object is a volume's mesh: its
+    // shadow rays would cross other media than its BSDF rays); lt too (lt_linking.h, shadow
+    // linking beside it there, not with subsurface or media); strands stay pt's
     if (light_tracer)
         if (std::string v = lt_soft_walk_reason(in); !v.empty()) return v;
     if (const std::string v = no_shadow_object_reason(in); !v.empty()) {
@@ -293,8 +294,15 @@ std::string bidir_visibility_reason(const SceneInput& in, bool light_tracer) {
             linked |= m.shadow_set != 0 || m.emitter_blockers != kAllReceivers;
         for (const CurveInput& c : in.curves)
             if (!c.cast_shadow) return v;
-        if (linked && !light_tracer) return v + " with shadow linking";
-        if (std::string u = media_reason(in); !u.empty()) return v + " with " + u;
+        if (std::string u = media_reason(in); !u.empty()) {
+            if (light_tracer) return v + " with " + u;
+            if (linked) return v + " with shadow linking and " + u;
+            for (const MeshInput& m : in.meshes)
+                for (uint32_t k : m.material_ids)
+                    if (!m.cast_shadow && k < in.materials.size() &&
+                        (in.materials[k].medium >= 0 || in.materials[k].volume_only))
+                        return "a volume's mesh that casts no shadow (mesh '" + m.name + "')";
+        }
         if (std::string u = subsurface_reason(in); !u.empty() && light_tracer)
             return v + " with " + u;
     }
