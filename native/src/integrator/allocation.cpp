@@ -282,9 +282,10 @@ std::string lt_soft_walk_reason(const SceneInput& in) {
 std::string bidir_visibility_reason(const SceneInput& in, bool light_tracer) {
     // an object's Cast Shadow off: bdpt, lvc and cis on meshes (bidir_no_shadow.h), with
     // subsurface scattering too (a walk's exit is a surface vertex, bdpt_sss.h), beside shadow
-    // linking, or beside media (not both at once; not where the object is a volume's mesh: its
-    // shadow rays would cross other media than its BSDF rays); lt too (lt_linking.h, shadow
-    // linking beside it there, not with subsurface or media); strands stay pt's
+    // linking, or beside media (not both at once, nor shadow linking with subsurface
+    // scattering; not where the object is a volume's mesh: its shadow rays would cross other
+    // media than its BSDF rays); lt too (lt_linking.h, shadow linking beside it there, not with
+    // subsurface or media); strands stay pt's
     if (light_tracer)
         if (std::string v = lt_soft_walk_reason(in); !v.empty()) return v;
     if (const std::string v = no_shadow_object_reason(in); !v.empty()) {
@@ -303,8 +304,8 @@ std::string bidir_visibility_reason(const SceneInput& in, bool light_tracer) {
                         (in.materials[k].medium >= 0 || in.materials[k].volume_only))
                         return "a volume's mesh that casts no shadow (mesh '" + m.name + "')";
         }
-        if (std::string u = subsurface_reason(in); !u.empty() && light_tracer)
-            return v + " with " + u;
+        if (std::string u = subsurface_reason(in); !u.empty() && (light_tracer || linked))
+            return v + (linked ? " with shadow linking and " : " with ") + u;  // (bdpt: not tested)
     }
     const std::string all = ray_visibility_reason(in);
     if (all.empty()) return all;
