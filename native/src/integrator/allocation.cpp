@@ -280,9 +280,11 @@ std::string lt_soft_walk_reason(const SceneInput& in) {
 
 std::string bidir_visibility_reason(const SceneInput& in, bool light_tracer) {
     // an object's Cast Shadow off: bdpt, lvc and cis on meshes (bidir_no_shadow.h), with
-    // subsurface scattering too (a walk's exit is a surface vertex, bdpt_sss.h); lt too
-    // (lt_linking.h, shadow linking beside it there, not with subsurface); strands, shadow
-    // linking beside it (bdpt, lvc, cis) and media stay pt's
+    // subsurface scattering too (a walk's exit is a surface vertex, bdpt_sss.h), beside shadow
+    // linking, or beside media (not both at once, nor shadow linking with subsurface
+    // scattering; not where the object is a volume's mesh: its shadow rays would cross other
+    // media than its BSDF rays); lt too (lt_linking.h, shadow linking beside it there, not with
+    // subsurface or media); strands stay pt's
     if (light_tracer)
         if (std::string v = lt_soft_walk_reason(in); !v.empty()) return v;
     if (const std::string v = no_shadow_object_reason(in); !v.empty()) {
@@ -292,10 +294,17 @@ std::string bidir_visibility_reason(const SceneInput& in, bool light_tracer) {
             linked |= m.shadow_set != 0 || m.emitter_blockers != kAllReceivers;
         for (const CurveInput& c : in.curves)
             if (!c.cast_shadow) return v;
-        if (linked && !light_tracer) return v + " with shadow linking";
-        if (std::string u = media_reason(in); !u.empty()) return v + " with " + u;
-        if (std::string u = subsurface_reason(in); !u.empty() && light_tracer)
-            return v + " with " + u;
+        if (std::string u = media_reason(in); !u.empty()) {
+            if (light_tracer) return v + " with " + u;
+            if (linked) return v + " with shadow linking and " + u;
+            for (const MeshInput& m : in.meshes)
+                for (uint32_t k : m.material_ids)
+                    if (!m.cast_shadow && k < in.materials.size() &&
+                        (in.materials[k].medium >= 0 || in.materials[k].volume_only))
+                        return "a volume's mesh that casts no shadow (mesh '" + m.name + "')";
+        }
+        if (std::string u = subsurface_reason(in); !u.empty() && (light_tracer || linked))
+            return v + (linked ? " with shadow linking and " : " with ") + u;  // (bdpt: not tested)
     }
     const std::string all = ray_visibility_reason(in);
     if (all.empty()) return all;
@@ -314,11 +323,10 @@ std::string bidir_visibility_reason(const SceneInput& in, bool light_tracer) {
         if (!l.cast_shadow) unshadowed = true;
     }
     if (other) return all;
-    // light and shadow linking with media: bdpt, lvc, cis (bidir_linking_medium.h); lt's light
-    // linking (lt_linking.h). A lamp's Cast Shadow off there, and lt's shadow linking there,
-    // stay with pt
-    if (std::string v = media_reason(in);
-        !v.empty() && (unshadowed || (shadow && light_tracer)))
+    // light and shadow linking and a lamp's Cast Shadow off with media: bdpt, lvc, cis
+    // (bidir_linking_medium.h); lt's light linking (lt_linking.h). lt's shadow linking and
+    // Cast Shadow off there stay with pt
+    if (std::string v = media_reason(in); !v.empty() && (unshadowed || shadow) && light_tracer)
         return "linking or no shadows with " + v;
     if (std::string v = subsurface_reason(in); !v.empty() && light_tracer)
         return "linking or no shadows with " + v;

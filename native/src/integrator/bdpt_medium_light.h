@@ -44,9 +44,10 @@ LANTERN_HD inline void bdpt_light_medium_vertex(const SceneView& s, const PathSt
         ps.recv_set[i] = 0;
         if (!pt_light_links(s, bs.light[i], 0)) return;
     }
-    // shadow linking (bidir_linking.h): y1 of a shadow-linked light scattering off the phase
-    // function (no delta lobe) is next-event estimation's alone: not stored, splatted, continued
-    if (k == 1 && bidir_nee_only(s, bs.light[i])) return;
+    // shadow linking, a lamp without shadows (bidir_linking.h): y1 of such a light scattering
+    // off the phase function (no delta lobe) is next-event estimation's (and s = 0's for the
+    // lamp) alone: not stored, splatted, continued
+    if (k == 1 && bidir_light_path_delta_only(s, bs.light[i])) return;
     const bool soft = k == 1 && light_receiver_dependent(l);
     if (soft) {  // the light arrives from y0 on the disk facing p (soft_light_medium.h)
 #ifdef __CUDA_ARCH__

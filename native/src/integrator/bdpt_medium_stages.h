@@ -71,6 +71,16 @@ LANTERN_HD inline float bdpt_emission_weight_medium(const SceneView& s, const Pa
     return 1.0f / (1.0f + mis(pdf_direct) * dvcm + mis(st.r * pdf_emit) * dvc);
 }
 
+// s = 0 of lamp li (a lamp without shadows) past a non-delta bounce: pt's weight, 1 / (1 +
+// (p_nee / p_bsdf)^2), in place of w (bdpt_emission_weight_medium's, nee its next-event
+// ratio): that ratio holds the segment's flight factor (dVCM / F_fwd), pt's does not
+// (pt_emission_weight: solid angle alone). Otherwise w (bidir_linking.h).
+LANTERN_HD inline float bidir_pt_weight_medium(const SceneView& s, const PathState& ps, int i,
+                                               int li, const MediumSegmentPdf& seg, float w,
+                                               float nee) {
+    return w > 0.0f && bidir_pt_weight(s, ps, i, li) ? 1.0f / (1.0f + nee * mis(seg.fwd)) : w;
+}
+
 // A camera path from vertex x (the slot's prev_p; a medium vertex where the segment started in
 // one, else a surface of normal bs.prev_ng) hits the disk of soft-falloff light l at y0, seg the
 // segment's factors up to it: the stand-in for pdf_emit that makes bdpt_emission_weight_medium's
@@ -118,8 +128,9 @@ LANTERN_HD inline void bdpt_camera_emission_medium(const SceneView& s, const Pat
             soft = st.r > 0.0f
                        ? bdpt_soft_hit_emit_medium(s, ps, bs, sr, i, l, o + d * h.t, seg)
                        : 0.0f;
-        const float w = bdpt_emission_weight_medium(s, ps, bs, st, i, l, o + d * h.t, false,
-                                                    h.n, seg, &nee, soft);
+        float w = bdpt_emission_weight_medium(s, ps, bs, st, i, l, o + d * h.t, false, h.n, seg,
+                                              &nee, soft);
+        w = bidir_pt_weight_medium(s, ps, i, s.hittable_lights[k], seg, w, nee);
         Vec3 c = beta * tr * h.le * w;
         if (st.moments) c = bdpt_moment(c, c, bdpt_pt_factor(1.0f / w, 1.0f, nee));
         add_radiance(ps, i, c);
@@ -137,8 +148,9 @@ LANTERN_HD inline void bdpt_camera_emission_medium(const SceneView& s, const Pat
         if (l.type == kLightWorld && camera && !l.visible_camera) continue;
         if (!bidir_emission_counts(s, ps, i, s.miss_lights[k])) continue;  // (linking)
         float nee = 0.0f;
-        const float w = bdpt_emission_weight_medium(s, ps, bs, st, i, l, vec3(0.0f), true,
-                                                    vec3(0.0f), seg, &nee);
+        float w = bdpt_emission_weight_medium(s, ps, bs, st, i, l, vec3(0.0f), true,
+                                              vec3(0.0f), seg, &nee);
+        w = bidir_pt_weight_medium(s, ps, i, s.miss_lights[k], seg, w, nee);
         const Vec3 le = l.type == kLightWorld ? world_radiance(s, l, d) : l.radiance;
         Vec3 c = beta * tr * le * w;
         if (st.moments) c = bdpt_moment(c, c, bdpt_pt_factor(1.0f / w, 1.0f, nee));
@@ -189,13 +201,19 @@ LANTERN_HD inline void bdpt_camera_medium_nee(const SceneView& s, const PathStat
     const float dvcm_z = z.depth == 1 ? z.dvcm * bdpt_direct_lt(st)
                                       : camera_conn_dvcm(st, z.dvcm, z.depth);
     float w_camera = mis(st.r * pdf_lp / pdf_nee) * (dvcm_z + z.dvc * mis(ph));
-    // shadow linking: its shadow ray's light, next-event estimation alone (bidir_linking.h;
-    // a phase function is no delta lobe)
-    bidir_nee_weights(s, ps, i, pick.light, false, w_light, w_camera);
+    // shadow linking: its shadow ray's light, next-event estimation alone; a lamp without
+    // shadows: pt's weight (w_camera 0), no shadow ray and no medium on it, as pt_medium_nee
+    // (bidir_linking.h; a phase function is no delta lobe)
+    const bool unshadowed = s.light_rays && pt_lamp_unshadowed(s, pick.light);
+    bidir_nee_weights(s, ps, i, pick.light, unshadowed, w_light, w_camera);
     const float w = 1.0f / (w_light + 1.0f + w_camera);
     const Vec3 c = z.beta * ls.le * (ph * w / pdf_light_w);
     if (!is_finite(c)) {
         ps.dropped[i] = 1;
+        return;
+    }
+    if (unshadowed) {  // Cast Shadow off: no ray
+        add_radiance(ps, i, c);
         return;
     }
     if (!infinite) {
@@ -399,8 +417,10 @@ LANTERN_HD inline void bdpt_camera_lights_hetero(const SceneView& s, const PathS
         if (!h.hit || is_black(h.le)) continue;
         MediumSegmentPdf seg = seg0;
         medium_segment_piece_hetero(seg, s, med, fo, fd, h.t, false);
-        const float w = bdpt_emission_weight_medium(s, ps, bs, st, i, l, o0 + d * h.t, false,
-                                                    h.n, seg);
+        float nee = 0.0f;
+        float w = bdpt_emission_weight_medium(s, ps, bs, st, i, l, o0 + d * h.t, false, h.n,
+                                              seg, &nee);
+        w = bidir_pt_weight_medium(s, ps, i, s.hittable_lights[k], seg, w, nee);
         add_radiance(ps, i, bw * h.le * w);
     }
 }

@@ -24,7 +24,10 @@
 // Shadow linking in media follows bidir_linking.h's classes (a medium vertex scatters off no
 // delta lobe): s = 1 alone, its shadow ray through media with the light's blocker sets
 // (bdpt_medium_shadow, as pt_shadow_loop); a light sub-path's y1 in a medium ends there
-// (bdpt_medium_light.h). A lamp's Cast Shadow off in media stays with pt (allocation.cpp).
+// (bdpt_medium_light.h). A lamp's Cast Shadow off in media the same way, with pt's weights
+// (pt_medium_nee): s = 1 at a camera medium vertex without a ray or transmittance
+// (bdpt_camera_medium_nee), s = 0 past a medium or surface vertex with pt's solid-angle ratio
+// (bidir_pt_weight_medium), its y1 in a medium not the light path's (bdpt_medium_light.h).
 #pragma once
 
 #include "integrator/pt_light_linking.h"

@@ -21,8 +21,11 @@
 //   - s = 0 and the light pass trace as ever (BSDF rays), t = 1 the camera query (camera rays).
 // The weights of each term sum to one over the techniques that make its paths: exact where
 // next-event estimation samples the light. A lamp's Cast Shadow off adds no shadow ray at all
-// (bidir_linking.h); shadow linking, media and non-casting strands stay pt's (allocation.cpp
-// bidir_visibility_reason). lt: lt_linking.h. A subsurface walk's exit (bdpt_sss.h) is a camera
+// (bidir_linking.h); in media the same split (bdpt_shadow_medium: V by bidir_medium_blocked,
+// the ratio at the finish, bidir_no_shadow_medium_c); shadow linking beside it: a
+// shadow-linked light's s = 1 is the only technique where x1 is no delta (weights 0: ratio 1),
+// its shadow ray pt's (pt_occluded_linked with the shadow query); non-casting strands, and
+// non-casters that are volume boundaries, stay pt's (allocation.cpp bidir_visibility_reason). lt: lt_linking.h. A subsurface walk's exit (bdpt_sss.h) is a camera
 // vertex like any: its s = 1 takes the same ratio (its dVCM, the light-held set's, is part of
 // w_camera).
 #pragma once
@@ -56,6 +59,38 @@ LANTERN_HD inline uint8_t bidir_nee_visible(const SceneView& s, const Rays& rays
 LANTERN_HD inline Vec3 bidir_nee_value(const PathState& ps, const BdptState& bs, int i,
                                        uint8_t visible) {
     return visible == 2 ? ps.shadow_contrib[i] * bs.shadow_wn[i] : ps.shadow_contrib[i];
+}
+
+// In a scene with media (bdpt_shadow_medium): whether a surface other than a volume boundary
+// blocks segment o -> o + d tmax for the ordinary query `indirect` (the next event's V; the
+// shadow query's V' and the transmittance come from bdpt_medium_shadow). A non-caster that is
+// a volume boundary stays pt's (allocation.cpp), so both queries cross the same media.
+template <class Rays, class Kind>
+LANTERN_HD inline bool bidir_medium_blocked(const SceneView& s, const Rays& rays, Kind indirect,
+                                            Vec3 o, Vec3 d, float tmax, float time) {
+    for (int k = 0; k < 256; ++k) {  // boundaries crossed (a bound: never an endless loop)
+        const auto h = rays.closest(Ray{o, d, 0.0f, tmax, time}, indirect);
+        if (h.prim < 0 || !(h.t < tmax)) return false;
+        if (!(s.tri_flags[h.prim] & kVolumeBoundary)) return true;
+        Vec3 ng = d;  // (boundaries are triangles; a strand would be passed along the ray)
+        if (h.prim < s.num_triangles) {
+            const Vec3 a = triangle_vertex(s, h.prim, 0), b = triangle_vertex(s, h.prim, 1),
+                       c = triangle_vertex(s, h.prim, 2);
+            ng = normalize(cross(b - a, c - a));
+        }
+        const Vec3 next = offset_ray_origin(o + d * h.t, ng, d, s.offset_scale);
+        if (tmax < kInf) tmax = fmaxf(tmax - dot(next - o, d), 0.0f);
+        o = next;
+    }
+    return true;
+}
+
+// The next event's contribution c (queued with the weight 1 / (1 + wn + wf), wn = w_camera,
+// wf = w_light) through media of transmittance tr where only a non-caster blocks it: pt's
+// weight 1 / (1 + w_light) (the light-path techniques' term dropped, as above; pt's weights
+// hold no flight factor, pt_volume.h).
+LANTERN_HD inline Vec3 bidir_no_shadow_medium_c(Vec3 c, Vec3 tr, float wn, float wf) {
+    return c * tr * ((1.0f + wn + wf) / (1.0f + wf));
 }
 
 }  // namespace lantern

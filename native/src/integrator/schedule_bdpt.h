@@ -91,17 +91,25 @@ LANTERN_HD inline void bdpt_shadow_medium(const SceneView& s, const Rays& rays,
             s, rays, RayKind::kShadow, ps.shadow_o[i], ps.shadow_d[i], ps.shadow_tmax[i],
             ps.shadow_medium[i], (kind & kConnNearMedium) != 0, false, &track, time,
             pt_shadow_linked(s, li) ? s.light_blockers[li] : kAllReceivers);
-        if (!is_black(sh.tr))
+        // an object without shadows (bidir_no_shadow.h): where only it blocks, pt's weight
+        if (!is_black(sh.tr) && s.no_shadow_objects &&
+            bidir_medium_blocked(s, rays, RayKind::kIndirect, ps.shadow_o[i], ps.shadow_d[i],
+                                 ps.shadow_tmax[i], time))
+            add_radiance(ps, i, bidir_no_shadow_medium_c(ps.shadow_contrib[i], sh.tr,
+                                                         bs.shadow_wn[i], bs.shadow_wf[i]));
+        else if (!is_black(sh.tr))
             add_radiance(ps, i, bdpt_medium_finish_c(ps.shadow_contrib[i], sh.tr, bs.shadow_wn[i],
                                                      bs.shadow_wf[i], kind, bs.shadow_mom + i,
                                                      sh.seg));
     }
+    // connections: the ordinary query where an object casts no shadow (bidir_no_shadow.h)
+    const RayKind conn_kind = bidir_conn_kind(s, RayKind::kShadow, RayKind::kIndirect);
     for (int j = 0; j < bs.conn_n[i]; ++j) {
         const size_t e = size_t(i) * bs.conn_cap + j;
         const int32_t kind = bs.conn_kind[e];
         Rng track = bdpt_conn_tracking_rng(ps.rng[i], j);  // (heterogeneous media)
         const MediumShadow sh = bdpt_medium_shadow(
-            s, rays, RayKind::kShadow, bs.conn_o[e], bs.conn_d[e], bs.conn_tmax[e],
+            s, rays, conn_kind, bs.conn_o[e], bs.conn_d[e], bs.conn_tmax[e],
             bs.conn_medium[e], (kind & kConnNearMedium) != 0, (kind & kConnFarMedium) != 0,
             &track, time);
         if (!is_black(sh.tr))
