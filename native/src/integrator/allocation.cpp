@@ -282,7 +282,7 @@ std::string lt_soft_walk_reason(const SceneInput& in) {
 std::string bidir_visibility_reason(const SceneInput& in, bool light_tracer) {
     // an object's Cast Shadow off: bdpt, lvc and cis on meshes (bidir_no_shadow.h), with
     // subsurface scattering too (a walk's exit is a surface vertex, bdpt_sss.h); lt too
-    // (lt_linking.h, shadow linking beside it there, not with subsurface); strands, shadow
+    // (lt_linking.h, shadow linking beside it there, subsurface too); strands, shadow
     // linking beside it (bdpt, lvc, cis) and media stay pt's
     if (light_tracer)
         if (std::string v = lt_soft_walk_reason(in); !v.empty()) return v;
@@ -295,15 +295,14 @@ std::string bidir_visibility_reason(const SceneInput& in, bool light_tracer) {
             if (!c.cast_shadow) return v;
         if (linked && !light_tracer) return v + " with shadow linking";
         if (std::string u = media_reason(in); !u.empty()) return v + " with " + u;
-        if (std::string u = subsurface_reason(in); !u.empty() && light_tracer)
-            return v + " with " + u;
     }
     const std::string all = ray_visibility_reason(in);
     if (all.empty()) return all;
     // integrator/bidir_linking.h: light linking, shadow linking and a lamp's Cast Shadow off
-    // (lt: lt_linking.h), on surfaces; light and shadow linking in media too (lt: light
-    // linking); past a subsurface walk's exit too (bdpt, lvc, cis: the exit receives as its own
-    // surface, bdpt_sss.h; lt: not yet)
+    // (lt: lt_linking.h), on surfaces; light and shadow linking in media too (lt: shadow
+    // linking in homogeneous media, lt_medium.h lt_walk_ratio); past a subsurface walk's exit
+    // too (bdpt, lvc, cis: the exit receives as its own surface, bdpt_sss.h; lt: y1 = x_o,
+    // lt_linking.h lt_sss_nee_weight)
     bool shadow = false, unshadowed = false, other = false;
     for (const MeshInput& m : in.meshes) {
         if ((m.rays & kRayKindsAll) != kRayKindsAll) other = true;
@@ -315,14 +314,16 @@ std::string bidir_visibility_reason(const SceneInput& in, bool light_tracer) {
         if (!l.cast_shadow) unshadowed = true;
     }
     if (other) return all;
-    // light and shadow linking with media: bdpt, lvc, cis (bidir_linking_medium.h); lt's light
-    // linking (lt_linking.h). A lamp's Cast Shadow off there, and lt's shadow linking there,
-    // stay with pt
-    if (std::string v = media_reason(in);
-        !v.empty() && (unshadowed || (shadow && light_tracer)))
+    // light and shadow linking with media: bdpt, lvc, cis (bidir_linking_medium.h); lt's
+    // (lt_linking.h, lt_medium.h), its shadow linking in homogeneous media alone (its walk
+    // takes sigma_t's transmittance). A lamp's Cast Shadow off there stays with pt
+    if (std::string v = media_reason(in); !v.empty() && unshadowed)
         return "linking or no shadows with " + v;
-    if (std::string v = subsurface_reason(in); !v.empty() && light_tracer)
-        return "linking or no shadows with " + v;
+    if (shadow && light_tracer)
+        for (const MaterialInput& m : in.materials)
+            if (m.medium >= 0 && (m.density_grid >= 0 || m.program_count > 0))
+                return "lt's shadow linking with a volume of a graph or grid (material '" + m.name +
+                       "')";
     return "";
 }
 
