@@ -60,7 +60,9 @@ def render_one(out, name, scene, integ, threads, **settings):
     print(f"{name} {tag}: {hashlib.sha1(img.tobytes()).hexdigest()[:16]}")
 
 
-def render_all(out, width, threads, node_scene=None):
+def render_all(out, width, threads, node_scene=None, integrators=None):
+    global INTEGRATORS
+    INTEGRATORS = integrators or INTEGRATORS
     os.makedirs(out, exist_ok=True)
     here = os.path.dirname(__file__)
     for name in SCENES:
@@ -109,7 +111,9 @@ if __name__ == "__main__":
     ap.add_argument("--width", type=int, default=64)
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--node-scene", help="a node-program scene (bench/node_cost.py export)")
+    ap.add_argument("--integrators", default=",".join(INTEGRATORS),
+                    help="comma-separated (auto too: its choice on these scenes)")
     args = ap.parse_args()
     if args.compare:
         sys.exit(0 if compare(*args.compare) else 1)
-    render_all(args.out, args.width, args.threads, args.node_scene)
+    render_all(args.out, args.width, args.threads, args.node_scene, args.integrators.split(","))

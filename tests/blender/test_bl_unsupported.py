@@ -141,7 +141,7 @@ def ies(s):
     lamp.data.node_tree.nodes.new("ShaderNodeTexIES")
 
 
-def no_shadow(s):  # rendered by pt (export/light.py); auto hands it to pt
+def no_shadow(s):  # rendered by pt (export/light.py) and cis; auto chooses (autowide)
     _base(s)
     _light(s).data.use_shadow = False
 
@@ -305,8 +305,12 @@ RENDERED = [volume_material, light_linking, shadow_linking, glossy_visibility,
 HANDED_TO_PT = "renders this scene with path tracing"
 # media: the automatic integrator chooses between pt and cis itself since auto_media is on
 # (docs/auto_integrator.md, "Media"), so it hands nothing over and says nothing; so do strands
-# with ordinary BSDFs (the default material here) since cis has vertices on them (docs/curves.md)
-AUTO_CHOOSES = {volume_material, volume_object_file, particle_hair, hair_curves}
+# with ordinary BSDFs (the default material here) since cis has vertices on them (docs/curves.md);
+# and light and shadow linking, a lamp's Cast Shadow off and motion blur (at the add-on's one
+# sample an iteration) since cis renders them and auto weighs them (branch autowide,
+# docs/auto_integrator.md)
+AUTO_CHOOSES = {volume_material, volume_object_file, particle_hair, hair_curves, light_linking,
+                shadow_linking, no_shadow, motion_blur}
 
 
 @pytest.mark.parametrize("build", RENDERED, ids=[b.__name__ for b in RENDERED])

@@ -3,7 +3,8 @@ does, pt's next-event estimation of such a lamp traces no shadow ray (unoccluded
 attenuated by media), each estimate keeping its MIS weight; a bounce ray still finds the lamp
 only where nothing blocks it (integrator/pt_ray_visibility.h pt_lamp_unshadowed). bdpt, lvc
 and cis reproduce those weights (integrator/bidir_linking.h; against pt below), lt too
-(integrator/lt_linking.h; against pt: test_lt_linking.py); auto hands the scene to pt.
+(integrator/lt_linking.h; against pt: test_lt_linking.py); auto chooses between pt and cis
+there (test_auto_wide.py).
 
 A floor (z = 0) under a black blocker hidden from the camera (a 1.2 m square at z = 0.5; black,
 it reflects nothing, so the floor is all the image) and a lamp above it:
@@ -146,14 +147,14 @@ def test_no_attenuation_along_missing_shadow_ray(core):
                                rtol=0.02)
 
 
-@pytest.mark.parametrize("integrator", ["auto"])
-def test_other_integrators_hand_over_to_pt(core, integrator):
-    scene = scene_of("area", cast_shadow=False)
-    img, warnings = render(scene, integrator=integrator)
-    assert any("casts no shadow" in w and ("path tracing" in w or "with pt" in w)
-               for w in warnings), warnings
-    ref, _ = render(scene)
-    np.testing.assert_array_equal(img, ref)
+def test_auto_chooses_itself(core):
+    """auto no longer hands a lamp without shadows to pt (branch autowide): cis renders it
+    (below), and auto's pilot weighs the two (its image against pt's: test_auto_wide.py)."""
+    s = lantern.Session(scene_of("area", cast_shadow=False), integrator="auto", seed=1,
+                        backend="cpu", max_depth=4, threads=1)
+    s.step()
+    assert not any("casts no shadow" in w for w in s.warnings), s.warnings
+    assert s.stats["auto_cis_iterations"] > 0  # its pilot's cis trials
 
 
 @pytest.fixture(scope="module")

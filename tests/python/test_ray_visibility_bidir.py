@@ -15,8 +15,8 @@ camera; max_depth 4).
   estimation alone makes, with pt's weight (integrator/bidir_no_shadow.h). Before that rule they
   read -6.2 % (bdpt), -7.0 % (lvc), -3.2 % (cis) against pt here (16 x 48 spp, worst block
   |z| 67, 69, 20). The control (the slab casting shadows) must fail. lt renders it too
-  (integrator/lt_linking.h; against pt: test_lt_linking.py); auto hands the scene to pt (the
-  same bits)."""
+  (integrator/lt_linking.h; against pt: test_lt_linking.py); auto chooses between pt and cis
+  there (branch autowide; test_auto_wide.py)."""
 import sys
 from pathlib import Path
 
@@ -81,9 +81,10 @@ def test_bidirectional_matches_pt(pt_refs, integrator, build):
     assert not metrics.compare_renders(free, pt_refs[build.__name__], block=4).passed
 
 
-@pytest.mark.parametrize("integrator", ["auto"])
-def test_no_shadow_object_hands_over_to_pt(core, integrator):
-    img, warnings = render(slab_no_shadow(), integrator, 7, spp=4)
-    assert any("casts no shadow" in w and ("with pt" in w or "path tracing" in w)
-               for w in warnings), warnings
-    np.testing.assert_array_equal(img, render(slab_no_shadow(), "pt", 7, spp=4)[0])
+def test_no_shadow_object_auto_chooses_itself(core):
+    """auto no longer hands an object without shadows to pt (branch autowide): cis renders it
+    (above), and auto's pilot weighs the two (its image against pt's: test_auto_wide.py)."""
+    s = lantern.Session(slab_no_shadow(), integrator="auto", seed=7, backend="cpu", threads=1)
+    s.step()
+    assert not any("casts no shadow" in w for w in s.warnings), s.warnings
+    assert s.stats["auto_cis_iterations"] > 0  # its pilot's cis trials

@@ -1,6 +1,5 @@
 // Integrator "auto": the pilot, the estimates and the choice (allocation.h).
 #include "integrator/allocation.h"
-#include "scene/motion_build.h"
 
 #include <algorithm>
 #include <cmath>
@@ -383,17 +382,42 @@ std::string pt_only_reason(const SceneInput& in) {
         if (m.holdout) return "a holdout (material '" + m.name + "')";
     for (const MeshInput& m : in.meshes)
         if (m.shadow_catcher) return "a shadow catcher (mesh '" + m.name + "')";
-    if (std::string v = ray_visibility_reason(in); !v.empty()) return v;
-    // (bidir_no_shadow.h: auto's trials carry no moment channels of its ratio)
-    if (std::string v = no_shadow_object_reason(in); !v.empty()) return v;
+    // light and shadow linking, a lamp's or an object's Cast Shadow off (branch autowide): cis
+    // renders them itself where bidir_visibility_reason says so (bidir_linking.h,
+    // bidir_no_shadow.h), and auto weighs them on surfaces (docs/auto_integrator.md). Object and
+    // lamp ray visibility stay pt's here whatever cis renders (its moment channels unchecked),
+    // and so do these beside media, subsurface or strands (combinations auto was not checked on)
+    if (const std::string v = ray_visibility_reason(in), u = no_shadow_object_reason(in);
+        !v.empty() || !u.empty()) {
+        if (std::string w = bidir_visibility_reason(in, false); !w.empty()) return w;
+        for (const MeshInput& m : in.meshes)
+            if ((m.rays & kRayKindsAll) != kRayKindsAll)
+                return "an object hidden from some rays (mesh '" + m.name + "')";
+        for (const LightInput& l : in.lights)
+            if ((l.rays & kRayKindsAll) != kRayKindsAll)
+                return "a light hidden from some rays (light '" + l.name + "')";
+        const std::string what = v.empty() ? u : v;
+        if (std::string w = media_reason(in); !w.empty()) return what + " with " + w;
+        if (std::string w = subsurface_reason(in); !w.empty()) return what + " with " + w;
+        if (std::string w = curves_reason(in); !w.empty()) return what + " with " + w;
+    }
     if (in.catcher_mode != 0) return "a shadow catcher pass";
     if (in.world_rays != 7) return "the world hidden from some rays";
     // media (with auto_media on; session.cpp): cis has medium vertices in homogeneous and
     // heterogeneous media (bdpt_medium_stages.h, bdpt_medium_hetero.h); emissive ones stay pt's
     // here (emissive_media_reason), as auto's trials carry no moment channels in media at all
     if (std::string v = emissive_media_reason(in); !v.empty()) return v;
-    if (std::string v = motion_reason(in); !v.empty()) return v;  // motion: docs/motion_blur.md
-    if (std::string v = subsurface_reason(in); !v.empty()) return v;  // docs/subsurface.md
+    // motion blur: no longer pt's (branch autowide). cis gives each pass one shutter time and
+    // renders the pass at it (docs/motion_blur.md); its trials' moment channels, each at its
+    // pass's time, are pt's second moment at that time, whose mean over the uniform times is
+    // pt's own (pt draws the time per sample: its density of a (time, path) pair is its
+    // still-frame density at that time), test_auto_wide.py. With more than one sample a pass
+    // cis's passes hold one time for several samples, which one-sample trials do not see: the
+    // session keeps pt there (session.cpp)
+    // subsurface scattering: no longer pt's (branch autowide) on the CPU, where cis's camera
+    // paths walk as pt's do (bdpt_sss.h; the GPU has no walk stage for cis: session.cpp keeps
+    // pt there). With the moment channels on, light paths do not walk (bdpt_sss_light.h
+    // bdpt_sss_split_on), nor under a connection map (auto's kept cis iterations by default)
     if (std::string v = curves_bidir_reason(in); !v.empty()) return v;  // docs/curves.md
     return "";
 }

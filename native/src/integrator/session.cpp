@@ -191,6 +191,14 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
     media_ = !media_reason(scene).empty();
     if (integ == "auto") {
         std::string why = pt_only_reason(scene);
+        // motion blur: cis's pass holds one shutter time for all its samples, a noise its
+        // one-sample trials do not measure (allocation.cpp pt_only_reason)
+        if (why.empty() && settings_.spp_per_iteration > 1)
+            if (std::string v = motion_reason(scene); !v.empty())
+                why = v + " with more than one sample an iteration";
+        // cis's camera paths walk on the CPU only (schedule_bdpt.h: the walk stage's kernel)
+        if (why.empty() && gpu_ && scene_->view().has_subsurface)
+            if (std::string v = subsurface_reason(scene); !v.empty()) why = v + " on the GPU";
         // the bidirectional medium stages have not run on a GPU yet (docs/volumes.md)
         if (why.empty() && gpu_ && media_) why = "participating media on the GPU";
         // (auto_media off: pt in media, docs/auto_integrator.md "Media")
