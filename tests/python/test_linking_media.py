@@ -8,14 +8,15 @@ emissive quad above them) in world fog, the lamp lighting the floor, the wall an
 0 and 1), the quad ball B alone (set 2): fog the camera sees before any surface (set 0) takes
 the lamp's light and not the quad's; fog seen past ball B the quad's alone. bdpt, lvc and cis
 render it themselves (no hand-over) against pt; the control, the scene without the linking,
-must fail (lt: test_lt_linking.py). lt's shadow linking in fog still hands over to pt, with
-pt's bits (bdpt, lvc and cis render shadow linking in media themselves:
-test_linking_shadow_media.py)."""
+must fail (lt: test_lt_linking.py). lt's shadow linking beside a heterogeneous volume hands
+over to pt, with pt's bits (in homogeneous fog lt renders it: test_lt_linking.py; bdpt, lvc
+and cis render shadow linking in media themselves: test_linking_shadow_media.py)."""
 import numpy as np
 import pytest
 
 import lantern
 from lantern import metrics
+from lantern.scenes import aabb_mesh
 
 from test_linking_bidir import room
 
@@ -76,9 +77,23 @@ def test_light_linking_in_fog_matches_pt(pt_ref, integrator):
     assert not metrics.compare_renders(free, pt_ref, block=4).passed
 
 
-@pytest.mark.parametrize("integrator,shadow", [("lt", True)])
-def test_hands_over_in_fog(core, integrator, shadow):
-    """lt's shadow linking in fog stays with pt (allocation.cpp), same bits."""
-    img, warnings = render(foggy(shadow=shadow), integrator, 7, spp=2)
-    assert any("rendering with pt" in w for w in warnings), warnings
-    np.testing.assert_array_equal(img, render(foggy(shadow=shadow), "pt", 7, spp=2)[0])
+def smoky():
+    """foggy(shadow=True) with a small smoke of a density grid (a heterogeneous volume)."""
+    s = foggy(shadow=True)
+    m4 = np.diag([0.1, 0.1, 0.1, 1.0])
+    m4[:3, 3] = (-0.2, -0.2, 0.1)
+    g = s.add_grid(np.full((4, 4, 4), 2.0, np.float32), m4, name="smoke:density")
+    m = s.add_material("smoke")
+    s.materials[m].update(volume=dict(FOG), volume_only=True, density_grid=g)
+    s.add_mesh(*aabb_mesh((-0.2, -0.2, 0.1), (0.1, 0.1, 0.4)), material=m, name="smoke")
+    return s
+
+
+def test_hands_over_in_fog(core):
+    """lt renders shadow linking in homogeneous fog (test_lt_linking.py); beside a
+    heterogeneous volume it stays with pt (allocation.cpp: its walk takes sigma_t's
+    transmittance, lt_medium.h), same bits."""
+    img, warnings = render(smoky(), "lt", 7, spp=2)
+    assert any("graph or grid" in w and "rendering with pt" in w for w in warnings), warnings
+    np.testing.assert_array_equal(img, render(smoky(), "pt", 7, spp=2)[0])
+    assert not render(foggy(shadow=True), "lt", 7, spp=2)[1]  # (homogeneous: lt's own)

@@ -283,8 +283,8 @@ std::string bidir_visibility_reason(const SceneInput& in, bool light_tracer) {
     // subsurface scattering too (a walk's exit is a surface vertex, bdpt_sss.h), beside shadow
     // linking, or beside media (not both at once, nor shadow linking with subsurface
     // scattering; not where the object is a volume's mesh: its shadow rays would cross other
-    // media than its BSDF rays); lt too (lt_linking.h, shadow linking beside it there, not with
-    // subsurface or media); strands stay pt's
+    // media than its BSDF rays); lt too (lt_linking.h, shadow linking and subsurface
+    // scattering beside it there, not media); strands stay pt's
     if (light_tracer)
         if (std::string v = lt_soft_walk_reason(in); !v.empty()) return v;
     if (const std::string v = no_shadow_object_reason(in); !v.empty()) {
@@ -303,15 +303,16 @@ std::string bidir_visibility_reason(const SceneInput& in, bool light_tracer) {
                         (in.materials[k].medium >= 0 || in.materials[k].volume_only))
                         return "a volume's mesh that casts no shadow (mesh '" + m.name + "')";
         }
-        if (std::string u = subsurface_reason(in); !u.empty() && (light_tracer || linked))
-            return v + (linked ? " with shadow linking and " : " with ") + u;  // (bdpt: not tested)
+        if (std::string u = subsurface_reason(in); !u.empty() && linked && !light_tracer)
+            return v + " with shadow linking and " + u;  // (bdpt: not tested together)
     }
     const std::string all = ray_visibility_reason(in);
     if (all.empty()) return all;
     // integrator/bidir_linking.h: light linking, shadow linking and a lamp's Cast Shadow off
-    // (lt: lt_linking.h), on surfaces; light and shadow linking in media too (lt: light
-    // linking); past a subsurface walk's exit too (bdpt, lvc, cis: the exit receives as its own
-    // surface, bdpt_sss.h; lt: not yet)
+    // (lt: lt_linking.h), on surfaces; light and shadow linking in media too (lt: shadow
+    // linking in homogeneous media, lt_medium.h lt_walk_ratio); past a subsurface walk's exit
+    // too (bdpt, lvc, cis: the exit receives as its own surface, bdpt_sss.h; lt: y1 = x_o,
+    // lt_linking.h lt_sss_nee_weight)
     bool shadow = false, unshadowed = false, other = false;
     for (const MeshInput& m : in.meshes) {
         if ((m.rays & kRayKindsAll) != kRayKindsAll) other = true;
@@ -324,12 +325,16 @@ std::string bidir_visibility_reason(const SceneInput& in, bool light_tracer) {
     }
     if (other) return all;
     // light and shadow linking and a lamp's Cast Shadow off with media: bdpt, lvc, cis
-    // (bidir_linking_medium.h); lt's light linking (lt_linking.h). lt's shadow linking and
-    // Cast Shadow off there stay with pt
-    if (std::string v = media_reason(in); !v.empty() && (unshadowed || shadow) && light_tracer)
+    // (bidir_linking_medium.h); lt's light linking and shadow linking (lt_linking.h,
+    // lt_medium.h), its shadow linking in homogeneous media alone (its walk takes sigma_t's
+    // transmittance). lt's lamp Cast Shadow off there stays with pt
+    if (std::string v = media_reason(in); !v.empty() && unshadowed && light_tracer)
         return "linking or no shadows with " + v;
-    if (std::string v = subsurface_reason(in); !v.empty() && light_tracer)
-        return "linking or no shadows with " + v;
+    if (shadow && light_tracer)
+        for (const MaterialInput& m : in.materials)
+            if (m.medium >= 0 && (m.density_grid >= 0 || m.program_count > 0))
+                return "lt's shadow linking with a volume of a graph or grid (material '" + m.name +
+                       "')";
     return "";
 }
 

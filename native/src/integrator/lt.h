@@ -213,9 +213,10 @@ LANTERN_HD inline void lt_generate(const SceneView& s, const PathState& ps,
     // for the first segment's walk
     if (s.light_receivers) ps.recv_set[i] = 1;
     if ((s.light_blockers || s.light_rays || s.no_shadow_objects) && lt_walks(s, li)) {
-        ps.shadow_light[i] = 0;
+        ps.walk_passed(i) = 0;
         ps.prev_p[i] = es.p;
         ps.prev_n[i] = es.n;
+        if (s.num_media > 0) lt_walk_start(ps, i, es.finite);  // (lt_medium.h lt_walk_ratio)
     }
     if (s.num_media > 0) {  // the medium it emits into (lt_medium.h)
         Vec3 f;
@@ -266,6 +267,9 @@ LANTERN_HD inline void lt_shade(const SceneView& s, const PathState& ps, const L
     if (s.num_media > 0 && ps.medium[i] >= 0 && lt_medium_segment(s, ps, lp, st, i)) return;
     if (tri < 0) return;
     if (s.num_media > 0 && (s.tri_flags[tri] & kVolumeBoundary)) {  // no surface: go on
+        // (the first segment's walk across a blocker's boundary: lt_medium.h lt_walk_close)
+        if (lt_walk_media(s, ps, lp, i) && !lt_shadow_passes(s, lp.light[i], tri))
+            lt_walk_close(s, ps, i, ps.ray_o[i] + ps.ray_d[i] * ps.hit_t[i], ps.medium[i]);
         pt_cross_boundary(s, ps, i, tri);
         return;
     }
@@ -278,9 +282,12 @@ LANTERN_HD inline void lt_shade(const SceneView& s, const PathState& ps, const L
     // shadow (passed > 0: a vertex only next-event estimation makes); the first surface vertex
     // decides the receiver set, and a set its light does not light ends the path
     int passed = 0;
+    // (in media: pt's shadow ray's transmittance over the walked one, lt_medium.h; the
+    // non-delta lobes', a delta lobe's at h1 the walked one)
+    const bool walk_media = s.num_media > 0 && lt_walk_media(s, ps, lp, i);
     if (ps.depth[i] == 0 && (s.light_blockers || s.light_rays || s.no_shadow_objects) &&
         lp.light && lt_walks(s, lp.light[i])) {
-        passed = ps.shadow_light[i];
+        passed = ps.walk_passed(i);
         if (!lt_walk_step(s, ps, i, lp.light[i], tri, ps.ray_o[i] + d * ps.hit_t[i],
                           bidir_links(s, lp.light[i], tri)))
             return;
@@ -331,6 +338,7 @@ LANTERN_HD inline void lt_shade(const SceneView& s, const PathState& ps, const L
     if (fiber) cos_o_ns = cos_o_ng = vertex_cos(true, frame, h.ng, wo_w);
     Vec3 wo = frame.to_local(wo_w);
     Vec3 beta = lp.power[i] * ps.throughput[i];
+    const Vec3 w_media = walk_media ? lt_walk_ratio(s, ps, i, h.p, ps.medium[i]) : vec3(1.0f);
 
     // ---- Connect to the camera (t = 1): depth + 1 segments ----
     if ((s.tri_flags[tri] & kVisibleCamera) != 0) {
@@ -354,15 +362,19 @@ LANTERN_HD inline void lt_shade(const SceneView& s, const PathState& ps, const L
             const float w = passed > 0 ? lt_nee_weight(s, ps, i, lp.light[i], tri, m, h, wo_w,
                                                        cc.wc, e.pdf_rev_w)
                                        : 1.0f;
-            lt_queue_splat(ps, lp, i, h.p, h.ng, cc, beta * e.f * (cos_y * cc.importance * w),
-                           s.offset_scale);
+            lt_queue_splat(ps, lp, i, h.p, h.ng, cc,
+                           beta * w_media * e.f * (cos_y * cc.importance * w), s.offset_scale);
         }
     }
 #ifndef __CUDACC__  // the device build has no walk stage (schedule_lt.h): CPU sessions only
     // under the surface: the walk stage takes the path (integrator/lt_sss.h)
+    // (past a transparent surface: pt's next-event weight at a walk's exit, lt_linking.h)
     if (s.has_subsurface && !strand &&
-        lt_sss_choose(s, ps, st, i, m, h, wo_w, cos_o_ns, cos_o_ng, depth))
+        lt_sss_choose(s, ps, st, i, m, h, wo_w, cos_o_ns, cos_o_ng, depth)) {
+        const float w = passed > 0 ? lt_sss_nee_weight(s, ps, i, lp.light[i], tri, h, wo_w) : 1.0f;
+        ps.throughput[i] = ps.throughput[i] * w_media * w;
         return;
+    }
 #endif
     if (depth + 2 > st.max_depth) return;  // the next vertex's connection would be too long
 
@@ -391,6 +403,7 @@ LANTERN_HD inline void lt_shade(const SceneView& s, const PathState& ps, const L
         if (passed > 0)
             adj *= lt_nee_weight(s, ps, i, lp.light[i], tri, m, h, wo_w, wi, bs.pdf_rev_w);
         Vec3 t = ps.throughput[i] * bs.weight * adj;
+        if (!bs.delta) t = t * w_media;
         if (russian_roulette(t, depth + 1, st.rr_depth, rng) && max_component(t) > 0.0f &&
             is_finite(t)) {
             ps.throughput[i] = t;

@@ -16,9 +16,13 @@
 // (V = 0, V' = 1), each a candidate x1 that only next-event estimation makes: its non-delta
 // lobes only, weighed by pt's w_nee (lt_nee_weight). One slot follows one path: at a transparent
 // hit it stops there (y1 = h_j) or passes on, each with probability 1/2 and weight 2 (passing
-// for sure where l does not light the hit's receiver set). PathState::shadow_light counts the
-// surfaces passed (lt traces no next-event rays of its own), PathState::prev_p / prev_n keep x0
-// and its normal for w_nee.
+// for sure where l does not light the hit's receiver set). PathState::walk_passed counts the
+// surfaces passed (shadow_light's slots: lt traces no next-event rays of its own),
+// PathState::prev_p / prev_n keep x0 and its normal for w_nee. In media (a shadow-linked light
+// alone) the walk goes on through the media and boundaries as lt's paths do, each vertex taking
+// pt's shadow ray's transmittance instead of the walked one (lt_medium.h lt_walk_ratio).
+// A walk under the surface from a vertex past a transparent surface (lt_sss.h) takes pt's
+// next-event weight at a walk's exit (lt_sss_nee_weight).
 //
 // Light linking in media (bidir_linking_medium.h): the path's receiver set is found from x1
 // toward the camera, a surface's own, 0 at the first vertex in the world's medium, else pending
@@ -74,7 +78,7 @@ LANTERN_HD inline bool lt_pending_lit(const SceneView& s, const PathState& ps,
 LANTERN_HD inline int lt_walk_step(const SceneView& s, const PathState& ps, int i, int li,
                                    int tri, Vec3 p, bool linked) {
     if (!lt_shadow_passes(s, li, tri)) return 1;  // it casts l a shadow: the walk's last hit
-    if (ps.shadow_light[i] >= 255) return 0;  // (a bound: never an endless walk)
+    if (ps.walk_passed(i) >= 255) return 0;  // (a bound: never an endless walk)
     if (linked) {
         Rng rng = ps.rng[i];
         const bool stop = rng.uniform() < 0.5f;
@@ -89,8 +93,37 @@ LANTERN_HD inline int lt_walk_step(const SceneView& s, const PathState& ps, int 
         ng = normalize(cross(b - a, c - a));
     }
     pt_pass_hidden(s, ps, i, p, ng);
-    ps.shadow_light[i] += 1;
+    // in media: past a surface around a volume the walk is in it (pt's camera side would be);
+    // pt's shadow ray keeps its medium (lt_walk_ratio)
+    if (s.num_media > 0 && tri < s.num_triangles)
+        ps.medium[i] = medium_across(s, tri, dot(ng, ps.ray_d[i]) <= 0.0f, ps.medium[i]);
+    ps.walk_passed(i) += 1;
     return 0;
+}
+
+// pt's next-event density of light li from x1 = p (geometric normal ng, shading ns, triangle
+// tri) along w_l: pick x light pdf, the light at x0 (PathState::prev_p, normal prev_n); 0 for a
+// delta light (next-event estimation alone).
+LANTERN_HD inline float lt_light_pdf(const SceneView& s, const PathState& ps, int i, int li,
+                                     int tri, Vec3 p, Vec3 ng, Vec3 ns, Vec3 w_l) {
+    const Light& l = s.lights[li];
+    float pdf_w;
+    if (li == s.world_light) {
+        pdf_w = world_pdf_w(s, w_l);
+    } else {
+        const Vec3 x0 = ps.prev_p[i];
+        const float t = l.type == kLightSun ? kInf : length(x0 - p);
+        pdf_w = light_pdf_w_at(s, l, p, w_l, t, ps.prev_n[i],
+                               s.motion.num_objects > 0 ? motion_time(ps.rng[i]) : 0.0f);
+    }
+    if (!(pdf_w > 0.0f)) return 0.0f;
+    // the pick's normal as pt_shade (and pt_sss_exit) take it
+    const Vec3 n_pick = (terminator_cutoff(s, tri) > 0.0f || s.light_rays) &&
+                                dot(ns, ng) < 0.99999f
+                            ? vec3(0.0f)
+                            : light_pick_normal(s, tri, ng);
+    const float pick = s.light_tree_on ? light_pick_pmf(s, li, p, n_pick) : l.nee_pdf;
+    return pick * pdf_w;
 }
 
 // pt's next-event weight at a first-segment vertex past a transparent surface (x1 on triangle
@@ -109,24 +142,25 @@ LANTERN_HD inline float lt_nee_weight(const SceneView& s, const PathState& ps, i
           (unshadowed && !sides_agree(w_l, ng, ns))))
         return 0.0f;
     if (bidir_nee_only(s, li) || (!geo_side && !unshadowed)) return 1.0f;
-    const Light& l = s.lights[li];
-    float pdf_w;
-    if (li == s.world_light) {
-        pdf_w = world_pdf_w(s, w_l);
-    } else {
-        const Vec3 x0 = ps.prev_p[i];
-        const float t = l.type == kLightSun ? kInf : length(x0 - h.p);
-        pdf_w = light_pdf_w_at(s, l, h.p, w_l, t, ps.prev_n[i],
-                               s.motion.num_objects > 0 ? motion_time(ps.rng[i]) : 0.0f);
-    }
-    if (!(pdf_w > 0.0f)) return 1.0f;  // a delta light: next-event estimation alone
-    // the pick's normal as pt_shade takes it
-    const Vec3 n_pick = (terminator_cutoff(s, tri) > 0.0f || s.light_rays) &&
-                                dot(ns, ng) < 0.99999f
-                            ? vec3(0.0f)
-                            : light_pick_normal(s, tri, ng);
-    const float pick = s.light_tree_on ? light_pick_pmf(s, li, h.p, n_pick) : l.nee_pdf;
-    return power_heuristic(pick * pdf_w, pdf_rev);
+    const float pdf = lt_light_pdf(s, ps, i, li, tri, h.p, ng, ns, w_l);
+    if (!(pdf > 0.0f)) return 1.0f;  // a delta light: next-event estimation alone
+    return power_heuristic(pdf, pdf_rev);
+}
+
+// pt's next-event weight at a walk's exit x_o = h (pt_sss.h pt_sss_exit: the white Lambert
+// exit lobe about the shading normal, h's normals facing the light) past a transparent surface:
+// lt's walk from y1 = x_o is pt's exit whose next event found l; 0 where pt's takes no light.
+LANTERN_HD inline float lt_sss_nee_weight(const SceneView& s, const PathState& ps, int i,
+                                          int li, int tri, const SurfaceHit& h, Vec3 w_l) {
+    const float cos_i = dot(w_l, h.ns);
+    const bool geo_side = dot(w_l, h.ng) > 0.0f;
+    const bool unshadowed = pt_lamp_unshadowed(s, li);
+    if (!(cos_i > 0.0f) || !(geo_side || terminator_cutoff(s, tri) > 0.0f || unshadowed))
+        return 0.0f;
+    if (bidir_nee_only(s, li) || (!geo_side && !unshadowed)) return 1.0f;
+    const float pdf = lt_light_pdf(s, ps, i, li, tri, h.p, h.ng, h.ns, w_l);
+    if (!(pdf > 0.0f)) return 1.0f;  // a delta light
+    return power_heuristic(pdf, cos_i * kInvPi);
 }
 
 }  // namespace lantern

@@ -29,6 +29,55 @@ LANTERN_HD inline int32_t lt_start_medium(const SceneView& s, int li, const Emis
     return s.light_medium ? s.light_medium[li] : s.world_medium;
 }
 
+// ---- lt's first segment's walk in media (lt_linking.h: a shadow-linked light's alone, the
+// allocation hands the others to pt). pt's shadow ray from a vertex x1 of medium M(x1) toward
+// x0 passes the surfaces and volume boundaries outside l's blockers with its medium unchanged
+// and crosses a blocker's boundary (pt_volume.h pt_shadow_loop): its transmittance is
+// exp(-tau') with tau' = sigma_t(M(x1)) |x1 - x_b| plus, for each stretch between two
+// crossed blocker boundaries, sigma_t of the medium at the stretch's end (toward x1) times its
+// length, x_b the last blocker boundary before x1 (x0 if none). The walk follows the media
+// as lt's paths do (each boundary crossed, the medium inside a passed surface entered), so
+// its vertices carry the walked transmittance exp(-tau): each takes exp(tau - tau'). walk_tau
+// keeps tau less tau' of the closed stretches, walk_t0 the distance |x_b - x0| (-inf for a
+// distant light: pt's shadow ray toward it never leaves M(x1), transmittance 0 where
+// sigma_t > 0). Homogeneous media only (sigma_t constant): the allocation hands heterogeneous
+// ones to pt. ----
+LANTERN_HD inline bool lt_walk_media(const SceneView& s, const PathState& ps,
+                                     const LightPathState& lp, int i) {
+    return ps.walk_tau && ps.depth[i] == 0 && s.light_blockers && lp.light &&
+           bidir_nee_only(s, lp.light[i]);
+}
+// sigma x len per channel, 0 where sigma is 0 (len may be infinite)
+LANTERN_HD inline Vec3 lt_walk_depth(Vec3 sigma, float len) {
+    return Vec3{sigma.x > 0.0f ? sigma.x * len : 0.0f, sigma.y > 0.0f ? sigma.y * len : 0.0f,
+                sigma.z > 0.0f ? sigma.z * len : 0.0f};
+}
+LANTERN_HD inline Vec3 lt_walk_sigma(const SceneView& s, int32_t med) {
+    return med >= 0 ? s.media[med].sigma_t : vec3(0.0f);
+}
+// The walk starts at x0 (lt_generate): nothing crossed yet.
+LANTERN_HD inline void lt_walk_start(const PathState& ps, int i, bool finite) {
+    if (!ps.walk_tau) return;
+    ps.walk_tau[i] = vec3(0.0f);
+    ps.walk_t0[i] = finite ? 0.0f : -kInf;
+}
+// A blocker's boundary crossed at q, the walk in medium med before it: a stretch closes.
+LANTERN_HD inline void lt_walk_close(const SceneView& s, const PathState& ps, int i, Vec3 q,
+                                     int32_t med) {
+    const float t = length(q - ps.prev_p[i]);
+    ps.walk_tau[i] = ps.walk_tau[i] - lt_walk_depth(lt_walk_sigma(s, med), t - ps.walk_t0[i]);
+    ps.walk_t0[i] = t;
+}
+// The factor exp(tau - tau') of the walk's vertex at p in medium med (walk_tau holding the
+// walked depth up to p).
+LANTERN_HD inline Vec3 lt_walk_ratio(const SceneView& s, const PathState& ps, int i, Vec3 p,
+                                     int32_t med) {
+    const float t = length(p - ps.prev_p[i]);
+    const Vec3 tau =
+        ps.walk_tau[i] - lt_walk_depth(lt_walk_sigma(s, med), t - ps.walk_t0[i]);
+    return Vec3{expf(tau.x), expf(tau.y), expf(tau.z)};
+}
+
 // ---- A medium vertex at p reached along d (the light's direction of travel): its connection
 // to the camera, phase x importance (no cosine at p), through the medium it is in; a moving
 // camera where it is at the path's time (lt_shade's) ----
@@ -60,6 +109,7 @@ __attribute__((noinline))  // out of line on the host: lt_shade stays as small a
 LANTERN_HD inline bool lt_medium_segment(const SceneView& s, const PathState& ps,
                                          const LightPathState& lp, const PtSettings& st, int i) {
     const Medium& m = s.media[ps.medium[i]];
+    const bool walk = s.light_blockers && lt_walk_media(s, ps, lp, i);  // (lt_walk_ratio)
     const Vec3 o = ps.ray_o[i], d = ps.ray_d[i];
     const float tmin = ps.ray_tmin[i];
     const float t_end = ps.hit_prim[i] >= 0 ? ps.hit_t[i] : ps.ray_tmax[i];
@@ -87,11 +137,16 @@ LANTERN_HD inline bool lt_medium_segment(const SceneView& s, const PathState& ps
     }
     ps.rng[i] = rng;
     ps.throughput[i] = beta * step.weight;
+    if (walk)  // (a walk's segment that ends nowhere ends the path)
+        ps.walk_tau[i] = ps.walk_tau[i] + lt_walk_depth(m.sigma_t, step.t);
     if (!step.scattered) return false;
 
     const int depth = ps.depth[i] + 1;  // segments from the light to this vertex
     ps.depth[i] = depth;
     const Vec3 p = o + d * (tmin + step.t);
+    // the walk's medium vertex: next-event estimation's alone in pt, its shadow ray's
+    // transmittance
+    if (walk) ps.throughput[i] = ps.throughput[i] * lt_walk_ratio(s, ps, i, p, ps.medium[i]);
     // light linking: a vertex in the world's medium decides the receiver set (0), one in a
     // mesh's volume keeps it pending, its splat the camera's (lt_linking.h)
     if (!lt_receiver_decides(s, ps, lp, i, -1, ps.medium[i] == s.world_medium)) return true;

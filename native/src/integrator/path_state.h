@@ -61,6 +61,15 @@ struct PathState {
     // shadow linking: the light of the slot's next-event shadow ray (pt_light_linking.h);
     // written only where SceneView::light_blockers is set, may be null
     int32_t* shadow_light = nullptr;
+    // lt's first segment's walk in media (integrator/lt_medium.h lt_walk_ratio): the optical
+    // depth it crossed less pt's shadow ray's over the closed stretches, and where (distance
+    // from the light's point) pt's shadow ray's last stretch starts; allocated only in media
+    Vec3* walk_tau = nullptr;
+    float* walk_t0 = nullptr;
+
+    // lt's first segment's walk (integrator/lt_linking.h): the surfaces it passed so far. lt
+    // traces no next-event rays of its own, so it keeps the count in shadow_light's slots.
+    LANTERN_HD int32_t& walk_passed(int i) const { return shadow_light[i]; }
 };
 
 struct PtSettings {

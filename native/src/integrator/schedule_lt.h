@@ -49,6 +49,8 @@ int64_t camera_segments_medium(Exec& ex, Wavefront<Exec>& w, const SceneView& s,
 template <class Exec>
 void lt_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep& st,
               int64_t first_path, int n) {
+    // (the first segment's walk through media: a shadow-linked light's, lt_medium.h)
+    w.lt_walk = s.num_media > 0 && s.light_blockers != nullptr;
     w.resize(n, 0, Exec::kGpu);
     SessionStats& stats = *st.stats;
     const PathState ps = w.ps;

@@ -89,7 +89,11 @@ struct Wavefront {
     Array<float> vshadow_tmax;
     Array<int32_t> vshadow_medium, vshadow_light;
     Array<uint8_t> vshadow_valid;
+    Array<Vec3> walk_tau;  // PathState::walk_tau / walk_t0 (lt's first segment in media)
+    Array<float> walk_t0;
     bool media = false;  // set by the schedule before resize: the scene has media
+    // set by lt's schedule before resize: a shadow-linked light in media (walk_tau, walk_t0)
+    bool lt_walk = false;
     // set by the bidirectional camera pass before resize: an object casts no shadow (without
     // media; BdptState::shadow_wn then holds next event's ratio, bidir_no_shadow.h)
     bool no_shadow = false;
@@ -172,6 +176,8 @@ struct Wavefront {
         for_media(f);
         for_bdpt(f);
         for_bdpt_media(f);
+        f(walk_tau);
+        f(walk_t0);
         for (auto* a : {&conn_wn, &conn_wf}) f(*a);
         for (auto* a : {&conn_kind, &conn_medium}) f(*a);
         for (auto* a : {&conn_o, &conn_d, &conn_c, &conn_mom}) f(*a);
@@ -211,6 +217,10 @@ struct Wavefront {
         for_slots([&](auto& a) { a.grow(m); });
         if (bidirectional) for_bdpt([&](auto& a) { a.grow(m); });
         if (media) for_media([&](auto& a) { a.grow(m); });
+        if (lt_walk) {
+            walk_tau.grow(m);
+            walk_t0.grow(m);
+        }
         if (media && bidirectional) for_bdpt_media([&](auto& a) { a.grow(m); });
         if (no_shadow && bidirectional && !media) shadow_wn.grow(m);
         cap = std::max(cap, n);
@@ -250,6 +260,10 @@ struct Wavefront {
             ps.vshadow_medium = vshadow_medium.data();
             ps.vshadow_valid = vshadow_valid.data();
             ps.vshadow_light = vshadow_light.data();
+        }
+        if (lt_walk) {
+            ps.walk_tau = walk_tau.data();
+            ps.walk_t0 = walk_t0.data();
         }
         bs = BdptState{dvcm.data(),     dvc.data(),      light_id.data(),   store.data(),
                        vertex.data(),   splat_xy.data(), power.data(),      std::max(conn_slots, 1),
