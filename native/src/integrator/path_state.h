@@ -61,6 +61,10 @@ struct PathState {
     // shadow linking: the light of the slot's next-event shadow ray (pt_light_linking.h);
     // written only where SceneView::light_blockers is set, may be null
     int32_t* shadow_light = nullptr;
+    // shadow linking with MIS (pt_linked_mis): the MIS weight of slot i's next event, applied
+    // once its shadow ray passed no surface (shadow_contrib holds weight 1); allocated only
+    // where SceneView::light_blockers is set (pt), may be null
+    float* shadow_mis = nullptr;
 };
 
 struct PtSettings {

@@ -362,8 +362,7 @@ LANTERN_HD inline Vec3 pt_shadow_loop(const SceneView& s, const Rays& rays, Kind
         const bool hit = h.prim >= 0 && h.t < tmax;
         tr = tr * pt_shadow_segment(s, med, o, d, hit ? h.t : tmax, time, track);
         if (!hit) return tr;
-        const bool passed = blockers != kAllReceivers && s.tri_shadow_set &&
-                            !((blockers >> s.tri_shadow_set[h.prim]) & 1u);
+        const bool passed = !pt_casts_shadow(s, blockers, h.prim);  // (pt_light_linking.h)
         if ((!passed && !(s.tri_flags[h.prim] & kVolumeBoundary)) || is_black(tr))
             return vec3(0.0f);
         Vec3 ng = d;  // a strand passed: along the ray (pt_light_linking.h)

@@ -90,6 +90,9 @@ struct Wavefront {
     Array<int32_t> vshadow_medium, vshadow_light;
     Array<uint8_t> vshadow_valid;
     bool media = false;  // set by the schedule before resize: the scene has media
+    // set by pt's schedule before resize: a light is shadow-linked (PathState::shadow_mis)
+    bool linked = false;
+    Array<float> shadow_mis;
     // set by the bidirectional camera pass before resize: an object casts no shadow (without
     // media; BdptState::shadow_wn then holds next event's ratio, bidir_no_shadow.h)
     bool no_shadow = false;
@@ -180,6 +183,7 @@ struct Wavefront {
         f(cam_z);
         f(cam_rng);
         f(cam_on);
+        f(shadow_mis);
     }
     // Arrays on the executor's meter; the cache's meter reports to it too.
     void bind(MemoryMeter* m) {
@@ -213,6 +217,7 @@ struct Wavefront {
         if (media) for_media([&](auto& a) { a.grow(m); });
         if (media && bidirectional) for_bdpt_media([&](auto& a) { a.grow(m); });
         if (no_shadow && bidirectional && !media) shadow_wn.grow(m);
+        if (linked) shadow_mis.grow(m);
         cap = std::max(cap, n);
         const size_t nc = size_t(n) * size_t(std::max(conn_slots, 1));
         if (bidirectional && conn_slots > 0) {
@@ -242,6 +247,7 @@ struct Wavefront {
         ps.ray_kind = ray_kind.data();
         ps.recv_set = recv_set.data();
         ps.shadow_light = shadow_light.data();
+        ps.shadow_mis = linked ? shadow_mis.data() : nullptr;
         if (media) {
             ps.vshadow_o = vshadow_o.data();
             ps.vshadow_d = vshadow_d.data();
