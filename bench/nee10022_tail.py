@@ -64,10 +64,10 @@ def main():
             s.step()
         return float(np.asarray(s.image(), np.float64)[block + (1,)].mean())
 
-    runs = [("free (MIS)", free, 1024, 16, 6001), ("linked (NEE alone)", linked, 64, 64, 5001),
-            ("linked (NEE alone)", linked, 256, 16, 7001),
-            ("linked (NEE alone)", linked, 1024, 16, 5001),
-            ("linked (NEE alone)", linked, 4096, 16, 8001)]
+    runs = [("free (MIS)", free, 1024, 16, 6001), ("linked", linked, 64, 64, 5001),
+            ("linked", linked, 256, 16, 7001),
+            ("linked", linked, 1024, 16, 5001),
+            ("linked", linked, 4096, 16, 8001)]
     for name, scene, spp, n, base in runs:
         t = time.process_time()
         v = np.array([value(scene, base + k, spp) for k in range(n)])

@@ -70,6 +70,10 @@ struct PathState {
     // lt's first segment's walk (integrator/lt_linking.h): the surfaces it passed so far. lt
     // traces no next-event rays of its own, so it keeps the count in shadow_light's slots.
     LANTERN_HD int32_t& walk_passed(int i) const { return shadow_light[i]; }
+    // shadow linking with MIS (pt_linked_mis): the MIS weight of slot i's next event, applied
+    // once its shadow ray passed no surface (shadow_contrib holds weight 1); allocated only
+    // where SceneView::light_blockers is set (pt), may be null
+    float* shadow_mis = nullptr;
 };
 
 struct PtSettings {

@@ -90,8 +90,8 @@ LANTERN_HD inline float pt_emission_weight(const SceneView& s, const PathState& 
     // light linking: no light from a light that does not light the vertex the ray left
     if ((F & kPtLinks) && s.light_receivers && !pt_emission_linked(s, ps, i, li)) return 0.0f;
     if (ps.depth[i] <= 1 || !(ps.prev_pdf_w[i] > 0.0f)) return 1.0f;
-    if ((F & kPtLinks) && s.light_blockers && pt_shadow_linked(s, li))
-        return 0.0f;  // next-event only
+    if ((F & kPtLinks) && s.light_blockers && pt_shadow_linked(s, li) && !pt_linked_mis(s))
+        return 0.0f;  // shadow linking without MIS: next-event only (pt_light_linking.h)
     const float pick = s.light_tree_on ? light_pick_pmf(s, li, ps.prev_p[i], ps.prev_n[i])
                                        : s.lights[li].nee_pdf;
     return power_heuristic(ps.prev_pdf_w[i], pick * light_pdf_w);
@@ -380,9 +380,10 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
             BsdfEval e = pt_eval(m, h.front, wo, frame.to_local(ls.wi), h.coat_n, ng_l);
             float pdf_light = pick.pmf * ls.pdf_w;
             if (e.pdf_fwd_w > 0.0f && pdf_light > 0.0f) {
-                // shadow linking: next-event estimation alone (pt_light_linking.h)
-                float w = ls.delta || (!geo_side && !unshadowed) ||
-                                  (extras && pt_shadow_linked(s, pick.light))
+                // shadow linking (pt_light_linking.h): weight 1 here, the MIS weight kept for
+                // the shadow ray's answer (pt_linked_mis), or next-event estimation alone
+                const bool linked = extras && pt_shadow_linked(s, pick.light);
+                float w = ls.delta || (!geo_side && !unshadowed) || linked
                               ? 1.0f
                               : power_heuristic(pdf_light, e.pdf_fwd_w);
                 float cos_i = fabsf(dot(ls.wi, h.ns));
@@ -407,7 +408,13 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
                 ps.shadow_tmax[i] = tmax;
                 ps.shadow_contrib[i] = c;
                 ps.shadow_valid[i] = 1;
-                if (extras && s.light_blockers && ps.shadow_light) ps.shadow_light[i] = pick.light;
+                if (extras && s.light_blockers && ps.shadow_light) {
+                    ps.shadow_light[i] = pick.light;
+                    pt_keep_shadow_mis(ps, i,
+                                       linked && !ls.delta && geo_side && pt_linked_mis(s)
+                                           ? power_heuristic(pdf_light, e.pdf_fwd_w)
+                                           : 1.0f);
+                }
                 if (s.num_media > 0)  // through the surface: the medium beyond it
                     ps.shadow_medium[i] = dot(ls.wi, geo_side ? h.ng : h.ns) < 0.0f
                                               ? medium_across(s, tri, h.front, ps.medium[i])

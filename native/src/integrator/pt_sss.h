@@ -304,7 +304,14 @@ LANTERN_HD inline void pt_sss_exit(const SceneView& s, const PathState& ps, cons
             ps.shadow_tmax[i] = tmax;
             ps.shadow_contrib[i] = beta * ls.le * (kInvPi * cos_i * w / pdf_light);
             ps.shadow_valid[i] = 1;
-            if (s.light_blockers && ps.shadow_light) ps.shadow_light[i] = pick.light;
+            if (s.light_blockers && ps.shadow_light) {  // shadow linking: pt_light_linking.h
+                ps.shadow_light[i] = pick.light;
+                pt_keep_shadow_mis(ps, i,
+                                   pt_shadow_linked(s, pick.light) && !ls.delta && geo_side &&
+                                           pt_linked_mis(s)
+                                       ? power_heuristic(pdf_light, pdf_bsdf)
+                                       : 1.0f);
+            }
             if (s.num_media > 0) ps.shadow_medium[i] = ps.medium[i];
             if (unshadowed) {  // Cast Shadow off: no shadow ray
                 add_radiance(ps, i, ps.shadow_contrib[i]);

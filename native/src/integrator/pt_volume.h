@@ -357,18 +357,25 @@ LANTERN_HD inline Vec3 pt_shadow_loop(const SceneView& s, const Rays& rays, Kind
                                       Vec3 d, float tmax, int32_t med, Rng track, float time,
                                       uint64_t blockers = kAllReceivers) {
     Vec3 tr = vec3(1.0f);
+    float t0 = 0.0f;  // past a passed strand: the query goes on from o beyond its entry
     for (int k = 0; k < 256; ++k) {  // boundaries crossed (a bound: never an endless loop)
-        const auto h = rays.closest(Ray{o, d, 0.0f, tmax, time}, kind);
+        const auto h = rays.closest(Ray{o, d, t0, tmax, time}, kind);
         const bool hit = h.prim >= 0 && h.t < tmax;
-        tr = tr * pt_shadow_segment(s, med, o, d, hit ? h.t : tmax, time, track);
+        tr = tr * (t0 > 0.0f ? pt_shadow_segment(s, med, o + d * t0, d, (hit ? h.t : tmax) - t0,
+                                                 time, track)
+                             : pt_shadow_segment(s, med, o, d, hit ? h.t : tmax, time, track));
         if (!hit) return tr;
-        const bool passed = blockers != kAllReceivers && s.tri_shadow_set &&
-                            !((blockers >> s.tri_shadow_set[h.prim]) & 1u);
+        const bool passed = !pt_casts_shadow(s, blockers, h.prim);  // (pt_light_linking.h)
         if ((!passed && !(s.tri_flags[h.prim] & kVolumeBoundary)) || is_black(tr))
             return vec3(0.0f);
-        Vec3 ng = d;  // a strand passed: along the ray (pt_light_linking.h)
-        bool front = true;
-        if (h.prim < s.num_triangles) pt_boundary_side(s, h.prim, h.uv, d, time, &ng, &front);
+        if (h.prim >= s.num_triangles) {  // a strand passed (pt_shadow_linked_query's rule)
+            t0 = h.t + 1e-5f * fmaxf(h.t, s.offset_scale);
+            continue;
+        }
+        t0 = 0.0f;
+        Vec3 ng;
+        bool front;
+        pt_boundary_side(s, h.prim, h.uv, d, time, &ng, &front);
         if (!passed) med = medium_across(s, h.prim, front, med);
         const Vec3 p = o + d * h.t;
         const Vec3 next = offset_ray_origin(p, ng, d, s.offset_scale);

@@ -16,9 +16,10 @@ LANTERN_HD inline void pt_shadow_at_time(const SceneView& s, const Rays& rays, c
     if (!ps.shadow_valid[i]) return;
     Ray r{ps.shadow_o[i], ps.shadow_d[i], 0.0f, ps.shadow_tmax[i]};
     r.time = motion_time(ps.rng[i]);
-    pt_shadow_result(ps, i, s.light_blockers  // shadow linking: pt_light_linking.h
-                                    ? pt_occluded_linked(s, rays, RayKind::kShadow, ps, i, r)
-                                    : rays.occluded(r, RayKind::kShadow));
+    if (s.light_blockers)  // shadow linking: pt_light_linking.h
+        pt_shadow_result_linked(ps, i, pt_shadow_linked_query(s, rays, RayKind::kShadow, ps, i, r));
+    else
+        pt_shadow_result(ps, i, rays.occluded(r, RayKind::kShadow));
 }
 
 // The chunk's stages as variant F (pt_features.h): the features the scene may use.
@@ -26,6 +27,7 @@ template <uint32_t F, class Exec>
 void pt_chunk_variant(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep& st,
                       int64_t first_path, int n) {
     w.media = s.num_media > 0;
+    w.linked = s.light_blockers != nullptr;  // PathState::shadow_mis
     w.resize(n, 0, Exec::kGpu);
     SessionStats& stats = *st.stats;
     const PathState ps = w.ps;
@@ -79,9 +81,11 @@ void pt_chunk_variant(Exec& ex, Wavefront<Exec>& w, const SceneView s, Wavefront
                 }
                 if (!ps.shadow_valid[i]) return;
                 const Ray r{ps.shadow_o[i], ps.shadow_d[i], 0.0f, ps.shadow_tmax[i]};
-                pt_shadow_result(ps, i, (F & kPtLinks) && s.light_blockers  // shadow linking
-                                    ? pt_occluded_linked(s, rays, RayKind::kShadow, ps, i, r)
-                                    : rays.occluded(r, RayKind::kShadow));
+                if ((F & kPtLinks) && s.light_blockers)  // shadow linking
+                    pt_shadow_result_linked(
+                        ps, i, pt_shadow_linked_query(s, rays, RayKind::kShadow, ps, i, r));
+                else
+                    pt_shadow_result(ps, i, rays.occluded(r, RayKind::kShadow));
             });
         });
         active = compact(ex, w, active);

@@ -94,6 +94,9 @@ struct Wavefront {
     bool media = false;  // set by the schedule before resize: the scene has media
     // set by lt's schedule before resize: a shadow-linked light in media (walk_tau, walk_t0)
     bool lt_walk = false;
+    // set by pt's schedule before resize: a light is shadow-linked (PathState::shadow_mis)
+    bool linked = false;
+    Array<float> shadow_mis;
     // set by the bidirectional camera pass before resize: an object casts no shadow (without
     // media; BdptState::shadow_wn then holds next event's ratio, bidir_no_shadow.h)
     bool no_shadow = false;
@@ -186,6 +189,7 @@ struct Wavefront {
         f(cam_z);
         f(cam_rng);
         f(cam_on);
+        f(shadow_mis);
     }
     // Arrays on the executor's meter; the cache's meter reports to it too.
     void bind(MemoryMeter* m) {
@@ -223,6 +227,7 @@ struct Wavefront {
         }
         if (media && bidirectional) for_bdpt_media([&](auto& a) { a.grow(m); });
         if (no_shadow && bidirectional && !media) shadow_wn.grow(m);
+        if (linked) shadow_mis.grow(m);
         cap = std::max(cap, n);
         const size_t nc = size_t(n) * size_t(std::max(conn_slots, 1));
         if (bidirectional && conn_slots > 0) {
@@ -252,6 +257,7 @@ struct Wavefront {
         ps.ray_kind = ray_kind.data();
         ps.recv_set = recv_set.data();
         ps.shadow_light = shadow_light.data();
+        ps.shadow_mis = linked ? shadow_mis.data() : nullptr;
         if (media) {
             ps.vshadow_o = vshadow_o.data();
             ps.vshadow_d = vshadow_d.data();
