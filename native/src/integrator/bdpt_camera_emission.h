@@ -121,6 +121,26 @@ LANTERN_HD inline float bdpt_soft_hit_emit(const SceneView& s, const PathState& 
     return cos_d > 0.0f && is_finite(r) ? r : 0.0f;
 }
 
+// A bounce ray of camera slot i hit R surface tri (bidir_ray_visibility.h): the path becomes
+// restricted; where tri is hidden from the ray's kind the ray goes on past it (pt_pass_hidden:
+// the same segment, the last vertex's MIS state kept) and this returns true. Out of line on the
+// device (LANTERN_DEVICE_NOINLINE): the shade kernel's frame stays as it was.
+LANTERN_DEVICE_NOINLINE
+LANTERN_HD inline bool bdpt_camera_meets_restricted(const SceneView& s, const PathState& ps,
+                                                    const BdptSettings& st, int i, int tri,
+                                                    int64_t path) {
+    const uint8_t kind = ps.ray_kind[i];
+    ps.ray_kind[i] = uint8_t(kind | kRayRestricted);
+    if ((s.tri_rays[tri] & kind & kRayKindsAll) != 0) return false;  // it lands there
+    const Vec3 d = ps.ray_d[i];
+    const SurfaceHit h = s.motion.num_objects > 0 && tri < s.num_triangles
+                             ? surface_moved_at(s, tri, ps.hit_uv[i], d, bdpt_time(st, path))
+                             : surface_of_hit(s, tri, ps.hit_uv[i], ps.ray_o[i], d, ps.hit_t[i],
+                                              s.motion.curves ? bdpt_time(st, path) : 0.0f);
+    pt_pass_hidden(s, ps, i, h.p, h.ng);
+    return true;
+}
+
 // Lights crossed by the segment, and the background on a miss (s = 0). L: linking's tests
 // compiled in (bidir_links_on).
 template <bool L = true, class SR>
