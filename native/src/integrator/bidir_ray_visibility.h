@@ -71,7 +71,10 @@ LANTERN_HD inline bool bidir_rays_pt_weight(const SceneView& s, const PathState&
 
 // pt's weight (pt_emission_weight's power heuristic) of emission of light l that slot i's bounce
 // ray found at point p (normal n; infinite lights: direction d alone), from the last real vertex
-// ps.prev_p (a ray that passed hidden surfaces starts past it).
+// ps.prev_p (a ray that passed hidden surfaces starts past it). Out of line on the device
+// (LANTERN_DEVICE_NOINLINE): the light pick's and density's locals stay out of the kernels'
+// frames.
+LANTERN_DEVICE_NOINLINE
 LANTERN_HD inline float bidir_rays_emission_weight(const SceneView& s, const PathState& ps, int i,
                                                    const Light& l, Vec3 p, Vec3 n, float time) {
     if (!(ps.prev_pdf_w[i] > 0.0f)) return 1.0f;  // after a delta bounce: BSDF sampling's alone
