@@ -132,3 +132,18 @@ def test_schema_round_trip(core, tmp_path):
     assert "visible_glossy" not in back.meshes[1]
     with pytest.raises(TypeError):
         lantern.Scene().add_mesh(np.zeros((3, 3), np.float32), [[0, 1, 2]], visible_difuse=False)
+
+
+@pytest.mark.parametrize("integrator", ["bdpt", "lvc", "cis"])
+def test_bidirectional_emitter_hidden_from_diffuse(core, integrator):
+    """bdpt, lvc, cis render an emitter hidden from diffuse rays themselves
+    (integrator/bidir_ray_visibility.h): no light path leaves it, next-event estimation skips it
+    for the diffuse floor and a bounce ray passes it: black, exactly; the control (hidden from
+    glossy and transmission rays only) lit. (The shell scenes above keep pt: the shell casts no
+    shadow, not checked with ray kinds.)"""
+    dark, warnings = render(emitter_scene(hidden("diffuse")), spp=4, integrator=integrator)
+    assert not warnings, warnings
+    assert dark.max() == 0.0
+    lit, _ = render(emitter_scene(hidden("glossy", "transmission")), spp=4,
+                    integrator=integrator)
+    assert lit.mean() > 0.01

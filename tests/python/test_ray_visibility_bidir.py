@@ -16,7 +16,17 @@ camera; max_depth 4).
   read -6.2 % (bdpt), -7.0 % (lvc), -3.2 % (cis) against pt here (16 x 48 spp, worst block
   |z| 67, 69, 20). The control (the slab casting shadows) must fail. lt renders it too
   (integrator/lt_linking.h; against pt: test_lt_linking.py); auto chooses between pt and cis
-  there (branch autowide; test_auto_wide.py)."""
+  there (branch autowide; test_auto_wide.py).
+- ray visibility by kind (Diffuse, Glossy, Transmission; integrator/bidir_ray_visibility.h):
+  the wall a rough metal; ball A hidden from glossy rays (absent from the wall's reflection,
+  still lit and casting shadows), the slab hidden from diffuse rays (the floor's bounce light
+  passes it, its shadow stays), the wall hidden from transmission (the glass ball B shows
+  what lies past it, the black world); and, in a second scene, the lamp hidden from glossy
+  rays beside the visible emissive quad (the wall does not reflect it; light paths never
+  leave it). bdpt, lvc
+  and cis render both themselves: paths that meet a hidden object past the camera's segment,
+  or end on the hidden lamp, take pt's two techniques. The control (every object and the lamp
+  seen by every kind) must fail. lt, media and subsurface scattering stay pt's."""
 import sys
 from pathlib import Path
 
@@ -55,21 +65,53 @@ def slab_no_shadow(on=True):
     return s
 
 
+def glossy_wall(s):
+    """The room's wall as a rough metal (mesh 1)."""
+    metal = s.add_material("metal", type="conductor", base_color=(0.9, 0.9, 0.9),
+                           roughness=0.4)
+    s.meshes[1]["material_ids"] = np.full(len(s.meshes[1]["indices"]), metal, np.uint32)
+    return s
+
+
+def kinds_objects(on=True):
+    """Ball A hidden from glossy rays, the slab from diffuse ones, the wall from transmission."""
+    s = glossy_wall(room("glass", slab=True))
+    if on:
+        s.meshes[2]["visible_glossy"] = False
+        s.meshes[5]["visible_diffuse"] = False
+        s.meshes[1]["visible_transmission"] = False
+    return s
+
+
+def kinds_lamp(on=True):
+    """The lamp hidden from glossy rays (the emissive quad seen by all)."""
+    s = glossy_wall(room("glass", slab=True))
+    if on:
+        s.lights[0]["visible_glossy"] = False
+    return s
+
+
+# samples per pixel: the ray-kind scenes' rough metal wall is noisier than the room's
+SPP_OF = {"kinds_objects": 256, "kinds_lamp": 128}
+
+
 def renders(build, integrator, seed0, on=True):
     out, warnings = [], []
+    spp = SPP_OF.get(build.__name__, 48)
     for k in range(K):
-        img, warnings = render(build(on), integrator, seed0 + k)
+        img, warnings = render(build(on), integrator, seed0 + k, spp=spp)
         out.append(img)
     return out, warnings
 
 
 @pytest.fixture(scope="module")
 def pt_refs(core):
-    return {b.__name__: renders(b, "pt", 1000)[0] for b in (camera_hidden, slab_no_shadow)}
+    return {b.__name__: renders(b, "pt", 1000)[0]
+            for b in (camera_hidden, slab_no_shadow, kinds_objects, kinds_lamp)}
 
 
-@pytest.mark.parametrize("build", [camera_hidden, slab_no_shadow],
-                         ids=["camera", "no_shadow"])
+@pytest.mark.parametrize("build", [camera_hidden, slab_no_shadow, kinds_objects, kinds_lamp],
+                         ids=["camera", "no_shadow", "kinds_objects", "kinds_lamp"])
 @pytest.mark.parametrize("integrator", ["bdpt", "lvc", "cis"])
 def test_bidirectional_matches_pt(pt_refs, integrator, build):
     imgs, warnings = renders(build, integrator, 2000)
@@ -88,3 +130,19 @@ def test_no_shadow_object_auto_chooses_itself(core):
     s.step()
     assert not any("casts no shadow" in w for w in s.warnings), s.warnings
     assert s.stats["auto_cis_iterations"] > 0  # its pilot's cis trials
+
+
+def kinds_no_shadow_lamp(on=True):
+    """kinds_objects with the lamp's Cast Shadow off too: not checked together, pt's."""
+    s = kinds_objects(on)
+    s.lights[0]["cast_shadow"] = False
+    return s
+
+
+@pytest.mark.parametrize("integrator,build", [("lt", kinds_objects), ("auto", kinds_lamp),
+                                              ("bdpt", kinds_no_shadow_lamp)])
+def test_kinds_hand_over_to_pt(core, integrator, build):
+    img, warnings = render(build(), integrator, 7, spp=4)
+    assert any(("ray visibility" in w or "hidden from" in w) and
+               ("with pt" in w or "path tracing" in w) for w in warnings), warnings
+    np.testing.assert_array_equal(img, render(build(), "pt", 7, spp=4)[0])

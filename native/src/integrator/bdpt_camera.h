@@ -68,6 +68,10 @@ LANTERN_HD inline void bdpt_camera_nee(const SceneView& s, const PathState& ps,
         !(geo_side || terminator_passes(s, z.tri, ls.wi, z.h.ng, z.h.ns) ||
           (unshadowed && !sides_agree(ls.wi, z.h.ng, z.h.ns))))
         return;
+    // ray visibility by kind (bidir_ray_visibility.h): nothing from a light hidden from the
+    // scattering's kind, as pt's next event
+    const bool rays = L && bidir_rays_on(s);
+    if (rays && pt_light_hidden(s, pick.light, pt_scatter_kind(*z.m, ls.wi, z.h.ng))) return;
     BsdfEval e = material_eval(*z.m, z.h.front, z.wo, z.frame.to_local(ls.wi), Transport::Radiance,
                                z.h.coat_n, z.ng_l);
     float pdf_light_w = pick.pmf * ls.pdf_w;
@@ -102,6 +106,9 @@ LANTERN_HD inline void bdpt_camera_nee(const SceneView& s, const PathState& ps,
     float w_camera =
         geo_side ? mis(st.r * pdf_lp / pdf_nee) * (dvcm_z + z.dvc * mis(e.pdf_rev_w)) : 0.0f;
     if (L) bidir_nee_weights(s, ps, i, pick.light, unshadowed, w_light, w_camera);  // (linking)
+    // (a restricted path, an R light: pt's two techniques, bidir_ray_visibility.h)
+    if (rays && (bidir_restricted(s, ps, i) || bidir_light_restricted(s, pick.light)))
+        w_camera = 0.0f;
     bidir_no_shadow_ratio(s, bs, i, w_light, w_camera);  // (objects without shadows)
     float w = 1.0f / (w_light + 1.0f + w_camera);
     float cos_i = fabsf(dot(ls.wi, z.h.ns));
@@ -468,6 +475,10 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
     // the piece's flight, lights crossed, a medium vertex, a boundary passed
     if (media && bdpt_camera_medium_segment(s, ps, bs, st, cache, i, path, z, sr)) return;
     if (tri < 0) return;
+    // ray visibility by kind: a bounce ray meeting an R surface (bidir_ray_visibility.h)
+    if (L && s.tri_rays && ps.depth[i] > 1 && bidir_tri_restricted(s, tri) &&
+        bdpt_camera_meets_restricted(s, ps, st, i, tri, path))
+        return;
     z.strand = prim_is_strand(s, tri);  // a triangle's or a strand's surface (pt_curve.h)
     z.h = s.motion.num_objects > 0 && tri < s.num_triangles  // motion blur: bdpt_motion.h
               ? surface_moved_at(s, tri, ps.hit_uv[i], d, bdpt_time(st, path))
@@ -513,6 +524,8 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
             const float dvc_e = z.depth == 2 ? dvc * bdpt_direct_lt(st) : dvc;  // (lt_direct)
             w = 1.0f / (1.0f + mis(pdf_direct) * dvcm + mis(st.r * pdf_emit) * dvc_e);
             nee = mis(pdf_direct) * dvcm;
+            if (L && bidir_rays_on(s) && bidir_rays_pt_weight(s, ps, i, li))  // (ray kinds)
+                w = bidir_rays_emission_weight(s, ps, i, l, z.h.p, z.h.ng, time);
         }
         // the camera's direct view of a Principled emitter: under its coat and sheen
         // (principled_emission_through; light it casts stays undimmed)
@@ -561,6 +574,7 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
             set_next_ray(ps, i, z.h.p, z.h.ng, wi, b.delta ? 0.0f : b.pdf_fwd_w,
                          s.offset_scale);
             if (L) pt_set_receiver(s, ps, i, tri);  // light linking: this vertex receives (s = 0)
+            if (L) bidir_set_ray_kind(s, ps, i, pt_scatter_kind(m, wi, z.h.ng));  // (ray kinds)
             ps.prev_p[i] = z.h.p;  // (and for a soft-falloff light's weight: its normal)
             bs.prev_ng[i] = z.h.ng;
             if (s.light_tree_on || media) ps.prev_n[i] = z.n_pick;

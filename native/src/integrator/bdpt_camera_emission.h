@@ -59,6 +59,7 @@ LANTERN_HD inline void bdpt_camera_generate(const SceneView& s, const PathState&
     pt_generate<kPtAll & ~kPtMotion>(s, ps, pst, i, path);
     const bool moving = s.motion.camera_steps > 1;
     if (moving) camera_ray_moved_at(s, bdpt_time(st, path), ps.ray_o[i], ps.ray_d[i]);
+    if (bidir_rays_on(s) && ps.ray_kind) ps.ray_kind[i] = 0;  // (bidir_ray_visibility.h)
     bs.conn_n[i] = 0;
     // the light tracing technique relative to a connection (count r); none without light paths
     // (then r = 0 too: every weight of the camera pass is path tracing's)
@@ -120,6 +121,26 @@ LANTERN_HD inline float bdpt_soft_hit_emit(const SceneView& s, const PathState& 
     return cos_d > 0.0f && is_finite(r) ? r : 0.0f;
 }
 
+// A bounce ray of camera slot i hit R surface tri (bidir_ray_visibility.h): the path becomes
+// restricted; where tri is hidden from the ray's kind the ray goes on past it (pt_pass_hidden:
+// the same segment, the last vertex's MIS state kept) and this returns true. Out of line on the
+// device (LANTERN_DEVICE_NOINLINE): the shade kernel's frame stays as it was.
+LANTERN_DEVICE_NOINLINE
+LANTERN_HD inline bool bdpt_camera_meets_restricted(const SceneView& s, const PathState& ps,
+                                                    const BdptSettings& st, int i, int tri,
+                                                    int64_t path) {
+    const uint8_t kind = ps.ray_kind[i];
+    ps.ray_kind[i] = uint8_t(kind | kRayRestricted);
+    if ((s.tri_rays[tri] & kind & kRayKindsAll) != 0) return false;  // it lands there
+    const Vec3 d = ps.ray_d[i];
+    const SurfaceHit h = s.motion.num_objects > 0 && tri < s.num_triangles
+                             ? surface_moved_at(s, tri, ps.hit_uv[i], d, bdpt_time(st, path))
+                             : surface_of_hit(s, tri, ps.hit_uv[i], ps.ray_o[i], d, ps.hit_t[i],
+                                              s.motion.curves ? bdpt_time(st, path) : 0.0f);
+    pt_pass_hidden(s, ps, i, h.p, h.ng);
+    return true;
+}
+
 // Lights crossed by the segment, and the background on a miss (s = 0). L: linking's tests
 // compiled in (bidir_links_on).
 template <bool L = true, class SR>
@@ -132,6 +153,7 @@ LANTERN_HD inline void bdpt_camera_emission(const SceneView& s, const PathState&
         const Light& l = s.lights[s.hittable_lights[k]];
         if (camera && !l.visible_camera) continue;
         if (L && !bidir_emission_counts(s, ps, i, s.hittable_lights[k])) continue;  // (linking)
+        if (L && bidir_lamp_unseen(s, ps, i, s.hittable_lights[k])) continue;  // (ray kinds)
         LightHit h = intersect_light(l, o, d, ps.ray_tmin[i], t_end);
         if (!h.hit || is_black(h.le)) continue;
         float nee = 0.0f;
@@ -141,6 +163,9 @@ LANTERN_HD inline void bdpt_camera_emission(const SceneView& s, const PathState&
         float w = bdpt_emission_weight(s, ps, bs, st, i, l, h.t, h.n, &nee, soft);
         if (L && w > 0.0f && bidir_pt_weight(s, ps, i, s.hittable_lights[k]))
             w = 1.0f / (1.0f + nee);
+        if (L && w > 0.0f && bidir_rays_on(s) &&
+            bidir_rays_pt_weight(s, ps, i, s.hittable_lights[k]))  // (bidir_ray_visibility.h)
+            w = bidir_rays_emission_weight(s, ps, i, l, o + d * h.t, h.n, 0.0f);  // (a lamp)
         Vec3 c = ps.throughput[i] * h.le * w;
         if (st.moments) c = bdpt_moment(c, c, bdpt_pt_factor(1.0f / w, 1.0f, nee));
         add_radiance(ps, i, c);
@@ -153,10 +178,13 @@ LANTERN_HD inline void bdpt_camera_emission(const SceneView& s, const PathState&
             continue;  // a sun lamp is hidden from the camera; the world's disc (of_world) not
         if (l.type == kLightWorld && camera && !l.visible_camera) continue;
         if (L && !bidir_emission_counts(s, ps, i, s.miss_lights[k])) continue;  // (linking)
+        if (L && bidir_lamp_unseen(s, ps, i, s.miss_lights[k])) continue;  // (ray kinds)
         float nee = 0.0f;
         float w = bdpt_emission_weight(s, ps, bs, st, i, l, kInf, vec3(0.0f), &nee);
         if (L && w > 0.0f && bidir_pt_weight(s, ps, i, s.miss_lights[k]))
             w = 1.0f / (1.0f + nee);
+        if (L && w > 0.0f && bidir_rays_on(s) && bidir_rays_pt_weight(s, ps, i, s.miss_lights[k]))
+            w = bidir_rays_emission_weight(s, ps, i, l, vec3(0.0f), vec3(0.0f), 0.0f);
         Vec3 le = l.type == kLightWorld ? world_radiance(s, l, d) : l.radiance;
         Vec3 c = ps.throughput[i] * le * w;
         if (st.moments) c = bdpt_moment(c, c, bdpt_pt_factor(1.0f / w, 1.0f, nee));

@@ -79,7 +79,8 @@ LANTERN_HD inline void bdpt_camera_events(const SceneView& s, const PathState& p
         z.m = &camera_vertex_material(s, z);
         bdpt_camera_nee<L>(s, ps, bs, st, z, i, rng, sr, path);
     }
-    bdpt_camera_connect(s, bs, st, cache, z, i, path);
+    // (a restricted path: pt's techniques alone, bidir_ray_visibility.h)
+    if (!(L && bidir_restricted(s, ps, i))) bdpt_camera_connect(s, bs, st, cache, z, i, path);
 }
 
 }  // namespace lantern

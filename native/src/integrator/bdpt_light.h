@@ -65,6 +65,8 @@ LANTERN_HD inline void bdpt_light_generate(const SceneView& s, const PathState& 
         bs.dpt1[i] = 0.0f;
     }
     if (st.max_depth < 2) return;
+    // an R light's paths are pt's (bidir_ray_visibility.h): none leaves it
+    if (bidir_rays_on(s) && bidir_light_restricted(s, li)) return;
     ps.ray_o[i] = is_black(es.n) ? es.p : offset_ray_origin(es.p, es.n, es.d, s.offset_scale);
     ps.ray_d[i] = es.d;
     ps.ray_tmin[i] = 0.0f;
@@ -221,8 +223,10 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
     }
     const bool only_delta = L && k == 1 && bidir_light_path_delta_only(s, bs.light[i]);
     const bool delta = material_is_delta(m) || only_delta;
+    // a vertex on an R surface: splatted only (bidir_ray_visibility.h)
+    const bool restricted = L && bidir_tri_restricted(s, tri);
 
-    if (!delta) {
+    if (!delta && !restricted) {
         LightVertex v;
         v.p = h.p;
         v.ng = h.ng;
@@ -299,6 +303,7 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
             }
         }
     }
+    if (restricted) return;
 #ifndef __CUDACC__  // subsurface: lt's choice, the walk stage takes it (bdpt_sss_light.h)
     if (s.has_subsurface && !strand && !delta &&
         bdpt_light_sss_choose(s, ps, bs, st, i, m, h, wo_w, cos_o_ns, cos_o_ng, k, dvcm, dvc))

@@ -37,17 +37,18 @@
 // scattering there (no walk at y1 of a shadow-linked light or a lamp without shadows).
 #pragma once
 
+#include "integrator/bidir_ray_visibility.h"
 #include "integrator/pt_light_linking.h"
 #include "integrator/pt_ray_visibility.h"
 
 namespace lantern {
 
 // Whether scene s has any of the tables the tests below read (light and shadow linking, a lamp
-// without shadows): where it has none, the stages run compiled without the tests (their
+// without shadows, ray visibility by kind: bidir_ray_visibility.h): where it has none, the stages run compiled without the tests (their
 // template flag L false, chosen once per chunk: schedule_bdpt.h; the GPU builds L only), the
 // same bits as the tests would give.
 LANTERN_HD inline bool bidir_links_on(const SceneView& s) {
-    return s.light_receivers || s.light_blockers || s.light_rays;
+    return s.light_receivers || s.light_blockers || s.light_rays || s.tri_rays;
 }
 
 // Whether light li lights receiver triangle (or strand) tri: the light pass's y1.

@@ -104,7 +104,7 @@ LANTERN_HD inline float pt_emission_weight(const SceneView& s, const PathState& 
 // angle, as every integrator's next-event estimation samples them.)
 LANTERN_HD inline float pt_light_pdf_w(const SceneView& s, const PathState& ps, int i,
                                        const Light& l, Vec3 o, Vec3 d, float t, Vec3 n) {
-    if (s.num_media > 0 && ps.depth[i] > 1) {
+    if ((s.num_media > 0 || s.tri_rays) && ps.depth[i] > 1) {  // (tri_rays: pt_pass_hidden)
         const Vec3 q = ps.prev_p[i];
         t = length(o + d * t - q);
         o = q;
@@ -445,7 +445,7 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
                          s.offset_scale);
             if (s.num_media > 0 && dot(wi, h.ng) < 0.0f)  // through the surface
                 ps.medium[i] = medium_across(s, tri, h.front, ps.medium[i]);
-            if (s.light_tree_on || s.num_media > 0) {  // (media: pt_light_pdf_w)
+            if (s.light_tree_on || s.num_media > 0 || s.tri_rays) {  // (pt_light_pdf_w)
                 ps.prev_p[i] = h.p;
                 ps.prev_n[i] = n_pick;
             }

@@ -333,7 +333,7 @@ LANTERN_HD inline void pt_sss_exit(const SceneView& s, const PathState& ps, cons
     pt_set_ray_kind(s, ps, i, kRayKindSubsurface);
     pt_set_receiver(s, ps, i, tri);
     set_next_ray(ps, i, p, ng, wi, pdf_w, s.offset_scale);
-    if (s.light_tree_on || s.num_media > 0) {  // (media: pt_light_pdf_w)
+    if (s.light_tree_on || s.num_media > 0 || s.tri_rays) {  // (pt_light_pdf_w)
         ps.prev_p[i] = p;
         ps.prev_n[i] = n_pick;
     }

@@ -112,7 +112,8 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
         }
     }
     // motion blur: pt, lt, bdpt, lvc and cis give each path a time (docs/motion_blur.md)
-    // object ray visibility: only pt tells a bounce's kind so far (pt_ray_visibility.h); a
+    // object ray visibility: pt (pt_ray_visibility.h), bdpt, lvc and cis on surfaces
+    // (bidir_ray_visibility.h); a
     // lamp's Cast Shadow off: Cycles' answer weighs next-event estimation against BSDF
     // sampling (pt_lamp_unshadowed), which bdpt, lvc and cis reproduce, as they do light
     // linking and shadow linking (bidir_linking.h); an object's Cast Shadow off:

@@ -1,0 +1,104 @@
+// Object and lamp ray visibility by kind (Diffuse, Glossy, Transmission, Volume Scatter) in the
+// bidirectional integrators' surface stages (bdpt, lvc, cis), as pt has it (pt_ray_visibility.h).
+//
+// R: the meshes and lamps hidden from some kind (a mesh's tri_rays, a lamp's light_rays lacking
+// a kind; an emissive triangle of such a mesh is an R light). In pt's terms a path x0 (camera)
+// x1 .. xk (light) has the integrand f times, per segment xi xi+1 (i >= 1), the visibility of
+// the kind of xi's scattering. A path is *restricted* when some segment xi xi+1 (i >= 1) meets
+// a surface of R inside or at its light-side end xi+1, or ends on an R light. An unrestricted
+// path sees the ordinary scene on every segment: the usual techniques and weights. A restricted
+// one is made by pt's two techniques alone, with pt's weights and kind rules:
+//   - the camera pass's bounce rays are pt's: they pass a triangle hidden from their kind (the
+//     same segment goes on, its last vertex's MIS state kept) and the slot's path becomes
+//     restricted (kRayRestricted in PathState::ray_kind, set once) when a bounce ray passes or
+//     lands on an R surface; from then on s >= 2 is 0 and s = 1, s = 0 take pt's weights;
+//   - s = 1 to an R light, and s = 0 on an R lamp (lamps are not opaque: the path goes on
+//     unrestricted past it), take pt's weights, pt_light_hidden / the lamp's kinds deciding;
+//   - connections keep the ordinary query, which stops at an R surface on the segment;
+//   - the light pass starts no sub-path on an R light, and a light vertex on an R surface is
+//     splatted (t = 1: the camera segment ends there; its own object at the camera-side end of
+//     the next segment does not matter) but neither stored nor continued.
+// Where only lamps without kinds set light_rays (Cast Shadow off), nothing here changes a bit.
+// Media, subsurface walks, lt and the combinations allocation.cpp bidir_visibility_reason
+// names stay pt's.
+#pragma once
+
+#include "core/sampling.h"
+#include "integrator/pt_ray_visibility.h"
+#include "scene/light_tree.h"
+#include "scene/lights.h"
+
+namespace lantern {
+
+// The restricted bit of PathState::ray_kind beside the kinds (bdpt's camera pass).
+constexpr uint8_t kRayRestricted = 0x80;
+
+LANTERN_HD inline bool bidir_rays_on(const SceneView& s) { return s.tri_rays || s.light_rays; }
+
+// Whether triangle (or strand: tri_rays holds all kinds there) tri is an R surface.
+LANTERN_HD inline bool bidir_tri_restricted(const SceneView& s, int tri) {
+    return s.tri_rays && tri >= 0 && (s.tri_rays[tri] & kRayKindsAll) != kRayKindsAll;
+}
+
+// Whether light li is an R light (a lamp hidden from some kind, or an emissive triangle of an
+// R mesh).
+LANTERN_HD inline bool bidir_light_restricted(const SceneView& s, int li) {
+    if (li < 0) return false;
+    const Light& l = s.lights[li];
+    if (l.type == kLightTriangle) return bidir_tri_restricted(s, l.triangle);
+    return s.light_rays && (s.light_rays[li] & kRayKindsAll) != kRayKindsAll;
+}
+
+// Whether camera slot i's path is restricted (its current vertex's prefix).
+LANTERN_HD inline bool bidir_restricted(const SceneView& s, const PathState& ps, int i) {
+    return s.tri_rays && ps.ray_kind && (ps.ray_kind[i] & kRayRestricted) != 0;
+}
+
+// Whether lamp li, which slot i's bounce ray found, is hidden from the ray's kind (pt_lamp_unseen
+// without the restricted bit).
+LANTERN_HD inline bool bidir_lamp_unseen(const SceneView& s, const PathState& ps, int i, int li) {
+    if (!s.light_rays || !ps.ray_kind || ps.depth[i] <= 1) return false;
+    const uint8_t k = pt_lamp_kind(uint8_t(ps.ray_kind[i] & kRayKindsAll));
+    return (s.light_rays[li] & k) != k;
+}
+
+// Whether emission of light li found by slot i's bounce ray takes pt's weight: a restricted
+// path, or an R light.
+LANTERN_HD inline bool bidir_rays_pt_weight(const SceneView& s, const PathState& ps, int i,
+                                            int li) {
+    return ps.depth[i] > 1 && (bidir_restricted(s, ps, i) || bidir_light_restricted(s, li));
+}
+
+// pt's weight (pt_emission_weight's power heuristic) of emission of light l that slot i's bounce
+// ray found at point p (normal n; infinite lights: direction d alone), from the last real vertex
+// ps.prev_p (a ray that passed hidden surfaces starts past it). Out of line on the device
+// (LANTERN_DEVICE_NOINLINE): the light pick's and density's locals stay out of the kernels'
+// frames.
+LANTERN_DEVICE_NOINLINE
+LANTERN_HD inline float bidir_rays_emission_weight(const SceneView& s, const PathState& ps, int i,
+                                                   const Light& l, Vec3 p, Vec3 n, float time) {
+    if (!(ps.prev_pdf_w[i] > 0.0f)) return 1.0f;  // after a delta bounce: BSDF sampling's alone
+    const int li = int(&l - s.lights);
+    const float pick = s.light_tree_on ? light_pick_pmf(s, li, ps.prev_p[i], ps.prev_n[i])
+                                       : l.nee_pdf;
+    const Vec3 d = ps.ray_d[i];
+    float pdf;
+    if (l.type == kLightWorld) {
+        pdf = world_pdf_w(s, d);
+    } else if (l.type == kLightSun) {
+        pdf = light_pdf_w(l, vec3(0.0f), d, kInf, vec3(0.0f));
+    } else {
+        const float t = length(p - ps.prev_p[i]);
+        pdf = light_pdf_w_at(s, l, ps.prev_p[i], d, t, n, time);
+    }
+    return power_heuristic(ps.prev_pdf_w[i], pick * pdf);
+}
+
+// The kind of the next bounce ray of slot i, its restricted bit kept.
+LANTERN_HD inline void bidir_set_ray_kind(const SceneView& s, const PathState& ps, int i,
+                                          uint8_t kind) {
+    if (bidir_rays_on(s) && ps.ray_kind)
+        ps.ray_kind[i] = uint8_t((ps.ray_kind[i] & kRayRestricted) | kind);
+}
+
+}  // namespace lantern
