@@ -59,7 +59,8 @@ LANTERN_HD inline bool pt_light_hidden(const SceneView& s, int li, uint8_t kind)
 // the usual MIS weight, while a bounce ray still finds the lamp only where nothing blocks it:
 // the two strategies no longer estimate one integral, and their weighted sum is Cycles'
 // (non-physical) image, a blocker's shadow lit by the weight next-event estimation has there.
-// The bidirectional integrators hand such a scene to pt (allocation.cpp ray_visibility_reason).
+// bdpt, lvc and cis reproduce it with pt's weights for the paths next-event estimation makes
+// off a non-delta lobe (docs/lvc_notes.md "Linking"), lt by its first segment's walk.
 LANTERN_HD inline bool pt_lamp_unshadowed(const SceneView& s, int li) {
     return s.light_rays && li >= 0 && (s.light_rays[li] & kLampNoShadow) != 0;
 }
