@@ -10,20 +10,11 @@ tests/cycles/test_linking_curves.py). pt, max_depth 2 (direct light), a point li
   pass-through of a strand (re-traced from just past its hit) now and then still reports the
   ray blocked (one pixel of 256 at 8 spp, -14 % there; the image -0.11 %)."""
 import numpy as np
-import pytest
 
 import lantern
 from lantern import scenes
 
 from test_linking_bidir import quad
-
-
-@pytest.fixture(scope="module")
-def core():
-    if not lantern.native_available():
-        pytest.skip(f"lantern._core is not built ({lantern.native_error()})")
-    from lantern import _core
-    return _core
 
 
 def render(scene, seed=1, spp=8):
