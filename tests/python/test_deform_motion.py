@@ -12,18 +12,14 @@ import pytest
 import lantern
 from lantern import metrics, session
 
+from shutter_ref import shutter_average, tr as _tr
+
 pytestmark = pytest.mark.skipif(not session.native_available(),
                                 reason=f"lantern._core not built ({session.native_error()})")
 
 K, SPP, J, SIZE = 8, 64, 16, 32
 BLOB = 1  # the deforming mesh
 APEX = 4
-
-
-def _tr(x, y, z):
-    m = np.eye(4)
-    m[:3, 3] = (x, y, z)
-    return m
 
 
 def _apex_x(t):
@@ -85,10 +81,8 @@ def _render(scene, seed=3, spp=4):
 
 
 def _reference(seed, moves):
-    rng = np.random.default_rng(2000 + seed)
-    u = rng.random()
-    return np.mean([_render(_scene((j + u) / J, moves), 100 * seed + j, SPP // J)[0]
-                    for j in range(J)], axis=0)
+    return shutter_average(lambda t: _scene(t, moves), lambda *a: _render(*a)[0], seed, 2000,
+                           SPP, J)
 
 
 @pytest.mark.parametrize("moves", [False, True], ids=["deform", "deform+slide"])
