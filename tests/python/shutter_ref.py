@@ -40,3 +40,29 @@ def shutter_average(still_at, render, seed, rng_base, spp, j_times, antithetic=F
         times = [(j + u) / j_times for j in range(j_times)]
     imgs = [render(still_at(t), 100 * seed + j, spp // len(times)) for j, t in enumerate(times)]
     return np.mean(imgs, axis=0)
+
+
+def assert_embree_matches_bvh(name, scene, render, still, k, spp, monkeypatch):
+    """Embree's motion (the default CPU accelerator) against the built-in BVH's on `scene`: the
+    same shutter integral statistically (k seeds of spp each, other seeds on each side), and the
+    same seed near-identical (test_cpu_accel.py's measure: the two round t and the barycentrics
+    apart in the last bits at most), which the still scene `still` is not. render(scene, seed,
+    spp) returns (image, warnings)."""
+    from lantern import metrics
+    out = {}
+    for accel in ("embree", "bvh"):
+        monkeypatch.setenv("LANTERN_ACCEL", accel)
+        imgs = []
+        for s in range(k):
+            img, warnings = render(scene, 1 + s + (0 if accel == "embree" else 100), spp)
+            assert all("built-in BVH (LANTERN_ACCEL=bvh)" in w for w in warnings), warnings
+            imgs.append(img)
+        out[accel] = np.stack(imgs)
+    metrics.assert_agreement(name, out["embree"], out["bvh"], block=8, se_floor=1e-6)
+    monkeypatch.setenv("LANTERN_ACCEL", "embree")
+    a = render(scene, 7, 4)[0]
+    monkeypatch.setenv("LANTERN_ACCEL", "bvh")
+    b = render(scene, 7, 4)[0]
+    far = np.abs(a - b) > 1e-4 * np.maximum(np.abs(b), 1e-3)
+    assert far.mean() <= 0.002, f"{far.mean():.4%} of channels differ by over 1e-4"
+    assert not np.array_equal(a, render(still, 7, 4)[0])

@@ -12,7 +12,8 @@ import pytest
 import lantern
 from lantern import metrics, session
 
-from shutter_ref import box as _box, rz as _rz, shutter_average, tr as _tr
+from shutter_ref import assert_embree_matches_bvh, box as _box, rz as _rz, shutter_average
+from shutter_ref import tr as _tr
 
 pytestmark = pytest.mark.skipif(not session.native_available(),
                                 reason=f"lantern._core not built ({session.native_error()})")
@@ -136,27 +137,9 @@ def test_embree_motion_instances_match_builtin_bvh(name, monkeypatch):
     motion TLAS: the same shutter integral, statistically (different traversal and rounding)."""
     if not session.require_core().embree_available():
         pytest.skip("Embree is not available")
-    scene = _moving(name)
-    out = {}
-    for accel in ("embree", "bvh"):
-        monkeypatch.setenv("LANTERN_ACCEL", accel)
-        imgs = []
-        for k in range(K):
-            img, warnings = _render(scene, 1 + k + (0 if accel == "embree" else 100), SPP)
-            assert all("built-in BVH (LANTERN_ACCEL=bvh)" in w for w in warnings), warnings
-            imgs.append(img)
-        out[accel] = np.stack(imgs)
-    metrics.assert_agreement(f"{name} embree/bvh", out["embree"], out["bvh"], block=8,
-                             se_floor=1e-6)
-    # the same seed: near-identical (test_cpu_accel.py's measure: the two round t and the
-    # barycentrics apart in the last bits at most); Embree at time 0 differs by 0.58 here
-    monkeypatch.setenv("LANTERN_ACCEL", "embree")
-    a = _render(scene, 7, 4)[0]
-    monkeypatch.setenv("LANTERN_ACCEL", "bvh")
-    b = _render(scene, 7, 4)[0]
-    far = np.abs(a - b) > 1e-4 * np.maximum(np.abs(b), 1e-3)
-    assert far.mean() <= 0.002, f"{far.mean():.4%} of channels differ by over 1e-4"
-    assert not np.array_equal(a, _render(_scene(), 7, 4)[0])
+    # Embree at time 0 differs by 0.58 here (the same seed)
+    assert_embree_matches_bvh(f"{name} embree/bvh", _moving(name), _render, _scene(), K, SPP,
+                              monkeypatch)
 
 
 def test_motion_survives_the_scene_file(tmp_path):
