@@ -1,7 +1,7 @@
 """Two-level BVH bits (the built-in BVH's TLAS: moving meshes go two-level under
 LANTERN_ACCEL=bvh): four motion-blur test scenes, every integrator, seed 7, 2 x 2 spp, max_depth
 4, one thread; writes the images and prints their hashes. From the repository root:
-LANTERN_ACCEL=bvh .venv/bin/python bench/results/2026-12-06-tidy/tlas_bits.py OUT"""
+LANTERN_ACCEL=bvh .venv/bin/python bench/tlas_bits.py OUT"""
 import hashlib
 import os
 import sys
