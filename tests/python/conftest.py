@@ -69,3 +69,16 @@ def backend(request):
             pytest.fail(f"backend {name!r} was asked for but is unavailable: {reason}")
         pytest.skip(f"backend {name!r}: {reason}")
     return name
+
+
+# ---- The native core ----
+# A test (or a module, by `pytestmark = pytest.mark.usefixtures("core")`) that needs the native
+# module takes `core`: lantern._core, or a skip naming why it is not there. A module may define
+# its own (test_cuda_backend.py's also wants the CUDA entry points).
+@pytest.fixture(scope="module")
+def core():
+    if not lantern.native_available():
+        pytest.skip(f"lantern._core is not built ({lantern.native_error()}); build with "
+                    f"`.venv/bin/pip install --no-build-isolation --no-deps .`")
+    from lantern import _core
+    return _core  # without Embree the CPU backend uses its built-in BVH

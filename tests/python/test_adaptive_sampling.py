@@ -19,14 +19,6 @@ MAX_SPP = 32
 GLOW = (0.8, 0.7, 0.6)  # the emitter's radiance
 
 
-@pytest.fixture(scope="module")
-def core():
-    if not lantern.native_available():
-        pytest.skip(f"native module not built: {lantern.native_error()}")
-    from lantern import _core
-    return _core
-
-
 def half_emitter_box():
     scene = scenes.cornell_box(width=W, height=H)
     glow = scene.add_material("glow", base_color=(0.0, 0.0, 0.0), emission=GLOW)

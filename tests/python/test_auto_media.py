@@ -31,10 +31,7 @@ from test_volume_bdpt import lamp_shade
 DEPTH = 8
 
 
-@pytest.fixture(scope="module", autouse=True)
-def core():
-    if not lantern.native_available():
-        pytest.skip(f"lantern._core is not built ({lantern.native_error()})")
+pytestmark = pytest.mark.usefixtures("core")  # (conftest: skips without the core)
 
 
 def open_fog(size=32):

@@ -32,14 +32,6 @@ BIDIRECTIONAL = [
 ]
 
 
-@pytest.fixture(scope="module")
-def core():
-    if not lantern.native_available():
-        pytest.skip(f"lantern._core is not built ({lantern.native_error()})")
-    from lantern import _core
-    return _core  # without Embree the CPU backend uses its built-in BVH
-
-
 # Each seed's image of a (scene, integrator, settings, samples), kept for the module: a test
 # that needs a set another test rendered (the fixture's lvc seeds, test_resampled_and_uniform_
 # picks_agree) takes it instead of rendering it again. A render depends on nothing else but the

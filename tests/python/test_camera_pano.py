@@ -18,14 +18,6 @@ K = 16  # seeds per set (Welch dof >= 15)
 ALONG_X = [[0, 0, -1, 0], [-1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 0, 1]]  # -Z_local -> +X, Y -> +Z
 
 
-@pytest.fixture(scope="module")
-def core():
-    if not lantern.native_available():
-        pytest.skip(f"lantern._core is not built ({lantern.native_error()})")
-    from lantern import _core
-    return _core
-
-
 def renders(scene, integrator, spp, seed0, k_seeds=K, **settings):
     out = []
     for k in range(k_seeds):

@@ -28,14 +28,6 @@ SIZE = 24
 SPP = 8
 
 
-@pytest.fixture(scope="module")
-def core():
-    if not lantern.native_available():
-        pytest.skip(f"lantern._core is not built ({lantern.native_error()})")
-    from lantern import _core
-    return _core
-
-
 SCENES = {
     "two_light_room": lambda: scenes.small_room_two_lights(SIZE, SIZE),
     "cornell_box": lambda: scenes.cornell_box(SIZE, SIZE),

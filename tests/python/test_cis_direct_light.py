@@ -24,14 +24,6 @@ K = 16
 SIZE = 32
 
 
-@pytest.fixture(scope="module")
-def core():
-    if not lantern.native_available():
-        pytest.skip(f"lantern._core is not built ({lantern.native_error()})")
-    from lantern import _core
-    return _core
-
-
 def light_over_metal(n=SIZE):
     sc = lantern.Scene()
     sc.film.update(width=n, height=n)

@@ -13,7 +13,6 @@ each ball's 16 x 16 square; its mean, old core -> fixed): roughness 0.1 -0.03 % 
 rim of the roughness 0.1 ball, seen because it is nearly noiseless (se 1e-5), hence the bias
 cap of 0.05 %."""
 import numpy as np
-import pytest
 
 import lantern
 from lantern import metrics, scenes
@@ -21,14 +20,6 @@ from lantern import metrics, scenes
 WORLD = 0.5
 ROUGHNESS = (0.1, 0.2, 0.3, 0.4, 0.6, 1.0)
 K, SPP = 16, 64  # seeds (tests/README.md: Welch dof >= 15); spp are cheap next to a session
-
-
-@pytest.fixture(scope="module")
-def core():
-    if not lantern.native_available():
-        pytest.skip(f"lantern._core is not built ({lantern.native_error()})")
-    from lantern import _core
-    return _core
 
 
 def metal_balls(size=16, multiscatter=True):

@@ -24,10 +24,7 @@ DEPTH = 6
 REFS = Path(__file__).resolve().parent.parent / "refs" / "connection_map"
 
 
-@pytest.fixture(scope="module", autouse=True)
-def core():
-    if not lantern.native_available():
-        pytest.skip(f"lantern._core is not built ({lantern.native_error()})")
+pytestmark = pytest.mark.usefixtures("core")  # (conftest: skips without the core)
 
 
 def checker(n_on=5, size=SIZE, phase=0):

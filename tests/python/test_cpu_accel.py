@@ -28,14 +28,6 @@ K = 16          # seeds (the same for both structures)
 EXACT = 1e-4
 
 
-@pytest.fixture(scope="module")
-def core():
-    if not lantern.native_available():
-        pytest.skip(f"lantern._core is not built ({lantern.native_error()})")
-    from lantern import _core
-    return _core
-
-
 def flags_scene():
     """Cornell box whose light is hidden from the camera, with a camera-hidden panel in front of
     the tall box and a shadowless panel under the light."""

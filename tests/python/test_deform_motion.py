@@ -12,18 +12,14 @@ import pytest
 import lantern
 from lantern import metrics, session
 
+from shutter_ref import assert_embree_matches_bvh, shutter_average, tr as _tr
+
 pytestmark = pytest.mark.skipif(not session.native_available(),
                                 reason=f"lantern._core not built ({session.native_error()})")
 
 K, SPP, J, SIZE = 8, 64, 16, 32
 BLOB = 1  # the deforming mesh
 APEX = 4
-
-
-def _tr(x, y, z):
-    m = np.eye(4)
-    m[:3, 3] = (x, y, z)
-    return m
 
 
 def _apex_x(t):
@@ -85,10 +81,8 @@ def _render(scene, seed=3, spp=4):
 
 
 def _reference(seed, moves):
-    rng = np.random.default_rng(2000 + seed)
-    u = rng.random()
-    return np.mean([_render(_scene((j + u) / J, moves), 100 * seed + j, SPP // J)[0]
-                    for j in range(J)], axis=0)
+    return shutter_average(lambda t: _scene(t, moves), lambda *a: _render(*a)[0], seed, 2000,
+                           SPP, J)
 
 
 @pytest.mark.parametrize("moves", [False, True], ids=["deform", "deform+slide"])
@@ -114,25 +108,8 @@ def test_embree_deform_matches_builtin_bvh(monkeypatch):
     bottom level refitted over the steps with triangles lerped at the ray's time."""
     if not session.require_core().embree_available():
         pytest.skip("Embree is not available")
-    scene = _deforming(5, moves=True)
-    out = {}
-    for accel in ("embree", "bvh"):
-        monkeypatch.setenv("LANTERN_ACCEL", accel)
-        imgs = []
-        for k in range(K):
-            img, warnings = _render(scene, 1 + k + (0 if accel == "embree" else 100), SPP)
-            assert all("built-in BVH (LANTERN_ACCEL=bvh)" in w for w in warnings), warnings
-            imgs.append(img)
-        out[accel] = np.stack(imgs)
-    metrics.assert_agreement("deform embree/bvh", out["embree"], out["bvh"], block=8,
-                             se_floor=1e-6)
-    monkeypatch.setenv("LANTERN_ACCEL", "embree")
-    a = _render(scene, 7, 4)[0]
-    monkeypatch.setenv("LANTERN_ACCEL", "bvh")
-    b = _render(scene, 7, 4)[0]
-    far = np.abs(a - b) > 1e-4 * np.maximum(np.abs(b), 1e-3)
-    assert far.mean() <= 0.002, f"{far.mean():.4%} of channels differ by over 1e-4"
-    assert not np.array_equal(a, _render(_scene(0.5, True), 7, 4)[0])
+    assert_embree_matches_bvh("deform embree/bvh", _deforming(5, moves=True), _render,
+                              _scene(0.5, True), K, SPP, monkeypatch)
 
 
 def test_deform_that_does_not_move_keeps_bits():

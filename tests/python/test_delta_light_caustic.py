@@ -29,10 +29,7 @@ MAX_DEPTH = 6
 CONTROLS = dict(image_bias=0.03, block_bias=0.15)
 
 
-@pytest.fixture(scope="module", autouse=True)
-def core():
-    if not lantern.native_available():
-        pytest.skip(f"lantern._core is not built ({lantern.native_error()})")
+pytestmark = pytest.mark.usefixtures("core")  # (conftest: skips without the core)
 
 
 def _scene():

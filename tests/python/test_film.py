@@ -9,14 +9,6 @@ from lantern import metrics
 from lantern.film import coverage_scene, render_alpha
 
 
-@pytest.fixture(scope="module")
-def core():
-    if not lantern.native_available():
-        pytest.skip(f"lantern._core is not built ({lantern.native_error()})")
-    from lantern import _core
-    return _core
-
-
 def half_plane_scene(alpha=1.0, size=32):
     """Orthographic camera looking down -Z at a plane covering x < 0 (the left half)."""
     scene = lantern.Scene()

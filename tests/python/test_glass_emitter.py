@@ -20,10 +20,7 @@ K = 16
 SIZE = 24
 
 
-@pytest.fixture(scope="module", autouse=True)
-def core():
-    if not lantern.native_available():
-        pytest.skip(f"lantern._core is not built ({lantern.native_error()})")
+pytestmark = pytest.mark.usefixtures("core")  # (conftest: skips without the core)
 
 
 def _renders(scene, integrator, spp, seed0, k=K):

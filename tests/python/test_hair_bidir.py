@@ -24,14 +24,6 @@ SIZE = 24
 DEPTH = 8
 
 
-@pytest.fixture(scope="module")
-def core():
-    if not lantern.native_available():
-        pytest.skip(f"lantern._core is not built ({lantern.native_error()})")
-    from lantern import _core
-    return _core
-
-
 def render(scene, integrator, seed, spp, max_depth=DEPTH):
     s = lantern.Session(scene, integrator=integrator, seed=seed, backend="cpu", threads=1,
                         max_depth=max_depth, spp_per_iteration=spp)

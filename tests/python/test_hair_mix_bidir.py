@@ -27,7 +27,6 @@ from lantern import metrics
 from lantern.scenes_hair import fur_ball, hair_furnace
 from lantern.testing import refs
 
-from test_hair_bidir import core  # noqa: F401
 from test_hair_bidir import render, renders
 
 K = 12         # seeds a side

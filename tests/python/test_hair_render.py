@@ -18,14 +18,6 @@ from lantern.scenes_hair import fur_ball, fur_strands, hair_furnace
 K = 16
 
 
-@pytest.fixture(scope="module")
-def core():
-    if not lantern.native_available():
-        pytest.skip(f"lantern._core is not built ({lantern.native_error()})")
-    from lantern import _core
-    return _core
-
-
 def render(scene, seed, spp, max_depth=64, integrator="pt"):
     s = lantern.Session(scene, integrator=integrator, seed=seed, backend="cpu",
                         max_depth=max_depth, spp_per_iteration=spp)

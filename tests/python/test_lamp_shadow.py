@@ -28,14 +28,6 @@ from lantern import metrics
 LAMP_Z = 1.5
 
 
-@pytest.fixture(scope="module")
-def core():
-    if not lantern.native_available():
-        pytest.skip(f"lantern._core is not built ({lantern.native_error()})")
-    from lantern import _core
-    return _core
-
-
 def quad(z, half):
     v = np.array([[-half, -half, z], [half, -half, z], [half, half, z], [-half, half, z]],
                  np.float32)

@@ -23,14 +23,6 @@ FLOOR = {"diffuse": dict(type="diffuse", base_color=(1.0, 1.0, 1.0)),
 LAMP = [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 1.0], [0, 0, 0, 1]]  # at z = 1, emitting along -Z
 
 
-@pytest.fixture(scope="module")
-def core():
-    if not lantern.native_available():
-        pytest.skip(f"lantern._core is not built ({lantern.native_error()})")
-    from lantern import _core
-    return _core
-
-
 def hidden(*kinds):
     return {f"visible_{k}": False for k in kinds}
 

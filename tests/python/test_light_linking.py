@@ -13,14 +13,6 @@ import lantern
 from lantern import scenes
 
 
-@pytest.fixture(scope="module")
-def core():
-    if not lantern.native_available():
-        pytest.skip(f"lantern._core is not built ({lantern.native_error()})")
-    from lantern import _core
-    return _core
-
-
 def render(scene, seed=1, spp=8, integrator="pt", max_depth=2):
     s = lantern.Session(scene, integrator=integrator, seed=seed, backend="cpu",
                         max_depth=max_depth, spp_per_iteration=spp, threads=1)

@@ -20,14 +20,6 @@ SIZE = 32      # threshold over 4x4 blocks x 3 channels near 6 (it was 10 with 8
                # twice the samples: more seeds, not more samples, is what buys power here)
 
 
-@pytest.fixture(scope="module")
-def core():
-    if not lantern.native_available():
-        pytest.skip(f"lantern._core is not built ({lantern.native_error()})")
-    from lantern import _core
-    return _core
-
-
 def cornell_area():
     return scenes.cornell_box(SIZE, SIZE)  # visible rectangle area light (front only)
 

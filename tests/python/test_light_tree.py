@@ -7,7 +7,6 @@ from pathlib import Path
 
 import pytest
 
-import lantern
 from lantern import metrics, scenes
 from lantern.testing import refs
 
@@ -28,14 +27,6 @@ SCENES = {
 # these seeds), hence 128 there
 CONTROLS = {"many": (0.01, 0.05), "room": (0.01, 0.05)}
 RIS_SPP = {"room": 128}
-
-
-@pytest.fixture(scope="module")
-def core():
-    if not lantern.native_available():
-        pytest.skip(f"lantern._core is not built ({lantern.native_error()})")
-    from lantern import _core
-    return _core
 
 
 def global_cdf(monkeypatch):

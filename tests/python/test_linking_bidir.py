@@ -27,14 +27,6 @@ from lantern import metrics, scenes
 K, SPP = 16, 48  # seeds x samples per pixel (tests/README.md: Welch dof >= 15)
 
 
-@pytest.fixture(scope="module")
-def core():
-    if not lantern.native_available():
-        pytest.skip(f"lantern._core is not built ({lantern.native_error()})")
-    from lantern import _core
-    return _core
-
-
 def quad(z, half, cx=0.0, cy=0.0):
     v = np.array([[cx - half, cy - half, z], [cx + half, cy - half, z],
                   [cx + half, cy + half, z], [cx - half, cy + half, z]], np.float32)

@@ -12,20 +12,11 @@ tests/cycles/test_linking_curves.py). pt, max_depth 2 (direct light), a point li
   bound reported the ray blocked (seed 1: one pixel of 256 at 8 spp, -14 % there; the image
   -0.11 %); it now goes on from the same origin past the entry (pt_shadow_linked_query)."""
 import numpy as np
-import pytest
 
 import lantern
 from lantern import scenes
 
 from test_linking_bidir import quad
-
-
-@pytest.fixture(scope="module")
-def core():
-    if not lantern.native_available():
-        pytest.skip(f"lantern._core is not built ({lantern.native_error()})")
-    from lantern import _core
-    return _core
 
 
 def render(scene, seed=1, spp=8):

@@ -24,14 +24,6 @@ K, SPP = 16, 64  # seeds x samples per pixel (tests/README.md: Welch dof >= 15)
 FOG = {"sigma_s": [0.25, 0.25, 0.25], "sigma_a": [0.02, 0.03, 0.05], "g": 0.3}
 
 
-@pytest.fixture(scope="module")
-def core():
-    if not lantern.native_available():
-        pytest.skip(f"lantern._core is not built ({lantern.native_error()})")
-    from lantern import _core
-    return _core
-
-
 def foggy(linked=True, shadow=False):
     s = room("red", slab=shadow)
     s.world = {"color": [0.0] * 3, "volume": dict(FOG)}

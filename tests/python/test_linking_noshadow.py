@@ -9,18 +9,9 @@ The reference is the same scene without the blocker set: the same bits. The cont
 shadow-linked branch's image (the same lamp casting shadows, its blockers excluding the ball)
 differs from it where the ball's shadow is."""
 import numpy as np
-import pytest
 
 import lantern
 from lantern import scenes
-
-
-@pytest.fixture(scope="module")
-def core():
-    if not lantern.native_available():
-        pytest.skip(f"lantern._core is not built ({lantern.native_error()})")
-    from lantern import _core
-    return _core
 
 
 def _render(scene, seed):

@@ -27,14 +27,6 @@ from test_volume_bidir import _volume_box
 K, SPP = 16, 32  # seeds x samples per pixel (tests/README.md: Welch dof >= 15)
 
 
-@pytest.fixture(scope="module")
-def core():
-    if not lantern.native_available():
-        pytest.skip(f"lantern._core is not built ({lantern.native_error()})")
-    from lantern import _core
-    return _core
-
-
 def foggy(case, linked=True):
     s = shadow_linked(linked)
     if case == "world":

@@ -19,14 +19,6 @@ import lantern
 from lantern import scenes
 
 
-@pytest.fixture(scope="module")
-def core():
-    if not lantern.native_available():
-        pytest.skip(f"lantern._core is not built ({lantern.native_error()})")
-    from lantern import _core
-    return _core
-
-
 def glossy_under_lamp(blockers=None, ball=False, size=24):
     """A Glossy floor (Roughness 0.08) reflecting an ellipse lamp; `blockers`: the lamp's
     blocker sets (None: unlinked); `ball`: a ball in set 1 behind the lamp."""

@@ -12,29 +12,14 @@ import pytest
 import lantern
 from lantern import metrics, session
 
+from shutter_ref import assert_embree_matches_bvh, box as _box, rz as _rz, shutter_average
+from shutter_ref import tr as _tr
+
 pytestmark = pytest.mark.skipif(not session.native_available(),
                                 reason=f"lantern._core not built ({session.native_error()})")
 
 K, SPP, J, SIZE = 8, 64, 16, 32
 CUBE = 1  # the moving mesh
-
-
-def _box(half):
-    v = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], np.float64)
-    f = np.array([[0, 1, 3], [0, 3, 2], [4, 6, 7], [4, 7, 5], [0, 4, 5], [0, 5, 1],
-                  [2, 3, 7], [2, 7, 6], [0, 2, 6], [0, 6, 4], [1, 5, 7], [1, 7, 3]], np.uint32)
-    return v * np.asarray(half), f
-
-
-def _rz(a):
-    c, s = np.cos(a), np.sin(a)
-    return np.array([[c, -s, 0, 0], [s, c, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]])
-
-
-def _tr(x, y, z):
-    m = np.eye(4)
-    m[:3, 3] = (x, y, z)
-    return m
 
 
 # object-to-world of the cube at shutter time t in [0, 1]
@@ -90,11 +75,8 @@ def _render(scene, seed, spp, integrator="pt"):
 
 
 def _reference(name, seed):
-    rng = np.random.default_rng(1000 + seed)
-    u = rng.random()
-    imgs = [_render(_static_at(name, (j + u) / J), 100 * seed + j, SPP // J)[0]
-            for j in range(J)]
-    return np.mean(imgs, axis=0)
+    return shutter_average(lambda t: _static_at(name, t), lambda *a: _render(*a)[0], seed, 1000,
+                           SPP, J)
 
 
 @pytest.mark.parametrize("name", ["slide", "spin", "camera"])
@@ -155,27 +137,9 @@ def test_embree_motion_instances_match_builtin_bvh(name, monkeypatch):
     motion TLAS: the same shutter integral, statistically (different traversal and rounding)."""
     if not session.require_core().embree_available():
         pytest.skip("Embree is not available")
-    scene = _moving(name)
-    out = {}
-    for accel in ("embree", "bvh"):
-        monkeypatch.setenv("LANTERN_ACCEL", accel)
-        imgs = []
-        for k in range(K):
-            img, warnings = _render(scene, 1 + k + (0 if accel == "embree" else 100), SPP)
-            assert all("built-in BVH (LANTERN_ACCEL=bvh)" in w for w in warnings), warnings
-            imgs.append(img)
-        out[accel] = np.stack(imgs)
-    metrics.assert_agreement(f"{name} embree/bvh", out["embree"], out["bvh"], block=8,
-                             se_floor=1e-6)
-    # the same seed: near-identical (test_cpu_accel.py's measure: the two round t and the
-    # barycentrics apart in the last bits at most); Embree at time 0 differs by 0.58 here
-    monkeypatch.setenv("LANTERN_ACCEL", "embree")
-    a = _render(scene, 7, 4)[0]
-    monkeypatch.setenv("LANTERN_ACCEL", "bvh")
-    b = _render(scene, 7, 4)[0]
-    far = np.abs(a - b) > 1e-4 * np.maximum(np.abs(b), 1e-3)
-    assert far.mean() <= 0.002, f"{far.mean():.4%} of channels differ by over 1e-4"
-    assert not np.array_equal(a, _render(_scene(), 7, 4)[0])
+    # Embree at time 0 differs by 0.58 here (the same seed)
+    assert_embree_matches_bvh(f"{name} embree/bvh", _moving(name), _render, _scene(), K, SPP,
+                              monkeypatch)
 
 
 def test_motion_survives_the_scene_file(tmp_path):

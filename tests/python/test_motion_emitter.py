@@ -20,22 +20,13 @@ import pytest
 import lantern
 from lantern import metrics, session
 
+from shutter_ref import rz as _rz, shutter_average, tr as _tr
+
 pytestmark = pytest.mark.skipif(not session.native_available(),
                                 reason=f"lantern._core not built ({session.native_error()})")
 
 K, SPP, J, SIZE = 8, 64, 16, 24
 LAMP = 1  # the moving mesh
-
-
-def _rz(a):
-    c, s = np.cos(a), np.sin(a)
-    return np.array([[c, -s, 0, 0], [s, c, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]])
-
-
-def _tr(x, y, z):
-    m = np.eye(4)
-    m[:3, 3] = (x, y, z)
-    return m
 
 
 def _sc(k):
@@ -124,11 +115,8 @@ def _reference(name, seed):
     """J strata, each at (j + u) / J and its mirror (j + 1 - u) / J: both uniform in the
     stratum, so their mean is unbiased, and the quad's power, which grows with its area, adds
     no first-order stratification noise."""
-    u = np.random.default_rng(1000 + seed).random()
-    times = [(j + v) / J for j in range(J) for v in (u, 1.0 - u)]
-    imgs = [_render(_static_at(name, t), 100 * seed + j, SPP // len(times))[0]
-            for j, t in enumerate(times)]
-    return np.mean(imgs, axis=0)
+    return shutter_average(lambda t: _static_at(name, t), lambda *a: _render(*a)[0], seed, 1000,
+                           SPP, J, antithetic=True)
 
 
 _PT = {}

@@ -16,19 +16,14 @@ import lantern
 from lantern import metrics, session
 from lantern.scenes import aabb_mesh
 
+from shutter_ref import box as _box, shutter_average
+
 pytestmark = pytest.mark.skipif(not session.native_available(),
                                 reason=f"lantern._core not built ({session.native_error()})")
 
 K, SPP, J, SIZE = 8, 64, 16, 24
 BOX = 1  # the moving mesh
 FOG = 2  # the fog box (mesh volume scenes)
-
-
-def _box(half):
-    v = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], np.float64)
-    f = np.array([[0, 1, 3], [0, 3, 2], [4, 6, 7], [4, 7, 5], [0, 4, 5], [0, 5, 1],
-                  [2, 3, 7], [2, 7, 6], [0, 2, 6], [0, 6, 4], [1, 5, 7], [1, 7, 3]], np.uint32)
-    return v * np.asarray(half), f
 
 
 def _x(t):
@@ -94,11 +89,7 @@ def _render(scene, seed, spp, integrator="pt"):
 
 
 def _reference(kind, seed):
-    rng = np.random.default_rng(3000 + seed)
-    u = rng.random()
-    imgs = [_render(CASES[kind][1]((j + u) / J), 100 * seed + j, SPP // J)[0]
-            for j in range(J)]
-    return np.mean(imgs, axis=0)
+    return shutter_average(CASES[kind][1], lambda *a: _render(*a)[0], seed, 3000, SPP, J)
 
 
 @pytest.mark.parametrize("kind", list(CASES))

@@ -18,6 +18,8 @@ import lantern
 from lantern import metrics, session
 from lantern.scenes_hair import fur_ball
 
+from shutter_ref import shutter_average
+
 pytestmark = pytest.mark.skipif(not session.native_available(),
                                 reason=f"lantern._core not built ({session.native_error()})")
 
@@ -59,9 +61,7 @@ def _render(scene, seed, spp, integrator="pt"):
 
 
 def _reference(seed):
-    u = np.random.default_rng(5000 + seed).random()
-    return np.mean([_render(_scene((j + u) / J), 100 * seed + j, SPP // J)[0]
-                    for j in range(J)], axis=0)
+    return shutter_average(_scene, lambda *a: _render(*a)[0], seed, 5000, SPP, J)
 
 
 _PT = {}

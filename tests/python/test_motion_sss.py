@@ -14,29 +14,13 @@ import pytest
 import lantern
 from lantern import metrics, session
 
+from shutter_ref import box as _box, rz as _rz, shutter_average, tr as _tr
+
 pytestmark = pytest.mark.skipif(not session.native_available(),
                                 reason=f"lantern._core not built ({session.native_error()})")
 
 K, SPP, J, SIZE = 8, 64, 16, 24
 BOX = 1  # the moving mesh
-
-
-def _box(half):
-    v = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], np.float64)
-    f = np.array([[0, 1, 3], [0, 3, 2], [4, 6, 7], [4, 7, 5], [0, 4, 5], [0, 5, 1],
-                  [2, 3, 7], [2, 7, 6], [0, 2, 6], [0, 6, 4], [1, 5, 7], [1, 7, 3]], np.uint32)
-    return v * np.asarray(half), f
-
-
-def _rz(a):
-    c, s = np.cos(a), np.sin(a)
-    return np.array([[c, -s, 0, 0], [s, c, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]])
-
-
-def _tr(x, y, z):
-    m = np.eye(4)
-    m[:3, 3] = (x, y, z)
-    return m
 
 
 # object-to-world of the box at shutter time t in [0, 1]
@@ -95,11 +79,8 @@ def _renders(scene, spp, integrator="pt", seed0=1):
 
 
 def _reference(name, seed):
-    rng = np.random.default_rng(2000 + seed)
-    u = rng.random()
-    imgs = [_render(_scene(MOTIONS[name]((j + u) / J)), 100 * seed + j, SPP // J)[0]
-            for j in range(J)]
-    return np.mean(imgs, axis=0)
+    return shutter_average(lambda t: _scene(MOTIONS[name](t)), lambda *a: _render(*a)[0], seed,
+                           2000, SPP, J)
 
 
 @pytest.mark.parametrize("name", ["slide", "spin"])

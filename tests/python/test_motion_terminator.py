@@ -21,6 +21,8 @@ import pytest
 import lantern
 from lantern import metrics, scenes
 
+from shutter_ref import shutter_average
+
 pytestmark = pytest.mark.skipif(not lantern.native_available(), reason="native core unavailable")
 
 K, SPP, J, SIZE = 8, 64, 8, 16
@@ -100,11 +102,7 @@ def _renders(scene, seed0, integrator="pt"):
 
 
 def _reference(seed, at=_at):
-    u = np.random.default_rng(2000 + seed).random()
-    times = [(j + v) / J for j in range(J) for v in (u, 1.0 - u)]
-    imgs = [_render(_scene(at(t)), 100 * seed + j, SPP // len(times))
-            for j, t in enumerate(times)]
-    return np.mean(imgs, axis=0)
+    return shutter_average(lambda t: _scene(at(t)), _render, seed, 2000, SPP, J, antithetic=True)
 
 
 @pytest.fixture(scope="module")

@@ -21,14 +21,6 @@ MATERIALS = {"diffuse": dict(type="diffuse", base_color=(1.0, 1.0, 1.0)),
              "principled": dict(type="principled", base_color=(0.8, 0.8, 0.8), roughness=0.4)}
 
 
-@pytest.fixture(scope="module")
-def core():
-    if not lantern.native_available():
-        pytest.skip(f"lantern._core is not built ({lantern.native_error()})")
-    from lantern import _core
-    return _core
-
-
 def ball_scene(kind, shell=None, size=16):
     """The ball of `kind`; shell: None (no shell) or the shell's ray visibility (a dict)."""
     scene = lantern.Scene()

@@ -33,19 +33,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import lantern
 from lantern import metrics
 
 sys.path.insert(0, str(Path(__file__).parent))
 from test_linking_bidir import K, render, room  # noqa: E402  (the room and its renders)
-
-
-@pytest.fixture(scope="module")
-def core():
-    if not lantern.native_available():
-        pytest.skip(f"lantern._core is not built ({lantern.native_error()})")
-    from lantern import _core
-    return _core
 
 
 def camera_hidden(on=True):

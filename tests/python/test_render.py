@@ -13,15 +13,6 @@ import lantern
 from lantern import cli, imageio, metrics, scenes
 
 
-@pytest.fixture(scope="module")
-def core():
-    if not lantern.native_available():
-        pytest.skip(f"lantern._core is not built ({lantern.native_error()}); build with "
-                    f"`.venv/bin/pip install --no-build-isolation --no-deps .`")
-    from lantern import _core
-    return _core  # without Embree the CPU backend uses its built-in BVH
-
-
 def test_build_info(core):
     assert isinstance(core.build_info(), dict)
     assert isinstance(core.embree_version(), str)

@@ -6,7 +6,6 @@ estimate the same light by different densities, in the medium (equiangular and f
 next-event estimation, phase-sampled hits on the disk and their MIS weights) and on surfaces.
 pt against bdpt, independent seeds (lantern.agreement, with its negative controls); and a
 wrong bulb (radius 0.13 m instead of 0.1 m) told apart."""
-import pytest
 
 import lantern
 from lantern import metrics, scenes
@@ -15,14 +14,6 @@ from lantern.scenes import aabb_mesh
 SIZE = 16
 K = 16
 SPP = 64
-
-
-@pytest.fixture(scope="module")
-def core():
-    if not lantern.native_available():
-        pytest.skip(f"lantern._core is not built ({lantern.native_error()})")
-    from lantern import _core
-    return _core
 
 
 def lamp_over_fog(radius=0.1, top=1.25):

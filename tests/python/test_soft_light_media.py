@@ -26,14 +26,6 @@ PT_K, PT_SPP, SPP = 16, 256, 32
 REFS = Path(__file__).resolve().parent.parent / "refs" / "soft_light_media"
 
 
-@pytest.fixture(scope="module")
-def core():
-    if not lantern.native_available():
-        pytest.skip(f"lantern._core is not built ({lantern.native_error()})")
-    from lantern import _core
-    return _core
-
-
 def fog_shelf(shelf=True):
     """A soft-falloff point light (radius 0.1 m) in the Cornell box filled with forward-leaning
     world fog (scattering 0.5 /m), 5 cm above an opaque shelf whose edge passes 3 cm beyond the

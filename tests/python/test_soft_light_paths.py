@@ -21,14 +21,6 @@ SIZE = 32
 PT_SPP, SPP = 256, 64
 
 
-@pytest.fixture(scope="module")
-def core():
-    if not lantern.native_available():
-        pytest.skip(f"lantern._core is not built ({lantern.native_error()})")
-    from lantern import _core
-    return _core
-
-
 def renders(scene, integrator, spp, seed0, k_seeds=K, backend="cpu", **settings):
     out = []
     for k in range(k_seeds):

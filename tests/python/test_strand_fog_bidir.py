@@ -16,7 +16,6 @@ import pytest
 from lantern import metrics
 from lantern.scenes_hair import fur_ball
 
-from test_hair_bidir import core  # noqa: F401
 from test_hair_bidir import renders
 from test_hair_mix_bidir import mix_fur
 from lantern.testing import refs

@@ -13,6 +13,8 @@ import lantern
 from lantern import metrics, session
 from lantern.scenes_hair import fur_ball
 
+from shutter_ref import shutter_average
+
 pytestmark = pytest.mark.skipif(not session.native_available(),
                                 reason=f"lantern._core not built ({session.native_error()})")
 
@@ -60,9 +62,8 @@ def _render(scene, seed=3, spp=4, integrator="pt"):
 
 
 def _reference(seed, spp, j_times, radius_steps=False):
-    u = np.random.default_rng(3000 + seed).random()
-    return np.mean([_render(_scene((j + u) / j_times, radius_steps=radius_steps), 100 * seed + j,
-                            spp // j_times)[0] for j in range(j_times)], axis=0)
+    return shutter_average(lambda t: _scene(t, radius_steps=radius_steps),
+                           lambda *a: _render(*a)[0], seed, 3000, spp, j_times)
 
 
 def _compare(k, spp, j_times, radius_steps, block, **bias):

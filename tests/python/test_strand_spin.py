@@ -15,6 +15,8 @@ import lantern
 from lantern import metrics, session
 from lantern.scenes_hair import fur_ball
 
+from shutter_ref import shutter_average
+
 pytestmark = pytest.mark.skipif(not session.native_available(),
                                 reason=f"lantern._core not built ({session.native_error()})")
 
@@ -66,9 +68,7 @@ def _set(scene, k=K, spp=SPP):
 
 
 def _reference(seed, spp=SPP, j_times=J):
-    u = np.random.default_rng(4000 + seed).random()
-    return np.mean([_render(_scene((j + u) / j_times), 100 * seed + j, spp // j_times)[0]
-                    for j in range(j_times)], axis=0)
+    return shutter_average(_scene, lambda *a: _render(*a)[0], seed, 4000, spp, j_times)
 
 
 def test_turning_fur_matches_static_average():

@@ -18,14 +18,6 @@ from lantern import metrics
 pytestmark = pytest.mark.usefixtures("core")
 
 
-@pytest.fixture(scope="module")
-def core():
-    if not lantern.native_available():
-        pytest.skip(f"lantern._core is not built ({lantern.native_error()})")
-    from lantern import _core
-    return _core
-
-
 def srgb_to_linear(c):
     c = np.asarray(c, np.float64)
     return np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)

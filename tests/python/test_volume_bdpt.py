@@ -17,7 +17,7 @@ import pytest
 from lantern import metrics, scenes
 from lantern.testing import refs
 
-from test_volume_bidir import SCENES, SIZE, furnace_slab, FURNACE_DEPTH, core  # noqa: F401
+from test_volume_bidir import SCENES, SIZE, furnace_slab, FURNACE_DEPTH  # noqa: F401
 from test_volume_bidir import renders as bidir_renders
 
 K = 12         # seeds a side

@@ -27,14 +27,6 @@ SPP_PT, SPP_LT = 256, 256
 REFS = Path(__file__).resolve().parent.parent / "refs" / "volume_bidir"
 
 
-@pytest.fixture(scope="module")
-def core():
-    if not lantern.native_available():
-        pytest.skip(f"lantern._core is not built ({lantern.native_error()})")
-    from lantern import _core
-    return _core
-
-
 def renders(scene, integrator, spp, seed0, k_seeds=K, max_depth=DEPTH, steps=4):
     """k_seeds renders of spp samples in `steps` iterations (test_volume_bdpt.py uses it too)."""
     out = []

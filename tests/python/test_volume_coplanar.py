@@ -17,12 +17,6 @@ K = 8
 SPP = 128
 
 
-@pytest.fixture(scope="module")
-def core():
-    if not lantern.native_available():
-        pytest.skip(f"lantern._core is not built ({lantern.native_error()})")
-
-
 def fog_on_floor(bottom):
     """The Cornell box (no inner boxes) with a scattering fog box whose bottom is at z = bottom
     (the floor's plane is z = 0)."""

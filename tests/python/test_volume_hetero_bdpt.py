@@ -31,7 +31,6 @@ from lantern import metrics, scenes
 from lantern.scenes import aabb_mesh
 from lantern.testing import refs
 
-from test_volume_bidir import core  # noqa: F401
 from test_volume_bidir import renders as bidir_renders
 
 SIZE = 24

@@ -24,14 +24,6 @@ INTEGRATORS = [("pt", {}), ("lt", {}), ("bdpt", {}), ("lvc", {}), ("cis", {}),
                ("cis", {"sort": False})]
 
 
-@pytest.fixture(scope="module")
-def core():
-    if not lantern.native_available():
-        pytest.skip(f"lantern._core is not built ({lantern.native_error()})")
-    from lantern import _core
-    return _core
-
-
 def renders(scene, integrator, spp, seed0, k_seeds=K, backend="cpu", max_depth=6, **settings):
     out = []
     for k in range(k_seeds):

@@ -17,14 +17,6 @@ from lantern import metrics, scenes
 WORLD = 0.5
 
 
-@pytest.fixture(scope="module")
-def core():
-    if not lantern.native_available():
-        pytest.skip(f"lantern._core is not built ({lantern.native_error()})")
-    from lantern import _core
-    return _core
-
-
 def ball_scene(kind, hidden=(), size=16):
     scene = lantern.Scene()
     scene.film.update(width=size, height=size)

@@ -211,21 +211,21 @@ struct BvhNoCollect {
 // shortens before it returns, so its entries are culled at the push instead, against the same
 // tmax, and it keeps no distances: the same nodes in the same order, half the stack (the CUDA
 // backend's kernels hold it in their frames, docs/cuda_backend.md "Strands and motion blur").
-// bvh_traverse_on walks on a stack the caller holds (tlas.h: the bottom level continues on the
-// top level's), of at least the tree's depth - 1 entries (stack_dist unused for kAnyHit).
-template <bool kAnyHit, typename Accept, typename TriAt, typename Collect>
-LANTERN_HD inline BvhHit bvh_traverse_on(const BvhView& bvh, const Ray& ray, uint32_t need,
-                                         const Accept& accept, const TriAt& tri_at,
-                                         const Collect& collect, int32_t* stack_node,
-                                         float* stack_dist) {
-    BvhHit hit{ray.tmax, -1, {0.0f, 0.0f}};
-    if (bvh.num_nodes == 0) return hit;
-    const BvhRay r = bvh_ray(ray);
-    float tmax = ray.tmax;
+//
+// bvh_walk is the walk both levels share (bvh_traverse_on below, tlas_traverse in tlas.h): the
+// nodes, the order, the stack; a leaf child's entries [begin, begin + count) are handed to
+// leaf(begin, count, sp, tmax, hit) at once, which may shorten tmax and set hit, and returns
+// true where an any-hit query is done (sp: the entries pending on the stack, tlas.h's bottom
+// level continuing above them).
+template <bool kAnyHit, typename Leaf>
+LANTERN_HD inline BvhHit bvh_walk(const BvhNode* nodes, const BvhRay& r, uint32_t need,
+                                  float tmax, int32_t* stack_node, float* stack_dist,
+                                  const Leaf& leaf) {
+    BvhHit hit{tmax, -1, {0.0f, 0.0f}};
     int sp = 0;
     int32_t cur = 0;
     for (;;) {
-        const BvhNode& n = bvh.nodes[cur];
+        const BvhNode& n = nodes[cur];
         float d[2];
         int mask = bvh_hit_boxes(r, n, tmax, &d[0], &d[1]);
         if (!bvh_child_wanted(n.meta[0], need)) mask &= ~1;
@@ -249,18 +249,7 @@ LANTERN_HD inline BvhHit bvh_traverse_on(const BvhView& bvh, const Ray& ray, uin
                 }
                 continue;
             }
-            int32_t begin = n.child[c];
-            for (int32_t i = begin; i < begin + int32_t(count); ++i) {
-                const BvhTri& tri = tri_at(bvh.tris[i]);
-                if ((tri.flags & need) != need) continue;
-                float t, u, v;
-                if (!bvh_hit_triangle(r, tri, tmax, &t, &u, &v)) continue;
-                if ((tri.flags & kAlphaTested) && !accept(tri.prim, u, v)) continue;
-                if (Collect::kOn && collect.pass(tri.flags, tri.prim, t, u, v)) continue;
-                hit = {t, tri.prim, {u, v}};
-                if (kAnyHit) return hit;
-                tmax = t;
-            }
+            if (leaf(n.child[c], count, sp, tmax, hit)) return hit;
         }
         if (next < 0) {
             if (kAnyHit) {
@@ -279,6 +268,45 @@ LANTERN_HD inline BvhHit bvh_traverse_on(const BvhView& bvh, const Ray& ray, uin
         }
         cur = next;
     }
+}
+
+// A bottom level's leaf: its triangles, each tested against the ray shortened so far.
+template <bool kAnyHit, typename Accept, typename TriAt, typename Collect>
+struct BvhTriLeaf {
+    const BvhView& bvh;
+    const BvhRay& r;
+    uint32_t need;
+    const Accept& accept;
+    const TriAt& tri_at;
+    const Collect& collect;
+    LANTERN_HD bool operator()(int32_t begin, uint32_t count, int, float& tmax,
+                               BvhHit& hit) const {
+        for (int32_t i = begin; i < begin + int32_t(count); ++i) {
+            const BvhTri& tri = tri_at(bvh.tris[i]);
+            if ((tri.flags & need) != need) continue;
+            float t, u, v;
+            if (!bvh_hit_triangle(r, tri, tmax, &t, &u, &v)) continue;
+            if ((tri.flags & kAlphaTested) && !accept(tri.prim, u, v)) continue;
+            if (Collect::kOn && collect.pass(tri.flags, tri.prim, t, u, v)) continue;
+            hit = {t, tri.prim, {u, v}};
+            if (kAnyHit) return true;
+            tmax = t;
+        }
+        return false;
+    }
+};
+
+// bvh_traverse_on walks on a stack the caller holds (tlas.h: the bottom level continues on the
+// top level's), of at least the tree's depth - 1 entries (stack_dist unused for kAnyHit).
+template <bool kAnyHit, typename Accept, typename TriAt, typename Collect>
+LANTERN_HD inline BvhHit bvh_traverse_on(const BvhView& bvh, const Ray& ray, uint32_t need,
+                                         const Accept& accept, const TriAt& tri_at,
+                                         const Collect& collect, int32_t* stack_node,
+                                         float* stack_dist) {
+    if (bvh.num_nodes == 0) return BvhHit{ray.tmax, -1, {0.0f, 0.0f}};
+    const BvhRay r = bvh_ray(ray);
+    const BvhTriLeaf<kAnyHit, Accept, TriAt, Collect> leaf{bvh, r, need, accept, tri_at, collect};
+    return bvh_walk<kAnyHit>(bvh.nodes, r, need, ray.tmax, stack_node, stack_dist, leaf);
 }
 
 template <bool kAnyHit, typename Accept = BvhAcceptAll, typename TriAt = BvhTriAsStored,

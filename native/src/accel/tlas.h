@@ -89,87 +89,55 @@ constexpr int kTlasStackSize = 16;
 constexpr int kBlasStackSize = kBvhStackSize - kTlasStackSize;
 
 // ---- Traversal ----
-// The top level as bvh_traverse walks a BVH (nearer child first, a fixed stack; an any-hit
-// query culls at the push and keeps no distances); at a leaf each instance's bottom level is
-// traversed with the ray shortened to the closest hit so far, on the same stack above the top
+// The top level as bvh_traverse walks a BVH (bvh_walk: nearer child first, a fixed stack; an
+// any-hit query culls at the push and keeps no distances); at a leaf each instance's bottom level
+// is traversed with the ray shortened to the closest hit so far, on the same stack above the top
 // level's entries. The accept functor sees the world-space ray's triangle (its ids are the
 // scene's).
+template <bool kAnyHit, typename Accept>
+struct TlasLeaf {
+    const TlasView& tl;
+    const Ray& ray;
+    uint32_t need;
+    const Accept& accept;
+    int32_t* stack_node;
+    float* stack_dist;
+    LANTERN_HD bool operator()(int32_t begin, uint32_t count, int sp, float& tmax,
+                               BvhHit& hit) const {
+        for (int32_t i = begin; i < begin + int32_t(count); ++i) {
+            const BvhInstance& in = tl.instances[tl.leaf_inst[i]];
+            if (!bvh_child_wanted(in.mask << 24, need)) continue;
+            const Ray o = tlas_object_ray(in, ray, tmax, tl.motion);
+            if (!(o.tmax >= o.tmin)) continue;
+            const DeformMesh* dm =
+                in.motion >= 0 ? deform_of(tl.motion, tl.motion.objects[in.motion]) : nullptr;
+            int32_t* above = stack_node + sp;
+            float* above_dist = kAnyHit ? stack_dist : stack_dist + sp;
+            const BvhHit h =
+                dm ? bvh_traverse_on<kAnyHit>(tl.blas[in.blas], o, need, accept,
+                                              BvhTriDeformed{tl.motion, *dm, ray.time},
+                                              BvhNoCollect(), above, above_dist)
+                   : bvh_traverse_on<kAnyHit>(tl.blas[in.blas], o, need, accept,
+                                              BvhTriAsStored(), BvhNoCollect(), above,
+                                              above_dist);
+            if (h.prim < 0) continue;
+            hit = h;
+            if (kAnyHit) return true;
+            tmax = h.t;
+        }
+        return false;
+    }
+};
+
 template <bool kAnyHit, typename Accept = BvhAcceptAll>
 LANTERN_HD inline BvhHit tlas_traverse(const TlasView& tl, const Ray& ray, uint32_t need,
                                        const Accept& accept = Accept()) {
-    BvhHit hit{ray.tmax, -1, {0.0f, 0.0f}};
-    if (tl.num_nodes == 0) return hit;
-    const BvhRay r = bvh_ray(ray);
-    float tmax = ray.tmax;
+    if (tl.num_nodes == 0) return BvhHit{ray.tmax, -1, {0.0f, 0.0f}};
     int32_t stack_node[kBvhStackSize];  // [0, sp): the top level's; above: the bottom level's
     float stack_dist[kAnyHit ? 1 : kBvhStackSize];
-    int sp = 0;
-    int32_t cur = 0;
-    for (;;) {
-        const BvhNode& n = tl.nodes[cur];
-        float d[2];
-        int mask = bvh_hit_boxes(r, n, tmax, &d[0], &d[1]);
-        if (!bvh_child_wanted(n.meta[0], need)) mask &= ~1;
-        if (!bvh_child_wanted(n.meta[1], need)) mask &= ~2;
-        int first = (mask == 3 && d[1] < d[0]) ? 1 : 0;
-        int32_t next = -1;
-        for (int k = 0; k < 2; ++k) {
-            int c = first ^ k;
-            if (!(mask & (1 << c))) continue;
-            if (k == 1 && d[c] > tmax) continue;
-            uint32_t count = n.meta[c] & kBvhCountMask;
-            if (count == 0) {
-                if (next < 0) {
-                    next = n.child[c];
-                } else if (kAnyHit) {
-                    if (d[c] <= tmax) stack_node[sp++] = n.child[c];
-                } else {
-                    stack_node[sp] = n.child[c];
-                    stack_dist[sp] = d[c];
-                    ++sp;
-                }
-                continue;
-            }
-            int32_t begin = n.child[c];
-            for (int32_t i = begin; i < begin + int32_t(count); ++i) {
-                const BvhInstance& in = tl.instances[tl.leaf_inst[i]];
-                if (!bvh_child_wanted(in.mask << 24, need)) continue;
-                const Ray o = tlas_object_ray(in, ray, tmax, tl.motion);
-                if (!(o.tmax >= o.tmin)) continue;
-                const DeformMesh* dm =
-                    in.motion >= 0 ? deform_of(tl.motion, tl.motion.objects[in.motion]) : nullptr;
-                int32_t* above = stack_node + sp;
-                float* above_dist = kAnyHit ? stack_dist : stack_dist + sp;
-                const BvhHit h =
-                    dm ? bvh_traverse_on<kAnyHit>(tl.blas[in.blas], o, need, accept,
-                                                  BvhTriDeformed{tl.motion, *dm, ray.time},
-                                                  BvhNoCollect(), above, above_dist)
-                       : bvh_traverse_on<kAnyHit>(tl.blas[in.blas], o, need, accept,
-                                                  BvhTriAsStored(), BvhNoCollect(), above,
-                                                  above_dist);
-                if (h.prim < 0) continue;
-                hit = h;
-                if (kAnyHit) return hit;
-                tmax = h.t;
-            }
-        }
-        if (next < 0) {
-            if (kAnyHit) {
-                if (sp == 0) return hit;
-                next = stack_node[--sp];
-            } else {
-                while (sp > 0) {
-                    --sp;
-                    if (stack_dist[sp] <= tmax) {
-                        next = stack_node[sp];
-                        break;
-                    }
-                }
-                if (next < 0) return hit;
-            }
-        }
-        cur = next;
-    }
+    const TlasLeaf<kAnyHit, Accept> leaf{tl, ray, need, accept, stack_node, stack_dist};
+    return bvh_walk<kAnyHit>(tl.nodes, bvh_ray(ray), need, ray.tmax, stack_node, stack_dist,
+                             leaf);
 }
 
 template <typename Accept = BvhAcceptAll>

@@ -351,14 +351,6 @@ std::string bidir_visibility_reason(const SceneInput& in, bool light_tracer) {
     return "";
 }
 
-std::string curves_reason(const SceneInput& in) {
-    for (const CurveInput& c : in.curves)
-        if (c.offsets.size() > 1) return "strands (curves '" + c.name + "')";
-    for (const MaterialInput& m : in.materials)
-        if (m.type == "hair") return "a hair material ('" + m.name + "')";
-    return "";
-}
-
 namespace {
 // A strand material's leaves: itself, or a mix's children (leaves, not mixes: scene.h).
 template <class F>

@@ -135,8 +135,6 @@ private:
 
 // Why a scene must be rendered by pt alone under "auto" (empty: it need not).
 std::string pt_only_reason(const SceneInput& in);
-// Strands or a hair material (docs/curves.md): on the CPU only; "" when none.
-std::string curves_reason(const SceneInput& in);
 // What of strands and hair only pt renders (docs/curves.md): a hair material on a mesh; ""
 // when none.
 std::string curves_bidir_reason(const SceneInput& in);

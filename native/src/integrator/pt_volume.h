@@ -458,8 +458,6 @@ LANTERN_HD inline Vec3 pt_shadow_transmittance(const SceneView& s, const Rays& r
     return pt_shadow_loop(s, rays, kind, o, d, tmax, med, track, time, blockers);
 }
 
-// The slot's shadow rays in a scene with media: the surface's or medium vertex's, and the
-// equiangular one (cleared here once tested).
 // A shadow ray towards light li (-1: not recorded) through media: pt_shadow_transmittance, for a
 // shadow-linked light with its blocker mask (one inlined loop: pt's chunk is near its stack cap,
 // and an out-of-line copy's frame added ~560 B to it).
@@ -473,6 +471,8 @@ LANTERN_HD inline Vec3 pt_shadow_medium_ray(const SceneView& s, const Rays& rays
                                    blockers);
 }
 
+// The slot's shadow rays in a scene with media: the surface's or medium vertex's, and the
+// equiangular one (cleared here once tested).
 template <class Rays, class Kind>
 LANTERN_HD inline void pt_shadow_medium(const SceneView& s, const Rays& rays, Kind kind,
                                         const PathState& ps, int i) {
