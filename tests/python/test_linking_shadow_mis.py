@@ -23,14 +23,6 @@ from lantern import metrics, scenes
 from test_linking_shadow_redundant import glossy_under_lamp
 
 
-@pytest.fixture(scope="module")
-def core():
-    if not lantern.native_available():
-        pytest.skip(f"lantern._core is not built ({lantern.native_error()})")
-    from lantern import _core
-    return _core
-
-
 def render(scene, seed, integrator="pt", spp=16, depth=2):
     s = lantern.Session(scene, integrator=integrator, seed=seed, backend="cpu", max_depth=depth,
                         spp_per_iteration=spp, threads=1)

@@ -29,14 +29,6 @@ from test_volume_bidir import _volume_box
 K, SPP = 16, 32  # seeds x samples per pixel (tests/README.md: Welch dof >= 15)
 
 
-@pytest.fixture(scope="module")
-def core():
-    if not lantern.native_available():
-        pytest.skip(f"lantern._core is not built ({lantern.native_error()})")
-    from lantern import _core
-    return _core
-
-
 def fogged(s, case):
     if case == "world":
         s.world = {"color": [0.0] * 3, "volume": dict(FOG)}
