@@ -15,7 +15,6 @@ Glossy (bench/results/2026-12-06-nee10022, -shmis).
   connection weights, bidir_linking.h) at 8 x 128 spp (measured at 8 x 512: -0.22 % of the image,
   allowed 0.98 %); the control: the card a blocker, its shadow (-11 % of the image), is seen."""
 import numpy as np
-import pytest
 
 import lantern
 from lantern import metrics, scenes
