@@ -352,6 +352,18 @@ std::string bidir_visibility_reason(const SceneInput& in, bool light_tracer) {
 }
 
 namespace {
+// Strands or a hair material (docs/curves.md): what auto was not checked on beside linking or
+// Cast Shadow off (pt_only_reason); "" when none.
+std::string curves_reason(const SceneInput& in) {
+    for (const CurveInput& c : in.curves)
+        if (c.offsets.size() > 1) return "strands (curves '" + c.name + "')";
+    for (const MaterialInput& m : in.materials)
+        if (m.type == "hair") return "a hair material ('" + m.name + "')";
+    return "";
+}
+}  // namespace
+
+namespace {
 // A strand material's leaves: itself, or a mix's children (leaves, not mixes: scene.h).
 template <class F>
 bool any_strand_leaf(const SceneInput& in, uint32_t k, F&& f) {
