@@ -33,6 +33,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+import lantern
 from lantern import metrics
 
 sys.path.insert(0, str(Path(__file__).parent))
