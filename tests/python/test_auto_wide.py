@@ -91,17 +91,23 @@ def _pt_ref(name, scene, spp=256, seed0=100, depth=6):
              steps=spp, threads=1))
 
 
+def _auto_picks_cis_and_matches_pt(label, scene, ref, **bias):
+    """auto renders `scene` itself (no hand-over to pt), with cis on most of 16 seeds of 32 spp,
+    and agrees with pt's stored reference `ref` (metrics.assert_agreement with `bias`)."""
+    auto, stats = _renders(scene, "auto", 32, 300)
+    chose = [st["auto_choice"] for st, _ in stats]
+    assert chose.count("cis") >= 12, chose
+    assert not any("path tracing" in w for _, ws in stats for w in ws), stats[0][1]
+    metrics.assert_agreement(label, auto, ref, **bias)
+
+
 def test_motion_auto_chooses_cis_and_matches_pt():
     """The glossy box with its short box sliding: auto renders it with cis and agrees with pt
     (a stored reference of 256 spp a seed). Its 32 spp resolve ~2 %: the whole-image control
     is 3 %."""
     scene = aws.glossy_motion(24, 24)
-    auto, stats = _renders(scene, "auto", 32, 300)
-    chose = [st["auto_choice"] for st, _ in stats]
-    assert chose.count("cis") >= 12, chose
-    assert not any("path tracing" in w for _, ws in stats for w in ws), stats[0][1]
-    metrics.assert_agreement("auto (motion) vs pt, glossy box", auto,
-                             _pt_ref("glossy_motion_pt", scene), image_bias=0.03)
+    _auto_picks_cis_and_matches_pt("auto (motion) vs pt, glossy box", scene,
+                                   _pt_ref("glossy_motion_pt", scene), image_bias=0.03)
 
 
 def test_motion_cornell_chooses_pt():
@@ -192,13 +198,9 @@ def test_linking_auto_chooses_cis_and_matches_pt(feature):
     bench/results/2026-12-06-autowide); the bulb behind glass is noisy for pt."""
     name, ref_spp, bias = LINKED[feature]
     scene = aws.SCENES[name](24, 24)
-    auto, stats = _renders(scene, "auto", 32, 300)
-    chose = [st["auto_choice"] for st, _ in stats]
-    assert chose.count("cis") >= 12, chose
-    assert not any("path tracing" in w for _, ws in stats for w in ws), stats[0][1]
-    metrics.assert_agreement(f"auto ({feature}) vs pt, {name}", auto,
-                             _pt_ref(f"{name}_pt", scene, spp=ref_spp), image_bias=bias,
-                             block_bias=BLOCK_BIAS.get(feature, 0.05))
+    _auto_picks_cis_and_matches_pt(f"auto ({feature}) vs pt, {name}", scene,
+                                   _pt_ref(f"{name}_pt", scene, spp=ref_spp), image_bias=bias,
+                                   block_bias=BLOCK_BIAS.get(feature, 0.05))
 
 
 def test_linking_cornell_chooses_pt():
@@ -256,12 +258,8 @@ def test_subsurface_auto_chooses_cis_and_matches_pt():
     """The glossy box with its short box of Random Walk subsurface: auto renders it itself,
     with cis on most seeds, and agrees with pt (a stored reference, 16 seeds of 256 spp)."""
     scene = aws.glossy_sss(24, 24)
-    auto, stats = _renders(scene, "auto", 32, 300)
-    chose = [st["auto_choice"] for st, _ in stats]
-    assert chose.count("cis") >= 12, chose
-    assert not any("path tracing" in w for _, ws in stats for w in ws), stats[0][1]
-    metrics.assert_agreement("auto (subsurface) vs pt, glossy box", auto,
-                             _pt_ref("glossy_sss_pt", scene), image_bias=0.03)
+    _auto_picks_cis_and_matches_pt("auto (subsurface) vs pt, glossy box", scene,
+                                   _pt_ref("glossy_sss_pt", scene), image_bias=0.03)
 
 
 def test_subsurface_cornell_chooses_pt():

@@ -19,11 +19,11 @@ The fog is test_linking_media.py's."""
 import numpy as np
 import pytest
 
-import lantern
 from lantern import metrics
 
 from test_linking_bidir import no_shadow, room
 from test_linking_media import FOG
+from test_linking_shadow_media import render  # (its K x SPP are these: 16 x 32)
 from test_volume_bidir import _volume_box
 
 K, SPP = 16, 32  # seeds x samples per pixel (tests/README.md: Welch dof >= 15)
@@ -40,13 +40,6 @@ def fogged(s, case):
 def lamp(case, on=True):
     """The lamp's Cast Shadow off (on) in fog `case`; on False: the lamp casts its shadows."""
     return fogged(no_shadow(on), case)
-
-
-def render(scene, integrator, seed, spp=SPP):
-    s = lantern.Session(scene, integrator=integrator, seed=seed, backend="cpu", max_depth=4,
-                        spp_per_iteration=spp, threads=1)
-    s.step()
-    return np.asarray(s.image(), np.float64)[..., :3], s.warnings
 
 
 def renders(build, integrator, seed0, on=True):
