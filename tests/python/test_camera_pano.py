@@ -6,7 +6,6 @@
 - lt, bdpt and cis through the panorama agree with pt (lantern.metrics.assert_agreement with
   its 1 % / 5 % negative controls, tests/README.md), across the 360-degree seam too.
 """
-import math
 
 import numpy as np
 import pytest

@@ -1,7 +1,6 @@
 """The house's layout rules (tools/layout_check.py, issue 31): no new source file over 600
 lines, no new import circle in python/lantern or addon, no source file in bench/results; the
 known exceptions may only shrink. The checker itself must see what it checks for."""
-import os
 import subprocess
 import sys
 from pathlib import Path
