@@ -141,8 +141,11 @@ def slab_stage(feature=None, big=False, size=16):
     m square area light (`big`) or a 3 cm sphere (soft falloff off), hidden from the camera,
     which looks down at the slab's shadow; world black. `feature` as _glossy's, on the slab:
     "light" (the light lights the floor alone), "shadow" (its shadows cast by the slab alone:
-    the same image, but next-event estimation is the only technique of its light after a
-    non-delta bounce), "lamp", "object"."""
+    the same image; every segment to the light is free of surfaces or blocked, so pt keeps its
+    two techniques: pt_light_linking.h), "shadow_passed" (as "shadow", with a 3 m sheet 0.9 m
+    up, hidden from the camera, that casts the light no shadow: the same image, and every
+    segment from the floor or the slab to the light passes it, where pt's next-event
+    estimation is its only technique of the light), "lamp", "object"."""
     from lantern import Scene
     s = Scene()
     s.film.update(width=size, height=size)
@@ -162,9 +165,12 @@ def slab_stage(feature=None, big=False, size=16):
     if feature == "light":
         s.meshes[1]["light_set"] = 1
         s.lights[0]["receivers"] = [0]
-    elif feature == "shadow":
+    elif feature in ("shadow", "shadow_passed"):
         s.meshes[1]["shadow_set"] = 1
         s.lights[0]["blockers"] = [1]
+        if feature == "shadow_passed":
+            s.add_mesh(*quad(0.9, 1.5), material=white, name="sheet")
+            s.meshes[2].update(shadow_set=2, visible_camera=False)
     elif feature == "lamp":
         s.lights[0]["cast_shadow"] = False
     elif feature == "object":
