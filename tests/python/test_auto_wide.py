@@ -242,9 +242,9 @@ def test_linking_cornell_chooses_pt():
         assert chose.count("pt") >= 7, (name, chose)
 
 
-def test_ray_visibility_stays_pt():
-    """Object ray visibility: cis does not render it (bidir_visibility_reason), auto keeps pt
-    and says why."""
+def test_ray_visibility_beside_linking_stays_pt():
+    """Object ray visibility beside light linking: cis does not render it
+    (bidir_visibility_reason), auto keeps pt and says why."""
     scene = aws.cornell_light_link(16, 16)
     aws._mesh(scene, "short_box")["visible_glossy"] = False
     s = lantern.Session(scene, integrator="auto", seed=1, backend="cpu", threads=1)
@@ -252,6 +252,67 @@ def test_ray_visibility_stays_pt():
     assert s.stats["auto_choice"] == "pt" and s.stats["auto_cis_iterations"] == 0
     assert any(("hidden from" in w or "ray visibility" in w) and "auto" in w
                for w in s.warnings), s.warnings
+
+
+def _hidden_boxes(kind):
+    """The Cornell box (16 x 16, its light hidden from the camera: its seen pixels would rule
+    E[Y^2]) with both boxes hidden from `kind` rays ("glossy", "diffuse"), or None."""
+    from lantern import scenes
+    scene = scenes.cornell_box(16, 16)
+    scene.lights[0]["visible_camera"] = False
+    if kind:
+        for name in ("short_box", "tall_box"):
+            aws._mesh(scene, name)["visible_" + kind] = False
+    return scene
+
+
+def test_moment_identity_with_ray_visibility():
+    """The moment channels with object ray visibility at max_depth 3. The boxes hidden from
+    glossy rays in the all-diffuse Cornell box: pt's image and estimator are the stage's own
+    (its E[Y^2] the same to 1e-6, same seeds), but every path whose bounce lands on a box is
+    restricted in cis (bidir_ray_visibility.h: pt's two techniques with pt's weights, no light
+    paths): cis's own samples change, and the channels, pt's second moment through pt's
+    weights (1 / w = 1 + a: bdpt_pt_factor), must not (the same seeds a side: 192, ~1.3 %).
+    Control: the boxes hidden from diffuse rays (pt's image changes: BSDF sampling passes
+    them, next-event estimation's shadow rays do not), where the same comparison resolves the
+    change (~28 %)."""
+    seeds = range(500, 692)
+    plain = _second_moments(_hidden_boxes(None), "cis", seeds, channel=1, depth=3,
+                            moment_channels=True)
+    glossy = _second_moments(_hidden_boxes("glossy"), "cis", seeds, channel=1, depth=3,
+                             moment_channels=True)
+    own = _second_moments(_hidden_boxes("glossy"), "cis", seeds[:8], channel=0, depth=3,
+                          moment_channels=True)
+    own_plain = _second_moments(_hidden_boxes(None), "cis", seeds[:8], channel=0, depth=3,
+                                moment_channels=True)
+    assert np.abs(own - own_plain).max() > 1e-3 * own_plain.mean(), (own, own_plain)
+    pt_seeds = range(10, 26)
+    pt_plain = _second_moments(_hidden_boxes(None), "pt", pt_seeds, depth=3)
+    pt_glossy = _second_moments(_hidden_boxes("glossy"), "pt", pt_seeds, depth=3)
+    np.testing.assert_allclose(pt_glossy, pt_plain, rtol=1e-5)
+    se = _se(glossy, plain)
+    print("glossy-hidden identity", glossy.mean(), "plain", plain.mean(), "se", se)
+    assert 4 * se < 0.07 * plain.mean(), (plain.mean(), se)
+    assert abs(glossy.mean() - plain.mean()) < 4 * se, (glossy.mean(), plain.mean(), se)
+    diffuse = _second_moments(_hidden_boxes("diffuse"), "cis", seeds[:48], channel=1, depth=3,
+                              moment_channels=True)
+    assert abs(diffuse.mean() - plain.mean()) > 4 * _se(diffuse, plain), \
+        (diffuse.mean(), plain.mean())
+
+
+def test_ray_visibility_auto_chooses():
+    """Object and lamp ray visibility on surfaces: auto weighs cis (no hand-over to pt, no
+    warning) and picks pt on the Cornell box with its tall box hidden from glossy rays (cis
+    below pt there: bench/results/2026-12-07-automis)."""
+    chose = []
+    for seed in range(40, 46):
+        scene = aws.SCENES["cornell_glossy_hidden"](48, 48)
+        s = lantern.Session(scene, integrator="auto", seed=seed, backend="cpu", threads=1,
+                            max_depth=12, spp_per_iteration=1)
+        s.step()
+        chose.append(s.stats["auto_choice"])
+        assert not any("path tracing" in w for w in s.warnings), s.warnings
+    assert chose.count("pt") >= 5, chose
 
 
 # ---- Subsurface scattering ----
