@@ -13,7 +13,11 @@ Light and shadow linking, a lamp's or an object's Cast Shadow off, and subsurfac
 (the CPU): cis renders them itself; the identity is checked at max_depth 2 (linking: exact;
 Cast Shadow off: two unequal integrals, not exact in principle, within 1 % on a small light),
 through walks to their noise; auto's image against pt's on a scene where it picks cis, and its
-pick of pt on the Cornell box with each. Object ray visibility stays pt's.
+pick of pt on the Cornell box with each. Shadow linking's channels follow pt's rule (branch
+automis: MIS on free segments, next-event estimation alone past non-blockers). Object and lamp
+ray visibility on surfaces (branch automis): restricted paths are pt's techniques at pt's
+weights, the identity checked against the same stage unrestricted; beside linking it stays
+pt's.
 Scenes: tests/python/auto_wide_scenes.py; efficiency: bench/auto_wide.py,
 bench/results/2026-12-06-autowide/ (auto picked the better integrator on every seed of 18
 scenes)."""
