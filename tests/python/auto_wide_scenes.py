@@ -248,4 +248,9 @@ SCENES = {
     "glossy_glossy_hidden": hidden(scenes.glossy_box, "short_box", "glossy"),
     "glossy_lamp_glossy_hidden": hidden(scenes.glossy_box, "lamp", "glossy"),
     "lantern_glossy_hidden": hidden(scenes.glass_lantern, "tall_box", "glossy"),
+    # light linking beside subsurface scattering (branch automis): the glossy box's light
+    # lighting every surface but the left wall, its short box of Random Walk subsurface; the
+    # Cornell box's light lighting every surface but the tall box, its short box of it
+    "glossy_sss_light_link": lambda w, h: _skin(_glossy(w, h, "light"), "short_box"),
+    "cornell_sss_light_link": lambda w, h: _skin(cornell_light_link(w, h), "short_box"),
 }

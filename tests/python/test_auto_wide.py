@@ -364,13 +364,53 @@ def test_subsurface_cornell_chooses_pt():
     assert chose.count("pt") >= 7, chose
 
 
+def test_moment_identity_with_light_linking_through_walks():
+    """Light linking beside subsurface scattering (auto weighs it since branch automis): a
+    second point light that lights the floor alone (the sphere in receiver set 1) on
+    test_subsurface_bidir.py's sphere at max_depth 3. Light linking is a zero every technique
+    applies, a walk's exit receiving as its own surface (bdpt_sss.h), so the identity reads pt's
+    E[Y^2] as through walks without it (0.963, se 0.022 of it; without the linking 0.966: the
+    covariance it never sees), to the walks' noise (192 seeds a side: it resolves ~9 %).
+    Control: the stage with the second light lighting the sphere too (~1.7x)."""
+    import test_subsurface_bidir as sss
+
+    def stage(linked):
+        s = sss.lit_sphere(size=16)
+        s.add_light("point", position=[-1.5, -1.0, 1.5], power=[200.0] * 3, radius=0.0)
+        if linked:
+            s.meshes[0]["light_set"] = 1
+            s.lights[1]["receivers"] = [0]
+        return s
+    pt = _second_moments(stage(True), "pt", range(10, 202), depth=3)
+    ident = _second_moments(stage(True), "cis", range(500, 692), channel=1, depth=3,
+                            moment_channels=True)
+    se = _se(pt, ident)
+    print("light linking through walks: pt", pt.mean(), "identity", ident.mean(), "se", se)
+    assert 4 * se < 0.15 * pt.mean(), (pt.mean(), se)
+    assert abs(ident.mean() - pt.mean()) < 4 * se, (pt.mean(), ident.mean(), se)
+    plain = _second_moments(stage(False), "pt", range(10, 74), depth=3)
+    assert abs(plain.mean() - pt.mean()) > 4 * _se(plain, pt), (plain.mean(), pt.mean())
+
+
+def test_light_linking_beside_subsurface_auto_chooses():
+    """Light linking beside subsurface scattering: no hand-over to pt, auto's pilot weighs it
+    (the choice: bench/results/2026-12-07-automis)."""
+    s = lantern.Session(aws.SCENES["glossy_sss_light_link"](16, 16), integrator="auto",
+                        seed=1, backend="cpu", threads=1)
+    s.step()
+    assert not any("linking" in w and "auto" in w for w in s.warnings), s.warnings
+    assert s.stats["auto_cis_iterations"] > 0
+
+
 @pytest.mark.parametrize("beside", ["fog", "subsurface"])
 def test_linking_beside_unchecked_features_stays_pt(beside):
-    """Linking beside media or subsurface scattering (cis renders both, bidir_linking_medium.h,
-    bdpt_sss.h): combinations auto was not checked on, so it keeps pt and names them. Control:
-    the same scene without the linking goes to auto's pilot."""
+    """Linking beside media, shadow linking beside subsurface scattering (cis renders both,
+    bidir_linking_medium.h, bdpt_sss.h): combinations auto was not checked on, so it keeps pt
+    and names them (light linking alone beside subsurface it weighs: above). Control: the same
+    scene without the linking goes to auto's pilot."""
     for linked in (True, False):
-        scene = aws._glossy(16, 16, "light" if linked else None)
+        feature = "light" if beside == "fog" else "shadow"
+        scene = aws._glossy(16, 16, feature if linked else None)
         if beside == "fog":
             scene.world["volume"] = {"sigma_s": [0.25] * 3, "sigma_a": [0.02] * 3, "g": 0.3}
         else:

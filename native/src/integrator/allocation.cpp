@@ -422,7 +422,19 @@ std::string pt_only_reason(const SceneInput& in) {
         if (std::string w = bidir_visibility_reason(in, false); !w.empty()) return w;
         const std::string what = v.empty() ? u : v;
         if (std::string w = media_reason(in); !w.empty()) return what + " with " + w;
-        if (std::string w = subsurface_reason(in); !w.empty()) return what + " with " + w;
+        // light linking alone beside subsurface scattering (branch automis): a zero that every
+        // technique applies, a walk's exit receiving as its surface (bdpt_sss.h), so the
+        // identity holds as through walks without it (test_auto_wide.py)
+        bool light_links_only = u.empty();
+        for (const MeshInput& m : in.meshes)
+            light_links_only &= (m.rays & kRayKindsAll) == kRayKindsAll && m.shadow_set == 0 &&
+                                m.emitter_blockers == kAllReceivers;
+        for (const LightInput& l : in.lights)
+            light_links_only &= (l.rays & kRayKindsAll) == kRayKindsAll &&
+                                l.blockers == kAllReceivers && l.cast_shadow;
+        for (const CurveInput& c : in.curves) light_links_only &= c.shadow_set == 0;
+        if (std::string w = subsurface_reason(in); !w.empty() && !light_links_only)
+            return what + " with " + w;
         if (std::string w = curves_reason(in); !w.empty()) return what + " with " + w;
     }
     if (in.catcher_mode != 0) return "a shadow catcher pass";
