@@ -141,8 +141,15 @@ def slab_stage(feature=None, big=False, size=16):
     m square area light (`big`) or a 3 cm sphere (soft falloff off), hidden from the camera,
     which looks down at the slab's shadow; world black. `feature` as _glossy's, on the slab:
     "light" (the light lights the floor alone), "shadow" (its shadows cast by the slab alone:
-    the same image, but next-event estimation is the only technique of its light after a
-    non-delta bounce), "lamp", "object"."""
+    the same image; every segment to the light is free of surfaces or blocked, so pt keeps its
+    two techniques: pt_light_linking.h), "shadow_passed" (as "shadow", with a 3 m sheet 0.9 m
+    up, hidden from the camera, that casts the light no shadow: the same image, and every
+    segment from the floor or the slab to the light passes it, where pt's next-event
+    estimation is its only technique of the light), "glossy_hidden" (the slab hidden from
+    glossy rays: the same image, as the stage's materials are diffuse, but paths whose bounce
+    lands on the slab are restricted, made by pt's two techniques alone:
+    bidir_ray_visibility.h), "diffuse_hidden" (hidden from diffuse rays: BSDF sampling passes
+    the slab, next-event estimation's shadow ray does not), "lamp", "object"."""
     from lantern import Scene
     s = Scene()
     s.film.update(width=size, height=size)
@@ -162,9 +169,14 @@ def slab_stage(feature=None, big=False, size=16):
     if feature == "light":
         s.meshes[1]["light_set"] = 1
         s.lights[0]["receivers"] = [0]
-    elif feature == "shadow":
+    elif feature in ("shadow", "shadow_passed"):
         s.meshes[1]["shadow_set"] = 1
         s.lights[0]["blockers"] = [1]
+        if feature == "shadow_passed":
+            s.add_mesh(*quad(0.9, 1.5), material=white, name="sheet")
+            s.meshes[2].update(shadow_set=2, visible_camera=False)
+    elif feature in ("glossy_hidden", "diffuse_hidden"):  # the slab hidden from those rays
+        s.meshes[1]["visible_" + feature.split("_")[0]] = False
     elif feature == "lamp":
         s.lights[0]["cast_shadow"] = False
     elif feature == "object":
@@ -198,6 +210,16 @@ def glossy_sss(width, height):
     return _skin(scenes.glossy_box(width, height), "short_box")
 
 
+def hidden(make, what, kind):
+    """Scene `make` with mesh `what` (or light 0: "lamp") hidden from `kind` rays ("glossy",
+    "diffuse", "transmission"): object and lamp ray visibility (bidir_ray_visibility.h)."""
+    def scene_of(width, height):
+        scene = make(width, height)
+        (scene.lights[0] if what == "lamp" else _mesh(scene, what))["visible_" + kind] = False
+        return scene
+    return scene_of
+
+
 SCENES = {
     "cornell_motion": cornell_motion,
     "lantern_motion": lantern_motion,
@@ -217,4 +239,18 @@ SCENES = {
     "lantern_lamp_noshadow": lantern_lamp_noshadow,
     "cornell_object_noshadow": cornell_object_noshadow,
     "lantern_object_noshadow": lantern_object_noshadow,
+    # ray visibility (branch automis): the all-diffuse Cornell box's image is unchanged by a
+    # box hidden from glossy rays (paths that land on it are restricted in cis), changed by one
+    # hidden from diffuse rays; the glossy box's short box, or its lamp, hidden from glossy rays
+    # (the metal floor does not reflect it); the glass lantern's tall box hidden from glossy
+    "cornell_glossy_hidden": hidden(scenes.cornell_box, "tall_box", "glossy"),
+    "cornell_diffuse_hidden": hidden(scenes.cornell_box, "tall_box", "diffuse"),
+    "glossy_glossy_hidden": hidden(scenes.glossy_box, "short_box", "glossy"),
+    "glossy_lamp_glossy_hidden": hidden(scenes.glossy_box, "lamp", "glossy"),
+    "lantern_glossy_hidden": hidden(scenes.glass_lantern, "tall_box", "glossy"),
+    # light linking beside subsurface scattering (branch automis): the glossy box's light
+    # lighting every surface but the left wall, its short box of Random Walk subsurface; the
+    # Cornell box's light lighting every surface but the tall box, its short box of it
+    "glossy_sss_light_link": lambda w, h: _skin(_glossy(w, h, "light"), "short_box"),
+    "cornell_sss_light_link": lambda w, h: _skin(cornell_light_link(w, h), "short_box"),
 }

@@ -13,7 +13,11 @@ Light and shadow linking, a lamp's or an object's Cast Shadow off, and subsurfac
 (the CPU): cis renders them itself; the identity is checked at max_depth 2 (linking: exact;
 Cast Shadow off: two unequal integrals, not exact in principle, within 1 % on a small light),
 through walks to their noise; auto's image against pt's on a scene where it picks cis, and its
-pick of pt on the Cornell box with each. Object ray visibility stays pt's.
+pick of pt on the Cornell box with each. Shadow linking's channels follow pt's rule (branch
+automis: MIS on free segments, next-event estimation alone past non-blockers). Object and lamp
+ray visibility on surfaces (branch automis): restricted paths are pt's techniques at pt's
+weights, the identity checked against the same stage unrestricted; beside linking it stays
+pt's.
 Scenes: tests/python/auto_wide_scenes.py; efficiency: bench/auto_wide.py,
 bench/results/2026-12-06-autowide/ (auto picked the better integrator on every seed of 18
 scenes)."""
@@ -149,35 +153,60 @@ def _se(a, b):
     return np.hypot(a.std(ddof=1) / np.sqrt(len(a)), b.std(ddof=1) / np.sqrt(len(b)))
 
 
-@pytest.mark.parametrize("feature", ["light", "shadow", "lamp", "object"])
+@pytest.mark.parametrize("feature", ["light", "lamp", "object"])
 def test_moment_identity_with_linking(feature):
     """The moment channels on the slab stage (auto_wide_scenes.slab_stage) at max_depth 2
-    against pt's own E[Y^2], with the feature on.
+    against pt's own E[Y^2], with the feature on (shadow linking: the next test).
     - light linking (the small light lights the floor alone): both techniques apply the same
       zero and no density changes (bidir_linking.h), so the identity is pt's; control: the
       stage without linking (the slab lit too).
-    - shadow linking (the large light's shadows cast by the slab alone: the image is the
-      stage's own): after a non-delta bounce next-event estimation is pt's only technique, so
-      pt's E[Y^2] has no covariance between two techniques to miss (the stage without linking
-      reads ~0.9 of pt's: that covariance), and the channels must carry next-event estimation's
-      density alone (bdpt_pt_factor's a = 0). Control: the channels as without linking (the
-      same image), ~12 % below.
     - a lamp's or the slab's Cast Shadow off (the small light): pt's two unequal integrals
       (bidir_linking.h, bidir_no_shadow.h), which the identity's single integrand does not
       describe exactly where BSDF sampling carries a share (docs/auto_integrator.md); with a 3 cm
       light it is ~1 % of the light, and the channels must read pt's; control: the stage with
       shadows (the floor under the slab dark), ~25 % lower."""
-    big = feature == "shadow"
-    pt, ident = _identity_and_pt(aws.slab_stage(feature, big))
+    pt, ident = _identity_and_pt(aws.slab_stage(feature))
     se = _se(pt, ident)
     assert 4 * se < 0.06 * pt.mean(), (pt.mean(), se)
     assert abs(ident.mean() - pt.mean()) < 4 * se, (feature, pt.mean(), ident.mean(), se)
-    plain_pt, plain_ident = _identity_and_pt(aws.slab_stage(None, big))
-    control = plain_ident if feature == "shadow" else plain_pt
+    control = _second_moments(aws.slab_stage(None), "pt", range(10, 58))
     print(feature, "pt", pt.mean(), "identity", ident.mean(), "se", se, "control",
           control.mean())
     assert abs(control.mean() - pt.mean()) > 4 * _se(control, pt), \
         (feature, pt.mean(), control.mean())
+
+
+def test_moment_identity_with_shadow_linking():
+    """Shadow linking (the large light's shadows cast by the slab alone: the image is the
+    stage's own) at max_depth 2. pt weighs a shadow-linked light by the power heuristic of its
+    two techniques where the segment to it meets no surface, by next-event estimation alone
+    where it passes surfaces that cast the light no shadow (pt_light_linking.h); cis makes
+    these paths by next-event estimation alone, and its channels follow pt's rule by the shadow
+    ray's answer (bidir_linking.h, bidir_linked_moment).
+    - passed: a sheet over the stage that casts no shadow ("shadow_passed"; every segment to
+      the light passes it): pt's estimator is next-event estimation alone, with no covariance
+      between two techniques for the identity to miss, so the channels read pt's E[Y^2].
+    - free ("shadow": no surface on a lit segment): pt's estimator is the stage's without
+      linking, so the channels read what they read without linking (both below pt's E[Y^2] by
+      the covariance they never see, ~0.9 of it). Control: the channels of the old model
+      (next-event estimation's density alone on free segments too, the value pt's passed stage
+      has), ~12 % higher: resolved. The old code failed here."""
+    pt_passed, ident_passed = _identity_and_pt(aws.slab_stage("shadow_passed", True))
+    se = _se(pt_passed, ident_passed)
+    assert 4 * se < 0.06 * pt_passed.mean(), (pt_passed.mean(), se)
+    assert abs(ident_passed.mean() - pt_passed.mean()) < 4 * se, \
+        ("passed", pt_passed.mean(), ident_passed.mean(), se)
+    ident_free = _second_moments(aws.slab_stage("shadow", True), "cis", range(500, 548),
+                                 channel=1, moment_channels=True)
+    ident_plain = _second_moments(aws.slab_stage(None, True), "cis", range(600, 648), channel=1,
+                                  moment_channels=True)
+    se_free = _se(ident_free, ident_plain)
+    print("passed: pt", pt_passed.mean(), "identity", ident_passed.mean(), "se", se,
+          "free: identity", ident_free.mean(), "unlinked", ident_plain.mean(), "se", se_free)
+    assert abs(ident_free.mean() - ident_plain.mean()) < 4 * se_free, \
+        ("free", ident_free.mean(), ident_plain.mean(), se_free)
+    assert abs(ident_free.mean() - pt_passed.mean()) > 4 * _se(ident_free, pt_passed), \
+        ("control", ident_free.mean(), pt_passed.mean())
 
 
 # scene (auto_wide_scenes), pt's samples a pixel in the stored reference, the whole-image
@@ -217,9 +246,9 @@ def test_linking_cornell_chooses_pt():
         assert chose.count("pt") >= 7, (name, chose)
 
 
-def test_ray_visibility_stays_pt():
-    """Object ray visibility: cis does not render it (bidir_visibility_reason), auto keeps pt
-    and says why."""
+def test_ray_visibility_beside_linking_stays_pt():
+    """Object ray visibility beside light linking: cis does not render it
+    (bidir_visibility_reason), auto keeps pt and says why."""
     scene = aws.cornell_light_link(16, 16)
     aws._mesh(scene, "short_box")["visible_glossy"] = False
     s = lantern.Session(scene, integrator="auto", seed=1, backend="cpu", threads=1)
@@ -227,6 +256,67 @@ def test_ray_visibility_stays_pt():
     assert s.stats["auto_choice"] == "pt" and s.stats["auto_cis_iterations"] == 0
     assert any(("hidden from" in w or "ray visibility" in w) and "auto" in w
                for w in s.warnings), s.warnings
+
+
+def _hidden_boxes(kind):
+    """The Cornell box (16 x 16, its light hidden from the camera: its seen pixels would rule
+    E[Y^2]) with both boxes hidden from `kind` rays ("glossy", "diffuse"), or None."""
+    from lantern import scenes
+    scene = scenes.cornell_box(16, 16)
+    scene.lights[0]["visible_camera"] = False
+    if kind:
+        for name in ("short_box", "tall_box"):
+            aws._mesh(scene, name)["visible_" + kind] = False
+    return scene
+
+
+def test_moment_identity_with_ray_visibility():
+    """The moment channels with object ray visibility at max_depth 3. The boxes hidden from
+    glossy rays in the all-diffuse Cornell box: pt's image and estimator are the stage's own
+    (its E[Y^2] the same to 1e-6, same seeds), but every path whose bounce lands on a box is
+    restricted in cis (bidir_ray_visibility.h: pt's two techniques with pt's weights, no light
+    paths): cis's own samples change, and the channels, pt's second moment through pt's
+    weights (1 / w = 1 + a: bdpt_pt_factor), must not (the same seeds a side: 192, ~1.3 %).
+    Control: the boxes hidden from diffuse rays (pt's image changes: BSDF sampling passes
+    them, next-event estimation's shadow rays do not), where the same comparison resolves the
+    change (~28 %)."""
+    seeds = range(500, 692)
+    plain = _second_moments(_hidden_boxes(None), "cis", seeds, channel=1, depth=3,
+                            moment_channels=True)
+    glossy = _second_moments(_hidden_boxes("glossy"), "cis", seeds, channel=1, depth=3,
+                             moment_channels=True)
+    own = _second_moments(_hidden_boxes("glossy"), "cis", seeds[:8], channel=0, depth=3,
+                          moment_channels=True)
+    own_plain = _second_moments(_hidden_boxes(None), "cis", seeds[:8], channel=0, depth=3,
+                                moment_channels=True)
+    assert np.abs(own - own_plain).max() > 1e-3 * own_plain.mean(), (own, own_plain)
+    pt_seeds = range(10, 26)
+    pt_plain = _second_moments(_hidden_boxes(None), "pt", pt_seeds, depth=3)
+    pt_glossy = _second_moments(_hidden_boxes("glossy"), "pt", pt_seeds, depth=3)
+    np.testing.assert_allclose(pt_glossy, pt_plain, rtol=1e-5)
+    se = _se(glossy, plain)
+    print("glossy-hidden identity", glossy.mean(), "plain", plain.mean(), "se", se)
+    assert 4 * se < 0.07 * plain.mean(), (plain.mean(), se)
+    assert abs(glossy.mean() - plain.mean()) < 4 * se, (glossy.mean(), plain.mean(), se)
+    diffuse = _second_moments(_hidden_boxes("diffuse"), "cis", seeds[:48], channel=1, depth=3,
+                              moment_channels=True)
+    assert abs(diffuse.mean() - plain.mean()) > 4 * _se(diffuse, plain), \
+        (diffuse.mean(), plain.mean())
+
+
+def test_ray_visibility_auto_chooses():
+    """Object and lamp ray visibility on surfaces: auto weighs cis (no hand-over to pt, no
+    warning) and picks pt on the Cornell box with its tall box hidden from glossy rays (cis
+    below pt there: bench/results/2026-12-07-automis)."""
+    chose = []
+    for seed in range(40, 46):
+        scene = aws.SCENES["cornell_glossy_hidden"](48, 48)
+        s = lantern.Session(scene, integrator="auto", seed=seed, backend="cpu", threads=1,
+                            max_depth=12, spp_per_iteration=1)
+        s.step()
+        chose.append(s.stats["auto_choice"])
+        assert not any("path tracing" in w for w in s.warnings), s.warnings
+    assert chose.count("pt") >= 5, chose
 
 
 # ---- Subsurface scattering ----
@@ -274,13 +364,53 @@ def test_subsurface_cornell_chooses_pt():
     assert chose.count("pt") >= 7, chose
 
 
+def test_moment_identity_with_light_linking_through_walks():
+    """Light linking beside subsurface scattering (auto weighs it since branch automis): a
+    second point light that lights the floor alone (the sphere in receiver set 1) on
+    test_subsurface_bidir.py's sphere at max_depth 3. Light linking is a zero every technique
+    applies, a walk's exit receiving as its own surface (bdpt_sss.h), so the identity reads pt's
+    E[Y^2] as through walks without it (0.963, se 0.022 of it; without the linking 0.966: the
+    covariance it never sees), to the walks' noise (192 seeds a side: it resolves ~9 %).
+    Control: the stage with the second light lighting the sphere too (~1.7x)."""
+    import test_subsurface_bidir as sss
+
+    def stage(linked):
+        s = sss.lit_sphere(size=16)
+        s.add_light("point", position=[-1.5, -1.0, 1.5], power=[200.0] * 3, radius=0.0)
+        if linked:
+            s.meshes[0]["light_set"] = 1
+            s.lights[1]["receivers"] = [0]
+        return s
+    pt = _second_moments(stage(True), "pt", range(10, 202), depth=3)
+    ident = _second_moments(stage(True), "cis", range(500, 692), channel=1, depth=3,
+                            moment_channels=True)
+    se = _se(pt, ident)
+    print("light linking through walks: pt", pt.mean(), "identity", ident.mean(), "se", se)
+    assert 4 * se < 0.15 * pt.mean(), (pt.mean(), se)
+    assert abs(ident.mean() - pt.mean()) < 4 * se, (pt.mean(), ident.mean(), se)
+    plain = _second_moments(stage(False), "pt", range(10, 74), depth=3)
+    assert abs(plain.mean() - pt.mean()) > 4 * _se(plain, pt), (plain.mean(), pt.mean())
+
+
+def test_light_linking_beside_subsurface_auto_chooses():
+    """Light linking beside subsurface scattering: no hand-over to pt, auto's pilot weighs it
+    (the choice: bench/results/2026-12-07-automis)."""
+    s = lantern.Session(aws.SCENES["glossy_sss_light_link"](16, 16), integrator="auto",
+                        seed=1, backend="cpu", threads=1)
+    s.step()
+    assert not any("linking" in w and "auto" in w for w in s.warnings), s.warnings
+    assert s.stats["auto_cis_iterations"] > 0
+
+
 @pytest.mark.parametrize("beside", ["fog", "subsurface"])
 def test_linking_beside_unchecked_features_stays_pt(beside):
-    """Linking beside media or subsurface scattering (cis renders both, bidir_linking_medium.h,
-    bdpt_sss.h): combinations auto was not checked on, so it keeps pt and names them. Control:
-    the same scene without the linking goes to auto's pilot."""
+    """Linking beside media, shadow linking beside subsurface scattering (cis renders both,
+    bidir_linking_medium.h, bdpt_sss.h): combinations auto was not checked on, so it keeps pt
+    and names them (light linking alone beside subsurface it weighs: above). Control: the same
+    scene without the linking goes to auto's pilot."""
     for linked in (True, False):
-        scene = aws._glossy(16, 16, "light" if linked else None)
+        feature = "light" if beside == "fog" else "shadow"
+        scene = aws._glossy(16, 16, feature if linked else None)
         if beside == "fog":
             scene.world["volume"] = {"sigma_s": [0.25] * 3, "sigma_a": [0.02] * 3, "g": 0.3}
         else:

@@ -124,6 +124,16 @@ def test_no_shadow_object_auto_chooses_itself(core):
     assert s.stats["auto_cis_iterations"] > 0  # its pilot's cis trials
 
 
+def test_kinds_auto_chooses_itself(core):
+    """auto no longer hands object or lamp ray visibility on surfaces to pt (branch automis):
+    cis renders it (above), its moment channels are pt's (test_auto_wide.py), and auto's pilot
+    weighs the two."""
+    s = lantern.Session(kinds_lamp(), integrator="auto", seed=7, backend="cpu", threads=1)
+    s.step()
+    assert not any("path tracing" in w or "with pt" in w for w in s.warnings), s.warnings
+    assert s.stats["auto_cis_iterations"] > 0  # its pilot's cis trials
+
+
 def kinds_no_shadow_lamp(on=True):
     """kinds_objects with the lamp's Cast Shadow off too: not checked together, pt's."""
     s = kinds_objects(on)
@@ -131,7 +141,8 @@ def kinds_no_shadow_lamp(on=True):
     return s
 
 
-@pytest.mark.parametrize("integrator,build", [("lt", kinds_objects), ("auto", kinds_lamp),
+@pytest.mark.parametrize("integrator,build", [("lt", kinds_objects),
+                                              ("auto", kinds_no_shadow_lamp),
                                               ("bdpt", kinds_no_shadow_lamp)])
 def test_kinds_hand_over_to_pt(core, integrator, build):
     img, warnings = render(build(), integrator, 7, spp=4)

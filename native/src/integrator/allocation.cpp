@@ -411,23 +411,30 @@ std::string pt_only_reason(const SceneInput& in) {
         if (m.holdout) return "a holdout (material '" + m.name + "')";
     for (const MeshInput& m : in.meshes)
         if (m.shadow_catcher) return "a shadow catcher (mesh '" + m.name + "')";
-    // light and shadow linking, a lamp's or an object's Cast Shadow off (branch autowide): cis
-    // renders them itself where bidir_visibility_reason says so (bidir_linking.h,
-    // bidir_no_shadow.h), and auto weighs them on surfaces (docs/auto_integrator.md). Object and
-    // lamp ray visibility stay pt's here whatever cis renders (its moment channels unchecked),
-    // and so do these beside media, subsurface or strands (combinations auto was not checked on)
+    // light and shadow linking, a lamp's or an object's Cast Shadow off (branch autowide), and
+    // object and lamp ray visibility (branch automis): cis renders them itself where
+    // bidir_visibility_reason says so (bidir_linking.h, bidir_no_shadow.h,
+    // bidir_ray_visibility.h), and auto weighs them on surfaces (docs/auto_integrator.md: the
+    // moment channels of restricted paths are pt's weights' own); beside media, subsurface or
+    // strands they stay pt's (combinations auto was not checked on)
     if (const std::string v = ray_visibility_reason(in), u = no_shadow_object_reason(in);
         !v.empty() || !u.empty()) {
         if (std::string w = bidir_visibility_reason(in, false); !w.empty()) return w;
-        for (const MeshInput& m : in.meshes)
-            if ((m.rays & kRayKindsAll) != kRayKindsAll)
-                return "an object hidden from some rays (mesh '" + m.name + "')";
-        for (const LightInput& l : in.lights)
-            if ((l.rays & kRayKindsAll) != kRayKindsAll)
-                return "a light hidden from some rays (light '" + l.name + "')";
         const std::string what = v.empty() ? u : v;
         if (std::string w = media_reason(in); !w.empty()) return what + " with " + w;
-        if (std::string w = subsurface_reason(in); !w.empty()) return what + " with " + w;
+        // light linking alone beside subsurface scattering (branch automis): a zero that every
+        // technique applies, a walk's exit receiving as its surface (bdpt_sss.h), so the
+        // identity holds as through walks without it (test_auto_wide.py)
+        bool light_links_only = u.empty();
+        for (const MeshInput& m : in.meshes)
+            light_links_only &= (m.rays & kRayKindsAll) == kRayKindsAll && m.shadow_set == 0 &&
+                                m.emitter_blockers == kAllReceivers;
+        for (const LightInput& l : in.lights)
+            light_links_only &= (l.rays & kRayKindsAll) == kRayKindsAll &&
+                                l.blockers == kAllReceivers && l.cast_shadow;
+        for (const CurveInput& c : in.curves) light_links_only &= c.shadow_set == 0;
+        if (std::string w = subsurface_reason(in); !w.empty() && !light_links_only)
+            return what + " with " + w;
         if (std::string w = curves_reason(in); !w.empty()) return what + " with " + w;
     }
     if (in.catcher_mode != 0) return "a shadow catcher pass";

@@ -113,8 +113,16 @@ LANTERN_HD inline void bdpt_camera_nee(const SceneView& s, const PathState& ps,
     float w = 1.0f / (w_light + 1.0f + w_camera);
     float cos_i = fabsf(dot(ls.wi, z.h.ns));
     Vec3 c = z.beta * e.f * ls.le * (cos_i * w / pdf_light_w);
-    if (st.moments && s.num_media == 0)  // (media: at the shadow ray, bdpt_medium_finish_c)
+    if (st.moments && s.num_media == 0) {  // (media: at the shadow ray, bdpt_medium_finish_c)
+        // a shadow-linked light: pt's channel where the segment is free (bidir_linked_moment)
+        if (L && ps.shadow_mis)
+            ps.shadow_mis[i] = bidir_nee_only(s, pick.light) && !ls.delta && geo_side
+                                   ? bdpt_moment(c, c, bdpt_pt_factor(
+                                                           1.0f, mis(e.pdf_fwd_w / pdf_light_w),
+                                                           1.0f)).y
+                                   : -1.0f;
         c = bdpt_moment(c, c, bdpt_pt_factor(w_light + 1.0f + w_camera, w_light, 1.0f));
+    }
     if (!is_finite(c)) {
         ps.dropped[i] = 1;
         return;

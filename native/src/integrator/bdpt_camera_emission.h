@@ -141,6 +141,13 @@ LANTERN_HD inline bool bdpt_camera_meets_restricted(const SceneView& s, const Pa
     return true;
 }
 
+// Integrator auto's moment channels (bdpt_moment) of emission that a restricted path's bounce
+// ray found (bidir_ray_visibility.h), at pt's weight w = 1 / (1 + a): next-event estimation's
+// squared ratio a to BSDF sampling, from pt's own weight (bdpt_emission_weight's ratio is
+// measured from the ray's origin, which a ray that passed hidden surfaces moved past the real
+// vertex).
+LANTERN_HD inline float bidir_rays_nee_ratio(float w) { return w > 0.0f ? 1.0f / w - 1.0f : 0.0f; }
+
 // Lights crossed by the segment, and the background on a miss (s = 0). L: linking's tests
 // compiled in (bidir_links_on).
 template <bool L = true, class SR>
@@ -164,8 +171,10 @@ LANTERN_HD inline void bdpt_camera_emission(const SceneView& s, const PathState&
         if (L && w > 0.0f && bidir_pt_weight(s, ps, i, s.hittable_lights[k]))
             w = 1.0f / (1.0f + nee);
         if (L && w > 0.0f && bidir_rays_on(s) &&
-            bidir_rays_pt_weight(s, ps, i, s.hittable_lights[k]))  // (bidir_ray_visibility.h)
+            bidir_rays_pt_weight(s, ps, i, s.hittable_lights[k])) {  // (bidir_ray_visibility.h)
             w = bidir_rays_emission_weight(s, ps, i, l, o + d * h.t, h.n, 0.0f);  // (a lamp)
+            nee = bidir_rays_nee_ratio(w);
+        }
         Vec3 c = ps.throughput[i] * h.le * w;
         if (st.moments) c = bdpt_moment(c, c, bdpt_pt_factor(1.0f / w, 1.0f, nee));
         add_radiance(ps, i, c);
@@ -183,8 +192,11 @@ LANTERN_HD inline void bdpt_camera_emission(const SceneView& s, const PathState&
         float w = bdpt_emission_weight(s, ps, bs, st, i, l, kInf, vec3(0.0f), &nee);
         if (L && w > 0.0f && bidir_pt_weight(s, ps, i, s.miss_lights[k]))
             w = 1.0f / (1.0f + nee);
-        if (L && w > 0.0f && bidir_rays_on(s) && bidir_rays_pt_weight(s, ps, i, s.miss_lights[k]))
+        if (L && w > 0.0f && bidir_rays_on(s) &&
+            bidir_rays_pt_weight(s, ps, i, s.miss_lights[k])) {
             w = bidir_rays_emission_weight(s, ps, i, l, vec3(0.0f), vec3(0.0f), 0.0f);
+            nee = bidir_rays_nee_ratio(w);
+        }
         Vec3 le = l.type == kLightWorld ? world_radiance(s, l, d) : l.radiance;
         Vec3 c = ps.throughput[i] * le * w;
         if (st.moments) c = bdpt_moment(c, c, bdpt_pt_factor(1.0f / w, 1.0f, nee));

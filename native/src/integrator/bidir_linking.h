@@ -96,13 +96,31 @@ LANTERN_HD inline void bidir_nee_weights(const SceneView& s, const PathState& ps
     if (unshadowed) w_camera = 0.0f;
 }
 
+// Integrator auto's moment channels (bdpt_common.h, bdpt_moment) of next-event estimation of a
+// shadow-linked light, class A: cis's weight is 1, but pt's (pt_light_linking.h, since shmis)
+// depends on what the segment meets: the power heuristic of its two techniques where it meets
+// no surface, next-event estimation alone where it passes only surfaces outside the blockers.
+// The channels are pt's second moment, so they follow its rule: the camera stage
+// (bdpt_camera_nee) queues those of the passed case, bdpt_pt_factor(1, 0, 1), in the
+// contribution and the free case's second-moment channel, bdpt_pt_factor(1, a, 1) with a BSDF
+// sampling's squared ratio, in PathState::shadow_mis (negative: none; allocated for the cis
+// trials of auto where pt keeps MIS, pt_linked_mis: camera_chunk); the shadow ray's answer picks
+// one. Where pt_linked_mis is false (media, ray visibility, objects without shadows) pt's rule
+// is next-event estimation alone and shadow_mis is not allocated.
+LANTERN_HD inline void bidir_linked_moment(const PathState& ps, int i, int result) {
+    if (result == kLinkedFree && ps.shadow_mis && ps.shadow_mis[i] >= 0.0f)
+        ps.shadow_contrib[i].y = ps.shadow_mis[i];
+}
+
 // A next-event shadow ray of the camera pass (ps.shadow_light: its light where shadow linking
 // is on), with the linked query where the light is shadow-linked.
 template <class Rays, class Kind>
 LANTERN_HD inline bool bidir_nee_occluded(const SceneView& s, const Rays& rays, Kind kind,
                                           const PathState& ps, int i, const Ray& r) {
-    return s.light_blockers ? pt_occluded_linked(s, rays, kind, ps, i, r)
-                            : rays.occluded(r, kind);
+    if (!s.light_blockers) return rays.occluded(r, kind);
+    const int result = pt_shadow_linked_query(s, rays, kind, ps, i, r);
+    bidir_linked_moment(ps, i, result);
+    return result == kLinkedBlocked;
 }
 
 }  // namespace lantern

@@ -281,6 +281,8 @@ void camera_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep
                   int64_t first_path, int n) {
     w.media = s.num_media > 0;
     w.no_shadow = s.no_shadow_objects != 0;  // (bidir_no_shadow.h)
+    // auto's cis trials with a shadow-linked light: PathState::shadow_mis (bidir_linked_moment)
+    w.linked = L && st.set.auto_moments && s.light_blockers && pt_linked_mis(s);
     w.resize(n, w.conn_cap, Exec::kGpu);
     SessionStats& stats = *st.stats;
     const BdptSettings bst = bdpt_settings(w, st);
