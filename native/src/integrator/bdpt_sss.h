@@ -24,7 +24,10 @@ constexpr uint8_t kAliveSssExit = 3;  // PathState::alive: the exit stage has th
 
 // At a camera vertex (after emission, before next-event estimation): true when the path goes
 // under the surface (the walk stage takes it); else z.beta and the slot's throughput carry
-// 1 / (1 - P) and shading goes on.
+// 1 / (1 - P) and shading goes on. Out of line on the device (LANTERN_DEVICE_NOINLINE): in the
+// camera shade kernel (camera_chunk #2.2, at the stack cap) a call measured 2,016 B, inline
+// 2,032 B with more spills (docs/cuda_backend.md).
+LANTERN_DEVICE_NOINLINE
 LANTERN_HD inline bool bdpt_sss_choose(const SceneView& s, const PathState& ps,
                                        const BdptState& bs, CameraVertex& z, int i, Rng& rng) {
     if (z.strand || !(z.m->subsurface > 0.0f) || z.tri >= s.num_triangles) return false;
