@@ -5,7 +5,8 @@
 #      at the first primitive of CudaExec that disagrees with its reference;
 #   2. pytest tests/python with LANTERN_TEST_BACKENDS=cpu,cuda (strict: an unavailable backend
 #      fails instead of skipping; tests needing bpy, Embree or OpenImageIO skip themselves);
-#   3. tools/gpu_compare.py: CUDA against CPU, per-block z-test, pt/bdpt/lvc/cis, no NaN/Inf;
+#   3. tools/gpu_compare.py: CUDA against CPU, per-block z-test, pt/bdpt/lvc/cis, no NaN/Inf
+#      (and lt on its subsurface_skin scene: every subsurface walk stage);
 #   4. bench/gpu_bench.py: rays/s, ms per stage, the paper's Table 1 (cis with/without sorting);
 #   5. a short table, printed last.
 # Logs and images go under $OUT (default ./gpu_check_out): summary.txt, pytest.txt,

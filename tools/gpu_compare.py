@@ -15,7 +15,7 @@ also says the smallest whole-image bias the case resolves ("detects").
         [--out DIR] [--quick]
 
 Scenes: .lantern files (their film is scaled to --size pixels wide, aspect kept) or names of
-lantern.scenes builders (cornell_box, features_box, ...). Writes compare.json, compare.md and
+lantern.scenes builders (cornell_box, features_box, ...) or subsurface_skin (here). Writes compare.json, compare.md and
 one PNG per scene (the two backends' mean images side by side, pt) under --out. Exit status:
 0 all agree, 1 a disagreement or a non-finite pixel, 2 a backend unavailable."""
 
@@ -37,8 +37,34 @@ from lantern.gpu_selfcheck_run import render_seeds  # noqa: E402
 # a light in a fixture, glossy metal, caustics through glass (the paper's hard cases, exported
 # from Blender), and alpha, textures, normal map and mix shaders (lantern.scenes.features_box(64,
 # 64) saved as a file)
+# and subsurface_skin (below): every walk stage (pt's, the bidirectional camera and light
+# paths', lt's; docs/cuda_backend.md "Subsurface walks of bdpt, lvc, cis and lt"), with lt too
 DEFAULT_SCENES = ["bench/scenes/bench_fixture.lantern", "bench/scenes/bench_glossy.lantern",
-                  "bench/scenes/bench_caustics.lantern", "bench/scenes/gpu_features.lantern"]
+                  "bench/scenes/bench_caustics.lantern", "bench/scenes/gpu_features.lantern",
+                  "subsurface_skin"]
+# integrators a scene adds to --integrators (lt renders Skin itself: light paths walk it)
+EXTRA_INTEGRATORS = {"subsurface_skin": ["lt"]}
+
+
+def subsurface_skin(width, height):
+    """A unit sphere with Skin subsurface (radius 0.4, 0.2, 0.1 m) on a grey floor under a point
+    light, world black (tests/python/test_subsurface_bidir_light.py's lit sphere): camera paths
+    walk it (pt, bdpt, lvc, cis) and so do light paths (bdpt, lvc, cis, lt)."""
+    from lantern import scenes
+    s = lantern.Scene()
+    s.film.update(width=width, height=height)
+    s.look_at((0.0, -4.0, 0.6), (0.0, 0.0, -0.3), fov=40.0)
+    s.world = {"color": [0.0, 0.0, 0.0]}
+    m = s.add_material("ball", type="principled", base_color=(0.8, 0.6, 0.4), roughness=0.5,
+                       subsurface={"weight": 1.0, "radius": [0.4, 0.2, 0.1],
+                                   "method": "random_walk_skin"})
+    pos, idx = scenes.icosphere(2)
+    s.add_mesh(pos, idx, material=m)
+    f = s.add_material("floor", base_color=0.5)
+    q = np.array([[-3, -3, -1], [3, -3, -1], [3, 3, -1], [-3, 3, -1]], np.float32)
+    s.add_mesh(q, np.array([[0, 1, 2], [0, 2, 3]], np.uint32), material=f)
+    s.add_light("point", position=[1.5, -1.0, 2.0], power=[300.0] * 3, radius=0.0)
+    return s
 
 
 def load(name, size, hard_falloff=True):
@@ -60,7 +86,7 @@ def load(name, size, hard_falloff=True):
                     light["soft_falloff"] = False
         return scene
     from lantern import scenes
-    builder = getattr(scenes, name, None)
+    builder = {"subsurface_skin": subsurface_skin}.get(name) or getattr(scenes, name, None)
     if not callable(builder):
         raise ValueError(f"scene {name!r}: not a .lantern file nor a lantern.scenes builder")
     return builder(width=int(size), height=int(size))
@@ -132,7 +158,9 @@ def main(argv=None):
         scene = load(name, args.size, hard_falloff=not args.soft_falloff)
         label = Path(name).stem
         previews = []
-        for integrator in [i.strip() for i in args.integrators.split(",") if i.strip()]:
+        integrators = [i.strip() for i in args.integrators.split(",") if i.strip()]
+        integrators += [i for i in EXTRA_INTEGRATORS.get(name, []) if i not in integrators]
+        for integrator in integrators:
             row, mean_a, mean_b = compare_one(scene, label, integrator, backends, args.seeds,
                                               args.spp, args.max_depth, args.scale_b)
             rows.append(row)

@@ -556,9 +556,7 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
                    ? vec3(0.0f)
                    : light_pick_normal(s, tri, z.h.ng);
     Rng rng = ps.rng[i];
-#ifndef __CUDACC__  // the device build has no walk stage (schedule_bdpt.h): CPU sessions only
     if (s.has_subsurface && bdpt_sss_choose(s, ps, bs, z, i, rng)) return;  // under the surface
-#endif
     // next event and connections: the events stage's (bdpt_camera_events.h), from z and this
     // stream; here their draws are skipped
     if (!material_is_delta(m)) bdpt_queue_camera_events(bs, i, z, rng);

@@ -24,7 +24,10 @@ constexpr uint8_t kAliveSssExit = 3;  // PathState::alive: the exit stage has th
 
 // At a camera vertex (after emission, before next-event estimation): true when the path goes
 // under the surface (the walk stage takes it); else z.beta and the slot's throughput carry
-// 1 / (1 - P) and shading goes on.
+// 1 / (1 - P) and shading goes on. Out of line on the device (LANTERN_DEVICE_NOINLINE): in the
+// camera shade kernel (camera_chunk #2.2, at the stack cap) a call measured 2,016 B, inline
+// 2,032 B with more spills (docs/cuda_backend.md).
+LANTERN_DEVICE_NOINLINE
 LANTERN_HD inline bool bdpt_sss_choose(const SceneView& s, const PathState& ps,
                                        const BdptState& bs, CameraVertex& z, int i, Rng& rng) {
     if (z.strand || !(z.m->subsurface > 0.0f) || z.tri >= s.num_triangles) return false;
@@ -48,7 +51,9 @@ LANTERN_HD inline bool bdpt_sss_choose(const SceneView& s, const PathState& ps,
 // the view given the walk's last direction) and r from the entry's view and the walk's first
 // direction, which sss_walk_path draws first from the path's stream: drawn here again from a
 // copy (the same u, so the same direction; pt_sss.h keeps its bits). 0: no walk's first
-// direction.
+// direction. Out of line on the device (LANTERN_DEVICE_NOINLINE): its surface and material stay
+// out of the walk kernel's frame, which holds the walk's ray query (as pt's sss_walk_start).
+LANTERN_DEVICE_NOINLINE
 LANTERN_HD inline float bdpt_sss_camera_exit_dvcm(const SceneView& s, const PathState& ps,
                                                   const BdptState& bs, const BdptSettings& st,
                                                   int i, float time, Rng rng) {
@@ -98,21 +103,24 @@ LANTERN_HD inline void bdpt_sss_walk(const SceneView& s, const Rays& rays, Kind 
     ps.rng[i] = rng;
 }
 
-// The exit stage: the exit as a camera vertex with a white Lambert lobe (pt_sss_exit's), its
-// dVCM the walk stage's, dVC 0 (above); next-event estimation, connections, a cosine
-// continuation.
-template <class SR>
-LANTERN_HD inline void bdpt_sss_exit(const SceneView& s, const PathState& ps, const BdptState& bs,
-                                     const BdptSettings& st_all, const LightCache& cache, int i,
-                                     int64_t path, const SR& sr) {
-    if (ps.alive[i] != kAliveSssExit) return;
-    ps.alive[i] = 0;
-    const BdptSettings st = camera_settings(st_all, pixel_conn_of_path(s, st_all, path));
-    CameraVertex z;
-    MaterialScratch scratch;  // the cache vertices' materials (kOneScratch)
+// The exits' lobe: white Lambert (pt_sss_exit's). The exit stage reads it from the executor's
+// memory (Wavefront::sss_white), not a GPU thread's stack.
+inline Material sss_exit_white() {
     Material white{};
     white.type = kMaterialDiffuse;
     white.base_color = vec3(1.0f);
+    return white;
+}
+
+// The exit stage's camera vertex z at the walk's exit (the slot's triangle, barycentrics and the
+// walk's last direction), its lobe white (sss_exit_white). Out of line on the device
+// (LANTERN_DEVICE_NOINLINE): the surface's locals stay out of the exit kernel's frame.
+LANTERN_DEVICE_NOINLINE
+LANTERN_HD inline void bdpt_sss_exit_vertex(const SceneView& s, const PathState& ps,
+                                            const BdptState& bs, const BdptSettings& st_all,
+                                            int i, int64_t path, const Material& white,
+                                            CameraVertex& z) {
+    z = CameraVertex{};
     z.tri = ps.hit_prim[i];
     z.uv = ps.hit_uv[i];
     z.h = bdpt_surface(s, st_all, path, z.tri, z.uv, ps.ray_d[i]);  // (at its time: motion)
@@ -126,12 +134,10 @@ LANTERN_HD inline void bdpt_sss_exit(const SceneView& s, const PathState& ps, co
     z.wo_w = z.h.ns;
     z.ng_l = z.frame.to_local(z.h.ng);
     z.m = &white;
-    z.scratch = &scratch;
     z.depth = ps.depth[i];
     // media (pt's rule, pt_sss.h): the walk leaves into the medium its path arrived in at the
     // entry, the slot's, which it kept; next event, connections and the continuation start there
-    const bool media = s.num_media > 0;
-    if (media) {
+    if (s.num_media > 0) {
         if (s.sss_adjoint_control == 5) ps.medium[i] = -1;  // (tests' control: into vacuum)
         z.slot_medium = ps.medium[i];
     }
@@ -144,6 +150,24 @@ LANTERN_HD inline void bdpt_sss_exit(const SceneView& s, const PathState& ps, co
                        dot(z.h.ns, z.h.ng) < 0.99999f
                    ? vec3(0.0f)
                    : light_pick_normal(s, z.tri, z.h.ng);
+}
+
+// The exit stage: the exit as a camera vertex with a white Lambert lobe (pt_sss_exit's), its
+// dVCM the walk stage's, dVC 0 (above); next-event estimation, connections, a cosine
+// continuation. The vertex is the slot's BdptState::cam_z (the events stage, which ran before,
+// is done with it): off a GPU thread's stack, as the events stage's.
+template <class SR>
+LANTERN_HD inline void bdpt_sss_exit(const SceneView& s, const PathState& ps, const BdptState& bs,
+                                     const BdptSettings& st_all, const LightCache& cache, int i,
+                                     int64_t path, const SR& sr, const Material& white) {
+    if (ps.alive[i] != kAliveSssExit) return;
+    ps.alive[i] = 0;
+    const BdptSettings st = camera_settings(st_all, pixel_conn_of_path(s, st_all, path));
+    CameraVertex& z = bs.cam_z[i];
+    bdpt_sss_exit_vertex(s, ps, bs, st_all, i, path, white, z);
+    MaterialScratch scratch;  // the cache vertices' materials (kOneScratch)
+    z.scratch = &scratch;
+    const bool media = s.num_media > 0;
     if (z.depth >= st.max_depth) return;
     Rng rng = ps.rng[i];
     bdpt_camera_nee(s, ps, bs, st, z, i, rng, sr, path);

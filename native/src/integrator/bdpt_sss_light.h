@@ -1,8 +1,9 @@
 // Random-walk subsurface on the light paths of bdpt, lvc and cis (docs/subsurface.md, "Light
 // paths walk"): lt's adjoint walk (lt_sss.h: the choice, the walk, the exit's lobe f_adj and its
 // continuation) with the exit stored as a light vertex (connectable, splatted) and the MIS split
-// between the two sets of techniques that can make a path with a walk. CPU only, as the camera
-// side's walk (bdpt_sss.h; the device build has no walk stage).
+// between the two sets of techniques that can make a path with a walk. The walk is a stage of
+// the light pass on every executor (schedule_bdpt.h; on a GPU a kernel of its own within the
+// stack cap, its start and exit out of line: docs/cuda_backend.md).
 //
 // The split (2026-12-06, ssssplit). A path with a walk W is made by the techniques whose camera
 // sub-path holds W (set C: the camera enters at x_front, exits at x_back) and those whose light
@@ -93,7 +94,9 @@ LANTERN_HD inline bool bdpt_light_sss_choose(const SceneView& s, const PathState
 // ---- The exit at x_i (triangle tri, barycentrics uv, reached along d with throughput beta,
 // the light's power apart): a light vertex with f_adj for its lobe (wo holds d), stored, splatted
 // (weighed against the camera-held set: D_back r(view)) and continued as lt's exit; its
-// dVCM = D_back (times r(w) where used), dVC = 0 ----
+// dVCM = D_back (times r(w) where used), dVC = 0. Out of line on the device
+// (LANTERN_DEVICE_NOINLINE): the walk kernel's frame holds the query ----
+LANTERN_DEVICE_NOINLINE
 LANTERN_HD inline void bdpt_light_sss_exit(const SceneView& s, const PathState& ps,
                                            const BdptState& bs, const BdptSettings& st, int i,
                                            int64_t path, int tri, Vec2 uv, Vec3 d, Vec3 beta,
@@ -184,8 +187,9 @@ LANTERN_HD inline void bdpt_light_sss_walk(const SceneView& s, const Rays& rays,
     const int tri = ps.hit_prim[i];
     const Vec2 uv = ps.hit_uv[i];
     const Vec3 d = ps.ray_d[i];
-    const SurfaceHit h = bdpt_surface(s, st, path, tri, uv, d);  // faces the light
-    lt_sss_entry(s, rays, kind, h, tri, uv, d, ps.throughput[i], rng, time,
+    lt_sss_entry(s, rays, kind,
+                 [&] { return bdpt_surface(s, st, path, tri, uv, d); },  // faces the light
+                 tri, uv, d, ps.throughput[i], rng, time,
                  [&](int prim, Vec2 xuv, Vec3 last, Vec3 beta) {
                      bdpt_light_sss_exit(s, ps, bs, st, i, path, prim, xuv, last, beta, rng);
                  });

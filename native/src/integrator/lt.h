@@ -366,7 +366,6 @@ LANTERN_HD inline void lt_shade(const SceneView& s, const PathState& ps, const L
                            beta * w_media * e.f * (cos_y * cc.importance * w), s.offset_scale);
         }
     }
-#ifndef __CUDACC__  // the device build has no walk stage (schedule_lt.h): CPU sessions only
     // under the surface: the walk stage takes the path (integrator/lt_sss.h)
     // (past a transparent surface: pt's next-event weight at a walk's exit, lt_linking.h)
     if (s.has_subsurface && !strand &&
@@ -375,7 +374,6 @@ LANTERN_HD inline void lt_shade(const SceneView& s, const PathState& ps, const L
         ps.throughput[i] = ps.throughput[i] * w_media * w;
         return;
     }
-#endif
     if (depth + 2 > st.max_depth) return;  // the next vertex's connection would be too long
 
     // ---- Continue: cosine sampling, adjoint weight, roulette ----

@@ -17,7 +17,6 @@
 // (lt_sss_exit_sample), weight f_adj |cos| / pdf. lt renders Skin only: session.cpp hands Random
 // Walk to pt (heavy tails: short renders read low; docs/subsurface.md). Neither the walk
 // nor its exit counts a segment (as the camera side: D41).
-// CPU only for now (the device build has no walk stage, as bdpt's camera walk: session.cpp).
 #pragma once
 
 #include "integrator/pt_sss.h"
@@ -130,7 +129,9 @@ LANTERN_HD inline bool lt_sss_exit_continue(const SceneView& s, const Material& 
 // ---- The exit at x_i: triangle tri, barycentrics uv, reached along d with throughput beta
 // (the light's power apart); the splat to the camera, then the continuation. Media (pt's rule,
 // pt_sss.h): the walk leaves into the medium its path arrived in at x_o, the slot's, which it
-// kept; the splat's segment and the continuation (both above x's geometric normal) start there ----
+// kept; the splat's segment and the continuation (both above x's geometric normal) start there.
+// Out of line on the device (LANTERN_DEVICE_NOINLINE): the walk kernel's frame holds the query ----
+LANTERN_DEVICE_NOINLINE
 LANTERN_HD inline void lt_sss_exit(const SceneView& s, const PathState& ps,
                                    const LightPathState& lp, const PtSettings& st, int i, int tri,
                                    Vec2 uv, Vec3 d, Vec3 beta, int depth, float time, Rng& rng) {
@@ -163,24 +164,39 @@ LANTERN_HD inline void lt_sss_exit(const SceneView& s, const PathState& ps,
     set_next_ray(ps, i, x.p, x.ng, wo, pdf_w, s.offset_scale);
 }
 
-// ---- lt's entry at x_o (h: the hit at triangle tri, barycentrics uv, reached along d, facing
-// the light; beta the path's throughput there): a cosine about the inward geometric normal, the
-// walk in the medium of x_o's material, exit(prim, uv, last, beta) where it leaves. lt's walk
-// stage and the bidirectional light paths' (bdpt_sss_light.h) share it. Draws uniform2 (the
-// cosine), then the walk's ----
-template <class Rays, class Kind, class Exit>
-LANTERN_HD inline void lt_sss_entry(const SceneView& s, const Rays& rays, Kind kind,
-                                    const SurfaceHit& h, int tri, Vec2 uv, Vec3 d, Vec3 beta,
-                                    Rng& rng, float time, const Exit& exit) {
+// ---- lt's entry at x_o (surface(): the hit at triangle tri, barycentrics uv, reached along d,
+// facing the light; beta the path's throughput there): a cosine about the inward geometric
+// normal, the walk in the medium of x_o's material, exit(prim, uv, last, beta) where it leaves.
+// lt's walk stage and the bidirectional light paths' (bdpt_sss_light.h) share it. Draws
+// uniform2 (the cosine), then the walk's. The start (the hit, its material, the first direction
+// and the medium: lt_sss_walk_start) is out of line on the device (LANTERN_DEVICE_NOINLINE), as
+// pt's sss_walk_start: its locals stay out of the walk kernel's frame, which holds the walk's ray
+// query (docs/cuda_backend.md) ----
+template <class Surface>
+LANTERN_DEVICE_NOINLINE
+LANTERN_HD inline bool lt_sss_walk_start(const SceneView& s, const Surface& surface, int tri,
+                                         Vec2 uv, Vec3 d, Vec3 beta_in, Rng& rng, SssMedium* md,
+                                         Vec3* o, Vec3* dir, Vec3* beta) {
+    const SurfaceHit h = surface();
     MaterialScratch scratch;
     const Material& m = sss_entry_material(s, h, tri, uv, d, scratch);
     float pdf_w = 0.0f;
-    const Vec3 dir = Frame::from_normal(-h.ng).to_world(
-        sample_cosine_hemisphere(rng.uniform2(), &pdf_w));
-    if (!(pdf_w > 0.0f) || !(dot(dir, h.ng) < 0.0f)) return;
-    const SssMedium md = sss_medium(m);
-    const Vec3 o = offset_ray_origin(h.p, h.ng, dir, s.offset_scale);
-    sss_walk_medium(s, rays, kind, md, o, dir, beta * md.low, rng, time, exit);
+    *dir = Frame::from_normal(-h.ng).to_world(sample_cosine_hemisphere(rng.uniform2(), &pdf_w));
+    if (!(pdf_w > 0.0f) || !(dot(*dir, h.ng) < 0.0f)) return false;
+    *md = sss_medium(m);
+    *o = offset_ray_origin(h.p, h.ng, *dir, s.offset_scale);
+    *beta = beta_in * md->low;
+    return true;
+}
+
+template <class Rays, class Kind, class Surface, class Exit>
+LANTERN_HD inline void lt_sss_entry(const SceneView& s, const Rays& rays, Kind kind,
+                                    const Surface& surface, int tri, Vec2 uv, Vec3 d, Vec3 beta,
+                                    Rng& rng, float time, const Exit& exit) {
+    SssMedium md;
+    Vec3 o, dir, beta0;
+    if (!lt_sss_walk_start(s, surface, tri, uv, d, beta, rng, &md, &o, &dir, &beta0)) return;
+    sss_walk_medium(s, rays, kind, md, o, dir, beta0, rng, time, exit);
 }
 
 // ---- The walk stage, after the bounce's splats (schedule_lt.h): for a path with alive ==
@@ -199,9 +215,10 @@ LANTERN_HD inline void lt_sss_walk(const SceneView& s, const Rays& rays, Kind ki
     const int tri = ps.hit_prim[i];
     const Vec2 uv = ps.hit_uv[i];
     const Vec3 d = ps.ray_d[i];
-    const SurfaceHit h = surface_at_time(s, tri, uv, d, time);  // faces the light
     const int depth = ps.depth[i];
-    lt_sss_entry(s, rays, kind, h, tri, uv, d, ps.throughput[i], rng, time,
+    lt_sss_entry(s, rays, kind,
+                 [&] { return surface_at_time(s, tri, uv, d, time); },  // faces the light
+                 tri, uv, d, ps.throughput[i], rng, time,
                  [&](int prim, Vec2 xuv, Vec3 last, Vec3 beta) {
                      lt_sss_exit(s, ps, lp, st, i, prim, xuv, last, beta, depth, time, rng);
                  });

@@ -201,19 +201,17 @@ void light_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep&
             ex.timed(stats.time_splat, [&] { splat(ex, w, s, st, active); });
         };
         store_and_splat();
-        if constexpr (!Exec::kGpu) {
-            if (s.has_subsurface) {  // the light paths' walks (bdpt_sss_light.h), then their
-                                     // exits' stores and splats
-                const auto rays = ex.rays();
-                ex.timed(stats.time_shade, [&] {
-                    ex.each(active, LANTERN_KERNEL(int k) {
-                        const int i = q[k];
-                        bdpt_light_sss_walk(s, rays, RayKind::kIndirect, ps, bs, bst, i,
-                                            first_path + i);
-                    });
+        if (s.has_subsurface) {  // the light paths' walks (bdpt_sss_light.h; a kernel of its own
+                                 // on a GPU), then their exits' stores and splats
+            const auto rays = ex.rays();
+            ex.timed(stats.time_shade, [&] {
+                ex.each(active, LANTERN_KERNEL(int k) {
+                    const int i = q[k];
+                    bdpt_light_sss_walk(s, rays, RayKind::kIndirect, ps, bs, bst, i,
+                                        first_path + i);
                 });
-                store_and_splat();
-            }
+            });
+            store_and_splat();
         }
         active = compact(ex, w, active);
     }
@@ -252,7 +250,8 @@ void index_cache_by_path(Exec& ex, Wavefront<Exec>& w, int64_t light_paths) {
 
 // Subsurface (bdpt_sss.h): the walks of the camera paths that went under a surface this bounce,
 // then their exits' next events, connections and continuations (their shadow rays join the
-// bounce's).
+// bounce's). Two kernels of their own on a GPU, each within the stack cap (docs/cuda_backend.md
+// "Subsurface walks of bdpt, lvc, cis and lt").
 template <class Exec, class SR>
 void bdpt_sss_stages(Exec& ex, Wavefront<Exec>& w, const SceneView& s, const BdptSettings& bst,
                      const LightCache& cache, int active, const int32_t* list, int spp,
@@ -261,6 +260,12 @@ void bdpt_sss_stages(Exec& ex, Wavefront<Exec>& w, const SceneView& s, const Bdp
     const BdptState bs = w.bs;
     const int32_t* q = w.queue.data();
     const auto rays = ex.rays();
+    if (!w.sss_white.data()) {  // the exits' lobe, in the executor's memory (bdpt_sss_exit)
+        const Material white = sss_exit_white();
+        w.sss_white.grow(1);
+        w.sss_white.upload(&white, 1);
+    }
+    const Material* white = w.sss_white.data();
     ex.timed(stats.time_shade, [&] {
         ex.each(active, LANTERN_KERNEL(int k) {
             const int i = q[k];  // (motion blur: the walk at its camera path's time)
@@ -271,7 +276,8 @@ void bdpt_sss_stages(Exec& ex, Wavefront<Exec>& w, const SceneView& s, const Bdp
         });
         ex.each(active, LANTERN_KERNEL(int k) {
             const int i = q[k];
-            bdpt_sss_exit(s, ps, bs, bst, cache, i, camera_path(list, spp, first_path + i), sr);
+            bdpt_sss_exit(s, ps, bs, bst, cache, i, camera_path(list, spp, first_path + i), sr,
+                          *white);
         }, 64);
     });
 }
@@ -342,10 +348,8 @@ void camera_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep
                                       stage_rays_at(sr, motion ? bdpt_time(bst, path) : sr.time));
             }, 64);
         });
-#ifndef __CUDACC__  // the walk stage measured 2,816 B of stack on the device: CPU only (session.cpp)
         if (s.has_subsurface)  // the walks of this bounce's subsurface paths (bdpt_sss.h)
             bdpt_sss_stages(ex, w, s, bst, cache, active, list, spp, first_path, sr, stats);
-#endif
         // every shadow ray of the bounce: next event and connections (objects without
         // shadows: bidir_no_shadow.h)
         const RayKind conn_kind = bidir_conn_kind(s, RayKind::kShadow, RayKind::kIndirect);

@@ -75,17 +75,16 @@ void lt_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep& st
             ex.timed(stats.time_film, [&] { splat(ex, w, s, st, active); });
         };
         segments_and_splat();
-        if constexpr (!Exec::kGpu) {
-            if (s.has_subsurface) {  // the adjoint walks (lt_sss.h), then their exits' splats
-                const int32_t* q = w.queue.data();
-                const auto rays = ex.rays();
-                ex.timed(stats.time_shade, [&] {
-                    ex.each(active, LANTERN_KERNEL(int k) {
-                        lt_sss_walk(s, rays, RayKind::kIndirect, ps, lp, pt, q[k]);
-                    });
+        if (s.has_subsurface) {  // the adjoint walks (lt_sss.h; a kernel of its own on a GPU),
+                                 // then their exits' splats
+            const int32_t* q = w.queue.data();
+            const auto rays = ex.rays();
+            ex.timed(stats.time_shade, [&] {
+                ex.each(active, LANTERN_KERNEL(int k) {
+                    lt_sss_walk(s, rays, RayKind::kIndirect, ps, lp, pt, q[k]);
                 });
-                segments_and_splat();
-            }
+            });
+            segments_and_splat();
         }
         active = compact(ex, w, active);
         if (active == 0) break;

@@ -114,6 +114,9 @@ struct Wavefront {
     Array<CameraVertex> cam_z;
     Array<Rng> cam_rng;
     Array<uint8_t> cam_on;
+    // subsurface: the walk exits' white Lambert lobe, one Material the exit stage points its
+    // camera vertex at (bdpt_sss_exit; off a GPU thread's stack)
+    Array<Material> sss_white;
     int cap = 0;
     PathState ps{};
     BdptState bs{};
@@ -189,6 +192,7 @@ struct Wavefront {
         f(cam_z);
         f(cam_rng);
         f(cam_on);
+        f(sss_white);
         f(shadow_mis);
     }
     // Arrays on the executor's meter; the cache's meter reports to it too.
