@@ -72,12 +72,8 @@ LANTERN_HD inline bool bidir_medium_blocked(const SceneView& s, const Rays& rays
         const auto h = rays.closest(Ray{o, d, 0.0f, tmax, time}, indirect);
         if (h.prim < 0 || !(h.t < tmax)) return false;
         if (!(s.tri_flags[h.prim] & kVolumeBoundary)) return true;
-        Vec3 ng = d;  // (boundaries are triangles; a strand would be passed along the ray)
-        if (h.prim < s.num_triangles) {
-            const Vec3 a = triangle_vertex(s, h.prim, 0), b = triangle_vertex(s, h.prim, 1),
-                       c = triangle_vertex(s, h.prim, 2);
-            ng = normalize(cross(b - a, c - a));
-        }
+        // (boundaries are triangles; a strand would be passed along the ray)
+        const Vec3 ng = h.prim < s.num_triangles ? triangle_geometric_normal(s, h.prim) : d;
         const Vec3 next = offset_ray_origin(o + d * h.t, ng, d, s.offset_scale);
         if (tmax < kInf) tmax = fmaxf(tmax - dot(next - o, d), 0.0f);
         o = next;
