@@ -23,6 +23,8 @@ next-event estimation's; max_depth 4. lt against pt too (its own light pass: lt_
 - shadow: the lamp's shadows are cast by the ball alone (its blocker set), not by the slab.
 - lamp: the lamp's Cast Shadow off (pt's two weights, next-event estimation unoccluded).
 - object: the slab's Cast Shadow off (pt's shadow rays pass it, every other ray hits it).
+- linked_slab: both at once: the quad shadowed by set 0 alone (not the ball), the slab (set 0)
+  casting no shadow; the lamp unlinked (the slab passed by its shadow rays, the ball not).
 
 Each control is the same scene without the linking or with its shadows (it must fail)."""
 import numpy as np
@@ -92,14 +94,29 @@ def lamp(on=True):
     return s
 
 
-def slab(on=True):
-    s = room()
+def _slab_casts_none(s, on):
     if on:
         s.meshes[4]["cast_shadow"] = False
     return s
 
 
-BUILDS = [light, shadow, lamp, slab]
+def slab(on=True):
+    return _slab_casts_none(room(), on)
+
+
+def linked_slab(on=True):
+    """Shadow linking and the slab's Cast Shadow off at once (handed to pt before nocast3): the
+    quad's shadows cast by set 0 (the slab among them, casting no shadow; not the ball, set 1),
+    the lamp's (not linked) by every surface but the slab. The quad's class A is its next
+    event's alone (the non-caster's ratio 1, at an exit too), its shadow ray the shadow query
+    with its blockers; the lamp's past the slab takes pt's weight (the ratio)."""
+    s = room()
+    s.meshes[2]["shadow_set"] = 1
+    s.meshes[3]["blockers"] = [0]
+    return _slab_casts_none(s, on)
+
+
+BUILDS = [light, shadow, lamp, slab, linked_slab]
 
 
 def render(scene, integrator, seed, spp=SPP):

@@ -70,9 +70,18 @@ def obj_linked(on=True):
     return slab_off(s, on)
 
 
+def obj_linked_fog(on=True):
+    """obj_linked in world fog: shadow linking and a non-caster beside media at once (handed to
+    pt before nocast3). The quad's class A is its next event's alone (weights 0: the
+    non-caster's ratio 1), its shadow ray through the fog with its blocker sets and the shadow
+    query (bdpt_medium_shadow); the lamp's past the slab takes pt's weight (bidir_medium_blocked,
+    bidir_no_shadow_medium_c)."""
+    return fogged(obj_linked(on), "world")
+
+
 CASES = {"lamp_world": lambda on: lamp("world", on), "lamp_box": lambda on: lamp("box", on),
          "object_world": lambda on: obj("world", on), "object_box": lambda on: obj("box", on),
-         "object_linked": obj_linked}
+         "object_linked": obj_linked, "object_linked_fog": obj_linked_fog}
 
 
 @pytest.fixture(scope="module")

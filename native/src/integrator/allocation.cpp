@@ -279,32 +279,28 @@ std::string lt_soft_walk_reason(const SceneInput& in) {
 }  // namespace
 
 std::string bidir_visibility_reason(const SceneInput& in, bool light_tracer) {
-    // an object's Cast Shadow off: bdpt, lvc and cis on meshes (bidir_no_shadow.h), with
-    // subsurface scattering too (a walk's exit is a surface vertex, bdpt_sss.h), beside shadow
-    // linking, or beside media (not both at once, nor shadow linking with subsurface
-    // scattering; not where the object is a volume's mesh: its shadow rays would cross other
-    // media than its BSDF rays); lt too (lt_linking.h, shadow linking and subsurface
-    // scattering beside it there, not media); strands stay pt's
+    // an object's Cast Shadow off: bdpt, lvc and cis (bidir_no_shadow.h) on meshes and strands
+    // (their shadow query passes a non-casting strand as a triangle), with subsurface
+    // scattering too (a walk's exit is a surface vertex, bdpt_sss.h), beside shadow linking,
+    // beside media, both at once (a shadow-linked light's next event is its only technique:
+    // the ratio is 1), shadow linking with subsurface scattering; not where the object is a
+    // volume's mesh in media: its shadow rays would cross other media than its BSDF rays.
+    // lt too (lt_linking.h, shadow linking and subsurface scattering beside it there), not
+    // with media or strands
     if (light_tracer)
         if (std::string v = lt_soft_walk_reason(in); !v.empty()) return v;
     if (const std::string v = no_shadow_object_reason(in); !v.empty()) {
-        bool linked = false;
-        for (const LightInput& l : in.lights) linked |= l.blockers != kAllReceivers;
-        for (const MeshInput& m : in.meshes)
-            linked |= m.shadow_set != 0 || m.emitter_blockers != kAllReceivers;
-        for (const CurveInput& c : in.curves)
-            if (!c.cast_shadow) return v;
+        if (light_tracer)
+            for (const CurveInput& c : in.curves)
+                if (!c.cast_shadow) return v;
         if (std::string u = media_reason(in); !u.empty()) {
             if (light_tracer) return v + " with " + u;
-            if (linked) return v + " with shadow linking and " + u;
             for (const MeshInput& m : in.meshes)
                 for (uint32_t k : m.material_ids)
                     if (!m.cast_shadow && k < in.materials.size() &&
                         (in.materials[k].medium >= 0 || in.materials[k].volume_only))
                         return "a volume's mesh that casts no shadow (mesh '" + m.name + "')";
         }
-        if (std::string u = subsurface_reason(in); !u.empty() && linked && !light_tracer)
-            return v + " with shadow linking and " + u;  // (bdpt: not tested together)
     }
     const std::string all = ray_visibility_reason(in);
     if (all.empty()) return all;

@@ -225,13 +225,14 @@ LANTERN_HD inline MediumShadow bdpt_medium_shadow(const SceneView& s, const Rays
                                                   uint64_t blockers = kAllReceivers) {
     MediumShadow r{vec3(1.0f), medium_segment_begin(start_medium)};
     Rng fixed = medium_tracking_rng(Rng{}, 1);
+    float t0 = 0.0f;  // past a passed strand: the query goes on from o beyond its entry
     for (int k = 0; k < 256; ++k) {  // boundaries crossed (a bound: never an endless loop)
-        const auto h = rays.closest(Ray{o, d, 0.0f, tmax, time}, kind);
+        const auto h = rays.closest(Ray{o, d, t0, tmax, time}, kind);
         const bool hit = h.prim >= 0 && h.t < tmax;
-        const float t = hit ? h.t : tmax;
+        const float t = (hit ? h.t : tmax) - t0;  // this piece: from o + d t0, t long
         const Medium* m = med >= 0 ? &s.media[med] : nullptr;
         if (m && m->hetero) {
-            Vec3 fo = o, fd = d;  // (a moving volume's density: its exported frame)
+            Vec3 fo = t0 > 0.0f ? o + d * t0 : o, fd = d;  // (a moving volume: its exported frame)
             medium_frame_ray(s, med, time, &fo, &fd);
             r.tr = r.tr * medium_piece_transmittance(s, med, fo, fd, t, track ? *track : fixed);
             medium_segment_piece_hetero(r.seg, s, med, fo, fd, t, !hit && end_medium);
@@ -243,8 +244,14 @@ LANTERN_HD inline MediumShadow bdpt_medium_shadow(const SceneView& s, const Rays
         const bool passed = blockers != kAllReceivers && s.tri_shadow_set &&
                             !((blockers >> s.tri_shadow_set[h.prim]) & 1u);
         if ((!passed && !(s.tri_flags[h.prim] & kVolumeBoundary)) || is_black(r.tr)) break;
-        BoundarySide b{d, true};  // a strand passed: along the ray (pt_light_linking.h)
-        if (h.prim < s.num_triangles) b = boundary_side_at(s, int(h.prim), h.uv, d, time);
+        // a strand passed: on from o past its entry (pt_shadow_loop's rule; a re-offset from a
+        // grazing entry into a round strand found its surface again and again)
+        if (h.prim >= s.num_triangles) {
+            t0 = h.t + 1e-5f * fmaxf(h.t, s.offset_scale);
+            continue;
+        }
+        t0 = 0.0f;
+        const BoundarySide b = boundary_side_at(s, int(h.prim), h.uv, d, time);
         if (!passed) med = medium_across(s, h.prim, b.front, med);
         const Vec3 next = offset_ray_origin(o + d * h.t, b.ng, d, s.offset_scale);
         if (tmax < kInf) tmax = fmaxf(tmax - dot(next - o, d), 0.0f);

@@ -24,10 +24,12 @@
 // (bidir_linking.h); in media the same split (bdpt_shadow_medium: V by bidir_medium_blocked,
 // the ratio at the finish, bidir_no_shadow_medium_c); shadow linking beside it: a
 // shadow-linked light's s = 1 is the only technique where x1 is no delta (weights 0: ratio 1),
-// its shadow ray pt's (pt_occluded_linked with the shadow query); non-casting strands, and
-// non-casters that are volume boundaries, stay pt's (allocation.cpp bidir_visibility_reason). lt: lt_linking.h. A subsurface walk's exit (bdpt_sss.h) is a camera
-// vertex like any: its s = 1 takes the same ratio (its dVCM, the light-held set's, is part of
-// w_camera).
+// its shadow ray pt's (pt_occluded_linked with the shadow query), in media too (the ratio is
+// 1 there); a non-casting strand as a triangle (the shadow query skips it, the ordinary one
+// stops at it); non-casters that are volume boundaries in media stay pt's (allocation.cpp
+// bidir_visibility_reason; docs/lvc_notes.md). lt: lt_linking.h. A subsurface walk's exit
+// (bdpt_sss.h) is a camera vertex like any: its s = 1 takes the same ratio (its dVCM, the
+// light-held set's, is part of w_camera), beside shadow linking too.
 #pragma once
 
 #include "integrator/bdpt_common.h"
@@ -63,8 +65,9 @@ LANTERN_HD inline Vec3 bidir_nee_value(const PathState& ps, const BdptState& bs,
 
 // In a scene with media (bdpt_shadow_medium): whether a surface other than a volume boundary
 // blocks segment o -> o + d tmax for the ordinary query `indirect` (the next event's V; the
-// shadow query's V' and the transmittance come from bdpt_medium_shadow). A non-caster that is
-// a volume boundary stays pt's (allocation.cpp), so both queries cross the same media.
+// shadow query's V' and the transmittance come from bdpt_medium_shadow; a strand blocks). A
+// non-caster that is a volume boundary stays pt's (allocation.cpp), so both queries cross the
+// same media.
 template <class Rays, class Kind>
 LANTERN_HD inline bool bidir_medium_blocked(const SceneView& s, const Rays& rays, Kind indirect,
                                             Vec3 o, Vec3 d, float tmax, float time) {
@@ -72,12 +75,8 @@ LANTERN_HD inline bool bidir_medium_blocked(const SceneView& s, const Rays& rays
         const auto h = rays.closest(Ray{o, d, 0.0f, tmax, time}, indirect);
         if (h.prim < 0 || !(h.t < tmax)) return false;
         if (!(s.tri_flags[h.prim] & kVolumeBoundary)) return true;
-        Vec3 ng = d;  // (boundaries are triangles; a strand would be passed along the ray)
-        if (h.prim < s.num_triangles) {
-            const Vec3 a = triangle_vertex(s, h.prim, 0), b = triangle_vertex(s, h.prim, 1),
-                       c = triangle_vertex(s, h.prim, 2);
-            ng = normalize(cross(b - a, c - a));
-        }
+        // (boundaries are triangles; a strand would be passed along the ray)
+        const Vec3 ng = h.prim < s.num_triangles ? triangle_geometric_normal(s, h.prim) : d;
         const Vec3 next = offset_ray_origin(o + d * h.t, ng, d, s.offset_scale);
         if (tmax < kInf) tmax = fmaxf(tmax - dot(next - o, d), 0.0f);
         o = next;

@@ -49,9 +49,7 @@ LANTERN_HD inline BoundarySide boundary_side_at(const SceneView& s, int tri, Vec
         return BoundarySide{h.ng, h.front};
     }
 #endif
-    const Vec3 a = triangle_vertex(s, tri, 0), b = triangle_vertex(s, tri, 1),
-               c = triangle_vertex(s, tri, 2);
-    const Vec3 n = cross(b - a, c - a);
+    const Vec3 n = triangle_cross(s, tri);
     return BoundarySide{normalize(n), dot(n, d) <= 0.0f};
 }
 

@@ -109,9 +109,7 @@ LANTERN_HD inline int pt_shadow_linked_query(const SceneView& s, const Rays& ray
             r.tmin = h.t + 1e-5f * fmaxf(h.t, s.offset_scale);
             continue;
         }
-        const Vec3 a = triangle_vertex(s, h.prim, 0), b = triangle_vertex(s, h.prim, 1),
-                   c = triangle_vertex(s, h.prim, 2);
-        const Vec3 ng = normalize(cross(b - a, c - a));
+        const Vec3 ng = triangle_geometric_normal(s, h.prim);
         const Vec3 next = offset_ray_origin(r.o + r.d * h.t, ng, r.d, s.offset_scale);
         if (r.tmax < kInf) r.tmax = fmaxf(r.tmax - dot(next - r.o, r.d), 0.0f);
         r.o = next;

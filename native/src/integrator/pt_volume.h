@@ -337,9 +337,7 @@ LANTERN_HD inline void pt_boundary_side(const SceneView& s, int32_t prim, Vec2 u
         *ng = x.ng;
         *front = x.front;
     } else {
-        const Vec3 a = triangle_vertex(s, prim, 0), b = triangle_vertex(s, prim, 1),
-                   c = triangle_vertex(s, prim, 2);
-        const Vec3 n = cross(b - a, c - a);
+        const Vec3 n = triangle_cross(s, prim);
         *front = dot(n, d) <= 0.0f;
         *ng = normalize(n);
     }

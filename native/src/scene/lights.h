@@ -86,6 +86,21 @@ LANTERN_HD inline Vec3 triangle_vertex(const SceneView& s, int tri, int k) {
     return s.positions[s.indices[3 * tri + k]];
 }
 
+// Triangle tri's edges' cross product (b - a) x (c - a), its corners as exported: its geometric
+// normal unnormalized (twice its area long; the sign of its dot with a ray's direction says
+// which side the ray meets), and that normal unit length. The shadow loops' re-offset past a
+// passed surface or a crossed boundary (bidir_medium_blocked, pt_shadow_linked_query,
+// pt_boundary_side) take it from here.
+LANTERN_HD inline Vec3 triangle_cross(const SceneView& s, int tri) {
+    const Vec3 a = triangle_vertex(s, tri, 0), b = triangle_vertex(s, tri, 1),
+               c = triangle_vertex(s, tri, 2);
+    return cross(b - a, c - a);
+}
+
+LANTERN_HD inline Vec3 triangle_geometric_normal(const SceneView& s, int tri) {
+    return normalize(triangle_cross(s, tri));
+}
+
 // ---- A moving emitter (motion blur, docs/motion_blur.md "A moving emitter") ----
 // An emissive triangle where its mesh is at shutter time `time`: its corners (a deforming
 // mesh's lerped in its exported frame, then the object's matrix at that time, as the ray
