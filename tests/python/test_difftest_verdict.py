@@ -81,4 +81,6 @@ def test_until_past_midnight():
     assert difftest_run.until_time("00:40", now) == datetime.datetime(2026, 12, 7, 0, 40,
                                                                       tzinfo=utc)
     assert difftest_run.until_time("23:50", now) == now.replace(minute=50)
-    assert difftest_run.until_time("07:38", now) == now.replace(hour=7, minute=38)
+    assert difftest_run.until_time("20:00", now) == now.replace(hour=20, minute=0)
+    early = now.replace(hour=2, minute=0)
+    assert difftest_run.until_time("07:38", early) == early.replace(hour=7, minute=38)
