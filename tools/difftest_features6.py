@@ -35,8 +35,8 @@ FEATURES = {
     "shadow link beside glossy": "a shadow-linked lamp and a sharp glossy surface",
 }
 RAY_KINDS = ("diffuse", "glossy", "transmission", "volume_scatter")
-# hidden kinds, weighted: diffuse and glossy together most (one of the two alone beside a
-# Principled or mixed material is named by the export: unsupported, export/visibility.py)
+# hidden kinds, weighted: diffuse and glossy together most (one of the two alone only where no
+# Principled or mixed material is: the export names it there, unsupported; _mixture)
 PATTERNS = ((("diffuse", "glossy"), 3), (("diffuse",), 1), (("glossy",), 1),
             (("transmission",), 1), (("diffuse", "glossy", "transmission"), 1))
 
@@ -54,8 +54,21 @@ def _meshes(case, big=True):
             and (big or not (o["kind"] == "room" or o["scale"][0] >= 6.0))]
 
 
+def _mixture(case):
+    """Whether a used material holds a Principled, Mix or Add Shader (or Blender's default
+    Principled surface): Lantern samples it as one mixture of diffuse and glossy, and the
+    export names diffuse or glossy hidden alone beside it (export/visibility.py)."""
+    used = {o.get("material") for o in case["objects"]} | \
+        {o["hair"]["material"] for o in case["objects"] if "hair" in o}
+    return None in used or any(
+        n["type"] in ("ShaderNodeBsdfPrincipled", "ShaderNodeMixShader", "ShaderNodeAddShader")
+        for k, g in case["materials"].items() if k in used for n in g["nodes"].values())
+
+
 def _kinds(r, case):
     pats = list(PATTERNS) + ([(("volume_scatter",), 2)] if _media(case) else [])
+    if _mixture(case):   # one r.choices draw either way
+        pats = [(p, w) for p, w in pats if ("diffuse" in p) == ("glossy" in p)]
     return list(r.choices([p for p, _ in pats], weights=[w for _, w in pats])[0])
 
 
@@ -114,7 +127,28 @@ def draw(key, case, avoid, volume_graph):
                     not any(x.get("hair", {}).get("material") == old
                             for x in case["objects"]):
                 case["materials"].pop(old, None)
+    _avoided(case, avoid)
     return case
+
+
+def _avoided(case, avoid):
+    """--avoid of a combined tag (X in fog) takes X off where the case has media from an
+    earlier batch (so that the tag is gone, as --avoid promises)."""
+    if _media(case):
+        for o in case["objects"]:
+            if "object no shadow in fog" in avoid and o.get("cast_shadow") is False:
+                o.pop("cast_shadow")
+            if "ray visibility in fog" in avoid:
+                o.pop("rays_off", None)
+        for lt in case["lights"]:
+            if "ray visibility in fog" in avoid:
+                lt.pop("rays_off", None)
+            if "no shadow in fog" in avoid:
+                lt.pop("cast_shadow", None)
+    if case.get("world_volume") and "shadow linking in fog" in avoid and case.get("linking"):
+        case["linking"] = [s for s in case["linking"] if s["kind"] != "blocker"]
+        if not case["linking"]:
+            case.pop("linking")
 
 
 def build_object(sc, o, ob):
