@@ -91,6 +91,18 @@ def _gloss(r):
     return g
 
 
+def _one_lobe(g):
+    """A drawn world volume with its scatterers at one Anisotropy (the first's): scatterers of
+    different Anisotropy under an Add Shader are named by the export (unsupported), which would
+    waste the batch's fog; no random number drawn."""
+    aniso = [n["inputs"]["Anisotropy"] for n in g["nodes"].values()
+             if "Anisotropy" in n.get("inputs", {})]
+    for n in g["nodes"].values():
+        if "Anisotropy" in n.get("inputs", {}):
+            n["inputs"]["Anisotropy"] = aniso[0]
+    return g
+
+
 def draw(key, case, avoid, volume_graph):
     """Add the features to `case` (full profile, after difftest_features5.draw);
     volume_graph(r, world=True) draws a world volume (difftest_features)."""
@@ -107,7 +119,7 @@ def draw(key, case, avoid, volume_graph):
                for x in case["objects"]) or any("rays_off" in x for x in case["lights"])
     if mine and not case.get("world_volume") and r.random() < P_FOG and \
             "world volume" not in avoid and "ray visibility in fog" not in avoid:
-        case["world_volume"] = volume_graph(r, world=True)
+        case["world_volume"] = _one_lobe(volume_graph(r, world=True))
     if _media(case) and case["lights"] and not any(
             lt.get("cast_shadow") is False for lt in case["lights"]) and \
             r.random() < P_LAMP_SHADOW_FOG and "no shadow" not in avoid and \
@@ -116,7 +128,7 @@ def draw(key, case, avoid, volume_graph):
     blocked = _blocked_lamps(case)
     if blocked and not case.get("world_volume") and r.random() < P_SHLINK_FOG and \
             "world volume" not in avoid and "shadow linking in fog" not in avoid:
-        case["world_volume"] = volume_graph(r, world=True)
+        case["world_volume"] = _one_lobe(volume_graph(r, world=True))
     if blocked and r.random() < P_GLOSSY and "shadow link beside glossy" not in avoid:
         pool = _meshes(case, big=False)
         if pool:
