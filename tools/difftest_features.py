@@ -18,6 +18,7 @@ import difftest_features2 as f2
 import difftest_features3 as f3
 import difftest_features4 as f4
 import difftest_features5 as f5
+import difftest_features6 as f6
 from difftest_graph import _rgb, _u
 
 FEATURES = {
@@ -38,6 +39,7 @@ FEATURES.update(f2.FEATURES)   # the second batch (difftest2): Volume objects, C
 FEATURES.update(f3.FEATURES)   # the third (difftest3): moving emitters, motion in fog, hair mixes
 FEATURES.update(f4.FEATURES)   # the fourth (difftest4): light and shadow linking
 FEATURES.update(f5.FEATURES)   # the fifth (difftest5): parents, shutter position, steps, ...
+FEATURES.update(f6.FEATURES)   # the sixth (difftest6): ray visibility by kind, object shadows
 
 P_VOLUME, P_WORLD_VOLUME, P_SUBSURFACE, P_HAIR, P_MOTION = 0.15, 0.06, 0.12, 0.10, 0.12
 
@@ -162,7 +164,9 @@ def draw(key, case, avoid, material):
     # each batch from a stream of its own: cases without them draw unchanged
     case = f4.draw(key, f3.draw(key, f2.draw(key, case, avoid), avoid, material, _volume_graph,
                                 _curves), avoid)
-    return f5.draw(key, case, avoid, _volume_graph, lambda rr: _hair_material(rr, avoid, material))
+    case = f5.draw(key, case, avoid, _volume_graph,
+                   lambda rr: _hair_material(rr, avoid, material))
+    return f6.draw(key, case, avoid, _volume_graph)
 
 
 def _curves(r):
@@ -255,7 +259,7 @@ def build_object(sc, o, mats, made):
         ps.child_type = "NONE"
         sc.cycles_curves.shape = "THICK_LINEAR"
         f2.hair_children(o, made)
-    return f5.build_object(sc, o, made)
+    return f6.build_object(sc, o, f5.build_object(sc, o, made))
 
 
 def build_scene(sc, case, camera, made):
@@ -263,6 +267,7 @@ def build_scene(sc, case, camera, made):
     import bpy
     f2.build_scene(sc, case)
     f4.build_scene(sc, case, made)
+    f6.build_scene(sc, case)
     if case.get("volumes") or case.get("world_volume"):
         # Cycles' factory Volume Bounces (0) is below its Max Bounces, which the export warns
         # of; the tester sets both to the case's bounces at render time (difftest.py)
@@ -326,7 +331,8 @@ def features(case):
                 found.add("principled hair")
     if "motion" in case["camera"] and case.get("shutter"):
         found.add("moving camera")
-    return found | f2.features(case) | f3.features(case) | f4.features(case) | f5.features(case)
+    return (found | f2.features(case) | f3.features(case) | f4.features(case) |
+            f5.features(case) | f6.features(case))
 
 
 def shrink_edits(case):
@@ -350,3 +356,4 @@ def shrink_edits(case):
     yield from f3.shrink_edits(case)
     yield from f4.shrink_edits(case)
     yield from f5.shrink_edits(case)
+    yield from f6.shrink_edits(case)

@@ -1,7 +1,7 @@
 """tools/difftest.py with every integrator (auto and lt as well as pt, bdpt, lvc and cis) and
 a choice of features (docs/difftest.md). The same options and log; --integrator's choices
 are wider, and --want TAG (repeatable; "new" for every difftest_features3 tag, "new5" for every
-difftest_features5 tag) runs only the
+difftest_features5 tag, "new6" for difftest_features6's) runs only the
 seeds whose case has one of the tags (the others are skipped, not logged), one case at a time
 through difftest.main (--resume: each seed once). A wrapper, not an edit of difftest.py,
 whose digest keys the CI slice's stored Cycles side (tests/cycles/test_difftest.py): changing
@@ -120,7 +120,9 @@ def main(argv=None):
     import difftest_features3 as f3
     import difftest_scene as ds
     import difftest_features5 as f5
-    groups = {"new": f3.FEATURES, "new5": f5.FEATURES}   # a batch's tags by one word
+    import difftest_features6 as f6
+    groups = {"new": f3.FEATURES, "new5": f5.FEATURES,   # a batch's tags by one word
+              "new6": f6.FEATURES}
     want = set().union(*(set(groups.get(w, {w})) for w in want))
     args = parse(argv)
     avoid = set(args.avoid) | (set(difftest.dk.KNOWN) - set(args.allow)
@@ -141,16 +143,37 @@ def main(argv=None):
         ran += 1
         if seed in logged:
             continue
-        if args.until:
-            import datetime
-            hh, mm = (int(x) for x in args.until.split(":"))
-            now = datetime.datetime.now(datetime.timezone.utc)
-            if now > now.replace(hour=hh, minute=mm, second=0, microsecond=0):
-                print(f"deadline {args.until} UTC: stopped")
-                break
-        difftest.main(argv + ["--resume", "--seed", str(seed),
-                              "--cases", str(len(difftest.read_log(args.out)) + 1)])
+        if args.until and _now() > until_time(args.until):
+            print(f"deadline {args.until} UTC: stopped")
+            break
+        difftest.main(_until_today(argv) + ["--resume", "--seed", str(seed),
+                                            "--cases", str(len(difftest.read_log(args.out)) + 1)])
     return 0
+
+
+def _now():
+    import datetime
+    return datetime.datetime.now(datetime.timezone.utc)
+
+
+def until_time(until, now=None):
+    """--until HH:MM (UTC) as the next such time: today's, or tomorrow's where today's was over
+    12 hours ago (a run started at 23:40 with --until 00:40 stops after midnight, not at once)."""
+    import datetime
+    now = now or _now()
+    hh, mm = (int(x) for x in until.split(":"))
+    t = now.replace(hour=hh, minute=mm, second=0, microsecond=0)
+    return t + datetime.timedelta(days=1) if (now - t).total_seconds() > 12 * 3600 else t
+
+
+def _until_today(argv):
+    """argv without --until where its time is tomorrow's (difftest.main reads HH:MM as today's
+    and would start nothing; the wrapper checks the deadline before each case, and --max-evals
+    bounds a shrink)."""
+    vals, rest = _take(argv, "--until")
+    if vals and until_time(vals[-1]).date() != _now().date():
+        return rest
+    return argv
 
 
 if __name__ == "__main__":

@@ -69,3 +69,18 @@ def test_cycles_side_renders_without_roulette():
         assert (sc.cycles.min_light_bounces, sc.cycles.min_transparent_bounces) == (0, 0)
     finally:
         difftest_run.CYCLES_ROULETTE = old
+
+
+def test_until_past_midnight():
+    """--until HH:MM is the next such time (difftest6: a run started at 23:43 with --until
+    00:40 stopped at once, the time read as today's); today's where it is ahead, or passed
+    less than 12 hours ago (a stop that is due)."""
+    import datetime
+    utc = datetime.timezone.utc
+    now = datetime.datetime(2026, 12, 6, 23, 43, tzinfo=utc)
+    assert difftest_run.until_time("00:40", now) == datetime.datetime(2026, 12, 7, 0, 40,
+                                                                      tzinfo=utc)
+    assert difftest_run.until_time("23:50", now) == now.replace(minute=50)
+    assert difftest_run.until_time("20:00", now) == now.replace(hour=20, minute=0)
+    early = now.replace(hour=2, minute=0)
+    assert difftest_run.until_time("07:38", early) == early.replace(hour=7, minute=38)
