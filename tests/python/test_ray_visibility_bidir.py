@@ -26,7 +26,8 @@ camera; max_depth 4).
   leave it). bdpt, lvc
   and cis render both themselves: paths that meet a hidden object past the camera's segment,
   or end on the hidden lamp, take pt's two techniques. The control (every object and the lamp
-  seen by every kind) must fail. lt, media and subsurface scattering stay pt's."""
+  seen by every kind) must fail. lt, media and subsurface scattering stay pt's (beside light
+  and shadow linking and Cast Shadow off: test_ray_visibility_linking.py)."""
 import sys
 from pathlib import Path
 
@@ -134,16 +135,19 @@ def test_kinds_auto_chooses_itself(core):
     assert s.stats["auto_cis_iterations"] > 0  # its pilot's cis trials
 
 
-def kinds_no_shadow_lamp(on=True):
-    """kinds_objects with the lamp's Cast Shadow off too: not checked together, pt's."""
+def kinds_subsurface(on=True):
+    """kinds_objects with ball A a Random Walk subsurface material: not checked together, pt's.
+    (Beside linking and Cast Shadow off: test_ray_visibility_linking.py.)"""
     s = kinds_objects(on)
-    s.lights[0]["cast_shadow"] = False
+    m = s.add_material("skin", type="principled", base_color=(0.8, 0.6, 0.4), roughness=0.5,
+                       subsurface={"weight": 1.0, "radius": [0.1, 0.05, 0.02],
+                                   "method": "random_walk"})
+    s.meshes[2]["material_ids"] = np.full(len(s.meshes[2]["indices"]), m, np.uint32)
     return s
 
 
-@pytest.mark.parametrize("integrator,build", [("lt", kinds_objects),
-                                              ("auto", kinds_no_shadow_lamp),
-                                              ("bdpt", kinds_no_shadow_lamp)])
+@pytest.mark.parametrize("integrator,build", [("lt", kinds_objects), ("auto", kinds_subsurface),
+                                              ("bdpt", kinds_subsurface)])
 def test_kinds_hand_over_to_pt(core, integrator, build):
     img, warnings = render(build(), integrator, 7, spp=4)
     assert any(("ray visibility" in w or "hidden from" in w) and

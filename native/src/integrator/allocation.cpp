@@ -309,29 +309,26 @@ std::string bidir_visibility_reason(const SceneInput& in, bool light_tracer) {
     // linking in homogeneous media, lt_medium.h lt_walk_ratio); past a subsurface walk's exit
     // too (bdpt, lvc, cis: the exit receives as its own surface, bdpt_sss.h; lt: y1 = x_o,
     // lt_linking.h lt_sss_nee_weight)
-    bool shadow = false, unshadowed = false, other = false, linked = false;
+    bool shadow = false, unshadowed = false, other = false;
     for (const MeshInput& m : in.meshes) {
         if ((m.rays & kRayKindsAll) != kRayKindsAll) other = true;
         if (m.shadow_set != 0 || m.emitter_blockers != kAllReceivers) shadow = true;
-        if (m.light_set != 0 || m.emitter_receivers != kAllReceivers) linked = true;
     }
     for (const LightInput& l : in.lights) {
         if ((l.rays & kRayKindsAll) != kRayKindsAll) other = true;
         if (l.blockers != kAllReceivers) shadow = true;
-        if (l.receivers != kAllReceivers) linked = true;
         if (!l.cast_shadow) unshadowed = true;
     }
     // object and lamp ray visibility by kind: bdpt, lvc and cis on surfaces
-    // (bidir_ray_visibility.h); lt, media, subsurface walks, and beside linking, a lamp's Cast
-    // Shadow off or an object's stay pt's (not checked)
+    // (bidir_ray_visibility.h), beside light and shadow linking and a lamp's or an object's
+    // Cast Shadow off too (a restricted path is pt's, an unrestricted one keeps the linking
+    // rules: docs/lvc_notes.md "Ray visibility by kind"); lt, media and subsurface walks stay
+    // pt's (not checked)
     if (other) {
         const std::string rays = "object or lamp ray visibility";
         if (light_tracer) return all;
         if (std::string v = media_reason(in); !v.empty()) return rays + " with " + v;
         if (std::string v = subsurface_reason(in); !v.empty()) return rays + " with " + v;
-        if (shadow || linked) return rays + " with light or shadow linking";
-        if (unshadowed) return rays + " with a light that casts no shadow";
-        if (std::string v = no_shadow_object_reason(in); !v.empty()) return rays + " with " + v;
     }
     // light and shadow linking and a lamp's Cast Shadow off with media: bdpt, lvc, cis
     // (bidir_linking_medium.h); lt's light linking and shadow linking (lt_linking.h,

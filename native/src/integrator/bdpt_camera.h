@@ -533,7 +533,7 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
             w = 1.0f / (1.0f + mis(pdf_direct) * dvcm + mis(st.r * pdf_emit) * dvc_e);
             nee = mis(pdf_direct) * dvcm;
             if (L && bidir_rays_on(s) && bidir_rays_pt_weight(s, ps, i, li))  // (ray kinds)
-                w = bidir_rays_emission_weight(s, ps, i, l, z.h.p, z.h.ng, time);
+                w = bidir_rays_emission_weight(s, ps, i, li, o_prev, d, t_hit, z.h.ng, time);
         }
         // the camera's direct view of a Principled emitter: under its coat and sheen
         // (principled_emission_through; light it casts stays undimmed)

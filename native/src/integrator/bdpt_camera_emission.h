@@ -160,7 +160,7 @@ LANTERN_HD inline void bdpt_camera_emission(const SceneView& s, const PathState&
         const Light& l = s.lights[s.hittable_lights[k]];
         if (camera && !l.visible_camera) continue;
         if (L && !bidir_emission_counts(s, ps, i, s.hittable_lights[k])) continue;  // (linking)
-        if (L && bidir_lamp_unseen(s, ps, i, s.hittable_lights[k])) continue;  // (ray kinds)
+        if (L && pt_lamp_unseen(s, ps, i, s.hittable_lights[k])) continue;  // (ray kinds)
         LightHit h = intersect_light(l, o, d, ps.ray_tmin[i], t_end);
         if (!h.hit || is_black(h.le)) continue;
         float nee = 0.0f;
@@ -172,7 +172,8 @@ LANTERN_HD inline void bdpt_camera_emission(const SceneView& s, const PathState&
             w = 1.0f / (1.0f + nee);
         if (L && w > 0.0f && bidir_rays_on(s) &&
             bidir_rays_pt_weight(s, ps, i, s.hittable_lights[k])) {  // (bidir_ray_visibility.h)
-            w = bidir_rays_emission_weight(s, ps, i, l, o + d * h.t, h.n, 0.0f);  // (a lamp)
+            w = bidir_rays_emission_weight(s, ps, i, s.hittable_lights[k], o, d, h.t, h.n,
+                                           0.0f);  // (a lamp)
             nee = bidir_rays_nee_ratio(w);
         }
         Vec3 c = ps.throughput[i] * h.le * w;
@@ -187,14 +188,15 @@ LANTERN_HD inline void bdpt_camera_emission(const SceneView& s, const PathState&
             continue;  // a sun lamp is hidden from the camera; the world's disc (of_world) not
         if (l.type == kLightWorld && camera && !l.visible_camera) continue;
         if (L && !bidir_emission_counts(s, ps, i, s.miss_lights[k])) continue;  // (linking)
-        if (L && bidir_lamp_unseen(s, ps, i, s.miss_lights[k])) continue;  // (ray kinds)
+        if (L && pt_lamp_unseen(s, ps, i, s.miss_lights[k])) continue;  // (ray kinds)
         float nee = 0.0f;
         float w = bdpt_emission_weight(s, ps, bs, st, i, l, kInf, vec3(0.0f), &nee);
         if (L && w > 0.0f && bidir_pt_weight(s, ps, i, s.miss_lights[k]))
             w = 1.0f / (1.0f + nee);
         if (L && w > 0.0f && bidir_rays_on(s) &&
             bidir_rays_pt_weight(s, ps, i, s.miss_lights[k])) {
-            w = bidir_rays_emission_weight(s, ps, i, l, vec3(0.0f), vec3(0.0f), 0.0f);
+            w = bidir_rays_emission_weight(s, ps, i, s.miss_lights[k], o, d, kInf, vec3(0.0f),
+                                           0.0f);
             nee = bidir_rays_nee_ratio(w);
         }
         Vec3 le = l.type == kLightWorld ? world_radiance(s, l, d) : l.radiance;

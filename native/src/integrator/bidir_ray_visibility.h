@@ -23,10 +23,8 @@
 // names stay pt's.
 #pragma once
 
-#include "core/sampling.h"
+#include "integrator/pt.h"  // pt_emission_weight, pt_light_pdf_w
 #include "integrator/pt_ray_visibility.h"
-#include "scene/light_tree.h"
-#include "scene/lights.h"
 
 namespace lantern {
 
@@ -54,14 +52,6 @@ LANTERN_HD inline bool bidir_restricted(const SceneView& s, const PathState& ps,
     return s.tri_rays && ps.ray_kind && (ps.ray_kind[i] & kRayRestricted) != 0;
 }
 
-// Whether lamp li, which slot i's bounce ray found, is hidden from the ray's kind (pt_lamp_unseen
-// without the restricted bit).
-LANTERN_HD inline bool bidir_lamp_unseen(const SceneView& s, const PathState& ps, int i, int li) {
-    if (!s.light_rays || !ps.ray_kind || ps.depth[i] <= 1) return false;
-    const uint8_t k = pt_lamp_kind(uint8_t(ps.ray_kind[i] & kRayKindsAll));
-    return (s.light_rays[li] & k) != k;
-}
-
 // Whether emission of light li found by slot i's bounce ray takes pt's weight: a restricted
 // path, or an R light.
 LANTERN_HD inline bool bidir_rays_pt_weight(const SceneView& s, const PathState& ps, int i,
@@ -69,29 +59,20 @@ LANTERN_HD inline bool bidir_rays_pt_weight(const SceneView& s, const PathState&
     return ps.depth[i] > 1 && (bidir_restricted(s, ps, i) || bidir_light_restricted(s, li));
 }
 
-// pt's weight (pt_emission_weight's power heuristic) of emission of light l that slot i's bounce
-// ray found at point p (normal n; infinite lights: direction d alone), from the last real vertex
-// ps.prev_p (a ray that passed hidden surfaces starts past it). Out of line on the device
-// (LANTERN_DEVICE_NOINLINE): the light pick's and density's locals stay out of the kernels'
-// frames.
+// pt's weight of emission of light li that slot i's bounce ray (origin o, direction d) found at
+// distance t (normal n; infinite lights: d alone): pt_emission_weight with pt_light_pdf_w's
+// density from the last real vertex (a ray that passed hidden surfaces starts past it), at
+// `time` (a moving emitter's: the path's). Out of line on the device (LANTERN_DEVICE_NOINLINE):
+// the light pick's and density's locals stay out of the kernels' frames.
 LANTERN_DEVICE_NOINLINE
 LANTERN_HD inline float bidir_rays_emission_weight(const SceneView& s, const PathState& ps, int i,
-                                                   const Light& l, Vec3 p, Vec3 n, float time) {
-    if (!(ps.prev_pdf_w[i] > 0.0f)) return 1.0f;  // after a delta bounce: BSDF sampling's alone
-    const int li = int(&l - s.lights);
-    const float pick = s.light_tree_on ? light_pick_pmf(s, li, ps.prev_p[i], ps.prev_n[i])
-                                       : l.nee_pdf;
-    const Vec3 d = ps.ray_d[i];
-    float pdf;
-    if (l.type == kLightWorld) {
-        pdf = world_pdf_w(s, d);
-    } else if (l.type == kLightSun) {
-        pdf = light_pdf_w(l, vec3(0.0f), d, kInf, vec3(0.0f));
-    } else {
-        const float t = length(p - ps.prev_p[i]);
-        pdf = light_pdf_w_at(s, l, ps.prev_p[i], d, t, n, time);
-    }
-    return power_heuristic(ps.prev_pdf_w[i], pick * pdf);
+                                                   int li, Vec3 o, Vec3 d, float t, Vec3 n,
+                                                   float time) {
+    const Light& l = s.lights[li];
+    const float pdf = l.type == kLightWorld ? world_pdf_w(s, d)
+                      : l.type == kLightSun ? light_pdf_w(l, vec3(0.0f), d, kInf, vec3(0.0f))
+                                            : pt_light_pdf_w(s, ps, i, l, o, d, t, n, time);
+    return pt_emission_weight(s, ps, i, li, pdf);
 }
 
 // The kind of the next bounce ray of slot i, its restricted bit kept.

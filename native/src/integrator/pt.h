@@ -101,16 +101,19 @@ LANTERN_HD inline float pt_emission_weight(const SceneView& s, const PathState& 
 // o, as pt_emission_weight needs it. In a scene with media a ray that crossed volume boundaries
 // since its last vertex starts beyond them: the pdf is the last vertex's (PathState::prev_p,
 // kept in scenes with media), at its own distance. (Soft-falloff disks: by solid
-// angle, as every integrator's next-event estimation samples them.)
+// angle, as every integrator's next-event estimation samples them.) time: a moving emitter's
+// shutter time where the caller has its own (bdpt's path time); negative: pt's, from the rng.
 LANTERN_HD inline float pt_light_pdf_w(const SceneView& s, const PathState& ps, int i,
-                                       const Light& l, Vec3 o, Vec3 d, float t, Vec3 n) {
+                                       const Light& l, Vec3 o, Vec3 d, float t, Vec3 n,
+                                       float time = -1.0f) {
     if ((s.num_media > 0 || s.tri_rays) && ps.depth[i] > 1) {  // (tri_rays: pt_pass_hidden)
         const Vec3 q = ps.prev_p[i];
         t = length(o + d * t - q);
         o = q;
     }
     if (l.type == kLightTriangle && s.motion.num_objects > 0)  // a moving emitter: at the path's
-        return light_pdf_w_at(s, l, o, d, t, n, motion_time(ps.rng[i]));  // time (its area then)
+        return light_pdf_w_at(s, l, o, d, t, n,  // time (its area then)
+                              time < 0.0f ? motion_time(ps.rng[i]) : time);
     return light_pdf_w(l, o, d, t, n);
 }
 

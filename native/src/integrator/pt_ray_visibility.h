@@ -74,10 +74,11 @@ LANTERN_HD inline void pt_set_ray_kind(const SceneView& s, const PathState& ps, 
 // Whether lamp li, which slot i's bounce ray found, is hidden from the ray's kind: its emission
 // does not count (next-event estimation skips it for that kind too: pt_light_hidden, so the
 // two strategies estimate the same integral and their MIS weights still sum to one). Camera
-// rays: the lamp's visible_camera.
+// rays: the lamp's visible_camera. (The kinds alone: bdpt's camera pass keeps a restricted bit
+// beside them, bidir_ray_visibility.h kRayRestricted; pt never sets it.)
 LANTERN_HD inline bool pt_lamp_unseen(const SceneView& s, const PathState& ps, int i, int li) {
     if (!s.light_rays || !ps.ray_kind || ps.depth[i] <= 1) return false;
-    const uint8_t k = pt_lamp_kind(ps.ray_kind[i]);
+    const uint8_t k = pt_lamp_kind(uint8_t(ps.ray_kind[i] & kRayKindsAll));
     return (s.light_rays[li] & k) != k;
 }
 
