@@ -26,7 +26,9 @@ camera; max_depth 4).
   leave it). bdpt, lvc
   and cis render both themselves: paths that meet a hidden object past the camera's segment,
   or end on the hidden lamp, take pt's two techniques. The control (every object and the lamp
-  seen by every kind) must fail. lt, media and subsurface scattering stay pt's."""
+  seen by every kind) must fail. Media and subsurface scattering stay pt's; lt renders ray
+  visibility on surfaces itself (integrator/lt_ray_visibility.h; against pt:
+  test_lt_ray_visibility.py), beside a lamp's Cast Shadow off it hands over."""
 import sys
 from pathlib import Path
 
@@ -131,7 +133,7 @@ def kinds_no_shadow_lamp(on=True):
     return s
 
 
-@pytest.mark.parametrize("integrator,build", [("lt", kinds_objects), ("auto", kinds_lamp),
+@pytest.mark.parametrize("integrator,build", [("lt", kinds_no_shadow_lamp), ("auto", kinds_lamp),
                                               ("bdpt", kinds_no_shadow_lamp)])
 def test_kinds_hand_over_to_pt(core, integrator, build):
     img, warnings = render(build(), integrator, 7, spp=4)

@@ -326,11 +326,25 @@ std::string bidir_visibility_reason(const SceneInput& in, bool light_tracer) {
         if (!l.cast_shadow) unshadowed = true;
     }
     // object and lamp ray visibility by kind: bdpt, lvc and cis on surfaces
-    // (bidir_ray_visibility.h); lt, media, subsurface walks, and beside linking, a lamp's Cast
-    // Shadow off or an object's stay pt's (not checked)
+    // (bidir_ray_visibility.h), lt too (lt_ray_visibility.h); media, subsurface walks, and
+    // beside linking, a lamp's Cast Shadow off or an object's stay pt's (not checked); under
+    // lt strands too (their vertices' kinds unchecked), and a soft-falloff light beside an
+    // object hidden from some kind (its lines' first segment cannot walk)
     if (other) {
         const std::string rays = "object or lamp ray visibility";
-        if (light_tracer) return all;
+        if (light_tracer) {
+            const std::string lt_rays = "lt's " + rays;
+            for (const CurveInput& c : in.curves)
+                if (c.offsets.size() > 1)
+                    return lt_rays + " with strands (curves '" + c.name + "')";
+            bool hidden_mesh = false;
+            for (const MeshInput& m : in.meshes)
+                hidden_mesh |= (m.rays & kRayKindsAll) != kRayKindsAll;
+            for (const LightInput& l : in.lights)
+                if (hidden_mesh && (l.type == "point" || l.type == "spot") && l.soft_falloff &&
+                    l.radius > 0.0f)
+                    return lt_rays + " with a soft-falloff light (light '" + l.name + "')";
+        }
         if (std::string v = media_reason(in); !v.empty()) return rays + " with " + v;
         if (std::string v = subsurface_reason(in); !v.empty()) return rays + " with " + v;
         if (shadow || linked) return rays + " with light or shadow linking";
