@@ -98,22 +98,31 @@ def test_lt_matches_pt(core, kind):
     assert not res.passed, res
 
 
-def _hand_over(scene):
+def _soft(s):
+    """A soft-falloff light beside an object hidden from some kind: its lines' first segment
+    (soft_light_path.h) does not walk."""
+    s.add_light("point", position=[0.0, -0.5, 1.2], power=[20.0] * 3, radius=0.1,
+                soft_falloff=True, name="soft")
+
+
+def _no_shadow(s):
+    s.lights[0]["cast_shadow"] = False
+
+
+def _fog(s):
+    s.world["volume"] = {"sigma_s": [0.1] * 3, "sigma_a": [0.0] * 3, "g": 0.0}
+
+
+def _strands(s):
+    pts = np.array([[0.0, 0.0, 0.0], [0.0, 0.0, 0.5]], np.float32)
+    s.add_curves(pts, np.full(2, 0.01, np.float32), np.array([0, 2]), material=0, name="hair")
+
+
+@pytest.mark.parametrize("extra", [_soft, _no_shadow, _fog, _strands],
+                         ids=["soft", "no_shadow", "fog", "strands"])
+def test_lt_hands_kinds_over_to_pt(core, extra):
+    scene = build("objects")
+    extra(scene)
     img, warnings = render(scene, "lt", 7, spp=2)
     assert any("ray visibility" in w and "rendering with pt" in w for w in warnings), warnings
     np.testing.assert_array_equal(img, render(scene, "pt", 7, spp=2)[0])
-
-
-def test_lt_hands_kinds_with_soft_light_to_pt(core):
-    """A soft-falloff light beside an object hidden from some kind: its lines' first segment
-    (soft_light_path.h) does not walk."""
-    scene = build("objects")
-    scene.add_light("point", position=[0.0, -0.5, 1.2], power=[20.0] * 3, radius=0.1,
-                    soft_falloff=True, name="soft")
-    _hand_over(scene)
-
-
-def test_lt_hands_kinds_with_linking_to_pt(core):
-    scene = build("objects")
-    scene.lights[0]["cast_shadow"] = False
-    _hand_over(scene)
