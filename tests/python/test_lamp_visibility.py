@@ -78,7 +78,7 @@ def test_hidden_lamp_is_the_scene_without_it(core):
     assert not res.passed, res
 
 
-@pytest.mark.parametrize("integrator", ["bdpt", "lvc", "cis"])
+@pytest.mark.parametrize("integrator", ["bdpt", "lvc", "cis", "lt"])
 @pytest.mark.parametrize("floor,kind,others", [
     ("diffuse", "diffuse", ("glossy", "transmission", "volume_scatter")),
     ("metal", "glossy", ("diffuse", "transmission", "volume_scatter")),

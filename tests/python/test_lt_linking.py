@@ -160,3 +160,29 @@ def test_lt_hands_soft_light_walks_to_pt(core):
     img, warnings = render(scene, "lt", 7, spp=2)
     assert any("soft-falloff" in w and "rendering with pt" in w for w in warnings), warnings
     np.testing.assert_array_equal(img, render(scene, "pt", 7, spp=2)[0])
+
+
+def test_lt_walk_passes_strands_from_the_origin(core):
+    """The first segment's walk past a strand that casts the light no shadow and that the light
+    does not light (test_linking_curves_core.py's curtain over a floor, the point light's
+    blockers and receivers set 0, the curtain set 1): it goes on from the same origin past the
+    strand's entry, as pt_shadow_linked_query, so the image is the scene's without the curtain,
+    bit for bit. Before, the walk re-offset the ray from the strand's hit point (from a grazing
+    entry into an end sphere finding the strand again and again): up to 0.06 % off in 15 and 30
+    pixels of 256 (seeds 1, 2)."""
+    from test_linking_curves_core import blocker_scene
+
+    def scene(hair):
+        s = blocker_scene(hair)
+        s.lights[0]["receivers"] = [0]
+        if hair:
+            s.curves[0]["light_set"] = 1
+        return s
+
+    for seed in (1, 2):
+        s = [lantern.Session(scene(h), integrator="lt", seed=seed, backend="cpu", max_depth=2,
+                             spp_per_iteration=16, threads=1) for h in (True, False)]
+        for x in s:
+            x.step()
+        assert not s[0].warnings, s[0].warnings  # rendered by lt itself
+        np.testing.assert_array_equal(np.asarray(s[0].image()), np.asarray(s[1].image()))

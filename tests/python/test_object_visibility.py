@@ -137,7 +137,7 @@ def test_schema_round_trip(core, tmp_path):
         lantern.Scene().add_mesh(np.zeros((3, 3), np.float32), [[0, 1, 2]], visible_difuse=False)
 
 
-@pytest.mark.parametrize("integrator", ["bdpt", "lvc", "cis"])
+@pytest.mark.parametrize("integrator", ["bdpt", "lvc", "cis", "lt"])
 def test_bidirectional_emitter_hidden_from_diffuse(core, integrator):
     """bdpt, lvc, cis render an emitter hidden from diffuse rays themselves
     (integrator/bidir_ray_visibility.h): no light path leaves it, next-event estimation skips it

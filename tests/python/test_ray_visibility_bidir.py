@@ -26,8 +26,10 @@ camera; max_depth 4).
   leave it). bdpt, lvc
   and cis render both themselves: paths that meet a hidden object past the camera's segment,
   or end on the hidden lamp, take pt's two techniques. The control (every object and the lamp
-  seen by every kind) must fail. lt, media and subsurface scattering stay pt's (beside light
-  and shadow linking and Cast Shadow off: test_ray_visibility_linking.py)."""
+  seen by every kind) must fail. Media and subsurface scattering stay pt's (beside light and
+  shadow linking and Cast Shadow off: test_ray_visibility_linking.py); lt renders ray
+  visibility on surfaces itself (integrator/lt_ray_visibility.h; against pt:
+  test_lt_ray_visibility.py), beside a lamp's Cast Shadow off it hands over."""
 import sys
 from pathlib import Path
 
@@ -146,7 +148,16 @@ def kinds_subsurface(on=True):
     return s
 
 
-@pytest.mark.parametrize("integrator,build", [("lt", kinds_objects), ("auto", kinds_subsurface),
+def kinds_no_shadow_lamp(on=True):
+    """kinds_objects with the lamp's Cast Shadow off too: lt hands it to pt (bdpt, lvc, cis
+    render it: test_ray_visibility_linking.py)."""
+    s = kinds_objects(on)
+    s.lights[0]["cast_shadow"] = False
+    return s
+
+
+@pytest.mark.parametrize("integrator,build", [("lt", kinds_no_shadow_lamp),
+                                              ("auto", kinds_subsurface),
                                               ("bdpt", kinds_subsurface)])
 def test_kinds_hand_over_to_pt(core, integrator, build):
     img, warnings = render(build(), integrator, 7, spp=4)

@@ -178,6 +178,7 @@ LANTERN_HD inline void lt_queue_splat(const PathState& ps, const LightPathState&
 
 #include "integrator/lt_linking.h"  // shadow linking, Cast Shadow off, linking in media
 #include "integrator/lt_medium.h"  // media: uses lt_queue_splat
+#include "integrator/lt_ray_visibility.h"  // ray visibility by kind
 #include "integrator/lt_sss.h"  // subsurface: the adjoint walk, uses lt_queue_splat
 #include "integrator/lt_strand.h"  // through a strand
 
@@ -212,6 +213,11 @@ LANTERN_HD inline void lt_generate(const SceneView& s, const PathState& ps,
     // linking (lt_linking.h): the receiver set pending till the first vertex; the light's point
     // for the first segment's walk
     if (s.light_receivers) ps.recv_set[i] = 1;
+    if (lt_rays_on(s)) {  // ray visibility by kind (lt_ray_visibility.h): x0 for w_nee
+        lt_rays_start(ps, i, es);
+        ps.prev_p[i] = es.p;
+        ps.prev_n[i] = es.n;
+    }
     if ((s.light_blockers || s.light_rays || s.no_shadow_objects) && lt_walks(s, li)) {
         ps.walk_passed(i) = 0;
         ps.prev_p[i] = es.p;
@@ -282,6 +288,8 @@ LANTERN_HD inline void lt_shade(const SceneView& s, const PathState& ps, const L
     // shadow (passed > 0: a vertex only next-event estimation makes); the first surface vertex
     // decides the receiver set, and a set its light does not light ends the path
     int passed = 0;
+    // (ray visibility by kind: the segment walks past surfaces hidden from some kind)
+    if (s.tri_rays && !lt_rays_step(s, ps, i, tri, ps.ray_o[i] + d * ps.hit_t[i])) return;
     // (in media: pt's shadow ray's transmittance over the walked one, lt_medium.h; the
     // non-delta lobes', a delta lobe's at h1 the walked one)
     const bool walk_media = s.num_media > 0 && lt_walk_media(s, ps, lp, i);
@@ -338,6 +346,7 @@ LANTERN_HD inline void lt_shade(const SceneView& s, const PathState& ps, const L
     if (fiber) cos_o_ns = cos_o_ng = vertex_cos(true, frame, h.ng, wo_w);
     Vec3 wo = frame.to_local(wo_w);
     Vec3 beta = lp.power[i] * ps.throughput[i];
+    const int li = lp.light ? lp.light[i] : -1;
     const Vec3 w_media = walk_media ? lt_walk_ratio(s, ps, i, h.p, ps.medium[i]) : vec3(1.0f);
 
     // ---- Connect to the camera (t = 1): depth + 1 segments ----
@@ -348,7 +357,8 @@ LANTERN_HD inline void lt_shade(const SceneView& s, const PathState& ps, const L
         CameraConnection cc = connect_camera(cam, h.p, filter_radius(cam),
                                              lens_sample(cam, ps, i));
         if (cc.valid && !material_is_delta(m) && view_side_agrees(m, cc.wc, h.ng, h.ns) &&
-            !(tube && !(dot(cc.wc, h.ng) > 0.0f))) {
+            !(tube && !(dot(cc.wc, h.ng) > 0.0f)) &&
+            (!lt_rays_on(s) || lt_rays_kind_ok(s, ps, i, li, m, h.ng, wo_w, cc.wc))) {
             BsdfEval e = material_eval(m, h.front, wo, frame.to_local(cc.wc),
                                        Transport::Importance, h.coat_n, frame.to_local(h.ng));
             // f * |cos_ns(wc)| with the adjoint shading-normal factor
@@ -359,9 +369,11 @@ LANTERN_HD inline void lt_shade(const SceneView& s, const PathState& ps, const L
                                           ? medium_across(s, tri, h.front, ps.medium[i])
                                           : ps.medium[i];
             // (past a transparent surface: next-event estimation's share, lt_linking.h)
-            const float w = passed > 0 ? lt_nee_weight(s, ps, i, lp.light[i], tri, m, h, wo_w,
-                                                       cc.wc, e.pdf_rev_w)
-                                       : 1.0f;
+            float w = passed > 0 ? lt_nee_weight(s, ps, i, lp.light[i], tri, m, h, wo_w, cc.wc,
+                                                 e.pdf_rev_w)
+                                 : 1.0f;
+            if (s.tri_rays)  // (past surfaces hidden from its kind: pt's bounce ray's share)
+                w *= lt_rays_weight(s, ps, i, li, tri, m, h, wo_w, cc.wc, e.pdf_rev_w, false);
             lt_queue_splat(ps, lp, i, h.p, h.ng, cc,
                            beta * w_media * e.f * (cos_y * cc.importance * w), s.offset_scale);
         }
@@ -394,12 +406,15 @@ LANTERN_HD inline void lt_shade(const SceneView& s, const PathState& ps, const L
     // (a tube vertex left through its fiber: outside pt's path space, bdpt_curve.h)
     // (past a transparent surface: non-delta lobes only, next-event estimation's share)
     if (bs.valid && view_side_agrees(m, wi, h.ng, h.ns) && !(tube && !(dot(wi, h.ng) > 0.0f)) &&
-        !(passed > 0 && (bs.delta || !(bs.pdf_fwd_w > 0.0f)))) {
+        !(passed > 0 && (bs.delta || !(bs.pdf_fwd_w > 0.0f))) &&
+        (!lt_rays_on(s) || lt_rays_kind_ok(s, ps, i, li, m, h.ng, wo_w, wi))) {
         // (a strand: the lobe's Importance weight is the fiber measure's whole throughput)
         float adj = fiber ? 1.0f
                            : cos_o_ns * fabsf(dot(wi, h.ng)) / (cos_o_ng * fabsf(bs.wi.z));
         if (passed > 0)
             adj *= lt_nee_weight(s, ps, i, lp.light[i], tri, m, h, wo_w, wi, bs.pdf_rev_w);
+        if (s.tri_rays)
+            adj *= lt_rays_weight(s, ps, i, li, tri, m, h, wo_w, wi, bs.pdf_rev_w, bs.delta);
         Vec3 t = ps.throughput[i] * bs.weight * adj;
         if (!bs.delta) t = t * w_media;
         if (russian_roulette(t, depth + 1, st.rr_depth, rng) && max_component(t) > 0.0f &&
@@ -409,6 +424,7 @@ LANTERN_HD inline void lt_shade(const SceneView& s, const PathState& ps, const L
                          s.offset_scale);
             if (s.num_media > 0 && dot(wi, h.ng) < 0.0f)  // through the surface
                 ps.medium[i] = medium_across(s, tri, h.front, ps.medium[i]);
+            if (lt_rays_on(s)) lt_rays_next(s, ps, i, tri);
         }
     }
     ps.rng[i] = rng;

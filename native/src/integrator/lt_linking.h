@@ -86,16 +86,22 @@ LANTERN_HD inline int lt_walk_step(const SceneView& s, const PathState& ps, int 
         ps.throughput[i] = ps.throughput[i] * 2.0f;
         if (stop) return 1;
     }
-    Vec3 ng = ps.ray_d[i];  // a strand: passed along the ray (pt_occluded_linked)
-    if (tri < s.num_triangles) {
-        const Vec3 a = triangle_vertex(s, tri, 0), b = triangle_vertex(s, tri, 1),
-                   c = triangle_vertex(s, tri, 2);
-        ng = normalize(cross(b - a, c - a));
+    if (tri >= s.num_triangles) {  // a strand: on from the same origin past its entry, as
+        // pt_shadow_linked_query (re-offset from a grazing entry into an end sphere, the ray
+        // found the strand again and again)
+        const float t = ps.hit_t[i];
+        ps.ray_tmin[i] = t + 1e-5f * fmaxf(t, s.offset_scale);
+        ps.alive[i] = 1;
+        ps.walk_passed(i) += 1;
+        return 0;
     }
+    const Vec3 a = triangle_vertex(s, tri, 0), b = triangle_vertex(s, tri, 1),
+               c = triangle_vertex(s, tri, 2);
+    const Vec3 ng = normalize(cross(b - a, c - a));
     pt_pass_hidden(s, ps, i, p, ng);
     // in media: past a surface around a volume the walk is in it (pt's camera side would be);
     // pt's shadow ray keeps its medium (lt_walk_ratio)
-    if (s.num_media > 0 && tri < s.num_triangles)
+    if (s.num_media > 0)
         ps.medium[i] = medium_across(s, tri, dot(ng, ps.ray_d[i]) <= 0.0f, ps.medium[i]);
     ps.walk_passed(i) += 1;
     return 0;

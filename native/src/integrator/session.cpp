@@ -113,18 +113,18 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
     }
     // motion blur: pt, lt, bdpt, lvc and cis give each path a time (docs/motion_blur.md)
     // object ray visibility: pt (pt_ray_visibility.h), bdpt, lvc and cis on surfaces
-    // (bidir_ray_visibility.h); a
-    // lamp's Cast Shadow off: Cycles' answer weighs next-event estimation against BSDF
-    // sampling (pt_lamp_unshadowed), which bdpt, lvc and cis reproduce, as they do light
-    // linking and shadow linking (bidir_linking.h); an object's Cast Shadow off:
-    // bidir_no_shadow.h; lt all of them by its first segment's walk (lt_linking.h)
+    // (bidir_ray_visibility.h), lt on surfaces (lt_ray_visibility.h); a lamp's Cast Shadow
+    // off: Cycles' answer weighs next-event estimation against BSDF sampling
+    // (pt_lamp_unshadowed), which bdpt, lvc and cis reproduce, as they do light linking and
+    // shadow linking (bidir_linking.h); an object's Cast Shadow off: bidir_no_shadow.h; lt
+    // linking and Cast Shadow off by its first segment's walk (lt_linking.h). What is left
+    // (bidir_visibility_reason) is named
     if (media_note.empty() && integ != "pt" && integ != "auto") {
         const std::string why = bidir_visibility_reason(scene, integ == "lt");
         if (!why.empty()) {
-            media_note = "integrator '" + integ + "' does not honour object ray visibility " +
-                         "or a lamp's, or linking and Cast Shadow off in scenes with volumes" +
-                         (integ == "lt" ? " or subsurface scattering" : "") +
-                         " (the scene has " + why + "): rendering with pt";
+            media_note = "integrator '" + integ + "' does not render this combination of ray " +
+                         "visibility, linking or Cast Shadow off yet (the scene has " + why +
+                         "): rendering with pt";
             settings_.integrator = "pt";
         }
     }

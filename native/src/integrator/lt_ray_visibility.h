@@ -1,0 +1,96 @@
+// Ray visibility by kind in the light tracer (integrator "lt"), as pt renders it
+// (pt_ray_visibility.h): objects and lamps hidden from Diffuse, Glossy or Transmission rays, on
+// surfaces (media, subsurface walks, strands and the linking rules beside it stay pt's:
+// allocation.cpp bidir_visibility_reason). A light path y0 (on light l) y1 ... yk is pt's path
+// x0 = camera, x1 = yk, ..., x_k = y0 read backward. pt's segment x_i x_{i+1} (i >= 1) is a bounce
+// ray leaving x_i with the kind K(x_i) of the scattering there (pt_scatter_kind: x_i's material,
+// and whether x_{i-1} and x_{i+1} lie on one side): it passes every surface hidden from K(x_i)
+// and ends on x_{i+1} only where x_{i+1} is seen by K(x_i) (a light: pt_light_hidden). In lt
+// the segment y_k y_{k+1} is that ray leaving y_{k+1}, whose kind is known only once y_{k+1}
+// scatters toward the camera (the splat) or on (the continuation). So lt's segment walks: at a
+// hit on a surface hidden from some kind ("R": tri_rays short of Diffuse | Glossy |
+// Transmission) it stops (y_{k+1} = the hit) or passes on, probability 1/2 each, weight 2; a
+// surface seen by every kind ends the walk. The slot keeps in PathState::ray_kind the kinds
+// that see some passed surface (low nibble P) and the kinds that see y_k (high nibble E, k >= 1);
+// a scattering of kind K at y_{k+1} counts where P & K = 0 and E & K != 0 (at y1: l not hidden
+// from K), else its splat or its continuation is 0. The camera segment is a camera ray (the
+// query's own flags, as lt tests it).
+//
+// The first segment y0 y1 is pt's last, made by two techniques: next-event estimation (its
+// shadow ray ignores kinds: stopped by any R surface) and the bounce ray (passes surfaces
+// hidden from K(y1)). pt's image there is f (w_nee V_shadow + w_bsdf V_K): at the first hit
+// h1 weight 1 (V_shadow = V_K = 1), at a hit past R surfaces all hidden from K only the bounce
+// ray's share, w_bsdf = 1 - w_nee for a non-delta lobe (the splat, a non-delta continuation;
+// lt_linking.h lt_nee_weight, from x0 = prev_p) and 1 for a delta lobe (pt's bounce ray
+// alone). A delta light (a point, spot of radius 0, a sun of angle 0) is found by no bounce
+// ray: its first segment does not walk (kLtRaysNoWalk, set at generation).
+// Included by lt.h.
+#pragma once
+
+#include "integrator/lt_linking.h"
+#include "integrator/pt_ray_visibility.h"
+
+namespace lantern {
+
+constexpr uint8_t kLtSurfaceKinds = kRayDiffuse | kRayGlossy | kRayTransmission;
+constexpr uint8_t kLtRaysNoWalk = 0x10;  // (y0's slot: E is read at k >= 1 only)
+
+// Whether lt reads ray visibility by kind (some object or lamp hidden from some kind).
+LANTERN_HD inline bool lt_rays_on(const SceneView& s) { return s.tri_rays || s.light_rays; }
+
+// y0's state: nothing passed; a delta light's first segment does not walk.
+LANTERN_HD inline void lt_rays_start(const PathState& ps, int i, const EmissionSample& es) {
+    ps.ray_kind[i] = es.delta_pos || es.delta_dir ? kLtRaysNoWalk : uint8_t(0);
+}
+
+// One step of slot i's walk at its hit on triangle tri (point p): true where the hit is the
+// next vertex (the throughput then carries the choice's weight), false where the slot passed
+// on (its ray continues past the hit) or ended (every kind sees some passed surface).
+LANTERN_HD inline bool lt_rays_step(const SceneView& s, const PathState& ps, int i, int tri,
+                                    Vec3 p) {
+    if (!s.tri_rays || tri >= s.num_triangles) return true;
+    const uint8_t seen = s.tri_rays[tri] & kLtSurfaceKinds;
+    if (seen == kLtSurfaceKinds) return true;  // every kind stops here
+    if (ps.depth[i] == 0 && (ps.ray_kind[i] & kLtRaysNoWalk)) return true;
+    Rng rng = ps.rng[i];
+    const bool stop = rng.uniform() < 0.5f;
+    ps.rng[i] = rng;
+    ps.throughput[i] = ps.throughput[i] * 2.0f;
+    if (stop) return true;
+    ps.ray_kind[i] |= seen;
+    if ((ps.ray_kind[i] & kLtSurfaceKinds) == kLtSurfaceKinds) return false;  // no kind passes
+    const Vec3 a = triangle_vertex(s, tri, 0), b = triangle_vertex(s, tri, 1),
+               c = triangle_vertex(s, tri, 2);
+    pt_pass_hidden(s, ps, i, p, normalize(cross(b - a, c - a)));
+    return false;
+}
+
+// Whether a scattering at slot i's vertex y_{k+1} (depth k + 1, material m, geometric normal
+// ng) from the light side w_l toward the camera side w_c is of a kind pt's bounce ray from
+// y_{k+1} toward y_k has: seen by no passed surface, seeing y_k (at y1: light li).
+LANTERN_HD inline bool lt_rays_kind_ok(const SceneView& s, const PathState& ps, int i, int li,
+                                       const Material& m, Vec3 ng, Vec3 w_l, Vec3 w_c) {
+    const uint8_t k = pt_scatter_kind(m, w_l, dot(w_c, ng) < 0.0f ? -ng : ng);
+    const uint8_t st = ps.ray_kind[i];
+    if (st & k & kLtSurfaceKinds) return false;
+    if (ps.depth[i] == 1) return !pt_light_hidden(s, li, k);
+    return ((st >> 4) & k) != 0;
+}
+
+// The first segment's weight at y1 past R surfaces (ray_kind's P set): pt's bounce ray's
+// share of a non-delta lobe, 1 - w_nee; 1 elsewhere.
+LANTERN_HD inline float lt_rays_weight(const SceneView& s, const PathState& ps, int i, int li,
+                                       int tri, const Material& m, const SurfaceHit& h, Vec3 w_l,
+                                       Vec3 w_c, float pdf_rev, bool delta) {
+    if (ps.depth[i] != 1 || delta || !(ps.ray_kind[i] & kLtSurfaceKinds)) return 1.0f;
+    return fmaxf(0.0f, 1.0f - lt_nee_weight(s, ps, i, li, tri, m, h, w_l, w_c, pdf_rev));
+}
+
+// After y_{k+1}'s scattering: the next segment starts with nothing passed, E = its kinds.
+LANTERN_HD inline void lt_rays_next(const SceneView& s, const PathState& ps, int i, int tri) {
+    const uint8_t seen =
+        s.tri_rays && tri < s.num_triangles ? s.tri_rays[tri] : uint8_t(kRayKindsAll);
+    ps.ray_kind[i] = uint8_t((seen & kLtSurfaceKinds) << 4);
+}
+
+}  // namespace lantern

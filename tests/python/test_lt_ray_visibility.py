@@ -1,0 +1,128 @@
+"""The light tracer renders object and lamp ray visibility by kind (Diffuse, Glossy,
+Transmission) itself on surfaces (integrator/lt_ray_visibility.h), against pt (compare_renders:
+block means, Student t; tests/README.md).
+
+A white floor, a rough metal wall behind, a white ball A, a rough glass ball B, a red slab
+over the floor's left under a 1 m area lamp, a point light off to the side; 12 x 12,
+max_depth 4. lt's segments walk past the surfaces hidden from some kind, each vertex reached
+past them counting only for the scatterings whose kind none of them is seen by (pt's bounce
+ray from that vertex passes them), at the vertex the segment left seen by that kind:
+
+- objects: ball A hidden from glossy rays (absent from the wall's reflection, still lit, still
+  casting shadows), the slab hidden from diffuse rays (the floor's bounce light passes it to
+  the lamp: the first segment's vertices past it take pt's bounce-ray share, 1 - w_nee), the
+  wall hidden from transmission (glass ball B shows the black world past it);
+- lamp: the area lamp hidden from glossy rays (absent from the wall's reflection, still
+  lighting the floor), the point light hidden from diffuse ones (only the metal wall and the
+  glass ball take its light).
+
+Each against pt; the negative control, the flags off (the scene without them), must fail.
+lt still hands ray visibility with media, subsurface scattering, strands, linking or Cast
+Shadow off, and beside a soft-falloff light, to pt."""
+import numpy as np
+import pytest
+
+import lantern
+from lantern import metrics, scenes
+
+K, SPP = 16, 256  # seeds x samples per pixel (tests/README.md: Welch dof >= 15)
+SIZE = 12
+
+
+def quad(z, half, cx=0.0, cy=0.0):
+    v = np.array([[cx - half, cy - half, z], [cx + half, cy - half, z],
+                  [cx + half, cy + half, z], [cx - half, cy + half, z]], np.float32)
+    return v, np.array([[0, 1, 2], [0, 2, 3]], np.uint32)
+
+
+def build(kind, on=True):
+    """Meshes: 0 floor, 1 wall, 2 ball A, 3 ball B, 4 slab; light 0 the lamp, 1 the point."""
+    s = lantern.Scene()
+    s.film.update(width=SIZE, height=SIZE)
+    s.look_at((0.0, -2.6, 2.2), (0.0, 0.2, 0.4), fov=50.0)
+    white = s.add_material("white", type="diffuse", base_color=(0.8, 0.8, 0.8))
+    red = s.add_material("red", type="diffuse", base_color=(0.8, 0.3, 0.2))
+    metal = s.add_material("metal", type="conductor", base_color=(0.9, 0.9, 0.9),
+                           roughness=0.4)
+    glass = s.add_material("glass", type="dielectric", base_color=(1.0, 1.0, 1.0),
+                           roughness=0.3)
+    s.add_mesh(*quad(0.0, 2.5), material=white, name="floor")
+    wall = np.array([[-2.5, 1.2, 0], [2.5, 1.2, 0], [2.5, 1.2, 2.5], [-2.5, 1.2, 2.5]],
+                    np.float32)
+    s.add_mesh(wall, np.array([[0, 2, 1], [0, 3, 2]], np.uint32), material=metal, name="wall")
+    for name, x, m in (("A", -0.55, white), ("B", 0.6, glass)):
+        pos, idx = scenes.icosphere(2, 0.35, center=(x, 0.1, 0.35))
+        s.add_mesh(pos, idx, material=m, name=name)
+    s.add_mesh(*quad(1.0, 0.35, -0.5, -0.3), material=red, name="slab")
+    to_world = [[1, 0, 0, -0.4], [0, 1, 0, -0.2], [0, 0, 1, 1.7], [0, 0, 0, 1]]
+    s.add_light("area", to_world=to_world, shape="square", size=[1.0, 1.0],
+                power=[60.0] * 3, name="lamp")
+    s.add_light("point", position=[1.4, -1.2, 1.8], power=[25.0] * 3, name="point")
+    s.world = {"color": [0.0] * 3}
+    if on and kind == "objects":
+        s.meshes[2]["visible_glossy"] = False
+        s.meshes[4]["visible_diffuse"] = False
+        s.meshes[1]["visible_transmission"] = False
+    elif on and kind == "lamp":
+        s.lights[0]["visible_glossy"] = False
+        s.lights[1]["visible_diffuse"] = False
+    return s
+
+
+def render(scene, integrator, seed, spp=SPP):
+    s = lantern.Session(scene, integrator=integrator, seed=seed, backend="cpu", max_depth=4,
+                        spp_per_iteration=spp, threads=1)
+    s.step()
+    return np.asarray(s.image(), np.float64)[..., :3], s.warnings
+
+
+def renders(kind, integrator, seed0, on=True, spp=SPP):
+    out, warnings = [], []
+    for k in range(K):
+        img, warnings = render(build(kind, on), integrator, seed0 + k, spp)
+        out.append(img)
+    return out, warnings
+
+
+@pytest.mark.parametrize("kind", ["objects", "lamp"])
+def test_lt_matches_pt(core, kind):
+    ref, _ = renders(kind, "pt", 1000)
+    imgs, warnings = renders(kind, "lt", 2000, spp=4 * SPP)  # (lt: the noisier here)
+    assert not warnings, warnings  # rendered by lt itself
+    metrics.assert_agreement(f"{kind}, lt vs pt", imgs, ref, block=3, image_bias=0.03,
+                             block_bias=0.15)
+    # the control: the flags off (the scene without them) is seen
+    free, _ = renders(kind, "lt", 3000, on=False, spp=2 * SPP)
+    res = metrics.compare_renders(free, ref, block=3, name=f"{kind} off")
+    print(res)
+    assert not res.passed, res
+
+
+def _soft(s):
+    """A soft-falloff light beside an object hidden from some kind: its lines' first segment
+    (soft_light_path.h) does not walk."""
+    s.add_light("point", position=[0.0, -0.5, 1.2], power=[20.0] * 3, radius=0.1,
+                soft_falloff=True, name="soft")
+
+
+def _no_shadow(s):
+    s.lights[0]["cast_shadow"] = False
+
+
+def _fog(s):
+    s.world["volume"] = {"sigma_s": [0.1] * 3, "sigma_a": [0.0] * 3, "g": 0.0}
+
+
+def _strands(s):
+    pts = np.array([[0.0, 0.0, 0.0], [0.0, 0.0, 0.5]], np.float32)
+    s.add_curves(pts, np.full(2, 0.01, np.float32), np.array([0, 2]), material=0, name="hair")
+
+
+@pytest.mark.parametrize("extra", [_soft, _no_shadow, _fog, _strands],
+                         ids=["soft", "no_shadow", "fog", "strands"])
+def test_lt_hands_kinds_over_to_pt(core, extra):
+    scene = build("objects")
+    extra(scene)
+    img, warnings = render(scene, "lt", 7, spp=2)
+    assert any("ray visibility" in w and "rendering with pt" in w for w in warnings), warnings
+    np.testing.assert_array_equal(img, render(scene, "pt", 7, spp=2)[0])
