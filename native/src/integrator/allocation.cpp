@@ -435,6 +435,21 @@ std::string pt_only_reason(const SceneInput& in) {
     if (const std::string v = ray_visibility_reason(in), u = no_shadow_object_reason(in);
         !v.empty() || !u.empty()) {
         if (std::string w = bidir_visibility_reason(in, false); !w.empty()) return w;
+        // ray visibility beside linking or Cast Shadow off: cis renders it (branch rayvismix),
+        // the moment channels were checked on each alone, not together
+        bool hidden = false, linking = !u.empty();
+        for (const MeshInput& m : in.meshes) {
+            hidden |= (m.rays & kRayKindsAll) != kRayKindsAll;
+            linking |= m.light_set != 0 || m.emitter_receivers != kAllReceivers ||
+                       m.shadow_set != 0 || m.emitter_blockers != kAllReceivers;
+        }
+        for (const LightInput& l : in.lights) {
+            hidden |= (l.rays & kRayKindsAll) != kRayKindsAll;
+            linking |= l.receivers != kAllReceivers || l.blockers != kAllReceivers ||
+                       !l.cast_shadow;
+        }
+        if (hidden && linking)
+            return "object or lamp ray visibility with linking or Cast Shadow off";
         const std::string what = v.empty() ? u : v;
         if (std::string w = media_reason(in); !w.empty()) return what + " with " + w;
         // light linking alone beside subsurface scattering (branch automis): a zero that every
