@@ -59,7 +59,7 @@ def render(variant, seeds, spp, shadow):
 
 def compare(out):
     from lantern import metrics
-    sets = {os.path.basename(p)[:-4]: np.load(p) for p in sorted(glob.glob(f"{out}/*.npy"))}
+    sets = {os.path.basename(p)[:-4]: np.load(p)["blocks"] for p in sorted(glob.glob(f"{out}/*.npz"))}
     for n, b in sets.items():
         m, se = b[:, 2, 2].mean(0), b[:, 2, 2].std(0, ddof=1) / np.sqrt(len(b))
         print(f"{n:26s} block (2, 2) {np.round(m, 4)} +- {np.round(se, 4)}")
@@ -88,7 +88,7 @@ def main():
     b = render(a.variant, a.seeds, a.spp, a.shadow)
     os.makedirs(a.out, exist_ok=True)
     name = f"{a.variant}_{'shadow' if a.shadow else 'noshadow'}_{a.spp}"
-    np.save(os.path.join(a.out, name + ".npy"), b)
+    np.savez_compressed(os.path.join(a.out, name + ".npz"), blocks=b)
     print(name, "saved")
 
 
