@@ -59,7 +59,8 @@ def render(variant, seeds, spp, shadow):
 
 def compare(out):
     from lantern import metrics
-    sets = {os.path.basename(p)[:-4]: np.load(p)["blocks"] for p in sorted(glob.glob(f"{out}/*.npz"))}
+    sets = {os.path.basename(p)[:-4]: np.load(p)["blocks"]
+            for p in sorted(glob.glob(f"{out}/*.npz"))}
     for n, b in sets.items():
         m, se = b[:, 2, 2].mean(0), b[:, 2, 2].std(0, ddof=1) / np.sqrt(len(b))
         print(f"{n:26s} block (2, 2) {np.round(m, 4)} +- {np.round(se, 4)}")
