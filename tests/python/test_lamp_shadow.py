@@ -34,9 +34,11 @@ def quad(z, half):
     return v, np.array([[0, 1, 2], [0, 2, 3]], np.uint32)
 
 
-def scene_of(lamp="point", cast_shadow=False, blocker=True, medium=None, size=16):
+def scene_of(lamp="point", cast_shadow=False, blocker=True, medium=None, size=16, under=False):
     """The floor, the blocker (or not), and the lamp (`lamp`: point of radius 0 at z = 1.5, or
-    a 1 m square area lamp at z = 1 facing down) with its Cast Shadow `cast_shadow`."""
+    a 1 m square area lamp at z = 1 facing down) with its Cast Shadow `cast_shadow`; `under`:
+    a second such area lamp at z = -1, under the floor and facing away from it (it lights
+    nothing the camera sees, but next-event estimation may pick it)."""
     scene = lantern.Scene()
     scene.film.update(width=size, height=size)
     scene.look_at((0.0, -1.2, 2.0), (0.0, 0.0, 0.0), fov=50.0)
@@ -56,6 +58,10 @@ def scene_of(lamp="point", cast_shadow=False, blocker=True, medium=None, size=16
         to_world = [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 1.0], [0, 0, 0, 1]]
         scene.add_light("area", to_world=to_world, shape="square", size=[1.0, 1.0],
                         power=[40.0] * 3, name="lamp", **shadow)
+    if under:
+        to_world = [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, -1.0], [0, 0, 0, 1]]
+        scene.add_light("area", to_world=to_world, shape="square", size=[1.0, 1.0],
+                        power=[40.0] * 3, name="under")
     scene.world = {"color": [0.0] * 3}
     if medium is not None:
         scene.world["volume"] = {"sigma_s": [0.0] * 3, "sigma_a": [medium] * 3}
@@ -84,17 +90,18 @@ def test_delta_lamp_without_shadow_is_the_scene_without_blocker(core, lamp):
     assert not res.passed, res
 
 
-def nee_share(px, py, n=300):
+def nee_share(px, py, n=300, pick=1.0):
     """Next-event estimation's share of the area lamp's light at floor point (px, py, 0): the
-    power heuristic's weight p_l^2 / (p_l^2 + p_b^2), p_l = 1 / (the lamp's solid angle: its
-    points sampled uniformly in solid angle, as Cycles and Lantern sample a rectangle), p_b =
-    cos / pi (the floor's cosine lobe), averaged over the lamp's light (a midpoint rule)."""
+    power heuristic's weight p_l^2 / (p_l^2 + p_b^2), p_l = pick / (the lamp's solid angle: its
+    points sampled uniformly in solid angle, as Cycles and Lantern sample a rectangle; `pick`
+    the probability that the light pick chooses it), p_b = cos / pi (the floor's cosine lobe),
+    averaged over the lamp's light (a midpoint rule)."""
     u = (np.arange(n) + 0.5) / n - 0.5  # the 1 m lamp at z = 1
     x, y = np.meshgrid(u - px, u - py)
     r2 = x * x + y * y + 1.0
     cos = 1.0 / np.sqrt(r2)             # at the floor and at the lamp alike
     dw = cos / r2 / (n * n)             # solid angle of each cell
-    p_l, p_b = 1.0 / dw.sum(), cos / np.pi
+    p_l, p_b = pick / dw.sum(), cos / np.pi
     w = p_l * p_l / (p_l * p_l + p_b * p_b)
     return float((w * cos * dw).sum() / (cos * dw).sum())
 
@@ -113,6 +120,32 @@ def test_area_lamp_shadow_gets_next_event_share(core):
     share = off[c, c].mean() / free[c, c].mean()  # (seeds 100-300 gave 0.9467-0.9500)
     lo, hi = nee_share(0.0, 0.0), nee_share(0.15, 0.15)
     assert lo - 0.006 < share < hi + 0.006, (share, lo, hi)
+
+
+@pytest.mark.parametrize("tree", [True, False])
+def test_area_lamp_shadow_share_reads_the_pick(core, monkeypatch, tree):
+    """The umbra's share is a function of the light pick's probability P of the lamp (the
+    weight's p_l is P times its solid-angle density): a second, equal area lamp under the floor
+    facing away lights nothing seen, but with the global power CDF (LANTERN_LIGHT_TREE=0) it
+    takes half the picks, P = 0.5, and the umbra gets 0.813-0.827 of the lamp's light (by
+    nee_share), not 0.946-0.950; Lantern's light tree gives it no importance at the floor (behind
+    its plane), P = 1, as without it. So with a lamp without shadows, a renderer's light
+    selection is part of the image: Cycles' light tree on vs off moves its own render of
+    difftest D53 by 5.6 % in a block (docs/difftest.md D53)."""
+    if not tree:
+        monkeypatch.setenv("LANTERN_LIGHT_TREE", "0")  # read where the core builds the scene
+    k, spp = 8, 32
+    off = stack(scene_of("area", cast_shadow=False, under=True), k, spp).mean(axis=0)
+    free = stack(scene_of("area", cast_shadow=True, blocker=False, under=True), k, spp,
+                 seed0=101).mean(axis=0)
+    c = slice(7, 9)
+    share = off[c, c].mean() / free[c, c].mean()
+    pick = 1.0 if tree else 0.5
+    lo, hi = nee_share(0.0, 0.0, pick=pick), nee_share(0.15, 0.15, pick=pick)
+    assert lo - 0.006 < share < hi + 0.006, (share, lo, hi)
+    other = nee_share(0.0, 0.0, pick=0.5 if tree else 1.0), \
+        nee_share(0.15, 0.15, pick=0.5 if tree else 1.0)  # the other P's band: excluded
+    assert not (min(other) - 0.006 < share < max(other) + 0.006), (share, other)
 
 
 def test_no_attenuation_along_missing_shadow_ray(core):
