@@ -90,7 +90,8 @@ LANTERN_HD inline float pt_emission_weight(const SceneView& s, const PathState& 
     // light linking: no light from a light that does not light the vertex the ray left
     if ((F & kPtLinks) && s.light_receivers && !pt_emission_linked(s, ps, i, li)) return 0.0f;
     if (ps.depth[i] <= 1 || !(ps.prev_pdf_w[i] > 0.0f)) return 1.0f;
-    if ((F & kPtLinks) && s.light_blockers && pt_shadow_linked(s, li) && !pt_linked_mis(s))
+    if ((F & kPtLinks) && s.light_blockers && pt_shadow_linked(s, li) &&
+        !pt_linked_bounce(s, ps, i))
         return 0.0f;  // shadow linking without MIS: next-event only (pt_light_linking.h)
     const float pick = s.light_tree_on ? light_pick_pmf(s, li, ps.prev_p[i], ps.prev_n[i])
                                        : s.lights[li].nee_pdf;
@@ -311,6 +312,9 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
                                          : m.emission;
         add_radiance(ps, i, ps.throughput[i] * le * w);
     }
+    // a surface vertex: its bounce ray may take the MIS weight of a shadow-linked light in
+    // fog (pt_linked_bounce; a medium vertex writes -1)
+    if (extras && ps.shadow_mis) ps.shadow_mis[i] = 1.0f;
     int depth = ps.depth[i];
     if (depth >= st.max_depth) return;
 
@@ -414,7 +418,7 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
                 if (extras && s.light_blockers && ps.shadow_light) {
                     ps.shadow_light[i] = pick.light;
                     pt_keep_shadow_mis(ps, i,
-                                       linked && !ls.delta && geo_side && pt_linked_mis(s)
+                                       linked && !ls.delta && geo_side && pt_linked_mis_pt(s)
                                            ? power_heuristic(pdf_light, e.pdf_fwd_w)
                                            : 1.0f);
                 }

@@ -76,6 +76,31 @@ LANTERN_HD inline bool pt_linked_mis(const SceneView& s) {
            s.catcher_mode != kCatcherPass;
 }
 
+// The same in a scene whose only medium is the world's (no mesh volume, so a volume boundary
+// changes no medium for either ray): a segment free of surfaces is then one stretch of the
+// world's medium for the shadow ray and the bounce ray alike, and both estimate the light times
+// its transmittance. pt alone (pt_shade_surface, the walk's exit): its medium vertices keep
+// next-event estimation alone (PathState::shadow_mis -1 marks their bounce rays, which weigh 0
+// for such a light: pt_linked_bounce), and its shadow ray through the fog reports whether it
+// passed a surface (pt_shadow_loop). The bidirectional integrators keep pt_linked_mis.
+LANTERN_HD inline bool pt_linked_mis_fog(const SceneView& s) {
+    return s.num_media == 1 && s.world_medium == 0 && !s.tri_rays && s.no_shadow_objects == 0 &&
+           s.catcher_mode != kCatcherPass;
+}
+
+// Whether pt's surface next event of a shadow-linked light keeps its MIS weight for the shadow
+// ray's answer.
+LANTERN_HD inline bool pt_linked_mis_pt(const SceneView& s) {
+    return pt_linked_mis(s) || pt_linked_mis_fog(s);
+}
+
+// Whether emission of a shadow-linked light that slot i's bounce ray found (after a non-delta
+// vertex) takes the MIS weight (else 0: the next event's alone): where pt_linked_mis holds, and
+// in the world's fog after a surface vertex (shadow_mis not -1: pt_linked_mis_fog).
+LANTERN_HD inline bool pt_linked_bounce(const SceneView& s, const PathState& ps, int i) {
+    return pt_linked_mis(s) || (pt_linked_mis_fog(s) && ps.shadow_mis && ps.shadow_mis[i] >= 0.0f);
+}
+
 // Whether surface prim (a triangle or strand segment) casts a shadow for a light whose blocker
 // sets are `blockers` (kAllReceivers: every surface; a prim without a shadow set is in set 0):
 // pt_shadow_linked_query's and pt_shadow_loop's test.

@@ -308,7 +308,7 @@ LANTERN_HD inline void pt_sss_exit(const SceneView& s, const PathState& ps, cons
                 ps.shadow_light[i] = pick.light;
                 pt_keep_shadow_mis(ps, i,
                                    pt_shadow_linked(s, pick.light) && !ls.delta && geo_side &&
-                                           pt_linked_mis(s)
+                                           pt_linked_mis_pt(s)
                                        ? power_heuristic(pdf_light, pdf_bsdf)
                                        : 1.0f);
             }

@@ -122,6 +122,9 @@ LANTERN_HD inline void pt_medium_vertex(const SceneView& s, const PathState& ps,
                                         const Medium& m, float nee_weight, Rng& rng) {
     const int depth = ps.depth[i];
     if (depth >= st.max_depth) return;
+    // a medium vertex: next-event estimation alone for a shadow-linked light, its phase
+    // sample's ray weighs 0 (pt_linked_bounce)
+    if (ps.shadow_mis) ps.shadow_mis[i] = -1.0f;
     const Vec3 beta = ps.throughput[i];
     const Vec3 n_pick = vec3(0.0f);  // a medium point receives from every direction
     if (nee_weight > 0.0f)
@@ -353,7 +356,8 @@ LANTERN_HD inline void pt_boundary_side(const SceneView& s, int32_t prim, Vec2 u
 template <class Rays, class Kind>
 LANTERN_HD inline Vec3 pt_shadow_loop(const SceneView& s, const Rays& rays, Kind kind, Vec3 o,
                                       Vec3 d, float tmax, int32_t med, Rng track, float time,
-                                      uint64_t blockers = kAllReceivers) {
+                                      uint64_t blockers = kAllReceivers,
+                                      bool* passed_surface = nullptr) {
     Vec3 tr = vec3(1.0f);
     float t0 = 0.0f;  // past a passed strand: the query goes on from o beyond its entry
     for (int k = 0; k < 256; ++k) {  // boundaries crossed (a bound: never an endless loop)
@@ -364,8 +368,9 @@ LANTERN_HD inline Vec3 pt_shadow_loop(const SceneView& s, const Rays& rays, Kind
                              : pt_shadow_segment(s, med, o, d, hit ? h.t : tmax, time, track));
         if (!hit) return tr;
         const bool passed = !pt_casts_shadow(s, blockers, h.prim);  // (pt_light_linking.h)
-        if ((!passed && !(s.tri_flags[h.prim] & kVolumeBoundary)) || is_black(tr))
-            return vec3(0.0f);
+        const bool boundary = (s.tri_flags[h.prim] & kVolumeBoundary) != 0;
+        if ((!passed && !boundary) || is_black(tr)) return vec3(0.0f);
+        if (passed_surface && !boundary) *passed_surface = true;  // (pt_linked_mis_fog)
         if (h.prim >= s.num_triangles) {  // a strand passed (pt_shadow_linked_query's rule)
             t0 = h.t + 1e-5f * fmaxf(h.t, s.offset_scale);
             continue;
@@ -441,7 +446,8 @@ LANTERN_HD inline Vec3 pt_shadow_transmittance(const SceneView& s, const Rays& r
                                                Vec3 o, Vec3 d, float tmax, int32_t med,
                                                const Rng* path_rng = nullptr,
                                                uint32_t slot = 1, float time = 0.0f,
-                                               uint64_t blockers = kAllReceivers) {
+                                               uint64_t blockers = kAllReceivers,
+                                               bool* passed_surface = nullptr) {
     const Rng track = medium_tracking_rng(path_rng ? *path_rng : Rng{}, slot);
     // (a shadow-linked light's blockers: the loop alone passes the surfaces outside them)
     if (kind == Kind::kShadow && blockers == kAllReceivers) {  // (Kind: backend/cpu/embree_accel.h)
@@ -453,7 +459,7 @@ LANTERN_HD inline Vec3 pt_shadow_transmittance(const SceneView& s, const Rays& r
             if (pt_shadow_crossings(s, x, o, d, tmax, med, track, time, &tr)) return tr;
         }
     }
-    return pt_shadow_loop(s, rays, kind, o, d, tmax, med, track, time, blockers);
+    return pt_shadow_loop(s, rays, kind, o, d, tmax, med, track, time, blockers, passed_surface);
 }
 
 // A shadow ray towards light li (-1: not recorded) through media: pt_shadow_transmittance, for a
@@ -463,10 +469,10 @@ template <class Rays, class Kind>
 LANTERN_HD inline Vec3 pt_shadow_medium_ray(const SceneView& s, const Rays& rays, Kind kind,
                                             Vec3 o, Vec3 d, float tmax, int32_t med,
                                             const Rng* path_rng, uint32_t slot, float time,
-                                            int li) {
+                                            int li, bool* passed_surface = nullptr) {
     const uint64_t blockers = pt_shadow_linked(s, li) ? s.light_blockers[li] : kAllReceivers;
     return pt_shadow_transmittance(s, rays, kind, o, d, tmax, med, path_rng, slot, time,
-                                   blockers);
+                                   blockers, passed_surface);
 }
 
 // The slot's shadow rays in a scene with media: the surface's or medium vertex's, and the
@@ -477,10 +483,15 @@ LANTERN_HD inline void pt_shadow_medium(const SceneView& s, const Rays& rays, Ki
     const float time = s.motion.rays_timed() ? motion_time(ps.rng[i]) : 0.0f;  // (the path's)
     const bool linked = s.light_blockers && ps.shadow_light;  // (vshadow_light with it)
     if (ps.shadow_valid[i]) {
+        bool passed = false;  // a surface outside the light's blockers (pt_linked_mis_fog)
         const Vec3 tr = pt_shadow_medium_ray(s, rays, kind, ps.shadow_o[i], ps.shadow_d[i],
                                              ps.shadow_tmax[i], ps.shadow_medium[i], &ps.rng[i],
-                                             1u, time, linked ? ps.shadow_light[i] : -1);
-        if (!is_black(tr)) add_radiance(ps, i, ps.shadow_contrib[i] * tr);
+                                             1u, time, linked ? ps.shadow_light[i] : -1, &passed);
+        // a surface's next event of a shadow-linked light with MIS: its weight kept for a
+        // segment free of surfaces (a medium vertex's -1: weight 1, in the contribution)
+        const float w = !passed && ps.shadow_mis && ps.shadow_mis[i] >= 0.0f ? ps.shadow_mis[i]
+                                                                            : 1.0f;
+        if (!is_black(tr)) add_radiance(ps, i, ps.shadow_contrib[i] * (tr * w));
     }
     if (ps.vshadow_valid[i]) {
         const Vec3 tr = pt_shadow_medium_ray(s, rays, kind, ps.vshadow_o[i], ps.vshadow_d[i],
