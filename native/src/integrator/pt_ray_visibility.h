@@ -30,13 +30,16 @@ LANTERN_HD inline uint8_t pt_scatter_kind(const Material& m, Vec3 wi, Vec3 ng) {
     }
 }
 
-// A scattering in a medium: Cycles' volume-scatter rays also count as diffuse for visibility.
-constexpr uint8_t kRayKindVolume = kRayVolumeScatter | kRayDiffuse;
+// A scattering in a medium: of its own kind only. Cycles' volume-scatter rays once also counted
+// as diffuse for object visibility (a "todo" in path_state_ray_visibility); Blender 4.4 dropped
+// that (Cycles d1f1923, Fix #135145), so an object with only Volume Scatter off is passed by
+// them and its emission skipped by a medium vertex's next-event estimation (D54).
+constexpr uint8_t kRayKindVolume = kRayVolumeScatter;
 // A subsurface walk's exit: a diffuse reflection (its cosine lobe).
 constexpr uint8_t kRayKindSubsurface = kRayDiffuse;
 
 // The kinds a lamp's exclusion reads (Cycles' path flags): a volume scattering is of its own
-// kind only (kRayKindVolume's diffuse bit is the objects' rule, not the lights').
+// kind only (as kRayKindVolume now is for objects too: kept for bdpt's kinds).
 LANTERN_HD inline uint8_t pt_lamp_kind(uint8_t kind) {
     return (kind & kRayVolumeScatter) ? uint8_t(kRayVolumeScatter) : kind;
 }
