@@ -308,9 +308,10 @@ HANDED_TO_PT = "renders this scene with path tracing"
 # with ordinary BSDFs (the default material here) since cis has vertices on them (docs/curves.md);
 # and light and shadow linking, a lamp's Cast Shadow off and motion blur (at the add-on's one
 # sample an iteration) since cis renders them and auto weighs them (branch autowide,
-# docs/auto_integrator.md)
+# docs/auto_integrator.md), and object and lamp ray visibility on surfaces (branch automis)
 AUTO_CHOOSES = {volume_material, volume_object_file, particle_hair, hair_curves, light_linking,
-                shadow_linking, no_shadow, motion_blur}
+                shadow_linking, no_shadow, motion_blur, glossy_visibility, diffuse_visibility,
+                lamp_visibility}
 
 
 @pytest.mark.parametrize("build", RENDERED, ids=[b.__name__ for b in RENDERED])
