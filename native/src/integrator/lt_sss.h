@@ -19,6 +19,7 @@
 // nor its exit counts a segment (as the camera side: D41).
 #pragma once
 
+#include "integrator/lt_ray_visibility.h"
 #include "integrator/pt_sss.h"
 
 namespace lantern {
@@ -162,6 +163,9 @@ LANTERN_HD inline void lt_sss_exit(const SceneView& s, const PathState& ps,
     if (!lt_sss_exit_continue(s, m, x, d, beta, depth, st.rr_depth, rng, &wo, &pdf_w, &t)) return;
     ps.throughput[i] = t;
     set_next_ray(ps, i, x.p, x.ng, wo, pdf_w, s.offset_scale);
+    // the next segment's kinds start at the exit (lt_ray_visibility.h: without this a lamp's
+    // Cast Shadow off, which sets light_rays, left y1's empty E and dropped every later splat)
+    if (lt_rays_on(s)) lt_rays_next(s, ps, i, tri);
 }
 
 // ---- lt's entry at x_o (surface(): the hit at triangle tri, barycentrics uv, reached along d,
