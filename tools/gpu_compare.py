@@ -47,24 +47,12 @@ EXTRA_INTEGRATORS = {"subsurface_skin": ["lt"]}
 
 
 def subsurface_skin(width, height):
-    """A unit sphere with Skin subsurface (radius 0.4, 0.2, 0.1 m) on a grey floor under a point
-    light, world black (tests/python/test_subsurface_bidir_light.py's lit sphere): camera paths
-    walk it (pt, bdpt, lvc, cis) and so do light paths (bdpt, lvc, cis, lt)."""
-    from lantern import scenes
-    s = lantern.Scene()
-    s.film.update(width=width, height=height)
-    s.look_at((0.0, -4.0, 0.6), (0.0, 0.0, -0.3), fov=40.0)
-    s.world = {"color": [0.0, 0.0, 0.0]}
-    m = s.add_material("ball", type="principled", base_color=(0.8, 0.6, 0.4), roughness=0.5,
-                       subsurface={"weight": 1.0, "radius": [0.4, 0.2, 0.1],
-                                   "method": "random_walk_skin"})
-    pos, idx = scenes.icosphere(2)
-    s.add_mesh(pos, idx, material=m)
-    f = s.add_material("floor", base_color=0.5)
-    q = np.array([[-3, -3, -1], [3, -3, -1], [3, 3, -1], [-3, 3, -1]], np.float32)
-    s.add_mesh(q, np.array([[0, 1, 2], [0, 2, 3]], np.uint32), material=f)
-    s.add_light("point", position=[1.5, -1.0, 2.0], power=[300.0] * 3, radius=0.0)
-    return s
+    """A unit sphere with Skin subsurface on a grey floor under a point light, world black
+    (lantern.scenes_sss.lit_sphere, the lit sphere of tests/python/test_subsurface_bidir_light.py
+    and of the GPU self-check's skin/* cases): camera paths walk it (pt, bdpt, lvc, cis) and so do
+    light paths (bdpt, lvc, cis, lt)."""
+    from lantern import scenes_sss
+    return scenes_sss.lit_sphere(width, height, method="random_walk_skin")
 
 
 def load(name, size, hard_falloff=True):

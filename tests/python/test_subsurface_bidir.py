@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import lantern
-from lantern import agreement, metrics, scenes
+from lantern import agreement, metrics, scenes_sss
 
 from test_subsurface_scene import FURNACE_RADIUS, sphere_scene
 
@@ -47,21 +47,9 @@ def test_furnace_grey_walk_is_darker_cis():
 
 def lit_sphere(radius_scale=1.0, size=16):
     """A unit sphere with Random Walk subsurface (radius 0.4, 0.2, 0.1 m) on a grey floor under
-    a point light, world black: the walk carries light into the sphere's shadow side."""
-    s = lantern.Scene()
-    s.film.update(width=size, height=size)
-    s.look_at((0.0, -4.0, 0.6), (0.0, 0.0, -0.3), fov=40.0)
-    s.world = {"color": [0.0, 0.0, 0.0]}
-    r = [0.4 * radius_scale, 0.2 * radius_scale, 0.1 * radius_scale]
-    m = s.add_material("ball", type="principled", base_color=(0.8, 0.6, 0.4), roughness=0.5,
-                       subsurface={"weight": 1.0, "radius": r, "method": "random_walk"})
-    pos, idx = scenes.icosphere(2)
-    s.add_mesh(pos, idx, material=m)
-    f = s.add_material("floor", base_color=0.5)
-    q = np.array([[-3, -3, -1], [3, -3, -1], [3, 3, -1], [-3, 3, -1]], np.float32)
-    s.add_mesh(q, np.array([[0, 1, 2], [0, 2, 3]], np.uint32), material=f)
-    s.add_light("point", position=[1.5, -1.0, 2.0], power=[300.0] * 3, radius=0.0)
-    return s
+    a point light, world black (lantern.scenes_sss.lit_sphere): the walk carries light into the
+    sphere's shadow side."""
+    return scenes_sss.lit_sphere(size, size, method="random_walk", radius_scale=radius_scale)
 
 
 SEEDS, SPP = 8, 64
