@@ -15,7 +15,8 @@ also says the smallest whole-image bias the case resolves ("detects").
         [--out DIR] [--quick]
 
 Scenes: .lantern files (their film is scaled to --size pixels wide, aspect kept) or names of
-lantern.scenes builders (cornell_box, features_box, ...) or subsurface_skin (here). Writes compare.json, compare.md and
+lantern.scenes builders (cornell_box, features_box, ...), subsurface_skin (here) or fog_box
+(lantern.gpu_selfcheck_run's). Writes compare.json, compare.md and
 one PNG per scene (the two backends' mean images side by side, pt) under --out. Exit status:
 0 all agree, 1 a disagreement or a non-finite pixel, 2 a backend unavailable."""
 
@@ -39,11 +40,13 @@ from lantern.gpu_selfcheck_run import render_seeds  # noqa: E402
 # 64) saved as a file)
 # and subsurface_skin (below): every walk stage (pt's, the bidirectional camera and light
 # paths', lt's; docs/cuda_backend.md "Subsurface walks of bdpt, lvc, cis and lt"), with lt too
+# and fog_box (lantern.gpu_selfcheck_run's: homogeneous fog and a heterogeneous smoke cube, the
+# medium stages of every integrator, lt's too)
 DEFAULT_SCENES = ["bench/scenes/bench_fixture.lantern", "bench/scenes/bench_glossy.lantern",
                   "bench/scenes/bench_caustics.lantern", "bench/scenes/gpu_features.lantern",
-                  "subsurface_skin"]
-# integrators a scene adds to --integrators (lt renders Skin itself: light paths walk it)
-EXTRA_INTEGRATORS = {"subsurface_skin": ["lt"]}
+                  "subsurface_skin", "fog_box"]
+# integrators a scene adds to --integrators (lt renders Skin and these media itself)
+EXTRA_INTEGRATORS = {"subsurface_skin": ["lt"], "fog_box": ["lt"]}
 
 
 def subsurface_skin(width, height):
@@ -74,7 +77,9 @@ def load(name, size, hard_falloff=True):
                     light["soft_falloff"] = False
         return scene
     from lantern import scenes
-    builder = {"subsurface_skin": subsurface_skin}.get(name) or getattr(scenes, name, None)
+    from lantern.gpu_selfcheck_run import fog_box
+    builder = ({"subsurface_skin": subsurface_skin, "fog_box": fog_box}.get(name)
+               or getattr(scenes, name, None))
     if not callable(builder):
         raise ValueError(f"scene {name!r}: not a .lantern file nor a lantern.scenes builder")
     return builder(width=int(size), height=int(size))

@@ -249,7 +249,9 @@ def cmd_gpu_check(args):
         return EXIT_ERROR
     v = gpu_selfcheck.verdict(info, again=args.again)
     print(json.dumps(dict(v, key=gpu_selfcheck.key(info)), indent=1, sort_keys=True))
-    return 0 if v.get("ok") else EXIT_ERROR
+    # 0: the core set and every feature's cases that ran passed
+    feats = v.get("features") if isinstance(v.get("features"), dict) else {}
+    return 0 if v.get("ok") and all(f.get("ok") for f in feats.values()) else EXIT_ERROR
 
 
 def main(argv=None):

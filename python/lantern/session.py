@@ -7,8 +7,9 @@ Backends: a core with `cuda_info()` gets "cuda" and "auto" as asked and chooses 
 back to the CPU with a warning when no GPU is usable); `Session.backend` says which one
 rendered. A core without `cuda_info()` has only the CPU: "cuda" and "auto" become "cpu" here.
 "auto" takes a GPU only once the GPU self-check passed on it (gpu_selfcheck.py: once per card,
-driver and build, in a child process); else it renders on the CPU and says why in `warnings`.
-"cuda" forces the GPU without the check."""
+driver and build, in a child process; a scene with subsurface scattering or media only once
+those cases passed too); else it renders on the CPU and says why in `warnings`. "cuda" forces
+the GPU without the check."""
 
 import importlib
 import logging
@@ -322,6 +323,25 @@ def _value(attr):
     return attr() if callable(attr) else attr
 
 
+def gpu_features(native_scene):
+    """The features of gpu_selfcheck.FEATURE_CASES a scene (its `Scene.to_native()` dict) has,
+    as the core tests them (scene/subsurface_input.h subsurface_reason, scene/medium_build.cpp
+    media_reason): "subsurface", a principled material with subsurface weight and radius;
+    "media", the world's volume or a material's."""
+    out = set()
+    world = native_scene.get("world") or {}
+    if world.get("volume") is not None:
+        out.add("media")
+    for m in native_scene.get("materials") or []:
+        if m.get("volume") is not None or m.get("volume_only"):
+            out.add("media")
+        radius = m.get("subsurface_radius")
+        if (m.get("type") == "principled" and float(m.get("subsurface_weight") or 0.0) > 0.0
+                and radius is not None and float(np.max(radius)) >= 1e-8):
+            out.add("subsurface")
+    return out
+
+
 def _has_hetero_media(scene):
     """Whether a material's volume is heterogeneous (a density grid or a density program):
     what the core's HostScene::add_lights tests before it starts soft lights' paths."""
@@ -361,18 +381,20 @@ class Session:
 
     def __init__(self, scene, **settings):
         self.settings, self._warnings = resolve_settings(settings)
-        if self.settings["backend"] == "auto":
-            # a GPU is trusted only after the self-check passed on it (gpu_selfcheck.py)
-            veto = gpu_selfcheck.auto_backend_veto(cuda_info())
-            if veto:
-                self.settings["backend"] = "cpu"
-                self._warnings.append(veto)
         for w in self._warnings:
             log.warning(w)
         if not hasattr(scene, "to_native"):
             raise TypeError(f"expected a lantern.Scene, got {type(scene).__name__}")
         native_scene = scene.to_native()  # scene errors first: they are the user's to fix
         check_film_memory(native_scene["film"]["width"], native_scene["film"]["height"])
+        if self.settings["backend"] == "auto":
+            # a GPU is trusted only after the self-check passed on it (gpu_selfcheck.py), with
+            # a subsurface or media scene only once those cases passed too
+            veto = gpu_selfcheck.auto_backend_veto(cuda_info(), gpu_features(native_scene))
+            if veto:
+                self.settings["backend"] = "cpu"
+                self._warnings.append(veto)
+                log.warning(veto)
         core = require_core()
         self._scene = scene
         self._native = core.Session(native_scene, dict(self.settings))
