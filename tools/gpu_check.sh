@@ -5,8 +5,11 @@
 #      at the first primitive of CudaExec that disagrees with its reference;
 #   2. pytest tests/python with LANTERN_TEST_BACKENDS=cpu,cuda (strict: an unavailable backend
 #      fails instead of skipping; tests needing bpy, Embree or OpenImageIO skip themselves);
-#   3. tools/gpu_compare.py: CUDA against CPU, per-block z-test, pt/bdpt/lvc/cis, no NaN/Inf
-#      (and lt on its subsurface_skin scene: every subsurface walk stage);
+#   2b. the self-check of backend auto (python -m lantern gpu-check --again): its verdict, per
+#      feature (subsurface, media), fresh;
+#   3. tools/gpu_compare.py: CUDA against CPU, per-block z-test, pt/bdpt/lvc/cis, no NaN/Inf;
+#      first its feature scenes in a process of their own (subsurface_skin, fog_box, lt too:
+#      every subsurface walk and medium stage), then the four scene files;
 #   4. bench/gpu_bench.py: rays/s, ms per stage, the paper's Table 1 (cis with/without sorting);
 #   5. a short table, printed last.
 # Logs and images go under $OUT (default ./gpu_check_out): summary.txt, pytest.txt,
@@ -79,7 +82,7 @@ step_result() {  # name rc seconds detail
 finish() {
     pkill_sampler
     cp "$LOG"/pytest.txt "$OUT/pytest.txt" 2>/dev/null
-    cp "$LOG"/compare/compare.md "$OUT/compare.md" 2>/dev/null
+    cat "$LOG"/compare_features/compare.md "$LOG"/compare/compare.md > "$OUT/compare.md" 2>/dev/null
     cp "$LOG"/bench/gpu_bench.md "$LOG"/bench/gpu_bench.json "$OUT/" 2>/dev/null
     tar -czf "$OUT/logs.tar.gz" -C "$LOG" . 2>/dev/null
     {
@@ -213,7 +216,7 @@ else
     [ "$QUICK" = 1 ] && PYTEST_ARGS=(tests/python/test_cuda_backend.py)
     [ -n "$PYTEST_K" ] && PYTEST_ARGS+=(-k "$PYTEST_K")
 fi
-tlimit=$(( $(left) - 200 )); [ "$QUICK" = 1 ] && tlimit=$(( $(left) - 100 ))
+tlimit=$(( $(left) - 260 )); [ "$QUICK" = 1 ] && tlimit=$(( $(left) - 100 ))
 [ $tlimit -lt 60 ] && tlimit=60
 LANTERN_TEST_BACKENDS=$TEST_BACKENDS LANTERN_TEST_BACKENDS_STRICT=1 MPLBACKEND=Agg \
     timeout "$tlimit" "$PY" -m pytest -v -rfEs -p no:cacheprovider --durations=10 \
@@ -223,7 +226,31 @@ rc=$?
 step_result pytest $rc $((SECONDS - t)) "$(grep -E '^[0-9]+ (passed|failed)|^=+ .*(passed|failed)' \
     "$LOG/pytest.txt" | tail -1 | tr -d '=')"
 
-# ---- 3. CUDA against CPU ----
+# ---- 2b. The self-check of backend "auto" (lantern gpu-check, python/lantern/gpu_selfcheck.py):
+# its verdict, per feature, fresh; without a GPU the child's plumbing with the "pass" double ----
+t=$SECONDS
+ts=$(( $(left) - 150 )); [ $ts -gt 120 ] && ts=120
+if [ $ts -lt 30 ]; then
+    step_result selfcheck 1 0 "not run: out of time"
+elif [ "$BACKEND" = cuda ]; then
+    LANTERN_CACHE_DIR="$LOG/selfcheck_cache" timeout $((ts + 20)) "$PY" -m lantern gpu-check \
+        --again --timeout "$ts" > "$LOG/selfcheck.txt" 2> "$LOG/selfcheck_err.txt"
+    rc=$?
+    step_result selfcheck $rc $((SECONDS - t)) "$("$PY" -c "
+import json, sys
+v = json.load(open(sys.argv[1]))
+f = ', '.join(k + (' ok' if x.get('ok') else ' FAIL') for k, x in v.get('features', {}).items())
+print(('core ok' if v.get('ok') else 'core FAIL') + (', ' + f if f else '') + ': ' + v['reason'][:160])
+" "$LOG/selfcheck.txt" 2>/dev/null || tail -1 "$LOG/selfcheck_err.txt")"
+else
+    timeout "$ts" "$PY" -m lantern.gpu_selfcheck_run --double pass \
+        --cases envmap/pt,skin/pt,fog/pt > "$LOG/selfcheck.txt" 2>&1
+    step_result selfcheck $? $((SECONDS - t)) "$(tail -1 "$LOG/selfcheck.txt" | cut -c1-160)"
+fi
+
+# ---- 3. CUDA against CPU: the feature scenes first (subsurface walks, medium stages: the code
+# least run on a GPU), in a process of their own, so that a device fault there costs neither
+# the file scenes' rows nor all their time; then the file scenes ----
 if [ "$BACKEND" = cuda ]; then
     ("$SMI" --query-gpu=memory.used --format=csv,noheader,nounits -lms 250 \
         > "$LOG/gpu_mem.csv" 2>/dev/null) &
@@ -234,9 +261,18 @@ else
     COMPARE_ARGS=(--backends cpu,cpu --quick)
 fi
 t=$SECONDS
+if [ "$(left)" -gt 150 ]; then
+    timeout $(( ($(left) - 90) / 2 )) "$PY" tools/gpu_compare.py "${COMPARE_ARGS[@]}" \
+        --scenes features --out "$LOG/compare_features" > "$LOG/compare_features.txt" 2>&1
+    rc=$?
+    step_result compare-f $rc $((SECONDS - t)) "$(tail -1 "$LOG/compare_features.txt")"
+else
+    step_result compare-f 1 0 "not run: out of time"
+fi
+t=$SECONDS
 if [ "$(left)" -gt 120 ]; then
     timeout $(( $(left) - 90 )) "$PY" tools/gpu_compare.py "${COMPARE_ARGS[@]}" \
-        --out "$LOG/compare" > "$LOG/compare.txt" 2>&1
+        --scenes files --out "$LOG/compare" > "$LOG/compare.txt" 2>&1
     rc=$?
     step_result compare $rc $((SECONDS - t)) "$(tail -1 "$LOG/compare.txt")"
 else

@@ -11,13 +11,15 @@ each session must really have run on the backend asked for (no silent fallback).
 also says the smallest whole-image bias the case resolves ("detects").
 
     python3 tools/gpu_compare.py [--backends cpu,cuda] [--integrators pt,bdpt,lvc,cis]
-        [--scenes bench/scenes/bench_fixture.lantern,...] [--size 64] [--seeds 8] [--spp 64]
-        [--out DIR] [--quick]
+        [--scenes bench/scenes/bench_fixture.lantern,...|files|features] [--size 64] [--seeds 8]
+        [--spp 64] [--out DIR] [--quick]
 
 Scenes: .lantern files (their film is scaled to --size pixels wide, aspect kept) or names of
 lantern.scenes builders (cornell_box, features_box, ...), subsurface_skin (here) or fog_box
-(lantern.gpu_selfcheck_run's). Writes compare.json, compare.md and
-one PNG per scene (the two backends' mean images side by side, pt) under --out. Exit status:
+(lantern.gpu_selfcheck_run's); "files" and "features" name the default scenes' two groups.
+Writes compare.json, compare.md (after each row: a timeout keeps the rows done) and one PNG per
+scene (the two backends' mean images side by side, pt) under --out; a session that raises
+fails its row and the next rows still run. Exit status:
 0 all agree, 1 a disagreement or a non-finite pixel, 2 a backend unavailable."""
 
 import argparse
@@ -42,9 +44,12 @@ from lantern.gpu_selfcheck_run import render_seeds  # noqa: E402
 # paths', lt's; docs/cuda_backend.md "Subsurface walks of bdpt, lvc, cis and lt"), with lt too
 # and fog_box (lantern.gpu_selfcheck_run's: homogeneous fog and a heterogeneous smoke cube, the
 # medium stages of every integrator, lt's too)
-DEFAULT_SCENES = ["bench/scenes/bench_fixture.lantern", "bench/scenes/bench_glossy.lantern",
-                  "bench/scenes/bench_caustics.lantern", "bench/scenes/gpu_features.lantern",
-                  "subsurface_skin", "fog_box"]
+FILE_SCENES = ["bench/scenes/bench_fixture.lantern", "bench/scenes/bench_glossy.lantern",
+               "bench/scenes/bench_caustics.lantern", "bench/scenes/gpu_features.lantern"]
+FEATURE_SCENES = ["subsurface_skin", "fog_box"]
+DEFAULT_SCENES = FILE_SCENES + FEATURE_SCENES
+# --scenes may name these groups (tools/gpu_check.sh runs "features" and "files" apart)
+SCENE_GROUPS = {"files": FILE_SCENES, "features": FEATURE_SCENES}
 # integrators a scene adds to --integrators (lt renders Skin and these media itself)
 EXTRA_INTEGRATORS = {"subsurface_skin": ["lt"], "fog_box": ["lt"]}
 
@@ -114,6 +119,27 @@ def compare_one(scene, name, integrator, backends, k, spp, max_depth, scale_b=1.
     return row, np.mean(a, axis=0), np.mean(b, axis=0)
 
 
+def write_tables(out, args, rows):
+    """compare.json and compare.md under out (None: nothing) for the rows so far."""
+    if not out:
+        return
+    ok = all(r["passed"] for r in rows) and bool(rows)
+    (out / "compare.json").write_text(json.dumps({"args": vars(args), "rows": rows,
+                                                  "passed": ok}, indent=1))
+    lines = ["| scene | integrator | worst z | threshold | mean diff (allowed) | detects | "
+             "finite | ok |",
+             "|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        if "error" in r:
+            lines.append(f"| {r['scene']} | {r['integrator']} | {r['error']} | | | | | NO |")
+            continue
+        lines.append(f"| {r['scene']} | {r['integrator']} | {r['worst_z']:.2f} | "
+                     f"{r['threshold']:.2f} | {max(r['mean_rel'], key=abs):+.3%} "
+                     f"({r['mean_allowed']:.3%}) | {r['detects']:.2%} | "
+                     f"{r['finite']} | {'yes' if r['passed'] else 'NO'} |")
+    (out / "compare.md").write_text("\n".join(lines) + "\n")
+
+
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--backends", default="cpu,cuda", help="two backends (cpu,cuda)")
@@ -133,8 +159,10 @@ def main(argv=None):
     args = p.parse_args(argv)
     if args.quick:
         args.size, args.seeds, args.spp = 16, 4, 8
-        if args.scenes == ",".join(DEFAULT_SCENES):
+        if args.scenes in (",".join(DEFAULT_SCENES), "files"):
             args.scenes = DEFAULT_SCENES[0]
+    args.scenes = ",".join(",".join(SCENE_GROUPS.get(n.strip(), [n.strip()]))
+                           for n in args.scenes.split(",") if n.strip())
     backends = [b.strip() for b in args.backends.split(",") if b.strip()]
     if len(backends) != 2:
         p.error("--backends needs exactly two names, e.g. cpu,cuda")
@@ -154,8 +182,16 @@ def main(argv=None):
         integrators = [i.strip() for i in args.integrators.split(",") if i.strip()]
         integrators += [i for i in EXTRA_INTEGRATORS.get(name, []) if i not in integrators]
         for integrator in integrators:
-            row, mean_a, mean_b = compare_one(scene, label, integrator, backends, args.seeds,
-                                              args.spp, args.max_depth, args.scale_b)
+            try:
+                row, mean_a, mean_b = compare_one(scene, label, integrator, backends, args.seeds,
+                                                  args.spp, args.max_depth, args.scale_b)
+            except Exception as e:  # a launch error: the row fails, the next ones still run
+                rows.append({"scene": label, "integrator": integrator,
+                             "backends": list(backends), "passed": False,
+                             "error": f"{type(e).__name__}: {str(e).strip()[:300]}"})
+                print(f"{label:>18} {integrator:>5}: FAIL {rows[-1]['error']}", flush=True)
+                write_tables(out, args, rows)
+                continue
             rows.append(row)
             print(f"{label:>18} {integrator:>5}: worst |z| {row['worst_z']:6.2f} (threshold "
                   f"{row['threshold']:.2f}), image mean {max(row['mean_rel'], key=abs):+.3%} "
@@ -164,23 +200,14 @@ def main(argv=None):
                   f"{'ok' if row['passed'] else 'FAIL'}"
                   f"{'' if row['finite'] else ' NON-FINITE'}"
                   f"{' ' + '; '.join(row['fell_back']) if row['fell_back'] else ''}", flush=True)
+            write_tables(out, args, rows)  # after each row: a timeout or a crash keeps them
             if integrator == "pt" or not previews:
                 previews = [mean_a, mean_b]
         if out and previews:
             imageio.write_image(str(out / f"compare_{label}.png"),
                                 np.concatenate(previews, axis=1), backend="builtin")
     ok = all(r["passed"] for r in rows) and bool(rows)
-    if out:
-        (out / "compare.json").write_text(json.dumps({"args": vars(args), "rows": rows,
-                                                      "passed": ok}, indent=1))
-        lines = ["| scene | integrator | worst z | threshold | mean diff (allowed) | detects | "
-                 "finite | ok |",
-                 "|---|---|---|---|---|---|---|---|"]
-        lines += [f"| {r['scene']} | {r['integrator']} | {r['worst_z']:.2f} | "
-                  f"{r['threshold']:.2f} | {max(r['mean_rel'], key=abs):+.3%} "
-                  f"({r['mean_allowed']:.3%}) | {r['detects']:.2%} | "
-                  f"{r['finite']} | {'yes' if r['passed'] else 'NO'} |" for r in rows]
-        (out / "compare.md").write_text("\n".join(lines) + "\n")
+    write_tables(out, args, rows)
     print(f"gpu_compare: {sum(r['passed'] for r in rows)}/{len(rows)} agree "
           f"({backends[0]} vs {backends[1]})")
     return 0 if ok else 1

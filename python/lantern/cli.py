@@ -103,6 +103,8 @@ def build_parser():
     c = sub.add_parser("gpu-check", help="the GPU self-check of backend auto: read its cached "
                                          "verdict for this GPU, or run it")
     c.add_argument("--again", action="store_true", help="run it again, replacing the verdict")
+    c.add_argument("--timeout", type=float, default=None,
+                   help="seconds the check may take (default 180; tools/gpu_check.sh's budget)")
     c.add_argument("--debug", action="store_true", default=argparse.SUPPRESS,
                    help=argparse.SUPPRESS)
 
@@ -247,7 +249,7 @@ def cmd_gpu_check(args):
     if not info.get("available"):
         print(f"lantern: no usable GPU: {info.get('reason')}", file=sys.stderr)
         return EXIT_ERROR
-    v = gpu_selfcheck.verdict(info, again=args.again)
+    v = gpu_selfcheck.verdict(info, again=args.again, timeout=args.timeout)
     print(json.dumps(dict(v, key=gpu_selfcheck.key(info)), indent=1, sort_keys=True))
     # 0: the core set and every feature's cases that ran passed
     feats = v.get("features") if isinstance(v.get("features"), dict) else {}

@@ -43,6 +43,26 @@ def test_compare_can_fail(tmp_path, scale):
     assert "FAIL" in p.stdout
 
 
+def test_compare_keeps_going_after_a_raising_session(tmp_path, monkeypatch):
+    """A session that raises (on a GPU: a launch error) fails its row; the next rows still run
+    and the tables are written (tools/gpu_check.sh reads them after a timeout too). The Skin
+    sphere with lt beside pt: the feature scenes' group, built on the CPU."""
+    monkeypatch.syspath_prepend(str(ROOT / "tools"))
+    import gpu_compare
+    real = gpu_compare.render_set
+
+    def flaky(scene, backend, integrator, *args):
+        if integrator == "pt":
+            raise RuntimeError("CUDA error: an illegal memory access was encountered")
+        return real(scene, backend, integrator, *args)
+    monkeypatch.setattr(gpu_compare, "render_set", flaky)
+    assert gpu_compare.main(["--backends", "cpu,cpu", "--quick", "--scenes", "subsurface_skin",
+                             "--integrators", "pt", "--out", str(tmp_path)]) == 1
+    rows = json.loads((tmp_path / "compare.json").read_text())["rows"]
+    assert [(r["integrator"], r["passed"]) for r in rows] == [("pt", False), ("lt", True)], rows
+    assert "illegal memory access" in (tmp_path / "compare.md").read_text()
+
+
 def test_compare_refuses_an_unavailable_backend(tmp_path):
     from lantern import session
     if session.backend_unavailable("cuda") is None:
