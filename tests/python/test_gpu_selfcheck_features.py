@@ -136,3 +136,12 @@ def test_the_command_line_check_fails_on_a_feature(fake_gpu, monkeypatch, capsys
     out = json.loads(capsys.readouterr().out)
     assert out["ok"] is True and out["features"]["media"]["ok"] is False, out
     assert "'fog/pt'" in out["reason"], out
+
+
+def test_a_hang_in_a_feature_case_times_out_that_feature(fake_gpu, monkeypatch):
+    """The child hangs in 'fog/pt': the parent's timeout names the case and fails media only."""
+    monkeypatch.setattr(gpu_selfcheck, "TIMEOUT_S", 6.0)
+    v = verdict_for(monkeypatch, "hang:fog", ("fog/pt",))
+    assert v["ok"] is True and not v["features"]["media"]["ok"], v
+    assert "timed out after 6 s in case 'fog/pt'" in veto("media")
+    assert veto() is None
