@@ -390,7 +390,9 @@ class Session:
         if self.settings["backend"] == "auto":
             # a GPU is trusted only after the self-check passed on it (gpu_selfcheck.py), with
             # a subsurface or media scene only once those cases passed too
-            veto = gpu_selfcheck.auto_backend_veto(cuda_info(), gpu_features(native_scene))
+            info = cuda_info()
+            veto = gpu_selfcheck.auto_backend_veto(
+                info, gpu_features(native_scene) if info.get("available") else ())
             if veto:
                 self.settings["backend"] = "cpu"
                 self._warnings.append(veto)
