@@ -95,9 +95,7 @@ LANTERN_HD inline int lt_walk_step(const SceneView& s, const PathState& ps, int 
         ps.walk_passed(i) += 1;
         return 0;
     }
-    const Vec3 a = triangle_vertex(s, tri, 0), b = triangle_vertex(s, tri, 1),
-               c = triangle_vertex(s, tri, 2);
-    const Vec3 ng = normalize(cross(b - a, c - a));
+    const Vec3 ng = triangle_geometric_normal(s, tri);
     pt_pass_hidden(s, ps, i, p, ng);
     // in media: past a surface around a volume the walk is in it (pt's camera side would be);
     // pt's shadow ray keeps its medium (lt_walk_ratio)

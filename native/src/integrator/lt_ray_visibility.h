@@ -59,9 +59,7 @@ LANTERN_HD inline bool lt_rays_step(const SceneView& s, const PathState& ps, int
     if (stop) return true;
     ps.ray_kind[i] |= seen;
     if ((ps.ray_kind[i] & kLtSurfaceKinds) == kLtSurfaceKinds) return false;  // no kind passes
-    const Vec3 a = triangle_vertex(s, tri, 0), b = triangle_vertex(s, tri, 1),
-               c = triangle_vertex(s, tri, 2);
-    pt_pass_hidden(s, ps, i, p, normalize(cross(b - a, c - a)));
+    pt_pass_hidden(s, ps, i, p, triangle_geometric_normal(s, tri));
     return false;
 }
 
