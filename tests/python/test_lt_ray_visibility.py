@@ -134,13 +134,77 @@ def _shadow_linked(s):
     s.lights[0]["blockers"] = [1]
 
 
-RULES = [_lamps_no_shadow, _objects_no_shadow, _light_linked, _shadow_linked]
+def _world_no_shadow(s):
+    """_objects_no_shadow under a grey world (its control keeps the world): the world's next
+    event weighs little against the BSDF, so the floor under the slab (hidden from diffuse rays,
+    no shadow) shows both shares, and glass ball B the world past the wall (hidden from
+    transmission, casting shadows) only through the walk past a surface that casts the world a
+    shadow."""
+    _objects_no_shadow(s)
+
+
+def _grey_world(s):
+    """A constant grey world, lighting the room but unseen by the camera (lt has no splat of a
+    directly seen world); next-event estimation leaves it out (scene_lights.cpp): pt's bounce
+    ray alone finds it."""
+    s.world = {"color": [0.4] * 3, "visible_camera": False}
+
+
+_world_no_shadow.base = _grey_world
+
+
+def _veil(s):
+    """A veil over the whole room under the lights (z 1.2), hidden from the camera and from
+    diffuse rays, under a grey world: the floor's light is the lights' seen past it."""
+    s.add_mesh(*quad(1.2, 2.5), material=0, name="veil")
+    s.meshes[5]["visible_diffuse"] = False
+    s.meshes[5]["visible_camera"] = False
+    _grey_world(s)
+
+
+def _veil_no_shadow(s):
+    """The veil casts no shadow: the floor takes both shares past it (w_nee + w_bsdf = 1);
+    the world's w_nee is small, so the bounce ray's share shows."""
+    s.meshes[5]["cast_shadow"] = False
+
+
+def _veil_walk(s):
+    """Ball A casts no shadow, so every light's first segment walks the one walk: past the veil
+    (which casts shadows) the floor takes the bounce ray's share alone, the world's large."""
+    s.meshes[2]["cast_shadow"] = False
+
+
+def _veil_seen(s):
+    """_veil_walk's control: the veil seen by diffuse rays (the kinds dropped: A's shadow is
+    too faint under the veil to tell the rule dropped)."""
+    s.meshes[5]["visible_diffuse"] = True
+
+
+_veil_no_shadow.base = _veil_walk.base = _veil
+_veil_walk.off = _veil_seen
+for _r in (_veil_no_shadow, _veil_walk):  # (lt: noisy past the veil)
+    _r.image_bias, _r.block_bias = 0.06, 0.3
+
+
+def _slab_hidden(s):
+    """The slab hidden from every kind (diffuse, glossy, transmission), casting shadows: the
+    floor under it takes pt's bounce ray's share alone (1 - w_nee)."""
+    s.meshes[4]["visible_glossy"] = False
+    s.meshes[4]["visible_transmission"] = False
+
+
+RULES = [_lamps_no_shadow, _objects_no_shadow, _light_linked, _shadow_linked, _world_no_shadow,
+         _veil_no_shadow, _veil_walk, _slab_hidden]
 
 
 def mixed(rule, rule_on=True):
     s = build("objects")
-    if rule_on:
+    if hasattr(rule, "base"):
+        rule.base(s)
+    if rule_on or hasattr(rule, "off"):
         rule(s)
+    if not rule_on and hasattr(rule, "off"):
+        rule.off(s)
     return s
 
 
@@ -157,8 +221,9 @@ def check_mixed(rule):
     imgs, warnings = mixed_renders(rule, "lt", 2000, spp=4 * SPP)
     assert not warnings, warnings  # rendered by lt itself
     metrics.assert_agreement(f"objects with {rule.__name__}, lt vs pt", imgs, ref, block=3,
-                             image_bias=0.03, block_bias=0.15)
-    # the control: the other rule dropped (the kinds kept) is seen
+                             image_bias=getattr(rule, "image_bias", 0.03),
+                             block_bias=getattr(rule, "block_bias", 0.15))
+    # the control: the other rule dropped (the kinds kept; _veil_walk: the kinds dropped)
     free, _ = mixed_renders(rule, "lt", 3000, rule_on=False, spp=2 * SPP)
     res = metrics.compare_renders(free, ref, block=3, name=f"{rule.__name__} off")
     print(res)
@@ -170,8 +235,8 @@ def test_lt_kinds_with_objects_no_shadow(core):
 
 
 @pytest.mark.long
-@pytest.mark.parametrize("rule", [_lamps_no_shadow, _light_linked, _shadow_linked],
-                         ids=["lamps_no_shadow", "light_linked", "shadow_linked"])
+@pytest.mark.parametrize("rule", RULES[2:] + [_lamps_no_shadow],
+                         ids=lambda r: r.__name__.lstrip("_"))
 def test_lt_kinds_with_rule(core, rule):
     check_mixed(rule)
 
