@@ -21,11 +21,13 @@ Each against pt; the negative control, the flags off (the scene without them), m
 Beside the rules of the first segment (lt_linking.h), the objects scene with one more: both
 lights without shadows, the slab and ball A without shadows, light linking (the lamp lights all
 but glass ball B, the point light B alone), shadow linking (the lamp's shadows are glass ball
-B's alone). lt's first segment walks one walk for both rules (lt_rays_step): a vertex past
-what it passed takes pt's next event's share where all of it casts the light no shadow, pt's
-bounce ray's where all of it is hidden from the vertex's kind (lt_rays_weight). Each against
-pt; the control, the scene without the other rule (the kinds kept), must fail. CI runs the
-objects' Cast Shadow off; the rest is long.
+B's alone); under a veil hidden from the camera and from diffuse rays, lit by a grey world
+too (the veil without shadows; the veil casting them, ball A not: every light walks); the slab
+hidden from every kind. lt's first segment walks one walk for both rules (lt_rays_step): a
+vertex past what it passed takes pt's next event's share where all of it casts the light no
+shadow, pt's bounce ray's where all of it is hidden from the vertex's kind (lt_rays_weight).
+Each against pt; the control, the scene without the other rule (the kinds kept; the veil's
+walk: the kinds dropped), must fail. CI runs the objects' Cast Shadow off; the rest is long.
 
 lt still hands ray visibility with media, subsurface scattering, strands, and beside a
 soft-falloff light, to pt."""
@@ -134,15 +136,6 @@ def _shadow_linked(s):
     s.lights[0]["blockers"] = [1]
 
 
-def _world_no_shadow(s):
-    """_objects_no_shadow under a grey world (its control keeps the world): the world's next
-    event weighs little against the BSDF, so the floor under the slab (hidden from diffuse rays,
-    no shadow) shows both shares, and glass ball B the world past the wall (hidden from
-    transmission, casting shadows) only through the walk past a surface that casts the world a
-    shadow."""
-    _objects_no_shadow(s)
-
-
 def _grey_world(s):
     """A constant grey world, lighting the room but unseen by the camera (lt has no splat of a
     directly seen world); next-event estimation leaves it out (scene_lights.cpp): pt's bounce
@@ -150,7 +143,6 @@ def _grey_world(s):
     s.world = {"color": [0.4] * 3, "visible_camera": False}
 
 
-_world_no_shadow.base = _grey_world
 
 
 def _veil(s):
@@ -193,8 +185,8 @@ def _slab_hidden(s):
     s.meshes[4]["visible_transmission"] = False
 
 
-RULES = [_lamps_no_shadow, _objects_no_shadow, _light_linked, _shadow_linked, _world_no_shadow,
-         _veil_no_shadow, _veil_walk, _slab_hidden]
+RULES = [_lamps_no_shadow, _objects_no_shadow, _light_linked, _shadow_linked, _veil_no_shadow,
+         _veil_walk, _slab_hidden]
 
 
 def mixed(rule, rule_on=True):
