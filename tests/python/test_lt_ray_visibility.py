@@ -17,8 +17,20 @@ ray from that vertex passes them), at the vertex the segment left seen by that k
   glass ball take its light).
 
 Each against pt; the negative control, the flags off (the scene without them), must fail.
-lt still hands ray visibility with media, subsurface scattering, strands, linking or Cast
-Shadow off, and beside a soft-falloff light, to pt."""
+
+Beside the rules of the first segment (lt_linking.h), the objects scene with one more: both
+lights without shadows, the slab and ball A without shadows, light linking (the lamp lights all
+but glass ball B, the point light B alone), shadow linking (the lamp's shadows are glass ball
+B's alone); under a veil hidden from the camera and from diffuse rays, lit by a grey world
+too (the veil without shadows; the veil casting them, ball A not: every light walks); the slab
+hidden from every kind. lt's first segment walks one walk for both rules (lt_rays_step): a
+vertex past what it passed takes pt's next event's share where all of it casts the light no
+shadow, pt's bounce ray's where all of it is hidden from the vertex's kind (lt_rays_weight).
+Each against pt; the control, the scene without the other rule (the kinds kept; the veil's
+walk: the kinds dropped), must fail. CI runs the objects' Cast Shadow off; the rest is long.
+
+lt still hands ray visibility with media, subsurface scattering, strands, and beside a
+soft-falloff light, to pt."""
 import numpy as np
 import pytest
 
@@ -98,15 +110,134 @@ def test_lt_matches_pt(core, kind):
     assert not res.passed, res
 
 
+def _lamps_no_shadow(s):
+    """Both lights cast no shadow (the point light: next-event estimation alone past anything)."""
+    s.lights[0]["cast_shadow"] = False
+    s.lights[1]["cast_shadow"] = False
+
+
+def _objects_no_shadow(s):
+    """The slab (hidden from diffuse rays) and ball A (from glossy ones) cast no shadow."""
+    s.meshes[4]["cast_shadow"] = False
+    s.meshes[2]["cast_shadow"] = False
+
+
+def _light_linked(s):
+    """The lamp lights all but glass ball B, the point light B alone."""
+    s.meshes[2]["light_set"] = 1
+    s.meshes[3]["light_set"] = 2
+    s.lights[0]["receivers"] = [0, 1]
+    s.lights[1]["receivers"] = [2]
+
+
+def _shadow_linked(s):
+    """The lamp's shadows are glass ball B's alone (ball A and the slab cast it none)."""
+    s.meshes[3]["shadow_set"] = 1
+    s.lights[0]["blockers"] = [1]
+
+
+def _grey_world(s):
+    """A constant grey world, lighting the room but unseen by the camera (lt has no splat of a
+    directly seen world); next-event estimation leaves it out (scene_lights.cpp): pt's bounce
+    ray alone finds it."""
+    s.world = {"color": [0.4] * 3, "visible_camera": False}
+
+
+
+
+def _veil(s):
+    """A veil over the whole room under the lights (z 1.2), hidden from the camera and from
+    diffuse rays, under a grey world: the floor's light is the lights' seen past it."""
+    s.add_mesh(*quad(1.2, 2.5), material=0, name="veil")
+    s.meshes[5]["visible_diffuse"] = False
+    s.meshes[5]["visible_camera"] = False
+    _grey_world(s)
+
+
+def _veil_no_shadow(s):
+    """The veil casts no shadow: the floor takes both shares past it (w_nee + w_bsdf = 1);
+    the world's w_nee is small, so the bounce ray's share shows."""
+    s.meshes[5]["cast_shadow"] = False
+
+
+def _veil_walk(s):
+    """Ball A casts no shadow, so every light's first segment walks the one walk: past the veil
+    (which casts shadows) the floor takes the bounce ray's share alone, the world's large."""
+    s.meshes[2]["cast_shadow"] = False
+
+
+def _veil_seen(s):
+    """_veil_walk's control: the veil seen by diffuse rays (the kinds dropped: A's shadow is
+    too faint under the veil to tell the rule dropped)."""
+    s.meshes[5]["visible_diffuse"] = True
+
+
+_veil_no_shadow.base = _veil_walk.base = _veil
+_veil_walk.off = _veil_seen
+for _r in (_veil_no_shadow, _veil_walk):  # (lt: noisy past the veil)
+    _r.image_bias, _r.block_bias = 0.06, 0.3
+
+
+def _slab_hidden(s):
+    """The slab hidden from every kind (diffuse, glossy, transmission), casting shadows: the
+    floor under it takes pt's bounce ray's share alone (1 - w_nee)."""
+    s.meshes[4]["visible_glossy"] = False
+    s.meshes[4]["visible_transmission"] = False
+
+
+RULES = [_lamps_no_shadow, _objects_no_shadow, _light_linked, _shadow_linked, _veil_no_shadow,
+         _veil_walk, _slab_hidden]
+
+
+def mixed(rule, rule_on=True):
+    s = build("objects")
+    if hasattr(rule, "base"):
+        rule.base(s)
+    if rule_on or hasattr(rule, "off"):
+        rule(s)
+    if not rule_on and hasattr(rule, "off"):
+        rule.off(s)
+    return s
+
+
+def mixed_renders(rule, integrator, seed0, rule_on=True, spp=SPP):
+    out, warnings = [], []
+    for k in range(K):
+        img, warnings = render(mixed(rule, rule_on), integrator, seed0 + k, spp)
+        out.append(img)
+    return out, warnings
+
+
+def check_mixed(rule):
+    ref, _ = mixed_renders(rule, "pt", 1000)
+    imgs, warnings = mixed_renders(rule, "lt", 2000, spp=4 * SPP)
+    assert not warnings, warnings  # rendered by lt itself
+    metrics.assert_agreement(f"objects with {rule.__name__}, lt vs pt", imgs, ref, block=3,
+                             image_bias=getattr(rule, "image_bias", 0.03),
+                             block_bias=getattr(rule, "block_bias", 0.15))
+    # the control: the other rule dropped (the kinds kept; _veil_walk: the kinds dropped)
+    free, _ = mixed_renders(rule, "lt", 3000, rule_on=False, spp=2 * SPP)
+    res = metrics.compare_renders(free, ref, block=3, name=f"{rule.__name__} off")
+    print(res)
+    assert not res.passed, res
+
+
+def test_lt_kinds_with_objects_no_shadow(core):
+    check_mixed(_objects_no_shadow)
+
+
+@pytest.mark.long
+@pytest.mark.parametrize("rule", RULES[2:] + [_lamps_no_shadow],
+                         ids=lambda r: r.__name__.lstrip("_"))
+def test_lt_kinds_with_rule(core, rule):
+    check_mixed(rule)
+
+
 def _soft(s):
     """A soft-falloff light beside an object hidden from some kind: its lines' first segment
     (soft_light_path.h) does not walk."""
     s.add_light("point", position=[0.0, -0.5, 1.2], power=[20.0] * 3, radius=0.1,
                 soft_falloff=True, name="soft")
-
-
-def _no_shadow(s):
-    s.lights[0]["cast_shadow"] = False
 
 
 def _fog(s):
@@ -118,8 +249,7 @@ def _strands(s):
     s.add_curves(pts, np.full(2, 0.01, np.float32), np.array([0, 2]), material=0, name="hair")
 
 
-@pytest.mark.parametrize("extra", [_soft, _no_shadow, _fog, _strands],
-                         ids=["soft", "no_shadow", "fog", "strands"])
+@pytest.mark.parametrize("extra", [_soft, _fog, _strands], ids=["soft", "fog", "strands"])
 def test_lt_hands_kinds_over_to_pt(core, extra):
     scene = build("objects")
     extra(scene)

@@ -323,9 +323,10 @@ std::string bidir_visibility_reason(const SceneInput& in, bool light_tracer) {
     // (bidir_ray_visibility.h), beside light and shadow linking and a lamp's or an object's
     // Cast Shadow off too (a restricted path is pt's, an unrestricted one keeps the linking
     // rules: docs/lvc_notes.md "Ray visibility by kind"); lt on surfaces too
-    // (lt_ray_visibility.h), not beside linking or Cast Shadow off, nor strands (their
-    // vertices' kinds unchecked), nor a soft-falloff light beside an object hidden from some
-    // kind (its lines' first segment cannot walk); media and subsurface walks stay pt's
+    // (lt_ray_visibility.h), beside linking and Cast Shadow off too (its first segment's one
+    // walk, lt_rays_step), not with strands (their vertices' kinds unchecked), nor a
+    // soft-falloff light beside an object hidden from some kind (its lines' first segment
+    // cannot walk); media and subsurface walks stay pt's
     if (other) {
         const std::string rays = "object or lamp ray visibility";
         if (light_tracer) {
@@ -340,14 +341,6 @@ std::string bidir_visibility_reason(const SceneInput& in, bool light_tracer) {
                 if (hidden_mesh && (l.type == "point" || l.type == "spot") && l.soft_falloff &&
                     l.radius > 0.0f)
                     return lt_rays + " with a soft-falloff light (light '" + l.name + "')";
-            bool linked = shadow;
-            for (const MeshInput& m : in.meshes)
-                linked |= m.light_set != 0 || m.emitter_receivers != kAllReceivers;
-            for (const LightInput& l : in.lights) linked |= l.receivers != kAllReceivers;
-            if (linked) return lt_rays + " with light or shadow linking";
-            if (unshadowed) return lt_rays + " with a light that casts no shadow";
-            if (std::string v = no_shadow_object_reason(in); !v.empty())
-                return lt_rays + " with " + v;
         }
         if (std::string v = media_reason(in); !v.empty()) return rays + " with " + v;
         if (std::string v = subsurface_reason(in); !v.empty()) return rays + " with " + v;

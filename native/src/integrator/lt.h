@@ -288,13 +288,18 @@ LANTERN_HD inline void lt_shade(const SceneView& s, const PathState& ps, const L
     // shadow (passed > 0: a vertex only next-event estimation makes); the first surface vertex
     // decides the receiver set, and a set its light does not light ends the path
     int passed = 0;
-    // (ray visibility by kind: the segment walks past surfaces hidden from some kind)
-    if (s.tri_rays && !lt_rays_step(s, ps, i, tri, ps.ray_o[i] + d * ps.hit_t[i])) return;
+    const bool walk = ps.depth[i] == 0 &&
+                      (s.light_blockers || s.light_rays || s.no_shadow_objects) && lp.light &&
+                      lt_walks(s, lp.light[i]);
+    // (ray visibility by kind: the segment walks past surfaces hidden from some kind, the first
+    // one past those that cast its light no shadow too: its weights are lt_rays_weight's)
+    if (s.tri_rays && !lt_rays_step(s, ps, i, lp.light ? lp.light[i] : -1, tri,
+                                    ps.ray_o[i] + d * ps.hit_t[i], walk))
+        return;
     // (in media: pt's shadow ray's transmittance over the walked one, lt_medium.h; the
     // non-delta lobes', a delta lobe's at h1 the walked one)
     const bool walk_media = s.num_media > 0 && lt_walk_media(s, ps, lp, i);
-    if (ps.depth[i] == 0 && (s.light_blockers || s.light_rays || s.no_shadow_objects) &&
-        lp.light && lt_walks(s, lp.light[i])) {
+    if (walk && !s.tri_rays) {
         passed = ps.walk_passed(i);
         if (!lt_walk_step(s, ps, i, lp.light[i], tri, ps.ray_o[i] + d * ps.hit_t[i],
                           bidir_links(s, lp.light[i], tri)))
@@ -407,7 +412,7 @@ LANTERN_HD inline void lt_shade(const SceneView& s, const PathState& ps, const L
     // (past a transparent surface: non-delta lobes only, next-event estimation's share)
     if (bs.valid && view_side_agrees(m, wi, h.ng, h.ns) && !(tube && !(dot(wi, h.ng) > 0.0f)) &&
         !(passed > 0 && (bs.delta || !(bs.pdf_fwd_w > 0.0f))) &&
-        (!lt_rays_on(s) || lt_rays_kind_ok(s, ps, i, li, m, h.ng, wo_w, wi))) {
+        (!lt_rays_on(s) || lt_rays_kind_ok(s, ps, i, li, m, h.ng, wo_w, wi, bs.delta))) {
         // (a strand: the lobe's Importance weight is the fiber measure's whole throughput)
         float adj = fiber ? 1.0f
                            : cos_o_ns * fabsf(dot(wi, h.ng)) / (cos_o_ng * fabsf(bs.wi.z));

@@ -95,9 +95,7 @@ LANTERN_HD inline int lt_walk_step(const SceneView& s, const PathState& ps, int 
         ps.walk_passed(i) += 1;
         return 0;
     }
-    const Vec3 a = triangle_vertex(s, tri, 0), b = triangle_vertex(s, tri, 1),
-               c = triangle_vertex(s, tri, 2);
-    const Vec3 ng = normalize(cross(b - a, c - a));
+    const Vec3 ng = triangle_geometric_normal(s, tri);
     pt_pass_hidden(s, ps, i, p, ng);
     // in media: past a surface around a volume the walk is in it (pt's camera side would be);
     // pt's shadow ray keeps its medium (lt_walk_ratio)
@@ -132,6 +130,13 @@ LANTERN_HD inline float lt_light_pdf(const SceneView& s, const PathState& ps, in
     return pick * pdf_w;
 }
 
+// Whether light l is found by no bounce ray (a point, a spot of radius 0, a sun of angle 0):
+// next-event estimation alone makes its paths.
+LANTERN_HD inline bool lt_light_delta(const Light& l) {
+    return ((l.type == kLightPoint || l.type == kLightSpot) && l.radius <= 0.0f) ||
+           (l.type == kLightSun && l.cos_sun >= 1.0f);
+}
+
 // pt's next-event weight at a first-segment vertex past a transparent surface (x1 on triangle
 // tri, material m, h's normals facing the light ray): the light at x0 (PathState::prev_p, normal
 // prev_n) along w_l, the path going on along w_c, pdf_rev m's density of sampling w_l from w_c
@@ -149,7 +154,9 @@ LANTERN_HD inline float lt_nee_weight(const SceneView& s, const PathState& ps, i
         return 0.0f;
     if (bidir_nee_only(s, li) || (!geo_side && !unshadowed)) return 1.0f;
     const float pdf = lt_light_pdf(s, ps, i, li, tri, h.p, ng, ns, w_l);
-    if (!(pdf > 0.0f)) return 1.0f;  // a delta light: next-event estimation alone
+    // a delta light: next-event estimation alone; a light it never picks (a constant world,
+    // scene_lights.cpp) or does not sample along w_l: the bounce ray alone
+    if (!(pdf > 0.0f)) return lt_light_delta(s.lights[li]) ? 1.0f : 0.0f;
     return power_heuristic(pdf, pdf_rev);
 }
 
@@ -165,7 +172,7 @@ LANTERN_HD inline float lt_sss_nee_weight(const SceneView& s, const PathState& p
         return 0.0f;
     if (bidir_nee_only(s, li) || (!geo_side && !unshadowed)) return 1.0f;
     const float pdf = lt_light_pdf(s, ps, i, li, tri, h.p, h.ng, h.ns, w_l);
-    if (!(pdf > 0.0f)) return 1.0f;  // a delta light
+    if (!(pdf > 0.0f)) return lt_light_delta(s.lights[li]) ? 1.0f : 0.0f;  // (lt_nee_weight)
     return power_heuristic(pdf, cos_i * kInvPi);
 }
 

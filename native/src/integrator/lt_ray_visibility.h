@@ -33,7 +33,9 @@
 namespace lantern {
 
 constexpr uint8_t kLtSurfaceKinds = kRayDiffuse | kRayGlossy | kRayTransmission;
-constexpr uint8_t kLtRaysNoWalk = 0x10;  // (y0's slot: E is read at k >= 1 only)
+// y0's slot (the high nibble E is read at k >= 1 only): a delta light's first segment makes
+// no bounce-ray vertex; the first segment passed some surface; one of them casts l a shadow.
+constexpr uint8_t kLtRaysNoWalk = 0x10, kLtRaysPassed = 0x20, kLtRaysBlocked = 0x40;
 
 // Whether lt reads ray visibility by kind (some object or lamp hidden from some kind).
 LANTERN_HD inline bool lt_rays_on(const SceneView& s) { return s.tri_rays || s.light_rays; }
@@ -43,47 +45,82 @@ LANTERN_HD inline void lt_rays_start(const PathState& ps, int i, const EmissionS
     ps.ray_kind[i] = es.delta_pos || es.delta_dir ? kLtRaysNoWalk : uint8_t(0);
 }
 
-// One step of slot i's walk at its hit on triangle tri (point p): true where the hit is the
-// next vertex (the throughput then carries the choice's weight), false where the slot passed
-// on (its ray continues past the hit) or ended (every kind sees some passed surface).
-LANTERN_HD inline bool lt_rays_step(const SceneView& s, const PathState& ps, int i, int tri,
-                                    Vec3 p) {
-    if (!s.tri_rays || tri >= s.num_triangles) return true;
-    const uint8_t seen = s.tri_rays[tri] & kLtSurfaceKinds;
-    if (seen == kLtSurfaceKinds) return true;  // every kind stops here
-    if (ps.depth[i] == 0 && (ps.ray_kind[i] & kLtRaysNoWalk)) return true;
-    Rng rng = ps.rng[i];
-    const bool stop = rng.uniform() < 0.5f;
-    ps.rng[i] = rng;
-    ps.throughput[i] = ps.throughput[i] * 2.0f;
-    if (stop) return true;
-    ps.ray_kind[i] |= seen;
-    if ((ps.ray_kind[i] & kLtSurfaceKinds) == kLtSurfaceKinds) return false;  // no kind passes
-    const Vec3 a = triangle_vertex(s, tri, 0), b = triangle_vertex(s, tri, 1),
-               c = triangle_vertex(s, tri, 2);
-    pt_pass_hidden(s, ps, i, p, normalize(cross(b - a, c - a)));
+// Whether pt's next event of y0's light still sees the first segment's y1 past what it passed:
+// some surface passed, each casting the light no shadow (lt_linking.h lt_shadow_passes).
+LANTERN_HD inline bool lt_rays_nee(uint8_t st) {
+    return (st & kLtRaysPassed) && !(st & kLtRaysBlocked);
+}
+
+// One step of slot i's walk at its hit on triangle or strand tri (point p): true where the hit
+// is the next vertex (the throughput then carries the choice's weight), false where the slot
+// passed on (its ray continues past the hit) or ended (no technique sees past it). `walk`: the
+// first segment of light li also walks past surfaces that cast li no shadow (lt_linking.h
+// lt_walks): there a hit is passed where pt's bounce ray (an R surface, some kind seeing none
+// passed) or pt's next event (every passed surface transparent to li) may see past it.
+LANTERN_HD inline bool lt_rays_step(const SceneView& s, const PathState& ps, int i, int li,
+                                    int tri, Vec3 p, bool walk) {
+    if (!s.tri_rays) return true;
+    const bool first = ps.depth[i] == 0, strand = tri >= s.num_triangles;
+    const uint8_t seen = strand ? kLtSurfaceKinds : uint8_t(s.tri_rays[tri] & kLtSurfaceKinds);
+    uint8_t st = ps.ray_kind[i];
+    walk = walk && first;
+    const bool nee = walk && !(st & kLtRaysBlocked) && lt_shadow_passes(s, li, tri);
+    const bool bsdf = seen != kLtSurfaceKinds && !(first && (st & kLtRaysNoWalk));
+    if (!nee && !bsdf) return true;  // every technique stops here
+    if (walk && ps.walk_passed(i) >= 255) return false;  // (a bound: never an endless walk)
+    if (!walk || bidir_links(s, li, tri)) {  // (an unlit hit is passed for sure: lt_walk_step)
+        Rng rng = ps.rng[i];
+        const bool stop = rng.uniform() < 0.5f;
+        ps.rng[i] = rng;
+        ps.throughput[i] = ps.throughput[i] * 2.0f;
+        if (stop) return true;
+    }
+    st |= seen;
+    if (first) st |= nee ? kLtRaysPassed : uint8_t(kLtRaysPassed | kLtRaysBlocked);
+    ps.ray_kind[i] = st;
+    if (!nee && (st & kLtSurfaceKinds) == kLtSurfaceKinds) return false;  // no kind passes
+    if (walk) ps.walk_passed(i) += 1;
+    if (strand) {  // on from the same origin past its entry, as lt_walk_step
+        const float t = ps.hit_t[i];
+        ps.ray_tmin[i] = t + 1e-5f * fmaxf(t, s.offset_scale);
+        ps.alive[i] = 1;
+        return false;
+    }
+    pt_pass_hidden(s, ps, i, p, triangle_geometric_normal(s, tri));
     return false;
 }
 
 // Whether a scattering at slot i's vertex y_{k+1} (depth k + 1, material m, geometric normal
-// ng) from the light side w_l toward the camera side w_c is of a kind pt's bounce ray from
-// y_{k+1} toward y_k has: seen by no passed surface, seeing y_k (at y1: light li).
+// ng) from the light side w_l toward the camera side w_c (`delta`: off a delta lobe) is of a
+// kind pt's bounce ray from y_{k+1} toward y_k has: seen by no passed surface, seeing y_k (at
+// y1: light li); at y1 past surfaces all transparent to li, a non-delta lobe of any kind (pt's
+// next event's share, lt_rays_weight).
 LANTERN_HD inline bool lt_rays_kind_ok(const SceneView& s, const PathState& ps, int i, int li,
-                                       const Material& m, Vec3 ng, Vec3 w_l, Vec3 w_c) {
+                                       const Material& m, Vec3 ng, Vec3 w_l, Vec3 w_c,
+                                       bool delta = false) {
     const uint8_t k = pt_scatter_kind(m, w_l, dot(w_c, ng) < 0.0f ? -ng : ng);
     const uint8_t st = ps.ray_kind[i];
-    if (st & k & kLtSurfaceKinds) return false;
+    if ((st & k & kLtSurfaceKinds) && !(ps.depth[i] == 1 && !delta && lt_rays_nee(st)))
+        return false;
     if (ps.depth[i] == 1) return !pt_light_hidden(s, li, k);
     return ((st >> 4) & k) != 0;
 }
 
-// The first segment's weight at y1 past R surfaces (ray_kind's P set): pt's bounce ray's
-// share of a non-delta lobe, 1 - w_nee; 1 elsewhere.
+// The first segment's weight at y1 past what it passed: pt's next event's share w_nee where
+// every passed surface casts li no shadow (a non-delta lobe), plus pt's bounce ray's where
+// every passed surface is hidden from the scattering's kind (1 - w_nee for a non-delta lobe, 1
+// for a delta one; none from a delta light); 1 at the first hit.
 LANTERN_HD inline float lt_rays_weight(const SceneView& s, const PathState& ps, int i, int li,
                                        int tri, const Material& m, const SurfaceHit& h, Vec3 w_l,
                                        Vec3 w_c, float pdf_rev, bool delta) {
-    if (ps.depth[i] != 1 || delta || !(ps.ray_kind[i] & kLtSurfaceKinds)) return 1.0f;
-    return fmaxf(0.0f, 1.0f - lt_nee_weight(s, ps, i, li, tri, m, h, w_l, w_c, pdf_rev));
+    const uint8_t st = ps.ray_kind[i];
+    if (ps.depth[i] != 1 || !(st & kLtRaysPassed)) return 1.0f;
+    const uint8_t k = pt_scatter_kind(m, w_l, dot(w_c, h.ng) < 0.0f ? -h.ng : h.ng);
+    const bool bsdf = !(st & kLtRaysNoWalk) && !(st & k & kLtSurfaceKinds);
+    const bool nee = !delta && lt_rays_nee(st);
+    if (delta || nee == bsdf) return bsdf ? 1.0f : 0.0f;  // (both: w_nee + w_bsdf = 1)
+    const float w = lt_nee_weight(s, ps, i, li, tri, m, h, w_l, w_c, pdf_rev);
+    return nee ? w : fmaxf(0.0f, 1.0f - w);
 }
 
 // After y_{k+1}'s scattering: the next segment starts with nothing passed, E = its kinds.
