@@ -164,13 +164,25 @@ def test_volume_mesh_matches_pt(pt_refs, integrator, case):
     assert not control.passed
 
 
-@pytest.mark.parametrize("integrator", ["bdpt", "lt"])
+@pytest.mark.parametrize("integrator", ["bdpt", "lt", "surface"])
 def test_volume_mesh_without_shadow_hands_over(core, integrator):
     """lt's Cast Shadow off in media stays pt's, as does bdpt's volume's mesh that casts no
     shadow beside a soft-falloff light (its light paths' first segment takes the shadow query,
-    soft_light_medium.h; allocation.cpp): same bits."""
+    soft_light_medium.h; allocation.cpp) and a glass surface with fog inside that casts no
+    shadow ("surface", untested): same bits."""
     s = obj("box", on=False)
     s.meshes[-1]["cast_shadow"] = False  # the fog box
+    if integrator == "surface":
+        glass = s.add_material("glass_fog", type="dielectric", base_color=(1.0, 1.0, 1.0),
+                               roughness=0.0)
+        s.materials[glass]["volume"] = dict(FOG)  # ball B: glass with fog inside
+        s.meshes[3]["material_ids"][:] = glass
+        s.meshes[3]["cast_shadow"] = False
+        s.meshes[-1]["cast_shadow"] = True
+        img, warnings = render(s, "bdpt", 7, spp=2)
+        assert any("a surface with a volume that casts no shadow" in w for w in warnings), warnings
+        np.testing.assert_array_equal(img, render(s, "pt", 7, spp=2)[0])
+        return
     if integrator == "bdpt":
         s.add_light("point", to_world=[[1, 0, 0, 0.5], [0, 1, 0, 0], [0, 0, 1, 1.5],
                                        [0, 0, 0, 1]], power=[20.0] * 3, radius=0.1,

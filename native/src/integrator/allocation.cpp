@@ -297,11 +297,16 @@ std::string bidir_visibility_reason(const SceneInput& in, bool light_tracer) {
             if (light_tracer) return v + " with " + u;
             // a volume's mesh that casts no shadow: s = 1 traces both queries
             // (bidir_no_shadow_medium.h); not beside a soft-falloff light, whose light paths'
-            // first segment takes the shadow query (soft_light_medium.h)
+            // first segment takes the shadow query (soft_light_medium.h), nor a surface with a
+            // volume inside (untested)
             for (const MeshInput& m : in.meshes)
                 for (uint32_t k : m.material_ids)
                     if (!m.cast_shadow && k < in.materials.size() &&
-                        (in.materials[k].medium >= 0 || in.materials[k].volume_only))
+                        in.materials[k].medium >= 0 && !in.materials[k].volume_only)
+                        return "a surface with a volume that casts no shadow (mesh '" + m.name +
+                               "')";
+                    else if (!m.cast_shadow && k < in.materials.size() &&
+                             in.materials[k].volume_only)
                         for (const LightInput& l : in.lights)
                             if ((l.type == "point" || l.type == "spot") && l.soft_falloff &&
                                 l.radius > 0.0f)
