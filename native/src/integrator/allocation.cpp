@@ -283,8 +283,8 @@ std::string bidir_visibility_reason(const SceneInput& in, bool light_tracer) {
     // (their shadow query passes a non-casting strand as a triangle), with subsurface
     // scattering too (a walk's exit is a surface vertex, bdpt_sss.h), beside shadow linking,
     // beside media, both at once (a shadow-linked light's next event is its only technique:
-    // the ratio is 1), shadow linking with subsurface scattering; not where the object is a
-    // volume's mesh in media: its shadow rays would cross other media than its BSDF rays.
+    // the ratio is 1), shadow linking with subsurface scattering, a volume's mesh in media (its
+    // shadow rays cross other media than its BSDF rays: bidir_no_shadow_medium.h).
     // lt too (lt_linking.h, shadow linking and subsurface scattering beside it there), not
     // with media or strands
     if (light_tracer)
@@ -295,11 +295,23 @@ std::string bidir_visibility_reason(const SceneInput& in, bool light_tracer) {
                 if (!c.cast_shadow) return v;
         if (std::string u = media_reason(in); !u.empty()) {
             if (light_tracer) return v + " with " + u;
+            // a volume's mesh that casts no shadow: s = 1 traces both queries
+            // (bidir_no_shadow_medium.h); not beside a soft-falloff light, whose light paths'
+            // first segment takes the shadow query (soft_light_medium.h), nor a surface with a
+            // volume inside (untested)
             for (const MeshInput& m : in.meshes)
                 for (uint32_t k : m.material_ids)
                     if (!m.cast_shadow && k < in.materials.size() &&
-                        (in.materials[k].medium >= 0 || in.materials[k].volume_only))
-                        return "a volume's mesh that casts no shadow (mesh '" + m.name + "')";
+                        in.materials[k].medium >= 0 && !in.materials[k].volume_only)
+                        return "a surface with a volume that casts no shadow (mesh '" + m.name +
+                               "')";
+                    else if (!m.cast_shadow && k < in.materials.size() &&
+                             in.materials[k].volume_only)
+                        for (const LightInput& l : in.lights)
+                            if ((l.type == "point" || l.type == "spot") && l.soft_falloff &&
+                                l.radius > 0.0f)
+                                return "a volume's mesh that casts no shadow (mesh '" + m.name +
+                                       "') with a soft-falloff light (light '" + l.name + "')";
         }
     }
     const std::string all = ray_visibility_reason(in);

@@ -26,8 +26,8 @@
 // shadow-linked light's s = 1 is the only technique where x1 is no delta (weights 0: ratio 1),
 // its shadow ray pt's (pt_occluded_linked with the shadow query), in media too (the ratio is
 // 1 there); a non-casting strand as a triangle (the shadow query skips it, the ordinary one
-// stops at it); non-casters that are volume boundaries in media stay pt's (allocation.cpp
-// bidir_visibility_reason; docs/lvc_notes.md). lt: lt_linking.h. A subsurface walk's exit
+// stops at it); a non-caster that is a volume boundary in media: both queries traced through
+// the media, T' V' - T V at pt's weight (bidir_no_shadow_medium.h). lt: lt_linking.h. A subsurface walk's exit
 // (bdpt_sss.h) is a camera vertex like any: its s = 1 takes the same ratio (its dVCM, the
 // light-held set's, is part of w_camera), beside shadow linking too.
 #pragma once
@@ -65,9 +65,9 @@ LANTERN_HD inline Vec3 bidir_nee_value(const PathState& ps, const BdptState& bs,
 
 // In a scene with media (bdpt_shadow_medium): whether a surface other than a volume boundary
 // blocks segment o -> o + d tmax for the ordinary query `indirect` (the next event's V; the
-// shadow query's V' and the transmittance come from bdpt_medium_shadow; a strand blocks). A
-// non-caster that is a volume boundary stays pt's (allocation.cpp), so both queries cross the
-// same media.
+// shadow query's V' and the transmittance come from bdpt_medium_shadow; a strand blocks), where
+// no non-caster is a volume boundary (both queries cross the same media; else
+// bidir_no_shadow_medium.h).
 template <class Rays, class Kind>
 LANTERN_HD inline bool bidir_medium_blocked(const SceneView& s, const Rays& rays, Kind indirect,
                                             Vec3 o, Vec3 d, float tmax, float time) {

@@ -14,6 +14,7 @@
 
 #include "integrator/bdpt.h"
 #include "integrator/bidir_no_shadow.h"
+#include "integrator/bidir_no_shadow_medium.h"
 #include "integrator/wavefront.h"
 #include "integrator/wavefront_motion.h"
 
@@ -91,8 +92,12 @@ LANTERN_HD inline void bdpt_shadow_medium(const SceneView& s, const Rays& rays,
             s, rays, RayKind::kShadow, ps.shadow_o[i], ps.shadow_d[i], ps.shadow_tmax[i],
             ps.shadow_medium[i], (kind & kConnNearMedium) != 0, false, &track, time,
             pt_shadow_linked(s, li) ? s.light_blockers[li] : kAllReceivers);
-        // an object without shadows (bidir_no_shadow.h): where only it blocks, pt's weight
-        if (!is_black(sh.tr) && s.no_shadow_objects &&
+        // an object without shadows (bidir_no_shadow.h): where only it blocks, pt's weight;
+        // a volume's mesh among them: both queries (bidir_no_shadow_medium.h)
+        if (s.no_shadow_objects == 2)
+            add_radiance(ps, i, bidir_no_shadow_boundary_c(s, rays, RayKind::kIndirect, ps, bs,
+                                                           i, sh.tr, time));
+        else if (!is_black(sh.tr) && s.no_shadow_objects &&
             bidir_medium_blocked(s, rays, RayKind::kIndirect, ps.shadow_o[i], ps.shadow_d[i],
                                  ps.shadow_tmax[i], time))
             add_radiance(ps, i, bidir_no_shadow_medium_c(ps.shadow_contrib[i], sh.tr,

@@ -199,6 +199,11 @@ void HostScene::build_media(const SceneInput& in) {
     for (size_t t = 0; t < indices_.size() / 3; ++t)
         if (tri_material_[t] < in.materials.size() && in.materials[tri_material_[t]].volume_only)
             tri_flags_[t] |= kVolumeBoundary;
+    for (uint8_t f : tri_flags_)  // a volume's mesh that casts no shadow (bidir_no_shadow.h)
+        if (!(f & kCastShadow) && (f & kVolumeBoundary)) {
+            view_.no_shadow_objects = 2;
+            break;
+        }
     view_.tri_flags = tri_flags_.data();
     view_.media = media_.empty() ? nullptr : media_.data();
     view_.num_media = int32_t(media_.size());

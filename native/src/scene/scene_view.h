@@ -399,7 +399,8 @@ struct SceneView {
     // 1: some material scatters under its surface (pt's walk stage runs: integrator/pt_sss.h)
     int32_t has_subsurface = 0;
     // 1: some triangle casts no shadow (Cast Shadow off on its object): the bidirectional
-    // integrators' next event and connections tell the two queries apart (bidir_no_shadow.h)
+    // integrators' next event and connections tell the two queries apart (bidir_no_shadow.h);
+    // 2: some of them bound a volume (next event traces both queries through the media)
     int32_t no_shadow_objects = 0;
     // lt's adjoint walk's negative controls for tests (integrator/lt_sss.h; LANTERN_SSS_ADJOINT:
     // 1 "lambert", the exit as the camera side's white Lambert lobe; 2 "nocos", without 1 / |cos|)
