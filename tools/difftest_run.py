@@ -149,10 +149,36 @@ def render_cycles(bounces, seeds, spp, threads):
     return out
 
 
+_investigate = difftest.investigate
+
+
+def investigate(case, st, out_dir, max_evals, shrink=True, mutate=None, say=print, **kwargs):
+    """difftest.investigate; with --no-shrink only its confirmation, and the case saved as
+    drawn (difftest.investigate renders the unshrunk case a third time, at seeds 3001..)."""
+    if shrink:
+        return _investigate(case, st, out_dir, max_evals, shrink, mutate, say, **kwargs)
+    from dataclasses import asdict
+    conf = run_case(case, st, base=1000, spp_factor=2, mutate=mutate, controls=False)
+    say(f"  confirm (seeds 1001.., 2x spp): {conf.line()}")
+    info = {"first": None, "confirm": asdict(conf), "tags": difftest.known_tags(case),
+            "describe": difftest.ds.describe(case)}
+    if conf.status not in ("differ", "nonfinite"):
+        info["verdict"] = "not confirmed"
+        return info
+    info["class"] = "known" if difftest.explaining_tags(case) else "new"
+    info["verdict"] = ("confirmed (known tag)" if info["class"] == "known" else
+                       "confirmed (not shrunk)")
+    info["command"] = difftest.save_case(case, st, out_dir, f"case-{case['profile']}-"
+                                         f"{case['seed']}-original", info)
+    say(f"  {info['verdict']}; reproduce: {info['command']}")
+    return info
+
+
 difftest.parse = parse
 difftest.compare = compare   # run_case, the confirmation and the shrinker read it from there
 difftest.cycles_settings = cycles_settings   # render_cycles reads it from there
 difftest.run_case = run_case   # main and investigate read these from there
+difftest.investigate = investigate
 difftest.render_cycles = render_cycles
 
 
