@@ -3,7 +3,10 @@ a choice of features (docs/difftest.md). The same options and log; --integrator'
 are wider, and --want TAG (repeatable; "new" for every difftest_features3 tag, "new5" for every
 difftest_features5 tag, "new6" for difftest_features6's) runs only the
 seeds whose case has one of the tags (the others are skipped, not logged), one case at a time
-through difftest.main (--resume: each seed once). A wrapper, not an edit of difftest.py,
+through difftest.main (--resume: each seed once); --and TAG (repeatable): and one of these
+too; --integrators a,b,...: each such seed with each integrator in turn, logged in
+OUT/<integrator>; --cycles-cache DIR: Cycles' renders of a case kept there and reused (one
+Cycles side for all the integrators of a case). A wrapper, not an edit of difftest.py,
 whose digest keys the CI slice's stored Cycles side (tests/cycles/test_difftest.py): changing
 it would make every stored reference stale. Its verdict adds "inconclusive" (verdict(): a case
 that agrees only because the image mean's margin is over INCONCLUSIVE_MARGIN), and its Cycles
@@ -89,9 +92,128 @@ def cycles_settings(sc, seed, spp, bounces, threads):
         sc.cycles.min_transparent_bounces = sc.cycles.transparent_max_bounces
 
 
+# Cycles' side of a case kept on disk (--cycles-cache DIR): one case rendered with several
+# integrators (--integrators) or confirmed for two of them renders Cycles once. Cycles with a
+# fixed seed is deterministic, and its scene is built from the case alone
+# (difftest_build.build), so the key is the case, what render_cycles is given, the roulette
+# setting and the files that build the scene and set Cycles up. Live renders only, as above.
+CYCLES_CACHE = None
+_CASE = None
+_run_case = difftest.run_case
+_render_cycles = difftest.render_cycles
+_SOURCES = ("difftest.py", "difftest_build.py", "difftest_scene.py", "difftest_graph.py",
+            "difftest_features.py", "difftest_features2.py", "difftest_features3.py",
+            "difftest_features4.py", "difftest_features5.py", "difftest_features6.py",
+            "render_compare.py")
+
+
+def run_case(case, st, *args, **kwargs):
+    """difftest.run_case, the case kept for render_cycles' cache key."""
+    global _CASE
+    _CASE = case
+    try:
+        return _run_case(case, st, *args, **kwargs)
+    finally:
+        _CASE = None
+
+
+def cycles_key(case, bounces, seeds, spp, threads):
+    """The cache's key (hex) of Cycles' renders of `case`."""
+    import hashlib
+    import json
+    import bpy
+    h = hashlib.sha256()
+    for f in _SOURCES:
+        with open(os.path.join(os.path.dirname(os.path.abspath(__file__)), f), "rb") as fh:
+            h.update(hashlib.sha256(fh.read()).digest())
+    h.update(json.dumps(dict(case=case, bounces=bounces, seeds=list(seeds), spp=spp,
+                             threads=threads, roulette=CYCLES_ROULETTE,
+                             bpy=bpy.app.version_string), sort_keys=True).encode())
+    return h.hexdigest()
+
+
+def render_cycles(bounces, seeds, spp, threads):
+    """difftest.render_cycles, read from CYCLES_CACHE where it holds the case's renders."""
+    if CYCLES_CACHE is None or _CASE is None:
+        return _render_cycles(bounces, seeds, spp, threads)
+    path = os.path.join(CYCLES_CACHE, cycles_key(_CASE, bounces, seeds, spp, threads) + ".npz")
+    if os.path.exists(path):
+        with np.load(path) as z:
+            print(f"  (Cycles' side from the cache: {os.path.basename(path)[:12]})", flush=True)
+            return [np.asarray(x, np.float64) for x in z["images"]]
+    out = _render_cycles(bounces, seeds, spp, threads)
+    os.makedirs(CYCLES_CACHE, exist_ok=True)
+    tmp = path + f".{os.getpid()}.tmp.npz"
+    np.savez_compressed(tmp, images=np.stack(out))
+    os.replace(tmp, path)
+    return out
+
+
+# A view-dependent graph (Incoming, Reflection, Fresnel, Layer Weight, Camera, ...: the
+# generator's difftest_graph.VIEW_DEPENDENT sources and nodes) on a surface: at a light
+# sub-path's vertex the view is where the light came from, so bdpt, lvc, cis, lt (and auto's
+# cis) differ from pt and Cycles there by design (docs/nodes.md). A tag of this wrapper's, for
+# runs of those integrators only (difftest7's 41028: a floor's Base Color = Geometry Incoming,
+# bdpt +6 %, pt agrees), and not in difftest_known.KNOWN (the ci profile draws such graphs:
+# a KNOWN tag would redraw the CI slice's scenes). --avoid it to leave such cases out.
+VIEW_TAG = "view-dependent graph (bidirectional)"
+_dk_tags = difftest.dk.tags
+
+
+def view_dependent(case):
+    """Whether a surface material's graph reads a view-dependent source or node."""
+    import difftest_graph as dg
+    for g in case["materials"].values():
+        nodes = g.get("nodes", {})
+        if any(n["type"] in dg.VIEW_DEPENDENT_NODES for n in nodes.values()):
+            return True
+        for link in g.get("links", []):
+            if link[0] in nodes and (nodes[link[0]]["type"], link[1]) in dg.VIEW_DEPENDENT:
+                return True
+    return False
+
+
+def tags(case):
+    """difftest_known.tags, and VIEW_TAG where a run's integrator is not pt (BIDIR)."""
+    found = _dk_tags(case)
+    if BIDIR and view_dependent(case):
+        found.add(VIEW_TAG)
+    return found
+
+
+BIDIR = False
+_investigate = difftest.investigate
+
+
+def investigate(case, st, out_dir, max_evals, shrink=True, mutate=None, say=print, **kwargs):
+    """difftest.investigate; with --no-shrink only its confirmation, and the case saved as
+    drawn (difftest.investigate renders the unshrunk case a third time, at seeds 3001..)."""
+    if shrink:
+        return _investigate(case, st, out_dir, max_evals, shrink, mutate, say, **kwargs)
+    from dataclasses import asdict
+    conf = run_case(case, st, base=1000, spp_factor=2, mutate=mutate, controls=False)
+    say(f"  confirm (seeds 1001.., 2x spp): {conf.line()}")
+    info = {"first": None, "confirm": asdict(conf), "tags": difftest.known_tags(case),
+            "describe": difftest.ds.describe(case)}
+    if conf.status not in ("differ", "nonfinite"):
+        info["verdict"] = "not confirmed"
+        return info
+    info["class"] = "known" if difftest.explaining_tags(case) else "new"
+    info["verdict"] = ("confirmed (known tag)" if info["class"] == "known" else
+                       "confirmed (not shrunk)")
+    info["command"] = difftest.save_case(case, st, out_dir, f"case-{case['profile']}-"
+                                         f"{case['seed']}-original", info)
+    say(f"  {info['verdict']}; reproduce: {info['command']}")
+    return info
+
+
 difftest.parse = parse
 difftest.compare = compare   # run_case, the confirmation and the shrinker read it from there
 difftest.cycles_settings = cycles_settings   # render_cycles reads it from there
+difftest.run_case = run_case   # main and investigate read these from there
+difftest.investigate = investigate
+difftest.dk.tags = tags   # difftest_scene.generate and the log's known tags read it there
+difftest.render_cycles = render_cycles
 
 
 def _take(argv, flag):
@@ -108,13 +230,19 @@ def _take(argv, flag):
 
 
 def main(argv=None):
-    global CYCLES_ROULETTE
+    global CYCLES_ROULETTE, CYCLES_CACHE, BIDIR
     argv = list(sys.argv[1:] if argv is None else argv)
     if "--cycles-roulette" in argv:   # Cycles' default Min Light Bounces (0): D51 shows
         argv.remove("--cycles-roulette")
         CYCLES_ROULETTE = True
+    cache, argv = _take(argv, "--cycles-cache")
+    if cache:
+        CYCLES_CACHE = cache[-1]
     want, argv = _take(argv, "--want")
+    also, argv = _take(argv, "--and")
+    several, argv = _take(argv, "--integrators")
     if not want:
+        BIDIR = parse(argv).integrator != "pt"
         return difftest.main(argv)
     import difftest_features as df
     import difftest_features3 as f3
@@ -124,7 +252,18 @@ def main(argv=None):
     groups = {"new": f3.FEATURES, "new5": f5.FEATURES,   # a batch's tags by one word
               "new6": f6.FEATURES}
     want = set().union(*(set(groups.get(w, {w})) for w in want))
+    also = set().union(*(set(groups.get(w, {w})) for w in also))
+    integrators = [i for w in several for i in w.split(",") if i]
+    for i in integrators:
+        if i not in INTEGRATORS:
+            sys.exit(f"--integrators {i}: one of {', '.join(INTEGRATORS)}")
     args = parse(argv)
+    BIDIR = any(i != "pt" for i in integrators or [args.integrator])
+    if integrators:   # each wanted seed with each in turn, logged in OUT/<integrator>
+        _, argv = _take(argv, "--out")
+        _, argv = _take(argv, "--integrator")
+    runs = ([(i, os.path.join(args.out, i)) for i in integrators] or
+            [(args.integrator, args.out)])
     avoid = set(args.avoid) | (set(difftest.dk.KNOWN) - set(args.allow)
                                if args.avoid_known else set())
     base, _ = _take(argv, "--seed")
@@ -136,18 +275,23 @@ def main(argv=None):
         seed += 1
         if seed > first + 20 * args.cases:
             break
-        if not df.features(ds.generate(seed, args.profile, args.size, avoid)) & want:
+        tags = df.features(ds.generate(seed, args.profile, args.size, avoid))
+        if not tags & want or (also and not tags & also):
             continue
-        logged = {e["seed"] for e in difftest.read_log(args.out)
-                  if e.get("settings", {}).get("integrator") == args.integrator}
         ran += 1
-        if seed in logged:
-            continue
-        if args.until and _now() > until_time(args.until):
-            print(f"deadline {args.until} UTC: stopped")
-            break
-        difftest.main(_until_today(argv) + ["--resume", "--seed", str(seed),
-                                            "--cases", str(len(difftest.read_log(args.out)) + 1)])
+        for integrator, out in runs:
+            logged = {e["seed"] for e in difftest.read_log(out)
+                      if e.get("settings", {}).get("integrator") == integrator}
+            if seed in logged:
+                continue
+            if args.until and _now() > until_time(args.until):
+                print(f"deadline {args.until} UTC: stopped")
+                return 0
+            extra = ["--integrator", integrator, "--out", out] if integrators else []
+            if integrators:
+                print(f"== {integrator}", flush=True)
+            difftest.main(_until_today(argv) + extra + [
+                "--resume", "--seed", str(seed), "--cases", str(len(difftest.read_log(out)) + 1)])
     return 0
 
 

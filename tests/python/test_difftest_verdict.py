@@ -84,3 +84,49 @@ def test_until_past_midnight():
     assert difftest_run.until_time("20:00", now) == now.replace(hour=20, minute=0)
     early = now.replace(hour=2, minute=0)
     assert difftest_run.until_time("07:38", early) == early.replace(hour=7, minute=38)
+
+
+def test_cycles_cache_renders_a_case_once(tmp_path, monkeypatch):
+    """--cycles-cache (difftest7): Cycles' renders of a case are kept and read back, so the
+    integrators of --integrators share one Cycles side; another case (or other seeds) renders
+    again. The control: without the cache every call renders."""
+    import pytest
+    pytest.importorskip("bpy")
+    calls = []
+
+    def fake(bounces, seeds, spp, threads):
+        calls.append(tuple(seeds))
+        return [np.full((2, 2, 3), float(s) + 0.25) for s in seeds]
+    monkeypatch.setattr(difftest_run, "_render_cycles", fake)
+    monkeypatch.setattr(difftest_run, "CYCLES_CACHE", None)
+    case = {"seed": 1, "bounces": 2, "objects": [], "lights": [], "materials": {}}
+    monkeypatch.setattr(difftest_run, "_CASE", case)
+    difftest.render_cycles(2, [1, 2], 4, 1)
+    difftest.render_cycles(2, [1, 2], 4, 1)
+    assert len(calls) == 2   # the control: no cache, two renders
+    monkeypatch.setattr(difftest_run, "CYCLES_CACHE", str(tmp_path))
+    a = difftest.render_cycles(2, [1, 2], 4, 1)
+    b = difftest.render_cycles(2, [1, 2], 4, 1)
+    assert len(calls) == 3 and all(np.array_equal(x, y) for x, y in zip(a, b))
+    difftest.render_cycles(2, [3, 4], 4, 1)   # other seeds
+    monkeypatch.setattr(difftest_run, "_CASE", dict(case, seed=2))   # another case
+    difftest.render_cycles(2, [1, 2], 4, 1)
+    assert calls[3:] == [(3, 4), (1, 2)]
+
+
+def test_view_dependent_tag_for_bidirectional_runs(monkeypatch):
+    """The wrapper's VIEW_TAG (difftest7's 41028): a surface graph reading Geometry Incoming is
+    tagged in a run of a bidirectional integrator, not in pt's, and a graph without a
+    view-dependent source is not."""
+    graph = {"nodes": {"n0": {"type": "ShaderNodeBsdfDiffuse", "props": {}, "inputs": {}},
+                       "n1": {"type": "ShaderNodeNewGeometry", "props": {}, "inputs": {}}},
+             "links": [["n1", "Incoming", "n0", "Color"]], "out": ["n0", "BSDF"]}
+    case = {"objects": [], "lights": [], "materials": {"m": graph}}
+    plain = dict(case, materials={"m": dict(graph, links=[["n1", "Position", "n0", "Color"]])})
+    assert difftest_run.view_dependent(case) and not difftest_run.view_dependent(plain)
+    monkeypatch.setattr(difftest_run, "_dk_tags", lambda c: set())
+    monkeypatch.setattr(difftest_run, "BIDIR", False)
+    assert difftest.dk.tags(case) == set()
+    monkeypatch.setattr(difftest_run, "BIDIR", True)
+    assert difftest.dk.tags(case) == {difftest_run.VIEW_TAG}
+    assert difftest.dk.tags(plain) == set()
