@@ -17,6 +17,8 @@ the floor's left under the 1.6 m area lamp), max_depth 4, in test_linking_media.
 - world_diffuse: world fog, the slab hidden from Diffuse rays (surface vertices in fog);
 - world_lamp: world fog, the lamp hidden from Volume Scatter rays (it lights no fog directly;
   light paths never leave it);
+- world_lamp_glossy: world fog, ball B a rough metal, the lamp hidden from Glossy rays (pt's
+  weights on every path ending on it, phase and diffuse vertices too: no flight factor);
 - box_inside: a fog box (a mesh volume) around the floor, the balls and the slab, its top under
   the lamp, the slab inside it hidden from Volume Scatter rays;
 - box_crossing: the fog box reaching past the wall (y 1.5 .. 2), which crosses its top and
@@ -64,6 +66,18 @@ def world_lamp(on=True):
     return s
 
 
+def world_lamp_glossy(on=True):
+    """The lamp hidden from Glossy rays, ball B a rough metal: in fog every path ending on the
+    lamp takes pt's weights (an R light), at medium vertices and diffuse ones too."""
+    s = _world(room("red", slab=True))
+    metal = s.add_material("metal", type="conductor", base_color=(0.9, 0.9, 0.9),
+                           roughness=0.3)
+    s.meshes[3]["material_ids"] = np.full(len(s.meshes[3]["indices"]), metal, np.uint32)
+    if on:
+        s.lights[0]["visible_glossy"] = False
+    return s
+
+
 def box_inside(on=True):
     s = room("red", slab=True)
     _volume_box(s, "fog", dict(FOG), (-2.5, -2.5, -0.1), (2.5, 1.4, 1.3))
@@ -92,8 +106,8 @@ def grid(on=True):
     return s
 
 
-CASES = {f.__name__: f for f in (world_volume, world_diffuse, world_lamp, box_inside,
-                                 box_crossing, grid)}
+CASES = {f.__name__: f for f in (world_volume, world_diffuse, world_lamp, world_lamp_glossy,
+                                 box_inside, box_crossing, grid)}
 
 
 def renders(name, integrator, seed0, on=True):
