@@ -175,3 +175,26 @@ def test_with_linking_hands_over(core):
     t = world_volume()
     t.lights[0]["cast_shadow"] = False
     np.testing.assert_array_equal(img, render(t, "pt", 7, spp=2)[0])
+
+
+@pytest.mark.parametrize("integrator", ["bdpt", "lvc", "cis"])
+def test_hidden_from_volume_scatter_lights_no_fog(core, integrator):
+    """Exact: world fog lit only by a lamp (test_lamp_visibility.py) or an emissive floor
+    (test_fog_object_visibility.py) hidden from Volume Scatter rays is black in every technique
+    (the medium next event skips it, phase rays pass or do not see it, no light sub-path leaves
+    an R light); the controls, hidden from the surface kinds instead, light it."""
+    import test_fog_object_visibility as fo
+    import test_lamp_visibility as la
+
+    def floor(kinds):  # (casting shadows: no Cast Shadow off beside it, still pt's here)
+        s = fo.fog_scene(fo.hidden(*kinds), emission=1.0, lamp=False)
+        s.meshes[0]["cast_shadow"] = True
+        return s
+    for dark_scene, lit_scene in (
+            (la.fog_scene(la.hidden("volume_scatter")), la.fog_scene(la.hidden("diffuse"))),
+            (floor(["volume_scatter"]), floor(fo.SURFACE_KINDS))):
+        dark, warnings = la.render(dark_scene, spp=4, integrator=integrator)
+        assert not warnings, warnings  # rendered by the integrator itself
+        assert dark.max() == 0.0
+        lit, _ = la.render(lit_scene, spp=4, integrator=integrator)
+        assert lit[..., :3].mean() > 1e-3
