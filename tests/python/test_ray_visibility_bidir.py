@@ -26,8 +26,9 @@ camera; max_depth 4).
   leave it). bdpt, lvc
   and cis render both themselves: paths that meet a hidden object past the camera's segment,
   or end on the hidden lamp, take pt's two techniques. The control (every object and the lamp
-  seen by every kind) must fail. Media and subsurface scattering stay pt's (beside light and
-  shadow linking and Cast Shadow off: test_ray_visibility_linking.py); lt renders ray
+  seen by every kind) must fail. Subsurface scattering stays pt's (beside media:
+  test_ray_visibility_media.py; beside light and shadow linking and Cast Shadow off:
+  test_ray_visibility_linking.py); lt renders ray
   visibility on surfaces itself (integrator/lt_ray_visibility.h; against pt:
   test_lt_ray_visibility.py), beside a lamp's Cast Shadow off it hands over."""
 import sys

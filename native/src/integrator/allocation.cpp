@@ -338,7 +338,10 @@ std::string bidir_visibility_reason(const SceneInput& in, bool light_tracer) {
     // (lt_ray_visibility.h), beside linking and Cast Shadow off too (its first segment's one
     // walk, lt_rays_step), not with strands (their vertices' kinds unchecked), nor a
     // soft-falloff light beside an object hidden from some kind (its lines' first segment
-    // cannot walk); media and subsurface walks stay pt's
+    // cannot walk); subsurface walks stay pt's. Beside media (world fog, mesh volumes,
+    // homogeneous or heterogeneous): bdpt, lvc and cis (bidir_ray_visibility.h,
+    // bdpt_medium_stages.h), not beside linking or Cast Shadow off there (not checked
+    // together); lt not
     if (other) {
         const std::string rays = "object or lamp ray visibility";
         if (light_tracer) {
@@ -354,7 +357,14 @@ std::string bidir_visibility_reason(const SceneInput& in, bool light_tracer) {
                     l.radius > 0.0f)
                     return lt_rays + " with a soft-falloff light (light '" + l.name + "')";
         }
-        if (std::string v = media_reason(in); !v.empty()) return rays + " with " + v;
+        if (std::string v = media_reason(in); !v.empty()) {
+            if (light_tracer) return rays + " with " + v;
+            bool rules = shadow || unshadowed || !no_shadow_object_reason(in).empty();
+            for (const MeshInput& m : in.meshes)
+                rules |= m.light_set != 0 || m.emitter_receivers != kAllReceivers;
+            for (const LightInput& l : in.lights) rules |= l.receivers != kAllReceivers;
+            if (rules) return rays + " with linking or Cast Shadow off beside " + v;
+        }
         if (std::string v = subsurface_reason(in); !v.empty()) return rays + " with " + v;
     }
     // light and shadow linking and a lamp's Cast Shadow off with media: bdpt, lvc, cis

@@ -106,9 +106,9 @@ LANTERN_HD inline void bdpt_camera_nee(const SceneView& s, const PathState& ps,
     float w_camera =
         geo_side ? mis(st.r * pdf_lp / pdf_nee) * (dvcm_z + z.dvc * mis(e.pdf_rev_w)) : 0.0f;
     if (L) bidir_nee_weights(s, ps, i, pick.light, unshadowed, w_light, w_camera);  // (linking)
-    // (a restricted path, an R light: pt's two techniques, bidir_ray_visibility.h)
-    if (rays && (bidir_restricted(s, ps, i) || bidir_light_restricted(s, pick.light)))
-        w_camera = 0.0f;
+    // (a restricted path, an R light: pt's two techniques and weights, bidir_ray_visibility.h)
+    const bool pt_w = rays && bidir_rays_pt_nee(s, ps, i, pick.light);
+    if (pt_w) w_camera = 0.0f;
     bidir_no_shadow_ratio(s, bs, i, w_light, w_camera);  // (objects without shadows)
     float w = 1.0f / (w_light + 1.0f + w_camera);
     float cos_i = fabsf(dot(ls.wi, z.h.ns));
@@ -145,7 +145,7 @@ LANTERN_HD inline void bdpt_camera_nee(const SceneView& s, const PathState& ps,
     ps.shadow_valid[i] = 1;
     if (s.num_media > 0) {  // its weight finished at the shadow test (bdpt_medium_stages.h)
         bs.shadow_wn[i] = w_camera;
-        bs.shadow_wf[i] = w_light;
+        bs.shadow_wf[i] = pt_w ? 0.0f : w_light;  // (pt's weight: no flight factor)
         bs.shadow_kind[i] = (st.moments ? kMomOn | kMomFar | kMomOwnB : 0) |
                             (soft ? kConnNearFixed : 0);  // (F(c -> z) is in pdf_lp)
         if (st.moments) bs.shadow_mom[i] = Vec3{w_light, 1.0f, 1.0f};

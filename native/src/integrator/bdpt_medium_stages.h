@@ -18,6 +18,7 @@
 #pragma once
 
 #include "integrator/bdpt_curve.h"  // strand vertices (the connection's cosines)
+#include "integrator/bdpt_camera_emission.h"  // bidir_rays_nee_ratio (ray kinds)
 #include "integrator/bdpt_medium.h"
 #include "integrator/bdpt_medium_light.h"  // the light pass
 #include "integrator/bdpt_motion.h"        // bdpt_emitter_time
@@ -117,6 +118,7 @@ LANTERN_HD inline void bdpt_camera_emission_medium(const SceneView& s, const Pat
         const Light& l = s.lights[s.hittable_lights[k]];
         if (camera && !l.visible_camera) continue;
         if (!bidir_emission_counts(s, ps, i, s.hittable_lights[k])) continue;  // (linking)
+        if (pt_lamp_unseen(s, ps, i, s.hittable_lights[k])) continue;  // (ray kinds)
         LightHit h = intersect_light(l, o, d, tmin, t_stop);
         if (!h.hit || is_black(h.le)) continue;
         MediumSegmentPdf seg = seg0;
@@ -131,6 +133,10 @@ LANTERN_HD inline void bdpt_camera_emission_medium(const SceneView& s, const Pat
         float w = bdpt_emission_weight_medium(s, ps, bs, st, i, l, o + d * h.t, false, h.n, seg,
                                               &nee, soft);
         w = bidir_pt_weight_medium(s, ps, i, s.hittable_lights[k], seg, w, nee);
+        if (w > 0.0f && bidir_rays_on(s) && bidir_rays_pt_weight(s, ps, i, s.hittable_lights[k])) {
+            w = bidir_rays_emission_weight(s, ps, i, s.hittable_lights[k], o, d, h.t, h.n, 0.0f);
+            nee = bidir_rays_nee_ratio(w);  // (ray kinds: pt's weight, bidir_ray_visibility.h)
+        }
         Vec3 c = beta * tr * h.le * w;
         if (st.moments) c = bdpt_moment(c, c, bdpt_pt_factor(1.0f / w, 1.0f, nee));
         add_radiance(ps, i, c);
@@ -147,10 +153,16 @@ LANTERN_HD inline void bdpt_camera_emission_medium(const SceneView& s, const Pat
             continue;
         if (l.type == kLightWorld && camera && !l.visible_camera) continue;
         if (!bidir_emission_counts(s, ps, i, s.miss_lights[k])) continue;  // (linking)
+        if (pt_lamp_unseen(s, ps, i, s.miss_lights[k])) continue;  // (ray kinds)
         float nee = 0.0f;
         float w = bdpt_emission_weight_medium(s, ps, bs, st, i, l, vec3(0.0f), true,
                                               vec3(0.0f), seg, &nee);
         w = bidir_pt_weight_medium(s, ps, i, s.miss_lights[k], seg, w, nee);
+        if (w > 0.0f && bidir_rays_on(s) && bidir_rays_pt_weight(s, ps, i, s.miss_lights[k])) {
+            w = bidir_rays_emission_weight(s, ps, i, s.miss_lights[k], o, d, kInf, vec3(0.0f),
+                                           0.0f);
+            nee = bidir_rays_nee_ratio(w);
+        }
         const Vec3 le = l.type == kLightWorld ? world_radiance(s, l, d) : l.radiance;
         Vec3 c = beta * tr * le * w;
         if (st.moments) c = bdpt_moment(c, c, bdpt_pt_factor(1.0f / w, 1.0f, nee));
@@ -172,6 +184,9 @@ LANTERN_HD inline void bdpt_camera_medium_nee(const SceneView& s, const PathStat
     const LightPick pick = light_pick(s, z.h.p, vec3(0.0f), u_pick.x);
     if (!(pick.pmf > 0.0f)) return;
     if (!camera_medium_links(s, ps, i, pick.light)) return;  // (bidir_linking_medium.h)
+    // ray visibility by kind: nothing from a light hidden from Volume Scatter (pt_medium_nee)
+    const bool rays = bidir_rays_on(s);
+    if (rays && pt_light_hidden(s, pick.light, kRayKindVolume)) return;
     const Light& l = s.lights[pick.light];
     // a moving emitter where it is at the camera path's time (its shadow ray's time too)
     const float time = bdpt_emitter_time(s, st, path);
@@ -206,6 +221,9 @@ LANTERN_HD inline void bdpt_camera_medium_nee(const SceneView& s, const PathStat
     // (bidir_linking.h; a phase function is no delta lobe)
     const bool unshadowed = s.light_rays && pt_lamp_unshadowed(s, pick.light);
     bidir_nee_weights(s, ps, i, pick.light, unshadowed, w_light, w_camera);
+    // a restricted path, an R light: pt's weight, no flight factor (bidir_ray_visibility.h)
+    const bool pt_w = rays && bidir_rays_pt_nee(s, ps, i, pick.light);
+    if (pt_w) w_camera = 0.0f;
     const float w = 1.0f / (w_light + 1.0f + w_camera);
     const Vec3 c = z.beta * ls.le * (ph * w / pdf_light_w);
     if (!is_finite(c)) {
@@ -228,7 +246,7 @@ LANTERN_HD inline void bdpt_camera_medium_nee(const SceneView& s, const PathStat
     ps.shadow_valid[i] = 1;
     ps.shadow_medium[i] = z.medium_vertex;
     bs.shadow_wn[i] = w_camera;
-    bs.shadow_wf[i] = w_light;
+    bs.shadow_wf[i] = pt_w ? 0.0f : w_light;
     bs.shadow_kind[i] = kConnNearMedium | (st.moments ? kMomOn | kMomFar | kMomOwnB : 0) |
                         (soft ? kConnNearFixed : 0);  // (F(c -> z) is in pdf_lp)
     if (st.moments) bs.shadow_mom[i] = Vec3{w_light, 1.0f, 1.0f};
@@ -394,6 +412,7 @@ LANTERN_HD inline void bdpt_camera_medium_vertex(const SceneView& s, const PathS
         ps.prev_p[i] = p;
         ps.prev_n[i] = vec3(0.0f);
         bdpt_seg_store(bs, i, medium_segment_begin(true));
+        bidir_set_ray_kind(s, ps, i, kRayKindVolume);  // (ray kinds: Volume Scatter alone)
     }
     ps.rng[i] = rng;
 }
@@ -413,6 +432,7 @@ LANTERN_HD inline void bdpt_camera_lights_hetero(const SceneView& s, const PathS
         const Light& l = s.lights[s.hittable_lights[k]];
         if (camera && !l.visible_camera) continue;
         if (!bidir_emission_counts(s, ps, i, s.hittable_lights[k])) continue;  // (linking)
+        if (pt_lamp_unseen(s, ps, i, s.hittable_lights[k])) continue;  // (ray kinds)
         const LightHit h = intersect_light(l, o0, d, a, b);
         if (!h.hit || is_black(h.le)) continue;
         MediumSegmentPdf seg = seg0;
@@ -421,6 +441,9 @@ LANTERN_HD inline void bdpt_camera_lights_hetero(const SceneView& s, const PathS
         float w = bdpt_emission_weight_medium(s, ps, bs, st, i, l, o0 + d * h.t, false, h.n,
                                               seg, &nee);
         w = bidir_pt_weight_medium(s, ps, i, s.hittable_lights[k], seg, w, nee);
+        if (w > 0.0f && bidir_rays_on(s) && bidir_rays_pt_weight(s, ps, i, s.hittable_lights[k]))
+            w = bidir_rays_emission_weight(s, ps, i, s.hittable_lights[k], o0, d, h.t, h.n,
+                                           0.0f);  // (ray kinds: pt's weight)
         add_radiance(ps, i, bw * h.le * w);
     }
 }

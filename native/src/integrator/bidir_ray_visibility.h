@@ -18,9 +18,19 @@
 //   - the light pass starts no sub-path on an R light, and a light vertex on an R surface is
 //     splatted (t = 1: the camera segment ends there; its own object at the camera-side end of
 //     the next segment does not matter) but neither stored nor continued.
+// In media (homogeneous and heterogeneous; bdpt_medium_stages.h) the same rule with pt's medium
+// rules: a camera medium vertex's bounce ray is of kind kRayKindVolume (Volume Scatter alone)
+// and passes what is hidden from it, its segment's flight going on past the passed surface (a
+// piece more of the same segment, as past a volume boundary; pt starts a new segment there: a
+// free flight is memoryless); its next event skips a light hidden from Volume Scatter; s = 0
+// skips a lamp hidden from the ray's kind. Restricted paths and R lights take pt's weights
+// exactly, without the flights' factors (pt's hold none): s = 0 pt_emission_weight, s = 1
+// 1 / (1 + w_light) queued with both factor parts 0 (bidir_rays_pt_nee), at a surface vertex
+// in fog too. A light sub-path's medium vertex is never restricted (its segment was traced with
+// the ordinary query, which stops at an R surface).
 // Where only lamps without kinds set light_rays (Cast Shadow off), nothing here changes a bit.
-// Media, subsurface walks, lt and the combinations allocation.cpp bidir_visibility_reason
-// names stay pt's.
+// Subsurface walks, lt and the combinations allocation.cpp bidir_visibility_reason names stay
+// pt's.
 #pragma once
 
 #include "integrator/pt.h"  // pt_emission_weight, pt_light_pdf_w
@@ -50,6 +60,12 @@ LANTERN_HD inline bool bidir_light_restricted(const SceneView& s, int li) {
 // Whether camera slot i's path is restricted (its current vertex's prefix).
 LANTERN_HD inline bool bidir_restricted(const SceneView& s, const PathState& ps, int i) {
     return s.tri_rays && ps.ray_kind && (ps.ray_kind[i] & kRayRestricted) != 0;
+}
+
+// Whether slot i's next event of light li takes pt's weights (w_camera 0; in media its far
+// part queued as 0 too: pt's weight holds no flight factor): a restricted path, an R light.
+LANTERN_HD inline bool bidir_rays_pt_nee(const SceneView& s, const PathState& ps, int i, int li) {
+    return bidir_restricted(s, ps, i) || bidir_light_restricted(s, li);
 }
 
 // Whether emission of light li found by slot i's bounce ray takes pt's weight: a restricted
