@@ -32,7 +32,9 @@ def _rigid(m):
 def export_light(obj, matrix_world, report):
     """The light's scene dict (None: not rendered), with its own ray visibility's fields that
     are off (Diffuse, Glossy, Transmission, Volume Scatter: export/visibility.py) and its Cast
-    Shadow when off (pt renders them, integrator/pt_ray_visibility.h)."""
+    Shadow when off (pt: integrator/pt_ray_visibility.h; the others: bidir_ray_visibility.h,
+    bidir_linking.h, lt_ray_visibility.h, lt_linking.h, but what allocation.cpp
+    bidir_visibility_reason hands to pt)."""
     out = _export_light(obj, matrix_world, report)
     if out is not None:
         out.update(mesh_ray_visibility(obj))

@@ -1,6 +1,7 @@
 """Cycles' light and shadow linking (Object > Shading > Light Linking: Receiver and Blocker
 Collections) as Lantern's receiver and blocker sets (native/src/integrator/pt_light_linking.h,
-pt; the bidirectional integrators hand such a scene to pt with a warning). As Blender's
+pt; bdpt, lvc, cis: bidir_linking.h; lt: lt_linking.h; the few combinations they leave to pt
+are handed over with a warning, allocation.cpp bidir_visibility_reason). As Blender's
 depsgraph decides: an emitter whose collection includes some objects lights (is shadowed by)
 only those; one that only excludes, every object but those (a child collection's state applies
 to every object in it). Meshes and strand sets (a Curves object's, a mesh's particle hair: its

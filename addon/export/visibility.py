@@ -1,9 +1,12 @@
 """Cycles' object ray visibility (Object > Visibility > Ray Visibility): Camera and Shadow are
 the mesh's visible_camera / cast_shadow (every integrator); Diffuse, Glossy, Transmission and
 Volume Scatter are exported here, as mesh fields present only when off, and rendered by pt
-(native/src/integrator/pt_ray_visibility.h; the bidirectional integrators hand the scene to pt
-with a warning). Indirect Only collections: camera_visible below. A lamp's own flags are the
-same fields on its light (export/light.py; pt: pt_ray_visibility.h); the world's: world.py."""
+(native/src/integrator/pt_ray_visibility.h) and, on surfaces, by bdpt, lvc, cis
+(bidir_ray_visibility.h) and lt (lt_ray_visibility.h); what they leave to pt (beside media,
+subsurface scattering; under lt beside linking, Cast Shadow off, strands) is handed over with a
+warning (allocation.cpp bidir_visibility_reason). Indirect Only collections: camera_visible
+below. A lamp's own flags are the same fields on its light (export/light.py); the world's:
+world.py (pt only)."""
 
 # (object property, scene field, label)
 RAY_KINDS = (("visible_diffuse", "visible_diffuse", "Diffuse"),

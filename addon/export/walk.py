@@ -128,8 +128,11 @@ def scene_warnings(bscene, scene, report):
 
 
 def integrator(bscene):
-    """The integrator whose features the export checks: "auto" renders holdouts, shadow
-    catchers and a world hidden from some rays with pt (native/src/integrator/allocation.h)."""
+    """The integrator whose features the export checks (holdouts, shadow catchers, the world's
+    ray visibility: export/holdout.py, world.py drop them with a warning for any but pt):
+    "auto" counts as pt, since it renders every scene with one of them with pt alone, on the
+    CPU and the GPU (native/src/integrator/allocation.cpp pt_only_reason: a holdout material,
+    a shadow catcher, the world hidden from some rays)."""
     settings = getattr(getattr(bscene, "original", bscene), "lantern", None)
     name = str(getattr(settings, "integrator", "pt")).lower()
     return "pt" if name == "auto" else name

@@ -5,41 +5,16 @@ Motion Steps, Subsurface IOR); the shrinker takes each off. No render: bpy's dat
 (test_difftest.py checks, besides, that every tag is drawn within 300 seeds and exports without
 a warning.)"""
 
-import copy
-import json
-import os
-import sys
-
-ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-sys.path.insert(0, os.path.join(ROOT, "tools"))
-import difftest_features as df  # noqa: E402
-import difftest_features5 as f5  # noqa: E402
-import difftest_scene as ds  # noqa: E402
+import difftest_batch as batch
+import difftest_features5 as f5  # (difftest_batch puts tools/ on the path)
 
 
 def test_earlier_cases_draw_as_before(monkeypatch):
     """With the batch's draw a no-op (the generator before it), each of 60 full seeds draws
     the same case, or one with a tag it did not have; some draw the same, some gain one
     (the control that the comparison sees the batch)."""
-    new = {s: ds.generate(s, "full") for s in range(60)}
-    monkeypatch.setattr(f5, "draw", lambda key, case, *a: case)
-    same = gained = 0
-    for s in range(60):
-        old = ds.generate(s, "full")
-        if json.dumps(old, sort_keys=True) == json.dumps(new[s], sort_keys=True):
-            same += 1
-        else:
-            assert df.features(new[s]) - df.features(old), s
-            gained += 1
+    same, gained = batch.draws_as_before(monkeypatch, f5)
     assert same >= 15 and gained >= 15, (same, gained)
-
-
-def _case_with(tags, seeds=range(20000, 20400)):
-    for s in seeds:
-        case = ds.generate(s, "full")
-        if set(tags) <= df.features(case):
-            return case
-    raise AssertionError(f"no seed draws {tags}")
 
 
 def test_parent_position_steps_reach_blender():
@@ -48,7 +23,7 @@ def test_parent_position_steps_reach_blender():
     socket."""
     import bpy
     import difftest_build as db
-    case = _case_with({"parented motion", "shutter position", "motion steps"})
+    case = batch.case_with({"parented motion", "shutter position", "motion steps"})
     db.build(case)
     sc = bpy.context.scene
     assert sc.render.motion_blur_position == case["shutter_position"]
@@ -63,7 +38,7 @@ def test_parent_position_steps_reach_blender():
     assert (where[0] - where[2]).length > 1e-3, "the child does not move with its parent"
     steps = [o.cycles.motion_steps for o in bpy.data.objects] + [sc.camera.cycles.motion_steps]
     assert max(steps) in (2, 3)
-    case = _case_with({"subsurface ior"})
+    case = batch.case_with({"subsurface ior"})
     db.build(case)
     want = [n["inputs"]["Subsurface IOR"] for g in case["materials"].values()
             for n in g["nodes"].values() if "Subsurface IOR" in n.get("inputs", {})]
@@ -75,7 +50,5 @@ def test_parent_position_steps_reach_blender():
 
 def test_shrinker_takes_them_off():
     """Each of the batch's motion knobs has a shrink edit whose case no longer has its tag."""
-    for tag in ("parented motion", "shutter position", "motion steps", "camera rotation"):
-        case = _case_with({tag})
-        edits = [c for _, c in df.shrink_edits(copy.deepcopy(case))]
-        assert any(tag not in df.features(c) for c in edits), tag
+    batch.assert_shrinker_takes_off(("parented motion", "shutter position", "motion steps",
+                                     "camera rotation"))

@@ -247,8 +247,9 @@ def test_linking_cornell_chooses_pt():
 
 
 def test_ray_visibility_beside_linking_stays_pt():
-    """Object ray visibility beside light linking: cis does not render it
-    (bidir_visibility_reason), auto keeps pt and says why."""
+    """Object ray visibility beside light linking: cis renders it (no hand-over in
+    bidir_visibility_reason since rayvismix), but auto's moment channels were checked on each
+    rule alone, not together, so auto keeps pt (pt_only_reason) and its warning says why."""
     scene = aws.cornell_light_link(16, 16)
     aws._mesh(scene, "short_box")["visible_glossy"] = False
     s = lantern.Session(scene, integrator="auto", seed=1, backend="cpu", threads=1)

@@ -19,14 +19,11 @@ The fog is test_linking_media.py's."""
 import numpy as np
 import pytest
 
-from lantern import metrics
-
+from no_shadow_compare import assert_matches_pt  # (16 seeds x 32 spp a side)
 from test_linking_bidir import no_shadow, room
 from test_linking_media import FOG
-from test_linking_shadow_media import render  # (its K x SPP are these: 16 x 32)
+from test_linking_shadow_media import render
 from test_volume_bidir import _volume_box
-
-K, SPP = 16, 32  # seeds x samples per pixel (tests/README.md: Welch dof >= 15)
 
 
 def fogged(s, case):
@@ -40,14 +37,6 @@ def fogged(s, case):
 def lamp(case, on=True):
     """The lamp's Cast Shadow off (on) in fog `case`; on False: the lamp casts its shadows."""
     return fogged(no_shadow(on), case)
-
-
-def renders(build, integrator, seed0, on=True):
-    out, warnings = [], []
-    for k in range(K):
-        img, warnings = render(build(on), integrator, seed0 + k)
-        out.append(img)
-    return out, warnings
 
 
 def slab_off(s, on):
@@ -89,23 +78,10 @@ def pt_refs(core):
     return {}
 
 
-def pt_ref(pt_refs, name):
-    if name not in pt_refs:
-        pt_refs[name] = renders(CASES[name], "pt", 1000)[0]
-    return pt_refs[name]
-
-
 @pytest.mark.parametrize("case", list(CASES))
 @pytest.mark.parametrize("integrator", ["bdpt", "lvc", "cis"])
 def test_matches_pt(pt_refs, integrator, case):
-    ref = pt_ref(pt_refs, case)
-    imgs, warnings = renders(CASES[case], integrator, 2000)
-    assert not warnings, warnings  # rendered by the integrator itself
-    metrics.assert_agreement(f"{case}, {integrator} vs pt", imgs, ref, block=4,
-                             image_bias=0.025, block_bias=0.1)
-    # the control: the property off (the scene without it) is seen
-    free, _ = renders(CASES[case], integrator, 3000, on=False)
-    assert not metrics.compare_renders(free, ref, block=4).passed
+    assert_matches_pt(case, pt_refs, CASES, case, integrator)
 
 
 DENSE = {"sigma_s": [1.0, 1.0, 1.0], "sigma_a": [0.05, 0.1, 0.15], "g": 0.3}

@@ -23,13 +23,10 @@ The control, the mat casting its shadows, must fail. lt keeps handing non-castin
 import numpy as np
 import pytest
 
-from lantern import metrics
-
+from no_shadow_compare import assert_matches_pt  # (16 seeds x 32 spp a side)
 from test_linking_bidir import room
 from test_linking_media import FOG
-from test_linking_shadow_media import render  # (16 x 32 at max_depth 4, the first 3 channels)
-
-K = 16  # seeds (tests/README.md: Welch dof >= 15)
+from test_linking_shadow_media import render  # (32 spp at max_depth 4, the first 3 channels)
 
 
 def mat(s, on):
@@ -64,36 +61,16 @@ def linked(on=True):
 CASES = {"surface": surface, "fog": fog, "linked": linked}
 
 
-def renders(build, integrator, seed0, on=True):
-    out, warnings = [], []
-    for k in range(K):
-        img, warnings = render(build(on), integrator, seed0 + k)
-        out.append(img)
-    return out, warnings
-
-
 @pytest.fixture(scope="module")
 def pt_refs(core):
     return {}
 
 
-def pt_ref(pt_refs, name):
-    if name not in pt_refs:
-        pt_refs[name] = renders(CASES[name], "pt", 1000)[0]
-    return pt_refs[name]
-
-
 @pytest.mark.parametrize("case", list(CASES))
 @pytest.mark.parametrize("integrator", ["bdpt", "lvc", "cis"])
 def test_matches_pt(pt_refs, integrator, case):
-    ref = pt_ref(pt_refs, case)
-    imgs, warnings = renders(CASES[case], integrator, 2000)
-    assert not warnings, warnings  # rendered by the integrator itself
-    metrics.assert_agreement(f"strands without shadows ({case}), {integrator} vs pt", imgs, ref,
-                             block=4, image_bias=0.025, block_bias=0.1)
-    # the control: the mat casting its shadows is told apart
-    free, _ = renders(CASES[case], integrator, 3000, on=False)
-    assert not metrics.compare_renders(free, ref, block=4).passed
+    # (the control: the mat casting its shadows is told apart)
+    assert_matches_pt(f"strands without shadows ({case})", pt_refs, CASES, case, integrator)
 
 
 def test_lt_hands_over(core):

@@ -35,7 +35,10 @@
 //   pilots put cis above pt, where it is 0.5x). Choices on earlier iterations only, equal
 //   weights: the image stays unbiased.
 // - Scenes with what only pt renders (holdouts, shadow catchers, the world hidden from some
-//   rays) are rendered by pt alone.
+//   rays, emissive media, a hair material on a mesh), what cis hands to pt
+//   (bidir_visibility_reason) and the combinations auto's moment channels were not checked on
+//   are rendered by pt alone (pt_only_reason; session.cpp adds motion blur with more than one
+//   sample an iteration, and subsurface scattering and media on the GPU).
 #pragma once
 
 #include <cstdint>
@@ -133,7 +136,14 @@ private:
     double tail_ = 0.0;
 };
 
-// Why a scene must be rendered by pt alone under "auto" (empty: it need not).
+// Why a scene must be rendered by pt alone under "auto" (empty: it need not): a holdout, a
+// shadow catcher (or its pass), the world hidden from some rays, an emissive medium, a hair
+// material on a mesh; and where the scene has ray_visibility_reason's or
+// no_shadow_object_reason's features, what bidir_visibility_reason(in, false) hands to pt,
+// object or lamp ray visibility beside linking or Cast Shadow off, any of them beside media,
+// strands or a hair material, or beside subsurface scattering (but light linking alone).
+// Auto weighs the rest itself: linking, Cast Shadow off and ray visibility by kind on surfaces
+// (docs/auto_integrator.md).
 std::string pt_only_reason(const SceneInput& in);
 // What of strands and hair only pt renders (docs/curves.md): a hair material on a mesh; ""
 // when none.
@@ -143,16 +153,25 @@ std::string curves_bidir_reason(const SceneInput& in);
 // the camera sees, which lt reaches through the strand for Principled Hair in a mix only:
 // lt_strand.h).
 std::string curves_lt_reason(const SceneInput& in);
-// Object ray visibility (Diffuse, Glossy, Transmission, Volume Scatter off) and light linking:
-// only pt tells a bounce's kind and receiver so far; "" when the scene uses neither.
+// The first of: an object or a lamp hidden from some ray kind (Diffuse, Glossy, Transmission,
+// Volume Scatter), light or shadow linking, a lamp's Cast Shadow off; "" when the scene has
+// none. pt renders them all; what the other integrators leave to pt is
+// bidir_visibility_reason's, what auto leaves to pt pt_only_reason's.
 std::string ray_visibility_reason(const SceneInput& in);
 // An object (mesh or strands) whose Cast Shadow is off (bidir_no_shadow.h), or "".
 std::string no_shadow_object_reason(const SceneInput& in);
-// What of ray_visibility_reason's and no_shadow_object_reason's the bidirectional integrators
-// still hand to pt: object and lamp ray visibility, Cast Shadow off (a lamp's, an object's)
-// and shadow linking under lt, an object's Cast Shadow off on strands or beside shadow linking,
-// linking or Cast Shadow off in scenes with media or subsurface scattering
-// (integrator/bidir_linking.h, bidir_no_shadow.h); "" when they render the scene themselves.
+// What of ray_visibility_reason's and no_shadow_object_reason's bdpt, lvc and cis (and, with
+// light_tracer, lt) still hand to pt; "" when they render the scene themselves (bidir_linking.h,
+// bidir_no_shadow.h, bidir_ray_visibility.h; lt: lt_linking.h, lt_ray_visibility.h;
+// docs/lvc_notes.md "Linking"). Every integrator:
+//   - object or lamp ray visibility by kind beside media or subsurface scattering;
+//   - a volume's mesh that casts no shadow, in a scene with media.
+// lt besides:
+//   - ray visibility by kind beside strands, light or shadow linking, Cast Shadow off (a
+//     lamp's, an object's), or a soft-falloff light where some object is hidden from a kind;
+//   - a soft-falloff light with shadow linking or Cast Shadow off (its own, an object's);
+//   - strands that cast no shadow; an object's or a lamp's Cast Shadow off with media;
+//   - shadow linking beside a volume of a graph or grid.
 std::string bidir_visibility_reason(const SceneInput& in, bool light_tracer);
 
 }  // namespace lantern

@@ -41,7 +41,7 @@ namespace lantern {
 // The restricted bit of PathState::ray_kind beside the kinds (bdpt's camera pass).
 constexpr uint8_t kRayRestricted = 0x80;
 
-LANTERN_HD inline bool bidir_rays_on(const SceneView& s) { return s.tri_rays || s.light_rays; }
+LANTERN_HD inline bool bidir_rays_on(const SceneView& s) { return s.rays_hidden != 0; }
 
 // Whether triangle (or strand: tri_rays holds all kinds there) tri is an R surface.
 LANTERN_HD inline bool bidir_tri_restricted(const SceneView& s, int tri) {

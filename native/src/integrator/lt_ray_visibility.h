@@ -38,7 +38,7 @@ constexpr uint8_t kLtSurfaceKinds = kRayDiffuse | kRayGlossy | kRayTransmission;
 constexpr uint8_t kLtRaysNoWalk = 0x10, kLtRaysPassed = 0x20, kLtRaysBlocked = 0x40;
 
 // Whether lt reads ray visibility by kind (some object or lamp hidden from some kind).
-LANTERN_HD inline bool lt_rays_on(const SceneView& s) { return s.tri_rays || s.light_rays; }
+LANTERN_HD inline bool lt_rays_on(const SceneView& s) { return s.rays_hidden != 0; }
 
 // y0's state: nothing passed; a delta light's first segment does not walk.
 LANTERN_HD inline void lt_rays_start(const PathState& ps, int i, const EmissionSample& es) {

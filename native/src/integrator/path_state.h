@@ -53,7 +53,9 @@ struct PathState {
     uint8_t* vshadow_valid = nullptr;
     int32_t* vshadow_light = nullptr;  // its light, as shadow_light (shadow linking)
     // the RayKinds of the scattering that made the current ray (pt, integrator/
-    // pt_ray_visibility.h); written only where SceneView::tri_rays is set, may be null
+    // pt_ray_visibility.h: written where SceneView::tri_rays or light_rays is set; bdpt's camera
+    // pass keeps a restricted bit beside them, lt its walk's kinds: where SceneView::rays_hidden
+    // is set, bidir_ray_visibility.h, lt_ray_visibility.h); may be null
     uint8_t* ray_kind = nullptr;
     // light linking: the receiver set of the vertex the current ray left (pt, integrator/
     // pt_light_linking.h); written only where SceneView::light_receivers is set, may be null

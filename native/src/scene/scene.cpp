@@ -385,6 +385,12 @@ void HostScene::finish_view(const SceneInput& in) {
     v.tri_light_set = tri_light_set_.empty() ? nullptr : tri_light_set_.data();
     v.light_receivers = light_receivers_.empty() ? nullptr : light_receivers_.data();
     v.light_rays = light_rays_.empty() ? nullptr : light_rays_.data();
+    // (tri_rays_ is built only where some mesh is hidden from some kind; light_rays_ also where
+    // a lamp only casts no shadow, which hides it from no kind)
+    v.rays_hidden = !tri_rays_.empty() ||
+                    std::any_of(light_rays_.begin(), light_rays_.end(), [](uint8_t r) {
+                        return (r & kRayKindsAll) != kRayKindsAll;
+                    });
     v.tri_shadow_set = tri_shadow_set_.empty() ? nullptr : tri_shadow_set_.data();
     v.tri_terminator = tri_terminator_.empty() ? nullptr : tri_terminator_.data();
     v.light_blockers = light_blockers_.empty() ? nullptr : light_blockers_.data();

@@ -315,6 +315,12 @@ struct SceneView {
     // docs/materials.md "Shadow terminator"); null where no smooth-shaded mesh has one above 0
     const float* tri_terminator = nullptr;
     int32_t num_triangles = 0;
+    // 1: some object or lamp is hidden from some ray kind (tri_rays set, or light_rays short of
+    // kRayKindsAll for some lamp), decided in HostScene::finish_view: the bidirectional
+    // integrators' and lt's ray-kind rules run (bidir_rays_on, lt_rays_on). 0 where light_rays
+    // holds only kLampNoShadow (Cast Shadow off). In num_triangles' padding: the kernels'
+    // parameter block keeps its layout
+    int32_t rays_hidden = 0;
 
     const Material* materials = nullptr;
     const MaterialTables* material_tables = nullptr;  // one per material: Material::tables
