@@ -350,7 +350,10 @@ std::string bidir_visibility_reason(const SceneInput& in, bool light_tracer) {
                 return lt_rays + " with " + v;
         }
         if (std::string v = media_reason(in); !v.empty()) return rays + " with " + v;
-        if (std::string v = subsurface_reason(in); !v.empty()) return rays + " with " + v;
+        // (subsurface walks: bdpt, lvc and cis render them, the walk no segment of its own and
+        // the exits' rays a diffuse bounce's, bdpt_sss.h; lt's stay pt's)
+        if (std::string v = subsurface_reason(in); !v.empty() && light_tracer)
+            return "lt's " + rays + " with " + v;
     }
     // light and shadow linking and a lamp's Cast Shadow off with media: bdpt, lvc, cis
     // (bidir_linking_medium.h); lt's light linking and shadow linking (lt_linking.h,
