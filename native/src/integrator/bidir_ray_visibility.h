@@ -19,8 +19,10 @@
 //     splatted (t = 1: the camera segment ends there; its own object at the camera-side end of
 //     the next segment does not matter) but neither stored nor continued.
 // Where only lamps without kinds set light_rays (Cast Shadow off), nothing here changes a bit.
-// Media, subsurface walks, lt and the combinations allocation.cpp bidir_visibility_reason
-// names stay pt's.
+// A subsurface walk is no segment (its rays see every surface, as pt's): its entry is the
+// light-side end of the segment that reaches it, its exit the camera-side end of its diffuse
+// continuation (bdpt_sss.h bdpt_sss_exit; the light pass: bdpt_sss_light.h). Media, lt and the
+// combinations allocation.cpp bidir_visibility_reason names stay pt's.
 #pragma once
 
 #include "integrator/pt.h"  // pt_emission_weight, pt_light_pdf_w
