@@ -26,9 +26,9 @@ camera; max_depth 4).
   leave it). bdpt, lvc
   and cis render both themselves: paths that meet a hidden object past the camera's segment,
   or end on the hidden lamp, take pt's two techniques. The control (every object and the lamp
-  seen by every kind) must fail. Subsurface scattering stays pt's (beside media:
-  test_ray_visibility_media.py; beside light and shadow linking and Cast Shadow off:
-  test_ray_visibility_linking.py); lt renders ray
+  seen by every kind) must fail. Beside media: test_ray_visibility_media.py; beside light and
+  shadow linking and Cast Shadow off: test_ray_visibility_linking.py; beside subsurface walks:
+  test_ray_visibility_subsurface.py (auto keeps pt there); lt renders ray
   visibility on surfaces itself (integrator/lt_ray_visibility.h; against pt:
   test_lt_ray_visibility.py), beside a lamp's Cast Shadow off it hands over."""
 import sys
@@ -139,7 +139,8 @@ def test_kinds_auto_chooses_itself(core):
 
 
 def kinds_subsurface(on=True):
-    """kinds_objects with ball A a Random Walk subsurface material: not checked together, pt's.
+    """kinds_objects with ball A a Random Walk subsurface material: bdpt, lvc and cis render it
+    (test_ray_visibility_subsurface.py), auto keeps pt (its moment channels unchecked there).
     (Beside linking and Cast Shadow off: test_ray_visibility_linking.py.)"""
     s = kinds_objects(on)
     m = s.add_material("skin", type="principled", base_color=(0.8, 0.6, 0.4), roughness=0.5,
@@ -158,8 +159,7 @@ def kinds_no_shadow_lamp(on=True):
 
 
 @pytest.mark.parametrize("integrator,build", [("lt", kinds_no_shadow_lamp),
-                                              ("auto", kinds_subsurface),
-                                              ("bdpt", kinds_subsurface)])
+                                              ("auto", kinds_subsurface)])
 def test_kinds_hand_over_to_pt(core, integrator, build):
     img, warnings = render(build(), integrator, 7, spp=4)
     assert any(("ray visibility" in w or "hidden from" in w) and

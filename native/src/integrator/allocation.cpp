@@ -364,8 +364,14 @@ std::string bidir_visibility_reason(const SceneInput& in, bool light_tracer) {
                 rules |= m.light_set != 0 || m.emitter_receivers != kAllReceivers;
             for (const LightInput& l : in.lights) rules |= l.receivers != kAllReceivers;
             if (rules) return rays + " with linking or Cast Shadow off beside " + v;
+            // media and subsurface walks each checked alone beside the kinds, not together
+            if (std::string u = subsurface_reason(in); !u.empty())
+                return rays + " with " + v + " and " + u;
         }
-        if (std::string v = subsurface_reason(in); !v.empty()) return rays + " with " + v;
+        // (subsurface walks: bdpt, lvc and cis render them, the walk no segment of its own and
+        // the exits' rays a diffuse bounce's, bdpt_sss.h; lt's stay pt's)
+        if (std::string v = subsurface_reason(in); !v.empty() && light_tracer)
+            return "lt's " + rays + " with " + v;
     }
     // light and shadow linking and a lamp's Cast Shadow off with media: bdpt, lvc, cis
     // (bidir_linking_medium.h); lt's light linking and shadow linking (lt_linking.h,

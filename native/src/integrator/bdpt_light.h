@@ -303,11 +303,12 @@ LANTERN_HD inline void bdpt_light_shade(const SceneView& s, const PathState& ps,
             }
         }
     }
-    if (restricted) return;
-    // subsurface: lt's choice, the walk stage takes it (bdpt_sss_light.h)
+    // subsurface: lt's choice, the walk stage takes it (bdpt_sss_light.h); on an R surface too
+    // (the walk is no segment and x_o lies at the camera-side end of its light's segment)
     if (s.has_subsurface && !strand && !delta &&
         bdpt_light_sss_choose(s, ps, bs, st, i, m, h, wo_w, cos_o_ns, cos_o_ng, k, dvcm, dvc))
         return;
+    if (restricted) return;
     if (k + 2 > st.max_depth) return;  // the next vertex could not be used by any technique
 
     // ---- continue with the adjoint BSDF ----

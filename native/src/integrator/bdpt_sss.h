@@ -171,7 +171,10 @@ LANTERN_HD inline void bdpt_sss_exit(const SceneView& s, const PathState& ps, co
     if (z.depth >= st.max_depth) return;
     Rng rng = ps.rng[i];
     bdpt_camera_nee(s, ps, bs, st, z, i, rng, sr, path);
-    bdpt_camera_connect(s, bs, st, cache, z, i, path);
+    // (a restricted path: pt's techniques alone, bidir_ray_visibility.h; the walk is no
+    // segment: its rays see every surface, as pt's, and the exit lies at the camera-side end of
+    // its continuation, so an exit on an R surface restricts nothing)
+    if (!bidir_restricted(s, ps, i)) bdpt_camera_connect(s, bs, st, cache, z, i, path);
     float pdf_w = 0.0f;
     const Vec3 wi = z.frame.to_world(sample_cosine_hemisphere(rng.uniform2(), &pdf_w));
     Vec3 beta = z.beta;
@@ -184,6 +187,7 @@ LANTERN_HD inline void bdpt_sss_exit(const SceneView& s, const PathState& ps, co
         bs.dvcm[i] = mis(1.0f / pdf_w);
         set_next_ray(ps, i, z.h.p, z.h.ng, wi, pdf_w, s.offset_scale);
         pt_set_receiver(s, ps, i, z.tri);  // light linking: the exit receives (s = 0), as pt's
+        bidir_set_ray_kind(s, ps, i, kRayKindSubsurface);  // ray kinds: a diffuse bounce, as pt's
         ps.prev_p[i] = z.h.p;
         bs.prev_ng[i] = z.h.ng;
         if (s.light_tree_on || media) ps.prev_n[i] = z.n_pick;

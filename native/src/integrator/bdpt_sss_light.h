@@ -33,6 +33,7 @@
 
 #include "integrator/bdpt_common.h"
 #include "integrator/bdpt_motion.h"
+#include "integrator/bidir_ray_visibility.h"
 #include "integrator/lt_sss.h"
 
 namespace lantern {
@@ -132,7 +133,10 @@ LANTERN_HD inline void bdpt_light_sss_exit(const SceneView& s, const PathState& 
     v.dpt0 = 0.0f;
     v.dpt1 = 0.0f;
     bs.vertex[i] = v;
-    bs.store[i] = is_finite(power_beta) ? 1 : 0;
+    // an exit on an R surface is splatted only (bidir_ray_visibility.h: as x1 alone it restricts
+    // nothing; stored or continued it would be the light-side end of a segment past x1)
+    const bool restricted = bidir_tri_restricted(s, tri);
+    bs.store[i] = is_finite(power_beta) && !restricted ? 1 : 0;
     if (k + 1 <= st.max_depth && (s.tri_flags[tri] & kVisibleCamera) != 0) {  // t = 1
         const CameraView cam = s.motion.camera_steps > 1 ? bdpt_camera_moved(s, st, path)
                                                          : s.camera;
@@ -159,7 +163,7 @@ LANTERN_HD inline void bdpt_light_sss_exit(const SceneView& s, const PathState& 
             }
         }
     }
-    if (k + 2 > st.max_depth) return;  // the next vertex could not be used by any technique
+    if (restricted || k + 2 > st.max_depth) return;  // (no technique could use the next vertex)
     Vec3 wo, t;
     float pdf_w;
     if (!lt_sss_exit_continue(s, m, x, d, beta, k, st.rr_depth, rng, &wo, &pdf_w, &t)) return;
