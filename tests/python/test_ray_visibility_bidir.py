@@ -150,16 +150,9 @@ def kinds_subsurface(on=True):
     return s
 
 
-def kinds_no_shadow_lamp(on=True):
-    """kinds_objects with the lamp's Cast Shadow off too: lt hands it to pt (bdpt, lvc, cis
-    render it: test_ray_visibility_linking.py)."""
-    s = kinds_objects(on)
-    s.lights[0]["cast_shadow"] = False
-    return s
-
-
-@pytest.mark.parametrize("integrator,build", [("lt", kinds_no_shadow_lamp),
-                                              ("auto", kinds_subsurface)])
+# (lt renders the kinds beside a lamp's Cast Shadow off since ltmix: test_lt_ray_visibility.py;
+# its hand-over beside subsurface walks: test_ray_visibility_subsurface.py)
+@pytest.mark.parametrize("integrator,build", [("auto", kinds_subsurface)])
 def test_kinds_hand_over_to_pt(core, integrator, build):
     img, warnings = render(build(), integrator, 7, spp=4)
     assert any(("ray visibility" in w or "hidden from" in w) and
