@@ -71,7 +71,7 @@ LANTERN_HD inline void bdpt_camera_nee(const SceneView& s, const PathState& ps,
     // ray visibility by kind (bidir_ray_visibility.h): nothing from a light hidden from the
     // scattering's kind, as pt's next event
     const bool rays = L && bidir_rays_on(s);
-    if (rays && pt_light_hidden(s, pick.light, pt_scatter_kind(*z.m, ls.wi, z.h.ng))) return;
+    if (rays && pt_light_hidden(s, pick.light, pt_path_kind(*z.m, ls.wi, z.h.ng))) return;
     BsdfEval e = material_eval(*z.m, z.h.front, z.wo, z.frame.to_local(ls.wi), Transport::Radiance,
                                z.h.coat_n, z.ng_l);
     float pdf_light_w = pick.pmf * ls.pdf_w;
@@ -580,7 +580,7 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
             set_next_ray(ps, i, z.h.p, z.h.ng, wi, b.delta ? 0.0f : b.pdf_fwd_w,
                          s.offset_scale);
             if (L) pt_set_receiver(s, ps, i, tri);  // light linking: this vertex receives (s = 0)
-            if (L) bidir_set_ray_kind(s, ps, i, pt_scatter_kind(m, wi, z.h.ng));  // (ray kinds)
+            if (L) bidir_set_ray_kind(s, ps, i, pt_path_kind(m, wi, z.h.ng));  // (ray kinds)
             ps.prev_p[i] = z.h.p;  // (and for a soft-falloff light's weight: its normal)
             bs.prev_ng[i] = z.h.ng;
             if (s.light_tree_on || media) ps.prev_n[i] = z.n_pick;

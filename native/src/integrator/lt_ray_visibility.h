@@ -98,11 +98,12 @@ LANTERN_HD inline bool lt_rays_step(const SceneView& s, const PathState& ps, int
 LANTERN_HD inline bool lt_rays_kind_ok(const SceneView& s, const PathState& ps, int i, int li,
                                        const Material& m, Vec3 ng, Vec3 w_l, Vec3 w_c,
                                        bool delta = false) {
-    const uint8_t k = pt_scatter_kind(m, w_l, dot(w_c, ng) < 0.0f ? -ng : ng);
+    const Vec3 n = dot(w_c, ng) < 0.0f ? -ng : ng;
+    const uint8_t k = pt_scatter_kind(m, w_l, n);
     const uint8_t st = ps.ray_kind[i];
     if ((st & k & kLtSurfaceKinds) && !(ps.depth[i] == 1 && !delta && lt_rays_nee(st)))
         return false;
-    if (ps.depth[i] == 1) return !pt_light_hidden(s, li, k);
+    if (ps.depth[i] == 1) return !pt_light_hidden(s, li, pt_path_kind(m, w_l, n));  // (D57)
     return ((st >> 4) & k) != 0;
 }
 

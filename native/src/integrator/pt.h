@@ -213,7 +213,7 @@ __attribute__((noinline))
 #endif
 LANTERN_HD inline bool pt_nee_allowed(const SceneView& s, const Material& m, int tri, Vec3 ng,
                                       int li, Vec3 wi) {
-    if ((s.tri_rays || s.light_rays) && pt_light_hidden(s, li, pt_scatter_kind(m, wi, ng)))
+    if ((s.tri_rays || s.light_rays) && pt_light_hidden(s, li, pt_path_kind(m, wi, ng)))
         return false;
     return pt_light_links(s, li, pt_receiver_set(s, tri));
 }
@@ -222,7 +222,7 @@ __attribute__((noinline))
 #endif
 LANTERN_HD inline void pt_mark_next_ray(const SceneView& s, const PathState& ps, int i,
                                         const Material& m, Vec3 wi, Vec3 ng, int tri) {
-    pt_set_ray_kind(s, ps, i, pt_scatter_kind(m, wi, ng));
+    pt_set_ray_kind(s, ps, i, pt_path_kind(m, wi, ng));
     pt_set_receiver(s, ps, i, tri);
 }
 

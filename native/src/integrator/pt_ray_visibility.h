@@ -13,11 +13,12 @@
 namespace lantern {
 
 // The kind of a scattering towards wi off material m (ng: the geometric normal facing the
-// arriving ray), as Cycles' ray visibility reads it: through the surface a transmission (its
-// diffuse or glossy label dropped); a reflection off the diffuse materials diffuse, off
-// conductors and glass glossy (a sharp mirror too: Cycles labels singular rays glossy); off
-// Principled and mixes, which Lantern samples as one mixture, both (an object is hidden from
-// such a reflection only when it is hidden from both kinds: addon/export/visibility.py warns).
+// arriving ray), as Cycles' object ray visibility reads it (path_state_ray_visibility): through
+// the surface a transmission (its diffuse or glossy label dropped); a reflection off the diffuse
+// materials diffuse, off conductors and glass glossy (a sharp mirror too: Cycles labels singular
+// rays glossy); off Principled and mixes, which Lantern samples as one mixture, both (an object
+// is hidden from such a reflection only when it is hidden from both kinds:
+// addon/export/visibility.py warns).
 LANTERN_HD inline uint8_t pt_scatter_kind(const Material& m, Vec3 wi, Vec3 ng) {
     if (dot(wi, ng) < 0.0f) return kRayTransmission;
     switch (m.type) {
@@ -28,6 +29,24 @@ LANTERN_HD inline uint8_t pt_scatter_kind(const Material& m, Vec3 wi, Vec3 ng) {
     case kMaterialMix: return kRayDiffuse | kRayGlossy;
     default: return kRayDiffuse;
     }
+}
+
+// The kind of that scattering as a path's flags carry it (Cycles' PathRayVisibility, set by
+// path_state_next from the closure's label), which a lamp's exclusion reads: a Translucent
+// scattering through the surface is labelled diffuse and transmit, so it is diffuse and
+// transmission (a lamp hidden from Diffuse rays lights no Translucent surface: D57); a glossy
+// or singular one stays transmission (Cycles' glossy exclusion needs PATH_RAY_REFLECT). Objects
+// read it through pt_object_kind, which drops the diffuse again. What PathState::ray_kind holds.
+LANTERN_HD inline uint8_t pt_path_kind(const Material& m, Vec3 wi, Vec3 ng) {
+    const uint8_t k = pt_scatter_kind(m, wi, ng);
+    return k == kRayTransmission && m.type == kMaterialTranslucent
+               ? uint8_t(kRayDiffuse | kRayTransmission)
+               : k;
+}
+
+// A path kind as object visibility reads it: a transmission's diffuse or glossy dropped.
+LANTERN_HD inline uint8_t pt_object_kind(uint8_t kind) {
+    return (kind & kRayTransmission) ? uint8_t(kind & ~(kRayDiffuse | kRayGlossy)) : kind;
 }
 
 // A scattering in a medium: of its own kind only. Cycles' volume-scatter rays once also counted
@@ -44,14 +63,14 @@ LANTERN_HD inline uint8_t pt_lamp_kind(uint8_t kind) {
     return (kind & kRayVolumeScatter) ? uint8_t(kRayVolumeScatter) : kind;
 }
 
-// Whether light li is hidden from scatterings of `kind` (next-event estimation then finds
-// nothing there): an emissive triangle by its object's flags (tri_rays: seen by any kind of
-// the scattering's), a lamp by its own (light_rays: Blender's ray visibility on a light object;
-// as Cycles excludes a light's shader, hidden when any kind of the scattering's is off).
+// Whether light li is hidden from scatterings of path kind `kind` (next-event estimation then
+// finds nothing there): an emissive triangle by its object's flags (tri_rays: seen by any kind
+// of pt_object_kind's), a lamp by its own (light_rays: Blender's ray visibility on a light
+// object; as Cycles excludes a light's shader, hidden when any kind of the scattering's is off).
 LANTERN_HD inline bool pt_light_hidden(const SceneView& s, int li, uint8_t kind) {
     if ((!s.tri_rays && !s.light_rays) || li < 0) return false;
     const Light& l = s.lights[li];
-    if (l.type == kLightTriangle) return s.tri_rays && !(s.tri_rays[l.triangle] & kind);
+    if (l.type == kLightTriangle) return s.tri_rays && !(s.tri_rays[l.triangle] & pt_object_kind(kind));
     const uint8_t k = pt_lamp_kind(kind);
     return s.light_rays && (s.light_rays[li] & k) != k;
 }
@@ -68,7 +87,7 @@ LANTERN_HD inline bool pt_lamp_unshadowed(const SceneView& s, int li) {
     return s.light_rays && li >= 0 && (s.light_rays[li] & kLampNoShadow) != 0;
 }
 
-// Records the kind of the scattering that made slot i's next ray.
+// Records the (path) kind of the scattering that made slot i's next ray.
 LANTERN_HD inline void pt_set_ray_kind(const SceneView& s, const PathState& ps, int i,
                                        uint8_t kind) {
     if ((s.tri_rays || s.light_rays) && ps.ray_kind) ps.ray_kind[i] = kind;
@@ -85,11 +104,12 @@ LANTERN_HD inline bool pt_lamp_unseen(const SceneView& s, const PathState& ps, i
     return (s.light_rays[li] & k) != k;
 }
 
-// True when slot i's bounce ray hit a triangle hidden from its kind: the ray goes on from the
-// hit point, the same segment (depth, throughput and the MIS state of the last real vertex
+// True when slot i's bounce ray hit a triangle hidden from its (object) kind: the ray goes on
+// from the hit point, the same segment (depth, throughput and the MIS state of the last real vertex
 // stay), as if the triangle were not in the ray query. Camera rays: the query's own flags.
 LANTERN_HD inline bool pt_hidden_from_ray(const SceneView& s, const PathState& ps, int i, int tri) {
-    return s.tri_rays && ps.ray_kind && ps.depth[i] > 1 && !(s.tri_rays[tri] & ps.ray_kind[i]);
+    return s.tri_rays && ps.ray_kind && ps.depth[i] > 1 &&
+           !(s.tri_rays[tri] & pt_object_kind(ps.ray_kind[i]));
 }
 
 LANTERN_HD inline void pt_pass_hidden(const SceneView& s, const PathState& ps, int i, Vec3 p,
