@@ -19,7 +19,8 @@ The fog is test_linking_media.py's."""
 import numpy as np
 import pytest
 
-from no_shadow_compare import assert_matches_pt  # (16 seeds x 32 spp a side)
+from lantern import metrics
+from no_shadow_compare import assert_matches_pt, renders  # (16 seeds x 32 spp a side)
 from test_linking_bidir import no_shadow, room
 from test_linking_media import FOG
 from test_linking_shadow_media import render
