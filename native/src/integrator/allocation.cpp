@@ -276,6 +276,19 @@ std::string lt_soft_walk_reason(const SceneInput& in) {
                    l.name + "')";
     return "";
 }
+
+// Whether the scene has light or shadow linking, or a lamp's or an object's Cast Shadow off:
+// the rules ray visibility by kind was checked beside only one at a time (media, auto).
+bool linking_or_no_shadow(const SceneInput& in) {
+    for (const MeshInput& m : in.meshes)
+        if (m.light_set != 0 || m.emitter_receivers != kAllReceivers || m.shadow_set != 0 ||
+            m.emitter_blockers != kAllReceivers)
+            return true;
+    for (const LightInput& l : in.lights)
+        if (l.receivers != kAllReceivers || l.blockers != kAllReceivers || !l.cast_shadow)
+            return true;
+    return !no_shadow_object_reason(in).empty();
+}
 }  // namespace
 
 std::string bidir_visibility_reason(const SceneInput& in, bool light_tracer) {
@@ -359,11 +372,8 @@ std::string bidir_visibility_reason(const SceneInput& in, bool light_tracer) {
         }
         if (std::string v = media_reason(in); !v.empty()) {
             if (light_tracer) return rays + " with " + v;
-            bool rules = shadow || unshadowed || !no_shadow_object_reason(in).empty();
-            for (const MeshInput& m : in.meshes)
-                rules |= m.light_set != 0 || m.emitter_receivers != kAllReceivers;
-            for (const LightInput& l : in.lights) rules |= l.receivers != kAllReceivers;
-            if (rules) return rays + " with linking or Cast Shadow off beside " + v;
+            if (linking_or_no_shadow(in))
+                return rays + " with linking or Cast Shadow off beside " + v;
             // media and subsurface walks each checked alone beside the kinds, not together
             if (std::string u = subsurface_reason(in); !u.empty())
                 return rays + " with " + v + " and " + u;
@@ -458,18 +468,10 @@ std::string pt_only_reason(const SceneInput& in) {
         if (std::string w = bidir_visibility_reason(in, false); !w.empty()) return w;
         // ray visibility beside linking or Cast Shadow off: cis renders it (branch rayvismix),
         // the moment channels were checked on each alone, not together
-        bool hidden = false, linking = !u.empty();
-        for (const MeshInput& m : in.meshes) {
-            hidden |= (m.rays & kRayKindsAll) != kRayKindsAll;
-            linking |= m.light_set != 0 || m.emitter_receivers != kAllReceivers ||
-                       m.shadow_set != 0 || m.emitter_blockers != kAllReceivers;
-        }
-        for (const LightInput& l : in.lights) {
-            hidden |= (l.rays & kRayKindsAll) != kRayKindsAll;
-            linking |= l.receivers != kAllReceivers || l.blockers != kAllReceivers ||
-                       !l.cast_shadow;
-        }
-        if (hidden && linking)
+        bool hidden = false;
+        for (const MeshInput& m : in.meshes) hidden |= (m.rays & kRayKindsAll) != kRayKindsAll;
+        for (const LightInput& l : in.lights) hidden |= (l.rays & kRayKindsAll) != kRayKindsAll;
+        if (hidden && linking_or_no_shadow(in))
             return "object or lamp ray visibility with linking or Cast Shadow off";
         const std::string what = v.empty() ? u : v;
         if (std::string w = media_reason(in); !w.empty()) return what + " with " + w;
