@@ -78,8 +78,10 @@ int64_t bdpt_camera_segments_medium(Exec& ex, Wavefront<Exec>& w, const SceneVie
 
 // Scenes with media: a camera vertex's next-event and connection shadow rays, each through the
 // media it crosses, its weight finished (bdpt_medium_stages.h); one item per slot. time: its
-// camera path's (motion blur; 0 in still scenes).
-template <class Rays>
+// camera path's (motion blur; 0 in still scenes). B: a volume's mesh casts no shadow (its s = 1
+// traces both queries out of line, bidir_no_shadow_medium.h): a kernel of its own, so that the
+// other scenes' shadow stage does not carry that call's frame (176 B of stack)
+template <bool B, class Rays>
 LANTERN_HD inline void bdpt_shadow_medium(const SceneView& s, const Rays& rays,
                                           const PathState& ps, const BdptState& bs, int i,
                                           float time) {
@@ -94,7 +96,7 @@ LANTERN_HD inline void bdpt_shadow_medium(const SceneView& s, const Rays& rays,
             pt_shadow_linked(s, li) ? s.light_blockers[li] : kAllReceivers);
         // an object without shadows (bidir_no_shadow.h): where only it blocks, pt's weight;
         // a volume's mesh among them: both queries (bidir_no_shadow_medium.h)
-        if (s.no_shadow_objects == 2)
+        if constexpr (B)
             add_radiance(ps, i, bidir_no_shadow_boundary_c(s, rays, RayKind::kIndirect, ps, bs,
                                                            i, sh.tr, time));
         else if (!is_black(sh.tr) && s.no_shadow_objects &&
@@ -368,12 +370,17 @@ void camera_chunk(Exec& ex, Wavefront<Exec>& w, const SceneView s, WavefrontStep
                     return camera_settings(bst, pixel_conn_of_slot(bst, bs, q[k])).candidates;
                 }) : int64_t(active) * bst.candidates;
             }
-            if (s.num_media > 0) {  // through media, weights finished (bdpt_medium_stages.h)
+            if (s.num_media > 0 && s.no_shadow_objects == 2) {  // (a volume's mesh unshadowed)
+                ex.each(active, LANTERN_KERNEL(int k) {
+                    const int i = q[k];
+                    bdpt_shadow_medium<true>(s, rays, ps, bs, i, medium_rays_timed(s) ?
+                                             medium_ray_time(s, time_of(i)) : 0.0f);
+                }, 64);
+            } else if (s.num_media > 0) {  // through media, weights finished (bdpt_medium_stages.h)
                 ex.each(active, LANTERN_KERNEL(int k) {
                     const int i = q[k];  // (motion: at its camera path's time)
-                    bdpt_shadow_medium(s, rays, ps, bs, i,
-                                       medium_rays_timed(s) ? medium_ray_time(s, time_of(i))
-                                                            : 0.0f);
+                    bdpt_shadow_medium<false>(s, rays, ps, bs, i, medium_rays_timed(s) ?
+                                              medium_ray_time(s, time_of(i)) : 0.0f);
                 }, 64);
             } else if constexpr (!Exec::kGpu) {  // one item per slot, in a fixed order
                 ex.each(active, LANTERN_KERNEL(int k) {
