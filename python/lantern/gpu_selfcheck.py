@@ -255,6 +255,27 @@ def feature_veto(v, features):
     return None
 
 
+def features_passed(v):
+    """The features (of FEATURE_CASES) whose cases passed in the verdict v: none where the core
+    set failed."""
+    if not v.get("ok"):
+        return set()
+    checked = v.get("features") if isinstance(v.get("features"), dict) else {}
+    return {f for f in FEATURE_CASES
+            if isinstance(checked.get(f), dict) and checked[f].get("ok") is True}
+
+
+def passed_features(info):
+    """The features whose cases the GPU `info` describes passed, from its verdict (run or read
+    as auto_backend_veto does: after it, the memo's); none where the check is off
+    (LANTERN_GPU_SELFCHECK=off trusts the GPU to render, not integrator auto's choice on it)."""
+    if not info.get("available") or os.environ.get("LANTERN_GPU_SELFCHECK_CHILD"):
+        return set()
+    if os.environ.get("LANTERN_GPU_SELFCHECK", "").strip().lower() in ("0", "off", "no", "false"):
+        return set()
+    return features_passed(verdict(info))
+
+
 def auto_backend_veto(info, features=()):
     """None when "auto" may take the GPU `info` describes for a scene with `features` (names of
     FEATURE_CASES the scene has), else why not (for the report)."""

@@ -342,6 +342,16 @@ def gpu_features(native_scene):
     return out
 
 
+# session.h kGpuChecked*: SessionSettings::gpu_checked's bit of each feature
+GPU_CHECKED_BITS = {"subsurface": 1, "media": 2}
+
+
+def gpu_checked_bits(features):
+    """SessionSettings::gpu_checked for the features (of gpu_selfcheck.FEATURE_CASES) whose
+    GPU self-check cases passed."""
+    return sum(bit for f, bit in GPU_CHECKED_BITS.items() if f in features)
+
+
 def _has_hetero_media(scene):
     """Whether a material's volume is heterogeneous (a density grid or a density program):
     what the core's HostScene::add_lights tests before it starts soft lights' paths."""
@@ -387,6 +397,7 @@ class Session:
             raise TypeError(f"expected a lantern.Scene, got {type(scene).__name__}")
         native_scene = scene.to_native()  # scene errors first: they are the user's to fix
         check_film_memory(native_scene["film"]["width"], native_scene["film"]["height"])
+        checked = 0
         if self.settings["backend"] == "auto":
             # a GPU is trusted only after the self-check passed on it (gpu_selfcheck.py), with
             # a subsurface or media scene only once those cases passed too
@@ -397,9 +408,13 @@ class Session:
                 self.settings["backend"] = "cpu"
                 self._warnings.append(veto)
                 log.warning(veto)
+            elif info.get("available"):
+                # integrator auto may choose cis on the GPU in a scene with a feature whose
+                # self-check cases passed there (session.cpp; a forced "cuda": pt there)
+                checked = gpu_checked_bits(gpu_selfcheck.passed_features(info))
         core = require_core()
         self._scene = scene
-        self._native = core.Session(native_scene, dict(self.settings))
+        self._native = core.Session(native_scene, dict(self.settings, gpu_checked=checked))
         self._warnings += camera_side_light_warnings(scene, self.settings["integrator"])
 
     def step(self):

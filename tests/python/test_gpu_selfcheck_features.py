@@ -145,3 +145,48 @@ def test_a_hang_in_a_feature_case_times_out_that_feature(fake_gpu, monkeypatch):
     assert v["ok"] is True and not v["features"]["media"]["ok"], v
     assert "timed out after 6 s in case 'fog/pt'" in veto("media")
     assert veto() is None
+
+
+def native_settings_of(monkeypatch, scene, **settings):
+    """The settings python/lantern/session.py hands the core for `scene` (a stand-in core)."""
+    seen = {}
+
+    class Core:
+        def Session(self, native_scene, native_settings):  # noqa: N802 (the core's name)
+            seen.update(native_settings)
+            return object()
+    monkeypatch.setattr(session, "require_core", lambda: Core())
+    monkeypatch.setattr(session, "camera_side_light_warnings", lambda *a: [])
+    lantern.Session(scene, threads=1, **settings)
+    return seen
+
+
+def test_auto_on_the_gpu_reads_which_features_passed(fake_gpu, monkeypatch):
+    """Integrator auto on a GPU chooses cis in a subsurface or media scene only where that
+    feature's self-check cases passed there (session.cpp, SessionSettings::gpu_checked; its
+    decision: tests/cpp/test_session_auto_gpu.cpp): session.py hands the core the features the
+    cached verdict passed (bits 1 subsurface, 2 media), none for a forced "cuda" or the check
+    off, and none where the scene went to the CPU. Host code only: never ran on a GPU."""
+    assert gpu_selfcheck.features_passed({"ok": False, "features": {
+        "media": {"ok": True}}}) == set()
+    assert gpu_selfcheck.features_passed({"ok": True}) == set()
+    assert gpu_selfcheck.features_passed({"ok": True, "features": {
+        "subsurface": {"ok": False}, "media": {"ok": True}}}) == {"media"}
+    assert session.gpu_checked_bits({"subsurface", "media"}) == 3
+    verdict_for(monkeypatch, "fail:skin", ("envmap/pt", "skin/pt", "fog/pt"))
+    monkeypatch.setattr(gpu_selfcheck, "run_check", no_child)
+    assert gpu_selfcheck.passed_features(dict(FAKE_GPU)) == {"media"}
+    fog, cornell = run.fog_box(8, 8), scenes.cornell_box(8, 8)
+    assert native_settings_of(monkeypatch, fog, backend="auto")["gpu_checked"] == 2
+    assert native_settings_of(monkeypatch, cornell, backend="auto")["gpu_checked"] == 2
+    sss = native_settings_of(monkeypatch, scenes_sss.lit_sphere(8, 8), backend="auto")
+    assert sss["backend"] == "cpu" and sss["gpu_checked"] == 0, sss
+    assert native_settings_of(monkeypatch, fog, backend="cuda")["gpu_checked"] == 0
+    monkeypatch.setenv("LANTERN_GPU_SELFCHECK", "off")
+    assert native_settings_of(monkeypatch, fog, backend="auto")["gpu_checked"] == 0
+    monkeypatch.delenv("LANTERN_GPU_SELFCHECK")
+    monkeypatch.setattr(gpu_selfcheck, "_memo", {})
+    monkeypatch.setattr(gpu_selfcheck, "run_check", lambda timeout=None: {
+        "ok": True, "features": {f: {"ok": True} for f in gpu_selfcheck.FEATURE_CASES}})
+    monkeypatch.setenv("LANTERN_GPU_SELFCHECK", "again")
+    assert native_settings_of(monkeypatch, fog, backend="auto")["gpu_checked"] == 3

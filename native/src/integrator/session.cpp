@@ -192,12 +192,16 @@ void Session::init(const SceneInput& scene, std::unique_ptr<CudaRenderer> test_g
         if (why.empty() && settings_.spp_per_iteration > 1)
             if (std::string v = motion_reason(scene); !v.empty())
                 why = v + " with more than one sample an iteration";
-        // cis's walk stages fit the device (schedule_bdpt.h) but have not run on a GPU yet
-        // (docs/cuda_backend.md): the default keeps pt there until a GPU has checked them
-        if (why.empty() && gpu_ && scene_->view().has_subsurface)
-            if (std::string v = subsurface_reason(scene); !v.empty()) why = v + " on the GPU";
-        // the bidirectional medium stages have not run on a GPU yet (docs/volumes.md)
-        if (why.empty() && gpu_ && media_) why = "participating media on the GPU";
+        // cis's walk stages and the bidirectional medium stages on a GPU: auto chooses there
+        // once that GPU's self-check passed the feature's cases (skin/cis, fog/cis: the same
+        // kernels; gpu_selfcheck.py, which python/lantern/session.py reads into gpu_checked
+        // under backend "auto"); else (a forced "cuda", the check off or failed) pt
+        const std::string unchecked = " on a GPU whose self-check has not passed its cases";
+        if (why.empty() && gpu_ && scene_->view().has_subsurface &&
+            !(settings_.gpu_checked & kGpuCheckedSubsurface))
+            if (std::string v = subsurface_reason(scene); !v.empty()) why = v + unchecked;
+        if (why.empty() && gpu_ && media_ && !(settings_.gpu_checked & kGpuCheckedMedia))
+            why = "participating media" + unchecked;
         // (auto_media off: pt in media, docs/auto_integrator.md "Media")
         const bool media_off = why.empty() && media_ && !settings_.auto_media;
         alloc_ = std::make_unique<Allocation>(int64_t(scene.width) * scene.height,

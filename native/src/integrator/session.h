@@ -30,6 +30,9 @@ struct Wavefront;
 // throws std::invalid_argument naming the first one (docs/lvc_notes.md). lt_session.cpp.
 void check_light_tracing(const SceneInput& in);
 
+// SessionSettings::gpu_checked's bits: the GPU self-check's feature cases that passed
+constexpr int kGpuCheckedSubsurface = 1, kGpuCheckedMedia = 2;
+
 struct SessionSettings {
     // pt, lt, bdpt, lvc, cis, or auto: pt or cis per iteration (integrator/allocation.h)
     std::string integrator = "pt";
@@ -68,6 +71,10 @@ struct SessionSettings {
     // there (on by default since the medium stages make moment channels; off: auto = pt in
     // media, with a warning; docs/auto_integrator.md, "Media")
     bool auto_media = true;
+    // (internal) integrator "auto" on a GPU: the features whose GPU self-check cases passed on
+    // it (python/lantern/gpu_selfcheck.py; kGpuChecked*), so that auto may choose cis there in
+    // scenes with them; 0 (a forced "cuda" backend, no self-check): pt in such scenes
+    int gpu_checked = 0;
     // (internal) a cis trial of "auto": each pixel's sum holds the moment channels of
     // BdptSettings::moments (bdpt.h) instead of RGB; never set on a rendered iteration
     bool auto_moments = false;

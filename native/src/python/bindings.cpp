@@ -300,6 +300,7 @@ SessionSettings to_settings(const nb::dict& d) {
     s.instancing = get<bool>(d, "instancing", s.instancing);
     s.auto_keep_pilot = get<bool>(d, "auto_keep_pilot", s.auto_keep_pilot);
     s.auto_media = get<bool>(d, "auto_media", s.auto_media);
+    s.gpu_checked = get<int>(d, "gpu_checked", s.gpu_checked);  // (session.py, the self-check)
     s.auto_moments = get<bool>(d, "moment_channels", s.auto_moments);  // (tests)
     if (s.threads < 0 || s.threads > kMaxThreads) {
         throw std::invalid_argument("threads must be in [0, " + std::to_string(kMaxThreads) +
