@@ -140,8 +140,9 @@ def test_kinds_auto_chooses_itself(core):
 
 def kinds_subsurface(on=True):
     """kinds_objects with ball A a Random Walk subsurface material: bdpt, lvc and cis render it
-    (test_ray_visibility_subsurface.py), auto keeps pt (its moment channels unchecked there).
-    (Beside linking and Cast Shadow off: test_ray_visibility_linking.py.)"""
+    (test_ray_visibility_subsurface.py), and auto weighs it since branch autotidy (its moment
+    channels checked there: test_auto_kinds.py). (Beside linking and Cast Shadow off:
+    test_ray_visibility_linking.py.)"""
     s = kinds_objects(on)
     m = s.add_material("skin", type="principled", base_color=(0.8, 0.6, 0.4), roughness=0.5,
                        subsurface={"weight": 1.0, "radius": [0.1, 0.05, 0.02],
@@ -152,9 +153,10 @@ def kinds_subsurface(on=True):
 
 # (lt renders the kinds beside a lamp's Cast Shadow off since ltmix: test_lt_ray_visibility.py;
 # its hand-over beside subsurface walks: test_ray_visibility_subsurface.py)
-@pytest.mark.parametrize("integrator,build", [("auto", kinds_subsurface)])
-def test_kinds_hand_over_to_pt(core, integrator, build):
-    img, warnings = render(build(), integrator, 7, spp=4)
-    assert any(("ray visibility" in w or "hidden from" in w) and
-               ("with pt" in w or "path tracing" in w) for w in warnings), warnings
-    np.testing.assert_array_equal(img, render(build(), "pt", 7, spp=4)[0])
+def test_kinds_beside_subsurface_auto_chooses_itself(core):
+    """auto no longer hands the kinds beside subsurface walks to pt (branch autotidy): its
+    pilot weighs cis."""
+    s = lantern.Session(kinds_subsurface(), integrator="auto", seed=7, backend="cpu", threads=1)
+    s.step()
+    assert not any("path tracing" in w or "with pt" in w for w in s.warnings), s.warnings
+    assert s.stats["auto_cis_iterations"] > 0  # its pilot's cis trials

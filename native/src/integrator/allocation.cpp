@@ -461,20 +461,27 @@ std::string pt_only_reason(const SceneInput& in) {
     // object and lamp ray visibility (branch automis): cis renders them itself where
     // bidir_visibility_reason says so (bidir_linking.h, bidir_no_shadow.h,
     // bidir_ray_visibility.h), and auto weighs them on surfaces (docs/auto_integrator.md: the
-    // moment channels of restricted paths are pt's weights' own); beside media, subsurface or
-    // strands they stay pt's (combinations auto was not checked on)
+    // moment channels of restricted paths are pt's weights' own); linking and Cast Shadow off
+    // beside media, subsurface or strands, and the kinds beside strands, stay pt's
+    // (combinations auto was not checked on)
     if (const std::string v = ray_visibility_reason(in), u = no_shadow_object_reason(in);
         !v.empty() || !u.empty()) {
         if (std::string w = bidir_visibility_reason(in, false); !w.empty()) return w;
-        // ray visibility beside linking or Cast Shadow off: cis renders it (branch rayvismix),
-        // the moment channels were checked on each alone, not together
+        // object and lamp ray visibility by kind wherever cis renders it (what
+        // bidir_visibility_reason does not hand over): a restricted path is pt's two techniques
+        // at pt's weights, so its channels are pt's own term beside linking, Cast Shadow off,
+        // media and walks too; checked (branch autotidy, test_auto_kinds.py: a kind no path
+        // traces hidden leaves the identity as it was beside each). What follows is the other
+        // features' own rule (linking beside media, ...), named as such, and strands
         bool hidden = false;
         for (const MeshInput& m : in.meshes) hidden |= (m.rays & kRayKindsAll) != kRayKindsAll;
         for (const LightInput& l : in.lights) hidden |= (l.rays & kRayKindsAll) != kRayKindsAll;
-        if (hidden && linking_or_no_shadow(in))
-            return "object or lamp ray visibility with linking or Cast Shadow off";
-        const std::string what = v.empty() ? u : v;
-        if (std::string w = media_reason(in); !w.empty()) return what + " with " + w;
+        const bool kinds_only = hidden && !linking_or_no_shadow(in);
+        const std::string what = kinds_only ? v
+                                 : hidden   ? "light or shadow linking or Cast Shadow off"
+                                            : v.empty() ? u : v;
+        if (std::string w = media_reason(in); !w.empty() && !kinds_only)
+            return what + " with " + w;
         // light linking alone beside subsurface scattering (branch automis): a zero that every
         // technique applies, a walk's exit receiving as its surface (bdpt_sss.h), so the
         // identity holds as through walks without it (test_auto_wide.py)
@@ -486,7 +493,7 @@ std::string pt_only_reason(const SceneInput& in) {
             light_links_only &= (l.rays & kRayKindsAll) == kRayKindsAll &&
                                 l.blockers == kAllReceivers && l.cast_shadow;
         for (const CurveInput& c : in.curves) light_links_only &= c.shadow_set == 0;
-        if (std::string w = subsurface_reason(in); !w.empty() && !light_links_only)
+        if (std::string w = subsurface_reason(in); !w.empty() && !light_links_only && !kinds_only)
             return what + " with " + w;
         if (std::string w = curves_reason(in); !w.empty()) return what + " with " + w;
     }
@@ -504,8 +511,8 @@ std::string pt_only_reason(const SceneInput& in) {
     // cis's passes hold one time for several samples, which one-sample trials do not see: the
     // session keeps pt there (session.cpp)
     // subsurface scattering: no longer pt's (branch autowide) on the CPU, where cis's camera
-    // paths walk as pt's do (bdpt_sss.h; the GPU has no walk stage for cis: session.cpp keeps
-    // pt there). With the moment channels on, light paths do not walk (bdpt_sss_light.h
+    // paths walk as pt's do (bdpt_sss.h; a GPU: session.cpp keeps pt there unless its
+    // self-check passed the subsurface cases). With the moment channels on, light paths do not walk (bdpt_sss_light.h
     // bdpt_sss_split_on), nor under a connection map (auto's kept cis iterations by default)
     if (std::string v = curves_bidir_reason(in); !v.empty()) return v;  // docs/curves.md
     return "";
