@@ -4,8 +4,8 @@ next event skipping a light with it): the world hidden from Volume Scatter is bl
 medium vertex's phase function scattered and lights no medium vertex by next-event estimation
 (pt: integrator/pt_volume.h pt_medium_vertex, pt_medium_nee; SceneView kWorldVolume).
 
-A fog box (a mesh volume, scattering only) under a constant world of 0.5 that the camera does
-not see (visible_camera off), so that every path reaching the world leaves a medium vertex:
+A fog box (a mesh volume, scattering only) under a constant world map of 0.5 that the camera
+does not see (visible_camera off), so that every path reaching the world leaves a medium vertex:
 
 - exact: lit by the world alone, hidden from Volume Scatter, the image is black in both
   techniques; the controls (the world visible to Volume Scatter, or hidden from the surface
@@ -49,7 +49,10 @@ def fog_scene(world_hidden=(), lamp=False, fog=True, size=12):
         to_world[:3, 3] = [0.0, 0.0, 1.6]  # local -Z: down, onto the box
         scene.add_light("area", to_world=to_world.tolist(), shape="rectangle", size=[1.0, 1.0],
                         power=[20.0] * 3, name="lamp")
-    scene.world = {"color": [WORLD] * 3, "visible_camera": False}
+    # a map (constant): next-event estimation samples it (a constant colour it never picks:
+    # docs/lvc_notes.md), so both techniques meet the rule
+    scene.world = {"color": [0.0] * 3, "map": np.full((8, 16, 3), WORLD, np.float32),
+                   "visible_camera": False}
     scene.world.update({f"visible_{ray}": False for ray in world_hidden})
     return scene
 
@@ -79,16 +82,17 @@ def renders(scene_fn, seed0, spp=64):
 def test_world_hidden_from_volume_scatter_is_the_lamp_alone(core):
     hidden = renders(lambda: fog_scene(("volume_scatter",), lamp=True), 100)
     alone = renders(lambda: dict_world_black(fog_scene(lamp=True)), 200)
-    # 16 x 64 spp over 12 x 12 resolve a 2 % image bias (~2.3 s of CPU for the three sets)
+    # 16 x 64 spp over 12 x 12 resolve a 3.3 % image bias (next-event estimation's picks of the
+    # hidden world are lost to the lamp); ~2.5 s of CPU for the three sets
     metrics.assert_agreement("world hidden from Volume Scatter vs the lamp alone", hidden, alone,
-                             block=4, image_bias=0.02, block_bias=0.1)
+                             block=4, image_bias=0.04, block_bias=0.1)
     # the control: the world seen by Volume Scatter rays brightens the fog
     seen = renders(lambda: fog_scene(lamp=True), 300)
     assert not metrics.compare_renders(seen, alone, block=4).passed
 
 
 def dict_world_black(scene):
-    scene.world["color"] = [0.0] * 3
+    scene.world = {"color": [0.0] * 3, "visible_camera": False}
     return scene
 
 
