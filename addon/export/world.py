@@ -168,8 +168,9 @@ def _background_input(world, node, report):
 
 def export_world(world, report, cache=None, integrator="pt"):
     """The scene's world dict; `cache` (optional, kept between viewport exports) holds map
-    pixels by image; `integrator` for the ray visibility's warnings. The Volume output:
-    export/volume.py."""
+    pixels by image; `integrator` (kept for the callers) no longer changes the ray visibility
+    exported: the core hands it to pt where the integrator does not render it (_visibility).
+    The Volume output: export/volume.py."""
     out = _export_world_surface(world, report, cache, integrator)
     return attach_world_volume(world, out, report)
 
