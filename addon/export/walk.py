@@ -128,8 +128,9 @@ def scene_warnings(bscene, scene, report):
 
 
 def integrator(bscene):
-    """The integrator whose features the export checks (holdouts, shadow catchers, the world's
-    ray visibility: export/holdout.py, world.py drop them with a warning for any but pt):
+    """The integrator whose features the export checks (holdouts, shadow catchers:
+    export/holdout.py drops them with a warning for any but pt; the world's ray visibility is
+    exported for every integrator, the core hands it to pt):
     "auto" counts as pt, since it renders every scene with one of them with pt alone, on the
     CPU and the GPU (native/src/integrator/allocation.cpp pt_only_reason: a holdout material,
     a shadow catcher, the world hidden from some rays)."""

@@ -168,8 +168,9 @@ def _background_input(world, node, report):
 
 def export_world(world, report, cache=None, integrator="pt"):
     """The scene's world dict; `cache` (optional, kept between viewport exports) holds map
-    pixels by image; `integrator` for the ray visibility's warnings. The Volume output:
-    export/volume.py."""
+    pixels by image; `integrator` (kept for the callers) no longer changes the ray visibility
+    exported: the core hands it to pt where the integrator does not render it (_visibility).
+    The Volume output: export/volume.py."""
     out = _export_world_surface(world, report, cache, integrator)
     return attach_world_volume(world, out, report)
 
@@ -234,17 +235,19 @@ def _export_world_surface(world, report, cache=None, integrator="pt"):
 
 def _visibility(world, report, integrator="pt"):
     """Cycles' world ray visibility (World > Settings > Ray Visibility): camera for every
-    integrator, diffuse, glossy and transmission for pt (integrator/pt.h pt_world_sees)."""
+    integrator; diffuse, glossy, transmission (integrator/pt.h pt_world_sees) and volume
+    scatter (a medium vertex's phase ray and next event, integrator/pt_volume.h) rendered by
+    pt: bdpt, lvc, cis and lt hand a scene with any of them hidden over to pt, with the core's
+    warning naming it (allocation.cpp world_rays_reason; volume scatter only beside media), and
+    auto renders it with pt."""
     vis = getattr(world, "cycles_visibility", None)
     if vis is None:
         return {}
     out = {"visible_camera": bool(getattr(vis, "camera", True))}
-    off = [ray for ray in ("diffuse", "glossy", "transmission") if not getattr(vis, ray, True)]
-    if off and integrator != "pt":
-        report.warn(f"World '{world.name}': hiding the world from {', '.join(off)} rays is "
-                    f"rendered by the pt integrator only; {integrator} keeps it visible to them")
-        return out
-    out.update({f"visible_{ray}": False for ray in off})
+    off = [ray for ray in ("diffuse", "glossy", "transmission", "scatter")
+           if not getattr(vis, ray, True)]
+    out.update({"visible_volume_scatter" if ray == "scatter" else f"visible_{ray}": False
+                for ray in off})
     return out
 
 

@@ -160,7 +160,7 @@ def validate_world(world):
     out = dict(world)
     out["color"] = _rgb(world.get("color", [0.0, 0.0, 0.0]), "world color")
     out["visible_camera"] = _bool(world.get("visible_camera", True), "world visible_camera")
-    for ray in ("diffuse", "glossy", "transmission"):  # ray visibility (pt)
+    for ray in ("diffuse", "glossy", "transmission", "volume_scatter"):  # ray visibility (pt)
         if f"visible_{ray}" in world:
             out[f"visible_{ray}"] = _bool(world[f"visible_{ray}"], f"world visible_{ray}")
     if world.get("map") is not None:

@@ -57,9 +57,16 @@ def test_auto_keeps_what_only_pt_renders(empty, addon, feature):
     s.step()
     assert s.stats["auto_choice"] == "pt" and s.stats["auto_cis_iterations"] == 0
     assert any("only pt renders" in w for w in s.warnings), s.warnings
-    # the control: another integrator's export warns (and drops the catcher and the world's
-    # flags; a holdout's copy stays, rendered as an ordinary surface)
+    # the control: another integrator's export warns (and drops the catcher; a holdout's copy
+    # stays, rendered as an ordinary surface). The world's flags stay: the core hands them to
+    # pt with its warning (allocation.cpp world_rays_reason)
     empty.lantern.integrator = "bdpt"
     scene, report = export()
+    if feature is world_hidden:
+        assert exported(scene)
+        s = lantern.Session(scene, integrator="bdpt", seed=1, backend="cpu", threads=1)
+        assert any("the world hidden from glossy rays" in w and "with pt" in w
+                   for w in s.warnings), s.warnings
+        return
     assert any("pt integrator only" in m for m in report.messages), report.messages
     assert feature is holdout or not exported(scene), feature.__name__

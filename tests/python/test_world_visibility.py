@@ -1,5 +1,5 @@
-"""The world's ray visibility (Cycles' World > Settings > Ray Visibility; pt only:
-integrator/pt.h pt_world_sees): a kind of scattering that does not see the world finds it black
+"""The world's ray visibility (Cycles' World > Settings > Ray Visibility; pt's, the others hand it
+over: integrator/pt.h pt_world_sees; Volume Scatter: test_world_volume_scatter.py): a kind of scattering that does not see the world finds it black
 and is lit by it neither through next-event estimation nor through BSDF sampling.
 
 A convex ball under a constant world of 0.5, seen by the camera: white diffuse and clear glass
@@ -159,9 +159,18 @@ def test_glass_without_transmission_shows_only_its_reflection(core):
     assert none[BALL].max() == 0.0
 
 
-def test_the_other_integrators_ignore_it(core):
-    """bdpt keeps the world visible to every kind (the export warns, addon/export/world.py):
-    the diffuse furnace stays lit."""
-    imgs = [render(ball_scene("diffuse", ("diffuse",)), seed=k, integrator="bdpt")[BALL]
-            for k in range(K)]
-    furnace("bdpt, world hidden from diffuse (ignored)", imgs)
+@pytest.mark.parametrize("integrator", ["bdpt", "lvc", "cis", "lt"])
+def test_the_other_integrators_hand_it_to_pt(core, integrator):
+    """bdpt, lvc, cis and lt hand the world's ray visibility over to pt with a warning naming it
+    (allocation.cpp world_rays_reason): the diffuse ball hidden from the world is black, pt's
+    bits (it was kept visible to every kind before: the furnace, lit)."""
+    scene = ball_scene("diffuse", ("diffuse",))
+    s = lantern.Session(scene, integrator=integrator, seed=1, backend="cpu", max_depth=12,
+                        spp_per_iteration=4)
+    s.step()
+    assert any("the world hidden from diffuse rays" in w and "with pt" in w
+               for w in s.warnings), s.warnings
+    img = np.asarray(s.image(), np.float64)
+    np.testing.assert_array_equal(img, render(ball_scene("diffuse", ("diffuse",)), seed=1,
+                                              spp=4))
+    assert img[BALL].max() == 0.0

@@ -289,9 +289,22 @@ bool linking_or_no_shadow(const SceneInput& in) {
             return true;
     return !no_shadow_object_reason(in).empty();
 }
+
+// World > Ray Visibility hiding the world from a kind of scattering the scene has (Volume
+// Scatter: only with media): pt's rule alone (pt.h pt_world_sees, pt_volume.h); "" when none
+std::string world_rays_reason(const SceneInput& in) {
+    static const char* const kNames[] = {"diffuse", "glossy", "transmission", "volume scatter"};
+    std::string off;
+    for (int k = 0; k < 4; ++k)
+        if (!(in.world_rays & (1u << k)) && (k < 3 || !media_reason(in).empty()))
+            off += (off.empty() ? "" : ", ") + std::string(kNames[k]);
+    return off.empty() ? off : "the world hidden from " + off + " rays";
+}
 }  // namespace
 
 std::string bidir_visibility_reason(const SceneInput& in, bool light_tracer) {
+    // World > Ray Visibility: pt's alone so far (docs/lvc_notes.md "The world's ray visibility")
+    if (std::string v = world_rays_reason(in); !v.empty()) return v;
     // an object's Cast Shadow off: bdpt, lvc and cis (bidir_no_shadow.h) on meshes and strands
     // (their shadow query passes a non-casting strand as a triangle), with subsurface
     // scattering too (a walk's exit is a surface vertex, bdpt_sss.h), beside shadow linking,
@@ -498,7 +511,7 @@ std::string pt_only_reason(const SceneInput& in) {
         if (std::string w = curves_reason(in); !w.empty()) return what + " with " + w;
     }
     if (in.catcher_mode != 0) return "a shadow catcher pass";
-    if (in.world_rays != 7) return "the world hidden from some rays";
+    if (std::string v = world_rays_reason(in); !v.empty()) return v;
     // media (with auto_media on; session.cpp): cis has medium vertices in homogeneous and
     // heterogeneous media (bdpt_medium_stages.h, bdpt_medium_hetero.h); emissive ones stay pt's
     // here (emissive_media_reason), as auto's trials carry no moment channels in media at all

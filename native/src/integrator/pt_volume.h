@@ -60,6 +60,9 @@ LANTERN_HD inline void pt_medium_nee(const SceneView& s, const PathState& ps, in
     const float pdf_light = pick.pmf * ls.pdf_w;
     if (!ls.valid || is_black(ls.le) || !(pdf_light > 0.0f)) return;
     if (pt_light_hidden(s, pick.light, kRayKindVolume)) return;  // ray visibility
+    if (!(s.world_rays & kWorldVolume) &&  // the world hidden from Volume Scatter (Cycles:
+        (pick.light == s.world_light || s.lights[pick.light].of_world))  // SHADER_EXCLUDE_SCATTER)
+        return;
     // light linking: a medium point receives as its medium's set (pt_medium_receiver)
     if (s.light_receivers && ps.recv_set &&
         !pt_light_links(s, pick.light, pt_medium_receiver(s, ps, i)))
@@ -148,7 +151,8 @@ LANTERN_HD inline void pt_medium_vertex(const SceneView& s, const PathState& ps,
     ps.ray_tmax[i] = kInf;
     ps.prev_pdf_w[i] = pdf_w;
     ps.alive[i] = 1;
-    if (ps.world_hidden) ps.world_hidden[i] = 0;  // the world is seen from a medium (its own flag)
+    if (ps.world_hidden)  // the world seen from a medium vertex: World > Ray Visibility > Volume
+        ps.world_hidden[i] = (s.world_rays & kWorldVolume) ? 0 : 1;
     pt_set_ray_kind(s, ps, i, kRayKindVolume);
     if (s.light_tree_on || s.num_media > 0) {  // (media: pt_light_pdf_w)
         ps.prev_p[i] = p;

@@ -59,7 +59,8 @@ void get_world_map(const nb::dict& w, SceneInput& in) {
     in.world_visible_camera = get<bool>(w, "visible_camera", true);
     in.world_rays = (get<bool>(w, "visible_diffuse", true) ? kWorldDiffuse : 0u) |
                     (get<bool>(w, "visible_glossy", true) ? kWorldGlossy : 0u) |
-                    (get<bool>(w, "visible_transmission", true) ? kWorldTransmission : 0u);
+                    (get<bool>(w, "visible_transmission", true) ? kWorldTransmission : 0u) |
+                    (get<bool>(w, "visible_volume_scatter", true) ? kWorldVolume : 0u);
     if (!has(w, "map")) return;
     nb::ndarray<const float, nb::ndim<3>, nb::c_contig, nb::device::cpu> a;
     if (!nb::try_cast(w["map"], a, false))

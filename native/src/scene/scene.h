@@ -211,7 +211,7 @@ struct SceneInput {
     bool world_visible_camera = true; // false: camera rays see black (the world still lights)
     bool film_transparent = false;    // Blender's transparent film: the world is not drawn
     int catcher_mode = 0;             // SceneView::catcher_mode (lantern/film.py)
-    unsigned world_rays = 7;          // SceneView::world_rays (WorldRays)
+    unsigned world_rays = 15;         // SceneView::world_rays (WorldRays)
     std::vector<MaterialInput> materials;
     std::vector<TextureInput> textures;
     std::vector<MeshInput> meshes;

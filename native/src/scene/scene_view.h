@@ -239,7 +239,9 @@ enum CatcherMode : int32_t { kCatcherMatte = 0, kCatcherObject = 1, kCatcherPass
 
 // SceneView::world_rays: the scatterings whose rays see the world (Cycles' world ray
 // visibility; camera rays: the world light's visible_camera). Transmission is any scattering
-// through the surface; diffuse and glossy are reflections (integrator/pt.h pt_world_sees).
+// through the surface; diffuse and glossy are reflections (integrator/pt.h pt_world_sees);
+// volume: a medium vertex's phase sample and next-event estimation (Cycles'
+// SHADER_EXCLUDE_SCATTER; integrator/pt_volume.h).
 // SceneView::tri_rays: the scatterings whose rays see a triangle's object (Cycles' object ray
 // visibility Diffuse, Glossy, Transmission, Volume Scatter; pt: integrator/pt_ray_visibility.h)
 enum RayKinds : uint8_t { kRayDiffuse = 1, kRayGlossy = 2, kRayTransmission = 4,
@@ -253,7 +255,7 @@ constexpr uint8_t kLampNoShadow = 16;
 constexpr uint64_t kAllReceivers = ~uint64_t(0);
 
 enum WorldRays : uint32_t { kWorldDiffuse = 1, kWorldGlossy = 2, kWorldTransmission = 4,
-                            kWorldRaysAll = 7 };
+                            kWorldVolume = 8, kWorldRaysAll = 15 };
 
 struct CameraView {
     int32_t orthographic;
