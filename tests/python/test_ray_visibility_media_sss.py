@@ -40,7 +40,7 @@ from test_linking_subsurface import K, render
 from test_ray_visibility_subsurface import _metal_wall, _random_walk, room
 from test_volume_bidir import _volume_box
 
-SPP = 64  # (pt takes twice: tests/README.md)
+SPP, SPP_CI = 64, 32  # (pt takes twice: tests/README.md)
 
 
 def _fog(s, fog):
@@ -97,24 +97,24 @@ def pt_refs(core):
     return {}
 
 
-def check(pt_refs, integrator, case):
-    if case not in pt_refs:
-        pt_refs[case] = renders(case, "pt", 1000, spp=2 * SPP)[0]
-    ref = pt_refs[case]
-    imgs, warnings = renders(case, integrator, 2000)
+def check(pt_refs, integrator, case, spp=SPP):
+    if (case, spp) not in pt_refs:
+        pt_refs[case, spp] = renders(case, "pt", 1000, spp=2 * spp)[0]
+    ref = pt_refs[case, spp]
+    imgs, warnings = renders(case, integrator, 2000, spp=spp)
     assert not warnings, warnings  # rendered by the integrator itself
     metrics.assert_agreement(f"{case} (kinds, media, subsurface), {integrator} vs pt", imgs, ref,
                              block=4, image_bias=0.035 if case == "lamp_world" else 0.02,
                              block_bias=0.1)
     # the control: every kind seen is told apart
-    free, _ = renders(case, integrator, 3000, on=False)
+    free, _ = renders(case, integrator, 3000, on=False, spp=spp)
     control = metrics.compare_renders(free, ref, block=4)
     print("control (every kind seen):", control)
     assert not control.passed
 
 
 def test_cis_skin_box_matches_pt(pt_refs):
-    check(pt_refs, "cis", "skin_box")
+    check(pt_refs, "cis", "skin_box", SPP_CI)
 
 
 LONG = [(i, c) for c in CASES for i in ("bdpt", "lvc", "cis") if (i, c) != ("cis", "skin_box")]
