@@ -23,7 +23,9 @@ quad, the red slab over the ball's left under the lamp), max_depth 4, 16 seeds x
   lamp (the exit's continuation leaves inside the box's medium);
 - ball_volume: world fog, the ball hidden from Volume Scatter rays (a phase ray passes the
   walk's object), the slab from Diffuse ones;
-- lamp_world: world fog, the lamp hidden from Diffuse rays (the exit's next event skips it).
+- lamp_world: world fog, the lamp hidden from Diffuse rays (the exit's next event skips it);
+- linked_box: skin_box with the slab casting no shadow and the quad shadow-linked to the ball
+  (the three rules at once).
 
 The comparison resolves a 2 % image bias and 10 % on a block (the walks' and the fog's noise at
 16 x 64 spp; test_ray_visibility_media.py states the same), lamp_world (lit by the quad and
@@ -79,9 +81,19 @@ def lamp_world(on=True):
     return _fog(s, "world")
 
 
+def linked_box(on=True):
+    """skin_box beside linking and Cast Shadow off too: the slab casts no shadow, the quad's
+    shadows are the ball's alone (test_ray_visibility_media_linking.py's rules with a walk)."""
+    s = _kinds("skin", "box")(on)
+    s.meshes[4]["cast_shadow"] = False
+    s.meshes[2]["shadow_set"] = 1
+    s.meshes[3]["blockers"] = [1]
+    return s
+
+
 CASES = {"skin_world": _kinds("skin", "world"), "rw_world": _kinds("rw", "world"),
          "skin_box": _kinds("skin", "box"), "ball_volume": ball_volume,
-         "lamp_world": lamp_world}
+         "lamp_world": lamp_world, "linked_box": linked_box}
 
 
 def renders(name, integrator, seed0, on=True, spp=SPP):
