@@ -366,8 +366,9 @@ std::string bidir_visibility_reason(const SceneInput& in, bool light_tracer) {
     // soft-falloff light beside an object hidden from some kind (its lines' first segment
     // cannot walk); subsurface walks stay pt's. Beside media (world fog, mesh volumes,
     // homogeneous or heterogeneous): bdpt, lvc and cis (bidir_ray_visibility.h,
-    // bdpt_medium_stages.h), not beside linking or Cast Shadow off there (not checked
-    // together); lt not
+    // bdpt_medium_stages.h), beside linking and Cast Shadow off there too and beside
+    // subsurface walks (medmix: the rules compose as on surfaces,
+    // test_ray_visibility_media_linking.py, test_ray_visibility_media_sss.py); lt not
     if (other) {
         const std::string rays = "object or lamp ray visibility";
         if (light_tracer) {
@@ -385,11 +386,9 @@ std::string bidir_visibility_reason(const SceneInput& in, bool light_tracer) {
         }
         if (std::string v = media_reason(in); !v.empty()) {
             if (light_tracer) return rays + " with " + v;
-            if (linking_or_no_shadow(in))
-                return rays + " with linking or Cast Shadow off beside " + v;
-            // media and subsurface walks each checked alone beside the kinds, not together
-            if (std::string u = subsurface_reason(in); !u.empty())
-                return rays + " with " + v + " and " + u;
+            // (media and subsurface walks together: the walk's exit is a camera vertex whose
+            // next event, continuation and restriction run the media code as any; medmix,
+            // test_ray_visibility_media_sss.py)
         }
         // (subsurface walks: bdpt, lvc and cis render them, the walk no segment of its own and
         // the exits' rays a diffuse bounce's, bdpt_sss.h; lt's stay pt's)

@@ -31,8 +31,8 @@
 // Where only lamps without kinds set light_rays (Cast Shadow off), nothing here changes a bit.
 // A subsurface walk is no segment (its rays see every surface, as pt's): its entry is the
 // light-side end of the segment that reaches it, its exit the camera-side end of its diffuse
-// continuation (bdpt_sss.h bdpt_sss_exit; the light pass: bdpt_sss_light.h). lt, media beside
-// subsurface walks, and the combinations allocation.cpp bidir_visibility_reason names stay pt's.
+// continuation (bdpt_sss.h bdpt_sss_exit; the light pass: bdpt_sss_light.h), in media too. lt
+// and the combinations allocation.cpp bidir_visibility_reason names stay pt's.
 #pragma once
 
 #include "integrator/pt.h"  // pt_emission_weight, pt_light_pdf_w
