@@ -49,29 +49,32 @@ def mesh_ray_visibility(obj):
 
 
 def mixed_kind_warning(meshes, materials, report):
-    """Principled and mixed materials scatter diffuse and glossy rays as one mixture in
-    Lantern (pt_scatter_kind): an object hidden from one of the two kinds only stays visible
-    in their reflections, where Cycles hides it from the lobe of that kind. Named, once."""
+    """Principled materials scatter diffuse and glossy rays as one mixture in Lantern
+    (pt_scatter_kind): an object hidden from one of the two kinds only stays visible in their
+    reflections, where Cycles hides it from the lobe of that kind. (A Mix Shader's ray takes
+    the kind of the leaf it sampled, as Cycles: pt_sampled_leaf; its Principled leaves, which
+    `materials` lists, are named.) Named, once."""
     one_kind = [m.get("name", "?") for m in meshes
                 if m.get("visible_diffuse", True) != m.get("visible_glossy", True)]
-    mixed = [m.get("name", "?") for m in materials if m.get("type") in ("principled", "mix")]
+    mixed = [m.get("name", "?") for m in materials if m.get("type") == "principled"]
     if one_kind and mixed:
         report.warn(f"Object '{one_kind[0]}'{' and others' if len(one_kind) > 1 else ''}: "
-                    "hidden from diffuse or glossy rays only; Principled and mixed materials "
+                    "hidden from diffuse or glossy rays only; Principled materials "
                     f"({', '.join(mixed[:3])}{', ...' if len(mixed) > 3 else ''}) see it in "
                     "every reflection")
 
 
 def mixed_kind_lamp_warning(lights, materials, report):
-    """A lamp hidden from diffuse or glossy rays only gives a Principled or mixed surface, which
-    Lantern samples as one mixture of both kinds, none of its light (pt_light_hidden: any kind
-    of the scattering's off), where Cycles hides it from the lobe of that kind only. Named,
-    once."""
+    """A lamp hidden from diffuse or glossy rays only gives a Principled surface, which Lantern
+    samples as one mixture of both kinds, none of its light (pt_light_hidden: any kind of the
+    scattering's off), where Cycles hides it from the lobe of that kind only. (A Mix Shader's
+    leaves each take their own kind and class, as Cycles: pt_nee_leaves; its Principled
+    leaves are named.) Named, once."""
     one_kind = [li.get("name", "?") for li in lights
                 if li.get("visible_diffuse", True) != li.get("visible_glossy", True)]
-    mixed = [m.get("name", "?") for m in materials if m.get("type") in ("principled", "mix")]
+    mixed = [m.get("name", "?") for m in materials if m.get("type") == "principled"]
     if one_kind and mixed:
         report.warn(f"Light '{one_kind[0]}'{' and others' if len(one_kind) > 1 else ''}: "
-                    "hidden from diffuse or glossy rays only; Principled and mixed materials "
+                    "hidden from diffuse or glossy rays only; Principled materials "
                     f"({', '.join(mixed[:3])}{', ...' if len(mixed) > 3 else ''}) get none of "
                     "its light")

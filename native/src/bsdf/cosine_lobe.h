@@ -20,7 +20,12 @@ struct BsdfSample {
     bool valid;
     float pdf_rev_w = 0.0f;  // pdf of sampling wo given wi (same conventions)
     bool delta = false;      // wi came from a delta lobe: eval() cannot reproduce it
+    // which lobe drew wi, for the integrators' ray kinds (Cycles' closure label): a Mix's leaf
+    // as 1 + its index (mix_sample), 0 where the material's one kind holds. Read only where a
+    // scene has ray visibility by kind; in the padding after `delta` (the size stays 40 B)
+    uint8_t lobe = 0;
 };
+static_assert(sizeof(BsdfSample) == 40, "BsdfSample: the kernels' frames hold it");
 
 // A direction wi drawn from one lobe of a mixture, carrying the whole mixture's value and pdfs
 // e (eval at wi): what every mixture (principled layers, Mix Shader) returns for a non-delta

@@ -127,9 +127,12 @@ LANTERN_HD inline float mix_total(const Material& m) {
     return sum;
 }
 
-// tmp: room for a resolved leaf (mix_leaf_at), one at a time
+// tmp: room for a resolved leaf (mix_leaf_at), one at a time. lit: the leaves whose value
+// counts (bit i: leaf i; Cycles' next event leaves out the closures whose class cannot see the
+// light, integrator/pt_ray_visibility.h pt_nee_leaves), every leaf's pdf counting still
 LANTERN_HD inline BsdfEval mix_eval(const Material& m, bool front, Vec3 wo, Vec3 wi,
-                                    Transport mode, Vec3 coat_n, Material& tmp) {
+                                    Transport mode, Vec3 coat_n, Material& tmp,
+                                    uint32_t lit = ~0u) {
     BsdfEval e{vec3(0.0f), 0.0f, 0.0f};
     const float total = mix_total(m);
     if (!(total > 0.0f)) return e;
@@ -137,7 +140,7 @@ LANTERN_HD inline BsdfEval mix_eval(const Material& m, bool front, Vec3 wo, Vec3
         const float w = fmaxf(m.mix_weight[i], 0.0f);
         if (w <= 0.0f) continue;
         BsdfEval l = material_eval_leaf(mix_leaf_at(m, i, tmp), front, wo, wi, mode, coat_n);
-        e.f += l.f * w;
+        if ((lit >> i) & 1u) e.f += l.f * w;
         e.pdf_fwd_w += l.pdf_fwd_w * (w / total);
         e.pdf_rev_w += l.pdf_rev_w * (w / total);
     }
@@ -145,12 +148,12 @@ LANTERN_HD inline BsdfEval mix_eval(const Material& m, bool front, Vec3 wo, Vec3
 }
 
 LANTERN_HD inline BsdfEval mix_eval(const Material& m, bool front, Vec3 wo, Vec3 wi,
-                                    Transport mode, Vec3 coat_n) {
+                                    Transport mode, Vec3 coat_n, uint32_t lit = ~0u) {
     union Leaf {  // uninitialised: assigned whole where a leaf is resolved
         Material m;
         LANTERN_HD Leaf() {}
     } tmp;
-    return mix_eval(m, front, wo, wi, mode, coat_n, tmp.m);
+    return mix_eval(m, front, wo, wi, mode, coat_n, tmp.m, lit);
 }
 
 LANTERN_HD inline BsdfSample mix_sample(const Material& m, bool front, Vec3 wo, Vec3 u,
@@ -183,9 +186,12 @@ LANTERN_HD inline BsdfSample mix_sample(const Material& m, bool front, Vec3 wo, 
         l.pdf_fwd_w *= p;
         l.pdf_rev_w *= p;
         l.valid = is_finite(l.weight);
+        l.lobe = uint8_t(pick + 1);
         return l;
     }
-    return mixture_sample(l.wi, mix_eval(m, front, wo, l.wi, mode, coat_n, tmp.m));
+    BsdfSample r = mixture_sample(l.wi, mix_eval(m, front, wo, l.wi, mode, coat_n, tmp.m));
+    r.lobe = uint8_t(pick + 1);  // the kind of the ray: the picked leaf's (Cycles' label)
+    return r;
 }
 
 // ---- What the integrators call, on a material from material_at ----

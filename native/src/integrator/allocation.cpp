@@ -383,6 +383,38 @@ std::string bidir_visibility_reason(const SceneInput& in, bool light_tracer) {
                 if (hidden_mesh && (l.type == "point" || l.type == "spot") && l.soft_falloff &&
                     l.radius > 0.0f)
                     return lt_rays + " with a soft-falloff light (light '" + l.name + "')";
+            // pt's kinds by closure (branch closure, pt_ray_visibility.h): a Mix's ray takes the
+            // sampled leaf's kind, next event leaves out the leaves whose class the light
+            // hides; a Translucent BSDF is of the diffuse class for next event, its bounce rays
+            // of the path kind (diffuse and transmission for a lamp, transmission for an
+            // object). lt's one kind per material (lt_ray_visibility.h) is not that: those
+            // stay pt's
+            auto split = [&](uint8_t rays, bool lamp, const std::string& what) -> std::string {
+                const bool diffuse = rays & kRayDiffuse, trans = rays & kRayTransmission;
+                for (const MaterialInput& m : in.materials)
+                    if (m.type == "translucent" && (lamp ? diffuse && !trans : diffuse != trans))
+                        return lt_rays + " with " + what + " hidden from " +
+                               (trans ? "Diffuse" : "Transmission") +
+                               " alone beside a Translucent BSDF (material '" + m.name + "')";
+                return "";
+            };
+            for (const MaterialInput& m : in.materials)
+                if (m.type == "mix")
+                    return lt_rays + " with a Mix Shader (material '" + m.name + "')";
+            for (const LightInput& l : in.lights)
+                if (std::string v = split(l.rays, true, "light '" + l.name + "'"); !v.empty())
+                    return v;
+            for (const MeshInput& m : in.meshes) {
+                bool emits = false;  // (its own material; a mix handed over above)
+                for (uint32_t k : m.material_ids)
+                    emits |= k < in.materials.size() &&
+                             (max_component(in.materials[k].emission) > 0.0f ||
+                              in.materials[k].tex_emission >= 0 ||
+                              in.materials[k].program_count > 0);
+                if (std::string v = split(m.rays, false, "mesh '" + m.name + "'");
+                    emits && !v.empty())
+                    return v;
+            }
         }
         if (std::string v = media_reason(in); !v.empty()) {
             if (light_tracer) return rays + " with " + v;

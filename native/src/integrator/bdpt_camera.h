@@ -68,12 +68,15 @@ LANTERN_HD inline void bdpt_camera_nee(const SceneView& s, const PathState& ps,
         !(geo_side || terminator_passes(s, z.tri, ls.wi, z.h.ng, z.h.ns) ||
           (unshadowed && !sides_agree(ls.wi, z.h.ng, z.h.ns))))
         return;
-    // ray visibility by kind (bidir_ray_visibility.h): nothing from a light hidden from the
-    // scattering's kind, as pt's next event
+    // ray visibility by kind (bidir_ray_visibility.h): only the leaves whose closure class sees
+    // the light (pt_nee_leaves), the whole BSDF's pdf, as pt's next event
     const bool rays = L && bidir_rays_on(s);
-    if (rays && pt_light_hidden(s, pick.light, pt_path_kind(*z.m, ls.wi, z.h.ng))) return;
+    const uint32_t lit = rays ? pt_nee_leaves(s, pick.light, *z.m, ls.wi, z.h.ng) : kNeeAllLit;
+    if (!lit) return;
     BsdfEval e = material_eval(*z.m, z.h.front, z.wo, z.frame.to_local(ls.wi), Transport::Radiance,
                                z.h.coat_n, z.ng_l);
+    if (lit != kNeeAllLit)
+        e.f = pt_eval_lit(*z.m, z.h.front, z.wo, z.frame.to_local(ls.wi), z.h.coat_n, lit);
     float pdf_light_w = pick.pmf * ls.pdf_w;
     if (is_black(e.f) || !(pdf_light_w > 0.0f)) return;
     const bool infinite = !(ls.dist < kInf);
@@ -580,7 +583,7 @@ LANTERN_HD inline void bdpt_camera_shade(const SceneView& s, const PathState& ps
             set_next_ray(ps, i, z.h.p, z.h.ng, wi, b.delta ? 0.0f : b.pdf_fwd_w,
                          s.offset_scale);
             if (L) pt_set_receiver(s, ps, i, tri);  // light linking: this vertex receives (s = 0)
-            if (L) bidir_set_ray_kind(s, ps, i, pt_path_kind(m, wi, z.h.ng));  // (ray kinds)
+            if (L) bidir_set_ray_kind(s, ps, i, pt_sampled_kind(m, b.lobe, wi, z.h.ng));
             ps.prev_p[i] = z.h.p;  // (and for a soft-falloff light's weight: its normal)
             bs.prev_ng[i] = z.h.ng;
             if (s.light_tree_on || media) ps.prev_n[i] = z.n_pick;

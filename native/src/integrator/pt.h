@@ -206,16 +206,16 @@ LANTERN_HD inline void pt_pass_hidden_at(const SceneView& s, const PathState& ps
 }
 
 // pt_shade's ray visibility and light linking, out of line on the host (the usual path tests
-// one flag): whether next-event estimation of light li towards wi may light surface tri of
-// material m, and the kind and receiver set of the bounce ray leaving it towards wi.
+// one flag): which leaves of material m next-event estimation of light li towards wi may light
+// on surface tri (pt_nee_leaves: 0 none, kNeeAllLit all), and the kind and receiver set of the
+// bounce ray leaving it towards wi (the kind of the sampled leaf: pt_sampled_leaf).
 #ifndef __CUDA_ARCH__
 __attribute__((noinline))
 #endif
-LANTERN_HD inline bool pt_nee_allowed(const SceneView& s, const Material& m, int tri, Vec3 ng,
-                                      int li, Vec3 wi) {
-    if ((s.tri_rays || s.light_rays) && pt_light_hidden(s, li, pt_path_kind(m, wi, ng)))
-        return false;
-    return pt_light_links(s, li, pt_receiver_set(s, tri));
+LANTERN_HD inline uint32_t pt_nee_allowed(const SceneView& s, const Material& m, int tri,
+                                          Vec3 ng, int li, Vec3 wi) {
+    if (!pt_light_links(s, li, pt_receiver_set(s, tri))) return 0u;
+    return (s.tri_rays || s.light_rays) ? pt_nee_leaves(s, li, m, wi, ng) : kNeeAllLit;
 }
 #ifndef __CUDA_ARCH__
 __attribute__((noinline))
@@ -225,6 +225,7 @@ LANTERN_HD inline void pt_mark_next_ray(const SceneView& s, const PathState& ps,
     pt_set_ray_kind(s, ps, i, pt_path_kind(m, wi, ng));
     pt_set_receiver(s, ps, i, tri);
 }
+
 
 // material_eval and material_sample for pt_shade, out of line on the device: inlined there
 // (nee_resample's target is), the lobes' local arrays joined the shade kernel's own local
@@ -369,8 +370,11 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
     if (pick.pmf > 0.0f && (pick.light == s.world_light || s.lights[pick.light].of_world) &&
         s.world_rays != kWorldRaysAll && !pt_world_sees(s, m, ls.wi, h.ng))
         ls.valid = false;  // the world hidden from this kind of scattering lights nothing here
-    if (extras && pick.pmf > 0.0f && ls.valid)  // ray visibility, light linking
-        ls.valid = pt_nee_allowed(s, m, tri, h.ng, pick.light, ls.wi);
+    uint32_t lit = kNeeAllLit;  // ray visibility: the leaves lit (pt_nee_leaves)
+    if (extras && pick.pmf > 0.0f && ls.valid) {  // ray visibility, light linking
+        lit = pt_nee_allowed(s, m, tri, h.ng, pick.light, ls.wi);
+        ls.valid = lit != 0u;
+    }
     if (pick.pmf > 0.0f) {
         // geo_side false: a smooth mesh's light from under its face (integrator/terminator.h),
         // which BSDF sampling never takes: next-event estimation's alone. A lamp without
@@ -385,6 +389,8 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
              (unshadowed && !sides_agree(ls.wi, h.ng, h.ns))) &&
             !is_black(ls.le)) {
             BsdfEval e = pt_eval(m, h.front, wo, frame.to_local(ls.wi), h.coat_n, ng_l);
+            if (lit != kNeeAllLit)  // the whole mixture's pdf, the lit leaves' value
+                e.f = pt_eval_lit(m, h.front, wo, frame.to_local(ls.wi), h.coat_n, lit);
             float pdf_light = pick.pmf * ls.pdf_w;
             if (e.pdf_fwd_w > 0.0f && pdf_light > 0.0f) {
                 // shadow linking (pt_light_linking.h): weight 1 here, the MIS weight kept for
@@ -447,7 +453,7 @@ LANTERN_HD inline void pt_shade(const SceneView& s, const PathState& ps, const P
             ps.depth[i] = depth + 1;
             if (s.world_rays != kWorldRaysAll && ps.world_hidden)
                 ps.world_hidden[i] = pt_world_sees(s, m, wi, h.ng) ? 0 : 1;
-            if (extras) pt_mark_next_ray(s, ps, i, m, wi, h.ng, tri);
+            if (extras) pt_mark_next_ray(s, ps, i, pt_sampled_leaf(m, bs.lobe), wi, h.ng, tri);
             set_next_ray(ps, i, h.p, h.ng, wi, bs.delta ? 0.0f : bs.pdf_fwd_w,
                          s.offset_scale);
             if (s.num_media > 0 && dot(wi, h.ng) < 0.0f)  // through the surface

@@ -75,6 +75,71 @@ LANTERN_HD inline bool pt_light_hidden(const SceneView& s, int li, uint8_t kind)
     return s.light_rays && (s.light_rays[li] & k) != k;
 }
 
+// The material whose kind a sampled direction takes (Cycles' path_state_next reads the sampled
+// closure's label): a Mix's picked leaf (BsdfSample::lobe, mix_sample), else m itself. Only
+// its type is read (a leaf's type is never resolved: scene.h), so the unresolved leaf serves.
+// (Principled's own lobes stay one kind, pt_scatter_kind: their labels are not reported.)
+LANTERN_HD inline const Material& pt_sampled_leaf(const Material& m, uint8_t lobe) {
+    return m.type == kMaterialMix && lobe > 0 && lobe <= m.mix_count ? *m.mix_leaf[lobe - 1]
+                                                                      : m;
+}
+
+// The path kind of a sampled direction wi (pt_path_kind of the leaf that drew it)
+LANTERN_HD inline uint8_t pt_sampled_kind(const Material& m, uint8_t lobe, Vec3 wi, Vec3 ng) {
+    return pt_path_kind(pt_sampled_leaf(m, lobe), wi, ng);
+}
+
+// Whether next-event estimation of light li lights leaf material m towards wi: Cycles' rule by
+// closure class (surface_shader.h _surface_shader_exclude, reading the light's SHADER_EXCLUDE_*
+// flags: a lamp's, or an emissive triangle's object's, light.h light_sample ls->shader |=
+// visibility_flag), not by path kind: a Translucent closure is of the diffuse class (a light
+// hidden from Transmission alone still lights it, one hidden from Diffuse not), a diffuse /
+// glossy reflection by its own class. Principled (several closures, one eval here), hair and
+// glass keep pt_light_hidden's path kind (Cycles leaves a Glass closure out only where the
+// light is hidden from both Glossy and Transmission: not done, lt's rule would differ).
+LANTERN_HD inline bool pt_leaf_lit(const SceneView& s, int li, const Material& m, Vec3 wi,
+                                   Vec3 ng) {
+    if (li < 0) return true;
+    const Light& l = s.lights[li];
+    const uint8_t* rays = l.type == kLightTriangle ? s.tri_rays : s.light_rays;
+    if (!rays) return true;  // (no such light hidden from any kind)
+    const uint8_t seen = rays[l.type == kLightTriangle ? l.triangle : li];
+    switch (m.type) {
+    case kMaterialDiffuse:
+    case kMaterialTranslucent: return (seen & kRayDiffuse) != 0;
+    case kMaterialConductor: return (seen & kRayGlossy) != 0;
+    default: return !pt_light_hidden(s, li, pt_path_kind(m, wi, ng));
+    }
+}
+
+// The leaves next-event estimation of light li lights on m towards wi (pt_leaf_lit): a Mix's
+// as bits (leaf i: bit i), any other material 1 or 0; kNeeAllLit where all are. A Mix lit on
+// some leaves only takes those leaves' value (mix_eval's lit) and the whole mixture's pdf in
+// its MIS weight, as Cycles' surface_shader_bsdf_eval does.
+constexpr uint32_t kNeeAllLit = ~0u;
+LANTERN_HD inline uint32_t pt_nee_leaves(const SceneView& s, int li, const Material& m, Vec3 wi,
+                                         Vec3 ng) {
+    if (m.type != kMaterialMix) return pt_leaf_lit(s, li, m, wi, ng) ? kNeeAllLit : 0u;
+    uint32_t lit = 0u, all = 0u;
+    for (int k = 0; k < m.mix_count; ++k) {
+        if (!(m.mix_weight[k] > 0.0f)) continue;
+        all |= 1u << k;
+        if (pt_leaf_lit(s, li, *m.mix_leaf[k], wi, ng)) lit |= 1u << k;
+    }
+    return lit == all ? kNeeAllLit : lit;
+}
+
+// A Mix lit on some leaves only (pt_nee_leaves): their value alone (radiance), out of line
+#ifdef __CUDA_ARCH__
+__noinline__
+#else
+__attribute__((noinline))
+#endif
+LANTERN_HD inline Vec3 pt_eval_lit(const Material& m, bool front, Vec3 wo, Vec3 wi, Vec3 coat_n,
+                                   uint32_t lit) {
+    return mix_eval(m, front, wo, wi, Transport::Radiance, coat_n, lit).f;
+}
+
 // Whether lamp li casts no shadow (Blender's Cast Shadow off on a light: kLampNoShadow). As
 // Cycles does (shadow_ray_setup: a light without SHADER_CAST_SHADOW gets a zero-length shadow
 // ray), next-event estimation adds its contribution unoccluded and unattenuated by media, with
