@@ -240,6 +240,10 @@ std::string ray_visibility_reason(const SceneInput& in) {
         if ((m.rays & kRayKindsAll) != kRayKindsAll)
             return "an object hidden from diffuse, glossy, transmission or volume rays (mesh '" +
                    m.name + "')";
+    for (const CurveInput& c : in.curves)  // strands: their object's flags (pt_pass_hidden_strand)
+        if ((c.rays & kRayKindsAll) != kRayKindsAll)
+            return "strands hidden from diffuse, glossy, transmission or volume rays (curves '" +
+                   c.name + "')";
     for (const MeshInput& m : in.meshes)  // light linking: integrator/pt_light_linking.h
         if (m.light_set != 0 || m.emitter_receivers != kAllReceivers || m.shadow_set != 0 ||
             m.emitter_blockers != kAllReceivers)
@@ -329,6 +333,11 @@ std::string bidir_visibility_reason(const SceneInput& in, bool light_tracer) {
     }
     const std::string all = ray_visibility_reason(in);
     if (all.empty()) return all;
+    // strands hidden from some kind (their object's flags): pt's alone so far
+    for (const CurveInput& c : in.curves)
+        if ((c.rays & kRayKindsAll) != kRayKindsAll)
+            return "strands hidden from diffuse, glossy, transmission or volume rays (curves '" +
+                   c.name + "')";
     // integrator/bidir_linking.h: light linking, shadow linking and a lamp's Cast Shadow off
     // (lt: lt_linking.h), on surfaces; light and shadow linking in media too (lt: shadow
     // linking in homogeneous media, lt_medium.h lt_walk_ratio); past a subsurface walk's exit
