@@ -8,8 +8,10 @@ overlapping) that the camera does not see and that casts no shadow: where the ca
 from the ball's kind of scattering, every bounce ray passes it, so the image is the one without
 the cage, bit for bit (the pass draws no random number; the constant world is no next-event
 light); where it is not (the control), the cage's black ends most bounce rays and the ball
-darkens. bdpt, lvc, cis and lt hand strands hidden from some kind to pt with a warning
-(allocation.cpp bidir_visibility_reason): their images are pt's, bit for bit."""
+darkens. bdpt, lvc and cis render it themselves (against pt without the cage; more in
+test_strand_visibility_bidir.py); lt hands strands hidden from some kind to pt with a warning
+(allocation.cpp bidir_visibility_reason), and auto keeps pt: their images are pt's, bit for
+bit."""
 import numpy as np
 import pytest
 
