@@ -4,9 +4,10 @@ Volume Scatter are exported here, as mesh fields present only when off, and rend
 (native/src/integrator/pt_ray_visibility.h) and, on surfaces, by bdpt, lvc, cis
 (bidir_ray_visibility.h) and lt (lt_ray_visibility.h); what they leave to pt (beside media,
 subsurface scattering; under lt beside linking, Cast Shadow off, strands) is handed over with a
-warning (allocation.cpp bidir_visibility_reason). Indirect Only collections: camera_visible
-below. A lamp's own flags are the same fields on its light (export/light.py); the world's:
-world.py (pt only)."""
+warning (allocation.cpp bidir_visibility_reason). Strand sets take the same fields from their
+object (export/walk.py; particle hair its emitter's, as Cycles syncs it). Indirect Only
+collections: camera_visible below. A lamp's own flags are the same fields on its light
+(export/light.py); the world's: world.py (pt only)."""
 
 # (object property, scene field, label)
 RAY_KINDS = (("visible_diffuse", "visible_diffuse", "Diffuse"),

@@ -72,8 +72,11 @@ class Walk:
     def instance(self, inst, source):
         obj = inst.object
         if obj.type in STRAND_TYPES:
+            # its object's flags: particle hair its emitter's (Cycles syncs the hair as a
+            # second object of the emitter, with the emitter's ray visibility), Curves their own
             sets = [dict(st, visible_camera=bool(getattr(obj, "visible_camera", True)),
-                         cast_shadow=bool(getattr(obj, "visible_shadow", True)))
+                         cast_shadow=bool(getattr(obj, "visible_shadow", True)),
+                         **mesh_ray_visibility(obj))
                     for st in source.strands(inst)]
             self.scene.curves.extend(sets)
             self.linking.curves(obj, sets)  # its object's receiver and blocker sets
@@ -123,7 +126,7 @@ def scene_warnings(bscene, scene, report):
     object hidden from some rays."""
     used = used_materials(scene)
     mixed_lobe_warning(bscene.world, scene.world, used, report)  # world.py
-    mixed_kind_warning(scene.meshes, used, report)  # visibility.py
+    mixed_kind_warning(list(scene.meshes) + list(scene.curves), used, report)  # visibility.py
     mixed_kind_lamp_warning(scene.lights, used, report)
 
 

@@ -5,7 +5,7 @@ raises ValueError naming the element."""
 
 import numpy as np
 
-from .scene_fields import _bool, _finite_float, _int, _rgb, motion_steps
+from .scene_fields import RAY_VISIBILITY, _bool, _finite_float, _int, _rgb, motion_steps
 
 CURVE_ARRAYS = ("points", "radius", "offsets", "material_ids")
 # motion blur (docs/motion_blur.md "Strands"): optional, at the shutter's steps
@@ -80,6 +80,9 @@ def validate_curves(curves, index, num_materials=None):
     curves["material_ids"] = np.ascontiguousarray(mats, dtype=np.uint32)
     for key in ("visible_camera", "cast_shadow"):
         curves[key] = _bool(curves.get(key, True), f"{what} {key}")
+    for key in RAY_VISIBILITY:  # its object's ray visibility by kind (as a mesh's); absent: seen
+        if key in curves:
+            curves[key] = _bool(curves[key], f"{what} {key}")
     for key in ("light_set", "shadow_set"):  # light / shadow linking: its object's sets
         if key in curves:
             curves[key] = _int(curves[key], f"{what} {key}", minimum=0)

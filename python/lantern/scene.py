@@ -204,7 +204,7 @@ class Scene:
 
     def add_curves(self, points, radius, offsets, material=0, material_ids=None, name=None,
                    visible_camera=True, cast_shadow=True, deform=None, deform_radius=None,
-                   motion=None, motion_base=None):
+                   motion=None, motion_base=None, **ray_visibility):
         """Append a set of strands rendered as round linear segments (docs/curves.md): points
         (P, 3) world space, radius (P,) per point, offsets (S + 1,): strand s is points
         offsets[s] .. offsets[s + 1] - 1; `material` (id or name) for every strand unless
@@ -212,9 +212,13 @@ class Scene:
         `deform` (S, P, 3) the points and `deform_radius` (S, P) the radii at S >= 2 steps evenly
         spread over the shutter, placed as `points`; `motion` (S, 4, 4) the object-to-world
         matrices of the object the strands move with and `motion_base` the one `points` were
-        exported with ("Strands of a turning object": turned along their arcs). Returns the
-        set's index."""
+        exported with ("Strands of a turning object": turned along their arcs).
+        `ray_visibility`: visible_diffuse, visible_glossy, visible_transmission,
+        visible_volume_scatter, its object's (as add_mesh's). Returns the set's index."""
         from .curves_schema import validate_curves
+        unknown = set(ray_visibility) - set(RAY_VISIBILITY)
+        if unknown:
+            raise TypeError(f"add_curves: unexpected keyword(s) {sorted(unknown)}")
         if name is None:
             name = f"curves_{len(self.curves)}"
         offsets = np.asarray(offsets)
@@ -224,7 +228,7 @@ class Scene:
         c = {"name": str(name), "points": points, "radius": radius, "offsets": offsets,
              "material_ids": material_ids, "visible_camera": visible_camera,
              "cast_shadow": cast_shadow, "deform": deform, "deform_radius": deform_radius,
-             "motion": motion, "motion_base": motion_base}
+             "motion": motion, "motion_base": motion_base, **ray_visibility}
         self.curves.append(validate_curves(c, len(self.curves), len(self.materials)))
         return len(self.curves) - 1
 

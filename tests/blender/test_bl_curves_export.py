@@ -305,3 +305,30 @@ def test_strand_attributes_warned(addon):
     bpy.ops.mesh.primitive_plane_add()
     bpy.context.object.data.materials.append(mat)
     assert warned() == []
+
+
+def test_strands_take_their_objects_ray_visibility(addon):
+    """Cycles syncs particle hair as a second object of its emitter with the emitter's ray
+    visibility, and a Curves object with its own (difftest D58): the strand sets carry the
+    kinds that are off, as a mesh does (export/visibility.py), and none where all are on."""
+    from lantern_blender.export import export_scene
+    scene = empty_scene()
+    ball = _hair_sphere(scene, count=4)
+    hair = _curves_object(scene, [3], [[0, 0, 0], [0, 0, 0.5], [0, 0, 1]], radius=[0.01] * 3)
+
+    def exported():
+        out, _ = export_scene(bpy.context.evaluated_depsgraph_get())
+        return {c["name"].split("/")[0]: c for c in out.curves}, \
+            {m["name"]: m for m in out.meshes}
+    curves, _ = exported()
+    for c in curves.values():
+        assert not any(k in c for k in ("visible_diffuse", "visible_glossy",
+                                        "visible_transmission", "visible_volume_scatter"))
+    ball.visible_diffuse = ball.visible_glossy = False
+    hair.visible_transmission = False
+    curves, meshes = exported()
+    assert curves["Ball"]["visible_diffuse"] is False and curves["Ball"]["visible_glossy"] is False
+    assert "visible_transmission" not in curves["Ball"]
+    assert meshes["Ball"]["visible_diffuse"] is False
+    assert curves["Hair"]["visible_transmission"] is False
+    assert "visible_diffuse" not in curves["Hair"]

@@ -240,6 +240,10 @@ std::string ray_visibility_reason(const SceneInput& in) {
         if ((m.rays & kRayKindsAll) != kRayKindsAll)
             return "an object hidden from diffuse, glossy, transmission or volume rays (mesh '" +
                    m.name + "')";
+    for (const CurveInput& c : in.curves)  // strands: their object's flags (pt_pass_hidden_strand)
+        if ((c.rays & kRayKindsAll) != kRayKindsAll)
+            return "strands hidden from diffuse, glossy, transmission or volume rays (curves '" +
+                   c.name + "')";
     for (const MeshInput& m : in.meshes)  // light linking: integrator/pt_light_linking.h
         if (m.light_set != 0 || m.emitter_receivers != kAllReceivers || m.shadow_set != 0 ||
             m.emitter_blockers != kAllReceivers)
@@ -342,12 +346,22 @@ std::string bidir_visibility_reason(const SceneInput& in, bool light_tracer) {
     }
     const std::string all = ray_visibility_reason(in);
     if (all.empty()) return all;
+    // strands hidden from some kind (their object's flags): bdpt, lvc and cis as a mesh's
+    // (a passed strand: pt_pass_hidden_strand); lt's walk takes every strand as seen, pt's
+    bool strands_hidden = false;
+    for (const CurveInput& c : in.curves)
+        if ((c.rays & kRayKindsAll) != kRayKindsAll) {
+            if (light_tracer)
+                return "lt's strands hidden from diffuse, glossy, transmission or volume rays "
+                       "(curves '" + c.name + "')";
+            strands_hidden = true;
+        }
     // integrator/bidir_linking.h: light linking, shadow linking and a lamp's Cast Shadow off
     // (lt: lt_linking.h), on surfaces; light and shadow linking in media too (lt: shadow
     // linking in homogeneous media, lt_medium.h lt_walk_ratio); past a subsurface walk's exit
     // too (bdpt, lvc, cis: the exit receives as its own surface, bdpt_sss.h; lt: y1 = x_o,
     // lt_linking.h lt_sss_nee_weight)
-    bool shadow = false, unshadowed = false, other = false;
+    bool shadow = false, unshadowed = false, other = strands_hidden;
     for (const MeshInput& m : in.meshes) {
         if ((m.rays & kRayKindsAll) != kRayKindsAll) other = true;
         if (m.shadow_set != 0 || m.emitter_blockers != kAllReceivers) shadow = true;

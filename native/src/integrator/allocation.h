@@ -153,8 +153,8 @@ std::string curves_bidir_reason(const SceneInput& in);
 // the camera sees, which lt reaches through the strand for Principled Hair in a mix only:
 // lt_strand.h).
 std::string curves_lt_reason(const SceneInput& in);
-// The first of: an object or a lamp hidden from some ray kind (Diffuse, Glossy, Transmission,
-// Volume Scatter), light or shadow linking, a lamp's Cast Shadow off; "" when the scene has
+// The first of: an object (mesh or strands) or a lamp hidden from some ray kind (Diffuse, Glossy,
+// Transmission, Volume Scatter), light or shadow linking, a lamp's Cast Shadow off; "" when the scene has
 // none. pt renders them all; what the other integrators leave to pt is
 // bidir_visibility_reason's, what auto leaves to pt pt_only_reason's.
 std::string ray_visibility_reason(const SceneInput& in);
@@ -167,7 +167,7 @@ std::string no_shadow_object_reason(const SceneInput& in);
 //   - object or lamp ray visibility by kind beside media or subsurface scattering;
 //   - a volume's mesh that casts no shadow, in a scene with media.
 // lt besides:
-//   - ray visibility by kind beside strands, light or shadow linking, Cast Shadow off (a
+//   - ray visibility by kind on or beside strands, light or shadow linking, Cast Shadow off (a
 //     lamp's, an object's), or a soft-falloff light where some object is hidden from a kind;
 //   - a soft-falloff light with shadow linking or Cast Shadow off (its own, an object's);
 //   - strands that cast no shadow; an object's or a lamp's Cast Shadow off with media;

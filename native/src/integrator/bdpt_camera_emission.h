@@ -132,6 +132,10 @@ LANTERN_HD inline bool bdpt_camera_meets_restricted(const SceneView& s, const Pa
     const uint8_t kind = ps.ray_kind[i];
     ps.ray_kind[i] = uint8_t(kind | kRayRestricted);
     if ((s.tri_rays[tri] & pt_object_kind(kind) & kRayKindsAll) != 0) return false;  // it lands there
+    if (tri >= s.num_triangles) {  // a strand (pt_pass_hidden_strand)
+        pt_pass_hidden_strand(s, ps, i);
+        return true;
+    }
     const Vec3 d = ps.ray_d[i];
     const SurfaceHit h = s.motion.num_objects > 0 && tri < s.num_triangles
                              ? surface_moved_at(s, tri, ps.hit_uv[i], d, bdpt_time(st, path))

@@ -45,7 +45,8 @@ constexpr uint8_t kRayRestricted = 0x80;
 
 LANTERN_HD inline bool bidir_rays_on(const SceneView& s) { return s.rays_hidden != 0; }
 
-// Whether triangle (or strand: tri_rays holds all kinds there) tri is an R surface.
+// Whether triangle (or strand segment: tri_rays holds its object's kinds there) tri is an R
+// surface.
 LANTERN_HD inline bool bidir_tri_restricted(const SceneView& s, int tri) {
     return s.tri_rays && tri >= 0 && (s.tri_rays[tri] & kRayKindsAll) != kRayKindsAll;
 }

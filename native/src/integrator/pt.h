@@ -200,6 +200,7 @@ LANTERN_HD inline bool pt_catcher_skips(const SceneView& s, const PathState& ps,
 __attribute__((noinline))
 #endif
 LANTERN_HD inline void pt_pass_hidden_at(const SceneView& s, const PathState& ps, int i, int tri) {
+    if (tri >= s.num_triangles) return pt_pass_hidden_strand(s, ps, i);  // (a strand)
     const Vec3 d = ps.ray_d[i];
     const SurfaceHit h = pt_surface_at(s, ps, i, tri, d);
     pt_pass_hidden(s, ps, i, h.p, h.ng);

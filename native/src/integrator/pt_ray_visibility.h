@@ -177,6 +177,15 @@ LANTERN_HD inline bool pt_hidden_from_ray(const SceneView& s, const PathState& p
            !(s.tri_rays[tri] & pt_object_kind(ps.ray_kind[i]));
 }
 
+// A strand passed (its object hidden from the ray's kind): on from the same origin past its
+// entry, as lt_walk_step (re-offset from a grazing entry into an end sphere, a ray finds the
+// strand again and again); its exit, hit next, is passed the same way.
+LANTERN_HD inline void pt_pass_hidden_strand(const SceneView& s, const PathState& ps, int i) {
+    const float t = ps.hit_t[i];
+    ps.ray_tmin[i] = t + 1e-5f * fmaxf(t, s.offset_scale);
+    ps.alive[i] = 1;
+}
+
 LANTERN_HD inline void pt_pass_hidden(const SceneView& s, const PathState& ps, int i, Vec3 p,
                                       Vec3 ng) {
     const Vec3 d = ps.ray_d[i];

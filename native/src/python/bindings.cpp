@@ -232,6 +232,10 @@ SceneInput to_input(const nb::dict& scene) {
             get_matrix(c, "motion_base", ci.motion_base);
             ci.visible_camera = get<bool>(c, "visible_camera", true);
             ci.cast_shadow = get<bool>(c, "cast_shadow", true);
+            ci.rays = uint8_t((get<bool>(c, "visible_diffuse", true) ? kRayDiffuse : 0) |
+                              (get<bool>(c, "visible_glossy", true) ? kRayGlossy : 0) |
+                              (get<bool>(c, "visible_transmission", true) ? kRayTransmission : 0) |
+                              (get<bool>(c, "visible_volume_scatter", true) ? kRayVolumeScatter : 0));
             ci.light_set = get<int>(c, "light_set", 0);
             ci.shadow_set = get<int>(c, "shadow_set", 0);
             in.curves.push_back(std::move(ci));

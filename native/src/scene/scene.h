@@ -72,6 +72,7 @@ struct CurveInput {
     float motion_base[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
     bool visible_camera = true;
     bool cast_shadow = true;
+    uint8_t rays = kRayKindsAll;  // its object's RayKinds (as MeshInput's; SceneView::tri_rays)
     // light and shadow linking (as MeshInput's): its object's receiver and blocker sets
     int32_t light_set = 0;
     int32_t shadow_set = 0;

@@ -153,15 +153,27 @@ void HostScene::add_curves(const SceneInput& in) {
 }
 
 // After the lights and linking: every per-triangle array gets the segments' entries (not
-// emitters; every kind of ray sees them; their CurveInput's light and shadow sets, where some
-// emitter is linked: build_light_linking made the arrays).
+// emitters; the kinds of ray that see their object, tri_rays, made here where only strands hide
+// from some kind; their CurveInput's light and shadow sets, where some emitter is linked:
+// build_light_linking made the arrays).
 void HostScene::add_curve_prims(const SceneInput& in) {
     if (curve_segs_.empty()) return;
     const size_t first = tri_material_.size();
     tri_material_.insert(tri_material_.end(), curve_material_.begin(), curve_material_.end());
     tri_flags_.insert(tri_flags_.end(), curve_flags_.begin(), curve_flags_.end());
     tri_light_.resize(tri_material_.size(), -1);
-    if (!tri_rays_.empty()) tri_rays_.resize(tri_material_.size(), uint8_t(kRayKindsAll));
+    bool rays_hidden = !tri_rays_.empty();
+    for (size_t k = 0; k < curve_ranges_.size() && k < in.curves.size(); ++k)
+        rays_hidden |= (in.curves[k].rays & kRayKindsAll) != kRayKindsAll;
+    if (rays_hidden) {
+        tri_rays_.resize(first, uint8_t(kRayKindsAll));
+        tri_rays_.resize(tri_material_.size(), uint8_t(kRayKindsAll));
+        for (size_t k = 0; k < curve_ranges_.size() && k < in.curves.size(); ++k) {
+            const auto [begin, count] = curve_ranges_[k];
+            std::fill_n(tri_rays_.begin() + ptrdiff_t(first + size_t(begin)), size_t(count),
+                        uint8_t(in.curves[k].rays & kRayKindsAll));
+        }
+    }
     for (std::vector<uint8_t>* sets : {&tri_light_set_, &tri_shadow_set_}) {
         if (sets->empty()) continue;
         sets->resize(tri_material_.size(), 0);
