@@ -1,6 +1,6 @@
 // Ray visibility by kind in the light tracer (integrator "lt"), as pt renders it
 // (pt_ray_visibility.h): objects and lamps hidden from Diffuse, Glossy or Transmission rays, on
-// surfaces (media, subsurface walks, strands and the linking rules beside it stay pt's:
+// surfaces and past subsurface walks (lt_rays_sss_weight; media and strands beside it stay pt's:
 // allocation.cpp bidir_visibility_reason). A light path y0 (on light l) y1 ... yk is pt's path
 // x0 = camera, x1 = yk, ..., x_k = y0 read backward. pt's segment x_i x_{i+1} (i >= 1) is a bounce
 // ray leaving x_i with the kind K(x_i) of the scattering there (pt_scatter_kind: x_i's material,
@@ -121,6 +121,25 @@ LANTERN_HD inline float lt_rays_weight(const SceneView& s, const PathState& ps, 
     const bool nee = !delta && lt_rays_nee(st);
     if (delta || nee == bsdf) return bsdf ? 1.0f : 0.0f;  // (both: w_nee + w_bsdf = 1)
     const float w = lt_nee_weight(s, ps, i, li, tri, m, h, w_l, w_c, pdf_rev);
+    return nee ? w : fmaxf(0.0f, 1.0f - w);
+}
+
+// A walk under the surface from slot i's vertex x_o (lt_sss.h; triangle tri, h facing the light
+// along w_l): pt's exit there (pt_sss.h) is a diffuse scattering, its next event skipping a light
+// hidden from diffuse rays and its continuation a diffuse bounce (kRayKindSubsurface). Its
+// factor as such a scattering's: lt_rays_kind_ok's test, and at y1 past what the first segment
+// passed lt_rays_weight's shares with pt's next-event weight at an exit (lt_sss_nee_weight).
+// The walk reads no kinds, nor does its exit (a surface seen by the camera-side ray that reaches
+// it: lt_sss_exit starts the next segment's, lt_rays_next).
+LANTERN_HD inline float lt_rays_sss_weight(const SceneView& s, const PathState& ps, int i, int li,
+                                           int tri, const SurfaceHit& h, Vec3 w_l) {
+    const uint8_t k = kRayKindSubsurface, st = ps.ray_kind[i];
+    if (ps.depth[i] != 1) return !(st & k) && ((st >> 4) & k) ? 1.0f : 0.0f;
+    if (pt_light_hidden(s, li, k)) return 0.0f;
+    if (!(st & kLtRaysPassed)) return 1.0f;
+    const bool bsdf = !(st & kLtRaysNoWalk) && !(st & k), nee = lt_rays_nee(st);
+    if (nee == bsdf) return bsdf ? 1.0f : 0.0f;  // (both: w_nee + w_bsdf = 1)
+    const float w = lt_sss_nee_weight(s, ps, i, li, tri, h, w_l);
     return nee ? w : fmaxf(0.0f, 1.0f - w);
 }
 
