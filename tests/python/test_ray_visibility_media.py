@@ -155,10 +155,10 @@ def test_matches_pt(pt_refs, integrator, case):
     check(pt_refs, integrator, case)
 
 
-@pytest.mark.parametrize("integrator", ["lt", "auto"])
+@pytest.mark.parametrize("integrator", ["auto"])
 def test_hands_over(core, integrator):
-    """lt keeps ray visibility beside media pt's (lt_ray_visibility.h walks surfaces only), and
-    auto keeps pt here (pt_only_reason: its moment channels unchecked in media); same bits."""
+    """auto keeps pt here (pt_only_reason: its moment channels unchecked in media); same bits.
+    (lt renders it since ltkinds: test_ray_visibility_lt_media.py.)"""
     s = world_volume()
     img, warnings = render(s, integrator, 7, spp=2)
     assert any("with pt" in w or "path tracing" in w for w in warnings), warnings

@@ -353,8 +353,8 @@ std::string bidir_visibility_reason(const SceneInput& in, bool light_tracer) {
     // soft-falloff light beside an object hidden from some kind (its lines' first segment
     // cannot walk); past subsurface walks too (lt_rays_sss_weight). Beside media (world fog,
     // mesh volumes, homogeneous or heterogeneous): bdpt, lvc and cis (bidir_ray_visibility.h,
-    // bdpt_medium_stages.h), not beside linking or Cast Shadow off there (not checked
-    // together), nor beside subsurface walks too; lt not
+    // bdpt_medium_stages.h; lt: lt_medium.h), not beside linking or Cast Shadow off there (not
+    // checked together), nor beside subsurface walks too
     if (other) {
         const std::string rays = "object or lamp ray visibility";
         if (light_tracer) {
@@ -371,7 +371,8 @@ std::string bidir_visibility_reason(const SceneInput& in, bool light_tracer) {
                     return lt_rays + " with a soft-falloff light (light '" + l.name + "')";
         }
         if (std::string v = media_reason(in); !v.empty()) {
-            if (light_tracer) return rays + " with " + v;
+            // (lt too: its medium vertices' phase scattering of kind Volume Scatter,
+            // lt_ray_visibility.h lt_rays_medium_weight)
             if (linking_or_no_shadow(in))
                 return rays + " with linking or Cast Shadow off beside " + v;
             // media and subsurface walks each checked alone beside the kinds, not together
