@@ -29,8 +29,9 @@ shadow, pt's bounce ray's where all of it is hidden from the vertex's kind (lt_r
 Each against pt; the control, the scene without the other rule (the kinds kept; the veil's
 walk: the kinds dropped), must fail. CI runs the objects' Cast Shadow off; the rest is long.
 
-lt still hands ray visibility with media, subsurface scattering, strands, and beside a
-soft-falloff light, to pt."""
+lt still hands ray visibility with strands, and beside a soft-falloff light, to pt (past
+subsurface walks and in media it renders it: test_ray_visibility_lt_sss.py,
+test_ray_visibility_lt_media.py)."""
 import numpy as np
 import pytest
 
@@ -240,16 +241,12 @@ def _soft(s):
                 soft_falloff=True, name="soft")
 
 
-def _fog(s):
-    s.world["volume"] = {"sigma_s": [0.1] * 3, "sigma_a": [0.0] * 3, "g": 0.0}
-
-
 def _strands(s):
     pts = np.array([[0.0, 0.0, 0.0], [0.0, 0.0, 0.5]], np.float32)
     s.add_curves(pts, np.full(2, 0.01, np.float32), np.array([0, 2]), material=0, name="hair")
 
 
-@pytest.mark.parametrize("extra", [_soft, _fog, _strands], ids=["soft", "fog", "strands"])
+@pytest.mark.parametrize("extra", [_soft, _strands], ids=["soft", "strands"])
 def test_lt_hands_kinds_over_to_pt(core, extra):
     scene = build("objects")
     extra(scene)

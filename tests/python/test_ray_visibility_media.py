@@ -155,14 +155,24 @@ def test_matches_pt(pt_refs, integrator, case):
     check(pt_refs, integrator, case)
 
 
-@pytest.mark.parametrize("integrator", ["lt"])
-def test_hands_over(core, integrator):
-    """lt keeps ray visibility beside media pt's (lt_ray_visibility.h walks surfaces only); same
-    bits. (auto weighs it since branch autotidy: test_auto_kinds.py.)"""
-    s = world_volume()
-    img, warnings = render(s, integrator, 7, spp=2)
+@pytest.mark.parametrize("integrator", ["lt", "auto"])
+def test_renders_itself(core, integrator):
+    """lt renders ray visibility beside media since ltkinds (test_ray_visibility_lt_media.py
+    checks it against pt), auto weighs it since autotidy (test_auto_kinds.py): no hand-over."""
+    _, warnings = render(world_volume(), integrator, 7, spp=2)
+    assert not any("with pt" in w or "path tracing" in w for w in warnings), warnings
+
+
+def test_lt_with_no_shadow_hands_over(core):
+    """lt keeps the kinds beside media together with a lamp's Cast Shadow off pt's (not checked
+    together: allocation.cpp bidir_visibility_reason); same bits as pt."""
+    def scene():
+        s = world_volume()
+        s.lights[0]["cast_shadow"] = False
+        return s
+    img, warnings = render(scene(), "lt", 7, spp=2)
     assert any("with pt" in w or "path tracing" in w for w in warnings), warnings
-    np.testing.assert_array_equal(img, render(world_volume(), "pt", 7, spp=2)[0])
+    np.testing.assert_array_equal(img, render(scene(), "pt", 7, spp=2)[0])
 
 
 def test_with_linking_renders(core):

@@ -28,15 +28,14 @@ Skin ball (radius 0.4 m) under a red slab, a 1.6 m area lamp above and a 1 m emi
   rays, the slab hidden from diffuse rays.
 - all_skin: as all_rw with the Skin ball (CI runs cis on it).
 
-Each control is the same scene with every kind seen (it must fail). lt keeps handing ray
-visibility with subsurface scattering to pt (test_kinds_lt_hands_over)."""
+Each control is the same scene with every kind seen (it must fail). lt renders them too
+(ltkinds: test_ray_visibility_lt_sss.py)."""
 import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-import lantern
 from lantern import metrics
 
 sys.path.insert(0, str(Path(__file__).parent))
@@ -148,11 +147,3 @@ def test_bidirectional_matches_pt(core, integrator, build):
         pytest.skip("CI's case: test_cis_all_skin")
     check(build, integrator, SPP_LONG)
 
-
-def test_kinds_lt_hands_over(core):
-    """lt still hands ray visibility with subsurface scattering to pt, saying so."""
-    s = lantern.Session(all_skin(), integrator="lt", seed=7, backend="cpu", max_depth=4,
-                        spp_per_iteration=4, threads=1)
-    s.step()
-    assert any("lt's object or lamp ray visibility with" in w and "subsurface" in w
-               for w in s.warnings), s.warnings

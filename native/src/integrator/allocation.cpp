@@ -378,11 +378,12 @@ std::string bidir_visibility_reason(const SceneInput& in, bool light_tracer) {
     // (lt_ray_visibility.h), beside linking and Cast Shadow off too (its first segment's one
     // walk, lt_rays_step), not with strands (their vertices' kinds unchecked), nor a
     // soft-falloff light beside an object hidden from some kind (its lines' first segment
-    // cannot walk); subsurface walks stay pt's. Beside media (world fog, mesh volumes,
-    // homogeneous or heterogeneous): bdpt, lvc and cis (bidir_ray_visibility.h,
+    // cannot walk); past subsurface walks too (lt_rays_sss_weight). Beside media (world fog,
+    // mesh volumes, homogeneous or heterogeneous): bdpt, lvc and cis (bidir_ray_visibility.h,
     // bdpt_medium_stages.h), beside linking and Cast Shadow off there too and beside
     // subsurface walks (medmix: the rules compose as on surfaces,
-    // test_ray_visibility_media_linking.py, test_ray_visibility_media_sss.py); lt not
+    // test_ray_visibility_media_linking.py, test_ray_visibility_media_sss.py); lt beside media
+    // alone (lt_medium.h), not with linking or Cast Shadow off there nor with walks too
     if (other) {
         const std::string rays = "object or lamp ray visibility";
         if (light_tracer) {
@@ -431,15 +432,19 @@ std::string bidir_visibility_reason(const SceneInput& in, bool light_tracer) {
             }
         }
         if (std::string v = media_reason(in); !v.empty()) {
-            if (light_tracer) return rays + " with " + v;
-            // (media and subsurface walks together: the walk's exit is a camera vertex whose
-            // next event, continuation and restriction run the media code as any; medmix,
-            // test_ray_visibility_media_sss.py)
+            // (media and subsurface walks together in bdpt, lvc, cis: the walk's exit is a
+            // camera vertex whose next event, continuation and restriction run the media code
+            // as any; medmix, test_ray_visibility_media_sss.py. lt: its medium vertices'
+            // phase scattering of kind Volume Scatter, lt_ray_visibility.h
+            // lt_rays_medium_weight, checked alone)
+            if (light_tracer && linking_or_no_shadow(in))
+                return rays + " with linking or Cast Shadow off beside " + v;
+            if (std::string u = subsurface_reason(in); !u.empty() && light_tracer)
+                return rays + " with " + v + " and " + u;
         }
         // (subsurface walks: bdpt, lvc and cis render them, the walk no segment of its own and
-        // the exits' rays a diffuse bounce's, bdpt_sss.h; lt's stay pt's)
-        if (std::string v = subsurface_reason(in); !v.empty() && light_tracer)
-            return "lt's " + rays + " with " + v;
+        // the exits' rays a diffuse bounce's, bdpt_sss.h; lt too, its walk from x_o pt's exit's
+        // diffuse scattering, lt_ray_visibility.h lt_rays_sss_weight)
     }
     // light and shadow linking and a lamp's Cast Shadow off with media: bdpt, lvc, cis
     // (bidir_linking_medium.h); lt's light linking and shadow linking (lt_linking.h,

@@ -387,7 +387,9 @@ LANTERN_HD inline void lt_shade(const SceneView& s, const PathState& ps, const L
     // (past a transparent surface: pt's next-event weight at a walk's exit, lt_linking.h)
     if (s.has_subsurface && !strand &&
         lt_sss_choose(s, ps, st, i, m, h, wo_w, cos_o_ns, cos_o_ng, depth)) {
-        const float w = passed > 0 ? lt_sss_nee_weight(s, ps, i, lp.light[i], tri, h, wo_w) : 1.0f;
+        float w = passed > 0 ? lt_sss_nee_weight(s, ps, i, lp.light[i], tri, h, wo_w) : 1.0f;
+        // (ray visibility by kind: pt's exit there is a diffuse scattering)
+        if (lt_rays_on(s)) w *= lt_rays_sss_weight(s, ps, i, li, tri, h, wo_w);
         ps.throughput[i] = ps.throughput[i] * w_media * w;
         return;
     }

@@ -108,18 +108,21 @@ LANTERN_HD inline int lt_walk_step(const SceneView& s, const PathState& ps, int 
 // pt's next-event density of light li from x1 = p (geometric normal ng, shading ns, triangle
 // tri) along w_l: pick x light pdf, the light at x0 (PathState::prev_p, normal prev_n); 0 for a
 // delta light (next-event estimation alone).
+// (the light's solid-angle density alone: lt_light_pdf_w; a medium point's pick, n = 0:
+// lt_ray_visibility.h lt_rays_medium_weight)
+LANTERN_HD inline float lt_light_pdf_w(const SceneView& s, const PathState& ps, int i, int li,
+                                       Vec3 p, Vec3 w_l) {
+    if (li == s.world_light) return world_pdf_w(s, w_l);
+    const Light& l = s.lights[li];
+    const float t = l.type == kLightSun ? kInf : length(ps.prev_p[i] - p);
+    return light_pdf_w_at(s, l, p, w_l, t, ps.prev_n[i],
+                          s.motion.num_objects > 0 ? motion_time(ps.rng[i]) : 0.0f);
+}
+
 LANTERN_HD inline float lt_light_pdf(const SceneView& s, const PathState& ps, int i, int li,
                                      int tri, Vec3 p, Vec3 ng, Vec3 ns, Vec3 w_l) {
     const Light& l = s.lights[li];
-    float pdf_w;
-    if (li == s.world_light) {
-        pdf_w = world_pdf_w(s, w_l);
-    } else {
-        const Vec3 x0 = ps.prev_p[i];
-        const float t = l.type == kLightSun ? kInf : length(x0 - p);
-        pdf_w = light_pdf_w_at(s, l, p, w_l, t, ps.prev_n[i],
-                               s.motion.num_objects > 0 ? motion_time(ps.rng[i]) : 0.0f);
-    }
+    const float pdf_w = lt_light_pdf_w(s, ps, i, li, p, w_l);
     if (!(pdf_w > 0.0f)) return 0.0f;
     // the pick's normal as pt_shade (and pt_sss_exit) take it
     const Vec3 n_pick = (terminator_cutoff(s, tri) > 0.0f || s.light_rays) &&

@@ -11,6 +11,7 @@
 // Included by lt.h after lt_queue_splat and lt_linking.h, which it uses.
 #pragma once
 
+#include "integrator/lt_ray_visibility.h"
 #include "integrator/medium_motion.h"
 #include "integrator/pt_volume.h"
 
@@ -93,7 +94,9 @@ LANTERN_HD inline void lt_medium_connect(const SceneView& s, const PathState& ps
     const CameraConnection cc = connect_camera(cam, p, filter_radius(cam),
                                                lens_sample(cam, ps, i));
     if (!cc.valid) return;
-    const float phase = hg_phase(m.g, dot(d, cc.wc));
+    float phase = hg_phase(m.g, dot(d, cc.wc));
+    if (lt_rays_on(s))  // (ray visibility by kind: a phase scattering's factor, lt_ray_visibility.h)
+        phase *= lt_rays_medium_weight(s, ps, i, lp.light ? lp.light[i] : -1, p, d, cc.wc, m.g);
     ps.shadow_medium[i] = ps.medium[i];
     lt_queue_splat(ps, lp, i, p, vec3(0.0f), cc,
                    lp.power[i] * ps.throughput[i] * (phase * cc.importance), s.offset_scale);
@@ -157,6 +160,8 @@ LANTERN_HD inline bool lt_medium_segment(const SceneView& s, const PathState& ps
     float pdf_w = 0.0f;
     const Vec3 wi = hg_sample(m.g, d, rng.uniform2(), &pdf_w);  // weight phase / pdf = 1
     Vec3 t = ps.throughput[i];
+    if (lt_rays_on(s))  // (ray visibility by kind; the next segment's E: a medium point's, all)
+        t = t * lt_rays_medium_weight(s, ps, i, lp.light ? lp.light[i] : -1, p, d, wi, m.g);
     if (pdf_w > 0.0f && russian_roulette(t, depth + 1, st.rr_depth, rng) &&
         max_component(t) > 0.0f && is_finite(t)) {
         ps.throughput[i] = t;
@@ -166,6 +171,7 @@ LANTERN_HD inline bool lt_medium_segment(const SceneView& s, const PathState& ps
         ps.ray_tmax[i] = kInf;
         ps.prev_pdf_w[i] = pdf_w;
         ps.alive[i] = 1;
+        if (lt_rays_on(s)) ps.ray_kind[i] = uint8_t(kRayKindsAll << 4);
     }
     ps.rng[i] = rng;
     return true;

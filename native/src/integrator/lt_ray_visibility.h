@@ -1,7 +1,8 @@
 // Ray visibility by kind in the light tracer (integrator "lt"), as pt renders it
 // (pt_ray_visibility.h): objects and lamps hidden from Diffuse, Glossy or Transmission rays, on
-// surfaces (media, subsurface walks, strands and the linking rules beside it stay pt's:
-// allocation.cpp bidir_visibility_reason). A light path y0 (on light l) y1 ... yk is pt's path
+// surfaces, past subsurface walks (lt_rays_sss_weight) and in media (lt_rays_medium_weight);
+// strands, and linking or Cast Shadow off beside media, stay pt's: allocation.cpp
+// bidir_visibility_reason. A light path y0 (on light l) y1 ... yk is pt's path
 // x0 = camera, x1 = yk, ..., x_k = y0 read backward. pt's segment x_i x_{i+1} (i >= 1) is a bounce
 // ray leaving x_i with the kind K(x_i) of the scattering there (pt_scatter_kind: x_i's material,
 // and whether x_{i-1} and x_{i+1} lie on one side): it passes every surface hidden from K(x_i)
@@ -40,6 +41,13 @@ constexpr uint8_t kLtRaysNoWalk = 0x10, kLtRaysPassed = 0x20, kLtRaysBlocked = 0
 // Whether lt reads ray visibility by kind (some object or lamp hidden from some kind).
 LANTERN_HD inline bool lt_rays_on(const SceneView& s) { return s.rays_hidden != 0; }
 
+// The kinds a surface must be seen by for every segment to end on it: the surface kinds, and in
+// a scene with media Volume Scatter too (a medium vertex's phase ray passes a surface hidden
+// from it: lt_rays_medium_weight).
+LANTERN_HD inline uint8_t lt_rays_all(const SceneView& s) {
+    return s.num_media > 0 ? uint8_t(kRayKindsAll) : kLtSurfaceKinds;
+}
+
 // y0's state: nothing passed; a delta light's first segment does not walk.
 LANTERN_HD inline void lt_rays_start(const PathState& ps, int i, const EmissionSample& es) {
     ps.ray_kind[i] = es.delta_pos || es.delta_dir ? kLtRaysNoWalk : uint8_t(0);
@@ -61,11 +69,12 @@ LANTERN_HD inline bool lt_rays_step(const SceneView& s, const PathState& ps, int
                                     int tri, Vec3 p, bool walk) {
     if (!s.tri_rays) return true;
     const bool first = ps.depth[i] == 0, strand = tri >= s.num_triangles;
-    const uint8_t seen = strand ? kLtSurfaceKinds : uint8_t(s.tri_rays[tri] & kLtSurfaceKinds);
+    const uint8_t all = lt_rays_all(s);
+    const uint8_t seen = strand ? all : uint8_t(s.tri_rays[tri] & all);
     uint8_t st = ps.ray_kind[i];
     walk = walk && first;
     const bool nee = walk && !(st & kLtRaysBlocked) && lt_shadow_passes(s, li, tri);
-    const bool bsdf = seen != kLtSurfaceKinds && !(first && (st & kLtRaysNoWalk));
+    const bool bsdf = seen != all && !(first && (st & kLtRaysNoWalk));
     if (!nee && !bsdf) return true;  // every technique stops here
     if (walk && ps.walk_passed(i) >= 255) return false;  // (a bound: never an endless walk)
     if (!walk || bidir_links(s, li, tri)) {  // (an unlit hit is passed for sure: lt_walk_step)
@@ -78,7 +87,7 @@ LANTERN_HD inline bool lt_rays_step(const SceneView& s, const PathState& ps, int
     st |= seen;
     if (first) st |= nee ? kLtRaysPassed : uint8_t(kLtRaysPassed | kLtRaysBlocked);
     ps.ray_kind[i] = st;
-    if (!nee && (st & kLtSurfaceKinds) == kLtSurfaceKinds) return false;  // no kind passes
+    if (!nee && (st & all) == all) return false;  // no kind passes
     if (walk) ps.walk_passed(i) += 1;
     if (strand) {  // on from the same origin past its entry, as lt_walk_step
         const float t = ps.hit_t[i];
@@ -124,11 +133,53 @@ LANTERN_HD inline float lt_rays_weight(const SceneView& s, const PathState& ps, 
     return nee ? w : fmaxf(0.0f, 1.0f - w);
 }
 
+// A walk under the surface from slot i's vertex x_o (lt_sss.h; triangle tri, h facing the light
+// along w_l): pt's exit there (pt_sss.h) is a diffuse scattering, its next event skipping a light
+// hidden from diffuse rays and its continuation a diffuse bounce (kRayKindSubsurface). Its
+// factor as such a scattering's: lt_rays_kind_ok's test, and at y1 past what the first segment
+// passed lt_rays_weight's shares with pt's next-event weight at an exit (lt_sss_nee_weight).
+// The walk reads no kinds, nor does its exit (a surface seen by the camera-side ray that reaches
+// it: lt_sss_exit starts the next segment's, lt_rays_next).
+LANTERN_HD inline float lt_rays_sss_weight(const SceneView& s, const PathState& ps, int i, int li,
+                                           int tri, const SurfaceHit& h, Vec3 w_l) {
+    const uint8_t k = kRayKindSubsurface, st = ps.ray_kind[i];
+    if (ps.depth[i] != 1) return !(st & k) && ((st >> 4) & k) ? 1.0f : 0.0f;
+    if (pt_light_hidden(s, li, k)) return 0.0f;
+    if (!(st & kLtRaysPassed)) return 1.0f;
+    const bool bsdf = !(st & kLtRaysNoWalk) && !(st & k), nee = lt_rays_nee(st);
+    if (nee == bsdf) return bsdf ? 1.0f : 0.0f;  // (both: w_nee + w_bsdf = 1)
+    const float w = lt_sss_nee_weight(s, ps, i, li, tri, h, w_l);
+    return nee ? w : fmaxf(0.0f, 1.0f - w);
+}
+
 // After y_{k+1}'s scattering: the next segment starts with nothing passed, E = its kinds.
 LANTERN_HD inline void lt_rays_next(const SceneView& s, const PathState& ps, int i, int tri) {
     const uint8_t seen =
         s.tri_rays && tri < s.num_triangles ? s.tri_rays[tri] : uint8_t(kRayKindsAll);
-    ps.ray_kind[i] = uint8_t((seen & kLtSurfaceKinds) << 4);
+    ps.ray_kind[i] = uint8_t((seen & lt_rays_all(s)) << 4);
+}
+
+// A medium vertex of slot i at p, reached along d (the light's travel), going on along w_c (the
+// splat's or the phase sample's direction), phase asymmetry g: pt's scattering there is a phase
+// sample of kind Volume Scatter alone (pt_volume.h kRayKindVolume), its next event skipping a
+// light hidden from it. Its factor as lt_rays_sss_weight's for that kind; at y1 past what the
+// first segment passed (surfaces hidden from Volume Scatter) pt's phase ray's share 1 - w_nee,
+// w_nee its medium next event's power heuristic (the light's density, picked with n = 0,
+// against the phase's; no flight factor); none from a delta light. (Linking and Cast Shadow
+// off beside it in media stay pt's: allocation.cpp.)
+LANTERN_HD inline float lt_rays_medium_weight(const SceneView& s, const PathState& ps, int i,
+                                              int li, Vec3 p, Vec3 d, Vec3 w_c, float g) {
+    const uint8_t k = kRayKindVolume, st = ps.ray_kind[i];
+    if (ps.depth[i] != 1) return !(st & k) && ((st >> 4) & k) ? 1.0f : 0.0f;
+    if (li < 0 || pt_light_hidden(s, li, k)) return 0.0f;
+    if (!(st & kLtRaysPassed)) return 1.0f;
+    if ((st & kLtRaysNoWalk) || (st & k)) return 0.0f;
+    const float pdf_w = lt_light_pdf_w(s, ps, i, li, p, -d);
+    const float pick = s.light_tree_on ? light_pick_pmf(s, li, p, vec3(0.0f))
+                                       : s.lights[li].nee_pdf;
+    const float pdf = pdf_w > 0.0f ? pick * pdf_w : 0.0f;
+    if (!(pdf > 0.0f)) return 1.0f;  // (a light next-event estimation never takes)
+    return fmaxf(0.0f, 1.0f - power_heuristic(pdf, hg_phase(g, dot(d, w_c))));
 }
 
 }  // namespace lantern

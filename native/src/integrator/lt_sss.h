@@ -163,8 +163,9 @@ LANTERN_HD inline void lt_sss_exit(const SceneView& s, const PathState& ps,
     if (!lt_sss_exit_continue(s, m, x, d, beta, depth, st.rr_depth, rng, &wo, &pdf_w, &t)) return;
     ps.throughput[i] = t;
     set_next_ray(ps, i, x.p, x.ng, wo, pdf_w, s.offset_scale);
-    // the next segment's kinds start at the exit (lt_ray_visibility.h: without this a lamp's
-    // Cast Shadow off, which sets light_rays, left y1's empty E and dropped every later splat)
+    // the next segment's kinds start at the exit x_i, pt's entry: the camera-side ray that
+    // reaches it sees it (lt_ray_visibility.h lt_rays_next; the walk and x_o read no kinds past
+    // lt_rays_sss_weight)
     if (lt_rays_on(s)) lt_rays_next(s, ps, i, tri);
 }
 
