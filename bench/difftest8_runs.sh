@@ -12,6 +12,12 @@
 #      (difftest_features7), an object's or a lamp's Cast Shadow off beside a medium; ray
 #      visibility and subsurface allowed (combinations: whatever an integrator hands to pt is
 #      "unsupported" under it).
+# From 06:45 UTC (m1 drew world fog only, m3 no mesh volume without shadows yet) two more, and
+# the loop m4, m5, m2, m3, m1:
+#   m4 (from 53000): a mesh volume that casts no shadow (difftest_features7), anything else
+#      but linking (ray visibility, subsurface, world fog, lamps without shadows allowed);
+#   m5 (from 54000): object / lamp ray visibility beside a mesh volume or a Volume object's
+#      grid, no subsurface, linking or Cast Shadow off.
 # No motion, strands (D58) or view-dependent graphs (bidirectional by design) in any set.
 cd "$(dirname "$0")/.."
 O=bench/results/2026-12-07-difftest8
@@ -31,10 +37,14 @@ M2=(--want "object ray visibility" --want "lamp ray visibility" --and subsurface
     --avoid "no shadow" --avoid "object no shadow" --seed 51000)
 M3=(--want "volume no shadow" --want "object no shadow in fog" --want "no shadow in fog"
     "${LINK[@]}" --seed 52000)
+M4=(--want "volume no shadow" "${LINK[@]}" --seed 53000)
+M5=(--want "ray visibility in fog" --and volume --and "vdb volume" --avoid subsurface
+    "${LINK[@]}" --avoid "no shadow" --avoid "object no shadow" --seed 54000)
 for n in $(seq 1 ${CASES:-30}); do
-    for s in m1 m2 m3; do
+    for s in m4 m5 m2 m3 m1; do
         [[ $(date -u +%H:%M) > $UNTIL ]] && break 2
-        case $s in m1) A=("${M1[@]}");; m2) A=("${M2[@]}");; m3) A=("${M3[@]}");; esac
+        case $s in m1) A=("${M1[@]}");; m2) A=("${M2[@]}");; m3) A=("${M3[@]}");;
+                   m4) A=("${M4[@]}");; m5) A=("${M5[@]}");; esac
         nice .venv/bin/python tools/difftest_run.py "${C[@]}" "${A[@]}" --cases $n \
             --out $O/$s >> $O/$s.log 2>&1
     done
