@@ -93,3 +93,4 @@ def test_caustic_guard_confirms_with_more_cycles_samples(monkeypatch, tmp_path, 
     assert info.get("glossy_caustic", False) == (flagged and checked == "agree")
     factor = dr.CAUSTIC_CYCLES_FACTOR if flagged else 1
     assert calls == [(16 * factor, 16, 2)], calls
+    assert factor >= 4 or not flagged   # Cycles' side well past Lantern's 2x
