@@ -19,6 +19,7 @@ import difftest_features3 as f3
 import difftest_features4 as f4
 import difftest_features5 as f5
 import difftest_features6 as f6
+import difftest_features7 as f7
 from difftest_graph import _rgb, _u
 
 FEATURES = {
@@ -40,6 +41,7 @@ FEATURES.update(f3.FEATURES)   # the third (difftest3): moving emitters, motion 
 FEATURES.update(f4.FEATURES)   # the fourth (difftest4): light and shadow linking
 FEATURES.update(f5.FEATURES)   # the fifth (difftest5): parents, shutter position, steps, ...
 FEATURES.update(f6.FEATURES)   # the sixth (difftest6): ray visibility by kind, object shadows
+FEATURES.update(f7.FEATURES)   # the seventh (difftest8): a mesh volume that casts no shadow
 
 P_VOLUME, P_WORLD_VOLUME, P_SUBSURFACE, P_HAIR, P_MOTION = 0.15, 0.06, 0.12, 0.10, 0.12
 
@@ -166,7 +168,7 @@ def draw(key, case, avoid, material):
                                 _curves), avoid)
     case = f5.draw(key, case, avoid, _volume_graph,
                    lambda rr: _hair_material(rr, avoid, material))
-    return f6.draw(key, case, avoid, _volume_graph)
+    return f7.draw(key, f6.draw(key, case, avoid, _volume_graph), avoid)
 
 
 def _curves(r):
@@ -332,7 +334,7 @@ def features(case):
     if "motion" in case["camera"] and case.get("shutter"):
         found.add("moving camera")
     return (found | f2.features(case) | f3.features(case) | f4.features(case) |
-            f5.features(case) | f6.features(case))
+            f5.features(case) | f6.features(case) | f7.features(case))
 
 
 def shrink_edits(case):
