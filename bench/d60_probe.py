@@ -24,6 +24,10 @@ if '--cyc' in args:  # a Python statement on `c` (scene.cycles) after the tester
 src, seeds, spp, *variants = args
 seeds, spp = int(seeds), int(spp)
 d = json.load(open(src))
+def blocks(imgs, n=4):
+    h, w = imgs[0].shape[:2]
+    b = np.array([i[:h // n * n, :w // n * n].reshape(n, h // n, n, w // n, 3).mean(axis=(1, 3)) for i in imgs])
+    return b.mean(0), b.std(0, ddof=1) / np.sqrt(len(b))
 def stats(imgs):
     m = np.array([i.mean(axis=(0, 1)) for i in imgs])
     return m.mean(0), m.std(0, ddof=1) / np.sqrt(len(m))
@@ -33,10 +37,17 @@ for v in variants:
     if edit: exec(edit)
     db.build(c)
     scene, w = dt.export_lantern()
-    a, ase = stats(dt.render_lantern(scene, c['bounces'], list(range(1, seeds + 1)), spp, integ, 1))
+    li = dt.render_lantern(scene, c['bounces'], list(range(1, seeds + 1)), spp, integ, 1)
+    a, ase = stats(li)
     line = f"{label:28s} L {np.round(a, 5)} +- {np.round(ase, 5)}"
     if cycles:
-        b, bse = stats(dt.render_cycles(c['bounces'], list(range(1, seeds + 1)), spp, 1))
+        ci = dt.render_cycles(c['bounces'], list(range(1, seeds + 1)), spp, 1)
+        b, bse = stats(ci)
         z = (a - b) / np.sqrt(ase ** 2 + bse ** 2)
+        (la, lse), (cb, cse) = blocks(li), blocks(ci)
+        zb = (la - cb) / np.sqrt(lse ** 2 + cse ** 2 + 1e-30)
+        k = np.unravel_index(np.argmax(np.abs(zb)), zb.shape)
+        blk = f"  worst block {k[:2]} ch {k[2]}: {100 * (la[k] / cb[k] - 1):+.1f} % z {zb[k]:.1f}"
         line += f"  C {np.round(b, 5)} +- {np.round(bse, 5)}  rel {np.round(100 * (a / b - 1), 2)} % z {np.round(z, 1)}"
+        line += blk
     print(line, w if w else '', flush=True)
