@@ -224,6 +224,7 @@ void HostScene::build_media(const SceneInput& in) {
     }
     view_.media = media_.data();  // nesting may have added media
     view_.num_media = int32_t(media_.size());
+    set_shadow_media(in);
     view_.camera_medium = camera_medium_at(view_.camera.to_world.origin());
     inset_volume_boundaries();  // after the fits and the camera's medium, which read the mesh as given
     // where each light's paths start (lt): the medium at its centre; distant lights the world's
@@ -242,6 +243,37 @@ void HostScene::build_media(const SceneInput& in) {
         }
     }
     view_.light_medium = light_medium_.empty() ? nullptr : light_medium_.data();
+}
+
+// ---- The medium a shadow ray takes in each (Medium::shadow_as, pt_volume.h shadow_medium):
+// itself, or where every triangle of its material (a volume's mesh, or a surface with a
+// volume inside) casts no shadow, the enclosing medium's (followed outwards past every such
+// mesh): Cycles skips a volume whose object is invisible to shadow rays, from inside too. A
+// material whose triangles are of both kinds (objects sharing it, some with Cast Shadow off)
+// is taken as casting (a warning). ----
+void HostScene::set_shadow_media(const SceneInput& in) {
+    const size_t n = media_.size();
+    for (size_t k = 0; k < n; ++k) media_[k].shadow_as = int32_t(k);
+    if (!view_.no_shadow_objects) return;
+    std::vector<uint8_t> seen(n, 0);  // bit 1: a casting triangle, bit 2: a non-casting one
+    for (size_t t = 0; t < tri_flags_.size(); ++t) {
+        if (t >= tri_material_.size() || tri_material_[t] >= material_medium_.size()) continue;
+        const int32_t med = material_medium_[tri_material_[t]];
+        if (med >= 0) seen[size_t(med)] |= (tri_flags_[t] & kCastShadow) ? 1 : 2;
+    }
+    for (size_t k = 0; k < n; ++k)
+        if (seen[k] == 3)
+            for (size_t m = 0; m < material_medium_.size(); ++m)
+                if (material_medium_[m] == int32_t(k))
+                    warnings_.push_back("medium '" + in.materials[m].name +
+                                        "' bounds objects with and without Cast Shadow: its "
+                                        "volume casts shadows from all of them");
+    for (size_t k = 0; k < n; ++k) {
+        int32_t at = int32_t(k);
+        for (size_t hop = 0; hop < n && at >= 0 && seen[size_t(at)] == 2; ++hop)
+            at = media_[size_t(at)].outside;
+        media_[k].shadow_as = at;
+    }
 }
 
 // ---- Nesting: the medium around each medium mesh (Medium::outside). A mesh medium whose mesh
