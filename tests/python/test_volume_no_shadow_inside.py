@@ -13,7 +13,12 @@ alone: "floor" (the box holds the floor, the lamp outside), "both" (the box hold
 and the lamp), "lamp" (the box holds the lamp alone, out of the camera's view: every shadow
 ray crosses it, the rule Lantern kept before D61), "world" (the box of "floor" in absorbing
 world fog: the shadow ray keeps the world's fog and leaves the box's out; the reference is the
-scene with the world fog and without the box). The control: the box casting its shadows must
+scene with the world fog and without the box), "nested" (a second non-casting box inside the
+first, around the floor: its medium the two summed, which a shadow ray skips up to the
+outer's outside), "inner_casting" (the same with the inner box casting its shadows: a shadow
+ray inside it sees its fog alone, Medium::shadow_as the medium before nest_media summed it;
+the reference: the scene with the inner box alone, the camera rays' outer fog 1 m). The
+control: the box casting its shadows must
 fail (its shadow ray attenuated by the box)."""
 import numpy as np
 import pytest
@@ -24,11 +29,16 @@ from lantern.scenes import aabb_mesh
 
 SIGMA = np.array([0.8, 0.4, 0.2])  # the box's absorption (1/m)
 WORLD = np.array([0.3, 0.2, 0.1])  # "world": the world fog's
+INNER = np.array([0.5, 1.0, 1.5])  # "nested": the inner box's
 BOXES = {"floor": ((-1.5, -1.5, -2.5), (1.5, 1.5, -1.5)),   # camera rays: 0.5 m of fog
          "both": ((-1.5, -1.5, -2.5), (1.5, 1.5, -0.5)),    # 1.5 m; the lamp at z -1 inside
          "lamp": ((0.6, 0.55, -1.3), (1.0, 0.9, -0.7)),     # out of view: 0 m
-         "world": ((-1.5, -1.5, -2.5), (1.5, 1.5, -1.5))}
-DEPTH = {"floor": 0.5, "both": 1.5, "lamp": 0.0, "world": 0.5}
+         "world": ((-1.5, -1.5, -2.5), (1.5, 1.5, -1.5)),
+         "nested": ((-1.5, -1.5, -2.5), (1.5, 1.5, -1.0)),  # 1 m, the inner box's 0.5 m in it
+         "inner_casting": ((-1.5, -1.5, -2.5), (1.5, 1.5, -1.0))}
+NESTED = ((-1.2, -1.2, -2.3), (1.2, 1.2, -1.5))  # also casting no shadow (nest_media sums them)
+DEPTH = {"floor": 0.5, "both": 1.5, "lamp": 0.0, "world": 0.5, "nested": 1.0,
+         "inner_casting": 1.0}
 K = 8  # seeds a side (the bidirectional integrators' comparison)
 
 
@@ -46,6 +56,8 @@ def scene(case=None, cast=False, box=True):
     s.add_mesh(p, idx, material=m)
     s.add_light("point", position=[0.8, 0.7, -1.0], power=[20.0] * 3, radius=0.0,
                 soft_falloff=False)
+    if case == "inner_casting" and not box:  # the reference: the inner box alone
+        _inner(s, True)
     if case is not None and box:
         f = s.add_material("fog")
         s.materials[f]["volume"] = {"sigma_s": [0.0] * 3, "sigma_a": SIGMA.tolist(), "g": 0.0}
@@ -53,7 +65,18 @@ def scene(case=None, cast=False, box=True):
         p, idx = aabb_mesh(*BOXES[case])
         s.add_mesh(p, idx, material=f, name="fog")
         s.meshes[-1]["cast_shadow"] = bool(cast)
+        if case in ("nested", "inner_casting"):
+            _inner(s, case == "inner_casting")  # (cast: the outer box casts too)
     return s
+
+
+def _inner(s, cast):
+    g = s.add_material("inner")
+    s.materials[g]["volume"] = {"sigma_s": [0.0] * 3, "sigma_a": INNER.tolist(), "g": 0.0}
+    s.materials[g]["volume_only"] = True
+    p, idx = aabb_mesh(*NESTED)
+    s.add_mesh(p, idx, material=g, name="inner")
+    s.meshes[-1]["cast_shadow"] = cast
 
 
 def render(s, integrator, seed):
@@ -67,7 +90,7 @@ def expected(case, seed):
     """The image the rule gives: the scene without the box (with the world fog in "world"),
     times the camera rays' transmittance through the box."""
     ref, _ = render(scene(case, box=False), "pt", seed)
-    return ref * np.exp(-SIGMA * DEPTH[case])
+    return ref * np.exp(-SIGMA * DEPTH[case] - (INNER * 0.5 if case == "nested" else 0.0))
 
 
 @pytest.mark.parametrize("case", list(BOXES))
