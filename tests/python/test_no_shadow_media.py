@@ -90,13 +90,13 @@ DENSE = {"sigma_s": [1.0, 1.0, 1.0], "sigma_a": [0.05, 0.1, 0.15], "g": 0.3}
 
 def fog_box(where, on=True):
     """A fog box whose mesh casts no shadow (on; on False: it casts its shadows) in the room
-    with the slab: pt's shadow ray skips its boundary and stays in the medium it started in
-    (bidir_no_shadow_medium.h). where: "box", test_no_shadow_media's box under the lamp (the
-    camera and the lamp outside: a shadow ray from inside keeps the fog up to the lamp, T' < T);
-    "light", a dense box around the lamp and the quad alone (the camera outside: a shadow ray
-    from the floor passes no fog, T' > T); "camera", a box around the camera, the lamp and the
-    room but the wall (the wall's shadow rays pass no fog); "world", the box of dense fog in
-    world fog (the shadow ray keeps either fog the whole way)."""
+    with the slab: pt's shadow ray skips the box's volume, crossing it or from inside (D61,
+    fixd61: Cycles' rule; bidir_no_shadow_medium.h). where: "box", test_no_shadow_media's box
+    under the lamp (the camera and the lamp outside: a shadow ray from inside passes no fog,
+    T' > T); "light", a dense box around the lamp and the quad alone (the camera outside: a
+    shadow ray from the floor passes no fog, T' > T); "camera", a box around the camera, the
+    lamp and the room but the wall (no shadow ray passes fog); "world", the box of dense fog in
+    world fog (a shadow ray passes the world's fog alone)."""
     s = room("red", slab=True)
     if where == "box":
         _volume_box(s, "fog", dict(FOG), (-2.5, -2.5, -0.1), (2.5, 1.4, 1.3))

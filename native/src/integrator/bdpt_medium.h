@@ -222,7 +222,8 @@ LANTERN_HD inline MediumShadow bdpt_medium_shadow(const SceneView& s, const Rays
                                                   Vec3 o, Vec3 d, float tmax, int32_t med,
                                                   bool start_medium, bool end_medium,
                                                   Rng* track = nullptr, float time = 0.0f,
-                                                  uint64_t blockers = kAllReceivers) {
+                                                  uint64_t blockers = kAllReceivers,
+                                                  bool shadow_media = false) {
     MediumShadow r{vec3(1.0f), medium_segment_begin(start_medium)};
     Rng fixed = medium_tracking_rng(Rng{}, 1);
     float t0 = 0.0f;  // past a passed strand: the query goes on from o beyond its entry
@@ -230,12 +231,13 @@ LANTERN_HD inline MediumShadow bdpt_medium_shadow(const SceneView& s, const Rays
         const auto h = rays.closest(Ray{o, d, t0, tmax, time}, kind);
         const bool hit = h.prim >= 0 && h.t < tmax;
         const float t = (hit ? h.t : tmax) - t0;  // this piece: from o + d t0, t long
-        const Medium* m = med >= 0 ? &s.media[med] : nullptr;
+        const int32_t sm = shadow_media ? shadow_medium(s, med) : med;
+        const Medium* m = sm >= 0 ? &s.media[sm] : nullptr;
         if (m && m->hetero) {
             Vec3 fo = t0 > 0.0f ? o + d * t0 : o, fd = d;  // (a moving volume: its exported frame)
-            medium_frame_ray(s, med, time, &fo, &fd);
-            r.tr = r.tr * medium_piece_transmittance(s, med, fo, fd, t, track ? *track : fixed);
-            medium_segment_piece_hetero(r.seg, s, med, fo, fd, t, !hit && end_medium);
+            medium_frame_ray(s, sm, time, &fo, &fd);
+            r.tr = r.tr * medium_piece_transmittance(s, sm, fo, fd, t, track ? *track : fixed);
+            medium_segment_piece_hetero(r.seg, s, sm, fo, fd, t, !hit && end_medium);
         } else {
             if (m) r.tr = r.tr * medium_transmittance(*m, t);
             medium_segment_piece(r.seg, m, t, !hit && end_medium);

@@ -1,7 +1,8 @@
 // A volume's mesh that casts no shadow, in a scene with media (SceneView::no_shadow_objects 2),
 // in the bidirectional integrators (bdpt, lvc, cis) as pt renders it: pt's shadow ray skips
-// the boundary (the shadow query does not see it), so it stays in the medium it started in
-// while every other ray crosses it (docs/lvc_notes.md "Cast Shadow off"). With T, V the
+// that volume, crossing it or from inside (the shadow query does not see its boundary;
+// pt_volume.h shadow_medium: Cycles' rule, D61), while every other ray crosses it
+// (docs/lvc_notes.md "Cast Shadow off"). With T, V the
 // ordinary query's transmittance and visibility of x0 x1 and T', V' the shadow query's, pt's
 // image is the integral of f (T' V' w_nee + T V w_bsdf) = the integral of f T V (the physical
 // image: every technique, the usual weights) + the integral of f (T' V' - T V) w_nee, a signed

@@ -322,6 +322,14 @@ LANTERN_HD inline void pt_cross_boundary(const SceneView& s, const PathState& ps
 // time: the path's shutter time (motion blur: what moves is where it is then, a moving
 // homogeneous volume's boundary too). ----
 
+// The medium a shadow ray (kShadow) is in where its path's medium is med: a volume whose mesh
+// casts no shadow is skipped, from inside as well as crossing it (Cycles 97dbe6f,
+// volume_shader_eval_entry: such a volume stays in the shadow ray's volume stack but is not
+// evaluated; the shadow query does not see its boundary). Medium::shadow_as: the enclosing one.
+LANTERN_HD inline int32_t shadow_medium(const SceneView& s, int32_t med) {
+    return med >= 0 && s.no_shadow_objects ? s.media[med].shadow_as : med;
+}
+
 // The transmittance of medium med (-1: none) over [0, t] of the ray from o along d.
 LANTERN_HD inline Vec3 pt_shadow_segment(const SceneView& s, int32_t med, Vec3 o, Vec3 d, float t,
                                          float time, Rng& track) {
@@ -367,9 +375,10 @@ LANTERN_HD inline Vec3 pt_shadow_loop(const SceneView& s, const Rays& rays, Kind
     for (int k = 0; k < 256; ++k) {  // boundaries crossed (a bound: never an endless loop)
         const auto h = rays.closest(Ray{o, d, t0, tmax, time}, kind);
         const bool hit = h.prim >= 0 && h.t < tmax;
-        tr = tr * (t0 > 0.0f ? pt_shadow_segment(s, med, o + d * t0, d, (hit ? h.t : tmax) - t0,
+        const int32_t sm = kind == Kind::kShadow ? shadow_medium(s, med) : med;
+        tr = tr * (t0 > 0.0f ? pt_shadow_segment(s, sm, o + d * t0, d, (hit ? h.t : tmax) - t0,
                                                  time, track)
-                             : pt_shadow_segment(s, med, o, d, hit ? h.t : tmax, time, track));
+                             : pt_shadow_segment(s, sm, o, d, hit ? h.t : tmax, time, track));
         if (!hit) return tr;
         const bool passed = !pt_casts_shadow(s, blockers, h.prim);  // (pt_light_linking.h)
         const bool boundary = (s.tri_flags[h.prim] & kVolumeBoundary) != 0;
@@ -426,7 +435,8 @@ LANTERN_HD inline bool pt_shadow_crossings(const SceneView& s, BoundaryHits& x, 
     Vec3 tr = vec3(1.0f);
     float t0 = 0.0f;
     for (int k = 0; k < n; ++k) {
-        tr = tr * pt_shadow_segment(s, med, o + d * t0, d, x.t[k] - t0, time, track);
+        tr = tr * pt_shadow_segment(s, shadow_medium(s, med), o + d * t0, d, x.t[k] - t0, time,
+                                    track);
         if (is_black(tr)) {
             *out = vec3(0.0f);
             return true;
@@ -437,8 +447,8 @@ LANTERN_HD inline bool pt_shadow_crossings(const SceneView& s, BoundaryHits& x, 
         med = medium_across(s, x.prim[k], front, med);
         t0 = x.t[k];
     }
-    *out = tr * pt_shadow_segment(s, med, o + d * t0, d, tmax < kInf ? tmax - t0 : kInf, time,
-                                  track);
+    *out = tr * pt_shadow_segment(s, shadow_medium(s, med), o + d * t0, d,
+                                  tmax < kInf ? tmax - t0 : kInf, time, track);
     return true;
 }
 

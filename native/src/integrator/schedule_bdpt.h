@@ -93,7 +93,8 @@ LANTERN_HD inline void bdpt_shadow_medium(const SceneView& s, const Rays& rays,
         const MediumShadow sh = bdpt_medium_shadow(
             s, rays, RayKind::kShadow, ps.shadow_o[i], ps.shadow_d[i], ps.shadow_tmax[i],
             ps.shadow_medium[i], (kind & kConnNearMedium) != 0, false, &track, time,
-            pt_shadow_linked(s, li) ? s.light_blockers[li] : kAllReceivers);
+            pt_shadow_linked(s, li) ? s.light_blockers[li] : kAllReceivers,
+            true);  // pt's shadow ray: a volume whose mesh casts no shadow skipped (T')
         // an object without shadows (bidir_no_shadow.h): where only it blocks, pt's weight;
         // a volume's mesh among them: both queries (bidir_no_shadow_medium.h)
         if constexpr (B)

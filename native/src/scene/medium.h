@@ -59,6 +59,10 @@ struct Medium {
                         // max(1 - sqrt(a), 0) multiplies alone (a Principled Volume's beside
                         // another shader's Color graph: its max(1 - Color, 0) x Density); not 0:
                         // color_absorb then takes max(1 - c, 0) alone
+    int32_t shadow_as;  // the medium a shadow ray takes here (read where
+                        // SceneView::no_shadow_objects is not 0): this one, or where its mesh casts
+                        // no shadow the enclosing medium's (Cycles skips such a volume on
+                        // shadow rays, from inside too: pt_volume.h shadow_medium)
 };
 
 // ---- Henyey-Greenstein: cos_theta between the direction travelled and the scattered one ----

@@ -224,6 +224,7 @@ void HostScene::build_media(const SceneInput& in) {
     }
     view_.media = media_.data();  // nesting may have added media
     view_.num_media = int32_t(media_.size());
+    set_shadow_media(in);
     view_.camera_medium = camera_medium_at(view_.camera.to_world.origin());
     inset_volume_boundaries();  // after the fits and the camera's medium, which read the mesh as given
     // where each light's paths start (lt): the medium at its centre; distant lights the world's
@@ -242,6 +243,51 @@ void HostScene::build_media(const SceneInput& in) {
         }
     }
     view_.light_medium = light_medium_.empty() ? nullptr : light_medium_.data();
+}
+
+// ---- The medium a shadow ray takes in each (Medium::shadow_as, pt_volume.h shadow_medium):
+// itself, or where every triangle of its material (a volume's mesh, or a surface with a
+// volume inside) casts no shadow, the enclosing medium's (followed outwards past every such
+// mesh): Cycles skips a volume whose object is invisible to shadow rays, from inside too. A
+// material whose triangles are of both kinds (objects sharing it, some with Cast Shadow off)
+// is taken as casting (a warning). ----
+// A casting mesh nested (summed) in a non-casting one: its own medium (with the world's), kept
+// by nest_media as it was before the sum, where the enclosing chain skips to the world (a
+// casting mesh between them: the sum stays, the skipped one's part in it).
+void HostScene::set_shadow_media(const SceneInput& in) {
+    const size_t n = media_.size();
+    std::vector<int32_t> alone(n);  // the medium before nest_media summed it (else itself)
+    for (size_t k = 0; k < n; ++k) {
+        alone[k] = media_[k].shadow_as <= -2 ? -2 - media_[k].shadow_as : int32_t(k);
+        media_[k].shadow_as = int32_t(k);
+    }
+    if (!view_.no_shadow_objects) return;
+    std::vector<uint8_t> seen(n, 0);  // bit 1: a casting triangle, bit 2: a non-casting one
+    for (size_t t = 0; t < tri_flags_.size(); ++t) {
+        if (t >= tri_material_.size() || tri_material_[t] >= material_medium_.size()) continue;
+        const int32_t med = material_medium_[tri_material_[t]];
+        if (med >= 0) seen[size_t(med)] |= (tri_flags_[t] & kCastShadow) ? 1 : 2;
+    }
+    for (size_t k = 0; k < n; ++k)
+        if (seen[k] == 3)
+            for (size_t m = 0; m < material_medium_.size(); ++m)
+                if (material_medium_[m] == int32_t(k))
+                    warnings_.push_back("medium '" + in.materials[m].name +
+                                        "' bounds objects with and without Cast Shadow: its "
+                                        "volume casts shadows from all of them");
+    auto skip = [&](int32_t at) {  // past every non-casting mesh outwards
+        for (size_t hop = 0; hop < n && at >= 0 && seen[size_t(at)] == 2; ++hop)
+            at = media_[size_t(at)].outside;
+        return at;
+    };
+    for (size_t k = 0; k < n; ++k) {
+        int32_t at = skip(int32_t(k));
+        const int32_t out = at >= 0 ? media_[size_t(at)].outside : -1;
+        if (at >= 0 && alone[size_t(at)] != at && out >= 0 && seen[size_t(out)] == 2 &&
+            skip(out) == view_.world_medium)
+            at = alone[size_t(at)];
+        media_[k].shadow_as = at;
+    }
 }
 
 // ---- Nesting: the medium around each medium mesh (Medium::outside). A mesh medium whose mesh
@@ -356,6 +402,7 @@ void HostScene::nest_media(const SceneInput& in, const Medium* world) {
         m2.scatters = max_component(m2.sigma_s) > 0.0f ? 1u : 0u;
         m2.emits = max_component(m2.emission) > 0.0f ? 1u : 0u;
         m2.outside = outer;
+        m2.shadow_as = -2 - inner;  // (set_shadow_media: the medium alone, for a shadow ray)
         material_medium_[m.material] = int32_t(media_.size());  // its own: nesting is per mesh
         media_.push_back(m2);
     }

@@ -303,6 +303,7 @@ private:
                         Vec3* whi) const;
     Vec3 color_prog_whole_{};  // the colour program's part over the whole grid (a fallback)
     void nest_media(const SceneInput& in, const Medium* world);  // scene/medium_build.cpp
+    void set_shadow_media(const SceneInput& in);  // scene/medium_build.cpp
     void inset_volume_boundaries();  // scene/medium_inset.cpp
     bool boundary_meets_a_face(const MeshRange& r, Vec3 lo, Vec3 hi, float eps,
                                size_t ntri) const;
