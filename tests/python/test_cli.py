@@ -114,7 +114,8 @@ def test_render_through_stand_in_core(scene_file, tmp_path, fake, capsys):
                           "adaptive_step": 4, "instancing": False,
                           "auto_keep_pilot": False, "auto_media": True,
                           "light_path_fraction": 1.0,
-                          "moment_channels": False, "soft_visibility": True}
+                          "moment_channels": False, "soft_visibility": True,
+                          "gpu_checked": 0}  # no GPU self-check on the CPU backend
     assert s.spp == 6 and s.stats()["iterations"] == 3
     assert "6/6 spp" in err and "Mrays/s" in err
     assert "backend cpu (asked: auto)" in err and "backend cpu)" in err
